@@ -1,0 +1,263 @@
+//! Gate cost model in NAND2 equivalents.
+//!
+//! Every primitive is first expressed as a count of the cells that Yosys' ABC maps to
+//! with the pinned gate set (`synth; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; stat`), plus
+//! flip-flops, and only then weighted. So the model and Yosys are compared with one
+//! and the same cell-to-NAND2 mapping, [`CELL_WEIGHTS`], stated here once.
+//! RAM/ROM bits are never folded into gates; they are reported beside them.
+
+use serde::Serialize;
+use std::ops::{Add, AddAssign, Mul};
+
+/// NAND2 equivalents of each cell kind. Conventional standard-cell area ratios
+/// (a 2-input NAND = 1): NAND2/NOR2 4 transistors; AND2/OR2 a NAND/NOR plus an
+/// inverter; XOR2/XNOR2/MUX2 about 2⅓ NAND2; an inverter ⅔; a D flip-flop 5⅓.
+pub const CELL_WEIGHTS: CellWeights = CellWeights {
+    and2: 4.0 / 3.0,
+    nand2: 1.0,
+    or2: 4.0 / 3.0,
+    nor2: 1.0,
+    xor2: 7.0 / 3.0,
+    xnor2: 7.0 / 3.0,
+    mux2: 7.0 / 3.0,
+    not: 2.0 / 3.0,
+    dff: 16.0 / 3.0,
+};
+
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct CellWeights {
+    pub and2: f64,
+    pub nand2: f64,
+    pub or2: f64,
+    pub nor2: f64,
+    pub xor2: f64,
+    pub xnor2: f64,
+    pub mux2: f64,
+    pub not: f64,
+    pub dff: f64,
+}
+
+/// A bag of cells (fractional counts allowed for averaged structures).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Cells {
+    pub and2: f64,
+    pub nand2: f64,
+    pub or2: f64,
+    pub nor2: f64,
+    pub xor2: f64,
+    pub xnor2: f64,
+    pub mux2: f64,
+    pub not: f64,
+    pub dff: f64,
+}
+
+impl Cells {
+    /// NAND2 equivalents under [`CELL_WEIGHTS`].
+    pub fn nand2_eq(&self) -> f64 {
+        let w = CELL_WEIGHTS;
+        self.and2 * w.and2
+            + self.nand2 * w.nand2
+            + self.or2 * w.or2
+            + self.nor2 * w.nor2
+            + self.xor2 * w.xor2
+            + self.xnor2 * w.xnor2
+            + self.mux2 * w.mux2
+            + self.not * w.not
+            + self.dff * w.dff
+    }
+}
+
+impl Add for Cells {
+    type Output = Cells;
+    fn add(self, o: Cells) -> Cells {
+        Cells {
+            and2: self.and2 + o.and2,
+            nand2: self.nand2 + o.nand2,
+            or2: self.or2 + o.or2,
+            nor2: self.nor2 + o.nor2,
+            xor2: self.xor2 + o.xor2,
+            xnor2: self.xnor2 + o.xnor2,
+            mux2: self.mux2 + o.mux2,
+            not: self.not + o.not,
+            dff: self.dff + o.dff,
+        }
+    }
+}
+
+impl AddAssign for Cells {
+    fn add_assign(&mut self, o: Cells) {
+        *self = *self + o;
+    }
+}
+
+impl Mul<f64> for Cells {
+    type Output = Cells;
+    fn mul(self, k: f64) -> Cells {
+        Cells {
+            and2: self.and2 * k,
+            nand2: self.nand2 * k,
+            or2: self.or2 * k,
+            nor2: self.nor2 * k,
+            xor2: self.xor2 * k,
+            xnor2: self.xnor2 * k,
+            mux2: self.mux2 * k,
+            not: self.not * k,
+            dff: self.dff * k,
+        }
+    }
+}
+
+/// The primitives every unit's cost is built from.
+pub mod prim {
+    use super::Cells;
+
+    /// Half adder: sum = XOR, carry = AND.
+    pub fn half_adder() -> Cells {
+        Cells {
+            xor2: 1.0,
+            and2: 1.0,
+            ..Cells::default()
+        }
+    }
+
+    /// Full adder: two XORs for the sum, three NAND2 for the carry (majority).
+    pub fn full_adder() -> Cells {
+        Cells {
+            xor2: 2.0,
+            nand2: 3.0,
+            ..Cells::default()
+        }
+    }
+
+    /// n-bit ripple-carry adder with carry out: one half adder, n−1 full adders.
+    pub fn adder(n: u32) -> Cells {
+        if n == 0 {
+            return Cells::default();
+        }
+        half_adder() + full_adder() * (n - 1) as f64
+    }
+
+    /// n-bit subtractor a − b: an adder with b inverted and carry in = 1.
+    pub fn subtractor(n: u32) -> Cells {
+        full_adder() * n as f64
+            + Cells {
+                not: n as f64,
+                ..Cells::default()
+            }
+    }
+
+    /// n-bit unsigned adder that clamps to all-ones on carry out: adder + n OR.
+    pub fn saturating_adder(n: u32) -> Cells {
+        adder(n)
+            + Cells {
+                or2: n as f64,
+                ..Cells::default()
+            }
+    }
+
+    /// n-bit magnitude comparator (a < b): the borrow chain of a subtractor,
+    /// an inverter and a majority (3 NAND2) per bit.
+    pub fn comparator(n: u32) -> Cells {
+        Cells {
+            not: n as f64,
+            nand2: 3.0 * n as f64,
+            ..Cells::default()
+        }
+    }
+
+    /// n × m unsigned array multiplier: n·m AND partial products, n(m−2) full adders
+    /// and n half adders in the carry-save array and final ripple (n = m: n² AND,
+    /// n(n−2) FA, n HA).
+    pub fn multiplier(n: u32, m: u32) -> Cells {
+        if n == 0 || m == 0 {
+            return Cells::default();
+        }
+        let (n, m) = (n.max(m) as f64, n.min(m) as f64);
+        Cells {
+            and2: n * m,
+            ..Cells::default()
+        } + full_adder() * (n * (m - 2.0)).max(0.0)
+            + half_adder() * n
+    }
+
+    /// n-bit 2:1 multiplexer.
+    pub fn mux(n: u32) -> Cells {
+        Cells {
+            mux2: n as f64,
+            ..Cells::default()
+        }
+    }
+
+    /// n-bit k:1 multiplexer as a tree of k−1 2:1 muxes per bit.
+    pub fn mux_k(n: u32, k: u32) -> Cells {
+        mux(n) * (k.saturating_sub(1)) as f64
+    }
+
+    /// n-bit register (D flip-flops).
+    pub fn register(n: u32) -> Cells {
+        Cells {
+            dff: n as f64,
+            ..Cells::default()
+        }
+    }
+
+    /// n-bit logarithmic barrel shifter over `stages` shift stages.
+    pub fn shifter(n: u32, stages: u32) -> Cells {
+        mux(n) * stages as f64
+    }
+
+    /// n-bit leading-zero counter: about n mux-equivalent cells (priority tree).
+    pub fn leading_zero_counter(n: u32) -> Cells {
+        Cells {
+            or2: n as f64,
+            mux2: n as f64 / 2.0,
+            ..Cells::default()
+        }
+    }
+
+    /// n-bit restoring divider producing q quotient bits: q subtract-and-select rows.
+    pub fn divider(n: u32, q: u32) -> Cells {
+        (subtractor(n) + mux(n)) * q as f64
+    }
+}
+
+/// A unit's cost: gates (NAND2 equivalents, from cells) and storage bits apart.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Cost {
+    /// Logic and pipeline registers.
+    pub cells: Cells,
+    /// RAM/ROM bits the unit holds (tables, texel memory), reported separately.
+    pub ram_bits: u64,
+    /// Named parts, for datasheets: (part, NAND2 equivalents).
+    pub breakdown: Vec<(String, f64)>,
+}
+
+impl Cost {
+    pub fn gates_nand2(&self) -> f64 {
+        self.cells.nand2_eq()
+    }
+
+    /// Add a named part.
+    pub fn part(mut self, name: &str, cells: Cells) -> Self {
+        self.cells += cells;
+        self.breakdown.push((name.to_string(), cells.nand2_eq()));
+        self
+    }
+
+    pub fn with_ram_bits(mut self, bits: u64) -> Self {
+        self.ram_bits += bits;
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn adder_sizes_grow_linearly() {
+        let a8 = prim::adder(8).nand2_eq();
+        let a16 = prim::adder(16).nand2_eq();
+        assert!(a16 > 1.9 * a8 && a16 < 2.1 * a8);
+    }
+}

@@ -1,0 +1,101 @@
+//! Configuration and input errors. Every error names the field at fault.
+
+/// An invalid configuration or input. `field` is the dotted path of the offending
+/// field (e.g. `texture_sampler.texel_bits`), so a user can find it in a scene file.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    #[error("{field}: {value} is out of range (allowed {min} ..= {max})")]
+    OutOfRange {
+        field: String,
+        value: f64,
+        min: f64,
+        max: f64,
+    },
+    #[error("{field}: {value} is not a finite number")]
+    NotFinite { field: String, value: f64 },
+    #[error("{field}: {reason}")]
+    Invalid { field: String, reason: String },
+}
+
+impl ConfigError {
+    pub fn out_of_range(field: &str, value: f64, min: f64, max: f64) -> Self {
+        ConfigError::OutOfRange {
+            field: field.to_string(),
+            value,
+            min,
+            max,
+        }
+    }
+
+    pub fn not_finite(field: &str, value: f64) -> Self {
+        ConfigError::NotFinite {
+            field: field.to_string(),
+            value,
+        }
+    }
+
+    pub fn invalid(field: &str, reason: &str) -> Self {
+        ConfigError::Invalid {
+            field: field.to_string(),
+            reason: reason.to_string(),
+        }
+    }
+
+    /// The field at fault.
+    pub fn field(&self) -> &str {
+        match self {
+            ConfigError::OutOfRange { field, .. }
+            | ConfigError::NotFinite { field, .. }
+            | ConfigError::Invalid { field, .. } => field,
+        }
+    }
+
+    /// The same error with `prefix.` put before the field (for nested configs).
+    pub fn within(self, prefix: &str) -> Self {
+        let join = |f: String| format!("{prefix}.{f}");
+        match self {
+            ConfigError::OutOfRange {
+                field,
+                value,
+                min,
+                max,
+            } => ConfigError::OutOfRange {
+                field: join(field),
+                value,
+                min,
+                max,
+            },
+            ConfigError::NotFinite { field, value } => ConfigError::NotFinite {
+                field: join(field),
+                value,
+            },
+            ConfigError::Invalid { field, reason } => ConfigError::Invalid {
+                field: join(field),
+                reason,
+            },
+        }
+    }
+}
+
+/// Check that an integer config field lies in `min..=max`.
+pub fn check_range(field: &str, value: u64, min: u64, max: u64) -> Result<(), ConfigError> {
+    if value < min || value > max {
+        Err(ConfigError::out_of_range(
+            field,
+            value as f64,
+            min as f64,
+            max as f64,
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+/// Check that a float input is finite (NaN and ±∞ are refused).
+pub fn check_finite(field: &str, value: f64) -> Result<f64, ConfigError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ConfigError::not_finite(field, value))
+    }
+}

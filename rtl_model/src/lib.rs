@@ -1,0 +1,19 @@
+//! The hardware: bit-accurate, cycle-level units of a GeForce2/GeForce3-era glare and
+//! shading pipeline. Integers only in datapaths; nothing here imports the main crate.
+
+pub mod cost;
+pub mod counters;
+pub mod driver;
+pub mod error;
+pub mod fixed_point;
+pub mod memory;
+pub mod trace;
+pub mod unit;
+pub mod units;
+pub mod unorm;
+
+pub use cost::{Cells, Cost};
+pub use counters::Counters;
+pub use error::ConfigError;
+pub use fixed_point::{Format, Fx, Overflow, Quant};
+pub use unit::{Signal, Timing, Unit, UnitSummary, Width};

@@ -1,0 +1,1 @@
+//! additive_blend: being written.

@@ -1,0 +1,154 @@
+//! modulate — the multi-texture combiner in GL_MODULATE: out = a · b on n-bit unorms.
+//!
+//! Widths: operands u(n) (n = `bits`, 8 by default, 1 ..= 16), product u(2n),
+//! result u(n). The default rounds exactly, round(a·b / (2ⁿ−1)), with the shift-add
+//! divide GL implementations use (Blinn): t = a·b + 2ⁿ⁻¹; out = (t + (t >> n)) >> n.
+//! The alternates are real width/gate trade-offs and are kept selectable.
+
+use crate::cost::{prim, Cost};
+use crate::counters::Counters;
+use crate::error::ConfigError;
+use crate::unit::{Signal, Timing, Unit, Width};
+use crate::unorm::{check_bits, max_code};
+use serde::{Deserialize, Serialize};
+
+/// How the n-bit product is brought back to n bits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModulateMode {
+    /// round(a·b / (2ⁿ−1)), exact: (t + (t >> n)) >> n with t = a·b + 2ⁿ⁻¹.
+    Exact,
+    /// (a·b) >> n: drops the divide, biased low by up to 2 LSB.
+    Shift,
+    /// a·(b+1) >> n: exact at b = max, error within ±1 LSB.
+    PlusOne,
+    /// floor(a·b / (2ⁿ−1)): truncating divide, error within [0, 1) LSB.
+    TruncDiv,
+}
+
+impl ModulateMode {
+    pub const ALL: [ModulateMode; 4] = [
+        ModulateMode::Exact,
+        ModulateMode::Shift,
+        ModulateMode::PlusOne,
+        ModulateMode::TruncDiv,
+    ];
+}
+
+/// Config: operand width and rounding mode.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Modulate {
+    bits: u32,
+    mode: ModulateMode,
+}
+
+/// Two n-bit unorm operands (texture colour and incoming colour).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct ModulateIn {
+    pub a: u32,
+    pub b: u32,
+}
+
+impl Modulate {
+    /// `bits` in 1 ..= 16 (error names `modulate.bits`).
+    pub fn new(bits: u32, mode: ModulateMode) -> Result<Self, ConfigError> {
+        check_bits("modulate.bits", bits)?;
+        Ok(Modulate { bits, mode })
+    }
+
+    /// GeForce default: 8-bit, exact rounding.
+    pub fn geforce() -> Self {
+        Modulate {
+            bits: 8,
+            mode: ModulateMode::Exact,
+        }
+    }
+
+    pub fn bits(&self) -> u32 {
+        self.bits
+    }
+
+    pub fn mode(&self) -> ModulateMode {
+        self.mode
+    }
+
+    /// The combinational datapath on one pair (operands masked to n wires).
+    #[inline]
+    pub fn apply(&self, a: u32, b: u32) -> u32 {
+        let n = self.bits;
+        let max = max_code(n) as u64;
+        let (a, b) = (a as u64 & max, b as u64 & max);
+        match self.mode {
+            ModulateMode::Exact => {
+                let t = a * b + (1 << (n - 1)); // u(n) × u(n) → u(2n), + half → u(2n)
+                ((t + (t >> n)) >> n) as u32 // u(2n) + u(n) → u(2n+1), >> n → u(n)
+            }
+            ModulateMode::Shift => ((a * b) >> n) as u32, // u(2n) >> n → u(n)
+            ModulateMode::PlusOne => ((a * (b + 1)) >> n) as u32, // u(n) × u(n+1) → u(2n+1)
+            ModulateMode::TruncDiv => {
+                // floor(x / (2ⁿ−1)) for x ≤ (2ⁿ−1)²: (x + 1 + (x >> n)) >> n.
+                let x = a * b; // u(2n)
+                ((x + 1 + (x >> n)) >> n) as u32
+            }
+        }
+    }
+}
+
+impl Unit for Modulate {
+    type In = ModulateIn;
+    type Out = u32;
+    type State = ();
+
+    fn name(&self) -> &'static str {
+        "modulate"
+    }
+
+    fn kernel(&self, _: &mut (), input: &ModulateIn, _ctr: &mut Counters) -> u32 {
+        // No saturation or wrap is possible: a·b ≤ (2ⁿ−1)² keeps every mode within u(n).
+        self.apply(input.a, input.b)
+    }
+
+    fn timing(&self) -> Timing {
+        // Stage 1: the n×n multiplier; stage 2: the rounding adders.
+        Timing { latency: 2, ii: 1 }
+    }
+
+    fn cost(&self) -> Cost {
+        let n = self.bits;
+        let base = Cost::default()
+            .part("operand registers", prim::register(2 * n))
+            .part("product register", prim::register(2 * n))
+            .part("output register", prim::register(n));
+        match self.mode {
+            ModulateMode::Exact => base
+                .part("multiplier n×n", prim::multiplier(n, n))
+                .part("add half (upper n bits)", prim::adder(n))
+                .part("add t>>n", prim::adder(2 * n)),
+            ModulateMode::Shift => base.part("multiplier n×n", prim::multiplier(n, n)),
+            ModulateMode::PlusOne => base
+                .part("incrementer b+1", prim::half_adder() * n as f64)
+                .part("multiplier n×(n+1)", prim::multiplier(n, n + 1)),
+            ModulateMode::TruncDiv => base
+                .part("multiplier n×n", prim::multiplier(n, n))
+                .part("add 1 + x>>n", prim::adder(2 * n)),
+        }
+    }
+
+    fn widths(&self) -> Vec<Width> {
+        vec![Width {
+            name: "bits",
+            bits: self.bits,
+        }]
+    }
+
+    fn in_signals(&self, i: &ModulateIn) -> Vec<Signal> {
+        vec![
+            Signal::new("a", self.bits, i.a as u64),
+            Signal::new("b", self.bits, i.b as u64),
+        ]
+    }
+
+    fn out_signals(&self, o: &u32) -> Vec<Signal> {
+        vec![Signal::new("y", self.bits, *o as u64)]
+    }
+}

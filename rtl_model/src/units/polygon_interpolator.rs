@@ -1,0 +1,1 @@
+//! polygon_interpolator: being written.

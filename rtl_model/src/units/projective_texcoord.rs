@@ -1,0 +1,1 @@
+//! projective_texcoord: being written.

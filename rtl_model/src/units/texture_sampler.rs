@@ -1,0 +1,1 @@
+//! texture_sampler: being written.

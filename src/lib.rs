@@ -1,0 +1,3 @@
+//! The system around the hardware: f64 references, scenes, pipelines, reports, CLI.
+
+pub mod reference;

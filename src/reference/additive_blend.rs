@@ -1,0 +1,1 @@
+//! f64 twin of additive_blend: being written.

@@ -1,0 +1,1 @@
+//! f64 twin of projective_texcoord: being written.

@@ -1,0 +1,1 @@
+//! f64 twin of shadow_compare: being written.

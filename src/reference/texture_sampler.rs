@@ -1,0 +1,1 @@
+//! f64 twin of texture_sampler: being written.

@@ -1,0 +1,62 @@
+//! Helpers shared by the unit tests.
+#![allow(dead_code)]
+
+use rtl_model::driver::{run_span, run_tick};
+use rtl_model::trace::VcdTrace;
+use rtl_model::{Counters, Unit};
+
+/// Proptest case count: ≥ 1 000 by default, more with PROPTEST_CASES.
+pub fn cases() -> u32 {
+    std::env::var("PROPTEST_CASES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000)
+        .max(1000)
+}
+
+/// Run `inputs` through the span driver, the tick driver and the traced tick driver
+/// from the same start state; assert identical outputs, final states and counters,
+/// and that the cycle count matches the unit's timing. Returns the outputs.
+pub fn assert_drivers_agree<U: Unit>(unit: &U, state: U::State, inputs: &[U::In]) -> Vec<U::Out> {
+    let mut s_span = state.clone();
+    let mut c_span = Counters::default();
+    let out_span = run_span(unit, &mut s_span, inputs, &mut c_span);
+
+    let mut s_tick = state.clone();
+    let mut c_tick = Counters::default();
+    let out_tick = run_tick::<U, Vec<u8>>(unit, &mut s_tick, inputs, &mut c_tick, None).unwrap();
+    assert_eq!(out_tick, out_span, "{}: outputs differ", unit.name());
+    assert_eq!(s_tick, s_span, "{}: final states differ", unit.name());
+    assert_eq!(c_tick, c_span, "{}: counters differ", unit.name());
+    assert_eq!(
+        c_tick.cycles,
+        unit.timing().span_cycles(inputs.len() as u64),
+        "{}: tick cycles differ from timing",
+        unit.name()
+    );
+    assert_eq!(
+        c_tick.stalls,
+        unit.timing().span_stalls(inputs.len() as u64)
+    );
+
+    if let (Some(first), Some(out0)) = (inputs.first(), out_span.first()) {
+        let mut buf: Vec<u8> = Vec::new();
+        let mut tr = VcdTrace::new(
+            &mut buf,
+            unit.name(),
+            unit.timing().latency,
+            &unit.in_signals(first),
+            &unit.out_signals(out0),
+        )
+        .unwrap();
+        let mut s_tr = state;
+        let mut c_tr = Counters::default();
+        let out_tr = run_tick(unit, &mut s_tr, inputs, &mut c_tr, Some(&mut tr)).unwrap();
+        tr.finish().unwrap();
+        assert_eq!(out_tr, out_span, "{}: traced outputs differ", unit.name());
+        assert_eq!(c_tr, c_span, "{}: traced counters differ", unit.name());
+        let text = String::from_utf8(buf).unwrap();
+        assert!(text.contains("$enddefinitions"), "VCD header missing");
+    }
+    out_span
+}

@@ -1,0 +1,111 @@
+//! modulate against its f64 twin: exhaustive where the input space is ≤ 2²⁰,
+//! property tests (≥ 1 000 cases) at 8, 12 and 16 bits and a narrow 3-bit config.
+
+mod common;
+
+use glare_pipeline::reference::modulate::modulate_codes;
+use proptest::prelude::*;
+use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
+
+/// Width-derived error bound, in output LSBs, of each mode against a·b/(2ⁿ−1)
+/// (derivations in docs/units.md#modulate). Returned as (low, high): err ∈ [low, high].
+fn bound(mode: ModulateMode, bits: u32) -> (f64, f64) {
+    let max = ((1u64 << bits) - 1) as f64;
+    let two_n = (1u64 << bits) as f64;
+    match mode {
+        ModulateMode::Exact => (-0.5, 0.5),
+        // a·b/(2ⁿ−1) − a·b/2ⁿ ≤ (2ⁿ−1)/2ⁿ, plus < 1 from the floor.
+        ModulateMode::Shift => (-(max / two_n) - 1.0, 0.0),
+        // a(b+1)/2ⁿ − ab/(2ⁿ−1) = a(2ⁿ−1−b)/(2ⁿ(2ⁿ−1)) ∈ [0, 1), then a floor.
+        ModulateMode::PlusOne => (-1.0, max / two_n),
+        ModulateMode::TruncDiv => (-1.0, 0.0),
+    }
+}
+
+fn check(m: &Modulate, a: u32, b: u32) {
+    let got = m.apply(a, b) as f64;
+    let want = modulate_codes(a, b, m.bits());
+    let err = got - want;
+    let (lo, hi) = bound(m.mode(), m.bits());
+    // Strict inequalities where the derivation gives them, with f64 slack of 1e-9.
+    assert!(
+        err >= lo - 1e-9 && err <= hi + 1e-9,
+        "{:?} {} bits: {a}·{b} → {got}, want {want} (err {err}, bound [{lo}, {hi}])",
+        m.mode(),
+        m.bits()
+    );
+}
+
+#[test]
+fn default_equals_round_ab_over_255_for_all_65536_pairs() {
+    let m = Modulate::geforce();
+    for a in 0..=255u32 {
+        for b in 0..=255u32 {
+            // Integer round-half-up of a·b/255 (a tie cannot occur: 255 is odd).
+            let want = (2 * a * b + 255) / 510;
+            assert_eq!(m.apply(a, b), want, "{a}·{b}");
+        }
+    }
+}
+
+#[test]
+fn exact_mode_is_exact_exhaustively_up_to_10_bits() {
+    for bits in 1..=10u32 {
+        let m = Modulate::new(bits, ModulateMode::Exact).unwrap();
+        let max = (1u32 << bits) - 1;
+        for a in 0..=max {
+            for b in 0..=max {
+                let want = ((2 * a as u64 * b as u64 + max as u64) / (2 * max as u64)) as u32;
+                assert_eq!(m.apply(a, b), want, "{bits} bits: {a}·{b}");
+            }
+        }
+    }
+}
+
+#[test]
+fn every_mode_within_bound_exhaustively_at_8_and_3_bits() {
+    for bits in [3u32, 8] {
+        for mode in ModulateMode::ALL {
+            let m = Modulate::new(bits, mode).unwrap();
+            let max = (1u32 << bits) - 1;
+            for a in 0..=max {
+                for b in 0..=max {
+                    check(&m, a, b);
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    #[test]
+    fn within_bound_at_8_12_16_and_narrow_3_bits(
+        bits in prop::sample::select(vec![3u32, 8, 12, 16]),
+        mode in prop::sample::select(ModulateMode::ALL.to_vec()),
+        a in any::<u32>(),
+        b in any::<u32>(),
+    ) {
+        let m = Modulate::new(bits, mode).unwrap();
+        let max = (1u32 << bits) - 1;
+        check(&m, a & max, b & max);
+    }
+
+    #[test]
+    fn tick_and_span_drivers_agree(
+        bits in 1u32..=16,
+        mode in prop::sample::select(ModulateMode::ALL.to_vec()),
+        pairs in prop::collection::vec((any::<u32>(), any::<u32>()), 0..40),
+    ) {
+        let m = Modulate::new(bits, mode).unwrap();
+        let inputs: Vec<ModulateIn> = pairs.iter().map(|&(a, b)| ModulateIn { a: a & ((1 << bits) - 1), b: b & ((1 << bits) - 1) }).collect();
+        common::assert_drivers_agree(&m, (), &inputs);
+    }
+
+    #[test]
+    fn out_of_range_width_is_an_error_naming_the_field(bits in prop_oneof![Just(0u32), 17u32..1000]) {
+        let e = Modulate::new(bits, ModulateMode::Exact).unwrap_err();
+        prop_assert_eq!(e.field(), "modulate.bits");
+    }
+}
