@@ -1,3 +1,8 @@
 //! The system around the hardware: f64 references, scenes, pipelines, reports, CLI.
 
+pub mod cli;
+pub mod pipeline;
 pub mod reference;
+pub mod report;
+pub mod scene;
+pub mod tables;

@@ -1,0 +1,165 @@
+//! The clap front end: `units`, `render`, `tables`, `trace`.
+
+use crate::pipeline::registry;
+use crate::report::alternates::modulate_alternates;
+use crate::report::table::text_table;
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "glare-pipeline",
+    version,
+    about = "Cycle-level, bit-accurate model of a GeForce2/3-era glare and shading pipeline"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Print every unit with its default widths, latency, II, gates and RAM bits.
+    Units {
+        /// JSON array instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Also print the modulate alternates' error against round(a·b/255) and gates.
+        #[arg(long)]
+        alternates: bool,
+    },
+    /// Render the built-in default scene to PNG and print the counters.
+    Render {
+        /// Output PNG.
+        #[arg(long, default_value = "out/render.png")]
+        out: PathBuf,
+        /// Counters as JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write every RAM/ROM table as $readmemh hex plus a manifest.
+    Tables {
+        /// Output directory.
+        #[arg(long, default_value = "tables")]
+        dir: PathBuf,
+    },
+    /// Write a VCD trace of a unit for a few random pixels (tick driver).
+    Trace {
+        /// Unit name (see `units`).
+        unit: String,
+        /// Number of pixels (input words).
+        #[arg(long, default_value_t = 8)]
+        pixels: usize,
+        /// Random seed for the inputs.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Output VCD file.
+        #[arg(long, default_value = "out/trace.vcd")]
+        out: PathBuf,
+    },
+}
+
+/// Run a parsed command; errors are returned as text naming the field at fault.
+pub fn run(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Command::Units { json, alternates } => units(json, alternates),
+        Command::Render { out, json } => crate::pipeline::test_scene::render_cli(&out, json),
+        Command::Tables { dir } => {
+            let t = registry::tables();
+            crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
+            println!("wrote {} tables and manifest.json to {}", t.len(), dir.display());
+            Ok(())
+        }
+        Command::Trace {
+            unit,
+            pixels,
+            seed,
+            out,
+        } => {
+            if pixels == 0 || pixels > 100_000 {
+                return Err(format!("pixels: {pixels} is out of range (1 ..= 100000)"));
+            }
+            let mut buf = Vec::new();
+            let ctr = registry::trace(&unit, pixels, seed, &mut buf)?;
+            write_file(&out, &buf)?;
+            println!(
+                "wrote {} ({} cycles, {} pixels in, {} out, {} stalls)",
+                out.display(),
+                ctr.cycles,
+                ctr.pixels_in,
+                ctr.pixels_out,
+                ctr.stalls
+            );
+            Ok(())
+        }
+    }
+}
+
+/// Write a file, creating its directory; a failure names the path.
+pub fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
+    if let Some(dir) = path.parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("out: {}: {e}", dir.display()))?;
+        }
+    }
+    std::fs::write(path, bytes).map_err(|e| format!("out: {}: {e}", path.display()))
+}
+
+fn units(json: bool, alternates: bool) -> Result<(), String> {
+    let s = registry::summaries();
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&s).map_err(|e| e.to_string())?
+        );
+    } else {
+        let rows: Vec<Vec<String>> = s
+            .iter()
+            .map(|u| {
+                vec![
+                    u.name.to_string(),
+                    u.widths
+                        .iter()
+                        .map(|w| format!("{}={}", w.name, w.bits))
+                        .collect::<Vec<_>>()
+                        .join(" "),
+                    u.latency.to_string(),
+                    u.ii.to_string(),
+                    format!("{:.0}", u.gates_nand2),
+                    u.ram_bits.to_string(),
+                ]
+            })
+            .collect();
+        print!(
+            "{}",
+            text_table(
+                &["unit", "widths", "latency", "ii", "gates_nand2", "ram_bits"],
+                &rows
+            )
+        );
+    }
+    if alternates {
+        let rows: Vec<Vec<String>> = modulate_alternates(8)
+            .iter()
+            .map(|r| {
+                vec![
+                    format!("{:?}", r.mode),
+                    r.max_err.to_string(),
+                    format!("{:.4}", r.mean_err),
+                    format!("{:+.4}", r.mean_bias),
+                    r.pairs_differing.to_string(),
+                    format!("{:.0}", r.gates_nand2),
+                ]
+            })
+            .collect();
+        println!("\nmodulate alternates, 8-bit, all 65 536 pairs, against round(a*b/255):");
+        print!(
+            "{}",
+            text_table(
+                &["mode", "max_err", "mean_abs_err", "mean_bias", "pairs_differing", "gates_nand2"],
+                &rows
+            )
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,3 @@
+//! Units wired into pipelines; frames driven; counters gathered.
+
+pub mod registry;

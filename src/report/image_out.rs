@@ -1,0 +1,65 @@
+//! Framebuffers to PNG.
+
+use image::{ImageBuffer, Rgba};
+use std::path::Path;
+
+/// An RGBA framebuffer of n-bit channels (n ≤ 16), row-major, top row first.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Framebuffer {
+    pub width: u32,
+    pub height: u32,
+    pub bits: u32,
+    /// width · height · 4 channel codes.
+    pub data: Vec<u32>,
+}
+
+impl Framebuffer {
+    pub fn new(width: u32, height: u32, bits: u32) -> Self {
+        Framebuffer {
+            width,
+            height,
+            bits,
+            data: vec![0; (width * height * 4) as usize],
+        }
+    }
+
+    pub fn pixel(&self, x: u32, y: u32) -> [u32; 4] {
+        let i = ((y * self.width + x) * 4) as usize;
+        [
+            self.data[i],
+            self.data[i + 1],
+            self.data[i + 2],
+            self.data[i + 3],
+        ]
+    }
+
+    pub fn set(&mut self, x: u32, y: u32, v: [u32; 4]) {
+        let i = ((y * self.width + x) * 4) as usize;
+        self.data[i..i + 4].copy_from_slice(&v);
+    }
+
+    /// 8-bit RGBA bytes (wider channels rounded to nearest; alpha forced opaque).
+    pub fn to_rgba8(&self) -> Vec<u8> {
+        let max = ((1u64 << self.bits) - 1) as u64;
+        self.data
+            .chunks(4)
+            .flat_map(|p| {
+                let c = |v: u32| ((v as u64 * 255 * 2 + max) / (2 * max)) as u8;
+                [c(p[0]), c(p[1]), c(p[2]), 255]
+            })
+            .collect()
+    }
+
+    /// Write as an 8-bit RGBA PNG.
+    pub fn save_png(&self, path: &Path) -> Result<(), image::ImageError> {
+        let img: ImageBuffer<Rgba<u8>, Vec<u8>> =
+            ImageBuffer::from_raw(self.width, self.height, self.to_rgba8())
+                .expect("buffer size matches");
+        if let Some(dir) = path.parent() {
+            if !dir.as_os_str().is_empty() {
+                std::fs::create_dir_all(dir).map_err(image::ImageError::IoError)?;
+            }
+        }
+        img.save(path)
+    }
+}

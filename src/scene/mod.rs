@@ -1,0 +1,3 @@
+//! Scenes: host-side geometry and (later) the TOML scene format and elaboration.
+
+pub mod math;

@@ -1,0 +1,52 @@
+//! The command-line front end, run as a user would.
+
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_glare-pipeline"))
+}
+
+#[test]
+fn units_json_lists_every_unit_with_the_required_fields() {
+    let out = bin().args(["units", "--json"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let arr = v.as_array().expect("a JSON array");
+    let names: Vec<&str> = arr.iter().map(|u| u["name"].as_str().unwrap()).collect();
+    for want in glare_pipeline::pipeline::registry::UNIT_NAMES {
+        assert!(names.contains(want), "{want} missing from units --json");
+    }
+    for u in arr {
+        for key in ["name", "latency", "ii", "gates_nand2", "ram_bits", "widths"] {
+            assert!(u.get(key).is_some(), "{}: no {key}", u["name"]);
+        }
+        assert!(u["latency"].as_u64().unwrap() >= 1);
+        assert!(u["ii"].as_u64().unwrap() >= 1);
+        assert!(u["gates_nand2"].as_f64().unwrap() > 0.0);
+        assert!(!u["widths"].as_array().unwrap().is_empty());
+    }
+}
+
+#[test]
+fn trace_writes_a_vcd_and_unknown_units_are_named() {
+    let dir = std::env::temp_dir().join(format!("glare-trace-{}", std::process::id()));
+    let path = dir.join("m.vcd");
+    let out = bin()
+        .args(["trace", "modulate", "--pixels", "5", "--out"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let vcd = std::fs::read_to_string(&path).unwrap();
+    assert!(vcd.contains("$enddefinitions") && vcd.contains("in_a") && vcd.contains("out_y"));
+    // 5 pixels, latency 2, II 1: (5 − 1)·1 + 2 + 1 = 7 clocks → timestamps 0 … 65 (+ drain).
+    assert!(vcd.contains("#60"));
+
+    let bad = bin().args(["trace", "nonesuch"]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("unit"));
+    let zero = bin().args(["trace", "modulate", "--pixels", "0"]).output().unwrap();
+    assert_eq!(zero.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&zero.stderr).contains("pixels"));
+    let _ = std::fs::remove_dir_all(dir);
+}
