@@ -1,1 +1,857 @@
-//! texture_sampler: being written.
+//! texture_sampler — 1D / 2D / 3D texture lookup with nearest or (bi/tri)linear
+//! filtering, clamp-to-edge or repeat addressing per axis, texels held in a packed
+//! `bitvec` RAM at their configured width.
+//!
+//! Conventions (OpenGL 1.x / 1.2 for 3D, as on GeForce2 / GeForce3):
+//! * The input is a **texel-space** coordinate per axis: the rasteriser has already
+//!   multiplied the normalised (s, t, r) by the texture size. It is a signed fixed-point
+//!   word s(I).F — I = `coord_int_bits` integer bits including the sign (default 16,
+//!   i.e. −32768 ..< 32768 texels: eight repeats of the largest 4096 texture either way),
+//!   F = `coord_frac_bits` sub-texel bits (default 8). Words are masked to their I + F
+//!   wires (sign-extended); a word that did not fit counts one `overflows` per axis.
+//! * Nearest: i = floor(u).  Linear: p = u − ½, i0 = floor(p), a = p − i0, i1 = i0 + 1,
+//!   out = Σ (corner weights) · texel.
+//! * Address modes: clamp to edge (i → clamp(i, 0, size − 1)) or repeat
+//!   (i → i mod size; a mask for power-of-two sizes, a remainder otherwise).
+//!
+//! Datapath widths (tb = `texel_bits`, wb = `weight_bits`, W = 2^wb, d = `dims`,
+//! F = `coord_frac_bits`, I = `coord_int_bits`):
+//! * p = u − ½ in s(I+1).Fp with Fp = max(F, 1) (exact: the ½ needs one extra
+//!   fraction bit only when F = 0); i0 = p >> Fp is s(I+1); the fraction a is u(Fp).
+//! * If Fp ≤ wb the fraction is used exactly (shifted up); otherwise it is reduced to
+//!   wb bits by `weight_rounding` (round to nearest, ties up, by default; or truncate):
+//!   fx ∈ [0, W] (rounding can reach W), so each per-axis weight W − fx, fx is u(wb+1).
+//!   At the defaults (F = wb = 8) the weights are exact.
+//! * Product weights Π_axes w: u(wb+1)^d → u(d·wb + 1) (they sum to exactly W^d).
+//! * texel × weight: u(tb) × u(d·wb+1) → u(tb + d·wb + 1), but every product and the
+//!   whole sum are ≤ (2^tb − 1)·W^d < 2^(tb + d·wb), so the accumulator is
+//!   u(tb + d·wb) (≤ 64 bits at the widest config: 16 + 3·16).
+//! * One rounding at the end, half up: out = (Σ + W^d/2) >> (d·wb), u(tb). It never
+//!   exceeds 2^tb − 1, so no saturation is possible.
+//!
+//! Timing: nearest = address (1) + RAM read (1), II 1. Linear = address and axis
+//! weights (1) + II RAM-read clocks (the 2^d corners in batches of `texels_per_clock`
+//! ports, lane weights formed alongside) + texel × weight multiply (1) + adder tree,
+//! accumulate and round (1); II = ceil(2^d / texels_per_clock). Every sample counts
+//! its texel reads and bytes with `memory::texel_fetch` (no texture cache modelled).
+
+use crate::cost::{prim, Cells, Cost};
+use crate::counters::Counters;
+use crate::error::{check_finite, check_range, ConfigError};
+use crate::fixed_point::{Format, Fx, Overflow, Quant};
+use crate::memory::texel_fetch;
+use crate::unit::{Signal, Timing, Unit, Width};
+use crate::unorm::{check_bits, max_code};
+use bitvec::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Largest size of one axis.
+pub const MAX_SIZE: u32 = 4096;
+/// Largest texel count (product of the sizes): 2^24.
+pub const MAX_TEXELS: u64 = 1 << 24;
+/// Largest number of sub-texel fraction bits of the coordinate.
+pub const MAX_COORD_FRAC_BITS: u32 = 16;
+/// Widest coordinate word (integer + fraction bits): it travels in an `i32`.
+pub const MAX_COORD_WIDTH: u32 = 32;
+/// Widest filter weight.
+pub const MAX_WEIGHT_BITS: u32 = 16;
+/// Most RAM read ports (texels fetched per clock).
+pub const MAX_TEXELS_PER_CLOCK: u32 = 8;
+/// Most channels (RGBA).
+pub const MAX_CHANNELS: u32 = 4;
+
+/// Texture filter.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Filter {
+    /// GL_NEAREST: the texel containing the coordinate (1 texel).
+    Nearest,
+    /// GL_LINEAR: linear (1D), bilinear (2D) or trilinear (3D, 8 texels) filtering.
+    Linear,
+}
+
+/// Address (wrap) mode of one axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AddressMode {
+    /// GL_CLAMP_TO_EDGE: clamp(i, 0, size − 1).
+    Clamp,
+    /// GL_REPEAT: i mod size (floored).
+    Wrap,
+}
+
+/// How the sub-texel fraction is reduced to `weight_bits`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WeightRounding {
+    /// Round to nearest, ties up: error ≤ 2^−(wb+1) per axis; fx may reach W.
+    Round,
+    /// Drop the low bits: error ≤ 2^−wb − 2^−F per axis; no incrementer.
+    Truncate,
+}
+
+/// The configuration as a user writes it (unvalidated; [`TextureSampler::new`]
+/// validates it). Field names are those of the errors: `texture_sampler.<field>`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct TextureSamplerConfig {
+    /// 1, 2 or 3.
+    pub dims: u32,
+    /// [width, height, depth], each 1 ..= 4096, product ≤ 2^24; unused axes must be 1.
+    pub size: [u32; 3],
+    /// 1 ..= 4 (1 = luminance, the shafts pipeline's g, F and h textures).
+    pub channels: u32,
+    /// Unorm texel width, 1 ..= 16 (GeForce: 8).
+    pub texel_bits: u32,
+    /// Integer bits of the coordinate word including its sign, with
+    /// 2^(coord_int_bits − 1) ≥ the largest used size and
+    /// coord_int_bits + coord_frac_bits ≤ 32 (default 16).
+    pub coord_int_bits: u32,
+    /// Sub-texel fraction bits of the coordinate, 0 ..= 16 (default 8).
+    pub coord_frac_bits: u32,
+    /// Filter weight bits, 1 ..= 16 (default 8).
+    pub weight_bits: u32,
+    /// Fraction → weight reduction (default round to nearest).
+    pub weight_rounding: WeightRounding,
+    pub filter: Filter,
+    /// Per axis (s, t, r); unused axes are ignored.
+    pub address: [AddressMode; 3],
+    /// RAM read ports, 1 ..= 8 (default 4: a bilinear sample per clock).
+    pub texels_per_clock: u32,
+}
+
+impl Default for TextureSamplerConfig {
+    fn default() -> Self {
+        Self::geforce()
+    }
+}
+
+impl TextureSamplerConfig {
+    /// GeForce2-era defaults: a 256 × 256 luminance texture, 8-bit texels, 8 sub-texel
+    /// coordinate bits, 8-bit weights, bilinear, clamp to edge, 4 texels per clock.
+    pub fn geforce() -> Self {
+        TextureSamplerConfig {
+            dims: 2,
+            size: [256, 256, 1],
+            channels: 1,
+            texel_bits: 8,
+            coord_int_bits: 16,
+            coord_frac_bits: 8,
+            weight_bits: 8,
+            weight_rounding: WeightRounding::Round,
+            filter: Filter::Linear,
+            address: [AddressMode::Clamp; 3],
+            texels_per_clock: 4,
+        }
+    }
+
+    /// GeForce defaults for a 1D texture of `width` texels (e.g. the shafts' F(α)).
+    pub fn geforce_1d(width: u32) -> Self {
+        TextureSamplerConfig {
+            dims: 1,
+            size: [width, 1, 1],
+            ..Self::geforce()
+        }
+    }
+
+    /// GeForce defaults for a 2D texture (e.g. the shafts' h(s, t)).
+    pub fn geforce_2d(width: u32, height: u32) -> Self {
+        TextureSamplerConfig {
+            dims: 2,
+            size: [width, height, 1],
+            ..Self::geforce()
+        }
+    }
+
+    /// GeForce3 defaults for a 3D texture (the multi-scale environment map): trilinear
+    /// over 8 texels with 4 ports, so II = 2.
+    pub fn geforce_3d(width: u32, height: u32, depth: u32) -> Self {
+        TextureSamplerConfig {
+            dims: 3,
+            size: [width, height, depth],
+            ..Self::geforce()
+        }
+    }
+
+    /// Check every field; the error names the first field at fault.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_range("texture_sampler.dims", self.dims as u64, 1, 3)?;
+        let d = self.dims as usize;
+        for (k, &s) in self.size.iter().enumerate() {
+            if k < d {
+                check_range("texture_sampler.size", s as u64, 1, MAX_SIZE as u64)?;
+            } else if s != 1 {
+                return Err(ConfigError::invalid(
+                    "texture_sampler.size",
+                    &format!("axis {k} is unused at dims = {d} and must be 1, not {s}"),
+                ));
+            }
+        }
+        let texels: u64 = self.size.iter().map(|&s| s as u64).product();
+        check_range("texture_sampler.size", texels, 1, MAX_TEXELS)?;
+        check_range(
+            "texture_sampler.channels",
+            self.channels as u64,
+            1,
+            MAX_CHANNELS as u64,
+        )?;
+        check_bits("texture_sampler.texel_bits", self.texel_bits)?;
+        check_range(
+            "texture_sampler.coord_frac_bits",
+            self.coord_frac_bits as u64,
+            0,
+            MAX_COORD_FRAC_BITS as u64,
+        )?;
+        check_range(
+            "texture_sampler.coord_int_bits",
+            self.coord_int_bits as u64,
+            1,
+            (MAX_COORD_WIDTH - self.coord_frac_bits) as u64,
+        )?;
+        let largest = self.size[..d].iter().copied().max().unwrap_or(1) as u64;
+        if (1u64 << (self.coord_int_bits - 1)) < largest {
+            return Err(ConfigError::invalid(
+                "texture_sampler.coord_int_bits",
+                &format!(
+                    "{} signed integer bits reach only {} texels, the texture has {largest}",
+                    self.coord_int_bits,
+                    1u64 << (self.coord_int_bits - 1)
+                ),
+            ));
+        }
+        check_range(
+            "texture_sampler.weight_bits",
+            self.weight_bits as u64,
+            1,
+            MAX_WEIGHT_BITS as u64,
+        )?;
+        check_range(
+            "texture_sampler.texels_per_clock",
+            self.texels_per_clock as u64,
+            1,
+            MAX_TEXELS_PER_CLOCK as u64,
+        )?;
+        Ok(())
+    }
+
+    /// Texels the texture holds (w · h · d).
+    pub fn texel_count(&self) -> u64 {
+        self.size.iter().map(|&s| s as u64).product()
+    }
+
+    /// Texel RAM bits: w · h · d · channels · texel_bits.
+    pub fn ram_bits(&self) -> u64 {
+        self.texel_count() * self.channels as u64 * self.texel_bits as u64
+    }
+
+    /// Texels one sample reads: 1 (nearest) or 2^dims (linear).
+    pub fn texels_per_sample(&self) -> u32 {
+        match self.filter {
+            Filter::Nearest => 1,
+            Filter::Linear => 1 << self.dims.clamp(1, 3),
+        }
+    }
+
+    /// Quantise a normalised coordinate `s` of `axis` (0 = s, 1 = t, 2 = r) to the
+    /// texel-space coordinate word, as the rasteriser hands it over:
+    /// round-to-nearest (ties up) of s · size[axis] into s(I).F, saturating (counted in
+    /// `ctr.saturations`) beyond the word. NaN or ±∞ is an error naming
+    /// `texture_sampler.coord`; so is an invalid config or axis.
+    pub fn texel_coord_from_normalized(
+        &self,
+        s: f64,
+        axis: usize,
+        ctr: &mut Counters,
+    ) -> Result<i32, ConfigError> {
+        self.validate()?;
+        if axis >= self.dims as usize {
+            return Err(ConfigError::out_of_range(
+                "texture_sampler.coord",
+                axis as f64,
+                0.0,
+                (self.dims - 1) as f64,
+            ));
+        }
+        texel_coord_from_normalized(
+            s,
+            self.size[axis],
+            self.coord_int_bits,
+            self.coord_frac_bits,
+            ctr,
+        )
+    }
+
+    /// [`Self::texel_coord_from_normalized`] for every used axis (unused axes get 0).
+    pub fn input_from_normalized(
+        &self,
+        stq: [f64; 3],
+        ctr: &mut Counters,
+    ) -> Result<TextureSamplerIn, ConfigError> {
+        let mut coord = [0i32; 3];
+        for (k, c) in coord
+            .iter_mut()
+            .enumerate()
+            .take(self.dims.clamp(1, 3) as usize)
+        {
+            *c = self.texel_coord_from_normalized(stq[k], k, ctr)?;
+        }
+        Ok(TextureSamplerIn { coord })
+    }
+}
+
+fn rename(e: ConfigError, field: &str) -> ConfigError {
+    match e {
+        ConfigError::OutOfRange {
+            value, min, max, ..
+        } => ConfigError::out_of_range(field, value, min, max),
+        ConfigError::NotFinite { value, .. } => ConfigError::not_finite(field, value),
+        ConfigError::Invalid { reason, .. } => ConfigError::invalid(field, &reason),
+    }
+}
+
+/// Host helper: the texel-space coordinate word for normalised `s` on an axis of
+/// `size` texels, in s(`coord_int_bits`).(`coord_frac_bits`): round to nearest (ties
+/// up) of s · size, saturating beyond the word (counted). NaN/±∞ → error naming
+/// `texture_sampler.coord`; widths out of range → errors naming their fields.
+pub fn texel_coord_from_normalized(
+    s: f64,
+    size: u32,
+    coord_int_bits: u32,
+    coord_frac_bits: u32,
+    ctr: &mut Counters,
+) -> Result<i32, ConfigError> {
+    let s = check_finite("texture_sampler.coord", s)?;
+    check_range("texture_sampler.size", size as u64, 1, MAX_SIZE as u64)?;
+    check_range(
+        "texture_sampler.coord_frac_bits",
+        coord_frac_bits as u64,
+        0,
+        MAX_COORD_FRAC_BITS as u64,
+    )?;
+    check_range(
+        "texture_sampler.coord_int_bits",
+        coord_int_bits as u64,
+        1,
+        (MAX_COORD_WIDTH - coord_frac_bits) as u64,
+    )?;
+    let fmt = Format::new(coord_int_bits, coord_frac_bits, true)
+        .map_err(|e| rename(e, "texture_sampler.coord_int_bits"))?;
+    // |s| beyond 2^40 saturates anyway; keep s · size finite.
+    let u = s.clamp(-(2f64.powi(40)), 2f64.powi(40)) * size as f64;
+    let fx = Fx::from_f64(
+        u,
+        fmt,
+        Quant::Rnd,
+        Overflow::Sat,
+        "texture_sampler.coord",
+        ctr,
+    )?;
+    Ok(fx.raw as i32) // s(I).F with I + F ≤ 32 fits an i32
+}
+
+/// One sample request: texel-space coordinates (s, t, r) as s(I).F words; unused
+/// axes are ignored.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct TextureSamplerIn {
+    pub coord: [i32; 3],
+}
+
+/// The sampler: validated config plus its texel RAM.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TextureSampler {
+    cfg: TextureSamplerConfig,
+    /// Texel RAM, packed: texel (x, y, z) channel c at bit
+    /// (((z·h + y)·w + x)·channels + c)·texel_bits, LSB first.
+    ram: BitVec<u64, Lsb0>,
+    /// Address bits of each axis: ceil(log2(size)).
+    axis_bits: [u32; 3],
+}
+
+fn ceil_log2(n: u64) -> u32 {
+    if n <= 1 {
+        0
+    } else {
+        64 - (n - 1).leading_zeros()
+    }
+}
+
+const OUT_NAMES: [&str; 4] = ["ch0", "ch1", "ch2", "ch3"];
+const IN_NAMES: [&str; 3] = ["coord_s", "coord_t", "coord_r"];
+
+impl TextureSampler {
+    /// Validate `cfg` and load `texels`: w·h·d·channels codes, texel (x, y, z)
+    /// channel c at index ((z·h + y)·w + x)·channels + c. A wrong count or a code
+    /// ≥ 2^texel_bits is an error naming `texture_sampler.texels`.
+    pub fn new(cfg: TextureSamplerConfig, texels: &[u32]) -> Result<Self, ConfigError> {
+        cfg.validate()?;
+        let mut axis_bits = [0u32; 3];
+        for (b, &s) in axis_bits.iter_mut().zip(cfg.size.iter()) {
+            *b = ceil_log2(s as u64);
+        }
+        let mut t = TextureSampler {
+            ram: BitVec::new(),
+            cfg,
+            axis_bits,
+        };
+        t.load(texels)?;
+        Ok(t)
+    }
+
+    /// GeForce defaults ([`TextureSamplerConfig::geforce`], 256 × 256 luminance).
+    pub fn geforce(texels: &[u32]) -> Result<Self, ConfigError> {
+        Self::new(TextureSamplerConfig::geforce(), texels)
+    }
+
+    /// Replace the whole texture (a texture upload or a copy-to-texture). On error the
+    /// RAM is left as it was.
+    pub fn load(&mut self, texels: &[u32]) -> Result<(), ConfigError> {
+        let n = self.cfg.texel_count() * self.cfg.channels as u64;
+        if texels.len() as u64 != n {
+            return Err(ConfigError::invalid(
+                "texture_sampler.texels",
+                &format!("expected {n} codes (w·h·d·channels), got {}", texels.len()),
+            ));
+        }
+        let max = max_code(self.cfg.texel_bits);
+        if let Some((i, &v)) = texels.iter().enumerate().find(|(_, &v)| v > max) {
+            return Err(ConfigError::invalid(
+                "texture_sampler.texels",
+                &format!(
+                    "code {v} at index {i} does not fit {} bits",
+                    self.cfg.texel_bits
+                ),
+            ));
+        }
+        let tb = self.cfg.texel_bits as usize;
+        let mut ram: BitVec<u64, Lsb0> = BitVec::repeat(false, texels.len() * tb);
+        for (chunk, &v) in ram.chunks_exact_mut(tb).zip(texels) {
+            chunk.store_le(v);
+        }
+        self.ram = ram;
+        Ok(())
+    }
+
+    pub fn config(&self) -> &TextureSamplerConfig {
+        &self.cfg
+    }
+    pub fn dims(&self) -> u32 {
+        self.cfg.dims
+    }
+    pub fn size(&self) -> [u32; 3] {
+        self.cfg.size
+    }
+    pub fn channels(&self) -> u32 {
+        self.cfg.channels
+    }
+    pub fn texel_bits(&self) -> u32 {
+        self.cfg.texel_bits
+    }
+    pub fn coord_int_bits(&self) -> u32 {
+        self.cfg.coord_int_bits
+    }
+    pub fn coord_frac_bits(&self) -> u32 {
+        self.cfg.coord_frac_bits
+    }
+    /// The coordinate word format s(I).F.
+    pub fn coord_format(&self) -> Format {
+        Format {
+            int_bits: self.cfg.coord_int_bits,
+            frac_bits: self.cfg.coord_frac_bits,
+            signed: true,
+        }
+    }
+    /// Coordinate word width I + F.
+    pub fn coord_bits(&self) -> u32 {
+        self.cfg.coord_int_bits + self.cfg.coord_frac_bits
+    }
+    pub fn weight_bits(&self) -> u32 {
+        self.cfg.weight_bits
+    }
+    pub fn weight_rounding(&self) -> WeightRounding {
+        self.cfg.weight_rounding
+    }
+    pub fn filter(&self) -> Filter {
+        self.cfg.filter
+    }
+    pub fn address(&self) -> [AddressMode; 3] {
+        self.cfg.address
+    }
+    pub fn texels_per_clock(&self) -> u32 {
+        self.cfg.texels_per_clock
+    }
+    /// Texel RAM bits actually held (the bit vector's length).
+    pub fn ram_bits(&self) -> u64 {
+        self.ram.len() as u64
+    }
+    /// The packed texel RAM.
+    pub fn ram(&self) -> &BitSlice<u64, Lsb0> {
+        &self.ram
+    }
+
+    /// Read one stored code (coordinates wrapped into range; no counters).
+    pub fn texel(&self, x: u32, y: u32, z: u32, c: u32) -> u32 {
+        let [w, h, d] = self.cfg.size;
+        let a = ((z % d) as u64 * h as u64 + (y % h) as u64) * w as u64 + (x % w) as u64;
+        self.read(a, c % self.cfg.channels)
+    }
+
+    /// Width of the texel RAM address: ceil(log2(w·h·d)).
+    pub fn addr_bits(&self) -> u32 {
+        ceil_log2(self.cfg.texel_count())
+    }
+
+    /// Width of a product weight: d·wb + 1 (it can equal W^d).
+    fn pw_bits(&self) -> u32 {
+        self.cfg.dims * self.cfg.weight_bits + 1
+    }
+
+    /// Width of the accumulator: tb + d·wb.
+    fn acc_bits(&self) -> u32 {
+        self.cfg.texel_bits + self.cfg.dims * self.cfg.weight_bits
+    }
+
+    /// Filter lanes (texel × weight multipliers per channel): one per port used.
+    fn lanes(&self) -> u32 {
+        self.cfg.texels_per_clock.min(self.cfg.texels_per_sample())
+    }
+
+    #[inline]
+    fn read(&self, texel_addr: u64, c: u32) -> u32 {
+        let tb = self.cfg.texel_bits as usize;
+        let bit = (texel_addr as usize * self.cfg.channels as usize + c as usize) * tb;
+        self.ram[bit..bit + tb].load_le::<u32>()
+    }
+
+    /// The coordinate wires: the low I + F bits of the word, sign-extended.
+    /// Returns the value and whether the word did not fit (it wrapped).
+    #[inline]
+    pub fn coord_wire(&self, word: i32) -> (i64, bool) {
+        let w = self.coord_bits(); // 1 ..= 32
+        let sh = 64 - w;
+        let v = ((word as i64) << sh) >> sh; // s(I).F
+        (v, v != word as i64)
+    }
+
+    /// Address mode of one axis on an s(I+1) integer index → u(axis_bits).
+    #[inline]
+    fn address_axis(&self, k: usize, i: i64) -> u64 {
+        let size = self.cfg.size[k] as i64;
+        match self.cfg.address[k] {
+            AddressMode::Clamp => i.clamp(0, size - 1) as u64,
+            // Power-of-two sizes: the low axis_bits bits (a mask); otherwise a remainder.
+            AddressMode::Wrap => i.rem_euclid(size) as u64,
+        }
+    }
+
+    #[inline]
+    fn texel_addr(&self, idx: [u64; 3]) -> u64 {
+        let [w, h, _] = self.cfg.size;
+        // z·(w·h) + y·w + x: u(addr_bits) (concatenation for power-of-two sizes).
+        (idx[2] * h as u64 + idx[1]) * w as u64 + idx[0]
+    }
+
+    /// The datapath on one coordinate: the filtered codes (unused channels 0).
+    // Per-axis loops index several parallel per-axis arrays, as the hardware does.
+    #[allow(clippy::needless_range_loop)]
+    pub fn sample(&self, input: &TextureSamplerIn, ctr: &mut Counters) -> [u32; 4] {
+        let d = self.cfg.dims as usize;
+        let f = self.cfg.coord_frac_bits;
+        let ch = self.cfg.channels;
+        let mut c = [0i64; 3];
+        for k in 0..d {
+            let (v, wrapped) = self.coord_wire(input.coord[k]);
+            ctr.overflows += u64::from(wrapped);
+            c[k] = v; // s(I).F
+        }
+        texel_fetch(
+            ctr,
+            self.cfg.texels_per_sample() as u64,
+            self.cfg.texel_bits * ch,
+        );
+        let mut out = [0u32; 4];
+        match self.cfg.filter {
+            Filter::Nearest => {
+                let mut idx = [0u64; 3];
+                for k in 0..d {
+                    // floor(u): s(I).F >> F → s(I)
+                    idx[k] = self.address_axis(k, c[k] >> f);
+                }
+                let a = self.texel_addr(idx);
+                for (cc, o) in out.iter_mut().enumerate().take(ch as usize) {
+                    *o = self.read(a, cc as u32);
+                }
+            }
+            Filter::Linear => {
+                let wb = self.cfg.weight_bits;
+                let big_w = 1u64 << wb; // W = 2^wb
+                let mut i01 = [[0u64; 2]; 3];
+                let mut w01 = [[big_w, 0u64]; 3];
+                for k in 0..d {
+                    // p = u − ½ with Fp = max(F, 1) fraction bits (F = 0 needs one more
+                    // bit for the ½): s(I).F → s(I+1).Fp, exact.
+                    let fp = f.max(1);
+                    let p = (c[k] << (fp - f)) - (1i64 << (fp - 1));
+                    let i0 = p >> fp; // floor(p): s(I+1)
+                    let fr = (p - (i0 << fp)) as u64; // the fraction a: u(Fp)
+                    let fx = if fp <= wb {
+                        fr << (wb - fp) // exact: u(Fp) → u(wb)
+                    } else {
+                        let s = fp - wb;
+                        match self.cfg.weight_rounding {
+                            // u(Fp) + half → u(Fp+1) >> s → u(wb+1), fx ∈ [0, W]
+                            WeightRounding::Round => (fr + (1 << (s - 1))) >> s,
+                            // u(Fp) >> s → u(wb), fx ∈ [0, W − 1]
+                            WeightRounding::Truncate => fr >> s,
+                        }
+                    };
+                    w01[k] = [big_w - fx, fx]; // u(wb+1) each, summing to W
+                    i01[k] = [self.address_axis(k, i0), self.address_axis(k, i0 + 1)];
+                }
+                let mut acc = [0u64; 4]; // u(tb + d·wb) each
+                for corner in 0..(1usize << d) {
+                    let mut idx = [0u64; 3];
+                    let mut pw = 1u64;
+                    for k in 0..d {
+                        let b = (corner >> k) & 1;
+                        idx[k] = i01[k][b];
+                        pw *= w01[k][b]; // u(wb+1)^d → u(d·wb+1), ≤ W^d
+                    }
+                    let a = self.texel_addr(idx);
+                    for (cc, acc_c) in acc.iter_mut().enumerate().take(ch as usize) {
+                        // u(tb) × u(d·wb+1); the sum stays ≤ (2^tb − 1)·W^d < 2^(tb+d·wb)
+                        *acc_c += self.read(a, cc as u32) as u64 * pw;
+                    }
+                }
+                let shift = d as u32 * wb; // 1 ..= 48
+                let half = 1u64 << (shift - 1);
+                for (o, &a) in out.iter_mut().zip(acc.iter()).take(ch as usize) {
+                    // round half up: (u(tb+d·wb) + W^d/2) >> d·wb → u(tb), ≤ 2^tb − 1
+                    *o = ((a + half) >> shift) as u32;
+                }
+            }
+        }
+        out
+    }
+
+    /// Gate-cost parts of one axis's address / weight logic.
+    fn axis_cost(&self, k: usize, mut cost: Cost) -> Cost {
+        let i = self.cfg.coord_int_bits;
+        let f = self.cfg.coord_frac_bits;
+        let wb = self.cfg.weight_bits;
+        let ab = self.axis_bits[k];
+        let size = self.cfg.size[k];
+        let axis = ["s", "t", "r"][k];
+        let linear = self.cfg.filter == Filter::Linear;
+        let nidx = if linear { 2 } else { 1 };
+        if linear {
+            // p = u − ½: a constant subtract over the integer bits and the top fraction bit.
+            cost = cost.part(&format!("{axis}: p = u − ½"), prim::adder(i + 1));
+            // The fraction of p has max(F, 1) significant bits; only more than wb need rounding.
+            if f.max(1) > wb && self.cfg.weight_rounding == WeightRounding::Round {
+                cost = cost.part(
+                    &format!("{axis}: weight round (incrementer)"),
+                    prim::half_adder() * (wb + 1) as f64,
+                );
+            }
+            cost = cost
+                .part(&format!("{axis}: W − fx"), prim::subtractor(wb + 1))
+                .part(
+                    &format!("{axis}: i1 = i0 + 1"),
+                    prim::half_adder() * (i + 1) as f64,
+                );
+        }
+        let per_index: Cells = match self.cfg.address[k] {
+            // i < 0 is the sign bit; i > size − 1 a comparator; a 3:1 select.
+            AddressMode::Clamp => prim::comparator(i + 1) + prim::mux_k(ab, 3),
+            AddressMode::Wrap if size.is_power_of_two() => Cells::default(), // a mask
+            // Floored remainder by a constant: restoring rows for the quotient bits.
+            AddressMode::Wrap => prim::divider(i + 1, (i + 1).saturating_sub(ab) + 1),
+        };
+        cost.part(
+            &format!("{axis}: address mode ×{nidx}"),
+            per_index * nidx as f64,
+        )
+    }
+}
+
+impl Unit for TextureSampler {
+    type In = TextureSamplerIn;
+    type Out = [u32; 4];
+    type State = ();
+
+    fn name(&self) -> &'static str {
+        "texture_sampler"
+    }
+
+    fn kernel(&self, _: &mut (), input: &TextureSamplerIn, ctr: &mut Counters) -> [u32; 4] {
+        self.sample(input, ctr)
+    }
+
+    fn timing(&self) -> Timing {
+        let n = self.cfg.texels_per_sample();
+        let ii = n.div_ceil(self.cfg.texels_per_clock); // ports are the bottleneck
+        let latency = match self.cfg.filter {
+            // address (1) + RAM read into the output register (1)
+            Filter::Nearest => 2,
+            // address + weights (1), RAM reads (II clocks, one port batch each),
+            // texel × weight multipliers (1), adder tree / accumulate + round (1)
+            Filter::Linear => 3 + ii,
+        };
+        Timing { latency, ii }
+    }
+
+    fn cost(&self) -> Cost {
+        let d = self.cfg.dims;
+        let ch = self.cfg.channels;
+        let tb = self.cfg.texel_bits;
+        let wb = self.cfg.weight_bits;
+        let n = self.cfg.texels_per_sample();
+        let ii = self.timing().ii;
+        let ab = self.addr_bits();
+        let mut cost = Cost::default().part(
+            "coordinate input registers",
+            prim::register(d * self.coord_bits()),
+        );
+        for k in 0..d as usize {
+            cost = self.axis_cost(k, cost);
+        }
+        // Texel address: concatenation for power-of-two sizes; otherwise row and plane
+        // bases y·w, z·(w·h) (constant multipliers, costed as full ones: an upper
+        // estimate) and one adder per used axis beyond the first, per texel.
+        let pow2 = self.cfg.size.iter().all(|s| s.is_power_of_two());
+        if d >= 2 && !pow2 {
+            let nidx = if self.cfg.filter == Filter::Linear {
+                2.0
+            } else {
+                1.0
+            };
+            let [w, h, _] = self.cfg.size;
+            cost = cost.part(
+                "address: y·w",
+                prim::multiplier(self.axis_bits[1], ceil_log2(w as u64 + 1)) * nidx,
+            );
+            if d == 3 {
+                cost = cost.part(
+                    "address: z·(w·h)",
+                    prim::multiplier(self.axis_bits[2], ceil_log2(w as u64 * h as u64 + 1)) * nidx,
+                );
+            }
+            cost = cost.part(
+                "address: base + index adders",
+                prim::adder(ab) * (n * (d - 1)) as f64,
+            );
+        }
+        cost = cost.part("texel address registers", prim::register(n * ab.max(1)));
+        let lanes = self.lanes();
+        if ii > 1 {
+            cost = cost.part(
+                "port address select",
+                prim::mux_k(ab.max(1), ii) * lanes as f64,
+            );
+        }
+        match self.cfg.filter {
+            Filter::Nearest => cost
+                .part("RAM output / output register", prim::register(ch * tb))
+                .with_ram_bits(self.ram_bits()),
+            Filter::Linear => {
+                let pw = self.pw_bits();
+                let acc = self.acc_bits();
+                cost = cost.part("axis weight registers", prim::register(2 * d * (wb + 1)));
+                // The 2^d corners go through in II batches of `lanes`; each lane forms its
+                // corner's product weight in the clock its texels are read:
+                // axis-weight select (II > 1), x·y: u(wb+1)² → u(2wb+1), xy·z → u(3wb+1).
+                if ii > 1 {
+                    cost = cost.part(
+                        "lane axis-weight select",
+                        prim::mux_k(wb + 1, ii) * (lanes * d) as f64,
+                    );
+                }
+                if d >= 2 {
+                    cost = cost.part(
+                        "lane weight products (x·y)",
+                        prim::multiplier(wb + 1, wb + 1) * lanes as f64,
+                    );
+                }
+                if d == 3 {
+                    cost = cost.part(
+                        "lane weight products (xy·z)",
+                        prim::multiplier(2 * wb + 1, wb + 1) * lanes as f64,
+                    );
+                }
+                cost = cost.part("lane weight registers", prim::register(lanes * pw));
+                cost = cost
+                    .part("texel registers", prim::register(lanes * ch * tb))
+                    .part(
+                        "texel × weight multipliers",
+                        prim::multiplier(tb, pw) * (lanes * ch) as f64,
+                    )
+                    .part("product registers", prim::register(lanes * ch * acc))
+                    .part("adder tree", prim::adder(acc) * ((lanes - 1) * ch) as f64);
+                if ii > 1 {
+                    cost = cost
+                        .part("accumulator adders", prim::adder(acc) * ch as f64)
+                        .part("accumulator registers", prim::register(ch * acc));
+                }
+                cost.part(
+                    "round half up (incrementer)",
+                    prim::half_adder() * ((tb + 1) * ch) as f64,
+                )
+                .part("output register", prim::register(ch * tb))
+                .with_ram_bits(self.ram_bits())
+            }
+        }
+    }
+
+    fn widths(&self) -> Vec<Width> {
+        let mut v = vec![
+            Width {
+                name: "texel_bits",
+                bits: self.cfg.texel_bits,
+            },
+            Width {
+                name: "coord_int_bits",
+                bits: self.cfg.coord_int_bits,
+            },
+            Width {
+                name: "coord_frac_bits",
+                bits: self.cfg.coord_frac_bits,
+            },
+            Width {
+                name: "weight_bits",
+                bits: self.cfg.weight_bits,
+            },
+            Width {
+                name: "texel_word",
+                bits: self.cfg.texel_bits * self.cfg.channels,
+            },
+            Width {
+                name: "texel_addr",
+                bits: self.addr_bits(),
+            },
+        ];
+        if self.cfg.filter == Filter::Linear {
+            v.push(Width {
+                name: "product_weight",
+                bits: self.pw_bits(),
+            });
+            v.push(Width {
+                name: "accumulator",
+                bits: self.acc_bits(),
+            });
+        }
+        v
+    }
+
+    fn in_signals(&self, input: &TextureSamplerIn) -> Vec<Signal> {
+        let w = self.coord_bits();
+        let mask = if w >= 64 { u64::MAX } else { (1u64 << w) - 1 };
+        (0..self.cfg.dims as usize)
+            .map(|k| Signal::new(IN_NAMES[k], w, input.coord[k] as i64 as u64 & mask))
+            .collect()
+    }
+
+    fn out_signals(&self, out: &[u32; 4]) -> Vec<Signal> {
+        (0..self.cfg.channels as usize)
+            .map(|c| Signal::new(OUT_NAMES[c], self.cfg.texel_bits, out[c] as u64))
+            .collect()
+    }
+}

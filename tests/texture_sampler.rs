@@ -1,0 +1,810 @@
+//! texture_sampler against its f64 twin (same integer texels, exact weights).
+//!
+//! Error bound, in output LSBs, derived from the widths (docs/datasheets/texture_sampler.md):
+//!
+//! * Nearest: both pick texel floor(u) with the same address mode → exact, bound 0.
+//! * Linear: the twin computes f(a) = Σ_corners Π_k w_k(a_k) · T_corner with
+//!   w_k = (1 − a_k, a_k); the unit computes f(ã) with ã_k = fx_k / W on the SAME texels
+//!   (same i0, i1 per axis: rounding fx up to W only moves weight onto i1), then rounds
+//!   once, half up.
+//!   - f is multilinear; ∂f/∂a_k = Σ (product of the other axes' weights) ·
+//!     (T_{…1…} − T_{…0…}), a convex combination of neighbour differences, so
+//!     |∂f/∂a_k| ≤ M = 2^tb − 1 everywhere in the unit cube. Moving one axis at a time
+//!     from a to ã (both in [0, 1]^d) gives |f(ã) − f(a)| ≤ M · Σ_k |ã_k − a_k| ≤ d·M·δ.
+//!   - δ, the per-axis weight error: the fraction of p = u − ½ has Fp = max(F, 1) bits
+//!     (F = coord_frac_bits). If Fp ≤ wb it is exact: δ = 0. Otherwise round-to-nearest
+//!     gives δ = 2^−(wb+1) (a tie), truncation δ = 2^−wb − 2^−Fp (all dropped bits 1).
+//!   - The final (Σ + W^d/2) >> d·wb is round-half-up: error in (−½, ½].
+//!
+//! Total: |unit − twin| ≤ ½ + d · (2^tb − 1) · δ.  At the defaults (8, 8, 8) δ = 0 and
+//! the bound is ½. The 1e-9 added in the assertions is f64 evaluation slack of the
+//! twin (values ≤ 65535), not a fudge.
+
+mod common;
+
+use glare_pipeline::reference::texture_sampler::{self as twin, TextureRef};
+use proptest::prelude::*;
+use rtl_model::units::texture_sampler::{
+    texel_coord_from_normalized, AddressMode, Filter, TextureSampler, TextureSamplerConfig,
+    TextureSamplerIn, WeightRounding,
+};
+use rtl_model::{Counters, Unit};
+
+/// (texel_bits, weight_bits, coord_frac_bits)
+#[derive(Clone, Copy, Debug)]
+struct Widths {
+    texel: u32,
+    weight: u32,
+    frac: u32,
+}
+
+const DEFAULT: Widths = Widths {
+    texel: 8,
+    weight: 8,
+    frac: 8,
+};
+const WIDE: Widths = Widths {
+    texel: 12,
+    weight: 12,
+    frac: 16,
+};
+/// The brief's narrow config: F = wb, so weights are exact and only the final
+/// rounding is left (large relative error: 3-bit texels).
+const NARROW: Widths = Widths {
+    texel: 3,
+    weight: 2,
+    frac: 2,
+};
+/// Narrow with real weight quantisation: 6 fraction bits squeezed into 2-bit weights.
+const NARROW_Q: Widths = Widths {
+    texel: 3,
+    weight: 2,
+    frac: 6,
+};
+/// 8-bit texels, coarse 4-bit weights from 12-bit coordinates.
+const COARSE_W: Widths = Widths {
+    texel: 8,
+    weight: 4,
+    frac: 12,
+};
+const ALL_WIDTHS: [Widths; 5] = [DEFAULT, WIDE, NARROW, NARROW_Q, COARSE_W];
+
+fn bound(cfg: &TextureSamplerConfig) -> f64 {
+    match cfg.filter {
+        Filter::Nearest => 0.0,
+        Filter::Linear => {
+            let m = ((1u64 << cfg.texel_bits) - 1) as f64;
+            let fp = cfg.coord_frac_bits.max(1);
+            let wb = cfg.weight_bits;
+            let delta = if fp <= wb {
+                0.0
+            } else {
+                match cfg.weight_rounding {
+                    WeightRounding::Round => (-(wb as f64 + 1.0)).exp2(),
+                    WeightRounding::Truncate => (-(wb as f64)).exp2() - (-(fp as f64)).exp2(),
+                }
+            };
+            0.5 + cfg.dims as f64 * m * delta
+        }
+    }
+}
+
+/// splitmix64: a tiny seeded generator for texture contents and coordinates.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn below(&mut self, n: u64) -> u64 {
+        self.next() % n.max(1)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Content {
+    Random,
+    /// 0 / max checkerboard over x + y + z + c: the worst neighbour differences.
+    Checker,
+    /// Random 0 / max texels.
+    RandomExtremes,
+}
+
+fn make_texels(cfg: &TextureSamplerConfig, content: Content, rng: &mut Rng) -> Vec<u32> {
+    let m = (1u64 << cfg.texel_bits) - 1;
+    let [w, h, d] = cfg.size;
+    let ch = cfg.channels;
+    let mut v = Vec::with_capacity((w * h * d * ch) as usize);
+    for z in 0..d {
+        for y in 0..h {
+            for x in 0..w {
+                for c in 0..ch {
+                    v.push(match content {
+                        Content::Random => rng.below(m + 1) as u32,
+                        Content::Checker => {
+                            if (x + y + z + c) % 2 == 1 {
+                                m as u32
+                            } else {
+                                0
+                            }
+                        }
+                        Content::RandomExtremes => {
+                            if rng.next() & 1 == 1 {
+                                m as u32
+                            } else {
+                                0
+                            }
+                        }
+                    });
+                }
+            }
+        }
+    }
+    v
+}
+
+fn twin_of(cfg: &TextureSamplerConfig, texels: &[u32]) -> TextureRef {
+    let f = match cfg.filter {
+        Filter::Nearest => twin::Filter::Nearest,
+        Filter::Linear => twin::Filter::Linear,
+    };
+    let a = cfg.address.map(|a| match a {
+        AddressMode::Clamp => twin::Address::Clamp,
+        AddressMode::Wrap => twin::Address::Wrap,
+    });
+    TextureRef::from_codes(
+        cfg.dims as usize,
+        cfg.size.map(|s| s as usize),
+        cfg.channels as usize,
+        texels,
+        f,
+        a,
+    )
+}
+
+/// Compare one sample; returns the largest |error| over the channels.
+fn check(u: &TextureSampler, r: &TextureRef, input: &TextureSamplerIn, b: f64) -> f64 {
+    let mut ctr = Counters::default();
+    let got = u.sample(input, &mut ctr);
+    let scale = (u.coord_frac_bits() as f64).exp2();
+    let mut coord = [0.0; 3];
+    for (c, &word) in coord.iter_mut().zip(&input.coord).take(u.dims() as usize) {
+        *c = u.coord_wire(word).0 as f64 / scale;
+    }
+    let want = r.sample(coord);
+    let mut worst = 0.0f64;
+    for c in 0..4 {
+        if c >= u.channels() as usize {
+            assert_eq!(got[c], 0, "unused channel {c} not 0");
+            continue;
+        }
+        let err = (got[c] as f64 - want[c]).abs();
+        assert!(
+            err <= b + 1e-9,
+            "{:?}: coord {:?} ({coord:?}) ch {c}: unit {} twin {} err {err} > bound {b}",
+            u.config(),
+            input.coord,
+            got[c],
+            want[c]
+        );
+        worst = worst.max(err);
+    }
+    worst
+}
+
+#[allow(clippy::too_many_arguments)]
+fn config(
+    dims: u32,
+    size: [u32; 3],
+    channels: u32,
+    w: Widths,
+    rounding: WeightRounding,
+    filter: Filter,
+    address: [AddressMode; 3],
+    tpc: u32,
+) -> TextureSamplerConfig {
+    let mut s = [1u32; 3];
+    s[..dims as usize].copy_from_slice(&size[..dims as usize]);
+    TextureSamplerConfig {
+        dims,
+        size: s,
+        channels,
+        texel_bits: w.texel,
+        coord_int_bits: 16,
+        coord_frac_bits: w.frac,
+        weight_bits: w.weight,
+        weight_rounding: rounding,
+        filter,
+        address,
+        texels_per_clock: tpc,
+    }
+}
+
+/// A random coordinate word: mostly within a few repeats of the texture, sometimes
+/// near texel centres / edges, sometimes anything the wires carry.
+fn coord_word(rng: &mut Rng, size: u32, int_bits: u32, frac: u32) -> i32 {
+    let one = 1i64 << frac;
+    let v = match rng.below(4) {
+        0 => {
+            // any word of the I + F wires
+            let w = int_bits + frac;
+            let lo = -(1i64 << (w - 1));
+            lo + rng.below(1u64 << w) as i64
+        }
+        1 => {
+            // near a texel centre or edge (± a few LSBs)
+            let t = rng.below(3 * size as u64 + 4) as i64 - size as i64 - 2;
+            let half = if rng.next() & 1 == 1 { one / 2 } else { 0 };
+            t * one + half + rng.below(7) as i64 - 3
+        }
+        _ => {
+            let span = 5 * size as i64 * one + 4 * one;
+            rng.below(span as u64) as i64 - 2 * size as i64 * one - 2 * one
+        }
+    };
+    let lim = 1i64 << (int_bits + frac - 1);
+    v.clamp(-lim, lim - 1) as i32
+}
+
+const FILTERS: [Filter; 2] = [Filter::Nearest, Filter::Linear];
+const ROUNDINGS: [WeightRounding; 2] = [WeightRounding::Round, WeightRounding::Truncate];
+const CONTENTS: [Content; 3] = [Content::Random, Content::Checker, Content::RandomExtremes];
+
+fn address_strategy() -> impl Strategy<Value = [AddressMode; 3]> {
+    prop::array::uniform3(prop::sample::select(vec![
+        AddressMode::Clamp,
+        AddressMode::Wrap,
+    ]))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// 1D/2D/3D × nearest/linear × clamp/wrap × five width configs (default, wide,
+    /// narrow, narrow with weight quantisation, coarse weights) × both roundings, on
+    /// random, checkerboard and random-extreme textures of sizes 1 ..= 9 (NPOT too).
+    #[test]
+    fn within_derived_bound_of_twin(
+        dims in 1u32..=3,
+        size in prop::array::uniform3(1u32..=9),
+        channels in 1u32..=4,
+        widths in prop::sample::select(ALL_WIDTHS.to_vec()),
+        rounding in prop::sample::select(ROUNDINGS.to_vec()),
+        filter in prop::sample::select(FILTERS.to_vec()),
+        address in address_strategy(),
+        content in prop::sample::select(CONTENTS.to_vec()),
+        seed in any::<u64>(),
+    ) {
+        let cfg = config(dims, size, channels, widths, rounding, filter, address, 4);
+        let mut rng = Rng(seed);
+        let texels = make_texels(&cfg, content, &mut rng);
+        let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+        let r = twin_of(&cfg, &texels);
+        let b = bound(&cfg);
+        for _ in 0..24 {
+            let mut coord = [0i32; 3];
+            for (c, &size) in coord.iter_mut().zip(&cfg.size).take(dims as usize) {
+                *c = coord_word(&mut rng, size, 16, widths.frac);
+            }
+            check(&u, &r, &TextureSamplerIn { coord }, b);
+        }
+    }
+
+    #[test]
+    fn tick_and_span_drivers_agree(
+        dims in 1u32..=3,
+        size in prop::array::uniform3(1u32..=6),
+        channels in 1u32..=4,
+        widths in prop::sample::select(ALL_WIDTHS.to_vec()),
+        rounding in prop::sample::select(ROUNDINGS.to_vec()),
+        filter in prop::sample::select(FILTERS.to_vec()),
+        address in address_strategy(),
+        tpc in 1u32..=8,
+        seed in any::<u64>(),
+        n in 0usize..40,
+    ) {
+        let cfg = config(dims, size, channels, widths, rounding, filter, address, tpc);
+        let mut rng = Rng(seed);
+        let texels = make_texels(&cfg, Content::Random, &mut rng);
+        let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+        let inputs: Vec<TextureSamplerIn> = (0..n)
+            .map(|_| {
+                let mut coord = [0i32; 3];
+                for (k, c) in coord.iter_mut().enumerate() {
+                    // sometimes words wider than the wires (masked, counted as overflows)
+                    *c = if rng.below(8) == 0 {
+                        rng.next() as i32
+                    } else {
+                        coord_word(&mut rng, cfg.size[k], 16, widths.frac)
+                    };
+                }
+                TextureSamplerIn { coord }
+            })
+            .collect();
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+
+    /// Random, mostly invalid configs: never a panic; an error names a
+    /// `texture_sampler.` field; a valid config refuses a wrong texel count.
+    #[test]
+    fn random_configs_never_panic_and_errors_name_fields(
+        dims in 0u32..=4,
+        size in prop::array::uniform3(prop_oneof![0u32..=10, 0u32..=5000, any::<u32>()]),
+        channels in 0u32..=5,
+        texel_bits in 0u32..=17,
+        coord_int_bits in prop_oneof![0u32..=33, any::<u32>()],
+        coord_frac_bits in prop_oneof![0u32..=17, any::<u32>()],
+        weight_bits in 0u32..=17,
+        rounding in prop::sample::select(ROUNDINGS.to_vec()),
+        filter in prop::sample::select(FILTERS.to_vec()),
+        address in address_strategy(),
+        tpc in 0u32..=9,
+    ) {
+        let cfg = TextureSamplerConfig {
+            dims, size, channels, texel_bits, coord_int_bits, coord_frac_bits, weight_bits,
+            weight_rounding: rounding, filter, address, texels_per_clock: tpc,
+        };
+        const FIELDS: [&str; 9] = [
+            "texture_sampler.dims", "texture_sampler.size", "texture_sampler.channels",
+            "texture_sampler.texel_bits", "texture_sampler.coord_int_bits",
+            "texture_sampler.coord_frac_bits", "texture_sampler.weight_bits",
+            "texture_sampler.texels_per_clock", "texture_sampler.texels",
+        ];
+        match cfg.validate() {
+            Err(e) => {
+                prop_assert!(FIELDS.contains(&e.field()), "{e}");
+                let e2 = TextureSampler::new(cfg.clone(), &[]).unwrap_err();
+                prop_assert_eq!(e2, e);
+                let mut ctr = Counters::default();
+                prop_assert!(cfg.texel_coord_from_normalized(0.5, 0, &mut ctr).is_err());
+            }
+            Ok(()) => {
+                let e = TextureSampler::new(cfg.clone(), &[]).unwrap_err();
+                prop_assert_eq!(e.field(), "texture_sampler.texels");
+                let n = (cfg.texel_count() * cfg.channels as u64) as usize;
+                if n <= 1 << 16 {
+                    let mut texels = vec![0u32; n];
+                    let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+                    prop_assert_eq!(u.ram_bits(), cfg.ram_bits());
+                    prop_assert_eq!(u.cost().ram_bits, cfg.ram_bits());
+                    let t = u.timing();
+                    prop_assert!(t.latency >= 1 && t.ii >= 1);
+                    prop_assert!(u.cost().gates_nand2() > 0.0);
+                    texels[n - 1] = 1 << texel_bits;
+                    let e = TextureSampler::new(cfg.clone(), &texels).unwrap_err();
+                    prop_assert_eq!(e.field(), "texture_sampler.texels");
+                }
+            }
+        }
+    }
+
+    /// One field made invalid in an otherwise valid config: the error names it.
+    #[test]
+    fn single_invalid_field_is_named(which in 0usize..9, v in any::<u32>(), dims in 1u32..=3) {
+        let mut cfg = TextureSamplerConfig { dims, size: [1; 3], ..TextureSamplerConfig::geforce() };
+        for k in 0..dims as usize { cfg.size[k] = 16; }
+        let field = match which {
+            0 => { cfg.dims = [0, 4, v.max(4)][v as usize % 3]; "dims" }
+            1 => { cfg.size[v as usize % dims as usize] = 0; "size" }
+            2 => { cfg.size[v as usize % dims as usize] = 4097 + v % 100_000; "size" }
+            3 => { if dims == 3 { cfg.size[2] = 0 } else { cfg.size[2] = 2 + v % 100 }; "size" }
+            4 => { cfg.channels = [0, 5, v.max(5)][v as usize % 3]; "channels" }
+            5 => { cfg.texel_bits = [0, 17, v.max(17)][v as usize % 3]; "texel_bits" }
+            6 => { cfg.coord_frac_bits = 17 + v % 1000; "coord_frac_bits" }
+            7 => { cfg.weight_bits = [0, 17, v.max(17)][v as usize % 3]; "weight_bits" }
+            _ => { cfg.texels_per_clock = [0, 9, v.max(9)][v as usize % 3]; "texels_per_clock" }
+        };
+        let e = cfg.validate().unwrap_err();
+        prop_assert_eq!(e.field(), format!("texture_sampler.{field}"));
+    }
+
+    /// The host helper quantises s · size to nearest within half an LSB, or
+    /// saturates (counted); NaN / ±∞ name the field.
+    #[test]
+    fn normalized_coordinate_helper(
+        s in prop_oneof![-10.0f64..10.0, any::<f64>()],
+        size in 1u32..=4096,
+        frac in 0u32..=16,
+    ) {
+        let mut ctr = Counters::default();
+        let int_bits = 16;
+        match texel_coord_from_normalized(s, size, int_bits, frac, &mut ctr) {
+            Err(e) => {
+                prop_assert!(!s.is_finite());
+                prop_assert_eq!(e.field(), "texture_sampler.coord");
+            }
+            Ok(word) => {
+                let lsb = (-(frac as f64)).exp2();
+                let u = s * size as f64;
+                let got = word as f64 * lsb;
+                let max = 32768.0 - lsb;
+                if u > max || u < -32768.0 {
+                    prop_assert_eq!(ctr.saturations, 1);
+                    prop_assert!(got == max || got == -32768.0);
+                } else {
+                    prop_assert!((got - u).abs() <= lsb / 2.0 + 1e-12 * u.abs());
+                }
+            }
+        }
+    }
+}
+
+/// All coordinate words of small 1D textures (power-of-two 8 and NPOT 5), every
+/// filter, address mode and rounding, checkerboard and random texels.
+#[test]
+fn exhaustive_1d_over_all_coordinate_words() {
+    let mut rng = Rng(1);
+    let mut worst = Vec::new();
+    for (w, int_bits) in [
+        (DEFAULT, 5u32),
+        (NARROW, 5),
+        (NARROW_Q, 5),
+        (COARSE_W, 5),
+        (WIDE, 4),
+    ] {
+        // The 20-bit WIDE words: one size, linear, checkerboard (4 Mi samples).
+        let wide = w.frac == WIDE.frac;
+        let sizes: &[u32] = if wide { &[8] } else { &[8, 5] };
+        let filters: &[Filter] = if wide { &[Filter::Linear] } else { &FILTERS };
+        let contents: &[Content] = if wide {
+            &[Content::Checker]
+        } else {
+            &[Content::Checker, Content::Random]
+        };
+        for &size in sizes {
+            for &filter in filters {
+                for addr in [AddressMode::Clamp, AddressMode::Wrap] {
+                    for rounding in ROUNDINGS {
+                        for &content in contents {
+                            let mut cfg =
+                                config(1, [size, 1, 1], 1, w, rounding, filter, [addr; 3], 4);
+                            cfg.coord_int_bits = int_bits;
+                            let texels = make_texels(&cfg, content, &mut rng);
+                            let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+                            let r = twin_of(&cfg, &texels);
+                            let b = bound(&cfg);
+                            let cw = int_bits + w.frac; // ≤ 20 bits: ≤ 2^20 words
+                            let mut max_err = 0.0f64;
+                            for word in -(1i64 << (cw - 1))..(1i64 << (cw - 1)) {
+                                let input = TextureSamplerIn {
+                                    coord: [word as i32, 0, 0],
+                                };
+                                max_err = max_err.max(check(&u, &r, &input, b));
+                            }
+                            if content == Content::Checker && size == 8 {
+                                worst.push((w, filter, addr, rounding, max_err, b));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    for (w, f, a, r, e, b) in worst {
+        println!("1D checker {w:?} {f:?} {a:?} {r:?}: max |err| {e:.4} (bound {b:.4})");
+    }
+}
+
+/// A 3D trilinear (and nearest) sample over a fine grid of a 5 × 4 × 3 texture, clamp
+/// and wrap, checkerboard and random, at the default and narrow-quantised widths.
+#[test]
+fn trilinear_5x4x3_on_a_grid() {
+    let mut rng = Rng(3);
+    for w in [DEFAULT, NARROW_Q, WIDE] {
+        for filter in FILTERS {
+            for addr in [AddressMode::Clamp, AddressMode::Wrap] {
+                for content in [Content::Checker, Content::Random] {
+                    let cfg = config(
+                        3,
+                        [5, 4, 3],
+                        2,
+                        w,
+                        WeightRounding::Truncate,
+                        filter,
+                        [addr; 3],
+                        4,
+                    );
+                    let texels = make_texels(&cfg, content, &mut rng);
+                    let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+                    let r = twin_of(&cfg, &texels);
+                    let b = bound(&cfg);
+                    // steps of 1/8 texel (plus an odd LSB offset) from −1.5 to size + 1.5
+                    let step = 1i64 << (w.frac - 3);
+                    let one = 1i64 << w.frac;
+                    let axis = |s: u32| {
+                        let lo = -3 * one / 2;
+                        let hi = s as i64 * one + 3 * one / 2;
+                        (0..)
+                            .map(move |i| lo + i * step + (i % 3))
+                            .take_while(move |&v| v < hi)
+                    };
+                    let mut max_err = 0.0f64;
+                    for z in axis(3) {
+                        for y in axis(4) {
+                            for x in axis(5) {
+                                let input = TextureSamplerIn {
+                                    coord: [x as i32, y as i32, z as i32],
+                                };
+                                max_err = max_err.max(check(&u, &r, &input, b));
+                            }
+                        }
+                    }
+                    if filter == Filter::Nearest {
+                        assert_eq!(max_err, 0.0);
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Nearest is exact: the output is the stored texel at floor(u) after addressing.
+#[test]
+fn nearest_returns_stored_texels() {
+    let cfg = TextureSamplerConfig {
+        filter: Filter::Nearest,
+        address: [AddressMode::Wrap, AddressMode::Clamp, AddressMode::Clamp],
+        ..TextureSamplerConfig::geforce_2d(4, 3)
+    };
+    let texels: Vec<u32> = (0..12).map(|i| i * 20).collect();
+    let u = TextureSampler::new(cfg, &texels).unwrap();
+    let mut ctr = Counters::default();
+    let at = |x: f64, y: f64, ctr: &mut Counters| {
+        u.sample(
+            &TextureSamplerIn {
+                coord: [(x * 256.0) as i32, (y * 256.0) as i32, 0],
+            },
+            ctr,
+        )[0]
+    };
+    assert_eq!(at(0.0, 0.0, &mut ctr), 0);
+    assert_eq!(at(3.99, 2.5, &mut ctr), 11 * 20);
+    assert_eq!(at(4.0, 2.5, &mut ctr), 8 * 20); // wraps in x
+    assert_eq!(at(-0.01, 7.0, &mut ctr), 11 * 20); // wraps to x = 3, clamps y = 2
+    assert_eq!(at(1.5, -9.0, &mut ctr), 20); // clamps y = 0
+    assert_eq!(u.texel(3, 2, 0, 0), 220);
+    assert_eq!(ctr.table_reads, 5);
+    assert_eq!(ctr.mem_read_bytes, 5);
+}
+
+/// Bilinear at texel centres reproduces texels; half-way is the mean, rounded half up.
+#[test]
+fn bilinear_centres_and_midpoints() {
+    let cfg = TextureSamplerConfig::geforce_2d(2, 2);
+    let u = TextureSampler::new(cfg, &[0, 255, 100, 51]).unwrap();
+    let mut ctr = Counters::default();
+    let s = |x: i32, y: i32, ctr: &mut Counters| {
+        u.sample(&TextureSamplerIn { coord: [x, y, 0] }, ctr)[0]
+    };
+    assert_eq!(s(128, 128, &mut ctr), 0);
+    assert_eq!(s(384, 128, &mut ctr), 255);
+    assert_eq!(s(128, 384, &mut ctr), 100);
+    assert_eq!(s(384, 384, &mut ctr), 51);
+    assert_eq!(s(256, 128, &mut ctr), 128); // 127.5 rounds up
+    assert_eq!(s(256, 256, &mut ctr), 102); // (0 + 255 + 100 + 51)/4 = 101.5 → 102
+    assert_eq!(ctr.table_reads, 6 * 4);
+}
+
+/// Words wider than the I + F wires are masked (sign-extended) and counted.
+#[test]
+fn wide_words_are_masked_and_counted() {
+    let cfg = TextureSamplerConfig {
+        address: [AddressMode::Wrap; 3],
+        ..TextureSamplerConfig::geforce_2d(8, 8)
+    };
+    let texels: Vec<u32> = (0..64).map(|i| (i * 37 % 256) as u32).collect();
+    let u = TextureSampler::new(cfg, &texels).unwrap();
+    let mut rng = Rng(7);
+    for _ in 0..1000 {
+        let a = (rng.next() as i32) >> 8; // fits 24 bits
+        let b = (rng.next() as i32) >> 8;
+        let mut c0 = Counters::default();
+        let want = u.sample(&TextureSamplerIn { coord: [a, b, 0] }, &mut c0);
+        assert_eq!(c0.overflows, 0);
+        let k = (rng.below(100) as i32 - 50) << 24;
+        let mut c1 = Counters::default();
+        let got = u.sample(
+            &TextureSamplerIn {
+                coord: [a.wrapping_add(k), b, 0],
+            },
+            &mut c1,
+        );
+        assert_eq!(got, want);
+        assert_eq!(c1.overflows, u64::from(k != 0));
+    }
+    // Extreme words never panic.
+    for w in [i32::MIN, i32::MAX, -1, 0] {
+        let mut c = Counters::default();
+        u.sample(&TextureSamplerIn { coord: [w, w, w] }, &mut c);
+    }
+}
+
+/// Widest config: 16-bit texels, 16-bit weights, 3D: the u64 accumulator must not
+/// overflow (debug overflow checks are on in the test profile) and stays in bound.
+#[test]
+fn widest_3d_config_fits_the_accumulator() {
+    let cfg = TextureSamplerConfig {
+        texel_bits: 16,
+        weight_bits: 16,
+        coord_frac_bits: 16,
+        ..TextureSamplerConfig::geforce_3d(3, 3, 3)
+    };
+    let texels = vec![65535u32; 27];
+    let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+    let r = twin_of(&cfg, &texels);
+    let mut rng = Rng(11);
+    for _ in 0..2000 {
+        let coord = [0, 1, 2].map(|_| coord_word(&mut rng, 3, 16, 16));
+        check(&u, &r, &TextureSamplerIn { coord }, bound(&cfg));
+        let mut c = Counters::default();
+        assert_eq!(u.sample(&TextureSamplerIn { coord }, &mut c)[0], 65535);
+    }
+}
+
+#[test]
+fn counters_timing_and_ram_bits() {
+    let cases = [
+        (TextureSamplerConfig::geforce_1d(256), 2u64, 4u32, 1u32),
+        (TextureSamplerConfig::geforce_2d(256, 256), 4, 4, 1),
+        (TextureSamplerConfig::geforce_3d(16, 16, 16), 8, 5, 2),
+        (
+            TextureSamplerConfig {
+                texels_per_clock: 1,
+                ..TextureSamplerConfig::geforce_3d(16, 16, 16)
+            },
+            8,
+            11,
+            8,
+        ),
+        (
+            TextureSamplerConfig {
+                filter: Filter::Nearest,
+                channels: 4,
+                texel_bits: 5,
+                ..TextureSamplerConfig::geforce_2d(16, 8)
+            },
+            1,
+            2,
+            1,
+        ),
+    ];
+    for (cfg, reads, latency, ii) in cases {
+        let n = (cfg.texel_count() * cfg.channels as u64) as usize;
+        let u = TextureSampler::new(cfg.clone(), &vec![1; n]).unwrap();
+        assert_eq!(u.timing().latency, latency, "{cfg:?}");
+        assert_eq!(u.timing().ii, ii, "{cfg:?}");
+        assert_eq!(
+            u.ram_bits(),
+            cfg.texel_count() * cfg.channels as u64 * cfg.texel_bits as u64
+        );
+        assert_eq!(u.cost().ram_bits, u.ram_bits());
+        let mut ctr = Counters::default();
+        u.sample(&TextureSamplerIn::default(), &mut ctr);
+        assert_eq!(ctr.table_reads, reads);
+        let bytes = (cfg.texel_bits * cfg.channels).div_ceil(8) as u64;
+        assert_eq!(ctr.mem_read_bytes, reads * bytes);
+        assert_eq!(ctr.saturations + ctr.overflows + ctr.underflows, 0);
+    }
+}
+
+#[test]
+fn zero_size_and_bad_texels_name_their_fields() {
+    let cfg = TextureSamplerConfig::geforce_2d(0, 16);
+    assert_eq!(
+        TextureSampler::new(cfg, &[]).unwrap_err().field(),
+        "texture_sampler.size"
+    );
+    let cfg = TextureSamplerConfig::geforce_1d(4);
+    let e = TextureSampler::new(cfg.clone(), &[1, 2, 3]).unwrap_err();
+    assert_eq!(e.field(), "texture_sampler.texels");
+    let e = TextureSampler::new(cfg.clone(), &[1, 2, 3, 256]).unwrap_err();
+    assert_eq!(e.field(), "texture_sampler.texels");
+    let mut u = TextureSampler::new(cfg, &[1, 2, 3, 255]).unwrap();
+    assert!(u.load(&[9; 5]).is_err());
+    assert_eq!(u.texel(3, 0, 0, 0), 255, "a failed load keeps the RAM");
+    u.load(&[9; 4]).unwrap();
+    assert_eq!(u.texel(3, 0, 0, 0), 9);
+    // A texture larger than the coordinate's integer range is refused.
+    let cfg = TextureSamplerConfig {
+        coord_int_bits: 8,
+        ..TextureSamplerConfig::geforce_1d(256)
+    };
+    assert_eq!(
+        cfg.validate().unwrap_err().field(),
+        "texture_sampler.coord_int_bits"
+    );
+    // 2^24 texels at most.
+    let cfg = TextureSamplerConfig::geforce_3d(4096, 4096, 2);
+    assert_eq!(cfg.validate().unwrap_err().field(), "texture_sampler.size");
+}
+
+#[test]
+fn nan_and_infinite_normalized_coordinates_are_errors() {
+    let cfg = TextureSamplerConfig::geforce_2d(64, 32);
+    let mut ctr = Counters::default();
+    for s in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let e = cfg.texel_coord_from_normalized(s, 1, &mut ctr).unwrap_err();
+        assert_eq!(e.field(), "texture_sampler.coord");
+        let e = cfg
+            .input_from_normalized([0.5, s, 0.0], &mut ctr)
+            .unwrap_err();
+        assert_eq!(e.field(), "texture_sampler.coord");
+    }
+    assert!(cfg.texel_coord_from_normalized(0.5, 2, &mut ctr).is_err());
+    assert_eq!(
+        cfg.texel_coord_from_normalized(0.5, 1, &mut ctr).unwrap(),
+        16 << 8
+    );
+    // End to end against the twin's normalised lookup.
+    let texels: Vec<u32> = (0..64 * 32).map(|i| (i * 7 % 256) as u32).collect();
+    let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+    let r = twin_of(&cfg, &texels);
+    let mut rng = Rng(5);
+    for _ in 0..1000 {
+        let s = [0, 1, 2].map(|_| rng.below(3000) as f64 / 1000.0 - 1.0);
+        let input = cfg.input_from_normalized(s, &mut ctr).unwrap();
+        let got = u.sample(&input, &mut ctr)[0] as f64;
+        // The coordinate's own rounding (½ LSB of 2^−8 texel) moves the ideal value by
+        // at most 2 · 255 · 2^−9 (d · M · δ with δ = 2^−9), plus the ½ LSB output rounding.
+        let want = r.sample_normalized(s)[0];
+        assert!((got - want).abs() <= 0.5 + 2.0 * 255.0 / 512.0 + 1e-9);
+    }
+}
+
+/// Default latency / II / gates / RAM bits, printed for the datasheet
+/// (`cargo test --test texture_sampler datasheet -- --nocapture`).
+#[test]
+fn datasheet_numbers() {
+    let cfgs = [
+        (
+            "2D 256x256 L8 bilinear (geforce)",
+            TextureSamplerConfig::geforce(),
+        ),
+        ("1D 256 L8 linear", TextureSamplerConfig::geforce_1d(256)),
+        (
+            "2D 256x256 L8 nearest",
+            TextureSamplerConfig {
+                filter: Filter::Nearest,
+                ..TextureSamplerConfig::geforce()
+            },
+        ),
+        (
+            "2D 256x256 RGBA8 bilinear",
+            TextureSamplerConfig {
+                channels: 4,
+                ..TextureSamplerConfig::geforce()
+            },
+        ),
+        (
+            "3D 64^3 L8 trilinear",
+            TextureSamplerConfig::geforce_3d(64, 64, 64),
+        ),
+        (
+            "3D 128^3 RGBA8 trilinear (thesis voxels)",
+            TextureSamplerConfig {
+                channels: 4,
+                ..TextureSamplerConfig::geforce_3d(128, 128, 128)
+            },
+        ),
+    ];
+    for (name, cfg) in cfgs {
+        let n = (cfg.texel_count() * cfg.channels as u64) as usize;
+        let u = TextureSampler::new(cfg.clone(), &vec![0; n]).unwrap();
+        let t = u.timing();
+        let c = u.cost();
+        println!(
+            "{name}: latency {} II {} gates {:.0} NAND2 RAM bits {} bound {}",
+            t.latency,
+            t.ii,
+            c.gates_nand2(),
+            c.ram_bits,
+            bound(&cfg)
+        );
+        for (part, g) in &c.breakdown {
+            println!("    {part}: {g:.1}");
+        }
+    }
+}
