@@ -1,1 +1,153 @@
-//! f64 twin of polygon_interpolator: being written.
+//! f64 twin of `polygon_interpolator`: plane-equation (barycentric) evaluation of each
+//! attribute at the pixel centre (x + ½, y + ½), and the coverage test with the
+//! top-left fill rule, from vertex positions in pixels (y down) and attribute values.
+//!
+//! Fed the same quantised vertex data as the unit, the only differences left are the
+//! unit's gradient/start rounding, its accumulation and its output rounding. With
+//! positions on a 2^-s grid (s ≤ 8) and |coordinates| ≤ 2^13 px every edge function below
+//! is computed exactly in f64 (≤ 46 significant bits), so coverage is exact.
+//!
+//! Degenerate (zero-area) primitives cover nothing; their attribute value is defined
+//! as the first vertex's (never NaN).
+
+/// A point in pixels.
+pub type P = [f64; 2];
+
+/// Edge function of a→b at p: positive on the interior side of a positively wound
+/// polygon (doubled signed area of a, b, p; y down).
+pub fn edge(a: P, b: P, p: P) -> f64 {
+    (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
+}
+
+/// Doubled signed area of v0 v1 v2 (> 0: positive winding).
+pub fn area2(v: [P; 3]) -> f64 {
+    edge(v[0], v[1], v[2])
+}
+
+/// Top-left rule for an edge a→b of a positively wound polygon: a top edge is horizontal
+/// with the interior below it, a left edge has the interior to its right.
+pub fn is_top_left(a: P, b: P) -> bool {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    (dy == 0.0 && dx > 0.0) || dy < 0.0
+}
+
+/// The centre of pixel (x, y).
+pub fn centre(x: i64, y: i64) -> P {
+    [x as f64 + 0.5, y as f64 + 0.5]
+}
+
+/// Does the convex polygon `poly` (any winding, ≥ 3 vertices) cover point p under the
+/// top-left rule? A zero-area polygon covers nothing.
+pub fn polygon_covers(poly: &[P], p: P) -> bool {
+    if poly.len() < 3 {
+        return false;
+    }
+    let a = area2([poly[0], poly[1], poly[2]]);
+    if a == 0.0 {
+        return false;
+    }
+    let n = poly.len();
+    (0..n).all(|i| {
+        let (mut s, mut t) = (poly[i], poly[(i + 1) % n]);
+        if a < 0.0 {
+            // Walk the polygon backwards so that the interior is on the positive side.
+            std::mem::swap(&mut s, &mut t);
+        }
+        let e = edge(s, t, p);
+        e > 0.0 || (e == 0.0 && is_top_left(s, t))
+    })
+}
+
+/// Does triangle v cover the centre of pixel (x, y)?
+pub fn triangle_covers(v: [P; 3], x: i64, y: i64) -> bool {
+    polygon_covers(&v, centre(x, y))
+}
+
+/// The implied 4th vertex of the parallelogram v0 v1 v2 v3: v0 + v2 − v1.
+pub fn parallelogram_v3(v: [P; 3]) -> P {
+    [v[0][0] + v[2][0] - v[1][0], v[0][1] + v[2][1] - v[1][1]]
+}
+
+/// Does the parallelogram v0 v1 v2 (v0 + v2 − v1) cover the centre of pixel (x, y)?
+pub fn parallelogram_covers(v: [P; 3], x: i64, y: i64) -> bool {
+    polygon_covers(&[v[0], v[1], v[2], parallelogram_v3(v)], centre(x, y))
+}
+
+/// Which triangle of a GL quad's split — 0: (v0 v1 v2), 1: (v0 v2 v3) — covers the
+/// centre of pixel (x, y), if any (the first if, impossibly for a convex quad, both).
+pub fn quad_covers(v: [P; 4], x: i64, y: i64) -> Option<usize> {
+    if triangle_covers([v[0], v[1], v[2]], x, y) {
+        Some(0)
+    } else if triangle_covers([v[0], v[2], v[3]], x, y) {
+        Some(1)
+    } else {
+        None
+    }
+}
+
+/// The attribute plane through (v_i, a_i) evaluated at p by barycentric weights
+/// w_i = E_i(p) / area. Zero area → a[0].
+pub fn plane_at(v: [P; 3], a: [f64; 3], p: P) -> f64 {
+    let ar = area2(v);
+    if ar == 0.0 {
+        return a[0];
+    }
+    let w0 = edge(v[1], v[2], p) / ar;
+    let w1 = edge(v[2], v[0], p) / ar;
+    let w2 = edge(v[0], v[1], p) / ar;
+    w0 * a[0] + w1 * a[1] + w2 * a[2]
+}
+
+/// The attribute of triangle v at the centre of pixel (x, y).
+pub fn triangle_value(v: [P; 3], a: [f64; 3], x: i64, y: i64) -> f64 {
+    plane_at(v, a, centre(x, y))
+}
+
+/// The attribute of a GL quad at pixel (x, y): the plane of the triangle of the split
+/// that covers it (triangle 0's plane where neither does).
+pub fn quad_value(v: [P; 4], a: [f64; 4], x: i64, y: i64) -> f64 {
+    match quad_covers(v, x, y) {
+        Some(1) => triangle_value([v[0], v[2], v[3]], [a[0], a[2], a[3]], x, y),
+        _ => triangle_value([v[0], v[1], v[2]], [a[0], a[1], a[2]], x, y),
+    }
+}
+
+/// The attribute of an affine parallelogram v0 v1 v2 (plane through those three).
+pub fn parallelogram_value(v: [P; 3], a: [f64; 3], x: i64, y: i64) -> f64 {
+    triangle_value(v, a, x, y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plane_reproduces_vertices_and_is_affine() {
+        let v = [[0.0, 0.0], [4.0, 0.0], [0.0, 2.0]];
+        let a = [1.0, 5.0, -3.0];
+        for (i, p) in v.iter().enumerate() {
+            assert!((plane_at(v, a, *p) - a[i]).abs() < 1e-12);
+        }
+        assert!((plane_at(v, a, [2.0, 1.0]) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn shared_edge_is_covered_once() {
+        // Unit square as two triangles: pixel centres exactly on the diagonal.
+        let q = [[0.5, 0.5], [4.5, 0.5], [4.5, 4.5], [0.5, 4.5]];
+        for y in -1..6 {
+            for x in -1..6 {
+                let a = triangle_covers([q[0], q[1], q[2]], x, y);
+                let b = triangle_covers([q[0], q[2], q[3]], x, y);
+                assert!(!(a && b), "{x},{y}");
+            }
+        }
+    }
+
+    #[test]
+    fn degenerate_covers_nothing_and_is_finite() {
+        let v = [[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]];
+        assert!(!triangle_covers(v, 0, 0));
+        assert_eq!(triangle_value(v, [1.0, 2.0, 3.0], 0, 0), 1.0);
+    }
+}

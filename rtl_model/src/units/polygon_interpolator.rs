@@ -1,1 +1,955 @@
-//! polygon_interpolator: being written.
+//! polygon_interpolator — polygon setup plus the incremental (Pineda) walker that
+//! interpolates up to 8 per-vertex attributes over triangles and quads.
+//!
+//! **Setup** (once per primitive, integers only): vertex positions are screen fixed point
+//! `s(c).(s)` (c = `coord_int_bits` including the sign, s = `subpixel_bits`), attributes
+//! are `attr_fmt`. The plane of every attribute is found exactly (i128 products) and its
+//! per-pixel gradients dA/dx, dA/dy and its value at the first pixel centre are each
+//! produced by ONE rounding integer division by the doubled area, landing in the
+//! accumulator format `s(acc_int_bits).(acc_frac_bits)`: each is within ½ accumulator LSB.
+//! The edge functions are evaluated on a half-sub-pixel grid, where vertices and pixel
+//! centres are both integers, so they are exact and coverage is exact.
+//!
+//! **Walker / kernel** (once per pixel step): a serpentine (boustrophedon) walk over the
+//! primitive's bounding box. Each input is one [`Move`]; the kernel adds the x- or
+//! y-increment to the 4 edge accumulators and the K attribute accumulators (adds only,
+//! no multiplies per pixel), then presents {x, y, inside, attrs[K]}: inside is the sign
+//! test of the edge functions (top-left fill rule folded into the start values as a −1
+//! bias), attrs are the accumulators rounded to `s(out_int_bits).(out_frac_bits)`
+//! (unsigned if `attr_fmt` is) by `out_quant`, saturating (counted) on overflow.
+//!
+//! Primitives: a triangle ([`PolygonInterpolator::setup_triangle`]); a GL quad
+//! (`setup_quad`) as two triangles (v0 v1 v2) and (v0 v2 v3) sharing the edge v0–v2, as
+//! GL draws a mesh cell; and an affine parallelogram (`setup_parallelogram`,
+//! `setup_affine_quad`) walked ONCE with 4 edge functions — the glare pipeline's
+//! area-fill quads — so an axis-aligned rectangle is not walked twice (each half of a
+//! split rectangle has the whole rectangle as its bounding box).
+//!
+//! A degenerate primitive (zero doubled area) or one whose bounding box holds no pixel
+//! centre sets up cleanly as an empty primitive: no moves, and a state whose inside flag
+//! is always false (GL culls zero-area triangles). Nothing divides by zero.
+
+use crate::cost::{prim, Cells, Cost};
+use crate::counters::Counters;
+use crate::error::{check_range, ConfigError};
+use crate::fixed_point::{Format, Fx, Overflow, Quant};
+use crate::unit::{Signal, Timing, Unit, Width};
+use serde::{Deserialize, Serialize};
+
+/// Most attributes a primitive carries.
+pub const MAX_ATTRS: usize = 8;
+/// Edge accumulators in the walker (a triangle leaves the 4th idle, always inside).
+pub const EDGES: usize = 4;
+/// Widest attribute format (keeps every setup product within the i128 carrier).
+pub const MAX_ATTR_BITS: u32 = 32;
+
+const NAME: &str = "polygon_interpolator";
+const ATTR_SIGNALS: [&str; MAX_ATTRS] = [
+    "attr0", "attr1", "attr2", "attr3", "attr4", "attr5", "attr6", "attr7",
+];
+
+/// The config as plain data (serde), turned into a validated unit by [`Self::build`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PolygonInterpolatorConfig {
+    /// Attributes per primitive, 0 ..= 8.
+    pub attrs: u32,
+    /// Sub-pixel bits of vertex positions, 0 ..= 8.
+    pub subpixel_bits: u32,
+    /// Integer bits of vertex positions and pixel counters, including the sign, 2 ..= 14
+    /// (13 → −4096 ..= 4095 px).
+    pub coord_int_bits: u32,
+    /// Format of the vertex attributes (width 1 ..= 32).
+    pub attr_fmt: Format,
+    /// Integer bits of the (signed) accumulators, including the sign, 1 ..= 48.
+    pub acc_int_bits: u32,
+    /// Fraction bits of the accumulators, 1 ..= 40 (acc width ≤ 62).
+    pub acc_frac_bits: u32,
+    /// What an accumulator does when a gradient, start value or step overflows it:
+    /// WRAP (counted in `overflows`; modular, so pixels whose true value fits still come
+    /// out right) or a SAT mode (counted in `saturations`).
+    pub acc_overflow: Overflow,
+    /// Integer bits of the output attributes (including the sign when `attr_fmt` is
+    /// signed), 0 ..= 40.
+    pub out_int_bits: u32,
+    /// Fraction bits of the output attributes, 0 ..= 40 (out width 1 ..= 48).
+    pub out_frac_bits: u32,
+    /// Rounding of the accumulator to the output (default RND: add half, truncate).
+    pub out_quant: Quant,
+}
+
+impl Default for PolygonInterpolatorConfig {
+    fn default() -> Self {
+        PolygonInterpolatorConfig {
+            attrs: 4,
+            subpixel_bits: 4,
+            coord_int_bits: 13,
+            attr_fmt: Format {
+                int_bits: 16,
+                frac_bits: 16,
+                signed: true,
+            },
+            acc_int_bits: 20,
+            acc_frac_bits: 24,
+            acc_overflow: Overflow::Wrap,
+            out_int_bits: 16,
+            out_frac_bits: 8,
+            out_quant: Quant::Rnd,
+        }
+    }
+}
+
+impl PolygonInterpolatorConfig {
+    /// Validate; errors name the field as `polygon_interpolator.<field>`.
+    pub fn build(self) -> Result<PolygonInterpolator, ConfigError> {
+        let f = |s: &str| format!("{NAME}.{s}");
+        check_range(&f("attrs"), self.attrs as u64, 0, MAX_ATTRS as u64)?;
+        check_range(&f("subpixel_bits"), self.subpixel_bits as u64, 0, 8)?;
+        check_range(&f("coord_int_bits"), self.coord_int_bits as u64, 2, 14)?;
+        self.attr_fmt.validate(&f("attr_fmt"))?;
+        check_range(
+            &f("attr_fmt"),
+            self.attr_fmt.width() as u64,
+            1,
+            MAX_ATTR_BITS as u64,
+        )?;
+        check_range(&f("acc_int_bits"), self.acc_int_bits as u64, 1, 48)?;
+        check_range(&f("acc_frac_bits"), self.acc_frac_bits as u64, 1, 40)?;
+        check_range(
+            &f("acc_int_bits"),
+            self.acc_int_bits as u64 + self.acc_frac_bits as u64,
+            2,
+            62,
+        )?;
+        check_range(&f("out_int_bits"), self.out_int_bits as u64, 0, 40)?;
+        check_range(&f("out_frac_bits"), self.out_frac_bits as u64, 0, 40)?;
+        check_range(
+            &f("out_int_bits"),
+            self.out_int_bits as u64 + self.out_frac_bits as u64,
+            1,
+            48,
+        )?;
+        if self.attr_fmt.signed && self.out_int_bits == 0 {
+            return Err(ConfigError::invalid(
+                &f("out_int_bits"),
+                "a signed output needs at least one integer bit (the sign)",
+            ));
+        }
+        Ok(PolygonInterpolator { cfg: self })
+    }
+}
+
+/// The validated config (the unit).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PolygonInterpolator {
+    cfg: PolygonInterpolatorConfig,
+}
+
+/// One walker step. `Hold` emits the current pixel (the first pixel of a walk).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Move {
+    Hold,
+    Right,
+    Left,
+    Down,
+}
+
+impl Move {
+    /// 2-bit code on the input wires.
+    pub fn code(self) -> u64 {
+        match self {
+            Move::Hold => 0,
+            Move::Right => 1,
+            Move::Left => 2,
+            Move::Down => 3,
+        }
+    }
+}
+
+/// A vertex as raw codes: `x`, `y` in the position format `s(c).(s)` (sub-pixel units),
+/// `attrs[i]` in `attr_fmt` (only the first `attrs` are used). Setup masks every word to
+/// its wire width (two's-complement wrap / low bits), so any value is accepted.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Vertex {
+    pub x: i64,
+    pub y: i64,
+    pub attrs: [i64; MAX_ATTRS],
+}
+
+/// The walker's registers: pixel counters, edge accumulators and their increments,
+/// attribute accumulators and their gradients (loaded by setup, per primitive).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PolyState {
+    /// Current pixel (integer pixels, `coord_int_bits` wide).
+    pub x: i64,
+    pub y: i64,
+    /// Edge functions at the current pixel centre (units: sub-pixel × half-sub-pixel),
+    /// top-left bias included: the pixel is inside iff all are ≥ 0.
+    pub edge: [i64; EDGES],
+    pub edge_dx: [i64; EDGES],
+    pub edge_dy: [i64; EDGES],
+    /// Attribute accumulators, raw in `s(acc_int).(acc_frac)`.
+    pub acc: [i64; MAX_ATTRS],
+    pub grad_x: [i64; MAX_ATTRS],
+    pub grad_y: [i64; MAX_ATTRS],
+}
+
+impl PolyState {
+    /// The state of an empty primitive: never inside, nothing moves.
+    pub fn empty() -> Self {
+        let mut s = PolyState::default();
+        s.edge[0] = -1;
+        s
+    }
+}
+
+/// One output word.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PolyOut {
+    pub x: i64,
+    pub y: i64,
+    pub inside: bool,
+    /// Raw codes in the output format (first `attrs` valid, the rest 0).
+    pub attrs: [i64; MAX_ATTRS],
+}
+
+/// Inclusive pixel bounding box of a primitive (pixels whose centres may be covered).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BBox {
+    pub x0: i64,
+    pub y0: i64,
+    pub x1: i64,
+    pub y1: i64,
+}
+
+impl BBox {
+    pub fn width(&self) -> u64 {
+        (self.x1 - self.x0 + 1) as u64
+    }
+    pub fn height(&self) -> u64 {
+        (self.y1 - self.y0 + 1) as u64
+    }
+}
+
+/// A set-up primitive: its bounding box (None if empty) and the walker's start state.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct PolySetup {
+    pub bbox: Option<BBox>,
+    /// Edge functions used: 3 (triangle) or 4 (parallelogram); 0 if empty.
+    pub edges: u32,
+    /// Doubled area in sub-pixel² units (> 0), 0 if degenerate.
+    pub area2: i128,
+    pub state: PolyState,
+}
+
+impl PolySetup {
+    fn empty(area2: i128) -> Self {
+        PolySetup {
+            bbox: None,
+            edges: 0,
+            area2,
+            state: PolyState::empty(),
+        }
+    }
+
+    /// Pixels (= moves) the serpentine walk takes.
+    pub fn pixels(&self) -> u64 {
+        self.bbox.map_or(0, |b| b.width() * b.height())
+    }
+
+    /// The serpentine move sequence over the bounding box: `Hold` for the top-left pixel,
+    /// then right along the first row, `Down`, left along the second, … One move per
+    /// pixel, so `run_span(unit, &mut setup.state.clone(), &setup.moves(), ..)` yields one
+    /// output per bounding-box pixel.
+    pub fn moves(&self) -> Vec<Move> {
+        let Some(b) = self.bbox else {
+            return Vec::new();
+        };
+        let (w, h) = (b.width() as usize, b.height() as usize);
+        let mut m = Vec::with_capacity(w * h);
+        for row in 0..h {
+            m.push(if row == 0 { Move::Hold } else { Move::Down });
+            let dir = if row % 2 == 0 {
+                Move::Right
+            } else {
+                Move::Left
+            };
+            m.resize(m.len() + w - 1, dir);
+        }
+        m
+    }
+}
+
+/// floor(a / b) for b > 0.
+fn floor_div(a: i64, b: i64) -> i64 {
+    a.div_euclid(b)
+}
+
+/// round(num · 2^k / den) to nearest, ties toward +∞, for den > 0: a rounding integer
+/// division (the setup divider). The power of two goes to the numerator or the divisor.
+fn div_round_pow2(num: i128, k: i32, den: i128) -> i128 {
+    let (n, d) = if k >= 0 {
+        (num << k, den)
+    } else {
+        (num, den << (-k))
+    };
+    // floor((2n + d) / 2d)
+    (2 * n + d).div_euclid(2 * d)
+}
+
+/// Sign-extend the low `w` bits of `v` (two's-complement wrap to a w-bit register).
+#[inline]
+fn wrap_signed(v: i64, w: u32) -> i64 {
+    let sh = 64 - w;
+    (v << sh) >> sh
+}
+
+impl PolygonInterpolator {
+    /// Validated constructor (see [`PolygonInterpolatorConfig`] for ranges).
+    pub fn new(cfg: PolygonInterpolatorConfig) -> Result<Self, ConfigError> {
+        cfg.build()
+    }
+
+    /// GeForce-era defaults: 4 attributes s16.16, 4 sub-pixel bits, ±4096 px,
+    /// accumulators s20.24 (WRAP), outputs s16.8 rounded RND.
+    pub fn geforce() -> Self {
+        PolygonInterpolator {
+            cfg: PolygonInterpolatorConfig::default(),
+        }
+    }
+
+    pub fn config(&self) -> PolygonInterpolatorConfig {
+        self.cfg
+    }
+    pub fn attrs(&self) -> u32 {
+        self.cfg.attrs
+    }
+    pub fn subpixel_bits(&self) -> u32 {
+        self.cfg.subpixel_bits
+    }
+    pub fn coord_int_bits(&self) -> u32 {
+        self.cfg.coord_int_bits
+    }
+    pub fn attr_fmt(&self) -> Format {
+        self.cfg.attr_fmt
+    }
+    pub fn acc_int_bits(&self) -> u32 {
+        self.cfg.acc_int_bits
+    }
+    pub fn acc_frac_bits(&self) -> u32 {
+        self.cfg.acc_frac_bits
+    }
+    pub fn acc_overflow(&self) -> Overflow {
+        self.cfg.acc_overflow
+    }
+    pub fn out_int_bits(&self) -> u32 {
+        self.cfg.out_int_bits
+    }
+    pub fn out_frac_bits(&self) -> u32 {
+        self.cfg.out_frac_bits
+    }
+    pub fn out_quant(&self) -> Quant {
+        self.cfg.out_quant
+    }
+
+    /// Vertex position format s(c).(s).
+    pub fn pos_fmt(&self) -> Format {
+        Format {
+            int_bits: self.cfg.coord_int_bits,
+            frac_bits: self.cfg.subpixel_bits,
+            signed: true,
+        }
+    }
+
+    /// Accumulator format s(acc_int).(acc_frac).
+    pub fn acc_fmt(&self) -> Format {
+        Format {
+            int_bits: self.cfg.acc_int_bits,
+            frac_bits: self.cfg.acc_frac_bits,
+            signed: true,
+        }
+    }
+
+    /// Output format (signed iff `attr_fmt` is).
+    pub fn out_fmt(&self) -> Format {
+        Format {
+            int_bits: self.cfg.out_int_bits,
+            frac_bits: self.cfg.out_frac_bits,
+            signed: self.cfg.attr_fmt.signed,
+        }
+    }
+
+    /// Width of an edge accumulator: 2c + 2s + 4 (derivation at [`Self::setup_poly`]).
+    pub fn edge_bits(&self) -> u32 {
+        2 * self.cfg.coord_int_bits + 2 * self.cfg.subpixel_bits + 4
+    }
+
+    /// Value of an output code.
+    pub fn out_to_f64(&self, raw: i64) -> f64 {
+        raw as f64 * (-(self.cfg.out_frac_bits as f64)).exp2()
+    }
+
+    /// Clocks the setup engine spends on one primitive (an estimate of the sequenced
+    /// datapath costed under "setup:"): 2 clocks for the deltas and area, 4 for the edges
+    /// (one per clock), 3·K divider issues (dA/dx, dA/dy, start per attribute) and ⌈QW/4⌉
+    /// clocks of divider pipeline fill (QW = acc width + 2 quotient rows, 4 per stage). Not counted by the drivers; a walker fed
+    /// primitives of fewer pixels than this would wait on setup.
+    pub fn setup_cycles(&self) -> u32 {
+        let qw = self.cfg.acc_int_bits + self.cfg.acc_frac_bits + 2;
+        2 + EDGES as u32 + 3 * self.cfg.attrs + qw.div_ceil(4)
+    }
+
+    // ---------------------------------------------------------------- host helpers
+
+    /// Quantise an f64 vertex (pixels, attribute values) into raw codes. Positions round
+    /// to nearest-even onto the sub-pixel grid; NaN/±∞ or a position outside the
+    /// coordinate range is an error naming `polygon_interpolator.vertices[i].x` / `.y`.
+    /// Attributes round to nearest-even into `attr_fmt` and saturate (counted in
+    /// `ctr.saturations`) if out of range; NaN/±∞ names `…vertices[i].attrs[j]`; a
+    /// count other than `attrs` names `…vertices[i].attrs`.
+    pub fn vertex_from_f64(
+        &self,
+        index: usize,
+        x: f64,
+        y: f64,
+        attrs: &[f64],
+        ctr: &mut Counters,
+    ) -> Result<Vertex, ConfigError> {
+        let pos = self.pos_fmt();
+        let mut v = Vertex::default();
+        for (name, val, slot) in [("x", x, &mut v.x), ("y", y, &mut v.y)] {
+            let field = format!("{NAME}.vertices[{index}].{name}");
+            let mut local = Counters::default();
+            let q = Fx::from_f64(val, pos, Quant::RndConv, Overflow::Sat, &field, &mut local)?;
+            if local.saturations > 0 {
+                let lsb = pos.lsb();
+                return Err(ConfigError::out_of_range(
+                    &field,
+                    val,
+                    pos.min_raw() as f64 * lsb,
+                    pos.max_raw() as f64 * lsb,
+                ));
+            }
+            *slot = q.raw as i64;
+        }
+        let k = self.cfg.attrs as usize;
+        if attrs.len() != k {
+            return Err(ConfigError::invalid(
+                &format!("{NAME}.vertices[{index}].attrs"),
+                &format!(
+                    "{} attributes given, the unit is configured for {k}",
+                    attrs.len()
+                ),
+            ));
+        }
+        for (j, &a) in attrs.iter().enumerate() {
+            let field = format!("{NAME}.vertices[{index}].attrs[{j}]");
+            let q = Fx::from_f64(
+                a,
+                self.cfg.attr_fmt,
+                Quant::RndConv,
+                Overflow::Sat,
+                &field,
+                ctr,
+            )?;
+            v.attrs[j] = q.raw as i64;
+        }
+        Ok(v)
+    }
+
+    /// The vertex as the hardware sees it (masked to the wires), in f64: (x px, y px,
+    /// attribute values). For feeding the f64 twin the same quantised data.
+    pub fn vertex_to_f64(&self, v: &Vertex) -> (f64, f64, Vec<f64>) {
+        let m = self.mask(v);
+        let sl = self.pos_fmt().lsb();
+        let al = self.cfg.attr_fmt.lsb();
+        let a = m.attrs[..self.cfg.attrs as usize]
+            .iter()
+            .map(|&r| r as f64 * al)
+            .collect();
+        (m.x as f64 * sl, m.y as f64 * sl, a)
+    }
+
+    /// Mask a vertex's words to their wire widths.
+    fn mask(&self, v: &Vertex) -> Vertex {
+        let pw = self.pos_fmt().width();
+        let af = self.cfg.attr_fmt;
+        let mut m = Vertex {
+            x: wrap_signed(v.x, pw),
+            y: wrap_signed(v.y, pw),
+            attrs: [0; MAX_ATTRS],
+        };
+        for i in 0..self.cfg.attrs as usize {
+            m.attrs[i] = if af.signed {
+                wrap_signed(v.attrs[i], af.width())
+            } else {
+                v.attrs[i] & ((1i64 << af.width()) - 1)
+            };
+        }
+        m
+    }
+
+    // ---------------------------------------------------------------- setup
+
+    /// Plane numerators of every attribute through (v0, v1, v2), exact:
+    /// A(X, Y) = A0 + (Nx·(X − X0) + Ny·(Y − Y0)) / area2, positions in sub-pixel units.
+    fn plane(&self, v: &[Vertex; 3]) -> (i128, [i128; MAX_ATTRS], [i128; MAX_ATTRS]) {
+        // Positions s(c+s) → deltas s(c+s+1) =: D bits.
+        let (dx1, dy1) = ((v[1].x - v[0].x) as i128, (v[1].y - v[0].y) as i128);
+        let (dx2, dy2) = ((v[2].x - v[0].x) as i128, (v[2].y - v[0].y) as i128);
+        // D × D → 2D, difference → 2D + 1 bits (≤ 47 at c + s = 22).
+        let area2 = dx1 * dy2 - dy1 * dx2;
+        let mut nx = [0i128; MAX_ATTRS];
+        let mut ny = [0i128; MAX_ATTRS];
+        for i in 0..self.cfg.attrs as usize {
+            // Attribute deltas: attr width + 1 (≤ 33) bits.
+            let da1 = (v[1].attrs[i] - v[0].attrs[i]) as i128;
+            let da2 = (v[2].attrs[i] - v[0].attrs[i]) as i128;
+            // (attr+1) × D → attr + D + 1, difference → attr + D + 2 bits (≤ 57).
+            nx[i] = da1 * dy2 - da2 * dy1;
+            ny[i] = dx1 * da2 - dx2 * da1;
+        }
+        (area2, nx, ny)
+    }
+
+    /// Triangle setup. Zero area → an empty primitive (no pixels).
+    pub fn setup_triangle(&self, v: &[Vertex; 3], ctr: &mut Counters) -> PolySetup {
+        let v = [self.mask(&v[0]), self.mask(&v[1]), self.mask(&v[2])];
+        let (area2, mut nx, mut ny) = self.plane(&v);
+        if area2 == 0 {
+            return PolySetup::empty(0);
+        }
+        let p = |u: &Vertex| [u.x, u.y];
+        if area2 > 0 {
+            self.setup_poly(&[p(&v[0]), p(&v[1]), p(&v[2])], &v[0], area2, &nx, &ny, ctr)
+        } else {
+            // Reverse the winding so that the interior is on the positive side of every
+            // edge; the plane numerators change sign with the area.
+            nx.iter_mut().chain(ny.iter_mut()).for_each(|n| *n = -*n);
+            self.setup_poly(
+                &[p(&v[0]), p(&v[2]), p(&v[1])],
+                &v[0],
+                -area2,
+                &nx,
+                &ny,
+                ctr,
+            )
+        }
+    }
+
+    /// GL quad setup: two triangles (v0 v1 v2) and (v0 v2 v3) sharing the edge v0–v2,
+    /// each with its own attribute plane. The top-left rule gives every pixel on the
+    /// shared edge to exactly one of them. Walk both (two primitives).
+    pub fn setup_quad(&self, v: &[Vertex; 4], ctr: &mut Counters) -> [PolySetup; 2] {
+        [
+            self.setup_triangle(&[v[0], v[1], v[2]], ctr),
+            self.setup_triangle(&[v[0], v[2], v[3]], ctr),
+        ]
+    }
+
+    /// Affine parallelogram v0 v1 v2 v3 with v3 = v0 + v2 − v1 implied (and attributes
+    /// affine: A3 = A0 + A2 − A1), walked once with 4 edge functions. An implied v3 outside
+    /// the coordinate range is an error naming `polygon_interpolator.vertices[3].x` / `.y`.
+    pub fn setup_parallelogram(
+        &self,
+        v: &[Vertex; 3],
+        ctr: &mut Counters,
+    ) -> Result<PolySetup, ConfigError> {
+        let v = [self.mask(&v[0]), self.mask(&v[1]), self.mask(&v[2])];
+        let pos = self.pos_fmt();
+        let v3 = [v[0].x + v[2].x - v[1].x, v[0].y + v[2].y - v[1].y];
+        for (name, c) in [("x", v3[0]), ("y", v3[1])] {
+            if (c as i128) < pos.min_raw() || (c as i128) > pos.max_raw() {
+                let lsb = pos.lsb();
+                return Err(ConfigError::out_of_range(
+                    &format!("{NAME}.vertices[3].{name}"),
+                    c as f64 * lsb,
+                    pos.min_raw() as f64 * lsb,
+                    pos.max_raw() as f64 * lsb,
+                ));
+            }
+        }
+        let (area2, mut nx, mut ny) = self.plane(&v);
+        if area2 == 0 {
+            return Ok(PolySetup::empty(0));
+        }
+        let p = |u: &Vertex| [u.x, u.y];
+        Ok(if area2 > 0 {
+            self.setup_poly(
+                &[p(&v[0]), p(&v[1]), p(&v[2]), v3],
+                &v[0],
+                area2,
+                &nx,
+                &ny,
+                ctr,
+            )
+        } else {
+            nx.iter_mut().chain(ny.iter_mut()).for_each(|n| *n = -*n);
+            self.setup_poly(
+                &[p(&v[0]), v3, p(&v[2]), p(&v[1])],
+                &v[0],
+                -area2,
+                &nx,
+                &ny,
+                ctr,
+            )
+        })
+    }
+
+    /// A 4-vertex quad that must be an affine parallelogram: v0 + v2 = v1 + v3 exactly in
+    /// position and in every attribute (after masking), else an error naming the first
+    /// inconsistent field of vertex 3 (`…vertices[3].x`, `.y`, `.attrs[j]`).
+    pub fn setup_affine_quad(
+        &self,
+        v: &[Vertex; 4],
+        ctr: &mut Counters,
+    ) -> Result<PolySetup, ConfigError> {
+        let m: Vec<Vertex> = v.iter().map(|u| self.mask(u)).collect();
+        let why = "not an affine parallelogram: v0 + v2 must equal v1 + v3";
+        if m[0].x + m[2].x != m[1].x + m[3].x {
+            return Err(ConfigError::invalid(&format!("{NAME}.vertices[3].x"), why));
+        }
+        if m[0].y + m[2].y != m[1].y + m[3].y {
+            return Err(ConfigError::invalid(&format!("{NAME}.vertices[3].y"), why));
+        }
+        for j in 0..self.cfg.attrs as usize {
+            if m[0].attrs[j] + m[2].attrs[j] != m[1].attrs[j] + m[3].attrs[j] {
+                return Err(ConfigError::invalid(
+                    &format!("{NAME}.vertices[3].attrs[{j}]"),
+                    why,
+                ));
+            }
+        }
+        self.setup_parallelogram(&[m[0], m[1], m[2]], ctr)
+    }
+
+    /// Common setup of a convex polygon `cyc` (3 or 4 vertices, positive winding:
+    /// interior on the positive side of each edge) with attribute plane through `v0`.
+    ///
+    /// Grids: sub-pixel units u = 2^-s px (vertices), half units h = u/2 (pixel centres
+    /// x·2^(s+1) + 2^s are integers in h even at s = 0). Edge a→b at p:
+    /// E = (bx−ax)(py_h − 2ay) − (by−ay)(px_h − 2ax), exact. Widths: bx−ax is s(c+s+1)
+    /// with |·| < 2^(c+s); |p_h − 2a| < 2^(c+s+1) for p in the coordinate range; each
+    /// product < 2^(2c+2s+1), the difference (and the −1 bias) < 2^(2c+2s+2) + 1, which
+    /// a signed 2c+2s+4-bit register holds with a bit to spare.
+    fn setup_poly(
+        &self,
+        cyc: &[[i64; 2]],
+        v0: &Vertex,
+        area2: i128,
+        nx: &[i128; MAX_ATTRS],
+        ny: &[i128; MAX_ATTRS],
+        ctr: &mut Counters,
+    ) -> PolySetup {
+        let s = self.cfg.subpixel_bits;
+        let (mut xmin, mut xmax, mut ymin, mut ymax) = (i64::MAX, i64::MIN, i64::MAX, i64::MIN);
+        for q in cyc {
+            xmin = xmin.min(q[0]);
+            xmax = xmax.max(q[0]);
+            ymin = ymin.min(q[1]);
+            ymax = ymax.max(q[1]);
+        }
+        // Pixels whose centres lie in [min, max]: centre_h(x) = x·2^(s+1) + 2^s.
+        let step = 1i64 << (s + 1);
+        let half = 1i64 << s;
+        let x0 = -floor_div(-(2 * xmin - half), step); // ceil
+        let x1 = floor_div(2 * xmax - half, step);
+        let y0 = -floor_div(-(2 * ymin - half), step);
+        let y1 = floor_div(2 * ymax - half, step);
+        if x0 > x1 || y0 > y1 {
+            return PolySetup::empty(area2);
+        }
+        let px_h = x0 * step + half; // s(c+s+1) in h units
+        let py_h = y0 * step + half;
+
+        let mut st = PolyState {
+            x: x0,
+            y: y0,
+            ..PolyState::default()
+        };
+        let n = cyc.len();
+        for i in 0..n {
+            let (a, b) = (cyc[i], cyc[(i + 1) % n]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]); // s(c+s+1)
+                                                       // s(c+s+1) × s(c+s+2) → s(2c+2s+3); difference → s(2c+2s+4).
+            let e = dx * (py_h - 2 * a[1]) - dy * (px_h - 2 * a[0]);
+            // Top-left rule (y down, interior on the positive side): a top edge is
+            // horizontal with the interior below (dy = 0, dx > 0); a left edge has the
+            // interior to its right (dy < 0). Pixels exactly on other edges are outside:
+            // E > 0 ⇔ E − 1 ≥ 0 on integers, so the bias makes inside a sign test.
+            let top_left = (dy == 0 && dx > 0) || dy < 0;
+            st.edge[i] = e - i64::from(!top_left);
+            st.edge_dx[i] = -dy * step; // one pixel right: Δp_h = 2^(s+1)
+            st.edge_dy[i] = dx * step;
+        }
+        // An unused 4th edge stays 0 with zero increments: always ≥ 0.
+
+        let fa = self.cfg.attr_fmt.frac_bits as i32;
+        let facc = self.cfg.acc_frac_bits as i32;
+        let acc = self.acc_fmt();
+        let (ox, oy) = (px_h - 2 * v0.x, py_h - 2 * v0.y); // s(c+s+2), h units
+        for i in 0..self.cfg.attrs as usize {
+            // dA/dx per pixel in accumulator LSBs: Nx·2^s/area2 · 2^(facc−fa).
+            // Nx ≤ 57 bits, × 2^(s+facc−fa) ≤ 2^48 → ≤ 105 bits.
+            let gx = div_round_pow2(nx[i], s as i32 + facc - fa, area2);
+            let gy = div_round_pow2(ny[i], s as i32 + facc - fa, area2);
+            // Start at the first pixel centre, over the doubled area (h units):
+            // A0·2·area2 (32 + 48 bits) + Nx·ox + Ny·oy (57 + 24 bits each) → ≤ 82 bits,
+            // × 2^(facc−fa) ≤ 2^40 → ≤ 122 bits; the rounding doubles it once: ≤ 123.
+            let num = v0.attrs[i] as i128 * 2 * area2 + nx[i] * ox as i128 + ny[i] * oy as i128;
+            let a0 = div_round_pow2(num, facc - fa, 2 * area2);
+            // A non-zero gradient or start that rounds to 0 accumulator LSB is an underflow.
+            ctr.underflows += u64::from(gx == 0 && nx[i] != 0)
+                + u64::from(gy == 0 && ny[i] != 0)
+                + u64::from(a0 == 0 && num != 0);
+            st.grad_x[i] = self.fit_acc(gx, acc, ctr);
+            st.grad_y[i] = self.fit_acc(gy, acc, ctr);
+            st.acc[i] = self.fit_acc(a0, acc, ctr);
+        }
+        PolySetup {
+            bbox: Some(BBox { x0, y0, x1, y1 }),
+            edges: n as u32,
+            area2,
+            state: st,
+        }
+    }
+
+    /// Put an integer number of accumulator LSBs into the accumulator by `acc_overflow`
+    /// (counted: WRAP in `overflows`, SAT modes in `saturations`).
+    #[inline]
+    fn fit_acc(&self, raw: i128, acc: Format, ctr: &mut Counters) -> i64 {
+        if raw > acc.min_raw() && raw <= acc.max_raw() {
+            return raw as i64;
+        }
+        let wide = Format {
+            int_bits: 127 - acc.frac_bits,
+            frac_bits: acc.frac_bits,
+            signed: true,
+        };
+        Fx { raw, fmt: wide }
+            .assign(acc, Quant::Trn, self.cfg.acc_overflow, ctr)
+            .raw as i64
+    }
+}
+
+impl Unit for PolygonInterpolator {
+    type In = Move;
+    type Out = PolyOut;
+    type State = PolyState;
+
+    fn name(&self) -> &'static str {
+        NAME
+    }
+
+    fn kernel(&self, st: &mut PolyState, mv: &Move, ctr: &mut Counters) -> PolyOut {
+        let k = self.cfg.attrs as usize;
+        let cw = self.cfg.coord_int_bits;
+        let ew = self.edge_bits();
+        let acc = self.acc_fmt();
+        // Stage 1: one add per accumulator. The step mux picks +dx, −dx (XOR + carry in)
+        // or +dy; Hold disables the register.
+        let (dxy, sign): (bool, i64) = match mv {
+            Move::Hold => (false, 0),
+            Move::Right => (false, 1),
+            Move::Left => (false, -1),
+            Move::Down => (true, 1),
+        };
+        if sign != 0 {
+            // Pixel counters: c bits, ±1.
+            let (nx, ny) = if dxy {
+                (st.x, st.y + 1)
+            } else {
+                (st.x + sign, st.y)
+            };
+            let (wx, wy) = (wrap_signed(nx, cw), wrap_signed(ny, cw));
+            ctr.overflows += u64::from(wx != nx) + u64::from(wy != ny);
+            st.x = wx;
+            st.y = wy;
+            for e in 0..EDGES {
+                let inc = if dxy {
+                    st.edge_dy[e]
+                } else {
+                    sign * st.edge_dx[e]
+                };
+                // s(ew) + s(ew) → s(ew+1) ≤ 49 bits; wrap to ew (counted).
+                let sum = st.edge[e] + inc;
+                let w = wrap_signed(sum, ew);
+                ctr.overflows += u64::from(w != sum);
+                st.edge[e] = w;
+            }
+            for i in 0..k {
+                let inc = if dxy {
+                    st.grad_y[i]
+                } else {
+                    sign * st.grad_x[i]
+                };
+                // s(acc) + s(acc) → s(acc+1) ≤ 63 bits; back to s(acc) by acc_overflow.
+                let sum = st.acc[i] as i128 + inc as i128;
+                st.acc[i] = self.fit_acc(sum, acc, ctr);
+            }
+        }
+        // Stage 2: inside = no edge sign bit set; round s(acc) → output format (RND:
+        // + half LSB, truncate), saturate. Output events count only for covered pixels
+        // (the counter enables are gated by inside).
+        let inside = st.edge.iter().all(|&e| e >= 0);
+        let mut out = PolyOut {
+            x: st.x,
+            y: st.y,
+            inside,
+            attrs: [0; MAX_ATTRS],
+        };
+        let of = self.out_fmt();
+        for i in 0..k {
+            let (v, ev) = Fx {
+                raw: st.acc[i] as i128,
+                fmt: acc,
+            }
+            .assign_events(of, self.cfg.out_quant, Overflow::Sat);
+            if inside {
+                ctr.saturations += u64::from(ev.saturated);
+                ctr.underflows += u64::from(ev.underflowed);
+            }
+            out.attrs[i] = v.raw as i64;
+        }
+        out
+    }
+
+    fn timing(&self) -> Timing {
+        // Stage 1: the accumulator adders (the accumulators are the stage register);
+        // stage 2: edge sign test, output rounding/saturation, output register.
+        Timing { latency: 2, ii: 1 }
+    }
+
+    fn cost(&self) -> Cost {
+        let c = self.cfg.coord_int_bits;
+        let s = self.cfg.subpixel_bits;
+        let k = self.cfg.attrs;
+        let ew = self.edge_bits();
+        let aw = self.cfg.acc_int_bits + self.cfg.acc_frac_bits;
+        let ow = self.cfg.out_int_bits + self.cfg.out_frac_bits;
+        let attr_w = self.cfg.attr_fmt.width();
+        // One incremental accumulator of width w: adder, accumulator register, the dx and
+        // dy increment registers, the dx/dy step mux, XOR for −dx, hold (enable) mux.
+        let accumulator = |w: u32| {
+            prim::adder(w)
+                + prim::register(w)
+                + prim::register(2 * w)
+                + prim::mux(w)
+                + Cells {
+                    xor2: w as f64,
+                    ..Cells::default()
+                }
+                + prim::mux(w)
+        };
+        // Output rounding of one attribute: add half over the kept bits, then clamp: an
+        // all-ones/all-zeros detector over the dropped integer bits and a clamp mux.
+        let kept = self.cfg.acc_int_bits + self.cfg.acc_frac_bits.min(self.cfg.out_frac_bits) + 1;
+        let excess = self.cfg.acc_int_bits.saturating_sub(self.cfg.out_int_bits) + 1;
+        let round_sat = prim::adder(kept)
+            + Cells {
+                or2: 2.0 * excess as f64,
+                ..Cells::default()
+            }
+            + prim::mux(ow);
+
+        // Setup engine (per primitive), sequenced: D = c+s+1 delta bits.
+        let d = c + s + 1;
+        let area_w = 2 * d + 1;
+        let ad = attr_w + 1;
+        let nw = ad + d + 1;
+        let fa = self.cfg.attr_fmt.frac_bits;
+        let facc = self.cfg.acc_frac_bits;
+        let divisor_w = area_w + 1 + fa.saturating_sub(facc);
+        let qw = aw + 2;
+        let start_w = (attr_w + area_w + 1).max(nw + d + 1) + 2;
+
+        Cost::default()
+            .part(
+                "pixel counters x, y (±1)",
+                (prim::adder(c) + prim::register(c)) * 2.0,
+            )
+            .part(
+                &format!("{EDGES} edge accumulators ({ew} b)"),
+                accumulator(ew) * EDGES as f64,
+            )
+            .part(
+                &format!("{k} attribute accumulators ({aw} b)"),
+                accumulator(aw) * k as f64,
+            )
+            .part(
+                "move decode + inside (edge sign bits)",
+                Cells {
+                    and2: 4.0 + (EDGES - 1) as f64,
+                    not: 4.0,
+                    ..Cells::default()
+                },
+            )
+            .part("output rounding + saturation", round_sat * k as f64)
+            .part("output register", prim::register(2 * c + 1 + k * ow))
+            .part(
+                "setup: vertex deltas (8 × D-bit subtractors)",
+                prim::subtractor(d) * 8.0,
+            )
+            .part(
+                "setup: area (2 multipliers D×D, subtractor)",
+                prim::multiplier(d, d) * 2.0 + prim::subtractor(area_w),
+            )
+            .part(
+                "setup: edge start values (2 multipliers D×(D+1), subtractor; 1 edge/clock)",
+                prim::multiplier(d, d + 1) * 2.0 + prim::subtractor(2 * d + 2),
+            )
+            .part(
+                "setup: plane numerators (2 multipliers (attr+1)×D, subtractor)",
+                prim::multiplier(ad, d) * 2.0 + prim::subtractor(nw),
+            )
+            .part(
+                "setup: start numerator (A0×2area, Nx×Δx, Ny×Δy, 2 adders)",
+                prim::multiplier(attr_w, area_w + 1)
+                    + prim::multiplier(nw, d + 1) * 2.0
+                    + prim::adder(start_w) * 2.0,
+            )
+            .part(
+                &format!("setup: rounding divider ({divisor_w}-b divisor, {qw} quotient bits)"),
+                prim::divider(divisor_w + 1, qw) + prim::adder(divisor_w + 1),
+            )
+            .part(
+                "setup: operand registers (area, Nx, Ny, start numerator)",
+                prim::register(area_w + 2 * nw + start_w),
+            )
+    }
+
+    fn widths(&self) -> Vec<Width> {
+        let w = |name, bits| Width { name, bits };
+        vec![
+            w("attrs", self.cfg.attrs),
+            w("subpixel_bits", self.cfg.subpixel_bits),
+            w("coord_int_bits", self.cfg.coord_int_bits),
+            w("attr_bits", self.cfg.attr_fmt.width()),
+            w("attr_frac_bits", self.cfg.attr_fmt.frac_bits),
+            w("acc_int_bits", self.cfg.acc_int_bits),
+            w("acc_frac_bits", self.cfg.acc_frac_bits),
+            w("edge_bits", self.edge_bits()),
+            w("out_int_bits", self.cfg.out_int_bits),
+            w("out_frac_bits", self.cfg.out_frac_bits),
+        ]
+    }
+
+    fn in_signals(&self, mv: &Move) -> Vec<Signal> {
+        vec![Signal::new("move", 2, mv.code())]
+    }
+
+    fn out_signals(&self, o: &PolyOut) -> Vec<Signal> {
+        let c = self.cfg.coord_int_bits;
+        let ow = self.cfg.out_int_bits + self.cfg.out_frac_bits;
+        let m = |v: i64, w: u32| (v as u64) & (u64::MAX >> (64 - w));
+        let mut v = vec![
+            Signal::new("x", c, m(o.x, c)),
+            Signal::new("y", c, m(o.y, c)),
+            Signal::new("inside", 1, u64::from(o.inside)),
+        ];
+        let k = self.cfg.attrs as usize;
+        for (name, &a) in ATTR_SIGNALS.iter().zip(&o.attrs).take(k) {
+            v.push(Signal::new(name, ow, m(a, ow)));
+        }
+        v
+    }
+}

@@ -1,0 +1,898 @@
+//! polygon_interpolator against its f64 twin.
+//!
+//! Error bound (derived from the widths; also in docs/datasheets/polygon_interpolator.md).
+//! Let f = acc_frac_bits. Setup produces the start value S (at the bounding box's first
+//! pixel centre (x0, y0)) and the gradients Gx, Gy each by ONE rounding-to-nearest
+//! division of the exact rational, so each is within 2^-(f+1) of the exact value (in
+//! attribute units). The walker only adds: at pixel (x, y) the accumulator holds
+//! S + (x−x0)·Gx + (y−y0)·Gy (modulo 2^W under WRAP, which is harmless while the true
+//! value fits), and the serpentine walk keeps x ≥ x0, y ≥ y0, so
+//!     |acc − A(x, y)| ≤ (1 + (x−x0) + (y−y0)) · 2^-(f+1)  ≤  (k + 1) · 2^-(f+1),
+//! k = moves made since the first pixel (the Manhattan distance never exceeds k).
+//! Output rounding adds 0 when out_frac ≥ f (an exact shift), else ≤ ½ output LSB for the
+//! round-to-nearest modes (< 1 LSB for TRN / TRN_ZERO). Output saturation is a clamp,
+//! which is 1-Lipschitz, so the output is compared against clamp(twin, output range).
+//! The twin evaluates the plane from the same quantised vertices, so nothing else
+//! differs; 1e-9 covers the twin's own f64 rounding.
+//!
+//! Coverage: the unit's edge functions are exact integers on the half-sub-pixel grid and
+//! the twin's f64 edge functions are exact for these coordinates, so the inside flags
+//! must be EQUAL everywhere (top-left rule in both).
+
+mod common;
+
+use glare_pipeline::reference::polygon_interpolator as twin;
+use proptest::prelude::*;
+use rtl_model::driver::run_span;
+use rtl_model::units::polygon_interpolator::{
+    Move, PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
+};
+use rtl_model::{Counters, Format, Overflow, Quant, UnitSummary};
+
+const SLACK: f64 = 1e-9;
+
+fn s_fmt(i: u32, f: u32) -> Format {
+    Format {
+        int_bits: i,
+        frac_bits: f,
+        signed: true,
+    }
+}
+
+/// Default widths with K attributes.
+fn cfg_default(k: u32) -> PolygonInterpolator {
+    PolygonInterpolatorConfig {
+        attrs: k,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap()
+}
+
+/// Wide: 32 accumulator fraction bits, 16 output fraction bits.
+fn cfg_wide(k: u32) -> PolygonInterpolator {
+    PolygonInterpolatorConfig {
+        attrs: k,
+        acc_int_bits: 24,
+        acc_frac_bits: 32,
+        out_int_bits: 16,
+        out_frac_bits: 16,
+        out_quant: Quant::RndConv,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap()
+}
+
+/// Narrow: 3 accumulator fraction bits, 4 output fraction bits (large error).
+fn cfg_narrow(k: u32) -> PolygonInterpolator {
+    PolygonInterpolatorConfig {
+        attrs: k,
+        subpixel_bits: 2,
+        acc_int_bits: 12,
+        acc_frac_bits: 3,
+        out_int_bits: 9,
+        out_frac_bits: 4,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap()
+}
+
+fn config_by_index(i: usize, k: u32) -> PolygonInterpolator {
+    match i {
+        0 => cfg_default(k),
+        1 => cfg_wide(k),
+        _ => cfg_narrow(k),
+    }
+}
+
+/// Output rounding bound in attribute units.
+fn out_round_bound(u: &PolygonInterpolator) -> f64 {
+    let (f, o) = (u.acc_frac_bits(), u.out_frac_bits());
+    if o >= f {
+        0.0
+    } else {
+        match u.out_quant() {
+            Quant::Trn | Quant::TrnZero => (-(o as f64)).exp2(),
+            _ => (-(o as f64 + 1.0)).exp2(),
+        }
+    }
+}
+
+/// The derived bound at Manhattan distance `dist` from the first pixel.
+fn bound(u: &PolygonInterpolator, dist: u64) -> f64 {
+    (1 + dist) as f64 * (-(u.acc_frac_bits() as f64 + 1.0)).exp2() + out_round_bound(u)
+}
+
+fn clamp_out(u: &PolygonInterpolator, v: f64) -> f64 {
+    let of = u.out_fmt();
+    v.clamp(
+        u.out_to_f64(of.min_raw() as i64),
+        u.out_to_f64(of.max_raw() as i64),
+    )
+}
+
+/// Walk a set-up primitive and compare with the twin: coverage must be equal at every
+/// bounding-box pixel; covered pixels' attributes must lie within the bound. Returns the
+/// covered pixels, the outputs and the largest error seen as a fraction of its bound.
+fn check_walk(
+    u: &PolygonInterpolator,
+    setup: &PolySetup,
+    covers: &dyn Fn(i64, i64) -> bool,
+    value: &dyn Fn(usize, i64, i64) -> f64,
+) -> (Vec<(i64, i64)>, Vec<PolyOut>) {
+    let moves = setup.moves();
+    let mut st = setup.state.clone();
+    let mut ctr = Counters::default();
+    let outs = run_span(u, &mut st, &moves, &mut ctr);
+    assert_eq!(outs.len() as u64, setup.pixels());
+    let mut covered = Vec::new();
+    let b = setup.bbox;
+    for (k, o) in outs.iter().enumerate() {
+        let b = b.unwrap();
+        assert!(o.x >= b.x0 && o.x <= b.x1 && o.y >= b.y0 && o.y <= b.y1);
+        let want = covers(o.x, o.y);
+        assert_eq!(o.inside, want, "coverage differs at ({}, {})", o.x, o.y);
+        if !o.inside {
+            continue;
+        }
+        covered.push((o.x, o.y));
+        let dist = ((o.x - b.x0) + (o.y - b.y0)) as u64;
+        assert!(
+            dist <= k as u64,
+            "Manhattan distance exceeds the move count"
+        );
+        for i in 0..u.attrs() as usize {
+            let got = u.out_to_f64(o.attrs[i]);
+            let want = clamp_out(u, value(i, o.x, o.y));
+            let bd = bound(u, dist);
+            assert!(
+                (got - want).abs() <= bd + SLACK,
+                "attr {i} at ({}, {}): got {got}, twin {want}, err {}, bound {bd} (dist {dist})",
+                o.x,
+                o.y,
+                (got - want).abs()
+            );
+        }
+    }
+    (covered, outs)
+}
+
+/// Every pixel the twin covers within `window` must lie in the bounding box.
+fn check_bbox_holds_coverage(
+    setup: &PolySetup,
+    window: (i64, i64, i64, i64),
+    covers: &dyn Fn(i64, i64) -> bool,
+) {
+    for y in window.1..=window.3 {
+        for x in window.0..=window.2 {
+            if covers(x, y) {
+                let b = setup
+                    .bbox
+                    .expect("twin covers a pixel of an empty primitive");
+                assert!(
+                    x >= b.x0 && x <= b.x1 && y >= b.y0 && y <= b.y1,
+                    "({x}, {y}) covered outside the bbox {b:?}"
+                );
+            }
+        }
+    }
+}
+
+type Pts = Vec<(f64, f64)>;
+
+/// Quantise f64 vertices; returns the raw vertices and the twin's view of them.
+fn quantise(
+    u: &PolygonInterpolator,
+    pts: &[(f64, f64)],
+    attrs: &[Vec<f64>],
+) -> (Vec<Vertex>, Vec<twin::P>, Vec<Vec<f64>>) {
+    let mut ctr = Counters::default();
+    let k = u.attrs() as usize;
+    let mut vs = Vec::new();
+    let mut ps = Vec::new();
+    let mut ats = Vec::new();
+    for (i, &(x, y)) in pts.iter().enumerate() {
+        let v = u
+            .vertex_from_f64(i, x, y, &attrs[i][..k], &mut ctr)
+            .unwrap();
+        let (fx, fy, fa) = u.vertex_to_f64(&v);
+        vs.push(v);
+        ps.push([fx, fy]);
+        ats.push(fa);
+    }
+    (vs, ps, ats)
+}
+
+fn pts_strategy(n: usize, lo: f64, hi: f64) -> impl Strategy<Value = Pts> {
+    prop::collection::vec((lo..hi, lo..hi), n)
+}
+
+fn attrs_strategy(n: usize) -> impl Strategy<Value = Vec<Vec<f64>>> {
+    prop::collection::vec(prop::collection::vec(-100.0..100.0f64, MAX_ATTRS), n)
+}
+
+fn run_triangle(u: &PolygonInterpolator, pts: &[(f64, f64)], attrs: &[Vec<f64>]) {
+    let (vs, ps, ats) = quantise(u, pts, attrs);
+    let tri = [ps[0], ps[1], ps[2]];
+    let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut Counters::default());
+    let covers = |x, y| twin::triangle_covers(tri, x, y);
+    let value = |i: usize, x, y| twin::triangle_value(tri, [ats[0][i], ats[1][i], ats[2][i]], x, y);
+    check_walk(u, &setup, &covers, &value);
+    check_bbox_holds_coverage(&setup, (-2, -2, 66, 66), &covers);
+}
+
+// ------------------------------------------------------------------ exhaustive
+
+#[test]
+fn exhaustive_all_triangles_on_a_3px_half_pixel_grid() {
+    // s = 1: every triangle with vertices on the 7 × 7 half-pixel grid over 0 ..= 3 px,
+    // both windings, all degenerate ones: 49³ = 117 649 ≤ 2^20 triangles.
+    let u = PolygonInterpolatorConfig {
+        attrs: 2,
+        subpixel_bits: 1,
+        coord_int_bits: 4,
+        attr_fmt: s_fmt(8, 8),
+        acc_int_bits: 10,
+        acc_frac_bits: 5,
+        out_int_bits: 8,
+        out_frac_bits: 3,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let grid: Vec<(i64, i64)> = (0..49).map(|i| (i % 7, i / 7)).collect();
+    let mut covered_total = 0usize;
+    for a in &grid {
+        for b in &grid {
+            for c in &grid {
+                let raw = [*a, *b, *c];
+                let mut vs = [Vertex::default(); 3];
+                for (i, &(x, y)) in raw.iter().enumerate() {
+                    vs[i].x = x;
+                    vs[i].y = y;
+                    // Attribute codes in s8.8: a spread of values, some negative.
+                    vs[i].attrs[0] = (x * 97 - y * 61 + i as i64 * 13) * 5;
+                    vs[i].attrs[1] = -(x * 29 + y * 131) * 3 + 700;
+                }
+                let f: Vec<(f64, f64, Vec<f64>)> = vs.iter().map(|v| u.vertex_to_f64(v)).collect();
+                let tri = [[f[0].0, f[0].1], [f[1].0, f[1].1], [f[2].0, f[2].1]];
+                let setup = u.setup_triangle(&vs, &mut Counters::default());
+                let covers = |x, y| twin::triangle_covers(tri, x, y);
+                let value = |i: usize, x, y| {
+                    twin::triangle_value(tri, [f[0].2[i], f[1].2[i], f[2].2[i]], x, y)
+                };
+                let (cov, _) = check_walk(&u, &setup, &covers, &value);
+                covered_total += cov.len();
+                check_bbox_holds_coverage(&setup, (-1, -1, 4, 4), &covers);
+            }
+        }
+    }
+    assert!(covered_total > 100_000);
+}
+
+// ------------------------------------------------------------------ error growth
+
+#[test]
+fn error_grows_with_span_length_and_stays_under_the_bound() {
+    // A 4000 × 2 px sliver, attribute 0 → 120 across it: dA/dx = 0.03 per pixel, which
+    // 4 fraction bits round to 0 (0.48 LSB): the error grows by 0.03 per pixel, just
+    // under the bound's 2^-5 = 0.03125 per pixel.
+    let narrow = PolygonInterpolatorConfig {
+        attrs: 1,
+        acc_int_bits: 12,
+        acc_frac_bits: 4,
+        out_int_bits: 12,
+        out_frac_bits: 4,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let wide = PolygonInterpolatorConfig {
+        acc_frac_bits: 32,
+        acc_int_bits: 12,
+        ..narrow.config()
+    }
+    .build()
+    .unwrap();
+    let pts = [(0.0, 0.0), (4000.0, 0.0), (0.0, 2.0)];
+    let attrs = vec![vec![0.0], vec![120.0], vec![0.0]];
+    let mut worst = Vec::new();
+    for u in [&narrow, &wide] {
+        let (vs, ps, ats) = quantise(u, &pts, &attrs);
+        let tri = [ps[0], ps[1], ps[2]];
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut Counters::default());
+        assert_eq!(setup.pixels(), 8000);
+        let covers = |x, y| twin::triangle_covers(tri, x, y);
+        let value =
+            |i: usize, x, y| twin::triangle_value(tri, [ats[0][i], ats[1][i], ats[2][i]], x, y);
+        let (_, outs) = check_walk(u, &setup, &covers, &value);
+        // Largest error in each 500-pixel stretch of the first row.
+        let mut buckets = [0.0f64; 6];
+        for o in outs.iter().filter(|o| o.inside && o.y == 0) {
+            let e = (u.out_to_f64(o.attrs[0]) - value(0, o.x, o.y)).abs();
+            let b = (o.x / 500) as usize;
+            buckets[b] = buckets[b].max(e);
+        }
+        println!(
+            "acc_frac_bits {}: max error per 500 px of span: {buckets:.4?}",
+            u.acc_frac_bits()
+        );
+        worst.push(buckets);
+    }
+    let n = worst[0];
+    assert!(
+        n.windows(2).all(|w| w[1] > w[0]),
+        "error must rise with span: {n:?}"
+    );
+    assert!(n[5] > 80.0 && n[0] < 16.0, "{n:?}");
+    // 32 fraction bits: the accumulated part stays far below one output LSB.
+    assert!(
+        worst[1].iter().all(|&e| e <= 1.0 / 32.0 + SLACK),
+        "{:?}",
+        worst[1]
+    );
+}
+
+// ------------------------------------------------------------------ properties
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    #[test]
+    fn triangles_within_bound_default_wide_narrow(
+        ci in 0usize..3,
+        k in 1u32..=8,
+        pts in pts_strategy(3, 0.0, 64.0),
+        attrs in attrs_strategy(3),
+    ) {
+        let u = config_by_index(ci, k);
+        run_triangle(&u, &pts, &attrs);
+    }
+
+    #[test]
+    fn gl_quads_cover_once_and_within_bound(
+        ci in 0usize..3,
+        k in 1u32..=8,
+        (x0, y0, w, h) in (0.0..40.0f64, 0.0..40.0f64, 4.0..24.0f64, 4.0..24.0f64),
+        jitter in prop::collection::vec((-3.0..3.0f64, -3.0..3.0f64), 4),
+        attrs in attrs_strategy(4),
+        ccw in any::<bool>(),
+    ) {
+        let u = config_by_index(ci, k);
+        let mut pts = vec![(x0, y0), (x0 + w, y0), (x0 + w, y0 + h), (x0, y0 + h)];
+        if ccw {
+            pts.reverse();
+        }
+        for (p, j) in pts.iter_mut().zip(&jitter) {
+            p.0 += j.0;
+            p.1 += j.1;
+        }
+        let (vs, ps, ats) = quantise(&u, &pts, &attrs);
+        let q = [ps[0], ps[1], ps[2], ps[3]];
+        let halves = u.setup_quad(&[vs[0], vs[1], vs[2], vs[3]], &mut Counters::default());
+        let mut all = Vec::new();
+        for (t, setup) in halves.iter().enumerate() {
+            let (a, b, c) = if t == 0 { (0, 1, 2) } else { (0, 2, 3) };
+            let tri = [q[a], q[b], q[c]];
+            let covers = |x, y| twin::triangle_covers(tri, x, y);
+            let value = |i: usize, x, y| twin::triangle_value(tri, [ats[a][i], ats[b][i], ats[c][i]], x, y);
+            let (cov, _) = check_walk(&u, setup, &covers, &value);
+            all.extend(cov);
+        }
+        // Convex quad: the shared edge's pixels go to exactly one triangle, and the
+        // union is the twin's quad coverage.
+        let convex = (0..4).all(|i| twin::area2([q[i], q[(i + 1) % 4], q[(i + 2) % 4]]) > 0.0)
+            || (0..4).all(|i| twin::area2([q[i], q[(i + 1) % 4], q[(i + 2) % 4]]) < 0.0);
+        if convex {
+            let n = all.len();
+            all.sort_unstable();
+            all.dedup();
+            prop_assert_eq!(all.len(), n, "a pixel covered twice");
+            let twin_count = (-5..75i64)
+                .flat_map(|y| (-5..75i64).map(move |x| (x, y)))
+                .filter(|&(x, y)| twin::quad_covers(q, x, y).is_some())
+                .count();
+            prop_assert_eq!(n, twin_count);
+        }
+    }
+
+    #[test]
+    fn parallelograms_within_bound_and_equal_to_the_gl_split(
+        ci in 0usize..3,
+        k in 1u32..=8,
+        pts in pts_strategy(3, 8.0, 40.0),
+        attrs in attrs_strategy(3),
+    ) {
+        let u = config_by_index(ci, k);
+        let (vs, ps, ats) = quantise(&u, &pts, &attrs);
+        let v = [ps[0], ps[1], ps[2]];
+        let mut ctr = Counters::default();
+        let setup = u.setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut ctr).unwrap();
+        let covers = |x, y| twin::parallelogram_covers(v, x, y);
+        let value = |i: usize, x, y| twin::parallelogram_value(v, [ats[0][i], ats[1][i], ats[2][i]], x, y);
+        let (mut cov, _) = check_walk(&u, &setup, &covers, &value);
+        check_bbox_holds_coverage(&setup, (-2, -2, 82, 82), &covers);
+        // The same quad given with its 4th vertex, through the consistency check, and as
+        // a GL split: identical coverage (the diagonal is shared exactly once).
+        let mut v3 = vs[0];
+        v3.x = vs[0].x + vs[2].x - vs[1].x;
+        v3.y = vs[0].y + vs[2].y - vs[1].y;
+        for i in 0..MAX_ATTRS {
+            v3.attrs[i] = vs[0].attrs[i] + vs[2].attrs[i] - vs[1].attrs[i];
+        }
+        let quad = [vs[0], vs[1], vs[2], v3];
+        let again = u.setup_affine_quad(&quad, &mut ctr).unwrap();
+        prop_assert_eq!(&again, &setup);
+        let mut split = Vec::new();
+        for h in u.setup_quad(&quad, &mut ctr) {
+            let mut st = h.state.clone();
+            let outs = run_span(&u, &mut st, &h.moves(), &mut Counters::default());
+            split.extend(outs.iter().filter(|o| o.inside).map(|o| (o.x, o.y)));
+        }
+        cov.sort_unstable();
+        split.sort_unstable();
+        prop_assert_eq!(cov, split);
+    }
+
+    #[test]
+    fn tick_and_span_drivers_agree(
+        k in 0u32..=8,
+        s in 0u32..=8,
+        acc_frac in 1u32..=40,
+        acc_int in 1u32..=22,
+        out_frac in 0u32..=12,
+        signed in any::<bool>(),
+        mode in prop::sample::select(Overflow::ALL.to_vec()),
+        pts in pts_strategy(3, 0.0, 12.0),
+        attrs in attrs_strategy(3),
+        extra in prop::collection::vec(0u8..4, 0..30),
+    ) {
+        let u = PolygonInterpolatorConfig {
+            attrs: k,
+            subpixel_bits: s,
+            attr_fmt: Format { int_bits: 10, frac_bits: 8, signed },
+            acc_int_bits: acc_int,
+            acc_frac_bits: acc_frac,
+            acc_overflow: mode,
+            out_int_bits: 10,
+            out_frac_bits: out_frac,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let mut ctr = Counters::default();
+        let vs: Vec<Vertex> = (0..3)
+            .map(|i| u.vertex_from_f64(i, pts[i].0, pts[i].1, &attrs[i][..k as usize], &mut ctr).unwrap())
+            .collect();
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
+        // The serpentine walk, then arbitrary moves (beyond the bbox too).
+        let mut moves = setup.moves();
+        moves.extend(extra.iter().map(|&m| [Move::Hold, Move::Right, Move::Left, Move::Down][m as usize]));
+        common::assert_drivers_agree(&u, setup.state.clone(), &moves);
+    }
+
+    #[test]
+    fn random_configs_never_panic_and_errors_name_the_field(
+        attrs in 0u32..12,
+        s in 0u32..12,
+        c in 0u32..20,
+        ai in 0u32..40,
+        af in 0u32..40,
+        asg in any::<bool>(),
+        acc_int in 0u32..64,
+        acc_frac in 0u32..64,
+        out_int in 0u32..50,
+        out_frac in 0u32..50,
+        q in prop::sample::select(Quant::ALL.to_vec()),
+        o in prop::sample::select(Overflow::ALL.to_vec()),
+        raw in prop::collection::vec((any::<i64>(), any::<i64>(), any::<[i64; 8]>()), 4),
+    ) {
+        let cfg = PolygonInterpolatorConfig {
+            attrs,
+            subpixel_bits: s,
+            coord_int_bits: c,
+            attr_fmt: Format { int_bits: ai, frac_bits: af, signed: asg },
+            acc_int_bits: acc_int,
+            acc_frac_bits: acc_frac,
+            acc_overflow: o,
+            out_int_bits: out_int,
+            out_frac_bits: out_frac,
+            out_quant: q,
+        };
+        match cfg.build() {
+            Err(e) => prop_assert!(e.field().starts_with("polygon_interpolator."), "{}", e.field()),
+            Ok(u) => {
+                // Any raw input words: setup and a few moves must not panic.
+                let vs: Vec<Vertex> = raw.iter().map(|&(x, y, a)| Vertex { x, y, attrs: a }).collect();
+                let mut ctr = Counters::default();
+                let t = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
+                let _ = u.setup_quad(&[vs[0], vs[1], vs[2], vs[3]], &mut ctr);
+                let _ = u.setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut ctr);
+                let _ = u.setup_affine_quad(&[vs[0], vs[1], vs[2], vs[3]], &mut ctr);
+                let mut st = t.state.clone();
+                let moves = [Move::Hold, Move::Right, Move::Down, Move::Left, Move::Left, Move::Down];
+                let _ = run_span(&u, &mut st, &moves, &mut ctr);
+            }
+        }
+    }
+
+    #[test]
+    fn non_finite_vertex_inputs_name_the_field(
+        bad in prop::sample::select(vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY]),
+        which in 0usize..3,
+        idx in 0usize..4,
+        j in 0usize..4,
+    ) {
+        let u = cfg_default(4);
+        let mut a = [1.0, 2.0, 3.0, 4.0];
+        let (mut x, mut y) = (1.0, 2.0);
+        let want = match which {
+            0 => { x = bad; format!("polygon_interpolator.vertices[{idx}].x") }
+            1 => { y = bad; format!("polygon_interpolator.vertices[{idx}].y") }
+            _ => { a[j] = bad; format!("polygon_interpolator.vertices[{idx}].attrs[{j}]") }
+        };
+        let e = u.vertex_from_f64(idx, x, y, &a, &mut Counters::default()).unwrap_err();
+        prop_assert_eq!(e.field(), want.as_str());
+    }
+}
+
+// ------------------------------------------------------------------ edge cases
+
+#[test]
+fn config_errors_name_their_fields() {
+    let d = PolygonInterpolatorConfig::default();
+    let cases: Vec<(PolygonInterpolatorConfig, &str)> = vec![
+        (PolygonInterpolatorConfig { attrs: 9, ..d }, "attrs"),
+        (
+            PolygonInterpolatorConfig {
+                subpixel_bits: 9,
+                ..d
+            },
+            "subpixel_bits",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                coord_int_bits: 15,
+                ..d
+            },
+            "coord_int_bits",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                attr_fmt: s_fmt(20, 16),
+                ..d
+            },
+            "attr_fmt",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                attr_fmt: Format {
+                    int_bits: 0,
+                    frac_bits: 8,
+                    signed: true,
+                },
+                ..d
+            },
+            "attr_fmt",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                acc_int_bits: 0,
+                ..d
+            },
+            "acc_int_bits",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                acc_frac_bits: 41,
+                ..d
+            },
+            "acc_frac_bits",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                acc_int_bits: 30,
+                acc_frac_bits: 40,
+                ..d
+            },
+            "acc_int_bits",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                out_frac_bits: 41,
+                ..d
+            },
+            "out_frac_bits",
+        ),
+        (
+            PolygonInterpolatorConfig {
+                out_int_bits: 0,
+                ..d
+            },
+            "out_int_bits",
+        ),
+    ];
+    for (c, f) in cases {
+        let e = c.build().unwrap_err();
+        assert_eq!(e.field(), format!("polygon_interpolator.{f}"), "{e}");
+    }
+    assert_eq!(
+        PolygonInterpolator::new(d).unwrap(),
+        PolygonInterpolator::geforce()
+    );
+}
+
+#[test]
+fn vertex_helper_errors() {
+    let u = cfg_default(2);
+    let mut ctr = Counters::default();
+    let e = u
+        .vertex_from_f64(2, 5000.0, 0.0, &[0.0, 0.0], &mut ctr)
+        .unwrap_err();
+    assert_eq!(e.field(), "polygon_interpolator.vertices[2].x");
+    let e = u
+        .vertex_from_f64(1, 0.0, 0.0, &[0.0], &mut ctr)
+        .unwrap_err();
+    assert_eq!(e.field(), "polygon_interpolator.vertices[1].attrs");
+    // An attribute beyond s16.16 saturates, counted.
+    u.vertex_from_f64(0, 0.0, 0.0, &[1e9, 0.0], &mut ctr)
+        .unwrap();
+    assert_eq!(ctr.saturations, 1);
+    // Parallelogram whose implied 4th vertex leaves the coordinate range.
+    let v = |x: f64, y: f64| {
+        u.vertex_from_f64(0, x, y, &[0.0, 0.0], &mut Counters::default())
+            .unwrap()
+    };
+    let e = u
+        .setup_parallelogram(
+            &[v(4000.0, 0.0), v(-4000.0, 0.0), v(4000.0, 10.0)],
+            &mut ctr,
+        )
+        .unwrap_err();
+    assert_eq!(e.field(), "polygon_interpolator.vertices[3].x");
+    // A quad that is not an affine parallelogram.
+    let mut q = [v(0.0, 0.0), v(8.0, 0.0), v(8.0, 8.0), v(0.0, 8.0)];
+    assert!(u.setup_affine_quad(&q, &mut ctr).is_ok());
+    q[3].attrs[1] = 7;
+    let e = u.setup_affine_quad(&q, &mut ctr).unwrap_err();
+    assert_eq!(e.field(), "polygon_interpolator.vertices[3].attrs[1]");
+    q[3].y += 1;
+    let e = u.setup_affine_quad(&q, &mut ctr).unwrap_err();
+    assert_eq!(e.field(), "polygon_interpolator.vertices[3].y");
+}
+
+#[test]
+fn degenerate_primitives_give_no_pixels() {
+    let u = cfg_default(3);
+    let mut ctr = Counters::default();
+    let v = |x: f64, y: f64| {
+        u.vertex_from_f64(0, x, y, &[1.0, -2.0, 3.0], &mut Counters::default())
+            .unwrap()
+    };
+    for tri in [
+        [v(0.0, 0.0), v(10.0, 10.0), v(20.0, 20.0)], // collinear
+        [v(5.0, 5.0), v(5.0, 5.0), v(5.0, 5.0)],     // a point
+        [v(3.0, 1.0), v(3.0, 1.0), v(9.0, 2.0)],     // two coincident
+    ] {
+        let s = u.setup_triangle(&tri, &mut ctr);
+        assert_eq!(s.bbox, None);
+        assert!(s.moves().is_empty());
+        let p = u.setup_parallelogram(&tri, &mut ctr).unwrap();
+        assert!(p.moves().is_empty());
+        // Even driven anyway, an empty primitive never covers a pixel.
+        let mut st = s.state.clone();
+        let moves = [Move::Hold, Move::Right, Move::Down, Move::Left];
+        let outs = run_span(&u, &mut st, &moves, &mut ctr);
+        assert!(outs.iter().all(|o| !o.inside));
+    }
+    // Non-degenerate but between pixel centres: no moves either.
+    let s = u.setup_triangle(&[v(0.6, 0.6), v(1.4, 0.6), v(0.6, 1.4)], &mut ctr);
+    assert_eq!(s.bbox, None);
+    assert_eq!(ctr.saturations + ctr.overflows, 0);
+}
+
+#[test]
+fn accumulator_overflow_is_counted_never_silent() {
+    // Attributes ±100 in a 4-integer-bit accumulator (±8).
+    for mode in [Overflow::Wrap, Overflow::Sat] {
+        let u = PolygonInterpolatorConfig {
+            attrs: 1,
+            acc_int_bits: 4,
+            acc_frac_bits: 8,
+            acc_overflow: mode,
+            out_int_bits: 8,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let mut ctr = Counters::default();
+        let v = |x: f64, y: f64, a: f64| {
+            u.vertex_from_f64(0, x, y, &[a], &mut Counters::default())
+                .unwrap()
+        };
+        let s = u.setup_triangle(
+            &[v(0.0, 0.0, 0.0), v(30.0, 0.0, 100.0), v(0.0, 30.0, -100.0)],
+            &mut ctr,
+        );
+        let mut st = s.state.clone();
+        run_span(&u, &mut st, &s.moves(), &mut ctr);
+        match mode {
+            Overflow::Wrap => assert!(ctr.overflows > 0 && ctr.saturations == 0, "{ctr:?}"),
+            _ => assert!(ctr.saturations > 0 && ctr.overflows == 0, "{ctr:?}"),
+        }
+    }
+}
+
+#[test]
+fn wrapped_gradients_still_give_exact_in_range_pixels() {
+    // Diagonal slivers ~0.2 px thick with the attribute rising 100 across them: the
+    // gradients (over a hundred per pixel) overflow an 8-integer-bit accumulator (±128),
+    // yet WRAP arithmetic is modular, so covered pixels (true values in 0 ..= 100) still
+    // meet the bound.
+    let u = PolygonInterpolatorConfig {
+        attrs: 1,
+        acc_int_bits: 8,
+        acc_frac_bits: 8,
+        out_int_bits: 9,
+        out_frac_bits: 4,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let mut setup_ctr = Counters::default();
+    let mut covered = 0;
+    for (len, off) in [(30.0, 0.25), (45.0, 0.3), (20.0, 0.2), (60.0, 0.35)] {
+        // Gradient components ≈ 100 / (2·off) ≥ 140 per pixel: beyond ±128.
+        let pts = [
+            (0.5, 0.25),
+            (len + 0.5, len + 0.25),
+            (0.5 - off, 0.25 + off),
+        ];
+        let attrs = vec![vec![0.0], vec![0.0], vec![100.0]];
+        let (vs, ps, ats) = quantise(&u, &pts, &attrs);
+        let tri = [ps[0], ps[1], ps[2]];
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut setup_ctr);
+        let covers = |x, y| twin::triangle_covers(tri, x, y);
+        let value =
+            |i: usize, x, y| twin::triangle_value(tri, [ats[0][i], ats[1][i], ats[2][i]], x, y);
+        covered += check_walk(&u, &setup, &covers, &value).0.len();
+        let mut st = setup.state.clone();
+        run_span(&u, &mut st, &setup.moves(), &mut setup_ctr);
+    }
+    assert!(covered > 50, "{covered}");
+    assert!(setup_ctr.overflows > 0, "{setup_ctr:?}");
+    // The gradients themselves wrapped (not only extrapolated bounding-box pixels).
+    let g = |off: f64| {
+        let pts = [(0.5, 0.25), (30.5, 30.25), (0.5 - off, 0.25 + off)];
+        let (vs, _, _) = quantise(&u, &pts, &[vec![0.0], vec![0.0], vec![100.0]]);
+        let mut c = Counters::default();
+        u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut c);
+        c.overflows
+    };
+    assert!(g(0.25) >= 2);
+}
+
+#[test]
+fn widest_config_extreme_vertices_do_not_overflow_setup() {
+    // c = 14, s = 8, 32-bit attributes with 0 and with 32 fraction bits, 40 accumulator
+    // fraction bits: the setup's i128 products at their largest (overflow checks are on
+    // in the test profile).
+    for (attr_fmt, acc_int) in [
+        (s_fmt(32, 0), 22),
+        (
+            Format {
+                int_bits: 32,
+                frac_bits: 0,
+                signed: false,
+            },
+            22,
+        ),
+        (
+            Format {
+                int_bits: 0,
+                frac_bits: 32,
+                signed: false,
+            },
+            22,
+        ),
+        (s_fmt(1, 31), 22),
+    ] {
+        let u = PolygonInterpolatorConfig {
+            attrs: 8,
+            subpixel_bits: 8,
+            coord_int_bits: 14,
+            attr_fmt,
+            acc_int_bits: acc_int,
+            acc_frac_bits: 40,
+            out_int_bits: 8,
+            out_frac_bits: 40,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let (lo, hi) = (-(1i64 << 21), (1i64 << 21) - 1);
+        let (amin, amax) = (attr_fmt.min_raw() as i64, attr_fmt.max_raw() as i64);
+        let corners = [(lo, lo), (hi, lo), (hi, hi), (lo, hi), (0, lo), (hi, 0)];
+        let mut ctr = Counters::default();
+        for a in &corners {
+            for b in &corners {
+                for c in &corners {
+                    let mk = |p: &(i64, i64), at: i64| Vertex {
+                        x: p.0,
+                        y: p.1,
+                        attrs: [at; 8],
+                    };
+                    let t = u.setup_triangle(&[mk(a, amin), mk(b, amax), mk(c, amin)], &mut ctr);
+                    let mut st = t.state.clone();
+                    run_span(
+                        &u,
+                        &mut st,
+                        &[Move::Hold, Move::Right, Move::Down, Move::Left],
+                        &mut ctr,
+                    );
+                    let _ =
+                        u.setup_parallelogram(&[mk(a, amax), mk(b, amin), mk(c, amax)], &mut ctr);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn serpentine_moves_visit_every_bbox_pixel_once() {
+    let u = cfg_default(1);
+    let v = |x: f64, y: f64| {
+        u.vertex_from_f64(0, x, y, &[0.0], &mut Counters::default())
+            .unwrap()
+    };
+    let s = u.setup_triangle(
+        &[v(1.2, 2.7), v(9.9, 3.1), v(4.0, 8.8)],
+        &mut Counters::default(),
+    );
+    let b = s.bbox.unwrap();
+    let mut st = s.state.clone();
+    let outs = run_span(&u, &mut st, &s.moves(), &mut Counters::default());
+    let mut seen: Vec<(i64, i64)> = outs.iter().map(|o| (o.x, o.y)).collect();
+    seen.sort_unstable();
+    let mut want: Vec<(i64, i64)> = (b.y0..=b.y1)
+        .flat_map(|y| (b.x0..=b.x1).map(move |x| (x, y)))
+        .collect();
+    want.sort_unstable();
+    assert_eq!(seen, want);
+}
+
+#[test]
+fn print_datasheet_numbers() {
+    // cargo test --test polygon_interpolator print_datasheet_numbers -- --nocapture
+    for (name, u) in [
+        ("default", PolygonInterpolator::geforce()),
+        ("wide", cfg_wide(4)),
+        ("narrow", cfg_narrow(4)),
+    ] {
+        let s = UnitSummary::of(&u);
+        let setup: f64 = s
+            .breakdown
+            .iter()
+            .filter(|(n, _)| n.starts_with("setup:"))
+            .map(|(_, g)| g)
+            .sum();
+        println!(
+            "{name}: latency {} II {} gates {:.0} (walker {:.0}, setup {:.0}) ram_bits {} edge_bits {} setup_cycles {}",
+            s.latency,
+            s.ii,
+            s.gates_nand2,
+            s.gates_nand2 - setup,
+            setup,
+            s.ram_bits,
+            u.edge_bits(),
+            u.setup_cycles()
+        );
+        if name == "default" {
+            for (part, g) in &s.breakdown {
+                println!("  {part}: {g:.0}");
+            }
+        }
+    }
+}
