@@ -1,1 +1,521 @@
-//! projective_texcoord: being written.
+//! projective_texcoord — projective texture coordinates for the light map (I_l in the
+//! light-shaft model): u = s/q, v = t/q from the interpolated homogeneous (s, t, q).
+//!
+//! Datapath (W = in_int_bits + in_frac_bits, F = in_frac_bits, O = out_int_bits +
+//! out_frac_bits, I = recip_index_bits, E = recip_entry_bits, N = newton_frac_bits):
+//! 1. q ≤ 0 (behind the projector, or on its plane): `behind`, (u, v) = 0, counted in
+//!    `underflows`. No division by zero is ever attempted.
+//! 2. Leading-zero count of the magnitude Q (u(W−1)): Q = 2ᵖ·m, p = W − 2 − lzc,
+//!    m ∈ [1, 2) held exactly as u1.(W−2) by a normalising left shift.
+//! 3. Table: the I bits of m below its leading one index a ROM of 2ᴵ entries of E
+//!    bits, entry i = round(2^(E+I+1) / (2^(I+1) + 2i + 1)) = round(2ᴱ / c_i) with c_i
+//!    = 1 + (i + ½)/2ᴵ the interval's midpoint, clamped to 2ᴱ − 1 (u0.E: 1/m ∈ (½, 1)).
+//!    The content is an integer-only function of (I, E) — [`ProjectiveTexcoord::rom_words`].
+//! 4. `newton_steps` Newton–Raphson steps r' = r·(2 − m·r), each in u1.N: m truncated
+//!    to u1.N; m·r (u1.N × u1.F_r → u2.(N+F_r)); 2 − m·r rounded to u1.N;
+//!    r·d (u1.F_r × u1.N → u2.(F_r+N)) rounded to u1.N.
+//! 5. u = s·r·2⁻ᵖ: S (s(W)) × r (u1.F_r) → s(W+F_r+1), exact; shifted right by
+//!    F_r + p − out_frac_bits rounding to nearest (ties up) into s(out_int).(out_frac),
+//!    saturating; each clamped coordinate is counted in `saturations`.
+//!    (The input fraction F cancels: s/q = S/Q.)
+//!
+//! Input words are masked to their W-bit wires (sign-extended from bit W − 1).
+
+use crate::cost::{prim, Cells, Cost};
+use crate::counters::Counters;
+use crate::error::{check_range, ConfigError};
+use crate::fixed_point::{round_shift, Format, Fx, Overflow, Quant};
+use crate::unit::{Signal, Timing, Unit, Width};
+use bitvec::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// The plain config (serde-friendly); [`ProjectiveTexcoordConfig::build`] validates it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ProjectiveTexcoordConfig {
+    /// Integer bits of s, t, q including the sign, 1 ..= 24.
+    pub in_int_bits: u32,
+    /// Fraction bits of s, t, q, 0 ..= 24.
+    pub in_frac_bits: u32,
+    /// Integer bits of u, v including the sign, 1 ..= 16.
+    pub out_int_bits: u32,
+    /// Fraction bits of u, v, 0 ..= 16.
+    pub out_frac_bits: u32,
+    /// ROM index bits I (2ᴵ entries), 1 ..= 12.
+    pub recip_index_bits: u32,
+    /// ROM entry bits E (u0.E), 1 ..= 24.
+    pub recip_entry_bits: u32,
+    /// Newton–Raphson steps after the table, 0 ..= 2.
+    pub newton_steps: u32,
+    /// Fraction bits N of the Newton datapath (u1.N), 1 ..= 40.
+    pub newton_frac_bits: u32,
+}
+
+impl Default for ProjectiveTexcoordConfig {
+    fn default() -> Self {
+        ProjectiveTexcoordConfig::geforce()
+    }
+}
+
+impl ProjectiveTexcoordConfig {
+    /// GeForce-era defaults: s, t, q in s16.16 (the interpolator's homogeneous light-
+    /// space coordinates: ±32 768 world units at 1/65 536), u, v in s4.12 texture
+    /// units (the map is [0, 1); ±8 leaves room for clamp/repeat, 12 fraction bits
+    /// address a 4096-texel map, or a 512-texel light map with 3 sub-texel bits),
+    /// a 256 × 16-bit reciprocal ROM and one Newton step at 20 fraction bits
+    /// (|r·m − 1| ≤ 2⁻⁹ + 2⁻¹⁵ after the table, ≈ 2⁻¹⁷·³ after the step: below the
+    /// output's 2⁻¹³ half-LSB for |u| ≤ 8).
+    pub fn geforce() -> Self {
+        ProjectiveTexcoordConfig {
+            in_int_bits: 16,
+            in_frac_bits: 16,
+            out_int_bits: 4,
+            out_frac_bits: 12,
+            recip_index_bits: 8,
+            recip_entry_bits: 16,
+            newton_steps: 1,
+            newton_frac_bits: 20,
+        }
+    }
+
+    pub fn build(&self) -> Result<ProjectiveTexcoord, ConfigError> {
+        ProjectiveTexcoord::new(*self)
+    }
+}
+
+/// The validated unit: its config and the reciprocal ROM (packed at E bits per entry).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProjectiveTexcoord {
+    cfg: ProjectiveTexcoordConfig,
+    rom: BitVec<u64, Lsb0>,
+}
+
+/// Homogeneous coordinates from the interpolator: raw s(in_int).(in_frac) codes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct ProjectiveIn {
+    pub s: i64,
+    pub t: i64,
+    pub q: i64,
+}
+
+/// Texture coordinates: raw s(out_int).(out_frac) codes; `behind` when q ≤ 0.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct ProjectiveOut {
+    pub u: i32,
+    pub v: i32,
+    pub behind: bool,
+}
+
+/// What the integrator needs to write the ROM as a `$readmemh` table.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct RomParams {
+    /// Table name, e.g. `projective_texcoord_recip_i8_e16`.
+    pub name: String,
+    /// Entries (2ᴵ).
+    pub depth: u64,
+    /// Bits per entry (E).
+    pub width: u32,
+    /// The generator, in words.
+    pub generator: String,
+    /// Generator parameters by name.
+    pub params: Vec<(String, u64)>,
+}
+
+/// ROM entry i for I index bits and E entry bits: round(2^(E+I+1) / (2^(I+1) + 2i + 1))
+/// (= round(2ᴱ / (1 + (i + ½)/2ᴵ)), ties up), clamped to 2ᴱ − 1. Integers only
+/// (≤ 2³⁸ intermediates), so regeneration is bit-exact.
+pub fn recip_rom_entry(i: u64, index_bits: u32, entry_bits: u32) -> u64 {
+    let num = 1u64 << (entry_bits + index_bits + 1); // ≤ 2³⁷
+    let den = (1u64 << (index_bits + 1)) + 2 * i + 1; // ≤ 2¹⁴
+    let r = (2 * num + den) / (2 * den); // round half up
+    r.min((1u64 << entry_bits) - 1)
+}
+
+fn bits_for(v: u64) -> u32 {
+    (64 - v.leading_zeros()).max(1)
+}
+
+/// Sign-extend the low `w` bits of `x` (a `w`-bit wire).
+fn sext(x: i64, w: u32) -> i64 {
+    let sh = 64 - w;
+    (x << sh) >> sh
+}
+
+impl ProjectiveTexcoord {
+    /// Validate a config and build the ROM; errors name `projective_texcoord.<field>`.
+    pub fn new(cfg: ProjectiveTexcoordConfig) -> Result<Self, ConfigError> {
+        let f = |n: &str| format!("projective_texcoord.{n}");
+        check_range(&f("in_int_bits"), cfg.in_int_bits as u64, 1, 24)?;
+        check_range(&f("in_frac_bits"), cfg.in_frac_bits as u64, 0, 24)?;
+        check_range(&f("out_int_bits"), cfg.out_int_bits as u64, 1, 16)?;
+        check_range(&f("out_frac_bits"), cfg.out_frac_bits as u64, 0, 16)?;
+        check_range(&f("recip_index_bits"), cfg.recip_index_bits as u64, 1, 12)?;
+        check_range(&f("recip_entry_bits"), cfg.recip_entry_bits as u64, 1, 24)?;
+        check_range(&f("newton_steps"), cfg.newton_steps as u64, 0, 2)?;
+        check_range(&f("newton_frac_bits"), cfg.newton_frac_bits as u64, 1, 40)?;
+        let (ib, eb) = (cfg.recip_index_bits, cfg.recip_entry_bits);
+        let depth = 1usize << ib;
+        let mut rom = bitvec![u64, Lsb0; 0; depth * eb as usize];
+        for i in 0..depth {
+            let e = eb as usize;
+            rom[i * e..(i + 1) * e].store_le::<u64>(recip_rom_entry(i as u64, ib, eb));
+        }
+        Ok(ProjectiveTexcoord { cfg, rom })
+    }
+
+    /// GeForce-era defaults (see [`ProjectiveTexcoordConfig::geforce`]).
+    pub fn geforce() -> Self {
+        // The defaults are valid by construction.
+        match Self::new(ProjectiveTexcoordConfig::geforce()) {
+            Ok(u) => u,
+            Err(e) => unreachable!("default config invalid: {e}"),
+        }
+    }
+
+    pub fn config(&self) -> ProjectiveTexcoordConfig {
+        self.cfg
+    }
+
+    /// Input format s(in_int).(in_frac).
+    pub fn in_format(&self) -> Format {
+        Format {
+            int_bits: self.cfg.in_int_bits,
+            frac_bits: self.cfg.in_frac_bits,
+            signed: true,
+        }
+    }
+
+    /// Output format s(out_int).(out_frac).
+    pub fn out_format(&self) -> Format {
+        Format {
+            int_bits: self.cfg.out_int_bits,
+            frac_bits: self.cfg.out_frac_bits,
+            signed: true,
+        }
+    }
+
+    /// Input width W.
+    pub fn in_bits(&self) -> u32 {
+        self.cfg.in_int_bits + self.cfg.in_frac_bits
+    }
+
+    /// Output width O.
+    pub fn out_bits(&self) -> u32 {
+        self.cfg.out_int_bits + self.cfg.out_frac_bits
+    }
+
+    /// Fraction bits of the final reciprocal: N after a Newton step, else E.
+    pub fn recip_frac_bits(&self) -> u32 {
+        if self.cfg.newton_steps > 0 {
+            self.cfg.newton_frac_bits
+        } else {
+            self.cfg.recip_entry_bits
+        }
+    }
+
+    /// ROM bits: 2ᴵ · E.
+    pub fn rom_bits(&self) -> u64 {
+        self.rom.len() as u64
+    }
+
+    /// The ROM entries, index order (each < 2ᴱ).
+    pub fn rom_words(&self) -> Vec<u64> {
+        (0..(1usize << self.cfg.recip_index_bits))
+            .map(|i| self.rom_read(i))
+            .collect()
+    }
+
+    /// Name, depth, width and generator of the ROM.
+    pub fn rom_params(&self) -> RomParams {
+        let (i, e) = (self.cfg.recip_index_bits, self.cfg.recip_entry_bits);
+        RomParams {
+            name: format!("projective_texcoord_recip_i{i}_e{e}"),
+            depth: 1u64 << i,
+            width: e,
+            generator: "entry[i] = min(round_half_up(2^(E+I+1) / (2^(I+1) + 2i + 1)), 2^E - 1): \
+                        1/m at the midpoint of m in [1 + i/2^I, 1 + (i+1)/2^I), as u0.E"
+                .to_string(),
+            params: vec![
+                ("recip_index_bits".to_string(), i as u64),
+                ("recip_entry_bits".to_string(), e as u64),
+            ],
+        }
+    }
+
+    #[inline]
+    fn rom_read(&self, i: usize) -> u64 {
+        let e = self.cfg.recip_entry_bits as usize;
+        self.rom[i * e..(i + 1) * e].load_le::<u64>()
+    }
+
+    /// Host helper: quantise f64 (s, t, q) into the input format (round to nearest
+    /// even, saturating with `ctr.saturations` counted). NaN/±∞ is an error naming
+    /// `projective_texcoord.s`, `.t` or `.q`.
+    pub fn quantise_in(
+        &self,
+        s: f64,
+        t: f64,
+        q: f64,
+        ctr: &mut Counters,
+    ) -> Result<ProjectiveIn, ConfigError> {
+        let fmt = self.in_format();
+        let qz = |x: f64, field: &str, ctr: &mut Counters| {
+            Fx::from_f64(x, fmt, Quant::RndConv, Overflow::Sat, field, ctr).map(|v| v.raw as i64)
+        };
+        Ok(ProjectiveIn {
+            s: qz(s, "projective_texcoord.s", ctr)?,
+            t: qz(t, "projective_texcoord.t", ctr)?,
+            q: qz(q, "projective_texcoord.q", ctr)?,
+        })
+    }
+
+    /// Host helper: an output code as a real value (texture units).
+    pub fn out_value(&self, raw: i32) -> f64 {
+        raw as f64 * (-(self.cfg.out_frac_bits as f64)).exp2()
+    }
+
+    /// The reciprocal datapath for Q > 0 (masked to its W−1-bit magnitude wire):
+    /// returns (r, p) with r the raw u1.F_r approximation of 1/m and p the exponent,
+    /// Q = 2ᵖ·m. Q = 0 (never reached from the kernel) gives (0, 0) and no ROM read.
+    /// Counts the ROM read and any (impossible in range, guarded) Newton clamp.
+    pub fn reciprocal(&self, qmag: u64, ctr: &mut Counters) -> (u128, u32) {
+        let w = self.in_bits();
+        let qmag = qmag & ((1u64 << w.saturating_sub(1)) - 1); // u(W−1) wire
+        if qmag == 0 {
+            return (0, 0);
+        }
+        let fm = w.saturating_sub(2); // fraction bits of the exact mantissa u1.fm
+        let ib = self.cfg.recip_index_bits;
+        // Leading-zero count: p = position of the leading one, 0 ..= W − 2.
+        let p = 63 - qmag.leading_zeros();
+        // Normalise: u(W−1) << (fm − p) → u1.fm, m ∈ [2^fm, 2^(fm+1)).
+        let m = (qmag as u128) << (fm - p);
+        // Table index: the I bits below the leading one (zero-filled if fm < I).
+        let frac = m & ((1u128 << fm) - 1); // u0.fm
+        let idx = if fm >= ib {
+            frac >> (fm - ib)
+        } else {
+            frac << (ib - fm)
+        } as usize; // u(I)
+        ctr.table_reads += 1;
+        let mut r = self.rom_read(idx) as u128; // u0.E ⊂ u1.E
+        let mut fr = self.cfg.recip_entry_bits;
+        let n = self.cfg.newton_frac_bits;
+        let r_max = (1u128 << (n + 1)) - 1; // largest u1.N code
+        for _ in 0..self.cfg.newton_steps {
+            // m truncated to u1.N (exact when fm ≤ N).
+            let mn = if fm >= n {
+                m >> (fm - n)
+            } else {
+                m << (n - fm)
+            }; // u1.N
+            let prod = mn * r; // u1.N × u1.fr → u2.(N+fr), ≤ 82 bits
+            let two = 2u128 << (n + fr); // 2 in u2.(N+fr)
+                                         // 2 − m·r: s3.(N+fr); in range m·r ∈ (0, 2) so it is positive.
+            let d_full = two as i128 - prod as i128;
+            // Round to u1.N (ties up); clamp guard (cannot fire in range, counted).
+            let d = round_shift(d_full, fr as i32, Quant::Rnd);
+            let d = if d < 0 || d > r_max as i128 {
+                ctr.saturations += 1;
+                d.clamp(0, r_max as i128)
+            } else {
+                d
+            } as u128; // u1.N
+            let rd = r * d; // u1.fr × u1.N → u2.(fr+N)
+            let r_new = round_shift(rd as i128, fr as i32, Quant::Rnd) as u128; // → u2.N
+            r = if r_new > r_max {
+                ctr.saturations += 1;
+                r_max
+            } else {
+                r_new
+            }; // u1.N
+            fr = n;
+        }
+        (r, p)
+    }
+
+    /// One coordinate: S·r·2⁻ᵖ rounded into the output format, saturating.
+    #[inline]
+    fn scale(&self, s: i64, r: u128, fr: u32, p: u32, ctr: &mut Counters) -> i32 {
+        let prod = s as i128 * r as i128; // s(W) × u1.F_r → s(W+F_r+1), ≤ 90 bits
+        let shift = fr as i32 + p as i32 - self.cfg.out_frac_bits as i32;
+        let rounded = round_shift(prod, shift, Quant::Rnd); // round to nearest, ties up
+        let f = self.out_format();
+        let (lo, hi) = (f.min_raw(), f.max_raw());
+        if rounded < lo || rounded > hi {
+            ctr.saturations += 1;
+            rounded.clamp(lo, hi) as i32
+        } else {
+            rounded as i32
+        }
+    }
+}
+
+impl Unit for ProjectiveTexcoord {
+    type In = ProjectiveIn;
+    type Out = ProjectiveOut;
+    type State = ();
+
+    fn name(&self) -> &'static str {
+        "projective_texcoord"
+    }
+
+    fn kernel(&self, _: &mut (), input: &ProjectiveIn, ctr: &mut Counters) -> ProjectiveOut {
+        let w = self.in_bits();
+        let (s, t, q) = (sext(input.s, w), sext(input.t, w), sext(input.q, w)); // i64 → s(W)
+        if q <= 0 {
+            ctr.underflows += 1; // behind the projector: no reciprocal, (u, v) = 0
+            return ProjectiveOut {
+                u: 0,
+                v: 0,
+                behind: true,
+            };
+        }
+        let (r, p) = self.reciprocal(q as u64, ctr); // q > 0: magnitude u(W−1)
+        let fr = self.recip_frac_bits();
+        ProjectiveOut {
+            u: self.scale(s, r, fr, p, ctr),
+            v: self.scale(t, r, fr, p, ctr),
+            behind: false,
+        }
+    }
+
+    fn timing(&self) -> Timing {
+        // LZC + normalise | ROM read | 2 per Newton step (m·r, then r·d) |
+        // s·r and t·r | round-shift + saturate.
+        Timing {
+            latency: 4 + 2 * self.cfg.newton_steps,
+            ii: 1,
+        }
+    }
+
+    fn cost(&self) -> Cost {
+        let w = self.in_bits();
+        let wm = w.saturating_sub(1).max(1); // magnitude bits
+        let eb = bits_for(w.saturating_sub(2) as u64); // exponent p bits
+        let e = self.cfg.recip_entry_bits;
+        let n = self.cfg.newton_frac_bits;
+        let o = self.out_bits();
+        let steps = self.cfg.newton_steps;
+        let carry = 2 * w + eb + 1; // s, t, p, behind travelling down the pipe
+        let mut c = Cost::default()
+            .part("input registers (s, t, q)", prim::register(3 * w))
+            .part(
+                "behind detect (q ≤ 0: sign | zero tree)",
+                Cells {
+                    or2: w as f64,
+                    ..Cells::default()
+                },
+            )
+            .part("leading-zero counter", prim::leading_zero_counter(wm))
+            .part(
+                "normalising shifter",
+                prim::shifter(wm, bits_for(wm.saturating_sub(1) as u64)),
+            )
+            .part(
+                "stage-1 registers (m, s, t, p, behind)",
+                prim::register(wm + carry),
+            )
+            .part(
+                "ROM output registers (r0, m, s, t, p, behind)",
+                prim::register(e + if steps > 0 { n + 1 } else { 0 } + carry),
+            );
+        let mut fr = e;
+        for k in 1..=steps {
+            c = c
+                .part(
+                    &format!("Newton {k}: m·r multiplier"),
+                    prim::multiplier(n + 1, fr + 1),
+                )
+                .part(&format!("Newton {k}: 2 − m·r"), prim::subtractor(n + 2))
+                .part(
+                    &format!("Newton {k}: registers (d, r, m, carry)"),
+                    prim::register((n + 1) + (fr + 1) + (n + 1) + carry),
+                )
+                .part(
+                    &format!("Newton {k}: r·d multiplier"),
+                    prim::multiplier(fr + 1, n + 1),
+                )
+                .part(&format!("Newton {k}: rounder"), prim::adder(n + 1))
+                .part(
+                    &format!("Newton {k}: registers (r, m, carry)"),
+                    prim::register((n + 1) + if k < steps { n + 1 } else { 0 } + carry),
+                );
+            fr = n;
+        }
+        let pw = w + fr + 1; // product width
+        c.part("s·r, t·r multipliers", prim::multiplier(w, fr + 1) * 2.0)
+            .part(
+                "product registers (s·r, t·r, p, behind)",
+                prim::register(2 * pw + eb + 1),
+            )
+            .part(
+                "output shifters (by F_r + p − out_frac)",
+                prim::shifter(pw, eb) * 2.0,
+            )
+            .part("rounding adders", prim::adder(o + 1) * 2.0)
+            .part(
+                "saturation (overflow detect + clamp mux)",
+                (Cells {
+                    or2: pw.saturating_sub(o) as f64,
+                    ..Cells::default()
+                } + prim::mux(o))
+                    * 2.0,
+            )
+            .part("behind zeroing", prim::mux(o) * 2.0)
+            .part("output register (u, v, behind)", prim::register(2 * o + 1))
+            .with_ram_bits(self.rom_bits())
+    }
+
+    fn widths(&self) -> Vec<Width> {
+        vec![
+            Width {
+                name: "in_bits",
+                bits: self.in_bits(),
+            },
+            Width {
+                name: "in_frac_bits",
+                bits: self.cfg.in_frac_bits,
+            },
+            Width {
+                name: "out_bits",
+                bits: self.out_bits(),
+            },
+            Width {
+                name: "out_frac_bits",
+                bits: self.cfg.out_frac_bits,
+            },
+            Width {
+                name: "recip_index_bits",
+                bits: self.cfg.recip_index_bits,
+            },
+            Width {
+                name: "recip_entry_bits",
+                bits: self.cfg.recip_entry_bits,
+            },
+            Width {
+                name: "newton_frac_bits",
+                bits: self.cfg.newton_frac_bits,
+            },
+        ]
+    }
+
+    fn in_signals(&self, i: &ProjectiveIn) -> Vec<Signal> {
+        let w = self.in_bits();
+        let m = (1u64 << w) - 1;
+        vec![
+            Signal::new("s", w, i.s as u64 & m),
+            Signal::new("t", w, i.t as u64 & m),
+            Signal::new("q", w, i.q as u64 & m),
+        ]
+    }
+
+    fn out_signals(&self, o: &ProjectiveOut) -> Vec<Signal> {
+        let w = self.out_bits();
+        let m = (1u64 << w) - 1;
+        vec![
+            Signal::new("u", w, o.u as i64 as u64 & m),
+            Signal::new("v", w, o.v as i64 as u64 & m),
+            Signal::new("behind", 1, o.behind as u64),
+        ]
+    }
+}

@@ -1,1 +1,515 @@
-//! shadow_compare: being written.
+//! shadow_compare — the shadow-map unit (H in the light-shaft model): a depth RAM of
+//! `width × height` words of `depth_bits`, written in the depth pass (z-buffer LESS:
+//! keep the minimum) and read and compared per fragment in the lookup pass
+//! (GL_ARB_shadow, compare LEQUAL): lit ⇔ frag_depth − bias ≤ stored_depth.
+//!
+//! Widths (n = `depth_bits`, k = `frag_frac_bits`):
+//! * stored depth: u(n) unorm, code d stands for d / (2ⁿ − 1); a cleared texel holds
+//!   2ⁿ − 1 (= 1.0, the far plane).
+//! * fragment depth: u(n).k — n integer bits counted in depth LSBs plus k extra
+//!   fraction bits from the interpolator, code f stands for f / (2ᵏ·(2ⁿ − 1)).
+//! * bias: u(n) integer depth LSBs (unsigned: a bias pushes the fragment toward the
+//!   light, never away).
+//! * coordinates x, y: s16 wires (an `i32` input is clamped to s16, which keeps any
+//!   out-of-map coordinate out of the map since the map is at most 4096 wide).
+//! * address y·w + x: u(⌈log₂ h⌉) × u(⌈log₂(w+1)⌉) + u(⌈log₂ w⌉) → u(⌈log₂(w·h)⌉) ≤ u24.
+//! * compare: f − bias·2ᵏ is s(n+k+1); stored·2ᵏ is u(n+k); one (n+k+1)-bit comparator.
+//!
+//! Conventions: a lookup outside the map is *lit* (the map's border is the far plane,
+//! as GL_CLAMP_TO_BORDER with border depth 1.0) and a depth-pass write outside the map
+//! is dropped; both are counted in `saturations` (a coordinate clamped to the border).
+//! `Clear` is a one-clock flash clear of the RAM to the far plane (real parts use a
+//! fast-clear tag per block; a design that clears by writes would spend
+//! [`ShadowCompare::clear_cycles_by_writes`] clocks instead).
+//! The RAM is internal (`ram_bits` in the cost); every RAM read (a test, or the read
+//! half of a depth-pass read-modify-write) is counted in `table_reads`.
+
+use crate::cost::{prim, Cells, Cost};
+use crate::counters::Counters;
+use crate::error::{check_finite, check_range, ConfigError};
+use crate::fixed_point::{Format, Fx, Overflow, Quant};
+use crate::unit::{Signal, Timing, Unit, Width};
+use bitvec::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// Largest map side.
+pub const MAX_MAP_SIDE: u32 = 4096;
+/// Widest stored depth.
+pub const MAX_DEPTH_BITS: u32 = 32;
+/// Most extra fraction bits of the fragment depth.
+pub const MAX_FRAG_FRAC_BITS: u32 = 8;
+/// Width of the signed x and y coordinate wires.
+pub const COORD_BITS: u32 = 16;
+
+/// The plain config (serde-friendly); [`ShadowCompareConfig::build`] validates it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ShadowCompareConfig {
+    /// Map width in texels, 1 ..= 4096.
+    pub width: u32,
+    /// Map height in texels, 1 ..= 4096.
+    pub height: u32,
+    /// Stored depth width n, 1 ..= 32 (GeForce: 24).
+    pub depth_bits: u32,
+    /// Depth bias in LSBs of the stored depth, 0 ..= 2ⁿ − 1 (unsigned).
+    pub bias: u32,
+    /// Extra fraction bits k of the incoming fragment depth, 0 ..= 8.
+    pub frag_frac_bits: u32,
+}
+
+impl Default for ShadowCompareConfig {
+    fn default() -> Self {
+        ShadowCompareConfig::geforce()
+    }
+}
+
+impl ShadowCompareConfig {
+    /// GeForce-era defaults: a 512 × 512 map of 24-bit depths (the depth buffer's
+    /// width), a bias of 2 LSB, fragment depth at the stored width (k = 0).
+    pub fn geforce() -> Self {
+        ShadowCompareConfig {
+            width: 512,
+            height: 512,
+            depth_bits: 24,
+            bias: 2,
+            frag_frac_bits: 0,
+        }
+    }
+
+    pub fn build(&self) -> Result<ShadowCompare, ConfigError> {
+        ShadowCompare::new(*self)
+    }
+}
+
+/// The validated unit config (the depth RAM lives in [`ShadowState`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct ShadowCompare {
+    cfg: ShadowCompareConfig,
+}
+
+/// One input word.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShadowIn {
+    /// Flash-clear the map to the far plane (2ⁿ − 1).
+    Clear,
+    /// Depth pass: store `depth` (u(n), masked to n bits) at (x, y) if it is less than
+    /// the stored depth.
+    Write { x: i32, y: i32, depth: u32 },
+    /// Lookup pass: compare a fragment depth (u(n).k raw, masked to n + k bits)
+    /// against the stored depth at (x, y).
+    Test { x: i32, y: i32, depth: u64 },
+}
+
+/// One output word.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct ShadowOut {
+    /// Test: the fragment is lit (frag − bias ≤ stored, or out of map). False otherwise.
+    pub lit: bool,
+    /// The stored depth at (x, y) after the operation (Test: the word compared
+    /// against; Write: the new minimum; Clear or out of map: 2ⁿ − 1, the far plane).
+    pub stored: u32,
+    /// Write: the depth passed the LESS test and was stored. False otherwise.
+    pub written: bool,
+}
+
+/// The depth RAM, `width · height · depth_bits` bits, word (x, y) at bit
+/// `(y·width + x)·depth_bits`, little-endian within the word.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ShadowState {
+    pub ram: BitVec<u64, Lsb0>,
+}
+
+fn bits_for(v: u64) -> u32 {
+    (64 - v.leading_zeros()).max(1)
+}
+
+impl ShadowCompare {
+    /// Validate a config; errors name `shadow_compare.<field>`.
+    pub fn new(cfg: ShadowCompareConfig) -> Result<Self, ConfigError> {
+        check_range(
+            "shadow_compare.width",
+            cfg.width as u64,
+            1,
+            MAX_MAP_SIDE as u64,
+        )?;
+        check_range(
+            "shadow_compare.height",
+            cfg.height as u64,
+            1,
+            MAX_MAP_SIDE as u64,
+        )?;
+        check_range(
+            "shadow_compare.depth_bits",
+            cfg.depth_bits as u64,
+            1,
+            MAX_DEPTH_BITS as u64,
+        )?;
+        check_range(
+            "shadow_compare.bias",
+            cfg.bias as u64,
+            0,
+            max_code(cfg.depth_bits) as u64,
+        )?;
+        check_range(
+            "shadow_compare.frag_frac_bits",
+            cfg.frag_frac_bits as u64,
+            0,
+            MAX_FRAG_FRAC_BITS as u64,
+        )?;
+        Ok(ShadowCompare { cfg })
+    }
+
+    /// GeForce-era defaults (see [`ShadowCompareConfig::geforce`]).
+    pub fn geforce() -> Self {
+        ShadowCompare {
+            cfg: ShadowCompareConfig::geforce(),
+        }
+    }
+
+    pub fn config(&self) -> ShadowCompareConfig {
+        self.cfg
+    }
+    pub fn width(&self) -> u32 {
+        self.cfg.width
+    }
+    pub fn height(&self) -> u32 {
+        self.cfg.height
+    }
+    pub fn depth_bits(&self) -> u32 {
+        self.cfg.depth_bits
+    }
+    pub fn bias(&self) -> u32 {
+        self.cfg.bias
+    }
+    pub fn frag_frac_bits(&self) -> u32 {
+        self.cfg.frag_frac_bits
+    }
+
+    /// The far-plane code 2ⁿ − 1 (a cleared texel).
+    pub fn far(&self) -> u32 {
+        max_code(self.cfg.depth_bits)
+    }
+
+    /// Width of the fragment-depth wire, n + k.
+    pub fn frag_bits(&self) -> u32 {
+        self.cfg.depth_bits + self.cfg.frag_frac_bits
+    }
+
+    /// Bits of the depth RAM: w · h · n.
+    pub fn ram_bits(&self) -> u64 {
+        self.cfg.width as u64 * self.cfg.height as u64 * self.cfg.depth_bits as u64
+    }
+
+    /// Width of the RAM address y·w + x.
+    pub fn addr_bits(&self) -> u32 {
+        bits_for(self.cfg.width as u64 * self.cfg.height as u64 - 1)
+    }
+
+    /// Clocks a clear would take if done by one write per texel at II 1 (not modelled:
+    /// `Clear` is a flash clear; a pipeline may charge this instead).
+    pub fn clear_cycles_by_writes(&self) -> u64 {
+        self.cfg.width as u64 * self.cfg.height as u64
+    }
+
+    /// A cleared depth RAM (every texel at the far plane).
+    pub fn fresh_state(&self) -> ShadowState {
+        ShadowState {
+            ram: bitvec![u64, Lsb0; 1; self.ram_bits() as usize],
+        }
+    }
+
+    /// Host helper: a stored depth z ∈ [0, 1] as a u(n) unorm word,
+    /// round(z·(2ⁿ − 1)) (round to nearest, ties up). z outside [0, 1] is clamped and
+    /// counted in `ctr.saturations`; NaN/±∞ is an error naming `shadow_compare.depth`.
+    pub fn depth_word(&self, z: f64, ctr: &mut Counters) -> Result<u32, ConfigError> {
+        let z = clamp_unit(check_finite("shadow_compare.depth", z)?, ctr);
+        let fmt = Format::uint(self.cfg.depth_bits)?;
+        let x = z * self.far() as f64; // depth in LSBs
+        let v = Fx::from_f64(
+            x,
+            fmt,
+            Quant::Rnd,
+            Overflow::Sat,
+            "shadow_compare.depth",
+            ctr,
+        )?;
+        Ok(v.raw as u32)
+    }
+
+    /// Host helper: a fragment depth z ∈ [0, 1] as a u(n).k word,
+    /// round(z·(2ⁿ − 1)·2ᵏ). Clamping and errors as [`Self::depth_word`], the field
+    /// being `shadow_compare.frag_depth`.
+    pub fn frag_word(&self, z: f64, ctr: &mut Counters) -> Result<u64, ConfigError> {
+        let z = clamp_unit(check_finite("shadow_compare.frag_depth", z)?, ctr);
+        let fmt = Format::new(self.cfg.depth_bits, self.cfg.frag_frac_bits, false)?;
+        let x = z * self.far() as f64; // depth in LSBs, k fraction bits kept below
+        let v = Fx::from_f64(
+            x,
+            fmt,
+            Quant::Rnd,
+            Overflow::Sat,
+            "shadow_compare.frag_depth",
+            ctr,
+        )?;
+        Ok(v.raw as u64)
+    }
+
+    /// Host helper: a bias given in depth units (b ∈ [0, 1]) as integer LSBs of an
+    /// n-bit depth, round(b·(2ⁿ − 1)). Errors name `shadow_compare.bias` (NaN, ±∞,
+    /// negative or > 1) or `shadow_compare.depth_bits`.
+    pub fn bias_lsb_from_f64(depth_bits: u32, b: f64) -> Result<u32, ConfigError> {
+        check_range(
+            "shadow_compare.depth_bits",
+            depth_bits as u64,
+            1,
+            MAX_DEPTH_BITS as u64,
+        )?;
+        let b = check_finite("shadow_compare.bias", b)?;
+        if !(0.0..=1.0).contains(&b) {
+            return Err(ConfigError::out_of_range(
+                "shadow_compare.bias",
+                b,
+                0.0,
+                1.0,
+            ));
+        }
+        let fmt = Format::uint(depth_bits)?;
+        let x = b * max_code(depth_bits) as f64;
+        let mut ctr = Counters::default();
+        let v = Fx::from_f64(
+            x,
+            fmt,
+            Quant::Rnd,
+            Overflow::Sat,
+            "shadow_compare.bias",
+            &mut ctr,
+        )?;
+        Ok(v.raw as u32)
+    }
+
+    /// RAM address of (x, y), or None outside the map. Coordinates are first clamped
+    /// to their s16 wires (which keeps out-of-map coordinates out of the map).
+    #[inline]
+    pub fn address(&self, x: i32, y: i32) -> Option<usize> {
+        let lim = 1i32 << (COORD_BITS - 1);
+        let (x, y) = (x.clamp(-lim, lim - 1), y.clamp(-lim, lim - 1)); // i32 → s16
+        if x < 0 || y < 0 || x >= self.cfg.width as i32 || y >= self.cfg.height as i32 {
+            return None;
+        }
+        // u12 × u13 → u25 (≤ 2²⁴ − 1 for a 4096² map), + u12 → addr_bits.
+        Some(y as usize * self.cfg.width as usize + x as usize)
+    }
+
+    #[inline]
+    fn read(&self, st: &ShadowState, addr: usize) -> u32 {
+        let n = self.cfg.depth_bits as usize;
+        st.ram[addr * n..(addr + 1) * n].load_le::<u32>()
+    }
+
+    #[inline]
+    fn write(&self, st: &mut ShadowState, addr: usize, d: u32) {
+        let n = self.cfg.depth_bits as usize;
+        st.ram[addr * n..(addr + 1) * n].store_le::<u32>(d);
+    }
+}
+
+fn max_code(bits: u32) -> u32 {
+    if bits >= 32 {
+        u32::MAX
+    } else {
+        (1u32 << bits) - 1
+    }
+}
+
+fn clamp_unit(z: f64, ctr: &mut Counters) -> f64 {
+    if (0.0..=1.0).contains(&z) {
+        z
+    } else {
+        ctr.saturations += 1;
+        z.clamp(0.0, 1.0)
+    }
+}
+
+impl Unit for ShadowCompare {
+    type In = ShadowIn;
+    type Out = ShadowOut;
+    type State = ShadowState;
+
+    fn name(&self) -> &'static str {
+        "shadow_compare"
+    }
+
+    fn kernel(&self, st: &mut ShadowState, input: &ShadowIn, ctr: &mut Counters) -> ShadowOut {
+        // The RAM is part of the unit: a state of another config's size is replaced by
+        // a cleared RAM of this one (never an out-of-bounds read).
+        if st.ram.len() as u64 != self.ram_bits() {
+            *st = self.fresh_state();
+        }
+        let far = self.far();
+        let k = self.cfg.frag_frac_bits;
+        match *input {
+            ShadowIn::Clear => {
+                st.ram.fill(true); // every word = 2ⁿ − 1
+                ShadowOut {
+                    lit: false,
+                    stored: far,
+                    written: false,
+                }
+            }
+            ShadowIn::Write { x, y, depth } => {
+                let Some(addr) = self.address(x, y) else {
+                    ctr.saturations += 1; // clipped to the border: dropped
+                    return ShadowOut {
+                        lit: false,
+                        stored: far,
+                        written: false,
+                    };
+                };
+                let d = depth & far; // u32 → u(n) wire
+                ctr.table_reads += 1; // read half of the read-modify-write
+                let old = self.read(st, addr); // u(n)
+                let written = d < old; // n-bit comparator (z-buffer LESS)
+                if written {
+                    self.write(st, addr, d);
+                }
+                ShadowOut {
+                    lit: false,
+                    stored: d.min(old),
+                    written,
+                }
+            }
+            ShadowIn::Test { x, y, depth } => {
+                let Some(addr) = self.address(x, y) else {
+                    ctr.saturations += 1; // border lookup: lit by convention
+                    return ShadowOut {
+                        lit: true,
+                        stored: far,
+                        written: false,
+                    };
+                };
+                let fmask = (1u64 << self.frag_bits()) - 1;
+                let f = depth & fmask; // u64 → u(n).k wire, ≤ 40 bits
+                ctr.table_reads += 1;
+                let s = self.read(st, addr); // u(n)
+                                             // frag − bias·2ᵏ: u(n+k) − u(n+k) → s(n+k+1)
+                let fb = f as i64 - ((self.cfg.bias as i64) << k);
+                // stored·2ᵏ: u(n) → u(n+k); LEQUAL on s(n+k+1)
+                let lit = fb <= (s as i64) << k;
+                ShadowOut {
+                    lit,
+                    stored: s,
+                    written: false,
+                }
+            }
+        }
+    }
+
+    fn timing(&self) -> Timing {
+        // Stage 1: address y·w + x and the RAM read; stage 2: bias subtract and compare
+        // (writes: the LESS compare and the write-back). A Test or Write right behind a
+        // Write to the same texel gets the new word through a forwarding mux.
+        Timing { latency: 2, ii: 1 }
+    }
+
+    fn cost(&self) -> Cost {
+        let n = self.cfg.depth_bits;
+        let k = self.cfg.frag_frac_bits;
+        let a = self.addr_bits();
+        let yb = bits_for(self.cfg.height as u64 - 1);
+        let wb = bits_for(self.cfg.width as u64);
+        let xb = bits_for(self.cfg.width as u64 - 1);
+        let c = Cost::default()
+            .part(
+                "input registers (op, x, y, frag depth)",
+                prim::register(2 + 2 * COORD_BITS + n + k),
+            )
+            .part(
+                "out-of-map checks (x ≥ w, y ≥ h, signs)",
+                prim::comparator(COORD_BITS) * 2.0
+                    + Cells {
+                        or2: 3.0,
+                        ..Cells::default()
+                    },
+            );
+        // y·w + x: wires when w is a power of two ({y, x} concatenated); otherwise a
+        // general y × w multiplier and an adder (an upper estimate: a synthesised
+        // constant w would reduce it to shift-adds).
+        let c = if self.cfg.width.is_power_of_two() {
+            c.part("address {y, x} (w a power of two: wires)", Cells::default())
+        } else {
+            c.part("address multiplier y·w", prim::multiplier(yb, wb))
+                .part("address adder + x", prim::adder(a.max(xb)))
+        };
+        c.part(
+            "stage-1 registers (address, frag depth, op, in-map)",
+            prim::register(a + n + k + 3),
+        )
+        .part(
+            "bias subtractor frag − bias·2^k",
+            prim::subtractor(n + k + 1),
+        )
+        .part(
+            "depth comparator (LEQUAL test / LESS write)",
+            prim::comparator(n + k + 1),
+        )
+        .part("compare operand mux (test / write)", prim::mux(n + k + 1))
+        .part(
+            "write forwarding (address match + bypass mux)",
+            prim::comparator(a) + prim::mux(n),
+        )
+        .part(
+            "output register (lit, written, stored)",
+            prim::register(n + 2),
+        )
+        .with_ram_bits(self.ram_bits())
+    }
+
+    fn widths(&self) -> Vec<Width> {
+        vec![
+            Width {
+                name: "depth_bits",
+                bits: self.cfg.depth_bits,
+            },
+            Width {
+                name: "frag_frac_bits",
+                bits: self.cfg.frag_frac_bits,
+            },
+            Width {
+                name: "frag_bits",
+                bits: self.frag_bits(),
+            },
+            Width {
+                name: "addr_bits",
+                bits: self.addr_bits(),
+            },
+            Width {
+                name: "coord_bits",
+                bits: COORD_BITS,
+            },
+        ]
+    }
+
+    fn in_signals(&self, i: &ShadowIn) -> Vec<Signal> {
+        let m16 = (1u64 << COORD_BITS) - 1;
+        let lim = 1i32 << (COORD_BITS - 1);
+        let wire = |v: i32| v.clamp(-lim, lim - 1) as i64 as u64 & m16; // i32 → s16
+        let (op, x, y, d) = match *i {
+            ShadowIn::Clear => (0u64, 0i32, 0i32, 0u64),
+            ShadowIn::Write { x, y, depth } => (1, x, y, depth as u64 & self.far() as u64),
+            ShadowIn::Test { x, y, depth } => (2, x, y, depth & ((1u64 << self.frag_bits()) - 1)),
+        };
+        vec![
+            Signal::new("op", 2, op),
+            Signal::new("x", COORD_BITS, wire(x)),
+            Signal::new("y", COORD_BITS, wire(y)),
+            Signal::new("depth", self.frag_bits(), d),
+        ]
+    }
+
+    fn out_signals(&self, o: &ShadowOut) -> Vec<Signal> {
+        vec![
+            Signal::new("lit", 1, o.lit as u64),
+            Signal::new("written", 1, o.written as u64),
+            Signal::new("stored", self.cfg.depth_bits, o.stored as u64),
+        ]
+    }
+}

@@ -1,0 +1,436 @@
+//! projective_texcoord against its f64 twin u = s/q, v = t/q.
+//!
+//! Bound (derivation in docs/datasheets/projective_texcoord.md). Write Q = 2ᵖ·m with
+//! m ∈ [1, 2) exact, I = recip_index_bits, E = recip_entry_bits, N = newton_frac_bits,
+//! and e = |r·m − 1| the relative error of the reciprocal r ≈ 1/m.
+//! * Table: m lies in [a, a + 2⁻ᴵ), the entry is 1/c + δ with c = a + 2⁻⁽ᴵ⁺¹⁾ > 1, so
+//!   r·m − 1 = (m − c)/c + δ·m and e₀ ≤ 2⁻⁽ᴵ⁺¹⁾ + 2·δ_max, δ_max = 2⁻⁽ᴱ⁺¹⁾ (round to
+//!   nearest), or 2⁻ᴱ when E ≤ I (then entry 0 rounds to 2ᴱ and is clamped to 2ᴱ − 1).
+//! * Newton step with m truncated to u1.N (m − m_N ∈ [0, 2⁻ᴺ)), d = 2 − m_N·r rounded
+//!   (|ρ₁| ≤ 2⁻⁽ᴺ⁺¹⁾), r' = r·d rounded (|ρ₂| ≤ 2⁻⁽ᴺ⁺¹⁾):
+//!   1 − m·r' = e² − (1 − e)((m − m_N)·r + ρ₁) − m·ρ₂, and r ≤ (1 + e)/m, m < 2, so
+//!   e' ≤ e² + (1 + e)((1 + e)·2⁻ᴺ + 2⁻⁽ᴺ⁺¹⁾) + 2⁻ᴺ.
+//! * Output: s·r·2⁻ᵖ is exact, s/q = S/(m·2ᵖ), so s·r·2⁻ᵖ − s/q = (s/q)(r·m − 1); the
+//!   final shift rounds to nearest: |u − s/q| ≤ |s/q|·e + ½ LSB_out. Saturation is a
+//!   clamp, which is 1-Lipschitz, so |u − clamp(s/q)| obeys the same bound, and a
+//!   quotient beyond a rail by more than the bound reads exactly the rail.
+//! * f64 slack (derived, not a fudge): the twin's quotient and the test's difference
+//!   are each rounded once in f64: 2⁻⁵²·(2|s/q| + |u|).
+
+mod common;
+
+use glare_pipeline::reference::projective_texcoord::{project, project_codes};
+use proptest::prelude::*;
+use rtl_model::units::projective_texcoord::{
+    recip_rom_entry, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
+};
+use rtl_model::{Counters, Unit, UnitSummary};
+
+#[allow(clippy::too_many_arguments)]
+fn cfg(
+    in_int: u32,
+    in_frac: u32,
+    out_int: u32,
+    out_frac: u32,
+    index: u32,
+    entry: u32,
+    steps: u32,
+    nfrac: u32,
+) -> ProjectiveTexcoordConfig {
+    ProjectiveTexcoordConfig {
+        in_int_bits: in_int,
+        in_frac_bits: in_frac,
+        out_int_bits: out_int,
+        out_frac_bits: out_frac,
+        recip_index_bits: index,
+        recip_entry_bits: entry,
+        newton_steps: steps,
+        newton_frac_bits: nfrac,
+    }
+}
+
+/// The bound configs: the default, a wide one with 2 Newton steps, the narrow one
+/// (I = 3, E = 6, out_frac 4, no Newton) and a narrow one with a coarse Newton step.
+fn bound_configs() -> Vec<ProjectiveTexcoordConfig> {
+    vec![
+        ProjectiveTexcoordConfig::geforce(),
+        cfg(20, 20, 16, 16, 10, 20, 2, 36),
+        cfg(8, 8, 8, 4, 3, 6, 0, 8),
+        cfg(6, 6, 6, 4, 3, 6, 1, 8),
+    ]
+}
+
+fn p2(e: i32) -> f64 {
+    (e as f64).exp2()
+}
+
+/// Derived bound on |r·m − 1|.
+fn recip_bound(c: &ProjectiveTexcoordConfig) -> f64 {
+    let (i, e, n) = (
+        c.recip_index_bits as i32,
+        c.recip_entry_bits as i32,
+        c.newton_frac_bits as i32,
+    );
+    let delta = if e <= i { p2(-e) } else { p2(-(e + 1)) };
+    let mut er = p2(-(i + 1)) + 2.0 * delta;
+    for _ in 0..c.newton_steps {
+        er = er * er + (1.0 + er) * ((1.0 + er) * p2(-n) + p2(-(n + 1))) + p2(-n);
+    }
+    er
+}
+
+/// Exact |r·m − 1| of the unit's reciprocal for Q > 0.
+fn recip_error(u: &ProjectiveTexcoord, qmag: u64) -> f64 {
+    let mut c = Counters::default();
+    let (r, p) = u.reciprocal(qmag, &mut c);
+    let fr = u.recip_frac_bits();
+    // r·m − 1 = (r_raw·Q − 2^(fr+p)) / 2^(fr+p), numerator exact in i128.
+    let num = r as i128 * qmag as i128 - (1i128 << (fr + p));
+    (num as f64 / p2((fr + p) as i32)).abs()
+}
+
+fn sext(x: i64, w: u32) -> i64 {
+    (x << (64 - w)) >> (64 - w)
+}
+
+/// Check one input against the twin under the derived bound; returns the number of
+/// coordinates that must have saturated and the number at a rail.
+fn check(u: &ProjectiveTexcoord, inp: ProjectiveIn) -> (u64, u64) {
+    let c = u.config();
+    let w = u.in_bits();
+    let mut ctr = Counters::default();
+    let out = u.kernel(&mut (), &inp, &mut ctr);
+    let (s, t, q) = (sext(inp.s, w), sext(inp.t, w), sext(inp.q, w));
+    let want = project_codes(s, t, q, c.in_frac_bits);
+    if want.behind {
+        assert_eq!(
+            out,
+            ProjectiveOut {
+                u: 0,
+                v: 0,
+                behind: true
+            }
+        );
+        assert_eq!(ctr.underflows, 1);
+        assert_eq!(ctr.table_reads + ctr.saturations, 0);
+        return (0, 0);
+    }
+    assert!(!out.behind);
+    assert_eq!(ctr.table_reads, 1);
+    let er = recip_bound(&c);
+    let lsb = p2(-(c.out_frac_bits as i32));
+    let f = u.out_format();
+    let (lo, hi) = (f.min_raw() as f64 * lsb, f.max_raw() as f64 * lsb);
+    let (mut must, mut rail) = (0, 0);
+    for (raw, x) in [(out.u, want.u), (out.v, want.v)] {
+        let got = u.out_value(raw);
+        let bound = x.abs() * er + 0.5 * lsb + p2(-52) * (2.0 * x.abs() + got.abs());
+        let err = (got - x.clamp(lo, hi)).abs();
+        assert!(
+            err <= bound,
+            "{c:?}: s,t,q = {s},{t},{q}: got {got}, want {x} (err {err:e} > bound {bound:e})"
+        );
+        // Beyond a rail by more than the bound: exactly the rail (the clamp).
+        if x.abs() * (1.0 - er) > hi.max(-lo) + lsb {
+            assert_eq!(got, if x > 0.0 { hi } else { lo });
+            must += 1;
+        }
+        rail += u64::from(got == hi || got == lo);
+    }
+    assert!(ctr.saturations >= must && ctr.saturations <= rail);
+    (must, rail)
+}
+
+/// Raw codes spread over all magnitudes (exponent uniform), both signs.
+fn code(w: u32) -> impl Strategy<Value = i64> {
+    (any::<u64>(), 0u32..64, any::<bool>()).prop_map(move |(x, sh, neg)| {
+        let m = (x >> sh) as i64 & ((1i64 << (w - 1)) - 1);
+        if neg {
+            -m
+        } else {
+            m
+        }
+    })
+}
+
+#[test]
+fn exhaustive_narrow_configs_within_bound() {
+    // W = 6 bits: all 2^18 (s, t, q) for each config.
+    for c in [cfg(4, 2, 4, 4, 3, 6, 0, 8), cfg(3, 3, 5, 4, 2, 4, 1, 6)] {
+        let u = c.build().unwrap();
+        let mut sat = 0;
+        for q in -32i64..32 {
+            for s in -32i64..32 {
+                for t in -32i64..32 {
+                    sat += check(&u, ProjectiveIn { s, t, q }).0;
+                }
+            }
+        }
+        assert!(sat > 0, "the narrow exhaustive run must reach the rails");
+    }
+}
+
+#[test]
+fn reciprocal_error_within_derived_bound_exhaustively() {
+    // Every Q of a 20-bit input wire (2^19 magnitudes) for narrow and default tables.
+    for c in [
+        cfg(10, 10, 8, 4, 3, 6, 0, 8),
+        cfg(10, 10, 8, 4, 3, 6, 1, 8),
+        cfg(10, 10, 8, 4, 3, 6, 2, 12),
+        cfg(10, 10, 4, 12, 8, 16, 0, 20),
+        cfg(10, 10, 4, 12, 8, 16, 1, 20),
+        cfg(10, 10, 4, 12, 4, 4, 0, 20), // E ≤ I: clamped entry 0
+        cfg(10, 10, 4, 12, 1, 1, 2, 30), // the coarsest table
+    ] {
+        let u = c.build().unwrap();
+        let b = recip_bound(&c);
+        let mut worst = 0.0f64;
+        for qm in 1u64..(1 << 19) {
+            let e = recip_error(&u, qm);
+            assert!(e <= b, "{c:?}: Q = {qm}: |r·m − 1| = {e:e} > {b:e}");
+            worst = worst.max(e);
+        }
+        println!(
+            "I={} E={} steps={} N={}: max |r·m − 1| = {worst:.3e} (bound {b:.3e}, ratio {:.2})",
+            c.recip_index_bits,
+            c.recip_entry_bits,
+            c.newton_steps,
+            c.newton_frac_bits,
+            worst / b
+        );
+    }
+}
+
+#[test]
+fn rom_is_an_integer_function_of_the_config() {
+    for (i, e) in [(8u32, 16u32), (3, 6), (1, 1), (12, 24), (4, 4), (10, 20)] {
+        let u = cfg(16, 16, 4, 12, i, e, 0, 20).build().unwrap();
+        let words = u.rom_words();
+        assert_eq!(words.len(), 1 << i);
+        assert_eq!(u.rom_bits(), (1u64 << i) * e as u64);
+        let p = u.rom_params();
+        assert_eq!((p.depth, p.width), (1u64 << i, e));
+        for (idx, &wd) in words.iter().enumerate() {
+            // Independent integer rounding: quotient, then round half up on the remainder.
+            let num = 1u128 << (e + i + 1);
+            let den = (1u128 << (i + 1)) + 2 * idx as u128 + 1;
+            let (qt, rem) = (num / den, num % den);
+            let want = (qt + u128::from(2 * rem >= den)).min((1u128 << e) - 1) as u64;
+            assert_eq!(wd, want, "I={i} E={e} entry {idx}");
+            assert_eq!(wd, recip_rom_entry(idx as u64, i, e));
+            // Within δ_max of 1/c (f64 check of the rounding).
+            let cmid = 1.0 + (idx as f64 + 0.5) / p2(i as i32);
+            let dmax = if e <= i {
+                p2(-(e as i32))
+            } else {
+                p2(-(e as i32) - 1)
+            };
+            assert!((wd as f64 / p2(e as i32) - 1.0 / cmid).abs() <= dmax);
+        }
+    }
+    // Golden entries of the default ROM.
+    let w = ProjectiveTexcoord::geforce().rom_words();
+    assert_eq!((w[0], w[128], w[255]), (65408, 43634, 32800));
+}
+
+#[test]
+fn behind_and_extreme_inputs() {
+    let u = ProjectiveTexcoord::geforce();
+    let mut c = Counters::default();
+    let max = (1i64 << 31) - 1;
+    for q in [0, -1, -max - 1, -65536] {
+        let o = u.kernel(&mut (), &ProjectiveIn { s: max, t: -max, q }, &mut c);
+        assert_eq!(
+            o,
+            ProjectiveOut {
+                u: 0,
+                v: 0,
+                behind: true
+            }
+        );
+    }
+    assert_eq!((c.underflows, c.table_reads, c.saturations), (4, 0, 0));
+    // q = 1 LSB, s = ±max: both coordinates clamp to the rails, counted.
+    let mut c = Counters::default();
+    let o = u.kernel(
+        &mut (),
+        &ProjectiveIn {
+            s: max,
+            t: -max - 1,
+            q: 1,
+        },
+        &mut c,
+    );
+    assert_eq!((o.u, o.v), (i16::MAX as i32, i16::MIN as i32));
+    assert_eq!(c.saturations, 2);
+    // q = max, s = 1 LSB: the quotient (2^-31) rounds to 0 and is not a saturation.
+    let mut c = Counters::default();
+    let o = u.kernel(
+        &mut (),
+        &ProjectiveIn {
+            s: 1,
+            t: -1,
+            q: max,
+        },
+        &mut c,
+    );
+    assert_eq!((o.u, o.v, o.behind), (0, 0, false));
+    assert_eq!(c.saturations, 0);
+    // Exact quotients: u = 0.75, v = −0.5 at q = 3.
+    let mut c = Counters::default();
+    let inp = u.quantise_in(2.25, -1.5, 3.0, &mut c).unwrap();
+    let o = u.kernel(&mut (), &inp, &mut c);
+    assert_eq!((u.out_value(o.u), u.out_value(o.v)), (0.75, -0.5));
+    // The twin never returns NaN.
+    let r = project(f64::NAN, 1.0, f64::NAN);
+    assert!(r.behind && r.u == 0.0);
+    let r = project(f64::NAN, 1.0, 2.0);
+    assert!(!r.behind && r.u == 0.0 && r.v == 0.5);
+}
+
+#[test]
+fn nan_and_infinite_host_inputs_name_the_field() {
+    let u = ProjectiveTexcoord::geforce();
+    let mut c = Counters::default();
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        let e = |s, t, q| {
+            u.quantise_in(s, t, q, &mut Counters::default())
+                .unwrap_err()
+                .field()
+                .to_string()
+        };
+        assert_eq!(e(bad, 0.0, 1.0), "projective_texcoord.s");
+        assert_eq!(e(0.0, bad, 1.0), "projective_texcoord.t");
+        assert_eq!(e(0.0, 0.0, bad), "projective_texcoord.q");
+    }
+    // Out of the s16.16 range: saturated and counted.
+    let i = u.quantise_in(1e9, -1e9, 0.5, &mut c).unwrap();
+    assert_eq!((i.s, i.t, i.q), ((1 << 31) - 1, -(1 << 31), 32768));
+    assert_eq!(c.saturations, 2);
+}
+
+#[test]
+fn datasheet_numbers_at_defaults() {
+    let u = ProjectiveTexcoord::geforce();
+    let s = UnitSummary::of(&u);
+    println!(
+        "projective_texcoord defaults: latency {} II {} gates {:.1} NAND2 rom_bits {} recip bound {:.3e}",
+        s.latency,
+        s.ii,
+        s.gates_nand2,
+        s.ram_bits,
+        recip_bound(&u.config())
+    );
+    for (part, g) in &s.breakdown {
+        println!("  {part}: {g:.1}");
+    }
+    for c in bound_configs() {
+        let u = c.build().unwrap();
+        let s = UnitSummary::of(&u);
+        println!(
+            "  config {c:?}: latency {} gates {:.1} rom_bits {} e_r {:.3e}",
+            s.latency,
+            s.gates_nand2,
+            s.ram_bits,
+            recip_bound(&c)
+        );
+    }
+    assert_eq!((s.latency, s.ii), (6, 1));
+    assert_eq!(s.ram_bits, 256 * 16);
+}
+
+/// A config field drawn from valid and invalid values.
+fn field(lo: u32, hi: u32) -> impl Strategy<Value = u32> {
+    prop_oneof![
+        4 => lo..=hi,
+        1 => Just(lo.wrapping_sub(1)),
+        1 => hi..=hi + 3,
+        1 => any::<u32>(),
+    ]
+}
+
+fn random_valid_config() -> impl Strategy<Value = ProjectiveTexcoordConfig> {
+    (
+        (1u32..=24, 0u32..=24, 1u32..=16, 0u32..=16),
+        (1u32..=12, 1u32..=24, 0u32..=2, 1u32..=40),
+    )
+        .prop_map(|((a, b, c, d), (e, f, g, h))| cfg(a, b, c, d, e, f, g, h))
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    #[test]
+    fn within_derived_bound_at_default_wide_and_narrow(
+        which in 0usize..4,
+        s in code(48), t in code(48), q in code(48),
+    ) {
+        let c = bound_configs()[which];
+        let u = c.build().unwrap();
+        let w = u.in_bits();
+        // Bring the codes into the W-bit wire keeping their spread of magnitudes.
+        let fit = |x: i64| x >> (48 - w);
+        check(&u, ProjectiveIn { s: fit(s), t: fit(t), q: fit(q) });
+    }
+
+    #[test]
+    fn within_derived_bound_for_random_valid_configs(
+        c in random_valid_config(),
+        s in code(48), t in code(48), q in code(48),
+    ) {
+        let u = c.build().unwrap();
+        let w = u.in_bits();
+        let fit = |x: i64| x >> (48 - w);
+        check(&u, ProjectiveIn { s: fit(s), t: fit(t), q: fit(q) });
+    }
+
+    #[test]
+    fn tick_and_span_drivers_agree(
+        c in random_valid_config(),
+        raw in prop::collection::vec((any::<i64>(), any::<i64>(), any::<i64>()), 0..40),
+    ) {
+        let u = c.build().unwrap();
+        // Unmasked words: the unit sign-extends them from its W-bit wires.
+        let inputs: Vec<ProjectiveIn> =
+            raw.iter().map(|&(s, t, q)| ProjectiveIn { s, t, q }).collect();
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+
+    #[test]
+    fn random_configs_never_panic_and_errors_name_the_field(
+        a in field(1, 24), b in field(0, 24), c in field(1, 16), d in field(0, 16),
+        e in field(1, 12), f in field(1, 24), g in field(0, 2), h in field(1, 40),
+    ) {
+        let conf = cfg(a, b, c, d, e, f, g, h);
+        let checks = [
+            ("in_int_bits", a, 1, 24),
+            ("in_frac_bits", b, 0, 24),
+            ("out_int_bits", c, 1, 16),
+            ("out_frac_bits", d, 0, 16),
+            ("recip_index_bits", e, 1, 12),
+            ("recip_entry_bits", f, 1, 24),
+            ("newton_steps", g, 0, 2),
+            ("newton_frac_bits", h, 1, 40),
+        ];
+        let first_bad = checks
+            .iter()
+            .find(|(_, v, lo, hi)| v < lo || v > hi)
+            .map(|(n, ..)| format!("projective_texcoord.{n}"));
+        match (conf.build(), first_bad) {
+            (Ok(u), None) => {
+                let k = u.cost();
+                prop_assert!(k.gates_nand2().is_finite() && k.gates_nand2() > 0.0);
+                prop_assert_eq!(k.ram_bits, (1u64 << e) * f as u64);
+                prop_assert_eq!(u.timing().latency, 4 + 2 * g);
+                // The extremes of the input range run without panic.
+                let w = u.in_bits();
+                let mx = (1i64 << (w - 1)) - 1;
+                for (s, q) in [(mx, 1), (-mx - 1, 1), (1, mx), (0, 0), (mx, -1)] {
+                    u.kernel(&mut (), &ProjectiveIn { s, t: s, q }, &mut Counters::default());
+                }
+            }
+            (Err(err), Some(fld)) => prop_assert_eq!(err.field(), fld.as_str()),
+            (r, fld) => prop_assert!(false, "{:?} vs expected {:?}", r.map(|_| ()), fld),
+        }
+    }
+}

@@ -1,0 +1,459 @@
+//! shadow_compare against its f64 twin (an unquantised depth map).
+//!
+//! Bound (docs/datasheets/shadow_compare.md). Work in LSBs of the n-bit stored depth
+//! (1 LSB = 1/(2ⁿ − 1)); k = frag_frac_bits. Host depths are quantised round to
+//! nearest: the stored word s_q = s + ε_s with |ε_s| ≤ ½ (the running minimum
+//! commutes with a monotone rounding, so the stored word is exactly the rounded exact
+//! minimum), the fragment f_q = f + ε_f with |ε_f| ≤ ½·2⁻ᵏ, the bias b is an exact
+//! integer of LSBs in both. With D = f − b − s (exact) the unit computes
+//! D_q = D + ε_f − ε_s. The decisions (D ≤ 0 vs D_q ≤ 0) can differ only if
+//! |D| ≤ |ε_f − ε_s| ≤ ½·(1 + 2⁻ᵏ) LSB — so every disagreement lies in that band
+//! (≤ 1 LSB). The only slack is f64 rounding of the products z·(2ⁿ − 1) in the host
+//! helper and in this test: ≤ 4 · 2ⁿ⁻⁵³ LSB, derived from the f64 unit roundoff on
+//! values below 2ⁿ LSB.
+
+mod common;
+
+use glare_pipeline::reference::shadow_compare::{lit as lit_ref, ShadowMapRef};
+use proptest::prelude::*;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rtl_model::units::shadow_compare::{
+    ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowOut, MAX_DEPTH_BITS,
+};
+use rtl_model::{Counters, Unit, UnitSummary};
+
+fn unit(w: u32, h: u32, n: u32, bias: u32, k: u32) -> ShadowCompare {
+    ShadowCompareConfig {
+        width: w,
+        height: h,
+        depth_bits: n,
+        bias,
+        frag_frac_bits: k,
+    }
+    .build()
+    .unwrap()
+}
+
+/// Half-width of the disagreement band in LSBs, plus the derived f64 slack.
+fn band(n: u32, k: u32) -> f64 {
+    0.5 * (1.0 + (-(k as f64)).exp2()) + 4.0 * ((n as f64) - 53.0).exp2()
+}
+
+/// The three bound configs: (depth_bits, frag_frac_bits).
+const BOUND_CONFIGS: [(u32, u32); 3] = [(24, 4), (16, 0), (4, 2)];
+
+#[derive(Clone, Debug)]
+enum Op {
+    Clear,
+    Write(i32, i32, f64),
+    Test(i32, i32, f64),
+}
+
+/// Run exact ops through the unit and the twin; return (disagreements, max |D| among
+/// them, in LSBs). Asserts the stored word is the quantised exact minimum and that
+/// every disagreement lies in the band.
+fn run_against_twin(u: &ShadowCompare, ops: &[Op]) -> (u64, f64) {
+    let n = u.depth_bits();
+    let k = u.frag_frac_bits();
+    let lsb = u.far() as f64; // LSBs per unit depth
+    let bias_units = u.bias() as f64 / lsb;
+    let mut st = u.fresh_state();
+    let mut twin = ShadowMapRef::new(u.width(), u.height());
+    let mut ctr = Counters::default();
+    let mut host = Counters::default();
+    let (mut dis, mut worst) = (0u64, 0.0f64);
+    for op in ops {
+        match *op {
+            Op::Clear => {
+                u.kernel(&mut st, &ShadowIn::Clear, &mut ctr);
+                twin.clear();
+            }
+            Op::Write(x, y, z) => {
+                let depth = u.depth_word(z, &mut host).unwrap();
+                u.kernel(&mut st, &ShadowIn::Write { x, y, depth }, &mut ctr);
+                twin.write(x as i64, y as i64, z);
+            }
+            Op::Test(x, y, z) => {
+                let depth = u.frag_word(z, &mut host).unwrap();
+                let out = u.kernel(&mut st, &ShadowIn::Test { x, y, depth }, &mut ctr);
+                let want = twin.test(x as i64, y as i64, z, bias_units);
+                match twin.stored(x as i64, y as i64) {
+                    None => {
+                        assert!(out.lit, "out-of-map lookup must be lit");
+                        assert_eq!(out.stored, u.far());
+                    }
+                    Some(s) => {
+                        let sq = u.depth_word(s, &mut host).unwrap();
+                        assert_eq!(out.stored, sq, "stored word ≠ rounded exact minimum");
+                        if out.lit != want {
+                            let d = (z - s) * lsb - u.bias() as f64;
+                            assert!(
+                                d.abs() <= band(n, k),
+                                "n={n} k={k} bias={}: frag {z} stored {s}: hw {} twin {want}, \
+                                 |D| = {} LSB > band {}",
+                                u.bias(),
+                                out.lit,
+                                d.abs(),
+                                band(n, k)
+                            );
+                            dis += 1;
+                            worst = worst.max(d.abs());
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(host.saturations, 0, "test depths lie in [0, 1]");
+    (dis, worst)
+}
+
+fn op_strategy(side: i32) -> impl Strategy<Value = Op> {
+    prop_oneof![
+        1 => Just(Op::Clear),
+        7 => (-1..=side, -1..=side, 0.0f64..=1.0).prop_map(|(x, y, z)| Op::Write(x, y, z)),
+        8 => (-1..=side, -1..=side, 0.0f64..=1.0).prop_map(|(x, y, z)| Op::Test(x, y, z)),
+    ]
+}
+
+#[test]
+fn representable_depths_are_exact_exhaustively() {
+    // Depths that are codes quantise without error, so the unit must equal the twin
+    // (evaluated in LSBs, exact in f64) on every (stored, frag, bias): 2^20 cases max.
+    let mut cases = 0u64;
+    for n in 1..=4u32 {
+        for k in 0..=2u32 {
+            let max = (1u32 << n) - 1;
+            for bias in 0..=max {
+                let u = unit(1, 1, n, bias, k);
+                for s in 0..=max {
+                    let mut st = u.fresh_state();
+                    let mut c = Counters::default();
+                    u.kernel(
+                        &mut st,
+                        &ShadowIn::Write {
+                            x: 0,
+                            y: 0,
+                            depth: s,
+                        },
+                        &mut c,
+                    );
+                    for f in 0..(1u64 << (n + k)) {
+                        let out = u.kernel(
+                            &mut st,
+                            &ShadowIn::Test {
+                                x: 0,
+                                y: 0,
+                                depth: f,
+                            },
+                            &mut c,
+                        );
+                        let want = lit_ref(f as f64 / (1u64 << k) as f64, bias as f64, s as f64);
+                        assert_eq!(out.lit, want, "n={n} k={k} bias={bias} s={s} f={f}");
+                        assert_eq!(out.stored, s);
+                        cases += 1;
+                    }
+                }
+            }
+        }
+    }
+    // 8-bit depth at the bias values a driver would set.
+    for bias in [0u32, 1, 2, 255] {
+        let u = unit(1, 1, 8, bias, 0);
+        for s in 0..=255u32 {
+            let mut st = u.fresh_state();
+            let mut c = Counters::default();
+            u.kernel(
+                &mut st,
+                &ShadowIn::Write {
+                    x: 0,
+                    y: 0,
+                    depth: s,
+                },
+                &mut c,
+            );
+            for f in 0..=255u64 {
+                let out = u.kernel(
+                    &mut st,
+                    &ShadowIn::Test {
+                        x: 0,
+                        y: 0,
+                        depth: f,
+                    },
+                    &mut c,
+                );
+                assert_eq!(out.lit, lit_ref(f as f64, bias as f64, s as f64));
+                cases += 1;
+            }
+        }
+    }
+    assert!(cases < 1 << 20);
+}
+
+#[test]
+fn writes_keep_the_minimum_exhaustively_at_4_bits() {
+    let u = unit(2, 1, 4, 0, 0);
+    for a in 0..16u32 {
+        for b in 0..16u32 {
+            let mut st = u.fresh_state();
+            let mut c = Counters::default();
+            let w = |st: &mut _, d, c: &mut Counters| {
+                u.kernel(
+                    st,
+                    &ShadowIn::Write {
+                        x: 1,
+                        y: 0,
+                        depth: d,
+                    },
+                    c,
+                )
+            };
+            let oa = w(&mut st, a, &mut c);
+            let ob = w(&mut st, b, &mut c);
+            assert_eq!(oa.written, a < 15);
+            assert_eq!(ob.written, b < a.min(15));
+            assert_eq!(ob.stored, a.min(b));
+            // The neighbour texel is untouched (still the far plane).
+            let t = u.kernel(
+                &mut st,
+                &ShadowIn::Test {
+                    x: 0,
+                    y: 0,
+                    depth: 15,
+                },
+                &mut c,
+            );
+            assert_eq!(t.stored, 15);
+            assert_eq!(c.table_reads, 3);
+        }
+    }
+}
+
+#[test]
+fn narrow_4_bit_disagrees_often_and_only_in_the_band() {
+    // Deterministic: shows the band matters at 4 bits and is not loose.
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5ad0);
+    for k in [0u32, 2] {
+        let u = unit(4, 4, 4, 1, k);
+        let ops: Vec<Op> = (0..40_000)
+            .map(|_| {
+                let (x, y, z) = (rng.random_range(0..4), rng.random_range(0..4), rng.random());
+                match rng.random_range(0..32) {
+                    0 => Op::Clear,
+                    1..=12 => Op::Write(x, y, z),
+                    _ => Op::Test(x, y, z),
+                }
+            })
+            .collect();
+        let (dis, worst) = run_against_twin(&u, &ops);
+        println!(
+            "4-bit k={k}: {dis} disagreements, max |D| {worst:.4} LSB (band {:.4})",
+            band(4, k)
+        );
+        assert!(
+            dis > 100,
+            "expected many disagreements at 4 bits, got {dis}"
+        );
+        assert!(
+            worst > 0.75 * band(4, k),
+            "band looser than observed: {worst}"
+        );
+    }
+}
+
+#[test]
+fn out_of_map_is_lit_counted_and_writes_are_dropped() {
+    let u = unit(3, 2, 8, 0, 0);
+    let coords = [
+        (-1, 0),
+        (0, -1),
+        (3, 0),
+        (0, 2),
+        (i32::MIN, 0),
+        (0, i32::MAX),
+        (4096, 1),
+        (70_000, 1),
+        (-70_000, -1),
+    ];
+    let mut st = u.fresh_state();
+    let before = st.clone();
+    let mut c = Counters::default();
+    for (x, y) in coords {
+        let o = u.kernel(&mut st, &ShadowIn::Write { x, y, depth: 0 }, &mut c);
+        assert!(!o.written);
+        let o = u.kernel(&mut st, &ShadowIn::Test { x, y, depth: 255 }, &mut c);
+        assert!(o.lit && o.stored == 255);
+    }
+    assert_eq!(st, before);
+    assert_eq!(c.saturations, 2 * coords.len() as u64);
+    assert_eq!(c.table_reads, 0);
+}
+
+#[test]
+fn wrong_size_state_is_replaced_not_a_panic() {
+    let u = unit(4, 4, 8, 0, 0);
+    let mut st = unit(2, 2, 3, 0, 0).fresh_state();
+    let mut c = Counters::default();
+    let o = u.kernel(
+        &mut st,
+        &ShadowIn::Test {
+            x: 3,
+            y: 3,
+            depth: 9,
+        },
+        &mut c,
+    );
+    assert!(o.lit && o.stored == 255);
+    assert_eq!(st, u.fresh_state());
+}
+
+#[test]
+fn nan_and_infinite_host_inputs_name_the_field() {
+    let u = ShadowCompare::geforce();
+    let mut c = Counters::default();
+    for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+        assert_eq!(
+            u.depth_word(bad, &mut c).unwrap_err().field(),
+            "shadow_compare.depth"
+        );
+        assert_eq!(
+            u.frag_word(bad, &mut c).unwrap_err().field(),
+            "shadow_compare.frag_depth"
+        );
+        assert_eq!(
+            ShadowCompare::bias_lsb_from_f64(24, bad)
+                .unwrap_err()
+                .field(),
+            "shadow_compare.bias"
+        );
+    }
+    for bad in [-1e-3, 1.5] {
+        assert_eq!(
+            ShadowCompare::bias_lsb_from_f64(24, bad)
+                .unwrap_err()
+                .field(),
+            "shadow_compare.bias"
+        );
+    }
+    assert_eq!(
+        ShadowCompare::bias_lsb_from_f64(0, 0.1)
+            .unwrap_err()
+            .field(),
+        "shadow_compare.depth_bits"
+    );
+    assert_eq!(
+        ShadowCompare::bias_lsb_from_f64(24, 2.0 / 16_777_215.0),
+        Ok(2)
+    );
+    // Out-of-[0, 1] depths clamp and count.
+    assert_eq!(u.depth_word(-0.5, &mut c), Ok(0));
+    assert_eq!(u.frag_word(2.0, &mut c), Ok((1 << 24) - 1));
+    assert_eq!(c.saturations, 2);
+    assert_eq!(c.overflows + c.underflows, 0);
+}
+
+#[test]
+fn datasheet_numbers_at_defaults() {
+    let u = ShadowCompare::geforce();
+    let s = UnitSummary::of(&u);
+    println!(
+        "shadow_compare defaults: latency {} II {} gates {:.1} NAND2 ram_bits {}",
+        s.latency, s.ii, s.gates_nand2, s.ram_bits
+    );
+    for (part, g) in &s.breakdown {
+        println!("  {part}: {g:.1}");
+    }
+    assert_eq!((s.latency, s.ii), (2, 1));
+    assert_eq!(s.ram_bits, 512 * 512 * 24);
+}
+
+/// A config field drawn from valid and invalid values.
+fn field(valid_max: u32) -> impl Strategy<Value = u32> {
+    prop_oneof![
+        3 => 0..=valid_max,
+        1 => Just(0u32),
+        1 => valid_max..=valid_max.saturating_add(100),
+        1 => any::<u32>(),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    #[test]
+    fn disagreements_lie_in_the_quantisation_band_at_24_16_and_narrow_4_bits(
+        which in 0usize..3,
+        bias in 0u32..=4,
+        ops in prop::collection::vec(op_strategy(4), 1..64),
+    ) {
+        let (n, k) = BOUND_CONFIGS[which];
+        let u = unit(4, 4, n, bias, k);
+        run_against_twin(&u, &ops);
+    }
+
+    #[test]
+    fn depth_words_round_trip(n in 1u32..=MAX_DEPTH_BITS, code in any::<u32>(), k in 0u32..=8) {
+        let u = unit(1, 1, n, 0, k);
+        let d = code & u.far();
+        let mut c = Counters::default();
+        let z = d as f64 / u.far() as f64;
+        prop_assert_eq!(u.depth_word(z, &mut c).unwrap(), d);
+        prop_assert_eq!(u.frag_word(z, &mut c).unwrap(), (d as u64) << k);
+        prop_assert_eq!(c.saturations, 0);
+    }
+
+    #[test]
+    fn tick_and_span_drivers_agree(
+        w in 1u32..=8, h in 1u32..=8, n in 1u32..=MAX_DEPTH_BITS, k in 0u32..=8,
+        bias_raw in any::<u32>(),
+        raw in prop::collection::vec((0u8..8, -2i32..10, -2i32..10, any::<u64>()), 0..40),
+    ) {
+        let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+        let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
+        let u = unit(w, h, n, bias, k);
+        // Unmasked depth words: the unit masks them to its wires.
+        let inputs: Vec<ShadowIn> = raw
+            .iter()
+            .map(|&(op, x, y, d)| match op {
+                0 => ShadowIn::Clear,
+                1..=3 => ShadowIn::Write { x, y, depth: d as u32 },
+                _ => ShadowIn::Test { x, y, depth: d },
+            })
+            .collect();
+        let out: Vec<ShadowOut> = common::assert_drivers_agree(&u, u.fresh_state(), &inputs);
+        prop_assert_eq!(out.len(), inputs.len());
+    }
+
+    #[test]
+    fn random_configs_never_panic_and_errors_name_the_field(
+        width in field(4096), height in field(4096), depth_bits in field(32),
+        bias in any::<u32>(), frag_frac_bits in field(8),
+    ) {
+        let cfg = ShadowCompareConfig { width, height, depth_bits, bias, frag_frac_bits };
+        let far = if (1..=31).contains(&depth_bits) { (1u64 << depth_bits) - 1 } else { u32::MAX as u64 };
+        let first_bad = if !(1..=4096).contains(&width) {
+            Some("shadow_compare.width")
+        } else if !(1..=4096).contains(&height) {
+            Some("shadow_compare.height")
+        } else if !(1..=32).contains(&depth_bits) {
+            Some("shadow_compare.depth_bits")
+        } else if bias as u64 > far {
+            Some("shadow_compare.bias")
+        } else if frag_frac_bits > 8 {
+            Some("shadow_compare.frag_frac_bits")
+        } else {
+            None
+        };
+        match (cfg.build(), first_bad) {
+            (Ok(u), None) => {
+                // Cost and widths of any valid config are finite and positive.
+                let c = u.cost();
+                prop_assert!(c.gates_nand2().is_finite() && c.gates_nand2() > 0.0);
+                prop_assert_eq!(c.ram_bits, width as u64 * height as u64 * depth_bits as u64);
+            }
+            (Err(e), Some(f)) => prop_assert_eq!(e.field(), f),
+            (r, f) => prop_assert!(false, "{:?} vs expected {:?}", r.map(|_| ()), f),
+        }
+    }
+}
