@@ -31,7 +31,9 @@ fn modulate(c: &mut Criterion) {
     g.bench_function("tick", |b| {
         b.iter(|| {
             let mut ctr = Counters::default();
-            black_box(run_tick::<_, Vec<u8>>(&u, &mut (), black_box(&inputs), &mut ctr, None).unwrap())
+            black_box(
+                run_tick::<_, Vec<u8>>(&u, &mut (), black_box(&inputs), &mut ctr, None).unwrap(),
+            )
         })
     });
     g.finish();

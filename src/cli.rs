@@ -67,7 +67,11 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
-            println!("wrote {} tables and manifest.json to {}", t.len(), dir.display());
+            println!(
+                "wrote {} tables and manifest.json to {}",
+                t.len(),
+                dir.display()
+            );
             Ok(())
         }
         Command::Trace {
@@ -156,7 +160,14 @@ fn units(json: bool, alternates: bool) -> Result<(), String> {
         print!(
             "{}",
             text_table(
-                &["mode", "max_err", "mean_abs_err", "mean_bias", "pairs_differing", "gates_nand2"],
+                &[
+                    "mode",
+                    "max_err",
+                    "mean_abs_err",
+                    "mean_bias",
+                    "pairs_differing",
+                    "gates_nand2"
+                ],
                 &rows
             )
         );

@@ -9,7 +9,11 @@ fn bin() -> Command {
 #[test]
 fn units_json_lists_every_unit_with_the_required_fields() {
     let out = bin().args(["units", "--json"]).output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let arr = v.as_array().expect("a JSON array");
     let names: Vec<&str> = arr.iter().map(|u| u["name"].as_str().unwrap()).collect();
@@ -36,7 +40,11 @@ fn trace_writes_a_vcd_and_unknown_units_are_named() {
         .arg(&path)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let vcd = std::fs::read_to_string(&path).unwrap();
     assert!(vcd.contains("$enddefinitions") && vcd.contains("in_a") && vcd.contains("out_y"));
     // 5 pixels, latency 2, II 1: (5 − 1)·1 + 2 + 1 = 7 clocks → timestamps 0 … 65 (+ drain).
@@ -45,7 +53,10 @@ fn trace_writes_a_vcd_and_unknown_units_are_named() {
     let bad = bin().args(["trace", "nonesuch"]).output().unwrap();
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("unit"));
-    let zero = bin().args(["trace", "modulate", "--pixels", "0"]).output().unwrap();
+    let zero = bin()
+        .args(["trace", "modulate", "--pixels", "0"])
+        .output()
+        .unwrap();
     assert_eq!(zero.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&zero.stderr).contains("pixels"));
     let _ = std::fs::remove_dir_all(dir);

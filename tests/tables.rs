@@ -10,8 +10,12 @@ fn committed_tables_match_regeneration() {
     let files = expected_files(&registry::tables());
     for (name, text) in &files {
         let path = dir.join(name);
-        let on_disk = std::fs::read_to_string(&path)
-            .unwrap_or_else(|e| panic!("{}: {e} (run `cargo run --release -- tables`)", path.display()));
+        let on_disk = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (run `cargo run --release -- tables`)",
+                path.display()
+            )
+        });
         assert!(
             on_disk == *text,
             "{} differs from its regeneration (run `cargo run --release -- tables`)",
@@ -26,7 +30,10 @@ fn committed_tables_match_regeneration() {
     listed.sort();
     let mut want: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();
     want.sort();
-    assert_eq!(listed, want, "tables/ holds files the generator does not make");
+    assert_eq!(
+        listed, want,
+        "tables/ holds files the generator does not make"
+    );
 }
 
 #[test]
@@ -34,10 +41,20 @@ fn readmemh_words_fit_their_width() {
     for t in registry::tables() {
         assert!(!t.words.is_empty(), "{}: empty table", t.name);
         let digits = t.width.div_ceil(4) as usize;
-        for (i, line) in t.to_readmemh().lines().filter(|l| !l.starts_with("//")).enumerate() {
+        for (i, line) in t
+            .to_readmemh()
+            .lines()
+            .filter(|l| !l.starts_with("//"))
+            .enumerate()
+        {
             assert_eq!(line.len(), digits, "{} word {i}", t.name);
             let v = u64::from_str_radix(line, 16).unwrap();
-            assert!(t.width >= 64 || v >> t.width == 0, "{} word {i} exceeds {} bits", t.name, t.width);
+            assert!(
+                t.width >= 64 || v >> t.width == 0,
+                "{} word {i} exceeds {} bits",
+                t.name,
+                t.width
+            );
             assert_eq!(v, t.words[i]);
         }
     }

@@ -1,3 +1,4 @@
 //! Units wired into pipelines; frames driven; counters gathered.
 
 pub mod registry;
+pub mod test_scene;

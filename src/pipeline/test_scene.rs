@@ -1,0 +1,598 @@
+//! The built-in test scene: a checkered floor under a spotlight whose beam is cut by
+//! the shadow of a window-frame occluder (a "cucoloris" between the light and the
+//! floor, outside the camera's view, so no depth test is needed), rendered through
+//! every foundation unit:
+//!
+//! * depth pass: `polygon_interpolator` walks the occluder in the light's view and
+//!   `shadow_compare` writes its depths;
+//! * floor pass: `polygon_interpolator` walks the floor with 8 attributes —
+//!   (u/w, v/w, 1/w) for the perspective-correct checker, (s/w, t/w, r/w, q/w) for the
+//!   light's projective coordinates, and the per-vertex Lambert term;
+//!   `projective_texcoord` divides them (three instances: checker, light map, depth);
+//!   `texture_sampler` filters the RGBA checker (bilinear, repeat) and the luminance
+//!   light map (bilinear, clamp); `shadow_compare` tests the light-space depth;
+//!   `modulate` combines; `additive_blend` adds an ambient pass and the spot pass into
+//!   the 8-bit RGBA framebuffer.
+//!
+//! Host work (vertex transforms, in f64 as the application processor would) is here;
+//! everything per pixel runs through the units' kernels with the span driver.
+
+use crate::report::image_out::Framebuffer;
+use crate::report::table::text_table;
+use crate::scene::math::{v3, Mat4, Vec3};
+use rtl_model::driver::run_span;
+use rtl_model::error::ConfigError;
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::modulate::{Modulate, ModulateIn};
+use rtl_model::units::polygon_interpolator::{
+    PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
+};
+use rtl_model::units::projective_texcoord::{
+    ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
+};
+use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
+use rtl_model::units::texture_sampler::{
+    AddressMode, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
+};
+use rtl_model::{Counters, Format};
+use serde::Serialize;
+use std::path::Path;
+
+/// Output size.
+pub const WIDTH: u32 = 320;
+pub const HEIGHT: u32 = 240;
+/// Checker texture: 64 × 64 RGBA, 8 × 8 squares; repeated `CHECKER_REPEAT` times.
+const CHECKER_SIZE: u32 = 64;
+const CHECKER_REPEAT: f64 = 4.0;
+/// Light map: 64 × 64 luminance spot.
+const LIGHTMAP_SIZE: u32 = 64;
+/// Shadow map: 128 × 128, 16-bit depths.
+const SHADOW_SIZE: u32 = 128;
+const SHADOW_DEPTH_BITS: u32 = 16;
+/// Floor: 10 × 10 world units, 8 × 8 cells (128 triangles).
+const FLOOR_HALF: f64 = 5.0;
+const FLOOR_CELLS: usize = 8;
+/// Scale of the 1/w-weighted attributes (keeps them well inside s16.16).
+const PERSPECTIVE_SCALE: f64 = 16.0;
+/// Ambient level (u8 unorm) and the light's colour.
+const AMBIENT: u32 = 40;
+const LIGHT_RGB: [u32; 3] = [255, 236, 200];
+
+/// Every unit the scene elaborates, configured for it.
+pub struct TestSceneUnits {
+    pub interp: PolygonInterpolator,
+    /// Divides checker (u/w, v/w)/(1/w) and light (s/w, t/w)/(q/w): s4.12 out.
+    pub proj: ProjectiveTexcoord,
+    /// Divides (r/w)/(q/w) for the light-space depth: s2.16 out (a 16-bit depth).
+    pub proj_depth: ProjectiveTexcoord,
+    pub checker: TextureSampler,
+    pub lightmap: TextureSampler,
+    pub shadow: ShadowCompare,
+    pub modulate: Modulate,
+    pub blend: AdditiveBlend,
+}
+
+/// Counters per unit, in pipeline order.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SceneCounters {
+    pub units: Vec<(String, Counters)>,
+    /// Predicted clocks: per pass, the busiest unit (units run in a pipeline), summed.
+    pub predicted_cycles: u64,
+    pub clock_mhz: f64,
+    pub covered_pixels: u64,
+}
+
+impl TestSceneUnits {
+    pub fn new() -> Result<Self, ConfigError> {
+        let interp = PolygonInterpolatorConfig {
+            attrs: 8,
+            out_int_bits: 16,
+            out_frac_bits: 16,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()?;
+        let proj = ProjectiveTexcoordConfig::geforce().build()?;
+        let proj_depth = ProjectiveTexcoordConfig {
+            out_int_bits: 2,
+            out_frac_bits: 16,
+            newton_steps: 2,
+            newton_frac_bits: 30,
+            ..ProjectiveTexcoordConfig::geforce()
+        }
+        .build()?;
+        let checker = TextureSampler::new(
+            TextureSamplerConfig {
+                channels: 4,
+                address: [AddressMode::Wrap; 3],
+                ..TextureSamplerConfig::geforce_2d(CHECKER_SIZE, CHECKER_SIZE)
+            },
+            &checker_texels(),
+        )?;
+        let lightmap = TextureSampler::new(
+            TextureSamplerConfig::geforce_2d(LIGHTMAP_SIZE, LIGHTMAP_SIZE),
+            &lightmap_texels(),
+        )?;
+        let shadow = ShadowCompareConfig {
+            width: SHADOW_SIZE,
+            height: SHADOW_SIZE,
+            depth_bits: SHADOW_DEPTH_BITS,
+            bias: 8,
+            frag_frac_bits: 0,
+        }
+        .build()?;
+        Ok(TestSceneUnits {
+            interp,
+            proj,
+            proj_depth,
+            checker,
+            lightmap,
+            shadow,
+            modulate: Modulate::geforce(),
+            blend: AdditiveBlend::geforce(),
+        })
+    }
+}
+
+/// 64 × 64 RGBA checker: warm white and slate blue squares of 8 × 8 texels.
+pub fn checker_texels() -> Vec<u32> {
+    let mut t = Vec::with_capacity((CHECKER_SIZE * CHECKER_SIZE * 4) as usize);
+    for y in 0..CHECKER_SIZE {
+        for x in 0..CHECKER_SIZE {
+            let c = if ((x / 8) + (y / 8)) % 2 == 0 {
+                [235, 228, 210, 255]
+            } else {
+                [70, 96, 140, 255]
+            };
+            t.extend_from_slice(&c);
+        }
+    }
+    t
+}
+
+/// 64 × 64 luminance spot: a smooth disc, 0 at the map's border (outside the cone),
+/// with integer-only arithmetic so the table regenerates bit-exactly.
+pub fn lightmap_texels() -> Vec<u32> {
+    let n = LIGHTMAP_SIZE as i64;
+    let mut t = Vec::with_capacity((n * n) as usize);
+    for y in 0..n {
+        for x in 0..n {
+            // Distance² from the centre in half-texel units: (2x + 1 − n)² + (2y + 1 − n)².
+            let (dx, dy) = (2 * x + 1 - n, 2 * y + 1 - n);
+            let r2 = dx * dx + dy * dy;
+            let inner = (n * 6 / 10).pow(2); // full intensity inside 0.3 of the map
+            let outer = (n * 9 / 10).pow(2); // zero outside 0.45 of the map
+            let v = if r2 <= inner {
+                255
+            } else if r2 >= outer {
+                0
+            } else {
+                // Linear ramp in r² between the two radii.
+                255 * (outer - r2) / (outer - inner)
+            };
+            t.push(v as u32);
+        }
+    }
+    t
+}
+
+/// The scene's host-side set-up: camera and light transforms.
+struct Views {
+    cam: Mat4,
+    light: Mat4,
+    light_pos: Vec3,
+}
+
+fn views() -> Views {
+    let aspect = WIDTH as f64 / HEIGHT as f64;
+    let cam = Mat4::perspective(55.0, aspect, 0.5, 40.0).mul(&Mat4::look_at(
+        v3(0.0, 7.0, 9.5),
+        v3(0.0, 0.0, 0.3),
+        v3(0.0, 1.0, 0.0),
+    ));
+    let light_pos = v3(1.5, 7.0, 0.5);
+    let light = Mat4::perspective(60.0, 1.0, 1.0, 20.0).mul(&Mat4::look_at(
+        light_pos,
+        v3(-0.3, 0.0, 0.0),
+        v3(0.0, 0.0, -1.0),
+    ));
+    Views {
+        cam,
+        light,
+        light_pos,
+    }
+}
+
+/// Screen position (pixels, y down) of clip coordinates.
+fn to_screen(c: [f64; 4], w: u32, h: u32) -> (f64, f64) {
+    let (x, y) = (c[0] / c[3], c[1] / c[3]);
+    ((x * 0.5 + 0.5) * w as f64, (0.5 - y * 0.5) * h as f64)
+}
+
+/// The occluder: a window frame (four bars and a cross) floating under the light.
+fn occluder_quads() -> Vec<[Vec3; 4]> {
+    let y = 4.2;
+    let bar = |x0: f64, z0: f64, x1: f64, z1: f64| {
+        [v3(x0, y, z0), v3(x1, y, z0), v3(x1, y, z1), v3(x0, y, z1)]
+    };
+    let (c, t, o) = (0.55, 0.09, 1.1); // centre offset, bar half-thickness, frame half-size
+    vec![
+        bar(-o, -o, o, -o + 2.0 * t),
+        bar(-o, o - 2.0 * t, o, o),
+        bar(-o, -o, -o + 2.0 * t, o),
+        bar(o - 2.0 * t, -o, o, o),
+        bar(-o, -t, o, t),
+        bar(-t, -o, t, o),
+    ]
+    .into_iter()
+    .map(|q| q.map(|p| p + v3(0.9 - c, 0.0, 0.1)))
+    .collect()
+}
+
+fn run_setup(u: &PolygonInterpolator, s: &PolySetup, ctr: &mut Counters) -> Vec<PolyOut> {
+    let mut st = s.state.clone();
+    run_span(u, &mut st, &s.moves(), ctr)
+}
+
+/// Render the scene. Returns the framebuffer and the counters.
+pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
+    let units = TestSceneUnits::new()?;
+    let v = views();
+    let mut c_interp = Counters::default();
+    let mut c_proj = Counters::default();
+    let mut c_proj_depth = Counters::default();
+    let mut c_checker = Counters::default();
+    let mut c_lightmap = Counters::default();
+    let mut c_shadow = Counters::default();
+    let mut c_mod = Counters::default();
+    let mut c_blend = Counters::default();
+    let mut depth_pass_cycles = 0u64;
+
+    // ---- depth pass: the occluder in the light's view, into the shadow map.
+    let depth_interp = PolygonInterpolatorConfig {
+        attrs: 1,
+        out_int_bits: 16,
+        out_frac_bits: 16,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()?;
+    let mut shadow_state: ShadowState = units.shadow.fresh_state();
+    for q in occluder_quads() {
+        let mut verts = [Vertex::default(); 4];
+        for (i, p) in q.iter().enumerate() {
+            let c = v.light.apply(*p);
+            let (x, y) = to_screen(c, SHADOW_SIZE, SHADOW_SIZE);
+            let z = (c[2] / c[3]) * 0.5 + 0.5; // window depth in [0, 1]
+            verts[i] = depth_interp.vertex_from_f64(i, x, y, &[z], &mut c_interp)?;
+        }
+        for s in depth_interp.setup_quad(&verts, &mut c_interp) {
+            let mut c_walk = Counters::default();
+            let frags = run_setup(&depth_interp, &s, &mut c_walk);
+            let writes: Vec<ShadowIn> = frags
+                .iter()
+                .filter(|f| f.inside)
+                .map(|f| ShadowIn::Write {
+                    x: f.x as i32,
+                    y: f.y as i32,
+                    // s16.16 depth in [0, 1] → u16 (clamped; 1.0 is the far plane).
+                    depth: f.attrs[0].clamp(0, (1 << SHADOW_DEPTH_BITS) - 1) as u32,
+                })
+                .collect();
+            let mut c_w = Counters::default();
+            run_span(&units.shadow, &mut shadow_state, &writes, &mut c_w);
+            depth_pass_cycles += c_walk.cycles.max(c_w.cycles);
+            c_interp += c_walk;
+            c_shadow += c_w;
+        }
+    }
+
+    // ---- floor passes.
+    let mut fb = Framebuffer::new(WIDTH, HEIGHT, units.blend.fb_bits());
+    let n = FLOOR_CELLS;
+    let grid = |i: usize, j: usize| {
+        let f = |k: usize| -FLOOR_HALF + 2.0 * FLOOR_HALF * k as f64 / n as f64;
+        (
+            v3(f(i), 0.0, f(j)),
+            i as f64 / n as f64,
+            j as f64 / n as f64,
+        )
+    };
+    let mut floor_pass_cycles = 0u64;
+    let mut covered = 0u64;
+    for j in 0..n {
+        for i in 0..n {
+            let corners = [
+                grid(i, j),
+                grid(i + 1, j),
+                grid(i + 1, j + 1),
+                grid(i, j + 1),
+            ];
+            let mut verts = [Vertex::default(); 4];
+            for (k, (p, tu, tv)) in corners.iter().enumerate() {
+                let c = v.cam.apply(*p);
+                let (x, y) = to_screen(c, WIDTH, HEIGHT);
+                let inv_w = PERSPECTIVE_SCALE / c[3];
+                let l = v.light.apply(*p);
+                // Projective light coordinates: s = (x + w)/2, t = (w − y)/2 (y down),
+                // r = (z + w)/2, q = w, so that s/q, t/q, r/q lie in [0, 1].
+                let (ls, lt, lr, lq) = (
+                    (l[0] + l[3]) * 0.5,
+                    (l[3] - l[1]) * 0.5,
+                    (l[2] + l[3]) * 0.5,
+                    l[3],
+                );
+                // Per-vertex Lambert term with inverse-square fall-off (normal +y).
+                let to_light = v.light_pos - *p;
+                let d2 = to_light.dot(to_light);
+                let lambert = (to_light.normalized().y * 42.0 / d2).clamp(0.0, 1.0);
+                let attrs = [
+                    tu * CHECKER_REPEAT * inv_w,
+                    tv * CHECKER_REPEAT * inv_w,
+                    inv_w,
+                    ls * inv_w,
+                    lt * inv_w,
+                    lr * inv_w,
+                    lq * inv_w,
+                    lambert,
+                ];
+                verts[k] = units
+                    .interp
+                    .vertex_from_f64(k, x, y, &attrs, &mut c_interp)?;
+            }
+            for s in units.interp.setup_quad(&verts, &mut c_interp) {
+                let mut c_walk = Counters::default();
+                let frags: Vec<PolyOut> = run_setup(&units.interp, &s, &mut c_walk)
+                    .into_iter()
+                    .filter(|f| {
+                        f.inside
+                            && f.x >= 0
+                            && f.y >= 0
+                            && f.x < WIDTH as i64
+                            && f.y < HEIGHT as i64
+                    })
+                    .collect();
+                c_interp += c_walk;
+                let pass = shade(
+                    &units,
+                    &frags,
+                    &mut shadow_state,
+                    &mut fb,
+                    &mut [
+                        &mut c_proj,
+                        &mut c_proj_depth,
+                        &mut c_checker,
+                        &mut c_lightmap,
+                        &mut c_shadow,
+                        &mut c_mod,
+                        &mut c_blend,
+                    ],
+                );
+                covered += frags.len() as u64;
+                floor_pass_cycles += c_walk.cycles.max(pass);
+            }
+        }
+    }
+
+    let counters = SceneCounters {
+        units: vec![
+            ("polygon_interpolator".into(), c_interp),
+            ("projective_texcoord (u,v and s,t)".into(), c_proj),
+            ("projective_texcoord (depth)".into(), c_proj_depth),
+            ("texture_sampler (checker RGBA)".into(), c_checker),
+            ("texture_sampler (light map)".into(), c_lightmap),
+            ("shadow_compare".into(), c_shadow),
+            ("modulate".into(), c_mod),
+            ("additive_blend".into(), c_blend),
+        ],
+        predicted_cycles: depth_pass_cycles + floor_pass_cycles,
+        clock_mhz: 200.0,
+        covered_pixels: covered,
+    };
+    Ok((fb, counters))
+}
+
+/// Shade one primitive's covered fragments through the per-pixel units and blend the
+/// ambient and spot passes into `fb`. Returns the busiest unit's cycles.
+fn shade(
+    u: &TestSceneUnits,
+    frags: &[PolyOut],
+    shadow_state: &mut ShadowState,
+    fb: &mut Framebuffer,
+    ctrs: &mut [&mut Counters; 7],
+) -> u64 {
+    if frags.is_empty() {
+        return 0;
+    }
+    let mut c = [Counters::default(); 7];
+    // Interpolator outputs are s16.16 raw, the projective inputs' format.
+    let checker_in: Vec<ProjectiveIn> = frags
+        .iter()
+        .map(|f| ProjectiveIn {
+            s: f.attrs[0],
+            t: f.attrs[1],
+            q: f.attrs[2],
+        })
+        .collect();
+    let light_in: Vec<ProjectiveIn> = frags
+        .iter()
+        .map(|f| ProjectiveIn {
+            s: f.attrs[3],
+            t: f.attrs[4],
+            q: f.attrs[6],
+        })
+        .collect();
+    let depth_in: Vec<ProjectiveIn> = frags
+        .iter()
+        .map(|f| ProjectiveIn {
+            s: f.attrs[5],
+            t: 0,
+            q: f.attrs[6],
+        })
+        .collect();
+    let mut uv = run_span(&u.proj, &mut (), &checker_in, &mut c[0]);
+    let st = run_span(&u.proj, &mut (), &light_in, &mut c[0]);
+    uv.extend(st.iter().copied());
+    let depth = run_span(&u.proj_depth, &mut (), &depth_in, &mut c[1]);
+    let n = frags.len();
+    let (uv, st) = uv.split_at(n);
+
+    // Texture units take texel-space s16.8: normalised s4.12 × 2^6 texels → shift by 2.
+    let to_texel = |p: &ProjectiveOut, log2_size: u32| TextureSamplerIn {
+        coord: [
+            texel_word(p.u, log2_size, &u.proj),
+            texel_word(p.v, log2_size, &u.proj),
+            0,
+        ],
+    };
+    let checker_coords: Vec<TextureSamplerIn> = uv.iter().map(|p| to_texel(p, 6)).collect();
+    let light_coords: Vec<TextureSamplerIn> = st.iter().map(|p| to_texel(p, 6)).collect();
+    let albedo = run_span(&u.checker, &mut (), &checker_coords, &mut c[2]);
+    let spot = run_span(&u.lightmap, &mut (), &light_coords, &mut c[3]);
+
+    // Shadow lookup at the light-space texel (nearest) with the s2.16 depth → u16.
+    let shift = u.proj.out_format().frac_bits - SHADOW_SIZE.trailing_zeros();
+    let dshift = u.proj_depth.out_format().frac_bits - SHADOW_DEPTH_BITS;
+    let tests: Vec<ShadowIn> = st
+        .iter()
+        .zip(&depth)
+        .map(|(p, d)| ShadowIn::Test {
+            x: p.u >> shift,
+            y: p.v >> shift,
+            depth: (d.u.max(0) >> dshift).min((1 << SHADOW_DEPTH_BITS) - 1) as u64,
+        })
+        .collect();
+    let lit = run_span(&u.shadow, shadow_state, &tests, &mut c[4]);
+
+    // Light = light map · Lambert (· 0 in shadow or behind the light), then
+    // colour = albedo · light · light colour, plus albedo · ambient.
+    let lambert: Vec<u32> = frags
+        .iter()
+        .map(|f| (f.attrs[7] >> 8).clamp(0, 255) as u32)
+        .collect();
+    let spot_l: Vec<ModulateIn> = spot
+        .iter()
+        .zip(&lambert)
+        .map(|(s, &l)| ModulateIn { a: s[0], b: l })
+        .collect();
+    let light = run_span(&u.modulate, &mut (), &spot_l, &mut c[5]);
+    let light: Vec<u32> = light
+        .iter()
+        .zip(&lit)
+        .zip(st)
+        .map(|((&l, s), p)| if s.lit && !p.behind { l } else { 0 })
+        .collect();
+    let mut mods = Vec::with_capacity(n * 7);
+    for (a, &l) in albedo.iter().zip(&light) {
+        for ch in 0..3 {
+            mods.push(ModulateIn {
+                a: a[ch],
+                b: AMBIENT,
+            });
+            mods.push(ModulateIn {
+                a: l,
+                b: LIGHT_RGB[ch],
+            });
+        }
+    }
+    let m1 = run_span(&u.modulate, &mut (), &mods, &mut c[5]);
+    let mut mods2 = Vec::with_capacity(n * 3);
+    for (k, a) in albedo.iter().enumerate() {
+        for ch in 0..3 {
+            mods2.push(ModulateIn {
+                a: a[ch],
+                b: m1[k * 6 + 2 * ch + 1],
+            });
+        }
+    }
+    let m2 = run_span(&u.modulate, &mut (), &mods2, &mut c[5]);
+
+    // Two additive passes into the framebuffer: ambient, then the spot.
+    for pass in 0..2 {
+        let blends: Vec<AdditiveBlendIn> = frags
+            .iter()
+            .enumerate()
+            .map(|(k, f)| {
+                let src = |ch: usize| {
+                    if pass == 0 {
+                        m1[k * 6 + 2 * ch]
+                    } else {
+                        m2[k * 3 + ch]
+                    }
+                };
+                AdditiveBlendIn {
+                    src: [src(0), src(1), src(2), 0],
+                    dst: fb.pixel(f.x as u32, f.y as u32),
+                    weight: 0,
+                }
+            })
+            .collect();
+        let out = run_span(&u.blend, &mut (), &blends, &mut c[6]);
+        for (f, o) in frags.iter().zip(out) {
+            fb.set(f.x as u32, f.y as u32, [o[0], o[1], o[2], 255]);
+        }
+    }
+    let busiest = c.iter().map(|k| k.cycles).max().unwrap_or(0);
+    for (dst, src) in ctrs.iter_mut().zip(c) {
+        **dst += src;
+    }
+    busiest
+}
+
+/// A projective s4.12 (normalised) coordinate → the sampler's texel-space word for a
+/// 2^log2_size texture: multiply by the size and keep the sampler's fraction bits.
+fn texel_word(raw: i32, log2_size: u32, proj: &ProjectiveTexcoord) -> i32 {
+    let from = proj.out_format().frac_bits as i32;
+    let sampler_frac = 8i32;
+    let shift = log2_size as i32 + sampler_frac - from;
+    if shift >= 0 {
+        raw << shift
+    } else {
+        raw >> -shift
+    }
+}
+
+/// `render` for the CLI: writes the PNG, prints the counters.
+pub fn render_cli(out: &Path, json: bool) -> Result<(), String> {
+    let (fb, ctr) = render().map_err(|e| e.to_string())?;
+    fb.save_png(out)
+        .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&ctr).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    println!(
+        "test scene {WIDTH}x{HEIGHT}: {} covered pixels; wrote {}",
+        ctr.covered_pixels,
+        out.display()
+    );
+    let rows: Vec<Vec<String>> = ctr
+        .units
+        .iter()
+        .map(|(name, c)| {
+            let mut r = vec![name.clone()];
+            r.extend(c.fields().iter().map(|(_, v)| v.to_string()));
+            r
+        })
+        .collect();
+    let mut header = vec!["unit"];
+    header.extend(Counters::default().fields().iter().map(|(k, _)| *k));
+    print!("{}", text_table(&header, &rows));
+    println!(
+        "predicted: {} clocks = {:.3} ms at {} MHz (per primitive, the busiest unit; one pipe)",
+        ctr.predicted_cycles,
+        ctr.predicted_cycles as f64 / (ctr.clock_mhz * 1e3),
+        ctr.clock_mhz
+    );
+    Ok(())
+}
+
+/// The s16.16 format the interpolator hands to `projective_texcoord` (checked in tests).
+pub fn handoff_format() -> Format {
+    Format {
+        int_bits: 16,
+        frac_bits: 16,
+        signed: true,
+    }
+}
