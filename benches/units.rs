@@ -1,43 +1,133 @@
-//! Simulated pixels per second of each unit through the span driver (and the tick
-//! driver for comparison). Throughput is reported by criterion as elements/s.
+//! Simulated pixels per second of each unit through the span driver and the tick
+//! driver (criterion reports elements/s), and the whole test-scene frame.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glare_pipeline::pipeline::test_scene;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::driver::{run_span, run_tick};
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
-use rtl_model::Counters;
+use rtl_model::units::polygon_interpolator::PolygonInterpolator;
+use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
+use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
+use rtl_model::{Counters, Unit};
 use std::hint::black_box;
 
 const N: usize = 4096;
 
-fn modulate(c: &mut Criterion) {
-    let mut rng = ChaCha8Rng::seed_from_u64(1);
-    let u = Modulate::geforce();
-    let inputs: Vec<ModulateIn> = (0..N)
-        .map(|_| ModulateIn {
-            a: rng.random_range(0..=255),
-            b: rng.random_range(0..=255),
-        })
-        .collect();
-    let mut g = c.benchmark_group("modulate");
-    g.throughput(Throughput::Elements(N as u64));
+fn bench_unit<U: Unit>(c: &mut Criterion, u: &U, state: U::State, inputs: &[U::In]) {
+    let mut g = c.benchmark_group(u.name());
+    g.throughput(Throughput::Elements(inputs.len() as u64));
     g.bench_function("span", |b| {
         b.iter(|| {
+            let mut s = state.clone();
             let mut ctr = Counters::default();
-            black_box(run_span(&u, &mut (), black_box(&inputs), &mut ctr))
+            black_box(run_span(u, &mut s, black_box(inputs), &mut ctr))
         })
     });
     g.bench_function("tick", |b| {
         b.iter(|| {
+            let mut s = state.clone();
             let mut ctr = Counters::default();
-            black_box(
-                run_tick::<_, Vec<u8>>(&u, &mut (), black_box(&inputs), &mut ctr, None).unwrap(),
-            )
+            black_box(run_tick::<_, Vec<u8>>(u, &mut s, black_box(inputs), &mut ctr, None).unwrap())
         })
     });
     g.finish();
 }
 
-criterion_group!(benches, modulate);
+fn units(c: &mut Criterion) {
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let mut byte = || rng.random_range(0..=255u32);
+
+    let m = Modulate::geforce();
+    let inputs: Vec<ModulateIn> = (0..N)
+        .map(|_| ModulateIn {
+            a: byte(),
+            b: byte(),
+        })
+        .collect();
+    bench_unit(c, &m, (), &inputs);
+
+    let blend = AdditiveBlend::geforce();
+    let inputs: Vec<AdditiveBlendIn> = (0..N)
+        .map(|_| AdditiveBlendIn {
+            src: [byte(), byte(), byte(), byte()],
+            dst: [byte(), byte(), byte(), byte()],
+            weight: 255,
+        })
+        .collect();
+    bench_unit(c, &blend, (), &inputs);
+
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let texels: Vec<u32> = (0..256 * 256).map(|_| rng.random_range(0..=255)).collect();
+    let sampler = TextureSampler::new(TextureSamplerConfig::geforce(), &texels).unwrap();
+    let inputs: Vec<TextureSamplerIn> = (0..N)
+        .map(|_| TextureSamplerIn {
+            coord: [
+                rng.random_range(0..256 << 8),
+                rng.random_range(0..256 << 8),
+                0,
+            ],
+        })
+        .collect();
+    bench_unit(c, &sampler, (), &inputs);
+
+    let interp = PolygonInterpolator::geforce();
+    let mut ctr = Counters::default();
+    let v = [(0.5, 0.5), (90.5, 3.0), (7.0, 88.5)]
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| {
+            interp
+                .vertex_from_f64(i, x, y, &[0.1, 2.0, -3.0, 7.5], &mut ctr)
+                .unwrap()
+        })
+        .collect::<Vec<_>>();
+    let setup = interp.setup_triangle(&[v[0], v[1], v[2]], &mut ctr);
+    bench_unit(c, &interp, setup.state.clone(), &setup.moves());
+
+    let shadow = ShadowCompare::geforce();
+    let inputs: Vec<ShadowIn> = (0..N)
+        .map(|k| {
+            let (x, y) = (rng.random_range(0..512), rng.random_range(0..512));
+            if k % 4 == 0 {
+                ShadowIn::Write {
+                    x,
+                    y,
+                    depth: rng.random_range(0..1 << 24),
+                }
+            } else {
+                ShadowIn::Test {
+                    x,
+                    y,
+                    depth: rng.random_range(0..1 << 24),
+                }
+            }
+        })
+        .collect();
+    bench_unit(c, &shadow, shadow.fresh_state(), &inputs);
+
+    let proj = ProjectiveTexcoord::geforce();
+    let inputs: Vec<ProjectiveIn> = (0..N)
+        .map(|_| ProjectiveIn {
+            s: rng.random_range(0..1 << 18),
+            t: rng.random_range(0..1 << 18),
+            q: rng.random_range(1 << 16..1 << 19),
+        })
+        .collect();
+    bench_unit(c, &proj, (), &inputs);
+}
+
+fn frame(c: &mut Criterion) {
+    let mut g = c.benchmark_group("test_scene");
+    g.sample_size(20);
+    g.bench_function("render_320x240", |b| {
+        b.iter(|| black_box(test_scene::render().unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, units, frame);
 criterion_main!(benches);

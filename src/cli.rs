@@ -36,6 +36,9 @@ pub enum Command {
         /// Counters as JSON instead of a table.
         #[arg(long)]
         json: bool,
+        /// Also write the f64 reference image here and print the error against it.
+        #[arg(long)]
+        reference: Option<PathBuf>,
     },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
@@ -63,7 +66,11 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Units { json, alternates } => units(json, alternates),
-        Command::Render { out, json } => crate::pipeline::test_scene::render_cli(&out, json),
+        Command::Render {
+            out,
+            json,
+            reference,
+        } => crate::pipeline::test_scene::render_cli(&out, json, reference.as_deref()),
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;

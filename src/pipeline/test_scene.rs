@@ -42,21 +42,23 @@ use std::path::Path;
 pub const WIDTH: u32 = 320;
 pub const HEIGHT: u32 = 240;
 /// Checker texture: 64 × 64 RGBA, 8 × 8 squares; repeated `CHECKER_REPEAT` times.
-const CHECKER_SIZE: u32 = 64;
-const CHECKER_REPEAT: f64 = 4.0;
+pub const CHECKER_SIZE: u32 = 64;
+pub const CHECKER_REPEAT: f64 = 4.0;
 /// Light map: 64 × 64 luminance spot.
-const LIGHTMAP_SIZE: u32 = 64;
+pub const LIGHTMAP_SIZE: u32 = 64;
 /// Shadow map: 128 × 128, 16-bit depths.
 const SHADOW_SIZE: u32 = 128;
 const SHADOW_DEPTH_BITS: u32 = 16;
 /// Floor: 10 × 10 world units, 8 × 8 cells (128 triangles).
-const FLOOR_HALF: f64 = 5.0;
+pub const FLOOR_HALF: f64 = 5.0;
 const FLOOR_CELLS: usize = 8;
 /// Scale of the 1/w-weighted attributes (keeps them well inside s16.16).
 const PERSPECTIVE_SCALE: f64 = 16.0;
 /// Ambient level (u8 unorm) and the light's colour.
-const AMBIENT: u32 = 40;
-const LIGHT_RGB: [u32; 3] = [255, 236, 200];
+pub const AMBIENT: u32 = 40;
+pub const LIGHT_RGB: [u32; 3] = [255, 236, 200];
+/// Lambert scale: N·L · LAMBERT_SCALE / d², clamped to 1.
+pub const LAMBERT_SCALE: f64 = 42.0;
 
 /// Every unit the scene elaborates, configured for it.
 pub struct TestSceneUnits {
@@ -176,13 +178,13 @@ pub fn lightmap_texels() -> Vec<u32> {
 }
 
 /// The scene's host-side set-up: camera and light transforms.
-struct Views {
-    cam: Mat4,
-    light: Mat4,
-    light_pos: Vec3,
+pub struct Views {
+    pub cam: Mat4,
+    pub light: Mat4,
+    pub light_pos: Vec3,
 }
 
-fn views() -> Views {
+pub fn views() -> Views {
     let aspect = WIDTH as f64 / HEIGHT as f64;
     let cam = Mat4::perspective(55.0, aspect, 0.5, 40.0).mul(&Mat4::look_at(
         v3(0.0, 7.0, 9.5),
@@ -209,7 +211,7 @@ fn to_screen(c: [f64; 4], w: u32, h: u32) -> (f64, f64) {
 }
 
 /// The occluder: a window frame (four bars and a cross) floating under the light.
-fn occluder_quads() -> Vec<[Vec3; 4]> {
+pub fn occluder_quads() -> Vec<[Vec3; 4]> {
     let y = 4.2;
     let bar = |x0: f64, z0: f64, x1: f64, z1: f64| {
         [v3(x0, y, z0), v3(x1, y, z0), v3(x1, y, z1), v3(x0, y, z1)]
@@ -323,7 +325,7 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
                 // Per-vertex Lambert term with inverse-square fall-off (normal +y).
                 let to_light = v.light_pos - *p;
                 let d2 = to_light.dot(to_light);
-                let lambert = (to_light.normalized().y * 42.0 / d2).clamp(0.0, 1.0);
+                let lambert = (to_light.normalized().y * LAMBERT_SCALE / d2).clamp(0.0, 1.0);
                 let attrs = [
                     tu * CHECKER_REPEAT * inv_w,
                     tv * CHECKER_REPEAT * inv_w,
@@ -551,10 +553,38 @@ fn texel_word(raw: i32, log2_size: u32, proj: &ProjectiveTexcoord) -> i32 {
 }
 
 /// `render` for the CLI: writes the PNG, prints the counters.
-pub fn render_cli(out: &Path, json: bool) -> Result<(), String> {
+pub fn render_cli(out: &Path, json: bool, reference: Option<&Path>) -> Result<(), String> {
     let (fb, ctr) = render().map_err(|e| e.to_string())?;
     fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    if let Some(path) = reference {
+        let r = crate::reference::test_scene::render_reference();
+        let mut img = Framebuffer::new(WIDTH, HEIGHT, 8);
+        let (mut sum, mut n, mut max) = (0.0f64, 0u64, 0.0f64);
+        for y in 0..HEIGHT {
+            for x in 0..WIDTH {
+                if let Some(rgb) = r[(y * WIDTH + x) as usize] {
+                    let hw = fb.pixel(x, y);
+                    for c in 0..3 {
+                        let d = (hw[c] as f64 - rgb[c]).abs();
+                        sum += d;
+                        max = max.max(d);
+                    }
+                    n += 3;
+                    let q = |v: f64| v.round().clamp(0.0, 255.0) as u32;
+                    img.set(x, y, [q(rgb[0]), q(rgb[1]), q(rgb[2]), 255]);
+                }
+            }
+        }
+        img.save_png(path)
+            .map_err(|e| format!("reference: {}: {e}", path.display()))?;
+        eprintln!(
+            "reference {}: mean |hw - f64| {:.3} levels, max {:.1} (covered channels: {n})",
+            path.display(),
+            sum / n.max(1) as f64,
+            max
+        );
+    }
     if json {
         println!(
             "{}",

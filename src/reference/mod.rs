@@ -6,4 +6,5 @@ pub mod modulate;
 pub mod polygon_interpolator;
 pub mod projective_texcoord;
 pub mod shadow_compare;
+pub mod test_scene;
 pub mod texture_sampler;

@@ -88,6 +88,38 @@ impl Mat4 {
         r
     }
 
+    /// Inverse by Gauss–Jordan elimination with partial pivoting; `None` if singular.
+    pub fn inverse(&self) -> Option<Mat4> {
+        let mut a = self.0;
+        let mut inv = [[0.0; 4]; 4];
+        for (i, row) in inv.iter_mut().enumerate() {
+            row[i] = 1.0;
+        }
+        for col in 0..4 {
+            let piv = (col..4).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+            if a[piv][col].abs() < 1e-300 {
+                return None;
+            }
+            a.swap(col, piv);
+            inv.swap(col, piv);
+            let d = a[col][col];
+            for k in 0..4 {
+                a[col][k] /= d;
+                inv[col][k] /= d;
+            }
+            for r in 0..4 {
+                if r != col {
+                    let f = a[r][col];
+                    for k in 0..4 {
+                        a[r][k] -= f * a[col][k];
+                        inv[r][k] -= f * inv[col][k];
+                    }
+                }
+            }
+        }
+        Some(Mat4(inv))
+    }
+
     /// View matrix looking from `eye` at `at` (right-handed, camera looks down −z).
     pub fn look_at(eye: Vec3, at: Vec3, up: Vec3) -> Mat4 {
         let f = (at - eye).normalized();
