@@ -325,6 +325,8 @@ impl Fx {
     }
 
     /// Full-precision sum.
+    // A method, not an operator: full precision grows the result format.
+    #[allow(clippy::should_implement_trait)]
     pub fn add(self, other: Fx) -> Fx {
         let fmt = Format::sum(self.fmt, other.fmt);
         let a = self.raw << (fmt.frac_bits - self.fmt.frac_bits);
@@ -333,6 +335,8 @@ impl Fx {
     }
 
     /// Full-precision difference (signed result).
+    // A method, not an operator: full precision grows the result format.
+    #[allow(clippy::should_implement_trait)]
     pub fn sub(self, other: Fx) -> Fx {
         let fmt = Format::difference(self.fmt, other.fmt);
         let a = self.raw << (fmt.frac_bits - self.fmt.frac_bits);
@@ -341,6 +345,8 @@ impl Fx {
     }
 
     /// Full-precision product (width = sum of widths).
+    // A method, not an operator: full precision grows the result format.
+    #[allow(clippy::should_implement_trait)]
     pub fn mul(self, other: Fx) -> Fx {
         Fx {
             raw: self.raw * other.raw,
@@ -374,7 +380,17 @@ impl Fx {
             match o {
                 Overflow::Wrap => {
                     ev.wrapped = true;
-                    wrap(rounded, dst)
+                    // The low bits of the exact code. A left shift that overflows the
+                    // carrier saturates `rounded`, so take them from the exact shift.
+                    let shift = self.fmt.frac_bits as i32 - dst.frac_bits as i32;
+                    let low = if shift >= 0 {
+                        rounded
+                    } else if -shift >= 128 {
+                        0
+                    } else {
+                        self.raw << -shift // drops only bits above the 128-bit carrier
+                    };
+                    wrap(low, dst)
                 }
                 Overflow::Sat => {
                     ev.saturated = true;
@@ -419,9 +435,10 @@ pub fn round_shift(raw: i128, shift: i32, q: Quant) -> i128 {
             .checked_mul(1i128 << s)
             .unwrap_or(i128::MAX.copysign_like(raw));
     }
-    if shift >= 127 {
-        // Everything is below the LSB: only the sign and the mode matter.
-        return round_tiny(raw, q);
+    if shift >= 128 {
+        // |raw / 2^shift| ≤ ½: only the sign, the mode and the one tie
+        // (raw = i128::MIN, shift = 128, i.e. exactly −½) matter.
+        return round_tiny(raw, shift == 128 && raw == i128::MIN, q);
     }
     let s = shift as u32;
     let floor = raw >> s; // arithmetic shift = floor division by 2^s
@@ -469,9 +486,15 @@ pub fn round_shift(raw: i128, shift: i32, q: Quant) -> i128 {
     }
 }
 
-fn round_tiny(raw: i128, q: Quant) -> i128 {
+/// Round `raw / 2^shift` for `shift ≥ 128`: the value lies in [−½, ½), and is −½
+/// exactly when `minus_half`.
+fn round_tiny(raw: i128, minus_half: bool, q: Quant) -> i128 {
+    if raw >= 0 {
+        return 0;
+    }
     match q {
-        Quant::Trn if raw < 0 => -1,
+        Quant::Trn => -1,
+        Quant::RndInf | Quant::RndMinInf if minus_half => -1,
         _ => 0,
     }
 }
