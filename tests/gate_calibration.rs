@@ -15,7 +15,7 @@
 //!
 //! Regenerate: `bash rtl_model/verilog/calibrate.sh`, then
 //! `cargo test --test gate_calibration -- --nocapture` prints the table of
-//! docs/datasheets/gate_calibration.md.
+//! docs/units.md (gate calibration section).
 
 use rtl_model::cost::{prim, Cells, CELL_WEIGHTS};
 use std::collections::BTreeMap;
@@ -187,7 +187,7 @@ fn model_within_25_percent_of_committed_yosys_counts() {
 
 #[test]
 fn weights_are_the_documented_ones() {
-    // docs/datasheets/gate_calibration.md quotes these.
+    // docs/units.md (gate calibration section) quotes these.
     let w = CELL_WEIGHTS;
     let got = [
         w.nand2, w.nor2, w.and2, w.or2, w.xor2, w.xnor2, w.mux2, w.not, w.dff,

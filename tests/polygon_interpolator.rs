@@ -1,6 +1,6 @@
 //! polygon_interpolator against its f64 twin.
 //!
-//! Error bound (derived from the widths; also in docs/datasheets/polygon_interpolator.md).
+//! Error bound (derived from the widths; also in docs/units.md#polygon_interpolator).
 //! Let f = acc_frac_bits. Setup produces the start value S (at the bounding box's first
 //! pixel centre (x0, y0)) and the gradients Gx, Gy each by ONE rounding-to-nearest
 //! division of the exact rational, so each is within 2^-(f+1) of the exact value (in

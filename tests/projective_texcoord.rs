@@ -1,6 +1,6 @@
 //! projective_texcoord against its f64 twin u = s/q, v = t/q.
 //!
-//! Bound (derivation in docs/datasheets/projective_texcoord.md). Write Q = 2ᵖ·m with
+//! Bound (derivation in docs/units.md#projective_texcoord). Write Q = 2ᵖ·m with
 //! m ∈ [1, 2) exact, I = recip_index_bits, E = recip_entry_bits, N = newton_frac_bits,
 //! and e = |r·m − 1| the relative error of the reciprocal r ≈ 1/m.
 //! * Table: m lies in [a, a + 2⁻ᴵ), the entry is 1/c + δ with c = a + 2⁻⁽ᴵ⁺¹⁾ > 1, so

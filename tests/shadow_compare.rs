@@ -1,6 +1,6 @@
 //! shadow_compare against its f64 twin (an unquantised depth map).
 //!
-//! Bound (docs/datasheets/shadow_compare.md). Work in LSBs of the n-bit stored depth
+//! Bound (docs/units.md#shadow_compare). Work in LSBs of the n-bit stored depth
 //! (1 LSB = 1/(2ⁿ − 1)); k = frag_frac_bits. Host depths are quantised round to
 //! nearest: the stored word s_q = s + ε_s with |ε_s| ≤ ½ (the running minimum
 //! commutes with a monotone rounding, so the stored word is exactly the rounded exact

@@ -50,10 +50,7 @@ fn render_matches_the_f64_reference() {
         missed as f64 <= 0.01 * (WIDTH * HEIGHT) as f64,
         "{missed} pixels differ in coverage"
     );
-    assert_eq!(
-        n.abs_diff(ctr.covered_pixels) as f64 <= 0.01 * n as f64,
-        true
-    );
+    assert!(n.abs_diff(ctr.covered_pixels) as f64 <= 0.01 * n as f64);
     // The scene is lit (not a black or saturated image).
     let mean_red = lit_sum / n as f64;
     assert!(mean_red > 20.0 && mean_red < 200.0, "mean red {mean_red}");

@@ -1,6 +1,6 @@
 //! texture_sampler against its f64 twin (same integer texels, exact weights).
 //!
-//! Error bound, in output LSBs, derived from the widths (docs/datasheets/texture_sampler.md):
+//! Error bound, in output LSBs, derived from the widths (docs/units.md#texture_sampler):
 //!
 //! * Nearest: both pick texel floor(u) with the same address mode → exact, bound 0.
 //! * Linear: the twin computes f(a) = Σ_corners Π_k w_k(a_k) · T_corner with

@@ -40,7 +40,7 @@ impl Framebuffer {
 
     /// 8-bit RGBA bytes (wider channels rounded to nearest; alpha forced opaque).
     pub fn to_rgba8(&self) -> Vec<u8> {
-        let max = ((1u64 << self.bits) - 1) as u64;
+        let max = (1u64 << self.bits) - 1;
         self.data
             .chunks(4)
             .flat_map(|p| {
