@@ -1,0 +1,295 @@
+//! The scene format (TOML via serde). Types only here; validation is in
+//! `validate.rs`, built-in scenes in `builtin.rs`.
+//!
+//! Conventions: right-handed world, y up, lengths in world units; colours are linear
+//! RGB in [0, 1]; angles in degrees. Every field has a serde default where a sensible
+//! one exists, so a scene file states only what it changes.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Free text, shown in reports.
+    #[serde(default)]
+    pub name: String,
+    /// Seed of every random choice made for this scene.
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    #[serde(default)]
+    pub image: ImageSize,
+    pub camera: Camera,
+    #[serde(default)]
+    pub medium: Medium,
+    #[serde(default)]
+    pub lights: Vec<Light>,
+    #[serde(default)]
+    pub objects: Vec<Object>,
+    #[serde(default)]
+    pub shafts: ShaftsConfig,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+/// Output size in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Default for ImageSize {
+    /// The paper's 720 × 480.
+    fn default() -> Self {
+        ImageSize {
+            width: 720,
+            height: 480,
+        }
+    }
+}
+
+/// A pinhole camera.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    pub eye: [f64; 3],
+    pub look_at: [f64; 3],
+    #[serde(default = "default_up")]
+    pub up: [f64; 3],
+    /// Vertical field of view, degrees, in (0, 180).
+    #[serde(default = "default_fovy")]
+    pub fovy_deg: f64,
+    /// Near and far clip distances, 0 < near < far.
+    #[serde(default = "default_near")]
+    pub near: f64,
+    #[serde(default = "default_far")]
+    pub far: f64,
+}
+
+fn default_up() -> [f64; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_fovy() -> f64 {
+    45.0
+}
+fn default_near() -> f64 {
+    0.1
+}
+fn default_far() -> f64 {
+    100.0
+}
+
+/// The participating medium, homogeneous: density ρ, extinction κ, phase constant K
+/// (F(α) = K·(1 + 9·cos¹⁶(α/2)), SPEC A (4)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Medium {
+    /// ρ ≥ 0.
+    pub rho: f64,
+    /// κ ≥ 0.
+    pub kappa: f64,
+    /// K ≥ 0.
+    pub k: f64,
+}
+
+impl Default for Medium {
+    fn default() -> Self {
+        Medium {
+            rho: 0.05,
+            kappa: 1.0,
+            k: 1.0,
+        }
+    }
+}
+
+/// A light source.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Light {
+    #[serde(default)]
+    pub kind: LightKind,
+    pub position: [f64; 3],
+    /// Spot axis (need not be unit length; must not be zero for a spot).
+    #[serde(default = "default_direction")]
+    pub direction: [f64; 3],
+    /// Spot cone half-angle, degrees, in (0, 90). Ignored for a point light.
+    #[serde(default = "default_cutoff")]
+    pub cutoff_deg: f64,
+    /// Radiant intensity on the axis (≥ 0), times `color`.
+    #[serde(default = "default_intensity")]
+    pub intensity: f64,
+    #[serde(default = "default_white")]
+    pub color: [f64; 3],
+    /// The spot's distribution across the cone (I_l); `None` = uniform over the cone
+    /// (no projective light-map unit is elaborated for it).
+    #[serde(default)]
+    pub light_map: Option<LightMap>,
+}
+
+fn default_direction() -> [f64; 3] {
+    [0.0, -1.0, 0.0]
+}
+fn default_cutoff() -> f64 {
+    20.0
+}
+fn default_intensity() -> f64 {
+    1.0
+}
+fn default_white() -> [f64; 3] {
+    [1.0, 1.0, 1.0]
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LightKind {
+    #[default]
+    Spot,
+    Point,
+}
+
+/// A light map: the image projected from the light over its cone, value in [0, 1].
+/// Map coordinates (u, v) ∈ [0, 1]² span the cone's square; (½, ½) is the axis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightMap {
+    /// A smooth spot: 1 on the axis falling to 0 at the cone's edge as
+    /// (1 − r²)^`exponent`, r = distance from the axis in units of the cone radius.
+    Smooth {
+        #[serde(default = "default_exponent")]
+        exponent: f64,
+    },
+    /// Polka dots: a smooth spot multiplied by a `dots` × `dots` grid of discs of
+    /// relative radius `radius` (0 < radius ≤ 0.5 of a cell).
+    PolkaDots {
+        #[serde(default = "default_dots")]
+        dots: u32,
+        #[serde(default = "default_dot_radius")]
+        radius: f64,
+    },
+    /// An image file (PNG or other formats the `image` crate reads), luminance used.
+    Image { path: String },
+}
+
+fn default_exponent() -> f64 {
+    1.0
+}
+fn default_dots() -> u32 {
+    5
+}
+fn default_dot_radius() -> f64 {
+    0.3
+}
+
+/// An object: lit surface (I_o) and, when `occluder`, a shadow caster in the medium.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Object {
+    pub shape: Shape,
+    /// Diffuse albedo, linear RGB in [0, 1].
+    #[serde(default = "default_albedo")]
+    pub color: [f64; 3],
+    /// Casts shadows (into the shadow map and for the reference's shadow rays).
+    #[serde(default = "default_true")]
+    pub occluder: bool,
+}
+
+fn default_albedo() -> [f64; 3] {
+    [0.7, 0.7, 0.7]
+}
+fn default_true() -> bool {
+    true
+}
+
+/// Geometry.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Shape {
+    Sphere {
+        center: [f64; 3],
+        radius: f64,
+    },
+    /// A rectangle: centre, unit-free normal, and half extents along two in-plane axes
+    /// (the first is `tangent`, the second normal × tangent).
+    Plane {
+        center: [f64; 3],
+        normal: [f64; 3],
+        #[serde(default = "default_tangent")]
+        tangent: [f64; 3],
+        half_size: [f64; 2],
+    },
+    /// An axis-aligned box.
+    Box { min: [f64; 3], max: [f64; 3] },
+    /// The Utah teapot (Newell's 32 Bézier patches, Z up in the data, turned Y up),
+    /// scaled, rotated about y (degrees) and moved; `subdivisions` per patch side.
+    Teapot {
+        position: [f64; 3],
+        #[serde(default = "default_one")]
+        scale: f64,
+        #[serde(default)]
+        rotate_y_deg: f64,
+        #[serde(default = "default_subdivisions")]
+        subdivisions: u32,
+    },
+}
+
+fn default_tangent() -> [f64; 3] {
+    [1.0, 0.0, 0.0]
+}
+fn default_one() -> f64 {
+    1.0
+}
+fn default_subdivisions() -> u32 {
+    8
+}
+
+/// How the shafts are drawn in hardware (SPEC A).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ShaftsConfig {
+    /// n sample planes, 1 ..= 10 000.
+    pub planes: u32,
+    /// m sub-sample planes per interval, 1 ..= 256 (1 = no sub-plane path).
+    pub subplanes: u32,
+    /// Mesh cells per sample plane [columns, rows] (the paper: 15 × 10).
+    pub mesh: [u32; 2],
+    /// F(α) texture width (1D, α from 0° to 180°).
+    pub f_texels: u32,
+    /// h(s, t) texture size [s, t].
+    pub h_texels: [u32; 2],
+    /// Table ranges s ∈ [0, s_max], t ∈ [0, t_max]; 0 = fit to the scene.
+    pub s_max: f64,
+    pub t_max: f64,
+    /// Texel, framebuffer and filter-weight widths (GeForce2: 8).
+    pub texel_bits: u32,
+    pub fb_bits: u32,
+    pub weight_bits: u32,
+    /// Sub-texel fraction bits of the interpolated texture coordinates.
+    pub coord_frac_bits: u32,
+    /// Shadow map resolution (square) and depth bits.
+    pub shadow_resolution: u32,
+    pub shadow_depth_bits: u32,
+}
+
+impl Default for ShaftsConfig {
+    fn default() -> Self {
+        ShaftsConfig {
+            planes: 30,
+            subplanes: 6,
+            mesh: [15, 10],
+            f_texels: 256,
+            h_texels: [256, 256],
+            s_max: 0.0,
+            t_max: 0.0,
+            texel_bits: 8,
+            fb_bits: 8,
+            weight_bits: 8,
+            coord_frac_bits: 8,
+            shadow_resolution: 512,
+            shadow_depth_bits: 24,
+        }
+    }
+}
