@@ -1,4 +1,6 @@
 //! Units wired into pipelines; frames driven; counters gathered.
 
+pub mod raster;
 pub mod registry;
+pub mod shafts;
 pub mod test_scene;

@@ -6,5 +6,6 @@ pub mod modulate;
 pub mod polygon_interpolator;
 pub mod projective_texcoord;
 pub mod shadow_compare;
+pub mod shafts_model;
 pub mod test_scene;
 pub mod texture_sampler;

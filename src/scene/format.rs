@@ -222,7 +222,10 @@ pub enum Shape {
         half_size: [f64; 2],
     },
     /// An axis-aligned box.
-    Box { min: [f64; 3], max: [f64; 3] },
+    Box {
+        min: [f64; 3],
+        max: [f64; 3],
+    },
     /// The Utah teapot (Newell's 32 Bézier patches, Z up in the data, turned Y up),
     /// scaled, rotated about y (degrees) and moved; `subdivisions` per patch side.
     Teapot {

@@ -1,0 +1,91 @@
+//! Drawing primitives through the polygon interpolator: set-up, the serpentine walk
+//! (span driver), and the viewport scissor. Walked pixels outside the primitive or
+//! the viewport still cost the walker its clocks (counted); only covered pixels
+//! inside the viewport come out as fragments.
+
+use rtl_model::driver::run_span;
+use rtl_model::error::ConfigError;
+use rtl_model::units::polygon_interpolator::{PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS};
+use rtl_model::Counters;
+
+/// A covered pixel and its interpolated attributes (raw output codes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Fragment {
+    pub x: u32,
+    pub y: u32,
+    pub attrs: [i64; MAX_ATTRS],
+}
+
+/// A vertex as the host computes it: screen position in pixels (y down) and attributes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HostVertex {
+    pub x: f64,
+    pub y: f64,
+    pub attrs: [f64; MAX_ATTRS],
+}
+
+/// Quantise host vertices into the interpolator's vertex words (errors name the field).
+pub fn quantise<const N: usize>(
+    u: &PolygonInterpolator,
+    v: &[HostVertex; N],
+    ctr: &mut Counters,
+) -> Result<[Vertex; N], ConfigError> {
+    let k = u.attrs() as usize;
+    let mut out = [Vertex::default(); N];
+    for (i, hv) in v.iter().enumerate() {
+        out[i] = u.vertex_from_f64(i, hv.x, hv.y, &hv.attrs[..k], ctr)?;
+    }
+    Ok(out)
+}
+
+/// Walk one set-up primitive; keep covered pixels inside a `width` × `height` viewport.
+pub fn walk(
+    u: &PolygonInterpolator,
+    s: &PolySetup,
+    width: u32,
+    height: u32,
+    ctr: &mut Counters,
+    out: &mut Vec<Fragment>,
+) {
+    let mut st = s.state.clone();
+    for f in run_span(u, &mut st, &s.moves(), ctr) {
+        if f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64 {
+            out.push(Fragment {
+                x: f.x as u32,
+                y: f.y as u32,
+                attrs: f.attrs,
+            });
+        }
+    }
+}
+
+/// Draw a convex quad (split as GL does: v0 v1 v2, v0 v2 v3).
+pub fn draw_quad(
+    u: &PolygonInterpolator,
+    v: &[HostVertex; 4],
+    width: u32,
+    height: u32,
+    ctr: &mut Counters,
+) -> Result<Vec<Fragment>, ConfigError> {
+    let q = quantise(u, v, ctr)?;
+    let mut out = Vec::new();
+    for s in u.setup_quad(&q, ctr) {
+        walk(u, &s, width, height, ctr, &mut out);
+    }
+    Ok(out)
+}
+
+/// Draw a triangle.
+pub fn draw_triangle(
+    u: &PolygonInterpolator,
+    v: &[HostVertex; 3],
+    width: u32,
+    height: u32,
+    ctr: &mut Counters,
+) -> Result<Vec<Fragment>, ConfigError> {
+    let q = quantise(u, v, ctr)?;
+    let mut out = Vec::new();
+    let s = u.setup_triangle(&q, ctr);
+    walk(u, &s, width, height, ctr, &mut out);
+    Ok(out)
+}

@@ -1,0 +1,1169 @@
+//! One frame of the shafts pipeline (SPEC A) through the bit-accurate units.
+//!
+//! Per frame: a depth pass of the objects into the camera's depth buffer. Per light:
+//! a shadow-map pass of the occluders; the objects' colour pass (per-vertex Lambert
+//! and attenuation, × light map × shadow); then n sample planes drawn as meshes whose
+//! vertices carry α and (s, t), with F(α)·h(s, t) from the 1D and 2D textures,
+//! modulated with H·I_l (shadow compare × projective light map) and the plane's
+//! vertex colour, and added into the framebuffer. With m > 1 sub-sample planes, H·I_l
+//! is instead averaged over m sub-planes per interval into a J buffer with 8-bit
+//! blend weights, copied to a texture and looked up on plane i (SPEC A (7)–(9)).
+//!
+//! Host work (vertex positions, α, s, t, light coordinates) is f64, as the
+//! application processor computes it; every per-pixel step is a unit kernel.
+
+use super::tables::{self, GTables};
+use super::view::{vec3, CameraView, LightView};
+use crate::pipeline::raster::{draw_quad, draw_triangle, Fragment, HostVertex};
+use crate::report::image_out::Framebuffer;
+use crate::scene::format::{LightKind, Scene};
+use crate::scene::math::Vec3;
+use rayon::prelude::*;
+use rtl_model::driver::run_span;
+use rtl_model::error::ConfigError;
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::modulate::{Modulate, ModulateIn};
+use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
+use rtl_model::units::projective_texcoord::{
+    ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
+};
+use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
+use rtl_model::units::texture_sampler::{
+    AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
+};
+use rtl_model::unorm::max_code;
+use rtl_model::{Counters, Unit, UnitSummary};
+use std::collections::BTreeMap;
+
+/// Light-map texture size (square).
+pub const LIGHTMAP_SIZE: u32 = 128;
+/// Camera depth buffer width.
+const ZBUF_BITS: u32 = 24;
+/// Fraction bits of the interpolator's outputs (s16.16, the projective inputs).
+const ATTR_FRAC: u32 = 16;
+
+/// A tessellated object as the host hands it to the pipeline.
+#[derive(Clone, Debug)]
+pub struct ObjectMesh {
+    /// Triangles: positions and per-vertex unit normals.
+    pub triangles: Vec<([Vec3; 3], [Vec3; 3])>,
+    pub color: [f64; 3],
+    pub occluder: bool,
+}
+
+/// What the host prepares once per scene.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    pub scene: Scene,
+    pub objects: Vec<ObjectMesh>,
+    /// Per light: light-map texels (LIGHTMAP_SIZE², unorm texel_bits) or None (uniform).
+    pub light_maps: Vec<Option<Vec<u32>>>,
+    /// View depths bounding the lit volume: planes fill [r0, r1].
+    pub plane_range: (f64, f64),
+    /// h table ranges and the nearest light distance (sets h_ref).
+    pub s_max: f64,
+    pub t_max: f64,
+    pub s_near: f64,
+    /// Output scale: radiance 1.0 = `exposure` 8-bit levels.
+    pub exposure: f64,
+}
+
+/// A unit the frame elaborated, or one it left out.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Elaborated {
+    pub name: String,
+    pub summary: Option<UnitSummary>,
+    /// Why it was left out (None if elaborated).
+    pub left_out: Option<String>,
+    /// Gates the unit would have cost (for left-out units).
+    pub gates_saved: f64,
+    /// Cycles it would have run (for left-out units): the fragments it would have seen.
+    pub cycles_saved: u64,
+}
+
+/// Kinds of pass, for the throughput model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+pub enum PassKind {
+    ObjectDepth,
+    ShadowMap,
+    Objects,
+    SubPlane,
+    CopyToTexture,
+    Plane,
+}
+
+/// One pass's work, as counted by the units.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct PassStats {
+    pub kind: PassKind,
+    pub light: usize,
+    /// Pixels the rasteriser walked (including uncovered ones in bounding boxes).
+    pub walked: u64,
+    /// Fragments that reached the per-pixel units.
+    pub fragments: u64,
+    /// Texture lookups per fragment (for the TMU model).
+    pub textures_per_fragment: u32,
+    pub triangles: u64,
+    pub mem_read_bytes: u64,
+    pub mem_write_bytes: u64,
+}
+
+/// The frame: framebuffer (fb_bits, RGB), counters per unit, passes, elaboration.
+#[derive(Clone, Debug)]
+pub struct FrameResult {
+    pub fb: Framebuffer,
+    pub counters: BTreeMap<String, Counters>,
+    pub passes: Vec<PassStats>,
+    pub elaboration: Vec<Elaborated>,
+    pub tables: GTables,
+}
+
+impl FrameResult {
+    /// The image in 8-bit levels (f64, for error metrics).
+    pub fn levels(&self) -> Vec<[f64; 3]> {
+        let max = max_code(self.fb.bits) as f64;
+        self.fb
+            .data
+            .chunks(4)
+            .map(|p| [0, 1, 2].map(|c| p[c] as f64 * 255.0 / max))
+            .collect()
+    }
+}
+
+/// The units of one frame, configured from the scene.
+struct Units {
+    interp: PolygonInterpolator,
+    f_tex: TextureSampler,
+    h_tex: TextureSampler,
+    modulate: Modulate,
+    blend: AdditiveBlend,
+    proj: ProjectiveTexcoord,
+    proj_depth: ProjectiveTexcoord,
+    zbuf: Option<ShadowCompare>,
+    shadow: Option<ShadowCompare>,
+    j_blend: AdditiveBlend,
+}
+
+fn counters_add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
+    *map.entry(name.to_string()).or_default() += c;
+}
+
+/// Render one frame.
+pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let cam = CameraView::new(&sc.camera, sc.image);
+    let tex_bits = cfg.texel_bits;
+    let tex_max = max_code(tex_bits);
+    // One plane at full F, h, J and the brightest light adds F_max·h·I·Δr·exposure
+    // levels; h_ref is at least the h for which that is 255 (full scale).
+    let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
+    let i_max = sc
+        .lights
+        .iter()
+        .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    let f_max = crate::reference::shafts_model::phase_f(0.0, sc.medium.k);
+    let denom = f_max * i_max * dr * p.exposure;
+    let h_floor = if denom > 0.0 { 255.0 / denom } else { 0.0 };
+    let tables = tables::build(&sc.medium, &cfg, p.s_max, p.t_max, p.s_near, h_floor);
+
+    let interp = PolygonInterpolatorConfig {
+        attrs: 8,
+        out_int_bits: 16,
+        out_frac_bits: ATTR_FRAC,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()?;
+    let sampler_cfg = |dims: u32, size: [u32; 3]| TextureSamplerConfig {
+        dims,
+        size,
+        texel_bits: tex_bits,
+        coord_frac_bits: cfg.coord_frac_bits,
+        weight_bits: cfg.weight_bits,
+        ..TextureSamplerConfig::geforce()
+    };
+    let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
+        .map_err(|e| e.within("shafts.f_texels"))?;
+    let h_tex = TextureSampler::new(
+        sampler_cfg(2, [cfg.h_texels[0], cfg.h_texels[1], 1]),
+        &tables.h_texels,
+    )
+    .map_err(|e| e.within("shafts.h_texels"))?;
+    let has_objects = p.objects.iter().any(|o| !o.triangles.is_empty());
+    let has_occluders = p
+        .objects
+        .iter()
+        .any(|o| o.occluder && !o.triangles.is_empty());
+    let units = Units {
+        interp,
+        f_tex,
+        h_tex,
+        modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
+        blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 3, false, cfg.weight_bits)?,
+        proj: ProjectiveTexcoordConfig::geforce().build()?,
+        proj_depth: ProjectiveTexcoordConfig {
+            out_int_bits: 2,
+            out_frac_bits: 16,
+            newton_steps: 2,
+            newton_frac_bits: 30,
+            ..ProjectiveTexcoordConfig::geforce()
+        }
+        .build()?,
+        zbuf: if has_objects {
+            Some(
+                ShadowCompareConfig {
+                    width: w,
+                    height: h,
+                    depth_bits: ZBUF_BITS,
+                    bias: 0,
+                    frag_frac_bits: 0,
+                }
+                .build()?,
+            )
+        } else {
+            None
+        },
+        shadow: if has_occluders {
+            Some(
+                ShadowCompareConfig {
+                    width: cfg.shadow_resolution,
+                    height: cfg.shadow_resolution,
+                    depth_bits: cfg.shadow_depth_bits,
+                    bias: shadow_bias(cfg.shadow_depth_bits),
+                    frag_frac_bits: 0,
+                }
+                .build()
+                .map_err(|e| e.within("shafts"))?,
+            )
+        } else {
+            None
+        },
+        j_blend: AdditiveBlend::new(tex_bits, tex_bits, 1, true, cfg.weight_bits)?,
+    };
+
+    let mut fb = Framebuffer::new(w, h, cfg.fb_bits);
+    let mut ctr: BTreeMap<String, Counters> = BTreeMap::new();
+    let mut passes = Vec::new();
+
+    // ---- camera depth pass (objects into the depth buffer).
+    let mut zstate = units.zbuf.as_ref().map(|z| z.fresh_state());
+    if let (Some(z), Some(zs)) = (&units.zbuf, zstate.as_mut()) {
+        let mut c_int = Counters::default();
+        let mut c_z = Counters::default();
+        let mut stats = PassStats::new(PassKind::ObjectDepth, 0, 0);
+        for o in &p.objects {
+            for (tri, _) in &o.triangles {
+                let Some(hv) = project_tri(&cam, tri, |_, _| [0.0; 8]) else {
+                    continue;
+                };
+                let frags = draw_triangle(&units.interp, &hv, w, h, &mut c_int)?;
+                stats.triangles += 1;
+                let ins: Vec<ShadowIn> = frags
+                    .iter()
+                    .map(|f| ShadowIn::Write {
+                        x: f.x as i32,
+                        y: f.y as i32,
+                        depth: window_depth_word(f.attrs[0], ZBUF_BITS),
+                    })
+                    .collect();
+                stats.fragments += ins.len() as u64;
+                run_span(z, zs, &ins, &mut c_z);
+            }
+        }
+        stats.walked = c_int.pixels_in;
+        stats.mem_read_bytes = c_z.mem_read_bytes;
+        stats.mem_write_bytes = c_z.mem_write_bytes;
+        passes.push(stats);
+        counters_add(&mut ctr, "polygon_interpolator", c_int);
+        counters_add(&mut ctr, "shadow_compare (depth buffer)", c_z);
+    }
+
+    let mut elaboration = Vec::new();
+    for (li, light) in sc.lights.iter().enumerate() {
+        let lv = LightView::new(light, (p.s_near * 0.5).max(0.05), light_far(p, light));
+        let light_map = p.light_maps.get(li).cloned().flatten();
+        let lm_tex = match &light_map {
+            Some(t) => Some(
+                TextureSampler::new(sampler_cfg(2, [LIGHTMAP_SIZE, LIGHTMAP_SIZE, 1]), t)
+                    .map_err(|e| e.within(&format!("lights[{li}].light_map")))?,
+            ),
+            None => None,
+        };
+        // Shadow-map pass.
+        let mut sstate = units.shadow.as_ref().map(|s| s.fresh_state());
+        if let (Some(s), Some(ss)) = (&units.shadow, sstate.as_mut()) {
+            let res = cfg.shadow_resolution;
+            let mut c_int = Counters::default();
+            let mut c_s = Counters::default();
+            let mut stats = PassStats::new(PassKind::ShadowMap, li, 0);
+            for o in p.objects.iter().filter(|o| o.occluder) {
+                for (tri, _) in &o.triangles {
+                    let mut hv = [HostVertex {
+                        x: 0.0,
+                        y: 0.0,
+                        attrs: [0.0; 8],
+                    }; 3];
+                    let mut ok = true;
+                    for k in 0..3 {
+                        let q = lv.strq(tri[k]);
+                        if q[3] <= 1e-9 {
+                            ok = false;
+                            break;
+                        }
+                        let mut attrs = [0.0; 8];
+                        attrs[0] = q[2] / q[3];
+                        hv[k] = HostVertex {
+                            x: q[0] / q[3] * res as f64,
+                            y: q[1] / q[3] * res as f64,
+                            attrs,
+                        };
+                    }
+                    if !ok || hv.iter().any(|v| v.x.abs() > 4000.0 || v.y.abs() > 4000.0) {
+                        continue;
+                    }
+                    let frags = draw_triangle(&units.interp, &hv, res, res, &mut c_int)?;
+                    stats.triangles += 1;
+                    let ins: Vec<ShadowIn> = frags
+                        .iter()
+                        .map(|f| ShadowIn::Write {
+                            x: f.x as i32,
+                            y: f.y as i32,
+                            depth: window_depth_word(f.attrs[0], s.depth_bits()),
+                        })
+                        .collect();
+                    stats.fragments += ins.len() as u64;
+                    run_span(s, ss, &ins, &mut c_s);
+                }
+            }
+            stats.walked = c_int.pixels_in;
+            passes.push(stats);
+            counters_add(&mut ctr, "polygon_interpolator", c_int);
+            counters_add(&mut ctr, "shadow_compare (shadow map)", c_s);
+        }
+
+        let ctx = LightCtx {
+            li,
+            units: &units,
+            cam: &cam,
+            lv: &lv,
+            lm_tex: lm_tex.as_ref(),
+            sstate: sstate.as_ref(),
+            zstate: zstate.as_ref(),
+            light,
+            tex_max,
+        };
+
+        // Object colour pass.
+        if has_objects {
+            object_pass(&ctx, p, &mut fb, &mut ctr, &mut passes)?;
+        }
+
+        // Sample planes.
+        if light.intensity > 0.0 {
+            planes_pass(&ctx, p, &tables, &mut fb, &mut ctr, &mut passes)?;
+        }
+
+        if li == 0 {
+            elaboration = elaborate(&units, lm_tex.as_ref(), p, &passes);
+        }
+    }
+
+    Ok(FrameResult {
+        fb,
+        counters: ctr,
+        passes,
+        elaboration,
+        tables,
+    })
+}
+
+impl PassStats {
+    fn new(kind: PassKind, light: usize, textures_per_fragment: u32) -> Self {
+        PassStats {
+            kind,
+            light,
+            walked: 0,
+            fragments: 0,
+            textures_per_fragment,
+            triangles: 0,
+            mem_read_bytes: 0,
+            mem_write_bytes: 0,
+        }
+    }
+}
+
+/// Depth bias for a shadow map of `bits`: 2⁻¹² of the depth range, at least 1 LSB.
+fn shadow_bias(bits: u32) -> u32 {
+    (1u32 << bits.saturating_sub(12)).max(1)
+}
+
+/// The light's far distance for the shadow map: beyond everything the planes reach.
+fn light_far(p: &Prepared, _l: &crate::scene::format::Light) -> f64 {
+    (p.s_max * 1.5).max(1.0)
+}
+
+/// A window depth in s16.16 raw → an unsigned depth word of `bits`.
+fn window_depth_word(raw: i64, bits: u32) -> u32 {
+    let max = max_code(bits) as i64;
+    let v = if bits >= ATTR_FRAC {
+        raw << (bits - ATTR_FRAC)
+    } else {
+        raw >> (ATTR_FRAC - bits)
+    };
+    v.clamp(0, max) as u32
+}
+
+/// Project a world triangle with per-vertex attributes; `None` if any vertex is
+/// behind the eye (no clipper is modelled; such triangles are skipped and counted by
+/// the caller's triangle count only). attrs[0] is replaced by the window depth.
+fn project_tri(
+    cam: &CameraView,
+    tri: &[Vec3; 3],
+    attrs: impl Fn(usize, Vec3) -> [f64; 8],
+) -> Option<[HostVertex; 3]> {
+    let mut hv = [HostVertex {
+        x: 0.0,
+        y: 0.0,
+        attrs: [0.0; 8],
+    }; 3];
+    for k in 0..3 {
+        let (x, y, z) = cam.project(tri[k])?;
+        if x.abs() > 8000.0 || y.abs() > 8000.0 {
+            return None;
+        }
+        let mut a = attrs(k, tri[k]);
+        a[0] = z;
+        hv[k] = HostVertex { x, y, attrs: a };
+    }
+    Some(hv)
+}
+
+struct LightCtx<'a> {
+    li: usize,
+    units: &'a Units,
+    cam: &'a CameraView,
+    lv: &'a LightView,
+    lm_tex: Option<&'a TextureSampler>,
+    sstate: Option<&'a ShadowState>,
+    zstate: Option<&'a ShadowState>,
+    light: &'a crate::scene::format::Light,
+    tex_max: u32,
+}
+
+/// Scale of the light's projective coordinates in the s16.16 attributes (keeps q
+/// within range for lights up to ~1000 units away while keeping fraction bits).
+const LIGHT_COORD_SCALE: f64 = 16.0;
+
+impl LightCtx<'_> {
+    /// (s, t, r, q) attributes of a world point.
+    fn light_attrs(&self, p: Vec3) -> [f64; 4] {
+        self.lv.strq(p).map(|v| v * LIGHT_COORD_SCALE)
+    }
+
+    /// H·I_l per fragment (texel_bits unorm): light map through the projective unit,
+    /// shadow compare at the light-space texel. `base` is the attribute index of s.
+    fn h_il(
+        &self,
+        frags: &[Fragment],
+        base: usize,
+        ctr: &mut BTreeMap<String, Counters>,
+    ) -> Vec<u32> {
+        let u = self.units;
+        let n = frags.len();
+        let need_proj = self.lm_tex.is_some() || self.sstate.is_some();
+        let mut st: Vec<ProjectiveOut> = Vec::new();
+        let mut behind = vec![false; n];
+        if need_proj {
+            let ins: Vec<ProjectiveIn> = frags
+                .iter()
+                .map(|f| ProjectiveIn {
+                    s: f.attrs[base],
+                    t: f.attrs[base + 1],
+                    q: f.attrs[base + 3],
+                })
+                .collect();
+            let mut c = Counters::default();
+            st = run_span(&u.proj, &mut (), &ins, &mut c);
+            counters_add(ctr, "projective_texcoord", c);
+            for (b, o) in behind.iter_mut().zip(&st) {
+                *b = o.behind;
+            }
+        }
+        let mut out: Vec<u32> = match self.lm_tex {
+            Some(lm) => {
+                let log2 = LIGHTMAP_SIZE.trailing_zeros();
+                let coords: Vec<TextureSamplerIn> = st
+                    .iter()
+                    .map(|o| TextureSamplerIn {
+                        coord: [
+                            texel_word(o.u, log2, &u.proj, lm.coord_frac_bits()),
+                            texel_word(o.v, log2, &u.proj, lm.coord_frac_bits()),
+                            0,
+                        ],
+                    })
+                    .collect();
+                let mut c = Counters::default();
+                let s = run_span(lm, &mut (), &coords, &mut c);
+                counters_add(ctr, "texture_sampler (light map)", c);
+                s.iter().map(|t| t[0]).collect()
+            }
+            None => vec![self.tex_max; n],
+        };
+        if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
+            let ins: Vec<ProjectiveIn> = frags
+                .iter()
+                .map(|f| ProjectiveIn {
+                    s: f.attrs[base + 2],
+                    t: 0,
+                    q: f.attrs[base + 3],
+                })
+                .collect();
+            let mut c = Counters::default();
+            let depth = run_span(&u.proj_depth, &mut (), &ins, &mut c);
+            counters_add(ctr, "projective_texcoord (depth)", c);
+            let res = sh.width();
+            let shift = u.proj.out_format().frac_bits
+                - res.trailing_zeros().min(u.proj.out_format().frac_bits);
+            let dbits = sh.depth_bits();
+            let dfrac = u.proj_depth.out_format().frac_bits;
+            let tests: Vec<ShadowIn> = st
+                .iter()
+                .zip(&depth)
+                .map(|(o, d)| {
+                    let dv = d.u.max(0) as i64;
+                    let word = if dbits >= dfrac {
+                        dv << (dbits - dfrac)
+                    } else {
+                        dv >> (dfrac - dbits)
+                    };
+                    ShadowIn::Test {
+                        x: o.u >> shift,
+                        y: o.v >> shift,
+                        depth: word.min(max_code(dbits) as i64) as u64,
+                    }
+                })
+                .collect();
+            let mut c = Counters::default();
+            let mut s = ss.clone();
+            let lit = run_span(sh, &mut s, &tests, &mut c);
+            counters_add(ctr, "shadow_compare (shadow map)", c);
+            for (o, l) in out.iter_mut().zip(lit) {
+                if !l.lit {
+                    *o = 0;
+                }
+            }
+        }
+        for (o, b) in out.iter_mut().zip(behind) {
+            if b {
+                *o = 0;
+            }
+        }
+        out
+    }
+
+    /// Depth test of fragments at window depth words against the camera depth buffer:
+    /// the visibility mask (all visible without objects).
+    fn depth_test(
+        &self,
+        frags: &[Fragment],
+        depth: impl Fn(&Fragment) -> u32,
+        ctr: &mut BTreeMap<String, Counters>,
+    ) -> Vec<bool> {
+        match (&self.units.zbuf, self.zstate) {
+            (Some(z), Some(zs)) => {
+                let ins: Vec<ShadowIn> = frags
+                    .iter()
+                    .map(|f| ShadowIn::Test {
+                        x: f.x as i32,
+                        y: f.y as i32,
+                        depth: depth(f) as u64,
+                    })
+                    .collect();
+                let mut c = Counters::default();
+                let mut s = zs.clone();
+                let r = run_span(z, &mut s, &ins, &mut c);
+                counters_add(ctr, "shadow_compare (depth buffer)", c);
+                r.iter().map(|o| o.lit).collect()
+            }
+            _ => vec![true; frags.len()],
+        }
+    }
+}
+
+/// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.
+fn texel_word(raw: i32, log2_size: u32, proj: &ProjectiveTexcoord, sampler_frac: u32) -> i32 {
+    let shift = log2_size as i32 + sampler_frac as i32 - proj.out_format().frac_bits as i32;
+    if shift >= 0 {
+        raw << shift
+    } else {
+        raw >> -shift
+    }
+}
+
+fn modulate_all(
+    u: &Modulate,
+    pairs: &[ModulateIn],
+    ctr: &mut BTreeMap<String, Counters>,
+) -> Vec<u32> {
+    let mut c = Counters::default();
+    let out = run_span(u, &mut (), pairs, &mut c);
+    counters_add(ctr, "modulate", c);
+    out
+}
+
+fn blend_into(
+    u: &AdditiveBlend,
+    fb: &mut Framebuffer,
+    frags: &[Fragment],
+    rgb: &[[u32; 3]],
+    ctr: &mut BTreeMap<String, Counters>,
+) {
+    let ins: Vec<AdditiveBlendIn> = frags
+        .iter()
+        .zip(rgb)
+        .map(|(f, c)| AdditiveBlendIn {
+            src: [c[0], c[1], c[2], 0],
+            dst: fb.pixel(f.x, f.y),
+            weight: 0,
+        })
+        .collect();
+    let mut c = Counters::default();
+    let out = run_span(u, &mut (), &ins, &mut c);
+    counters_add(ctr, "additive_blend", c);
+    for (f, o) in frags.iter().zip(out) {
+        fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
+    }
+}
+
+/// Light colour as texel codes (normalised by its largest component, which goes
+/// into the intensity).
+fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3], f64) {
+    let m = l.color.iter().cloned().fold(0.0, f64::max);
+    if m <= 0.0 {
+        return ([0; 3], 0.0);
+    }
+    (
+        l.color
+            .map(|c| tables::unorm_from_unit(c / m, tex_max.trailing_ones())),
+        l.intensity * m,
+    )
+}
+
+/// The objects lit by this light: per-vertex colour (albedo · Lambert · I/s² ·
+/// exp(−ρκ(s + T)) as a fraction of full scale) × light map × shadow, depth-tested.
+fn object_pass(
+    ctx: &LightCtx,
+    p: &Prepared,
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+    passes: &mut Vec<PassStats>,
+) -> Result<(), ConfigError> {
+    let u = ctx.units;
+    let sc = &p.scene;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let mut stats = PassStats::new(
+        PassKind::Objects,
+        ctx.li,
+        1 + u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
+    );
+    let mut c_int = Counters::default();
+    let lpos = vec3(ctx.light.position);
+    let medium = sc.medium;
+    let mut frags_all: Vec<Fragment> = Vec::new();
+    for o in &p.objects {
+        for (tri, nrm) in &o.triangles {
+            let attrs = |k: usize, pt: Vec3| {
+                let to_l = lpos - pt;
+                let s2 = to_l.dot(to_l).max(1e-12);
+                let lambert = nrm[k].dot(to_l.normalized()).max(0.0);
+                let tt = (pt - ctx.cam.eye).length();
+                let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
+                let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
+                let la = ctx.light_attrs(pt);
+                [
+                    0.0,
+                    (o.color[0] * light_scale * ctx.light.color[0]).min(1.0),
+                    (o.color[1] * light_scale * ctx.light.color[1]).min(1.0),
+                    (o.color[2] * light_scale * ctx.light.color[2]).min(1.0),
+                    la[0],
+                    la[1],
+                    la[2],
+                    la[3],
+                ]
+            };
+            let Some(hv) = project_tri(ctx.cam, tri, attrs) else {
+                continue;
+            };
+            stats.triangles += 1;
+            frags_all.extend(draw_triangle(&u.interp, &hv, w, h, &mut c_int)?);
+        }
+    }
+    stats.walked = c_int.pixels_in;
+    counters_add(ctr, "polygon_interpolator", c_int);
+    let vis = ctx.depth_test(
+        &frags_all,
+        |f| window_depth_word(f.attrs[0], ZBUF_BITS),
+        ctr,
+    );
+    let frags: Vec<Fragment> = frags_all
+        .into_iter()
+        .zip(vis)
+        .filter(|(_, v)| *v)
+        .map(|(f, _)| f)
+        .collect();
+    stats.fragments = frags.len() as u64;
+    let hil = ctx.h_il(&frags, 4, ctr);
+    let tex_max = ctx.tex_max as i64;
+    let mut pairs = Vec::with_capacity(frags.len() * 3);
+    for (f, &j) in frags.iter().zip(&hil) {
+        for c in 0..3 {
+            let col = ((f.attrs[1 + c] * tex_max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC)
+                .clamp(0, tex_max) as u32;
+            pairs.push(ModulateIn { a: col, b: j });
+        }
+    }
+    let m = modulate_all(&u.modulate, &pairs, ctr);
+    let rgb: Vec<[u32; 3]> = m.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    blend_into(&u.blend, fb, &frags, &rgb, ctr);
+    passes.push(stats);
+    Ok(())
+}
+
+/// The n sample planes (and their sub-planes when m > 1).
+fn planes_pass(
+    ctx: &LightCtx,
+    p: &Prepared,
+    tables: &GTables,
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+    passes: &mut Vec<PassStats>,
+) -> Result<(), ConfigError> {
+    let u = ctx.units;
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let n = cfg.planes as usize;
+    let m = cfg.subplanes as usize;
+    let (r0, r1) = p.plane_range;
+    let dr = (r1 - r0) / n as f64;
+    let lpos = vec3(ctx.light.position);
+    let (color_codes, intensity) = light_color_codes(ctx.light, ctx.tex_max);
+    let _ = LightKind::Spot;
+    // Per-plane scale S (fraction of full scale): F_max · h_ref · I · Δr · exposure / 255.
+    let s_plane = tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0;
+    let [cols, rows] = cfg.mesh;
+    let nf = cfg.f_texels as f64;
+    let [hw, hh] = cfg.h_texels.map(|v| v as f64);
+    let tex_max = ctx.tex_max as i64;
+    let mut jtex: Option<TextureSampler> = None;
+
+    for i in 0..n {
+        let r = r0 + (i as f64 + 0.5) * dr;
+        let plane_z = ctx
+            .cam
+            .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, r))
+            .map_or(1.0, |v| v.2);
+        let plane_zword = unit_depth_word(plane_z, ZBUF_BITS);
+
+        // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
+        if m > 1 {
+            let mut jbuf = vec![0u32; (w * h) as usize];
+            let weight = tables::unorm_from_unit(1.0 / m as f64, cfg.weight_bits);
+            for j in 0..m {
+                let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
+                let corners = [
+                    (0.0, 0.0),
+                    (w as f64, 0.0),
+                    (w as f64, h as f64),
+                    (0.0, h as f64),
+                ];
+                let hv = corners.map(|(x, y)| {
+                    let pt = ctx.cam.point_at(x, y, uj);
+                    let la = ctx.light_attrs(pt);
+                    HostVertex {
+                        x,
+                        y,
+                        attrs: [0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]],
+                    }
+                });
+                let mut c_int = Counters::default();
+                let frags = draw_quad(&u.interp, &hv, w, h, &mut c_int)?;
+                counters_add(ctr, "polygon_interpolator", c_int);
+                let zsub = ctx
+                    .cam
+                    .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
+                    .map_or(1.0, |v| v.2);
+                let zw = unit_depth_word(zsub, ZBUF_BITS);
+                let vis = ctx.depth_test(&frags, |_| zw, ctr);
+                let frags: Vec<Fragment> = frags
+                    .into_iter()
+                    .zip(vis)
+                    .filter(|(_, v)| *v)
+                    .map(|(f, _)| f)
+                    .collect();
+                let hil = ctx.h_il(&frags, 4, ctr);
+                let ins: Vec<AdditiveBlendIn> = frags
+                    .iter()
+                    .zip(&hil)
+                    .map(|(f, &v)| AdditiveBlendIn {
+                        src: [v, 0, 0, 0],
+                        dst: [jbuf[(f.y * w + f.x) as usize], 0, 0, 0],
+                        weight,
+                    })
+                    .collect();
+                let mut c = Counters::default();
+                let out = run_span(&u.j_blend, &mut (), &ins, &mut c);
+                counters_add(ctr, "additive_blend (J buffer)", c);
+                for (f, o) in frags.iter().zip(out) {
+                    jbuf[(f.y * w + f.x) as usize] = o[0];
+                }
+                let mut st = PassStats::new(
+                    PassKind::SubPlane,
+                    ctx.li,
+                    u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
+                );
+                st.triangles = 2;
+                st.walked = (w * h) as u64;
+                st.fragments = frags.len() as u64;
+                passes.push(st);
+            }
+            // Copy to texture: read the J buffer, write the texture (memory traffic).
+            let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
+            let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
+            st.mem_read_bytes = bytes;
+            st.mem_write_bytes = bytes;
+            passes.push(st);
+            match jtex.as_mut() {
+                Some(t) => t.load(&jbuf)?,
+                None => {
+                    jtex = Some(TextureSampler::new(
+                        TextureSamplerConfig {
+                            dims: 2,
+                            size: [w, h, 1],
+                            texel_bits: cfg.texel_bits,
+                            coord_int_bits: 16,
+                            filter: Filter::Nearest,
+                            address: [AddressMode::Clamp; 3],
+                            ..TextureSamplerConfig::geforce()
+                        },
+                        &jbuf,
+                    )?)
+                }
+            }
+        }
+
+        // The plane: a cols × rows mesh; vertices carry α, s, t, light coordinates and
+        // the vertex colour S·Δt/Δr (= S·t/r: Δt grows off-axis).
+        let vertex = |k: u32, l: u32| {
+            let (x, y) = (
+                k as f64 * w as f64 / cols as f64,
+                l as f64 * h as f64 / rows as f64,
+            );
+            let pt = ctx.cam.point_at(x, y, r);
+            let t = (pt - ctx.cam.eye).length();
+            let to_l = lpos - pt;
+            let s = to_l.length();
+            let view = (pt - ctx.cam.eye).normalized();
+            let cos_a = if s > 0.0 {
+                (to_l * (1.0 / s)).dot(view).clamp(-1.0, 1.0)
+            } else {
+                1.0
+            };
+            let alpha = cos_a.acos();
+            let la = ctx.light_attrs(pt);
+            HostVertex {
+                x,
+                y,
+                attrs: [
+                    alpha / std::f64::consts::PI * nf,
+                    s / tables.s_max * hw,
+                    t / tables.t_max * hh,
+                    s_plane * t / r,
+                    la[0],
+                    la[1],
+                    la[2],
+                    la[3],
+                ],
+            }
+        };
+        let cells: Vec<(u32, u32)> = (0..rows)
+            .flat_map(|l| (0..cols).map(move |k| (k, l)))
+            .collect();
+        let drawn: Vec<Result<(Vec<Fragment>, Counters), ConfigError>> = cells
+            .par_iter()
+            .map(|&(k, l)| {
+                let mut c = Counters::default();
+                let q = [
+                    vertex(k, l),
+                    vertex(k + 1, l),
+                    vertex(k + 1, l + 1),
+                    vertex(k, l + 1),
+                ];
+                draw_quad(&u.interp, &q, w, h, &mut c).map(|f| (f, c))
+            })
+            .collect();
+        let mut frags = Vec::new();
+        let mut c_int = Counters::default();
+        for d in drawn {
+            let (f, c) = d?;
+            frags.extend(f);
+            c_int += c;
+        }
+        counters_add(ctr, "polygon_interpolator", c_int);
+        let vis = ctx.depth_test(&frags, |_| plane_zword, ctr);
+        let frags: Vec<Fragment> = frags
+            .into_iter()
+            .zip(vis)
+            .filter(|(_, v)| *v)
+            .map(|(f, _)| f)
+            .collect();
+
+        // GL texture-stage order: stage 0 = F(α) × primary colour (the plane's scale
+        // S·t/r), stage 1 = × h(s, t), stage 2 = × J (H·I_l), then × the light colour.
+        let sh = ATTR_FRAC - cfg.coord_frac_bits;
+        let fin: Vec<TextureSamplerIn> = frags
+            .iter()
+            .map(|f| TextureSamplerIn {
+                coord: [(f.attrs[0] >> sh) as i32, 0, 0],
+            })
+            .collect();
+        let hin: Vec<TextureSamplerIn> = frags
+            .iter()
+            .map(|f| TextureSamplerIn {
+                coord: [(f.attrs[1] >> sh) as i32, (f.attrs[2] >> sh) as i32, 0],
+            })
+            .collect();
+        let mut c = Counters::default();
+        let fv = run_span(&u.f_tex, &mut (), &fin, &mut c);
+        counters_add(ctr, "texture_sampler (F)", c);
+        let mut c = Counters::default();
+        let hvv = run_span(&u.h_tex, &mut (), &hin, &mut c);
+        counters_add(ctr, "texture_sampler (h)", c);
+        let pairs: Vec<ModulateIn> = frags
+            .iter()
+            .zip(&fv)
+            .map(|(f, fa)| ModulateIn {
+                a: fa[0],
+                b: ((f.attrs[3] * tex_max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, tex_max)
+                    as u32,
+            })
+            .collect();
+        let fc = modulate_all(&u.modulate, &pairs, ctr);
+        let pairs: Vec<ModulateIn> = fc
+            .iter()
+            .zip(&hvv)
+            .map(|(&a, b)| ModulateIn { a, b: b[0] })
+            .collect();
+        let g = modulate_all(&u.modulate, &pairs, ctr);
+
+        // J: H·I_l on the plane itself (m = 1) or the sub-plane average (m > 1).
+        let jv: Vec<u32> = match &jtex {
+            Some(t) if m > 1 => {
+                let fr = t.coord_frac_bits();
+                let ins: Vec<TextureSamplerIn> = frags
+                    .iter()
+                    .map(|f| TextureSamplerIn {
+                        coord: [
+                            ((f.x as i32) << fr) + (1 << fr >> 1),
+                            ((f.y as i32) << fr) + (1 << fr >> 1),
+                            0,
+                        ],
+                    })
+                    .collect();
+                let mut c = Counters::default();
+                let out = run_span(t, &mut (), &ins, &mut c);
+                counters_add(ctr, "texture_sampler (J)", c);
+                out.iter().map(|v| v[0]).collect()
+            }
+            _ => ctx.h_il(&frags, 4, ctr),
+        };
+        let pairs: Vec<ModulateIn> = g
+            .iter()
+            .zip(&jv)
+            .map(|(&a, &b)| ModulateIn { a, b })
+            .collect();
+        let v = modulate_all(&u.modulate, &pairs, ctr);
+        let pairs: Vec<ModulateIn> = v
+            .iter()
+            .flat_map(|&x| color_codes.map(|c| ModulateIn { a: x, b: c }))
+            .collect();
+        let col = modulate_all(&u.modulate, &pairs, ctr);
+        let rgb: Vec<[u32; 3]> = col.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        blend_into(&u.blend, fb, &frags, &rgb, ctr);
+        let mut st = PassStats::new(
+            PassKind::Plane,
+            ctx.li,
+            2 + if m > 1 {
+                1
+            } else {
+                u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
+            },
+        );
+        st.triangles = 2 * (cols * rows) as u64;
+        st.walked = c_int.pixels_in;
+        st.fragments = frags.len() as u64;
+        passes.push(st);
+    }
+    Ok(())
+}
+
+/// A window depth in [0, 1] → a depth word.
+fn unit_depth_word(z: f64, bits: u32) -> u32 {
+    tables::unorm_from_unit(z, bits)
+}
+
+/// What the frame elaborated and what it left out.
+fn elaborate(
+    units: &Units,
+    lm: Option<&TextureSampler>,
+    p: &Prepared,
+    passes: &[PassStats],
+) -> Vec<Elaborated> {
+    let mut out = Vec::new();
+    let mut add =
+        |name: &str, s: Option<UnitSummary>, left_out: Option<String>, gates: f64, cycles: u64| {
+            out.push(Elaborated {
+                name: name.to_string(),
+                summary: s,
+                left_out,
+                gates_saved: gates,
+                cycles_saved: cycles,
+            })
+        };
+    let plane_frags: u64 = passes
+        .iter()
+        .filter(|s| s.kind == PassKind::Plane)
+        .map(|s| s.fragments)
+        .sum();
+    add(
+        "polygon_interpolator",
+        Some(UnitSummary::of(&units.interp)),
+        None,
+        0.0,
+        0,
+    );
+    add(
+        "texture_sampler (F)",
+        Some(UnitSummary::of(&units.f_tex)),
+        None,
+        0.0,
+        0,
+    );
+    add(
+        "texture_sampler (h)",
+        Some(UnitSummary::of(&units.h_tex)),
+        None,
+        0.0,
+        0,
+    );
+    add(
+        "modulate",
+        Some(UnitSummary::of(&units.modulate)),
+        None,
+        0.0,
+        0,
+    );
+    add(
+        "additive_blend",
+        Some(UnitSummary::of(&units.blend)),
+        None,
+        0.0,
+        0,
+    );
+    let would_shadow = ShadowCompareConfig {
+        width: p.scene.shafts.shadow_resolution,
+        height: p.scene.shafts.shadow_resolution,
+        depth_bits: p.scene.shafts.shadow_depth_bits,
+        bias: 1,
+        frag_frac_bits: 0,
+    }
+    .build()
+    .ok();
+    match &units.shadow {
+        Some(s) => add(
+            "shadow_compare (shadow map)",
+            Some(UnitSummary::of(s)),
+            None,
+            0.0,
+            0,
+        ),
+        None => add(
+            "shadow_compare (shadow map)",
+            None,
+            Some("no occluders in the scene".into()),
+            would_shadow.map_or(0.0, |s| s.cost().gates_nand2()),
+            plane_frags,
+        ),
+    }
+    match lm {
+        Some(t) => {
+            add(
+                "texture_sampler (light map)",
+                Some(UnitSummary::of(t)),
+                None,
+                0.0,
+                0,
+            );
+        }
+        None => add(
+            "texture_sampler (light map)",
+            None,
+            Some("light 0 has no light map".into()),
+            UnitSummary::of(&units.h_tex).gates_nand2,
+            plane_frags,
+        ),
+    }
+    if lm.is_some() || units.shadow.is_some() {
+        add(
+            "projective_texcoord",
+            Some(UnitSummary::of(&units.proj)),
+            None,
+            0.0,
+            0,
+        );
+    } else {
+        add(
+            "projective_texcoord",
+            None,
+            Some("no light map and no shadow map".into()),
+            units.proj.cost().gates_nand2(),
+            plane_frags,
+        );
+    }
+    match &units.zbuf {
+        Some(z) => add(
+            "shadow_compare (depth buffer)",
+            Some(UnitSummary::of(z)),
+            None,
+            0.0,
+            0,
+        ),
+        None => add(
+            "shadow_compare (depth buffer)",
+            None,
+            Some("no objects in the scene".into()),
+            0.0,
+            plane_frags,
+        ),
+    }
+    if p.scene.shafts.subplanes > 1 {
+        add(
+            "additive_blend (J buffer)",
+            Some(UnitSummary::of(&units.j_blend)),
+            None,
+            0.0,
+            0,
+        );
+    } else {
+        add(
+            "additive_blend (J buffer) + texture_sampler (J)",
+            None,
+            Some("m = 1: no sub-plane path".into()),
+            units.j_blend.cost().gates_nand2(),
+            0,
+        );
+    }
+    out
+}

@@ -1,0 +1,6 @@
+//! The light-shafts pipeline by sample planes (SPEC A).
+
+pub mod frame;
+pub mod prepare;
+pub mod tables;
+pub mod view;

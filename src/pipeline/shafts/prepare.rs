@@ -1,0 +1,111 @@
+//! Host preparation of a scene for the shafts pipeline: the depth range the sample
+//! planes must cover, and the ranges of the h table.
+
+use super::frame::{ObjectMesh, Prepared};
+use super::view::{vec3, CameraView};
+use crate::scene::format::{LightKind, Scene};
+use crate::scene::math::Vec3;
+
+/// Radiance 1.0 maps to this many 8-bit levels by default.
+pub const DEFAULT_EXPOSURE: f64 = 255.0;
+
+/// Is `p` inside light `l`'s cone (any point for a point light)?
+pub fn in_cone(l: &crate::scene::format::Light, p: Vec3) -> bool {
+    if l.kind == LightKind::Point {
+        return true;
+    }
+    let d = p - vec3(l.position);
+    let len = d.length();
+    if len <= 0.0 {
+        return true;
+    }
+    let axis = vec3(l.direction).normalized();
+    d.dot(axis) / len >= l.cutoff_deg.to_radians().cos()
+}
+
+/// Ranges found by sampling the view frustum (a 48 × 32 grid of rays, 256 depths
+/// each) for points inside some light's cone and in front of the first surface:
+/// the plane range [r0, r1] (view depths), s_near (see below), s_max and t_max.
+pub fn lit_ranges(
+    scene: &Scene,
+    first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>,
+) -> ((f64, f64), f64, f64, f64) {
+    let cam = CameraView::new(&scene.camera, scene.image);
+    let (gx, gy, gz) = (48usize, 32usize, 256usize);
+    let (mut r0, mut r1) = (f64::INFINITY, 0.0f64);
+    let (mut s_max, mut t_max) = (0.0f64, 0.0f64);
+    let mut s_all: Vec<f64> = Vec::new();
+    for iy in 0..=gy {
+        for ix in 0..=gx {
+            let (px, py) = (
+                ix as f64 / gx as f64 * cam.width as f64,
+                iy as f64 / gy as f64 * cam.height as f64,
+            );
+            let dir = cam.ray_dir(px, py);
+            let cos = dir.dot(cam.forward).max(1e-6);
+            let t_hit = first_hit(cam.eye, dir).unwrap_or(f64::INFINITY);
+            for iz in 0..gz {
+                let r = cam.near + (cam.far - cam.near) * (iz as f64 + 0.5) / gz as f64;
+                let t = r / cos;
+                if t > t_hit {
+                    break;
+                }
+                let p = cam.eye + dir * t;
+                for l in &scene.lights {
+                    if in_cone(l, p) {
+                        let s = (p - vec3(l.position)).length();
+                        r0 = r0.min(r);
+                        r1 = r1.max(r);
+                        s_all.push(s);
+                        s_max = s_max.max(s);
+                        t_max = t_max.max(t);
+                    }
+                }
+            }
+        }
+    }
+    if !r0.is_finite() {
+        // Nothing lit is visible: one harmless interval at the near plane.
+        return ((cam.near, cam.near * 2.0), 1.0, 1.0, cam.near * 2.0);
+    }
+    // h is stored relative to h(s_near): the 2nd percentile of the lit samples' light
+    // distances, so that only the few samples next to the cone's apex clamp (1/s²).
+    s_all.sort_by(f64::total_cmp);
+    let s_near = s_all[(s_all.len() as f64 * 0.02) as usize];
+    let step = (cam.far - cam.near) / gz as f64;
+    let r0 = (r0 - step).max(cam.near);
+    let r1 = (r1 + step).min(cam.far);
+    // The farthest corner of the last plane bounds t; s grows with it too.
+    ((r0, r1), s_near, s_max * 1.05 + step, t_max * 1.05 + step)
+}
+
+/// Assemble a prepared frame from host-side pieces.
+pub fn prepare(
+    scene: &Scene,
+    objects: Vec<ObjectMesh>,
+    light_maps: Vec<Option<Vec<u32>>>,
+    first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>,
+    exposure: f64,
+) -> Prepared {
+    let (plane_range, s_near, s_max, t_max) = lit_ranges(scene, first_hit);
+    let s_max = if scene.shafts.s_max > 0.0 {
+        scene.shafts.s_max
+    } else {
+        s_max
+    };
+    let t_max = if scene.shafts.t_max > 0.0 {
+        scene.shafts.t_max
+    } else {
+        t_max
+    };
+    Prepared {
+        scene: scene.clone(),
+        objects,
+        light_maps,
+        plane_range,
+        s_max,
+        t_max,
+        s_near,
+        exposure,
+    }
+}
