@@ -89,3 +89,19 @@ pub fn draw_triangle(
     walk(u, &s, width, height, ctr, &mut out);
     Ok(out)
 }
+
+/// Draw a parallelogram v0 v1 v2 (v3 = v0 + v2 − v1) in one walk, for primitives whose
+/// attributes are affine over the whole quad (full-screen sub-planes, area fills).
+pub fn draw_parallelogram(
+    u: &PolygonInterpolator,
+    v: &[HostVertex; 3],
+    width: u32,
+    height: u32,
+    ctr: &mut Counters,
+) -> Result<Vec<Fragment>, ConfigError> {
+    let q = quantise(u, v, ctr)?;
+    let mut out = Vec::new();
+    let s = u.setup_parallelogram(&q, ctr)?;
+    walk(u, &s, width, height, ctr, &mut out);
+    Ok(out)
+}

@@ -14,7 +14,7 @@
 
 use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
-use crate::pipeline::raster::{draw_quad, draw_triangle, Fragment, HostVertex};
+use crate::pipeline::raster::{draw_parallelogram, draw_quad, draw_triangle, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{LightKind, Scene};
 use crate::scene::math::Vec3;
@@ -773,12 +773,9 @@ fn planes_pass(
             let weight = tables::unorm_from_unit(1.0 / m as f64, cfg.weight_bits);
             for j in 0..m {
                 let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-                let corners = [
-                    (0.0, 0.0),
-                    (w as f64, 0.0),
-                    (w as f64, h as f64),
-                    (0.0, h as f64),
-                ];
+                // A full-screen rectangle: its light coordinates are affine (the
+                // sub-plane is parallel to the screen): one walk as a parallelogram.
+                let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
                 let hv = corners.map(|(x, y)| {
                     let pt = ctx.cam.point_at(x, y, uj);
                     let la = ctx.light_attrs(pt);
@@ -789,7 +786,7 @@ fn planes_pass(
                     }
                 });
                 let mut c_int = Counters::default();
-                let frags = draw_quad(&u.interp, &hv, w, h, &mut c_int)?;
+                let frags = draw_parallelogram(&u.interp, &hv, w, h, &mut c_int)?;
                 counters_add(ctr, "polygon_interpolator", c_int);
                 let zsub = ctx
                     .cam
@@ -824,7 +821,7 @@ fn planes_pass(
                     ctx.li,
                     u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
                 );
-                st.triangles = 2;
+                st.triangles = 1;
                 st.walked = (w * h) as u64;
                 st.fragments = frags.len() as u64;
                 passes.push(st);
