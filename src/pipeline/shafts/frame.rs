@@ -104,8 +104,53 @@ pub struct PassStats {
     /// Texture lookups per fragment (for the TMU model).
     pub textures_per_fragment: u32,
     pub triangles: u64,
-    pub mem_read_bytes: u64,
-    pub mem_write_bytes: u64,
+    /// Memory traffic the pass's units counted: texel fetches (no cache), framebuffer
+    /// read-modify-write, and other bytes (copy-to-texture).
+    pub texel_bytes: u64,
+    pub fb_bytes: u64,
+    pub other_bytes: u64,
+    /// Depth-buffer tests (a 32-bit depth/stencil read each in an external z-buffer).
+    pub depth_tests: u64,
+}
+
+/// Cumulative traffic over every unit's counters so far (to split it per pass).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Traffic {
+    texel_bytes: u64,
+    fb_bytes: u64,
+    depth_tests: u64,
+}
+
+fn traffic(ctr: &BTreeMap<String, Counters>) -> Traffic {
+    let mut t = Traffic::default();
+    for (k, c) in ctr {
+        if k.starts_with("texture_sampler") {
+            t.texel_bytes += c.mem_read_bytes;
+        } else if k.starts_with("additive_blend") {
+            t.fb_bytes += c.mem_read_bytes + c.mem_write_bytes;
+        } else if k == "shadow_compare (depth buffer)" {
+            t.depth_tests += c.pixels_in;
+        } else if k == "shadow_compare (shadow map)" {
+            // Shadow-map lookups are depth-texture fetches: one 32-bit texel each.
+            t.texel_bytes += 4 * c.pixels_in;
+        }
+    }
+    t
+}
+
+/// Push a finished pass, attributing the traffic counted since the previous one.
+fn push_pass(
+    passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
+    ctr: &BTreeMap<String, Counters>,
+    mut st: PassStats,
+) {
+    let now = traffic(ctr);
+    st.texel_bytes = now.texel_bytes - last.texel_bytes;
+    st.fb_bytes = now.fb_bytes - last.fb_bytes;
+    st.depth_tests = now.depth_tests - last.depth_tests;
+    *last = now;
+    passes.push(st);
 }
 
 /// The frame: framebuffer (fb_bits, RGB), counters per unit, passes, elaboration.
@@ -201,7 +246,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
         f_tex,
         h_tex,
         modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
-        blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 3, false, cfg.weight_bits)?,
+        blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 4, false, cfg.weight_bits)?,
         proj: ProjectiveTexcoordConfig::geforce().build()?,
         proj_depth: ProjectiveTexcoordConfig {
             out_int_bits: 2,
@@ -240,12 +285,14 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
         } else {
             None
         },
-        j_blend: AdditiveBlend::new(tex_bits, tex_bits, 1, true, cfg.weight_bits)?,
+        // The J buffer lives in the RGBA framebuffer, as on the real part (its traffic counts 4 channels).
+        j_blend: AdditiveBlend::new(tex_bits, tex_bits, 4, true, cfg.weight_bits)?,
     };
 
     let mut fb = Framebuffer::new(w, h, cfg.fb_bits);
     let mut ctr: BTreeMap<String, Counters> = BTreeMap::new();
     let mut passes = Vec::new();
+    let mut last = Traffic::default();
 
     // ---- camera depth pass (objects into the depth buffer).
     let mut zstate = units.zbuf.as_ref().map(|z| z.fresh_state());
@@ -273,11 +320,9 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
             }
         }
         stats.walked = c_int.pixels_in;
-        stats.mem_read_bytes = c_z.mem_read_bytes;
-        stats.mem_write_bytes = c_z.mem_write_bytes;
-        passes.push(stats);
         counters_add(&mut ctr, "polygon_interpolator", c_int);
-        counters_add(&mut ctr, "shadow_compare (depth buffer)", c_z);
+        counters_add(&mut ctr, "shadow_compare (depth buffer writes)", c_z);
+        push_pass(&mut passes, &mut last, &ctr, stats);
     }
 
     let mut elaboration = Vec::new();
@@ -338,9 +383,9 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
                 }
             }
             stats.walked = c_int.pixels_in;
-            passes.push(stats);
             counters_add(&mut ctr, "polygon_interpolator", c_int);
-            counters_add(&mut ctr, "shadow_compare (shadow map)", c_s);
+            counters_add(&mut ctr, "shadow_compare (shadow map writes)", c_s);
+            push_pass(&mut passes, &mut last, &ctr, stats);
         }
 
         let ctx = LightCtx {
@@ -357,12 +402,12 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
 
         // Object colour pass.
         if has_objects {
-            object_pass(&ctx, p, &mut fb, &mut ctr, &mut passes)?;
+            object_pass(&ctx, p, &mut fb, &mut ctr, &mut passes, &mut last)?;
         }
 
         // Sample planes.
         if light.intensity > 0.0 {
-            planes_pass(&ctx, p, &tables, &mut fb, &mut ctr, &mut passes)?;
+            planes_pass(&ctx, p, &tables, &mut fb, &mut ctr, &mut passes, &mut last)?;
         }
 
         if li == 0 {
@@ -388,8 +433,10 @@ impl PassStats {
             fragments: 0,
             textures_per_fragment,
             triangles: 0,
-            mem_read_bytes: 0,
-            mem_write_bytes: 0,
+            texel_bytes: 0,
+            fb_bytes: 0,
+            other_bytes: 0,
+            depth_tests: 0,
         }
     }
 }
@@ -659,6 +706,7 @@ fn object_pass(
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
     passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
 ) -> Result<(), ConfigError> {
     let u = ctx.units;
     let sc = &p.scene;
@@ -727,7 +775,7 @@ fn object_pass(
     let m = modulate_all(&u.modulate, &pairs, ctr);
     let rgb: Vec<[u32; 3]> = m.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
     blend_into(&u.blend, fb, &frags, &rgb, ctr);
-    passes.push(stats);
+    push_pass(passes, last, ctr, stats);
     Ok(())
 }
 
@@ -739,6 +787,7 @@ fn planes_pass(
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
     passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
 ) -> Result<(), ConfigError> {
     let u = ctx.units;
     let sc = &p.scene;
@@ -824,14 +873,13 @@ fn planes_pass(
                 st.triangles = 1;
                 st.walked = (w * h) as u64;
                 st.fragments = frags.len() as u64;
-                passes.push(st);
+                push_pass(passes, last, ctr, st);
             }
             // Copy to texture: read the J buffer, write the texture (memory traffic).
             let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
             let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
-            st.mem_read_bytes = bytes;
-            st.mem_write_bytes = bytes;
-            passes.push(st);
+            st.other_bytes = 2 * bytes;
+            push_pass(passes, last, ctr, st);
             match jtex.as_mut() {
                 Some(t) => t.load(&jbuf)?,
                 None => {
@@ -1001,7 +1049,7 @@ fn planes_pass(
         st.triangles = 2 * (cols * rows) as u64;
         st.walked = c_int.pixels_in;
         st.fragments = frags.len() as u64;
-        passes.push(st);
+        push_pass(passes, last, ctr, st);
     }
     Ok(())
 }

@@ -3,4 +3,5 @@
 pub mod frame;
 pub mod prepare;
 pub mod tables;
+pub mod throughput;
 pub mod view;

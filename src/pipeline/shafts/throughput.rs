@@ -1,0 +1,104 @@
+//! Throughput model: predicts a GeForce2-GTS-class frame time from the passes' unit
+//! counters (fragments, texture lookups, triangles, memory bytes). Every assumption
+//! is a named field here and is written down in docs/throughput.md.
+
+use super::frame::{PassKind, PassStats};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// The hardware being predicted.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GpuModel {
+    /// Core clock (GeForce2 GTS: 200 MHz).
+    pub clock_hz: f64,
+    /// Pixel pipelines (4).
+    pub pipes: u32,
+    /// Texture units per pipeline (2): a fragment needing T lookups takes ⌈T/2⌉ clocks.
+    pub tmus_per_pipe: u32,
+    /// Memory bandwidth, bytes/s (5.3 GB/s).
+    pub bytes_per_second: f64,
+    /// Fraction of texel fetch bytes the texture cache absorbs.
+    pub texture_cache_hit: f64,
+    /// Bytes per depth test in an external 32-bit depth/stencil buffer.
+    pub depth_bytes: u64,
+    /// Triangle set-up clocks per triangle.
+    pub setup_clocks_per_triangle: f64,
+    /// Fixed cost per pass (state change, pipeline flush), seconds.
+    pub pass_overhead_s: f64,
+}
+
+impl GpuModel {
+    /// GeForce2 GTS defaults (SPEC E and docs/throughput.md).
+    pub fn geforce2_gts() -> Self {
+        GpuModel {
+            clock_hz: 200e6,
+            pipes: 4,
+            tmus_per_pipe: 2,
+            bytes_per_second: 5.3e9,
+            texture_cache_hit: 0.75,
+            depth_bytes: 4,
+            setup_clocks_per_triangle: 8.0,
+            pass_overhead_s: 10e-6,
+        }
+    }
+}
+
+/// Predicted time, per pass kind and in total.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Prediction {
+    pub seconds: f64,
+    /// Seconds by pass kind.
+    pub by_kind: BTreeMap<String, f64>,
+    /// Passes bounded by memory rather than by the pipes.
+    pub memory_bound_passes: u64,
+    pub passes: u64,
+}
+
+/// Seconds of one pass: the slower of the pipes and the memory, plus set-up and overhead.
+pub fn pass_seconds(m: &GpuModel, p: &PassStats) -> (f64, bool) {
+    let clocks_per_frag = p.textures_per_fragment.div_ceil(m.tmus_per_pipe).max(1) as f64;
+    let fill = p.fragments as f64 * clocks_per_frag / m.pipes as f64 / m.clock_hz;
+    let bytes = p.texel_bytes as f64 * (1.0 - m.texture_cache_hit)
+        + p.fb_bytes as f64
+        + p.other_bytes as f64
+        + (p.depth_tests * m.depth_bytes) as f64;
+    let mem = bytes / m.bytes_per_second;
+    let setup = p.triangles as f64 * m.setup_clocks_per_triangle / m.clock_hz;
+    (fill.max(mem) + setup + m.pass_overhead_s, mem > fill)
+}
+
+/// Predict a frame.
+pub fn predict(m: &GpuModel, passes: &[PassStats]) -> Prediction {
+    let mut out = Prediction::default();
+    for p in passes {
+        let (s, mem_bound) = pass_seconds(m, p);
+        out.seconds += s;
+        *out.by_kind
+            .entry(kind_name(p.kind).to_string())
+            .or_default() += s;
+        out.memory_bound_passes += u64::from(mem_bound);
+        out.passes += 1;
+    }
+    out
+}
+
+pub fn kind_name(k: PassKind) -> &'static str {
+    match k {
+        PassKind::ObjectDepth => "object_depth",
+        PassKind::ShadowMap => "shadow_map",
+        PassKind::Objects => "objects",
+        PassKind::SubPlane => "sub_planes",
+        PassKind::CopyToTexture => "copy_to_texture",
+        PassKind::Plane => "planes",
+    }
+}
+
+/// Seconds of the shafts alone (planes, sub-planes, copies) and of the objects
+/// (depth, shadow maps, object passes), as the paper splits Fig. 7's time.
+pub fn split_objects_shafts(p: &Prediction) -> (f64, f64) {
+    let get = |k: &str| p.by_kind.get(k).copied().unwrap_or(0.0);
+    (
+        get("object_depth") + get("shadow_map") + get("objects"),
+        get("planes") + get("sub_planes") + get("copy_to_texture"),
+    )
+}
