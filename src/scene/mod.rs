@@ -1,4 +1,5 @@
 //! Scenes: host-side geometry and (later) the TOML scene format and elaboration.
 
-pub mod math;
 pub mod format;
+pub mod math;
+pub mod validate;
