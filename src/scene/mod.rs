@@ -2,4 +2,5 @@
 
 pub mod format;
 pub mod math;
+pub mod teapot;
 pub mod validate;
