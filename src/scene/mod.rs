@@ -1,4 +1,8 @@
-//! Scenes: host-side geometry and (later) the TOML scene format and elaboration.
+//! Scenes: the TOML scene format, its validation, built-in scenes, tessellation and
+//! host-side geometry.
 
+pub mod builtin;
 pub mod format;
 pub mod math;
+pub mod teapot;
+pub mod validate;

@@ -1,0 +1,605 @@
+//! Scene validation and loading: every field of `format.rs` is checked, and every
+//! error is a [`ConfigError`] naming the field by its TOML path
+//! (`lights[0].position[2]`, `objects[3].shape.radius`, `camera.fovy_deg`, …).
+//!
+//! Rules beyond the per-field ranges (all documented on the checks below):
+//! - every coordinate and length is finite and within ±[`WORLD_MAX`] (10⁶ world
+//!   units), so that downstream products such as s², far·near or |P − eye|² can neither
+//!   overflow nor lose all precision;
+//! - a vector that must be "non-zero" has length ≥ [`MIN_LENGTH`] (10⁻⁹): shorter
+//!   vectors cannot be normalised reliably in f64 (their squared length underflows);
+//! - two directions are "parallel" when the sine of the angle between them is below
+//!   [`PARALLEL_SIN`] (10⁻⁶);
+//! - where a rule relates two fields, the error names the second one: `camera.far`
+//!   (must exceed `camera.near`), `camera.look_at` (must differ from `camera.eye`),
+//!   `camera.up` (must not be parallel to the view), `objects[i].shape.tangent` (must
+//!   not be parallel to the normal), `objects[i].shape.max[k]` (must exceed `min[k]`).
+//!
+//! Stiff but valid: ρ, κ and K each go up to 10⁶, so ρκ = 10³ (DESIGN §4) and beyond
+//! are accepted; exp(−ρκ(s + t)) then underflows to 0, never NaN.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use rtl_model::error::{check_finite, check_range, ConfigError};
+use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Unexpected, Visitor};
+use toml::Spanned;
+
+use super::format::{Camera, Light, LightKind, LightMap, Object, Scene, ShaftsConfig, Shape};
+use super::math::{v3, Vec3};
+
+/// Largest magnitude of any coordinate or length, world units.
+pub const WORLD_MAX: f64 = 1e6;
+/// Shortest vector accepted where a direction is needed.
+pub const MIN_LENGTH: f64 = 1e-9;
+/// Below this sine of their angle, two directions count as parallel.
+pub const PARALLEL_SIN: f64 = 1e-6;
+/// Largest light intensity.
+pub const INTENSITY_MAX: f64 = 1e9;
+/// Largest light colour component.
+pub const LIGHT_COLOR_MAX: f64 = 1e3;
+/// Largest ρ, κ, K.
+pub const MEDIUM_MAX: f64 = 1e6;
+/// Largest teapot scale (its data spans ~6.4 units, so the result stays within
+/// `WORLD_MAX`).
+pub const TEAPOT_SCALE_MAX: f64 = 1e5;
+
+impl Scene {
+    /// Check every field; the first error found names its field.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_range("image.width", self.image.width.into(), 1, 8192)?;
+        check_range("image.height", self.image.height.into(), 1, 8192)?;
+        validate_camera(&self.camera)?;
+        closed("medium.rho", self.medium.rho, 0.0, MEDIUM_MAX)?;
+        closed("medium.kappa", self.medium.kappa, 0.0, MEDIUM_MAX)?;
+        closed("medium.k", self.medium.k, 0.0, MEDIUM_MAX)?;
+        for (i, l) in self.lights.iter().enumerate() {
+            validate_light(l).map_err(|e| e.within(&format!("lights[{i}]")))?;
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            validate_object(o).map_err(|e| e.within(&format!("objects[{i}]")))?;
+        }
+        validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))
+    }
+
+    /// Parse a scene from TOML text and validate it. Parse errors name the field
+    /// where toml reports them (`camera.fovy_deg`, `lights[1].colour`, `scene` when
+    /// no field can be told) and always carry toml's own message and the position.
+    ///
+    /// Relative light-map image paths are taken relative to the working directory.
+    pub fn from_toml_str(s: &str) -> Result<Scene, ConfigError> {
+        let scene = parse_toml(s, "")?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Read, parse and validate a scene file. A file that cannot be read is an error
+    /// naming the path. Relative light-map image paths are resolved against the scene
+    /// file's directory (the returned scene holds the resolved paths).
+    pub fn from_file(path: &Path) -> Result<Scene, ConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            ConfigError::invalid(
+                &path.display().to_string(),
+                &format!("cannot read scene file: {e}"),
+            )
+        })?;
+        let mut scene = parse_toml(&text, &format!("{}: ", path.display()))?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        for l in &mut scene.lights {
+            if let Some(LightMap::Image { path: p }) = &mut l.light_map {
+                let pb = PathBuf::from(p.as_str());
+                if !p.trim().is_empty() && pb.is_relative() {
+                    *p = dir.join(pb).to_string_lossy().into_owned();
+                }
+            }
+        }
+        scene.validate()?;
+        Ok(scene)
+    }
+}
+
+fn validate_camera(c: &Camera) -> Result<(), ConfigError> {
+    let eye = point("camera.eye", &c.eye)?;
+    let at = point("camera.look_at", &c.look_at)?;
+    let up = direction("camera.up", &c.up)?;
+    let view = at - eye;
+    if view.length() < MIN_LENGTH {
+        return Err(ConfigError::invalid(
+            "camera.look_at",
+            "coincides with camera.eye: the view direction is undefined",
+        ));
+    }
+    if parallel(view, up) {
+        return Err(ConfigError::invalid(
+            "camera.up",
+            "is parallel to the view direction (look_at − eye): the image's roll is undefined",
+        ));
+    }
+    interval("camera.fovy_deg", c.fovy_deg, 0.0, false, 180.0, false)?;
+    interval("camera.near", c.near, 0.0, false, WORLD_MAX, true)?;
+    check_finite("camera.far", c.far)?;
+    if c.far <= c.near {
+        return Err(ConfigError::invalid(
+            "camera.far",
+            &format!("{} must exceed camera.near = {}", c.far, c.near),
+        ));
+    }
+    interval("camera.far", c.far, c.near, false, WORLD_MAX, true)
+}
+
+/// Field paths relative to the light (`position[0]`, `light_map.radius`).
+fn validate_light(l: &Light) -> Result<(), ConfigError> {
+    point("position", &l.position)?;
+    match l.kind {
+        LightKind::Spot => {
+            direction("direction", &l.direction)?;
+            interval("cutoff_deg", l.cutoff_deg, 0.0, false, 90.0, false)?;
+        }
+        LightKind::Point => {
+            // Direction and cutoff are unused by a point light, but still numbers.
+            point("direction", &l.direction)?;
+            check_finite("cutoff_deg", l.cutoff_deg)?;
+        }
+    }
+    closed("intensity", l.intensity, 0.0, INTENSITY_MAX)?;
+    for (k, &c) in l.color.iter().enumerate() {
+        closed(&format!("color[{k}]"), c, 0.0, LIGHT_COLOR_MAX)?;
+    }
+    if let Some(map) = &l.light_map {
+        if l.kind == LightKind::Point {
+            return Err(ConfigError::invalid(
+                "light_map",
+                "a light map is projected over a spot's cone; a point light has none \
+                 (use kind = \"spot\" or remove the light map)",
+            ));
+        }
+        validate_light_map(map).map_err(|e| e.within("light_map"))?;
+    }
+    Ok(())
+}
+
+fn validate_light_map(m: &LightMap) -> Result<(), ConfigError> {
+    match m {
+        LightMap::Smooth { exponent } => closed("exponent", *exponent, 0.0, 64.0),
+        LightMap::PolkaDots { dots, radius } => {
+            check_range("dots", (*dots).into(), 1, 64)?;
+            interval("radius", *radius, 0.0, false, 0.5, true)
+        }
+        LightMap::Image { path } => {
+            if path.trim().is_empty() {
+                return Err(ConfigError::invalid("path", "the image path is empty"));
+            }
+            if !Path::new(path).is_file() {
+                return Err(ConfigError::invalid(
+                    "path",
+                    &format!("image file `{path}` not found"),
+                ));
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Field paths relative to the object (`shape.radius`, `color[1]`).
+fn validate_object(o: &Object) -> Result<(), ConfigError> {
+    validate_shape(&o.shape)?;
+    for (k, &c) in o.color.iter().enumerate() {
+        closed(&format!("color[{k}]"), c, 0.0, 1.0)?;
+    }
+    Ok(())
+}
+
+/// Check a shape's fields; errors name `shape.<field>` (prefix the object with
+/// [`ConfigError::within`]). Used by the tessellators too, so that they never see an
+/// invalid shape.
+pub fn validate_shape(s: &Shape) -> Result<(), ConfigError> {
+    match s {
+        Shape::Sphere { center, radius } => {
+            point("shape.center", center)?;
+            interval("shape.radius", *radius, 0.0, false, WORLD_MAX, true)
+        }
+        Shape::Plane {
+            center,
+            normal,
+            tangent,
+            half_size,
+        } => {
+            point("shape.center", center)?;
+            let n = direction("shape.normal", normal)?;
+            let t = direction("shape.tangent", tangent)?;
+            if parallel(n, t) {
+                return Err(ConfigError::invalid(
+                    "shape.tangent",
+                    "is parallel to shape.normal: the rectangle's in-plane axes are undefined",
+                ));
+            }
+            for (k, &h) in half_size.iter().enumerate() {
+                interval(
+                    &format!("shape.half_size[{k}]"),
+                    h,
+                    0.0,
+                    false,
+                    WORLD_MAX,
+                    true,
+                )?;
+            }
+            Ok(())
+        }
+        Shape::Box { min, max } => {
+            point("shape.min", min)?;
+            point("shape.max", max)?;
+            for k in 0..3 {
+                if max[k] <= min[k] {
+                    return Err(ConfigError::invalid(
+                        &format!("shape.max[{k}]"),
+                        &format!("{} must exceed shape.min[{k}] = {}", max[k], min[k]),
+                    ));
+                }
+            }
+            Ok(())
+        }
+        Shape::Teapot {
+            position,
+            scale,
+            rotate_y_deg,
+            subdivisions,
+        } => {
+            point("shape.position", position)?;
+            interval("shape.scale", *scale, 0.0, false, TEAPOT_SCALE_MAX, true)?;
+            check_finite("shape.rotate_y_deg", *rotate_y_deg)?;
+            check_range("shape.subdivisions", (*subdivisions).into(), 1, 64)
+        }
+    }
+}
+
+/// Field paths relative to `shafts`.
+fn validate_shafts(s: &ShaftsConfig) -> Result<(), ConfigError> {
+    check_range("planes", s.planes.into(), 1, 10_000)?;
+    check_range("subplanes", s.subplanes.into(), 1, 256)?;
+    for (k, &m) in s.mesh.iter().enumerate() {
+        check_range(&format!("mesh[{k}]"), m.into(), 1, 256)?;
+    }
+    check_range("f_texels", s.f_texels.into(), 2, 4096)?;
+    for (k, &h) in s.h_texels.iter().enumerate() {
+        check_range(&format!("h_texels[{k}]"), h.into(), 2, 4096)?;
+    }
+    closed("s_max", s.s_max, 0.0, WORLD_MAX)?;
+    closed("t_max", s.t_max, 0.0, WORLD_MAX)?;
+    check_range("texel_bits", s.texel_bits.into(), 1, 16)?;
+    check_range("fb_bits", s.fb_bits.into(), 1, 16)?;
+    check_range("weight_bits", s.weight_bits.into(), 1, 16)?;
+    check_range("coord_frac_bits", s.coord_frac_bits.into(), 0, 16)?;
+    check_range("shadow_resolution", s.shadow_resolution.into(), 1, 4096)?;
+    check_range("shadow_depth_bits", s.shadow_depth_bits.into(), 1, 32)
+}
+
+// ---------------------------------------------------------------------------------
+// Checks.
+
+/// Finite and in `lo ..= hi` (an `OutOfRange` error otherwise).
+fn closed(field: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
+    check_finite(field, x)?;
+    if x < lo || x > hi {
+        return Err(ConfigError::out_of_range(field, x, lo, hi));
+    }
+    Ok(())
+}
+
+/// Finite and in an interval with each end open or closed. Both ends closed gives
+/// an `OutOfRange` error; otherwise `Invalid` with the interval written out.
+fn interval(
+    field: &str,
+    x: f64,
+    lo: f64,
+    lo_closed: bool,
+    hi: f64,
+    hi_closed: bool,
+) -> Result<(), ConfigError> {
+    if lo_closed && hi_closed {
+        return closed(field, x, lo, hi);
+    }
+    check_finite(field, x)?;
+    let lo_ok = if lo_closed { x >= lo } else { x > lo };
+    let hi_ok = if hi_closed { x <= hi } else { x < hi };
+    if lo_ok && hi_ok {
+        return Ok(());
+    }
+    let name = field.rsplit('.').next().unwrap_or(field);
+    Err(ConfigError::invalid(
+        field,
+        &format!(
+            "{x} is out of range (allowed {lo} {} {name} {} {hi})",
+            if lo_closed { "≤" } else { "<" },
+            if hi_closed { "≤" } else { "<" },
+        ),
+    ))
+}
+
+/// A position: each component finite and within ±`WORLD_MAX` (errors name
+/// `field[k]`).
+fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
+    for (k, &x) in p.iter().enumerate() {
+        closed(&format!("{field}[{k}]"), x, -WORLD_MAX, WORLD_MAX)?;
+    }
+    Ok(v3(p[0], p[1], p[2]))
+}
+
+/// A direction: a valid point with length ≥ `MIN_LENGTH` (a zero vector names
+/// `field`).
+fn direction(field: &str, d: &[f64; 3]) -> Result<Vec3, ConfigError> {
+    let v = point(field, d)?;
+    if v.length() < MIN_LENGTH {
+        return Err(ConfigError::invalid(
+            field,
+            &format!("is (almost) the zero vector (length < {MIN_LENGTH}); a direction is needed"),
+        ));
+    }
+    Ok(v)
+}
+
+/// Both non-zero; true when the sine of their angle is below `PARALLEL_SIN`.
+fn parallel(a: Vec3, b: Vec3) -> bool {
+    a.normalized().cross(b.normalized()).length() < PARALLEL_SIN
+}
+
+// ---------------------------------------------------------------------------------
+// TOML parse errors → field paths.
+
+/// Parse without validating; errors are mapped to field paths. `what` prefixes the
+/// reason (e.g. the file name).
+fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
+    toml::from_str::<Scene>(s).map_err(|e| {
+        let msg = e
+            .message()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect::<Vec<_>>()
+            .join("; ");
+        let located = e.span().map(|sp| match locate_field(s, sp.clone(), &msg) {
+            Some(found) => found,
+            None => (text_field(s, sp.start), sp.start),
+        });
+        let field = located
+            .as_ref()
+            .and_then(|(f, _)| f.clone())
+            .or_else(|| message_field(&msg))
+            .unwrap_or_else(|| "scene".to_string());
+        let at = match located {
+            Some((_, pos)) => {
+                let (line, col) = line_col(s, pos);
+                format!(" (TOML line {line}, column {col})")
+            }
+            None => String::new(),
+        };
+        ConfigError::invalid(&field, &format!("{what}{msg}{at}"))
+    })
+}
+
+/// 1-based line and column (in characters) of a byte offset.
+fn line_col(s: &str, pos: usize) -> (usize, usize) {
+    let pos = pos.min(s.len());
+    let pos = (0..=pos)
+        .rev()
+        .find(|&p| s.is_char_boundary(p))
+        .unwrap_or(0);
+    let before = &s[..pos];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+    (line, col)
+}
+
+/// The name in a serde message "missing field `x`" / "unknown field `x`", for a
+/// top-level error without a span.
+fn message_field(msg: &str) -> Option<String> {
+    backticked_after(msg, "missing field ").or_else(|| backticked_after(msg, "unknown field "))
+}
+
+fn backticked_after(msg: &str, prefix: &str) -> Option<String> {
+    let rest = msg.strip_prefix(prefix)?.strip_prefix('`')?;
+    let end = rest.find('`')?;
+    Some(rest[..end].to_string())
+}
+
+/// A TOML document as a tree of spans, for mapping an error's byte span to a path.
+enum Node {
+    Table(Vec<(Spanned<String>, Spanned<Node>)>),
+    Array(Vec<Spanned<Node>>),
+    /// A scalar, described as serde's `Unexpected` describes it in an error message
+    /// (e.g. string "x", or integer 3 in backticks).
+    Leaf(String),
+}
+
+impl<'de> Deserialize<'de> for Node {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(NodeVisitor)
+    }
+}
+
+struct NodeVisitor;
+
+impl<'de> Visitor<'de> for NodeVisitor {
+    type Value = Node;
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("any TOML value")
+    }
+    fn visit_bool<E: de::Error>(self, v: bool) -> Result<Node, E> {
+        Ok(Node::Leaf(Unexpected::Bool(v).to_string()))
+    }
+    fn visit_i64<E: de::Error>(self, v: i64) -> Result<Node, E> {
+        Ok(Node::Leaf(Unexpected::Signed(v).to_string()))
+    }
+    fn visit_u64<E: de::Error>(self, v: u64) -> Result<Node, E> {
+        Ok(Node::Leaf(Unexpected::Unsigned(v).to_string()))
+    }
+    fn visit_f64<E: de::Error>(self, v: f64) -> Result<Node, E> {
+        Ok(Node::Leaf(Unexpected::Float(v).to_string()))
+    }
+    fn visit_str<E: de::Error>(self, v: &str) -> Result<Node, E> {
+        Ok(Node::Leaf(Unexpected::Str(v).to_string()))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut m: A) -> Result<Node, A::Error> {
+        let mut entries = Vec::new();
+        while let Some(e) = m.next_entry::<Spanned<String>, Spanned<Node>>()? {
+            entries.push(e);
+        }
+        Ok(Node::Table(entries))
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut s: A) -> Result<Node, A::Error> {
+        let mut items = Vec::new();
+        while let Some(e) = s.next_element::<Spanned<Node>>()? {
+            items.push(e);
+        }
+        Ok(Node::Array(items))
+    }
+}
+
+/// One place in the tree: its path, its span, and the node (`None` for a key).
+struct Site<'a> {
+    path: String,
+    span: Range<usize>,
+    node: Option<&'a Node>,
+}
+
+fn join(path: &str, key: &str) -> String {
+    if path.is_empty() {
+        key.to_string()
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+fn collect<'a>(path: &str, node: &'a Spanned<Node>, out: &mut Vec<Site<'a>>) {
+    out.push(Site {
+        path: path.to_string(),
+        span: node.span(),
+        node: Some(node.get_ref()),
+    });
+    match node.get_ref() {
+        Node::Table(entries) => {
+            for (k, v) in entries {
+                let p = join(path, k.get_ref());
+                out.push(Site {
+                    path: p.clone(),
+                    span: k.span(),
+                    node: None,
+                });
+                collect(&p, v, out);
+            }
+        }
+        Node::Array(items) => {
+            for (i, v) in items.iter().enumerate() {
+                collect(&format!("{path}[{i}]"), v, out);
+            }
+        }
+        Node::Leaf(_) => {}
+    }
+}
+
+/// The field an error at byte span `sp` is about: the smallest site enclosing the
+/// span, refined with the message when that site is a table (missing / unknown
+/// field, unknown `type` variant, a wrong value found by its description inside an
+/// internally tagged table, whose errors toml can only place on the whole table).
+/// Returns the path (when found) and the byte offset to report (the refined field's
+/// own position where it was found by its value).
+fn locate_field(text: &str, sp: Range<usize>, msg: &str) -> Option<(Option<String>, usize)> {
+    let root: Spanned<Node> = toml::from_str(text).ok()?;
+    let mut sites = Vec::new();
+    collect("", &root, &mut sites);
+    let site = sites
+        .iter()
+        .filter(|s| s.span.start <= sp.start && sp.end <= s.span.end)
+        .min_by_key(|s| (s.span.end - s.span.start, usize::MAX - s.path.len()))?;
+    let mut path = site.path.clone();
+    let mut pos = sp.start;
+    if let Some(node @ (Node::Table(_) | Node::Array(_))) = site.node {
+        if let Some(f) = message_field(msg) {
+            path = join(&path, &f);
+        } else if msg.starts_with("unknown variant") {
+            if let Node::Table(entries) = node {
+                if entries.iter().any(|(k, _)| k.get_ref() == "type") {
+                    path = join(&path, "type");
+                }
+            }
+        } else if let Some(what) = msg
+            .strip_prefix("invalid type: ")
+            .or_else(|| msg.strip_prefix("invalid value: "))
+            .and_then(|r| r.split(", expected").next())
+        {
+            let under = |p: &str| {
+                site.path.is_empty()
+                    || p.strip_prefix(site.path.as_str())
+                        .is_some_and(|r| r.starts_with('.') || r.starts_with('['))
+            };
+            let matches: Vec<&Site> = sites
+                .iter()
+                .filter(|s| under(&s.path) && matches!(s.node, Some(Node::Leaf(d)) if d == what))
+                .collect();
+            if matches.len() == 1 {
+                path = matches[0].path.clone();
+                pos = matches[0].span.start;
+            }
+        }
+    }
+    if path != site.path && pos == sp.start {
+        if let Some(key) = sites.iter().find(|s| s.path == path && s.node.is_none()) {
+            pos = key.span.start;
+        }
+    }
+    Some(((!path.is_empty()).then_some(path), pos))
+}
+
+/// For a syntax error (no tree to search): the key assigned on the error's line, or
+/// on the nearest line above it, inside the table of the last header before it
+/// (`[[lights]]` headers counted for the index). A heuristic; `None` at top level
+/// without a key.
+fn text_field(text: &str, pos: usize) -> Option<String> {
+    let pos = (0..=pos.min(text.len()))
+        .rev()
+        .find(|&p| text.is_char_boundary(p))
+        .unwrap_or(0);
+    let line_end = text[pos..].find('\n').map_or(text.len(), |e| pos + e);
+    let mut arrays: Vec<(String, usize)> = Vec::new();
+    let mut table = String::new();
+    let mut key: Option<String> = None;
+    let is_key = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-' || c == '.';
+    for line in text[..line_end].lines() {
+        let l = line.trim();
+        if let Some(h) = l.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
+            let h = h.trim().to_string();
+            match arrays.iter_mut().find(|(n, _)| *n == h) {
+                Some((_, c)) => *c += 1,
+                None => arrays.push((h.clone(), 1)),
+            }
+            table = indexed(&h, &arrays);
+            key = None;
+        } else if let Some(h) = l.strip_prefix('[').and_then(|r| r.split(']').next()) {
+            table = indexed(h.trim(), &arrays);
+            key = None;
+        } else if let Some((k, _)) = l.split_once('=') {
+            let k = k.trim();
+            if !k.is_empty() && k.chars().all(is_key) {
+                key = Some(k.to_string());
+            }
+        }
+    }
+    let path = match key {
+        Some(k) => join(&table, &k),
+        None => table,
+    };
+    (!path.is_empty()).then_some(path)
+}
+
+/// A dotted table name with the current index of each array-of-tables prefix.
+fn indexed(name: &str, arrays: &[(String, usize)]) -> String {
+    let mut out = String::new();
+    let mut prefix = String::new();
+    for part in name.split('.') {
+        prefix = join(&prefix, part.trim());
+        out = join(&out, part.trim());
+        if let Some((_, c)) = arrays.iter().find(|(n, _)| *n == prefix) {
+            out = format!("{out}[{}]", c - 1);
+        }
+    }
+    out
+}
