@@ -3,7 +3,8 @@
 //! shadows, stiff and extreme inputs, light maps, geometry and determinism.
 //!
 //! Timing of the full-size reference (not a test; prints only):
-//! `cargo test --release --test shafts_reference -- --ignored --nocapture fig6_like_timing`
+//! `cargo test --test shafts_reference -- --ignored --nocapture fig6_like_timing`
+//! (the test profile is opt-level 2).
 
 use std::f64::consts::PI;
 
@@ -961,9 +962,10 @@ fn fig6_like_timing() {
     let dq = t1.elapsed().as_secs_f64();
     println!(
         "fig6-like 720x480, 180 samples: raymarch {dt:.2} s on {} threads; \
-         quadrature of 10 pixels {dq:.3} s ({evals} evaluations); \
+         quadrature of 10 pixels {:.2} ms ({evals} evaluations); \
          raymarch vs quadrature mean |Δ| {:.4} levels",
         rayon::current_num_threads(),
+        dq * 1e3,
         err / px.len() as f64
     );
 }
