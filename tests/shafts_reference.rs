@@ -16,7 +16,9 @@ use glare_pipeline::reference::shafts_model::{h, h_clamped, phase_f, S_MIN};
 use glare_pipeline::scene::format::{
     Camera, ImageSize, Light, LightKind, LightMap, Medium, Object, Scene, ShaftsConfig, Shape,
 };
-use glare_pipeline::scene::geometry::{intersect, Mesh, Ray, SceneGeometry, TriangleSoup};
+use glare_pipeline::scene::geometry::{
+    intersect, intersect_triangle, Mesh, Ray, SceneGeometry, TriangleSoup,
+};
 use glare_pipeline::scene::lightmap::{
     light_radiance, map_r2, rasterize_lightmap, spot_map_coords, LightMapSampler,
 };
@@ -759,42 +761,61 @@ fn box_triangles(lo: Vec3, hi: Vec3) -> Vec<[Vec3; 3]> {
 fn bvh_agrees_with_brute_force_and_box_mesh_with_slab_test() {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut rnd = |r: f64| rng.random_range(-r..r);
+    // Every third triangle is flat in y (a zero-thickness bounding box); every third
+    // has its edge v0–v1 in a plane z = const, and every third ray runs in such a
+    // plane (dir.z = 0) toward a point of that edge: the slab test's 0 · ∞ cases.
     let tris: Vec<[Vec3; 3]> = (0..300)
-        .map(|_| {
+        .map(|i| {
             let c = v3(rnd(5.0), rnd(5.0), rnd(5.0));
-            [
+            let mut t = [
                 c + v3(rnd(0.7), rnd(0.7), rnd(0.7)),
                 c + v3(rnd(0.7), rnd(0.7), rnd(0.7)),
                 c + v3(rnd(0.7), rnd(0.7), rnd(0.7)),
-            ]
+            ];
+            match i % 3 {
+                0 => t.iter_mut().for_each(|p| p.y = c.y),
+                1 => t[1].z = t[0].z,
+                _ => {}
+            }
+            t
         })
         .collect();
     let mesh = Mesh::new(&tris);
-    let singles: Vec<Mesh> = tris.iter().map(|t| Mesh::new(&[*t])).collect();
-    let mut hits = 0;
-    for _ in 0..2000 {
-        let ray = Ray {
+    let brute_force = |ray: &Ray| {
+        tris.iter()
+            .filter_map(|t| intersect_triangle(t, ray, 0.0, 100.0))
+            .map(|h| h.0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    let (mut hits, mut edge_hits) = (0, 0);
+    for i in 0..3000 {
+        let mut ray = Ray {
             origin: v3(rnd(8.0), rnd(8.0), rnd(8.0)),
             dir: v3(rnd(1.0), rnd(1.0), rnd(1.0)),
         };
-        let brute = singles
-            .iter()
-            .filter_map(|m| m.intersect(&ray, 0.0, 100.0))
-            .map(|h| h.t)
-            .fold(f64::INFINITY, f64::min);
+        if i % 3 == 0 {
+            let t = tris[1 + 3 * (i / 3 % 100)];
+            let target = t[0] * 0.5 + t[1] * 0.5;
+            ray.origin.z = target.z;
+            ray.dir = target - ray.origin;
+            ray.dir.z = 0.0;
+        }
+        let brute = brute_force(&ray);
         match mesh.intersect(&ray, 0.0, 100.0) {
             Some(h) => {
                 hits += 1;
+                edge_hits += (i % 3 == 0) as usize;
                 assert_eq!(h.t, brute);
                 assert!(h.normal.dot(ray.dir) <= 0.0);
                 assert!(mesh.any_hit(&ray, 0.0, 100.0));
             }
             None => {
-                assert_eq!(brute, f64::INFINITY);
+                assert_eq!(brute, f64::INFINITY, "ray {i} {ray:?}");
                 assert!(!mesh.any_hit(&ray, 0.0, 100.0));
             }
         }
     }
+    assert!(edge_hits > 50, "{edge_hits}");
     assert!(hits > 100, "{hits}");
     // A teapot slot filled with a box's triangles hits where the Box shape does.
     let (lo, hi) = (v3(-1.0, -0.5, -2.0), v3(1.0, 0.5, 0.3));
@@ -968,4 +989,50 @@ fn fig6_like_timing() {
         dq * 1e3,
         err / px.len() as f64
     );
+}
+
+#[test]
+fn degenerate_camera_and_vertex_normals() {
+    // Eye at look_at: a zero direction, T = 0, every pixel black, no NaN.
+    let mut s = fig6_like((8, 6), false);
+    s.camera.look_at = s.camera.eye;
+    let g = geom(&s);
+    assert!(raymarch_image(&s, &g, 16).iter().all(|p| *p == [0.0; 3]));
+    let q = quadrature_pixel(&s, &g, 3, 3, &QuadTol::default());
+    assert_eq!((q.value, q.t_end), ([0.0; 3], 0.0));
+    // A very wide field of view stays finite.
+    let mut w = fig6_like((8, 6), false);
+    w.camera.fovy_deg = 179.999;
+    assert!(all_finite(&raymarch_image(&w, &geom(&w), 16)));
+
+    // Vertex normals are interpolated barycentrically and face the ray.
+    let tri = [v3(0.0, 0.0, 0.0), v3(1.0, 0.0, 0.0), v3(0.0, 0.0, 1.0)];
+    let n = [
+        v3(0.0, 1.0, 0.0),
+        v3(1.0, 1.0, 0.0).normalized(),
+        v3(0.0, 1.0, 0.0),
+    ];
+    let mesh = Mesh::with_normals(&[tri], &[n]);
+    let down = Ray {
+        origin: v3(0.5, 1.0, 0.0),
+        dir: v3(0.0, -1.0, 0.0),
+    };
+    // On the edge v0–v1 (a flat box, origin on its slab boundary): still a hit.
+    let h = mesh.intersect(&down, 0.0, 10.0).unwrap();
+    let expect = (n[0] * 0.5 + n[1] * 0.5).normalized();
+    assert!((h.normal - expect).length() < 1e-12, "{:?}", h.normal);
+    // Inside: barycentrics (0.4, 0.4, 0.2).
+    let inner = Ray {
+        origin: v3(0.4, 1.0, 0.2),
+        dir: v3(0.0, -1.0, 0.0),
+    };
+    let h = mesh.intersect(&inner, 0.0, 10.0).unwrap();
+    let expect_in = (n[0] * 0.4 + n[1] * 0.4 + n[2] * 0.2).normalized();
+    assert!((h.normal - expect_in).length() < 1e-12, "{:?}", h.normal);
+    let up = Ray {
+        origin: v3(0.5, -1.0, 0.0),
+        dir: v3(0.0, 1.0, 0.0),
+    };
+    let h = mesh.intersect(&up, 0.0, 10.0).unwrap();
+    assert!((h.normal + expect).length() < 1e-12, "{:?}", h.normal);
 }

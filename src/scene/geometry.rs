@@ -193,7 +193,18 @@ pub fn intersect_box(min: Vec3, max: Vec3, ray: &Ray, t_min: f64, t_max: f64) ->
     None
 }
 
-/// Möller–Trumbore; returns (t, barycentric b1, b2). Edges count as inside.
+/// One triangle by Möller–Trumbore (no BVH): (t, barycentric b1, b2) of the hit with
+/// t_min < t < t_max; edges count as inside; degenerate triangles and rays in the
+/// triangle's plane miss.
+pub fn intersect_triangle(
+    p: &[Vec3; 3],
+    ray: &Ray,
+    t_min: f64,
+    t_max: f64,
+) -> Option<(f64, f64, f64)> {
+    intersect_tri(p, ray, t_min, t_max)
+}
+
 fn intersect_tri(p: &[Vec3; 3], ray: &Ray, t_min: f64, t_max: f64) -> Option<(f64, f64, f64)> {
     let e1 = p[1] - p[0];
     let e2 = p[2] - p[0];
@@ -239,17 +250,22 @@ impl Aabb {
         self.lo = v3(self.lo.x.min(p.x), self.lo.y.min(p.y), self.lo.z.min(p.z));
         self.hi = v3(self.hi.x.max(p.x), self.hi.y.max(p.y), self.hi.z.max(p.z));
     }
-    /// Does the ray meet the box within (t_min, t_max)? `inv` = 1/dir per axis.
+    /// Does the ray meet the box within (t_min, t_max)? `inv` = 1/dir per axis (±∞ for
+    /// a zero component: then the origin must lie within that slab).
     fn hit(&self, o: Vec3, inv: [f64; 3], t_min: f64, t_max: f64) -> bool {
         let (mut t0, mut t1) = (t_min, t_max);
         let lo = [self.lo.x, self.lo.y, self.lo.z];
         let hi = [self.hi.x, self.hi.y, self.hi.z];
         let oo = [o.x, o.y, o.z];
         for k in 0..3 {
+            if inv[k].is_infinite() {
+                if oo[k] < lo[k] || oo[k] > hi[k] {
+                    return false;
+                }
+                continue;
+            }
             let ta = (lo[k] - oo[k]) * inv[k];
             let tb = (hi[k] - oo[k]) * inv[k];
-            // NaN (0 · ∞ on a slab boundary with a zero direction) constrains nothing:
-            // f64::min/max return the other operand.
             t0 = t0.max(ta.min(tb));
             t1 = t1.min(ta.max(tb));
         }
@@ -596,6 +612,21 @@ pub type MeshSupplier<'a> =
 
 /// The scene's objects, ready for ray queries, plus (when built with
 /// [`SceneGeometry::for_scene`]) the scene's light maps, loaded.
+///
+/// Wiring the teapot (its tessellator lives in `scene::teapot`):
+///
+/// ```ignore
+/// let geom = SceneGeometry::for_scene(&scene, &mut |_i, shape| match shape {
+///     Shape::Teapot { position, scale, rotate_y_deg, subdivisions } => {
+///         let tris = tessellate_teapot(*position, *scale, *rotate_y_deg, *subdivisions)?;
+///         Ok(Some(TriangleSoup {
+///             positions: tris.iter().map(|t| t.p).collect(),
+///             normals: Some(tris.iter().map(|t| t.n).collect()),
+///         }))
+///     }
+///     _ => Ok(None),
+/// })?;
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneGeometry {
     prims: Vec<Prim>,
