@@ -5,6 +5,8 @@ pub mod additive_blend;
 pub mod modulate;
 pub mod polygon_interpolator;
 pub mod projective_texcoord;
+pub mod quadrature;
+pub mod raymarch;
 pub mod shadow_compare;
 pub mod shafts_model;
 pub mod test_scene;

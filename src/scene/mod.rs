@@ -1,8 +1,10 @@
-//! Scenes: the TOML scene format, its validation, built-in scenes, tessellation and
-//! host-side geometry.
+//! Scenes: the TOML scene format, its validation, built-in scenes, tessellation,
+//! light maps and ray–shape geometry (host side, f64).
 
 pub mod builtin;
 pub mod format;
+pub mod geometry;
+pub mod lightmap;
 pub mod math;
 pub mod teapot;
 pub mod validate;
