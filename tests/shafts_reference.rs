@@ -384,8 +384,8 @@ fn rho_zero_leaves_only_the_surface() {
 #[test]
 fn surface_radiance_follows_the_documented_formula() {
     // Floor point straight below a point light, camera looking straight down at it:
-    // I_o = albedo · cos · I / s², attenuated by exp(−ρκT); ρ = 0 here except the check
-    // of the attenuation with ρκ = 0.2.
+    // I_o = albedo · cos · I / s² · exp(−ρκs), attenuated by exp(−ρκT); ρ = 0 here
+    // except the check of the attenuation with ρκ = 0.2 (s = 2, T = 5).
     for rk in [0.0, 0.2] {
         let cam = Camera {
             eye: [0.0, 5.0, 0.0],
@@ -406,8 +406,9 @@ fn surface_radiance_follows_the_documented_formula() {
         let g = geom(&s);
         let q = quadrature_pixel(&s, &g, CX, CY, &QuadTol::default());
         assert!((q.t_end - 5.0).abs() < 1e-12);
-        let expect: [f64; 3] =
-            std::array::from_fn(|c| 0.7 * 3.0 * s.lights[0].color[c] / 4.0 * (-rk * 5.0f64).exp());
+        let expect: [f64; 3] = std::array::from_fn(|c| {
+            0.7 * 3.0 * s.lights[0].color[c] / 4.0 * (-rk * 2.0f64).exp() * (-rk * 5.0f64).exp()
+        });
         for c in 0..3 {
             assert!(
                 rel(q.surface[c], expect[c]) < 1e-12,

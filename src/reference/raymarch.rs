@@ -15,9 +15,10 @@
 //! * **I_o** at the hit P with unit normal N facing the eye and albedo ρ_d (the object's
 //!   `color`): I_o = ρ_d ⊙ Σ_lights max(0, N · L̂) · I_l(P) · H(P) / max(s, S_MIN)², with
 //!   L̂ = norm(light − P), s = |light − P|, I_l = intensity · colour · map (0 outside a
-//!   spot's cone), H = 1 unless an occluder lies between P and the light. No ambient
-//!   term, no 1/π, no attenuation between the light and the surface. I_o = 0 when no
-//!   surface is hit.
+//!   spot's cone), H = 1 unless an occluder lies between P and the light, times the
+//!   medium's attenuation between the light and the surface, exp(−ρκs) (the same
+//!   extinction g applies to scattered light over s). No ambient term, no 1/π.
+//!   I_o = 0 when no surface is hit.
 //! * **I_v** = I_o · exp(−ρκT) + I_s.
 //! * **I_s** = Σ_lights Σ_{k<N} H(t_k) · I_l(t_k) · F(α_k) · h(max(s_k, S_MIN), t_k) · Δt,
 //!   t_k = (k + ½)Δt, Δt = T/N ([`crate::reference::shafts_model::g_clamped`]).
@@ -154,6 +155,7 @@ pub fn scatter_integrand(
 pub fn object_radiance(
     lights: &[LightEval<'_>],
     geom: &SceneGeometry,
+    medium: &Medium,
     albedo: [f64; 3],
     hit: &Hit,
 ) -> [f64; 3] {
@@ -171,7 +173,7 @@ pub fn object_radiance(
             continue;
         }
         let sc = s.max(S_MIN);
-        let k = mul_no_nan(w, lambert / (sc * sc));
+        let k = mul_no_nan(mul_no_nan(w, lambert / (sc * sc)), attenuation(s, medium));
         for (c, acc) in sum.iter_mut().enumerate() {
             *acc += mul_no_nan(k, le.light.color[c]);
         }
@@ -200,7 +202,7 @@ pub fn primary(
     let (t_end, object, surface) = match geom.first_hit(&cr.ray, cr.t_far) {
         Some((i, hit)) => {
             let albedo = scene.objects.get(i).map(|o| o.color).unwrap_or([0.0; 3]);
-            let io = object_radiance(lights, geom, albedo, &hit);
+            let io = object_radiance(lights, geom, &scene.medium, albedo, &hit);
             let a = attenuation(hit.t, &scene.medium);
             (hit.t, Some(i), io.map(|c| mul_no_nan(c, a)))
         }

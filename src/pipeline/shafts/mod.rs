@@ -1,6 +1,7 @@
 //! The light-shafts pipeline by sample planes (SPEC A).
 
 pub mod frame;
+pub mod host;
 pub mod prepare;
 pub mod tables;
 pub mod throughput;
