@@ -28,8 +28,13 @@ pub enum Command {
         #[arg(long)]
         alternates: bool,
     },
-    /// Render the built-in default scene to PNG and print the counters.
+    /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
+    /// and print the counters, the elaboration and the predicted hardware time.
     Render {
+        /// A built-in scene (fig6, fig4, stage, or `test` for the foundation test scene)
+        /// or a TOML scene file.
+        #[arg(long, default_value = "fig6")]
+        scene: String,
         /// Output PNG.
         #[arg(long, default_value = "out/render.png")]
         out: PathBuf,
@@ -67,10 +72,17 @@ pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Units { json, alternates } => units(json, alternates),
         Command::Render {
+            scene,
             out,
             json,
             reference,
-        } => crate::pipeline::test_scene::render_cli(&out, json, reference.as_deref()),
+        } => {
+            if scene == "test" {
+                crate::pipeline::test_scene::render_cli(&out, json, reference.as_deref())
+            } else {
+                crate::pipeline::shafts::cli::render_cli(&scene, &out, json, reference.as_deref())
+            }
+        }
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;

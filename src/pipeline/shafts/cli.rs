@@ -1,0 +1,170 @@
+//! `render` for shafts scenes: load (built-in name or TOML file), render through the
+//! units, write the PNG, print counters, elaboration and the predicted time.
+
+use super::frame::{render_frame, FrameResult};
+use super::host::prepare_scene;
+use super::prepare::DEFAULT_EXPOSURE;
+use super::throughput::{predict, split_objects_shafts, GpuModel, Prediction};
+use crate::reference::raymarch::{raymarch_image, to_levels};
+use crate::report::image_out::Framebuffer;
+use crate::report::table::text_table;
+use crate::scene::builtin::{builtin, BUILTIN_NAMES};
+use crate::scene::format::Scene;
+use std::path::Path;
+use std::time::Instant;
+
+/// A built-in scene by name, or a TOML scene file by path.
+pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
+    if BUILTIN_NAMES.contains(&name_or_path) {
+        return builtin(name_or_path).map_err(|e| e.to_string());
+    }
+    let p = Path::new(name_or_path);
+    if p.exists() {
+        return Scene::from_file(p).map_err(|e| e.to_string());
+    }
+    Err(format!(
+        "scene: '{name_or_path}' is neither a built-in scene ({}, test) nor a file",
+        BUILTIN_NAMES.join(", ")
+    ))
+}
+
+/// Render a frame and time the simulation.
+pub fn render_scene(scene: &Scene) -> Result<(FrameResult, Prediction, f64), String> {
+    let t0 = Instant::now();
+    let (p, _) = prepare_scene(scene, DEFAULT_EXPOSURE).map_err(|e| e.to_string())?;
+    let r = render_frame(&p).map_err(|e| e.to_string())?;
+    let wall = t0.elapsed().as_secs_f64();
+    let pred = predict(&GpuModel::geforce2_gts(), &r.passes);
+    Ok((r, pred, wall))
+}
+
+/// Write the ray-marched reference (f64, `samples` per ray) as a PNG; returns its
+/// levels and the wall time.
+pub fn reference_image(scene: &Scene, samples: u32) -> Result<(Vec<[f64; 3]>, f64), String> {
+    let t0 = Instant::now();
+    let geom = super::host::scene_geometry(scene).map_err(|e| e.to_string())?;
+    let img = raymarch_image(scene, &geom, samples);
+    let levels = img
+        .iter()
+        .map(|p| to_levels(*p, DEFAULT_EXPOSURE))
+        .collect();
+    Ok((levels, t0.elapsed().as_secs_f64()))
+}
+
+/// 8-bit PNG of an image in levels.
+pub fn levels_png(levels: &[[f64; 3]], width: u32, height: u32, path: &Path) -> Result<(), String> {
+    let mut fb = Framebuffer::new(width, height, 8);
+    for (i, l) in levels.iter().enumerate() {
+        let q = l.map(|v| v.round().clamp(0.0, 255.0) as u32);
+        fb.data[i * 4..i * 4 + 4].copy_from_slice(&[q[0], q[1], q[2], 255]);
+    }
+    fb.save_png(path)
+        .map_err(|e| format!("out: {}: {e}", path.display()))
+}
+
+pub fn render_cli(
+    scene_name: &str,
+    out: &Path,
+    json: bool,
+    reference: Option<&Path>,
+) -> Result<(), String> {
+    let scene = load_scene(scene_name)?;
+    let (r, pred, wall) = render_scene(&scene)?;
+    r.fb.save_png(out)
+        .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    if let Some(path) = reference {
+        let (levels, secs) = reference_image(&scene, 180)?;
+        levels_png(&levels, scene.image.width, scene.image.height, path)?;
+        let hw = r.levels();
+        let n = (levels.len() * 3) as f64;
+        let (mut sum, mut sq) = (0.0, 0.0);
+        for (a, b) in hw.iter().zip(&levels) {
+            for c in 0..3 {
+                sum += (a[c] - b[c]).abs();
+                sq += (a[c] - b[c]).powi(2);
+            }
+        }
+        eprintln!(
+            "reference {} (ray-marched, 180 samples, {secs:.2} s): mean |hw - ref| {:.3} levels, RMS {:.3} levels ({:.2} %)",
+            path.display(),
+            sum / n,
+            (sq / n).sqrt(),
+            (sq / n).sqrt() / 2.56
+        );
+    }
+    if json {
+        let v = serde_json::json!({
+            "scene": scene.name,
+            "counters": r.counters,
+            "elaboration": r.elaboration,
+            "predicted_seconds": pred.seconds,
+            "predicted_by_pass": pred.by_kind,
+            "wall_seconds": wall,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    println!(
+        "{} ({}x{}, n = {}, m = {}): wrote {} in {wall:.2} s of simulation",
+        scene.name,
+        scene.image.width,
+        scene.image.height,
+        scene.shafts.planes,
+        scene.shafts.subplanes,
+        out.display()
+    );
+    let rows: Vec<Vec<String>> = r
+        .counters
+        .iter()
+        .map(|(name, c)| {
+            let mut row = vec![name.clone()];
+            row.extend(c.fields().iter().map(|(_, v)| v.to_string()));
+            row
+        })
+        .collect();
+    let mut header = vec!["unit"];
+    header.extend(
+        rtl_model::Counters::default()
+            .fields()
+            .iter()
+            .map(|(k, _)| *k),
+    );
+    print!("{}", text_table(&header, &rows));
+    println!("\nelaboration:");
+    let rows: Vec<Vec<String>> = r
+        .elaboration
+        .iter()
+        .map(|e| {
+            vec![
+                e.name.clone(),
+                match &e.left_out {
+                    Some(why) => format!("left out: {why}"),
+                    None => "elaborated".into(),
+                },
+                e.summary
+                    .as_ref()
+                    .map_or(format!("saves {:.0}", e.gates_saved), |s| {
+                        format!("{:.0}", s.gates_nand2)
+                    }),
+                if e.left_out.is_some() {
+                    format!("saves {} fragment-clocks", e.cycles_saved)
+                } else {
+                    String::new()
+                },
+            ]
+        })
+        .collect();
+    print!(
+        "{}",
+        text_table(&["unit", "status", "gates_nand2", "cycles"], &rows)
+    );
+    let (objects, shafts) = split_objects_shafts(&pred);
+    println!(
+        "\npredicted GeForce2 GTS time: {:.4} s (objects {:.4} s, shafts {:.4} s; {} passes, {} memory-bound)",
+        pred.seconds, objects, shafts, pred.passes, pred.memory_bound_passes
+    );
+    Ok(())
+}
