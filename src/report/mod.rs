@@ -1,5 +1,9 @@
 //! Error metrics, tables, images and plots.
 
 pub mod alternates;
+pub mod csv_out;
 pub mod image_out;
+pub mod metrics;
+pub mod plot;
+pub mod progress;
 pub mod table;
