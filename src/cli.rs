@@ -45,6 +45,13 @@ pub enum Command {
         #[arg(long)]
         reference: Option<PathBuf>,
     },
+    /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
+    /// shafts-stage. Writes CSV and PNG into --out.
+    Reproduce {
+        name: String,
+        #[arg(long, default_value = "out/reproduce")]
+        out: PathBuf,
+    },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
         /// Output directory.
@@ -83,6 +90,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
                 crate::pipeline::shafts::cli::render_cli(&scene, &out, json, reference.as_deref())
             }
         }
+        Command::Reproduce { name, out } => reproduce(&name, &out),
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
@@ -116,6 +124,29 @@ pub fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
     }
+}
+
+fn reproduce(name: &str, out: &std::path::Path) -> Result<(), String> {
+    use crate::pipeline::shafts::reproduce as r;
+    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
+    let t0 = std::time::Instant::now();
+    match name {
+        "shafts-fig4" => r::fig4(out, &(1..=20).map(|k| 10 * k).collect::<Vec<_>>())?,
+        "shafts-fig5" => r::fig5(out, &(1..=25).collect::<Vec<_>>())?,
+        "shafts-vs-raymarch" => r::vs_raymarch(out)?,
+        "shafts-stage" => r::stage(out)?,
+        _ => {
+            return Err(format!(
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage)"
+            ))
+        }
+    }
+    println!(
+        "{name}: wrote {} in {:.1} s",
+        out.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
 }
 
 /// Write a file, creating its directory; a failure names the path.

@@ -4,6 +4,7 @@ pub mod cli;
 pub mod frame;
 pub mod host;
 pub mod prepare;
+pub mod reproduce;
 pub mod tables;
 pub mod throughput;
 pub mod view;

@@ -51,6 +51,11 @@ pub struct StageRow {
     pub wall_seconds: f64,
 }
 
+/// A metric's error as text (it names the argument at fault).
+fn txt<T>(r: Result<T, rtl_model::error::ConfigError>) -> Result<T, String> {
+    r.map_err(|e| e.to_string())
+}
+
 fn scene(name: &str) -> Result<Scene, String> {
     builtin(name).map_err(|e| e.to_string())
 }
@@ -62,7 +67,7 @@ pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
     let (w, h) = (base.image.width, base.image.height);
     let (truth, _) = reference_image(&base, TRUTH_SAMPLES_FIG4)?;
     levels_png(&truth, w, h, &out.join("fig4_truth.png"))?;
-    let pixels = representative_pixels(&truth, w, h, 10, base.seed)?;
+    let pixels = txt(representative_pixels(&truth, w, h, 10, base.seed))?;
     for (file, bits) in [("fig4", 8u32), ("fig4_wide", 16u32)] {
         let bar = progress_bar(planes.len() as u64, file);
         let mut rows = Vec::new();
@@ -75,8 +80,8 @@ pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
             let img = r.levels();
             rows.push(Fig4Row {
                 planes: n,
-                error_levels: error_stats_at(&img, &truth, w, &pixels)?.mean_abs,
-                rms_levels: error_stats(&img, &truth)?.rms,
+                error_levels: txt(error_stats_at(&img, &truth, w, &pixels))?.mean_abs,
+                rms_levels: txt(error_stats(&img, &truth))?.rms,
                 predicted_hw_seconds: pred.seconds,
                 wall_seconds: wall,
             });
@@ -92,8 +97,12 @@ pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
             &out.join(format!("{file}.png")),
             &format!("Fig. 4: error and time vs sample planes ({bits}-bit texels and framebuffer)"),
             "sample planes n",
-            rows.iter().map(|r| (r.planes as f64, r.error_levels)).collect(),
-            rows.iter().map(|r| (r.planes as f64, r.predicted_hw_seconds)).collect(),
+            rows.iter()
+                .map(|r| (r.planes as f64, r.error_levels))
+                .collect(),
+            rows.iter()
+                .map(|r| (r.planes as f64, r.predicted_hw_seconds))
+                .collect(),
             "mean |error| at 10 pixels (levels)",
         )?;
     }
@@ -117,13 +126,19 @@ pub fn fig5(out: &Path, subplanes: &[u32]) -> Result<(), String> {
         let (r, pred, wall) = render_scene(&s)?;
         rows.push(Fig5Row {
             subplanes: m,
-            rms_levels: error_stats(&r.levels(), &reference)?.rms,
+            rms_levels: txt(error_stats(&r.levels(), &reference))?.rms,
             predicted_hw_seconds: pred.seconds,
             wall_seconds: wall,
         });
         match m {
-            1 => r.fb.save_png(&out.join("fig6a.png")).map_err(|e| format!("out: {e}"))?,
-            6 => r.fb.save_png(&out.join("fig6b.png")).map_err(|e| format!("out: {e}"))?,
+            1 => {
+                r.fb.save_png(&out.join("fig6a.png"))
+                    .map_err(|e| format!("out: {e}"))?
+            }
+            6 => {
+                r.fb.save_png(&out.join("fig6b.png"))
+                    .map_err(|e| format!("out: {e}"))?
+            }
             _ => {}
         }
         bar.inc(1);
@@ -134,8 +149,12 @@ pub fn fig5(out: &Path, subplanes: &[u32]) -> Result<(), String> {
         &out.join("fig5.png"),
         "Fig. 5: RMS against m = 25 and time vs sub-sample planes (n = 30)",
         "sub-sample planes m",
-        rows.iter().map(|r| (r.subplanes as f64, r.rms_levels)).collect(),
-        rows.iter().map(|r| (r.subplanes as f64, r.predicted_hw_seconds)).collect(),
+        rows.iter()
+            .map(|r| (r.subplanes as f64, r.rms_levels))
+            .collect(),
+        rows.iter()
+            .map(|r| (r.subplanes as f64, r.predicted_hw_seconds))
+            .collect(),
         "RMS (levels)",
     )
 }
@@ -145,9 +164,15 @@ pub fn vs_raymarch(out: &Path) -> Result<(), String> {
     let s = scene("fig6")?;
     let (r, pred, hw_wall) = render_scene(&s)?;
     let (reference, ref_wall) = reference_image(&s, RAYMARCH_SAMPLES)?;
-    r.fb.save_png(&out.join("vs_raymarch_hw.png")).map_err(|e| format!("out: {e}"))?;
-    levels_png(&reference, s.image.width, s.image.height, &out.join("vs_raymarch_ref.png"))?;
-    let st = error_stats(&r.levels(), &reference)?;
+    r.fb.save_png(&out.join("vs_raymarch_hw.png"))
+        .map_err(|e| format!("out: {e}"))?;
+    levels_png(
+        &reference,
+        s.image.width,
+        s.image.height,
+        &out.join("vs_raymarch_ref.png"),
+    )?;
+    let st = txt(error_stats(&r.levels(), &reference))?;
     write_csv(
         &out.join("vs_raymarch.csv"),
         &[VsRaymarchRow {
@@ -163,7 +188,8 @@ pub fn vs_raymarch(out: &Path) -> Result<(), String> {
 pub fn stage(out: &Path) -> Result<(), String> {
     let s = scene("stage")?;
     let (r, pred, wall) = render_scene(&s)?;
-    r.fb.save_png(&out.join("stage.png")).map_err(|e| format!("out: {e}"))?;
+    r.fb.save_png(&out.join("stage.png"))
+        .map_err(|e| format!("out: {e}"))?;
     let (objects, shafts) = split_objects_shafts(&pred);
     write_csv(
         &out.join("stage.csv"),
