@@ -64,6 +64,8 @@ pub struct Prepared {
     pub s_max: f64,
     pub t_max: f64,
     pub s_near: f64,
+    /// Smallest scattering angle in the lit volume (sets the F table's full scale).
+    pub alpha_min: f64,
     /// Output scale: radiance 1.0 = `exposure` 8-bit levels.
     pub exposure: f64,
 }
@@ -201,18 +203,27 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
     let cam = CameraView::new(&sc.camera, sc.image);
     let tex_bits = cfg.texel_bits;
     let tex_max = max_code(tex_bits);
-    // One plane at full F, h, J and the brightest light adds F_max·h·I·Δr·exposure
-    // levels; h_ref is at least the h for which that is 255 (full scale).
+    // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δr·exposure
+    // levels; that must not exceed 255 (the vertex colour's full scale), so h_ref is at
+    // most the h for which it is 255.
     let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
     let i_max = sc
         .lights
         .iter()
         .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
         .fold(0.0, f64::max);
-    let f_max = crate::reference::shafts_model::phase_f(0.0, sc.medium.k);
-    let denom = f_max * i_max * dr * p.exposure;
-    let h_floor = if denom > 0.0 { 255.0 / denom } else { 0.0 };
-    let tables = tables::build(&sc.medium, &cfg, p.s_max, p.t_max, p.s_near, h_floor);
+    let f_ref = crate::reference::shafts_model::phase_f(p.alpha_min, sc.medium.k);
+    let denom = f_ref * i_max * dr * p.exposure;
+    let h_ceiling = if denom > 0.0 { 255.0 / denom } else { 0.0 };
+    let tables = tables::build(
+        &sc.medium,
+        &cfg,
+        p.s_max,
+        p.t_max,
+        p.s_near,
+        p.alpha_min,
+        h_ceiling,
+    );
 
     let interp = PolygonInterpolatorConfig {
         attrs: 8,
@@ -968,8 +979,9 @@ fn planes_pass(
             .map(|(f, _)| f)
             .collect();
 
-        // GL texture-stage order: stage 0 = F(α) × primary colour (the plane's scale
-        // S·t/r), stage 1 = × h(s, t), stage 2 = × J (H·I_l), then × the light colour.
+        // g = F(α)·h(s, t) first, then × J (H·I_l), and the plane's scale (the small
+        // factor, S·t/r) last, then the light colour: large factors first keeps every
+        // intermediate rounding small relative to its value (docs/shafts.md).
         let sh = ATTR_FRAC - cfg.coord_frac_bits;
         let fin: Vec<TextureSamplerIn> = frags
             .iter()
@@ -989,20 +1001,10 @@ fn planes_pass(
         let mut c = Counters::default();
         let hvv = run_span(&u.h_tex, &mut (), &hin, &mut c);
         counters_add(ctr, "texture_sampler (h)", c);
-        let pairs: Vec<ModulateIn> = frags
-            .iter()
-            .zip(&fv)
-            .map(|(f, fa)| ModulateIn {
-                a: fa[0],
-                b: ((f.attrs[3] * tex_max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, tex_max)
-                    as u32,
-            })
-            .collect();
-        let fc = modulate_all(&u.modulate, &pairs, ctr);
-        let pairs: Vec<ModulateIn> = fc
+        let pairs: Vec<ModulateIn> = fv
             .iter()
             .zip(&hvv)
-            .map(|(&a, b)| ModulateIn { a, b: b[0] })
+            .map(|(a, b)| ModulateIn { a: a[0], b: b[0] })
             .collect();
         let g = modulate_all(&u.modulate, &pairs, ctr);
 
@@ -1031,6 +1033,16 @@ fn planes_pass(
             .iter()
             .zip(&jv)
             .map(|(&a, &b)| ModulateIn { a, b })
+            .collect();
+        let gj = modulate_all(&u.modulate, &pairs, ctr);
+        let pairs: Vec<ModulateIn> = frags
+            .iter()
+            .zip(&gj)
+            .map(|(f, &v)| ModulateIn {
+                a: v,
+                b: ((f.attrs[3] * tex_max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, tex_max)
+                    as u32,
+            })
             .collect();
         let v = modulate_all(&u.modulate, &pairs, ctr);
         let pairs: Vec<ModulateIn> = v

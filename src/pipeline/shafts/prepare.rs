@@ -9,6 +9,9 @@ use crate::scene::math::Vec3;
 /// Radiance 1.0 maps to this many 8-bit levels by default.
 pub const DEFAULT_EXPOSURE: f64 = 255.0;
 
+/// h is normalised at this percentile of the lit samples' light distances.
+pub const NEAR_PERCENTILE: f64 = 0.0;
+
 /// Is `p` inside light `l`'s cone (any point for a point light)?
 pub fn in_cone(l: &crate::scene::format::Light, p: Vec3) -> bool {
     if l.kind == LightKind::Point {
@@ -26,14 +29,12 @@ pub fn in_cone(l: &crate::scene::format::Light, p: Vec3) -> bool {
 /// Ranges found by sampling the view frustum (a 48 × 32 grid of rays, 256 depths
 /// each) for points inside some light's cone and in front of the first surface:
 /// the plane range [r0, r1] (view depths), s_near (see below), s_max and t_max.
-pub fn lit_ranges(
-    scene: &Scene,
-    first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>,
-) -> ((f64, f64), f64, f64, f64) {
+pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) -> LitRanges {
     let cam = CameraView::new(&scene.camera, scene.image);
     let (gx, gy, gz) = (48usize, 32usize, 256usize);
     let (mut r0, mut r1) = (f64::INFINITY, 0.0f64);
     let (mut s_max, mut t_max) = (0.0f64, 0.0f64);
+    let mut cos_alpha_max = -1.0f64;
     let mut s_all: Vec<f64> = Vec::new();
     for iy in 0..=gy {
         for ix in 0..=gx {
@@ -57,6 +58,11 @@ pub fn lit_ranges(
                         r0 = r0.min(r);
                         r1 = r1.max(r);
                         s_all.push(s);
+                        // Scattering angle: cos α = L̂ · view direction (α = 0 forward).
+                        if s > 0.0 {
+                            let l_hat = (vec3(l.position) - p) * (1.0 / s);
+                            cos_alpha_max = cos_alpha_max.max(l_hat.dot(dir));
+                        }
                         s_max = s_max.max(s);
                         t_max = t_max.max(t);
                     }
@@ -66,17 +72,43 @@ pub fn lit_ranges(
     }
     if !r0.is_finite() {
         // Nothing lit is visible: one harmless interval at the near plane.
-        return ((cam.near, cam.near * 2.0), 1.0, 1.0, cam.near * 2.0);
+        return LitRanges {
+            plane_range: (cam.near, cam.near * 2.0),
+            s_near: 1.0,
+            s_max: 1.0,
+            t_max: cam.near * 2.0,
+            alpha_min: 0.0,
+        };
     }
     // h is stored relative to h(s_near): the 2nd percentile of the lit samples' light
     // distances, so that only the few samples next to the cone's apex clamp (1/s²).
     s_all.sort_by(f64::total_cmp);
-    let s_near = s_all[(s_all.len() as f64 * 0.02) as usize];
+    let s_near = s_all[(s_all.len() as f64 * NEAR_PERCENTILE) as usize];
+    // A margin of a few depth steps and 3 % of the range on each side (the grid can
+    // miss the cone's thin extremes).
     let step = (cam.far - cam.near) / gz as f64;
-    let r0 = (r0 - step).max(cam.near);
-    let r1 = (r1 + step).min(cam.far);
-    // The farthest corner of the last plane bounds t; s grows with it too.
-    ((r0, r1), s_near, s_max * 1.05 + step, t_max * 1.05 + step)
+    let margin = 2.0 * step + 0.03 * (r1 - r0);
+    let r0 = (r0 - margin).max(cam.near);
+    let r1 = (r1 + margin).min(cam.far);
+    LitRanges {
+        plane_range: (r0, r1),
+        s_near,
+        s_max: s_max * 1.05 + step,
+        t_max: t_max * 1.05 + step,
+        alpha_min: cos_alpha_max.clamp(-1.0, 1.0).acos(),
+    }
+}
+
+/// What [`lit_ranges`] finds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LitRanges {
+    pub plane_range: (f64, f64),
+    pub s_near: f64,
+    pub s_max: f64,
+    pub t_max: f64,
+    /// The smallest scattering angle seen in the lit volume: F is normalised by
+    /// F(alpha_min), the largest phase value the planes meet.
+    pub alpha_min: f64,
 }
 
 /// Assemble a prepared frame from host-side pieces.
@@ -87,25 +119,26 @@ pub fn prepare(
     first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>,
     exposure: f64,
 ) -> Prepared {
-    let (plane_range, s_near, s_max, t_max) = lit_ranges(scene, first_hit);
+    let lit = lit_ranges(scene, first_hit);
     let s_max = if scene.shafts.s_max > 0.0 {
         scene.shafts.s_max
     } else {
-        s_max
+        lit.s_max
     };
     let t_max = if scene.shafts.t_max > 0.0 {
         scene.shafts.t_max
     } else {
-        t_max
+        lit.t_max
     };
     Prepared {
         scene: scene.clone(),
         objects,
         light_maps,
-        plane_range,
+        plane_range: lit.plane_range,
         s_max,
         t_max,
-        s_near,
+        s_near: lit.s_near,
+        alpha_min: lit.alpha_min,
         exposure,
     }
 }

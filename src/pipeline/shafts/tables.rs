@@ -34,19 +34,21 @@ pub struct GTables {
 }
 
 /// Build the tables for `medium` over [0, s_max] × [0, t_max]. h_ref is h(s_near, 0),
-/// raised if needed to `h_floor`, the h at which one plane would add full scale (so
-/// that the per-plane vertex colour never clamps).
+/// lowered if needed to `h_ceiling`, the h at which one plane at F = F_max adds full
+/// scale (so that the per-plane vertex colour never clamps; h beyond it clamps).
 pub fn build(
     medium: &Medium,
     cfg: &ShaftsConfig,
     s_max: f64,
     t_max: f64,
     s_near: f64,
-    h_floor: f64,
+    alpha_min: f64,
+    h_ceiling: f64,
 ) -> GTables {
     let bits = cfg.texel_bits;
     let nf = cfg.f_texels as usize;
-    let f_max = phase_f(0.0, medium.k);
+    // Full scale of F: its largest value in the lit volume (F is stored clamped).
+    let f_max = phase_f(alpha_min, medium.k);
     let f_texels = (0..nf)
         .map(|i| {
             let alpha = (i as f64 + 0.5) / nf as f64 * std::f64::consts::PI;
@@ -61,7 +63,7 @@ pub fn build(
     let [hw, hh] = cfg.h_texels.map(|v| v as usize);
     let s_texel = s_max / hw as f64;
     let s_near = s_near.max(0.5 * s_texel).max(1e-9);
-    let h_ref = h(s_near, 0.0, medium.rho, medium.kappa).max(h_floor);
+    let h_ref = h(s_near, 0.0, medium.rho, medium.kappa).min(h_ceiling);
     let mut h_clamped = 0u64;
     let mut h_texels = Vec::with_capacity(hw * hh);
     for j in 0..hh {
