@@ -1097,41 +1097,15 @@ fn elaborate(
         .filter(|s| s.kind == PassKind::Plane)
         .map(|s| s.fragments)
         .sum();
-    add(
-        "polygon_interpolator",
-        Some(UnitSummary::of(&units.interp)),
-        None,
-        0.0,
-        0,
-    );
-    add(
-        "texture_sampler (F)",
-        Some(UnitSummary::of(&units.f_tex)),
-        None,
-        0.0,
-        0,
-    );
-    add(
-        "texture_sampler (h)",
-        Some(UnitSummary::of(&units.h_tex)),
-        None,
-        0.0,
-        0,
-    );
-    add(
-        "modulate",
-        Some(UnitSummary::of(&units.modulate)),
-        None,
-        0.0,
-        0,
-    );
-    add(
-        "additive_blend",
-        Some(UnitSummary::of(&units.blend)),
-        None,
-        0.0,
-        0,
-    );
+    for (name, summary) in [
+        ("polygon_interpolator", UnitSummary::of(&units.interp)),
+        ("texture_sampler (F)", UnitSummary::of(&units.f_tex)),
+        ("texture_sampler (h)", UnitSummary::of(&units.h_tex)),
+        ("modulate", UnitSummary::of(&units.modulate)),
+        ("additive_blend", UnitSummary::of(&units.blend)),
+    ] {
+        add(name, Some(summary), None, 0.0, 0);
+    }
     let would_shadow = ShadowCompareConfig {
         width: p.scene.shafts.shadow_resolution,
         height: p.scene.shafts.shadow_resolution,
