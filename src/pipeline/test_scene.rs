@@ -17,6 +17,7 @@
 //! Host work (vertex transforms, in f64 as the application processor would) is here;
 //! everything per pixel runs through the units' kernels with the span driver.
 
+use crate::pipeline::raster::{walk, Fragment};
 use crate::report::image_out::Framebuffer;
 use crate::report::table::text_table;
 use crate::scene::math::{v3, Mat4, Vec3};
@@ -25,7 +26,7 @@ use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{
-    PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
+    PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
 };
 use rtl_model::units::projective_texcoord::{
     ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
@@ -230,11 +231,6 @@ pub fn occluder_quads() -> Vec<[Vec3; 4]> {
     .collect()
 }
 
-fn run_setup(u: &PolygonInterpolator, s: &PolySetup, ctr: &mut Counters) -> Vec<PolyOut> {
-    let mut st = s.state.clone();
-    run_span(u, &mut st, &s.moves(), ctr)
-}
-
 /// Render the scene. Returns the framebuffer and the counters.
 pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
     let units = TestSceneUnits::new()?;
@@ -268,10 +264,17 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
         }
         for s in depth_interp.setup_quad(&verts, &mut c_interp) {
             let mut c_walk = Counters::default();
-            let frags = run_setup(&depth_interp, &s, &mut c_walk);
+            let mut frags = Vec::new();
+            walk(
+                &depth_interp,
+                &s,
+                SHADOW_SIZE,
+                SHADOW_SIZE,
+                &mut c_walk,
+                &mut frags,
+            );
             let writes: Vec<ShadowIn> = frags
                 .iter()
-                .filter(|f| f.inside)
                 .map(|f| ShadowIn::Write {
                     x: f.x as i32,
                     y: f.y as i32,
@@ -342,16 +345,8 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
             }
             for s in units.interp.setup_quad(&verts, &mut c_interp) {
                 let mut c_walk = Counters::default();
-                let frags: Vec<PolyOut> = run_setup(&units.interp, &s, &mut c_walk)
-                    .into_iter()
-                    .filter(|f| {
-                        f.inside
-                            && f.x >= 0
-                            && f.y >= 0
-                            && f.x < WIDTH as i64
-                            && f.y < HEIGHT as i64
-                    })
-                    .collect();
+                let mut frags = Vec::new();
+                walk(&units.interp, &s, WIDTH, HEIGHT, &mut c_walk, &mut frags);
                 c_interp += c_walk;
                 let pass = shade(
                     &units,
@@ -396,7 +391,7 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
 /// ambient and spot passes into `fb`. Returns the busiest unit's cycles.
 fn shade(
     u: &TestSceneUnits,
-    frags: &[PolyOut],
+    frags: &[Fragment],
     shadow_state: &mut ShadowState,
     fb: &mut Framebuffer,
     ctrs: &mut [&mut Counters; 7],
@@ -522,14 +517,14 @@ fn shade(
                 };
                 AdditiveBlendIn {
                     src: [src(0), src(1), src(2), 0],
-                    dst: fb.pixel(f.x as u32, f.y as u32),
+                    dst: fb.pixel(f.x, f.y),
                     weight: 0,
                 }
             })
             .collect();
         let out = run_span(&u.blend, &mut (), &blends, &mut c[6]);
         for (f, o) in frags.iter().zip(out) {
-            fb.set(f.x as u32, f.y as u32, [o[0], o[1], o[2], 255]);
+            fb.set(f.x, f.y, [o[0], o[1], o[2], 255]);
         }
     }
     let busiest = c.iter().map(|k| k.cycles).max().unwrap_or(0);
