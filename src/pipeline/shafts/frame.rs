@@ -624,33 +624,43 @@ impl LightCtx<'_> {
         out
     }
 
-    /// Depth test of fragments at window depth words against the camera depth buffer:
-    /// the visibility mask (all visible without objects).
-    fn depth_test(
+    /// The fragments that pass the depth test (at window depth words) against the
+    /// camera depth buffer; all of them without objects.
+    fn visible(
         &self,
-        frags: &[Fragment],
+        frags: Vec<Fragment>,
         depth: impl Fn(&Fragment) -> u32,
         ctr: &mut BTreeMap<String, Counters>,
-    ) -> Vec<bool> {
-        match (&self.units.zbuf, self.zstate) {
-            (Some(z), Some(zs)) => {
-                let ins: Vec<ShadowIn> = frags
-                    .iter()
-                    .map(|f| ShadowIn::Test {
-                        x: f.x as i32,
-                        y: f.y as i32,
-                        depth: depth(f) as u64,
-                    })
-                    .collect();
-                let mut c = Counters::default();
-                let mut s = zs.clone();
-                let r = run_span(z, &mut s, &ins, &mut c);
-                counters_add(ctr, "shadow_compare (depth buffer)", c);
-                r.iter().map(|o| o.lit).collect()
-            }
-            _ => vec![true; frags.len()],
-        }
+    ) -> Vec<Fragment> {
+        let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
+            return frags;
+        };
+        let ins: Vec<ShadowIn> = frags
+            .iter()
+            .map(|f| ShadowIn::Test {
+                x: f.x as i32,
+                y: f.y as i32,
+                depth: depth(f) as u64,
+            })
+            .collect();
+        let mut c = Counters::default();
+        let mut s = zs.clone();
+        let r = run_span(z, &mut s, &ins, &mut c);
+        counters_add(ctr, "shadow_compare (depth buffer)", c);
+        frags
+            .into_iter()
+            .zip(r)
+            .filter(|(_, o)| o.lit)
+            .map(|(f, _)| f)
+            .collect()
     }
+}
+
+/// An s16.16 attribute in [0, 1] → a unorm code of full scale `max` (round half up,
+/// clamped): the interpolated vertex colour entering the combiner.
+fn attr_unorm(raw: i64, max: u32) -> u32 {
+    let max = max as i64;
+    ((raw * max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, max) as u32
 }
 
 /// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.
@@ -764,25 +774,13 @@ fn object_pass(
     }
     stats.walked = c_int.pixels_in;
     counters_add(ctr, "polygon_interpolator", c_int);
-    let vis = ctx.depth_test(
-        &frags_all,
-        |f| window_depth_word(f.attrs[0], ZBUF_BITS),
-        ctr,
-    );
-    let frags: Vec<Fragment> = frags_all
-        .into_iter()
-        .zip(vis)
-        .filter(|(_, v)| *v)
-        .map(|(f, _)| f)
-        .collect();
+    let frags = ctx.visible(frags_all, |f| window_depth_word(f.attrs[0], ZBUF_BITS), ctr);
     stats.fragments = frags.len() as u64;
     let hil = ctx.h_il(&frags, 4, ctr);
-    let tex_max = ctx.tex_max as i64;
     let mut pairs = Vec::with_capacity(frags.len() * 3);
     for (f, &j) in frags.iter().zip(&hil) {
         for c in 0..3 {
-            let col = ((f.attrs[1 + c] * tex_max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC)
-                .clamp(0, tex_max) as u32;
+            let col = attr_unorm(f.attrs[1 + c], ctx.tex_max);
             pairs.push(ModulateIn { a: col, b: j });
         }
     }
@@ -819,7 +817,6 @@ fn planes_pass(
     let [cols, rows] = cfg.mesh;
     let nf = cfg.f_texels as f64;
     let [hw, hh] = cfg.h_texels.map(|v| v as f64);
-    let tex_max = ctx.tex_max as i64;
     let mut jtex: Option<TextureSampler> = None;
 
     for i in 0..n {
@@ -856,13 +853,7 @@ fn planes_pass(
                     .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
                     .map_or(1.0, |v| v.2);
                 let zw = unit_depth_word(zsub, ZBUF_BITS);
-                let vis = ctx.depth_test(&frags, |_| zw, ctr);
-                let frags: Vec<Fragment> = frags
-                    .into_iter()
-                    .zip(vis)
-                    .filter(|(_, v)| *v)
-                    .map(|(f, _)| f)
-                    .collect();
+                let frags = ctx.visible(frags, |_| zw, ctr);
                 let hil = ctx.h_il(&frags, 4, ctr);
                 let ins: Vec<AdditiveBlendIn> = frags
                     .iter()
@@ -971,13 +962,7 @@ fn planes_pass(
             c_int += c;
         }
         counters_add(ctr, "polygon_interpolator", c_int);
-        let vis = ctx.depth_test(&frags, |_| plane_zword, ctr);
-        let frags: Vec<Fragment> = frags
-            .into_iter()
-            .zip(vis)
-            .filter(|(_, v)| *v)
-            .map(|(f, _)| f)
-            .collect();
+        let frags = ctx.visible(frags, |_| plane_zword, ctr);
 
         // g = F(α)·h(s, t) first, then × J (H·I_l), and the plane's scale (the small
         // factor, S·t/r) last, then the light colour: large factors first keeps every
@@ -1040,8 +1025,7 @@ fn planes_pass(
             .zip(&gj)
             .map(|(f, &v)| ModulateIn {
                 a: v,
-                b: ((f.attrs[3] * tex_max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, tex_max)
-                    as u32,
+                b: attr_unorm(f.attrs[3], ctx.tex_max),
             })
             .collect();
         let v = modulate_all(&u.modulate, &pairs, ctr);
@@ -1074,130 +1058,107 @@ fn unit_depth_word(z: f64, bits: u32) -> u32 {
     tables::unorm_from_unit(z, bits)
 }
 
-/// What the frame elaborated and what it left out.
+impl Elaborated {
+    fn present(name: &str, summary: UnitSummary) -> Self {
+        Elaborated {
+            name: name.to_string(),
+            summary: Some(summary),
+            left_out: None,
+            gates_saved: 0.0,
+            cycles_saved: 0,
+        }
+    }
+
+    fn left_out(name: &str, why: &str, gates_saved: f64, cycles_saved: u64) -> Self {
+        Elaborated {
+            name: name.to_string(),
+            summary: None,
+            left_out: Some(why.to_string()),
+            gates_saved,
+            cycles_saved,
+        }
+    }
+}
+
+/// What the frame elaborated and what it left out (with the gates the unit would
+/// have cost and the plane fragments it would have processed).
 fn elaborate(
     units: &Units,
     lm: Option<&TextureSampler>,
     p: &Prepared,
     passes: &[PassStats],
 ) -> Vec<Elaborated> {
-    let mut out = Vec::new();
-    let mut add =
-        |name: &str, s: Option<UnitSummary>, left_out: Option<String>, gates: f64, cycles: u64| {
-            out.push(Elaborated {
-                name: name.to_string(),
-                summary: s,
-                left_out,
-                gates_saved: gates,
-                cycles_saved: cycles,
-            })
-        };
     let plane_frags: u64 = passes
         .iter()
         .filter(|s| s.kind == PassKind::Plane)
         .map(|s| s.fragments)
         .sum();
-    for (name, summary) in [
+    let mut out: Vec<Elaborated> = [
         ("polygon_interpolator", UnitSummary::of(&units.interp)),
         ("texture_sampler (F)", UnitSummary::of(&units.f_tex)),
         ("texture_sampler (h)", UnitSummary::of(&units.h_tex)),
         ("modulate", UnitSummary::of(&units.modulate)),
         ("additive_blend", UnitSummary::of(&units.blend)),
-    ] {
-        add(name, Some(summary), None, 0.0, 0);
-    }
+    ]
+    .into_iter()
+    .map(|(name, s)| Elaborated::present(name, s))
+    .collect();
+    let cfg = &p.scene.shafts;
     let would_shadow = ShadowCompareConfig {
-        width: p.scene.shafts.shadow_resolution,
-        height: p.scene.shafts.shadow_resolution,
-        depth_bits: p.scene.shafts.shadow_depth_bits,
+        width: cfg.shadow_resolution,
+        height: cfg.shadow_resolution,
+        depth_bits: cfg.shadow_depth_bits,
         bias: 1,
         frag_frac_bits: 0,
     }
     .build()
-    .ok();
-    match &units.shadow {
-        Some(s) => add(
+    .map_or(0.0, |s| s.cost().gates_nand2());
+    out.push(match &units.shadow {
+        Some(s) => Elaborated::present("shadow_compare (shadow map)", UnitSummary::of(s)),
+        None => Elaborated::left_out(
             "shadow_compare (shadow map)",
-            Some(UnitSummary::of(s)),
-            None,
-            0.0,
-            0,
-        ),
-        None => add(
-            "shadow_compare (shadow map)",
-            None,
-            Some("no occluders in the scene".into()),
-            would_shadow.map_or(0.0, |s| s.cost().gates_nand2()),
+            "no occluders in the scene",
+            would_shadow,
             plane_frags,
         ),
-    }
-    match lm {
-        Some(t) => {
-            add(
-                "texture_sampler (light map)",
-                Some(UnitSummary::of(t)),
-                None,
-                0.0,
-                0,
-            );
-        }
-        None => add(
+    });
+    out.push(match lm {
+        Some(t) => Elaborated::present("texture_sampler (light map)", UnitSummary::of(t)),
+        None => Elaborated::left_out(
             "texture_sampler (light map)",
-            None,
-            Some("light 0 has no light map".into()),
+            "light 0 has no light map",
             UnitSummary::of(&units.h_tex).gates_nand2,
             plane_frags,
         ),
-    }
-    if lm.is_some() || units.shadow.is_some() {
-        add(
-            "projective_texcoord",
-            Some(UnitSummary::of(&units.proj)),
-            None,
-            0.0,
-            0,
-        );
+    });
+    out.push(if lm.is_some() || units.shadow.is_some() {
+        Elaborated::present("projective_texcoord", UnitSummary::of(&units.proj))
     } else {
-        add(
+        Elaborated::left_out(
             "projective_texcoord",
-            None,
-            Some("no light map and no shadow map".into()),
+            "no light map and no shadow map",
             units.proj.cost().gates_nand2(),
             plane_frags,
-        );
-    }
-    match &units.zbuf {
-        Some(z) => add(
+        )
+    });
+    out.push(match &units.zbuf {
+        Some(z) => Elaborated::present("shadow_compare (depth buffer)", UnitSummary::of(z)),
+        None => Elaborated::left_out(
             "shadow_compare (depth buffer)",
-            Some(UnitSummary::of(z)),
-            None,
-            0.0,
-            0,
-        ),
-        None => add(
-            "shadow_compare (depth buffer)",
-            None,
-            Some("no objects in the scene".into()),
+            "no objects in the scene",
             0.0,
             plane_frags,
         ),
-    }
-    if p.scene.shafts.subplanes > 1 {
-        add(
-            "additive_blend (J buffer)",
-            Some(UnitSummary::of(&units.j_blend)),
-            None,
-            0.0,
-            0,
-        );
+    });
+    out.push(if cfg.subplanes > 1 {
+        Elaborated::present("additive_blend (J buffer)", UnitSummary::of(&units.j_blend))
     } else {
-        add(
+        Elaborated::left_out(
             "additive_blend (J buffer) + texture_sampler (J)",
-            None,
-            Some("m = 1: no sub-plane path".into()),
+            "m = 1: no sub-plane path",
             units.j_blend.cost().gates_nand2(),
             0,
-        );
-    }
+        )
+    });
     out
 }
