@@ -51,7 +51,14 @@ pub enum Command {
         name: String,
         #[arg(long, default_value = "out/reproduce")]
         out: PathBuf,
+        /// Override the swept values (fig4: planes, default 10,20,…,200; fig5:
+        /// sub-planes, default 1,…,25), comma-separated.
+        #[arg(long, value_delimiter = ',')]
+        values: Option<Vec<u32>>,
     },
+    /// Print a built-in scene (fig4, fig6, stage) as TOML, to start a scene file from:
+    /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
+    Scene { name: String },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
         /// Output directory.
@@ -90,7 +97,14 @@ pub fn run(cli: Cli) -> Result<(), String> {
                 crate::pipeline::shafts::cli::render_cli(&scene, &out, json, reference.as_deref())
             }
         }
-        Command::Reproduce { name, out } => reproduce(&name, &out),
+        Command::Reproduce { name, out, values } => reproduce(&name, &out, values),
+        Command::Scene { name } => {
+            print!(
+                "{}",
+                crate::scene::builtin::builtin_toml(&name).map_err(|e| e.to_string())?
+            );
+            Ok(())
+        }
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
@@ -126,13 +140,24 @@ pub fn run(cli: Cli) -> Result<(), String> {
     }
 }
 
-fn reproduce(name: &str, out: &std::path::Path) -> Result<(), String> {
+fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
     use crate::pipeline::shafts::reproduce as r;
+    if values.is_some() && !matches!(name, "shafts-fig4" | "shafts-fig5") {
+        return Err(format!(
+            "values: only shafts-fig4 (planes) and shafts-fig5 (sub-planes) take --values, not '{name}'"
+        ));
+    }
+    if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
+        return Err(format!("values[{v}]: must be at least 1"));
+    }
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
     match name {
-        "shafts-fig4" => r::fig4(out, &(1..=20).map(|k| 10 * k).collect::<Vec<_>>())?,
-        "shafts-fig5" => r::fig5(out, &(1..=25).collect::<Vec<_>>())?,
+        "shafts-fig4" => r::fig4(
+            out,
+            &values.unwrap_or_else(|| (1..=20).map(|k| 10 * k).collect()),
+        )?,
+        "shafts-fig5" => r::fig5(out, &values.unwrap_or_else(|| (1..=25).collect()))?,
         "shafts-vs-raymarch" => r::vs_raymarch(out)?,
         "shafts-stage" => r::stage(out)?,
         _ => {

@@ -1037,3 +1037,71 @@ fn degenerate_camera_and_vertex_normals() {
     let h = mesh.intersect(&up, 0.0, 10.0).unwrap();
     assert!((h.normal + expect).length() < 1e-12, "{:?}", h.normal);
 }
+
+/// `LightFrame::cone_interval` against the point predicate it stands for: on random
+/// spots and rays, every sampled t whose point is clearly inside the cone (r² < 1 − 1e-9,
+/// in front of the light) lies in the interval, and every t clearly inside the interval
+/// has its point inside the cone (r² ≤ 1 + 1e-9). An empty answer means no sampled
+/// point is clearly inside.
+#[test]
+fn cone_interval_is_exactly_the_lit_part_of_the_ray() {
+    use glare_pipeline::scene::lightmap::LightFrame;
+    let mut rng = ChaCha8Rng::seed_from_u64(41);
+    let mut checked = 0;
+    for case in 0..2000 {
+        let r = |rng: &mut ChaCha8Rng, a: f64| rng.random_range(-a..a);
+        let light = spot(
+            [r(&mut rng, 5.0), r(&mut rng, 5.0), r(&mut rng, 5.0)],
+            [r(&mut rng, 1.0), r(&mut rng, 1.0), r(&mut rng, 1.0)],
+            rng.random_range(0.5..89.5),
+            1.0,
+        );
+        let frame = LightFrame::new(&light);
+        // Every fourth ray passes exactly through the apex.
+        let origin = v3(r(&mut rng, 8.0), r(&mut rng, 8.0), r(&mut rng, 8.0));
+        let dir = if case % 4 == 0 {
+            (frame.position - origin).normalized()
+        } else {
+            v3(r(&mut rng, 1.0), r(&mut rng, 1.0), r(&mut rng, 1.0)).normalized()
+        };
+        let (t0, t1) = (rng.random_range(0.0..2.0), rng.random_range(2.0..30.0));
+        let got = frame.cone_interval(origin, dir, t0, t1);
+        let tol = 1e-9 * (t1 - t0);
+        for k in 0..=256 {
+            let t = t0 + (t1 - t0) * k as f64 / 256.0;
+            let p = origin + dir * t;
+            let r2 = spot_map_coords(&light, p).map(|(u, v)| map_r2(u, v));
+            let clearly_in = r2.is_some_and(|x| x < 1.0 - 1e-9);
+            let maybe_in = r2.is_some_and(|x| x <= 1.0 + 1e-9);
+            match got {
+                None => assert!(!clearly_in, "case {case}: t = {t} lit but interval empty"),
+                Some((a, b)) => {
+                    assert!(t0 <= a && a <= b && b <= t1, "case {case}: [{a}, {b}]");
+                    if clearly_in {
+                        assert!(
+                            a - tol <= t && t <= b + tol,
+                            "case {case}: t = {t} ∉ [{a}, {b}]"
+                        );
+                    }
+                    if t > a + tol && t < b - tol {
+                        assert!(
+                            maybe_in,
+                            "case {case}: t = {t} ∈ [{a}, {b}] but r² = {r2:?}"
+                        );
+                    }
+                }
+            }
+            checked += usize::from(clearly_in);
+        }
+    }
+    assert!(
+        checked > 10_000,
+        "too few lit samples ({checked}) to mean anything"
+    );
+    let point = point_light([0.0, 0.0, 0.0], 1.0);
+    let f = LightFrame::new(&point);
+    assert_eq!(
+        f.cone_interval(v3(1.0, 0.0, 0.0), v3(0.0, 1.0, 0.0), 0.5, 3.0),
+        Some((0.5, 3.0))
+    );
+}

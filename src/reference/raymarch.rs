@@ -21,7 +21,11 @@
 //!   I_o = 0 when no surface is hit.
 //! * **I_v** = I_o · exp(−ρκT) + I_s.
 //! * **I_s** = Σ_lights Σ_{k<N} H(t_k) · I_l(t_k) · F(α_k) · h(max(s_k, S_MIN), t_k) · Δt,
-//!   t_k = (k + ½)Δt, Δt = T/N ([`crate::reference::shafts_model::g_clamped`]).
+//!   t_k = a + (k + ½)Δt, Δt = (b − a)/N ([`crate::reference::shafts_model::g_clamped`]),
+//!   where [a, b] is the part of [0, T] inside the light's cone
+//!   ([`LightFrame::cone_interval`]; all of [0, T] for a point light). As in Nishita's
+//!   method the ray is clipped to the light's illumination volume first, so all N
+//!   samples fall where the integrand can be non-zero (outside the cone it is 0).
 //!
 //! Never NaN for a valid scene; a pixel with N = 0 samples has I_s = 0.
 //! `raymarch_image` parallelises over rows (rayon) and collects rows in order; every
@@ -229,11 +233,18 @@ fn pixel_with(
     if samples == 0 || !(pr.t_end > 0.0) {
         return out;
     }
-    let dt = pr.t_end / samples as f64;
     for le in lights {
+        // Only the part of [0, T] inside the light's cone can scatter its light.
+        let Some((a, b)) = le
+            .frame
+            .cone_interval(pr.ray.origin, pr.ray.dir, 0.0, pr.t_end)
+        else {
+            continue;
+        };
+        let dt = (b - a) / samples as f64;
         let mut sum = 0.0;
         for k in 0..samples {
-            let t = (k as f64 + 0.5) * dt;
+            let t = a + (k as f64 + 0.5) * dt;
             sum += scatter_integrand(le, &scene.medium, geom, &pr.ray, t, S_MIN);
         }
         let v = mul_no_nan(sum, dt);

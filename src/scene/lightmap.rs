@@ -298,6 +298,71 @@ impl LightFrame {
         }
     }
 
+    /// The part of the segment origin + t·dir, t ∈ [t0, t1], inside the spot's cone
+    /// (z > 0 and x² + y² ≤ z²·tan²(cutoff) in the light's frame), as (a, b). A ray meets
+    /// the forward nappe of a cone narrower than 90° (a convex set) in one interval.
+    /// `None` when the segment misses the cone or the spot is invalid; the whole segment
+    /// for a point light. The breakpoints are the roots of the cone's quadratic and the
+    /// crossing of the light's plane; each piece between breakpoints is classified by
+    /// its midpoint, so tangent and through-the-apex rays need no special case.
+    pub fn cone_interval(&self, origin: Vec3, dir: Vec3, t0: f64, t1: f64) -> Option<(f64, f64)> {
+        if !(t1 > t0) {
+            return None;
+        }
+        if self.kind == LightKind::Point {
+            return Some((t0, t1));
+        }
+        if !self.valid {
+            return None;
+        }
+        let w = origin - self.position;
+        let (wx, wy, wz) = (w.dot(self.right), w.dot(self.up), w.dot(self.forward));
+        let (ex, ey, ez) = (dir.dot(self.right), dir.dot(self.up), dir.dot(self.forward));
+        let k = self.tan_cutoff * self.tan_cutoff;
+        // Q(t) = A t² + 2B t + C ≤ 0 inside the double cone.
+        let a = ex * ex + ey * ey - k * ez * ez;
+        let b = wx * ex + wy * ey - k * wz * ez;
+        let c = wx * wx + wy * wy - k * wz * wz;
+        let mut cuts = vec![t0, t1];
+        let mut push = |t: f64| {
+            if t.is_finite() && t > t0 && t < t1 {
+                cuts.push(t);
+            }
+        };
+        let scale = ex * ex + ey * ey + k * ez * ez;
+        if a.abs() > 1e-12 * scale {
+            let disc = b * b - a * c;
+            if disc >= 0.0 {
+                // Stable roots: q = −(B + sign(B)·√disc); t = q/A and C/q.
+                let q = -(b + b.signum() * disc.sqrt());
+                push(q / a);
+                if q != 0.0 {
+                    push(c / q);
+                }
+            }
+        } else if b != 0.0 {
+            push(-c / (2.0 * b));
+        }
+        if ez != 0.0 {
+            push(-wz / ez);
+        }
+        cuts.sort_by(f64::total_cmp);
+        let inside = |t: f64| {
+            let (x, y, z) = (wx + t * ex, wy + t * ey, wz + t * ez);
+            z > 0.0 && x * x + y * y <= k * z * z
+        };
+        let mut out: Option<(f64, f64)> = None;
+        for p in cuts.windows(2) {
+            if p[1] > p[0] && inside(0.5 * (p[0] + p[1])) {
+                out = Some(match out {
+                    None => (p[0], p[1]),
+                    Some((lo, _)) => (lo, p[1]),
+                });
+            }
+        }
+        out
+    }
+
     /// The scalar emission toward p: intensity · map(u, v) inside the cone (r ≤ 1),
     /// 0 outside or behind a spot; intensity for a point light (its map is ignored).
     pub fn weight(&self, intensity: f64, map: &LightMapSampler, p: Vec3) -> f64 {

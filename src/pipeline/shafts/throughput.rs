@@ -13,7 +13,10 @@ pub struct GpuModel {
     pub clock_hz: f64,
     /// Pixel pipelines (4).
     pub pipes: u32,
-    /// Texture units per pipeline (2): a fragment needing T lookups takes ⌈T/2⌉ clocks.
+    /// Textures one pass can combine (GeForce2 GTS: 2 texture units per pipe and
+    /// register combiners over 2 textures, no loop-back): a fragment needing T textures
+    /// is drawn in ⌈T/2⌉ hardware passes (the intermediate product kept in the
+    /// framebuffer's destination alpha), each paying fill, framebuffer, depth and set-up.
     pub tmus_per_pipe: u32,
     /// Memory bandwidth, bytes/s (5.3 GB/s).
     pub bytes_per_second: f64,
@@ -49,35 +52,53 @@ pub struct Prediction {
     pub seconds: f64,
     /// Seconds by pass kind.
     pub by_kind: BTreeMap<String, f64>,
-    /// Passes bounded by memory rather than by the pipes.
+    /// Hardware passes bounded by memory rather than by the pipes.
     pub memory_bound_passes: u64,
+    /// Hardware passes (a model pass needing more textures than one pass combines
+    /// counts ⌈T/2⌉).
     pub passes: u64,
 }
 
-/// Seconds of one pass: the slower of the pipes and the memory, plus set-up and overhead.
-pub fn pass_seconds(m: &GpuModel, p: &PassStats) -> (f64, bool) {
-    let clocks_per_frag = p.textures_per_fragment.div_ceil(m.tmus_per_pipe).max(1) as f64;
-    let fill = p.fragments as f64 * clocks_per_frag / m.pipes as f64 / m.clock_hz;
+/// Hardware passes a pass of the model needs: ⌈T / textures per pass⌉, at least 1.
+pub fn hardware_passes(m: &GpuModel, p: &PassStats) -> u32 {
+    p.textures_per_fragment
+        .div_ceil(m.tmus_per_pipe.max(1))
+        .max(1)
+}
+
+/// Seconds of one pass of the model: per hardware pass the slower of the pipes (one
+/// clock per fragment) and the memory, plus set-up and overhead. Texel bytes are paid
+/// once (each texture is fetched in one of the hardware passes); framebuffer and depth
+/// traffic, fill, set-up and overhead once per hardware pass. Returns the seconds,
+/// whether memory bounds it, and the number of hardware passes.
+pub fn pass_seconds(m: &GpuModel, p: &PassStats) -> (f64, bool, u32) {
+    let hw = hardware_passes(m, p);
+    let k = hw as f64;
+    let fill = p.fragments as f64 * k / m.pipes as f64 / m.clock_hz;
     let bytes = p.texel_bytes as f64 * (1.0 - m.texture_cache_hit)
-        + p.fb_bytes as f64
+        + k * p.fb_bytes as f64
         + p.other_bytes as f64
-        + (p.depth_tests * m.depth_bytes) as f64;
+        + k * (p.depth_tests * m.depth_bytes) as f64;
     let mem = bytes / m.bytes_per_second;
-    let setup = p.triangles as f64 * m.setup_clocks_per_triangle / m.clock_hz;
-    (fill.max(mem) + setup + m.pass_overhead_s, mem > fill)
+    let setup = k * p.triangles as f64 * m.setup_clocks_per_triangle / m.clock_hz;
+    (
+        fill.max(mem) + setup + k * m.pass_overhead_s,
+        mem > fill,
+        hw,
+    )
 }
 
 /// Predict a frame.
 pub fn predict(m: &GpuModel, passes: &[PassStats]) -> Prediction {
     let mut out = Prediction::default();
     for p in passes {
-        let (s, mem_bound) = pass_seconds(m, p);
+        let (s, mem_bound, hw) = pass_seconds(m, p);
         out.seconds += s;
         *out.by_kind
             .entry(kind_name(p.kind).to_string())
             .or_default() += s;
-        out.memory_bound_passes += u64::from(mem_bound);
-        out.passes += 1;
+        out.memory_bound_passes += u64::from(mem_bound) * hw as u64;
+        out.passes += hw as u64;
     }
     out
 }
