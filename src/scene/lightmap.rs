@@ -408,6 +408,10 @@ pub fn light_radiance(light: &Light, map: &LightMapSampler, p: Vec3) -> [f64; 3]
 /// row 0 at v = 0): texel (i, j) holds round-half-even(value · (2^bits − 1)) of the map
 /// at its centre ((i + ½)/size, (j + ½)/size), and 0 where that centre lies outside
 /// the cone's disc (r > 1) — so the texture carries the cone mask for every map type.
+/// The outermost ring of texels is 0 too: the sampler clamps to the edge, so outside
+/// the light's square frustum it repeats the edge texels, and the middles of the edges
+/// lie inside the disc (r ≥ 1 − 1/size there); a non-zero edge would leak the map's rim
+/// value to every direction beyond the frustum (a uniform spot would light all of it).
 /// Errors: `light_map.size` (1 ..= 8192), `light_map.bits` (1 ..= 32), and the map's
 /// own fields under `light_map.` (wrap with [`ConfigError::within`] for the light).
 pub fn rasterize_lightmap(map: &LightMap, size: u32, bits: u32) -> Result<Vec<u32>, ConfigError> {
@@ -430,7 +434,8 @@ pub fn rasterize_sampler(
         let v = (j as f64 + 0.5) / size as f64;
         for i in 0..n {
             let u = (i as f64 + 0.5) / size as f64;
-            let val = if map_r2(u, v) <= 1.0 {
+            let border = i == 0 || j == 0 || i + 1 == n || j + 1 == n;
+            let val = if !border && map_r2(u, v) <= 1.0 {
                 map.eval(u, v).clamp(0.0, 1.0)
             } else {
                 0.0
