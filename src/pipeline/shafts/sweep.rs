@@ -362,7 +362,7 @@ pub fn sweep(
     }
     bar.finish_and_clear();
     write_csv(&csv, &rows)?;
-    plot(&png, param, values, &rows)?;
+    plot(&png, &plot_title(base, param), param, values, &rows)?;
     Ok(SweepOutput {
         rows,
         csv,
@@ -394,9 +394,40 @@ fn render_row(
     })
 }
 
+/// "sweep planes on fig4 (360x240)": the scene's name up to its first ':' (at most
+/// 40 characters).
+fn plot_title(scene: &Scene, param: Param) -> String {
+    let name: String = scene
+        .name
+        .split(':')
+        .next()
+        .unwrap_or("")
+        .trim()
+        .chars()
+        .take(40)
+        .collect();
+    let on = if name.is_empty() {
+        String::new()
+    } else {
+        format!(" on {name}")
+    };
+    format!(
+        "sweep {}{on} ({}x{}): error and predicted time",
+        param.name(),
+        scene.image.width,
+        scene.image.height
+    )
+}
+
 /// Errors on the left axis, predicted time on the right; x = the value for numeric
 /// params (points sorted by x), the value's index for pairs (the label lists them).
-fn plot(path: &Path, param: Param, values: &[Value], rows: &[SweepRow]) -> Result<(), String> {
+fn plot(
+    path: &Path,
+    title: &str,
+    param: Param,
+    values: &[Value],
+    rows: &[SweepRow],
+) -> Result<(), String> {
     let xs: Vec<f64> = values
         .iter()
         .enumerate()
@@ -434,7 +465,7 @@ fn plot(path: &Path, param: Param, values: &[Value], rows: &[SweepRow]) -> Resul
     line_plot(
         path,
         &PlotSpec {
-            title: format!("sweep {}: error and predicted time", param.name()),
+            title: title.to_string(),
             x_label,
             y_left_label: "error (8-bit levels)".to_string(),
             y_right_label: Some("predicted GeForce2 GTS time (s)".to_string()),
