@@ -1,4 +1,4 @@
-//! The clap front end: `units`, `render`, `tables`, `trace`.
+//! The clap front end: `units`, `render`, `reproduce`, `sweep`, `tables`, `trace`.
 
 use crate::pipeline::registry;
 use crate::report::alternates::modulate_alternates;
@@ -59,6 +59,31 @@ pub enum Command {
     /// Print a built-in scene (fig4, fig6, stage) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
+    /// Error against run time for one shafts parameter: renders the scene for each
+    /// value, compares with the f64 ray-marched reference, writes
+    /// DIR/sweep_<param>.csv and .png and prints a table.
+    Sweep {
+        /// A built-in scene (fig4, fig6, stage) or a TOML scene file.
+        #[arg(long)]
+        scene: String,
+        /// planes, subplanes, texel_bits, fb_bits, weight_bits, coord_frac_bits, mesh,
+        /// shadow_resolution, shadow_depth_bits, f_texels, h_texels.
+        #[arg(long)]
+        param: String,
+        /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
+        /// inclusive ranges start..end:step for numeric params (10..200:10).
+        #[arg(long)]
+        values: String,
+        /// Output directory.
+        #[arg(long, default_value = "out/sweep")]
+        out: PathBuf,
+        /// Samples per ray of the ray-marched reference (computed once per sweep).
+        #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES)]
+        truth_samples: u32,
+        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
+        #[arg(long)]
+        image: Option<String>,
+    },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
         /// Output directory.
@@ -105,6 +130,21 @@ pub fn run(cli: Cli) -> Result<(), String> {
             );
             Ok(())
         }
+        Command::Sweep {
+            scene,
+            param,
+            values,
+            out,
+            truth_samples,
+            image,
+        } => crate::pipeline::shafts::sweep::sweep_cli(
+            &scene,
+            &param,
+            &values,
+            &out,
+            truth_samples,
+            image.as_deref(),
+        ),
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;

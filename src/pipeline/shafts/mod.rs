@@ -5,6 +5,7 @@ pub mod frame;
 pub mod host;
 pub mod prepare;
 pub mod reproduce;
+pub mod sweep;
 pub mod tables;
 pub mod throughput;
 pub mod view;

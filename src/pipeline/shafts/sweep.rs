@@ -1,0 +1,546 @@
+//! `sweep`: error against run time for one `shafts` parameter (DESIGN §4).
+//!
+//! Each value is applied to the scene's `shafts` config, the scene is re-validated
+//! (all values before anything is rendered or written), then every value is rendered
+//! through the bit-accurate units and compared with the scene's f64 ray-marched
+//! reference, computed once per sweep (it does not depend on the `shafts` config).
+//!
+//! Per value: `error_levels` = mean |Δ| over the 10 representative pixels of the
+//! reference (as `reproduce shafts-fig4`), `rms_levels` = RMS over the whole image,
+//! `predicted_hw_seconds` from the GeForce2 GTS throughput model, `wall_seconds` of the
+//! simulation (preparation + frame), and `gates_nand2` = the sum of the gates of the
+//! units the frame elaborated (units left out do not count).
+//!
+//! Output: `DIR/sweep_<param>.csv` and `DIR/sweep_<param>.png`. If a render fails after
+//! validation, the rows done so far are written before the error is returned.
+
+use super::cli::{load_scene, reference_image, render_scene};
+use super::frame::FrameResult;
+use crate::report::csv_out::write_csv;
+use crate::report::metrics::{error_stats, error_stats_at, representative_pixels};
+use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
+use crate::report::progress::progress_bar;
+use crate::report::table::text_table;
+use crate::scene::format::{Scene, ShaftsConfig};
+use serde::Serialize;
+use std::fmt;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Most values one sweep may have (after ranges are expanded).
+pub const MAX_VALUES: usize = 1000;
+/// Largest `--truth-samples`.
+pub const MAX_TRUTH_SAMPLES: u32 = 100_000;
+/// Default `--truth-samples` (the paper's Fig. 4 truth).
+pub const DEFAULT_TRUTH_SAMPLES: u32 = 200;
+/// Representative pixels of `error_levels`.
+pub const REPRESENTATIVE_PIXELS: usize = 10;
+
+/// A sweepable `shafts` field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Param {
+    Planes,
+    Subplanes,
+    TexelBits,
+    FbBits,
+    WeightBits,
+    CoordFracBits,
+    Mesh,
+    ShadowResolution,
+    ShadowDepthBits,
+    FTexels,
+    HTexels,
+}
+
+impl Param {
+    pub const ALL: [Param; 11] = [
+        Param::Planes,
+        Param::Subplanes,
+        Param::TexelBits,
+        Param::FbBits,
+        Param::WeightBits,
+        Param::CoordFracBits,
+        Param::Mesh,
+        Param::ShadowResolution,
+        Param::ShadowDepthBits,
+        Param::FTexels,
+        Param::HTexels,
+    ];
+
+    /// The name on the command line and in the CSV (= the `shafts` field name).
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Planes => "planes",
+            Param::Subplanes => "subplanes",
+            Param::TexelBits => "texel_bits",
+            Param::FbBits => "fb_bits",
+            Param::WeightBits => "weight_bits",
+            Param::CoordFracBits => "coord_frac_bits",
+            Param::Mesh => "mesh",
+            Param::ShadowResolution => "shadow_resolution",
+            Param::ShadowDepthBits => "shadow_depth_bits",
+            Param::FTexels => "f_texels",
+            Param::HTexels => "h_texels",
+        }
+    }
+
+    /// By name (`-` accepted for `_`); an unknown name is an error naming `param` and
+    /// listing the known ones.
+    pub fn from_name(name: &str) -> Result<Param, String> {
+        let norm = name.trim().replace('-', "_");
+        Param::ALL
+            .into_iter()
+            .find(|p| p.name() == norm)
+            .ok_or_else(|| {
+                format!(
+                    "param: unknown parameter '{name}' (known: {})",
+                    Param::ALL.map(Param::name).join(", ")
+                )
+            })
+    }
+
+    /// Takes `AxB` values (mesh columns × rows, h texture s × t) rather than numbers.
+    pub fn is_pair(self) -> bool {
+        matches!(self, Param::Mesh | Param::HTexels)
+    }
+
+    /// The value set into `cfg` (no validation here: see [`sweep`]). A value of the
+    /// wrong shape (a pair for a numeric param or the reverse) is an error naming
+    /// `values`.
+    pub fn apply(self, cfg: &mut ShaftsConfig, v: Value) -> Result<(), String> {
+        let wrong = || {
+            Err(format!(
+                "values: '{v}' does not fit {} (it takes {})",
+                self.name(),
+                self.value_help()
+            ))
+        };
+        match v {
+            Value::Pair(a, b) => match self {
+                Param::Mesh => cfg.mesh = [a, b],
+                Param::HTexels => cfg.h_texels = [a, b],
+                _ => return wrong(),
+            },
+            Value::One(x) => match self {
+                Param::Planes => cfg.planes = x,
+                Param::Subplanes => cfg.subplanes = x,
+                Param::TexelBits => cfg.texel_bits = x,
+                Param::FbBits => cfg.fb_bits = x,
+                Param::WeightBits => cfg.weight_bits = x,
+                Param::CoordFracBits => cfg.coord_frac_bits = x,
+                Param::ShadowResolution => cfg.shadow_resolution = x,
+                Param::ShadowDepthBits => cfg.shadow_depth_bits = x,
+                Param::FTexels => cfg.f_texels = x,
+                Param::Mesh | Param::HTexels => return wrong(),
+            },
+        }
+        Ok(())
+    }
+
+    fn value_help(self) -> &'static str {
+        if self.is_pair() {
+            "values like 15x10,30x20"
+        } else {
+            "whole numbers, e.g. 10,20,30, or ranges start..end:step, e.g. 10..200:10"
+        }
+    }
+}
+
+/// One swept value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Value {
+    One(u32),
+    /// `AxB`.
+    Pair(u32, u32),
+}
+
+impl fmt::Display for Value {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Value::One(x) => write!(f, "{x}"),
+            Value::Pair(a, b) => write!(f, "{a}x{b}"),
+        }
+    }
+}
+
+fn parse_u32(item: &str, what: &str) -> Result<u32, String> {
+    let t = item.trim();
+    t.parse::<u32>().map_err(|_| {
+        format!("'{t}' is not a number ({what} must be a whole number in 0 ..= 4294967295)")
+    })
+}
+
+/// `AxB` (also `AXB`), each side a whole number.
+fn parse_pair(item: &str) -> Result<(u32, u32), String> {
+    let t = item.trim();
+    let (a, b) = t
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{t}' is not of the form AxB (e.g. 15x10)"))?;
+    Ok((parse_u32(a, "each side")?, parse_u32(b, "each side")?))
+}
+
+/// The `--values` list: comma-separated items, each a value (`10`, or `15x10` for
+/// mesh / h_texels) or, for numeric params, an inclusive range `start..end:step`
+/// (`start..end` steps by 1). Errors name `values[k]`, the k-th comma item (from 0),
+/// or `values` for the whole list; at most [`MAX_VALUES`] values in all. Ranges are
+/// not checked against the field's limits here: [`sweep`] validates each value.
+pub fn parse_values(param: Param, text: &str) -> Result<Vec<Value>, String> {
+    if text.trim().is_empty() {
+        return Err(format!(
+            "values: empty list ({} takes {})",
+            param.name(),
+            param.value_help()
+        ));
+    }
+    let mut out = Vec::new();
+    for (k, item) in text.split(',').enumerate() {
+        let at = |m: String| format!("values[{k}]: {m}");
+        let item = item.trim();
+        if item.is_empty() {
+            return Err(at(format!(
+                "empty item ({} takes {})",
+                param.name(),
+                param.value_help()
+            )));
+        }
+        if let Some((start, rest)) = item.split_once("..") {
+            if param.is_pair() {
+                return Err(at(format!(
+                    "'{item}': a range needs a numeric parameter ({} takes {})",
+                    param.name(),
+                    param.value_help()
+                )));
+            }
+            let (end, step) = match rest.split_once(':') {
+                Some((e, s)) => (e, parse_u32(s, "the step").map_err(at)?),
+                None => (rest, 1),
+            };
+            let start = parse_u32(start, "the start").map_err(at)?;
+            let end = parse_u32(end, "the end").map_err(at)?;
+            if step == 0 {
+                return Err(at(format!("'{item}': the step must be at least 1")));
+            }
+            if end < start {
+                return Err(at(format!(
+                    "'{item}': the end {end} is below the start {start}"
+                )));
+            }
+            let count = ((end - start) / step) as usize + 1;
+            if out.len() + count > MAX_VALUES {
+                return Err(at(format!(
+                    "'{item}' gives {count} values; a sweep has at most {MAX_VALUES}"
+                )));
+            }
+            out.extend((0..count as u32).map(|i| Value::One(start + i * step)));
+        } else {
+            let v = if param.is_pair() {
+                let (a, b) = parse_pair(item).map_err(at)?;
+                Value::Pair(a, b)
+            } else {
+                Value::One(parse_u32(item, param.name()).map_err(at)?)
+            };
+            if out.len() + 1 > MAX_VALUES {
+                return Err(format!("values: more than {MAX_VALUES} values"));
+            }
+            out.push(v);
+        }
+    }
+    Ok(out)
+}
+
+/// `--image WxH`; a malformed size is an error naming `image` (the range is checked
+/// by the scene's validation, as `image.width` / `image.height`).
+pub fn parse_image(text: &str) -> Result<(u32, u32), String> {
+    parse_pair(text).map_err(|e| format!("image: {e}; --image takes WIDTHxHEIGHT, e.g. 360x240"))
+}
+
+/// One row of `sweep_<param>.csv`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepRow {
+    pub param: String,
+    pub value: String,
+    pub error_levels: f64,
+    pub rms_levels: f64,
+    pub predicted_hw_seconds: f64,
+    pub wall_seconds: f64,
+    pub gates_nand2: f64,
+}
+
+/// What a sweep produced.
+#[derive(Clone, Debug)]
+pub struct SweepOutput {
+    pub rows: Vec<SweepRow>,
+    pub csv: PathBuf,
+    pub png: PathBuf,
+    /// Wall time of the ray-marched reference.
+    pub truth_seconds: f64,
+}
+
+/// Gates of the units the frame elaborated (left-out units do not count).
+pub fn elaborated_gates(r: &FrameResult) -> f64 {
+    r.elaboration
+        .iter()
+        .filter_map(|e| e.summary.as_ref())
+        .map(|s| s.gates_nand2)
+        .sum()
+}
+
+/// The scenes of a sweep: `base` with each value applied, all validated. The first
+/// invalid value is an error naming the field (`shafts.texel_bits: …`) and the value.
+pub fn sweep_scenes(base: &Scene, param: Param, values: &[Value]) -> Result<Vec<Scene>, String> {
+    base.validate().map_err(|e| e.to_string())?;
+    if values.is_empty() {
+        return Err("values: empty list".into());
+    }
+    if values.len() > MAX_VALUES {
+        return Err(format!(
+            "values: {} values; a sweep has at most {MAX_VALUES}",
+            values.len()
+        ));
+    }
+    values
+        .iter()
+        .map(|&v| {
+            let mut s = base.clone();
+            param.apply(&mut s.shafts, v)?;
+            s.validate()
+                .map_err(|e| format!("{e} (sweep value {} = {v})", param.name()))?;
+            Ok(s)
+        })
+        .collect()
+}
+
+/// Run the sweep on `base` (a validated scene; its image size is used as it is) and
+/// write `out/sweep_<param>.csv` and `.png`. Every value is validated before anything
+/// is rendered or written; a render that still fails writes the rows done so far and
+/// returns the error naming the value.
+pub fn sweep(
+    base: &Scene,
+    param: Param,
+    values: &[Value],
+    truth_samples: u32,
+    out: &Path,
+) -> Result<SweepOutput, String> {
+    if !(1..=MAX_TRUTH_SAMPLES).contains(&truth_samples) {
+        return Err(format!(
+            "truth_samples: {truth_samples} is out of range (allowed 1 ..= {MAX_TRUTH_SAMPLES})"
+        ));
+    }
+    let scenes = sweep_scenes(base, param, values)?;
+    let (w, h) = (base.image.width, base.image.height);
+    let (truth, truth_seconds) = reference_image(base, truth_samples)?;
+    let pixels = representative_pixels(&truth, w, h, REPRESENTATIVE_PIXELS, base.seed)
+        .map_err(|e| format!("truth (the {w}x{h} ray-marched reference): {e}"))?;
+    let csv = out.join(format!("sweep_{}.csv", param.name()));
+    let png = out.join(format!("sweep_{}.png", param.name()));
+
+    let bar = progress_bar(values.len() as u64, &format!("sweep {}", param.name()));
+    let mut rows = Vec::with_capacity(values.len());
+    for (k, (s, v)) in scenes.iter().zip(values).enumerate() {
+        let row = render_row(s, param, *v, &truth, w, &pixels);
+        match row {
+            Ok(r) => rows.push(r),
+            Err(e) => {
+                bar.abandon();
+                let saved = if rows.is_empty() {
+                    String::new()
+                } else {
+                    match write_csv(&csv, &rows) {
+                        Ok(()) => {
+                            format!("; the {} rows done are in {}", rows.len(), csv.display())
+                        }
+                        Err(w) => format!("; writing the rows done also failed: {w}"),
+                    }
+                };
+                return Err(format!(
+                    "{} = {v} (value {k} of the sweep): {e}{saved}",
+                    param.name()
+                ));
+            }
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    write_csv(&csv, &rows)?;
+    plot(&png, &plot_title(base, param), param, values, &rows)?;
+    Ok(SweepOutput {
+        rows,
+        csv,
+        png,
+        truth_seconds,
+    })
+}
+
+fn render_row(
+    s: &Scene,
+    param: Param,
+    v: Value,
+    truth: &[[f64; 3]],
+    w: u32,
+    pixels: &[(u32, u32)],
+) -> Result<SweepRow, String> {
+    let (r, pred, wall) = render_scene(s)?;
+    let img = r.levels();
+    let at = error_stats_at(&img, truth, w, pixels).map_err(|e| e.to_string())?;
+    let all = error_stats(&img, truth).map_err(|e| e.to_string())?;
+    Ok(SweepRow {
+        param: param.name().to_string(),
+        value: v.to_string(),
+        error_levels: at.mean_abs,
+        rms_levels: all.rms,
+        predicted_hw_seconds: pred.seconds,
+        wall_seconds: wall,
+        gates_nand2: elaborated_gates(&r),
+    })
+}
+
+/// "sweep planes on fig4 (360x240)": the scene's name up to its first ':' (at most
+/// 40 characters).
+fn plot_title(scene: &Scene, param: Param) -> String {
+    let name: String = scene
+        .name
+        .split(':')
+        .next()
+        .unwrap_or("")
+        .trim()
+        .chars()
+        .take(40)
+        .collect();
+    let on = if name.is_empty() {
+        String::new()
+    } else {
+        format!(" on {name}")
+    };
+    format!(
+        "sweep {}{on} ({}x{}): error and predicted time",
+        param.name(),
+        scene.image.width,
+        scene.image.height
+    )
+}
+
+/// Errors on the left axis, predicted time on the right; x = the value for numeric
+/// params (points sorted by x), the value's index for pairs (the label lists them).
+fn plot(
+    path: &Path,
+    title: &str,
+    param: Param,
+    values: &[Value],
+    rows: &[SweepRow],
+) -> Result<(), String> {
+    let xs: Vec<f64> = values
+        .iter()
+        .enumerate()
+        .map(|(i, v)| match v {
+            Value::One(x) => *x as f64,
+            Value::Pair(..) => i as f64,
+        })
+        .collect();
+    let x_label = if param.is_pair() {
+        let mut shown: Vec<String> = values
+            .iter()
+            .take(6)
+            .enumerate()
+            .map(|(i, v)| format!("{i} = {v}"))
+            .collect();
+        if values.len() > 6 {
+            shown.push("…".into());
+        }
+        format!(
+            "{}: index of the value ({})",
+            param.name(),
+            shown.join(", ")
+        )
+    } else {
+        param.name().to_string()
+    };
+    // Numeric values are drawn in increasing x (the CSV keeps the order given).
+    let mut order: Vec<usize> = (0..rows.len().min(xs.len())).collect();
+    order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
+    let series = |label: &str, axis: Axis, f: fn(&SweepRow) -> f64| Series {
+        label: label.to_string(),
+        points: order.iter().map(|&i| (xs[i], f(&rows[i]))).collect(),
+        axis,
+    };
+    line_plot(
+        path,
+        &PlotSpec {
+            title: title.to_string(),
+            x_label,
+            y_left_label: "error (8-bit levels)".to_string(),
+            y_right_label: Some("predicted GeForce2 GTS time (s)".to_string()),
+            log_x: false,
+            log_y: false,
+            width: 900,
+            height: 560,
+        },
+        &[
+            series("mean |error| at 10 pixels", Axis::Left, |r| r.error_levels),
+            series("RMS error, whole image", Axis::Left, |r| r.rms_levels),
+            series("predicted time", Axis::Right, |r| r.predicted_hw_seconds),
+        ],
+    )
+}
+
+/// The `sweep` command: load the scene (built-in name or TOML file), apply `--image`,
+/// parse and validate every value, sweep, print a table.
+pub fn sweep_cli(
+    scene_name: &str,
+    param: &str,
+    values: &str,
+    out: &Path,
+    truth_samples: u32,
+    image: Option<&str>,
+) -> Result<(), String> {
+    let param = Param::from_name(param)?;
+    let values = parse_values(param, values)?;
+    let mut scene = load_scene(scene_name)?;
+    if let Some(img) = image {
+        let (w, h) = parse_image(img)?;
+        scene.image.width = w;
+        scene.image.height = h;
+    }
+    let t0 = Instant::now();
+    let res = sweep(&scene, param, &values, truth_samples, out)?;
+    println!(
+        "sweep {} on {} ({}x{}, truth {} samples per ray in {:.2} s): wrote {} and {} in {:.1} s",
+        param.name(),
+        scene_name,
+        scene.image.width,
+        scene.image.height,
+        truth_samples,
+        res.truth_seconds,
+        res.csv.display(),
+        res.png.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    let table: Vec<Vec<String>> = res
+        .rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.value.clone(),
+                format!("{:.3}", r.error_levels),
+                format!("{:.3}", r.rms_levels),
+                format!("{:.6}", r.predicted_hw_seconds),
+                format!("{:.3}", r.wall_seconds),
+                format!("{:.0}", r.gates_nand2),
+            ]
+        })
+        .collect();
+    print!(
+        "{}",
+        text_table(
+            &[
+                param.name(),
+                "error_levels",
+                "rms_levels",
+                "predicted_hw_s",
+                "wall_s",
+                "gates_nand2"
+            ],
+            &table
+        )
+    );
+    Ok(())
+}
