@@ -117,8 +117,16 @@ fn floor(half_size: [f64; 2], color: [f64; 3]) -> Object {
 /// The paper's Fig. 4 test: one spotlight in an empty dark room, n swept (10 … 200).
 /// The light hangs above the top of the frame, left of centre, pointing down and to
 /// the right (and slightly towards the camera); the camera looks horizontally across
-/// the cone, which is seen from the side. Smooth light map; no objects, so no
-/// occluders (no shadow-map unit) and H = 1; m = 1 (no sub-planes), as in the figure.
+/// the cone, which is seen from the side. No objects, so no occluders (no shadow-map
+/// unit) and H = 1; m = 1 (no sub-planes), as in the figure.
+///
+/// Unlike the other built-ins this one is bright: the beam is a theatre spot, flat with
+/// a short soft rim ("the light distribution often changes abruptly", the paper's
+/// §4.3), at 3× the others' intensity, so the beam's bulk sits at 20–80 levels and
+/// saturates next to the light, as in the paper's pictures. Fig. 4 weighs the
+/// sampling error of few planes (which grows with the beam's brightness and the
+/// sharpness of its edge) against the 8-bit rounding of many planes (about half a level
+/// per plane, whatever the brightness); in a dim beam the rounding wins at every n.
 pub fn fig4() -> Scene {
     Scene {
         name: "fig4: one spotlight in an empty dark room (Dobashi et al. Fig. 4)".into(),
@@ -126,7 +134,12 @@ pub fn fig4() -> Scene {
         image: ImageSize::default(),
         camera: camera([0.0, 3.0, 14.0], [0.0, 3.0, 0.0]),
         medium: medium(),
-        lights: vec![spot([-3.0, 10.0, 0.0], [1.0, 0.0, 1.0], 20.0, 60.0)],
+        lights: vec![{
+            // A theatre spot: flat across the beam with a short soft rim, (1 − r²)^¼.
+            let mut l = spot([-3.0, 10.0, 0.0], [1.0, 0.0, 1.0], 20.0, 180.0);
+            l.light_map = Some(LightMap::Smooth { exponent: 0.25 });
+            l
+        }],
         objects: vec![],
         shafts: ShaftsConfig {
             subplanes: 1,
@@ -138,7 +151,8 @@ pub fn fig4() -> Scene {
 /// The paper's Fig. 6 (and Fig. 5's scene): a sphere lit from straight above by one
 /// spotlight; the sphere's shadow cuts a dark core into the cone below it, seen from
 /// the side; a floor plane under it receives the light (and the sphere's shadow).
-/// Smooth light map; n = 30, m = 6.
+/// A bright theatre spot like fig4's (its beam saturates next to the light); n = 30,
+/// m = 6.
 pub fn fig6() -> Scene {
     Scene {
         name: "fig6: a sphere's shadow in a spotlight's cone (Dobashi et al. Fig. 6)".into(),
@@ -146,18 +160,25 @@ pub fn fig6() -> Scene {
         image: ImageSize::default(),
         camera: camera([0.0, 3.0, 13.0], [0.0, 3.0, 0.0]),
         medium: medium(),
-        lights: vec![spot([0.0, 9.5, 0.0], [0.0, 0.0, 0.0], 25.0, 50.0)],
+        lights: vec![{
+            // The theatre spot of fig4 (flat beam, short soft rim), as bright: its
+            // sharp edge and the sphere's shadow are what the sub-planes anti-alias.
+            let mut l = spot([0.0, 9.5, 0.0], [0.0, 0.0, 0.0], 25.0, 150.0);
+            l.light_map = Some(LightMap::Smooth { exponent: 0.25 });
+            l
+        }],
         objects: vec![
             Object {
                 shape: Shape::Sphere {
                     center: [0.0, 3.5, 0.0],
                     radius: 1.0,
                 },
-                // Its top is 5 units below the light: 50·0.45/25 ≈ 0.9 of full scale.
-                color: [0.45, 0.45, 0.5],
+                // Its top is 5 units below the light: 150·0.15/25 ≈ 0.9 of full scale.
+                color: [0.15, 0.15, 0.17],
                 occluder: true,
             },
-            floor([10.0, 10.0], [0.6, 0.6, 0.6]),
+            // 9.5 units below the light: 150·0.35/90 ≈ 0.6 of full scale.
+            floor([10.0, 10.0], [0.35, 0.35, 0.35]),
         ],
         shafts: ShaftsConfig::default(),
     }

@@ -292,7 +292,9 @@ impl Default for ShaftsConfig {
             weight_bits: 8,
             coord_frac_bits: 8,
             shadow_resolution: 512,
-            shadow_depth_bits: 24,
+            // The paper's GeForce2 has no depth textures: its shadow map is an 8-bit
+            // image of light distances ("each map's pixels are stored as 8 bits").
+            shadow_depth_bits: 8,
         }
     }
 }

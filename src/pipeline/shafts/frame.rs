@@ -830,8 +830,14 @@ fn planes_pass(
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
             let mut jbuf = vec![0u32; (w * h) as usize];
-            let weight = tables::unorm_from_unit(1.0 / m as f64, cfg.weight_bits);
             for j in 0..m {
+                // Sub-plane j's blend weight: the driver splits full scale W into m
+                // parts ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the
+                // weights sum to exactly W and J of a fully lit interval is full scale;
+                // a single round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6,
+                // 250/255 at m = 25).
+                let wmax = max_code(cfg.weight_bits) as u64;
+                let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
                 let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
                 // A full-screen rectangle: its light coordinates are affine (the
                 // sub-plane is parallel to the screen): one walk as a parallelogram.
@@ -964,9 +970,14 @@ fn planes_pass(
         counters_add(ctr, "polygon_interpolator", c_int);
         let frags = ctx.visible(frags, |_| plane_zword, ctr);
 
-        // g = F(α)·h(s, t) first, then × J (H·I_l), and the plane's scale (the small
-        // factor, S·t/r) last, then the light colour: large factors first keeps every
-        // intermediate rounding small relative to its value (docs/shafts.md).
+        // The per-fragment product J · S · F · colour · h, one 8-bit modulate at a
+        // time, largest factors first: each modulate rounds to a whole code, so an
+        // intermediate that has shrunk to a few codes carries a large relative error
+        // (a 1 stays 1 under any factor ≥ 128/255). J (≤ full scale in the light),
+        // the plane scale S·t/r (near full scale by the choice of h_ref) and F (near
+        // full scale by the choice of F_ref) keep the product large; h, which spans
+        // the 1/s² range and is a few codes far from the light, comes last, so only
+        // the final rounding acts on the small value (docs/shafts.md).
         let sh = ATTR_FRAC - cfg.coord_frac_bits;
         let fin: Vec<TextureSamplerIn> = frags
             .iter()
@@ -986,12 +997,6 @@ fn planes_pass(
         let mut c = Counters::default();
         let hvv = run_span(&u.h_tex, &mut (), &hin, &mut c);
         counters_add(ctr, "texture_sampler (h)", c);
-        let pairs: Vec<ModulateIn> = fv
-            .iter()
-            .zip(&hvv)
-            .map(|(a, b)| ModulateIn { a: a[0], b: b[0] })
-            .collect();
-        let g = modulate_all(&u.modulate, &pairs, ctr);
 
         // J: H·I_l on the plane itself (m = 1) or the sub-plane average (m > 1).
         let jv: Vec<u32> = match &jtex {
@@ -1014,24 +1019,30 @@ fn planes_pass(
             }
             _ => ctx.h_il(&frags, 4, ctr),
         };
-        let pairs: Vec<ModulateIn> = g
-            .iter()
-            .zip(&jv)
-            .map(|(&a, &b)| ModulateIn { a, b })
-            .collect();
-        let gj = modulate_all(&u.modulate, &pairs, ctr);
         let pairs: Vec<ModulateIn> = frags
             .iter()
-            .zip(&gj)
-            .map(|(f, &v)| ModulateIn {
-                a: v,
+            .zip(&jv)
+            .map(|(f, &j)| ModulateIn {
+                a: j,
                 b: attr_unorm(f.attrs[3], ctx.tex_max),
             })
             .collect();
-        let v = modulate_all(&u.modulate, &pairs, ctr);
-        let pairs: Vec<ModulateIn> = v
+        let js = modulate_all(&u.modulate, &pairs, ctr);
+        let pairs: Vec<ModulateIn> = js
+            .iter()
+            .zip(&fv)
+            .map(|(&a, f)| ModulateIn { a, b: f[0] })
+            .collect();
+        let jsf = modulate_all(&u.modulate, &pairs, ctr);
+        let pairs: Vec<ModulateIn> = jsf
             .iter()
             .flat_map(|&x| color_codes.map(|c| ModulateIn { a: x, b: c }))
+            .collect();
+        let jsfc = modulate_all(&u.modulate, &pairs, ctr);
+        let pairs: Vec<ModulateIn> = jsfc
+            .chunks(3)
+            .zip(&hvv)
+            .flat_map(|(c, h)| c.iter().map(move |&a| ModulateIn { a, b: h[0] }))
             .collect();
         let col = modulate_all(&u.modulate, &pairs, ctr);
         let rgb: Vec<[u32; 3]> = col.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
