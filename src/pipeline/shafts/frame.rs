@@ -621,6 +621,19 @@ impl LightCtx<'_> {
                 *o = 0;
             }
         }
+        // Outside the light's square (u or v outside [0, 1]) a spot emits nothing: the
+        // light map's border colour is 0 (GL_CLAMP_TO_BORDER). Clamp-to-edge alone
+        // would smear the edge texels (a uniform spot's disc reaches them at the
+        // mid-edges) outward over the whole half-space in front of the light. (A point
+        // light has no light map and no square.)
+        if self.lm_tex.is_some() {
+            let one = 1i32 << u.proj.out_format().frac_bits;
+            for (o, p) in out.iter_mut().zip(&st) {
+                if !(0..=one).contains(&p.u) || !(0..=one).contains(&p.v) {
+                    *o = 0;
+                }
+            }
+        }
         out
     }
 
