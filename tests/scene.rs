@@ -935,7 +935,10 @@ fn builtin_shafts_are_visible_but_do_not_saturate() {
         let p = peak_shafts(&s, 8, 300);
         assert!((1.0..=4.0).contains(&p), "{bright}: peak {p}");
     }
-    for name in BUILTIN_NAMES.iter().filter(|n| !["fig4", "fig6"].contains(n)) {
+    for name in BUILTIN_NAMES
+        .iter()
+        .filter(|n| !["fig4", "fig6"].contains(n))
+    {
         let s = builtin(name).unwrap();
         let peak = peak_shafts(&s, 8, 300);
         assert!((0.3..=0.6).contains(&peak), "{name}: peak {peak}");

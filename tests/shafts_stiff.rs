@@ -5,7 +5,7 @@
 //! Each case renders the bit-accurate frame on a small image, ray-marches the f64
 //! reference and, where a single pixel is stiff, integrates it adaptively; it asserts no
 //! panic, a finite non-negative reference, and the behaviour documented in
-//! docs/stiff_cases.md (clamp and saturation counts, derived bounds, closed forms).
+//! docs/shafts.md § Stiff and extreme cases (clamp and saturation counts, derived bounds, closed forms).
 //!
 //! Images are 65 × 49 (odd, so that the centre pixel (32, 24) looks exactly along the
 //! view axis) unless stated; the whole file runs in a few seconds in the test profile.

@@ -850,7 +850,8 @@ fn planes_pass(
                 // a single round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6,
                 // 250/255 at m = 25).
                 let wmax = max_code(cfg.weight_bits) as u64;
-                let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
+                let weight =
+                    (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
                 let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
                 // A full-screen rectangle: its light coordinates are affine (the
                 // sub-plane is parallel to the screen): one walk as a parallelogram.
