@@ -37,6 +37,10 @@ use std::collections::BTreeMap;
 
 /// Light-map texture size (square).
 pub const LIGHTMAP_SIZE: u32 = 128;
+
+/// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
+/// fragment list each). Fixed, so the work split never depends on the thread count.
+const SUBPLANE_BATCH: usize = 4;
 /// Camera depth buffer width.
 const ZBUF_BITS: u32 = 24;
 /// Fraction bits of the interpolator's outputs (s16.16, the projective inputs).
@@ -843,15 +847,15 @@ fn planes_pass(
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
             let mut jbuf = vec![0u32; (w * h) as usize];
-            for j in 0..m {
-                // Sub-plane j's blend weight: the driver splits full scale W into m
-                // parts ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the
-                // weights sum to exactly W and J of a fully lit interval is full scale;
-                // a single round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6,
-                // 250/255 at m = 25).
-                let wmax = max_code(cfg.weight_bits) as u64;
-                let weight =
-                    (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
+            // H·I_l of each sub-plane: independent of the J buffer, so computed for a
+            // batch of sub-planes at a time in parallel, each with its own counters,
+            // then merged and blended in sub-plane order (the same spans, counters and
+            // bytes as one after the other, whatever the thread count).
+            let sub = |j: usize| -> Result<
+                (Vec<Fragment>, Vec<u32>, BTreeMap<String, Counters>),
+                ConfigError,
+            > {
+                let mut local = BTreeMap::new();
                 let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
                 // A full-screen rectangle: its light coordinates are affine (the
                 // sub-plane is parallel to the screen): one walk as a parallelogram.
@@ -867,38 +871,57 @@ fn planes_pass(
                 });
                 let mut c_int = Counters::default();
                 let frags = draw_parallelogram(&u.interp, &hv, w, h, &mut c_int)?;
-                counters_add(ctr, "polygon_interpolator", c_int);
+                counters_add(&mut local, "polygon_interpolator", c_int);
                 let zsub = ctx
                     .cam
                     .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
                     .map_or(1.0, |v| v.2);
                 let zw = unit_depth_word(zsub, ZBUF_BITS);
-                let frags = ctx.visible(frags, |_| zw, ctr);
-                let hil = ctx.h_il(&frags, 4, ctr);
-                let ins: Vec<AdditiveBlendIn> = frags
-                    .iter()
-                    .zip(&hil)
-                    .map(|(f, &v)| AdditiveBlendIn {
-                        src: [v, 0, 0, 0],
-                        dst: [jbuf[(f.y * w + f.x) as usize], 0, 0, 0],
-                        weight,
-                    })
-                    .collect();
-                let mut c = Counters::default();
-                let out = run_span(&u.j_blend, &mut (), &ins, &mut c);
-                counters_add(ctr, "additive_blend (J buffer)", c);
-                for (f, o) in frags.iter().zip(out) {
-                    jbuf[(f.y * w + f.x) as usize] = o[0];
+                let frags = ctx.visible(frags, |_| zw, &mut local);
+                let hil = ctx.h_il(&frags, 4, &mut local);
+                Ok((frags, hil, local))
+            };
+            let all: Vec<usize> = (0..m).collect();
+            for batch in all.chunks(SUBPLANE_BATCH) {
+                let results: Vec<_> = batch.par_iter().map(|&j| sub(j)).collect();
+                for (&j, res) in batch.iter().zip(results) {
+                    let (frags, hil, local) = res?;
+                    for (k, c) in local {
+                        counters_add(ctr, &k, c);
+                    }
+                    // Sub-plane j's blend weight: the driver splits full scale W into m
+                    // parts ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the
+                    // weights sum to exactly W and J of a fully lit interval is full scale;
+                    // a single round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6,
+                    // 250/255 at m = 25).
+                    let wmax = max_code(cfg.weight_bits) as u64;
+                    let weight =
+                        (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
+                    let ins: Vec<AdditiveBlendIn> = frags
+                        .iter()
+                        .zip(&hil)
+                        .map(|(f, &v)| AdditiveBlendIn {
+                            src: [v, 0, 0, 0],
+                            dst: [jbuf[(f.y * w + f.x) as usize], 0, 0, 0],
+                            weight,
+                        })
+                        .collect();
+                    let mut c = Counters::default();
+                    let out = run_span(&u.j_blend, &mut (), &ins, &mut c);
+                    counters_add(ctr, "additive_blend (J buffer)", c);
+                    for (f, o) in frags.iter().zip(out) {
+                        jbuf[(f.y * w + f.x) as usize] = o[0];
+                    }
+                    let mut st = PassStats::new(
+                        PassKind::SubPlane,
+                        ctx.li,
+                        u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
+                    );
+                    st.triangles = 1;
+                    st.walked = (w * h) as u64;
+                    st.fragments = frags.len() as u64;
+                    push_pass(passes, last, ctr, st);
                 }
-                let mut st = PassStats::new(
-                    PassKind::SubPlane,
-                    ctx.li,
-                    u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
-                );
-                st.triangles = 1;
-                st.walked = (w * h) as u64;
-                st.fragments = frags.len() as u64;
-                push_pass(passes, last, ctr, st);
             }
             // Copy to texture: read the J buffer, write the texture (memory traffic).
             let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
