@@ -724,6 +724,7 @@ fn valid_extremes_are_accepted() {
         coord_frac_bits: 0,
         shadow_resolution: 4096,
         shadow_depth_bits: 32,
+        f_scale: glare_pipeline::scene::format::FScale::LitVolume,
     };
     s.validate().unwrap();
     s.medium = Medium {

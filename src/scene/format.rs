@@ -275,6 +275,22 @@ pub struct ShaftsConfig {
     /// Shadow map resolution (square) and depth bits.
     pub shadow_resolution: u32,
     pub shadow_depth_bits: u32,
+    /// What full scale of the F(α) texture stands for (see [`FScale`]).
+    pub f_scale: FScale,
+}
+
+/// Full scale of the 8-bit F(α) table.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FScale {
+    /// The table's own maximum over α ∈ [0°, 180°], F(0) = 10K — the paper's table,
+    /// built without knowing the scene. Seen from the side (α ≈ 90°) F is about a
+    /// tenth of full scale: 26 codes.
+    #[default]
+    Table,
+    /// F(α_min), the largest F the scene's lit volume meets (found by the host): the
+    /// codes the planes use span the whole 8 bits; F beyond it clamps.
+    LitVolume,
 }
 
 impl Default for ShaftsConfig {
@@ -295,6 +311,7 @@ impl Default for ShaftsConfig {
             // The paper's GeForce2 has no depth textures: its shadow map is an 8-bit
             // image of light distances ("each map's pixels are stored as 8 bits").
             shadow_depth_bits: 8,
+            f_scale: FScale::Table,
         }
     }
 }

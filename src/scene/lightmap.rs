@@ -306,7 +306,8 @@ impl LightFrame {
     /// crossing of the light's plane; each piece between breakpoints is classified by
     /// its midpoint, so tangent and through-the-apex rays need no special case.
     pub fn cone_interval(&self, origin: Vec3, dir: Vec3, t0: f64, t1: f64) -> Option<(f64, f64)> {
-        if !(t1 > t0) {
+        // NaN bounds take this branch too.
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
             return None;
         }
         if self.kind == LightKind::Point {

@@ -99,6 +99,7 @@ pub fn render_cli(
             "elaboration": r.elaboration,
             "predicted_seconds": pred.seconds,
             "predicted_by_pass": pred.by_kind,
+            "predicted_seconds_geforce256": predict(&GpuModel::geforce256(), &r.passes).seconds,
             "wall_seconds": wall,
         });
         println!(
@@ -165,6 +166,10 @@ pub fn render_cli(
     println!(
         "\npredicted GeForce2 GTS time: {:.4} s (objects {:.4} s, shafts {:.4} s; {} passes, {} memory-bound)",
         pred.seconds, objects, shafts, pred.passes, pred.memory_bound_passes
+    );
+    println!(
+        "predicted GeForce 256 (DDR) time: {:.4} s",
+        predict(&GpuModel::geforce256(), &r.passes).seconds
     );
     Ok(())
 }

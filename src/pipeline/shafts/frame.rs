@@ -38,6 +38,10 @@ use std::collections::BTreeMap;
 /// Light-map texture size (square).
 pub const LIGHTMAP_SIZE: u32 = 128;
 
+/// One sub-plane's visible fragments, their H·I_l and the counters of the units that
+/// made them.
+type SubPlaneHil = (Vec<Fragment>, Vec<u32>, BTreeMap<String, Counters>);
+
 /// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
 /// fragment list each). Fixed, so the work split never depends on the thread count.
 const SUBPLANE_BATCH: usize = 4;
@@ -169,6 +173,17 @@ pub struct FrameResult {
     pub tables: GTables,
 }
 
+impl Prepared {
+    /// The α whose F is the F table's full scale: 0 (the table's maximum) or the lit
+    /// volume's smallest scattering angle (`shafts.f_scale`).
+    pub fn f_alpha(&self) -> f64 {
+        match self.scene.shafts.f_scale {
+            crate::scene::format::FScale::Table => 0.0,
+            crate::scene::format::FScale::LitVolume => self.alpha_min,
+        }
+    }
+}
+
 impl FrameResult {
     /// The image in 8-bit levels (f64, for error metrics).
     pub fn levels(&self) -> Vec<[f64; 3]> {
@@ -216,17 +231,12 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
         .iter()
         .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
         .fold(0.0, f64::max);
-    let f_ref = crate::reference::shafts_model::phase_f(p.alpha_min, sc.medium.k);
+    let f_alpha = p.f_alpha();
+    let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
     let denom = f_ref * i_max * dr * p.exposure;
     let h_ceiling = if denom > 0.0 { 255.0 / denom } else { 0.0 };
     let tables = tables::build(
-        &sc.medium,
-        &cfg,
-        p.s_max,
-        p.t_max,
-        p.s_near,
-        p.alpha_min,
-        h_ceiling,
+        &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
     );
 
     let interp = PolygonInterpolatorConfig {
@@ -851,10 +861,7 @@ fn planes_pass(
             // batch of sub-planes at a time in parallel, each with its own counters,
             // then merged and blended in sub-plane order (the same spans, counters and
             // bytes as one after the other, whatever the thread count).
-            let sub = |j: usize| -> Result<
-                (Vec<Fragment>, Vec<u32>, BTreeMap<String, Counters>),
-                ConfigError,
-            > {
+            let sub = |j: usize| -> Result<SubPlaneHil, ConfigError> {
                 let mut local = BTreeMap::new();
                 let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
                 // A full-screen rectangle: its light coordinates are affine (the

@@ -13,11 +13,14 @@ pub struct GpuModel {
     pub clock_hz: f64,
     /// Pixel pipelines (4).
     pub pipes: u32,
-    /// Textures one pass can combine (GeForce2 GTS: 2 texture units per pipe and
-    /// register combiners over 2 textures, no loop-back): a fragment needing T textures
-    /// is drawn in ⌈T/2⌉ hardware passes (the intermediate product kept in the
-    /// framebuffer's destination alpha), each paying fill, framebuffer, depth and set-up.
+    /// Texture units per pipe (GeForce2 GTS: 2): a pass with t textures takes
+    /// ⌈t / TMUs⌉ clocks per fragment.
     pub tmus_per_pipe: u32,
+    /// Textures one hardware pass can combine (NV1x register combiners: 2): a fragment
+    /// needing T textures is drawn in ⌈T/2⌉ hardware passes (the intermediate product
+    /// kept in the framebuffer's destination alpha), each paying fill, framebuffer,
+    /// depth, set-up and overhead.
+    pub textures_per_pass: u32,
     /// Memory bandwidth, bytes/s (5.3 GB/s).
     pub bytes_per_second: f64,
     /// Fraction of texel fetch bytes the texture cache absorbs.
@@ -37,11 +40,26 @@ impl GpuModel {
             clock_hz: 200e6,
             pipes: 4,
             tmus_per_pipe: 2,
+            textures_per_pass: 2,
             bytes_per_second: 5.3e9,
             texture_cache_hit: 0.75,
             depth_bytes: 4,
             setup_clocks_per_triangle: 8.0,
             pass_overhead_s: 10e-6,
+        }
+    }
+}
+
+impl GpuModel {
+    /// GeForce 256 (DDR), the paper's second card (0.19 s for Fig. 6(b) against the
+    /// GTS's 0.17 s): 120 MHz, 4 pipes with one texture unit each (a second texture in
+    /// the same pass loops back: two clocks), 4.8 GB/s; the rest as the GTS.
+    pub fn geforce256() -> Self {
+        GpuModel {
+            clock_hz: 120e6,
+            tmus_per_pipe: 1,
+            bytes_per_second: 4.8e9,
+            ..GpuModel::geforce2_gts()
         }
     }
 }
@@ -62,19 +80,34 @@ pub struct Prediction {
 /// Hardware passes a pass of the model needs: ⌈T / textures per pass⌉, at least 1.
 pub fn hardware_passes(m: &GpuModel, p: &PassStats) -> u32 {
     p.textures_per_fragment
-        .div_ceil(m.tmus_per_pipe.max(1))
+        .div_ceil(m.textures_per_pass.max(1))
         .max(1)
 }
 
-/// Seconds of one pass of the model: per hardware pass the slower of the pipes (one
-/// clock per fragment) and the memory, plus set-up and overhead. Texel bytes are paid
+/// Pipe clocks per fragment over all hardware passes: each pass takes its textures
+/// (full passes of `textures_per_pass`, the remainder in the last) ⌈t / TMUs⌉ clocks,
+/// at least one.
+fn clocks_per_fragment(m: &GpuModel, p: &PassStats) -> u32 {
+    let (tpp, tmus) = (m.textures_per_pass.max(1), m.tmus_per_pipe.max(1));
+    let mut left = p.textures_per_fragment;
+    let mut clocks = 0;
+    for _ in 0..hardware_passes(m, p) {
+        let t = left.min(tpp);
+        left -= t;
+        clocks += t.div_ceil(tmus).max(1);
+    }
+    clocks
+}
+
+/// Seconds of one pass of the model: the slower of the pipes (clocks per fragment
+/// over its hardware passes) and the memory, plus set-up and overhead. Texel bytes are paid
 /// once (each texture is fetched in one of the hardware passes); framebuffer and depth
 /// traffic, fill, set-up and overhead once per hardware pass. Returns the seconds,
 /// whether memory bounds it, and the number of hardware passes.
 pub fn pass_seconds(m: &GpuModel, p: &PassStats) -> (f64, bool, u32) {
     let hw = hardware_passes(m, p);
     let k = hw as f64;
-    let fill = p.fragments as f64 * k / m.pipes as f64 / m.clock_hz;
+    let fill = p.fragments as f64 * clocks_per_fragment(m, p) as f64 / m.pipes as f64 / m.clock_hz;
     let bytes = p.texel_bytes as f64 * (1.0 - m.texture_cache_hit)
         + k * p.fb_bytes as f64
         + p.other_bytes as f64
