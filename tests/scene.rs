@@ -725,6 +725,7 @@ fn valid_extremes_are_accepted() {
         shadow_resolution: 4096,
         shadow_depth_bits: 32,
         f_scale: glare_pipeline::scene::format::FScale::LitVolume,
+        light_map_texels: 4096,
     };
     s.validate().unwrap();
     s.medium = Medium {

@@ -121,8 +121,7 @@ fn floor(half_size: [f64; 2], color: [f64; 3]) -> Object {
 /// unit) and H = 1; m = 1 (no sub-planes), as in the figure.
 ///
 /// Unlike the other built-ins this one is bright: the beam is a theatre spot, flat with
-/// a short soft rim ("the light distribution often changes abruptly", the paper's
-/// §4.3), at 3× the others' intensity, so the beam's bulk sits at 20–80 levels and
+/// a hard edge ("the light distribution often changes abruptly", the paper's §4.3), at 3× the others' intensity, so the beam's bulk sits at 20–80 levels and
 /// saturates next to the light, as in the paper's pictures. Fig. 4 weighs the
 /// sampling error of few planes (which grows with the beam's brightness and the
 /// sharpness of its edge) against the 8-bit rounding of many planes (about half a level
@@ -135,9 +134,9 @@ pub fn fig4() -> Scene {
         camera: camera([0.0, 3.0, 14.0], [0.0, 3.0, 0.0]),
         medium: medium(),
         lights: vec![{
-            // A theatre spot: flat across the beam with a short soft rim, (1 − r²)^¼.
+            // A theatre spot: flat across the beam, hard edge ((1 − r²)⁰ = 1 inside).
             let mut l = spot([-3.0, 10.0, 0.0], [1.0, 0.0, 1.0], 20.0, 180.0);
-            l.light_map = Some(LightMap::Smooth { exponent: 0.25 });
+            l.light_map = Some(LightMap::Smooth { exponent: 0.0 });
             l
         }],
         objects: vec![],
@@ -161,10 +160,10 @@ pub fn fig6() -> Scene {
         camera: camera([0.0, 3.0, 13.0], [0.0, 3.0, 0.0]),
         medium: medium(),
         lights: vec![{
-            // The theatre spot of fig4 (flat beam, short soft rim), as bright: its
-            // sharp edge and the sphere's shadow are what the sub-planes anti-alias.
+            // The theatre spot of fig4 (flat beam, hard edge), as bright: its edge and
+            // the sphere's shadow are what the sub-planes anti-alias.
             let mut l = spot([0.0, 9.5, 0.0], [0.0, 0.0, 0.0], 25.0, 150.0);
-            l.light_map = Some(LightMap::Smooth { exponent: 0.25 });
+            l.light_map = Some(LightMap::Smooth { exponent: 0.0 });
             l
         }],
         objects: vec![

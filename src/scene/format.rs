@@ -277,6 +277,9 @@ pub struct ShaftsConfig {
     pub shadow_depth_bits: u32,
     /// What full scale of the F(α) texture stands for (see [`FScale`]).
     pub f_scale: FScale,
+    /// Side of each spot's light-map texture (a power of two, 2 ..= 4096): the beam's
+    /// rim is as sharp as one texel of it.
+    pub light_map_texels: u32,
 }
 
 /// Full scale of the 8-bit F(α) table.
@@ -312,6 +315,7 @@ impl Default for ShaftsConfig {
             // image of light distances ("each map's pixels are stored as 8 bits").
             shadow_depth_bits: 8,
             f_scale: FScale::Table,
+            light_map_texels: 256,
         }
     }
 }

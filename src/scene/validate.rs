@@ -270,7 +270,15 @@ fn validate_shafts(s: &ShaftsConfig) -> Result<(), ConfigError> {
     check_range("weight_bits", s.weight_bits.into(), 1, 16)?;
     check_range("coord_frac_bits", s.coord_frac_bits.into(), 0, 16)?;
     check_range("shadow_resolution", s.shadow_resolution.into(), 1, 4096)?;
-    check_range("shadow_depth_bits", s.shadow_depth_bits.into(), 1, 32)
+    check_range("shadow_depth_bits", s.shadow_depth_bits.into(), 1, 32)?;
+    check_range("light_map_texels", s.light_map_texels.into(), 2, 4096)?;
+    if !s.light_map_texels.is_power_of_two() {
+        return Err(ConfigError::invalid(
+            "light_map_texels",
+            &format!("{} is not a power of two", s.light_map_texels),
+        ));
+    }
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------------

@@ -36,8 +36,6 @@ use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
 
 /// Light-map texture size (square).
-pub const LIGHTMAP_SIZE: u32 = 128;
-
 /// One sub-plane's visible fragments, their H·I_l and the counters of the units that
 /// made them.
 type SubPlaneHil = (Vec<Fragment>, Vec<u32>, BTreeMap<String, Counters>);
@@ -64,7 +62,8 @@ pub struct ObjectMesh {
 pub struct Prepared {
     pub scene: Scene,
     pub objects: Vec<ObjectMesh>,
-    /// Per light: light-map texels (LIGHTMAP_SIZE², unorm texel_bits) or None (uniform).
+    /// Per light: light-map texels (`shafts.light_map_texels`², unorm texel_bits) or None
+    /// (point lights).
     pub light_maps: Vec<Option<Vec<u32>>>,
     /// View depths bounding the lit volume: planes fill [r0, r1].
     pub plane_range: (f64, f64),
@@ -222,10 +221,16 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
     let cam = CameraView::new(&sc.camera, sc.image);
     let tex_bits = cfg.texel_bits;
     let tex_max = max_code(tex_bits);
-    // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δr·exposure
-    // levels; that must not exceed 255 (the vertex colour's full scale), so h_ref is at
-    // most the h for which it is 255.
+    // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δt·exposure
+    // levels, Δt = Δr·t/r growing off-axis to Δr/cos of the corner ray; the vertex
+    // colour S·t/r cannot exceed full scale, so h_ref is at most the h for which the
+    // corner's is 255 (beyond it h clamps, counted, instead of the colour).
     let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
+    let cam0 = CameraView::new(&sc.camera, sc.image);
+    let corner_cos = cam0
+        .ray_dir(0.0, 0.0)
+        .dot(cam0.forward)
+        .clamp(1e-6, 1.0);
     let i_max = sc
         .lights
         .iter()
@@ -233,7 +238,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
         .fold(0.0, f64::max);
     let f_alpha = p.f_alpha();
     let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
-    let denom = f_ref * i_max * dr * p.exposure;
+    let denom = f_ref * i_max * dr * p.exposure / corner_cos;
     let h_ceiling = if denom > 0.0 { 255.0 / denom } else { 0.0 };
     let tables = tables::build(
         &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
@@ -356,7 +361,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
         let light_map = p.light_maps.get(li).cloned().flatten();
         let lm_tex = match &light_map {
             Some(t) => Some(
-                TextureSampler::new(sampler_cfg(2, [LIGHTMAP_SIZE, LIGHTMAP_SIZE, 1]), t)
+                TextureSampler::new(sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]), t)
                     .map_err(|e| e.within(&format!("lights[{li}].light_map")))?,
             ),
             None => None,
@@ -568,7 +573,7 @@ impl LightCtx<'_> {
         }
         let mut out: Vec<u32> = match self.lm_tex {
             Some(lm) => {
-                let log2 = LIGHTMAP_SIZE.trailing_zeros();
+                let log2 = lm.size()[0].trailing_zeros();
                 let coords: Vec<TextureSamplerIn> = st
                     .iter()
                     .map(|o| TextureSamplerIn {

@@ -2,7 +2,7 @@
 //! light-map texels, the ray geometry (for the plane range), and the reference's
 //! geometry (built once, shared with the ray-marcher).
 
-use super::frame::{ObjectMesh, Prepared, LIGHTMAP_SIZE};
+use super::frame::{ObjectMesh, Prepared};
 use super::prepare::prepare;
 use crate::scene::format::{LightKind, Scene, Shape};
 use crate::scene::geometry::{Ray, SceneGeometry, TriangleSoup};
@@ -58,7 +58,11 @@ pub fn prepare_scene(
         .enumerate()
         .map(|(i, l)| match l.kind {
             LightKind::Spot => {
-                rasterize_sampler(geom.light_map(i), LIGHTMAP_SIZE, scene.shafts.texel_bits)
+                rasterize_sampler(
+                    geom.light_map(i),
+                    scene.shafts.light_map_texels,
+                    scene.shafts.texel_bits,
+                )
                     .map(Some)
                     .map_err(|e| e.within(&format!("lights[{i}]")))
             }

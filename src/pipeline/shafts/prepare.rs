@@ -36,6 +36,8 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
     let (mut s_max, mut t_max) = (0.0f64, 0.0f64);
     let mut cos_alpha_max = -1.0f64;
     let mut s_all: Vec<f64> = Vec::new();
+    // The lit sample nearest a light: (s, px, py, r).
+    let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
     for iy in 0..=gy {
         for ix in 0..=gx {
             let (px, py) = (
@@ -55,6 +57,9 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
                 for l in &scene.lights {
                     if in_cone(l, p) {
                         let s = (p - vec3(l.position)).length();
+                        if s < best.0 {
+                            best = (s, px, py, r);
+                        }
                         r0 = r0.min(r);
                         r1 = r1.max(r);
                         s_all.push(s);
@@ -84,6 +89,41 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
     // distances, so that only the few samples next to the cone's apex clamp (1/s²).
     s_all.sort_by(f64::total_cmp);
     let s_near = s_all[(s_all.len() as f64 * NEAR_PERCENTILE) as usize];
+    // The grid can pass up to half a cell from the true nearest point (next to a
+    // light's apex the 1/s² peak is sharp): search the cells around the nearest sample
+    // on a 16³ grid; h_ref then covers every fragment the planes can draw.
+    let s_near = if NEAR_PERCENTILE == 0.0 {
+        let (cw, ch) = (cam.width as f64 / gx as f64, cam.height as f64 / gy as f64);
+        let cz = (cam.far - cam.near) / gz as f64;
+        let (_, bx, by, br) = best;
+        let k = 16;
+        let mut m = s_near;
+        for a in 0..=k {
+            for b in 0..=k {
+                let px = bx + cw * (2.0 * a as f64 / k as f64 - 1.0);
+                let py = by + ch * (2.0 * b as f64 / k as f64 - 1.0);
+                let dir = cam.ray_dir(px, py);
+                let cos = dir.dot(cam.forward).max(1e-6);
+                let t_hit = first_hit(cam.eye, dir).unwrap_or(f64::INFINITY);
+                for c in 0..=k {
+                    let r = (br + cz * (2.0 * c as f64 / k as f64 - 1.0)).max(cam.near);
+                    let t = r / cos;
+                    if t > t_hit {
+                        break;
+                    }
+                    let p = cam.eye + dir * t;
+                    for l in &scene.lights {
+                        if in_cone(l, p) {
+                            m = m.min((p - vec3(l.position)).length());
+                        }
+                    }
+                }
+            }
+        }
+        m
+    } else {
+        s_near
+    };
     // A margin of a few depth steps and 3 % of the range on each side (the grid can
     // miss the cone's thin extremes).
     let step = (cam.far - cam.near) / gz as f64;
