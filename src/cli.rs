@@ -67,7 +67,7 @@ pub enum Command {
         #[arg(long)]
         scene: String,
         /// planes, subplanes, texel_bits, fb_bits, weight_bits, coord_frac_bits, mesh,
-        /// shadow_resolution, shadow_depth_bits, f_texels, h_texels.
+        /// shadow_resolution, shadow_depth_bits, f_texels, h_texels, light_map_texels.
         #[arg(long)]
         param: String,
         /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be

@@ -50,10 +50,11 @@ pub enum Param {
     ShadowDepthBits,
     FTexels,
     HTexels,
+    LightMapTexels,
 }
 
 impl Param {
-    pub const ALL: [Param; 11] = [
+    pub const ALL: [Param; 12] = [
         Param::Planes,
         Param::Subplanes,
         Param::TexelBits,
@@ -65,6 +66,7 @@ impl Param {
         Param::ShadowDepthBits,
         Param::FTexels,
         Param::HTexels,
+        Param::LightMapTexels,
     ];
 
     /// The name on the command line and in the CSV (= the `shafts` field name).
@@ -81,6 +83,7 @@ impl Param {
             Param::ShadowDepthBits => "shadow_depth_bits",
             Param::FTexels => "f_texels",
             Param::HTexels => "h_texels",
+            Param::LightMapTexels => "light_map_texels",
         }
     }
 
@@ -131,6 +134,7 @@ impl Param {
                 Param::ShadowResolution => cfg.shadow_resolution = x,
                 Param::ShadowDepthBits => cfg.shadow_depth_bits = x,
                 Param::FTexels => cfg.f_texels = x,
+                Param::LightMapTexels => cfg.light_map_texels = x,
                 Param::Mesh | Param::HTexels => return wrong(),
             },
         }
