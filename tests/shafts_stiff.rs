@@ -22,7 +22,7 @@ use glare_pipeline::reference::raymarch::{
 use glare_pipeline::reference::shafts_model::S_MIN;
 use glare_pipeline::report::metrics::{error_stats, ErrorStats};
 use glare_pipeline::scene::builtin::builtin;
-use glare_pipeline::scene::format::{LightKind, LightMap, Scene};
+use glare_pipeline::scene::format::{FScale, LightKind, LightMap, Scene};
 use glare_pipeline::scene::geometry::SceneGeometry;
 use glare_pipeline::scene::math::v3;
 
@@ -42,13 +42,14 @@ const RMS_TOL: f64 = 0.05 * 255.0;
 /// The built-in Fig. 4 scene (one smooth spot seen from the side, no objects, m = 1)
 /// at `w` × `h` with `n` planes. Camera at (0, 3, 14) looking along −z, near 0.5, far 40;
 /// ρ = 0.025, κ = 0.8, K = 1; the spot at (−3, 10, 0), intensity 60, cutoff 20°.
-/// The Fig. 4 room, pinned to the light these cases were measured with (a smooth
-/// (1 − r²) spot of intensity 60), so that re-tuning the built-in does not move the
-/// documented behaviours.
+/// The Fig. 4 room, pinned to the light and F-table scale these cases were measured
+/// with (a smooth (1 − r²) spot of intensity 60, F scaled to the lit volume), so that
+/// re-tuning the built-in does not move the documented behaviours.
 fn fig4(w: u32, h: u32, n: u32) -> Scene {
     let mut s = builtin("fig4").unwrap();
     s.lights[0].intensity = 60.0;
     s.lights[0].light_map = Some(LightMap::Smooth { exponent: 1.0 });
+    s.shafts.f_scale = FScale::LitVolume;
     s.image.width = w;
     s.image.height = h;
     s.shafts.planes = n;
