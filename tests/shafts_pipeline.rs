@@ -27,7 +27,8 @@ fn frame(s: &Scene) -> glare_pipeline::pipeline::shafts::frame::FrameResult {
 
 #[test]
 fn same_bytes_on_one_and_two_threads() {
-    let s = small("fig6", 6, 2);
+    // m = 5: the sub-planes' H·I_l run in batches of 4 (one full, one partial).
+    let s = small("fig6", 6, 5);
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build()
@@ -40,6 +41,7 @@ fn same_bytes_on_one_and_two_threads() {
     let b = two.install(|| frame(&s));
     assert_eq!(a.fb, b.fb);
     assert_eq!(a.counters, b.counters);
+    assert_eq!(format!("{:?}", a.passes), format!("{:?}", b.passes));
 }
 
 #[test]
