@@ -227,10 +227,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
     // corner's is 255 (beyond it h clamps, counted, instead of the colour).
     let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
     let cam0 = CameraView::new(&sc.camera, sc.image);
-    let corner_cos = cam0
-        .ray_dir(0.0, 0.0)
-        .dot(cam0.forward)
-        .clamp(1e-6, 1.0);
+    let corner_cos = cam0.ray_dir(0.0, 0.0).dot(cam0.forward).clamp(1e-6, 1.0);
     let i_max = sc
         .lights
         .iter()
@@ -361,8 +358,11 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
         let light_map = p.light_maps.get(li).cloned().flatten();
         let lm_tex = match &light_map {
             Some(t) => Some(
-                TextureSampler::new(sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]), t)
-                    .map_err(|e| e.within(&format!("lights[{li}].light_map")))?,
+                TextureSampler::new(
+                    sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]),
+                    t,
+                )
+                .map_err(|e| e.within(&format!("lights[{li}].light_map")))?,
             ),
             None => None,
         };

@@ -57,15 +57,13 @@ pub fn prepare_scene(
         .iter()
         .enumerate()
         .map(|(i, l)| match l.kind {
-            LightKind::Spot => {
-                rasterize_sampler(
-                    geom.light_map(i),
-                    scene.shafts.light_map_texels,
-                    scene.shafts.texel_bits,
-                )
-                    .map(Some)
-                    .map_err(|e| e.within(&format!("lights[{i}]")))
-            }
+            LightKind::Spot => rasterize_sampler(
+                geom.light_map(i),
+                scene.shafts.light_map_texels,
+                scene.shafts.texel_bits,
+            )
+            .map(Some)
+            .map_err(|e| e.within(&format!("lights[{i}]"))),
             LightKind::Point => Ok(None),
         })
         .collect::<Result<Vec<_>, _>>()?;
