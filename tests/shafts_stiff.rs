@@ -10,6 +10,8 @@
 //! Images are 65 × 49 (odd, so that the centre pixel (32, 24) looks exactly along the
 //! view axis) unless stated; the whole file runs in a few seconds in the test profile.
 
+mod common;
+
 use std::f64::consts::PI;
 
 use glare_pipeline::pipeline::shafts::frame::{render_frame, FrameResult, Prepared};
@@ -148,32 +150,7 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / a.abs().max(b.abs()).max(1e-300)
 }
 
-/// ∫ sin^k φ dφ (antiderivative), by the reduction formula.
-fn int_sin_pow(k: u32, phi: f64) -> f64 {
-    match k {
-        0 => phi,
-        1 => -phi.cos(),
-        _ => {
-            -phi.sin().powi(k as i32 - 1) * phi.cos() / k as f64
-                + (k as f64 - 1.0) / k as f64 * int_sin_pow(k - 2, phi)
-        }
-    }
-}
-
-/// Exact I_s for κ = 0 of a point light of unit intensity at distance d from a ray whose
-/// closest approach is at t0, over [0, T] (tests/shafts_reference.rs derives it):
-/// I = (ρK/d) ∫ [1 + 9 ((1 − sin φ)/2)^8] dφ over φ = atan((t − t0)/d).
-fn closed_form_point(rho: f64, k: f64, d: f64, t0: f64, t_end: f64) -> f64 {
-    let binom = [1.0, 8.0, 28.0, 56.0, 70.0, 56.0, 28.0, 8.0, 1.0];
-    let anti = |phi: f64| {
-        let poly: f64 = (0..=8)
-            .map(|j| binom[j] * (-1f64).powi(j as i32) * int_sin_pow(j as u32, phi))
-            .sum();
-        phi + 9.0 / 256.0 * poly
-    };
-    let (p0, p1) = ((-t0 / d).atan(), ((t_end - t0) / d).atan());
-    rho * k / d * (anti(p1) - anti(p0))
-}
+use common::shafts::closed_form_point;
 
 // ---------------------------------------------------------------- the light in view
 

@@ -1,6 +1,8 @@
 //! Helpers shared by the unit tests.
 #![allow(dead_code)]
 
+pub mod shafts;
+
 use rtl_model::driver::{run_span, run_tick};
 use rtl_model::trace::VcdTrace;
 use rtl_model::{Counters, Unit};
