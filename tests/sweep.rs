@@ -242,6 +242,10 @@ fn bad_input_names_the_field_and_writes_nothing() {
         ],
         "scene: 'nonesuch.toml'",
     );
+    fails(
+        &["--scene", "test", "--param", "planes", "--values", "10"],
+        "scene: the foundation test scene",
+    );
 }
 
 #[test]

@@ -496,6 +496,13 @@ pub fn sweep_cli(
     truth_samples: u32,
     image: Option<&str>,
 ) -> Result<(), String> {
+    if scene_name == "test" {
+        return Err(
+            "scene: the foundation test scene (`render --scene test`) has no sample \
+                    planes to sweep; use fig4, fig6, stage or a TOML scene file"
+                .to_string(),
+        );
+    }
     let param = Param::from_name(param)?;
     let values = parse_values(param, values)?;
     let mut scene = load_scene(scene_name)?;
