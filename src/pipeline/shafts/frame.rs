@@ -334,14 +334,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
                 };
                 let frags = draw_triangle(&units.interp, &hv, w, h, &mut c_int)?;
                 stats.triangles += 1;
-                let ins: Vec<ShadowIn> = frags
-                    .iter()
-                    .map(|f| ShadowIn::Write {
-                        x: f.x as i32,
-                        y: f.y as i32,
-                        depth: window_depth_word(f.attrs[0], ZBUF_BITS),
-                    })
-                    .collect();
+                let ins = depth_writes(&frags, ZBUF_BITS);
                 stats.fragments += ins.len() as u64;
                 run_span(z, zs, &ins, &mut c_z);
             }
@@ -400,14 +393,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
                     }
                     let frags = draw_triangle(&units.interp, &hv, res, res, &mut c_int)?;
                     stats.triangles += 1;
-                    let ins: Vec<ShadowIn> = frags
-                        .iter()
-                        .map(|f| ShadowIn::Write {
-                            x: f.x as i32,
-                            y: f.y as i32,
-                            depth: window_depth_word(f.attrs[0], s.depth_bits()),
-                        })
-                        .collect();
+                    let ins = depth_writes(&frags, s.depth_bits());
                     stats.fragments += ins.len() as u64;
                     run_span(s, ss, &ins, &mut c_s);
                 }
@@ -482,6 +468,19 @@ fn shadow_bias(bits: u32) -> u32 {
 /// The light's far distance for the shadow map: beyond everything the planes reach.
 fn light_far(p: &Prepared, _l: &crate::scene::format::Light) -> f64 {
     (p.s_max * 1.5).max(1.0)
+}
+
+/// Depth-buffer writes (keep the nearer) of fragments whose attribute 0 is the window
+/// depth in s16.16: the camera's depth pass and the light's shadow-map pass.
+fn depth_writes(frags: &[Fragment], bits: u32) -> Vec<ShadowIn> {
+    frags
+        .iter()
+        .map(|f| ShadowIn::Write {
+            x: f.x as i32,
+            y: f.y as i32,
+            depth: window_depth_word(f.attrs[0], bits),
+        })
+        .collect()
 }
 
 /// A window depth in s16.16 raw → an unsigned depth word of `bits`.
