@@ -16,7 +16,7 @@ use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
 use crate::pipeline::raster::{draw_parallelogram, draw_quad, draw_triangle, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
-use crate::scene::format::{LightKind, Scene};
+use crate::scene::format::Scene;
 use crate::scene::math::Vec3;
 use rayon::prelude::*;
 use rtl_model::driver::run_span;
@@ -842,7 +842,6 @@ fn planes_pass(
     let dr = (r1 - r0) / n as f64;
     let lpos = vec3(ctx.light.position);
     let (color_codes, intensity) = light_color_codes(ctx.light, ctx.tex_max);
-    let _ = LightKind::Spot;
     // Per-plane scale S (fraction of full scale): F_max · h_ref · I · Δr · exposure / 255.
     let s_plane = tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0;
     let [cols, rows] = cfg.mesh;
