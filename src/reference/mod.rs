@@ -2,8 +2,16 @@
 //! references. The reference never imports a unit's kernel; tests are where they meet.
 
 pub mod additive_blend;
+pub mod bloom_flare_modulator;
+pub mod chaos_map;
+pub mod gaussian_noise;
+pub mod glare_combiner;
+pub mod glare_condition;
+pub mod glare_model;
+pub mod halo_modulator;
 pub mod modulate;
 pub mod polygon_interpolator;
+pub mod polygon_variable_generator;
 pub mod projective_texcoord;
 pub mod quadrature;
 pub mod raymarch;

@@ -6,4 +6,5 @@ pub mod image_out;
 pub mod metrics;
 pub mod plot;
 pub mod progress;
+pub mod spectrum;
 pub mod table;

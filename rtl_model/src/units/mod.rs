@@ -2,8 +2,15 @@
 //! `src/reference/`, a property test in `tests/` and a datasheet in `docs/units.md`.
 
 pub mod additive_blend;
+pub mod bloom_flare_modulator;
+pub mod chaos_map;
+pub mod gaussian_noise;
+pub mod glare_combiner;
+pub mod glare_condition;
+pub mod halo_modulator;
 pub mod modulate;
 pub mod polygon_interpolator;
+pub mod polygon_variable_generator;
 pub mod projective_texcoord;
 pub mod shadow_compare;
 pub mod texture_sampler;

@@ -1,0 +1,1 @@
+//! bloom_flare_modulator — stub, being written.

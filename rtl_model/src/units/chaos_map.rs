@@ -1,0 +1,1 @@
+//! chaos_map — stub, being written.

@@ -1,0 +1,1 @@
+//! glare_combiner — stub, being written.

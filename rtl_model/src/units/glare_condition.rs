@@ -1,0 +1,1 @@
+//! glare_condition — stub, being written.

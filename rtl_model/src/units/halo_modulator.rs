@@ -1,0 +1,1 @@
+//! halo_modulator — stub, being written.

@@ -1,0 +1,1 @@
+//! polygon_variable_generator — stub, being written.

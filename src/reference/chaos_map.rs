@@ -1,0 +1,1 @@
+//! f64 twin of chaos_map — stub, being written.

@@ -1,0 +1,1 @@
+//! f64 twin of gaussian_noise — stub, being written.

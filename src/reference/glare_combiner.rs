@@ -1,0 +1,1 @@
+//! f64 twin of glare_combiner — stub, being written.

@@ -1,0 +1,1 @@
+//! f64 twin of glare_condition — stub, being written.

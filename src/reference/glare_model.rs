@@ -1,0 +1,1 @@
+//! f64 model of the glare formulas — stub, being written.

@@ -1,0 +1,1 @@
+//! f64 twin of halo_modulator — stub, being written.

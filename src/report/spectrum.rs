@@ -1,0 +1,1 @@
+//! Power spectra — stub, being written.
