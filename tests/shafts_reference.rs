@@ -84,6 +84,7 @@ fn scene(
         lights,
         objects,
         shafts: ShaftsConfig::default(),
+        glare: None,
     }
 }
 

@@ -144,6 +144,7 @@ pub fn fig4() -> Scene {
             subplanes: 1,
             ..ShaftsConfig::default()
         },
+        glare: None,
     }
 }
 
@@ -180,6 +181,7 @@ pub fn fig6() -> Scene {
             floor([10.0, 10.0], [0.35, 0.35, 0.35]),
         ],
         shafts: ShaftsConfig::default(),
+        glare: None,
     }
 }
 
@@ -273,5 +275,6 @@ pub fn stage() -> Scene {
             },
         ],
         shafts: ShaftsConfig::default(),
+        glare: None,
     }
 }

@@ -28,6 +28,9 @@ pub struct Scene {
     pub objects: Vec<Object>,
     #[serde(default)]
     pub shafts: ShaftsConfig,
+    /// Glare sources and the glare renderer's settings (SPEC B); none = no glare.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glare: Option<super::glare::GlareSection>,
 }
 
 fn default_seed() -> u64 {

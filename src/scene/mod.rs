@@ -4,6 +4,7 @@
 pub mod builtin;
 pub mod format;
 pub mod geometry;
+pub mod glare;
 pub mod lightmap;
 pub mod math;
 pub mod teapot;

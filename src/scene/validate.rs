@@ -285,7 +285,7 @@ fn validate_shafts(s: &ShaftsConfig) -> Result<(), ConfigError> {
 // Checks.
 
 /// Finite and in `lo ..= hi` (an `OutOfRange` error otherwise).
-fn closed(field: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
+pub(crate) fn closed(field: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
     check_finite(field, x)?;
     if x < lo || x > hi {
         return Err(ConfigError::out_of_range(field, x, lo, hi));
@@ -295,7 +295,7 @@ fn closed(field: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
 
 /// Finite and in an interval with each end open or closed. Both ends closed gives
 /// an `OutOfRange` error; otherwise `Invalid` with the interval written out.
-fn interval(
+pub(crate) fn interval(
     field: &str,
     x: f64,
     lo: f64,
@@ -325,7 +325,7 @@ fn interval(
 
 /// A position: each component finite and within ±`WORLD_MAX` (errors name
 /// `field[k]`).
-fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
+pub(crate) fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
     for (k, &x) in p.iter().enumerate() {
         closed(&format!("{field}[{k}]"), x, -WORLD_MAX, WORLD_MAX)?;
     }
@@ -334,7 +334,7 @@ fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
 
 /// A direction: a valid point with length ≥ `MIN_LENGTH` (a zero vector names
 /// `field`).
-fn direction(field: &str, d: &[f64; 3]) -> Result<Vec3, ConfigError> {
+pub(crate) fn direction(field: &str, d: &[f64; 3]) -> Result<Vec3, ConfigError> {
     let v = point(field, d)?;
     if v.length() < MIN_LENGTH {
         return Err(ConfigError::invalid(
