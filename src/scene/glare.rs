@@ -209,6 +209,8 @@ pub enum HighlightMaterial {
 pub struct GlareModel {
     /// Point source, eq. (1): A/(θ + θ₀)^m with A = `point_a`·k·I.
     pub point_a: f64,
+    /// k of the point source's A = k·I·(bloom factors)·`point_a`.
+    pub point_k: f64,
     pub point_theta0_deg: f64,
     pub point_m: f64,
     /// Extended sources, eqs. (3)/(4): A·exp(−(θ/w)ⁿ) + B/(θ + θ₁)^m, θ from the rim.
@@ -256,6 +258,7 @@ impl Default for GlareModel {
     fn default() -> Self {
         GlareModel {
             point_a: 29.0,
+            point_k: 0.01,
             point_theta0_deg: 0.13,
             point_m: 2.8,
             bloom_n: 3.0,
@@ -327,4 +330,160 @@ impl Default for GlareHw {
             pipes: 4,
         }
     }
+}
+
+// ---------------------------------------------------------------------------------
+// Validation: every error names its field (`glare.sources[1].a`).
+
+use super::validate::{closed, direction, interval, point};
+use rtl_model::error::check_range;
+use rtl_model::ConfigError;
+
+/// Largest intensity (codes) accepted: 10⁹ (10⁶ is a documented stiff case).
+pub const GLARE_INTENSITY_MAX: f64 = 1e9;
+
+impl GlareSection {
+    /// Check every field; errors name `glare.<field>`.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_inner().map_err(|e| e.within("glare"))
+    }
+
+    fn validate_inner(&self) -> Result<(), ConfigError> {
+        match &self.background {
+            Background::Black | Background::Shafts => {}
+            Background::Sky { top, bottom } => {
+                for k in 0..3 {
+                    closed(&format!("background.top[{k}]"), top[k], 0.0, 1.0)?;
+                    closed(&format!("background.bottom[{k}]"), bottom[k], 0.0, 1.0)?;
+                }
+            }
+            Background::Canopy { leaves, sky, leaf } => {
+                check_range("background.leaves", (*leaves).into(), 0, 10_000)?;
+                for k in 0..3 {
+                    closed(&format!("background.sky[{k}]"), sky[k], 0.0, 1.0)?;
+                    closed(&format!("background.leaf[{k}]"), leaf[k], 0.0, 1.0)?;
+                }
+            }
+        }
+        let d = &self.determinants;
+        closed("determinants.ambient", d.ambient, 0.0, 1e6)?;
+        closed("determinants.age", d.age, 0.0, 120.0)?;
+        closed("determinants.mist", d.mist, 0.0, 1e3)?;
+        for k in 0..3 {
+            closed(&format!("determinants.wavelengths_nm[{k}]"), d.wavelengths_nm[k], 300.0, 900.0)?;
+        }
+        for (i, s) in self.sources.iter().enumerate() {
+            validate_source(s).map_err(|e| e.within(&format!("sources[{i}]")))?;
+        }
+        for (i, h) in self.highlights.iter().enumerate() {
+            validate_highlight(h).map_err(|e| e.within(&format!("highlights[{i}]")))?;
+        }
+        validate_model(&self.model).map_err(|e| e.within("model"))?;
+        let hw = &self.hw;
+        check_range("hw.shape_log2", hw.shape_log2.into(), 1, 10)?;
+        check_range("hw.shape_bits", hw.shape_bits.into(), 1, 16)?;
+        check_range("hw.falloff_log2", hw.falloff_log2.into(), 1, 12)?;
+        check_range("hw.falloff_bits", hw.falloff_bits.into(), 1, 20)?;
+        check_range("hw.weight_bits", hw.weight_bits.into(), 1, 12)?;
+        check_range("hw.coord_frac_bits", hw.coord_frac_bits.into(), 2, 16)?;
+        check_range("hw.noise_bits", hw.noise_bits.into(), 8, 32)?;
+        check_range("hw.fb_bits", hw.fb_bits.into(), 1, 16)?;
+        interval("hw.clock_mhz", hw.clock_mhz, 0.0, false, 1e5, true)?;
+        check_range("hw.pipes", hw.pipes.into(), 1, 256)?;
+        check_range("frame", self.frame.into(), 0, 10_000_000)
+    }
+}
+
+fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
+    point("position", &s.position)?;
+    closed("intensity", s.intensity, 0.0, GLARE_INTENSITY_MAX)?;
+    closed("area_size", s.area_size, 0.0, 1.0)?;
+    for k in 0..3 {
+        closed(&format!("color[{k}]"), s.color[k], 0.0, 1.0)?;
+    }
+    if let Some(dv) = &s.directivity {
+        direction("directivity", dv)?;
+    }
+    match s.kind {
+        SourceKind::Point => {}
+        SourceKind::Circle => closed("a", s.a, 0.0, 1e6)?,
+        SourceKind::Cylindrical | SourceKind::Elliptic => {
+            closed("a", s.a, 0.0, 1e6)?;
+            closed("b", s.b, 0.0, 1e6)?;
+            if s.b > s.a {
+                return Err(ConfigError::invalid(
+                    "b",
+                    &format!("the semi-minor axis b = {} exceeds the semi-major axis a = {}", s.b, s.a),
+                ));
+            }
+            direction("n", &s.n)?;
+        }
+        SourceKind::Polygon => {
+            if s.vertices.len() < 2 || s.vertices.len() > 64 {
+                return Err(ConfigError::invalid(
+                    "vertices",
+                    &format!("a polygon needs 2 ..= 64 vertices besides position, got {}", s.vertices.len()),
+                ));
+            }
+            for (k, v) in s.vertices.iter().enumerate() {
+                point(&format!("vertices[{k}]"), v)?;
+            }
+        }
+    }
+    if let Some(f) = &s.fluctuation {
+        check_range("fluctuation.patches", f.patches.into(), 1, 64)?;
+        closed("fluctuation.spread", f.spread, 0.0, 1e6)?;
+        closed("fluctuation.patch_radius", f.patch_radius, 0.0, 1e6)?;
+    }
+    Ok(())
+}
+
+fn validate_highlight(h: &Highlight) -> Result<(), ConfigError> {
+    point("position", &h.position)?;
+    direction("normal", &h.normal)?;
+    point("light", &h.light)?;
+    closed("intensity", h.intensity, 0.0, GLARE_INTENSITY_MAX)?;
+    closed("specular", h.specular, 0.0, 1.0)?;
+    interval("eta", h.eta, 0.0, false, 10.0, true)?;
+    closed("radius", h.radius, 0.0, 1e6)
+}
+
+fn validate_model(m: &GlareModel) -> Result<(), ConfigError> {
+    closed("point_a", m.point_a, 0.0, 1e6)?;
+    closed("point_k", m.point_k, 0.0, 1e6)?;
+    interval("point_theta0_deg", m.point_theta0_deg, 0.0, false, 90.0, true)?;
+    closed("point_m", m.point_m, 0.5, 6.0)?;
+    closed("bloom_n", m.bloom_n, 0.5, 10.0)?;
+    closed("bloom_m", m.bloom_m, 0.5, 6.0)?;
+    interval("bloom_w_deg", m.bloom_w_deg, 0.0, false, 90.0, true)?;
+    interval("bloom_theta1_deg", m.bloom_theta1_deg, 0.0, false, 90.0, true)?;
+    closed("bloom_k", m.bloom_k, 0.0, 1e6)?;
+    closed("glasses_bloom", m.glasses_bloom, 0.0, 1.0)?;
+    closed("halo_k", m.halo_k, 0.0, 1e6)?;
+    closed("halo_radius_deg", m.halo_radius_deg, 0.0, 90.0)?;
+    interval("halo_alpha_deg", m.halo_alpha_deg, 0.0, false, 90.0, true)?;
+    closed("flare_num_k", m.flare_num_k, 0.0, 1e6)?;
+    closed("flare_len_k_deg", m.flare_len_k_deg, 0.0, 1e3)?;
+    closed("flare_width_k_deg", m.flare_width_k_deg, 0.0, 1e3)?;
+    closed("flare_intensity_k", m.flare_intensity_k, 0.0, 1e6)?;
+    closed("flare_spread_rad", m.flare_spread_rad, 0.0, 10.0)?;
+    check_range("flare_max_lines", m.flare_max_lines.into(), 0, 1024)?;
+    for (name, e) in [
+        ("e_intensity", m.e_intensity),
+        ("e_glasses", m.e_glasses),
+        ("e_size", m.e_size),
+        ("e_ambient", m.e_ambient),
+        ("e_mist", m.e_mist),
+        ("e_directivity", m.e_directivity),
+        ("e_shape", m.e_shape),
+    ] {
+        // Monotone as Table 1 says: the sign of each argument's effect is fixed by
+        // where the form puts it; a negative exponent would flip it.
+        closed(name, e, 0.0, 8.0)?;
+    }
+    interval("size_ref_deg", m.size_ref_deg, 0.0, false, 90.0, true)?;
+    closed("glasses_flare", m.glasses_flare, 1.0, 100.0)?;
+    interval("contrast", m.contrast, 0.0, false, 1e6, true)?;
+    interval("chaos_a", m.chaos_a, 0.0, false, 1.0, false)?;
+    interval("chaos_z", m.chaos_z, 1.0, false, 2.0, false)
 }

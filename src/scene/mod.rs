@@ -2,6 +2,7 @@
 //! light maps and ray–shape geometry (host side, f64).
 
 pub mod builtin;
+pub mod builtin_glare;
 pub mod format;
 pub mod geometry;
 pub mod glare;

@@ -59,7 +59,11 @@ impl Scene {
         for (i, o) in self.objects.iter().enumerate() {
             validate_object(o).map_err(|e| e.within(&format!("objects[{i}]")))?;
         }
-        validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))
+        validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))?;
+        match &self.glare {
+            Some(g) => g.validate(),
+            None => Ok(()),
+        }
     }
 
     /// Parse a scene from TOML text and validate it. Parse errors name the field

@@ -15,7 +15,9 @@ use std::time::Instant;
 
 /// A built-in scene by name, or a TOML scene file by path.
 pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
-    if BUILTIN_NAMES.contains(&name_or_path) {
+    if BUILTIN_NAMES.contains(&name_or_path)
+        || crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.contains(&name_or_path)
+    {
         return builtin(name_or_path).map_err(|e| e.to_string());
     }
     let p = Path::new(name_or_path);

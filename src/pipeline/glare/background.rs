@@ -1,0 +1,75 @@
+//! The picture the glare is added to (fb codes): black, a sky gradient, a leaf
+//! canopy, or the scene's lights and objects through the light-shafts pipeline.
+
+use super::frame::glare_of;
+use crate::scene::format::Scene;
+use crate::scene::glare::Background;
+use rand::{Rng, SeedableRng};
+use rtl_model::{ConfigError, Counters};
+use std::collections::BTreeMap;
+
+fn code(v: f64, max: u32) -> u32 {
+    (v.clamp(0.0, 1.0) * max as f64).round() as u32
+}
+
+/// The background in framebuffer codes (RGB), row-major.
+pub fn base_image(
+    scene: &Scene,
+    _ctr: &mut BTreeMap<String, Counters>,
+) -> Result<Vec<[u32; 3]>, ConfigError> {
+    let g = glare_of(scene)?;
+    let (w, h) = (scene.image.width, scene.image.height);
+    let max = rtl_model::unorm::max_code(g.hw.fb_bits);
+    let n = (w * h) as usize;
+    Ok(match &g.background {
+        Background::Black => vec![[0; 3]; n],
+        Background::Sky { top, bottom } => (0..n)
+            .map(|i| {
+                let t = (i as u32 / w) as f64 / (h.max(2) - 1) as f64;
+                [0, 1, 2].map(|c| code(top[c] * (1.0 - t) + bottom[c] * t, max))
+            })
+            .collect(),
+        Background::Canopy { leaves, sky, leaf } => {
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(scene.seed ^ 0x1eaf);
+            let discs: Vec<(f64, f64, f64, f64)> = (0..*leaves)
+                .map(|_| {
+                    (
+                        rng.random::<f64>() * w as f64,
+                        rng.random::<f64>() * h as f64,
+                        (0.02 + 0.05 * rng.random::<f64>()) * h as f64,
+                        0.6 + 0.4 * rng.random::<f64>(),
+                    )
+                })
+                .collect();
+            (0..n)
+                .map(|i| {
+                    let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+                    let shade = discs
+                        .iter()
+                        .filter(|d| (x - d.0).powi(2) + (y - d.1).powi(2) <= d.2 * d.2)
+                        .map(|d| d.3)
+                        .last();
+                    match shade {
+                        Some(s) => [0, 1, 2].map(|c| code(leaf[c] * s, max)),
+                        None => [0, 1, 2].map(|c| code(sky[c], max)),
+                    }
+                })
+                .collect()
+        }
+        Background::Shafts => {
+            let mut s = scene.clone();
+            s.glare = None;
+            let (p, _) = crate::pipeline::shafts::host::prepare_scene(
+                &s,
+                crate::pipeline::shafts::prepare::DEFAULT_EXPOSURE,
+            )?;
+            let r = crate::pipeline::shafts::frame::render_frame(&p)?;
+            let from = r.fb.bits;
+            r.fb
+                .data
+                .chunks(4)
+                .map(|p| [0, 1, 2].map(|c| rtl_model::unorm::narrow(rtl_model::unorm::widen(p[c], from, 16), 16, g.hw.fb_bits)))
+                .collect()
+        }
+    })
+}

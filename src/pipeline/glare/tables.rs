@@ -1,0 +1,146 @@
+//! What the host writes into the modulators' RAMs for one primitive: the shape RAM's
+//! distance samples over the primitive's normalised frame and the falloff (or ring)
+//! RAM's profile samples, with the quad's size from the profile's cut-off.
+
+use crate::reference::glare_model::{bloom_at, halo, Bloom, Shape2D, SourceGlare};
+use crate::scene::glare::{Determinants, GlareModel};
+
+/// Below this many codes a profile is cut off (half an 8-bit LSB).
+pub const CUTOFF_CODES: f64 = 0.5;
+
+/// An area primitive (bloom or halo) around a source: the screen-aligned square of
+/// half-side `half_px` around `center`, whose frame is turned by `phi`; distances are
+/// normalised by `d_max_px` (the falloff RAM spans d ∈ [0, d_max_px]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct AreaPrim {
+    pub center: [f64; 2],
+    pub half_px: f64,
+    pub phi: f64,
+    pub d_max_px: f64,
+}
+
+/// (2^k + 1)² samples of min(1, distance/d_max) of `shape` over the area's frame,
+/// row-major by v: sample (i, j) sits at u = −1 + i·2^(1−k), v = −1 + j·2^(1−k).
+pub fn shape_samples(shape: &Shape2D, a: &AreaPrim, k: u32) -> Vec<f64> {
+    let n = (1usize << k) + 1;
+    let step = 2.0 / (n - 1) as f64;
+    let (c, s) = (a.phi.cos(), a.phi.sin());
+    let mut out = Vec::with_capacity(n * n);
+    for j in 0..n {
+        let v = -1.0 + j as f64 * step;
+        for i in 0..n {
+            let u = -1.0 + i as f64 * step;
+            let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
+            out.push((shape.distance(dx, dy) / a.d_max_px).clamp(0.0, 1.0));
+        }
+    }
+    out
+}
+
+/// 2^m + 1 samples of `f(θ)/gain` (clipped to [0, 1]) at θ = j/2^m · `theta_max`.
+pub fn profile_samples(f: impl Fn(f64) -> f64, theta_max: f64, gain: f64, m: u32) -> Vec<f64> {
+    let n = 1usize << m;
+    (0..=n)
+        .map(|j| {
+            let v = f(j as f64 / n as f64 * theta_max) / gain;
+            if v.is_finite() {
+                v.clamp(0.0, 1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
+/// The smallest θ ≥ 0 (degrees, up to `limit`) where the decreasing `f` falls below
+/// `level`: doubling then bisection.
+pub fn cutoff(f: impl Fn(f64) -> f64, level: f64, limit: f64) -> f64 {
+    if f(0.0) < level {
+        return 0.0;
+    }
+    let mut hi = 0.01f64.min(limit);
+    while f(hi) >= level && hi < limit {
+        hi = (hi * 2.0).min(limit);
+    }
+    if f(hi) >= level {
+        return limit;
+    }
+    let mut lo = 0.0;
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if f(mid) >= level {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// The frame angle of a source's tables: its outline's own axis.
+pub fn frame_angle(shape: &Shape2D) -> f64 {
+    match shape {
+        Shape2D::Ellipse { phi, .. } | Shape2D::Capsule { phi, .. } => *phi,
+        _ => 0.0,
+    }
+}
+
+/// The bloom primitive of a source: the quad, and the profile over θ from the rim
+/// (from the centre for a point) with its cut-off `theta_max` (degrees).
+pub fn bloom_prim(s: &SourceGlare, b: &Bloom, p: &GlareModel, limit_px: f64) -> (AreaPrim, f64) {
+    let cmax = s.color.iter().cloned().fold(0.0, f64::max).max(1e-12);
+    let limit = limit_px / s.px_per_deg;
+    let theta_max = cutoff(|t| bloom_at(b, t, p) * cmax, CUTOFF_CODES, limit).max(1.0 / s.px_per_deg);
+    let d_max_px = theta_max * s.px_per_deg;
+    (
+        AreaPrim {
+            center: s.center,
+            half_px: s.shape.extent() + d_max_px + 1.0,
+            phi: frame_angle(&s.shape),
+            d_max_px,
+        },
+        theta_max,
+    )
+}
+
+/// The halo primitive: out to the largest ring radius plus 4α (exp(−16) beyond).
+pub fn halo_prim(s: &SourceGlare, det: &Determinants, p: &GlareModel) -> (AreaPrim, f64) {
+    let lmax = det.wavelengths_nm.iter().cloned().fold(0.0, f64::max);
+    let theta_max = (p.halo_radius_deg * lmax / 568.0 + 4.0 * p.halo_alpha_deg).max(1.0 / s.px_per_deg);
+    let d_max_px = theta_max * s.px_per_deg;
+    (
+        AreaPrim {
+            center: s.center,
+            half_px: s.shape.extent() + d_max_px + 1.0,
+            phi: frame_angle(&s.shape),
+            d_max_px,
+        },
+        theta_max,
+    )
+}
+
+/// Ring samples of channel c (peak 1 at the ring).
+pub fn ring_samples(c_lambda: f64, theta_max: f64, p: &GlareModel, m: u32) -> Vec<f64> {
+    profile_samples(|t| halo(t, 1.0, c_lambda, p), theta_max, 1.0, m)
+}
+
+/// The flare lines' shared shape: in a line's frame (u along from −1 at the source to
+/// +1 at the tip, v across), d = min(1, √(((u + 1)/2)² + v²)).
+pub fn line_shape_samples(k: u32) -> Vec<f64> {
+    let n = (1usize << k) + 1;
+    let step = 2.0 / (n - 1) as f64;
+    let mut out = Vec::with_capacity(n * n);
+    for j in 0..n {
+        let v = -1.0 + j as f64 * step;
+        for i in 0..n {
+            let s = (-1.0 + i as f64 * step + 1.0) / 2.0;
+            out.push((s * s + v * v).sqrt().min(1.0));
+        }
+    }
+    out
+}
+
+/// The lines' shared falloff: (1 − d)².
+pub fn line_falloff_samples(m: u32) -> Vec<f64> {
+    profile_samples(|d| (1.0 - d).max(0.0).powi(2), 1.0, 1.0, m)
+}
