@@ -110,8 +110,8 @@ impl LumWidths {
     }
 
     /// Width R that p is replicated to before the gain multiply: fb + gi, so the
-    /// unorm → binary error (≤ 2^−R of full scale) times the gain (< 2^gi) stays
-    /// ≤ 2^−fb output LSB.
+    /// unorm → binary error (|·| ≤ 2^−R of full scale) times the gain (< 2^gi) stays
+    /// ≤ 2^−fb output LSB. The multiplier operand is u1.R (R+1 bits: 1.0 exact).
     pub fn p_rep_bits(&self) -> u32 {
         self.falloff_bits + self.gain_int_bits
     }
@@ -232,8 +232,12 @@ impl LumWidths {
         let gf = self.gain_frac_bits;
         let p = p & mask32(self.falloff_bits); // wire: u(fb)
         let g = (gain & self.gain_max()) as u128; // wire: u(gi).(gf)
-        let prep = replicate(p as u64, self.falloff_bits, r) as u128; // u(R) = u0.R
-                                                                      // u0.R × u(gi).(gf) → u(gi).(R+gf) (≤ 68 bits); round off R + gf bits.
+                                                  // p as a binary fraction u1.R: the replicated code plus the code's top bit, so
+                                                  // p = max gives exactly 1.0 (error |·| ≤ 2^−R of full scale either way).
+                                                  // u(R) + u1 → u(R+1).
+        let prep = replicate(p as u64, self.falloff_bits, r) as u128
+            + (p >> (self.falloff_bits - 1)) as u128;
+        // u1.R × u(gi).(gf) → u(gi+1).(R+gf) (≤ 69 bits); round off R + gf bits.
         let prod = prep * g;
         let sh = r + gf;
         let lum = (prod + (1u128 << (sh - 1))) >> sh; // u(gi+1)
@@ -334,8 +338,12 @@ impl LumWidths {
             )
             // Stage 6: gain multiply + round + saturate, per channel.
             .part(
-                "gain multipliers 3 × (R × (gi+gf)), R = fb+gi",
-                prim::multiplier(r, gb) * 3.0,
+                "gain multipliers 3 × ((R+1) × (gi+gf)), R = fb+gi",
+                prim::multiplier(r + 1, gb) * 3.0,
+            )
+            .part(
+                "p → u1.R incrementer (+ top bit, so p = 1.0 is exact)",
+                prim::half_adder() * r as f64,
             )
             .part(
                 "gain rounding 3 × (gi+1)-bit incrementer",
