@@ -200,7 +200,7 @@ pub fn random_points(w: &LumWidths, seed: u64, n: usize) -> Vec<(i32, i32, [u32;
     let (lo, hi) = coord_range(w);
     let one = 1i32 << w.coord_frac_bits;
     let gmax = w.gain_max();
-    let mut c = |rng: &mut ChaCha8Rng| {
+    let c = |rng: &mut ChaCha8Rng| {
         if rng.random_bool(0.7) {
             rng.random_range(-one..=one)
         } else {
