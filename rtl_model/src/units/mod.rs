@@ -8,6 +8,7 @@ pub mod gaussian_noise;
 pub mod glare_combiner;
 pub mod glare_condition;
 pub mod halo_modulator;
+pub mod luminance_ram;
 pub mod modulate;
 pub mod polygon_interpolator;
 pub mod polygon_variable_generator;

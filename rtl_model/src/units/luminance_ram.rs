@@ -1,0 +1,467 @@
+//! luminance_ram — the datapath both glare luminance modulators share (not a unit).
+//!
+//! A SHAPE RAM turns the primitive-frame position (u, v) into a distance d by bilinear
+//! interpolation of a (2ᵏ+1)² sample grid over [−1, 1]², a FALLOFF RAM turns d into a
+//! profile value p by linear interpolation of 2ᵐ+1 samples over [0, 1], and a gain
+//! multiplier turns p into framebuffer luminance. `bloom_flare_modulator` uses one
+//! falloff RAM, `halo_modulator` three (one ring per colour channel).
+//!
+//! Number formats (all runtime):
+//! * u, v: s2.F two's complement (F = `coord_frac_bits`), value code / 2^F ∈ [−2, 2).
+//! * shape entries and d: unorm of `shape_bits` (sb): code / (2^sb − 1).
+//! * falloff entries and p: unorm of `falloff_bits` (fb): code / (2^fb − 1).
+//! * gain: u(gi).(gf) (`gain_int_bits`, `gain_frac_bits`): code / 2^gf, luminance in
+//!   framebuffer codes at p = 1.
+//! * luminance out: unsigned `out_bits`, saturating.
+//!
+//! Unorm → binary-fraction conversions (d into the falloff address, p into the gain
+//! multiplier) are done by BIT REPLICATION (free wiring): replicating an n-bit unorm
+//! code c to W bits gives floor-ish(c/(2ⁿ−1)·2^W), error in [0, 2^−W] of full scale.
+
+use crate::cost::{prim, Cells, Cost};
+use crate::counters::Counters;
+use crate::error::{check_finite, check_range, ConfigError};
+use serde::{Deserialize, Serialize};
+
+/// The widths of the shared modulator datapath (the fields of both modulator configs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LumWidths {
+    /// F of the s2.F coordinates u, v (2 ..= 16, default 10).
+    pub coord_frac_bits: u32,
+    /// k: the shape RAM has 2ᵏ cells per side, (2ᵏ+1)² samples (1 ..= 10, default 7).
+    pub shape_log2: u32,
+    /// Shape entry / d width, unorm (1 ..= 16, default 10).
+    pub shape_bits: u32,
+    /// m: the falloff RAM has 2ᵐ cells, 2ᵐ+1 samples (1 ..= 12, default 8).
+    pub falloff_log2: u32,
+    /// Falloff entry / p width, unorm (1 ..= 20, default 16).
+    pub falloff_bits: u32,
+    /// Interpolation weight width, both RAMs (1 ..= 12, default 8).
+    pub weight_bits: u32,
+    /// Gain integer bits (0 ..= 16, default 12).
+    pub gain_int_bits: u32,
+    /// Gain fraction bits (0 ..= 16, default 4); gain_int_bits + gain_frac_bits ≥ 1.
+    pub gain_frac_bits: u32,
+    /// Luminance output width (1 ..= 16, default 12).
+    pub out_bits: u32,
+}
+
+impl Default for LumWidths {
+    fn default() -> Self {
+        LumWidths {
+            coord_frac_bits: 10,
+            shape_log2: 7,
+            shape_bits: 10,
+            falloff_log2: 8,
+            falloff_bits: 16,
+            weight_bits: 8,
+            gain_int_bits: 12,
+            gain_frac_bits: 4,
+            out_bits: 12,
+        }
+    }
+}
+
+impl LumWidths {
+    /// Check every field; errors name `<unit>.<field>`.
+    pub fn validate(&self, unit: &str) -> Result<(), ConfigError> {
+        let f = |n: &str| format!("{unit}.{n}");
+        check_range(&f("coord_frac_bits"), self.coord_frac_bits as u64, 2, 16)?;
+        check_range(&f("shape_log2"), self.shape_log2 as u64, 1, 10)?;
+        check_range(&f("shape_bits"), self.shape_bits as u64, 1, 16)?;
+        check_range(&f("falloff_log2"), self.falloff_log2 as u64, 1, 12)?;
+        check_range(&f("falloff_bits"), self.falloff_bits as u64, 1, 20)?;
+        check_range(&f("weight_bits"), self.weight_bits as u64, 1, 12)?;
+        check_range(&f("gain_int_bits"), self.gain_int_bits as u64, 0, 16)?;
+        check_range(&f("gain_frac_bits"), self.gain_frac_bits as u64, 0, 16)?;
+        if self.gain_int_bits + self.gain_frac_bits == 0 {
+            return Err(ConfigError::invalid(
+                &f("gain_frac_bits"),
+                "gain_int_bits + gain_frac_bits must be at least 1",
+            ));
+        }
+        check_range(&f("out_bits"), self.out_bits as u64, 1, 16)?;
+        Ok(())
+    }
+
+    /// Samples per side of the shape grid: 2ᵏ + 1.
+    pub fn shape_side(&self) -> usize {
+        (1usize << self.shape_log2) + 1
+    }
+
+    /// Shape RAM entries: (2ᵏ + 1)².
+    pub fn shape_len(&self) -> usize {
+        self.shape_side() * self.shape_side()
+    }
+
+    /// Falloff RAM entries: 2ᵐ + 1.
+    pub fn falloff_len(&self) -> usize {
+        (1usize << self.falloff_log2) + 1
+    }
+
+    /// Gain word width gi + gf.
+    pub fn gain_bits(&self) -> u32 {
+        self.gain_int_bits + self.gain_frac_bits
+    }
+
+    /// Largest gain code.
+    pub fn gain_max(&self) -> u32 {
+        mask32(self.gain_bits())
+    }
+
+    /// Width R that p is replicated to before the gain multiply: fb + gi, so the
+    /// unorm → binary error (|·| ≤ 2^−R of full scale) times the gain (< 2^gi) stays
+    /// ≤ 2^−fb output LSB. The multiplier operand is u1.R (R+1 bits: 1.0 exact).
+    pub fn p_rep_bits(&self) -> u32 {
+        self.falloff_bits + self.gain_int_bits
+    }
+
+    /// Quantise a gain triple (round to nearest); NaN, ∞, negative or above the largest
+    /// code is an error naming `<unit>.gain[c]`.
+    pub fn gain_from_f64(&self, unit: &str, g: [f64; 3]) -> Result<[u32; 3], ConfigError> {
+        let mut out = [0u32; 3];
+        let max = self.gain_max() as f64;
+        for c in 0..3 {
+            let field = format!("{unit}.gain[{c}]");
+            let x = check_finite(&field, g[c])?;
+            let code = (x * (self.gain_frac_bits as f64).exp2()).round();
+            if !(0.0..=max).contains(&code) {
+                return Err(ConfigError::out_of_range(
+                    &field,
+                    x,
+                    0.0,
+                    max / (self.gain_frac_bits as f64).exp2(),
+                ));
+            }
+            out[c] = code as u32;
+        }
+        Ok(out)
+    }
+
+    /// Quantise a position to s2.F (round to nearest). Values outside [−2, 2) saturate
+    /// to the range ends (harmless: |u| ≥ 1 clamps to the table edge anyway); NaN/∞ is
+    /// an error naming `<unit>.coord`.
+    pub fn coord_from_f64(&self, unit: &str, u: f64) -> Result<i32, ConfigError> {
+        let x = check_finite(&format!("{unit}.coord"), u)?;
+        let f = self.coord_frac_bits;
+        let lo = -(1i64 << (f + 1));
+        let hi = (1i64 << (f + 1)) - 1;
+        let code = (x * (f as f64).exp2()).round().clamp(lo as f64, hi as f64);
+        Ok(code as i32)
+    }
+
+    /// Clamp a coordinate to the grid and split it into (index, weight):
+    /// returns (i, w, clamped) with i ∈ [0, 2ᵏ], w ∈ [0, 2^wb), w = 0 at i = 2ᵏ.
+    #[inline]
+    fn address(&self, u: i32) -> (usize, u32, bool) {
+        let f = self.coord_frac_bits;
+        let k = self.shape_log2;
+        let wb = self.weight_bits;
+        let u = sext(u, f + 2); // wire: s2.F
+        let one = 1i64 << f;
+        let clamped = u <= -one || u >= one;
+        // a = u + 1 in units of 2^−F, clamped to [0, 2]: u(2).F → F+2 bits.
+        let a = (u + one).clamp(0, 2 * one) as u64;
+        // Position in cells = a / 2^s with s = F + 1 − k fraction bits.
+        let s = f as i32 + 1 - k as i32;
+        let (i, w) = if s <= 0 {
+            ((a << (-s) as u32) as usize, 0u32) // a shift: no fraction left
+        } else {
+            let s = s as u32;
+            let i = (a >> s) as usize;
+            let frac = a & ((1u64 << s) - 1); // s bits
+            let w = if s >= wb {
+                frac >> (s - wb) // truncate to wb bits
+            } else {
+                frac << (wb - s)
+            };
+            (i, w as u32)
+        };
+        (i, w, clamped)
+    }
+
+    /// Shape lookup: bilinear interpolation of the 4 neighbouring samples of (u, v),
+    /// rounded to a `shape_bits` d code. Counts 4 table reads and a saturation when
+    /// |u| ≥ 1 or |v| ≥ 1 (one per clamped axis).
+    pub fn shape_lookup(&self, shape: &[u32], u: i32, v: i32, ctr: &mut Counters) -> u32 {
+        let side = self.shape_side();
+        let last = side - 1;
+        let wb = self.weight_bits;
+        let (i, wx, cu) = self.address(u);
+        let (j, wy, cv) = self.address(v);
+        ctr.saturations += cu as u64 + cv as u64;
+        let i1 = (i + 1).min(last); // at i = 2ᵏ the weight is 0
+        let j1 = (j + 1).min(last);
+        // Four banks (even/odd in each axis) read in parallel.
+        ctr.table_reads += 4;
+        let s00 = shape[j * side + i] as i64;
+        let s10 = shape[j * side + i1] as i64;
+        let s01 = shape[j1 * side + i] as i64;
+        let s11 = shape[j1 * side + i1] as i64;
+        let (wx, wy) = (wx as i64, wy as i64);
+        // Row lerps: s·2^wb + (s' − s)·wx: u(sb)·2^wb + s(sb+1) × u(wb) → u(sb+wb).
+        let r0 = (s00 << wb) + (s10 - s00) * wx;
+        let r1 = (s01 << wb) + (s11 - s01) * wx;
+        // Column lerp: r0·2^wb + (r1 − r0)·wy: s(sb+wb+1) × u(wb) → u(sb+2wb).
+        let t = (r0 << wb) + (r1 - r0) * wy;
+        // Round to sb bits: + half, >> 2wb → u(sb) (a convex combination: ≤ max code).
+        ((t + (1i64 << (2 * wb - 1))) >> (2 * wb)) as u32
+    }
+
+    /// Falloff lookup: linear interpolation at the d code (replicated to m + wb bits:
+    /// top m bits index, low wb bits weight), rounded to a `falloff_bits` p code.
+    /// Counts 2 table reads (two banks).
+    pub fn falloff_lookup(&self, falloff: &[u32], d: u32, ctr: &mut Counters) -> u32 {
+        let m = self.falloff_log2;
+        let wb = self.weight_bits;
+        let d = d & mask32(self.shape_bits); // wire: u(sb)
+        let addr = replicate(d as u64, self.shape_bits, m + wb); // u(m + wb)
+        let j = (addr >> wb) as usize; // ≤ 2ᵐ − 1
+        let w = (addr & ((1u64 << wb) - 1)) as i64; // u(wb)
+        ctr.table_reads += 2;
+        let f0 = falloff[j] as i64;
+        let f1 = falloff[j + 1] as i64;
+        // f0·2^wb + (f1 − f0)·w: s(fb+1) × u(wb) → u(fb+wb); round to u(fb).
+        let t = (f0 << wb) + (f1 - f0) * w;
+        ((t + (1i64 << (wb - 1))) >> wb) as u32
+    }
+
+    /// Gain multiply: lum = round(p · gain), saturating at 2^out_bits − 1 (counted).
+    pub fn gain_mul(&self, p: u32, gain: u32, ctr: &mut Counters) -> u32 {
+        let r = self.p_rep_bits();
+        let gf = self.gain_frac_bits;
+        let p = p & mask32(self.falloff_bits); // wire: u(fb)
+        let g = (gain & self.gain_max()) as u128; // wire: u(gi).(gf)
+                                                  // p as a binary fraction u1.R: the replicated code plus the code's top bit, so
+                                                  // p = max gives exactly 1.0 (error |·| ≤ 2^−R of full scale either way).
+                                                  // u(R) + u1 → u(R+1).
+        let prep = replicate(p as u64, self.falloff_bits, r) as u128
+            + (p >> (self.falloff_bits - 1)) as u128;
+        // u1.R × u(gi).(gf) → u(gi+1).(R+gf) (≤ 69 bits); round off R + gf bits.
+        let prod = prep * g;
+        let sh = r + gf;
+        let lum = (prod + (1u128 << (sh - 1))) >> sh; // u(gi+1)
+        let max = mask32(self.out_bits) as u128;
+        if lum > max {
+            ctr.saturations += 1;
+            max as u32
+        } else {
+            lum as u32
+        }
+    }
+
+    /// Quantise an f64 table (entries in [0, 1], round to nearest) to unorm codes of
+    /// `bits`. A wrong length names `<field>`; a bad entry names `<field>[<index>]`.
+    pub fn quantise_table(
+        field: &str,
+        vals: &[f64],
+        len: usize,
+        bits: u32,
+    ) -> Result<Vec<u32>, ConfigError> {
+        if vals.len() != len {
+            return Err(ConfigError::invalid(
+                field,
+                &format!("table has {} entries, the config needs {len}", vals.len()),
+            ));
+        }
+        let max = mask32(bits) as f64;
+        vals.iter()
+            .enumerate()
+            .map(|(i, &x)| {
+                let f = format!("{field}[{i}]");
+                let x = check_finite(&f, x)?;
+                if !(0.0..=1.0).contains(&x) {
+                    return Err(ConfigError::out_of_range(&f, x, 0.0, 1.0));
+                }
+                Ok((x * max).round() as u32)
+            })
+            .collect()
+    }
+
+    /// Cost of the shared datapath with `rings` falloff RAMs (1: bloom/flare, 3: halo).
+    /// Includes pipeline registers; RAM bits are added by [`LumWidths::ram_bits`].
+    pub fn cost(&self, rings: u32) -> Cost {
+        let f = self.coord_frac_bits;
+        let k = self.shape_log2;
+        let sb = self.shape_bits;
+        let m = self.falloff_log2;
+        let fb = self.falloff_bits;
+        let wb = self.weight_bits;
+        let gb = self.gain_bits();
+        let ob = self.out_bits;
+        let r = self.p_rep_bits();
+        let n = rings as f64;
+        let addr_bits = k + 1 + wb; // index u(k+1) and weight u(wb) per axis
+        Cost::default()
+            // Stage 1: address + shape RAM read.
+            .part(
+                "coordinate offset u+1, v+1 (2 × (F+2)-bit adders)",
+                prim::adder(f + 2) * 2.0,
+            )
+            .part(
+                "edge clamp (2 × compare + mux)",
+                (prim::comparator(f + 2) * 2.0 + prim::mux(addr_bits)) * 2.0,
+            )
+            .part(
+                "shape bank addresses i+1, j+1 (incrementers + end clamp)",
+                (prim::half_adder() * k as f64 + prim::mux(k + 1)) * 2.0,
+            )
+            .part(
+                "4-bank shape read crossbar (x and y swap)",
+                prim::mux(sb) * 8.0,
+            )
+            // Stage 2–3: bilinear.
+            .part(
+                "bilinear row lerps (2 × sub, (sb+1)×wb mul, add)",
+                (prim::subtractor(sb + 1) + prim::multiplier(sb + 1, wb) + prim::adder(sb + wb))
+                    * 2.0,
+            )
+            .part(
+                "bilinear column lerp (sub, (sb+wb+1)×wb mul, add, round)",
+                prim::subtractor(sb + wb + 1)
+                    + prim::multiplier(sb + wb + 1, wb)
+                    + prim::adder(sb + 2 * wb)
+                    + prim::half_adder() * sb as f64,
+            )
+            // Stage 4–5: falloff read + lerp, per ring.
+            .part(
+                "falloff bank address j+1 and 2-bank swap, per ring",
+                (prim::half_adder() * m as f64 + prim::mux(fb) * 2.0) * n,
+            )
+            .part(
+                "falloff lerp (sub, (fb+1)×wb mul, add, round), per ring",
+                (prim::subtractor(fb + 1)
+                    + prim::multiplier(fb + 1, wb)
+                    + prim::adder(fb + wb)
+                    + prim::half_adder() * fb as f64)
+                    * n,
+            )
+            // Stage 6: gain multiply + round + saturate, per channel.
+            .part(
+                "gain multipliers 3 × ((R+1) × (gi+gf)), R = fb+gi",
+                prim::multiplier(r + 1, gb) * 3.0,
+            )
+            .part(
+                "p → u1.R incrementer (+ top bit, so p = 1.0 is exact)",
+                prim::half_adder() * r as f64,
+            )
+            .part(
+                "gain rounding 3 × (gi+1)-bit incrementer",
+                prim::half_adder() * (3 * (self.gain_int_bits + 1)) as f64,
+            )
+            .part(
+                "output saturation 3 × (overflow OR + clamp)",
+                (Cells {
+                    or2: (self.gain_int_bits + 1).saturating_sub(ob) as f64,
+                    ..Cells::default()
+                } + Cells {
+                    or2: ob as f64,
+                    ..Cells::default()
+                }) * 3.0,
+            )
+            .part("pipeline registers", self.registers(rings))
+    }
+
+    fn registers(&self, rings: u32) -> Cells {
+        let sb = self.shape_bits;
+        let fb = self.falloff_bits;
+        let wb = self.weight_bits;
+        let gb = self.gain_bits();
+        let n = rings;
+        // The gain triple travels with the pixel through stages 1–5.
+        let gain = 5 * 3 * gb;
+        let s1 = 4 * sb + 2 * wb; // four samples + weights
+        let s2 = 2 * (sb + wb) + wb; // two row values + wy
+        let s3 = sb; // d
+        let s4 = n * (2 * fb) + wb + sb; // falloff pairs + weight + d
+        let s5 = n * fb + sb; // p code(s) + d
+        let s6 = 3 * self.out_bits + sb; // output
+        prim::register(gain + s1 + s2 + s3 + s4 + s5 + s6)
+    }
+
+    /// RAM bits: (2ᵏ+1)²·sb + rings·(2ᵐ+1)·fb.
+    pub fn ram_bits(&self, rings: u32) -> u64 {
+        self.shape_len() as u64 * self.shape_bits as u64
+            + rings as u64 * self.falloff_len() as u64 * self.falloff_bits as u64
+    }
+
+    /// Entries written per primitive to load the tables.
+    pub fn table_words(&self, rings: u32) -> u64 {
+        self.shape_len() as u64 + rings as u64 * self.falloff_len() as u64
+    }
+
+    /// Pipeline latency of the modulators: address+shape read, bilinear x, bilinear
+    /// y + round, falloff read, lerp + round, gain multiply + saturate.
+    pub const LATENCY: u32 = 6;
+}
+
+/// All-ones of `bits` (0 ..= 32).
+#[inline]
+pub fn mask32(bits: u32) -> u32 {
+    if bits >= 32 {
+        u32::MAX
+    } else {
+        (1u32 << bits) - 1
+    }
+}
+
+/// Sign-extend the low `w` bits of `x` (1 ≤ w ≤ 32).
+#[inline]
+pub fn sext(x: i32, w: u32) -> i64 {
+    let sh = 64 - w;
+    ((x as i64) << sh) >> sh
+}
+
+/// Replicate an n-bit unorm code to `to` bits (wiring only): the first `to` bits of
+/// the repeating binary expansion of c / (2ⁿ − 1). Error in [0, 2^−to] of full scale.
+#[inline]
+pub fn replicate(c: u64, from: u32, to: u32) -> u64 {
+    let c = c & ((1u64 << from) - 1);
+    let mut out = 0u64;
+    let mut filled = 0u32;
+    while filled < to {
+        let take = from.min(to - filled);
+        out = (out << take) | (c >> (from - take));
+        filled += take;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn replication_error_is_within_one_lsb_of_the_target() {
+        for from in 1..=8u32 {
+            for to in 1..=20u32 {
+                for c in 0..(1u64 << from) {
+                    let x = c as f64 / ((1u64 << from) - 1) as f64;
+                    let r = replicate(c, from, to) as f64 / (to as f64).exp2();
+                    let e = x - r;
+                    assert!(
+                        e >= -1e-12 && e <= (-(to as f64)).exp2() + 1e-12,
+                        "{c} {from} {to}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// One pixel into a modulator: its position in the primitive frame (s2.F codes) and
+/// the primitive's RGB gain (u(gi).(gf) codes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct LumIn {
+    pub u: i32,
+    pub v: i32,
+    pub gain: [u32; 3],
+}
+
+/// One pixel out of a modulator: the shape distance d (unorm `shape_bits` code) and
+/// the RGB luminance in framebuffer codes (`out_bits`, saturated).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct LumOut {
+    pub d: u32,
+    pub lum: [u32; 3],
+}
