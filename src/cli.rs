@@ -118,6 +118,8 @@ pub fn run(cli: Cli) -> Result<(), String> {
         } => {
             if scene == "test" {
                 crate::pipeline::test_scene::render_cli(&out, json, reference.as_deref())
+            } else if let Some(s) = glare_scene(&scene)? {
+                crate::pipeline::glare::cli::render_cli(&s, &out, json, reference.as_deref())
             } else {
                 crate::pipeline::shafts::cli::render_cli(&scene, &out, json, reference.as_deref())
             }
@@ -212,6 +214,15 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         t0.elapsed().as_secs_f64()
     );
     Ok(())
+}
+
+/// The scene if it has a `[glare]` section (built-in name or file), else None.
+fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String> {
+    if name == "test" {
+        return Ok(None);
+    }
+    let s = crate::pipeline::shafts::cli::load_scene(name)?;
+    Ok(s.glare.is_some().then_some(s))
 }
 
 /// Write a file, creating its directory; a failure names the path.

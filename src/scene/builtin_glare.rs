@@ -4,13 +4,22 @@
 //! ring is ~57 pixels across and its 0.35° width ~7 pixels, and the bloom's tail
 //! (down to half a level at ~20°) fills most of the frame around a bright source.
 
-use super::format::{Camera, ImageSize, Light, LightKind, LightMap, Medium, Object, Scene, ShaftsConfig, Shape};
+use super::format::{
+    Camera, ImageSize, Light, LightKind, LightMap, Medium, Object, Scene, ShaftsConfig, Shape,
+};
 use super::glare::{
-    Background, Determinants, Fluctuation, GlareHw, GlareModel, GlareSection, GlareSource, SourceKind,
+    Background, Determinants, Fluctuation, GlareHw, GlareModel, GlareSection, GlareSource,
+    SourceKind,
 };
 
 /// Names of the built-in glare scenes.
-pub const GLARE_BUILTIN_NAMES: &[&str] = &["glare-point", "glare-elliptic", "glare-flare", "street-light", "leaves"];
+pub const GLARE_BUILTIN_NAMES: &[&str] = &[
+    "glare-point",
+    "glare-elliptic",
+    "glare-flare",
+    "street-light",
+    "leaves",
+];
 
 fn camera(eye: [f64; 3], look_at: [f64; 3]) -> Camera {
     Camera {
@@ -92,8 +101,8 @@ pub fn glare_point() -> Scene {
 /// Fig. 4 (right): an elliptic source (a lamp cover, 3:1, tilted 30°) with bloom (eq. 4).
 pub fn glare_elliptic() -> Scene {
     let mut s = source(SourceKind::Elliptic, [0.0, 0.0, -20.0], 2000.0);
-    s.a = 0.6;
-    s.b = 0.2;
+    s.a = 0.3;
+    s.b = 0.1;
     s.n = [-0.5, 0.866, 0.0];
     s.halo = false;
     s.flare = false;
@@ -109,8 +118,8 @@ pub fn glare_elliptic() -> Scene {
 /// glasses (flare +), with its bloom.
 pub fn glare_flare() -> Scene {
     let mut s = source(SourceKind::Elliptic, [0.0, 0.0, -20.0], 3000.0);
-    s.a = 0.5;
-    s.b = 0.2;
+    s.a = 0.25;
+    s.b = 0.1;
     s.n = [0.0, 1.0, 0.0];
     s.halo = false;
     let mut g = section(night(), vec![s]);

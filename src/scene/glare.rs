@@ -258,22 +258,22 @@ impl Default for GlareModel {
     fn default() -> Self {
         GlareModel {
             point_a: 29.0,
-            point_k: 0.01,
+            point_k: 0.03,
             point_theta0_deg: 0.13,
             point_m: 2.8,
             bloom_n: 3.0,
             bloom_m: 2.0,
-            bloom_w_deg: 1.0,
+            bloom_w_deg: 0.3,
             bloom_theta1_deg: 0.5,
-            bloom_k: 0.3,
+            bloom_k: 1.0,
             glasses_bloom: 0.8,
             halo_k: 0.05,
             halo_radius_deg: 1.5,
             halo_alpha_deg: 0.225,
             flare_num_k: 1.2,
-            flare_len_k_deg: 0.12,
-            flare_width_k_deg: 0.012,
-            flare_intensity_k: 0.03,
+            flare_len_k_deg: 0.3,
+            flare_width_k_deg: 0.004,
+            flare_intensity_k: 0.05,
             flare_spread_rad: 1.0,
             flare_max_lines: 64,
             e_intensity: 0.5,
@@ -282,7 +282,7 @@ impl Default for GlareModel {
             e_ambient: 0.5,
             e_mist: 1.0,
             e_directivity: 2.0,
-            e_shape: 1.0,
+            e_shape: 0.5,
             size_ref_deg: 2.0,
             glasses_flare: 1.5,
             contrast: 40.0,
@@ -370,7 +370,12 @@ impl GlareSection {
         closed("determinants.age", d.age, 0.0, 120.0)?;
         closed("determinants.mist", d.mist, 0.0, 1e3)?;
         for k in 0..3 {
-            closed(&format!("determinants.wavelengths_nm[{k}]"), d.wavelengths_nm[k], 300.0, 900.0)?;
+            closed(
+                &format!("determinants.wavelengths_nm[{k}]"),
+                d.wavelengths_nm[k],
+                300.0,
+                900.0,
+            )?;
         }
         for (i, s) in self.sources.iter().enumerate() {
             validate_source(s).map_err(|e| e.within(&format!("sources[{i}]")))?;
@@ -413,7 +418,10 @@ fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
             if s.b > s.a {
                 return Err(ConfigError::invalid(
                     "b",
-                    &format!("the semi-minor axis b = {} exceeds the semi-major axis a = {}", s.b, s.a),
+                    &format!(
+                        "the semi-minor axis b = {} exceeds the semi-major axis a = {}",
+                        s.b, s.a
+                    ),
                 ));
             }
             direction("n", &s.n)?;
@@ -422,7 +430,10 @@ fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
             if s.vertices.len() < 2 || s.vertices.len() > 64 {
                 return Err(ConfigError::invalid(
                     "vertices",
-                    &format!("a polygon needs 2 ..= 64 vertices besides position, got {}", s.vertices.len()),
+                    &format!(
+                        "a polygon needs 2 ..= 64 vertices besides position, got {}",
+                        s.vertices.len()
+                    ),
                 ));
             }
             for (k, v) in s.vertices.iter().enumerate() {
@@ -451,12 +462,26 @@ fn validate_highlight(h: &Highlight) -> Result<(), ConfigError> {
 fn validate_model(m: &GlareModel) -> Result<(), ConfigError> {
     closed("point_a", m.point_a, 0.0, 1e6)?;
     closed("point_k", m.point_k, 0.0, 1e6)?;
-    interval("point_theta0_deg", m.point_theta0_deg, 0.0, false, 90.0, true)?;
+    interval(
+        "point_theta0_deg",
+        m.point_theta0_deg,
+        0.0,
+        false,
+        90.0,
+        true,
+    )?;
     closed("point_m", m.point_m, 0.5, 6.0)?;
     closed("bloom_n", m.bloom_n, 0.5, 10.0)?;
     closed("bloom_m", m.bloom_m, 0.5, 6.0)?;
     interval("bloom_w_deg", m.bloom_w_deg, 0.0, false, 90.0, true)?;
-    interval("bloom_theta1_deg", m.bloom_theta1_deg, 0.0, false, 90.0, true)?;
+    interval(
+        "bloom_theta1_deg",
+        m.bloom_theta1_deg,
+        0.0,
+        false,
+        90.0,
+        true,
+    )?;
     closed("bloom_k", m.bloom_k, 0.0, 1e6)?;
     closed("glasses_bloom", m.glasses_bloom, 0.0, 1.0)?;
     closed("halo_k", m.halo_k, 0.0, 1e6)?;

@@ -65,10 +65,17 @@ pub fn base_image(
             )?;
             let r = crate::pipeline::shafts::frame::render_frame(&p)?;
             let from = r.fb.bits;
-            r.fb
-                .data
+            r.fb.data
                 .chunks(4)
-                .map(|p| [0, 1, 2].map(|c| rtl_model::unorm::narrow(rtl_model::unorm::widen(p[c], from, 16), 16, g.hw.fb_bits)))
+                .map(|p| {
+                    [0, 1, 2].map(|c| {
+                        rtl_model::unorm::narrow(
+                            rtl_model::unorm::widen(p[c], from, 16),
+                            16,
+                            g.hw.fb_bits,
+                        )
+                    })
+                })
                 .collect()
         }
     })

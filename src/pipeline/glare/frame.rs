@@ -9,8 +9,8 @@
 use super::background::base_image;
 use super::host::{screen_sources, source_glare, ScreenSource};
 use super::tables::{
-    bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples,
-    ring_samples, shape_samples, AreaPrim,
+    bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples, ring_samples,
+    shape_samples, AreaPrim,
 };
 use crate::pipeline::shafts::frame::Elaborated;
 use crate::reference::glare_model::{bloom_at, FlareLine, SourceGlare};
@@ -92,7 +92,10 @@ fn add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
 /// The glare section, or an error naming `glare`.
 pub fn glare_of(scene: &Scene) -> Result<&GlareSection, ConfigError> {
     scene.glare.as_ref().ok_or_else(|| {
-        ConfigError::invalid("glare", "the scene has no [glare] section (no glare sources)")
+        ConfigError::invalid(
+            "glare",
+            "the scene has no [glare] section (no glare sources)",
+        )
     })
 }
 
@@ -285,7 +288,8 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
     let mut units = Vec::new();
 
     // Fluctuation: the chaos map gives each patch its S_i(t).
-    let (patch_levels, chaos_summary) = super::fluctuation::patch_levels(scene, &screens, &mut counters)?;
+    let (patch_levels, chaos_summary) =
+        super::fluctuation::patch_levels(scene, &screens, &mut counters)?;
     // Highlights through the glare conditions: glare sources or saturated dots.
     let (hl_sources, cond_summary) = super::condition::highlight_sources(scene, &mut counters)?;
 
@@ -311,7 +315,12 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
     let base = base_image(scene, &mut counters)?;
     let mut fb = Framebuffer::new(w, h, g.hw.fb_bits);
     for (i, p) in base.iter().enumerate() {
-        fb.data[i * 4..i * 4 + 4].copy_from_slice(&[p[0], p[1], p[2], rtl_model::unorm::max_code(g.hw.fb_bits)]);
+        fb.data[i * 4..i * 4 + 4].copy_from_slice(&[
+            p[0],
+            p[1],
+            p[2],
+            rtl_model::unorm::max_code(g.hw.fb_bits),
+        ]);
     }
 
     let any_bloom = sources.iter().any(|s| s.bloom.is_some());
@@ -367,12 +376,23 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
             let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
             let gain_l = l0.min(gmax);
             let shape = shape_samples(&s.shape, &a, lw.shape_log2);
-            let fall = profile_samples(|t| bloom_at(b, t, &g.model), theta_max, gain_l, lw.falloff_log2);
+            let fall = profile_samples(
+                |t| bloom_at(b, t, &g.model),
+                theta_max,
+                gain_l,
+                lw.falloff_log2,
+            );
             let m = BloomFlareModulatorConfig::from_widths(lw).build(&shape, &fall)?;
             let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
             let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
             shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
-            prims.push(PrimStat { kind: "bloom", source: i, walked, fragments: frags.len() as u64, table_words: m.table_words() });
+            prims.push(PrimStat {
+                kind: "bloom",
+                source: i,
+                walked,
+                fragments: frags.len() as u64,
+                table_words: m.table_words(),
+            });
             bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
         }
         if let Some(cc) = s.halo {
@@ -384,18 +404,27 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
                 .iter()
                 .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
                 .collect();
-            let m = HaloModulatorConfig::from_widths(lw).build(&shape, [&rings[0], &rings[1], &rings[2]])?;
+            let m = HaloModulatorConfig::from_widths(lw)
+                .build(&shape, [&rings[0], &rings[1], &rings[2]])?;
             let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
             let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
             shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
-            prims.push(PrimStat { kind: "halo", source: i, walked, fragments: frags.len() as u64, table_words: m.table_words() });
+            prims.push(PrimStat {
+                kind: "halo",
+                source: i,
+                walked,
+                fragments: frags.len() as u64,
+                table_words: m.table_words(),
+            });
             halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
         }
     }
     if any_flare {
         // Every line shares one spindle shape and one falloff: loaded once.
-        let m = BloomFlareModulatorConfig::from_widths(lw)
-            .build(&line_shape_samples(lw.shape_log2), &line_falloff_samples(lw.falloff_log2))?;
+        let m = BloomFlareModulatorConfig::from_widths(lw).build(
+            &line_shape_samples(lw.shape_log2),
+            &line_falloff_samples(lw.falloff_log2),
+        )?;
         let mut loaded = false;
         for (i, s) in sources.iter().enumerate() {
             for l in &lines[i] {
@@ -424,43 +453,120 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
     }
 
     // Elaboration: what was built, and what was left out with what it saved.
-    let frags_of = |k: &str| prims.iter().filter(|p| p.kind == k).map(|p| p.fragments).sum::<u64>();
+    let frags_of = |k: &str| {
+        prims
+            .iter()
+            .filter(|p| p.kind == k)
+            .map(|p| p.fragments)
+            .sum::<u64>()
+    };
     let default_mod = || {
         let wl = lw;
         let shape = vec![0.0; wl.shape_len()];
         let fall = vec![0.0; wl.falloff_len()];
-        BloomFlareModulatorConfig::from_widths(wl).build(&shape, &fall).map(|m| UnitSummary::of(&m))
+        BloomFlareModulatorConfig::from_widths(wl)
+            .build(&shape, &fall)
+            .map(|m| UnitSummary::of(&m))
     };
     let default_halo = || {
         let wl = lw;
         let shape = vec![0.0; wl.shape_len()];
         let r = vec![0.0; wl.falloff_len()];
-        HaloModulatorConfig::from_widths(wl).build(&shape, [&r, &r, &r]).map(|m| UnitSummary::of(&m))
+        HaloModulatorConfig::from_widths(wl)
+            .build(&shape, [&r, &r, &r])
+            .map(|m| UnitSummary::of(&m))
     };
-    let mut push = |name: &str, used: bool, summary: Result<UnitSummary, ConfigError>, why: &str, cycles: u64| -> Result<(), ConfigError> {
-        let s = summary?;
+    let mut push = |name: &str,
+                    used: bool,
+                    summary: Result<Option<UnitSummary>, ConfigError>,
+                    why: &str,
+                    cycles: u64|
+     -> Result<(), ConfigError> {
+        let Some(s) = summary? else {
+            return Ok(());
+        };
         if used {
             units.push(s.clone());
-            elaboration.push(Elaborated { name: name.into(), summary: Some(s), left_out: None, gates_saved: 0.0, cycles_saved: 0 });
+            elaboration.push(Elaborated {
+                name: name.into(),
+                summary: Some(s),
+                left_out: None,
+                gates_saved: 0.0,
+                cycles_saved: 0,
+            });
         } else {
-            elaboration.push(Elaborated { name: name.into(), summary: None, left_out: Some(why.into()), gates_saved: s.gates_nand2, cycles_saved: cycles });
+            elaboration.push(Elaborated {
+                name: name.into(),
+                summary: None,
+                left_out: Some(why.into()),
+                gates_saved: s.gates_nand2,
+                cycles_saved: cycles,
+            });
         }
         Ok(())
     };
-    push("polygon_variable_generator", any, Ok(UnitSummary::of(&pvg)), "no glare source", 0)?;
-    push("polygon_interpolator", any, Ok(UnitSummary::of(&ip)), "no glare source", 0)?;
-    push("bloom_flare_modulator", any_bloom || any_flare, bloom_cost.map_or_else(default_mod, Ok), "no bloom and no flare line", frags_of("bloom") + frags_of("flare"))?;
-    push("halo_modulator", any_halo, halo_cost.map_or_else(default_halo, Ok), "no source shows a halo", frags_of("halo"))?;
-    push("glare_combiner", any, Ok(UnitSummary::of(&comb)), "no glare source", 0)?;
+    push(
+        "polygon_variable_generator",
+        any,
+        Ok(Some(UnitSummary::of(&pvg))),
+        "no glare source",
+        0,
+    )?;
+    push(
+        "polygon_interpolator",
+        any,
+        Ok(Some(UnitSummary::of(&ip))),
+        "no glare source",
+        0,
+    )?;
+    push(
+        "bloom_flare_modulator",
+        any_bloom || any_flare,
+        bloom_cost.map_or_else(default_mod, Ok).map(Some),
+        "no bloom and no flare line",
+        frags_of("bloom") + frags_of("flare"),
+    )?;
+    push(
+        "halo_modulator",
+        any_halo,
+        halo_cost.map_or_else(default_halo, Ok).map(Some),
+        "no source shows a halo",
+        frags_of("halo"),
+    )?;
+    push(
+        "glare_combiner",
+        any,
+        Ok(Some(UnitSummary::of(&comb))),
+        "no glare source",
+        0,
+    )?;
     let noise_summary = match &noise {
         Some(n) => UnitSummary::of(n),
         None => UnitSummary::of(&GaussianNoiseConfig::geforce().build()?),
     };
-    push("gaussian_noise", noise.is_some(), Ok(noise_summary), "no flare lines (num = 0 for every source)", 0)?;
+    push(
+        "gaussian_noise",
+        noise.is_some(),
+        Ok(Some(noise_summary)),
+        "no flare lines (num = 0 for every source)",
+        0,
+    )?;
     let (chaos_used, chaos_s) = chaos_summary;
-    push("chaos_map", chaos_used, Ok(chaos_s), "no fluctuating source", 0)?;
+    push(
+        "chaos_map",
+        chaos_used,
+        Ok(chaos_s),
+        "no fluctuating source",
+        0,
+    )?;
     let (cond_used, cond_s) = cond_summary;
-    push("glare_condition", cond_used, Ok(cond_s), "no specular highlight", 0)?;
+    push(
+        "glare_condition",
+        cond_used,
+        Ok(cond_s),
+        "no specular highlight",
+        0,
+    )?;
 
     Ok(GlareFrame {
         fb,

@@ -91,7 +91,11 @@ pub fn screen_source(
         n
     } else {
         // N parallel to D: any direction in the plane.
-        let t = if normal.y.abs() < 0.9 { vec3([0.0, 1.0, 0.0]) } else { vec3([1.0, 0.0, 0.0]) };
+        let t = if normal.y.abs() < 0.9 {
+            vec3([0.0, 1.0, 0.0])
+        } else {
+            vec3([1.0, 0.0, 0.0])
+        };
         (t - normal * t.dot(normal)).normalized()
     };
     let m = normal.cross(n);
@@ -99,7 +103,13 @@ pub fn screen_source(
     let f_px = ppd * 180.0 / std::f64::consts::PI;
     let (shape, aspect, base_rad) = match s.kind {
         SourceKind::Point => (Shape2D::Point, 1.0, 0.0),
-        SourceKind::Circle => (Shape2D::Circle { r: f_px * s.a / depth }, 1.0, 0.0),
+        SourceKind::Circle => (
+            Shape2D::Circle {
+                r: f_px * s.a / depth,
+            },
+            1.0,
+            0.0,
+        ),
         SourceKind::Elliptic => {
             let av = half_vec(cam, p0, m * s.a, &format!("{field}.a"))?;
             let bv = half_vec(cam, p0, n * s.b, &format!("{field}.b"))?;
@@ -239,7 +249,10 @@ pub fn screen_sources(scene: &Scene) -> Result<Vec<ScreenSource>, ConfigError> {
                 let right = cam.right;
                 let up = cam.up;
                 for k in 0..f.patches as usize {
-                    let (r, t) = (f.spread * rng.random::<f64>().sqrt(), rng.random::<f64>() * std::f64::consts::TAU);
+                    let (r, t) = (
+                        f.spread * rng.random::<f64>().sqrt(),
+                        rng.random::<f64>() * std::f64::consts::TAU,
+                    );
                     let p = vec3(s.position) + right * (r * t.cos()) + up * (r * t.sin());
                     let patch = GlareSource {
                         kind: SourceKind::Circle,

@@ -1,5 +1,11 @@
 //! The glare renderer (SPEC B): host set-up, the units' frame, throughput,
 //! reproductions and sweeps.
 
+pub mod background;
+pub mod cli;
+pub mod condition;
+pub mod fluctuation;
+pub mod frame;
 pub mod host;
 pub mod tables;
+pub mod throughput;

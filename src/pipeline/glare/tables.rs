@@ -90,7 +90,8 @@ pub fn frame_angle(shape: &Shape2D) -> f64 {
 pub fn bloom_prim(s: &SourceGlare, b: &Bloom, p: &GlareModel, limit_px: f64) -> (AreaPrim, f64) {
     let cmax = s.color.iter().cloned().fold(0.0, f64::max).max(1e-12);
     let limit = limit_px / s.px_per_deg;
-    let theta_max = cutoff(|t| bloom_at(b, t, p) * cmax, CUTOFF_CODES, limit).max(1.0 / s.px_per_deg);
+    let theta_max =
+        cutoff(|t| bloom_at(b, t, p) * cmax, CUTOFF_CODES, limit).max(1.0 / s.px_per_deg);
     let d_max_px = theta_max * s.px_per_deg;
     (
         AreaPrim {
@@ -106,7 +107,8 @@ pub fn bloom_prim(s: &SourceGlare, b: &Bloom, p: &GlareModel, limit_px: f64) -> 
 /// The halo primitive: out to the largest ring radius plus 4α (exp(−16) beyond).
 pub fn halo_prim(s: &SourceGlare, det: &Determinants, p: &GlareModel) -> (AreaPrim, f64) {
     let lmax = det.wavelengths_nm.iter().cloned().fold(0.0, f64::max);
-    let theta_max = (p.halo_radius_deg * lmax / 568.0 + 4.0 * p.halo_alpha_deg).max(1.0 / s.px_per_deg);
+    let theta_max =
+        (p.halo_radius_deg * lmax / 568.0 + 4.0 * p.halo_alpha_deg).max(1.0 / s.px_per_deg);
     let d_max_px = theta_max * s.px_per_deg;
     (
         AreaPrim {
