@@ -72,10 +72,10 @@ impl GlareCombiner {
         let fmax = max_code(self.cfg.fb_bits);
         let lmax = max_code(self.cfg.lum_bits);
         let mut out = [0u32; 3];
-        for c in 0..3 {
+        for (o, (f, l)) in out.iter_mut().zip(input.fb.iter().zip(&input.lum)) {
             // u(fb) + u(lum) → u(max(fb, lum) + 1) ≤ 17 bits.
-            let s = (input.fb[c] & fmax) + (input.lum[c] & lmax);
-            out[c] = if s > fmax {
+            let s = (f & fmax) + (l & lmax);
+            *o = if s > fmax {
                 ctr.saturations += 1;
                 fmax
             } else {
