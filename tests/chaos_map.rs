@@ -414,7 +414,7 @@ fn default_spectrum_slope_is_one_over_f() {
 }
 
 #[test]
-#[ignore = "exploration of (a, z) for the default; prints slopes over three seeds"]
+#[ignore = "exploration of (a, z) for the default; prints slopes over seeds 1–4"]
 fn explore_slopes() {
     for (a, z) in [
         (0.5, 1.9),
