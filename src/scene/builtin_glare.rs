@@ -137,12 +137,16 @@ pub fn glare_flare() -> Scene {
 /// the mist and the lit road), then the lamp gets bloom and a halo.
 pub fn street_light() -> Scene {
     let lamp = [1.5, 5.0, -14.0];
-    let mut s = source(SourceKind::Circle, lamp, 2500.0);
+    let mut s = source(SourceKind::Circle, lamp, 1500.0);
     s.a = 0.15;
     s.flare = false;
     s.color = [1.0, 0.9, 0.7];
     let mut g = section(Background::Shafts, vec![s]);
-    g.determinants.mist = 0.5;
+    g.determinants.mist = 0.2;
+    // A dimmer veil than the default keeps the bloom below saturation at the halo's
+    // radius, so the ring shows (as in the paper's right-hand panel).
+    g.model.bloom_k = 0.3;
+    g.model.halo_k = 0.08;
     Scene {
         name: "street-light: a street light at night (Matsuda-Ikedo Fig. 7)".into(),
         seed: 7,
@@ -165,10 +169,10 @@ pub fn street_light() -> Scene {
         objects: vec![
             Object {
                 shape: Shape::Plane {
-                    center: [0.0, 0.0, -14.0],
+                    center: [1.0, 0.0, -18.0],
                     normal: [0.0, 1.0, 0.0],
                     tangent: [1.0, 0.0, 0.0],
-                    half_size: [12.0, 14.0],
+                    half_size: [5.0, 12.0],
                 },
                 color: [0.35, 0.35, 0.38],
                 occluder: false,

@@ -286,8 +286,8 @@ impl Default for GlareModel {
             size_ref_deg: 2.0,
             glasses_flare: 1.5,
             contrast: 40.0,
-            chaos_a: 0.7,
-            chaos_z: 1.9,
+            chaos_a: 0.8,
+            chaos_z: 1.95,
         }
     }
 }

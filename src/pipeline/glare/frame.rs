@@ -19,10 +19,10 @@ use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;
 use rtl_model::driver::run_span;
 use rtl_model::fixed_point::{Format, Overflow, Quant};
-use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
-use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise, GaussianNoiseConfig};
+use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
+use rtl_model::units::gaussian_noise::{GaussState, GaussianNoiseConfig};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner, GlareCombinerConfig};
-use rtl_model::units::halo_modulator::{HaloModulator, HaloModulatorConfig};
+use rtl_model::units::halo_modulator::HaloModulatorConfig;
 use rtl_model::units::luminance_ram::{LumIn, LumWidths};
 use rtl_model::units::polygon_interpolator::{
     PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
@@ -64,7 +64,8 @@ pub struct GlareFrame {
     pub labels: Vec<String>,
     /// The flare lines drawn, per source, decoded from the noise generator's codes.
     pub lines: Vec<Vec<FlareLine>>,
-    /// Fluctuating patches' chaos values S_i(t) (patch order), and the trace's I_p.
+    /// Chaos values S_i(t) aligned with the scene's screen sources (1 where a source
+    /// does not fluctuate).
     pub patch_levels: Vec<f64>,
     pub prims: Vec<PrimStat>,
     pub counters: BTreeMap<String, Counters>,
@@ -296,10 +297,8 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
     let mut all: Vec<ScreenSource> = screens;
     let mut intensities: Vec<f64> = all
         .iter()
-        .map(|s| match s.patch {
-            Some((_, k)) => s.intensity * patch_levels.get(k).copied().unwrap_or(0.0),
-            None => s.intensity,
-        })
+        .zip(&patch_levels)
+        .map(|(s, l)| s.intensity * l)
         .collect();
     for (s, i) in hl_sources {
         intensities.push(i);

@@ -31,6 +31,9 @@ pub struct ScreenSource {
     pub base_rad: f64,
     /// Which fluctuating source and patch this is, if any.
     pub patch: Option<(usize, usize)>,
+    /// A highlight below the glare condition: its core only (saturating at 255), no
+    /// bloom tail, halo or flare.
+    pub core_only: bool,
 }
 
 /// Pixels per degree at the screen centre: the focal length in pixels × π/180.
@@ -158,6 +161,7 @@ pub fn screen_source(
                 aspect: 1.0,
                 base_rad: 0.0,
                 patch: None,
+                core_only: false,
             });
         }
     };
@@ -175,6 +179,7 @@ pub fn screen_source(
         aspect,
         base_rad,
         patch: None,
+        core_only: false,
     })
 }
 
@@ -182,6 +187,17 @@ pub fn screen_source(
 pub fn source_glare(s: &ScreenSource, ie: f64, det: &Determinants, p: &GlareModel) -> SourceGlare {
     let ie = ie.max(0.0);
     let fb = bloom_factor(det, p, s.c_dir);
+    if s.core_only {
+        return SourceGlare {
+            center: s.center,
+            shape: s.shape.clone(),
+            px_per_deg: s.px_per_deg,
+            color: s.color,
+            bloom: (ie > 0.0).then_some(Bloom::Extended { a: ie, b: 0.0 }),
+            halo: None,
+            flare: None,
+        };
+    }
     let bloom = if s.bloom && ie > 0.0 {
         Some(match s.shape {
             Shape2D::Point => Bloom::Point {
