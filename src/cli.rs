@@ -46,7 +46,8 @@ pub enum Command {
         reference: Option<PathBuf>,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
-    /// shafts-stage. Writes CSV and PNG into --out.
+    /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput.
+    /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
         #[arg(long, default_value = "out/reproduce")]
@@ -183,6 +184,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
 }
 
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
+    use crate::pipeline::glare::reproduce as g;
     use crate::pipeline::shafts::reproduce as r;
     if values.is_some() && !matches!(name, "shafts-fig4" | "shafts-fig5") {
         return Err(format!(
@@ -202,9 +204,14 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shafts-fig5" => r::fig5(out, &values.unwrap_or_else(|| (1..=25).collect()))?,
         "shafts-vs-raymarch" => r::vs_raymarch(out)?,
         "shafts-stage" => r::stage(out)?,
+        "glare-fig4" => g::fig4(out)?,
+        "glare-fig5" => g::fig5(out)?,
+        "glare-fig7" => g::fig7(out)?,
+        "glare-fig8" => g::fig8(out)?,
+        "glare-throughput" => g::throughput(out)?,
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput)"
             ))
         }
     }

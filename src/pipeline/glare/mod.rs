@@ -7,5 +7,6 @@ pub mod condition;
 pub mod fluctuation;
 pub mod frame;
 pub mod host;
+pub mod reproduce;
 pub mod tables;
 pub mod throughput;
