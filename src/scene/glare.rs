@@ -470,9 +470,9 @@ fn validate_model(m: &GlareModel) -> Result<(), ConfigError> {
         90.0,
         true,
     )?;
-    closed("point_m", m.point_m, 0.5, 6.0)?;
+    closed("point_m", m.point_m, 0.5, 8.0)?;
     closed("bloom_n", m.bloom_n, 0.5, 10.0)?;
-    closed("bloom_m", m.bloom_m, 0.5, 6.0)?;
+    closed("bloom_m", m.bloom_m, 0.5, 8.0)?;
     interval("bloom_w_deg", m.bloom_w_deg, 0.0, false, 90.0, true)?;
     interval(
         "bloom_theta1_deg",

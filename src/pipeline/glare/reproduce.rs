@@ -305,7 +305,7 @@ pub fn fig8(out: &Path) -> Result<(), String> {
         .find(|(_, &f)| f >= f_lo)
         .map_or(1.0, |(p, _)| *p);
     let mut spec_plot = PlotSpec::new(
-        &format!("Fig. 8: power spectrum of I_p, slope {slope:.3} over [1e-4, 1e-2] (theory {theory:.3})"),
+        &format!("Fig. 8: spectrum of I_p, slope {slope:.2} (theory {theory:.2})"),
         "frequency (cycles/step)",
         "power",
     );
