@@ -67,8 +67,10 @@ pub enum Command {
         /// A built-in scene (fig4, fig6, stage) or a TOML scene file.
         #[arg(long)]
         scene: String,
-        /// planes, subplanes, texel_bits, fb_bits, weight_bits, coord_frac_bits, mesh,
-        /// shadow_resolution, shadow_depth_bits, f_texels, h_texels, light_map_texels.
+        /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
+        /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
+        /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
+        /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits.
         #[arg(long)]
         param: String,
         /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
@@ -140,14 +142,24 @@ pub fn run(cli: Cli) -> Result<(), String> {
             out,
             truth_samples,
             image,
-        } => crate::pipeline::shafts::sweep::sweep_cli(
-            &scene,
-            &param,
-            &values,
-            &out,
-            truth_samples,
-            image.as_deref(),
-        ),
+        } => match glare_scene(&scene)? {
+            Some(mut s) => {
+                if let Some(img) = image.as_deref() {
+                    let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+                    s.image.width = w;
+                    s.image.height = h;
+                }
+                crate::pipeline::glare::sweep::glare_sweep_cli(&s, &param, &values, &out)
+            }
+            None => crate::pipeline::shafts::sweep::sweep_cli(
+                &scene,
+                &param,
+                &values,
+                &out,
+                truth_samples,
+                image.as_deref(),
+            ),
+        },
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;

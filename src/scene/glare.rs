@@ -319,11 +319,11 @@ impl Default for GlareHw {
     fn default() -> Self {
         GlareHw {
             shape_log2: 7,
-            shape_bits: 10,
+            shape_bits: 12,
             falloff_log2: 8,
             falloff_bits: 16,
             weight_bits: 8,
-            coord_frac_bits: 10,
+            coord_frac_bits: 14,
             noise_bits: 32,
             fb_bits: 8,
             clock_mhz: 300.0,

@@ -8,5 +8,6 @@ pub mod fluctuation;
 pub mod frame;
 pub mod host;
 pub mod reproduce;
+pub mod sweep;
 pub mod tables;
 pub mod throughput;
