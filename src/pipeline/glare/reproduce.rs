@@ -163,11 +163,14 @@ pub fn fig5(out: &Path) -> Result<(), String> {
 /// Fig. 7: a street light — the original, with bloom, with bloom and halo.
 pub fn fig7(out: &Path) -> Result<(), String> {
     let base = street_light();
-    let variant = |bloom: bool, halo: bool| {
+    // The original keeps the lamp's own disc (its core, B = 0: no veil).
+    let variant = |veil: bool, halo: bool| {
         let mut s = base.clone();
         if let Some(g) = s.glare.as_mut() {
+            if !veil {
+                g.model.bloom_k = 0.0;
+            }
             for src in &mut g.sources {
-                src.bloom = bloom;
                 src.halo = halo;
             }
         }
