@@ -319,7 +319,7 @@ impl Default for GlareHw {
     fn default() -> Self {
         GlareHw {
             shape_log2: 7,
-            shape_bits: 12,
+            shape_bits: 16,
             falloff_log2: 8,
             falloff_bits: 16,
             weight_bits: 8,

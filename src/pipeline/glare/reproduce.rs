@@ -342,6 +342,22 @@ pub fn fig8(out: &Path) -> Result<(), String> {
 /// The glare-throughput table: configurations of clock and pipes, their fill rate,
 /// gates and RAM bits (per-pipe units replicated; generator and noise shared).
 pub fn throughput_table() -> Result<Vec<ThroughputRow>, String> {
+    Ok(throughput_parts()?.0)
+}
+
+/// One unit of the throughput configurations (`throughput_units.csv`).
+#[derive(Clone, Debug, Serialize)]
+pub struct UnitRow {
+    pub unit: String,
+    pub role: String,
+    pub gates_nand2: f64,
+    pub ram_bits: u64,
+    pub latency: u32,
+    pub ii: u32,
+}
+
+/// The configurations and the units they are built from.
+pub fn throughput_parts() -> Result<(Vec<ThroughputRow>, Vec<UnitRow>), String> {
     // Per-pipe and shared units at the defaults, from a frame that elaborates them all.
     let mut s = glare_flare();
     if let Some(g) = s.glare.as_mut() {
@@ -376,7 +392,20 @@ pub fn throughput_table() -> Result<Vec<ThroughputRow>, String> {
         ("8 pipes, 150 MHz", 150.0, 8),
         ("2 pipes, 600 MHz", 600.0, 2),
     ];
-    Ok(configs
+    let units: Vec<UnitRow> = per_pipe
+        .iter()
+        .map(|u| (u, "per pipe"))
+        .chain(shared.iter().map(|u| (u, "shared")))
+        .map(|(u, role)| UnitRow {
+            unit: u.name.into(),
+            role: role.into(),
+            gates_nand2: u.gates_nand2,
+            ram_bits: u.ram_bits,
+            latency: u.latency,
+            ii: u.ii,
+        })
+        .collect();
+    let rows = configs
         .iter()
         .map(|&(name, clock, pipes)| {
             let (gates, ram) = config_cost(&per_pipe, &shared, pipes);
@@ -389,12 +418,19 @@ pub fn throughput_table() -> Result<Vec<ThroughputRow>, String> {
                 ram_bits: ram,
             }
         })
-        .collect())
+        .collect();
+    Ok((rows, units))
 }
 
 pub fn throughput(out: &Path) -> Result<(), String> {
-    let rows = throughput_table()?;
+    let (rows, units) = throughput_parts()?;
     write_csv(&out.join("throughput.csv"), &rows)?;
+    write_csv(&out.join("throughput_units.csv"), &units)?;
+    for u in &units {
+        println!("{:<28} {:<8} {:>8.0} gates {:>8} RAM bits, latency {}, II {}", u.unit, u.role, u.gates_nand2, u.ram_bits, u.latency, u.ii);
+    }
+    let modulators: f64 = units.iter().filter(|u| u.unit.ends_with("modulator")).map(|u| u.gates_nand2).sum();
+    println!("luminance modulators (bloom/flare + halo) per pipe: {modulators:.0} gates (the paper: about 80 k)");
     for r in &rows {
         println!(
             "{:<36} {:>6.0} MHz × {} pipes: {:.3e} pixels/s, {:.0} gates, {} RAM bits",
