@@ -37,23 +37,23 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
         "fig4" => fig4(),
         "fig6" => fig6(),
         "stage" => stage(),
-        other if super::builtin_glare::glare_builtin(other).is_some() => {
-            super::builtin_glare::glare_builtin(other).unwrap_or_else(fig6)
-        }
-        _ => {
-            return Err(ConfigError::invalid(
-                "scene",
-                &format!(
-                    "unknown built-in scene `{name}` (known: {})",
-                    BUILTIN_NAMES
-                        .iter()
-                        .chain(super::builtin_glare::GLARE_BUILTIN_NAMES)
-                        .cloned()
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ))
-        }
+        other => match super::builtin_glare::glare_builtin(other) {
+            Some(s) => s,
+            None => {
+                return Err(ConfigError::invalid(
+                    "scene",
+                    &format!(
+                        "unknown built-in scene `{name}` (known: {})",
+                        BUILTIN_NAMES
+                            .iter()
+                            .chain(super::builtin_glare::GLARE_BUILTIN_NAMES)
+                            .cloned()
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                ))
+            }
+        },
     };
     scene.validate()?;
     Ok(scene)

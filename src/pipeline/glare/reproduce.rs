@@ -427,9 +427,16 @@ pub fn throughput(out: &Path) -> Result<(), String> {
     write_csv(&out.join("throughput.csv"), &rows)?;
     write_csv(&out.join("throughput_units.csv"), &units)?;
     for u in &units {
-        println!("{:<28} {:<8} {:>8.0} gates {:>8} RAM bits, latency {}, II {}", u.unit, u.role, u.gates_nand2, u.ram_bits, u.latency, u.ii);
+        println!(
+            "{:<28} {:<8} {:>8.0} gates {:>8} RAM bits, latency {}, II {}",
+            u.unit, u.role, u.gates_nand2, u.ram_bits, u.latency, u.ii
+        );
     }
-    let modulators: f64 = units.iter().filter(|u| u.unit.ends_with("modulator")).map(|u| u.gates_nand2).sum();
+    let modulators: f64 = units
+        .iter()
+        .filter(|u| u.unit.ends_with("modulator"))
+        .map(|u| u.gates_nand2)
+        .sum();
     println!("luminance modulators (bloom/flare + halo) per pipe: {modulators:.0} gates (the paper: about 80 k)");
     for r in &rows {
         println!(
