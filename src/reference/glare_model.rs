@@ -287,6 +287,7 @@ pub fn flare_line_at(l: &FlareLine, dx: f64, dy: f64) -> f64 {
 
 /// The reference image: `base` (codes, f64) plus every source's bloom, halo and
 /// lines, clamped to `max` (the framebuffer's full scale). `lines[i]` are source i's.
+#[allow(clippy::too_many_arguments)]
 pub fn reference_image(
     width: u32,
     height: u32,
@@ -306,20 +307,20 @@ pub fn reference_image(
                 let px = &mut img[(y * width + x) as usize];
                 if let Some(b) = &s.bloom {
                     let l = bloom_at(b, theta, p);
-                    for c in 0..3 {
-                        px[c] += l * s.color[c];
+                    for (v, col) in px.iter_mut().zip(s.color) {
+                        *v += l * col;
                     }
                 }
                 if let Some(cc) = s.halo {
-                    for c in 0..3 {
-                        px[c] += halo(theta, cc, det.wavelengths_nm[c], p) * s.color[c];
+                    for ((v, col), lambda) in px.iter_mut().zip(s.color).zip(det.wavelengths_nm) {
+                        *v += halo(theta, cc, lambda, p) * col;
                     }
                 }
                 if let Some(ls) = lines.get(i) {
                     for l in ls {
-                        let v = flare_line_at(l, dx, dy);
-                        for c in 0..3 {
-                            px[c] += v * s.color[c];
+                        let f = flare_line_at(l, dx, dy);
+                        for (v, col) in px.iter_mut().zip(s.color) {
+                            *v += f * col;
                         }
                     }
                 }

@@ -46,9 +46,10 @@ pub fn base_image(
                     let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
                     let shade = discs
                         .iter()
+                        .rev()
                         .filter(|d| (x - d.0).powi(2) + (y - d.1).powi(2) <= d.2 * d.2)
                         .map(|d| d.3)
-                        .last();
+                        .next();
                     match shade {
                         Some(s) => [0, 1, 2].map(|c| code(leaf[c] * s, max)),
                         None => [0, 1, 2].map(|c| code(sky[c], max)),

@@ -25,11 +25,10 @@ pub fn cosines(h: &Highlight, eye: crate::scene::math::Vec3) -> (f64, f64) {
 }
 
 /// The highlight sources with their intensities, and (elaborated?, summary).
-#[allow(clippy::type_complexity)]
 pub fn highlight_sources(
     scene: &Scene,
     ctr: &mut BTreeMap<String, Counters>,
-) -> Result<(Vec<(ScreenSource, f64)>, (bool, Option<UnitSummary>)), ConfigError> {
+) -> Result<(Vec<(ScreenSource, f64)>, super::fluctuation::Elab), ConfigError> {
     let g = super::frame::glare_of(scene)?;
     if g.highlights.is_empty() {
         return Ok((

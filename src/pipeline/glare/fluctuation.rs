@@ -26,13 +26,16 @@ pub fn chaos_unit(
     Ok((u, st))
 }
 
+/// Whether a unit was elaborated, and its summary.
+pub type Elab = (bool, Option<UnitSummary>);
+
 /// S_i(t) at t = the scene's frame, aligned with `screens` (1 for sources that do
 /// not fluctuate), and (elaborated?, the unit's summary).
 pub fn patch_levels(
     scene: &Scene,
     screens: &[ScreenSource],
     ctr: &mut BTreeMap<String, Counters>,
-) -> Result<(Vec<f64>, (bool, Option<UnitSummary>)), ConfigError> {
+) -> Result<(Vec<f64>, Elab), ConfigError> {
     let g = super::frame::glare_of(scene)?;
     let mut levels = vec![1.0; screens.len()];
     let mut summary = None;

@@ -183,6 +183,9 @@ fn pos_code(x: f64) -> i64 {
     (x * (1u64 << SUBPIXEL_BITS) as f64).round() as i64
 }
 
+/// A covered fragment: x, y and the (u, v) codes.
+pub type Frag = (u32, u32, i32, i32);
+
 /// The fragments (x, y, u, v) of one primitive from the generator's variables.
 #[allow(clippy::too_many_arguments)]
 fn walk_prim(
@@ -192,7 +195,7 @@ fn walk_prim(
     width: u32,
     height: u32,
     ctr: &mut BTreeMap<String, Counters>,
-) -> Result<(u64, Vec<(u32, u32, i32, i32)>), ConfigError> {
+) -> Result<(u64, Vec<Frag>), ConfigError> {
     let mut c_pvg = Counters::default();
     let v = run_span(pvg, &mut (), &[input], &mut c_pvg)[0];
     add(ctr, pvg.name(), c_pvg);
@@ -224,7 +227,7 @@ fn walk_prim(
 fn shade<U: Unit<In = LumIn, Out = rtl_model::units::luminance_ram::LumOut, State = ()>>(
     m: &U,
     comb: &GlareCombiner,
-    frags: &[(u32, u32, i32, i32)],
+    frags: &[Frag],
     gain: [u32; 3],
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
