@@ -265,6 +265,21 @@ impl FlareParams {
     }
 }
 
+/// The float reference's own draws for `num` lines: pairs of standard normals from
+/// `rand_distr` (ChaCha8 seeded with `seed`), (length, angle) per line.
+pub fn float_draws(num: u32, seed: u64) -> Vec<(f64, f64)> {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, StandardNormal};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    (0..num)
+        .map(|_| {
+            let a: f64 = StandardNormal.sample(&mut rng);
+            let b: f64 = StandardNormal.sample(&mut rng);
+            (a, b)
+        })
+        .collect()
+}
+
 /// The bloom luminance (codes) at `theta` degrees from the rim (extended) or centre.
 pub fn bloom_at(b: &Bloom, theta: f64, p: &GlareModel) -> f64 {
     match *b {

@@ -157,7 +157,42 @@ pub fn fig5(out: &Path) -> Result<(), String> {
             intensity: l.intensity,
         })
         .collect();
-    write_csv(&out.join("fig5_lines.csv"), &rows)
+    write_csv(&out.join("fig5_lines.csv"), &rows)?;
+    // The f64 reference with its own rand_distr draws (same R1 outputs, different
+    // random lines): the distribution, not the particular lines, is what must agree.
+    let g = s.glare.as_ref().ok_or("scene: glare-flare has no glare")?;
+    let float_lines: Vec<Vec<crate::reference::glare_model::FlareLine>> = f
+        .sources
+        .iter()
+        .enumerate()
+        .map(|(i, src)| {
+            src.flare.as_ref().map_or(Vec::new(), |fp| {
+                fp.lines(
+                    &crate::reference::glare_model::float_draws(fp.num, s.seed ^ i as u64),
+                    src.px_per_deg,
+                )
+            })
+        })
+        .collect();
+    let max = rtl_model::unorm::max_code(g.hw.fb_bits) as f64;
+    let base: Vec<[f64; 3]> = f.base.iter().map(|p| p.map(|v| v as f64)).collect();
+    let img = crate::reference::glare_model::reference_image(
+        s.image.width,
+        s.image.height,
+        &base,
+        &f.sources,
+        &float_lines,
+        &g.determinants,
+        &g.model,
+        max,
+    );
+    let lv: Vec<[f64; 3]> = img.iter().map(|p| p.map(|v| v * 255.0 / max)).collect();
+    crate::pipeline::shafts::cli::levels_png(
+        &lv,
+        s.image.width,
+        s.image.height,
+        &out.join("fig5_reference_float_draws.png"),
+    )
 }
 
 /// Fig. 7: a street light — the original, with bloom, with bloom and halo.
