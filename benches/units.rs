@@ -1,14 +1,20 @@
-//! Simulated pixels per second of each unit through the span driver and the tick
-//! driver (criterion reports elements/s), and the whole test-scene frame.
+//! Simulated pixels (kernel calls) per second of each unit through the span driver and
+//! the tick driver (criterion reports elements/s), and the whole test-scene frame.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use glare_pipeline::pipeline::test_scene;
+use glare_pipeline::pipeline::{registry, test_scene};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::driver::{run_span, run_tick};
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::chaos_map::ChaosMap;
+use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
+use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
+use rtl_model::units::glare_condition::{ConditionIn, GlareCondition, Material};
+use rtl_model::units::luminance_ram::LumIn;
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
+use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
@@ -120,6 +126,76 @@ fn units(c: &mut Criterion) {
     bench_unit(c, &proj, (), &inputs);
 }
 
+/// The glare units. Elements are kernel calls: pixels for the modulators, combiner and
+/// condition, primitives for the generator, draw requests (two normals each) for the
+/// noise generator, map steps (all four patches) for the chaos map.
+fn glare_units(c: &mut Criterion) {
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+
+    let pvg = PolygonVariableGenerator::geforce();
+    let inputs: Vec<PvgIn> = (0..N)
+        .map(|k| PvgIn {
+            kind: if k % 2 == 0 {
+                PrimKind::Area
+            } else {
+                PrimKind::Line
+            },
+            cx: rng.random_range(-4000 << 4..4000 << 4),
+            cy: rng.random_range(-4000 << 4..4000 << 4),
+            extent: rng.random_range(0..400 << 4),
+            half_width: rng.random_range(0..8 << 4),
+            angle: rng.random_range(0..1 << 12),
+        })
+        .collect();
+    bench_unit(c, &pvg, (), &inputs);
+
+    // Modulator pixels: (u, v) over ±1.25 in s2.10, gains up to 255 codes (u12.4).
+    let lum: Vec<LumIn> = (0..N)
+        .map(|_| LumIn {
+            u: rng.random_range(-1280..=1280),
+            v: rng.random_range(-1280..=1280),
+            gain: [0; 3].map(|_| rng.random_range(0..=255 << 4)),
+        })
+        .collect();
+    bench_unit(c, &registry::default_bloom_flare(), (), &lum);
+    bench_unit(c, &registry::default_halo(), (), &lum);
+
+    let comb = GlareCombiner::geforce();
+    let inputs: Vec<CombineIn> = (0..N)
+        .map(|_| CombineIn {
+            fb: [0; 3].map(|_| rng.random_range(0..=255)),
+            lum: [0; 3].map(|_| rng.random_range(0..=255)),
+        })
+        .collect();
+    bench_unit(c, &comb, (), &inputs);
+
+    let noise = GaussianNoise::geforce();
+    bench_unit(c, &noise, GaussState::from_seed(1), &[(); N]);
+
+    let chaos = ChaosMap::geforce();
+    bench_unit(c, &chaos, chaos.seeded_state(1), &[(); N]);
+
+    let cond = GlareCondition::geforce();
+    let inputs: Vec<ConditionIn> = (0..N)
+        .map(|k| {
+            let intensity = rng.random_range(0..1 << 16);
+            ConditionIn {
+                material: if k % 2 == 0 {
+                    Material::Metallic
+                } else {
+                    Material::Water
+                },
+                intensity,
+                specular: rng.random_range(0..=255),
+                cos_alpha: rng.random_range(-4096..1 << 14),
+                cos_theta: rng.random_range(-(1 << 14)..1 << 14),
+                ambient: rng.random_range(0..=intensity / 20),
+            }
+        })
+        .collect();
+    bench_unit(c, &cond, (), &inputs);
+}
+
 fn frame(c: &mut Criterion) {
     let mut g = c.benchmark_group("test_scene");
     g.sample_size(20);
@@ -129,5 +205,5 @@ fn frame(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, units, frame);
+criterion_group!(benches, units, glare_units, frame);
 criterion_main!(benches);

@@ -1,5 +1,5 @@
 //! bloom_flare_modulator against its f64 twin under the width-derived bound (see
-//! tests/lum_common and docs/datasheets/bloom_flare_modulator.md), for four width
+//! tests/lum_common and docs/units.md § bloom_flare_modulator), for four width
 //! configs (defaults, wide, two narrow), random smooth and rough tables, random
 //! positions including the clamp region; exhaustive over (u, v) for the narrow
 //! configs; drivers agree; config and host-edge errors name the field.

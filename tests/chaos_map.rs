@@ -27,7 +27,7 @@ fn cfg(f: u32, t: u32, e: u32, zf: u32, a: f64, z: f64, escape: Escape) -> Chaos
 
 /// Width-derived bound (state LSBs) of one step from state code `s` against the twin
 /// at (a_q, z) — a as held (the branch point must agree), z as configured (so its
-/// quantisation is part of the error). Derivation (docs/datasheets/chaos_map.md):
+/// quantisation is part of the error). Derivation (docs/units.md § chaos_map):
 /// * log2 m on [1, 2): entry ½·2^−E, interpolation h²/8·max|f″| = 2^−2T/(8 ln 2),
 ///   fraction truncation (1/ln 2 + 2^(T−E))·2^−(T+D), product rounding ½·2^−E → ε_l.
 /// * v′ = z·(−log2 S) − log2 u: δv = z_q·ε_l + |z − z_q|·|log2 S| + ½·2^−(E+Z) (log2 u

@@ -61,3 +61,27 @@ fn trace_writes_a_vcd_and_unknown_units_are_named() {
     assert!(String::from_utf8_lossy(&zero.stderr).contains("pixels"));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn every_unit_traces_to_a_vcd() {
+    let dir = std::env::temp_dir().join(format!("glare-trace-all-{}", std::process::id()));
+    for name in glare_pipeline::pipeline::registry::UNIT_NAMES {
+        let path = dir.join(format!("{name}.vcd"));
+        let out = bin()
+            .args(["trace", name, "--pixels", "3", "--out"])
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let vcd = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            vcd.contains(&format!("$scope module {name} $end")) && vcd.contains("$enddefinitions"),
+            "{name}: not a VCD of the unit"
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}

@@ -30,7 +30,7 @@ fn cfg(mode: GaussMode, b: u32, t: u32, e: u32, f: u32, o: u32) -> GaussianNoise
 
 /// Width-derived error bound (output LSBs) of one Box–Muller output against the exact
 /// value, for the sample with uniform code k1 (derivation in
-/// docs/datasheets/gaussian_noise.md). B, T, E, D = E, f from the config; all the
+/// docs/units.md § gaussian_noise). B, T, E, D = E, f from the config; all the
 /// terms are in real units until the last line.
 ///
 /// * ln m on [1, 2): entry rounding ½·2^−E, interpolation h²/8·max|ln″| = 2^−2T/8,

@@ -1,6 +1,6 @@
 //! glare_condition against its f64 twin (SPEC B, Table 2).
 //!
-//! Bound, derived from the widths (docs/datasheets/glare_condition.md): I_ps as a
+//! Bound, derived from the widths (docs/units.md § glare_condition): I_ps as a
 //! u(ib).(fb) code has error E (in 2^−fb units)
 //!   metallic: E = ½ (I_s replicated to u1.W, W = max(cb, ib+fb+1): I·cos²α·2^−W
 //!             < 2^(ib+fb−W) ≤ ½) + ½ (rounding) = 1

@@ -1,6 +1,6 @@
 //! halo_modulator against its f64 twin under the width-derived bound (the bloom/flare
 //! bound per channel with that channel's ring profile; see tests/lum_common and
-//! docs/datasheets/halo_modulator.md), for four width configs (defaults, wide, two
+//! docs/units.md § halo_modulator), for four width configs (defaults, wide, two
 //! narrow), random smooth and rough shapes and three independent random rings, random
 //! positions including the clamp region; exhaustive over (u, v) for the narrow
 //! configs; drivers agree; config and host-edge errors name the field.

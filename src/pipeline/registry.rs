@@ -2,15 +2,28 @@
 //! summary (widths, latency, II, gates, RAM bits), the tables it holds, and a VCD
 //! trace of a few random pixels through the tick driver.
 
+use crate::pipeline::glare::tables::{
+    halo_prim, line_falloff_samples, line_shape_samples, ring_samples, shape_samples,
+};
 use crate::pipeline::test_scene;
+use crate::reference::glare_model::{Shape2D, SourceGlare};
+use crate::scene::glare::{Determinants, GlareModel};
 use crate::tables::Table;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::driver::run_tick;
 use rtl_model::trace::VcdTrace;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
+use rtl_model::units::chaos_map::ChaosMap;
+use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
+use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
+use rtl_model::units::glare_condition::{ConditionIn, GlareCondition, Material};
+use rtl_model::units::halo_modulator::{HaloModulator, HaloModulatorConfig};
+use rtl_model::units::luminance_ram::{LumIn, LumWidths};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
+use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
@@ -26,6 +39,13 @@ pub const UNIT_NAMES: &[&str] = &[
     "polygon_interpolator",
     "shadow_compare",
     "projective_texcoord",
+    "polygon_variable_generator",
+    "bloom_flare_modulator",
+    "halo_modulator",
+    "glare_combiner",
+    "gaussian_noise",
+    "chaos_map",
+    "glare_condition",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -33,6 +53,55 @@ fn default_sampler() -> TextureSampler {
     let cfg = TextureSamplerConfig::geforce();
     let texels = vec![0u32; cfg.texel_count() as usize];
     TextureSampler::new(cfg, &texels).expect("the GeForce default sampler config is valid")
+}
+
+/// The default bloom/flare modulator (`LumWidths::default()`), holding the tables
+/// every flare line shares: the spindle shape and the (1 − d)² falloff. (Bloom tables
+/// are per source and loaded by the host with each primitive.)
+pub fn default_bloom_flare() -> BloomFlareModulator {
+    let w = LumWidths::default();
+    BloomFlareModulatorConfig::from_widths(w)
+        .build(
+            &line_shape_samples(w.shape_log2),
+            &line_falloff_samples(w.falloff_log2),
+        )
+        .expect("the default modulator widths and the flare-line tables are valid")
+}
+
+/// Pixels per degree of the representative halo source (a point source; the ring
+/// tables do not depend on it, only its shape table's quad margin does).
+const HALO_PX_PER_DEG: f64 = 20.0;
+
+/// The representative halo: a point source of the default glare model and
+/// determinants (λ = 650, 550, 450 nm). Returns θ_max (degrees) and the shape and
+/// R, G, B ring samples the host writes, as the frame computes them.
+fn default_halo_tables(w: &LumWidths) -> (f64, Vec<f64>, [Vec<f64>; 3]) {
+    let model = GlareModel::default();
+    let det = Determinants::default();
+    let src = SourceGlare {
+        center: [0.0, 0.0],
+        shape: Shape2D::Point,
+        px_per_deg: HALO_PX_PER_DEG,
+        color: [1.0; 3],
+        bloom: None,
+        halo: Some(1.0),
+        flare: None,
+    };
+    let (a, theta_max) = halo_prim(&src, &det, &model);
+    let shape = shape_samples(&src.shape, &a, w.shape_log2);
+    let rings = det
+        .wavelengths_nm
+        .map(|l| ring_samples(l, theta_max, &model, w.falloff_log2));
+    (theta_max, shape, rings)
+}
+
+/// The default halo modulator holding the representative halo's tables.
+pub fn default_halo() -> HaloModulator {
+    let w = LumWidths::default();
+    let (_, shape, r) = default_halo_tables(&w);
+    HaloModulatorConfig::from_widths(w)
+        .build(&shape, [&r[0], &r[1], &r[2]])
+        .expect("the default modulator widths and the halo tables are valid")
 }
 
 /// Summaries of every unit at its defaults.
@@ -44,7 +113,199 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&PolygonInterpolator::geforce()),
         UnitSummary::of(&ShadowCompare::geforce()),
         UnitSummary::of(&ProjectiveTexcoord::geforce()),
+        UnitSummary::of(&PolygonVariableGenerator::geforce()),
+        UnitSummary::of(&default_bloom_flare()),
+        UnitSummary::of(&default_halo()),
+        UnitSummary::of(&GlareCombiner::geforce()),
+        UnitSummary::of(&GaussianNoise::geforce()),
+        UnitSummary::of(&ChaosMap::geforce()),
+        UnitSummary::of(&GlareCondition::geforce()),
     ]
+}
+
+fn params(kv: &[(&str, String)]) -> BTreeMap<String, String> {
+    kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect()
+}
+
+/// The glare units' ROMs and the modulator RAMs that do not change from primitive to
+/// primitive: the flare lines' shared shape and falloff, and the halo rings of the
+/// default model. Bloom shape/falloff and halo shape RAMs depend on each source's
+/// outline, size and intensity and are written by the host per primitive: not here.
+fn glare_tables() -> Vec<Table> {
+    let mut out = Vec::new();
+    let rom = |name: String, width: u32, words: Vec<u64>, unit: &str, p| Table {
+        name: name.replace('.', "_"),
+        width,
+        words,
+        unit: unit.into(),
+        params: p,
+    };
+
+    // Polygon variable generator: the quarter-wave cosine ROM.
+    let pvg = PolygonVariableGenerator::geforce();
+    let c = pvg.config();
+    out.push(rom(
+        format!(
+            "polygon_variable_generator_cos_k{}_b{}",
+            c.trig_log2, c.trig_bits
+        ),
+        c.trig_bits,
+        pvg.rom_words(),
+        "polygon_variable_generator",
+        params(&[
+            ("trig_log2", c.trig_log2.to_string()),
+            ("trig_bits", c.trig_bits.to_string()),
+            (
+                "generator",
+                "entry[j] = round(cos(j/2^k * pi/2) * (2^B - 1)), j = 0 ..= 2^k, unorm B; \
+                 sin is read at entry[2^k - j], the quadrant folds signs"
+                    .into(),
+            ),
+        ]),
+    ));
+
+    // Bloom/flare modulator: the flare lines' shared tables (loaded once per frame).
+    let w = LumWidths::default();
+    let bf = default_bloom_flare();
+    let shape_params = |extra: &[(&str, String)]| {
+        let mut p = params(&[
+            ("shape_log2", w.shape_log2.to_string()),
+            ("shape_bits", w.shape_bits.to_string()),
+        ]);
+        p.extend(params(extra));
+        p
+    };
+    let falloff_params = |extra: &[(&str, String)]| {
+        let mut p = params(&[
+            ("falloff_log2", w.falloff_log2.to_string()),
+            ("falloff_bits", w.falloff_bits.to_string()),
+        ]);
+        p.extend(params(extra));
+        p
+    };
+    out.push(rom(
+        format!(
+            "bloom_flare_modulator_line_shape_k{}_b{}",
+            w.shape_log2, w.shape_bits
+        ),
+        w.shape_bits,
+        bf.shape_codes().iter().map(|&v| u64::from(v)).collect(),
+        "bloom_flare_modulator",
+        shape_params(&[
+            (
+                "generator",
+                "flare-line spindle: sample (i, j) at u = -1 + i*2^(1-k), v = -1 + j*2^(1-k), \
+                 d = min(1, sqrt(((u+1)/2)^2 + v^2)), code = round(d * (2^sb - 1)) at \
+                 [j*(2^k+1) + i]"
+                    .into(),
+            ),
+            (
+                "loaded",
+                "once per frame, shared by every flare line".into(),
+            ),
+        ]),
+    ));
+    out.push(rom(
+        format!(
+            "bloom_flare_modulator_line_falloff_m{}_b{}",
+            w.falloff_log2, w.falloff_bits
+        ),
+        w.falloff_bits,
+        bf.falloff_codes().iter().map(|&v| u64::from(v)).collect(),
+        "bloom_flare_modulator",
+        falloff_params(&[
+            (
+                "generator",
+                "flare-line falloff p(d) = (1 - d)^2 at d = j/2^m, j = 0 ..= 2^m, \
+                 code = round(p * (2^fb - 1))"
+                    .into(),
+            ),
+            (
+                "loaded",
+                "once per frame, shared by every flare line".into(),
+            ),
+        ]),
+    ));
+
+    // Halo modulator: the three ring RAMs of the default model.
+    let (theta_max, _, _) = default_halo_tables(&w);
+    let halo = default_halo();
+    let model = GlareModel::default();
+    let det = Determinants::default();
+    for (c, ch) in ["r", "g", "b"].iter().enumerate() {
+        out.push(rom(
+            format!(
+                "halo_modulator_ring_{ch}_m{}_b{}",
+                w.falloff_log2, w.falloff_bits
+            ),
+            w.falloff_bits,
+            halo.ring_codes(c).iter().map(|&v| u64::from(v)).collect(),
+            "halo_modulator",
+            falloff_params(&[
+                (
+                    "generator",
+                    "exp(-((theta - theta1*lambda/568)/alpha)^2) at theta = j/2^m * theta_max, \
+                     j = 0 ..= 2^m, code = round(v * (2^fb - 1)); theta_max = \
+                     theta1*max(lambda)/568 + 4*alpha (degrees)"
+                        .into(),
+                ),
+                ("lambda_nm", det.wavelengths_nm[c].to_string()),
+                ("theta1_deg", model.halo_radius_deg.to_string()),
+                ("alpha_deg", model.halo_alpha_deg.to_string()),
+                ("theta_max_deg", format!("{theta_max:.12}")),
+                (
+                    "loaded",
+                    "by the host with each halo primitive; the same for every source of \
+                     a scene with the default model and determinants"
+                        .into(),
+                ),
+            ]),
+        ));
+    }
+
+    // Gaussian noise: ln, sqrt and sin ROMs of the Box-Muller datapath.
+    let gn = GaussianNoise::geforce();
+    let gc = gn.config();
+    let gens = [
+        "entry[i] = round(ln(1 + i/2^T) * 2^E), i = 0 ..= 2^T, u0.E",
+        "entry[j] = round(sqrt(i/2^(T-2)) * 2^E), i = 2^(T-2) + j, j = 0 ..= 3*2^(T-2), u2.E",
+        "entry[i] = round(sin(pi/2 * i/2^T) * 2^E), i = 0 ..= 2^T, u1.E (quarter wave)",
+    ];
+    for ((name, width, words), g) in gn.rom_images().into_iter().zip(gens) {
+        out.push(rom(
+            name,
+            width,
+            words,
+            "gaussian_noise",
+            params(&[
+                ("table_log2", gc.table_log2.to_string()),
+                ("table_bits", gc.table_bits.to_string()),
+                ("generator", g.into()),
+            ]),
+        ));
+    }
+
+    // Chaos map: log2 and exp2 ROMs of the left branch.
+    let cm = ChaosMap::geforce();
+    let cc = cm.config();
+    let gens = [
+        "entry[i] = round(log2(1 + i/2^T) * 2^E), i = 0 ..= 2^T, u1.E",
+        "entry[i] = round(2^(-i/2^T) * 2^E), i = 0 ..= 2^T, u1.E",
+    ];
+    for ((name, width, words), g) in cm.rom_images().into_iter().zip(gens) {
+        out.push(rom(
+            name,
+            width,
+            words,
+            "chaos_map",
+            params(&[
+                ("table_log2", cc.table_log2.to_string()),
+                ("table_bits", cc.table_bits.to_string()),
+                ("generator", g.into()),
+            ]),
+        ));
+    }
+    out
 }
 
 /// Every RAM/ROM image the default units hold, and the textures of the built-in scene.
@@ -98,6 +359,7 @@ pub fn tables() -> Vec<Table> {
             "spot disc: 255 inside r=0.3, linear in r^2 to 0 at r=0.45 (map units)",
         ),
     });
+    out.extend(glare_tables());
     out
 }
 
@@ -186,6 +448,92 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                     s: rng.random_range(0..4 * one),
                     t: rng.random_range(0..4 * one),
                     q: rng.random_range(one..8 * one),
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "polygon_variable_generator" => {
+            let u = PolygonVariableGenerator::geforce();
+            let c = u.config();
+            // Centres within ±1/4 of the position range, extents up to 1/16 of it.
+            let span = 1i64 << (c.coord_int_bits + c.subpixel_bits - 3);
+            let inputs: Vec<PvgIn> = (0..pixels)
+                .map(|_| PvgIn {
+                    kind: if rng.random::<bool>() {
+                        PrimKind::Line
+                    } else {
+                        PrimKind::Area
+                    },
+                    cx: rng.random_range(-span..span),
+                    cy: rng.random_range(-span..span),
+                    extent: rng.random_range(0..span as u64 / 2),
+                    half_width: rng.random_range(0..span as u64 / 32),
+                    angle: rng.random_range(0..1u32 << c.angle_bits),
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "bloom_flare_modulator" | "halo_modulator" => {
+            let lw = LumWidths::default();
+            // (u, v) over ±1.25 (the clamp region included), gains up to 255 codes.
+            let one = 1i32 << lw.coord_frac_bits;
+            let lim = one + one / 4;
+            let gmax = 255u32 << lw.gain_frac_bits;
+            let inputs: Vec<LumIn> = (0..pixels)
+                .map(|_| LumIn {
+                    u: rng.random_range(-lim..=lim),
+                    v: rng.random_range(-lim..=lim),
+                    gain: std::array::from_fn(|_| rng.random_range(0..=gmax)),
+                })
+                .collect();
+            if name == "halo_modulator" {
+                trace_unit(&default_halo(), (), &inputs, w)
+            } else {
+                trace_unit(&default_bloom_flare(), (), &inputs, w)
+            }
+        }
+        "glare_combiner" => {
+            let u = GlareCombiner::geforce();
+            let c = u.config();
+            let (fmax, lmax) = ((1u32 << c.fb_bits) - 1, (1u32 << c.lum_bits) - 1);
+            let inputs: Vec<CombineIn> = (0..pixels)
+                .map(|_| CombineIn {
+                    fb: std::array::from_fn(|_| rng.random_range(0..=fmax)),
+                    // Mostly small luminance, sometimes enough to saturate.
+                    lum: std::array::from_fn(|_| rng.random_range(0..=lmax) >> 4),
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "gaussian_noise" => {
+            let u = GaussianNoise::geforce();
+            trace_unit(&u, GaussState::from_seed(seed), &vec![(); pixels], w)
+        }
+        "chaos_map" => {
+            let u = ChaosMap::geforce();
+            trace_unit(&u, u.seeded_state(seed), &vec![(); pixels], w)
+        }
+        "glare_condition" => {
+            let u = GlareCondition::geforce();
+            let c = u.config();
+            let iw = c.int_bits + c.frac_bits;
+            let one = 1i32 << c.cos_frac_bits;
+            let inputs: Vec<ConditionIn> = (0..pixels)
+                .map(|_| {
+                    let intensity = rng.random_range(0..1u32 << iw);
+                    ConditionIn {
+                        material: if rng.random::<bool>() {
+                            Material::Water
+                        } else {
+                            Material::Metallic
+                        },
+                        intensity,
+                        specular: rng.random_range(0..1u32 << c.coef_bits),
+                        cos_alpha: rng.random_range(-one / 4..one),
+                        cos_theta: rng.random_range(-one..one),
+                        // Around the contrast threshold: I_a ≈ I/T.
+                        ambient: rng.random_range(0..=intensity / c.threshold.max(1) * 2),
+                    }
                 })
                 .collect();
             trace_unit(&u, (), &inputs, w)

@@ -136,7 +136,7 @@ pub fn falloff_lipschitz(t: &[f64]) -> f64 {
 }
 
 /// Error bound on d (in d units, i.e. fraction of full scale), derived from the widths
-/// and the loaded table (see docs/datasheets/bloom_flare_modulator.md):
+/// and the loaded table (see docs/units.md § bloom_flare_modulator):
 ///   E_d = ½ LSB_s (entry rounding; bilinear is a convex combination)
 ///       + ½ LSB_s (rounding the interpolated d to sb bits)
 ///       + (L_x + L_y) · δw (shape weight truncation, δw < one weight LSB)

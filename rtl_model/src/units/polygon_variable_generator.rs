@@ -136,6 +136,12 @@ impl PolygonVariableGenerator {
         self.cfg
     }
 
+    /// The quarter-wave ROM, entry order (2^k + 1 words of `trig_bits`):
+    /// entry[j] = round(cos(j/2^k · π/2) · (2^trig_bits − 1)), for `$readmemh` images.
+    pub fn rom_words(&self) -> Vec<u64> {
+        self.rom.iter().map(|&w| u64::from(w)).collect()
+    }
+
     /// Largest position code (one sign bit, c − 1 integer bits, s fraction bits).
     fn pos_max(&self) -> i64 {
         (1i64 << (self.cfg.coord_int_bits + self.cfg.subpixel_bits - 1)) - 1
