@@ -152,8 +152,11 @@ pub fn ellipse_distance(x: f64, y: f64, a: f64, b: f64) -> f64 {
     ((ex - px).powi(2) + (ey - py).powi(2)).sqrt()
 }
 
-/// Distance from (x, y) to a convex polygon (0 inside); fewer than 3 points count as
-/// the polyline they make.
+/// Distance from (x, y) to a convex polygon (0 inside); fewer than 3 points, and a
+/// degenerate polygon (all points coincident or collinear: |twice the area| ≤ 10⁻¹²
+/// × the longest edge²), count as the polyline they make, so a zero-size polygon is
+/// a point and a flat one a segment (without this, every point of the plane passed
+/// the inside test of coincident vertices: all edge cross products are 0).
 pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
     let n = pts.len();
     if n == 0 {
@@ -162,6 +165,15 @@ pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
     if n == 1 {
         return ((x - pts[0][0]).powi(2) + (y - pts[0][1]).powi(2)).sqrt();
     }
+    let mut area2 = 0.0;
+    let mut edge2_max: f64 = 0.0;
+    for i in 0..n {
+        let p = pts[i];
+        let q = pts[(i + 1) % n];
+        area2 += p[0] * q[1] - q[0] * p[1];
+        edge2_max = edge2_max.max((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2));
+    }
+    let solid = n >= 3 && area2.abs() > 1e-12 * edge2_max;
     let mut best = f64::INFINITY;
     let mut sign_pos = true;
     let mut sign_neg = true;
@@ -182,7 +194,7 @@ pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
         sign_pos &= cross >= 0.0;
         sign_neg &= cross <= 0.0;
     }
-    if n >= 3 && (sign_pos || sign_neg) {
+    if solid && (sign_pos || sign_neg) {
         0.0
     } else {
         best
