@@ -24,16 +24,30 @@ pub fn bloom_factor(d: &Determinants, m: &GlareModel, c_dir: f64) -> f64 {
         * (0.75 + 0.25 * c_dir.clamp(0.0, 1.0))
 }
 
-/// A point source's bloom, eq. (1): A/(θ + θ₀)^m, θ from the centre.
+/// `num / den^m` for num ≥ 0, den > 0, kept finite: den^m is taken no smaller than
+/// the least normal f64, 2.2·10⁻³⁰⁸ (at m = 8 it falls below that for den < 10⁻³⁸·⁵
+/// and underflows to 0 further down), and the quotient no larger than `f64::MAX`.
+/// So 0 at num = 0 (never 0/0 = NaN) and a huge finite value, never +∞, at θ → 0
+/// with θ₀ → 0.
+fn inverse_power(num: f64, den: f64, m: f64) -> f64 {
+    (num / den.powf(m).max(f64::MIN_POSITIVE)).min(f64::MAX)
+}
+
+/// A point source's bloom, eq. (1): A/(θ + θ₀)^m, θ from the centre. Finite for
+/// every valid argument (θ₀ > 0, m ∈ [0.5, 8], A ≥ 0): see [`inverse_power`]; at
+/// θ = 0 it is A/θ₀^m, e.g. 10⁷²·A for θ₀ = 10⁻⁹°, m = 8, and A/2.2·10⁻³⁰⁸ (at most
+/// f64::MAX) for θ₀ so small that θ₀^m is not a normal f64 (θ₀ = 10⁻³⁰⁰, m = 8).
 pub fn bloom_point(theta: f64, a: f64, theta0: f64, m: f64) -> f64 {
-    a / (theta.max(0.0) + theta0).powf(m)
+    inverse_power(a, theta.max(0.0) + theta0, m)
 }
 
 /// An extended source's bloom, eqs. (3)/(4), θ from the rim (≥ 0):
-/// A·exp(−(θ/w)ⁿ) + B/(θ + θ₁)^m.
+/// A·exp(−(θ/w)ⁿ) + B/(θ + θ₁)^m (the second term kept finite as in [`bloom_point`]).
 pub fn bloom_extended(theta_rim: f64, a: f64, b: f64, p: &GlareModel) -> f64 {
     let t = theta_rim.max(0.0);
-    a * (-(t / p.bloom_w_deg).powf(p.bloom_n)).exp() + b / (t + p.bloom_theta1_deg).powf(p.bloom_m)
+    (a * (-(t / p.bloom_w_deg).powf(p.bloom_n)).exp()
+        + inverse_power(b, t + p.bloom_theta1_deg, p.bloom_m))
+    .min(f64::MAX)
 }
 
 /// Halo ring, eq. (5)'s second term: C·exp(−(θ − θ₁·λ/568)²/α²), θ from the rim.
