@@ -313,6 +313,7 @@ pub fn flare_line_at(l: &FlareLine, dx: f64, dy: f64) -> f64 {
 
 /// The reference image: `base` (codes, f64) plus every source's bloom, halo and
 /// lines, clamped to `max` (the framebuffer's full scale). `lines[i]` are source i's.
+#[allow(clippy::too_many_arguments, clippy::needless_range_loop)]
 pub fn reference_image(
     width: u32,
     height: u32,

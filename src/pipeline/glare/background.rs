@@ -48,7 +48,7 @@ pub fn base_image(
                         .iter()
                         .filter(|d| (x - d.0).powi(2) + (y - d.1).powi(2) <= d.2 * d.2)
                         .map(|d| d.3)
-                        .last();
+                        .next_back();
                     match shade {
                         Some(s) => [0, 1, 2].map(|c| code(leaf[c] * s, max)),
                         None => [0, 1, 2].map(|c| code(sky[c], max)),

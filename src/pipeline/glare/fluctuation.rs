@@ -28,6 +28,7 @@ pub fn chaos_unit(
 
 /// S_i(t) at t = the scene's frame, aligned with `screens` (1 for sources that do
 /// not fluctuate), and (elaborated?, the unit's summary).
+#[allow(clippy::type_complexity)]
 pub fn patch_levels(
     scene: &Scene,
     screens: &[ScreenSource],

@@ -222,7 +222,7 @@ fn pos_code(x: f64) -> i64 {
 }
 
 /// The fragments (x, y, u, v) of one primitive from the generator's variables.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn walk_prim(
     pvg: &PolygonVariableGenerator,
     ip: &PolygonInterpolator,
