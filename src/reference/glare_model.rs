@@ -24,16 +24,30 @@ pub fn bloom_factor(d: &Determinants, m: &GlareModel, c_dir: f64) -> f64 {
         * (0.75 + 0.25 * c_dir.clamp(0.0, 1.0))
 }
 
-/// A point source's bloom, eq. (1): A/(θ + θ₀)^m, θ from the centre.
+/// `num / den^m` for num ≥ 0, den > 0, kept finite: den^m is taken no smaller than
+/// the least normal f64, 2.2·10⁻³⁰⁸ (at m = 8 it falls below that for den < 10⁻³⁸·⁵
+/// and underflows to 0 further down), and the quotient no larger than `f64::MAX`.
+/// So 0 at num = 0 (never 0/0 = NaN) and a huge finite value, never +∞, at θ → 0
+/// with θ₀ → 0.
+fn inverse_power(num: f64, den: f64, m: f64) -> f64 {
+    (num / den.powf(m).max(f64::MIN_POSITIVE)).min(f64::MAX)
+}
+
+/// A point source's bloom, eq. (1): A/(θ + θ₀)^m, θ from the centre. Finite for
+/// every valid argument (θ₀ > 0, m ∈ [0.5, 8], A ≥ 0): see [`inverse_power`]; at
+/// θ = 0 it is A/θ₀^m, e.g. 10⁷²·A for θ₀ = 10⁻⁹°, m = 8, and A/2.2·10⁻³⁰⁸ (at most
+/// f64::MAX) for θ₀ so small that θ₀^m is not a normal f64 (θ₀ = 10⁻³⁰⁰, m = 8).
 pub fn bloom_point(theta: f64, a: f64, theta0: f64, m: f64) -> f64 {
-    a / (theta.max(0.0) + theta0).powf(m)
+    inverse_power(a, theta.max(0.0) + theta0, m)
 }
 
 /// An extended source's bloom, eqs. (3)/(4), θ from the rim (≥ 0):
-/// A·exp(−(θ/w)ⁿ) + B/(θ + θ₁)^m.
+/// A·exp(−(θ/w)ⁿ) + B/(θ + θ₁)^m (the second term kept finite as in [`bloom_point`]).
 pub fn bloom_extended(theta_rim: f64, a: f64, b: f64, p: &GlareModel) -> f64 {
     let t = theta_rim.max(0.0);
-    a * (-(t / p.bloom_w_deg).powf(p.bloom_n)).exp() + b / (t + p.bloom_theta1_deg).powf(p.bloom_m)
+    (a * (-(t / p.bloom_w_deg).powf(p.bloom_n)).exp()
+        + inverse_power(b, t + p.bloom_theta1_deg, p.bloom_m))
+    .min(f64::MAX)
 }
 
 /// Halo ring, eq. (5)'s second term: C·exp(−(θ − θ₁·λ/568)²/α²), θ from the rim.
@@ -152,8 +166,11 @@ pub fn ellipse_distance(x: f64, y: f64, a: f64, b: f64) -> f64 {
     ((ex - px).powi(2) + (ey - py).powi(2)).sqrt()
 }
 
-/// Distance from (x, y) to a convex polygon (0 inside); fewer than 3 points count as
-/// the polyline they make.
+/// Distance from (x, y) to a convex polygon (0 inside); fewer than 3 points, and a
+/// degenerate polygon (all points coincident or collinear: |twice the area| ≤ 10⁻¹²
+/// × the longest edge²), count as the polyline they make, so a zero-size polygon is
+/// a point and a flat one a segment (without this, every point of the plane passed
+/// the inside test of coincident vertices: all edge cross products are 0).
 pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
     let n = pts.len();
     if n == 0 {
@@ -162,6 +179,15 @@ pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
     if n == 1 {
         return ((x - pts[0][0]).powi(2) + (y - pts[0][1]).powi(2)).sqrt();
     }
+    let mut area2 = 0.0;
+    let mut edge2_max: f64 = 0.0;
+    for i in 0..n {
+        let p = pts[i];
+        let q = pts[(i + 1) % n];
+        area2 += p[0] * q[1] - q[0] * p[1];
+        edge2_max = edge2_max.max((q[0] - p[0]).powi(2) + (q[1] - p[1]).powi(2));
+    }
+    let solid = n >= 3 && area2.abs() > 1e-12 * edge2_max;
     let mut best = f64::INFINITY;
     let mut sign_pos = true;
     let mut sign_neg = true;
@@ -182,7 +208,7 @@ pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
         sign_pos &= cross >= 0.0;
         sign_neg &= cross <= 0.0;
     }
-    if n >= 3 && (sign_pos || sign_neg) {
+    if solid && (sign_pos || sign_neg) {
         0.0
     } else {
         best

@@ -31,6 +31,7 @@ pub type Elab = (bool, Option<UnitSummary>);
 
 /// S_i(t) at t = the scene's frame, aligned with `screens` (1 for sources that do
 /// not fluctuate), and (elaborated?, the unit's summary).
+#[allow(clippy::type_complexity)]
 pub fn patch_levels(
     scene: &Scene,
     screens: &[ScreenSource],

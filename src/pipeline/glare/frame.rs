@@ -178,6 +178,44 @@ pub fn scissor(u: &PolygonInterpolator, s: &PolySetup, width: u32, height: u32) 
     out
 }
 
+/// Largest |coordinate| (pixels) the host lets a quad corner reach: the position
+/// format's range ±2^(COORD_INT_BITS−1), less a pixel for rounding.
+pub const COORD_LIMIT_PX: f64 = ((1u64 << (COORD_INT_BITS - 1)) - 1) as f64;
+
+/// An area primitive whose quad fits the coordinate range: the half-side shrunk to
+/// COORD_LIMIT_PX − |centre| (0 when the centre itself is out of range, an empty
+/// quad). Its RAM tables are computed over the shrunk frame, so the walked part keeps
+/// the primitive's true (u, v) → distance mapping; what is cut off lies outside the
+/// coordinate range (off screen).
+pub fn fit_area(a: &AreaPrim) -> AreaPrim {
+    let room = COORD_LIMIT_PX - a.center[0].abs().max(a.center[1].abs());
+    AreaPrim {
+        half_px: a.half_px.min(room).max(0.0),
+        ..a.clone()
+    }
+}
+
+/// Longest flare line and widest line (pixels) the host sends.
+pub const LINE_MAX_PX: f64 = 4000.0;
+
+/// Whether a flare line's rectangle (from `center` along `angle`, `length` long,
+/// `half_width` to each side) lies inside the coordinate range with a pixel to
+/// spare. The generator saturates each corner on its own, so a line reaching out of
+/// range would come out skewed (or its fourth corner overflow the interpolator);
+/// the host culls it instead. Its rectangle is at most √2·4000 px across, so on an
+/// image of up to 2534 px a side a culled line never reaches the screen.
+pub fn line_fits(center: [f64; 2], angle: f64, length: f64, half_width: f64) -> bool {
+    let (c, s) = (angle.cos(), angle.sin());
+    let lim = COORD_LIMIT_PX - 1.0;
+    [(0.0, -1.0), (0.0, 1.0), (1.0, -1.0), (1.0, 1.0)]
+        .iter()
+        .all(|&(along, side)| {
+            let x = center[0] + along * length * c - side * half_width * s;
+            let y = center[1] + along * length * s + side * half_width * c;
+            x.abs() <= lim && y.abs() <= lim
+        })
+}
+
 /// Position code of a pixel coordinate (round to nearest sub-pixel).
 fn pos_code(x: f64) -> i64 {
     (x * (1u64 << SUBPIXEL_BITS) as f64).round() as i64
@@ -187,7 +225,7 @@ fn pos_code(x: f64) -> i64 {
 pub type Frag = (u32, u32, i32, i32);
 
 /// The fragments (x, y, u, v) of one primitive from the generator's variables.
-#[allow(clippy::too_many_arguments)]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn walk_prim(
     pvg: &PolygonVariableGenerator,
     ip: &PolygonInterpolator,
@@ -259,13 +297,9 @@ fn shade<U: Unit<In = LumIn, Out = rtl_model::units::luminance_ram::LumOut, Stat
     }
 }
 
-/// The area primitive's generator input.
+/// The area primitive's generator input (the quad fitted to the coordinate range).
 fn area_input(a: &AreaPrim, pvg: &PolygonVariableGenerator) -> Result<PvgIn, ConfigError> {
-    let lim = (1u64 << (COORD_INT_BITS - 1)) as f64 - 1.0;
-    let half = a
-        .half_px
-        .min(lim - a.center[0].abs().max(a.center[1].abs()))
-        .max(0.0);
+    let half = fit_area(a).half_px;
     Ok(PvgIn {
         kind: PrimKind::Area,
         cx: pos_code(a.center[0]),
@@ -374,6 +408,7 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
     for (i, s) in sources.iter().enumerate() {
         if let Some(b) = &s.bloom {
             let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
+            let a = fit_area(&a);
             let l0 = bloom_at(b, 0.0, &g.model);
             let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
             let gain_l = l0.min(gmax);
@@ -399,6 +434,7 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
         }
         if let Some(cc) = s.halo {
             let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
+            let a = fit_area(&a);
             let shape = shape_samples(&s.shape, &a, lw.shape_log2);
             let rings: Vec<Vec<f64>> = g
                 .determinants
@@ -430,13 +466,20 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
         let mut loaded = false;
         for (i, s) in sources.iter().enumerate() {
             for l in &lines[i] {
+                let (len, half_w) = (
+                    l.length_px.min(LINE_MAX_PX),
+                    0.5 * l.width_px.min(LINE_MAX_PX),
+                );
+                if !line_fits(s.center, l.angle, len, half_w) {
+                    continue;
+                }
                 let gain = gains(&lw, l.intensity, s.color, "bloom_flare_modulator.gain")?;
                 let input = PvgIn {
                     kind: PrimKind::Line,
                     cx: pos_code(s.center[0]),
                     cy: pos_code(s.center[1]),
-                    extent: pos_code(l.length_px.min(4000.0)).max(0) as u64,
-                    half_width: pos_code(0.5 * l.width_px.min(4000.0)).max(0) as u64,
+                    extent: pos_code(len).max(0) as u64,
+                    half_width: pos_code(half_w).max(0) as u64,
                     angle: pvg.angle_code(l.angle)?,
                 };
                 let (walked, frags) = walk_prim(&pvg, &ip, input, w, h, &mut counters)?;

@@ -228,7 +228,9 @@ pub fn source_glare(s: &ScreenSource, ie: f64, det: &Determinants, p: &GlareMode
     let num = (p.flare_num_k * ie_e * g * size.powf(-p.e_size) * amb * mist * cd)
         .round()
         .clamp(0.0, p.flare_max_lines as f64) as u32;
-    let flare = (s.flare && num > 0).then(|| FlareParams {
+    // No light, no lines: ie^e_intensity is 0^0 = 1 at e_intensity = 0, so num alone
+    // would draw (invisible) lines for a dark source.
+    let flare = (s.flare && ie > 0.0 && num > 0).then(|| FlareParams {
         num,
         len_deg: p.flare_len_k_deg * ie_e * g * amb,
         width_deg: p.flare_width_k_deg * ie_e * size.powf(p.e_size),
