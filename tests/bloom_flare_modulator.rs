@@ -156,7 +156,7 @@ fn defaults_cost_and_ram_bits() {
     for (n, g) in &c.breakdown {
         println!("  {n}: {g:.0}");
     }
-    assert_eq!(c.ram_bits, 129 * 129 * 10 + 257 * 16);
+    assert_eq!(c.ram_bits, 129 * 129 * 16 + 257 * 16);
     assert_eq!(m.table_words(), 129 * 129 + 257);
 }
 

@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 const NAME: &str = "halo_modulator";
 
 /// Config (all widths runtime; the same fields as the bloom/flare modulator).
-/// Defaults: F 10, k 7, sb 10, m 8, fb 16, wb 8,
+/// Defaults: F 14, k 7, sb 16, m 8, fb 16, wb 8,
 /// gain u12.4, out 12 bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct HaloModulatorConfig {

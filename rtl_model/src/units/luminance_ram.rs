@@ -26,11 +26,11 @@ use serde::{Deserialize, Serialize};
 /// The widths of the shared modulator datapath (the fields of both modulator configs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct LumWidths {
-    /// F of the s2.F coordinates u, v (2 ..= 16, default 10).
+    /// F of the s2.F coordinates u, v (2 ..= 16, default 14).
     pub coord_frac_bits: u32,
     /// k: the shape RAM has 2ᵏ cells per side, (2ᵏ+1)² samples (1 ..= 10, default 7).
     pub shape_log2: u32,
-    /// Shape entry / d width, unorm (1 ..= 16, default 10).
+    /// Shape entry / d width, unorm (1 ..= 16, default 16).
     pub shape_bits: u32,
     /// m: the falloff RAM has 2ᵐ cells, 2ᵐ+1 samples (1 ..= 12, default 8).
     pub falloff_log2: u32,
@@ -49,9 +49,9 @@ pub struct LumWidths {
 impl Default for LumWidths {
     fn default() -> Self {
         LumWidths {
-            coord_frac_bits: 10,
+            coord_frac_bits: 14,
             shape_log2: 7,
-            shape_bits: 10,
+            shape_bits: 16,
             falloff_log2: 8,
             falloff_bits: 16,
             weight_bits: 8,
