@@ -4,12 +4,14 @@
 pub mod additive_blend;
 pub mod bloom_flare_modulator;
 pub mod chaos_map;
+pub mod envmap_prefilter;
 pub mod gaussian_noise;
 pub mod glare_combiner;
 pub mod glare_condition;
 pub mod glare_model;
 pub mod halo_modulator;
 pub mod modulate;
+pub mod phong_truth;
 pub mod polygon_interpolator;
 pub mod polygon_variable_generator;
 pub mod projective_texcoord;

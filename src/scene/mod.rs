@@ -3,6 +3,7 @@
 
 pub mod builtin;
 pub mod builtin_glare;
+pub mod envmap;
 pub mod format;
 pub mod geometry;
 pub mod glare;

@@ -1,0 +1,1 @@
+//! Phong ground truth — stub, being written (issue 5).

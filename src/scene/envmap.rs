@@ -1,0 +1,1 @@
+//! Environment maps — stub, being written (issue 5).
