@@ -7,6 +7,7 @@ pub mod condition;
 pub mod fluctuation;
 pub mod frame;
 pub mod host;
+pub mod primitives;
 pub mod reproduce;
 pub mod sweep;
 pub mod tables;

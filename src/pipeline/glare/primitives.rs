@@ -1,0 +1,250 @@
+//! One primitive through the glare datapath: the generator's variables, the
+//! interpolator's set-up and walk (scissored to the viewport and fitted to the
+//! coordinate range), then a modulator and the combiner into the framebuffer.
+
+use super::frame::{ATTR_FRAC_BITS, COORD_INT_BITS, SUBPIXEL_BITS};
+use super::tables::AreaPrim;
+use crate::report::image_out::Framebuffer;
+use crate::scene::glare::GlareSection;
+use rtl_model::driver::run_span;
+use rtl_model::fixed_point::{Format, Overflow, Quant};
+use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
+use rtl_model::units::luminance_ram::{LumIn, LumWidths};
+use rtl_model::units::polygon_interpolator::{
+    PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
+};
+use rtl_model::units::polygon_variable_generator::{
+    PolygonVariableGenerator, PolygonVariableGeneratorConfig, PrimKind, PvgIn,
+};
+use rtl_model::{ConfigError, Counters, Unit};
+use std::collections::BTreeMap;
+
+pub(crate) fn add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
+    *map.entry(name.to_string()).or_default() += c;
+}
+
+/// The modulators' widths from the scene.
+pub fn lum_widths(g: &GlareSection) -> LumWidths {
+    LumWidths {
+        coord_frac_bits: g.hw.coord_frac_bits,
+        shape_log2: g.hw.shape_log2,
+        shape_bits: g.hw.shape_bits,
+        falloff_log2: g.hw.falloff_log2,
+        falloff_bits: g.hw.falloff_bits,
+        weight_bits: g.hw.weight_bits,
+        ..LumWidths::default()
+    }
+}
+
+/// The glare interpolator: two attributes (u, v), s2.14 in, s2.f out.
+pub fn interpolator(coord_frac_bits: u32) -> Result<PolygonInterpolator, ConfigError> {
+    PolygonInterpolatorConfig {
+        attrs: 2,
+        subpixel_bits: SUBPIXEL_BITS,
+        coord_int_bits: COORD_INT_BITS,
+        attr_fmt: Format {
+            int_bits: 2,
+            frac_bits: ATTR_FRAC_BITS,
+            signed: true,
+        },
+        acc_int_bits: 4,
+        acc_frac_bits: 24,
+        acc_overflow: Overflow::Wrap,
+        out_int_bits: 2,
+        out_frac_bits: coord_frac_bits,
+        out_quant: Quant::Rnd,
+    }
+    .build()
+}
+
+pub fn generator() -> Result<PolygonVariableGenerator, ConfigError> {
+    PolygonVariableGeneratorConfig {
+        coord_int_bits: COORD_INT_BITS,
+        subpixel_bits: SUBPIXEL_BITS,
+        attr_frac_bits: ATTR_FRAC_BITS,
+        ..PolygonVariableGeneratorConfig::default()
+    }
+    .build()
+}
+
+/// Move a set-up primitive's walk to the part of its bounding box inside the
+/// viewport: the setup engine starts the walker at the clipped corner, its edge and
+/// attribute accumulators advanced by Δx·d/dx + Δy·d/dy (multiply-adds, the same
+/// values the walk would reach, accumulators wrapping to their width).
+pub fn scissor(u: &PolygonInterpolator, s: &PolySetup, width: u32, height: u32) -> PolySetup {
+    let Some(b) = s.bbox else {
+        return s.clone();
+    };
+    let (x0, y0) = (b.x0.max(0), b.y0.max(0));
+    let (x1, y1) = (b.x1.min(width as i64 - 1), b.y1.min(height as i64 - 1));
+    let mut out = s.clone();
+    if x0 > x1 || y0 > y1 {
+        out.bbox = None;
+        return out;
+    }
+    let (dx, dy) = (x0 - b.x0, y0 - b.y0);
+    let st = &mut out.state;
+    for i in 0..st.edge.len() {
+        st.edge[i] += dx * st.edge_dx[i] + dy * st.edge_dy[i];
+    }
+    let w = u.acc_int_bits() + u.acc_frac_bits();
+    let sh = 64 - w;
+    for i in 0..u.attrs() as usize {
+        let v = st.acc[i]
+            .wrapping_add(dx.wrapping_mul(st.grad_x[i]))
+            .wrapping_add(dy.wrapping_mul(st.grad_y[i]));
+        st.acc[i] = (v << sh) >> sh;
+    }
+    st.x = x0;
+    st.y = y0;
+    out.bbox = Some(rtl_model::units::polygon_interpolator::BBox { x0, y0, x1, y1 });
+    out
+}
+
+/// Largest |coordinate| (pixels) the host lets a quad corner reach: the position
+/// format's range ±2^(COORD_INT_BITS−1), less a pixel for rounding.
+pub const COORD_LIMIT_PX: f64 = ((1u64 << (COORD_INT_BITS - 1)) - 1) as f64;
+
+/// An area primitive whose quad fits the coordinate range: the half-side shrunk to
+/// COORD_LIMIT_PX − |centre| (0 when the centre itself is out of range, an empty
+/// quad). Its RAM tables are computed over the shrunk frame, so the walked part keeps
+/// the primitive's true (u, v) → distance mapping; what is cut off lies outside the
+/// coordinate range (off screen).
+pub fn fit_area(a: &AreaPrim) -> AreaPrim {
+    let room = COORD_LIMIT_PX - a.center[0].abs().max(a.center[1].abs());
+    AreaPrim {
+        half_px: a.half_px.min(room).max(0.0),
+        ..a.clone()
+    }
+}
+
+/// Longest flare line and widest line (pixels) the host sends.
+pub const LINE_MAX_PX: f64 = 4000.0;
+
+/// Whether a flare line's rectangle (from `center` along `angle`, `length` long,
+/// `half_width` to each side) lies inside the coordinate range with a pixel to
+/// spare. The generator saturates each corner on its own, so a line reaching out of
+/// range would come out skewed (or its fourth corner overflow the interpolator);
+/// the host culls it instead. Its rectangle is at most √2·4000 px across, so on an
+/// image of up to 2534 px a side a culled line never reaches the screen.
+pub fn line_fits(center: [f64; 2], angle: f64, length: f64, half_width: f64) -> bool {
+    let (c, s) = (angle.cos(), angle.sin());
+    let lim = COORD_LIMIT_PX - 1.0;
+    [(0.0, -1.0), (0.0, 1.0), (1.0, -1.0), (1.0, 1.0)]
+        .iter()
+        .all(|&(along, side)| {
+            let x = center[0] + along * length * c - side * half_width * s;
+            let y = center[1] + along * length * s + side * half_width * c;
+            x.abs() <= lim && y.abs() <= lim
+        })
+}
+
+/// Position code of a pixel coordinate (round to nearest sub-pixel).
+pub(crate) fn pos_code(x: f64) -> i64 {
+    (x * (1u64 << SUBPIXEL_BITS) as f64).round() as i64
+}
+
+/// A covered fragment: x, y and the (u, v) codes.
+pub type Frag = (u32, u32, i32, i32);
+
+/// The fragments (x, y, u, v) of one primitive from the generator's variables.
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+pub(crate) fn walk_prim(
+    pvg: &PolygonVariableGenerator,
+    ip: &PolygonInterpolator,
+    input: PvgIn,
+    width: u32,
+    height: u32,
+    ctr: &mut BTreeMap<String, Counters>,
+) -> Result<(u64, Vec<Frag>), ConfigError> {
+    let mut c_pvg = Counters::default();
+    let v = run_span(pvg, &mut (), &[input], &mut c_pvg)[0];
+    add(ctr, pvg.name(), c_pvg);
+    let mut c_ip = Counters::default();
+    let verts = v.map(|p| {
+        let mut attrs = [0i64; 8];
+        attrs[0] = p.u;
+        attrs[1] = p.v;
+        Vertex {
+            x: p.x,
+            y: p.y,
+            attrs,
+        }
+    });
+    let setup = ip.setup_parallelogram(&verts, &mut c_ip)?;
+    let setup = scissor(ip, &setup, width, height);
+    let mut st = setup.state.clone();
+    let outs = run_span(ip, &mut st, &setup.moves(), &mut c_ip);
+    add(ctr, ip.name(), c_ip);
+    let frags = outs
+        .iter()
+        .filter(|f| f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64)
+        .map(|f| (f.x as u32, f.y as u32, f.attrs[0] as i32, f.attrs[1] as i32))
+        .collect();
+    Ok((setup.pixels(), frags))
+}
+
+/// Modulate and combine one primitive's fragments into the framebuffer.
+pub(crate) fn shade<
+    U: Unit<In = LumIn, Out = rtl_model::units::luminance_ram::LumOut, State = ()>,
+>(
+    m: &U,
+    comb: &GlareCombiner,
+    frags: &[Frag],
+    gain: [u32; 3],
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+) {
+    let ins: Vec<LumIn> = frags
+        .iter()
+        .map(|&(_, _, u, v)| LumIn { u, v, gain })
+        .collect();
+    let mut c = Counters::default();
+    let lum = run_span(m, &mut (), &ins, &mut c);
+    add(ctr, m.name(), c);
+    let cin: Vec<CombineIn> = frags
+        .iter()
+        .zip(&lum)
+        .map(|(&(x, y, _, _), l)| {
+            let p = fb.pixel(x, y);
+            CombineIn {
+                fb: [p[0], p[1], p[2]],
+                lum: l.lum,
+            }
+        })
+        .collect();
+    let mut c = Counters::default();
+    let out = run_span(comb, &mut (), &cin, &mut c);
+    add(ctr, comb.name(), c);
+    for (&(x, y, _, _), o) in frags.iter().zip(&out) {
+        let a = fb.pixel(x, y)[3];
+        fb.set(x, y, [o[0], o[1], o[2], a]);
+    }
+}
+
+/// The area primitive's generator input (the quad fitted to the coordinate range).
+pub(crate) fn area_input(
+    a: &AreaPrim,
+    pvg: &PolygonVariableGenerator,
+) -> Result<PvgIn, ConfigError> {
+    let half = fit_area(a).half_px;
+    Ok(PvgIn {
+        kind: PrimKind::Area,
+        cx: pos_code(a.center[0]),
+        cy: pos_code(a.center[1]),
+        extent: pos_code(half) as u64,
+        half_width: 0,
+        angle: pvg.angle_code(a.phi)?,
+    })
+}
+
+/// Gains (u12.4 codes) of luminance `l` times the source colour.
+pub(crate) fn gains(
+    w: &LumWidths,
+    l: f64,
+    color: [f64; 3],
+    field: &str,
+) -> Result<[u32; 3], ConfigError> {
+    let max = w.gain_max() as f64 / (1u64 << w.gain_frac_bits) as f64;
+    w.gain_from_f64(field, color.map(|c| (l * c).clamp(0.0, max)))
+}
