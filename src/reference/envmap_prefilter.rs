@@ -1,1 +1,0 @@
-//! Multi-scale environment map prefilter (f64) — stub, being written (issue 5).
