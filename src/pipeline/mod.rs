@@ -1,5 +1,6 @@
 //! Units wired into pipelines; frames driven; counters gathered.
 
+pub mod envmap;
 pub mod glare;
 pub mod raster;
 pub mod registry;

@@ -1,0 +1,84 @@
+//! The s³ voxel map of the multi-scale environment map (SPEC C, eqs. 6–9).
+//!
+//! Voxel (x, y, z), each in 0 .. s, has its centre at
+//! t = (2(x + ½)/s − 1, 2(y + ½)/s − 1, 2(z + ½)/s − 1) ∈ (−1, 1)³, in the same world axes
+//! as the environment's directions (right-handed, y up). A reflection vector r on a
+//! surface of smoothness λ ∈ (0, 1] looks up t = r·λ (eq. 6): the 3D texture coordinate
+//! is (t + 1)/2 ∈ [0, 1]³ (s along x, t along y, r along z, as GL's 3D textures).
+//! Storage is x fastest, then y, then z. Entries are unorm codes of `bits` per channel
+//! (8 by default: the thesis' 256 levels).
+
+use rtl_model::ConfigError;
+
+/// Largest side accepted (512³ × 3 channels fits comfortably in memory).
+pub const MAX_SIDE: u32 = 512;
+
+/// An s³ RGB voxel map of unorm codes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VoxelMap {
+    s: u32,
+    bits: u32,
+    data: Vec<[u32; 3]>,
+}
+
+impl VoxelMap {
+    /// An all-zero map; `s` in 1 ..= 512 (`envmap.voxels`), `bits` in 1 ..= 16
+    /// (`envmap.voxel_bits`).
+    pub fn new(s: u32, bits: u32) -> Result<Self, ConfigError> {
+        rtl_model::error::check_range("envmap.voxels", s.into(), 1, MAX_SIDE.into())?;
+        rtl_model::error::check_range("envmap.voxel_bits", bits.into(), 1, 16)?;
+        Ok(VoxelMap {
+            s,
+            bits,
+            data: vec![[0; 3]; (s as usize).pow(3)],
+        })
+    }
+
+    pub fn side(&self) -> u32 {
+        self.s
+    }
+
+    pub fn bits(&self) -> u32 {
+        self.bits
+    }
+
+    pub fn max_code(&self) -> u32 {
+        rtl_model::unorm::max_code(self.bits)
+    }
+
+    /// Linear index of voxel (x, y, z).
+    pub fn index(&self, x: u32, y: u32, z: u32) -> usize {
+        let s = self.s as usize;
+        (z as usize * s + y as usize) * s + x as usize
+    }
+
+    /// The voxel's centre t.
+    pub fn voxel_t(&self, x: u32, y: u32, z: u32) -> [f64; 3] {
+        let f = |k: u32| 2.0 * (k as f64 + 0.5) / self.s as f64 - 1.0;
+        [f(x), f(y), f(z)]
+    }
+
+    pub fn get(&self, x: u32, y: u32, z: u32) -> [u32; 3] {
+        self.data[self.index(x, y, z)]
+    }
+
+    /// Store a value in levels of the full scale 1.0 (clamped, rounded to a code).
+    pub fn set_levels(&mut self, x: u32, y: u32, z: u32, v: [f64; 3]) {
+        let m = self.max_code() as f64;
+        let i = self.index(x, y, z);
+        self.data[i] = v.map(|c| (c.clamp(0.0, 1.0) * m).round() as u32);
+    }
+
+    pub fn data(&self) -> &[[u32; 3]] {
+        &self.data
+    }
+
+    pub fn data_mut(&mut self) -> &mut [[u32; 3]] {
+        &mut self.data
+    }
+
+    /// Bytes of the map as stored (3 channels × ⌈bits/8⌉ per voxel).
+    pub fn bytes(&self) -> u64 {
+        (self.s as u64).pow(3) * 3 * (self.bits as u64).div_ceil(8)
+    }
+}
