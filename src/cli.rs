@@ -46,7 +46,8 @@ pub enum Command {
         reference: Option<PathBuf>,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
-    /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput.
+    /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
+    /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -221,9 +222,13 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "glare-fig7" => g::fig7(out)?,
         "glare-fig8" => g::fig8(out)?,
         "glare-throughput" => g::throughput(out)?,
+        "envmap-table3" => crate::pipeline::envmap::reproduce::table3(
+            out,
+            crate::pipeline::envmap::reproduce::cli_side()?,
+        )?,
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3)"
             ))
         }
     }

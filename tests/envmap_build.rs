@@ -1,0 +1,287 @@
+//! The voxel-map builds of `pipeline::envmap::prefilter` (exact and accelerated).
+
+#![allow(clippy::needless_range_loop)]
+
+use glare_pipeline::pipeline::envmap::prefilter::{
+    build_accelerated, build_accelerated_both, build_exact, env_to_levels, half_weight_angle,
+    prefilter_voxel_indexed, prune_bound, voxel_error, DomeLevels, SphereIndex,
+};
+use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
+use glare_pipeline::reference::envmap_prefilter::{
+    build_pyramid, prefilter_voxel_exact, select_weight_entries, texel_direction,
+    texel_solid_angle, Dome, Equirect, PrefilterParams, Samples, Weighting,
+};
+use glare_pipeline::scene::envmap::EnvMap;
+
+const W: usize = 64;
+const H: usize = 32;
+
+/// A smooth random-looking map in [0, 1]: low-order functions of the direction.
+fn smooth_env(seed: u64) -> Equirect {
+    let a = |k: u64| {
+        (((seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(k * 1442695040888963407))
+            >> 33)
+            % 1000) as f64
+            / 1000.0
+    };
+    let (a0, a1, a2, a3, a4, a5) = (a(1), a(2), a(3), a(4), a(5), a(6));
+    Equirect::from_fn(W, H, |d| {
+        let r = 0.5 + 0.4 * (a0 * d[0] + (1.0 - a0) * d[1]).sin() * a3;
+        let g = 0.5 + 0.45 * (2.0 * d[2] + a1 * d[0] * d[1]).cos() * a4.max(0.3);
+        let b = 0.3 + 0.6 * (0.5 + 0.5 * (3.0 * d[1] + a2 * d[2]).sin()) * a5.max(0.2);
+        [r.clamp(0.0, 1.0), g.clamp(0.0, 1.0), b.clamp(0.0, 1.0)]
+    })
+    .unwrap()
+}
+
+fn params(s: u32) -> PrefilterParams {
+    PrefilterParams::new(s as f64, 256.0, Weighting::SolidAngle).unwrap()
+}
+
+fn code(v: f64) -> i64 {
+    (v.clamp(0.0, 1.0) * 255.0).round() as i64
+}
+
+#[test]
+fn scene_and_prefilter_conventions_agree() {
+    for (w, h) in [(W, H), (512, 256), (7, 3)] {
+        for j in 0..h {
+            let a = glare_pipeline::scene::envmap::texel_solid_angle(j, w, h);
+            assert!((a - texel_solid_angle(j, w, h)).abs() <= 1e-15);
+            for i in 0..w {
+                let d = glare_pipeline::scene::envmap::texel_dir(i, j, w, h);
+                let e = texel_direction(i, j, w, h);
+                let err = (d.x - e[0]).abs() + (d.y - e[1]).abs() + (d.z - e[2]).abs();
+                assert!(err < 1e-14, "texel ({i}, {j}) of {w}×{h}: {d:?} vs {e:?}");
+            }
+        }
+    }
+    // The level conversion: EnvMap::to_levels / 255, texel for texel.
+    let env = EnvMap::pattern(W, H);
+    let lv = env_to_levels(&env, 1.0).unwrap();
+    let codes = env.to_levels(1.0).unwrap();
+    assert_eq!(lv.width(), W);
+    assert_eq!(lv.height(), H);
+    for (a, b) in lv.texels().iter().zip(&codes) {
+        for c in 0..3 {
+            assert_eq!(a[c] * 255.0, b[c] as f64);
+        }
+    }
+}
+
+#[test]
+fn exact_constant_env_is_constant() {
+    let env = EnvMap::constant(W, H, [0.5, 0.25, 1.0]).unwrap();
+    let lv = env_to_levels(&env, 1.0).unwrap();
+    let want = env.to_levels(1.0).unwrap()[0].map(u32::from);
+    for s in [8, 9] {
+        let map = build_exact(&lv, s, &params(s)).unwrap();
+        assert!(map.data().iter().all(|v| *v == want), "s = {s}");
+    }
+}
+
+#[test]
+fn exact_matches_brute_force() {
+    let s = 8;
+    let p = params(s);
+    let env = smooth_env(7);
+    let map = build_exact(&env, s, &p).unwrap();
+    let texels = Samples::from_equirect(&env);
+    let mut worst = 0;
+    for z in 0..s {
+        for y in 0..s {
+            for x in 0..s {
+                let t = map.voxel_t(x, y, z);
+                let f = prefilter_voxel_exact(t, &texels, &p);
+                let got = map.get(x, y, z);
+                for c in 0..3 {
+                    worst = worst.max((got[c] as i64 - code(f[c])).abs());
+                }
+            }
+        }
+    }
+    assert!(worst <= 1, "worst {worst} codes");
+    // And the pruning bound is negligible.
+    assert!(prune_bound(&env, Weighting::SolidAngle) < 1e-15);
+}
+
+#[test]
+fn indexed_kernel_matches_reference_in_f64() {
+    let env = smooth_env(3);
+    let p = params(128);
+    let texels = Samples::from_equirect(&env);
+    let idx = SphereIndex::from_equirect(&env, Weighting::SolidAngle);
+    let mut scratch = Vec::new();
+    let ts = [
+        [0.3, -0.2, 0.9],
+        [0.0, 0.999, 0.0],
+        [0.01, -0.004, 0.002],
+        [0.99, 0.99, 0.99],
+        [1e-9, 0.0, 0.0],
+        [0.0, 0.0, 0.0],
+    ];
+    for t in ts {
+        let want = prefilter_voxel_exact(t, &texels, &p);
+        let got = prefilter_voxel_indexed(&idx, t, p.lambda(t), None, &mut scratch).f;
+        for c in 0..3 {
+            assert!(
+                (want[c] - got[c]).abs() < 1e-12,
+                "{t:?}: {want:?} vs {got:?}"
+            );
+        }
+    }
+    // The dome table (eq. 14) against select_weight_entries + apply.
+    let pyr = build_pyramid(&env, 4).unwrap();
+    let dome = Dome::new(18).unwrap();
+    let rad = dome.resample(&pyr[2]);
+    let didx = SphereIndex::from_dome(&dome, &rad, Weighting::SolidAngle);
+    for t in ts {
+        // th above e^-60: below it the reference keeps samples the pruning drops.
+        for th in [1e-20, 0.001, 0.1, 0.5] {
+            let lambda = p.lambda(t) / 50.0;
+            let want = select_weight_entries(
+                t,
+                lambda,
+                dome.dirs(),
+                dome.solid_angles(),
+                Weighting::SolidAngle,
+                th,
+            );
+            let got = prefilter_voxel_indexed(&didx, t, lambda, Some(th), &mut scratch);
+            assert_eq!(got.entries, want.len() as u64, "{t:?} th {th}");
+            let wf = want.apply(&rad);
+            for c in 0..3 {
+                assert!((wf[c] - got.f[c]).abs() < 1e-12, "{t:?} th {th}");
+            }
+            assert!((got.kept_weight - want.kept_weight).abs() < 1e-12);
+        }
+    }
+}
+
+#[test]
+fn accelerated_close_to_exact_and_error_grows_with_th() {
+    let s = 16;
+    let p = params(s);
+    let env = smooth_env(11);
+    let exact = build_exact(&env, s, &p).unwrap();
+    let mut prev = -1.0;
+    let mut means = Vec::new();
+    for th in [0.001, 0.005, 0.01, 0.05, 0.1, 0.25, 0.5] {
+        let (acc, st) = build_accelerated(&env, s, &p, th).unwrap();
+        let (mean, _var) = voxel_error(&acc, &exact).unwrap();
+        let m = mean.iter().sum::<f64>() / 3.0;
+        means.push((th, m, st.entries));
+        if th == 0.001 {
+            // Stated tolerance at th = 0.001: mean |Δ| ≤ 0.5 level on this smooth map.
+            assert!(m <= 0.5, "th 0.001: mean |Δ| {m}");
+        }
+        assert!(
+            m >= prev,
+            "error fell from {prev} to {m} at th {th}: {means:?}"
+        );
+        prev = m;
+        assert_eq!(st.bytes, st.entries * 8);
+    }
+    // Entries shrink with th.
+    assert!(means.windows(2).all(|w| w[1].2 <= w[0].2), "{means:?}");
+}
+
+#[test]
+fn deterministic_across_runs_and_threads() {
+    let s = 8;
+    let p = params(s);
+    let env = smooth_env(5);
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let e = build_exact(&env, s, &p).unwrap();
+            let (a, r, st) = build_accelerated_both(&env, s, &p, 0.01).unwrap();
+            (e, a, r, st.entries, st.empty_voxels)
+        })
+    };
+    let one = run(1);
+    let two = run(2);
+    let again = run(2);
+    assert_eq!(one, two);
+    assert_eq!(two, again);
+}
+
+#[test]
+fn stiff_lambda_gives_finite_codes() {
+    let env = smooth_env(9);
+    let p = PrefilterParams::thesis();
+    let idx = SphereIndex::from_equirect(&env, Weighting::SolidAngle);
+    let mut scratch = Vec::new();
+    let c = 1.0 - 1.0 / 128.0;
+    let ts = [
+        [1e-300, 0.0, 0.0],
+        [0.0, -1e-12, 0.0],
+        [c, c, c],
+        [-c, c, -c],
+        [0.0, 1.0, 0.0],
+        [f64::NAN, 0.0, 1.0],
+        [f64::INFINITY, 0.0, 1.0],
+    ];
+    for t in ts {
+        for lambda in [
+            p.lambda(t),
+            0.0,
+            1e-300,
+            1e5,
+            1e300,
+            f64::INFINITY,
+            f64::NAN,
+        ] {
+            for th in [None, Some(0.001), Some(0.5)] {
+                let r = prefilter_voxel_indexed(&idx, t, lambda, th, &mut scratch);
+                for v in r.f {
+                    assert!(
+                        v.is_finite() && (-1e-12..=1.0 + 1e-12).contains(&v),
+                        "{t:?} {lambda} {r:?}"
+                    );
+                }
+            }
+        }
+    }
+    // A sun at 10⁵ × the mean through auto exposure; whole small builds with corners.
+    let mut tex = vec![[0.2, 0.3, 0.4]; W * H];
+    tex[5 * W + 17] = [1e5, 1e5, 9e4];
+    let sun = EnvMap::new(W, H, tex).unwrap();
+    let lv = env_to_levels(&sun, sun.auto_exposure()).unwrap();
+    for s in [1, 2, 4] {
+        let e = build_exact(&lv, s, &params(s)).unwrap();
+        let (a, _) = build_accelerated(&lv, s, &params(s), 0.001).unwrap();
+        assert!(e.data().iter().chain(a.data()).flatten().all(|&v| v <= 255));
+    }
+}
+
+#[test]
+fn level_choice_and_errors() {
+    let env = smooth_env(1);
+    let d = DomeLevels::thesis(&env, Weighting::SolidAngle).unwrap();
+    assert_eq!(d.level_for(0.0), 3);
+    assert_eq!(d.level_for(45_000.0), 0);
+    assert_eq!(d.level_for(f64::NAN), 3);
+    let mut prev = 3;
+    for k in 0..200 {
+        let l = d.level_for(1.1f64.powi(k));
+        assert!(l <= prev);
+        prev = l;
+    }
+    assert!((half_weight_angle(1.0) - std::f64::consts::FRAC_PI_3).abs() < 1e-12);
+    let p = params(8);
+    for th in [f64::NAN, -0.1, 1.0, f64::INFINITY] {
+        let e = build_accelerated(&env, 8, &p, th).unwrap_err();
+        assert!(e.to_string().contains("envmap.th"), "{e}");
+    }
+    assert!(build_exact(&env, 0, &p)
+        .unwrap_err()
+        .to_string()
+        .contains("envmap.voxels"));
+    let _ = VoxelMap::new(1, 8).unwrap();
+}
