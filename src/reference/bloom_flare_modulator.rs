@@ -3,37 +3,7 @@
 //! (u, v), exact linear interpolation of the falloff samples at that exact d, times
 //! the exact gain, saturated at the output's largest code.
 
-/// Exact bilinear interpolation of a (2ᵏ+1)² row-major shape grid over [−1, 1]² at
-/// (u, v), each clamped to [−1, 1].
-pub fn shape_distance(shape: &[f64], shape_log2: u32, u: f64, v: f64) -> f64 {
-    let n = 1usize << shape_log2;
-    let side = n + 1;
-    let cell = |x: f64| {
-        let p = (x.clamp(-1.0, 1.0) + 1.0) * (n as f64) / 2.0; // position in cells
-        let i = (p.floor() as usize).min(n - 1);
-        (i, p - i as f64)
-    };
-    let (i, tx) = cell(u);
-    let (j, ty) = cell(v);
-    let s = |i: usize, j: usize| shape[j * side + i];
-    let r0 = s(i, j) + (s(i + 1, j) - s(i, j)) * tx;
-    let r1 = s(i, j + 1) + (s(i + 1, j + 1) - s(i, j + 1)) * tx;
-    r0 + (r1 - r0) * ty
-}
-
-/// Exact linear interpolation of a 2ᵐ+1-sample profile over [0, 1] at d ∈ [0, 1].
-pub fn falloff(profile: &[f64], falloff_log2: u32, d: f64) -> f64 {
-    let n = 1usize << falloff_log2;
-    let p = d.clamp(0.0, 1.0) * n as f64;
-    let j = (p.floor() as usize).min(n - 1);
-    let t = p - j as f64;
-    profile[j] + (profile[j + 1] - profile[j]) * t
-}
-
-/// p · gain per channel, saturated at `out_max`.
-pub fn apply_gain(p: f64, gain: [f64; 3], out_max: f64) -> [f64; 3] {
-    gain.map(|g| (p * g).min(out_max))
-}
+pub use super::luminance_ram::{apply_gain, falloff, shape_distance};
 
 /// The whole modulator: (d, [lum_r, lum_g, lum_b]) in real units (d ∈ [0, 1],
 /// luminance in framebuffer codes).

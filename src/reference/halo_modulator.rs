@@ -3,7 +3,7 @@
 //! profile at the exact d, times the exact channel gain, saturated at the output's
 //! largest code. (Shares the interpolation functions of the bloom/flare twin.)
 
-use super::bloom_flare_modulator::{falloff, shape_distance};
+use super::luminance_ram::{falloff, shape_distance};
 
 /// (d, [lum_r, lum_g, lum_b]) in real units (d ∈ [0, 1], luminance in framebuffer
 /// codes); `rings` are the R, G, B ring profiles (2ᵐ+1 samples each).

@@ -10,6 +10,7 @@ pub mod glare_combiner;
 pub mod glare_condition;
 pub mod glare_model;
 pub mod halo_modulator;
+pub mod luminance_ram;
 pub mod modulate;
 pub mod phong_truth;
 pub mod polygon_interpolator;
