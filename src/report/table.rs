@@ -29,3 +29,59 @@ pub fn text_table(header: &[&str], rows: &[Vec<String>]) -> String {
     }
     out
 }
+
+/// One row per unit with every counter (`render`'s counter table).
+pub fn counters_table(
+    counters: &std::collections::BTreeMap<String, rtl_model::Counters>,
+) -> String {
+    let rows: Vec<Vec<String>> = counters
+        .iter()
+        .map(|(name, c)| {
+            let mut row = vec![name.clone()];
+            row.extend(c.fields().iter().map(|(_, v)| v.to_string()));
+            row
+        })
+        .collect();
+    let mut header = vec!["unit"];
+    header.extend(
+        rtl_model::Counters::default()
+            .fields()
+            .iter()
+            .map(|(k, _)| *k),
+    );
+    text_table(&header, &rows)
+}
+
+/// The elaboration report: each unit elaborated (its gates and RAM bits) or left out
+/// (why, and the gates and fragment-clocks that saved).
+pub fn elaboration_table(units: &[crate::pipeline::shafts::frame::Elaborated]) -> String {
+    let rows: Vec<Vec<String>> = units
+        .iter()
+        .map(|e| {
+            vec![
+                e.name.clone(),
+                match &e.left_out {
+                    Some(why) => format!("left out: {why}"),
+                    None => "elaborated".into(),
+                },
+                e.summary
+                    .as_ref()
+                    .map_or(format!("saves {:.0}", e.gates_saved), |s| {
+                        format!("{:.0}", s.gates_nand2)
+                    }),
+                e.summary
+                    .as_ref()
+                    .map_or(String::new(), |s| s.ram_bits.to_string()),
+                if e.left_out.is_some() && e.cycles_saved > 0 {
+                    format!("saves {} fragment-clocks", e.cycles_saved)
+                } else {
+                    String::new()
+                },
+            ]
+        })
+        .collect();
+    text_table(
+        &["unit", "status", "gates_nand2", "ram_bits", "cycles"],
+        &rows,
+    )
+}

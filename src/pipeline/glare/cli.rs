@@ -4,7 +4,6 @@
 use super::frame::{generator, glare_of, interpolator, render_glare, GlareFrame};
 use super::throughput::{predict, GlarePrediction};
 use crate::reference::glare_model::reference_image;
-use crate::report::table::text_table;
 use crate::scene::format::Scene;
 use rtl_model::{ConfigError, Unit};
 use std::path::Path;
@@ -109,56 +108,11 @@ pub fn render_cli(
         f.prims.iter().filter(|p| p.kind == "halo").count(),
         f.prims.iter().filter(|p| p.kind == "flare").count(),
     );
-    let rows: Vec<Vec<String>> = f
-        .counters
-        .iter()
-        .map(|(name, c)| {
-            let mut row = vec![name.clone()];
-            row.extend(c.fields().iter().map(|(_, v)| v.to_string()));
-            row
-        })
-        .collect();
-    let mut header = vec!["unit"];
-    header.extend(
-        rtl_model::Counters::default()
-            .fields()
-            .iter()
-            .map(|(k, _)| *k),
-    );
-    print!("{}", text_table(&header, &rows));
+    print!("{}", crate::report::table::counters_table(&f.counters));
     println!("\nelaboration:");
-    let rows: Vec<Vec<String>> = f
-        .elaboration
-        .iter()
-        .map(|e| {
-            vec![
-                e.name.clone(),
-                match &e.left_out {
-                    Some(why) => format!("left out: {why}"),
-                    None => "elaborated".into(),
-                },
-                e.summary
-                    .as_ref()
-                    .map_or(format!("saves {:.0}", e.gates_saved), |s| {
-                        format!("{:.0}", s.gates_nand2)
-                    }),
-                e.summary
-                    .as_ref()
-                    .map_or(String::new(), |s| s.ram_bits.to_string()),
-                if e.left_out.is_some() && e.cycles_saved > 0 {
-                    format!("saves {} fragment-clocks", e.cycles_saved)
-                } else {
-                    String::new()
-                },
-            ]
-        })
-        .collect();
     print!(
         "{}",
-        text_table(
-            &["unit", "status", "gates_nand2", "ram_bits", "cycles"],
-            &rows
-        )
+        crate::report::table::elaboration_table(&f.elaboration)
     );
     println!(
         "\npredicted glare time at {} MHz × {} pipes: {:.6} s ({} clocks: {} walking, {} table writes; {} fragments of {} walked pixels, {:.3e} fragments/s)",

@@ -7,7 +7,6 @@ use super::prepare::DEFAULT_EXPOSURE;
 use super::throughput::{predict, split_objects_shafts, GpuModel, Prediction};
 use crate::reference::raymarch::{raymarch_image, to_levels};
 use crate::report::image_out::Framebuffer;
-use crate::report::table::text_table;
 use crate::scene::builtin::{builtin, BUILTIN_NAMES};
 use crate::scene::format::Scene;
 use std::path::Path;
@@ -119,50 +118,11 @@ pub fn render_cli(
         scene.shafts.subplanes,
         out.display()
     );
-    let rows: Vec<Vec<String>> = r
-        .counters
-        .iter()
-        .map(|(name, c)| {
-            let mut row = vec![name.clone()];
-            row.extend(c.fields().iter().map(|(_, v)| v.to_string()));
-            row
-        })
-        .collect();
-    let mut header = vec!["unit"];
-    header.extend(
-        rtl_model::Counters::default()
-            .fields()
-            .iter()
-            .map(|(k, _)| *k),
-    );
-    print!("{}", text_table(&header, &rows));
+    print!("{}", crate::report::table::counters_table(&r.counters));
     println!("\nelaboration:");
-    let rows: Vec<Vec<String>> = r
-        .elaboration
-        .iter()
-        .map(|e| {
-            vec![
-                e.name.clone(),
-                match &e.left_out {
-                    Some(why) => format!("left out: {why}"),
-                    None => "elaborated".into(),
-                },
-                e.summary
-                    .as_ref()
-                    .map_or(format!("saves {:.0}", e.gates_saved), |s| {
-                        format!("{:.0}", s.gates_nand2)
-                    }),
-                if e.left_out.is_some() {
-                    format!("saves {} fragment-clocks", e.cycles_saved)
-                } else {
-                    String::new()
-                },
-            ]
-        })
-        .collect();
     print!(
         "{}",
-        text_table(&["unit", "status", "gates_nand2", "cycles"], &rows)
+        crate::report::table::elaboration_table(&r.elaboration)
     );
     let (objects, shafts) = split_objects_shafts(&pred);
     println!(
