@@ -47,7 +47,8 @@ pub enum Command {
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
-    /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S).
+    /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S), envmap-table5 and envmap-images
+    /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -226,9 +227,21 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
             out,
             crate::pipeline::envmap::reproduce::cli_side()?,
         )?,
+        "envmap-table5" => {
+            crate::pipeline::envmap::reproduce::table5(
+                out,
+                crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+            )?;
+        }
+        "envmap-images" => {
+            crate::pipeline::envmap::reproduce::images(
+                out,
+                crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+            )?;
+        }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3, envmap-table5, envmap-images)"
             ))
         }
     }

@@ -342,6 +342,8 @@ pub struct Truth {
     pub cos_phi: Image,
     /// Eq. (3): without it (what the map stores).
     pub simplified: Image,
+    /// The voxel side s whose g(|t|) gave Λ (the truth depends on it).
+    pub side: u32,
 }
 
 /// Errors against both truths.
@@ -491,6 +493,10 @@ struct Shading {
 /// Render `object` with smoothness `lambda` at `size` = (width, height) through the
 /// units with `map`, and the two Phong truths on `env` at the same pixels. Errors:
 /// "envmap_render.size", "envmap_render.lambda", "envmap.exposure", unit config errors.
+///
+/// The truth pixels are independent and are computed in parallel with rayon (each
+/// pixel's sum in a fixed order, results collected in pixel order: the same bytes for
+/// any thread count).
 pub fn render_object_with(
     env: &EnvMap,
     map: &VoxelMap,
@@ -499,6 +505,89 @@ pub fn render_object_with(
     size: (u32, u32),
     opt: &RenderOptions,
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
+    let r = render_core(env, map, object, lambda, size, opt)?;
+    let truth = truth_images(&r)?;
+    let stats = r.stats(&truth);
+    Ok((r.img, truth, stats))
+}
+
+/// As [`render_object_with`], but reusing `truth` from an earlier call with the same
+/// environment, exposure, object, λ, size and map side (e.g. the exact map's render
+/// when rendering the accelerated map): the truth depends only on the geometry, the
+/// interpolated n, r, λ, and g at the map's side, never on the map's voxels. The
+/// truth's object mask and map side must equal this render's, else an error naming
+/// "envmap_render.truth" (it was made for another scene or side). The exposure and
+/// environment are the caller's to keep the same.
+pub fn render_against(
+    env: &EnvMap,
+    map: &VoxelMap,
+    object: Object,
+    lambda: LambdaSpec,
+    size: (u32, u32),
+    opt: &RenderOptions,
+    truth: &Truth,
+) -> Result<(Image, RenderStats), ConfigError> {
+    let r = render_core(env, map, object, lambda, size, opt)?;
+    if truth.cos_phi.mask != r.img.mask
+        || truth.simplified.mask != r.img.mask
+        || truth.cos_phi.width != r.img.width
+        || truth.cos_phi.height != r.img.height
+        || truth.side != r.side
+    {
+        return Err(ConfigError::invalid(
+            "envmap_render.truth",
+            "its object pixels or map side differ from this render's (another scene, size, object or s)",
+        ));
+    }
+    let stats = r.stats(truth);
+    Ok((r.img, stats))
+}
+
+/// Only the rendered image (no truth, no statistics): for looking at.
+pub fn render_image(
+    env: &EnvMap,
+    map: &VoxelMap,
+    object: Object,
+    lambda: LambdaSpec,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<Image, ConfigError> {
+    Ok(render_core(env, map, object, lambda, size, opt)?.img)
+}
+
+/// The rendered image (object and background) and what the truth needs.
+struct Rendered {
+    img: Image,
+    /// Background pixels (also the truths' background).
+    background: Vec<(usize, [u8; 3])>,
+    shading: Vec<(usize, Shading)>,
+    levels_env: EnvMap,
+    side: u32,
+    counters: BTreeMap<String, Counters>,
+    triangles: usize,
+    back_normal_pixels: usize,
+}
+
+impl Rendered {
+    fn stats(&self, truth: &Truth) -> RenderStats {
+        RenderStats {
+            cos_phi: ErrorStats::of(&self.img, &truth.cos_phi),
+            simplified: ErrorStats::of(&self.img, &truth.simplified),
+            counters: self.counters.clone(),
+            triangles: self.triangles,
+            back_normal_pixels: self.back_normal_pixels,
+        }
+    }
+}
+
+fn render_core(
+    env: &EnvMap,
+    map: &VoxelMap,
+    object: Object,
+    lambda: LambdaSpec,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<Rendered, ConfigError> {
     let (w, h) = size;
     check_range("envmap_render.size", w.into(), 1, MAX_IMAGE_SIDE.into())?;
     check_range("envmap_render.size", h.into(), 1, MAX_IMAGE_SIDE.into())?;
@@ -587,8 +676,6 @@ pub fn render_object_with(
 
     // ---- per visible pixel: reflection (f64 gap), coordinate hand-over, sampler.
     let mut img = Image::new(w, h);
-    let mut truth_c = Image::new(w, h);
-    let mut truth_s = Image::new(w, h);
     let mut c_tex = Counters::default();
     let mut inputs: Vec<TextureSamplerIn> = Vec::new();
     let mut shading: Vec<(usize, Shading)> = Vec::new();
@@ -618,21 +705,13 @@ pub fn render_object_with(
             ((c as u64 * 255 + max_code as u64 / 2) / max_code as u64).min(255) as u8
         }
     };
-    let truth = PhongTruth::new(&levels_env);
-    let lvl = |x: f64| -> u8 { x.clamp(0.0, 255.0).round() as u8 };
-    for ((k, sh), out) in shading.iter().zip(&texel_out) {
+    for ((k, _), out) in shading.iter().zip(&texel_out) {
         img.pixels[*k] = [to8(out[0]), to8(out[1]), to8(out[2])];
         img.mask[*k] = true;
-        let big_lambda = g(sh.lambda * sh.r.length(), s as f64, THESIS_LEVELS);
-        let tc = truth.eval(sh.r, sh.n, big_lambda, Visibility::CosPhiTest)?;
-        let ts = truth.eval(sh.r, sh.n, big_lambda, Visibility::Simplified)?;
-        truth_c.pixels[*k] = tc.map(lvl);
-        truth_s.pixels[*k] = ts.map(lvl);
-        truth_c.mask[*k] = true;
-        truth_s.mask[*k] = true;
     }
 
     // ---- background
+    let mut background = Vec::new();
     for y in 0..h {
         for x in 0..w {
             let k = (y * w + x) as usize;
@@ -643,33 +722,68 @@ pub fn render_object_with(
                 Background::Black => [0; 3],
                 Background::Environment => {
                     let d = cam.ray_dir(x as f64 + 0.5, y as f64 + 0.5);
-                    levels_env.lookup(d).map(lvl)
+                    levels_env.lookup(d).map(level8)
                 }
             };
             img.pixels[k] = bg;
-            truth_c.pixels[k] = bg;
-            truth_s.pixels[k] = bg;
+            background.push((k, bg));
         }
     }
 
     let mut counters = BTreeMap::new();
     counters.insert("polygon_interpolator".to_string(), c_int);
     counters.insert("texture_sampler (envmap)".to_string(), c_tex);
-    let stats = RenderStats {
-        cos_phi: ErrorStats::of(&img, &truth_c),
-        simplified: ErrorStats::of(&img, &truth_s),
+    Ok(Rendered {
+        img,
+        background,
+        shading,
+        levels_env,
+        side: s,
         counters,
         triangles,
         back_normal_pixels,
-    };
-    Ok((
-        img,
-        Truth {
-            cos_phi: truth_c,
-            simplified: truth_s,
-        },
-        stats,
-    ))
+    })
+}
+
+/// A level in f64 rounded to an 8-bit level (clamped).
+fn level8(x: f64) -> u8 {
+    x.clamp(0.0, 255.0).round() as u8
+}
+
+/// The two truths at the rendered pixels (parallel over pixels, deterministic), with
+/// the render's background.
+fn truth_images(r: &Rendered) -> Result<Truth, ConfigError> {
+    use rayon::prelude::*;
+    let (w, h) = (r.img.width, r.img.height);
+    let truth = PhongTruth::new(&r.levels_env);
+    let s = r.side as f64;
+    let px: Vec<([u8; 3], [u8; 3])> = r
+        .shading
+        .par_iter()
+        .map(|(_, sh)| {
+            let big_lambda = g(sh.lambda * sh.r.length(), s, THESIS_LEVELS);
+            let tc = truth.eval(sh.r, sh.n, big_lambda, Visibility::CosPhiTest)?;
+            let ts = truth.eval(sh.r, sh.n, big_lambda, Visibility::Simplified)?;
+            Ok((tc.map(level8), ts.map(level8)))
+        })
+        .collect::<Result<_, ConfigError>>()?;
+    let mut truth_c = Image::new(w, h);
+    let mut truth_s = Image::new(w, h);
+    for ((k, _), (c, s)) in r.shading.iter().zip(px) {
+        truth_c.pixels[*k] = c;
+        truth_s.pixels[*k] = s;
+        truth_c.mask[*k] = true;
+        truth_s.mask[*k] = true;
+    }
+    for &(k, bg) in &r.background {
+        truth_c.pixels[k] = bg;
+        truth_s.pixels[k] = bg;
+    }
+    Ok(Truth {
+        cos_phi: truth_c,
+        simplified: truth_s,
+        side: r.side,
+    })
 }
 
 /// r = 2(n̂·v)n̂ − v for unit v (host f64: the documented gap). A zero normal (never

@@ -1,4 +1,12 @@
-//! `reproduce envmap-table3`: the thesis' Table 3 (voxel error of the accelerated build
+//! `reproduce envmap-table3`, `envmap-table5`, `envmap-images`.
+//!
+//! **Table 5 and the figures** ([`table5`], [`images`]; the thesis §4.3): renders of
+//! the sphere and the teapot through the units with the 128³ maps built here
+//! ([`build_exact`], [`build_accelerated`] at th = 0.001) from the environment at its
+//! auto exposure — the renderer's default exposure, so the map and the Phong truth see
+//! the same 256-level input. See the functions for the files written.
+//!
+//! **Table 3**: the thesis' Table 3 (voxel error of the accelerated build
 //! against the exact one, per threshold th) and Table 4's table sizes and times.
 //!
 //! For env ∈ {pattern (512 × 256, exposure 1 = its auto exposure), st_fagans_interior
@@ -30,8 +38,13 @@
 //! growing (empty voxels give F = 0 here; the thesis does not say what it stored).
 
 use super::prefilter::{
-    build_accelerated_both, build_exact, env_to_levels, prune_bound, voxel_error,
+    build_accelerated, build_accelerated_both, build_exact, env_to_levels, prune_bound, voxel_error,
 };
+use super::render::{
+    render_against, render_image, render_object_with, Image, LambdaSpec, Object, RenderOptions,
+    Table5Row, TABLE5_LAMBDAS,
+};
+use super::voxmap::VoxelMap;
 use crate::reference::envmap_prefilter::PrefilterParams;
 use crate::scene::envmap::EnvMap;
 use std::fmt::Write as _;
@@ -121,4 +134,249 @@ pub fn table3(out: &Path, s: u32) -> Result<(), String> {
     crate::cli::write_file(&out.join("prefilter_times.csv"), times.as_bytes())?;
     print!("{t3}");
     Ok(())
+}
+
+// ---------------------------------------------------------------------------------
+// Table 5, Figs. 14–17, 20, 21: renders against the Phong truth.
+
+/// The accelerated map's threshold for Table 5 and the figures (the thesis' choice).
+pub const TABLE5_TH: f64 = 0.001;
+/// Gain of the difference images (|Δ| × 8: 32 levels → white).
+pub const DIFF_GAIN: f64 = 8.0;
+/// The environments of Table 5 and the figures: the thesis' Fig. 13(a) and a photo
+/// (standing for Fig. 13(b)).
+pub const TABLE5_ENVS: [&str; 2] = ["pattern", "st_fagans_interior"];
+
+/// Sizes of a Table 5 / images run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RenderRun {
+    /// Voxel side s (the thesis: 128).
+    pub s: u32,
+    /// Image width and height (square).
+    pub size: u32,
+}
+
+impl RenderRun {
+    /// The CLI's: s = 128 (or `ENVMAP_TABLE3_S`), 256 × 256 (or `ENVMAP_IMAGE_SIZE`,
+    /// 8 ..= 1024).
+    pub fn cli() -> Result<Self, String> {
+        let size = match std::env::var("ENVMAP_IMAGE_SIZE") {
+            Ok(v) => match v.trim().parse::<u32>() {
+                Ok(n) if (8..=1024).contains(&n) => n,
+                _ => return Err(format!("ENVMAP_IMAGE_SIZE: '{v}' is not in 8 ..= 1024")),
+            },
+            Err(_) => 256,
+        };
+        Ok(RenderRun {
+            s: cli_side()?,
+            size,
+        })
+    }
+}
+
+fn rgba(img: &Image) -> image::RgbaImage {
+    let mut out = image::RgbaImage::new(img.width, img.height);
+    for (x, y, p) in out.enumerate_pixels_mut() {
+        let c = img.get(x, y);
+        *p = image::Rgba([c[0], c[1], c[2], 255]);
+    }
+    out
+}
+
+fn grid(path: &Path, panels: &[(String, &Image)], columns: usize) -> Result<(), String> {
+    let imgs: Vec<(String, image::RgbaImage)> =
+        panels.iter().map(|(c, i)| (c.clone(), rgba(i))).collect();
+    let refs: Vec<(&str, &image::RgbaImage)> = imgs.iter().map(|(c, i)| (c.as_str(), i)).collect();
+    crate::report::plot::image_grid(path, &refs, columns)
+}
+
+/// The exact and accelerated (th = [`TABLE5_TH`]) maps of `env` at its auto exposure
+/// (the renderer's default exposure: the same levels as the truth), with build times.
+fn both_maps(env: &EnvMap, s: u32) -> Result<(VoxelMap, VoxelMap, f64, f64), String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    let params = PrefilterParams::thesis();
+    let levels = env_to_levels(env, env.auto_exposure()).map_err(e)?;
+    let t0 = Instant::now();
+    let exact = build_exact(&levels, s, &params).map_err(e)?;
+    let t_exact = t0.elapsed().as_secs_f64();
+    let (acc, st) = build_accelerated(&levels, s, &params, TABLE5_TH).map_err(e)?;
+    Ok((exact, acc, t_exact, st.build_seconds))
+}
+
+/// `reproduce envmap-table5`: for env ∈ [`TABLE5_ENVS`], object ∈ {sphere, teapot}, λ ∈
+/// [`TABLE5_LAMBDAS`], the render with the exact and the accelerated (th = 0.001) map
+/// against the Phong truth with the cos φ test (mean |Δ| and variance of |Δ| over the
+/// object's pixels, 8-bit levels). The truth is computed once per (env, object, λ) and
+/// shared by both maps. Writes `DIR/table5.csv` (`object,env,lambda,accelerated,
+/// mean_r,mean_g,mean_b,var_r,var_g,var_b`), `DIR/table5_extra.csv` (the same against
+/// the truth without the cos φ test, the signed mean, the largest |Δ| and the pixel
+/// counts), `DIR/table5_times.csv`, and the difference figures `DIR/fig20.png`
+/// (pattern, sphere, λ = 0.5) and `DIR/fig21.png` (photo, teapot, non-uniform λ):
+/// (a) truth, (b) exact, (c) |a − b| × 8, (d) accelerated, (e) |a − d| × 8.
+/// Returns the rows.
+pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    let size = (run.size, run.size);
+    let mut rows = Vec::new();
+    let mut extra = String::from(
+        "object,env,lambda,accelerated,pixels,simplified_mean_r,simplified_mean_g,simplified_mean_b,signed_mean_r,signed_mean_g,signed_mean_b,max_r,max_g,max_b,back_normal_pixels\n",
+    );
+    let mut times = String::from(
+        "env,s,size,exact_build_seconds,accelerated_build_seconds,truth_and_render_seconds\n",
+    );
+    let opt = RenderOptions::default();
+    for name in TABLE5_ENVS {
+        let env = EnvMap::builtin(name).map_err(e)?;
+        let (exact, acc, t_exact, t_acc) = both_maps(&env, run.s)?;
+        eprintln!(
+            "{name}: maps {s}³ exact {t_exact:.1} s, accelerated {t_acc:.1} s",
+            s = run.s
+        );
+        let t0 = Instant::now();
+        for object in [Object::Sphere, Object::Teapot] {
+            for lambda in TABLE5_LAMBDAS {
+                let t1 = Instant::now();
+                let (img_e, truth, st_e) =
+                    render_object_with(&env, &exact, object, lambda, size, &opt).map_err(e)?;
+                let (img_a, st_a) =
+                    render_against(&env, &acc, object, lambda, size, &opt, &truth).map_err(e)?;
+                eprintln!(
+                    "{name} {} λ={}: {} px, mean |Δ| exact {:.2} {:.2} {:.2}, accelerated {:.2} {:.2} {:.2} ({:.1} s)",
+                    object.name(),
+                    lambda.label(),
+                    st_e.cos_phi.pixels,
+                    st_e.cos_phi.mean[0],
+                    st_e.cos_phi.mean[1],
+                    st_e.cos_phi.mean[2],
+                    st_a.cos_phi.mean[0],
+                    st_a.cos_phi.mean[1],
+                    st_a.cos_phi.mean[2],
+                    t1.elapsed().as_secs_f64()
+                );
+                for (accelerated, st) in [(false, &st_e), (true, &st_a)] {
+                    rows.push(Table5Row {
+                        object: object.name().to_string(),
+                        env: name.to_string(),
+                        lambda: lambda.label(),
+                        accelerated,
+                        mean: st.cos_phi.mean,
+                        var: st.cos_phi.var,
+                    });
+                    let (m, sm, mx) = (st.simplified.mean, st.cos_phi.mean_signed, st.cos_phi.max);
+                    let _ = writeln!(
+                        extra,
+                        "{},{name},{},{accelerated},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{},{}",
+                        object.name(),
+                        lambda.label(),
+                        st.cos_phi.pixels,
+                        m[0],
+                        m[1],
+                        m[2],
+                        sm[0],
+                        sm[1],
+                        sm[2],
+                        mx[0],
+                        mx[1],
+                        mx[2],
+                        st.back_normal_pixels
+                    );
+                }
+                let fig = match (name, object, lambda) {
+                    ("pattern", Object::Sphere, LambdaSpec::Uniform(0.5)) => Some("fig20.png"),
+                    ("st_fagans_interior", Object::Teapot, LambdaSpec::NonUniform) => {
+                        Some("fig21.png")
+                    }
+                    _ => None,
+                };
+                if let Some(file) = fig {
+                    let g = format!("×{DIFF_GAIN}");
+                    let d_e = img_e.diff(&truth.cos_phi, DIFF_GAIN);
+                    let d_a = img_a.diff(&truth.cos_phi, DIFF_GAIN);
+                    grid(
+                        &out.join(file),
+                        &[
+                            ("(a) Phong truth".to_string(), &truth.cos_phi),
+                            ("(b) exact map".to_string(), &img_e),
+                            (format!("(c) |a − b| {g}"), &d_e),
+                            (format!("(d) accelerated, th = {TABLE5_TH}"), &img_a),
+                            (format!("(e) |a − d| {g}"), &d_a),
+                        ],
+                        5,
+                    )?;
+                }
+            }
+        }
+        let _ = writeln!(
+            times,
+            "{name},{},{},{t_exact:.3},{t_acc:.3},{:.3}",
+            run.s,
+            run.size,
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    let mut csv = format!("{}\n", Table5Row::CSV_HEADER);
+    for r in &rows {
+        let _ = writeln!(csv, "{}", r.to_csv());
+    }
+    crate::cli::write_file(&out.join("table5.csv"), csv.as_bytes())?;
+    crate::cli::write_file(&out.join("table5_extra.csv"), extra.as_bytes())?;
+    crate::cli::write_file(&out.join("table5_times.csv"), times.as_bytes())?;
+    print!("{csv}");
+    Ok(rows)
+}
+
+/// `reproduce envmap-images`: the Figs. 14–17 analogues with the accelerated map (th =
+/// [`TABLE5_TH`], the thesis' method): per env ∈ [`TABLE5_ENVS`], sphere and teapot at
+/// uniform λ = 1, 0.5, 0.25 (`DIR/fig14_pattern.png`, `DIR/fig16_st_fagans_interior.png`:
+/// rows sphere, teapot) and non-uniform λ (`DIR/fig15_pattern.png`,
+/// `DIR/fig17_st_fagans_interior.png`: sphere, teapot, and their Phong truths).
+/// Returns the files written.
+pub fn images(out: &Path, run: RenderRun) -> Result<Vec<std::path::PathBuf>, String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    let size = (run.size, run.size);
+    let opt = RenderOptions::default();
+    let mut files = Vec::new();
+    for (name, uni, non) in [
+        ("pattern", "fig14", "fig15"),
+        ("st_fagans_interior", "fig16", "fig17"),
+    ] {
+        let env = EnvMap::builtin(name).map_err(e)?;
+        let params = PrefilterParams::thesis();
+        let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+        let (acc, st) = build_accelerated(&levels, run.s, &params, TABLE5_TH).map_err(e)?;
+        eprintln!(
+            "{name}: accelerated {}³ map in {:.1} s",
+            run.s, st.build_seconds
+        );
+        let mut panels: Vec<(String, Image)> = Vec::new();
+        for object in [Object::Sphere, Object::Teapot] {
+            for l in [1.0, 0.5, 0.25] {
+                let img = render_image(&env, &acc, object, LambdaSpec::Uniform(l), size, &opt)
+                    .map_err(e)?;
+                panels.push((format!("{}, λ = {l}", object.name()), img));
+            }
+        }
+        let refs: Vec<(String, &Image)> = panels.iter().map(|(c, i)| (c.clone(), i)).collect();
+        let f = out.join(format!("{uni}_{name}.png"));
+        grid(&f, &refs, 3)?;
+        files.push(f);
+        let mut panels: Vec<(String, Image)> = Vec::new();
+        let mut truths: Vec<(String, Image)> = Vec::new();
+        for object in [Object::Sphere, Object::Teapot] {
+            let (img, truth, _) =
+                render_object_with(&env, &acc, object, LambdaSpec::NonUniform, size, &opt)
+                    .map_err(e)?;
+            panels.push((format!("{}, non-uniform λ", object.name()), img));
+            truths.push((format!("{}, Phong truth", object.name()), truth.cos_phi));
+        }
+        panels.extend(truths);
+        let refs: Vec<(String, &Image)> = panels.iter().map(|(c, i)| (c.clone(), i)).collect();
+        let f = out.join(format!("{non}_{name}.png"));
+        grid(&f, &refs, 2)?;
+        files.push(f);
+    }
+    for f in &files {
+        println!("{}", f.display());
+    }
+    Ok(files)
 }
