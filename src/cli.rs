@@ -48,7 +48,8 @@ pub enum Command {
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
     /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S), envmap-table5 and envmap-images
-    /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE).
+    /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
+    /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -233,6 +234,12 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
             )?;
         }
+        "envmap-timing" => {
+            crate::pipeline::envmap::reproduce::timing(
+                out,
+                crate::pipeline::envmap::reproduce::cli_side()?,
+            )?;
+        }
         "envmap-images" => {
             crate::pipeline::envmap::reproduce::images(
                 out,
@@ -241,7 +248,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3, envmap-table5, envmap-images)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3, envmap-table5, envmap-images, envmap-timing)"
             ))
         }
     }

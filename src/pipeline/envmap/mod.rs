@@ -4,4 +4,6 @@
 pub mod prefilter;
 pub mod render;
 pub mod reproduce;
+pub mod slice;
+pub mod timing;
 pub mod voxmap;

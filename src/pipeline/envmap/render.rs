@@ -89,9 +89,10 @@ use std::path::Path;
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
 use rtl_model::units::polygon_interpolator::PolygonInterpolatorConfig;
-use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
 use rtl_model::Counters;
 
+use super::slice;
 use super::voxmap::VoxelMap;
 use crate::pipeline::raster::{draw_triangle, Fragment, HostVertex};
 use crate::pipeline::shafts::view::CameraView;
@@ -182,12 +183,47 @@ pub enum Background {
     Black,
 }
 
+/// Which texture the object's lookups use.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Lookup {
+    /// Always the 3D voxel map through the 3D (trilinear) sampler: the thesis' method,
+    /// and the default, so Table 5 measures the 3D map.
+    #[default]
+    Voxel3D,
+    /// The elaborated choice: for [`LambdaSpec::Uniform`] a 2D slice of the map at
+    /// radius λ through the 2D (bilinear) sampler (`super::slice`); the 3D map for
+    /// [`LambdaSpec::NonUniform`].
+    Auto,
+}
+
 /// Options of [`render_object_with`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderOptions {
     /// Exposure of the environment's levels; None: [`EnvMap::auto_exposure`].
     pub exposure: Option<f64>,
     pub background: Background,
+    pub lookup: Lookup,
+}
+
+/// What one render did, counted (no truth needed): for the frame-time model and the
+/// elaboration report.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct FrameInfo {
+    pub width: u32,
+    pub height: u32,
+    /// Triangles set up.
+    pub triangles: usize,
+    /// Fragments the interpolator produced (every covered pixel of every triangle,
+    /// before the depth test).
+    pub fragments: u64,
+    /// Visible object pixels (after the depth test; each got one texture lookup).
+    pub shaded: u64,
+    /// Background pixels (the environment pass).
+    pub background_pixels: u64,
+    /// Texels one lookup reads (8: trilinear 3D; 4: bilinear 2D slice).
+    pub texels_per_lookup: u32,
+    /// Which sampler was elaborated, which left out, and the bytes and gates saved.
+    pub elaboration: super::slice::Elaboration,
 }
 
 /// An 8-bit RGB image with the object's coverage.
@@ -359,6 +395,8 @@ pub struct RenderStats {
     /// silhouettes, from interpolating vertex normals); there the cos φ truth loses most
     /// of the lobe and the errors are large (the thesis' rim error, Fig. 8).
     pub back_normal_pixels: usize,
+    /// The render's counts and elaboration report.
+    pub frame: FrameInfo,
 }
 
 /// SMALL / TEST map builder: the exact prefilter (eqs. 8–9, Λ = g(|t|) at s and I = 256,
@@ -555,6 +593,19 @@ pub fn render_image(
     Ok(render_core(env, map, object, lambda, size, opt)?.img)
 }
 
+/// The rendered image and its counts (no truth): for timing a frame.
+pub fn render_frame(
+    env: &EnvMap,
+    map: &VoxelMap,
+    object: Object,
+    lambda: LambdaSpec,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<(Image, FrameInfo), ConfigError> {
+    let r = render_core(env, map, object, lambda, size, opt)?;
+    Ok((r.img, r.frame))
+}
+
 /// The rendered image (object and background) and what the truth needs.
 struct Rendered {
     img: Image,
@@ -566,6 +617,7 @@ struct Rendered {
     counters: BTreeMap<String, Counters>,
     triangles: usize,
     back_normal_pixels: usize,
+    frame: FrameInfo,
 }
 
 impl Rendered {
@@ -576,6 +628,7 @@ impl Rendered {
             counters: self.counters.clone(),
             triangles: self.triangles,
             back_normal_pixels: self.back_normal_pixels,
+            frame: self.frame.clone(),
         }
     }
 }
@@ -613,16 +666,18 @@ fn render_core(
     }
     .build()?;
     let s = map.side();
-    let texels: Vec<u32> = map.data().iter().flatten().copied().collect();
-    let sampler = TextureSampler::new(
-        TextureSamplerConfig {
-            channels: 3,
-            texel_bits: map.bits(),
-            ..TextureSamplerConfig::geforce_3d(s, s, s)
-        },
-        &texels,
-    )
-    .map_err(|e| e.within("envmap_render"))?;
+    let sampler3 = slice::sampler_3d(map)?;
+    // The 2D-slice elaboration: uniform λ reads the map only on |t| = λ.
+    let two_d = match (opt.lookup, lambda) {
+        (Lookup::Auto, LambdaSpec::Uniform(l)) => {
+            let (sw, sh) = slice::default_slice_size(s);
+            let sl = slice::slice_from_map(map, l, sw, sh)?;
+            let s2 = slice::sampler_2d(&sl)?;
+            Some((s2, sl))
+        }
+        _ => None,
+    };
+    let sampler: &TextureSampler = two_d.as_ref().map_or(&sampler3, |(s2, _)| s2);
 
     // ---- raster + depth test
     let mut c_int = Counters::default();
@@ -630,6 +685,7 @@ fn render_core(
     let mut zbuf: Vec<i64> = vec![i64::MAX; n_px];
     let mut frag_at: Vec<Option<Fragment>> = vec![None; n_px];
     let mut triangles = 0;
+    let mut fragments = 0u64;
     for (tri, lam) in &geo {
         let mut hv = [HostVertex {
             x: 0.0,
@@ -665,6 +721,7 @@ fn render_core(
         }
         triangles += 1;
         for f in draw_triangle(&interp, &hv, w, h, &mut c_int)? {
+            fragments += 1;
             let k = (f.y * w + f.x) as usize;
             // Integer depth compare on the s16.16 window-depth code (less wins).
             if f.attrs[7] < zbuf[k] {
@@ -691,12 +748,17 @@ fn render_core(
         }
         // GAP: the reflection and t = r·λ are host f64 (module notes, step 4).
         let (n, r) = reflect(n, v);
-        let t = r * lam;
-        let stq = [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5];
+        let stq = if two_d.is_some() {
+            // 2D slice: the lookup is on |t| = λ, addressed by r's direction.
+            slice::slice_coord(r)
+        } else {
+            let t = r * lam;
+            [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
+        };
         inputs.push(sampler.config().input_from_normalized(stq, &mut c_tex)?);
         shading.push((k, Shading { n, r, lambda: lam }));
     }
-    let texel_out = run_span(&sampler, &mut (), &inputs, &mut c_tex);
+    let texel_out = run_span(sampler, &mut (), &inputs, &mut c_tex);
     let max_code = map.max_code();
     let to8 = |c: u32| -> u8 {
         if max_code == 255 {
@@ -730,6 +792,22 @@ fn render_core(
         }
     }
 
+    let shaded = shading.len() as u64;
+    let frame = FrameInfo {
+        width: w,
+        height: h,
+        triangles,
+        fragments,
+        shaded,
+        background_pixels: background.len() as u64,
+        texels_per_lookup: sampler.config().texels_per_sample(),
+        elaboration: slice::elaboration(
+            two_d.as_ref().map(|(s2, sl)| (s2, sl)),
+            &sampler3,
+            map,
+            shaded,
+        ),
+    };
     let mut counters = BTreeMap::new();
     counters.insert("polygon_interpolator".to_string(), c_int);
     counters.insert("texture_sampler (envmap)".to_string(), c_tex);
@@ -742,6 +820,7 @@ fn render_core(
         counters,
         triangles,
         back_normal_pixels,
+        frame,
     })
 }
 

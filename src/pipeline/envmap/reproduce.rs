@@ -41,10 +41,12 @@ use super::prefilter::{
     build_accelerated, build_accelerated_both, build_exact, env_to_levels, prune_bound, voxel_error,
 };
 use super::render::{
-    render_against, render_image, render_object_with, Image, LambdaSpec, Object, RenderOptions,
-    Table5Row, TABLE5_LAMBDAS,
+    render_against, render_frame, render_image, render_object_with, Image, LambdaSpec, Lookup,
+    Object, RenderOptions, Table5Row, TABLE5_LAMBDAS,
 };
+use super::timing::{predict_frame, TimingRow};
 use super::voxmap::VoxelMap;
+use crate::pipeline::shafts::throughput::GpuModel;
 use crate::reference::envmap_prefilter::PrefilterParams;
 use crate::scene::envmap::EnvMap;
 use std::fmt::Write as _;
@@ -379,4 +381,92 @@ pub fn images(out: &Path, run: RenderRun) -> Result<Vec<std::path::PathBuf>, Str
         println!("{}", f.display());
     }
     Ok(files)
+}
+
+// ---------------------------------------------------------------------------------
+// Frame timing (the thesis' Table 6) and the 2D-slice elaboration.
+
+/// The frame size of `reproduce envmap-timing` (the thesis' 640 × 480).
+pub const TIMING_SIZE: (u32, u32) = (640, 480);
+/// The uniform λ of the 2D-slice rows.
+pub const TIMING_SLICE_LAMBDA: f64 = 0.5;
+
+/// `reproduce envmap-timing`: the accelerated (th = [`TABLE5_TH`]) map of side `s` of
+/// the pattern environment; sphere and teapot at 640 × 480 with the non-uniform λ (the
+/// 3D path: rows `sphere`, `teapot`) and with uniform λ = 0.5 through the 2D slice
+/// (`Lookup::Auto`: rows `sphere_slice2d`, `teapot_slice2d`). No truth is computed.
+/// `wall_seconds` is the bit-accurate model's render time on this machine (one run,
+/// geometry to image); `predicted_seconds_geforce3` is [`predict_frame`] on
+/// [`GpuModel::geforce3`]. Writes `DIR/timing.csv`
+/// (`object,width,height,fragments,wall_seconds,predicted_seconds_geforce3`) and
+/// `DIR/elaboration.txt` (the samplers elaborated and left out, texture bytes).
+pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    let env = EnvMap::builtin("pattern").map_err(e)?;
+    let params = PrefilterParams::thesis();
+    let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+    let (map, st) = build_accelerated(&levels, s, &params, TABLE5_TH).map_err(e)?;
+    eprintln!(
+        "pattern: accelerated {s}³ map (th = {TABLE5_TH}) in {:.1} s",
+        st.build_seconds
+    );
+    let gpu = GpuModel::geforce3();
+    let mut rows = Vec::new();
+    let mut elab = String::new();
+    for (suffix, lambda, lookup) in [
+        ("", LambdaSpec::NonUniform, Lookup::Voxel3D),
+        (
+            "_slice2d",
+            LambdaSpec::Uniform(TIMING_SLICE_LAMBDA),
+            Lookup::Auto,
+        ),
+    ] {
+        for object in [Object::Sphere, Object::Teapot] {
+            let opt = RenderOptions {
+                lookup,
+                ..RenderOptions::default()
+            };
+            let t0 = Instant::now();
+            let (_, f) = render_frame(&env, &map, object, lambda, TIMING_SIZE, &opt).map_err(e)?;
+            let wall = t0.elapsed().as_secs_f64();
+            let p = predict_frame(&gpu, &f);
+            let name = format!("{}{suffix}", object.name());
+            eprintln!(
+                "{name}: {} fragments, {} shaded, {} triangles; wall {wall:.3} s; GeForce3 {:.3} ms (object pass {} bound; {:.2} MB moved)",
+                f.fragments,
+                f.shaded,
+                f.triangles,
+                p.seconds * 1e3,
+                if p.object_memory_bound() { "memory" } else { "fill" },
+                p.bytes / 1e6
+            );
+            let el = &f.elaboration;
+            let _ = writeln!(
+                elab,
+                "{name} (λ = {}): texture {} bytes, saved {} bytes, sampler gates saved {:.0}\n{}",
+                lambda.label(),
+                el.texture_bytes,
+                el.texture_bytes_saved,
+                el.gates_saved,
+                crate::report::table::elaboration_table(&el.units)
+            );
+            rows.push(TimingRow {
+                object: name,
+                width: TIMING_SIZE.0,
+                height: TIMING_SIZE.1,
+                fragments: f.fragments,
+                wall_seconds: wall,
+                predicted_seconds_geforce3: p.seconds,
+            });
+        }
+    }
+    let mut csv = format!("{}\n", TimingRow::CSV_HEADER);
+    for r in &rows {
+        let _ = writeln!(csv, "{}", r.to_csv());
+    }
+    crate::cli::write_file(&out.join("timing.csv"), csv.as_bytes())?;
+    crate::cli::write_file(&out.join("elaboration.txt"), elab.as_bytes())?;
+    print!("{csv}");
+    print!("{elab}");
+    Ok(rows)
 }

@@ -64,6 +64,22 @@ impl GpuModel {
     }
 }
 
+impl GpuModel {
+    /// GeForce3 (SPEC E; the environment-map thesis' card): 200 MHz, 4 pipes × 2
+    /// texture units, 3D textures, 4 textures per pass, about 7.36 GB/s (230 MHz DDR on
+    /// a 128-bit bus); the cache, depth, set-up and overhead as the GTS.
+    pub fn geforce3() -> Self {
+        GpuModel {
+            clock_hz: 200e6,
+            pipes: 4,
+            tmus_per_pipe: 2,
+            textures_per_pass: 4,
+            bytes_per_second: 7.36e9,
+            ..GpuModel::geforce2_gts()
+        }
+    }
+}
+
 /// Predicted time, per pass kind and in total.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct Prediction {
