@@ -7,6 +7,7 @@ pub mod driver;
 pub mod error;
 pub mod fixed_point;
 pub mod memory;
+pub mod packed_rom;
 pub mod trace;
 pub mod unit;
 pub mod units;

@@ -41,8 +41,8 @@ use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
 use crate::error::{check_finite, check_range, ConfigError};
 use crate::fixed_point::{round_shift, Quant};
+use crate::packed_rom::PackedRom;
 use crate::unit::{Signal, Timing, Unit, Width};
-use bitvec::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// What keeps the map off its fixed point at 0.
@@ -111,39 +111,6 @@ impl ChaosMapConfig {
     }
 }
 
-/// One packed ROM of unsigned entries.
-#[derive(Clone, Debug, PartialEq, Eq)]
-struct Rom {
-    width: usize,
-    depth: usize,
-    bits: BitVec<u64, Lsb0>,
-}
-
-impl Rom {
-    fn new(width: u32, words: &[u64]) -> Self {
-        let w = width as usize;
-        let mut bits = bitvec![u64, Lsb0; 0; words.len() * w];
-        for (i, &v) in words.iter().enumerate() {
-            bits[i * w..(i + 1) * w].store_le::<u64>(v);
-        }
-        Rom {
-            width: w,
-            depth: words.len(),
-            bits,
-        }
-    }
-
-    #[inline]
-    fn read(&self, i: usize) -> i64 {
-        let i = i.min(self.depth - 1);
-        self.bits[i * self.width..(i + 1) * self.width].load_le::<u64>() as i64
-    }
-
-    fn words(&self) -> Vec<u64> {
-        (0..self.depth).map(|i| self.read(i) as u64).collect()
-    }
-}
-
 /// The validated unit: config, quantised constants and the two ROMs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChaosMap {
@@ -158,8 +125,8 @@ pub struct ChaosMap {
     recip: u128,
     /// round(I·2^(O+14)/n).
     k_out: u64,
-    log2_rom: Rom,
-    exp2_rom: Rom,
+    log2_rom: PackedRom,
+    exp2_rom: PackedRom,
 }
 
 /// The n patch states, raw u0.F codes.
@@ -243,8 +210,8 @@ impl ChaosMap {
             log2u_q,
             recip,
             k_out,
-            log2_rom: Rom::new(e + 1, &l2),
-            exp2_rom: Rom::new(e + 1, &x2),
+            log2_rom: PackedRom::new(e + 1, &l2),
+            exp2_rom: PackedRom::new(e + 1, &x2),
         })
     }
 
@@ -313,7 +280,7 @@ impl ChaosMap {
     }
 
     #[inline]
-    fn interp(&self, rom: &Rom, i: usize, t: i64, ctr: &mut Counters) -> i64 {
+    fn interp(&self, rom: &PackedRom, i: usize, t: i64, ctr: &mut Counters) -> i64 {
         let d = self.cfg.table_bits as i32;
         let a = rom.read(i); // u1.E
         let b = rom.read(i + 1);
@@ -472,7 +439,7 @@ impl Unit for ChaosMap {
         let ir = (128 - self.recip.leading_zeros()).saturating_sub(f + RECIP_EXTRA_BITS);
         let stages = |w: u32| 32 - w.leading_zeros();
         let interp = prim::subtractor(e + 2) + prim::multiplier(e + 2, d) + prim::adder(e + 2);
-        let rom_bits = self.log2_rom.bits.len() as u64 + self.exp2_rom.bits.len() as u64;
+        let rom_bits = self.log2_rom.ram_bits() + self.exp2_rom.ram_bits();
         let mut cost = Cost::default()
             .part("patch state registers", prim::register(n * f))
             .part("patch select", prim::mux_k(f, n))

@@ -49,6 +49,7 @@ use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
 use crate::error::{check_range, ConfigError};
 use crate::fixed_point::{round_shift, Quant};
+use crate::packed_rom::PackedRom;
 use crate::unit::{Signal, Timing, Unit, Width};
 use bitvec::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -104,50 +105,13 @@ impl GaussianNoiseConfig {
     }
 }
 
-/// One packed ROM: `depth` entries of `width` bits (unsigned).
-#[derive(Clone, Debug, PartialEq, Eq)]
-struct Rom {
-    width: usize,
-    depth: usize,
-    bits: BitVec<u64, Lsb0>,
-}
-
-impl Rom {
-    fn new(width: u32, words: &[u64]) -> Self {
-        let w = width as usize;
-        let mut bits = bitvec![u64, Lsb0; 0; words.len() * w];
-        for (i, &v) in words.iter().enumerate() {
-            bits[i * w..(i + 1) * w].store_le::<u64>(v);
-        }
-        Rom {
-            width: w,
-            depth: words.len(),
-            bits,
-        }
-    }
-
-    #[inline]
-    fn read(&self, i: usize) -> i64 {
-        let i = i.min(self.depth - 1);
-        self.bits[i * self.width..(i + 1) * self.width].load_le::<u64>() as i64
-    }
-
-    fn words(&self) -> Vec<u64> {
-        (0..self.depth).map(|i| self.read(i) as u64).collect()
-    }
-
-    fn ram_bits(&self) -> u64 {
-        self.bits.len() as u64
-    }
-}
-
 /// The validated unit: config and its three ROMs.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GaussianNoise {
     cfg: GaussianNoiseConfig,
-    ln_rom: Rom,
-    sqrt_rom: Rom,
-    sin_rom: Rom,
+    ln_rom: PackedRom,
+    sqrt_rom: PackedRom,
+    sin_rom: PackedRom,
     /// round(ln 2 · 2^(E+8)).
     ln2: i64,
 }
@@ -278,9 +242,9 @@ impl GaussianNoise {
         let ln2 = (std::f64::consts::LN_2 * ((e + 8) as f64).exp2()).round() as i64;
         Ok(GaussianNoise {
             cfg,
-            ln_rom: Rom::new(e, &ln),
-            sqrt_rom: Rom::new(e + 2, &sq),
-            sin_rom: Rom::new(e + 1, &sn),
+            ln_rom: PackedRom::new(e, &ln),
+            sqrt_rom: PackedRom::new(e + 2, &sq),
+            sin_rom: PackedRom::new(e + 1, &sn),
             ln2,
         })
     }
@@ -361,7 +325,7 @@ impl GaussianNoise {
     /// Linear interpolation between entries i and i + 1 of a ROM: a + round((b − a)·t/2ᴰ).
     /// Two ROM reads (counted).
     #[inline]
-    fn interp(&self, rom: &Rom, i: usize, t: i64, ctr: &mut Counters) -> i64 {
+    fn interp(&self, rom: &PackedRom, i: usize, t: i64, ctr: &mut Counters) -> i64 {
         let d = self.cfg.table_bits as i32; // D = E
         let a = rom.read(i); // u(≤E+2)
         let b = rom.read(i + 1);
