@@ -1,7 +1,7 @@
 //! `render` for glare scenes: the frame through the units, its PNG, counters,
 //! elaboration, predicted time, and optionally the f64 reference and the error.
 
-use super::frame::{generator, glare_of, interpolator, render_glare, GlareFrame};
+use super::frame::{generator, glare_of, interpolator, render_glare_over, GlareFrame};
 use super::throughput::{predict, GlarePrediction};
 use crate::reference::glare_model::reference_image;
 use crate::scene::format::Scene;
@@ -29,8 +29,16 @@ pub fn setup_and_drain(f: &GlareFrame, coord_frac_bits: u32) -> Result<(u64, u64
 pub fn render_and_predict(
     scene: &Scene,
 ) -> Result<(GlareFrame, GlarePrediction, f64), ConfigError> {
+    render_and_predict_over(scene, None)
+}
+
+/// [`render_and_predict`] over a background already drawn for this scene.
+pub fn render_and_predict_over(
+    scene: &Scene,
+    base: Option<&[[u32; 3]]>,
+) -> Result<(GlareFrame, GlarePrediction, f64), ConfigError> {
     let t0 = Instant::now();
-    let f = render_glare(scene)?;
+    let f = render_glare_over(scene, base)?;
     let wall = t0.elapsed().as_secs_f64();
     let g = glare_of(scene)?;
     let (setup, drain) = setup_and_drain(&f, g.hw.coord_frac_bits)?;

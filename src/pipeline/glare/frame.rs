@@ -97,6 +97,16 @@ pub fn glare_of(scene: &Scene) -> Result<&GlareSection, ConfigError> {
 
 /// Render the glare of a scene over its background.
 pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
+    render_glare_over(scene, None)
+}
+
+/// Render the glare over a background already drawn for this scene (fb codes, RGB,
+/// row-major), or over the scene's own background when `None`. Variants of one scene
+/// that differ only in their glare (Fig. 7's panels) share one background this way.
+pub fn render_glare_over(
+    scene: &Scene,
+    base: Option<&[[u32; 3]]>,
+) -> Result<GlareFrame, ConfigError> {
     let g = glare_of(scene)?;
     let (w, h) = (scene.image.width, scene.image.height);
     let screens = screen_sources(scene)?;
@@ -127,7 +137,20 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
         .collect();
     let labels = all.iter().map(|s| s.label.clone()).collect();
 
-    let base = base_image(scene, &mut counters)?;
+    let base = match base {
+        Some(b) if b.len() == (w * h) as usize => b.to_vec(),
+        Some(b) => {
+            return Err(ConfigError::invalid(
+                "glare.background",
+                &format!(
+                    "the given background has {} pixels, the image {}",
+                    b.len(),
+                    w * h
+                ),
+            ))
+        }
+        None => base_image(scene, &mut counters)?,
+    };
     let mut fb = Framebuffer::new(w, h, g.hw.fb_bits);
     for (i, p) in base.iter().enumerate() {
         fb.data[i * 4..i * 4 + 4].copy_from_slice(&[

@@ -1,7 +1,7 @@
 //! The paper's glare figures (Matsuda & Ikedo, Figs. 4, 5, 7, 8) and the throughput
 //! table, each as CSV and PNG in a directory.
 
-use super::cli::{reference_levels, render_and_predict};
+use super::cli::{reference_levels, render_and_predict, render_and_predict_over};
 use super::fluctuation::chaos_unit;
 use super::frame::GlareFrame;
 use super::throughput::{config_cost, peak_pixels_per_second, ThroughputRow};
@@ -36,7 +36,17 @@ fn rgba(f: &GlareFrame) -> RgbaImage {
 
 /// Render one panel, save its PNG, measure it against the f64 reference.
 fn panel(scene: &Scene, name: &str, out: &Path) -> Result<(GlareFrame, PanelRow), String> {
-    let (f, pred, wall) = render_and_predict(scene).map_err(|e| e.to_string())?;
+    panel_over(scene, None, name, out)
+}
+
+/// [`panel`] over a background already drawn for this scene.
+fn panel_over(
+    scene: &Scene,
+    base: Option<&[[u32; 3]]>,
+    name: &str,
+    out: &Path,
+) -> Result<(GlareFrame, PanelRow), String> {
+    let (f, pred, wall) = render_and_predict_over(scene, base).map_err(|e| e.to_string())?;
     let path = out.join(format!("{name}.png"));
     f.fb.save_png(&path)
         .map_err(|e| format!("out: {}: {e}", path.display()))?;
@@ -212,8 +222,9 @@ pub fn fig7(out: &Path) -> Result<(), String> {
         s
     };
     let (f0, r0) = panel(&variant(false, false), "fig7_original", out)?;
-    let (f1, r1) = panel(&variant(true, false), "fig7_bloom", out)?;
-    let (f2, r2) = panel(&variant(true, true), "fig7_bloom_halo", out)?;
+    // The three panels share one background (the shafts pipeline's frame).
+    let (f1, r1) = panel_over(&variant(true, false), Some(&f0.base), "fig7_bloom", out)?;
+    let (f2, r2) = panel_over(&variant(true, true), Some(&f0.base), "fig7_bloom_halo", out)?;
     write_csv(&out.join("fig7.csv"), &[r0, r1, r2])?;
     image_grid(
         &out.join("fig7.png"),
