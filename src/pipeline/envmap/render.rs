@@ -89,12 +89,15 @@ use std::path::Path;
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
 use rtl_model::units::polygon_interpolator::PolygonInterpolatorConfig;
-use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
-use rtl_model::Counters;
+use rtl_model::units::texture_sampler::{
+    AddressMode, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
+};
+use rtl_model::{Counters, UnitSummary};
 
 use super::slice;
 use super::voxmap::VoxelMap;
 use crate::pipeline::raster::{draw_triangle, Fragment, HostVertex};
+use crate::pipeline::shafts::frame::Elaborated;
 use crate::pipeline::shafts::view::CameraView;
 use crate::reference::envmap_prefilter::{
     g, prefilter_voxel_exact, Equirect, PrefilterParams, Samples, Weighting, THESIS_LEVELS,
@@ -196,6 +199,56 @@ pub enum Lookup {
     Auto,
 }
 
+/// Where the per-pixel smoothness λ comes from (module notes, "Per-pixel roughness").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum LambdaSource {
+    /// λ per vertex, interpolated by the polygon interpolator (the thesis' GeForce3
+    /// path, Fig. 17(b)); the default, and today's images byte for byte.
+    #[default]
+    PerVertex,
+    /// λ per pixel from a `side` × `side`, 8-bit, 1-channel roughness texture (texel
+    /// (i, j) = round(255 · λ(u_i, v_j))) at the pixel's interpolated texture
+    /// coordinate (u, v) from an object-linear texgen ([`object_texgen`]), sampled by
+    /// a 2D bilinear `texture_sampler` (clamp to edge): λ = code / 255. `side` 1 ..=
+    /// [`MAX_LAMBDA_TEXTURE_SIDE`] (errors name "envmap_render.lambda_texture"). The
+    /// lookups then always use the 3D map (no 2D slice: λ is no longer uniform per
+    /// draw call).
+    Texture { side: u32 },
+}
+
+impl LambdaSource {
+    /// "per_vertex" or "texture_<side>".
+    pub fn label(&self) -> String {
+        match self {
+            LambdaSource::PerVertex => "per_vertex".to_string(),
+            LambdaSource::Texture { side } => format!("texture_{side}"),
+        }
+    }
+
+    fn validate(&self) -> Result<(), ConfigError> {
+        if let LambdaSource::Texture { side } = *self {
+            check_range(
+                "envmap_render.lambda_texture",
+                side.into(),
+                1,
+                MAX_LAMBDA_TEXTURE_SIDE.into(),
+            )?;
+        }
+        Ok(())
+    }
+}
+
+/// Largest side of the roughness texture (the sampler's largest axis).
+pub const MAX_LAMBDA_TEXTURE_SIDE: u32 = 4096;
+/// The roughness texture side [`roughness_comparison`] uses: 256 × 256 × 8 bits, a
+/// GeForce-era L8 texture (512 kbit).
+pub const DEFAULT_LAMBDA_TEXTURE_SIDE: u32 = 256;
+/// The seam band of [`IntendedErrors::seam`]: object pixels within this many pixels
+/// (Chebyshev) of a pixel whose intended λ differs from a 4-neighbour's by more than
+/// [`SEAM_JUMP`].
+pub const SEAM_RADIUS: u32 = 2;
+pub const SEAM_JUMP: f64 = 0.5;
+
 /// Options of [`render_object_with`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RenderOptions {
@@ -203,6 +256,11 @@ pub struct RenderOptions {
     pub exposure: Option<f64>,
     pub background: Background,
     pub lookup: Lookup,
+    /// Per-vertex (default) or per-pixel λ from a roughness texture.
+    pub lambda_source: LambdaSource,
+    /// Also make the intended-λ truth ([`Truth::intended`]) and its errors
+    /// ([`RenderStats::intended`]); off by default (it costs a third truth per pixel).
+    pub intended_truth: bool,
 }
 
 /// What one render did, counted (no truth needed): for the frame-time model and the
@@ -222,6 +280,9 @@ pub struct FrameInfo {
     pub background_pixels: u64,
     /// Texels one lookup reads (8: trilinear 3D; 4: bilinear 2D slice).
     pub texels_per_lookup: u32,
+    /// Texels of the roughness texture each shaded pixel reads (4: bilinear, with
+    /// [`LambdaSource::Texture`]; 0 per vertex). Not yet in the frame-time model.
+    pub roughness_texels_per_lookup: u32,
     /// Which sampler was elaborated, which left out, and the bytes and gates saved.
     pub elaboration: super::slice::Elaboration,
 }
@@ -333,14 +394,18 @@ pub struct ErrorStats {
 impl ErrorStats {
     /// Statistics of `img` − `truth` over `img`'s object pixels (all zero if none).
     pub fn of(img: &Image, truth: &Image) -> ErrorStats {
+        Self::of_masked(img, truth, &img.mask)
+    }
+
+    /// Statistics of `img` − `truth` over the pixels where `mask` is true (all zero if
+    /// none; a short mask leaves the rest out).
+    pub fn of_masked(img: &Image, truth: &Image, mask: &[bool]) -> ErrorStats {
         let mut s = ErrorStats::default();
         let mut sum = [0.0; 3];
         let mut sum2 = [0.0; 3];
         let mut sums = [0.0; 3];
-        for k in 0..img.pixels.len().min(truth.pixels.len()) {
-            if !img.mask[k] {
-                continue;
-            }
+        let n = img.pixels.len().min(truth.pixels.len());
+        for (k, _) in mask.iter().take(n).enumerate().filter(|(_, m)| **m) {
             s.pixels += 1;
             for c in 0..3 {
                 let d = img.pixels[k][c] as f64 - truth.pixels[k][c] as f64;
@@ -380,6 +445,36 @@ pub struct Truth {
     pub simplified: Image,
     /// The voxel side s whose g(|t|) gave Λ (the truth depends on it).
     pub side: u32,
+    /// With [`RenderOptions::intended_truth`]: eq. (3) (no cos φ test) with the
+    /// INTENDED λ, λ(u, v) in f64 at the pixel's interpolated texture coordinate, and
+    /// Λ = g(λ·|r|) (module notes, "Per-pixel roughness"). None otherwise.
+    pub intended: Option<Image>,
+}
+
+/// Errors against the intended-λ truth ([`Truth::intended`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct IntendedErrors {
+    /// Over all object pixels.
+    pub all: ErrorStats,
+    /// Over the seam band: object pixels within [`SEAM_RADIUS`] pixels of a jump of
+    /// the intended λ by more than [`SEAM_JUMP`] between 4-neighbours (the sphere's 6
+    /// o'clock seam of the non-uniform λ; empty, all zero, where λ has no jump).
+    pub seam: ErrorStats,
+    /// The map's own error over the seam band: against the eq. (3) truth with the λ the
+    /// render USED ([`Truth::simplified`]), the floor the λ source cannot remove (there
+    /// λ → 0 reads the coarse centre of the map; module notes).
+    pub seam_own: ErrorStats,
+    /// |λ used − λ intended| over all object pixels and over the seam band.
+    pub lambda_all: LambdaErrors,
+    pub lambda_seam: LambdaErrors,
+}
+
+/// Mean and largest |λ used − λ intended| over a set of pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct LambdaErrors {
+    pub pixels: usize,
+    pub mean: f64,
+    pub max: f64,
 }
 
 /// Errors against both truths.
@@ -397,6 +492,8 @@ pub struct RenderStats {
     pub back_normal_pixels: usize,
     /// The render's counts and elaboration report.
     pub frame: FrameInfo,
+    /// Errors against the intended-λ truth, with [`RenderOptions::intended_truth`].
+    pub intended: Option<IntendedErrors>,
 }
 
 /// SMALL / TEST map builder: the exact prefilter (eqs. 8–9, Λ = g(|t|) at s and I = 256,
@@ -486,11 +583,7 @@ pub fn object_geometry(
             (tris, Box::new(f))
         }
         Object::Teapot => {
-            let pos = [
-                -0.5 * (TEAPOT_X.0 + TEAPOT_X.1) * TEAPOT_SCALE,
-                -0.5 * TEAPOT_HEIGHT * TEAPOT_SCALE,
-                0.0,
-            ];
+            let pos = teapot_position();
             let tris = tessellate_teapot(pos, TEAPOT_SCALE, 0.0, TEAPOT_SUBDIVISIONS)?;
             let (y0, h) = (pos[1], TEAPOT_HEIGHT * TEAPOT_SCALE);
             let f = move |p: Vec3| 0.2 + 0.7 * ((p.y - y0) / h).clamp(0.0, 1.0);
@@ -509,6 +602,136 @@ pub fn object_geometry(
         .collect())
 }
 
+/// The object-linear texgen of the roughness texture's coordinate (u, v) (GL's
+/// OBJECT_LINEAR texgen, which GeForce's fixed-function T&L has): u = (p − o)·a_s / l_s,
+/// v = (p − o)·a_t / l_t, so the object's bounding rectangle in the (a_s, a_t) plane
+/// maps to [0, 1]² (module notes, "Per-pixel roughness").
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TexGen {
+    /// The point mapped to (0, 0).
+    pub origin: Vec3,
+    /// Unit axes of u and v.
+    pub s_axis: Vec3,
+    pub t_axis: Vec3,
+    /// Lengths mapped to 1.
+    pub s_len: f64,
+    pub t_len: f64,
+}
+
+impl TexGen {
+    /// (u, v) of the point `p` (host f64, per vertex).
+    pub fn uv(&self, p: Vec3) -> (f64, f64) {
+        let d = p - self.origin;
+        (
+            d.dot(self.s_axis) / self.s_len,
+            d.dot(self.t_axis) / self.t_len,
+        )
+    }
+}
+
+/// The texgen of `object` seen by `cam`: the sphere's planes are the camera's right
+/// and up axes over its bounding square [−1, 1]² (its λ is an angle around the view
+/// axis); the teapot's are world x and y over its bounding rectangle (its λ is a
+/// function of world height, which is NOT a function of (p·right, p·up): the camera
+/// looks down by 14.4°).
+pub fn object_texgen(object: Object, cam: &CameraView) -> TexGen {
+    match object {
+        Object::Sphere => TexGen {
+            origin: (cam.right + cam.up) * -1.0,
+            s_axis: cam.right,
+            t_axis: cam.up,
+            s_len: 2.0,
+            t_len: 2.0,
+        },
+        Object::Teapot => {
+            let pos = teapot_position();
+            TexGen {
+                origin: v3(pos[0] + TEAPOT_X.0 * TEAPOT_SCALE, pos[1], pos[2]),
+                s_axis: v3(1.0, 0.0, 0.0),
+                t_axis: v3(0.0, 1.0, 0.0),
+                s_len: (TEAPOT_X.1 - TEAPOT_X.0) * TEAPOT_SCALE,
+                t_len: TEAPOT_HEIGHT * TEAPOT_SCALE,
+            }
+        }
+    }
+}
+
+/// λ as a function of the texgen coordinate (u, v) of [`object_texgen`]: the roughness
+/// texture's content and the intended per-pixel λ. At a vertex it equals the vertex λ
+/// of [`object_geometry`] (up to f64 rounding): the sphere's angle of
+/// (2u − 1, 2v − 1) = (p·right, p·up) from 6 o'clock, the teapot's 0.2 + 0.7 v with
+/// v = the relative height. Uniform λ gives λ. Never NaN (finite inputs; NaN ones give
+/// the 6 o'clock value 0 for the sphere and 0.2 for the teapot).
+pub fn lambda_of_uv(object: Object, lambda: LambdaSpec, u: f64, v: f64) -> f64 {
+    let u = if u.is_finite() { u } else { 0.5 };
+    let v = if v.is_finite() { v } else { 0.0 };
+    match lambda {
+        LambdaSpec::Uniform(l) => l,
+        LambdaSpec::NonUniform => match object {
+            Object::Sphere => {
+                let (xr, yu) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+                let a = (-xr).atan2(-yu).rem_euclid(std::f64::consts::TAU);
+                (a / std::f64::consts::TAU).clamp(0.0, 1.0)
+            }
+            Object::Teapot => 0.2 + 0.7 * v.clamp(0.0, 1.0),
+        },
+    }
+}
+
+/// The roughness texture's texels (row-major, row j at v = (j + ½)/side): round(255 ·
+/// [`lambda_of_uv`]) at the texel centres. Errors: "envmap_render.lambda_texture" (side
+/// outside 1 ..= 4096), "envmap_render.lambda".
+pub fn roughness_texels(
+    object: Object,
+    lambda: LambdaSpec,
+    side: u32,
+) -> Result<Vec<u32>, ConfigError> {
+    lambda.validate()?;
+    LambdaSource::Texture { side }.validate()?;
+    let n = side as f64;
+    let mut t = Vec::with_capacity(side as usize * side as usize);
+    for j in 0..side {
+        let v = (j as f64 + 0.5) / n;
+        for i in 0..side {
+            let u = (i as f64 + 0.5) / n;
+            let l = lambda_of_uv(object, lambda, u, v);
+            t.push((255.0 * l).round().clamp(0.0, 255.0) as u32);
+        }
+    }
+    Ok(t)
+}
+
+/// The roughness sampler: GeForce 2D defaults (bilinear, 8-bit texels and weights, 8
+/// sub-texel bits, clamp to edge), 1 channel, holding [`roughness_texels`].
+pub fn roughness_sampler(
+    object: Object,
+    lambda: LambdaSpec,
+    side: u32,
+) -> Result<TextureSampler, ConfigError> {
+    let texels = roughness_texels(object, lambda, side)?;
+    TextureSampler::new(
+        TextureSamplerConfig {
+            channels: 1,
+            texel_bits: ROUGHNESS_BITS,
+            address: [AddressMode::Clamp; 3],
+            ..TextureSamplerConfig::geforce_2d(side, side)
+        },
+        &texels,
+    )
+    .map_err(|e| e.within("envmap_render.lambda_texture"))
+}
+
+/// Bits of a roughness texel (λ = code / 255).
+const ROUGHNESS_BITS: u32 = 8;
+
+fn teapot_position() -> [f64; 3] {
+    [
+        -0.5 * (TEAPOT_X.0 + TEAPOT_X.1) * TEAPOT_SCALE,
+        -0.5 * TEAPOT_HEIGHT * TEAPOT_SCALE,
+        0.0,
+    ]
+}
+
 /// [`render_object_with`] with the default options (auto exposure, environment
 /// background).
 pub fn render_object(
@@ -525,7 +748,11 @@ pub fn render_object(
 struct Shading {
     n: Vec3,
     r: Vec3,
+    /// The λ the render used (interpolated per vertex, or the roughness texture's).
     lambda: f64,
+    /// The intended λ: [`lambda_of_uv`] at the interpolated (u, v) (= `lambda` when
+    /// (u, v) were not interpolated).
+    lambda_intended: f64,
 }
 
 /// Render `object` with smoothness `lambda` at `size` = (width, height) through the
@@ -544,7 +771,7 @@ pub fn render_object_with(
     opt: &RenderOptions,
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
     let r = render_core(env, map, object, lambda, size, opt)?;
-    let truth = truth_images(&r)?;
+    let truth = truth_images(&r, opt.intended_truth)?;
     let stats = r.stats(&truth);
     Ok((r.img, truth, stats))
 }
@@ -629,7 +856,68 @@ impl Rendered {
             triangles: self.triangles,
             back_normal_pixels: self.back_normal_pixels,
             frame: self.frame.clone(),
+            intended: truth.intended.as_ref().map(|t| {
+                let band = self.seam_band();
+                IntendedErrors {
+                    all: ErrorStats::of(&self.img, t),
+                    seam: ErrorStats::of_masked(&self.img, t, &band),
+                    seam_own: ErrorStats::of_masked(&self.img, &truth.simplified, &band),
+                    lambda_all: self.lambda_errors(&self.img.mask),
+                    lambda_seam: self.lambda_errors(&band),
+                }
+            }),
         }
+    }
+
+    fn lambda_errors(&self, mask: &[bool]) -> LambdaErrors {
+        let mut e = LambdaErrors::default();
+        let mut sum = 0.0;
+        for (k, sh) in &self.shading {
+            if mask.get(*k).copied().unwrap_or(false) {
+                let d = (sh.lambda - sh.lambda_intended).abs();
+                e.pixels += 1;
+                sum += d;
+                e.max = e.max.max(d);
+            }
+        }
+        if e.pixels > 0 {
+            e.mean = sum / e.pixels as f64;
+        }
+        e
+    }
+
+    /// The seam band of [`IntendedErrors::seam`] from the intended λ per pixel.
+    fn seam_band(&self) -> Vec<bool> {
+        let (w, h) = (self.img.width as i64, self.img.height as i64);
+        let mut lam: Vec<Option<f64>> = vec![None; self.img.pixels.len()];
+        for (k, sh) in &self.shading {
+            lam[*k] = Some(sh.lambda_intended);
+        }
+        let mut band = vec![false; lam.len()];
+        let r = SEAM_RADIUS as i64;
+        for y in 0..h {
+            for x in 0..w {
+                let Some(l) = lam[(y * w + x) as usize] else {
+                    continue;
+                };
+                let jump = [(1, 0), (0, 1)].iter().any(|&(dx, dy)| {
+                    let (nx, ny) = (x + dx, y + dy);
+                    nx < w
+                        && ny < h
+                        && lam[(ny * w + nx) as usize].is_some_and(|m| (m - l).abs() > SEAM_JUMP)
+                });
+                if !jump {
+                    continue;
+                }
+                for by in (y - r).max(0)..=(y + r + 1).min(h - 1) {
+                    for bx in (x - r).max(0)..=(x + r + 1).min(w - 1) {
+                        let k = (by * w + bx) as usize;
+                        band[k] = lam[k].is_some();
+                    }
+                }
+            }
+        }
+        band
     }
 }
 
@@ -645,6 +933,7 @@ fn render_core(
     check_range("envmap_render.size", w.into(), 1, MAX_IMAGE_SIDE.into())?;
     check_range("envmap_render.size", h.into(), 1, MAX_IMAGE_SIDE.into())?;
     lambda.validate()?;
+    opt.lambda_source.validate()?;
     let exposure = opt.exposure.unwrap_or_else(|| env.auto_exposure());
     let levels_env = env.to_level_map(exposure)?;
     let cam_cfg = camera();
@@ -665,11 +954,31 @@ fn render_core(
         ..PolygonInterpolatorConfig::default()
     }
     .build()?;
+    // The texture coordinate (u, v): 2 more interpolated attributes. The unit carries
+    // at most 8, so they go through a second interpolator with the same position
+    // format (the same coverage and walk, fragment for fragment).
+    let texture_side = match opt.lambda_source {
+        LambdaSource::PerVertex => None,
+        LambdaSource::Texture { side } => Some(side),
+    };
+    let want_uv = texture_side.is_some() || opt.intended_truth;
+    let interp_uv = PolygonInterpolatorConfig {
+        attrs: 2,
+        out_int_bits: 16,
+        out_frac_bits: ATTR_FRAC,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()?;
+    let texgen = object_texgen(object, &cam);
+    let rough = match texture_side {
+        Some(side) => Some(roughness_sampler(object, lambda, side)?),
+        None => None,
+    };
     let s = map.side();
     let sampler3 = slice::sampler_3d(map)?;
-    // The 2D-slice elaboration: uniform λ reads the map only on |t| = λ.
-    let two_d = match (opt.lookup, lambda) {
-        (Lookup::Auto, LambdaSpec::Uniform(l)) => {
+    // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ.
+    let two_d = match (opt.lookup, lambda, opt.lambda_source) {
+        (Lookup::Auto, LambdaSpec::Uniform(l), LambdaSource::PerVertex) => {
             let (sw, sh) = slice::default_slice_size(s);
             let sl = slice::slice_from_map(map, l, sw, sh)?;
             let s2 = slice::sampler_2d(&sl)?;
@@ -681,9 +990,10 @@ fn render_core(
 
     // ---- raster + depth test
     let mut c_int = Counters::default();
+    let mut c_uv = Counters::default();
     let n_px = w as usize * h as usize;
     let mut zbuf: Vec<i64> = vec![i64::MAX; n_px];
-    let mut frag_at: Vec<Option<Fragment>> = vec![None; n_px];
+    let mut frag_at: Vec<Option<(Fragment, [i64; 2])>> = vec![None; n_px];
     let mut triangles = 0;
     let mut fragments = 0u64;
     for (tri, lam) in &geo {
@@ -692,6 +1002,7 @@ fn render_core(
             y: 0.0,
             attrs: [0.0; 8],
         }; 3];
+        let mut hv_uv = hv;
         let mut ok = true;
         // Two-sided lighting (GL's LIGHT_MODEL_TWO_SIDE): a triangle seen from its back
         // (the teapot is an open sheet: the inside of the rim and spout shows) gets its
@@ -715,31 +1026,53 @@ fn render_core(
                 y: sy,
                 attrs: [n.x, n.y, n.z, e.x, e.y, e.z, lam[k], sz],
             };
+            let (u, v) = texgen.uv(tri.p[k]);
+            hv_uv[k] = HostVertex {
+                x: sx,
+                y: sy,
+                attrs: [u, v, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            };
         }
         if !ok {
             continue;
         }
         triangles += 1;
-        for f in draw_triangle(&interp, &hv, w, h, &mut c_int)? {
+        let frags = draw_triangle(&interp, &hv, w, h, &mut c_int)?;
+        let frags_uv = if want_uv {
+            let f = draw_triangle(&interp_uv, &hv_uv, w, h, &mut c_uv)?;
+            if f.len() != frags.len() || f.iter().zip(&frags).any(|(a, b)| (a.x, a.y) != (b.x, b.y))
+            {
+                return Err(ConfigError::invalid(
+                    "envmap_render.texcoord",
+                    "the texture-coordinate interpolator walked other pixels than the main one",
+                ));
+            }
+            f
+        } else {
+            Vec::new()
+        };
+        for (i, f) in frags.into_iter().enumerate() {
             fragments += 1;
             let k = (f.y * w + f.x) as usize;
             // Integer depth compare on the s16.16 window-depth code (less wins).
             if f.attrs[7] < zbuf[k] {
                 zbuf[k] = f.attrs[7];
-                frag_at[k] = Some(f);
+                let uv = frags_uv.get(i).map_or([0; 2], |g| [g.attrs[0], g.attrs[1]]);
+                frag_at[k] = Some((f, uv));
             }
         }
     }
 
-    // ---- per visible pixel: reflection (f64 gap), coordinate hand-over, sampler.
+    // ---- per visible pixel: reflection (f64 gap), λ, coordinate hand-over, sampler.
     let mut img = Image::new(w, h);
     let mut c_tex = Counters::default();
-    let mut inputs: Vec<TextureSamplerIn> = Vec::new();
+    let mut c_rough = Counters::default();
     let mut shading: Vec<(usize, Shading)> = Vec::new();
+    let mut rough_in: Vec<TextureSamplerIn> = Vec::new();
     let mut back_normal_pixels = 0;
     let a = |raw: i64| interp.out_to_f64(raw);
     for (k, f) in frag_at.iter().enumerate() {
-        let Some(f) = f else { continue };
+        let Some((f, uv)) = f else { continue };
         let n = v3(a(f.attrs[0]), a(f.attrs[1]), a(f.attrs[2])).normalized();
         let v = v3(a(f.attrs[3]), a(f.attrs[4]), a(f.attrs[5])).normalized();
         let lam = a(f.attrs[6]).clamp(0.0, 1.0);
@@ -748,15 +1081,46 @@ fn render_core(
         }
         // GAP: the reflection and t = r·λ are host f64 (module notes, step 4).
         let (n, r) = reflect(n, v);
+        let (u, vv) = (interp_uv.out_to_f64(uv[0]), interp_uv.out_to_f64(uv[1]));
+        if let Some(rs) = &rough {
+            rough_in.push(
+                rs.config()
+                    .input_from_normalized([u, vv, 0.0], &mut c_rough)?,
+            );
+        }
+        let lambda_intended = if want_uv {
+            lambda_of_uv(object, lambda, u, vv)
+        } else {
+            lam
+        };
+        shading.push((
+            k,
+            Shading {
+                n,
+                r,
+                lambda: lam,
+                lambda_intended,
+            },
+        ));
+    }
+    // The roughness texture: λ = code / 255 replaces the interpolated λ.
+    if let Some(rs) = &rough {
+        let codes = run_span(rs, &mut (), &rough_in, &mut c_rough);
+        let max = ((1u32 << ROUGHNESS_BITS) - 1) as f64;
+        for ((_, sh), c) in shading.iter_mut().zip(&codes) {
+            sh.lambda = c[0] as f64 / max;
+        }
+    }
+    let mut inputs: Vec<TextureSamplerIn> = Vec::with_capacity(shading.len());
+    for (_, sh) in &shading {
         let stq = if two_d.is_some() {
             // 2D slice: the lookup is on |t| = λ, addressed by r's direction.
-            slice::slice_coord(r)
+            slice::slice_coord(sh.r)
         } else {
-            let t = r * lam;
+            let t = sh.r * sh.lambda;
             [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
         };
         inputs.push(sampler.config().input_from_normalized(stq, &mut c_tex)?);
-        shading.push((k, Shading { n, r, lambda: lam }));
     }
     let texel_out = run_span(sampler, &mut (), &inputs, &mut c_tex);
     let max_code = map.max_code();
@@ -793,6 +1157,30 @@ fn render_core(
     }
 
     let shaded = shading.len() as u64;
+    let mut elaboration = slice::elaboration(
+        two_d.as_ref().map(|(s2, sl)| (s2, sl)),
+        &sampler3,
+        map,
+        shaded,
+    );
+    if let Some(rs) = &rough {
+        elaboration.units.push(Elaborated {
+            name: "texture_sampler (roughness)".into(),
+            summary: Some(UnitSummary::of(rs)),
+            left_out: None,
+            gates_saved: 0.0,
+            cycles_saved: 0,
+        });
+        elaboration.units.push(Elaborated {
+            name: "polygon_interpolator (texcoord u, v)".into(),
+            summary: Some(UnitSummary::of(&interp_uv)),
+            left_out: None,
+            gates_saved: 0.0,
+            cycles_saved: 0,
+        });
+        elaboration.roughness_texture_bytes =
+            rs.config().texel_count() * u64::from(ROUGHNESS_BITS.div_ceil(8));
+    }
     let frame = FrameInfo {
         width: w,
         height: h,
@@ -801,16 +1189,18 @@ fn render_core(
         shaded,
         background_pixels: background.len() as u64,
         texels_per_lookup: sampler.config().texels_per_sample(),
-        elaboration: slice::elaboration(
-            two_d.as_ref().map(|(s2, sl)| (s2, sl)),
-            &sampler3,
-            map,
-            shaded,
-        ),
+        roughness_texels_per_lookup: rough
+            .as_ref()
+            .map_or(0, |rs| rs.config().texels_per_sample()),
+        elaboration,
     };
     let mut counters = BTreeMap::new();
     counters.insert("polygon_interpolator".to_string(), c_int);
     counters.insert("texture_sampler (envmap)".to_string(), c_tex);
+    if rough.is_some() {
+        counters.insert("polygon_interpolator (texcoord)".to_string(), c_uv);
+        counters.insert("texture_sampler (roughness)".to_string(), c_rough);
+    }
     Ok(Rendered {
         img,
         background,
@@ -831,37 +1221,57 @@ fn level8(x: f64) -> u8 {
 
 /// The two truths at the rendered pixels (parallel over pixels, deterministic), with
 /// the render's background.
-fn truth_images(r: &Rendered) -> Result<Truth, ConfigError> {
+fn truth_images(r: &Rendered, intended: bool) -> Result<Truth, ConfigError> {
     use rayon::prelude::*;
     let (w, h) = (r.img.width, r.img.height);
     let truth = PhongTruth::new(&r.levels_env);
     let s = r.side as f64;
-    let px: Vec<([u8; 3], [u8; 3])> = r
+    type Px = ([u8; 3], [u8; 3], Option<[u8; 3]>);
+    let px: Vec<Px> = r
         .shading
         .par_iter()
         .map(|(_, sh)| {
             let big_lambda = g(sh.lambda * sh.r.length(), s, THESIS_LEVELS);
             let tc = truth.eval(sh.r, sh.n, big_lambda, Visibility::CosPhiTest)?;
             let ts = truth.eval(sh.r, sh.n, big_lambda, Visibility::Simplified)?;
-            Ok((tc.map(level8), ts.map(level8)))
+            let ti = if intended {
+                let big = g(sh.lambda_intended * sh.r.length(), s, THESIS_LEVELS);
+                Some(
+                    truth
+                        .eval(sh.r, sh.n, big, Visibility::Simplified)?
+                        .map(level8),
+                )
+            } else {
+                None
+            };
+            Ok((tc.map(level8), ts.map(level8), ti))
         })
         .collect::<Result<_, ConfigError>>()?;
     let mut truth_c = Image::new(w, h);
     let mut truth_s = Image::new(w, h);
-    for ((k, _), (c, s)) in r.shading.iter().zip(px) {
+    let mut truth_i = intended.then(|| Image::new(w, h));
+    for ((k, _), (c, s, i)) in r.shading.iter().zip(px) {
         truth_c.pixels[*k] = c;
         truth_s.pixels[*k] = s;
         truth_c.mask[*k] = true;
         truth_s.mask[*k] = true;
+        if let (Some(ti), Some(i)) = (truth_i.as_mut(), i) {
+            ti.pixels[*k] = i;
+            ti.mask[*k] = true;
+        }
     }
     for &(k, bg) in &r.background {
         truth_c.pixels[k] = bg;
         truth_s.pixels[k] = bg;
+        if let Some(ti) = truth_i.as_mut() {
+            ti.pixels[k] = bg;
+        }
     }
     Ok(Truth {
         cos_phi: truth_c,
         simplified: truth_s,
         side: r.side,
+        intended: truth_i,
     })
 }
 
@@ -939,6 +1349,109 @@ pub fn table5_rows(
                 var: st.cos_phi.var,
             });
         }
+    }
+    Ok(rows)
+}
+
+/// One row of the roughness comparison: a λ source's errors against the intended-λ
+/// truth ([`Truth::intended`], eq. 3, 8-bit levels).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct RoughnessRow {
+    pub object: String,
+    /// [`LambdaSource::label`].
+    pub lambda_source: String,
+    /// Object pixels.
+    pub pixels: usize,
+    /// Mean and largest |Δ| per channel over the object.
+    pub mean: [f64; 3],
+    pub max: [f64; 3],
+    /// The same over the seam band ([`IntendedErrors::seam`]; 0 pixels for the teapot).
+    pub seam_pixels: usize,
+    pub seam_mean: [f64; 3],
+    pub seam_max: [f64; 3],
+    /// Mean |Δ| over the seam band against the truth with the render's own λ (the
+    /// map's floor there, [`IntendedErrors::seam_own`]).
+    pub seam_own_mean: [f64; 3],
+    /// Mean and largest |λ used − λ intended| over the object and the seam band.
+    pub lambda_mean: f64,
+    pub lambda_max: f64,
+    pub seam_lambda_mean: f64,
+    pub seam_lambda_max: f64,
+}
+
+impl RoughnessRow {
+    pub const CSV_HEADER: &'static str = "object,lambda_source,pixels,mean_r,mean_g,mean_b,max_r,max_g,max_b,seam_pixels,seam_mean_r,seam_mean_g,seam_mean_b,seam_max_r,seam_max_g,seam_max_b,seam_own_mean_r,seam_own_mean_g,seam_own_mean_b,lambda_mean,lambda_max,seam_lambda_mean,seam_lambda_max";
+
+    pub fn to_csv(&self) -> String {
+        let f = |v: [f64; 3]| format!("{:.4},{:.4},{:.4}", v[0], v[1], v[2]);
+        format!(
+            "{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5}",
+            self.object,
+            self.lambda_source,
+            self.pixels,
+            f(self.mean),
+            f(self.max),
+            self.seam_pixels,
+            f(self.seam_mean),
+            f(self.seam_max),
+            f(self.seam_own_mean),
+            self.lambda_mean,
+            self.lambda_max,
+            self.seam_lambda_mean,
+            self.seam_lambda_max
+        )
+    }
+
+    /// Mean of the three channels' mean |Δ| (over the object, and over the seam band).
+    pub fn mean_rgb(&self) -> f64 {
+        self.mean.iter().sum::<f64>() / 3.0
+    }
+    pub fn seam_mean_rgb(&self) -> f64 {
+        self.seam_mean.iter().sum::<f64>() / 3.0
+    }
+    pub fn seam_own_mean_rgb(&self) -> f64 {
+        self.seam_own_mean.iter().sum::<f64>() / 3.0
+    }
+}
+
+/// The thesis' proposed fix measured (issue 5): `object` with the non-uniform λ at
+/// `size`, rendered with λ per vertex and with a `side` × `side` roughness texture,
+/// each against the intended-λ truth (the same truth image for both: it depends only
+/// on the geometry and the interpolated n, r, (u, v)). Rows in that order. Errors as
+/// [`render_object_with`] and "envmap_render.lambda_texture".
+pub fn roughness_comparison(
+    env: &EnvMap,
+    map: &VoxelMap,
+    object: Object,
+    size: (u32, u32),
+    side: u32,
+) -> Result<Vec<RoughnessRow>, ConfigError> {
+    let mut rows = Vec::new();
+    for source in [LambdaSource::PerVertex, LambdaSource::Texture { side }] {
+        let opt = RenderOptions {
+            lambda_source: source,
+            intended_truth: true,
+            ..RenderOptions::default()
+        };
+        // Each source gets its own truths: the intended one is the same image for both,
+        // but `seam_own` needs the truth with the λ this render used.
+        let (_, _, st) = render_object_with(env, map, object, LambdaSpec::NonUniform, size, &opt)?;
+        let i = st.intended.unwrap_or_default();
+        rows.push(RoughnessRow {
+            object: object.name().to_string(),
+            lambda_source: source.label(),
+            pixels: i.all.pixels,
+            mean: i.all.mean,
+            max: i.all.max,
+            seam_pixels: i.seam.pixels,
+            seam_mean: i.seam.mean,
+            seam_max: i.seam.max,
+            seam_own_mean: i.seam_own.mean,
+            lambda_mean: i.lambda_all.mean,
+            lambda_max: i.lambda_all.max,
+            seam_lambda_mean: i.lambda_seam.mean,
+            seam_lambda_max: i.lambda_seam.max,
+        });
     }
     Ok(rows)
 }

@@ -207,6 +207,9 @@ pub struct Elaboration {
     /// Sampler gates (NAND2 eq.) saved against the 3D sampler (may be negative: the
     /// texel RAM is not in the gate count, and the 2D sampler addresses by wrap).
     pub gates_saved: f64,
+    /// Bytes of the roughness texture (per-pixel λ, `render::LambdaSource::Texture`;
+    /// its sampler is then listed in `units`); 0 with per-vertex λ.
+    pub roughness_texture_bytes: u64,
 }
 
 /// Equal when the same units were elaborated or left out for the same reasons, with
@@ -226,6 +229,7 @@ impl PartialEq for Elaboration {
             && self.texture_bytes == o.texture_bytes
             && self.texture_bytes_saved == o.texture_bytes_saved
             && self.gates_saved == o.gates_saved
+            && self.roughness_texture_bytes == o.roughness_texture_bytes
             && self.units.iter().map(key).eq(o.units.iter().map(key))
     }
 }
@@ -272,6 +276,7 @@ pub fn elaboration(
                 texture_bytes: slice.bytes(),
                 texture_bytes_saved: map.bytes().saturating_sub(slice.bytes()),
                 gates_saved,
+                roughness_texture_bytes: 0,
             }
         }
         None => Elaboration {
@@ -286,6 +291,7 @@ pub fn elaboration(
             texture_bytes: map.bytes(),
             texture_bytes_saved: 0,
             gates_saved: 0.0,
+            roughness_texture_bytes: 0,
         },
     }
 }
