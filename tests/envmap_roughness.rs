@@ -11,13 +11,16 @@ use std::sync::OnceLock;
 
 use glare_pipeline::pipeline::envmap::render::{
     camera, lambda_of_uv, object_geometry, object_texgen, quick_map, render_frame, render_image,
-    render_object_with, roughness_comparison, roughness_texels, Image, LambdaSource, LambdaSpec,
-    Lookup, Object, RenderOptions, RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE,
+    render_object_with, roughness_comparison, roughness_sampler, roughness_texels, Image,
+    LambdaSource, LambdaSpec, Lookup, Object, RenderOptions, RoughnessRow,
+    DEFAULT_LAMBDA_TEXTURE_SIDE,
 };
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::view::CameraView;
 use glare_pipeline::scene::envmap::EnvMap;
 use glare_pipeline::scene::format::ImageSize;
+use rtl_model::units::polygon_interpolator::PolygonInterpolatorConfig;
+use rtl_model::UnitSummary;
 
 const SIZE: (u32, u32) = (64, 64);
 const S: u32 = 16;
@@ -332,6 +335,41 @@ fn texture_path_counts_and_elaborates_the_roughness_sampler() {
             );
         }
     }
+
+    // At the default side (what roughness_comparison uses).
+    let rs = roughness_sampler(
+        Object::Sphere,
+        LambdaSpec::NonUniform,
+        DEFAULT_LAMBDA_TEXTURE_SIDE,
+    )
+    .unwrap();
+    let sum = UnitSummary::of(&rs);
+    assert_eq!(sum.ram_bits, 256 * 256 * 8);
+    println!(
+        "roughness sampler (256²): {:.0} gates, {} RAM bits, latency {}, II {}",
+        sum.gates_nand2, sum.ram_bits, sum.latency, sum.ii
+    );
+
+    // The texture coordinate's interpolator is a whole second unit (the model's unit
+    // carries at most 8 attributes); what 2 more attribute channels would cost in one
+    // unit is the difference between 2 and 0 attributes.
+    let gates = |attrs| {
+        let u = PolygonInterpolatorConfig {
+            attrs,
+            out_int_bits: 16,
+            out_frac_bits: 16,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        UnitSummary::of(&u).gates_nand2
+    };
+    let (g0, g2, g8) = (gates(0), gates(2), gates(8));
+    assert!(g2 > g0 && g8 > g2);
+    println!(
+        "polygon_interpolator gates: 0 attrs {g0:.0}, 2 attrs {g2:.0}, 8 attrs {g8:.0}; 2 more channels ≈ {:.0}",
+        g2 - g0
+    );
 
     // Per vertex: neither listed nor counted, and no roughness bytes.
     let (_, _, st) = render_object_with(

@@ -17,8 +17,9 @@
 //!    is sub-pixel, but it is a difference. λ is per vertex and interpolated, as on the
 //!    thesis' GeForce3: where λ changes fast across a triangle (the sphere's 6 o'clock
 //!    seam of the non-uniform λ, where it jumps from ≈ 1 back to 0) the reflection is
-//!    distorted — the thesis' Fig. 17(b) artefact. A per-pixel λ from a roughness
-//!    texture (the thesis' own future work, issue 5's option) would remove it: not done.
+//!    distorted — the thesis' Fig. 17(b) artefact. [`LambdaSource::Texture`] (the
+//!    thesis' proposed fix, issue 5's option) takes λ per pixel from a roughness
+//!    texture instead: see "Per-pixel roughness" below.
 //!    Triangles seen from their back get their normals flipped (two-sided lighting; the
 //!    teapot is an open sheet whose inside shows at the rim and the spout).
 //! 3. **Depth test (integer).** The nearest fragment per pixel wins by comparing the
@@ -44,6 +45,43 @@
 //!    in the pixel's view direction: a bilinear lookup of the environment at the same
 //!    exposure, rounded to 8-bit levels (standing for a sky-box / cube-map pass; not
 //!    part of the error statistics).
+//!
+//! # Per-pixel roughness from a texture ([`RenderOptions::lambda_source`])
+//!
+//! - **Texture coordinates: object-linear texgen** ([`object_texgen`], host f64 per
+//!   vertex like the rest of the vertex stage; GeForce's fixed-function T&L has it).
+//!   (u, v) = the vertex position projected on two axes, mapped to [0, 1] over the
+//!   object's bounding rectangle in that plane. The sphere uses the camera's right and
+//!   up axes (its λ is an angle around the view axis). The teapot uses world x and y:
+//!   its λ is a function of world height, and p.y is NOT a function of (p·right, p·up)
+//!   (the camera looks down by 14.4°: p.y = 0.969 p·up − 0.248 p·forward, and the
+//!   teapot is ±0.6 deep), whereas it is exactly v with the x–y planes. With these
+//!   choices λ(u, v) ([`lambda_of_uv`]) equals the per-vertex λ at every vertex, so the
+//!   two sources render the same λ function and differ only in how it reaches the
+//!   pixel.
+//! - **(u, v) are interpolated by a second polygon_interpolator** (2 attributes, the
+//!   same position format, so the same coverage and walk, checked fragment for
+//!   fragment): the unit carries at most 8 attributes (`MAX_ATTRS`) and the 8 are
+//!   taken, so the PerVertex path is untouched (byte-identical images). In hardware
+//!   these are 2 more channels of one interpolator; the elaboration report lists the
+//!   second unit whole (an over-count of its set-up).
+//! - **The texture**: side × side, 8-bit, 1 channel, texel (i, j) = round(255 ·
+//!   λ((i + ½)/side, (j + ½)/side)) ([`roughness_texels`]); sampled per visible pixel
+//!   at its interpolated (u, v) (handed over by `input_from_normalized`, as the 3D
+//!   path) by a 2D bilinear `texture_sampler` (GeForce defaults, clamp to edge:
+//!   [`roughness_sampler`]); λ = code / 255, then t = r·λ as before. Counted as
+//!   "texture_sampler (roughness)" and "polygon_interpolator (texcoord)"; both are in
+//!   the elaboration report. With a texture the 3D map is always used (no 2D slice).
+//!   The existing truths then use the texture's λ (the λ the render used).
+//! - **The intended-λ truth** ([`RenderOptions::intended_truth`], [`Truth::intended`]):
+//!   the per-vertex path's truths use the interpolated λ, so they cannot see the
+//!   smear. At each pixel, λ_exact = [`lambda_of_uv`] in f64 at the pixel's
+//!   interpolated (u, v) (the same codes in both modes), Λ = g(λ_exact·|r|), eq. (3)
+//!   (no cos φ test: what the map stores, so the cos φ error common to both sources
+//!   stays out). [`IntendedErrors`] gives the errors over the object and over the seam
+//!   band (pixels within [`SEAM_RADIUS`] of a jump of λ_exact by > [`SEAM_JUMP`]), the
+//!   map's own error there (against the truth at the λ used), and |λ used − λ_exact|.
+//!   [`roughness_comparison`] makes the rows; docs/envmap.md has the numbers.
 //!
 //! # Exposure and levels
 //!
