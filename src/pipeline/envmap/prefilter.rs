@@ -459,7 +459,18 @@ pub fn build_exact(
     s: u32,
     params: &PrefilterParams,
 ) -> Result<VoxelMap, ConfigError> {
-    let mut map = VoxelMap::new(s, VOXEL_BITS)?;
+    build_exact_bits(env_levels, s, params, VOXEL_BITS)
+}
+
+/// [`build_exact`] with `bits`-wide unorm voxels (1 ..= 16, `envmap.voxel_bits`): the
+/// entry-width knob. F is rounded to the nearest of 2^bits − 1 steps.
+pub fn build_exact_bits(
+    env_levels: &Equirect,
+    s: u32,
+    params: &PrefilterParams,
+    bits: u32,
+) -> Result<VoxelMap, ConfigError> {
+    let mut map = VoxelMap::new(s, bits)?;
     let p = params_for(s, params)?;
     let index = SphereIndex::from_equirect(env_levels, p.weighting());
     let probe = map.clone();
@@ -567,9 +578,21 @@ pub fn build_accelerated_both(
     params: &PrefilterParams,
     th: f64,
 ) -> Result<(VoxelMap, VoxelMap, TableStats), ConfigError> {
+    build_accelerated_both_bits(env_levels, s, params, th, VOXEL_BITS)
+}
+
+/// [`build_accelerated_both`] with `bits`-wide unorm voxels (1 ..= 16,
+/// `envmap.voxel_bits`).
+pub fn build_accelerated_both_bits(
+    env_levels: &Equirect,
+    s: u32,
+    params: &PrefilterParams,
+    th: f64,
+    bits: u32,
+) -> Result<(VoxelMap, VoxelMap, TableStats), ConfigError> {
     let th = check_th(th)?;
     let t0 = Instant::now();
-    let mut map = VoxelMap::new(s, VOXEL_BITS)?;
+    let mut map = VoxelMap::new(s, bits)?;
     let p = params_for(s, params)?;
     let domes = DomeLevels::thesis(env_levels, p.weighting())?;
     let probe = map.clone();
