@@ -49,7 +49,9 @@ pub enum Command {
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
     /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S), envmap-table5 and envmap-images
     /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
-    /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S).
+    /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S),
+    /// envmap-lambda-sweep and envmap-roughness (the pattern; side and size as
+    /// envmap-table5).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -240,6 +242,18 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
                 crate::pipeline::envmap::reproduce::cli_side()?,
             )?;
         }
+        "envmap-lambda-sweep" => {
+            crate::pipeline::envmap::studies::lambda_sweep(
+                out,
+                crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+            )?;
+        }
+        "envmap-roughness" => {
+            crate::pipeline::envmap::studies::roughness(
+                out,
+                crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+            )?;
+        }
         "envmap-images" => {
             crate::pipeline::envmap::reproduce::images(
                 out,
@@ -248,7 +262,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3, envmap-table5, envmap-images, envmap-timing)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness)"
             ))
         }
     }

@@ -3,8 +3,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use glare_pipeline::pipeline::envmap::prefilter::{
-    build_accelerated, build_accelerated_both, build_exact, env_to_levels, half_weight_angle,
-    prefilter_voxel_indexed, prune_bound, voxel_error, DomeLevels, SphereIndex,
+    build_accelerated, build_accelerated_both, build_accelerated_both_bits, build_exact,
+    build_exact_bits, env_to_levels, half_weight_angle, prefilter_voxel_indexed, prune_bound,
+    voxel_error, DomeLevels, SphereIndex,
 };
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::reference::envmap_prefilter::{
@@ -284,4 +285,43 @@ fn level_choice_and_errors() {
         .to_string()
         .contains("envmap.voxels"));
     let _ = VoxelMap::new(1, 8).unwrap();
+}
+
+/// The entry width is a knob: a 16-bit map holds the same F as the 8-bit one, so each
+/// 8-bit code is the 16-bit code rescaled and rounded (|Δ| ≤ 1 code: both round the same
+/// F, one to 1/255 and one to 1/65535, and 1/65535 cannot move a value across more than
+/// one 1/255 rounding boundary). Bad widths name the field.
+#[test]
+fn voxel_entry_width_is_configurable() {
+    let env = smooth_env(4);
+    let s = 8;
+    let p = params(s);
+    let m8 = build_exact(&env, s, &p).unwrap();
+    let m16 = build_exact_bits(&env, s, &p, 16).unwrap();
+    assert_eq!((m8.bits(), m16.bits(), m16.max_code()), (8, 16, 65535));
+    let (a8, _, _) = build_accelerated_both(&env, s, &p, 0.001).unwrap();
+    let (a16, _, _) = build_accelerated_both_bits(&env, s, &p, 0.001, 16).unwrap();
+    let mut fine = 0;
+    for ((c8, c16), (d8, d16)) in m8
+        .data()
+        .iter()
+        .zip(m16.data())
+        .zip(a8.data().iter().zip(a16.data()))
+    {
+        for c in 0..3 {
+            for (x8, x16) in [(c8[c], c16[c]), (d8[c], d16[c])] {
+                let back = (x16 as f64 * 255.0 / 65535.0).round() as i64;
+                assert!((back - x8 as i64).abs() <= 1, "8-bit {x8} vs 16-bit {x16}");
+                fine += (x16 % 257 != 0) as u32;
+            }
+        }
+    }
+    // The 16-bit map really holds finer values (not 8-bit codes × 257).
+    assert!(fine > 100, "{fine} codes between the 8-bit steps");
+    for bits in [0, 17] {
+        let e = build_exact_bits(&env, s, &p, bits).unwrap_err();
+        assert_eq!(e.field(), "envmap.voxel_bits", "{e}");
+        let e = build_accelerated_both_bits(&env, s, &p, 0.01, bits).unwrap_err();
+        assert_eq!(e.field(), "envmap.voxel_bits", "{e}");
+    }
 }

@@ -129,3 +129,54 @@ fn parallel_truth_is_thread_count_independent() {
     assert_eq!(one.1, two.1);
     assert_eq!(one.2.cos_phi, two.2.cos_phi);
 }
+
+/// `reproduce envmap-lambda-sweep` at s = 16, 16 × 16: every (object, bits, λ) row,
+/// finite, the CSV and its header.
+#[test]
+fn lambda_sweep_smoke() {
+    use glare_pipeline::pipeline::envmap::studies::{
+        lambda_sweep, SweepRow, SWEEP_BITS, SWEEP_LAMBDAS,
+    };
+    let dir = out_dir("sweep");
+    let rows = lambda_sweep(&dir, RUN).unwrap();
+    assert_eq!(rows.len(), 2 * SWEEP_BITS.len() * SWEEP_LAMBDAS.len());
+    for r in &rows {
+        assert!(r.pixels > 0);
+        assert!(r
+            .cos_phi
+            .iter()
+            .chain(&r.simplified)
+            .all(|v| v.is_finite() && *v >= 0.0));
+        assert!(r.rim_term().is_finite());
+    }
+    let csv = std::fs::read_to_string(dir.join("lambda_sweep.csv")).unwrap();
+    assert_eq!(csv.lines().next(), Some(SweepRow::CSV_HEADER));
+    assert_eq!(csv.lines().count(), rows.len() + 1);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `reproduce envmap-roughness` at s = 16, 16 × 16: per vertex and texture rows for both
+/// objects; on the sphere the texture's λ is closer to the intended one; the PNG exists.
+#[test]
+fn roughness_smoke() {
+    use glare_pipeline::pipeline::envmap::render::RoughnessRow;
+    use glare_pipeline::pipeline::envmap::studies::roughness;
+    let dir = out_dir("roughness");
+    let rows = roughness(&dir, RUN).unwrap();
+    assert_eq!(rows.len(), 4);
+    let (pv, tx) = (&rows[0], &rows[1]);
+    assert_eq!(
+        (pv.object.as_str(), tx.object.as_str()),
+        ("sphere", "sphere")
+    );
+    assert!(
+        tx.lambda_mean < pv.lambda_mean,
+        "texture λ error {} vs per vertex {}",
+        tx.lambda_mean,
+        pv.lambda_mean
+    );
+    let csv = std::fs::read_to_string(dir.join("roughness.csv")).unwrap();
+    assert_eq!(csv.lines().next(), Some(RoughnessRow::CSV_HEADER));
+    assert!(dir.join("roughness_sphere.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -5,5 +5,6 @@ pub mod prefilter;
 pub mod render;
 pub mod reproduce;
 pub mod slice;
+pub mod studies;
 pub mod timing;
 pub mod voxmap;

@@ -185,7 +185,7 @@ fn rgba(img: &Image) -> image::RgbaImage {
     out
 }
 
-fn grid(path: &Path, panels: &[(String, &Image)], columns: usize) -> Result<(), String> {
+pub(crate) fn grid(path: &Path, panels: &[(String, &Image)], columns: usize) -> Result<(), String> {
     let imgs: Vec<(String, image::RgbaImage)> =
         panels.iter().map(|(c, i)| (c.clone(), rgba(i))).collect();
     let refs: Vec<(&str, &image::RgbaImage)> = imgs.iter().map(|(c, i)| (c.as_str(), i)).collect();
