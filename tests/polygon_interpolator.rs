@@ -907,6 +907,45 @@ fn print_datasheet_numbers() {
 }
 
 #[test]
+fn attribute_channels_do_not_depend_on_the_attribute_count() {
+    // Attribute i comes out the same whatever K > i: a unit carrying 2 more channels
+    // (the envmap render's (u, v): 10, not 8) leaves the first 8 bit for bit.
+    let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = |m: i64| {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng % (2 * m as u64 + 1)) as i64 - m
+    };
+    for cfg in [cfg_default, cfg_wide, cfg_narrow] {
+        let (u8_, u10, u16_) = (cfg(8), cfg(10), cfg(MAX_ATTRS as u32));
+        for _ in 0..50 {
+            let mut v = [Vertex::default(); 3];
+            for vk in &mut v {
+                vk.x = next(40 << u16_.subpixel_bits());
+                vk.y = next(40 << u16_.subpixel_bits());
+                for a in &mut vk.attrs {
+                    *a = next(1 << 24);
+                }
+            }
+            let walk = |u: &PolygonInterpolator| {
+                let mut ctr = Counters::default();
+                let s = u.setup_triangle(&v, &mut ctr);
+                run_span(u, &mut s.state.clone(), &s.moves(), &mut ctr)
+            };
+            let (o8, o10, o16) = (walk(&u8_), walk(&u10), walk(&u16_));
+            assert_eq!(o8.len(), o16.len());
+            for ((a, b), c) in o8.iter().zip(&o10).zip(&o16) {
+                assert_eq!((a.x, a.y, a.inside), (c.x, c.y, c.inside));
+                assert_eq!(a.attrs[..8], c.attrs[..8]);
+                assert_eq!(b.attrs[..10], c.attrs[..10]);
+                assert!(a.attrs[8..].iter().all(|&z| z == 0));
+            }
+        }
+    }
+}
+
+#[test]
 fn cost_depends_on_the_configured_attrs_only() {
     // MAX_ATTRS sizes the arrays and bounds the config; the hardware is the configured
     // K: every attribute adds the same channel (accumulator, rounder, output register
