@@ -11,15 +11,15 @@ use std::sync::OnceLock;
 
 use glare_pipeline::pipeline::envmap::render::{
     camera, lambda_of_uv, object_geometry, object_texgen, quick_map, render_frame, render_image,
-    render_object_with, roughness_comparison, roughness_sampler, roughness_texels, Image,
-    LambdaSource, LambdaSpec, Lookup, Object, RenderOptions, RoughnessRow,
-    DEFAULT_LAMBDA_TEXTURE_SIDE,
+    render_interpolator, render_object_with, roughness_comparison, roughness_sampler,
+    roughness_texels, texcoord_channels_cost, Image, LambdaSource, LambdaSpec, Lookup, Object,
+    RenderOptions, RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE, RENDER_ATTRS, RENDER_ATTRS_TEXTURE,
+    TEXCOORD_CHANNELS,
 };
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::view::CameraView;
 use glare_pipeline::scene::envmap::EnvMap;
 use glare_pipeline::scene::format::ImageSize;
-use rtl_model::units::polygon_interpolator::PolygonInterpolatorConfig;
 use rtl_model::UnitSummary;
 
 const SIZE: (u32, u32) = (64, 64);
@@ -309,7 +309,15 @@ fn texture_path_counts_and_elaborates_the_roughness_sampler() {
     let c = &st.counters["texture_sampler (roughness)"];
     assert_eq!(c.table_reads, 4 * shaded, "bilinear: 4 texels per pixel");
     assert_eq!(c.mem_read_bytes, 4 * shaded, "8-bit texels");
-    assert!(st.counters.contains_key("polygon_interpolator (texcoord)"));
+    // ONE interpolator carries (u, v): no second unit's counters.
+    assert!(!st.counters.contains_key("polygon_interpolator (texcoord)"));
+    assert_eq!(
+        st.counters
+            .keys()
+            .filter(|k| k.contains("interpolator"))
+            .count(),
+        1
+    );
     assert_eq!(st.frame.roughness_texels_per_lookup, 4);
     assert_eq!(st.frame.texels_per_lookup, 8);
     let e = &st.frame.elaboration;
@@ -350,26 +358,41 @@ fn texture_path_counts_and_elaborates_the_roughness_sampler() {
         sum.gates_nand2, sum.ram_bits, sum.latency, sum.ii
     );
 
-    // The texture coordinate's interpolator is a whole second unit (the model's unit
-    // carries at most 8 attributes); what 2 more attribute channels would cost in one
-    // unit is the difference between 2 and 0 attributes.
-    let gates = |attrs| {
-        let u = PolygonInterpolatorConfig {
-            attrs,
-            out_int_bits: 16,
-            out_frac_bits: 16,
-            ..PolygonInterpolatorConfig::default()
-        }
-        .build()
-        .unwrap();
-        UnitSummary::of(&u).gates_nand2
-    };
-    let (g0, g2, g8) = (gates(0), gates(2), gates(8));
-    assert!(g2 > g0 && g8 > g2);
-    println!(
-        "polygon_interpolator gates: 0 attrs {g0:.0}, 2 attrs {g2:.0}, 8 attrs {g8:.0}; 2 more channels ≈ {:.0}",
-        g2 - g0
+    // The texture coordinate is 2 more attribute channels of the one interpolator
+    // (10 attributes, not 8): the elaboration lists their cost as the increment.
+    let gates = |attrs| UnitSummary::of(&render_interpolator(attrs).unwrap()).gates_nand2;
+    let (g8, g10) = (gates(RENDER_ATTRS), gates(RENDER_ATTRS_TEXTURE));
+    assert_eq!((RENDER_ATTRS, RENDER_ATTRS_TEXTURE), (8, 10));
+    assert!(g10 > g8);
+    let row = e
+        .units
+        .iter()
+        .find(|u| u.name == TEXCOORD_CHANNELS)
+        .expect("the (u, v) channels are listed");
+    assert!(row.left_out.is_none());
+    let inc = row.summary.as_ref().expect("costed");
+    assert_eq!(inc.gates_nand2, g10 - g8);
+    assert_eq!(inc.ram_bits, 0);
+    let parts: f64 = inc.breakdown.iter().map(|(_, g)| g).sum();
+    assert!((parts - inc.gates_nand2).abs() < 1e-6 * g10);
+    assert!(inc.breakdown.iter().all(|(n, _)| !n.starts_with("setup:")));
+    assert_eq!(
+        inc.gates_nand2,
+        texcoord_channels_cost().unwrap().gates_nand2
     );
+    // No whole second interpolator any more.
+    assert!(!e.units.iter().any(|u| u.name != TEXCOORD_CHANNELS
+        && u.summary
+            .as_ref()
+            .is_some_and(|s| s.name == "polygon_interpolator")));
+    println!(
+        "polygon_interpolator gates: 8 attrs {g8:.0}, 10 attrs {g10:.0}; (u, v) channels {:.0}",
+        g10 - g8
+    );
+    for (part, g) in &inc.breakdown {
+        println!("  {part}: {g:.0}");
+    }
+    let walked = st.counters["polygon_interpolator"].pixels_in;
 
     // Per vertex: neither listed nor counted, and no roughness bytes.
     let (_, _, st) = render_object_with(
@@ -383,8 +406,11 @@ fn texture_path_counts_and_elaborates_the_roughness_sampler() {
     .unwrap();
     assert!(!st.counters.contains_key("texture_sampler (roughness)"));
     assert!(!st.counters.contains_key("polygon_interpolator (texcoord)"));
+    // The same walk (8 attributes here, 10 with the texture): the same pixels.
+    assert_eq!(st.counters["polygon_interpolator"].pixels_in, walked);
     let e = &st.frame.elaboration;
     assert!(e.units.iter().all(|u| !u.name.contains("roughness")));
+    assert!(e.units.iter().all(|u| u.name != TEXCOORD_CHANNELS));
     assert_eq!(e.roughness_texture_bytes, 0);
     assert_eq!(st.frame.roughness_texels_per_lookup, 0);
     assert!(st.intended.is_none());

@@ -343,7 +343,7 @@ proptest! {
     #[test]
     fn triangles_within_bound_default_wide_narrow(
         ci in 0usize..3,
-        k in 1u32..=8,
+        k in 1u32..=MAX_ATTRS as u32,
         pts in pts_strategy(3, 0.0, 64.0),
         attrs in attrs_strategy(3),
     ) {
@@ -354,7 +354,7 @@ proptest! {
     #[test]
     fn gl_quads_cover_once_and_within_bound(
         ci in 0usize..3,
-        k in 1u32..=8,
+        k in 1u32..=MAX_ATTRS as u32,
         (x0, y0, w, h) in (0.0..40.0f64, 0.0..40.0f64, 4.0..24.0f64, 4.0..24.0f64),
         jitter in prop::collection::vec((-3.0..3.0f64, -3.0..3.0f64), 4),
         attrs in attrs_strategy(4),
@@ -401,7 +401,7 @@ proptest! {
     #[test]
     fn parallelograms_within_bound_and_equal_to_the_gl_split(
         ci in 0usize..3,
-        k in 1u32..=8,
+        k in 1u32..=MAX_ATTRS as u32,
         pts in pts_strategy(3, 8.0, 40.0),
         attrs in attrs_strategy(3),
     ) {
@@ -438,7 +438,7 @@ proptest! {
 
     #[test]
     fn tick_and_span_drivers_agree(
-        k in 0u32..=8,
+        k in 0u32..=MAX_ATTRS as u32,
         s in 0u32..=8,
         acc_frac in 1u32..=40,
         acc_int in 1u32..=22,
@@ -475,7 +475,7 @@ proptest! {
 
     #[test]
     fn random_configs_never_panic_and_errors_name_the_field(
-        attrs in 0u32..12,
+        attrs in 0u32..20,
         s in 0u32..12,
         c in 0u32..20,
         ai in 0u32..40,
@@ -487,7 +487,7 @@ proptest! {
         out_frac in 0u32..50,
         q in prop::sample::select(Quant::ALL.to_vec()),
         o in prop::sample::select(Overflow::ALL.to_vec()),
-        raw in prop::collection::vec((any::<i64>(), any::<i64>(), any::<[i64; 8]>()), 4),
+        raw in prop::collection::vec((any::<i64>(), any::<i64>(), any::<[i64; MAX_ATTRS]>()), 4),
     ) {
         let cfg = PolygonInterpolatorConfig {
             attrs,
@@ -544,7 +544,7 @@ proptest! {
 fn config_errors_name_their_fields() {
     let d = PolygonInterpolatorConfig::default();
     let cases: Vec<(PolygonInterpolatorConfig, &str)> = vec![
-        (PolygonInterpolatorConfig { attrs: 9, ..d }, "attrs"),
+        (PolygonInterpolatorConfig { attrs: 17, ..d }, "attrs"),
         (
             PolygonInterpolatorConfig {
                 subpixel_bits: 9,
@@ -822,7 +822,7 @@ fn widest_config_extreme_vertices_do_not_overflow_setup() {
                     let mk = |p: &(i64, i64), at: i64| Vertex {
                         x: p.0,
                         y: p.1,
-                        attrs: [at; 8],
+                        attrs: [at; MAX_ATTRS],
                     };
                     let t = u.setup_triangle(&[mk(a, amin), mk(b, amax), mk(c, amin)], &mut ctr);
                     let mut st = t.state.clone();
@@ -894,5 +894,78 @@ fn print_datasheet_numbers() {
                 println!("  {part}: {g:.0}");
             }
         }
+    }
+    // Gates by the configured attribute count (default widths otherwise).
+    for k in [0, 1, 2, 4, 8, 10, 16] {
+        let u = cfg_default(k);
+        println!(
+            "default widths, K = {k}: gates {:.0}, setup_cycles {}",
+            UnitSummary::of(&u).gates_nand2,
+            u.setup_cycles()
+        );
+    }
+}
+
+#[test]
+fn attribute_channels_do_not_depend_on_the_attribute_count() {
+    // Attribute i comes out the same whatever K > i: a unit carrying 2 more channels
+    // (the envmap render's (u, v): 10, not 8) leaves the first 8 bit for bit.
+    let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+    let mut next = |m: i64| {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng % (2 * m as u64 + 1)) as i64 - m
+    };
+    for cfg in [cfg_default, cfg_wide, cfg_narrow] {
+        let (u8_, u10, u16_) = (cfg(8), cfg(10), cfg(MAX_ATTRS as u32));
+        for _ in 0..50 {
+            let mut v = [Vertex::default(); 3];
+            for vk in &mut v {
+                vk.x = next(40 << u16_.subpixel_bits());
+                vk.y = next(40 << u16_.subpixel_bits());
+                for a in &mut vk.attrs {
+                    *a = next(1 << 24);
+                }
+            }
+            let walk = |u: &PolygonInterpolator| {
+                let mut ctr = Counters::default();
+                let s = u.setup_triangle(&v, &mut ctr);
+                run_span(u, &mut s.state.clone(), &s.moves(), &mut ctr)
+            };
+            let (o8, o10, o16) = (walk(&u8_), walk(&u10), walk(&u16_));
+            assert_eq!(o8.len(), o16.len());
+            for ((a, b), c) in o8.iter().zip(&o10).zip(&o16) {
+                assert_eq!((a.x, a.y, a.inside), (c.x, c.y, c.inside));
+                assert_eq!(a.attrs[..8], c.attrs[..8]);
+                assert_eq!(b.attrs[..10], c.attrs[..10]);
+                assert!(a.attrs[8..].iter().all(|&z| z == 0));
+            }
+        }
+    }
+}
+
+#[test]
+fn cost_depends_on_the_configured_attrs_only() {
+    // MAX_ATTRS sizes the arrays and bounds the config; the hardware is the configured
+    // K: every attribute adds the same channel (accumulator, rounder, output register
+    // bits), and K = 0 has none.
+    for cfg in [cfg_default, cfg_wide, cfg_narrow] {
+        let g: Vec<f64> = (0..=MAX_ATTRS as u32)
+            .map(|k| UnitSummary::of(&cfg(k)).gates_nand2)
+            .collect();
+        let step = g[1] - g[0];
+        assert!(step > 0.0);
+        for k in 1..=MAX_ATTRS {
+            assert!(
+                ((g[k] - g[k - 1]) - step).abs() < 1e-6 * g[k],
+                "K = {k}: {} vs {step}",
+                g[k] - g[k - 1]
+            );
+        }
+        assert_eq!(
+            cfg(MAX_ATTRS as u32).setup_cycles() - cfg(0).setup_cycles(),
+            3 * MAX_ATTRS as u32
+        );
     }
 }

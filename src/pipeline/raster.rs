@@ -24,6 +24,15 @@ pub struct HostVertex {
     pub attrs: [f64; MAX_ATTRS],
 }
 
+/// Host attributes for a vertex: the `N` given, then zeros up to `MAX_ATTRS` (a unit
+/// configured for k ≤ N attributes reads the first k). `N > MAX_ATTRS` does not compile.
+pub fn host_attrs<const N: usize>(a: [f64; N]) -> [f64; MAX_ATTRS] {
+    const { assert!(N <= MAX_ATTRS) };
+    let mut out = [0.0; MAX_ATTRS];
+    out[..N].copy_from_slice(&a);
+    out
+}
+
 /// Quantise host vertices into the interpolator's vertex words (errors name the field).
 pub fn quantise<const N: usize>(
     u: &PolygonInterpolator,

@@ -1,5 +1,5 @@
 //! polygon_interpolator — polygon setup plus the incremental (Pineda) walker that
-//! interpolates up to 8 per-vertex attributes over triangles and quads.
+//! interpolates up to 16 per-vertex attributes over triangles and quads.
 //!
 //! **Setup** (once per primitive, integers only): vertex positions are screen fixed point
 //! `s(c).(s)` (c = `coord_int_bits` including the sign, s = `subpixel_bits`), attributes
@@ -36,8 +36,10 @@ use crate::fixed_point::{Format, Fx, Overflow, Quant};
 use crate::unit::{Signal, Timing, Unit, Width};
 use serde::{Deserialize, Serialize};
 
-/// Most attributes a primitive carries.
-pub const MAX_ATTRS: usize = 8;
+/// Most attributes a primitive carries (GeForce3 interpolates 4 texture units × (s, t,
+/// r, q), 2 colours, fog and z per pixel). Only the CONFIGURED `attrs` are built and
+/// costed: this bounds the config and sizes the fixed arrays, nothing more.
+pub const MAX_ATTRS: usize = 16;
 /// Edge accumulators in the walker (a triangle leaves the 4th idle, always inside).
 pub const EDGES: usize = 4;
 /// Widest attribute format (keeps every setup product within the i128 carrier).
@@ -45,13 +47,14 @@ pub const MAX_ATTR_BITS: u32 = 32;
 
 const NAME: &str = "polygon_interpolator";
 const ATTR_SIGNALS: [&str; MAX_ATTRS] = [
-    "attr0", "attr1", "attr2", "attr3", "attr4", "attr5", "attr6", "attr7",
+    "attr0", "attr1", "attr2", "attr3", "attr4", "attr5", "attr6", "attr7", "attr8", "attr9",
+    "attr10", "attr11", "attr12", "attr13", "attr14", "attr15",
 ];
 
 /// The config as plain data (serde), turned into a validated unit by [`Self::build`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PolygonInterpolatorConfig {
-    /// Attributes per primitive, 0 ..= 8.
+    /// Attributes per primitive, 0 ..= 16 (`MAX_ATTRS`).
     pub attrs: u32,
     /// Sub-pixel bits of vertex positions, 0 ..= 8.
     pub subpixel_bits: u32,

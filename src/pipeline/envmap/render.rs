@@ -8,7 +8,7 @@
 //!    tessellated ([`sphere_triangles`], [`tessellate_teapot`]); every vertex is
 //!    projected by a pinhole camera ([`CameraView`]) and given 8 attributes: the unit
 //!    normal n (3), the eye vector e = eye − p (3, unnormalised), the smoothness λ (1)
-//!    and the window depth z ∈ [0, 1] (1).
+//!    and the window depth z ∈ [0, 1] (1); with a roughness texture also (u, v) (2).
 //! 2. **polygon_interpolator (unit).** Each triangle is set up and walked by the unit
 //!    (`pipeline::raster::draw_triangle`, the shafts pipeline's path): attributes are
 //!    quantised into s16.16, interpolated by the unit's fixed-point walker and come out
@@ -59,20 +59,26 @@
 //!   choices λ(u, v) ([`lambda_of_uv`]) equals the per-vertex λ at every vertex, so the
 //!   two sources render the same λ function and differ only in how it reaches the
 //!   pixel.
-//! - **(u, v) are interpolated by a second polygon_interpolator** (2 attributes, the
-//!   same position format, so the same coverage and walk, checked fragment for
-//!   fragment): the unit carries at most 8 attributes (`MAX_ATTRS`) and the 8 are
-//!   taken, so the PerVertex path is untouched (byte-identical images). In hardware
-//!   these are 2 more channels of one interpolator; the elaboration report lists the
-//!   second unit whole (an over-count of its set-up).
+//! - **(u, v) are attributes 8 and 9 of the one polygon_interpolator**, which is then
+//!   configured for [`RENDER_ATTRS_TEXTURE`] = 10 attributes (n, e, λ, z, u, v) instead
+//!   of [`RENDER_ATTRS`] = 8, as GeForce3's single interpolator carries many more
+//!   channels. Every attribute channel is independent in the unit, so the first 8
+//!   come out bit for bit as with 8 attributes. The elaboration report lists what
+//!   the 2 channels cost ([`TEXCOORD_CHANNELS`], [`texcoord_channels_cost`]: the
+//!   10-attribute unit's gates minus the 8-attribute unit's). PerVertex keeps 8
+//!   attributes (byte-identical images, same counters); with the intended truth its
+//!   (u, v) come from a measurement-only walk of the 10-attribute configuration (not
+//!   counted or elaborated; the same walk, checked fragment for fragment, error
+//!   "envmap_render.texcoord"), so both sources see the same (u, v) codes.
 //! - **The texture**: side × side, 8-bit, 1 channel, texel (i, j) = round(255 ·
 //!   λ((i + ½)/side, (j + ½)/side)) ([`roughness_texels`]); sampled per visible pixel
 //!   at its interpolated (u, v) (handed over by `input_from_normalized`, as the 3D
 //!   path) by a 2D bilinear `texture_sampler` (GeForce defaults, clamp to edge:
 //!   [`roughness_sampler`]); λ = code / 255, then t = r·λ as before. Counted as
-//!   "texture_sampler (roughness)" and "polygon_interpolator (texcoord)"; both are in
-//!   the elaboration report. With a texture the 3D map is always used (no 2D slice).
-//!   The existing truths then use the texture's λ (the λ the render used).
+//!   "texture_sampler (roughness)" (and the (u, v) events in "polygon_interpolator");
+//!   the sampler and the 2 channels are in the elaboration report. With a texture the
+//!   3D map is always used (no 2D slice). The existing truths then use the texture's
+//!   λ (the λ the render used).
 //! - **The intended-λ truth** ([`RenderOptions::intended_truth`], [`Truth::intended`]):
 //!   the per-vertex path's truths use the interpolated λ, so they cannot see the
 //!   smear. At each pixel, λ_exact = [`lambda_of_uv`] in f64 at the pixel's
@@ -126,7 +132,7 @@ use std::path::Path;
 
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
-use rtl_model::units::polygon_interpolator::PolygonInterpolatorConfig;
+use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
 use rtl_model::units::texture_sampler::{
     AddressMode, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -134,7 +140,7 @@ use rtl_model::{Counters, UnitSummary};
 
 use super::slice;
 use super::voxmap::VoxelMap;
-use crate::pipeline::raster::{draw_triangle, Fragment, HostVertex};
+use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
 use crate::pipeline::shafts::frame::Elaborated;
 use crate::pipeline::shafts::view::CameraView;
 use crate::reference::envmap_prefilter::{
@@ -148,6 +154,58 @@ use crate::scene::teapot::{sphere_triangles, tessellate_teapot, Triangle};
 
 /// Fraction bits of the interpolator's attribute outputs (s16.16).
 const ATTR_FRAC: u32 = 16;
+/// Attributes the render's interpolator carries with per-vertex λ: n (3), e (3), λ, z.
+pub const RENDER_ATTRS: u32 = 8;
+/// With [`LambdaSource::Texture`]: the same 8 plus the texture coordinate (u, v), in
+/// the same interpolator.
+pub const RENDER_ATTRS_TEXTURE: u32 = RENDER_ATTRS + 2;
+
+/// The render's polygon interpolator carrying `attrs` attributes (GeForce defaults:
+/// s16.16 attributes, s20.24 accumulators; outputs s16.16).
+pub fn render_interpolator(attrs: u32) -> Result<PolygonInterpolator, ConfigError> {
+    PolygonInterpolatorConfig {
+        attrs,
+        out_int_bits: 16,
+        out_frac_bits: ATTR_FRAC,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+}
+
+/// The elaboration report's row for (u, v) with [`LambdaSource::Texture`]: the
+/// interpolator's 2 more attribute channels, summary from [`texcoord_channels_cost`].
+pub const TEXCOORD_CHANNELS: &str = "polygon_interpolator +2 attributes (u, v): 10, not 8";
+
+/// What carrying (u, v) costs the render's interpolator: gates, RAM bits and the
+/// breakdown are the INCREMENT, the [`RENDER_ATTRS_TEXTURE`]-attribute config's minus
+/// the [`RENDER_ATTRS`]-attribute config's (only the parts that grow are kept: two more
+/// attribute accumulators, output rounders and output register bits; the sequenced
+/// set-up datapath is shared, it takes 3 more clocks per attribute); latency, II and
+/// widths are the 10-attribute unit's (the same latency and II as with 8).
+pub fn texcoord_channels_cost() -> Result<UnitSummary, ConfigError> {
+    let with = UnitSummary::of(&render_interpolator(RENDER_ATTRS_TEXTURE)?);
+    let without = UnitSummary::of(&render_interpolator(RENDER_ATTRS)?);
+    let breakdown = with
+        .breakdown
+        .iter()
+        .zip(&without.breakdown)
+        .map(|((n1, g1), (n0, g0))| {
+            let name = if n1 == n0 {
+                format!("{n1}: {RENDER_ATTRS_TEXTURE} − {RENDER_ATTRS} attributes")
+            } else {
+                format!("{n1} − {n0}")
+            };
+            (name, g1 - g0)
+        })
+        .filter(|(_, d)| *d != 0.0)
+        .collect();
+    Ok(UnitSummary {
+        gates_nand2: with.gates_nand2 - without.gates_nand2,
+        ram_bits: with.ram_bits - without.ram_bits,
+        breakdown,
+        ..with
+    })
+}
 /// Largest image side.
 pub const MAX_IMAGE_SIDE: u32 = 4096;
 /// Largest environment (texels) [`quick_map`] prefilters exactly; larger maps are
@@ -985,28 +1043,22 @@ fn render_core(
     let geo = object_geometry(object, lambda, &cam)?;
 
     // ---- units
-    let interp = PolygonInterpolatorConfig {
-        attrs: 8,
-        out_int_bits: 16,
-        out_frac_bits: ATTR_FRAC,
-        ..PolygonInterpolatorConfig::default()
-    }
-    .build()?;
-    // The texture coordinate (u, v): 2 more interpolated attributes. The unit carries
-    // at most 8, so they go through a second interpolator with the same position
-    // format (the same coverage and walk, fragment for fragment).
+    // ONE interpolator: n, e, λ, z (8 attributes); with a roughness texture also the
+    // texture coordinate (u, v) as attributes 8 and 9 (10 attributes).
     let texture_side = match opt.lambda_source {
         LambdaSource::PerVertex => None,
         LambdaSource::Texture { side } => Some(side),
     };
     let want_uv = texture_side.is_some() || opt.intended_truth;
-    let interp_uv = PolygonInterpolatorConfig {
-        attrs: 2,
-        out_int_bits: 16,
-        out_frac_bits: ATTR_FRAC,
-        ..PolygonInterpolatorConfig::default()
-    }
-    .build()?;
+    let interp_uv = render_interpolator(RENDER_ATTRS_TEXTURE)?;
+    let interp = match texture_side {
+        Some(_) => interp_uv,
+        None => render_interpolator(RENDER_ATTRS)?,
+    };
+    // Per-vertex λ with the intended truth: the render stays at 8 attributes; the
+    // truth's (u, v) come from a MEASUREMENT walk of the 10-attribute config (not
+    // counted, not elaborated), so both sources see the same (u, v) codes.
+    let uv_probe = (texture_side.is_none() && opt.intended_truth).then_some(interp_uv);
     let texgen = object_texgen(object, &cam);
     let rough = match texture_side {
         Some(side) => Some(roughness_sampler(object, lambda, side)?),
@@ -1028,7 +1080,6 @@ fn render_core(
 
     // ---- raster + depth test
     let mut c_int = Counters::default();
-    let mut c_uv = Counters::default();
     let n_px = w as usize * h as usize;
     let mut zbuf: Vec<i64> = vec![i64::MAX; n_px];
     let mut frag_at: Vec<Option<(Fragment, [i64; 2])>> = vec![None; n_px];
@@ -1038,9 +1089,8 @@ fn render_core(
         let mut hv = [HostVertex {
             x: 0.0,
             y: 0.0,
-            attrs: [0.0; 8],
+            attrs: host_attrs([]),
         }; 3];
-        let mut hv_uv = hv;
         let mut ok = true;
         // Two-sided lighting (GL's LIGHT_MODEL_TWO_SIDE): a triangle seen from its back
         // (the teapot is an open sheet: the inside of the rim and spout shows) gets its
@@ -1059,16 +1109,12 @@ fn render_core(
             };
             let n = tri.n[k] * flip;
             let e = cam.eye - tri.p[k];
+            let (u, v) = texgen.uv(tri.p[k]);
+            // An 8-attribute interpolator reads the first 8 (u, v unused).
             hv[k] = HostVertex {
                 x: sx,
                 y: sy,
-                attrs: [n.x, n.y, n.z, e.x, e.y, e.z, lam[k], sz],
-            };
-            let (u, v) = texgen.uv(tri.p[k]);
-            hv_uv[k] = HostVertex {
-                x: sx,
-                y: sy,
-                attrs: [u, v, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+                attrs: host_attrs([n.x, n.y, n.z, e.x, e.y, e.z, lam[k], sz, u, v]),
             };
         }
         if !ok {
@@ -1076,18 +1122,20 @@ fn render_core(
         }
         triangles += 1;
         let frags = draw_triangle(&interp, &hv, w, h, &mut c_int)?;
-        let frags_uv = if want_uv {
-            let f = draw_triangle(&interp_uv, &hv_uv, w, h, &mut c_uv)?;
-            if f.len() != frags.len() || f.iter().zip(&frags).any(|(a, b)| (a.x, a.y) != (b.x, b.y))
-            {
-                return Err(ConfigError::invalid(
-                    "envmap_render.texcoord",
-                    "the texture-coordinate interpolator walked other pixels than the main one",
-                ));
+        let probe = match &uv_probe {
+            Some(p) => {
+                let f = draw_triangle(p, &hv, w, h, &mut Counters::default())?;
+                if f.len() != frags.len()
+                    || f.iter().zip(&frags).any(|(a, b)| (a.x, a.y) != (b.x, b.y))
+                {
+                    return Err(ConfigError::invalid(
+                        "envmap_render.texcoord",
+                        "the (u, v) measurement walk covered other pixels than the render",
+                    ));
+                }
+                f
             }
-            f
-        } else {
-            Vec::new()
+            None => Vec::new(),
         };
         for (i, f) in frags.into_iter().enumerate() {
             fragments += 1;
@@ -1095,7 +1143,11 @@ fn render_core(
             // Integer depth compare on the s16.16 window-depth code (less wins).
             if f.attrs[7] < zbuf[k] {
                 zbuf[k] = f.attrs[7];
-                let uv = frags_uv.get(i).map_or([0; 2], |g| [g.attrs[0], g.attrs[1]]);
+                let uv = match (texture_side, probe.get(i)) {
+                    (Some(_), _) => [f.attrs[8], f.attrs[9]],
+                    (None, Some(g)) => [g.attrs[8], g.attrs[9]],
+                    (None, None) => [0; 2],
+                };
                 frag_at[k] = Some((f, uv));
             }
         }
@@ -1119,7 +1171,7 @@ fn render_core(
         }
         // GAP: the reflection and t = r·λ are host f64 (module notes, step 4).
         let (n, r) = reflect(n, v);
-        let (u, vv) = (interp_uv.out_to_f64(uv[0]), interp_uv.out_to_f64(uv[1]));
+        let (u, vv) = (a(uv[0]), a(uv[1]));
         if let Some(rs) = &rough {
             rough_in.push(
                 rs.config()
@@ -1209,9 +1261,11 @@ fn render_core(
             gates_saved: 0.0,
             cycles_saved: 0,
         });
+        // Not a unit of its own: the interpolator's 2 more attribute channels, costed
+        // as the increment over the 8-attribute configuration.
         elaboration.units.push(Elaborated {
-            name: "polygon_interpolator (texcoord u, v)".into(),
-            summary: Some(UnitSummary::of(&interp_uv)),
+            name: TEXCOORD_CHANNELS.into(),
+            summary: Some(texcoord_channels_cost()?),
             left_out: None,
             gates_saved: 0.0,
             cycles_saved: 0,
@@ -1236,7 +1290,6 @@ fn render_core(
     counters.insert("polygon_interpolator".to_string(), c_int);
     counters.insert("texture_sampler (envmap)".to_string(), c_tex);
     if rough.is_some() {
-        counters.insert("polygon_interpolator (texcoord)".to_string(), c_uv);
         counters.insert("texture_sampler (roughness)".to_string(), c_rough);
     }
     Ok(Rendered {

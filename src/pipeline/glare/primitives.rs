@@ -11,7 +11,7 @@ use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
 use rtl_model::units::luminance_ram::{LumIn, LumWidths};
 use rtl_model::units::polygon_interpolator::{
-    PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
+    PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
 };
 use rtl_model::units::polygon_variable_generator::{
     PolygonVariableGenerator, PolygonVariableGeneratorConfig, PrimKind, PvgIn,
@@ -162,7 +162,7 @@ pub(crate) fn walk_prim(
     add(ctr, pvg.name(), c_pvg);
     let mut c_ip = Counters::default();
     let verts = v.map(|p| {
-        let mut attrs = [0i64; 8];
+        let mut attrs = [0i64; MAX_ATTRS];
         attrs[0] = p.u;
         attrs[1] = p.v;
         Vertex {

@@ -14,7 +14,9 @@
 
 use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
-use crate::pipeline::raster::{draw_parallelogram, draw_quad, draw_triangle, Fragment, HostVertex};
+use crate::pipeline::raster::{
+    draw_parallelogram, draw_quad, draw_triangle, host_attrs, Fragment, HostVertex,
+};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::math::Vec3;
@@ -23,7 +25,9 @@ use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
-use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
+use rtl_model::units::polygon_interpolator::{
+    PolygonInterpolator, PolygonInterpolatorConfig, MAX_ATTRS,
+};
 use rtl_model::units::projective_texcoord::{
     ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
 };
@@ -371,7 +375,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
                     let mut hv = [HostVertex {
                         x: 0.0,
                         y: 0.0,
-                        attrs: [0.0; 8],
+                        attrs: [0.0; MAX_ATTRS],
                     }; 3];
                     let mut ok = true;
                     for k in 0..3 {
@@ -380,7 +384,7 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
                             ok = false;
                             break;
                         }
-                        let mut attrs = [0.0; 8];
+                        let mut attrs = [0.0; MAX_ATTRS];
                         attrs[0] = q[2] / q[3];
                         hv[k] = HostVertex {
                             x: q[0] / q[3] * res as f64,
@@ -505,14 +509,14 @@ fn project_tri(
     let mut hv = [HostVertex {
         x: 0.0,
         y: 0.0,
-        attrs: [0.0; 8],
+        attrs: [0.0; MAX_ATTRS],
     }; 3];
     for k in 0..3 {
         let (x, y, z) = cam.project(tri[k])?;
         if x.abs() > 8000.0 || y.abs() > 8000.0 {
             return None;
         }
-        let mut a = attrs(k, tri[k]);
+        let mut a = host_attrs(attrs(k, tri[k]));
         a[0] = z;
         hv[k] = HostVertex { x, y, attrs: a };
     }
@@ -876,7 +880,7 @@ fn planes_pass(
                     HostVertex {
                         x,
                         y,
-                        attrs: [0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]],
+                        attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
                     }
                 });
                 let mut c_int = Counters::default();
@@ -979,7 +983,7 @@ fn planes_pass(
             HostVertex {
                 x,
                 y,
-                attrs: [
+                attrs: host_attrs([
                     alpha / std::f64::consts::PI * nf,
                     s / tables.s_max * hw,
                     t / tables.t_max * hh,
@@ -988,7 +992,7 @@ fn planes_pass(
                     la[1],
                     la[2],
                     la[3],
-                ],
+                ]),
             }
         };
         let cells: Vec<(u32, u32)> = (0..rows)
