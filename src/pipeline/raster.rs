@@ -3,7 +3,7 @@
 //! the viewport still cost the walker its clocks (counted); only covered pixels
 //! inside the viewport come out as fragments.
 
-use rtl_model::driver::run_span;
+use rtl_model::driver::for_each_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::polygon_interpolator::{PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS};
 use rtl_model::Counters;
@@ -57,7 +57,8 @@ pub fn walk(
     out: &mut Vec<Fragment>,
 ) {
     let mut st = s.state.clone();
-    for f in run_span(u, &mut st, &s.moves(), ctr) {
+    // Streamed: a big primitive's walk is ~10⁵–10⁶ outputs of 16 attribute words.
+    for_each_span(u, &mut st, &s.moves(), ctr, |f| {
         if f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64 {
             out.push(Fragment {
                 x: f.x as u32,
@@ -65,7 +66,7 @@ pub fn walk(
                 attrs: f.attrs,
             });
         }
-    }
+    });
 }
 
 /// Draw a convex quad (split as GL does: v0 v1 v2, v0 v2 v3).
