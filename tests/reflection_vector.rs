@@ -16,12 +16,16 @@
 //!   ε = −mρ₁ + μy² + μρ₁ + ρ₂, y² ≤ (1 + e)², m < 4, so
 //!   e₁ ≤ e₀²(3/2 + e₀/2) + (1 + e₀)/2·(2^−(N−1) + (1 + e₀)²2^−N + 2^−(2N+1) + 2^−(N+1))
 //!   + 2^−N   (valid while d stays positive, e₀ < √3 − 1).
-//! * n̂_i = N_i·y·2^−k rounded to B bits: n̂'_i = n̂_i(1 + e_y) + ρ, |ρ| ≤ h = 2^−(B+1):
-//!   |Δn̂_i| ≤ e + h, |Δn̂| ≤ a = e + √3·h (Euclidean); the same for v̂ (and for n̂ := v̂
-//!   when n = 0).
+//! * Block normalisation to s(P) mantissas x' = ⌊x/2^sh⌋ (only when P ≤ W can sh > 0):
+//!   then |x'| ≥ max|x'_i| ≥ 2^(P−2) and |x' − x/2^sh| < √3, and for any a, b ≠ 0
+//!   |a/|a| − b/|b|| ≤ 2|a − b|/|b|, so the mantissa's direction n̂'' is within
+//!   η = √3·2^−(P−3) of n̂ (per component and Euclidean); η = 0 when P > W.
+//! * n̂_i = x'_i·y·2^−k rounded to B bits: n̂'_i = n̂''_i(1 + e_y) + ρ, |ρ| ≤ h = 2^−(B+1):
+//!   |Δn̂_i| ≤ e + η + h, |Δn̂| ≤ a = e + η + √3·h (Euclidean); the same for v̂ (and for
+//!   n̂ := v̂ when n = 0); |n̂'_i| ≤ 1 + e + h.
 //! * d = n̂'·v̂' rounded to B bits: |Δd| ≤ b = 2a + a² + h (Cauchy–Schwarz, |d| ≤ 1).
 //! * r'_i = 2 d' n̂'_i − v̂'_i rounded: Δr_i = 2(Δd·n̂'_i + d·Δn̂_i) − Δv̂_i + ρ, so
-//!   |Δr_i| ≤ c_r = 2b(1 + e + h) + 3(e + h) + h.
+//!   |Δr_i| ≤ c_r = 2b(1 + e + h) + 3(e + η + h) + h.
 //! * t = r'·λ_q exactly; λ_q from the host helper is within 2^−(L+1) of λ and |r_i| ≤ 1:
 //!   |Δt_i| ≤ c_r + 2^−(L+1).
 //! * coord = (t + 1)/2·s rounded to nearest in F bits:
@@ -53,6 +57,7 @@ fn cfg(
     r: u32,
     newton: Option<u32>,
     b: u32,
+    mant: u32,
     side: u32,
     coord_int: u32,
     coord_frac: u32,
@@ -66,6 +71,7 @@ fn cfg(
         newton: newton.is_some(),
         newton_frac_bits: newton.unwrap_or(18),
         norm_bits: b,
+        mant_bits: mant,
         side_log2: side,
         coord_int_bits: coord_int,
         coord_frac_bits: coord_frac,
@@ -78,11 +84,11 @@ fn cfg(
 fn bound_configs() -> Vec<(&'static str, ReflectionVectorConfig)> {
     vec![
         ("default", ReflectionVectorConfig::geforce3()),
-        ("wide", cfg(16, 10, 16, Some(28), 22, 9, 16, 12)),
-        ("mid, no Newton", cfg(10, 10, 14, None, 12, 7, 16, 8)),
-        ("narrow", cfg(6, 4, 6, None, 8, 7, 16, 8)),
-        ("narrow + Newton", cfg(8, 3, 5, Some(10), 10, 5, 8, 4)),
-        ("saturating word", cfg(12, 8, 11, Some(18), 14, 7, 7, 8)),
+        ("wide", cfg(16, 10, 16, Some(28), 22, 27, 9, 16, 12)),
+        ("mid, no Newton", cfg(10, 10, 14, None, 12, 17, 7, 16, 8)),
+        ("narrow", cfg(6, 4, 6, None, 8, 10, 7, 16, 8)),
+        ("narrow + Newton", cfg(8, 3, 5, Some(10), 10, 12, 5, 8, 4)),
+        ("saturating word", cfg(12, 8, 11, Some(18), 14, 19, 7, 7, 8)),
     ]
 }
 
@@ -103,13 +109,24 @@ fn rsqrt_bound(c: &ReflectionVectorConfig) -> f64 {
     e0 * e0 * (1.5 + 0.5 * e0) + (1.0 + e0) / 2.0 * eps + p2(-n)
 }
 
+/// Derived bound η on the direction error of the block normalisation's truncation
+/// (0 when the mantissa holds the whole input word).
+fn block_bound(c: &ReflectionVectorConfig) -> f64 {
+    if c.mant_bits > c.in_int_bits + c.in_frac_bits {
+        0.0
+    } else {
+        3f64.sqrt() * p2(-(c.mant_bits as i32 - 3))
+    }
+}
+
 /// Derived per-component bound c_r on |r'_i − r_i|.
 fn r_bound(c: &ReflectionVectorConfig) -> f64 {
     let e = rsqrt_bound(c);
+    let eta = block_bound(c);
     let h = p2(-(c.norm_bits as i32 + 1));
-    let a = e + 3f64.sqrt() * h;
+    let a = e + eta + 3f64.sqrt() * h;
     let b = 2.0 * a + a * a + h;
-    2.0 * b * (1.0 + e + h) + 3.0 * (e + h) + h
+    2.0 * b * (1.0 + e + h) + 3.0 * (e + eta + h) + h
 }
 
 /// Derived bound on |coord − twin| in texels.
@@ -293,7 +310,7 @@ fn exhaustive_3_bit_vectors_within_bound() {
         ReflectionVectorConfig {
             in_int_bits: 3,
             in_frac_bits: 0,
-            ..cfg(6, 4, 6, None, 8, 7, 16, 8)
+            ..cfg(6, 4, 6, None, 8, 10, 7, 16, 8)
         },
         ReflectionVectorConfig {
             in_int_bits: 2,
@@ -379,7 +396,7 @@ fn zero_vectors_follow_the_rule_and_are_counted() {
 #[test]
 fn saturating_word_counts_its_clamps() {
     // s7.8 cannot hold 64 texels and more: +z reflections at λ = 1 clamp.
-    let c = cfg(12, 8, 11, Some(18), 14, 7, 7, 8);
+    let c = cfg(12, 8, 11, Some(18), 14, 19, 7, 7, 8);
     let u = c.build().unwrap();
     let mut ctr = Counters::default();
     let inp = ReflectionVectorIn {
@@ -424,12 +441,12 @@ fn defaults_summary() {
         r_bound(&c),
         rsqrt_bound(&c)
     );
-    assert_eq!((s.latency, s.ii), (11, 1));
+    assert_eq!((s.latency, s.ii), (12, 1));
     assert_eq!(s.ram_bits, 2 * 256 * 11);
     let no_newton = ReflectionVectorConfig { newton: false, ..c }
         .build()
         .unwrap();
-    assert_eq!(no_newton.timing().latency, 8);
+    assert_eq!(no_newton.timing().latency, 9);
 }
 
 fn any_dir() -> impl Strategy<Value = [f64; 3]> {
@@ -443,12 +460,12 @@ fn valid_cfg() -> impl Strategy<Value = ReflectionVectorConfig> {
         1u32..=16,
         (1u32..=12, 2u32..=24),
         (any::<bool>(), 4u32..=30),
-        2u32..=24,
+        (2u32..=24, 4u32..=32),
         0u32..=12,
         (1u32..=16, 0u32..=16),
     )
         .prop_map(
-            |((ii, fi), l, (a, r), (nw, n), b, side, (ci, cf))| ReflectionVectorConfig {
+            |((ii, fi), l, (a, r), (nw, n), (b, mant), side, (ci, cf))| ReflectionVectorConfig {
                 in_int_bits: ii,
                 in_frac_bits: fi,
                 lambda_bits: l,
@@ -457,6 +474,7 @@ fn valid_cfg() -> impl Strategy<Value = ReflectionVectorConfig> {
                 newton: nw,
                 newton_frac_bits: n,
                 norm_bits: b,
+                mant_bits: mant,
                 side_log2: side,
                 coord_int_bits: ci,
                 coord_frac_bits: cf,
@@ -502,7 +520,7 @@ proptest! {
     #[test]
     fn random_configs_never_panic_and_errors_name_the_field(
         ii in 0u32..40, fi in 0u32..40, l in 0u32..40, a in 0u32..40, r in 0u32..40,
-        nw in any::<bool>(), n in 0u32..40, b in 0u32..40, side in 0u32..40,
+        nw in any::<bool>(), n in 0u32..40, b in 0u32..40, mant in 0u32..40, side in 0u32..40,
         ci in 0u32..40, cf in 0u32..40,
         n_in in [any::<i64>(), any::<i64>(), any::<i64>()],
         e_in in [any::<i64>(), any::<i64>(), any::<i64>()],
@@ -510,7 +528,8 @@ proptest! {
     ) {
         let c = ReflectionVectorConfig {
             in_int_bits: ii, in_frac_bits: fi, lambda_bits: l, rsqrt_addr_bits: a,
-            rsqrt_bits: r, newton: nw, newton_frac_bits: n, norm_bits: b, side_log2: side,
+            rsqrt_bits: r, newton: nw, newton_frac_bits: n, norm_bits: b, mant_bits: mant,
+            side_log2: side,
             coord_int_bits: ci, coord_frac_bits: cf,
         };
         match c.build() {

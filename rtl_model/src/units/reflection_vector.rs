@@ -9,8 +9,13 @@
 //! N = newton_frac_bits, B = norm_bits, L = lambda_bits, F = coord_frac_bits,
 //! O = coord_int_bits + F, s = 2^side_log2). Integers only; the input fraction bits
 //! cancel in the normalisation (n̂ = N/|N| on the raw codes).
-//! 1. Squared lengths: each raw component s(W) squared → u(2W−2) (|x| ≤ 2^(W−1)), the
-//!    sum of three → S u(2W) (3·2^(2W−2) < 2^(2W)). S = 0 is a zero vector.
+//! 0. Block normalisation (P = `mant_bits`): the leading one q of |x₀| | |x₁| | |x₂|
+//!    (OR tree + LZC; all-zero is a zero vector) sets one right shift
+//!    sh = max(0, q − (P − 2)) for the three components: s(W) >> sh → s(P) mantissas,
+//!    truncated (the dropped bits cost a direction error < √3·2^−(P−3); see the
+//!    datasheet). The shift cancels in n̂ = x/|x|, so it is not carried.
+//! 1. Squared lengths: each mantissa s(P) squared → u(2P−2) (|x'| ≤ 2^(P−1)), the
+//!    sum of three → S u(2P) (3·2^(2P−2) < 2^(2P)).
 //! 2. Reciprocal square root: p = position of S's leading one (LZC), k = ⌊p/2⌋, so
 //!    S = 2^(2k)·m with m ∈ [1, 4) (an even shift). The ROM address is the parity of p
 //!    (m ∈ [1, 2) or [2, 4)) above the A − 1 bits below the leading one: 2^A entries of
@@ -20,7 +25,7 @@
 //!    q = y² (u0.R × u0.R → u0.2R, rounded to u1.N); m_N = m truncated to u2.N;
 //!    m_N·q (u2.N × u1.N → u3.2N); d = 3 − m_N·q rounded to u2.N; y·d (u0.R × u2.N →
 //!    u2.(R+N)), halved and rounded to u1.N.
-//! 3. n̂_i = N_i·y·2^−k: s(W) × u1.Fy → s(W+Fy+1), shifted right by k + Fy − B and
+//! 3. n̂_i = x'_i·y·2^−k: s(P) × u1.Fy → s(P+Fy+1), shifted right by k + Fy − B and
 //!    rounded (ties up) into s2.B (Fy = N with Newton, R without). s2.B, not s1.B: an
 //!    axis-aligned normal has a component of exactly ±1, which s1.B cannot hold.
 //!    Zero vectors: n = 0 → n̂ := v̂ (then r = v̂); e = 0 → v̂ := n̂ (r = n̂); both zero
@@ -40,8 +45,9 @@
 //! λ: an unsigned u1.L code (L = `lambda_bits`, default 12) so that λ = 1 is exact
 //! (code 2^L); codes above 2^L are clamped to 1.0 (counted in `saturations`).
 //!
-//! Timing: II 1; latency 8 stages without Newton (squares | LZC + normalise | ROM |
-//! n̂, v̂ | d | r | t | coord), 11 with (3 more: y², 3 − m·y², y·d/2).
+//! Timing: II 1; latency 9 stages without Newton (block normalise | squares | LZC +
+//! normalise | ROM | n̂, v̂ | d | r | t | coord), 12 with (3 more: y², 3 − m·y²,
+//! y·d/2).
 //! Counters: `table_reads` (one per rsqrt ROM read: 2 per pixel, none for a zero
 //! vector), `underflows` (zero vectors), `saturations` (λ clamps, coordinate clamps and
 //! guard clamps of internal words that cannot fire on a valid config with a converging
@@ -78,6 +84,9 @@ pub struct ReflectionVectorConfig {
     pub newton_frac_bits: u32,
     /// Fraction bits B of n̂, v̂, d and r (s2.B, s3.B), 2 ..= 24.
     pub norm_bits: u32,
+    /// Mantissa bits P (signed) each vector is block-normalised to before squaring,
+    /// 4 ..= 32 (P ≥ W: no truncation).
+    pub mant_bits: u32,
     /// log2 of the map side s (the 3D texture is s × s × s), 0 ..= 12.
     pub side_log2: u32,
     /// Integer bits of the output texel coordinate including the sign, 1 ..= 32 − F.
@@ -108,6 +117,7 @@ impl ReflectionVectorConfig {
             newton: true,
             newton_frac_bits: 18,
             norm_bits: 14,
+            mant_bits: 19,
             side_log2: 7,
             coord_int_bits: 16,
             coord_frac_bits: 8,
@@ -233,6 +243,7 @@ impl ReflectionVector {
         check_range(&f("rsqrt_bits"), cfg.rsqrt_bits as u64, 2, 24)?;
         check_range(&f("newton_frac_bits"), cfg.newton_frac_bits as u64, 4, 30)?;
         check_range(&f("norm_bits"), cfg.norm_bits as u64, 2, 24)?;
+        check_range(&f("mant_bits"), cfg.mant_bits as u64, 4, 32)?;
         check_range(&f("side_log2"), cfg.side_log2 as u64, 0, 12)?;
         check_range(&f("coord_frac_bits"), cfg.coord_frac_bits as u64, 0, 16)?;
         check_range(
@@ -425,20 +436,32 @@ impl ReflectionVector {
         }
     }
 
+    /// Block normalisation of one vector (raw s(W) codes) to s(P) mantissas: the
+    /// leading one q of |x₀| | |x₁| | |x₂| sets a common right shift
+    /// sh = max(0, q − (P − 2)), which drops bits (truncation, toward −∞). Returns the
+    /// mantissas (the shift cancels in n̂) or None for the zero vector.
+    pub fn block_normalise(&self, x: [i64; 3]) -> Option<[i64; 3]> {
+        let or = x.iter().fold(0u64, |a, &c| a | c.unsigned_abs()); // u(W)
+        if or == 0 {
+            return None;
+        }
+        let q = 63 - or.leading_zeros(); // 0 ..= W − 1
+        let sh = q.saturating_sub(self.cfg.mant_bits - 2);
+        Some(x.map(|c| c >> sh)) // s(W) >> sh → s(P) (|x'| < 2^(P−1))
+    }
+
     /// Normalise one vector (raw s(W) codes): None for the zero vector, else s2.B
     /// components. Counts the ROM read.
     fn normalise(&self, x: [i64; 3], ctr: &mut Counters) -> Option<[i64; 3]> {
-        // Squares s(W)² → u(2W−2); their sum u(2W) ≤ 3·2^(2W−2) < 2^64.
+        let x = self.block_normalise(x)?;
+        // Squares s(P)² → u(2P−2); their sum u(2P) ≤ 3·2^(2P−2) < 2^64.
         let s: u64 = x.iter().map(|&c| (c as i128 * c as i128) as u64).sum();
-        if s == 0 {
-            return None;
-        }
         let rs = self.rsqrt(s, ctr);
         let b = self.cfg.norm_bits;
         let shift = rs.k as i32 + rs.frac as i32 - b as i32;
         let mut out = [0i64; 3];
         for (o, &c) in out.iter_mut().zip(&x) {
-            let prod = c as i128 * rs.y as i128; // s(W) × u1.Fy → s(W+Fy+1)
+            let prod = c as i128 * rs.y as i128; // s(P) × u1.Fy → s(P+Fy+1)
             let v = round_shift(prod, shift, Quant::Rnd); // → s2.B
             *o = sat_signed(v, b + 2, ctr) as i64; // guard: |n̂_i| ≤ 1 + e + 2^−(B+1) < 2
         }
@@ -529,10 +552,10 @@ impl Unit for ReflectionVector {
     }
 
     fn timing(&self) -> Timing {
-        // squares | LZC + normalise + address | ROM | [y² | 3 − m·y² | y·d/2] |
+        // block normalise | squares | LZC + normalise + address | ROM | [y² | 3 − m·y² | y·d/2] |
         // n̂, v̂ | d | r | t | coord.
         Timing {
-            latency: 8 + if self.cfg.newton { 3 } else { 0 },
+            latency: 9 + if self.cfg.newton { 3 } else { 0 },
             ii: 1,
         }
     }
@@ -549,27 +572,48 @@ impl Unit for ReflectionVector {
         );
         let o = self.out_bits();
         let fy = self.rsqrt_frac_bits();
-        let kb = bits_for(w as u64); // k ≤ W − 1
-        let sb = 2 * w; // S width
+        let pe = c.mant_bits.min(w); // mantissa width after block normalisation
+        let kb = bits_for(pe as u64); // k ≤ P − 1
+        let sb = 2 * pe; // S width
         let lam = l + 1; // u1.L
-                         // Carried down the pipe until the normalisation: n, e, λ, and per vector k and
-                         // the zero flag.
-        let carry = 6 * w + lam + 2 * (kb + 1);
+                         // Carried down the pipe until the normalisation: mantissas, λ, and per vector k
+                         // and the zero flag.
+        let carry = 6 * pe + lam + 2 * (kb + 1);
         let mut cost = Cost::default()
             .part("input registers (n, e, λ)", prim::register(6 * w + lam))
             .part("λ clamp (> 1 → 1)", prim::mux(lam) + prim::comparator(lam))
-            .part("squarers W×W (6)", prim::multiplier(w, w) * 6.0)
-            .part("square sums (2 × 2 adders)", prim::adder(sb) * 4.0)
             .part(
-                "stage-1 registers (S_n, S_e, n, e, λ)",
-                prim::register(2 * sb + 6 * w + lam),
+                "block normalise: |x_i| (6 × conditional negate)",
+                (Cells {
+                    xor2: w as f64,
+                    ..Cells::default()
+                } + prim::half_adder() * w as f64)
+                    * 6.0,
             )
             .part(
-                "zero detect (2 × OR tree)",
+                "block normalise: OR trees (2, also the zero detect)",
                 Cells {
-                    or2: 2.0 * sb as f64,
+                    or2: 2.0 * 2.0 * w as f64,
                     ..Cells::default()
                 },
+            )
+            .part(
+                "block normalise: leading-zero counters (2)",
+                prim::leading_zero_counter(w) * 2.0,
+            )
+            .part(
+                "block normalise: shifters (6, W → P)",
+                prim::shifter(pe, bits_for(w as u64)) * 6.0,
+            )
+            .part(
+                "stage registers (mantissas, λ, zero flags)",
+                prim::register(6 * pe + lam + 2),
+            )
+            .part("squarers P×P (6)", prim::multiplier(pe, pe) * 6.0)
+            .part("square sums (2 × 2 adders)", prim::adder(sb) * 4.0)
+            .part(
+                "stage registers (S_n, S_e, mantissas, λ, zero flags)",
+                prim::register(2 * sb + 6 * pe + lam + 2),
             )
             .part(
                 "leading-zero counters (2)",
@@ -617,10 +661,10 @@ impl Unit for ReflectionVector {
                     prim::register(2 * (n + 1) + carry),
                 );
         }
-        let pw = w + fy + 1; // N_i·y product width
+        let pw = pe + fy + 1; // N_i·y product width
         cost.part(
             "normalise: N_i·y multipliers (6)",
-            prim::multiplier(w, fy + 1) * 6.0,
+            prim::multiplier(pe, fy + 1) * 6.0,
         )
         .part("normalise: shifters by k (6)", prim::shifter(pw, kb) * 6.0)
         .part("normalise: rounders (6)", prim::adder(b + 2) * 6.0)
