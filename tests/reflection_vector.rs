@@ -163,6 +163,7 @@ fn check(u: &ReflectionVector, n: [f64; 3], e: [f64; 3], lambda: f64) -> f64 {
     let (lo, hi) = (-p2(ow as i32 - 1) * lsb, (p2(ow as i32 - 1) - 1.0) * lsb);
     let mut worst = 0.0f64;
     let mut rails = 0;
+    #[allow(clippy::needless_range_loop)] // ax indexes four arrays and names the axis
     for ax in 0..3 {
         let got = u.coord_to_f64(out.coord[ax]);
         let err = (got - want[ax].clamp(lo, hi)).abs();
@@ -238,12 +239,8 @@ fn sample(
             let d = dot(nh, eh);
             eh = unit([0, 1, 2].map(|k| eh[k] - d * nh[k] + graze * nh[k]));
         }
-        2 => {
-            // Back-facing.
-            if dot(nh, eh) > 0.0 {
-                eh = eh.map(|x| -x);
-            }
-        }
+        // Back-facing.
+        2 if dot(nh, eh) > 0.0 => eh = eh.map(|x| -x),
         _ => {}
     }
     let (mn, me) = (10f64.powf(mag.0), 10f64.powf(mag.1));
