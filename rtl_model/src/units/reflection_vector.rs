@@ -756,6 +756,10 @@ impl Unit for ReflectionVector {
                 bits: c.norm_bits,
             },
             Width {
+                name: "mant_bits",
+                bits: c.mant_bits,
+            },
+            Width {
                 name: "side_log2",
                 bits: c.side_log2,
             },
