@@ -18,6 +18,7 @@ pub mod polygon_variable_generator;
 pub mod projective_texcoord;
 pub mod quadrature;
 pub mod raymarch;
+pub mod reflection_vector;
 pub mod shadow_compare;
 pub mod shafts_model;
 pub mod test_scene;

@@ -13,5 +13,6 @@ pub mod modulate;
 pub mod polygon_interpolator;
 pub mod polygon_variable_generator;
 pub mod projective_texcoord;
+pub mod reflection_vector;
 pub mod shadow_compare;
 pub mod texture_sampler;
