@@ -95,9 +95,11 @@ fn nonuniform_lambda_and_the_default_use_the_3d_map() {
         let el = &f.elaboration;
         assert!(!el.slice_2d, "{lambda:?} {lookup:?}");
         assert_eq!(f.texels_per_lookup, 8);
-        assert_eq!(el.units.len(), 1);
+        // The 3D sampler and the reflection unit that feeds it.
+        assert_eq!(el.units.len(), 2);
         assert_eq!(el.units[0].name, "texture_sampler (3D map)");
-        assert!(el.units[0].left_out.is_none());
+        assert_eq!(el.units[1].name, "reflection_vector");
+        assert!(el.units.iter().all(|u| u.left_out.is_none()));
         assert_eq!(el.texture_bytes, map.bytes());
         assert_eq!(el.texture_bytes_saved, 0);
     }

@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use glare_pipeline::pipeline::envmap::render::{
     quick_map, render_object, render_object_with, table5_rows, Background, Image, LambdaSpec,
-    Object, RenderOptions, Table5Row,
+    Object, Reflection, RenderOptions, Table5Row,
 };
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::view::CameraView;
@@ -309,4 +309,85 @@ fn write_look_pngs() {
             );
         }
     }
+}
+
+/// The default `reflection_vector` unit against the host-f64 reflection it replaced.
+/// Bound, per channel and pixel: the unit's coordinate is within B of the exact
+/// (t + 1)/2 · s (its derived bound; 0.0556 texel at s = 128 in its datasheet, and the
+/// bound only grows with s, so it covers s = 16), the host word within ½ LSB = 2⁻⁹
+/// texel; the sampler's pre-rounding value is trilinear in the coordinate (exact 8-bit
+/// weights at the defaults), so it moves by ≤ D per texel per axis, D the largest step
+/// between neighbouring voxels; the final roundings differ by ≤ 1:
+/// |Δ| ≤ 3·D·(B + 2⁻⁹) + 1.
+#[test]
+fn reflection_unit_matches_the_host_f64_path() {
+    let (env, map) = pattern();
+    let s = map.side();
+    let mut d = 0u32;
+    for z in 0..s {
+        for y in 0..s {
+            for x in 0..s {
+                let v = map.get(x, y, z);
+                for (nx, ny, nz) in [(x + 1, y, z), (x, y + 1, z), (x, y, z + 1)] {
+                    if nx < s && ny < s && nz < s {
+                        let w = map.get(nx, ny, nz);
+                        for c in 0..3 {
+                            d = d.max(v[c].abs_diff(w[c]));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let bound = 3.0 * d as f64 * (0.0556 + 1.0 / 512.0) + 1.0;
+    assert_eq!(RenderOptions::default().reflection, Reflection::Unit);
+    for object in [Object::Sphere, Object::Teapot] {
+        for lambda in [
+            LambdaSpec::Uniform(1.0),
+            LambdaSpec::Uniform(0.3),
+            LambdaSpec::NonUniform,
+        ] {
+            let host = RenderOptions {
+                reflection: Reflection::HostF64,
+                ..RenderOptions::default()
+            };
+            let (a, truth, sa) =
+                render_object_with(env, map, object, lambda, SIZE, &RenderOptions::default())
+                    .unwrap();
+            let (b, _, sb) = render_object_with(env, map, object, lambda, SIZE, &host).unwrap();
+            assert_eq!(a.mask, b.mask);
+            let mut worst = 0.0f64;
+            let mut sum = 0.0;
+            for k in 0..a.pixels.len() {
+                if a.mask[k] {
+                    for c in 0..3 {
+                        let e = (a.pixels[k][c] as f64 - b.pixels[k][c] as f64).abs();
+                        worst = worst.max(e);
+                        sum += e;
+                    }
+                }
+            }
+            let mean = sum / (3 * a.coverage()) as f64;
+            println!(
+                "{object:?} {lambda:?}: unit vs f64 mean |Δ| {mean:.3}, max {worst} (bound {bound:.1}); truth error {:.3} vs {:.3}",
+                mean3(sa.cos_phi.mean),
+                mean3(sb.cos_phi.mean)
+            );
+            assert!(worst <= bound, "{worst} > {bound}");
+            assert!(sa.counters.contains_key("reflection_vector"));
+            assert!(!sb.counters.contains_key("reflection_vector"));
+            assert_eq!(truth.cos_phi.mask, a.mask);
+        }
+    }
+    // A side that is not a power of two has no unit configuration: an error naming it.
+    let odd = quick_map(&EnvMap::pattern(16, 8), 12).unwrap();
+    let e = render_object(
+        env,
+        &odd,
+        Object::Sphere,
+        LambdaSpec::Uniform(1.0),
+        (16, 16),
+    )
+    .unwrap_err();
+    assert_eq!(e.field(), "envmap_render.reflection", "{e}");
 }

@@ -13,8 +13,8 @@ use glare_pipeline::pipeline::envmap::render::{
     camera, lambda_of_uv, object_geometry, object_texgen, quick_map, render_frame, render_image,
     render_interpolator, render_object_with, roughness_comparison, roughness_sampler,
     roughness_texels, texcoord_channels_cost, Image, LambdaSource, LambdaSpec, Lookup, Object,
-    RenderOptions, RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE, RENDER_ATTRS, RENDER_ATTRS_TEXTURE,
-    TEXCOORD_CHANNELS,
+    Reflection, RenderOptions, RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE, RENDER_ATTRS,
+    RENDER_ATTRS_TEXTURE, TEXCOORD_CHANNELS,
 };
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::view::CameraView;
@@ -76,7 +76,8 @@ fn max_neighbour_step(map: &VoxelMap) -> u32 {
 }
 
 /// The hashes of the per-vertex images BEFORE the option existed (commit 42c3f23,
-/// printed by this file's first version): the default must keep them.
+/// printed by this file's first version): the per-vertex λ on the host-f64 reflection
+/// path (the only path then; `Reflection::Unit` is the default since) must keep them.
 const BEFORE: [(Object, bool, Lookup, u64); 8] = [
     (Object::Sphere, true, Lookup::Voxel3D, 0x74a6fdec1b9d09e4),
     (Object::Sphere, true, Lookup::Auto, 0x74a6fdec1b9d09e4),
@@ -89,7 +90,7 @@ const BEFORE: [(Object, bool, Lookup, u64); 8] = [
 ];
 
 #[test]
-fn per_vertex_default_keeps_the_images_byte_for_byte() {
+fn per_vertex_host_f64_path_keeps_the_images_byte_for_byte() {
     let (env, map) = pattern();
     for (object, nonuniform, lookup, want) in BEFORE {
         let lambda = if nonuniform {
@@ -99,6 +100,7 @@ fn per_vertex_default_keeps_the_images_byte_for_byte() {
         };
         let opt = RenderOptions {
             lookup,
+            reflection: Reflection::HostF64,
             ..RenderOptions::default()
         };
         assert_eq!(opt.lambda_source, LambdaSource::PerVertex);

@@ -133,6 +133,9 @@ use std::path::Path;
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
 use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
+use rtl_model::units::reflection_vector::{
+    ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn,
+};
 use rtl_model::units::texture_sampler::{
     AddressMode, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -357,6 +360,22 @@ pub struct RenderOptions {
     /// Also make the intended-λ truth ([`Truth::intended`]) and its errors
     /// ([`RenderStats::intended`]); off by default (it costs a third truth per pixel).
     pub intended_truth: bool,
+    /// Who forms r and the 3D texture coordinate of t = r·λ: the `reflection_vector`
+    /// unit (default) or host f64 (the earlier path, kept for comparison).
+    pub reflection: Reflection,
+}
+
+/// Who computes the reflection and the 3D lookup's texel coordinates.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Reflection {
+    /// The bit-accurate `reflection_vector` unit (GeForce3's texture-shader stage): the
+    /// interpolator's raw n, e codes and λ in u1.12 → s16.8 texel coordinates. Needs a
+    /// power-of-two map side (else an error naming "envmap_render.reflection").
+    #[default]
+    Unit,
+    /// Host f64: r = 2(n̂·v̂)n̂ − v̂, t = r·λ, (t + 1)/2 · s rounded by the sampler's
+    /// `input_from_normalized`.
+    HostF64,
 }
 
 /// What one render did, counted (no truth needed): for the frame-time model and the
@@ -1066,6 +1085,12 @@ fn render_core(
     };
     let s = map.side();
     let sampler3 = slice::sampler_3d(map)?;
+    let refl_unit = match opt.reflection {
+        Reflection::Unit => Some(reflection_unit(&sampler3, s)?),
+        Reflection::HostF64 => None,
+    };
+    let mut c_refl = Counters::default();
+    let mut refl_in: Vec<ReflectionVectorIn> = Vec::new();
     // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ.
     let two_d = match (opt.lookup, lambda, opt.lambda_source) {
         (Lookup::Auto, LambdaSpec::Uniform(l), LambdaSource::PerVertex) => {
@@ -1192,6 +1217,14 @@ fn render_core(
                 lambda_intended,
             },
         ));
+        if let Some(ru) = &refl_unit {
+            // The interpolator's raw codes go straight in; λ s16.16 → u1.12.
+            refl_in.push(ReflectionVectorIn {
+                n: [f.attrs[0], f.attrs[1], f.attrs[2]],
+                e: [f.attrs[3], f.attrs[4], f.attrs[5]],
+                lambda: ru.lambda_from_code(f.attrs[6], ATTR_FRAC, &mut c_refl),
+            });
+        }
     }
     // The roughness texture: λ = code / 255 replaces the interpolated λ.
     if let Some(rs) = &rough {
@@ -1200,18 +1233,38 @@ fn render_core(
         for ((_, sh), c) in shading.iter_mut().zip(&codes) {
             sh.lambda = c[0] as f64 / max;
         }
+        if let Some(ru) = &refl_unit {
+            // The texture's u0.8 code c → u1.L: round(c · 2^L / 255), a constant
+            // multiply (integer, ties up).
+            let l = ru.config().lambda_bits;
+            let m = (1u64 << ROUGHNESS_BITS) - 1;
+            for (ri, c) in refl_in.iter_mut().zip(&codes) {
+                ri.lambda = ((2 * (c[0] as u64) * (1u64 << l) + m) / (2 * m)) as u32;
+            }
+        }
     }
-    let mut inputs: Vec<TextureSamplerIn> = Vec::with_capacity(shading.len());
-    for (_, sh) in &shading {
-        let stq = if two_d.is_some() {
-            // 2D slice: the lookup is on |t| = λ, addressed by r's direction.
-            slice::slice_coord(sh.r)
-        } else {
-            let t = sh.r * sh.lambda;
-            [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
-        };
-        inputs.push(sampler.config().input_from_normalized(stq, &mut c_tex)?);
-    }
+    let inputs: Vec<TextureSamplerIn> = match (&refl_unit, two_d.is_some()) {
+        // The unit: raw codes → the 3D sampler's s16.8 texel words.
+        (Some(ru), false) => run_span(ru, &mut (), &refl_in, &mut c_refl)
+            .iter()
+            .map(|o| o.sampler_in())
+            .collect(),
+        _ => {
+            let mut v = Vec::with_capacity(shading.len());
+            for (_, sh) in &shading {
+                let stq = if two_d.is_some() {
+                    // 2D slice: the lookup is on |t| = λ, addressed by r's direction
+                    // (host f64, lat-long: a documented gap).
+                    slice::slice_coord(sh.r)
+                } else {
+                    let t = sh.r * sh.lambda;
+                    [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
+                };
+                v.push(sampler.config().input_from_normalized(stq, &mut c_tex)?);
+            }
+            v
+        }
+    };
     let texel_out = run_span(sampler, &mut (), &inputs, &mut c_tex);
     let max_code = map.max_code();
     let to8 = |c: u32| -> u8 {
@@ -1253,6 +1306,16 @@ fn render_core(
         map,
         shaded,
     );
+    let refl_used = refl_unit.as_ref().filter(|_| two_d.is_none());
+    if let Some(ru) = refl_used {
+        elaboration.units.push(Elaborated {
+            name: "reflection_vector".into(),
+            summary: Some(UnitSummary::of(ru)),
+            left_out: None,
+            gates_saved: 0.0,
+            cycles_saved: 0,
+        });
+    }
     if let Some(rs) = &rough {
         elaboration.units.push(Elaborated {
             name: "texture_sampler (roughness)".into(),
@@ -1292,6 +1355,9 @@ fn render_core(
     if rough.is_some() {
         counters.insert("texture_sampler (roughness)".to_string(), c_rough);
     }
+    if refl_used.is_some() {
+        counters.insert("reflection_vector".to_string(), c_refl);
+    }
     Ok(Rendered {
         img,
         background,
@@ -1303,6 +1369,25 @@ fn render_core(
         back_normal_pixels,
         frame,
     })
+}
+
+/// The `reflection_vector` unit for a map of side `s` (a power of two), its output words
+/// in `sampler`'s coordinate format, the rest at the GeForce3 defaults.
+fn reflection_unit(sampler: &TextureSampler, s: u32) -> Result<ReflectionVector, ConfigError> {
+    if !s.is_power_of_two() {
+        return Err(ConfigError::invalid(
+            "envmap_render.reflection",
+            &format!("the reflection_vector unit needs a power-of-two map side, not {s} (use Reflection::HostF64)"),
+        ));
+    }
+    let sc = sampler.config();
+    ReflectionVectorConfig {
+        side_log2: s.trailing_zeros(),
+        coord_int_bits: sc.coord_int_bits,
+        coord_frac_bits: sc.coord_frac_bits,
+        ..ReflectionVectorConfig::geforce3()
+    }
+    .build()
 }
 
 /// A level in f64 rounded to an 8-bit level (clamped).
