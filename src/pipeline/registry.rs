@@ -25,6 +25,7 @@ use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
+use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
 use rtl_model::{Counters, Unit, UnitSummary};
@@ -46,6 +47,7 @@ pub const UNIT_NAMES: &[&str] = &[
     "gaussian_noise",
     "chaos_map",
     "glare_condition",
+    "reflection_vector",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -120,6 +122,7 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&GaussianNoise::geforce()),
         UnitSummary::of(&ChaosMap::geforce()),
         UnitSummary::of(&GlareCondition::geforce()),
+        UnitSummary::of(&ReflectionVector::geforce3()),
     ]
 }
 
@@ -360,6 +363,27 @@ pub fn tables() -> Vec<Table> {
         ),
     });
     out.extend(glare_tables());
+    let refl = ReflectionVector::geforce3();
+    let c = refl.config();
+    out.push(Table {
+        name: format!(
+            "reflection_vector_rsqrt_{}x{}",
+            1u32 << c.rsqrt_addr_bits,
+            c.rsqrt_bits
+        ),
+        width: c.rsqrt_bits,
+        words: refl.rom_words(),
+        unit: "reflection_vector".into(),
+        params: BTreeMap::from([
+            ("addr_bits".to_string(), c.rsqrt_addr_bits.to_string()),
+            ("entry_bits".to_string(), c.rsqrt_bits.to_string()),
+            (
+                "generator".to_string(),
+                "rsqrt_rom_entry(j): min(round(2^R / sqrt(c)), 2^R - 1), u0.R, c the midpoint of address j's interval of the mantissa m in [1, 4) (top address bit: [1, 2) or [2, 4)); rtl_model/src/units/reflection_vector.rs".to_string(),
+            ),
+            ("copies".to_string(), "2 (n and e in parallel)".to_string()),
+        ]),
+    });
     out
 }
 
@@ -534,6 +558,21 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                         // Around the contrast threshold: I_a ≈ I/T.
                         ambient: rng.random_range(0..=intensity / c.threshold.max(1) * 2),
                     }
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "reflection_vector" => {
+            let u = ReflectionVector::geforce3();
+            let c = u.config();
+            // n, e over ±4 units (grazing and back-facing included), λ over [0, 1].
+            let lim = 4i64 << c.in_frac_bits;
+            let inputs: Vec<ReflectionVectorIn> = (0..pixels)
+                .map(|_| {
+                    let n = [(); 3].map(|_| rng.random_range(-lim..=lim));
+                    let e = [(); 3].map(|_| rng.random_range(-lim..=lim));
+                    let lambda = rng.random_range(0..=1u32 << c.lambda_bits);
+                    ReflectionVectorIn { n, e, lambda }
                 })
                 .collect();
             trace_unit(&u, (), &inputs, w)
