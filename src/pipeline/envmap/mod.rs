@@ -1,5 +1,5 @@
 //! The multi-scale environment map (SPEC C, issue 5): the voxel map, its prefilter
-//! (exact and accelerated) and the renderer. Work in progress: see docs/envmap.md.
+//! (exact and accelerated), the renderer and its studies: see docs/envmap.md.
 
 pub mod prefilter;
 pub mod render;

@@ -27,16 +27,20 @@
 //!    the shafts pipeline's `shadow_compare` z-buffer is not instantiated here). Shading
 //!    is then done once per visible pixel (deferred), which gives the same image as
 //!    shading every fragment before the test; only the sampler's counters differ.
-//! 4. **Reflection and t = r·λ — f64, a DOCUMENTED GAP.** There is no reflection unit in
-//!    the model. At each pixel, from the interpolator's output codes (converted to f64
-//!    exactly), the host normalises n and e, forms v = ê, r = 2(n̂·v)n̂ − v, t = r·λ and
-//!    the normalised 3D texture coordinate (t + 1)/2. This stands for the GeForce3
-//!    texture shader (DOT_PRODUCT_REFLECT-style per-pixel reflection, or the thesis'
-//!    per-vertex reflection-map texgen plus a λ texture matrix). Everything else per
-//!    pixel is the units'.
-//! 5. **Coordinate hand-over (fixed point).** (t + 1)/2 · s is rounded to the sampler's
-//!    s16.8 texel-space words by `TextureSamplerConfig::input_from_normalized` (the
-//!    rasteriser's hand-over; saturating, counted).
+//! 4. **reflection_vector (unit; [`Reflection::Unit`], the default).** The
+//!    interpolator's raw s16.16 codes of n and e go straight in, λ as u1.12 (rounded from
+//!    the s16.16 code, or from the roughness texture's 8-bit code). The unit normalises
+//!    both vectors (rsqrt ROM + one Newton step), forms r = 2(n̂·v̂)n̂ − v̂ and t = r·λ,
+//!    and outputs (t + 1)/2 · s as the 3D sampler's s16.8 texel words. It stands for
+//!    GeForce3's texture-shader stage (DOT_PRODUCT_REFLECT-style). Its coordinate error
+//!    is ≤ 0.0556 texel at s = 128 (derived, docs/units.md). The map side must be a
+//!    power of two.
+//! 5. **[`Reflection::HostF64`] (the earlier path, for comparison).** The host
+//!    normalises n and e in f64 from the same codes, forms r and t, and
+//!    `TextureSamplerConfig::input_from_normalized` rounds (t + 1)/2 · s to the sampler's
+//!    s16.8 words (saturating, counted). The truth always uses this f64 r (the ideal
+//!    reflection of the interpolated n, e). The 2D-slice path also addresses the slice
+//!    by the f64 r (lat-long; a gap).
 //! 6. **texture_sampler (unit).** [`TextureSamplerConfig::geforce_3d`] (s × s × s, 3
 //!    channels, the map's unorm texels — 8-bit by default — trilinear over 8 texels,
 //!    8-bit weights, clamp to edge) samples the [`VoxelMap`]; its output codes are the
