@@ -202,4 +202,13 @@ fn geforce3_prediction_is_under_a_60_fps_frame_and_scales() {
         ..gpu
     };
     assert!(predict_frame(&slow, &f3).seconds > p3.seconds);
+    // A roughness texture adds a bilinear sample per fragment: 12 texels take 2
+    // clocks on 2 TMUs instead of 1, and 4 one-byte texels more per fragment.
+    let mut rough = f3.clone();
+    rough.roughness_texels_per_lookup = 4;
+    let pr = predict_frame(&gpu, &rough);
+    assert!((pr.object_fill_seconds - 2.0 * p3.object_fill_seconds).abs() < 1e-15);
+    let extra = rough.fragments as f64 * 4.0 * (1.0 - gpu.texture_cache_hit);
+    assert!((pr.bytes - p3.bytes - extra).abs() < 1e-6 * pr.bytes);
+    assert!(pr.seconds > p3.seconds);
 }

@@ -12,11 +12,14 @@
 //! 2. **Object pass.** Every fragment the interpolator produced, before the depth test
 //!    (no early-Z is modelled, and the draw order is unknown), is textured, depth-tested
 //!    and written. That is an upper bound.
-//!    - Fill: ⌈texels per lookup / (4 · TMUs)⌉ clocks per fragment, at least 1. A
+//!    - Fill: ⌈texels per fragment / (4 · TMUs)⌉ clocks per fragment, at least 1. A
 //!      texture unit filters one bilinear (4-texel) sample per clock, and the 3D
 //!      trilinear sample (8 texels) uses both of a pipe's units: 1 clock. The 2D slice
-//!      (4 texels) also takes 1 clock.
-//!    - Memory: texels × [`TEXEL_BYTES`] × (1 − cache hit), plus per fragment a depth
+//!      (4 texels) also takes 1 clock. A roughness texture (per-pixel λ) adds its
+//!      bilinear sample: 8 + 4 texels take 2 clocks (GeForce3 loops back for the
+//!      3rd and 4th texture of a pass).
+//!    - Memory: texels × [`TEXEL_BYTES`] × (1 − cache hit) for the map, roughness
+//!      texels × [`ROUGHNESS_TEXEL_BYTES`] × (1 − cache hit), plus per fragment a depth
 //!      read and write (2 · `depth_bytes`) and a colour write ([`FB_BYTES`]).
 //!    - Set-up: triangles × `setup_clocks_per_triangle`.
 //! 3. **Background** (the environment behind the object, a cube-map pass standing for
@@ -33,6 +36,8 @@ use crate::pipeline::shafts::throughput::GpuModel;
 
 /// Bytes per texel in video memory: RGB8 is stored as X8R8G8B8 on GeForce3.
 pub const TEXEL_BYTES: u64 = 4;
+/// Bytes per roughness texel (L8).
+pub const ROUGHNESS_TEXEL_BYTES: u64 = 1;
 /// Bytes per colour-buffer pixel (32-bit colour).
 pub const FB_BYTES: u64 = 4;
 /// Texels per background lookup (a bilinear cube-map sample).
@@ -69,11 +74,11 @@ pub fn predict_frame(m: &GpuModel, f: &FrameInfo) -> FramePrediction {
     let clear = clear_bytes / bw + m.pass_overhead_s;
 
     let frags = f.fragments as f64;
-    let clocks = (f.texels_per_lookup as u64)
-        .div_ceil(4 * m.tmus_per_pipe.max(1) as u64)
-        .max(1) as f64;
+    let texels = f.texels_per_lookup as u64 + f.roughness_texels_per_lookup as u64;
+    let clocks = texels.div_ceil(4 * m.tmus_per_pipe.max(1) as u64).max(1) as f64;
     let fill = frags * clocks / pipes / m.clock_hz;
     let obj_bytes = frags * f.texels_per_lookup as f64 * TEXEL_BYTES as f64 * miss
+        + frags * f.roughness_texels_per_lookup as f64 * ROUGHNESS_TEXEL_BYTES as f64 * miss
         + frags * (2 * m.depth_bytes + FB_BYTES) as f64;
     let mem = obj_bytes / bw;
     let setup = f.triangles as f64 * m.setup_clocks_per_triangle / m.clock_hz;
