@@ -16,6 +16,7 @@ use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
+use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
 use rtl_model::{Counters, Unit};
@@ -124,6 +125,18 @@ fn units(c: &mut Criterion) {
         })
         .collect();
     bench_unit(c, &proj, (), &inputs);
+
+    // The envmap's per-pixel reflection: n, e over ±4 units (s16.16), λ over [0, 1].
+    let refl = ReflectionVector::geforce3();
+    let lim = 4i64 << 16;
+    let inputs: Vec<ReflectionVectorIn> = (0..N)
+        .map(|_| ReflectionVectorIn {
+            n: [(); 3].map(|_| rng.random_range(-lim..=lim)),
+            e: [(); 3].map(|_| rng.random_range(-lim..=lim)),
+            lambda: rng.random_range(0..=1u32 << 12),
+        })
+        .collect();
+    bench_unit(c, &refl, (), &inputs);
 }
 
 /// The glare units. Elements are kernel calls: pixels for the modulators, combiner and
