@@ -1,10 +1,15 @@
 //! The multi-scale environment map (SPEC C, issue 5): the voxel map, its prefilter
 //! (exact and accelerated), the renderer and its studies: see docs/envmap.md.
 
+pub mod image;
+pub mod interpolator;
 pub mod prefilter;
+pub mod quick_map;
 pub mod render;
 pub mod reproduce;
+pub mod roughness;
 pub mod slice;
 pub mod studies;
+pub mod table5;
 pub mod timing;
 pub mod voxmap;

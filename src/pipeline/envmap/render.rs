@@ -52,46 +52,8 @@
 //!
 //! # Per-pixel roughness from a texture ([`RenderOptions::lambda_source`])
 //!
-//! - **Texture coordinates: object-linear texgen** ([`object_texgen`], host f64 per
-//!   vertex like the rest of the vertex stage; GeForce's fixed-function T&L has it).
-//!   (u, v) = the vertex position projected on two axes, mapped to [0, 1] over the
-//!   object's bounding rectangle in that plane. The sphere uses the camera's right and
-//!   up axes (its λ is an angle around the view axis). The teapot uses world x and y:
-//!   its λ is a function of world height, and p.y is NOT a function of (p·right, p·up)
-//!   (the camera looks down by 14.4°: p.y = 0.969 p·up − 0.248 p·forward, and the
-//!   teapot is ±0.6 deep), whereas it is exactly v with the x–y planes. With these
-//!   choices λ(u, v) ([`lambda_of_uv`]) equals the per-vertex λ at every vertex, so the
-//!   two sources render the same λ function and differ only in how it reaches the
-//!   pixel.
-//! - **(u, v) are attributes 8 and 9 of the one polygon_interpolator**, which is then
-//!   configured for [`RENDER_ATTRS_TEXTURE`] = 10 attributes (n, e, λ, z, u, v) instead
-//!   of [`RENDER_ATTRS`] = 8, as GeForce3's single interpolator carries many more
-//!   channels. Every attribute channel is independent in the unit, so the first 8
-//!   come out bit for bit as with 8 attributes. The elaboration report lists what
-//!   the 2 channels cost ([`TEXCOORD_CHANNELS`], [`texcoord_channels_cost`]: the
-//!   10-attribute unit's gates minus the 8-attribute unit's). PerVertex keeps 8
-//!   attributes (byte-identical images, same counters); with the intended truth its
-//!   (u, v) come from a measurement-only walk of the 10-attribute configuration (not
-//!   counted or elaborated; the same walk, checked fragment for fragment, error
-//!   "envmap_render.texcoord"), so both sources see the same (u, v) codes.
-//! - **The texture**: side × side, 8-bit, 1 channel, texel (i, j) = round(255 ·
-//!   λ((i + ½)/side, (j + ½)/side)) ([`roughness_texels`]); sampled per visible pixel
-//!   at its interpolated (u, v) (handed over by `input_from_normalized`, as the 3D
-//!   path) by a 2D bilinear `texture_sampler` (GeForce defaults, clamp to edge:
-//!   [`roughness_sampler`]); λ = code / 255, then t = r·λ as before. Counted as
-//!   "texture_sampler (roughness)" (and the (u, v) events in "polygon_interpolator");
-//!   the sampler and the 2 channels are in the elaboration report. With a texture the
-//!   3D map is always used (no 2D slice). The existing truths then use the texture's
-//!   λ (the λ the render used).
-//! - **The intended-λ truth** ([`RenderOptions::intended_truth`], [`Truth::intended`]):
-//!   the per-vertex path's truths use the interpolated λ, so they cannot see the
-//!   smear. At each pixel, λ_exact = [`lambda_of_uv`] in f64 at the pixel's
-//!   interpolated (u, v) (the same codes in both modes), Λ = g(λ_exact·|r|), eq. (3)
-//!   (no cos φ test: what the map stores, so the cos φ error common to both sources
-//!   stays out). [`IntendedErrors`] gives the errors over the object and over the seam
-//!   band (pixels within [`SEAM_RADIUS`] of a jump of λ_exact by > [`SEAM_JUMP`]), the
-//!   map's own error there (against the truth at the λ used), and |λ used − λ_exact|.
-//!   [`roughness_comparison`] makes the rows; docs/envmap.md has the numbers.
+//! Texgen, the roughness texture and sampler, the intended-λ truth and its seam band:
+//! see [`super::roughness`]'s module notes.
 //!
 //! # Exposure and levels
 //!
@@ -128,96 +90,48 @@
 //!
 //! # Test/small map builder
 //!
-//! [`quick_map`] is a SMALL, TEST-ONLY builder (exact prefilter over at most 64 × 32
-//! texels, one voxel at a time). The full 128³ builder is `envmap::prefilter`'s.
+//! [`quick_map`] is a SMALL, TEST-ONLY map builder: see [`super::quick_map`].
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
-use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
 use rtl_model::units::reflection_vector::{
     ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn,
 };
-use rtl_model::units::texture_sampler::{
-    AddressMode, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
-};
+#[cfg(doc)]
+use rtl_model::units::texture_sampler::TextureSamplerConfig;
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
 use rtl_model::{Counters, UnitSummary};
 
+pub use super::image::{ErrorStats, Image};
+use super::interpolator::ATTR_FRAC;
+pub use super::interpolator::{
+    render_interpolator, texcoord_channels_cost, RENDER_ATTRS, RENDER_ATTRS_TEXTURE,
+    TEXCOORD_CHANNELS,
+};
+pub use super::quick_map::{quick_map, quick_map_with, QUICK_MAP_MAX_TEXELS};
+use super::roughness::ROUGHNESS_BITS;
+pub use super::roughness::{
+    lambda_of_uv, object_texgen, roughness_comparison, roughness_sampler, roughness_texels,
+    IntendedErrors, LambdaErrors, LambdaSource, RoughnessRow, TexGen, DEFAULT_LAMBDA_TEXTURE_SIDE,
+    MAX_LAMBDA_TEXTURE_SIDE, SEAM_JUMP, SEAM_RADIUS,
+};
 use super::slice;
+pub use super::table5::{table5_rows, Table5Row, TABLE5_LAMBDAS};
 use super::voxmap::VoxelMap;
 use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
 use crate::pipeline::shafts::frame::Elaborated;
 use crate::pipeline::shafts::view::CameraView;
-use crate::reference::envmap_prefilter::{
-    g, prefilter_voxel_exact, Equirect, PrefilterParams, Samples, Weighting, THESIS_LEVELS,
-};
+use crate::reference::envmap_prefilter::{g, THESIS_LEVELS};
 use crate::reference::phong_truth::{PhongTruth, Visibility};
 use crate::scene::envmap::EnvMap;
 use crate::scene::format::{Camera, ImageSize};
 use crate::scene::math::{v3, Vec3};
 use crate::scene::teapot::{sphere_triangles, tessellate_teapot, Triangle};
 
-/// Fraction bits of the interpolator's attribute outputs (s16.16).
-const ATTR_FRAC: u32 = 16;
-/// Attributes the render's interpolator carries with per-vertex λ: n (3), e (3), λ, z.
-pub const RENDER_ATTRS: u32 = 8;
-/// With [`LambdaSource::Texture`]: the same 8 plus the texture coordinate (u, v), in
-/// the same interpolator.
-pub const RENDER_ATTRS_TEXTURE: u32 = RENDER_ATTRS + 2;
-
-/// The render's polygon interpolator carrying `attrs` attributes (GeForce defaults:
-/// s16.16 attributes, s20.24 accumulators; outputs s16.16).
-pub fn render_interpolator(attrs: u32) -> Result<PolygonInterpolator, ConfigError> {
-    PolygonInterpolatorConfig {
-        attrs,
-        out_int_bits: 16,
-        out_frac_bits: ATTR_FRAC,
-        ..PolygonInterpolatorConfig::default()
-    }
-    .build()
-}
-
-/// The elaboration report's row for (u, v) with [`LambdaSource::Texture`]: the
-/// interpolator's 2 more attribute channels, summary from [`texcoord_channels_cost`].
-pub const TEXCOORD_CHANNELS: &str = "polygon_interpolator +2 attributes (u, v): 10, not 8";
-
-/// What carrying (u, v) costs the render's interpolator: gates, RAM bits and the
-/// breakdown are the INCREMENT, the [`RENDER_ATTRS_TEXTURE`]-attribute config's minus
-/// the [`RENDER_ATTRS`]-attribute config's (only the parts that grow are kept: two more
-/// attribute accumulators, output rounders and output register bits; the sequenced
-/// set-up datapath is shared, it takes 3 more clocks per attribute); latency, II and
-/// widths are the 10-attribute unit's (the same latency and II as with 8).
-pub fn texcoord_channels_cost() -> Result<UnitSummary, ConfigError> {
-    let with = UnitSummary::of(&render_interpolator(RENDER_ATTRS_TEXTURE)?);
-    let without = UnitSummary::of(&render_interpolator(RENDER_ATTRS)?);
-    let breakdown = with
-        .breakdown
-        .iter()
-        .zip(&without.breakdown)
-        .map(|((n1, g1), (n0, g0))| {
-            let name = if n1 == n0 {
-                format!("{n1}: {RENDER_ATTRS_TEXTURE} − {RENDER_ATTRS} attributes")
-            } else {
-                format!("{n1} − {n0}")
-            };
-            (name, g1 - g0)
-        })
-        .filter(|(_, d)| *d != 0.0)
-        .collect();
-    Ok(UnitSummary {
-        gates_nand2: with.gates_nand2 - without.gates_nand2,
-        ram_bits: with.ram_bits - without.ram_bits,
-        breakdown,
-        ..with
-    })
-}
 /// Largest image side.
 pub const MAX_IMAGE_SIDE: u32 = 4096;
-/// Largest environment (texels) [`quick_map`] prefilters exactly; larger maps are
-/// box-filtered down to ≤ 64 × 32 first (solid-angle weighted).
-pub const QUICK_MAP_MAX_TEXELS: usize = 64 * 32;
 /// Sphere tessellation (segments around y, rings pole to pole).
 pub const SPHERE_SEGMENTS: u32 = 48;
 pub const SPHERE_RINGS: u32 = 24;
@@ -225,8 +139,8 @@ pub const SPHERE_RINGS: u32 = 24;
 pub const TEAPOT_SUBDIVISIONS: u32 = 6;
 pub const TEAPOT_SCALE: f64 = 0.3;
 /// Teapot height before scaling (y ∈ [0, 3.15]) and x extent (handle −3 to spout 3.434).
-const TEAPOT_HEIGHT: f64 = 3.15;
-const TEAPOT_X: (f64, f64) = (-3.0, 3.434);
+pub(super) const TEAPOT_HEIGHT: f64 = 3.15;
+pub(super) const TEAPOT_X: (f64, f64) = (-3.0, 3.434);
 
 /// The object drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -264,7 +178,7 @@ impl LambdaSpec {
         }
     }
 
-    fn validate(&self) -> Result<(), ConfigError> {
+    pub(super) fn validate(&self) -> Result<(), ConfigError> {
         if let LambdaSpec::Uniform(l) = *self {
             let l = rtl_model::error::check_finite("envmap_render.lambda", l)?;
             if !(0.0..=1.0).contains(&l) {
@@ -301,56 +215,6 @@ pub enum Lookup {
     /// [`LambdaSpec::NonUniform`].
     Auto,
 }
-
-/// Where the per-pixel smoothness λ comes from (module notes, "Per-pixel roughness").
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum LambdaSource {
-    /// λ per vertex, interpolated by the polygon interpolator (the thesis' GeForce3
-    /// path, Fig. 17(b)); the default, and today's images byte for byte.
-    #[default]
-    PerVertex,
-    /// λ per pixel from a `side` × `side`, 8-bit, 1-channel roughness texture (texel
-    /// (i, j) = round(255 · λ(u_i, v_j))) at the pixel's interpolated texture
-    /// coordinate (u, v) from an object-linear texgen ([`object_texgen`]), sampled by
-    /// a 2D bilinear `texture_sampler` (clamp to edge): λ = code / 255. `side` 1 ..=
-    /// [`MAX_LAMBDA_TEXTURE_SIDE`] (errors name "envmap_render.lambda_texture"). The
-    /// lookups then always use the 3D map (no 2D slice: λ is no longer uniform per
-    /// draw call).
-    Texture { side: u32 },
-}
-
-impl LambdaSource {
-    /// "per_vertex" or "texture_<side>".
-    pub fn label(&self) -> String {
-        match self {
-            LambdaSource::PerVertex => "per_vertex".to_string(),
-            LambdaSource::Texture { side } => format!("texture_{side}"),
-        }
-    }
-
-    fn validate(&self) -> Result<(), ConfigError> {
-        if let LambdaSource::Texture { side } = *self {
-            check_range(
-                "envmap_render.lambda_texture",
-                side.into(),
-                1,
-                MAX_LAMBDA_TEXTURE_SIDE.into(),
-            )?;
-        }
-        Ok(())
-    }
-}
-
-/// Largest side of the roughness texture (the sampler's largest axis).
-pub const MAX_LAMBDA_TEXTURE_SIDE: u32 = 4096;
-/// The roughness texture side [`roughness_comparison`] uses: 256 × 256 × 8 bits, a
-/// GeForce-era L8 texture (512 kbit).
-pub const DEFAULT_LAMBDA_TEXTURE_SIDE: u32 = 256;
-/// The seam band of [`IntendedErrors::seam`]: object pixels within this many pixels
-/// (Chebyshev) of a pixel whose intended λ differs from a 4-neighbour's by more than
-/// [`SEAM_JUMP`].
-pub const SEAM_RADIUS: u32 = 2;
-pub const SEAM_JUMP: f64 = 0.5;
 
 /// Options of [`render_object_with`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -406,155 +270,6 @@ pub struct FrameInfo {
     pub elaboration: super::slice::Elaboration,
 }
 
-/// An 8-bit RGB image with the object's coverage.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Image {
-    pub width: u32,
-    pub height: u32,
-    /// Row-major, y down.
-    pub pixels: Vec<[u8; 3]>,
-    /// True where the object is (the pixels the statistics use).
-    pub mask: Vec<bool>,
-}
-
-impl Image {
-    fn new(width: u32, height: u32) -> Self {
-        let n = width as usize * height as usize;
-        Image {
-            width,
-            height,
-            pixels: vec![[0; 3]; n],
-            mask: vec![false; n],
-        }
-    }
-
-    pub fn get(&self, x: u32, y: u32) -> [u8; 3] {
-        self.pixels[(y * self.width + x) as usize]
-    }
-
-    pub fn covered(&self, x: u32, y: u32) -> bool {
-        self.mask[(y * self.width + x) as usize]
-    }
-
-    /// Object pixels.
-    pub fn coverage(&self) -> usize {
-        self.mask.iter().filter(|m| **m).count()
-    }
-
-    /// Write as an 8-bit RGB PNG (errors name "envmap_render.path").
-    pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), ConfigError> {
-        let path = path.as_ref();
-        let buf: Vec<u8> = self.pixels.iter().flatten().copied().collect();
-        image::save_buffer(
-            path,
-            &buf,
-            self.width,
-            self.height,
-            image::ExtendedColorType::Rgb8,
-        )
-        .map_err(|e| {
-            ConfigError::invalid(
-                "envmap_render.path",
-                &format!("`{}`: cannot write PNG: {e}", path.display()),
-            )
-        })
-    }
-
-    /// |a − b| × `gain` (clamped) on the object pixels of `self`, black elsewhere: a
-    /// difference image for looking at.
-    pub fn diff(&self, other: &Image, gain: f64) -> Image {
-        let mut d = Image::new(self.width, self.height);
-        for k in 0..self.pixels.len().min(other.pixels.len()) {
-            if self.mask[k] {
-                d.mask[k] = true;
-                for c in 0..3 {
-                    let v = (self.pixels[k][c] as f64 - other.pixels[k][c] as f64).abs() * gain;
-                    d.pixels[k][c] = v.clamp(0.0, 255.0).round() as u8;
-                }
-            }
-        }
-        d
-    }
-
-    /// Images side by side (heights must match; shorter ones are padded black).
-    pub fn hstack(images: &[&Image]) -> Image {
-        let w: u32 = images.iter().map(|i| i.width).sum();
-        let h = images.iter().map(|i| i.height).max().unwrap_or(0);
-        let mut out = Image::new(w.max(1), h.max(1));
-        let mut x0 = 0;
-        for im in images {
-            for y in 0..im.height {
-                for x in 0..im.width {
-                    let k = (y * out.width + x0 + x) as usize;
-                    out.pixels[k] = im.get(x, y);
-                    out.mask[k] = im.covered(x, y);
-                }
-            }
-            x0 += im.width;
-        }
-        out
-    }
-}
-
-/// Error statistics of Δ = rendered − truth over the object's pixels (8-bit levels).
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct ErrorStats {
-    pub pixels: usize,
-    /// Mean of |Δ| per channel.
-    pub mean: [f64; 3],
-    /// Population variance of |Δ| per channel.
-    pub var: [f64; 3],
-    /// Mean of Δ (signed) per channel.
-    pub mean_signed: [f64; 3],
-    /// Largest |Δ| per channel.
-    pub max: [f64; 3],
-}
-
-impl ErrorStats {
-    /// Statistics of `img` − `truth` over `img`'s object pixels (all zero if none).
-    pub fn of(img: &Image, truth: &Image) -> ErrorStats {
-        Self::of_masked(img, truth, &img.mask)
-    }
-
-    /// Statistics of `img` − `truth` over the pixels where `mask` is true (all zero if
-    /// none; a short mask leaves the rest out).
-    pub fn of_masked(img: &Image, truth: &Image, mask: &[bool]) -> ErrorStats {
-        let mut s = ErrorStats::default();
-        let mut sum = [0.0; 3];
-        let mut sum2 = [0.0; 3];
-        let mut sums = [0.0; 3];
-        let n = img.pixels.len().min(truth.pixels.len());
-        for (k, _) in mask.iter().take(n).enumerate().filter(|(_, m)| **m) {
-            s.pixels += 1;
-            for c in 0..3 {
-                let d = img.pixels[k][c] as f64 - truth.pixels[k][c] as f64;
-                sum[c] += d.abs();
-                sum2[c] += d * d;
-                sums[c] += d;
-                s.max[c] = s.max[c].max(d.abs());
-            }
-        }
-        if s.pixels > 0 {
-            let n = s.pixels as f64;
-            for c in 0..3 {
-                s.mean[c] = sum[c] / n;
-                s.var[c] = (sum2[c] / n - s.mean[c] * s.mean[c]).max(0.0);
-                s.mean_signed[c] = sums[c] / n;
-            }
-        }
-        s
-    }
-
-    pub fn is_finite(&self) -> bool {
-        self.mean
-            .iter()
-            .chain(&self.var)
-            .chain(&self.mean_signed)
-            .chain(&self.max)
-            .all(|v| v.is_finite())
-    }
-}
-
 /// The two ground-truth images.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Truth {
@@ -566,34 +281,8 @@ pub struct Truth {
     pub side: u32,
     /// With [`RenderOptions::intended_truth`]: eq. (3) (no cos φ test) with the
     /// INTENDED λ, λ(u, v) in f64 at the pixel's interpolated texture coordinate, and
-    /// Λ = g(λ·|r|) (module notes, "Per-pixel roughness"). None otherwise.
+    /// Λ = g(λ·|r|) ([`super::roughness`] module notes). None otherwise.
     pub intended: Option<Image>,
-}
-
-/// Errors against the intended-λ truth ([`Truth::intended`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct IntendedErrors {
-    /// Over all object pixels.
-    pub all: ErrorStats,
-    /// Over the seam band: object pixels within [`SEAM_RADIUS`] pixels of a jump of
-    /// the intended λ by more than [`SEAM_JUMP`] between 4-neighbours (the sphere's 6
-    /// o'clock seam of the non-uniform λ; empty, all zero, where λ has no jump).
-    pub seam: ErrorStats,
-    /// The map's own error over the seam band: against the eq. (3) truth with the λ the
-    /// render USED ([`Truth::simplified`]), the floor the λ source cannot remove (there
-    /// λ → 0 reads the coarse centre of the map; module notes).
-    pub seam_own: ErrorStats,
-    /// |λ used − λ intended| over all object pixels and over the seam band.
-    pub lambda_all: LambdaErrors,
-    pub lambda_seam: LambdaErrors,
-}
-
-/// Mean and largest |λ used − λ intended| over a set of pixels.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct LambdaErrors {
-    pub pixels: usize,
-    pub mean: f64,
-    pub max: f64,
 }
 
 /// Errors against both truths.
@@ -613,61 +302,6 @@ pub struct RenderStats {
     pub frame: FrameInfo,
     /// Errors against the intended-λ truth, with [`RenderOptions::intended_truth`].
     pub intended: Option<IntendedErrors>,
-}
-
-/// SMALL / TEST map builder: the exact prefilter (eqs. 8–9, Λ = g(|t|) at s and I = 256,
-/// solid-angle weighting) of every voxel of an s³ map, over `env`'s levels at
-/// [`EnvMap::auto_exposure`], 8-bit voxels. Environments above
-/// [`QUICK_MAP_MAX_TEXELS`] are first box-filtered (solid-angle weighted) by the
-/// smallest factor that brings them to ≤ 64 × 32 (it must divide both sides, else an
-/// error naming "envmap_render.env"). Cost ≈ s³ × texels weight evaluations: s = 16 on
-/// 64 × 32 ≈ 8·10⁶. Not the thesis' builder (that is `envmap::prefilter`).
-pub fn quick_map(env: &EnvMap, s: u32) -> Result<VoxelMap, ConfigError> {
-    quick_map_with(env, s, env.auto_exposure())
-}
-
-/// [`quick_map`] at an explicit exposure ("envmap.exposure").
-pub fn quick_map_with(env: &EnvMap, s: u32, exposure: f64) -> Result<VoxelMap, ConfigError> {
-    let mut map = VoxelMap::new(s, 8)?;
-    let small = shrink(env)?;
-    let levels = small.to_level_map(exposure)?;
-    let eq = Equirect::from_slice(levels.width(), levels.height(), levels.texels())?;
-    let samples = Samples::from_equirect(&eq);
-    let params = PrefilterParams::new(s as f64, THESIS_LEVELS, Weighting::SolidAngle)?;
-    for z in 0..s {
-        for y in 0..s {
-            for x in 0..s {
-                let t = map.voxel_t(x, y, z);
-                let v = prefilter_voxel_exact(t, &samples, &params);
-                map.set_levels(x, y, z, v.map(|c| c / 255.0));
-            }
-        }
-    }
-    Ok(map)
-}
-
-fn shrink(env: &EnvMap) -> Result<EnvMap, ConfigError> {
-    if env.width() * env.height() <= QUICK_MAP_MAX_TEXELS {
-        return Ok(env.clone());
-    }
-    let f = (1..=env.width())
-        .find(|&f| {
-            // (no `%` / is_multiple_of: the crate's MSRV is 1.80)
-            env.width() / f * f == env.width()
-                && env.height() / f * f == env.height()
-                && (env.width() / f) * (env.height() / f) <= QUICK_MAP_MAX_TEXELS
-        })
-        .ok_or_else(|| {
-            ConfigError::invalid(
-                "envmap_render.env",
-                &format!(
-                    "{} × {} cannot be box-filtered to ≤ {QUICK_MAP_MAX_TEXELS} texels",
-                    env.width(),
-                    env.height()
-                ),
-            )
-        })?;
-    env.downsample(f)
 }
 
 /// The camera of every render (module notes).
@@ -721,129 +355,7 @@ pub fn object_geometry(
         .collect())
 }
 
-/// The object-linear texgen of the roughness texture's coordinate (u, v) (GL's
-/// OBJECT_LINEAR texgen, which GeForce's fixed-function T&L has): u = (p − o)·a_s / l_s,
-/// v = (p − o)·a_t / l_t, so the object's bounding rectangle in the (a_s, a_t) plane
-/// maps to [0, 1]² (module notes, "Per-pixel roughness").
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TexGen {
-    /// The point mapped to (0, 0).
-    pub origin: Vec3,
-    /// Unit axes of u and v.
-    pub s_axis: Vec3,
-    pub t_axis: Vec3,
-    /// Lengths mapped to 1.
-    pub s_len: f64,
-    pub t_len: f64,
-}
-
-impl TexGen {
-    /// (u, v) of the point `p` (host f64, per vertex).
-    pub fn uv(&self, p: Vec3) -> (f64, f64) {
-        let d = p - self.origin;
-        (
-            d.dot(self.s_axis) / self.s_len,
-            d.dot(self.t_axis) / self.t_len,
-        )
-    }
-}
-
-/// The texgen of `object` seen by `cam`: the sphere's planes are the camera's right
-/// and up axes over its bounding square [−1, 1]² (its λ is an angle around the view
-/// axis); the teapot's are world x and y over its bounding rectangle (its λ is a
-/// function of world height, which is NOT a function of (p·right, p·up): the camera
-/// looks down by 14.4°).
-pub fn object_texgen(object: Object, cam: &CameraView) -> TexGen {
-    match object {
-        Object::Sphere => TexGen {
-            origin: (cam.right + cam.up) * -1.0,
-            s_axis: cam.right,
-            t_axis: cam.up,
-            s_len: 2.0,
-            t_len: 2.0,
-        },
-        Object::Teapot => {
-            let pos = teapot_position();
-            TexGen {
-                origin: v3(pos[0] + TEAPOT_X.0 * TEAPOT_SCALE, pos[1], pos[2]),
-                s_axis: v3(1.0, 0.0, 0.0),
-                t_axis: v3(0.0, 1.0, 0.0),
-                s_len: (TEAPOT_X.1 - TEAPOT_X.0) * TEAPOT_SCALE,
-                t_len: TEAPOT_HEIGHT * TEAPOT_SCALE,
-            }
-        }
-    }
-}
-
-/// λ as a function of the texgen coordinate (u, v) of [`object_texgen`]: the roughness
-/// texture's content and the intended per-pixel λ. At a vertex it equals the vertex λ
-/// of [`object_geometry`] (up to f64 rounding): the sphere's angle of
-/// (2u − 1, 2v − 1) = (p·right, p·up) from 6 o'clock, the teapot's 0.2 + 0.7 v with
-/// v = the relative height. Uniform λ gives λ. Never NaN (finite inputs; NaN ones give
-/// the 6 o'clock value 0 for the sphere and 0.2 for the teapot).
-pub fn lambda_of_uv(object: Object, lambda: LambdaSpec, u: f64, v: f64) -> f64 {
-    let u = if u.is_finite() { u } else { 0.5 };
-    let v = if v.is_finite() { v } else { 0.0 };
-    match lambda {
-        LambdaSpec::Uniform(l) => l,
-        LambdaSpec::NonUniform => match object {
-            Object::Sphere => {
-                let (xr, yu) = (2.0 * u - 1.0, 2.0 * v - 1.0);
-                let a = (-xr).atan2(-yu).rem_euclid(std::f64::consts::TAU);
-                (a / std::f64::consts::TAU).clamp(0.0, 1.0)
-            }
-            Object::Teapot => 0.2 + 0.7 * v.clamp(0.0, 1.0),
-        },
-    }
-}
-
-/// The roughness texture's texels (row-major, row j at v = (j + ½)/side): round(255 ·
-/// [`lambda_of_uv`]) at the texel centres. Errors: "envmap_render.lambda_texture" (side
-/// outside 1 ..= 4096), "envmap_render.lambda".
-pub fn roughness_texels(
-    object: Object,
-    lambda: LambdaSpec,
-    side: u32,
-) -> Result<Vec<u32>, ConfigError> {
-    lambda.validate()?;
-    LambdaSource::Texture { side }.validate()?;
-    let n = side as f64;
-    let mut t = Vec::with_capacity(side as usize * side as usize);
-    for j in 0..side {
-        let v = (j as f64 + 0.5) / n;
-        for i in 0..side {
-            let u = (i as f64 + 0.5) / n;
-            let l = lambda_of_uv(object, lambda, u, v);
-            t.push((255.0 * l).round().clamp(0.0, 255.0) as u32);
-        }
-    }
-    Ok(t)
-}
-
-/// The roughness sampler: GeForce 2D defaults (bilinear, 8-bit texels and weights, 8
-/// sub-texel bits, clamp to edge), 1 channel, holding [`roughness_texels`].
-pub fn roughness_sampler(
-    object: Object,
-    lambda: LambdaSpec,
-    side: u32,
-) -> Result<TextureSampler, ConfigError> {
-    let texels = roughness_texels(object, lambda, side)?;
-    TextureSampler::new(
-        TextureSamplerConfig {
-            channels: 1,
-            texel_bits: ROUGHNESS_BITS,
-            address: [AddressMode::Clamp; 3],
-            ..TextureSamplerConfig::geforce_2d(side, side)
-        },
-        &texels,
-    )
-    .map_err(|e| e.within("envmap_render.lambda_texture"))
-}
-
-/// Bits of a roughness texel (λ = code / 255).
-const ROUGHNESS_BITS: u32 = 8;
-
-fn teapot_position() -> [f64; 3] {
+pub(super) fn teapot_position() -> [f64; 3] {
     [
         -0.5 * (TEAPOT_X.0 + TEAPOT_X.1) * TEAPOT_SCALE,
         -0.5 * TEAPOT_HEIGHT * TEAPOT_SCALE,
@@ -1463,175 +975,4 @@ fn reflect(n: Vec3, v: Vec3) -> (Vec3, Vec3) {
     let r = (n * (2.0 * n.dot(v)) - v).normalized();
     let r = if r.length() > 0.0 { r } else { n };
     (n, r)
-}
-
-/// One row of the thesis' Table 5 (errors against the cos φ truth, 8-bit levels).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct Table5Row {
-    pub object: String,
-    pub env: String,
-    pub lambda: String,
-    pub accelerated: bool,
-    pub mean: [f64; 3],
-    pub var: [f64; 3],
-}
-
-impl Table5Row {
-    pub const CSV_HEADER: &'static str =
-        "object,env,lambda,accelerated,mean_r,mean_g,mean_b,var_r,var_g,var_b";
-
-    pub fn to_csv(&self) -> String {
-        format!(
-            "{},{},{},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
-            self.object,
-            self.env,
-            self.lambda,
-            self.accelerated,
-            self.mean[0],
-            self.mean[1],
-            self.mean[2],
-            self.var[0],
-            self.var[1],
-            self.var[2]
-        )
-    }
-}
-
-/// The λ cases of Table 5: 1, 0.75, 0.5, 0.25, non-uniform.
-pub const TABLE5_LAMBDAS: [LambdaSpec; 5] = [
-    LambdaSpec::Uniform(1.0),
-    LambdaSpec::Uniform(0.75),
-    LambdaSpec::Uniform(0.5),
-    LambdaSpec::Uniform(0.25),
-    LambdaSpec::NonUniform,
-];
-
-/// Table 5 rows for `objects` × [`TABLE5_LAMBDAS`] with `map` (the caller says whether
-/// it was built accelerated and names the environment), at `size`.
-pub fn table5_rows(
-    env: &EnvMap,
-    env_name: &str,
-    map: &VoxelMap,
-    accelerated: bool,
-    objects: &[Object],
-    size: (u32, u32),
-) -> Result<Vec<Table5Row>, ConfigError> {
-    let mut rows = Vec::new();
-    for &object in objects {
-        for lambda in TABLE5_LAMBDAS {
-            let (_, _, st) = render_object(env, map, object, lambda, size)?;
-            rows.push(Table5Row {
-                object: object.name().to_string(),
-                env: env_name.to_string(),
-                lambda: lambda.label(),
-                accelerated,
-                mean: st.cos_phi.mean,
-                var: st.cos_phi.var,
-            });
-        }
-    }
-    Ok(rows)
-}
-
-/// One row of the roughness comparison: a λ source's errors against the intended-λ
-/// truth ([`Truth::intended`], eq. 3, 8-bit levels).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
-pub struct RoughnessRow {
-    pub object: String,
-    /// [`LambdaSource::label`].
-    pub lambda_source: String,
-    /// Object pixels.
-    pub pixels: usize,
-    /// Mean and largest |Δ| per channel over the object.
-    pub mean: [f64; 3],
-    pub max: [f64; 3],
-    /// The same over the seam band ([`IntendedErrors::seam`]; 0 pixels for the teapot).
-    pub seam_pixels: usize,
-    pub seam_mean: [f64; 3],
-    pub seam_max: [f64; 3],
-    /// Mean |Δ| over the seam band against the truth with the render's own λ (the
-    /// map's floor there, [`IntendedErrors::seam_own`]).
-    pub seam_own_mean: [f64; 3],
-    /// Mean and largest |λ used − λ intended| over the object and the seam band.
-    pub lambda_mean: f64,
-    pub lambda_max: f64,
-    pub seam_lambda_mean: f64,
-    pub seam_lambda_max: f64,
-}
-
-impl RoughnessRow {
-    pub const CSV_HEADER: &'static str = "object,lambda_source,pixels,mean_r,mean_g,mean_b,max_r,max_g,max_b,seam_pixels,seam_mean_r,seam_mean_g,seam_mean_b,seam_max_r,seam_max_g,seam_max_b,seam_own_mean_r,seam_own_mean_g,seam_own_mean_b,lambda_mean,lambda_max,seam_lambda_mean,seam_lambda_max";
-
-    pub fn to_csv(&self) -> String {
-        let f = |v: [f64; 3]| format!("{:.4},{:.4},{:.4}", v[0], v[1], v[2]);
-        format!(
-            "{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5}",
-            self.object,
-            self.lambda_source,
-            self.pixels,
-            f(self.mean),
-            f(self.max),
-            self.seam_pixels,
-            f(self.seam_mean),
-            f(self.seam_max),
-            f(self.seam_own_mean),
-            self.lambda_mean,
-            self.lambda_max,
-            self.seam_lambda_mean,
-            self.seam_lambda_max
-        )
-    }
-
-    /// Mean of the three channels' mean |Δ| (over the object, and over the seam band).
-    pub fn mean_rgb(&self) -> f64 {
-        self.mean.iter().sum::<f64>() / 3.0
-    }
-    pub fn seam_mean_rgb(&self) -> f64 {
-        self.seam_mean.iter().sum::<f64>() / 3.0
-    }
-    pub fn seam_own_mean_rgb(&self) -> f64 {
-        self.seam_own_mean.iter().sum::<f64>() / 3.0
-    }
-}
-
-/// The thesis' proposed fix measured (issue 5): `object` with the non-uniform λ at
-/// `size`, rendered with λ per vertex and with a `side` × `side` roughness texture,
-/// each against the intended-λ truth (the same truth image for both: it depends only
-/// on the geometry and the interpolated n, r, (u, v)). Rows in that order. Errors as
-/// [`render_object_with`] and "envmap_render.lambda_texture".
-pub fn roughness_comparison(
-    env: &EnvMap,
-    map: &VoxelMap,
-    object: Object,
-    size: (u32, u32),
-    side: u32,
-) -> Result<Vec<RoughnessRow>, ConfigError> {
-    let mut rows = Vec::new();
-    for source in [LambdaSource::PerVertex, LambdaSource::Texture { side }] {
-        let opt = RenderOptions {
-            lambda_source: source,
-            intended_truth: true,
-            ..RenderOptions::default()
-        };
-        // Each source gets its own truths: the intended one is the same image for both,
-        // but `seam_own` needs the truth with the λ this render used.
-        let (_, _, st) = render_object_with(env, map, object, LambdaSpec::NonUniform, size, &opt)?;
-        let i = st.intended.unwrap_or_default();
-        rows.push(RoughnessRow {
-            object: object.name().to_string(),
-            lambda_source: source.label(),
-            pixels: i.all.pixels,
-            mean: i.all.mean,
-            max: i.all.max,
-            seam_pixels: i.seam.pixels,
-            seam_mean: i.seam.mean,
-            seam_max: i.seam.max,
-            seam_own_mean: i.seam_own.mean,
-            lambda_mean: i.lambda_all.mean,
-            lambda_max: i.lambda_all.max,
-            seam_lambda_mean: i.lambda_seam.mean,
-            seam_lambda_max: i.lambda_seam.max,
-        });
-    }
-    Ok(rows)
 }
