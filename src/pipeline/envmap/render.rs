@@ -694,7 +694,8 @@ fn render_core(
         }
     }
 
-    // ---- per visible pixel: reflection (f64 gap), λ, coordinate hand-over, sampler.
+    // ---- per visible pixel: the f64 r for the truth (and the HostF64 path), λ, the
+    // reflection unit's inputs, the sampler.
     let mut img = Image::new(w, h);
     let mut c_tex = Counters::default();
     let mut c_rough = Counters::default();
@@ -710,7 +711,8 @@ fn render_core(
         if n.dot(v) < 0.0 {
             back_normal_pixels += 1;
         }
-        // GAP: the reflection and t = r·λ are host f64 (module notes, step 4).
+        // The ideal f64 reflection of the interpolated n, e: the truth uses it, and the
+        // HostF64 / 2D-slice paths address with it (module notes, steps 4–5).
         let (n, r) = reflect(n, v);
         let (u, vv) = (a(uv[0]), a(uv[1]));
         if let Some(rs) = &rough {
