@@ -322,23 +322,7 @@ fn write_look_pngs() {
 #[test]
 fn reflection_unit_matches_the_host_f64_path() {
     let (env, map) = pattern();
-    let s = map.side();
-    let mut d = 0u32;
-    for z in 0..s {
-        for y in 0..s {
-            for x in 0..s {
-                let v = map.get(x, y, z);
-                for (nx, ny, nz) in [(x + 1, y, z), (x, y + 1, z), (x, y, z + 1)] {
-                    if nx < s && ny < s && nz < s {
-                        let w = map.get(nx, ny, nz);
-                        for c in 0..3 {
-                            d = d.max(v[c].abs_diff(w[c]));
-                        }
-                    }
-                }
-            }
-        }
-    }
+    let d = map.max_neighbour_step();
     let bound = 3.0 * d as f64 * (0.0556 + 1.0 / 512.0) + 1.0;
     assert_eq!(RenderOptions::default().reflection, Reflection::Unit);
     for object in [Object::Sphere, Object::Teapot] {

@@ -53,28 +53,6 @@ fn fnv(img: &Image) -> u64 {
     h
 }
 
-/// Largest |Δ| between neighbouring voxels along any axis, any channel (codes).
-fn max_neighbour_step(map: &VoxelMap) -> u32 {
-    let s = map.side();
-    let mut d = 0;
-    for z in 0..s {
-        for y in 0..s {
-            for x in 0..s {
-                let v = map.get(x, y, z);
-                for (nx, ny, nz) in [(x + 1, y, z), (x, y + 1, z), (x, y, z + 1)] {
-                    if nx < s && ny < s && nz < s {
-                        let w = map.get(nx, ny, nz);
-                        for c in 0..3 {
-                            d = d.max(v[c].abs_diff(w[c]));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    d
-}
-
 /// The hashes of the per-vertex images BEFORE the option existed (commit 42c3f23,
 /// printed by this file's first version): the per-vertex λ on the host-f64 reflection
 /// path (the only path then; `Reflection::Unit` is the default since) must keep them.
@@ -153,7 +131,7 @@ fn texgen_lambda_equals_the_vertex_lambda_at_the_vertices() {
 #[test]
 fn uniform_lambda_texture_matches_per_vertex_within_the_quantisation_bound() {
     let (env, map) = pattern();
-    let d = max_neighbour_step(map) as f64;
+    let d = map.max_neighbour_step() as f64;
     for object in [Object::Sphere, Object::Teapot] {
         // λ = 1: the texture is all 255; a bilinear sample of a constant is the
         // constant exactly (the weights sum to W² = 2^16), so λ = 255/255 = 1.0; the

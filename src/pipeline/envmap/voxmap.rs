@@ -78,6 +78,29 @@ impl VoxelMap {
     }
 
     /// Bytes of the map as stored (3 channels × ⌈bits/8⌉ per voxel).
+    /// Largest |Δ| between neighbouring voxels along any axis, any channel (codes): the
+    /// trilinear filter's slope bound, D codes per texel (used by error bounds).
+    pub fn max_neighbour_step(&self) -> u32 {
+        let s = self.s;
+        let mut d = 0;
+        for z in 0..s {
+            for y in 0..s {
+                for x in 0..s {
+                    let v = self.get(x, y, z);
+                    for (nx, ny, nz) in [(x + 1, y, z), (x, y + 1, z), (x, y, z + 1)] {
+                        if nx < s && ny < s && nz < s {
+                            let w = self.get(nx, ny, nz);
+                            for c in 0..3 {
+                                d = d.max(v[c].abs_diff(w[c]));
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        d
+    }
+
     pub fn bytes(&self) -> u64 {
         (self.s as u64).pow(3) * 3 * (self.bits as u64).div_ceil(8)
     }
