@@ -3,6 +3,7 @@
 
 pub mod image;
 pub mod interpolator;
+pub mod objects;
 pub mod prefilter;
 pub mod quick_map;
 pub mod render;

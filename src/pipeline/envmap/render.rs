@@ -5,7 +5,8 @@
 //! # The per-pixel path, and what in it is f64
 //!
 //! 1. **Geometry (host, f64, per vertex — the application / T&L stage).** The object is
-//!    tessellated ([`sphere_triangles`], [`tessellate_teapot`]); every vertex is
+//!    tessellated ([`crate::scene::teapot::sphere_triangles`],
+//!    [`crate::scene::teapot::tessellate_teapot`]; `super::objects`); every vertex is
 //!    projected by a pinhole camera ([`CameraView`]) and given 8 attributes: the unit
 //!    normal n (3), the eye vector e = eye − p (3, unnormalised), the smoothness λ (1)
 //!    and the window depth z ∈ [0, 1] (1); with a roughness texture also (u, v) (2).
@@ -110,6 +111,11 @@ pub use super::interpolator::{
     render_interpolator, texcoord_channels_cost, RENDER_ATTRS, RENDER_ATTRS_TEXTURE,
     TEXCOORD_CHANNELS,
 };
+pub use super::objects::{
+    camera, object_geometry, LambdaSpec, Object, SPHERE_RINGS, SPHERE_SEGMENTS, TEAPOT_SCALE,
+    TEAPOT_SUBDIVISIONS,
+};
+pub(super) use super::objects::{teapot_position, TEAPOT_HEIGHT, TEAPOT_X};
 pub use super::quick_map::{quick_map, quick_map_with, QUICK_MAP_MAX_TEXELS};
 use super::roughness::ROUGHNESS_BITS;
 pub use super::roughness::{
@@ -126,74 +132,11 @@ use crate::pipeline::shafts::view::CameraView;
 use crate::reference::envmap_prefilter::{g, THESIS_LEVELS};
 use crate::reference::phong_truth::{PhongTruth, Visibility};
 use crate::scene::envmap::EnvMap;
-use crate::scene::format::{Camera, ImageSize};
+use crate::scene::format::ImageSize;
 use crate::scene::math::{v3, Vec3};
-use crate::scene::teapot::{sphere_triangles, tessellate_teapot, Triangle};
 
 /// Largest image side.
 pub const MAX_IMAGE_SIDE: u32 = 4096;
-/// Sphere tessellation (segments around y, rings pole to pole).
-pub const SPHERE_SEGMENTS: u32 = 48;
-pub const SPHERE_RINGS: u32 = 24;
-/// Teapot: quads per patch side, scale.
-pub const TEAPOT_SUBDIVISIONS: u32 = 6;
-pub const TEAPOT_SCALE: f64 = 0.3;
-/// Teapot height before scaling (y ∈ [0, 3.15]) and x extent (handle −3 to spout 3.434).
-pub(super) const TEAPOT_HEIGHT: f64 = 3.15;
-pub(super) const TEAPOT_X: (f64, f64) = (-3.0, 3.434);
-
-/// The object drawn.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum Object {
-    Sphere,
-    Teapot,
-}
-
-impl Object {
-    pub fn name(self) -> &'static str {
-        match self {
-            Object::Sphere => "sphere",
-            Object::Teapot => "teapot",
-        }
-    }
-}
-
-/// The smoothness λ per vertex.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub enum LambdaSpec {
-    /// The same λ ∈ [0, 1] everywhere.
-    Uniform(f64),
-    /// The thesis' non-uniform λ: the sphere's λ runs 0 → 1 around the view axis (6
-    /// o'clock 0, 9 o'clock 0.25, 12 o'clock 0.5, 3 o'clock 0.75, seen from the camera);
-    /// the teapot's runs linearly with height from 0.2 (bottom) to 0.9 (top).
-    NonUniform,
-}
-
-impl LambdaSpec {
-    /// "1", "0.5", … or "nonuniform" (for the Table 5 rows).
-    pub fn label(&self) -> String {
-        match self {
-            LambdaSpec::Uniform(l) => format!("{l}"),
-            LambdaSpec::NonUniform => "nonuniform".to_string(),
-        }
-    }
-
-    pub(super) fn validate(&self) -> Result<(), ConfigError> {
-        if let LambdaSpec::Uniform(l) = *self {
-            let l = rtl_model::error::check_finite("envmap_render.lambda", l)?;
-            if !(0.0..=1.0).contains(&l) {
-                return Err(ConfigError::out_of_range(
-                    "envmap_render.lambda",
-                    l,
-                    0.0,
-                    1.0,
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
 /// What is behind the object.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Background {
@@ -302,65 +245,6 @@ pub struct RenderStats {
     pub frame: FrameInfo,
     /// Errors against the intended-λ truth, with [`RenderOptions::intended_truth`].
     pub intended: Option<IntendedErrors>,
-}
-
-/// The camera of every render (module notes).
-pub fn camera() -> Camera {
-    Camera {
-        eye: [0.0, 1.0, 3.9],
-        look_at: [0.0, 0.0, 0.0],
-        up: [0.0, 1.0, 0.0],
-        fovy_deg: 36.0,
-        near: 1.0,
-        far: 10.0,
-    }
-}
-
-/// The object's triangles (world space) and per-vertex λ.
-pub fn object_geometry(
-    object: Object,
-    lambda: LambdaSpec,
-    cam: &CameraView,
-) -> Result<Vec<(Triangle, [f64; 3])>, ConfigError> {
-    lambda.validate()?;
-    let (tris, lam): (Vec<Triangle>, Box<dyn Fn(Vec3) -> f64>) = match object {
-        Object::Sphere => {
-            let tris = sphere_triangles([0.0; 3], 1.0, SPHERE_SEGMENTS, SPHERE_RINGS)?;
-            let (right, up) = (cam.right, cam.up);
-            let f = move |p: Vec3| {
-                // Angle around the view axis from 6 o'clock, through 9 (left), 12, 3.
-                let (xr, yu) = (p.dot(right), p.dot(up));
-                let a = (-xr).atan2(-yu).rem_euclid(std::f64::consts::TAU);
-                (a / std::f64::consts::TAU).clamp(0.0, 1.0)
-            };
-            (tris, Box::new(f))
-        }
-        Object::Teapot => {
-            let pos = teapot_position();
-            let tris = tessellate_teapot(pos, TEAPOT_SCALE, 0.0, TEAPOT_SUBDIVISIONS)?;
-            let (y0, h) = (pos[1], TEAPOT_HEIGHT * TEAPOT_SCALE);
-            let f = move |p: Vec3| 0.2 + 0.7 * ((p.y - y0) / h).clamp(0.0, 1.0);
-            (tris, Box::new(f))
-        }
-    };
-    Ok(tris
-        .into_iter()
-        .map(|t| {
-            let l = match lambda {
-                LambdaSpec::Uniform(l) => [l; 3],
-                LambdaSpec::NonUniform => [lam(t.p[0]), lam(t.p[1]), lam(t.p[2])],
-            };
-            (t, l)
-        })
-        .collect())
-}
-
-pub(super) fn teapot_position() -> [f64; 3] {
-    [
-        -0.5 * (TEAPOT_X.0 + TEAPOT_X.1) * TEAPOT_SCALE,
-        -0.5 * TEAPOT_HEIGHT * TEAPOT_SCALE,
-        0.0,
-    ]
 }
 
 /// [`render_object_with`] with the default options (auto exposure, environment
