@@ -132,75 +132,61 @@ fn texgen_lambda_equals_the_vertex_lambda_at_the_vertices() {
 fn uniform_lambda_texture_matches_per_vertex_within_the_quantisation_bound() {
     let (env, map) = pattern();
     let d = map.max_neighbour_step() as f64;
-    for object in [Object::Sphere, Object::Teapot] {
-        // λ = 1: the texture is all 255; a bilinear sample of a constant is the
-        // constant exactly (the weights sum to W² = 2^16), so λ = 255/255 = 1.0; the
-        // per-vertex constant 1.0 is exact in s16.16 and its plane has zero gradients,
-        // so the interpolated λ is exactly 1.0 too: the same t, the same bytes.
-        let pv = render_image(
-            env,
-            map,
-            object,
-            LambdaSpec::Uniform(1.0),
-            SIZE,
-            &Default::default(),
-        )
-        .unwrap();
-        let tx = render_image(
-            env,
-            map,
-            object,
-            LambdaSpec::Uniform(1.0),
-            SIZE,
-            &texture(SIDE),
-        )
-        .unwrap();
-        assert_eq!(tx, pv, "{object:?} λ = 1");
-        // λ = 0.5: the texel is round(127.5) = 128, λ_tex = 128/255, |Δλ| = 1/510 (0.5 is
-        // exact in s16.16). Per axis the texel coordinate (r_k·λ + 1)/2 · s moves by
-        // ≤ s·|Δλ|/2, the two hand-over roundings (to 1/256 texel) add ≤ 1/256; the
-        // trilinear value moves by ≤ D per texel per axis (D = the largest step between
-        // neighbouring voxels; the weights are exact at 8 fraction bits = 8 weight
-        // bits), and the two final roundings add < 1 code:
-        //   |Δout| ≤ 3·D·(s·|Δλ|/2 + 1/256) + 1.
-        let dl = (128.0 / 255.0 - 0.5f64).abs();
-        let bound = (3.0 * d * (S as f64 * dl / 2.0 + 1.0 / 256.0) + 1.0).floor() as u8;
-        let pv = render_image(
-            env,
-            map,
-            object,
-            LambdaSpec::Uniform(0.5),
-            SIZE,
-            &Default::default(),
-        )
-        .unwrap();
-        let tx = render_image(
-            env,
-            map,
-            object,
-            LambdaSpec::Uniform(0.5),
-            SIZE,
-            &texture(SIDE),
-        )
-        .unwrap();
-        assert_eq!(tx.mask, pv.mask);
-        let mut max = 0u8;
-        let mut differ = 0;
-        for k in 0..pv.pixels.len() {
-            if pv.mask[k] {
-                for c in 0..3 {
-                    let e = pv.pixels[k][c].abs_diff(tx.pixels[k][c]);
-                    max = max.max(e);
-                    differ += usize::from(e > 0);
+    // Per axis, how far each path's texel coordinate may sit from the exact (t + 1)/2 · s:
+    // HostF64 rounds it to 1/256 texel (½ LSB, two renders: 1/256); the reflection
+    // unit is within its derived bound B of the exact value (0.0556 texel at s = 128
+    // in docs/units.md; the bound grows with s, so it covers s = 16), two renders: 2B.
+    for (reflection, handover) in [
+        (Reflection::HostF64, 1.0 / 256.0),
+        (Reflection::Unit, 2.0 * 0.0556),
+    ] {
+        let render = |object, lambda, source| {
+            let opt = RenderOptions {
+                lambda_source: source,
+                reflection,
+                ..RenderOptions::default()
+            };
+            render_image(env, map, object, LambdaSpec::Uniform(lambda), SIZE, &opt).unwrap()
+        };
+        let tex = LambdaSource::Texture { side: SIDE };
+        for object in [Object::Sphere, Object::Teapot] {
+            // λ = 1: the texture is all 255; a bilinear sample of a constant is the
+            // constant exactly (the weights sum to W² = 2^16), so λ = 255/255 = 1.0 (and
+            // the unit's u1.12 word round(255 · 4096/255) = 4096); the per-vertex
+            // constant 1.0 is exact in s16.16 and its plane has zero gradients, so the
+            // interpolated λ is exactly 1.0 too: the same t, the same bytes.
+            let pv = render(object, 1.0, LambdaSource::PerVertex);
+            let tx = render(object, 1.0, tex);
+            assert_eq!(tx, pv, "{object:?} {reflection:?} λ = 1");
+            // λ = 0.5: the texel is round(127.5) = 128, λ_tex = 128/255, |Δλ| = 1/510 (0.5
+            // is exact in s16.16). Per axis the texel coordinate moves by ≤ s·|Δλ|/2 plus
+            // the hand-over term above; the trilinear value moves by ≤ D per texel per
+            // axis (D = the largest step between neighbouring voxels; the weights are
+            // exact at 8 fraction bits = 8 weight bits), and the two final roundings add
+            // < 1 code:  |Δout| ≤ 3·D·(s·|Δλ|/2 + hand-over) + 1.
+            let dl = (128.0 / 255.0 - 0.5f64).abs();
+            let bound = (3.0 * d * (S as f64 * dl / 2.0 + handover) + 1.0).floor() as u8;
+            let pv = render(object, 0.5, LambdaSource::PerVertex);
+            let tx = render(object, 0.5, tex);
+            assert_eq!(tx.mask, pv.mask);
+            let mut max = 0u8;
+            let mut differ = 0;
+            for k in 0..pv.pixels.len() {
+                if pv.mask[k] {
+                    for c in 0..3 {
+                        let e = pv.pixels[k][c].abs_diff(tx.pixels[k][c]);
+                        max = max.max(e);
+                        differ += usize::from(e > 0);
+                    }
+                } else {
+                    assert_eq!(pv.pixels[k], tx.pixels[k]); // the background is untouched
                 }
-            } else {
-                assert_eq!(pv.pixels[k], tx.pixels[k]); // the background is untouched
             }
+            println!(
+                "{object:?} {reflection:?} λ = 0.5: texture vs per vertex max |Δ| = {max} (bound {bound}, D = {d}), {differ} channel values differ"
+            );
+            assert!(max <= bound, "{object:?} {reflection:?}: {max} > {bound}");
         }
-        println!(
-            "{object:?} λ = 0.5: texture vs per vertex max |Δ| = {max} (bound {bound}, D = {d}), {differ} channel values differ"
-        );
-        assert!(max <= bound, "{object:?}: {max} > {bound}");
     }
 }
 
