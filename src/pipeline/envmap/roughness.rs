@@ -46,7 +46,7 @@
 use rtl_model::error::{check_range, ConfigError};
 use rtl_model::units::texture_sampler::{AddressMode, TextureSampler, TextureSamplerConfig};
 
-use super::image::ErrorStats;
+use super::image::{ErrorStats, Image};
 #[cfg(doc)]
 use super::interpolator::{
     texcoord_channels_cost, RENDER_ATTRS, RENDER_ATTRS_TEXTURE, TEXCOORD_CHANNELS,
@@ -333,8 +333,27 @@ pub fn roughness_comparison(
     size: (u32, u32),
     side: u32,
 ) -> Result<Vec<RoughnessRow>, ConfigError> {
-    let mut rows = Vec::new();
-    for source in [LambdaSource::PerVertex, LambdaSource::Texture { side }] {
+    Ok(roughness_comparison_images(env, map, object, size, side)?.rows)
+}
+
+/// [`roughness_comparison`] with the images it made, for looking at.
+pub struct RoughnessComparison {
+    pub rows: Vec<RoughnessRow>,
+    /// The renders: λ per vertex, λ from the texture.
+    pub images: [Image; 2],
+    /// The intended-λ truth (black where the object is not).
+    pub truth: Image,
+}
+
+/// [`roughness_comparison`], keeping the two renders and the intended-λ truth.
+pub fn roughness_comparison_images(
+    env: &EnvMap,
+    map: &VoxelMap,
+    object: Object,
+    size: (u32, u32),
+    side: u32,
+) -> Result<RoughnessComparison, ConfigError> {
+    let run = |source: LambdaSource| {
         let opt = RenderOptions {
             lambda_source: source,
             intended_truth: true,
@@ -342,9 +361,10 @@ pub fn roughness_comparison(
         };
         // Each source gets its own truths: the intended one is the same image for both,
         // but `seam_own` needs the truth with the λ this render used.
-        let (_, _, st) = render_object_with(env, map, object, LambdaSpec::NonUniform, size, &opt)?;
+        let (img, t, st) =
+            render_object_with(env, map, object, LambdaSpec::NonUniform, size, &opt)?;
         let i = st.intended.unwrap_or_default();
-        rows.push(RoughnessRow {
+        let row = RoughnessRow {
             object: object.name().to_string(),
             lambda_source: source.label(),
             pixels: i.all.pixels,
@@ -358,7 +378,18 @@ pub fn roughness_comparison(
             lambda_max: i.lambda_all.max,
             seam_lambda_mean: i.lambda_seam.mean,
             seam_lambda_max: i.lambda_seam.max,
-        });
-    }
-    Ok(rows)
+        };
+        Ok::<_, ConfigError>((row, img, t.intended))
+    };
+    let (r0, a, _) = run(LambdaSource::PerVertex)?;
+    let (r1, b, truth) = run(LambdaSource::Texture { side })?;
+    // `intended_truth: true` always makes it.
+    let truth = truth.ok_or_else(|| {
+        ConfigError::invalid("envmap_render.truth", "the render made no intended-λ truth")
+    })?;
+    Ok(RoughnessComparison {
+        rows: vec![r0, r1],
+        images: [a, b],
+        truth,
+    })
 }

@@ -14,10 +14,11 @@ use std::time::Instant;
 
 use super::prefilter::{build_exact_bits, env_to_levels};
 use super::render::{
-    render_against, render_object_with, roughness_comparison, LambdaSource, LambdaSpec, Object,
-    RenderOptions, RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE,
+    render_against, render_object_with, roughness_comparison, LambdaSpec, Object, RenderOptions,
+    RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE,
 };
 use super::reproduce::{grid, RenderRun};
+use super::roughness::roughness_comparison_images;
 use crate::reference::envmap_prefilter::PrefilterParams;
 use crate::scene::envmap::EnvMap;
 
@@ -141,31 +142,11 @@ pub fn roughness(out: &Path, run: RenderRun) -> Result<Vec<RoughnessRow>, String
     let map = build_exact_bits(&levels, run.s, &PrefilterParams::thesis(), 8).map_err(e)?;
     let size = (run.size, run.size);
     let side = DEFAULT_LAMBDA_TEXTURE_SIDE;
-    let mut rows = Vec::new();
-    for object in [Object::Sphere, Object::Teapot] {
-        rows.extend(roughness_comparison(&env, &map, object, size, side).map_err(e)?);
-    }
-    let mut imgs = Vec::new();
-    let mut truth = None;
-    for source in [LambdaSource::PerVertex, LambdaSource::Texture { side }] {
-        let opt = RenderOptions {
-            lambda_source: source,
-            intended_truth: true,
-            ..RenderOptions::default()
-        };
-        let (img, t, _) = render_object_with(
-            &env,
-            &map,
-            Object::Sphere,
-            LambdaSpec::NonUniform,
-            size,
-            &opt,
-        )
-        .map_err(e)?;
-        truth = t.intended;
-        imgs.push(img);
-    }
-    let truth = truth.ok_or("envmap-roughness: the render made no intended-λ truth")?;
+    // The sphere's renders and truth are kept for the figure (no second render).
+    let sphere = roughness_comparison_images(&env, &map, Object::Sphere, size, side).map_err(e)?;
+    let mut rows = sphere.rows;
+    rows.extend(roughness_comparison(&env, &map, Object::Teapot, size, side).map_err(e)?);
+    let (imgs, truth) = (sphere.images, sphere.truth);
     let d: Vec<_> = imgs.iter().map(|i| i.diff(&truth, 8.0)).collect();
     let blank = truth.diff(&truth, 0.0);
     grid(
