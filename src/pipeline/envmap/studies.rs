@@ -101,11 +101,17 @@ pub fn lambda_sweep(out: &Path, run: RenderRun) -> Result<Vec<SweepRow>, String>
     for object in [Object::Sphere, Object::Teapot] {
         for lambda in SWEEP_LAMBDAS {
             let spec = LambdaSpec::Uniform(lambda);
-            let (_, truth, _) =
+            // The first map's render makes the truth; the others reuse it.
+            let (_, truth, first) =
                 render_object_with(&env, &maps[0].1, object, spec, size, &opt).map_err(e)?;
-            for (bits, map) in &maps {
-                let (_, st) =
-                    render_against(&env, map, object, spec, size, &opt, &truth).map_err(e)?;
+            for (k, (bits, map)) in maps.iter().enumerate() {
+                let st = if k == 0 {
+                    first.clone()
+                } else {
+                    render_against(&env, map, object, spec, size, &opt, &truth)
+                        .map_err(e)?
+                        .1
+                };
                 let row = SweepRow {
                     object,
                     voxel_bits: *bits,
