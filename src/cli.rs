@@ -47,6 +47,7 @@ pub enum Command {
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
+    /// glare-gauss-seeds (seeds 1 ..= 1000, or $GLARE_GAUSS_SEEDS),
     /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S), envmap-table5 and envmap-images
     /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
     /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S),
@@ -226,6 +227,12 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "glare-fig7" => g::fig7(out)?,
         "glare-fig8" => g::fig8(out)?,
         "glare-throughput" => g::throughput(out)?,
+        "glare-gauss-seeds" => {
+            crate::pipeline::glare::gauss_seeds::gauss_seeds(
+                out,
+                crate::pipeline::glare::gauss_seeds::cli_seeds()?,
+            )?;
+        }
         "envmap-table3" => crate::pipeline::envmap::reproduce::table3(
             out,
             crate::pipeline::envmap::reproduce::cli_side()?,
@@ -262,7 +269,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness)"
             ))
         }
     }

@@ -423,3 +423,68 @@ fn report() {
         bm_bound_lsb(&u, 0)
     );
 }
+
+// ---- `reproduce glare-gauss-seeds`: the acceptance test at many seeds -------------
+
+use glare_pipeline::pipeline::glare::gauss_seeds;
+
+/// P(5 ≤ X ≤ 7) for X ~ Poisson(m), from the textbook pmf e^(−m) m^k / k!: the
+/// module's log-domain pmf and pass probability agree with it, and the pmf sums to 1.
+#[test]
+fn poisson_pass_probability_matches_the_textbook_sum() {
+    let (_, m) = gauss_seeds::expected_counts();
+    let direct: f64 = (5..=7u32)
+        .map(|k| (-m).exp() * m.powi(k as i32) / (1..=k).product::<u32>() as f64)
+        .sum();
+    let p = gauss_seeds::poisson_pass_probability(m, 0.25);
+    assert!((p - direct).abs() < 1e-12, "{p} vs {direct}");
+    // 6.33 · 0.75 = 4.75 and 6.33 · 1.25 = 7.92: the clause accepts 5, 6 and 7.
+    assert!((0.40..0.50).contains(&p), "{p}");
+    let total: f64 = (0..200).map(|k| gauss_seeds::poisson_pmf(m, k)).sum();
+    assert!((total - 1.0).abs() < 1e-12, "{total}");
+}
+
+/// The seed sweep's row for seed 1 is the acceptance test's own draw, and its rows and
+/// summaries are the same bytes on 1 and 2 threads.
+#[test]
+fn seed_sweep_reuses_the_acceptance_draw_and_is_thread_count_independent() {
+    let (ks, c3, c4, _, _) = acceptance_numbers();
+    let r = gauss_seeds::unit_row(SEED);
+    assert_eq!((r.count_3sigma, r.count_4sigma), (c3, c4));
+    assert_eq!(r.ks_d, ks.d);
+    let run = |threads: usize| -> (Vec<u8>, Vec<u8>) {
+        let dir =
+            std::env::temp_dir().join(format!("gauss_seeds_{threads}_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let sums = pool.install(|| gauss_seeds::gauss_seeds(&dir, 4)).unwrap();
+        assert_eq!(sums.len(), 2);
+        for s in &sums {
+            assert_eq!(s.seeds, 4);
+            assert!(s.pass_all <= s.pass_4sigma && s.pass_all <= s.pass_ks);
+        }
+        let rows = std::fs::read(dir.join("gauss_seeds.csv")).unwrap();
+        let summary = std::fs::read(dir.join("gauss_seeds_summary.csv")).unwrap();
+        assert!(dir.join("gauss_seeds_4sigma.png").is_file());
+        std::fs::remove_dir_all(&dir).unwrap();
+        (rows, summary)
+    };
+    assert_eq!(run(1), run(2));
+}
+
+/// The ideal sampler is what the unit is compared with, so it must itself be N(0, 1)
+/// at the unit's output LSB: over seeds 1 ..= 3 (3·10⁵ samples) its 3σ count is within
+/// 4 Poisson σ of 809.9 and each seed's KS test passes at p > 0.001.
+#[test]
+fn ideal_sampler_is_normal() {
+    let rows: Vec<_> = (1..=3).map(gauss_seeds::ideal_row).collect();
+    let c3: u64 = rows.iter().map(|r| r.count_3sigma).sum();
+    let e3 = 3.0 * gauss_seeds::expected_counts().0;
+    assert!((c3 as f64 - e3).abs() <= 4.0 * e3.sqrt(), "{c3} vs {e3}");
+    for r in &rows {
+        assert!(r.ks_p > 0.001, "seed {}: p = {}", r.seed, r.ks_p);
+    }
+}

@@ -6,6 +6,7 @@ pub mod cli;
 pub mod condition;
 pub mod fluctuation;
 pub mod frame;
+pub mod gauss_seeds;
 pub mod host;
 pub mod primitives;
 pub mod reproduce;
