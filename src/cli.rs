@@ -212,6 +212,10 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
     if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
         return Err(format!("values[{v}]: must be at least 1"));
     }
+    if name.starts_with("envmap-") {
+        // Refuse a malformed ENVMAP_PATTERN_SIZE before any build or file.
+        crate::pipeline::envmap::reproduce::cli_env("pattern")?;
+    }
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
     match name {

@@ -85,3 +85,30 @@ fn every_unit_traces_to_a_vcd() {
     }
     let _ = std::fs::remove_dir_all(dir);
 }
+
+/// A malformed `ENVMAP_PATTERN_SIZE` or `GLARE_GAUSS_SEEDS` is refused with an error
+/// that names the variable, before any work or file is written.
+#[test]
+fn bad_reproduction_knobs_name_the_variable() {
+    for (var, value, name) in [
+        ("ENVMAP_PATTERN_SIZE", "1024", "envmap-lambda-sweep"),
+        ("ENVMAP_PATTERN_SIZE", "0x512", "envmap-table5"),
+        ("ENVMAP_PATTERN_SIZE", "5000x100", "envmap-table3"),
+        ("GLARE_GAUSS_SEEDS", "0", "glare-gauss-seeds"),
+        ("GLARE_GAUSS_SEEDS", "many", "glare-gauss-seeds"),
+    ] {
+        let dir = std::env::temp_dir().join(format!("knob-{}-{name}", std::process::id()));
+        let out = bin()
+            .args(["reproduce", name, "--out"])
+            .arg(&dir)
+            .env(var, value)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{var}={value} accepted");
+        assert!(err.contains(var), "{var}={value}: {err}");
+        let written = std::fs::read_dir(&dir).map_or(0, |d| d.count());
+        assert_eq!(written, 0, "{var}={value}: files written");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -56,6 +56,34 @@ use std::time::Instant;
 /// The thesis' thresholds (Table 3).
 pub const THESIS_TH: [f64; 7] = [0.001, 0.005, 0.01, 0.05, 0.1, 0.25, 0.5];
 
+/// A built-in environment as the CLI's reproductions load it: the pattern at
+/// `ENVMAP_PATTERN_SIZE` (`WIDTHxHEIGHT`, e.g. `1024x512`, each side 2 ..= 4096) if set,
+/// else at the thesis' 512 × 256; the photos as embedded. The size is the input's
+/// resolution knob (docs/envmap.md, Table 5: the pattern's error against λ·s).
+pub fn cli_env(name: &str) -> Result<EnvMap, String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    match (name, std::env::var("ENVMAP_PATTERN_SIZE")) {
+        ("pattern", Ok(v)) => {
+            let (w, h) = parse_size(&v).ok_or_else(|| {
+                format!(
+                    "ENVMAP_PATTERN_SIZE: '{v}' is not WIDTHxHEIGHT with each side in 2 ..= 4096"
+                )
+            })?;
+            Ok(EnvMap::pattern(w, h))
+        }
+        _ => EnvMap::builtin(name).map_err(e),
+    }
+}
+
+fn parse_size(v: &str) -> Option<(usize, usize)> {
+    let (w, h) = v.trim().split_once(['x', 'X'])?;
+    let (w, h) = (
+        w.trim().parse::<usize>().ok()?,
+        h.trim().parse::<usize>().ok()?,
+    );
+    ((2..=4096).contains(&w) && (2..=4096).contains(&h)).then_some((w, h))
+}
+
 /// The side used by the CLI: `ENVMAP_TABLE3_S` if set to 1 ..= 512, else 128.
 pub fn cli_side() -> Result<u32, String> {
     match std::env::var("ENVMAP_TABLE3_S") {
@@ -78,7 +106,7 @@ pub fn table3(out: &Path, s: u32) -> Result<(), String> {
     );
     let mut times = String::from("env,s,exact_seconds,exposure,prune_bound,threads\n");
     for name in ["pattern", "st_fagans_interior"] {
-        let env = EnvMap::builtin(name).map_err(e)?;
+        let env = cli_env(name)?;
         let exposure = env.auto_exposure();
         let levels = env_to_levels(&env, exposure).map_err(e)?;
         let t0 = Instant::now();
@@ -224,11 +252,11 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
         "object,env,lambda,accelerated,pixels,simplified_mean_r,simplified_mean_g,simplified_mean_b,signed_mean_r,signed_mean_g,signed_mean_b,max_r,max_g,max_b,back_normal_pixels\n",
     );
     let mut times = String::from(
-        "env,s,size,exact_build_seconds,accelerated_build_seconds,truth_and_render_seconds\n",
+        "env,env_width,env_height,s,size,exact_build_seconds,accelerated_build_seconds,truth_and_render_seconds\n",
     );
     let opt = RenderOptions::default();
     for name in TABLE5_ENVS {
-        let env = EnvMap::builtin(name).map_err(e)?;
+        let env = cli_env(name)?;
         let (exact, acc, t_exact, t_acc) = both_maps(&env, run.s)?;
         eprintln!(
             "{name}: maps {s}³ exact {t_exact:.1} s, accelerated {t_acc:.1} s",
@@ -310,7 +338,9 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
         }
         let _ = writeln!(
             times,
-            "{name},{},{},{t_exact:.3},{t_acc:.3},{:.3}",
+            "{name},{},{},{},{},{t_exact:.3},{t_acc:.3},{:.3}",
+            env.width(),
+            env.height(),
             run.s,
             run.size,
             t0.elapsed().as_secs_f64()
@@ -342,7 +372,7 @@ pub fn images(out: &Path, run: RenderRun) -> Result<Vec<std::path::PathBuf>, Str
         ("pattern", "fig14", "fig15"),
         ("st_fagans_interior", "fig16", "fig17"),
     ] {
-        let env = EnvMap::builtin(name).map_err(e)?;
+        let env = cli_env(name)?;
         let params = PrefilterParams::thesis();
         let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
         let (acc, st) = build_accelerated(&levels, run.s, &params, TABLE5_TH).map_err(e)?;
@@ -402,7 +432,7 @@ pub const TIMING_SLICE_LAMBDA: f64 = 0.5;
 /// `DIR/elaboration.txt` (the samplers elaborated and left out, texture bytes).
 pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
-    let env = EnvMap::builtin("pattern").map_err(e)?;
+    let env = cli_env("pattern")?;
     let params = PrefilterParams::thesis();
     let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
     let (map, st) = build_accelerated(&levels, s, &params, TABLE5_TH).map_err(e)?;

@@ -20,7 +20,6 @@ use super::render::{
 use super::reproduce::{grid, RenderRun};
 use super::roughness::roughness_comparison_images;
 use crate::reference::envmap_prefilter::PrefilterParams;
-use crate::scene::envmap::EnvMap;
 
 /// The λ of the sweep: Table 5's four and the steps between, down to 0.125.
 pub const SWEEP_LAMBDAS: [f64; 8] = [1.0, 0.875, 0.75, 0.625, 0.5, 0.375, 0.25, 0.125];
@@ -79,7 +78,7 @@ impl SweepRow {
 /// both maps. Writes `DIR/lambda_sweep.csv` ([`SweepRow::CSV_HEADER`]). Returns the rows.
 pub fn lambda_sweep(out: &Path, run: RenderRun) -> Result<Vec<SweepRow>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
-    let env = EnvMap::builtin("pattern").map_err(e)?;
+    let env = super::reproduce::cli_env("pattern")?;
     let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
     let params = PrefilterParams::thesis();
     let mut maps = Vec::new();
@@ -143,7 +142,7 @@ pub fn lambda_sweep(out: &Path, run: RenderRun) -> Result<Vec<SweepRow>, String>
 /// intended truth; then |Δ| × 8 of each against that truth). Returns the rows.
 pub fn roughness(out: &Path, run: RenderRun) -> Result<Vec<RoughnessRow>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
-    let env = EnvMap::builtin("pattern").map_err(e)?;
+    let env = super::reproduce::cli_env("pattern")?;
     let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
     let map = build_exact_bits(&levels, run.s, &PrefilterParams::thesis(), 8).map_err(e)?;
     let size = (run.size, run.size);
