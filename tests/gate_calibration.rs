@@ -39,7 +39,8 @@ fn circuits() -> Vec<(&'static str, &'static str, Cells)> {
         // The remaining primitives at widths the units use (their `cost()` calls
         // comparators of 13–61 bits, multipliers from 8×8 to 52×19 and 32×38,
         // subtractors of 9–52 bits, leading-zero counters of 23–38 bits, shifters of
-        // 19–53 bits over 1–6 stages, a 4:1 mux of 32 bits, a divider of 39-bit rows).
+        // 19–53 bits over 1–6 stages, 4:1 and 3:1 muxes of 32 and 8 bits, a divider of
+        // 39-bit rows).
         ("sub16", "prim::subtractor(16)", prim::subtractor(16)),
         (
             "mul12x12",
@@ -62,6 +63,7 @@ fn circuits() -> Vec<(&'static str, &'static str, Cells)> {
             prim::multiplier(32, 16),
         ),
         ("mux4_16", "prim::mux_k(16, 4)", prim::mux_k(16, 4)),
+        ("mux3_8", "prim::mux_k(8, 3)", prim::mux_k(8, 3)),
         ("reg16", "prim::register(16)", prim::register(16)),
         ("shl32_5", "prim::shifter(32, 5)", prim::shifter(32, 5)),
         (
