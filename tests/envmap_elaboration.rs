@@ -7,7 +7,7 @@ use std::sync::OnceLock;
 use glare_pipeline::pipeline::envmap::render::{
     quick_map, render_frame, render_object_with, Image, LambdaSpec, Lookup, Object, RenderOptions,
 };
-use glare_pipeline::pipeline::envmap::slice::{default_slice_size, slice_from_map};
+use glare_pipeline::pipeline::envmap::slice::{default_face_side, slice_from_map};
 use glare_pipeline::pipeline::envmap::timing::predict_frame;
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::throughput::GpuModel;
@@ -65,19 +65,39 @@ fn uniform_lambda_elaborates_the_2d_slice_and_leaves_out_the_3d_sampler() {
         let el = &f.elaboration;
         assert!(el.slice_2d);
         assert_eq!(f.texels_per_lookup, 4);
-        assert_eq!(el.units.len(), 2);
-        assert_eq!(el.units[0].name, "texture_sampler (2D slice)");
+        // The 2D sampler and the cube_map_address unit elaborated, the 3D sampler left
+        // out, the reflection unit (which feeds both paths) elaborated.
+        assert_eq!(el.units.len(), 4);
+        assert_eq!(el.units[0].name, "texture_sampler (2D cube map)");
         assert!(el.units[0].left_out.is_none() && el.units[0].summary.is_some());
-        assert_eq!(el.units[1].name, "texture_sampler (3D map)");
-        assert!(el.units[1].left_out.is_some() && el.units[1].summary.is_none());
-        assert!(el.units[1].gates_saved > 0.0);
-        // s = 16: 16³ × 3 bytes against a 64 × 32 × 3 slice.
-        assert_eq!(el.texture_bytes, 64 * 32 * 3);
-        assert_eq!(el.texture_bytes_saved, 16 * 16 * 16 * 3 - 64 * 32 * 3);
-        assert!(el.texture_bytes_saved > 0);
-        assert!(el.gates_saved > 0.0, "gates saved {}", el.gates_saved);
+        assert_eq!(el.units[1].name, "cube_map_address");
+        assert!(el.units[1].left_out.is_none() && el.units[1].summary.is_some());
+        assert_eq!(el.units[2].name, "texture_sampler (3D map)");
+        assert!(el.units[2].left_out.is_some() && el.units[2].summary.is_none());
+        assert!(el.units[2].gates_saved > 0.0);
+        assert_eq!(el.units[3].name, "reflection_vector");
+        assert!(el.units[3].left_out.is_none());
+        // s = 16: F = 32, a 32 × 192 × 3 cube map against 16³ × 3 bytes: at this small
+        // s the cube map is the larger (6F² = 24s² > s³ for s < 24), nothing saved.
+        let cube_bytes = 6 * 32 * 32 * 3;
+        assert_eq!(el.texture_bytes, cube_bytes);
+        assert_eq!(el.texture_bytes_saved, 0);
+        let s2 = el.units[0].summary.as_ref().unwrap();
+        assert_eq!(s2.ram_bits, cube_bytes * 8);
+        // The saving counts the cube unit's gates against the 3D sampler's.
+        let cube_gates = el.units[1].summary.as_ref().unwrap().gates_nand2;
+        assert!(
+            (el.gates_saved - (el.units[2].gates_saved - s2.gates_nand2 - cube_gates)).abs() < 1e-6
+        );
+        println!(
+            "{}: gates saved {:.0} (3D sampler {:.0} − 2D sampler {:.0} − cube_map_address {cube_gates:.0})",
+            object.name(),
+            el.gates_saved,
+            el.units[2].gates_saved,
+            s2.gates_nand2
+        );
         // II 2 → 1: one clock saved per lookup.
-        assert_eq!(el.units[1].cycles_saved, f.shaded);
+        assert_eq!(el.units[2].cycles_saved, f.shaded);
         let table = glare_pipeline::report::table::elaboration_table(&el.units);
         assert!(table.contains("left out"), "{table}");
     }
@@ -95,11 +115,15 @@ fn nonuniform_lambda_and_the_default_use_the_3d_map() {
         let el = &f.elaboration;
         assert!(!el.slice_2d, "{lambda:?} {lookup:?}");
         assert_eq!(f.texels_per_lookup, 8);
-        // The 3D sampler and the reflection unit that feeds it.
-        assert_eq!(el.units.len(), 2);
+        // The 3D sampler and the reflection unit that feeds it; the cube-map address
+        // unit left out.
+        assert_eq!(el.units.len(), 3);
         assert_eq!(el.units[0].name, "texture_sampler (3D map)");
-        assert_eq!(el.units[1].name, "reflection_vector");
-        assert!(el.units.iter().all(|u| u.left_out.is_none()));
+        assert_eq!(el.units[1].name, "cube_map_address");
+        assert!(el.units[1].left_out.is_some() && el.units[1].summary.is_none());
+        assert!(el.units[1].gates_saved > 0.0);
+        assert_eq!(el.units[2].name, "reflection_vector");
+        assert!(el.units[0].left_out.is_none() && el.units[2].left_out.is_none());
         assert_eq!(el.texture_bytes, map.bytes());
         assert_eq!(el.texture_bytes_saved, 0);
     }
@@ -142,17 +166,21 @@ fn the_2d_render_is_close_to_the_3d_render() {
 #[test]
 fn slice_at_lambda_zero_is_the_centre_and_errors_name_the_field() {
     let (_, map) = pattern();
-    let sl = slice_from_map(map, 0.0, 32, 16).unwrap();
+    let sl = slice_from_map(map, 0.0, 16).unwrap();
     let first = sl.data()[0];
     assert!(sl.data().iter().all(|&t| t == first));
-    assert_eq!(default_slice_size(S), (64, 32));
-    assert_eq!(default_slice_size(4096), (4096, 2048));
+    assert_eq!((sl.width(), sl.height()), (16, 96));
+    // F = the smallest power of two ≥ 4s/π, capped at 512.
+    assert_eq!(default_face_side(S), 32);
+    assert_eq!(default_face_side(128), 256);
+    assert_eq!(default_face_side(100), 128);
+    assert_eq!(default_face_side(4096), 512);
     for l in [f64::NAN, f64::INFINITY, -0.1, 1.5] {
-        let e = slice_from_map(map, l, 32, 16).unwrap_err();
+        let e = slice_from_map(map, l, 16).unwrap_err();
         assert_eq!(e.field(), "envmap_slice.lambda");
     }
-    for (w, h) in [(0, 16), (32, 0), (5000, 16)] {
-        let e = slice_from_map(map, 0.5, w, h).unwrap_err();
+    for f in [0, 1, 24, 1024] {
+        let e = slice_from_map(map, 0.5, f).unwrap_err();
         assert_eq!(e.field(), "envmap_slice.size");
     }
 }

@@ -97,6 +97,7 @@ use std::collections::BTreeMap;
 
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
+use rtl_model::units::cube_map_address::CubeMapAddressIn;
 use rtl_model::units::reflection_vector::{
     ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn,
 };
@@ -491,17 +492,32 @@ fn render_core(
     };
     let mut c_refl = Counters::default();
     let mut refl_in: Vec<ReflectionVectorIn> = Vec::new();
-    // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ.
+    // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ:
+    // a cube map of six F × F faces through the 2D sampler, addressed by the
+    // cube_map_address unit from the reflection unit's words.
+    let face = slice::default_face_side(s);
     let two_d = match (opt.lookup, lambda, opt.lambda_source) {
         (Lookup::Auto, LambdaSpec::Uniform(l), LambdaSource::PerVertex) => {
-            let (sw, sh) = slice::default_slice_size(s);
-            let sl = slice::slice_from_map(map, l, sw, sh)?;
+            let sl = slice::slice_from_map(map, l, face)?;
             let s2 = slice::sampler_2d(&sl)?;
             Some((s2, sl))
         }
         _ => None,
     };
     let sampler: &TextureSampler = two_d.as_ref().map_or(&sampler3, |(s2, _)| s2);
+    let cube = slice::cube_unit(sampler3.config(), s, face)?;
+    let cc = cube.config();
+    if (
+        sampler.config().coord_int_bits,
+        sampler.config().coord_frac_bits,
+    ) != (cc.coord_int_bits, cc.coord_frac_bits)
+    {
+        return Err(ConfigError::invalid(
+            "envmap_slice.sampler",
+            "the 2D sampler does not read the cube_map_address unit's word format",
+        ));
+    }
+    let mut c_cube = Counters::default();
 
     // ---- raster + depth test
     let mut c_int = Counters::default();
@@ -651,13 +667,25 @@ fn render_core(
             .iter()
             .map(|o| o.sampler_in())
             .collect(),
-        _ => {
+        // The 2D path: the reflection unit's words → cube_map_address → the stacked
+        // cube map's s16.8 words.
+        (Some(ru), true) => {
+            let words: Vec<CubeMapAddressIn> = run_span(ru, &mut (), &refl_in, &mut c_refl)
+                .iter()
+                .map(|o| CubeMapAddressIn { coord: o.coord })
+                .collect();
+            run_span(&cube, &mut (), &words, &mut c_cube)
+                .iter()
+                .map(|o| o.sampler_in())
+                .collect()
+        }
+        (None, _) => {
             let mut v = Vec::with_capacity(shading.len());
             for (_, sh) in &shading {
                 let stq = if two_d.is_some() {
-                    // 2D slice: the lookup is on |t| = λ, addressed by r's direction
-                    // (host f64, lat-long: a documented gap).
-                    slice::slice_coord(sh.r)
+                    // HostF64 comparison path (2D): the f64 r's face and coordinates by
+                    // the cube_map_address twin, not the unit.
+                    slice::host_cube_coord(sh.r, face)
                 } else {
                     let t = sh.r * sh.lambda;
                     [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
@@ -702,13 +730,16 @@ fn render_core(
     }
 
     let shaded = shading.len() as u64;
+    let cube_used = two_d.is_some() && refl_unit.is_some();
     let mut elaboration = slice::elaboration(
         two_d.as_ref().map(|(s2, sl)| (s2, sl)),
         &sampler3,
+        &cube,
+        cube_used,
         map,
         shaded,
     );
-    let refl_used = refl_unit.as_ref().filter(|_| two_d.is_none());
+    let refl_used = refl_unit.as_ref();
     if let Some(ru) = refl_used {
         elaboration.units.push(Elaborated {
             name: "reflection_vector".into(),
@@ -759,6 +790,9 @@ fn render_core(
     }
     if refl_used.is_some() {
         counters.insert("reflection_vector".to_string(), c_refl);
+    }
+    if cube_used {
+        counters.insert("cube_map_address".to_string(), c_cube);
     }
     Ok(Rendered {
         img,
