@@ -40,8 +40,15 @@
 //!    normalises n and e in f64 from the same codes, forms r and t, and
 //!    `TextureSamplerConfig::input_from_normalized` rounds (t + 1)/2 · s to the sampler's
 //!    s16.8 words (saturating, counted). The truth always uses this f64 r (the ideal
-//!    reflection of the interpolated n, e). The 2D-slice path also addresses the slice
-//!    by the f64 r (lat-long; a gap).
+//!    reflection of the interpolated n, e). On the 2D path (below) HostF64 addresses the
+//!    cube map by the f64 r through the `cube_map_address` twin (a comparison path,
+//!    labelled so in the elaboration).
+//! 5b. **The 2D path ([`Lookup::Auto`] with a uniform λ): cube_map_address (unit).**
+//!    The reflection unit's s16.8 words go into the `cube_map_address` unit (direction
+//!    d = c − s/2, OpenGL face selection, (sc/|ma| + 1)/2 · F by a reciprocal ROM and
+//!    one Newton step; error ≤ 0.0244 texel at F = 256, docs/units.md), whose stacked
+//!    F × 6F word is the 2D sampler's input ([`super::slice`]). No host f64 on the
+//!    lookup path any more.
 //! 6. **texture_sampler (unit).** [`TextureSamplerConfig::geforce_3d`] (s × s × s, 3
 //!    channels, the map's unorm texels — 8-bit by default — trilinear over 8 texels,
 //!    8-bit weights, clamp to edge) samples the [`VoxelMap`]; its output codes are the
@@ -155,7 +162,8 @@ pub enum Lookup {
     #[default]
     Voxel3D,
     /// The elaborated choice: for [`LambdaSpec::Uniform`] a 2D slice of the map at
-    /// radius λ through the 2D (bilinear) sampler (`super::slice`); the 3D map for
+    /// radius λ — a cube map of six F × F faces — through the `cube_map_address` unit
+    /// and the 2D (bilinear) sampler (`super::slice`); the 3D map for
     /// [`LambdaSpec::NonUniform`].
     Auto,
 }
@@ -205,7 +213,7 @@ pub struct FrameInfo {
     pub shaded: u64,
     /// Background pixels (the environment pass).
     pub background_pixels: u64,
-    /// Texels one lookup reads (8: trilinear 3D; 4: bilinear 2D slice).
+    /// Texels one lookup reads (8: trilinear 3D; 4: bilinear 2D cube map).
     pub texels_per_lookup: u32,
     /// Texels of the roughness texture each shaded pixel reads (4: bilinear, with
     /// [`LambdaSource::Texture`]; 0 per vertex). Not yet in the frame-time model.
@@ -612,7 +620,7 @@ fn render_core(
             back_normal_pixels += 1;
         }
         // The ideal f64 reflection of the interpolated n, e: the truth uses it, and the
-        // HostF64 / 2D-slice paths address with it (module notes, steps 4–5).
+        // HostF64 paths (3D and 2D) address with it (module notes, steps 4–5).
         let (n, r) = reflect(n, v);
         let (u, vv) = (a(uv[0]), a(uv[1]));
         if let Some(rs) = &rough {
