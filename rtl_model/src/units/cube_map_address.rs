@@ -41,7 +41,7 @@
 //!    u1.N). Fy = N with Newton, R without.
 //! 4. sc·y, tc·y: s(Wi+2) × u1.Fy → s(Wi+Fy+3); shifted right by p + Fy − G and
 //!    rounded to nearest (ties up, the sampler helper's rounding) → (sc/|ma|)·2^G;
-//!    + 2^G (the "+ 1", a constant at a fixed position) → s·2^Fo texels, saturated into
+//!    then 2^G is added (the "+ 1", a constant at a fixed position) → s·2^Fo texels, saturated into
 //!    the s(Io).Fo word (counted): the face coordinates `st`.
 //! 5. The stacked word for one F × 6F texture (faces stacked in t, face f in rows
 //!    f·F ..< (f+1)·F): each face coordinate is clamped to the texel-centre range

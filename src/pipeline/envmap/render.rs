@@ -43,7 +43,8 @@
 //!    reflection of the interpolated n, e). On the 2D path (below) HostF64 addresses the
 //!    cube map by the f64 r through the `cube_map_address` twin (a comparison path,
 //!    labelled so in the elaboration).
-//! 5b. **The 2D path ([`Lookup::Auto`] with a uniform λ): cube_map_address (unit).**
+//!
+//!    **The 2D path ([`Lookup::Auto`] with a uniform λ): cube_map_address (unit).**
 //!    The reflection unit's s16.8 words go into the `cube_map_address` unit (direction
 //!    d = c − s/2, OpenGL face selection, (sc/|ma| + 1)/2 · F by a reciprocal ROM and
 //!    one Newton step; error ≤ 0.0244 texel at F = 256, docs/units.md), whose stacked
