@@ -139,7 +139,7 @@ pub struct CubeMapAddressOut {
     /// (s, t) on the face in texels, s(Io).Fo words (not clamped to the face).
     pub st: [i32; 2],
     /// The 2D sampler's word for the F × 6F stacked texture: (s, t + face·F), each
-    /// face coordinate clamped to the texel-centre range [½, F − ½]; coord[2] = 0.
+    /// face coordinate clamped to the texel-centre range [½, F − ½]; `coord[2]` = 0.
     pub coord: [i32; 3],
     /// The direction was zero (face 0, centre).
     pub zero: bool,
