@@ -8,6 +8,7 @@ use rand_chacha::ChaCha8Rng;
 use rtl_model::driver::{run_span, run_tick};
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::chaos_map::ChaosMap;
+use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
 use rtl_model::units::glare_condition::{ConditionIn, GlareCondition, Material};
@@ -137,6 +138,15 @@ fn units(c: &mut Criterion) {
         })
         .collect();
     bench_unit(c, &refl, (), &inputs);
+
+    // The 2D path's cube-map address: the reflection unit's s16.8 words in [0, 128]³.
+    let cube = CubeMapAddress::geforce3();
+    let inputs: Vec<CubeMapAddressIn> = (0..N)
+        .map(|_| CubeMapAddressIn {
+            coord: [(); 3].map(|_| rng.random_range(0..=128 << 8)),
+        })
+        .collect();
+    bench_unit(c, &cube, (), &inputs);
 }
 
 /// The glare units. Elements are kernel calls: pixels for the modulators, combiner and

@@ -16,6 +16,7 @@ use rtl_model::trace::VcdTrace;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
 use rtl_model::units::chaos_map::ChaosMap;
+use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
 use rtl_model::units::glare_condition::{ConditionIn, GlareCondition, Material};
@@ -48,6 +49,7 @@ pub const UNIT_NAMES: &[&str] = &[
     "chaos_map",
     "glare_condition",
     "reflection_vector",
+    "cube_map_address",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -123,6 +125,7 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&ChaosMap::geforce()),
         UnitSummary::of(&GlareCondition::geforce()),
         UnitSummary::of(&ReflectionVector::geforce3()),
+        UnitSummary::of(&CubeMapAddress::geforce3()),
     ]
 }
 
@@ -384,6 +387,26 @@ pub fn tables() -> Vec<Table> {
             ("copies".to_string(), "2 (n and e in parallel)".to_string()),
         ]),
     });
+    let cube = CubeMapAddress::geforce3();
+    let c = cube.config();
+    out.push(Table {
+        name: format!(
+            "cube_map_address_rcp_{}x{}",
+            1u32 << c.rcp_addr_bits,
+            c.rcp_bits
+        ),
+        width: c.rcp_bits,
+        words: cube.rom_words(),
+        unit: "cube_map_address".into(),
+        params: BTreeMap::from([
+            ("addr_bits".to_string(), c.rcp_addr_bits.to_string()),
+            ("entry_bits".to_string(), c.rcp_bits.to_string()),
+            (
+                "generator".to_string(),
+                "rcp_rom_entry(j): min(round(2^R / c), 2^R - 1), u0.R, c = 1 + (j + 1/2)/2^A the midpoint of address j's interval of the mantissa m in [1, 2) of |ma|; rtl_model/src/units/cube_map_address.rs".to_string(),
+            ),
+        ]),
+    });
     out
 }
 
@@ -573,6 +596,23 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                     let e = [(); 3].map(|_| rng.random_range(-lim..=lim));
                     let lambda = rng.random_range(0..=1u32 << c.lambda_bits);
                     ReflectionVectorIn { n, e, lambda }
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "cube_map_address" => {
+            let u = CubeMapAddress::geforce3();
+            let c = u.config();
+            // The reflection unit's words: anywhere in the map's cube [0, s]³ (texels,
+            // s(16).8), the centre (a zero direction) now and then.
+            let s = 1i32 << (c.side_log2 + c.in_frac_bits);
+            let inputs: Vec<CubeMapAddressIn> = (0..pixels)
+                .map(|k| CubeMapAddressIn {
+                    coord: if k % 8 == 7 {
+                        [s / 2; 3]
+                    } else {
+                        [(); 3].map(|_| rng.random_range(0..=s))
+                    },
                 })
                 .collect();
             trace_unit(&u, (), &inputs, w)

@@ -40,8 +40,16 @@
 //!    normalises n and e in f64 from the same codes, forms r and t, and
 //!    `TextureSamplerConfig::input_from_normalized` rounds (t + 1)/2 · s to the sampler's
 //!    s16.8 words (saturating, counted). The truth always uses this f64 r (the ideal
-//!    reflection of the interpolated n, e). The 2D-slice path also addresses the slice
-//!    by the f64 r (lat-long; a gap).
+//!    reflection of the interpolated n, e). On the 2D path (below) HostF64 addresses the
+//!    cube map by the f64 r through the `cube_map_address` twin (a comparison path,
+//!    labelled so in the elaboration).
+//!
+//!    **The 2D path ([`Lookup::Auto`] with a uniform λ): cube_map_address (unit).**
+//!    The reflection unit's s16.8 words go into the `cube_map_address` unit (direction
+//!    d = c − s/2, OpenGL face selection, (sc/|ma| + 1)/2 · F by a reciprocal ROM and
+//!    one Newton step; error ≤ 0.0244 texel at F = 256, docs/units.md), whose stacked
+//!    F × 6F word is the 2D sampler's input ([`super::slice`]). No host f64 on the
+//!    lookup path any more.
 //! 6. **texture_sampler (unit).** [`TextureSamplerConfig::geforce_3d`] (s × s × s, 3
 //!    channels, the map's unorm texels — 8-bit by default — trilinear over 8 texels,
 //!    8-bit weights, clamp to edge) samples the [`VoxelMap`]; its output codes are the
@@ -97,6 +105,7 @@ use std::collections::BTreeMap;
 
 use rtl_model::driver::run_span;
 use rtl_model::error::{check_range, ConfigError};
+use rtl_model::units::cube_map_address::CubeMapAddressIn;
 use rtl_model::units::reflection_vector::{
     ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn,
 };
@@ -154,7 +163,8 @@ pub enum Lookup {
     #[default]
     Voxel3D,
     /// The elaborated choice: for [`LambdaSpec::Uniform`] a 2D slice of the map at
-    /// radius λ through the 2D (bilinear) sampler (`super::slice`); the 3D map for
+    /// radius λ — a cube map of six F × F faces — through the `cube_map_address` unit
+    /// and the 2D (bilinear) sampler (`super::slice`); the 3D map for
     /// [`LambdaSpec::NonUniform`].
     Auto,
 }
@@ -204,7 +214,7 @@ pub struct FrameInfo {
     pub shaded: u64,
     /// Background pixels (the environment pass).
     pub background_pixels: u64,
-    /// Texels one lookup reads (8: trilinear 3D; 4: bilinear 2D slice).
+    /// Texels one lookup reads (8: trilinear 3D; 4: bilinear 2D cube map).
     pub texels_per_lookup: u32,
     /// Texels of the roughness texture each shaded pixel reads (4: bilinear, with
     /// [`LambdaSource::Texture`]; 0 per vertex). Not yet in the frame-time model.
@@ -491,17 +501,32 @@ fn render_core(
     };
     let mut c_refl = Counters::default();
     let mut refl_in: Vec<ReflectionVectorIn> = Vec::new();
-    // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ.
+    // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ:
+    // a cube map of six F × F faces through the 2D sampler, addressed by the
+    // cube_map_address unit from the reflection unit's words.
+    let face = slice::default_face_side(s);
     let two_d = match (opt.lookup, lambda, opt.lambda_source) {
         (Lookup::Auto, LambdaSpec::Uniform(l), LambdaSource::PerVertex) => {
-            let (sw, sh) = slice::default_slice_size(s);
-            let sl = slice::slice_from_map(map, l, sw, sh)?;
+            let sl = slice::slice_from_map(map, l, face)?;
             let s2 = slice::sampler_2d(&sl)?;
             Some((s2, sl))
         }
         _ => None,
     };
     let sampler: &TextureSampler = two_d.as_ref().map_or(&sampler3, |(s2, _)| s2);
+    let cube = slice::cube_unit(sampler3.config(), s, face)?;
+    let cc = cube.config();
+    if (
+        sampler.config().coord_int_bits,
+        sampler.config().coord_frac_bits,
+    ) != (cc.coord_int_bits, cc.coord_frac_bits)
+    {
+        return Err(ConfigError::invalid(
+            "envmap_slice.sampler",
+            "the 2D sampler does not read the cube_map_address unit's word format",
+        ));
+    }
+    let mut c_cube = Counters::default();
 
     // ---- raster + depth test
     let mut c_int = Counters::default();
@@ -596,7 +621,7 @@ fn render_core(
             back_normal_pixels += 1;
         }
         // The ideal f64 reflection of the interpolated n, e: the truth uses it, and the
-        // HostF64 / 2D-slice paths address with it (module notes, steps 4–5).
+        // HostF64 paths (3D and 2D) address with it (module notes, steps 4–5).
         let (n, r) = reflect(n, v);
         let (u, vv) = (a(uv[0]), a(uv[1]));
         if let Some(rs) = &rough {
@@ -651,13 +676,25 @@ fn render_core(
             .iter()
             .map(|o| o.sampler_in())
             .collect(),
-        _ => {
+        // The 2D path: the reflection unit's words → cube_map_address → the stacked
+        // cube map's s16.8 words.
+        (Some(ru), true) => {
+            let words: Vec<CubeMapAddressIn> = run_span(ru, &mut (), &refl_in, &mut c_refl)
+                .iter()
+                .map(|o| CubeMapAddressIn { coord: o.coord })
+                .collect();
+            run_span(&cube, &mut (), &words, &mut c_cube)
+                .iter()
+                .map(|o| o.sampler_in())
+                .collect()
+        }
+        (None, _) => {
             let mut v = Vec::with_capacity(shading.len());
             for (_, sh) in &shading {
                 let stq = if two_d.is_some() {
-                    // 2D slice: the lookup is on |t| = λ, addressed by r's direction
-                    // (host f64, lat-long: a documented gap).
-                    slice::slice_coord(sh.r)
+                    // HostF64 comparison path (2D): the f64 r's face and coordinates by
+                    // the cube_map_address twin, not the unit.
+                    slice::host_cube_coord(sh.r, face)
                 } else {
                     let t = sh.r * sh.lambda;
                     [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
@@ -702,13 +739,16 @@ fn render_core(
     }
 
     let shaded = shading.len() as u64;
+    let cube_used = two_d.is_some() && refl_unit.is_some();
     let mut elaboration = slice::elaboration(
         two_d.as_ref().map(|(s2, sl)| (s2, sl)),
         &sampler3,
+        &cube,
+        cube_used,
         map,
         shaded,
     );
-    let refl_used = refl_unit.as_ref().filter(|_| two_d.is_none());
+    let refl_used = refl_unit.as_ref();
     if let Some(ru) = refl_used {
         elaboration.units.push(Elaborated {
             name: "reflection_vector".into(),
@@ -759,6 +799,9 @@ fn render_core(
     }
     if refl_used.is_some() {
         counters.insert("reflection_vector".to_string(), c_refl);
+    }
+    if cube_used {
+        counters.insert("cube_map_address".to_string(), c_cube);
     }
     Ok(Rendered {
         img,

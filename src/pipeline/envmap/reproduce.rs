@@ -473,7 +473,7 @@ pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
             let el = &f.elaboration;
             let _ = writeln!(
                 elab,
-                "{name} (λ = {}): texture {} bytes, saved {} bytes, sampler gates saved {:.0}\n{}",
+                "{name} (λ = {}): texture {} bytes, saved {} bytes, gates saved (3D sampler − 2D sampler − cube_map_address) {:.0}\n{}",
                 lambda.label(),
                 el.texture_bytes,
                 el.texture_bytes_saved,
