@@ -1,20 +1,20 @@
 //! The glare `sweep`: CSV and plot over a glare width, the error falling with the
 //! table depth, errors naming the field, the CLI dispatch. Small images keep it fast.
 
+mod common;
+
 use glare_pipeline::pipeline::glare::sweep::{apply, glare_sweep, parse_int_values, GLARE_PARAMS};
 use glare_pipeline::report::csv_out::read_csv_column;
 use glare_pipeline::scene::builtin::builtin;
 use glare_pipeline::scene::format::Scene;
 use glare_pipeline::scene::glare::GlareHw;
-use std::path::PathBuf;
+
 use std::process::Command;
 
 const HEADER: &str = "param,value,mean_abs_levels,rms_levels,max_levels,predicted_hw_seconds,wall_seconds,gates_nand2,ram_bits";
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("glare-sweep-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+fn tmp(name: &str) -> common::Scratch {
+    common::Scratch::new("glare-sweep", name)
 }
 
 /// The elliptic built-in at 160 × 120 (the source keeps its size in pixels).

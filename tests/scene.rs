@@ -154,7 +154,9 @@ fn peak_shafts(scene: &Scene, step: u32, n: usize) -> f64 {
 fn scratch_dir() -> &'static Path {
     static DIR: OnceLock<PathBuf> = OnceLock::new();
     DIR.get_or_init(|| {
-        let d = std::env::temp_dir().join(format!("glare_scene_test_{}", std::process::id()));
+        // One fixed directory, reused by every run (files are written by atomic rename),
+        // so runs do not pile up per-process directories in /tmp.
+        let d = std::env::temp_dir().join("glare_scene_test");
         std::fs::create_dir_all(&d).unwrap();
         d
     })

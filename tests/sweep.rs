@@ -1,6 +1,8 @@
 //! The `sweep` command: CSV and plot, the metrics' properties, errors, determinism.
 //! Small images (48 × 32) and a 40-sample truth keep it fast.
 
+mod common;
+
 use glare_pipeline::pipeline::shafts::cli::render_scene;
 use glare_pipeline::pipeline::shafts::sweep::{
     parse_values, sweep, Param, SweepOutput, Value, MAX_VALUES,
@@ -8,7 +10,7 @@ use glare_pipeline::pipeline::shafts::sweep::{
 use glare_pipeline::report::csv_out::read_csv_column;
 use glare_pipeline::scene::builtin::builtin;
 use glare_pipeline::scene::format::Scene;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 const HEADER: &str =
@@ -19,10 +21,8 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_glare-pipeline"))
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("glare-sweep-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+fn tmp(name: &str) -> common::Scratch {
+    common::Scratch::new("glare-sweep", name)
 }
 
 fn small(name: &str) -> Scene {
