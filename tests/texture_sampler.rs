@@ -808,3 +808,50 @@ fn datasheet_numbers() {
         }
     }
 }
+
+/// The texel address (z·h + y)·w + x costs a multiplier only for a factor that is not
+/// a power of two: ·w when w is not (2D and 3D), z·h when h is not (3D). A power-of-two
+/// w with any height is a concatenation (the cube map's F × 6F texture), so it costs the
+/// same as the power-of-two texture of the same width and address width.
+#[test]
+fn address_cost_follows_the_power_of_two_factors() {
+    let parts = |cfg: TextureSamplerConfig| -> Vec<String> {
+        let n = cfg.size.iter().product::<u32>() as usize * cfg.channels as usize;
+        let u = TextureSampler::new(cfg, &vec![0; n]).unwrap();
+        u.cost()
+            .breakdown
+            .iter()
+            .filter(|(p, _)| p.starts_with("address"))
+            .map(|(p, _)| p.clone())
+            .collect()
+    };
+    // 2D: w = 16 (power of two), 6·16 rows: free; w = 24: the row multiplier and adders.
+    assert!(parts(TextureSamplerConfig::geforce_2d(16, 96)).is_empty());
+    assert_eq!(
+        parts(TextureSamplerConfig::geforce_2d(24, 16)),
+        ["address: row base ·w", "address: base + index adders"]
+    );
+    // 3D: only h not a power of two → the plane multiplier; only w → the row one.
+    assert_eq!(
+        parts(TextureSamplerConfig::geforce_3d(16, 12, 16)),
+        ["address: plane base z·h", "address: base + index adders"]
+    );
+    assert_eq!(
+        parts(TextureSamplerConfig::geforce_3d(12, 16, 16)),
+        ["address: row base ·w", "address: base + index adders"]
+    );
+    assert!(parts(TextureSamplerConfig::geforce_3d(16, 16, 12)).is_empty());
+    // 16 × 96 (F × 6F at F = 16) costs what 16 × 128 does: the same width, 7-bit row
+    // indices and 11-bit addresses. The cube map pays no address arithmetic.
+    let g = |cfg: TextureSamplerConfig| {
+        let n = cfg.size.iter().product::<u32>() as usize;
+        TextureSampler::new(cfg, &vec![0; n])
+            .unwrap()
+            .cost()
+            .gates_nand2()
+    };
+    assert_eq!(
+        g(TextureSamplerConfig::geforce_2d(16, 96)),
+        g(TextureSamplerConfig::geforce_2d(16, 128))
+    );
+}

@@ -714,30 +714,40 @@ impl Unit for TextureSampler {
         for k in 0..d as usize {
             cost = self.axis_cost(k, cost);
         }
-        // Texel address: concatenation for power-of-two sizes; otherwise row and plane
-        // bases y·w, z·(w·h) (constant multipliers, costed as full ones: an upper
-        // estimate) and one adder per used axis beyond the first, per texel.
-        let pow2 = self.cfg.size.iter().all(|s| s.is_power_of_two());
-        if d >= 2 && !pow2 {
-            let nidx = if self.cfg.filter == Filter::Linear {
-                2.0
-            } else {
-                1.0
-            };
-            let [w, h, _] = self.cfg.size;
+        // Texel address a = (z·h + y)·w + x. A power-of-two factor makes its product a
+        // shift and the following "+ index" a concatenation (the index is below the
+        // factor), so each factor is costed on its own: ·w when w is not a power of two
+        // (rows, 2D and 3D), z·h when h is not (planes, 3D only). Each is a constant
+        // multiplier, costed as a full one (an upper estimate), plus one adder per
+        // texel. (A cube map's F × 6F texture has w = F a power of two: its address is
+        // a concatenation, free, although 6F rows are not a power of two.)
+        let [w, h, _] = self.cfg.size;
+        let nidx = if self.cfg.filter == Filter::Linear {
+            2.0
+        } else {
+            1.0
+        };
+        let mut base_adders = 0;
+        if d == 3 && !h.is_power_of_two() {
             cost = cost.part(
-                "address: y·w",
-                prim::multiplier(self.axis_bits[1], ceil_log2(w as u64 + 1)) * nidx,
+                "address: plane base z·h",
+                prim::multiplier(self.axis_bits[2], ceil_log2(h as u64 + 1)) * nidx,
             );
-            if d == 3 {
-                cost = cost.part(
-                    "address: z·(w·h)",
-                    prim::multiplier(self.axis_bits[2], ceil_log2(w as u64 * h as u64 + 1)) * nidx,
-                );
-            }
+            base_adders += 1;
+        }
+        if d >= 2 && !w.is_power_of_two() {
+            // The row number y (2D) or z·h + y (3D): every address bit above x's.
+            let row_bits = ab.saturating_sub(self.axis_bits[0]).max(1);
+            cost = cost.part(
+                "address: row base ·w",
+                prim::multiplier(row_bits, ceil_log2(w as u64 + 1)) * nidx,
+            );
+            base_adders += 1;
+        }
+        if base_adders > 0 {
             cost = cost.part(
                 "address: base + index adders",
-                prim::adder(ab) * (n * (d - 1)) as f64,
+                prim::adder(ab) * (n * base_adders) as f64,
             );
         }
         cost = cost.part("texel address registers", prim::register(n * ab.max(1)));
