@@ -112,3 +112,22 @@ fn bad_reproduction_knobs_name_the_variable() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// An unknown scene name is refused with the list of every built-in scene, the glare
+/// ones included (`render --scene glare-flare` works, so the message must say so).
+#[test]
+fn an_unknown_scene_lists_every_built_in() {
+    let out = bin()
+        .args(["render", "--scene", "no-such-scene", "--out"])
+        .arg(std::env::temp_dir().join(format!("unknown-scene-{}.png", std::process::id())))
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    for name in glare_pipeline::scene::builtin::BUILTIN_NAMES
+        .iter()
+        .chain(glare_pipeline::scene::builtin_glare::GLARE_BUILTIN_NAMES)
+    {
+        assert!(err.contains(name), "{name} missing from: {err}");
+    }
+}

@@ -24,8 +24,9 @@ pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
         return Scene::from_file(p).map_err(|e| e.to_string());
     }
     Err(format!(
-        "scene: '{name_or_path}' is neither a built-in scene ({}, test) nor a file",
-        BUILTIN_NAMES.join(", ")
+        "scene: '{name_or_path}' is neither a built-in scene ({}, {}, test) nor a file",
+        BUILTIN_NAMES.join(", "),
+        crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.join(", ")
     ))
 }
 
