@@ -4,7 +4,7 @@
 //!   accepted every II clocks, results travel through `latency` stage registers, and
 //!   cycles and stalls are counted as they happen (and can be traced to VCD).
 //! * [`run_span`] runs the kernel over a whole span in a tight loop and adds the same
-//!   counters arithmetically from [`Timing`].
+//!   counters arithmetically from [`crate::unit::Timing`].
 //!
 //! A test proves both give identical outputs and identical counters.
 

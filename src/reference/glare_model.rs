@@ -34,7 +34,7 @@ fn inverse_power(num: f64, den: f64, m: f64) -> f64 {
 }
 
 /// A point source's bloom, eq. (1): A/(θ + θ₀)^m, θ from the centre. Finite for
-/// every valid argument (θ₀ > 0, m ∈ [0.5, 8], A ≥ 0): see [`inverse_power`]; at
+/// every valid argument (θ₀ > 0, m ∈ [0.5, 8], A ≥ 0): see `inverse_power`; at
 /// θ = 0 it is A/θ₀^m, e.g. 10⁷²·A for θ₀ = 10⁻⁹°, m = 8, and A/2.2·10⁻³⁰⁸ (at most
 /// f64::MAX) for θ₀ so small that θ₀^m is not a normal f64 (θ₀ = 10⁻³⁰⁰, m = 8).
 pub fn bloom_point(theta: f64, a: f64, theta0: f64, m: f64) -> f64 {

@@ -151,7 +151,7 @@ impl PhongTruth {
 
     /// [`PhongTruth::eval`] over arrays of equal length (n is ignored with `Simplified`
     /// but must still have the same length). Errors name the element, e.g.
-    /// "phong_truth.lambda[3]"; a length mismatch names "phong_truth.n" or
+    /// `"phong_truth.lambda[3]"`; a length mismatch names "phong_truth.n" or
     /// "phong_truth.lambda".
     pub fn eval_many(
         &self,

@@ -86,7 +86,7 @@ pub fn quad_covers(v: [P; 4], x: i64, y: i64) -> Option<usize> {
 }
 
 /// The attribute plane through (v_i, a_i) evaluated at p by barycentric weights
-/// w_i = E_i(p) / area. Zero area → a[0].
+/// w_i = E_i(p) / area. Zero area → `a[0]`.
 pub fn plane_at(v: [P; 3], a: [f64; 3], p: P) -> f64 {
     let ar = area2(v);
     if ar == 0.0 {

@@ -147,7 +147,7 @@ pub struct EnvMap {
 impl EnvMap {
     /// A map from row-major texels. Errors: width/height out of 1..=MAX
     /// ("envmap.width"/"envmap.height"), wrong texel count ("envmap.texels"), a NaN/∞
-    /// ("envmap.texels[k]", not finite) or a value outside [0, MAX_RADIANCE] (out of range).
+    /// (`"envmap.texels[k]"`, not finite) or a value outside `[0, MAX_RADIANCE]` (out of range).
     pub fn new(width: usize, height: usize, texels: Vec<[f64; 3]>) -> Result<Self, ConfigError> {
         check_size(width, height)?;
         if texels.len() != width * height {

@@ -13,7 +13,7 @@
 //! **Walker / kernel** (once per pixel step): a serpentine (boustrophedon) walk over the
 //! primitive's bounding box. Each input is one [`Move`]; the kernel adds the x- or
 //! y-increment to the 4 edge accumulators and the K attribute accumulators (adds only,
-//! no multiplies per pixel), then presents {x, y, inside, attrs[K]}: inside is the sign
+//! no multiplies per pixel), then presents `{x, y, inside, attrs[K]}`: inside is the sign
 //! test of the edge functions (top-left fill rule folded into the start values as a −1
 //! bias), attrs are the accumulators rounded to `s(out_int_bits).(out_frac_bits)`
 //! (unsigned if `attr_fmt` is) by `out_quant`, saturating (counted) on overflow.
@@ -381,7 +381,7 @@ impl PolygonInterpolator {
         }
     }
 
-    /// Width of an edge accumulator: 2c + 2s + 4 (derivation at [`Self::setup_poly`]).
+    /// Width of an edge accumulator: 2c + 2s + 4 (derivation at `setup_poly`).
     pub fn edge_bits(&self) -> u32 {
         2 * self.cfg.coord_int_bits + 2 * self.cfg.subpixel_bits + 4
     }

@@ -137,7 +137,7 @@ impl PolygonVariableGenerator {
     }
 
     /// The quarter-wave ROM, entry order (2^k + 1 words of `trig_bits`):
-    /// entry[j] = round(cos(j/2^k · π/2) · (2^trig_bits − 1)), for `$readmemh` images.
+    /// `entry[j]` = round(cos(j/2^k · π/2) · (2^trig_bits − 1)), for `$readmemh` images.
     pub fn rom_words(&self) -> Vec<u64> {
         self.rom.iter().map(|&w| u64::from(w)).collect()
     }

@@ -253,7 +253,7 @@ impl TextureSamplerConfig {
 
     /// Quantise a normalised coordinate `s` of `axis` (0 = s, 1 = t, 2 = r) to the
     /// texel-space coordinate word, as the rasteriser hands it over:
-    /// round-to-nearest (ties up) of s · size[axis] into s(I).F, saturating (counted in
+    /// round-to-nearest (ties up) of s · `size[axis]` into s(I).F, saturating (counted in
     /// `ctr.saturations`) beyond the word. NaN or ±∞ is an error naming
     /// `texture_sampler.coord`; so is an invalid config or axis.
     pub fn texel_coord_from_normalized(

@@ -13,4 +13,6 @@ pub mod slice;
 pub mod studies;
 pub mod table5;
 pub mod timing;
+mod truth;
 pub mod voxmap;
+mod walk;

@@ -74,7 +74,7 @@
 //!
 //! # Ground truth and errors
 //!
-//! At every object pixel the truth is [`PhongTruth::eval`] on the same level map, with
+//! At every object pixel the truth is [`crate::reference::phong_truth::PhongTruth::eval`] on the same level map, with
 //! the SAME per-pixel r and n̂ as the rendered pixel (so geometry and interpolation are
 //! shared and the difference is the map's: prefilter, voxel resolution s, 8-bit voxels,
 //! trilinear filtering, coordinate quantisation — plus, for the cos φ truth, the dropped
@@ -134,12 +134,11 @@ pub use super::roughness::{
 };
 use super::slice;
 pub use super::table5::{table5_rows, Table5Row, TABLE5_LAMBDAS};
+pub use super::truth::Truth;
+use super::truth::{intended_errors, level8, truth_images, Shading};
 use super::voxmap::VoxelMap;
-use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
 use crate::pipeline::shafts::frame::Elaborated;
 use crate::pipeline::shafts::view::CameraView;
-use crate::reference::envmap_prefilter::{g, THESIS_LEVELS};
-use crate::reference::phong_truth::{PhongTruth, Visibility};
 use crate::scene::envmap::EnvMap;
 use crate::scene::format::ImageSize;
 use crate::scene::math::{v3, Vec3};
@@ -223,21 +222,6 @@ pub struct FrameInfo {
     pub elaboration: super::slice::Elaboration,
 }
 
-/// The two ground-truth images.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Truth {
-    /// Eqs. (1)–(2): with the cos φ test (the thesis' Phong model).
-    pub cos_phi: Image,
-    /// Eq. (3): without it (what the map stores).
-    pub simplified: Image,
-    /// The voxel side s whose g(|t|) gave Λ (the truth depends on it).
-    pub side: u32,
-    /// With [`RenderOptions::intended_truth`]: eq. (3) (no cos φ test) with the
-    /// INTENDED λ, λ(u, v) in f64 at the pixel's interpolated texture coordinate, and
-    /// Λ = g(λ·|r|) ([`super::roughness`] module notes). None otherwise.
-    pub intended: Option<Image>,
-}
-
 /// Errors against both truths.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RenderStats {
@@ -269,17 +253,6 @@ pub fn render_object(
     render_object_with(env, map, object, lambda, size, &RenderOptions::default())
 }
 
-/// One visible fragment's interpolated values (f64 from the unit's output codes).
-struct Shading {
-    n: Vec3,
-    r: Vec3,
-    /// The λ the render used (interpolated per vertex, or the roughness texture's).
-    lambda: f64,
-    /// The intended λ: [`lambda_of_uv`] at the interpolated (u, v) (= `lambda` when
-    /// (u, v) were not interpolated).
-    lambda_intended: f64,
-}
-
 /// Render `object` with smoothness `lambda` at `size` = (width, height) through the
 /// units with `map`, and the two Phong truths on `env` at the same pixels. Errors:
 /// "envmap_render.size", "envmap_render.lambda", "envmap.exposure", unit config errors.
@@ -296,7 +269,14 @@ pub fn render_object_with(
     opt: &RenderOptions,
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
     let r = render_core(env, map, object, lambda, size, opt)?;
-    let truth = truth_images(&r, opt.intended_truth)?;
+    let truth = truth_images(
+        &r.shading,
+        &r.background,
+        &r.levels_env,
+        r.side,
+        (r.img.width, r.img.height),
+        opt.intended_truth,
+    )?;
     let stats = r.stats(&truth);
     Ok((r.img, truth, stats))
 }
@@ -381,68 +361,11 @@ impl Rendered {
             triangles: self.triangles,
             back_normal_pixels: self.back_normal_pixels,
             frame: self.frame.clone(),
-            intended: truth.intended.as_ref().map(|t| {
-                let band = self.seam_band();
-                IntendedErrors {
-                    all: ErrorStats::of(&self.img, t),
-                    seam: ErrorStats::of_masked(&self.img, t, &band),
-                    seam_own: ErrorStats::of_masked(&self.img, &truth.simplified, &band),
-                    lambda_all: self.lambda_errors(&self.img.mask),
-                    lambda_seam: self.lambda_errors(&band),
-                }
-            }),
+            intended: truth
+                .intended
+                .as_ref()
+                .map(|t| intended_errors(&self.img, &self.shading, t, &truth.simplified)),
         }
-    }
-
-    fn lambda_errors(&self, mask: &[bool]) -> LambdaErrors {
-        let mut e = LambdaErrors::default();
-        let mut sum = 0.0;
-        for (k, sh) in &self.shading {
-            if mask.get(*k).copied().unwrap_or(false) {
-                let d = (sh.lambda - sh.lambda_intended).abs();
-                e.pixels += 1;
-                sum += d;
-                e.max = e.max.max(d);
-            }
-        }
-        if e.pixels > 0 {
-            e.mean = sum / e.pixels as f64;
-        }
-        e
-    }
-
-    /// The seam band of [`IntendedErrors::seam`] from the intended λ per pixel.
-    fn seam_band(&self) -> Vec<bool> {
-        let (w, h) = (self.img.width as i64, self.img.height as i64);
-        let mut lam: Vec<Option<f64>> = vec![None; self.img.pixels.len()];
-        for (k, sh) in &self.shading {
-            lam[*k] = Some(sh.lambda_intended);
-        }
-        let mut band = vec![false; lam.len()];
-        let r = SEAM_RADIUS as i64;
-        for y in 0..h {
-            for x in 0..w {
-                let Some(l) = lam[(y * w + x) as usize] else {
-                    continue;
-                };
-                let jump = [(1, 0), (0, 1)].iter().any(|&(dx, dy)| {
-                    let (nx, ny) = (x + dx, y + dy);
-                    nx < w
-                        && ny < h
-                        && lam[(ny * w + nx) as usize].is_some_and(|m| (m - l).abs() > SEAM_JUMP)
-                });
-                if !jump {
-                    continue;
-                }
-                for by in (y - r).max(0)..=(y + r + 1).min(h - 1) {
-                    for bx in (x - r).max(0)..=(x + r + 1).min(w - 1) {
-                        let k = (by * w + bx) as usize;
-                        band[k] = lam[k].is_some();
-                    }
-                }
-            }
-        }
-        band
     }
 }
 
@@ -528,80 +451,23 @@ fn render_core(
     }
     let mut c_cube = Counters::default();
 
-    // ---- raster + depth test
-    let mut c_int = Counters::default();
-    let n_px = w as usize * h as usize;
-    let mut zbuf: Vec<i64> = vec![i64::MAX; n_px];
-    let mut frag_at: Vec<Option<(Fragment, [i64; 2])>> = vec![None; n_px];
-    let mut triangles = 0;
-    let mut fragments = 0u64;
-    for (tri, lam) in &geo {
-        let mut hv = [HostVertex {
-            x: 0.0,
-            y: 0.0,
-            attrs: host_attrs([]),
-        }; 3];
-        let mut ok = true;
-        // Two-sided lighting (GL's LIGHT_MODEL_TWO_SIDE): a triangle seen from its back
-        // (the teapot is an open sheet: the inside of the rim and spout shows) gets its
-        // normals flipped. Per primitive, host side (the facing is the sign of the
-        // screen-space area the setup computes anyway).
-        let face = (tri.p[1] - tri.p[0]).cross(tri.p[2] - tri.p[0]);
-        let flip = if face.dot(cam.eye - tri.p[0]) < 0.0 {
-            -1.0
-        } else {
-            1.0
-        };
-        for k in 0..3 {
-            let Some((sx, sy, sz)) = cam.project(tri.p[k]) else {
-                ok = false;
-                break;
-            };
-            let n = tri.n[k] * flip;
-            let e = cam.eye - tri.p[k];
-            let (u, v) = texgen.uv(tri.p[k]);
-            // An 8-attribute interpolator reads the first 8 (u, v unused).
-            hv[k] = HostVertex {
-                x: sx,
-                y: sy,
-                attrs: host_attrs([n.x, n.y, n.z, e.x, e.y, e.z, lam[k], sz, u, v]),
-            };
-        }
-        if !ok {
-            continue;
-        }
-        triangles += 1;
-        let frags = draw_triangle(&interp, &hv, w, h, &mut c_int)?;
-        let probe = match &uv_probe {
-            Some(p) => {
-                let f = draw_triangle(p, &hv, w, h, &mut Counters::default())?;
-                if f.len() != frags.len()
-                    || f.iter().zip(&frags).any(|(a, b)| (a.x, a.y) != (b.x, b.y))
-                {
-                    return Err(ConfigError::invalid(
-                        "envmap_render.texcoord",
-                        "the (u, v) measurement walk covered other pixels than the render",
-                    ));
-                }
-                f
-            }
-            None => Vec::new(),
-        };
-        for (i, f) in frags.into_iter().enumerate() {
-            fragments += 1;
-            let k = (f.y * w + f.x) as usize;
-            // Integer depth compare on the s16.16 window-depth code (less wins).
-            if f.attrs[7] < zbuf[k] {
-                zbuf[k] = f.attrs[7];
-                let uv = match (texture_side, probe.get(i)) {
-                    (Some(_), _) => [f.attrs[8], f.attrs[9]],
-                    (None, Some(g)) => [g.attrs[8], g.attrs[9]],
-                    (None, None) => [0; 2],
-                };
-                frag_at[k] = Some((f, uv));
-            }
-        }
-    }
+    // ---- raster + depth test (walk.rs)
+    let walked = super::walk::walk(
+        &geo,
+        &cam,
+        &texgen,
+        &interp,
+        uv_probe.as_ref(),
+        texture_side.is_some(),
+        w,
+        h,
+    )?;
+    let (frag_at, triangles, fragments, c_int) = (
+        walked.frag_at,
+        walked.triangles,
+        walked.fragments,
+        walked.counters,
+    );
 
     // ---- per visible pixel: the f64 r for the truth (and the HostF64 path), λ, the
     // reflection unit's inputs, the sampler.
@@ -833,67 +699,6 @@ fn reflection_unit(sampler: &TextureSampler, s: u32) -> Result<ReflectionVector,
         ..ReflectionVectorConfig::geforce3()
     }
     .build()
-}
-
-/// A level in f64 rounded to an 8-bit level (clamped).
-fn level8(x: f64) -> u8 {
-    x.clamp(0.0, 255.0).round() as u8
-}
-
-/// The two truths at the rendered pixels (parallel over pixels, deterministic), with
-/// the render's background.
-fn truth_images(r: &Rendered, intended: bool) -> Result<Truth, ConfigError> {
-    use rayon::prelude::*;
-    let (w, h) = (r.img.width, r.img.height);
-    let truth = PhongTruth::new(&r.levels_env);
-    let s = r.side as f64;
-    type Px = ([u8; 3], [u8; 3], Option<[u8; 3]>);
-    let px: Vec<Px> = r
-        .shading
-        .par_iter()
-        .map(|(_, sh)| {
-            let big_lambda = g(sh.lambda * sh.r.length(), s, THESIS_LEVELS);
-            let tc = truth.eval(sh.r, sh.n, big_lambda, Visibility::CosPhiTest)?;
-            let ts = truth.eval(sh.r, sh.n, big_lambda, Visibility::Simplified)?;
-            let ti = if intended {
-                let big = g(sh.lambda_intended * sh.r.length(), s, THESIS_LEVELS);
-                Some(
-                    truth
-                        .eval(sh.r, sh.n, big, Visibility::Simplified)?
-                        .map(level8),
-                )
-            } else {
-                None
-            };
-            Ok((tc.map(level8), ts.map(level8), ti))
-        })
-        .collect::<Result<_, ConfigError>>()?;
-    let mut truth_c = Image::new(w, h);
-    let mut truth_s = Image::new(w, h);
-    let mut truth_i = intended.then(|| Image::new(w, h));
-    for ((k, _), (c, s, i)) in r.shading.iter().zip(px) {
-        truth_c.pixels[*k] = c;
-        truth_s.pixels[*k] = s;
-        truth_c.mask[*k] = true;
-        truth_s.mask[*k] = true;
-        if let (Some(ti), Some(i)) = (truth_i.as_mut(), i) {
-            ti.pixels[*k] = i;
-            ti.mask[*k] = true;
-        }
-    }
-    for &(k, bg) in &r.background {
-        truth_c.pixels[k] = bg;
-        truth_s.pixels[k] = bg;
-        if let Some(ti) = truth_i.as_mut() {
-            ti.pixels[k] = bg;
-        }
-    }
-    Ok(Truth {
-        cos_phi: truth_c,
-        simplified: truth_s,
-        side: r.side,
-        intended: truth_i,
-    })
 }
 
 /// r = 2(n̂·v)n̂ − v for unit v (host f64: the documented gap). A zero normal (never

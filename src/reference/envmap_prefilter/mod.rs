@@ -4,7 +4,7 @@
 //! one voxel and the weight-table entry selection. The voxel-map and table builds
 //! come later.
 //!
-//! Direction conventions: see [`equirect`] (φ = 0 along −z, increasing towards +x;
+//! Direction conventions: see the `equirect` module (φ = 0 along −z, increasing towards +x;
 //! θ from +y; d = (sin θ sin φ, cos θ, −sin θ cos φ); right-handed, y up).
 //!
 //! # Reading of the thesis' equations
