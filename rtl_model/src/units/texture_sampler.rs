@@ -736,8 +736,13 @@ impl Unit for TextureSampler {
             base_adders += 1;
         }
         if d >= 2 && !w.is_power_of_two() {
-            // The row number y (2D) or z·h + y (3D): every address bit above x's.
-            let row_bits = ab.saturating_sub(self.axis_bits[0]).max(1);
+            // The row number: y (2D), or z·h + y < d·h (3D).
+            let rows = if d == 3 {
+                h as u64 * self.cfg.size[2] as u64
+            } else {
+                h as u64
+            };
+            let row_bits = ceil_log2(rows).max(1);
             cost = cost.part(
                 "address: row base ·w",
                 prim::multiplier(row_bits, ceil_log2(w as u64 + 1)) * nidx,
