@@ -236,7 +236,7 @@ proptest! {
         let cfg = HaloModulatorConfig {
             coord_frac_bits: f, shape_log2: k, shape_bits: sb, falloff_log2: m,
             falloff_bits: fb, weight_bits: wb, gain_int_bits: gi, gain_frac_bits: gf,
-            out_bits: ob,
+            out_bits: ob, radial: Default::default(),
         };
         let mut bad = Vec::new();
         if !(2..=16).contains(&f) { bad.push("coord_frac_bits"); }

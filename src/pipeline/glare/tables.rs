@@ -4,6 +4,7 @@
 
 use crate::reference::glare_model::{bloom_at, halo, Bloom, Shape2D, SourceGlare};
 use crate::scene::glare::{Determinants, GlareModel};
+use rtl_model::units::luminance_ram::LumWidths;
 
 /// Below this many codes a profile is cut off (half an 8-bit LSB).
 pub const CUTOFF_CODES: f64 = 0.5;
@@ -32,6 +33,43 @@ pub fn shape_samples(shape: &Shape2D, a: &AreaPrim, k: u32) -> Vec<f64> {
             let u = -1.0 + i as f64 * step;
             let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
             out.push((shape.distance(dx, dy) / a.d_max_px).clamp(0.0, 1.0));
+        }
+    }
+    out
+}
+
+/// Radial correction: the κ the host loads for an area primitive, half_px / d_max
+/// (the frame's unit in d units), rounded to the register's u(ki).(kf) and saturated
+/// at its largest code (any κ reconstructs the samples exactly; a saturated one just
+/// corrects less).
+pub fn radial_kappa(a: &AreaPrim, w: &LumWidths) -> f64 {
+    let sc = (w.radial.kappa_frac_bits as f64).exp2();
+    let k = a.half_px / a.d_max_px;
+    let code = if k.is_finite() {
+        (k * sc).round().clamp(0.0, w.kappa_max() as f64)
+    } else {
+        w.kappa_max() as f64
+    };
+    w.kappa_value(code as u32)
+}
+
+/// Radial correction: (2^k + 1)² signed samples e = sdf/d_max − κ·|(u, v)| of `shape`
+/// (sdf the SIGNED distance, negative inside) over the area's frame, clamped to the
+/// entry range of `w` ([−2^ei, 2^ei − 2^−fe]); same grid as [`shape_samples`].
+pub fn radial_shape_samples(shape: &Shape2D, a: &AreaPrim, w: &LumWidths, kappa: f64) -> Vec<f64> {
+    let k = w.shape_log2;
+    let (lo, hi) = w.entry_range();
+    let n = (1usize << k) + 1;
+    let step = 2.0 / (n - 1) as f64;
+    let (c, s) = (a.phi.cos(), a.phi.sin());
+    let mut out = Vec::with_capacity(n * n);
+    for j in 0..n {
+        let v = -1.0 + j as f64 * step;
+        for i in 0..n {
+            let u = -1.0 + i as f64 * step;
+            let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
+            let e = shape.signed_distance(dx, dy) / a.d_max_px - kappa * u.hypot(v);
+            out.push(if e.is_finite() { e.clamp(lo, hi) } else { 0.0 });
         }
     }
     out
