@@ -441,8 +441,17 @@ fn radial_defaults_cost_latency_and_ram_bits() {
     let off = LumWidths::default();
     assert!(!off.radial.on);
     let w = radial_configs()[0];
-    let m = build_r(&w, &vec![0.0; w.shape_len()], &vec![1.0; w.falloff_len()], 0);
-    let m0 = build(&off, &vec![0.0; off.shape_len()], &vec![1.0; off.falloff_len()]);
+    let m = build_r(
+        &w,
+        &vec![0.0; w.shape_len()],
+        &vec![1.0; w.falloff_len()],
+        0,
+    );
+    let m0 = build(
+        &off,
+        &vec![0.0; off.shape_len()],
+        &vec![1.0; off.falloff_len()],
+    );
     let c = m.cost();
     println!(
         "bloom_flare_modulator radial: latency {} II {} gates {:.0} NAND2 (off {:.0}), RAM bits {}",
@@ -456,7 +465,7 @@ fn radial_defaults_cost_latency_and_ram_bits() {
         println!("  {n}: {g:.0}");
     }
     assert_eq!(m0.timing().latency, 6);
-    assert_eq!(m.timing().latency, 6 + 8);
+    assert_eq!(m.timing().latency, 6 + 9);
     assert_eq!(c.ram_bits, m0.cost().ram_bits);
     assert_eq!(m.widths().len(), m0.widths().len() + 4);
 }

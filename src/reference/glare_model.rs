@@ -216,7 +216,10 @@ pub fn ellipse_inner_distance(x: f64, y: f64, a: f64, b: f64) -> f64 {
         }
     }
     // Golden-section refinement in the bracketing cells.
-    let (mut lo, mut hi) = ((best - h).max(0.0), (best + h).min(std::f64::consts::FRAC_PI_2));
+    let (mut lo, mut hi) = (
+        (best - h).max(0.0),
+        (best + h).min(std::f64::consts::FRAC_PI_2),
+    );
     let g = 0.5 * (5f64.sqrt() - 1.0);
     for _ in 0..60 {
         let m1 = hi - g * (hi - lo);

@@ -243,7 +243,7 @@ pub fn radial_configs() -> Vec<LumWidths> {
     };
     let c = configs();
     vec![
-        on(c[0], 14, 4, 12, 2),
+        on(c[0], 16, 4, 12, 1),
         on(c[1], 16, 8, 16, 4),
         on(
             LumWidths {

@@ -13,8 +13,8 @@ use crate::cost::Cost;
 use crate::counters::Counters;
 use crate::error::ConfigError;
 use crate::unit::{Signal, Timing, Unit, Width};
-use crate::units::luminance_ram::{mask32, LumWidths};
 pub use crate::units::luminance_ram::Radial;
+use crate::units::luminance_ram::{mask32, LumWidths};
 pub use crate::units::luminance_ram::{LumIn, LumOut};
 use serde::{Deserialize, Serialize};
 

@@ -61,7 +61,7 @@ pub struct LumWidths {
 pub struct Radial {
     /// The mode (default false).
     pub on: bool,
-    /// rf: fraction bits of the square root |(u, v)| ∈ [0, √2] (2 ..= 16, default 14);
+    /// rf: fraction bits of the square root |(u, v)| ∈ [0, √2] (2 ..= 16, default 16);
     /// rf + 1 digit rows.
     pub radius_frac_bits: u32,
     /// ki: κ integer bits (0 ..= 8, default 4).
@@ -69,7 +69,7 @@ pub struct Radial {
     /// kf: κ fraction bits (0 ..= 16, default 12); ki + kf ≥ 1.
     pub kappa_frac_bits: u32,
     /// ei: integer bits of the signed shape entries, range [−2^ei, 2^ei)
-    /// (0 ..= 4, ≤ sb − 1, default 2).
+    /// (0 ..= 4, ≤ sb − 1, default 1).
     pub entry_int_bits: u32,
 }
 
@@ -77,10 +77,10 @@ impl Default for Radial {
     fn default() -> Self {
         Radial {
             on: false,
-            radius_frac_bits: 14,
+            radius_frac_bits: 16,
             kappa_int_bits: 4,
             kappa_frac_bits: 12,
-            entry_int_bits: 2,
+            entry_int_bits: 1,
         }
     }
 }
@@ -648,7 +648,10 @@ impl LumWidths {
                 "radial: to unorm x·2^sb − x and round",
                 prim::subtractor(w + sb + 1),
             ),
-            ("radial: pipeline registers (S more stages, κ)", prim::register(regs)),
+            (
+                "radial: pipeline registers (S more stages, κ)",
+                prim::register(regs),
+            ),
         ]
     }
 

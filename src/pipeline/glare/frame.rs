@@ -10,7 +10,7 @@ use super::background::base_image;
 use super::host::{screen_sources, source_glare, ScreenSource};
 use super::tables::{
     bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples,
-    radial_kappa, radial_shape_samples, ring_samples, shape_samples, AreaPrim,
+    radial_tables, ring_samples, shape_samples, AreaPrim,
 };
 use crate::pipeline::shafts::frame::Elaborated;
 use crate::reference::glare_model::{bloom_at, FlareLine, Shape2D, SourceGlare};
@@ -215,13 +215,13 @@ pub fn render_glare_over(
             let l0 = bloom_at(b, 0.0, &g.model);
             let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
             let gain_l = l0.min(gmax);
-            let (shape, kappa) = area_shape(&s.shape, &a, &lw);
             let fall = profile_samples(
                 |t| bloom_at(b, t, &g.model),
                 theta_max,
                 gain_l,
                 lw.falloff_log2,
             );
+            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
             let m = BloomFlareModulatorConfig::from_widths(lw)
                 .build(&shape, &fall)?
                 .with_kappa(kappa)?;
@@ -240,13 +240,13 @@ pub fn render_glare_over(
         if let Some(cc) = s.halo {
             let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
             let a = fit_area(&a);
-            let (shape, kappa) = area_shape(&s.shape, &a, &lw);
             let rings: Vec<Vec<f64>> = g
                 .determinants
                 .wavelengths_nm
                 .iter()
                 .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
                 .collect();
+            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
             let m = HaloModulatorConfig::from_widths(lw)
                 .build(&shape, [&rings[0], &rings[1], &rings[2]])?
                 .with_kappa(kappa)?;
@@ -265,10 +265,8 @@ pub fn render_glare_over(
     }
     if any_flare {
         // Every line shares one spindle shape and one falloff: loaded once.
-        let m = BloomFlareModulatorConfig::from_widths(lw).build(
-            &line_shape(&lw),
-            &line_falloff_samples(lw.falloff_log2),
-        )?;
+        let m = BloomFlareModulatorConfig::from_widths(lw)
+            .build(&line_shape(&lw), &line_falloff_samples(lw.falloff_log2))?;
         let mut loaded = false;
         for (i, s) in sources.iter().enumerate() {
             for l in &lines[i] {
@@ -434,11 +432,16 @@ pub fn render_glare_over(
 }
 
 /// The shape RAM contents and κ of an area primitive: the plain min(1, sdf/d_max)
-/// samples with κ = 0, or with radial correction the signed sdf/d_max − κ·|(u, v)|.
-fn area_shape(shape: &Shape2D, a: &AreaPrim, lw: &LumWidths) -> (Vec<f64>, f64) {
+/// samples with κ = 0, or with radial correction the signed sdf/d_max − κ·|(u, v)|
+/// with the host's κ ([`radial_tables`]).
+fn area_shape(
+    shape: &Shape2D,
+    a: &AreaPrim,
+    lw: &LumWidths,
+    profiles: &[&[f64]],
+) -> (Vec<f64>, f64) {
     if lw.radial.on {
-        let kappa = radial_kappa(a, lw);
-        (radial_shape_samples(shape, a, lw, kappa), kappa)
+        radial_tables(shape, a, lw, profiles)
     } else {
         (shape_samples(shape, a, lw.shape_log2), 0.0)
     }
