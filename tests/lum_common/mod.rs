@@ -261,7 +261,7 @@ pub fn radial_configs() -> Vec<LumWidths> {
 
 /// A random κ code for a radial config (often the largest, sometimes 0).
 pub fn random_kappa(w: &LumWidths, seed: u64) -> u32 {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x4b41_5050_41);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x004b_4150_5041);
     match rng.random_range(0..4) {
         0 => w.kappa_max(),
         1 => 0,
