@@ -42,10 +42,8 @@ pub fn apply(hw: &mut GlareHw, param: &str, v: u32) -> Result<(), String> {
         "noise_bits" => &mut hw.noise_bits,
         "fb_bits" => &mut hw.fb_bits,
         "radial" => {
-            if v > 1 {
-                return Err(format!("values: radial is 0 or 1, not {v}"));
-            }
-            hw.radial = v == 1;
+            // 0 = off, any other value = on.
+            hw.radial = v != 0;
             return Ok(());
         }
         _ => {
