@@ -76,7 +76,7 @@ pub enum Command {
         /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
         /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
         /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
-        /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits.
+        /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
         #[arg(long)]
         param: String,
         /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be

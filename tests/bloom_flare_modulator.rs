@@ -214,7 +214,7 @@ proptest! {
         let cfg = BloomFlareModulatorConfig {
             coord_frac_bits: f, shape_log2: k, shape_bits: sb, falloff_log2: m,
             falloff_bits: fb, weight_bits: wb, gain_int_bits: gi, gain_frac_bits: gf,
-            out_bits: ob,
+            out_bits: ob, radial: Default::default(),
         };
         let mut bad = Vec::new();
         if !(2..=16).contains(&f) { bad.push("coord_frac_bits"); }
@@ -287,6 +287,272 @@ proptest! {
         prop_assert!(c >= lo && c <= hi);
         if x > -2.0 && x < 1.999 {
             prop_assert!((coord_value(&w, c) - x).abs() <= 0.5 / 1024.0 + 1e-12);
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Radial correction (LumWidths::radial.on): signed e tables, κ register, the bound
+// `bound_d_radial` (tests/lum_common) derived from the widths, four configs.
+
+use glare_pipeline::reference::bloom_flare_modulator::bloom_flare_modulator_radial as twin_r;
+
+fn build_r(w: &LumWidths, e: &[f64], falloff: &[f64], kappa: u32) -> BloomFlareModulator {
+    BloomFlareModulatorConfig::from_widths(*w)
+        .build(e, falloff)
+        .unwrap()
+        .with_kappa(w.kappa_value(kappa))
+        .unwrap()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn check_r(
+    m: &BloomFlareModulator,
+    e: &[f64],
+    falloff: &[f64],
+    e_d: f64,
+    e_p: f64,
+    u: i32,
+    v: i32,
+    gain: [u32; 3],
+) -> (f64, f64) {
+    let w = m.lum_widths();
+    let kappa = w.kappa_value(m.kappa_code());
+    let mut ctr = Counters::default();
+    let out = m.kernel(&mut (), &LumIn { u, v, gain }, &mut ctr);
+    let g = gain.map(|c| gain_value(&w, c));
+    let (d, lum) = twin_r(
+        e,
+        w.shape_log2,
+        kappa,
+        falloff,
+        w.falloff_log2,
+        coord_value(&w, u),
+        coord_value(&w, v),
+        g,
+        out_max(&w),
+    );
+    let dk = out.d as f64 / ((1u64 << w.shape_bits) - 1) as f64;
+    assert!(
+        (dk - d).abs() <= e_d * (1.0 + 1e-9) + 1e-12,
+        "{w:?} κ {kappa} u {u} v {v}: d {dk} want {d} (bound {e_d})"
+    );
+    let mut rl = 0f64;
+    for c in 0..3 {
+        let b = bound_lum(&w, e_p, gain[c]);
+        let err = out.lum[c] as f64 - lum[c];
+        rl = rl.max(err.abs() / b);
+        assert!(
+            err.abs() <= b * (1.0 + 1e-9) + 1e-9,
+            "{w:?} κ {kappa} u {u} v {v} gain {gain:?}: lum[{c}] {} want {} (err {err}, bound {b})",
+            out.lum[c],
+            lum[c]
+        );
+    }
+    assert_eq!(ctr.table_reads, 6);
+    let one = 1i32 << w.coord_frac_bits;
+    let clamps = (u.abs() >= one) as u64 + (v.abs() >= one) as u64;
+    assert!(ctr.saturations >= clamps && ctr.saturations <= clamps + 4);
+    assert!(ctr.underflows <= 1);
+    ((dk - d).abs() / e_d, rl)
+}
+
+fn run_case_r(cfg: usize, ekind: u32, fkind: u32, seed: u64, npts: usize) {
+    let w = radial_configs()[cfg];
+    let kc = random_kappa(&w, seed);
+    let kappa = w.kappa_value(kc);
+    let e = radial_table(&w, ekind, seed, kappa);
+    let falloff = falloff_table(&w, fkind, seed);
+    let m = build_r(&w, &e, &falloff, kc);
+    let e_d = bound_d_radial(&w, &e, kappa);
+    let e_p = bound_p(&w, &falloff, e_d);
+    for (u, v, g) in random_points(&w, seed, npts) {
+        check_r(&m, &e, &falloff, e_d, e_p, u, v, g);
+    }
+}
+
+#[test]
+fn radial_exhaustive_positions_for_the_narrow_configs() {
+    // Config 2: F = 8 → 2²⁰ positions; config 3: F = 2 → 2⁸.
+    for (cfg, ekind, fkind, seed) in [(2usize, 1u32, 1u32, 7u64), (3, 0, 2, 8), (3, 3, 1, 9)] {
+        let w = radial_configs()[cfg];
+        let kc = w.kappa_max() - (seed % 2) as u32; // large κ: d is not all clamped
+        let kappa = w.kappa_value(kc);
+        let e = radial_table(&w, ekind, seed, kappa);
+        let falloff = falloff_table(&w, fkind, seed);
+        let m = build_r(&w, &e, &falloff, kc);
+        let e_d = bound_d_radial(&w, &e, kappa);
+        let e_p = bound_p(&w, &falloff, e_d);
+        let (lo, hi) = coord_range(&w);
+        let g = [w.gain_max(), w.gain_max() / 2, 1];
+        let (mut rd, mut rl) = (0f64, 0f64);
+        for v in lo..=hi {
+            for u in lo..=hi {
+                let (a, b) = check_r(&m, &e, &falloff, e_d, e_p, u, v, g);
+                rd = rd.max(a);
+                rl = rl.max(b);
+            }
+        }
+        println!("radial config {cfg}: worst |err|/bound: d {rd:.3}, lum {rl:.3}");
+    }
+}
+
+#[test]
+fn radial_cone_is_exact_at_a_shallow_depth() {
+    // A point source: sdf_n = κ·|(u, v)|, so e = 0 and the radial mode reproduces the
+    // cone to the width terms at k = 2, where the plain bilinear table is far off.
+    let mut w = LumWidths {
+        shape_log2: 2,
+        ..LumWidths::default()
+    };
+    let kappa = 0.7;
+    let plain_tab: Vec<f64> = (0..w.shape_len())
+        .map(|i| {
+            let s = w.shape_side();
+            let c = |i: usize| -1.0 + 2.0 * i as f64 / (s - 1) as f64;
+            (kappa * c(i % s).hypot(c(i / s))).min(1.0)
+        })
+        .collect();
+    let fall: Vec<f64> = (0..w.falloff_len())
+        .map(|j| j as f64 / (w.falloff_len() - 1) as f64)
+        .collect();
+    let plain = build(&w, &plain_tab, &fall);
+    w.radial.on = true;
+    let kc = w.kappa_from_f64("t", kappa).unwrap();
+    let rad = build_r(&w, &vec![0.0; w.shape_len()], &fall, kc);
+    let kq = w.kappa_value(kc);
+    let bound = bound_d_radial(&w, &vec![0.0; w.shape_len()], kq);
+    let (mut ep, mut er) = (0f64, 0f64);
+    let mut ctr = Counters::default();
+    let lsb = ((1u64 << w.shape_bits) - 1) as f64;
+    for (u, v, gain) in random_points(&w, 3, 4000) {
+        let (uf, vf) = (coord_value(&w, u), coord_value(&w, v));
+        let truth = (kq * uf.clamp(-1.0, 1.0).hypot(vf.clamp(-1.0, 1.0))).min(1.0);
+        let i = LumIn { u, v, gain };
+        ep = ep.max((plain.kernel(&mut (), &i, &mut ctr).d as f64 / lsb - truth).abs());
+        er = er.max((rad.kernel(&mut (), &i, &mut ctr).d as f64 / lsb - truth).abs());
+    }
+    println!("cone at k = 2: plain max |d err| {ep:.2e}, radial {er:.2e} (bound {bound:.2e})");
+    assert!(er <= bound && ep > 100.0 * er);
+}
+
+#[test]
+fn radial_defaults_cost_latency_and_ram_bits() {
+    let off = LumWidths::default();
+    assert!(!off.radial.on);
+    let w = radial_configs()[0];
+    let m = build_r(
+        &w,
+        &vec![0.0; w.shape_len()],
+        &vec![1.0; w.falloff_len()],
+        0,
+    );
+    let m0 = build(
+        &off,
+        &vec![0.0; off.shape_len()],
+        &vec![1.0; off.falloff_len()],
+    );
+    let c = m.cost();
+    println!(
+        "bloom_flare_modulator radial: latency {} II {} gates {:.0} NAND2 (off {:.0}), RAM bits {}",
+        m.timing().latency,
+        m.timing().ii,
+        c.gates_nand2(),
+        m0.cost().gates_nand2(),
+        c.ram_bits,
+    );
+    for (n, g) in &c.breakdown {
+        println!("  {n}: {g:.0}");
+    }
+    assert_eq!(m0.timing().latency, 6);
+    assert_eq!(m.timing().latency, 6 + 9);
+    assert_eq!(c.ram_bits, m0.cost().ram_bits);
+    assert_eq!(m.widths().len(), m0.widths().len() + 4);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    #[test]
+    fn radial_within_bound_random_tables_and_positions(
+        cfg in 0usize..4,
+        ekind in 0u32..4,
+        fkind in 0u32..4,
+        seed in any::<u64>(),
+    ) {
+        run_case_r(cfg, ekind, fkind, seed, 24);
+    }
+
+    #[test]
+    fn radial_tick_and_span_drivers_agree(
+        cfg in 0usize..4,
+        seed in any::<u64>(),
+        n in 0usize..40,
+    ) {
+        let w = radial_configs()[cfg];
+        let kc = random_kappa(&w, seed);
+        let m = build_r(
+            &w,
+            &radial_table(&w, seed as u32, seed, w.kappa_value(kc)),
+            &falloff_table(&w, (seed >> 8) as u32, seed),
+            kc,
+        );
+        let inputs: Vec<LumIn> = random_points(&w, seed, n)
+            .into_iter()
+            .map(|(u, v, gain)| LumIn { u, v, gain })
+            .collect();
+        common::assert_drivers_agree(&m, (), &inputs);
+    }
+
+    #[test]
+    fn radial_configs_and_kappa_errors_name_the_field(
+        sb in 1u32..17, rf in 0u32..18, ki in 0u32..10, kf in 0u32..18, ei in 0u32..6,
+        kappa in prop_oneof![Just(f64::NAN), Just(f64::INFINITY), Just(-0.5), Just(1e6), 0.0f64..4.0],
+        x in prop_oneof![Just(f64::NAN), Just(-1e3), Just(1e3), Just(f64::NEG_INFINITY)],
+        idx in any::<prop::sample::Index>(),
+    ) {
+        let w = LumWidths {
+            shape_log2: 2,
+            shape_bits: sb,
+            radial: rtl_model::units::luminance_ram::Radial {
+                on: true,
+                radius_frac_bits: rf,
+                kappa_int_bits: ki,
+                kappa_frac_bits: kf,
+                entry_int_bits: ei,
+            },
+            ..LumWidths::default()
+        };
+        let cfg = BloomFlareModulatorConfig::from_widths(w);
+        let mut bad = Vec::new();
+        if !(2..=16).contains(&rf) { bad.push("radius_frac_bits"); }
+        if ki > 8 { bad.push("kappa_int_bits"); }
+        if kf > 16 || ki + kf == 0 { bad.push("kappa_frac_bits"); }
+        if ei > 4 || ei + 1 > sb { bad.push("entry_int_bits"); }
+        let fall = vec![0.5; w.falloff_len()];
+        if bad.is_empty() {
+            let mut e = vec![0.0; w.shape_len()];
+            let i = idx.index(e.len());
+            e[i] = x;
+            let err = cfg.build(&e, &fall).unwrap_err();
+            prop_assert_eq!(err.field(), format!("bloom_flare_modulator.shape[{i}]"));
+            let m = cfg.build(&vec![0.0; w.shape_len()], &fall).unwrap();
+            let max = w.kappa_value(w.kappa_max());
+            match m.with_kappa(kappa) {
+                Ok(m) => prop_assert!(kappa >= 0.0 && (w.kappa_value(m.kappa_code()) - kappa).abs()
+                    <= 0.5 / 2f64.powi(kf as i32) + 1e-12),
+                Err(e) => {
+                    prop_assert_eq!(e.field(), "bloom_flare_modulator.kappa");
+                    prop_assert!(!kappa.is_finite() || kappa < 0.0 || kappa > max);
+                }
+            }
+        } else {
+            let e = cfg.build(&[], &[]).unwrap_err();
+            let field = e.field().to_string();
+            prop_assert!(
+                bad.iter().any(|b| field == format!("bloom_flare_modulator.{b}")),
+                "{} not in {:?}", field, bad
+            );
         }
     }
 }

@@ -95,3 +95,20 @@ fn the_cli_sweeps_a_glare_scene_and_rejects_a_shafts_param() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("param"));
 }
+
+#[test]
+fn radial_correction_sweep_cuts_the_shallow_table_error() {
+    // At k = 5 the elliptic source's cone is far below a cell: the radial mode (signed
+    // sdf − κ|p| entries, |p| computed) must beat the plain table; RAM bits unchanged.
+    let mut s = small();
+    s.glare.as_mut().unwrap().hw.shape_log2 = 5;
+    let (rows, ..) = glare_sweep(&s, "radial", &[0, 1], &tmp("radial")).unwrap();
+    println!(
+        "k = 5: max off {:.1}, radial {:.1}; gates {:.0} → {:.0}",
+        rows[0].max_levels, rows[1].max_levels, rows[0].gates_nand2, rows[1].gates_nand2
+    );
+    assert!(rows[1].max_levels < 0.6 * rows[0].max_levels, "{rows:?}");
+    assert!(rows[1].mean_abs_levels <= rows[0].mean_abs_levels);
+    assert_eq!(rows[0].ram_bits, rows[1].ram_bits);
+    assert!(rows[1].gates_nand2 > rows[0].gates_nand2);
+}

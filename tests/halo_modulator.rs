@@ -236,7 +236,7 @@ proptest! {
         let cfg = HaloModulatorConfig {
             coord_frac_bits: f, shape_log2: k, shape_bits: sb, falloff_log2: m,
             falloff_bits: fb, weight_bits: wb, gain_int_bits: gi, gain_frac_bits: gf,
-            out_bits: ob,
+            out_bits: ob, radial: Default::default(),
         };
         let mut bad = Vec::new();
         if !(2..=16).contains(&f) { bad.push("coord_frac_bits"); }
@@ -313,5 +313,164 @@ proptest! {
         if x > -2.0 && x < 1.999 {
             prop_assert!((coord_value(&w, c) - x).abs() <= 0.5 / 1024.0 + 1e-12);
         }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Radial correction (LumWidths::radial.on): signed e tables, κ register, the bound
+// `bound_d_radial` (tests/lum_common) derived from the widths, four configs.
+
+use glare_pipeline::reference::halo_modulator::halo_modulator_radial as twin_r;
+
+fn build_r(w: &LumWidths, e: &[f64], rings: &Rings, kappa: u32) -> HaloModulator {
+    HaloModulatorConfig::from_widths(*w)
+        .build(e, r3(rings))
+        .unwrap()
+        .with_kappa(w.kappa_value(kappa))
+        .unwrap()
+}
+
+#[allow(clippy::too_many_arguments)]
+fn check_r(
+    m: &HaloModulator,
+    e: &[f64],
+    falloff: &Rings,
+    e_d: f64,
+    e_p: [f64; 3],
+    u: i32,
+    v: i32,
+    gain: [u32; 3],
+) -> (f64, f64) {
+    let w = m.lum_widths();
+    let kappa = w.kappa_value(m.kappa_code());
+    let mut ctr = Counters::default();
+    let out = m.kernel(&mut (), &LumIn { u, v, gain }, &mut ctr);
+    let g = gain.map(|c| gain_value(&w, c));
+    let (d, lum) = twin_r(
+        e,
+        w.shape_log2,
+        kappa,
+        r3(falloff),
+        w.falloff_log2,
+        coord_value(&w, u),
+        coord_value(&w, v),
+        g,
+        out_max(&w),
+    );
+    let dk = out.d as f64 / ((1u64 << w.shape_bits) - 1) as f64;
+    assert!(
+        (dk - d).abs() <= e_d * (1.0 + 1e-9) + 1e-12,
+        "{w:?} κ {kappa} u {u} v {v}: d {dk} want {d} (bound {e_d})"
+    );
+    let mut rl = 0f64;
+    for c in 0..3 {
+        let b = bound_lum(&w, e_p[c], gain[c]);
+        let err = out.lum[c] as f64 - lum[c];
+        rl = rl.max(err.abs() / b);
+        assert!(
+            err.abs() <= b * (1.0 + 1e-9) + 1e-9,
+            "{w:?} κ {kappa} u {u} v {v} gain {gain:?}: lum[{c}] {} want {} (err {err}, bound {b})",
+            out.lum[c],
+            lum[c]
+        );
+    }
+    assert_eq!(ctr.table_reads, 10);
+    let one = 1i32 << w.coord_frac_bits;
+    let clamps = (u.abs() >= one) as u64 + (v.abs() >= one) as u64;
+    assert!(ctr.saturations >= clamps && ctr.saturations <= clamps + 4);
+    assert!(ctr.underflows <= 1);
+    ((dk - d).abs() / e_d, rl)
+}
+
+fn setup_r(
+    cfg: usize,
+    ekind: u32,
+    fkind: u32,
+    seed: u64,
+) -> (HaloModulator, Vec<f64>, Rings, f64, [f64; 3]) {
+    let w = radial_configs()[cfg];
+    let kc = random_kappa(&w, seed);
+    let kappa = w.kappa_value(kc);
+    let e = radial_table(&w, ekind, seed, kappa);
+    let falloff = rings(&w, fkind, seed);
+    let m = build_r(&w, &e, &falloff, kc);
+    let e_d = bound_d_radial(&w, &e, kappa);
+    let e_p = [0, 1, 2].map(|c| bound_p(&w, &falloff[c], e_d));
+    (m, e, falloff, e_d, e_p)
+}
+
+#[test]
+fn radial_exhaustive_positions_for_the_narrow_configs() {
+    for (cfg, ekind, fkind, seed) in [(2usize, 0u32, 3u32, 17u64), (3, 1, 0, 18)] {
+        let (m, e, falloff, e_d, e_p) = setup_r(cfg, ekind, fkind, seed);
+        let w = m.lum_widths();
+        let (lo, hi) = coord_range(&w);
+        let g = [w.gain_max(), w.gain_max() / 2, 1];
+        let (mut rd, mut rl) = (0f64, 0f64);
+        for v in lo..=hi {
+            for u in lo..=hi {
+                let (a, b) = check_r(&m, &e, &falloff, e_d, e_p, u, v, g);
+                rd = rd.max(a);
+                rl = rl.max(b);
+            }
+        }
+        println!("radial config {cfg}: worst |err|/bound: d {rd:.3}, lum {rl:.3}");
+    }
+}
+
+#[test]
+fn radial_defaults_cost_and_latency() {
+    let w = radial_configs()[0];
+    let m = build_r(&w, &vec![0.0; w.shape_len()], &flat(&w, 1.0), 0);
+    let c = m.cost();
+    println!(
+        "halo_modulator radial: latency {} II {} gates {:.0} NAND2, RAM bits {}",
+        m.timing().latency,
+        m.timing().ii,
+        c.gates_nand2(),
+        c.ram_bits,
+    );
+    assert_eq!(m.timing().latency, 15);
+    assert_eq!(c.ram_bits, 129 * 129 * 16 + 3 * 257 * 16);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    #[test]
+    fn radial_within_bound_random_tables_and_positions(
+        cfg in 0usize..4,
+        ekind in 0u32..4,
+        fkind in 0u32..4,
+        seed in any::<u64>(),
+    ) {
+        let (m, e, falloff, e_d, e_p) = setup_r(cfg, ekind, fkind, seed);
+        for (u, v, g) in random_points(&m.lum_widths(), seed, 24) {
+            check_r(&m, &e, &falloff, e_d, e_p, u, v, g);
+        }
+    }
+
+    #[test]
+    fn radial_tick_and_span_drivers_agree(
+        cfg in 0usize..4,
+        seed in any::<u64>(),
+        n in 0usize..40,
+    ) {
+        let (m, ..) = setup_r(cfg, seed as u32, (seed >> 8) as u32, seed);
+        let inputs: Vec<LumIn> = random_points(&m.lum_widths(), seed, n)
+            .into_iter()
+            .map(|(u, v, gain)| LumIn { u, v, gain })
+            .collect();
+        common::assert_drivers_agree(&m, (), &inputs);
+    }
+
+    #[test]
+    fn radial_kappa_errors_name_the_field(
+        kappa in prop_oneof![Just(f64::NAN), Just(f64::NEG_INFINITY), Just(-1.0), Just(1e6)],
+    ) {
+        let w = radial_configs()[2];
+        let m = build_r(&w, &vec![0.0; w.shape_len()], &flat(&w, 0.5), 0);
+        let e = m.with_kappa(kappa).unwrap_err();
+        prop_assert_eq!(e.field(), "halo_modulator.kappa");
     }
 }

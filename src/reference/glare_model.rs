@@ -116,6 +116,40 @@ impl Shape2D {
         }
     }
 
+    /// Signed distance from (x, y) to the outline: [`Shape2D::distance`] outside,
+    /// minus the distance to the outline inside (a point and degenerate outlines have
+    /// no inside: the plain distance).
+    pub fn signed_distance(&self, x: f64, y: f64) -> f64 {
+        match self {
+            Shape2D::Point => (x * x + y * y).sqrt(),
+            Shape2D::Circle { r } => (x * x + y * y).sqrt() - r,
+            Shape2D::Ellipse { a, b, phi } => {
+                let (c, s) = (phi.cos(), phi.sin());
+                let (u, v) = (x * c + y * s, -x * s + y * c);
+                let d = ellipse_distance(u, v, *a, *b);
+                if d > 0.0 || *a <= 0.0 || *b <= 0.0 {
+                    d
+                } else {
+                    -ellipse_inner_distance(u, v, *a, *b)
+                }
+            }
+            Shape2D::Capsule { h, r, phi } => {
+                let (c, s) = (phi.cos(), phi.sin());
+                let (u, v) = (x * c + y * s, -x * s + y * c);
+                let du = (u.abs() - h).max(0.0);
+                (du * du + v * v).sqrt() - r
+            }
+            Shape2D::Polygon { pts } => {
+                let d = polygon_distance(pts, x, y);
+                if d > 0.0 {
+                    d
+                } else {
+                    -polygon_edge_distance(pts, x, y)
+                }
+            }
+        }
+    }
+
     /// The largest distance of the outline from the centre (0 for a point).
     pub fn extent(&self) -> f64 {
         match self {
@@ -164,6 +198,63 @@ pub fn ellipse_distance(x: f64, y: f64, a: f64, b: f64) -> f64 {
     }
     let (ex, ey) = (a * t.cos(), b * t.sin());
     ((ex - px).powi(2) + (ey - py).powi(2)).sqrt()
+}
+
+/// Distance from a point (x, y) inside the ellipse x²/a² + y²/b² ≤ 1 to its outline:
+/// the nearest of 256 foot-point parameters over the quarter arc, refined by
+/// bisection-safe Newton steps on the squared distance.
+pub fn ellipse_inner_distance(x: f64, y: f64, a: f64, b: f64) -> f64 {
+    let (px, py) = (x.abs(), y.abs());
+    let d2 = |t: f64| (a * t.cos() - px).powi(2) + (b * t.sin() - py).powi(2);
+    let n = 256;
+    let h = std::f64::consts::FRAC_PI_2 / n as f64;
+    let mut best = 0.0;
+    for i in 0..=n {
+        let t = i as f64 * h;
+        if d2(t) < d2(best) {
+            best = t;
+        }
+    }
+    // Golden-section refinement in the bracketing cells.
+    let (mut lo, mut hi) = (
+        (best - h).max(0.0),
+        (best + h).min(std::f64::consts::FRAC_PI_2),
+    );
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let m1 = hi - g * (hi - lo);
+        let m2 = lo + g * (hi - lo);
+        if d2(m1) < d2(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    d2(0.5 * (lo + hi)).min(d2(best)).sqrt()
+}
+
+/// Distance from (x, y) to the nearest edge of a polygon (its boundary polyline).
+pub fn polygon_edge_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
+    let n = pts.len();
+    let mut best = f64::INFINITY;
+    for i in 0..n {
+        let p = pts[i];
+        let q = pts[(i + 1) % n];
+        let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
+        let (wx, wy) = (x - p[0], y - p[1]);
+        let len2 = ex * ex + ey * ey;
+        let t = if len2 > 0.0 {
+            ((wx * ex + wy * ey) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        best = best.min(((wx - t * ex).powi(2) + (wy - t * ey).powi(2)).sqrt());
+    }
+    if best.is_finite() {
+        best
+    } else {
+        (x * x + y * y).sqrt()
+    }
 }
 
 /// Distance from (x, y) to a convex polygon (0 inside); fewer than 3 points, and a

@@ -33,3 +33,16 @@ pub fn falloff(profile: &[f64], falloff_log2: u32, d: f64) -> f64 {
 pub fn apply_gain(p: f64, gain: [f64; 3], out_max: f64) -> [f64; 3] {
     gain.map(|g| (p * g).min(out_max))
 }
+
+/// Radial-correction mode: d = clamp(e_interp(u, v) + κ·|(u, v)|, 0, 1), e the signed
+/// shape samples (sdf_n − κ·|(u, v)| at the grid points), u and v clamped to [−1, 1]
+/// for both the lookup and the radius.
+pub fn radial_distance(e: &[f64], shape_log2: u32, kappa: f64, u: f64, v: f64) -> f64 {
+    let (uc, vc) = (u.clamp(-1.0, 1.0), v.clamp(-1.0, 1.0));
+    let d = shape_distance(e, shape_log2, uc, vc) + kappa * uc.hypot(vc);
+    if d.is_nan() {
+        0.0
+    } else {
+        d.clamp(0.0, 1.0)
+    }
+}

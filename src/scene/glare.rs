@@ -313,6 +313,9 @@ pub struct GlareHw {
     /// Clock (MHz) and parallel pixel pipes, for the throughput model.
     pub clock_mhz: f64,
     pub pipes: u32,
+    /// Radial correction in the luminance modulators' shape RAM (default false):
+    /// signed entries sdf/d_max − κ·|(u, v)|, |(u, v)| computed by the datapath.
+    pub radial: bool,
 }
 
 impl Default for GlareHw {
@@ -328,6 +331,7 @@ impl Default for GlareHw {
             fb_bits: 8,
             clock_mhz: 300.0,
             pipes: 4,
+            radial: false,
         }
     }
 }

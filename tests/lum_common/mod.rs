@@ -4,7 +4,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rtl_model::units::luminance_ram::LumWidths;
+use rtl_model::units::luminance_ram::{LumWidths, Radial};
 
 /// Width configs the property tests run: defaults, a wide one, two narrow ones
 /// (one with truncated shape weights, one with k > F+1 and m > sb).
@@ -21,6 +21,7 @@ pub fn configs() -> Vec<LumWidths> {
             gain_int_bits: 16,
             gain_frac_bits: 16,
             out_bits: 16,
+            radial: Radial::default(),
         },
         // Narrow: 3-bit entries, 2-bit weights truncating a 7-bit cell fraction.
         LumWidths {
@@ -33,6 +34,7 @@ pub fn configs() -> Vec<LumWidths> {
             gain_int_bits: 3,
             gain_frac_bits: 1,
             out_bits: 4,
+            radial: Radial::default(),
         },
         // Narrow the other way: coordinates coarser than the grid, m > sb, 1-bit weights.
         LumWidths {
@@ -45,6 +47,7 @@ pub fn configs() -> Vec<LumWidths> {
             gain_int_bits: 0,
             gain_frac_bits: 4,
             out_bits: 1,
+            radial: Radial::default(),
         },
     ]
 }
@@ -222,4 +225,108 @@ pub fn random_points(w: &LumWidths, seed: u64, n: usize) -> Vec<(i32, i32, [u32;
             (u, v, g)
         })
         .collect()
+}
+
+/// Width configs with radial correction on: defaults, a wide one, two narrow ones
+/// (3-bit radius, 4-bit κ, 1 entry integer bit; and 2-bit radius, κ u0.3, ei = 0 with
+/// coordinates coarser than the grid).
+pub fn radial_configs() -> Vec<LumWidths> {
+    let on = |w: LumWidths, rf, ki, kf, ei| LumWidths {
+        radial: Radial {
+            on: true,
+            radius_frac_bits: rf,
+            kappa_int_bits: ki,
+            kappa_frac_bits: kf,
+            entry_int_bits: ei,
+        },
+        ..w
+    };
+    let c = configs();
+    vec![
+        on(c[0], 16, 4, 12, 1),
+        on(c[1], 16, 8, 16, 4),
+        on(
+            LumWidths {
+                shape_bits: 4,
+                ..c[2]
+            },
+            3,
+            2,
+            2,
+            1,
+        ),
+        on(c[3], 2, 0, 3, 0),
+    ]
+}
+
+/// A random κ code for a radial config (often the largest, sometimes 0).
+pub fn random_kappa(w: &LumWidths, seed: u64) -> u32 {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x004b_4150_5041);
+    match rng.random_range(0..4) {
+        0 => w.kappa_max(),
+        1 => 0,
+        _ => rng.random_range(0..=w.kappa_max()),
+    }
+}
+
+/// A random signed radial table e for κ (value): kind 0 = a rotated ellipse's signed
+/// distance (scaled) minus κ·|(u, v)| (the host's table for a small source, clamped
+/// to the entry range), 1 = uniform random over the entry range (rough), 2 = a
+/// constant (a cone: e exact at any depth), 3 = a checkerboard of the range ends.
+pub fn radial_table(w: &LumWidths, kind: u32, seed: u64, kappa: f64) -> Vec<f64> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x7261_6469_616c);
+    let (lo, hi) = w.entry_range();
+    let side = w.shape_side();
+    let n = (side - 1) as f64;
+    let coord = |i: usize| -1.0 + 2.0 * i as f64 / n;
+    let a: f64 = rng.random_range(0.01..0.5);
+    let b: f64 = rng.random_range(0.01..0.5);
+    let th: f64 = rng.random_range(0.0..std::f64::consts::PI);
+    let scale: f64 = rng.random_range(0.5..3.0);
+    let cst: f64 = rng.random_range(lo..=hi);
+    let shape = glare_pipeline::reference::glare_model::Shape2D::Ellipse { a, b, phi: th };
+    let mut t = Vec::with_capacity(side * side);
+    for j in 0..side {
+        for i in 0..side {
+            let (u, v) = (coord(i), coord(j));
+            let x = match kind % 4 {
+                0 => scale * shape.signed_distance(u, v) - kappa * u.hypot(v),
+                1 => rng.random_range(lo..=hi),
+                2 => cst,
+                _ => {
+                    if (i + j) % 2 == 0 {
+                        lo
+                    } else {
+                        hi
+                    }
+                }
+            };
+            t.push(x.clamp(lo, hi));
+        }
+    }
+    t
+}
+
+/// Error bound on d in radial mode (d units), derived from the widths, the table and κ
+/// (see docs/units.md § bloom_flare_modulator, radial correction):
+///   E_d = ½·2^−fe (signed entry rounding, fe = sb − 1 − ei; bilinear is convex)
+///       + (L_x + L_y)·δw (weight truncation, as in [`bound_d`], L of the e table)
+///       + κ·2^−rf (the square root is an exact floor of |(u, v)| to rf fraction bits,
+///         times κ; the product and the sum are exact)
+///       + ½ LSB_s (rounding the clamped sum to the unorm sb-bit d code)
+/// The clamp to [0, 1] is 1-Lipschitz and adds nothing.
+pub fn bound_d_radial(w: &LumWidths, e: &[f64], kappa: f64) -> f64 {
+    let lsb_s = 1.0 / ((1u64 << w.shape_bits) - 1) as f64;
+    let s = w.coord_frac_bits as i32 + 1 - w.shape_log2 as i32;
+    let wb = w.weight_bits as i32;
+    let dw = if s > wb {
+        (2f64.powi(s - wb) - 1.0) / 2f64.powi(s)
+    } else {
+        0.0
+    };
+    let (lx, ly) = shape_lipschitz(w, e);
+    0.5 * 2f64.powi(-(w.entry_frac_bits() as i32))
+        + (lx + ly) * dw
+        + kappa * 2f64.powi(-(w.radial.radius_frac_bits as i32))
+        + 0.5 * lsb_s
 }

@@ -13,6 +13,7 @@ use crate::cost::Cost;
 use crate::counters::Counters;
 use crate::error::ConfigError;
 use crate::unit::{Signal, Timing, Unit, Width};
+pub use crate::units::luminance_ram::Radial;
 use crate::units::luminance_ram::{mask32, LumWidths};
 pub use crate::units::luminance_ram::{LumIn, LumOut};
 use serde::{Deserialize, Serialize};
@@ -32,6 +33,9 @@ pub struct BloomFlareModulatorConfig {
     pub gain_int_bits: u32,
     pub gain_frac_bits: u32,
     pub out_bits: u32,
+    /// Radial correction (default off); see [`Radial`].
+    #[serde(default)]
+    pub radial: Radial,
 }
 
 impl Default for BloomFlareModulatorConfig {
@@ -53,6 +57,7 @@ impl BloomFlareModulatorConfig {
             gain_int_bits: self.gain_int_bits,
             gain_frac_bits: self.gain_frac_bits,
             out_bits: self.out_bits,
+            radial: self.radial,
         }
     }
 
@@ -67,6 +72,7 @@ impl BloomFlareModulatorConfig {
             gain_int_bits: w.gain_int_bits,
             gain_frac_bits: w.gain_frac_bits,
             out_bits: w.out_bits,
+            radial: w.radial,
         }
     }
 
@@ -81,19 +87,19 @@ impl BloomFlareModulatorConfig {
     ) -> Result<BloomFlareModulator, ConfigError> {
         let w = self.widths();
         w.validate(NAME)?;
-        let shape = LumWidths::quantise_table(
-            &format!("{NAME}.shape"),
-            shape,
-            w.shape_len(),
-            w.shape_bits,
-        )?;
+        let shape = w.quantise_shape(&format!("{NAME}.shape"), shape)?;
         let falloff = LumWidths::quantise_table(
             &format!("{NAME}.falloff"),
             falloff,
             w.falloff_len(),
             w.falloff_bits,
         )?;
-        Ok(BloomFlareModulator { w, shape, falloff })
+        Ok(BloomFlareModulator {
+            w,
+            shape,
+            falloff,
+            kappa: 0,
+        })
     }
 }
 
@@ -102,6 +108,8 @@ impl BloomFlareModulatorConfig {
 pub struct BloomFlareModulator {
     w: LumWidths,
     shape: Vec<u32>,
+    /// κ register, u(ki).(kf) (radial mode; 0 after build).
+    kappa: u32,
     falloff: Vec<u32>,
 }
 
@@ -161,10 +169,27 @@ impl BloomFlareModulator {
         self.w.coord_from_f64(NAME, u)
     }
 
+    /// Load the κ register (radial mode; round to nearest u(ki).(kf)). NaN, ∞,
+    /// negative or above the largest code is an error naming `<unit>.kappa`.
+    pub fn with_kappa(mut self, kappa: f64) -> Result<Self, ConfigError> {
+        self.kappa = self.w.kappa_from_f64(NAME, kappa)?;
+        Ok(self)
+    }
+
+    /// The κ register code, u(ki).(kf).
+    pub fn kappa_code(&self) -> u32 {
+        self.kappa
+    }
+
     /// The combinational datapath on one pixel.
     #[inline]
     pub fn apply(&self, input: &LumIn, ctr: &mut Counters) -> LumOut {
-        let d = self.w.shape_lookup(&self.shape, input.u, input.v, ctr);
+        let d = if self.w.radial.on {
+            self.w
+                .radial_lookup(&self.shape, self.kappa, input.u, input.v, ctr)
+        } else {
+            self.w.shape_lookup(&self.shape, input.u, input.v, ctr)
+        };
         let p = self.w.falloff_lookup(&self.falloff, d, ctr);
         let mut lum = [0u32; 3];
         for (c, l) in lum.iter_mut().enumerate() {
@@ -189,7 +214,7 @@ impl Unit for BloomFlareModulator {
 
     fn timing(&self) -> Timing {
         Timing {
-            latency: LumWidths::LATENCY,
+            latency: self.w.latency(),
             ii: 1,
         }
     }
@@ -213,7 +238,7 @@ impl Unit for BloomFlareModulator {
 
 /// Named widths of the shared datapath (both modulators).
 pub(crate) fn lum_width_list(w: &LumWidths) -> Vec<Width> {
-    vec![
+    let mut v = vec![
         Width {
             name: "coord_frac_bits",
             bits: w.coord_frac_bits,
@@ -250,7 +275,29 @@ pub(crate) fn lum_width_list(w: &LumWidths) -> Vec<Width> {
             name: "out_bits",
             bits: w.out_bits,
         },
-    ]
+    ];
+    if w.radial.on {
+        let r = w.radial;
+        v.extend([
+            Width {
+                name: "radius_frac_bits",
+                bits: r.radius_frac_bits,
+            },
+            Width {
+                name: "kappa_int_bits",
+                bits: r.kappa_int_bits,
+            },
+            Width {
+                name: "kappa_frac_bits",
+                bits: r.kappa_frac_bits,
+            },
+            Width {
+                name: "entry_int_bits",
+                bits: r.entry_int_bits,
+            },
+        ]);
+    }
+    v
 }
 
 pub(crate) fn lum_in_signals(w: &LumWidths, i: &LumIn) -> Vec<Signal> {

@@ -17,6 +17,7 @@ use crate::error::ConfigError;
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::units::bloom_flare_modulator::{lum_in_signals, lum_out_signals, lum_width_list};
 use crate::units::luminance_ram::LumWidths;
+pub use crate::units::luminance_ram::Radial;
 pub use crate::units::luminance_ram::{LumIn, LumOut};
 use serde::{Deserialize, Serialize};
 
@@ -36,6 +37,9 @@ pub struct HaloModulatorConfig {
     pub gain_int_bits: u32,
     pub gain_frac_bits: u32,
     pub out_bits: u32,
+    /// Radial correction (default off); see [`Radial`].
+    #[serde(default)]
+    pub radial: Radial,
 }
 
 impl Default for HaloModulatorConfig {
@@ -57,6 +61,7 @@ impl HaloModulatorConfig {
             gain_int_bits: self.gain_int_bits,
             gain_frac_bits: self.gain_frac_bits,
             out_bits: self.out_bits,
+            radial: self.radial,
         }
     }
 
@@ -71,6 +76,7 @@ impl HaloModulatorConfig {
             gain_int_bits: w.gain_int_bits,
             gain_frac_bits: w.gain_frac_bits,
             out_bits: w.out_bits,
+            radial: w.radial,
         }
     }
 
@@ -81,12 +87,7 @@ impl HaloModulatorConfig {
     pub fn build(&self, shape: &[f64], rings: [&[f64]; 3]) -> Result<HaloModulator, ConfigError> {
         let w = self.widths();
         w.validate(NAME)?;
-        let shape = LumWidths::quantise_table(
-            &format!("{NAME}.shape"),
-            shape,
-            w.shape_len(),
-            w.shape_bits,
-        )?;
+        let shape = w.quantise_shape(&format!("{NAME}.shape"), shape)?;
         let mut out: [Vec<u32>; 3] = Default::default();
         for (c, r) in rings.iter().enumerate() {
             out[c] = LumWidths::quantise_table(
@@ -100,6 +101,7 @@ impl HaloModulatorConfig {
             w,
             shape,
             rings: out,
+            kappa: 0,
         })
     }
 }
@@ -109,6 +111,8 @@ impl HaloModulatorConfig {
 pub struct HaloModulator {
     w: LumWidths,
     shape: Vec<u32>,
+    /// κ register, u(ki).(kf) (radial mode; 0 after build).
+    kappa: u32,
     rings: [Vec<u32>; 3],
 }
 
@@ -168,10 +172,27 @@ impl HaloModulator {
         self.w.coord_from_f64(NAME, u)
     }
 
+    /// Load the κ register (radial mode; round to nearest u(ki).(kf)). NaN, ∞,
+    /// negative or above the largest code is an error naming `<unit>.kappa`.
+    pub fn with_kappa(mut self, kappa: f64) -> Result<Self, ConfigError> {
+        self.kappa = self.w.kappa_from_f64(NAME, kappa)?;
+        Ok(self)
+    }
+
+    /// The κ register code, u(ki).(kf).
+    pub fn kappa_code(&self) -> u32 {
+        self.kappa
+    }
+
     /// The combinational datapath on one pixel.
     #[inline]
     pub fn apply(&self, input: &LumIn, ctr: &mut Counters) -> LumOut {
-        let d = self.w.shape_lookup(&self.shape, input.u, input.v, ctr);
+        let d = if self.w.radial.on {
+            self.w
+                .radial_lookup(&self.shape, self.kappa, input.u, input.v, ctr)
+        } else {
+            self.w.shape_lookup(&self.shape, input.u, input.v, ctr)
+        };
         let mut lum = [0u32; 3];
         for (c, l) in lum.iter_mut().enumerate() {
             let p = self.w.falloff_lookup(&self.rings[c], d, ctr);
@@ -196,7 +217,7 @@ impl Unit for HaloModulator {
 
     fn timing(&self) -> Timing {
         Timing {
-            latency: LumWidths::LATENCY,
+            latency: self.w.latency(),
             ii: 1,
         }
     }

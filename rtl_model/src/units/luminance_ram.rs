@@ -44,6 +44,45 @@ pub struct LumWidths {
     pub gain_frac_bits: u32,
     /// Luminance output width (1 ..= 16, default 12).
     pub out_bits: u32,
+    /// Radial-correction mode and its widths (default off: the plain datapath).
+    #[serde(default)]
+    pub radial: Radial,
+}
+
+/// Radial correction (docs/glare.md "Shape depth and radial correction"): the shape
+/// RAM holds SIGNED entries e = sdf_n − κ·|(u, v)| (format s(ei).(sb−1−ei), two's
+/// complement in the sb-bit entry), the datapath adds κ·|(u, v)| back with |(u, v)|
+/// computed arithmetically (two squarers, an adder and a restoring digit-recurrence
+/// square root) and clamps: d = clamp(e_interp + κ·|(u, v)|, 0, 1). κ is a
+/// per-primitive register u(ki).(kf). A cone (point, circle) gives a constant e, so
+/// the bilinear interpolation is exact at any depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Radial {
+    /// The mode (default false).
+    pub on: bool,
+    /// rf: fraction bits of the square root |(u, v)| ∈ [0, √2] (2 ..= 16, default 16);
+    /// rf + 1 digit rows.
+    pub radius_frac_bits: u32,
+    /// ki: κ integer bits (0 ..= 8, default 4).
+    pub kappa_int_bits: u32,
+    /// kf: κ fraction bits (0 ..= 16, default 12); ki + kf ≥ 1.
+    pub kappa_frac_bits: u32,
+    /// ei: integer bits of the signed shape entries, range [−2^ei, 2^ei)
+    /// (0 ..= 4, ≤ sb − 1, default 1).
+    pub entry_int_bits: u32,
+}
+
+impl Default for Radial {
+    fn default() -> Self {
+        Radial {
+            on: false,
+            radius_frac_bits: 16,
+            kappa_int_bits: 4,
+            kappa_frac_bits: 12,
+            entry_int_bits: 1,
+        }
+    }
 }
 
 impl Default for LumWidths {
@@ -58,6 +97,7 @@ impl Default for LumWidths {
             gain_int_bits: 12,
             gain_frac_bits: 4,
             out_bits: 12,
+            radial: Radial::default(),
         }
     }
 }
@@ -81,7 +121,80 @@ impl LumWidths {
             ));
         }
         check_range(&f("out_bits"), self.out_bits as u64, 1, 16)?;
+        // The radial widths are checked only when the mode is on (off, they are unused).
+        let r = &self.radial;
+        if !r.on {
+            return Ok(());
+        }
+        check_range(&f("radius_frac_bits"), r.radius_frac_bits as u64, 2, 16)?;
+        check_range(&f("kappa_int_bits"), r.kappa_int_bits as u64, 0, 8)?;
+        check_range(&f("kappa_frac_bits"), r.kappa_frac_bits as u64, 0, 16)?;
+        if r.kappa_int_bits + r.kappa_frac_bits == 0 {
+            return Err(ConfigError::invalid(
+                &f("kappa_frac_bits"),
+                "kappa_int_bits + kappa_frac_bits must be at least 1",
+            ));
+        }
+        check_range(
+            &f("entry_int_bits"),
+            r.entry_int_bits as u64,
+            0,
+            4.min(self.shape_bits.saturating_sub(1)) as u64,
+        )?;
         Ok(())
+    }
+
+    /// fe: fraction bits of the signed radial shape entries, sb − 1 − ei.
+    pub fn entry_frac_bits(&self) -> u32 {
+        self.shape_bits
+            .saturating_sub(1)
+            .saturating_sub(self.radial.entry_int_bits)
+    }
+
+    /// Largest κ code (ki + kf bits).
+    pub fn kappa_max(&self) -> u32 {
+        mask32(self.radial.kappa_int_bits + self.radial.kappa_frac_bits)
+    }
+
+    /// κ value of a code: code / 2^kf.
+    pub fn kappa_value(&self, code: u32) -> f64 {
+        (code & self.kappa_max()) as f64 / (self.radial.kappa_frac_bits as f64).exp2()
+    }
+
+    /// Quantise κ (round to nearest); NaN, ∞, negative or above the largest code is an
+    /// error naming `<unit>.kappa`.
+    pub fn kappa_from_f64(&self, unit: &str, k: f64) -> Result<u32, ConfigError> {
+        let field = format!("{unit}.kappa");
+        let x = check_finite(&field, k)?;
+        let sc = (self.radial.kappa_frac_bits as f64).exp2();
+        let code = (x * sc).round();
+        let max = self.kappa_max() as f64;
+        if !(0.0..=max).contains(&code) {
+            return Err(ConfigError::out_of_range(&field, x, 0.0, max / sc));
+        }
+        Ok(code as u32)
+    }
+
+    /// Range of the signed radial entries: [−2^ei, 2^ei − 2^−fe].
+    pub fn entry_range(&self) -> (f64, f64) {
+        let ei = (self.radial.entry_int_bits as f64).exp2();
+        (-ei, ei - (-(self.entry_frac_bits() as f64)).exp2())
+    }
+
+    /// Pipeline latency: [`LumWidths::LATENCY`] plain; with radial correction the
+    /// distance leaves stage S + 3 instead of 3, S = ⌈(rf + 1)/2⌉ square-root stages
+    /// (two digit rows a stage): squares | S × sqrt | κ multiply | add, clamp, convert.
+    pub fn latency(&self) -> u32 {
+        if self.radial.on {
+            Self::LATENCY + self.sqrt_stages()
+        } else {
+            Self::LATENCY
+        }
+    }
+
+    /// S = ⌈(rf + 1)/2⌉: square-root pipeline stages (two digit rows each).
+    pub fn sqrt_stages(&self) -> u32 {
+        (self.radial.radius_frac_bits + 2) / 2
     }
 
     /// Samples per side of the shape grid: 2ᵏ + 1.
@@ -180,13 +293,16 @@ impl LumWidths {
         (i, w, clamped)
     }
 
-    /// Shape lookup: bilinear interpolation of the 4 neighbouring samples of (u, v),
-    /// rounded to a `shape_bits` d code. Counts 4 table reads and a saturation when
-    /// |u| ≥ 1 or |v| ≥ 1 (one per clamped axis).
-    pub fn shape_lookup(&self, shape: &[u32], u: i32, v: i32, ctr: &mut Counters) -> u32 {
+    /// Bilinear interpolation of the 4 neighbouring samples of (u, v) before rounding:
+    /// returns t = interpolated entry · 2^(2wb). Entries are unorm u(sb) codes, or with
+    /// `signed` two's complement s(sb) codes (radial mode). Counts 4 table reads and a
+    /// saturation per clamped axis (|u| ≥ 1 or |v| ≥ 1).
+    #[inline]
+    fn bilinear(&self, shape: &[u32], u: i32, v: i32, signed: bool, ctr: &mut Counters) -> i64 {
         let side = self.shape_side();
         let last = side - 1;
         let wb = self.weight_bits;
+        let sb = self.shape_bits;
         let (i, wx, cu) = self.address(u);
         let (j, wy, cv) = self.address(v);
         ctr.saturations += cu as u64 + cv as u64;
@@ -194,18 +310,98 @@ impl LumWidths {
         let j1 = (j + 1).min(last);
         // Four banks (even/odd in each axis) read in parallel.
         ctr.table_reads += 4;
-        let s00 = shape[j * side + i] as i64;
-        let s10 = shape[j * side + i1] as i64;
-        let s01 = shape[j1 * side + i] as i64;
-        let s11 = shape[j1 * side + i1] as i64;
+        let rd = |x: u32| {
+            if signed {
+                sext(x as i32, sb) // wire: s(sb)
+            } else {
+                (x & mask32(sb)) as i64 // wire: u(sb)
+            }
+        };
+        let s00 = rd(shape[j * side + i]);
+        let s10 = rd(shape[j * side + i1]);
+        let s01 = rd(shape[j1 * side + i]);
+        let s11 = rd(shape[j1 * side + i1]);
         let (wx, wy) = (wx as i64, wy as i64);
-        // Row lerps: s·2^wb + (s' − s)·wx: u(sb)·2^wb + s(sb+1) × u(wb) → u(sb+wb).
+        // Row lerps: s·2^wb + (s' − s)·wx: u(sb)·2^wb + s(sb+1) × u(wb) → u(sb+wb)
+        // (signed entries: s(sb+wb)).
         let r0 = (s00 << wb) + (s10 - s00) * wx;
         let r1 = (s01 << wb) + (s11 - s01) * wx;
-        // Column lerp: r0·2^wb + (r1 − r0)·wy: s(sb+wb+1) × u(wb) → u(sb+2wb).
-        let t = (r0 << wb) + (r1 - r0) * wy;
+        // Column lerp: r0·2^wb + (r1 − r0)·wy: s(sb+wb+1) × u(wb) → u(sb+2wb)
+        // (signed: s(sb+2wb)).
+        (r0 << wb) + (r1 - r0) * wy
+    }
+
+    /// Shape lookup: bilinear interpolation of the 4 neighbouring samples of (u, v),
+    /// rounded to a `shape_bits` d code. Counts 4 table reads and a saturation when
+    /// |u| ≥ 1 or |v| ≥ 1 (one per clamped axis).
+    pub fn shape_lookup(&self, shape: &[u32], u: i32, v: i32, ctr: &mut Counters) -> u32 {
+        let wb = self.weight_bits;
+        let t = self.bilinear(shape, u, v, false, ctr);
         // Round to sb bits: + half, >> 2wb → u(sb) (a convex combination: ≤ max code).
         ((t + (1i64 << (2 * wb - 1))) >> (2 * wb)) as u32
+    }
+
+    /// |(u, v)| of the clamped coordinates as u1.rf, rounded down (exact floor):
+    /// q = u² + v² (u(2F+2), ≤ 2^(2F+1)), aligned to 2rf fraction bits, then a
+    /// restoring square root of rf + 1 digit rows.
+    pub fn radius(&self, u: i32, v: i32) -> u64 {
+        let f = self.coord_frac_bits;
+        let rf = self.radial.radius_frac_bits;
+        let one = 1i64 << f;
+        let uc = sext(u, f + 2).clamp(-one, one); // s1.F, |uc| ≤ 2^F: u(F+1) magnitude
+        let vc = sext(v, f + 2).clamp(-one, one);
+        // Two squarers u(F+1)² → u(2F+1) and an adder → u(2F+2).
+        let q = (uc * uc + vc * vc) as u64;
+        // Align to 2·rf fraction bits (wiring; the dropped bits cannot change the
+        // floor of the root): u(2rf+2).
+        let q = if rf >= f {
+            q << (2 * (rf - f))
+        } else {
+            q >> (2 * (f - rf))
+        };
+        isqrt(q, rf + 1) // u1.rf
+    }
+
+    /// Radial-mode distance: d = clamp(e_interp + κ·|(u, v)|, 0, 1) as a unorm
+    /// `shape_bits` code (rounded to nearest). `kappa` is the u(ki).(kf) register.
+    /// Counts the shape reads and clamps of [`LumWidths::shape_lookup`], a saturation
+    /// when the sum exceeds 1 and an underflow when it is below 0.
+    pub fn radial_lookup(
+        &self,
+        shape: &[u32],
+        kappa: u32,
+        u: i32,
+        v: i32,
+        ctr: &mut Counters,
+    ) -> u32 {
+        let wb = self.weight_bits;
+        let sb = self.shape_bits;
+        let fe = self.entry_frac_bits();
+        let rf = self.radial.radius_frac_bits;
+        let kf = self.radial.kappa_frac_bits;
+        // e_interp = t / 2^(fe+2wb): s(sb+2wb).
+        let t = self.bilinear(shape, u, v, true, ctr);
+        // κ·r: u(ki).(kf) × u1.rf → u(ki+1).(kf+rf).
+        let kappa = (kappa & self.kappa_max()) as i64;
+        let kr = kappa * self.radius(u, v) as i64;
+        // Align both to W = max(fe+2wb, kf+rf) fraction bits (≤ 39) and add:
+        // s(ei+1).(W) + u(ki+1).(W) → s(max(ei, ki)+3).(W) (≤ 51 bits).
+        let w = (fe + 2 * wb).max(kf + rf);
+        let x = (t << (w - fe - 2 * wb)) + (kr << (w - kf - rf));
+        // Clamp to [0, 1] = [0, 2^W] (counted) → u1.(W).
+        let top = 1i64 << w;
+        let x = if x < 0 {
+            ctr.underflows += 1;
+            0
+        } else if x > top {
+            ctr.saturations += 1;
+            top
+        } else {
+            x
+        };
+        // To a unorm code: round(x·(2^sb − 1)/2^W) = (x·2^sb − x + 2^(W−1)) >> W:
+        // u(W+sb+1) subtract, round → u(sb) (x = 2^W gives exactly 2^sb − 1).
+        (((x << sb) - x + (1i64 << (w - 1))) >> w) as u32
     }
 
     /// Falloff lookup: linear interpolation at the d code (replicated to m + wb bits:
@@ -274,6 +470,40 @@ impl LumWidths {
                     return Err(ConfigError::out_of_range(&f, x, 0.0, 1.0));
                 }
                 Ok((x * max).round() as u32)
+            })
+            .collect()
+    }
+
+    /// Quantise the shape table for this config: unorm codes in [0, 1] (plain), or in
+    /// radial mode signed s(ei).(fe) codes (round to nearest, stored as sb-bit two's
+    /// complement) of entries in [−2^ei, 2^ei − 2^−fe]. A wrong length names
+    /// `<field>`; a bad entry names `<field>[<index>]`.
+    pub fn quantise_shape(&self, field: &str, vals: &[f64]) -> Result<Vec<u32>, ConfigError> {
+        if !self.radial.on {
+            return Self::quantise_table(field, vals, self.shape_len(), self.shape_bits);
+        }
+        if vals.len() != self.shape_len() {
+            return Err(ConfigError::invalid(
+                field,
+                &format!(
+                    "table has {} entries, the config needs {}",
+                    vals.len(),
+                    self.shape_len()
+                ),
+            ));
+        }
+        let (lo, hi) = self.entry_range();
+        let sc = (self.entry_frac_bits() as f64).exp2();
+        let m = mask32(self.shape_bits);
+        vals.iter()
+            .enumerate()
+            .map(|(i, &x)| {
+                let f = format!("{field}[{i}]");
+                let x = check_finite(&f, x)?;
+                if !(lo..=hi).contains(&x) {
+                    return Err(ConfigError::out_of_range(&f, x, lo, hi));
+                }
+                Ok(((x * sc).round() as i64 as u32) & m)
             })
             .collect()
     }
@@ -360,6 +590,69 @@ impl LumWidths {
                 }) * 3.0,
             )
             .part("pipeline registers", self.registers(rings))
+            .merge_radial(self)
+    }
+
+    /// The radial-correction parts (empty when off), with their registers.
+    fn radial_cost(&self) -> Vec<(&'static str, Cells)> {
+        if !self.radial.on {
+            return Vec::new();
+        }
+        let f = self.coord_frac_bits;
+        let sb = self.shape_bits;
+        let wb = self.weight_bits;
+        let r = self.radial;
+        let (rf, kb) = (r.radius_frac_bits, r.kappa_int_bits + r.kappa_frac_bits);
+        let fe = self.entry_frac_bits();
+        let w = (fe + 2 * wb).max(r.kappa_frac_bits + rf);
+        let sum = w + r.entry_int_bits.max(r.kappa_int_bits) + 3;
+        let st = self.sqrt_stages();
+        let mut sqrt = Cells::default();
+        for j in 1..=rf + 1 {
+            sqrt = sqrt + prim::subtractor(j + 2) + prim::mux(j + 1);
+        }
+        // Registers: the gain triple and the waiting e for S more stages; q; the
+        // square-root stages (remainder, root, radicand bits still to come); κ·r.
+        let regs = 3 * self.gain_bits() * st
+            + (sb + 2 * wb) * st
+            + (2 * f + 2)
+            + st * ((rf + 3) + (rf + 1) + (2 * rf + 2))
+            + (kb + rf + 1)
+            + kb; // the κ register itself
+        vec![
+            (
+                "radial: |u|, |v| (2 × (F+2)-bit negate + select)",
+                (prim::subtractor(f + 2) + prim::mux(f + 1)) * 2.0,
+            ),
+            (
+                "radial: squarers 2 × (F+1)×(F+1) and u²+v² (2F+2)-bit adder",
+                prim::multiplier(f + 1, f + 1) * 2.0 + prim::adder(2 * f + 2),
+            ),
+            (
+                "radial: square root, rf+1 restoring rows ((j+2)-bit subtract + (j+1)-bit select)",
+                sqrt,
+            ),
+            (
+                "radial: κ multiplier (rf+1) × (ki+kf)",
+                prim::multiplier(rf + 1, kb),
+            ),
+            ("radial: e + κ·r adder", prim::adder(sum)),
+            (
+                "radial: clamp to [0, 1] (sign/overflow OR + select)",
+                Cells {
+                    or2: (sum - w) as f64,
+                    ..Cells::default()
+                } + prim::mux(w + 1),
+            ),
+            (
+                "radial: to unorm x·2^sb − x and round",
+                prim::subtractor(w + sb + 1),
+            ),
+            (
+                "radial: pipeline registers (S more stages, κ)",
+                prim::register(regs),
+            ),
+        ]
     }
 
     fn registers(&self, rings: u32) -> Cells {
@@ -395,6 +688,18 @@ impl LumWidths {
     pub const LATENCY: u32 = 6;
 }
 
+trait MergeRadial {
+    fn merge_radial(self, w: &LumWidths) -> Self;
+}
+
+impl MergeRadial for Cost {
+    fn merge_radial(self, w: &LumWidths) -> Self {
+        w.radial_cost()
+            .into_iter()
+            .fold(self, |c, (name, cells)| c.part(name, cells))
+    }
+}
+
 /// All-ones of `bits` (0 ..= 32).
 #[inline]
 pub fn mask32(bits: u32) -> u32 {
@@ -403,6 +708,26 @@ pub fn mask32(bits: u32) -> u32 {
     } else {
         (1u32 << bits) - 1
     }
+}
+
+/// ⌊√q⌋ by the restoring digit recurrence, `digits` result bits (q < 4^digits): one
+/// row per result bit, each a trial subtract of (4R + next two radicand bits) −
+/// (4Q + 1) and a select — the hardware's rows, bit for bit.
+#[inline]
+pub fn isqrt(q: u64, digits: u32) -> u64 {
+    let mut rem = 0u64; // partial remainder: ≤ 2Q, digits + 1 bits
+    let mut root = 0u64;
+    for i in (0..digits).rev() {
+        let pair = (q >> (2 * i)) & 3;
+        rem = (rem << 2) | pair;
+        let trial = (root << 2) | 1;
+        root <<= 1;
+        if rem >= trial {
+            rem -= trial;
+            root |= 1;
+        }
+    }
+    root
 }
 
 /// Sign-extend the low `w` bits of `x` (1 ≤ w ≤ 32).
@@ -430,6 +755,18 @@ pub fn replicate(c: u64, from: u32, to: u32) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn isqrt_is_the_floor_of_the_root() {
+        for q in 0..70_000u64 {
+            let r = isqrt(q, 9);
+            assert!(r * r <= q && (r + 1) * (r + 1) > q, "{q}");
+        }
+        for q in [(1u64 << 34) - 1, 1u64 << 33, 12_345_678_901] {
+            let r = isqrt(q, 17);
+            assert!(r * r <= q && (r + 1) * (r + 1) > q, "{q}");
+        }
+    }
 
     #[test]
     fn replication_error_is_within_one_lsb_of_the_target() {

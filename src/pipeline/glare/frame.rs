@@ -9,11 +9,11 @@
 use super::background::base_image;
 use super::host::{screen_sources, source_glare, ScreenSource};
 use super::tables::{
-    bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples, ring_samples,
-    shape_samples,
+    bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples,
+    radial_tables, ring_samples, shape_samples, AreaPrim,
 };
 use crate::pipeline::shafts::frame::Elaborated;
-use crate::reference::glare_model::{bloom_at, FlareLine, SourceGlare};
+use crate::reference::glare_model::{bloom_at, FlareLine, Shape2D, SourceGlare};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;
@@ -22,6 +22,7 @@ use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoiseConfig};
 use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::halo_modulator::HaloModulatorConfig;
+use rtl_model::units::luminance_ram::LumWidths;
 use rtl_model::units::polygon_variable_generator::{PrimKind, PvgIn};
 use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
@@ -214,14 +215,16 @@ pub fn render_glare_over(
             let l0 = bloom_at(b, 0.0, &g.model);
             let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
             let gain_l = l0.min(gmax);
-            let shape = shape_samples(&s.shape, &a, lw.shape_log2);
             let fall = profile_samples(
                 |t| bloom_at(b, t, &g.model),
                 theta_max,
                 gain_l,
                 lw.falloff_log2,
             );
-            let m = BloomFlareModulatorConfig::from_widths(lw).build(&shape, &fall)?;
+            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
+            let m = BloomFlareModulatorConfig::from_widths(lw)
+                .build(&shape, &fall)?
+                .with_kappa(kappa)?;
             let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
             let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
             shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
@@ -237,15 +240,16 @@ pub fn render_glare_over(
         if let Some(cc) = s.halo {
             let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
             let a = fit_area(&a);
-            let shape = shape_samples(&s.shape, &a, lw.shape_log2);
             let rings: Vec<Vec<f64>> = g
                 .determinants
                 .wavelengths_nm
                 .iter()
                 .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
                 .collect();
+            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
             let m = HaloModulatorConfig::from_widths(lw)
-                .build(&shape, [&rings[0], &rings[1], &rings[2]])?;
+                .build(&shape, [&rings[0], &rings[1], &rings[2]])?
+                .with_kappa(kappa)?;
             let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
             let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
             shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
@@ -261,10 +265,8 @@ pub fn render_glare_over(
     }
     if any_flare {
         // Every line shares one spindle shape and one falloff: loaded once.
-        let m = BloomFlareModulatorConfig::from_widths(lw).build(
-            &line_shape_samples(lw.shape_log2),
-            &line_falloff_samples(lw.falloff_log2),
-        )?;
+        let m = BloomFlareModulatorConfig::from_widths(lw)
+            .build(&line_shape(&lw), &line_falloff_samples(lw.falloff_log2))?;
         let mut loaded = false;
         for (i, s) in sources.iter().enumerate() {
             for l in &lines[i] {
@@ -427,4 +429,33 @@ pub fn render_glare_over(
         elaboration,
         units,
     })
+}
+
+/// The shape RAM contents and κ of an area primitive: the plain min(1, sdf/d_max)
+/// samples with κ = 0, or with radial correction the signed sdf/d_max − κ·|(u, v)|
+/// with the host's κ ([`radial_tables`]).
+fn area_shape(
+    shape: &Shape2D,
+    a: &AreaPrim,
+    lw: &LumWidths,
+    profiles: &[&[f64]],
+) -> (Vec<f64>, f64) {
+    if lw.radial.on {
+        radial_tables(shape, a, lw, profiles)
+    } else {
+        (shape_samples(shape, a, lw.shape_log2), 0.0)
+    }
+}
+
+/// The flare lines' shared shape: the plain samples in either mode (with radial
+/// correction they are loaded as signed entries with κ = 0, clamped to the entry
+/// range; the lines' cone sits at u = −1, not at the frame centre).
+fn line_shape(lw: &LumWidths) -> Vec<f64> {
+    let t = line_shape_samples(lw.shape_log2);
+    if lw.radial.on {
+        let (lo, hi) = lw.entry_range();
+        t.into_iter().map(|x| x.clamp(lo, hi)).collect()
+    } else {
+        t
+    }
 }

@@ -9,7 +9,7 @@ use crate::scene::glare::GlareSection;
 use rtl_model::driver::run_span;
 use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
-use rtl_model::units::luminance_ram::{LumIn, LumWidths};
+use rtl_model::units::luminance_ram::{LumIn, LumWidths, Radial};
 use rtl_model::units::polygon_interpolator::{
     PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
 };
@@ -32,6 +32,13 @@ pub fn lum_widths(g: &GlareSection) -> LumWidths {
         falloff_log2: g.hw.falloff_log2,
         falloff_bits: g.hw.falloff_bits,
         weight_bits: g.hw.weight_bits,
+        radial: Radial {
+            on: g.hw.radial,
+            entry_int_bits: Radial::default()
+                .entry_int_bits
+                .min(g.hw.shape_bits.saturating_sub(1)),
+            ..Radial::default()
+        },
         ..LumWidths::default()
     }
 }

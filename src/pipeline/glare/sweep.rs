@@ -27,6 +27,7 @@ pub const GLARE_PARAMS: &[&str] = &[
     "coord_frac_bits",
     "noise_bits",
     "fb_bits",
+    "radial",
 ];
 
 /// Set `param` of `hw` to `v`; an unknown name is an error naming `param`.
@@ -40,6 +41,11 @@ pub fn apply(hw: &mut GlareHw, param: &str, v: u32) -> Result<(), String> {
         "coord_frac_bits" => &mut hw.coord_frac_bits,
         "noise_bits" => &mut hw.noise_bits,
         "fb_bits" => &mut hw.fb_bits,
+        "radial" => {
+            // 0 = off, any other value = on.
+            hw.radial = v != 0;
+            return Ok(());
+        }
         _ => {
             return Err(format!(
                 "param: unknown glare width '{param}' (known: {})",

@@ -4,6 +4,7 @@
 
 use crate::reference::glare_model::{bloom_at, halo, Bloom, Shape2D, SourceGlare};
 use crate::scene::glare::{Determinants, GlareModel};
+use rtl_model::units::luminance_ram::LumWidths;
 
 /// Below this many codes a profile is cut off (half an 8-bit LSB).
 pub const CUTOFF_CODES: f64 = 0.5;
@@ -35,6 +36,139 @@ pub fn shape_samples(shape: &Shape2D, a: &AreaPrim, k: u32) -> Vec<f64> {
         }
     }
     out
+}
+
+/// Radial correction: the κ the host loads for an area primitive, half_px / d_max
+/// (the frame's unit in d units), rounded to the register's u(ki).(kf) and saturated
+/// at its largest code (any κ reconstructs the samples exactly; a saturated one just
+/// corrects less).
+pub fn radial_kappa(a: &AreaPrim, w: &LumWidths) -> f64 {
+    let sc = (w.radial.kappa_frac_bits as f64).exp2();
+    let k = a.half_px / a.d_max_px;
+    let code = if k.is_finite() {
+        (k * sc).round().clamp(0.0, w.kappa_max() as f64)
+    } else {
+        w.kappa_max() as f64
+    };
+    w.kappa_value(code as u32)
+}
+
+/// Radial correction: (2^k + 1)² signed samples e = sdf/d_max − κ·|(u, v)| of `shape`
+/// (sdf the SIGNED distance, negative inside) over the area's frame, clamped to the
+/// entry range of `w` ([−2^ei, 2^ei − 2^−fe]); same grid as [`shape_samples`].
+pub fn radial_shape_samples(shape: &Shape2D, a: &AreaPrim, w: &LumWidths, kappa: f64) -> Vec<f64> {
+    let k = w.shape_log2;
+    let (lo, hi) = w.entry_range();
+    let n = (1usize << k) + 1;
+    let step = 2.0 / (n - 1) as f64;
+    let (c, s) = (a.phi.cos(), a.phi.sin());
+    let mut out = Vec::with_capacity(n * n);
+    for j in 0..n {
+        let v = -1.0 + j as f64 * step;
+        for i in 0..n {
+            let u = -1.0 + i as f64 * step;
+            let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
+            let e = shape.signed_distance(dx, dy) / a.d_max_px - kappa * u.hypot(v);
+            out.push(if e.is_finite() { e.clamp(lo, hi) } else { 0.0 });
+        }
+    }
+    out
+}
+
+/// Radial correction, the host's choice per primitive: the signed samples and κ among
+/// the candidates κ_full·{0, ½, ¾, 1} (κ_full = [`radial_kappa`]) whose bilinear
+/// reconstruction gives the smallest largest profile error |P(d̃) − P(d)| at the probe
+/// points (every cell centre and edge midpoint; d = clamp(sdf/d_max, 0, 1) exact, d̃
+/// the reconstruction, P each of `profiles` — the falloff or ring RAM samples —
+/// interpolated linearly; ties go to the larger κ). κ = 0 is a plain signed-distance
+/// table (no kink at the outline); κ_full takes the cone of a source smaller than a
+/// cell out of the interpolation but puts a kink at the centre.
+pub fn radial_tables(
+    shape: &Shape2D,
+    a: &AreaPrim,
+    w: &LumWidths,
+    profiles: &[&[f64]],
+) -> (Vec<f64>, f64) {
+    let k = w.shape_log2;
+    let n = 1usize << k;
+    let side = n + 1;
+    let half = 1.0 / n as f64; // half a cell in frame units
+    let (c, s) = (a.phi.cos(), a.phi.sin());
+    let sdf = |u: f64, v: f64| {
+        let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
+        shape.signed_distance(dx, dy) / a.d_max_px
+    };
+    let at = |i: usize| -1.0 + 2.0 * i as f64 / n as f64;
+    // Exact values at the samples and the probes (computed once for all candidates).
+    let mut grid = Vec::with_capacity(side * side);
+    for j in 0..side {
+        for i in 0..side {
+            grid.push(sdf(at(i), at(j)));
+        }
+    }
+    // Probes: (u, v, exact, the samples they interpolate).
+    let mut probes: Vec<(f64, f64, f64, [usize; 4])> = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (u, v) = (at(i), at(j));
+            let id = |di: usize, dj: usize| (j + dj) * side + i + di;
+            for (pu, pv, q) in [
+                (u + half, v + half, [id(0, 0), id(1, 0), id(0, 1), id(1, 1)]),
+                (u + half, v, [id(0, 0), id(1, 0), id(0, 0), id(1, 0)]),
+                (u, v + half, [id(0, 0), id(0, 1), id(0, 0), id(0, 1)]),
+            ] {
+                let ex = sdf(pu, pv);
+                if ex.is_finite() && ex < 1.0 {
+                    probes.push((pu, pv, ex.max(0.0), q));
+                }
+            }
+        }
+    }
+    let (lo, hi) = w.entry_range();
+    let full = radial_kappa(a, w);
+    let kf = (w.radial.kappa_frac_bits as f64).exp2();
+    let mut best: Option<(f64, Vec<f64>, f64)> = None;
+    for f in [1.0, 0.75, 0.5, 0.0] {
+        let kappa = (full * f * kf).round() / kf;
+        let e: Vec<f64> = (0..side * side)
+            .map(|idx| {
+                let r = at(idx % side).hypot(at(idx / side));
+                let x = grid[idx] - kappa * r;
+                if x.is_finite() {
+                    x.clamp(lo, hi)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let err = probes
+            .iter()
+            .map(|&(u, v, ex, q)| {
+                let ei = 0.25 * (e[q[0]] + e[q[1]] + e[q[2]] + e[q[3]]);
+                let d = (ei + kappa * u.hypot(v)).clamp(0.0, 1.0);
+                profiles
+                    .iter()
+                    .map(|p| (lerp_profile(p, d) - lerp_profile(p, ex)).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max);
+        if best.as_ref().is_none_or(|b| err < b.0) {
+            best = Some((err, e, kappa));
+        }
+    }
+    let (_, e, kappa) = best.expect("four candidates");
+    (e, kappa)
+}
+
+/// Linear interpolation of profile samples over d ∈ [0, 1].
+fn lerp_profile(p: &[f64], d: f64) -> f64 {
+    if p.len() < 2 {
+        return p.first().copied().unwrap_or(0.0);
+    }
+    let n = (p.len() - 1) as f64;
+    let x = d.clamp(0.0, 1.0) * n;
+    let j = (x.floor() as usize).min(p.len() - 2);
+    p[j] + (p[j + 1] - p[j]) * (x - j as f64)
 }
 
 /// 2^m + 1 samples of `f(θ)/gain` (clipped to [0, 1]) at θ = j/2^m · `theta_max`.
