@@ -107,6 +107,12 @@ fn radial_correction_sweep_cuts_the_shallow_table_error() {
         "k = 5: max off {:.1}, radial {:.1}; gates {:.0} → {:.0}",
         rows[0].max_levels, rows[1].max_levels, rows[0].gates_nand2, rows[1].gates_nand2
     );
+    // Each row records the mode it ran with (0 off, 1 on).
+    assert_eq!(
+        rows.iter().map(|r| r.value).collect::<Vec<_>>(),
+        [0, 1],
+        "{rows:?}"
+    );
     assert!(rows[1].max_levels < 0.6 * rows[0].max_levels, "{rows:?}");
     assert!(rows[1].mean_abs_levels <= rows[0].mean_abs_levels);
     assert_eq!(rows[0].ram_bits, rows[1].ram_bits);

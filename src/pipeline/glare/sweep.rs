@@ -138,6 +138,7 @@ pub fn glare_sweep(
                 ("coord_frac_bits", g.coord_frac_bits),
                 ("noise_bits", g.noise_bits),
                 ("fb_bits", g.fb_bits),
+                ("radial", u32::from(g.radial)),
             ] {
                 if name == param {
                     v = x;
