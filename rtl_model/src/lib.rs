@@ -12,6 +12,7 @@ pub mod trace;
 pub mod unit;
 pub mod units;
 pub mod unorm;
+pub mod wire;
 
 pub use cost::{Cells, Cost};
 pub use counters::Counters;

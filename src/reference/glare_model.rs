@@ -233,22 +233,26 @@ pub fn ellipse_inner_distance(x: f64, y: f64, a: f64, b: f64) -> f64 {
     d2(0.5 * (lo + hi)).min(d2(best)).sqrt()
 }
 
+/// Distance from (x, y) to the segment p–q (a point when p = q).
+fn segment_distance(p: [f64; 2], q: [f64; 2], x: f64, y: f64) -> f64 {
+    let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
+    let (wx, wy) = (x - p[0], y - p[1]);
+    let len2 = ex * ex + ey * ey;
+    let t = if len2 > 0.0 {
+        ((wx * ex + wy * ey) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let (dx, dy) = (wx - t * ex, wy - t * ey);
+    (dx * dx + dy * dy).sqrt()
+}
+
 /// Distance from (x, y) to the nearest edge of a polygon (its boundary polyline).
 pub fn polygon_edge_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
     let n = pts.len();
     let mut best = f64::INFINITY;
     for i in 0..n {
-        let p = pts[i];
-        let q = pts[(i + 1) % n];
-        let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
-        let (wx, wy) = (x - p[0], y - p[1]);
-        let len2 = ex * ex + ey * ey;
-        let t = if len2 > 0.0 {
-            ((wx * ex + wy * ey) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        best = best.min(((wx - t * ex).powi(2) + (wy - t * ey).powi(2)).sqrt());
+        best = best.min(segment_distance(pts[i], pts[(i + 1) % n], x, y));
     }
     if best.is_finite() {
         best
@@ -285,17 +289,8 @@ pub fn polygon_distance(pts: &[[f64; 2]], x: f64, y: f64) -> f64 {
     for i in 0..n {
         let p = pts[i];
         let q = pts[(i + 1) % n];
-        let (ex, ey) = (q[0] - p[0], q[1] - p[1]);
-        let (wx, wy) = (x - p[0], y - p[1]);
-        let len2 = ex * ex + ey * ey;
-        let t = if len2 > 0.0 {
-            ((wx * ex + wy * ey) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let (dx, dy) = (wx - t * ex, wy - t * ey);
-        best = best.min((dx * dx + dy * dy).sqrt());
-        let cross = ex * wy - ey * wx;
+        best = best.min(segment_distance(p, q, x, y));
+        let cross = (q[0] - p[0]) * (y - p[1]) - (q[1] - p[1]) * (x - p[0]);
         sign_pos &= cross >= 0.0;
         sign_neg &= cross <= 0.0;
     }

@@ -64,6 +64,7 @@ use crate::fixed_point::{round_shift, Quant};
 use crate::packed_rom::PackedRom;
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::units::texture_sampler::TextureSamplerIn;
+use crate::wire::{bits_for, saturate_signed as sat_signed, sign_extend as sext};
 use serde::{Deserialize, Serialize};
 
 /// The plain config (serde-friendly); [`CubeMapAddressConfig::build`] validates it.
@@ -166,28 +167,6 @@ pub struct Rcp {
 pub struct CubeMapAddress {
     cfg: CubeMapAddressConfig,
     rom: PackedRom,
-}
-
-/// Sign-extend the low `w` bits of `x` (a `w`-bit wire).
-fn sext(x: i64, w: u32) -> i64 {
-    let sh = 64 - w;
-    (x << sh) >> sh
-}
-
-fn bits_for(v: u64) -> u32 {
-    (64 - v.leading_zeros()).max(1)
-}
-
-/// Clamp `x` into the signed range of `width` bits, counting a clamp.
-fn sat_signed(x: i128, width: u32, ctr: &mut Counters) -> i128 {
-    let hi = (1i128 << (width - 1)) - 1;
-    let lo = -(1i128 << (width - 1));
-    if x > hi || x < lo {
-        ctr.saturations += 1;
-        x.clamp(lo, hi)
-    } else {
-        x
-    }
 }
 
 /// ROM entry j for A address bits and R entry bits: c = 1 + (j + ½)/2^A, the

@@ -26,6 +26,7 @@ use crate::counters::Counters;
 use crate::error::{check_range, ConfigError};
 use crate::fixed_point::{round_shift, Format, Fx, Overflow, Quant};
 use crate::unit::{Signal, Timing, Unit, Width};
+use crate::wire::{bits_for, sign_extend as sext};
 use bitvec::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -128,16 +129,6 @@ pub fn recip_rom_entry(i: u64, index_bits: u32, entry_bits: u32) -> u64 {
     let den = (1u64 << (index_bits + 1)) + 2 * i + 1; // ≤ 2¹⁴
     let r = (2 * num + den) / (2 * den); // round half up
     r.min((1u64 << entry_bits) - 1)
-}
-
-fn bits_for(v: u64) -> u32 {
-    (64 - v.leading_zeros()).max(1)
-}
-
-/// Sign-extend the low `w` bits of `x` (a `w`-bit wire).
-fn sext(x: i64, w: u32) -> i64 {
-    let sh = 64 - w;
-    (x << sh) >> sh
 }
 
 impl ProjectiveTexcoord {

@@ -29,6 +29,7 @@ use crate::counters::Counters;
 use crate::error::{check_finite, check_range, ConfigError};
 use crate::fixed_point::{Format, Fx, Overflow, Quant};
 use crate::unit::{Signal, Timing, Unit, Width};
+use crate::wire::bits_for;
 use bitvec::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -116,10 +117,6 @@ pub struct ShadowOut {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ShadowState {
     pub ram: BitVec<u64, Lsb0>,
-}
-
-fn bits_for(v: u64) -> u32 {
-    (64 - v.leading_zeros()).max(1)
 }
 
 impl ShadowCompare {
