@@ -171,11 +171,10 @@ pub struct CubeMapAddress {
 
 /// ROM entry j for A address bits and R entry bits: c = 1 + (j + ½)/2^A, the
 /// midpoint of address j's interval of m ∈ [1, 2); entry = min(round(2^R/c), 2^R − 1),
-/// u0.R.
+/// u0.R. The same reciprocal table as `projective_texcoord`'s, so it is that unit's
+/// integer-only generator (bit-exact; it equals the f64 form over every A ≤ 12, R ≤ 24).
 pub fn rcp_rom_entry(j: u64, addr_bits: u32, entry_bits: u32) -> u64 {
-    let c = 1.0 + (j as f64 + 0.5) / (addr_bits as f64).exp2();
-    let v = ((entry_bits as f64).exp2() / c).round() as u64;
-    v.min((1u64 << entry_bits) - 1)
+    crate::units::projective_texcoord::recip_rom_entry(j, addr_bits, entry_bits)
 }
 
 impl CubeMapAddress {
