@@ -3,6 +3,7 @@
 //! RAM's profile samples, with the quad's size from the profile's cut-off.
 
 use crate::reference::glare_model::{bloom_at, halo, Bloom, Shape2D, SourceGlare};
+use crate::reference::luminance_ram::falloff;
 use crate::scene::glare::{Determinants, GlareModel};
 use rtl_model::units::luminance_ram::LumWidths;
 
@@ -51,28 +52,6 @@ pub fn radial_kappa(a: &AreaPrim, w: &LumWidths) -> f64 {
         w.kappa_max() as f64
     };
     w.kappa_value(code as u32)
-}
-
-/// Radial correction: (2^k + 1)² signed samples e = sdf/d_max − κ·|(u, v)| of `shape`
-/// (sdf the SIGNED distance, negative inside) over the area's frame, clamped to the
-/// entry range of `w` ([−2^ei, 2^ei − 2^−fe]); same grid as [`shape_samples`].
-pub fn radial_shape_samples(shape: &Shape2D, a: &AreaPrim, w: &LumWidths, kappa: f64) -> Vec<f64> {
-    let k = w.shape_log2;
-    let (lo, hi) = w.entry_range();
-    let n = (1usize << k) + 1;
-    let step = 2.0 / (n - 1) as f64;
-    let (c, s) = (a.phi.cos(), a.phi.sin());
-    let mut out = Vec::with_capacity(n * n);
-    for j in 0..n {
-        let v = -1.0 + j as f64 * step;
-        for i in 0..n {
-            let u = -1.0 + i as f64 * step;
-            let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
-            let e = shape.signed_distance(dx, dy) / a.d_max_px - kappa * u.hypot(v);
-            out.push(if e.is_finite() { e.clamp(lo, hi) } else { 0.0 });
-        }
-    }
-    out
 }
 
 /// Radial correction, the host's choice per primitive: the signed samples and κ among
@@ -148,7 +127,11 @@ pub fn radial_tables(
                 let d = (ei + kappa * u.hypot(v)).clamp(0.0, 1.0);
                 profiles
                     .iter()
-                    .map(|p| (lerp_profile(p, d) - lerp_profile(p, ex)).abs())
+                    .map(|p| {
+                        // 2^m + 1 samples: the falloff RAM's exact twin.
+                        let m = (p.len() - 1).trailing_zeros();
+                        (falloff(p, m, d) - falloff(p, m, ex)).abs()
+                    })
                     .fold(0.0, f64::max)
             })
             .fold(0.0, f64::max);
@@ -158,17 +141,6 @@ pub fn radial_tables(
     }
     let (_, e, kappa) = best.expect("four candidates");
     (e, kappa)
-}
-
-/// Linear interpolation of profile samples over d ∈ [0, 1].
-fn lerp_profile(p: &[f64], d: f64) -> f64 {
-    if p.len() < 2 {
-        return p.first().copied().unwrap_or(0.0);
-    }
-    let n = (p.len() - 1) as f64;
-    let x = d.clamp(0.0, 1.0) * n;
-    let j = (x.floor() as usize).min(p.len() - 2);
-    p[j] + (p[j + 1] - p[j]) * (x - j as f64)
 }
 
 /// 2^m + 1 samples of `f(θ)/gain` (clipped to [0, 1]) at θ = j/2^m · `theta_max`.
