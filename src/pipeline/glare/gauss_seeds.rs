@@ -106,19 +106,32 @@ fn row(design: &'static str, seed: u64, codes: &[i32], lsb: f64) -> SeedRow {
 
 /// The unit (default configuration) at one seed.
 pub fn unit_row(seed: u64) -> SeedRow {
-    let u = GaussianNoise::geforce();
-    let lsb = (-(u.config().out_frac_bits as f64)).exp2();
+    unit_row_with(&GaussianNoise::geforce(), seed)
+}
+
+/// `u` at one seed (the sweep builds the unit and its ROMs once).
+fn unit_row_with(u: &GaussianNoise, seed: u64) -> SeedRow {
     let mut s = GaussState::from_seed(seed);
     let mut ctr = Counters::default();
     let codes = u.draw_codes(&mut s, SAMPLES, &mut ctr);
-    row("gaussian_noise", seed, &codes, lsb)
+    row("gaussian_noise", seed, &codes, out_lsb(u))
+}
+
+/// The value of one output code of `u`.
+fn out_lsb(u: &GaussianNoise) -> f64 {
+    (-(u.config().out_frac_bits as f64)).exp2()
 }
 
 /// The ideal sampler at one seed: f64 N(0, 1) rounded to the unit's output codes
 /// (s3.12, saturating), so both designs go through the same KS-on-codes and counts.
 pub fn ideal_row(seed: u64) -> SeedRow {
-    let cfg = GaussianNoise::geforce().config();
-    let lsb = (-(cfg.out_frac_bits as f64)).exp2();
+    ideal_row_with(&GaussianNoise::geforce(), seed)
+}
+
+/// The ideal sampler at `u`'s output format.
+fn ideal_row_with(u: &GaussianNoise, seed: u64) -> SeedRow {
+    let cfg = u.config();
+    let lsb = out_lsb(u);
     let max = ((1i64 << (cfg.out_int_bits + cfg.out_frac_bits)) - 1) as f64;
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
     let codes: Vec<i32> = (0..SAMPLES)
@@ -184,8 +197,15 @@ pub fn summarise(design: &'static str, rows: &[SeedRow]) -> Summary {
 /// and seed), `DIR/gauss_seeds_summary.csv` and `DIR/gauss_seeds_4sigma.png` (the 4σ
 /// count's histogram for both designs against the Poisson pmf). Returns the summaries.
 pub fn gauss_seeds(out: &Path, seeds: u64) -> Result<Vec<Summary>, String> {
-    let unit: Vec<SeedRow> = (1..=seeds).into_par_iter().map(unit_row).collect();
-    let ideal: Vec<SeedRow> = (1..=seeds).into_par_iter().map(ideal_row).collect();
+    let u = GaussianNoise::geforce();
+    let unit: Vec<SeedRow> = (1..=seeds)
+        .into_par_iter()
+        .map(|seed| unit_row_with(&u, seed))
+        .collect();
+    let ideal: Vec<SeedRow> = (1..=seeds)
+        .into_par_iter()
+        .map(|seed| ideal_row_with(&u, seed))
+        .collect();
     let rows: Vec<SeedRow> = unit.iter().chain(ideal.iter()).cloned().collect();
     write_csv(&out.join("gauss_seeds.csv"), &rows)?;
     let summaries = vec![
