@@ -93,6 +93,7 @@ fn sphere(center: [f64; 3], radius: f64) -> Object {
         shape: Shape::Sphere { center, radius },
         color: [0.8, 0.6, 0.4],
         occluder: true,
+        material: None,
     }
 }
 
@@ -106,6 +107,7 @@ fn floor(half: f64) -> Object {
         },
         color: [0.7, 0.7, 0.7],
         occluder: true,
+        material: None,
     }
 }
 
@@ -812,6 +814,7 @@ fn bvh_agrees_with_brute_force_and_box_mesh_with_slab_test() {
         },
         color: [1.0; 3],
         occluder: true,
+        material: None,
     }];
     let g = SceneGeometry::new(&objects, &mut |i, _| {
         assert_eq!(i, 0);

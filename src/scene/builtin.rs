@@ -119,6 +119,7 @@ fn floor(half_size: [f64; 2], color: [f64; 3]) -> Object {
         color,
         // A receiver only: nothing in the air lies below it.
         occluder: false,
+        material: None,
     }
 }
 
@@ -184,6 +185,7 @@ pub fn fig6() -> Scene {
                 // Its top is 5 units below the light: 150·0.15/25 ≈ 0.9 of full scale.
                 color: [0.15, 0.15, 0.17],
                 occluder: true,
+                material: None,
             },
             // 9.5 units below the light: 150·0.35/90 ≈ 0.6 of full scale.
             floor([10.0, 10.0], [0.35, 0.35, 0.35]),
@@ -252,6 +254,7 @@ pub fn stage() -> Scene {
                 },
                 color: [0.75, 0.7, 0.6],
                 occluder: true,
+                material: None,
             },
             Object {
                 shape: Shape::Box {
@@ -260,6 +263,7 @@ pub fn stage() -> Scene {
                 },
                 color: [0.5, 0.55, 0.7],
                 occluder: true,
+                material: None,
             },
             Object {
                 shape: Shape::Sphere {
@@ -268,6 +272,7 @@ pub fn stage() -> Scene {
                 },
                 color: [0.7, 0.4, 0.35],
                 occluder: true,
+                material: None,
             },
             // The stage floor and the back wall: receivers only.
             floor([9.0, 5.0], [0.55, 0.45, 0.35]),
@@ -280,6 +285,7 @@ pub fn stage() -> Scene {
                 },
                 color: [0.35, 0.35, 0.45],
                 occluder: false,
+                material: None,
             },
         ],
         shafts: ShaftsConfig::default(),

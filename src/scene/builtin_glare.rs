@@ -176,6 +176,7 @@ pub fn street_light() -> Scene {
                 },
                 color: [0.35, 0.35, 0.38],
                 occluder: false,
+                material: None,
             },
             Object {
                 shape: Shape::Box {
@@ -184,6 +185,7 @@ pub fn street_light() -> Scene {
                 },
                 color: [0.2, 0.2, 0.2],
                 occluder: true,
+                material: None,
             },
         ],
         shafts: ShaftsConfig::default(),

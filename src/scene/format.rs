@@ -198,6 +198,10 @@ pub struct Object {
     /// Casts shadows (into the shadow map and for the reference's shadow rays).
     #[serde(default = "default_true")]
     pub occluder: bool,
+    /// The surface's reflection model; none = Lambert with `color` (every scene
+    /// written before materials existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<super::material::Material>,
 }
 
 fn default_albedo() -> [f64; 3] {

@@ -3,11 +3,13 @@
 
 pub mod builtin;
 pub mod builtin_glare;
+pub mod camera;
 pub mod envmap;
 pub mod format;
 pub mod geometry;
 pub mod glare;
 pub mod lightmap;
+pub mod material;
 pub mod math;
 pub mod teapot;
 pub mod validate;

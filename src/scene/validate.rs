@@ -190,6 +190,9 @@ fn validate_object(o: &Object) -> Result<(), ConfigError> {
     for (k, &c) in o.color.iter().enumerate() {
         closed(&format!("color[{k}]"), c, 0.0, 1.0)?;
     }
+    if let Some(m) = &o.material {
+        m.validate()?;
+    }
     Ok(())
 }
 

@@ -1,0 +1,140 @@
+//! Surface materials of scene objects (SPEC D): which reflection model an object's
+//! surface follows, with its parameters, and how the hardware renders its specular
+//! term. An object without a material is the Lambert surface of its `color`, as in
+//! every scene written before materials existed (those files load unchanged).
+
+use rtl_model::error::ConfigError;
+use serde::{Deserialize, Serialize};
+
+use super::validate::{closed, interval};
+
+/// `objects[i].material`: a reflection model and its parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "model", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Material {
+    /// Lambert: the object's `color` is the albedo.
+    Lambert,
+    /// Phong: k_s·cos^n of the angle between the mirror direction and the view, plus
+    /// the Lambert term of `color`. `normalized` uses (n + 2)/2π.
+    Phong {
+        ks: f64,
+        exponent: f64,
+        #[serde(default)]
+        normalized: bool,
+    },
+    /// Blinn–Phong: k_s·(n·h)^n plus Lambert.
+    BlinnPhong {
+        ks: f64,
+        exponent: f64,
+        #[serde(default)]
+        normalized: bool,
+    },
+    /// Cook–Torrance microfacets: D·F·G / (4 cos θ_i cos θ_o). `roughness` is the
+    /// Beckmann m or the GGX α; `ior` the real part of the index of refraction,
+    /// `extinction` its imaginary part (0 = dielectric, > 0 = metal).
+    CookTorrance {
+        #[serde(default)]
+        distribution: Distribution,
+        roughness: f64,
+        ior: f64,
+        #[serde(default)]
+        extinction: f64,
+        #[serde(default)]
+        fresnel: FresnelKind,
+    },
+    /// Ward's anisotropic Gaussian: ρ_s, α_x along the tangent, α_y across it.
+    Ward {
+        rho_s: f64,
+        alpha_x: f64,
+        alpha_y: f64,
+    },
+    /// Oren–Nayar rough diffuse, σ in degrees; `color` is the albedo.
+    OrenNayar { sigma_deg: f64 },
+    /// Kajiya–Kay hair along the tangent: k_s·cos^n(θ_i − θ_o) plus the sin term.
+    KajiyaKay { ks: f64, exponent: f64 },
+}
+
+/// The microfacet normal distribution.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Distribution {
+    #[default]
+    Beckmann,
+    Ggx,
+}
+
+/// The Fresnel term.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FresnelKind {
+    /// The exact dielectric / conductor equations.
+    #[default]
+    Exact,
+    /// Schlick's approximation from the normal-incidence reflectance.
+    Schlick,
+}
+
+/// Largest specular exponent accepted (the stiff range of DESIGN §4 reaches 10⁴;
+/// beyond 10⁵ cos^n underflows for every angle a texel can resolve).
+pub const EXPONENT_MAX: f64 = 1e5;
+
+impl Material {
+    /// Check the parameters; errors name `material.<field>`.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        let f = |name: &str| format!("material.{name}");
+        match *self {
+            Material::Lambert => Ok(()),
+            Material::Phong { ks, exponent, .. } | Material::BlinnPhong { ks, exponent, .. } => {
+                closed(&f("ks"), ks, 0.0, 1.0)?;
+                closed(&f("exponent"), exponent, 0.0, EXPONENT_MAX)
+            }
+            Material::CookTorrance {
+                roughness,
+                ior,
+                extinction,
+                ..
+            } => {
+                interval(&f("roughness"), roughness, 0.0, false, 1.0, true)?;
+                interval(&f("ior"), ior, 0.0, false, 100.0, true)?;
+                closed(&f("extinction"), extinction, 0.0, 100.0)
+            }
+            Material::Ward {
+                rho_s,
+                alpha_x,
+                alpha_y,
+            } => {
+                closed(&f("rho_s"), rho_s, 0.0, 1.0)?;
+                interval(&f("alpha_x"), alpha_x, 0.0, false, 1.0, true)?;
+                interval(&f("alpha_y"), alpha_y, 0.0, false, 1.0, true)
+            }
+            Material::OrenNayar { sigma_deg } => closed(&f("sigma_deg"), sigma_deg, 0.0, 90.0),
+            Material::KajiyaKay { ks, exponent } => {
+                closed(&f("ks"), ks, 0.0, 1.0)?;
+                closed(&f("exponent"), exponent, 0.0, EXPONENT_MAX)
+            }
+        }
+    }
+
+    /// Whether the model has a specular term (a highlight the glare conditions read).
+    pub fn has_specular(&self) -> bool {
+        !matches!(self, Material::Lambert | Material::OrenNayar { .. })
+    }
+
+    /// A metal (complex index of refraction): Table 2's "metallic" rule applies.
+    pub fn is_metal(&self) -> bool {
+        matches!(self, Material::CookTorrance { extinction, .. } if *extinction > 0.0)
+    }
+
+    /// The model's name as in the scene file.
+    pub fn model_name(&self) -> &'static str {
+        match self {
+            Material::Lambert => "lambert",
+            Material::Phong { .. } => "phong",
+            Material::BlinnPhong { .. } => "blinn_phong",
+            Material::CookTorrance { .. } => "cook_torrance",
+            Material::Ward { .. } => "ward",
+            Material::OrenNayar { .. } => "oren_nayar",
+            Material::KajiyaKay { .. } => "kajiya_kay",
+        }
+    }
+}
