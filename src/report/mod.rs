@@ -2,6 +2,7 @@
 
 pub mod alternates;
 pub mod csv_out;
+pub mod elaboration;
 pub mod image_out;
 pub mod metrics;
 pub mod plot;

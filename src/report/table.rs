@@ -54,7 +54,7 @@ pub fn counters_table(
 
 /// The elaboration report: each unit elaborated (its gates and RAM bits) or left out
 /// (why, and the gates and fragment-clocks that saved).
-pub fn elaboration_table(units: &[crate::pipeline::shafts::frame::Elaborated]) -> String {
+pub fn elaboration_table(units: &[crate::report::elaboration::Elaborated]) -> String {
     let rows: Vec<Vec<String>> = units
         .iter()
         .map(|e| {

@@ -79,6 +79,7 @@ fn section(background: Background, sources: Vec<GlareSource>) -> GlareSection {
         determinants: Determinants::default(),
         sources,
         highlights: vec![],
+        shaded_highlights: None,
         model: GlareModel::default(),
         hw: GlareHw::default(),
         frame: 0,

@@ -21,6 +21,11 @@ pub struct GlareSection {
     pub sources: Vec<GlareSource>,
     #[serde(default)]
     pub highlights: Vec<Highlight>,
+    /// Highlights found by the shading units on the scene's objects (objects with a
+    /// specular material), tested by the glare conditions like written ones; none =
+    /// only the written `highlights` (every scene before shading existed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shaded_highlights: Option<ShadedHighlights>,
     #[serde(default)]
     pub model: GlareModel,
     #[serde(default)]
@@ -182,6 +187,19 @@ pub struct Highlight {
     #[serde(default = "default_eta")]
     pub eta: f64,
     /// Radius of the highlight's source disc if it becomes a glare source, world units.
+    #[serde(default = "default_highlight_radius")]
+    pub radius: f64,
+}
+
+/// `[glare.shaded_highlights]`: which light's highlights the shading pass looks for.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShadedHighlights {
+    /// The scene light (index into `lights`) whose highlights are sought.
+    pub light: usize,
+    /// I of Table 2 for that light, in framebuffer codes.
+    pub intensity: f64,
+    /// Radius of the glare source disc a highlight becomes, world units.
     #[serde(default = "default_highlight_radius")]
     pub radius: f64,
 }
@@ -386,6 +404,15 @@ impl GlareSection {
         }
         for (i, h) in self.highlights.iter().enumerate() {
             validate_highlight(h).map_err(|e| e.within(&format!("highlights[{i}]")))?;
+        }
+        if let Some(sh) = &self.shaded_highlights {
+            closed(
+                "shaded_highlights.intensity",
+                sh.intensity,
+                0.0,
+                GLARE_INTENSITY_MAX,
+            )?;
+            closed("shaded_highlights.radius", sh.radius, 0.0, 1e6)?;
         }
         validate_model(&self.model).map_err(|e| e.within("model"))?;
         let hw = &self.hw;

@@ -60,9 +60,20 @@ impl Scene {
             validate_object(o).map_err(|e| e.within(&format!("objects[{i}]")))?;
         }
         validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))?;
-        match &self.glare {
-            Some(g) => g.validate(),
-            None => Ok(()),
+        let Some(g) = &self.glare else {
+            return Ok(());
+        };
+        g.validate()?;
+        match &g.shaded_highlights {
+            Some(sh) if sh.light >= self.lights.len() => Err(ConfigError::invalid(
+                "glare.shaded_highlights.light",
+                &format!(
+                    "names light {} but the scene has {} light(s)",
+                    sh.light,
+                    self.lights.len()
+                ),
+            )),
+            _ => Ok(()),
         }
     }
 

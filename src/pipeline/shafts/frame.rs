@@ -81,18 +81,7 @@ pub struct Prepared {
     pub exposure: f64,
 }
 
-/// A unit the frame elaborated, or one it left out.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct Elaborated {
-    pub name: String,
-    pub summary: Option<UnitSummary>,
-    /// Why it was left out (None if elaborated).
-    pub left_out: Option<String>,
-    /// Gates the unit would have cost (for left-out units).
-    pub gates_saved: f64,
-    /// Cycles it would have run (for left-out units): the fragments it would have seen.
-    pub cycles_saved: u64,
-}
+pub use crate::report::elaboration::Elaborated;
 
 /// Kinds of pass, for the throughput model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
