@@ -128,7 +128,26 @@ pub fn run(cli: Cli) -> Result<(), String> {
             if scene == "test" {
                 crate::pipeline::test_scene::render_cli(&out, json, reference.as_deref())
             } else if let Some(s) = glare_scene(&scene)? {
-                crate::pipeline::glare::cli::render_cli(&s, &out, json, reference.as_deref())
+                match crate::pipeline::glare_link::prepare(&s).map_err(|e| e.to_string())? {
+                    Some(linked) => {
+                        if !json {
+                            print!("{}", crate::pipeline::glare_link::summary(&linked));
+                        }
+                        crate::pipeline::glare::cli::render_cli_over(
+                            &linked.scene,
+                            Some(&linked.base),
+                            &out,
+                            json,
+                            reference.as_deref(),
+                        )
+                    }
+                    None => crate::pipeline::glare::cli::render_cli(
+                        &s,
+                        &out,
+                        json,
+                        reference.as_deref(),
+                    ),
+                }
             } else {
                 crate::pipeline::shafts::cli::render_cli(&scene, &out, json, reference.as_deref())
             }

@@ -19,6 +19,8 @@ pub const GLARE_BUILTIN_NAMES: &[&str] = &[
     "glare-flare",
     "street-light",
     "leaves",
+    "shaded-metal",
+    "shaded-dielectric",
 ];
 
 fn camera(eye: [f64; 3], look_at: [f64; 3]) -> Camera {
@@ -223,6 +225,82 @@ pub fn leaves() -> Scene {
     )
 }
 
+/// A sphere on a floor under one bright point light, shaded by the shading units; the
+/// glare conditions read the highlight the shader finds (`[glare.shaded_highlights]`),
+/// no source is written by hand. `metal`: gold Cook–Torrance (Beckmann m = 0.15,
+/// η = 0.27 + 2.8i), whose highlight passes Table 2's contrast rule and becomes a
+/// glare source; otherwise a rough dielectric (GGX α = 0.5, η = 1.5) whose highlight
+/// stays below it.
+pub fn shaded_sphere(metal: bool) -> Scene {
+    use super::material::{Distribution, FresnelKind, Material};
+    use super::glare::ShadedHighlights;
+    let material = if metal {
+        Material::CookTorrance {
+            distribution: Distribution::Beckmann,
+            roughness: 0.15,
+            ior: 0.27,
+            extinction: 2.8,
+            fresnel: FresnelKind::Exact,
+        }
+    } else {
+        Material::CookTorrance {
+            distribution: Distribution::Ggx,
+            roughness: 0.5,
+            ior: 1.5,
+            extinction: 0.0,
+            fresnel: FresnelKind::Exact,
+        }
+    };
+    let mut glare = section(night(), vec![]);
+    glare.shaded_highlights = Some(ShadedHighlights {
+        light: 0,
+        intensity: 600.0,
+        radius: 0.03,
+    });
+    let mut s = glare_scene(
+        if metal {
+            "shaded-metal: a gold Cook-Torrance sphere whose own highlight becomes a glare source"
+        } else {
+            "shaded-dielectric: the same sphere as a rough dielectric: its highlight stays below the glare threshold"
+        },
+        13,
+        camera([0.0, 1.6, 7.0], [0.0, 1.0, 0.0]),
+        glare,
+    );
+    s.lights = vec![Light {
+        kind: LightKind::Point,
+        position: [-4.0, 6.0, 6.0],
+        direction: [0.0, -1.0, 0.0],
+        cutoff_deg: 20.0,
+        intensity: 1.0,
+        color: [1.0, 1.0, 1.0],
+        light_map: None,
+    }];
+    s.objects = vec![
+        Object {
+            shape: Shape::Sphere {
+                center: [0.0, 1.0, 0.0],
+                radius: 1.0,
+            },
+            color: [0.45, 0.5, 0.6],
+            occluder: true,
+            material: Some(material),
+        },
+        Object {
+            shape: Shape::Plane {
+                center: [0.0, 0.0, 0.0],
+                normal: [0.0, 1.0, 0.0],
+                tangent: [1.0, 0.0, 0.0],
+                half_size: [6.0, 6.0],
+            },
+            color: [0.25, 0.25, 0.25],
+            occluder: false,
+            material: None,
+        },
+    ];
+    s
+}
+
 /// A glare built-in by name.
 pub fn glare_builtin(name: &str) -> Option<Scene> {
     Some(match name {
@@ -231,6 +309,8 @@ pub fn glare_builtin(name: &str) -> Option<Scene> {
         "glare-flare" => glare_flare(),
         "street-light" => street_light(),
         "leaves" => leaves(),
+        "shaded-metal" => shaded_sphere(true),
+        "shaded-dielectric" => shaded_sphere(false),
         _ => return None,
     })
 }

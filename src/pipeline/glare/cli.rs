@@ -71,7 +71,18 @@ pub fn render_cli(
     json: bool,
     reference: Option<&Path>,
 ) -> Result<(), String> {
-    let (f, pred, wall) = render_and_predict(scene).map_err(|e| e.to_string())?;
+    render_cli_over(scene, None, out, json, reference)
+}
+
+/// [`render_cli`] over a background already drawn for this scene (fb codes, RGB).
+pub fn render_cli_over(
+    scene: &Scene,
+    base: Option<&[[u32; 3]]>,
+    out: &Path,
+    json: bool,
+    reference: Option<&Path>,
+) -> Result<(), String> {
+    let (f, pred, wall) = render_and_predict_over(scene, base).map_err(|e| e.to_string())?;
     f.fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
     let err = match reference {

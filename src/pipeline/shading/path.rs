@@ -1,0 +1,413 @@
+//! One material's per-fragment shading datapath through the units, GeForce3 style.
+//!
+//! ```text
+//!  N, L, (L+V)/2 ─► cube_map_address ─► texture_sampler (normalisation cube) ─► N̂, L̂, Ĥ  (RGB u8)
+//!  N̂·L̂, N̂·Ĥ     ─► texture_combiner DOT3_RGB (4·Σ(a−½)(b−½), clamped to [0, 1]) ─► n·l, n·h (u8)
+//!  diffuse       ─► texture_combiner MODULATE(n·l, albedo·E/π)                     ─► u8 RGB
+//!  specular:  Blinn–Phong  ─► specular_lookup(n·h) = clamp(K·x^s / S) ─► MODULATE(·, n·l), RGB_SCALE S
+//!             other models ─► factor textures (texture_sampler × modulate × scale), R·cos θ_i·E
+//!  total         ─► texture_combiner ADD(diffuse, specular), saturating                ─► u8 RGB
+//! ```
+//!
+//! What is host f64 and what is hardware: the vectors N, L, V arrive as the
+//! interpolator's fixed-point words (here: the host's f64 vectors quantised to the
+//! address unit's s16.8 input words per pixel); everything after that is the units'
+//! integer kernels, except the factor textures' coordinates, which the host computes
+//! per pixel from (ω_i, ω_o) (on a GeForce3 the vertex program computes them per vertex
+//! and the rasteriser interpolates them — per pixel is the quality's upper bound; see
+//! `factor`).
+//!
+//! Levels: a pixel's 8-bit level is 255 · clamp(R · cos θ_i · E), the same scale as
+//! [`super::sphere::SphereView::reference_levels`].
+
+use super::factor::{svd, FactorRenderer, FactorTarget};
+use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig, NormalizeCubeCounters};
+use crate::reference::brdf::{Brdf, ShadingFrame};
+use crate::report::elaboration::Elaborated;
+use crate::scene::math::Vec3;
+use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupConfig};
+use rtl_model::units::texture_combiner::{
+    CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig, TextureCombinerIn,
+};
+use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
+use std::collections::BTreeMap;
+
+/// The specular part of a material, as the hardware renders it.
+pub enum SpecularLobe {
+    /// No specular term (Lambert).
+    None,
+    /// k·(n·h)^s by the specular lookup table, modulated by n·l: the Blinn–Phong lobe
+    /// R = k·(n·h)^s whose radiance is R·cos θ_i·E (`k` includes any normalisation).
+    BlinnPhongLookup { k: f64, exponent: f64 },
+    /// Any model, by separable (SVD) factor textures of R·cos θ_i.
+    Factored(Box<dyn Brdf>),
+}
+
+/// Widths and sizes of the shading path (what a sweep changes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathConfig {
+    pub cube: NormalizeCubeConfig,
+    /// The specular lookup's table (its `exponent` field is replaced by the lobe's).
+    pub lookup: SpecularLookupConfig,
+    /// Factor textures: side (texels) and texel bits.
+    pub factor_resolution: u32,
+    pub factor_bits: u32,
+    /// E: the light's irradiance at normal incidence (level = 255·R·cos θ_i·E).
+    pub irradiance: f64,
+}
+
+impl Default for PathConfig {
+    /// GeForce defaults: 64² × 6 normalisation cube of 8-bit RGB, 256 × 8-bit lookup
+    /// with linear interpolation, 64² factor textures of 8 bits, E = π (a white
+    /// Lambert surface lit head-on is full scale).
+    fn default() -> Self {
+        PathConfig {
+            cube: NormalizeCubeConfig::geforce(),
+            lookup: SpecularLookupConfig::geforce(),
+            factor_resolution: 64,
+            factor_bits: 8,
+            irradiance: std::f64::consts::PI,
+        }
+    }
+}
+
+/// The specular datapath, built.
+enum SpecularPath {
+    None,
+    Lookup {
+        lut: SpecularLookup,
+        /// MODULATE(lut, n·l) with RGB_SCALE = K's power-of-two headroom.
+        modulate: TextureCombiner,
+    },
+    Factored(FactorRenderer),
+}
+
+/// One fragment's result: RGB levels and the specular term alone (what the glare
+/// conditions read as the highlight's I_s).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shaded {
+    pub rgb: [u32; 3],
+    pub specular: u32,
+}
+
+/// A material's datapath: the normalisation cube, the DOT3 stage, the diffuse and
+/// specular stages and the final ADD.
+pub struct ShadingPath {
+    cube: NormalizeCube,
+    dot3: TextureCombiner,
+    /// MODULATE(n·l, albedo) and the albedo·E/π constant colour (u8 RGB).
+    diffuse: Option<(TextureCombiner, [u32; 3])>,
+    specular: SpecularPath,
+    add: TextureCombiner,
+}
+
+/// Counters of a shading pass, per unit (the normalisation cube's two units apart).
+pub type PathCounters = BTreeMap<String, Counters>;
+
+/// A combiner stage reading Arg0 = TEXTURE, Arg1 = PREVIOUS, Arg2 = CONSTANT.
+fn stage(f: CombineFunction, scale: u32) -> Result<TextureCombiner, ConfigError> {
+    TextureCombinerConfig {
+        combine_rgb: f,
+        combine_alpha: CombineFunction::Replace,
+        source_rgb: [
+            CombineSource::Texture,
+            CombineSource::Previous,
+            CombineSource::Constant,
+        ],
+        rgb_scale: scale,
+        ..TextureCombinerConfig::geforce()
+    }
+    .build()
+}
+
+/// round(x · 255), x clamped to [0, 1].
+fn code8(x: f64) -> u32 {
+    (x.clamp(0.0, 1.0) * 255.0).round() as u32
+}
+
+/// The smallest GL scale S ∈ {1, 2, 4} with K/S ≤ 1 (4 when none is: the lookup's
+/// entries then clamp near the peak, where the image saturates anyway).
+fn headroom(k: f64) -> u32 {
+    [1u32, 2, 4]
+        .into_iter()
+        .find(|&s| k <= s as f64)
+        .unwrap_or(4)
+}
+
+impl ShadingPath {
+    /// Build the path of a material: an optional Lambert albedo (RGB in [0, 1]) and a
+    /// specular lobe. Errors name the field (`shading.<unit>.<field>`).
+    pub fn new(
+        albedo: Option<[f64; 3]>,
+        lobe: SpecularLobe,
+        cfg: &PathConfig,
+    ) -> Result<Self, ConfigError> {
+        let e = rtl_model::error::check_finite("shading.irradiance", cfg.irradiance)?;
+        let specular = match lobe {
+            SpecularLobe::None => SpecularPath::None,
+            SpecularLobe::BlinnPhongLookup { k, exponent } => {
+                let k = rtl_model::error::check_finite("shading.specular.k", k * e)?.max(0.0);
+                let s = headroom(k);
+                let mut lut = SpecularLookupConfig {
+                    exponent: exponent.clamp(1.0, 1e4),
+                    ..cfg.lookup
+                }
+                .build()
+                .map_err(|e| e.within("shading"))?;
+                // The host writes clamp(K/S · x^s) so that the RGB_SCALE S stage
+                // restores K (entries round half up, as the unit's own generator).
+                let (log2, bits) = (cfg.lookup.table_log2, cfg.lookup.entry_bits);
+                let top = ((1u64 << bits) - 1) as f64;
+                let n = ((1u64 << log2) - 1) as f64;
+                let words: Vec<u64> = (0..1u64 << log2)
+                    .map(|j| {
+                        let x = j as f64 / n;
+                        ((k / s as f64 * x.powf(exponent)).min(1.0) * top + 0.5).floor() as u64
+                    })
+                    .collect();
+                lut.load_table(&words).map_err(|e| e.within("shading"))?;
+                SpecularPath::Lookup {
+                    lut,
+                    modulate: stage(CombineFunction::Modulate, s)?,
+                }
+            }
+            SpecularLobe::Factored(brdf) => {
+                let fact = svd::factorise(
+                    brdf.as_ref(),
+                    FactorTarget::BrdfCosine,
+                    cfg.factor_resolution,
+                    &svd::SvdParams::default(),
+                )
+                .map_err(|e| e.within("shading.factor"))?;
+                SpecularPath::Factored(FactorRenderer::new(&fact, cfg.factor_bits, e)?)
+            }
+        };
+        let diffuse = match albedo {
+            Some(a) => {
+                let mut k = [0u32; 3];
+                for (c, (&x, out)) in a.iter().zip(k.iter_mut()).enumerate() {
+                    let x = rtl_model::error::check_finite(&format!("shading.albedo[{c}]"), x)?;
+                    *out = code8(x * e / std::f64::consts::PI);
+                }
+                Some((stage(CombineFunction::Modulate, 1)?, k))
+            }
+            None => None,
+        };
+        Ok(ShadingPath {
+            cube: cfg.cube.build()?,
+            dot3: stage(CombineFunction::Dot3Rgb, 1)?,
+            diffuse,
+            specular,
+            add: stage(CombineFunction::Add, 1)?,
+        })
+    }
+
+    /// The normalised direction of a world vector (components in [−1, 1]) through the
+    /// cube map, as RGBA8 with alpha 255.
+    fn normalised(&self, v: Vec3, ctr: &mut PathCounters) -> Result<[u32; 4], ConfigError> {
+        let mut cc = NormalizeCubeCounters::default();
+        let words = self.cube.vector_words([v.x, v.y, v.z], &mut cc.address)?;
+        let rgb = self.cube.normalize(&words, &mut cc);
+        *ctr.entry("cube_map_address".into()).or_default() += cc.address;
+        *ctr
+            .entry("texture_sampler (normalisation cube)".into())
+            .or_default() += cc.sampler;
+        Ok([rgb[0], rgb[1], rgb[2], 255])
+    }
+
+    /// DOT3_RGB of two packed vectors: the clamped dot product as a u8 code.
+    fn dot(&self, a: [u32; 4], b: [u32; 4], ctr: &mut PathCounters) -> u32 {
+        let c = ctr.entry("texture_combiner".into()).or_default();
+        let input = TextureCombinerIn {
+            texture: a,
+            previous: b,
+            ..TextureCombinerIn::default()
+        };
+        self.dot3.combine(&input, c)[0]
+    }
+
+    /// One fragment: the frame at the surface point (world), the unit vectors toward
+    /// the light and the viewer (world).
+    pub fn shade(
+        &self,
+        frame: &ShadingFrame,
+        light: Vec3,
+        view: Vec3,
+        ctr: &mut PathCounters,
+    ) -> Result<Shaded, ConfigError> {
+        let n = self.normalised(frame.n, ctr)?;
+        let l = self.normalised(light, ctr)?;
+        let nl = self.dot(n, l, ctr);
+        let diffuse = match &self.diffuse {
+            Some((modulate, albedo)) => {
+                let c = ctr.entry("texture_combiner".into()).or_default();
+                let input = TextureCombinerIn {
+                    texture: [nl, nl, nl, 255],
+                    previous: [albedo[0], albedo[1], albedo[2], 255],
+                    ..TextureCombinerIn::default()
+                };
+                let o = modulate.combine(&input, c);
+                [o[0], o[1], o[2]]
+            }
+            None => [0; 3],
+        };
+        let specular = match &self.specular {
+            SpecularPath::None => 0,
+            SpecularPath::Lookup { lut, modulate } => {
+                let h = self.normalised((light + view) * 0.5, ctr)?;
+                let nh = self.dot(n, h, ctr);
+                let t = lut.lookup(nh as i32, ctr.entry("specular_lookup".into()).or_default());
+                let c = ctr.entry("texture_combiner".into()).or_default();
+                let input = TextureCombinerIn {
+                    texture: [t, t, t, 255],
+                    previous: [nl, nl, nl, 255],
+                    ..TextureCombinerIn::default()
+                };
+                modulate.combine(&input, c)[0]
+            }
+            SpecularPath::Factored(f) => {
+                let c = ctr.entry("factor textures".into()).or_default();
+                f.shade(frame.to_local(light), frame.to_local(view), c)?
+            }
+        };
+        let c = ctr.entry("texture_combiner".into()).or_default();
+        let input = TextureCombinerIn {
+            texture: [specular, specular, specular, 255],
+            previous: [diffuse[0], diffuse[1], diffuse[2], 255],
+            ..TextureCombinerIn::default()
+        };
+        let o = self.add.combine(&input, c);
+        Ok(Shaded {
+            rgb: [o[0], o[1], o[2]],
+            specular,
+        })
+    }
+
+    /// Which of the shading units this material's path elaborates, and which it leaves
+    /// out (with the gates that saves). `fragments` is the number of fragments shaded
+    /// (the cycles a left-out unit would have run).
+    pub fn elaboration(&self, fragments: u64) -> Vec<Elaborated> {
+        let used = |summary: UnitSummary, name: &str| Elaborated {
+            name: name.to_string(),
+            summary: Some(summary),
+            left_out: None,
+            gates_saved: 0.0,
+            cycles_saved: 0,
+        };
+        let left = |summary: UnitSummary, name: &str, why: &str| Elaborated {
+            name: name.to_string(),
+            gates_saved: summary.gates_nand2,
+            summary: None,
+            left_out: Some(why.to_string()),
+            cycles_saved: fragments,
+        };
+        let mut out = vec![
+            used(
+                UnitSummary::of(self.cube.address_unit()),
+                "cube_map_address (normalisation cube)",
+            ),
+            used(
+                UnitSummary::of(self.cube.sampler()),
+                "texture_sampler (normalisation cube)",
+            ),
+            used(UnitSummary::of(&self.dot3), "texture_combiner (DOT3_RGB)"),
+        ];
+        match &self.diffuse {
+            Some((m, _)) => out.push(used(UnitSummary::of(m), "texture_combiner (MODULATE diffuse)")),
+            None => out.push(left(
+                UnitSummary::of(&self.add),
+                "texture_combiner (MODULATE diffuse)",
+                "no diffuse term",
+            )),
+        }
+        let lut_default = SpecularLookup::geforce();
+        match &self.specular {
+            SpecularPath::Lookup { lut, modulate } => {
+                out.push(used(UnitSummary::of(lut), "specular_lookup"));
+                out.push(used(UnitSummary::of(modulate), "texture_combiner (MODULATE specular)"));
+            }
+            _ => out.push(left(
+                UnitSummary::of(&lut_default),
+                "specular_lookup",
+                "no Blinn–Phong lobe",
+            )),
+        }
+        match &self.specular {
+            SpecularPath::Factored(f) => {
+                for (i, s) in f.summaries().into_iter().enumerate() {
+                    out.push(used(s, &format!("factor texture {i}")));
+                }
+            }
+            _ => out.push(Elaborated {
+                name: "factor textures".into(),
+                summary: None,
+                left_out: Some("no factored BRDF".into()),
+                gates_saved: 0.0,
+                cycles_saved: fragments,
+            }),
+        }
+        out.push(used(UnitSummary::of(&self.add), "texture_combiner (ADD)"));
+        out
+    }
+
+    /// The derived bound (8-bit levels) on the Lambert term's error against
+    /// 255·(ρE/π)·max(n·l, 0) for unit f64 vectors n, l, when the material has no
+    /// specular term:
+    /// - each vector reaches the DOT3 stage with per-component error ≤ κ codes (the
+    ///   normalisation cube's derived component bound, edge band included) plus the
+    ///   quantisation of its input words (≤ √3/2·2^−Fi texels on a vector of length
+    ///   s/2 texels): |a' − a| ≤ V = √3·2κ/255 + √3·2^−Fi/s;
+    /// - |a'·b' − a·b| ≤ V·|b'| + |a|·V ≤ V(2 + V); DOT3_RGB evaluates a'·b' exactly
+    ///   and rounds once (½ LSB); the clamp to [0, 1] is 1-Lipschitz: the n·l code is
+    ///   off by ε₁ ≤ 255·V(2 + V) + ½;
+    /// - MODULATE(n·l, A), A = round(255·k), k = ρE/π ≤ 1: (255c + ε₁)(255k + ε₂)/255
+    ///   with |ε₂| ≤ ½ is off by ≤ ½ + k·ε₁ + ε₁/510, plus ½ for its rounding;
+    /// - ADD of a zero specular is exact.
+    ///
+    /// Total ≤ 1 + ε₁·(k + 1/510).
+    pub fn diffuse_error_bound(&self) -> Option<f64> {
+        let (_, albedo) = self.diffuse.as_ref()?;
+        if !matches!(self.specular, SpecularPath::None) {
+            return None;
+        }
+        let b = self.cube.bounds();
+        let a = self.cube.config().address;
+        let s = (a.side_log2 as f64).exp2();
+        let sqrt3 = 3f64.sqrt();
+        let v = sqrt3 * 2.0 * b.component_edge / 255.0 + sqrt3 * (-(a.in_frac_bits as f64)).exp2() / s;
+        let eps1 = 255.0 * v * (2.0 + v) + 0.5;
+        let k = albedo.iter().copied().max().unwrap_or(0) as f64 / 255.0 + 0.5 / 255.0;
+        Some(1.0 + eps1 * (k + 1.0 / 510.0))
+    }
+
+    /// The stages, in a line (for tables): e.g.
+    /// `cube 64² → DOT3 → MODULATE diffuse + lookup 256×8b → MODULATE ×2 → ADD`.
+    pub fn describe(&self) -> String {
+        let c = self.cube.config();
+        let mut s = format!("cube {}² → DOT3", c.face_side);
+        if self.diffuse.is_some() {
+            s.push_str(" → MODULATE diffuse");
+        }
+        match &self.specular {
+            SpecularPath::None => {}
+            SpecularPath::Lookup { lut, modulate } => {
+                let l = lut.config();
+                s.push_str(&format!(
+                    " + lookup {}×{}b → MODULATE ×{}",
+                    1u32 << l.table_log2,
+                    l.entry_bits,
+                    modulate.config().rgb_scale
+                ));
+            }
+            SpecularPath::Factored(f) => {
+                s.push_str(&format!(
+                    " + SVD factors {}b (×2^{})",
+                    f.texel_bits(),
+                    f.shift()
+                ));
+            }
+        }
+        s.push_str(" → ADD");
+        s
+    }
+}

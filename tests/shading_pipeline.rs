@@ -1,0 +1,178 @@
+//! The shading pipeline end to end: the material paths through the units against the
+//! f64 references, elaboration of what a material needs, the shading → glare link,
+//! and the specular banding measurement.
+
+use glare_pipeline::pipeline::glare::frame::render_glare_over;
+use glare_pipeline::pipeline::glare_link::prepare;
+use glare_pipeline::pipeline::shading::brdfs::{catalogue, render_sphere, sphere_error};
+use glare_pipeline::pipeline::shading::materials::material_path;
+use glare_pipeline::pipeline::shading::path::PathConfig;
+use glare_pipeline::pipeline::shading::specular::{
+    lookup_levels, reference_levels, score, sphere_vectors, squaring_levels,
+};
+use glare_pipeline::pipeline::shading::sphere::SphereView;
+use glare_pipeline::pipeline::shading::normalize_cube::NormalizeCubeConfig;
+use glare_pipeline::scene::builtin_glare::glare_builtin;
+use glare_pipeline::scene::format::Scene;
+use glare_pipeline::scene::material::Material;
+use rtl_model::units::specular_lookup::SpecularLookupConfig;
+use rtl_model::Counters;
+
+fn view(size: u32) -> SphereView {
+    SphereView {
+        size,
+        irradiance: std::f64::consts::PI,
+        ..SphereView::default()
+    }
+}
+
+#[test]
+fn lambert_sphere_is_within_the_derived_bound() {
+    let e = catalogue().into_iter().find(|e| e.label == "lambert").unwrap();
+    let r = render_sphere(&e, &view(96), &PathConfig::default()).unwrap();
+    let st = sphere_error(&r).unwrap();
+    let bound = r.path.diffuse_error_bound().unwrap();
+    println!("lambert: {st:?}, bound {bound:.3}");
+    assert!(st.max <= bound, "max {} > bound {bound}", st.max);
+    assert!(st.n > 0);
+}
+
+#[test]
+fn every_catalogue_model_renders_finite_levels_on_both_sides() {
+    for e in catalogue() {
+        let r = render_sphere(&e, &view(48), &PathConfig::default()).unwrap();
+        let st = sphere_error(&r).unwrap();
+        println!("{}: {} — mean {:.2} RMS {:.2} max {:.0}", e.label, r.path.describe(), st.mean_abs, st.rms, st.max);
+        assert!(r.reference.iter().all(|v| v.is_finite() && *v >= 0.0), "{}", e.label);
+        assert!(r.hardware.iter().all(|v| (0.0..=255.0).contains(v)), "{}", e.label);
+        // Every model lights part of the sphere on both sides.
+        assert!(r.hardware.iter().any(|&v| v > 0.0), "{}: black hardware image", e.label);
+        assert!(r.reference.iter().any(|&v| v > 0.0), "{}: black reference", e.label);
+    }
+}
+
+#[test]
+fn a_lambert_material_elaborates_no_lookup_no_factor_textures_and_no_specular_stage() {
+    let cfg = PathConfig::default();
+    let lambert = material_path(&Material::Lambert, [0.8; 3], &cfg).unwrap();
+    let blinn = material_path(
+        &Material::BlinnPhong {
+            ks: 0.5,
+            exponent: 32.0,
+            normalized: false,
+        },
+        [0.8; 3],
+        &cfg,
+    )
+    .unwrap();
+    let left = |p: &glare_pipeline::pipeline::shading::path::ShadingPath| {
+        p.elaboration(100)
+            .into_iter()
+            .filter(|e| e.left_out.is_some())
+            .map(|e| e.name)
+            .collect::<Vec<_>>()
+    };
+    let present = |p: &glare_pipeline::pipeline::shading::path::ShadingPath| {
+        p.elaboration(100)
+            .into_iter()
+            .filter(|e| e.summary.is_some())
+            .map(|e| e.name)
+            .collect::<Vec<_>>()
+    };
+    let l = left(&lambert);
+    assert!(l.iter().any(|n| n == "specular_lookup"), "{l:?}");
+    assert!(l.iter().any(|n| n == "factor textures"), "{l:?}");
+    let p = present(&lambert);
+    assert!(!p.iter().any(|n| n.contains("MODULATE specular")), "{p:?}");
+    assert!(!p.iter().any(|n| n.contains("factor")), "{p:?}");
+    // Blinn–Phong adds the lookup and its MODULATE stage.
+    let pb = present(&blinn);
+    assert!(pb.iter().any(|n| n == "specular_lookup"), "{pb:?}");
+    assert!(pb.iter().any(|n| n.contains("MODULATE specular")), "{pb:?}");
+    assert!(pb.len() > p.len());
+    // The left-out units report the gates they saved.
+    let saved: f64 = lambert
+        .elaboration(100)
+        .iter()
+        .filter(|e| e.name == "specular_lookup")
+        .map(|e| e.gates_saved)
+        .sum();
+    assert!(saved > 0.0);
+}
+
+fn small_linked(name: &str) -> Scene {
+    let mut s = glare_builtin(name).unwrap();
+    s.image.width = 240;
+    s.image.height = 160;
+    s
+}
+
+#[test]
+fn a_metal_cook_torrance_highlight_becomes_a_glare_source_and_a_rough_dielectric_does_not() {
+    for (name, glares) in [("shaded-metal", true), ("shaded-dielectric", false)] {
+        let s = small_linked(name);
+        let linked = prepare(&s).unwrap().expect("the scene asks for shaded highlights");
+        // No highlight is written by hand: the one the glare conditions see is the shader's.
+        assert!(s.glare.as_ref().unwrap().highlights.is_empty());
+        assert_eq!(linked.shading.highlights.len(), 1, "{name}: the sphere's highlight");
+        let h = &linked.shading.highlights[0];
+        assert_eq!(h.object, 0, "{name}");
+        let f = render_glare_over(&linked.scene, Some(&linked.base)).unwrap();
+        let label = f.labels.iter().find(|l| l.contains("highlights")).unwrap();
+        println!("{name}: specular level {} (I_s {:.3}) → {label}", h.specular, h.highlight.specular);
+        assert_eq!(label.contains("(glare)"), glares, "{name}: {label}");
+        assert_eq!(label.contains("saturates only"), !glares, "{name}: {label}");
+    }
+}
+
+#[test]
+fn a_scene_without_shaded_highlights_is_not_touched() {
+    let s = glare_builtin("glare-point").unwrap();
+    assert!(prepare(&s).unwrap().is_none());
+}
+
+#[test]
+fn materials_are_optional_in_scene_files_and_bad_parameters_name_the_field() {
+    // Old scene files have no `material`: they load, and serialise without one.
+    let fig6 = glare_pipeline::scene::builtin::builtin_toml("fig6").unwrap();
+    assert!(!fig6.contains("material"));
+    let mut s = glare_builtin("shaded-metal").unwrap();
+    s.validate().unwrap();
+    s.objects[0].material = Some(Material::CookTorrance {
+        distribution: Default::default(),
+        roughness: 0.0,
+        ior: 1.5,
+        extinction: 0.0,
+        fresnel: Default::default(),
+    });
+    let e = s.validate().unwrap_err();
+    assert_eq!(e.field(), "objects[0].material.roughness", "{e}");
+    let mut s = glare_builtin("shaded-metal").unwrap();
+    s.glare.as_mut().unwrap().shaded_highlights.as_mut().unwrap().light = 3;
+    let e = s.validate().unwrap_err();
+    assert_eq!(e.field(), "glare.shaded_highlights.light", "{e}");
+    // A TOML round trip keeps the material.
+    let text = toml::to_string(&glare_builtin("shaded-metal").unwrap()).unwrap();
+    assert!(text.contains("model = \"cook_torrance\""), "{text}");
+    let back = Scene::from_toml_str(&text).unwrap();
+    assert_eq!(back.objects[0].material, glare_builtin("shaded-metal").unwrap().objects[0].material);
+}
+
+#[test]
+fn squaring_in_9_bit_combiners_bands_and_the_lookup_does_not() {
+    let v = view(128);
+    let cube = NormalizeCubeConfig::geforce().build().unwrap();
+    let vectors = sphere_vectors(&v, &cube).unwrap();
+    let mask: Vec<bool> = vectors.iter().map(|x| x.is_some()).collect();
+    let mut ctr = Counters::default();
+    let (k, s) = (5u32, 32u32);
+    let reference = reference_levels(&vectors, s as f64);
+    let lookup = lookup_levels(&vectors, s as f64, SpecularLookupConfig::geforce(), &mut ctr).unwrap();
+    let sq = squaring_levels(&vectors, k, 9, &mut ctr).unwrap();
+    let rl = score("lookup", s, &lookup, &reference, &mask, v.size).unwrap();
+    let rs = score("squaring 9-bit", s, &sq, &reference, &mask, v.size).unwrap();
+    println!("{rl:?}\n{rs:?}");
+    assert!(rs.distinct_levels < rl.distinct_levels, "{rs:?} {rl:?}");
+    assert!(rs.max_step > rl.max_step, "{rs:?} {rl:?}");
+    assert!(rs.rms > rl.rms, "{rs:?} {rl:?}");
+}
