@@ -49,6 +49,7 @@
 //!   and the sampler's output rounding add ≤ ½ + ½ LSB per component, 2√3/B in value:
 //!   |e| ≤ V = h²/4 + √2·Δ·h + 2√3/B, angle ≤ asin(min(1, V)); per component
 //!   ≤ 1 + (B/2)·(h²/4 + √2·Δ·h) codes.
+//!
 //! The exact direction compared against is that of the input words (d = c − s/2, exact
 //! in f64). Against the vector before it was quantised to words, a very short vector
 //! adds its own quantisation: |Δd| ≤ √3/2 · 2^−Fi texels, angle ≤ asin(|Δd|/|d|) — the
@@ -66,7 +67,7 @@ use rtl_model::units::texture_sampler::{
 use rtl_model::{ConfigError, Counters};
 use serde::Serialize;
 
-use crate::reference::cube_map_address::{face_direction, face_st};
+use crate::reference::cube_map_address::{face_st, texel_centre_directions};
 
 /// Largest face side: 6F rows must fit the sampler's 4096, F a power of two.
 pub const MAX_FACE_SIDE: u32 = 512;
@@ -143,18 +144,9 @@ fn pack(n: f64, bits: u32) -> u32 {
 /// The F × 6F texture, RGB, texel (i, j) of face f at index ((f·F + j)·F + i)·3 + c:
 /// the packed normalised direction of the texel centre.
 pub fn normalization_texels(face: u32, bits: u32) -> Vec<u32> {
-    let ff = face as f64;
-    let mut out = Vec::with_capacity(18 * face as usize * face as usize);
-    for f in 0..6u8 {
-        for j in 0..face {
-            for i in 0..face {
-                let d = face_direction(f, (i as f64 + 0.5) / ff, (j as f64 + 0.5) / ff);
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                out.extend(d.map(|c| pack(c / l, bits)));
-            }
-        }
-    }
-    out
+    texel_centre_directions(face)
+        .flat_map(|n| n.map(|c| pack(c, bits)))
+        .collect()
 }
 
 /// The f64 comparison path: exact normalisation of `d`, then unorm rounding. A zero
