@@ -28,6 +28,7 @@ use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, Pri
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
 use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
+use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
 use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
@@ -50,6 +51,7 @@ pub const UNIT_NAMES: &[&str] = &[
     "glare_condition",
     "reflection_vector",
     "cube_map_address",
+    "specular_lookup",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -126,6 +128,7 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&GlareCondition::geforce()),
         UnitSummary::of(&ReflectionVector::geforce3()),
         UnitSummary::of(&CubeMapAddress::geforce3()),
+        UnitSummary::of(&SpecularLookup::geforce()),
     ]
 }
 
@@ -407,6 +410,28 @@ pub fn tables() -> Vec<Table> {
             ),
         ]),
     });
+    let spec = SpecularLookup::geforce();
+    let c = spec.config();
+    out.push(Table {
+        name: format!(
+            "specular_lookup_pow{}_{}x{}",
+            c.exponent,
+            1u32 << c.table_log2,
+            c.entry_bits
+        ),
+        width: c.entry_bits,
+        words: spec.table_words(),
+        unit: "specular_lookup".into(),
+        params: BTreeMap::from([
+            ("table_log2".to_string(), c.table_log2.to_string()),
+            ("entry_bits".to_string(), c.entry_bits.to_string()),
+            ("exponent".to_string(), c.exponent.to_string()),
+            (
+                "generator".to_string(),
+                "specular_table_entry(j): round((j/N)^s * (2^b - 1)) half up, N = 2^k - 1; the host writes it per exponent (this is the default s); rtl_model/src/units/specular_lookup.rs".to_string(),
+            ),
+        ]),
+    });
     out
 }
 
@@ -612,6 +637,20 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                         [s / 2; 3]
                     } else {
                         [(); 3].map(|_| rng.random_range(0..=s))
+                    },
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "specular_lookup" => {
+            let u = SpecularLookup::geforce();
+            // DOT3 codes over the whole range, with the top (the highlight) favoured.
+            let inputs: Vec<SpecularLookupIn> = (0..pixels)
+                .map(|k| SpecularLookupIn {
+                    code: if k % 2 == 0 {
+                        rng.random_range(0..=255)
+                    } else {
+                        rng.random_range(224..=255)
                     },
                 })
                 .collect();

@@ -77,6 +77,22 @@ pub fn cube_address_codes(
     (face, st, stacked_st(face, st, fs))
 }
 
+/// The unit directions through the texel centres of a cube map of face side `face`,
+/// in the stacked F × 6F texture's order: face f, then row j, then column i, the centre
+/// of texel (i, j) at ((i + ½)/F, (j + ½)/F).
+pub fn texel_centre_directions(face: u32) -> impl Iterator<Item = [f64; 3]> {
+    let ff = face as f64;
+    (0..6u8).flat_map(move |f| {
+        (0..face).flat_map(move |j| {
+            (0..face).map(move |i| {
+                let d = face_direction(f, (i as f64 + 0.5) / ff, (j as f64 + 0.5) / ff);
+                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                d.map(|c| c / l)
+            })
+        })
+    })
+}
+
 /// The (not normalised) direction through the point (s, t) ∈ [0, 1]² of `face`
 /// (faces ≥ 6 read as 5): the inverse of the table, with |ma| = 1.
 pub fn face_direction(face: u8, s: f64, t: f64) -> [f64; 3] {

@@ -23,5 +23,6 @@ pub mod raymarch;
 pub mod reflection_vector;
 pub mod shadow_compare;
 pub mod shafts_model;
+pub mod specular_lookup;
 pub mod test_scene;
 pub mod texture_sampler;

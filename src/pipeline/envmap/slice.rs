@@ -55,7 +55,7 @@ use serde::Serialize;
 
 use super::voxmap::VoxelMap;
 use crate::pipeline::shafts::frame::Elaborated;
-use crate::reference::cube_map_address::{face_direction, face_st, stacked_st};
+use crate::reference::cube_map_address::{face_st, stacked_st, texel_centre_directions};
 use crate::scene::math::Vec3;
 
 /// Largest face side: 6F rows must fit the sampler's 4096, and F is a power of two.
@@ -127,44 +127,36 @@ pub fn slice_from_map(map: &VoxelMap, lambda: f64, face: u32) -> Result<Slice, C
     }
     let s = map.side();
     let sf = s as f64;
-    let ff = face as f64;
     let max_code = map.max_code() as f64;
     let mut data = Vec::with_capacity(6 * face as usize * face as usize);
-    for f in 0..6u8 {
-        for j in 0..face {
-            for i in 0..face {
-                let d = face_direction(f, (i as f64 + 0.5) / ff, (j as f64 + 0.5) / ff);
-                let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                let d = d.map(|c| c / l);
-                // Voxel-index coordinate of t = λ·d: p = (t + 1)/2 · s − ½ (centres at
-                // integers), clamped to the edge voxels (the 3D sampler's clamp to edge).
-                let mut i0 = [0u32; 3];
-                let mut i1 = [0u32; 3];
-                let mut fr = [0f64; 3];
-                for k in 0..3 {
-                    let p = ((lambda * d[k] + 1.0) * 0.5 * sf - 0.5).clamp(0.0, sf - 1.0);
-                    let f0 = p.floor();
-                    i0[k] = f0 as u32;
-                    i1[k] = (i0[k] + 1).min(s - 1);
-                    fr[k] = p - f0;
-                }
-                let mut acc = [0f64; 3];
-                for corner in 0..8u32 {
-                    let mut w = 1.0;
-                    let mut idx = [0u32; 3];
-                    for k in 0..3 {
-                        let b = (corner >> k) & 1 == 1;
-                        idx[k] = if b { i1[k] } else { i0[k] };
-                        w *= if b { fr[k] } else { 1.0 - fr[k] };
-                    }
-                    let v = map.get(idx[0], idx[1], idx[2]);
-                    for c in 0..3 {
-                        acc[c] += w * v[c] as f64;
-                    }
-                }
-                data.push(acc.map(|a| a.round().clamp(0.0, max_code) as u32));
+    for d in texel_centre_directions(face) {
+        // Voxel-index coordinate of t = λ·d: p = (t + 1)/2 · s − ½ (centres at
+        // integers), clamped to the edge voxels (the 3D sampler's clamp to edge).
+        let mut i0 = [0u32; 3];
+        let mut i1 = [0u32; 3];
+        let mut fr = [0f64; 3];
+        for k in 0..3 {
+            let p = ((lambda * d[k] + 1.0) * 0.5 * sf - 0.5).clamp(0.0, sf - 1.0);
+            let f0 = p.floor();
+            i0[k] = f0 as u32;
+            i1[k] = (i0[k] + 1).min(s - 1);
+            fr[k] = p - f0;
+        }
+        let mut acc = [0f64; 3];
+        for corner in 0..8u32 {
+            let mut w = 1.0;
+            let mut idx = [0u32; 3];
+            for k in 0..3 {
+                let b = (corner >> k) & 1 == 1;
+                idx[k] = if b { i1[k] } else { i0[k] };
+                w *= if b { fr[k] } else { 1.0 - fr[k] };
+            }
+            let v = map.get(idx[0], idx[1], idx[2]);
+            for c in 0..3 {
+                acc[c] += w * v[c] as f64;
             }
         }
+        data.push(acc.map(|a| a.round().clamp(0.0, max_code) as u32));
     }
     Ok(Slice {
         face,
