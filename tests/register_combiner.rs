@@ -788,3 +788,38 @@ proptest! {
         prop_assert!(r.iter().flatten().all(|y| y.is_finite()));
     }
 }
+
+/// `fixed_point::round_div` (the units' divide by S and 4S): equal to `round_shift`
+/// for powers of two and to the exact rational rounding for odd divisors, every mode.
+#[test]
+fn round_div_matches_round_shift_and_exact_rounding() {
+    use rtl_model::fixed_point::{round_div, round_shift};
+    for q in Quant::ALL {
+        for num in -600i128..=600 {
+            for k in 0..6 {
+                assert_eq!(round_div(num, 1 << k, q), round_shift(num, k, q), "{q:?} {num} {k}");
+            }
+            for den in [3i128, 7, 15, 31, 255, 1020] {
+                let got = round_div(num, den, q);
+                let (fl, rem) = (num.div_euclid(den), num.rem_euclid(den));
+                let neg = num < 0;
+                let want = if rem == 0 {
+                    fl
+                } else {
+                    let up = match q {
+                        Quant::Trn => false,
+                        Quant::TrnZero => neg,
+                        _ if 2 * rem != den => 2 * rem > den,
+                        Quant::Rnd => true,
+                        Quant::RndZero => neg,
+                        Quant::RndInf => !neg,
+                        Quant::RndMinInf => false,
+                        Quant::RndConv => fl % 2 != 0,
+                    };
+                    fl + i128::from(up)
+                };
+                assert_eq!(got, want, "{q:?} {num}/{den}");
+            }
+        }
+    }
+}

@@ -33,11 +33,13 @@ pub fn spare0_plus_secondary_color(
     })
 }
 
-/// fcoc's RGB on mapped A, B, C, D: min(A·B + (1 − A)·C + D, 1) per lane.
+/// fcoc's RGB on mapped A, B, C, D: min(A·B + (1 − A)·C + D, 1) per lane. Mapped
+/// values are ≥ 0, so the result is in [0, 1]; values outside the mappings' range are
+/// clamped into it too (no ±∞ or NaN comes out).
 pub fn fcoc_rgb(a: [f64; 3], b: [f64; 3], c: [f64; 3], d: [f64; 3]) -> [f64; 3] {
     [0, 1, 2].map(|i| {
         let (a, b, c, d) = (finite(a[i]), finite(b[i]), finite(c[i]), finite(d[i]));
-        (a * b + (1.0 - a) * c + d).min(1.0)
+        finite(a * b + (1.0 - a) * c + d).clamp(0.0, 1.0)
     })
 }
 
