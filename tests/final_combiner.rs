@@ -12,6 +12,7 @@
 //!   with B_max, C_max = 2 for SPARE0_PLUS_SECONDARY_COLOR under the identity without
 //!   the colour-sum clamp, else 1. Only a variable reading E_TIMES_F has a Δ.
 //! * min(·, 1) is 1-Lipschitz; the output is rounded once: + e_r LSB.
+//!
 //! So |Δ| ≤ e_r + U·(e_r/S)·k_EF, k_EF = Σ over A … D reading E_TIMES_F of its factor
 //! above (+ 10⁻⁹ of f64 slack). The alpha G: e_r. At the GeForce default (N = 9,
 //! O = 8, nearest) without E_TIMES_F: ½ LSB; with E·F in D: 1 LSB.
@@ -263,7 +264,10 @@ fn lerp_exhaustive_at_5_bits() {
                             let mut f = RegisterFile::default();
                             f.set(Register::Texture0, [a; 4]);
                             f.set(Register::Texture1, [b; 4]);
-                            f.set(Register::Texture2, [c0, (c0 + 1).min(s), (c0 + 2).min(s), 0]);
+                            f.set(
+                                Register::Texture2,
+                                [c0, (c0 + 1).min(s), (c0 + 2).min(s), 0],
+                            );
                             worst = worst.max(check(&u, &f));
                         }
                     }
@@ -287,13 +291,21 @@ fn pseudo_registers_exhaustive_at_9_bits() {
         a: zero,
         b: zero,
         c: reg(Register::Texture1, Mapping::UnsignedIdentity),
-        d: FinalVariable::new(FinalInput::ETimesF, Mapping::UnsignedIdentity, ComponentUsage::Rgb),
+        d: FinalVariable::new(
+            FinalInput::ETimesF,
+            Mapping::UnsignedIdentity,
+            ComponentUsage::Rgb,
+        ),
         e: reg(Register::Texture0, Mapping::UnsignedIdentity),
         f: reg(Register::Texture1, Mapping::UnsignedInvert),
         ..base
     };
     let ef_a = FinalCombinerConfig {
-        a: FinalVariable::new(FinalInput::ETimesF, Mapping::UnsignedInvert, ComponentUsage::Rgb),
+        a: FinalVariable::new(
+            FinalInput::ETimesF,
+            Mapping::UnsignedInvert,
+            ComponentUsage::Rgb,
+        ),
         b: FinalVariable::new(
             FinalInput::Spare0PlusSecondaryColor,
             Mapping::UnsignedIdentity,
@@ -331,7 +343,10 @@ fn pseudo_registers_exhaustive_at_9_bits() {
             for se in (-s - 1..=s).step_by(3) {
                 let mut file = RegisterFile::default();
                 file.set(Register::Spare0, [sp; 4]);
-                file.set(Register::SecondaryColor, [se, (se + 1).min(s), (se + 2).min(s), 0]);
+                file.set(
+                    Register::SecondaryColor,
+                    [se, (se + 1).min(s), (se + 2).min(s), 0],
+                );
                 check(&u, &file);
                 // Exact: at N = 9, O = 8 a code is its output level; the sum clamps at 1.
                 let out = u.kernel(&mut (), &file, &mut Counters::default());
@@ -395,9 +410,15 @@ fn initial_state_is_the_gl_color_sum_and_fog() {
     f.set(Register::Spare0, [100, 200, 30, 77]);
     f.set(Register::SecondaryColor, [50, 100, 0, 9]);
     f.set(Register::Fog, [11, 22, 33, 255]);
-    assert_eq!(u.kernel(&mut (), &f, &mut Counters::default()), [150, 255, 30, 77]);
+    assert_eq!(
+        u.kernel(&mut (), &f, &mut Counters::default()),
+        [150, 255, 30, 77]
+    );
     f.set(Register::Fog, [11, 22, 33, 0]);
-    assert_eq!(u.kernel(&mut (), &f, &mut Counters::default()), [11, 22, 33, 77]);
+    assert_eq!(
+        u.kernel(&mut (), &f, &mut Counters::default()),
+        [11, 22, 33, 77]
+    );
 }
 
 #[test]
@@ -405,10 +426,16 @@ fn config_errors_name_the_field() {
     let g = FinalCombinerConfig::geforce();
     let err = |c: FinalCombinerConfig| c.build().unwrap_err().field().to_string();
     assert_eq!(
-        err(FinalCombinerConfig { internal_bits: 25, ..g }),
+        err(FinalCombinerConfig {
+            internal_bits: 25,
+            ..g
+        }),
         "final_combiner.internal_bits"
     );
-    assert_eq!(err(FinalCombinerConfig { out_bits: 0, ..g }), "final_combiner.out_bits");
+    assert_eq!(
+        err(FinalCombinerConfig { out_bits: 0, ..g }),
+        "final_combiner.out_bits"
+    );
     let mut c = g;
     c.c.mapping = Mapping::ExpandNormal;
     assert_eq!(err(c), "final_combiner.c.mapping");

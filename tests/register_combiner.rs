@@ -16,6 +16,7 @@
 //!   2, 4, ½). The output rounding adds e_o = e_r, or 0 when it is exact (G = 0, no
 //!   bias, scale ≠ ½: V = 2x·k is a multiple of 4).
 //! * The clamp to [−1, 1] is 1-Lipschitz (both clamp).
+//!
 //! So |Δ| ≤ s·e_p + e_o for out1/out2 and the mux, s·2·e_p + e_o for the sum
 //! (+ 10⁻⁹ for the twin's few f64 operations on values ≤ 2^24). At the GeForce default
 //! (N = 9, G = 0, nearest): ½ LSB (1/510) for AB, CD and mux outputs at scale 1, 1 LSB
@@ -109,7 +110,8 @@ fn expected(c: &RegisterCombinerConfig, file: &RegisterFile) -> [[(f64, f64); 4]
     let s = one(n);
     let mut want = file.regs.map(|r| r.map(|x| (sext(x, n) as f64, 0.0)));
     let spare0_alpha = sext(file.get(Register::Spare0)[3], n) as f64 / s;
-    let mapped = |v: &VariableInput, lane| twin::map(twin_mapping(v.mapping), value(file, v, lane, n));
+    let mapped =
+        |v: &VariableInput, lane| twin::map(twin_mapping(v.mapping), value(file, v, lane, n));
     for alpha in [false, true] {
         let p = if alpha { c.alpha } else { c.rgb };
         let vars = [p.a, p.b, p.c, p.d];
@@ -200,10 +202,7 @@ fn random_variable(rng: &mut ChaCha8Rng, alpha: bool) -> VariableInput {
 }
 
 fn random_portion(rng: &mut ChaCha8Rng, alpha: bool) -> PortionConfig {
-    let mut writable: Vec<Register> = Register::ALL
-        .into_iter()
-        .filter(|r| r.writable())
-        .collect();
+    let mut writable: Vec<Register> = Register::ALL.into_iter().filter(|r| r.writable()).collect();
     let mut out = || {
         let k = rng.random_range(0..writable.len());
         let r = writable.swap_remove(k);
@@ -377,7 +376,11 @@ fn dot_products_exhaustive_at_5_bits() {
             internal_bits: 5,
             ..widths(name)
         };
-        for m in [Mapping::ExpandNormal, Mapping::SignedIdentity, Mapping::HalfBiasNegate] {
+        for m in [
+            Mapping::ExpandNormal,
+            Mapping::SignedIdentity,
+            Mapping::HalfBiasNegate,
+        ] {
             let rgb = PortionConfig {
                 a: VariableInput::new(Register::Texture0, m, ComponentUsage::Rgb),
                 b: VariableInput::new(Register::Texture1, m, ComponentUsage::Rgb),
@@ -412,9 +415,17 @@ fn mux_threshold_is_spare0_alpha_at_least_one_half() {
     for n in [9u32, 5] {
         let s = one(n) as i32;
         let rgb = PortionConfig {
-            a: VariableInput::new(Register::Texture0, Mapping::SignedIdentity, ComponentUsage::Rgb),
+            a: VariableInput::new(
+                Register::Texture0,
+                Mapping::SignedIdentity,
+                ComponentUsage::Rgb,
+            ),
             b: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, ComponentUsage::Rgb),
-            c: VariableInput::new(Register::Texture1, Mapping::SignedIdentity, ComponentUsage::Rgb),
+            c: VariableInput::new(
+                Register::Texture1,
+                Mapping::SignedIdentity,
+                ComponentUsage::Rgb,
+            ),
             d: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, ComponentUsage::Rgb),
             mux_sum: true,
             sum_output: Some(Register::Spare1),
@@ -433,7 +444,11 @@ fn mux_threshold_is_spare0_alpha_at_least_one_half() {
             f.set(Register::Texture1, [-5, -5, -5, 0]);
             f.set(Register::Spare0, [0, 0, 0, alpha]);
             let out = u.kernel(&mut (), &f, &mut Counters::default());
-            let want = if alpha as f64 / s as f64 >= 0.5 { -5 } else { 3 };
+            let want = if alpha as f64 / s as f64 >= 0.5 {
+                -5
+            } else {
+                3
+            };
             assert_eq!(out.get(Register::Spare1)[0], want, "N {n}, alpha {alpha}");
             check(&u, &f);
         }
@@ -456,14 +471,22 @@ fn unorm_load_is_exact_at_geforce_widths_and_bounded_otherwise() {
         for c in 0..=255u32 {
             let want = twin::unorm(c, 8) * s;
             let got = u.load_unorm(c, &mut Counters::default()) as f64;
-            assert!((got - want).abs() <= e + SLACK, "{name}: {c} → {got} vs {want}");
+            assert!(
+                (got - want).abs() <= e + SLACK,
+                "{name}: {c} → {got} vs {want}"
+            );
         }
     }
     // The fragment load: Table 1's registers, SPARE0 alpha = texture 0 alpha.
     let f = FragmentInputs {
         primary_color: [1, 2, 3, 4],
         secondary_color: [5, 6, 7, 8],
-        texture: [[9, 10, 11, 12], [13, 14, 15, 16], [17, 18, 19, 20], [21, 22, 23, 24]],
+        texture: [
+            [9, 10, 11, 12],
+            [13, 14, 15, 16],
+            [17, 18, 19, 20],
+            [21, 22, 23, 24],
+        ],
         constant_color0: [25, 26, 27, 28],
         constant_color1: [29, 30, 31, 32],
         fog: [33, 34, 35, 255],
@@ -516,8 +539,14 @@ fn stiff_all_max_dot_of_extreme_vectors_and_scale_by_four() {
     let mut cfg = RegisterCombinerConfig::geforce();
     for p in [&mut cfg.rgb, &mut cfg.alpha] {
         p.scale = Scale::ByFour;
-        p.c = VariableInput { input: Register::PrimaryColor, ..p.c };
-        p.d = VariableInput { input: Register::PrimaryColor, ..p.d };
+        p.c = VariableInput {
+            input: Register::PrimaryColor,
+            ..p.c
+        };
+        p.d = VariableInput {
+            input: Register::PrimaryColor,
+            ..p.d
+        };
     }
     let u = cfg.build().unwrap();
     let mut ctr = Counters::default();
@@ -557,7 +586,10 @@ fn config_errors_name_the_field() {
     let g = RegisterCombinerConfig::geforce();
     let err = |c: RegisterCombinerConfig| c.build().unwrap_err().field().to_string();
     assert_eq!(
-        err(RegisterCombinerConfig { internal_bits: 2, ..g }),
+        err(RegisterCombinerConfig {
+            internal_bits: 2,
+            ..g
+        }),
         "register_combiner.internal_bits"
     );
     assert_eq!(
@@ -565,7 +597,10 @@ fn config_errors_name_the_field() {
         "register_combiner.input_bits"
     );
     assert_eq!(
-        err(RegisterCombinerConfig { guard_bits: 17, ..g }),
+        err(RegisterCombinerConfig {
+            guard_bits: 17,
+            ..g
+        }),
         "register_combiner.guard_bits"
     );
     let mut c = g;
@@ -575,7 +610,11 @@ fn config_errors_name_the_field() {
     c.rgb.c.component_usage = ComponentUsage::Blue;
     assert_eq!(err(c), "register_combiner.rgb.c.component_usage");
     let mut c = g;
-    c.rgb.d = VariableInput::new(Register::Fog, Mapping::UnsignedIdentity, ComponentUsage::Alpha);
+    c.rgb.d = VariableInput::new(
+        Register::Fog,
+        Mapping::UnsignedIdentity,
+        ComponentUsage::Alpha,
+    );
     assert_eq!(err(c), "register_combiner.rgb.d.component_usage");
     let mut c = g;
     c.alpha.cd_dot_product = true;
@@ -663,7 +702,9 @@ fn squaring_is_exactly_the_chained_kernels() {
         }
     }
     assert_eq!(
-        specular_by_squaring(2, [0; 3], [0; 3], 1).unwrap_err().field(),
+        specular_by_squaring(2, [0; 3], [0; 3], 1)
+            .unwrap_err()
+            .field(),
         "register_combiner.internal_bits"
     );
     assert_eq!(
@@ -708,7 +749,11 @@ fn squaring_at_9_bits_bands_into_few_levels() {
         let exact: std::collections::BTreeSet<i64> = (0..=255)
             .map(|c| ((c as f64 / s).powf(e) * 255.0 + 0.5).floor() as i64)
             .collect();
-        println!("{k}, {e}, {got}, {bound}, {}, {}", count(0.5 / 255.0), exact.len());
+        println!(
+            "{k}, {e}, {got}, {bound}, {}, {}",
+            count(0.5 / 255.0),
+            exact.len()
+        );
         assert!(got <= bound, "k {k}: {got} levels > derived bound {bound}");
         measured.push((got, bound));
     }
@@ -797,7 +842,11 @@ fn round_div_matches_round_shift_and_exact_rounding() {
     for q in Quant::ALL {
         for num in -600i128..=600 {
             for k in 0..6 {
-                assert_eq!(round_div(num, 1 << k, q), round_shift(num, k, q), "{q:?} {num} {k}");
+                assert_eq!(
+                    round_div(num, 1 << k, q),
+                    round_shift(num, k, q),
+                    "{q:?} {num} {k}"
+                );
             }
             for den in [3i128, 7, 15, 31, 255, 1020] {
                 let got = round_div(num, den, q);

@@ -23,7 +23,7 @@ pub fn map(m: Mapping, e: f64) -> f64 {
     let e = if e.is_finite() { e } else { 0.0 };
     match m {
         Mapping::UnsignedIdentity => e.max(0.0),
-        Mapping::UnsignedInvert => 1.0 - e.max(0.0).min(1.0),
+        Mapping::UnsignedInvert => 1.0 - e.clamp(0.0, 1.0), // 1 − min(max(e, 0), 1)
         Mapping::ExpandNormal => 2.0 * e.max(0.0) - 1.0,
         Mapping::ExpandNegate => -2.0 * e.max(0.0) + 1.0,
         Mapping::HalfBiasNormal => e.max(0.0) - 0.5,
@@ -68,16 +68,20 @@ pub fn mux(spare0_alpha: f64, ab: f64, cd: f64) -> f64 {
 }
 
 /// The RGB portion on mapped variables A, B, C, D: [out1rgb, out2rgb, out3rgb].
-pub fn general_rgb(
-    v: [[f64; 3]; 4],
-    spare0_alpha: f64,
-    op: &OutputOp,
-) -> [[f64; 3]; 3] {
+pub fn general_rgb(v: [[f64; 3]; 4], spare0_alpha: f64, op: &OutputOp) -> [[f64; 3]; 3] {
     let [a, b, c, d] = v;
     let lane = |x: [f64; 3], y: [f64; 3]| [0, 1, 2].map(|i| x[i] * y[i]);
     let dot = |x: [f64; 3], y: [f64; 3]| [x[0] * y[0] + x[1] * y[1] + x[2] * y[2]; 3];
-    let gcc_ab = if op.ab_dot_product { dot(a, b) } else { lane(a, b) }; // gcc1 / gcc2
-    let gcc_cd = if op.cd_dot_product { dot(c, d) } else { lane(c, d) }; // gcc3 / gcc4
+    let gcc_ab = if op.ab_dot_product {
+        dot(a, b)
+    } else {
+        lane(a, b)
+    }; // gcc1 / gcc2
+    let gcc_cd = if op.cd_dot_product {
+        dot(c, d)
+    } else {
+        lane(c, d)
+    }; // gcc3 / gcc4
     let out3 = [0, 1, 2].map(|i| {
         if op.mux_sum {
             mux(spare0_alpha, gcc_ab[i], gcc_cd[i]) // gcc6

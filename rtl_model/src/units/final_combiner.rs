@@ -315,15 +315,15 @@ impl FinalCombiner {
                 ctr.saturations += 1;
                 x = s * s;
             }
-            *o = self.to_out(x, s * s, ctr);
+            *o = self.output_code(x, s * s, ctr);
         }
         let g = self.variable(file, &c.g, 3, &specials);
-        out[3] = self.to_out(g, s, ctr);
+        out[3] = self.output_code(g, s, ctr);
         out
     }
 
     /// round(x·U / den) by `rounding`, x ∈ [0, den]: u(2N+1) × u(O) → ÷ den → u(O).
-    fn to_out(&self, x: i128, den: i128, ctr: &mut Counters) -> u32 {
+    fn output_code(&self, x: i128, den: i128, ctr: &mut Counters) -> u32 {
         let y = round_div(x * self.out_max() as i128, den, self.cfg.rounding);
         if y == 0 && x != 0 {
             ctr.underflows += 1;
@@ -395,7 +395,10 @@ impl Unit for FinalCombiner {
                 "lerp multipliers A·B, (S − A)·C and S·D (3 lanes)",
                 (prim::multiplier(v, n) * 2.0 + prim::subtractor(v) + prim::adder(2 * n)) * 3.0,
             )
-            .part("stage registers (lerp terms)", prim::register(3 * 3 * xw + v))
+            .part(
+                "stage registers (lerp terms)",
+                prim::register(3 * 3 * xw + v),
+            )
             .part(
                 "sum, clamp to 1, ×U ÷S² rounding (3 lanes + G)",
                 (prim::adder(xw) * 2.0 + prim::comparator(xw) + prim::adder(xw + o) * 3.0) * 4.0,

@@ -37,7 +37,11 @@ pub struct SquaringChain {
 
 /// An RGB portion writing A·B (or A•B) to SPARE0 and nothing else.
 fn ab_to_spare0(a: VariableInput, b: VariableInput, dot: bool) -> PortionConfig {
-    let zero = VariableInput::new(Register::Zero, Mapping::UnsignedIdentity, ComponentUsage::Rgb);
+    let zero = VariableInput::new(
+        Register::Zero,
+        Mapping::UnsignedIdentity,
+        ComponentUsage::Rgb,
+    );
     PortionConfig {
         a,
         b,
@@ -117,7 +121,9 @@ impl SquaringChain {
         };
         file.set(Register::Texture0, load(n, ctr));
         file.set(Register::Texture1, load(h, ctr));
-        self.dot_stage.kernel(&mut (), &file, ctr).get(Register::Spare0)[0]
+        self.dot_stage
+            .kernel(&mut (), &file, ctr)
+            .get(Register::Spare0)[0]
     }
 
     /// Stages 1 … k and the final combiner on an n·h register code (masked to the
