@@ -17,7 +17,10 @@
 //! above (+ 10⁻⁹ of f64 slack). The alpha G: e_r. At the GeForce default (N = 9,
 //! O = 8, nearest) without E_TIMES_F: ½ LSB; with E·F in D: 1 LSB.
 
+mod combiner_common;
 mod common;
+
+use combiner_common::{one, random_file, rounding_error, sext};
 
 use glare_pipeline::reference::final_combiner as twin;
 use proptest::prelude::*;
@@ -32,22 +35,6 @@ use rtl_model::units::register_combiner::{
 use rtl_model::{Counters, Quant, Unit, UnitSummary};
 
 const SLACK: f64 = 1e-9;
-
-fn rounding_error(q: Quant) -> f64 {
-    match q {
-        Quant::Trn | Quant::TrnZero => 1.0,
-        _ => 0.5,
-    }
-}
-
-fn one(n: u32) -> f64 {
-    ((1i64 << (n - 1)) - 1) as f64
-}
-
-fn sext(x: i32, n: u32) -> i64 {
-    let sh = 64 - n;
-    ((x as i64) << sh) >> sh
-}
 
 fn twin_mapping(m: Mapping) -> twin::Mapping {
     match m {
@@ -205,20 +192,6 @@ fn random_config(rng: &mut ChaCha8Rng, base: FinalCombinerConfig) -> FinalCombin
         g: random_variable(rng, 'g'),
         ..base
     }
-}
-
-fn random_file(rng: &mut ChaCha8Rng, n: u32) -> RegisterFile {
-    let s = one(n) as i32;
-    let special = [s, -s, 0, -s - 1, 1];
-    let mut f = RegisterFile::default();
-    for r in f.regs.iter_mut().flatten() {
-        *r = if rng.random_range(0..4) == 0 {
-            special[rng.random_range(0..special.len())]
-        } else {
-            rng.random_range(-s - 1..=s)
-        };
-    }
-    f
 }
 
 #[test]

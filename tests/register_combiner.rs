@@ -23,7 +23,10 @@
 //! for the sum; 2 and 4 LSB at ×4.
 //! Loading an I-bit unorm code u: round(u·S/U) within e_r LSB (exact when N − 1 = I).
 
+mod combiner_common;
 mod common;
+
+use combiner_common::{one, random_file, rounding_error, sext};
 
 use glare_pipeline::pipeline::shading::squaring::{
     power_by_squaring, specular_by_squaring, SquaringChain,
@@ -51,23 +54,6 @@ fn twin_mapping(m: Mapping) -> twin::Mapping {
         Mapping::SignedIdentity => twin::Mapping::SignedIdentity,
         Mapping::SignedNegate => twin::Mapping::SignedNegate,
     }
-}
-
-/// One rounding's error bound in units of its LSB.
-fn rounding_error(q: Quant) -> f64 {
-    match q {
-        Quant::Trn | Quant::TrnZero => 1.0,
-        _ => 0.5,
-    }
-}
-
-fn one(n: u32) -> f64 {
-    ((1i64 << (n - 1)) - 1) as f64
-}
-
-fn sext(x: i32, n: u32) -> i64 {
-    let sh = 64 - n;
-    ((x as i64) << sh) >> sh
 }
 
 /// The bounds (LSB) of out1, out2, out3 of one portion.
@@ -229,22 +215,6 @@ fn random_portion(rng: &mut ChaCha8Rng, alpha: bool) -> PortionConfig {
         cd_dot_product: !alpha && rng.random(),
         mux_sum: rng.random(),
     }
-}
-
-/// Random register set: anywhere on the N wires, or at the stiff codes (±S, 0, −S−1,
-/// the mux threshold 2^(N−2) and one below).
-fn random_file(rng: &mut ChaCha8Rng, n: u32) -> RegisterFile {
-    let s = one(n) as i32;
-    let special = [s, -s, 0, -s - 1, 1 << (n - 2), (1 << (n - 2)) - 1];
-    let mut f = RegisterFile::default();
-    for r in f.regs.iter_mut().flatten() {
-        *r = if rng.random_range(0..4) == 0 {
-            special[rng.random_range(0..special.len())]
-        } else {
-            rng.random_range(-s - 1..=s)
-        };
-    }
-    f
 }
 
 fn random_config(rng: &mut ChaCha8Rng, base: RegisterCombinerConfig) -> RegisterCombinerConfig {
@@ -718,8 +688,9 @@ fn levels(n: u32, k: u32) -> usize {
     let chain = SquaringChain::new(n).unwrap();
     let s = chain.one();
     let mut seen = std::collections::BTreeSet::new();
+    let mut ctr = Counters::default();
     for c in 0..=s {
-        seen.insert(chain.power_from_code(c, k, &mut Counters::default()));
+        seen.insert(chain.power_from_code(c, k, &mut ctr));
     }
     seen.len()
 }
@@ -762,6 +733,12 @@ fn squaring_at_9_bits_bands_into_few_levels() {
     assert_eq!((measured[3].1, measured[4].1), (86, 48));
     let measured: Vec<usize> = measured.iter().map(|m| m.0).collect();
     assert_eq!(measured, [192, 131, 87, 56, 35, 21]);
+    // Other widths, for the record (the n·h codes 0 … S, so wider registers also carry
+    // a finer n·h): levels for k = 1 … 6.
+    for n in [6u32, 8, 10, 12, 16] {
+        let l: Vec<usize> = (1..=6).map(|k| levels(n, k)).collect();
+        println!("N = {n}: levels {l:?}");
+    }
 }
 
 proptest! {
