@@ -486,6 +486,32 @@ pub fn round_shift(raw: i128, shift: i32, q: Quant) -> i128 {
     }
 }
 
+/// Divide `num` by `den` (> 0; a non-positive `den` reads as 1) rounding by `q`: the
+/// quotient by a constant that is not a power of two (e.g. 2ⁿ⁻¹ − 1, the scale of a
+/// signed register-combiner code), with the same modes as [`round_shift`].
+/// Full precision: exact when `den` divides `num`.
+pub fn round_div(num: i128, den: i128, q: Quant) -> i128 {
+    let den = den.max(1);
+    let floor = num.div_euclid(den);
+    let rem = num - floor * den; // 0 ≤ rem < den
+    if rem == 0 {
+        return floor;
+    }
+    let neg = num < 0;
+    let twice = 2 * rem; // compared with den: below, at or above half way
+    match q {
+        Quant::Trn => floor,
+        Quant::TrnZero => floor + i128::from(neg),
+        _ if twice > den => floor + 1,
+        _ if twice < den => floor,
+        Quant::Rnd => floor + 1,
+        Quant::RndZero => floor + i128::from(neg),
+        Quant::RndInf => floor + i128::from(!neg),
+        Quant::RndMinInf => floor,
+        Quant::RndConv => floor + (floor & 1),
+    }
+}
+
 /// Round `raw / 2^shift` for `shift ≥ 128`: the value lies in [−½, ½), and is −½
 /// exactly when `minus_half`.
 fn round_tiny(raw: i128, minus_half: bool, q: Quant) -> i128 {

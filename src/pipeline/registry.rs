@@ -17,6 +17,7 @@ use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
 use rtl_model::units::chaos_map::ChaosMap;
 use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn};
+use rtl_model::units::final_combiner::FinalCombiner;
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
 use rtl_model::units::glare_condition::{ConditionIn, GlareCondition, Material};
@@ -27,6 +28,7 @@ use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
 use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};
+use rtl_model::units::register_combiner::{RegisterCombiner, RegisterFile};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
@@ -52,6 +54,8 @@ pub const UNIT_NAMES: &[&str] = &[
     "reflection_vector",
     "cube_map_address",
     "specular_lookup",
+    "register_combiner",
+    "final_combiner",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -129,6 +133,8 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&ReflectionVector::geforce3()),
         UnitSummary::of(&CubeMapAddress::geforce3()),
         UnitSummary::of(&SpecularLookup::geforce()),
+        UnitSummary::of(&RegisterCombiner::geforce()),
+        UnitSummary::of(&FinalCombiner::geforce()),
     ]
 }
 
@@ -655,6 +661,27 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                 })
                 .collect();
             trace_unit(&u, (), &inputs, w)
+        }
+        "register_combiner" | "final_combiner" => {
+            // Register sets as COMBINER0 sees them: random 8-bit fragment colours loaded
+            // into the 9-bit registers, SPARE0/1 anywhere in [−1, 1].
+            let rc = RegisterCombiner::geforce();
+            let s = rc.one() as i32;
+            let inputs: Vec<RegisterFile> = (0..pixels)
+                .map(|_| {
+                    let mut f = RegisterFile::default();
+                    for (k, reg) in f.regs.iter_mut().enumerate().skip(1) {
+                        let lo = if (6..8).contains(&k) { -s } else { 0 };
+                        *reg = std::array::from_fn(|_| rng.random_range(lo..=s));
+                    }
+                    f
+                })
+                .collect();
+            if name == "register_combiner" {
+                trace_unit(&rc, (), &inputs, w)
+            } else {
+                trace_unit(&FinalCombiner::geforce(), (), &inputs, w)
+            }
         }
         _ => Err(format!(
             "unit: unknown unit '{name}' (known: {})",

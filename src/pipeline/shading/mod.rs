@@ -4,3 +4,4 @@
 
 pub mod normalize_cube;
 pub mod sphere;
+pub mod squaring;
