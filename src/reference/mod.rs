@@ -24,4 +24,5 @@ pub mod reflection_vector;
 pub mod shadow_compare;
 pub mod shafts_model;
 pub mod test_scene;
+pub mod texture_combiner;
 pub mod texture_sampler;

@@ -16,4 +16,5 @@ pub mod polygon_variable_generator;
 pub mod projective_texcoord;
 pub mod reflection_vector;
 pub mod shadow_compare;
+pub mod texture_combiner;
 pub mod texture_sampler;
