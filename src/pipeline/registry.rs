@@ -28,6 +28,7 @@ use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, Pri
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};
 use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
+use rtl_model::units::texture_combiner::{TextureCombiner, TextureCombinerIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
 use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
@@ -50,6 +51,7 @@ pub const UNIT_NAMES: &[&str] = &[
     "glare_condition",
     "reflection_vector",
     "cube_map_address",
+    "texture_combiner",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -126,6 +128,7 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&GlareCondition::geforce()),
         UnitSummary::of(&ReflectionVector::geforce3()),
         UnitSummary::of(&CubeMapAddress::geforce3()),
+        UnitSummary::of(&TextureCombiner::geforce()),
     ]
 }
 
@@ -613,6 +616,20 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                     } else {
                         [(); 3].map(|_| rng.random_range(0..=s))
                     },
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "texture_combiner" => {
+            // GL's initial COMBINE state: MODULATE of TEXTURE and PREVIOUS, 8-bit.
+            let u = TextureCombiner::geforce();
+            let mut px = || std::array::from_fn(|_| rng.random_range(0..=255u32));
+            let inputs: Vec<TextureCombinerIn> = (0..pixels)
+                .map(|_| TextureCombinerIn {
+                    texture: px(),
+                    constant: px(),
+                    primary_color: px(),
+                    previous: px(),
                 })
                 .collect();
             trace_unit(&u, (), &inputs, w)

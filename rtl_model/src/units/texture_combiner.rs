@@ -661,7 +661,15 @@ impl Unit for TextureCombiner {
                 "multipliers (n+1)×(n+1) and n×n, ×4",
                 (prim::multiplier(n + 1, n + 1) + prim::multiplier(n, n)) * 4.0,
             )
-            .part("DOT3 expand 2c − N (6 args)", prim::subtractor(n + 1) * 6.0)
+            .part(
+                // 2c − N = 2(c − 2ⁿ⁻¹) + 1: c with its top bit inverted, read as signed,
+                // with a constant 1 below it.
+                "DOT3 expand 2c − N (6 args, top-bit NOT)",
+                Cells {
+                    not: 6.0,
+                    ..Cells::default()
+                },
+            )
             .part(
                 "product registers (2 × (2n+3) bits, ×4)",
                 prim::register(2 * (2 * n + 3)) * 4.0,
