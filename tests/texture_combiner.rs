@@ -524,3 +524,36 @@ fn dot3_as_the_alpha_function_is_an_error_naming_the_field() {
         );
     }
 }
+
+#[test]
+fn the_single_rounding_is_exact_for_every_x_up_to_n_squared() {
+    // round(X / N) by t = X + 2ⁿ⁻¹, (t + (t >> n)) >> n, for every 0 ≤ X ≤ N² at n ≤ 12;
+    // D = 2 rounds half up; D = 1 passes X; outside [0, N·D] clamps (counted).
+    for bits in 1..=12u32 {
+        let u = unit(
+            bits,
+            CombineFunction::Add,
+            CombineFunction::Add,
+            CombinerRounding::GeforceInteger,
+            1,
+        );
+        let n = (1i64 << bits) - 1;
+        let mut ctr = Counters::default();
+        for x in 0..=n * n {
+            assert_eq!(
+                u.clamp_round((x, n), &mut ctr) as i64,
+                (2 * x + n) / (2 * n),
+                "{bits} bits: {x}"
+            );
+        }
+        for x in 0..=2 * n {
+            assert_eq!(u.clamp_round((x, 2), &mut ctr) as i64, (x + 1) / 2);
+            assert_eq!(u.clamp_round((x.min(n), 1), &mut ctr) as i64, x.min(n));
+        }
+        assert_eq!(ctr.saturations, 0);
+        assert_eq!(u.clamp_round((-1, n), &mut ctr), 0);
+        assert_eq!(u.clamp_round((n * n + 1, n), &mut ctr) as i64, n);
+        assert_eq!(u.clamp_round((2 * n + 1, 2), &mut ctr) as i64, n);
+        assert_eq!(ctr.saturations, 3);
+    }
+}

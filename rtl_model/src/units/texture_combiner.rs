@@ -81,15 +81,8 @@ impl CombineFunction {
         CombineFunction::Dot3Rgba,
     ];
 
-    /// The functions COMBINE_ALPHA accepts (all but the DOT3 ones).
-    pub const ALPHA: [CombineFunction; 6] = [
-        CombineFunction::Replace,
-        CombineFunction::Modulate,
-        CombineFunction::Add,
-        CombineFunction::AddSigned,
-        CombineFunction::Interpolate,
-        CombineFunction::Subtract,
-    ];
+    /// The functions COMBINE_ALPHA accepts (all but the DOT3 ones, the last two).
+    pub const ALPHA: &'static [CombineFunction] = (&Self::ALL as &[CombineFunction]).split_at(6).0;
 
     pub fn is_dot3(self) -> bool {
         matches!(self, CombineFunction::Dot3Rgb | CombineFunction::Dot3Rgba)
@@ -411,8 +404,9 @@ impl TextureCombiner {
         (scale as i64 * sum, n)
     }
 
-    /// Clamp X / D to [0, N] (counting a clamp) and round once, half up.
-    fn clamp_round(&self, (x, d): (i64, i64), ctr: &mut Counters) -> u32 {
+    /// Clamp X / D (D ∈ {1, 2, N}) to [0, N], counting a clamp, and round once, half
+    /// up: the stage's single rounding.
+    pub fn clamp_round(&self, (x, d): (i64, i64), ctr: &mut Counters) -> u32 {
         let bits = self.cfg.bits;
         let m = self.max() as i64;
         if x < 0 {
