@@ -194,7 +194,7 @@ fn interpolate_exhaustive_at_8_and_4_bits() {
 fn dot3_random(u: &TextureCombiner, cases: usize, seed: u64) {
     let m = (1u32 << u.config().bits) - 1;
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut px = |rng: &mut ChaCha8Rng| std::array::from_fn(|_| rng.random_range(0..=m));
+    let px = |rng: &mut ChaCha8Rng| std::array::from_fn(|_| rng.random_range(0..=m));
     for _ in 0..cases {
         let i = TextureCombinerIn {
             texture: px(&mut rng),
