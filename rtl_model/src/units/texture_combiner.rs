@@ -46,7 +46,9 @@
 //!   v = fl(fl(Arg0' − 0.5) + Arg1'), where ONE_MINUS on Arg0 is folded to
 //!   fl(0.5 − Arg0') and ONE_MINUS on Arg1 is fl(1 − Arg1'), then the unorm conversion
 //!   fl(fl(v · (1 − 2⁻ⁿ)) + 2²³⁻ⁿ)'s low n mantissa bits. (Found by measurement against
-//!   OSMesa; tests/texture_combiner_mesa.rs holds it to every 8-bit case.)
+//!   OSMesa; tests/texture_combiner_mesa.rs holds it to 3.9·10⁷ 8-bit channel results,
+//!   every ADD_SIGNED pair under every operand mapping among them.) At other widths the
+//!   mode is the same rule with n-bit unorms, an extrapolation: only 8 bits is checked.
 
 use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
