@@ -31,6 +31,7 @@ use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};
 use rtl_model::units::register_combiner::{RegisterCombiner, RegisterFile};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupIn};
+use rtl_model::units::texture_combiner::{TextureCombiner, TextureCombinerIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
 use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
@@ -56,6 +57,7 @@ pub const UNIT_NAMES: &[&str] = &[
     "specular_lookup",
     "register_combiner",
     "final_combiner",
+    "texture_combiner",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -135,6 +137,7 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&SpecularLookup::geforce()),
         UnitSummary::of(&RegisterCombiner::geforce()),
         UnitSummary::of(&FinalCombiner::geforce()),
+        UnitSummary::of(&TextureCombiner::geforce()),
     ]
 }
 
@@ -658,6 +661,20 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
                     } else {
                         rng.random_range(224..=255)
                     },
+                })
+                .collect();
+            trace_unit(&u, (), &inputs, w)
+        }
+        "texture_combiner" => {
+            // GL's initial COMBINE state: MODULATE of TEXTURE and PREVIOUS, 8-bit.
+            let u = TextureCombiner::geforce();
+            let mut px = || std::array::from_fn(|_| rng.random_range(0..=255u32));
+            let inputs: Vec<TextureCombinerIn> = (0..pixels)
+                .map(|_| TextureCombinerIn {
+                    texture: px(),
+                    constant: px(),
+                    primary_color: px(),
+                    previous: px(),
                 })
                 .collect();
             trace_unit(&u, (), &inputs, w)

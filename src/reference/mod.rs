@@ -27,4 +27,5 @@ pub mod shadow_compare;
 pub mod shafts_model;
 pub mod specular_lookup;
 pub mod test_scene;
+pub mod texture_combiner;
 pub mod texture_sampler;

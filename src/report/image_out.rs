@@ -63,3 +63,12 @@ impl Framebuffer {
         img.save(path)
     }
 }
+
+/// A grey RGBA image of `size` × `size` levels (row-major; rounded, clamped to
+/// 0 ..= 255).
+pub fn grey_image(levels: &[f64], size: u32) -> image::RgbaImage {
+    image::RgbaImage::from_fn(size, size, |x, y| {
+        let v = levels[(y * size + x) as usize].round().clamp(0.0, 255.0) as u8;
+        image::Rgba([v, v, v, 255])
+    })
+}

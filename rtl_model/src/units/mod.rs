@@ -19,4 +19,5 @@ pub mod reflection_vector;
 pub mod register_combiner;
 pub mod shadow_compare;
 pub mod specular_lookup;
+pub mod texture_combiner;
 pub mod texture_sampler;

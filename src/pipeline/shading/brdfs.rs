@@ -8,7 +8,8 @@ use super::sphere::{SphereView, VIEW};
 use crate::reference::brdf::Brdf;
 use crate::report::metrics::{error_stats_masked, ErrorStats};
 use crate::scene::material::{Distribution, FresnelKind, Material};
-use image::{Rgba, RgbaImage};
+use crate::report::image_out::grey_image;
+use image::RgbaImage;
 use rtl_model::ConfigError;
 use serde::Serialize;
 use std::path::Path;
@@ -150,14 +151,6 @@ pub fn render_sphere(
 pub fn sphere_error(r: &SphereRender) -> Result<ErrorStats, ConfigError> {
     let rgb = |v: &[f64]| v.iter().map(|&x| [x; 3]).collect::<Vec<_>>();
     error_stats_masked(&rgb(&r.hardware), &rgb(&r.reference), &r.mask)
-}
-
-/// A grey image of levels (rounded, clamped to 0 ..= 255).
-pub fn grey_image(levels: &[f64], size: u32) -> RgbaImage {
-    RgbaImage::from_fn(size, size, |x, y| {
-        let v = levels[(y * size + x) as usize].round().clamp(0.0, 255.0) as u8;
-        Rgba([v, v, v, 255])
-    })
 }
 
 /// One CSV row.
