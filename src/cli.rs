@@ -53,7 +53,9 @@ pub enum Command {
     /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S),
     /// envmap-lambda-sweep and envmap-roughness (the pattern; side and size as
     /// envmap-table5), shading-normalize-cube (the normalisation cube map's error
-    /// table over F = 16 … 256).
+    /// table over F = 16 … 256), shading-specular ((n·h)^s by squaring in the
+    /// register combiners vs the lookup), shading-brdfs (one sphere per model, units
+    /// beside the f64 reference).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -294,9 +296,17 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shading-normalize-cube" => {
             crate::pipeline::shading::normalize_cube::reproduce(out)?;
         }
+        "shading-specular" => {
+            let rows = crate::pipeline::shading::specular::shading_specular(out)?;
+            print!("{}", crate::pipeline::shading::specular::table(&rows));
+        }
+        "shading-brdfs" => {
+            let rows = crate::pipeline::shading::brdfs::shading_brdfs(out)?;
+            print!("{}", crate::pipeline::shading::brdfs::table(&rows));
+        }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness, shading-normalize-cube)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness, shading-normalize-cube, shading-specular, shading-brdfs)"
             ))
         }
     }

@@ -215,3 +215,25 @@ pub fn shading_brdfs(out: &Path) -> Result<Vec<BrdfRow>, String> {
     crate::report::plot::image_grid(&out.join("shading_brdfs.png"), &refs, 6)?;
     Ok(rows)
 }
+
+/// The rows as a terminal table.
+pub fn table(rows: &[BrdfRow]) -> String {
+    let body: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.model.clone(),
+                r.hardware_path.clone(),
+                format!("{:.2}", r.mean_abs),
+                format!("{:.2}", r.rms),
+                format!("{:.0}", r.max),
+                format!("{:.0}", r.gates_nand2),
+                r.ram_bits.to_string(),
+            ]
+        })
+        .collect();
+    crate::report::table::text_table(
+        &["model", "hardware path", "mean |Δ|", "RMS", "max", "gates", "RAM bits"],
+        &body,
+    )
+}

@@ -4,4 +4,5 @@
 
 pub mod normalize_cube;
 pub mod sphere;
+pub mod specular;
 pub mod squaring;
