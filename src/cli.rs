@@ -52,7 +52,8 @@ pub enum Command {
     /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
     /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S),
     /// envmap-lambda-sweep and envmap-roughness (the pattern; side and size as
-    /// envmap-table5).
+    /// envmap-table5), shading-brdf-properties (reciprocity and albedo of every BRDF
+    /// reference, the HG moments and the dipole integral).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -265,6 +266,9 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
             )?;
         }
+        "shading-brdf-properties" => {
+            crate::pipeline::shading::brdf_properties::brdf_properties(out)?;
+        }
         "envmap-images" => {
             crate::pipeline::envmap::reproduce::images(
                 out,
@@ -273,7 +277,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness, shading-brdf-properties)"
             ))
         }
     }
