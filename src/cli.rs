@@ -55,7 +55,8 @@ pub enum Command {
     /// envmap-table5), shading-normalize-cube (the normalisation cube map's error
     /// table over F = 16 … 256), shading-specular ((n·h)^s by squaring in the
     /// register combiners vs the lookup), shading-brdfs (one sphere per model, units
-    /// beside the f64 reference).
+    /// beside the f64 reference), shading-brdf-properties (reciprocity and albedo of
+    /// every BRDF reference, the HG moments and the dipole integral).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -223,6 +224,30 @@ pub fn run(cli: Cli) -> Result<(), String> {
     }
 }
 
+/// Every `reproduce` name, in the order `--help` lists them.
+pub const REPRODUCTIONS: &[&str] = &[
+    "shafts-fig4",
+    "shafts-fig5",
+    "shafts-vs-raymarch",
+    "shafts-stage",
+    "glare-fig4",
+    "glare-fig5",
+    "glare-fig7",
+    "glare-fig8",
+    "glare-throughput",
+    "glare-gauss-seeds",
+    "envmap-table3",
+    "envmap-table5",
+    "envmap-images",
+    "envmap-timing",
+    "envmap-lambda-sweep",
+    "envmap-roughness",
+    "shading-normalize-cube",
+    "shading-specular",
+    "shading-brdfs",
+    "shading-brdf-properties",
+];
+
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
     use crate::pipeline::glare::reproduce as g;
     use crate::pipeline::shafts::reproduce as r;
@@ -287,6 +312,9 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
             )?;
         }
+        "shading-brdf-properties" => {
+            crate::pipeline::shading::brdf_properties::brdf_properties(out)?;
+        }
         "envmap-images" => {
             crate::pipeline::envmap::reproduce::images(
                 out,
@@ -306,7 +334,8 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness, shading-normalize-cube, shading-specular, shading-brdfs)"
+                "name: unknown reproduction '{name}' (known: {})",
+                REPRODUCTIONS.join(", ")
             ))
         }
     }

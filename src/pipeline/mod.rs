@@ -1,6 +1,7 @@
 //! Units wired into pipelines; frames driven; counters gathered.
 
 pub mod envmap;
+pub mod glare_link;
 pub mod glare;
 pub mod raster;
 pub mod registry;

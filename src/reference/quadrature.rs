@@ -244,8 +244,9 @@ impl Ord for Piece {
 }
 
 /// Globally adaptive GK15 of `f` over the consecutive intervals given by sorted
-/// `breaks` (first = a, last = b).
-fn adaptive(
+/// `breaks` (first = a, last = b): (value, summed error estimate, converged). Also
+/// the BRDF albedo quadrature's 1-D rule.
+pub(crate) fn adaptive(
     f: &mut dyn FnMut(f64) -> f64,
     breaks: &[f64],
     tol: &QuadTol,

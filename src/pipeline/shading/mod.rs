@@ -2,7 +2,12 @@
 //! vertex lighting, texture and register combiners, specular lookup, normalisation
 //! cube map and BRDF factor textures — beside their f64 references.
 
+pub mod brdf_properties;
+pub mod brdfs;
+pub mod materials;
 pub mod normalize_cube;
+pub mod path;
+pub mod scene_pass;
 pub mod sphere;
 pub mod specular;
 pub mod squaring;
