@@ -269,7 +269,7 @@ pub fn max_albedo(case: &ModelCase, thetas: &[f64], tol: AlbedoTol) -> (Albedo, 
         for &p in phis {
             let a = directional_albedo(&*case.brdf, direction_deg(t, p), FixedSide::Incident, tol);
             worst_err = worst_err.max(a.error);
-            if best.as_ref().map_or(true, |b| a.value > b.0.value) {
+            if best.as_ref().is_none_or(|b| a.value > b.0.value) {
                 best = Some((a, t, p));
             }
         }

@@ -17,8 +17,8 @@
 //!   breakpoints sit at multiples of π/2 and crowd toward 0 and π, where an
 //!   x-elongated lobe lies. (The mirror chart cannot follow a 100:1 lobe; this chart
 //!   follows it exactly but is the less reliable of the two at extreme grazing: for
-//!   an isotropic Cook–Torrance lobe at θ = 89.9° it disagreed with the mirror and
-//!   +z charts, which agree with each other, by 3e-6 while both passes agreed to 1e-8,
+//!   an isotropic Cook–Torrance lobe at θ = 89.9° it disagreed with the mirror and the
+//!   normal-axis charts, which agree with each other, by 3e-6 while both passes agreed to 1e-8,
 //!   so it is used only where the mirror chart cannot be.)
 //! * `TangentCone`: polar angle about the tangent +x (the Kajiya–Kay cone is a line
 //!   θ' = const there), the horizon being φ' ∈ (0, π) exactly.
@@ -35,6 +35,9 @@
 //! hundredfold tightening plus what the finer rule still claims. Since A_{100τ} is
 //! accurate to about 100 τ, this overstates the error of A_τ, which is what a bound
 //! wants.
+
+// `!(x > 0.0)` is deliberate: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::{mirror, Brdf, Lobe};
 use crate::reference::quadrature::{adaptive, QuadTol};

@@ -16,6 +16,7 @@
 //!     constant N = (n + 2)(n + 4) / (8π (2^{−n/2} + n)) (from
 //!     2π ∫₀^{π/2} cos^n(θ/2) cos θ sin θ dθ = 8π (n + 2^{−n/2}) / ((n + 2)(n + 4))),
 //!     not the common approximation (n + 8)/(8π), which exceeds it (by 2.4 % at n = 1).
+//!
 //!   Whether the albedo stays ≤ k_s away from normal incidence is measured, not
 //!   assumed (`reproduce shading-brdf-properties`, docs/shading.md).
 //!
