@@ -37,6 +37,13 @@ pub enum PhongForm {
 }
 
 impl PhongForm {
+    /// Every form but GL's (which divides by cos θ_i alone) is symmetric.
+    pub fn is_reciprocal(self) -> bool {
+        self != PhongForm::GlRadiance
+    }
+    pub fn is_normalised(self) -> bool {
+        self == PhongForm::Normalised
+    }
     fn tag(self) -> &'static str {
         match self {
             PhongForm::GlRadiance => "gl",
@@ -128,10 +135,10 @@ impl Brdf for Phong {
         lobe_value(&self.params, norm, cos_mirror(wi, wo), wi.z)
     }
     fn is_reciprocal(&self) -> bool {
-        self.params.form != PhongForm::GlRadiance
+        self.params.form.is_reciprocal()
     }
     fn energy_normalised(&self) -> bool {
-        self.params.form == PhongForm::Normalised
+        self.params.form.is_normalised()
     }
     fn lobe(&self) -> Lobe {
         Lobe::Mirror {
@@ -170,10 +177,10 @@ impl Brdf for BlinnPhong {
         lobe_value(&self.params, norm, half_vector(wi, wo).z, wi.z)
     }
     fn is_reciprocal(&self) -> bool {
-        self.params.form != PhongForm::GlRadiance
+        self.params.form.is_reciprocal()
     }
     fn energy_normalised(&self) -> bool {
-        self.params.form == PhongForm::Normalised
+        self.params.form.is_normalised()
     }
     fn lobe(&self) -> Lobe {
         Lobe::HalfVector {
