@@ -7,8 +7,8 @@
 
 use crate::reference::brdf::albedo::integrate_1d;
 use crate::reference::brdf::{
-    directional_albedo, Albedo, AlbedoTol, BlinnPhong, Brdf, CookTorrance, CookTorranceParams,
-    Dipole, DipoleBrdf, DipoleParams, FixedSide, Fresnel, HanrahanKrueger, HanrahanKruegerParams,
+    directional_albedo, AlbedoTol, BlinnPhong, Brdf, CookTorrance, CookTorranceParams, Dipole,
+    DipoleBrdf, DipoleParams, FixedSide, Fresnel, HanrahanKrueger, HanrahanKruegerParams,
     HenyeyGreenstein, KajiyaKay, KajiyaKayParams, Lambert, Masking, MicrofacetDistribution,
     OrenNayar, OrenNayarForm, OrenNayarParams, Phong, PhongForm, PhongParams, Ward, WardForm,
     WardParams,
@@ -254,28 +254,45 @@ pub fn direction_deg(theta: f64, phi: f64) -> Vec3 {
     v3(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
 }
 
-/// The largest albedo (light held at each incidence, FixedSide::Incident) over
-/// `thetas` × (`AZIMUTH_DEG` if anisotropic, else 0), with where it occurred; the
-/// second result is the largest stated error over all of them.
-pub fn max_albedo(case: &ModelCase, thetas: &[f64], tol: AlbedoTol) -> (Albedo, f64, f64, f64) {
+/// The albedo (light held at each incidence, [`FixedSide::Incident`]) at every
+/// incidence of `thetas` × (`AZIMUTH_DEG` if anisotropic, else 0).
+pub fn albedo_by_incidence(case: &ModelCase, thetas: &[f64], tol: AlbedoTol) -> Vec<IncidenceRow> {
     let phis: &[f64] = if case.anisotropic {
         &AZIMUTH_DEG
     } else {
         &[0.0]
     };
-    let mut best: Option<(Albedo, f64, f64)> = None;
-    let mut worst_err: f64 = 0.0;
+    let mut rows = Vec::new();
     for &t in thetas {
         for &p in phis {
             let a = directional_albedo(&*case.brdf, direction_deg(t, p), FixedSide::Incident, tol);
-            worst_err = worst_err.max(a.error);
-            if best.as_ref().map_or(true, |b| a.value > b.0.value) {
-                best = Some((a, t, p));
-            }
+            rows.push(IncidenceRow {
+                model: case.brdf.name(),
+                params: case.params.clone(),
+                theta_deg: t,
+                phi_deg: p,
+                albedo: a.value,
+                error: a.error,
+                converged: a.converged,
+                evaluations: a.evaluations,
+            });
         }
     }
-    let (a, t, p) = best.expect("at least one incidence");
-    (a, t, p, worst_err)
+    rows
+}
+
+/// One row of albedo_by_incidence.csv.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct IncidenceRow {
+    pub model: String,
+    pub params: String,
+    pub theta_deg: f64,
+    pub phi_deg: f64,
+    pub albedo: f64,
+    /// The stated error (|A_τ − A_100τ| + the GK estimate).
+    pub error: f64,
+    pub converged: bool,
+    pub evaluations: u64,
 }
 
 /// One row of brdf_properties.csv.
@@ -408,36 +425,48 @@ pub const DIPOLE_ETA: [f64; 6] = [1.0, 1.1, 1.2, 1.3, 1.4, 1.5];
 pub const PAIRS: usize = 10_000;
 pub const SEED: u64 = 13;
 
-/// The property row of one case.
-pub fn measure(case: &ModelCase, thetas: &[f64], tol: AlbedoTol) -> PropertyRow {
+/// The property row of one case, and its albedo at every incidence.
+pub fn measure(
+    case: &ModelCase,
+    thetas: &[f64],
+    tol: AlbedoTol,
+) -> (PropertyRow, Vec<IncidenceRow>) {
     let (residual, finite) = reciprocity_residual(&*case.brdf, PAIRS, SEED);
-    let (a, t, p, worst_err) = max_albedo(case, thetas, tol);
-    PropertyRow {
+    let by_incidence = albedo_by_incidence(case, thetas, tol);
+    let worst = by_incidence
+        .iter()
+        .max_by(|a, b| a.albedo.total_cmp(&b.albedo))
+        .expect("at least one incidence");
+    let row = PropertyRow {
         model: case.brdf.name(),
         params: case.params.clone(),
         reciprocal_claimed: case.brdf.is_reciprocal(),
         max_reciprocity_residual: residual,
         pairs: PAIRS,
         energy_claimed: case.brdf.energy_normalised(),
-        max_albedo: a.value,
-        albedo_error: a.error,
-        worst_theta_deg: t,
-        worst_phi_deg: p,
-        max_albedo_error: worst_err,
-        all_finite: finite && a.value.is_finite(),
-        converged: a.converged,
-    }
+        max_albedo: worst.albedo,
+        albedo_error: worst.error,
+        worst_theta_deg: worst.theta_deg,
+        worst_phi_deg: worst.phi_deg,
+        max_albedo_error: by_incidence.iter().map(|r| r.error).fold(0.0, f64::max),
+        all_finite: finite && by_incidence.iter().all(|r| r.albedo.is_finite()),
+        converged: by_incidence.iter().all(|r| r.converged),
+    };
+    (row, by_incidence)
 }
 
-/// Writes brdf_properties.csv, hg.csv and dipole.csv into `out` and returns the
-/// property rows.
+/// Writes brdf_properties.csv, albedo_by_incidence.csv, hg.csv and dipole.csv into
+/// `out` and returns the property rows.
 pub fn brdf_properties(out: &Path) -> Result<Vec<PropertyRow>, String> {
     let cases = catalogue();
-    let rows: Vec<PropertyRow> = cases
+    let measured: Vec<(PropertyRow, Vec<IncidenceRow>)> = cases
         .par_iter()
         .map(|c| measure(c, &INCIDENCE_DEG, AlbedoTol::default()))
         .collect();
+    let rows: Vec<PropertyRow> = measured.iter().map(|m| m.0.clone()).collect();
+    let incidences: Vec<IncidenceRow> = measured.into_iter().flat_map(|m| m.1).collect();
     write_csv(&out.join("brdf_properties.csv"), &rows)?;
+    write_csv(&out.join("albedo_by_incidence.csv"), &incidences)?;
     let hg = HG_G
         .iter()
         .map(|&g| hg_moments(g))

@@ -17,8 +17,8 @@
 //!   breakpoints sit at multiples of π/2 and crowd toward 0 and π, where an
 //!   x-elongated lobe lies. (The mirror chart cannot follow a 100:1 lobe; this chart
 //!   follows it exactly but is the less reliable of the two at extreme grazing: for
-//!   an isotropic Cook–Torrance lobe at θ = 89.9° it disagreed with the mirror and
-//!   +z charts, which agree with each other, by 3e-6 while both passes agreed to 1e-8,
+//!   an isotropic Cook–Torrance lobe at θ = 89.9° it disagreed with the mirror and the
+//!   normal-axis charts, which agree with each other, by 3e-6 while both passes agreed to 1e-8,
 //!   so it is used only where the mirror chart cannot be.)
 //! * `TangentCone`: polar angle about the tangent +x (the Kajiya–Kay cone is a line
 //!   θ' = const there), the horizon being φ' ∈ (0, π) exactly.
@@ -35,6 +35,9 @@
 //! hundredfold tightening plus what the finer rule still claims. Since A_{100τ} is
 //! accurate to about 100 τ, this overstates the error of A_τ, which is what a bound
 //! wants.
+
+// `!(x > 0.0)` is deliberate: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::{mirror, Brdf, Lobe};
 use crate::reference::quadrature::{adaptive, QuadTol};
@@ -162,6 +165,23 @@ fn geometric(width: f64, limit: f64) -> Vec<f64> {
     v
 }
 
+/// The half-width φ_m of the arc {φ : a + b cos φ > 0}, b ≥ 0: π (the whole circle),
+/// 0 (none) or acos(−a/b). b ≈ 0 (the cone degenerates to a point or the fixed
+/// direction is the normal) is all or nothing by the sign of a.
+fn arc_half_width(a: f64, b: f64) -> f64 {
+    if b <= 1e-300 {
+        return if a > 0.0 { PI } else { 0.0 };
+    }
+    let q = -a / b;
+    if q <= -1.0 {
+        PI
+    } else if q >= 1.0 {
+        0.0
+    } else {
+        q.acos()
+    }
+}
+
 /// One pass: (value, GK estimate, BRDF evaluations, converged).
 fn integrate(
     brdf: &dyn Brdf,
@@ -242,22 +262,7 @@ fn integrate(
             let f = move |t: f64| -> f64 {
                 let (st, ct) = t.sin_cos();
                 // Above the horizon: ct c_a + st s_a cos φ > 0.
-                let phi_max = if st * s_a <= 1e-300 {
-                    if ct * c_a > 0.0 {
-                        PI
-                    } else {
-                        0.0
-                    }
-                } else {
-                    let q = -ct * c_a / (st * s_a);
-                    if q <= -1.0 {
-                        PI
-                    } else if q >= 1.0 {
-                        0.0
-                    } else {
-                        q.acos()
-                    }
-                };
+                let phi_max = arc_half_width(ct * c_a, st * s_a);
                 if phi_max == 0.0 {
                     return 0.0;
                 }
@@ -314,24 +319,7 @@ fn integrate(
             let f = move |t: f64| -> f64 {
                 let (st, ct) = t.sin_cos();
                 let (s2t, c2t) = (2.0 * st * ct, ct * ct - st * st);
-                let phi_max = if s_f * s2t <= 1e-300 {
-                    // h = n, or the fixed direction is the normal: the whole circle
-                    // (cos 2θ > 0) or none.
-                    if c2t > 0.0 || s_f > 0.0 {
-                        PI
-                    } else {
-                        0.0
-                    }
-                } else {
-                    let q = -c_f * c2t / (s_f * s2t);
-                    if q <= -1.0 {
-                        PI
-                    } else if q >= 1.0 {
-                        0.0
-                    } else {
-                        q.acos()
-                    }
-                };
+                let phi_max = arc_half_width(c_f * c2t, s_f * s2t);
                 if phi_max == 0.0 {
                     return 0.0;
                 }

@@ -18,6 +18,9 @@
 //! With G a V-cavity or Smith masking and F ≤ 1 the albedo is ≤ 1 (single scattering
 //! only loses energy); the tests measure it.
 
+// `!(x > 0.0)` is deliberate: it is true for NaN, which must take the safe branch.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::{above_horizon, check_range, half_vector, Brdf, BrdfParamError, Lobe, COS_FLOOR};
 use crate::scene::math::Vec3;
 use std::f64::consts::PI;

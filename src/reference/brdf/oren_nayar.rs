@@ -6,8 +6,8 @@
 //!
 //! * [`OrenNayarForm::Full`], the paper's full model, direct term plus the
 //!   interreflection term:
-//!   R = (ρ/π) [C₁ + cos Δφ C₂ tan β + (1 − |cos Δφ|) C₃ tan((α + β)/2)]
-//!     + 0.17 (ρ²/π) σ²/(σ² + 0.13) [1 − cos Δφ (2β/π)²], with
+//!   R = (ρ/π) [C₁ + cos Δφ C₂ tan β + (1 − |cos Δφ|) C₃ tan((α + β)/2)] plus the
+//!   interreflection 0.17 (ρ²/π) σ²/(σ² + 0.13) [1 − cos Δφ (2β/π)²], with
 //!   C₁ = 1 − 0.5 σ²/(σ² + 0.33),
 //!   C₂ = 0.45 σ²/(σ² + 0.09) sin α (cos Δφ ≥ 0) or 0.45 σ²/(σ² + 0.09) (sin α − (2β/π)³),
 //!   C₃ = 0.125 σ²/(σ² + 0.09) (4αβ/π²)².

@@ -16,6 +16,7 @@
 //!     constant N = (n + 2)(n + 4) / (8π (2^{−n/2} + n)) (from
 //!     2π ∫₀^{π/2} cos^n(θ/2) cos θ sin θ dθ = 8π (n + 2^{−n/2}) / ((n + 2)(n + 4))),
 //!     not the common approximation (n + 8)/(8π), which exceeds it (by 2.4 % at n = 1).
+//!
 //!   Whether the albedo stays ≤ k_s away from normal incidence is measured, not
 //!   assumed (`reproduce shading-brdf-properties`, docs/shading.md).
 //!
@@ -36,6 +37,13 @@ pub enum PhongForm {
 }
 
 impl PhongForm {
+    /// Every form but GL's (which divides by cos θ_i alone) is symmetric.
+    pub fn is_reciprocal(self) -> bool {
+        self != PhongForm::GlRadiance
+    }
+    pub fn is_normalised(self) -> bool {
+        self == PhongForm::Normalised
+    }
     fn tag(self) -> &'static str {
         match self {
             PhongForm::GlRadiance => "gl",
@@ -127,10 +135,10 @@ impl Brdf for Phong {
         lobe_value(&self.params, norm, cos_mirror(wi, wo), wi.z)
     }
     fn is_reciprocal(&self) -> bool {
-        self.params.form != PhongForm::GlRadiance
+        self.params.form.is_reciprocal()
     }
     fn energy_normalised(&self) -> bool {
-        self.params.form == PhongForm::Normalised
+        self.params.form.is_normalised()
     }
     fn lobe(&self) -> Lobe {
         Lobe::Mirror {
@@ -169,10 +177,10 @@ impl Brdf for BlinnPhong {
         lobe_value(&self.params, norm, half_vector(wi, wo).z, wi.z)
     }
     fn is_reciprocal(&self) -> bool {
-        self.params.form != PhongForm::GlRadiance
+        self.params.form.is_reciprocal()
     }
     fn energy_normalised(&self) -> bool {
-        self.params.form == PhongForm::Normalised
+        self.params.form.is_normalised()
     }
     fn lobe(&self) -> Lobe {
         Lobe::HalfVector {

@@ -24,8 +24,8 @@
 //!
 //!   f = a T_i T_o p(cos ψ) (1 − e^{−τ_d (1/μ_i + 1/μ_o)}) / (η² (μ_i + μ_o)),
 //!
-//! μ the refracted cosines √(1 − sin²θ/η²) and cos ψ = −((ω_i,x ω_o,x + ω_i,y ω_o,y)/η²
-//! + μ_i μ_o) the cosine between the refracted propagation directions. The 1/η² is the
+//! μ the refracted cosines √(1 − sin²θ/η²) and
+//! cos ψ = −((ω_i,x ω_o,x + ω_i,y ω_o,y)/η² + μ_i μ_o) the cosine between the refracted propagation directions. The 1/η² is the
 //! radiance change on leaving the denser medium (with the solid-angle compression on
 //! entering, it keeps the flux: ∫ f cos θ_o dω_o is the scattered fraction, ≤ 1).
 //! Symmetric in (ω_i, ω_o) by construction.
@@ -235,7 +235,7 @@ impl HanrahanKrueger {
             1.0,
             "the albedo must be in [0, 1]",
         )?;
-        if !(params.depth >= 0.0) {
+        if params.depth.is_nan() || params.depth < 0.0 {
             return Err(BrdfParamError {
                 model: M,
                 param: "depth",
