@@ -265,6 +265,15 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
             )?;
         }
+        "shading-factorization" => {
+            use crate::pipeline::shading::factor::reproduce as f;
+            // STAND-IN MATERIAL: the local microfacet lobe until the shared Cook–Torrance
+            // reference is merged; the lead swaps it in here.
+            let brdf = f::StandInMicrofacet::default();
+            for line in f::factorization(out, &brdf, &f::FactorSweep::default())? {
+                println!("{line}");
+            }
+        }
         "envmap-images" => {
             crate::pipeline::envmap::reproduce::images(
                 out,
@@ -273,7 +282,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness, shading-factorization)"
             ))
         }
     }
