@@ -43,7 +43,7 @@ pub struct HomomorphicParams {
     pub samples_per_texel: u32,
     /// At least this many sample pairs (default 32 768).
     pub min_samples: u32,
-    /// λ of the smoothness rows (finite, ≥ 0; default 0.05).
+    /// λ of the smoothness rows (finite, ≥ 0; default 1).
     pub smoothness: f64,
     /// Most CGLS iterations, ≥ 1 (default 600).
     pub max_iterations: u32,
@@ -59,13 +59,13 @@ pub struct HomomorphicParams {
 impl Default for HomomorphicParams {
     fn default() -> Self {
         HomomorphicParams {
-            floor: 1e-4,
+            floor: 2e-3,
             samples_per_texel: 8,
             min_samples: 32_768,
-            smoothness: 0.05,
+            smoothness: 1.0,
             max_iterations: 600,
             tolerance: 1e-7,
-            ceiling: 1.0,
+            ceiling: f64::INFINITY,
             seed: 0x5EED_FAC7,
         }
     }
@@ -109,6 +109,8 @@ pub struct HomomorphicReport {
     pub samples: usize,
     /// Samples whose target was below the floor (fitted as ln ε).
     pub floored: usize,
+    /// Of those, the ones the final fit overshoots (the others are predicted ≤ ln ε).
+    pub floored_fitted: usize,
     pub iterations: u32,
     /// RMS of the data rows' residual in log space (natural log).
     pub residual_rms_log: f64,
@@ -120,6 +122,17 @@ struct Row {
     idx: [u32; 12],
     w: [f32; 12],
     y: f64,
+}
+
+impl Row {
+    /// The row's prediction Σ w · x[idx] (the fitted log value).
+    fn predict(&self, x: &[f64]) -> f64 {
+        self.idx
+            .iter()
+            .zip(&self.w)
+            .map(|(&i, &w)| w as f64 * x[i as usize])
+            .sum()
+    }
 }
 
 /// The bilinear corners of texture coordinates `uv` on an n × n texture (the sampler's
@@ -151,6 +164,9 @@ fn disc_direction(rng: &mut ChaCha8Rng) -> Vec3 {
 
 struct System {
     rows: Vec<Row>,
+    /// Rows in the fit: a floored row whose prediction is already ≤ ln ε is dropped
+    /// (the floor is a bound, not a value to match).
+    active: Vec<bool>,
     n: u32,
     /// √λ.
     smooth: f64,
@@ -177,7 +193,8 @@ impl System {
         let mut out: Vec<f64> = self
             .rows
             .par_iter()
-            .map(|r| r.idx.iter().zip(&r.w).map(|(&i, &w)| w as f64 * x[i as usize]).sum())
+            .zip(&self.active)
+            .map(|(r, &on)| if on { r.predict(x) } else { 0.0 })
             .collect();
         if self.smooth > 0.0 {
             let t = (self.n * self.n) as usize;
@@ -194,7 +211,7 @@ impl System {
     /// Aᵀ r.
     fn apply_t(&self, r: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; self.unknowns()];
-        for (row, &rv) in self.rows.iter().zip(r) {
+        for ((row, &rv), _) in self.rows.iter().zip(r).zip(&self.active).filter(|(_, &on)| on) {
             for (&i, &w) in row.idx.iter().zip(&row.w) {
                 out[i as usize] += w as f64 * rv;
             }
@@ -214,13 +231,53 @@ impl System {
     }
 
     fn rhs(&self) -> Vec<f64> {
-        let mut b: Vec<f64> = self.rows.iter().map(|r| r.y).collect();
+        let mut b: Vec<f64> = self
+            .rows
+            .iter()
+            .zip(&self.active)
+            .map(|(r, &on)| if on { r.y } else { 0.0 })
+            .collect();
         if self.smooth > 0.0 {
             let count = 3 * self.neighbours().count();
             b.extend(std::iter::repeat_n(0.0, count));
         }
         b
     }
+}
+
+/// Passes of the floor's active set.
+const FLOOR_PASSES: u32 = 6;
+
+/// CGLS from `x`: returns the iterations run and the final residual b − A x.
+fn cgls(sys: &System, x: &mut [f64], params: &HomomorphicParams) -> (u32, Vec<f64>) {
+    let b = sys.rhs();
+    let ax = sys.apply(x);
+    let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
+    let mut s = sys.apply_t(&r);
+    let mut p = s.clone();
+    let mut gamma = dot(&s, &s);
+    let gamma0 = gamma;
+    let mut iterations = 0;
+    for it in 1..=params.max_iterations {
+        if gamma <= (params.tolerance * params.tolerance) * gamma0 || gamma == 0.0 {
+            break;
+        }
+        iterations = it;
+        let q = sys.apply(&p);
+        let qq = dot(&q, &q);
+        if qq <= 0.0 || !qq.is_finite() {
+            break;
+        }
+        let alpha = gamma / qq;
+        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+        r.iter_mut().zip(&q).for_each(|(r, q)| *r -= alpha * q);
+        s = sys.apply_t(&r);
+        let g_new = dot(&s, &s);
+        let beta = g_new / gamma;
+        p.iter_mut().zip(&s).for_each(|(p, s)| *p = s + beta * *p);
+        gamma = g_new;
+    }
+    (iterations, r)
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -277,7 +334,9 @@ pub fn factorise(
         })
         .collect();
     let floored = rows.iter().filter(|r| r.y == ln_floor).count();
-    let sys = System {
+    let active = vec![true; rows.len()];
+    let mut sys = System {
+        active,
         rows,
         n,
         smooth: params.smoothness.sqrt(),
@@ -300,36 +359,35 @@ pub fn factorise(
             vec![mean / 3.0; sys.unknowns()]
         }
     };
-    // CGLS.
-    let b = sys.rhs();
-    let ax = sys.apply(&x);
-    let mut r: Vec<f64> = b.iter().zip(&ax).map(|(b, a)| b - a).collect();
-    let mut s = sys.apply_t(&r);
-    let mut p = s.clone();
-    let mut gamma = dot(&s, &s);
-    let gamma0 = gamma;
+    // Active set on the floor: a floored row is a bound (fit ≤ ln ε), not a value to
+    // match. Solve, then keep only the floored rows the fit overshoots, and re-solve
+    // until the set stops changing (at most FLOOR_PASSES solves).
     let mut iterations = 0;
-    for it in 1..=params.max_iterations {
-        if gamma <= (params.tolerance * params.tolerance) * gamma0 || gamma == 0.0 {
+    let mut r = Vec::new();
+    for _pass in 0..FLOOR_PASSES {
+        let (it, res) = cgls(&sys, &mut x, params);
+        iterations += it;
+        r = res;
+        let mut changed = false;
+        for (row, on) in sys.rows.iter().zip(sys.active.iter_mut()) {
+            let want = row.y != ln_floor || row.predict(&x) > ln_floor;
+            changed |= want != *on;
+            *on = want;
+        }
+        if !changed {
             break;
         }
-        iterations = it;
-        let q = sys.apply(&p);
-        let qq = dot(&q, &q);
-        if qq <= 0.0 || !qq.is_finite() {
-            break;
+    }
+    // The residual of the final set (rows switched off count 0).
+    for (rv, &on) in r.iter_mut().zip(&sys.active) {
+        if !on {
+            *rv = 0.0;
         }
-        let alpha = gamma / qq;
-        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
-        r.iter_mut().zip(&q).for_each(|(r, q)| *r -= alpha * q);
-        s = sys.apply_t(&r);
-        let g_new = dot(&s, &s);
-        let beta = g_new / gamma;
-        p.iter_mut().zip(&s).for_each(|(p, s)| *p = s + beta * *p);
-        gamma = g_new;
     }
     let data = sys.rows.len();
-    let residual_rms_log = (r[..data].iter().map(|v| v * v).sum::<f64>() / data.max(1) as f64).sqrt();
+    let fitted = sys.active.iter().filter(|&&on| on).count();
+    let residual_rms_log =
+        (r[..data].iter().map(|v| v * v).sum::<f64>() / fitted.max(1) as f64).sqrt();
     // exp, kept finite: ln of the largest f64 is ≈ 709.
     let factors = PROJECTIONS
         .iter()
@@ -352,6 +410,12 @@ pub fn factorise(
         HomomorphicReport {
             samples: data,
             floored,
+            floored_fitted: sys
+                .rows
+                .iter()
+                .zip(&sys.active)
+                .filter(|(r, &on)| on && r.y == ln_floor)
+                .count(),
             iterations,
             residual_rms_log,
         },

@@ -29,11 +29,12 @@ pub struct StandInMicrofacet {
 }
 
 impl Default for StandInMicrofacet {
-    /// A rough metal-like lobe (m = 0.3, F0 = 0.9) over a dim diffuse base.
+    /// A rough metal-like lobe (m = 0.3, F0 = 0.9), no diffuse base (a Lambert term is
+    /// not a product of these factors; it would be added by its own combiner stage).
     fn default() -> Self {
         StandInMicrofacet {
             roughness: 0.3,
-            diffuse: 0.1,
+            diffuse: 0.0,
             specular: 1.0,
             f0: 0.9,
         }
@@ -73,6 +74,8 @@ pub struct FactorSweep {
     pub texel_bits: Vec<u32>,
     pub view: SphereView,
     pub target: FactorTarget,
+    /// Target ceilings swept (each overrides `svd.ceiling` and `homomorphic.ceiling`).
+    pub ceilings: Vec<f64>,
     pub svd: SvdParams,
     pub homomorphic: HomomorphicParams,
 }
@@ -85,7 +88,9 @@ impl Default for FactorSweep {
             texel_bits: (4..=16).collect(),
             view: SphereView::default(),
             target: FactorTarget::BrdfCosine,
-            // Ceiling 1/E = 1: the value the 8-bit output saturates at.
+            // ∞: the BRDF as it is; 4/E: peaks above 4× the output's saturation are
+            // cut; 1/E: everything above what the 8-bit output can show is cut.
+            ceilings: vec![f64::INFINITY, 4.0, 1.0],
             svd: SvdParams::default(),
             homomorphic: HomomorphicParams::default(),
         }
@@ -99,6 +104,8 @@ pub struct FactorRow {
     pub brdf: String,
     pub method: String,
     pub target: String,
+    /// The target ceiling (values above it fitted as it; inf = none).
+    pub ceiling: f64,
     pub resolution: u32,
     pub textures: u32,
     pub texel_bits: u32,
@@ -141,7 +148,7 @@ impl SphereImages {
 /// Render one factorisation at one texel width and score it.
 fn score(
     brdf: &dyn Brdf,
-    fact: &Factorisation,
+    (fact, ceiling): &(Factorisation, f64),
     bits: u32,
     view: &SphereView,
     imgs: &SphereImages,
@@ -157,6 +164,7 @@ fn score(
         brdf: brdf.name(),
         method: fact.method.name().to_string(),
         target: fact.target.name().to_string(),
+        ceiling: *ceiling,
         resolution: fact.factors.first().map_or(0, |f| f.size),
         textures: fact.factors.len() as u32,
         texel_bits: bits,
@@ -177,19 +185,24 @@ fn score(
     Ok((row, hw, fl))
 }
 
-/// The factorisations of the sweep, one per (method, resolution), in order.
-pub fn factorisations(brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<Vec<Factorisation>, String> {
-    let fit = SvdFit::new(brdf, cfg.target, &cfg.svd).map_err(|e| e.to_string())?;
+/// The factorisations of the sweep with their ceilings: per ceiling, SVD at every
+/// resolution, then homomorphic at every resolution (each warm-started from the last).
+pub fn factorisations(brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<Vec<(Factorisation, f64)>, String> {
     let mut out = Vec::new();
-    for &n in &cfg.resolutions {
-        out.push(fit.textures(brdf, n).map_err(|e| e.to_string())?);
-    }
-    let mut warm: Option<Factorisation> = None;
-    for &n in &cfg.resolutions {
-        let (f, _) = homomorphic::factorise(brdf, cfg.target, n, &cfg.homomorphic, warm.as_ref())
-            .map_err(|e| e.to_string())?;
-        warm = Some(f.clone());
-        out.push(f);
+    for &ceiling in &cfg.ceilings {
+        let svd = SvdParams { ceiling, ..cfg.svd };
+        let fit = SvdFit::new(brdf, cfg.target, &svd).map_err(|e| e.to_string())?;
+        for &n in &cfg.resolutions {
+            out.push((fit.textures(brdf, n).map_err(|e| e.to_string())?, ceiling));
+        }
+        let hp = HomomorphicParams { ceiling, ..cfg.homomorphic };
+        let mut warm: Option<Factorisation> = None;
+        for &n in &cfg.resolutions {
+            let (f, _) = homomorphic::factorise(brdf, cfg.target, n, &hp, warm.as_ref())
+                .map_err(|e| e.to_string())?;
+            warm = Some(f.clone());
+            out.push((f, ceiling));
+        }
     }
     Ok(out)
 }
@@ -219,8 +232,8 @@ pub fn verdict(rows: &[FactorRow], method: &str) -> String {
     const LEVELS: f64 = 2.0;
     if let Some(r) = first_within(rows, method, LEVELS) {
         return format!(
-            "{method}: first within {LEVELS} levels max at {0}×{0} texels, {1} bits ({2} table bits): max {3:.2}, RMS {4:.3} levels",
-            r.resolution, r.texel_bits, r.table_bits, r.hw_max, r.hw_rms
+            "{method}: first within {LEVELS} levels max at {0}×{0} texels, {1} bits ({2} table bits, ceiling {5}): max {3:.2}, RMS {4:.3} levels",
+            r.resolution, r.texel_bits, r.table_bits, r.hw_max, r.hw_rms, r.ceiling
         );
     }
     let best_f64 = rows
@@ -233,12 +246,12 @@ pub fn verdict(rows: &[FactorRow], method: &str) -> String {
         .min_by(|a, b| a.hw_max.total_cmp(&b.hw_max));
     match (best_f64, best_hw) {
         (Some(f), Some(h)) if f.f64_max > LEVELS => format!(
-            "{method}: never within {LEVELS} levels max: the factorisation itself (f64 factors, no quantisation) is off by {fmax:.2} levels max at best ({fres}×{fres}) — the BRDF is not a product of these factors; the best quantised max is {hmax:.2} ({hres}×{hres}, {hbits} bits)",
-            fmax = f.f64_max, fres = f.resolution, hmax = h.hw_max, hres = h.resolution, hbits = h.texel_bits
+            "{method}: never within {LEVELS} levels max: the factorisation itself (f64 factors, no quantisation) is off by {fmax:.2} levels max at best ({fres}×{fres}, ceiling {fc}) — the BRDF is not a product of these factors; the best quantised max is {hmax:.2} ({hres}×{hres}, {hbits} bits, ceiling {hc})",
+            fmax = f.f64_max, fres = f.resolution, fc = f.ceiling, hmax = h.hw_max, hres = h.resolution, hbits = h.texel_bits, hc = h.ceiling
         ),
         (Some(f), Some(h)) => format!(
-            "{method}: never within {LEVELS} levels max, although the f64 factors are ({fmax:.2} levels max at {fres}×{fres}): quantisation adds the rest — best quantised max {hmax:.2} ({hres}×{hres}, {hbits} bits, output scale 2^{shift})",
-            fmax = f.f64_max, fres = f.resolution, hmax = h.hw_max, hres = h.resolution, hbits = h.texel_bits, shift = h.scale_shift
+            "{method}: never within {LEVELS} levels max, although the f64 factors are ({fmax:.2} levels max at {fres}×{fres}, ceiling {fc}): quantisation adds the rest — best quantised max {hmax:.2} ({hres}×{hres}, {hbits} bits, ceiling {hc}, output scale 2^{shift})",
+            fmax = f.f64_max, fres = f.resolution, fc = f.ceiling, hc = h.ceiling, hmax = h.hw_max, hres = h.resolution, hbits = h.texel_bits, shift = h.scale_shift
         ),
         _ => format!("{method}: no rows"),
     }
@@ -261,10 +274,12 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
     let mut rows = Vec::new();
     let mut spheres: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
     let show = (64, 8);
+    // The spheres show the smallest ceiling swept (the kindest to 8 bits).
+    let show_ceiling = cfg.ceilings.iter().copied().fold(f64::INFINITY, f64::min);
     for f in &facts {
         for &b in &cfg.texel_bits {
             let (row, hw, fl) = score(brdf, f, b, &cfg.view, &imgs)?;
-            if (row.resolution, b) == show {
+            if (row.resolution, b) == show && row.ceiling == show_ceiling {
                 spheres.push((row.method.clone(), hw, fl));
             }
             rows.push(row);
@@ -272,17 +287,18 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
     }
     write_csv(&out.join("factorization.csv"), &rows)?;
 
+    for &c in &cfg.ceilings {
     let series = |method: &str, n: u32| Series {
         label: format!("{method} {n}²"),
         points: rows
             .iter()
-            .filter(|r| r.method == method && r.resolution == n)
+            .filter(|r| r.method == method && r.resolution == n && r.ceiling == c)
             .map(|r| (r.texel_bits as f64, r.hw_rms.max(1e-3)))
             .collect(),
         axis: Axis::Left,
     };
     let mut spec = PlotSpec::new(
-        &format!("{}: factor-texture error vs texel bits", brdf.name()),
+        &format!("{}, ceiling {c}: error vs texel bits", brdf.name()),
         "texel bits",
         "RMS error (8-bit levels)",
     );
@@ -301,14 +317,14 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
     }
     s.retain(|x| !x.points.is_empty());
     if !s.is_empty() {
-        line_plot(&out.join("factorization_bits.png"), &spec, &s)?;
+        line_plot(&out.join(format!("factorization_bits_ceiling_{c}.png")), &spec, &s)?;
     }
 
     let by_res = |method: &str, what: &str| Series {
         label: format!("{method} {what}"),
         points: rows
             .iter()
-            .filter(|r| r.method == method && r.texel_bits == 8)
+            .filter(|r| r.method == method && r.texel_bits == 8 && r.ceiling == c)
             .map(|r| {
                 let v = match what {
                     "f64 max" => r.f64_max,
@@ -322,7 +338,7 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
         axis: Axis::Left,
     };
     let mut spec = PlotSpec::new(
-        &format!("{}: error vs factor resolution (8-bit texels)", brdf.name()),
+        &format!("{}, ceiling {c}: error vs resolution (8-bit texels)", brdf.name()),
         "texture resolution N (N × N texels per factor)",
         "error (8-bit levels)",
     );
@@ -336,9 +352,10 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
     }
     s.retain(|x| !x.points.is_empty());
     if !s.is_empty() {
-        line_plot(&out.join("factorization_resolution.png"), &spec, &s)?;
+        line_plot(&out.join(format!("factorization_resolution_ceiling_{c}.png")), &spec, &s)?;
     }
 
+    }
     let size = cfg.view.size;
     let diff8 = |a: &[f64]| -> Vec<f64> {
         a.iter()

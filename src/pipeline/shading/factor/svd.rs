@@ -47,7 +47,7 @@ impl Default for SvdParams {
             quadrature: 48,
             max_iterations: 500,
             tolerance: 1e-13,
-            ceiling: 1.0,
+            ceiling: f64::INFINITY,
         }
     }
 }
