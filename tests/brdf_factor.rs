@@ -111,7 +111,9 @@ fn parameterisation_round_trips() {
     // The pole, opposite directions and below the horizon: finite, no panic.
     let z = v3(0.0, 0.0, 1.0);
     assert_eq!(half_vector(z, z), z);
-    assert!(difference_vector(v3(1.0, 0.0, 0.0), v3(-1.0, 0.0, 0.0)).length().is_finite());
+    assert!(difference_vector(v3(1.0, 0.0, 0.0), v3(-1.0, 0.0, 0.0))
+        .length()
+        .is_finite());
     let c = parabolic_coords(v3(0.0, 0.0, -1.0));
     assert!(c[0].is_finite() && c[1].is_finite());
 }
@@ -182,7 +184,10 @@ fn homomorphic_recovers_a_product() {
     let b = Product3 { zero_factor: false };
     let (f, rep) = homomorphic::factorise(&b, FactorTarget::BrdfCosine, n, &p, None).unwrap();
     assert_eq!(rep.floored, 0);
-    assert!(f.factors.iter().all(|t| t.texels.iter().all(|v| v.is_finite() && *v > 0.0)));
+    assert!(f
+        .factors
+        .iter()
+        .all(|t| t.texels.iter().all(|v| v.is_finite() && *v > 0.0)));
     let delta = 1.0 / n as f64;
     let bound = 3.0 * delta / 2.0;
     let mut rng = ChaCha8Rng::seed_from_u64(2);
@@ -304,7 +309,10 @@ fn zero_factor_is_floored_not_nan() {
     let p = HomomorphicParams::default();
     let (f, rep) = homomorphic::factorise(&b, FactorTarget::BrdfCosine, 16, &p, None).unwrap();
     assert!(rep.floored > 0);
-    assert!(f.factors.iter().all(|t| t.texels.iter().all(|v| v.is_finite() && *v > 0.0)));
+    assert!(f
+        .factors
+        .iter()
+        .all(|t| t.texels.iter().all(|v| v.is_finite() && *v > 0.0)));
     let r = FactorRenderer::new(&f, 8, 1.0).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let mut ctr = Counters::default();
@@ -318,7 +326,10 @@ fn zero_factor_is_floored_not_nan() {
         checked += 1;
         let v = f.eval(wi, wo);
         worst = worst.max(v / p.floor);
-        assert!(v.is_finite() && v <= FLOOR_SLACK * p.floor, "{v} at {wi:?} {wo:?}");
+        assert!(
+            v.is_finite() && v <= FLOOR_SLACK * p.floor,
+            "{v} at {wi:?} {wo:?}"
+        );
         let hw = r.shade(wi, wo, &mut ctr).unwrap() as f64;
         let fl = r.shade_f64(wi, wo, &mut ctr).unwrap();
         assert!(fl <= 255.0 * FLOOR_SLACK * p.floor);
@@ -330,7 +341,10 @@ fn zero_factor_is_floored_not_nan() {
         .unwrap()
         .textures(&b, 8)
         .unwrap();
-    assert!(s.factors.iter().all(|t| t.texels.iter().all(|v| v.is_finite() && *v >= 0.0)));
+    assert!(s
+        .factors
+        .iter()
+        .all(|t| t.texels.iter().all(|v| v.is_finite() && *v >= 0.0)));
 }
 
 /// A target that is zero everywhere: no NaN, no panic, a black sphere.
@@ -408,7 +422,10 @@ fn invalid_parameters_name_the_field() {
         "svd.ceiling"
     );
     let fit = SvdFit::new(&BlinnLobe, FactorTarget::BrdfCosine, &small_svd()).unwrap();
-    assert_eq!(field(fit.textures(&BlinnLobe, 0).unwrap_err()), "svd.resolution");
+    assert_eq!(
+        field(fit.textures(&BlinnLobe, 0).unwrap_err()),
+        "svd.resolution"
+    );
     for (p, name) in [
         (
             HomomorphicParams {
@@ -440,7 +457,10 @@ fn invalid_parameters_name_the_field() {
         field(FactorRenderer::new(&f, 0, 1.0).unwrap_err()),
         "texture_sampler.texel_bits"
     );
-    assert_eq!(field(FactorRenderer::new(&f, 17, 1.0).unwrap_err()), "modulate.bits");
+    assert_eq!(
+        field(FactorRenderer::new(&f, 17, 1.0).unwrap_err()),
+        "modulate.bits"
+    );
     assert_eq!(
         field(FactorRenderer::new(&f, 8, f64::NAN).unwrap_err()),
         "factor.irradiance"

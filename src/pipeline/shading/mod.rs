@@ -2,5 +2,5 @@
 //! vertex lighting, texture and register combiners, specular lookup, normalisation
 //! cube map and BRDF factor textures — beside their f64 references.
 
-pub mod sphere;
 pub mod factor;
+pub mod sphere;

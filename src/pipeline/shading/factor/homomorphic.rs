@@ -32,7 +32,8 @@ use rayon::prelude::*;
 use rtl_model::error::{check_range, ConfigError};
 
 /// The three projections, in texture order.
-pub const PROJECTIONS: [Projection; 3] = [Projection::Incident, Projection::Half, Projection::Outgoing];
+pub const PROJECTIONS: [Projection; 3] =
+    [Projection::Incident, Projection::Half, Projection::Outgoing];
 
 /// Parameters of the log-space fit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,8 +86,18 @@ impl HomomorphicParams {
                 &format!("{} is not a value > 0", self.ceiling),
             ));
         }
-        check_range("homomorphic.samples_per_texel", self.samples_per_texel as u64, 1, 1 << 16)?;
-        check_range("homomorphic.max_iterations", self.max_iterations as u64, 1, u32::MAX as u64)?;
+        check_range(
+            "homomorphic.samples_per_texel",
+            self.samples_per_texel as u64,
+            1,
+            1 << 16,
+        )?;
+        check_range(
+            "homomorphic.max_iterations",
+            self.max_iterations as u64,
+            1,
+            u32::MAX as u64,
+        )?;
         if !(self.smoothness.is_finite() && self.smoothness >= 0.0) {
             return Err(ConfigError::invalid(
                 "homomorphic.smoothness",
@@ -211,7 +222,13 @@ impl System {
     /// Aᵀ r.
     fn apply_t(&self, r: &[f64]) -> Vec<f64> {
         let mut out = vec![0.0; self.unknowns()];
-        for ((row, &rv), _) in self.rows.iter().zip(r).zip(&self.active).filter(|(_, &on)| on) {
+        for ((row, &rv), _) in self
+            .rows
+            .iter()
+            .zip(r)
+            .zip(&self.active)
+            .filter(|(_, &on)| on)
+        {
             for (&i, &w) in row.idx.iter().zip(&row.w) {
                 out[i as usize] += w as f64 * rv;
             }

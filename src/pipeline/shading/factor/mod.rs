@@ -6,9 +6,10 @@
 //!   half-angle vector and d the difference vector (Rusinkiewicz 1998): the leading term
 //!   of the SVD of the matrix M[h][d], found by power iteration (alternating least
 //!   squares) with the below-horizon entries weighted 0.
-//! * **Homomorphic** (McCool, Ang and Ahmad 2001, [`homomorphic`]): log v ≈ log p₁(ω_i)
-//!   + log p₂(h) + log p₃(ω_o), a sparse linear least-squares problem in log space, so
-//!   the factors are positive by construction. log 0 is clamped at a floor ε.
+//! * **Homomorphic** (McCool, Ang and Ahmad 2001, [`homomorphic`]):
+//!   log v ≈ log p₁(ω_i) + log p₂(h) + log p₃(ω_o), a sparse linear least-squares
+//!   problem in log space, so the factors are positive by construction; log 0 is
+//!   clamped at a floor ε.
 //!
 //! Every factor texture is indexed by the **parabolic map** of its direction (x, y, z)
 //! in the upper hemisphere: (s, t) = (x, y) / (1 + z) in the unit disc, texture
@@ -29,8 +30,8 @@ pub mod reproduce;
 pub mod svd;
 
 use super::sphere::SphereView;
-use crate::report::metrics::{error_stats_masked, ErrorStats};
 use crate::reference::brdf::Brdf;
+use crate::report::metrics::{error_stats_masked, ErrorStats};
 use crate::scene::math::{v3, Vec3};
 use rtl_model::counters::Counters;
 use rtl_model::error::ConfigError;
@@ -181,10 +182,7 @@ pub fn parabolic_direction(uv: [f64; 2]) -> (Vec3, bool) {
         t /= r;
     }
     let r2 = s * s + t * t;
-    (
-        v3(2.0 * s, 2.0 * t, 1.0 - r2) * (1.0 / (1.0 + r2)),
-        inside,
-    )
+    (v3(2.0 * s, 2.0 * t, 1.0 - r2) * (1.0 / (1.0 + r2)), inside)
 }
 
 /// A factor as an f64 texture: `size` × `size` texels, texel (x, y) at `y · size + x`,
@@ -265,7 +263,10 @@ impl Factorisation {
 
     /// Total texel count (all factors).
     pub fn texel_count(&self) -> u64 {
-        self.factors.iter().map(|f| f.size as u64 * f.size as u64).sum()
+        self.factors
+            .iter()
+            .map(|f| f.size as u64 * f.size as u64)
+            .sum()
     }
 }
 
@@ -394,7 +395,11 @@ impl FactorRenderer {
     /// Quantise every factor of `fact` to `texel_bits` (1 ..= 16) and set up the
     /// samplers (GeForce defaults: bilinear, clamp, 8 sub-texel bits, 8-bit weights) and
     /// a `modulate` of n = max(8, texel_bits) bits for irradiance `irradiance`.
-    pub fn new(fact: &Factorisation, texel_bits: u32, irradiance: f64) -> Result<Self, ConfigError> {
+    pub fn new(
+        fact: &Factorisation,
+        texel_bits: u32,
+        irradiance: f64,
+    ) -> Result<Self, ConfigError> {
         let combiner_bits = texel_bits.max(8);
         let modulate = Modulate::new(combiner_bits, ModulateMode::Exact)?;
         let mut total = if irradiance.is_finite() {
@@ -417,7 +422,13 @@ impl FactorRenderer {
                 texels: f
                     .texels
                     .iter()
-                    .map(|&t| if q.max > 0.0 { (t / q.max).clamp(0.0, 1.0) } else { 0.0 })
+                    .map(|&t| {
+                        if q.max > 0.0 {
+                            (t / q.max).clamp(0.0, 1.0)
+                        } else {
+                            0.0
+                        }
+                    })
                     .collect(),
             };
             samplers.push((f.projection, sampler, normalised));
@@ -473,7 +484,7 @@ impl FactorRenderer {
         }
         ops.push(unorm_code(self.constant(wi, wo), n));
         let y = combine(&ops, self.shift, &self.modulate, ctr) as u64; // u(n)
-        // u(n) → 8-bit level, rounded: (y · 255 · 2 + max) / (2 · max).
+                                                                       // u(n) → 8-bit level, rounded: (y · 255 · 2 + max) / (2 · max).
         let max = (1u64 << n) - 1;
         Ok(((y * 255 * 2 + max) / (2 * max)) as u32)
     }
@@ -486,7 +497,8 @@ impl FactorRenderer {
             let uv = parabolic_coords(p.direction(wi, wo));
             let input = s.config().input_from_normalized([uv[0], uv[1], 0.0], ctr)?;
             let scale = (1u64 << s.coord_frac_bits()) as f64;
-            prod *= f.bilinear_texel_space(input.coord[0] as f64 / scale, input.coord[1] as f64 / scale);
+            prod *= f
+                .bilinear_texel_space(input.coord[0] as f64 / scale, input.coord[1] as f64 / scale);
         }
         Ok((prod * 2f64.powi(self.shift as i32) * 255.0).clamp(0.0, 255.0))
     }
@@ -512,12 +524,19 @@ impl FactorRenderer {
     }
 
     /// Render the sphere: per pixel (hardware level, f64 twin level), None outside it.
-    pub fn render(&self, view: &SphereView, ctr: &mut Counters) -> Result<Vec<Option<(u32, f64)>>, ConfigError> {
+    pub fn render(
+        &self,
+        view: &SphereView,
+        ctr: &mut Counters,
+    ) -> Result<Vec<Option<(u32, f64)>>, ConfigError> {
         view.pixels()
             .iter()
             .map(|p| match p {
                 None => Ok(None),
-                Some(p) => Ok(Some((self.shade(p.wi, p.wo, ctr)?, self.shade_f64(p.wi, p.wo, ctr)?))),
+                Some(p) => Ok(Some((
+                    self.shade(p.wi, p.wo, ctr)?,
+                    self.shade_f64(p.wi, p.wo, ctr)?,
+                ))),
             })
             .collect()
     }

@@ -156,10 +156,17 @@ fn score(
     let r = FactorRenderer::new(fact, bits, view.irradiance).map_err(|e| e.to_string())?;
     let mut ctr = Counters::default();
     let px = r.render(view, &mut ctr).map_err(|e| e.to_string())?;
-    let hw: Vec<f64> = px.iter().map(|p| p.map_or(0.0, |(h, _)| h as f64)).collect();
+    let hw: Vec<f64> = px
+        .iter()
+        .map(|p| p.map_or(0.0, |(h, _)| h as f64))
+        .collect();
     let fl: Vec<f64> = px.iter().map(|p| p.map_or(0.0, |(_, f)| f)).collect();
     let e = |a: &[f64], b: &[f64]| level_stats(a, b, &imgs.mask).map_err(|e| e.to_string());
-    let (sf, sh, sq) = (e(&fl, &imgs.reference)?, e(&hw, &imgs.reference)?, e(&hw, &fl)?);
+    let (sf, sh, sq) = (
+        e(&fl, &imgs.reference)?,
+        e(&hw, &imgs.reference)?,
+        e(&hw, &fl)?,
+    );
     let row = FactorRow {
         brdf: brdf.name(),
         method: fact.method.name().to_string(),
@@ -187,7 +194,10 @@ fn score(
 
 /// The factorisations of the sweep with their ceilings: per ceiling, SVD at every
 /// resolution, then homomorphic at every resolution (each warm-started from the last).
-pub fn factorisations(brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<Vec<(Factorisation, f64)>, String> {
+pub fn factorisations(
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+) -> Result<Vec<(Factorisation, f64)>, String> {
     let mut out = Vec::new();
     for &ceiling in &cfg.ceilings {
         let svd = SvdParams { ceiling, ..cfg.svd };
@@ -195,7 +205,10 @@ pub fn factorisations(brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<Vec<(Factori
         for &n in &cfg.resolutions {
             out.push((fit.textures(brdf, n).map_err(|e| e.to_string())?, ceiling));
         }
-        let hp = HomomorphicParams { ceiling, ..cfg.homomorphic };
+        let hp = HomomorphicParams {
+            ceiling,
+            ..cfg.homomorphic
+        };
         let mut warm: Option<Factorisation> = None;
         for &n in &cfg.resolutions {
             let (f, _) = homomorphic::factorise(brdf, cfg.target, n, &hp, warm.as_ref())
@@ -268,7 +281,11 @@ fn gray(levels: &[f64], size: u32) -> RgbaImage {
 /// `factorization_bits.png` and `factorization_resolution.png`, the spheres
 /// `factorization_spheres.png` (per method: the reference, the 64² × 8-bit
 /// reconstruction, and |Δ| × 8 of the f64 factors and of the 8-bit output) and `factorization_summary.txt`; returns the summary lines.
-pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<Vec<String>, String> {
+pub fn factorization(
+    out: &Path,
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+) -> Result<Vec<String>, String> {
     let imgs = SphereImages::new(&cfg.view, brdf);
     let facts = factorisations(brdf, cfg)?;
     let mut rows = Vec::new();
@@ -288,73 +305,83 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
     write_csv(&out.join("factorization.csv"), &rows)?;
 
     for &c in &cfg.ceilings {
-    let series = |method: &str, n: u32| Series {
-        label: format!("{method} {n}²"),
-        points: rows
+        let series = |method: &str, n: u32| Series {
+            label: format!("{method} {n}²"),
+            points: rows
+                .iter()
+                .filter(|r| r.method == method && r.resolution == n && r.ceiling == c)
+                .map(|r| (r.texel_bits as f64, r.hw_rms.max(1e-3)))
+                .collect(),
+            axis: Axis::Left,
+        };
+        let mut spec = PlotSpec::new(
+            &format!("{}, ceiling {c}: error vs texel bits", brdf.name()),
+            "texel bits",
+            "RMS error (8-bit levels)",
+        );
+        spec.log_y = true;
+        let shown: Vec<u32> = cfg
+            .resolutions
             .iter()
-            .filter(|r| r.method == method && r.resolution == n && r.ceiling == c)
-            .map(|r| (r.texel_bits as f64, r.hw_rms.max(1e-3)))
-            .collect(),
-        axis: Axis::Left,
-    };
-    let mut spec = PlotSpec::new(
-        &format!("{}, ceiling {c}: error vs texel bits", brdf.name()),
-        "texel bits",
-        "RMS error (8-bit levels)",
-    );
-    spec.log_y = true;
-    let shown: Vec<u32> = cfg
-        .resolutions
-        .iter()
-        .copied()
-        .filter(|n| [16, 64, 256].contains(n))
-        .collect();
-    let mut s = Vec::new();
-    for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
-        for &n in &shown {
-            s.push(series(m.name(), n));
+            .copied()
+            .filter(|n| [16, 64, 256].contains(n))
+            .collect();
+        let mut s = Vec::new();
+        for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+            for &n in &shown {
+                s.push(series(m.name(), n));
+            }
         }
-    }
-    s.retain(|x| !x.points.is_empty());
-    if !s.is_empty() {
-        line_plot(&out.join(format!("factorization_bits_ceiling_{c}.png")), &spec, &s)?;
-    }
-
-    let by_res = |method: &str, what: &str| Series {
-        label: format!("{method} {what}"),
-        points: rows
-            .iter()
-            .filter(|r| r.method == method && r.texel_bits == 8 && r.ceiling == c)
-            .map(|r| {
-                let v = match what {
-                    "f64 max" => r.f64_max,
-                    "8-bit max" => r.hw_max,
-                    "f64 RMS" => r.f64_rms,
-                    _ => r.hw_rms,
-                };
-                (r.resolution as f64, v.max(1e-3))
-            })
-            .collect(),
-        axis: Axis::Left,
-    };
-    let mut spec = PlotSpec::new(
-        &format!("{}, ceiling {c}: error vs resolution (8-bit texels)", brdf.name()),
-        "texture resolution N (N × N texels per factor)",
-        "error (8-bit levels)",
-    );
-    spec.log_x = true;
-    spec.log_y = true;
-    let mut s = Vec::new();
-    for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
-        for what in ["f64 max", "8-bit max", "f64 RMS", "8-bit RMS"] {
-            s.push(by_res(m.name(), what));
+        s.retain(|x| !x.points.is_empty());
+        if !s.is_empty() {
+            line_plot(
+                &out.join(format!("factorization_bits_ceiling_{c}.png")),
+                &spec,
+                &s,
+            )?;
         }
-    }
-    s.retain(|x| !x.points.is_empty());
-    if !s.is_empty() {
-        line_plot(&out.join(format!("factorization_resolution_ceiling_{c}.png")), &spec, &s)?;
-    }
 
+        let by_res = |method: &str, what: &str| Series {
+            label: format!("{method} {what}"),
+            points: rows
+                .iter()
+                .filter(|r| r.method == method && r.texel_bits == 8 && r.ceiling == c)
+                .map(|r| {
+                    let v = match what {
+                        "f64 max" => r.f64_max,
+                        "8-bit max" => r.hw_max,
+                        "f64 RMS" => r.f64_rms,
+                        _ => r.hw_rms,
+                    };
+                    (r.resolution as f64, v.max(1e-3))
+                })
+                .collect(),
+            axis: Axis::Left,
+        };
+        let mut spec = PlotSpec::new(
+            &format!(
+                "{}, ceiling {c}: error vs resolution (8-bit texels)",
+                brdf.name()
+            ),
+            "texture resolution N (N × N texels per factor)",
+            "error (8-bit levels)",
+        );
+        spec.log_x = true;
+        spec.log_y = true;
+        let mut s = Vec::new();
+        for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+            for what in ["f64 max", "8-bit max", "f64 RMS", "8-bit RMS"] {
+                s.push(by_res(m.name(), what));
+            }
+        }
+        s.retain(|x| !x.points.is_empty());
+        if !s.is_empty() {
+            line_plot(
+                &out.join(format!("factorization_resolution_ceiling_{c}.png")),
+                &spec,
+                &s,
+            )?;
+        }
     }
     let size = cfg.view.size;
     let diff8 = |a: &[f64]| -> Vec<f64> {
@@ -368,7 +395,10 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
         panels.push(("f64 reference".to_string(), gray(&imgs.reference, size)));
         panels.push((format!("{m} {}² × {} bits", show.0, show.1), gray(hw, size)));
         panels.push((format!("{m} f64 factors |Δ| × 8"), gray(&diff8(fl), size)));
-        panels.push((format!("{m} {} bits |Δ| × 8", show.1), gray(&diff8(hw), size)));
+        panels.push((
+            format!("{m} {} bits |Δ| × 8", show.1),
+            gray(&diff8(hw), size),
+        ));
     }
     let refs: Vec<(&str, &RgbaImage)> = panels.iter().map(|(c, i)| (c.as_str(), i)).collect();
     if !refs.is_empty() {
@@ -385,7 +415,10 @@ pub fn factorization(out: &Path, brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<V
     for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
         summary.push(verdict(&rows, m.name()));
     }
-    std::fs::write(out.join("factorization_summary.txt"), summary.join("\n") + "\n")
-        .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    std::fs::write(
+        out.join("factorization_summary.txt"),
+        summary.join("\n") + "\n",
+    )
+    .map_err(|e| format!("out: {}: {e}", out.display()))?;
     Ok(summary)
 }

@@ -125,9 +125,18 @@ fn ls_step(
 
 impl SvdFit {
     /// Sample M and run the power iteration. Errors name `svd.<field>`.
-    pub fn new(brdf: &dyn Brdf, target: FactorTarget, params: &SvdParams) -> Result<Self, ConfigError> {
+    pub fn new(
+        brdf: &dyn Brdf,
+        target: FactorTarget,
+        params: &SvdParams,
+    ) -> Result<Self, ConfigError> {
         check_range("svd.quadrature", params.quadrature as u64, 4, 128)?;
-        check_range("svd.max_iterations", params.max_iterations as u64, 1, u32::MAX as u64)?;
+        check_range(
+            "svd.max_iterations",
+            params.max_iterations as u64,
+            1,
+            u32::MAX as u64,
+        )?;
         if params.ceiling.is_nan() || params.ceiling <= 0.0 {
             return Err(ConfigError::invalid(
                 "svd.ceiling",
