@@ -246,6 +246,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "shading-specular",
     "shading-brdfs",
     "shading-brdf-properties",
+    "shading-factorization",
 ];
 
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
@@ -314,6 +315,15 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         "shading-brdf-properties" => {
             crate::pipeline::shading::brdf_properties::brdf_properties(out)?;
+        }
+        "shading-factorization" => {
+            use crate::pipeline::shading::factor::reproduce as f;
+            // The shading-brdfs sphere's Cook–Torrance metal lobe.
+            let brdf =
+                crate::pipeline::shading::brdfs::factorization_brdf().map_err(|e| e.to_string())?;
+            for line in f::factorization(out, brdf.as_ref(), &f::FactorSweep::default())? {
+                println!("{line}");
+            }
         }
         "envmap-images" => {
             crate::pipeline::envmap::reproduce::images(

@@ -237,3 +237,14 @@ pub fn table(rows: &[BrdfRow]) -> String {
         &body,
     )
 }
+
+/// The lobe `shading-factorization` factorises: the catalogue's Cook–Torrance metal,
+/// so its error is measured on the same sphere and model as `shading-brdfs`.
+pub fn factorization_brdf() -> Result<Box<dyn Brdf>, ConfigError> {
+    let e = catalogue()
+        .into_iter()
+        .find(|e| e.label == "cook_torrance_metal")
+        .expect("the catalogue has the metal");
+    super::materials::lobe_brdf(&e.material)?
+        .ok_or_else(|| ConfigError::invalid("material", "the metal has a lobe"))
+}

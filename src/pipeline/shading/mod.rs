@@ -4,6 +4,7 @@
 
 pub mod brdf_properties;
 pub mod brdfs;
+pub mod factor;
 pub mod materials;
 pub mod normalize_cube;
 pub mod path;

@@ -29,7 +29,7 @@ use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupConfig};
 use rtl_model::units::texture_combiner::{
     CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig, TextureCombinerIn,
 };
-use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
+use rtl_model::{ConfigError, Counters, UnitSummary};
 use std::collections::BTreeMap;
 
 /// The specular part of a material, as the hardware renders it.
@@ -334,8 +334,15 @@ impl ShadingPath {
         }
         match &self.specular {
             SpecularPath::Factored(f) => {
-                for (i, s) in f.summaries().into_iter().enumerate() {
-                    out.push(used(s, &format!("factor texture {i}")));
+                let units = f.summaries();
+                let n = units.len();
+                for (i, s) in units.into_iter().enumerate() {
+                    let name = if i + 1 == n {
+                        "modulate (factor product)".to_string()
+                    } else {
+                        format!("texture_sampler (factor {i})")
+                    };
+                    out.push(used(s, &name));
                 }
             }
             _ => out.push(Elaborated {

@@ -1,0 +1,424 @@
+//! `reproduce shading-factorization`: the error of SVD and homomorphic factor textures
+//! against factor-texture resolution and texel bits, on the shading test sphere.
+
+use super::homomorphic::{self, HomomorphicParams};
+use super::svd::{SvdFit, SvdParams};
+use super::{level_stats, FactorMethod, FactorRenderer, FactorTarget, Factorisation};
+use crate::pipeline::shading::sphere::SphereView;
+use crate::reference::brdf::Brdf;
+use crate::report::csv_out::write_csv;
+use crate::report::plot::{image_grid, line_plot, Axis, PlotSpec, Series};
+use crate::scene::math::Vec3;
+use image::RgbaImage;
+use rtl_model::counters::Counters;
+use serde::Serialize;
+use std::path::Path;
+
+/// STAND-IN MATERIAL, to be replaced by the shared Cook–Torrance reference when the
+/// shading branches are merged: a Beckmann microfacet lobe with Schlick's Fresnel and
+/// Torrance–Sparrow masking over a Lambert base,
+/// R = k_d/π + k_s · D(h) F(ω_i·h) G / (4 cos θ_i cos θ_o).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StandInMicrofacet {
+    /// Beckmann RMS slope m (> 0).
+    pub roughness: f64,
+    pub diffuse: f64,
+    pub specular: f64,
+    /// Fresnel reflectance at normal incidence.
+    pub f0: f64,
+}
+
+impl Default for StandInMicrofacet {
+    /// A rough metal-like lobe (m = 0.3, F0 = 0.9), no diffuse base (a Lambert term is
+    /// not a product of these factors; it would be added by its own combiner stage).
+    fn default() -> Self {
+        StandInMicrofacet {
+            roughness: 0.3,
+            diffuse: 0.0,
+            specular: 1.0,
+            f0: 0.9,
+        }
+    }
+}
+
+impl Brdf for StandInMicrofacet {
+    fn name(&self) -> String {
+        format!("standin_microfacet_m{}", self.roughness)
+    }
+
+    fn eval(&self, wi: Vec3, wo: Vec3) -> f64 {
+        let (ci, co) = (wi.z, wo.z);
+        if ci <= 0.0 || co <= 0.0 {
+            return 0.0;
+        }
+        let h = (wi + wo).normalized();
+        let ch = h.z.clamp(1e-9, 1.0);
+        let m2 = self.roughness * self.roughness;
+        let tan2 = (1.0 - ch * ch) / (ch * ch);
+        let d = (-tan2 / m2).exp() / (std::f64::consts::PI * m2 * ch.powi(4));
+        let vh = wi.dot(h).clamp(0.0, 1.0);
+        let f = self.f0 + (1.0 - self.f0) * (1.0 - vh).powi(5);
+        let g = (2.0 * ch * co / vh.max(1e-9))
+            .min(2.0 * ch * ci / vh.max(1e-9))
+            .min(1.0);
+        self.diffuse / std::f64::consts::PI + self.specular * d * f * g / (4.0 * ci * co)
+    }
+}
+
+/// What the sweep covers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FactorSweep {
+    /// Factor-texture resolutions (each texture is N × N).
+    pub resolutions: Vec<u32>,
+    /// Texel bits b (the combiner is max(8, b) bits wide).
+    pub texel_bits: Vec<u32>,
+    pub view: SphereView,
+    pub target: FactorTarget,
+    /// Target ceilings swept (each overrides `svd.ceiling` and `homomorphic.ceiling`).
+    pub ceilings: Vec<f64>,
+    pub svd: SvdParams,
+    pub homomorphic: HomomorphicParams,
+}
+
+impl Default for FactorSweep {
+    /// 16 … 256 (powers of two), 4 … 16 bits, the default sphere, R · cos θ_i.
+    fn default() -> Self {
+        FactorSweep {
+            resolutions: vec![16, 32, 64, 128, 256],
+            texel_bits: (4..=16).collect(),
+            view: SphereView::default(),
+            target: FactorTarget::BrdfCosine,
+            // ∞: the BRDF as it is; 4/E: peaks above 4× the output's saturation are
+            // cut; 1/E: everything above what the 8-bit output can show is cut.
+            ceilings: vec![f64::INFINITY, 4.0, 1.0],
+            svd: SvdParams::default(),
+            homomorphic: HomomorphicParams::default(),
+        }
+    }
+}
+
+/// One (method, resolution, bits) point of the sweep; errors in 8-bit levels over the
+/// covered sphere pixels.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FactorRow {
+    pub brdf: String,
+    pub method: String,
+    pub target: String,
+    /// The target ceiling (values above it fitted as it; inf = none).
+    pub ceiling: f64,
+    pub resolution: u32,
+    pub textures: u32,
+    pub texel_bits: u32,
+    pub combiner_bits: u32,
+    /// Σ size² · b over the factor textures.
+    pub table_bits: u64,
+    /// The output scale 2^scale_shift.
+    pub scale_shift: u32,
+    /// The f64 factors (unquantised, same sampling) against the reference: the
+    /// factorisation's own error.
+    pub f64_mean: f64,
+    pub f64_rms: f64,
+    pub f64_max: f64,
+    /// The 8-bit output of the units against the reference.
+    pub hw_mean: f64,
+    pub hw_rms: f64,
+    pub hw_max: f64,
+    /// max |hardware − f64 factors|: the quantisation error alone, and its derived bound.
+    pub quant_max: f64,
+    pub quant_bound: f64,
+    pub saturations: u64,
+    pub pixels: u64,
+}
+
+/// The sphere as images: reference, f64 factors and hardware levels, and the mask.
+struct SphereImages {
+    reference: Vec<f64>,
+    mask: Vec<bool>,
+}
+
+impl SphereImages {
+    fn new(view: &SphereView, brdf: &dyn Brdf) -> Self {
+        SphereImages {
+            reference: view.reference_levels(brdf),
+            mask: view.pixels().iter().map(|p| p.is_some()).collect(),
+        }
+    }
+}
+
+/// Render one factorisation at one texel width and score it.
+fn score(
+    brdf: &dyn Brdf,
+    (fact, ceiling): &(Factorisation, f64),
+    bits: u32,
+    view: &SphereView,
+    imgs: &SphereImages,
+) -> Result<(FactorRow, Vec<f64>, Vec<f64>), String> {
+    let r = FactorRenderer::new(fact, bits, view.irradiance).map_err(|e| e.to_string())?;
+    let mut ctr = Counters::default();
+    let px = r.render(view, &mut ctr).map_err(|e| e.to_string())?;
+    let hw: Vec<f64> = px
+        .iter()
+        .map(|p| p.map_or(0.0, |(h, _)| h as f64))
+        .collect();
+    let fl: Vec<f64> = px.iter().map(|p| p.map_or(0.0, |(_, f)| f)).collect();
+    let e = |a: &[f64], b: &[f64]| level_stats(a, b, &imgs.mask).map_err(|e| e.to_string());
+    let (sf, sh, sq) = (
+        e(&fl, &imgs.reference)?,
+        e(&hw, &imgs.reference)?,
+        e(&hw, &fl)?,
+    );
+    let row = FactorRow {
+        brdf: brdf.name(),
+        method: fact.method.name().to_string(),
+        target: fact.target.name().to_string(),
+        ceiling: *ceiling,
+        resolution: fact.factors.first().map_or(0, |f| f.size),
+        textures: fact.factors.len() as u32,
+        texel_bits: bits,
+        combiner_bits: r.combiner_bits(),
+        table_bits: r.table_bits(),
+        scale_shift: r.shift(),
+        f64_mean: sf.mean_abs,
+        f64_rms: sf.rms,
+        f64_max: sf.max,
+        hw_mean: sh.mean_abs,
+        hw_rms: sh.rms,
+        hw_max: sh.max,
+        quant_max: sq.max,
+        quant_bound: r.error_bound_levels(),
+        saturations: ctr.saturations,
+        pixels: imgs.mask.iter().filter(|&&m| m).count() as u64,
+    };
+    Ok((row, hw, fl))
+}
+
+/// The factorisations of the sweep with their ceilings: per ceiling, SVD at every
+/// resolution, then homomorphic at every resolution (each warm-started from the last).
+pub fn factorisations(
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+) -> Result<Vec<(Factorisation, f64)>, String> {
+    let mut out = Vec::new();
+    for &ceiling in &cfg.ceilings {
+        let svd = SvdParams { ceiling, ..cfg.svd };
+        let fit = SvdFit::new(brdf, cfg.target, &svd).map_err(|e| e.to_string())?;
+        for &n in &cfg.resolutions {
+            out.push((fit.textures(brdf, n).map_err(|e| e.to_string())?, ceiling));
+        }
+        let hp = HomomorphicParams {
+            ceiling,
+            ..cfg.homomorphic
+        };
+        let mut warm: Option<Factorisation> = None;
+        for &n in &cfg.resolutions {
+            let (f, _) = homomorphic::factorise(brdf, cfg.target, n, &hp, warm.as_ref())
+                .map_err(|e| e.to_string())?;
+            warm = Some(f.clone());
+            out.push((f, ceiling));
+        }
+    }
+    Ok(out)
+}
+
+/// Every (method, resolution, bits) row of the sweep.
+pub fn sweep(brdf: &dyn Brdf, cfg: &FactorSweep) -> Result<Vec<FactorRow>, String> {
+    let imgs = SphereImages::new(&cfg.view, brdf);
+    let mut rows = Vec::new();
+    for f in factorisations(brdf, cfg)? {
+        for &b in &cfg.texel_bits {
+            rows.push(score(brdf, &f, b, &cfg.view, &imgs)?.0);
+        }
+    }
+    Ok(rows)
+}
+
+/// The smallest table (then the lowest resolution, then the fewest bits) of `method`
+/// whose hardware max error is within `levels`.
+pub fn first_within<'a>(rows: &'a [FactorRow], method: &str, levels: f64) -> Option<&'a FactorRow> {
+    rows.iter()
+        .filter(|r| r.method == method && r.hw_max <= levels)
+        .min_by_key(|r| (r.table_bits, r.resolution, r.texel_bits))
+}
+
+/// The sentence the reproduction states per method about the 2-level criterion.
+pub fn verdict(rows: &[FactorRow], method: &str) -> String {
+    const LEVELS: f64 = 2.0;
+    if let Some(r) = first_within(rows, method, LEVELS) {
+        return format!(
+            "{method}: first within {LEVELS} levels max at {0}×{0} texels, {1} bits ({2} table bits, ceiling {5}): max {3:.2}, RMS {4:.3} levels",
+            r.resolution, r.texel_bits, r.table_bits, r.hw_max, r.hw_rms, r.ceiling
+        );
+    }
+    let best_f64 = rows
+        .iter()
+        .filter(|r| r.method == method)
+        .min_by(|a, b| a.f64_max.total_cmp(&b.f64_max));
+    let best_hw = rows
+        .iter()
+        .filter(|r| r.method == method)
+        .min_by(|a, b| a.hw_max.total_cmp(&b.hw_max));
+    match (best_f64, best_hw) {
+        (Some(f), Some(h)) if f.f64_max > LEVELS => format!(
+            "{method}: never within {LEVELS} levels max: the factorisation itself (f64 factors, no quantisation) is off by {fmax:.2} levels max at best ({fres}×{fres}, ceiling {fc}) — the BRDF is not a product of these factors; the best quantised max is {hmax:.2} ({hres}×{hres}, {hbits} bits, ceiling {hc})",
+            fmax = f.f64_max, fres = f.resolution, fc = f.ceiling, hmax = h.hw_max, hres = h.resolution, hbits = h.texel_bits, hc = h.ceiling
+        ),
+        (Some(f), Some(h)) => format!(
+            "{method}: never within {LEVELS} levels max, although the f64 factors are ({fmax:.2} levels max at {fres}×{fres}, ceiling {fc}): quantisation adds the rest — best quantised max {hmax:.2} ({hres}×{hres}, {hbits} bits, ceiling {hc}, output scale 2^{shift})",
+            fmax = f.f64_max, fres = f.resolution, fc = f.ceiling, hc = h.ceiling, hmax = h.hw_max, hres = h.resolution, hbits = h.texel_bits, shift = h.scale_shift
+        ),
+        _ => format!("{method}: no rows"),
+    }
+}
+
+fn gray(levels: &[f64], size: u32) -> RgbaImage {
+    RgbaImage::from_fn(size, size, |x, y| {
+        let v = levels[(y * size + x) as usize].round().clamp(0.0, 255.0) as u8;
+        image::Rgba([v, v, v, 255])
+    })
+}
+
+/// `reproduce shading-factorization` on `brdf`: writes `factorization.csv`, the plots
+/// `factorization_bits.png` and `factorization_resolution.png`, the spheres
+/// `factorization_spheres.png` (per method: the reference, the 64² × 8-bit
+/// reconstruction, and |Δ| × 8 of the f64 factors and of the 8-bit output) and `factorization_summary.txt`; returns the summary lines.
+pub fn factorization(
+    out: &Path,
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+) -> Result<Vec<String>, String> {
+    let imgs = SphereImages::new(&cfg.view, brdf);
+    let facts = factorisations(brdf, cfg)?;
+    let mut rows = Vec::new();
+    let mut spheres: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
+    let show = (64, 8);
+    // The spheres show the smallest ceiling swept (the kindest to 8 bits).
+    let show_ceiling = cfg.ceilings.iter().copied().fold(f64::INFINITY, f64::min);
+    for f in &facts {
+        for &b in &cfg.texel_bits {
+            let (row, hw, fl) = score(brdf, f, b, &cfg.view, &imgs)?;
+            if (row.resolution, b) == show && row.ceiling == show_ceiling {
+                spheres.push((row.method.clone(), hw, fl));
+            }
+            rows.push(row);
+        }
+    }
+    write_csv(&out.join("factorization.csv"), &rows)?;
+
+    for &c in &cfg.ceilings {
+        let series = |method: &str, n: u32| Series {
+            label: format!("{method} {n}²"),
+            points: rows
+                .iter()
+                .filter(|r| r.method == method && r.resolution == n && r.ceiling == c)
+                .map(|r| (r.texel_bits as f64, r.hw_rms.max(1e-3)))
+                .collect(),
+            axis: Axis::Left,
+        };
+        let mut spec = PlotSpec::new(
+            &format!("{}, ceiling {c}: error vs texel bits", brdf.name()),
+            "texel bits",
+            "RMS error (8-bit levels)",
+        );
+        spec.log_y = true;
+        let shown: Vec<u32> = cfg
+            .resolutions
+            .iter()
+            .copied()
+            .filter(|n| [16, 64, 256].contains(n))
+            .collect();
+        let mut s = Vec::new();
+        for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+            for &n in &shown {
+                s.push(series(m.name(), n));
+            }
+        }
+        s.retain(|x| !x.points.is_empty());
+        if !s.is_empty() {
+            line_plot(
+                &out.join(format!("factorization_bits_ceiling_{c}.png")),
+                &spec,
+                &s,
+            )?;
+        }
+
+        let by_res = |method: &str, what: &str| Series {
+            label: format!("{method} {what}"),
+            points: rows
+                .iter()
+                .filter(|r| r.method == method && r.texel_bits == 8 && r.ceiling == c)
+                .map(|r| {
+                    let v = match what {
+                        "f64 max" => r.f64_max,
+                        "8-bit max" => r.hw_max,
+                        "f64 RMS" => r.f64_rms,
+                        _ => r.hw_rms,
+                    };
+                    (r.resolution as f64, v.max(1e-3))
+                })
+                .collect(),
+            axis: Axis::Left,
+        };
+        let mut spec = PlotSpec::new(
+            &format!(
+                "{}, ceiling {c}: error vs resolution (8-bit texels)",
+                brdf.name()
+            ),
+            "texture resolution N (N × N texels per factor)",
+            "error (8-bit levels)",
+        );
+        spec.log_x = true;
+        spec.log_y = true;
+        let mut s = Vec::new();
+        for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+            for what in ["f64 max", "8-bit max", "f64 RMS", "8-bit RMS"] {
+                s.push(by_res(m.name(), what));
+            }
+        }
+        s.retain(|x| !x.points.is_empty());
+        if !s.is_empty() {
+            line_plot(
+                &out.join(format!("factorization_resolution_ceiling_{c}.png")),
+                &spec,
+                &s,
+            )?;
+        }
+    }
+    let size = cfg.view.size;
+    let diff8 = |a: &[f64]| -> Vec<f64> {
+        a.iter()
+            .zip(&imgs.reference)
+            .map(|(h, r)| (h - r).abs() * 8.0)
+            .collect()
+    };
+    let mut panels: Vec<(String, RgbaImage)> = Vec::new();
+    for (m, hw, fl) in &spheres {
+        panels.push(("f64 reference".to_string(), gray(&imgs.reference, size)));
+        panels.push((format!("{m} {}² × {} bits", show.0, show.1), gray(hw, size)));
+        panels.push((format!("{m} f64 factors |Δ| × 8"), gray(&diff8(fl), size)));
+        panels.push((
+            format!("{m} {} bits |Δ| × 8", show.1),
+            gray(&diff8(hw), size),
+        ));
+    }
+    let refs: Vec<(&str, &RgbaImage)> = panels.iter().map(|(c, i)| (c.as_str(), i)).collect();
+    if !refs.is_empty() {
+        image_grid(&out.join("factorization_spheres.png"), &refs, 4)?;
+    }
+
+    let mut summary = vec![format!(
+        "{} ({}; E = {}; {} covered pixels)",
+        brdf.name(),
+        cfg.target.name(),
+        cfg.view.irradiance,
+        rows.first().map_or(0, |r| r.pixels)
+    )];
+    for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+        summary.push(verdict(&rows, m.name()));
+    }
+    std::fs::write(
+        out.join("factorization_summary.txt"),
+        summary.join("\n") + "\n",
+    )
+    .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    Ok(summary)
+}
