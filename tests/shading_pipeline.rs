@@ -6,12 +6,12 @@ use glare_pipeline::pipeline::glare::frame::render_glare_over;
 use glare_pipeline::pipeline::glare_link::prepare;
 use glare_pipeline::pipeline::shading::brdfs::{catalogue, render_sphere, sphere_error};
 use glare_pipeline::pipeline::shading::materials::material_path;
+use glare_pipeline::pipeline::shading::normalize_cube::NormalizeCubeConfig;
 use glare_pipeline::pipeline::shading::path::PathConfig;
 use glare_pipeline::pipeline::shading::specular::{
     lookup_levels, reference_levels, score, sphere_vectors, squaring_levels,
 };
 use glare_pipeline::pipeline::shading::sphere::SphereView;
-use glare_pipeline::pipeline::shading::normalize_cube::NormalizeCubeConfig;
 use glare_pipeline::scene::builtin_glare::glare_builtin;
 use glare_pipeline::scene::format::Scene;
 use glare_pipeline::scene::material::Material;
@@ -28,7 +28,10 @@ fn view(size: u32) -> SphereView {
 
 #[test]
 fn lambert_sphere_is_within_the_derived_bound() {
-    let e = catalogue().into_iter().find(|e| e.label == "lambert").unwrap();
+    let e = catalogue()
+        .into_iter()
+        .find(|e| e.label == "lambert")
+        .unwrap();
     let r = render_sphere(&e, &view(96), &PathConfig::default()).unwrap();
     let st = sphere_error(&r).unwrap();
     let bound = r.path.diffuse_error_bound().unwrap();
@@ -42,12 +45,35 @@ fn every_catalogue_model_renders_finite_levels_on_both_sides() {
     for e in catalogue() {
         let r = render_sphere(&e, &view(48), &PathConfig::default()).unwrap();
         let st = sphere_error(&r).unwrap();
-        println!("{}: {} — mean {:.2} RMS {:.2} max {:.0}", e.label, r.path.describe(), st.mean_abs, st.rms, st.max);
-        assert!(r.reference.iter().all(|v| v.is_finite() && *v >= 0.0), "{}", e.label);
-        assert!(r.hardware.iter().all(|v| (0.0..=255.0).contains(v)), "{}", e.label);
+        println!(
+            "{}: {} — mean {:.2} RMS {:.2} max {:.0}",
+            e.label,
+            r.path.describe(),
+            st.mean_abs,
+            st.rms,
+            st.max
+        );
+        assert!(
+            r.reference.iter().all(|v| v.is_finite() && *v >= 0.0),
+            "{}",
+            e.label
+        );
+        assert!(
+            r.hardware.iter().all(|v| (0.0..=255.0).contains(v)),
+            "{}",
+            e.label
+        );
         // Every model lights part of the sphere on both sides.
-        assert!(r.hardware.iter().any(|&v| v > 0.0), "{}: black hardware image", e.label);
-        assert!(r.reference.iter().any(|&v| v > 0.0), "{}: black reference", e.label);
+        assert!(
+            r.hardware.iter().any(|&v| v > 0.0),
+            "{}: black hardware image",
+            e.label
+        );
+        assert!(
+            r.reference.iter().any(|&v| v > 0.0),
+            "{}: black reference",
+            e.label
+        );
     }
 }
 
@@ -111,15 +137,24 @@ fn small_linked(name: &str) -> Scene {
 fn a_metal_cook_torrance_highlight_becomes_a_glare_source_and_a_rough_dielectric_does_not() {
     for (name, glares) in [("shaded-metal", true), ("shaded-dielectric", false)] {
         let s = small_linked(name);
-        let linked = prepare(&s).unwrap().expect("the scene asks for shaded highlights");
+        let linked = prepare(&s)
+            .unwrap()
+            .expect("the scene asks for shaded highlights");
         // No highlight is written by hand: the one the glare conditions see is the shader's.
         assert!(s.glare.as_ref().unwrap().highlights.is_empty());
-        assert_eq!(linked.shading.highlights.len(), 1, "{name}: the sphere's highlight");
+        assert_eq!(
+            linked.shading.highlights.len(),
+            1,
+            "{name}: the sphere's highlight"
+        );
         let h = &linked.shading.highlights[0];
         assert_eq!(h.object, 0, "{name}");
         let f = render_glare_over(&linked.scene, Some(&linked.base)).unwrap();
         let label = f.labels.iter().find(|l| l.contains("highlights")).unwrap();
-        println!("{name}: specular level {} (I_s {:.3}) → {label}", h.specular, h.highlight.specular);
+        println!(
+            "{name}: specular level {} (I_s {:.3}) → {label}",
+            h.specular, h.highlight.specular
+        );
         assert_eq!(label.contains("(glare)"), glares, "{name}: {label}");
         assert_eq!(label.contains("saturates only"), !glares, "{name}: {label}");
     }
@@ -148,14 +183,23 @@ fn materials_are_optional_in_scene_files_and_bad_parameters_name_the_field() {
     let e = s.validate().unwrap_err();
     assert_eq!(e.field(), "objects[0].material.roughness", "{e}");
     let mut s = glare_builtin("shaded-metal").unwrap();
-    s.glare.as_mut().unwrap().shaded_highlights.as_mut().unwrap().light = 3;
+    s.glare
+        .as_mut()
+        .unwrap()
+        .shaded_highlights
+        .as_mut()
+        .unwrap()
+        .light = 3;
     let e = s.validate().unwrap_err();
     assert_eq!(e.field(), "glare.shaded_highlights.light", "{e}");
     // A TOML round trip keeps the material.
     let text = toml::to_string(&glare_builtin("shaded-metal").unwrap()).unwrap();
     assert!(text.contains("model = \"cook_torrance\""), "{text}");
     let back = Scene::from_toml_str(&text).unwrap();
-    assert_eq!(back.objects[0].material, glare_builtin("shaded-metal").unwrap().objects[0].material);
+    assert_eq!(
+        back.objects[0].material,
+        glare_builtin("shaded-metal").unwrap().objects[0].material
+    );
 }
 
 #[test]
@@ -167,7 +211,13 @@ fn squaring_in_9_bit_combiners_bands_and_the_lookup_does_not() {
     let mut ctr = Counters::default();
     let (k, s) = (5u32, 32u32);
     let reference = reference_levels(&vectors, s as f64);
-    let lookup = lookup_levels(&vectors, s as f64, SpecularLookupConfig::geforce(), &mut ctr).unwrap();
+    let lookup = lookup_levels(
+        &vectors,
+        s as f64,
+        SpecularLookupConfig::geforce(),
+        &mut ctr,
+    )
+    .unwrap();
     let sq = squaring_levels(&vectors, k, 9, &mut ctr).unwrap();
     let rl = score("lookup", s, &lookup, &reference, &mask, v.size).unwrap();
     let rs = score("squaring 9-bit", s, &sq, &reference, &mask, v.size).unwrap();

@@ -63,7 +63,9 @@ pub fn summary(l: &Linked) -> String {
     }
     s.push_str(&crate::report::table::counters_table(&l.shading.counters));
     s.push_str("\nshading elaboration:\n");
-    s.push_str(&crate::report::table::elaboration_table(&l.shading.elaboration));
+    s.push_str(&crate::report::table::elaboration_table(
+        &l.shading.elaboration,
+    ));
     s.push('\n');
     s
 }

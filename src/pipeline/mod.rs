@@ -1,8 +1,8 @@
 //! Units wired into pipelines; frames driven; counters gathered.
 
 pub mod envmap;
-pub mod glare_link;
 pub mod glare;
+pub mod glare_link;
 pub mod raster;
 pub mod registry;
 pub mod shading;

@@ -232,8 +232,8 @@ pub fn leaves() -> Scene {
 /// glare source; otherwise a rough dielectric (GGX α = 0.5, η = 1.5) whose highlight
 /// stays below it.
 pub fn shaded_sphere(metal: bool) -> Scene {
-    use super::material::{Distribution, FresnelKind, Material};
     use super::glare::ShadedHighlights;
+    use super::material::{Distribution, FresnelKind, Material};
     let material = if metal {
         Material::CookTorrance {
             distribution: Distribution::Beckmann,

@@ -6,9 +6,9 @@ use super::materials::{material_path, MaterialBrdf};
 use super::path::{PathConfig, PathCounters, ShadingPath};
 use super::sphere::{SphereView, VIEW};
 use crate::reference::brdf::Brdf;
+use crate::report::image_out::grey_image;
 use crate::report::metrics::{error_stats_masked, ErrorStats};
 use crate::scene::material::{Distribution, FresnelKind, Material};
-use crate::report::image_out::grey_image;
 use image::RgbaImage;
 use rtl_model::ConfigError;
 use serde::Serialize;
@@ -192,8 +192,14 @@ pub fn shading_brdfs(out: &Path) -> Result<Vec<BrdfRow>, String> {
             .zip(&r.reference)
             .map(|(h, f)| (h - f).abs() * 8.0)
             .collect();
-        panels.push((format!("{} (units)", e.label), grey_image(&r.hardware, view.size)));
-        panels.push((format!("{} (f64)", e.label), grey_image(&r.reference, view.size)));
+        panels.push((
+            format!("{} (units)", e.label),
+            grey_image(&r.hardware, view.size),
+        ));
+        panels.push((
+            format!("{} (f64)", e.label),
+            grey_image(&r.reference, view.size),
+        ));
         panels.push((format!("{} |Δ|×8", e.label), grey_image(&diff, view.size)));
         rows.push(BrdfRow {
             model: e.label.to_string(),
@@ -233,7 +239,15 @@ pub fn table(rows: &[BrdfRow]) -> String {
         })
         .collect();
     crate::report::table::text_table(
-        &["model", "hardware path", "mean |Δ|", "RMS", "max", "gates", "RAM bits"],
+        &[
+            "model",
+            "hardware path",
+            "mean |Δ|",
+            "RMS",
+            "max",
+            "gates",
+            "RAM bits",
+        ],
         &body,
     )
 }

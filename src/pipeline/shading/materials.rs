@@ -109,6 +109,7 @@ pub fn lobe_brdf(m: &Material) -> Result<Option<Box<dyn Brdf>>, ConfigError> {
 /// Oren–Nayar, whose own term replaces it). Grey: the mean of `color`.
 fn lambert_albedo(m: &Material, color: [f64; 3]) -> Option<[f64; 3]> {
     match m {
+        _ if color == [0.0; 3] => None,
         Material::OrenNayar { .. } => None,
         m if m.is_metal() => None,
         _ => Some(color),
@@ -188,11 +189,11 @@ pub fn material_path(
             exponent,
         },
         Material::OrenNayar { .. } => match MaterialBrdf::new(m, color)?.oren_nayar {
-            Some(o) => SpecularLobe::Factored(Box::new(o)),
+            Some(o) => SpecularLobe::Factored(Box::new(o), cfg.factor_method),
             None => SpecularLobe::None,
         },
         _ => match lobe_brdf(m)? {
-            Some(b) => SpecularLobe::Factored(b),
+            Some(b) => SpecularLobe::Factored(b, cfg.factor_method),
             None => SpecularLobe::None,
         },
     };

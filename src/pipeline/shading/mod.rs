@@ -9,6 +9,6 @@ pub mod materials;
 pub mod normalize_cube;
 pub mod path;
 pub mod scene_pass;
-pub mod sphere;
 pub mod specular;
+pub mod sphere;
 pub mod squaring;

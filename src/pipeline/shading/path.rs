@@ -20,7 +20,7 @@
 //! Levels: a pixel's 8-bit level is 255 · clamp(R · cos θ_i · E), the same scale as
 //! [`super::sphere::SphereView::reference_levels`].
 
-use super::factor::{svd, FactorRenderer, FactorTarget};
+use super::factor::{homomorphic, svd, FactorMethod, FactorRenderer, FactorTarget};
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig, NormalizeCubeCounters};
 use crate::reference::brdf::{Brdf, ShadingFrame};
 use crate::report::elaboration::Elaborated;
@@ -39,8 +39,9 @@ pub enum SpecularLobe {
     /// k·(n·h)^s by the specular lookup table, modulated by n·l: the Blinn–Phong lobe
     /// R = k·(n·h)^s whose radiance is R·cos θ_i·E (`k` includes any normalisation).
     BlinnPhongLookup { k: f64, exponent: f64 },
-    /// Any model, by separable (SVD) factor textures of R·cos θ_i.
-    Factored(Box<dyn Brdf>),
+    /// Any model, by factor textures of R·cos θ_i: separable (SVD, Kautz–McCool) or
+    /// homomorphic (McCool et al.).
+    Factored(Box<dyn Brdf>, FactorMethod),
 }
 
 /// Widths and sizes of the shading path (what a sweep changes).
@@ -52,6 +53,8 @@ pub struct PathConfig {
     /// Factor textures: side (texels) and texel bits.
     pub factor_resolution: u32,
     pub factor_bits: u32,
+    /// Which factorisation a non-Blinn–Phong lobe gets.
+    pub factor_method: FactorMethod,
     /// E: the light's irradiance at normal incidence (level = 255·R·cos θ_i·E).
     pub irradiance: f64,
 }
@@ -66,6 +69,7 @@ impl Default for PathConfig {
             lookup: SpecularLookupConfig::geforce(),
             factor_resolution: 64,
             factor_bits: 8,
+            factor_method: FactorMethod::Svd,
             irradiance: std::f64::consts::PI,
         }
     }
@@ -171,13 +175,37 @@ impl ShadingPath {
                     modulate: stage(CombineFunction::Modulate, s)?,
                 }
             }
-            SpecularLobe::Factored(brdf) => {
-                let fact = svd::factorise(
+            SpecularLobe::Factored(brdf, method) => {
+                // Values above 1/E saturate the 8-bit output: fitting them as 1/E keeps
+                // a sharp peak from stretching the textures' range (and the scale).
+                let ceiling = if e > 0.0 { 1.0 / e } else { f64::INFINITY };
+                let (b, t, r) = (
                     brdf.as_ref(),
                     FactorTarget::BrdfCosine,
                     cfg.factor_resolution,
-                    &svd::SvdParams::default(),
-                )
+                );
+                let fact = match method {
+                    FactorMethod::Svd => svd::factorise(
+                        b,
+                        t,
+                        r,
+                        &svd::SvdParams {
+                            ceiling,
+                            ..svd::SvdParams::default()
+                        },
+                    ),
+                    FactorMethod::Homomorphic => homomorphic::factorise(
+                        b,
+                        t,
+                        r,
+                        &homomorphic::HomomorphicParams {
+                            ceiling,
+                            ..homomorphic::HomomorphicParams::default()
+                        },
+                        None,
+                    )
+                    .map(|(f, _)| f),
+                }
                 .map_err(|e| e.within("shading.factor"))?;
                 SpecularPath::Factored(FactorRenderer::new(&fact, cfg.factor_bits, e)?)
             }
@@ -209,8 +237,7 @@ impl ShadingPath {
         let words = self.cube.vector_words([v.x, v.y, v.z], &mut cc.address)?;
         let rgb = self.cube.normalize(&words, &mut cc);
         *ctr.entry("cube_map_address".into()).or_default() += cc.address;
-        *ctr
-            .entry("texture_sampler (normalisation cube)".into())
+        *ctr.entry("texture_sampler (normalisation cube)".into())
             .or_default() += cc.sampler;
         Ok([rgb[0], rgb[1], rgb[2], 255])
     }
@@ -313,7 +340,10 @@ impl ShadingPath {
             used(UnitSummary::of(&self.dot3), "texture_combiner (DOT3_RGB)"),
         ];
         match &self.diffuse {
-            Some((m, _)) => out.push(used(UnitSummary::of(m), "texture_combiner (MODULATE diffuse)")),
+            Some((m, _)) => out.push(used(
+                UnitSummary::of(m),
+                "texture_combiner (MODULATE diffuse)",
+            )),
             None => out.push(left(
                 UnitSummary::of(&self.add),
                 "texture_combiner (MODULATE diffuse)",
@@ -324,7 +354,10 @@ impl ShadingPath {
         match &self.specular {
             SpecularPath::Lookup { lut, modulate } => {
                 out.push(used(UnitSummary::of(lut), "specular_lookup"));
-                out.push(used(UnitSummary::of(modulate), "texture_combiner (MODULATE specular)"));
+                out.push(used(
+                    UnitSummary::of(modulate),
+                    "texture_combiner (MODULATE specular)",
+                ));
             }
             _ => out.push(left(
                 UnitSummary::of(&lut_default),
@@ -381,7 +414,8 @@ impl ShadingPath {
         let a = self.cube.config().address;
         let s = (a.side_log2 as f64).exp2();
         let sqrt3 = 3f64.sqrt();
-        let v = sqrt3 * 2.0 * b.component_edge / 255.0 + sqrt3 * (-(a.in_frac_bits as f64)).exp2() / s;
+        let v =
+            sqrt3 * 2.0 * b.component_edge / 255.0 + sqrt3 * (-(a.in_frac_bits as f64)).exp2() / s;
         let eps1 = 255.0 * v * (2.0 + v) + 0.5;
         let k = albedo.iter().copied().max().unwrap_or(0) as f64 / 255.0 + 0.5 / 255.0;
         Some(1.0 + eps1 * (k + 1.0 / 510.0))
@@ -408,7 +442,8 @@ impl ShadingPath {
             }
             SpecularPath::Factored(f) => {
                 s.push_str(&format!(
-                    " + SVD factors {}b (×2^{})",
+                    " + {} factors {}b (×2^{})",
+                    f.method().name(),
                     f.texel_bits(),
                     f.shift()
                 ));

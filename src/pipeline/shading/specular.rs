@@ -67,7 +67,10 @@ pub fn cube_16bit() -> Result<NormalizeCube, ConfigError> {
 }
 
 /// n̂ and (l + v)/2 normalised through `cube`, per pixel of the view.
-pub fn sphere_vectors(view: &SphereView, cube: &NormalizeCube) -> Result<SphereVectors, ConfigError> {
+pub fn sphere_vectors(
+    view: &SphereView,
+    cube: &NormalizeCube,
+) -> Result<SphereVectors, ConfigError> {
     let mut ctr = NormalizeCubeCounters::default();
     let mut look = |v: crate::scene::math::Vec3| -> Result<[u32; 3], ConfigError> {
         let w = cube.vector_words([v.x, v.y, v.z], &mut ctr.address)?;
@@ -144,7 +147,11 @@ pub fn squaring_levels(
     let u8v = |a: &[u32; 3]| a.map(|c| c.min(255) as u8);
     Ok(vectors
         .iter()
-        .map(|v| v.as_ref().map_or(0.0, |(n, h, _)| chain.specular(u8v(n), u8v(h), k, ctr) as f64))
+        .map(|v| {
+            v.as_ref().map_or(0.0, |(n, h, _)| {
+                chain.specular(u8v(n), u8v(h), k, ctr) as f64
+            })
+        })
         .collect())
 }
 
@@ -152,7 +159,10 @@ pub fn squaring_levels(
 pub fn reference_levels(vectors: &SphereVectors, exponent: f64) -> Vec<f64> {
     vectors
         .iter()
-        .map(|v| v.as_ref().map_or(0.0, |(_, _, nh)| 255.0 * nh.powf(exponent)))
+        .map(|v| {
+            v.as_ref()
+                .map_or(0.0, |(_, _, nh)| 255.0 * nh.powf(exponent))
+        })
         .collect()
 }
 
@@ -222,7 +232,10 @@ pub fn paths_at(
     let lut = SpecularLookupConfig::geforce();
     let mut out = Vec::new();
     for bits in SQUARING_BITS {
-        out.push((format!("squaring {bits}-bit"), squaring_levels(v8, k, bits, ctr)?));
+        out.push((
+            format!("squaring {bits}-bit"),
+            squaring_levels(v8, k, bits, ctr)?,
+        ));
     }
     out.push((LOOKUP_8.to_string(), lookup_levels(v8, 8, s, lut, ctr)?));
     out.push((LOOKUP_16.to_string(), lookup_levels(v16, 16, s, lut, ctr)?));
@@ -255,13 +268,28 @@ pub fn shading_specular(out: &Path) -> Result<Vec<SpecularRow>, String> {
         let (sq9, lut16) = (get("squaring 9-bit"), get(LOOKUP_16));
         if k == 5 || k == 7 {
             let diff = |a: &[f64]| -> Vec<f64> {
-                a.iter().zip(&reference).map(|(h, f)| (h - f).abs() * 8.0).collect()
+                a.iter()
+                    .zip(&reference)
+                    .map(|(h, f)| (h - f).abs() * 8.0)
+                    .collect()
             };
             panels.push((format!("s = {s}: f64"), grey_image(&reference, view.size)));
-            panels.push((format!("s = {s}: squaring 9-bit"), grey_image(sq9, view.size)));
-            panels.push((format!("s = {s}: lookup 16-bit"), grey_image(lut16, view.size)));
-            panels.push((format!("s = {s}: squaring |Δ|×8"), grey_image(&diff(sq9), view.size)));
-            panels.push((format!("s = {s}: lookup |Δ|×8"), grey_image(&diff(lut16), view.size)));
+            panels.push((
+                format!("s = {s}: squaring 9-bit"),
+                grey_image(sq9, view.size),
+            ));
+            panels.push((
+                format!("s = {s}: lookup 16-bit"),
+                grey_image(lut16, view.size),
+            ));
+            panels.push((
+                format!("s = {s}: squaring |Δ|×8"),
+                grey_image(&diff(sq9), view.size),
+            ));
+            panels.push((
+                format!("s = {s}: lookup |Δ|×8"),
+                grey_image(&diff(lut16), view.size),
+            ));
         }
         if k == 5 {
             profile = vec![
@@ -321,7 +349,15 @@ pub fn table(rows: &[SpecularRow]) -> String {
         })
         .collect();
     crate::report::table::text_table(
-        &["s", "path", "mean |Δ|", "RMS", "max", "levels (vs f64)", "max step (vs f64)"],
+        &[
+            "s",
+            "path",
+            "mean |Δ|",
+            "RMS",
+            "max",
+            "levels (vs f64)",
+            "max step (vs f64)",
+        ],
         &body,
     )
 }

@@ -378,6 +378,7 @@ impl QuantisedFactor {
 /// its f64 twin (the same textures unquantised, sampled at the same coordinates).
 #[derive(Clone, Debug)]
 pub struct FactorRenderer {
+    method: FactorMethod,
     target: FactorTarget,
     /// One sampler per factor, with the factor's f64 texels normalised to max 1.
     samplers: Vec<(Projection, TextureSampler, FactorTexture)>,
@@ -435,6 +436,7 @@ impl FactorRenderer {
         }
         let (shift, mantissa) = split_scale(total);
         Ok(FactorRenderer {
+            method: fact.method,
             target: fact.target,
             samplers,
             modulate,
@@ -445,6 +447,10 @@ impl FactorRenderer {
         })
     }
 
+    /// Which factorisation made the textures.
+    pub fn method(&self) -> FactorMethod {
+        self.method
+    }
     pub fn shift(&self) -> u32 {
         self.shift
     }
