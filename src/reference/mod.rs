@@ -25,3 +25,4 @@ pub mod shadow_compare;
 pub mod shafts_model;
 pub mod test_scene;
 pub mod texture_sampler;
+pub mod vertex_lighting;

@@ -17,3 +17,4 @@ pub mod projective_texcoord;
 pub mod reflection_vector;
 pub mod shadow_compare;
 pub mod texture_sampler;
+pub mod vertex_lighting;

@@ -3,3 +3,4 @@
 //! cube map and BRDF factor textures — beside their f64 references.
 
 pub mod sphere;
+pub mod vertex_float;
