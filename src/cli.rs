@@ -52,7 +52,8 @@ pub enum Command {
     /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
     /// envmap-timing (640 × 480 frames, side 128 or $ENVMAP_TABLE3_S),
     /// envmap-lambda-sweep and envmap-roughness (the pattern; side and size as
-    /// envmap-table5).
+    /// envmap-table5), shading-vertex-float (vertex-lighting error against the float
+    /// mantissa width, 4 ..= 23 at exponents 8 and 5, 1 and 8 lights).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -271,9 +272,12 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
             )?;
         }
+        "shading-vertex-float" => {
+            crate::pipeline::shading::vertex_float::reproduce(out)?;
+        }
         _ => {
             return Err(format!(
-                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness)"
+                "name: unknown reproduction '{name}' (known: shafts-fig4, shafts-fig5, shafts-vs-raymarch, shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput, glare-gauss-seeds, envmap-table3, envmap-table5, envmap-images, envmap-timing, envmap-lambda-sweep, envmap-roughness, shading-vertex-float)"
             ))
         }
     }
