@@ -34,14 +34,15 @@
 //! model accepts more for sweeps), cutoff 0 ..= 90 or 180, attenuation ≥ 0, colours
 //! ≥ 0 and finite (negative "dark lights" are not modelled), at most 8 lights.
 //!
-//! Timing (derivation in docs/units.md): a 4-wide FP multiplier, a 4-wide FP adder and
-//! one scalar special-function unit (RSQ, RCP, LOG, EXP, one issue a clock). The
-//! special unit is the bottleneck: 7 issues per light (RSQ of d², RCP of the
-//! attenuation, LOG + EXP of the spot, RSQ of H, LOG + EXP of the specular), 1 for
-//! GL_NORMALIZE and 1 for a local viewer, in a fixed schedule (every enabled light
-//! takes its slot whatever its kind): II = max(1, 7·lights + normalize + local_viewer).
-//! One light with GL_NORMALIZE and an infinite viewer: II = 8 clocks, 120 MHz / 8 =
-//! 15 M vertices/s, GeForce 256's quoted T&L rate (the calibration).
+//! Timing (derivation in docs/units.md): FP_MULTIPLIERS = 6 multipliers, FP_ADDERS = 4
+//! adders and one special-function unit (RSQ, RCP, LOG, EXP), each issuing one op a
+//! clock, pipelined; every enabled light takes the worst case's issues whatever its
+//! kind (a fixed schedule): per light 36 multiplies, 28 adds (incl. the spot compare)
+//! and 7 specials (RSQ d², RCP attenuation, LOG + EXP spot, RSQ H, LOG + EXP
+//! specular); GL_NORMALIZE and a local viewer 6 multiplies, 2 adds, 1 special each.
+//! II = max(1, ⌈muls/6⌉, ⌈adds/4⌉, specials). One light with GL_NORMALIZE and an
+//! infinite viewer: max(7, 8, 8) = 8 clocks, 120 MHz / 8 = 15 M vertices/s, GeForce
+//! 256's quoted T&L rate (the calibration; 6 and 4 are the fewest lanes that meet it).
 //! Latency = II + 6 (multiply 2, add 2, clamp/convert 1, output register 1).
 
 use crate::cost::{prim, Cost};
@@ -56,8 +57,32 @@ use serde::{Deserialize, Serialize};
 pub const MAX_LIGHTS: usize = 8;
 /// Largest shininess / spot exponent the model accepts (GL: 128).
 pub const MAX_EXPONENT: f64 = 1.0e4;
-/// Special-function issues per light (RSQ d², RCP att, LOG+EXP spot, RSQ H, LOG+EXP spec).
-pub const SPECIAL_ISSUES_PER_LIGHT: u32 = 7;
+/// FP multiplier and adder lanes (the fewest that meet the 8-clock calibration).
+pub const FP_MULTIPLIERS: u32 = 6;
+pub const FP_ADDERS: u32 = 4;
+/// Issues per light on the schedule's worst case (local light, spot, specular):
+/// multiplies 9 (local: d², L, d, k_l·d, k_q·d²) + 4 (spot dot3, s·log) + 3 (N·L) +
+/// 10 (H·H, h, N·h, s·log) + 1 (att·spot) + 9 (3 channels × 3) = 36; adds 7 + 3 + 2 +
+/// 7 + 9 = 28; specials 7 (RSQ d², RCP att, LOG + EXP spot, RSQ H, LOG + EXP spec).
+pub const ISSUES_PER_LIGHT: Issues = Issues {
+    muls: 36,
+    adds: 28,
+    specials: 7,
+};
+/// GL_NORMALIZE or a local viewer: dot3, RSQ, 3 multiplies.
+pub const ISSUES_PER_NORMALISE: Issues = Issues {
+    muls: 6,
+    adds: 2,
+    specials: 1,
+};
+
+/// Operation issues per vertex on each resource.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Issues {
+    pub muls: u32,
+    pub adds: u32,
+    pub specials: u32,
+}
 
 /// The unit's widths and switches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -503,11 +528,15 @@ impl VertexLighting {
         }
     }
 
-    /// Special-function issues per vertex (the II, see the module docs).
-    pub fn special_issues(&self) -> u32 {
-        SPECIAL_ISSUES_PER_LIGHT * self.lights.len() as u32
-            + u32::from(self.cfg.normalize)
-            + u32::from(self.cfg.local_viewer)
+    /// Issues per vertex on each resource (see the module docs).
+    pub fn issues(&self) -> Issues {
+        let n = self.lights.len() as u32;
+        let k = u32::from(self.cfg.normalize) + u32::from(self.cfg.local_viewer);
+        Issues {
+            muls: ISSUES_PER_LIGHT.muls * n + ISSUES_PER_NORMALISE.muls * k,
+            adds: ISSUES_PER_LIGHT.adds * n + ISSUES_PER_NORMALISE.adds * k,
+            specials: ISSUES_PER_LIGHT.specials * n + ISSUES_PER_NORMALISE.specials * k,
+        }
     }
 }
 
@@ -530,7 +559,13 @@ impl Unit for VertexLighting {
     }
 
     fn timing(&self) -> Timing {
-        let ii = self.special_issues().max(1);
+        let i = self.issues();
+        let ii = i
+            .muls
+            .div_ceil(FP_MULTIPLIERS)
+            .max(i.adds.div_ceil(FP_ADDERS))
+            .max(i.specials)
+            .max(1);
         Timing {
             latency: ii + 6,
             ii,
@@ -566,8 +601,8 @@ impl Unit for VertexLighting {
         let regfile_words = 19 * MAX_LIGHTS as u32 + 4 + 24;
         Cost::default()
             .part("input registers (P, n)", prim::register(6 * w))
-            .part("4-wide FP multiplier", fmul * 4.0)
-            .part("4-wide FP adder", fadd * 4.0)
+            .part("FP multipliers (6)", fmul * FP_MULTIPLIERS as f64)
+            .part("FP adders (4)", fadd * FP_ADDERS as f64)
             .part(
                 "RCP: digit-recurrence divider (M + 4 quotient bits, remainder → sticky)",
                 prim::divider(sig + 1, guard),
