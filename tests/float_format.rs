@@ -11,6 +11,7 @@
 //! * 1/x likewise (÷ is covered by the same theorem);
 //! * 1/√x is two f64 operations, so it is checked against the exact value within half
 //!   a format ulp (+ 2^−50 relative for f64's own error) instead of bit for bit.
+//!
 //! At 8/23 with subnormals kept, add and mul must equal Rust's f32 (IEEE single,
 //! nearest-even) bit for bit whenever f32's result is finite (the format saturates
 //! where IEEE goes to ∞).

@@ -29,6 +29,7 @@
 //!   c ≥ cos(cutoff)) is ambiguous when the threshold lies within the error interval:
 //!   then the bound covers both outcomes (the full term or 0);
 //! * the output: |code − 255·clamp(ĉ)| ≤ (2ⁿ − 1)·e_c + ½ (exact final rounding).
+//!
 //! f64 slack: the twin and the evaluator are f64 computations of ≲ 10³ operations on
 //! values ≤ 10⁴: 10⁻⁹ level, added.
 
@@ -265,17 +266,17 @@ fn level_bound(cfg: &VertexLightingConfig, gl: &GlLighting, p: V3, n: V3) -> [Op
         let cand = b.pow(nh, shin);
         let spec = b.branch(nl_raw.v > 0.0, nl_raw.v.abs() > nl_raw.e, cand);
         let k = b.mul(att, spot);
-        for c in 0..3 {
+        for (c, a) in acc.iter_mut().enumerate() {
             let amb = b.load(m.ambient[c] * l.ambient[c]);
             let dif = b.load(m.diffuse[c] * l.diffuse[c]);
             let spc = b.load(m.specular[c] * l.specular[c]);
             let t = b.add(amb, b.mul(nl, dif));
             let t = b.add(t, b.mul(spec, spc));
-            acc[c] = b.add(acc[c], b.mul(k, t));
+            *a = b.add(*a, b.mul(k, t));
         }
     }
     let scale = ((1u64 << cfg.color_bits) - 1) as f64;
-    acc.map(|a| a.e.is_finite().then(|| scale * a.e + 0.5 + 1e-9))
+    acc.map(|a| a.e.is_finite().then_some(scale * a.e + 0.5 + 1e-9))
 }
 
 fn fmt(e: u32, m: u32, r: Rounding, s: Subnormals) -> FloatFormat {

@@ -501,7 +501,7 @@ impl FloatFormat {
         let k = 2 * m + 4;
         let num = 1u128 << k; // ≤ 2^82
         let q = num / p.sig as u128;
-        let sticky = num % p.sig as u128 != 0;
+        let sticky = !num.is_multiple_of(p.sig as u128);
         self.round_pack(neg, -(k as i32) - p.lsb, q, sticky, ctr)
     }
 
@@ -525,7 +525,7 @@ impl FloatFormat {
         let quo = num / sig;
         let r = quo.isqrt();
         // Exact iff r² = 2^(2P)/sig exactly.
-        let sticky = !(num % sig == 0 && r * r == quo);
+        let sticky = !(num.is_multiple_of(sig) && r * r == quo);
         self.round_pack(false, -(two_p as i32 / 2) - lsb / 2, r, sticky, ctr)
     }
 

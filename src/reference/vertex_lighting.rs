@@ -154,11 +154,11 @@ pub fn light_vertex(s: &GlLighting, p: V3, n: V3) -> [f64; 4] {
     for l in &s.lights {
         let t = light_terms(s, l, p, n);
         let k = t.att * t.spot;
-        for ch in 0..3 {
+        for (ch, cv) in c.iter_mut().enumerate() {
             let term = m.ambient[ch] * l.ambient[ch]
                 + t.n_dot_l.max(0.0) * m.diffuse[ch] * l.diffuse[ch]
                 + t.specular * m.specular[ch] * l.specular[ch];
-            c[ch] += k * term;
+            *cv += k * term;
         }
     }
     [c[0], c[1], c[2], m.diffuse[3]]

@@ -26,6 +26,7 @@
 //!   (0, 0, 1) for an infinite viewer; spec = pow(max(N·h, 0), s_rm) only when N·L > 0.
 //! * Products a_m·a_i, d_m·d_i, s_m·s_i and e_m + a_m·a_s are formed at load (the
 //!   driver's precomputation, f64 then one rounding to the format).
+//!
 //! The datapath's operation order, each op rounded once (dot3(a, b) =
 //! (a₀b₀ + a₁b₁) + a₂b₂): see [`VertexLighting::light`]; tests/vertex_lighting.rs
 //! derives its error bound from exactly this order.
@@ -304,8 +305,8 @@ impl VertexLighting {
         }
         let word = |field: &str, v: f64, ctr: &mut Counters| fmt.from_f64(field, v, ctr);
         let mut base = [Fp(0); 3];
-        for c in 0..3 {
-            base[c] = word(
+        for (c, b) in base.iter_mut().enumerate() {
+            *b = word(
                 &f("material.emission"),
                 m.emission[c] + m.ambient[c] * setup.scene_ambient[c],
                 &mut ctr,
@@ -511,10 +512,10 @@ impl VertexLighting {
                 Fp(0)
             };
             let k = f.mul(att, spot, ctr);
-            for c in 0..3 {
+            for (c, a) in acc.iter_mut().enumerate() {
                 let t = f.add(l.ambient[c], f.mul(nl, l.diffuse[c], ctr), ctr);
                 let t = f.add(t, f.mul(spec, l.specular[c], ctr), ctr);
-                acc[c] = f.add(acc[c], f.mul(k, t, ctr), ctr);
+                *a = f.add(*a, f.mul(k, t, ctr), ctr);
             }
         }
         let bits = self.cfg.color_bits;
