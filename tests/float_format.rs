@@ -211,27 +211,20 @@ fn single_matches_f32() {
     for _ in 0..1_300_000 {
         let (a, b) = (random_word(&f, &mut rng), random_word(&f, &mut rng));
         let (x, y) = (f32::from_bits(a.0 as u32), f32::from_bits(b.0 as u32));
-        let s = x + y;
-        if s.is_finite() {
-            let got = f.add(a, b, &mut ctr).0 as u32;
-            assert_eq!(
-                got,
-                s.to_bits(),
-                "{x:e} + {y:e}: {:e} vs {s:e}",
-                f32::from_bits(got)
-            );
-            adds += 1;
-        }
-        let p = x * y;
-        if p.is_finite() {
-            let got = f.mul(a, b, &mut ctr).0 as u32;
-            assert_eq!(
-                got,
-                p.to_bits(),
-                "{x:e} × {y:e}: {:e} vs {p:e}",
-                f32::from_bits(got)
-            );
-            muls += 1;
+        for (sym, want, got, count) in [
+            ("+", x + y, f.add(a, b, &mut ctr), &mut adds),
+            ("×", x * y, f.mul(a, b, &mut ctr), &mut muls),
+        ] {
+            if want.is_finite() {
+                let got = got.0 as u32;
+                assert_eq!(
+                    got,
+                    want.to_bits(),
+                    "{x:e} {sym} {y:e}: {:e} vs {want:e}",
+                    f32::from_bits(got)
+                );
+                *count += 1;
+            }
         }
     }
     assert!(

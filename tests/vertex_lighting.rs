@@ -219,7 +219,7 @@ impl Bound {
 /// where the vertex is too ill-conditioned for a finite bound.
 fn level_bound(cfg: &VertexLightingConfig, gl: &GlLighting, p: V3, n: V3) -> [Option<f64>; 3] {
     let b = Bound::new(&cfg.format);
-    let m = &gl.material;
+    let m = &gl.state.material;
     let pv = b.vec_in(p);
     let nv = b.vec_in(n);
     let nn = if gl.normalize { b.normalise(&nv) } else { nv };
@@ -230,8 +230,8 @@ fn level_bound(cfg: &VertexLightingConfig, gl: &GlLighting, p: V3, n: V3) -> [Op
     };
     let shin = b.load(m.shininess);
     let mut acc: [Val; 3] =
-        [0, 1, 2].map(|k| b.load(m.emission[k] + m.ambient[k] * gl.scene_ambient[k]));
-    for l in &gl.lights {
+        [0, 1, 2].map(|k| b.load(m.emission[k] + m.ambient[k] * gl.state.scene_ambient[k]));
+    for l in &gl.state.lights {
         let (lv, att) = if l.position[3] != 0.0 {
             let w = l.position[3];
             let lp = [0, 1, 2].map(|k| b.load(l.position[k] / w));

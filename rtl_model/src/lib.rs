@@ -7,6 +7,7 @@ pub mod driver;
 pub mod error;
 pub mod fixed_point;
 pub mod float_format;
+pub mod lighting_state;
 pub mod memory;
 pub mod packed_rom;
 pub mod trace;

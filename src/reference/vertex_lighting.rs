@@ -18,36 +18,13 @@
 //! and spot directions are normalised (the unit does it at load). Colours are
 //! non-negative (the unit refuses negative ones), so no ∞ − ∞ can arise.
 
-/// One light (eye space), as the unit's `Light`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GlLight {
-    pub position: [f64; 4],
-    pub ambient: [f64; 3],
-    pub diffuse: [f64; 3],
-    pub specular: [f64; 3],
-    pub spot_direction: [f64; 3],
-    pub spot_exponent: f64,
-    /// Degrees; 180 = no spot.
-    pub spot_cutoff: f64,
-    pub attenuation: [f64; 3],
-}
+use rtl_model::lighting_state::{Light, LightingSetup};
 
-/// The material (front face).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GlMaterial {
-    pub emission: [f64; 3],
-    pub ambient: [f64; 3],
-    pub diffuse: [f64; 4],
-    pub specular: [f64; 3],
-    pub shininess: f64,
-}
-
-/// The lighting state.
+/// The lighting state and the two switches the equation depends on.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GlLighting {
-    pub material: GlMaterial,
-    pub scene_ambient: [f64; 3],
-    pub lights: Vec<GlLight>,
+    /// Material, scene ambient and lights (GL's state, `rtl_model::lighting_state`).
+    pub state: LightingSetup,
     /// GL_NORMALIZE.
     pub normalize: bool,
     /// GL_LIGHT_MODEL_LOCAL_VIEWER.
@@ -87,7 +64,7 @@ pub struct LightTerms {
 
 /// The per-light factors of light `l` at eye-space position `p` with normal `n`
 /// (already normalised if GL_NORMALIZE applies).
-pub fn light_terms(s: &GlLighting, l: &GlLight, p: V3, n: V3) -> LightTerms {
+pub fn light_terms(s: &GlLighting, l: &Light, p: V3, n: V3) -> LightTerms {
     let local = l.position[3] != 0.0;
     let (lv, att) = if local {
         let w = l.position[3];
@@ -122,7 +99,7 @@ pub fn light_terms(s: &GlLighting, l: &GlLight, p: V3, n: V3) -> LightTerms {
         };
         let h = normalize([0, 1, 2].map(|k| lv[k] + v[k]));
         let nh = dot(n, h).max(0.0);
-        (nh, pow0(nh, s.material.shininess))
+        (nh, pow0(nh, s.state.material.shininess))
     } else {
         (0.0, 0.0)
     };
@@ -148,10 +125,10 @@ fn pow0(x: f64, s: f64) -> f64 {
 /// The lit colour (r, g, b unclamped; alpha = the diffuse alpha) of a vertex at
 /// eye-space `p` with normal `n`.
 pub fn light_vertex(s: &GlLighting, p: V3, n: V3) -> [f64; 4] {
-    let m = &s.material;
+    let m = &s.state.material;
     let n = if s.normalize { normalize(n) } else { n };
-    let mut c = [0, 1, 2].map(|k| m.emission[k] + m.ambient[k] * s.scene_ambient[k]);
-    for l in &s.lights {
+    let mut c = [0, 1, 2].map(|k| m.emission[k] + m.ambient[k] * s.state.scene_ambient[k]);
+    for l in &s.state.lights {
         let t = light_terms(s, l, p, n);
         let k = t.att * t.spot;
         for (ch, cv) in c.iter_mut().enumerate() {

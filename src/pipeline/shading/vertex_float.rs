@@ -4,7 +4,7 @@
 //! one light and with eight, against its f64 twin (the GL 1.x equation); the error is
 //! counted in 8-bit levels against the twin's ideal 8-bit output round(255·clamp(c)).
 
-use crate::reference::vertex_lighting::{light_vertex, GlLight, GlLighting, GlMaterial};
+use crate::reference::vertex_lighting::{light_vertex, GlLighting};
 use crate::report::csv_out::write_csv;
 use crate::report::metrics::error_stats;
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
@@ -20,30 +20,8 @@ use std::path::Path;
 
 /// The twin's view of a unit config and its loaded lighting state.
 pub fn gl_lighting(cfg: &VertexLightingConfig, s: &LightingSetup) -> GlLighting {
-    let m = &s.material;
     GlLighting {
-        material: GlMaterial {
-            emission: m.emission,
-            ambient: m.ambient,
-            diffuse: m.diffuse,
-            specular: m.specular,
-            shininess: m.shininess,
-        },
-        scene_ambient: s.scene_ambient,
-        lights: s
-            .lights
-            .iter()
-            .map(|l| GlLight {
-                position: l.position,
-                ambient: l.ambient,
-                diffuse: l.diffuse,
-                specular: l.specular,
-                spot_direction: l.spot_direction,
-                spot_exponent: l.spot_exponent,
-                spot_cutoff: l.spot_cutoff,
-                attenuation: l.attenuation,
-            })
-            .collect(),
+        state: s.clone(),
         normalize: cfg.normalize,
         local_viewer: cfg.local_viewer,
     }
@@ -274,28 +252,19 @@ pub fn reproduce(out: &Path) -> Result<Vec<VertexFloatRow>, String> {
                 .iter()
                 .filter(|r| r.exp_bits == e && r.lights == lights)
                 .collect();
-            series.push(Series {
-                label: format!(
-                    "max, e{e}, {lights} light{}",
-                    if lights > 1 { "s" } else { "" }
-                ),
-                points: sel
-                    .iter()
-                    .map(|r| (r.mant_bits as f64, r.max_levels.max(floor)))
-                    .collect(),
-                axis: Axis::Left,
-            });
-            series.push(Series {
-                label: format!(
-                    "mean, e{e}, {lights} light{}",
-                    if lights > 1 { "s" } else { "" }
-                ),
-                points: sel
-                    .iter()
-                    .map(|r| (r.mant_bits as f64, r.mean_levels.max(floor)))
-                    .collect(),
-                axis: Axis::Left,
-            });
+            let plural = if lights > 1 { "s" } else { "" };
+            let stats: [(&str, fn(&VertexFloatRow) -> f64); 2] =
+                [("max", |r| r.max_levels), ("mean", |r| r.mean_levels)];
+            for (what, stat) in stats {
+                series.push(Series {
+                    label: format!("{what}, e{e}, {lights} light{plural}"),
+                    points: sel
+                        .iter()
+                        .map(|r| (r.mant_bits as f64, stat(r).max(floor)))
+                        .collect(),
+                    axis: Axis::Left,
+                });
+            }
         }
     }
     let mut spec = PlotSpec::new(
