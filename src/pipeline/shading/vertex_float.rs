@@ -219,6 +219,9 @@ pub fn narrowest(
     best
 }
 
+/// A column of a row, for plotting.
+type RowStat = fn(&VertexFloatRow) -> f64;
+
 /// Exponent widths and mantissa range of the sweep.
 pub const EXPONENTS: [u32; 2] = [8, 5];
 pub const MANTISSAS: std::ops::RangeInclusive<u32> = 4..=23;
@@ -253,7 +256,7 @@ pub fn reproduce(out: &Path) -> Result<Vec<VertexFloatRow>, String> {
                 .filter(|r| r.exp_bits == e && r.lights == lights)
                 .collect();
             let plural = if lights > 1 { "s" } else { "" };
-            let stats: [(&str, fn(&VertexFloatRow) -> f64); 2] =
+            let stats: [(&str, RowStat); 2] =
                 [("max", |r| r.max_levels), ("mean", |r| r.mean_levels)];
             for (what, stat) in stats {
                 series.push(Series {
