@@ -584,16 +584,36 @@ fn stiff_zero_length_normal() {
 }
 
 /// A light behind the surface (N·L < 0) and grazing light (N·L exactly 0): no diffuse,
-/// f = 0 so no specular even where N·h > 0; ambient only.
+/// f = 0 so no specular even where N·h > 0 (shininess 1: N·h ≈ 0.7 would add ~160
+/// levels); ambient only. Tilting the grazing light by 10⁻³ toward N brings the
+/// highlight back (the test can tell f apart).
 #[test]
 fn stiff_behind_and_grazing() {
+    let broad = Material {
+        shininess: 1.0,
+        ..shiny()
+    };
+    let tilted = Light {
+        position: [1.0, 0.0, 1.0e-3, 0.0],
+        ..Light::default()
+    };
+    let u = VertexLighting::new(
+        VertexLightingConfig::geforce(),
+        &one_light_setup(tilted, broad),
+    )
+    .unwrap();
+    let (rgba, _) = run(&u, [0.0, 0.0, -3.0], [0.0, 0.0, 1.0]);
+    assert!(
+        rgba[0] > 150,
+        "tilted light: highlight expected, got {rgba:?}"
+    );
     for dir in [[0.3, 0.2, -1.0], [1.0, 0.0, 0.0]] {
         let light = Light {
             position: [dir[0], dir[1], dir[2], 0.0],
             ambient: [0.1, 0.1, 0.1],
             ..Light::default()
         };
-        let setup = one_light_setup(light, shiny());
+        let setup = one_light_setup(light, broad);
         for (_, cfg) in bound_configs() {
             let cfg = VertexLightingConfig {
                 color_bits: 8,
