@@ -56,7 +56,9 @@ pub enum Command {
     /// table over F = 16 … 256), shading-specular ((n·h)^s by squaring in the
     /// register combiners vs the lookup), shading-brdfs (one sphere per model, units
     /// beside the f64 reference), shading-brdf-properties (reciprocity and albedo of
-    /// every BRDF reference, the HG moments and the dipole integral).
+    /// every BRDF reference, the HG moments and the dipole integral), shading-vertex-float (vertex-lighting
+    /// error against the float mantissa width, 4 ..= 23 at exponents 8 and 5, 1 and 8
+    /// lights), shading-factorization (factor-texture error against resolution and bits).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -247,6 +249,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "shading-brdfs",
     "shading-brdf-properties",
     "shading-factorization",
+    "shading-vertex-float",
 ];
 
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
@@ -341,6 +344,9 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shading-brdfs" => {
             let rows = crate::pipeline::shading::brdfs::shading_brdfs(out)?;
             print!("{}", crate::pipeline::shading::brdfs::table(&rows));
+        }
+        "shading-vertex-float" => {
+            crate::pipeline::shading::vertex_float::reproduce(out)?;
         }
         _ => {
             return Err(format!(

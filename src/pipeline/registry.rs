@@ -33,6 +33,7 @@ use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupIn};
 use rtl_model::units::texture_combiner::{TextureCombiner, TextureCombinerIn};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
+use rtl_model::units::vertex_lighting::{VertexLighting, VertexLightingConfig, VertexLightingIn};
 use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -58,6 +59,7 @@ pub const UNIT_NAMES: &[&str] = &[
     "register_combiner",
     "final_combiner",
     "texture_combiner",
+    "vertex_lighting",
 ];
 
 /// The default texture sampler (2D 256 × 256 luminance), holding a zero texture.
@@ -138,6 +140,7 @@ pub fn summaries() -> Vec<UnitSummary> {
         UnitSummary::of(&RegisterCombiner::geforce()),
         UnitSummary::of(&FinalCombiner::geforce()),
         UnitSummary::of(&TextureCombiner::geforce()),
+        UnitSummary::of(&VertexLighting::geforce()),
     ]
 }
 
@@ -397,6 +400,24 @@ pub fn tables() -> Vec<Table> {
                 "rsqrt_rom_entry(j): min(round(2^R / sqrt(c)), 2^R - 1), u0.R, c the midpoint of address j's interval of the mantissa m in [1, 4) (top address bit: [1, 2) or [2, 4)); rtl_model/src/units/reflection_vector.rs".to_string(),
             ),
             ("copies".to_string(), "2 (n and e in parallel)".to_string()),
+        ]),
+    });
+    let vl = VertexLighting::geforce();
+    let f = vl.format();
+    let k = f.pow_frac_bits();
+    out.push(Table {
+        name: format!("vertex_lighting_exp2_{k}x{}", k + 1),
+        width: k + 1,
+        words: f.exp2_rom(),
+        unit: "vertex_lighting".into(),
+        params: BTreeMap::from([
+            ("exp_bits".to_string(), f.exp_bits.to_string()),
+            ("mant_bits".to_string(), f.mant_bits.to_string()),
+            ("pow_frac_bits".to_string(), k.to_string()),
+            (
+                "generator".to_string(),
+                "entry[k-1] = 2^(2^-k) in u1.K, k = 1 ..= K = M + 4: K integer square roots from 2 at K + 16 bits, rounded to K (the pow unit's exp2 constants); rtl_model/src/float_format.rs".to_string(),
+            ),
         ]),
     });
     let cube = CubeMapAddress::geforce3();
@@ -699,6 +720,32 @@ pub fn trace(name: &str, pixels: usize, seed: u64, w: &mut dyn Write) -> Result<
             } else {
                 trace_unit(&FinalCombiner::geforce(), (), &inputs, w)
             }
+        }
+        "vertex_lighting" => {
+            // GL's default state (GL_LIGHT0, default material with a specular term),
+            // vertices on a sphere of radius 1 at z = −4, normals of varying length
+            // (GL_NORMALIZE), now and then a zero-length one.
+            let cfg = VertexLightingConfig::geforce();
+            let mut setup = rtl_model::units::vertex_lighting::LightingSetup::default();
+            setup.material.specular = [0.8; 3];
+            setup.material.shininess = 32.0;
+            let u = VertexLighting::new(cfg, &setup).map_err(|e| e.to_string())?;
+            let mut ctr = Counters::default();
+            let inputs: Vec<VertexLightingIn> = (0..pixels)
+                .map(|k| {
+                    let n: [f64; 3] = [(); 3].map(|_| rng.random_range(-1.0..1.0));
+                    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt().max(1e-3);
+                    let scale = if k % 8 == 7 {
+                        0.0
+                    } else {
+                        rng.random_range(0.5..2.0)
+                    };
+                    let p = [0, 1, 2].map(|i| n[i] / len + if i == 2 { -4.0 } else { 0.0 });
+                    u.vertex_from_f64(p, n.map(|c| c / len * scale), &mut ctr)
+                        .map_err(|e| e.to_string())
+                })
+                .collect::<Result<_, _>>()?;
+            trace_unit(&u, (), &inputs, w)
         }
         _ => Err(format!(
             "unit: unknown unit '{name}' (known: {})",

@@ -29,3 +29,4 @@ pub mod specular_lookup;
 pub mod test_scene;
 pub mod texture_combiner;
 pub mod texture_sampler;
+pub mod vertex_lighting;

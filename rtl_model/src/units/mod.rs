@@ -21,3 +21,4 @@ pub mod shadow_compare;
 pub mod specular_lookup;
 pub mod texture_combiner;
 pub mod texture_sampler;
+pub mod vertex_lighting;

@@ -12,3 +12,4 @@ pub mod scene_pass;
 pub mod specular;
 pub mod sphere;
 pub mod squaring;
+pub mod vertex_float;

@@ -1,0 +1,623 @@
+//! vertex_lighting — OpenGL 1.x fixed-function lighting per vertex (GL 1.x spec
+//! §2.13.1), GeForce 256 T&L style, in a configurable float format
+//! ([`FloatFormat`]: E exponent bits, M mantissa bits; GeForce 256 = IEEE single 8/23).
+//!
+//! Loaded state (the host writes it like registers, see [`LightingSetup`]): the
+//! material (emission e_m, ambient a_m, diffuse d_m with alpha, specular s_m,
+//! shininess s_rm), the scene ambient a_s and up to 8 lights (position P_pli with w,
+//! ambient/diffuse/specular colours, spot direction/exponent/cutoff, constant/linear/
+//! quadratic attenuation). One input word = one vertex: eye-space position P and
+//! normal n as format words. Output: RGBA unorms of `color_bits` for the interpolator.
+//!
+//! colour = e_m + a_m·a_s + Σ_i att_i·spot_i·(a_m·a_i + max(N·L_i, 0)·d_m·d_i
+//!          + f_i·max(N·h_i, 0)^s_rm·s_m·s_i), f_i = 0 if N·L_i ≤ 0 else 1,
+//! clamped to [0, 1] (each clamp counted), alpha = d_m's alpha.
+//! * N = n·rsq(n·n) with GL_NORMALIZE (`normalize`), else n as given. A zero-length
+//!   normal: rsq(0) saturates to max finite (counted) and N = 0·max = 0, so the vertex
+//!   gets e_m + a_m·a_s + Σ att·spot·a_m·a_i (no diffuse, no specular), never NaN.
+//! * Local light (w ≠ 0, position xyz/w at load): VP = P_pli − P, d² = VP·VP,
+//!   r = rsq(d²), L = VP·r, d = d²·r, att = rcp(k_c + k_l·d + k_q·d²). A light at the
+//!   vertex (d² = 0) gives L = 0, d = 0. Directional light (w = 0): L = the direction
+//!   normalised at load, att = 1 (GL: attenuation only for local lights).
+//!   k_c = k_l = k_q = 0 is allowed: rcp(0) saturates (counted) to max finite.
+//! * Spot (cutoff ≠ 180°): c = −L·ŝ (ŝ normalised at load); spot = 0 if c < cos(cutoff)
+//!   (cos computed at load), else pow(c, spot exponent); cutoff = 180° → spot = 1.
+//! * h = normalize(L + V), V = normalize(−P) for a local viewer (P = 0 → V = 0) or
+//!   (0, 0, 1) for an infinite viewer; spec = pow(max(N·h, 0), s_rm) only when N·L > 0.
+//! * Products a_m·a_i, d_m·d_i, s_m·s_i and e_m + a_m·a_s are formed at load (the
+//!   driver's precomputation, f64 then one rounding to the format).
+//!
+//! The datapath's operation order, each op rounded once (dot3(a, b) =
+//! (a₀b₀ + a₁b₁) + a₂b₂): see [`VertexLighting::light`]; tests/vertex_lighting.rs
+//! derives its error bound from exactly this order.
+//!
+//! Allowed ranges: shininess and spot exponent 0 ..= 10⁴ (GL limits both to 128; the
+//! model accepts more for sweeps), cutoff 0 ..= 90 or 180, attenuation ≥ 0, colours
+//! ≥ 0 and finite (negative "dark lights" are not modelled), at most 8 lights.
+//!
+//! Timing (derivation in docs/units.md): FP_MULTIPLIERS = 6 multipliers, FP_ADDERS = 4
+//! adders and one special-function unit (RSQ, RCP, LOG, EXP), each issuing one op a
+//! clock, pipelined; every enabled light takes the worst case's issues whatever its
+//! kind (a fixed schedule): per light 36 multiplies, 28 adds (incl. the spot compare)
+//! and 7 specials (RSQ d², RCP attenuation, LOG + EXP spot, RSQ H, LOG + EXP
+//! specular); GL_NORMALIZE and a local viewer 6 multiplies, 2 adds, 1 special each.
+//! II = max(1, ⌈muls/6⌉, ⌈adds/4⌉, specials). One light with GL_NORMALIZE and an
+//! infinite viewer: max(7, 8, 8) = 8 clocks, 120 MHz / 8 = 15 M vertices/s, GeForce
+//! 256's quoted T&L rate (the calibration; 6 and 4 are the fewest lanes that meet it).
+//! Latency = II + 6 (multiply 2, add 2, clamp/convert 1, output register 1).
+
+use crate::cost::{prim, Cost};
+use crate::counters::Counters;
+use crate::error::{check_finite, check_range, ConfigError};
+use crate::float_format::{FloatFormat, Fp};
+pub use crate::lighting_state::{Light, LightingSetup, Material};
+use crate::unit::{Signal, Timing, Unit, Width};
+use crate::wire::bits_for;
+use serde::{Deserialize, Serialize};
+
+/// Most lights GL 1.x guarantees (GL_MAX_LIGHTS ≥ 8).
+pub const MAX_LIGHTS: usize = 8;
+/// Largest shininess / spot exponent the model accepts (GL: 128).
+pub const MAX_EXPONENT: f64 = 1.0e4;
+/// FP multiplier and adder lanes (the fewest that meet the 8-clock calibration).
+pub const FP_MULTIPLIERS: u32 = 6;
+pub const FP_ADDERS: u32 = 4;
+/// Issues per light on the schedule's worst case (local light, spot, specular):
+/// multiplies 9 (local: d², L, d, k_l·d, k_q·d²) + 4 (spot dot3, s·log) + 3 (N·L) +
+/// 10 (H·H, h, N·h, s·log) + 1 (att·spot) + 9 (3 channels × 3) = 36; adds 7 + 3 + 2 +
+/// 7 + 9 = 28; specials 7 (RSQ d², RCP att, LOG + EXP spot, RSQ H, LOG + EXP spec).
+pub const ISSUES_PER_LIGHT: Issues = Issues {
+    muls: 36,
+    adds: 28,
+    specials: 7,
+};
+/// GL_NORMALIZE or a local viewer: dot3, RSQ, 3 multiplies.
+pub const ISSUES_PER_NORMALISE: Issues = Issues {
+    muls: 6,
+    adds: 2,
+    specials: 1,
+};
+
+/// Operation issues per vertex on each resource.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Issues {
+    pub muls: u32,
+    pub adds: u32,
+    pub specials: u32,
+}
+
+/// The unit's widths and switches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct VertexLightingConfig {
+    /// The arithmetic's float format.
+    pub format: FloatFormat,
+    /// Output unorm width per channel, 1 ..= 16.
+    pub color_bits: u32,
+    /// GL_NORMALIZE: normalise n in the datapath.
+    pub normalize: bool,
+    /// GL_LIGHT_MODEL_LOCAL_VIEWER: V = normalize(−P) instead of (0, 0, 1).
+    pub local_viewer: bool,
+}
+
+impl Default for VertexLightingConfig {
+    fn default() -> Self {
+        Self::geforce()
+    }
+}
+
+impl VertexLightingConfig {
+    /// GeForce 256: IEEE single (nearest-even, subnormals flushed), 8-bit colours,
+    /// GL_NORMALIZE on, infinite viewer (GL's default).
+    pub fn geforce() -> Self {
+        VertexLightingConfig {
+            format: FloatFormat::IEEE_SINGLE,
+            color_bits: 8,
+            normalize: true,
+            local_viewer: false,
+        }
+    }
+
+    /// The same with another exponent/mantissa width.
+    pub fn with_format(self, exp_bits: u32, mant_bits: u32) -> Self {
+        VertexLightingConfig {
+            format: FloatFormat {
+                exp_bits,
+                mant_bits,
+                ..self.format
+            },
+            ..self
+        }
+    }
+}
+
+/// One vertex: eye-space position and normal as format words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct VertexLightingIn {
+    pub position: [Fp; 3],
+    pub normal: [Fp; 3],
+}
+
+/// The lit colour: RGBA unorms of `color_bits`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct VertexLightingOut {
+    pub rgba: [u32; 4],
+}
+
+/// A spot light's loaded registers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct SpotRegs {
+    /// ŝ, unit.
+    direction: [Fp; 3],
+    cos_cutoff: Fp,
+    exponent: Fp,
+}
+
+/// One light's loaded registers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct LightRegs {
+    /// Local: position xyz/w; directional: unit direction toward the light.
+    local: bool,
+    vector: [Fp; 3],
+    attenuation: [Fp; 3],
+    spot: Option<SpotRegs>,
+    /// a_m·a_i, d_m·d_i, s_m·s_i.
+    ambient: [Fp; 3],
+    diffuse: [Fp; 3],
+    specular: [Fp; 3],
+}
+
+/// The validated unit with its loaded lighting state.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct VertexLighting {
+    cfg: VertexLightingConfig,
+    lights: Vec<LightRegs>,
+    /// e_m + a_m·a_s.
+    base: [Fp; 3],
+    shininess: Fp,
+    alpha: u32,
+    load_counters: Counters,
+}
+
+fn check_colour(field: &str, c: &[f64]) -> Result<(), ConfigError> {
+    for &v in c {
+        let v = check_finite(field, v)?;
+        if v < 0.0 {
+            return Err(ConfigError::out_of_range(field, v, 0.0, f64::MAX));
+        }
+    }
+    Ok(())
+}
+
+fn unit3(field: &str, v: [f64; 3]) -> Result<[f64; 3], ConfigError> {
+    for &c in &v {
+        check_finite(field, c)?;
+    }
+    let len = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if len == 0.0 || !len.is_finite() {
+        return Err(ConfigError::invalid(
+            field,
+            "must be a non-zero finite vector",
+        ));
+    }
+    Ok(v.map(|c| c / len))
+}
+
+impl VertexLighting {
+    /// Validate the config and load the lighting state (host edge: f64 → format, one
+    /// rounding per register). Errors name `vertex_lighting.<field>`.
+    pub fn new(cfg: VertexLightingConfig, setup: &LightingSetup) -> Result<Self, ConfigError> {
+        let f = |n: &str| format!("vertex_lighting.{n}");
+        cfg.format.validate(&f("format"))?;
+        check_range(&f("color_bits"), cfg.color_bits as u64, 1, 16)?;
+        check_range(
+            &f("lights"),
+            setup.lights.len() as u64,
+            0,
+            MAX_LIGHTS as u64,
+        )?;
+        let fmt = cfg.format;
+        let mut ctr = Counters::default();
+        let m = &setup.material;
+        check_colour(&f("material.emission"), &m.emission)?;
+        check_colour(&f("material.ambient"), &m.ambient)?;
+        check_colour(&f("material.diffuse"), &m.diffuse)?;
+        check_colour(&f("material.specular"), &m.specular)?;
+        check_colour(&f("scene_ambient"), &setup.scene_ambient)?;
+        let shin = check_finite(&f("material.shininess"), m.shininess)?;
+        if !(0.0..=MAX_EXPONENT).contains(&shin) {
+            return Err(ConfigError::out_of_range(
+                &f("material.shininess"),
+                shin,
+                0.0,
+                MAX_EXPONENT,
+            ));
+        }
+        let word = |field: &str, v: f64, ctr: &mut Counters| fmt.from_f64(field, v, ctr);
+        let mut base = [Fp(0); 3];
+        for (c, b) in base.iter_mut().enumerate() {
+            *b = word(
+                &f("material.emission"),
+                m.emission[c] + m.ambient[c] * setup.scene_ambient[c],
+                &mut ctr,
+            )?;
+        }
+        let shininess = word(&f("material.shininess"), shin, &mut ctr)?;
+        let alpha = fmt.to_unorm(
+            word(&f("material.diffuse"), m.diffuse[3], &mut ctr)?,
+            cfg.color_bits,
+            &mut ctr,
+        );
+        let mut lights = Vec::with_capacity(setup.lights.len());
+        for (i, l) in setup.lights.iter().enumerate() {
+            let lf = |n: &str| f(&format!("lights[{i}].{n}"));
+            check_colour(&lf("ambient"), &l.ambient)?;
+            check_colour(&lf("diffuse"), &l.diffuse)?;
+            check_colour(&lf("specular"), &l.specular)?;
+            check_colour(&lf("attenuation"), &l.attenuation)?;
+            for &p in &l.position {
+                check_finite(&lf("position"), p)?;
+            }
+            let w = l.position[3];
+            let local = w != 0.0;
+            let v = if local {
+                [0, 1, 2].map(|k| l.position[k] / w)
+            } else {
+                unit3(
+                    &lf("position"),
+                    [l.position[0], l.position[1], l.position[2]],
+                )?
+            };
+            let mut vector = [Fp(0); 3];
+            for k in 0..3 {
+                vector[k] = word(&lf("position"), v[k], &mut ctr)?;
+            }
+            let cutoff = check_finite(&lf("spot_cutoff"), l.spot_cutoff)?;
+            if cutoff != 180.0 && !(0.0..=90.0).contains(&cutoff) {
+                return Err(ConfigError::invalid(
+                    &lf("spot_cutoff"),
+                    &format!("{cutoff} must be in 0 ..= 90 or 180"),
+                ));
+            }
+            let sexp = check_finite(&lf("spot_exponent"), l.spot_exponent)?;
+            if !(0.0..=MAX_EXPONENT).contains(&sexp) {
+                return Err(ConfigError::out_of_range(
+                    &lf("spot_exponent"),
+                    sexp,
+                    0.0,
+                    MAX_EXPONENT,
+                ));
+            }
+            let spot = if cutoff == 180.0 {
+                None
+            } else {
+                let s = unit3(&lf("spot_direction"), l.spot_direction)?;
+                let mut direction = [Fp(0); 3];
+                for k in 0..3 {
+                    direction[k] = word(&lf("spot_direction"), s[k], &mut ctr)?;
+                }
+                Some(SpotRegs {
+                    direction,
+                    cos_cutoff: word(&lf("spot_cutoff"), cutoff.to_radians().cos(), &mut ctr)?,
+                    exponent: word(&lf("spot_exponent"), sexp, &mut ctr)?,
+                })
+            };
+            let mut regs = LightRegs {
+                local,
+                vector,
+                attenuation: [Fp(0); 3],
+                spot,
+                ambient: [Fp(0); 3],
+                diffuse: [Fp(0); 3],
+                specular: [Fp(0); 3],
+            };
+            for c in 0..3 {
+                regs.attenuation[c] = word(&lf("attenuation"), l.attenuation[c], &mut ctr)?;
+                regs.ambient[c] = word(&lf("ambient"), m.ambient[c] * l.ambient[c], &mut ctr)?;
+                regs.diffuse[c] = word(&lf("diffuse"), m.diffuse[c] * l.diffuse[c], &mut ctr)?;
+                regs.specular[c] = word(&lf("specular"), m.specular[c] * l.specular[c], &mut ctr)?;
+            }
+            lights.push(regs);
+        }
+        Ok(VertexLighting {
+            cfg,
+            lights,
+            base,
+            shininess,
+            alpha,
+            load_counters: ctr,
+        })
+    }
+
+    /// GeForce 256 defaults ([`VertexLightingConfig::geforce`]) with GL's default
+    /// state (GL_LIGHT0 on, default material).
+    pub fn geforce() -> Self {
+        match Self::new(VertexLightingConfig::geforce(), &LightingSetup::default()) {
+            Ok(u) => u,
+            Err(e) => unreachable!("default config invalid: {e}"),
+        }
+    }
+
+    pub fn config(&self) -> VertexLightingConfig {
+        self.cfg
+    }
+
+    pub fn format(&self) -> FloatFormat {
+        self.cfg.format
+    }
+
+    /// Enabled lights.
+    pub fn light_count(&self) -> usize {
+        self.lights.len()
+    }
+
+    /// Saturations/underflows of the load (host values rounded into registers).
+    pub fn load_counters(&self) -> Counters {
+        self.load_counters
+    }
+
+    /// Host helper: a vertex from f64 eye-space position and normal (one rounding per
+    /// component, saturating, counted). NaN/±∞ is an error naming
+    /// `vertex_lighting.position` / `vertex_lighting.normal`.
+    pub fn vertex_from_f64(
+        &self,
+        position: [f64; 3],
+        normal: [f64; 3],
+        ctr: &mut Counters,
+    ) -> Result<VertexLightingIn, ConfigError> {
+        let fmt = self.cfg.format;
+        let mut v = VertexLightingIn::default();
+        for k in 0..3 {
+            v.position[k] = fmt.from_f64("vertex_lighting.position", position[k], ctr)?;
+            v.normal[k] = fmt.from_f64("vertex_lighting.normal", normal[k], ctr)?;
+        }
+        Ok(v)
+    }
+
+    /// (a₀b₀ + a₁b₁) + a₂b₂: 3 multiplies, 2 adds.
+    fn dot3(&self, a: &[Fp; 3], b: &[Fp; 3], ctr: &mut Counters) -> Fp {
+        let f = &self.cfg.format;
+        let t0 = f.mul(a[0], b[0], ctr);
+        let t1 = f.mul(a[1], b[1], ctr);
+        let s = f.add(t0, t1, ctr);
+        let t2 = f.mul(a[2], b[2], ctr);
+        f.add(s, t2, ctr)
+    }
+
+    /// v·rsq(v·v) (rsq(0) saturates: a zero vector stays zero).
+    fn normalise(&self, v: &[Fp; 3], ctr: &mut Counters) -> [Fp; 3] {
+        let f = &self.cfg.format;
+        let r = f.rsq(self.dot3(v, v, ctr), ctr);
+        v.map(|c| f.mul(c, r, ctr))
+    }
+
+    /// The datapath on one vertex.
+    pub fn light(&self, input: &VertexLightingIn, ctr: &mut Counters) -> VertexLightingOut {
+        let f = &self.cfg.format;
+        let p = &input.position;
+        let n = if self.cfg.normalize {
+            self.normalise(&input.normal, ctr)
+        } else {
+            input.normal
+        };
+        let v = if self.cfg.local_viewer {
+            self.normalise(&p.map(|c| f.neg(c)), ctr)
+        } else {
+            [Fp(0), Fp(0), f.one()]
+        };
+        let mut acc = self.base;
+        for l in &self.lights {
+            let (lv, att) = if l.local {
+                let vp = [0, 1, 2].map(|k| f.sub(l.vector[k], p[k], ctr));
+                let d2 = self.dot3(&vp, &vp, ctr);
+                let r = f.rsq(d2, ctr);
+                let lv = vp.map(|c| f.mul(c, r, ctr));
+                let d = f.mul(d2, r, ctr);
+                let [kc, kl, kq] = l.attenuation;
+                let den = f.add(kc, f.mul(kl, d, ctr), ctr);
+                let den = f.add(den, f.mul(kq, d2, ctr), ctr);
+                (lv, f.rcp(den, ctr))
+            } else {
+                (l.vector, f.one())
+            };
+            let spot = match &l.spot {
+                None => f.one(),
+                Some(s) => {
+                    let c = f.neg(self.dot3(&lv, &s.direction, ctr));
+                    if f.lt(c, s.cos_cutoff) {
+                        Fp(0)
+                    } else {
+                        f.pow(c, s.exponent, ctr)
+                    }
+                }
+            };
+            let nl_raw = self.dot3(&n, &lv, ctr);
+            let nl = f.max0(nl_raw);
+            let spec = if f.lt(Fp(0), nl_raw) {
+                let hv = [0, 1, 2].map(|k| f.add(lv[k], v[k], ctr));
+                let h = self.normalise(&hv, ctr);
+                let nh = f.max0(self.dot3(&n, &h, ctr));
+                f.pow(nh, self.shininess, ctr)
+            } else {
+                Fp(0)
+            };
+            let k = f.mul(att, spot, ctr);
+            for (c, a) in acc.iter_mut().enumerate() {
+                let t = f.add(l.ambient[c], f.mul(nl, l.diffuse[c], ctr), ctr);
+                let t = f.add(t, f.mul(spec, l.specular[c], ctr), ctr);
+                *a = f.add(*a, f.mul(k, t, ctr), ctr);
+            }
+        }
+        let bits = self.cfg.color_bits;
+        VertexLightingOut {
+            rgba: [
+                f.to_unorm(acc[0], bits, ctr),
+                f.to_unorm(acc[1], bits, ctr),
+                f.to_unorm(acc[2], bits, ctr),
+                self.alpha,
+            ],
+        }
+    }
+
+    /// Issues per vertex on each resource (see the module docs).
+    pub fn issues(&self) -> Issues {
+        let n = self.lights.len() as u32;
+        let k = u32::from(self.cfg.normalize) + u32::from(self.cfg.local_viewer);
+        Issues {
+            muls: ISSUES_PER_LIGHT.muls * n + ISSUES_PER_NORMALISE.muls * k,
+            adds: ISSUES_PER_LIGHT.adds * n + ISSUES_PER_NORMALISE.adds * k,
+            specials: ISSUES_PER_LIGHT.specials * n + ISSUES_PER_NORMALISE.specials * k,
+        }
+    }
+}
+
+impl Unit for VertexLighting {
+    type In = VertexLightingIn;
+    type Out = VertexLightingOut;
+    type State = ();
+
+    fn name(&self) -> &'static str {
+        "vertex_lighting"
+    }
+
+    fn kernel(
+        &self,
+        _: &mut (),
+        input: &VertexLightingIn,
+        ctr: &mut Counters,
+    ) -> VertexLightingOut {
+        self.light(input, ctr)
+    }
+
+    fn timing(&self) -> Timing {
+        let i = self.issues();
+        let ii = i
+            .muls
+            .div_ceil(FP_MULTIPLIERS)
+            .max(i.adds.div_ceil(FP_ADDERS))
+            .max(i.specials)
+            .max(1);
+        Timing {
+            latency: ii + 6,
+            ii,
+        }
+    }
+
+    fn cost(&self) -> Cost {
+        let fmt = self.cfg.format;
+        let (e, m) = (fmt.exp_bits, fmt.mant_bits);
+        let w = fmt.width();
+        let k = fmt.pow_frac_bits();
+        let sig = m + 1;
+        let guard = m + 4; // significand + guard/round/sticky in the adder
+        let stages = bits_for(guard as u64);
+        // One FP multiplier: significand multiplier, exponent adder (+ bias correction),
+        // 1-bit normalise, rounding incrementer.
+        let fmul = prim::multiplier(sig, sig)
+            + prim::adder(e + 1) * 2.0
+            + prim::mux(sig)
+            + prim::adder(sig);
+        // One FP adder: exponent compare/subtract, operand swap, alignment shifter,
+        // significand add/subtract, LZC, normalising shifter, rounding incrementer.
+        let fadd = prim::subtractor(e + 1)
+            + prim::mux(w) * 2.0
+            + prim::shifter(guard, stages)
+            + prim::adder(guard + 1)
+            + prim::leading_zero_counter(guard + 1)
+            + prim::shifter(guard + 1, stages)
+            + prim::adder(sig)
+            + prim::adder(e + 1);
+        // Register file: per light 19 words (vector 3, attenuation 3, spot 5, the three
+        // colour products 9 — minus one spare), base 3, shininess 1; vertex temporaries 24.
+        let regfile_words = 19 * MAX_LIGHTS as u32 + 4 + 24;
+        Cost::default()
+            .part("input registers (P, n)", prim::register(6 * w))
+            .part("FP multipliers (6)", fmul * FP_MULTIPLIERS as f64)
+            .part("FP adders (4)", fadd * FP_ADDERS as f64)
+            .part(
+                "RCP: digit-recurrence divider (M + 4 quotient bits, remainder → sticky)",
+                prim::divider(sig + 1, guard),
+            )
+            .part(
+                "RSQ: square-root recurrence and divide (M + 4 bits each)",
+                prim::divider(sig + 2, guard) * 2.0,
+            )
+            .part(
+                "LOG: K squaring stages u1.K (unrolled, pipelined)",
+                prim::multiplier(k + 1, k + 1) * k as f64 + prim::mux(k + 1) * k as f64,
+            )
+            .part(
+                "EXP: K conditional multiplies by the ROM constants",
+                (prim::multiplier(k + 1, k + 1) + prim::mux(k + 1)) * k as f64,
+            )
+            .part(
+                "special-function pipeline registers",
+                prim::register((k + 1) * (2 * k + 2)),
+            )
+            .part(
+                "compare/max/clamp (3 comparators)",
+                prim::comparator(w) * 3.0,
+            )
+            .part(
+                "unorm conversion (3 × significand × (2^n − 1), round)",
+                (prim::multiplier(sig, self.cfg.color_bits)
+                    + prim::adder(sig + self.cfg.color_bits))
+                    * 3.0,
+            )
+            .part(
+                "register file (lights, material, temporaries)",
+                prim::register(regfile_words * w),
+            )
+            .part(
+                "output registers (RGBA)",
+                prim::register(4 * self.cfg.color_bits),
+            )
+            .with_ram_bits(fmt.exp2_rom_bits())
+    }
+
+    fn widths(&self) -> Vec<Width> {
+        let fmt = self.cfg.format;
+        vec![
+            Width {
+                name: "exp_bits",
+                bits: fmt.exp_bits,
+            },
+            Width {
+                name: "mant_bits",
+                bits: fmt.mant_bits,
+            },
+            Width {
+                name: "word_bits",
+                bits: fmt.width(),
+            },
+            Width {
+                name: "pow_frac_bits",
+                bits: fmt.pow_frac_bits(),
+            },
+            Width {
+                name: "color_bits",
+                bits: self.cfg.color_bits,
+            },
+        ]
+    }
+
+    fn in_signals(&self, i: &VertexLightingIn) -> Vec<Signal> {
+        const NAMES: [&str; 6] = ["px", "py", "pz", "nx", "ny", "nz"];
+        let w = self.cfg.format.width();
+        i.position
+            .iter()
+            .chain(i.normal.iter())
+            .zip(NAMES)
+            .map(|(v, name)| Signal::new(name, w, v.0))
+            .collect()
+    }
+
+    fn out_signals(&self, o: &VertexLightingOut) -> Vec<Signal> {
+        const NAMES: [&str; 4] = ["r", "g", "b", "a"];
+        let b = self.cfg.color_bits;
+        o.rgba
+            .iter()
+            .zip(NAMES)
+            .map(|(&v, name)| Signal::new(name, b, v as u64))
+            .collect()
+    }
+}
