@@ -6,16 +6,14 @@ use glare_pipeline::pipeline::glare::frame::render_glare_over;
 use glare_pipeline::pipeline::glare_link::prepare;
 use glare_pipeline::pipeline::shading::brdfs::{catalogue, render_sphere, sphere_error};
 use glare_pipeline::pipeline::shading::materials::material_path;
-use glare_pipeline::pipeline::shading::normalize_cube::NormalizeCubeConfig;
 use glare_pipeline::pipeline::shading::path::PathConfig;
 use glare_pipeline::pipeline::shading::specular::{
-    lookup_levels, reference_levels, score, sphere_vectors, squaring_levels,
+    cube_16bit, cube_8bit, paths_at, reference_levels, score, sphere_vectors, LOOKUP_16, LOOKUP_8,
 };
 use glare_pipeline::pipeline::shading::sphere::SphereView;
 use glare_pipeline::scene::builtin_glare::glare_builtin;
 use glare_pipeline::scene::format::Scene;
 use glare_pipeline::scene::material::Material;
-use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::Counters;
 
 fn view(size: u32) -> SphereView {
@@ -203,26 +201,31 @@ fn materials_are_optional_in_scene_files_and_bad_parameters_name_the_field() {
 }
 
 #[test]
-fn squaring_in_9_bit_combiners_bands_and_the_lookup_does_not() {
+fn squaring_in_9_bit_combiners_bands_and_the_lookup_at_texture_shader_precision_does_not() {
     let v = view(128);
-    let cube = NormalizeCubeConfig::geforce().build().unwrap();
-    let vectors = sphere_vectors(&v, &cube).unwrap();
-    let mask: Vec<bool> = vectors.iter().map(|x| x.is_some()).collect();
+    let v8 = sphere_vectors(&v, &cube_8bit().unwrap()).unwrap();
+    let v16 = sphere_vectors(&v, &cube_16bit().unwrap()).unwrap();
+    let mask: Vec<bool> = v8.iter().map(|x| x.is_some()).collect();
     let mut ctr = Counters::default();
     let (k, s) = (5u32, 32u32);
-    let reference = reference_levels(&vectors, s as f64);
-    let lookup = lookup_levels(
-        &vectors,
-        s as f64,
-        SpecularLookupConfig::geforce(),
-        &mut ctr,
-    )
-    .unwrap();
-    let sq = squaring_levels(&vectors, k, 9, &mut ctr).unwrap();
-    let rl = score("lookup", s, &lookup, &reference, &mask, v.size).unwrap();
-    let rs = score("squaring 9-bit", s, &sq, &reference, &mask, v.size).unwrap();
-    println!("{rl:?}\n{rs:?}");
-    assert!(rs.distinct_levels < rl.distinct_levels, "{rs:?} {rl:?}");
-    assert!(rs.max_step > rl.max_step, "{rs:?} {rl:?}");
-    assert!(rs.rms > rl.rms, "{rs:?} {rl:?}");
+    let reference = reference_levels(&v8, s as f64);
+    let paths = paths_at(k, &v8, &v16, &mut ctr).unwrap();
+    let row = |label: &str| {
+        let levels = &paths.iter().find(|(l, _)| l == label).unwrap().1;
+        score(label, s, levels, &reference, &mask, v.size).unwrap()
+    };
+    let (sq, lut8, lut16) = (row("squaring 9-bit"), row(LOOKUP_8), row(LOOKUP_16));
+    println!("{sq:?}\n{lut8:?}\n{lut16:?}");
+    // The squaring's highlight has fewer levels and bigger jumps than the lookup's.
+    assert!(
+        sq.distinct_levels < lut16.distinct_levels,
+        "{sq:?} {lut16:?}"
+    );
+    assert!(sq.max_step > lut16.max_step, "{sq:?} {lut16:?}");
+    assert!(lut16.rms < sq.rms, "{sq:?} {lut16:?}");
+    // An 8-bit n·h bands through the lookup too: the levels come from n·h's width.
+    assert!(
+        lut8.distinct_levels < lut16.distinct_levels,
+        "{lut8:?} {lut16:?}"
+    );
 }
