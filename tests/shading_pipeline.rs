@@ -6,7 +6,7 @@ use glare_pipeline::pipeline::glare::frame::render_glare_over;
 use glare_pipeline::pipeline::glare_link::prepare;
 use glare_pipeline::pipeline::shading::brdfs::{catalogue, render_sphere, sphere_error};
 use glare_pipeline::pipeline::shading::materials::material_path;
-use glare_pipeline::pipeline::shading::path::PathConfig;
+use glare_pipeline::pipeline::shading::path::{PathConfig, FACTORS};
 use glare_pipeline::pipeline::shading::specular::{
     cube_16bit, cube_8bit, paths_at, reference_levels, score, sphere_vectors, LOOKUP_16, LOOKUP_8,
 };
@@ -105,7 +105,7 @@ fn a_lambert_material_elaborates_no_lookup_no_factor_textures_and_no_specular_st
     };
     let l = left(&lambert);
     assert!(l.iter().any(|n| n == "specular_lookup"), "{l:?}");
-    assert!(l.iter().any(|n| n == "factor textures"), "{l:?}");
+    assert!(l.iter().any(|n| n == FACTORS), "{l:?}");
     let p = present(&lambert);
     assert!(!p.iter().any(|n| n.contains("MODULATE specular")), "{p:?}");
     assert!(!p.iter().any(|n| n.contains("factor")), "{p:?}");

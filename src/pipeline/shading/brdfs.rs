@@ -137,6 +137,7 @@ pub fn render_sphere(
             }
         }
     }
+    path.close_counters(&mut counters);
     Ok(SphereRender {
         hardware,
         reference,

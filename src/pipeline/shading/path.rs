@@ -25,11 +25,13 @@ use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig, NormalizeCubeCou
 use crate::reference::brdf::{Brdf, ShadingFrame};
 use crate::report::elaboration::Elaborated;
 use crate::scene::math::Vec3;
+use rtl_model::units::modulate::Modulate;
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupConfig};
 use rtl_model::units::texture_combiner::{
     CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig, TextureCombinerIn,
 };
-use rtl_model::{ConfigError, Counters, UnitSummary};
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
+use rtl_model::{ConfigError, Counters, Timing, Unit, UnitSummary};
 use std::collections::BTreeMap;
 
 /// The specular part of a material, as the hardware renders it.
@@ -107,6 +109,26 @@ pub struct ShadingPath {
 
 /// Counters of a shading pass, per unit (the normalisation cube's two units apart).
 pub type PathCounters = BTreeMap<String, Counters>;
+
+/// Stage names: the counters' keys and the elaboration rows.
+pub const CUBE_ADDRESS: &str = "cube_map_address (normalisation cube)";
+pub const CUBE_SAMPLER: &str = "texture_sampler (normalisation cube)";
+pub const DOT3: &str = "texture_combiner (DOT3_RGB)";
+pub const MODULATE_DIFFUSE: &str = "texture_combiner (MODULATE diffuse)";
+pub const LOOKUP: &str = "specular_lookup";
+pub const MODULATE_SPECULAR: &str = "texture_combiner (MODULATE specular)";
+pub const FACTORS: &str = "factor textures (texture_sampler × modulate)";
+pub const ADD: &str = "texture_combiner (ADD)";
+
+/// A stage's counters, counting one more word in and out (the kernels count their
+/// events; the words and, in [`ShadingPath::close_counters`], the clocks are the
+/// driver's part).
+fn stage_counters<'a>(ctr: &'a mut PathCounters, stage: &str) -> &'a mut Counters {
+    let c = ctr.entry(stage.to_string()).or_default();
+    c.pixels_in += 1;
+    c.pixels_out += 1;
+    c
+}
 
 /// A combiner stage reading Arg0 = TEXTURE, Arg1 = PREVIOUS, Arg2 = CONSTANT.
 fn stage(f: CombineFunction, scale: u32) -> Result<TextureCombiner, ConfigError> {
@@ -236,15 +258,14 @@ impl ShadingPath {
         let mut cc = NormalizeCubeCounters::default();
         let words = self.cube.vector_words([v.x, v.y, v.z], &mut cc.address)?;
         let rgb = self.cube.normalize(&words, &mut cc);
-        *ctr.entry("cube_map_address".into()).or_default() += cc.address;
-        *ctr.entry("texture_sampler (normalisation cube)".into())
-            .or_default() += cc.sampler;
+        *stage_counters(ctr, CUBE_ADDRESS) += cc.address;
+        *stage_counters(ctr, CUBE_SAMPLER) += cc.sampler;
         Ok([rgb[0], rgb[1], rgb[2], 255])
     }
 
     /// DOT3_RGB of two packed vectors: the clamped dot product as a u8 code.
     fn dot(&self, a: [u32; 4], b: [u32; 4], ctr: &mut PathCounters) -> u32 {
-        let c = ctr.entry("texture_combiner".into()).or_default();
+        let c = stage_counters(ctr, DOT3);
         let input = TextureCombinerIn {
             texture: a,
             previous: b,
@@ -267,7 +288,7 @@ impl ShadingPath {
         let nl = self.dot(n, l, ctr);
         let diffuse = match &self.diffuse {
             Some((modulate, albedo)) => {
-                let c = ctr.entry("texture_combiner".into()).or_default();
+                let c = stage_counters(ctr, MODULATE_DIFFUSE);
                 let input = TextureCombinerIn {
                     texture: [nl, nl, nl, 255],
                     previous: [albedo[0], albedo[1], albedo[2], 255],
@@ -283,8 +304,8 @@ impl ShadingPath {
             SpecularPath::Lookup { lut, modulate } => {
                 let h = self.normalised((light + view) * 0.5, ctr)?;
                 let nh = self.dot(n, h, ctr);
-                let t = lut.lookup(nh as i32, ctr.entry("specular_lookup".into()).or_default());
-                let c = ctr.entry("texture_combiner".into()).or_default();
+                let t = lut.lookup(nh as i32, stage_counters(ctr, LOOKUP));
+                let c = stage_counters(ctr, MODULATE_SPECULAR);
                 let input = TextureCombinerIn {
                     texture: [t, t, t, 255],
                     previous: [nl, nl, nl, 255],
@@ -293,11 +314,11 @@ impl ShadingPath {
                 modulate.combine(&input, c)[0]
             }
             SpecularPath::Factored(f) => {
-                let c = ctr.entry("factor textures".into()).or_default();
+                let c = stage_counters(ctr, FACTORS);
                 f.shade(frame.to_local(light), frame.to_local(view), c)?
             }
         };
-        let c = ctr.entry("texture_combiner".into()).or_default();
+        let c = stage_counters(ctr, ADD);
         let input = TextureCombinerIn {
             texture: [specular, specular, specular, 255],
             previous: [diffuse[0], diffuse[1], diffuse[2], 255],
@@ -329,15 +350,9 @@ impl ShadingPath {
             cycles_saved: fragments,
         };
         let mut out = vec![
-            used(
-                UnitSummary::of(self.cube.address_unit()),
-                "cube_map_address (normalisation cube)",
-            ),
-            used(
-                UnitSummary::of(self.cube.sampler()),
-                "texture_sampler (normalisation cube)",
-            ),
-            used(UnitSummary::of(&self.dot3), "texture_combiner (DOT3_RGB)"),
+            used(UnitSummary::of(self.cube.address_unit()), CUBE_ADDRESS),
+            used(UnitSummary::of(self.cube.sampler()), CUBE_SAMPLER),
+            used(UnitSummary::of(&self.dot3), DOT3),
         ];
         match &self.diffuse {
             Some((m, _)) => out.push(used(
@@ -378,16 +393,58 @@ impl ShadingPath {
                     out.push(used(s, &name));
                 }
             }
-            _ => out.push(Elaborated {
-                name: "factor textures".into(),
-                summary: None,
-                left_out: Some("no factored BRDF".into()),
-                gates_saved: 0.0,
-                cycles_saved: fragments,
-            }),
+            _ => {
+                // Two 64² factor textures of 8 bits and their modulate, at the defaults.
+                let sampler = TextureSampler::new(
+                    TextureSamplerConfig::geforce_2d(64, 64),
+                    &vec![0; 64 * 64],
+                )
+                .map(|t| UnitSummary::of(&t).gates_nand2)
+                .unwrap_or(0.0);
+                out.push(Elaborated {
+                    name: FACTORS.into(),
+                    summary: None,
+                    left_out: Some("no factored BRDF".into()),
+                    gates_saved: 2.0 * sampler + UnitSummary::of(&Modulate::geforce()).gates_nand2,
+                    cycles_saved: fragments,
+                });
+            }
         }
-        out.push(used(UnitSummary::of(&self.add), "texture_combiner (ADD)"));
+        out.push(used(UnitSummary::of(&self.add), ADD));
         out
+    }
+
+    /// Fill in each stage's clocks and stalls from its unit's timing, for the words it
+    /// streamed (one stage instance per row; a stage used several times per fragment,
+    /// like the cube map for N, L and H, takes a clock per use): cycles =
+    /// (n − 1)·II + latency + 1, as the span driver counts them.
+    pub fn close_counters(&self, ctr: &mut PathCounters) {
+        let lut_timing = match &self.specular {
+            SpecularPath::Lookup { lut, modulate } => Some((lut.timing(), modulate.timing())),
+            _ => None,
+        };
+        for (name, c) in ctr.iter_mut() {
+            let t = match name.as_str() {
+                CUBE_ADDRESS => self.cube.address_unit().timing(),
+                CUBE_SAMPLER => self.cube.sampler().timing(),
+                LOOKUP => match lut_timing {
+                    Some((t, _)) => t,
+                    None => continue,
+                },
+                MODULATE_SPECULAR => match lut_timing {
+                    Some((_, t)) => t,
+                    None => continue,
+                },
+                // The factor product: the samplers read in parallel, then the modulates.
+                FACTORS => Timing {
+                    latency: self.cube.sampler().timing().latency + self.dot3.timing().latency,
+                    ii: 1,
+                },
+                _ => self.dot3.timing(),
+            };
+            c.cycles = t.span_cycles(c.pixels_in);
+            c.stalls = t.span_stalls(c.pixels_in);
+        }
     }
 
     /// The derived bound (8-bit levels) on the Lambert term's error against

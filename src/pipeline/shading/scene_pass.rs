@@ -73,7 +73,7 @@ pub fn shade_scene(
     let geometry = SceneGeometry::without_meshes(&scene.objects)?;
     let cam = CameraView::new(&scene.camera, scene.image);
     let (w, h) = (scene.image.width, scene.image.height);
-    let mut counters = PathCounters::new();
+    let mut per_object: Vec<PathCounters> = vec![PathCounters::new(); scene.objects.len()];
     let mut pixels = Vec::with_capacity((w * h) as usize);
     let mut best: Vec<Option<FoundHighlight>> = vec![None; scene.objects.len()];
     let mut fragments = 0u64;
@@ -92,7 +92,7 @@ pub fn shade_scene(
             let frame = ShadingFrame::new(hit.normal, v3(0.0, 1.0, 0.0).cross(hit.normal));
             let to_light = (lp - hit.point).normalized();
             let to_eye = -dir;
-            let s = paths[obj].shade(&frame, to_light, to_eye, &mut counters)?;
+            let s = paths[obj].shade(&frame, to_light, to_eye, &mut per_object[obj])?;
             pixels.push(Some(s.rgb));
             let material = scene.objects[obj].material.unwrap_or(Material::Lambert);
             if material.has_specular()
@@ -106,6 +106,14 @@ pub fn shade_scene(
                     highlight: highlight(hit.point, hit.normal, lp, intensity, s.specular, radius),
                 });
             }
+        }
+    }
+    // Each object's path is its own set of stages (a pass per material).
+    let mut counters = PathCounters::new();
+    for (i, (p, mut c)) in paths.iter().zip(per_object).enumerate() {
+        p.close_counters(&mut c);
+        for (name, c) in c {
+            counters.insert(format!("objects[{i}]: {name}"), c);
         }
     }
     let mut elaboration = Vec::new();
