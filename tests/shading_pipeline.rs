@@ -229,3 +229,94 @@ fn squaring_in_9_bit_combiners_bands_and_the_lookup_at_texture_shader_precision_
         "{lut8:?} {lut16:?}"
     );
 }
+
+/// Stiff and extreme inputs through the material paths (issue 13's list): grazing
+/// light and view (cos exactly 0), a light behind the surface, roughness toward 0 and
+/// at 1, exponents 1 and 10⁴, anisotropy 100:1, a zero-length interpolated normal.
+/// Documented behaviour: every output is a level in 0 ..= 255 (never a panic or a
+/// NaN); a light behind the horizon gives exactly 0 (DOT3 clamps n·l at 0 and counts
+/// a saturation; the factor path's self-shadowing flag zeroes the constant colour);
+/// a light exactly on the horizon gives 0 on the factor path and, on the DOT3 path, at
+/// most the Lambert term's derived bound (the expand-normal encoding has no exact 0:
+/// 127.5 rounds to 128, so n·l reads a few codes above 0); a zero-length normal reads
+/// as +x, the normalisation cube's documented result for a zero vector (one
+/// `underflows` in the address unit).
+#[test]
+fn stiff_inputs_through_the_material_paths_give_levels_and_zero_below_the_horizon() {
+    use glare_pipeline::reference::brdf::ShadingFrame;
+    use glare_pipeline::scene::material::Distribution;
+    use glare_pipeline::scene::math::v3;
+    let cfg = PathConfig::default();
+    let materials = [
+        Material::Lambert,
+        Material::BlinnPhong {
+            ks: 1.0,
+            exponent: 1.0,
+            normalized: true,
+        },
+        Material::BlinnPhong {
+            ks: 1.0,
+            exponent: 1e4,
+            normalized: true,
+        },
+        Material::CookTorrance {
+            distribution: Distribution::Beckmann,
+            roughness: 1e-3,
+            ior: 0.27,
+            extinction: 2.8,
+            fresnel: Default::default(),
+        },
+        Material::CookTorrance {
+            distribution: Distribution::Ggx,
+            roughness: 1.0,
+            ior: 1.5,
+            extinction: 0.0,
+            fresnel: Default::default(),
+        },
+        Material::Ward {
+            rho_s: 0.5,
+            alpha_x: 0.5,
+            alpha_y: 0.005,
+        },
+        Material::OrenNayar { sigma_deg: 85.0 },
+        Material::KajiyaKay {
+            ks: 1.0,
+            exponent: 1e4,
+        },
+    ];
+    let n = v3(0.0, 0.0, 1.0);
+    let frame = ShadingFrame::new(n, v3(1.0, 0.0, 0.0));
+    let up = v3(0.0, 0.0, 1.0);
+    let grazing = v3(1.0, 0.0, 0.0);
+    let behind = v3(0.3, 0.2, -0.93).normalized();
+    for m in materials {
+        let path = material_path(&m, [0.8; 3], &cfg).unwrap();
+        let mut ctr = Default::default();
+        // Light behind: black.
+        let s = path.shade(&frame, behind, up, &mut ctr).unwrap();
+        assert_eq!(s.rgb, [0, 0, 0], "{m:?}: light behind");
+        assert_eq!(s.specular, 0, "{m:?}: light behind");
+        // Light exactly at the horizon: at most the diffuse bound.
+        let s = path.shade(&frame, grazing, up, &mut ctr).unwrap();
+        let bound = path.diffuse_error_bound().unwrap_or(0.0);
+        let lambert_only = matches!(m, Material::Lambert);
+        if lambert_only {
+            assert!(
+                s.rgb.iter().all(|&c| c as f64 <= bound),
+                "{m:?}: {s:?} > {bound}"
+            );
+        } else {
+            assert!(s.rgb.iter().all(|&c| c <= 255), "{m:?}");
+        }
+        // View exactly at the horizon, light overhead: a level, never NaN.
+        let s = path.shade(&frame, up, grazing, &mut ctr).unwrap();
+        assert!(s.rgb.iter().all(|&c| c <= 255), "{m:?}");
+        // Head-on: lit.
+        let s = path.shade(&frame, up, up, &mut ctr).unwrap();
+        assert!(s.rgb.iter().all(|&c| c <= 255), "{m:?}");
+        // A zero-length interpolated normal: a level, no panic.
+        let zero = ShadingFrame::new(v3(0.0, 0.0, 0.0), v3(1.0, 0.0, 0.0));
+        let s = path.shade(&zero, up, up, &mut ctr).unwrap();
+        assert!(s.rgb.iter().all(|&c| c <= 255), "{m:?}");
+    }
+}

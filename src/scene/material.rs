@@ -107,7 +107,8 @@ impl Material {
                 interval(&f("alpha_x"), alpha_x, 0.0, false, 1.0, true)?;
                 interval(&f("alpha_y"), alpha_y, 0.0, false, 1.0, true)
             }
-            Material::OrenNayar { sigma_deg } => closed(&f("sigma_deg"), sigma_deg, 0.0, 90.0),
+            // The reference takes σ ≤ 1.5 rad (85.9°).
+            Material::OrenNayar { sigma_deg } => closed(&f("sigma_deg"), sigma_deg, 0.0, 85.0),
             Material::KajiyaKay { ks, exponent } => {
                 closed(&f("ks"), ks, 0.0, 1.0)?;
                 closed(&f("exponent"), exponent, 0.0, EXPONENT_MAX)
