@@ -5,10 +5,10 @@
 //! A material is a Lambert term of the object's `color` plus its model's lobe, except
 //! a metal (Cook–Torrance with extinction > 0), which has no diffuse term, and the
 //! diffuse models (Lambert, Oren–Nayar), which are their own term. On the hardware,
-//! the Lambert term is DOT3 + MODULATE, Blinn–Phong's lobe the specular lookup, and
-//! every other lobe SVD factor textures.
+//! the Lambert term is DOT3 + MODULATE, the Phong and Blinn–Phong lobes the specular
+//! lookup (indexed by r·l and n·h), and every other lobe factor textures.
 
-use super::path::{PathConfig, ShadingPath, SpecularLobe};
+use super::path::{LobeVector, PathConfig, ShadingPath, SpecularLobe};
 use crate::reference::brdf::cook_torrance::{
     CookTorrance, CookTorranceParams, Fresnel, Masking, MicrofacetDistribution,
 };
@@ -175,19 +175,40 @@ pub fn material_path(
     color: [f64; 3],
     cfg: &PathConfig,
 ) -> Result<ShadingPath, ConfigError> {
+    let lookup = |ks: f64, exponent: f64, norm: f64, vector| SpecularLobe::Lookup {
+        k: ks * norm,
+        exponent,
+        vector,
+    };
     let lobe = match *m {
         Material::BlinnPhong {
             ks,
             exponent,
             normalized,
-        } => SpecularLobe::BlinnPhongLookup {
-            k: if normalized {
-                ks * BlinnPhong::normalisation(exponent)
-            } else {
-                ks
-            },
+        } => lookup(
+            ks,
             exponent,
-        },
+            if normalized {
+                BlinnPhong::normalisation(exponent)
+            } else {
+                1.0
+            },
+            LobeVector::Half,
+        ),
+        Material::Phong {
+            ks,
+            exponent,
+            normalized,
+        } => lookup(
+            ks,
+            exponent,
+            if normalized {
+                Phong::normalisation(exponent)
+            } else {
+                1.0
+            },
+            LobeVector::Mirror,
+        ),
         Material::OrenNayar { .. } => match MaterialBrdf::new(m, color)?.oren_nayar {
             Some(o) => SpecularLobe::Factored(Box::new(o), cfg.factor_method),
             None => SpecularLobe::None,

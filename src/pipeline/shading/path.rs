@@ -38,12 +38,27 @@ use std::collections::BTreeMap;
 pub enum SpecularLobe {
     /// No specular term (Lambert).
     None,
-    /// k·(n·h)^s by the specular lookup table, modulated by n·l: the Blinn–Phong lobe
-    /// R = k·(n·h)^s whose radiance is R·cos θ_i·E (`k` includes any normalisation).
-    BlinnPhongLookup { k: f64, exponent: f64 },
+    /// k·c^s by the specular lookup table, modulated by n·l: the lobe R = k·c^s whose
+    /// radiance is R·cos θ_i·E (`k` includes any normalisation). c = n·h for
+    /// Blinn–Phong ([`LobeVector::Half`]), c = r·l for Phong ([`LobeVector::Mirror`]).
+    Lookup {
+        k: f64,
+        exponent: f64,
+        vector: LobeVector,
+    },
     /// Any model, by factor textures of R·cos θ_i: separable (SVD, Kautz–McCool) or
     /// homomorphic (McCool et al.).
     Factored(Box<dyn Brdf>, FactorMethod),
+}
+
+/// The pair of vectors whose DOT3 indexes the specular lookup.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LobeVector {
+    /// N̂ · Ĥ, H = (L + V)/2 as the interpolator delivers it (Blinn–Phong).
+    Half,
+    /// R̂ · L̂, R = 2(n·v)n − v the view's mirror direction, as GL_REFLECTION_MAP
+    /// texgen delivers it per vertex (Phong).
+    Mirror,
 }
 
 /// Widths and sizes of the shading path (what a sweep changes).
@@ -84,6 +99,7 @@ enum SpecularPath {
         lut: SpecularLookup,
         /// MODULATE(lut, n·l) with RGB_SCALE = K's power-of-two headroom.
         modulate: TextureCombiner,
+        vector: LobeVector,
     },
     Factored(FactorRenderer),
 }
@@ -171,7 +187,11 @@ impl ShadingPath {
         let e = rtl_model::error::check_finite("shading.irradiance", cfg.irradiance)?;
         let specular = match lobe {
             SpecularLobe::None => SpecularPath::None,
-            SpecularLobe::BlinnPhongLookup { k, exponent } => {
+            SpecularLobe::Lookup {
+                k,
+                exponent,
+                vector,
+            } => {
                 let k = rtl_model::error::check_finite("shading.specular.k", k * e)?.max(0.0);
                 let s = headroom(k);
                 let mut lut = SpecularLookupConfig {
@@ -195,6 +215,7 @@ impl ShadingPath {
                 SpecularPath::Lookup {
                     lut,
                     modulate: stage(CombineFunction::Modulate, s)?,
+                    vector,
                 }
             }
             SpecularLobe::Factored(brdf, method) => {
@@ -301,9 +322,22 @@ impl ShadingPath {
         };
         let specular = match &self.specular {
             SpecularPath::None => 0,
-            SpecularPath::Lookup { lut, modulate } => {
-                let h = self.normalised((light + view) * 0.5, ctr)?;
-                let nh = self.dot(n, h, ctr);
+            SpecularPath::Lookup {
+                lut,
+                modulate,
+                vector,
+            } => {
+                let nh = match vector {
+                    LobeVector::Half => {
+                        let h = self.normalised((light + view) * 0.5, ctr)?;
+                        self.dot(n, h, ctr)
+                    }
+                    LobeVector::Mirror => {
+                        let nn = frame.n;
+                        let r = self.normalised(nn * (2.0 * nn.dot(view)) - view, ctr)?;
+                        self.dot(r, l, ctr)
+                    }
+                };
                 let t = lut.lookup(nh as i32, stage_counters(ctr, LOOKUP));
                 let c = stage_counters(ctr, MODULATE_SPECULAR);
                 let input = TextureCombinerIn {
@@ -355,30 +389,27 @@ impl ShadingPath {
             used(UnitSummary::of(&self.dot3), DOT3),
         ];
         match &self.diffuse {
-            Some((m, _)) => out.push(used(
-                UnitSummary::of(m),
-                "texture_combiner (MODULATE diffuse)",
-            )),
+            Some((m, _)) => out.push(used(UnitSummary::of(m), MODULATE_DIFFUSE)),
             None => out.push(left(
                 UnitSummary::of(&self.add),
-                "texture_combiner (MODULATE diffuse)",
+                MODULATE_DIFFUSE,
                 "no diffuse term",
             )),
         }
-        let lut_default = SpecularLookup::geforce();
         match &self.specular {
-            SpecularPath::Lookup { lut, modulate } => {
-                out.push(used(UnitSummary::of(lut), "specular_lookup"));
-                out.push(used(
-                    UnitSummary::of(modulate),
-                    "texture_combiner (MODULATE specular)",
-                ));
+            SpecularPath::Lookup { lut, modulate, .. } => {
+                out.push(used(UnitSummary::of(lut), LOOKUP));
+                out.push(used(UnitSummary::of(modulate), MODULATE_SPECULAR));
             }
-            _ => out.push(left(
-                UnitSummary::of(&lut_default),
-                "specular_lookup",
-                "no Blinn–Phong lobe",
-            )),
+            _ => {
+                let why = "no Phong or Blinn–Phong lobe";
+                out.push(left(
+                    UnitSummary::of(&SpecularLookup::geforce()),
+                    LOOKUP,
+                    why,
+                ));
+                out.push(left(UnitSummary::of(&self.add), MODULATE_SPECULAR, why));
+            }
         }
         match &self.specular {
             SpecularPath::Factored(f) => {
@@ -420,7 +451,7 @@ impl ShadingPath {
     /// (n − 1)·II + latency + 1, as the span driver counts them.
     pub fn close_counters(&self, ctr: &mut PathCounters) {
         let lut_timing = match &self.specular {
-            SpecularPath::Lookup { lut, modulate } => Some((lut.timing(), modulate.timing())),
+            SpecularPath::Lookup { lut, modulate, .. } => Some((lut.timing(), modulate.timing())),
             _ => None,
         };
         for (name, c) in ctr.iter_mut() {
@@ -488,10 +519,18 @@ impl ShadingPath {
         }
         match &self.specular {
             SpecularPath::None => {}
-            SpecularPath::Lookup { lut, modulate } => {
+            SpecularPath::Lookup {
+                lut,
+                modulate,
+                vector,
+            } => {
                 let l = lut.config();
                 s.push_str(&format!(
-                    " + lookup {}×{}b → MODULATE ×{}",
+                    " + lookup({}) {}×{}b → MODULATE ×{}",
+                    match vector {
+                        LobeVector::Half => "n·h",
+                        LobeVector::Mirror => "r·l",
+                    },
                     1u32 << l.table_log2,
                     l.entry_bits,
                     modulate.config().rgb_scale
