@@ -21,11 +21,15 @@ pub struct CatalogueEntry {
     pub label: &'static str,
     pub material: Material,
     pub color: [f64; 3],
+    /// The light's direction for this sphere (toward the light), when it is not the
+    /// view's: a light behind the sphere shows the Fresnel rim.
+    pub light: Option<[f64; 3]>,
 }
 
 /// The models of the shading seed, one sphere each: diffuse models with a grey
 /// albedo, specular lobes alone (no Lambert term) so the lobe is what the image shows,
-/// and a dielectric with a dim base so its Fresnel rim stands out.
+/// a dielectric with a dim base, and the same dielectric lit from behind, where the
+/// Fresnel term brightens the rim.
 pub fn catalogue() -> Vec<CatalogueEntry> {
     let none = [0.0; 3];
     let grey = [0.8; 3];
@@ -34,11 +38,13 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
             label: "lambert",
             material: Material::Lambert,
             color: grey,
+            light: None,
         },
         CatalogueEntry {
             label: "oren_nayar",
             material: Material::OrenNayar { sigma_deg: 30.0 },
             color: grey,
+            light: None,
         },
         CatalogueEntry {
             label: "phong",
@@ -48,6 +54,7 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
                 normalized: true,
             },
             color: none,
+            light: None,
         },
         CatalogueEntry {
             label: "blinn_phong",
@@ -57,6 +64,7 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
                 normalized: true,
             },
             color: none,
+            light: None,
         },
         CatalogueEntry {
             label: "cook_torrance_metal",
@@ -68,6 +76,7 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
                 fresnel: FresnelKind::Exact,
             },
             color: none,
+            light: None,
         },
         CatalogueEntry {
             label: "cook_torrance_dielectric",
@@ -79,6 +88,19 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
                 fresnel: FresnelKind::Exact,
             },
             color: [0.15; 3],
+            light: None,
+        },
+        CatalogueEntry {
+            label: "cook_torrance_backlit",
+            material: Material::CookTorrance {
+                distribution: Distribution::Ggx,
+                roughness: 0.3,
+                ior: 1.5,
+                extinction: 0.0,
+                fresnel: FresnelKind::Exact,
+            },
+            color: none,
+            light: Some([-0.75, 0.25, -0.6]),
         },
         CatalogueEntry {
             label: "ward",
@@ -88,6 +110,7 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
                 alpha_y: 0.075,
             },
             color: none,
+            light: None,
         },
         CatalogueEntry {
             label: "kajiya_kay",
@@ -96,6 +119,7 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
                 exponent: 32.0,
             },
             color: none,
+            light: None,
         },
     ]
 }
@@ -117,6 +141,13 @@ pub fn render_sphere(
     view: &SphereView,
     cfg: &PathConfig,
 ) -> Result<SphereRender, ConfigError> {
+    let view = &match e.light {
+        Some(l) => SphereView {
+            light: crate::scene::math::v3(l[0], l[1], l[2]).normalized(),
+            ..*view
+        },
+        None => *view,
+    };
     let brdf = MaterialBrdf::new(&e.material, e.color)?;
     let path = material_path(&e.material, e.color, cfg)?;
     let reference = view.reference_levels(&brdf);
