@@ -270,6 +270,15 @@ pub fn verdict(rows: &[FactorRow], method: &str) -> String {
     }
 }
 
+/// Plot the series that have points (none: no file).
+fn plot_nonempty(path: &Path, spec: &PlotSpec, mut series: Vec<Series>) -> Result<(), String> {
+    series.retain(|x| !x.points.is_empty());
+    if series.is_empty() {
+        return Ok(());
+    }
+    line_plot(path, spec, &series)
+}
+
 /// A sphere the image may show: method, ceiling, 8-bit RMS, hardware and f64 levels.
 type SphereCandidate = (String, f64, f64, Vec<f64>, Vec<f64>);
 
@@ -334,14 +343,11 @@ pub fn factorization(
                 s.push(series(m.name(), n));
             }
         }
-        s.retain(|x| !x.points.is_empty());
-        if !s.is_empty() {
-            line_plot(
-                &out.join(format!("factorization_bits_ceiling_{c}.png")),
-                &spec,
-                &s,
-            )?;
-        }
+        plot_nonempty(
+            &out.join(format!("factorization_bits_ceiling_{c}.png")),
+            &spec,
+            s,
+        )?;
 
         let by_res = |method: &str, what: &str| Series {
             label: format!("{method} {what}"),
@@ -376,14 +382,11 @@ pub fn factorization(
                 s.push(by_res(m.name(), what));
             }
         }
-        s.retain(|x| !x.points.is_empty());
-        if !s.is_empty() {
-            line_plot(
-                &out.join(format!("factorization_resolution_ceiling_{c}.png")),
-                &spec,
-                &s,
-            )?;
-        }
+        plot_nonempty(
+            &out.join(format!("factorization_resolution_ceiling_{c}.png")),
+            &spec,
+            s,
+        )?;
     }
     let size = cfg.view.size;
     let diff8 = |a: &[f64]| -> Vec<f64> {
