@@ -321,10 +321,14 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         }
         "shading-factorization" => {
             use crate::pipeline::shading::factor::reproduce as f;
-            // The shading-brdfs sphere's Cook–Torrance metal lobe.
+            // The shading-brdfs sphere (E = π) and its Cook–Torrance metal lobe.
             let brdf =
                 crate::pipeline::shading::brdfs::factorization_brdf().map_err(|e| e.to_string())?;
-            for line in f::factorization(out, brdf.as_ref(), &f::FactorSweep::default())? {
+            let sweep = f::FactorSweep {
+                view: crate::pipeline::shading::brdfs::brdfs_view(),
+                ..f::FactorSweep::default()
+            };
+            for line in f::factorization(out, brdf.as_ref(), &sweep)? {
                 println!("{line}");
             }
         }

@@ -466,3 +466,50 @@ fn invalid_parameters_name_the_field() {
         "factor.irradiance"
     );
 }
+
+/// The reproduction end to end on a tiny sweep: CSV, plots, spheres and summary written,
+/// every row finite, the quantisation inside its bound.
+#[test]
+fn reproduction_writes_its_files() {
+    use glare_pipeline::pipeline::shading::factor::reproduce::{factorization, FactorSweep};
+    let cfg = FactorSweep {
+        resolutions: vec![32, 64],
+        texel_bits: vec![6, 8],
+        view: SphereView {
+            size: 32,
+            ..SphereView::default()
+        },
+        ceilings: vec![f64::INFINITY, 4.0],
+        svd: small_svd(),
+        homomorphic: HomomorphicParams {
+            max_iterations: 40,
+            ..HomomorphicParams::default()
+        },
+        ..FactorSweep::default()
+    };
+    let dir = std::env::temp_dir().join(format!("brdf-factor-{}", std::process::id()));
+    let summary = factorization(&dir, &BlinnLobe, &cfg).unwrap();
+    assert!(summary.iter().any(|l| l.starts_with("svd:")));
+    for f in [
+        "factorization.csv",
+        "factorization_bits_ceiling_inf.png",
+        "factorization_resolution_ceiling_4.png",
+        "factorization_spheres.png",
+        "factorization_summary.txt",
+    ] {
+        assert!(dir.join(f).exists(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(dir.join("factorization.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 * 2 * 2 * 2);
+    let col = |c: &str| {
+        glare_pipeline::report::csv_out::read_csv_column(&dir.join("factorization.csv"), c).unwrap()
+    };
+    let (q, bound, hw) = (col("quant_max"), col("quant_bound"), col("hw_rms"));
+    for ((q, b), h) in q.iter().zip(&bound).zip(&hw) {
+        assert!(
+            q.is_finite() && h.is_finite() && q <= b,
+            "quant {q} bound {b}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -185,6 +185,15 @@ pub fn sphere_error(r: &SphereRender) -> Result<ErrorStats, ConfigError> {
     error_stats_masked(&rgb(&r.hardware), &rgb(&r.reference), &r.mask)
 }
 
+/// The view of `shading-brdfs` (and of `shading-factorization`): the default 256²
+/// sphere under E = π, so a white Lambert surface lit head-on is full scale.
+pub fn brdfs_view() -> SphereView {
+    SphereView {
+        irradiance: std::f64::consts::PI,
+        ..SphereView::default()
+    }
+}
+
 /// One CSV row.
 #[derive(Clone, Debug, Serialize)]
 pub struct BrdfRow {
@@ -204,10 +213,7 @@ pub struct BrdfRow {
 /// `shading_brdfs.csv` and `shading_brdfs.png` (per model: hardware, reference,
 /// |Δ| × 8) into `out`.
 pub fn shading_brdfs(out: &Path) -> Result<Vec<BrdfRow>, String> {
-    let view = SphereView {
-        irradiance: std::f64::consts::PI,
-        ..SphereView::default()
-    };
+    let view = brdfs_view();
     let cfg = PathConfig::default();
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let mut rows = Vec::new();

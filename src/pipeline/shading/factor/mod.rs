@@ -382,6 +382,8 @@ pub struct FactorRenderer {
     target: FactorTarget,
     /// One sampler per factor, with the factor's f64 texels normalised to max 1.
     samplers: Vec<(Projection, TextureSampler, FactorTexture)>,
+    /// Each factor's scale: the f64 value of its top code.
+    scales: Vec<f64>,
     modulate: Modulate,
     texel_bits: u32,
     /// The combiner width n = max(8, texel_bits).
@@ -409,9 +411,11 @@ impl FactorRenderer {
             return Err(ConfigError::not_finite("factor.irradiance", irradiance));
         };
         let mut samplers = Vec::new();
+        let mut scales = Vec::new();
         for f in &fact.factors {
             let q = QuantisedFactor::new(f, texel_bits);
             total *= q.max;
+            scales.push(q.max);
             let cfg = TextureSamplerConfig {
                 texel_bits,
                 ..TextureSamplerConfig::geforce_2d(f.size, f.size)
@@ -439,6 +443,7 @@ impl FactorRenderer {
             method: fact.method,
             target: fact.target,
             samplers,
+            scales,
             modulate,
             texel_bits,
             combiner_bits,
@@ -451,8 +456,17 @@ impl FactorRenderer {
     pub fn method(&self) -> FactorMethod {
         self.method
     }
+    /// The output scale is 2^shift.
     pub fn shift(&self) -> u32 {
         self.shift
+    }
+    /// The constant colour's value before quantisation: E · Π scales / 2^shift.
+    pub fn mantissa(&self) -> f64 {
+        self.mantissa
+    }
+    /// Per factor, the f64 value its top code stands for.
+    pub fn scales(&self) -> &[f64] {
+        &self.scales
     }
     pub fn combiner_bits(&self) -> u32 {
         self.combiner_bits

@@ -270,6 +270,18 @@ pub fn verdict(rows: &[FactorRow], method: &str) -> String {
     }
 }
 
+/// Plot the series that have points (none: no file).
+fn plot_nonempty(path: &Path, spec: &PlotSpec, mut series: Vec<Series>) -> Result<(), String> {
+    series.retain(|x| !x.points.is_empty());
+    if series.is_empty() {
+        return Ok(());
+    }
+    line_plot(path, spec, &series)
+}
+
+/// A sphere the image may show: method, ceiling, 8-bit RMS, hardware and f64 levels.
+type SphereCandidate = (String, f64, f64, Vec<f64>, Vec<f64>);
+
 fn gray(levels: &[f64], size: u32) -> RgbaImage {
     RgbaImage::from_fn(size, size, |x, y| {
         let v = levels[(y * size + x) as usize].round().clamp(0.0, 255.0) as u8;
@@ -289,15 +301,14 @@ pub fn factorization(
     let imgs = SphereImages::new(&cfg.view, brdf);
     let facts = factorisations(brdf, cfg)?;
     let mut rows = Vec::new();
-    let mut spheres: Vec<(String, Vec<f64>, Vec<f64>)> = Vec::new();
+    // (method, ceiling, 8-bit RMS, hardware image, f64 image) at 64² × 8 bits.
+    let mut candidates: Vec<SphereCandidate> = Vec::new();
     let show = (64, 8);
-    // The spheres show the smallest ceiling swept (the kindest to 8 bits).
-    let show_ceiling = cfg.ceilings.iter().copied().fold(f64::INFINITY, f64::min);
     for f in &facts {
         for &b in &cfg.texel_bits {
             let (row, hw, fl) = score(brdf, f, b, &cfg.view, &imgs)?;
-            if (row.resolution, b) == show && row.ceiling == show_ceiling {
-                spheres.push((row.method.clone(), hw, fl));
+            if (row.resolution, b) == show {
+                candidates.push((row.method.clone(), row.ceiling, row.hw_rms, hw, fl));
             }
             rows.push(row);
         }
@@ -332,14 +343,11 @@ pub fn factorization(
                 s.push(series(m.name(), n));
             }
         }
-        s.retain(|x| !x.points.is_empty());
-        if !s.is_empty() {
-            line_plot(
-                &out.join(format!("factorization_bits_ceiling_{c}.png")),
-                &spec,
-                &s,
-            )?;
-        }
+        plot_nonempty(
+            &out.join(format!("factorization_bits_ceiling_{c}.png")),
+            &spec,
+            s,
+        )?;
 
         let by_res = |method: &str, what: &str| Series {
             label: format!("{method} {what}"),
@@ -374,14 +382,11 @@ pub fn factorization(
                 s.push(by_res(m.name(), what));
             }
         }
-        s.retain(|x| !x.points.is_empty());
-        if !s.is_empty() {
-            line_plot(
-                &out.join(format!("factorization_resolution_ceiling_{c}.png")),
-                &spec,
-                &s,
-            )?;
-        }
+        plot_nonempty(
+            &out.join(format!("factorization_resolution_ceiling_{c}.png")),
+            &spec,
+            s,
+        )?;
     }
     let size = cfg.view.size;
     let diff8 = |a: &[f64]| -> Vec<f64> {
@@ -391,7 +396,19 @@ pub fn factorization(
             .collect()
     };
     let mut panels: Vec<(String, RgbaImage)> = Vec::new();
-    for (m, hw, fl) in &spheres {
+    // Per method, the ceiling whose 8-bit output is best (lowest RMS) at 64² × 8 bits.
+    let mut spheres: Vec<&SphereCandidate> = Vec::new();
+    for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+        if let Some(c) = candidates
+            .iter()
+            .filter(|c| c.0 == m.name())
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+        {
+            spheres.push(c);
+        }
+    }
+    for (m, ceiling, _, hw, fl) in spheres {
+        let m = format!("{m} (ceiling {ceiling})");
         panels.push(("f64 reference".to_string(), gray(&imgs.reference, size)));
         panels.push((format!("{m} {}² × {} bits", show.0, show.1), gray(hw, size)));
         panels.push((format!("{m} f64 factors |Δ| × 8"), gray(&diff8(fl), size)));
@@ -414,6 +431,22 @@ pub fn factorization(
     )];
     for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
         summary.push(verdict(&rows, m.name()));
+        let mine = || rows.iter().filter(|r| r.method == m.name());
+        if let Some(r) = mine().min_by(|a, b| a.hw_rms.total_cmp(&b.hw_rms)) {
+            summary.push(format!(
+                "{}: lowest output RMS {:.2} levels (mean {:.2}, max {:.1}) at {}×{}, {} bits, ceiling {} — f64 factors there: RMS {:.2}",
+                m.name(), r.hw_rms, r.hw_mean, r.hw_max, r.resolution, r.resolution, r.texel_bits, r.ceiling, r.f64_rms
+            ));
+        }
+        if let Some(r) = mine()
+            .filter(|r| r.hw_mean <= 2.0)
+            .min_by_key(|r| (r.table_bits, r.resolution, r.texel_bits))
+        {
+            summary.push(format!(
+                "{}: smallest table within 2 levels mean: {}×{}, {} bits ({} bits, ceiling {}): mean {:.2}, RMS {:.2}",
+                m.name(), r.resolution, r.resolution, r.texel_bits, r.table_bits, r.ceiling, r.hw_mean, r.hw_rms
+            ));
+        }
     }
     std::fs::write(
         out.join("factorization_summary.txt"),
