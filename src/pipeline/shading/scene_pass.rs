@@ -97,7 +97,7 @@ pub fn shade_scene(
             let material = scene.objects[obj].material.unwrap_or(Material::Lambert);
             if material.has_specular()
                 && s.specular > 0
-                && best[obj].as_ref().map_or(true, |b| s.specular > b.specular)
+                && !best[obj].as_ref().is_some_and(|b| s.specular <= b.specular)
             {
                 best[obj] = Some(FoundHighlight {
                     object: obj,
