@@ -33,6 +33,13 @@ pub struct CatalogueEntry {
 pub fn catalogue() -> Vec<CatalogueEntry> {
     let none = [0.0; 3];
     let grey = [0.8; 3];
+    let dielectric = Material::CookTorrance {
+        distribution: Distribution::Ggx,
+        roughness: 0.3,
+        ior: 1.5,
+        extinction: 0.0,
+        fresnel: FresnelKind::Exact,
+    };
     vec![
         CatalogueEntry {
             label: "lambert",
@@ -80,25 +87,13 @@ pub fn catalogue() -> Vec<CatalogueEntry> {
         },
         CatalogueEntry {
             label: "cook_torrance_dielectric",
-            material: Material::CookTorrance {
-                distribution: Distribution::Ggx,
-                roughness: 0.3,
-                ior: 1.5,
-                extinction: 0.0,
-                fresnel: FresnelKind::Exact,
-            },
+            material: dielectric,
             color: [0.15; 3],
             light: None,
         },
         CatalogueEntry {
             label: "cook_torrance_backlit",
-            material: Material::CookTorrance {
-                distribution: Distribution::Ggx,
-                roughness: 0.3,
-                ior: 1.5,
-                extinction: 0.0,
-                fresnel: FresnelKind::Exact,
-            },
+            material: dielectric,
             color: none,
             light: Some([-0.75, 0.25, -0.6]),
         },

@@ -175,10 +175,13 @@ pub fn material_path(
     color: [f64; 3],
     cfg: &PathConfig,
 ) -> Result<ShadingPath, ConfigError> {
-    let lookup = |ks: f64, exponent: f64, norm: f64, vector| SpecularLobe::Lookup {
-        k: ks * norm,
-        exponent,
-        vector,
+    // k_s times the form's normalisation (1 for the classic form).
+    let lookup = |ks: f64, exponent: f64, normalized: bool, norm: fn(f64) -> f64, vector| {
+        SpecularLobe::Lookup {
+            k: ks * if normalized { norm(exponent) } else { 1.0 },
+            exponent,
+            vector,
+        }
     };
     let lobe = match *m {
         Material::BlinnPhong {
@@ -188,11 +191,8 @@ pub fn material_path(
         } => lookup(
             ks,
             exponent,
-            if normalized {
-                BlinnPhong::normalisation(exponent)
-            } else {
-                1.0
-            },
+            normalized,
+            BlinnPhong::normalisation,
             LobeVector::Half,
         ),
         Material::Phong {
@@ -202,11 +202,8 @@ pub fn material_path(
         } => lookup(
             ks,
             exponent,
-            if normalized {
-                Phong::normalisation(exponent)
-            } else {
-                1.0
-            },
+            normalized,
+            Phong::normalisation,
             LobeVector::Mirror,
         ),
         Material::OrenNayar { .. } => match MaterialBrdf::new(m, color)?.oren_nayar {
