@@ -95,10 +95,12 @@ pub fn shade_scene(
             let s = paths[obj].shade(&frame, to_light, to_eye, &mut per_object[obj])?;
             pixels.push(Some(s.rgb));
             let material = scene.objects[obj].material.unwrap_or(Material::Lambert);
-            if material.has_specular()
-                && s.specular > 0
-                && !best[obj].as_ref().is_some_and(|b| s.specular <= b.specular)
-            {
+            // Strictly brighter: ties keep the first fragment in raster order.
+            let brighter = match &best[obj] {
+                Some(b) => s.specular > b.specular,
+                None => true,
+            };
+            if material.has_specular() && s.specular > 0 && brighter {
                 best[obj] = Some(FoundHighlight {
                     object: obj,
                     pixel: [x, y],
