@@ -95,9 +95,12 @@ fn params_are_checked_per_scene_before_any_work() {
         e.starts_with("values:") && e.contains("normalize_cube.face_side"),
         "{e}"
     );
-    let e =
-        shading_sweep("shading-blinn_phong", "lookup_bits", &[8, 40], &out, &SMALL).unwrap_err();
+    let e = shading_sweep("shading-specular", "lookup_bits", &[8, 40], &out, &SMALL).unwrap_err();
     assert!(e.starts_with("values:") && e.contains("entry_bits"), "{e}");
+    // The lookup's entry width is not a width of the Blinn–Phong path (its 8-bit
+    // MODULATE reads the entries as they are).
+    let e = shading_sweep("shading-blinn_phong", "lookup_bits", &[8], &out, &SMALL).unwrap_err();
+    assert!(e.starts_with("param:"), "{e}");
     assert!(!out.exists());
     // An unknown scene names `scene`; every scene's params are known widths and every
     // width applies to some scene.

@@ -6,9 +6,11 @@
 //! - `shading-<model>`, a label of [`super::brdfs::catalogue`] (`shading-lambert`,
 //!   `shading-blinn_phong`, `shading-cook_torrance_metal`, …): the model's sphere
 //!   through its [`super::path::ShadingPath`] (E = π, as `reproduce shading-brdfs`)
-//!   against the f64 reference. Widths: `cube_face` (every model), `lookup_log2` and
-//!   `lookup_bits` (Blinn–Phong, the lookup's lobe), `factor_size` and `factor_bits`
-//!   (the factored lobes: every model but Lambert and Blinn–Phong).
+//!   against the f64 reference. Widths: `cube_face` (every model), `lookup_log2`
+//!   (Blinn–Phong, the lookup's lobe), `factor_size` and `factor_bits` (the factored
+//!   lobes: every model but Lambert and Blinn–Phong). The cube's texel width and the
+//!   lookup's entry width are `shading-specular`'s only: the path feeds both to 8-bit
+//!   texture combiners unconverted, so only 8 bits are meaningful on it.
 //! - `shading-specular`: (n·h)^32 on the sphere against 255·(n̂·ĥ)^32, as
 //!   `reproduce shading-specular`. `combiner_bits` is the register combiners' internal
 //!   width of the squaring path (8-bit 64² cube, DOT3 and five squarings); `cube_face`,
@@ -149,7 +151,10 @@ pub fn params_of(scene: &ShadingScene) -> &'static [&'static str] {
     match scene {
         ShadingScene::Model(e) => match lobe_kind(&e.material) {
             "none" => &["cube_face"],
-            "lookup" => &["cube_face", "lookup_log2", "lookup_bits"],
+            // Not `lookup_bits` (nor `cube_bits`): the path hands the lookup's entries
+            // (and the cube's texels) to 8-bit texture combiners as they are, so only
+            // 8 bits render correctly there; `shading-specular` sweeps both.
+            "lookup" => &["cube_face", "lookup_log2"],
             _ => &["cube_face", "factor_size", "factor_bits"],
         },
         ShadingScene::Specular => &[
