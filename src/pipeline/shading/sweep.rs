@@ -35,19 +35,16 @@ use super::brdfs::{catalogue, render_sphere, sphere_error, CatalogueEntry};
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig};
 use super::path::PathConfig;
 use super::specular::{
-    cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels,
+    cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels, SphereVectors,
 };
 use super::sphere::SphereView;
 use super::squaring::SquaringChain;
 use super::vertex_float::{measure, one_light, sphere_vertices};
-use crate::pipeline::glare::sweep::parse_int_values;
+use crate::pipeline::glare::sweep::{parse_int_values, sweep_table, write_sweep, GlareSweepRow};
 use crate::pipeline::shafts::frame::{PassKind, PassStats};
 use crate::pipeline::shafts::throughput::{pass_seconds, GpuModel};
-use crate::report::csv_out::write_csv;
 use crate::report::metrics::error_stats_masked;
-use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
 use crate::report::progress::try_map_with_progress;
-use crate::report::table::text_table;
 use crate::scene::material::Material;
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_combiner::{
@@ -56,7 +53,6 @@ use rtl_model::units::texture_combiner::{
 use rtl_model::units::texture_sampler::{Filter, TextureSampler, TextureSamplerConfig};
 use rtl_model::units::vertex_lighting::{VertexLighting, VertexLightingConfig};
 use rtl_model::{ConfigError, Counters, UnitSummary};
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -304,19 +300,9 @@ fn validate(j: &Job) -> Result<(), ConfigError> {
     Ok(())
 }
 
-/// One row of `sweep_<param>.csv` (the glare sweep's columns).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct ShadingSweepRow {
-    pub param: String,
-    pub value: u32,
-    pub mean_abs_levels: f64,
-    pub rms_levels: f64,
-    pub max_levels: f64,
-    pub predicted_hw_seconds: f64,
-    pub wall_seconds: f64,
-    pub gates_nand2: f64,
-    pub ram_bits: u64,
-}
+/// One row of `sweep_<param>.csv`: the glare sweep's row (param, value, mean / RMS /
+/// max levels, predicted and wall seconds, gates, RAM bits).
+pub type ShadingSweepRow = GlareSweepRow;
 
 /// What one job measured.
 struct Measured {
@@ -362,15 +348,29 @@ fn cube_units(c: &NormalizeCube) -> [UnitSummary; 2] {
     ]
 }
 
-/// Mean / RMS / max over the covered pixels of grey images.
-fn grey_error(
+/// A `shading-specular` path's row: its levels against 255·(n̂·ĥ)^32 over the covered
+/// pixels, the gates and RAM of `units`, the fill time at `textures` per fragment.
+fn specular_measured(
+    vectors: &SphereVectors,
     hw: &[f64],
-    reference: &[f64],
-    mask: &[bool],
-) -> Result<(f64, f64, f64), ConfigError> {
+    wall: f64,
+    units: &[UnitSummary],
+    textures: u32,
+) -> Result<Measured, ConfigError> {
+    let reference = reference_levels(vectors, (1u32 << SPECULAR_K) as f64);
+    let mask: Vec<bool> = vectors.iter().map(|v| v.is_some()).collect();
     let rgb = |v: &[f64]| v.iter().map(|&x| [x; 3]).collect::<Vec<_>>();
-    let st = error_stats_masked(&rgb(hw), &rgb(reference), mask)?;
-    Ok((st.mean_abs, st.rms, st.max))
+    let st = error_stats_masked(&rgb(hw), &rgb(&reference), &mask)?;
+    let (gates, ram) = total(units);
+    Ok(Measured {
+        mean: st.mean_abs,
+        rms: st.rms,
+        max: st.max,
+        predicted: fill_seconds(st.n / 3, textures),
+        wall,
+        gates,
+        ram,
+    })
 }
 
 fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
@@ -413,26 +413,13 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
             let mut ctr = Counters::default();
             let hw = squaring_levels(&v8, SPECULAR_K, *bits, &mut ctr)?;
             let wall = t0.elapsed().as_secs_f64();
-            let reference = reference_levels(&v8, (1u32 << SPECULAR_K) as f64);
-            let mask: Vec<bool> = v8.iter().map(|v| v.is_some()).collect();
-            let (mean, rms, max) = grey_error(&hw, &reference, &mask)?;
             // The cube, the dot-product stage, k squaring stages and the final combiner.
             let mut units = cube_units(&cube).to_vec();
             units.push(UnitSummary::of(&chain.dot_stage));
             units.extend((0..SPECULAR_K).map(|_| UnitSummary::of(&chain.square_stage)));
             units.push(UnitSummary::of(&chain.final_stage));
-            let (gates, ram) = total(&units);
-            let fragments = mask.iter().filter(|&&m| m).count() as u64;
-            Ok(Measured {
-                mean,
-                rms,
-                max,
-                // A normal map and the cube for h.
-                predicted: fill_seconds(fragments, 2),
-                wall,
-                gates,
-                ram,
-            })
+            // Textures: a normal map and the cube for h.
+            specular_measured(&v8, &hw, wall, &units, 2)
         }
         Job::Lookup(c) => {
             let cube = c.cube.build()?;
@@ -443,9 +430,6 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
             let mut ctr = Counters::default();
             let hw = lookup_levels(&v, bits, s, c.lookup, &mut ctr)?;
             let wall = t0.elapsed().as_secs_f64();
-            let reference = reference_levels(&v, s);
-            let mask: Vec<bool> = v.iter().map(|v| v.is_some()).collect();
-            let (mean, rms, max) = grey_error(&hw, &reference, &mask)?;
             let dot3 = lookup_dot3(bits)?;
             let lut = SpecularLookupConfig {
                 exponent: s,
@@ -456,18 +440,8 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
             let mut units = cube_units(&cube).to_vec();
             units.push(UnitSummary::of(&dot3));
             units.push(UnitSummary::of(&lut));
-            let (gates, ram) = total(&units);
-            let fragments = mask.iter().filter(|&&m| m).count() as u64;
-            Ok(Measured {
-                mean,
-                rms,
-                max,
-                // The normal map, the cube for h, the lookup's 1D texture.
-                predicted: fill_seconds(fragments, 3),
-                wall,
-                gates,
-                ram,
-            })
+            // Textures: the normal map, the cube for h, the lookup's 1D texture.
+            specular_measured(&v, &hw, wall, &units, 3)
         }
         Job::Vertex(c) => {
             let setup = one_light();
@@ -544,42 +518,8 @@ pub fn shading_sweep(
             ram_bits: m.ram,
         })
     })?;
-    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
-    let csv = out.join(format!("sweep_{param}.csv"));
-    let png = out.join(format!("sweep_{param}.png"));
-    write_csv(&csv, &rows)?;
-    let mut spec = PlotSpec::new(
-        &format!("{}: error and run time against {param}", sc.name()),
-        param,
-        "error against the f64 reference (levels)",
-    );
-    spec.y_right_label = Some("wall time of the simulation (s)".into());
-    let pts = |f: &dyn Fn(&ShadingSweepRow) -> f64| {
-        rows.iter()
-            .map(|r| (r.value as f64, f(r)))
-            .collect::<Vec<_>>()
-    };
-    line_plot(
-        &png,
-        &spec,
-        &[
-            Series {
-                label: "mean |Δ|".into(),
-                points: pts(&|r| r.mean_abs_levels),
-                axis: Axis::Left,
-            },
-            Series {
-                label: "RMS".into(),
-                points: pts(&|r| r.rms_levels),
-                axis: Axis::Left,
-            },
-            Series {
-                label: "wall time".into(),
-                points: pts(&|r| r.wall_seconds),
-                axis: Axis::Right,
-            },
-        ],
-    )?;
+    let title = format!("{}: error and run time against {param}", sc.name());
+    let (csv, png) = write_sweep(&rows, &title, param, out)?;
     Ok((rows, csv, png))
 }
 
@@ -613,39 +553,9 @@ pub fn shading_sweep_cli(
         csv.display(),
         png.display()
     );
-    print!("{}", table(&rows));
+    print!(
+        "{}",
+        sweep_table(rows.first().map_or(param, |r| r.param.as_str()), &rows)
+    );
     Ok(())
-}
-
-/// The rows as a terminal table.
-pub fn table(rows: &[ShadingSweepRow]) -> String {
-    let body: Vec<Vec<String>> = rows
-        .iter()
-        .map(|r| {
-            vec![
-                r.value.to_string(),
-                format!("{:.3}", r.mean_abs_levels),
-                format!("{:.3}", r.rms_levels),
-                format!("{:.1}", r.max_levels),
-                format!("{:.6}", r.predicted_hw_seconds),
-                format!("{:.3}", r.wall_seconds),
-                format!("{:.0}", r.gates_nand2),
-                r.ram_bits.to_string(),
-            ]
-        })
-        .collect();
-    let p = rows.first().map_or("value", |r| r.param.as_str());
-    text_table(
-        &[
-            p,
-            "mean_abs",
-            "rms",
-            "max",
-            "predicted_hw_s",
-            "wall_s",
-            "gates_nand2",
-            "ram_bits",
-        ],
-        &body,
-    )
 }
