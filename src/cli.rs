@@ -76,13 +76,18 @@ pub enum Command {
     /// value, compares with the f64 ray-marched reference, writes
     /// DIR/sweep_<param>.csv and .png and prints a table.
     Sweep {
-        /// A built-in scene (fig4, fig6, stage) or a TOML scene file.
+        /// A built-in scene (fig4, fig6, stage), a TOML scene file, or a shading scene
+        /// (shading-<model> of the shading-brdfs catalogue, shading-specular,
+        /// shading-vertex).
         #[arg(long)]
         scene: String,
         /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
         /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
         /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
         /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
+        /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
+        /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,
+        /// cube_bits, vertex_mantissa, vertex_exponent (docs/shading.md).
         #[arg(long)]
         param: String,
         /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
@@ -165,6 +170,22 @@ pub fn run(cli: Cli) -> Result<(), String> {
                 crate::scene::builtin::builtin_toml(&name).map_err(|e| e.to_string())?
             );
             Ok(())
+        }
+        Command::Sweep {
+            scene,
+            param,
+            values,
+            out,
+            truth_samples: _,
+            image,
+        } if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) => {
+            crate::pipeline::shading::sweep::shading_sweep_cli(
+                &scene,
+                &param,
+                &values,
+                &out,
+                image.as_deref(),
+            )
         }
         Command::Sweep {
             scene,

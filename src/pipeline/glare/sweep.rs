@@ -157,18 +157,28 @@ pub fn glare_sweep(
             })
         },
     )?;
+    let title = format!(
+        "{}: error and run time against {param}",
+        base.name.split(':').next().unwrap_or("")
+    );
+    let (csv, png) = write_sweep(&rows, &title, param, out)?;
+    Ok((rows, csv, png))
+}
+
+/// Write `DIR/sweep_<param>.csv` (the rows) and `DIR/sweep_<param>.png` (mean and RMS
+/// error on the left axis, the wall time on the right, against the value); every
+/// sweep with this row shape (glare, shading) writes its outputs here.
+pub fn write_sweep(
+    rows: &[GlareSweepRow],
+    title: &str,
+    param: &str,
+    out: &Path,
+) -> Result<(PathBuf, PathBuf), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let csv = out.join(format!("sweep_{param}.csv"));
     let png = out.join(format!("sweep_{param}.png"));
-    write_csv(&csv, &rows)?;
-    let mut spec = PlotSpec::new(
-        &format!(
-            "{}: error and run time against {param}",
-            base.name.split(':').next().unwrap_or("")
-        ),
-        param,
-        "error against the f64 reference (levels)",
-    );
+    write_csv(&csv, rows)?;
+    let mut spec = PlotSpec::new(title, param, "error against the f64 reference (levels)");
     spec.y_right_label = Some("wall time of the simulation (s)".into());
     let pts = |f: &dyn Fn(&GlareSweepRow) -> f64| {
         rows.iter()
@@ -196,7 +206,7 @@ pub fn glare_sweep(
             },
         ],
     )?;
-    Ok((rows, csv, png))
+    Ok((csv, png))
 }
 
 pub fn glare_sweep_cli(scene: &Scene, param: &str, values: &str, out: &Path) -> Result<(), String> {
@@ -208,6 +218,12 @@ pub fn glare_sweep_cli(scene: &Scene, param: &str, values: &str, out: &Path) -> 
         csv.display(),
         png.display()
     );
+    print!("{}", sweep_table(param, &rows));
+    Ok(())
+}
+
+/// The rows as a terminal table, headed by the param's name.
+pub fn sweep_table(param: &str, rows: &[GlareSweepRow]) -> String {
     let table: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
@@ -223,21 +239,17 @@ pub fn glare_sweep_cli(scene: &Scene, param: &str, values: &str, out: &Path) -> 
             ]
         })
         .collect();
-    print!(
-        "{}",
-        text_table(
-            &[
-                param,
-                "mean_abs",
-                "rms",
-                "max",
-                "predicted_hw_s",
-                "wall_s",
-                "gates_nand2",
-                "ram_bits"
-            ],
-            &table
-        )
-    );
-    Ok(())
+    text_table(
+        &[
+            param,
+            "mean_abs",
+            "rms",
+            "max",
+            "predicted_hw_s",
+            "wall_s",
+            "gates_nand2",
+            "ram_bits",
+        ],
+        &table,
+    )
 }

@@ -12,4 +12,5 @@ pub mod scene_pass;
 pub mod specular;
 pub mod sphere;
 pub mod squaring;
+pub mod sweep;
 pub mod vertex_float;

@@ -1,0 +1,561 @@
+//! `sweep --scene shading-<name>`: error against run time for one shading width, the
+//! shading pipeline's counterpart of the glare and shafts sweeps (same CSV row shape,
+//! same plot).
+//!
+//! Scenes:
+//! - `shading-<model>`, a label of [`super::brdfs::catalogue`] (`shading-lambert`,
+//!   `shading-blinn_phong`, `shading-cook_torrance_metal`, …): the model's sphere
+//!   through its [`super::path::ShadingPath`] (E = π, as `reproduce shading-brdfs`)
+//!   against the f64 reference. Widths: `cube_face` (every model), `lookup_log2`
+//!   (Blinn–Phong, the lookup's lobe), `factor_size` and `factor_bits` (the factored
+//!   lobes: every model but Lambert and Blinn–Phong). The cube's texel width and the
+//!   lookup's entry width are `shading-specular`'s only: the path feeds both to 8-bit
+//!   texture combiners unconverted, so only 8 bits are meaningful on it.
+//! - `shading-specular`: (n·h)^32 on the sphere against 255·(n̂·ĥ)^32, as
+//!   `reproduce shading-specular`. `combiner_bits` is the register combiners' internal
+//!   width of the squaring path (8-bit 64² cube, DOT3 and five squarings); `cube_face`,
+//!   `cube_bits`, `lookup_log2`, `lookup_bits` change the texture-shader lookup path
+//!   (its defaults: a 256² cube of 16-bit texels, bilinear, DOT3 and lookup index at
+//!   the cube's width, the GeForce lookup table).
+//! - `shading-vertex`: the `vertex_lighting` unit on the tessellated sphere of
+//!   `shading-vertex-float` (one light), against the f64 GL twin's ideal 8-bit output.
+//!   Widths: `vertex_mantissa`, `vertex_exponent` of its float format.
+//!
+//! Every value is applied and its units built (validated) before anything runs: an
+//! unknown or inapplicable `param` is an error naming `param` and listing the valid
+//! ones, a bad value an error naming `values` and the unit's field.
+//!
+//! `predicted_hw_seconds` is the GeForce3 fill time of the shaded fragments
+//! ([`crate::pipeline::shafts::throughput::pass_seconds`] with the textures the path
+//! reads per fragment and no memory traffic: at these texel widths the pass is fill
+//! bound) or, for `shading-vertex`, vertices × II at the GeForce3 clock. The widths
+//! change it only through the textures a path reads (or the unit's II).
+
+use super::brdfs::{catalogue, render_sphere, sphere_error, CatalogueEntry};
+use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig};
+use super::path::PathConfig;
+use super::specular::{
+    cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels, SphereVectors,
+};
+use super::sphere::SphereView;
+use super::squaring::SquaringChain;
+use super::vertex_float::{measure, one_light, sphere_vertices};
+use crate::pipeline::glare::sweep::{parse_int_values, sweep_table, write_sweep, GlareSweepRow};
+use crate::pipeline::shafts::frame::{PassKind, PassStats};
+use crate::pipeline::shafts::throughput::{pass_seconds, GpuModel};
+use crate::report::metrics::error_stats_masked;
+use crate::report::progress::try_map_with_progress;
+use crate::scene::material::Material;
+use rtl_model::units::specular_lookup::SpecularLookupConfig;
+use rtl_model::units::texture_combiner::{
+    CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig,
+};
+use rtl_model::units::texture_sampler::{Filter, TextureSampler, TextureSamplerConfig};
+use rtl_model::units::vertex_lighting::{VertexLighting, VertexLightingConfig};
+use rtl_model::{ConfigError, Counters, UnitSummary};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Every shading width a sweep knows (each scene takes a subset: [`params_of`]).
+pub const SHADING_PARAMS: &[&str] = &[
+    "combiner_bits",
+    "factor_size",
+    "factor_bits",
+    "lookup_log2",
+    "lookup_bits",
+    "cube_face",
+    "cube_bits",
+    "vertex_mantissa",
+    "vertex_exponent",
+];
+
+/// The scene name prefix that selects this sweep.
+pub const SCENE_PREFIX: &str = "shading-";
+
+/// The exponent of `shading-specular`: s = 2^5 = 32 (one GeForce3 pass of squarings).
+pub const SPECULAR_K: u32 = 5;
+
+/// Rings × segments of `shading-vertex`'s sphere (as `shading-vertex-float`).
+pub const VERTEX_RINGS: u32 = 48;
+pub const VERTEX_SEGMENTS: u32 = 96;
+
+/// What a `shading-*` scene renders.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ShadingScene {
+    /// A catalogue model's sphere through its shading path.
+    Model(CatalogueEntry),
+    /// (n·h)^32: squaring in the register combiners, or the texture-shader lookup.
+    Specular,
+    /// Vertex lighting in a float format.
+    Vertex,
+}
+
+/// How a catalogue model's lobe is rendered (which widths reach it).
+fn lobe_kind(m: &Material) -> &'static str {
+    match m {
+        Material::Lambert => "none",
+        Material::BlinnPhong { .. } => "lookup",
+        _ => "factored",
+    }
+}
+
+impl ShadingScene {
+    /// `shading-<model>`, `shading-specular` or `shading-vertex`; anything else is an
+    /// error naming `scene` and listing the valid names.
+    pub fn parse(name: &str) -> Result<ShadingScene, String> {
+        let rest = name.strip_prefix(SCENE_PREFIX).unwrap_or("");
+        match rest {
+            "specular" => return Ok(ShadingScene::Specular),
+            "vertex" => return Ok(ShadingScene::Vertex),
+            _ => {}
+        }
+        catalogue()
+            .into_iter()
+            .find(|e| e.label == rest)
+            .map(ShadingScene::Model)
+            .ok_or_else(|| {
+                format!(
+                    "scene: unknown shading scene '{name}' (known: {})",
+                    scene_names().join(", ")
+                )
+            })
+    }
+
+    /// The scene's name on the command line.
+    pub fn name(&self) -> String {
+        match self {
+            ShadingScene::Model(e) => format!("{SCENE_PREFIX}{}", e.label),
+            ShadingScene::Specular => format!("{SCENE_PREFIX}specular"),
+            ShadingScene::Vertex => format!("{SCENE_PREFIX}vertex"),
+        }
+    }
+}
+
+/// Every `shading-*` scene name.
+pub fn scene_names() -> Vec<String> {
+    let mut v: Vec<String> = catalogue()
+        .iter()
+        .map(|e| format!("{SCENE_PREFIX}{}", e.label))
+        .collect();
+    v.push(format!("{SCENE_PREFIX}specular"));
+    v.push(format!("{SCENE_PREFIX}vertex"));
+    v
+}
+
+/// The widths that reach a scene's result.
+pub fn params_of(scene: &ShadingScene) -> &'static [&'static str] {
+    match scene {
+        ShadingScene::Model(e) => match lobe_kind(&e.material) {
+            "none" => &["cube_face"],
+            // Not `lookup_bits` (nor `cube_bits`): the path hands the lookup's entries
+            // (and the cube's texels) to 8-bit texture combiners as they are, so only
+            // 8 bits render correctly there; `shading-specular` sweeps both.
+            "lookup" => &["cube_face", "lookup_log2"],
+            _ => &["cube_face", "factor_size", "factor_bits"],
+        },
+        ShadingScene::Specular => &[
+            "combiner_bits",
+            "cube_face",
+            "cube_bits",
+            "lookup_log2",
+            "lookup_bits",
+        ],
+        ShadingScene::Vertex => &["vertex_mantissa", "vertex_exponent"],
+    }
+}
+
+/// The param's canonical name (`-` accepted for `_`) if the scene takes it; an
+/// unknown name or one for another scene is an error naming `param` with the valid
+/// ones.
+pub fn check_param(scene: &ShadingScene, param: &str) -> Result<&'static str, String> {
+    let norm = param.trim().replace('-', "_");
+    let valid = params_of(scene);
+    if let Some(p) = valid.iter().find(|p| **p == norm) {
+        return Ok(p);
+    }
+    let why = if SHADING_PARAMS.contains(&norm.as_str()) {
+        format!("'{param}' does not apply to {}", scene.name())
+    } else {
+        format!("unknown shading width '{param}'")
+    };
+    Err(format!(
+        "param: {why} (valid for {}: {})",
+        scene.name(),
+        valid.join(", ")
+    ))
+}
+
+/// The texture-shader lookup path of `shading-specular`: the cube the vectors come
+/// from (its texel width is the DOT3's and the lookup index's) and the lookup table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LookupPathConfig {
+    pub cube: NormalizeCubeConfig,
+    pub lookup: SpecularLookupConfig,
+}
+
+impl Default for LookupPathConfig {
+    /// `reproduce shading-specular`'s 16-bit path: 256² faces of 16-bit texels,
+    /// bilinear; the GeForce lookup (256 entries of 8 bits, interpolated).
+    fn default() -> Self {
+        LookupPathConfig {
+            cube: NormalizeCubeConfig::with(256, 16, Filter::Linear),
+            lookup: SpecularLookupConfig::geforce(),
+        }
+    }
+}
+
+/// One configuration of a sweep, the value applied.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Job {
+    Model(CatalogueEntry, PathConfig),
+    Squaring(u32),
+    Lookup(LookupPathConfig),
+    Vertex(VertexLightingConfig),
+}
+
+/// The config of `scene` with `param` (a name [`check_param`] accepted) set to `v`.
+fn job(scene: &ShadingScene, param: &str, v: u32) -> Job {
+    match scene {
+        ShadingScene::Model(e) => {
+            let mut c = PathConfig::default();
+            match param {
+                "cube_face" => c.cube.face_side = v,
+                "lookup_log2" => c.lookup.table_log2 = v,
+                "lookup_bits" => c.lookup.entry_bits = v,
+                "factor_size" => c.factor_resolution = v,
+                _ => c.factor_bits = v,
+            }
+            Job::Model(*e, c)
+        }
+        ShadingScene::Specular => {
+            let mut c = LookupPathConfig::default();
+            match param {
+                "combiner_bits" => return Job::Squaring(v),
+                "cube_face" => c.cube.face_side = v,
+                "cube_bits" => c.cube.texel_bits = v,
+                "lookup_log2" => c.lookup.table_log2 = v,
+                _ => c.lookup.entry_bits = v,
+            }
+            Job::Lookup(c)
+        }
+        ShadingScene::Vertex => {
+            let c = VertexLightingConfig::geforce();
+            Job::Vertex(match param {
+                "vertex_mantissa" => c.with_format(c.format.exp_bits, v),
+                _ => c.with_format(v, c.format.mant_bits),
+            })
+        }
+    }
+}
+
+/// The DOT3 stage of the lookup path at the vectors' width (as `lookup_levels` builds
+/// it: TEXTURE · PREVIOUS).
+fn lookup_dot3(bits: u32) -> Result<TextureCombiner, ConfigError> {
+    TextureCombinerConfig {
+        bits,
+        combine_rgb: CombineFunction::Dot3Rgb,
+        combine_alpha: CombineFunction::Replace,
+        source_rgb: [
+            CombineSource::Texture,
+            CombineSource::Previous,
+            CombineSource::Constant,
+        ],
+        ..TextureCombinerConfig::geforce()
+    }
+    .build()
+}
+
+/// Build every unit the job elaborates, without rendering: a bad width is an error
+/// naming its field.
+fn validate(j: &Job) -> Result<(), ConfigError> {
+    match j {
+        Job::Model(_, c) => {
+            c.cube.build()?;
+            c.lookup.build()?;
+            // The factor textures' samplers at this size and texel width.
+            let s = c.factor_resolution;
+            let cfg = TextureSamplerConfig {
+                texel_bits: c.factor_bits,
+                ..TextureSamplerConfig::geforce_2d(s, s)
+            };
+            TextureSampler::new(cfg, &vec![0; (s as usize).saturating_mul(s as usize)])
+                .map_err(|e| e.within("shading.factor"))?;
+        }
+        Job::Squaring(bits) => {
+            SquaringChain::new(*bits)?;
+        }
+        Job::Lookup(c) => {
+            c.cube.build()?;
+            lookup_dot3(c.cube.texel_bits)?;
+            SpecularLookupConfig {
+                in_bits: c.cube.texel_bits,
+                ..c.lookup
+            }
+            .build()?;
+        }
+        Job::Vertex(c) => {
+            VertexLighting::new(*c, &one_light())?;
+        }
+    }
+    Ok(())
+}
+
+/// One row of `sweep_<param>.csv`: the glare sweep's row (param, value, mean / RMS /
+/// max levels, predicted and wall seconds, gates, RAM bits).
+pub type ShadingSweepRow = GlareSweepRow;
+
+/// What one job measured.
+struct Measured {
+    mean: f64,
+    rms: f64,
+    max: f64,
+    predicted: f64,
+    wall: f64,
+    gates: f64,
+    ram: u64,
+}
+
+/// GeForce3 fill time of `fragments` reading `textures` textures each (no memory
+/// traffic, triangles or overhead counted beyond one pass).
+fn fill_seconds(fragments: u64, textures: u32) -> f64 {
+    let p = PassStats {
+        kind: PassKind::Objects,
+        light: 0,
+        walked: fragments,
+        fragments,
+        textures_per_fragment: textures,
+        triangles: 0,
+        texel_bytes: 0,
+        fb_bytes: 0,
+        other_bytes: 0,
+        depth_tests: 0,
+    };
+    pass_seconds(&GpuModel::geforce3(), &p).0
+}
+
+/// Sum of gates and RAM bits.
+fn total(units: &[UnitSummary]) -> (f64, u64) {
+    units
+        .iter()
+        .fold((0.0, 0), |(g, b), s| (g + s.gates_nand2, b + s.ram_bits))
+}
+
+/// The cube's two units.
+fn cube_units(c: &NormalizeCube) -> [UnitSummary; 2] {
+    [
+        UnitSummary::of(c.address_unit()),
+        UnitSummary::of(c.sampler()),
+    ]
+}
+
+/// A `shading-specular` path's row: its levels against 255·(n̂·ĥ)^32 over the covered
+/// pixels, the gates and RAM of `units`, the fill time at `textures` per fragment.
+fn specular_measured(
+    vectors: &SphereVectors,
+    hw: &[f64],
+    wall: f64,
+    units: &[UnitSummary],
+    textures: u32,
+) -> Result<Measured, ConfigError> {
+    let reference = reference_levels(vectors, (1u32 << SPECULAR_K) as f64);
+    let mask: Vec<bool> = vectors.iter().map(|v| v.is_some()).collect();
+    let rgb = |v: &[f64]| v.iter().map(|&x| [x; 3]).collect::<Vec<_>>();
+    let st = error_stats_masked(&rgb(hw), &rgb(&reference), &mask)?;
+    let (gates, ram) = total(units);
+    Ok(Measured {
+        mean: st.mean_abs,
+        rms: st.rms,
+        max: st.max,
+        predicted: fill_seconds(st.n / 3, textures),
+        wall,
+        gates,
+        ram,
+    })
+}
+
+fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
+    match j {
+        Job::Model(e, cfg) => {
+            // The units' shading of the sphere (render_sphere's clock: the host's
+            // factorisation and the reference are not in it).
+            let r = render_sphere(e, view, cfg)?;
+            let wall = r.wall_seconds;
+            let st = sphere_error(&r)?;
+            let fragments = st.n / 3;
+            let elab = r.path.elaboration(fragments);
+            let used: Vec<UnitSummary> = elab.iter().filter_map(|u| u.summary.clone()).collect();
+            let (gates, ram) = total(&used);
+            // Textures per fragment: the cube for n and l, and for h with the lookup;
+            // the lookup's 1D table; one per factor texture.
+            let lookup = elab
+                .iter()
+                .any(|u| u.summary.is_some() && u.name == "specular_lookup");
+            let factors = elab
+                .iter()
+                .filter(|u| u.summary.is_some() && u.name.starts_with("texture_sampler (factor"))
+                .count() as u32;
+            let textures = 2 + 2 * u32::from(lookup) + factors;
+            Ok(Measured {
+                mean: st.mean_abs,
+                rms: st.rms,
+                max: st.max,
+                predicted: fill_seconds(fragments, textures),
+                wall,
+                gates,
+                ram,
+            })
+        }
+        Job::Squaring(bits) => {
+            let cube = cube_8bit()?;
+            let chain = SquaringChain::new(*bits)?;
+            let t0 = Instant::now();
+            let v8 = sphere_vectors(view, &cube)?;
+            let mut ctr = Counters::default();
+            let hw = squaring_levels(&v8, SPECULAR_K, *bits, &mut ctr)?;
+            let wall = t0.elapsed().as_secs_f64();
+            // The cube, the dot-product stage, k squaring stages and the final combiner.
+            let mut units = cube_units(&cube).to_vec();
+            units.push(UnitSummary::of(&chain.dot_stage));
+            units.extend((0..SPECULAR_K).map(|_| UnitSummary::of(&chain.square_stage)));
+            units.push(UnitSummary::of(&chain.final_stage));
+            // Textures: a normal map and the cube for h.
+            specular_measured(&v8, &hw, wall, &units, 2)
+        }
+        Job::Lookup(c) => {
+            let cube = c.cube.build()?;
+            let bits = c.cube.texel_bits;
+            let s = (1u32 << SPECULAR_K) as f64;
+            let t0 = Instant::now();
+            let v = sphere_vectors(view, &cube)?;
+            let mut ctr = Counters::default();
+            let hw = lookup_levels(&v, bits, s, c.lookup, &mut ctr)?;
+            let wall = t0.elapsed().as_secs_f64();
+            let dot3 = lookup_dot3(bits)?;
+            let lut = SpecularLookupConfig {
+                exponent: s,
+                in_bits: bits,
+                ..c.lookup
+            }
+            .build()?;
+            let mut units = cube_units(&cube).to_vec();
+            units.push(UnitSummary::of(&dot3));
+            units.push(UnitSummary::of(&lut));
+            // Textures: the normal map, the cube for h, the lookup's 1D texture.
+            specular_measured(&v, &hw, wall, &units, 3)
+        }
+        Job::Vertex(c) => {
+            let setup = one_light();
+            let verts = sphere_vertices(VERTEX_RINGS, VERTEX_SEGMENTS);
+            let t0 = Instant::now();
+            let row = measure(*c, &setup, &verts)
+                .map_err(|e| ConfigError::invalid("vertex_lighting", &e))?;
+            let wall = t0.elapsed().as_secs_f64();
+            let s = UnitSummary::of(&VertexLighting::new(*c, &setup)?);
+            let clock = GpuModel::geforce3().clock_hz;
+            Ok(Measured {
+                mean: row.mean_levels,
+                rms: row.rms_levels,
+                max: row.max_levels,
+                predicted: verts.len() as f64 * s.ii as f64 / clock,
+                wall,
+                gates: s.gates_nand2,
+                ram: s.ram_bits,
+            })
+        }
+    }
+}
+
+/// Sweep options: the sphere view's side in pixels (the `shading-brdfs` 256 by
+/// default; `shading-vertex` does not use it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingSweepOptions {
+    pub view_size: u32,
+}
+
+impl Default for ShadingSweepOptions {
+    fn default() -> Self {
+        ShadingSweepOptions { view_size: 256 }
+    }
+}
+
+/// Run the sweep of `param` over `values` on the `shading-*` scene `scene`; write
+/// `DIR/sweep_<param>.csv` and `.png`. The scene, the param and every value are
+/// checked (units built) before anything renders.
+pub fn shading_sweep(
+    scene: &str,
+    param: &str,
+    values: &[u32],
+    out: &Path,
+    opts: &ShadingSweepOptions,
+) -> Result<(Vec<ShadingSweepRow>, PathBuf, PathBuf), String> {
+    let sc = ShadingScene::parse(scene)?;
+    let param = check_param(&sc, param)?;
+    if values.is_empty() {
+        return Err("values: no values given".into());
+    }
+    rtl_model::error::check_range("image", opts.view_size.into(), 2, 4096)
+        .map_err(|e| e.to_string())?;
+    let jobs: Vec<(u32, Job)> = values.iter().map(|&v| (v, job(&sc, param, v))).collect();
+    for (v, j) in &jobs {
+        validate(j).map_err(|e| format!("values: {param} = {v}: {e}"))?;
+    }
+    let view = SphereView {
+        size: opts.view_size,
+        irradiance: std::f64::consts::PI,
+        ..SphereView::default()
+    };
+    let rows = try_map_with_progress(&jobs, &format!("sweep {param}"), |(v, j)| {
+        let m = run(j, &view).map_err(|e| format!("values: {param} = {v}: {e}"))?;
+        Ok::<_, String>(ShadingSweepRow {
+            param: param.to_string(),
+            value: *v,
+            mean_abs_levels: m.mean,
+            rms_levels: m.rms,
+            max_levels: m.max,
+            predicted_hw_seconds: m.predicted,
+            wall_seconds: m.wall,
+            gates_nand2: m.gates,
+            ram_bits: m.ram,
+        })
+    })?;
+    let title = format!("{}: error and run time against {param}", sc.name());
+    let (csv, png) = write_sweep(&rows, &title, param, out)?;
+    Ok((rows, csv, png))
+}
+
+/// The CLI: `values` as `parse_int_values` reads them, `image` (`WxH`, square) the
+/// sphere view's size; prints what was written and the rows.
+pub fn shading_sweep_cli(
+    scene: &str,
+    param: &str,
+    values: &str,
+    out: &Path,
+    image: Option<&str>,
+) -> Result<(), String> {
+    let sc = ShadingScene::parse(scene)?;
+    check_param(&sc, param)?;
+    let values = parse_int_values(values)?;
+    let mut opts = ShadingSweepOptions::default();
+    if let Some(img) = image {
+        let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+        if sc == ShadingScene::Vertex {
+            return Err("image: shading-vertex lights sphere vertices, it has no image".into());
+        }
+        if w != h {
+            return Err(format!("image: the sphere view is square, not {w}x{h}"));
+        }
+        opts.view_size = w;
+    }
+    let (rows, csv, png) = shading_sweep(scene, param, &values, out, &opts)?;
+    println!(
+        "sweep {} on {scene}: wrote {} and {}",
+        rows.first().map_or(param, |r| r.param.as_str()),
+        csv.display(),
+        png.display()
+    );
+    print!(
+        "{}",
+        sweep_table(rows.first().map_or(param, |r| r.param.as_str()), &rows)
+    );
+    Ok(())
+}
