@@ -8,4 +8,5 @@ pub mod metrics;
 pub mod plot;
 pub mod progress;
 pub mod spectrum;
+pub mod sweep_out;
 pub mod table;

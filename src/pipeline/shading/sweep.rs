@@ -40,11 +40,11 @@ use super::specular::{
 use super::sphere::SphereView;
 use super::squaring::SquaringChain;
 use super::vertex_float::{measure, one_light, sphere_vertices};
-use crate::pipeline::glare::sweep::{parse_int_values, sweep_table, write_sweep, GlareSweepRow};
 use crate::pipeline::shafts::frame::{PassKind, PassStats};
 use crate::pipeline::shafts::throughput::{pass_seconds, GpuModel};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
+use crate::report::sweep_out::{parse_int_values, sweep_table, write_sweep, SweepRow};
 use crate::scene::material::Material;
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_combiner::{
@@ -302,7 +302,7 @@ fn validate(j: &Job) -> Result<(), ConfigError> {
 
 /// One row of `sweep_<param>.csv`: the glare sweep's row (param, value, mean / RMS /
 /// max levels, predicted and wall seconds, gates, RAM bits).
-pub type ShadingSweepRow = GlareSweepRow;
+pub type ShadingSweepRow = SweepRow;
 
 /// What one job measured.
 struct Measured {

@@ -1,0 +1,129 @@
+//! The sweep report shared by every pipeline's `sweep`: the values parser, one row per
+//! value (error against the f64 reference, predicted and wall time, gates, RAM bits),
+//! the CSV and plot writer and the terminal table.
+
+use crate::report::csv_out::write_csv;
+use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
+use crate::report::table::text_table;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// `10,20,30` or ranges `4..10:2` (inclusive), non-negative integers; errors name
+/// `values`.
+pub fn parse_int_values(text: &str) -> Result<Vec<u32>, String> {
+    let mut out = Vec::new();
+    for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let bad = || format!("values: '{item}' is not an integer or a range start..end:step");
+        if let Some((a, rest)) = item.split_once("..") {
+            let (b, step) = rest.split_once(':').unwrap_or((rest, "1"));
+            let (a, b, step): (u32, u32, u32) = (
+                a.trim().parse().map_err(|_| bad())?,
+                b.trim().parse().map_err(|_| bad())?,
+                step.trim().parse().map_err(|_| bad())?,
+            );
+            if step == 0 || b < a {
+                return Err(bad());
+            }
+            out.extend((a..=b).step_by(step as usize));
+        } else {
+            out.push(item.parse().map_err(|_| bad())?);
+        }
+    }
+    if out.is_empty() {
+        return Err("values: no values given".into());
+    }
+    if out.len() > 1000 {
+        return Err(format!("values: {} values (at most 1000)", out.len()));
+    }
+    Ok(out)
+}
+
+/// One row of `sweep_<param>.csv`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SweepRow {
+    pub param: String,
+    pub value: u32,
+    pub mean_abs_levels: f64,
+    pub rms_levels: f64,
+    pub max_levels: f64,
+    pub predicted_hw_seconds: f64,
+    pub wall_seconds: f64,
+    pub gates_nand2: f64,
+    pub ram_bits: u64,
+}
+
+/// Write `DIR/sweep_<param>.csv` (the rows) and `DIR/sweep_<param>.png` (mean and RMS
+/// error on the left axis, the wall time on the right, against the value); every
+/// sweep with this row shape (glare, shading) writes its outputs here.
+pub fn write_sweep(
+    rows: &[SweepRow],
+    title: &str,
+    param: &str,
+    out: &Path,
+) -> Result<(PathBuf, PathBuf), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
+    let csv = out.join(format!("sweep_{param}.csv"));
+    let png = out.join(format!("sweep_{param}.png"));
+    write_csv(&csv, rows)?;
+    let mut spec = PlotSpec::new(title, param, "error against the f64 reference (levels)");
+    spec.y_right_label = Some("wall time of the simulation (s)".into());
+    let pts = |f: &dyn Fn(&SweepRow) -> f64| {
+        rows.iter()
+            .map(|r| (r.value as f64, f(r)))
+            .collect::<Vec<_>>()
+    };
+    line_plot(
+        &png,
+        &spec,
+        &[
+            Series {
+                label: "mean |Δ|".into(),
+                points: pts(&|r| r.mean_abs_levels),
+                axis: Axis::Left,
+            },
+            Series {
+                label: "RMS".into(),
+                points: pts(&|r| r.rms_levels),
+                axis: Axis::Left,
+            },
+            Series {
+                label: "wall time".into(),
+                points: pts(&|r| r.wall_seconds),
+                axis: Axis::Right,
+            },
+        ],
+    )?;
+    Ok((csv, png))
+}
+
+/// The rows as a terminal table, headed by the param's name.
+pub fn sweep_table(param: &str, rows: &[SweepRow]) -> String {
+    let table: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.value.to_string(),
+                format!("{:.3}", r.mean_abs_levels),
+                format!("{:.3}", r.rms_levels),
+                format!("{:.1}", r.max_levels),
+                format!("{:.6}", r.predicted_hw_seconds),
+                format!("{:.3}", r.wall_seconds),
+                format!("{:.0}", r.gates_nand2),
+                r.ram_bits.to_string(),
+            ]
+        })
+        .collect();
+    text_table(
+        &[
+            param,
+            "mean_abs",
+            "rms",
+            "max",
+            "predicted_hw_s",
+            "wall_s",
+            "gates_nand2",
+            "ram_bits",
+        ],
+        &table,
+    )
+}
