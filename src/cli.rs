@@ -345,8 +345,13 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
             // The shading-brdfs sphere (E = π) and its Cook–Torrance metal lobe.
             let brdf =
                 crate::pipeline::shading::brdfs::factorization_brdf().map_err(|e| e.to_string())?;
+            // Ceilings relative to the output's saturation R·cos θ_i = 1/E: none, 4×, 1×
+            // (the last is what the shading path fits: `path.rs`).
+            let view = crate::pipeline::shading::brdfs::brdfs_view();
+            let e = view.irradiance;
             let sweep = f::FactorSweep {
-                view: crate::pipeline::shading::brdfs::brdfs_view(),
+                view,
+                ceilings: vec![f64::INFINITY, 4.0 / e, 1.0 / e],
                 ..f::FactorSweep::default()
             };
             for line in f::factorization(out, brdf.as_ref(), &sweep)? {

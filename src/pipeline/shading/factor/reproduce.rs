@@ -88,8 +88,9 @@ impl Default for FactorSweep {
             texel_bits: (4..=16).collect(),
             view: SphereView::default(),
             target: FactorTarget::BrdfCosine,
-            // ∞: the BRDF as it is; 4/E: peaks above 4× the output's saturation are
-            // cut; 1/E: everything above what the 8-bit output can show is cut.
+            // Absolute values of the target R·cos θ_i. At the default E = 1 they read:
+            // ∞, the BRDF as it is; 4 = 4/E, peaks above 4× the output's saturation are
+            // cut; 1 = 1/E, everything above what the 8-bit output can show is cut.
             ceilings: vec![f64::INFINITY, 4.0, 1.0],
             svd: SvdParams::default(),
             homomorphic: HomomorphicParams::default(),
