@@ -179,13 +179,11 @@ pub fn run(cli: Cli) -> Result<(), String> {
             truth_samples: _,
             image,
         } if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) => {
-            crate::pipeline::shading::sweep::shading_sweep_cli(
-                &scene,
-                &param,
-                &values,
-                &out,
-                image.as_deref(),
-            )
+            let image = image
+                .as_deref()
+                .map(crate::pipeline::shafts::sweep::parse_image)
+                .transpose()?;
+            crate::pipeline::shading::sweep::shading_sweep_cli(&scene, &param, &values, &out, image)
         }
         Command::Sweep {
             scene,

@@ -8,3 +8,4 @@ pub mod registry;
 pub mod shading;
 pub mod shafts;
 pub mod test_scene;
+pub mod time_model;

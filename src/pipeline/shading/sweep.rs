@@ -26,7 +26,7 @@
 //! ones, a bad value an error naming `values` and the unit's field.
 //!
 //! `predicted_hw_seconds` is the GeForce3 fill time of the shaded fragments
-//! ([`crate::pipeline::shafts::throughput::pass_seconds`] with the textures the path
+//! ([`crate::pipeline::time_model::pass_seconds`] with the textures the path
 //! reads per fragment and no memory traffic: at these texel widths the pass is fill
 //! bound) or, for `shading-vertex`, vertices × II at the GeForce3 clock. The widths
 //! change it only through the textures a path reads (or the unit's II).
@@ -40,8 +40,7 @@ use super::specular::{
 use super::sphere::SphereView;
 use super::squaring::SquaringChain;
 use super::vertex_float::{measure, one_light, sphere_vertices};
-use crate::pipeline::shafts::frame::{PassKind, PassStats};
-use crate::pipeline::shafts::throughput::{pass_seconds, GpuModel};
+use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
 use crate::report::sweep_out::{parse_int_values, sweep_table, write_sweep, SweepRow};
@@ -523,21 +522,21 @@ pub fn shading_sweep(
     Ok((rows, csv, png))
 }
 
-/// The CLI: `values` as `parse_int_values` reads them, `image` (`WxH`, square) the
-/// sphere view's size; prints what was written and the rows.
+/// The CLI: `values` as `parse_int_values` reads them, `image` (width, height as
+/// `--image WxH` gave them; square) the sphere view's size; prints what was written
+/// and the rows.
 pub fn shading_sweep_cli(
     scene: &str,
     param: &str,
     values: &str,
     out: &Path,
-    image: Option<&str>,
+    image: Option<(u32, u32)>,
 ) -> Result<(), String> {
     let sc = ShadingScene::parse(scene)?;
     check_param(&sc, param)?;
     let values = parse_int_values(values)?;
     let mut opts = ShadingSweepOptions::default();
-    if let Some(img) = image {
-        let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+    if let Some((w, h)) = image {
         if sc == ShadingScene::Vertex {
             return Err("image: shading-vertex lights sphere vertices, it has no image".into());
         }

@@ -83,37 +83,7 @@ pub struct Prepared {
 
 pub use crate::report::elaboration::Elaborated;
 
-/// Kinds of pass, for the throughput model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
-pub enum PassKind {
-    ObjectDepth,
-    ShadowMap,
-    Objects,
-    SubPlane,
-    CopyToTexture,
-    Plane,
-}
-
-/// One pass's work, as counted by the units.
-#[derive(Clone, Debug, serde::Serialize)]
-pub struct PassStats {
-    pub kind: PassKind,
-    pub light: usize,
-    /// Pixels the rasteriser walked (including uncovered ones in bounding boxes).
-    pub walked: u64,
-    /// Fragments that reached the per-pixel units.
-    pub fragments: u64,
-    /// Texture lookups per fragment (for the TMU model).
-    pub textures_per_fragment: u32,
-    pub triangles: u64,
-    /// Memory traffic the pass's units counted: texel fetches (no cache), framebuffer
-    /// read-modify-write, and other bytes (copy-to-texture).
-    pub texel_bytes: u64,
-    pub fb_bytes: u64,
-    pub other_bytes: u64,
-    /// Depth-buffer tests (a 32-bit depth/stencil read each in an external z-buffer).
-    pub depth_tests: u64,
-}
+pub use crate::pipeline::time_model::{PassKind, PassStats};
 
 /// Cumulative traffic over every unit's counters so far (to split it per pass).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
