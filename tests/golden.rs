@@ -57,8 +57,8 @@ const GLARE: &[(&str, u64, u64)] = &[
     ("glare-flare", 0xbfd3fa89b41f711e, 0xe13f839fdf8f7ff2),
     ("street-light", 0x068ed26f4a75639e, 0xd5e7261dc949380b),
     ("leaves", 0xeef24bfd1be33234, 0xa0d7c3f2bea76d5b),
-    ("shaded-metal", 0x2e0bc6ab797ea759, 0x11a156c775154860),
-    ("shaded-dielectric", 0x7b79bd6edf4eb0e3, 0x4a848b5061c5ff1d),
+    ("shaded-metal", 0x2e0bc6ab797ea759, 0x32192010504420e7),
+    ("shaded-dielectric", 0x7b79bd6edf4eb0e3, 0xb71c02156c6cc980),
 ];
 
 /// The environment maps (`reproduce envmap-images`' path): the accelerated map
