@@ -169,6 +169,16 @@ impl Brdf for MaterialBrdf {
     }
 }
 
+/// Which specular datapath [`material_path`] gives a material: `"none"` (Lambert),
+/// `"lookup"` (Phong, Blinn–Phong) or `"factored"` (every other model).
+pub fn lobe_kind(m: &Material) -> &'static str {
+    match m {
+        Material::Lambert => "none",
+        Material::Phong { .. } | Material::BlinnPhong { .. } => "lookup",
+        _ => "factored",
+    }
+}
+
 /// The hardware path of a material on an object of `color`.
 pub fn material_path(
     m: &Material,

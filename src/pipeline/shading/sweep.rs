@@ -7,7 +7,7 @@
 //!   `shading-blinn_phong`, `shading-cook_torrance_metal`, …): the model's sphere
 //!   through its [`super::path::ShadingPath`] (E = π, as `reproduce shading-brdfs`)
 //!   against the f64 reference. Widths: `cube_face` (every model), `lookup_log2`
-//!   (Blinn–Phong, the lookup's lobe), `factor_size` and `factor_bits` (the factored
+//!   (Phong and Blinn–Phong, the lookup's lobes), `factor_size` and `factor_bits` (the factored
 //!   lobes: every model but Lambert and Blinn–Phong). The cube's texel width and the
 //!   lookup's entry width are `shading-specular`'s only: the path feeds both to 8-bit
 //!   texture combiners unconverted, so only 8 bits are meaningful on it.
@@ -32,6 +32,7 @@
 //! change it only through the textures a path reads (or the unit's II).
 
 use super::brdfs::{catalogue, render_sphere, sphere_error, CatalogueEntry};
+use super::materials::lobe_kind;
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig};
 use super::path::PathConfig;
 use super::specular::{
@@ -44,7 +45,6 @@ use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
 use crate::report::sweep_out::{parse_int_values, sweep_table, write_sweep, SweepRow};
-use crate::scene::material::Material;
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_combiner::{
     CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig,
@@ -87,15 +87,6 @@ pub enum ShadingScene {
     Specular,
     /// Vertex lighting in a float format.
     Vertex,
-}
-
-/// How a catalogue model's lobe is rendered (which widths reach it).
-fn lobe_kind(m: &Material) -> &'static str {
-    match m {
-        Material::Lambert => "none",
-        Material::BlinnPhong { .. } => "lookup",
-        _ => "factored",
-    }
 }
 
 impl ShadingScene {
