@@ -8,6 +8,7 @@
 //! the Lambert term is DOT3 + MODULATE, the Phong and Blinn–Phong lobes the specular
 //! lookup (indexed by r·l and n·h), and every other lobe factor textures.
 
+use super::factor::FactorTarget;
 use super::path::{LobeVector, PathConfig, ShadingPath, SpecularLobe};
 use crate::reference::brdf::cook_torrance::{
     CookTorrance, CookTorranceParams, Fresnel, Masking, MicrofacetDistribution,
@@ -217,11 +218,11 @@ pub fn material_path(
             LobeVector::Mirror,
         ),
         Material::OrenNayar { .. } => match MaterialBrdf::new(m, color)?.oren_nayar {
-            Some(o) => SpecularLobe::Factored(Box::new(o), cfg.factor_method),
+            Some(o) => SpecularLobe::Factored(Box::new(o), cfg.factor_method, FactorTarget::Brdf),
             None => SpecularLobe::None,
         },
         _ => match lobe_brdf(m)? {
-            Some(b) => SpecularLobe::Factored(b, cfg.factor_method),
+            Some(b) => SpecularLobe::Factored(b, cfg.factor_method, FactorTarget::BrdfCosine),
             None => SpecularLobe::None,
         },
     };

@@ -46,9 +46,12 @@ pub enum SpecularLobe {
         exponent: f64,
         vector: LobeVector,
     },
-    /// Any model, by factor textures of R·cos θ_i: separable (SVD, Kautz–McCool) or
-    /// homomorphic (McCool et al.).
-    Factored(Box<dyn Brdf>, FactorMethod),
+    /// Any model, by factor textures: separable (SVD, Kautz–McCool) or homomorphic
+    /// (McCool et al.), of R·cos θ_i (`FactorTarget::BrdfCosine`, the specular lobes)
+    /// or of R alone with cos θ_i·E as the constant colour (`FactorTarget::Brdf`, the
+    /// per-vertex diffuse colour of GL lighting, here per pixel from the host: the
+    /// diffuse Oren–Nayar, whose R·cos θ_i is far from a product of h and d factors).
+    Factored(Box<dyn Brdf>, FactorMethod, FactorTarget),
 }
 
 /// The pair of vectors whose DOT3 indexes the specular lookup.
@@ -218,15 +221,11 @@ impl ShadingPath {
                     vector,
                 }
             }
-            SpecularLobe::Factored(brdf, method) => {
+            SpecularLobe::Factored(brdf, method, target) => {
                 // Values above 1/E saturate the 8-bit output: fitting them as 1/E keeps
                 // a sharp peak from stretching the textures' range (and the scale).
                 let ceiling = if e > 0.0 { 1.0 / e } else { f64::INFINITY };
-                let (b, t, r) = (
-                    brdf.as_ref(),
-                    FactorTarget::BrdfCosine,
-                    cfg.factor_resolution,
-                );
+                let (b, t, r) = (brdf.as_ref(), target, cfg.factor_resolution);
                 let fact = match method {
                     FactorMethod::Svd => svd::factorise(
                         b,
