@@ -149,9 +149,21 @@ fn stage_counters<'a>(ctr: &'a mut PathCounters, stage: &str) -> &'a mut Counter
     c
 }
 
-/// A combiner stage reading Arg0 = TEXTURE, Arg1 = PREVIOUS, Arg2 = CONSTANT.
+/// An 8-bit combiner stage (the path's width).
 fn stage(f: CombineFunction, scale: u32) -> Result<TextureCombiner, ConfigError> {
+    combiner_stage(8, f, scale)
+}
+
+/// A `bits`-wide combiner stage reading Arg0 = TEXTURE, Arg1 = PREVIOUS,
+/// Arg2 = CONSTANT, with RGB_SCALE `scale` (the shading reproductions and the sweep
+/// build their DOT3 stages here too).
+pub fn combiner_stage(
+    bits: u32,
+    f: CombineFunction,
+    scale: u32,
+) -> Result<TextureCombiner, ConfigError> {
     TextureCombinerConfig {
+        bits,
         combine_rgb: f,
         combine_alpha: CombineFunction::Replace,
         source_rgb: [

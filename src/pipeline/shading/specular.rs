@@ -19,6 +19,7 @@
 //! reference's own largest jump (a band edge is a jump the smooth highlight lacks).
 
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig, NormalizeCubeCounters};
+use super::path::combiner_stage;
 use super::sphere::{SphereView, VIEW};
 use super::squaring::SquaringChain;
 use crate::report::image_out::grey_image;
@@ -26,9 +27,7 @@ use crate::report::metrics::error_stats_masked;
 use crate::report::plot::{image_grid, line_plot, Axis, PlotSpec, Series};
 use image::RgbaImage;
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
-use rtl_model::units::texture_combiner::{
-    CombineFunction, CombineSource, TextureCombinerConfig, TextureCombinerIn,
-};
+use rtl_model::units::texture_combiner::{CombineFunction, TextureCombinerIn};
 use rtl_model::units::texture_sampler::Filter;
 use rtl_model::{ConfigError, Counters};
 use serde::Serialize;
@@ -98,18 +97,7 @@ pub fn lookup_levels(
     lookup: SpecularLookupConfig,
     ctr: &mut Counters,
 ) -> Result<Vec<f64>, ConfigError> {
-    let dot3 = TextureCombinerConfig {
-        bits,
-        combine_rgb: CombineFunction::Dot3Rgb,
-        combine_alpha: CombineFunction::Replace,
-        source_rgb: [
-            CombineSource::Texture,
-            CombineSource::Previous,
-            CombineSource::Constant,
-        ],
-        ..TextureCombinerConfig::geforce()
-    }
-    .build()?;
+    let dot3 = combiner_stage(bits, CombineFunction::Dot3Rgb, 1)?;
     let lut = SpecularLookupConfig {
         exponent,
         in_bits: bits,

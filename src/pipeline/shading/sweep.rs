@@ -34,6 +34,7 @@
 use super::brdfs::{catalogue, render_sphere, sphere_error, CatalogueEntry};
 use super::materials::lobe_kind;
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig};
+use super::path::combiner_stage;
 use super::path::PathConfig;
 use super::specular::{
     cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels, SphereVectors,
@@ -46,9 +47,7 @@ use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
 use crate::report::sweep_out::{parse_int_values, sweep_table, write_sweep, SweepRow};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
-use rtl_model::units::texture_combiner::{
-    CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig,
-};
+use rtl_model::units::texture_combiner::CombineFunction;
 use rtl_model::units::texture_sampler::{Filter, TextureSampler, TextureSamplerConfig};
 use rtl_model::units::vertex_lighting::{VertexLighting, VertexLightingConfig};
 use rtl_model::{ConfigError, Counters, UnitSummary};
@@ -238,23 +237,6 @@ fn job(scene: &ShadingScene, param: &str, v: u32) -> Job {
     }
 }
 
-/// The DOT3 stage of the lookup path at the vectors' width (as `lookup_levels` builds
-/// it: TEXTURE · PREVIOUS).
-fn lookup_dot3(bits: u32) -> Result<TextureCombiner, ConfigError> {
-    TextureCombinerConfig {
-        bits,
-        combine_rgb: CombineFunction::Dot3Rgb,
-        combine_alpha: CombineFunction::Replace,
-        source_rgb: [
-            CombineSource::Texture,
-            CombineSource::Previous,
-            CombineSource::Constant,
-        ],
-        ..TextureCombinerConfig::geforce()
-    }
-    .build()
-}
-
 /// Build every unit the job elaborates, without rendering: a bad width is an error
 /// naming its field.
 fn validate(j: &Job) -> Result<(), ConfigError> {
@@ -276,7 +258,7 @@ fn validate(j: &Job) -> Result<(), ConfigError> {
         }
         Job::Lookup(c) => {
             c.cube.build()?;
-            lookup_dot3(c.cube.texel_bits)?;
+            combiner_stage(c.cube.texel_bits, CombineFunction::Dot3Rgb, 1)?;
             SpecularLookupConfig {
                 in_bits: c.cube.texel_bits,
                 ..c.lookup
@@ -420,7 +402,7 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
             let mut ctr = Counters::default();
             let hw = lookup_levels(&v, bits, s, c.lookup, &mut ctr)?;
             let wall = t0.elapsed().as_secs_f64();
-            let dot3 = lookup_dot3(bits)?;
+            let dot3 = combiner_stage(bits, CombineFunction::Dot3Rgb, 1)?;
             let lut = SpecularLookupConfig {
                 exponent: s,
                 in_bits: bits,
