@@ -400,15 +400,7 @@ fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String
     Ok(s.glare.is_some().then_some(s))
 }
 
-/// Write a file, creating its directory; a failure names the path.
-pub fn write_file(path: &std::path::Path, bytes: &[u8]) -> Result<(), String> {
-    if let Some(dir) = path.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("out: {}: {e}", dir.display()))?;
-        }
-    }
-    std::fs::write(path, bytes).map_err(|e| format!("out: {}: {e}", path.display()))
-}
+pub use crate::report::image_out::write_file;
 
 fn units(json: bool, alternates: bool) -> Result<(), String> {
     let s = registry::summaries();

@@ -20,6 +20,7 @@
 //!   the eye or at the light) gives cos α = 0, i.e. α = 90°.
 
 use crate::scene::format::Medium;
+pub(crate) use crate::scene::math::mul_no_nan;
 use crate::scene::math::Vec3;
 
 /// The references' default clamp of the light distance in h (world units): the
@@ -115,15 +116,6 @@ pub fn attenuation(t_total: f64, medium: &Medium) -> f64 {
         1.0
     } else {
         (-x).exp()
-    }
-}
-
-/// a · b with 0 · ∞ = 0.
-pub(crate) fn mul_no_nan(a: f64, b: f64) -> f64 {
-    if a == 0.0 || b == 0.0 {
-        0.0
-    } else {
-        a * b
     }
 }
 

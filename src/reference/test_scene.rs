@@ -3,12 +3,12 @@
 //! the same texels), the Lambert term is evaluated at the pixel (not per vertex), and
 //! the shadow is an exact ray test against the occluder's rectangles (no shadow map).
 
-use crate::pipeline::test_scene::{
+use crate::reference::texture_sampler::{Address, Filter, TextureRef};
+use crate::scene::math::{v3, Vec3};
+use crate::scene::test_scene::{
     checker_texels, lightmap_texels, occluder_quads, views, AMBIENT, CHECKER_REPEAT, CHECKER_SIZE,
     FLOOR_HALF, HEIGHT, LAMBERT_SCALE, LIGHTMAP_SIZE, LIGHT_RGB, WIDTH,
 };
-use crate::reference::texture_sampler::{Address, Filter, TextureRef};
-use crate::scene::math::{v3, Vec3};
 
 /// The reference image: RGB in 8-bit levels (0 ..= 255, unrounded) per pixel, `None`
 /// where the floor does not cover the pixel centre.

@@ -72,3 +72,24 @@ pub fn grey_image(levels: &[f64], size: u32) -> image::RgbaImage {
         image::Rgba([v, v, v, 255])
     })
 }
+
+/// 8-bit PNG of an image in levels.
+pub fn levels_png(levels: &[[f64; 3]], width: u32, height: u32, path: &Path) -> Result<(), String> {
+    let mut fb = Framebuffer::new(width, height, 8);
+    for (i, l) in levels.iter().enumerate() {
+        let q = l.map(|v| v.round().clamp(0.0, 255.0) as u32);
+        fb.data[i * 4..i * 4 + 4].copy_from_slice(&[q[0], q[1], q[2], 255]);
+    }
+    fb.save_png(path)
+        .map_err(|e| format!("out: {}: {e}", path.display()))
+}
+
+/// Write a file, creating its directory; a failure names the path.
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    if let Some(dir) = path.parent() {
+        if !dir.as_os_str().is_empty() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("out: {}: {e}", dir.display()))?;
+        }
+    }
+    std::fs::write(path, bytes).map_err(|e| format!("out: {}: {e}", path.display()))
+}

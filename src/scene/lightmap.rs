@@ -400,9 +400,7 @@ pub fn light_weight(light: &Light, map: &LightMapSampler, p: Vec3) -> f64 {
 /// type), 0 outside it or behind the spot; intensity · colour for a point light.
 pub fn light_radiance(light: &Light, map: &LightMapSampler, p: Vec3) -> [f64; 3] {
     let w = light_weight(light, map, p);
-    light
-        .color
-        .map(|c| crate::reference::shafts_model::mul_no_nan(w, c))
+    light.color.map(|c| crate::scene::math::mul_no_nan(w, c))
 }
 
 /// Rasterise a light map into `size × size` unorm texels of `bits` bits (row-major,

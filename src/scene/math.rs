@@ -149,3 +149,12 @@ impl Mat4 {
         ])
     }
 }
+
+/// a · b with 0 · ∞ = 0.
+pub fn mul_no_nan(a: f64, b: f64) -> f64 {
+    if a == 0.0 || b == 0.0 {
+        0.0
+    } else {
+        a * b
+    }
+}

@@ -12,4 +12,5 @@ pub mod lightmap;
 pub mod material;
 pub mod math;
 pub mod teapot;
+pub mod test_scene;
 pub mod validate;

@@ -4,7 +4,7 @@
 
 use rtl_model::error::ConfigError;
 
-use crate::pipeline::shafts::view::CameraView;
+use crate::scene::camera::CameraView;
 use crate::scene::format::Camera;
 use crate::scene::math::Vec3;
 use crate::scene::teapot::{sphere_triangles, tessellate_teapot, Triangle};

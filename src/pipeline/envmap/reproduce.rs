@@ -46,7 +46,7 @@ use super::render::{
 };
 use super::timing::{predict_frame, TimingRow};
 use super::voxmap::VoxelMap;
-use crate::pipeline::shafts::throughput::GpuModel;
+use crate::pipeline::time_model::GpuModel;
 use crate::reference::envmap_prefilter::PrefilterParams;
 use crate::scene::envmap::EnvMap;
 use std::fmt::Write as _;
@@ -159,9 +159,9 @@ pub fn table3(out: &Path, s: u32) -> Result<(), String> {
             );
         }
     }
-    crate::cli::write_file(&out.join("table3.csv"), t3.as_bytes())?;
-    crate::cli::write_file(&out.join("table3_extra.csv"), extra.as_bytes())?;
-    crate::cli::write_file(&out.join("prefilter_times.csv"), times.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("table3.csv"), t3.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("table3_extra.csv"), extra.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("prefilter_times.csv"), times.as_bytes())?;
     print!("{t3}");
     Ok(())
 }
@@ -350,9 +350,9 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());
     }
-    crate::cli::write_file(&out.join("table5.csv"), csv.as_bytes())?;
-    crate::cli::write_file(&out.join("table5_extra.csv"), extra.as_bytes())?;
-    crate::cli::write_file(&out.join("table5_times.csv"), times.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("table5.csv"), csv.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("table5_extra.csv"), extra.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("table5_times.csv"), times.as_bytes())?;
     print!("{csv}");
     Ok(rows)
 }
@@ -494,8 +494,8 @@ pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());
     }
-    crate::cli::write_file(&out.join("timing.csv"), csv.as_bytes())?;
-    crate::cli::write_file(&out.join("elaboration.txt"), elab.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("timing.csv"), csv.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("elaboration.txt"), elab.as_bytes())?;
     print!("{csv}");
     print!("{elab}");
     Ok(rows)

@@ -58,7 +58,7 @@ use super::render::{
     TEAPOT_SCALE, TEAPOT_X,
 };
 use super::voxmap::VoxelMap;
-use crate::pipeline::shafts::view::CameraView;
+use crate::scene::camera::CameraView;
 use crate::scene::envmap::EnvMap;
 use crate::scene::math::{v3, Vec3};
 

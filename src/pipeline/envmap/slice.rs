@@ -54,8 +54,8 @@ use rtl_model::{ConfigError, UnitSummary};
 use serde::Serialize;
 
 use super::voxmap::VoxelMap;
-use crate::pipeline::shafts::frame::Elaborated;
 use crate::reference::cube_map_address::{face_st, stacked_st, texel_centre_directions};
+use crate::report::elaboration::Elaborated;
 use crate::scene::math::Vec3;
 
 /// Largest face side: 6F rows must fit the sampler's 4096, and F is a power of two.

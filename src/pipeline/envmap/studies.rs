@@ -129,7 +129,7 @@ pub fn lambda_sweep(out: &Path, run: RenderRun) -> Result<Vec<SweepRow>, String>
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());
     }
-    crate::cli::write_file(&out.join("lambda_sweep.csv"), csv.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("lambda_sweep.csv"), csv.as_bytes())?;
     print!("{csv}");
     Ok(rows)
 }
@@ -170,7 +170,7 @@ pub fn roughness(out: &Path, run: RenderRun) -> Result<Vec<RoughnessRow>, String
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());
     }
-    crate::cli::write_file(&out.join("roughness.csv"), csv.as_bytes())?;
+    crate::report::image_out::write_file(&out.join("roughness.csv"), csv.as_bytes())?;
     print!("{csv}");
     Ok(rows)
 }

@@ -10,7 +10,7 @@ use rtl_model::Counters;
 
 use super::roughness::TexGen;
 use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
-use crate::pipeline::shafts::view::CameraView;
+use crate::scene::camera::CameraView;
 use crate::scene::teapot::Triangle;
 
 /// What the walk leaves for shading: per pixel the visible fragment and its (u, v)

@@ -88,12 +88,7 @@ pub fn render_cli_over(
     let err = match reference {
         Some(path) => {
             let lv = reference_levels(scene, &f).map_err(|e| e.to_string())?;
-            crate::pipeline::shafts::cli::levels_png(
-                &lv,
-                scene.image.width,
-                scene.image.height,
-                path,
-            )?;
+            crate::report::image_out::levels_png(&lv, scene.image.width, scene.image.height, path)?;
             let st =
                 crate::report::metrics::error_stats(&f.levels(), &lv).map_err(|e| e.to_string())?;
             Some(st)

@@ -4,8 +4,8 @@
 //! saturating at 255.
 
 use super::host::{px_per_deg, ScreenSource};
-use crate::pipeline::shafts::view::{vec3, CameraView};
 use crate::reference::glare_model::Shape2D;
+use crate::scene::camera::{vec3, CameraView};
 use crate::scene::format::Scene;
 use crate::scene::glare::{Highlight, HighlightMaterial};
 use rtl_model::driver::run_span;

@@ -12,8 +12,8 @@ use super::tables::{
     bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples,
     radial_tables, ring_samples, shape_samples, AreaPrim,
 };
-use crate::pipeline::shafts::frame::Elaborated;
 use crate::reference::glare_model::{bloom_at, FlareLine, Shape2D, SourceGlare};
+use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;

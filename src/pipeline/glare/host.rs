@@ -2,8 +2,8 @@
 //! onto the screen, work out its outline, and turn Table 1's determinants into the
 //! constants of eqs. (1)–(6) with the R1 forms of docs/glare.md.
 
-use crate::pipeline::shafts::view::{vec3, CameraView};
 use crate::reference::glare_model::{bloom_factor, Bloom, FlareParams, Shape2D, SourceGlare};
+use crate::scene::camera::{vec3, CameraView};
 use crate::scene::format::Scene;
 use crate::scene::glare::{Determinants, GlareModel, GlareSource, SourceKind};
 use crate::scene::math::Vec3;

@@ -197,7 +197,7 @@ pub fn fig5(out: &Path) -> Result<(), String> {
         max,
     );
     let lv: Vec<[f64; 3]> = img.iter().map(|p| p.map(|v| v * 255.0 / max)).collect();
-    crate::pipeline::shafts::cli::levels_png(
+    crate::report::image_out::levels_png(
         &lv,
         s.image.width,
         s.image.height,

@@ -6,7 +6,7 @@ use super::host::prepare_scene;
 use super::prepare::DEFAULT_EXPOSURE;
 use super::throughput::{predict, split_objects_shafts, GpuModel, Prediction};
 use crate::reference::raymarch::{raymarch_image, to_levels};
-use crate::report::image_out::Framebuffer;
+pub use crate::report::image_out::levels_png;
 use crate::scene::builtin::{builtin, BUILTIN_NAMES};
 use crate::scene::format::Scene;
 use std::path::Path;
@@ -51,17 +51,6 @@ pub fn reference_image(scene: &Scene, samples: u32) -> Result<(Vec<[f64; 3]>, f6
         .map(|p| to_levels(*p, DEFAULT_EXPOSURE))
         .collect();
     Ok((levels, t0.elapsed().as_secs_f64()))
-}
-
-/// 8-bit PNG of an image in levels.
-pub fn levels_png(levels: &[[f64; 3]], width: u32, height: u32, path: &Path) -> Result<(), String> {
-    let mut fb = Framebuffer::new(width, height, 8);
-    for (i, l) in levels.iter().enumerate() {
-        let q = l.map(|v| v.round().clamp(0.0, 255.0) as u32);
-        fb.data[i * 4..i * 4 + 4].copy_from_slice(&[q[0], q[1], q[2], 255]);
-    }
-    fb.save_png(path)
-        .map_err(|e| format!("out: {}: {e}", path.display()))
 }
 
 pub fn render_cli(
