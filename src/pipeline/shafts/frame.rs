@@ -59,6 +59,10 @@ pub struct ObjectMesh {
     pub triangles: Vec<([Vec3; 3], [Vec3; 3])>,
     pub color: [f64; 3],
     pub occluder: bool,
+    /// Coloured by this pipeline's object pass: true for a Lambert object without a
+    /// material; an object with one is shaded by the shading units instead (it still
+    /// enters the depth buffer and, as an occluder, the shadow maps).
+    pub colour_pass: bool,
 }
 
 /// What the host prepares once per scene.
@@ -176,126 +180,269 @@ fn counters_add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
     *map.entry(name.to_string()).or_default() += c;
 }
 
-/// Render one frame.
-pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (sc.image.width, sc.image.height);
-    let cam = CameraView::new(&sc.camera, sc.image);
-    let tex_bits = cfg.texel_bits;
-    let tex_max = max_code(tex_bits);
-    // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δt·exposure
-    // levels, Δt = Δr·t/r growing off-axis to Δr/cos of the corner ray; the vertex
-    // colour S·t/r cannot exceed full scale, so h_ref is at most the h for which the
-    // corner's is 255 (beyond it h clamps, counted, instead of the colour).
-    let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
-    let cam0 = CameraView::new(&sc.camera, sc.image);
-    let corner_cos = cam0.ray_dir(0.0, 0.0).dot(cam0.forward).clamp(1e-6, 1.0);
-    let i_max = sc
-        .lights
-        .iter()
-        .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
-        .fold(0.0, f64::max);
-    let f_alpha = p.f_alpha();
-    let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
-    let denom = f_ref * i_max * dr * p.exposure / corner_cos;
-    let h_ceiling = if denom > 0.0 { 255.0 / denom } else { 0.0 };
-    let tables = tables::build(
-        &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
-    );
+/// One pass of a shafts frame, in the order [`passes`] lists them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub enum ShaftsPass {
+    /// The objects into the camera's depth buffer.
+    Depth,
+    /// Light `light`'s occluders into its shadow map.
+    ShadowMap { light: usize },
+    /// The colour of the objects light `light` lights (those without a material:
+    /// an object with one is shaded by the shading units, outside this pipeline).
+    Objects { light: usize },
+    /// Light `light`'s sample planes (and sub-planes).
+    Planes { light: usize },
+}
 
-    let interp = PolygonInterpolatorConfig {
-        attrs: 8,
-        out_int_bits: 16,
-        out_frac_bits: ATTR_FRAC,
-        ..PolygonInterpolatorConfig::default()
-    }
-    .build()?;
-    let sampler_cfg = |dims: u32, size: [u32; 3]| TextureSamplerConfig {
-        dims,
-        size,
-        texel_bits: tex_bits,
-        coord_frac_bits: cfg.coord_frac_bits,
-        weight_bits: cfg.weight_bits,
-        ..TextureSamplerConfig::geforce()
-    };
-    let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
-        .map_err(|e| e.within("shafts.f_texels"))?;
-    let h_tex = TextureSampler::new(
-        sampler_cfg(2, [cfg.h_texels[0], cfg.h_texels[1], 1]),
-        &tables.h_texels,
-    )
-    .map_err(|e| e.within("shafts.h_texels"))?;
+/// The passes a prepared scene needs, in order: the depth pass when there are objects;
+/// per light its shadow map (occluders), its object colour (objects this pipeline
+/// colours) and its sample planes (a light that shines into a scattering medium).
+pub fn passes(p: &Prepared) -> Vec<ShaftsPass> {
     let has_objects = p.objects.iter().any(|o| !o.triangles.is_empty());
     let has_occluders = p
         .objects
         .iter()
         .any(|o| o.occluder && !o.triangles.is_empty());
-    let units = Units {
-        interp,
-        f_tex,
-        h_tex,
-        modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
-        blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 4, false, cfg.weight_bits)?,
-        proj: ProjectiveTexcoordConfig::geforce().build()?,
-        proj_depth: ProjectiveTexcoordConfig {
-            out_int_bits: 2,
-            out_frac_bits: 16,
-            newton_steps: 2,
-            newton_frac_bits: 30,
-            ..ProjectiveTexcoordConfig::geforce()
+    let coloured = p
+        .objects
+        .iter()
+        .any(|o| o.colour_pass && !o.triangles.is_empty());
+    let mut out = Vec::new();
+    if has_objects {
+        out.push(ShaftsPass::Depth);
+    }
+    for (light, l) in p.scene.lights.iter().enumerate() {
+        if has_occluders {
+            out.push(ShaftsPass::ShadowMap { light });
         }
-        .build()?,
-        zbuf: if has_objects {
-            Some(
-                ShadowCompareConfig {
-                    width: w,
-                    height: h,
-                    depth_bits: ZBUF_BITS,
-                    bias: 0,
-                    frag_frac_bits: 0,
-                }
-                .build()?,
-            )
-        } else {
-            None
-        },
-        shadow: if has_occluders {
-            Some(
-                ShadowCompareConfig {
-                    width: cfg.shadow_resolution,
-                    height: cfg.shadow_resolution,
-                    depth_bits: cfg.shadow_depth_bits,
-                    bias: shadow_bias(cfg.shadow_depth_bits),
-                    frag_frac_bits: 0,
-                }
-                .build()
-                .map_err(|e| e.within("shafts"))?,
-            )
-        } else {
-            None
-        },
-        // The J buffer lives in the RGBA framebuffer, as on the real part (its traffic counts 4 channels).
-        j_blend: AdditiveBlend::new(tex_bits, tex_bits, 4, true, cfg.weight_bits)?,
-    };
+        if coloured {
+            out.push(ShaftsPass::Objects { light });
+        }
+        if l.intensity > 0.0 && scatters(&p.scene.medium) {
+            out.push(ShaftsPass::Planes { light });
+        }
+    }
+    out
+}
 
-    let mut fb = Framebuffer::new(w, h, cfg.fb_bits);
-    let mut ctr: BTreeMap<String, Counters> = BTreeMap::new();
-    let mut passes = Vec::new();
-    let mut last = Traffic::default();
+/// Whether the medium scatters any light towards the eye (ρ > 0 and K > 0): without
+/// it every plane adds zero and the sample-plane passes are left out.
+pub fn scatters(m: &crate::scene::format::Medium) -> bool {
+    m.rho > 0.0 && m.k > 0.0
+}
 
-    // ---- camera depth pass (objects into the depth buffer).
-    let mut zstate = units.zbuf.as_ref().map(|z| z.fresh_state());
-    if let (Some(z), Some(zs)) = (&units.zbuf, zstate.as_mut()) {
+/// Render one frame: its passes in order over one frame state.
+pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
+    let mut f = ShaftsFrame::new(p, None)?;
+    for pass in passes(p) {
+        f.run(pass)?;
+    }
+    Ok(f.finish())
+}
+
+/// The shared state of one shafts frame between its passes: the configured units,
+/// the framebuffer, the camera depth buffer, the current light's shadow map and
+/// light map, the counters and the per-pass statistics.
+pub struct ShaftsFrame<'a> {
+    p: &'a Prepared,
+    cam: CameraView,
+    tables: GTables,
+    units: Units,
+    sampler_cfg: TextureSamplerConfig,
+    fb: Framebuffer,
+    ctr: BTreeMap<String, Counters>,
+    passes: Vec<PassStats>,
+    last: Traffic,
+    zstate: Option<ShadowState>,
+    light: Option<LightState>,
+    elaboration: Vec<Elaborated>,
+}
+
+/// The current light's view, light map and shadow map.
+struct LightState {
+    li: usize,
+    lv: LightView,
+    lm_tex: Option<TextureSampler>,
+    sstate: Option<ShadowState>,
+}
+
+impl<'a> ShaftsFrame<'a> {
+    /// Configure the units for the scene; the framebuffer starts as `fb` (what earlier
+    /// passes of the frame drew, at `shafts.fb_bits`) or black.
+    pub fn new(p: &'a Prepared, fb: Option<Framebuffer>) -> Result<Self, ConfigError> {
+        let sc = &p.scene;
+        let cfg = sc.shafts;
+        let (w, h) = (sc.image.width, sc.image.height);
+        let cam = CameraView::new(&sc.camera, sc.image);
+        let tex_bits = cfg.texel_bits;
+        // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δt·exposure
+        // levels, Δt = Δr·t/r growing off-axis to Δr/cos of the corner ray; the vertex
+        // colour S·t/r cannot exceed full scale, so h_ref is at most the h for which the
+        // corner's is 255 (beyond it h clamps, counted, instead of the colour).
+        let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
+        let cam0 = CameraView::new(&sc.camera, sc.image);
+        let corner_cos = cam0.ray_dir(0.0, 0.0).dot(cam0.forward).clamp(1e-6, 1.0);
+        let i_max = sc
+            .lights
+            .iter()
+            .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
+            .fold(0.0, f64::max);
+        let f_alpha = p.f_alpha();
+        let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
+        let denom = f_ref * i_max * dr * p.exposure / corner_cos;
+        let h_ceiling = if denom > 0.0 { 255.0 / denom } else { 0.0 };
+        let tables = tables::build(
+            &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
+        );
+
+        let interp = PolygonInterpolatorConfig {
+            attrs: 8,
+            out_int_bits: 16,
+            out_frac_bits: ATTR_FRAC,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()?;
+        let sampler_cfg = |dims: u32, size: [u32; 3]| TextureSamplerConfig {
+            dims,
+            size,
+            texel_bits: tex_bits,
+            coord_frac_bits: cfg.coord_frac_bits,
+            weight_bits: cfg.weight_bits,
+            ..TextureSamplerConfig::geforce()
+        };
+        let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
+            .map_err(|e| e.within("shafts.f_texels"))?;
+        let h_tex = TextureSampler::new(
+            sampler_cfg(2, [cfg.h_texels[0], cfg.h_texels[1], 1]),
+            &tables.h_texels,
+        )
+        .map_err(|e| e.within("shafts.h_texels"))?;
+        let has_objects = p.objects.iter().any(|o| !o.triangles.is_empty());
+        let has_occluders = p
+            .objects
+            .iter()
+            .any(|o| o.occluder && !o.triangles.is_empty());
+        let units = Units {
+            interp,
+            f_tex,
+            h_tex,
+            modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
+            blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 4, false, cfg.weight_bits)?,
+            proj: ProjectiveTexcoordConfig::geforce().build()?,
+            proj_depth: ProjectiveTexcoordConfig {
+                out_int_bits: 2,
+                out_frac_bits: 16,
+                newton_steps: 2,
+                newton_frac_bits: 30,
+                ..ProjectiveTexcoordConfig::geforce()
+            }
+            .build()?,
+            zbuf: if has_objects {
+                Some(
+                    ShadowCompareConfig {
+                        width: w,
+                        height: h,
+                        depth_bits: ZBUF_BITS,
+                        bias: 0,
+                        frag_frac_bits: 0,
+                    }
+                    .build()?,
+                )
+            } else {
+                None
+            },
+            shadow: if has_occluders {
+                Some(
+                    ShadowCompareConfig {
+                        width: cfg.shadow_resolution,
+                        height: cfg.shadow_resolution,
+                        depth_bits: cfg.shadow_depth_bits,
+                        bias: shadow_bias(cfg.shadow_depth_bits),
+                        frag_frac_bits: 0,
+                    }
+                    .build()
+                    .map_err(|e| e.within("shafts"))?,
+                )
+            } else {
+                None
+            },
+            // The J buffer lives in the RGBA framebuffer, as on the real part (its traffic counts 4 channels).
+            j_blend: AdditiveBlend::new(tex_bits, tex_bits, 4, true, cfg.weight_bits)?,
+        };
+
+        let fb = match fb {
+            Some(f) if (f.width, f.height, f.bits) == (w, h, cfg.fb_bits) => f,
+            Some(f) => {
+                return Err(ConfigError::invalid(
+                    "shafts.fb_bits",
+                    &format!(
+                        "the frame's framebuffer is {} × {} at {} bits, the shafts pass needs {w} × {h} at {}",
+                        f.width, f.height, f.bits, cfg.fb_bits
+                    ),
+                ))
+            }
+            None => Framebuffer::new(w, h, cfg.fb_bits),
+        };
+        let zstate = units.zbuf.as_ref().map(|z| z.fresh_state());
+        Ok(ShaftsFrame {
+            p,
+            cam,
+            tables,
+            units,
+            sampler_cfg: sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]),
+            fb,
+            ctr: BTreeMap::new(),
+            passes: Vec::new(),
+            last: Traffic::default(),
+            zstate,
+            light: None,
+            elaboration: Vec::new(),
+        })
+    }
+
+    /// Run one pass.
+    pub fn run(&mut self, pass: ShaftsPass) -> Result<(), ConfigError> {
+        match pass {
+            ShaftsPass::Depth => self.depth_pass(),
+            ShaftsPass::ShadowMap { light } => self.shadow_map_pass(light),
+            ShaftsPass::Objects { light } => self.object_pass(light),
+            ShaftsPass::Planes { light } => self.planes_pass(light),
+        }
+    }
+
+    /// The framebuffer, counters, passes and elaboration.
+    pub fn finish(mut self) -> FrameResult {
+        if self.elaboration.is_empty() && self.light.is_none() && !self.p.scene.lights.is_empty() {
+            // Light 0 drew no pass: its light map still decides the elaboration.
+            if self.select_light(0).is_err() {
+                self.light = None;
+            }
+        }
+        self.close_light();
+        FrameResult {
+            fb: self.fb,
+            counters: self.ctr,
+            passes: self.passes,
+            elaboration: self.elaboration,
+            tables: self.tables,
+        }
+    }
+
+    /// Camera depth pass (objects into the depth buffer).
+    fn depth_pass(&mut self) -> Result<(), ConfigError> {
+        let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate.as_mut()) else {
+            return Ok(());
+        };
+        let (w, h) = (self.p.scene.image.width, self.p.scene.image.height);
         let mut c_int = Counters::default();
         let mut c_z = Counters::default();
         let mut stats = PassStats::new(PassKind::ObjectDepth, 0, 0);
-        for o in &p.objects {
+        for o in &self.p.objects {
             for (tri, _) in &o.triangles {
-                let Some(hv) = project_tri(&cam, tri, |_, _| [0.0; 8]) else {
+                let Some(hv) = project_tri(&self.cam, tri, |_, _| [0.0; 8]) else {
                     continue;
                 };
-                let frags = draw_triangle(&units.interp, &hv, w, h, &mut c_int)?;
+                let frags = draw_triangle(&self.units.interp, &hv, w, h, &mut c_int)?;
                 stats.triangles += 1;
                 let ins = depth_writes(&frags, ZBUF_BITS);
                 stats.fragments += ins.len() as u64;
@@ -303,104 +450,155 @@ pub fn render_frame(p: &Prepared) -> Result<FrameResult, ConfigError> {
             }
         }
         stats.walked = c_int.pixels_in;
-        counters_add(&mut ctr, "polygon_interpolator", c_int);
-        counters_add(&mut ctr, "shadow_compare (depth buffer writes)", c_z);
-        push_pass(&mut passes, &mut last, &ctr, stats);
+        counters_add(&mut self.ctr, "polygon_interpolator", c_int);
+        counters_add(&mut self.ctr, "shadow_compare (depth buffer writes)", c_z);
+        push_pass(&mut self.passes, &mut self.last, &self.ctr, stats);
+        Ok(())
     }
 
-    let mut elaboration = Vec::new();
-    for (li, light) in sc.lights.iter().enumerate() {
+    /// Make `li` the current light (its view and light map), closing the previous one.
+    fn select_light(&mut self, li: usize) -> Result<(), ConfigError> {
+        if self.light.as_ref().is_some_and(|l| l.li == li) {
+            return Ok(());
+        }
+        self.close_light();
+        let p = self.p;
+        let light = &p.scene.lights[li];
         let lv = LightView::new(light, (p.s_near * 0.5).max(0.05), light_far(p, light));
-        let light_map = p.light_maps.get(li).cloned().flatten();
-        let lm_tex = match &light_map {
+        let lm_tex = match p.light_maps.get(li).cloned().flatten() {
             Some(t) => Some(
-                TextureSampler::new(
-                    sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]),
-                    t,
-                )
-                .map_err(|e| e.within(&format!("lights[{li}].light_map")))?,
+                TextureSampler::new(self.sampler_cfg.clone(), &t)
+                    .map_err(|e| e.within(&format!("lights[{li}].light_map")))?,
             ),
             None => None,
         };
-        // Shadow-map pass.
-        let mut sstate = units.shadow.as_ref().map(|s| s.fresh_state());
-        if let (Some(s), Some(ss)) = (&units.shadow, sstate.as_mut()) {
-            let res = cfg.shadow_resolution;
-            let mut c_int = Counters::default();
-            let mut c_s = Counters::default();
-            let mut stats = PassStats::new(PassKind::ShadowMap, li, 0);
-            for o in p.objects.iter().filter(|o| o.occluder) {
-                for (tri, _) in &o.triangles {
-                    let mut hv = [HostVertex {
-                        x: 0.0,
-                        y: 0.0,
-                        attrs: [0.0; MAX_ATTRS],
-                    }; 3];
-                    let mut ok = true;
-                    for k in 0..3 {
-                        let q = lv.strq(tri[k]);
-                        if q[3] <= 1e-9 {
-                            ok = false;
-                            break;
-                        }
-                        let mut attrs = [0.0; MAX_ATTRS];
-                        attrs[0] = q[2] / q[3];
-                        hv[k] = HostVertex {
-                            x: q[0] / q[3] * res as f64,
-                            y: q[1] / q[3] * res as f64,
-                            attrs,
-                        };
-                    }
-                    if !ok || hv.iter().any(|v| v.x.abs() > 4000.0 || v.y.abs() > 4000.0) {
-                        continue;
-                    }
-                    let frags = draw_triangle(&units.interp, &hv, res, res, &mut c_int)?;
-                    stats.triangles += 1;
-                    let ins = depth_writes(&frags, s.depth_bits());
-                    stats.fragments += ins.len() as u64;
-                    run_span(s, ss, &ins, &mut c_s);
-                }
-            }
-            stats.walked = c_int.pixels_in;
-            counters_add(&mut ctr, "polygon_interpolator", c_int);
-            counters_add(&mut ctr, "shadow_compare (shadow map writes)", c_s);
-            push_pass(&mut passes, &mut last, &ctr, stats);
-        }
-
-        let ctx = LightCtx {
+        let sstate = self.units.shadow.as_ref().map(|s| s.fresh_state());
+        self.light = Some(LightState {
             li,
-            units: &units,
-            cam: &cam,
-            lv: &lv,
-            lm_tex: lm_tex.as_ref(),
-            sstate: sstate.as_ref(),
-            zstate: zstate.as_ref(),
-            light,
-            tex_max,
-        };
+            lv,
+            lm_tex,
+            sstate,
+        });
+        Ok(())
+    }
 
-        // Object colour pass.
-        if has_objects {
-            object_pass(&ctx, p, &mut fb, &mut ctr, &mut passes, &mut last)?;
-        }
-
-        // Sample planes.
-        if light.intensity > 0.0 {
-            planes_pass(&ctx, p, &tables, &mut fb, &mut ctr, &mut passes, &mut last)?;
-        }
-
-        if li == 0 {
-            elaboration = elaborate(&units, lm_tex.as_ref(), p, &passes);
+    /// After light 0's passes, record the elaboration (it reads light 0's light map).
+    fn close_light(&mut self) {
+        if let Some(l) = self.light.take() {
+            if l.li == 0 {
+                self.elaboration = elaborate(&self.units, l.lm_tex.as_ref(), self.p, &self.passes);
+            }
         }
     }
 
-    Ok(FrameResult {
-        fb,
-        counters: ctr,
-        passes,
-        elaboration,
-        tables,
-    })
+    /// Shadow-map pass: light `li`'s occluders into its shadow map.
+    fn shadow_map_pass(&mut self, li: usize) -> Result<(), ConfigError> {
+        self.select_light(li)?;
+        let p = self.p;
+        let Some(ls) = self.light.as_mut() else {
+            return Ok(());
+        };
+        let (Some(s), Some(ss)) = (&self.units.shadow, ls.sstate.as_mut()) else {
+            return Ok(());
+        };
+        let lv = &ls.lv;
+        let res = p.scene.shafts.shadow_resolution;
+        let mut c_int = Counters::default();
+        let mut c_s = Counters::default();
+        let mut stats = PassStats::new(PassKind::ShadowMap, li, 0);
+        for o in p.objects.iter().filter(|o| o.occluder) {
+            for (tri, _) in &o.triangles {
+                let mut hv = [HostVertex {
+                    x: 0.0,
+                    y: 0.0,
+                    attrs: [0.0; MAX_ATTRS],
+                }; 3];
+                let mut ok = true;
+                for k in 0..3 {
+                    let q = lv.strq(tri[k]);
+                    if q[3] <= 1e-9 {
+                        ok = false;
+                        break;
+                    }
+                    let mut attrs = [0.0; MAX_ATTRS];
+                    attrs[0] = q[2] / q[3];
+                    hv[k] = HostVertex {
+                        x: q[0] / q[3] * res as f64,
+                        y: q[1] / q[3] * res as f64,
+                        attrs,
+                    };
+                }
+                if !ok || hv.iter().any(|v| v.x.abs() > 4000.0 || v.y.abs() > 4000.0) {
+                    continue;
+                }
+                let frags = draw_triangle(&self.units.interp, &hv, res, res, &mut c_int)?;
+                stats.triangles += 1;
+                let ins = depth_writes(&frags, s.depth_bits());
+                stats.fragments += ins.len() as u64;
+                run_span(s, ss, &ins, &mut c_s);
+            }
+        }
+        stats.walked = c_int.pixels_in;
+        counters_add(&mut self.ctr, "polygon_interpolator", c_int);
+        counters_add(&mut self.ctr, "shadow_compare (shadow map writes)", c_s);
+        push_pass(&mut self.passes, &mut self.last, &self.ctr, stats);
+        Ok(())
+    }
+
+    /// Object colour pass of light `li`.
+    fn object_pass(&mut self, li: usize) -> Result<(), ConfigError> {
+        self.select_light(li)?;
+        let Some(ls) = self.light.as_ref() else {
+            return Ok(());
+        };
+        let ctx = light_ctx(ls, &self.units, &self.cam, self.zstate.as_ref(), self.p);
+        object_pass(
+            &ctx,
+            self.p,
+            &mut self.fb,
+            &mut self.ctr,
+            &mut self.passes,
+            &mut self.last,
+        )
+    }
+
+    /// Sample-plane pass of light `li`.
+    fn planes_pass(&mut self, li: usize) -> Result<(), ConfigError> {
+        self.select_light(li)?;
+        let Some(ls) = self.light.as_ref() else {
+            return Ok(());
+        };
+        let ctx = light_ctx(ls, &self.units, &self.cam, self.zstate.as_ref(), self.p);
+        planes_pass(
+            &ctx,
+            self.p,
+            &self.tables,
+            &mut self.fb,
+            &mut self.ctr,
+            &mut self.passes,
+            &mut self.last,
+        )
+    }
+}
+
+fn light_ctx<'b>(
+    ls: &'b LightState,
+    units: &'b Units,
+    cam: &'b CameraView,
+    zstate: Option<&'b ShadowState>,
+    p: &'b Prepared,
+) -> LightCtx<'b> {
+    LightCtx {
+        li: ls.li,
+        units,
+        cam,
+        lv: &ls.lv,
+        lm_tex: ls.lm_tex.as_ref(),
+        sstate: ls.sstate.as_ref(),
+        zstate,
+        light: &p.scene.lights[ls.li],
+        tex_max: max_code(p.scene.shafts.texel_bits),
+    }
 }
 
 impl PassStats {
