@@ -27,6 +27,10 @@ pub enum Command {
         /// Also print the modulate alternates' error against round(a·b/255) and gates.
         #[arg(long)]
         alternates: bool,
+        /// Instead: the chip a scene elaborates (built-in name or TOML file): which
+        /// unit instances it needs, and what it leaves out with the gates saved.
+        #[arg(long)]
+        scene: Option<String>,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// and print the counters, the elaboration and the predicted hardware time.
@@ -41,9 +45,13 @@ pub enum Command {
         /// Counters as JSON instead of a table.
         #[arg(long)]
         json: bool,
-        /// Also write the f64 reference image here and print the error against it.
+        /// Also write the f64 reference image here and print the error against it
+        /// (per pass and in total).
         #[arg(long)]
         reference: Option<PathBuf>,
+        /// Print the pass plan and the chip's elaboration only; render nothing.
+        #[arg(long)]
+        plan: bool,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
@@ -129,40 +137,21 @@ pub enum Command {
 /// Run a parsed command; errors are returned as text naming the field at fault.
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Units { json, alternates } => units(json, alternates),
+        Command::Units {
+            json,
+            alternates,
+            scene,
+        } => match scene {
+            Some(name) => crate::frame::cli::units_scene_cli(&name, json),
+            None => units(json, alternates),
+        },
         Command::Render {
             scene,
             out,
             json,
             reference,
-        } => {
-            if scene == "test" {
-                crate::pipeline::test_scene::render_cli(&out, json, reference.as_deref())
-            } else if let Some(s) = glare_scene(&scene)? {
-                match crate::pipeline::glare_link::prepare(&s).map_err(|e| e.to_string())? {
-                    Some(linked) => {
-                        if !json {
-                            print!("{}", crate::pipeline::glare_link::summary(&linked));
-                        }
-                        crate::pipeline::glare::cli::render_cli_over(
-                            &linked.scene,
-                            Some(&linked.base),
-                            &out,
-                            json,
-                            reference.as_deref(),
-                        )
-                    }
-                    None => crate::pipeline::glare::cli::render_cli(
-                        &s,
-                        &out,
-                        json,
-                        reference.as_deref(),
-                    ),
-                }
-            } else {
-                crate::pipeline::shafts::cli::render_cli(&scene, &out, json, reference.as_deref())
-            }
-        }
+            plan,
+        } => crate::frame::cli::render_cli(&scene, &out, json, reference.as_deref(), plan),
         Command::Reproduce { name, out, values } => reproduce(&name, &out, values),
         Command::Scene { name } => {
             print!(
@@ -199,7 +188,18 @@ pub fn run(cli: Cli) -> Result<(), String> {
                     s.image.width = w;
                     s.image.height = h;
                 }
-                crate::pipeline::glare::sweep::glare_sweep_cli(&s, &param, &values, &out)
+                let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
+                    Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
+                } else {
+                    None
+                };
+                crate::pipeline::glare::sweep::glare_sweep_cli(
+                    &s,
+                    &param,
+                    &values,
+                    &out,
+                    backdrop.as_ref(),
+                )
             }
             None => crate::pipeline::shafts::sweep::sweep_cli(
                 &scene,
@@ -298,7 +298,11 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shafts-stage" => r::stage(out)?,
         "glare-fig4" => g::fig4(out)?,
         "glare-fig5" => g::fig5(out)?,
-        "glare-fig7" => g::fig7(out)?,
+        "glare-fig7" => g::fig7(
+            out,
+            &crate::frame::run::shafts_backdrop(&crate::scene::builtin_glare::street_light())
+                .map_err(|e| e.to_string())?,
+        )?,
         "glare-fig8" => g::fig8(out)?,
         "glare-throughput" => g::throughput(out)?,
         "glare-gauss-seeds" => {

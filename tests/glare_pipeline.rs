@@ -35,7 +35,13 @@ fn glare(s: &mut Scene) -> &mut GlareSection {
     s.glare.as_mut().unwrap()
 }
 
+/// The glare frame; a scene whose picture the shafts pipeline draws goes through the
+/// whole frame (its shafts passes hand the glare pass the picture).
 fn render(s: &Scene) -> GlareFrame {
+    if glare_pipeline::frame::plan::shafts_backdrop(s) {
+        let f = glare_pipeline::frame::run::render(s).unwrap_or_else(|e| panic!("{}: {e}", s.name));
+        return f.glare.unwrap().0;
+    }
     render_glare(s).unwrap_or_else(|e| panic!("{}: {e}", s.name))
 }
 

@@ -29,7 +29,7 @@ fn small() -> Scene {
 #[test]
 fn shape_depth_sweep_writes_csv_and_plot_and_the_error_falls() {
     let out = tmp("shape");
-    let (rows, csv, png) = glare_sweep(&small(), "shape_log2", &[4, 6, 8], &out).unwrap();
+    let (rows, csv, png) = glare_sweep(&small(), "shape_log2", &[4, 6, 8], &out, None).unwrap();
     assert_eq!(rows.len(), 3);
     let text = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(text.lines().next().unwrap(), HEADER);
@@ -54,7 +54,7 @@ fn every_param_applies_and_an_invalid_value_names_the_field() {
     assert!(apply(&mut GlareHw::default(), "planes", 3)
         .unwrap_err()
         .starts_with("param:"));
-    let e = glare_sweep(&small(), "shape_log2", &[7, 11], &tmp("bad")).unwrap_err();
+    let e = glare_sweep(&small(), "shape_log2", &[7, 11], &tmp("bad"), None).unwrap_err();
     assert!(e.contains("glare.hw.shape_log2") && e.contains("11"), "{e}");
     assert_eq!(parse_int_values("4..10:3, 12").unwrap(), vec![4, 7, 10, 12]);
     for bad in ["", "x", "5..3", "1..4:0", "-1"] {
@@ -102,7 +102,7 @@ fn radial_correction_sweep_cuts_the_shallow_table_error() {
     // sdf − κ|p| entries, |p| computed) must beat the plain table; RAM bits unchanged.
     let mut s = small();
     s.glare.as_mut().unwrap().hw.shape_log2 = 5;
-    let (rows, ..) = glare_sweep(&s, "radial", &[0, 1], &tmp("radial")).unwrap();
+    let (rows, ..) = glare_sweep(&s, "radial", &[0, 1], &tmp("radial"), None).unwrap();
     println!(
         "k = 5: max off {:.1}, radial {:.1}; gates {:.0} → {:.0}",
         rows[0].max_levels, rows[1].max_levels, rows[0].gates_nand2, rows[1].gates_nand2

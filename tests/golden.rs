@@ -21,12 +21,10 @@
 //! tests/shafts_pipeline.rs (fig6), tests/glare_pipeline.rs (glare-flare,
 //! street-light), tests/envmap_reproduce.rs and tests/envmap_build.rs.
 
+use glare_pipeline::frame::run::render;
 use glare_pipeline::pipeline::envmap::prefilter::{build_accelerated, env_to_levels};
 use glare_pipeline::pipeline::envmap::render::{render_frame, LambdaSpec, Object, RenderOptions};
 use glare_pipeline::pipeline::envmap::reproduce::TABLE5_TH;
-use glare_pipeline::pipeline::glare::cli::{render_and_predict, render_and_predict_over};
-use glare_pipeline::pipeline::glare_link;
-use glare_pipeline::pipeline::shafts::cli::render_scene;
 use glare_pipeline::pipeline::test_scene;
 use glare_pipeline::reference::envmap_prefilter::PrefilterParams;
 use glare_pipeline::report::image_out::Framebuffer;
@@ -169,8 +167,11 @@ fn shafts_rows() -> Vec<Row> {
     BUILTIN_NAMES
         .iter()
         .map(|&name| {
-            let (r, _, _) = render_scene(&shrink(name)).unwrap();
-            (name.to_string(), hash_fb(&r.fb), hash_json(&r.counters))
+            // Through the frame, as the CLI's `render` draws it.
+            let f = render(&shrink(name)).unwrap();
+            let r = f.shafts.as_ref().unwrap();
+            assert_eq!(f.fb, r.fb, "{name}: the frame is the shafts picture");
+            (name.to_string(), hash_fb(&f.fb), hash_json(&r.counters))
         })
         .collect()
 }
@@ -185,15 +186,12 @@ fn glare_rows() -> Vec<Row> {
         .iter()
         .map(|&name| {
             let s = shrink(name);
-            // As the CLI: a scene with shaded highlights is shaded first, then glared
-            // over the shaded picture.
-            let (f, shading) = match glare_link::prepare(&s).unwrap() {
-                Some(l) => (
-                    render_and_predict_over(&l.scene, Some(&l.base)).unwrap().0,
-                    Some(l.shading.counters),
-                ),
-                None => (render_and_predict(&s).unwrap().0, None),
-            };
+            // Through the frame, as the CLI's `render` draws it: a scene with shaded
+            // highlights is shaded first, then glared over the shaded picture; the
+            // street light's picture is drawn by its shafts passes.
+            let fr = render(&s).unwrap();
+            let (f, _) = fr.glare.as_ref().unwrap();
+            let shading = fr.linked.as_ref().map(|l| l.shading.counters.clone());
             let counters = hash_json(&(&f.counters, &shading));
             (name.to_string(), hash_fb(&f.fb), counters)
         })

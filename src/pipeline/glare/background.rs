@@ -1,7 +1,9 @@
 //! The picture the glare is added to (fb codes): black, a sky gradient, a leaf
-//! canopy, or the scene's lights and objects through the light-shafts pipeline.
+//! canopy, or the picture earlier passes of the frame drew (the scene's lights and
+//! objects through the light-shafts pipeline), handed over as a framebuffer.
 
 use super::frame::glare_of;
+use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::Background;
 use rand::{Rng, SeedableRng};
@@ -58,26 +60,26 @@ pub fn base_image(
                 .collect()
         }
         Background::Shafts => {
-            let mut s = scene.clone();
-            s.glare = None;
-            let (p, _) = crate::pipeline::shafts::host::prepare_scene(
-                &s,
-                crate::pipeline::shafts::prepare::DEFAULT_EXPOSURE,
-            )?;
-            let r = crate::pipeline::shafts::frame::render_frame(&p)?;
-            let from = r.fb.bits;
-            r.fb.data
-                .chunks(4)
-                .map(|p| {
-                    [0, 1, 2].map(|c| {
-                        rtl_model::unorm::narrow(
-                            rtl_model::unorm::widen(p[c], from, 16),
-                            16,
-                            g.hw.fb_bits,
-                        )
-                    })
-                })
-                .collect()
+            // Drawn by the frame's shafts passes, which hand it over (`from_framebuffer`).
+            return Err(ConfigError::invalid(
+                "glare.background",
+                "\"shafts\" is drawn by the frame's shafts passes: render the scene through the frame (`render`), which hands the glare pass its picture",
+            ));
         }
     })
+}
+
+/// A framebuffer the frame's earlier passes drew (any bit depth), as the glare
+/// pass's background at `fb_bits`: each channel widened to 16 bits and narrowed to the
+/// glare framebuffer's width, as the hardware would copy it.
+pub fn from_framebuffer(fb: &Framebuffer, fb_bits: u32) -> Vec<[u32; 3]> {
+    let from = fb.bits;
+    fb.data
+        .chunks(4)
+        .map(|p| {
+            [0, 1, 2].map(|c| {
+                rtl_model::unorm::narrow(rtl_model::unorm::widen(p[c], from, 16), 16, fb_bits)
+            })
+        })
+        .collect()
 }

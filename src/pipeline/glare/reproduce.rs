@@ -205,9 +205,16 @@ pub fn fig5(out: &Path) -> Result<(), String> {
     )
 }
 
-/// Fig. 7: a street light — the original, with bloom, with bloom and halo.
-pub fn fig7(out: &Path) -> Result<(), String> {
+/// Fig. 7: a street light — the original, with bloom, with bloom and halo, over
+/// `backdrop`, the street light's picture as the frame's shafts passes drew it.
+pub fn fig7(out: &Path, backdrop: &crate::report::image_out::Framebuffer) -> Result<(), String> {
     let base = street_light();
+    let fb_bits = base
+        .glare
+        .as_ref()
+        .map(|g| g.hw.fb_bits)
+        .unwrap_or_default();
+    let picture = super::background::from_framebuffer(backdrop, fb_bits);
     // The original keeps the lamp's own disc (its core, B = 0: no veil).
     let variant = |veil: bool, halo: bool| {
         let mut s = base.clone();
@@ -221,10 +228,10 @@ pub fn fig7(out: &Path) -> Result<(), String> {
         }
         s
     };
-    let (f0, r0) = panel(&variant(false, false), "fig7_original", out)?;
     // The three panels share one background (the shafts pipeline's frame).
-    let (f1, r1) = panel_over(&variant(true, false), Some(&f0.base), "fig7_bloom", out)?;
-    let (f2, r2) = panel_over(&variant(true, true), Some(&f0.base), "fig7_bloom_halo", out)?;
+    let (f0, r0) = panel_over(&variant(false, false), Some(&picture), "fig7_original", out)?;
+    let (f1, r1) = panel_over(&variant(true, false), Some(&picture), "fig7_bloom", out)?;
+    let (f2, r2) = panel_over(&variant(true, true), Some(&picture), "fig7_bloom_halo", out)?;
     write_csv(&out.join("fig7.csv"), &[r0, r1, r2])?;
     image_grid(
         &out.join("fig7.png"),

@@ -6,7 +6,8 @@
 //! (sampling the profile and the shape), the entry widths, the interpolator's fraction
 //! bits and the framebuffer's rounding.
 
-use super::cli::{reference_levels, render_and_predict};
+use super::cli::{reference_levels, render_and_predict_over};
+use crate::report::image_out::Framebuffer;
 use crate::report::metrics::error_stats;
 use crate::report::progress::try_map_with_progress;
 pub use crate::report::sweep_out::{
@@ -63,6 +64,7 @@ pub fn glare_sweep(
     param: &str,
     values: &[u32],
     out: &Path,
+    backdrop: Option<&Framebuffer>,
 ) -> Result<(Vec<GlareSweepRow>, PathBuf, PathBuf), String> {
     let mut scenes = Vec::new();
     for &v in values {
@@ -79,7 +81,16 @@ pub fn glare_sweep(
         &scenes,
         &format!("sweep {param}"),
         |s| -> Result<GlareSweepRow, String> {
-            let (f, pred, wall) = render_and_predict(s).map_err(|e| e.to_string())?;
+            // A picture drawn by earlier passes of the frame (a shafts background),
+            // at this value's framebuffer width.
+            let base = backdrop.map(|fb| {
+                super::background::from_framebuffer(
+                    fb,
+                    s.glare.as_ref().map_or(8, |g| g.hw.fb_bits),
+                )
+            });
+            let (f, pred, wall) =
+                render_and_predict_over(s, base.as_deref()).map_err(|e| e.to_string())?;
             let lv = reference_levels(s, &f).map_err(|e| e.to_string())?;
             let st = error_stats(&f.levels(), &lv).map_err(|e| e.to_string())?;
             let g = s.glare.as_ref().map(|g| g.hw).unwrap_or_default();
@@ -120,9 +131,15 @@ pub fn glare_sweep(
     Ok((rows, csv, png))
 }
 
-pub fn glare_sweep_cli(scene: &Scene, param: &str, values: &str, out: &Path) -> Result<(), String> {
+pub fn glare_sweep_cli(
+    scene: &Scene,
+    param: &str,
+    values: &str,
+    out: &Path,
+    backdrop: Option<&Framebuffer>,
+) -> Result<(), String> {
     let values = parse_int_values(values)?;
-    let (rows, csv, png) = glare_sweep(scene, param, &values, out)?;
+    let (rows, csv, png) = glare_sweep(scene, param, &values, out, backdrop)?;
     println!(
         "sweep {param} on {}: wrote {} and {}",
         scene.name,

@@ -44,6 +44,8 @@ pub struct SceneShading {
     pub elaboration: Vec<Elaborated>,
     /// Fragments shaded.
     pub fragments: u64,
+    /// Per pixel: the object whose surface was shaded there, else None.
+    pub objects: Vec<Option<usize>>,
 }
 
 /// Shade every object of `scene` lit by `lights[light]`; find a highlight per
@@ -54,6 +56,18 @@ pub fn shade_scene(
     light: usize,
     intensity: f64,
     radius: f64,
+) -> Result<SceneShading, ConfigError> {
+    shade_objects(scene, light, intensity, radius, &|_| true)
+}
+
+/// [`shade_scene`] for the objects `selected` accepts: a pixel whose nearest object is
+/// not selected is left to another pass (None), and costs no shading work.
+pub fn shade_objects(
+    scene: &Scene,
+    light: usize,
+    intensity: f64,
+    radius: f64,
+    selected: &dyn Fn(usize) -> bool,
 ) -> Result<SceneShading, ConfigError> {
     let lp = scene
         .lights
@@ -77,6 +91,7 @@ pub fn shade_scene(
     let mut pixels = Vec::with_capacity((w * h) as usize);
     let mut best: Vec<Option<FoundHighlight>> = vec![None; scene.objects.len()];
     let mut fragments = 0u64;
+    let mut objects = Vec::with_capacity((w * h) as usize);
     for y in 0..h {
         for x in 0..w {
             let dir = cam.ray_dir(x as f64 + 0.5, y as f64 + 0.5);
@@ -84,11 +99,16 @@ pub fn shade_scene(
                 origin: cam.eye,
                 dir,
             };
-            let Some((obj, hit)) = geometry.first_hit(&ray, cam.far) else {
+            let Some((obj, hit)) = geometry
+                .first_hit(&ray, cam.far)
+                .filter(|(o, _)| selected(*o))
+            else {
                 pixels.push(None);
+                objects.push(None);
                 continue;
             };
             fragments += 1;
+            objects.push(Some(obj));
             let frame = ShadingFrame::new(hit.normal, v3(0.0, 1.0, 0.0).cross(hit.normal));
             let to_light = (lp - hit.point).normalized();
             let to_eye = -dir;
@@ -112,14 +132,19 @@ pub fn shade_scene(
     }
     // Each object's path is its own set of stages (a pass per material).
     let mut counters = PathCounters::new();
-    for (i, (p, mut c)) in paths.iter().zip(per_object).enumerate() {
+    for (i, (p, mut c)) in paths
+        .iter()
+        .zip(per_object)
+        .enumerate()
+        .filter(|(i, _)| selected(*i))
+    {
         p.close_counters(&mut c);
         for (name, c) in c {
             counters.insert(format!("objects[{i}]: {name}"), c);
         }
     }
     let mut elaboration = Vec::new();
-    for (i, p) in paths.iter().enumerate() {
+    for (i, p) in paths.iter().enumerate().filter(|(i, _)| selected(*i)) {
         for mut e in p.elaboration(fragments) {
             e.name = format!("objects[{i}]: {}", e.name);
             elaboration.push(e);
@@ -131,6 +156,7 @@ pub fn shade_scene(
         counters,
         elaboration,
         fragments,
+        objects,
     })
 }
 

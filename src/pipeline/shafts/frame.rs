@@ -410,6 +410,17 @@ impl<'a> ShaftsFrame<'a> {
         }
     }
 
+    /// The framebuffer, for a pass of another pipeline that draws into the same frame.
+    pub fn framebuffer_mut(&mut self) -> &mut Framebuffer {
+        &mut self.fb
+    }
+
+    /// The time-model statistics of the passes run so far (a planes pass pushes one
+    /// per plane, sub-plane batch and copy).
+    pub fn pass_stats(&self) -> &[PassStats] {
+        &self.passes
+    }
+
     /// The framebuffer, counters, passes and elaboration.
     pub fn finish(mut self) -> FrameResult {
         if self.elaboration.is_empty() && self.light.is_none() && !self.p.scene.lights.is_empty() {

@@ -1,0 +1,271 @@
+//! Whole-chip elaboration: from the scene alone (before any pass runs), which unit
+//! instances the chip needs at all, grouped by the scene feature that needs them, and
+//! what was left out with the gates it saved. `units --scene FILE` prints it.
+//!
+//! Gates and RAM bits are each unit's at its registry defaults (`units`), so two
+//! scenes' chips compare like for like; a pipeline's own elaboration (printed by
+//! `render`) has the scene's widths.
+
+use super::plan::{shaded, shafts_backdrop};
+use crate::pipeline::registry;
+use crate::pipeline::shafts::frame::scatters;
+use crate::scene::format::{LightKind, Scene};
+use serde::Serialize;
+
+/// The scene feature a unit instance serves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize)]
+pub enum Feature {
+    /// Objects drawn by the GPU: rasteriser, depth buffer, Lambert colour, blending.
+    Objects,
+    /// Occluders: the shadow maps.
+    Shadows,
+    /// Spot lights' light maps.
+    LightMaps,
+    /// A scattering medium: the sample (and sub-sample) planes.
+    Fog,
+    /// Objects with a material: the shading units.
+    Shading,
+    /// An environment map reflected by an object.
+    Environment,
+    /// A glare section: the glare ASIC.
+    Glare,
+}
+
+impl Feature {
+    /// Why a unit of this feature is left out when the scene lacks it.
+    pub fn absent_because(self) -> &'static str {
+        match self {
+            Feature::Objects => "no objects drawn by the GPU",
+            Feature::Shadows => "no occluder under a light",
+            Feature::LightMaps => "no spot light with a light map",
+            Feature::Fog => "no scattering medium (ρ = 0 or K = 0) or no lit light",
+            Feature::Shading => "no object with a material",
+            Feature::Environment => "no environment map reflected",
+            Feature::Glare => "no glare section (no glare source, highlight or shaded highlight)",
+        }
+    }
+}
+
+/// One unit instance of the chip.
+#[derive(Clone, Debug, Serialize)]
+pub struct ChipUnit {
+    pub instance: &'static str,
+    /// The registry unit it is an instance of.
+    pub unit: &'static str,
+    pub feature: Feature,
+    pub present: bool,
+    pub gates_nand2: f64,
+    pub ram_bits: u64,
+}
+
+/// The chip of a scene.
+#[derive(Clone, Debug, Serialize)]
+pub struct Chip {
+    pub units: Vec<ChipUnit>,
+}
+
+impl Chip {
+    pub fn present(&self) -> impl Iterator<Item = &ChipUnit> {
+        self.units.iter().filter(|u| u.present)
+    }
+    pub fn left_out(&self) -> impl Iterator<Item = &ChipUnit> {
+        self.units.iter().filter(|u| !u.present)
+    }
+    /// Gates of what is present.
+    pub fn gates(&self) -> f64 {
+        self.present().map(|u| u.gates_nand2).sum()
+    }
+    pub fn ram_bits(&self) -> u64 {
+        self.present().map(|u| u.ram_bits).sum()
+    }
+    /// Gates saved by what was left out.
+    pub fn gates_saved(&self) -> f64 {
+        self.left_out().map(|u| u.gates_nand2).sum()
+    }
+}
+
+/// Every instance a chip can have: (instance, registry unit, feature).
+pub const INSTANCES: &[(&str, &str, Feature)] = &[
+    (
+        "polygon_interpolator",
+        "polygon_interpolator",
+        Feature::Objects,
+    ),
+    (
+        "shadow_compare (depth buffer)",
+        "shadow_compare",
+        Feature::Objects,
+    ),
+    ("modulate", "modulate", Feature::Objects),
+    ("additive_blend", "additive_blend", Feature::Objects),
+    (
+        "shadow_compare (shadow map)",
+        "shadow_compare",
+        Feature::Shadows,
+    ),
+    (
+        "projective_texcoord",
+        "projective_texcoord",
+        Feature::Shadows,
+    ),
+    (
+        "texture_sampler (light map)",
+        "texture_sampler",
+        Feature::LightMaps,
+    ),
+    ("texture_sampler (F)", "texture_sampler", Feature::Fog),
+    ("texture_sampler (h)", "texture_sampler", Feature::Fog),
+    ("additive_blend (J buffer)", "additive_blend", Feature::Fog),
+    (
+        "texture_sampler (normalisation cube)",
+        "texture_sampler",
+        Feature::Shading,
+    ),
+    ("texture_combiner", "texture_combiner", Feature::Shading),
+    ("specular_lookup", "specular_lookup", Feature::Shading),
+    (
+        "texture_sampler (factor textures)",
+        "texture_sampler",
+        Feature::Shading,
+    ),
+    (
+        "reflection_vector",
+        "reflection_vector",
+        Feature::Environment,
+    ),
+    (
+        "texture_sampler (environment)",
+        "texture_sampler",
+        Feature::Environment,
+    ),
+    ("glare_condition", "glare_condition", Feature::Glare),
+    ("chaos_map", "chaos_map", Feature::Glare),
+    ("gaussian_noise", "gaussian_noise", Feature::Glare),
+    (
+        "polygon_variable_generator",
+        "polygon_variable_generator",
+        Feature::Glare,
+    ),
+    (
+        "polygon_interpolator (glare)",
+        "polygon_interpolator",
+        Feature::Glare,
+    ),
+    (
+        "bloom_flare_modulator",
+        "bloom_flare_modulator",
+        Feature::Glare,
+    ),
+    ("halo_modulator", "halo_modulator", Feature::Glare),
+    ("glare_combiner", "glare_combiner", Feature::Glare),
+];
+
+/// Whether the scene needs `instance` (its feature present, and the instance's own
+/// condition within it).
+fn needed(scene: &Scene, instance: &str, feature: Feature) -> bool {
+    let backdrop = shafts_backdrop(scene);
+    let gpu_objects = backdrop && !scene.objects.is_empty();
+    let lit = scene.lights.iter().any(|l| l.intensity > 0.0);
+    let fog = backdrop && lit && scatters(&scene.medium);
+    let shading = scene.objects.iter().any(shaded)
+        || scene
+            .glare
+            .as_ref()
+            .is_some_and(|g| g.shaded_highlights.is_some());
+    let occluders =
+        backdrop && !scene.lights.is_empty() && scene.objects.iter().any(|o| o.occluder);
+    let light_maps = backdrop
+        && scene
+            .lights
+            .iter()
+            .any(|l| l.kind == LightKind::Spot && l.light_map.is_some());
+    let glare = scene.glare.as_ref();
+    match feature {
+        Feature::Objects => match instance {
+            "shadow_compare (depth buffer)" => gpu_objects,
+            _ => gpu_objects || fog,
+        },
+        Feature::Shadows => match instance {
+            "projective_texcoord" => occluders || light_maps,
+            _ => occluders,
+        },
+        Feature::LightMaps => light_maps,
+        Feature::Fog => match instance {
+            "additive_blend (J buffer)" => fog && scene.shafts.subplanes > 1,
+            _ => fog,
+        },
+        Feature::Shading => shading,
+        Feature::Environment => false,
+        Feature::Glare => {
+            let Some(g) = glare else { return false };
+            match instance {
+                "glare_condition" => !g.highlights.is_empty() || g.shaded_highlights.is_some(),
+                "chaos_map" => g.sources.iter().any(|s| s.fluctuation.is_some()),
+                "gaussian_noise" => g.sources.iter().any(|s| s.flare),
+                "halo_modulator" => g.sources.iter().any(|s| s.halo),
+                _ => true,
+            }
+        }
+    }
+}
+
+/// Elaborate the chip of a scene.
+pub fn elaborate(scene: &Scene) -> Chip {
+    let summaries = registry::summaries();
+    let units = INSTANCES
+        .iter()
+        .map(|&(instance, unit, feature)| {
+            let s = summaries.iter().find(|s| s.name == unit);
+            ChipUnit {
+                instance,
+                unit,
+                feature,
+                present: needed(scene, instance, feature),
+                gates_nand2: s.map_or(0.0, |s| s.gates_nand2),
+                ram_bits: s.map_or(0, |s| s.ram_bits),
+            }
+        })
+        .collect();
+    Chip { units }
+}
+
+/// The chip as text: what is present, then what was left out and why.
+pub fn chip_table(chip: &Chip) -> String {
+    let rows: Vec<Vec<String>> = chip
+        .units
+        .iter()
+        .map(|u| {
+            vec![
+                u.instance.to_string(),
+                format!("{:?}", u.feature),
+                if u.present {
+                    "present".to_string()
+                } else {
+                    format!("left out: {}", u.feature.absent_because())
+                },
+                format!("{:.0}", u.gates_nand2),
+                u.ram_bits.to_string(),
+            ]
+        })
+        .collect();
+    let mut s = crate::report::table::text_table(
+        &[
+            "unit instance",
+            "feature",
+            "elaborated",
+            "gates_nand2",
+            "ram_bits",
+        ],
+        &rows,
+    );
+    s.push_str(&format!(
+        "chip: {} of {} unit instances, {:.0} NAND2 gates, {} RAM/ROM bits; left out {} ({:.0} gates saved)\n",
+        chip.present().count(),
+        chip.units.len(),
+        chip.gates(),
+        chip.ram_bits(),
+        chip.left_out().count(),
+        chip.gates_saved()
+    ));
+    s
+}

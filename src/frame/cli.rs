@@ -1,0 +1,157 @@
+//! `render` and `units --scene` through the frame: load, plan, elaborate the chip,
+//! run the passes, write the PNG, print the plan, the chip, each pipeline's counters
+//! and elaboration, and the predicted time per pass.
+
+use super::chip::{chip_table, elaborate};
+use super::plan::{plan, plan_table, test_scene_plan};
+use super::run::render;
+use crate::pipeline::shafts::cli::{load_scene, reference_image};
+use crate::report::table::{counters_table, elaboration_table, text_table};
+use std::path::Path;
+
+/// `render --scene NAME [--plan]`.
+pub fn render_cli(
+    name: &str,
+    out: &Path,
+    json: bool,
+    reference: Option<&Path>,
+    plan_only: bool,
+) -> Result<(), String> {
+    if name == "test" {
+        if !json {
+            print!("pass plan:\n{}", plan_table(&test_scene_plan()));
+        }
+        if plan_only {
+            return Ok(());
+        }
+        return crate::pipeline::test_scene::render_cli(out, json, reference);
+    }
+    let scene = load_scene(name)?;
+    let chip = elaborate(&scene);
+    if plan_only {
+        let p = plan(&scene).map_err(|e| e.to_string())?;
+        if json {
+            let v = serde_json::json!({ "scene": scene.name, "plan": p.passes, "chip": chip });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+            );
+        } else {
+            print!(
+                "pass plan:\n{}\nchip:\n{}",
+                plan_table(&p),
+                chip_table(&chip)
+            );
+        }
+        return Ok(());
+    }
+    let f = render(&scene).map_err(|e| e.to_string())?;
+    f.fb.save_png(out)
+        .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    let error = match reference {
+        Some(path) => Some(super::reproduce::frame_error(&scene, &f, Some(path))?),
+        None => None,
+    };
+    let elaboration: Vec<_> = [
+        f.shafts.as_ref().map(|s| s.elaboration.clone()),
+        f.shaded.as_ref().map(|s| s.elaboration.clone()),
+        f.linked.as_ref().map(|l| l.shading.elaboration.clone()),
+        f.glare.as_ref().map(|(g, _)| g.elaboration.clone()),
+    ]
+    .into_iter()
+    .flatten()
+    .flatten()
+    .collect();
+    if json {
+        // `counters` is the drawing pipeline's map as before the frame existed (the
+        // glare frame's for a glare scene, else the shafts frame's); every pipeline's
+        // is under `counters_by_pipeline`.
+        let counters = match (&f.glare, &f.shafts) {
+            (Some((g, _)), _) => serde_json::to_value(&g.counters),
+            (None, Some(s)) => serde_json::to_value(&s.counters),
+            (None, None) => Ok(serde_json::Value::Null),
+        }
+        .map_err(|e| e.to_string())?;
+        let v = serde_json::json!({
+            "scene": scene.name,
+            "plan": f.plan.passes,
+            "chip": chip,
+            "counters": counters,
+            "counters_by_pipeline": f.counters(),
+            "elaboration": elaboration,
+            "gpu": f.gpu.name(),
+            "predicted_by_pass": f.times,
+            "predicted_seconds": f.predicted_seconds(),
+            "wall_seconds": f.wall_seconds,
+            "error_vs_reference": error,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    println!(
+        "{} ({}x{}): wrote {} in {:.2} s of simulation",
+        scene.name,
+        scene.image.width,
+        scene.image.height,
+        out.display(),
+        f.wall_seconds
+    );
+    print!("\npass plan:\n{}", plan_table(&f.plan));
+    print!("\nchip:\n{}", chip_table(&chip));
+    for (pipeline, c) in f.counters() {
+        print!("\n{pipeline} counters:\n{}", counters_table(&c));
+    }
+    print!(
+        "\nelaboration (each pipeline, at the scene's widths):\n{}",
+        elaboration_table(&elaboration)
+    );
+    if let Some(l) = &f.linked {
+        print!("\n{}", crate::pipeline::glare_link::summary(l));
+    }
+    let rows: Vec<Vec<String>> = f
+        .times
+        .iter()
+        .map(|t| vec![t.pass.clone(), t.on.clone(), format!("{:.6}", t.seconds)])
+        .collect();
+    print!(
+        "\npredicted time per pass:\n{}",
+        text_table(&["pass", "on", "seconds"], &rows)
+    );
+    println!("predicted frame time: {:.6} s", f.predicted_seconds());
+    if let Some(e) = error {
+        print!("\n{}", super::reproduce::error_table(&e));
+    }
+    Ok(())
+}
+
+/// `units --scene NAME`: the chip the scene elaborates.
+pub fn units_scene_cli(name: &str, json: bool) -> Result<(), String> {
+    if name == "test" {
+        return Err(
+            "scene: the foundation test scene has fixed units (`render --scene test --plan`)"
+                .into(),
+        );
+    }
+    let scene = load_scene(name)?;
+    let chip = elaborate(&scene);
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&chip).map_err(|e| e.to_string())?
+        );
+    } else {
+        print!("{}", chip_table(&chip));
+    }
+    Ok(())
+}
+
+/// The ray-marched reference of a shafts scene (re-exported for the reproductions).
+pub fn shafts_reference(
+    scene: &crate::scene::format::Scene,
+    samples: u32,
+) -> Result<Vec<[f64; 3]>, String> {
+    Ok(reference_image(scene, samples)?.0)
+}

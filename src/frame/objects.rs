@@ -1,0 +1,238 @@
+//! The object pass of the shading units (and environment reflections) inside a frame
+//! the shafts pipeline draws: every pixel whose nearest object has a material is
+//! shaded by that material's path ([`crate::pipeline::shading::scene_pass`]) once per
+//! light, each light's result scaled by its irradiance there, the lights summed, a
+//! reflector's environment reflection added, and the result written into the shafts
+//! framebuffer before the lights' Lambert and sample-plane passes add to it.
+//!
+//! Widths: the shading path's output, the irradiance code and the sum are 8-bit unorm
+//! (the `modulate` and `additive_blend` units at 8 bits); the result is converted to
+//! `shafts.fb_bits` (widened to 16 bits and narrowed, as the hardware copies it).
+//!
+//! Host work (f64, per fragment, as the application processor sets up vertex colours
+//! in the shafts object pass): the irradiance scale k_l = I_l · exp(−ρκ(s + T)) / s² ·
+//! exposure / 255 (clamped to 1; 0 outside a spot's cone), the same factor the shafts
+//! object pass gives a Lambert vertex (whose cos θ_i the shading path computes here).
+//! Shadows between objects are not cast in this pass (as in the shading pipeline's
+//! scene pass), and a spot's light-map texture is not applied (its cone is).
+
+use crate::pipeline::shading::scene_pass::{shade_objects, FoundHighlight};
+use crate::pipeline::shafts::frame::Prepared;
+use crate::pipeline::shafts::prepare::in_cone;
+use crate::pipeline::time_model::{PassKind, PassStats};
+use crate::report::elaboration::Elaborated;
+use crate::report::image_out::Framebuffer;
+use crate::scene::camera::{vec3, CameraView};
+use crate::scene::format::Scene;
+use crate::scene::geometry::{Ray, SceneGeometry};
+use rtl_model::driver::run_span;
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
+use rtl_model::{ConfigError, Counters};
+use std::collections::BTreeMap;
+
+/// An environment reflection drawn for some objects: 8-bit RGB per pixel where the
+/// reflector covers it (the envmap pipeline's image of the reflecting objects).
+pub struct Reflection {
+    pub object: usize,
+    pub pixels: Vec<Option<[u32; 3]>>,
+    pub counters: BTreeMap<String, Counters>,
+    pub stats: PassStats,
+    pub elaboration: Vec<Elaborated>,
+}
+
+/// What the pass did.
+pub struct ShadedObjects {
+    /// Per pixel: the object the pass coloured there.
+    pub objects: Vec<Option<usize>>,
+    /// Highlights of light `highlight_light`'s shading (for the glare conditions).
+    pub highlights: Vec<FoundHighlight>,
+    pub counters: BTreeMap<String, Counters>,
+    pub elaboration: Vec<Elaborated>,
+    /// One pass per light for the time model.
+    pub stats: Vec<PassStats>,
+    pub fragments: u64,
+}
+
+/// Shade the scene's material objects into `fb` (see the module notes). Highlights
+/// are those of `highlight` = (light, I, radius) (`glare.shaded_highlights`), if any.
+pub fn shaded_objects_pass(
+    scene: &Scene,
+    p: &Prepared,
+    fb: &mut Framebuffer,
+    highlight: Option<(usize, f64, f64)>,
+    reflection: Option<&Reflection>,
+) -> Result<ShadedObjects, ConfigError> {
+    let (w, h) = (scene.image.width, scene.image.height);
+    let n = (w * h) as usize;
+    let selected = |i: usize| scene.objects.get(i).is_some_and(|o| o.material.is_some());
+    let modulate = Modulate::new(8, ModulateMode::Exact)?;
+    let blend = AdditiveBlend::new(8, 8, 4, false, 8)?;
+    let cam = CameraView::new(&scene.camera, scene.image);
+    let geometry = SceneGeometry::without_meshes(&scene.objects)?;
+    let mut counters: BTreeMap<String, Counters> = BTreeMap::new();
+    let mut sum: Vec<Option<[u32; 3]>> = vec![None; n];
+    let mut objects: Vec<Option<usize>> = vec![None; n];
+    let mut highlights = Vec::new();
+    let mut elaboration = Vec::new();
+    let mut stats = Vec::new();
+    let mut fragments = 0;
+    for (li, light) in scene.lights.iter().enumerate() {
+        let (intensity, radius) = match highlight {
+            Some((l, i, r)) if l == li => (i, r),
+            _ => (1.0, 0.03),
+        };
+        let sh = shade_objects(scene, li, intensity, radius, &selected)?;
+        if highlight.is_some_and(|(l, _, _)| l == li) {
+            highlights = sh.highlights.clone();
+        }
+        if li == 0 {
+            elaboration = sh.elaboration.clone();
+        }
+        for (k, c) in &sh.counters {
+            *counters.entry(format!("light {li}: {k}")).or_default() += *c;
+        }
+        // Per fragment: the shaded levels × the light's irradiance code there.
+        let lpos = vec3(light.position);
+        let mut at = Vec::new();
+        let mut pairs = Vec::new();
+        for (i, px) in sh.pixels.iter().enumerate() {
+            let Some(rgb) = px else { continue };
+            objects[i] = sh.objects[i];
+            let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+            let dir = cam.ray_dir(x, y);
+            let t = geometry
+                .first_hit(
+                    &Ray {
+                        origin: cam.eye,
+                        dir,
+                    },
+                    cam.far,
+                )
+                .map_or(0.0, |(_, hit)| hit.t);
+            let point = cam.eye + dir * t;
+            let k = irradiance_code(scene, p, light, lpos, point, t);
+            at.push(i);
+            for c in 0..3 {
+                pairs.push(ModulateIn { a: rgb[c], b: k[c] });
+            }
+        }
+        let mut c = Counters::default();
+        let lit = run_span(&modulate, &mut (), &pairs, &mut c);
+        *counters
+            .entry("modulate (shaded objects)".into())
+            .or_default() += c;
+        let ins: Vec<AdditiveBlendIn> = at
+            .iter()
+            .zip(lit.chunks(3))
+            .map(|(&i, l)| {
+                let d = sum[i].unwrap_or([0; 3]);
+                AdditiveBlendIn {
+                    src: [l[0], l[1], l[2], 0],
+                    dst: [d[0], d[1], d[2], 0],
+                    weight: 0,
+                }
+            })
+            .collect();
+        let mut c = Counters::default();
+        let out = run_span(&blend, &mut (), &ins, &mut c);
+        *counters
+            .entry("additive_blend (shaded objects)".into())
+            .or_default() += c;
+        for (&i, o) in at.iter().zip(out) {
+            sum[i] = Some([o[0], o[1], o[2]]);
+        }
+        fragments += sh.fragments;
+        stats.push(PassStats {
+            kind: PassKind::Objects,
+            light: li,
+            walked: sh.fragments,
+            fragments: sh.fragments,
+            // Normalisation cube map and the specular lookup or factor textures.
+            textures_per_fragment: 2,
+            triangles: 0,
+            texel_bytes: sh.fragments * 2 * 4 * 4,
+            fb_bytes: sh.fragments * 8,
+            other_bytes: 0,
+            depth_tests: sh.fragments,
+        });
+    }
+    if let Some(r) = reflection {
+        add_reflection(r, &blend, &mut sum, &objects, &mut counters);
+        for (k, c) in &r.counters {
+            *counters.entry(k.clone()).or_default() += *c;
+        }
+        stats.push(r.stats.clone());
+        elaboration.extend(r.elaboration.iter().cloned());
+    }
+    for (i, s) in sum.iter().enumerate() {
+        if let Some(rgb) = s {
+            let q = rgb
+                .map(|v| rtl_model::unorm::narrow(rtl_model::unorm::widen(v, 8, 16), 16, fb.bits));
+            fb.set(i as u32 % w, i as u32 / w, [q[0], q[1], q[2], 0]);
+        }
+    }
+    Ok(ShadedObjects {
+        objects,
+        highlights,
+        counters,
+        elaboration,
+        stats,
+        fragments,
+    })
+}
+
+/// The reflection added (saturating) where its object is the one shaded.
+fn add_reflection(
+    r: &Reflection,
+    blend: &AdditiveBlend,
+    sum: &mut [Option<[u32; 3]>],
+    objects: &[Option<usize>],
+    counters: &mut BTreeMap<String, Counters>,
+) {
+    let at: Vec<usize> = (0..sum.len())
+        .filter(|&i| objects[i] == Some(r.object) && r.pixels[i].is_some())
+        .collect();
+    let ins: Vec<AdditiveBlendIn> = at
+        .iter()
+        .map(|&i| {
+            let s = r.pixels[i].unwrap_or([0; 3]);
+            let d = sum[i].unwrap_or([0; 3]);
+            AdditiveBlendIn {
+                src: [s[0], s[1], s[2], 0],
+                dst: [d[0], d[1], d[2], 0],
+                weight: 0,
+            }
+        })
+        .collect();
+    let mut c = Counters::default();
+    let out = run_span(blend, &mut (), &ins, &mut c);
+    *counters
+        .entry("additive_blend (environment reflection)".into())
+        .or_default() += c;
+    for (&i, o) in at.iter().zip(out) {
+        sum[i] = Some([o[0], o[1], o[2]]);
+    }
+}
+
+/// k_l × the light's colour, per channel, as 8-bit codes (module notes).
+fn irradiance_code(
+    scene: &Scene,
+    p: &Prepared,
+    light: &crate::scene::format::Light,
+    lpos: crate::scene::math::Vec3,
+    point: crate::scene::math::Vec3,
+    t: f64,
+) -> [u32; 3] {
+    if !in_cone(light, point) {
+        return [0; 3];
+    }
+    let to_l = lpos - point;
+    let s2 = to_l.dot(to_l).max(1e-12);
+    let m = scene.medium;
+    let atten = (-m.rho * m.kappa * (s2.sqrt() + t)).exp();
+    let k = light.intensity * atten / s2 * p.exposure / 255.0;
+    light
+        .color
+        .map(|c| ((k * c).clamp(0.0, 1.0) * 255.0).round() as u32)
+}

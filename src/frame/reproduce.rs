@@ -1,0 +1,222 @@
+//! The frame's error against its f64 references, per pass and in total, and
+//! `reproduce frame-elaboration`: the `night-street` showcase and four reduced variants,
+//! one row each.
+//!
+//! # How the error is formed
+//! Each pass is compared with its own f64 reference on the pixels it draws, given the
+//! same inputs the hardware pass had:
+//! - **shafts** (depth, shadow maps, Lambert objects, sample planes): the shafts
+//!   framebuffer against the ray-marched reference (`reference::raymarch`, 180 samples
+//!   per ray) on every pixel the object pass did not colour;
+//! - **glare**: the glare frame against the analytic glare formulas over the same
+//!   picture (`glare::cli::reference_levels`) on every pixel.
+//!
+//! The frame's total reference is the ray-marched picture with the glare's analytic
+//! contribution added (clamped to 255), compared with the final frame on the same
+//! pixels. Per pixel, |hw − ref| ≤ |shafts error| + |glare error| (the glare adds the
+//! same contribution to both pictures and clamping is 1-Lipschitz), so the total mean
+//! |Δ| is at most the sum of the per-pass means taken over all pixels of the frame
+//! (a pass contributes 0 where it draws nothing): that sum is the bound the report
+//! checks. The object pass's own error (shading units against the BRDF references) is
+//! the shading pipeline's, measured per material by `reproduce shading-brdfs`; its
+//! pixels are left out of the frame's total here (`pixels` says how many remain).
+
+use super::run::{render, Frame};
+use crate::pipeline::glare::cli::reference_levels;
+use crate::pipeline::shafts::cli::reference_image;
+use crate::report::image_out::levels_png;
+use crate::scene::format::Scene;
+use serde::Serialize;
+use std::path::Path;
+
+/// One pass's (or the total's) error, in 8-bit levels.
+#[derive(Clone, Debug, Serialize)]
+pub struct PassError {
+    pub pass: String,
+    pub reference: String,
+    /// Pixels compared.
+    pub pixels: usize,
+    /// Mean |Δ| over the compared pixels, and over every pixel of the frame (0 where
+    /// not compared): the second is what the total's bound sums.
+    pub mean_abs: f64,
+    pub mean_abs_frame: f64,
+    pub rms: f64,
+    pub max: f64,
+}
+
+/// Per-pass and total errors of a frame.
+#[derive(Clone, Debug, Serialize)]
+pub struct FrameError {
+    pub passes: Vec<PassError>,
+    pub total: PassError,
+    /// Σ of the passes' `mean_abs_frame`: the bound on the total's `mean_abs_frame`.
+    pub bound: f64,
+}
+
+fn stats(pass: &str, reference: &str, a: &[[f64; 3]], b: &[[f64; 3]], mask: &[bool]) -> PassError {
+    let (mut sum, mut sq, mut max, mut n) = (0.0f64, 0.0f64, 0.0f64, 0usize);
+    for ((x, y), &m) in a.iter().zip(b).zip(mask) {
+        if !m {
+            continue;
+        }
+        n += 1;
+        for c in 0..3 {
+            let d = (x[c] - y[c]).abs();
+            sum += d;
+            sq += d * d;
+            max = max.max(d);
+        }
+    }
+    let all = (a.len() * 3).max(1) as f64;
+    let k = (n * 3).max(1) as f64;
+    PassError {
+        pass: pass.into(),
+        reference: reference.into(),
+        pixels: n,
+        mean_abs: sum / k,
+        mean_abs_frame: sum / all,
+        rms: (sq / k).sqrt(),
+        max,
+    }
+}
+
+/// The frame's error (module notes); `reference` also writes the total reference PNG.
+pub fn frame_error(
+    scene: &Scene,
+    f: &Frame,
+    reference: Option<&Path>,
+) -> Result<FrameError, String> {
+    let (w, h) = (scene.image.width, scene.image.height);
+    let n = (w * h) as usize;
+    let to_levels = |fb: &crate::report::image_out::Framebuffer| -> Vec<[f64; 3]> {
+        let max = rtl_model::unorm::max_code(fb.bits) as f64;
+        fb.data
+            .chunks(4)
+            .map(|p| [0, 1, 2].map(|c| p[c] as f64 * 255.0 / max))
+            .collect()
+    };
+    let mut mask = vec![true; n];
+    if let Some(s) = &f.shaded {
+        for (m, o) in mask.iter_mut().zip(&s.objects) {
+            *m = o.is_none();
+        }
+    }
+    let mut passes = Vec::new();
+    let mut ref_total: Vec<[f64; 3]> = to_levels(&f.fb);
+    if let Some(sh) = &f.shafts {
+        let mut s = scene.clone();
+        s.glare = None;
+        let (truth, _) = reference_image(&s, 180)?;
+        passes.push(stats(
+            "shafts (depth, shadow maps, Lambert objects, sample planes)",
+            "ray march, 180 samples per ray",
+            &sh.levels(),
+            &truth,
+            &mask,
+        ));
+        ref_total = truth;
+    }
+    if let Some((g, _)) = &f.glare {
+        let gs = g_scene(scene, f);
+        let lv = reference_levels(&gs, g).map_err(|e| e.to_string())?;
+        let all = vec![true; n];
+        passes.push(stats(
+            "glare",
+            "analytic glare over the same picture",
+            &g.levels(),
+            &lv,
+            &all,
+        ));
+        // The glare's analytic contribution, added to the backdrop's reference.
+        let max = rtl_model::unorm::max_code(g.fb.bits) as f64;
+        for ((t, r), b) in ref_total.iter_mut().zip(&lv).zip(&g.base) {
+            for c in 0..3 {
+                let contrib = r[c] - b[c] as f64 * 255.0 / max;
+                if f.shafts.is_some() {
+                    t[c] = (t[c] + contrib).clamp(0.0, 255.0);
+                } else {
+                    t[c] = r[c];
+                }
+            }
+        }
+    }
+    let total = stats(
+        "frame",
+        "composed f64 reference",
+        &to_levels(&f.fb),
+        &ref_total,
+        &mask,
+    );
+    if let Some(path) = reference {
+        levels_png(&ref_total, w, h, path)?;
+    }
+    let bound = passes.iter().map(|p| p.mean_abs_frame).sum();
+    Ok(FrameError {
+        passes,
+        total,
+        bound,
+    })
+}
+
+/// The scene the glare pass rendered (with the highlights the shading found).
+fn g_scene(scene: &Scene, f: &Frame) -> Scene {
+    let mut s = match &f.linked {
+        Some(l) => l.scene.clone(),
+        None => scene.clone(),
+    };
+    if let (Some(sh), Some(g)) = (&f.shaded, s.glare.as_mut()) {
+        g.highlights
+            .extend(sh.highlights.iter().map(|h| h.highlight));
+    }
+    s
+}
+
+/// The errors as a table.
+pub fn error_table(e: &FrameError) -> String {
+    let rows: Vec<Vec<String>> = e
+        .passes
+        .iter()
+        .chain(std::iter::once(&e.total))
+        .map(|p| {
+            vec![
+                p.pass.clone(),
+                p.reference.clone(),
+                p.pixels.to_string(),
+                format!("{:.3}", p.mean_abs),
+                format!("{:.3}", p.mean_abs_frame),
+                format!("{:.3}", p.rms),
+                format!("{:.1}", p.max),
+            ]
+        })
+        .collect();
+    let mut s = crate::report::table::text_table(
+        &[
+            "pass",
+            "reference",
+            "pixels",
+            "mean_abs",
+            "mean_abs_frame",
+            "rms",
+            "max",
+        ],
+        &rows,
+    );
+    s.push_str(&format!(
+        "total mean |Δ| over the frame {:.3} ≤ Σ per-pass {:.3}: {}\n",
+        e.total.mean_abs_frame,
+        e.bound,
+        if e.total.mean_abs_frame <= e.bound + 1e-9 {
+            "holds"
+        } else {
+            "VIOLATED"
+        }
+    ));
+    s
+}
+
+/// Render a scene and its error (for the reproduction).
+pub fn render_with_error(scene: &Scene) -> Result<(Frame, FrameError), String> {
+    let f = render(scene).map_err(|e| e.to_string())?;
+    let e = frame_error(scene, &f, None)?;
+    Ok((f, e))
+}
