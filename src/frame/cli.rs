@@ -114,11 +114,18 @@ pub fn render_cli(
     let rows: Vec<Vec<String>> = f
         .times
         .iter()
-        .map(|t| vec![t.pass.clone(), t.on.clone(), format!("{:.6}", t.seconds)])
+        .map(|t| {
+            vec![
+                t.pass.clone(),
+                t.on.clone(),
+                format!("{:.6}", t.seconds),
+                format!("{:.2}", t.wall_seconds),
+            ]
+        })
         .collect();
     print!(
         "\npredicted time per pass:\n{}",
-        text_table(&["pass", "on", "seconds"], &rows)
+        text_table(&["pass", "on", "seconds", "simulation_wall_s"], &rows)
     );
     println!("predicted frame time: {:.6} s", f.predicted_seconds());
     if let Some(e) = error {

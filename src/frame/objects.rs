@@ -11,20 +11,21 @@
 //!
 //! Host work (f64, per fragment, as the application processor sets up vertex colours
 //! in the shafts object pass): the irradiance scale k_l = I_l · exp(−ρκ(s + T)) / s² ·
-//! exposure / 255 (clamped to 1; 0 outside a spot's cone), the same factor the shafts
-//! object pass gives a Lambert vertex (whose cos θ_i the shading path computes here).
-//! Shadows between objects are not cast in this pass (as in the shading pipeline's
-//! scene pass), and a spot's light-map texture is not applied (its cone is).
+//! exposure / 255 × the spot's light map there (clamped to 1; 0 outside a spot's
+//! cone), the same factor the shafts object pass gives a Lambert vertex (whose cos θ_i
+//! the shading path computes here). Shadows between objects are not cast in this pass
+//! (as in the shading pipeline's scene pass). The glare conditions get, per object,
+//! its brightest specular fragment *after* this scaling (an unlit sheen never counts).
 
-use crate::pipeline::shading::scene_pass::{shade_objects, FoundHighlight};
+use crate::pipeline::shading::scene_pass::{highlight, shade_objects, FoundHighlight};
 use crate::pipeline::shafts::frame::Prepared;
-use crate::pipeline::shafts::prepare::in_cone;
 use crate::pipeline::time_model::{PassKind, PassStats};
 use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
 use crate::scene::camera::{vec3, CameraView};
 use crate::scene::format::Scene;
 use crate::scene::geometry::{Ray, SceneGeometry};
+use crate::scene::lightmap::{light_weight, LightMapSampler};
 use rtl_model::driver::run_span;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
@@ -83,9 +84,10 @@ pub fn shaded_objects_pass(
             _ => (1.0, 0.03),
         };
         let sh = shade_objects(scene, li, intensity, radius, &selected)?;
-        if highlight.is_some_and(|(l, _, _)| l == li) {
-            highlights = sh.highlights.clone();
-        }
+        let map = LightMapSampler::for_light(light, li)?;
+        let finds_highlights = highlight.is_some_and(|(l, _, _)| l == li);
+        // The highlight light's specular levels × its irradiance code (grey), per pixel.
+        let mut spec_pairs: Vec<(usize, ModulateIn)> = Vec::new();
         if li == 0 {
             elaboration = sh.elaboration.clone();
         }
@@ -111,11 +113,34 @@ pub fn shaded_objects_pass(
                 )
                 .map_or(0.0, |(_, hit)| hit.t);
             let point = cam.eye + dir * t;
-            let k = irradiance_code(scene, p, light, lpos, point, t);
+            let (k, grey) = irradiance_code(scene, p, light, &map, lpos, point, t);
+            if finds_highlights && sh.speculars[i] > 0 {
+                spec_pairs.push((
+                    i,
+                    ModulateIn {
+                        a: sh.speculars[i],
+                        b: grey,
+                    },
+                ));
+            }
             at.push(i);
             for c in 0..3 {
                 pairs.push(ModulateIn { a: rgb[c], b: k[c] });
             }
+        }
+        if finds_highlights {
+            highlights = brightest(
+                scene,
+                &modulate,
+                &spec_pairs,
+                &sh.objects,
+                &cam,
+                &geometry,
+                lpos,
+                intensity,
+                radius,
+                &mut counters,
+            );
         }
         let mut c = Counters::default();
         let lit = run_span(&modulate, &mut (), &pairs, &mut c);
@@ -215,24 +240,76 @@ fn add_reflection(
     }
 }
 
-/// k_l × the light's colour, per channel, as 8-bit codes (module notes).
+/// The brightest lit specular fragment of each object (strictly brighter: ties keep
+/// the first in raster order), as the glare conditions' highlights: I_s is the
+/// specular level after the light's irradiance, so an unlit fragment never counts.
+#[allow(clippy::too_many_arguments)]
+fn brightest(
+    scene: &Scene,
+    modulate: &Modulate,
+    spec_pairs: &[(usize, ModulateIn)],
+    objects: &[Option<usize>],
+    cam: &CameraView,
+    geometry: &SceneGeometry,
+    lpos: crate::scene::math::Vec3,
+    intensity: f64,
+    radius: f64,
+    counters: &mut BTreeMap<String, Counters>,
+) -> Vec<FoundHighlight> {
+    let ins: Vec<ModulateIn> = spec_pairs.iter().map(|(_, m)| *m).collect();
+    let mut c = Counters::default();
+    let lit = run_span(modulate, &mut (), &ins, &mut c);
+    *counters
+        .entry("modulate (highlight levels)".into())
+        .or_default() += c;
+    let w = scene.image.width;
+    let mut best: Vec<Option<(usize, u32)>> = vec![None; scene.objects.len()];
+    for (&(i, _), &v) in spec_pairs.iter().zip(&lit) {
+        let Some(o) = objects[i] else { continue };
+        if v > 0 && best[o].is_none_or(|(_, b)| v > b) {
+            best[o] = Some((i, v));
+        }
+    }
+    best.iter()
+        .enumerate()
+        .filter_map(|(o, b)| {
+            let (i, v) = (*b)?;
+            let (x, y) = (i as u32 % w, i as u32 / w);
+            let dir = cam.ray_dir(x as f64 + 0.5, y as f64 + 0.5);
+            let (_, hit) = geometry.first_hit(
+                &Ray {
+                    origin: cam.eye,
+                    dir,
+                },
+                cam.far,
+            )?;
+            Some(FoundHighlight {
+                object: o,
+                pixel: [x, y],
+                specular: v,
+                highlight: highlight(hit.point, hit.normal, lpos, intensity, v, radius),
+            })
+        })
+        .collect()
+}
+
+/// k_l × the light's colour, per channel, and k_l alone (grey), as 8-bit codes
+/// (module notes).
 fn irradiance_code(
     scene: &Scene,
     p: &Prepared,
     light: &crate::scene::format::Light,
+    map: &LightMapSampler,
     lpos: crate::scene::math::Vec3,
     point: crate::scene::math::Vec3,
     t: f64,
-) -> [u32; 3] {
-    if !in_cone(light, point) {
-        return [0; 3];
-    }
+) -> ([u32; 3], u32) {
     let to_l = lpos - point;
     let s2 = to_l.dot(to_l).max(1e-12);
     let m = scene.medium;
     let atten = (-m.rho * m.kappa * (s2.sqrt() + t)).exp();
-    let k = light.intensity * atten / s2 * p.exposure / 255.0;
-    light
-        .color
-        .map(|c| ((k * c).clamp(0.0, 1.0) * 255.0).round() as u32)
+    // I · light map (0 outside a spot's cone), as the ray-marched reference emits it.
+    let k = light_weight(light, map, point) * atten / s2 * p.exposure / 255.0;
+    let code = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u32;
+    (light.color.map(|c| code(k * c)), code(k))
 }

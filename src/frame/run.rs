@@ -54,6 +54,8 @@ pub struct PassTime {
     /// "GeForce2 GTS", "GeForce3" or "glare ASIC (f MHz × p pipes)".
     pub on: String,
     pub seconds: f64,
+    /// Wall time the simulation of this pass took.
+    pub wall_seconds: f64,
 }
 
 /// A rendered frame.
@@ -114,12 +116,14 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
     let mut shaded: Option<ShadedObjects> = None;
     let mut linked: Option<Linked> = None;
     let mut glare = None;
-    let gpu_time = |name: &str, stats: &[PassStats]| PassTime {
+    let gpu_time = |name: &str, stats: &[PassStats], t: Instant| PassTime {
         pass: name.to_string(),
         on: gpu.name().to_string(),
         seconds: stats.iter().map(|s| pass_seconds(&model, s).0).sum(),
+        wall_seconds: t.elapsed().as_secs_f64(),
     };
     for pass in &plan.passes {
+        let t = Instant::now();
         match pass.step {
             Step::TestScene => {
                 return Err(ConfigError::invalid(
@@ -131,7 +135,7 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
                 let f = shafts.as_mut().ok_or_else(no_shafts)?;
                 let before = f.pass_stats().len();
                 f.run(sp)?;
-                times.push(gpu_time(&pass.name, &f.pass_stats()[before..]));
+                times.push(gpu_time(&pass.name, &f.pass_stats()[before..], t));
             }
             Step::ShadedObjects => {
                 let f = shafts.as_mut().ok_or_else(no_shafts)?;
@@ -142,7 +146,7 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
                     .and_then(|g| g.shaded_highlights)
                     .map(|h| (h.light, h.intensity, h.radius));
                 let s = shaded_objects_pass(scene, p, f.framebuffer_mut(), hl, None)?;
-                times.push(gpu_time(&pass.name, &s.stats));
+                times.push(gpu_time(&pass.name, &s.stats, t));
                 shaded = Some(s);
             }
             Step::ShadedHighlights => {
@@ -171,6 +175,7 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
                     pass: pass.name.clone(),
                     on: format!("glare ASIC ({} MHz × {} pipes)", pred.clock_mhz, pred.pipes),
                     seconds: pred.seconds,
+                    wall_seconds: t.elapsed().as_secs_f64(),
                 });
                 glare = Some((g, pred));
             }

@@ -37,7 +37,9 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
         "fig4" => fig4(),
         "fig6" => fig6(),
         "stage" => stage(),
-        other => match super::builtin_glare::glare_builtin(other) {
+        other => match super::builtin_glare::glare_builtin(other)
+            .or_else(|| super::builtin_showcase::showcase_builtin(other))
+        {
             Some(s) => s,
             None => {
                 return Err(ConfigError::invalid(
@@ -47,6 +49,7 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
                         BUILTIN_NAMES
                             .iter()
                             .chain(super::builtin_glare::GLARE_BUILTIN_NAMES)
+                            .chain(super::builtin_showcase::SHOWCASE_NAMES)
                             .cloned()
                             .collect::<Vec<_>>()
                             .join(", ")

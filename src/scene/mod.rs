@@ -3,6 +3,7 @@
 
 pub mod builtin;
 pub mod builtin_glare;
+pub mod builtin_showcase;
 pub mod camera;
 pub mod envmap;
 pub mod format;

@@ -46,6 +46,8 @@ pub struct SceneShading {
     pub fragments: u64,
     /// Per pixel: the object whose surface was shaded there, else None.
     pub objects: Vec<Option<usize>>,
+    /// Per pixel: the specular level (8-bit) of the shaded fragment, 0 where none.
+    pub speculars: Vec<u32>,
 }
 
 /// Shade every object of `scene` lit by `lights[light]`; find a highlight per
@@ -92,6 +94,7 @@ pub fn shade_objects(
     let mut best: Vec<Option<FoundHighlight>> = vec![None; scene.objects.len()];
     let mut fragments = 0u64;
     let mut objects = Vec::with_capacity((w * h) as usize);
+    let mut speculars = vec![0u32; (w * h) as usize];
     for y in 0..h {
         for x in 0..w {
             let dir = cam.ray_dir(x as f64 + 0.5, y as f64 + 0.5);
@@ -114,6 +117,7 @@ pub fn shade_objects(
             let to_eye = -dir;
             let s = paths[obj].shade(&frame, to_light, to_eye, &mut per_object[obj])?;
             pixels.push(Some(s.rgb));
+            speculars[(y * w + x) as usize] = s.specular;
             let material = scene.objects[obj].material.unwrap_or(Material::Lambert);
             // Strictly brighter: ties keep the first fragment in raster order.
             let brighter = match &best[obj] {
@@ -157,13 +161,14 @@ pub fn shade_objects(
         elaboration,
         fragments,
         objects,
+        speculars,
     })
 }
 
 /// The glare conditions' input for a fragment: Table 2's metallic rule (every solid
 /// surface seen from air: the water rule needs total internal reflection, which light
 /// reflected off a solid object does not undergo), I_s the shader's specular level.
-fn highlight(
+pub fn highlight(
     position: Vec3,
     normal: Vec3,
     light: Vec3,

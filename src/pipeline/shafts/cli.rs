@@ -16,6 +16,7 @@ use std::time::Instant;
 pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
     if BUILTIN_NAMES.contains(&name_or_path)
         || crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.contains(&name_or_path)
+        || crate::scene::builtin_showcase::SHOWCASE_NAMES.contains(&name_or_path)
     {
         return builtin(name_or_path).map_err(|e| e.to_string());
     }
@@ -24,9 +25,10 @@ pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
         return Scene::from_file(p).map_err(|e| e.to_string());
     }
     Err(format!(
-        "scene: '{name_or_path}' is neither a built-in scene ({}, {}, test) nor a file",
+        "scene: '{name_or_path}' is neither a built-in scene ({}, {}, {}, test) nor a file",
         BUILTIN_NAMES.join(", "),
-        crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.join(", ")
+        crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.join(", "),
+        crate::scene::builtin_showcase::SHOWCASE_NAMES.join(", ")
     ))
 }
 
