@@ -37,7 +37,9 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
         "fig4" => fig4(),
         "fig6" => fig6(),
         "stage" => stage(),
-        other => match super::builtin_glare::glare_builtin(other) {
+        other => match super::builtin_glare::glare_builtin(other)
+            .or_else(|| super::builtin_environment::environment_builtin(other))
+        {
             Some(s) => s,
             None => {
                 return Err(ConfigError::invalid(
@@ -47,6 +49,7 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
                         BUILTIN_NAMES
                             .iter()
                             .chain(super::builtin_glare::GLARE_BUILTIN_NAMES)
+                            .chain(super::builtin_environment::ENVIRONMENT_BUILTIN_NAMES)
                             .cloned()
                             .collect::<Vec<_>>()
                             .join(", ")
@@ -154,6 +157,7 @@ pub fn fig4() -> Scene {
             ..ShaftsConfig::default()
         },
         glare: None,
+        environment: None,
     }
 }
 
@@ -192,6 +196,7 @@ pub fn fig6() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: None,
+        environment: None,
     }
 }
 
@@ -290,5 +295,6 @@ pub fn stage() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: None,
+        environment: None,
     }
 }

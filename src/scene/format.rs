@@ -31,6 +31,10 @@ pub struct Scene {
     /// Glare sources and the glare renderer's settings (SPEC B); none = no glare.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glare: Option<super::glare::GlareSection>,
+    /// An environment map and the thesis object drawn with it (SPEC C); none = no
+    /// environment.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<super::environment::EnvironmentSection>,
 }
 
 fn default_seed() -> u64 {
