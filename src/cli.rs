@@ -32,7 +32,7 @@ pub enum Command {
     /// and print the counters, the elaboration and the predicted hardware time.
     Render {
         /// A built-in scene (fig6, fig4, stage, or `test` for the foundation test scene;
-        /// the environment-map scenes env-<map>-<object>: env-pattern-sphere,
+        /// the environment-map scenes env-MAP-OBJECT: env-pattern-sphere,
         /// env-pattern-teapot, env-venice_sunset-sphere, env-venice_sunset-teapot,
         /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot) or a TOML
         /// scene file.
@@ -72,7 +72,7 @@ pub enum Command {
         #[arg(long, value_delimiter = ',')]
         values: Option<Vec<u32>>,
     },
-    /// Print a built-in scene (fig4, fig6, stage, the glare and env-<map>-<object>
+    /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
     /// scenes) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },

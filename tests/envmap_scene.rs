@@ -20,7 +20,9 @@ use glare_pipeline::reference::envmap_prefilter::PrefilterParams;
 use glare_pipeline::scene::builtin::{builtin, builtin_toml};
 use glare_pipeline::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use glare_pipeline::scene::camera::CameraView;
-use glare_pipeline::scene::environment::{EnvObject, Prefilter};
+use glare_pipeline::scene::environment::{
+    EnvBackground, EnvLambda, EnvLookup, EnvObject, Prefilter,
+};
 use glare_pipeline::scene::envmap::{EnvMap, BUILTIN_NAMES as MAP_NAMES, MAX_HDR_BYTES};
 use glare_pipeline::scene::format::{ImageSize, Scene};
 
@@ -110,6 +112,34 @@ fn builtin_names_cover_every_map_and_object_and_round_trip_as_toml() {
     assert!(
         e.to_string().contains("env-st_fagans_interior-teapot"),
         "{e}"
+    );
+}
+
+#[test]
+fn a_minimal_section_takes_the_thesis_defaults() {
+    let text = "[camera]\neye = [0.0, 1.0, 3.9]\nlook_at = [0.0, 0.0, 0.0]\n[environment]\nmap = \"pattern\"\n";
+    let e = Scene::from_toml_str(text).unwrap().environment.unwrap();
+    assert_eq!(e.side, 128);
+    assert_eq!(
+        e.prefilter,
+        Prefilter::Accelerated {
+            threshold: TABLE5_TH
+        }
+    );
+    assert_eq!(e.lambda, EnvLambda::Uniform(1.0));
+    assert_eq!(e.lookup, EnvLookup::Voxel3d);
+    assert_eq!(e.background, EnvBackground::Environment);
+    assert_eq!((e.exposure, e.object, e.hdr), (None, None, None));
+    // An integer λ is a number; the written section round-trips.
+    let one = Scene::from_toml_str(&text.replace("map =", "lambda = 0\nmap ="))
+        .unwrap()
+        .environment
+        .unwrap();
+    assert_eq!(one.lambda, EnvLambda::Uniform(0.0));
+    let s = Scene::from_toml_str(text).unwrap();
+    assert_eq!(
+        Scene::from_toml_str(&toml::to_string(&s).unwrap()).unwrap(),
+        s
     );
 }
 
