@@ -35,8 +35,11 @@ pub enum Command {
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// and print the counters, the elaboration and the predicted hardware time.
     Render {
-        /// A built-in scene (fig6, fig4, stage, or `test` for the foundation test scene)
-        /// or a TOML scene file.
+        /// A built-in scene (fig6, fig4, stage, or `test` for the foundation test scene;
+        /// the environment-map scenes env-MAP-OBJECT: env-pattern-sphere,
+        /// env-pattern-teapot, env-venice_sunset-sphere, env-venice_sunset-teapot,
+        /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot) or a TOML
+        /// scene file.
         #[arg(long, default_value = "fig6")]
         scene: String,
         /// Output PNG.
@@ -77,7 +80,8 @@ pub enum Command {
         #[arg(long, value_delimiter = ',')]
         values: Option<Vec<u32>>,
     },
-    /// Print a built-in scene (fig4, fig6, stage) as TOML, to start a scene file from:
+    /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
+    /// scenes) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
     /// Error against run time for one shafts parameter: renders the scene for each

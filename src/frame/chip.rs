@@ -6,7 +6,7 @@
 //! scenes' chips compare like for like; a pipeline's own elaboration (printed by
 //! `render`) has the scene's widths.
 
-use super::plan::{shaded, shafts_backdrop};
+use super::plan::{environment_scene, shafts_backdrop};
 use crate::pipeline::registry;
 use crate::pipeline::shafts::frame::scatters;
 use crate::scene::format::{LightKind, Scene};
@@ -167,7 +167,7 @@ fn needed(scene: &Scene, instance: &str, feature: Feature) -> bool {
     let gpu_objects = backdrop && !scene.objects.is_empty();
     let lit = scene.lights.iter().any(|l| l.intensity > 0.0);
     let fog = backdrop && lit && scatters(&scene.medium);
-    let shading = scene.objects.iter().any(shaded)
+    let shading = scene.objects.iter().any(|o| o.material.is_some())
         || scene
             .glare
             .as_ref()
@@ -195,7 +195,13 @@ fn needed(scene: &Scene, instance: &str, feature: Feature) -> bool {
             _ => fog,
         },
         Feature::Shading => shading,
-        Feature::Environment => false,
+        Feature::Environment => {
+            environment_scene(scene)
+                || scene
+                    .environment
+                    .as_ref()
+                    .is_some_and(|e| !e.reflectors.is_empty())
+        }
         Feature::Glare => {
             let Some(g) = glare else { return false };
             match instance {

@@ -12,5 +12,6 @@ pub mod chip;
 pub mod cli;
 pub mod objects;
 pub mod plan;
+pub mod reflection;
 pub mod reproduce;
 pub mod run;

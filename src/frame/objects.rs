@@ -62,11 +62,11 @@ pub fn shaded_objects_pass(
     p: &Prepared,
     fb: &mut Framebuffer,
     highlight: Option<(usize, f64, f64)>,
-    reflection: Option<&Reflection>,
+    reflections: &[Reflection],
 ) -> Result<ShadedObjects, ConfigError> {
     let (w, h) = (scene.image.width, scene.image.height);
     let n = (w * h) as usize;
-    let selected = |i: usize| scene.objects.get(i).is_some_and(|o| o.material.is_some());
+    let selected = |i: usize| scene.shaded_object(i);
     let modulate = Modulate::new(8, ModulateMode::Exact)?;
     let blend = AdditiveBlend::new(8, 8, 4, false, 8)?;
     let cam = CameraView::new(&scene.camera, scene.image);
@@ -182,7 +182,7 @@ pub fn shaded_objects_pass(
             depth_tests: sh.fragments,
         });
     }
-    if let Some(r) = reflection {
+    for r in reflections {
         add_reflection(r, &blend, &mut sum, &objects, &mut counters);
         for (k, c) in &r.counters {
             *counters.entry(k.clone()).or_default() += *c;

@@ -23,6 +23,9 @@ use serde::Serialize;
 pub enum Step {
     /// The foundation test scene's fixed passes (`render --scene test`).
     TestScene,
+    /// An environment-map scene of the thesis: background and object through the
+    /// envmap pipeline.
+    EnvironmentScene,
     /// One pass of the light-shafts pipeline.
     Shafts(ShaftsPass),
     /// Objects with a material through the shading units (and, for reflectors, the
@@ -63,9 +66,19 @@ pub fn shafts_backdrop(scene: &Scene) -> bool {
     }
 }
 
-/// Whether an object is drawn by the shading units (it has a material).
-pub fn shaded(o: &crate::scene::format::Object) -> bool {
-    o.material.is_some()
+/// Whether the scene has an object the object pass draws (a material or a
+/// reflector).
+pub fn has_shaded_objects(scene: &Scene) -> bool {
+    (0..scene.objects.len()).any(|i| scene.shaded_object(i))
+}
+
+/// Whether the scene is an environment-map scene of the thesis (its object drawn by
+/// the envmap pipeline alone).
+pub fn environment_scene(scene: &Scene) -> bool {
+    scene
+        .environment
+        .as_ref()
+        .is_some_and(|e| e.object.is_some())
 }
 
 /// The plan of a scene (`test`: the foundation test scene). Host preparation errors
@@ -73,16 +86,30 @@ pub fn shaded(o: &crate::scene::format::Object) -> bool {
 pub fn plan(scene: &Scene) -> Result<Plan, ConfigError> {
     let mut passes = Vec::new();
     let mut prepared = None;
+    if environment_scene(scene) {
+        passes.push(Pass {
+            step: Step::EnvironmentScene,
+            name: "environment (background, thesis object)".into(),
+            pipeline: "envmap",
+            reads: vec!["environment map (prefiltered voxel map or its 2D slice)".into()],
+            writes: vec!["framebuffer".into()],
+            units: vec![
+                "polygon_interpolator",
+                "reflection_vector",
+                "texture_sampler (environment)",
+            ],
+        });
+        return Ok(Plan { passes, prepared });
+    }
     if shafts_backdrop(scene) {
         let (p, _) = prepare_scene(&strip_glare(scene), DEFAULT_EXPOSURE)?;
         for sp in shafts_passes(&p) {
             passes.push(shafts_pass(&p, sp));
-            if sp == ShaftsPass::Depth && scene.objects.iter().any(shaded) {
+            if sp == ShaftsPass::Depth && has_shaded_objects(scene) {
                 passes.push(shaded_objects());
             }
         }
-        if !passes.iter().any(|p| p.step == Step::ShadedObjects) && scene.objects.iter().any(shaded)
-        {
+        if !passes.iter().any(|p| p.step == Step::ShadedObjects) && has_shaded_objects(scene) {
             passes.insert(0, shaded_objects());
         }
         prepared = Some(p);

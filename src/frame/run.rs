@@ -28,8 +28,12 @@ pub enum Gpu {
 impl Gpu {
     /// GeForce3 when the scene needs its 3D textures (an environment map), else the
     /// GeForce2 GTS the shafts paper measured on.
-    pub fn for_scene(_scene: &Scene) -> Gpu {
-        Gpu::GeForce2Gts
+    pub fn for_scene(scene: &Scene) -> Gpu {
+        if scene.environment.is_some() {
+            Gpu::GeForce3
+        } else {
+            Gpu::GeForce2Gts
+        }
     }
 
     pub fn model(self) -> GpuModel {
@@ -125,10 +129,10 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
     for pass in &plan.passes {
         let t = Instant::now();
         match pass.step {
-            Step::TestScene => {
+            Step::TestScene | Step::EnvironmentScene => {
                 return Err(ConfigError::invalid(
                     "scene",
-                    "the foundation test scene renders through `render --scene test`",
+                    "the foundation test scene and the thesis' environment scenes render through `render` alone (their own frame)",
                 ))
             }
             Step::Shafts(sp) => {
@@ -145,7 +149,8 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
                     .as_ref()
                     .and_then(|g| g.shaded_highlights)
                     .map(|h| (h.light, h.intensity, h.radius));
-                let s = shaded_objects_pass(scene, p, f.framebuffer_mut(), hl, None)?;
+                let refl = super::reflection::reflections(scene)?;
+                let s = shaded_objects_pass(scene, p, f.framebuffer_mut(), hl, &refl)?;
                 times.push(gpu_time(&pass.name, &s.stats, t));
                 shaded = Some(s);
             }
@@ -221,7 +226,8 @@ pub fn shafts_backdrop(scene: &Scene) -> Result<Framebuffer, ConfigError> {
         match pass.step {
             Step::Shafts(sp) => f.run(sp)?,
             Step::ShadedObjects => {
-                shaded_objects_pass(scene, p, f.framebuffer_mut(), None, None)?;
+                let refl = super::reflection::reflections(scene)?;
+                shaded_objects_pass(scene, p, f.framebuffer_mut(), None, &refl)?;
             }
             _ => {}
         }

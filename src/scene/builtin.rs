@@ -39,6 +39,7 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
         "stage" => stage(),
         other => match super::builtin_glare::glare_builtin(other)
             .or_else(|| super::builtin_showcase::showcase_builtin(other))
+            .or_else(|| super::builtin_environment::environment_builtin(other))
         {
             Some(s) => s,
             None => {
@@ -50,6 +51,7 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
                             .iter()
                             .chain(super::builtin_glare::GLARE_BUILTIN_NAMES)
                             .chain(super::builtin_showcase::SHOWCASE_NAMES)
+                            .chain(super::builtin_environment::ENVIRONMENT_BUILTIN_NAMES)
                             .cloned()
                             .collect::<Vec<_>>()
                             .join(", ")
@@ -157,6 +159,7 @@ pub fn fig4() -> Scene {
             ..ShaftsConfig::default()
         },
         glare: None,
+        environment: None,
     }
 }
 
@@ -195,6 +198,7 @@ pub fn fig6() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: None,
+        environment: None,
     }
 }
 
@@ -293,5 +297,6 @@ pub fn stage() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: None,
+        environment: None,
     }
 }

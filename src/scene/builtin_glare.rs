@@ -72,6 +72,7 @@ fn glare_scene(name: &str, seed: u64, camera: Camera, glare: GlareSection) -> Sc
         objects: vec![],
         shafts: ShaftsConfig::default(),
         glare: Some(glare),
+        environment: None,
     }
 }
 
@@ -193,6 +194,7 @@ pub fn street_light() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: Some(g),
+        environment: None,
     }
 }
 

@@ -7,6 +7,7 @@
 //! units, into a glare source when Table 2's rule passes.
 
 use super::builtin_glare::source;
+use super::environment::{EnvironmentSection, Reflector};
 use super::format::{
     Camera, ImageSize, Light, LightKind, LightMap, Medium, Object, Scene, ShaftsConfig, Shape,
 };
@@ -175,5 +176,23 @@ pub fn night_street() -> Scene {
         objects,
         shafts: ShaftsConfig::default(),
         glare: Some(glare),
+        // The street's surroundings as the chrome ball reflects them: Venice at dusk
+        // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
+        environment: Some(EnvironmentSection {
+            map: Some("venice_sunset".into()),
+            exposure: Some(NIGHT_EXPOSURE),
+            side: 64,
+            reflectors: vec![Reflector {
+                object: CHROME,
+                lambda: 0.9,
+                reflectance: 0.6,
+            }],
+            ..EnvironmentSection::default()
+        }),
     }
 }
+
+/// `objects[CHROME]` is the chrome ball.
+const CHROME: usize = 1;
+/// Exposure of the dusk map for a night scene.
+const NIGHT_EXPOSURE: f64 = 0.25;

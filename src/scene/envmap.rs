@@ -37,10 +37,11 @@
 //! [`EnvMap::venice_sunset`] and [`EnvMap::st_fagans_interior`] are Poly Haven CC0 maps,
 //! 512 × 256, embedded from `src/scene/data/envmaps/` (see the README there).
 
-use std::io::BufReader;
+use std::io::{BufReader, Read};
 use std::path::Path;
 
-use image::{ImageFormat, ImageReader, Rgb};
+use image::codecs::hdr::HdrDecoder;
+use image::{DynamicImage, ImageDecoder, ImageFormat, Rgb};
 use rtl_model::error::ConfigError;
 
 use crate::scene::math::{v3, Vec3};
@@ -53,6 +54,9 @@ pub const MAX_RADIANCE: f64 = 1e100;
 /// Largest accepted width; the largest height is half of it.
 pub const MAX_WIDTH: usize = 16384;
 pub const MAX_HEIGHT: usize = 8192;
+/// Largest Radiance file read: a [`MAX_WIDTH`] × [`MAX_HEIGHT`] map uncompressed (4
+/// bytes per RGBE texel) plus 1 MiB of header.
+pub const MAX_HDR_BYTES: u64 = (MAX_WIDTH * MAX_HEIGHT * 4) as u64 + (1 << 20);
 /// Size of the built-in maps (the thesis' 512 × 256).
 pub const DEFAULT_WIDTH: usize = 512;
 pub const DEFAULT_HEIGHT: usize = 256;
@@ -261,16 +265,40 @@ impl EnvMap {
     }
 
     /// Load an equirectangular Radiance `.hdr` (RGBE) file. Every error has field
-    /// "envmap.path" and names the path: missing/unreadable file, not an HDR, a bad size,
-    /// or a texel that is NaN/∞/negative (refused, not clamped).
+    /// "envmap.path" and names the path: missing/unreadable file, not a regular file (a
+    /// device or a pipe could be endless), larger than [`MAX_HDR_BYTES`], not an HDR, a
+    /// bad size, or a texel that is NaN/∞/negative (refused, not clamped). At most
+    /// [`MAX_HDR_BYTES`] are read whatever the file does while it is read.
     pub fn load_hdr(path: impl AsRef<Path>) -> Result<EnvMap, ConfigError> {
         let path = path.as_ref();
         let shown = path.display().to_string();
         let file = std::fs::File::open(path).map_err(|e| path_error(&shown, "cannot open", &e))?;
-        let reader = ImageReader::with_format(BufReader::new(file), ImageFormat::Hdr);
-        let img = reader
-            .decode()
-            .map_err(|e| path_error(&shown, "cannot decode as Radiance HDR", &e))?;
+        let meta = file
+            .metadata()
+            .map_err(|e| path_error(&shown, "cannot read its metadata", &e))?;
+        if !meta.is_file() {
+            return Err(ConfigError::invalid(
+                "envmap.path",
+                &format!("`{shown}`: not a regular file"),
+            ));
+        }
+        if meta.len() > MAX_HDR_BYTES {
+            return Err(ConfigError::invalid(
+                "envmap.path",
+                &format!(
+                    "`{shown}`: {} bytes, more than the {MAX_HDR_BYTES} a {MAX_WIDTH} × {MAX_HEIGHT} map needs",
+                    meta.len()
+                ),
+            ));
+        }
+        let capped = BufReader::new(file.take(MAX_HDR_BYTES));
+        let not_hdr =
+            |e: image::ImageError| path_error(&shown, "cannot decode as Radiance HDR", &e);
+        let decoder = HdrDecoder::new(capped).map_err(not_hdr)?;
+        // The header's size, before the decoder allocates the image for it.
+        let (w, h) = decoder.dimensions();
+        check_size(w as usize, h as usize).map_err(|e| path_error(&shown, "bad size", &e))?;
+        let img = DynamicImage::from_decoder(decoder).map_err(not_hdr)?;
         EnvMap::from_rgb32f(img.into_rgb32f(), &shown)
     }
 

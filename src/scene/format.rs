@@ -31,6 +31,10 @@ pub struct Scene {
     /// Glare sources and the glare renderer's settings (SPEC B); none = no glare.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glare: Option<super::glare::GlareSection>,
+    /// An environment map and the thesis object drawn with it (SPEC C); none = no
+    /// environment.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub environment: Option<super::environment::EnvironmentSection>,
 }
 
 fn default_seed() -> u64 {
@@ -324,5 +328,18 @@ impl Default for ShaftsConfig {
             f_scale: FScale::Table,
             light_map_texels: 256,
         }
+    }
+}
+
+impl Scene {
+    /// Whether `objects[i]` is drawn by the frame's object pass (shading units,
+    /// environment reflections) rather than as a Lambert object by the shafts passes:
+    /// it has a material or reflects the environment.
+    pub fn shaded_object(&self, i: usize) -> bool {
+        self.objects.get(i).is_some_and(|o| o.material.is_some())
+            || self
+                .environment
+                .as_ref()
+                .is_some_and(|e| e.reflectors.iter().any(|r| r.object == i))
     }
 }

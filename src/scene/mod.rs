@@ -1,10 +1,12 @@
 //! Scenes: the TOML scene format, its validation, built-in scenes, tessellation,
-//! light maps and ray–shape geometry (host side, f64).
+//! light maps, environment maps and ray–shape geometry (host side, f64).
 
 pub mod builtin;
+pub mod builtin_environment;
 pub mod builtin_glare;
 pub mod builtin_showcase;
 pub mod camera;
+pub mod environment;
 pub mod envmap;
 pub mod format;
 pub mod geometry;

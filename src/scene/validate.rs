@@ -60,6 +60,30 @@ impl Scene {
             validate_object(o).map_err(|e| e.within(&format!("objects[{i}]")))?;
         }
         validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))?;
+        if let Some(env) = &self.environment {
+            env.validate()?;
+            for (i, r) in env.reflectors.iter().enumerate() {
+                if r.object >= self.objects.len() {
+                    return Err(ConfigError::invalid(
+                        &format!("environment.reflectors[{i}].object"),
+                        &format!(
+                            "names object {} but the scene has {} object(s)",
+                            r.object,
+                            self.objects.len()
+                        ),
+                    ));
+                }
+                if matches!(
+                    self.objects[r.object].shape,
+                    super::format::Shape::Teapot { .. }
+                ) {
+                    return Err(ConfigError::invalid(
+                        &format!("environment.reflectors[{i}].object"),
+                        "a teapot cannot reflect in a scene (the object pass ray-casts analytic shapes)",
+                    ));
+                }
+            }
+        }
         let Some(g) = &self.glare else {
             return Ok(());
         };
@@ -81,7 +105,8 @@ impl Scene {
     /// where toml reports them (`camera.fovy_deg`, `lights[1].colour`, `scene` when
     /// no field can be told) and always carry toml's own message and the position.
     ///
-    /// Relative light-map image paths are taken relative to the working directory.
+    /// Relative light-map image and environment `hdr` paths are taken relative to the
+    /// working directory.
     pub fn from_toml_str(s: &str) -> Result<Scene, ConfigError> {
         let scene = parse_toml(s, "")?;
         scene.validate()?;
@@ -90,7 +115,8 @@ impl Scene {
 
     /// Read, parse and validate a scene file. A file that cannot be read is an error
     /// naming the path. Relative light-map image paths are resolved against the scene
-    /// file's directory (the returned scene holds the resolved paths).
+    /// file's directory (the returned scene holds the resolved paths); so is a relative
+    /// environment `hdr` path (the scene keeps the path as written for serialising).
     pub fn from_file(path: &Path) -> Result<Scene, ConfigError> {
         let text = std::fs::read_to_string(path).map_err(|e| {
             ConfigError::invalid(
@@ -108,12 +134,16 @@ impl Scene {
                 }
             }
         }
+        if let Some(hdr) = scene.environment.as_mut().and_then(|e| e.hdr.as_mut()) {
+            hdr.resolve_against(dir);
+        }
         scene.validate()?;
         Ok(scene)
     }
 }
 
-fn validate_camera(c: &Camera) -> Result<(), ConfigError> {
+/// Check a camera; errors name `camera.<field>`.
+pub fn validate_camera(c: &Camera) -> Result<(), ConfigError> {
     let eye = point("camera.eye", &c.eye)?;
     let at = point("camera.look_at", &c.look_at)?;
     let up = direction("camera.up", &c.up)?;

@@ -1,5 +1,6 @@
 //! The multi-scale environment map (SPEC C, issue 5): the voxel map, its prefilter
-//! (exact and accelerated), the renderer and its studies: see docs/envmap.md.
+//! (exact and accelerated), the renderer, its studies and the `[environment]` scene
+//! renderer: see docs/envmap.md.
 
 pub mod image;
 pub mod interpolator;
@@ -9,6 +10,7 @@ pub mod quick_map;
 pub mod render;
 pub mod reproduce;
 pub mod roughness;
+pub mod scene_render;
 pub mod slice;
 pub mod studies;
 pub mod table5;

@@ -71,16 +71,10 @@ impl LambdaSpec {
     }
 }
 
-/// The camera of every render (module notes).
+/// The camera of every render (module notes): the thesis camera, which the built-in
+/// environment scenes state too.
 pub fn camera() -> Camera {
-    Camera {
-        eye: [0.0, 1.0, 3.9],
-        look_at: [0.0, 0.0, 0.0],
-        up: [0.0, 1.0, 0.0],
-        fovy_deg: 36.0,
-        near: 1.0,
-        far: 10.0,
-    }
+    crate::scene::environment::thesis_camera()
 }
 
 /// The object's triangles (world space) and per-vertex λ.

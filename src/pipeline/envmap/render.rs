@@ -97,6 +97,11 @@
 //! 0.3, its bounding box centred on the origin, spout towards +x (screen right), 6 × 6
 //! quads per patch.
 //!
+//! [`render_geometry`] draws any triangles with per-vertex λ seen from any camera at any
+//! size through the same steps (the thesis objects and camera through it give the
+//! same bytes as [`render_frame`]); `super::scene_render` draws a scene's
+//! `[environment]` object with it.
+//!
 //! # Test/small map builder
 //!
 //! [`quick_map`] is a SMALL, TEST-ONLY map builder: see [`super::quick_map`].
@@ -140,8 +145,9 @@ use super::voxmap::VoxelMap;
 use crate::report::elaboration::Elaborated;
 use crate::scene::camera::CameraView;
 use crate::scene::envmap::EnvMap;
-use crate::scene::format::ImageSize;
+use crate::scene::format::{Camera, ImageSize};
 use crate::scene::math::{v3, Vec3};
+use crate::scene::teapot::Triangle;
 
 /// Largest image side.
 pub const MAX_IMAGE_SIDE: u32 = 4096;
@@ -269,16 +275,7 @@ pub fn render_object_with(
     opt: &RenderOptions,
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
     let r = render_core(env, map, object, lambda, size, opt)?;
-    let truth = truth_images(
-        &r.shading,
-        &r.background,
-        &r.levels_env,
-        r.side,
-        (r.img.width, r.img.height),
-        opt.intended_truth,
-    )?;
-    let stats = r.stats(&truth);
-    Ok((r.img, truth, stats))
+    with_truth(r, opt)
 }
 
 /// As [`render_object_with`], but reusing `truth` from an earlier call with the same
@@ -369,6 +366,93 @@ impl Rendered {
     }
 }
 
+/// Render arbitrary triangles with per-vertex λ (world space, each λ in [0, 1]) seen
+/// from `camera` at `size` = (width, height) through the same units and steps as
+/// [`render_frame`] (module notes): the image with its coverage mask, the frame's
+/// counts and elaboration, and the unit counters. The 2D-slice lookup
+/// ([`Lookup::Auto`]) is elaborated when every vertex has the same λ. Per-vertex λ only:
+/// a roughness texture and the intended-λ truth need a thesis object (errors naming
+/// "envmap_render.lambda_source" / "envmap_render.intended_truth"). Other errors:
+/// "envmap_render.size", "envmap_render.lambda", the camera's fields (`camera.…`),
+/// "envmap.exposure", unit config errors.
+///
+/// With [`object_geometry`] of a thesis object and [`camera`] it gives
+/// [`render_frame`]'s image and frame (tests/envmap_scene.rs).
+pub fn render_geometry(
+    env: &EnvMap,
+    map: &VoxelMap,
+    tris: &[(Triangle, [f64; 3])],
+    camera: &Camera,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<(Image, FrameInfo, BTreeMap<String, Counters>), ConfigError> {
+    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt)?;
+    Ok((r.img, r.frame, r.counters))
+}
+
+/// [`render_geometry`] and the two Phong truths at the same pixels (as
+/// [`render_object_with`] makes them): the image, the truths and the errors against them.
+pub fn render_geometry_with_truth(
+    env: &EnvMap,
+    map: &VoxelMap,
+    tris: &[(Triangle, [f64; 3])],
+    camera: &Camera,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<(Image, Truth, RenderStats), ConfigError> {
+    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt)?;
+    with_truth(r, opt)
+}
+
+/// The render's image, its two truths and the errors against them.
+fn with_truth(
+    r: Rendered,
+    opt: &RenderOptions,
+) -> Result<(Image, Truth, RenderStats), ConfigError> {
+    let truth = truth_images(
+        &r.shading,
+        &r.background,
+        &r.levels_env,
+        r.side,
+        (r.img.width, r.img.height),
+        opt.intended_truth,
+    )?;
+    let stats = r.stats(&truth);
+    Ok((r.img, truth, stats))
+}
+
+/// What a render draws: triangles with per-vertex λ seen from a camera, and for a
+/// thesis object what the roughness texture and the intended-λ truth need.
+struct Drawn<'a> {
+    tris: &'a [(Triangle, [f64; 3])],
+    camera: &'a Camera,
+    /// λ when every vertex has the same one: the 2D-slice elaboration's condition.
+    uniform: Option<f64>,
+    /// The thesis object and its λ (texgen, roughness texture, intended λ).
+    object: Option<(Object, LambdaSpec)>,
+}
+
+/// Arbitrary triangles: their λ checked, the camera checked, uniform λ found.
+fn drawn<'a>(
+    tris: &'a [(Triangle, [f64; 3])],
+    camera: &'a Camera,
+) -> Result<Drawn<'a>, ConfigError> {
+    crate::scene::validate::validate_camera(camera)?;
+    for (_, lam) in tris {
+        for &l in lam {
+            LambdaSpec::Uniform(l).validate()?;
+        }
+    }
+    let first = tris.first().map(|(_, lam)| lam[0]);
+    let uniform = first.filter(|&l| tris.iter().all(|(_, lam)| lam.iter().all(|&x| x == l)));
+    Ok(Drawn {
+        tris,
+        camera,
+        uniform,
+        object: None,
+    })
+}
+
 fn render_core(
     env: &EnvMap,
     map: &VoxelMap,
@@ -382,8 +466,6 @@ fn render_core(
     check_range("envmap_render.size", h.into(), 1, MAX_IMAGE_SIDE.into())?;
     lambda.validate()?;
     opt.lambda_source.validate()?;
-    let exposure = opt.exposure.unwrap_or_else(|| env.auto_exposure());
-    let levels_env = env.to_level_map(exposure)?;
     let cam_cfg = camera();
     let cam = CameraView::new(
         &cam_cfg,
@@ -392,7 +474,56 @@ fn render_core(
             height: h,
         },
     );
-    let geo = object_geometry(object, lambda, &cam)?;
+    let tris = object_geometry(object, lambda, &cam)?;
+    let uniform = match lambda {
+        LambdaSpec::Uniform(l) => Some(l),
+        LambdaSpec::NonUniform => None,
+    };
+    let drawn = Drawn {
+        tris: &tris,
+        camera: &cam_cfg,
+        uniform,
+        object: Some((object, lambda)),
+    };
+    render_tris(env, map, &drawn, size, opt)
+}
+
+/// The render of `drawn` (module notes, steps 1–7).
+fn render_tris(
+    env: &EnvMap,
+    map: &VoxelMap,
+    drawn: &Drawn<'_>,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<Rendered, ConfigError> {
+    let (w, h) = size;
+    check_range("envmap_render.size", w.into(), 1, MAX_IMAGE_SIDE.into())?;
+    check_range("envmap_render.size", h.into(), 1, MAX_IMAGE_SIDE.into())?;
+    opt.lambda_source.validate()?;
+    if drawn.object.is_none() {
+        if opt.lambda_source != LambdaSource::PerVertex {
+            return Err(ConfigError::invalid(
+                "envmap_render.lambda_source",
+                "a roughness texture needs a thesis object's texgen; arbitrary triangles take λ per vertex",
+            ));
+        }
+        if opt.intended_truth {
+            return Err(ConfigError::invalid(
+                "envmap_render.intended_truth",
+                "the intended λ is defined on the thesis objects only",
+            ));
+        }
+    }
+    let exposure = opt.exposure.unwrap_or_else(|| env.auto_exposure());
+    let levels_env = env.to_level_map(exposure)?;
+    let cam = CameraView::new(
+        drawn.camera,
+        ImageSize {
+            width: w,
+            height: h,
+        },
+    );
+    let geo = drawn.tris;
 
     // ---- units
     // ONE interpolator: n, e, λ, z (8 attributes); with a roughness texture also the
@@ -411,10 +542,14 @@ fn render_core(
     // truth's (u, v) come from a MEASUREMENT walk of the 10-attribute config (not
     // counted, not elaborated), so both sources see the same (u, v) codes.
     let uv_probe = (texture_side.is_none() && opt.intended_truth).then_some(interp_uv);
-    let texgen = object_texgen(object, &cam);
-    let rough = match texture_side {
-        Some(side) => Some(roughness_sampler(object, lambda, side)?),
-        None => None,
+    // Without a thesis object (u, v) are never read (8 attributes, no probe).
+    let texgen = match drawn.object {
+        Some((object, _)) => object_texgen(object, &cam),
+        None => TexGen::unused(),
+    };
+    let rough = match (texture_side, drawn.object) {
+        (Some(side), Some((object, lambda))) => Some(roughness_sampler(object, lambda, side)?),
+        _ => None,
     };
     let s = map.side();
     let sampler3 = slice::sampler_3d(map)?;
@@ -428,8 +563,8 @@ fn render_core(
     // a cube map of six F × F faces through the 2D sampler, addressed by the
     // cube_map_address unit from the reflection unit's words.
     let face = slice::default_face_side(s);
-    let two_d = match (opt.lookup, lambda, opt.lambda_source) {
-        (Lookup::Auto, LambdaSpec::Uniform(l), LambdaSource::PerVertex) => {
+    let two_d = match (opt.lookup, drawn.uniform, opt.lambda_source) {
+        (Lookup::Auto, Some(l), LambdaSource::PerVertex) => {
             let sl = slice::slice_from_map(map, l, face)?;
             let s2 = slice::sampler_2d(&sl)?;
             Some((s2, sl))
@@ -453,7 +588,7 @@ fn render_core(
 
     // ---- raster + depth test (walk.rs)
     let walked = super::walk::walk(
-        &geo,
+        geo,
         &cam,
         &texgen,
         &interp,
@@ -496,10 +631,9 @@ fn render_core(
                     .input_from_normalized([u, vv, 0.0], &mut c_rough)?,
             );
         }
-        let lambda_intended = if want_uv {
-            lambda_of_uv(object, lambda, u, vv)
-        } else {
-            lam
+        let lambda_intended = match (want_uv, drawn.object) {
+            (true, Some((object, lambda))) => lambda_of_uv(object, lambda, u, vv),
+            _ => lam,
         };
         shading.push((
             k,

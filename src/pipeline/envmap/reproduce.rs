@@ -170,7 +170,7 @@ pub fn table3(out: &Path, s: u32) -> Result<(), String> {
 // Table 5, Figs. 14–17, 20, 21: renders against the Phong truth.
 
 /// The accelerated map's threshold for Table 5 and the figures (the thesis' choice).
-pub const TABLE5_TH: f64 = 0.001;
+pub const TABLE5_TH: f64 = crate::scene::environment::THESIS_THRESHOLD;
 /// Gain of the difference images (|Δ| × 8: 32 levels → white).
 pub const DIFF_GAIN: f64 = 8.0;
 /// The environments of Table 5 and the figures: the thesis' Fig. 13(a) and a photo

@@ -155,6 +155,18 @@ pub struct TexGen {
 }
 
 impl TexGen {
+    /// A texgen whose (u, v) are never read (arbitrary triangles with per-vertex λ:
+    /// the 8-attribute interpolator drops them): every point maps to (0, 0).
+    pub fn unused() -> TexGen {
+        TexGen {
+            origin: v3(0.0, 0.0, 0.0),
+            s_axis: v3(0.0, 0.0, 0.0),
+            t_axis: v3(0.0, 0.0, 0.0),
+            s_len: 1.0,
+            t_len: 1.0,
+        }
+    }
+
     /// (u, v) of the point `p` (host f64, per vertex).
     pub fn uv(&self, p: Vec3) -> (f64, f64) {
         let d = p - self.origin;

@@ -48,7 +48,7 @@ pub fn prepare_scene(
                 .collect(),
             color: o.color,
             occluder: o.occluder,
-            colour_pass: o.material.is_none(),
+            colour_pass: !scene.shaded_object(i),
         });
     }
     // Spots always carry a light-map texture: a uniform spot's is the cone's disc.

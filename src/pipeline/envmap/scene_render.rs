@@ -1,0 +1,386 @@
+//! `render --scene` for a scene with an `[environment]` section
+//! ([`crate::scene::environment`]): the environment loaded (a built-in map or an `.hdr`
+//! file), its voxel map built as `reproduce envmap-*` builds it
+//! ([`super::prefilter::env_to_levels`] at the exposure, then the accelerated or the
+//! exact prefilter), and the section's thesis object drawn through the units by
+//! [`super::render::render_geometry`] from the scene's camera at the scene's image
+//! size. A built-in environment scene (`env-<map>-<object>`) gives exactly the image
+//! and counters of [`super::render::render_frame`] with the same map (the golden
+//! test's path; tests/envmap_scene.rs).
+
+use std::collections::BTreeMap;
+use std::path::Path;
+use std::time::Instant;
+
+use rtl_model::error::{check_range, ConfigError};
+use rtl_model::Counters;
+use serde::Serialize;
+
+use super::image::{ErrorStats, Image};
+use super::objects::{object_geometry, LambdaSpec, Object};
+use super::prefilter::{build_accelerated, build_exact, env_to_levels};
+use super::render::{
+    render_geometry, render_geometry_with_truth, Background, FrameInfo, Lookup, RenderOptions,
+    Truth, MAX_IMAGE_SIDE,
+};
+use super::timing::{predict_frame, FramePrediction};
+use super::voxmap::VoxelMap;
+use crate::pipeline::time_model::GpuModel;
+use crate::reference::envmap_prefilter::{PrefilterParams, THESIS_PYRAMID_LEVELS};
+use crate::scene::builtin::builtin;
+use crate::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
+use crate::scene::camera::CameraView;
+use crate::scene::environment::{
+    EnvBackground, EnvLambda, EnvLookup, EnvObject, EnvironmentSection, Prefilter, MAX_SIDE,
+    PYRAMID_DIVISOR,
+};
+use crate::scene::envmap::EnvMap;
+use crate::scene::format::Scene;
+
+// The scene's limits are the pipeline's (the scene module imports no pipeline).
+const _: () = assert!(MAX_SIDE == super::voxmap::MAX_SIDE);
+const _: () = assert!(PYRAMID_DIVISOR == 1 << (THESIS_PYRAMID_LEVELS - 1));
+
+/// How the voxel map was built.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MapBuild {
+    /// The built-in map's name or the `hdr` path as written.
+    pub source: String,
+    pub env_width: usize,
+    pub env_height: usize,
+    /// The exposure of the levels (the section's, or the map's auto exposure).
+    pub exposure: f64,
+    pub side: u32,
+    /// "accelerated, th = …" or "exact".
+    pub prefilter: String,
+    /// The accelerated build's weight table (None for the exact build).
+    pub table_mbytes: Option<f64>,
+    pub empty_voxels: Option<u64>,
+    /// Voxel map bytes.
+    pub map_bytes: u64,
+    pub build_seconds: f64,
+}
+
+/// The Phong truth of a render and the errors against it (8-bit levels).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneTruth {
+    pub truth: Truth,
+    /// With the cos φ test (the thesis' Table 5 metric).
+    pub cos_phi: ErrorStats,
+    /// Without it (what the map stores).
+    pub simplified: ErrorStats,
+}
+
+/// One rendered environment scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneFrame {
+    /// The picture, with the object's coverage.
+    pub image: Image,
+    pub frame: FrameInfo,
+    pub counters: BTreeMap<String, Counters>,
+    /// [`predict_frame`] on [`GpuModel::geforce3`].
+    pub prediction: FramePrediction,
+    pub map: MapBuild,
+    pub truth: Option<SceneTruth>,
+    /// Wall time of the render (geometry to image; truth included when made).
+    pub render_seconds: f64,
+}
+
+/// The scene named by `name_or_path` when it is an environment scene for this
+/// renderer (an `env-…` built-in, or a file with `[environment]` and no `[glare]`),
+/// else None (another pipeline's scene, or not a scene: the caller reports it). A
+/// file that fails to parse or validate is an error.
+pub fn environment_scene(name_or_path: &str) -> Result<Option<Scene>, String> {
+    if ENVIRONMENT_BUILTIN_NAMES.contains(&name_or_path) {
+        return builtin(name_or_path).map(Some).map_err(|e| e.to_string());
+    }
+    let path = Path::new(name_or_path);
+    if !path.is_file() {
+        return Ok(None);
+    }
+    let scene = Scene::from_file(path).map_err(|e| e.to_string())?;
+    Ok((scene.environment.is_some() && scene.glare.is_none()).then_some(scene))
+}
+
+/// The renderer's object.
+pub fn object_of(o: EnvObject) -> Object {
+    match o {
+        EnvObject::Sphere => Object::Sphere,
+        EnvObject::Teapot => Object::Teapot,
+    }
+}
+
+/// The renderer's λ.
+pub fn lambda_of(l: EnvLambda) -> LambdaSpec {
+    match l {
+        EnvLambda::Uniform(x) => LambdaSpec::Uniform(x),
+        EnvLambda::NonUniform => LambdaSpec::NonUniform,
+    }
+}
+
+/// The render options the section asks for (the rest at their defaults: per-vertex
+/// λ, the reflection unit).
+pub fn render_options(section: &EnvironmentSection) -> RenderOptions {
+    RenderOptions {
+        exposure: section.exposure,
+        background: match section.background {
+            EnvBackground::Environment => Background::Environment,
+            EnvBackground::Black => Background::Black,
+        },
+        lookup: match section.lookup {
+            EnvLookup::Voxel3d => Lookup::Voxel3D,
+            EnvLookup::Auto => Lookup::Auto,
+        },
+        ..RenderOptions::default()
+    }
+}
+
+/// The section's voxel map of `env` (loaded from the section): levels at the
+/// section's exposure (default: auto), then the section's prefilter at side s with the
+/// thesis' parameters — as `reproduce envmap-images` and the golden test build it.
+pub fn build_map(
+    section: &EnvironmentSection,
+    env: &EnvMap,
+) -> Result<(VoxelMap, MapBuild), ConfigError> {
+    let exposure = section.exposure.unwrap_or_else(|| env.auto_exposure());
+    let levels = env_to_levels(env, exposure)?;
+    let params = PrefilterParams::thesis();
+    let t0 = Instant::now();
+    let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter {
+        Prefilter::Accelerated { threshold } => {
+            let (map, st) = build_accelerated(&levels, section.side, &params, threshold)?;
+            (
+                map,
+                format!("accelerated, th = {threshold}"),
+                Some(st.mbytes()),
+                Some(st.empty_voxels),
+            )
+        }
+        Prefilter::Exact => (
+            build_exact(&levels, section.side, &params)?,
+            "exact".to_string(),
+            None,
+            None,
+        ),
+    };
+    let source = match (&section.map, &section.hdr) {
+        (Some(m), _) => m.clone(),
+        (None, Some(h)) => h.written().to_string(),
+        (None, None) => String::new(),
+    };
+    let info = MapBuild {
+        source,
+        env_width: env.width(),
+        env_height: env.height(),
+        exposure,
+        side: section.side,
+        prefilter,
+        table_mbytes,
+        empty_voxels,
+        map_bytes: map.bytes(),
+        build_seconds: t0.elapsed().as_secs_f64(),
+    };
+    Ok((map, info))
+}
+
+/// The scene's environment section with its object, after the checks that need the
+/// whole scene: no glare (the glare renderer does not draw environments), no shafts
+/// lights or objects (this renderer draws only the section's object), an image the
+/// renderer can draw. Errors name the field.
+fn drawable(scene: &Scene) -> Result<(&EnvironmentSection, EnvObject), ConfigError> {
+    let section = scene.environment.as_ref().ok_or_else(|| {
+        ConfigError::invalid("environment", "the scene has no [environment] section")
+    })?;
+    let object = section.object.ok_or_else(|| {
+        ConfigError::invalid(
+            "environment.object",
+            "none given: the environment renderer draws a thesis object (\"sphere\" or \"teapot\")",
+        )
+    })?;
+    if scene.glare.is_some() {
+        return Err(ConfigError::invalid(
+            "glare",
+            "an environment scene with glare is not drawn by the environment renderer",
+        ));
+    }
+    if !scene.objects.is_empty() {
+        return Err(ConfigError::invalid(
+            "objects",
+            &format!(
+                "the environment renderer draws only environment.object; remove the scene's {} object(s)",
+                scene.objects.len()
+            ),
+        ));
+    }
+    if !scene.lights.is_empty() {
+        return Err(ConfigError::invalid(
+            "lights",
+            &format!(
+                "the environment renderer has no lights (the environment lights the object); remove the scene's {} light(s)",
+                scene.lights.len()
+            ),
+        ));
+    }
+    check_range(
+        "image.width",
+        scene.image.width.into(),
+        1,
+        MAX_IMAGE_SIDE.into(),
+    )?;
+    check_range(
+        "image.height",
+        scene.image.height.into(),
+        1,
+        MAX_IMAGE_SIDE.into(),
+    )?;
+    Ok((section, object))
+}
+
+/// Render an environment scene (module notes); with `with_truth` also the Phong truth
+/// and the errors against it. Every check runs before the map is built.
+pub fn render_scene(scene: &Scene, with_truth: bool) -> Result<SceneFrame, ConfigError> {
+    let (section, object) = drawable(scene)?;
+    scene.validate()?;
+    let env = section.load()?;
+    let (map, info) = build_map(section, &env)?;
+    let t0 = Instant::now();
+    let size = (scene.image.width, scene.image.height);
+    let cam = CameraView::new(&scene.camera, scene.image);
+    let tris = object_geometry(object_of(object), lambda_of(section.lambda), &cam)?;
+    let opt = render_options(section);
+    let (image, frame, counters, truth) = if with_truth {
+        let (image, truth, stats) =
+            render_geometry_with_truth(&env, &map, &tris, &scene.camera, size, &opt)?;
+        let t = SceneTruth {
+            truth,
+            cos_phi: stats.cos_phi,
+            simplified: stats.simplified,
+        };
+        (image, stats.frame, stats.counters, Some(t))
+    } else {
+        let (image, frame, counters) =
+            render_geometry(&env, &map, &tris, &scene.camera, size, &opt)?;
+        (image, frame, counters, None)
+    };
+    let render_seconds = t0.elapsed().as_secs_f64();
+    Ok(SceneFrame {
+        prediction: predict_frame(&GpuModel::geforce3(), &frame),
+        image,
+        frame,
+        counters,
+        map: info,
+        truth,
+        render_seconds,
+    })
+}
+
+/// Write `img` as a PNG, creating its directory; errors name `out` and the path.
+fn write_png(img: &Image, path: &Path) -> Result<(), String> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("out: {}: {e}", dir.display()))?;
+    }
+    img.write_png(path)
+        .map_err(|e| format!("out: {}: {e}", path.display()))
+}
+
+/// `render --scene` for an environment scene: the PNG at `out`; the counters, the
+/// elaboration and the predicted GeForce3 time (or all of it as JSON); with
+/// `reference`, the Phong truth (with the cos φ test) written there and the errors
+/// against both truths.
+pub fn render_cli(
+    scene: &Scene,
+    out: &Path,
+    json: bool,
+    reference: Option<&Path>,
+) -> Result<(), String> {
+    let f = render_scene(scene, reference.is_some()).map_err(|e| e.to_string())?;
+    write_png(&f.image, out)?;
+    if let (Some(path), Some(t)) = (reference, &f.truth) {
+        write_png(&t.truth.cos_phi, path).map_err(|e| e.replacen("out:", "reference:", 1))?;
+    }
+    let el = &f.frame.elaboration;
+    if json {
+        let error = f.truth.as_ref().map(|t| {
+            serde_json::json!({
+                "cos_phi": t.cos_phi,
+                "simplified": t.simplified,
+            })
+        });
+        let v = serde_json::json!({
+            "scene": scene.name,
+            "map": f.map,
+            "frame": f.frame,
+            "counters": f.counters,
+            "elaboration": el,
+            "predicted_seconds_geforce3": f.prediction.seconds,
+            "prediction": f.prediction,
+            "error_vs_phong_truth": error,
+            "wall_seconds": f.render_seconds,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    let m = &f.map;
+    println!(
+        "{} ({}x{}): wrote {} in {:.2} s of simulation",
+        scene.name,
+        f.frame.width,
+        f.frame.height,
+        out.display(),
+        f.render_seconds
+    );
+    println!(
+        "map: {} ({} × {}, exposure {:.4}), {}³ voxels, {}, {:.1} s{}",
+        m.source,
+        m.env_width,
+        m.env_height,
+        m.exposure,
+        m.side,
+        m.prefilter,
+        m.build_seconds,
+        m.table_mbytes
+            .map_or(String::new(), |mb| format!(", table {mb:.1} MB"))
+    );
+    println!(
+        "{} triangles, {} fragments, {} object pixels, {} background pixels",
+        f.frame.triangles, f.frame.fragments, f.frame.shaded, f.frame.background_pixels
+    );
+    print!("{}", crate::report::table::counters_table(&f.counters));
+    println!(
+        "\nelaboration ({} lookup; texture {} bytes, {} saved):",
+        if el.slice_2d {
+            "2D cube-map slice"
+        } else {
+            "3D voxel map"
+        },
+        el.texture_bytes,
+        el.texture_bytes_saved
+    );
+    print!("{}", crate::report::table::elaboration_table(&el.units));
+    let p = &f.prediction;
+    println!(
+        "\npredicted GeForce3 time: {:.4} ms (clear {:.4} ms, object {:.4} ms ({} bound), background {:.4} ms; {:.2} MB moved)",
+        p.seconds * 1e3,
+        p.clear_seconds * 1e3,
+        p.object_seconds * 1e3,
+        if p.object_memory_bound() { "memory" } else { "fill" },
+        p.background_seconds * 1e3,
+        p.bytes / 1e6
+    );
+    if let (Some(path), Some(t)) = (reference, &f.truth) {
+        for (what, s) in [
+            ("with the cos φ test", &t.cos_phi),
+            ("without it", &t.simplified),
+        ] {
+            println!(
+                "error against the Phong truth {what} ({} object pixels): mean |Δ| {:.3} {:.3} {:.3}, max {:.0} {:.0} {:.0} levels",
+                s.pixels, s.mean[0], s.mean[1], s.mean[2], s.max[0], s.max[1], s.max[2]
+            );
+        }
+        println!("Phong truth (with the cos φ test): {}", path.display());
+    }
+    Ok(())
+}

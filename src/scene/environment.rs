@@ -1,0 +1,408 @@
+//! The `[environment]` section of a scene (SPEC C, Okumura's multi-scale environment
+//! map): which environment (a built-in map or a Radiance `.hdr` file), how its voxel
+//! map is built (side s, prefilter), and the thesis object drawn with it (sphere or
+//! teapot, smoothness λ, lookup path, background). The scene's `camera` and `image`
+//! apply. Rendered by `pipeline::envmap::scene_render`; documented in docs/envmap.md.
+//!
+//! ```toml
+//! [environment]
+//! hdr = "maps/venice_sunset_512.hdr"   # or: map = "venice_sunset"
+//! side = 128
+//! object = "teapot"
+//! lambda = "nonuniform"                 # or a number in [0, 1]
+//! prefilter = { type = "accelerated", threshold = 0.001 }
+//! ```
+//!
+//! A relative `hdr` path is resolved against the scene file's directory when the file
+//! is loaded ([`super::format::Scene::from_file`]), against the working directory for
+//! a scene parsed from text; the path as written is what the scene serialises.
+
+use std::path::{Path, PathBuf};
+
+use rtl_model::error::{check_range, ConfigError};
+use serde::de::{self, Deserializer, Visitor};
+use serde::{Deserialize, Serialize, Serializer};
+
+use super::envmap::{EnvMap, BUILTIN_NAMES};
+use super::format::Camera;
+use super::validate::{closed, interval};
+
+/// Default voxel map side s (the thesis': 128³).
+pub const DEFAULT_SIDE: u32 = 128;
+/// Smallest and largest voxel map side (the voxel map's own limit is 512).
+pub const MIN_SIDE: u32 = 2;
+pub const MAX_SIDE: u32 = 512;
+/// The thesis' accelerated-prefilter threshold th (Table 5, the figures).
+pub const THESIS_THRESHOLD: f64 = 0.001;
+/// The accelerated prefilter builds a 4-level pyramid of the map: its width and height
+/// must halve three times.
+pub const PYRAMID_DIVISOR: usize = 8;
+/// Largest exposure (the auto exposure's own cap).
+pub const MAX_EXPOSURE: f64 = 1e300;
+
+/// `[environment]`: an environment map and the thesis object drawn with it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentSection {
+    /// A built-in map ([`BUILTIN_NAMES`]); exactly one of `map` and `hdr`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<String>,
+    /// A Radiance `.hdr` file (equirectangular; see `scene::envmap`'s conventions).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hdr: Option<HdrPath>,
+    /// Radiance × exposure → levels (255 = full scale); none = the map's auto exposure
+    /// ([`EnvMap::auto_exposure`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub exposure: Option<f64>,
+    /// Voxel map side s: a power of two in [`MIN_SIDE`] ..= [`MAX_SIDE`].
+    #[serde(default = "default_side")]
+    pub side: u32,
+    /// The object drawn (at its thesis place: the origin); none = no object.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<EnvObject>,
+    /// The object's smoothness λ per vertex.
+    #[serde(default)]
+    pub lambda: EnvLambda,
+    /// Which texture the object's lookups use.
+    #[serde(default)]
+    pub lookup: EnvLookup,
+    /// What is behind the object.
+    #[serde(default)]
+    pub background: EnvBackground,
+    /// Scene objects that reflect the environment (mirror-like: a chrome ball), drawn
+    /// by the frame's object pass through the environment-map units.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub reflectors: Vec<Reflector>,
+    /// How the voxel map is prefiltered (last: a TOML sub-table).
+    #[serde(default)]
+    pub prefilter: Prefilter,
+}
+
+/// `environment.reflectors[i]`: a scene object that reflects the environment.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Reflector {
+    /// Index into `objects`.
+    pub object: usize,
+    /// Smoothness λ ∈ [0, 1] (the thesis' λ: 1 = the sharpest lobe the map holds).
+    pub lambda: f64,
+    /// Fraction of the environment's radiance reflected, in [0, 1].
+    pub reflectance: f64,
+}
+
+fn default_side() -> u32 {
+    DEFAULT_SIDE
+}
+
+impl Default for EnvironmentSection {
+    /// The pattern at the thesis' settings, no object.
+    fn default() -> Self {
+        EnvironmentSection {
+            map: Some(BUILTIN_NAMES[0].to_string()),
+            hdr: None,
+            exposure: None,
+            side: DEFAULT_SIDE,
+            object: None,
+            lambda: EnvLambda::default(),
+            lookup: EnvLookup::default(),
+            background: EnvBackground::default(),
+            reflectors: Vec::new(),
+            prefilter: Prefilter::default(),
+        }
+    }
+}
+
+/// A path to a Radiance file: as written in the scene (what is serialised) and the
+/// file it names (resolved at load).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct HdrPath {
+    written: String,
+    resolved: PathBuf,
+}
+
+impl HdrPath {
+    /// A path taken as written (relative to the working directory).
+    pub fn new(written: &str) -> Self {
+        HdrPath {
+            written: written.to_string(),
+            resolved: PathBuf::from(written),
+        }
+    }
+
+    /// The path as the scene states it.
+    pub fn written(&self) -> &str {
+        &self.written
+    }
+
+    /// The file to read.
+    pub fn file(&self) -> &Path {
+        &self.resolved
+    }
+
+    /// Resolve a relative written path against `dir` (the scene file's directory).
+    pub fn resolve_against(&mut self, dir: &Path) {
+        let written = Path::new(&self.written);
+        self.resolved = if written.is_relative() && !self.written.trim().is_empty() {
+            dir.join(written)
+        } else {
+            written.to_path_buf()
+        };
+    }
+}
+
+impl Serialize for HdrPath {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.written)
+    }
+}
+
+impl<'de> Deserialize<'de> for HdrPath {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(HdrPath::new(&String::deserialize(d)?))
+    }
+}
+
+/// The thesis' objects, each at its thesis place and size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EnvObject {
+    /// Radius 1 at the origin, a 48 × 24 UV sphere.
+    Sphere,
+    /// The Utah teapot, scale 0.3, its bounding box centred on the origin.
+    Teapot,
+}
+
+impl EnvObject {
+    pub fn name(self) -> &'static str {
+        match self {
+            EnvObject::Sphere => "sphere",
+            EnvObject::Teapot => "teapot",
+        }
+    }
+}
+
+/// The smoothness λ: the same number in [0, 1] at every vertex, or `"nonuniform"`
+/// (the thesis' settings: around the view axis on the sphere, with height on the
+/// teapot).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EnvLambda {
+    Uniform(f64),
+    NonUniform,
+}
+
+impl Default for EnvLambda {
+    /// λ = 1: the sharpest reflection (a chrome object).
+    fn default() -> Self {
+        EnvLambda::Uniform(1.0)
+    }
+}
+
+const NONUNIFORM: &str = "nonuniform";
+
+impl Serialize for EnvLambda {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            EnvLambda::Uniform(l) => s.serialize_f64(*l),
+            EnvLambda::NonUniform => s.serialize_str(NONUNIFORM),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for EnvLambda {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct LambdaVisitor;
+        impl Visitor<'_> for LambdaVisitor {
+            type Value = EnvLambda;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "a number in [0, 1] or \"{NONUNIFORM}\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<EnvLambda, E> {
+                Ok(EnvLambda::Uniform(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<EnvLambda, E> {
+                Ok(EnvLambda::Uniform(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<EnvLambda, E> {
+                Ok(EnvLambda::Uniform(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<EnvLambda, E> {
+                if v == NONUNIFORM {
+                    Ok(EnvLambda::NonUniform)
+                } else {
+                    Err(E::invalid_value(de::Unexpected::Str(v), &self))
+                }
+            }
+        }
+        d.deserialize_any(LambdaVisitor)
+    }
+}
+
+/// The lookup path of the object's pixels.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EnvLookup {
+    /// Always the 3D voxel map (the thesis' method).
+    #[default]
+    Voxel3d,
+    /// Elaborated: a 2D cube-map slice for a uniform λ, the 3D map otherwise.
+    Auto,
+}
+
+/// What is behind the object.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EnvBackground {
+    /// The environment in the pixel's view direction.
+    #[default]
+    Environment,
+    Black,
+}
+
+/// How the voxel map is prefiltered.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Prefilter {
+    /// The thesis' accelerated build (pyramid, domes, weight table pruned at
+    /// `threshold` ∈ [0, 1)).
+    Accelerated {
+        #[serde(default = "default_threshold")]
+        threshold: f64,
+    },
+    /// Every voxel summed over every texel (slow: seconds to minutes at s = 128).
+    Exact,
+}
+
+fn default_threshold() -> f64 {
+    THESIS_THRESHOLD
+}
+
+impl Default for Prefilter {
+    fn default() -> Self {
+        Prefilter::Accelerated {
+            threshold: THESIS_THRESHOLD,
+        }
+    }
+}
+
+/// The camera of the thesis' renders: at (0, 1, 3.9) looking at the origin, y up, 36°
+/// vertical field of view, near 1, far 10.
+pub fn thesis_camera() -> Camera {
+    Camera {
+        eye: [0.0, 1.0, 3.9],
+        look_at: [0.0, 0.0, 0.0],
+        up: [0.0, 1.0, 0.0],
+        fovy_deg: 36.0,
+        near: 1.0,
+        far: 10.0,
+    }
+}
+
+impl EnvironmentSection {
+    /// Check every field; errors name `environment.<field>`. Reads and decodes an `hdr`
+    /// file (so a missing, unreadable or invalid one is refused before any work).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        self.validate_fields()?;
+        self.load().map(|_| ())
+    }
+
+    /// Every check that reads no file.
+    fn validate_fields(&self) -> Result<(), ConfigError> {
+        let f = |e: ConfigError| e.within("environment");
+        match (&self.map, &self.hdr) {
+            (Some(_), Some(_)) => {
+                return Err(f(ConfigError::invalid(
+                    "hdr",
+                    "give either `map` (a built-in map) or `hdr` (a file), not both",
+                )))
+            }
+            (None, None) => {
+                return Err(f(ConfigError::invalid(
+                    "map",
+                    &format!(
+                        "give a built-in map ({}) or an `hdr` file",
+                        BUILTIN_NAMES.join(", ")
+                    ),
+                )))
+            }
+            (Some(m), None) if !BUILTIN_NAMES.contains(&m.as_str()) => {
+                return Err(f(ConfigError::invalid(
+                    "map",
+                    &format!(
+                        "unknown built-in map `{m}` (known: {})",
+                        BUILTIN_NAMES.join(", ")
+                    ),
+                )))
+            }
+            (None, Some(h)) if h.written().trim().is_empty() => {
+                return Err(f(ConfigError::invalid("hdr", "the path is empty")))
+            }
+            _ => {}
+        }
+        if let Some(e) = self.exposure {
+            interval("exposure", e, 0.0, false, MAX_EXPOSURE, true).map_err(f)?;
+        }
+        check_range("side", self.side.into(), MIN_SIDE.into(), MAX_SIDE.into()).map_err(f)?;
+        if !self.side.is_power_of_two() {
+            return Err(f(ConfigError::invalid(
+                "side",
+                &format!(
+                    "{} is not a power of two (the reflection unit's texel coordinates need one)",
+                    self.side
+                ),
+            )));
+        }
+        if let EnvLambda::Uniform(l) = self.lambda {
+            closed("lambda", l, 0.0, 1.0).map_err(f)?;
+        }
+        if let Prefilter::Accelerated { threshold } = self.prefilter {
+            interval("prefilter.threshold", threshold, 0.0, true, 1.0, false).map_err(f)?;
+        }
+        for (i, r) in self.reflectors.iter().enumerate() {
+            let g = |e: ConfigError| f(e.within(&format!("reflectors[{i}]")));
+            closed("lambda", r.lambda, 0.0, 1.0).map_err(g)?;
+            closed("reflectance", r.reflectance, 0.0, 1.0).map_err(g)?;
+        }
+        if self.object.is_some() && !self.reflectors.is_empty() {
+            return Err(f(ConfigError::invalid(
+                "reflectors",
+                "a scene draws either the thesis object (`object`) or scene objects that reflect (`reflectors`), not both",
+            )));
+        }
+        Ok(())
+    }
+
+    /// The environment map: the built-in one, or the `hdr` file read and decoded (at
+    /// most `envmap::MAX_HDR_BYTES`; regular files only). Errors name
+    /// `environment.map` / `environment.hdr`, including a map the accelerated
+    /// prefilter cannot take (a side not divisible by [`PYRAMID_DIVISOR`]).
+    pub fn load(&self) -> Result<EnvMap, ConfigError> {
+        self.validate_fields()?;
+        let (field, env) = match (&self.map, &self.hdr) {
+            (Some(m), _) => ("environment.map", EnvMap::builtin(m)),
+            (None, Some(h)) => ("environment.hdr", EnvMap::load_hdr(h.file())),
+            (None, None) => {
+                return Err(ConfigError::invalid(
+                    "environment.map",
+                    "give a built-in map or an `hdr` file",
+                ))
+            }
+        };
+        let env = env.map_err(|e| match e {
+            ConfigError::Invalid { reason, .. } => ConfigError::invalid(field, &reason),
+            other => ConfigError::invalid(field, &other.to_string()),
+        })?;
+        let (w, h) = (env.width(), env.height());
+        if matches!(self.prefilter, Prefilter::Accelerated { .. })
+            && (w % PYRAMID_DIVISOR != 0 || h % PYRAMID_DIVISOR != 0)
+        {
+            return Err(ConfigError::invalid(
+                field,
+                &format!(
+                    "the map is {w} × {h}; the accelerated prefilter's pyramid needs both \
+                     divisible by {PYRAMID_DIVISOR} (or use prefilter = {{ type = \"exact\" }})"
+                ),
+            ));
+        }
+        Ok(env)
+    }
+}
