@@ -27,6 +27,9 @@ pub enum Command {
         /// Also print the modulate alternates' error against round(a·b/255) and gates.
         #[arg(long)]
         alternates: bool,
+        /// Rewrite the registry's figures in this datasheet (docs/units.md) instead.
+        #[arg(long, value_name = "PATH", conflicts_with_all = ["json", "alternates"])]
+        datasheet: Option<PathBuf>,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// and print the counters, the elaboration and the predicted hardware time.
@@ -129,7 +132,14 @@ pub enum Command {
 /// Run a parsed command; errors are returned as text naming the field at fault.
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Command::Units { json, alternates } => units(json, alternates),
+        Command::Units {
+            json,
+            alternates,
+            datasheet,
+        } => match datasheet {
+            Some(path) => registry::datasheet::refresh_file(&path).map(|m| println!("{m}")),
+            None => units(json, alternates),
+        },
         Command::Render {
             scene,
             out,

@@ -7,6 +7,9 @@
 //! it. Each unit's entry lives in `registry/<unit>.rs`, named like the unit's other
 //! files (`rtl_model/src/units/<unit>.rs`, `src/reference/<unit>.rs`,
 //! `tests/<unit>.rs`), so a newcomer finds all of them by the unit's name.
+//! `datasheet` writes the registry's figures into docs/units.md.
+
+pub mod datasheet;
 
 mod additive_blend;
 mod bloom_flare_modulator;
