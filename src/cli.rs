@@ -29,8 +29,11 @@ pub enum Command {
         alternates: bool,
         /// Instead: the chip a scene elaborates (built-in name or TOML file): which
         /// unit instances it needs, and what it leaves out with the gates saved.
-        #[arg(long)]
+        #[arg(long, conflicts_with_all = ["alternates", "datasheet"])]
         scene: Option<String>,
+        /// Rewrite the registry's figures in this datasheet (docs/units.md) instead.
+        #[arg(long, value_name = "PATH", conflicts_with_all = ["json", "alternates"])]
+        datasheet: Option<PathBuf>,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// and print the counters, the elaboration and the predicted hardware time.
@@ -145,9 +148,11 @@ pub fn run(cli: Cli) -> Result<(), String> {
             json,
             alternates,
             scene,
-        } => match scene {
-            Some(name) => crate::frame::cli::units_scene_cli(&name, json),
-            None => units(json, alternates),
+            datasheet,
+        } => match (scene, datasheet) {
+            (Some(name), _) => crate::frame::cli::units_scene_cli(&name, json),
+            (None, Some(path)) => registry::datasheet::refresh_file(&path).map(|m| println!("{m}")),
+            (None, None) => units(json, alternates),
         },
         Command::Render {
             scene,

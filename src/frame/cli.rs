@@ -28,6 +28,18 @@ pub fn render_cli(
     }
     let scene = load_scene(name)?;
     let chip = elaborate(&scene);
+    if super::plan::environment_scene(&scene) && !plan_only {
+        // The thesis' environment scenes keep their own report (map build, truth).
+        if !json {
+            let p = plan(&scene).map_err(|e| e.to_string())?;
+            print!(
+                "pass plan:\n{}\nchip:\n{}\n",
+                plan_table(&p),
+                chip_table(&chip)
+            );
+        }
+        return crate::pipeline::envmap::scene_render::render_cli(&scene, out, json, reference);
+    }
     if plan_only {
         let p = plan(&scene).map_err(|e| e.to_string())?;
         if json {

@@ -7,30 +7,11 @@ use super::prepare::DEFAULT_EXPOSURE;
 use super::throughput::{predict, split_objects_shafts, GpuModel, Prediction};
 use crate::reference::raymarch::{raymarch_image, to_levels};
 pub use crate::report::image_out::levels_png;
-use crate::scene::builtin::{builtin, BUILTIN_NAMES};
 use crate::scene::format::Scene;
 use std::path::Path;
 use std::time::Instant;
 
-/// A built-in scene by name, or a TOML scene file by path.
-pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
-    if BUILTIN_NAMES.contains(&name_or_path)
-        || crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.contains(&name_or_path)
-        || crate::scene::builtin_showcase::SHOWCASE_NAMES.contains(&name_or_path)
-    {
-        return builtin(name_or_path).map_err(|e| e.to_string());
-    }
-    let p = Path::new(name_or_path);
-    if p.exists() {
-        return Scene::from_file(p).map_err(|e| e.to_string());
-    }
-    Err(format!(
-        "scene: '{name_or_path}' is neither a built-in scene ({}, {}, {}, test) nor a file",
-        BUILTIN_NAMES.join(", "),
-        crate::scene::builtin_glare::GLARE_BUILTIN_NAMES.join(", "),
-        crate::scene::builtin_showcase::SHOWCASE_NAMES.join(", ")
-    ))
-}
+pub use crate::scene::load::load_scene;
 
 /// Render a frame and time the simulation.
 pub fn render_scene(scene: &Scene) -> Result<(FrameResult, Prediction, f64), String> {
