@@ -72,7 +72,9 @@ pub enum Command {
     /// beside the f64 reference), shading-brdf-properties (reciprocity and albedo of
     /// every BRDF reference, the HG moments and the dipole integral), shading-vertex-float (vertex-lighting
     /// error against the float mantissa width, 4 ..= 23 at exponents 8 and 5, 1 and 8
-    /// lights), shading-factorization (factor-texture error against resolution and bits).
+    /// lights), shading-factorization (factor-texture error against resolution and bits),
+    /// frame-elaboration (night-street and four reduced variants: units, gates, RAM
+    /// bits, predicted and simulated time, error against the f64 reference).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -278,6 +280,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "shading-brdf-properties",
     "shading-factorization",
     "shading-vertex-float",
+    "frame-elaboration",
 ];
 
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
@@ -385,6 +388,10 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shading-brdfs" => {
             let rows = crate::pipeline::shading::brdfs::shading_brdfs(out)?;
             print!("{}", crate::pipeline::shading::brdfs::table(&rows));
+        }
+        "frame-elaboration" => {
+            let rows = crate::frame::reproduce::frame_elaboration(out, None)?;
+            print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
         }
         "shading-vertex-float" => {
             crate::pipeline::shading::vertex_float::reproduce(out)?;

@@ -27,6 +27,9 @@ pub enum Feature {
     Shading,
     /// An environment map reflected by an object.
     Environment,
+    /// A highlight for the glare conditions: one written in the scene, or a specular
+    /// material under `glare.shaded_highlights`.
+    Highlights,
     /// A glare section: the glare ASIC.
     Glare,
 }
@@ -41,6 +44,9 @@ impl Feature {
             Feature::Fog => "no scattering medium (ρ = 0 or K = 0) or no lit light",
             Feature::Shading => "no object with a material",
             Feature::Environment => "no environment map reflected",
+            Feature::Highlights => {
+                "no highlight to test (none written, no specular material shaded for the glare)"
+            }
             Feature::Glare => "no glare section (no glare source, highlight or shaded highlight)",
         }
     }
@@ -54,6 +60,8 @@ pub struct ChipUnit {
     pub unit: &'static str,
     pub feature: Feature,
     pub present: bool,
+    /// Why it was left out (None when present).
+    pub left_out: Option<&'static str>,
     pub gates_nand2: f64,
     pub ram_bits: u64,
 }
@@ -138,7 +146,7 @@ pub const INSTANCES: &[(&str, &str, Feature)] = &[
         "texture_sampler",
         Feature::Environment,
     ),
-    ("glare_condition", "glare_condition", Feature::Glare),
+    ("glare_condition", "glare_condition", Feature::Highlights),
     ("chaos_map", "chaos_map", Feature::Glare),
     ("gaussian_noise", "gaussian_noise", Feature::Glare),
     (
@@ -160,41 +168,26 @@ pub const INSTANCES: &[(&str, &str, Feature)] = &[
     ("glare_combiner", "glare_combiner", Feature::Glare),
 ];
 
-/// Whether the scene needs `instance` (its feature present, and the instance's own
-/// condition within it).
-fn needed(scene: &Scene, instance: &str, feature: Feature) -> bool {
+/// Why the scene does not need `instance`, or None when it does: its feature's
+/// reason when the feature is absent, else the instance's own.
+fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static str> {
     let backdrop = shafts_backdrop(scene);
     let gpu_objects = backdrop && !scene.objects.is_empty();
     let lit = scene.lights.iter().any(|l| l.intensity > 0.0);
     let fog = backdrop && lit && scatters(&scene.medium);
-    let shading = scene.objects.iter().any(|o| o.material.is_some())
-        || scene
-            .glare
-            .as_ref()
-            .is_some_and(|g| g.shaded_highlights.is_some());
-    let occluders =
-        backdrop && !scene.lights.is_empty() && scene.objects.iter().any(|o| o.occluder);
-    let light_maps = backdrop
-        && scene
-            .lights
-            .iter()
-            .any(|l| l.kind == LightKind::Spot && l.light_map.is_some());
     let glare = scene.glare.as_ref();
-    match feature {
-        Feature::Objects => match instance {
-            "shadow_compare (depth buffer)" => gpu_objects,
-            _ => gpu_objects || fog,
-        },
-        Feature::Shadows => match instance {
-            "projective_texcoord" => occluders || light_maps,
-            _ => occluders,
-        },
-        Feature::LightMaps => light_maps,
-        Feature::Fog => match instance {
-            "additive_blend (J buffer)" => fog && scene.shafts.subplanes > 1,
-            _ => fog,
-        },
-        Feature::Shading => shading,
+    let present = match feature {
+        Feature::Objects => gpu_objects || fog,
+        Feature::Shadows => {
+            backdrop && !scene.lights.is_empty() && scene.objects.iter().any(|o| o.occluder)
+                || instance == "projective_texcoord" && light_maps(scene)
+        }
+        Feature::LightMaps => light_maps(scene),
+        Feature::Fog => fog,
+        Feature::Shading => {
+            scene.objects.iter().any(|o| o.material.is_some())
+                || glare.is_some_and(|g| g.shaded_highlights.is_some()) && !backdrop
+        }
         Feature::Environment => {
             environment_scene(scene)
                 || scene
@@ -202,17 +195,45 @@ fn needed(scene: &Scene, instance: &str, feature: Feature) -> bool {
                     .as_ref()
                     .is_some_and(|e| !e.reflectors.is_empty())
         }
-        Feature::Glare => {
-            let Some(g) = glare else { return false };
-            match instance {
-                "glare_condition" => !g.highlights.is_empty() || g.shaded_highlights.is_some(),
-                "chaos_map" => g.sources.iter().any(|s| s.fluctuation.is_some()),
-                "gaussian_noise" => g.sources.iter().any(|s| s.flare),
-                "halo_modulator" => g.sources.iter().any(|s| s.halo),
-                _ => true,
-            }
-        }
+        Feature::Highlights => glare.is_some_and(|g| {
+            !g.highlights.is_empty()
+                || g.shaded_highlights.is_some()
+                    && scene
+                        .objects
+                        .iter()
+                        .any(|o| o.material.is_some_and(|m| m.has_specular()))
+        }),
+        Feature::Glare => glare.is_some(),
+    };
+    if !present {
+        return Some(feature.absent_because());
     }
+    let g = glare;
+    match instance {
+        "shadow_compare (depth buffer)" if !gpu_objects => Some("no objects drawn by the GPU"),
+        "additive_blend (J buffer)" if scene.shafts.subplanes <= 1 => {
+            Some("m = 1: no sub-sample planes")
+        }
+        "chaos_map" if !g.is_some_and(|g| g.sources.iter().any(|s| s.fluctuation.is_some())) => {
+            Some("no fluctuating glare source")
+        }
+        "gaussian_noise" if !g.is_some_and(|g| g.sources.iter().any(|s| s.flare)) => {
+            Some("no glare source with flare lines")
+        }
+        "halo_modulator" if !g.is_some_and(|g| g.sources.iter().any(|s| s.halo)) => {
+            Some("no glare source with a halo")
+        }
+        _ => None,
+    }
+}
+
+/// Whether a spot light carries a light map (drawn by the shafts passes).
+fn light_maps(scene: &Scene) -> bool {
+    shafts_backdrop(scene)
+        && scene
+            .lights
+            .iter()
+            .any(|l| l.kind == LightKind::Spot && l.light_map.is_some())
 }
 
 /// Elaborate the chip of a scene.
@@ -222,11 +243,13 @@ pub fn elaborate(scene: &Scene) -> Chip {
         .iter()
         .map(|&(instance, unit, feature)| {
             let s = summaries.iter().find(|s| s.name == unit);
+            let left_out = absent(scene, instance, feature);
             ChipUnit {
                 instance,
                 unit,
                 feature,
-                present: needed(scene, instance, feature),
+                present: left_out.is_none(),
+                left_out,
                 gates_nand2: s.map_or(0.0, |s| s.gates_nand2),
                 ram_bits: s.map_or(0, |s| s.ram_bits),
             }
@@ -244,10 +267,9 @@ pub fn chip_table(chip: &Chip) -> String {
             vec![
                 u.instance.to_string(),
                 format!("{:?}", u.feature),
-                if u.present {
-                    "present".to_string()
-                } else {
-                    format!("left out: {}", u.feature.absent_because())
+                match u.left_out {
+                    None => "present".to_string(),
+                    Some(why) => format!("left out: {why}"),
                 },
                 format!("{:.0}", u.gates_nand2),
                 u.ram_bits.to_string(),

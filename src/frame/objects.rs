@@ -66,7 +66,9 @@ pub fn shaded_objects_pass(
 ) -> Result<ShadedObjects, ConfigError> {
     let (w, h) = (scene.image.width, scene.image.height);
     let n = (w * h) as usize;
-    let selected = |i: usize| scene.shaded_object(i);
+    // The shading units shade the objects with a material; a reflector without one
+    // shows its reflection alone.
+    let selected = |i: usize| scene.objects.get(i).is_some_and(|o| o.material.is_some());
     let modulate = Modulate::new(8, ModulateMode::Exact)?;
     let blend = AdditiveBlend::new(8, 8, 4, false, 8)?;
     let cam = CameraView::new(&scene.camera, scene.image);
@@ -183,6 +185,22 @@ pub fn shaded_objects_pass(
         });
     }
     for r in reflections {
+        // The reflector's pixels: where it is the nearest object.
+        for (i, o) in objects.iter_mut().enumerate() {
+            if o.is_none() && r.pixels[i].is_some() {
+                let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+                let ray = Ray {
+                    origin: cam.eye,
+                    dir: cam.ray_dir(x, y),
+                };
+                if geometry
+                    .first_hit(&ray, cam.far)
+                    .is_some_and(|(k, _)| k == r.object)
+                {
+                    *o = Some(r.object);
+                }
+            }
+        }
         add_reflection(r, &blend, &mut sum, &objects, &mut counters);
         for (k, c) in &r.counters {
             *counters.entry(k.clone()).or_default() += *c;

@@ -21,6 +21,7 @@
 //! the shading pipeline's, measured per material by `reproduce shading-brdfs`; its
 //! pixels are left out of the frame's total here (`pixels` says how many remain).
 
+use super::chip::{elaborate, Feature};
 use super::run::{render, Frame};
 use crate::pipeline::glare::cli::reference_levels;
 use crate::pipeline::shafts::cli::reference_image;
@@ -219,4 +220,159 @@ pub fn render_with_error(scene: &Scene) -> Result<(Frame, FrameError), String> {
     let f = render(scene).map_err(|e| e.to_string())?;
     let e = frame_error(scene, &f, None)?;
     Ok((f, e))
+}
+
+/// A reduced variant of the showcase: its name, the scene, and the features it lacks.
+pub struct Variant {
+    pub name: &'static str,
+    pub scene: Scene,
+    pub missing: Vec<Feature>,
+}
+
+/// The showcase (`night-street`) and its four reduced variants: no fog, no glare, no
+/// environment map, Lambert only.
+pub fn variants(base: &Scene) -> Vec<Variant> {
+    let mut no_fog = base.clone();
+    no_fog.medium.rho = 0.0;
+    let mut no_glare = base.clone();
+    no_glare.glare = None;
+    let mut no_env = base.clone();
+    no_env.environment = None;
+    let mut lambert = base.clone();
+    for o in &mut lambert.objects {
+        o.material = None;
+    }
+    let named = |mut s: Scene, tag: &str| {
+        s.name = format!("{} [{tag}]", base.name);
+        s
+    };
+    vec![
+        Variant {
+            name: "showcase",
+            scene: base.clone(),
+            missing: vec![],
+        },
+        Variant {
+            name: "no fog",
+            scene: named(no_fog, "no fog"),
+            missing: vec![Feature::Fog],
+        },
+        Variant {
+            name: "no glare",
+            scene: named(no_glare, "no glare"),
+            // The highlights feed only the glare conditions.
+            missing: vec![Feature::Glare, Feature::Highlights],
+        },
+        Variant {
+            name: "no environment map",
+            scene: named(no_env, "no environment map"),
+            missing: vec![Feature::Environment],
+        },
+        Variant {
+            name: "Lambert only",
+            scene: named(lambert, "Lambert only"),
+            // Without a specular material no highlight reaches the glare conditions.
+            missing: vec![Feature::Shading, Feature::Highlights],
+        },
+    ]
+}
+
+/// One row of `frame-elaboration`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ElaborationRow {
+    pub variant: String,
+    pub units_present: usize,
+    pub gates_nand2: f64,
+    pub ram_bits: u64,
+    pub left_out: String,
+    pub gpu: String,
+    pub predicted_seconds: f64,
+    pub simulation_wall_seconds: f64,
+    pub error_mean_abs: f64,
+    pub error_rms: f64,
+    pub error_max: f64,
+    /// Σ of the per-pass mean |Δ| over the frame (the total's bound).
+    pub error_bound: f64,
+}
+
+/// `reproduce frame-elaboration`: one row per variant (CSV), the five frames as a
+/// PNG strip, and the rows as a table on stdout. `size` overrides the image size.
+pub fn frame_elaboration(
+    out: &Path,
+    size: Option<(u32, u32)>,
+) -> Result<Vec<ElaborationRow>, String> {
+    let mut base = crate::scene::builtin_showcase::night_street();
+    if let Some((w, h)) = size {
+        base.image.width = w;
+        base.image.height = h;
+    }
+    let mut rows = Vec::new();
+    let mut images = Vec::new();
+    for v in variants(&base) {
+        let chip = elaborate(&v.scene);
+        let (f, e) = render_with_error(&v.scene)?;
+        let png = out.join(format!(
+            "frame_{}.png",
+            v.name.replace(' ', "_").to_lowercase()
+        ));
+        f.fb.save_png(&png)
+            .map_err(|err| format!("out: {}: {err}", png.display()))?;
+        let left: Vec<&str> = chip.left_out().map(|u| u.instance).collect();
+        rows.push(ElaborationRow {
+            variant: v.name.to_string(),
+            units_present: chip.present().count(),
+            gates_nand2: chip.gates(),
+            ram_bits: chip.ram_bits(),
+            left_out: left.join("; "),
+            gpu: f.gpu.name().to_string(),
+            predicted_seconds: f.predicted_seconds(),
+            simulation_wall_seconds: f.wall_seconds,
+            error_mean_abs: e.total.mean_abs,
+            error_rms: e.total.rms,
+            error_max: e.total.max,
+            error_bound: e.bound,
+        });
+        let rgba = image::RgbaImage::from_raw(f.fb.width, f.fb.height, f.fb.to_rgba8())
+            .ok_or("frame: framebuffer size mismatch")?;
+        images.push((v.name, rgba));
+    }
+    crate::report::csv_out::write_csv(&out.join("frame_elaboration.csv"), &rows)?;
+    let refs: Vec<(&str, &image::RgbaImage)> = images.iter().map(|(n, i)| (*n, i)).collect();
+    crate::report::plot::image_grid(&out.join("frame_elaboration.png"), &refs, 5)?;
+    Ok(rows)
+}
+
+/// The rows as a table.
+pub fn elaboration_rows_table(rows: &[ElaborationRow]) -> String {
+    let t: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.variant.clone(),
+                r.units_present.to_string(),
+                format!("{:.0}", r.gates_nand2),
+                r.ram_bits.to_string(),
+                format!("{} {:.4}", r.gpu, r.predicted_seconds),
+                format!("{:.1}", r.simulation_wall_seconds),
+                format!(
+                    "{:.3} / {:.3} / {:.1}",
+                    r.error_mean_abs, r.error_rms, r.error_max
+                ),
+                format!("{:.3}", r.error_bound),
+            ]
+        })
+        .collect();
+    crate::report::table::text_table(
+        &[
+            "variant",
+            "units",
+            "gates_nand2",
+            "ram_bits",
+            "predicted_s",
+            "sim_wall_s",
+            "error mean/rms/max",
+            "bound_mean",
+        ],
+        &t,
+    )
 }

@@ -53,7 +53,10 @@ fn lambert_box(min: [f64; 3], max: [f64; 3], color: [f64; 3], occluder: bool) ->
     }
 }
 
-/// The pole (beside the head, towards the kerb) and the arm over the street.
+/// The pole (beside the head, towards the kerb) and the arm over the street. Neither
+/// casts shadows: seen from the other lamp, a pole's faces lie almost level with the
+/// light and project far beyond its shadow map, whose pass walks each triangle's whole
+/// bounding box (docs/frame.md); the chrome ball is the scene's occluder.
 fn lamp_post(head: [f64; 3], side: f64) -> [Object; 2] {
     let px = head[0] + side * 0.9;
     let grey = [0.18, 0.18, 0.19];
@@ -62,13 +65,13 @@ fn lamp_post(head: [f64; 3], side: f64) -> [Object; 2] {
             [px - 0.08, 0.0, head[2] - 0.08],
             [px + 0.08, head[1] + 0.15, head[2] + 0.08],
             grey,
-            true,
+            false,
         ),
         lambert_box(
             [px.min(head[0]) - 0.05, head[1] + 0.1, head[2] - 0.05],
             [px.max(head[0]) + 0.05, head[1] + 0.2, head[2] + 0.05],
             grey,
-            true,
+            false,
         ),
     ]
 }

@@ -1,0 +1,166 @@
+//! One frame through every pipeline: the showcase's plan, its chip against the
+//! reduced variants', every pipeline's visible contribution, the error bound, and
+//! thread-count independence (a reduced `night-street`).
+
+use glare_pipeline::frame::chip::{elaborate, Chip, Feature};
+use glare_pipeline::frame::plan::{plan, Step};
+use glare_pipeline::frame::reproduce::{frame_error, variants};
+use glare_pipeline::frame::run::render;
+use glare_pipeline::pipeline::shafts::frame::ShaftsPass;
+use glare_pipeline::scene::builtin_showcase::night_street;
+use glare_pipeline::scene::format::Scene;
+use std::collections::BTreeSet;
+
+/// night-street at a test size: 144 × 96, 8 planes, 2 sub-planes, 128² shadow maps,
+/// the environment map at s = 16.
+fn small() -> Scene {
+    let mut s = night_street();
+    s.image.width = 144;
+    s.image.height = 96;
+    s.shafts.planes = 8;
+    s.shafts.subplanes = 2;
+    s.shafts.shadow_resolution = 128;
+    if let Some(e) = s.environment.as_mut() {
+        e.side = 16;
+    }
+    s
+}
+
+fn present(c: &Chip) -> BTreeSet<&'static str> {
+    c.present().map(|u| u.instance).collect()
+}
+
+#[test]
+fn showcase_plan_has_every_pass() {
+    let s = night_street();
+    let p = plan(&s).unwrap();
+    let steps: Vec<Step> = p.passes.iter().map(|p| p.step).collect();
+    assert_eq!(steps[0], Step::Shafts(ShaftsPass::Depth));
+    assert_eq!(
+        steps[1],
+        Step::ShadedObjects,
+        "the object pass follows the depth pass"
+    );
+    for light in 0..2 {
+        for sp in [
+            ShaftsPass::ShadowMap { light },
+            ShaftsPass::Objects { light },
+            ShaftsPass::Planes { light },
+        ] {
+            assert!(steps.contains(&Step::Shafts(sp)), "{sp:?}");
+        }
+    }
+    assert_eq!(
+        *steps.last().unwrap(),
+        Step::Glare,
+        "glare is the last pass"
+    );
+}
+
+/// Each reduced variant elaborates strictly fewer units and gates than the showcase,
+/// and what it leaves out beyond the showcase is exactly the units of the features it
+/// lacks, each with that feature's reason.
+#[test]
+fn each_variant_leaves_out_exactly_its_features_units() {
+    let base = night_street();
+    let vs = variants(&base);
+    let full = elaborate(&vs[0].scene);
+    assert!(vs[0].missing.is_empty());
+    let full_present = present(&full);
+    for v in &vs[1..] {
+        let chip = elaborate(&v.scene);
+        let mine = present(&chip);
+        assert!(mine.is_subset(&full_present), "{}", v.name);
+        assert!(
+            mine.len() < full_present.len(),
+            "{}: not fewer units",
+            v.name
+        );
+        assert!(chip.gates() < full.gates(), "{}: not fewer gates", v.name);
+        let dropped: BTreeSet<&str> = full_present.difference(&mine).copied().collect();
+        let expected: BTreeSet<&str> = full
+            .present()
+            .filter(|u| v.missing.contains(&u.feature))
+            .map(|u| u.instance)
+            .collect();
+        assert!(!expected.is_empty(), "{}: the feature had units", v.name);
+        assert_eq!(dropped, expected, "{}", v.name);
+        for u in chip.left_out().filter(|u| expected.contains(u.instance)) {
+            assert_eq!(
+                u.left_out,
+                Some(u.feature.absent_because()),
+                "{}: {}",
+                v.name,
+                u.instance
+            );
+        }
+    }
+}
+
+/// A Lambert-only scene without glare, fog or environment keeps the bare object
+/// path: no combiner stage, no sampler beyond the light map's.
+#[test]
+fn a_plain_scene_elaborates_the_plain_chip() {
+    let s = glare_pipeline::scene::builtin::builtin("fig6").unwrap();
+    let chip = elaborate(&s);
+    for u in chip.present() {
+        assert!(
+            matches!(
+                u.feature,
+                Feature::Objects | Feature::Shadows | Feature::LightMaps | Feature::Fog
+            ),
+            "{}",
+            u.instance
+        );
+    }
+    assert!(chip.present().all(|u| u.unit != "texture_combiner"));
+}
+
+/// Every pipeline visibly changes the showcase frame: removing fog, glare, the
+/// environment map or the materials changes pixels; the total error stays within the
+/// sum of the per-pass errors.
+#[test]
+fn every_pipeline_contributes_and_the_error_is_bounded() {
+    let base = small();
+    let full = render(&base).unwrap();
+    let e = frame_error(&base, &full, None).unwrap();
+    assert!(e.total.mean_abs_frame <= e.bound + 1e-9, "{e:?}");
+    assert!(e.passes.len() == 2, "shafts and glare are compared: {e:?}");
+    for v in variants(&base).into_iter().skip(1) {
+        let f = render(&v.scene).unwrap();
+        let differing =
+            f.fb.data
+                .iter()
+                .zip(&full.fb.data)
+                .filter(|(a, b)| a != b)
+                .count();
+        assert!(
+            differing > 20,
+            "{}: only {differing} channel codes differ",
+            v.name
+        );
+    }
+    let shaded = full.shaded.as_ref().unwrap();
+    assert!(
+        !shaded.highlights.is_empty(),
+        "the shading units found highlights"
+    );
+}
+
+#[test]
+fn same_bytes_on_one_and_two_threads() {
+    let s = small();
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let one = pool(1).install(|| render(&s).unwrap());
+    let two = pool(2).install(|| render(&s).unwrap());
+    assert_eq!(one.fb, two.fb);
+    assert_eq!(
+        serde_json::to_string(&one.counters()).unwrap(),
+        serde_json::to_string(&two.counters()).unwrap()
+    );
+}
