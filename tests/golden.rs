@@ -25,11 +25,14 @@ use glare_pipeline::frame::run::render;
 use glare_pipeline::pipeline::envmap::prefilter::{build_accelerated, env_to_levels};
 use glare_pipeline::pipeline::envmap::render::{render_frame, LambdaSpec, Object, RenderOptions};
 use glare_pipeline::pipeline::envmap::reproduce::TABLE5_TH;
+use glare_pipeline::pipeline::envmap::scene_render::render_scene;
 use glare_pipeline::pipeline::test_scene;
 use glare_pipeline::reference::envmap_prefilter::PrefilterParams;
 use glare_pipeline::report::image_out::Framebuffer;
 use glare_pipeline::scene::builtin::{builtin, BUILTIN_NAMES};
+use glare_pipeline::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use glare_pipeline::scene::builtin_glare::GLARE_BUILTIN_NAMES;
+use glare_pipeline::scene::builtin_showcase::SHOWCASE_NAMES;
 use glare_pipeline::scene::envmap::{EnvMap, BUILTIN_NAMES as ENV_NAMES};
 use glare_pipeline::scene::format::Scene;
 
@@ -84,6 +87,33 @@ const ENVMAP: &[(&str, u64, u64)] = &[
         "st_fagans_interior/teapot",
         0xa96404dd478f77c5,
         0xf22ec05d77ecaaec,
+    ),
+];
+
+/// The scenes added with the frame (generated at their first commit).
+const SCENES: &[(&str, u64, u64)] = &[
+    ("night-street", 0xc6228292096dd2ec, 0x30c3580b303f1642),
+    ("env-pattern-sphere", 0x7b283435ad3c106c, 0xecf54cd750656eec),
+    ("env-pattern-teapot", 0x36fc709730bb3ee2, 0x0f6c3481fa83653e),
+    (
+        "env-venice_sunset-sphere",
+        0xb0f2746d6dca88a3,
+        0xecf54cd750656eec,
+    ),
+    (
+        "env-venice_sunset-teapot",
+        0xf9c2ecda882e1e50,
+        0x0f6c3481fa83653e,
+    ),
+    (
+        "env-st_fagans_interior-sphere",
+        0x383f7be597a713d0,
+        0xecf54cd750656eec,
+    ),
+    (
+        "env-st_fagans_interior-teapot",
+        0xec1ffc716ff03f15,
+        0x0f6c3481fa83653e,
     ),
 ];
 
@@ -239,6 +269,42 @@ fn foundation_test_scene() {
 #[test]
 fn glare_builtins() {
     check("GLARE", &glare_rows(), GLARE);
+}
+
+/// The showcase (through the frame: every pipeline; shrunk as [`shrink`], its
+/// environment map at s = 16) and the environment scenes (`env-*`, through
+/// `render --scene`'s path, 32 × 32 at s = 16).
+fn scene_rows() -> Vec<Row> {
+    let mut rows = Vec::new();
+    for &name in SHOWCASE_NAMES {
+        let mut s = shrink(name);
+        if let Some(e) = s.environment.as_mut() {
+            e.side = 16;
+        }
+        let f = render(&s).unwrap();
+        rows.push((name.to_string(), hash_fb(&f.fb), hash_json(&f.counters())));
+    }
+    for &name in ENVIRONMENT_BUILTIN_NAMES {
+        let mut s = builtin(name).unwrap();
+        s.image.width = 32;
+        s.image.height = 32;
+        if let Some(e) = s.environment.as_mut() {
+            e.side = 16;
+        }
+        let f = render_scene(&s, false).unwrap();
+        let img = f.image;
+        let words = [img.width, img.height]
+            .into_iter()
+            .chain(img.pixels.iter().flat_map(|p| p.map(u32::from)))
+            .chain(img.mask.iter().map(|&m| u32::from(m)));
+        rows.push((name.to_string(), hash_words(words), hash_json(&f.counters)));
+    }
+    rows
+}
+
+#[test]
+fn scene_builtins() {
+    check("SCENES", &scene_rows(), SCENES);
 }
 
 #[test]

@@ -28,7 +28,7 @@ pub fn showcase_builtin(name: &str) -> Option<Scene> {
 }
 
 /// Lamp heads (world positions of the glowing covers).
-const LAMPS: [[f64; 3]; 2] = [[-2.8, 4.6, -6.0], [3.2, 4.6, -15.0]];
+const LAMPS: [[f64; 3]; 2] = [[-2.8, 4.6, -6.0], [3.9, 4.6, -15.0]];
 /// Warm sodium-white lamp colour.
 const LAMP_COLOR: [f64; 3] = [1.0, 0.88, 0.65];
 
@@ -80,10 +80,10 @@ fn lamp_post(head: [f64; 3], side: f64) -> [Object; 2] {
 pub fn night_street() -> Scene {
     let street = Object {
         shape: Shape::Plane {
-            center: [0.0, 0.0, -14.0],
+            center: [0.0, 0.0, -13.0],
             normal: [0.0, 1.0, 0.0],
             tangent: [1.0, 0.0, 0.0],
-            half_size: [5.5, 14.0],
+            half_size: [5.5, 15.0],
         },
         color: [0.1, 0.1, 0.11],
         occluder: false,
@@ -198,4 +198,4 @@ pub fn night_street() -> Scene {
 /// `objects[CHROME]` is the chrome ball.
 const CHROME: usize = 1;
 /// Exposure of the dusk map for a night scene.
-const NIGHT_EXPOSURE: f64 = 0.25;
+const NIGHT_EXPOSURE: f64 = 0.5;
