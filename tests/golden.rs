@@ -49,7 +49,7 @@ const SHAFTS: &[(&str, u64, u64)] = &[
 /// The foundation test scene (`render --scene test`).
 const TEST_SCENE: &[(&str, u64, u64)] = &[("test", 0xb01fdea48830eebd, 0x357ff2d2f177dfd6)];
 
-/// The glare built-ins; `shaded-*` run the shading pass first (src/pipeline/glare_link.rs)
+/// The glare built-ins; `shaded-*` run the shading pass first (src/frame/glare_link.rs)
 /// and hash its counters with the glare frame's. The counters are the frame's, as the
 /// CLI prints them: street-light's shafts background counts in its image only.
 const GLARE: &[(&str, u64, u64)] = &[

@@ -2,8 +2,8 @@
 //! f64 references, elaboration of what a material needs, the shading → glare link,
 //! and the specular banding measurement.
 
+use glare_pipeline::frame::glare_link::prepare;
 use glare_pipeline::pipeline::glare::frame::render_glare_over;
-use glare_pipeline::pipeline::glare_link::prepare;
 use glare_pipeline::pipeline::shading::brdfs::{catalogue, render_sphere, sphere_error};
 use glare_pipeline::pipeline::shading::materials::material_path;
 use glare_pipeline::pipeline::shading::path::{PathConfig, FACTORS};

@@ -121,7 +121,7 @@ pub fn render_cli(
         elaboration_table(&elaboration)
     );
     if let Some(l) = &f.linked {
-        print!("\n{}", crate::pipeline::glare_link::summary(l));
+        print!("\n{}", crate::frame::glare_link::summary(l));
     }
     let rows: Vec<Vec<String>> = f
         .times

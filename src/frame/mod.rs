@@ -10,6 +10,7 @@
 
 pub mod chip;
 pub mod cli;
+pub mod glare_link;
 pub mod objects;
 pub mod plan;
 pub mod reflection;

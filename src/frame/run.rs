@@ -2,13 +2,13 @@
 //! for the chip (the GPU passes on the configured GPU model, the glare pass on the
 //! glare ASIC at its own clock and pipes, summed).
 
+use super::glare_link::{self, Linked};
 use super::objects::{shaded_objects_pass, ShadedObjects};
 use super::plan::{plan, Plan, Step};
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::render_and_predict_over;
 use crate::pipeline::glare::frame::GlareFrame;
 use crate::pipeline::glare::throughput::GlarePrediction;
-use crate::pipeline::glare_link::{self, Linked};
 use crate::pipeline::shafts::frame::{FrameResult, ShaftsFrame};
 use crate::pipeline::time_model::{pass_seconds, GpuModel, PassStats};
 use crate::report::image_out::Framebuffer;

@@ -2,7 +2,6 @@
 
 pub mod envmap;
 pub mod glare;
-pub mod glare_link;
 pub mod raster;
 pub mod registry;
 pub mod shading;

@@ -1,12 +1,12 @@
-//! `render` for glare scenes: the frame through the units, its PNG, counters,
-//! elaboration, predicted time, and optionally the f64 reference and the error.
+//! The glare pass run on its own (for the reproductions, sweeps and tests): the pass
+//! and its prediction on the glare ASIC, and the f64 reference. `render` goes through
+//! the frame (`crate::frame`).
 
 use super::frame::{generator, glare_of, interpolator, render_glare_over, GlareFrame};
 use super::throughput::{predict, GlarePrediction};
 use crate::reference::glare_model::reference_image;
 use crate::scene::format::Scene;
 use rtl_model::{ConfigError, Unit};
-use std::path::Path;
 use std::time::Instant;
 
 /// Set-up clocks per primitive (generator latency + interpolator set-up) and the
@@ -63,83 +63,4 @@ pub fn reference_levels(scene: &Scene, f: &GlareFrame) -> Result<Vec<[f64; 3]>, 
         max,
     );
     Ok(img.iter().map(|p| p.map(|v| v * 255.0 / max)).collect())
-}
-
-pub fn render_cli(
-    scene: &Scene,
-    out: &Path,
-    json: bool,
-    reference: Option<&Path>,
-) -> Result<(), String> {
-    render_cli_over(scene, None, out, json, reference)
-}
-
-/// [`render_cli`] over a background already drawn for this scene (fb codes, RGB).
-pub fn render_cli_over(
-    scene: &Scene,
-    base: Option<&[[u32; 3]]>,
-    out: &Path,
-    json: bool,
-    reference: Option<&Path>,
-) -> Result<(), String> {
-    let (f, pred, wall) = render_and_predict_over(scene, base).map_err(|e| e.to_string())?;
-    f.fb.save_png(out)
-        .map_err(|e| format!("out: {}: {e}", out.display()))?;
-    let err = match reference {
-        Some(path) => {
-            let lv = reference_levels(scene, &f).map_err(|e| e.to_string())?;
-            crate::report::image_out::levels_png(&lv, scene.image.width, scene.image.height, path)?;
-            let st =
-                crate::report::metrics::error_stats(&f.levels(), &lv).map_err(|e| e.to_string())?;
-            Some(st)
-        }
-        None => None,
-    };
-    if json {
-        let v = serde_json::json!({
-            "scene": scene.name,
-            "counters": f.counters,
-            "elaboration": f.elaboration,
-            "primitives": f.prims.len(),
-            "prediction": pred,
-            "wall_seconds": wall,
-            "error_vs_reference": err,
-        });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
-        return Ok(());
-    }
-    println!(
-        "{} ({}x{}): wrote {} in {wall:.2} s of simulation; {} primitives ({} bloom, {} halo, {} flare lines)",
-        scene.name,
-        scene.image.width,
-        scene.image.height,
-        out.display(),
-        f.prims.len(),
-        f.prims.iter().filter(|p| p.kind == "bloom").count(),
-        f.prims.iter().filter(|p| p.kind == "halo").count(),
-        f.prims.iter().filter(|p| p.kind == "flare").count(),
-    );
-    print!("{}", crate::report::table::counters_table(&f.counters));
-    println!("\nelaboration:");
-    print!(
-        "{}",
-        crate::report::table::elaboration_table(&f.elaboration)
-    );
-    println!(
-        "\npredicted glare time at {} MHz × {} pipes: {:.6} s ({} clocks: {} walking, {} table writes; {} fragments of {} walked pixels, {:.3e} fragments/s)",
-        pred.clock_mhz, pred.pipes, pred.seconds, pred.cycles, pred.walk_cycles, pred.table_cycles, pred.fragments, pred.walked, pred.fragments_per_second
-    );
-    if let Some(st) = err {
-        println!(
-            "error against the f64 reference ({}): mean |Δ| {:.3}, RMS {:.3}, max {:.1} levels",
-            reference.map_or(String::new(), |p| p.display().to_string()),
-            st.mean_abs,
-            st.rms,
-            st.max
-        );
-    }
-    Ok(())
 }
