@@ -125,7 +125,11 @@ fn every_pipeline_contributes_and_the_error_is_bounded() {
     let full = render(&base).unwrap();
     let e = frame_error(&base, &full, None).unwrap();
     assert!(e.total.mean_abs_frame <= e.bound + 1e-9, "{e:?}");
-    assert!(e.passes.len() == 2, "shafts and glare are compared: {e:?}");
+    assert_eq!(
+        e.passes.len(),
+        3,
+        "shafts, objects and glare are compared: {e:?}"
+    );
     for v in variants(&base).into_iter().skip(1) {
         let f = render(&v.scene).unwrap();
         let differing =

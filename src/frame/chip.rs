@@ -8,6 +8,7 @@
 
 use super::plan::{environment_scene, shafts_backdrop};
 use crate::pipeline::registry;
+use crate::pipeline::shading::materials::lobe_kind;
 use crate::pipeline::shafts::frame::scatters;
 use crate::scene::format::{LightKind, Scene};
 use serde::Serialize;
@@ -209,7 +210,16 @@ fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static st
         return Some(feature.absent_because());
     }
     let g = glare;
+    let lobe = |kind: &str| {
+        scene
+            .objects
+            .iter()
+            .filter_map(|o| o.material)
+            .any(|m| lobe_kind(&m) == kind)
+    };
     match instance {
+        "specular_lookup" if !lobe("lookup") => Some("no Phong or Blinn–Phong lobe"),
+        "texture_sampler (factor textures)" if !lobe("factored") => Some("no factored BRDF"),
         "shadow_compare (depth buffer)" if !gpu_objects => Some("no objects drawn by the GPU"),
         "additive_blend (J buffer)" if scene.shafts.subplanes <= 1 => {
             Some("m = 1: no sub-sample planes")

@@ -37,6 +37,8 @@ use std::collections::BTreeMap;
 pub struct Reflection {
     pub object: usize,
     pub pixels: Vec<Option<[u32; 3]>>,
+    /// Its f64 reference in levels (when asked for: `reflection::reflections_with`).
+    pub reference: Option<Vec<Option<[f64; 3]>>>,
     pub counters: BTreeMap<String, Counters>,
     pub stats: PassStats,
     pub elaboration: Vec<Elaborated>,
@@ -46,6 +48,8 @@ pub struct Reflection {
 pub struct ShadedObjects {
     /// Per pixel: the object the pass coloured there.
     pub objects: Vec<Option<usize>>,
+    /// Per pixel: the pass's 8-bit result there (before the conversion to fb codes).
+    pub levels: Vec<Option<[u32; 3]>>,
     /// Highlights of light `highlight_light`'s shading (for the glare conditions).
     pub highlights: Vec<FoundHighlight>,
     pub counters: BTreeMap<String, Counters>,
@@ -217,6 +221,7 @@ pub fn shaded_objects_pass(
     }
     Ok(ShadedObjects {
         objects,
+        levels: sum,
         highlights,
         counters,
         elaboration,
@@ -330,4 +335,96 @@ fn irradiance_code(
     let k = light_weight(light, map, point) * atten / s2 * p.exposure / 255.0;
     let code = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u32;
     (light.color.map(|c| code(k * c)), code(k))
+}
+
+/// The pass's f64 reference at the pixels it coloured, in 8-bit levels: per light
+/// k_l (unclamped, per channel) × 255 · π · R(ω_i, ω_o) · cos θ_i of the material's
+/// reference BRDF with that channel's albedo (E = π, as the shading path is scaled),
+/// summed over the lights, plus each reflector's reference reflection, clamped to
+/// [0, 255] once at the end (the hardware clamps each light's level and each sum).
+pub fn reference_levels(
+    scene: &Scene,
+    p: &Prepared,
+    objects: &[Option<usize>],
+    reflections: &[Reflection],
+) -> Result<Vec<Option<[f64; 3]>>, ConfigError> {
+    use crate::pipeline::shading::materials::MaterialBrdf;
+    use crate::reference::brdf::{Brdf, ShadingFrame};
+    let (w, _) = (scene.image.width, scene.image.height);
+    let cam = CameraView::new(&scene.camera, scene.image);
+    let geometry = SceneGeometry::without_meshes(&scene.objects)?;
+    // Per object with a material: its reference BRDF per channel.
+    let brdfs: Vec<Option<[MaterialBrdf; 3]>> = scene
+        .objects
+        .iter()
+        .map(|o| {
+            o.material
+                .map(|m| -> Result<[MaterialBrdf; 3], ConfigError> {
+                    Ok([
+                        MaterialBrdf::new(&m, [o.color[0]; 3])?,
+                        MaterialBrdf::new(&m, [o.color[1]; 3])?,
+                        MaterialBrdf::new(&m, [o.color[2]; 3])?,
+                    ])
+                })
+                .transpose()
+        })
+        .collect::<Result<_, _>>()?;
+    let maps: Vec<LightMapSampler> = scene
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| LightMapSampler::for_light(l, i))
+        .collect::<Result<_, _>>()?;
+    let m = scene.medium;
+    let mut out = vec![None; objects.len()];
+    for (i, o) in objects.iter().enumerate() {
+        let Some(obj) = *o else { continue };
+        let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
+        let dir = cam.ray_dir(x, y);
+        let Some((_, hit)) = geometry.first_hit(
+            &Ray {
+                origin: cam.eye,
+                dir,
+            },
+            cam.far,
+        ) else {
+            continue;
+        };
+        let mut acc = [0.0f64; 3];
+        if let Some(b) = &brdfs[obj] {
+            let frame = ShadingFrame::new(
+                hit.normal,
+                crate::scene::math::v3(0.0, 1.0, 0.0).cross(hit.normal),
+            );
+            let wo = frame.to_local(-dir);
+            for (li, light) in scene.lights.iter().enumerate() {
+                let lpos = vec3(light.position);
+                let to_l = lpos - hit.point;
+                let s2 = to_l.dot(to_l).max(1e-12);
+                let wi = frame.to_local(to_l.normalized());
+                if wi.z <= 0.0 || wo.z <= 0.0 {
+                    continue;
+                }
+                let atten = (-m.rho * m.kappa * (s2.sqrt() + hit.t)).exp();
+                let k = light_weight(light, &maps[li], hit.point) * atten / s2 * p.exposure / 255.0;
+                for c in 0..3 {
+                    acc[c] += k
+                        * light.color[c]
+                        * 255.0
+                        * std::f64::consts::PI
+                        * b[c].eval(wi, wo)
+                        * wi.z;
+                }
+            }
+        }
+        for r in reflections.iter().filter(|r| r.object == obj) {
+            if let Some(v) = r.reference.as_ref().and_then(|v| v[i]) {
+                for c in 0..3 {
+                    acc[c] += v[c];
+                }
+            }
+        }
+        out[i] = Some(acc.map(|v| v.clamp(0.0, 255.0)));
+    }
+    Ok(out)
 }

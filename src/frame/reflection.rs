@@ -6,7 +6,7 @@
 //! (saturating) to the object's shading.
 
 use super::objects::Reflection;
-use crate::pipeline::envmap::render::render_geometry;
+use crate::pipeline::envmap::render::{render_geometry, render_geometry_with_truth};
 use crate::pipeline::envmap::scene_render::{build_map, render_options};
 use crate::pipeline::time_model::{PassKind, PassStats};
 use crate::report::elaboration::Elaborated;
@@ -20,6 +20,12 @@ use std::collections::BTreeMap;
 
 /// The reflections of the scene's reflectors (none without an environment section).
 pub fn reflections(scene: &Scene) -> Result<Vec<Reflection>, ConfigError> {
+    reflections_with(scene, false)
+}
+
+/// [`reflections`], and with `truth` each one's f64 reference: the Phong truth at its
+/// pixels (`envmap::truth`, with the cos φ test) × reflectance × exp(−ρκT), unrounded.
+pub fn reflections_with(scene: &Scene, truth: bool) -> Result<Vec<Reflection>, ConfigError> {
     let Some(section) = scene.environment.as_ref() else {
         return Ok(Vec::new());
     };
@@ -41,9 +47,18 @@ pub fn reflections(scene: &Scene) -> Result<Vec<Reflection>, ConfigError> {
             .into_iter()
             .map(|t| (t, [r.lambda; 3]))
             .collect();
-        let (img, info, mut counters) =
-            render_geometry(&env, &map, &tris, &scene.camera, (w, h), &opt)
-                .map_err(|e| e.within(&field))?;
+        let (img, info, mut counters, truth_img) = if truth {
+            let (img, t, stats) =
+                render_geometry_with_truth(&env, &map, &tris, &scene.camera, (w, h), &opt)
+                    .map_err(|e| e.within(&field))?;
+            (img, stats.frame, stats.counters, Some(t.cos_phi))
+        } else {
+            let (img, info, counters) =
+                render_geometry(&env, &map, &tris, &scene.camera, (w, h), &opt)
+                    .map_err(|e| e.within(&field))?;
+            (img, info, counters, None)
+        };
+        let mut reference = truth_img.as_ref().map(|_| vec![None; (w * h) as usize]);
         // Reflectance × exp(−ρκT) per pixel (T: the eye distance along the pixel's ray
         // to the reflector, host f64 as a vertex colour would be), one 8-bit code.
         let mut at = Vec::new();
@@ -56,6 +71,9 @@ pub fn reflections(scene: &Scene) -> Result<Vec<Reflection>, ConfigError> {
             let t = hit_distance(&scene.objects[r.object].shape, &cam, x, y);
             let k = r.reflectance * (-m.rho * m.kappa * t).exp();
             let code = (k.clamp(0.0, 1.0) * 255.0).round() as u32;
+            if let (Some(refs), Some(ti)) = (reference.as_mut(), truth_img.as_ref()) {
+                refs[i] = Some(ti.pixels[i].map(|v| v as f64 * k));
+            }
             at.push(i);
             for c in px {
                 pairs.push(ModulateIn {
@@ -89,6 +107,7 @@ pub fn reflections(scene: &Scene) -> Result<Vec<Reflection>, ConfigError> {
         out.push(Reflection {
             object: r.object,
             pixels,
+            reference,
             counters: prefixed(counters, ri),
             stats,
             elaboration,
