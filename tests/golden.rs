@@ -92,7 +92,7 @@ const ENVMAP: &[(&str, u64, u64)] = &[
 
 /// The scenes added with the frame (generated at their first commit).
 const SCENES: &[(&str, u64, u64)] = &[
-    ("night-street", 0xc6228292096dd2ec, 0x30c3580b303f1642),
+    ("night-street", 0xca9425c8530c22ce, 0x30c3580b303f1642),
     ("env-pattern-sphere", 0x7b283435ad3c106c, 0xecf54cd750656eec),
     ("env-pattern-teapot", 0x36fc709730bb3ee2, 0x0f6c3481fa83653e),
     (

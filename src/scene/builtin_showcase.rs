@@ -9,7 +9,8 @@
 use super::builtin_glare::source;
 use super::environment::{EnvironmentSection, Reflector};
 use super::format::{
-    Camera, ImageSize, Light, LightKind, LightMap, Medium, Object, Scene, ShaftsConfig, Shape,
+    Camera, FScale, ImageSize, Light, LightKind, LightMap, Medium, Object, Scene, ShaftsConfig,
+    Shape,
 };
 use super::glare::{
     Background, Determinants, GlareHw, GlareModel, GlareSection, ShadedHighlights, SourceKind,
@@ -177,7 +178,12 @@ pub fn night_street() -> Scene {
         },
         lights: LAMPS.iter().map(|&h| lamp_light(h)).collect(),
         objects,
-        shafts: ShaftsConfig::default(),
+        // The F table spans the scattering angles the cones actually meet (seen from
+        // the side, the paper's table has 26 codes there: docs/shafts.md).
+        shafts: ShaftsConfig {
+            f_scale: FScale::LitVolume,
+            ..ShaftsConfig::default()
+        },
         glare: Some(glare),
         // The street's surroundings as the chrome ball reflects them: Venice at dusk
         // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
