@@ -36,10 +36,13 @@ pub enum Command {
         datasheet: Option<PathBuf>,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
-    /// and print the counters, the elaboration and the predicted hardware time.
+    /// through its pass plan, and print the plan, the chip, each pipeline's counters
+    /// and elaboration, and the predicted time per pass.
     Render {
         /// A built-in scene (fig6, fig4, stage, or `test` for the foundation test scene;
-        /// the environment-map scenes env-MAP-OBJECT: env-pattern-sphere,
+        /// the glare scenes glare-point, glare-elliptic, glare-flare, street-light,
+        /// leaves, shaded-metal, shaded-dielectric; the showcase night-street, every
+        /// pipeline in one frame; the environment-map scenes env-MAP-OBJECT: env-pattern-sphere,
         /// env-pattern-teapot, env-venice_sunset-sphere, env-venice_sunset-teapot,
         /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot) or a TOML
         /// scene file.

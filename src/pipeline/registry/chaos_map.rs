@@ -1,6 +1,6 @@
 //! `chaos_map`: the intermittent map of the 1/f fluctuation, through log2 and exp2 ROMs.
 
-use super::{params, rom, trace_unit, UnitEntry};
+use super::{generated_roms, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rtl_model::units::chaos_map::ChaosMap;
 use rtl_model::{Counters, UnitSummary};
@@ -21,23 +21,13 @@ fn tables() -> Vec<Table> {
         "entry[i] = round(log2(1 + i/2^T) * 2^E), i = 0 ..= 2^T, u1.E",
         "entry[i] = round(2^(-i/2^T) * 2^E), i = 0 ..= 2^T, u1.E",
     ];
-    cm.rom_images()
-        .into_iter()
-        .zip(gens)
-        .map(|((name, width, words), g)| {
-            rom(
-                name,
-                width,
-                words,
-                "chaos_map",
-                params(&[
-                    ("table_log2", cc.table_log2.to_string()),
-                    ("table_bits", cc.table_bits.to_string()),
-                    ("generator", g.into()),
-                ]),
-            )
-        })
-        .collect()
+    generated_roms(
+        cm.rom_images(),
+        "chaos_map",
+        cc.table_log2,
+        cc.table_bits,
+        &gens,
+    )
 }
 
 /// The map iterates its own state from the seed: no inputs.

@@ -1,6 +1,6 @@
 //! `gaussian_noise`: Box-Muller Gaussian samples through ln, sqrt and sin ROMs.
 
-use super::{params, rom, trace_unit, UnitEntry};
+use super::{generated_roms, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
 use rtl_model::{Counters, UnitSummary};
@@ -22,23 +22,13 @@ fn tables() -> Vec<Table> {
         "entry[j] = round(sqrt(i/2^(T-2)) * 2^E), i = 2^(T-2) + j, j = 0 ..= 3*2^(T-2), u2.E",
         "entry[i] = round(sin(pi/2 * i/2^T) * 2^E), i = 0 ..= 2^T, u1.E (quarter wave)",
     ];
-    gn.rom_images()
-        .into_iter()
-        .zip(gens)
-        .map(|((name, width, words), g)| {
-            rom(
-                name,
-                width,
-                words,
-                "gaussian_noise",
-                params(&[
-                    ("table_log2", gc.table_log2.to_string()),
-                    ("table_bits", gc.table_bits.to_string()),
-                    ("generator", g.into()),
-                ]),
-            )
-        })
-        .collect()
+    generated_roms(
+        gn.rom_images(),
+        "gaussian_noise",
+        gc.table_log2,
+        gc.table_bits,
+        &gens,
+    )
 }
 
 /// The unit draws its own uniforms: the seed is its LFSR state, no inputs.

@@ -160,6 +160,34 @@ fn params(kv: &[(&str, String)]) -> BTreeMap<String, String> {
     kv.iter().map(|(k, v)| (k.to_string(), v.clone())).collect()
 }
 
+/// A unit's generated ROM images as tables, each named with its generator formula
+/// and the table's index bits T and entry bits E.
+fn generated_roms(
+    images: Vec<(String, u32, Vec<u64>)>,
+    unit: &str,
+    table_log2: u32,
+    table_bits: u32,
+    generators: &[&str],
+) -> Vec<Table> {
+    images
+        .into_iter()
+        .zip(generators)
+        .map(|((name, width, words), g)| {
+            rom(
+                name,
+                width,
+                words,
+                unit,
+                params(&[
+                    ("table_log2", table_log2.to_string()),
+                    ("table_bits", table_bits.to_string()),
+                    ("generator", g.to_string()),
+                ]),
+            )
+        })
+        .collect()
+}
+
 /// A ROM image held by `unit`; its file stem is `name` with dots as underscores.
 fn rom(
     name: String,
