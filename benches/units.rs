@@ -2,7 +2,8 @@
 //! the tick driver (criterion reports elements/s), and the whole test-scene frame.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use glare_pipeline::pipeline::{registry, test_scene};
+use glare_pipeline::pipeline::test_scene;
+use glare_pipeline::registry;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::driver::{run_span, run_tick};

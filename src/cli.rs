@@ -1,6 +1,6 @@
 //! The clap front end: `units`, `render`, `reproduce`, `sweep`, `tables`, `trace`.
 
-use crate::pipeline::registry;
+use crate::registry;
 use crate::report::alternates::modulate_alternates;
 use crate::report::table::text_table;
 use clap::{Parser, Subcommand};

@@ -4,6 +4,7 @@ pub mod cli;
 pub mod frame;
 pub mod pipeline;
 pub mod reference;
+pub mod registry;
 pub mod report;
 pub mod scene;
 pub mod tables;

@@ -17,7 +17,7 @@ fn units_json_lists_every_unit_with_the_required_fields() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let arr = v.as_array().expect("a JSON array");
     let names: Vec<&str> = arr.iter().map(|u| u["name"].as_str().unwrap()).collect();
-    for want in glare_pipeline::pipeline::registry::UNIT_NAMES {
+    for want in glare_pipeline::registry::UNIT_NAMES {
         assert!(names.contains(want), "{want} missing from units --json");
     }
     for u in arr {
@@ -65,7 +65,7 @@ fn trace_writes_a_vcd_and_unknown_units_are_named() {
 #[test]
 fn every_unit_traces_to_a_vcd() {
     let dir = std::env::temp_dir().join(format!("glare-trace-all-{}", std::process::id()));
-    for name in glare_pipeline::pipeline::registry::UNIT_NAMES {
+    for name in glare_pipeline::registry::UNIT_NAMES {
         let path = dir.join(format!("{name}.vcd"));
         let out = bin()
             .args(["trace", name, "--pixels", "3", "--out"])

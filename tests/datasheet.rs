@@ -1,7 +1,7 @@
 //! docs/units.md holds the registry's figures (widths, latency, II, gates, RAM bits)
 //! exactly as the registry generates them, and one section per registry unit.
 
-use glare_pipeline::pipeline::registry::{self, datasheet};
+use glare_pipeline::registry::{self, datasheet};
 use std::path::Path;
 
 fn committed() -> String {

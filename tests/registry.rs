@@ -2,7 +2,7 @@
 //! names its unit's instance and tables, every unit in `rtl_model/src/units/` has an
 //! entry, and every entry has the files a newcomer looks for by the unit's name.
 
-use glare_pipeline::pipeline::registry::{self, UNITS, UNIT_NAMES};
+use glare_pipeline::registry::{self, UNITS, UNIT_NAMES};
 use std::collections::BTreeSet;
 use std::path::Path;
 
@@ -25,7 +25,7 @@ fn every_entry_is_named_like_its_unit_its_tables_and_its_files() {
             format!("rtl_model/src/units/{}.rs", e.name),
             format!("src/reference/{}.rs", e.name),
             format!("tests/{}.rs", e.name),
-            format!("src/pipeline/registry/{}.rs", e.name),
+            format!("src/registry/{}.rs", e.name),
         ] {
             assert!(root.join(&file).is_file(), "{}: no {file}", e.name);
         }
@@ -51,7 +51,7 @@ fn every_unit_in_rtl_model_has_an_entry() {
     for u in &units {
         assert!(
             registry::entry(u).is_some(),
-            "rtl_model/src/units/{u}.rs has no registry entry (src/pipeline/registry/mod.rs)"
+            "rtl_model/src/units/{u}.rs has no registry entry (src/registry/mod.rs)"
         );
     }
 }

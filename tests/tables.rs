@@ -1,6 +1,6 @@
 //! `tables/` must match what `cargo run --release -- tables` regenerates, byte for byte.
 
-use glare_pipeline::pipeline::registry;
+use glare_pipeline::registry;
 use glare_pipeline::tables::expected_files;
 use std::path::Path;
 

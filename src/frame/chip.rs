@@ -7,9 +7,9 @@
 //! `render`) has the scene's widths.
 
 use super::plan::{environment_scene, shafts_backdrop};
-use crate::pipeline::registry;
 use crate::pipeline::shading::materials::lobe_kind;
 use crate::pipeline::shafts::frame::scatters;
+use crate::registry;
 use crate::scene::format::{LightKind, Scene};
 use serde::Serialize;
 

@@ -3,7 +3,6 @@
 pub mod envmap;
 pub mod glare;
 pub mod raster;
-pub mod registry;
 pub mod shading;
 pub mod shafts;
 pub mod test_scene;
