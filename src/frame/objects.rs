@@ -174,19 +174,7 @@ pub fn shaded_objects_pass(
             sum[i] = Some([o[0], o[1], o[2]]);
         }
         fragments += sh.fragments;
-        stats.push(PassStats {
-            kind: PassKind::Objects,
-            light: li,
-            walked: sh.fragments,
-            fragments: sh.fragments,
-            // Normalisation cube map and the specular lookup or factor textures.
-            textures_per_fragment: 2,
-            triangles: 0,
-            texel_bytes: sh.fragments * 2 * 4 * 4,
-            fb_bytes: sh.fragments * 8,
-            other_bytes: 0,
-            depth_tests: sh.fragments,
-        });
+        stats.push(shading_stats(li, sh.fragments));
     }
     for r in reflections {
         // The reflector's pixels: where it is the nearest object.
@@ -228,6 +216,26 @@ pub fn shaded_objects_pass(
         stats,
         fragments,
     })
+}
+
+/// The time model's view of one light's shading: every fragment a pass over the
+/// normalisation cube map and one specular lookup or factor texture (two textures,
+/// 32-bit texels, no cache assumed here: the model applies its hit rate), an RGBA8
+/// read-modify-write and a depth test; no triangle set-up (the host resolves
+/// visibility).
+pub fn shading_stats(light: usize, fragments: u64) -> PassStats {
+    PassStats {
+        kind: PassKind::Objects,
+        light,
+        walked: fragments,
+        fragments,
+        textures_per_fragment: 2,
+        triangles: 0,
+        texel_bytes: fragments * 2 * 4 * 4,
+        fb_bytes: fragments * 8,
+        other_bytes: 0,
+        depth_tests: fragments,
+    }
 }
 
 /// The reflection added (saturating) where its object is the one shaded.

@@ -112,7 +112,7 @@ pub fn frame_error(
         s.glare = None;
         if let Some(o) = &f.shaded {
             for (i, obj) in s.objects.iter_mut().enumerate() {
-                if scene.shaded_object(i) && o.objects.iter().any(|x| *x == Some(i)) {
+                if scene.shaded_object(i) && o.objects.contains(&Some(i)) {
                     obj.color = [0.0; 3];
                 }
             }

@@ -3,13 +3,13 @@
 //! glare ASIC at its own clock and pipes, summed).
 
 use super::glare_link::{self, Linked};
-use super::objects::{shaded_objects_pass, ShadedObjects};
-use super::plan::{plan, Plan, Step};
+use super::objects::{shaded_objects_pass, shading_stats, ShadedObjects};
+use super::plan::{plan, Pass, Plan, Step};
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::render_and_predict_over;
 use crate::pipeline::glare::frame::GlareFrame;
 use crate::pipeline::glare::throughput::GlarePrediction;
-use crate::pipeline::shafts::frame::{FrameResult, ShaftsFrame};
+use crate::pipeline::shafts::frame::{FrameResult, ShaftsFrame, ShaftsPass};
 use crate::pipeline::time_model::{pass_seconds, GpuModel, PassStats};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
@@ -110,85 +110,19 @@ pub fn render(scene: &Scene) -> Result<Frame, ConfigError> {
 pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
     let t0 = Instant::now();
     let plan = plan(scene)?;
-    let model = gpu.model();
-    let mut times = Vec::new();
-    let mut shafts = match &plan.prepared {
-        Some(p) => Some(ShaftsFrame::new(p, None)?),
-        None => None,
-    };
-    let mut shafts_done: Option<FrameResult> = None;
-    let mut shaded: Option<ShadedObjects> = None;
-    let mut linked: Option<Linked> = None;
-    let mut glare = None;
-    let gpu_time = |name: &str, stats: &[PassStats], t: Instant| PassTime {
-        pass: name.to_string(),
-        on: gpu.name().to_string(),
-        seconds: stats.iter().map(|s| pass_seconds(&model, s).0).sum(),
-        wall_seconds: t.elapsed().as_secs_f64(),
-    };
+    let mut state = FrameState::new(scene, &plan, gpu)?;
     for pass in &plan.passes {
-        let t = Instant::now();
-        match pass.step {
-            Step::TestScene | Step::EnvironmentScene => {
-                return Err(ConfigError::invalid(
-                    "scene",
-                    "the foundation test scene and the thesis' environment scenes render through `render` alone (their own frame)",
-                ))
-            }
-            Step::Shafts(sp) => {
-                let f = shafts.as_mut().ok_or_else(no_shafts)?;
-                let before = f.pass_stats().len();
-                f.run(sp)?;
-                times.push(gpu_time(&pass.name, &f.pass_stats()[before..], t));
-            }
-            Step::ShadedObjects => {
-                let f = shafts.as_mut().ok_or_else(no_shafts)?;
-                let p = plan.prepared.as_ref().ok_or_else(no_shafts)?;
-                let hl = scene
-                    .glare
-                    .as_ref()
-                    .and_then(|g| g.shaded_highlights)
-                    .map(|h| (h.light, h.intensity, h.radius));
-                let refl = super::reflection::reflections(scene)?;
-                let s = shaded_objects_pass(scene, p, f.framebuffer_mut(), hl, &refl)?;
-                times.push(gpu_time(&pass.name, &s.stats, t));
-                shaded = Some(s);
-            }
-            Step::ShadedHighlights => {
-                linked = glare_link::prepare(scene)?;
-            }
-            Step::Glare => {
-                if let Some(f) = shafts.take() {
-                    shafts_done = Some(f.finish());
-                }
-                let mut gs = match &linked {
-                    Some(l) => l.scene.clone(),
-                    None => scene.clone(),
-                };
-                if let (Some(s), Some(g)) = (&shaded, gs.glare.as_mut()) {
-                    g.highlights
-                        .extend(s.highlights.iter().map(|h| h.highlight));
-                }
-                let hw = gs.glare.as_ref().map(|g| g.hw).unwrap_or_default();
-                let base: Option<Vec<[u32; 3]>> = match (&shafts_done, &linked) {
-                    (Some(r), _) => Some(from_framebuffer(&r.fb, hw.fb_bits)),
-                    (None, Some(l)) => Some(l.base.clone()),
-                    (None, None) => None,
-                };
-                let (g, pred, _) = render_and_predict_over(&gs, base.as_deref())?;
-                times.push(PassTime {
-                    pass: pass.name.clone(),
-                    on: format!("glare ASIC ({} MHz × {} pipes)", pred.clock_mhz, pred.pipes),
-                    seconds: pred.seconds,
-                    wall_seconds: t.elapsed().as_secs_f64(),
-                });
-                glare = Some((g, pred));
-            }
-        }
+        state.run(pass)?;
     }
-    if let Some(f) = shafts.take() {
-        shafts_done = Some(f.finish());
-    }
+    state.finish_shafts();
+    let FrameState {
+        shafts_done,
+        shaded,
+        linked,
+        glare,
+        times,
+        ..
+    } = state;
     let fb = match (&glare, &shafts_done) {
         (Some((g, _)), _) => g.fb.clone(),
         (None, Some(r)) => r.fb.clone(),
@@ -212,25 +146,155 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
     })
 }
 
-fn no_shafts() -> ConfigError {
-    ConfigError::invalid("scene", "a shafts pass was planned without its set-up")
-}
-
-/// The picture a glare scene's shafts passes draw (its glare left to the glare pass):
-/// the shafts passes of its plan, run alone.
+/// The picture a glare scene's passes draw before its glare (the shafts passes and the
+/// object pass), for a glare study that reuses it.
 pub fn shafts_backdrop(scene: &Scene) -> Result<Framebuffer, ConfigError> {
     let plan = plan(scene)?;
-    let p = plan.prepared.as_ref().ok_or_else(no_shafts)?;
-    let mut f = ShaftsFrame::new(p, None)?;
-    for pass in &plan.passes {
+    let mut state = FrameState::new(scene, &plan, Gpu::for_scene(scene))?;
+    for pass in plan.passes.iter().filter(|p| p.step != Step::Glare) {
+        state.run(pass)?;
+    }
+    state.finish_shafts();
+    state.shafts_done.map(|r| r.fb).ok_or_else(no_shafts)
+}
+
+/// The frame's state between passes.
+struct FrameState<'a> {
+    scene: &'a Scene,
+    plan: &'a Plan,
+    gpu: Gpu,
+    model: GpuModel,
+    /// The shafts passes' state while they run, and their result after.
+    shafts: Option<ShaftsFrame<'a>>,
+    shafts_done: Option<FrameResult>,
+    shaded: Option<ShadedObjects>,
+    linked: Option<Linked>,
+    glare: Option<(GlareFrame, GlarePrediction)>,
+    times: Vec<PassTime>,
+}
+
+impl<'a> FrameState<'a> {
+    fn new(scene: &'a Scene, plan: &'a Plan, gpu: Gpu) -> Result<Self, ConfigError> {
+        Ok(FrameState {
+            scene,
+            plan,
+            gpu,
+            model: gpu.model(),
+            shafts: match &plan.prepared {
+                Some(p) => Some(ShaftsFrame::new(p, None)?),
+                None => None,
+            },
+            shafts_done: None,
+            shaded: None,
+            linked: None,
+            glare: None,
+            times: Vec::new(),
+        })
+    }
+
+    /// Run one pass and time it.
+    fn run(&mut self, pass: &Pass) -> Result<(), ConfigError> {
+        let t = Instant::now();
         match pass.step {
-            Step::Shafts(sp) => f.run(sp)?,
-            Step::ShadedObjects => {
-                let refl = super::reflection::reflections(scene)?;
-                shaded_objects_pass(scene, p, f.framebuffer_mut(), None, &refl)?;
-            }
-            _ => {}
+            Step::TestScene | Step::EnvironmentScene => Err(ConfigError::invalid(
+                "scene",
+                "the foundation test scene and the thesis' environment scenes render through `render` alone (their own frame)",
+            )),
+            Step::Shafts(sp) => self.shafts_pass(sp, &pass.name, t),
+            Step::ShadedObjects => self.object_pass(&pass.name, t),
+            Step::ShadedHighlights => self.shaded_highlights(&pass.name, t),
+            Step::Glare => self.glare_pass(&pass.name, t),
         }
     }
-    Ok(f.finish().fb)
+
+    /// GPU passes' statistics timed on the frame's GPU.
+    fn gpu_time(&mut self, name: &str, stats: &[PassStats], t: Instant) {
+        self.times.push(PassTime {
+            pass: name.to_string(),
+            on: self.gpu.name().to_string(),
+            seconds: stats.iter().map(|s| pass_seconds(&self.model, s).0).sum(),
+            wall_seconds: t.elapsed().as_secs_f64(),
+        });
+    }
+
+    fn shafts_pass(&mut self, sp: ShaftsPass, name: &str, t: Instant) -> Result<(), ConfigError> {
+        let f = self.shafts.as_mut().ok_or_else(no_shafts)?;
+        let before = f.pass_stats().len();
+        f.run(sp)?;
+        let stats = f.pass_stats()[before..].to_vec();
+        self.gpu_time(name, &stats, t);
+        Ok(())
+    }
+
+    /// The shading units and environment reflections into the shafts framebuffer.
+    fn object_pass(&mut self, name: &str, t: Instant) -> Result<(), ConfigError> {
+        let p = self.plan.prepared.as_ref().ok_or_else(no_shafts)?;
+        let f = self.shafts.as_mut().ok_or_else(no_shafts)?;
+        let hl = self
+            .scene
+            .glare
+            .as_ref()
+            .and_then(|g| g.shaded_highlights)
+            .map(|h| (h.light, h.intensity, h.radius));
+        let refl = super::reflection::reflections(self.scene)?;
+        let s = shaded_objects_pass(self.scene, p, f.framebuffer_mut(), hl, &refl)?;
+        self.gpu_time(name, &s.stats, t);
+        self.shaded = Some(s);
+        Ok(())
+    }
+
+    /// A glare scene's objects through the shading units over its own background.
+    fn shaded_highlights(&mut self, name: &str, t: Instant) -> Result<(), ConfigError> {
+        self.linked = glare_link::prepare(self.scene)?;
+        if let Some(l) = &self.linked {
+            let light = self
+                .scene
+                .glare
+                .as_ref()
+                .and_then(|g| g.shaded_highlights)
+                .map_or(0, |h| h.light);
+            let stats = [shading_stats(light, l.shading.fragments)];
+            self.gpu_time(name, &stats, t);
+        }
+        Ok(())
+    }
+
+    /// The glare over the finished picture, with the highlights the shading found.
+    fn glare_pass(&mut self, name: &str, t: Instant) -> Result<(), ConfigError> {
+        self.finish_shafts();
+        let mut gs = match &self.linked {
+            Some(l) => l.scene.clone(),
+            None => self.scene.clone(),
+        };
+        if let (Some(s), Some(g)) = (&self.shaded, gs.glare.as_mut()) {
+            g.highlights
+                .extend(s.highlights.iter().map(|h| h.highlight));
+        }
+        let hw = gs.glare.as_ref().map(|g| g.hw).unwrap_or_default();
+        let base: Option<Vec<[u32; 3]>> = match (&self.shafts_done, &self.linked) {
+            (Some(r), _) => Some(from_framebuffer(&r.fb, hw.fb_bits)),
+            (None, Some(l)) => Some(l.base.clone()),
+            (None, None) => None,
+        };
+        let (g, pred, _) = render_and_predict_over(&gs, base.as_deref())?;
+        self.times.push(PassTime {
+            pass: name.to_string(),
+            on: format!("glare ASIC ({} MHz × {} pipes)", pred.clock_mhz, pred.pipes),
+            seconds: pred.seconds,
+            wall_seconds: t.elapsed().as_secs_f64(),
+        });
+        self.glare = Some((g, pred));
+        Ok(())
+    }
+
+    /// Close the shafts passes' state into their result (once).
+    fn finish_shafts(&mut self) {
+        if let Some(f) = self.shafts.take() {
+            self.shafts_done = Some(f.finish());
+        }
+    }
+}
+
+fn no_shafts() -> ConfigError {
+    ConfigError::invalid("scene", "a shafts pass was planned without its set-up")
 }
