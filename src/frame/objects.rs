@@ -80,6 +80,7 @@ pub fn shaded_objects_pass(
     let mut counters: BTreeMap<String, Counters> = BTreeMap::new();
     let mut sum: Vec<Option<[u32; 3]>> = vec![None; n];
     let mut objects: Vec<Option<usize>> = vec![None; n];
+    let mut eye_t: Vec<Option<f64>> = vec![None; n];
     let mut highlights = Vec::new();
     let mut elaboration = Vec::new();
     let mut stats = Vec::new();
@@ -109,15 +110,18 @@ pub fn shaded_objects_pass(
             objects[i] = sh.objects[i];
             let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
             let dir = cam.ray_dir(x, y);
-            let t = geometry
-                .first_hit(
-                    &Ray {
-                        origin: cam.eye,
-                        dir,
-                    },
-                    cam.far,
-                )
-                .map_or(0.0, |(_, hit)| hit.t);
+            // The eye distance, ray-cast once per pixel whatever the number of lights.
+            let t = *eye_t[i].get_or_insert_with(|| {
+                geometry
+                    .first_hit(
+                        &Ray {
+                            origin: cam.eye,
+                            dir,
+                        },
+                        cam.far,
+                    )
+                    .map_or(0.0, |(_, hit)| hit.t)
+            });
             let point = cam.eye + dir * t;
             let (k, grey) = irradiance_code(scene, p, light, &map, lpos, point, t);
             if finds_highlights && sh.speculars[i] > 0 {

@@ -109,9 +109,6 @@ pub fn plan(scene: &Scene) -> Result<Plan, ConfigError> {
                 passes.push(shaded_objects());
             }
         }
-        if !passes.iter().any(|p| p.step == Step::ShadedObjects) && has_shaded_objects(scene) {
-            passes.insert(0, shaded_objects());
-        }
         prepared = Some(p);
     } else if scene
         .glare

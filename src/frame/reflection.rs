@@ -12,6 +12,7 @@ use crate::pipeline::time_model::{PassKind, PassStats};
 use crate::report::elaboration::Elaborated;
 use crate::scene::camera::CameraView;
 use crate::scene::format::Scene;
+use crate::scene::geometry::{Ray, SceneGeometry};
 use crate::scene::teapot::shape_triangles;
 use rtl_model::driver::run_span;
 use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
@@ -59,6 +60,7 @@ pub fn reflections_with(scene: &Scene, truth: bool) -> Result<Vec<Reflection>, C
             (img, info, counters, None)
         };
         let mut reference = truth_img.as_ref().map(|_| vec![None; (w * h) as usize]);
+        let reflector = alone(&scene.objects[r.object]).map_err(|e| e.within(&field))?;
         // Reflectance × exp(−ρκT) per pixel (T: the eye distance along the pixel's ray
         // to the reflector, host f64 as a vertex colour would be), one 8-bit code.
         let mut at = Vec::new();
@@ -68,7 +70,7 @@ pub fn reflections_with(scene: &Scene, truth: bool) -> Result<Vec<Reflection>, C
                 continue;
             }
             let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
-            let t = hit_distance(&scene.objects[r.object].shape, &cam, x, y);
+            let t = hit_distance(&reflector, &cam, x, y);
             let k = r.reflectance * (-m.rho * m.kappa * t).exp();
             let code = (k.clamp(0.0, 1.0) * 255.0).round() as u32;
             if let (Some(refs), Some(ti)) = (reference.as_mut(), truth_img.as_ref()) {
@@ -135,19 +137,14 @@ fn elaborated(e: &crate::pipeline::envmap::slice::Elaboration, i: usize) -> Vec<
         .collect()
 }
 
-/// Distance from the eye to the shape along the pixel's ray (0 if missed).
-fn hit_distance(shape: &crate::scene::format::Shape, cam: &CameraView, x: f64, y: f64) -> f64 {
-    let obj = crate::scene::format::Object {
-        shape: shape.clone(),
-        color: [0.0; 3],
-        occluder: false,
-        material: None,
-    };
-    let Ok(g) = crate::scene::geometry::SceneGeometry::without_meshes(std::slice::from_ref(&obj))
-    else {
-        return 0.0;
-    };
-    let ray = crate::scene::geometry::Ray {
+/// The reflector alone as ray-cast geometry (for its eye distances).
+fn alone(object: &crate::scene::format::Object) -> Result<SceneGeometry, ConfigError> {
+    SceneGeometry::without_meshes(std::slice::from_ref(object))
+}
+
+/// Distance from the eye to the geometry along the pixel's ray (0 if missed).
+fn hit_distance(g: &SceneGeometry, cam: &CameraView, x: f64, y: f64) -> f64 {
+    let ray = Ray {
         origin: cam.eye,
         dir: cam.ray_dir(x, y),
     };

@@ -94,16 +94,9 @@ pub fn frame_error(
 ) -> Result<FrameError, String> {
     let (w, h) = (scene.image.width, scene.image.height);
     let n = (w * h) as usize;
-    let to_levels = |fb: &crate::report::image_out::Framebuffer| -> Vec<[f64; 3]> {
-        let max = rtl_model::unorm::max_code(fb.bits) as f64;
-        fb.data
-            .chunks(4)
-            .map(|p| [0, 1, 2].map(|c| p[c] as f64 * 255.0 / max))
-            .collect()
-    };
     let all = vec![true; n];
     let mut passes = Vec::new();
-    let mut ref_backdrop: Vec<[f64; 3]> = to_levels(&f.fb);
+    let mut ref_backdrop: Vec<[f64; 3]> = f.fb.levels();
     if let Some(sh) = &f.shafts {
         // The ray march with the object pass's objects black: their pixels then hold
         // the in-scatter and attenuation alone, to which the object pass's reference
@@ -210,7 +203,7 @@ pub fn frame_error(
     let total = stats(
         "frame",
         "composed f64 reference",
-        &to_levels(&f.fb),
+        &f.fb.levels(),
         &ref_total,
         &all,
     );

@@ -39,6 +39,15 @@ impl Framebuffer {
     }
 
     /// 8-bit RGBA bytes (wider channels rounded to nearest; alpha forced opaque).
+    /// The image in 8-bit levels (f64, for error metrics): each RGB code × 255 / full scale.
+    pub fn levels(&self) -> Vec<[f64; 3]> {
+        let max = rtl_model::unorm::max_code(self.bits) as f64;
+        self.data
+            .chunks(4)
+            .map(|p| [0, 1, 2].map(|c| p[c] as f64 * 255.0 / max))
+            .collect()
+    }
+
     pub fn to_rgba8(&self) -> Vec<u8> {
         let max = (1u64 << self.bits) - 1;
         self.data

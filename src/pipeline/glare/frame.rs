@@ -71,12 +71,7 @@ pub struct GlareFrame {
 impl GlareFrame {
     /// The image in 8-bit levels.
     pub fn levels(&self) -> Vec<[f64; 3]> {
-        let max = rtl_model::unorm::max_code(self.fb.bits) as f64;
-        self.fb
-            .data
-            .chunks(4)
-            .map(|p| [0, 1, 2].map(|c| p[c] as f64 * 255.0 / max))
-            .collect()
+        self.fb.levels()
     }
 }
 

@@ -153,12 +153,7 @@ impl Prepared {
 impl FrameResult {
     /// The image in 8-bit levels (f64, for error metrics).
     pub fn levels(&self) -> Vec<[f64; 3]> {
-        let max = max_code(self.fb.bits) as f64;
-        self.fb
-            .data
-            .chunks(4)
-            .map(|p| [0, 1, 2].map(|c| p[c] as f64 * 255.0 / max))
-            .collect()
+        self.fb.levels()
     }
 }
 
