@@ -71,6 +71,23 @@ pub trait Unit {
     /// overflows and underflows into `ctr`; the drivers count cycles and pixels.
     fn kernel(&self, state: &mut Self::State, input: &Self::In, ctr: &mut Counters) -> Self::Out;
 
+    /// The batch kernel: `kernel` over a chunk of inputs, outputs appended to `out` in
+    /// order. It must leave the same outputs, state and counters as calling `kernel` on
+    /// each input in turn (the span driver is its reference; `tests/common` checks all
+    /// three drivers for every unit). A unit overrides it with a faster form of the
+    /// same arithmetic (a form picked from the config at construction, a loop the
+    /// compiler vectorises, counters summed per chunk); the default is the per-word
+    /// kernel.
+    fn kernel_batch(
+        &self,
+        state: &mut Self::State,
+        inputs: &[Self::In],
+        out: &mut Vec<Self::Out>,
+        ctr: &mut Counters,
+    ) {
+        out.extend(inputs.iter().map(|x| self.kernel(state, x, ctr)));
+    }
+
     fn timing(&self) -> Timing;
 
     fn cost(&self) -> Cost;

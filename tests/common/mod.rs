@@ -3,7 +3,7 @@
 
 pub mod shafts;
 
-use rtl_model::driver::{run_span, run_tick};
+use rtl_model::driver::{run_batch, run_span, run_tick};
 use rtl_model::trace::VcdTrace;
 use rtl_model::{Counters, Unit};
 
@@ -16,13 +16,20 @@ pub fn cases() -> u32 {
         .max(1000)
 }
 
-/// Run `inputs` through the span driver, the tick driver and the traced tick driver
-/// from the same start state; assert identical outputs, final states and counters,
-/// and that the cycle count matches the unit's timing. Returns the outputs.
+/// Chunk sizes the batch path is checked at: one word, odd sizes that split runs and
+/// tables at awkward places, and the whole span in one chunk.
+pub const BATCH_CHUNKS: [usize; 4] = [1, 3, 7, usize::MAX];
+
+/// Run `inputs` through the span driver, the batch path (at every chunk size of
+/// [`BATCH_CHUNKS`]), the tick driver and the traced tick driver from the same start
+/// state; assert identical outputs, final states and counters, and that the cycle
+/// count matches the unit's timing. Returns the outputs.
 pub fn assert_drivers_agree<U: Unit>(unit: &U, state: U::State, inputs: &[U::In]) -> Vec<U::Out> {
     let mut s_span = state.clone();
     let mut c_span = Counters::default();
     let out_span = run_span(unit, &mut s_span, inputs, &mut c_span);
+
+    assert_batch_agrees(unit, &state, inputs, &out_span, &s_span, &c_span);
 
     let mut s_tick = state.clone();
     let mut c_tick = Counters::default();
@@ -61,6 +68,26 @@ pub fn assert_drivers_agree<U: Unit>(unit: &U, state: U::State, inputs: &[U::In]
         assert!(text.contains("$enddefinitions"), "VCD header missing");
     }
     out_span
+}
+
+/// The batch path ([`run_batch`]) at every chunk size of [`BATCH_CHUNKS`] from `state`
+/// gives `out`, `end` and `ctr` (what the span driver gave).
+pub fn assert_batch_agrees<U: Unit>(
+    unit: &U,
+    state: &U::State,
+    inputs: &[U::In],
+    out: &[U::Out],
+    end: &U::State,
+    ctr: &Counters,
+) {
+    for chunk in BATCH_CHUNKS {
+        let mut s = state.clone();
+        let mut c = Counters::default();
+        let o = run_batch(unit, &mut s, inputs, chunk, &mut c);
+        assert_eq!(o, out, "{}: batch outputs differ (chunk {chunk})", unit.name());
+        assert_eq!(&s, end, "{}: batch final state differs (chunk {chunk})", unit.name());
+        assert_eq!(&c, ctr, "{}: batch counters differ (chunk {chunk})", unit.name());
+    }
 }
 
 /// A scratch directory under the system temp dir, named for this test process and
