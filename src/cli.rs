@@ -284,6 +284,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "shading-factorization",
     "shading-vertex-float",
     "frame-elaboration",
+    "sim-speed",
 ];
 
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
@@ -392,6 +393,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
             let rows = crate::pipeline::shading::brdfs::shading_brdfs(out)?;
             print!("{}", crate::pipeline::shading::brdfs::table(&rows));
         }
+        "sim-speed" => crate::frame::speed::sim_speed(out)?,
         "frame-elaboration" => {
             let rows = crate::frame::reproduce::frame_elaboration(out, None)?;
             print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
