@@ -377,35 +377,35 @@ fn read_shard(path: &Path) -> Result<ShardFile, String> {
     })
 }
 
-/// The first field in which `b` differs from `a`, as "param is 'mesh', not 'planes'".
+/// The first field in which `b` differs from `a`, as `param "mesh", not "planes"`.
 fn difference(a: &Header, b: &Header) -> Option<String> {
     let (x, y) = (&a.sweep, &b.sweep);
     let field = |name: &str, want: &dyn fmt::Debug, got: &dyn fmt::Debug| {
-        Some(format!("{name} is {got:?}, not {want:?}"))
+        Some(format!("{name} {got:?}, not {want:?}"))
     };
     if x.kind != y.kind {
-        return field("the kind of sweep", &x.kind, &y.kind);
+        return field("kind", &x.kind, &y.kind);
     }
     if x.scene != y.scene {
-        return field("the scene", &x.scene, &y.scene);
+        return field("scene", &x.scene, &y.scene);
     }
     if x.param != y.param {
         return field("param", &x.param, &y.param);
     }
     if x.values != y.values {
-        return field("the values", &x.values.join(","), &y.values.join(","));
+        return field("values", &x.values.join(","), &y.values.join(","));
     }
     if a.n != b.n {
-        return Some(format!("it is cut into N = {} shards, not {}", b.n, a.n));
+        return Some(format!("cut into N = {} shards, not {}", b.n, a.n));
     }
     if x.settings != y.settings {
-        return field("the settings", &x.settings, &y.settings);
+        return field("settings", &x.settings, &y.settings);
     }
     if a.version != b.version {
-        return field("the glare-pipeline version", &a.version, &b.version);
+        return field("glare-pipeline version", &a.version, &b.version);
     }
     if x.title != y.title {
-        return field("the plot title", &x.title, &y.title);
+        return field("plot title", &x.title, &y.title);
     }
     None
 }
