@@ -4,7 +4,7 @@ use crate::registry;
 use crate::report::alternates::modulate_alternates;
 use crate::report::shard::Shard;
 use crate::report::table::text_table;
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Parser, Debug)]
@@ -104,38 +104,8 @@ pub enum Command {
     Sweep {
         #[command(subcommand)]
         merge: Option<SweepCommand>,
-        /// A built-in scene (fig4, fig6, stage), a TOML scene file, or a shading scene
-        /// (shading-<model> of the shading-brdfs catalogue, shading-specular,
-        /// shading-vertex).
-        #[arg(long, required = true)]
-        scene: Option<String>,
-        /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
-        /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
-        /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
-        /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
-        /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
-        /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,
-        /// cube_bits, vertex_mantissa, vertex_exponent (docs/shading.md).
-        #[arg(long, required = true)]
-        param: Option<String>,
-        /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
-        /// inclusive ranges start..end:step for numeric params (10..200:10).
-        #[arg(long, required = true)]
-        values: Option<String>,
-        /// Output directory.
-        #[arg(long, default_value = "out/sweep")]
-        out: PathBuf,
-        /// Samples per ray of the ray-marched reference (computed once per sweep).
-        #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES)]
-        truth_samples: u32,
-        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
-        #[arg(long)]
-        image: Option<String>,
-        /// Run only shard K of N (1 <= K <= N): the values whose index i (from 0) has
-        /// i mod N = K - 1, written to DIR/sweep_<param>.shard-K-of-N.csv for
-        /// `sweep merge`.
-        #[arg(long, value_name = "K/N", value_parser = Shard::parse)]
-        shard: Option<Shard>,
+        #[command(flatten)]
+        args: SweepArgs,
     },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
@@ -157,6 +127,43 @@ pub enum Command {
         #[arg(long, default_value = "out/trace.vcd")]
         out: PathBuf,
     },
+}
+
+/// `sweep`'s options (without `merge`).
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// A built-in scene (fig4, fig6, stage), a TOML scene file, or a shading scene
+    /// (shading-<model> of the shading-brdfs catalogue, shading-specular,
+    /// shading-vertex).
+    #[arg(long, required = true)]
+    pub scene: Option<String>,
+    /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
+    /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
+    /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
+    /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
+    /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
+    /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,
+    /// cube_bits, vertex_mantissa, vertex_exponent (docs/shading.md).
+    #[arg(long, required = true)]
+    pub param: Option<String>,
+    /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
+    /// inclusive ranges start..end:step for numeric params (10..200:10).
+    #[arg(long, required = true)]
+    pub values: Option<String>,
+    /// Output directory.
+    #[arg(long, default_value = "out/sweep")]
+    pub out: PathBuf,
+    /// Samples per ray of the ray-marched reference (computed once per sweep).
+    #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES)]
+    pub truth_samples: u32,
+    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
+    #[arg(long)]
+    pub image: Option<String>,
+    /// Run only shard K of N (1 <= K <= N): the values whose index i (from 0) has
+    /// i mod N = K - 1, written to DIR/sweep_<param>.shard-K-of-N.csv for
+    /// `sweep merge`.
+    #[arg(long, value_name = "K/N", value_parser = Shard::parse)]
+    pub shard: Option<Shard>,
 }
 
 /// `sweep`'s subcommands.
@@ -223,37 +230,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             merge: Some(SweepCommand::Merge { out, dirs }),
             ..
         } => sweep_merge(&out, &dirs),
-        Command::Sweep {
-            merge: None,
-            scene,
-            param,
-            values,
-            out,
-            truth_samples,
-            image,
-            shard,
-        } => {
-            // clap requires the three without `merge`; an error, not a panic, if not.
-            let need = |v: Option<String>, what: &str| {
-                v.ok_or_else(|| {
-                    format!("{what}: missing (sweep needs --scene, --param and --values)")
-                })
-            };
-            let (scene, param, values) = (
-                need(scene, "scene")?,
-                need(param, "param")?,
-                need(values, "values")?,
-            );
-            sweep(
-                &scene,
-                &param,
-                &values,
-                &out,
-                truth_samples,
-                image.as_deref(),
-                shard,
-            )
-        }
+        Command::Sweep { merge: None, args } => sweep(args),
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
@@ -447,15 +424,22 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
 /// The scene if it has a `[glare]` section (built-in name or file), else None.
 /// `sweep`'s three kinds: a shading scene, a scene with a `[glare]` section, a
 /// shafts scene.
-fn sweep(
-    scene: &str,
-    param: &str,
-    values: &str,
-    out: &std::path::Path,
-    truth_samples: u32,
-    image: Option<&str>,
-    shard: Option<Shard>,
-) -> Result<(), String> {
+fn sweep(args: SweepArgs) -> Result<(), String> {
+    // clap requires the three without `merge`; an error, not a panic, if not.
+    let need = |v: Option<String>, what: &str| {
+        v.ok_or_else(|| format!("{what}: missing (sweep needs --scene, --param and --values)"))
+    };
+    let (scene, param, values) = (
+        &need(args.scene, "scene")?,
+        &need(args.param, "param")?,
+        &need(args.values, "values")?,
+    );
+    let (out, truth_samples, image, shard) = (
+        args.out.as_path(),
+        args.truth_samples,
+        args.image.as_deref(),
+        args.shard,
+    );
     if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)

@@ -58,6 +58,16 @@ fn sweep(args: &[&str], out: &Path, extra: &[&str]) -> Command {
     c
 }
 
+/// `sweep merge --out OUT INPUTS…`.
+fn merge(out: &Path, inputs: &[&Path]) -> Output {
+    bin()
+        .args(["sweep", "merge", "--out"])
+        .arg(out)
+        .args(inputs)
+        .output()
+        .unwrap()
+}
+
 fn ok(o: Output, what: &str) -> Output {
     assert!(
         o.status.success(),
@@ -127,15 +137,7 @@ fn sharded_matches_unsharded(name: &str, args: &[&str], param: &str) {
     // Nothing but the shard files: a shard writes no CSV or plot of the sweep.
     assert!(!shards.join(format!("sweep_{param}.csv")).exists());
     let merged = tmp(&format!("{name}-merged"));
-    let o = ok(
-        bin()
-            .args(["sweep", "merge", "--out"])
-            .arg(&*merged)
-            .arg(&*shards)
-            .output()
-            .unwrap(),
-        "merge",
-    );
+    let o = ok(merge(&merged, &[&shards]), "merge");
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("merged 3 shards"), "{stdout}");
 
@@ -219,12 +221,7 @@ fn merge_refuses_a_missing_shard_naming_it_and_writes_nothing() {
     }
     let out = tmp("missing-out");
     refused(
-        bin()
-            .args(["sweep", "merge", "--out"])
-            .arg(&*out)
-            .arg(&*shards)
-            .output()
-            .unwrap(),
+        merge(&out, &[&shards]),
         &["missing shard", "sweep_shape_log2.shard-2-of-3.csv"],
     );
     assert!(!out.exists());
@@ -246,11 +243,7 @@ fn merge_refuses_shards_of_two_sweeps_a_duplicate_and_a_malformed_file() {
         "shard 2/2",
     );
     let out = tmp("mix-out");
-    let merge = |inputs: &[&Path]| {
-        let mut c = bin();
-        c.args(["sweep", "merge", "--out"]).arg(&*out).args(inputs);
-        c.output().unwrap()
-    };
+    let merge = |inputs: &[&Path]| merge(&out, inputs);
     let b2 = b.join("sweep_shape_log2.shard-2-of-2.csv");
     let err = refused(
         merge(&[&a, &b]),
@@ -345,15 +338,7 @@ fn more_shards_than_values_leave_some_empty_and_still_merge() {
         );
     }
     let out = tmp("sparse-out");
-    ok(
-        bin()
-            .args(["sweep", "merge", "--out"])
-            .arg(&*out)
-            .arg(&*shards)
-            .output()
-            .unwrap(),
-        "merge",
-    );
+    ok(merge(&out, &[&shards]), "merge");
     let rows = without_wall(&out.join("sweep_shape_log2.csv"));
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[1][..2], ["shape_log2", "5"]);

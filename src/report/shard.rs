@@ -205,13 +205,14 @@ pub fn write_atomically(
 }
 
 /// Write shard `shard`'s rows, `(value index, row)` in index order, to
-/// `out/sweep_<param>.shard-K-of-N.csv` (atomically); returns the path.
-pub fn write_shard<R: Serialize>(
+/// `out/sweep_<param>.shard-K-of-N.csv` (atomically), and say what was written: the
+/// line a shard run prints before its table.
+pub fn finish_shard<R: Serialize>(
     out: &Path,
     id: &SweepId,
     shard: Shard,
     rows: &[(usize, R)],
-) -> Result<PathBuf, String> {
+) -> Result<String, String> {
     let path = out.join(shard.file_name(&id.param));
     let at = |e: &dyn fmt::Display| format!("{}: {e}", path.display());
     // The rows exactly as `write_csv` writes them, read back as text records so that
@@ -248,18 +249,6 @@ pub fn write_shard<R: Serialize>(
     write_atomically(&path, |tmp| {
         std::fs::write(tmp, &text).map_err(|e| format!("{}: {e}", path.display()))
     })?;
-    Ok(path)
-}
-
-/// Write shard `shard`'s rows (as [`write_shard`]) and say what was written: the line
-/// a shard run prints before its table.
-pub fn finish_shard<R: Serialize>(
-    out: &Path,
-    id: &SweepId,
-    shard: Shard,
-    rows: &[(usize, R)],
-) -> Result<String, String> {
-    let path = write_shard(out, id, shard, rows)?;
     let idx: Vec<String> = rows.iter().map(|(i, _)| i.to_string()).collect();
     let share = if idx.is_empty() {
         format!("no values: K > the {} values", id.values.len())
@@ -380,34 +369,21 @@ fn read_shard(path: &Path) -> Result<ShardFile, String> {
 /// The first field in which `b` differs from `a`, as `param "mesh", not "planes"`.
 fn difference(a: &Header, b: &Header) -> Option<String> {
     let (x, y) = (&a.sweep, &b.sweep);
-    let field = |name: &str, want: &dyn fmt::Debug, got: &dyn fmt::Debug| {
-        Some(format!("{name} {got:?}, not {want:?}"))
-    };
-    if x.kind != y.kind {
-        return field("kind", &x.kind, &y.kind);
-    }
-    if x.scene != y.scene {
-        return field("scene", &x.scene, &y.scene);
-    }
-    if x.param != y.param {
-        return field("param", &x.param, &y.param);
-    }
-    if x.values != y.values {
-        return field("values", &x.values.join(","), &y.values.join(","));
-    }
-    if a.n != b.n {
-        return Some(format!("cut into N = {} shards, not {}", b.n, a.n));
-    }
-    if x.settings != y.settings {
-        return field("settings", &x.settings, &y.settings);
-    }
-    if a.version != b.version {
-        return field("glare-pipeline version", &a.version, &b.version);
-    }
-    if x.title != y.title {
-        return field("plot title", &x.title, &y.title);
-    }
-    None
+    let q = |v: &dyn fmt::Debug| format!("{v:?}");
+    // In the order a reader would look for the cause.
+    [
+        ("kind", q(&x.kind), q(&y.kind)),
+        ("scene", q(&x.scene), q(&y.scene)),
+        ("param", q(&x.param), q(&y.param)),
+        ("values", q(&x.values.join(",")), q(&y.values.join(","))),
+        ("N =", a.n.to_string(), b.n.to_string()),
+        ("settings", q(&x.settings), q(&y.settings)),
+        ("glare-pipeline version", q(&a.version), q(&b.version)),
+        ("plot title", q(&x.title), q(&y.title)),
+    ]
+    .into_iter()
+    .find(|(_, want, got)| want != got)
+    .map(|(name, want, got)| format!("{name} {got}, not {want}"))
 }
 
 /// Every shard of one sweep, checked: the rows in value order.
