@@ -170,7 +170,7 @@ pub fn pick<T>(items: &[T], only: Option<Shard>) -> Vec<(usize, &T)> {
     items
         .iter()
         .enumerate()
-        .filter(|(i, _)| only.map_or(true, |s| s.owns(*i)))
+        .filter(|(i, _)| only.is_none_or(|s| s.owns(*i)))
         .collect()
 }
 
