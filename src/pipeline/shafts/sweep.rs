@@ -609,9 +609,11 @@ pub fn sweep_cli(
 /// `sweep merge` of a shafts sweep: the shards' rows written as [`sweep`] writes
 /// them (CSV, plot, table on stdout).
 pub fn merge_cli(set: &ShardSet, out: &Path) -> Result<(), String> {
-    let param = Param::from_name(&set.id.param)?;
-    let values = parse_values(param, &set.id.values.join(","))
-        .map_err(|e| format!("{}: {e}", set.files[0].display()))?;
+    // The header was written by a shafts sweep; if it still does not read as one
+    // (edited by hand, another version), the error names the file.
+    let in_file = |e: String| format!("{}: {e}", set.files[0].display());
+    let param = Param::from_name(&set.id.param).map_err(in_file)?;
+    let values = parse_values(param, &set.id.values.join(",")).map_err(in_file)?;
     let rows: Vec<SweepRow> = set.rows()?;
     let csv = out.join(format!("sweep_{}.csv", param.name()));
     let png = out.join(format!("sweep_{}.png", param.name()));
