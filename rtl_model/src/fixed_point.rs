@@ -492,23 +492,20 @@ pub fn round_shift(raw: i128, shift: i32, q: Quant) -> i128 {
 pub fn round_shift_right_i64(raw: i64, shift: u32, q: Quant) -> i64 {
     debug_assert!((1..=63).contains(&shift));
     let floor = raw >> shift; // arithmetic shift = floor division by 2^shift
-    let rem = raw.wrapping_sub(floor.wrapping_shl(shift)); // 0 ≤ rem < 2^shift
-    if rem == 0 {
-        return floor;
-    }
+    let rem = raw & (u64::MAX >> (64 - shift)) as i64; // 0 ≤ rem < 2^shift
     let half = 1i64 << (shift - 1);
     let neg = raw < 0;
-    match q {
-        Quant::Trn => floor,
-        Quant::TrnZero => floor + i64::from(neg),
-        _ if rem > half => floor + 1,
-        _ if rem < half => floor,
-        Quant::Rnd => floor + 1,
-        Quant::RndZero => floor + i64::from(neg),
-        Quant::RndInf => floor + i64::from(!neg),
-        Quant::RndMinInf => floor,
-        Quant::RndConv => floor + (floor & 1),
-    }
+    // Branch-free, so loops over it vectorise: the increment of each mode.
+    let up = match q {
+        Quant::Trn => false,
+        Quant::TrnZero => neg && rem != 0,
+        Quant::Rnd => rem >= half,
+        Quant::RndZero => rem > half || (rem == half && neg),
+        Quant::RndInf => rem > half || (rem == half && !neg),
+        Quant::RndMinInf => rem > half,
+        Quant::RndConv => rem > half || (rem == half && floor & 1 == 1),
+    };
+    floor + i64::from(up)
 }
 
 /// Divide `num` by `den` (> 0; a non-positive `den` reads as 1) rounding by `q`: the

@@ -283,6 +283,9 @@ impl AdditiveBlend {
     }
 }
 
+/// Widest source whose contributions the batch kernel tabulates (2^10 entries).
+pub const CONTRIBUTION_LUT_BITS: u32 = 10;
+
 impl Unit for AdditiveBlend {
     type In = AdditiveBlendIn;
     type Out = AdditiveBlendOut;
@@ -306,7 +309,10 @@ impl Unit for AdditiveBlend {
     }
 
     /// The kernel with the config's masks and the framebuffer traffic hoisted out
-    /// of the loop (counted once per chunk).
+    /// of the loop (counted once per chunk). For sources of at most
+    /// [`CONTRIBUTION_LUT_BITS`] bits the contribution (align, weight, constant
+    /// divide) is looked up in a table of every source code at the current weight,
+    /// built when the weight changes (a J-buffer span has one weight).
     fn kernel_batch(
         &self,
         _: &mut (),
@@ -317,11 +323,26 @@ impl Unit for AdditiveBlend {
         let ch = self.channels as usize;
         let (max, src_mask, w_mask) = (self.fb_max(), max_code(self.src_bits), self.weight_max());
         let (mut sat, mut under) = (0u64, 0u64);
+        let use_lut = self.src_bits <= CONTRIBUTION_LUT_BITS;
+        let mut lut = [0u32; 1 << CONTRIBUTION_LUT_BITS];
+        let mut lut_weight: Option<u32> = None;
         out.extend(inputs.iter().map(|x| {
-            let weight_on = !self.weighted || (x.weight & w_mask) != 0;
+            // The weight as the datapath sees it (ignored when unweighted).
+            let w = if self.weighted { x.weight & w_mask } else { 0 };
+            if use_lut && lut_weight != Some(w) {
+                for (src, q) in lut.iter_mut().enumerate().take(1 << self.src_bits) {
+                    *q = self.contribution(src as u32, w);
+                }
+                lut_weight = Some(w);
+            }
+            let weight_on = !self.weighted || w != 0;
             let mut o = [0u32; 4];
             for c in 0..ch {
-                let q = self.contribution(x.src[c], x.weight); // u(f)
+                let q = if use_lut {
+                    lut[(x.src[c] & src_mask) as usize]
+                } else {
+                    self.contribution(x.src[c], x.weight)
+                }; // u(f)
                 let sum = (x.dst[c] & max) + q; // u(f+1)
                 o[c] = sum.min(max);
                 sat += u64::from(sum > max);

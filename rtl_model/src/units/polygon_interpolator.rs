@@ -300,6 +300,76 @@ impl PolySetup {
     }
 }
 
+/// One attribute along a closed-form run: A = a0 + j·g at step j = 1 ..= run,
+/// rounded into the output format [lo, hi]; events count on the covered steps.
+/// `wrap`: the accumulator's [min, max] when the run leaves it (WRAP mode): then it
+/// is stepped modularly, as the kernel steps it.
+struct AttrLine {
+    a: usize,
+    a0: i64,
+    g: i64,
+    lo: i64,
+    hi: i64,
+    inside: std::ops::Range<usize>,
+    wrap: Option<(i64, i64)>,
+}
+
+impl AttrLine {
+    /// Write attribute `a` of every output of the run; (saturations, underflows, and
+    /// for a wrapping run its last value and wraps).
+    #[inline(always)]
+    fn fill(
+        &self,
+        outs: &mut [PolyOut],
+        round: impl Fn(i64) -> i64,
+    ) -> (u64, u64, Option<(i64, u64)>) {
+        let one = |v: i64| {
+            let r = round(v);
+            let c = r.clamp(self.lo, self.hi);
+            (c, u64::from(c != r), u64::from(r == 0 && v != 0))
+        };
+        let (mut sat, mut under) = (0u64, 0u64);
+        if let Some((min, max)) = self.wrap {
+            // s(acc) + s(acc) → s(acc + 1), back into s(acc) modulo 2^acc (|g| ≤ 2^(acc−1),
+            // so one step wraps at most once).
+            let span = max - min + 1;
+            let (mut v, mut wraps) = (self.a0, 0u64);
+            for (j, o) in outs.iter_mut().enumerate() {
+                v += self.g;
+                if v > max {
+                    v -= span;
+                    wraps += 1;
+                } else if v < min {
+                    v += span;
+                    wraps += 1;
+                }
+                let (c, s, u) = one(v);
+                o.attrs[self.a] = c;
+                let counted = u64::from(self.inside.contains(&j));
+                sat += s * counted;
+                under += u * counted;
+            }
+            return (sat, under, Some((v, wraps)));
+        }
+        if self.g == 0 {
+            // A constant along the run: one rounding.
+            let (c, s, u) = one(self.a0);
+            outs.iter_mut().for_each(|o| o.attrs[self.a] = c);
+            let n = self.inside.len() as u64;
+            return (s * n, u * n, None);
+        }
+        for (j, o) in outs.iter_mut().enumerate() {
+            // |a0 + j·g| < 2^61 along the run: no i64 overflow.
+            let (c, s, u) = one(self.a0 + (j as i64 + 1) * self.g);
+            o.attrs[self.a] = c;
+            let counted = u64::from(self.inside.contains(&j));
+            sat += s * counted;
+            under += u * counted;
+        }
+        (sat, under, None)
+    }
+}
+
 /// floor(a / b) for b > 0.
 fn floor_div(a: i64, b: i64) -> i64 {
     a.div_euclid(b)
@@ -767,14 +837,22 @@ impl PolygonInterpolator {
         }
         // Accumulators (≤ 62 bits): the last value strictly above the format's minimum
         // (fit_acc sends the minimum through the overflow mode) and at most its maximum.
+        // An accumulator whose last value leaves its format: under WRAP it is
+        // stepped modularly below (each wrap counted, as the kernel counts it); under
+        // a SAT mode the run goes to the per-step kernel.
         let acc = self.acc_fmt();
         let mut acc_end = [0i64; MAX_ATTRS];
+        let mut wraps = [false; MAX_ATTRS];
         for a in 0..k {
             let end = st.acc[a] as i128 + steps as i128 * st.grad_x[a] as i128;
             if end <= acc.min_raw() || end > acc.max_raw() {
-                return false;
+                if self.cfg.acc_overflow != Overflow::Wrap {
+                    return false;
+                }
+                wraps[a] = true;
+            } else {
+                acc_end[a] = end as i64;
             }
-            acc_end[a] = end as i64;
         }
         let base = out.len();
         out.resize(
@@ -812,35 +890,38 @@ impl PolygonInterpolator {
             o.inside = true;
         }
         // Output rounding s(acc) → out format, saturating; events only where inside.
+        // The rounding mode is matched once per run, so each loop has its own form.
         let of = self.out_fmt();
         let (lo, hi) = (of.min_raw() as i64, of.max_raw() as i64);
-        let q = self.cfg.out_quant;
-        let round = |v: i64| {
-            let r = round_shift_right_i64(v, shift as u32, q);
-            let c = r.clamp(lo, hi);
-            (c, u64::from(c != r), u64::from(r == 0 && v != 0))
-        };
+        let sh = shift as u32;
         for a in 0..k {
             let (a0, g) = (st.acc[a], sign * st.grad_x[a]);
-            if g == 0 {
-                // A constant along the run: one rounding.
-                let (c, sat, under) = round(a0);
-                outs.iter_mut().for_each(|o| o.attrs[a] = c);
-                ctr.saturations += sat * inside.len() as u64;
-                ctr.underflows += under * inside.len() as u64;
-                continue;
-            }
-            let (mut sat, mut under) = (0u64, 0u64);
-            for (j, o) in outs.iter_mut().enumerate() {
-                // |a0 + j·g| < 2^61 along the run: no i64 overflow.
-                let (c, s, u) = round(a0 + (j as i64 + 1) * g);
-                o.attrs[a] = c;
-                let counted = u64::from(inside.contains(&j));
-                sat += s * counted;
-                under += u * counted;
-            }
+            let line = AttrLine {
+                a,
+                a0,
+                g,
+                lo,
+                hi,
+                inside: inside.clone(),
+                wrap: wraps[a].then_some((acc.min_raw() as i64, acc.max_raw() as i64)),
+            };
+            let (sat, under, wrapped) = match self.cfg.out_quant {
+                Quant::Trn => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Trn)),
+                Quant::TrnZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::TrnZero)),
+                Quant::Rnd => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Rnd)),
+                Quant::RndZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndZero)),
+                Quant::RndInf => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndInf)),
+                Quant::RndMinInf => {
+                    line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndMinInf))
+                }
+                Quant::RndConv => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndConv)),
+            };
             ctr.saturations += sat;
             ctr.underflows += under;
+            if let Some((end, n)) = wrapped {
+                acc_end[a] = end;
+                ctr.overflows += n;
+            }
         }
         st.x = x_end;
         st.edge = edge_end;

@@ -514,11 +514,17 @@ impl TextureSampler {
         self.cfg.texels_per_clock.min(self.cfg.texels_per_sample())
     }
 
-    #[inline]
+    #[inline(always)]
     fn read(&self, texel_addr: u64, c: u32) -> u32 {
         let tb = self.cfg.texel_bits as usize;
         let bit = (texel_addr as usize * self.cfg.channels as usize + c as usize) * tb;
-        crate::packed_rom::read_field(self.ram.as_raw_slice(), bit, tb as u32) as u32
+        let words = self.ram.as_raw_slice();
+        if 64 % tb == 0 {
+            // A width that divides 64 never straddles two words.
+            ((words[bit / 64] >> (bit % 64)) & (u64::MAX >> (64 - tb))) as u32
+        } else {
+            crate::packed_rom::read_field(words, bit, tb as u32) as u32
+        }
     }
 
     /// The coordinate wires: the low I + F bits of the word, sign-extended.
@@ -551,7 +557,7 @@ impl TextureSampler {
 
     /// Bilinear set-up of one axis from its s(I).F coordinate: the two texel indices
     /// (address mode applied) and their weights (u(wb+1) each, summing to W = 2^wb).
-    #[inline]
+    #[inline(always)]
     fn linear_axis(&self, k: usize, c: i64) -> ([u64; 2], [u64; 2]) {
         let f = self.cfg.coord_frac_bits;
         let wb = self.cfg.weight_bits;

@@ -217,8 +217,6 @@ fn subplanes_into_j(
         Ok((pix, hil, local))
     };
     let all: Vec<usize> = (0..m).collect();
-    let mut ins: Vec<AdditiveBlendIn> = Vec::new();
-    let mut outs: Vec<[u32; 4]> = Vec::new();
     for batch in all.chunks(SUBPLANE_BATCH) {
         let results: Vec<_> = batch.par_iter().map(|&j| sub(j)).collect();
         for (&j, res) in batch.iter().zip(results) {
@@ -233,21 +231,7 @@ fn subplanes_into_j(
             // m = 25).
             let wmax = max_code(cfg.weight_bits) as u64;
             let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
-            // A parallelogram's walk covers each pixel once: blending a chunk at a time
-            // reads what the span driver read.
-            let mut span = UnitSpan::default();
-            for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
-                ins.clear();
-                ins.extend(pc.iter().zip(hc).map(|(&px, &v)| AdditiveBlendIn {
-                    src: [v, 0, 0, 0],
-                    dst: [jbuf[px as usize], 0, 0, 0],
-                    weight,
-                }));
-                span.feed(&u.j_blend, &mut (), &ins, &mut outs);
-                for (&px, o) in pc.iter().zip(&outs) {
-                    jbuf[px as usize] = o[0];
-                }
-            }
+            let span = blend_j(&u.j_blend, &mut jbuf, w, &pix, &hil, weight);
             span.close("additive_blend (J buffer)", u.j_blend.timing(), ctr);
             let mut st = PassStats::new(
                 PassKind::SubPlane,
@@ -263,8 +247,63 @@ fn subplanes_into_j(
     Ok(jbuf)
 }
 
+/// Rows of the J buffer one thread blends at a time.
+const J_BAND_ROWS: usize = 16;
+
+/// One sub-plane's H·I_l (`hil` at pixels `pix`, y·w + x) blended with `weight` into
+/// the J buffer: one span of the J-buffer blend. A parallelogram's walk covers each
+/// pixel once and goes down the rows, so bands of rows are disjoint runs of `pix`,
+/// blended in parallel, each a chunk at a time (each reads what the span driver read;
+/// the counters are sums, the same in any order).
+fn blend_j(
+    u: &AdditiveBlend,
+    jbuf: &mut [u32],
+    w: u32,
+    pix: &[u32],
+    hil: &[u32],
+    weight: u32,
+) -> UnitSpan {
+    let band = J_BAND_ROWS * w as usize;
+    let rows_in_order = pix.windows(2).all(|p| p[0] / w <= p[1] / w);
+    let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
+        let mut span = UnitSpan::default();
+        let (mut ins, mut outs) = (Vec::new(), Vec::new());
+        for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
+            ins.clear();
+            ins.extend(pc.iter().zip(hc).map(|(&px, &v)| AdditiveBlendIn {
+                src: [v, 0, 0, 0],
+                dst: [jb[px as usize - base], 0, 0, 0],
+                weight,
+            }));
+            span.feed(u, &mut (), &ins, &mut outs);
+            for (&px, o) in pc.iter().zip(&outs) {
+                jb[px as usize - base] = o[0];
+            }
+        }
+        span
+    };
+    if !rows_in_order {
+        return blend(0, jbuf, pix, hil);
+    }
+    let parts: Vec<UnitSpan> = jbuf
+        .par_chunks_mut(band)
+        .enumerate()
+        .map(|(b, jb)| {
+            let base = b * band;
+            let lo = pix.partition_point(|&p| (p as usize) < base);
+            let hi = pix.partition_point(|&p| (p as usize) < base + jb.len());
+            blend(base, jb, &pix[lo..hi], &hil[lo..hi])
+        })
+        .collect();
+    let mut span = UnitSpan::default();
+    for p in &parts {
+        span.merge(p);
+    }
+    span
+}
+
 /// Fragments per blend chunk.
-const BLEND_CHUNK: usize = 1024;
+const BLEND_CHUNK: usize = 4096;
 
 /// Plane i at eye distance r: a cols × rows mesh whose vertices carry α, s, t, light
 /// coordinates and the vertex colour S·Δt/Δr (= S·t/r: Δt grows off-axis); each cell
