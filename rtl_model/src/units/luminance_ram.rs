@@ -464,9 +464,11 @@ impl LumWidths {
         vals.iter()
             .enumerate()
             .map(|(i, &x)| {
-                let f = format!("{field}[{i}]");
-                let x = check_finite(&f, x)?;
+                // NaN and ∞ fail the range test too: the entry's name is formatted
+                // only for an error (a table load writes up to 2^20 entries).
                 if !(0.0..=1.0).contains(&x) {
+                    let f = format!("{field}[{i}]");
+                    let x = check_finite(&f, x)?;
                     return Err(ConfigError::out_of_range(&f, x, 0.0, 1.0));
                 }
                 Ok((x * max).round() as u32)
@@ -498,9 +500,9 @@ impl LumWidths {
         vals.iter()
             .enumerate()
             .map(|(i, &x)| {
-                let f = format!("{field}[{i}]");
-                let x = check_finite(&f, x)?;
                 if !(lo..=hi).contains(&x) {
+                    let f = format!("{field}[{i}]");
+                    let x = check_finite(&f, x)?;
                     return Err(ConfigError::out_of_range(&f, x, lo, hi));
                 }
                 Ok(((x * sc).round() as i64 as u32) & m)

@@ -75,7 +75,7 @@ impl GlareFrame {
     }
 }
 
-use super::primitives::{add, area_input, gains, pos_code, shade, walk_prim};
+use super::primitives::{add, area_input, draw_prim, gains, pos_code, DrawBuffers};
 pub use super::primitives::{
     fit_area, generator, interpolator, line_fits, lum_widths, scissor, Frag, COORD_LIMIT_PX,
     LINE_MAX_PX,
@@ -202,6 +202,7 @@ pub fn render_glare_over(
     // A modulator to cost the elaboration when no primitive builds one.
     let mut bloom_cost: Option<UnitSummary> = None;
     let mut halo_cost: Option<UnitSummary> = None;
+    let mut buf = DrawBuffers::default();
 
     for (i, s) in sources.iter().enumerate() {
         if let Some(b) = &s.bloom {
@@ -221,13 +222,23 @@ pub fn render_glare_over(
                 .build(&shape, &fall)?
                 .with_kappa(kappa)?;
             let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
-            let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
-            shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
+            let input = area_input(&a, &pvg)?;
+            let d = draw_prim(
+                &pvg,
+                &ip,
+                input,
+                &m,
+                &comb,
+                gain,
+                &mut fb,
+                &mut buf,
+                &mut counters,
+            )?;
             prims.push(PrimStat {
                 kind: "bloom",
                 source: i,
-                walked,
-                fragments: frags.len() as u64,
+                walked: d.walked,
+                fragments: d.fragments,
                 table_words: m.table_words(),
             });
             bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
@@ -246,13 +257,23 @@ pub fn render_glare_over(
                 .build(&shape, [&rings[0], &rings[1], &rings[2]])?
                 .with_kappa(kappa)?;
             let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
-            let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
-            shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
+            let input = area_input(&a, &pvg)?;
+            let d = draw_prim(
+                &pvg,
+                &ip,
+                input,
+                &m,
+                &comb,
+                gain,
+                &mut fb,
+                &mut buf,
+                &mut counters,
+            )?;
             prims.push(PrimStat {
                 kind: "halo",
                 source: i,
-                walked,
-                fragments: frags.len() as u64,
+                walked: d.walked,
+                fragments: d.fragments,
                 table_words: m.table_words(),
             });
             halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
@@ -281,13 +302,22 @@ pub fn render_glare_over(
                     half_width: pos_code(half_w).max(0) as u64,
                     angle: pvg.angle_code(l.angle)?,
                 };
-                let (walked, frags) = walk_prim(&pvg, &ip, input, w, h, &mut counters)?;
-                shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
+                let d = draw_prim(
+                    &pvg,
+                    &ip,
+                    input,
+                    &m,
+                    &comb,
+                    gain,
+                    &mut fb,
+                    &mut buf,
+                    &mut counters,
+                )?;
                 prims.push(PrimStat {
                     kind: "flare",
                     source: i,
-                    walked,
-                    fragments: frags.len() as u64,
+                    walked: d.walked,
+                    fragments: d.fragments,
                     table_words: if loaded { 0 } else { m.table_words() },
                 });
                 loaded = true;
