@@ -228,18 +228,10 @@ where
         let rows = b.height() as usize;
         let mut row = 0;
         while row < rows {
-            // The serpentine walk of `PolySetup::moves`, whole rows at a time: Hold
-            // (first row) or Down, then bw − 1 steps right (even rows) or left (odd).
+            // The serpentine walk of `PolySetup::moves`, whole rows at a time.
             buf.moves.clear();
             while row < rows && (buf.moves.is_empty() || buf.moves.len() + bw <= CHUNK_MOVES) {
-                buf.moves
-                    .push(if row == 0 { Move::Hold } else { Move::Down });
-                let dir = if row % 2 == 0 {
-                    Move::Right
-                } else {
-                    Move::Left
-                };
-                buf.moves.resize(buf.moves.len() + bw - 1, dir);
+                setup.row_moves(row as u64, &mut buf.moves);
                 row += 1;
             }
             buf.walk.clear();
