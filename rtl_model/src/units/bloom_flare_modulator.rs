@@ -233,9 +233,14 @@ impl Unit for BloomFlareModulator {
         out.extend(inputs.iter().map(|x| {
             let d = p.shape_lookup(&self.shape, x.u, x.v, &mut sat);
             let prep = p.p_operand(p.falloff_lookup(&self.falloff, d));
+            let g = x.gain;
             LumOut {
                 d,
-                lum: x.gain.map(|g| p.gain_mul(prep, g, &mut sat)),
+                lum: [
+                    p.gain_mul(prep, g[0], &mut sat),
+                    p.gain_mul(prep, g[1], &mut sat),
+                    p.gain_mul(prep, g[2], &mut sat),
+                ],
             }
         }));
         ctr.table_reads += 6 * inputs.len() as u64;

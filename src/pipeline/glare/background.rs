@@ -25,10 +25,12 @@ pub fn base_image(
     let n = (w * h) as usize;
     Ok(match &g.background {
         Background::Black => vec![[0; 3]; n],
-        Background::Sky { top, bottom } => (0..n)
-            .map(|i| {
-                let t = (i as u32 / w) as f64 / (h.max(2) - 1) as f64;
-                [0, 1, 2].map(|c| code(top[c] * (1.0 - t) + bottom[c] * t, max))
+        // The gradient is a function of the row alone: one code triple per row.
+        Background::Sky { top, bottom } => (0..h)
+            .flat_map(|y| {
+                let t = y as f64 / (h.max(2) - 1) as f64;
+                let rgb = [0, 1, 2].map(|c| code(top[c] * (1.0 - t) + bottom[c] * t, max));
+                std::iter::repeat_n(rgb, w as usize)
             })
             .collect(),
         Background::Canopy { leaves, sky, leaf } => {
