@@ -154,9 +154,10 @@ pub(crate) fn pos_code(x: f64) -> i64 {
 /// A covered fragment: x, y and the (u, v) codes.
 pub type Frag = (u32, u32, i32, i32);
 
-/// Walker moves per chunk: whole bounding-box rows are gathered until at least this
-/// many, so a chunk's interpolator outputs (152-byte words) stay in the L2 cache.
-const CHUNK_MOVES: usize = 512;
+/// Walker moves per chunk (a row is cut into chunks of at most this many, narrow rows
+/// are gathered up to it), so a chunk's interpolator outputs (152-byte words, 38 KiB)
+/// stay in the L1 cache between the walk and the filter.
+const CHUNK_MOVES: usize = 256;
 
 /// The buffers one frame's primitives reuse: a chunk of walker moves and of each
 /// unit's inputs and outputs. Owned by the frame and cleared per chunk, so drawing a
@@ -223,52 +224,62 @@ where
     let (mut c_m, mut c_comb) = (Counters::default(), Counters::default());
     let (mut t_ip, mut t_m, mut t_comb) = (SpanTally::new(), SpanTally::new(), SpanTally::new());
     let (w, h) = (fb.width as i64, fb.height as i64);
+    let DrawBuffers {
+        moves,
+        walk,
+        pix,
+        lum_in,
+        lum,
+        comb_in,
+        comb_out,
+    } = buf;
     if let Some(b) = setup.bbox {
         let bw = b.width() as usize;
         let rows = b.height() as usize;
         let mut row = 0;
         while row < rows {
             // The serpentine walk of `PolySetup::moves`, whole rows at a time.
-            buf.moves.clear();
-            while row < rows && (buf.moves.is_empty() || buf.moves.len() + bw <= CHUNK_MOVES) {
-                setup.row_moves(row as u64, &mut buf.moves);
+            moves.clear();
+            while row < rows && (moves.is_empty() || moves.len() + bw <= CHUNK_MOVES) {
+                setup.row_moves(row as u64, moves);
                 row += 1;
             }
-            buf.walk.clear();
-            ip.kernel_batch(&mut st, &buf.moves, &mut buf.walk, &mut c_ip);
-            t_ip.add(buf.moves.len());
-            // Covered fragments inside the viewport, in walk order.
-            buf.pix.clear();
-            buf.lum_in.clear();
-            for f in &buf.walk {
-                if f.inside && f.x >= 0 && f.y >= 0 && f.x < w && f.y < h {
-                    buf.pix.push((f.y * w + f.x) as usize);
-                    buf.lum_in.push(LumIn {
-                        u: f.attrs[0] as i32,
-                        v: f.attrs[1] as i32,
-                        gain,
-                    });
+            for part in moves.chunks(CHUNK_MOVES) {
+                walk.clear();
+                ip.kernel_batch(&mut st, part, walk, &mut c_ip);
+                t_ip.add(part.len());
+                // Covered fragments inside the viewport, in walk order.
+                pix.clear();
+                lum_in.clear();
+                for f in walk.iter() {
+                    if f.inside && f.x >= 0 && f.y >= 0 && f.x < w && f.y < h {
+                        pix.push((f.y * w + f.x) as usize);
+                        lum_in.push(LumIn {
+                            u: f.attrs[0] as i32,
+                            v: f.attrs[1] as i32,
+                            gain,
+                        });
+                    }
                 }
-            }
-            if buf.pix.is_empty() {
-                continue;
-            }
-            buf.lum.clear();
-            m.kernel_batch(&mut (), &buf.lum_in, &mut buf.lum, &mut c_m);
-            t_m.add(buf.lum_in.len());
-            // A walk visits each pixel once, so reading the chunk's framebuffer
-            // pixels before writing any is the primitive's read-modify-write.
-            buf.comb_in.clear();
-            buf.comb_in
-                .extend(buf.pix.iter().zip(&buf.lum).map(|(&i, l)| CombineIn {
+                if pix.is_empty() {
+                    continue;
+                }
+                lum.clear();
+                m.kernel_batch(&mut (), lum_in, lum, &mut c_m);
+                t_m.add(lum_in.len());
+                // A walk visits each pixel once, so reading the chunk's framebuffer
+                // pixels before writing any is the primitive's read-modify-write.
+                comb_in.clear();
+                comb_in.extend(pix.iter().zip(lum.iter()).map(|(&i, l)| CombineIn {
                     fb: [fb.data[4 * i], fb.data[4 * i + 1], fb.data[4 * i + 2]],
                     lum: l.lum,
                 }));
-            buf.comb_out.clear();
-            comb.kernel_batch(&mut (), &buf.comb_in, &mut buf.comb_out, &mut c_comb);
-            t_comb.add(buf.comb_in.len());
-            for (&i, o) in buf.pix.iter().zip(&buf.comb_out) {
-                fb.data[4 * i..4 * i + 3].copy_from_slice(o);
+                comb_out.clear();
+                comb.kernel_batch(&mut (), comb_in, comb_out, &mut c_comb);
+                t_comb.add(comb_in.len());
+                for (&i, o) in pix.iter().zip(comb_out.iter()) {
+                    fb.data[4 * i..4 * i + 3].copy_from_slice(o);
+                }
             }
         }
     }
