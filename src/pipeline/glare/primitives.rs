@@ -164,14 +164,20 @@ const CHUNK_MOVES: usize = 256;
 /// primitive allocates nothing once they have grown to a chunk.
 #[derive(Default)]
 pub(crate) struct DrawBuffers {
+    pub walk_bufs: WalkBuffers,
+    pub comb_in: Vec<CombineIn>,
+    pub comb_out: Vec<[u32; 3]>,
+}
+
+/// The walk's and the modulator's chunk buffers ([`walk_prim`]).
+#[derive(Default)]
+pub(crate) struct WalkBuffers {
     moves: Vec<Move>,
     walk: Vec<PolyOut>,
     /// Framebuffer pixel index of each covered fragment of the chunk.
     pix: Vec<usize>,
     lum_in: Vec<LumIn>,
     lum: Vec<LumOut>,
-    comb_in: Vec<CombineIn>,
-    comb_out: Vec<[u32; 3]>,
 }
 
 /// What one primitive's walk did: pixels stepped over (after the scissor) and covered
@@ -204,6 +210,89 @@ pub(crate) fn draw_prim<U>(
 where
     U: Unit<In = LumIn, Out = LumOut, State = ()>,
 {
+    let (mut c_comb, mut t_comb) = (Counters::default(), SpanTally::new());
+    let (fw, fh) = (fb.width, fb.height);
+    let DrawBuffers {
+        walk_bufs,
+        comb_in,
+        comb_out,
+    } = buf;
+    let d = walk_prim(
+        pvg,
+        ip,
+        input,
+        m,
+        gain,
+        fw,
+        fh,
+        walk_bufs,
+        ctr,
+        |pix, lum| {
+            combine(
+                comb,
+                pix,
+                lum,
+                fb,
+                comb_in,
+                comb_out,
+                &mut c_comb,
+                &mut t_comb,
+            )
+        },
+    )?;
+    t_comb.close(comb.timing(), &mut c_comb);
+    add(ctr, comb.name(), c_comb);
+    Ok(d)
+}
+
+/// The combiner on one chunk of a primitive's fragments (framebuffer pixel indices
+/// and their luminance): reads the pixels, adds with saturation, writes them back. A
+/// walk visits each pixel once, so reading a chunk's pixels before writing any is the
+/// primitive's read-modify-write. The chunk's inputs join the primitive's `tally`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn combine(
+    comb: &GlareCombiner,
+    pix: &[usize],
+    lum: &[LumOut],
+    fb: &mut Framebuffer,
+    comb_in: &mut Vec<CombineIn>,
+    comb_out: &mut Vec<[u32; 3]>,
+    ctr: &mut Counters,
+    tally: &mut SpanTally,
+) {
+    comb_in.clear();
+    comb_in.extend(pix.iter().zip(lum).map(|(&i, l)| CombineIn {
+        fb: [fb.data[4 * i], fb.data[4 * i + 1], fb.data[4 * i + 2]],
+        lum: l.lum,
+    }));
+    comb_out.clear();
+    comb.kernel_batch(&mut (), comb_in, comb_out, ctr);
+    tally.add(comb_in.len());
+    for (&i, o) in pix.iter().zip(comb_out.iter()) {
+        fb.data[4 * i..4 * i + 3].copy_from_slice(o);
+    }
+}
+
+/// The front of [`draw_prim`]: generator, set-up and walk, and the modulator, chunk
+/// by chunk, each chunk's covered fragments (framebuffer pixel index, luminance) handed
+/// to `sink` in walk order. The generator's, interpolator's and modulator's counters
+/// (one span each over the primitive) go to `ctr`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn walk_prim<U>(
+    pvg: &PolygonVariableGenerator,
+    ip: &PolygonInterpolator,
+    input: PvgIn,
+    m: &U,
+    gain: [u32; 3],
+    width: u32,
+    height: u32,
+    buf: &mut WalkBuffers,
+    ctr: &mut BTreeMap<String, Counters>,
+    mut sink: impl FnMut(&[usize], &[LumOut]),
+) -> Result<Drawn, ConfigError>
+where
+    U: Unit<In = LumIn, Out = LumOut, State = ()>,
+{
     let mut c_pvg = Counters::default();
     let v = run_span(pvg, &mut (), &[input], &mut c_pvg)[0];
     add(ctr, pvg.name(), c_pvg);
@@ -219,19 +308,17 @@ where
         }
     });
     let setup = ip.setup_parallelogram(&verts, &mut c_ip)?;
-    let setup = scissor(ip, &setup, fb.width, fb.height);
+    let setup = scissor(ip, &setup, width, height);
     let mut st = setup.state.clone();
-    let (mut c_m, mut c_comb) = (Counters::default(), Counters::default());
-    let (mut t_ip, mut t_m, mut t_comb) = (SpanTally::new(), SpanTally::new(), SpanTally::new());
-    let (w, h) = (fb.width as i64, fb.height as i64);
-    let DrawBuffers {
+    let mut c_m = Counters::default();
+    let (mut t_ip, mut t_m) = (SpanTally::new(), SpanTally::new());
+    let (w, h) = (width as i64, height as i64);
+    let WalkBuffers {
         moves,
         walk,
         pix,
         lum_in,
         lum,
-        comb_in,
-        comb_out,
     } = buf;
     if let Some(b) = setup.bbox {
         let bw = b.width() as usize;
@@ -267,29 +354,15 @@ where
                 lum.clear();
                 m.kernel_batch(&mut (), lum_in, lum, &mut c_m);
                 t_m.add(lum_in.len());
-                // A walk visits each pixel once, so reading the chunk's framebuffer
-                // pixels before writing any is the primitive's read-modify-write.
-                comb_in.clear();
-                comb_in.extend(pix.iter().zip(lum.iter()).map(|(&i, l)| CombineIn {
-                    fb: [fb.data[4 * i], fb.data[4 * i + 1], fb.data[4 * i + 2]],
-                    lum: l.lum,
-                }));
-                comb_out.clear();
-                comb.kernel_batch(&mut (), comb_in, comb_out, &mut c_comb);
-                t_comb.add(comb_in.len());
-                for (&i, o) in pix.iter().zip(comb_out.iter()) {
-                    fb.data[4 * i..4 * i + 3].copy_from_slice(o);
-                }
+                sink(pix, lum);
             }
         }
     }
     let fragments = t_m.len();
     t_ip.close(ip.timing(), &mut c_ip);
     t_m.close(m.timing(), &mut c_m);
-    t_comb.close(comb.timing(), &mut c_comb);
     add(ctr, ip.name(), c_ip);
     add(ctr, m.name(), c_m);
-    add(ctr, comb.name(), c_comb);
     Ok(Drawn {
         walked: setup.pixels(),
         fragments,
