@@ -697,7 +697,7 @@ impl LumWidths {
 /// without the per-word width branches and replication loops. It applies when
 /// * the cell position keeps a fraction: s = F + 1 − k ≥ 1;
 /// * both replications need at most two copies: m + wb ≤ 2·sb, R = fb + gi ≤ 2·fb;
-/// * the gain product and its rounding fit 64 bits: (R + 1) + (gi + gf) + 1 ≤ 64.
+/// * the gain product and its rounding fit 64 bits: (R + 1) + (gi + gf) < 64.
 ///
 /// Elsewhere [`PlainPath::new`] gives None and the modulators run the per-word kernel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -740,7 +740,7 @@ impl PlainPath {
         let addr_bits = w.falloff_log2 + wb;
         let r = w.p_rep_bits();
         let fits =
-            !w.radial.on && addr_bits <= 2 * sb && r <= 2 * fb && (r + 1) + w.gain_bits() + 1 <= 64;
+            !w.radial.on && addr_bits <= 2 * sb && r <= 2 * fb && (r + 1) + w.gain_bits() < 64;
         fits.then(|| PlainPath {
             coord_sh: 64 - (f + 2),
             one: 1i64 << f,
