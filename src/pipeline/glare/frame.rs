@@ -18,12 +18,11 @@ use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;
 use rtl_model::driver::{run_span, SpanTally};
-use rtl_model::units::bloom_flare_modulator::BloomFlareModulator;
-use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
+use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoiseConfig};
 use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::halo_modulator::HaloModulatorConfig;
-use rtl_model::units::luminance_ram::{LumOut, LumWidths};
+use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
 use rtl_model::units::polygon_variable_generator::{PrimKind, PvgIn};
 use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
@@ -212,6 +211,36 @@ pub fn render_glare_over(
         let mut bloom_cost: Option<UnitSummary> = None;
         let mut halo_cost: Option<UnitSummary> = None;
         let mut buf = DrawBuffers::default();
+        // An area primitive (bloom or halo) through the datapath, as its row of the
+        // frame's primitive table.
+        let mut draw = |kind: &'static str,
+                        source: usize,
+                        a: &AreaPrim,
+                        m: &dyn Unit<In = LumIn, Out = LumOut, State = ()>,
+                        table_words: u64,
+                        gain: [u32; 3]|
+         -> Result<(), ConfigError> {
+            let input = area_input(a, &pvg)?;
+            let d = draw_prim(
+                &pvg,
+                &ip,
+                input,
+                m,
+                &comb,
+                gain,
+                &mut fb,
+                &mut buf,
+                &mut counters,
+            )?;
+            prims.push(PrimStat {
+                kind,
+                source,
+                walked: d.walked,
+                fragments: d.fragments,
+                table_words,
+            });
+            Ok(())
+        };
         for (i, s) in sources.iter().enumerate() {
             if let Some(b) = &s.bloom {
                 let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
@@ -230,25 +259,7 @@ pub fn render_glare_over(
                     .build(&shape, &fall)?
                     .with_kappa(kappa)?;
                 let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
-                let input = area_input(&a, &pvg)?;
-                let d = draw_prim(
-                    &pvg,
-                    &ip,
-                    input,
-                    &m,
-                    &comb,
-                    gain,
-                    &mut fb,
-                    &mut buf,
-                    &mut counters,
-                )?;
-                prims.push(PrimStat {
-                    kind: "bloom",
-                    source: i,
-                    walked: d.walked,
-                    fragments: d.fragments,
-                    table_words: m.table_words(),
-                });
+                draw("bloom", i, &a, &m, m.table_words(), gain)?;
                 bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
             }
             if let Some(cc) = s.halo {
@@ -266,25 +277,7 @@ pub fn render_glare_over(
                     .build(&shape, [&rings[0], &rings[1], &rings[2]])?
                     .with_kappa(kappa)?;
                 let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
-                let input = area_input(&a, &pvg)?;
-                let d = draw_prim(
-                    &pvg,
-                    &ip,
-                    input,
-                    &m,
-                    &comb,
-                    gain,
-                    &mut fb,
-                    &mut buf,
-                    &mut counters,
-                )?;
-                prims.push(PrimStat {
-                    kind: "halo",
-                    source: i,
-                    walked: d.walked,
-                    fragments: d.fragments,
-                    table_words: m.table_words(),
-                });
+                draw("halo", i, &a, &m, m.table_words(), gain)?;
                 halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
             }
         }

@@ -208,7 +208,7 @@ pub(crate) fn draw_prim<U>(
     ctr: &mut BTreeMap<String, Counters>,
 ) -> Result<Drawn, ConfigError>
 where
-    U: Unit<In = LumIn, Out = LumOut, State = ()>,
+    U: Unit<In = LumIn, Out = LumOut, State = ()> + ?Sized,
 {
     let (mut c_comb, mut t_comb) = (Counters::default(), SpanTally::new());
     let (fw, fh) = (fb.width, fb.height);
@@ -291,7 +291,7 @@ pub(crate) fn walk_prim<U>(
     mut sink: impl FnMut(&[usize], &[LumOut]),
 ) -> Result<Drawn, ConfigError>
 where
-    U: Unit<In = LumIn, Out = LumOut, State = ()>,
+    U: Unit<In = LumIn, Out = LumOut, State = ()> + ?Sized,
 {
     let mut c_pvg = Counters::default();
     let v = run_span(pvg, &mut (), &[input], &mut c_pvg)[0];
