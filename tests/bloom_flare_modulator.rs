@@ -13,7 +13,7 @@ use proptest::prelude::*;
 use rtl_model::units::bloom_flare_modulator::{
     BloomFlareModulator, BloomFlareModulatorConfig, LumIn,
 };
-use rtl_model::units::luminance_ram::LumWidths;
+use rtl_model::units::luminance_ram::{LumWidths, PlainPath};
 use rtl_model::{Counters, Unit};
 
 fn build(w: &LumWidths, shape: &[f64], falloff: &[f64]) -> BloomFlareModulator {
@@ -175,6 +175,39 @@ fn wire_masking_matches_the_masked_input() {
             gain: g.map(|x| x | (0xffff_ffff << w.gain_bits())),
         };
         assert_eq!(m.kernel(&mut (), &junk, &mut c), a);
+    }
+}
+
+#[test]
+fn batch_fast_form_agrees_exhaustively_on_a_narrow_config() {
+    // The batch kernel's fast form (PlainPath) is taken by configs 0 and 2 and refused
+    // by 1 (its gain product needs more than 64 bits) and 3 (coordinates coarser than
+    // the grid), which run the per-word kernel: the proptest below covers all four.
+    assert!(PlainPath::new(&configs()[0]).is_some());
+    assert!(PlainPath::new(&configs()[1]).is_none());
+    assert!(PlainPath::new(&configs()[3]).is_none());
+    // Config 2: every (u, v) of the 10-bit wires (2²⁰ words, the clamp region
+    // included), with gains sweeping the 4-bit gain code per channel.
+    let w = configs()[2];
+    assert!(PlainPath::new(&w).is_some());
+    for (skind, fkind) in [(1u32, 1u32), (3, 2)] {
+        let m = build(
+            &w,
+            &shape_table(&w, skind, 11),
+            &falloff_table(&w, fkind, 11),
+        );
+        let (lo, hi) = coord_range(&w);
+        let g = w.gain_max();
+        let inputs: Vec<LumIn> = (lo..=hi)
+            .flat_map(|v| {
+                (lo..=hi).map(move |u| LumIn {
+                    u,
+                    v,
+                    gain: [u as u32 & g, v as u32 & g, (u ^ v) as u32 & g],
+                })
+            })
+            .collect();
+        common::assert_drivers_agree(&m, (), &inputs);
     }
 }
 

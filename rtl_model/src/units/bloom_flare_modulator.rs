@@ -14,7 +14,7 @@ use crate::counters::Counters;
 use crate::error::ConfigError;
 use crate::unit::{Signal, Timing, Unit, Width};
 pub use crate::units::luminance_ram::Radial;
-use crate::units::luminance_ram::{mask32, LumWidths};
+use crate::units::luminance_ram::{mask32, LumWidths, PlainPath};
 pub use crate::units::luminance_ram::{LumIn, LumOut};
 use serde::{Deserialize, Serialize};
 
@@ -99,6 +99,7 @@ impl BloomFlareModulatorConfig {
             shape,
             falloff,
             kappa: 0,
+            plain: PlainPath::new(&w),
         })
     }
 }
@@ -111,6 +112,9 @@ pub struct BloomFlareModulator {
     /// κ register, u(ki).(kf) (radial mode; 0 after build).
     kappa: u32,
     falloff: Vec<u32>,
+    /// The batch kernel's fast form, chosen from the widths at build (None: the
+    /// per-word kernel).
+    plain: Option<PlainPath>,
 }
 
 impl BloomFlareModulator {
@@ -210,6 +214,37 @@ impl Unit for BloomFlareModulator {
 
     fn kernel(&self, _: &mut (), input: &LumIn, ctr: &mut Counters) -> LumOut {
         self.apply(input, ctr)
+    }
+
+    /// The plain datapath's fast form where the widths allow it ([`PlainPath`]):
+    /// counters summed per chunk (6 reads a word: 4 shape banks, 2 falloff banks).
+    fn kernel_batch(
+        &self,
+        _: &mut (),
+        inputs: &[LumIn],
+        out: &mut Vec<LumOut>,
+        ctr: &mut Counters,
+    ) {
+        let Some(p) = &self.plain else {
+            out.extend(inputs.iter().map(|x| self.apply(x, ctr)));
+            return;
+        };
+        let mut sat = 0u64;
+        out.extend(inputs.iter().map(|x| {
+            let d = p.shape_lookup(&self.shape, x.u, x.v, &mut sat);
+            let prep = p.p_operand(p.falloff_lookup(&self.falloff, d));
+            let g = x.gain;
+            LumOut {
+                d,
+                lum: [
+                    p.gain_mul(prep, g[0], &mut sat),
+                    p.gain_mul(prep, g[1], &mut sat),
+                    p.gain_mul(prep, g[2], &mut sat),
+                ],
+            }
+        }));
+        ctr.table_reads += 6 * inputs.len() as u64;
+        ctr.saturations += sat;
     }
 
     fn timing(&self) -> Timing {

@@ -464,9 +464,11 @@ impl LumWidths {
         vals.iter()
             .enumerate()
             .map(|(i, &x)| {
-                let f = format!("{field}[{i}]");
-                let x = check_finite(&f, x)?;
+                // NaN and ∞ fail the range test too: the entry's name is formatted
+                // only for an error (a table load writes up to 2^20 entries).
                 if !(0.0..=1.0).contains(&x) {
+                    let f = format!("{field}[{i}]");
+                    let x = check_finite(&f, x)?;
                     return Err(ConfigError::out_of_range(&f, x, 0.0, 1.0));
                 }
                 Ok((x * max).round() as u32)
@@ -498,9 +500,9 @@ impl LumWidths {
         vals.iter()
             .enumerate()
             .map(|(i, &x)| {
-                let f = format!("{field}[{i}]");
-                let x = check_finite(&f, x)?;
                 if !(lo..=hi).contains(&x) {
+                    let f = format!("{field}[{i}]");
+                    let x = check_finite(&f, x)?;
                     return Err(ConfigError::out_of_range(&f, x, lo, hi));
                 }
                 Ok(((x * sc).round() as i64 as u32) & m)
@@ -686,6 +688,153 @@ impl LumWidths {
     /// Pipeline latency of the modulators: address+shape read, bilinear x, bilinear
     /// y + round, falloff read, lerp + round, gain multiply + saturate.
     pub const LATENCY: u32 = 6;
+}
+
+/// The plain datapath (radial correction off) with its shifts and masks worked out
+/// from the widths once, at construction: the batch kernels' fast form of
+/// [`LumWidths::shape_lookup`], [`LumWidths::falloff_lookup`] and
+/// [`LumWidths::gain_mul`], the same arithmetic bit for bit, on 64-bit words and
+/// without the per-word width branches and replication loops. It applies when
+/// * the cell position keeps a fraction: s = F + 1 − k ≥ 1;
+/// * both replications need at most two copies: m + wb ≤ 2·sb, R = fb + gi ≤ 2·fb;
+/// * the gain product and its rounding fit 64 bits: (R + 1) + (gi + gf) < 64.
+///
+/// Elsewhere [`PlainPath::new`] gives None and the modulators run the per-word kernel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct PlainPath {
+    /// 64 − (F + 2): the sign-extension shift of the s2.F wire.
+    coord_sh: u32,
+    /// 2^F, the coordinate 1.0.
+    one: i64,
+    /// s = F + 1 − k fraction bits of the cell position (≥ 1) and their mask.
+    s: u32,
+    frac_mask: u64,
+    /// The wb-bit weight from the s-bit fraction: >> (s − wb) or << (wb − s).
+    w_rsh: u32,
+    w_lsh: u32,
+    wb: u32,
+    side: usize,
+    last: usize,
+    sb: u32,
+    sb_mask: u32,
+    /// m + wb: the falloff address the d code is replicated to.
+    addr_bits: u32,
+    wb_mask: u64,
+    fb: u32,
+    fb_mask: u32,
+    /// R = fb + gi and the rounding shift R + gf.
+    r: u32,
+    gain_sh: u32,
+    gain_mask: u32,
+    out_max: u64,
+}
+
+impl PlainPath {
+    /// The fast form for these widths, or None where it does not apply (radial mode,
+    /// or a width combination outside the conditions above).
+    pub fn new(w: &LumWidths) -> Option<Self> {
+        let f = w.coord_frac_bits;
+        let s = (f + 1).checked_sub(w.shape_log2).filter(|&s| s >= 1)?;
+        let wb = w.weight_bits;
+        let (sb, fb) = (w.shape_bits, w.falloff_bits);
+        let addr_bits = w.falloff_log2 + wb;
+        let r = w.p_rep_bits();
+        let fits =
+            !w.radial.on && addr_bits <= 2 * sb && r <= 2 * fb && (r + 1) + w.gain_bits() < 64;
+        fits.then(|| PlainPath {
+            coord_sh: 64 - (f + 2),
+            one: 1i64 << f,
+            s,
+            frac_mask: (1u64 << s) - 1,
+            w_rsh: s.saturating_sub(wb),
+            w_lsh: wb.saturating_sub(s),
+            wb,
+            side: w.shape_side(),
+            last: w.shape_side() - 1,
+            sb,
+            sb_mask: mask32(sb),
+            addr_bits,
+            wb_mask: (1u64 << wb) - 1,
+            fb,
+            fb_mask: mask32(fb),
+            r,
+            gain_sh: r + w.gain_frac_bits,
+            gain_mask: w.gain_max(),
+            out_max: mask32(w.out_bits) as u64,
+        })
+    }
+
+    /// [`replicate`] for at most two copies (to ≤ 2·from): the code, then its top
+    /// to − from bits.
+    #[inline(always)]
+    fn rep2(c: u64, from: u32, to: u32) -> u64 {
+        if to <= from {
+            c >> (from - to)
+        } else {
+            (c << (to - from)) | (c >> (2 * from - to))
+        }
+    }
+
+    /// [`LumWidths::address`]: (index, weight u(wb), 1 if the axis clamped).
+    #[inline(always)]
+    fn address(&self, u: i32) -> (usize, i64, u64) {
+        let u = ((u as i64) << self.coord_sh) >> self.coord_sh; // wire: s2.F
+        let clamped = (u <= -self.one) | (u >= self.one);
+        let a = (u + self.one).clamp(0, 2 * self.one) as u64; // u(2).F
+        let i = (a >> self.s) as usize;
+        let w = ((a & self.frac_mask) >> self.w_rsh) << self.w_lsh;
+        (i, w as i64, clamped as u64)
+    }
+
+    /// [`LumWidths::shape_lookup`]; adds the clamped axes to `sat` (the 4 reads are
+    /// the caller's to count).
+    #[inline(always)]
+    pub fn shape_lookup(&self, shape: &[u32], u: i32, v: i32, sat: &mut u64) -> u32 {
+        let (i, wx, cu) = self.address(u);
+        let (j, wy, cv) = self.address(v);
+        *sat += cu + cv;
+        let i1 = (i + 1).min(self.last);
+        let j1 = (j + 1).min(self.last);
+        let rd = |k: usize| (shape[k] & self.sb_mask) as i64; // wire: u(sb)
+        let (r0, r1) = (j * self.side, j1 * self.side);
+        let (s00, s10, s01, s11) = (rd(r0 + i), rd(r0 + i1), rd(r1 + i), rd(r1 + i1));
+        let wb = self.wb;
+        // Row lerps u(sb+wb), column lerp u(sb+2wb), round to u(sb).
+        let a = (s00 << wb) + (s10 - s00) * wx;
+        let b = (s01 << wb) + (s11 - s01) * wx;
+        let t = (a << wb) + (b - a) * wy;
+        ((t + (1i64 << (2 * wb - 1))) >> (2 * wb)) as u32
+    }
+
+    /// [`LumWidths::falloff_lookup`] (the 2 reads are the caller's to count).
+    #[inline(always)]
+    pub fn falloff_lookup(&self, falloff: &[u32], d: u32) -> u32 {
+        let d = (d & self.sb_mask) as u64; // wire: u(sb)
+        let addr = Self::rep2(d, self.sb, self.addr_bits); // u(m + wb)
+        let j = (addr >> self.wb) as usize;
+        let w = (addr & self.wb_mask) as i64;
+        let (f0, f1) = (falloff[j] as i64, falloff[j + 1] as i64);
+        let t = (f0 << self.wb) + (f1 - f0) * w; // u(fb+wb)
+        ((t + (1i64 << (self.wb - 1))) >> self.wb) as u32
+    }
+
+    /// p as the gain multiplier's u1.R operand (replicated code plus its top bit).
+    #[inline(always)]
+    pub fn p_operand(&self, p: u32) -> u64 {
+        let p = p & self.fb_mask; // wire: u(fb)
+        Self::rep2(p as u64, self.fb, self.r) + (p >> (self.fb - 1)) as u64
+    }
+
+    /// [`LumWidths::gain_mul`] on the u1.R operand; a saturation adds 1 to `sat`.
+    #[inline(always)]
+    pub fn gain_mul(&self, prep: u64, gain: u32, sat: &mut u64) -> u32 {
+        // u1.R × u(gi).(gf) → u(gi+1).(R+gf) < 2^63; round off R + gf bits.
+        let prod = prep * (gain & self.gain_mask) as u64;
+        let lum = (prod + (1u64 << (self.gain_sh - 1))) >> self.gain_sh;
+        let over = lum > self.out_max;
+        *sat += over as u64;
+        lum.min(self.out_max) as u32
+    }
 }
 
 trait MergeRadial {

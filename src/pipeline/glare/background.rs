@@ -25,10 +25,12 @@ pub fn base_image(
     let n = (w * h) as usize;
     Ok(match &g.background {
         Background::Black => vec![[0; 3]; n],
-        Background::Sky { top, bottom } => (0..n)
-            .map(|i| {
-                let t = (i as u32 / w) as f64 / (h.max(2) - 1) as f64;
-                [0, 1, 2].map(|c| code(top[c] * (1.0 - t) + bottom[c] * t, max))
+        // The gradient is a function of the row alone: one code triple per row.
+        Background::Sky { top, bottom } => (0..h)
+            .flat_map(|y| {
+                let t = y as f64 / (h.max(2) - 1) as f64;
+                let rgb = [0, 1, 2].map(|c| code(top[c] * (1.0 - t) + bottom[c] * t, max));
+                std::iter::repeat_n(rgb, w as usize)
             })
             .collect(),
         Background::Canopy { leaves, sky, leaf } => {
@@ -43,21 +45,29 @@ pub fn base_image(
                     )
                 })
                 .collect();
-            (0..n)
-                .map(|i| {
-                    let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
-                    let shade = discs
-                        .iter()
-                        .rev()
-                        .filter(|d| (x - d.0).powi(2) + (y - d.1).powi(2) <= d.2 * d.2)
-                        .map(|d| d.3)
-                        .next();
-                    match shade {
-                        Some(s) => [0, 1, 2].map(|c| code(leaf[c] * s, max)),
-                        None => [0, 1, 2].map(|c| code(sky[c], max)),
+            // Each pixel shows the last disc covering its centre, else the sky:
+            // painting the discs in order over the sky leaves the same picture. A
+            // disc is tested only on the pixels of its bounding box (a pixel further
+            // than a pixel outside it cannot pass the same covering test).
+            let sky_code = [0, 1, 2].map(|c| code(sky[c], max));
+            let mut img = vec![sky_code; n];
+            for d in &discs {
+                let span = |c: f64, len: u32| {
+                    let lo = (c - d.2 - 1.0).floor().max(0.0) as u32;
+                    let hi = ((c + d.2 + 1.0).ceil().max(0.0) as u32).min(len);
+                    lo..hi
+                };
+                let leaf_code = [0, 1, 2].map(|c| code(leaf[c] * d.3, max));
+                for py in span(d.1, h) {
+                    for px in span(d.0, w) {
+                        let (x, y) = (px as f64 + 0.5, py as f64 + 0.5);
+                        if (x - d.0).powi(2) + (y - d.1).powi(2) <= d.2 * d.2 {
+                            img[(py * w + px) as usize] = leaf_code;
+                        }
                     }
-                })
-                .collect()
+                }
+            }
+            img
         }
         Background::Shafts => {
             // Drawn by the frame's shafts passes, which hand it over (`from_framebuffer`).

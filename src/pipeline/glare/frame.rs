@@ -17,12 +17,12 @@ use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;
-use rtl_model::driver::run_span;
-use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
+use rtl_model::driver::{run_span, SpanTally};
+use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoiseConfig};
 use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::halo_modulator::HaloModulatorConfig;
-use rtl_model::units::luminance_ram::LumWidths;
+use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
 use rtl_model::units::polygon_variable_generator::{PrimKind, PvgIn};
 use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
@@ -75,7 +75,10 @@ impl GlareFrame {
     }
 }
 
-use super::primitives::{add, area_input, gains, pos_code, shade, walk_prim};
+use super::primitives::{
+    add, area_input, combine, draw_prim, gains, pos_code, walk_prim, DrawBuffers, Drawn,
+    WalkBuffers,
+};
 pub use super::primitives::{
     fit_area, generator, interpolator, line_fits, lum_widths, scissor, Frag, COORD_LIMIT_PX,
     LINE_MAX_PX,
@@ -198,71 +201,103 @@ pub fn render_glare_over(
     }
     .build()?;
     let diag = ((w as f64).powi(2) + (h as f64).powi(2)).sqrt();
-    let mut prims = Vec::new();
-    // A modulator to cost the elaboration when no primitive builds one.
-    let mut bloom_cost: Option<UnitSummary> = None;
-    let mut halo_cost: Option<UnitSummary> = None;
-
-    for (i, s) in sources.iter().enumerate() {
-        if let Some(b) = &s.bloom {
-            let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
-            let a = fit_area(&a);
-            let l0 = bloom_at(b, 0.0, &g.model);
-            let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
-            let gain_l = l0.min(gmax);
-            let fall = profile_samples(
-                |t| bloom_at(b, t, &g.model),
-                theta_max,
-                gain_l,
-                lw.falloff_log2,
-            );
-            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
-            let m = BloomFlareModulatorConfig::from_widths(lw)
-                .build(&shape, &fall)?
-                .with_kappa(kappa)?;
-            let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
-            let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
-            shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
+    // The flare lines' walks and modulation (their fragments kept, a few per cent of
+    // the frame's) run beside the area primitives' (rayon::join: two threads when
+    // free); the combiner then adds the lines in order after the areas, as one
+    // thread would. Counters are integer sums, so the merge order cannot change them.
+    let draw_areas = || -> Result<_, ConfigError> {
+        let mut prims = Vec::new();
+        // A modulator to cost the elaboration when no primitive builds one.
+        let mut bloom_cost: Option<UnitSummary> = None;
+        let mut halo_cost: Option<UnitSummary> = None;
+        let mut buf = DrawBuffers::default();
+        // An area primitive (bloom or halo) through the datapath, as its row of the
+        // frame's primitive table.
+        let mut draw = |kind: &'static str,
+                        source: usize,
+                        a: &AreaPrim,
+                        m: &dyn Unit<In = LumIn, Out = LumOut, State = ()>,
+                        table_words: u64,
+                        gain: [u32; 3]|
+         -> Result<(), ConfigError> {
+            let input = area_input(a, &pvg)?;
+            let d = draw_prim(
+                &pvg,
+                &ip,
+                input,
+                m,
+                &comb,
+                gain,
+                &mut fb,
+                &mut buf,
+                &mut counters,
+            )?;
             prims.push(PrimStat {
-                kind: "bloom",
-                source: i,
-                walked,
-                fragments: frags.len() as u64,
-                table_words: m.table_words(),
+                kind,
+                source,
+                walked: d.walked,
+                fragments: d.fragments,
+                table_words,
             });
-            bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
+            Ok(())
+        };
+        for (i, s) in sources.iter().enumerate() {
+            if let Some(b) = &s.bloom {
+                let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
+                let a = fit_area(&a);
+                let l0 = bloom_at(b, 0.0, &g.model);
+                let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
+                let gain_l = l0.min(gmax);
+                let fall = profile_samples(
+                    |t| bloom_at(b, t, &g.model),
+                    theta_max,
+                    gain_l,
+                    lw.falloff_log2,
+                );
+                let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
+                let m = BloomFlareModulatorConfig::from_widths(lw)
+                    .build(&shape, &fall)?
+                    .with_kappa(kappa)?;
+                let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
+                draw("bloom", i, &a, &m, m.table_words(), gain)?;
+                bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
+            }
+            if let Some(cc) = s.halo {
+                let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
+                let a = fit_area(&a);
+                let rings: Vec<Vec<f64>> = g
+                    .determinants
+                    .wavelengths_nm
+                    .iter()
+                    .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
+                    .collect();
+                let (shape, kappa) =
+                    area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
+                let m = HaloModulatorConfig::from_widths(lw)
+                    .build(&shape, [&rings[0], &rings[1], &rings[2]])?
+                    .with_kappa(kappa)?;
+                let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
+                draw("halo", i, &a, &m, m.table_words(), gain)?;
+                halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
+            }
         }
-        if let Some(cc) = s.halo {
-            let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
-            let a = fit_area(&a);
-            let rings: Vec<Vec<f64>> = g
-                .determinants
-                .wavelengths_nm
-                .iter()
-                .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
-                .collect();
-            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
-            let m = HaloModulatorConfig::from_widths(lw)
-                .build(&shape, [&rings[0], &rings[1], &rings[2]])?
-                .with_kappa(kappa)?;
-            let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
-            let (walked, frags) = walk_prim(&pvg, &ip, area_input(&a, &pvg)?, w, h, &mut counters)?;
-            shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
-            prims.push(PrimStat {
-                kind: "halo",
-                source: i,
-                walked,
-                fragments: frags.len() as u64,
-                table_words: m.table_words(),
-            });
-            halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
+        Ok((prims, bloom_cost, halo_cost, buf))
+    };
+    let walk_lines = || -> Result<Option<WalkedLines>, ConfigError> {
+        if !any_flare {
+            return Ok(None);
         }
-    }
-    if any_flare {
         // Every line shares one spindle shape and one falloff: loaded once.
         let m = BloomFlareModulatorConfig::from_widths(lw)
             .build(&line_shape(&lw), &line_falloff_samples(lw.falloff_log2))?;
-        let mut loaded = false;
+        let mut out = WalkedLines {
+            m,
+            counters: BTreeMap::new(),
+            pix: Vec::new(),
+            lum: Vec::new(),
+            drawn: Vec::new(),
+        };
+        let mut wb = WalkBuffers::default();
         for (i, s) in sources.iter().enumerate() {
             for l in &lines[i] {
                 let (len, half_w) = (
@@ -281,19 +316,64 @@ pub fn render_glare_over(
                     half_width: pos_code(half_w).max(0) as u64,
                     angle: pvg.angle_code(l.angle)?,
                 };
-                let (walked, frags) = walk_prim(&pvg, &ip, input, w, h, &mut counters)?;
-                shade(&m, &comb, &frags, gain, &mut fb, &mut counters);
-                prims.push(PrimStat {
-                    kind: "flare",
-                    source: i,
-                    walked,
-                    fragments: frags.len() as u64,
-                    table_words: if loaded { 0 } else { m.table_words() },
-                });
-                loaded = true;
+                let (pix, lum) = (&mut out.pix, &mut out.lum);
+                let d = walk_prim(
+                    &pvg,
+                    &ip,
+                    input,
+                    &out.m,
+                    gain,
+                    w,
+                    h,
+                    &mut wb,
+                    &mut out.counters,
+                    |p, l| {
+                        pix.extend_from_slice(p);
+                        lum.extend_from_slice(l);
+                    },
+                )?;
+                out.drawn.push((i, d, out.pix.len()));
             }
         }
-        bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
+        Ok(Some(out))
+    };
+    let (areas, walked) = rayon::join(draw_areas, walk_lines);
+    let (mut prims, mut bloom_cost, halo_cost, mut buf) = areas?;
+    if let Some(wl) = walked? {
+        for (k, c) in wl.counters {
+            add(&mut counters, &k, c);
+        }
+        let mut start = 0;
+        for (n, &(i, d, end)) in wl.drawn.iter().enumerate() {
+            let (mut c, mut t) = (Counters::default(), SpanTally::new());
+            for (p, l) in wl.pix[start..end]
+                .chunks(LINE_COMBINE_CHUNK)
+                .zip(wl.lum[start..end].chunks(LINE_COMBINE_CHUNK))
+            {
+                combine(
+                    &comb,
+                    p,
+                    l,
+                    &mut fb,
+                    &mut buf.comb_in,
+                    &mut buf.comb_out,
+                    &mut c,
+                    &mut t,
+                );
+            }
+            t.close(comb.timing(), &mut c);
+            add(&mut counters, comb.name(), c);
+            prims.push(PrimStat {
+                kind: "flare",
+                source: i,
+                walked: d.walked,
+                fragments: d.fragments,
+                // The shared tables are written before the first line only.
+                table_words: if n == 0 { wl.m.table_words() } else { 0 },
+            });
+            start = end;
+        }
+        bloom_cost.get_or_insert_with(|| UnitSummary::of(&wl.m));
     }
 
     // Elaboration: what was built, and what was left out with what it saved.
@@ -453,4 +533,18 @@ fn line_shape(lw: &LumWidths) -> Vec<f64> {
     } else {
         t
     }
+}
+
+/// Combiner inputs per chunk when the flare lines' kept fragments are added.
+const LINE_COMBINE_CHUNK: usize = 256;
+
+/// The flare lines walked and modulated ahead of the combiner: the shared modulator,
+/// the walk's counters, every line's fragments (framebuffer pixel index and
+/// luminance, lines one after another) and per line its source, walk and end index.
+struct WalkedLines {
+    m: BloomFlareModulator,
+    counters: BTreeMap<String, Counters>,
+    pix: Vec<usize>,
+    lum: Vec<LumOut>,
+    drawn: Vec<(usize, Drawn, usize)>,
 }

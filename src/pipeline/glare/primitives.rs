@@ -6,12 +6,12 @@ use super::frame::{ATTR_FRAC_BITS, COORD_INT_BITS, SUBPIXEL_BITS};
 use super::tables::AreaPrim;
 use crate::report::image_out::Framebuffer;
 use crate::scene::glare::GlareSection;
-use rtl_model::driver::run_span;
+use rtl_model::driver::{run_span, SpanTally};
 use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
-use rtl_model::units::luminance_ram::{LumIn, LumWidths, Radial};
+use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths, Radial};
 use rtl_model::units::polygon_interpolator::{
-    PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
+    Move, PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
 };
 use rtl_model::units::polygon_variable_generator::{
     PolygonVariableGenerator, PolygonVariableGeneratorConfig, PrimKind, PvgIn,
@@ -154,16 +154,145 @@ pub(crate) fn pos_code(x: f64) -> i64 {
 /// A covered fragment: x, y and the (u, v) codes.
 pub type Frag = (u32, u32, i32, i32);
 
-/// The fragments (x, y, u, v) of one primitive from the generator's variables.
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
-pub(crate) fn walk_prim(
+/// Walker moves per chunk (a row is cut into chunks of at most this many, narrow rows
+/// are gathered up to it), so a chunk's interpolator outputs (152-byte words, 38 KiB)
+/// stay in the L1 cache between the walk and the filter.
+const CHUNK_MOVES: usize = 256;
+
+/// The buffers one frame's primitives reuse: a chunk of walker moves and of each
+/// unit's inputs and outputs. Owned by the frame and cleared per chunk, so drawing a
+/// primitive allocates nothing once they have grown to a chunk.
+#[derive(Default)]
+pub(crate) struct DrawBuffers {
+    pub walk_bufs: WalkBuffers,
+    pub comb_in: Vec<CombineIn>,
+    pub comb_out: Vec<[u32; 3]>,
+}
+
+/// The walk's and the modulator's chunk buffers ([`walk_prim`]).
+#[derive(Default)]
+pub(crate) struct WalkBuffers {
+    moves: Vec<Move>,
+    walk: Vec<PolyOut>,
+    /// Framebuffer pixel index of each covered fragment of the chunk.
+    pix: Vec<usize>,
+    lum_in: Vec<LumIn>,
+    lum: Vec<LumOut>,
+}
+
+/// What one primitive's walk did: pixels stepped over (after the scissor) and covered
+/// fragments inside the viewport.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Drawn {
+    pub walked: u64,
+    pub fragments: u64,
+}
+
+/// One primitive through the datapath: the generator's variables, the interpolator's
+/// set-up (scissored), then its walk chunk by chunk, each chunk's covered fragments
+/// through the modulator `m` and the combiner into `fb`. The units are chained per
+/// chunk (no primitive-long buffer); each unit's span is the whole primitive, so its
+/// timing counters are added once at the end ([`SpanTally`]) and equal one
+/// `run_span` over the primitive. Every unit's counter entry is made even when the
+/// walk is empty.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn draw_prim<U>(
     pvg: &PolygonVariableGenerator,
     ip: &PolygonInterpolator,
     input: PvgIn,
+    m: &U,
+    comb: &GlareCombiner,
+    gain: [u32; 3],
+    fb: &mut Framebuffer,
+    buf: &mut DrawBuffers,
+    ctr: &mut BTreeMap<String, Counters>,
+) -> Result<Drawn, ConfigError>
+where
+    U: Unit<In = LumIn, Out = LumOut, State = ()> + ?Sized,
+{
+    let (mut c_comb, mut t_comb) = (Counters::default(), SpanTally::new());
+    let (fw, fh) = (fb.width, fb.height);
+    let DrawBuffers {
+        walk_bufs,
+        comb_in,
+        comb_out,
+    } = buf;
+    let d = walk_prim(
+        pvg,
+        ip,
+        input,
+        m,
+        gain,
+        fw,
+        fh,
+        walk_bufs,
+        ctr,
+        |pix, lum| {
+            combine(
+                comb,
+                pix,
+                lum,
+                fb,
+                comb_in,
+                comb_out,
+                &mut c_comb,
+                &mut t_comb,
+            )
+        },
+    )?;
+    t_comb.close(comb.timing(), &mut c_comb);
+    add(ctr, comb.name(), c_comb);
+    Ok(d)
+}
+
+/// The combiner on one chunk of a primitive's fragments (framebuffer pixel indices
+/// and their luminance): reads the pixels, adds with saturation, writes them back. A
+/// walk visits each pixel once, so reading a chunk's pixels before writing any is the
+/// primitive's read-modify-write. The chunk's inputs join the primitive's `tally`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn combine(
+    comb: &GlareCombiner,
+    pix: &[usize],
+    lum: &[LumOut],
+    fb: &mut Framebuffer,
+    comb_in: &mut Vec<CombineIn>,
+    comb_out: &mut Vec<[u32; 3]>,
+    ctr: &mut Counters,
+    tally: &mut SpanTally,
+) {
+    comb_in.clear();
+    comb_in.extend(pix.iter().zip(lum).map(|(&i, l)| CombineIn {
+        fb: [fb.data[4 * i], fb.data[4 * i + 1], fb.data[4 * i + 2]],
+        lum: l.lum,
+    }));
+    comb_out.clear();
+    comb.kernel_batch(&mut (), comb_in, comb_out, ctr);
+    tally.add(comb_in.len());
+    for (&i, o) in pix.iter().zip(comb_out.iter()) {
+        fb.data[4 * i..4 * i + 3].copy_from_slice(o);
+    }
+}
+
+/// The front of [`draw_prim`]: generator, set-up and walk, and the modulator, chunk
+/// by chunk, each chunk's covered fragments (framebuffer pixel index, luminance) handed
+/// to `sink` in walk order. The generator's, interpolator's and modulator's counters
+/// (one span each over the primitive) go to `ctr`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn walk_prim<U>(
+    pvg: &PolygonVariableGenerator,
+    ip: &PolygonInterpolator,
+    input: PvgIn,
+    m: &U,
+    gain: [u32; 3],
     width: u32,
     height: u32,
+    buf: &mut WalkBuffers,
     ctr: &mut BTreeMap<String, Counters>,
-) -> Result<(u64, Vec<Frag>), ConfigError> {
+    mut sink: impl FnMut(&[usize], &[LumOut]),
+) -> Result<Drawn, ConfigError>
+where
+    U: Unit<In = LumIn, Out = LumOut, State = ()> + ?Sized,
+{
     let mut c_pvg = Counters::default();
     let v = run_span(pvg, &mut (), &[input], &mut c_pvg)[0];
     add(ctr, pvg.name(), c_pvg);
@@ -181,52 +310,63 @@ pub(crate) fn walk_prim(
     let setup = ip.setup_parallelogram(&verts, &mut c_ip)?;
     let setup = scissor(ip, &setup, width, height);
     let mut st = setup.state.clone();
-    let outs = run_span(ip, &mut st, &setup.moves(), &mut c_ip);
-    add(ctr, ip.name(), c_ip);
-    let frags = outs
-        .iter()
-        .filter(|f| f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64)
-        .map(|f| (f.x as u32, f.y as u32, f.attrs[0] as i32, f.attrs[1] as i32))
-        .collect();
-    Ok((setup.pixels(), frags))
-}
-
-/// Modulate and combine one primitive's fragments into the framebuffer.
-pub(crate) fn shade<
-    U: Unit<In = LumIn, Out = rtl_model::units::luminance_ram::LumOut, State = ()>,
->(
-    m: &U,
-    comb: &GlareCombiner,
-    frags: &[Frag],
-    gain: [u32; 3],
-    fb: &mut Framebuffer,
-    ctr: &mut BTreeMap<String, Counters>,
-) {
-    let ins: Vec<LumIn> = frags
-        .iter()
-        .map(|&(_, _, u, v)| LumIn { u, v, gain })
-        .collect();
-    let mut c = Counters::default();
-    let lum = run_span(m, &mut (), &ins, &mut c);
-    add(ctr, m.name(), c);
-    let cin: Vec<CombineIn> = frags
-        .iter()
-        .zip(&lum)
-        .map(|(&(x, y, _, _), l)| {
-            let p = fb.pixel(x, y);
-            CombineIn {
-                fb: [p[0], p[1], p[2]],
-                lum: l.lum,
+    let mut c_m = Counters::default();
+    let (mut t_ip, mut t_m) = (SpanTally::new(), SpanTally::new());
+    let (w, h) = (width as i64, height as i64);
+    let WalkBuffers {
+        moves,
+        walk,
+        pix,
+        lum_in,
+        lum,
+    } = buf;
+    if let Some(b) = setup.bbox {
+        let bw = b.width() as usize;
+        let rows = b.height() as usize;
+        let mut row = 0;
+        while row < rows {
+            // The serpentine walk of `PolySetup::moves`, whole rows at a time.
+            moves.clear();
+            while row < rows && (moves.is_empty() || moves.len() + bw <= CHUNK_MOVES) {
+                setup.row_moves(row as u64, moves);
+                row += 1;
             }
-        })
-        .collect();
-    let mut c = Counters::default();
-    let out = run_span(comb, &mut (), &cin, &mut c);
-    add(ctr, comb.name(), c);
-    for (&(x, y, _, _), o) in frags.iter().zip(&out) {
-        let a = fb.pixel(x, y)[3];
-        fb.set(x, y, [o[0], o[1], o[2], a]);
+            for part in moves.chunks(CHUNK_MOVES) {
+                walk.clear();
+                ip.kernel_batch(&mut st, part, walk, &mut c_ip);
+                t_ip.add(part.len());
+                // Covered fragments inside the viewport, in walk order.
+                pix.clear();
+                lum_in.clear();
+                for f in walk.iter() {
+                    if f.inside && f.x >= 0 && f.y >= 0 && f.x < w && f.y < h {
+                        pix.push((f.y * w + f.x) as usize);
+                        lum_in.push(LumIn {
+                            u: f.attrs[0] as i32,
+                            v: f.attrs[1] as i32,
+                            gain,
+                        });
+                    }
+                }
+                if pix.is_empty() {
+                    continue;
+                }
+                lum.clear();
+                m.kernel_batch(&mut (), lum_in, lum, &mut c_m);
+                t_m.add(lum_in.len());
+                sink(pix, lum);
+            }
+        }
     }
+    let fragments = t_m.len();
+    t_ip.close(ip.timing(), &mut c_ip);
+    t_m.close(m.timing(), &mut c_m);
+    add(ctr, ip.name(), c_ip);
+    add(ctr, m.name(), c_m);
+    Ok(Drawn {
+        walked: setup.pixels(),
+        fragments,
+    })
 }
 
 /// The area primitive's generator input (the quad fitted to the coordinate range).

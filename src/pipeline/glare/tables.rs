@@ -27,14 +27,27 @@ pub fn shape_samples(shape: &Shape2D, a: &AreaPrim, k: u32) -> Vec<f64> {
     let n = (1usize << k) + 1;
     let step = 2.0 / (n - 1) as f64;
     let (c, s) = (a.phi.cos(), a.phi.sin());
-    let mut out = Vec::with_capacity(n * n);
-    for j in 0..n {
-        let v = -1.0 + j as f64 * step;
-        for i in 0..n {
-            let u = -1.0 + i as f64 * step;
-            let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
-            out.push((shape.distance(dx, dy) / a.d_max_px).clamp(0.0, 1.0));
-        }
+    let sample = |idx: usize| {
+        let (i, j) = (idx % n, idx / n);
+        let (u, v) = (-1.0 + i as f64 * step, -1.0 + j as f64 * step);
+        let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
+        (shape.distance(dx, dy) / a.d_max_px).clamp(0.0, 1.0)
+    };
+    // The grid is dyadic, so sample n²−1−idx sits at exactly (−u, −v) and its
+    // (dx, dy) is exactly (−dx, −dy) (IEEE products and differences are odd). A
+    // point-symmetric outline (its distance reads |u|, |v| or u², v² of the rotated
+    // offset) gives it the same value: the second half is the first's mirror, and the
+    // ellipse's 20 Newton steps per sample run half as often. A polygon is computed
+    // in full.
+    let symmetric = matches!(
+        shape,
+        Shape2D::Point | Shape2D::Circle { .. } | Shape2D::Ellipse { .. } | Shape2D::Capsule { .. }
+    );
+    let len = n * n;
+    let first = if symmetric { len.div_ceil(2) } else { len };
+    let mut out: Vec<f64> = (0..first).map(sample).collect();
+    for idx in first..len {
+        out.push(out[len - 1 - idx]);
     }
     out
 }
