@@ -8,18 +8,36 @@
 //! Storage is x fastest, then y, then z. Entries are unorm codes of `bits` per channel
 //! (8 by default: the thesis' 256 levels).
 
+use std::sync::OnceLock;
+
+use rtl_model::units::texture_sampler::TextureSampler;
 use rtl_model::ConfigError;
 
 /// Largest side accepted (512³ × 3 channels fits comfortably in memory).
 pub const MAX_SIDE: u32 = 512;
 
 /// An s³ RGB voxel map of unorm codes.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct VoxelMap {
     s: u32,
     bits: u32,
     data: Vec<[u32; 3]>,
+    /// The map uploaded into the renderer's 3D sampler (`super::slice::sampler_3d`),
+    /// made on first use and kept: a texture is uploaded once per map, not once per
+    /// frame (the upload packs s³·3 codes into the sampler's bit RAM: ≈ 0.2 s at
+    /// s = 128, as long as the rest of a 640 × 480 frame). [`VoxelMap::data_mut`]
+    /// drops it.
+    texture: OnceLock<TextureSampler>,
 }
+
+/// Equal maps hold the same codes (the uploaded texture follows from them).
+impl PartialEq for VoxelMap {
+    fn eq(&self, o: &Self) -> bool {
+        (self.s, self.bits, &self.data) == (o.s, o.bits, &o.data)
+    }
+}
+
+impl Eq for VoxelMap {}
 
 impl VoxelMap {
     /// An all-zero map; `s` in 1 ..= 512 (`envmap.voxels`), `bits` in 1 ..= 16
@@ -31,6 +49,7 @@ impl VoxelMap {
             s,
             bits,
             data: vec![[0; 3]; (s as usize).pow(3)],
+            texture: OnceLock::new(),
         })
     }
 
@@ -64,6 +83,7 @@ impl VoxelMap {
 
     /// Store a value in levels of the full scale 1.0 (clamped, rounded to a code).
     pub fn set_levels(&mut self, x: u32, y: u32, z: u32, v: [f64; 3]) {
+        self.texture.take();
         let m = self.max_code() as f64;
         let i = self.index(x, y, z);
         self.data[i] = v.map(|c| (c.clamp(0.0, 1.0) * m).round() as u32);
@@ -74,6 +94,7 @@ impl VoxelMap {
     }
 
     pub fn data_mut(&mut self) -> &mut [[u32; 3]] {
+        self.texture.take();
         &mut self.data
     }
 
@@ -99,6 +120,20 @@ impl VoxelMap {
             }
         }
         d
+    }
+
+    /// The map in `make`'s sampler, made once and kept until the codes change (see
+    /// the `texture` field). `make` must depend on the map only.
+    pub(super) fn texture(
+        &self,
+        make: impl FnOnce(&Self) -> Result<TextureSampler, ConfigError>,
+    ) -> Result<&TextureSampler, ConfigError> {
+        if let Some(t) = self.texture.get() {
+            return Ok(t);
+        }
+        let t = make(self)?;
+        // Another thread may have uploaded the same texture meanwhile: either is it.
+        Ok(self.texture.get_or_init(|| t))
     }
 
     pub fn bytes(&self) -> u64 {
