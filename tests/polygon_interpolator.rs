@@ -473,6 +473,51 @@ proptest! {
         common::assert_drivers_agree(&u, setup.state.clone(), &moves);
     }
 
+    /// The batch kernel's closed-form runs: long runs of one move over narrow
+    /// accumulators (so some runs wrap or saturate part-way and take the per-step
+    /// path), every rounding mode, big primitives walked row by row.
+    #[test]
+    fn batch_runs_agree_with_span_and_tick(
+        k in 1u32..=6,
+        acc_frac in 9u32..=30,
+        acc_int in 1u32..=14,
+        out_frac in 0u32..=8,
+        signed in any::<bool>(),
+        mode in prop::sample::select(Overflow::ALL.to_vec()),
+        q in prop::sample::select(Quant::ALL.to_vec()),
+        pts in pts_strategy(3, -20.0, 90.0),
+        attrs in attrs_strategy(3),
+        runs in prop::collection::vec((0u8..4, 1usize..60), 0..8),
+    ) {
+        let u = PolygonInterpolatorConfig {
+            attrs: k,
+            attr_fmt: Format { int_bits: 10, frac_bits: 8, signed },
+            acc_int_bits: acc_int,
+            acc_frac_bits: acc_frac,
+            acc_overflow: mode,
+            out_int_bits: 10,
+            out_frac_bits: out_frac,
+            out_quant: q,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let mut ctr = Counters::default();
+        let vs: Vec<Vertex> = (0..3)
+            .map(|i| u.vertex_from_f64(i, pts[i].0, pts[i].1, &attrs[i][..k as usize], &mut ctr).unwrap())
+            .collect();
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
+        let mut moves = Vec::new();
+        for row in 0..setup.bbox.map_or(0, |b| b.height()) {
+            setup.row_moves(row, &mut moves);
+        }
+        prop_assert_eq!(&moves, &setup.moves());
+        for &(m, n) in &runs {
+            moves.extend(std::iter::repeat_n([Move::Hold, Move::Right, Move::Left, Move::Down][m as usize], n));
+        }
+        common::assert_drivers_agree(&u, setup.state.clone(), &moves);
+    }
+
     #[test]
     fn random_configs_never_panic_and_errors_name_the_field(
         attrs in 0u32..20,

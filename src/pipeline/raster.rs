@@ -3,10 +3,12 @@
 //! the viewport still cost the walker its clocks (counted); only covered pixels
 //! inside the viewport come out as fragments.
 
-use rtl_model::driver::for_each_span;
+use rtl_model::driver::SpanTally;
 use rtl_model::error::ConfigError;
-use rtl_model::units::polygon_interpolator::{PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS};
-use rtl_model::Counters;
+use rtl_model::units::polygon_interpolator::{
+    Move, PolyOut, PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS,
+};
+use rtl_model::{Counters, Unit};
 
 /// A covered pixel and its interpolated attributes (raw output codes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,6 +49,56 @@ pub fn quantise<const N: usize>(
     Ok(out)
 }
 
+/// Buffers of a walk fed to the interpolator a bounding-box row at a time, reused
+/// from row to row and primitive to primitive (no allocation per fragment).
+#[derive(Clone, Debug, Default)]
+pub struct WalkBuffers {
+    moves: Vec<Move>,
+    outs: Vec<PolyOut>,
+    frags: Vec<Fragment>,
+}
+
+/// Walk one set-up primitive through the interpolator's batch kernel a bounding-box
+/// row at a time, handing each row's covered pixels inside the `width` × `height`
+/// viewport to `sink` (in walk order). The counters are those of one span over the
+/// whole walk, as [`walk`] counts them.
+pub fn walk_rows(
+    u: &PolygonInterpolator,
+    s: &PolySetup,
+    width: u32,
+    height: u32,
+    ctr: &mut Counters,
+    buf: &mut WalkBuffers,
+    mut sink: impl FnMut(&[Fragment]),
+) {
+    let mut st = s.state.clone();
+    let mut tally = SpanTally::new();
+    for row in 0..s.bbox.map_or(0, |b| b.height()) {
+        buf.moves.clear();
+        buf.outs.clear();
+        buf.frags.clear();
+        s.row_moves(row, &mut buf.moves);
+        u.kernel_batch(&mut st, &buf.moves, &mut buf.outs, ctr);
+        tally.add(buf.moves.len());
+        buf.frags.extend(
+            buf.outs
+                .iter()
+                .filter(|f| {
+                    f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64
+                })
+                .map(|f| Fragment {
+                    x: f.x as u32,
+                    y: f.y as u32,
+                    attrs: f.attrs,
+                }),
+        );
+        if !buf.frags.is_empty() {
+            sink(&buf.frags);
+        }
+    }
+    tally.close(u.timing(), ctr);
+}
+
 /// Walk one set-up primitive; keep covered pixels inside a `width` × `height` viewport.
 pub fn walk(
     u: &PolygonInterpolator,
@@ -56,16 +108,9 @@ pub fn walk(
     ctr: &mut Counters,
     out: &mut Vec<Fragment>,
 ) {
-    let mut st = s.state.clone();
-    // Streamed: a big primitive's walk is ~10⁵–10⁶ outputs of 16 attribute words.
-    for_each_span(u, &mut st, &s.moves(), ctr, |f| {
-        if f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64 {
-            out.push(Fragment {
-                x: f.x as u32,
-                y: f.y as u32,
-                attrs: f.attrs,
-            });
-        }
+    let mut buf = WalkBuffers::default();
+    walk_rows(u, s, width, height, ctr, &mut buf, |f| {
+        out.extend_from_slice(f)
     });
 }
 

@@ -84,9 +84,24 @@ pub fn assert_batch_agrees<U: Unit>(
         let mut s = state.clone();
         let mut c = Counters::default();
         let o = run_batch(unit, &mut s, inputs, chunk, &mut c);
-        assert_eq!(o, out, "{}: batch outputs differ (chunk {chunk})", unit.name());
-        assert_eq!(&s, end, "{}: batch final state differs (chunk {chunk})", unit.name());
-        assert_eq!(&c, ctr, "{}: batch counters differ (chunk {chunk})", unit.name());
+        assert_eq!(
+            o,
+            out,
+            "{}: batch outputs differ (chunk {chunk})",
+            unit.name()
+        );
+        assert_eq!(
+            &s,
+            end,
+            "{}: batch final state differs (chunk {chunk})",
+            unit.name()
+        );
+        assert_eq!(
+            &c,
+            ctr,
+            "{}: batch counters differ (chunk {chunk})",
+            unit.name()
+        );
     }
 }
 

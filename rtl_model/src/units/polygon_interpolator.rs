@@ -32,7 +32,7 @@
 use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
 use crate::error::{check_range, ConfigError};
-use crate::fixed_point::{Format, Fx, Overflow, Quant};
+use crate::fixed_point::{round_shift_right_i64, Format, Fx, Overflow, Quant};
 use crate::unit::{Signal, Timing, Unit, Width};
 use serde::{Deserialize, Serialize};
 
@@ -279,6 +279,24 @@ impl PolySetup {
             m.resize(m.len() + w - 1, dir);
         }
         m
+    }
+}
+
+impl PolySetup {
+    /// The moves of bounding-box row `row` (0 = top), appended to `out`: `moves()`
+    /// a row at a time (`Hold` or `Down`, then `width − 1` steps right on even rows and
+    /// left on odd ones), so a walk can be fed to the unit in row-sized chunks.
+    pub fn row_moves(&self, row: u64, out: &mut Vec<Move>) {
+        let Some(b) = self.bbox else {
+            return;
+        };
+        out.push(if row == 0 { Move::Hold } else { Move::Down });
+        let dir = if row % 2 == 0 {
+            Move::Right
+        } else {
+            Move::Left
+        };
+        out.resize(out.len() + b.width() as usize - 1, dir);
     }
 }
 
@@ -716,6 +734,90 @@ impl PolygonInterpolator {
         }
     }
 
+    /// `run` steps of `sign` (±1 pixel in x) in closed form, outputs appended; false
+    /// (nothing done) if a register might wrap or saturate on the way, or the output
+    /// rounding is a left shift (its 64-bit form could overflow).
+    fn run_in_closed_form(
+        &self,
+        st: &mut PolyState,
+        sign: i64,
+        run: usize,
+        out: &mut Vec<PolyOut>,
+        ctr: &mut Counters,
+    ) -> bool {
+        let k = self.cfg.attrs as usize;
+        let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
+        if shift <= 0 {
+            return false;
+        }
+        let steps = sign * run as i64;
+        // Pixel counter (c bits) and edges (ew bits): the last value must fit.
+        let x_end = st.x + steps;
+        if wrap_signed(x_end, self.cfg.coord_int_bits) != x_end {
+            return false;
+        }
+        let ew = self.edge_bits();
+        let mut edge_end = [0i64; EDGES];
+        for e in 0..EDGES {
+            let end = st.edge[e] as i128 + steps as i128 * st.edge_dx[e] as i128;
+            if end != wrap_signed(end as i64, ew) as i128 {
+                return false;
+            }
+            edge_end[e] = end as i64;
+        }
+        // Accumulators (≤ 62 bits): the last value strictly above the format's minimum
+        // (fit_acc sends the minimum through the overflow mode) and at most its maximum.
+        let acc = self.acc_fmt();
+        let mut acc_end = [0i64; MAX_ATTRS];
+        for a in 0..k {
+            let end = st.acc[a] as i128 + steps as i128 * st.grad_x[a] as i128;
+            if end <= acc.min_raw() || end > acc.max_raw() {
+                return false;
+            }
+            acc_end[a] = end as i64;
+        }
+        let base = out.len();
+        out.resize(
+            base + run,
+            PolyOut {
+                x: 0,
+                y: st.y,
+                inside: false,
+                attrs: [0; MAX_ATTRS],
+            },
+        );
+        let outs = &mut out[base..];
+        for (j, o) in outs.iter_mut().enumerate() {
+            let step = sign * (j as i64 + 1);
+            o.x = st.x + step;
+            o.inside = (0..EDGES).all(|e| st.edge[e] + step * st.edge_dx[e] >= 0);
+        }
+        // Output rounding s(acc) → out format, saturating; events only where inside.
+        let of = self.out_fmt();
+        let (lo, hi) = (of.min_raw() as i64, of.max_raw() as i64);
+        let q = self.cfg.out_quant;
+        for a in 0..k {
+            let (a0, g) = (st.acc[a], sign * st.grad_x[a]);
+            let (mut sat, mut under) = (0u64, 0u64);
+            for (j, o) in outs.iter_mut().enumerate() {
+                let v = a0 + (j as i64 + 1) * g; // |v| < 2^61: no i64 overflow
+                let r = round_shift_right_i64(v, shift as u32, q);
+                let c = r.clamp(lo, hi);
+                o.attrs[a] = c;
+                if o.inside {
+                    sat += u64::from(c != r);
+                    under += u64::from(r == 0 && v != 0);
+                }
+            }
+            ctr.saturations += sat;
+            ctr.underflows += under;
+        }
+        st.x = x_end;
+        st.edge = edge_end;
+        st.acc[..k].copy_from_slice(&acc_end[..k]);
+        true
+    }
+
     /// Put an integer number of accumulator LSBs into the accumulator by `acc_overflow`
     /// (counted: WRAP in `overflows`, SAT modes in `saturations`).
     #[inline]
@@ -814,6 +916,41 @@ impl Unit for PolygonInterpolator {
             out.attrs[i] = v.raw as i64;
         }
         out
+    }
+
+    /// Runs of `Right` or `Left` moves are evaluated in closed form where the run can
+    /// neither wrap nor saturate any register: every accumulator is affine along the
+    /// run (A + k·g), so if its last value lies strictly inside its format (and the
+    /// pixel counter's and edges' last values inside theirs) no step of the run fits,
+    /// wraps or counts anything, and each step's value is A + k·g exactly. Other moves,
+    /// and runs that might overflow, go through the per-step kernel.
+    fn kernel_batch(
+        &self,
+        st: &mut PolyState,
+        moves: &[Move],
+        out: &mut Vec<PolyOut>,
+        ctr: &mut Counters,
+    ) {
+        let mut i = 0;
+        while i < moves.len() {
+            let mv = moves[i];
+            let sign = match mv {
+                Move::Right => 1,
+                Move::Left => -1,
+                Move::Hold | Move::Down => {
+                    out.push(self.kernel(st, &mv, ctr));
+                    i += 1;
+                    continue;
+                }
+            };
+            let run = moves[i..].iter().take_while(|&&m| m == mv).count();
+            if !self.run_in_closed_form(st, sign, run, out, ctr) {
+                for m in &moves[i..i + run] {
+                    out.push(self.kernel(st, m, ctr));
+                }
+            }
+            i += run;
+        }
     }
 
     fn timing(&self) -> Timing {

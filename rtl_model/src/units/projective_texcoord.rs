@@ -235,7 +235,7 @@ impl ProjectiveTexcoord {
     #[inline]
     fn rom_read(&self, i: usize) -> u64 {
         let e = self.cfg.recip_entry_bits as usize;
-        self.rom[i * e..(i + 1) * e].load_le::<u64>()
+        crate::packed_rom::read_field(self.rom.as_raw_slice(), i * e, e as u32)
     }
 
     /// Host helper: quantise f64 (s, t, q) into the input format (round to nearest

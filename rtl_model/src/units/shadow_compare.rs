@@ -296,10 +296,61 @@ impl ShadowCompare {
         Some(y as usize * self.cfg.width as usize + x as usize)
     }
 
+    /// A depth test (`ShadowIn::Test`) against a RAM of this config's size: the
+    /// kernel's Test arm, which reads the state and never writes it.
+    #[inline]
+    fn test(&self, st: &ShadowState, x: i32, y: i32, depth: u64, ctr: &mut Counters) -> ShadowOut {
+        let k = self.cfg.frag_frac_bits;
+        let Some(addr) = self.address(x, y) else {
+            ctr.saturations += 1; // border lookup: lit by convention
+            return ShadowOut {
+                lit: true,
+                stored: self.far(),
+                written: false,
+            };
+        };
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let f = depth & fmask; // u64 → u(n).k wire, ≤ 40 bits
+        ctr.table_reads += 1;
+        let s = self.read(st, addr); // u(n)
+                                     // frag − bias·2ᵏ: u(n+k) − u(n+k) → s(n+k+1)
+        let fb = f as i64 - ((self.cfg.bias as i64) << k);
+        // stored·2ᵏ: u(n) → u(n+k); LEQUAL on s(n+k+1)
+        let lit = fb <= (s as i64) << k;
+        ShadowOut {
+            lit,
+            stored: s,
+            written: false,
+        }
+    }
+
+    /// The kernel over a chunk of depth tests against a shared, read-only RAM (threads
+    /// test one map at once; a test never writes it). The same outputs and counters as
+    /// the kernel; inputs other than `Test`, or a state of another config's size,
+    /// return false with nothing done (the caller takes the per-word kernel).
+    pub fn test_batch(
+        &self,
+        st: &ShadowState,
+        inputs: &[ShadowIn],
+        out: &mut Vec<ShadowOut>,
+        ctr: &mut Counters,
+    ) -> bool {
+        if st.ram.len() as u64 != self.ram_bits()
+            || !inputs.iter().all(|i| matches!(i, ShadowIn::Test { .. }))
+        {
+            return false;
+        }
+        out.extend(inputs.iter().map(|i| match *i {
+            ShadowIn::Test { x, y, depth } => self.test(st, x, y, depth, ctr),
+            _ => unreachable!("checked above: tests only"),
+        }));
+        true
+    }
+
     #[inline]
     fn read(&self, st: &ShadowState, addr: usize) -> u32 {
         let n = self.cfg.depth_bits as usize;
-        st.ram[addr * n..(addr + 1) * n].load_le::<u32>()
+        crate::packed_rom::read_field(st.ram.as_raw_slice(), addr * n, n as u32) as u32
     }
 
     #[inline]
@@ -342,7 +393,6 @@ impl Unit for ShadowCompare {
             *st = self.fresh_state();
         }
         let far = self.far();
-        let k = self.cfg.frag_frac_bits;
         match *input {
             ShadowIn::Clear => {
                 st.ram.fill(true); // every word = 2ⁿ − 1
@@ -374,29 +424,21 @@ impl Unit for ShadowCompare {
                     written,
                 }
             }
-            ShadowIn::Test { x, y, depth } => {
-                let Some(addr) = self.address(x, y) else {
-                    ctr.saturations += 1; // border lookup: lit by convention
-                    return ShadowOut {
-                        lit: true,
-                        stored: far,
-                        written: false,
-                    };
-                };
-                let fmask = (1u64 << self.frag_bits()) - 1;
-                let f = depth & fmask; // u64 → u(n).k wire, ≤ 40 bits
-                ctr.table_reads += 1;
-                let s = self.read(st, addr); // u(n)
-                                             // frag − bias·2ᵏ: u(n+k) − u(n+k) → s(n+k+1)
-                let fb = f as i64 - ((self.cfg.bias as i64) << k);
-                // stored·2ᵏ: u(n) → u(n+k); LEQUAL on s(n+k+1)
-                let lit = fb <= (s as i64) << k;
-                ShadowOut {
-                    lit,
-                    stored: s,
-                    written: false,
-                }
-            }
+            ShadowIn::Test { x, y, depth } => self.test(st, x, y, depth, ctr),
+        }
+    }
+
+    /// Chunks of tests run through [`ShadowCompare::test_batch`]; anything else (a
+    /// write, a clear, a state to be replaced) word by word.
+    fn kernel_batch(
+        &self,
+        st: &mut ShadowState,
+        inputs: &[ShadowIn],
+        out: &mut Vec<ShadowOut>,
+        ctr: &mut Counters,
+    ) {
+        if !self.test_batch(st, inputs, out, ctr) {
+            out.extend(inputs.iter().map(|x| self.kernel(st, x, ctr)));
         }
     }
 

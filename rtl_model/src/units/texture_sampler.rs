@@ -518,7 +518,7 @@ impl TextureSampler {
     fn read(&self, texel_addr: u64, c: u32) -> u32 {
         let tb = self.cfg.texel_bits as usize;
         let bit = (texel_addr as usize * self.cfg.channels as usize + c as usize) * tb;
-        self.ram[bit..bit + tb].load_le::<u32>()
+        crate::packed_rom::read_field(self.ram.as_raw_slice(), bit, tb as u32) as u32
     }
 
     /// The coordinate wires: the low I + F bits of the word, sign-extended.

@@ -12,15 +12,13 @@
 //! Host work (vertex positions, α, s, t, light coordinates) is f64, as the
 //! application processor computes it; every per-pixel step is a unit kernel.
 
+use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
 use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
-use crate::pipeline::raster::{
-    draw_parallelogram, draw_quad, draw_triangle, host_attrs, Fragment, HostVertex,
-};
+use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::math::Vec3;
-use rayon::prelude::*;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
@@ -28,29 +26,20 @@ use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{
     PolygonInterpolator, PolygonInterpolatorConfig, MAX_ATTRS,
 };
-use rtl_model::units::projective_texcoord::{
-    ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
-};
+use rtl_model::units::projective_texcoord::{ProjectiveTexcoord, ProjectiveTexcoordConfig};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
-use rtl_model::units::texture_sampler::{
-    AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
-};
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
 
-/// Light-map texture size (square).
-/// One sub-plane's visible fragments, their H·I_l and the counters of the units that
-/// made them.
-type SubPlaneHil = (Vec<Fragment>, Vec<u32>, BTreeMap<String, Counters>);
-
 /// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
 /// fragment list each). Fixed, so the work split never depends on the thread count.
-const SUBPLANE_BATCH: usize = 4;
+pub(super) const SUBPLANE_BATCH: usize = 4;
 /// Camera depth buffer width.
-const ZBUF_BITS: u32 = 24;
+pub(super) const ZBUF_BITS: u32 = 24;
 /// Fraction bits of the interpolator's outputs (s16.16, the projective inputs).
-const ATTR_FRAC: u32 = 16;
+pub(super) const ATTR_FRAC: u32 = 16;
 
 /// A tessellated object as the host hands it to the pipeline.
 #[derive(Clone, Debug)]
@@ -91,7 +80,7 @@ pub use crate::pipeline::time_model::{PassKind, PassStats};
 
 /// Cumulative traffic over every unit's counters so far (to split it per pass).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct Traffic {
+pub(super) struct Traffic {
     texel_bytes: u64,
     fb_bytes: u64,
     depth_tests: u64,
@@ -115,7 +104,7 @@ fn traffic(ctr: &BTreeMap<String, Counters>) -> Traffic {
 }
 
 /// Push a finished pass, attributing the traffic counted since the previous one.
-fn push_pass(
+pub(super) fn push_pass(
     passes: &mut Vec<PassStats>,
     last: &mut Traffic,
     ctr: &BTreeMap<String, Counters>,
@@ -158,20 +147,20 @@ impl FrameResult {
 }
 
 /// The units of one frame, configured from the scene.
-struct Units {
-    interp: PolygonInterpolator,
-    f_tex: TextureSampler,
-    h_tex: TextureSampler,
-    modulate: Modulate,
-    blend: AdditiveBlend,
-    proj: ProjectiveTexcoord,
-    proj_depth: ProjectiveTexcoord,
-    zbuf: Option<ShadowCompare>,
-    shadow: Option<ShadowCompare>,
-    j_blend: AdditiveBlend,
+pub(super) struct Units {
+    pub(super) interp: PolygonInterpolator,
+    pub(super) f_tex: TextureSampler,
+    pub(super) h_tex: TextureSampler,
+    pub(super) modulate: Modulate,
+    pub(super) blend: AdditiveBlend,
+    pub(super) proj: ProjectiveTexcoord,
+    pub(super) proj_depth: ProjectiveTexcoord,
+    pub(super) zbuf: Option<ShadowCompare>,
+    pub(super) shadow: Option<ShadowCompare>,
+    pub(super) j_blend: AdditiveBlend,
 }
 
-fn counters_add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
+pub(super) fn counters_add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
     *map.entry(name.to_string()).or_default() += c;
 }
 
@@ -575,7 +564,7 @@ impl<'a> ShaftsFrame<'a> {
             return Ok(());
         };
         let ctx = light_ctx(ls, &self.units, &self.cam, self.zstate.as_ref(), self.p);
-        planes_pass(
+        super::planes::planes_pass(
             &ctx,
             self.p,
             &self.tables,
@@ -608,7 +597,7 @@ fn light_ctx<'b>(
 }
 
 impl PassStats {
-    fn new(kind: PassKind, light: usize, textures_per_fragment: u32) -> Self {
+    pub(super) fn new(kind: PassKind, light: usize, textures_per_fragment: u32) -> Self {
         PassStats {
             kind,
             light,
@@ -686,189 +675,11 @@ fn project_tri(
     Some(hv)
 }
 
-struct LightCtx<'a> {
-    li: usize,
-    units: &'a Units,
-    cam: &'a CameraView,
-    lv: &'a LightView,
-    lm_tex: Option<&'a TextureSampler>,
-    sstate: Option<&'a ShadowState>,
-    zstate: Option<&'a ShadowState>,
-    light: &'a crate::scene::format::Light,
-    tex_max: u32,
-}
-
-/// Scale of the light's projective coordinates in the s16.16 attributes (keeps q
-/// within range for lights up to ~1000 units away while keeping fraction bits).
-const LIGHT_COORD_SCALE: f64 = 16.0;
-
-impl LightCtx<'_> {
-    /// (s, t, r, q) attributes of a world point.
-    fn light_attrs(&self, p: Vec3) -> [f64; 4] {
-        self.lv.strq(p).map(|v| v * LIGHT_COORD_SCALE)
-    }
-
-    /// H·I_l per fragment (texel_bits unorm): light map through the projective unit,
-    /// shadow compare at the light-space texel. `base` is the attribute index of s.
-    fn h_il(
-        &self,
-        frags: &[Fragment],
-        base: usize,
-        ctr: &mut BTreeMap<String, Counters>,
-    ) -> Vec<u32> {
-        let u = self.units;
-        let n = frags.len();
-        let need_proj = self.lm_tex.is_some() || self.sstate.is_some();
-        let mut st: Vec<ProjectiveOut> = Vec::new();
-        let mut behind = vec![false; n];
-        if need_proj {
-            let ins: Vec<ProjectiveIn> = frags
-                .iter()
-                .map(|f| ProjectiveIn {
-                    s: f.attrs[base],
-                    t: f.attrs[base + 1],
-                    q: f.attrs[base + 3],
-                })
-                .collect();
-            let mut c = Counters::default();
-            st = run_span(&u.proj, &mut (), &ins, &mut c);
-            counters_add(ctr, "projective_texcoord", c);
-            for (b, o) in behind.iter_mut().zip(&st) {
-                *b = o.behind;
-            }
-        }
-        let mut out: Vec<u32> = match self.lm_tex {
-            Some(lm) => {
-                let log2 = lm.size()[0].trailing_zeros();
-                let coords: Vec<TextureSamplerIn> = st
-                    .iter()
-                    .map(|o| TextureSamplerIn {
-                        coord: [
-                            texel_word(o.u, log2, &u.proj, lm.coord_frac_bits()),
-                            texel_word(o.v, log2, &u.proj, lm.coord_frac_bits()),
-                            0,
-                        ],
-                    })
-                    .collect();
-                let mut c = Counters::default();
-                let s = run_span(lm, &mut (), &coords, &mut c);
-                counters_add(ctr, "texture_sampler (light map)", c);
-                s.iter().map(|t| t[0]).collect()
-            }
-            None => vec![self.tex_max; n],
-        };
-        if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
-            let ins: Vec<ProjectiveIn> = frags
-                .iter()
-                .map(|f| ProjectiveIn {
-                    s: f.attrs[base + 2],
-                    t: 0,
-                    q: f.attrs[base + 3],
-                })
-                .collect();
-            let mut c = Counters::default();
-            let depth = run_span(&u.proj_depth, &mut (), &ins, &mut c);
-            counters_add(ctr, "projective_texcoord (depth)", c);
-            let res = sh.width();
-            let shift = u.proj.out_format().frac_bits
-                - res.trailing_zeros().min(u.proj.out_format().frac_bits);
-            let dbits = sh.depth_bits();
-            let dfrac = u.proj_depth.out_format().frac_bits;
-            let tests: Vec<ShadowIn> = st
-                .iter()
-                .zip(&depth)
-                .map(|(o, d)| {
-                    let dv = d.u.max(0) as i64;
-                    let word = if dbits >= dfrac {
-                        dv << (dbits - dfrac)
-                    } else {
-                        dv >> (dfrac - dbits)
-                    };
-                    ShadowIn::Test {
-                        x: o.u >> shift,
-                        y: o.v >> shift,
-                        depth: word.min(max_code(dbits) as i64) as u64,
-                    }
-                })
-                .collect();
-            let mut c = Counters::default();
-            let mut s = ss.clone();
-            let lit = run_span(sh, &mut s, &tests, &mut c);
-            counters_add(ctr, "shadow_compare (shadow map)", c);
-            for (o, l) in out.iter_mut().zip(lit) {
-                if !l.lit {
-                    *o = 0;
-                }
-            }
-        }
-        for (o, b) in out.iter_mut().zip(behind) {
-            if b {
-                *o = 0;
-            }
-        }
-        // Outside the light's square (u or v outside [0, 1]) a spot emits nothing: the
-        // light map's border colour is 0 (GL_CLAMP_TO_BORDER). Clamp-to-edge alone
-        // would smear the edge texels (a uniform spot's disc reaches them at the
-        // mid-edges) outward over the whole half-space in front of the light. (A point
-        // light has no light map and no square.)
-        if self.lm_tex.is_some() {
-            let one = 1i32 << u.proj.out_format().frac_bits;
-            for (o, p) in out.iter_mut().zip(&st) {
-                if !(0..=one).contains(&p.u) || !(0..=one).contains(&p.v) {
-                    *o = 0;
-                }
-            }
-        }
-        out
-    }
-
-    /// The fragments that pass the depth test (at window depth words) against the
-    /// camera depth buffer; all of them without objects.
-    fn visible(
-        &self,
-        frags: Vec<Fragment>,
-        depth: impl Fn(&Fragment) -> u32,
-        ctr: &mut BTreeMap<String, Counters>,
-    ) -> Vec<Fragment> {
-        let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
-            return frags;
-        };
-        let ins: Vec<ShadowIn> = frags
-            .iter()
-            .map(|f| ShadowIn::Test {
-                x: f.x as i32,
-                y: f.y as i32,
-                depth: depth(f) as u64,
-            })
-            .collect();
-        let mut c = Counters::default();
-        let mut s = zs.clone();
-        let r = run_span(z, &mut s, &ins, &mut c);
-        counters_add(ctr, "shadow_compare (depth buffer)", c);
-        frags
-            .into_iter()
-            .zip(r)
-            .filter(|(_, o)| o.lit)
-            .map(|(f, _)| f)
-            .collect()
-    }
-}
-
 /// An s16.16 attribute in [0, 1] → a unorm code of full scale `max` (round half up,
 /// clamped): the interpolated vertex colour entering the combiner.
-fn attr_unorm(raw: i64, max: u32) -> u32 {
+pub(super) fn attr_unorm(raw: i64, max: u32) -> u32 {
     let max = max as i64;
     ((raw * max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, max) as u32
-}
-
-/// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.
-fn texel_word(raw: i32, log2_size: u32, proj: &ProjectiveTexcoord, sampler_frac: u32) -> i32 {
-    let shift = log2_size as i32 + sampler_frac as i32 - proj.out_format().frac_bits as i32;
-    if shift >= 0 {
-        raw << shift
-    } else {
-        raw >> -shift
-    }
 }
 
 fn modulate_all(
@@ -908,7 +719,7 @@ fn blend_into(
 
 /// Light colour as texel codes (normalised by its largest component, which goes
 /// into the intensity).
-fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3], f64) {
+pub(super) fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3], f64) {
     let m = l.color.iter().cloned().fold(0.0, f64::max);
     if m <= 0.0 {
         return ([0; 3], 0.0);
@@ -972,11 +783,24 @@ fn object_pass(
     }
     stats.walked = c_int.pixels_in;
     counters_add(ctr, "polygon_interpolator", c_int);
-    let frags = ctx.visible(frags_all, |f| window_depth_word(f.attrs[0], ZBUF_BITS), ctr);
+    // The object pass is light work (a few thousand fragments): one chunk.
+    let mut b = ChunkBuffers::default();
+    let mut zspan = UnitSpan::default();
+    ctx.visible(
+        &frags_all,
+        |f| window_depth_word(f.attrs[0], ZBUF_BITS),
+        &mut zspan,
+        &mut b,
+    );
+    ctx.close_visible(zspan, ctr);
+    let frags = std::mem::take(&mut b.visible);
     stats.fragments = frags.len() as u64;
-    let hil = ctx.h_il(&frags, 4, ctr);
+    let mut spans = HilSpans::default();
+    ctx.h_il(&frags, 4, &mut spans, &mut b);
+    spans.close(ctx, ctr);
+    let hil = &b.hil;
     let mut pairs = Vec::with_capacity(frags.len() * 3);
-    for (f, &j) in frags.iter().zip(&hil) {
+    for (f, &j) in frags.iter().zip(hil) {
         for c in 0..3 {
             let col = attr_unorm(f.attrs[1 + c], ctx.tex_max);
             pairs.push(ModulateIn { a: col, b: j });
@@ -989,297 +813,8 @@ fn object_pass(
     Ok(())
 }
 
-/// The n sample planes (and their sub-planes when m > 1).
-fn planes_pass(
-    ctx: &LightCtx,
-    p: &Prepared,
-    tables: &GTables,
-    fb: &mut Framebuffer,
-    ctr: &mut BTreeMap<String, Counters>,
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
-) -> Result<(), ConfigError> {
-    let u = ctx.units;
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (sc.image.width, sc.image.height);
-    let n = cfg.planes as usize;
-    let m = cfg.subplanes as usize;
-    let (r0, r1) = p.plane_range;
-    let dr = (r1 - r0) / n as f64;
-    let lpos = vec3(ctx.light.position);
-    let (color_codes, intensity) = light_color_codes(ctx.light, ctx.tex_max);
-    // Per-plane scale S (fraction of full scale): F_max · h_ref · I · Δr · exposure / 255.
-    let s_plane = tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0;
-    let [cols, rows] = cfg.mesh;
-    let nf = cfg.f_texels as f64;
-    let [hw, hh] = cfg.h_texels.map(|v| v as f64);
-    let mut jtex: Option<TextureSampler> = None;
-
-    for i in 0..n {
-        let r = r0 + (i as f64 + 0.5) * dr;
-        let plane_z = ctx
-            .cam
-            .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, r))
-            .map_or(1.0, |v| v.2);
-        let plane_zword = unit_depth_word(plane_z, ZBUF_BITS);
-
-        // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
-        if m > 1 {
-            let mut jbuf = vec![0u32; (w * h) as usize];
-            // H·I_l of each sub-plane: independent of the J buffer, so computed for a
-            // batch of sub-planes at a time in parallel, each with its own counters,
-            // then merged and blended in sub-plane order (the same spans, counters and
-            // bytes as one after the other, whatever the thread count).
-            let sub = |j: usize| -> Result<SubPlaneHil, ConfigError> {
-                let mut local = BTreeMap::new();
-                let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-                // A full-screen rectangle: its light coordinates are affine (the
-                // sub-plane is parallel to the screen): one walk as a parallelogram.
-                let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
-                let hv = corners.map(|(x, y)| {
-                    let pt = ctx.cam.point_at(x, y, uj);
-                    let la = ctx.light_attrs(pt);
-                    HostVertex {
-                        x,
-                        y,
-                        attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
-                    }
-                });
-                let mut c_int = Counters::default();
-                let frags = draw_parallelogram(&u.interp, &hv, w, h, &mut c_int)?;
-                counters_add(&mut local, "polygon_interpolator", c_int);
-                let zsub = ctx
-                    .cam
-                    .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
-                    .map_or(1.0, |v| v.2);
-                let zw = unit_depth_word(zsub, ZBUF_BITS);
-                let frags = ctx.visible(frags, |_| zw, &mut local);
-                let hil = ctx.h_il(&frags, 4, &mut local);
-                Ok((frags, hil, local))
-            };
-            let all: Vec<usize> = (0..m).collect();
-            for batch in all.chunks(SUBPLANE_BATCH) {
-                let results: Vec<_> = batch.par_iter().map(|&j| sub(j)).collect();
-                for (&j, res) in batch.iter().zip(results) {
-                    let (frags, hil, local) = res?;
-                    for (k, c) in local {
-                        counters_add(ctr, &k, c);
-                    }
-                    // Sub-plane j's blend weight: the driver splits full scale W into m
-                    // parts ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the
-                    // weights sum to exactly W and J of a fully lit interval is full scale;
-                    // a single round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6,
-                    // 250/255 at m = 25).
-                    let wmax = max_code(cfg.weight_bits) as u64;
-                    let weight =
-                        (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
-                    let ins: Vec<AdditiveBlendIn> = frags
-                        .iter()
-                        .zip(&hil)
-                        .map(|(f, &v)| AdditiveBlendIn {
-                            src: [v, 0, 0, 0],
-                            dst: [jbuf[(f.y * w + f.x) as usize], 0, 0, 0],
-                            weight,
-                        })
-                        .collect();
-                    let mut c = Counters::default();
-                    let out = run_span(&u.j_blend, &mut (), &ins, &mut c);
-                    counters_add(ctr, "additive_blend (J buffer)", c);
-                    for (f, o) in frags.iter().zip(out) {
-                        jbuf[(f.y * w + f.x) as usize] = o[0];
-                    }
-                    let mut st = PassStats::new(
-                        PassKind::SubPlane,
-                        ctx.li,
-                        u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
-                    );
-                    st.triangles = 1;
-                    st.walked = (w * h) as u64;
-                    st.fragments = frags.len() as u64;
-                    push_pass(passes, last, ctr, st);
-                }
-            }
-            // Copy to texture: read the J buffer, write the texture (memory traffic).
-            let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
-            let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
-            st.other_bytes = 2 * bytes;
-            push_pass(passes, last, ctr, st);
-            match jtex.as_mut() {
-                Some(t) => t.load(&jbuf)?,
-                None => {
-                    jtex = Some(TextureSampler::new(
-                        TextureSamplerConfig {
-                            dims: 2,
-                            size: [w, h, 1],
-                            texel_bits: cfg.texel_bits,
-                            coord_int_bits: 16,
-                            filter: Filter::Nearest,
-                            address: [AddressMode::Clamp; 3],
-                            ..TextureSamplerConfig::geforce()
-                        },
-                        &jbuf,
-                    )?)
-                }
-            }
-        }
-
-        // The plane: a cols × rows mesh; vertices carry α, s, t, light coordinates and
-        // the vertex colour S·Δt/Δr (= S·t/r: Δt grows off-axis).
-        let vertex = |k: u32, l: u32| {
-            let (x, y) = (
-                k as f64 * w as f64 / cols as f64,
-                l as f64 * h as f64 / rows as f64,
-            );
-            let pt = ctx.cam.point_at(x, y, r);
-            let t = (pt - ctx.cam.eye).length();
-            let to_l = lpos - pt;
-            let s = to_l.length();
-            let view = (pt - ctx.cam.eye).normalized();
-            let cos_a = if s > 0.0 {
-                (to_l * (1.0 / s)).dot(view).clamp(-1.0, 1.0)
-            } else {
-                1.0
-            };
-            let alpha = cos_a.acos();
-            let la = ctx.light_attrs(pt);
-            HostVertex {
-                x,
-                y,
-                attrs: host_attrs([
-                    alpha / std::f64::consts::PI * nf,
-                    s / tables.s_max * hw,
-                    t / tables.t_max * hh,
-                    s_plane * t / r,
-                    la[0],
-                    la[1],
-                    la[2],
-                    la[3],
-                ]),
-            }
-        };
-        let cells: Vec<(u32, u32)> = (0..rows)
-            .flat_map(|l| (0..cols).map(move |k| (k, l)))
-            .collect();
-        let drawn: Vec<Result<(Vec<Fragment>, Counters), ConfigError>> = cells
-            .par_iter()
-            .map(|&(k, l)| {
-                let mut c = Counters::default();
-                let q = [
-                    vertex(k, l),
-                    vertex(k + 1, l),
-                    vertex(k + 1, l + 1),
-                    vertex(k, l + 1),
-                ];
-                draw_quad(&u.interp, &q, w, h, &mut c).map(|f| (f, c))
-            })
-            .collect();
-        let mut frags = Vec::new();
-        let mut c_int = Counters::default();
-        for d in drawn {
-            let (f, c) = d?;
-            frags.extend(f);
-            c_int += c;
-        }
-        counters_add(ctr, "polygon_interpolator", c_int);
-        let frags = ctx.visible(frags, |_| plane_zword, ctr);
-
-        // The per-fragment product J · S · F · colour · h, one 8-bit modulate at a
-        // time, largest factors first: each modulate rounds to a whole code, so an
-        // intermediate that has shrunk to a few codes carries a large relative error
-        // (a 1 stays 1 under any factor ≥ 128/255). J (≤ full scale in the light),
-        // the plane scale S·t/r (near full scale by the choice of h_ref) and F (near
-        // full scale by the choice of F_ref) keep the product large; h, which spans
-        // the 1/s² range and is a few codes far from the light, comes last, so only
-        // the final rounding acts on the small value (docs/shafts.md).
-        let sh = ATTR_FRAC - cfg.coord_frac_bits;
-        let fin: Vec<TextureSamplerIn> = frags
-            .iter()
-            .map(|f| TextureSamplerIn {
-                coord: [(f.attrs[0] >> sh) as i32, 0, 0],
-            })
-            .collect();
-        let hin: Vec<TextureSamplerIn> = frags
-            .iter()
-            .map(|f| TextureSamplerIn {
-                coord: [(f.attrs[1] >> sh) as i32, (f.attrs[2] >> sh) as i32, 0],
-            })
-            .collect();
-        let mut c = Counters::default();
-        let fv = run_span(&u.f_tex, &mut (), &fin, &mut c);
-        counters_add(ctr, "texture_sampler (F)", c);
-        let mut c = Counters::default();
-        let hvv = run_span(&u.h_tex, &mut (), &hin, &mut c);
-        counters_add(ctr, "texture_sampler (h)", c);
-
-        // J: H·I_l on the plane itself (m = 1) or the sub-plane average (m > 1).
-        let jv: Vec<u32> = match &jtex {
-            Some(t) if m > 1 => {
-                let fr = t.coord_frac_bits();
-                let ins: Vec<TextureSamplerIn> = frags
-                    .iter()
-                    .map(|f| TextureSamplerIn {
-                        coord: [
-                            ((f.x as i32) << fr) + (1 << fr >> 1),
-                            ((f.y as i32) << fr) + (1 << fr >> 1),
-                            0,
-                        ],
-                    })
-                    .collect();
-                let mut c = Counters::default();
-                let out = run_span(t, &mut (), &ins, &mut c);
-                counters_add(ctr, "texture_sampler (J)", c);
-                out.iter().map(|v| v[0]).collect()
-            }
-            _ => ctx.h_il(&frags, 4, ctr),
-        };
-        let pairs: Vec<ModulateIn> = frags
-            .iter()
-            .zip(&jv)
-            .map(|(f, &j)| ModulateIn {
-                a: j,
-                b: attr_unorm(f.attrs[3], ctx.tex_max),
-            })
-            .collect();
-        let js = modulate_all(&u.modulate, &pairs, ctr);
-        let pairs: Vec<ModulateIn> = js
-            .iter()
-            .zip(&fv)
-            .map(|(&a, f)| ModulateIn { a, b: f[0] })
-            .collect();
-        let jsf = modulate_all(&u.modulate, &pairs, ctr);
-        let pairs: Vec<ModulateIn> = jsf
-            .iter()
-            .flat_map(|&x| color_codes.map(|c| ModulateIn { a: x, b: c }))
-            .collect();
-        let jsfc = modulate_all(&u.modulate, &pairs, ctr);
-        let pairs: Vec<ModulateIn> = jsfc
-            .chunks(3)
-            .zip(&hvv)
-            .flat_map(|(c, h)| c.iter().map(move |&a| ModulateIn { a, b: h[0] }))
-            .collect();
-        let col = modulate_all(&u.modulate, &pairs, ctr);
-        let rgb: Vec<[u32; 3]> = col.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-        blend_into(&u.blend, fb, &frags, &rgb, ctr);
-        let mut st = PassStats::new(
-            PassKind::Plane,
-            ctx.li,
-            2 + if m > 1 {
-                1
-            } else {
-                u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
-            },
-        );
-        st.triangles = 2 * (cols * rows) as u64;
-        st.walked = c_int.pixels_in;
-        st.fragments = frags.len() as u64;
-        push_pass(passes, last, ctr, st);
-    }
-    Ok(())
-}
-
 /// A window depth in [0, 1] → a depth word.
-fn unit_depth_word(z: f64, bits: u32) -> u32 {
+pub(super) fn unit_depth_word(z: f64, bits: u32) -> u32 {
     tables::unorm_from_unit(z, bits)
 }
 

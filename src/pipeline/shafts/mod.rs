@@ -1,8 +1,10 @@
 //! The light-shafts pipeline by sample planes (SPEC A).
 
+mod chunked;
 pub mod cli;
 pub mod frame;
 pub mod host;
+mod planes;
 pub mod prepare;
 pub mod reproduce;
 pub mod sweep;

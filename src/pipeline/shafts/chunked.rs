@@ -1,0 +1,306 @@
+//! The shafts frame's per-fragment units chained a chunk at a time (DESIGN §2, the
+//! batch path): a walk hands its fragments over a bounding-box row at a time, and the
+//! depth test, the projective units, the light-map sampler and the shadow compare
+//! each run their batch kernel on that chunk, in buffers reused from chunk to chunk.
+//! No frame-sized list sits between two units.
+//!
+//! Counters stay those of the span driver: each unit keeps a [`UnitSpan`] for each
+//! logical span it served before (the fragments of one sub-plane, of one plane), its
+//! kernel counters summed chunk by chunk and its timing added once when the span
+//! closes ((n − 1)·II + latency + 1 cycles are not a sum over chunks).
+
+use super::frame::{counters_add, Units};
+use super::view::{CameraView, LightView};
+use crate::pipeline::raster::Fragment;
+use rtl_model::driver::SpanTally;
+use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveOut, ProjectiveTexcoord};
+use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
+use rtl_model::unorm::max_code;
+use rtl_model::{Counters, Timing, Unit};
+use std::collections::BTreeMap;
+
+/// One unit's part of a logical span fed in chunks: the kernel's counters so far and
+/// the inputs counted.
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct UnitSpan {
+    tally: SpanTally,
+    ctr: Counters,
+}
+
+impl UnitSpan {
+    /// Run `unit`'s batch kernel on `inputs` (outputs into `out`, cleared first).
+    #[inline]
+    pub fn feed<U: Unit>(
+        &mut self,
+        unit: &U,
+        state: &mut U::State,
+        inputs: &[U::In],
+        out: &mut Vec<U::Out>,
+    ) {
+        out.clear();
+        unit.kernel_batch(state, inputs, out, &mut self.ctr);
+        self.tally.add(inputs.len());
+    }
+
+    /// Depth tests against a shared, read-only RAM (threads test one map at once).
+    #[inline]
+    pub fn feed_tests(
+        &mut self,
+        unit: &ShadowCompare,
+        state: &ShadowState,
+        inputs: &[ShadowIn],
+        out: &mut Vec<ShadowOut>,
+    ) {
+        out.clear();
+        if !unit.test_batch(state, inputs, out, &mut self.ctr) {
+            // Not a plain test chunk: the kernel on a copy, as the span driver ran it.
+            let mut s = state.clone();
+            unit.kernel_batch(&mut s, inputs, out, &mut self.ctr);
+        }
+        self.tally.add(inputs.len());
+    }
+
+    /// The same span continued elsewhere (a part done on another thread).
+    pub fn merge(&mut self, other: &UnitSpan) {
+        self.ctr += other.ctr;
+        self.tally.add(other.tally.len() as usize);
+    }
+
+    /// End the span: its counters, timing included, added under `name`.
+    pub fn close(self, name: &str, t: Timing, map: &mut BTreeMap<String, Counters>) {
+        let mut c = self.ctr;
+        self.tally.close(t, &mut c);
+        counters_add(map, name, c);
+    }
+}
+
+/// The spans of H·I_l's units over one batch of fragments (one span each, as the
+/// span driver ran them over the whole batch).
+#[derive(Clone, Copy, Debug, Default)]
+pub(super) struct HilSpans {
+    proj: UnitSpan,
+    light_map: UnitSpan,
+    proj_depth: UnitSpan,
+    shadow: UnitSpan,
+}
+
+impl HilSpans {
+    pub fn merge(&mut self, o: &HilSpans) {
+        self.proj.merge(&o.proj);
+        self.light_map.merge(&o.light_map);
+        self.proj_depth.merge(&o.proj_depth);
+        self.shadow.merge(&o.shadow);
+    }
+
+    /// Close the spans of the units this light uses, under their counter names.
+    pub fn close(self, ctx: &LightCtx, map: &mut BTreeMap<String, Counters>) {
+        let u = ctx.units;
+        if ctx.lm_tex.is_some() || ctx.sstate.is_some() {
+            self.proj.close("projective_texcoord", u.proj.timing(), map);
+        }
+        if let Some(lm) = ctx.lm_tex {
+            self.light_map
+                .close("texture_sampler (light map)", lm.timing(), map);
+        }
+        if let (Some(sh), Some(_)) = (&u.shadow, ctx.sstate) {
+            self.proj_depth
+                .close("projective_texcoord (depth)", u.proj_depth.timing(), map);
+            self.shadow
+                .close("shadow_compare (shadow map)", sh.timing(), map);
+        }
+    }
+}
+
+/// Buffers of one thread's chunks, reused from chunk to chunk.
+#[derive(Clone, Debug, Default)]
+pub(super) struct ChunkBuffers {
+    /// The chunk's fragments that passed the depth test.
+    pub visible: Vec<Fragment>,
+    /// H·I_l of each visible fragment (texel_bits unorm).
+    pub hil: Vec<u32>,
+    depth_in: Vec<ShadowIn>,
+    depth_out: Vec<ShadowOut>,
+    proj_in: Vec<ProjectiveIn>,
+    proj_out: Vec<ProjectiveOut>,
+    pdepth_in: Vec<ProjectiveIn>,
+    pdepth_out: Vec<ProjectiveOut>,
+    tex_in: Vec<TextureSamplerIn>,
+    tex_out: Vec<[u32; 4]>,
+    shadow_in: Vec<ShadowIn>,
+    shadow_out: Vec<ShadowOut>,
+}
+
+/// What a light's passes read: the frame's units and depth buffer, the light's view,
+/// light map and shadow map.
+pub(super) struct LightCtx<'a> {
+    pub li: usize,
+    pub units: &'a Units,
+    pub cam: &'a CameraView,
+    pub lv: &'a LightView,
+    pub lm_tex: Option<&'a TextureSampler>,
+    pub sstate: Option<&'a ShadowState>,
+    pub zstate: Option<&'a ShadowState>,
+    pub light: &'a crate::scene::format::Light,
+    pub tex_max: u32,
+}
+
+/// Scale of the light's projective coordinates in the s16.16 attributes (keeps q
+/// within range for lights up to ~1000 units away while keeping fraction bits).
+const LIGHT_COORD_SCALE: f64 = 16.0;
+
+impl LightCtx<'_> {
+    /// (s, t, r, q) attributes of a world point.
+    pub fn light_attrs(&self, p: crate::scene::math::Vec3) -> [f64; 4] {
+        self.lv.strq(p).map(|v| v * LIGHT_COORD_SCALE)
+    }
+
+    /// The chunk's fragments that pass the depth test (at window depth words) against
+    /// the camera depth buffer, into `b.visible`; all of them without objects.
+    pub fn visible(
+        &self,
+        frags: &[Fragment],
+        depth: impl Fn(&Fragment) -> u32,
+        span: &mut UnitSpan,
+        b: &mut ChunkBuffers,
+    ) {
+        b.visible.clear();
+        let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
+            b.visible.extend_from_slice(frags);
+            return;
+        };
+        b.depth_in.clear();
+        b.depth_in.extend(frags.iter().map(|f| ShadowIn::Test {
+            x: f.x as i32,
+            y: f.y as i32,
+            depth: depth(f) as u64,
+        }));
+        span.feed_tests(z, zs, &b.depth_in, &mut b.depth_out);
+        b.visible.extend(
+            frags
+                .iter()
+                .zip(&b.depth_out)
+                .filter(|(_, o)| o.lit)
+                .map(|(f, _)| *f),
+        );
+    }
+
+    /// The depth-buffer test's span closed under its counter name (when there is one).
+    pub fn close_visible(&self, span: UnitSpan, map: &mut BTreeMap<String, Counters>) {
+        if let (Some(z), Some(_)) = (&self.units.zbuf, self.zstate) {
+            span.close("shadow_compare (depth buffer)", z.timing(), map);
+        }
+    }
+
+    /// H·I_l per fragment of `frags` (texel_bits unorm) into `b.hil`: light map through
+    /// the projective unit, shadow compare at the light-space texel. `base` is the
+    /// attribute index of s.
+    pub fn h_il(
+        &self,
+        frags: &[Fragment],
+        base: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let u = self.units;
+        b.hil.clear();
+        let need_proj = self.lm_tex.is_some() || self.sstate.is_some();
+        if need_proj {
+            b.proj_in.clear();
+            b.proj_in.extend(frags.iter().map(|f| ProjectiveIn {
+                s: f.attrs[base],
+                t: f.attrs[base + 1],
+                q: f.attrs[base + 3],
+            }));
+            spans
+                .proj
+                .feed(&u.proj, &mut (), &b.proj_in, &mut b.proj_out);
+        }
+        match self.lm_tex {
+            Some(lm) => {
+                let log2 = lm.size()[0].trailing_zeros();
+                let fr = lm.coord_frac_bits();
+                b.tex_in.clear();
+                b.tex_in.extend(b.proj_out.iter().map(|o| TextureSamplerIn {
+                    coord: [
+                        texel_word(o.u, log2, &u.proj, fr),
+                        texel_word(o.v, log2, &u.proj, fr),
+                        0,
+                    ],
+                }));
+                spans.light_map.feed(lm, &mut (), &b.tex_in, &mut b.tex_out);
+                b.hil.extend(b.tex_out.iter().map(|t| t[0]));
+            }
+            None => b.hil.resize(frags.len(), self.tex_max),
+        }
+        if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
+            b.pdepth_in.clear();
+            b.pdepth_in.extend(frags.iter().map(|f| ProjectiveIn {
+                s: f.attrs[base + 2],
+                t: 0,
+                q: f.attrs[base + 3],
+            }));
+            spans
+                .proj_depth
+                .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);
+            let res = sh.width();
+            let of = u.proj.out_format().frac_bits;
+            let shift = of - res.trailing_zeros().min(of);
+            let dbits = sh.depth_bits();
+            let dfrac = u.proj_depth.out_format().frac_bits;
+            b.shadow_in.clear();
+            b.shadow_in
+                .extend(b.proj_out.iter().zip(&b.pdepth_out).map(|(o, d)| {
+                    let dv = d.u.max(0) as i64;
+                    let word = if dbits >= dfrac {
+                        dv << (dbits - dfrac)
+                    } else {
+                        dv >> (dfrac - dbits)
+                    };
+                    ShadowIn::Test {
+                        x: o.u >> shift,
+                        y: o.v >> shift,
+                        depth: word.min(max_code(dbits) as i64) as u64,
+                    }
+                }));
+            spans
+                .shadow
+                .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
+            for (o, l) in b.hil.iter_mut().zip(&b.shadow_out) {
+                if !l.lit {
+                    *o = 0;
+                }
+            }
+        }
+        if need_proj {
+            // Behind the projector (q ≤ 0) nothing is lit. Outside the light's square
+            // (u or v outside [0, 1]) a spot emits nothing: the light map's border
+            // colour is 0 (GL_CLAMP_TO_BORDER). Clamp-to-edge alone would smear the
+            // edge texels (a uniform spot's disc reaches them at the mid-edges) outward
+            // over the whole half-space in front of the light. (A point light has no
+            // light map and no square.)
+            let one = 1i32 << u.proj.out_format().frac_bits;
+            let square = self.lm_tex.is_some();
+            for (o, p) in b.hil.iter_mut().zip(&b.proj_out) {
+                if p.behind || (square && !((0..=one).contains(&p.u) && (0..=one).contains(&p.v))) {
+                    *o = 0;
+                }
+            }
+        }
+    }
+}
+
+/// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.
+pub(super) fn texel_word(
+    raw: i32,
+    log2_size: u32,
+    proj: &ProjectiveTexcoord,
+    sampler_frac: u32,
+) -> i32 {
+    let shift = log2_size as i32 + sampler_frac as i32 - proj.out_format().frac_bits as i32;
+    if shift >= 0 {
+        raw << shift
+    } else {
+        raw >> -shift
+    }
+}

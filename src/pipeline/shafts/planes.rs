@@ -1,0 +1,533 @@
+//! The sample-plane pass of one light (SPEC A (5)–(9)): per interval i, the m
+//! sub-planes' H·I_l averaged into the J buffer and copied to a texture (m > 1), then
+//! plane i drawn as a cols × rows mesh whose fragments take F(α)·h(s, t), J, the
+//! plane scale and the light colour through the modulate unit into the framebuffer.
+//!
+//! Fragments go through the units a walk row at a time ([`super::chunked`]); the
+//! spans and the merge order are those of the span driver, so the bytes and counters
+//! do not depend on the chunking or the thread count.
+
+use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
+use super::frame::{
+    attr_unorm, counters_add, light_color_codes, push_pass, unit_depth_word, PassKind, PassStats,
+    Prepared, Traffic, ATTR_FRAC, SUBPLANE_BATCH, ZBUF_BITS,
+};
+use super::tables::GTables;
+use super::view::vec3;
+use crate::pipeline::raster::{host_attrs, quantise, walk_rows, HostVertex, WalkBuffers};
+use crate::report::image_out::Framebuffer;
+use rayon::prelude::*;
+use rtl_model::error::ConfigError;
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::modulate::ModulateIn;
+use rtl_model::units::texture_sampler::{
+    AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
+};
+use rtl_model::unorm::max_code;
+use rtl_model::{Counters, Unit};
+use std::collections::BTreeMap;
+
+/// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l and the
+/// counters of the units that made them.
+type SubPlaneHil = (Vec<u32>, Vec<u32>, BTreeMap<String, Counters>);
+
+/// A plane fragment's framebuffer position and colour (texel_bits unorm).
+#[derive(Clone, Copy, Debug)]
+struct PlaneFrag {
+    x: u32,
+    y: u32,
+    rgb: [u32; 3],
+}
+
+/// The spans of one plane's units; a mesh cell's part merges into the plane's.
+#[derive(Clone, Copy, Debug, Default)]
+struct PlaneSpans {
+    interp: Counters,
+    zbuf: UnitSpan,
+    f: UnitSpan,
+    h: UnitSpan,
+    j: UnitSpan,
+    hil: HilSpans,
+    /// The four modulates J·S, ·F, ·colour, ·h: four spans, as four span-driver calls.
+    modulate: [UnitSpan; 4],
+}
+
+impl PlaneSpans {
+    fn merge(&mut self, o: &PlaneSpans) {
+        self.interp += o.interp;
+        self.zbuf.merge(&o.zbuf);
+        self.f.merge(&o.f);
+        self.h.merge(&o.h);
+        self.j.merge(&o.j);
+        self.hil.merge(&o.hil);
+        for (a, b) in self.modulate.iter_mut().zip(&o.modulate) {
+            a.merge(b);
+        }
+    }
+}
+
+/// Buffers of one mesh cell's chunks besides the H·I_l ones.
+#[derive(Default)]
+struct PlaneBuffers {
+    chunk: ChunkBuffers,
+    f_in: Vec<TextureSamplerIn>,
+    f_out: Vec<[u32; 4]>,
+    h_in: Vec<TextureSamplerIn>,
+    h_out: Vec<[u32; 4]>,
+    j_in: Vec<TextureSamplerIn>,
+    j_out: Vec<[u32; 4]>,
+    m_in: Vec<ModulateIn>,
+    m_a: Vec<u32>,
+    m_b: Vec<u32>,
+}
+
+/// What every fragment of plane i shares.
+struct PlaneCtx<'a> {
+    ctx: &'a LightCtx<'a>,
+    jtex: Option<&'a TextureSampler>,
+    zword: u32,
+    color_codes: [u32; 3],
+    coord_shift: u32,
+}
+
+/// The n sample planes (and their sub-planes when m > 1).
+pub(super) fn planes_pass(
+    ctx: &LightCtx,
+    p: &Prepared,
+    tables: &GTables,
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+    passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
+) -> Result<(), ConfigError> {
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let n = cfg.planes as usize;
+    let m = cfg.subplanes as usize;
+    let (r0, r1) = p.plane_range;
+    let dr = (r1 - r0) / n as f64;
+    let mut jtex: Option<TextureSampler> = None;
+
+    for i in 0..n {
+        let r = r0 + (i as f64 + 0.5) * dr;
+        // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
+        if m > 1 {
+            let jbuf = subplanes_into_j(ctx, p, r, dr, ctr, passes, last)?;
+            // Copy to texture: read the J buffer, write the texture (memory traffic).
+            let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
+            let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
+            st.other_bytes = 2 * bytes;
+            push_pass(passes, last, ctr, st);
+            match jtex.as_mut() {
+                Some(t) => t.load(&jbuf)?,
+                None => {
+                    jtex = Some(TextureSampler::new(
+                        TextureSamplerConfig {
+                            dims: 2,
+                            size: [w, h, 1],
+                            texel_bits: cfg.texel_bits,
+                            coord_int_bits: 16,
+                            filter: Filter::Nearest,
+                            address: [AddressMode::Clamp; 3],
+                            ..TextureSamplerConfig::geforce()
+                        },
+                        &jbuf,
+                    )?)
+                }
+            }
+        }
+        plane(
+            ctx,
+            p,
+            tables,
+            r,
+            dr,
+            jtex.as_ref().filter(|_| m > 1),
+            fb,
+            ctr,
+            passes,
+            last,
+        )?;
+    }
+    Ok(())
+}
+
+/// Interval [r − Δr/2, r + Δr/2]'s m sub-planes: H·I_l of each, blended with its
+/// weight into a fresh J buffer (one PassStats per sub-plane). Returns the J buffer.
+fn subplanes_into_j(
+    ctx: &LightCtx,
+    p: &Prepared,
+    r: f64,
+    dr: f64,
+    ctr: &mut BTreeMap<String, Counters>,
+    passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
+) -> Result<Vec<u32>, ConfigError> {
+    let u = ctx.units;
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let m = cfg.subplanes as usize;
+    let mut jbuf = vec![0u32; (w * h) as usize];
+    // H·I_l of each sub-plane: independent of the J buffer, so computed for a batch of
+    // sub-planes at a time in parallel, each with its own counters, then merged and
+    // blended in sub-plane order (the same spans, counters and bytes as one after the
+    // other, whatever the thread count).
+    let sub = |j: usize| -> Result<SubPlaneHil, ConfigError> {
+        let mut local = BTreeMap::new();
+        let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
+        // A full-screen rectangle: its light coordinates are affine (the sub-plane is
+        // parallel to the screen): one walk as a parallelogram.
+        let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
+        let hv = corners.map(|(x, y)| {
+            let pt = ctx.cam.point_at(x, y, uj);
+            let la = ctx.light_attrs(pt);
+            HostVertex {
+                x,
+                y,
+                attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
+            }
+        });
+        let mut c_int = Counters::default();
+        let q = quantise(&u.interp, &hv, &mut c_int)?;
+        let setup = u.interp.setup_parallelogram(&q, &mut c_int)?;
+        let zsub = ctx
+            .cam
+            .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
+            .map_or(1.0, |v| v.2);
+        let zw = unit_depth_word(zsub, ZBUF_BITS);
+        let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
+        let mut b = ChunkBuffers::default();
+        let (mut pix, mut hil) = (Vec::new(), Vec::new());
+        let mut wb = WalkBuffers::default();
+        walk_rows(&u.interp, &setup, w, h, &mut c_int, &mut wb, |frags| {
+            ctx.visible(frags, |_| zw, &mut zspan, &mut b);
+            let vis = std::mem::take(&mut b.visible);
+            ctx.h_il(&vis, 4, &mut spans, &mut b);
+            pix.extend(vis.iter().map(|f| f.y * w + f.x));
+            hil.extend_from_slice(&b.hil);
+            b.visible = vis;
+        });
+        counters_add(&mut local, "polygon_interpolator", c_int);
+        ctx.close_visible(zspan, &mut local);
+        spans.close(ctx, &mut local);
+        Ok((pix, hil, local))
+    };
+    let all: Vec<usize> = (0..m).collect();
+    let mut ins: Vec<AdditiveBlendIn> = Vec::new();
+    let mut outs: Vec<[u32; 4]> = Vec::new();
+    for batch in all.chunks(SUBPLANE_BATCH) {
+        let results: Vec<_> = batch.par_iter().map(|&j| sub(j)).collect();
+        for (&j, res) in batch.iter().zip(results) {
+            let (pix, hil, local) = res?;
+            for (k, c) in local {
+                counters_add(ctr, &k, c);
+            }
+            // Sub-plane j's blend weight: the driver splits full scale W into m parts
+            // ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the weights sum to
+            // exactly W and J of a fully lit interval is full scale; a single
+            // round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6, 250/255 at
+            // m = 25).
+            let wmax = max_code(cfg.weight_bits) as u64;
+            let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
+            // A parallelogram's walk covers each pixel once: blending a chunk at a time
+            // reads what the span driver read.
+            let mut span = UnitSpan::default();
+            for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
+                ins.clear();
+                ins.extend(pc.iter().zip(hc).map(|(&px, &v)| AdditiveBlendIn {
+                    src: [v, 0, 0, 0],
+                    dst: [jbuf[px as usize], 0, 0, 0],
+                    weight,
+                }));
+                span.feed(&u.j_blend, &mut (), &ins, &mut outs);
+                for (&px, o) in pc.iter().zip(&outs) {
+                    jbuf[px as usize] = o[0];
+                }
+            }
+            span.close("additive_blend (J buffer)", u.j_blend.timing(), ctr);
+            let mut st = PassStats::new(
+                PassKind::SubPlane,
+                ctx.li,
+                u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
+            );
+            st.triangles = 1;
+            st.walked = (w * h) as u64;
+            st.fragments = pix.len() as u64;
+            push_pass(passes, last, ctr, st);
+        }
+    }
+    Ok(jbuf)
+}
+
+/// Fragments per blend chunk.
+const BLEND_CHUNK: usize = 1024;
+
+/// Plane i at eye distance r: a cols × rows mesh whose vertices carry α, s, t, light
+/// coordinates and the vertex colour S·Δt/Δr (= S·t/r: Δt grows off-axis); each cell
+/// drawn and shaded in parallel, then blended in cell order.
+#[allow(clippy::too_many_arguments)]
+fn plane(
+    ctx: &LightCtx,
+    p: &Prepared,
+    tables: &GTables,
+    r: f64,
+    dr: f64,
+    jtex: Option<&TextureSampler>,
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+    passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
+) -> Result<(), ConfigError> {
+    let u = ctx.units;
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let m = cfg.subplanes as usize;
+    let lpos = vec3(ctx.light.position);
+    let (color_codes, intensity) = light_color_codes(ctx.light, ctx.tex_max);
+    // Per-plane scale S (fraction of full scale): F_max · h_ref · I · Δr · exposure / 255.
+    let s_plane = tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0;
+    let [cols, rows] = cfg.mesh;
+    let nf = cfg.f_texels as f64;
+    let [hw, hh] = cfg.h_texels.map(|v| v as f64);
+    let plane_z = ctx
+        .cam
+        .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, r))
+        .map_or(1.0, |v| v.2);
+    let pc = PlaneCtx {
+        ctx,
+        jtex,
+        zword: unit_depth_word(plane_z, ZBUF_BITS),
+        color_codes,
+        coord_shift: ATTR_FRAC - cfg.coord_frac_bits,
+    };
+
+    let vertex = |k: u32, l: u32| {
+        let (x, y) = (
+            k as f64 * w as f64 / cols as f64,
+            l as f64 * h as f64 / rows as f64,
+        );
+        let pt = ctx.cam.point_at(x, y, r);
+        let t = (pt - ctx.cam.eye).length();
+        let to_l = lpos - pt;
+        let s = to_l.length();
+        let view = (pt - ctx.cam.eye).normalized();
+        let cos_a = if s > 0.0 {
+            (to_l * (1.0 / s)).dot(view).clamp(-1.0, 1.0)
+        } else {
+            1.0
+        };
+        let alpha = cos_a.acos();
+        let la = ctx.light_attrs(pt);
+        HostVertex {
+            x,
+            y,
+            attrs: host_attrs([
+                alpha / std::f64::consts::PI * nf,
+                s / tables.s_max * hw,
+                t / tables.t_max * hh,
+                s_plane * t / r,
+                la[0],
+                la[1],
+                la[2],
+                la[3],
+            ]),
+        }
+    };
+    let cells: Vec<(u32, u32)> = (0..rows)
+        .flat_map(|l| (0..cols).map(move |k| (k, l)))
+        .collect();
+    let drawn: Vec<Result<(Vec<PlaneFrag>, PlaneSpans), ConfigError>> = cells
+        .par_iter()
+        .map(|&(k, l)| {
+            let q = [
+                vertex(k, l),
+                vertex(k + 1, l),
+                vertex(k + 1, l + 1),
+                vertex(k, l + 1),
+            ];
+            cell(&pc, &q, w, h)
+        })
+        .collect();
+    let mut frags = Vec::new();
+    let mut spans = PlaneSpans::default();
+    for d in drawn {
+        let (f, s) = d?;
+        frags.extend(f);
+        spans.merge(&s);
+    }
+    let walked = spans.interp.pixels_in;
+    counters_add(ctr, "polygon_interpolator", spans.interp);
+    ctx.close_visible(spans.zbuf, ctr);
+    spans.f.close("texture_sampler (F)", u.f_tex.timing(), ctr);
+    spans.h.close("texture_sampler (h)", u.h_tex.timing(), ctr);
+    match jtex {
+        Some(t) => spans.j.close("texture_sampler (J)", t.timing(), ctr),
+        None => spans.hil.close(ctx, ctr),
+    }
+    for s in spans.modulate {
+        s.close("modulate", u.modulate.timing(), ctr);
+    }
+    blend_plane(&u.blend, fb, &frags, ctr);
+    let mut st = PassStats::new(
+        PassKind::Plane,
+        ctx.li,
+        2 + if m > 1 {
+            1
+        } else {
+            u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
+        },
+    );
+    st.triangles = 2 * (cols * rows) as u64;
+    st.walked = walked;
+    st.fragments = frags.len() as u64;
+    push_pass(passes, last, ctr, st);
+    Ok(())
+}
+
+/// One mesh cell (a GL quad: two triangles) walked, depth-tested and shaded.
+fn cell(
+    pc: &PlaneCtx,
+    q: &[HostVertex; 4],
+    w: u32,
+    h: u32,
+) -> Result<(Vec<PlaneFrag>, PlaneSpans), ConfigError> {
+    let u = pc.ctx.units;
+    let mut spans = PlaneSpans::default();
+    let mut out = Vec::new();
+    let mut b = PlaneBuffers::default();
+    let mut wb = WalkBuffers::default();
+    let mut c_int = Counters::default();
+    let qv = quantise(&u.interp, q, &mut c_int)?;
+    for s in u.interp.setup_quad(&qv, &mut c_int) {
+        walk_rows(&u.interp, &s, w, h, &mut c_int, &mut wb, |frags| {
+            shade_chunk(pc, frags, &mut spans, &mut b, &mut out)
+        });
+    }
+    spans.interp = c_int;
+    Ok((out, spans))
+}
+
+/// The per-fragment product J · S · F · colour · h of one chunk, one 8-bit modulate at
+/// a time, largest factors first: each modulate rounds to a whole code, so an
+/// intermediate that has shrunk to a few codes carries a large relative error (a 1
+/// stays 1 under any factor ≥ 128/255). J (≤ full scale in the light), the plane
+/// scale S·t/r (near full scale by the choice of h_ref) and F (near full scale by the
+/// choice of F_ref) keep the product large; h, which spans the 1/s² range and is a
+/// few codes far from the light, comes last, so only the final rounding acts on the
+/// small value (docs/shafts.md).
+fn shade_chunk(
+    pc: &PlaneCtx,
+    frags: &[crate::pipeline::raster::Fragment],
+    sp: &mut PlaneSpans,
+    b: &mut PlaneBuffers,
+    out: &mut Vec<PlaneFrag>,
+) {
+    let ctx = pc.ctx;
+    let u = ctx.units;
+    ctx.visible(frags, |_| pc.zword, &mut sp.zbuf, &mut b.chunk);
+    let vis = std::mem::take(&mut b.chunk.visible);
+    let sh = pc.coord_shift;
+    b.f_in.clear();
+    b.f_in.extend(vis.iter().map(|f| TextureSamplerIn {
+        coord: [(f.attrs[0] >> sh) as i32, 0, 0],
+    }));
+    b.h_in.clear();
+    b.h_in.extend(vis.iter().map(|f| TextureSamplerIn {
+        coord: [(f.attrs[1] >> sh) as i32, (f.attrs[2] >> sh) as i32, 0],
+    }));
+    sp.f.feed(&u.f_tex, &mut (), &b.f_in, &mut b.f_out);
+    sp.h.feed(&u.h_tex, &mut (), &b.h_in, &mut b.h_out);
+
+    // J: the sub-plane average (m > 1) or H·I_l on the plane itself (m = 1).
+    match pc.jtex {
+        Some(t) => {
+            let fr = t.coord_frac_bits();
+            b.j_in.clear();
+            b.j_in.extend(vis.iter().map(|f| TextureSamplerIn {
+                coord: [
+                    ((f.x as i32) << fr) + (1 << fr >> 1),
+                    ((f.y as i32) << fr) + (1 << fr >> 1),
+                    0,
+                ],
+            }));
+            sp.j.feed(t, &mut (), &b.j_in, &mut b.j_out);
+            b.m_a.clear();
+            b.m_a.extend(b.j_out.iter().map(|v| v[0]));
+        }
+        None => {
+            ctx.h_il(&vis, 4, &mut sp.hil, &mut b.chunk);
+            b.m_a.clear();
+            b.m_a.extend_from_slice(&b.chunk.hil);
+        }
+    }
+    let md = &u.modulate;
+    // J · S
+    b.m_in.clear();
+    b.m_in
+        .extend(vis.iter().zip(&b.m_a).map(|(f, &j)| ModulateIn {
+            a: j,
+            b: attr_unorm(f.attrs[3], ctx.tex_max),
+        }));
+    sp.modulate[0].feed(md, &mut (), &b.m_in, &mut b.m_b);
+    // · F
+    b.m_in.clear();
+    b.m_in.extend(
+        b.m_b
+            .iter()
+            .zip(&b.f_out)
+            .map(|(&a, f)| ModulateIn { a, b: f[0] }),
+    );
+    sp.modulate[1].feed(md, &mut (), &b.m_in, &mut b.m_a);
+    // · colour (three channels)
+    b.m_in.clear();
+    b.m_in.extend(
+        b.m_a
+            .iter()
+            .flat_map(|&x| pc.color_codes.map(|c| ModulateIn { a: x, b: c })),
+    );
+    sp.modulate[2].feed(md, &mut (), &b.m_in, &mut b.m_b);
+    // · h
+    b.m_in.clear();
+    b.m_in.extend(
+        b.m_b
+            .chunks(3)
+            .zip(&b.h_out)
+            .flat_map(|(c, h)| c.iter().map(move |&a| ModulateIn { a, b: h[0] })),
+    );
+    sp.modulate[3].feed(md, &mut (), &b.m_in, &mut b.m_a);
+    out.extend(vis.iter().zip(b.m_a.chunks(3)).map(|(f, c)| PlaneFrag {
+        x: f.x,
+        y: f.y,
+        rgb: [c[0], c[1], c[2]],
+    }));
+    b.chunk.visible = vis;
+}
+
+/// The plane's fragments added into the framebuffer, a chunk at a time (one span;
+/// a mesh covers each pixel once, so each chunk reads what the span driver read).
+fn blend_plane(
+    u: &AdditiveBlend,
+    fb: &mut Framebuffer,
+    frags: &[PlaneFrag],
+    ctr: &mut BTreeMap<String, Counters>,
+) {
+    let mut span = UnitSpan::default();
+    let mut ins = Vec::with_capacity(BLEND_CHUNK);
+    let mut outs = Vec::with_capacity(BLEND_CHUNK);
+    for chunk in frags.chunks(BLEND_CHUNK) {
+        ins.clear();
+        ins.extend(chunk.iter().map(|f| AdditiveBlendIn {
+            src: [f.rgb[0], f.rgb[1], f.rgb[2], 0],
+            dst: fb.pixel(f.x, f.y),
+            weight: 0,
+        }));
+        span.feed(u, &mut (), &ins, &mut outs);
+        for (f, o) in chunk.iter().zip(&outs) {
+            fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
+        }
+    }
+    span.close("additive_blend", u.timing(), ctr);
+}
