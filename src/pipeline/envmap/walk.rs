@@ -5,23 +5,19 @@
 //! 1–3.
 
 use rayon::prelude::*;
-use rtl_model::driver::SpanTally;
 use rtl_model::error::ConfigError;
-use rtl_model::units::polygon_interpolator::{PolyOut, PolygonInterpolator};
-use rtl_model::{Counters, Unit};
+use rtl_model::units::polygon_interpolator::PolygonInterpolator;
+use rtl_model::Counters;
 
 use super::interpolator::RENDER_ATTRS;
 use super::roughness::TexGen;
-use crate::pipeline::raster::{host_attrs, quantise, HostVertex};
+use crate::pipeline::raster::{host_attrs, quantise, walk_rows, HostVertex, WalkBuffers};
 use crate::scene::camera::CameraView;
 use crate::scene::teapot::Triangle;
 
 /// Triangles per rayon task: each task walks its triangles in order into its own
 /// fragment list; the depth test then runs over the lists in triangle order.
 const TRIS_PER_TASK: usize = 32;
-/// Walk moves per `kernel_batch` call: the interpolator's outputs go through a reused
-/// buffer of this many words (≈ 150 bytes each), not a Vec per triangle.
-const WALK_CHUNK: usize = 256;
 
 /// A covered pixel that may be visible: its index y·w + x and the interpolator's raw
 /// s16.16 codes of n (3), e (3), λ, z, and (u, v) (the render's attributes 8, 9, the
@@ -135,7 +131,7 @@ fn walk_part(
         triangles: 0,
         counters: Counters::default(),
     };
-    let mut buf: Vec<PolyOut> = Vec::with_capacity(WALK_CHUNK);
+    let mut buf = WalkBuffers::default();
     let mut probe: Vec<(u32, [i64; 2])> = Vec::new();
     for (tri, lam) in tris {
         let mut hv = [HostVertex {
@@ -201,34 +197,26 @@ fn walk_part(
     Ok(part)
 }
 
-/// One triangle through `u` (`pipeline::raster::draw_triangle`'s set-up and walk, on
-/// the unit's batch path): quantise, set up, walk the bounding box in chunks of
-/// [`WALK_CHUNK`] moves through `buf`, the primitive's walk one span (its timing
-/// counted once); `sink` gets the pixel index y·w + x and the raw codes of each
-/// covered pixel inside the `w` × `h` viewport, in walk order.
+/// One triangle through `u` (`pipeline::raster::draw_triangle` on the batch path):
+/// quantise, set up, walk a bounding-box row at a time through `buf`
+/// ([`walk_rows`]: the primitive's walk one span); `sink` gets the pixel index
+/// y·w + x and the raw codes of each covered pixel inside the `w` × `h` viewport, in
+/// walk order.
 fn draw(
     u: &PolygonInterpolator,
     hv: &[HostVertex; 3],
     w: u32,
     h: u32,
     ctr: &mut Counters,
-    buf: &mut Vec<PolyOut>,
+    buf: &mut WalkBuffers,
     mut sink: impl FnMut(u32, &[i64]),
 ) -> Result<(), ConfigError> {
     let q = quantise(u, hv, ctr)?;
     let s = u.setup_triangle(&q, ctr);
-    let mut st = s.state.clone();
-    let mut tally = SpanTally::new();
-    for moves in s.moves().chunks(WALK_CHUNK) {
-        buf.clear();
-        u.kernel_batch(&mut st, moves, buf, ctr);
-        tally.add(moves.len());
-        for f in buf.iter() {
-            if f.inside && f.x >= 0 && f.y >= 0 && f.x < w as i64 && f.y < h as i64 {
-                sink(f.y as u32 * w + f.x as u32, &f.attrs);
-            }
+    walk_rows(u, &s, w, h, ctr, buf, |frags| {
+        for f in frags {
+            sink(f.y * w + f.x, &f.attrs);
         }
-    }
-    tally.close(u.timing(), ctr);
+    });
     Ok(())
 }
