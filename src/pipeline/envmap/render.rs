@@ -142,7 +142,7 @@ use super::slice;
 pub use super::table5::{table5_rows, Table5Row, TABLE5_LAMBDAS};
 pub use super::truth::Truth;
 use super::truth::{intended_errors, level8, truth_images, Shading};
-use super::voxmap::VoxelMap;
+use super::voxmap::{SliceTexture, VoxelMap};
 use super::walk::Frag;
 use crate::report::elaboration::Elaborated;
 use crate::scene::camera::CameraView;
@@ -478,14 +478,10 @@ fn render_core(
         },
     );
     let tris = object_geometry(object, lambda, &cam)?;
-    let uniform = match lambda {
-        LambdaSpec::Uniform(l) => Some(l),
-        LambdaSpec::NonUniform => None,
-    };
     let drawn = Drawn {
         tris: &tris,
         camera: &cam_cfg,
-        uniform,
+        uniform: lambda.uniform(),
         object: Some((object, lambda)),
     };
     render_tris(env, map, &drawn, size, opt, truth)
@@ -569,15 +565,8 @@ fn render_tris(
     // a cube map of six F × F faces through the 2D sampler, addressed by the
     // cube_map_address unit from the reflection unit's words.
     let face = slice::default_face_side(s);
-    let two_d = match (opt.lookup, drawn.uniform, opt.lambda_source) {
-        (Lookup::Auto, Some(l), LambdaSource::PerVertex) => {
-            let sl = slice::slice_from_map(map, l, face)?;
-            let s2 = slice::sampler_2d(&sl)?;
-            Some((s2, sl))
-        }
-        _ => None,
-    };
-    let sampler: &TextureSampler = two_d.as_ref().map_or(sampler3, |(s2, _)| s2);
+    let two_d = cube_map(map, opt, drawn.uniform)?;
+    let sampler: &TextureSampler = two_d.as_deref().map_or(sampler3, |(s2, _)| s2);
     let cube = slice::cube_unit(sampler3.config(), s, face)?;
     let cc = cube.config();
     if (
@@ -749,7 +738,7 @@ fn render_tris(
     let shaded = n_vis;
     let cube_used = two_d.is_some() && refl_unit.is_some();
     let mut elaboration = slice::elaboration(
-        two_d.as_ref().map(|(s2, sl)| (s2, sl)),
+        two_d.as_deref().map(|(s2, sl)| (s2, sl)),
         sampler3,
         &cube,
         cube_used,
@@ -939,6 +928,39 @@ impl Lookups<'_> {
         }
         Ok([c_refl, c_cube, c_tex])
     }
+}
+
+/// The 2D-slice elaboration's cube map and 2D sampler, when the render takes that path
+/// ([`Lookup::Auto`] with `uniform` λ per vertex): kept with the map
+/// ([`slice::cube_texture`]).
+fn cube_map(
+    map: &VoxelMap,
+    opt: &RenderOptions,
+    uniform: Option<f64>,
+) -> Result<Option<SliceTexture>, ConfigError> {
+    match (opt.lookup, uniform, opt.lambda_source) {
+        (Lookup::Auto, Some(l), LambdaSource::PerVertex) => Ok(Some(slice::cube_texture(
+            map,
+            l,
+            slice::default_face_side(map.side()),
+        )?)),
+        _ => Ok(None),
+    }
+}
+
+/// Upload the textures a render of the thesis object with `lambda` and `opt` reads
+/// (the 3D map, and on the 2D path its cube map at λ) before the first frame: they
+/// are kept with `map`, so a frame timed after this does not include them (as
+/// [`super::timing::predict_frame`] does not). Errors as the render's.
+pub fn upload_textures(
+    map: &VoxelMap,
+    lambda: LambdaSpec,
+    opt: &RenderOptions,
+) -> Result<(), ConfigError> {
+    lambda.validate()?;
+    slice::sampler_3d(map)?;
+    cube_map(map, opt, lambda.uniform())?;
+    Ok(())
 }
 
 /// The `reflection_vector` unit for a map of side `s` (a power of two), its output words

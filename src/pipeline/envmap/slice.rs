@@ -54,7 +54,7 @@ use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 use rtl_model::{ConfigError, UnitSummary};
 use serde::Serialize;
 
-use super::voxmap::VoxelMap;
+use super::voxmap::{SliceTexture, VoxelMap};
 use crate::reference::cube_map_address::{face_st, stacked_st, texel_centre_directions};
 use crate::report::elaboration::Elaborated;
 use crate::scene::math::Vec3;
@@ -230,7 +230,17 @@ pub fn cube_unit(
 /// texels, clamp to edge): uploaded on the map's first render and kept with the map
 /// (`VoxelMap::texture`), as a texture is uploaded once, not per frame.
 pub fn sampler_3d(map: &VoxelMap) -> Result<&TextureSampler, ConfigError> {
-    map.texture(upload_3d)
+    map.texture_3d(upload_3d)
+}
+
+/// The cube map of `map` at radius `lambda` with face side `face`
+/// ([`slice_from_map`]) in its 2D sampler ([`sampler_2d`]): made on the first render
+/// that needs it and kept with the map, as a texture is (errors as theirs).
+pub fn cube_texture(map: &VoxelMap, lambda: f64, face: u32) -> Result<SliceTexture, ConfigError> {
+    map.texture_slice((lambda.to_bits(), face), |m| {
+        let sl = slice_from_map(m, lambda, face)?;
+        Ok((sampler_2d(&sl)?, sl))
+    })
 }
 
 /// The upload behind [`sampler_3d`].
