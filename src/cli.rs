@@ -2,8 +2,9 @@
 
 use crate::registry;
 use crate::report::alternates::modulate_alternates;
+use crate::report::shard::Shard;
 use crate::report::table::text_table;
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Parser, Debug)]
@@ -94,35 +95,17 @@ pub enum Command {
     Scene { name: String },
     /// Error against run time for one shafts parameter: renders the scene for each
     /// value, compares with the f64 ray-marched reference, writes
-    /// DIR/sweep_<param>.csv and .png and prints a table.
+    /// DIR/sweep_<param>.csv and .png and prints a table. With --shard K/N, only
+    /// its share of the values, to DIR/sweep_<param>.shard-K-of-N.csv; `sweep merge`
+    /// joins the shards (docs/sweep.md).
+    // `sweep merge DIR…` is a subcommand of `sweep` beside its own options: the
+    // options are required only without it, and the two do not mix.
+    #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
     Sweep {
-        /// A built-in scene (fig4, fig6, stage), a TOML scene file, or a shading scene
-        /// (shading-<model> of the shading-brdfs catalogue, shading-specular,
-        /// shading-vertex).
-        #[arg(long)]
-        scene: String,
-        /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
-        /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
-        /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
-        /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
-        /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
-        /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,
-        /// cube_bits, vertex_mantissa, vertex_exponent (docs/shading.md).
-        #[arg(long)]
-        param: String,
-        /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
-        /// inclusive ranges start..end:step for numeric params (10..200:10).
-        #[arg(long)]
-        values: String,
-        /// Output directory.
-        #[arg(long, default_value = "out/sweep")]
-        out: PathBuf,
-        /// Samples per ray of the ray-marched reference (computed once per sweep).
-        #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES)]
-        truth_samples: u32,
-        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
-        #[arg(long)]
-        image: Option<String>,
+        #[command(subcommand)]
+        merge: Option<SweepCommand>,
+        #[command(flatten)]
+        args: SweepArgs,
     },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
@@ -144,6 +127,75 @@ pub enum Command {
         #[arg(long, default_value = "out/trace.vcd")]
         out: PathBuf,
     },
+}
+
+/// `sweep`'s options (without `merge`).
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    /// A built-in scene (fig4, fig6, stage), a TOML scene file, or a shading scene
+    /// (shading-<model> of the shading-brdfs catalogue, shading-specular,
+    /// shading-vertex).
+    #[arg(long, required = true)]
+    pub scene: Option<String>,
+    /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
+    /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
+    /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
+    /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
+    /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
+    /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,
+    /// cube_bits, vertex_mantissa, vertex_exponent (docs/shading.md).
+    #[arg(long, required = true)]
+    pub param: Option<String>,
+    /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
+    /// inclusive ranges start..end:step for numeric params (10..200:10).
+    #[arg(long, required = true)]
+    pub values: Option<String>,
+    /// Output directory.
+    #[arg(long, default_value = "out/sweep")]
+    pub out: PathBuf,
+    /// Samples per ray of the ray-marched reference (computed once per sweep).
+    #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES)]
+    pub truth_samples: u32,
+    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
+    #[arg(long)]
+    pub image: Option<String>,
+    /// Run only shard K of N (1 <= K <= N): the values whose index i (from 0) has
+    /// i mod N = K - 1, written to DIR/sweep_<param>.shard-K-of-N.csv for
+    /// `sweep merge`.
+    #[arg(long, value_name = "K/N", value_parser = Shard::parse)]
+    pub shard: Option<Shard>,
+}
+
+/// `sweep`'s subcommands.
+#[derive(Subcommand, Debug)]
+pub enum SweepCommand {
+    /// Join the shard files of one sweep (`sweep … --shard K/N`) into the CSV, plot
+    /// and table the unsharded sweep writes. Refuses, naming the file and writing
+    /// nothing, shards of different sweeps, a missing or duplicated shard, or a
+    /// malformed file.
+    Merge {
+        /// Output directory.
+        #[arg(long, default_value = "out/sweep")]
+        out: PathBuf,
+        /// Directories holding the shard files (every sweep_<param>.shard-K-of-N.csv
+        /// in them), or shard files.
+        #[arg(required = true, value_name = "DIR")]
+        dirs: Vec<PathBuf>,
+    },
+}
+
+/// `sweep merge`: read and check every shard, then let the sweep that wrote them
+/// write its outputs.
+fn sweep_merge(out: &std::path::Path, dirs: &[PathBuf]) -> Result<(), String> {
+    let set = crate::report::shard::load(dirs)?;
+    match set.id.kind.as_str() {
+        "shafts" => crate::pipeline::shafts::sweep::merge_cli(&set, out),
+        "glare" | "shading" => crate::report::sweep_out::merge_sweep(&set, out),
+        other => Err(format!(
+            "{}: unknown kind of sweep '{other}' (known: shafts, glare, shading)",
+            set.files[0].display()
+        )),
+    }
 }
 
 /// Run a parsed command; errors are returned as text naming the field at fault.
@@ -175,55 +227,10 @@ pub fn run(cli: Cli) -> Result<(), String> {
             Ok(())
         }
         Command::Sweep {
-            scene,
-            param,
-            values,
-            out,
-            truth_samples: _,
-            image,
-        } if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) => {
-            let image = image
-                .as_deref()
-                .map(crate::pipeline::shafts::sweep::parse_image)
-                .transpose()?;
-            crate::pipeline::shading::sweep::shading_sweep_cli(&scene, &param, &values, &out, image)
-        }
-        Command::Sweep {
-            scene,
-            param,
-            values,
-            out,
-            truth_samples,
-            image,
-        } => match glare_scene(&scene)? {
-            Some(mut s) => {
-                if let Some(img) = image.as_deref() {
-                    let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
-                    s.image.width = w;
-                    s.image.height = h;
-                }
-                let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
-                    Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
-                } else {
-                    None
-                };
-                crate::pipeline::glare::sweep::glare_sweep_cli(
-                    &s,
-                    &param,
-                    &values,
-                    &out,
-                    backdrop.as_ref(),
-                )
-            }
-            None => crate::pipeline::shafts::sweep::sweep_cli(
-                &scene,
-                &param,
-                &values,
-                &out,
-                truth_samples,
-                image.as_deref(),
-            ),
-        },
+            merge: Some(SweepCommand::Merge { out, dirs }),
+            ..
+        } => sweep_merge(&out, &dirs),
+        Command::Sweep { merge: None, args } => sweep(args),
         Command::Tables { dir } => {
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
@@ -284,6 +291,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "shading-factorization",
     "shading-vertex-float",
     "frame-elaboration",
+    "sim-speed",
 ];
 
 fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
@@ -392,6 +400,7 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
             let rows = crate::pipeline::shading::brdfs::shading_brdfs(out)?;
             print!("{}", crate::pipeline::shading::brdfs::table(&rows));
         }
+        "sim-speed" => crate::frame::speed::sim_speed(out)?,
         "frame-elaboration" => {
             let rows = crate::frame::reproduce::frame_elaboration(out, None)?;
             print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
@@ -415,6 +424,66 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
 }
 
 /// The scene if it has a `[glare]` section (built-in name or file), else None.
+/// `sweep`'s three kinds: a shading scene, a scene with a `[glare]` section, a
+/// shafts scene.
+fn sweep(args: SweepArgs) -> Result<(), String> {
+    // clap requires the three without `merge`; an error, not a panic, if not.
+    let need = |v: Option<String>, what: &str| {
+        v.ok_or_else(|| format!("{what}: missing (sweep needs --scene, --param and --values)"))
+    };
+    let (scene, param, values) = (
+        &need(args.scene, "scene")?,
+        &need(args.param, "param")?,
+        &need(args.values, "values")?,
+    );
+    let (out, truth_samples, image, shard) = (
+        args.out.as_path(),
+        args.truth_samples,
+        args.image.as_deref(),
+        args.shard,
+    );
+    if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
+        let image = image
+            .map(crate::pipeline::shafts::sweep::parse_image)
+            .transpose()?;
+        return crate::pipeline::shading::sweep::shading_sweep_cli(
+            scene, param, values, out, image, shard,
+        );
+    }
+    match glare_scene(scene)? {
+        Some(mut s) => {
+            if let Some(img) = image {
+                let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+                s.image.width = w;
+                s.image.height = h;
+            }
+            let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
+                Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
+            } else {
+                None
+            };
+            crate::pipeline::glare::sweep::glare_sweep_cli(
+                &s,
+                scene,
+                param,
+                values,
+                out,
+                backdrop.as_ref(),
+                shard,
+            )
+        }
+        None => crate::pipeline::shafts::sweep::sweep_cli(
+            scene,
+            param,
+            values,
+            out,
+            truth_samples,
+            image,
+            shard,
+        ),
+    }
+}
+
 fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String> {
     if name == "test" {
         return Ok(None);

@@ -16,3 +16,4 @@ pub mod plan;
 pub mod reflection;
 pub mod reproduce;
 pub mod run;
+pub mod speed;

@@ -59,9 +59,37 @@ pub struct WalkBuffers {
 }
 
 /// Walk one set-up primitive through the interpolator's batch kernel a bounding-box
-/// row at a time, handing each row's covered pixels inside the `width` × `height`
-/// viewport to `sink` (in walk order). The counters are those of one span over the
-/// whole walk, as [`walk`] counts them.
+/// row at a time, handing each row's raw outputs (every walked pixel, covered or
+/// not, inside the viewport or not) to `sink` in walk order. The counters are those
+/// of one span over the whole walk, as [`walk`] counts them.
+pub fn walk_rows_raw(
+    u: &PolygonInterpolator,
+    s: &PolySetup,
+    ctr: &mut Counters,
+    buf: &mut WalkBuffers,
+    mut sink: impl FnMut(&[PolyOut]),
+) {
+    let mut st = s.state.clone();
+    let mut tally = SpanTally::new();
+    for row in 0..s.bbox.map_or(0, |b| b.height()) {
+        buf.moves.clear();
+        buf.outs.clear();
+        s.row_moves(row, &mut buf.moves);
+        u.kernel_batch(&mut st, &buf.moves, &mut buf.outs, ctr);
+        tally.add(buf.moves.len());
+        sink(&buf.outs);
+    }
+    tally.close(u.timing(), ctr);
+}
+
+/// Whether a walked pixel is a fragment: covered, and inside the viewport.
+#[inline]
+pub fn is_fragment(f: &PolyOut, width: u32, height: u32) -> bool {
+    f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64
+}
+
+/// [`walk_rows_raw`] keeping each row's fragments (covered pixels inside the `width`
+/// × `height` viewport), handed to `sink` when a row has any.
 pub fn walk_rows(
     u: &PolygonInterpolator,
     s: &PolySetup,
@@ -71,32 +99,23 @@ pub fn walk_rows(
     buf: &mut WalkBuffers,
     mut sink: impl FnMut(&[Fragment]),
 ) {
-    let mut st = s.state.clone();
-    let mut tally = SpanTally::new();
-    for row in 0..s.bbox.map_or(0, |b| b.height()) {
-        buf.moves.clear();
-        buf.outs.clear();
-        buf.frags.clear();
-        s.row_moves(row, &mut buf.moves);
-        u.kernel_batch(&mut st, &buf.moves, &mut buf.outs, ctr);
-        tally.add(buf.moves.len());
-        buf.frags.extend(
-            buf.outs
-                .iter()
-                .filter(|f| {
-                    f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64
-                })
+    let mut frags = std::mem::take(&mut buf.frags);
+    walk_rows_raw(u, s, ctr, buf, |outs| {
+        frags.clear();
+        frags.extend(
+            outs.iter()
+                .filter(|f| is_fragment(f, width, height))
                 .map(|f| Fragment {
                     x: f.x as u32,
                     y: f.y as u32,
                     attrs: f.attrs,
                 }),
         );
-        if !buf.frags.is_empty() {
-            sink(&buf.frags);
+        if !frags.is_empty() {
+            sink(&frags);
         }
-    }
-    tally.close(u.timing(), ctr);
+    });
+    buf.frags = frags;
 }
 
 /// Walk one set-up primitive; keep covered pixels inside a `width` × `height` viewport.

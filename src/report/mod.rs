@@ -7,6 +7,7 @@ pub mod image_out;
 pub mod metrics;
 pub mod plot;
 pub mod progress;
+pub mod shard;
 pub mod spectrum;
 pub mod sweep_out;
 pub mod table;

@@ -4,8 +4,9 @@
 
 use crate::report::csv_out::write_csv;
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
+use crate::report::shard::{finish_shard, write_atomically, Shard, ShardSet, SweepId};
 use crate::report::table::text_table;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// `10,20,30` or ranges `4..10:2` (inclusive), non-negative integers; errors name
@@ -38,8 +39,8 @@ pub fn parse_int_values(text: &str) -> Result<Vec<u32>, String> {
     Ok(out)
 }
 
-/// One row of `sweep_<param>.csv`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// One row of `sweep_<param>.csv` (read back from shard files by `sweep merge`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepRow {
     pub param: String,
     pub value: u32,
@@ -54,7 +55,8 @@ pub struct SweepRow {
 
 /// Write `DIR/sweep_<param>.csv` (the rows) and `DIR/sweep_<param>.png` (mean and RMS
 /// error on the left axis, the wall time on the right, against the value); every
-/// sweep with this row shape (glare, shading) writes its outputs here.
+/// sweep with this row shape (glare, shading) writes its outputs here, each file
+/// atomically.
 pub fn write_sweep(
     rows: &[SweepRow],
     title: &str,
@@ -64,7 +66,7 @@ pub fn write_sweep(
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let csv = out.join(format!("sweep_{param}.csv"));
     let png = out.join(format!("sweep_{param}.png"));
-    write_csv(&csv, rows)?;
+    write_atomically(&csv, |p| write_csv(p, rows))?;
     let mut spec = PlotSpec::new(title, param, "error against the f64 reference (levels)");
     spec.y_right_label = Some("wall time of the simulation (s)".into());
     let pts = |f: &dyn Fn(&SweepRow) -> f64| {
@@ -72,27 +74,29 @@ pub fn write_sweep(
             .map(|r| (r.value as f64, f(r)))
             .collect::<Vec<_>>()
     };
-    line_plot(
-        &png,
-        &spec,
-        &[
-            Series {
-                label: "mean |Δ|".into(),
-                points: pts(&|r| r.mean_abs_levels),
-                axis: Axis::Left,
-            },
-            Series {
-                label: "RMS".into(),
-                points: pts(&|r| r.rms_levels),
-                axis: Axis::Left,
-            },
-            Series {
-                label: "wall time".into(),
-                points: pts(&|r| r.wall_seconds),
-                axis: Axis::Right,
-            },
-        ],
-    )?;
+    write_atomically(&png, |p| {
+        line_plot(
+            p,
+            &spec,
+            &[
+                Series {
+                    label: "mean |Δ|".into(),
+                    points: pts(&|r| r.mean_abs_levels),
+                    axis: Axis::Left,
+                },
+                Series {
+                    label: "RMS".into(),
+                    points: pts(&|r| r.rms_levels),
+                    axis: Axis::Left,
+                },
+                Series {
+                    label: "wall time".into(),
+                    points: pts(&|r| r.wall_seconds),
+                    axis: Axis::Right,
+                },
+            ],
+        )
+    })?;
     Ok((csv, png))
 }
 
@@ -126,4 +130,28 @@ pub fn sweep_table(param: &str, rows: &[SweepRow]) -> String {
         ],
         &table,
     )
+}
+
+/// `sweep merge` of a glare or shading sweep: the shards' rows written as the
+/// unsharded sweep writes them (CSV, plot, table on stdout).
+pub fn merge_sweep(set: &ShardSet, out: &Path) -> Result<(), String> {
+    let rows: Vec<SweepRow> = set.rows()?;
+    let (csv, png) = write_sweep(&rows, &set.id.title, &set.id.param, out)?;
+    println!("{}", set.merged(&csv, &png));
+    print!("{}", sweep_table(&set.id.param, &rows));
+    Ok(())
+}
+
+/// A glare or shading shard run's end: the shard file, the line saying so, the table
+/// of its rows.
+pub fn shard_sweep(
+    out: &Path,
+    id: &SweepId,
+    shard: Shard,
+    rows: &[(usize, SweepRow)],
+) -> Result<(), String> {
+    println!("{}", finish_shard(out, id, shard, rows)?);
+    let rows: Vec<SweepRow> = rows.iter().map(|(_, r)| r.clone()).collect();
+    print!("{}", sweep_table(&id.param, &rows));
+    Ok(())
 }

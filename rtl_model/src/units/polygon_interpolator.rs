@@ -787,27 +787,57 @@ impl PolygonInterpolator {
             },
         );
         let outs = &mut out[base..];
+        // Each edge is affine along the run, E + j·D (j = 1 ..= run), so the pixels
+        // inside all edges are one interval of j: intersect each edge's half-line.
+        let (mut j_lo, mut j_hi) = (1i64, run as i64);
+        for e in 0..EDGES {
+            let (e0, d) = (st.edge[e], sign * st.edge_dx[e]);
+            if d > 0 {
+                j_lo = j_lo.max((-e0).div_euclid(d) + i64::from((-e0).rem_euclid(d) != 0));
+            } else if d < 0 {
+                j_hi = j_hi.min(e0.div_euclid(-d));
+            } else if e0 < 0 {
+                j_hi = 0;
+            }
+        }
+        let inside = if j_lo <= j_hi {
+            (j_lo - 1) as usize..j_hi as usize
+        } else {
+            0..0
+        };
         for (j, o) in outs.iter_mut().enumerate() {
-            let step = sign * (j as i64 + 1);
-            o.x = st.x + step;
-            o.inside = (0..EDGES).all(|e| st.edge[e] + step * st.edge_dx[e] >= 0);
+            o.x = st.x + sign * (j as i64 + 1);
+        }
+        for o in &mut outs[inside.clone()] {
+            o.inside = true;
         }
         // Output rounding s(acc) → out format, saturating; events only where inside.
         let of = self.out_fmt();
         let (lo, hi) = (of.min_raw() as i64, of.max_raw() as i64);
         let q = self.cfg.out_quant;
+        let round = |v: i64| {
+            let r = round_shift_right_i64(v, shift as u32, q);
+            let c = r.clamp(lo, hi);
+            (c, u64::from(c != r), u64::from(r == 0 && v != 0))
+        };
         for a in 0..k {
             let (a0, g) = (st.acc[a], sign * st.grad_x[a]);
+            if g == 0 {
+                // A constant along the run: one rounding.
+                let (c, sat, under) = round(a0);
+                outs.iter_mut().for_each(|o| o.attrs[a] = c);
+                ctr.saturations += sat * inside.len() as u64;
+                ctr.underflows += under * inside.len() as u64;
+                continue;
+            }
             let (mut sat, mut under) = (0u64, 0u64);
             for (j, o) in outs.iter_mut().enumerate() {
-                let v = a0 + (j as i64 + 1) * g; // |v| < 2^61: no i64 overflow
-                let r = round_shift_right_i64(v, shift as u32, q);
-                let c = r.clamp(lo, hi);
+                // |a0 + j·g| < 2^61 along the run: no i64 overflow.
+                let (c, s, u) = round(a0 + (j as i64 + 1) * g);
                 o.attrs[a] = c;
-                if o.inside {
-                    sat += u64::from(c != r);
-                    under += u64::from(r == 0 && v != 0);
-                }
+                let counted = u64::from(inside.contains(&j));
+                sat += s * counted;
+                under += u * counted;
             }
             ctr.saturations += sat;
             ctr.underflows += under;

@@ -24,7 +24,7 @@
 use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
 use crate::error::{check_range, ConfigError};
-use crate::fixed_point::{round_shift, Format, Fx, Overflow, Quant};
+use crate::fixed_point::{round_shift, round_shift_right_i64, Format, Fx, Overflow, Quant};
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::wire::{bits_for, sign_extend as sext};
 use bitvec::prelude::*;
@@ -324,6 +324,92 @@ impl ProjectiveTexcoord {
         (r, p)
     }
 
+    /// Whether the whole datapath fits 64-bit carriers: the Newton products and
+    /// differences (N + F_r + 2 bits, F_r ≤ max(E, N)) and the output product
+    /// s(W) × u1.F_r (W + F_r + 1 bits). The batch kernel's specialised form.
+    fn fits_64(&self) -> bool {
+        let n = self.cfg.newton_frac_bits;
+        let fr_max = if self.cfg.newton_steps > 0 {
+            self.cfg.recip_entry_bits.max(n)
+        } else {
+            self.cfg.recip_entry_bits
+        };
+        n + fr_max + 2 <= 63 && self.in_bits() + self.recip_frac_bits() + 1 <= 63
+    }
+
+    /// [`Self::reciprocal`] in 64-bit carriers, for configs where [`Self::fits_64`]:
+    /// the same steps, the same results and counts.
+    fn reciprocal_64(&self, qmag: u64, ctr: &mut Counters) -> (u64, u32) {
+        let w = self.in_bits();
+        let qmag = qmag & ((1u64 << w.saturating_sub(1)) - 1); // u(W−1) wire
+        if qmag == 0 {
+            return (0, 0);
+        }
+        let fm = w.saturating_sub(2);
+        let ib = self.cfg.recip_index_bits;
+        let p = 63 - qmag.leading_zeros();
+        let m = qmag << (fm - p); // u1.fm, ≤ 47 bits
+        let frac = m & ((1u64 << fm) - 1);
+        let idx = if fm >= ib {
+            frac >> (fm - ib)
+        } else {
+            frac << (ib - fm)
+        } as usize;
+        ctr.table_reads += 1;
+        let mut r = self.rom_read(idx); // u0.E
+        let mut fr = self.cfg.recip_entry_bits;
+        let n = self.cfg.newton_frac_bits;
+        let r_max = (1u64 << (n + 1)) - 1;
+        for _ in 0..self.cfg.newton_steps {
+            let mn = if fm >= n {
+                m >> (fm - n)
+            } else {
+                m << (n - fm)
+            }; // u1.N
+            let prod = mn * r; // u2.(N+fr) ≤ 62 bits
+            let d_full = (2i64 << (n + fr)) - prod as i64;
+            let d = round_shift_right_i64(d_full, fr, Quant::Rnd);
+            let d = if d < 0 || d > r_max as i64 {
+                ctr.saturations += 1;
+                d.clamp(0, r_max as i64)
+            } else {
+                d
+            } as u64;
+            let rd = r * d; // u2.(fr+N) ≤ 62 bits
+            let r_new = round_shift_right_i64(rd as i64, fr, Quant::Rnd) as u64;
+            r = if r_new > r_max {
+                ctr.saturations += 1;
+                r_max
+            } else {
+                r_new
+            };
+            fr = n;
+        }
+        (r, p)
+    }
+
+    /// [`Self::scale`] in a 64-bit carrier when the product is shifted right (the
+    /// exact left shift of a small exponent goes through the 128-bit form).
+    #[inline]
+    fn scale_64(&self, s: i64, r: u64, fr: u32, p: u32, ctr: &mut Counters) -> i32 {
+        let shift = fr as i32 + p as i32 - self.cfg.out_frac_bits as i32;
+        if shift <= 0 {
+            return self.scale(s, r as u128, fr, p, ctr);
+        }
+        let prod = s * r as i64; // s(W+F_r+1) ≤ 63 bits
+        let rounded = round_shift_right_i64(prod, shift as u32, Quant::Rnd);
+        let (lo, hi) = (
+            -(1i64 << (self.out_bits() - 1)),
+            (1i64 << (self.out_bits() - 1)) - 1,
+        );
+        if rounded < lo || rounded > hi {
+            ctr.saturations += 1;
+            rounded.clamp(lo, hi) as i32
+        } else {
+            rounded as i32
+        }
+    }
+
     /// One coordinate: S·r·2⁻ᵖ rounded into the output format, saturating.
     #[inline]
     fn scale(&self, s: i64, r: u128, fr: u32, p: u32, ctr: &mut Counters) -> i32 {
@@ -368,6 +454,40 @@ impl Unit for ProjectiveTexcoord {
             v: self.scale(t, r, fr, p, ctr),
             behind: false,
         }
+    }
+
+    /// The kernel in 64-bit carriers where the config fits them ([`Self::fits_64`]);
+    /// otherwise the per-word kernel.
+    fn kernel_batch(
+        &self,
+        st: &mut (),
+        inputs: &[ProjectiveIn],
+        out: &mut Vec<ProjectiveOut>,
+        ctr: &mut Counters,
+    ) {
+        if !self.fits_64() {
+            out.extend(inputs.iter().map(|x| self.kernel(st, x, ctr)));
+            return;
+        }
+        let w = self.in_bits();
+        let fr = self.recip_frac_bits();
+        out.extend(inputs.iter().map(|input| {
+            let (s, t, q) = (sext(input.s, w), sext(input.t, w), sext(input.q, w));
+            if q <= 0 {
+                ctr.underflows += 1;
+                return ProjectiveOut {
+                    u: 0,
+                    v: 0,
+                    behind: true,
+                };
+            }
+            let (r, p) = self.reciprocal_64(q as u64, ctr);
+            ProjectiveOut {
+                u: self.scale_64(s, r, fr, p, ctr),
+                v: self.scale_64(t, r, fr, p, ctr),
+                behind: false,
+            }
+        }));
     }
 
     fn timing(&self) -> Timing {

@@ -549,6 +549,95 @@ impl TextureSampler {
         (idx[2] * h as u64 + idx[1]) * w as u64 + idx[0]
     }
 
+    /// Bilinear set-up of one axis from its s(I).F coordinate: the two texel indices
+    /// (address mode applied) and their weights (u(wb+1) each, summing to W = 2^wb).
+    #[inline]
+    fn linear_axis(&self, k: usize, c: i64) -> ([u64; 2], [u64; 2]) {
+        let f = self.cfg.coord_frac_bits;
+        let wb = self.cfg.weight_bits;
+        let big_w = 1u64 << wb;
+        // p = u − ½ with Fp = max(F, 1) fraction bits (F = 0 needs one more bit for
+        // the ½): s(I).F → s(I+1).Fp, exact.
+        let fp = f.max(1);
+        let p = (c << (fp - f)) - (1i64 << (fp - 1));
+        let i0 = p >> fp; // floor(p): s(I+1)
+        let fr = (p - (i0 << fp)) as u64; // the fraction a: u(Fp)
+        let fx = if fp <= wb {
+            fr << (wb - fp) // exact: u(Fp) → u(wb)
+        } else {
+            let s = fp - wb;
+            match self.cfg.weight_rounding {
+                // u(Fp) + half → u(Fp+1) >> s → u(wb+1), fx ∈ [0, W]
+                WeightRounding::Round => (fr + (1 << (s - 1))) >> s,
+                // u(Fp) >> s → u(wb), fx ∈ [0, W − 1]
+                WeightRounding::Truncate => fr >> s,
+            }
+        };
+        (
+            [self.address_axis(k, i0), self.address_axis(k, i0 + 1)],
+            [big_w - fx, fx],
+        )
+    }
+
+    /// `sample` over a chunk of one-channel 1D or 2D coordinates with the texel
+    /// fetches counted once per chunk; false (nothing done) for other configs.
+    fn sample_batch_1ch(
+        &self,
+        inputs: &[TextureSamplerIn],
+        out: &mut Vec<[u32; 4]>,
+        ctr: &mut Counters,
+    ) -> bool {
+        let d = self.cfg.dims as usize;
+        if self.cfg.channels != 1 || d > 2 {
+            return false;
+        }
+        let f = self.cfg.coord_frac_bits;
+        let w = self.cfg.size[0] as u64;
+        let mut overflows = 0u64;
+        let mut wire = |word: i32| {
+            let (v, wrapped) = self.coord_wire(word);
+            overflows += u64::from(wrapped);
+            v
+        };
+        match self.cfg.filter {
+            Filter::Nearest => out.extend(inputs.iter().map(|x| {
+                let ix = self.address_axis(0, wire(x.coord[0]) >> f);
+                let iy = if d == 2 {
+                    self.address_axis(1, wire(x.coord[1]) >> f)
+                } else {
+                    0
+                };
+                [self.read(iy * w + ix, 0), 0, 0, 0]
+            })),
+            Filter::Linear => {
+                let shift = d as u32 * self.cfg.weight_bits; // 1 ..= 32
+                let half = 1u64 << (shift - 1);
+                out.extend(inputs.iter().map(|x| {
+                    let (ix, wx) = self.linear_axis(0, wire(x.coord[0]));
+                    let acc = if d == 1 {
+                        self.read(ix[0], 0) as u64 * wx[0] + self.read(ix[1], 0) as u64 * wx[1]
+                    } else {
+                        let (iy, wy) = self.linear_axis(1, wire(x.coord[1]));
+                        let (r0, r1) = (iy[0] * w, iy[1] * w);
+                        // u(tb) × u(2wb+1), four terms < 2^(tb+2wb)
+                        self.read(r0 + ix[0], 0) as u64 * (wx[0] * wy[0])
+                            + self.read(r0 + ix[1], 0) as u64 * (wx[1] * wy[0])
+                            + self.read(r1 + ix[0], 0) as u64 * (wx[0] * wy[1])
+                            + self.read(r1 + ix[1], 0) as u64 * (wx[1] * wy[1])
+                    };
+                    [((acc + half) >> shift) as u32, 0, 0, 0]
+                }));
+            }
+        }
+        texel_fetch(
+            ctr,
+            inputs.len() as u64 * self.cfg.texels_per_sample() as u64,
+            self.cfg.texel_bits,
+        );
+        ctr.overflows += overflows;
+        true
+    }
+
     /// The datapath on one coordinate: the filtered codes (unused channels 0).
     // Per-axis loops index several parallel per-axis arrays, as the hardware does.
     #[allow(clippy::needless_range_loop)]
@@ -586,25 +675,7 @@ impl TextureSampler {
                 let mut i01 = [[0u64; 2]; 3];
                 let mut w01 = [[big_w, 0u64]; 3];
                 for k in 0..d {
-                    // p = u − ½ with Fp = max(F, 1) fraction bits (F = 0 needs one more
-                    // bit for the ½): s(I).F → s(I+1).Fp, exact.
-                    let fp = f.max(1);
-                    let p = (c[k] << (fp - f)) - (1i64 << (fp - 1));
-                    let i0 = p >> fp; // floor(p): s(I+1)
-                    let fr = (p - (i0 << fp)) as u64; // the fraction a: u(Fp)
-                    let fx = if fp <= wb {
-                        fr << (wb - fp) // exact: u(Fp) → u(wb)
-                    } else {
-                        let s = fp - wb;
-                        match self.cfg.weight_rounding {
-                            // u(Fp) + half → u(Fp+1) >> s → u(wb+1), fx ∈ [0, W]
-                            WeightRounding::Round => (fr + (1 << (s - 1))) >> s,
-                            // u(Fp) >> s → u(wb), fx ∈ [0, W − 1]
-                            WeightRounding::Truncate => fr >> s,
-                        }
-                    };
-                    w01[k] = [big_w - fx, fx]; // u(wb+1) each, summing to W
-                    i01[k] = [self.address_axis(k, i0), self.address_axis(k, i0 + 1)];
+                    (i01[k], w01[k]) = self.linear_axis(k, c[k]);
                 }
                 let mut acc = [0u64; 4]; // u(tb + d·wb) each
                 for corner in 0..(1usize << d) {
@@ -684,6 +755,20 @@ impl Unit for TextureSampler {
 
     fn kernel(&self, _: &mut (), input: &TextureSamplerIn, ctr: &mut Counters) -> [u32; 4] {
         self.sample(input, ctr)
+    }
+
+    /// One-channel 1D and 2D textures (the shafts' F, h, light map and J) through
+    /// [`TextureSampler::sample_batch_1ch`]; anything else word by word.
+    fn kernel_batch(
+        &self,
+        st: &mut (),
+        inputs: &[TextureSamplerIn],
+        out: &mut Vec<[u32; 4]>,
+        ctr: &mut Counters,
+    ) {
+        if !self.sample_batch_1ch(inputs, out, ctr) {
+            out.extend(inputs.iter().map(|x| self.kernel(st, x, ctr)));
+        }
     }
 
     fn timing(&self) -> Timing {

@@ -10,6 +10,8 @@ use super::cli::{reference_levels, render_and_predict_over};
 use crate::report::image_out::Framebuffer;
 use crate::report::metrics::error_stats;
 use crate::report::progress::try_map_with_progress;
+use crate::report::shard::{fingerprint, pick, Shard, SweepId};
+use crate::report::sweep_out::shard_sweep;
 pub use crate::report::sweep_out::{
     parse_int_values, sweep_table, write_sweep, SweepRow as GlareSweepRow,
 };
@@ -57,15 +59,16 @@ pub fn apply(hw: &mut GlareHw, param: &str, v: u32) -> Result<(), String> {
     Ok(())
 }
 
-/// Run the sweep; all scenes are validated first (an invalid value is an error naming
+/// The rows of the values `only` picks (every value without a shard), with their
+/// value indices; all scenes are validated first (an invalid value is an error naming
 /// the field, e.g. `glare.hw.shape_log2`, before anything runs).
-pub fn glare_sweep(
+pub fn glare_rows(
     base: &Scene,
     param: &str,
     values: &[u32],
-    out: &Path,
     backdrop: Option<&Framebuffer>,
-) -> Result<(Vec<GlareSweepRow>, PathBuf, PathBuf), String> {
+    only: Option<Shard>,
+) -> Result<Vec<(usize, GlareSweepRow)>, String> {
     let mut scenes = Vec::new();
     for &v in values {
         let mut s = base.clone();
@@ -77,10 +80,10 @@ pub fn glare_sweep(
         s.validate().map_err(|e| format!("{e} (value {v})"))?;
         scenes.push(s);
     }
-    let rows = try_map_with_progress(
-        &scenes,
+    try_map_with_progress(
+        &pick(&scenes, only),
         &format!("sweep {param}"),
-        |s| -> Result<GlareSweepRow, String> {
+        |&(i, s)| -> Result<(usize, GlareSweepRow), String> {
             // A picture drawn by earlier passes of the frame (a shafts background),
             // at this value's framebuffer width.
             let base = backdrop.map(|fb| {
@@ -110,35 +113,91 @@ pub fn glare_sweep(
                     v = x;
                 }
             }
-            Ok(GlareSweepRow {
-                param: param.into(),
-                value: v,
-                mean_abs_levels: st.mean_abs,
-                rms_levels: st.rms,
-                max_levels: st.max,
-                predicted_hw_seconds: pred.seconds,
-                wall_seconds: wall,
-                gates_nand2: f.units.iter().map(|u| u.gates_nand2).sum(),
-                ram_bits: f.units.iter().map(|u| u.ram_bits).sum(),
-            })
+            Ok((
+                i,
+                GlareSweepRow {
+                    param: param.into(),
+                    value: v,
+                    mean_abs_levels: st.mean_abs,
+                    rms_levels: st.rms,
+                    max_levels: st.max,
+                    predicted_hw_seconds: pred.seconds,
+                    wall_seconds: wall,
+                    gates_nand2: f.units.iter().map(|u| u.gates_nand2).sum(),
+                    ram_bits: f.units.iter().map(|u| u.ram_bits).sum(),
+                },
+            ))
         },
-    )?;
-    let title = format!(
+    )
+}
+
+/// The plot's title: the scene's name up to its first ':'.
+fn title(base: &Scene, param: &str) -> String {
+    format!(
         "{}: error and run time against {param}",
         base.name.split(':').next().unwrap_or("")
-    );
-    let (csv, png) = write_sweep(&rows, &title, param, out)?;
+    )
+}
+
+/// Run the sweep and write `out/sweep_<param>.csv` and `.png`; see [`glare_rows`].
+pub fn glare_sweep(
+    base: &Scene,
+    param: &str,
+    values: &[u32],
+    out: &Path,
+    backdrop: Option<&Framebuffer>,
+) -> Result<(Vec<GlareSweepRow>, PathBuf, PathBuf), String> {
+    let rows: Vec<GlareSweepRow> = glare_rows(base, param, values, backdrop, None)?
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect();
+    let (csv, png) = write_sweep(&rows, &title(base, param), param, out)?;
     Ok((rows, csv, png))
 }
 
+/// What makes a glare sweep's shards one sweep: `scene_arg` as given to `--scene`,
+/// and the scene itself (after `--image`) by fingerprint, so that shards rendered
+/// from two different files of one name are refused.
+fn sweep_id(
+    scene: &Scene,
+    scene_arg: &str,
+    param: &str,
+    values: &[u32],
+) -> Result<SweepId, String> {
+    Ok(SweepId {
+        kind: "glare".into(),
+        scene: scene_arg.into(),
+        param: param.into(),
+        values: values.iter().map(u32::to_string).collect(),
+        settings: [
+            (
+                "image".to_string(),
+                format!("{}x{}", scene.image.width, scene.image.height),
+            ),
+            ("scene_fingerprint".to_string(), fingerprint(scene)?),
+        ]
+        .into(),
+        title: title(scene, param),
+    })
+}
+
+/// The CLI: the whole sweep, or with `shard` only its share, written to the shard
+/// file (docs/sweep.md).
 pub fn glare_sweep_cli(
     scene: &Scene,
+    scene_arg: &str,
     param: &str,
     values: &str,
     out: &Path,
     backdrop: Option<&Framebuffer>,
+    shard: Option<Shard>,
 ) -> Result<(), String> {
     let values = parse_int_values(values)?;
+    if let Some(shard) = shard {
+        let id = sweep_id(scene, scene_arg, param, &values)?;
+        let rows = glare_rows(scene, param, &values, backdrop, Some(shard))?;
+        return shard_sweep(out, &id, shard, &rows);
+    }
     let (rows, csv, png) = glare_sweep(scene, param, &values, out, backdrop)?;
     println!(
         "sweep {param} on {}: wrote {} and {}",

@@ -45,7 +45,8 @@ use super::vertex_float::{measure, one_light, sphere_vertices};
 use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
-use crate::report::sweep_out::{parse_int_values, sweep_table, write_sweep, SweepRow};
+use crate::report::shard::{pick, Shard, SweepId};
+use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_combiner::CombineFunction;
 use rtl_model::units::texture_sampler::{Filter, TextureSampler, TextureSamplerConfig};
@@ -450,16 +451,17 @@ impl Default for ShadingSweepOptions {
     }
 }
 
-/// Run the sweep of `param` over `values` on the `shading-*` scene `scene`; write
-/// `DIR/sweep_<param>.csv` and `.png`. The scene, the param and every value are
-/// checked (units built) before anything renders.
-pub fn shading_sweep(
+/// The rows of the values `only` picks (every value without a shard), with their
+/// value indices, of the sweep of `param` over `values` on the `shading-*` scene
+/// `scene`. The scene, the param and every value are checked (units built) before
+/// anything renders.
+pub fn shading_rows(
     scene: &str,
     param: &str,
     values: &[u32],
-    out: &Path,
     opts: &ShadingSweepOptions,
-) -> Result<(Vec<ShadingSweepRow>, PathBuf, PathBuf), String> {
+    only: Option<Shard>,
+) -> Result<Vec<(usize, ShadingSweepRow)>, String> {
     let sc = ShadingScene::parse(scene)?;
     let param = check_param(&sc, param)?;
     if values.is_empty() {
@@ -476,22 +478,49 @@ pub fn shading_sweep(
         irradiance: std::f64::consts::PI,
         ..SphereView::default()
     };
-    let rows = try_map_with_progress(&jobs, &format!("sweep {param}"), |(v, j)| {
-        let m = run(j, &view).map_err(|e| format!("values: {param} = {v}: {e}"))?;
-        Ok::<_, String>(ShadingSweepRow {
-            param: param.to_string(),
-            value: *v,
-            mean_abs_levels: m.mean,
-            rms_levels: m.rms,
-            max_levels: m.max,
-            predicted_hw_seconds: m.predicted,
-            wall_seconds: m.wall,
-            gates_nand2: m.gates,
-            ram_bits: m.ram,
-        })
-    })?;
-    let title = format!("{}: error and run time against {param}", sc.name());
-    let (csv, png) = write_sweep(&rows, &title, param, out)?;
+    try_map_with_progress(
+        &pick(&jobs, only),
+        &format!("sweep {param}"),
+        |&(i, (v, j))| {
+            let m = run(j, &view).map_err(|e| format!("values: {param} = {v}: {e}"))?;
+            Ok::<_, String>((
+                i,
+                ShadingSweepRow {
+                    param: param.to_string(),
+                    value: *v,
+                    mean_abs_levels: m.mean,
+                    rms_levels: m.rms,
+                    max_levels: m.max,
+                    predicted_hw_seconds: m.predicted,
+                    wall_seconds: m.wall,
+                    gates_nand2: m.gates,
+                    ram_bits: m.ram,
+                },
+            ))
+        },
+    )
+}
+
+/// The plot's title.
+fn title(sc: &ShadingScene, param: &str) -> String {
+    format!("{}: error and run time against {param}", sc.name())
+}
+
+/// Run the sweep (see [`shading_rows`]) and write `DIR/sweep_<param>.csv` and `.png`.
+pub fn shading_sweep(
+    scene: &str,
+    param: &str,
+    values: &[u32],
+    out: &Path,
+    opts: &ShadingSweepOptions,
+) -> Result<(Vec<ShadingSweepRow>, PathBuf, PathBuf), String> {
+    let sc = ShadingScene::parse(scene)?;
+    let param = check_param(&sc, param)?;
+    let rows: Vec<ShadingSweepRow> = shading_rows(scene, param, values, opts, None)?
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect();
+    let (csv, png) = write_sweep(&rows, &title(&sc, param), param, out)?;
     Ok((rows, csv, png))
 }
 
@@ -504,9 +533,10 @@ pub fn shading_sweep_cli(
     values: &str,
     out: &Path,
     image: Option<(u32, u32)>,
+    shard: Option<Shard>,
 ) -> Result<(), String> {
     let sc = ShadingScene::parse(scene)?;
-    check_param(&sc, param)?;
+    let canonical = check_param(&sc, param)?;
     let values = parse_int_values(values)?;
     let mut opts = ShadingSweepOptions::default();
     if let Some((w, h)) = image {
@@ -517,6 +547,24 @@ pub fn shading_sweep_cli(
             return Err(format!("image: the sphere view is square, not {w}x{h}"));
         }
         opts.view_size = w;
+    }
+    if let Some(shard) = shard {
+        // The scenes are built in: the name, the param, the values and the view's
+        // size (none for shading-vertex, which has no image) are the whole sweep.
+        let mut settings = std::collections::BTreeMap::new();
+        if sc != ShadingScene::Vertex {
+            settings.insert("image".to_string(), opts.view_size.to_string());
+        }
+        let id = SweepId {
+            kind: "shading".into(),
+            scene: sc.name(),
+            param: canonical.into(),
+            values: values.iter().map(u32::to_string).collect(),
+            settings,
+            title: title(&sc, canonical),
+        };
+        let rows = shading_rows(scene, param, &values, &opts, Some(shard))?;
+        return shard_sweep(out, &id, shard, &rows);
     }
     let (rows, csv, png) = shading_sweep(scene, param, &values, out, &opts)?;
     println!(

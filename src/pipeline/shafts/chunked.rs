@@ -11,8 +11,9 @@
 
 use super::frame::{counters_add, Units};
 use super::view::{CameraView, LightView};
-use crate::pipeline::raster::Fragment;
+use crate::pipeline::raster::is_fragment;
 use rtl_model::driver::SpanTally;
+use rtl_model::units::polygon_interpolator::PolyOut;
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveOut, ProjectiveTexcoord};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
@@ -115,8 +116,9 @@ impl HilSpans {
 /// Buffers of one thread's chunks, reused from chunk to chunk.
 #[derive(Clone, Debug, Default)]
 pub(super) struct ChunkBuffers {
-    /// The chunk's fragments that passed the depth test.
-    pub visible: Vec<Fragment>,
+    /// Indices (into the chunk's walked pixels) of the fragments that passed the
+    /// depth test, in walk order.
+    pub visible: Vec<u32>,
     /// H·I_l of each visible fragment (texel_bits unorm).
     pub hil: Vec<u32>,
     depth_in: Vec<ShadowIn>,
@@ -155,34 +157,42 @@ impl LightCtx<'_> {
         self.lv.strq(p).map(|v| v * LIGHT_COORD_SCALE)
     }
 
-    /// The chunk's fragments that pass the depth test (at window depth words) against
-    /// the camera depth buffer, into `b.visible`; all of them without objects.
+    /// The chunk's fragments (walked pixels that are covered and inside the
+    /// `width` × `height` viewport) that pass the depth test (at window depth words)
+    /// against the camera depth buffer, as indices into `px`, into `b.visible`; all
+    /// of them without objects.
     pub fn visible(
         &self,
-        frags: &[Fragment],
-        depth: impl Fn(&Fragment) -> u32,
+        px: &[PolyOut],
+        (width, height): (u32, u32),
+        depth: impl Fn(&PolyOut) -> u32,
         span: &mut UnitSpan,
         b: &mut ChunkBuffers,
     ) {
         b.visible.clear();
+        b.visible
+            .extend((0..px.len() as u32).filter(|&i| is_fragment(&px[i as usize], width, height)));
         let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
-            b.visible.extend_from_slice(frags);
             return;
         };
         b.depth_in.clear();
-        b.depth_in.extend(frags.iter().map(|f| ShadowIn::Test {
-            x: f.x as i32,
-            y: f.y as i32,
-            depth: depth(f) as u64,
+        b.depth_in.extend(b.visible.iter().map(|&i| {
+            let f = &px[i as usize];
+            ShadowIn::Test {
+                x: f.x as i32,
+                y: f.y as i32,
+                depth: depth(f) as u64,
+            }
         }));
         span.feed_tests(z, zs, &b.depth_in, &mut b.depth_out);
-        b.visible.extend(
-            frags
-                .iter()
-                .zip(&b.depth_out)
-                .filter(|(_, o)| o.lit)
-                .map(|(f, _)| *f),
-        );
+        let mut k = 0;
+        for j in 0..b.visible.len() {
+            if b.depth_out[j].lit {
+                b.visible[k] = b.visible[j];
+                k += 1;
+            }
+        }
+        b.visible.truncate(k);
     }
 
     /// The depth-buffer test's span closed under its counter name (when there is one).
@@ -192,26 +202,26 @@ impl LightCtx<'_> {
         }
     }
 
-    /// H·I_l per fragment of `frags` (texel_bits unorm) into `b.hil`: light map through
-    /// the projective unit, shadow compare at the light-space texel. `base` is the
-    /// attribute index of s.
-    pub fn h_il(
-        &self,
-        frags: &[Fragment],
-        base: usize,
-        spans: &mut HilSpans,
-        b: &mut ChunkBuffers,
-    ) {
+    /// H·I_l of the fragments `b.visible` of `px` (texel_bits unorm) into `b.hil`:
+    /// light map through the projective unit, shadow compare at the light-space texel.
+    /// `base` is the attribute index of s.
+    pub fn h_il(&self, px: &[PolyOut], base: usize, spans: &mut HilSpans, b: &mut ChunkBuffers) {
         let u = self.units;
         b.hil.clear();
+        let n = b.visible.len();
         let need_proj = self.lm_tex.is_some() || self.sstate.is_some();
         if need_proj {
             b.proj_in.clear();
-            b.proj_in.extend(frags.iter().map(|f| ProjectiveIn {
-                s: f.attrs[base],
-                t: f.attrs[base + 1],
-                q: f.attrs[base + 3],
-            }));
+            b.proj_in.extend(
+                b.visible
+                    .iter()
+                    .map(|&i| &px[i as usize])
+                    .map(|f| ProjectiveIn {
+                        s: f.attrs[base],
+                        t: f.attrs[base + 1],
+                        q: f.attrs[base + 3],
+                    }),
+            );
             spans
                 .proj
                 .feed(&u.proj, &mut (), &b.proj_in, &mut b.proj_out);
@@ -231,15 +241,20 @@ impl LightCtx<'_> {
                 spans.light_map.feed(lm, &mut (), &b.tex_in, &mut b.tex_out);
                 b.hil.extend(b.tex_out.iter().map(|t| t[0]));
             }
-            None => b.hil.resize(frags.len(), self.tex_max),
+            None => b.hil.resize(n, self.tex_max),
         }
         if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
             b.pdepth_in.clear();
-            b.pdepth_in.extend(frags.iter().map(|f| ProjectiveIn {
-                s: f.attrs[base + 2],
-                t: 0,
-                q: f.attrs[base + 3],
-            }));
+            b.pdepth_in.extend(
+                b.visible
+                    .iter()
+                    .map(|&i| &px[i as usize])
+                    .map(|f| ProjectiveIn {
+                        s: f.attrs[base + 2],
+                        t: 0,
+                        q: f.attrs[base + 3],
+                    }),
+            );
             spans
                 .proj_depth
                 .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);

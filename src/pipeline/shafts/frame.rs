@@ -24,7 +24,7 @@ use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{
-    PolygonInterpolator, PolygonInterpolatorConfig, MAX_ATTRS,
+    PolyOut, PolygonInterpolator, PolygonInterpolatorConfig, MAX_ATTRS,
 };
 use rtl_model::units::projective_texcoord::{ProjectiveTexcoord, ProjectiveTexcoordConfig};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
@@ -696,16 +696,18 @@ fn modulate_all(
 fn blend_into(
     u: &AdditiveBlend,
     fb: &mut Framebuffer,
-    frags: &[Fragment],
+    frags: &[&PolyOut],
     rgb: &[[u32; 3]],
     ctr: &mut BTreeMap<String, Counters>,
 ) {
+    // Triangles of one object may cover a pixel twice: every destination is read
+    // before any is written, as the span driver ran it.
     let ins: Vec<AdditiveBlendIn> = frags
         .iter()
         .zip(rgb)
         .map(|(f, c)| AdditiveBlendIn {
             src: [c[0], c[1], c[2], 0],
-            dst: fb.pixel(f.x, f.y),
+            dst: fb.pixel(f.x as u32, f.y as u32),
             weight: 0,
         })
         .collect();
@@ -713,7 +715,7 @@ fn blend_into(
     let out = run_span(u, &mut (), &ins, &mut c);
     counters_add(ctr, "additive_blend", c);
     for (f, o) in frags.iter().zip(out) {
-        fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
+        fb.set(f.x as u32, f.y as u32, [o[0], o[1], o[2], 0]);
     }
 }
 
@@ -786,17 +788,27 @@ fn object_pass(
     // The object pass is light work (a few thousand fragments): one chunk.
     let mut b = ChunkBuffers::default();
     let mut zspan = UnitSpan::default();
+    let px: Vec<PolyOut> = frags_all
+        .iter()
+        .map(|f| PolyOut {
+            x: f.x as i64,
+            y: f.y as i64,
+            inside: true,
+            attrs: f.attrs,
+        })
+        .collect();
     ctx.visible(
-        &frags_all,
+        &px,
+        (w, h),
         |f| window_depth_word(f.attrs[0], ZBUF_BITS),
         &mut zspan,
         &mut b,
     );
     ctx.close_visible(zspan, ctr);
-    let frags = std::mem::take(&mut b.visible);
+    let frags: Vec<&PolyOut> = b.visible.iter().map(|&i| &px[i as usize]).collect();
     stats.fragments = frags.len() as u64;
     let mut spans = HilSpans::default();
-    ctx.h_il(&frags, 4, &mut spans, &mut b);
+    ctx.h_il(&px, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
     let hil = &b.hil;
     let mut pairs = Vec::with_capacity(frags.len() * 3);

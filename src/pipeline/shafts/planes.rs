@@ -14,12 +14,13 @@ use super::frame::{
 };
 use super::tables::GTables;
 use super::view::vec3;
-use crate::pipeline::raster::{host_attrs, quantise, walk_rows, HostVertex, WalkBuffers};
+use crate::pipeline::raster::{host_attrs, quantise, walk_rows_raw, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::ModulateIn;
+use rtl_model::units::polygon_interpolator::PolyOut;
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -201,13 +202,14 @@ fn subplanes_into_j(
         let mut b = ChunkBuffers::default();
         let (mut pix, mut hil) = (Vec::new(), Vec::new());
         let mut wb = WalkBuffers::default();
-        walk_rows(&u.interp, &setup, w, h, &mut c_int, &mut wb, |frags| {
-            ctx.visible(frags, |_| zw, &mut zspan, &mut b);
-            let vis = std::mem::take(&mut b.visible);
-            ctx.h_il(&vis, 4, &mut spans, &mut b);
-            pix.extend(vis.iter().map(|f| f.y * w + f.x));
+        walk_rows_raw(&u.interp, &setup, &mut c_int, &mut wb, |px| {
+            ctx.visible(px, (w, h), |_| zw, &mut zspan, &mut b);
+            ctx.h_il(px, 4, &mut spans, &mut b);
+            pix.extend(b.visible.iter().map(|&i| {
+                let f = &px[i as usize];
+                f.y as u32 * w + f.x as u32
+            }));
             hil.extend_from_slice(&b.hil);
-            b.visible = vis;
         });
         counters_add(&mut local, "polygon_interpolator", c_int);
         ctx.close_visible(zspan, &mut local);
@@ -402,8 +404,8 @@ fn cell(
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
     for s in u.interp.setup_quad(&qv, &mut c_int) {
-        walk_rows(&u.interp, &s, w, h, &mut c_int, &mut wb, |frags| {
-            shade_chunk(pc, frags, &mut spans, &mut b, &mut out)
+        walk_rows_raw(&u.interp, &s, &mut c_int, &mut wb, |px| {
+            shade_chunk(pc, px, (w, h), &mut spans, &mut b, &mut out)
         });
     }
     spans.interp = c_int;
@@ -420,23 +422,27 @@ fn cell(
 /// small value (docs/shafts.md).
 fn shade_chunk(
     pc: &PlaneCtx,
-    frags: &[crate::pipeline::raster::Fragment],
+    px: &[PolyOut],
+    viewport: (u32, u32),
     sp: &mut PlaneSpans,
     b: &mut PlaneBuffers,
     out: &mut Vec<PlaneFrag>,
 ) {
     let ctx = pc.ctx;
     let u = ctx.units;
-    ctx.visible(frags, |_| pc.zword, &mut sp.zbuf, &mut b.chunk);
-    let vis = std::mem::take(&mut b.chunk.visible);
+    ctx.visible(px, viewport, |_| pc.zword, &mut sp.zbuf, &mut b.chunk);
+    let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
     b.f_in.clear();
-    b.f_in.extend(vis.iter().map(|f| TextureSamplerIn {
-        coord: [(f.attrs[0] >> sh) as i32, 0, 0],
+    b.f_in.extend(vis.iter().map(|&i| TextureSamplerIn {
+        coord: [(px[i as usize].attrs[0] >> sh) as i32, 0, 0],
     }));
     b.h_in.clear();
-    b.h_in.extend(vis.iter().map(|f| TextureSamplerIn {
-        coord: [(f.attrs[1] >> sh) as i32, (f.attrs[2] >> sh) as i32, 0],
+    b.h_in.extend(vis.iter().map(|&i| {
+        let f = &px[i as usize];
+        TextureSamplerIn {
+            coord: [(f.attrs[1] >> sh) as i32, (f.attrs[2] >> sh) as i32, 0],
+        }
     }));
     sp.f.feed(&u.f_tex, &mut (), &b.f_in, &mut b.f_out);
     sp.h.feed(&u.h_tex, &mut (), &b.h_in, &mut b.h_out);
@@ -446,30 +452,34 @@ fn shade_chunk(
         Some(t) => {
             let fr = t.coord_frac_bits();
             b.j_in.clear();
-            b.j_in.extend(vis.iter().map(|f| TextureSamplerIn {
-                coord: [
-                    ((f.x as i32) << fr) + (1 << fr >> 1),
-                    ((f.y as i32) << fr) + (1 << fr >> 1),
-                    0,
-                ],
+            b.j_in.extend(vis.iter().map(|&i| {
+                let f = &px[i as usize];
+                TextureSamplerIn {
+                    coord: [
+                        ((f.x as i32) << fr) + (1 << fr >> 1),
+                        ((f.y as i32) << fr) + (1 << fr >> 1),
+                        0,
+                    ],
+                }
             }));
             sp.j.feed(t, &mut (), &b.j_in, &mut b.j_out);
             b.m_a.clear();
             b.m_a.extend(b.j_out.iter().map(|v| v[0]));
         }
         None => {
-            ctx.h_il(&vis, 4, &mut sp.hil, &mut b.chunk);
+            ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
             b.m_a.clear();
             b.m_a.extend_from_slice(&b.chunk.hil);
         }
     }
+    let vis = &b.chunk.visible;
     let md = &u.modulate;
     // J · S
     b.m_in.clear();
     b.m_in
-        .extend(vis.iter().zip(&b.m_a).map(|(f, &j)| ModulateIn {
+        .extend(vis.iter().zip(&b.m_a).map(|(&i, &j)| ModulateIn {
             a: j,
-            b: attr_unorm(f.attrs[3], ctx.tex_max),
+            b: attr_unorm(px[i as usize].attrs[3], ctx.tex_max),
         }));
     sp.modulate[0].feed(md, &mut (), &b.m_in, &mut b.m_b);
     // · F
@@ -498,12 +508,14 @@ fn shade_chunk(
             .flat_map(|(c, h)| c.iter().map(move |&a| ModulateIn { a, b: h[0] })),
     );
     sp.modulate[3].feed(md, &mut (), &b.m_in, &mut b.m_a);
-    out.extend(vis.iter().zip(b.m_a.chunks(3)).map(|(f, c)| PlaneFrag {
-        x: f.x,
-        y: f.y,
-        rgb: [c[0], c[1], c[2]],
+    out.extend(vis.iter().zip(b.m_a.chunks(3)).map(|(&i, c)| {
+        let f = &px[i as usize];
+        PlaneFrag {
+            x: f.x as u32,
+            y: f.y as u32,
+            rgb: [c[0], c[1], c[2]],
+        }
     }));
-    b.chunk.visible = vis;
 }
 
 /// The plane's fragments added into the framebuffer, a chunk at a time (one span;

@@ -20,9 +20,12 @@ use crate::report::csv_out::write_csv;
 use crate::report::metrics::{error_stats, error_stats_at, representative_pixels};
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
 use crate::report::progress::progress_bar;
+use crate::report::shard::{
+    fingerprint, finish_shard, pick, write_atomically, Shard, ShardSet, SweepId,
+};
 use crate::report::table::text_table;
 use crate::scene::format::{Scene, ShaftsConfig};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -258,8 +261,8 @@ pub fn parse_image(text: &str) -> Result<(u32, u32), String> {
     parse_pair(text).map_err(|e| format!("image: {e}; --image takes WIDTHxHEIGHT, e.g. 360x240"))
 }
 
-/// One row of `sweep_<param>.csv`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// One row of `sweep_<param>.csv` (read back from shard files by `sweep merge`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepRow {
     pub param: String,
     pub value: String,
@@ -315,9 +318,9 @@ pub fn sweep_scenes(base: &Scene, param: Param, values: &[Value]) -> Result<Vec<
 }
 
 /// Run the sweep on `base` (a validated scene; its image size is used as it is) and
-/// write `out/sweep_<param>.csv` and `.png`. Every value is validated before anything
-/// is rendered or written; a render that still fails writes the rows done so far and
-/// returns the error naming the value.
+/// write `out/sweep_<param>.csv` and `.png` (each atomically). Every value is
+/// validated before anything is rendered or written; a render that still fails writes
+/// the rows done so far and returns the error naming the value.
 pub fn sweep(
     base: &Scene,
     param: Param,
@@ -325,39 +328,84 @@ pub fn sweep(
     truth_samples: u32,
     out: &Path,
 ) -> Result<SweepOutput, String> {
+    let csv = out.join(format!("sweep_{}.csv", param.name()));
+    let png = out.join(format!("sweep_{}.png", param.name()));
+    let mut done = Vec::with_capacity(values.len());
+    let truth_seconds = match sweep_rows(base, param, values, truth_samples, None, &mut done) {
+        Ok(t) => t,
+        Err(e) => {
+            let rows: Vec<SweepRow> = done.into_iter().map(|(_, r)| r).collect();
+            let saved = if rows.is_empty() {
+                String::new()
+            } else {
+                match write_csv(&csv, &rows) {
+                    Ok(()) => format!("; the {} rows done are in {}", rows.len(), csv.display()),
+                    Err(w) => format!("; writing the rows done also failed: {w}"),
+                }
+            };
+            return Err(format!("{e}{saved}"));
+        }
+    };
+    let rows: Vec<SweepRow> = done.into_iter().map(|(_, r)| r).collect();
+    write_outputs(&csv, &png, &plot_title(base, param), param, values, &rows)?;
+    Ok(SweepOutput {
+        rows,
+        csv,
+        png,
+        truth_seconds,
+    })
+}
+
+/// The CSV and the plot, each atomically: what a sweep and a merge of its shards
+/// write alike.
+fn write_outputs(
+    csv: &Path,
+    png: &Path,
+    title: &str,
+    param: Param,
+    values: &[Value],
+    rows: &[SweepRow],
+) -> Result<(), String> {
+    write_atomically(csv, |p| write_csv(p, rows))?;
+    write_atomically(png, |p| plot(p, title, param, values, rows))
+}
+
+/// Render the values `only` picks (every value without a shard) into `done`, as
+/// (value index, row); returns the wall time of the reference (0 when no value is
+/// picked: it is not computed). Every value is validated first, so a bad sweep
+/// renders nothing; a render that fails is an error naming the value, `done` holding
+/// the rows before it.
+pub fn sweep_rows(
+    base: &Scene,
+    param: Param,
+    values: &[Value],
+    truth_samples: u32,
+    only: Option<Shard>,
+    done: &mut Vec<(usize, SweepRow)>,
+) -> Result<f64, String> {
     if !(1..=MAX_TRUTH_SAMPLES).contains(&truth_samples) {
         return Err(format!(
             "truth_samples: {truth_samples} is out of range (allowed 1 ..= {MAX_TRUTH_SAMPLES})"
         ));
     }
     let scenes = sweep_scenes(base, param, values)?;
+    let todo = pick(&scenes, only);
+    if todo.is_empty() {
+        return Ok(0.0);
+    }
     let (w, h) = (base.image.width, base.image.height);
     let (truth, truth_seconds) = reference_image(base, truth_samples)?;
     let pixels = representative_pixels(&truth, w, h, REPRESENTATIVE_PIXELS, base.seed)
         .map_err(|e| format!("truth (the {w}x{h} ray-marched reference): {e}"))?;
-    let csv = out.join(format!("sweep_{}.csv", param.name()));
-    let png = out.join(format!("sweep_{}.png", param.name()));
-
-    let bar = progress_bar(values.len() as u64, &format!("sweep {}", param.name()));
-    let mut rows = Vec::with_capacity(values.len());
-    for (k, (s, v)) in scenes.iter().zip(values).enumerate() {
-        let row = render_row(s, param, *v, &truth, w, &pixels);
-        match row {
-            Ok(r) => rows.push(r),
+    let bar = progress_bar(todo.len() as u64, &format!("sweep {}", param.name()));
+    for (k, s) in todo {
+        let v = values[k];
+        match render_row(s, param, v, &truth, w, &pixels) {
+            Ok(r) => done.push((k, r)),
             Err(e) => {
                 bar.abandon();
-                let saved = if rows.is_empty() {
-                    String::new()
-                } else {
-                    match write_csv(&csv, &rows) {
-                        Ok(()) => {
-                            format!("; the {} rows done are in {}", rows.len(), csv.display())
-                        }
-                        Err(w) => format!("; writing the rows done also failed: {w}"),
-                    }
-                };
                 return Err(format!(
-                    "{} = {v} (value {k} of the sweep): {e}{saved}",
+                    "{} = {v} (value {k} of the sweep): {e}",
                     param.name()
                 ));
             }
@@ -365,14 +413,7 @@ pub fn sweep(
         bar.inc(1);
     }
     bar.finish_and_clear();
-    write_csv(&csv, &rows)?;
-    plot(&png, &plot_title(base, param), param, values, &rows)?;
-    Ok(SweepOutput {
-        rows,
-        csv,
-        png,
-        truth_seconds,
-    })
+    Ok(truth_seconds)
 }
 
 fn render_row(
@@ -487,7 +528,8 @@ fn plot(
 }
 
 /// The `sweep` command: load the scene (built-in name or TOML file), apply `--image`,
-/// parse and validate every value, sweep, print a table.
+/// parse and validate every value, sweep (with `shard`, only its share, written to
+/// the shard file: docs/sweep.md), print a table.
 pub fn sweep_cli(
     scene_name: &str,
     param: &str,
@@ -495,6 +537,7 @@ pub fn sweep_cli(
     out: &Path,
     truth_samples: u32,
     image: Option<&str>,
+    shard: Option<Shard>,
 ) -> Result<(), String> {
     if scene_name == "test" {
         return Err(
@@ -511,6 +554,40 @@ pub fn sweep_cli(
         scene.image.width = w;
         scene.image.height = h;
     }
+    if let Some(shard) = shard {
+        // The scene by fingerprint as well as by name: two files of one name on two
+        // machines are two sweeps. The image size and the truth's samples change
+        // every row.
+        let id = SweepId {
+            kind: "shafts".into(),
+            scene: scene_name.into(),
+            param: param.name().into(),
+            values: values.iter().map(Value::to_string).collect(),
+            settings: [
+                (
+                    "image".to_string(),
+                    format!("{}x{}", scene.image.width, scene.image.height),
+                ),
+                ("truth_samples".to_string(), truth_samples.to_string()),
+                ("scene_fingerprint".to_string(), fingerprint(&scene)?),
+            ]
+            .into(),
+            title: plot_title(&scene, param),
+        };
+        let mut done = Vec::new();
+        sweep_rows(
+            &scene,
+            param,
+            &values,
+            truth_samples,
+            Some(shard),
+            &mut done,
+        )?;
+        println!("{}", finish_shard(out, &id, shard, &done)?);
+        let rows: Vec<SweepRow> = done.into_iter().map(|(_, r)| r).collect();
+        print!("{}", table(param, &rows));
+        return Ok(());
+    }
     let t0 = Instant::now();
     let res = sweep(&scene, param, &values, truth_samples, out)?;
     println!(
@@ -525,8 +602,30 @@ pub fn sweep_cli(
         res.png.display(),
         t0.elapsed().as_secs_f64()
     );
-    let table: Vec<Vec<String>> = res
-        .rows
+    print!("{}", table(param, &res.rows));
+    Ok(())
+}
+
+/// `sweep merge` of a shafts sweep: the shards' rows written as [`sweep`] writes
+/// them (CSV, plot, table on stdout).
+pub fn merge_cli(set: &ShardSet, out: &Path) -> Result<(), String> {
+    // The header was written by a shafts sweep; if it still does not read as one
+    // (edited by hand, another version), the error names the file.
+    let in_file = |e: String| format!("{}: {e}", set.files[0].display());
+    let param = Param::from_name(&set.id.param).map_err(in_file)?;
+    let values = parse_values(param, &set.id.values.join(",")).map_err(in_file)?;
+    let rows: Vec<SweepRow> = set.rows()?;
+    let csv = out.join(format!("sweep_{}.csv", param.name()));
+    let png = out.join(format!("sweep_{}.png", param.name()));
+    write_outputs(&csv, &png, &set.id.title, param, &values, &rows)?;
+    println!("{}", set.merged(&csv, &png));
+    print!("{}", table(param, &rows));
+    Ok(())
+}
+
+/// The rows as the terminal table, headed by the param's name.
+fn table(param: Param, rows: &[SweepRow]) -> String {
+    let table: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
             vec![
@@ -539,19 +638,15 @@ pub fn sweep_cli(
             ]
         })
         .collect();
-    print!(
-        "{}",
-        text_table(
-            &[
-                param.name(),
-                "error_levels",
-                "rms_levels",
-                "predicted_hw_s",
-                "wall_s",
-                "gates_nand2"
-            ],
-            &table
-        )
-    );
-    Ok(())
+    text_table(
+        &[
+            param.name(),
+            "error_levels",
+            "rms_levels",
+            "predicted_hw_s",
+            "wall_s",
+            "gates_nand2",
+        ],
+        &table,
+    )
 }
