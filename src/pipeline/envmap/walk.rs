@@ -11,7 +11,9 @@ use rtl_model::Counters;
 
 use super::interpolator::RENDER_ATTRS;
 use super::roughness::TexGen;
-use crate::pipeline::raster::{host_attrs, quantise, walk_rows, HostVertex, WalkBuffers};
+use crate::pipeline::raster::{
+    host_attrs, is_fragment, quantise, walk_rows_raw, HostVertex, WalkBuffers,
+};
 use crate::scene::camera::CameraView;
 use crate::scene::teapot::Triangle;
 
@@ -199,9 +201,9 @@ fn walk_part(
 
 /// One triangle through `u` (`pipeline::raster::draw_triangle` on the batch path):
 /// quantise, set up, walk a bounding-box row at a time through `buf`
-/// ([`walk_rows`]: the primitive's walk one span); `sink` gets the pixel index
-/// y·w + x and the raw codes of each covered pixel inside the `w` × `h` viewport, in
-/// walk order.
+/// ([`walk_rows_raw`]: the primitive's walk one span); `sink` gets the pixel index
+/// y·w + x and the raw codes of each fragment ([`is_fragment`]: covered, inside the
+/// `w` × `h` viewport), in walk order.
 fn draw(
     u: &PolygonInterpolator,
     hv: &[HostVertex; 3],
@@ -213,9 +215,9 @@ fn draw(
 ) -> Result<(), ConfigError> {
     let q = quantise(u, hv, ctr)?;
     let s = u.setup_triangle(&q, ctr);
-    walk_rows(u, &s, w, h, ctr, buf, |frags| {
-        for f in frags {
-            sink(f.y * w + f.x, &f.attrs);
+    walk_rows_raw(u, &s, ctr, buf, |outs| {
+        for f in outs.iter().filter(|f| is_fragment(f, w, h)) {
+            sink(f.y as u32 * w + f.x as u32, &f.attrs);
         }
     });
     Ok(())
