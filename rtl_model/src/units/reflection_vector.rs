@@ -207,6 +207,16 @@ struct FastForm {
     rom: Vec<u32>,
 }
 
+/// The datapath's front ([`ReflectionVector::front`]): λ in u1.L after the clamp,
+/// n̂ and v̂ in s2.B after the zero-vector muxes, and which vector was zero.
+struct Front {
+    lambda: u32,
+    n_hat: [i64; 3],
+    v_hat: [i64; 3],
+    zero_n: bool,
+    zero_e: bool,
+}
+
 /// Largest Newton fraction width N the 64-bit form holds (u3.2N ≤ 61 bits + sign).
 const FAST_MAX_NEWTON_FRAC: u32 = 29;
 
@@ -481,13 +491,17 @@ impl ReflectionVector {
         Some(out)
     }
 
-    /// The whole datapath with its intermediate words.
-    pub fn parts(&self, input: &ReflectionVectorIn, ctr: &mut Counters) -> ReflectionParts {
-        let c = self.cfg;
+    /// The front of the datapath, both forms: the u1.L λ wire clamped to 1 (counted),
+    /// n̂ and v̂ by `normalise` from the s(W) wires, and the zero-vector muxes.
+    #[inline]
+    fn front(
+        &self,
+        input: &ReflectionVectorIn,
+        ctr: &mut Counters,
+        normalise: impl Fn(&Self, [i64; 3], &mut Counters) -> Option<[i64; 3]>,
+    ) -> Front {
         let w = self.in_bits();
-        let n = input.n.map(|x| sext(x, w)); // i64 → s(W) wires
-        let e = input.e.map(|x| sext(x, w));
-        let l = c.lambda_bits;
+        let l = self.cfg.lambda_bits;
         let one = 1u32 << l;
         let lam_wire = input.lambda & ((1u32 << (l + 1)) - 1); // u1.L wire
         let lambda = if lam_wire > one {
@@ -496,8 +510,8 @@ impl ReflectionVector {
         } else {
             lam_wire
         };
-        let nh = self.normalise(n, ctr);
-        let vh = self.normalise(e, ctr);
+        let nh = normalise(self, input.n.map(|x| sext(x, w)), ctr); // i64 → s(W) wires
+        let vh = normalise(self, input.e.map(|x| sext(x, w)), ctr);
         let (zero_n, zero_e) = (nh.is_none(), vh.is_none());
         ctr.underflows += u64::from(zero_n) + u64::from(zero_e);
         // Zero-vector muxes: n̂ := v̂, v̂ := n̂; both zero → 0.
@@ -507,6 +521,22 @@ impl ReflectionVector {
             (Some(a), None) => (a, a),
             (None, None) => ([0; 3], [0; 3]),
         };
+        Front {
+            lambda,
+            n_hat,
+            v_hat,
+            zero_n,
+            zero_e,
+        }
+    }
+
+    /// The whole datapath with its intermediate words.
+    pub fn parts(&self, input: &ReflectionVectorIn, ctr: &mut Counters) -> ReflectionParts {
+        let c = self.cfg;
+        let l = c.lambda_bits;
+        let fr = self.front(input, ctr, Self::normalise);
+        let (lambda, n_hat, v_hat) = (fr.lambda, fr.n_hat, fr.v_hat);
+        let (zero_n, zero_e) = (fr.zero_n, fr.zero_e);
         let b = c.norm_bits;
         // d = n̂·v̂: s2.B × s2.B → s4.2B, sum of three → s6.2B, rounded to s3.B.
         let dot: i128 = (0..3).map(|k| n_hat[k] as i128 * v_hat[k] as i128).sum();
@@ -618,26 +648,10 @@ impl ReflectionVector {
         ctr: &mut Counters,
     ) -> ReflectionVectorOut {
         let c = &self.cfg;
-        let w = self.in_bits();
         let l = c.lambda_bits;
-        let one = 1u32 << l;
-        let lam_wire = input.lambda & ((1u32 << (l + 1)) - 1);
-        let lambda = if lam_wire > one {
-            ctr.saturations += 1;
-            one
-        } else {
-            lam_wire
-        };
-        let nh = self.normalise_fast(rom, input.n.map(|x| sext(x, w)), ctr);
-        let vh = self.normalise_fast(rom, input.e.map(|x| sext(x, w)), ctr);
-        let (zero_n, zero_e) = (nh.is_none(), vh.is_none());
-        ctr.underflows += u64::from(zero_n) + u64::from(zero_e);
-        let (n_hat, v_hat) = match (nh, vh) {
-            (Some(a), Some(b)) => (a, b),
-            (None, Some(b)) => (b, b),
-            (Some(a), None) => (a, a),
-            (None, None) => ([0; 3], [0; 3]),
-        };
+        let fr = self.front(input, ctr, |u, x, ctr| u.normalise_fast(rom, x, ctr));
+        let (lambda, n_hat, v_hat) = (fr.lambda, fr.n_hat, fr.v_hat);
+        let (zero_n, zero_e) = (fr.zero_n, fr.zero_e);
         let b = c.norm_bits;
         let dot: i64 = (0..3).map(|k| n_hat[k] * v_hat[k]).sum(); // s6.2B
         let d = sat_signed(

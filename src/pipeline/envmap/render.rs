@@ -583,13 +583,15 @@ fn render_tris(
     // ---- raster + depth test (walk.rs)
     let walked = super::walk::walk(
         geo,
-        &cam,
-        &texgen,
-        &interp,
-        uv_probe.as_ref(),
-        texture_side.is_some(),
-        w,
-        h,
+        &super::walk::WalkSetup {
+            cam: &cam,
+            texgen: &texgen,
+            interp: &interp,
+            uv_probe: uv_probe.as_ref(),
+            uv_from_render: texture_side.is_some(),
+            w,
+            h,
+        },
     )?;
     let (visible, triangles, fragments, c_int) = (
         walked.visible,

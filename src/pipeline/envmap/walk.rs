@@ -42,6 +42,20 @@ pub(super) struct Walk {
     pub counters: Counters,
 }
 
+/// How [`walk`] draws: the camera, the texgen of (u, v), the render's interpolator,
+/// the measurement walk's (or None), whether (u, v) are the render's attributes 8 and
+/// 9, and the viewport `w` × `h`.
+#[derive(Clone, Copy)]
+pub(super) struct WalkSetup<'a> {
+    pub cam: &'a CameraView,
+    pub texgen: &'a TexGen,
+    pub interp: &'a PolygonInterpolator,
+    pub uv_probe: Option<&'a PolygonInterpolator>,
+    pub uv_from_render: bool,
+    pub w: u32,
+    pub h: u32,
+}
+
 /// One task's triangles walked: their fragments in walk order and their counts.
 struct Part {
     frags: Vec<Frag>,
@@ -49,7 +63,7 @@ struct Part {
     counters: Counters,
 }
 
-/// Walk `geo` (triangles with per-vertex λ) at `w` × `h` through `interp`. Each vertex
+/// Walk `geo` (triangles with per-vertex λ) as `how` says (its fields named below). Each vertex
 /// carries n (flipped for triangles seen from their back), e = eye − p, λ, the window
 /// depth and the texgen (u, v). With `uv_probe` (per-vertex λ with the intended-λ
 /// truth) a second, uncounted walk of the 10-attribute interpolator gives the (u, v)
@@ -61,20 +75,11 @@ struct Part {
 /// stateless between primitives, each primitive one span with its own counters); the
 /// depth test runs over the fragments in triangle and walk order, so the image and the
 /// counters are those of one sequential walk on any thread count.
-#[allow(clippy::too_many_arguments)]
-pub(super) fn walk(
-    geo: &[(Triangle, [f64; 3])],
-    cam: &CameraView,
-    texgen: &TexGen,
-    interp: &PolygonInterpolator,
-    uv_probe: Option<&PolygonInterpolator>,
-    uv_from_render: bool,
-    w: u32,
-    h: u32,
-) -> Result<Walk, ConfigError> {
+pub(super) fn walk(geo: &[(Triangle, [f64; 3])], how: &WalkSetup<'_>) -> Result<Walk, ConfigError> {
+    let (w, h) = (how.w, how.h);
     let parts: Vec<Result<Part, ConfigError>> = geo
         .par_chunks(TRIS_PER_TASK)
-        .map(|tris| walk_part(tris, cam, texgen, interp, uv_probe, uv_from_render, w, h))
+        .map(|tris| walk_part(tris, how))
         .collect();
     let mut c_int = Counters::default();
     let mut triangles = 0;
@@ -117,17 +122,16 @@ pub(super) fn walk(
 }
 
 /// Walk one task's triangles in order (see [`walk`]).
-#[allow(clippy::too_many_arguments)]
-fn walk_part(
-    tris: &[(Triangle, [f64; 3])],
-    cam: &CameraView,
-    texgen: &TexGen,
-    interp: &PolygonInterpolator,
-    uv_probe: Option<&PolygonInterpolator>,
-    uv_from_render: bool,
-    w: u32,
-    h: u32,
-) -> Result<Part, ConfigError> {
+fn walk_part(tris: &[(Triangle, [f64; 3])], how: &WalkSetup<'_>) -> Result<Part, ConfigError> {
+    let WalkSetup {
+        cam,
+        texgen,
+        interp,
+        uv_probe,
+        uv_from_render,
+        w,
+        h,
+    } = *how;
     let mut part = Part {
         frags: Vec::new(),
         triangles: 0,
