@@ -328,6 +328,100 @@ fn exhaustive_3_bit_vectors_within_bound() {
     }
 }
 
+/// The batch path (the unit's 64-bit form where the config has it, else the general
+/// kernel) against the span and tick drivers: exhaustively at W = 3 (all 2^18 (n, e)
+/// pairs, zero vectors included, λ cycling through every u1.L wire value of L = 2,
+/// clamps included) for a 64-bit-form config and one that falls back (N = 30).
+#[test]
+fn batch_path_agrees_exhaustively_at_3_bits() {
+    for newton_frac_bits in [18, 29, 30] {
+        let c = ReflectionVectorConfig {
+            in_int_bits: 3,
+            in_frac_bits: 0,
+            lambda_bits: 2,
+            newton_frac_bits,
+            ..ReflectionVectorConfig::geforce3()
+        };
+        let u = c.build().unwrap();
+        let inputs: Vec<ReflectionVectorIn> = (0u32..(1 << 18))
+            .map(|code| {
+                let comp = |j: u32| ((code >> (3 * j)) & 7) as i64 - 4;
+                ReflectionVectorIn {
+                    n: [comp(0), comp(1), comp(2)],
+                    e: [comp(3), comp(4), comp(5)],
+                    lambda: code % 8,
+                }
+            })
+            .collect();
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+}
+
+/// The batch path on the renderer's words: the interpolator's s16.16 n and e codes
+/// (unit-ish normals, eye vectors up to 8 long, zero vectors, words that wrap the
+/// 32-bit wires) and λ codes around 1, at the GeForce3 config and at the edges of the
+/// 64-bit form (N = 29 with and without Newton, P = 32, R = 24, every output shift
+/// sign).
+#[test]
+fn batch_path_agrees_on_render_words() {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5eed_0f15);
+    let g = ReflectionVectorConfig::geforce3();
+    for c in [
+        g,
+        ReflectionVectorConfig {
+            newton_frac_bits: 29,
+            rsqrt_bits: 24,
+            mant_bits: 32,
+            ..g
+        },
+        ReflectionVectorConfig {
+            newton: false,
+            rsqrt_bits: 24,
+            mant_bits: 32,
+            norm_bits: 24,
+            lambda_bits: 16,
+            ..g
+        },
+        ReflectionVectorConfig {
+            norm_bits: 2,
+            lambda_bits: 1,
+            side_log2: 12,
+            coord_frac_bits: 16,
+            ..g
+        },
+        ReflectionVectorConfig {
+            newton_frac_bits: 30,
+            ..g
+        },
+    ] {
+        let u = c.build().unwrap();
+        let one = 1i64 << 16;
+        let inputs: Vec<ReflectionVectorIn> = (0..20_000)
+            .map(|i| {
+                let mut v = |scale: i64| -> [i64; 3] {
+                    match i % 11 {
+                        0 => [0; 3],
+                        1 => [
+                            rng.random::<i64>(),
+                            rng.random::<i64>(),
+                            rng.random::<i64>(),
+                        ],
+                        _ => std::array::from_fn(|_| rng.random_range(-scale * one..=scale * one)),
+                    }
+                };
+                let n = v(1);
+                let e = v(8);
+                ReflectionVectorIn {
+                    n,
+                    e,
+                    lambda: rng.random_range(0..=(1u32 << (c.lambda_bits + 1))),
+                }
+            })
+            .collect();
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+}
+
 #[test]
 fn zero_vectors_follow_the_rule_and_are_counted() {
     let u = ReflectionVector::geforce3();

@@ -56,7 +56,7 @@
 use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
 use crate::error::{check_finite, check_range, ConfigError};
-use crate::fixed_point::{round_shift, Format, Fx, Overflow, Quant};
+use crate::fixed_point::{round_shift, round_shift_right_i64, Format, Fx, Overflow, Quant};
 use crate::packed_rom::PackedRom;
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::units::texture_sampler::TextureSamplerIn;
@@ -191,6 +191,44 @@ pub struct Rsqrt {
 pub struct ReflectionVector {
     cfg: ReflectionVectorConfig,
     rom: PackedRom,
+    /// The batch kernel's specialised form, where the config allows it.
+    fast: Option<FastForm>,
+}
+
+/// The batch kernel's form of the datapath ([`ReflectionVector::kernel_batch`]): the
+/// same words in 64-bit carriers (every shift a fixed wiring of the config, inlined;
+/// the ROM read from a decoded copy of the same image). Chosen at construction when
+/// every intermediate word fits i64: the widest is the Newton step's 3 − m·y², u3.2N
+/// with N ≤ 29 (2N + 4 ≤ 62 bits); without Newton every config fits (n̂ products are
+/// s(P+Fy+1) ≤ s63, the rest ≤ s52). Other configs take the general (i128) path.
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct FastForm {
+    /// The rsqrt ROM entries, u0.R each (R ≤ 24), address order.
+    rom: Vec<u32>,
+}
+
+/// The datapath's front ([`ReflectionVector::front`]): λ in u1.L after the clamp,
+/// n̂ and v̂ in s2.B after the zero-vector muxes, and which vector was zero.
+struct Front {
+    lambda: u32,
+    n_hat: [i64; 3],
+    v_hat: [i64; 3],
+    zero_n: bool,
+    zero_e: bool,
+}
+
+/// Largest Newton fraction width N the 64-bit form holds (u3.2N ≤ 61 bits + sign).
+const FAST_MAX_NEWTON_FRAC: u32 = 29;
+
+/// [`round_shift`] in a 64-bit carrier for a result that fits: a right shift of
+/// 1 ..= 63 rounds by `q`, a left shift (`sh` ≤ 0) is exact.
+#[inline]
+fn shift_i64(x: i64, sh: i32, q: Quant) -> i64 {
+    if sh > 0 {
+        round_shift_right_i64(x, sh as u32, q)
+    } else {
+        x << (-sh) as u32
+    }
 }
 
 /// ROM entry j for A address bits and R entry bits: the parity P = j >> (A − 1) and
@@ -233,9 +271,15 @@ impl ReflectionVector {
         )?;
         let (a, r) = (cfg.rsqrt_addr_bits, cfg.rsqrt_bits);
         let words: Vec<u64> = (0..1u64 << a).map(|j| rsqrt_rom_entry(j, a, r)).collect();
+        let fast = (!cfg.newton || cfg.newton_frac_bits <= FAST_MAX_NEWTON_FRAC).then(|| {
+            FastForm {
+                rom: words.iter().map(|&w| w as u32).collect(), // u0.R, R ≤ 24
+            }
+        });
         Ok(ReflectionVector {
             cfg,
             rom: PackedRom::new(r, &words),
+            fast,
         })
     }
 
@@ -447,13 +491,17 @@ impl ReflectionVector {
         Some(out)
     }
 
-    /// The whole datapath with its intermediate words.
-    pub fn parts(&self, input: &ReflectionVectorIn, ctr: &mut Counters) -> ReflectionParts {
-        let c = self.cfg;
+    /// The front of the datapath, both forms: the u1.L λ wire clamped to 1 (counted),
+    /// n̂ and v̂ by `normalise` from the s(W) wires, and the zero-vector muxes.
+    #[inline]
+    fn front(
+        &self,
+        input: &ReflectionVectorIn,
+        ctr: &mut Counters,
+        normalise: impl Fn(&Self, [i64; 3], &mut Counters) -> Option<[i64; 3]>,
+    ) -> Front {
         let w = self.in_bits();
-        let n = input.n.map(|x| sext(x, w)); // i64 → s(W) wires
-        let e = input.e.map(|x| sext(x, w));
-        let l = c.lambda_bits;
+        let l = self.cfg.lambda_bits;
         let one = 1u32 << l;
         let lam_wire = input.lambda & ((1u32 << (l + 1)) - 1); // u1.L wire
         let lambda = if lam_wire > one {
@@ -462,8 +510,8 @@ impl ReflectionVector {
         } else {
             lam_wire
         };
-        let nh = self.normalise(n, ctr);
-        let vh = self.normalise(e, ctr);
+        let nh = normalise(self, input.n.map(|x| sext(x, w)), ctr); // i64 → s(W) wires
+        let vh = normalise(self, input.e.map(|x| sext(x, w)), ctr);
         let (zero_n, zero_e) = (nh.is_none(), vh.is_none());
         ctr.underflows += u64::from(zero_n) + u64::from(zero_e);
         // Zero-vector muxes: n̂ := v̂, v̂ := n̂; both zero → 0.
@@ -473,6 +521,22 @@ impl ReflectionVector {
             (Some(a), None) => (a, a),
             (None, None) => ([0; 3], [0; 3]),
         };
+        Front {
+            lambda,
+            n_hat,
+            v_hat,
+            zero_n,
+            zero_e,
+        }
+    }
+
+    /// The whole datapath with its intermediate words.
+    pub fn parts(&self, input: &ReflectionVectorIn, ctr: &mut Counters) -> ReflectionParts {
+        let c = self.cfg;
+        let l = c.lambda_bits;
+        let fr = self.front(input, ctr, Self::normalise);
+        let (lambda, n_hat, v_hat) = (fr.lambda, fr.n_hat, fr.v_hat);
+        let (zero_n, zero_e) = (fr.zero_n, fr.zero_e);
         let b = c.norm_bits;
         // d = n̂·v̂: s2.B × s2.B → s4.2B, sum of three → s6.2B, rounded to s3.B.
         let dot: i128 = (0..3).map(|k| n_hat[k] as i128 * v_hat[k] as i128).sum();
@@ -512,6 +576,109 @@ impl ReflectionVector {
     }
 }
 
+/// The batch kernel's 64-bit form: [`ReflectionVector::parts`]' words, step for step
+/// (see [`FastForm`] for why each fits).
+impl ReflectionVector {
+    /// [`ReflectionVector::rsqrt`] for S > 0: (y, k), y in u1.Fy.
+    #[inline]
+    fn rsqrt_fast(&self, rom: &[u32], s: u64, ctr: &mut Counters) -> (i64, u32) {
+        let c = &self.cfg;
+        let a1 = c.rsqrt_addr_bits - 1;
+        let p = 63 - s.leading_zeros();
+        let k = p / 2;
+        let par = (p & 1) as u64;
+        let below = s & !(1u64 << p);
+        let idx = if p >= a1 {
+            below >> (p - a1)
+        } else {
+            below << (a1 - p)
+        };
+        ctr.table_reads += 1;
+        let y0 = rom[((par << a1) | idx) as usize] as i64; // u0.R
+        if !c.newton {
+            return (y0, k);
+        }
+        let (n, r) = (c.newton_frac_bits, c.rsqrt_bits);
+        // S < 2^(2P) ≤ 2^64 but S < 2^(2k+2): m_N = S·2^(N−2k) < 2^(N+2) fits either way.
+        let m_n = if 2 * k > n {
+            (s >> (2 * k - n)) as i64 // truncation of a non-negative word
+        } else {
+            (s << (n - 2 * k)) as i64
+        }; // u2.N
+        let q = shift_i64(y0 * y0, 2 * r as i32 - n as i32, Quant::Rnd); // u1.N
+        let d = round_shift_right_i64((3i64 << (2 * n)) - m_n * q, n, Quant::Rnd); // u2.N
+        let d_max = (1i64 << (n + 2)) - 1;
+        let d = if !(0..=d_max).contains(&d) {
+            ctr.saturations += 1;
+            d.clamp(0, d_max)
+        } else {
+            d
+        };
+        let y1 = round_shift_right_i64(y0 * d, r + 1, Quant::Rnd); // u1.N
+        let y_max = (1i64 << (n + 1)) - 1;
+        let y1 = if y1 > y_max {
+            ctr.saturations += 1;
+            y_max
+        } else {
+            y1
+        };
+        (y1, k)
+    }
+
+    /// [`ReflectionVector::normalise`]: s2.B components, None for the zero vector.
+    #[inline]
+    fn normalise_fast(&self, rom: &[u32], x: [i64; 3], ctr: &mut Counters) -> Option<[i64; 3]> {
+        let x = self.block_normalise(x)?; // s(P)
+        let s: u64 = x.iter().map(|&c| (c * c) as u64).sum(); // u(2P)
+        let (y, k) = self.rsqrt_fast(rom, s, ctr);
+        let b = self.cfg.norm_bits;
+        let shift = k as i32 + self.rsqrt_frac_bits() as i32 - b as i32;
+        Some(x.map(|c| {
+            let v = shift_i64(c * y, shift, Quant::Rnd); // s(P+Fy+1) → s2.B
+            sat_signed(v as i128, b + 2, ctr) as i64
+        }))
+    }
+
+    /// [`ReflectionVector::parts`]' output word.
+    #[inline]
+    fn out_fast(
+        &self,
+        rom: &[u32],
+        input: &ReflectionVectorIn,
+        ctr: &mut Counters,
+    ) -> ReflectionVectorOut {
+        let c = &self.cfg;
+        let l = c.lambda_bits;
+        let fr = self.front(input, ctr, |u, x, ctr| u.normalise_fast(rom, x, ctr));
+        let (lambda, n_hat, v_hat) = (fr.lambda, fr.n_hat, fr.v_hat);
+        let (zero_n, zero_e) = (fr.zero_n, fr.zero_e);
+        let b = c.norm_bits;
+        let dot: i64 = (0..3).map(|k| n_hat[k] * v_hat[k]).sum(); // s6.2B
+        let d = sat_signed(
+            round_shift_right_i64(dot, b, Quant::Rnd) as i128,
+            b + 3,
+            ctr,
+        ) as i64; // s3.B
+        let lf = b + l;
+        let out_shift = lf as i32 + 1 - c.side_log2 as i32 - c.coord_frac_bits as i32;
+        let ow = self.out_bits();
+        let mut coord = [0i32; 3];
+        for k in 0..3 {
+            let x = 2 * d * n_hat[k] - (v_hat[k] << b); // s7.2B
+            let r = sat_signed(round_shift_right_i64(x, b, Quant::Rnd) as i128, b + 3, ctr) as i64; // s3.B
+            let t = r * lambda as i64; // s4.(B+L)
+            let v = shift_i64(t + (1i64 << lf), out_shift, Quant::Rnd);
+            coord[k] = sat_signed(v as i128, ow, ctr) as i32;
+        }
+        ReflectionVectorOut {
+            coord,
+            back_facing: d < 0,
+            zero_n,
+            zero_e,
+        }
+    }
+}
+
 impl Unit for ReflectionVector {
     type In = ReflectionVectorIn;
     type Out = ReflectionVectorOut;
@@ -528,6 +695,25 @@ impl Unit for ReflectionVector {
         ctr: &mut Counters,
     ) -> ReflectionVectorOut {
         self.parts(input, ctr).out
+    }
+
+    /// The 64-bit form ([`FastForm`]) where the config has it, its counters summed per
+    /// chunk; else the per-word kernel.
+    fn kernel_batch(
+        &self,
+        _: &mut (),
+        inputs: &[ReflectionVectorIn],
+        out: &mut Vec<ReflectionVectorOut>,
+        ctr: &mut Counters,
+    ) {
+        match &self.fast {
+            Some(f) => {
+                let mut c = Counters::default();
+                out.extend(inputs.iter().map(|x| self.out_fast(&f.rom, x, &mut c)));
+                *ctr += c;
+            }
+            None => out.extend(inputs.iter().map(|x| self.parts(x, ctr).out)),
+        }
     }
 
     fn timing(&self) -> Timing {

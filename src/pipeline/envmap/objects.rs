@@ -47,6 +47,14 @@ pub enum LambdaSpec {
 }
 
 impl LambdaSpec {
+    /// The λ of every vertex when it is uniform (the 2D-slice elaboration's condition).
+    pub fn uniform(&self) -> Option<f64> {
+        match self {
+            LambdaSpec::Uniform(l) => Some(*l),
+            LambdaSpec::NonUniform => None,
+        }
+    }
+
     /// "1", "0.5", … or "nonuniform" (for the Table 5 rows).
     pub fn label(&self) -> String {
         match self {

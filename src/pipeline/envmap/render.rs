@@ -108,16 +108,17 @@
 
 use std::collections::BTreeMap;
 
-use rtl_model::driver::run_span;
+use rayon::prelude::*;
+use rtl_model::driver::{add_span_counters, run_span};
 use rtl_model::error::{check_range, ConfigError};
-use rtl_model::units::cube_map_address::CubeMapAddressIn;
+use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn, CubeMapAddressOut};
 use rtl_model::units::reflection_vector::{
-    ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn,
+    ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn, ReflectionVectorOut,
 };
 #[cfg(doc)]
 use rtl_model::units::texture_sampler::TextureSamplerConfig;
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
-use rtl_model::{Counters, UnitSummary};
+use rtl_model::{Counters, Unit, UnitSummary};
 
 pub use super::image::{ErrorStats, Image};
 use super::interpolator::ATTR_FRAC;
@@ -141,7 +142,8 @@ use super::slice;
 pub use super::table5::{table5_rows, Table5Row, TABLE5_LAMBDAS};
 pub use super::truth::Truth;
 use super::truth::{intended_errors, level8, truth_images, Shading};
-use super::voxmap::VoxelMap;
+use super::voxmap::{SliceTexture, VoxelMap};
+use super::walk::Frag;
 use crate::report::elaboration::Elaborated;
 use crate::scene::camera::CameraView;
 use crate::scene::envmap::EnvMap;
@@ -274,7 +276,7 @@ pub fn render_object_with(
     size: (u32, u32),
     opt: &RenderOptions,
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
-    let r = render_core(env, map, object, lambda, size, opt)?;
+    let r = render_core(env, map, object, lambda, size, opt, true)?;
     with_truth(r, opt)
 }
 
@@ -294,7 +296,7 @@ pub fn render_against(
     opt: &RenderOptions,
     truth: &Truth,
 ) -> Result<(Image, RenderStats), ConfigError> {
-    let r = render_core(env, map, object, lambda, size, opt)?;
+    let r = render_core(env, map, object, lambda, size, opt, true)?;
     if truth.cos_phi.mask != r.img.mask
         || truth.simplified.mask != r.img.mask
         || truth.cos_phi.width != r.img.width
@@ -319,7 +321,7 @@ pub fn render_image(
     size: (u32, u32),
     opt: &RenderOptions,
 ) -> Result<Image, ConfigError> {
-    Ok(render_core(env, map, object, lambda, size, opt)?.img)
+    Ok(render_core(env, map, object, lambda, size, opt, false)?.img)
 }
 
 /// The rendered image and its counts (no truth): for timing a frame.
@@ -331,7 +333,7 @@ pub fn render_frame(
     size: (u32, u32),
     opt: &RenderOptions,
 ) -> Result<(Image, FrameInfo), ConfigError> {
-    let r = render_core(env, map, object, lambda, size, opt)?;
+    let r = render_core(env, map, object, lambda, size, opt, false)?;
     Ok((r.img, r.frame))
 }
 
@@ -386,7 +388,7 @@ pub fn render_geometry(
     size: (u32, u32),
     opt: &RenderOptions,
 ) -> Result<(Image, FrameInfo, BTreeMap<String, Counters>), ConfigError> {
-    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt)?;
+    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt, false)?;
     Ok((r.img, r.frame, r.counters))
 }
 
@@ -400,7 +402,7 @@ pub fn render_geometry_with_truth(
     size: (u32, u32),
     opt: &RenderOptions,
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
-    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt)?;
+    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt, true)?;
     with_truth(r, opt)
 }
 
@@ -460,6 +462,7 @@ fn render_core(
     lambda: LambdaSpec,
     size: (u32, u32),
     opt: &RenderOptions,
+    truth: bool,
 ) -> Result<Rendered, ConfigError> {
     let (w, h) = size;
     check_range("envmap_render.size", w.into(), 1, MAX_IMAGE_SIDE.into())?;
@@ -475,26 +478,26 @@ fn render_core(
         },
     );
     let tris = object_geometry(object, lambda, &cam)?;
-    let uniform = match lambda {
-        LambdaSpec::Uniform(l) => Some(l),
-        LambdaSpec::NonUniform => None,
-    };
     let drawn = Drawn {
         tris: &tris,
         camera: &cam_cfg,
-        uniform,
+        uniform: lambda.uniform(),
         object: Some((object, lambda)),
     };
-    render_tris(env, map, &drawn, size, opt)
+    render_tris(env, map, &drawn, size, opt, truth)
 }
 
-/// The render of `drawn` (module notes, steps 1–7).
+/// The render of `drawn` (module notes, steps 1–7). `truth`: also keep what the truth
+/// and the statistics read (the f64 n̂, r, λ per object pixel and the background
+/// list); without it the f64 shading is skipped where the lookup does not need it
+/// (the same image and counters).
 fn render_tris(
     env: &EnvMap,
     map: &VoxelMap,
     drawn: &Drawn<'_>,
     size: (u32, u32),
     opt: &RenderOptions,
+    truth: bool,
 ) -> Result<Rendered, ConfigError> {
     let (w, h) = size;
     check_range("envmap_render.size", w.into(), 1, MAX_IMAGE_SIDE.into())?;
@@ -554,24 +557,16 @@ fn render_tris(
     let s = map.side();
     let sampler3 = slice::sampler_3d(map)?;
     let refl_unit = match opt.reflection {
-        Reflection::Unit => Some(reflection_unit(&sampler3, s)?),
+        Reflection::Unit => Some(reflection_unit(sampler3, s)?),
         Reflection::HostF64 => None,
     };
     let mut c_refl = Counters::default();
-    let mut refl_in: Vec<ReflectionVectorIn> = Vec::new();
     // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ:
     // a cube map of six F × F faces through the 2D sampler, addressed by the
     // cube_map_address unit from the reflection unit's words.
     let face = slice::default_face_side(s);
-    let two_d = match (opt.lookup, drawn.uniform, opt.lambda_source) {
-        (Lookup::Auto, Some(l), LambdaSource::PerVertex) => {
-            let sl = slice::slice_from_map(map, l, face)?;
-            let s2 = slice::sampler_2d(&sl)?;
-            Some((s2, sl))
-        }
-        _ => None,
-    };
-    let sampler: &TextureSampler = two_d.as_ref().map_or(&sampler3, |(s2, _)| s2);
+    let two_d = cube_map(map, opt, drawn.uniform)?;
+    let sampler: &TextureSampler = two_d.as_deref().map_or(sampler3, |(s2, _)| s2);
     let cube = slice::cube_unit(sampler3.config(), s, face)?;
     let cc = cube.config();
     if (
@@ -584,28 +579,29 @@ fn render_tris(
             "the 2D sampler does not read the cube_map_address unit's word format",
         ));
     }
-    let mut c_cube = Counters::default();
 
     // ---- raster + depth test (walk.rs)
     let walked = super::walk::walk(
         geo,
-        &cam,
-        &texgen,
-        &interp,
-        uv_probe.as_ref(),
-        texture_side.is_some(),
-        w,
-        h,
+        &super::walk::WalkSetup {
+            cam: &cam,
+            texgen: &texgen,
+            interp: &interp,
+            uv_probe: uv_probe.as_ref(),
+            uv_from_render: texture_side.is_some(),
+            w,
+            h,
+        },
     )?;
-    let (frag_at, triangles, fragments, c_int) = (
-        walked.frag_at,
+    let (visible, triangles, fragments, c_int) = (
+        walked.visible,
         walked.triangles,
         walked.fragments,
         walked.counters,
     );
 
-    // ---- per visible pixel: the f64 r for the truth (and the HostF64 path), λ, the
-    // reflection unit's inputs, the sampler.
+    // ---- per visible pixel, host f64 (only where needed): n̂, the f64 r for the truth
+    // and the HostF64 paths, λ, and the roughness texture's inputs.
     let mut img = Image::new(w, h);
     let mut c_tex = Counters::default();
     let mut c_rough = Counters::default();
@@ -613,47 +609,42 @@ fn render_tris(
     let mut rough_in: Vec<TextureSamplerIn> = Vec::new();
     let mut back_normal_pixels = 0;
     let a = |raw: i64| interp.out_to_f64(raw);
-    for (k, f) in frag_at.iter().enumerate() {
-        let Some((f, uv)) = f else { continue };
-        let n = v3(a(f.attrs[0]), a(f.attrs[1]), a(f.attrs[2])).normalized();
-        let v = v3(a(f.attrs[3]), a(f.attrs[4]), a(f.attrs[5])).normalized();
-        let lam = a(f.attrs[6]).clamp(0.0, 1.0);
-        if n.dot(v) < 0.0 {
-            back_normal_pixels += 1;
-        }
-        // The ideal f64 reflection of the interpolated n, e: the truth uses it, and the
-        // HostF64 paths (3D and 2D) address with it (module notes, steps 4–5).
-        let (n, r) = reflect(n, v);
-        let (u, vv) = (a(uv[0]), a(uv[1]));
-        if let Some(rs) = &rough {
-            rough_in.push(
-                rs.config()
-                    .input_from_normalized([u, vv, 0.0], &mut c_rough)?,
-            );
-        }
-        let lambda_intended = match (want_uv, drawn.object) {
-            (true, Some((object, lambda))) => lambda_of_uv(object, lambda, u, vv),
-            _ => lam,
-        };
-        shading.push((
-            k,
-            Shading {
-                n,
-                r,
-                lambda: lam,
-                lambda_intended,
-            },
-        ));
-        if let Some(ru) = &refl_unit {
-            // The interpolator's raw codes go straight in; λ s16.16 → u1.12.
-            refl_in.push(ReflectionVectorIn {
-                n: [f.attrs[0], f.attrs[1], f.attrs[2]],
-                e: [f.attrs[3], f.attrs[4], f.attrs[5]],
-                lambda: ru.lambda_from_code(f.attrs[6], ATTR_FRAC, &mut c_refl),
-            });
+    if truth || refl_unit.is_none() || rough.is_some() {
+        for f in &visible {
+            let n = v3(a(f.attrs[0]), a(f.attrs[1]), a(f.attrs[2])).normalized();
+            let v = v3(a(f.attrs[3]), a(f.attrs[4]), a(f.attrs[5])).normalized();
+            let lam = a(f.attrs[6]).clamp(0.0, 1.0);
+            if n.dot(v) < 0.0 {
+                back_normal_pixels += 1;
+            }
+            // The ideal f64 reflection of the interpolated n, e: the truth uses it, and
+            // the HostF64 paths (3D and 2D) address with it (module notes, steps 4–5).
+            let (n, r) = reflect(n, v);
+            let (u, vv) = (a(f.uv[0]), a(f.uv[1]));
+            if let Some(rs) = &rough {
+                rough_in.push(
+                    rs.config()
+                        .input_from_normalized([u, vv, 0.0], &mut c_rough)?,
+                );
+            }
+            let lambda_intended = match (want_uv, drawn.object) {
+                (true, Some((object, lambda))) => lambda_of_uv(object, lambda, u, vv),
+                _ => lam,
+            };
+            shading.push((
+                f.k as usize,
+                Shading {
+                    n,
+                    r,
+                    lambda: lam,
+                    lambda_intended,
+                },
+            ));
         }
     }
-    // The roughness texture: λ = code / 255 replaces the interpolated λ.
+    // The roughness texture: λ = code / 255 replaces the interpolated λ; for the
+    // reflection unit as u1.L (`rough_lambda`).
+    let mut rough_lambda: Option<Vec<u32>> = None;
     if let Some(rs) = &rough {
         let codes = run_span(rs, &mut (), &rough_in, &mut c_rough);
         let max = ((1u32 << ROUGHNESS_BITS) - 1) as f64;
@@ -665,84 +656,92 @@ fn render_tris(
             // multiply (integer, ties up).
             let l = ru.config().lambda_bits;
             let m = (1u64 << ROUGHNESS_BITS) - 1;
-            for (ri, c) in refl_in.iter_mut().zip(&codes) {
-                ri.lambda = ((2 * (c[0] as u64) * (1u64 << l) + m) / (2 * m)) as u32;
-            }
+            rough_lambda = Some(
+                codes
+                    .iter()
+                    .map(|c| ((2 * (c[0] as u64) * (1u64 << l) + m) / (2 * m)) as u32)
+                    .collect(),
+            );
         }
     }
-    let inputs: Vec<TextureSamplerIn> = match (&refl_unit, two_d.is_some()) {
-        // The unit: raw codes → the 3D sampler's s16.8 texel words.
-        (Some(ru), false) => run_span(ru, &mut (), &refl_in, &mut c_refl)
-            .iter()
-            .map(|o| o.sampler_in())
-            .collect(),
-        // The 2D path: the reflection unit's words → cube_map_address → the stacked
-        // cube map's s16.8 words.
-        (Some(ru), true) => {
-            let words: Vec<CubeMapAddressIn> = run_span(ru, &mut (), &refl_in, &mut c_refl)
-                .iter()
-                .map(|o| CubeMapAddressIn { coord: o.coord })
-                .collect();
-            run_span(&cube, &mut (), &words, &mut c_cube)
-                .iter()
-                .map(|o| o.sampler_in())
-                .collect()
-        }
-        (None, _) => {
-            let mut v = Vec::with_capacity(shading.len());
-            for (_, sh) in &shading {
-                let stq = if two_d.is_some() {
-                    // HostF64 comparison path (2D): the f64 r's face and coordinates by
-                    // the cube_map_address twin, not the unit.
-                    slice::host_cube_coord(sh.r, face)
-                } else {
-                    let t = sh.r * sh.lambda;
-                    [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
-                };
-                v.push(sampler.config().input_from_normalized(stq, &mut c_tex)?);
-            }
-            v
-        }
-    };
-    let texel_out = run_span(sampler, &mut (), &inputs, &mut c_tex);
+
+    // ---- the lookup chain, chunk by chunk (module notes, steps 4–6): reflection unit
+    // (→ cube_map_address on the 2D path) → sampler, on the units' batch path.
     let max_code = map.max_code();
-    let to8 = |c: u32| -> u8 {
-        if max_code == 255 {
-            c.min(255) as u8
-        } else {
-            ((c as u64 * 255 + max_code as u64 / 2) / max_code as u64).min(255) as u8
+    let units = Lookups {
+        refl: refl_unit.as_ref(),
+        cube: two_d.as_ref().map(|_| &cube),
+        sampler,
+        shading: &shading,
+        rough_lambda: rough_lambda.as_deref(),
+        face,
+    };
+    let mut texel8 = vec![[0u8; 3]; visible.len()];
+    let parts: Vec<Result<[Counters; 3], ConfigError>> = texel8
+        .par_chunks_mut(LOOKUP_CHUNK)
+        .zip(visible.par_chunks(LOOKUP_CHUNK))
+        .enumerate()
+        .map_init(LookupBufs::default, |b, (i, (px, frags))| {
+            units.chunk(b, i * LOOKUP_CHUNK, frags, px, max_code)
+        })
+        .collect();
+    // Counters summed in chunk order; each unit's timing once for its whole span (the
+    // frame's visible pixels), as one `run_span` adds it.
+    let mut c_cube = Counters::default();
+    for p in parts {
+        let [r, c, t] = p?;
+        c_refl += r;
+        c_cube += c;
+        c_tex += t;
+    }
+    let n_vis = visible.len() as u64;
+    if let Some(ru) = &refl_unit {
+        add_span_counters(ru.timing(), n_vis, &mut c_refl);
+        if two_d.is_some() {
+            add_span_counters(cube.timing(), n_vis, &mut c_cube);
+        }
+    }
+    add_span_counters(sampler.timing(), n_vis, &mut c_tex);
+    for (f, p) in visible.iter().zip(&texel8) {
+        img.pixels[f.k as usize] = *p;
+        img.mask[f.k as usize] = true;
+    }
+
+    // ---- background: rows in parallel (each pixel on its own)
+    let bg_of = |x: u32, y: u32| match opt.background {
+        Background::Black => [0; 3],
+        Background::Environment => {
+            let d = cam.ray_dir(x as f64 + 0.5, y as f64 + 0.5);
+            levels_env.lookup(d).map(level8)
         }
     };
-    for ((k, _), out) in shading.iter().zip(&texel_out) {
-        img.pixels[*k] = [to8(out[0]), to8(out[1]), to8(out[2])];
-        img.mask[*k] = true;
-    }
-
-    // ---- background
-    let mut background = Vec::new();
-    for y in 0..h {
-        for x in 0..w {
-            let k = (y * w + x) as usize;
-            if img.mask[k] {
-                continue;
-            }
-            let bg = match opt.background {
-                Background::Black => [0; 3],
-                Background::Environment => {
-                    let d = cam.ray_dir(x as f64 + 0.5, y as f64 + 0.5);
-                    levels_env.lookup(d).map(level8)
+    img.pixels
+        .par_chunks_mut(w as usize)
+        .zip(img.mask.par_chunks(w as usize))
+        .enumerate()
+        .for_each(|(y, (row, mask))| {
+            for (x, (p, &m)) in row.iter_mut().zip(mask).enumerate() {
+                if !m {
+                    *p = bg_of(x as u32, y as u32);
                 }
-            };
-            img.pixels[k] = bg;
-            background.push((k, bg));
-        }
-    }
+            }
+        });
+    let background_pixels = img.mask.iter().filter(|&&m| !m).count() as u64;
+    // The truths' background: the same pixels, listed.
+    let background: Vec<(usize, [u8; 3])> = if truth {
+        (0..img.pixels.len())
+            .filter(|&k| !img.mask[k])
+            .map(|k| (k, img.pixels[k]))
+            .collect()
+    } else {
+        Vec::new()
+    };
 
-    let shaded = shading.len() as u64;
+    let shaded = n_vis;
     let cube_used = two_d.is_some() && refl_unit.is_some();
     let mut elaboration = slice::elaboration(
-        two_d.as_ref().map(|(s2, sl)| (s2, sl)),
-        &sampler3,
+        two_d.as_deref().map(|(s2, sl)| (s2, sl)),
+        sampler3,
         &cube,
         cube_used,
         map,
@@ -784,7 +783,7 @@ fn render_tris(
         triangles,
         fragments,
         shaded,
-        background_pixels: background.len() as u64,
+        background_pixels,
         texels_per_lookup: sampler.config().texels_per_sample(),
         roughness_texels_per_lookup: rough
             .as_ref()
@@ -814,6 +813,156 @@ fn render_tris(
         back_normal_pixels,
         frame,
     })
+}
+
+/// Visible pixels per lookup task: each task runs its pixels through the chain's units
+/// with its own buffers ([`LookupBufs`], reused by the tasks of one rayon worker).
+const LOOKUP_CHUNK: usize = 1024;
+
+/// The lookup chain of a render (module notes, steps 4–6) and what its HostF64 path
+/// reads.
+struct Lookups<'a> {
+    refl: Option<&'a ReflectionVector>,
+    /// The 2D path's `cube_map_address` unit (its stacked cube map is `sampler`'s);
+    /// None on the 3D path.
+    cube: Option<&'a CubeMapAddress>,
+    sampler: &'a TextureSampler,
+    /// The f64 shading of every visible pixel, in the same order (read by the HostF64
+    /// path only; empty otherwise).
+    shading: &'a [(usize, Shading)],
+    /// λ per visible pixel from the roughness texture, u1.L (replaces the interpolated
+    /// λ at the reflection unit's input).
+    rough_lambda: Option<&'a [u32]>,
+    /// Cube-map face side F.
+    face: u32,
+}
+
+/// One task's word buffers, reused from chunk to chunk (no allocation per pixel).
+#[derive(Default)]
+struct LookupBufs {
+    refl_in: Vec<ReflectionVectorIn>,
+    refl_out: Vec<ReflectionVectorOut>,
+    words: Vec<CubeMapAddressIn>,
+    cube_out: Vec<CubeMapAddressOut>,
+    tex_in: Vec<TextureSamplerIn>,
+    tex_out: Vec<[u32; 4]>,
+}
+
+impl Lookups<'_> {
+    /// The visible pixels `frags` (the first is visible pixel number `base`) through
+    /// the chain into their 8-bit texels `px`. Returns the counters of the reflection
+    /// unit, `cube_map_address` and the sampler, without the timing counters (the
+    /// caller adds each unit's once for the whole frame).
+    fn chunk(
+        &self,
+        b: &mut LookupBufs,
+        base: usize,
+        frags: &[Frag],
+        px: &mut [[u8; 3]],
+        max_code: u32,
+    ) -> Result<[Counters; 3], ConfigError> {
+        let (mut c_refl, mut c_cube, mut c_tex) = Default::default();
+        b.tex_in.clear();
+        match self.refl {
+            Some(ru) => {
+                // The interpolator's raw codes go straight in; λ s16.16 → u1.12 (counted
+                // even where the roughness texture's λ replaces it).
+                b.refl_in.clear();
+                for (i, f) in frags.iter().enumerate() {
+                    let lambda = ru.lambda_from_code(f.attrs[6], ATTR_FRAC, &mut c_refl);
+                    b.refl_in.push(ReflectionVectorIn {
+                        n: [f.attrs[0], f.attrs[1], f.attrs[2]],
+                        e: [f.attrs[3], f.attrs[4], f.attrs[5]],
+                        lambda: self.rough_lambda.map_or(lambda, |l| l[base + i]),
+                    });
+                }
+                b.refl_out.clear();
+                ru.kernel_batch(&mut (), &b.refl_in, &mut b.refl_out, &mut c_refl);
+                match self.cube {
+                    // The 2D path: the reflection unit's words → cube_map_address → the
+                    // stacked cube map's s16.8 words.
+                    Some(cube) => {
+                        b.words.clear();
+                        b.words.extend(
+                            b.refl_out
+                                .iter()
+                                .map(|o| CubeMapAddressIn { coord: o.coord }),
+                        );
+                        b.cube_out.clear();
+                        cube.kernel_batch(&mut (), &b.words, &mut b.cube_out, &mut c_cube);
+                        b.tex_in.extend(b.cube_out.iter().map(|o| o.sampler_in()));
+                    }
+                    // The 3D path: the unit's words are the 3D sampler's s16.8 words.
+                    None => b.tex_in.extend(b.refl_out.iter().map(|o| o.sampler_in())),
+                }
+            }
+            None => {
+                for (_, sh) in &self.shading[base..base + frags.len()] {
+                    let stq = if self.cube.is_some() {
+                        // HostF64 comparison path (2D): the f64 r's face and coordinates
+                        // by the cube_map_address twin, not the unit.
+                        slice::host_cube_coord(sh.r, self.face)
+                    } else {
+                        let t = sh.r * sh.lambda;
+                        [(t.x + 1.0) * 0.5, (t.y + 1.0) * 0.5, (t.z + 1.0) * 0.5]
+                    };
+                    b.tex_in.push(
+                        self.sampler
+                            .config()
+                            .input_from_normalized(stq, &mut c_tex)?,
+                    );
+                }
+            }
+        }
+        b.tex_out.clear();
+        self.sampler
+            .kernel_batch(&mut (), &b.tex_in, &mut b.tex_out, &mut c_tex);
+        // The map's codes → 8-bit framebuffer codes (rounded when the map is not 8-bit).
+        let to8 = |c: u32| -> u8 {
+            if max_code == 255 {
+                c.min(255) as u8
+            } else {
+                ((c as u64 * 255 + max_code as u64 / 2) / max_code as u64).min(255) as u8
+            }
+        };
+        for (p, o) in px.iter_mut().zip(&b.tex_out) {
+            *p = [to8(o[0]), to8(o[1]), to8(o[2])];
+        }
+        Ok([c_refl, c_cube, c_tex])
+    }
+}
+
+/// The 2D-slice elaboration's cube map and 2D sampler, when the render takes that path
+/// ([`Lookup::Auto`] with `uniform` λ per vertex): kept with the map
+/// ([`slice::cube_texture`]).
+fn cube_map(
+    map: &VoxelMap,
+    opt: &RenderOptions,
+    uniform: Option<f64>,
+) -> Result<Option<SliceTexture>, ConfigError> {
+    match (opt.lookup, uniform, opt.lambda_source) {
+        (Lookup::Auto, Some(l), LambdaSource::PerVertex) => Ok(Some(slice::cube_texture(
+            map,
+            l,
+            slice::default_face_side(map.side()),
+        )?)),
+        _ => Ok(None),
+    }
+}
+
+/// Upload the textures a render of the thesis object with `lambda` and `opt` reads
+/// (the 3D map, and on the 2D path its cube map at λ) before the first frame: they
+/// are kept with `map`, so a frame timed after this does not include them (as
+/// [`super::timing::predict_frame`] does not). Errors as the render's.
+pub fn upload_textures(
+    map: &VoxelMap,
+    lambda: LambdaSpec,
+    opt: &RenderOptions,
+) -> Result<(), ConfigError> {
+    lambda.validate()?;
+    slice::sampler_3d(map)?;
+    cube_map(map, opt, lambda.uniform())?;
+    Ok(())
 }
 
 /// The `reflection_vector` unit for a map of side `s` (a power of two), its output words

@@ -48,12 +48,13 @@
 //! `Reflection::HostF64` the renderer keeps an f64 comparison path: the f64 r through
 //! the twin's face selection ([`host_cube_coord`]).
 
+use rayon::prelude::*;
 use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressConfig};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 use rtl_model::{ConfigError, UnitSummary};
 use serde::Serialize;
 
-use super::voxmap::VoxelMap;
+use super::voxmap::{SliceTexture, VoxelMap};
 use crate::reference::cube_map_address::{face_st, stacked_st, texel_centre_directions};
 use crate::report::elaboration::Elaborated;
 use crate::scene::math::Vec3;
@@ -128,42 +129,51 @@ pub fn slice_from_map(map: &VoxelMap, lambda: f64, face: u32) -> Result<Slice, C
     let s = map.side();
     let sf = s as f64;
     let max_code = map.max_code() as f64;
-    let mut data = Vec::with_capacity(6 * face as usize * face as usize);
-    for d in texel_centre_directions(face) {
-        // Voxel-index coordinate of t = λ·d: p = (t + 1)/2 · s − ½ (centres at
-        // integers), clamped to the edge voxels (the 3D sampler's clamp to edge).
-        let mut i0 = [0u32; 3];
-        let mut i1 = [0u32; 3];
-        let mut fr = [0f64; 3];
-        for k in 0..3 {
-            let p = ((lambda * d[k] + 1.0) * 0.5 * sf - 0.5).clamp(0.0, sf - 1.0);
-            let f0 = p.floor();
-            i0[k] = f0 as u32;
-            i1[k] = (i0[k] + 1).min(s - 1);
-            fr[k] = p - f0;
-        }
-        let mut acc = [0f64; 3];
-        for corner in 0..8u32 {
-            let mut w = 1.0;
-            let mut idx = [0u32; 3];
-            for k in 0..3 {
-                let b = (corner >> k) & 1 == 1;
-                idx[k] = if b { i1[k] } else { i0[k] };
-                w *= if b { fr[k] } else { 1.0 - fr[k] };
-            }
-            let v = map.get(idx[0], idx[1], idx[2]);
-            for c in 0..3 {
-                acc[c] += w * v[c] as f64;
-            }
-        }
-        data.push(acc.map(|a| a.round().clamp(0.0, max_code) as u32));
-    }
+    // Texels are independent: in parallel (rayon), each texel's sum in a fixed order,
+    // collected in texel order (same bytes on any thread count).
+    let dirs: Vec<[f64; 3]> = texel_centre_directions(face).collect();
+    let data = dirs
+        .par_iter()
+        .map(|d| resample(map, lambda, sf, max_code, d))
+        .collect();
     Ok(Slice {
         face,
         bits: map.bits(),
         lambda,
         data,
     })
+}
+
+/// The map's trilinear value at t = λ·d (f64 on the codes), rounded to a code.
+fn resample(map: &VoxelMap, lambda: f64, sf: f64, max_code: f64, d: &[f64; 3]) -> [u32; 3] {
+    let s = map.side();
+    // Voxel-index coordinate of t = λ·d: p = (t + 1)/2 · s − ½ (centres at
+    // integers), clamped to the edge voxels (the 3D sampler's clamp to edge).
+    let mut i0 = [0u32; 3];
+    let mut i1 = [0u32; 3];
+    let mut fr = [0f64; 3];
+    for k in 0..3 {
+        let p = ((lambda * d[k] + 1.0) * 0.5 * sf - 0.5).clamp(0.0, sf - 1.0);
+        let f0 = p.floor();
+        i0[k] = f0 as u32;
+        i1[k] = (i0[k] + 1).min(s - 1);
+        fr[k] = p - f0;
+    }
+    let mut acc = [0f64; 3];
+    for corner in 0..8u32 {
+        let mut w = 1.0;
+        let mut idx = [0u32; 3];
+        for k in 0..3 {
+            let b = (corner >> k) & 1 == 1;
+            idx[k] = if b { i1[k] } else { i0[k] };
+            w *= if b { fr[k] } else { 1.0 - fr[k] };
+        }
+        let v = map.get(idx[0], idx[1], idx[2]);
+        for c in 0..3 {
+            acc[c] += w * v[c] as f64;
+        }
+    }
+    acc.map(|a| a.round().clamp(0.0, max_code) as u32)
 }
 
 /// The HostF64 comparison path: the normalised coordinate of the stacked texture
@@ -217,8 +227,24 @@ pub fn cube_unit(
 }
 
 /// The 3D sampler holding `map` (the renderer's: GeForce3 defaults, trilinear over 8
-/// texels, clamp to edge).
-pub fn sampler_3d(map: &VoxelMap) -> Result<TextureSampler, ConfigError> {
+/// texels, clamp to edge): uploaded on the map's first render and kept with the map
+/// (`VoxelMap::texture`), as a texture is uploaded once, not per frame.
+pub fn sampler_3d(map: &VoxelMap) -> Result<&TextureSampler, ConfigError> {
+    map.texture_3d(upload_3d)
+}
+
+/// The cube map of `map` at radius `lambda` with face side `face`
+/// ([`slice_from_map`]) in its 2D sampler ([`sampler_2d`]): made on the first render
+/// that needs it and kept with the map, as a texture is (errors as theirs).
+pub fn cube_texture(map: &VoxelMap, lambda: f64, face: u32) -> Result<SliceTexture, ConfigError> {
+    map.texture_slice((lambda.to_bits(), face), |m| {
+        let sl = slice_from_map(m, lambda, face)?;
+        Ok((sampler_2d(&sl)?, sl))
+    })
+}
+
+/// The upload behind [`sampler_3d`].
+fn upload_3d(map: &VoxelMap) -> Result<TextureSampler, ConfigError> {
     let s = map.side();
     let texels: Vec<u32> = map.data().iter().flatten().copied().collect();
     TextureSampler::new(

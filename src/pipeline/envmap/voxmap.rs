@@ -8,18 +8,59 @@
 //! Storage is x fastest, then y, then z. Entries are unorm codes of `bits` per channel
 //! (8 by default: the thesis' 256 levels).
 
+use std::sync::{Arc, Mutex, OnceLock};
+
+use rtl_model::units::texture_sampler::TextureSampler;
 use rtl_model::ConfigError;
+
+use super::slice::Slice;
 
 /// Largest side accepted (512³ × 3 channels fits comfortably in memory).
 pub const MAX_SIDE: u32 = 512;
 
+/// Cube-map slices a map keeps (most recently made last; see [`Textures`]).
+const SLICES_KEPT: usize = 4;
+
+/// A cube-map slice of a map and the 2D sampler holding it.
+pub type SliceTexture = Arc<(TextureSampler, Slice)>;
+
+/// The textures the renderer made from a map, kept with it: a texture is uploaded once
+/// per map, not once per frame (the 3D upload packs s³·3 codes into the sampler's bit
+/// RAM, ≈ 0.2 s at s = 128, as long as the rest of a 640 × 480 frame; a slice
+/// resamples 6F² texels and uploads them). Made on first use; dropped when the map's
+/// codes change; a clone of the map starts without them.
+#[derive(Debug, Default)]
+struct Textures {
+    /// The map in the renderer's 3D sampler (`super::slice::sampler_3d`).
+    three_d: OnceLock<TextureSampler>,
+    /// Cube-map slices by (λ's f64 bits, face side F) (`super::slice::cube_texture`),
+    /// at most [`SLICES_KEPT`].
+    slices: Mutex<Vec<((u64, u32), SliceTexture)>>,
+}
+
+impl Clone for Textures {
+    fn clone(&self) -> Self {
+        Textures::default()
+    }
+}
+
 /// An s³ RGB voxel map of unorm codes.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug)]
 pub struct VoxelMap {
     s: u32,
     bits: u32,
     data: Vec<[u32; 3]>,
+    textures: Textures,
 }
+
+/// Equal maps hold the same codes (the uploaded textures follow from them).
+impl PartialEq for VoxelMap {
+    fn eq(&self, o: &Self) -> bool {
+        (self.s, self.bits, &self.data) == (o.s, o.bits, &o.data)
+    }
+}
+
+impl Eq for VoxelMap {}
 
 impl VoxelMap {
     /// An all-zero map; `s` in 1 ..= 512 (`envmap.voxels`), `bits` in 1 ..= 16
@@ -31,6 +72,7 @@ impl VoxelMap {
             s,
             bits,
             data: vec![[0; 3]; (s as usize).pow(3)],
+            textures: Textures::default(),
         })
     }
 
@@ -64,6 +106,7 @@ impl VoxelMap {
 
     /// Store a value in levels of the full scale 1.0 (clamped, rounded to a code).
     pub fn set_levels(&mut self, x: u32, y: u32, z: u32, v: [f64; 3]) {
+        self.drop_textures();
         let m = self.max_code() as f64;
         let i = self.index(x, y, z);
         self.data[i] = v.map(|c| (c.clamp(0.0, 1.0) * m).round() as u32);
@@ -74,6 +117,7 @@ impl VoxelMap {
     }
 
     pub fn data_mut(&mut self) -> &mut [[u32; 3]] {
+        self.drop_textures();
         &mut self.data
     }
 
@@ -99,6 +143,56 @@ impl VoxelMap {
             }
         }
         d
+    }
+
+    /// The codes change: the textures made from them go.
+    fn drop_textures(&mut self) {
+        self.textures.three_d.take();
+        match self.textures.slices.get_mut() {
+            Ok(v) => v.clear(),
+            Err(p) => p.into_inner().clear(),
+        }
+    }
+
+    /// The 3D texture made by `upload` (`super::slice`'s, the only caller), kept.
+    pub(super) fn texture_3d(
+        &self,
+        upload: impl FnOnce(&Self) -> Result<TextureSampler, ConfigError>,
+    ) -> Result<&TextureSampler, ConfigError> {
+        if let Some(t) = self.textures.three_d.get() {
+            return Ok(t);
+        }
+        let t = upload(self)?;
+        // Another thread may have uploaded the same texture meanwhile: either is it.
+        Ok(self.textures.three_d.get_or_init(|| t))
+    }
+
+    /// The cube-map slice `key` = (λ bits, F) made by `make` (`super::slice`'s, the
+    /// only caller), kept.
+    pub(super) fn texture_slice(
+        &self,
+        key: (u64, u32),
+        make: impl FnOnce(&Self) -> Result<(TextureSampler, Slice), ConfigError>,
+    ) -> Result<SliceTexture, ConfigError> {
+        let lock = || {
+            self.textures
+                .slices
+                .lock()
+                .unwrap_or_else(|p| p.into_inner())
+        };
+        if let Some((_, t)) = lock().iter().find(|(k, _)| *k == key) {
+            return Ok(t.clone());
+        }
+        // Made outside the lock (it takes a while); a slice made twice is the same.
+        let t = Arc::new(make(self)?);
+        let mut kept = lock();
+        if !kept.iter().any(|(k, _)| *k == key) {
+            if kept.len() == SLICES_KEPT {
+                kept.remove(0);
+            }
+            kept.push((key, t.clone()));
+        }
+        Ok(t)
     }
 
     pub fn bytes(&self) -> u64 {
