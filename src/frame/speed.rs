@@ -108,7 +108,7 @@ pub fn measure(runs: usize) -> Result<Vec<SpeedRow>, String> {
 /// `reproduce sim-speed --out DIR`.
 pub fn sim_speed(out: &Path) -> Result<(), String> {
     let rows = measure(RUNS)?;
-    println!("{:<28} {:>12}  {}", "frame", "best (s)", "output hash");
+    println!("{:<28} {:>12}  output hash", "frame", "best (s)");
     for r in &rows {
         println!("{:<28} {:>12.3}  {}", r.what, r.best_seconds, r.output_hash);
     }

@@ -291,7 +291,7 @@ impl PolySetup {
             return;
         };
         out.push(if row == 0 { Move::Hold } else { Move::Down });
-        let dir = if row % 2 == 0 {
+        let dir = if row & 1 == 0 {
             Move::Right
         } else {
             Move::Left
@@ -508,13 +508,17 @@ impl PolygonInterpolator {
         let pos = self.pos_fmt();
         let mut v = Vertex::default();
         for (name, val, slot) in [("x", x, &mut v.x), ("y", y, &mut v.y)] {
-            let field = format!("{NAME}.vertices[{index}].{name}");
+            // Field names are formatted only for an error (this runs per vertex).
+            let field = || format!("{NAME}.vertices[{index}].{name}");
+            if !val.is_finite() {
+                return Err(ConfigError::not_finite(&field(), val));
+            }
             let mut local = Counters::default();
-            let q = Fx::from_f64(val, pos, Quant::RndConv, Overflow::Sat, &field, &mut local)?;
+            let q = Fx::from_f64(val, pos, Quant::RndConv, Overflow::Sat, NAME, &mut local)?;
             if local.saturations > 0 {
                 let lsb = pos.lsb();
                 return Err(ConfigError::out_of_range(
-                    &field,
+                    &field(),
                     val,
                     pos.min_raw() as f64 * lsb,
                     pos.max_raw() as f64 * lsb,
@@ -533,13 +537,16 @@ impl PolygonInterpolator {
             ));
         }
         for (j, &a) in attrs.iter().enumerate() {
-            let field = format!("{NAME}.vertices[{index}].attrs[{j}]");
+            if !a.is_finite() {
+                let field = format!("{NAME}.vertices[{index}].attrs[{j}]");
+                return Err(ConfigError::not_finite(&field, a));
+            }
             let q = Fx::from_f64(
                 a,
                 self.cfg.attr_fmt,
                 Quant::RndConv,
                 Overflow::Sat,
-                &field,
+                NAME,
                 ctr,
             )?;
             v.attrs[j] = q.raw as i64;
@@ -828,16 +835,16 @@ impl PolygonInterpolator {
         }
         let ew = self.edge_bits();
         let mut edge_end = [0i64; EDGES];
-        for e in 0..EDGES {
-            let end = st.edge[e] as i128 + steps as i128 * st.edge_dx[e] as i128;
+        for ((end_e, &e0), &dx) in edge_end.iter_mut().zip(&st.edge).zip(&st.edge_dx) {
+            let end = e0 as i128 + steps as i128 * dx as i128;
             if end != wrap_signed(end as i64, ew) as i128 {
                 return false;
             }
-            edge_end[e] = end as i64;
+            *end_e = end as i64;
         }
         // Accumulators (≤ 62 bits): the last value strictly above the format's minimum
-        // (fit_acc sends the minimum through the overflow mode) and at most its maximum.
-        // An accumulator whose last value leaves its format: under WRAP it is
+        // (fit_acc sends the minimum through the overflow mode) and at most its maximum,
+        // for the affine closed form. One whose last value leaves this: under WRAP it is
         // stepped modularly below (each wrap counted, as the kernel counts it); under
         // a SAT mode the run goes to the per-step kernel.
         let acc = self.acc_fmt();

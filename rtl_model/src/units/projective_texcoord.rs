@@ -334,7 +334,7 @@ impl ProjectiveTexcoord {
         } else {
             self.cfg.recip_entry_bits
         };
-        n + fr_max + 2 <= 63 && self.in_bits() + self.recip_frac_bits() + 1 <= 63
+        n + fr_max + 2 <= 63 && self.in_bits() + self.recip_frac_bits() < 63
     }
 
     /// [`Self::reciprocal`] in 64-bit carriers, for configs where [`Self::fits_64`]:

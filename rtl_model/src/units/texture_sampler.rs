@@ -421,11 +421,20 @@ impl TextureSampler {
                 ),
             ));
         }
+        // Packed LSB first into whole words (what a `store_le` per texel writes into a
+        // `BitVec<u64, Lsb0>`, a word at a time; a texel straddles at most two words).
         let tb = self.cfg.texel_bits as usize;
-        let mut ram: BitVec<u64, Lsb0> = BitVec::repeat(false, texels.len() * tb);
-        for (chunk, &v) in ram.chunks_exact_mut(tb).zip(texels) {
-            chunk.store_le(v);
+        let total = texels.len() * tb;
+        let mut words = vec![0u64; total.div_ceil(64)];
+        for (i, &v) in texels.iter().enumerate() {
+            let (w, off) = ((i * tb) / 64, (i * tb) % 64);
+            words[w] |= (v as u64) << off;
+            if off + tb > 64 {
+                words[w + 1] |= (v as u64) >> (64 - off);
+            }
         }
+        let mut ram = BitVec::<u64, Lsb0>::from_vec(words);
+        ram.truncate(total);
         self.ram = ram;
         Ok(())
     }
