@@ -264,29 +264,43 @@ impl ProjectiveTexcoord {
         raw as f64 * (-(self.cfg.out_frac_bits as f64)).exp2()
     }
 
-    /// The reciprocal datapath for Q > 0 (masked to its W−1-bit magnitude wire):
-    /// returns (r, p) with r the raw u1.F_r approximation of 1/m and p the exponent,
-    /// Q = 2ᵖ·m. Q = 0 (never reached from the kernel) gives (0, 0) and no ROM read.
-    /// Counts the ROM read and any (impossible in range, guarded) Newton clamp.
-    pub fn reciprocal(&self, qmag: u64, ctr: &mut Counters) -> (u128, u32) {
+    /// The reciprocal's front end on Q's magnitude (masked to its W−1-bit wire):
+    /// (m, p, idx) with Q = 2ᵖ·m, m normalised to u1.fm (fm = W − 2, m ∈ [2^fm,
+    /// 2^(fm+1)), ≤ 47 bits) and idx the I bits below its leading one (the ROM
+    /// address); None for Q = 0.
+    #[inline(always)]
+    fn normalise(&self, qmag: u64) -> Option<(u64, u32, usize)> {
         let w = self.in_bits();
         let qmag = qmag & ((1u64 << w.saturating_sub(1)) - 1); // u(W−1) wire
         if qmag == 0 {
-            return (0, 0);
+            return None;
         }
         let fm = w.saturating_sub(2); // fraction bits of the exact mantissa u1.fm
         let ib = self.cfg.recip_index_bits;
         // Leading-zero count: p = position of the leading one, 0 ..= W − 2.
         let p = 63 - qmag.leading_zeros();
-        // Normalise: u(W−1) << (fm − p) → u1.fm, m ∈ [2^fm, 2^(fm+1)).
-        let m = (qmag as u128) << (fm - p);
+        // Normalise: u(W−1) << (fm − p) → u1.fm.
+        let m = qmag << (fm - p);
         // Table index: the I bits below the leading one (zero-filled if fm < I).
-        let frac = m & ((1u128 << fm) - 1); // u0.fm
+        let frac = m & ((1u64 << fm) - 1); // u0.fm
         let idx = if fm >= ib {
             frac >> (fm - ib)
         } else {
             frac << (ib - fm)
         } as usize; // u(I)
+        Some((m, p, idx))
+    }
+
+    /// The reciprocal datapath for Q > 0 (masked to its W−1-bit magnitude wire):
+    /// returns (r, p) with r the raw u1.F_r approximation of 1/m and p the exponent,
+    /// Q = 2ᵖ·m. Q = 0 (never reached from the kernel) gives (0, 0) and no ROM read.
+    /// Counts the ROM read and any (impossible in range, guarded) Newton clamp.
+    pub fn reciprocal(&self, qmag: u64, ctr: &mut Counters) -> (u128, u32) {
+        let Some((m, p, idx)) = self.normalise(qmag) else {
+            return (0, 0);
+        };
+        let m = m as u128;
+        let fm = self.in_bits().saturating_sub(2);
         ctr.table_reads += 1;
         let mut r = self.rom_read(idx) as u128; // u0.E ⊂ u1.E
         let mut fr = self.cfg.recip_entry_bits;
@@ -340,21 +354,10 @@ impl ProjectiveTexcoord {
     /// [`Self::reciprocal`] in 64-bit carriers, for configs where [`Self::fits_64`]:
     /// the same steps, the same results and counts.
     fn reciprocal_64(&self, qmag: u64, ctr: &mut Counters) -> (u64, u32) {
-        let w = self.in_bits();
-        let qmag = qmag & ((1u64 << w.saturating_sub(1)) - 1); // u(W−1) wire
-        if qmag == 0 {
+        let Some((m, p, idx)) = self.normalise(qmag) else {
             return (0, 0);
-        }
-        let fm = w.saturating_sub(2);
-        let ib = self.cfg.recip_index_bits;
-        let p = 63 - qmag.leading_zeros();
-        let m = qmag << (fm - p); // u1.fm, ≤ 47 bits
-        let frac = m & ((1u64 << fm) - 1);
-        let idx = if fm >= ib {
-            frac >> (fm - ib)
-        } else {
-            frac << (ib - fm)
-        } as usize;
+        };
+        let fm = self.in_bits().saturating_sub(2);
         ctr.table_reads += 1;
         let mut r = self.rom_read(idx); // u0.E
         let mut fr = self.cfg.recip_entry_bits;

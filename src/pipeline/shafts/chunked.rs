@@ -211,17 +211,7 @@ impl LightCtx<'_> {
         let n = b.visible.len();
         let need_proj = self.lm_tex.is_some() || self.sstate.is_some();
         if need_proj {
-            b.proj_in.clear();
-            b.proj_in.extend(
-                b.visible
-                    .iter()
-                    .map(|&i| &px[i as usize])
-                    .map(|f| ProjectiveIn {
-                        s: f.attrs[base],
-                        t: f.attrs[base + 1],
-                        q: f.attrs[base + 3],
-                    }),
-            );
+            projective_inputs(px, &b.visible, [base, base + 1, base + 3], &mut b.proj_in);
             spans
                 .proj
                 .feed(&u.proj, &mut (), &b.proj_in, &mut b.proj_out);
@@ -244,16 +234,12 @@ impl LightCtx<'_> {
             None => b.hil.resize(n, self.tex_max),
         }
         if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
-            b.pdepth_in.clear();
-            b.pdepth_in.extend(
-                b.visible
-                    .iter()
-                    .map(|&i| &px[i as usize])
-                    .map(|f| ProjectiveIn {
-                        s: f.attrs[base + 2],
-                        t: 0,
-                        q: f.attrs[base + 3],
-                    }),
+            // (r, 0, q): the depth through the same reciprocal (t has no wire here).
+            projective_inputs(
+                px,
+                &b.visible,
+                [base + 2, usize::MAX, base + 3],
+                &mut b.pdepth_in,
             );
             spans
                 .proj_depth
@@ -303,6 +289,26 @@ impl LightCtx<'_> {
             }
         }
     }
+}
+
+/// The projective unit's (s, t, q) words of the fragments `visible` of `px`, from
+/// attributes `idx` (`usize::MAX`: a wire held at 0), into `out`.
+fn projective_inputs(
+    px: &[PolyOut],
+    visible: &[u32],
+    idx: [usize; 3],
+    out: &mut Vec<ProjectiveIn>,
+) {
+    let attr = |f: &PolyOut, k: usize| f.attrs.get(k).copied().unwrap_or(0);
+    out.clear();
+    out.extend(visible.iter().map(|&i| {
+        let f = &px[i as usize];
+        ProjectiveIn {
+            s: attr(f, idx[0]),
+            t: attr(f, idx[1]),
+            q: attr(f, idx[2]),
+        }
+    }));
 }
 
 /// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.
