@@ -49,7 +49,7 @@ pub fn quantise<const N: usize>(
     Ok(out)
 }
 
-/// Buffers of a walk fed to the interpolator a bounding-box row at a time, reused
+/// Buffers of a walk fed to the interpolator in chunks of whole bounding-box rows, reused
 /// from row to row and primitive to primitive (no allocation per fragment).
 #[derive(Clone, Debug, Default)]
 pub struct WalkBuffers {
@@ -58,9 +58,13 @@ pub struct WalkBuffers {
     frags: Vec<Fragment>,
 }
 
-/// Walk one set-up primitive through the interpolator's batch kernel a bounding-box
-/// row at a time, handing each row's raw outputs (every walked pixel, covered or
-/// not, inside the viewport or not) to `sink` in walk order. The counters are those
+/// Moves of the walk fed to the interpolator at a time (whole bounding-box rows).
+pub const WALK_CHUNK_MOVES: usize = 1024;
+
+/// Walk one set-up primitive through the interpolator's batch kernel in chunks of
+/// whole bounding-box rows (at least [`WALK_CHUNK_MOVES`] moves, or the rest), handing
+/// each chunk's raw outputs (every walked pixel, covered or not, inside the viewport
+/// or not) to `sink` in walk order. The counters are those
 /// of one span over the whole walk, as [`walk`] counts them.
 pub fn walk_rows_raw(
     u: &PolygonInterpolator,
@@ -71,13 +75,19 @@ pub fn walk_rows_raw(
 ) {
     let mut st = s.state.clone();
     let mut tally = SpanTally::new();
-    for row in 0..s.bbox.map_or(0, |b| b.height()) {
-        buf.moves.clear();
-        buf.outs.clear();
+    let rows = s.bbox.map_or(0, |b| b.height());
+    buf.moves.clear();
+    for row in 0..rows {
         s.row_moves(row, &mut buf.moves);
-        u.kernel_batch(&mut st, &buf.moves, &mut buf.outs, ctr);
-        tally.add(buf.moves.len());
-        sink(&buf.outs);
+        // Whole rows, at least WALK_CHUNK_MOVES a chunk (small primitives in one):
+        // the per-chunk work of every unit downstream is paid per chunk.
+        if buf.moves.len() >= WALK_CHUNK_MOVES || row + 1 == rows {
+            buf.outs.clear();
+            u.kernel_batch(&mut st, &buf.moves, &mut buf.outs, ctr);
+            tally.add(buf.moves.len());
+            sink(&buf.outs);
+            buf.moves.clear();
+        }
     }
     tally.close(u.timing(), ctr);
 }

@@ -204,7 +204,7 @@ fn walk_part(tris: &[(Triangle, [f64; 3])], how: &WalkSetup<'_>) -> Result<Part,
 }
 
 /// One triangle through `u` (`pipeline::raster::draw_triangle` on the batch path):
-/// quantise, set up, walk a bounding-box row at a time through `buf`
+/// quantise, set up, walk in chunks of whole bounding-box rows through `buf`
 /// ([`walk_rows_raw`]: the primitive's walk one span); `sink` gets the pixel index
 /// y·w + x and the raw codes of each fragment ([`is_fragment`]: covered, inside the
 /// `w` × `h` viewport), in walk order.

@@ -1,5 +1,5 @@
 //! The shafts frame's per-fragment units chained a chunk at a time (DESIGN §2, the
-//! batch path): a walk hands its fragments over a bounding-box row at a time, and the
+//! batch path): a walk hands its fragments over in chunks of whole bounding-box rows, and the
 //! depth test, the projective units, the light-map sampler and the shadow compare
 //! each run their batch kernel on that chunk, in buffers reused from chunk to chunk.
 //! No frame-sized list sits between two units.

@@ -3,7 +3,7 @@
 //! plane i drawn as a cols × rows mesh whose fragments take F(α)·h(s, t), J, the
 //! plane scale and the light colour through the modulate unit into the framebuffer.
 //!
-//! Fragments go through the units a walk row at a time ([`super::chunked`]); the
+//! Fragments go through the units a chunk of walk rows at a time ([`super::chunked`]); the
 //! spans and the merge order are those of the span driver, so the bytes and counters
 //! do not depend on the chunking or the thread count.
 
