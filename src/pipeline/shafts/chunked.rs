@@ -299,14 +299,15 @@ fn projective_inputs(
     idx: [usize; 3],
     out: &mut Vec<ProjectiveIn>,
 ) {
-    let attr = |f: &PolyOut, k: usize| f.attrs.get(k).copied().unwrap_or(0);
+    // The t wire held at 0 reads a zero attribute (the depth's (r, 0, q)).
+    let [si, ti, qi] = idx;
     out.clear();
     out.extend(visible.iter().map(|&i| {
         let f = &px[i as usize];
         ProjectiveIn {
-            s: attr(f, idx[0]),
-            t: attr(f, idx[1]),
-            q: attr(f, idx[2]),
+            s: f.attrs[si],
+            t: if ti == usize::MAX { 0 } else { f.attrs[ti] },
+            q: f.attrs[qi],
         }
     }));
 }
