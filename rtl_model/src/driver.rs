@@ -96,23 +96,6 @@ pub fn run_batch<U: Unit>(
     out
 }
 
-/// [`run_span`] without collecting: each output goes to `sink` as it is made (same
-/// kernel calls in the same order, same counters). For long spans whose outputs are
-/// filtered on the fly (the rasteriser's walk keeps only covered pixels), so no
-/// span-long output buffer is allocated.
-pub fn for_each_span<U: Unit>(
-    unit: &U,
-    state: &mut U::State,
-    inputs: &[U::In],
-    ctr: &mut Counters,
-    mut sink: impl FnMut(U::Out),
-) {
-    for x in inputs {
-        sink(unit.kernel(state, x, ctr));
-    }
-    add_span_counters(unit.timing(), inputs.len() as u64, ctr);
-}
-
 /// Run `inputs` through `unit` one clock at a time; optionally trace every clock.
 pub fn run_tick<U: Unit, W: Write>(
     unit: &U,

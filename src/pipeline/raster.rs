@@ -143,22 +143,6 @@ pub fn walk(
     });
 }
 
-/// Draw a convex quad (split as GL does: v0 v1 v2, v0 v2 v3).
-pub fn draw_quad(
-    u: &PolygonInterpolator,
-    v: &[HostVertex; 4],
-    width: u32,
-    height: u32,
-    ctr: &mut Counters,
-) -> Result<Vec<Fragment>, ConfigError> {
-    let q = quantise(u, v, ctr)?;
-    let mut out = Vec::new();
-    for s in u.setup_quad(&q, ctr) {
-        walk(u, &s, width, height, ctr, &mut out);
-    }
-    Ok(out)
-}
-
 /// Draw a triangle.
 pub fn draw_triangle(
     u: &PolygonInterpolator,
@@ -170,22 +154,6 @@ pub fn draw_triangle(
     let q = quantise(u, v, ctr)?;
     let mut out = Vec::new();
     let s = u.setup_triangle(&q, ctr);
-    walk(u, &s, width, height, ctr, &mut out);
-    Ok(out)
-}
-
-/// Draw a parallelogram v0 v1 v2 (v3 = v0 + v2 − v1) in one walk, for primitives whose
-/// attributes are affine over the whole quad (full-screen sub-planes, area fills).
-pub fn draw_parallelogram(
-    u: &PolygonInterpolator,
-    v: &[HostVertex; 3],
-    width: u32,
-    height: u32,
-    ctr: &mut Counters,
-) -> Result<Vec<Fragment>, ConfigError> {
-    let q = quantise(u, v, ctr)?;
-    let mut out = Vec::new();
-    let s = u.setup_parallelogram(&q, ctr)?;
     walk(u, &s, width, height, ctr, &mut out);
     Ok(out)
 }
