@@ -3,9 +3,11 @@
 
 mod common;
 
-use glare_pipeline::reference::modulate::modulate_codes;
+use glare_pipeline::reference::modulate::{modulate_chain_codes, modulate_codes};
 use proptest::prelude::*;
-use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
+use rtl_model::units::modulate::{
+    ChainRounding, Modulate, ModulateChain, ModulateIn, ModulateMode,
+};
 
 /// Width-derived error bound, in output LSBs, of each mode against a·b/(2ⁿ−1)
 /// (derivations in docs/units.md#modulate). Returned as (low, high): err ∈ [low, high].
@@ -125,5 +127,86 @@ fn batch_path_agrees_exhaustively_at_8_and_4_bits() {
             let span = rtl_model::driver::run_span(&m, &mut (), &inputs, &mut c);
             common::assert_batch_agrees(&m, &(), &inputs, &span, &(), &c);
         }
+    }
+}
+
+// ---- the chain (ModulateChain) ----
+
+/// Width-derived bound, in output LSBs, of a k-operand chain against the exact
+/// product (docs/units.md#modulate):
+/// * `per_stage`: stage j rounds acc·op/N to ½ LSB, and an error e in acc becomes
+///   e·op/N ≤ e in the next product, so k − 1 stages err by ≤ (k − 1)/2;
+/// * `fused`: Mesa's binary32 — 2 roundings per operand (fl(1/N), c · it), k − 1
+///   products, 2 in the unorm conversion, each ≤ 2⁻²⁴ relative on a value ≤ 1, i.e.
+///   ≤ (3k + 1) · 2⁻²⁴ · N LSB before the final round to nearest (½).
+fn chain_bound(rounding: ChainRounding, k: usize, bits: u32) -> f64 {
+    let max = ((1u64 << bits) - 1) as f64;
+    match rounding {
+        ChainRounding::PerStage => 0.5 * k.saturating_sub(1) as f64,
+        ChainRounding::Fused => 0.5 + (3 * k + 1) as f64 * (-24f64).exp2() * max,
+    }
+}
+
+fn check_chain(c: &ModulateChain, ops: &[u32]) {
+    let bits = c.modulate().bits();
+    let got = c.apply(ops) as f64;
+    let want = modulate_chain_codes(ops, bits);
+    let b = chain_bound(c.rounding(), ops.len(), bits);
+    assert!(
+        (got - want).abs() <= b + 1e-9,
+        "{:?} {bits} bits: {ops:?} → {got}, want {want} (bound {b})",
+        c.rounding()
+    );
+}
+
+#[test]
+fn chain_per_stage_is_modulate_stage_by_stage_and_both_within_bound_at_8_bits() {
+    // Every (a, b) with the third operand on a stride: per_stage is exactly two
+    // `modulate` applications; both roundings are within their bounds.
+    let m = Modulate::geforce();
+    let per = ModulateChain::geforce();
+    let fused = ModulateChain::new(8, ModulateMode::Exact, ChainRounding::Fused).unwrap();
+    for a in 0..=255u32 {
+        for b in 0..=255u32 {
+            for c in (0..=255u32).step_by(17) {
+                assert_eq!(per.apply(&[a, b, c]), m.apply(m.apply(a, b), c));
+                check_chain(&per, &[a, b, c]);
+                check_chain(&fused, &[a, b, c]);
+            }
+        }
+    }
+    assert_eq!(per.apply(&[]), 255);
+    assert_eq!(fused.apply(&[77]), 77);
+}
+
+#[test]
+fn chain_fused_needs_the_exact_mode_and_names_the_field() {
+    for mode in [
+        ModulateMode::Shift,
+        ModulateMode::PlusOne,
+        ModulateMode::TruncDiv,
+    ] {
+        let e = ModulateChain::new(8, mode, ChainRounding::Fused).unwrap_err();
+        assert_eq!(e.field(), "modulate.chain_rounding", "{e}");
+        assert!(ModulateChain::new(8, mode, ChainRounding::PerStage).is_ok());
+    }
+    let e = ModulateChain::new(0, ModulateMode::Exact, ChainRounding::Fused).unwrap_err();
+    assert_eq!(e.field(), "modulate.bits", "{e}");
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// Chains of 1 ..= 8 operands at 1 ..= 16 bits, both roundings, within the bound.
+    #[test]
+    fn chain_within_derived_bound(
+        bits in 1u32..=16,
+        rounding in prop::sample::select(ChainRounding::ALL.to_vec()),
+        ops in prop::collection::vec(any::<u32>(), 1..=8),
+    ) {
+        let c = ModulateChain::new(bits, ModulateMode::Exact, rounding).unwrap();
+        let max = (1u32 << bits) - 1;
+        let ops: Vec<u32> = ops.iter().map(|&o| o & max).collect();
+        check_chain(&c, &ops);
     }
 }

@@ -17,7 +17,14 @@
 //!   - The final (Σ + W^d/2) >> d·wb is round-half-up: error in (−½, ½].
 //!
 //! Total: |unit − twin| ≤ ½ + d · (2^tb − 1) · δ.  At the defaults (8, 8, 8) δ = 0 and
-//! the bound is ½. The 1e-9 added in the assertions is f64 evaluation slack of the
+//! the bound is ½.
+//!
+//! `FilterRounding::SuccessiveLerps` (llvmpipe's): each lerp v0 + ((w·Δ + W/2) >> wb)
+//! errs by at most ½ from the exact lerp of its (already rounded) inputs, and a lerp
+//! of two values each within e of their exact values is within e of the exact lerp
+//! (a convex combination), so after the d levels the rounding error is ≤ d · ½; the
+//! weight error adds the same d · M · δ (`RoundHalfEven` has `Round`'s δ). Total:
+//! |unit − twin| ≤ d/2 + d · (2^tb − 1) · δ. The 1e-9 added in the assertions is f64 evaluation slack of the
 //! twin (values ≤ 65535), not a fudge.
 
 mod common;
@@ -25,8 +32,8 @@ mod common;
 use glare_pipeline::reference::texture_sampler::{self as twin, TextureRef};
 use proptest::prelude::*;
 use rtl_model::units::texture_sampler::{
-    texel_coord_from_normalized, AddressMode, Filter, TextureSampler, TextureSamplerConfig,
-    TextureSamplerIn, WeightRounding,
+    texel_coord_from_normalized, AddressMode, Filter, FilterRounding, TextureSampler,
+    TextureSamplerConfig, TextureSamplerIn, WeightRounding,
 };
 use rtl_model::{Counters, Unit};
 
@@ -80,11 +87,17 @@ fn bound(cfg: &TextureSamplerConfig) -> f64 {
                 0.0
             } else {
                 match cfg.weight_rounding {
-                    WeightRounding::Round => (-(wb as f64 + 1.0)).exp2(),
+                    WeightRounding::Round | WeightRounding::RoundHalfEven => {
+                        (-(wb as f64 + 1.0)).exp2()
+                    }
                     WeightRounding::Truncate => (-(wb as f64)).exp2() - (-(fp as f64)).exp2(),
                 }
             };
-            0.5 + cfg.dims as f64 * m * delta
+            let rounding = match cfg.filter_rounding {
+                FilterRounding::ProductWeights => 0.5,
+                FilterRounding::SuccessiveLerps => 0.5 * cfg.dims as f64,
+            };
+            rounding + cfg.dims as f64 * m * delta
         }
     }
 }
@@ -217,6 +230,7 @@ fn config(
         coord_frac_bits: w.frac,
         weight_bits: w.weight,
         weight_rounding: rounding,
+        filter_rounding: FilterRounding::ProductWeights,
         filter,
         address,
         texels_per_clock: tpc,
@@ -327,6 +341,45 @@ proptest! {
         common::assert_drivers_agree(&u, (), &inputs);
     }
 
+    /// llvmpipe's datapath (successive lerps, any weight rounding incl. half-to-even)
+    /// over the same space: within its derived bound of the twin, and the tick, span
+    /// and batch drivers agree.
+    #[test]
+    fn successive_lerps_within_derived_bound_and_drivers_agree(
+        dims in 1u32..=3,
+        size in prop::array::uniform3(1u32..=9),
+        channels in 1u32..=4,
+        widths in prop::sample::select(ALL_WIDTHS.to_vec()),
+        rounding in prop::sample::select(vec![
+            WeightRounding::Round, WeightRounding::Truncate, WeightRounding::RoundHalfEven,
+        ]),
+        address in address_strategy(),
+        content in prop::sample::select(CONTENTS.to_vec()),
+        tpc in 1u32..=8,
+        seed in any::<u64>(),
+    ) {
+        let mut cfg = config(dims, size, channels, widths, rounding, Filter::Linear, address, tpc);
+        cfg.filter_rounding = FilterRounding::SuccessiveLerps;
+        let mut rng = Rng(seed);
+        let texels = make_texels(&cfg, content, &mut rng);
+        let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+        let r = twin_of(&cfg, &texels);
+        let b = bound(&cfg);
+        let inputs: Vec<TextureSamplerIn> = (0..24)
+            .map(|_| {
+                let mut coord = [0i32; 3];
+                for (c, &size) in coord.iter_mut().zip(&cfg.size).take(dims as usize) {
+                    *c = coord_word(&mut rng, size, 16, widths.frac);
+                }
+                TextureSamplerIn { coord }
+            })
+            .collect();
+        for input in &inputs {
+            check(&u, &r, input, b);
+        }
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+
     /// Random, mostly invalid configs: never a panic; an error names a
     /// `texture_sampler.` field; a valid config refuses a wrong texel count.
     #[test]
@@ -345,7 +398,8 @@ proptest! {
     ) {
         let cfg = TextureSamplerConfig {
             dims, size, channels, texel_bits, coord_int_bits, coord_frac_bits, weight_bits,
-            weight_rounding: rounding, filter, address, texels_per_clock: tpc,
+            weight_rounding: rounding, filter_rounding: FilterRounding::ProductWeights,
+            filter, address, texels_per_clock: tpc,
         };
         const FIELDS: [&str; 9] = [
             "texture_sampler.dims", "texture_sampler.size", "texture_sampler.channels",
@@ -854,4 +908,56 @@ fn address_cost_follows_the_power_of_two_factors() {
         g(TextureSamplerConfig::geforce_2d(16, 96)),
         g(TextureSamplerConfig::geforce_2d(16, 128))
     );
+}
+
+#[test]
+fn half_to_even_weight_ties_and_successive_lerps_by_hand() {
+    // 1D, 4 texels, 9 fraction bits reduced to 8-bit weights: a fraction of p ending
+    // in exactly half a weight LSB goes to the even weight (RoundHalfEven), up
+    // (Round). Texels 0, 255: the output is the lerp of the weight alone.
+    let base = TextureSamplerConfig {
+        coord_frac_bits: 9,
+        ..TextureSamplerConfig::geforce_1d(4)
+    };
+    let texels = [0, 255, 0, 255];
+    let even = TextureSampler::new(base.clone().mesa_llvmpipe(), &texels).unwrap();
+    let up = TextureSampler::new(base, &texels).unwrap();
+    let mut ctr = Counters::default();
+    // u = 1.5 + k/512: p = 1 + k/512, fraction k/512 = (k/2)/256 → weight k/2.
+    for (k, w_even, w_up) in [(1, 0, 1), (3, 2, 2), (5, 2, 3), (7, 4, 4), (255, 128, 128)] {
+        let word = (3 << 8) + k; // 1.5 · 2⁹ + k
+        let coord = [word, 0, 0];
+        // lerp(w; 255, 0) = 255 + ((−255·w + 128) >> 8)
+        let want_even = 255 + ((-255 * w_even + 128) >> 8);
+        assert_eq!(
+            even.sample(&TextureSamplerIn { coord }, &mut ctr)[0] as i64,
+            want_even,
+            "k {k}"
+        );
+        // product weights: (255·(256 − w) + 128) >> 8
+        let want_up = (255 * (256 - w_up) + 128) >> 8;
+        assert_eq!(
+            up.sample(&TextureSamplerIn { coord }, &mut ctr)[0] as i64,
+            want_up,
+            "k {k}"
+        );
+    }
+    // A 2D successive lerp rounds each row before the t lerp: texels [[0, 1], [1, 0]]
+    // at the centre (weights ½, ½): rows 0 + ((128 + 128) >> 8) = 1 and
+    // 1 + ((−128 + 128) >> 8) = 1, then 1.
+    let cfg2 = TextureSamplerConfig {
+        filter_rounding: FilterRounding::SuccessiveLerps,
+        ..TextureSamplerConfig::geforce_2d(2, 2)
+    };
+    let lerps = TextureSampler::new(cfg2, &[0, 1, 1, 0]).unwrap();
+    let centre = TextureSamplerIn {
+        coord: [256, 256, 0],
+    };
+    assert_eq!(lerps.sample(&centre, &mut ctr)[0], 1);
+    // s = 0.5 + ¼ texel: w_s = 64; rows: 0 + ((64 + 128) >> 8) = 0 and
+    // 1 + ((−64 + 128) >> 8) = 1; t weight 128: 0 + ((128 + 128) >> 8) = 1.
+    let quarter = TextureSamplerIn {
+        coord: [128 + 64, 256, 0],
+    };
+    assert_eq!(lerps.sample(&quarter, &mut ctr)[0], 1);
 }

@@ -88,6 +88,26 @@ pub enum WeightRounding {
     Round,
     /// Drop the low bits: error ≤ 2^−wb − 2^−F per axis; no incrementer.
     Truncate,
+    /// Round to nearest, ties to even (the parity of the rounded texel coordinate's
+    /// last weight bit): llvmpipe's tie rule, which rounds u·2^wb to an integer with
+    /// the FPU's round-half-even before it splits off the fraction. Error as `Round`.
+    RoundHalfEven,
+}
+
+/// How the corner texels are filtered into one code (linear filtering only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum FilterRounding {
+    /// Multiply the axis weights out (Π w, exact), sum the 2^d texel × weight
+    /// products exactly and round once, half up (default; the GeForce-style datapath).
+    #[default]
+    ProductWeights,
+    /// Lerp one axis at a time, each lerp rounded back to `texel_bits`:
+    /// lerp(w; v0, v1) = v0 + ((w·(v1 − v0) + W/2) >> wb) (arithmetic shift, so ties
+    /// go up), s first, then t, then r — 2^d − 1 lerps. What Mesa's llvmpipe does on
+    /// 8-bit textures (gallivm `lp_build_lerp` with pre-scaled 8-bit weights in the
+    /// AoS sampler).
+    SuccessiveLerps,
 }
 
 /// The configuration as a user writes it (unvalidated; [`TextureSampler::new`]
@@ -112,6 +132,10 @@ pub struct TextureSamplerConfig {
     pub weight_bits: u32,
     /// Fraction → weight reduction (default round to nearest).
     pub weight_rounding: WeightRounding,
+    /// How linear filtering combines its corners (default: product weights, one
+    /// rounding). `SuccessiveLerps` with `RoundHalfEven` weights is llvmpipe's.
+    #[serde(default)]
+    pub filter_rounding: FilterRounding,
     pub filter: Filter,
     /// Per axis (s, t, r); unused axes are ignored.
     pub address: [AddressMode; 3],
@@ -138,6 +162,7 @@ impl TextureSamplerConfig {
             coord_frac_bits: 8,
             weight_bits: 8,
             weight_rounding: WeightRounding::Round,
+            filter_rounding: FilterRounding::ProductWeights,
             filter: Filter::Linear,
             address: [AddressMode::Clamp; 3],
             texels_per_clock: 4,
@@ -169,6 +194,17 @@ impl TextureSamplerConfig {
             dims: 3,
             size: [width, height, depth],
             ..Self::geforce()
+        }
+    }
+
+    /// The same texture filtered as Mesa's llvmpipe does (bit-exact against it at
+    /// 8-bit texels, 8-bit weights: tests/texture_sampler_mesa.rs): successive lerps
+    /// and the half-to-even coordinate tie rule. Other fields are kept.
+    pub fn mesa_llvmpipe(self) -> Self {
+        TextureSamplerConfig {
+            weight_rounding: WeightRounding::RoundHalfEven,
+            filter_rounding: FilterRounding::SuccessiveLerps,
+            ..self
         }
     }
 
@@ -364,6 +400,15 @@ pub struct TextureSampler {
     ram: BitVec<u64, Lsb0>,
     /// Address bits of each axis: ceil(log2(size)).
     axis_bits: [u32; 3],
+}
+
+/// One lerp of [`FilterRounding::SuccessiveLerps`]: v0 + ((w·(v1 − v0) + W/2) >> wb)
+/// with W = 2^wb, w ∈ [0, W], codes u(tb). v1 − v0 is s(tb+1), the product
+/// s(tb+wb+2); the arithmetic shift floors, so an exact half rounds up. The result
+/// lies between v0 and v1: u(tb), no saturation possible.
+#[inline]
+pub fn lerp_round(w: i64, v0: i64, v1: i64, wb: u32) -> i64 {
+    v0 + ((w * (v1 - v0) + (1i64 << (wb - 1))) >> wb)
 }
 
 fn ceil_log2(n: u64) -> u32 {
@@ -586,6 +631,14 @@ impl TextureSampler {
                 WeightRounding::Round => (fr + (1 << (s - 1))) >> s,
                 // u(Fp) >> s → u(wb), fx ∈ [0, W − 1]
                 WeightRounding::Truncate => fr >> s,
+                // u(Fp) >> s → u(wb), + 1 above half or at half with an odd
+                // quotient → u(wb+1), fx ∈ [0, W]
+                WeightRounding::RoundHalfEven => {
+                    let q = fr >> s;
+                    let rem = fr & ((1 << s) - 1);
+                    let half = 1 << (s - 1);
+                    q + u64::from(rem > half || (rem == half && q & 1 == 1))
+                }
             }
         };
         (
@@ -684,6 +737,9 @@ impl TextureSampler {
                     *o = self.read(a, cc as u32);
                 }
             }
+            Filter::Linear if self.cfg.filter_rounding == FilterRounding::SuccessiveLerps => {
+                self.successive_lerps(&c, &mut out);
+            }
             Filter::Linear => {
                 let wb = self.cfg.weight_bits;
                 let big_w = 1u64 << wb; // W = 2^wb
@@ -718,6 +774,43 @@ impl TextureSampler {
         out
     }
 
+    /// Linear filtering by [`FilterRounding::SuccessiveLerps`]: per channel the 2^d
+    /// corner codes are lerped along s (pairwise), then t, then r; every lerp rounds
+    /// back to u(tb), so a later lerp sees the earlier one's rounded code.
+    // Per-axis loops index several parallel per-axis arrays, as the hardware does.
+    #[allow(clippy::needless_range_loop)]
+    fn successive_lerps(&self, c: &[i64; 3], out: &mut [u32; 4]) {
+        let d = self.cfg.dims as usize;
+        let wb = self.cfg.weight_bits;
+        let mut i01 = [[0u64; 2]; 3];
+        let mut fx = [0i64; 3];
+        for k in 0..d {
+            let (idx, w) = self.linear_axis(k, c[k]);
+            i01[k] = idx;
+            fx[k] = w[1] as i64; // the upper corner's weight: u(wb+1), ≤ W
+        }
+        let corners = 1usize << d;
+        for (cc, o) in out.iter_mut().enumerate().take(self.cfg.channels as usize) {
+            let mut v = [0i64; 8]; // u(tb) codes; corner bit k selects axis k's texel
+            for (corner, vc) in v.iter_mut().enumerate().take(corners) {
+                let mut idx = [0u64; 3];
+                for k in 0..d {
+                    idx[k] = i01[k][(corner >> k) & 1];
+                }
+                *vc = self.read(self.texel_addr(idx), cc as u32) as i64;
+            }
+            // Axis k pairs corners 2j and 2j + 1 (they differ in axis k only).
+            let mut len = corners;
+            for &w in fx.iter().take(d) {
+                len /= 2;
+                for j in 0..len {
+                    v[j] = lerp_round(w, v[2 * j], v[2 * j + 1], wb);
+                }
+            }
+            *o = v[0] as u32;
+        }
+    }
+
     /// Gate-cost parts of one axis's address / weight logic.
     fn axis_cost(&self, k: usize, mut cost: Cost) -> Cost {
         let i = self.cfg.coord_int_bits;
@@ -732,7 +825,7 @@ impl TextureSampler {
             // p = u − ½: a constant subtract over the integer bits and the top fraction bit.
             cost = cost.part(&format!("{axis}: p = u − ½"), prim::adder(i + 1));
             // The fraction of p has max(F, 1) significant bits; only more than wb need rounding.
-            if f.max(1) > wb && self.cfg.weight_rounding == WeightRounding::Round {
+            if f.max(1) > wb && self.cfg.weight_rounding != WeightRounding::Truncate {
                 cost = cost.part(
                     &format!("{axis}: weight round (incrementer)"),
                     prim::half_adder() * (wb + 1) as f64,
@@ -781,7 +874,11 @@ impl Unit for TextureSampler {
         out: &mut Vec<[u32; 4]>,
         ctr: &mut Counters,
     ) {
-        if !self.sample_batch_1ch(inputs, out, ctr) {
+        // The batch kernel is the product-weight datapath; successive lerps go word
+        // by word.
+        if self.cfg.filter_rounding == FilterRounding::SuccessiveLerps
+            || !self.sample_batch_1ch(inputs, out, ctr)
+        {
             out.extend(inputs.iter().map(|x| self.kernel(st, x, ctr)));
         }
     }
@@ -794,7 +891,9 @@ impl Unit for TextureSampler {
             Filter::Nearest => 2,
             // address + weights (1), RAM reads (II clocks, one port batch each),
             // texel × weight multipliers (1), adder tree / accumulate + round (1)
-            Filter::Linear => 3 + ii,
+            Filter::Linear if self.cfg.filter_rounding == FilterRounding::ProductWeights => 3 + ii,
+            // address + weights (1), RAM reads (II), one clock per lerp level (d)
+            Filter::Linear => 1 + ii + self.cfg.dims,
         };
         Timing { latency, ii }
     }
@@ -867,6 +966,27 @@ impl Unit for TextureSampler {
             Filter::Nearest => cost
                 .part("RAM output / output register", prim::register(ch * tb))
                 .with_ram_bits(self.ram_bits()),
+            Filter::Linear if self.cfg.filter_rounding == FilterRounding::SuccessiveLerps => {
+                // Per channel 2^d − 1 lerps, each v1 − v0 (tb+1), w × Δ
+                // ((wb+1) × (tb+1)), + W/2 and >> wb (an incrementer on the kept
+                // bits), + v0 (tb), and a tb-bit register after each level.
+                let lerps = ((1u32 << d) - 1) * ch;
+                let lerp = prim::subtractor(tb + 1)
+                    + prim::multiplier(wb + 1, tb + 1)
+                    + prim::half_adder() * (tb + 2) as f64
+                    + prim::adder(tb)
+                    + prim::register(tb);
+                cost.part("axis weight registers", prim::register(d * (wb + 1)))
+                    .part(
+                        "corner texel registers",
+                        prim::register((n * ch * tb).max(1)),
+                    )
+                    .part(
+                        "successive lerps (2^d − 1 per channel)",
+                        lerp * lerps as f64,
+                    )
+                    .with_ram_bits(self.ram_bits())
+            }
             Filter::Linear => {
                 let pw = self.pw_bits();
                 let acc = self.acc_bits();
@@ -943,7 +1063,14 @@ impl Unit for TextureSampler {
                 bits: self.addr_bits(),
             },
         ];
-        if self.cfg.filter == Filter::Linear {
+        if self.cfg.filter == Filter::Linear
+            && self.cfg.filter_rounding == FilterRounding::SuccessiveLerps
+        {
+            v.push(Width {
+                name: "lerp_product",
+                bits: self.cfg.texel_bits + self.cfg.weight_bits + 2,
+            });
+        } else if self.cfg.filter == Filter::Linear {
             v.push(Width {
                 name: "product_weight",
                 bits: self.pw_bits(),
