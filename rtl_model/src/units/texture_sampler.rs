@@ -29,6 +29,13 @@
 //! * One rounding at the end, half up: out = (Σ + W^d/2) >> (d·wb), u(tb). It never
 //!   exceeds 2^tb − 1, so no saturation is possible.
 //!
+//! Where GL leaves the filter's arithmetic to the implementation, `filter_rounding`
+//! names the choice: the datapath above (`ProductWeights`, default) or Mesa llvmpipe's
+//! `SuccessiveLerps` — s, then t, then r, each lerp v0 + ((w·(v1 − v0) + W/2) >> wb)
+//! rounded back to u(tb) — which with `WeightRounding::RoundHalfEven` (llvmpipe's
+//! half-to-even coordinate rounding) is bit-exact against llvmpipe at 8 bits
+//! ([`TextureSamplerConfig::mesa_llvmpipe`]; tests/texture_sampler_mesa.rs).
+//!
 //! Timing: nearest = address (1) + RAM read (1), II 1. Linear = address and axis
 //! weights (1) + II RAM-read clocks (the 2^d corners in batches of `texels_per_clock`
 //! ports, lane weights formed alongside) + texel × weight multiply (1) + adder tree,
