@@ -211,6 +211,7 @@ fn validate_light(l: &Light) -> Result<(), ConfigError> {
             // The cutoff is unused by a point light, but still a number. The direction
             // is used: the light's shadow map and its frame look along it, so a zero
             // direction would leave every fragment unlit (a silent black frame).
+            point("direction", &l.direction)?;
             direction("direction", &l.direction).map_err(|_| {
                 ConfigError::invalid(
                     "direction",
@@ -382,7 +383,9 @@ pub fn check_input_file(
     let shown = path.display();
     let fail = |why: String| ConfigError::invalid(field, &why);
     let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
-        std::io::ErrorKind::NotFound => fail(format!("{kind} file `{shown}` not found")),
+        std::io::ErrorKind::NotFound => {
+            fail(format!("cannot read {kind} file `{shown}`: not found"))
+        }
         _ => fail(format!("cannot read {kind} file `{shown}`: {e}")),
     })?;
     if meta.is_dir() {
@@ -725,6 +728,26 @@ fn locate_field(text: &str, sp: Range<usize>, msg: &str) -> Option<(Option<Strin
                 if entries.iter().any(|(k, _)| k.get_ref() == "type") {
                     path = join(&path, "type");
                 }
+            }
+        } else if let Some(n) = msg
+            .strip_prefix("invalid length ")
+            .and_then(|r| r.split(|c: char| !c.is_ascii_digit()).next())
+            .and_then(|d| d.parse::<usize>().ok())
+        {
+            // An array of the wrong length inside an internally tagged table (a shape,
+            // a background), which toml can only place on the whole table: the one
+            // array under it with that many elements.
+            let matches: Vec<&Site> = sites
+                .iter()
+                .filter(|s| {
+                    s.path.len() > site.path.len()
+                        && s.path.starts_with(site.path.as_str())
+                        && matches!(s.node, Some(Node::Array(a)) if a.len() == n)
+                })
+                .collect();
+            if matches.len() == 1 {
+                path = matches[0].path.clone();
+                pos = matches[0].span.start;
             }
         } else if let Some(what) = msg
             .strip_prefix("invalid type: ")
