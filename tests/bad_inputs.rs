@@ -243,7 +243,7 @@ fn setup(c: &Case, dir: &Path) {
     for f in strings(s.get("truncated_hdr")) {
         // A Radiance header promising 64 × 32 flat RGBE pixels, then 40 bytes of them.
         let mut b = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 32 +X 64\n".to_vec();
-        b.extend(std::iter::repeat([128u8, 128, 128, 128]).take(10).flatten());
+        b.extend_from_slice(&[128u8; 40]);
         std::fs::write(dir.join(f), b).unwrap();
     }
 }
@@ -420,6 +420,8 @@ extern "C" {
 /// Run the binary; (exit code, wall time, the child's own peak RSS in bytes, stderr),
 /// measured by wait4 on that child alone. Killed after 60 s (then code `None`).
 #[cfg(target_os = "linux")]
+// The child is reaped by wait4 (which clippy does not know), or killed and waited.
+#[allow(clippy::zombie_processes)]
 fn run_measured(args: &[&str], dir: &Path) -> (Option<i32>, Duration, u64, String) {
     const WNOHANG: i32 = 1;
     let err_path = dir.join("stderr.txt");

@@ -208,7 +208,7 @@ pub fn check(scene: &Scene, budget: u64, budget_from: &str) -> Result<Estimate, 
         return Ok(e);
     }
     let mut items = e.items.clone();
-    items.sort_by(|a, b| b.bytes.cmp(&a.bytes));
+    items.sort_by_key(|i| std::cmp::Reverse(i.bytes));
     let list: Vec<String> = items
         .iter()
         .take(4)
