@@ -62,6 +62,12 @@ pub enum Command {
         /// Print the pass plan and the chip's elaboration only; render nothing.
         #[arg(long)]
         plan: bool,
+        /// Memory budget: a scene whose estimated buffers, tables and maps exceed it
+        /// is refused before anything is allocated, with what is large and how to
+        /// shrink it. Bytes with an optional suffix K, M, G, T (512M, 8G); default
+        /// half of the machine's available memory (MemAvailable). docs/inputs.md.
+        #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
+        max_memory: Option<u64>,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
@@ -86,7 +92,7 @@ pub enum Command {
         out: PathBuf,
         /// Override the swept values (fig4: planes, default 10,20,…,200; fig5:
         /// sub-planes, default 1,…,25), comma-separated.
-        #[arg(long, value_delimiter = ',')]
+        #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_parser = arg_u32)]
         values: Option<Vec<u32>>,
     },
     /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
@@ -118,16 +124,60 @@ pub enum Command {
         /// Unit name (see `units`).
         unit: String,
         /// Number of pixels (input words).
-        #[arg(long, default_value_t = 8)]
+        #[arg(long, default_value_t = 8, allow_negative_numbers = true, value_parser = arg_pixels)]
         pixels: usize,
         /// Random seed for the inputs.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = arg_u64)]
         seed: u64,
         /// Output VCD file.
         #[arg(long, default_value = "out/trace.vcd")]
         out: PathBuf,
     },
 }
+
+/// A whole-number option, parsed with a message that says what is wrong and the
+/// allowed range (clap adds the option's name): a negative value is "negative", not
+/// the parser's "invalid digit".
+fn parse_whole(text: &str, max: u64) -> Result<u64, String> {
+    let t = text.trim();
+    if let Ok(n) = t.parse::<u64>() {
+        if n <= max {
+            return Ok(n);
+        }
+        return Err(format!("{t} is too large (allowed 0 ..= {max})"));
+    }
+    match t.parse::<f64>() {
+        Ok(x) if x < 0.0 => Err(format!(
+            "{t} is negative; a whole number in 0 ..= {max} is needed"
+        )),
+        Ok(x) if x.is_finite() && x.fract() != 0.0 => {
+            Err(format!("{t} is not a whole number (allowed 0 ..= {max})"))
+        }
+        Ok(_) => Err(format!("{t} is too large (allowed 0 ..= {max})")),
+        Err(_) => Err(format!(
+            "'{t}' is not a number (a whole number in 0 ..= {max} is needed)"
+        )),
+    }
+}
+
+fn arg_u32(text: &str) -> Result<u32, String> {
+    parse_whole(text, u32::MAX.into()).map(|n| n as u32)
+}
+
+fn arg_u64(text: &str) -> Result<u64, String> {
+    parse_whole(text, u64::MAX)
+}
+
+/// `trace --pixels`: 1 ..= [`MAX_TRACE_PIXELS`].
+fn arg_pixels(text: &str) -> Result<usize, String> {
+    match parse_whole(text, MAX_TRACE_PIXELS as u64)? {
+        0 => Err(format!("{text} is out of range (1 ..= {MAX_TRACE_PIXELS})")),
+        n => Ok(n as usize),
+    }
+}
+
+/// Most input words `trace` writes.
+pub const MAX_TRACE_PIXELS: usize = 100_000;
 
 /// `sweep`'s options (without `merge`).
 #[derive(Args, Debug)]
@@ -154,7 +204,7 @@ pub struct SweepArgs {
     #[arg(long, default_value = "out/sweep")]
     pub out: PathBuf,
     /// Samples per ray of the ray-marched reference (computed once per sweep).
-    #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES)]
+    #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES, allow_negative_numbers = true, value_parser = arg_u32)]
     pub truth_samples: u32,
     /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
     #[arg(long)]
@@ -217,7 +267,15 @@ pub fn run(cli: Cli) -> Result<(), String> {
             json,
             reference,
             plan,
-        } => crate::frame::cli::render_cli(&scene, &out, json, reference.as_deref(), plan),
+            max_memory,
+        } => crate::frame::cli::render_cli(
+            &scene,
+            &out,
+            json,
+            reference.as_deref(),
+            plan,
+            max_memory,
+        ),
         Command::Reproduce { name, out, values } => reproduce(&name, &out, values),
         Command::Scene { name } => {
             print!(
@@ -247,8 +305,10 @@ pub fn run(cli: Cli) -> Result<(), String> {
             seed,
             out,
         } => {
-            if pixels == 0 || pixels > 100_000 {
-                return Err(format!("pixels: {pixels} is out of range (1 ..= 100000)"));
+            if pixels == 0 || pixels > MAX_TRACE_PIXELS {
+                return Err(format!(
+                    "pixels: {pixels} is out of range (1 ..= {MAX_TRACE_PIXELS})"
+                ));
             }
             let mut buf = Vec::new();
             let ctr = registry::trace(&unit, pixels, seed, &mut buf)?;

@@ -278,12 +278,12 @@ fn slots(s: &mut Scene, r: f64) -> Vec<Slot<'_>> {
     v.push(Slot::U(
         "image.width".into(),
         &mut image.width,
-        bad_u(1, 8192, r),
+        bad_u(1, glare_pipeline::scene::validate::IMAGE_MAX, r),
     ));
     v.push(Slot::U(
         "image.height".into(),
         &mut image.height,
-        bad_u(1, 8192, r),
+        bad_u(1, glare_pipeline::scene::validate::IMAGE_MAX, r),
     ));
     let near = camera.near;
     coords(&mut v, "camera.eye", &mut camera.eye, r);
@@ -696,7 +696,7 @@ fn valid_extremes_are_accepted() {
     s.camera.far = 1e6;
     s.image = ImageSize {
         width: 1,
-        height: 8192,
+        height: glare_pipeline::scene::validate::IMAGE_MAX,
     };
     s.lights[0].cutoff_deg = 89.99;
     s.lights[0].intensity = 1e9;

@@ -4,14 +4,14 @@
 /// field (e.g. `texture_sampler.texel_bits`), so a user can find it in a scene file.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ConfigError {
-    #[error("{field}: {value} is out of range (allowed {min} ..= {max})")]
+    #[error("{field}: {} is out of range (allowed {} ..= {})", short(*.value), short(*.min), short(*.max))]
     OutOfRange {
         field: String,
         value: f64,
         min: f64,
         max: f64,
     },
-    #[error("{field}: {value} is not a finite number")]
+    #[error("{field}: {} is not a finite number", short(*.value))]
     NotFinite { field: String, value: f64 },
     #[error("{field}: {reason}")]
     Invalid { field: String, reason: String },
@@ -74,6 +74,18 @@ impl ConfigError {
                 reason,
             },
         }
+    }
+}
+
+/// A number as an error message shows it: as Rust prints it when that is short
+/// (`8192`, `0.5`, `1000000`), in scientific notation when it would be long
+/// (`1e308`, not 309 digits; `1e-300`; `1.2345e20`).
+pub fn short(x: f64) -> String {
+    let plain = format!("{x}");
+    if plain.len() <= 18 {
+        plain
+    } else {
+        format!("{x:e}")
     }
 }
 

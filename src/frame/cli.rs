@@ -9,14 +9,25 @@ use crate::pipeline::shafts::cli::{load_scene, reference_image};
 use crate::report::table::{counters_table, elaboration_table, text_table};
 use std::path::Path;
 
-/// `render --scene NAME [--plan]`.
+/// `render --scene NAME [--plan]`. Before any work: the output paths are checked
+/// (errors name `out` or `reference`), the scene is loaded and validated, and its
+/// memory estimate is checked against `max_memory` (bytes; `None` = the default
+/// budget, half of `MemAvailable`: `frame::budget`).
 pub fn render_cli(
     name: &str,
     out: &Path,
     json: bool,
     reference: Option<&Path>,
     plan_only: bool,
+    max_memory: Option<u64>,
 ) -> Result<(), String> {
+    use crate::report::image_out::check_png_path;
+    if !plan_only {
+        check_png_path("out", out)?;
+        if let Some(r) = reference {
+            check_png_path("reference", r)?;
+        }
+    }
     if name == "test" {
         if !json {
             print!("pass plan:\n{}", plan_table(&test_scene_plan()));
@@ -27,6 +38,17 @@ pub fn render_cli(
         return crate::pipeline::test_scene::render_cli(out, json, reference);
     }
     let scene = load_scene(name)?;
+    if !plan_only {
+        let (budget, from) = match max_memory {
+            Some(b) => (b, "--max-memory".to_string()),
+            None => (
+                super::budget::default_budget(),
+                "default: half of MemAvailable".to_string(),
+            ),
+        };
+        super::budget::check(&scene, budget, &from)?;
+        work_note(&scene);
+    }
     let chip = elaborate(&scene);
     if super::plan::environment_scene(&scene) && !plan_only {
         // The thesis' environment scenes keep their own report (map build, truth).
@@ -144,6 +166,24 @@ pub fn render_cli(
         print!("\n{}", super::reproduce::error_table(&e));
     }
     Ok(())
+}
+
+/// Fragments above which `render` says up front, on stderr, how much work it is.
+pub const LARGE_WORK_FRAGMENTS: f64 = 2e9;
+
+/// A line on stderr before an expensive render: the estimated sample-plane fragments
+/// (pixels × planes × (1 + sub-planes) × lights) and memory.
+fn work_note(scene: &crate::scene::format::Scene) {
+    let px = f64::from(scene.image.width) * f64::from(scene.image.height);
+    let s = &scene.shafts;
+    let lights = scene.lights.len().max(1) as f64;
+    let fragments = px * f64::from(s.planes) * (1.0 + f64::from(s.subplanes)) * lights;
+    if fragments > LARGE_WORK_FRAGMENTS {
+        eprintln!(
+            "note: an expensive scene: about {fragments:.2e} sample-plane fragments and {} of buffers and tables; this may take minutes",
+            super::budget::human(super::budget::estimate(scene).total())
+        );
+    }
 }
 
 /// `units --scene NAME`: the chip the scene elaborates.

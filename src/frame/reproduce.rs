@@ -208,7 +208,7 @@ pub fn frame_error(
         &all,
     );
     if let Some(path) = reference {
-        levels_png(&ref_total, w, h, path)?;
+        levels_png(&ref_total, w, h, path).map_err(|e| e.replacen("out:", "reference:", 1))?;
     }
     let bound = passes.iter().map(|p| p.mean_abs_frame).sum();
     Ok(FrameError {

@@ -9,8 +9,11 @@ use crate::report::table::text_table;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+/// Most values one sweep takes (the shafts sweep's limit too).
+pub const MAX_VALUES: usize = 1000;
+
 /// `10,20,30` or ranges `4..10:2` (inclusive), non-negative integers; errors name
-/// `values`.
+/// `values`. A range's length is checked before it is expanded.
 pub fn parse_int_values(text: &str) -> Result<Vec<u32>, String> {
     let mut out = Vec::new();
     for item in text.split(',').map(str::trim).filter(|s| !s.is_empty()) {
@@ -25,16 +28,23 @@ pub fn parse_int_values(text: &str) -> Result<Vec<u32>, String> {
             if step == 0 || b < a {
                 return Err(bad());
             }
+            // Count before expanding: a range of billions is refused, not allocated.
+            let count = ((b - a) / step) as usize + 1;
+            if out.len() + count > MAX_VALUES {
+                return Err(format!(
+                    "values: '{item}' gives {count} values; a sweep has at most {MAX_VALUES}"
+                ));
+            }
             out.extend((a..=b).step_by(step as usize));
         } else {
+            if out.len() + 1 > MAX_VALUES {
+                return Err(format!("values: more than {MAX_VALUES} values"));
+            }
             out.push(item.parse().map_err(|_| bad())?);
         }
     }
     if out.is_empty() {
         return Err("values: no values given".into());
-    }
-    if out.len() > 1000 {
-        return Err(format!("values: {} values (at most 1000)", out.len()));
     }
     Ok(out)
 }

@@ -292,8 +292,18 @@ impl EnvMap {
             ));
         }
         let capped = BufReader::new(file.take(MAX_HDR_BYTES));
-        let not_hdr =
-            |e: image::ImageError| path_error(&shown, "cannot decode as Radiance HDR", &e);
+        // A file that ends early fails inside the decoder as an I/O "failed to fill
+        // whole buffer"; say what it means.
+        let not_hdr = |e: image::ImageError| match &e {
+            image::ImageError::IoError(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+                path_error(
+                    &shown,
+                    "truncated HDR file",
+                    &"the file ends before all the pixels its header promises",
+                )
+            }
+            _ => path_error(&shown, "cannot decode as Radiance HDR", &e),
+        };
         let decoder = HdrDecoder::new(capped).map_err(not_hdr)?;
         // The header's size, before the decoder allocates the image for it.
         let (w, h) = decoder.dimensions();

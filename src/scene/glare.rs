@@ -487,6 +487,19 @@ fn validate_highlight(h: &Highlight) -> Result<(), ConfigError> {
     closed("intensity", h.intensity, 0.0, GLARE_INTENSITY_MAX)?;
     closed("specular", h.specular, 0.0, 1.0)?;
     interval("eta", h.eta, 0.0, false, 10.0, true)?;
+    // The glare-condition unit holds η in a fixed-point format: its own constructor
+    // says what fits (one source of limits), refused here under the scene's name.
+    rtl_model::units::glare_condition::GlareConditionConfig {
+        eta: h.eta,
+        ..Default::default()
+    }
+    .build()
+    .map_err(|e| match e {
+        ConfigError::OutOfRange {
+            value, min, max, ..
+        } => ConfigError::out_of_range("eta", value, min, max),
+        other => ConfigError::invalid("eta", &other.to_string()),
+    })?;
     closed("radius", h.radius, 0.0, 1e6)
 }
 

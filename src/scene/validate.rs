@@ -21,12 +21,22 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use rtl_model::error::{check_finite, check_range, ConfigError};
+use rtl_model::error::{check_finite, check_range, short, ConfigError};
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Unexpected, Visitor};
 use toml::Spanned;
 
 use super::format::{Camera, Light, LightKind, LightMap, Object, Scene, ShaftsConfig, Shape};
 use super::math::{v3, Vec3};
+
+/// Largest image side, pixels: the shadow-compare unit's largest map side (the camera
+/// depth buffer is a shadow-compare RAM at the image's size), read from the unit so
+/// that validation and the unit cannot drift.
+pub const IMAGE_MAX: u32 = rtl_model::units::shadow_compare::MAX_MAP_SIDE;
+/// Largest scene file read, bytes (a scene is text: the biggest built-in is a few
+/// kilobytes; this leaves room for thousands of objects).
+pub const SCENE_FILE_MAX_BYTES: u64 = 16 << 20;
+/// Largest light-map image file read, bytes.
+pub const LIGHT_MAP_FILE_MAX_BYTES: u64 = 64 << 20;
 
 /// Largest magnitude of any coordinate or length, world units.
 pub const WORLD_MAX: f64 = 1e6;
@@ -47,8 +57,13 @@ pub const TEAPOT_SCALE_MAX: f64 = 1e5;
 impl Scene {
     /// Check every field; the first error found names its field.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        check_range("image.width", self.image.width.into(), 1, 8192)?;
-        check_range("image.height", self.image.height.into(), 1, 8192)?;
+        check_range("image.width", self.image.width.into(), 1, IMAGE_MAX.into())?;
+        check_range(
+            "image.height",
+            self.image.height.into(),
+            1,
+            IMAGE_MAX.into(),
+        )?;
         validate_camera(&self.camera)?;
         closed("medium.rho", self.medium.rho, 0.0, MEDIUM_MAX)?;
         closed("medium.kappa", self.medium.kappa, 0.0, MEDIUM_MAX)?;
@@ -109,6 +124,7 @@ impl Scene {
     /// working directory.
     pub fn from_toml_str(s: &str) -> Result<Scene, ConfigError> {
         let scene = parse_toml(s, "")?;
+        check_array_lengths(s, &scene, "")?;
         scene.validate()?;
         Ok(scene)
     }
@@ -118,13 +134,20 @@ impl Scene {
     /// file's directory (the returned scene holds the resolved paths); so is a relative
     /// environment `hdr` path (the scene keeps the path as written for serialising).
     pub fn from_file(path: &Path) -> Result<Scene, ConfigError> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
+        let shown = path.display().to_string();
+        let bytes = check_input_file(&shown, path, "scene", SCENE_FILE_MAX_BYTES)?;
+        let text = String::from_utf8(bytes).map_err(|e| {
             ConfigError::invalid(
-                &path.display().to_string(),
-                &format!("cannot read scene file: {e}"),
+                &shown,
+                &format!(
+                    "cannot read scene file: not UTF-8 text (byte {})",
+                    e.utf8_error().valid_up_to()
+                ),
             )
         })?;
-        let mut scene = parse_toml(&text, &format!("{}: ", path.display()))?;
+        let what = format!("{shown}: ");
+        let mut scene = parse_toml(&text, &what)?;
+        check_array_lengths(&text, &scene, &what)?;
         let dir = path.parent().unwrap_or(Path::new(""));
         for l in &mut scene.lights {
             if let Some(LightMap::Image { path: p }) = &mut l.light_map {
@@ -166,7 +189,11 @@ pub fn validate_camera(c: &Camera) -> Result<(), ConfigError> {
     if c.far <= c.near {
         return Err(ConfigError::invalid(
             "camera.far",
-            &format!("{} must exceed camera.near = {}", c.far, c.near),
+            &format!(
+                "{} must exceed camera.near = {}",
+                short(c.far),
+                short(c.near)
+            ),
         ));
     }
     interval("camera.far", c.far, c.near, false, WORLD_MAX, true)
@@ -181,8 +208,19 @@ fn validate_light(l: &Light) -> Result<(), ConfigError> {
             interval("cutoff_deg", l.cutoff_deg, 0.0, false, 90.0, false)?;
         }
         LightKind::Point => {
-            // Direction and cutoff are unused by a point light, but still numbers.
+            // The cutoff is unused by a point light, but still a number. The direction
+            // is used: the light's shadow map and its frame look along it, so a zero
+            // direction would leave every fragment unlit (a silent black frame).
             point("direction", &l.direction)?;
+            direction("direction", &l.direction).map_err(|_| {
+                ConfigError::invalid(
+                    "direction",
+                    &format!(
+                        "is (almost) the zero vector (length < {MIN_LENGTH:e}); a point light's \
+                         shadow map looks along its direction, so it must not be zero"
+                    ),
+                )
+            })?;
             check_finite("cutoff_deg", l.cutoff_deg)?;
         }
     }
@@ -214,13 +252,7 @@ fn validate_light_map(m: &LightMap) -> Result<(), ConfigError> {
             if path.trim().is_empty() {
                 return Err(ConfigError::invalid("path", "the image path is empty"));
             }
-            if !Path::new(path).is_file() {
-                return Err(ConfigError::invalid(
-                    "path",
-                    &format!("image file `{path}` not found"),
-                ));
-            }
-            Ok(())
+            check_input_file("path", Path::new(path), "image", LIGHT_MAP_FILE_MAX_BYTES).map(|_| ())
         }
     }
 }
@@ -280,7 +312,11 @@ pub fn validate_shape(s: &Shape) -> Result<(), ConfigError> {
                 if max[k] <= min[k] {
                     return Err(ConfigError::invalid(
                         &format!("shape.max[{k}]"),
-                        &format!("{} must exceed shape.min[{k}] = {}", max[k], min[k]),
+                        &format!(
+                            "{} must exceed shape.min[{k}] = {} (a box must have a volume)",
+                            short(max[k]),
+                            short(min[k])
+                        ),
                     ));
                 }
             }
@@ -332,6 +368,117 @@ fn validate_shafts(s: &ShaftsConfig) -> Result<(), ConfigError> {
 // ---------------------------------------------------------------------------------
 // Checks.
 
+/// Read a file the user named, refusing early what cannot be the kind of file
+/// wanted: a missing path, a directory ("is a directory"), a device, pipe or socket
+/// (which could be endless: refused from its metadata, before any read), or a file
+/// larger than `cap` bytes. At most `cap + 1` bytes are read whatever the file does
+/// while it is read. Errors name `field`.
+pub fn check_input_file(
+    field: &str,
+    path: &Path,
+    kind: &str,
+    cap: u64,
+) -> Result<Vec<u8>, ConfigError> {
+    use std::io::Read;
+    let shown = path.display();
+    let fail = |why: String| ConfigError::invalid(field, &why);
+    let meta = std::fs::metadata(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => {
+            fail(format!("cannot read {kind} file `{shown}`: not found"))
+        }
+        _ => fail(format!("cannot read {kind} file `{shown}`: {e}")),
+    })?;
+    if meta.is_dir() {
+        return Err(fail(format!(
+            "`{shown}` is a directory; {} {kind} file is needed",
+            article(kind)
+        )));
+    }
+    if !meta.is_file() {
+        return Err(fail(format!(
+            "`{shown}` is not a regular file (a device, pipe or socket); {} {kind} file is needed",
+            article(kind)
+        )));
+    }
+    let too_big = |n: u64| {
+        fail(format!(
+            "{kind} file `{shown}` is {n} bytes, more than the {cap} bytes allowed"
+        ))
+    };
+    if meta.len() > cap {
+        return Err(too_big(meta.len()));
+    }
+    let file = std::fs::File::open(path)
+        .map_err(|e| fail(format!("cannot read {kind} file `{shown}`: {e}")))?;
+    let mut bytes = Vec::new();
+    file.take(cap + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| fail(format!("cannot read {kind} file `{shown}`: {e}")))?;
+    if bytes.len() as u64 > cap {
+        return Err(too_big(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+fn article(word: &str) -> &'static str {
+    if word.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        "an"
+    } else {
+        "a"
+    }
+}
+
+/// Strict arrays: serde fills a fixed-length array (`[f64; 3]`) from the first
+/// elements of a longer TOML array and drops the rest. Every array of the text is
+/// compared with the array the parsed scene holds at the same path (its serialised
+/// form); a longer one is an error naming the field, the length given and the length
+/// expected. (A shorter one is already refused by serde: "invalid length".)
+fn check_array_lengths(text: &str, scene: &Scene, what: &str) -> Result<(), ConfigError> {
+    let Ok(given) = toml::from_str::<toml::Value>(text) else {
+        return Ok(());
+    };
+    let Ok(parsed) = toml::Value::try_from(scene) else {
+        return Ok(());
+    };
+    compare_lengths("", &given, &parsed, what)
+}
+
+fn compare_lengths(
+    path: &str,
+    given: &toml::Value,
+    parsed: &toml::Value,
+    what: &str,
+) -> Result<(), ConfigError> {
+    use toml::Value;
+    match (given, parsed) {
+        (Value::Table(g), Value::Table(p)) => {
+            for (k, gv) in g {
+                if let Some(pv) = p.get(k) {
+                    compare_lengths(&join(path, k), gv, pv, what)?;
+                }
+            }
+            Ok(())
+        }
+        (Value::Array(g), Value::Array(p)) => {
+            if g.len() > p.len() {
+                return Err(ConfigError::invalid(
+                    path,
+                    &format!(
+                        "{what}has {} elements, expected {} (the extra elements would be dropped)",
+                        g.len(),
+                        p.len()
+                    ),
+                ));
+            }
+            for (i, (gv, pv)) in g.iter().zip(p).enumerate() {
+                compare_lengths(&format!("{path}[{i}]"), gv, pv, what)?;
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
 /// Finite and in `lo ..= hi` (an `OutOfRange` error otherwise).
 pub(crate) fn closed(field: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
     check_finite(field, x)?;
@@ -364,9 +511,12 @@ pub(crate) fn interval(
     Err(ConfigError::invalid(
         field,
         &format!(
-            "{x} is out of range (allowed {lo} {} {name} {} {hi})",
+            "{} is out of range (allowed {} {} {name} {} {})",
+            short(x),
+            short(lo),
             if lo_closed { "≤" } else { "<" },
             if hi_closed { "≤" } else { "<" },
+            short(hi),
         ),
     ))
 }
@@ -387,7 +537,9 @@ pub(crate) fn direction(field: &str, d: &[f64; 3]) -> Result<Vec3, ConfigError> 
     if v.length() < MIN_LENGTH {
         return Err(ConfigError::invalid(
             field,
-            &format!("is (almost) the zero vector (length < {MIN_LENGTH}); a direction is needed"),
+            &format!(
+                "is (almost) the zero vector (length < {MIN_LENGTH:e}); a direction is needed"
+            ),
         ));
     }
     Ok(v)
@@ -576,6 +728,26 @@ fn locate_field(text: &str, sp: Range<usize>, msg: &str) -> Option<(Option<Strin
                 if entries.iter().any(|(k, _)| k.get_ref() == "type") {
                     path = join(&path, "type");
                 }
+            }
+        } else if let Some(n) = msg
+            .strip_prefix("invalid length ")
+            .and_then(|r| r.split(|c: char| !c.is_ascii_digit()).next())
+            .and_then(|d| d.parse::<usize>().ok())
+        {
+            // An array of the wrong length inside an internally tagged table (a shape,
+            // a background), which toml can only place on the whole table: the one
+            // array under it with that many elements.
+            let matches: Vec<&Site> = sites
+                .iter()
+                .filter(|s| {
+                    s.path.len() > site.path.len()
+                        && s.path.starts_with(site.path.as_str())
+                        && matches!(s.node, Some(Node::Array(a)) if a.len() == n)
+                })
+                .collect();
+            if matches.len() == 1 {
+                path = matches[0].path.clone();
+                pos = matches[0].span.start;
             }
         } else if let Some(what) = msg
             .strip_prefix("invalid type: ")

@@ -84,12 +84,18 @@ fn parse_size(v: &str) -> Option<(usize, usize)> {
     ((2..=4096).contains(&w) && (2..=4096).contains(&h)).then_some((w, h))
 }
 
-/// The side used by the CLI: `ENVMAP_TABLE3_S` if set to 1 ..= 512, else 128.
+/// The side used by the CLI: `ENVMAP_TABLE3_S` if set, else 128. The side must be
+/// what a scene's `environment.side` may be (a power of two in
+/// `MIN_SIDE ..= MAX_SIDE`: the reflection_vector unit needs a power of two), checked
+/// here before any build, not after the prefilter has run.
 pub fn cli_side() -> Result<u32, String> {
+    use crate::scene::environment::{MAX_SIDE, MIN_SIDE};
     match std::env::var("ENVMAP_TABLE3_S") {
         Ok(v) => match v.trim().parse::<u32>() {
-            Ok(s) if (1..=512).contains(&s) => Ok(s),
-            _ => Err(format!("ENVMAP_TABLE3_S: '{v}' is not in 1 ..= 512")),
+            Ok(s) if (MIN_SIDE..=MAX_SIDE).contains(&s) && s.is_power_of_two() => Ok(s),
+            _ => Err(format!(
+                "ENVMAP_TABLE3_S: '{v}' is not a power of two in {MIN_SIDE} ..= {MAX_SIDE} (the reflection_vector unit needs a power-of-two side)"
+            )),
         },
         Err(_) => Ok(128),
     }

@@ -1,0 +1,224 @@
+//! The frame's memory, known before anything is allocated: an estimate from the
+//! validated scene of its large buffers, tables and maps, checked against a budget
+//! (default: half of the machine's available memory, `MemAvailable` in
+//! /proc/meminfo; `render --max-memory` sets it). Over the budget, the error lists
+//! the largest items and the scene field that shrinks each (docs/inputs.md).
+//!
+//! The estimate is an upper bound of the same order as the real peak (each item
+//! counts its working copies), not an exact figure: its job is to refuse a scene that
+//! would take the machine down, in milliseconds, before any pixel.
+
+use crate::scene::format::{LightKind, Scene, Shape};
+
+/// One large allocation of the frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Item {
+    /// What it is (e.g. "light maps").
+    pub what: String,
+    pub bytes: u64,
+    /// The scene field(s) that set its size, and how to shrink it.
+    pub shrink: String,
+}
+
+/// The frame's large allocations.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Estimate {
+    pub items: Vec<Item>,
+}
+
+impl Estimate {
+    pub fn total(&self) -> u64 {
+        self.items.iter().map(|i| i.bytes).sum()
+    }
+}
+
+/// Bytes per image pixel across the frame's per-pixel buffers: the RGBA framebuffer,
+/// the camera depth buffer, the J buffer, the f64 levels and reference copies the
+/// report takes (generous: 8 buffers of 8 bytes per channel-pixel would be 96).
+pub const BYTES_PER_PIXEL: u64 = 128;
+/// Bytes per light-map texel held by the host (one u32 per texel, plus the decoded
+/// image and the sampler's upload).
+pub const BYTES_PER_LIGHT_MAP_TEXEL: u64 = 12;
+/// Bytes per shadow-map texel (the depth RAM and the depth pass's f64 working copy).
+pub const BYTES_PER_SHADOW_TEXEL: u64 = 16;
+/// Bytes per voxel of the environment map (its codes, the uploaded texture, the
+/// prefilter's f64 working values).
+pub const BYTES_PER_VOXEL: u64 = 64;
+/// Bytes per tessellated triangle (vertices, normals, the BVH).
+pub const BYTES_PER_TRIANGLE: u64 = 256;
+
+/// The frame's large allocations for a validated scene. Sizes are computed in u64
+/// with saturation, so no field can overflow them.
+pub fn estimate(scene: &Scene) -> Estimate {
+    let mut items = Vec::new();
+    let px = u64::from(scene.image.width) * u64::from(scene.image.height);
+    items.push(Item {
+        what: format!(
+            "image buffers ({} × {} pixels)",
+            scene.image.width, scene.image.height
+        ),
+        bytes: px.saturating_mul(BYTES_PER_PIXEL),
+        shrink: "image.width, image.height".into(),
+    });
+    let sh = &scene.shafts;
+    let spots = scene
+        .lights
+        .iter()
+        .filter(|l| l.kind == LightKind::Spot)
+        .count() as u64;
+    if spots > 0 {
+        let t = u64::from(sh.light_map_texels);
+        items.push(Item {
+            what: format!("light maps ({spots} light(s) × {t} × {t} texels, all held at once)"),
+            bytes: spots
+                .saturating_mul(t * t)
+                .saturating_mul(BYTES_PER_LIGHT_MAP_TEXEL),
+            shrink: "shafts.light_map_texels, or fewer spot lights".into(),
+        });
+    }
+    if !scene.lights.is_empty() && scene.objects.iter().any(|o| o.occluder) {
+        let r = u64::from(sh.shadow_resolution);
+        items.push(Item {
+            what: format!("shadow map ({r} × {r}, one light at a time)"),
+            bytes: (r * r).saturating_mul(BYTES_PER_SHADOW_TEXEL),
+            shrink: "shafts.shadow_resolution".into(),
+        });
+    }
+    let h = u64::from(sh.h_texels[0]) * u64::from(sh.h_texels[1]);
+    items.push(Item {
+        what: format!("h(s, t) table ({} × {})", sh.h_texels[0], sh.h_texels[1]),
+        bytes: h.saturating_mul(16),
+        shrink: "shafts.h_texels".into(),
+    });
+    let mesh = u64::from(sh.mesh[0] + 1) * u64::from(sh.mesh[1] + 1);
+    items.push(Item {
+        what: format!("sample-plane mesh ({} × {} cells)", sh.mesh[0], sh.mesh[1]),
+        bytes: mesh.saturating_mul(256),
+        shrink: "shafts.mesh".into(),
+    });
+    let triangles: u64 = scene
+        .objects
+        .iter()
+        .map(|o| match o.shape {
+            Shape::Teapot { subdivisions, .. } => {
+                32 * 2 * u64::from(subdivisions) * u64::from(subdivisions)
+            }
+            Shape::Sphere { .. } => 8192,
+            Shape::Plane { .. } | Shape::Box { .. } => 12,
+        })
+        .fold(0u64, |a, b| a.saturating_add(b));
+    items.push(Item {
+        what: format!(
+            "object meshes ({} object(s), {triangles} triangles)",
+            scene.objects.len()
+        ),
+        bytes: triangles.saturating_mul(BYTES_PER_TRIANGLE),
+        shrink: "objects (fewer), objects[i].shape.subdivisions".into(),
+    });
+    if let Some(env) = &scene.environment {
+        let s = u64::from(env.side);
+        items.push(Item {
+            what: format!("environment voxel map ({s}³ voxels)"),
+            bytes: (s * s * s).saturating_mul(BYTES_PER_VOXEL),
+            shrink: "environment.side".into(),
+        });
+    }
+    Estimate { items }
+}
+
+/// Default budget: this share of `MemAvailable`.
+pub const DEFAULT_SHARE: f64 = 0.5;
+/// The budget when /proc/meminfo cannot be read.
+pub const FALLBACK_BUDGET: u64 = 4 << 30;
+
+/// `MemAvailable` of /proc/meminfo, bytes (None where there is none).
+pub fn mem_available() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb.saturating_mul(1024))
+}
+
+/// The default budget: [`DEFAULT_SHARE`] of `MemAvailable`, else
+/// [`FALLBACK_BUDGET`].
+pub fn default_budget() -> u64 {
+    mem_available().map_or(FALLBACK_BUDGET, |b| (b as f64 * DEFAULT_SHARE) as u64)
+}
+
+/// A byte count as the CLI takes it: a whole number with an optional binary suffix
+/// K, M, G or T (`512M`, `2G`, `1073741824`). Errors name `--max-memory`.
+pub fn parse_bytes(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let bad = || {
+        format!(
+            "'{text}' is not a size: a whole number of bytes with an optional suffix K, M, G or T (e.g. 512M, 2G)"
+        )
+    };
+    let (digits, shift) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let shift = match c.to_ascii_uppercase() {
+                'K' => 10,
+                'M' => 20,
+                'G' => 30,
+                'T' => 40,
+                _ => return Err(bad()),
+            };
+            (&t[..i], shift)
+        }
+        _ => (t, 0),
+    };
+    if digits.starts_with('-') {
+        return Err(format!(
+            "'{text}' is negative; a size of at least 1 byte is needed"
+        ));
+    }
+    let n: u64 = digits.trim().parse().map_err(|_| bad())?;
+    if n == 0 {
+        return Err(format!(
+            "'{text}' is zero; a size of at least 1 byte is needed"
+        ));
+    }
+    n.checked_mul(1u64 << shift)
+        .ok_or_else(|| format!("'{text}' is more than {} bytes", u64::MAX))
+}
+
+/// A byte count for a message: `1.5 GiB`, `300.0 MiB`, `512 B`.
+pub fn human(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut x = bytes as f64;
+    let mut u = 0;
+    while x >= 1024.0 && u + 1 < UNITS.len() {
+        x /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{x:.1} {}", UNITS[u])
+    }
+}
+
+/// Refuse a scene whose estimate exceeds `budget` bytes, listing the largest items
+/// (largest first) with the fields that shrink them. `budget_from` says where the
+/// budget came from (for the message).
+pub fn check(scene: &Scene, budget: u64, budget_from: &str) -> Result<Estimate, String> {
+    let e = estimate(scene);
+    let total = e.total();
+    if total <= budget {
+        return Ok(e);
+    }
+    let mut items = e.items.clone();
+    items.sort_by_key(|i| std::cmp::Reverse(i.bytes));
+    let list: Vec<String> = items
+        .iter()
+        .take(4)
+        .filter(|i| i.bytes > 0)
+        .map(|i| format!("  {} — {} (shrink: {})", human(i.bytes), i.what, i.shrink))
+        .collect();
+    Err(format!(
+        "max-memory: the scene needs about {} but the budget is {} ({budget_from}); nothing was allocated. Largest:\n{}\nShrink those fields, or raise the budget with --max-memory SIZE (e.g. 8G).",
+        human(total),
+        human(budget),
+        list.join("\n")
+    ))
+}
