@@ -8,6 +8,7 @@
 //! (the shafts framebuffer to the glare pass, the shading units' highlights to the
 //! glare conditions).
 
+pub mod check;
 pub mod chip;
 pub mod cli;
 pub mod glare_link;
