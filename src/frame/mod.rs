@@ -9,6 +9,7 @@
 //! glare conditions).
 
 pub mod budget;
+pub mod check;
 pub mod chip;
 pub mod cli;
 pub mod glare_link;
