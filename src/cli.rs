@@ -164,6 +164,12 @@ pub struct SweepArgs {
     /// `sweep merge`.
     #[arg(long, value_name = "K/N", value_parser = Shard::parse)]
     pub shard: Option<Shard>,
+    /// Continue an interrupted run of the same sweep (same scene, param, values and
+    /// options, same --out and --shard) from the rows it saved, running only the
+    /// values left; the final CSV, plot and table are the uninterrupted run's but for
+    /// wall times. Refused, naming the file, if the rows there are another sweep's.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// `sweep`'s subcommands.
@@ -436,18 +442,19 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         &need(args.param, "param")?,
         &need(args.values, "values")?,
     );
-    let (out, truth_samples, image, shard) = (
+    let (out, truth_samples, image, shard, resume) = (
         args.out.as_path(),
         args.truth_samples,
         args.image.as_deref(),
         args.shard,
+        args.resume,
     );
     if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)
             .transpose()?;
         return crate::pipeline::shading::sweep::shading_sweep_cli(
-            scene, param, values, out, image, shard,
+            scene, param, values, out, image, shard, resume,
         );
     }
     match glare_scene(scene)? {
@@ -470,6 +477,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
                 out,
                 backdrop.as_ref(),
                 shard,
+                resume,
             )
         }
         None => crate::pipeline::shafts::sweep::sweep_cli(
@@ -480,6 +488,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
             truth_samples,
             image,
             shard,
+            resume,
         ),
     }
 }
