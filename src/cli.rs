@@ -88,6 +88,12 @@ pub enum Command {
         /// sub-planes, default 1,…,25), comma-separated.
         #[arg(long, value_delimiter = ',')]
         values: Option<Vec<u32>>,
+        /// shafts-fig4 and shafts-fig5: continue an interrupted run with the same
+        /// --values and --out from the rows its CSVs hold (they are saved as each
+        /// row finishes), rendering only the rest; refused, naming the file, if the
+        /// rows there are another run's.
+        #[arg(long)]
+        resume: bool,
     },
     /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
     /// scenes) as TOML, to start a scene file from:
@@ -224,7 +230,12 @@ pub fn run(cli: Cli) -> Result<(), String> {
             reference,
             plan,
         } => crate::frame::cli::render_cli(&scene, &out, json, reference.as_deref(), plan),
-        Command::Reproduce { name, out, values } => reproduce(&name, &out, values),
+        Command::Reproduce {
+            name,
+            out,
+            values,
+            resume,
+        } => reproduce(&name, &out, values, resume),
         Command::Scene { name } => {
             print!(
                 "{}",
@@ -300,12 +311,23 @@ pub const REPRODUCTIONS: &[&str] = &[
     "sim-speed",
 ];
 
-fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
+fn reproduce(
+    name: &str,
+    out: &std::path::Path,
+    values: Option<Vec<u32>>,
+    resume: bool,
+) -> Result<(), String> {
     use crate::pipeline::glare::reproduce as g;
     use crate::pipeline::shafts::reproduce as r;
     if values.is_some() && !matches!(name, "shafts-fig4" | "shafts-fig5") {
         return Err(format!(
             "values: only shafts-fig4 (planes) and shafts-fig5 (sub-planes) take --values, not '{name}'"
+        ));
+    }
+    if resume && !matches!(name, "shafts-fig4" | "shafts-fig5") {
+        return Err(format!(
+            "resume: only shafts-fig4 and shafts-fig5 save their rows as they go and can \
+             resume, not '{name}'"
         ));
     }
     if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
@@ -321,8 +343,9 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shafts-fig4" => r::fig4(
             out,
             &values.unwrap_or_else(|| (1..=20).map(|k| 10 * k).collect()),
+            resume,
         )?,
-        "shafts-fig5" => r::fig5(out, &values.unwrap_or_else(|| (1..=25).collect()))?,
+        "shafts-fig5" => r::fig5(out, &values.unwrap_or_else(|| (1..=25).collect()), resume)?,
         "shafts-vs-raymarch" => r::vs_raymarch(out)?,
         "shafts-stage" => r::stage(out)?,
         "glare-fig4" => g::fig4(out)?,

@@ -219,6 +219,8 @@ fn sweep_id(
 /// The CLI: the whole sweep, or with `shard` only its share, written to the shard
 /// file (docs/sweep.md); with `resume`, continuing from the rows an interrupted run
 /// of the same sweep left.
+// The command line's options, one argument each.
+#[allow(clippy::too_many_arguments)]
 pub fn glare_sweep_cli(
     scene: &Scene,
     scene_arg: &str,

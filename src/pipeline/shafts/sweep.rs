@@ -348,7 +348,7 @@ pub fn sweep_resumable(
     let csv = out.join(format!("sweep_{}.csv", param.name()));
     let png = out.join(format!("sweep_{}.png", param.name()));
     // Every value is checked before the journal removes an old CSV.
-    sweep_scenes(base, param, values)?;
+    check_sweep(base, param, values, truth_samples)?;
     let mut journal = Journal::plain(&csv, id, resume, |r: &SweepRow| r.value.clone())?;
     let truth_seconds = match sweep_rows(base, param, values, truth_samples, None, &mut journal) {
         Ok(t) => t,
@@ -417,6 +417,22 @@ fn write_outputs(
     plot(png, title, param, values, rows)
 }
 
+/// Everything a sweep checks before it writes or renders: the truth's samples, and
+/// every value's scene ([`sweep_scenes`]), which it returns.
+fn check_sweep(
+    base: &Scene,
+    param: Param,
+    values: &[Value],
+    truth_samples: u32,
+) -> Result<Vec<Scene>, String> {
+    if !(1..=MAX_TRUTH_SAMPLES).contains(&truth_samples) {
+        return Err(format!(
+            "truth_samples: {truth_samples} is out of range (allowed 1 ..= {MAX_TRUTH_SAMPLES})"
+        ));
+    }
+    sweep_scenes(base, param, values)
+}
+
 /// Render the values `only` picks (every value without a shard) that `journal` does
 /// not hold yet, recording each row in it as it finishes; returns the wall time of
 /// the reference (0 when no value is left: it is not computed). Every value is
@@ -430,12 +446,7 @@ pub fn sweep_rows(
     only: Option<Shard>,
     journal: &mut Journal<SweepRow>,
 ) -> Result<f64, String> {
-    if !(1..=MAX_TRUTH_SAMPLES).contains(&truth_samples) {
-        return Err(format!(
-            "truth_samples: {truth_samples} is out of range (allowed 1 ..= {MAX_TRUTH_SAMPLES})"
-        ));
-    }
-    let scenes = sweep_scenes(base, param, values)?;
+    let scenes = check_sweep(base, param, values, truth_samples)?;
     let todo: Vec<(usize, &Scene)> = pick(&scenes, only)
         .into_iter()
         .filter(|(k, _)| !journal.is_done(*k))
@@ -584,6 +595,8 @@ fn plot(
 /// parse and validate every value, sweep (with `shard`, only its share, written to
 /// the shard file: docs/sweep.md), print a table. With `resume`, continue from the
 /// rows an interrupted run of the same sweep left (`report::resume`).
+// The command line's options, one argument each.
+#[allow(clippy::too_many_arguments)]
 pub fn sweep_cli(
     scene_name: &str,
     param: &str,
@@ -611,7 +624,7 @@ pub fn sweep_cli(
     }
     let id = sweep_id(&scene, scene_name, param, &values, truth_samples)?;
     if let Some(shard) = shard {
-        sweep_scenes(&scene, param, &values)?;
+        check_sweep(&scene, param, &values, truth_samples)?;
         let mut journal = Journal::shard(out, &id, shard, resume)?;
         sweep_rows(
             &scene,
