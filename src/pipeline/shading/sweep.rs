@@ -494,12 +494,15 @@ pub fn shading_rows(
 
 /// The canonical param, each value's job (every one checked: units built) and the
 /// sphere view: all a sweep needs before anything renders.
+type Jobs = (&'static str, Vec<(u32, Job)>, SphereView);
+
+/// [`Jobs`] of a sweep.
 fn shading_jobs(
     scene: &str,
     param: &str,
     values: &[u32],
     opts: &ShadingSweepOptions,
-) -> Result<(&'static str, Vec<(u32, Job)>, SphereView), String> {
+) -> Result<Jobs, String> {
     let sc = ShadingScene::parse(scene)?;
     let param = check_param(&sc, param)?;
     if values.is_empty() {
