@@ -427,3 +427,38 @@ fn a_failed_write_leaves_the_old_file_and_no_temporary() {
         .collect();
     assert_eq!(names, ["a.csv"]);
 }
+
+/// `--resume`'s clean-up: another process's temporary files of the file are removed,
+/// this process's and other files' are not.
+#[test]
+fn stale_temporary_files_of_a_killed_run_are_removed() {
+    use glare_pipeline::report::atomic::remove_stale_partials;
+    let dir = tmp("stale");
+    std::fs::create_dir_all(&*dir).unwrap();
+    let f = dir.join("sweep_planes.csv");
+    let mine = format!(".sweep_planes.{}-3.partial.csv", std::process::id());
+    for n in [
+        ".sweep_planes.999999999-0.partial.csv",
+        ".sweep_planes.999999998-7.partial.csv",
+        mine.as_str(),
+        ".sweep_mesh.999999999-0.partial.csv",
+        ".sweep_planes.x-0.partial.csv",
+        "sweep_planes.csv",
+    ] {
+        std::fs::write(dir.join(n), b"x").unwrap();
+    }
+    assert_eq!(remove_stale_partials(&f), 2);
+    let mut names: Vec<String> = std::fs::read_dir(&*dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    let mut want = vec![
+        ".sweep_mesh.999999999-0.partial.csv".to_string(),
+        ".sweep_planes.x-0.partial.csv".to_string(),
+        mine,
+        "sweep_planes.csv".to_string(),
+    ];
+    want.sort();
+    assert_eq!(names, want);
+}

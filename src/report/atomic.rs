@@ -93,6 +93,47 @@ pub fn write_with(
     })
 }
 
+/// Remove the temporary files of `path` that another process left (killed in the
+/// instant of a write): `.<stem>.<pid>-<n>.partial.<ext>` with a pid not this
+/// process's. Best effort; returns how many were removed. `--resume` calls it for the
+/// file it continues.
+pub fn remove_stale_partials(path: &Path) -> usize {
+    let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
+        return 0;
+    };
+    let name = name.to_string_lossy();
+    let (stem, ext) = name.rsplit_once('.').unwrap_or((&name, "tmp"));
+    let (head, tail) = (format!(".{stem}."), format!(".partial.{ext}"));
+    let mine = format!("{head}{}-", std::process::id());
+    let d = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let Ok(entries) = std::fs::read_dir(d) else {
+        return 0;
+    };
+    let mut removed = 0;
+    for e in entries.flatten() {
+        let n = e.file_name().to_string_lossy().into_owned();
+        let middle = n
+            .strip_prefix(&head)
+            .and_then(|r| r.strip_suffix(&tail))
+            .unwrap_or("");
+        // The middle is `<pid>-<n>`: digits and one dash.
+        let ours = !middle.is_empty()
+            && middle.split_once('-').is_some_and(|(a, b)| {
+                [a, b]
+                    .iter()
+                    .all(|x| !x.is_empty() && x.bytes().all(|c| c.is_ascii_digit()))
+            });
+        if ours && !n.starts_with(&mine) && std::fs::remove_file(e.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 /// Make a rename in `dir` durable (best effort: not every platform or file system can
 /// sync a directory, and the file itself is already whole).
 fn sync_dir(dir: &Path) {

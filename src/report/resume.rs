@@ -23,6 +23,8 @@
 //! the other values are run. The final CSV is then the uninterrupted run's, byte for
 //! byte, but for the wall times of the rows run again. Nothing to resume from (no
 //! record, no file) starts the sweep, so a job script may always pass `--resume`.
+//! `--resume` also removes the hidden temporary files of its file that a run killed in
+//! the instant of a write left (`report::atomic::remove_stale_partials`).
 
 use crate::report::csv_out::write_csv;
 use crate::report::shard::{difference, read_shard_rows, shard_bytes, Header, Shard, SweepId};
@@ -78,6 +80,9 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
             resumed: 0,
         };
         let want = Header::new(id, Shard { k: 1, n: 1 });
+        if resume {
+            crate::report::atomic::remove_stale_partials(csv);
+        }
         if resume && record.exists() {
             let refuse = |why: String| {
                 format!(
@@ -161,6 +166,9 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
             rows: Vec::new(),
             resumed: 0,
         };
+        if resume {
+            crate::report::atomic::remove_stale_partials(&path);
+        }
         if resume && path.exists() {
             let refuse = |why: String| {
                 format!(

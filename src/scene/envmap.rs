@@ -330,7 +330,13 @@ impl EnvMap {
             .iter()
             .map(|t| Rgb(t.map(|c| c.min(f32::MAX as f64) as f32)))
             .collect();
-        // Atomically (`report::atomic`): the old file or the whole new one.
+        // Into an existing directory only (as `File::create`), atomically
+        // (`report::atomic`): the old file or the whole new one.
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if !dir.is_dir() {
+                return Err(path_error(&shown, "cannot create", &"no such directory"));
+            }
+        }
         crate::report::atomic::write_with(path, |w| {
             image::codecs::hdr::HdrEncoder::new(w)
                 .encode(&pixels, self.width, self.height)
