@@ -94,6 +94,12 @@ pub enum Command {
         /// sub-planes, default 1,…,25), comma-separated.
         #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_parser = arg_u32)]
         values: Option<Vec<u32>>,
+        /// shafts-fig4 and shafts-fig5: continue an interrupted run with the same
+        /// --values and --out from the rows its CSVs hold (they are saved as each
+        /// row finishes), rendering only the rest; refused, naming the file, if the
+        /// rows there are another run's.
+        #[arg(long)]
+        resume: bool,
     },
     /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
     /// scenes) as TOML, to start a scene file from:
@@ -214,6 +220,12 @@ pub struct SweepArgs {
     /// `sweep merge`.
     #[arg(long, value_name = "K/N", value_parser = Shard::parse)]
     pub shard: Option<Shard>,
+    /// Continue an interrupted run of the same sweep (same scene, param, values and
+    /// options, same --out and --shard) from the rows it saved, running only the
+    /// values left; the final CSV, plot and table are the uninterrupted run's but for
+    /// wall times. Refused, naming the file, if the rows there are another sweep's.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// `sweep`'s subcommands.
@@ -276,7 +288,12 @@ pub fn run(cli: Cli) -> Result<(), String> {
             plan,
             max_memory,
         ),
-        Command::Reproduce { name, out, values } => reproduce(&name, &out, values),
+        Command::Reproduce {
+            name,
+            out,
+            values,
+            resume,
+        } => reproduce(&name, &out, values, resume),
         Command::Scene { name } => {
             print!(
                 "{}",
@@ -354,12 +371,23 @@ pub const REPRODUCTIONS: &[&str] = &[
     "sim-speed",
 ];
 
-fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Result<(), String> {
+fn reproduce(
+    name: &str,
+    out: &std::path::Path,
+    values: Option<Vec<u32>>,
+    resume: bool,
+) -> Result<(), String> {
     use crate::pipeline::glare::reproduce as g;
     use crate::pipeline::shafts::reproduce as r;
     if values.is_some() && !matches!(name, "shafts-fig4" | "shafts-fig5") {
         return Err(format!(
             "values: only shafts-fig4 (planes) and shafts-fig5 (sub-planes) take --values, not '{name}'"
+        ));
+    }
+    if resume && !matches!(name, "shafts-fig4" | "shafts-fig5") {
+        return Err(format!(
+            "resume: only shafts-fig4 and shafts-fig5 save their rows as they go and can \
+             resume, not '{name}'"
         ));
     }
     if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
@@ -375,8 +403,9 @@ fn reproduce(name: &str, out: &std::path::Path, values: Option<Vec<u32>>) -> Res
         "shafts-fig4" => r::fig4(
             out,
             &values.unwrap_or_else(|| (1..=20).map(|k| 10 * k).collect()),
+            resume,
         )?,
-        "shafts-fig5" => r::fig5(out, &values.unwrap_or_else(|| (1..=25).collect()))?,
+        "shafts-fig5" => r::fig5(out, &values.unwrap_or_else(|| (1..=25).collect()), resume)?,
         "shafts-vs-raymarch" => r::vs_raymarch(out)?,
         "shafts-stage" => r::stage(out)?,
         "glare-fig4" => g::fig4(out)?,
@@ -496,18 +525,19 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         &need(args.param, "param")?,
         &need(args.values, "values")?,
     );
-    let (out, truth_samples, image, shard) = (
+    let (out, truth_samples, image, shard, resume) = (
         args.out.as_path(),
         args.truth_samples,
         args.image.as_deref(),
         args.shard,
+        args.resume,
     );
     if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)
             .transpose()?;
         return crate::pipeline::shading::sweep::shading_sweep_cli(
-            scene, param, values, out, image, shard,
+            scene, param, values, out, image, shard, resume,
         );
     }
     match glare_scene(scene)? {
@@ -530,6 +560,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
                 out,
                 backdrop.as_ref(),
                 shard,
+                resume,
             )
         }
         None => crate::pipeline::shafts::sweep::sweep_cli(
@@ -540,6 +571,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
             truth_samples,
             image,
             shard,
+            resume,
         ),
     }
 }

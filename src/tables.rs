@@ -94,7 +94,9 @@ pub fn expected_files(tables: &[Table]) -> Vec<(String, String)> {
 pub fn write_all(dir: &Path, tables: &[Table]) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     for (name, text) in expected_files(tables) {
-        std::fs::write(dir.join(name), text)?;
+        // Atomically (`report::atomic`): each image is the old one or the whole new one.
+        crate::report::atomic::write_bytes(&dir.join(name), text.as_bytes())
+            .map_err(std::io::Error::other)?;
     }
     Ok(())
 }

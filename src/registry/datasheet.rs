@@ -187,7 +187,9 @@ pub fn refresh_file(path: &std::path::Path) -> Result<String, String> {
             summaries.len()
         ));
     }
-    std::fs::write(path, &new).map_err(|e| format!("datasheet: {name}: {e}"))?;
+    // Atomically (`report::atomic`): an interrupted rewrite leaves the old document.
+    crate::report::atomic::write_bytes(path, new.as_bytes())
+        .map_err(|e| format!("datasheet: {e}"))?;
     Ok(format!(
         "{name}: rewrote the figures of {} units from the registry",
         summaries.len()

@@ -12,24 +12,21 @@ fn err_at(path: &Path, what: impl std::fmt::Display) -> String {
 }
 
 /// Write `rows` to `path` with a header line taken from the struct's field names
-/// (`#[serde(rename = "...")]` renames a column). Parent directories are created.
+/// (`#[serde(rename = "...")]` renames a column). Parent directories are created;
+/// the file is replaced atomically (`report::atomic`).
 ///
 /// Zero rows write an empty file (the header comes from the first row, so there is
 /// none). Rows must be flat (no nested structs or sequences): the csv crate rejects
 /// them, and the error is returned naming the path and the row.
 pub fn write_csv<T: Serialize>(path: &Path, rows: &[T]) -> Result<(), String> {
-    if let Some(dir) = path.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| err_at(path, format!("cannot create directory: {e}")))?;
-        }
-    }
-    let mut w = csv::Writer::from_path(path).map_err(|e| err_at(path, e))?;
+    // Serialised in memory first: a row the csv crate refuses leaves the old file.
+    let mut w = csv::Writer::from_writer(Vec::new());
     for (i, r) in rows.iter().enumerate() {
         w.serialize(r)
             .map_err(|e| err_at(path, format!("row {i}: {e}")))?;
     }
-    w.flush().map_err(|e| err_at(path, e))
+    let bytes = w.into_inner().map_err(|e| err_at(path, e))?;
+    crate::report::atomic::write_bytes(path, &bytes)
 }
 
 /// The values of the column named `column` (header match, exact), parsed as `f64`,

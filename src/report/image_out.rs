@@ -59,17 +59,22 @@ impl Framebuffer {
             .collect()
     }
 
-    /// Write as an 8-bit RGBA PNG.
+    /// Write as an 8-bit RGBA PNG (atomically: the old file or the whole new one).
     pub fn save_png(&self, path: &Path) -> Result<(), image::ImageError> {
         let img: ImageBuffer<Rgba<u8>, Vec<u8>> =
             ImageBuffer::from_raw(self.width, self.height, self.to_rgba8())
                 .expect("buffer size matches");
-        if let Some(dir) = path.parent() {
-            if !dir.as_os_str().is_empty() {
-                std::fs::create_dir_all(dir).map_err(image::ImageError::IoError)?;
-            }
-        }
-        img.save(path)
+        // Atomically (`report::atomic`); the temporary file keeps the `.png` the
+        // encoder is picked by.
+        let mut failed = None;
+        crate::report::atomic::write_atomically(path, |tmp| {
+            img.save(tmp).map_err(|e| {
+                let shown = e.to_string();
+                failed = Some(e);
+                shown
+            })
+        })
+        .map_err(|e| failed.unwrap_or_else(|| image::ImageError::IoError(std::io::Error::other(e))))
     }
 }
 
@@ -93,14 +98,10 @@ pub fn levels_png(levels: &[[f64; 3]], width: u32, height: u32, path: &Path) -> 
         .map_err(|e| format!("out: {}: {e}", path.display()))
 }
 
-/// Write a file, creating its directory; a failure names the path.
+/// Write a file atomically (`report::atomic`), creating its directory; a failure names
+/// the path.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
-    if let Some(dir) = path.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("out: {}: {e}", dir.display()))?;
-        }
-    }
-    std::fs::write(path, bytes).map_err(|e| format!("out: {}: {e}", path.display()))
+    crate::report::atomic::write_bytes(path, bytes).map_err(|e| format!("out: {e}"))
 }
 
 /// Check, before any work, that `path` can take a PNG: not a directory (say so), a

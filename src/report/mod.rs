@@ -1,12 +1,14 @@
 //! Error metrics, tables, images and plots.
 
 pub mod alternates;
+pub mod atomic;
 pub mod csv_out;
 pub mod elaboration;
 pub mod image_out;
 pub mod metrics;
 pub mod plot;
 pub mod progress;
+pub mod resume;
 pub mod shard;
 pub mod spectrum;
 pub mod sweep_out;

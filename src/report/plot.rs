@@ -405,17 +405,14 @@ pub fn line_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), 
     save_rgb(path, w, h, buf)
 }
 
+/// The plot as PNG, atomically (`report::atomic`).
 fn save_rgb(path: &Path, w: u32, h: u32, buf: Vec<u8>) -> Result<(), String> {
-    if let Some(dir) = path.parent() {
-        if !dir.as_os_str().is_empty() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| err_at(path, format!("cannot create directory: {e}")))?;
-        }
-    }
     let img = image::RgbImage::from_raw(w, h, buf)
         .ok_or_else(|| err_at(path, "internal: buffer size does not match the image"))?;
-    img.save_with_format(path, image::ImageFormat::Png)
-        .map_err(|e| err_at(path, format!("cannot write PNG: {e}")))
+    crate::report::atomic::write_atomically(path, |tmp| {
+        img.save_with_format(tmp, image::ImageFormat::Png)
+            .map_err(|e| err_at(path, format!("cannot write PNG: {e}")))
+    })
 }
 
 struct Ctx<'a> {

@@ -30,12 +30,14 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+pub use crate::report::atomic::write_atomically;
+
 /// The shard file's format; a file of another format is refused.
 pub const FORMAT: u32 = 1;
 /// Most shards one sweep may be cut into (a sweep has at most 1000 values).
 pub const MAX_SHARDS: usize = 1000;
 /// The first line of a shard file, before its JSON header.
-const MAGIC: &str = "# glare-pipeline sweep shard: ";
+pub(crate) const MAGIC: &str = "# glare-pipeline sweep shard: ";
 
 /// Shard K of N (1 ≤ K ≤ N).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -142,15 +144,29 @@ impl SweepId {
     }
 }
 
-/// The first line of a shard file.
+/// The first line of a shard file (and the record of a resumable sweep,
+/// `report::resume`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-struct Header {
-    format: u32,
+pub(crate) struct Header {
+    pub(crate) format: u32,
     /// The binary that wrote it: another version may render other numbers.
-    version: String,
-    k: usize,
-    n: usize,
-    sweep: SweepId,
+    pub(crate) version: String,
+    pub(crate) k: usize,
+    pub(crate) n: usize,
+    pub(crate) sweep: SweepId,
+}
+
+impl Header {
+    /// This binary's header of shard `shard` (1/1 for a whole sweep) of `id`.
+    pub(crate) fn new(id: &SweepId, shard: Shard) -> Header {
+        Header {
+            format: FORMAT,
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            k: shard.k,
+            n: shard.n,
+            sweep: id.clone(),
+        }
+    }
 }
 
 /// A fingerprint of `value` (a scene): a 64-bit FNV-1a hash of its JSON, as 16 hex
@@ -174,46 +190,14 @@ pub fn pick<T>(items: &[T], only: Option<Shard>) -> Vec<(usize, &T)> {
         .collect()
 }
 
-/// Write `path` through `write` into a temporary file beside it, then rename it into
-/// place: a reader (a merge started early, a job watching the directory) sees the
-/// old file or the whole new one, never half of it. The temporary file keeps the
-/// extension, which the PNG writer reads the format from.
-pub fn write_atomically(
+/// The bytes of shard `shard`'s file holding `rows`, `(value index, row)` in index
+/// order: the header line, then `index,<the sweep's columns>` and one line per row.
+pub(crate) fn shard_bytes<R: Serialize>(
     path: &Path,
-    write: impl FnOnce(&Path) -> Result<(), String>,
-) -> Result<(), String> {
-    let dir = path.parent().unwrap_or(Path::new(""));
-    if !dir.as_os_str().is_empty() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("{}: cannot create directory: {e}", path.display()))?;
-    }
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let (stem, ext) = name.rsplit_once('.').unwrap_or((&name, "tmp"));
-    let tmp = dir.join(format!(".{stem}.{}.partial.{ext}", std::process::id()));
-    let res = write(&tmp).and_then(|()| {
-        std::fs::rename(&tmp, path)
-            .map_err(|e| format!("{}: cannot rename into place: {e}", path.display()))
-    });
-    if res.is_err() {
-        // Best effort: a failed write leaves no temporary file behind.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    res
-}
-
-/// Write shard `shard`'s rows, `(value index, row)` in index order, to
-/// `out/sweep_<param>.shard-K-of-N.csv` (atomically), and say what was written: the
-/// line a shard run prints before its table.
-pub fn finish_shard<R: Serialize>(
-    out: &Path,
     id: &SweepId,
     shard: Shard,
     rows: &[(usize, R)],
-) -> Result<String, String> {
-    let path = out.join(shard.file_name(&id.param));
+) -> Result<Vec<u8>, String> {
     let at = |e: &dyn fmt::Display| format!("{}: {e}", path.display());
     // The rows exactly as `write_csv` writes them, read back as text records so that
     // the index can stand in front of any row shape.
@@ -224,13 +208,7 @@ pub fn finish_shard<R: Serialize>(
     let plain = w.into_inner().map_err(|e| at(&e))?;
     let mut r = csv::Reader::from_reader(plain.as_slice());
     let columns = r.headers().map_err(|e| at(&e))?.clone();
-    let header = Header {
-        format: FORMAT,
-        version: env!("CARGO_PKG_VERSION").to_string(),
-        k: shard.k,
-        n: shard.n,
-        sweep: id.clone(),
-    };
+    let header = Header::new(id, shard);
     let mut text = format!(
         "{MAGIC}{}\n",
         serde_json::to_string(&header).map_err(|e| at(&e))?
@@ -246,9 +224,21 @@ pub fn finish_shard<R: Serialize>(
     }
     w.flush().map_err(|e| at(&e))?;
     drop(w);
-    write_atomically(&path, |tmp| {
-        std::fs::write(tmp, &text).map_err(|e| format!("{}: {e}", path.display()))
-    })?;
+    Ok(text)
+}
+
+/// Write shard `shard`'s rows, `(value index, row)` in index order, to
+/// `out/sweep_<param>.shard-K-of-N.csv` (atomically), and say what was written: the
+/// line a shard run prints before its table.
+pub fn finish_shard<R: Serialize>(
+    out: &Path,
+    id: &SweepId,
+    shard: Shard,
+    rows: &[(usize, R)],
+) -> Result<String, String> {
+    let path = out.join(shard.file_name(&id.param));
+    let text = shard_bytes(&path, id, shard, rows)?;
+    crate::report::atomic::write_bytes(&path, &text)?;
     let idx: Vec<String> = rows.iter().map(|(i, _)| i.to_string()).collect();
     let share = if idx.is_empty() {
         format!("no values: K > the {} values", id.values.len())
@@ -267,16 +257,46 @@ pub fn finish_shard<R: Serialize>(
 }
 
 /// One shard file, read and checked on its own.
-struct ShardFile {
-    path: PathBuf,
-    header: Header,
+pub(crate) struct ShardFile {
+    pub(crate) path: PathBuf,
+    pub(crate) header: Header,
     /// The row columns (without `index`); empty for a shard without rows.
-    columns: csv::StringRecord,
+    pub(crate) columns: csv::StringRecord,
     /// (value index, row) in file order.
-    rows: Vec<(usize, csv::StringRecord)>,
+    pub(crate) rows: Vec<(usize, csv::StringRecord)>,
 }
 
+/// A shard file with all its rows, checked (`sweep merge`).
 fn read_shard(path: &Path) -> Result<ShardFile, String> {
+    let f = read_shard_rows(path)?;
+    let (shard, id) = (
+        Shard {
+            k: f.header.k,
+            n: f.header.n,
+        },
+        &f.header.sweep,
+    );
+    let seen: std::collections::BTreeSet<usize> = f.rows.iter().map(|(i, _)| *i).collect();
+    let missing: Vec<String> = shard
+        .indices(id.values.len())
+        .into_iter()
+        .filter(|i| !seen.contains(i))
+        .map(|i| i.to_string())
+        .collect();
+    if !missing.is_empty() {
+        return Err(format!(
+            "{}: incomplete: shard {shard} has no row for value index {} (was its run cut short? \
+             rerun it with --resume)",
+            path.display(),
+            missing.join(", ")
+        ));
+    }
+    Ok(f)
+}
+
+/// A shard file's header and the rows it holds, each checked, whether or not every
+/// row of the shard is there (`--resume` reads a shard cut short).
+pub(crate) fn read_shard_rows(path: &Path) -> Result<ShardFile, String> {
     let at = |m: String| format!("{}: {m}", path.display());
     let text = std::fs::read_to_string(path).map_err(|e| at(e.to_string()))?;
     let (first, body) = text.split_once('\n').unwrap_or((&text, ""));
@@ -346,18 +366,6 @@ fn read_shard(path: &Path) -> Result<ShardFile, String> {
         }
         rows.push((i, rest));
     }
-    let missing: Vec<String> = shard
-        .indices(id.values.len())
-        .into_iter()
-        .filter(|&i| !seen[i])
-        .map(|i| i.to_string())
-        .collect();
-    if !missing.is_empty() {
-        return Err(at(format!(
-            "incomplete: shard {shard} has no row for value index {} (was its run cut short?)",
-            missing.join(", ")
-        )));
-    }
     Ok(ShardFile {
         path: path.to_path_buf(),
         header,
@@ -367,7 +375,7 @@ fn read_shard(path: &Path) -> Result<ShardFile, String> {
 }
 
 /// The first field in which `b` differs from `a`, as `param "mesh", not "planes"`.
-fn difference(a: &Header, b: &Header) -> Option<String> {
+pub(crate) fn difference(a: &Header, b: &Header) -> Option<String> {
     let (x, y) = (&a.sweep, &b.sweep);
     let q = |v: &dyn fmt::Debug| format!("{v:?}");
     // In the order a reader would look for the cause.

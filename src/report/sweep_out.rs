@@ -4,7 +4,7 @@
 
 use crate::report::csv_out::write_csv;
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
-use crate::report::shard::{finish_shard, write_atomically, Shard, ShardSet, SweepId};
+use crate::report::shard::{finish_shard, Shard, ShardSet, SweepId};
 use crate::report::table::text_table;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -76,7 +76,7 @@ pub fn write_sweep(
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let csv = out.join(format!("sweep_{param}.csv"));
     let png = out.join(format!("sweep_{param}.png"));
-    write_atomically(&csv, |p| write_csv(p, rows))?;
+    write_csv(&csv, rows)?;
     let mut spec = PlotSpec::new(title, param, "error against the f64 reference (levels)");
     spec.y_right_label = Some("wall time of the simulation (s)".into());
     let pts = |f: &dyn Fn(&SweepRow) -> f64| {
@@ -84,29 +84,27 @@ pub fn write_sweep(
             .map(|r| (r.value as f64, f(r)))
             .collect::<Vec<_>>()
     };
-    write_atomically(&png, |p| {
-        line_plot(
-            p,
-            &spec,
-            &[
-                Series {
-                    label: "mean |Δ|".into(),
-                    points: pts(&|r| r.mean_abs_levels),
-                    axis: Axis::Left,
-                },
-                Series {
-                    label: "RMS".into(),
-                    points: pts(&|r| r.rms_levels),
-                    axis: Axis::Left,
-                },
-                Series {
-                    label: "wall time".into(),
-                    points: pts(&|r| r.wall_seconds),
-                    axis: Axis::Right,
-                },
-            ],
-        )
-    })?;
+    line_plot(
+        &png,
+        &spec,
+        &[
+            Series {
+                label: "mean |Δ|".into(),
+                points: pts(&|r| r.mean_abs_levels),
+                axis: Axis::Left,
+            },
+            Series {
+                label: "RMS".into(),
+                points: pts(&|r| r.rms_levels),
+                axis: Axis::Left,
+            },
+            Series {
+                label: "wall time".into(),
+                points: pts(&|r| r.wall_seconds),
+                axis: Axis::Right,
+            },
+        ],
+    )?;
     Ok((csv, png))
 }
 

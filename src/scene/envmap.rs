@@ -340,11 +340,19 @@ impl EnvMap {
             .iter()
             .map(|t| Rgb(t.map(|c| c.min(f32::MAX as f64) as f32)))
             .collect();
-        let file =
-            std::fs::File::create(path).map_err(|e| path_error(&shown, "cannot create", &e))?;
-        image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
-            .encode(&pixels, self.width, self.height)
-            .map_err(|e| path_error(&shown, "cannot write HDR", &e))
+        // Into an existing directory only (as `File::create`), atomically
+        // (`report::atomic`): the old file or the whole new one.
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if !dir.is_dir() {
+                return Err(path_error(&shown, "cannot create", &"no such directory"));
+            }
+        }
+        crate::report::atomic::write_with(path, |w| {
+            image::codecs::hdr::HdrEncoder::new(w)
+                .encode(&pixels, self.width, self.height)
+                .map_err(std::io::Error::other)
+        })
+        .map_err(|e| path_error(&shown, "cannot write HDR", &e))
     }
 
     pub fn width(&self) -> usize {

@@ -44,13 +44,17 @@ impl Image {
     pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), ConfigError> {
         let path = path.as_ref();
         let buf: Vec<u8> = self.pixels.iter().flatten().copied().collect();
-        image::save_buffer(
-            path,
-            &buf,
-            self.width,
-            self.height,
-            image::ExtendedColorType::Rgb8,
-        )
+        // Atomically (`report::atomic`): the temporary file keeps the `.png`.
+        crate::report::atomic::write_atomically(path, |tmp| {
+            image::save_buffer(
+                tmp,
+                &buf,
+                self.width,
+                self.height,
+                image::ExtendedColorType::Rgb8,
+            )
+            .map_err(|e| e.to_string())
+        })
         .map_err(|e| {
             ConfigError::invalid(
                 "envmap_render.path",

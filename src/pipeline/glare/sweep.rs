@@ -10,6 +10,7 @@ use super::cli::{reference_levels, render_and_predict_over};
 use crate::report::image_out::Framebuffer;
 use crate::report::metrics::error_stats;
 use crate::report::progress::try_map_with_progress;
+use crate::report::resume::Journal;
 use crate::report::shard::{fingerprint, pick, Shard, SweepId};
 use crate::report::sweep_out::shard_sweep;
 pub use crate::report::sweep_out::{
@@ -59,16 +60,9 @@ pub fn apply(hw: &mut GlareHw, param: &str, v: u32) -> Result<(), String> {
     Ok(())
 }
 
-/// The rows of the values `only` picks (every value without a shard), with their
-/// value indices; all scenes are validated first (an invalid value is an error naming
-/// the field, e.g. `glare.hw.shape_log2`, before anything runs).
-pub fn glare_rows(
-    base: &Scene,
-    param: &str,
-    values: &[u32],
-    backdrop: Option<&Framebuffer>,
-    only: Option<Shard>,
-) -> Result<Vec<(usize, GlareSweepRow)>, String> {
+/// The scene of each value, validated (an invalid value is an error naming the field,
+/// e.g. `glare.hw.shape_log2`, before anything runs).
+fn glare_scenes(base: &Scene, param: &str, values: &[u32]) -> Result<Vec<Scene>, String> {
     let mut scenes = Vec::new();
     for &v in values {
         let mut s = base.clone();
@@ -80,10 +74,32 @@ pub fn glare_rows(
         s.validate().map_err(|e| format!("{e} (value {v})"))?;
         scenes.push(s);
     }
+    Ok(scenes)
+}
+
+/// The rows of the values `only` picks (every value without a shard) that `journal`
+/// does not hold yet, each recorded in it as it finishes; all scenes are validated
+/// first.
+pub fn glare_rows(
+    base: &Scene,
+    param: &str,
+    values: &[u32],
+    backdrop: Option<&Framebuffer>,
+    only: Option<Shard>,
+    journal: &mut Journal<GlareSweepRow>,
+) -> Result<(), String> {
+    let scenes = glare_scenes(base, param, values)?;
+    let todo: Vec<(usize, &Scene)> = pick(&scenes, only)
+        .into_iter()
+        .filter(|(i, _)| !journal.is_done(*i))
+        .collect();
+    if let Some(note) = journal.resume_note(todo.len()) {
+        eprintln!("{note}");
+    }
     try_map_with_progress(
-        &pick(&scenes, only),
+        &todo,
         &format!("sweep {param}"),
-        |&(i, s)| -> Result<(usize, GlareSweepRow), String> {
+        |&(i, s)| -> Result<(), String> {
             // A picture drawn by earlier passes of the frame (a shafts background),
             // at this value's framebuffer width.
             let base = backdrop.map(|fb| {
@@ -113,7 +129,7 @@ pub fn glare_rows(
                     v = x;
                 }
             }
-            Ok((
+            journal.record(
                 i,
                 GlareSweepRow {
                     param: param.into(),
@@ -126,9 +142,10 @@ pub fn glare_rows(
                     gates_nand2: f.units.iter().map(|u| u.gates_nand2).sum(),
                     ram_bits: f.units.iter().map(|u| u.ram_bits).sum(),
                 },
-            ))
+            )
         },
-    )
+    )?;
+    Ok(())
 }
 
 /// The plot's title: the scene's name up to its first ':'.
@@ -140,6 +157,7 @@ fn title(base: &Scene, param: &str) -> String {
 }
 
 /// Run the sweep and write `out/sweep_<param>.csv` and `.png`; see [`glare_rows`].
+/// The CSV is rewritten as each row finishes (`report::resume`).
 pub fn glare_sweep(
     base: &Scene,
     param: &str,
@@ -147,15 +165,32 @@ pub fn glare_sweep(
     out: &Path,
     backdrop: Option<&Framebuffer>,
 ) -> Result<(Vec<GlareSweepRow>, PathBuf, PathBuf), String> {
-    let rows: Vec<GlareSweepRow> = glare_rows(base, param, values, backdrop, None)?
-        .into_iter()
-        .map(|(_, r)| r)
-        .collect();
+    let id = sweep_id(base, &base.name, param, values)?;
+    glare_sweep_resumable(base, &id, param, values, out, backdrop, false)
+}
+
+/// [`glare_sweep`] as sweep `id`, continuing (with `resume`) from the rows an earlier
+/// run of it left.
+fn glare_sweep_resumable(
+    base: &Scene,
+    id: &SweepId,
+    param: &str,
+    values: &[u32],
+    out: &Path,
+    backdrop: Option<&Framebuffer>,
+    resume: bool,
+) -> Result<(Vec<GlareSweepRow>, PathBuf, PathBuf), String> {
+    // Every value is checked before the journal removes an old CSV.
+    glare_scenes(base, param, values)?;
+    let csv = out.join(format!("sweep_{param}.csv"));
+    let mut journal = Journal::plain(&csv, id, resume, |r: &GlareSweepRow| r.value.to_string())?;
+    glare_rows(base, param, values, backdrop, None, &mut journal)?;
+    let rows: Vec<GlareSweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
     let (csv, png) = write_sweep(&rows, &title(base, param), param, out)?;
     Ok((rows, csv, png))
 }
 
-/// What makes a glare sweep's shards one sweep: `scene_arg` as given to `--scene`,
+/// What makes two runs or a glare sweep's shards one sweep: `scene_arg` as given to `--scene`,
 /// and the scene itself (after `--image`) by fingerprint, so that shards rendered
 /// from two different files of one name are refused.
 fn sweep_id(
@@ -182,7 +217,10 @@ fn sweep_id(
 }
 
 /// The CLI: the whole sweep, or with `shard` only its share, written to the shard
-/// file (docs/sweep.md).
+/// file (docs/sweep.md); with `resume`, continuing from the rows an interrupted run
+/// of the same sweep left.
+// The command line's options, one argument each.
+#[allow(clippy::too_many_arguments)]
 pub fn glare_sweep_cli(
     scene: &Scene,
     scene_arg: &str,
@@ -191,14 +229,18 @@ pub fn glare_sweep_cli(
     out: &Path,
     backdrop: Option<&Framebuffer>,
     shard: Option<Shard>,
+    resume: bool,
 ) -> Result<(), String> {
     let values = parse_int_values(values)?;
+    let id = sweep_id(scene, scene_arg, param, &values)?;
     if let Some(shard) = shard {
-        let id = sweep_id(scene, scene_arg, param, &values)?;
-        let rows = glare_rows(scene, param, &values, backdrop, Some(shard))?;
-        return shard_sweep(out, &id, shard, &rows);
+        glare_scenes(scene, param, &values)?;
+        let mut journal = Journal::shard(out, &id, shard, resume)?;
+        glare_rows(scene, param, &values, backdrop, Some(shard), &mut journal)?;
+        return shard_sweep(out, &id, shard, &journal.into_rows());
     }
-    let (rows, csv, png) = glare_sweep(scene, param, &values, out, backdrop)?;
+    let (rows, csv, png) =
+        glare_sweep_resumable(scene, &id, param, &values, out, backdrop, resume)?;
     println!(
         "sweep {param} on {}: wrote {} and {}",
         scene.name,

@@ -45,6 +45,7 @@ use super::vertex_float::{measure, one_light, sphere_vertices};
 use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
+use crate::report::resume::Journal;
 use crate::report::shard::{pick, Shard, SweepId};
 use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
@@ -461,7 +462,47 @@ pub fn shading_rows(
     values: &[u32],
     opts: &ShadingSweepOptions,
     only: Option<Shard>,
-) -> Result<Vec<(usize, ShadingSweepRow)>, String> {
+    journal: &mut Journal<ShadingSweepRow>,
+) -> Result<(), String> {
+    let (param, jobs, view) = shading_jobs(scene, param, values, opts)?;
+    let todo: Vec<(usize, &(u32, Job))> = pick(&jobs, only)
+        .into_iter()
+        .filter(|(i, _)| !journal.is_done(*i))
+        .collect();
+    if let Some(note) = journal.resume_note(todo.len()) {
+        eprintln!("{note}");
+    }
+    try_map_with_progress(&todo, &format!("sweep {param}"), |&(i, (v, j))| {
+        let m = run(j, &view).map_err(|e| format!("values: {param} = {v}: {e}"))?;
+        journal.record(
+            i,
+            ShadingSweepRow {
+                param: param.to_string(),
+                value: *v,
+                mean_abs_levels: m.mean,
+                rms_levels: m.rms,
+                max_levels: m.max,
+                predicted_hw_seconds: m.predicted,
+                wall_seconds: m.wall,
+                gates_nand2: m.gates,
+                ram_bits: m.ram,
+            },
+        )
+    })?;
+    Ok(())
+}
+
+/// The canonical param, each value's job (every one checked: units built) and the
+/// sphere view: all a sweep needs before anything renders.
+type Jobs = (&'static str, Vec<(u32, Job)>, SphereView);
+
+/// [`Jobs`] of a sweep.
+fn shading_jobs(
+    scene: &str,
+    param: &str,
+    values: &[u32],
+    opts: &ShadingSweepOptions,
+) -> Result<Jobs, String> {
     let sc = ShadingScene::parse(scene)?;
     let param = check_param(&sc, param)?;
     if values.is_empty() {
@@ -478,27 +519,7 @@ pub fn shading_rows(
         irradiance: std::f64::consts::PI,
         ..SphereView::default()
     };
-    try_map_with_progress(
-        &pick(&jobs, only),
-        &format!("sweep {param}"),
-        |&(i, (v, j))| {
-            let m = run(j, &view).map_err(|e| format!("values: {param} = {v}: {e}"))?;
-            Ok::<_, String>((
-                i,
-                ShadingSweepRow {
-                    param: param.to_string(),
-                    value: *v,
-                    mean_abs_levels: m.mean,
-                    rms_levels: m.rms,
-                    max_levels: m.max,
-                    predicted_hw_seconds: m.predicted,
-                    wall_seconds: m.wall,
-                    gates_nand2: m.gates,
-                    ram_bits: m.ram,
-                },
-            ))
-        },
-    )
+    Ok((param, jobs, view))
 }
 
 /// The plot's title.
@@ -516,11 +537,46 @@ pub fn shading_sweep(
 ) -> Result<(Vec<ShadingSweepRow>, PathBuf, PathBuf), String> {
     let sc = ShadingScene::parse(scene)?;
     let param = check_param(&sc, param)?;
-    let rows: Vec<ShadingSweepRow> = shading_rows(scene, param, values, opts, None)?
-        .into_iter()
-        .map(|(_, r)| r)
-        .collect();
-    let (csv, png) = write_sweep(&rows, &title(&sc, param), param, out)?;
+    let id = sweep_id(&sc, param, values, opts);
+    shading_sweep_resumable(scene, &id, param, values, out, opts, false)
+}
+
+/// What makes two runs or the shards of a shading sweep one sweep: the scenes are
+/// built in, so the name, the param, the values and the view's size (none for
+/// shading-vertex, which has no image) are the whole sweep.
+fn sweep_id(sc: &ShadingScene, param: &str, values: &[u32], opts: &ShadingSweepOptions) -> SweepId {
+    let mut settings = std::collections::BTreeMap::new();
+    if *sc != ShadingScene::Vertex {
+        settings.insert("image".to_string(), opts.view_size.to_string());
+    }
+    SweepId {
+        kind: "shading".into(),
+        scene: sc.name(),
+        param: param.into(),
+        values: values.iter().map(u32::to_string).collect(),
+        settings,
+        title: title(sc, param),
+    }
+}
+
+/// [`shading_sweep`] as sweep `id`, continuing (with `resume`) from the rows an
+/// earlier run of it left; the CSV is rewritten as each row finishes.
+fn shading_sweep_resumable(
+    scene: &str,
+    id: &SweepId,
+    param: &str,
+    values: &[u32],
+    out: &Path,
+    opts: &ShadingSweepOptions,
+    resume: bool,
+) -> Result<(Vec<ShadingSweepRow>, PathBuf, PathBuf), String> {
+    // Every value is checked before the journal removes an old CSV.
+    shading_jobs(scene, param, values, opts)?;
+    let csv = out.join(format!("sweep_{param}.csv"));
+    let mut journal = Journal::plain(&csv, id, resume, |r: &ShadingSweepRow| r.value.to_string())?;
+    shading_rows(scene, param, values, opts, None, &mut journal)?;
+    let rows: Vec<ShadingSweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
+    let (csv, png) = write_sweep(&rows, &id.title, param, out)?;
     Ok((rows, csv, png))
 }
 
@@ -534,6 +590,7 @@ pub fn shading_sweep_cli(
     out: &Path,
     image: Option<(u32, u32)>,
     shard: Option<Shard>,
+    resume: bool,
 ) -> Result<(), String> {
     let sc = ShadingScene::parse(scene)?;
     let canonical = check_param(&sc, param)?;
@@ -548,25 +605,15 @@ pub fn shading_sweep_cli(
         }
         opts.view_size = w;
     }
+    let id = sweep_id(&sc, canonical, &values, &opts);
     if let Some(shard) = shard {
-        // The scenes are built in: the name, the param, the values and the view's
-        // size (none for shading-vertex, which has no image) are the whole sweep.
-        let mut settings = std::collections::BTreeMap::new();
-        if sc != ShadingScene::Vertex {
-            settings.insert("image".to_string(), opts.view_size.to_string());
-        }
-        let id = SweepId {
-            kind: "shading".into(),
-            scene: sc.name(),
-            param: canonical.into(),
-            values: values.iter().map(u32::to_string).collect(),
-            settings,
-            title: title(&sc, canonical),
-        };
-        let rows = shading_rows(scene, param, &values, &opts, Some(shard))?;
-        return shard_sweep(out, &id, shard, &rows);
+        shading_jobs(scene, param, &values, &opts)?;
+        let mut journal = Journal::shard(out, &id, shard, resume)?;
+        shading_rows(scene, param, &values, &opts, Some(shard), &mut journal)?;
+        return shard_sweep(out, &id, shard, &journal.into_rows());
     }
-    let (rows, csv, png) = shading_sweep(scene, param, &values, out, &opts)?;
+    let (rows, csv, png) =
+        shading_sweep_resumable(scene, &id, canonical, &values, out, &opts, resume)?;
     println!(
         "sweep {} on {scene}: wrote {} and {}",
         rows.first().map_or(param, |r| r.param.as_str()),

@@ -7,9 +7,11 @@ use crate::report::csv_out::write_csv;
 use crate::report::metrics::{error_stats, error_stats_at, representative_pixels, rms_percent};
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
 use crate::report::progress::progress_bar;
+use crate::report::resume::Journal;
+use crate::report::shard::SweepId;
 use crate::scene::builtin::builtin;
 use crate::scene::format::Scene;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// Samples per ray of the unquantised truth (the paper: 200 for Fig. 4, 180 against
@@ -17,7 +19,7 @@ use std::path::Path;
 pub const TRUTH_SAMPLES_FIG4: u32 = 200;
 pub const RAYMARCH_SAMPLES: u32 = 180;
 
-#[derive(Serialize)]
+#[derive(Serialize, Deserialize)]
 pub struct Fig4Row {
     pub planes: u32,
     pub error_levels: f64,
@@ -26,7 +28,7 @@ pub struct Fig4Row {
     pub wall_seconds: f64,
 }
 
-#[derive(Serialize)]
+#[derive(Serialize, Deserialize)]
 pub struct Fig5Row {
     pub subplanes: u32,
     pub rms_levels: f64,
@@ -60,38 +62,90 @@ fn scene(name: &str) -> Result<Scene, String> {
     builtin(name).map_err(|e| e.to_string())
 }
 
+/// What makes two runs of a reproduction one (`--resume`): the figure, its CSV, the
+/// values, the widths, the truth's samples and the binary's version (in the record).
+fn reproduction_id(figure: &str, file: &str, param: &str, values: &[u32], bits: u32) -> SweepId {
+    let mut settings = std::collections::BTreeMap::new();
+    settings.insert("bits".to_string(), bits.to_string());
+    if figure == "shafts-fig4" {
+        settings.insert("truth_samples".to_string(), TRUTH_SAMPLES_FIG4.to_string());
+    }
+    SweepId {
+        kind: format!("reproduce {figure}"),
+        scene: file.to_string(),
+        param: param.to_string(),
+        values: values.iter().map(u32::to_string).collect(),
+        settings,
+        title: format!("{figure} {file}.csv"),
+    }
+}
+
 /// Fig. 4: error and time against the number of sample planes n = 10 … 200, for
 /// 8-bit textures and framebuffer (`fig4.csv`) and for 16-bit (`fig4_wide.csv`).
-pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
+/// Each CSV is rewritten as each row finishes; with `resume`, the rows an interrupted
+/// run left are kept and only the others rendered (`report::resume`).
+pub fn fig4(out: &Path, planes: &[u32], resume: bool) -> Result<(), String> {
     let base = scene("fig4")?;
     let (w, h) = (base.image.width, base.image.height);
-    let (truth, _) = reference_image(&base, TRUTH_SAMPLES_FIG4)?;
-    levels_png(&truth, w, h, &out.join("fig4_truth.png"))?;
-    let pixels = txt(representative_pixels(&truth, w, h, 10, base.seed))?;
+    let mut journals = Vec::new();
     for (file, bits) in [("fig4", 8u32), ("fig4_wide", 16u32)] {
-        let bar = progress_bar(planes.len() as u64, file);
-        let mut rows = Vec::new();
-        for &n in planes {
-            let mut s = base.clone();
-            s.shafts.planes = n;
-            s.shafts.texel_bits = bits;
-            s.shafts.fb_bits = bits;
-            let (r, pred, wall) = render_scene(&s)?;
-            let img = r.levels();
-            rows.push(Fig4Row {
-                planes: n,
-                error_levels: txt(error_stats_at(&img, &truth, w, &pixels))?.mean_abs,
-                rms_levels: txt(error_stats(&img, &truth))?.rms,
-                predicted_hw_seconds: pred.seconds,
-                wall_seconds: wall,
-            });
-            if n == 30 {
-                r.fb.save_png(&out.join(format!("{file}_n30.png")))
-                    .map_err(|e| format!("out: {e}"))?;
-            }
-            bar.inc(1);
+        let id = reproduction_id("shafts-fig4", file, "planes", planes, bits);
+        let csv = out.join(format!("{file}.csv"));
+        let j = Journal::plain(&csv, &id, resume, |r: &Fig4Row| r.planes.to_string())?;
+        journals.push((file, bits, j));
+    }
+    // The truth is needed while a row is left, and for its own image.
+    let truth_png = out.join("fig4_truth.png");
+    let left = journals
+        .iter()
+        .any(|(_, _, j)| (0..planes.len()).any(|i| !j.is_done(i)));
+    let truth = if left || !truth_png.exists() {
+        let (truth, _) = reference_image(&base, TRUTH_SAMPLES_FIG4)?;
+        levels_png(&truth, w, h, &truth_png)?;
+        Some(truth)
+    } else {
+        None
+    };
+    for (file, bits, mut journal) in journals {
+        let todo: Vec<(usize, u32)> = planes
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(i, _)| !journal.is_done(*i))
+            .collect();
+        if let Some(note) = journal.resume_note(todo.len()) {
+            eprintln!("{note}");
         }
-        bar.finish_and_clear();
+        if let Some(truth) = truth.as_ref().filter(|_| !todo.is_empty()) {
+            let pixels = txt(representative_pixels(truth, w, h, 10, base.seed))?;
+            let bar = progress_bar(todo.len() as u64, file);
+            for (i, n) in todo {
+                let mut s = base.clone();
+                s.shafts.planes = n;
+                s.shafts.texel_bits = bits;
+                s.shafts.fb_bits = bits;
+                let (r, pred, wall) = render_scene(&s)?;
+                let img = r.levels();
+                // The image first: a row on file means its image is written too.
+                if n == 30 {
+                    r.fb.save_png(&out.join(format!("{file}_n30.png")))
+                        .map_err(|e| format!("out: {e}"))?;
+                }
+                journal.record(
+                    i,
+                    Fig4Row {
+                        planes: n,
+                        error_levels: txt(error_stats_at(&img, truth, w, &pixels))?.mean_abs,
+                        rms_levels: txt(error_stats(&img, truth))?.rms,
+                        predicted_hw_seconds: pred.seconds,
+                        wall_seconds: wall,
+                    },
+                )?;
+                bar.inc(1);
+            }
+            bar.finish_and_clear();
+        }
+        let rows: Vec<Fig4Row> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
         write_csv(&out.join(format!("{file}.csv")), &rows)?;
         plot_error_time(
             &out.join(format!("{file}.png")),
@@ -110,40 +164,60 @@ pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
 }
 
 /// Fig. 5: RMS against the m = 25 image for m = 1 … 25 sub-planes (n = 30), and the
-/// Fig. 6 images at m = 1 and m = 6.
-pub fn fig5(out: &Path, subplanes: &[u32]) -> Result<(), String> {
+/// Fig. 6 images at m = 1 and m = 6. `fig5.csv` is rewritten as each row finishes;
+/// with `resume`, the rows an interrupted run left are kept (`report::resume`).
+pub fn fig5(out: &Path, subplanes: &[u32], resume: bool) -> Result<(), String> {
     let base = scene("fig6")?;
     let m_ref = *subplanes.iter().max().ok_or("subplanes: empty list")?;
-    let mut s = base.clone();
-    s.shafts.subplanes = m_ref;
-    let (r_ref, _, _) = render_scene(&s)?;
-    let reference = r_ref.levels();
-    let bar = progress_bar(subplanes.len() as u64, "fig5");
-    let mut rows = Vec::new();
-    for &m in subplanes {
-        let mut s = base.clone();
-        s.shafts.subplanes = m;
-        let (r, pred, wall) = render_scene(&s)?;
-        rows.push(Fig5Row {
-            subplanes: m,
-            rms_levels: txt(error_stats(&r.levels(), &reference))?.rms,
-            predicted_hw_seconds: pred.seconds,
-            wall_seconds: wall,
-        });
-        match m {
-            1 => {
-                r.fb.save_png(&out.join("fig6a.png"))
-                    .map_err(|e| format!("out: {e}"))?
-            }
-            6 => {
-                r.fb.save_png(&out.join("fig6b.png"))
-                    .map_err(|e| format!("out: {e}"))?
-            }
-            _ => {}
-        }
-        bar.inc(1);
+    let id = reproduction_id("shafts-fig5", "fig5", "subplanes", subplanes, 8);
+    let mut journal = Journal::plain(&out.join("fig5.csv"), &id, resume, |r: &Fig5Row| {
+        r.subplanes.to_string()
+    })?;
+    let todo: Vec<(usize, u32)> = subplanes
+        .iter()
+        .copied()
+        .enumerate()
+        .filter(|(i, _)| !journal.is_done(*i))
+        .collect();
+    if let Some(note) = journal.resume_note(todo.len()) {
+        eprintln!("{note}");
     }
-    bar.finish_and_clear();
+    if !todo.is_empty() {
+        let mut s = base.clone();
+        s.shafts.subplanes = m_ref;
+        let (r_ref, _, _) = render_scene(&s)?;
+        let reference = r_ref.levels();
+        let bar = progress_bar(todo.len() as u64, "fig5");
+        for (i, m) in todo {
+            let mut s = base.clone();
+            s.shafts.subplanes = m;
+            let (r, pred, wall) = render_scene(&s)?;
+            // The image first: a row on file means its image is written too.
+            match m {
+                1 => {
+                    r.fb.save_png(&out.join("fig6a.png"))
+                        .map_err(|e| format!("out: {e}"))?
+                }
+                6 => {
+                    r.fb.save_png(&out.join("fig6b.png"))
+                        .map_err(|e| format!("out: {e}"))?
+                }
+                _ => {}
+            }
+            journal.record(
+                i,
+                Fig5Row {
+                    subplanes: m,
+                    rms_levels: txt(error_stats(&r.levels(), &reference))?.rms,
+                    predicted_hw_seconds: pred.seconds,
+                    wall_seconds: wall,
+                },
+            )?;
+            bar.inc(1);
+        }
+        bar.finish_and_clear();
+    }
+    let rows: Vec<Fig5Row> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
     write_csv(&out.join("fig5.csv"), &rows)?;
     plot_error_time(
         &out.join("fig5.png"),

@@ -11,8 +11,10 @@
 //! simulation (preparation + frame), and `gates_nand2` = the sum of the gates of the
 //! units the frame elaborated (units left out do not count).
 //!
-//! Output: `DIR/sweep_<param>.csv` and `DIR/sweep_<param>.png`. If a render fails after
-//! validation, the rows done so far are written before the error is returned.
+//! Output: `DIR/sweep_<param>.csv` and `DIR/sweep_<param>.png`. The CSV is rewritten
+//! (atomically) as each row finishes, beside the record `DIR/sweep_<param>.resume.json`
+//! of which sweep it is: a run that fails or is stopped keeps its rows, and `--resume`
+//! continues from them (`report::resume`).
 
 use super::cli::{load_scene, reference_image, render_scene};
 use super::frame::FrameResult;
@@ -20,9 +22,8 @@ use crate::report::csv_out::write_csv;
 use crate::report::metrics::{error_stats, error_stats_at, representative_pixels};
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
 use crate::report::progress::progress_bar;
-use crate::report::shard::{
-    fingerprint, finish_shard, pick, write_atomically, Shard, ShardSet, SweepId,
-};
+use crate::report::resume::Journal;
+use crate::report::shard::{fingerprint, finish_shard, pick, Shard, ShardSet, SweepId};
 use crate::report::table::text_table;
 use crate::scene::format::{Scene, ShaftsConfig};
 use serde::{Deserialize, Serialize};
@@ -319,8 +320,9 @@ pub fn sweep_scenes(base: &Scene, param: Param, values: &[Value]) -> Result<Vec<
 
 /// Run the sweep on `base` (a validated scene; its image size is used as it is) and
 /// write `out/sweep_<param>.csv` and `.png` (each atomically). Every value is
-/// validated before anything is rendered or written; a render that still fails writes
-/// the rows done so far and returns the error naming the value.
+/// validated before anything is rendered or written; the CSV is rewritten as each
+/// row finishes, so a render that fails (or a run that is stopped) leaves the rows
+/// done so far, and `sweep_cli` with `resume` continues from them.
 pub fn sweep(
     base: &Scene,
     param: Param,
@@ -328,31 +330,76 @@ pub fn sweep(
     truth_samples: u32,
     out: &Path,
 ) -> Result<SweepOutput, String> {
+    let id = sweep_id(base, &base.name, param, values, truth_samples)?;
+    sweep_resumable(base, &id, param, values, truth_samples, out, false)
+}
+
+/// [`sweep`] as one sweep `id`, continuing (with `resume`) from the rows of an earlier
+/// run of the same sweep (`report::resume`).
+pub fn sweep_resumable(
+    base: &Scene,
+    id: &SweepId,
+    param: Param,
+    values: &[Value],
+    truth_samples: u32,
+    out: &Path,
+    resume: bool,
+) -> Result<SweepOutput, String> {
     let csv = out.join(format!("sweep_{}.csv", param.name()));
     let png = out.join(format!("sweep_{}.png", param.name()));
-    let mut done = Vec::with_capacity(values.len());
-    let truth_seconds = match sweep_rows(base, param, values, truth_samples, None, &mut done) {
+    // Every value is checked before the journal removes an old CSV.
+    check_sweep(base, param, values, truth_samples)?;
+    let mut journal = Journal::plain(&csv, id, resume, |r: &SweepRow| r.value.clone())?;
+    let truth_seconds = match sweep_rows(base, param, values, truth_samples, None, &mut journal) {
         Ok(t) => t,
         Err(e) => {
-            let rows: Vec<SweepRow> = done.into_iter().map(|(_, r)| r).collect();
-            let saved = if rows.is_empty() {
+            let n = journal.into_rows().len();
+            let saved = if n == 0 {
                 String::new()
             } else {
-                match write_csv(&csv, &rows) {
-                    Ok(()) => format!("; the {} rows done are in {}", rows.len(), csv.display()),
-                    Err(w) => format!("; writing the rows done also failed: {w}"),
-                }
+                format!(
+                    "; the {n} rows done are in {} (`--resume` continues from them)",
+                    csv.display()
+                )
             };
             return Err(format!("{e}{saved}"));
         }
     };
-    let rows: Vec<SweepRow> = done.into_iter().map(|(_, r)| r).collect();
+    let rows: Vec<SweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
     write_outputs(&csv, &png, &plot_title(base, param), param, values, &rows)?;
     Ok(SweepOutput {
         rows,
         csv,
         png,
         truth_seconds,
+    })
+}
+
+/// What makes two runs (or two shards) one sweep: the scene as named on the command
+/// line and by fingerprint (two files of one name on two machines are two sweeps),
+/// the param, every value, the image size and the truth's samples.
+fn sweep_id(
+    scene: &Scene,
+    scene_name: &str,
+    param: Param,
+    values: &[Value],
+    truth_samples: u32,
+) -> Result<SweepId, String> {
+    Ok(SweepId {
+        kind: "shafts".into(),
+        scene: scene_name.into(),
+        param: param.name().into(),
+        values: values.iter().map(Value::to_string).collect(),
+        settings: [
+            (
+                "image".to_string(),
+                format!("{}x{}", scene.image.width, scene.image.height),
+            ),
+            ("truth_samples".to_string(), truth_samples.to_string()),
+            ("scene_fingerprint".to_string(), fingerprint(scene)?),
+        ]
+        .into(),
+        title: plot_title(scene, param),
     })
 }
 
@@ -366,30 +413,47 @@ fn write_outputs(
     values: &[Value],
     rows: &[SweepRow],
 ) -> Result<(), String> {
-    write_atomically(csv, |p| write_csv(p, rows))?;
-    write_atomically(png, |p| plot(p, title, param, values, rows))
+    write_csv(csv, rows)?;
+    plot(png, title, param, values, rows)
 }
 
-/// Render the values `only` picks (every value without a shard) into `done`, as
-/// (value index, row); returns the wall time of the reference (0 when no value is
-/// picked: it is not computed). Every value is validated first, so a bad sweep
-/// renders nothing; a render that fails is an error naming the value, `done` holding
-/// the rows before it.
+/// Everything a sweep checks before it writes or renders: the truth's samples, and
+/// every value's scene ([`sweep_scenes`]), which it returns.
+fn check_sweep(
+    base: &Scene,
+    param: Param,
+    values: &[Value],
+    truth_samples: u32,
+) -> Result<Vec<Scene>, String> {
+    if !(1..=MAX_TRUTH_SAMPLES).contains(&truth_samples) {
+        return Err(format!(
+            "truth_samples: {truth_samples} is out of range (allowed 1 ..= {MAX_TRUTH_SAMPLES})"
+        ));
+    }
+    sweep_scenes(base, param, values)
+}
+
+/// Render the values `only` picks (every value without a shard) that `journal` does
+/// not hold yet, recording each row in it as it finishes; returns the wall time of
+/// the reference (0 when no value is left: it is not computed). Every value is
+/// validated first, so a bad sweep renders nothing; a render that fails is an error
+/// naming the value, `journal` holding the rows before it.
 pub fn sweep_rows(
     base: &Scene,
     param: Param,
     values: &[Value],
     truth_samples: u32,
     only: Option<Shard>,
-    done: &mut Vec<(usize, SweepRow)>,
+    journal: &mut Journal<SweepRow>,
 ) -> Result<f64, String> {
-    if !(1..=MAX_TRUTH_SAMPLES).contains(&truth_samples) {
-        return Err(format!(
-            "truth_samples: {truth_samples} is out of range (allowed 1 ..= {MAX_TRUTH_SAMPLES})"
-        ));
+    let scenes = check_sweep(base, param, values, truth_samples)?;
+    let todo: Vec<(usize, &Scene)> = pick(&scenes, only)
+        .into_iter()
+        .filter(|(k, _)| !journal.is_done(*k))
+        .collect();
+    if let Some(note) = journal.resume_note(todo.len()) {
+        eprintln!("{note}");
     }
-    let scenes = sweep_scenes(base, param, values)?;
-    let todo = pick(&scenes, only);
     if todo.is_empty() {
         return Ok(0.0);
     }
@@ -401,7 +465,7 @@ pub fn sweep_rows(
     for (k, s) in todo {
         let v = values[k];
         match render_row(s, param, v, &truth, w, &pixels) {
-            Ok(r) => done.push((k, r)),
+            Ok(r) => journal.record(k, r)?,
             Err(e) => {
                 bar.abandon();
                 return Err(format!(
@@ -529,7 +593,10 @@ fn plot(
 
 /// The `sweep` command: load the scene (built-in name or TOML file), apply `--image`,
 /// parse and validate every value, sweep (with `shard`, only its share, written to
-/// the shard file: docs/sweep.md), print a table.
+/// the shard file: docs/sweep.md), print a table. With `resume`, continue from the
+/// rows an interrupted run of the same sweep left (`report::resume`).
+// The command line's options, one argument each.
+#[allow(clippy::too_many_arguments)]
 pub fn sweep_cli(
     scene_name: &str,
     param: &str,
@@ -538,6 +605,7 @@ pub fn sweep_cli(
     truth_samples: u32,
     image: Option<&str>,
     shard: Option<Shard>,
+    resume: bool,
 ) -> Result<(), String> {
     if scene_name == "test" {
         return Err(
@@ -554,42 +622,26 @@ pub fn sweep_cli(
         scene.image.width = w;
         scene.image.height = h;
     }
+    let id = sweep_id(&scene, scene_name, param, &values, truth_samples)?;
     if let Some(shard) = shard {
-        // The scene by fingerprint as well as by name: two files of one name on two
-        // machines are two sweeps. The image size and the truth's samples change
-        // every row.
-        let id = SweepId {
-            kind: "shafts".into(),
-            scene: scene_name.into(),
-            param: param.name().into(),
-            values: values.iter().map(Value::to_string).collect(),
-            settings: [
-                (
-                    "image".to_string(),
-                    format!("{}x{}", scene.image.width, scene.image.height),
-                ),
-                ("truth_samples".to_string(), truth_samples.to_string()),
-                ("scene_fingerprint".to_string(), fingerprint(&scene)?),
-            ]
-            .into(),
-            title: plot_title(&scene, param),
-        };
-        let mut done = Vec::new();
+        check_sweep(&scene, param, &values, truth_samples)?;
+        let mut journal = Journal::shard(out, &id, shard, resume)?;
         sweep_rows(
             &scene,
             param,
             &values,
             truth_samples,
             Some(shard),
-            &mut done,
+            &mut journal,
         )?;
+        let done = journal.into_rows();
         println!("{}", finish_shard(out, &id, shard, &done)?);
         let rows: Vec<SweepRow> = done.into_iter().map(|(_, r)| r).collect();
         print!("{}", table(param, &rows));
         return Ok(());
     }
     let t0 = Instant::now();
-    let res = sweep(&scene, param, &values, truth_samples, out)?;
+    let res = sweep_resumable(&scene, &id, param, &values, truth_samples, out, resume)?;
     println!(
         "sweep {} on {} ({}x{}, truth {} samples per ray in {:.2} s): wrote {} and {} in {:.1} s",
         param.name(),

@@ -449,10 +449,10 @@ pub fn factorization(
             ));
         }
     }
-    std::fs::write(
-        out.join("factorization_summary.txt"),
-        summary.join("\n") + "\n",
+    crate::report::atomic::write_bytes(
+        &out.join("factorization_summary.txt"),
+        (summary.join("\n") + "\n").as_bytes(),
     )
-    .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    .map_err(|e| format!("out: {e}"))?;
     Ok(summary)
 }
