@@ -195,7 +195,7 @@ const RULES: &[Rule] = &[
         unit: "polygon_interpolator",
         event: Event::Underflows,
         per_channel: false,
-        threshold: 0.01,
+        threshold: 0.001,
         drivers: Drivers::Shafts,
     },
     Rule {
@@ -365,12 +365,16 @@ impl Probe {
                     lo = m;
                 }
             }
-            let snapped = snap(hi, c.ordinary - c.value);
-            let nearest = if fits(self.share_at(rule, unit, c, snapped)) {
-                snapped
-            } else {
-                hi
-            };
+            // Three significant digits, stepped towards the ordinary side until it fits
+            // (the share need not be monotonic in the field).
+            let dir = c.ordinary - c.value;
+            let mut nearest = snap(hi, dir);
+            for _ in 0..50 {
+                if fits(self.share_at(rule, unit, c, nearest)) {
+                    break;
+                }
+                nearest += snap_step(nearest).copysign(dir);
+            }
             return (c.field.clone(), (c.show)(c.value), Some((c.show)(nearest)));
         }
         // No single field silences it: name the first candidate without a nearest value.
@@ -381,12 +385,20 @@ impl Probe {
     }
 }
 
+/// The step of the third significant digit of `x`.
+fn snap_step(x: f64) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return 1e-3;
+    }
+    10f64.powf(x.abs().log10().floor() - 2.0)
+}
+
 /// `x` rounded to three significant digits in the direction `toward` (its sign).
 fn snap(x: f64, toward: f64) -> f64 {
     if x == 0.0 || !x.is_finite() {
         return x;
     }
-    let step = 10f64.powf(x.abs().log10().floor() - 2.0);
+    let step = snap_step(x);
     let q = x / step;
     let q = if toward > 0.0 { q.ceil() } else { q.floor() };
     q * step
@@ -412,12 +424,16 @@ fn show_num(x: f64) -> String {
 }
 
 fn show_vec(v: [f64; 3]) -> String {
-    format!(
-        "[{}, {}, {}]",
-        show_num(v[0]),
-        show_num(v[1]),
-        show_num(v[2])
-    )
+    let c = |x: f64| {
+        let s = format!("{x:.4}");
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if s == "-0" {
+            "0".to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    format!("[{}, {}, {}]", c(v[0]), c(v[1]), c(v[2]))
 }
 
 fn v3(a: [f64; 3]) -> Vec3 {
@@ -435,7 +451,7 @@ fn candidates(scene: &Scene, drivers: Drivers, up: bool) -> Vec<Candidate> {
     match drivers {
         Drivers::Shafts => {
             table_candidates(scene, &mut out);
-            light_candidates(scene, up, &mut out);
+            light_candidates(scene, &mut out);
         }
         Drivers::GlareSources => {
             if let Some(g) = &scene.glare {
@@ -466,7 +482,7 @@ fn candidates(scene: &Scene, drivers: Drivers, up: bool) -> Vec<Candidate> {
 const WIDE_CUTOFF_DEG: f64 = 30.0;
 const ORDINARY_CUTOFF_DEG: f64 = 25.0;
 
-fn light_candidates(scene: &Scene, up: bool, out: &mut Vec<Candidate>) {
+fn light_candidates(scene: &Scene, out: &mut Vec<Candidate>) {
     let cam = &scene.camera;
     let eye = v3(cam.eye);
     let forward = (v3(cam.look_at) - eye).normalized();
@@ -505,16 +521,21 @@ fn light_candidates(scene: &Scene, up: bool, out: &mut Vec<Candidate>) {
             });
         }
     }
+    // A light's intensity, down then up: too bright saturates, and in a frame with
+    // several lights one far brighter than the rest sets the scale the others' colours
+    // underflow in.
     for (i, l) in scene.lights.iter().enumerate() {
         if l.intensity > 0.0 {
-            out.push(Candidate {
-                field: format!("lights[{i}].intensity"),
-                value: l.intensity,
-                ordinary: l.intensity * if up { 1e4 } else { 1e-4 },
-                log: true,
-                set: Box::new(move |sc, x| sc.lights[i].intensity = x),
-                show: Box::new(show_num),
-            });
+            for scale in [1e-4, 1e4] {
+                out.push(Candidate {
+                    field: format!("lights[{i}].intensity"),
+                    value: l.intensity,
+                    ordinary: l.intensity * scale,
+                    log: true,
+                    set: Box::new(move |sc, x| sc.lights[i].intensity = x),
+                    show: Box::new(show_num),
+                });
+            }
         }
     }
 }
@@ -642,8 +663,9 @@ fn host_rules(scene: &Scene, frame: &Frame) -> Vec<RangeWarning> {
 
 /// An environment map's texels clamped at full scale (radiance × exposure > 1) on more
 /// than this share of the sphere (solid-angle weighted) warn; the auto exposure clamps
-/// 1 % by construction (`EnvMap::auto_exposure`).
-pub const ENV_CLAMP_SHARE: f64 = 0.02;
+/// 1 % by construction (`EnvMap::auto_exposure`), night-street's chosen exposure 0.5
+/// of the Venice map 4.5 %.
+pub const ENV_CLAMP_SHARE: f64 = 0.10;
 
 /// Non-zero texels rounded to level 0 on more than this share of the sphere warn.
 pub const ENV_UNDERFLOW_SHARE: f64 = 0.25;
