@@ -247,6 +247,9 @@ impl Rule {
     }
 }
 
+/// Sets a candidate's parameter in a scene.
+type Setter = Box<dyn Fn(&mut Scene, f64)>;
+
 /// A scene field the sensitivity check can move: a scalar parameter `x`, the scene's
 /// value `value`, an `ordinary` value at which the unit is expected in range.
 struct Candidate {
@@ -255,7 +258,7 @@ struct Candidate {
     ordinary: f64,
     /// Bisect in log space (a positive scale factor) rather than linearly.
     log: bool,
-    set: Box<dyn Fn(&mut Scene, f64)>,
+    set: Setter,
     show: Box<dyn Fn(f64) -> String>,
 }
 
