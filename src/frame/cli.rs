@@ -60,7 +60,10 @@ pub fn render_cli(
                 chip_table(&chip)
             );
         }
-        return crate::pipeline::envmap::scene_render::render_cli(&scene, out, json, reference);
+        let warnings = super::range::check_environment(&scene);
+        super::range::print(&warnings);
+        let w = serde_json::to_value(&warnings).map_err(|e| e.to_string())?;
+        return crate::pipeline::envmap::scene_render::render_cli(&scene, out, json, reference, w);
     }
     if plan_only {
         let p = plan(&scene).map_err(|e| e.to_string())?;
@@ -80,6 +83,7 @@ pub fn render_cli(
         return Ok(());
     }
     let f = render(&scene).map_err(|e| e.to_string())?;
+    let warnings = super::range::check(&scene, &f);
     f.fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
     let error = match reference {
@@ -118,7 +122,9 @@ pub fn render_cli(
             "predicted_seconds": f.predicted_seconds(),
             "wall_seconds": f.wall_seconds,
             "error_vs_reference": error,
+            "warnings": warnings,
         });
+        super::range::print(&warnings);
         println!(
             "{}",
             serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
@@ -165,6 +171,7 @@ pub fn render_cli(
     if let Some(e) = error {
         print!("\n{}", super::reproduce::error_table(&e));
     }
+    super::range::print(&warnings);
     Ok(())
 }
 

@@ -15,6 +15,7 @@ pub mod cli;
 pub mod glare_link;
 pub mod objects;
 pub mod plan;
+pub mod range;
 pub mod reflection;
 pub mod reproduce;
 pub mod run;

@@ -286,12 +286,14 @@ fn write_png(img: &Image, path: &Path) -> Result<(), String> {
 /// `render --scene` for an environment scene: the PNG at `out`; the counters, the
 /// elaboration and the predicted GeForce3 time (or all of it as JSON); with
 /// `reference`, the Phong truth (with the cos φ test) written there and the errors
-/// against both truths.
+/// against both truths. `warnings` (the frame's out-of-range warnings, a JSON array)
+/// goes into the JSON as `warnings`; the caller prints them as text.
 pub fn render_cli(
     scene: &Scene,
     out: &Path,
     json: bool,
     reference: Option<&Path>,
+    warnings: serde_json::Value,
 ) -> Result<(), String> {
     let f = render_scene(scene, reference.is_some()).map_err(|e| e.to_string())?;
     write_png(&f.image, out)?;
@@ -316,6 +318,7 @@ pub fn render_cli(
             "prediction": f.prediction,
             "error_vs_phong_truth": error,
             "wall_seconds": f.render_seconds,
+            "warnings": warnings,
         });
         println!(
             "{}",
