@@ -234,6 +234,17 @@ fn corpus_names() -> Vec<&'static str> {
         .collect()
 }
 
+/// Each corpus built-in's name and TOML text, made once for all cases.
+fn corpus() -> &'static [(&'static str, String)] {
+    static CORPUS: std::sync::OnceLock<Vec<(&'static str, String)>> = std::sync::OnceLock::new();
+    CORPUS.get_or_init(|| {
+        corpus_names()
+            .into_iter()
+            .map(|n| (n, builtin_toml(n).unwrap()))
+            .collect()
+    })
+}
+
 #[test]
 fn every_builtin_passes_the_check_unchanged() {
     for name in corpus_names() {

@@ -571,8 +571,8 @@ fn auto_ranges(scene: &Scene) -> Option<(f64, f64)> {
     Some((lit.s_max, lit.t_max))
 }
 
-/// Bits of the shafts frame's depth buffer (`pipeline::shafts::frame::ZBUF_BITS`).
-pub const DEPTH_BUFFER_BITS: u32 = 24;
+/// Bits of the shafts frame's depth buffer (its one definition, beside the frame).
+pub const DEPTH_BUFFER_BITS: u32 = crate::pipeline::shafts::frame::ZBUF_BITS;
 
 /// A sample plane's depth test resolves it when the depth buffer's step at its depth
 /// is at most this share of the plane spacing.

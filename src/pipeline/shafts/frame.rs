@@ -37,7 +37,7 @@ use std::collections::BTreeMap;
 /// fragment list each). Fixed, so the work split never depends on the thread count.
 pub(super) const SUBPLANE_BATCH: usize = 4;
 /// Camera depth buffer width.
-pub(super) const ZBUF_BITS: u32 = 24;
+pub const ZBUF_BITS: u32 = 24;
 /// Fraction bits of the interpolator's outputs (s16.16, the projective inputs).
 pub(super) const ATTR_FRAC: u32 = 16;
 
