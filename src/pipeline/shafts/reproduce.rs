@@ -2,7 +2,9 @@
 //! `shafts-fig5`, `shafts-vs-raymarch`, `shafts-stage`. Each writes CSV and PNG.
 
 use super::cli::{levels_png, reference_image, render_scene};
+use super::frame::FrameResult;
 use super::throughput::split_objects_shafts;
+use super::throughput::Prediction;
 use crate::report::csv_out::write_csv;
 use crate::report::metrics::{error_stats, error_stats_at, representative_pixels, rms_percent};
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
@@ -11,6 +13,8 @@ use crate::scene::builtin::builtin;
 use crate::scene::format::Scene;
 use serde::Serialize;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Mutex;
 
 /// Samples per ray of the unquantised truth (the paper: 200 for Fig. 4, 180 against
 /// Nishita's ray tracer).
@@ -62,37 +66,46 @@ fn scene(name: &str) -> Result<Scene, String> {
 
 /// Fig. 4: error and time against the number of sample planes n = 10 … 200, for
 /// 8-bit textures and framebuffer (`fig4.csv`) and for 16-bit (`fig4_wide.csv`).
+/// The 2 × |planes| frames are independent: they run side by side ([`run_points`]),
+/// the rows and files are those of one after the other.
 pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
     let base = scene("fig4")?;
     let (w, h) = (base.image.width, base.image.height);
     let (truth, _) = reference_image(&base, TRUTH_SAMPLES_FIG4)?;
     levels_png(&truth, w, h, &out.join("fig4_truth.png"))?;
     let pixels = txt(representative_pixels(&truth, w, h, 10, base.seed))?;
-    for (file, bits) in [("fig4", 8u32), ("fig4_wide", 16u32)] {
-        let bar = progress_bar(planes.len() as u64, file);
-        let mut rows = Vec::new();
-        for &n in planes {
-            let mut s = base.clone();
-            s.shafts.planes = n;
-            s.shafts.texel_bits = bits;
-            s.shafts.fb_bits = bits;
-            let (r, pred, wall) = render_scene(&s)?;
-            let img = r.levels();
-            rows.push(Fig4Row {
-                planes: n,
-                error_levels: txt(error_stats_at(&img, &truth, w, &pixels))?.mean_abs,
-                rms_levels: txt(error_stats(&img, &truth))?.rms,
-                predicted_hw_seconds: pred.seconds,
-                wall_seconds: wall,
-            });
-            if n == 30 {
-                r.fb.save_png(&out.join(format!("{file}_n30.png")))
-                    .map_err(|e| format!("out: {e}"))?;
-            }
-            bar.inc(1);
+    let files = [("fig4", 8u32), ("fig4_wide", 16u32)];
+    // Point i: file i / |planes|, n = planes[i % |planes|]; the most planes first.
+    let np = planes.len();
+    let mut order: Vec<usize> = (0..files.len() * np).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(planes[i % np]));
+    let bar = progress_bar(order.len() as u64, "fig4");
+    let rows = run_points(&order, |i| {
+        let ((file, bits), n) = (files[i / np], planes[i % np]);
+        let mut s = base.clone();
+        s.shafts.planes = n;
+        s.shafts.texel_bits = bits;
+        s.shafts.fb_bits = bits;
+        let (r, pred, wall) = render_scene(&s)?;
+        let img = r.levels();
+        let row = Fig4Row {
+            planes: n,
+            error_levels: txt(error_stats_at(&img, &truth, w, &pixels))?.mean_abs,
+            rms_levels: txt(error_stats(&img, &truth))?.rms,
+            predicted_hw_seconds: pred.seconds,
+            wall_seconds: wall,
+        };
+        if n == 30 {
+            r.fb.save_png(&out.join(format!("{file}_n30.png")))
+                .map_err(|e| format!("out: {e}"))?;
         }
-        bar.finish_and_clear();
-        write_csv(&out.join(format!("{file}.csv")), &rows)?;
+        bar.inc(1);
+        Ok(row)
+    })?;
+    bar.finish_and_clear();
+    for (fi, (file, bits)) in files.iter().enumerate() {
+        let rows = &rows[fi * np..(fi + 1) * np];
+        write_csv(&out.join(format!("{file}.csv")), rows)?;
         plot_error_time(
             &out.join(format!("{file}.png")),
             &format!("Fig. 4: error and time vs sample planes ({bits}-bit texels and framebuffer)"),
@@ -110,39 +123,48 @@ pub fn fig4(out: &Path, planes: &[u32]) -> Result<(), String> {
 }
 
 /// Fig. 5: RMS against the m = 25 image for m = 1 … 25 sub-planes (n = 30), and the
-/// Fig. 6 images at m = 1 and m = 6.
+/// Fig. 6 images at m = 1 and m = 6. The reference frame is rendered once (first, on
+/// every thread) and is also the row of its m; the other frames are independent and
+/// run side by side ([`run_points`]); the rows are in the order of `subplanes`.
 pub fn fig5(out: &Path, subplanes: &[u32]) -> Result<(), String> {
     let base = scene("fig6")?;
     let m_ref = *subplanes.iter().max().ok_or("subplanes: empty list")?;
     let mut s = base.clone();
     s.shafts.subplanes = m_ref;
-    let (r_ref, _, _) = render_scene(&s)?;
+    let (r_ref, pred_ref, wall_ref) = render_scene(&s)?;
     let reference = r_ref.levels();
     let bar = progress_bar(subplanes.len() as u64, "fig5");
-    let mut rows = Vec::new();
-    for &m in subplanes {
-        let mut s = base.clone();
-        s.shafts.subplanes = m;
-        let (r, pred, wall) = render_scene(&s)?;
-        rows.push(Fig5Row {
+    let row = |m: u32, r: &FrameResult, pred: &Prediction, wall: f64| -> Result<Fig5Row, String> {
+        let png = match m {
+            1 => Some("fig6a.png"),
+            6 => Some("fig6b.png"),
+            _ => None,
+        };
+        if let Some(name) = png {
+            r.fb.save_png(&out.join(name))
+                .map_err(|e| format!("out: {e}"))?;
+        }
+        bar.inc(1);
+        Ok(Fig5Row {
             subplanes: m,
             rms_levels: txt(error_stats(&r.levels(), &reference))?.rms,
             predicted_hw_seconds: pred.seconds,
             wall_seconds: wall,
-        });
-        match m {
-            1 => {
-                r.fb.save_png(&out.join("fig6a.png"))
-                    .map_err(|e| format!("out: {e}"))?
-            }
-            6 => {
-                r.fb.save_png(&out.join("fig6b.png"))
-                    .map_err(|e| format!("out: {e}"))?
-            }
-            _ => {}
+        })
+    };
+    // The most sub-planes first (the longest frames), so the last ones are short.
+    let mut order: Vec<usize> = (0..subplanes.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(subplanes[i]));
+    let rows = run_points(&order, |i| {
+        let m = subplanes[i];
+        if m == m_ref {
+            return row(m, &r_ref, &pred_ref, wall_ref);
         }
-        bar.inc(1);
-    }
+        let mut s = base.clone();
+        s.shafts.subplanes = m;
+        let (r, pred, wall) = render_scene(&s)?;
+        row(m, &r, &pred, wall)
+    })?;
     bar.finish_and_clear();
     write_csv(&out.join("fig5.csv"), &rows)?;
     plot_error_time(
@@ -157,6 +179,71 @@ pub fn fig5(out: &Path, subplanes: &[u32]) -> Result<(), String> {
             .collect(),
         "RMS (levels)",
     )
+}
+
+/// `f(i)` of every sweep point i of `order` (a permutation of 0 .. order.len(), the
+/// order points are started in), results in index order. With more than one rayon
+/// thread the points run side by side, one per thread, each on a one-thread pool of
+/// its own (a frame's own parallel parts then run in order on that thread): a sweep
+/// point's output does not depend on the thread count, so the bytes are those of
+/// the points one after the other; only each point's wall time changes meaning (one
+/// core's time while the other cores ran other points). The first error in index
+/// order is returned (no new point starts after an error).
+fn run_points<T: Send>(
+    order: &[usize],
+    f: impl Fn(usize) -> Result<T, String> + Sync,
+) -> Result<Vec<T>, String> {
+    let n = order.len();
+    let threads = rayon::current_num_threads().min(n);
+    if threads <= 1 {
+        let mut out: Vec<Option<T>> = (0..n).map(|_| None).collect();
+        for &i in order {
+            out[i] = Some(f(i)?);
+        }
+        return out
+            .into_iter()
+            .enumerate()
+            .map(|(i, v)| v.ok_or_else(|| format!("values[{i}]: not run")))
+            .collect();
+    }
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let slots: Vec<Mutex<Option<Result<T, String>>>> = (0..n).map(|_| Mutex::new(None)).collect();
+    std::thread::scope(|sc| {
+        for _ in 0..threads {
+            sc.spawn(|| {
+                let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build();
+                while !failed.load(Ordering::Relaxed) {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&i) = order.get(k) else { break };
+                    let r = match &pool {
+                        Ok(p) => p.install(|| f(i)),
+                        Err(e) => Err(format!("sweep threads: {e}")),
+                    };
+                    if r.is_err() {
+                        failed.store(true, Ordering::Relaxed);
+                    }
+                    if let Ok(mut slot) = slots[i].lock() {
+                        *slot = Some(r);
+                    }
+                }
+            });
+        }
+    });
+    let mut out = Vec::with_capacity(n);
+    let mut missing = None;
+    for (i, slot) in slots.into_iter().enumerate() {
+        match slot.into_inner().ok().flatten() {
+            Some(Ok(v)) => out.push(v),
+            Some(Err(e)) => return Err(e),
+            None => missing = missing.or(Some(i)),
+        }
+    }
+    match missing {
+        // A point is left out only after an error, returned above.
+        Some(i) => Err(format!("values[{i}]: not run")),
+        None => Ok(out),
+    }
 }
 
 /// The n = 30, m = 6 frame against a 180-sample ray-marched reference.
