@@ -396,6 +396,35 @@ proptest! {
         common::assert_drivers_agree(&u, (), &inputs);
     }
 
+    /// The batch kernel's lane form (64-input blocks, used when the 64-bit carriers fit
+    /// and F_r > out_frac) at the two configs the shafts frame runs: the light map's
+    /// (GeForce defaults, one Newton step) and the depth's (s2.16 out, two steps at
+    /// N = 30). Runs longer than a block, q mostly in front of the projector, s and t
+    /// over the whole wire (many saturate): identical to the span and tick drivers.
+    #[test]
+    fn lane_form_agrees_with_the_drivers_at_the_shafts_configs(
+        depth in any::<bool>(),
+        raw in prop::collection::vec((any::<i32>(), any::<i32>(), -4096i64..(1i64 << 31)), 0..300),
+    ) {
+        let c = if depth {
+            ProjectiveTexcoordConfig {
+                out_int_bits: 2,
+                out_frac_bits: 16,
+                newton_steps: 2,
+                newton_frac_bits: 30,
+                ..ProjectiveTexcoordConfig::geforce()
+            }
+        } else {
+            ProjectiveTexcoordConfig::geforce()
+        };
+        let u = c.build().unwrap();
+        let inputs: Vec<ProjectiveIn> = raw
+            .iter()
+            .map(|&(s, t, q)| ProjectiveIn { s: s as i64, t: t as i64, q })
+            .collect();
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+
     #[test]
     fn random_configs_never_panic_and_errors_name_the_field(
         a in field(1, 24), b in field(0, 24), c in field(1, 16), d in field(0, 16),

@@ -234,7 +234,8 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         })
     }
 
-    /// Add value index `i`'s row and save every row so far (atomically).
+    /// Add value index `i`'s row and save the rows so far (atomically; a whole sweep's
+    /// file takes the gap-free prefix of them).
     pub fn record(&mut self, i: usize, row: R) -> Result<(), String> {
         let at = self.rows.partition_point(|(k, _)| *k < i);
         self.rows.insert(at, (i, row));
@@ -244,7 +245,16 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     fn save(&self) -> Result<(), String> {
         match &self.target {
             Target::Plain { csv, .. } => {
-                let rows: Vec<&R> = self.rows.iter().map(|(_, r)| r).collect();
+                // Only the rows of values 0, 1, … without a gap: `--resume` reads the
+                // file back as the sweep's first rows. A row that finished ahead of an
+                // earlier one (points run side by side) waits in memory for it.
+                let rows: Vec<&R> = self
+                    .rows
+                    .iter()
+                    .enumerate()
+                    .take_while(|(at, (i, _))| at == i)
+                    .map(|(_, (_, r))| r)
+                    .collect();
                 write_csv(csv, &rows)
             }
             Target::Shard { path, shard } => {

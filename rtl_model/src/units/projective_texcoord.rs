@@ -30,6 +30,9 @@ use crate::wire::{bits_for, sign_extend as sext};
 use bitvec::prelude::*;
 use serde::{Deserialize, Serialize};
 
+/// Inputs per block of the batch kernel's lane form.
+const LANES: usize = 64;
+
 /// The plain config (serde-friendly); [`ProjectiveTexcoordConfig::build`] validates it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ProjectiveTexcoordConfig {
@@ -88,6 +91,8 @@ impl ProjectiveTexcoordConfig {
 pub struct ProjectiveTexcoord {
     cfg: ProjectiveTexcoordConfig,
     rom: BitVec<u64, Lsb0>,
+    /// The same ROM one entry a word (E ≤ 24 bits), for the batch kernel's lane form.
+    rom_flat: Vec<u32>,
 }
 
 /// Homogeneous coordinates from the interpolator: raw s(in_int).(in_frac) codes.
@@ -150,7 +155,10 @@ impl ProjectiveTexcoord {
             let e = eb as usize;
             rom[i * e..(i + 1) * e].store_le::<u64>(recip_rom_entry(i as u64, ib, eb));
         }
-        Ok(ProjectiveTexcoord { cfg, rom })
+        let rom_flat = (0..depth)
+            .map(|i| recip_rom_entry(i as u64, ib, eb) as u32)
+            .collect();
+        Ok(ProjectiveTexcoord { cfg, rom, rom_flat })
     }
 
     /// GeForce-era defaults (see [`ProjectiveTexcoordConfig::geforce`]).
@@ -391,6 +399,113 @@ impl ProjectiveTexcoord {
         (r, p)
     }
 
+    /// Whether the batch kernel's lane form applies: the 64-bit carriers fit
+    /// ([`Self::fits_64`]) and the output shift F_r + p − out_frac is a right shift
+    /// for every exponent p ≥ 0 (F_r > out_frac).
+    fn lanes_apply(&self) -> bool {
+        self.fits_64() && self.recip_frac_bits() > self.cfg.out_frac_bits
+    }
+
+    /// The kernel over up to [`LANES`] inputs in structure-of-arrays form, each step
+    /// a loop over the lanes with the config's shifts uniform (the compiler vectorises
+    /// the Newton steps and the scaling): the same arithmetic as [`Self::kernel`] in
+    /// 64-bit carriers (rounding to nearest, ties up, as `(v + half) >> shift`), the
+    /// same counts. A lane behind the projector computes on q = 1 and is then
+    /// replaced by the behind output; its counts are masked off.
+    fn kernel_lanes(
+        &self,
+        inputs: &[ProjectiveIn],
+        out: &mut Vec<ProjectiveOut>,
+        ctr: &mut Counters,
+    ) {
+        let len = inputs.len();
+        debug_assert!(len <= LANES);
+        let w = self.in_bits();
+        let fm = w.saturating_sub(2);
+        let ib = self.cfg.recip_index_bits;
+        let n = self.cfg.newton_frac_bits;
+        let of = self.cfg.out_frac_bits as i64;
+        let r_max = (1i64 << (n + 1)) - 1;
+        let fmask = (1u64 << fm) - 1;
+        let (mut s, mut t, mut m, mut p, mut r) = (
+            [0i64; LANES],
+            [0i64; LANES],
+            [0i64; LANES],
+            [0i64; LANES],
+            [0i64; LANES],
+        );
+        let mut live = [0i64; LANES]; // 1 in front of the projector, 0 behind
+        for (j, x) in inputs.iter().enumerate() {
+            let q = sext(x.q, w);
+            s[j] = sext(x.s, w);
+            t[j] = sext(x.t, w);
+            live[j] = i64::from(q > 0);
+            let qq = if q > 0 { q as u64 } else { 1 };
+            let pj = 63 - qq.leading_zeros();
+            let mj = qq << (fm - pj);
+            let frac = mj & fmask;
+            let idx = if fm >= ib {
+                frac >> (fm - ib)
+            } else {
+                frac << (ib - fm)
+            } as usize;
+            m[j] = mj as i64;
+            p[j] = pj as i64;
+            r[j] = self.rom_flat[idx] as i64;
+        }
+        let (live, s, t, m, p) = (&live[..len], &s[..len], &t[..len], &m[..len], &p[..len]);
+        let r = &mut r[..len];
+        let lit: i64 = live.iter().sum();
+        let mut sat = 0i64;
+        let mut fr = self.cfg.recip_entry_bits;
+        for _ in 0..self.cfg.newton_steps {
+            let two = 2i64 << (n + fr);
+            let half = 1i64 << (fr - 1);
+            let (down, up) = (fm.saturating_sub(n), n.saturating_sub(fm));
+            for ((rj, &mj), &l) in r.iter_mut().zip(m).zip(live) {
+                let mn = (mj >> down) << up; // u1.N
+                let d = (two - mn * *rj + half) >> fr;
+                sat += i64::from(d < 0 || d > r_max) * l;
+                let d = d.clamp(0, r_max);
+                let rn = (*rj * d + half) >> fr;
+                sat += i64::from(rn > r_max) * l;
+                *rj = rn.min(r_max);
+            }
+            fr = n;
+        }
+        let ob = self.out_bits();
+        let (lo, hi) = (-(1i64 << (ob - 1)), (1i64 << (ob - 1)) - 1);
+        let frl = fr as i64 - of;
+        let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
+        for j in 0..len {
+            let sh = frl + p[j]; // ≥ 1
+            let half = 1i64 << (sh - 1);
+            let a = (s[j] * r[j] + half) >> sh;
+            let b = (t[j] * r[j] + half) >> sh;
+            sat += (i64::from(a < lo || a > hi) + i64::from(b < lo || b > hi)) * live[j];
+            u[j] = a.clamp(lo, hi);
+            v[j] = b.clamp(lo, hi);
+        }
+        ctr.table_reads += lit as u64;
+        ctr.underflows += (len as i64 - lit) as u64;
+        ctr.saturations += sat as u64;
+        out.extend((0..len).map(|j| {
+            if live[j] == 1 {
+                ProjectiveOut {
+                    u: u[j] as i32,
+                    v: v[j] as i32,
+                    behind: false,
+                }
+            } else {
+                ProjectiveOut {
+                    u: 0,
+                    v: 0,
+                    behind: true,
+                }
+            }
+        }));
+    }
+
     /// [`Self::scale`] in a 64-bit carrier when the product is shifted right (the
     /// exact left shift of a small exponent goes through the 128-bit form).
     #[inline]
@@ -459,8 +574,9 @@ impl Unit for ProjectiveTexcoord {
         }
     }
 
-    /// The kernel in 64-bit carriers where the config fits them ([`Self::fits_64`]);
-    /// otherwise the per-word kernel.
+    /// The lane form where it applies ([`Self::lanes_apply`]); else the kernel in
+    /// 64-bit carriers where the config fits them ([`Self::fits_64`]); otherwise the
+    /// per-word kernel.
     fn kernel_batch(
         &self,
         st: &mut (),
@@ -468,6 +584,13 @@ impl Unit for ProjectiveTexcoord {
         out: &mut Vec<ProjectiveOut>,
         ctr: &mut Counters,
     ) {
+        if self.lanes_apply() {
+            out.reserve(inputs.len());
+            for block in inputs.chunks(LANES) {
+                self.kernel_lanes(block, out, ctr);
+            }
+            return;
+        }
         if !self.fits_64() {
             out.extend(inputs.iter().map(|x| self.kernel(st, x, ctr)));
             return;
