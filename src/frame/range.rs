@@ -17,10 +17,10 @@
 
 use super::run::{render, Frame};
 use crate::pipeline::shafts::host::scene_geometry;
-use crate::pipeline::shafts::prepare::{in_cone, lit_ranges};
+use crate::pipeline::shafts::prepare::{for_each_lit_point, in_cone, lit_ranges};
+use crate::scene::camera::vec3;
 use crate::scene::format::{LightKind, Scene};
 use crate::scene::geometry::Ray;
-use crate::scene::math::Vec3;
 use rtl_model::Counters;
 use serde::Serialize;
 
@@ -439,14 +439,6 @@ fn show_vec(v: [f64; 3]) -> String {
     format!("[{}, {}, {}]", c(v[0]), c(v[1]), c(v[2]))
 }
 
-fn v3(a: [f64; 3]) -> Vec3 {
-    Vec3 {
-        x: a[0],
-        y: a[1],
-        z: a[2],
-    }
-}
-
 /// The candidates for a rule's drivers, in the order they are tried (`up`: an
 /// underflow, which a larger intensity cures; else a smaller one).
 fn candidates(scene: &Scene, drivers: Drivers, up: bool) -> Vec<Candidate> {
@@ -487,18 +479,18 @@ const ORDINARY_CUTOFF_DEG: f64 = 25.0;
 
 fn light_candidates(scene: &Scene, out: &mut Vec<Candidate>) {
     let cam = &scene.camera;
-    let eye = v3(cam.eye);
-    let forward = (v3(cam.look_at) - eye).normalized();
+    let eye = vec3(cam.eye);
+    let forward = (vec3(cam.look_at) - eye).normalized();
     // The eye inside a light's cone, nearer the light than the look-at point is: move
     // it back along the view axis (by up to the eye–look-at distance).
     for l in &scene.lights {
-        let d = (eye - v3(l.position)).length();
-        let reach = (v3(cam.look_at) - v3(l.position)).length();
+        let d = (eye - vec3(l.position)).length();
+        let reach = (vec3(cam.look_at) - vec3(l.position)).length();
         if in_cone(l, eye) && d < reach {
             let e0 = cam.eye;
-            let span = (v3(cam.look_at) - eye).length().max(1.0);
+            let span = (vec3(cam.look_at) - eye).length().max(1.0);
             let at = move |k: f64| {
-                let e = v3(e0) - forward * k;
+                let e = vec3(e0) - forward * k;
                 [e.x, e.y, e.z]
             };
             out.push(Candidate {
@@ -764,45 +756,23 @@ pub fn check_environment(scene: &Scene) -> Vec<RangeWarning> {
 }
 
 /// (light distance s, eye distance t) of points in the lit volume in front of the
-/// first surface, on a 24 × 16 grid of rays × 64 depths.
+/// first surface, on a 24 × 16 grid of rays (cell centres) × 64 depths.
 fn lit_samples(scene: &Scene) -> Vec<(f64, f64)> {
     let Ok(geom) = scene_geometry(scene) else {
         return Vec::new();
     };
     let cam = crate::scene::camera::CameraView::new(&scene.camera, scene.image);
     let (gx, gy, gz) = (24usize, 16usize, 64usize);
+    let centres = (0..gy).flat_map(|iy| {
+        (0..gx).map(move |ix| ((ix as f64 + 0.5) / gx as f64, (iy as f64 + 0.5) / gy as f64))
+    });
+    let first_hit = |origin, dir| {
+        geom.first_hit(&Ray { origin, dir }, f64::INFINITY)
+            .map(|(_, h)| h.t)
+    };
     let mut out = Vec::new();
-    for iy in 0..gy {
-        for ix in 0..gx {
-            let (px, py) = (
-                (ix as f64 + 0.5) / gx as f64 * cam.width as f64,
-                (iy as f64 + 0.5) / gy as f64 * cam.height as f64,
-            );
-            let dir = cam.ray_dir(px, py);
-            let cos = dir.dot(cam.forward).max(1e-6);
-            let t_hit = geom
-                .first_hit(
-                    &Ray {
-                        origin: cam.eye,
-                        dir,
-                    },
-                    f64::INFINITY,
-                )
-                .map_or(f64::INFINITY, |(_, h)| h.t);
-            for iz in 0..gz {
-                let r = cam.near + (cam.far - cam.near) * (iz as f64 + 0.5) / gz as f64;
-                let t = r / cos;
-                if t > t_hit {
-                    break;
-                }
-                let p = cam.eye + dir * t;
-                for l in &scene.lights {
-                    if in_cone(l, p) {
-                        out.push(((p - v3(l.position)).length(), t));
-                    }
-                }
-            }
-        }
-    }
+    for_each_lit_point(scene, &cam, centres, gz, &first_hit, |q| {
+        out.push((q.s, q.t))
+    });
     out
 }

@@ -26,6 +26,63 @@ pub fn in_cone(l: &crate::scene::format::Light, p: Vec3) -> bool {
     d.dot(axis) / len >= l.cutoff_deg.to_radians().cos()
 }
 
+/// A point of the view frustum inside light `light`'s cone, in front of the first
+/// surface: its ray `dir` through pixel (`px`, `py`), view depth `r`, eye distance `t`
+/// and light distance `s`.
+pub struct LitPoint {
+    pub light: usize,
+    pub p: Vec3,
+    pub dir: Vec3,
+    pub px: f64,
+    pub py: f64,
+    pub r: f64,
+    pub t: f64,
+    pub s: f64,
+}
+
+/// Visit the lit points sampled along rays through `rays` (fractions of the image's
+/// width and height, in the order given) at `gz` view depths spread evenly over
+/// [near, far] (cell centres), each ray until its first surface; per depth, the
+/// lights in scene order.
+pub fn for_each_lit_point(
+    scene: &Scene,
+    cam: &CameraView,
+    rays: impl Iterator<Item = (f64, f64)>,
+    gz: usize,
+    first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>,
+    mut f: impl FnMut(&LitPoint),
+) {
+    for (fx, fy) in rays {
+        let (px, py) = (fx * cam.width as f64, fy * cam.height as f64);
+        let dir = cam.ray_dir(px, py);
+        let cos = dir.dot(cam.forward).max(1e-6);
+        let t_hit = first_hit(cam.eye, dir).unwrap_or(f64::INFINITY);
+        for iz in 0..gz {
+            let r = cam.near + (cam.far - cam.near) * (iz as f64 + 0.5) / gz as f64;
+            let t = r / cos;
+            if t > t_hit {
+                break;
+            }
+            let p = cam.eye + dir * t;
+            for (light, l) in scene.lights.iter().enumerate() {
+                if in_cone(l, p) {
+                    let s = (p - vec3(l.position)).length();
+                    f(&LitPoint {
+                        light,
+                        p,
+                        dir,
+                        px,
+                        py,
+                        r,
+                        t,
+                        s,
+                    });
+                }
+            }
+        }
+    }
+}
+
 /// Ranges found by sampling the view frustum (a 48 × 32 grid of rays, 256 depths
 /// each) for points inside some light's cone and in front of the first surface:
 /// the plane range [r0, r1] (view depths), s_near (see below), s_max and t_max.
@@ -38,43 +95,24 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
     let mut s_all: Vec<f64> = Vec::new();
     // The lit sample nearest a light: (s, px, py, r).
     let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
-    for iy in 0..=gy {
-        for ix in 0..=gx {
-            let (px, py) = (
-                ix as f64 / gx as f64 * cam.width as f64,
-                iy as f64 / gy as f64 * cam.height as f64,
-            );
-            let dir = cam.ray_dir(px, py);
-            let cos = dir.dot(cam.forward).max(1e-6);
-            let t_hit = first_hit(cam.eye, dir).unwrap_or(f64::INFINITY);
-            for iz in 0..gz {
-                let r = cam.near + (cam.far - cam.near) * (iz as f64 + 0.5) / gz as f64;
-                let t = r / cos;
-                if t > t_hit {
-                    break;
-                }
-                let p = cam.eye + dir * t;
-                for l in &scene.lights {
-                    if in_cone(l, p) {
-                        let s = (p - vec3(l.position)).length();
-                        if s < best.0 {
-                            best = (s, px, py, r);
-                        }
-                        r0 = r0.min(r);
-                        r1 = r1.max(r);
-                        s_all.push(s);
-                        // Scattering angle: cos α = L̂ · view direction (α = 0 forward).
-                        if s > 0.0 {
-                            let l_hat = (vec3(l.position) - p) * (1.0 / s);
-                            cos_alpha_max = cos_alpha_max.max(l_hat.dot(dir));
-                        }
-                        s_max = s_max.max(s);
-                        t_max = t_max.max(t);
-                    }
-                }
-            }
+    let corners = (0..=gy)
+        .flat_map(|iy| (0..=gx).map(move |ix| (ix as f64 / gx as f64, iy as f64 / gy as f64)));
+    for_each_lit_point(scene, &cam, corners, gz, first_hit, |q| {
+        let (s, t, p) = (q.s, q.t, q.p);
+        if s < best.0 {
+            best = (s, q.px, q.py, q.r);
         }
-    }
+        r0 = r0.min(q.r);
+        r1 = r1.max(q.r);
+        s_all.push(s);
+        // Scattering angle: cos α = L̂ · view direction (α = 0 forward).
+        if s > 0.0 {
+            let l_hat = (vec3(scene.lights[q.light].position) - p) * (1.0 / s);
+            cos_alpha_max = cos_alpha_max.max(l_hat.dot(q.dir));
+        }
+        s_max = s_max.max(s);
+        t_max = t_max.max(t);
+    });
     if !r0.is_finite() {
         // Nothing lit is visible: one harmless interval at the near plane.
         return LitRanges {
