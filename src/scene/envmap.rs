@@ -425,7 +425,6 @@ impl EnvMap {
     /// ("envmap.downsample_factor").
     pub fn downsample(&self, factor: usize) -> Result<EnvMap, ConfigError> {
         let field = "envmap.downsample_factor";
-        // (written without `%` / is_multiple_of: the crate's MSRV is 1.80)
         if factor == 0
             || self.width / factor * factor != self.width
             || self.height / factor * factor != self.height

@@ -564,8 +564,7 @@ pub mod binary32 {
     pub fn reciprocal_of_max(bits: u32) -> u32 {
         let m = max_code(bits) as u128;
         let q = (1u128 << 80) / m;
-        // Sticky bit: the remainder 2⁸⁰ − q·N is non-zero (no `%` / is_multiple_of:
-        // the crate's MSRV is 1.80).
+        // Sticky bit: the remainder 2⁸⁰ − q·N is non-zero.
         let sticky = ((1u128 << 80) != q * m) as u128;
         round(false, (q << 1) | sticky, -81) // the sticky bit keeps ties honest
     }

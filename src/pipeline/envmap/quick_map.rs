@@ -50,7 +50,6 @@ fn shrink(env: &EnvMap) -> Result<EnvMap, ConfigError> {
     }
     let f = (1..=env.width())
         .find(|&f| {
-            // (no `%` / is_multiple_of: the crate's MSRV is 1.80)
             env.width() / f * f == env.width()
                 && env.height() / f * f == env.height()
                 && (env.width() / f) * (env.height() / f) <= QUICK_MAP_MAX_TEXELS
