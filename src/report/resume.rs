@@ -84,13 +84,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
             crate::report::atomic::remove_stale_partials(csv);
         }
         if resume && record.exists() {
-            let refuse = |why: String| {
-                format!(
-                    "{}: cannot resume: {why}; run without --resume to start over, or give \
-                     another --out",
-                    csv.display()
-                )
-            };
+            let refuse = |why: String| cannot_resume(csv, &why);
             let text = std::fs::read_to_string(&record)
                 .map_err(|e| refuse(format!("{}: {e}", record.display())))?;
             let got: Header = serde_json::from_str(&text)
@@ -170,13 +164,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
             crate::report::atomic::remove_stale_partials(&path);
         }
         if resume && path.exists() {
-            let refuse = |why: String| {
-                format!(
-                    "{}: cannot resume: {why}; run without --resume to start over, or give \
-                     another --out",
-                    path.display()
-                )
-            };
+            let refuse = |why: String| cannot_resume(&path, &why);
             // Reads the header and checks each row's index, param and value.
             let f = read_shard_rows(&path).map_err(|e| format!("cannot resume: {e}"))?;
             let want = Header::new(id, shard);
@@ -304,4 +292,12 @@ fn read_plain<R: Serialize + DeserializeOwned>(csv: &Path) -> Result<Vec<R>, Str
         ));
     }
     Ok(rows)
+}
+
+/// The refusal of a `--resume` that cannot continue from `file`.
+fn cannot_resume(file: &Path, why: &str) -> String {
+    format!(
+        "{}: cannot resume: {why}; run without --resume to start over, or give another --out",
+        file.display()
+    )
 }
