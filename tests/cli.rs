@@ -131,3 +131,52 @@ fn an_unknown_scene_lists_every_built_in() {
         assert!(err.contains(name), "{name} missing from: {err}");
     }
 }
+
+/// A valid but very expensive scene says so on stderr before any pixel (issue 16):
+/// fig6 at n = 1000, m = 6 is 720·480·1000·7 ≈ 2.4·10⁹ sample-plane fragments, above
+/// `frame::cli::LARGE_WORK_FRAGMENTS`. The render is stopped once the line is read.
+#[test]
+fn an_expensive_scene_prints_its_work_up_front() {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    use std::sync::mpsc;
+    use std::time::Duration;
+
+    let fig6 = bin().args(["scene", "fig6"]).output().unwrap();
+    assert!(fig6.status.success());
+    let text = String::from_utf8(fig6.stdout)
+        .unwrap()
+        .replace("planes = 30", "planes = 1000");
+    assert!(text.contains("planes = 1000") && text.contains("subplanes = 6"));
+    let dir = std::env::temp_dir().join(format!("glare-expensive-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("expensive.toml");
+    std::fs::write(&scene, text).unwrap();
+    let mut child = bin()
+        .args(["render", "--scene"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(dir.join("out.png"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let line = rx.recv_timeout(Duration::from_secs(60));
+    let _ = child.kill();
+    let _ = child.wait();
+    let _ = std::fs::remove_dir_all(&dir);
+    let line = line.expect("no line on stderr within 60 s");
+    assert!(
+        line.contains("expensive scene") && line.contains("2.42e9"),
+        "the first stderr line is not the work estimate: {line}"
+    );
+}
