@@ -126,27 +126,6 @@ fn complete_rows(text: &str, header_lines: usize) -> Vec<Vec<String>> {
     rows
 }
 
-/// The CSV's lines split into fields, the `wall_seconds` column dropped (the only one
-/// two runs of a sweep differ in).
-fn without_wall(csv: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(csv).unwrap_or_else(|e| panic!("{}: {e}", csv.display()));
-    let lines: Vec<&str> = text.lines().collect();
-    let wall = lines[0]
-        .split(',')
-        .position(|c| c == "wall_seconds")
-        .expect("a wall_seconds column");
-    lines
-        .iter()
-        .map(|l| {
-            l.split(',')
-                .enumerate()
-                .filter(|(i, _)| *i != wall)
-                .map(|(_, f)| f.to_string())
-                .collect()
-        })
-        .collect()
-}
-
 /// The printed table without its first line (paths and times) and its `wall_s`
 /// column.
 fn table_without_wall(stdout: &[u8]) -> Vec<Vec<String>> {
@@ -187,9 +166,9 @@ fn killed_then_resumed_matches_uninterrupted(name: &str, signal: &str) {
         rows.len()
     );
     // The rows left are the uninterrupted run's first rows (but wall).
-    let full = without_wall(&whole.join("sweep_planes.csv"));
+    let full = common::without_wall(&whole.join("sweep_planes.csv"));
     assert_eq!(
-        &without_wall(&csv)[..],
+        &common::without_wall(&csv)[..],
         &full[..=rows.len()],
         "the rows kept differ from the uninterrupted run's"
     );
@@ -205,7 +184,7 @@ fn killed_then_resumed_matches_uninterrupted(name: &str, signal: &str) {
         err.contains(&format!("resume: {} rows", rows.len())),
         "{err}"
     );
-    assert_eq!(without_wall(&csv), full, "resumed CSV differs");
+    assert_eq!(common::without_wall(&csv), full, "resumed CSV differs");
     // The rows kept are kept as they were, wall time included.
     let after = std::fs::read_to_string(&csv).unwrap();
     for l in text.lines() {
@@ -293,8 +272,8 @@ fn a_killed_shard_resumes_and_merges_to_the_unsharded_sweep() {
         .unwrap();
     ok(m, "merge");
     assert_eq!(
-        without_wall(&merged.join("sweep_planes.csv")),
-        without_wall(&whole.join("sweep_planes.csv"))
+        common::without_wall(&merged.join("sweep_planes.csv")),
+        common::without_wall(&whole.join("sweep_planes.csv"))
     );
     assert!(
         std::fs::read(merged.join("sweep_planes.png")).unwrap()

@@ -90,27 +90,6 @@ fn refused(o: Output, names: &[&str]) -> String {
     err
 }
 
-/// The CSV's lines split into fields, the `wall_seconds` column dropped (the only one
-/// two runs of a sweep differ in).
-fn without_wall(csv: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(csv).unwrap_or_else(|e| panic!("{}: {e}", csv.display()));
-    let lines: Vec<&str> = text.lines().collect();
-    let wall = lines[0]
-        .split(',')
-        .position(|c| c == "wall_seconds")
-        .expect("a wall_seconds column");
-    lines
-        .iter()
-        .map(|l| {
-            l.split(',')
-                .enumerate()
-                .filter(|(i, _)| *i != wall)
-                .map(|(_, f)| f.to_string())
-                .collect()
-        })
-        .collect()
-}
-
 /// Run `args` unsharded, and as N = 3 shards in three processes at once, merge them
 /// in a fourth: the same CSV but for the wall times, the same row order, and a plot
 /// (the same bytes when `same_plot`: the shafts plot draws no wall time).
@@ -144,8 +123,8 @@ fn sharded_matches_unsharded(name: &str, args: &[&str], param: &str, same_plot: 
 
     let csv = format!("sweep_{param}.csv");
     let (a, b) = (
-        without_wall(&whole.join(&csv)),
-        without_wall(&merged.join(&csv)),
+        common::without_wall(&whole.join(&csv)),
+        common::without_wall(&merged.join(&csv)),
     );
     assert!(a.len() > 3, "{a:?}");
     assert_eq!(a, b, "merged CSV differs from the unsharded one");
@@ -347,7 +326,7 @@ fn more_shards_than_values_leave_some_empty_and_still_merge() {
     }
     let out = tmp("sparse-out");
     ok(merge(&out, &[&shards]), "merge");
-    let rows = without_wall(&out.join("sweep_shape_log2.csv"));
+    let rows = common::without_wall(&out.join("sweep_shape_log2.csv"));
     assert_eq!(rows.len(), 3);
     assert_eq!(rows[1][..2], ["shape_log2", "5"]);
     assert_eq!(rows[2][..2], ["shape_log2", "6"]);

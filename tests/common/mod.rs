@@ -142,3 +142,24 @@ impl AsRef<std::ffi::OsStr> for Scratch {
         self.0.as_os_str()
     }
 }
+
+/// The CSV's lines split into fields, the `wall_seconds` column dropped (the only one
+/// two runs of a sweep differ in).
+pub fn without_wall(csv: &std::path::Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(csv).unwrap_or_else(|e| panic!("{}: {e}", csv.display()));
+    let lines: Vec<&str> = text.lines().collect();
+    let wall = lines[0]
+        .split(',')
+        .position(|c| c == "wall_seconds")
+        .expect("a wall_seconds column");
+    lines
+        .iter()
+        .map(|l| {
+            l.split(',')
+                .enumerate()
+                .filter(|(i, _)| *i != wall)
+                .map(|(_, f)| f.to_string())
+                .collect()
+        })
+        .collect()
+}

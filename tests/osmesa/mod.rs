@@ -390,3 +390,15 @@ pub fn open_or_skip() -> Result<(Context, String), String> {
     }
     Ok((ctx, renderer))
 }
+
+/// [`open_or_skip`], or None after printing the SKIP note (an oracle child with no
+/// libOSMesa ends there, and its parent reports the skip).
+pub fn open_or_note_skip() -> Option<(Context, String)> {
+    match open_or_skip() {
+        Ok(c) => Some(c),
+        Err(why) => {
+            note(&format!("SKIP: {why}\n"));
+            None
+        }
+    }
+}
