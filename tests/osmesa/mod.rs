@@ -1,10 +1,11 @@
-//! A small OSMesa harness for the GL-oracle tests of the Mesa-matching rounding modes
-//! (tests/modulate_mesa.rs, tests/texture_sampler_mesa.rs), in the pattern of
-//! tests/texture_combiner_mesa.rs: libOSMesa is opened at run time (libloading), every
+//! A small OSMesa harness for the GL-oracle tests of the Mesa-matching modes
+//! (tests/modulate_mesa.rs, tests/texture_sampler_mesa.rs,
+//! tests/texture_combiner_mesa.rs): libOSMesa is opened at run time (libloading), every
 //! GL entry point comes from `OSMesaGetProcAddress`, an RGBA 8-bit 256 × 256 context
 //! draws one GL_POINT per pixel — each with its own colour and texture coordinates,
 //! constant over the point, so no interpolation touches an operand — and glReadPixels
-//! reads the result back.
+//! reads the result back. (The combiner test draws one quad instead, through its own
+//! three texture units: [`Context::textures`] holds three texture names.)
 //!
 //! No libOSMesa → `Ok(None)` from [`Context::open`], and the caller prints a SKIP note
 //! (never a silent pass). The library loads but a symbol, the context or a GL call
@@ -37,12 +38,30 @@ pub mod gl {
     pub const UNSIGNED_BYTE: GLenum = 0x1401;
     pub const TEXTURE_ENV: GLenum = 0x2300;
     pub const TEXTURE_ENV_MODE: GLenum = 0x2200;
+    pub const TEXTURE_ENV_COLOR: GLenum = 0x2201;
     pub const REPLACE: GLenum = 0x1E01;
     pub const MODULATE: GLenum = 0x2100;
+    pub const ADD: GLenum = 0x0104;
     pub const COMBINE: GLenum = 0x8570;
     pub const COMBINE_RGB: GLenum = 0x8571;
     pub const COMBINE_ALPHA: GLenum = 0x8572;
+    pub const RGB_SCALE: GLenum = 0x8573;
+    pub const ADD_SIGNED: GLenum = 0x8574;
+    pub const INTERPOLATE: GLenum = 0x8575;
+    pub const CONSTANT: GLenum = 0x8576;
     pub const PRIMARY_COLOR: GLenum = 0x8577;
+    pub const SUBTRACT: GLenum = 0x84E7;
+    pub const DOT3_RGB: GLenum = 0x86AE;
+    pub const DOT3_RGBA: GLenum = 0x86AF;
+    pub const OPERAND0_RGB: GLenum = 0x8590;
+    pub const OPERAND0_ALPHA: GLenum = 0x8598;
+    pub const SRC_COLOR: GLenum = 0x0300;
+    pub const ONE_MINUS_SRC_COLOR: GLenum = 0x0301;
+    pub const SRC_ALPHA: GLenum = 0x0302;
+    pub const ONE_MINUS_SRC_ALPHA: GLenum = 0x0303;
+    pub const ALPHA_SCALE: GLenum = 0x0D1C;
+    pub const FLAT: GLenum = 0x1D00;
+    pub const QUADS: GLenum = 0x0007;
     pub const PREVIOUS: GLenum = 0x8578;
     pub const TEXTURE: GLenum = 0x1702;
     pub const SOURCE0_RGB: GLenum = 0x8580;
@@ -85,6 +104,7 @@ gl_functions! {
     glMatrixMode: fn(GLenum);
     glLoadIdentity: fn();
     glOrtho: fn(f64, f64, f64, f64, f64, f64);
+    glShadeModel: fn(GLenum);
     glDisable: fn(GLenum);
     glEnable: fn(GLenum);
     glGenTextures: fn(c_int, *mut c_uint);
@@ -92,6 +112,7 @@ gl_functions! {
     glTexParameteri: fn(GLenum, GLenum, c_int);
     glTexImage2D: fn(GLenum, c_int, c_int, c_int, c_int, c_int, GLenum, GLenum, *const c_void);
     glTexEnvi: fn(GLenum, GLenum, c_int);
+    glTexEnvfv: fn(GLenum, GLenum, *const c_float);
     glActiveTexture: fn(GLenum);
     glMultiTexCoord2f: fn(GLenum, c_float, c_float);
     glColor4f: fn(c_float, c_float, c_float, c_float);
@@ -128,7 +149,7 @@ pub struct Context {
     ctx: *mut c_void,
     _framebuffer: Vec<u8>,
     _library: libloading::Library,
-    pub textures: [c_uint; 2],
+    pub textures: [c_uint; 3],
 }
 
 impl Drop for Context {
@@ -195,7 +216,7 @@ impl Context {
             ctx,
             _framebuffer: framebuffer,
             _library: library,
-            textures: [0; 2],
+            textures: [0; 3],
         };
         c.setup()?;
         Ok(Some(c))
@@ -243,7 +264,7 @@ impl Context {
             (g.glMatrixMode)(gl::MODELVIEW);
             (g.glLoadIdentity)();
             (g.glDisable)(gl::DITHER);
-            (g.glGenTextures)(2, self.textures.as_mut_ptr());
+            (g.glGenTextures)(3, self.textures.as_mut_ptr());
         }
         self.check("setup")
     }
