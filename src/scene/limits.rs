@@ -92,12 +92,10 @@ impl GlRounding {
     }
 
     /// The modulate chain of `bits`-bit exact stages with this chain rounding (errors
-    /// name `rounding.chain` / `rounding.bits`).
+    /// name `rounding.chain`, or `modulate.bits`: the width is the pipeline's).
     pub fn chain(&self, bits: u32) -> Result<ModulateChain, ConfigError> {
-        ModulateChain::new(bits, ModulateMode::Exact, self.chain).map_err(onto(&[
-            ("modulate.chain_rounding", "rounding.chain"),
-            ("modulate.bits", "rounding.bits"),
-        ]))
+        ModulateChain::new(bits, ModulateMode::Exact, self.chain)
+            .map_err(onto(&[("modulate.chain_rounding", "rounding.chain")]))
     }
 }
 
@@ -135,8 +133,12 @@ pub fn shafts_sampler(scene: &Scene, dims: u32, size: [u32; 3]) -> TextureSample
 /// LSB). Depth reaches the compare with 16 fraction bits (the interpolator's and the
 /// projective unit's outputs), and a 512² map over a 50° cone sees surfaces at grazing
 /// angles change by ~1/300 of the range per texel; less bias shows as acne.
+/// (Validation calls it before the unit has checked `bits`: past 40 bits the shift
+/// would overflow, so it saturates; the unit then refuses the width.)
 pub fn shadow_bias(bits: u32) -> u32 {
-    (1u32 << bits.saturating_sub(8)).max(1)
+    1u32.checked_shl(bits.saturating_sub(8))
+        .unwrap_or(u32::MAX)
+        .max(1)
 }
 
 /// A light's shadow map: `shafts.shadow_resolution`² at `shafts.shadow_depth_bits`.
