@@ -14,7 +14,7 @@ use glare_pipeline::scene::math::{v3, Vec3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::counters::Counters;
-use rtl_model::units::modulate::Modulate;
+use rtl_model::units::modulate::ModulateChain;
 
 /// A random direction of the open upper hemisphere (z ≥ 0.05).
 fn upper(rng: &mut ChaCha8Rng) -> Vec3 {
@@ -390,7 +390,7 @@ fn all_zero_brdf_renders_black() {
 /// that counts its clamps.
 #[test]
 fn combine_scales_and_counts_saturations() {
-    let m = Modulate::geforce();
+    let m = ModulateChain::geforce();
     let mut ctr = Counters::default();
     assert_eq!(combine(&[255, 255], 0, &m, &mut ctr), 255);
     assert_eq!(combine(&[128, 255], 1, &m, &mut ctr), 255);

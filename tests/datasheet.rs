@@ -83,7 +83,8 @@ fn a_missing_block_is_inserted_under_its_heading() {
     let end_marker = "<!-- /registry:modulate -->\n\n";
     let end = doc.find(end_marker).unwrap() + end_marker.len();
     let without = format!("{}{}", &doc[..start], &doc[end..]);
-    assert!(!without.contains("registry:modulate"));
+    // (`registry:modulate_chain` stays: only `modulate`'s own block is cut.)
+    assert!(!without.contains("registry:modulate -->"));
     assert_eq!(datasheet::refresh(&without, &s).unwrap(), doc);
 }
 

@@ -85,6 +85,7 @@ fn scene(
         objects,
         shafts: ShaftsConfig::default(),
         glare: None,
+        rounding: None,
         environment: None,
     }
 }

@@ -50,6 +50,24 @@ impl ConfigError {
         }
     }
 
+    /// The same error naming `field` instead (a unit's error mapped onto the scene
+    /// field that configured it).
+    pub fn renamed(self, field: &str) -> Self {
+        let field = field.to_string();
+        match self {
+            ConfigError::OutOfRange {
+                value, min, max, ..
+            } => ConfigError::OutOfRange {
+                field,
+                value,
+                min,
+                max,
+            },
+            ConfigError::NotFinite { value, .. } => ConfigError::NotFinite { field, value },
+            ConfigError::Invalid { reason, .. } => ConfigError::Invalid { field, reason },
+        }
+    }
+
     /// The same error with `prefix.` put before the field (for nested configs).
     pub fn within(self, prefix: &str) -> Self {
         let join = |f: String| format!("{prefix}.{f}");

@@ -15,6 +15,7 @@ pub mod glare_model;
 pub mod halo_modulator;
 pub mod luminance_ram;
 pub mod modulate;
+pub mod modulate_chain;
 pub mod phong_truth;
 pub mod polygon_interpolator;
 pub mod polygon_variable_generator;

@@ -11,14 +11,5 @@ pub fn modulate_codes(a: u32, b: u32, bits: u32) -> f64 {
     modulate(a as f64 / max, b as f64 / max) * max
 }
 
-/// A chain of MODULATE stages: the real product of its values (1 for none).
-pub fn modulate_chain(values: &[f64]) -> f64 {
-    values.iter().product()
-}
-
-/// The exact product of n-bit unorm codes, in output LSBs: Π (cₖ / (2ⁿ−1)) · (2ⁿ−1).
-pub fn modulate_chain_codes(codes: &[u32], bits: u32) -> f64 {
-    let max = ((1u64 << bits) - 1) as f64;
-    let values: Vec<f64> = codes.iter().map(|&c| c as f64 / max).collect();
-    modulate_chain(&values) * max
-}
+// The chain's twin lives with its unit's name (`reference::modulate_chain`).
+pub use super::modulate_chain::{modulate_chain, modulate_chain_codes};

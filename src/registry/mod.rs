@@ -22,6 +22,7 @@ mod glare_condition;
 mod halo_modulator;
 mod luminance_ram;
 mod modulate;
+mod modulate_chain;
 mod polygon_interpolator;
 mod polygon_variable_generator;
 mod projective_texcoord;
@@ -64,6 +65,7 @@ pub struct UnitEntry {
 /// `registry/<unit>.rs` (docs/ARCHITECTURE.md § Adding a unit).
 pub const UNITS: &[UnitEntry] = &[
     modulate::ENTRY,
+    modulate_chain::ENTRY,
     additive_blend::ENTRY,
     texture_sampler::ENTRY,
     polygon_interpolator::ENTRY,

@@ -159,6 +159,7 @@ pub fn fig4() -> Scene {
             ..ShaftsConfig::default()
         },
         glare: None,
+        rounding: None,
         environment: None,
     }
 }
@@ -198,6 +199,7 @@ pub fn fig6() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: None,
+        rounding: None,
         environment: None,
     }
 }
@@ -297,6 +299,7 @@ pub fn stage() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: None,
+        rounding: None,
         environment: None,
     }
 }

@@ -63,6 +63,7 @@ fn environment_scene(map: &str, object: EnvObject, lambda: EnvLambda) -> Scene {
         objects: vec![],
         shafts: ShaftsConfig::default(),
         glare: None,
+        rounding: None,
         environment: Some(EnvironmentSection {
             map: Some(map.to_string()),
             object: Some(object),

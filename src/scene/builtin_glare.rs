@@ -72,6 +72,7 @@ fn glare_scene(name: &str, seed: u64, camera: Camera, glare: GlareSection) -> Sc
         objects: vec![],
         shafts: ShaftsConfig::default(),
         glare: Some(glare),
+        rounding: None,
         environment: None,
     }
 }
@@ -194,6 +195,7 @@ pub fn street_light() -> Scene {
         ],
         shafts: ShaftsConfig::default(),
         glare: Some(g),
+        rounding: None,
         environment: None,
     }
 }

@@ -187,6 +187,7 @@ pub fn night_street() -> Scene {
         glare: Some(glare),
         // The street's surroundings as the chrome ball reflects them: Venice at dusk
         // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
+        rounding: None,
         environment: Some(EnvironmentSection {
             map: Some("venice_sunset".into()),
             exposure: Some(NIGHT_EXPOSURE),

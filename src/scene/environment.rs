@@ -29,9 +29,10 @@ use super::validate::{closed, interval};
 
 /// Default voxel map side s (the thesis': 128³).
 pub const DEFAULT_SIDE: u32 = 128;
-/// Smallest and largest voxel map side (the voxel map's own limit is 512).
+/// Smallest and largest voxel map side: the render's 3D texture sampler holds s³ texels,
+/// at most its `MAX_TEXELS` (2²⁴), so s ≤ 256 ([`super::limits::ENV_MAX_SIDE`]).
 pub const MIN_SIDE: u32 = 2;
-pub const MAX_SIDE: u32 = 512;
+pub const MAX_SIDE: u32 = super::limits::ENV_MAX_SIDE;
 /// The thesis' accelerated-prefilter threshold th (Table 5, the figures).
 pub const THESIS_THRESHOLD: f64 = 0.001;
 /// The accelerated prefilter builds a 4-level pyramid of the map: its width and height
@@ -351,6 +352,7 @@ impl EnvironmentSection {
                 ),
             )));
         }
+        super::limits::check_env_side(self.side).map_err(f)?;
         if let EnvLambda::Uniform(l) = self.lambda {
             closed("lambda", l, 0.0, 1.0).map_err(f)?;
         }

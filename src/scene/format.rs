@@ -35,6 +35,10 @@ pub struct Scene {
     /// environment.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<super::environment::EnvironmentSection>,
+    /// Where GL leaves rounding to the implementation, the units' choice (chain,
+    /// filter, weight); none = the GeForce-style defaults (docs/shading.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rounding: Option<super::limits::GlRounding>,
 }
 
 fn default_seed() -> u64 {

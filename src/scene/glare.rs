@@ -416,14 +416,9 @@ impl GlareSection {
         }
         validate_model(&self.model).map_err(|e| e.within("model"))?;
         let hw = &self.hw;
-        check_range("hw.shape_log2", hw.shape_log2.into(), 1, 10)?;
-        check_range("hw.shape_bits", hw.shape_bits.into(), 1, 16)?;
-        check_range("hw.falloff_log2", hw.falloff_log2.into(), 1, 12)?;
-        check_range("hw.falloff_bits", hw.falloff_bits.into(), 1, 20)?;
-        check_range("hw.weight_bits", hw.weight_bits.into(), 1, 12)?;
-        check_range("hw.coord_frac_bits", hw.coord_frac_bits.into(), 2, 16)?;
-        check_range("hw.noise_bits", hw.noise_bits.into(), 8, 32)?;
-        check_range("hw.fb_bits", hw.fb_bits.into(), 1, 16)?;
+        // The widths go into the units' configs: checked by building those
+        // (their own ranges, errors mapped onto `hw.<field>`).
+        super::limits::check_glare(hw)?;
         interval("hw.clock_mhz", hw.clock_mhz, 0.0, false, 1e5, true)?;
         check_range("hw.pipes", hw.pipes.into(), 1, 256)?;
         check_range("frame", self.frame.into(), 0, 10_000_000)

@@ -12,6 +12,7 @@ pub mod format;
 pub mod geometry;
 pub mod glare;
 pub mod lightmap;
+pub mod limits;
 pub mod load;
 pub mod material;
 pub mod math;

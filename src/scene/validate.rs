@@ -28,10 +28,22 @@ use toml::Spanned;
 use super::format::{Camera, Light, LightKind, LightMap, Object, Scene, ShaftsConfig, Shape};
 use super::math::{v3, Vec3};
 
-/// Largest image side, pixels: the shadow-compare unit's largest map side (the camera
-/// depth buffer is a shadow-compare RAM at the image's size), read from the unit so
-/// that validation and the unit cannot drift.
-pub const IMAGE_MAX: u32 = rtl_model::units::shadow_compare::MAX_MAP_SIDE;
+/// Largest image side, pixels, read from the units so that validation and the units
+/// cannot drift: the shadow-compare unit's largest map side (the camera depth buffer
+/// is a shadow-compare RAM at the image's size) and the largest whole pixel the
+/// polygon interpolator's default vertex positions reach (a sample plane's corner
+/// vertex lies at (width, height); 13 integer bits reach 4095.94). Validation also
+/// builds both units at the image's size ([`super::limits::check_image`]).
+pub const IMAGE_MAX: u32 = {
+    use rtl_model::units::polygon_interpolator::DEFAULT_COORD_INT_BITS;
+    use rtl_model::units::shadow_compare::MAX_MAP_SIDE;
+    let vertex = (1u32 << (DEFAULT_COORD_INT_BITS - 1)) - 1;
+    if MAX_MAP_SIDE < vertex {
+        MAX_MAP_SIDE
+    } else {
+        vertex
+    }
+};
 /// Largest scene file read, bytes (a scene is text: the biggest built-in is a few
 /// kilobytes; this leaves room for thousands of objects).
 pub const SCENE_FILE_MAX_BYTES: u64 = 16 << 20;
@@ -64,6 +76,7 @@ impl Scene {
             1,
             IMAGE_MAX.into(),
         )?;
+        super::limits::check_image(self.image)?;
         validate_camera(&self.camera)?;
         closed("medium.rho", self.medium.rho, 0.0, MEDIUM_MAX)?;
         closed("medium.kappa", self.medium.kappa, 0.0, MEDIUM_MAX)?;
@@ -75,6 +88,7 @@ impl Scene {
             validate_object(o).map_err(|e| e.within(&format!("objects[{i}]")))?;
         }
         validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))?;
+        super::limits::check_shafts(self)?;
         if let Some(env) = &self.environment {
             env.validate()?;
             for (i, r) in env.reflectors.iter().enumerate() {
@@ -343,19 +357,17 @@ fn validate_shafts(s: &ShaftsConfig) -> Result<(), ConfigError> {
     for (k, &m) in s.mesh.iter().enumerate() {
         check_range(&format!("mesh[{k}]"), m.into(), 1, 256)?;
     }
-    check_range("f_texels", s.f_texels.into(), 2, 4096)?;
+    // Table sizes: at least 2 texels (the tables' own rule: a lerp needs two ends), at
+    // most the sampler's axis (its own constant). The widths, the texel product and the
+    // shadow map are checked by building the units ([`super::limits::check_shafts`]).
+    let max_side = rtl_model::units::texture_sampler::MAX_SIZE.into();
+    check_range("f_texels", s.f_texels.into(), 2, max_side)?;
     for (k, &h) in s.h_texels.iter().enumerate() {
-        check_range(&format!("h_texels[{k}]"), h.into(), 2, 4096)?;
+        check_range(&format!("h_texels[{k}]"), h.into(), 2, max_side)?;
     }
     closed("s_max", s.s_max, 0.0, WORLD_MAX)?;
     closed("t_max", s.t_max, 0.0, WORLD_MAX)?;
-    check_range("texel_bits", s.texel_bits.into(), 1, 16)?;
-    check_range("fb_bits", s.fb_bits.into(), 1, 16)?;
-    check_range("weight_bits", s.weight_bits.into(), 1, 16)?;
-    check_range("coord_frac_bits", s.coord_frac_bits.into(), 0, 16)?;
-    check_range("shadow_resolution", s.shadow_resolution.into(), 1, 4096)?;
-    check_range("shadow_depth_bits", s.shadow_depth_bits.into(), 1, 32)?;
-    check_range("light_map_texels", s.light_map_texels.into(), 2, 4096)?;
+    check_range("light_map_texels", s.light_map_texels.into(), 2, max_side)?;
     if !s.light_map_texels.is_power_of_two() {
         return Err(ConfigError::invalid(
             "light_map_texels",

@@ -12,6 +12,7 @@ pub mod glare_condition;
 pub mod halo_modulator;
 pub mod luminance_ram;
 pub mod modulate;
+pub mod modulate_chain;
 pub mod polygon_interpolator;
 pub mod polygon_variable_generator;
 pub mod projective_texcoord;

@@ -6,7 +6,8 @@
 //! The alternates are real width/gate trade-offs and are kept selectable.
 //!
 //! A chain of MODULATE stages (GL multitexture: PREVIOUS · TEXTUREk per texture unit,
-//! e.g. primary colour × texture 0 × texture 1) is a [`ModulateChain`]; where the
+//! e.g. primary colour × texture 0 × texture 1) is the `modulate_chain` unit
+//! ([`ModulateChain`], re-exported here); where the
 //! value between two stages is rounded is left to the implementation by GL, and
 //! [`ChainRounding`] names the two choices: `per_stage` (default) rounds every stage to
 //! u(n) as the `modulate` datapath does — a GeForce register holds an 8-bit value
@@ -18,9 +19,10 @@ use crate::cost::{prim, Cost};
 use crate::counters::Counters;
 use crate::error::ConfigError;
 use crate::unit::{Signal, Timing, Unit, Width};
-use crate::units::texture_combiner::binary32;
 use crate::unorm::{check_bits, max_code};
 use serde::{Deserialize, Serialize};
+
+pub use super::modulate_chain::{ChainRounding, ModulateChain};
 
 /// How the n-bit product is brought back to n bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -99,105 +101,6 @@ impl Modulate {
                 // floor(x / (2ⁿ−1)) for x ≤ (2ⁿ−1)²: (x + 1 + (x >> n)) >> n.
                 let x = a * b; // u(2n)
                 ((x + 1 + (x >> n)) >> n) as u32
-            }
-        }
-    }
-}
-
-/// How a [`ModulateChain`] carries its value from one stage to the next.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
-#[serde(rename_all = "snake_case")]
-pub enum ChainRounding {
-    /// Every stage is the `modulate` datapath: its u(n) result feeds the next stage
-    /// (default; an 8-bit register between texture stages, as on a GeForce).
-    #[default]
-    PerStage,
-    /// Mesa 22.3's evaluation (llvmpipe and softpipe): each operand becomes the
-    /// binary32 fl(c · fl(1/N)), the stages multiply in binary32 left to right
-    /// (round to nearest even), and one conversion to u(n) ends the chain: the low n
-    /// mantissa bits of fl(fl(v · (1 − 2⁻ⁿ)) + 2²³⁻ⁿ). Within 10⁻⁴ LSB of the exact
-    /// product the float error decides the code, so an exact-integer single rounding
-    /// would not be Mesa's. Only `ModulateMode::Exact` can be fused. At n ≠ 8 this is
-    /// the same rule with n-bit unorms, an extrapolation (only 8 bits is checked).
-    Fused,
-}
-
-impl ChainRounding {
-    pub const ALL: [ChainRounding; 2] = [ChainRounding::PerStage, ChainRounding::Fused];
-}
-
-/// A chain of MODULATE stages on n-bit unorms: out = Π operands, left to right.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct ModulateChain {
-    modulate: Modulate,
-    rounding: ChainRounding,
-}
-
-impl ModulateChain {
-    /// `bits` in 1 ..= 16 (error names `modulate.bits`); `Fused` only with
-    /// `ModulateMode::Exact` (error names `modulate.chain_rounding`).
-    pub fn new(
-        bits: u32,
-        mode: ModulateMode,
-        rounding: ChainRounding,
-    ) -> Result<Self, ConfigError> {
-        let modulate = Modulate::new(bits, mode)?;
-        if rounding == ChainRounding::Fused && mode != ModulateMode::Exact {
-            return Err(ConfigError::invalid(
-                "modulate.chain_rounding",
-                &format!(
-                    "fused rounding is Mesa's float datapath; it has no {mode:?} mode (use exact)"
-                ),
-            ));
-        }
-        Ok(ModulateChain { modulate, rounding })
-    }
-
-    /// The GeForce default: 8-bit exact stages, per-stage rounding.
-    pub fn geforce() -> Self {
-        ModulateChain {
-            modulate: Modulate::geforce(),
-            rounding: ChainRounding::PerStage,
-        }
-    }
-
-    pub fn modulate(&self) -> &Modulate {
-        &self.modulate
-    }
-
-    pub fn rounding(&self) -> ChainRounding {
-        self.rounding
-    }
-
-    /// Π operands (each masked to n wires) through the chain; an empty chain is the
-    /// top code (1.0), a one-operand chain the operand.
-    pub fn apply(&self, operands: &[u32]) -> u32 {
-        let n = self.modulate.bits;
-        let max = max_code(n);
-        let Some((&first, rest)) = operands.split_first() else {
-            return max;
-        };
-        match self.rounding {
-            ChainRounding::PerStage => rest
-                .iter()
-                .fold(first & max, |acc, &op| self.modulate.apply(acc, op)), // u(n) per stage
-            ChainRounding::Fused => {
-                if rest.is_empty() {
-                    return first & max;
-                }
-                // binary32 throughout: a product of values in [0, 1] stays in [0, 1].
-                // A value below 2⁻⁹⁷ converts to 0 whatever follows (every factor is
-                // ≤ 1), so it is flushed there, keeping binary32 clear of subnormals.
-                let v = rest
-                    .iter()
-                    .fold(binary32::from_unorm(first & max, n), |acc, &op| {
-                        if acc >> 23 < 30 {
-                            0
-                        } else {
-                            binary32::mul(acc, binary32::from_unorm(op & max, n))
-                        }
-                    });
-                binary32::to_unorm(v, n)
             }
         }
     }

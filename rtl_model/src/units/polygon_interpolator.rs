@@ -44,6 +44,8 @@ pub const MAX_ATTRS: usize = 16;
 pub const EDGES: usize = 4;
 /// Widest attribute format (keeps every setup product within the i128 carrier).
 pub const MAX_ATTR_BITS: u32 = 32;
+/// Default integer bits of vertex positions (13: −4096 ..= 4095 px and sub-pixels).
+pub const DEFAULT_COORD_INT_BITS: u32 = 13;
 
 const NAME: &str = "polygon_interpolator";
 const ATTR_SIGNALS: [&str; MAX_ATTRS] = [
@@ -85,7 +87,7 @@ impl Default for PolygonInterpolatorConfig {
         PolygonInterpolatorConfig {
             attrs: 4,
             subpixel_bits: 4,
-            coord_int_bits: 13,
+            coord_int_bits: DEFAULT_COORD_INT_BITS,
             attr_fmt: Format {
                 int_bits: 16,
                 frac_bits: 16,

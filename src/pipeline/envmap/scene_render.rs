@@ -37,8 +37,10 @@ use crate::scene::environment::{
 use crate::scene::envmap::EnvMap;
 use crate::scene::format::Scene;
 
-// The scene's limits are the pipeline's (the scene module imports no pipeline).
-const _: () = assert!(MAX_SIDE == super::voxmap::MAX_SIDE);
+// The scene's limits are within the pipeline's (the scene module imports no
+// pipeline): the scene's side is bounded by the 3D texture sampler (256), the voxel
+// map alone would take 512.
+const _: () = assert!(MAX_SIDE <= super::voxmap::MAX_SIDE);
 const _: () = assert!(PYRAMID_DIVISOR == 1 << (THESIS_PYRAMID_LEVELS - 1));
 
 /// How the voxel map was built.

@@ -20,7 +20,6 @@ use crate::scene::glare::GlareSection;
 use rtl_model::driver::{run_span, SpanTally};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoiseConfig};
-use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::halo_modulator::HaloModulatorConfig;
 use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
 use rtl_model::units::polygon_variable_generator::{PrimKind, PvgIn};
@@ -169,11 +168,7 @@ pub fn render_glare_over(
     // Flare lines: two normals per line from the noise generator, decoded.
     let mut lines: Vec<Vec<FlareLine>> = vec![Vec::new(); sources.len()];
     let noise = if any_flare {
-        let n = GaussianNoiseConfig {
-            uniform_bits: g.hw.noise_bits,
-            ..GaussianNoiseConfig::geforce()
-        }
-        .build()?;
+        let n = crate::scene::limits::glare_noise(&g.hw).build()?;
         let scale = (1u64 << n.config().out_frac_bits) as f64;
         let mut state = GaussState::from_seed(scene.seed);
         let mut c = Counters::default();
@@ -195,11 +190,7 @@ pub fn render_glare_over(
 
     let pvg = generator()?;
     let ip = interpolator(g.hw.coord_frac_bits)?;
-    let comb = GlareCombinerConfig {
-        fb_bits: g.hw.fb_bits,
-        lum_bits: lw.out_bits,
-    }
-    .build()?;
+    let comb = crate::scene::limits::glare_combiner(&g.hw).build()?;
     let diag = ((w as f64).powi(2) + (h as f64).powi(2)).sqrt();
     // The flare lines' walks and modulation (their fragments kept, a few per cent of
     // the frame's) run beside the area primitives' (rayon::join: two threads when

@@ -9,7 +9,7 @@ use crate::scene::glare::GlareSection;
 use rtl_model::driver::{run_span, SpanTally};
 use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
-use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths, Radial};
+use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
 use rtl_model::units::polygon_interpolator::{
     Move, PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
 };
@@ -23,24 +23,10 @@ pub(crate) fn add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters)
     *map.entry(name.to_string()).or_default() += c;
 }
 
-/// The modulators' widths from the scene.
+/// The modulators' widths from the scene (built where validation builds them:
+/// `scene::limits`).
 pub fn lum_widths(g: &GlareSection) -> LumWidths {
-    LumWidths {
-        coord_frac_bits: g.hw.coord_frac_bits,
-        shape_log2: g.hw.shape_log2,
-        shape_bits: g.hw.shape_bits,
-        falloff_log2: g.hw.falloff_log2,
-        falloff_bits: g.hw.falloff_bits,
-        weight_bits: g.hw.weight_bits,
-        radial: Radial {
-            on: g.hw.radial,
-            entry_int_bits: Radial::default()
-                .entry_int_bits
-                .min(g.hw.shape_bits.saturating_sub(1)),
-            ..Radial::default()
-        },
-        ..LumWidths::default()
-    }
+    crate::scene::limits::lum_widths(&g.hw)
 }
 
 /// The glare interpolator: two attributes (u, v), s2.14 in, s2.f out.

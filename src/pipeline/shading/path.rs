@@ -24,6 +24,7 @@ use super::factor::{homomorphic, svd, FactorMethod, FactorRenderer, FactorTarget
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig, NormalizeCubeCounters};
 use crate::reference::brdf::{Brdf, ShadingFrame};
 use crate::report::elaboration::Elaborated;
+use crate::scene::limits::GlRounding;
 use crate::scene::math::Vec3;
 use rtl_model::units::modulate::Modulate;
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupConfig};
@@ -77,6 +78,9 @@ pub struct PathConfig {
     pub factor_method: FactorMethod,
     /// E: the light's irradiance at normal incidence (level = 255·R·cos θ_i·E).
     pub irradiance: f64,
+    /// The factored lobes' chain and filter rounding (the scene's `[rounding]`;
+    /// default the GeForce-style per-stage chain and product-weight filter).
+    pub rounding: GlRounding,
 }
 
 impl Default for PathConfig {
@@ -91,6 +95,7 @@ impl Default for PathConfig {
             factor_bits: 8,
             factor_method: FactorMethod::Svd,
             irradiance: std::f64::consts::PI,
+            rounding: GlRounding::default(),
         }
     }
 }
@@ -261,7 +266,12 @@ impl ShadingPath {
                     .map(|(f, _)| f),
                 }
                 .map_err(|e| e.within("shading.factor"))?;
-                SpecularPath::Factored(FactorRenderer::new(&fact, cfg.factor_bits, e)?)
+                SpecularPath::Factored(FactorRenderer::with_rounding(
+                    &fact,
+                    cfg.factor_bits,
+                    e,
+                    cfg.rounding,
+                )?)
             }
         };
         let diffuse = match albedo {

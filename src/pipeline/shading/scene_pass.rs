@@ -76,7 +76,10 @@ pub fn shade_objects(
         .get(light)
         .map(|l| vec3(l.position))
         .ok_or_else(|| ConfigError::invalid("glare.shaded_highlights.light", "no such light"))?;
-    let cfg = PathConfig::default();
+    let cfg = PathConfig {
+        rounding: crate::scene::limits::GlRounding::of(scene),
+        ..PathConfig::default()
+    };
     let paths: Vec<ShadingPath> = scene
         .objects
         .iter()

@@ -18,14 +18,13 @@ use super::view::{vec3, CameraView, LightView};
 use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
+use crate::scene::limits;
 use crate::scene::math::Vec3;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
-use rtl_model::units::polygon_interpolator::{
-    PolyOut, PolygonInterpolator, PolygonInterpolatorConfig, MAX_ATTRS,
-};
+use rtl_model::units::polygon_interpolator::{PolyOut, PolygonInterpolator, MAX_ATTRS};
 use rtl_model::units::projective_texcoord::{ProjectiveTexcoord, ProjectiveTexcoordConfig};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
@@ -36,10 +35,11 @@ use std::collections::BTreeMap;
 /// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
 /// fragment list each). Fixed, so the work split never depends on the thread count.
 pub(super) const SUBPLANE_BATCH: usize = 4;
-/// Camera depth buffer width.
-pub const ZBUF_BITS: u32 = 24;
+/// Camera depth buffer width (defined with the scene's limits: validation builds the
+/// depth buffer from it).
+pub use crate::scene::limits::ZBUF_BITS;
 /// Fraction bits of the interpolator's outputs (s16.16, the projective inputs).
-pub(super) const ATTR_FRAC: u32 = 16;
+pub(super) const ATTR_FRAC: u32 = crate::scene::limits::SHAFTS_ATTR_FRAC;
 
 /// A tessellated object as the host hands it to the pipeline.
 #[derive(Clone, Debug)]
@@ -279,21 +279,10 @@ impl<'a> ShaftsFrame<'a> {
             &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
         );
 
-        let interp = PolygonInterpolatorConfig {
-            attrs: 8,
-            out_int_bits: 16,
-            out_frac_bits: ATTR_FRAC,
-            ..PolygonInterpolatorConfig::default()
-        }
-        .build()?;
-        let sampler_cfg = |dims: u32, size: [u32; 3]| TextureSamplerConfig {
-            dims,
-            size,
-            texel_bits: tex_bits,
-            coord_frac_bits: cfg.coord_frac_bits,
-            weight_bits: cfg.weight_bits,
-            ..TextureSamplerConfig::geforce()
-        };
+        // The unit configs come from the scene's limits module, which validation
+        // builds too (one source of limits).
+        let interp = limits::shafts_interpolator().build()?;
+        let sampler_cfg = |dims: u32, size: [u32; 3]| limits::shafts_sampler(sc, dims, size);
         let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
             .map_err(|e| e.within("shafts.f_texels"))?;
         let h_tex = TextureSampler::new(
@@ -322,31 +311,16 @@ impl<'a> ShaftsFrame<'a> {
             }
             .build()?,
             zbuf: if has_objects {
-                Some(
-                    ShadowCompareConfig {
-                        width: w,
-                        height: h,
-                        depth_bits: ZBUF_BITS,
-                        bias: 0,
-                        frag_frac_bits: 0,
-                    }
-                    .build()?,
-                )
+                Some(limits::depth_buffer(sc.image).build()?)
             } else {
                 None
             },
             shadow: if has_occluders {
-                Some(
-                    ShadowCompareConfig {
-                        width: cfg.shadow_resolution,
-                        height: cfg.shadow_resolution,
-                        depth_bits: cfg.shadow_depth_bits,
-                        bias: shadow_bias(cfg.shadow_depth_bits),
-                        frag_frac_bits: 0,
-                    }
-                    .build()
-                    .map_err(|e| e.within("shafts"))?,
-                )
+                Some(limits::shafts_shadow(&cfg).build().map_err(limits::onto(&[
+                    ("shadow_compare.width", "shafts.shadow_resolution"),
+                    ("shadow_compare.height", "shafts.shadow_resolution"),
+                    ("shadow_compare.depth_bits", "shafts.shadow_depth_bits"),
+                ]))?)
             } else {
                 None
             },
@@ -611,14 +585,6 @@ impl PassStats {
             depth_tests: 0,
         }
     }
-}
-
-/// Depth bias for a shadow map of `bits`: 2⁻⁸ of the window-depth range (at least 1
-/// LSB). Depth reaches the compare with 16 fraction bits (the interpolator's and the
-/// projective unit's outputs), and a 512² map over a 50° cone sees surfaces at grazing
-/// angles change by ~1/300 of the range per texel; less bias shows as acne.
-fn shadow_bias(bits: u32) -> u32 {
-    (1u32 << bits.saturating_sub(8)).max(1)
 }
 
 /// The light's far distance for the shadow map: beyond everything the planes reach.

@@ -36,6 +36,15 @@ pub fn prepare_scene(
     exposure: f64,
 ) -> Result<(Prepared, SceneGeometry), ConfigError> {
     scene.validate()?;
+    prepare_scene_unchecked(scene, exposure)
+}
+
+/// [`prepare_scene`] without validating first: for tests that compare what validation
+/// accepts with what the units accept (tests/limits.rs). Never for user input.
+pub fn prepare_scene_unchecked(
+    scene: &Scene,
+    exposure: f64,
+) -> Result<(Prepared, SceneGeometry), ConfigError> {
     let geom = scene_geometry(scene)?;
     let mut objects = Vec::with_capacity(scene.objects.len());
     for (i, o) in scene.objects.iter().enumerate() {

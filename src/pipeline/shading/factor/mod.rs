@@ -32,10 +32,11 @@ pub mod svd;
 use super::sphere::SphereView;
 use crate::reference::brdf::Brdf;
 use crate::report::metrics::{error_stats_masked, ErrorStats};
+use crate::scene::limits::GlRounding;
 use crate::scene::math::{v3, Vec3};
 use rtl_model::counters::Counters;
 use rtl_model::error::ConfigError;
-use rtl_model::units::modulate::{Modulate, ModulateMode};
+use rtl_model::units::modulate::{Modulate, ModulateChain, ModulateMode};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 
 /// What the factors approximate.
@@ -305,19 +306,24 @@ pub fn widen_code(code: u32, from_bits: u32, to_bits: u32) -> u32 {
 }
 
 /// The combine step, isolated so a `texture_combiner` chain can replace it: the
-/// operands (texture samples and the constant colour, all `modulate.bits()` wide) are
-/// multiplied left to right by the `modulate` unit, then the output scale 2^shift is a
+/// operands (texture samples and the constant colour, all `chain.modulate().bits()`
+/// wide) are multiplied left to right by the modulate chain (per-stage rounding: the
+/// `modulate` unit at every stage; fused: Mesa's llvmpipe, one rounding at the end;
+/// an empty list is 0), then the output scale 2^shift is a
 /// left shift saturating at the top code (each clamp counts one `saturations`).
 /// GL's combiner scale offers ×1, ×2, ×4 per stage, so a shift > 2 stands for the
 /// scales of several stages.
-pub fn combine(operands: &[u32], shift: u32, modulate: &Modulate, ctr: &mut Counters) -> u32 {
-    let max = (1u64 << modulate.bits()) - 1;
-    let mut acc = operands.first().copied().unwrap_or(0) as u64;
-    for &op in operands.iter().skip(1) {
-        acc = modulate.apply(acc as u32, op) as u64; // u(n) × u(n) → u(n)
-    }
+pub fn combine(operands: &[u32], shift: u32, chain: &ModulateChain, ctr: &mut Counters) -> u32 {
+    let bits = chain.modulate().bits();
+    let max = (1u64 << bits) - 1;
+    // Π operands through the chain: u(n) × … × u(n) → u(n) (rounded per stage, or once).
+    let acc = if operands.is_empty() {
+        0
+    } else {
+        chain.apply(operands) as u64
+    };
     // u(n) << shift → u(n + shift), shift ≤ 63 − n keeps it in a u64.
-    let shifted = if shift as u64 >= 64 - modulate.bits() as u64 {
+    let shifted = if shift as u64 >= 64 - bits as u64 {
         if acc == 0 {
             0
         } else {
@@ -385,6 +391,9 @@ pub struct FactorRenderer {
     /// Each factor's scale: the f64 value of its top code.
     scales: Vec<f64>,
     modulate: Modulate,
+    /// The factors × constant colour chain: `modulate`'s stages, rounded per stage
+    /// (default) or fused (Mesa's llvmpipe).
+    chain: ModulateChain,
     texel_bits: u32,
     /// The combiner width n = max(8, texel_bits).
     combiner_bits: u32,
@@ -403,8 +412,20 @@ impl FactorRenderer {
         texel_bits: u32,
         irradiance: f64,
     ) -> Result<Self, ConfigError> {
+        Self::with_rounding(fact, texel_bits, irradiance, GlRounding::default())
+    }
+
+    /// [`Self::new`] with a choice of chain rounding (the modulate chain) and filter
+    /// and weight rounding (the factor samplers): the scene's `[rounding]`.
+    pub fn with_rounding(
+        fact: &Factorisation,
+        texel_bits: u32,
+        irradiance: f64,
+        rounding: GlRounding,
+    ) -> Result<Self, ConfigError> {
         let combiner_bits = texel_bits.max(8);
         let modulate = Modulate::new(combiner_bits, ModulateMode::Exact)?;
+        let chain = rounding.chain(combiner_bits)?;
         let mut total = if irradiance.is_finite() {
             irradiance.max(0.0)
         } else {
@@ -416,10 +437,10 @@ impl FactorRenderer {
             let q = QuantisedFactor::new(f, texel_bits);
             total *= q.max;
             scales.push(q.max);
-            let cfg = TextureSamplerConfig {
+            let cfg = rounding.sampler(TextureSamplerConfig {
                 texel_bits,
                 ..TextureSamplerConfig::geforce_2d(f.size, f.size)
-            };
+            });
             let sampler = TextureSampler::new(cfg, &q.codes)?;
             let normalised = FactorTexture {
                 projection: f.projection,
@@ -445,6 +466,7 @@ impl FactorRenderer {
             samplers,
             scales,
             modulate,
+            chain,
             texel_bits,
             combiner_bits,
             shift,
@@ -515,8 +537,8 @@ impl FactorRenderer {
             ops.push(widen_code(texel, self.texel_bits, n)); // u(b) → u(n)
         }
         ops.push(unorm_code(self.constant(wi, wo), n));
-        let y = combine(&ops, self.shift, &self.modulate, ctr) as u64; // u(n)
-                                                                       // u(n) → 8-bit level, rounded: (y · 255 · 2 + max) / (2 · max).
+        let y = combine(&ops, self.shift, &self.chain, ctr) as u64; // u(n)
+                                                                    // u(n) → 8-bit level, rounded: (y · 255 · 2 + max) / (2 · max).
         let max = (1u64 << n) - 1;
         Ok(((y * 255 * 2 + max) / (2 * max)) as u32)
     }
