@@ -13,6 +13,7 @@ use super::frame::{counters_add, Units};
 use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment;
 use rtl_model::driver::SpanTally;
+use rtl_model::units::additive_blend::AdditiveBlend;
 use rtl_model::units::polygon_interpolator::PolyOut;
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveOut, ProjectiveTexcoord};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
@@ -60,6 +61,20 @@ impl UnitSpan {
             unit.kernel_batch(&mut s, inputs, out, &mut self.ctr);
         }
         self.tally.add(inputs.len());
+    }
+
+    /// A single-channel weighted blend in lanes ([`AdditiveBlend::blend_lanes`]):
+    /// `dst` blended in place, counted as the batch kernel counts those inputs.
+    #[inline]
+    pub fn feed_blend_lanes(
+        &mut self,
+        unit: &AdditiveBlend,
+        src: &[u32],
+        dst: &mut [u32],
+        weight: u32,
+    ) {
+        unit.blend_lanes(src, dst, weight, &mut self.ctr);
+        self.tally.add(src.len());
     }
 
     /// The same span continued elsewhere (a part done on another thread).

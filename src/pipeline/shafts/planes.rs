@@ -265,19 +265,17 @@ fn blend_j(
 ) -> UnitSpan {
     let band = J_BAND_ROWS * w as usize;
     let rows_in_order = pix.windows(2).all(|p| p[0] / w <= p[1] / w);
+    // In lanes: the J values at the chunk's pixels gathered, blended in place
+    // (`blend_lanes`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]), scattered.
     let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
         let mut span = UnitSpan::default();
-        let (mut ins, mut outs) = (Vec::new(), Vec::new());
+        let mut lanes = Vec::with_capacity(BLEND_CHUNK.min(pix.len()));
         for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
-            ins.clear();
-            ins.extend(pc.iter().zip(hc).map(|(&px, &v)| AdditiveBlendIn {
-                src: [v, 0, 0, 0],
-                dst: [jb[px as usize - base], 0, 0, 0],
-                weight,
-            }));
-            span.feed(u, &mut (), &ins, &mut outs);
-            for (&px, o) in pc.iter().zip(&outs) {
-                jb[px as usize - base] = o[0];
+            lanes.clear();
+            lanes.extend(pc.iter().map(|&px| jb[px as usize - base]));
+            span.feed_blend_lanes(u, hc, &mut lanes, weight);
+            for (&px, &o) in pc.iter().zip(&lanes) {
+                jb[px as usize - base] = o;
             }
         }
         span
