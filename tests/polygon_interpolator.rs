@@ -25,9 +25,10 @@ use glare_pipeline::reference::polygon_interpolator as twin;
 use proptest::prelude::*;
 use rtl_model::driver::run_span;
 use rtl_model::units::polygon_interpolator::{
-    Move, PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
+    Move, PolyLanes, PolyOut, PolySetup, PolyState, PolygonInterpolator, PolygonInterpolatorConfig,
+    Vertex, MAX_ATTRS,
 };
-use rtl_model::{Counters, Format, Overflow, Quant, UnitSummary};
+use rtl_model::{Counters, Format, Overflow, Quant, Unit, UnitSummary};
 
 const SLACK: f64 = 1e-9;
 
@@ -471,6 +472,7 @@ proptest! {
         let mut moves = setup.moves();
         moves.extend(extra.iter().map(|&m| [Move::Hold, Move::Right, Move::Left, Move::Down][m as usize]));
         common::assert_drivers_agree(&u, setup.state.clone(), &moves);
+        lanes_agree_with_span(&u, &setup.state, &moves);
     }
 
     /// The batch kernel's closed-form runs: long runs of one move over narrow
@@ -516,6 +518,7 @@ proptest! {
             moves.extend(std::iter::repeat_n([Move::Hold, Move::Right, Move::Left, Move::Down][m as usize], n));
         }
         common::assert_drivers_agree(&u, setup.state.clone(), &moves);
+        lanes_agree_with_span(&u, &setup.state, &moves);
     }
 
     #[test]
@@ -1012,5 +1015,32 @@ fn cost_depends_on_the_configured_attrs_only() {
             cfg(MAX_ATTRS as u32).setup_cycles() - cfg(0).setup_cycles(),
             3 * MAX_ATTRS as u32
         );
+    }
+}
+
+/// The lane form (`kernel_batch_lanes`, what the shafts walks use) against the span
+/// driver: at every chunk size of `common::BATCH_CHUNKS`, the same words, final state
+/// and counters (the span's timing added once).
+fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Move]) {
+    let mut s_span = state.clone();
+    let mut c_span = Counters::default();
+    let out_span = rtl_model::driver::run_span(u, &mut s_span, moves, &mut c_span);
+    for chunk in common::BATCH_CHUNKS {
+        let mut st = state.clone();
+        let mut c = Counters::default();
+        let mut tally = rtl_model::driver::SpanTally::new();
+        let mut lanes = PolyLanes::default();
+        let mut words = Vec::new();
+        for part in moves.chunks(chunk.max(1)) {
+            lanes.clear(u.attrs() as usize);
+            u.kernel_batch_lanes(&mut st, part, &mut lanes, &mut c);
+            tally.add(part.len());
+            assert_eq!(lanes.len(), part.len(), "one word per move (chunk {chunk})");
+            words.extend((0..lanes.len()).map(|i| lanes.word(i)));
+        }
+        tally.close(u.timing(), &mut c);
+        assert_eq!(words, out_span, "lane words differ (chunk {chunk})");
+        assert_eq!(st, s_span, "lane final state differs (chunk {chunk})");
+        assert_eq!(c, c_span, "lane counters differ (chunk {chunk})");
     }
 }

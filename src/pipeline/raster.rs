@@ -6,7 +6,7 @@
 use rtl_model::driver::SpanTally;
 use rtl_model::error::ConfigError;
 use rtl_model::units::polygon_interpolator::{
-    Move, PolyOut, PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS,
+    Move, PolyLanes, PolyOut, PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS,
 };
 use rtl_model::{Counters, Unit};
 
@@ -56,6 +56,7 @@ pub struct WalkBuffers {
     moves: Vec<Move>,
     outs: Vec<PolyOut>,
     frags: Vec<Fragment>,
+    lanes: PolyLanes,
 }
 
 /// Moves of the walk fed to the interpolator at a time (whole bounding-box rows).
@@ -90,6 +91,40 @@ pub fn walk_rows_raw(
         }
     }
     tally.close(u.timing(), ctr);
+}
+
+/// [`walk_rows_raw`] with each chunk's outputs in lanes
+/// ([`PolygonInterpolator::kernel_batch_lanes`]): the same words in the same chunks,
+/// the same counters.
+pub fn walk_rows_lanes(
+    u: &PolygonInterpolator,
+    s: &PolySetup,
+    ctr: &mut Counters,
+    buf: &mut WalkBuffers,
+    mut sink: impl FnMut(&PolyLanes),
+) {
+    let mut st = s.state.clone();
+    let mut tally = SpanTally::new();
+    let rows = s.bbox.map_or(0, |b| b.height());
+    buf.moves.clear();
+    for row in 0..rows {
+        s.row_moves(row, &mut buf.moves);
+        if buf.moves.len() >= WALK_CHUNK_MOVES || row + 1 == rows {
+            buf.lanes.clear(u.attrs() as usize);
+            u.kernel_batch_lanes(&mut st, &buf.moves, &mut buf.lanes, ctr);
+            tally.add(buf.moves.len());
+            sink(&buf.lanes);
+            buf.moves.clear();
+        }
+    }
+    tally.close(u.timing(), ctr);
+}
+
+/// Whether lane word `i` is a fragment ([`is_fragment`]).
+#[inline]
+pub fn is_fragment_lane(l: &PolyLanes, i: usize, width: u32, height: u32) -> bool {
+    let (x, y) = (l.x[i], l.y[i]);
+    l.inside[i] && x >= 0 && y >= 0 && x < width as i64 && y < height as i64
 }
 
 /// Whether a walked pixel is a fragment: covered, and inside the viewport.

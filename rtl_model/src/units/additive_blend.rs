@@ -283,6 +283,65 @@ impl AdditiveBlend {
     }
 }
 
+impl AdditiveBlend {
+    /// The batch kernel on lanes (structure of arrays), in the J buffer's form: lane i
+    /// is the input `AdditiveBlendIn { src: [src[i], 0, 0, 0], dst: [dst[i], 0, 0, 0],
+    /// weight }` (one weight for every lane); its channel-0 result is written back into
+    /// `dst[i]` (the other channels', all min(contribution(0, w), max), are dropped) and
+    /// the counters are those [`Unit::kernel_batch`] counts on these inputs. The
+    /// contribution comes from the same table as the batch kernel's.
+    pub fn blend_lanes(&self, src: &[u32], dst: &mut [u32], weight: u32, ctr: &mut Counters) {
+        assert_eq!(
+            src.len(),
+            dst.len(),
+            "blend_lanes: src and dst lanes differ"
+        );
+        let n = src.len() as u64;
+        let (max, src_mask) = (self.fb_max(), max_code(self.src_bits));
+        let w = if self.weighted {
+            weight & self.weight_max()
+        } else {
+            0
+        };
+        let weight_on = !self.weighted || w != 0;
+        let (mut sat, mut under) = (0u64, 0u64);
+        if self.src_bits <= CONTRIBUTION_LUT_BITS {
+            let mut lut = [0u32; 1 << CONTRIBUTION_LUT_BITS];
+            for (s, q) in lut.iter_mut().enumerate().take(1 << self.src_bits) {
+                *q = self.contribution(s as u32, w);
+            }
+            for (d, &s) in dst.iter_mut().zip(src) {
+                let sm = s & src_mask;
+                let q = lut[sm as usize];
+                let sum = (*d & max) + q;
+                sat += u64::from(sum > max);
+                under += u64::from(sm != 0 && q == 0);
+                *d = sum.min(max);
+            }
+        } else {
+            for (d, &s) in dst.iter_mut().zip(src) {
+                let sm = s & src_mask;
+                let q = self.contribution(sm, w);
+                let sum = (*d & max) + q;
+                sat += u64::from(sum > max);
+                under += u64::from(sm != 0 && q == 0);
+                *d = sum.min(max);
+            }
+        }
+        if !weight_on {
+            under = 0;
+        }
+        // Channels 1 .. channels − 1: source and destination 0 (never an underflow).
+        let q0 = self.contribution(0, w);
+        sat += u64::from(q0 > max) * n * (self.channels as u64 - 1);
+        let bytes = bytes_for_bits(self.pixel_bits()) * n;
+        ctr.mem_read_bytes += bytes;
+        ctr.mem_write_bytes += bytes;
+        ctr.saturations += sat;
+        ctr.underflows += under;
+    }
+}
+
 /// Widest source whose contributions the batch kernel tabulates (2^10 entries).
 pub const CONTRIBUTION_LUT_BITS: u32 = 10;
 

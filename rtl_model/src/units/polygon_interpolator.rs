@@ -217,6 +217,66 @@ pub struct PolyOut {
     pub attrs: [i64; MAX_ATTRS],
 }
 
+/// Output words in lanes (structure of arrays): word i is (`x[i]`, `y[i]`,
+/// `inside[i]`, `attrs[a][i]` for a < the config's `attrs`). What
+/// [`PolygonInterpolator::kernel_batch_lanes`] writes.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct PolyLanes {
+    pub x: Vec<i64>,
+    pub y: Vec<i64>,
+    pub inside: Vec<bool>,
+    /// One lane per attribute (only the config's first `attrs` are written).
+    pub attrs: [Vec<i64>; MAX_ATTRS],
+    /// Attributes written (the config's `attrs`).
+    pub k: usize,
+}
+
+impl PolyLanes {
+    /// Words held.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Empty, ready for `k` attributes (buffers kept).
+    pub fn clear(&mut self, k: usize) {
+        self.x.clear();
+        self.y.clear();
+        self.inside.clear();
+        for l in &mut self.attrs {
+            l.clear();
+        }
+        self.k = k;
+    }
+
+    /// Append one word (its first `k` attributes).
+    pub fn push(&mut self, o: &PolyOut) {
+        self.x.push(o.x);
+        self.y.push(o.y);
+        self.inside.push(o.inside);
+        for (l, &v) in self.attrs.iter_mut().zip(&o.attrs).take(self.k) {
+            l.push(v);
+        }
+    }
+
+    /// Word i as a [`PolyOut`] (attributes past `k` 0).
+    pub fn word(&self, i: usize) -> PolyOut {
+        let mut attrs = [0i64; MAX_ATTRS];
+        for (a, l) in attrs.iter_mut().zip(&self.attrs).take(self.k) {
+            *a = l[i];
+        }
+        PolyOut {
+            x: self.x[i],
+            y: self.y[i],
+            inside: self.inside[i],
+            attrs,
+        }
+    }
+}
+
 /// Inclusive pixel bounding box of a primitive (pixels whose centres may be covered).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BBox {
@@ -369,6 +429,112 @@ impl AttrLine {
             under += u * counted;
         }
         (sat, under, None)
+    }
+}
+
+impl AttrLine {
+    /// [`AttrLine::fill`] into one attribute lane (`lane[j]`, j < lane.len()).
+    #[inline(always)]
+    fn fill_lane(
+        &self,
+        lane: &mut [i64],
+        round: impl Fn(i64) -> i64,
+    ) -> (u64, u64, Option<(i64, u64)>) {
+        let one = |v: i64| {
+            let r = round(v);
+            let c = r.clamp(self.lo, self.hi);
+            (c, u64::from(c != r), u64::from(r == 0 && v != 0))
+        };
+        let (mut sat, mut under) = (0u64, 0u64);
+        if let Some((min, max)) = self.wrap {
+            let span = max - min + 1;
+            let (mut v, mut wraps) = (self.a0, 0u64);
+            for (j, o) in lane.iter_mut().enumerate() {
+                v += self.g;
+                if v > max {
+                    v -= span;
+                    wraps += 1;
+                } else if v < min {
+                    v += span;
+                    wraps += 1;
+                }
+                let (c, s, u) = one(v);
+                *o = c;
+                let counted = u64::from(self.inside.contains(&j));
+                sat += s * counted;
+                under += u * counted;
+            }
+            return (sat, under, Some((v, wraps)));
+        }
+        if self.g == 0 {
+            let (c, s, u) = one(self.a0);
+            lane.fill(c);
+            let n = self.inside.len() as u64;
+            return (s * n, u * n, None);
+        }
+        for (j, o) in lane.iter_mut().enumerate() {
+            let (c, s, u) = one(self.a0 + (j as i64 + 1) * self.g);
+            *o = c;
+            let counted = u64::from(self.inside.contains(&j));
+            sat += s * counted;
+            under += u * counted;
+        }
+        (sat, under, None)
+    }
+}
+
+/// A run that goes in closed form: the output shift, the registers' last values,
+/// which accumulators wrap, the formats' ranges and the covered interval of the run.
+struct RunPlan {
+    shift: u32,
+    x_end: i64,
+    edge_end: [i64; EDGES],
+    acc_end: [i64; MAX_ATTRS],
+    wraps: [bool; MAX_ATTRS],
+    acc_range: (i64, i64),
+    out_range: (i64, i64),
+    inside: std::ops::Range<usize>,
+}
+
+impl RunPlan {
+    /// Attribute `a`'s line along the run.
+    #[inline]
+    fn line(&self, st: &PolyState, a: usize, sign: i64) -> AttrLine {
+        AttrLine {
+            a,
+            a0: st.acc[a],
+            g: sign * st.grad_x[a],
+            lo: self.out_range.0,
+            hi: self.out_range.1,
+            inside: self.inside.clone(),
+            wrap: self.wraps[a].then_some(self.acc_range),
+        }
+    }
+
+    /// Attribute `a`'s events counted (and a wrapping accumulator's last value kept).
+    #[inline]
+    fn count(
+        &mut self,
+        a: usize,
+        sat: u64,
+        under: u64,
+        wrapped: Option<(i64, u64)>,
+        ctr: &mut Counters,
+    ) {
+        ctr.saturations += sat;
+        ctr.underflows += under;
+        if let Some((end, n)) = wrapped {
+            self.acc_end[a] = end;
+            ctr.overflows += n;
+        }
+    }
+
+    /// The registers at the run's end.
+    #[inline]
+    fn finish(&self, st: &mut PolyState, k: usize) {
+        st.x = self.x_end;
+        st.edge = self.edge_end;
+        st.acc[..k].copy_from_slice(&self.acc_end[..k]);
     }
 }
 
@@ -824,23 +990,155 @@ impl PolygonInterpolator {
         out: &mut Vec<PolyOut>,
         ctr: &mut Counters,
     ) -> bool {
+        let Some(mut plan) = self.run_plan(st, sign, run) else {
+            return false;
+        };
+        let k = self.cfg.attrs as usize;
+        let base = out.len();
+        out.resize(
+            base + run,
+            PolyOut {
+                x: 0,
+                y: st.y,
+                inside: false,
+                attrs: [0; MAX_ATTRS],
+            },
+        );
+        let outs = &mut out[base..];
+        for (j, o) in outs.iter_mut().enumerate() {
+            o.x = st.x + sign * (j as i64 + 1);
+        }
+        for o in &mut outs[plan.inside.clone()] {
+            o.inside = true;
+        }
+        // Output rounding s(acc) → out format, saturating; events only where inside.
+        // The rounding mode is matched once per run, so each loop has its own form.
+        let sh = plan.shift;
+        for a in 0..k {
+            let line = plan.line(st, a, sign);
+            let (sat, under, wrapped) = match self.cfg.out_quant {
+                Quant::Trn => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Trn)),
+                Quant::TrnZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::TrnZero)),
+                Quant::Rnd => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Rnd)),
+                Quant::RndZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndZero)),
+                Quant::RndInf => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndInf)),
+                Quant::RndMinInf => {
+                    line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndMinInf))
+                }
+                Quant::RndConv => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndConv)),
+            };
+            plan.count(a, sat, under, wrapped, ctr);
+        }
+        plan.finish(st, k);
+        true
+    }
+
+    /// [`Unit::kernel_batch`] with its outputs appended to lanes (`out.k` must be
+    /// the config's `attrs`, as [`PolyLanes::clear`] sets it): the same words, final
+    /// state and counters; closed-form runs write each attribute's lane in one loop.
+    pub fn kernel_batch_lanes(
+        &self,
+        st: &mut PolyState,
+        moves: &[Move],
+        out: &mut PolyLanes,
+        ctr: &mut Counters,
+    ) {
+        assert_eq!(
+            out.k, self.cfg.attrs as usize,
+            "PolyLanes cleared for another attrs"
+        );
+        let mut i = 0;
+        while i < moves.len() {
+            let mv = moves[i];
+            let sign = match mv {
+                Move::Right => 1,
+                Move::Left => -1,
+                Move::Hold | Move::Down => {
+                    out.push(&self.kernel(st, &mv, ctr));
+                    i += 1;
+                    continue;
+                }
+            };
+            let run = moves[i..].iter().take_while(|&&m| m == mv).count();
+            if !self.run_in_closed_form_lanes(st, sign, run, out, ctr) {
+                for m in &moves[i..i + run] {
+                    out.push(&self.kernel(st, m, ctr));
+                }
+            }
+            i += run;
+        }
+    }
+
+    /// [`Self::run_in_closed_form`] appending to lanes.
+    fn run_in_closed_form_lanes(
+        &self,
+        st: &mut PolyState,
+        sign: i64,
+        run: usize,
+        out: &mut PolyLanes,
+        ctr: &mut Counters,
+    ) -> bool {
+        let Some(mut plan) = self.run_plan(st, sign, run) else {
+            return false;
+        };
+        let k = self.cfg.attrs as usize;
+        let base = out.len();
+        out.x.extend((1..=run as i64).map(|j| st.x + sign * j));
+        out.y.resize(base + run, st.y);
+        out.inside.resize(base + run, false);
+        out.inside[base + plan.inside.start..base + plan.inside.end].fill(true);
+        let sh = plan.shift;
+        for a in 0..k {
+            let line = plan.line(st, a, sign);
+            let lane = &mut out.attrs[a];
+            lane.resize(base + run, 0);
+            let lane = &mut lane[base..];
+            let (sat, under, wrapped) = match self.cfg.out_quant {
+                Quant::Trn => line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::Trn)),
+                Quant::TrnZero => {
+                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::TrnZero))
+                }
+                Quant::Rnd => line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::Rnd)),
+                Quant::RndZero => {
+                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndZero))
+                }
+                Quant::RndInf => {
+                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndInf))
+                }
+                Quant::RndMinInf => {
+                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndMinInf))
+                }
+                Quant::RndConv => {
+                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndConv))
+                }
+            };
+            plan.count(a, sat, under, wrapped, ctr);
+        }
+        plan.finish(st, k);
+        true
+    }
+
+    /// Whether `run` steps of `sign` can go in closed form (see
+    /// [`Self::run_in_closed_form`]), and if so the registers' last values and the
+    /// covered interval of the run.
+    fn run_plan(&self, st: &PolyState, sign: i64, run: usize) -> Option<RunPlan> {
         let k = self.cfg.attrs as usize;
         let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
         if shift <= 0 {
-            return false;
+            return None;
         }
         let steps = sign * run as i64;
         // Pixel counter (c bits) and edges (ew bits): the last value must fit.
         let x_end = st.x + steps;
         if wrap_signed(x_end, self.cfg.coord_int_bits) != x_end {
-            return false;
+            return None;
         }
         let ew = self.edge_bits();
         let mut edge_end = [0i64; EDGES];
         for ((end_e, &e0), &dx) in edge_end.iter_mut().zip(&st.edge).zip(&st.edge_dx) {
             let end = e0 as i128 + steps as i128 * dx as i128;
             if end != wrap_signed(end as i64, ew) as i128 {
-                return false;
+                return None;
             }
             *end_e = end as i64;
         }
@@ -856,24 +1154,13 @@ impl PolygonInterpolator {
             let end = st.acc[a] as i128 + steps as i128 * st.grad_x[a] as i128;
             if end <= acc.min_raw() || end > acc.max_raw() {
                 if self.cfg.acc_overflow != Overflow::Wrap {
-                    return false;
+                    return None;
                 }
                 wraps[a] = true;
             } else {
                 acc_end[a] = end as i64;
             }
         }
-        let base = out.len();
-        out.resize(
-            base + run,
-            PolyOut {
-                x: 0,
-                y: st.y,
-                inside: false,
-                attrs: [0; MAX_ATTRS],
-            },
-        );
-        let outs = &mut out[base..];
         // Each edge is affine along the run, E + j·D (j = 1 ..= run), so the pixels
         // inside all edges are one interval of j: intersect each edge's half-line.
         let (mut j_lo, mut j_hi) = (1i64, run as i64);
@@ -892,50 +1179,17 @@ impl PolygonInterpolator {
         } else {
             0..0
         };
-        for (j, o) in outs.iter_mut().enumerate() {
-            o.x = st.x + sign * (j as i64 + 1);
-        }
-        for o in &mut outs[inside.clone()] {
-            o.inside = true;
-        }
-        // Output rounding s(acc) → out format, saturating; events only where inside.
-        // The rounding mode is matched once per run, so each loop has its own form.
         let of = self.out_fmt();
-        let (lo, hi) = (of.min_raw() as i64, of.max_raw() as i64);
-        let sh = shift as u32;
-        for a in 0..k {
-            let (a0, g) = (st.acc[a], sign * st.grad_x[a]);
-            let line = AttrLine {
-                a,
-                a0,
-                g,
-                lo,
-                hi,
-                inside: inside.clone(),
-                wrap: wraps[a].then_some((acc.min_raw() as i64, acc.max_raw() as i64)),
-            };
-            let (sat, under, wrapped) = match self.cfg.out_quant {
-                Quant::Trn => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Trn)),
-                Quant::TrnZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::TrnZero)),
-                Quant::Rnd => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Rnd)),
-                Quant::RndZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndZero)),
-                Quant::RndInf => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndInf)),
-                Quant::RndMinInf => {
-                    line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndMinInf))
-                }
-                Quant::RndConv => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndConv)),
-            };
-            ctr.saturations += sat;
-            ctr.underflows += under;
-            if let Some((end, n)) = wrapped {
-                acc_end[a] = end;
-                ctr.overflows += n;
-            }
-        }
-        st.x = x_end;
-        st.edge = edge_end;
-        st.acc[..k].copy_from_slice(&acc_end[..k]);
-        true
+        Some(RunPlan {
+            shift: shift as u32,
+            x_end,
+            edge_end,
+            acc_end,
+            wraps,
+            acc_range: (acc.min_raw() as i64, acc.max_raw() as i64),
+            out_range: (of.min_raw() as i64, of.max_raw() as i64),
+            inside,
+        })
     }
 
     /// Put an integer number of accumulator LSBs into the accumulator by `acc_overflow`

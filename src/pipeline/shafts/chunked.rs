@@ -11,9 +11,10 @@
 
 use super::frame::{counters_add, Units};
 use super::view::{CameraView, LightView};
-use crate::pipeline::raster::is_fragment;
+use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
-use rtl_model::units::polygon_interpolator::PolyOut;
+use rtl_model::units::additive_blend::AdditiveBlend;
+use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveOut, ProjectiveTexcoord};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
@@ -60,6 +61,20 @@ impl UnitSpan {
             unit.kernel_batch(&mut s, inputs, out, &mut self.ctr);
         }
         self.tally.add(inputs.len());
+    }
+
+    /// A single-channel weighted blend in lanes ([`AdditiveBlend::blend_lanes`]):
+    /// `dst` blended in place, counted as the batch kernel counts those inputs.
+    #[inline]
+    pub fn feed_blend_lanes(
+        &mut self,
+        unit: &AdditiveBlend,
+        src: &[u32],
+        dst: &mut [u32],
+        weight: u32,
+    ) {
+        unit.blend_lanes(src, dst, weight, &mut self.ctr);
+        self.tally.add(src.len());
     }
 
     /// The same span continued elsewhere (a part done on another thread).
@@ -158,30 +173,31 @@ impl LightCtx<'_> {
     }
 
     /// The chunk's fragments (walked pixels that are covered and inside the
-    /// `width` × `height` viewport) that pass the depth test (at window depth words)
-    /// against the camera depth buffer, as indices into `px`, into `b.visible`; all
-    /// of them without objects.
+    /// `width` × `height` viewport) that pass the depth test (at window depth words,
+    /// `depth(px, i)` of word i) against the camera depth buffer, as indices into
+    /// `px`, into `b.visible`; all of them without objects.
     pub fn visible(
         &self,
-        px: &[PolyOut],
+        px: &PolyLanes,
         (width, height): (u32, u32),
-        depth: impl Fn(&PolyOut) -> u32,
+        depth: impl Fn(&PolyLanes, usize) -> u32,
         span: &mut UnitSpan,
         b: &mut ChunkBuffers,
     ) {
         b.visible.clear();
-        b.visible
-            .extend((0..px.len() as u32).filter(|&i| is_fragment(&px[i as usize], width, height)));
+        b.visible.extend(
+            (0..px.len() as u32).filter(|&i| is_fragment_lane(px, i as usize, width, height)),
+        );
         let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
             return;
         };
         b.depth_in.clear();
         b.depth_in.extend(b.visible.iter().map(|&i| {
-            let f = &px[i as usize];
+            let i = i as usize;
             ShadowIn::Test {
-                x: f.x as i32,
-                y: f.y as i32,
-                depth: depth(f) as u64,
+                x: px.x[i] as i32,
+                y: px.y[i] as i32,
+                depth: depth(px, i) as u64,
             }
         }));
         span.feed_tests(z, zs, &b.depth_in, &mut b.depth_out);
@@ -205,7 +221,7 @@ impl LightCtx<'_> {
     /// H·I_l of the fragments `b.visible` of `px` (texel_bits unorm) into `b.hil`:
     /// light map through the projective unit, shadow compare at the light-space texel.
     /// `base` is the attribute index of s.
-    pub fn h_il(&self, px: &[PolyOut], base: usize, spans: &mut HilSpans, b: &mut ChunkBuffers) {
+    pub fn h_il(&self, px: &PolyLanes, base: usize, spans: &mut HilSpans, b: &mut ChunkBuffers) {
         let u = self.units;
         b.hil.clear();
         let n = b.visible.len();
@@ -294,22 +310,33 @@ impl LightCtx<'_> {
 /// The projective unit's (s, t, q) words of the fragments `visible` of `px`, from
 /// attributes `idx` (`usize::MAX`: a wire held at 0), into `out`.
 fn projective_inputs(
-    px: &[PolyOut],
+    px: &PolyLanes,
     visible: &[u32],
     idx: [usize; 3],
     out: &mut Vec<ProjectiveIn>,
 ) {
     // The t wire held at 0 reads a zero attribute (the depth's (r, 0, q)).
     let [si, ti, qi] = idx;
+    let (s, q) = (&px.attrs[si], &px.attrs[qi]);
     out.clear();
-    out.extend(visible.iter().map(|&i| {
-        let f = &px[i as usize];
-        ProjectiveIn {
-            s: f.attrs[si],
-            t: if ti == usize::MAX { 0 } else { f.attrs[ti] },
-            q: f.attrs[qi],
-        }
-    }));
+    match px.attrs.get(ti) {
+        Some(t) => out.extend(visible.iter().map(|&i| {
+            let i = i as usize;
+            ProjectiveIn {
+                s: s[i],
+                t: t[i],
+                q: q[i],
+            }
+        })),
+        None => out.extend(visible.iter().map(|&i| {
+            let i = i as usize;
+            ProjectiveIn {
+                s: s[i],
+                t: 0,
+                q: q[i],
+            }
+        })),
+    }
 }
 
 /// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.

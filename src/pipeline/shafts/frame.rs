@@ -24,7 +24,7 @@ use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
-use rtl_model::units::polygon_interpolator::{PolyOut, PolygonInterpolator, MAX_ATTRS};
+use rtl_model::units::polygon_interpolator::{PolyLanes, PolyOut, PolygonInterpolator, MAX_ATTRS};
 use rtl_model::units::projective_texcoord::{ProjectiveTexcoord, ProjectiveTexcoordConfig};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
@@ -763,10 +763,13 @@ fn object_pass(
             attrs: f.attrs,
         })
         .collect();
+    let mut lanes = PolyLanes::default();
+    lanes.clear(u.interp.attrs() as usize);
+    px.iter().for_each(|f| lanes.push(f));
     ctx.visible(
-        &px,
+        &lanes,
         (w, h),
-        |f| window_depth_word(f.attrs[0], ZBUF_BITS),
+        |l, i| window_depth_word(l.attrs[0][i], ZBUF_BITS),
         &mut zspan,
         &mut b,
     );
@@ -774,7 +777,7 @@ fn object_pass(
     let frags: Vec<&PolyOut> = b.visible.iter().map(|&i| &px[i as usize]).collect();
     stats.fragments = frags.len() as u64;
     let mut spans = HilSpans::default();
-    ctx.h_il(&px, 4, &mut spans, &mut b);
+    ctx.h_il(&lanes, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
     let hil = &b.hil;
     let mut pairs = Vec::with_capacity(frags.len() * 3);

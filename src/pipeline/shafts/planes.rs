@@ -14,13 +14,13 @@ use super::frame::{
 };
 use super::tables::GTables;
 use super::view::vec3;
-use crate::pipeline::raster::{host_attrs, quantise, walk_rows_raw, HostVertex, WalkBuffers};
+use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::ModulateIn;
-use rtl_model::units::polygon_interpolator::PolyOut;
+use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -200,14 +200,18 @@ fn subplanes_into_j(
         let zw = unit_depth_word(zsub, ZBUF_BITS);
         let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
         let mut b = ChunkBuffers::default();
-        let (mut pix, mut hil) = (Vec::new(), Vec::new());
+        // At most one fragment per pixel: no growing (and copying) on the way.
+        let (mut pix, mut hil) = (
+            Vec::with_capacity((w * h) as usize),
+            Vec::with_capacity((w * h) as usize),
+        );
         let mut wb = WalkBuffers::default();
-        walk_rows_raw(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-            ctx.visible(px, (w, h), |_| zw, &mut zspan, &mut b);
+        walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
+            ctx.visible(px, (w, h), |_, _| zw, &mut zspan, &mut b);
             ctx.h_il(px, 4, &mut spans, &mut b);
             pix.extend(b.visible.iter().map(|&i| {
-                let f = &px[i as usize];
-                f.y as u32 * w + f.x as u32
+                let i = i as usize;
+                px.y[i] as u32 * w + px.x[i] as u32
             }));
             hil.extend_from_slice(&b.hil);
         });
@@ -265,19 +269,17 @@ fn blend_j(
 ) -> UnitSpan {
     let band = J_BAND_ROWS * w as usize;
     let rows_in_order = pix.windows(2).all(|p| p[0] / w <= p[1] / w);
+    // In lanes: the J values at the chunk's pixels gathered, blended in place
+    // (`blend_lanes`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]), scattered.
     let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
         let mut span = UnitSpan::default();
-        let (mut ins, mut outs) = (Vec::new(), Vec::new());
+        let mut lanes = Vec::with_capacity(BLEND_CHUNK.min(pix.len()));
         for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
-            ins.clear();
-            ins.extend(pc.iter().zip(hc).map(|(&px, &v)| AdditiveBlendIn {
-                src: [v, 0, 0, 0],
-                dst: [jb[px as usize - base], 0, 0, 0],
-                weight,
-            }));
-            span.feed(u, &mut (), &ins, &mut outs);
-            for (&px, o) in pc.iter().zip(&outs) {
-                jb[px as usize - base] = o[0];
+            lanes.clear();
+            lanes.extend(pc.iter().map(|&px| jb[px as usize - base]));
+            span.feed_blend_lanes(u, hc, &mut lanes, weight);
+            for (&px, &o) in pc.iter().zip(&lanes) {
+                jb[px as usize - base] = o;
             }
         }
         span
@@ -443,7 +445,7 @@ fn cell(
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
     for s in u.interp.setup_quad(&qv, &mut c_int) {
-        walk_rows_raw(&u.interp, &s, &mut c_int, &mut wb, |px| {
+        walk_rows_lanes(&u.interp, &s, &mut c_int, &mut wb, |px| {
             shade_chunk(pc, px, (w, h), &mut spans, &mut b, &mut out)
         });
     }
@@ -461,7 +463,7 @@ fn cell(
 /// small value (docs/shafts.md).
 fn shade_chunk(
     pc: &PlaneCtx,
-    px: &[PolyOut],
+    px: &PolyLanes,
     viewport: (u32, u32),
     sp: &mut PlaneSpans,
     b: &mut PlaneBuffers,
@@ -469,18 +471,19 @@ fn shade_chunk(
 ) {
     let ctx = pc.ctx;
     let u = ctx.units;
-    ctx.visible(px, viewport, |_| pc.zword, &mut sp.zbuf, &mut b.chunk);
+    ctx.visible(px, viewport, |_, _| pc.zword, &mut sp.zbuf, &mut b.chunk);
     let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
     b.f_in.clear();
+    let [alpha, hs, ht] = [&px.attrs[0], &px.attrs[1], &px.attrs[2]];
     b.f_in.extend(vis.iter().map(|&i| TextureSamplerIn {
-        coord: [(px[i as usize].attrs[0] >> sh) as i32, 0, 0],
+        coord: [(alpha[i as usize] >> sh) as i32, 0, 0],
     }));
     b.h_in.clear();
     b.h_in.extend(vis.iter().map(|&i| {
-        let f = &px[i as usize];
+        let i = i as usize;
         TextureSamplerIn {
-            coord: [(f.attrs[1] >> sh) as i32, (f.attrs[2] >> sh) as i32, 0],
+            coord: [(hs[i] >> sh) as i32, (ht[i] >> sh) as i32, 0],
         }
     }));
     sp.f.feed(&u.f_tex, &mut (), &b.f_in, &mut b.f_out);
@@ -492,11 +495,11 @@ fn shade_chunk(
             let fr = t.coord_frac_bits();
             b.j_in.clear();
             b.j_in.extend(vis.iter().map(|&i| {
-                let f = &px[i as usize];
+                let i = i as usize;
                 TextureSamplerIn {
                     coord: [
-                        ((f.x as i32) << fr) + (1 << fr >> 1),
-                        ((f.y as i32) << fr) + (1 << fr >> 1),
+                        ((px.x[i] as i32) << fr) + (1 << fr >> 1),
+                        ((px.y[i] as i32) << fr) + (1 << fr >> 1),
                         0,
                     ],
                 }
@@ -518,7 +521,7 @@ fn shade_chunk(
     b.m_in
         .extend(vis.iter().zip(&b.m_a).map(|(&i, &j)| ModulateIn {
             a: j,
-            b: attr_unorm(px[i as usize].attrs[3], ctx.tex_max),
+            b: attr_unorm(px.attrs[3][i as usize], ctx.tex_max),
         }));
     sp.modulate[0].feed(md, &mut (), &b.m_in, &mut b.m_b);
     // · F
@@ -548,10 +551,10 @@ fn shade_chunk(
     );
     sp.modulate[3].feed(md, &mut (), &b.m_in, &mut b.m_a);
     out.extend(vis.iter().zip(b.m_a.chunks(3)).map(|(&i, c)| {
-        let f = &px[i as usize];
+        let i = i as usize;
         PlaneFrag {
-            x: f.x as u32,
-            y: f.y as u32,
+            x: px.x[i] as u32,
+            y: px.y[i] as u32,
             rgb: [c[0], c[1], c[2]],
         }
     }));
