@@ -84,7 +84,9 @@ pub enum Command {
     /// error against the float mantissa width, 4 ..= 23 at exponents 8 and 5, 1 and 8
     /// lights), shading-factorization (factor-texture error against resolution and bits),
     /// frame-elaboration (night-street and four reduced variants: units, gates, RAM
-    /// bits, predicted and simulated time, error against the f64 reference).
+    /// bits, predicted and simulated time, error against the f64 reference),
+    /// assumptions (each selectable alternative of docs/assumptions.md on the
+    /// built-ins it affects: assumptions.csv and a PNG strip per assumption).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -124,6 +126,21 @@ pub enum Command {
         /// Output directory.
         #[arg(long, default_value = "tables")]
         dir: PathBuf,
+    },
+    /// Write the prefiltered environment map of a scene with an `[environment]`
+    /// section (built as `render` builds it): DIR/volume.raw (16-bit little-endian
+    /// codes, RGB, x fastest), one PNG per z slice and DIR/map.json with the side,
+    /// bits, layout and the exposure (docs/envmap.md).
+    EnvmapDump {
+        /// A built-in env-MAP-OBJECT scene or a TOML scene file.
+        #[arg(long)]
+        scene: String,
+        /// Output directory.
+        #[arg(long, default_value = "out/envmap-dump")]
+        out: PathBuf,
+        /// Map side instead of the scene's (a power of two, as `environment.side`).
+        #[arg(long, allow_negative_numbers = true, value_parser = arg_u32)]
+        side: Option<u32>,
     },
     /// Write a VCD trace of a unit for a few random pixels (tick driver).
     Trace {
@@ -316,6 +333,22 @@ pub fn run(cli: Cli) -> Result<(), String> {
             );
             Ok(())
         }
+        Command::EnvmapDump { scene, out, side } => {
+            let sc = crate::scene::load::load_scene(&scene)?;
+            let (_, car) = crate::pipeline::envmap::dump::dump_scene(&sc, side, &out)?;
+            println!(
+                "wrote {}³ × {} bits ({}, exposure {}) to {}: {}, {} slices, {}",
+                car.side,
+                car.bits,
+                car.prefilter,
+                car.exposure,
+                out.display(),
+                car.volume,
+                car.slices.len(),
+                crate::pipeline::envmap::dump::SIDECAR_FILE
+            );
+            Ok(())
+        }
         Command::Trace {
             unit,
             pixels,
@@ -369,6 +402,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "shading-vertex-float",
     "frame-elaboration",
     "sim-speed",
+    "assumptions",
 ];
 
 fn reproduce(
@@ -490,6 +524,10 @@ fn reproduce(
             print!("{}", crate::pipeline::shading::brdfs::table(&rows));
         }
         "sim-speed" => crate::frame::speed::sim_speed(out)?,
+        "assumptions" => {
+            let rows = crate::frame::assumptions::assumptions(out, None, None)?;
+            print!("{}", crate::frame::assumptions::table(&rows));
+        }
         "frame-elaboration" => {
             let rows = crate::frame::reproduce::frame_elaboration(out, None)?;
             print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));

@@ -727,6 +727,7 @@ fn valid_extremes_are_accepted() {
         shadow_resolution: 4096,
         shadow_depth_bits: 32,
         f_scale: glare_pipeline::scene::format::FScale::LitVolume,
+        h_cap: glare_pipeline::scene::format::HCap::OnePlane,
         light_map_texels: 4096,
     };
     s.validate().unwrap();

@@ -8,6 +8,7 @@
 //! (the shafts framebuffer to the glare pass, the shading units' highlights to the
 //! glare conditions).
 
+pub mod assumptions;
 pub mod budget;
 pub mod check;
 pub mod chip;

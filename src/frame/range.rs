@@ -676,7 +676,7 @@ pub fn check_environment(scene: &Scene) -> Vec<RangeWarning> {
     let Ok(env) = section.load() else {
         return out;
     };
-    let exposure = section.exposure.unwrap_or_else(|| env.auto_exposure());
+    let exposure = section.exposure_for(&env);
     let (w, h) = (env.width(), env.height());
     let mut v: Vec<(f64, f64)> = Vec::with_capacity(w * h);
     for j in 0..h {

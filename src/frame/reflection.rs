@@ -34,8 +34,9 @@ pub fn reflections_with(scene: &Scene, truth: bool) -> Result<Vec<Reflection>, C
         return Ok(Vec::new());
     }
     let env = section.load()?;
-    let (map, _) = build_map(section, &env)?;
-    let opt = render_options(section);
+    let (map, info) = build_map(section, &env)?;
+    let mut opt = render_options(section);
+    opt.exposure = Some(info.exposure);
     let (w, h) = (scene.image.width, scene.image.height);
     let cam = CameraView::new(&scene.camera, scene.image);
     let modulate = Modulate::new(8, ModulateMode::Exact)?;

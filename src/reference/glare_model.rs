@@ -52,7 +52,7 @@ pub fn bloom_extended(theta_rim: f64, a: f64, b: f64, p: &GlareModel) -> f64 {
 
 /// Halo ring, eq. (5)'s second term: C·exp(−(θ − θ₁·λ/568)²/α²), θ from the rim.
 pub fn halo(theta_rim: f64, c: f64, lambda_nm: f64, p: &GlareModel) -> f64 {
-    let r = p.halo_radius_deg * lambda_nm / 568.0;
+    let r = p.halo_ring_radius_deg() * lambda_nm / 568.0;
     let x = (theta_rim.max(0.0) - r) / p.halo_alpha_deg;
     c * (-x * x).exp()
 }
@@ -392,8 +392,12 @@ pub fn float_draws(num: u32, seed: u64) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The bloom luminance (codes) at `theta` degrees from the rim (extended) or centre.
+/// The bloom luminance (codes) at `theta` degrees from the rim (extended) or centre;
+/// 0 beyond `p.bloom_range`'s limit.
 pub fn bloom_at(b: &Bloom, theta: f64, p: &GlareModel) -> f64 {
+    if theta > p.bloom_range.limit_deg() {
+        return 0.0;
+    }
     match *b {
         Bloom::Point { a, theta0, m } => bloom_point(theta, a, theta0, m),
         Bloom::Extended { a, b } => bloom_extended(theta, a, b, p),

@@ -55,6 +55,14 @@ pub struct EnvironmentSection {
     /// ([`EnvMap::auto_exposure`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub exposure: Option<f64>,
+    /// The rule that picks the exposure when `exposure` is not given
+    /// (docs/assumptions.md): the model's solid-angle 99th percentile by default.
+    #[serde(default, skip_serializing_if = "ExposureRule::is_default")]
+    pub exposure_rule: ExposureRule,
+    /// The texel weights of eq. (9): by solid angle (the model's) or the literal
+    /// uniform sum (docs/assumptions.md).
+    #[serde(default, skip_serializing_if = "EnvWeighting::is_default")]
+    pub weighting: EnvWeighting,
     /// Voxel map side s: a power of two in [`MIN_SIDE`] ..= [`MAX_SIDE`].
     #[serde(default = "default_side")]
     pub side: u32,
@@ -77,6 +85,62 @@ pub struct EnvironmentSection {
     /// How the voxel map is prefiltered (last: a TOML sub-table).
     #[serde(default)]
     pub prefilter: Prefilter,
+}
+
+/// How the exposure of an environment map is chosen when the scene gives none: the
+/// level 255 stands for a reference radiance, exposure = 1 / reference. The thesis'
+/// inputs are 8-bit images and it states no rule.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ExposureRule {
+    /// The 99th percentile, weighted by solid angle, of each texel's largest channel
+    /// ([`EnvMap::auto_exposure`]; the model's choice).
+    #[default]
+    P99SolidAngle,
+    /// The 99th percentile over texels counted equally (the poles' many small texels
+    /// weigh as much as the equator's).
+    P99Texels,
+    /// The largest channel of the brightest texel: nothing clips.
+    Max,
+}
+
+impl ExposureRule {
+    fn is_default(&self) -> bool {
+        *self == ExposureRule::default()
+    }
+}
+
+/// The weights w of eq. (9) over the input texels ω.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EnvWeighting {
+    /// w ∝ ΔΩ(ω)·(t̂·ω)^Λ: each texel weighs its solid angle (the model's choice: an
+    /// equirectangular map's polar texels are small).
+    #[default]
+    SolidAngle,
+    /// w ∝ (t̂·ω)^Λ: eq. (9) as written, every texel alike.
+    Uniform,
+}
+
+impl EnvWeighting {
+    fn is_default(&self) -> bool {
+        *self == EnvWeighting::default()
+    }
+}
+
+impl EnvironmentSection {
+    /// The exposure the section's map is read at: `exposure` if given, else the one
+    /// `exposure_rule` picks for `env`.
+    pub fn exposure_for(&self, env: &EnvMap) -> f64 {
+        match self.exposure {
+            Some(e) => e,
+            None => match self.exposure_rule {
+                ExposureRule::P99SolidAngle => env.auto_exposure(),
+                ExposureRule::P99Texels => env.percentile_exposure(false),
+                ExposureRule::Max => env.max_exposure(),
+            },
+        }
+    }
 }
 
 /// `environment.reflectors[i]`: a scene object that reflects the environment.
@@ -102,6 +166,8 @@ impl Default for EnvironmentSection {
             map: Some(BUILTIN_NAMES[0].to_string()),
             hdr: None,
             exposure: None,
+            exposure_rule: ExposureRule::default(),
+            weighting: EnvWeighting::default(),
             side: DEFAULT_SIDE,
             object: None,
             lambda: EnvLambda::default(),
@@ -341,6 +407,12 @@ impl EnvironmentSection {
         }
         if let Some(e) = self.exposure {
             interval("exposure", e, 0.0, false, MAX_EXPOSURE, true).map_err(f)?;
+            if !self.exposure_rule.is_default() {
+                return Err(f(ConfigError::invalid(
+                    "exposure_rule",
+                    "applies only when no `exposure` is given (remove one of the two)",
+                )));
+            }
         }
         check_range("side", self.side.into(), MIN_SIDE.into(), MAX_SIDE.into()).map_err(f)?;
         if !self.side.is_power_of_two() {

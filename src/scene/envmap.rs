@@ -507,6 +507,46 @@ impl EnvMap {
         }
     }
 
+    /// 1 / the 99th percentile of the texels' max(R, G, B) (`weighted`: by solid
+    /// angle, as [`EnvMap::auto_exposure`]; else every texel counts once), 1 / the
+    /// largest if the percentile is 0, 1 for a black map; at most 10³⁰⁰.
+    pub fn percentile_exposure(&self, weighted: bool) -> f64 {
+        if weighted {
+            return self.auto_exposure();
+        }
+        let mut v: Vec<f64> = self
+            .texels
+            .iter()
+            .map(|t| t[0].max(t[1]).max(t[2]))
+            .collect();
+        v.sort_by(|a, b| a.total_cmp(b));
+        let max = v.last().copied().unwrap_or(0.0);
+        // The smallest value with at least 99 % of the texels at or below it.
+        let k = ((0.99 * v.len() as f64).ceil() as usize).clamp(1, v.len().max(1)) - 1;
+        let p99 = v.get(k).copied().unwrap_or(0.0);
+        let reference = if p99 > 0.0 { p99 } else { max };
+        if reference > 0.0 {
+            (1.0 / reference).min(1e300)
+        } else {
+            1.0
+        }
+    }
+
+    /// 1 / the largest channel of the brightest texel (nothing clips); 1 for a black
+    /// map; at most 10³⁰⁰.
+    pub fn max_exposure(&self) -> f64 {
+        let max = self
+            .texels
+            .iter()
+            .map(|t| t[0].max(t[1]).max(t[2]))
+            .fold(0.0, f64::max);
+        if max > 0.0 {
+            (1.0 / max).min(1e300)
+        } else {
+            1.0
+        }
+    }
+
     /// The 256-level input the thesis assumes: round(255 · clamp(L · exposure, 0, 1)) per
     /// channel, row-major. `exposure` must be finite and > 0 ("envmap.exposure").
     pub fn to_levels(&self, exposure: f64) -> Result<Vec<[u8; 3]>, ConfigError> {

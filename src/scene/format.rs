@@ -292,6 +292,9 @@ pub struct ShaftsConfig {
     pub shadow_depth_bits: u32,
     /// What full scale of the F(α) texture stands for (see [`FScale`]).
     pub f_scale: FScale,
+    /// Whether h's full scale is capped so one plane cannot exceed full scale (see
+    /// [`HCap`], docs/assumptions.md).
+    pub h_cap: HCap,
     /// Side of each spot's light-map texture (a power of two, 2 ..= 4096): the beam's
     /// rim is as sharp as one texel of it.
     pub light_map_texels: u32,
@@ -309,6 +312,20 @@ pub enum FScale {
     /// F(α_min), the largest F the scene's lit volume meets (found by the host): the
     /// codes the planes use span the whole 8 bits; F beyond it clamps.
     LitVolume,
+}
+
+/// The cap on h_ref, the h value the h texture's full scale stands for.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HCap {
+    /// h_ref = min(h(s_near, 0), h at which one plane at F's full scale, the brightest
+    /// light and the corner ray adds 255 levels): the plane's scale, a vertex colour,
+    /// never exceeds 1; h nearer the light clamps in the texture (the model's choice).
+    #[default]
+    OnePlane,
+    /// h_ref = h(s_near, 0), uncapped: h never clamps in the texture, and the plane's
+    /// vertex colour saturates instead where it would exceed 1.
+    None,
 }
 
 impl Default for ShaftsConfig {
@@ -330,6 +347,7 @@ impl Default for ShaftsConfig {
             // image of light distances ("each map's pixels are stored as 8 bits").
             shadow_depth_bits: 8,
             f_scale: FScale::Table,
+            h_cap: HCap::OnePlane,
             light_map_texels: 256,
         }
     }

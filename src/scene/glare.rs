@@ -234,16 +234,30 @@ pub struct GlareModel {
     /// Extended sources, eqs. (3)/(4): A·exp(−(θ/w)ⁿ) + B/(θ + θ₁)^m, θ from the rim.
     pub bloom_n: f64,
     pub bloom_m: f64,
+    /// w, the angular scale of exp(−(θ/w)ⁿ): the model's 0.3°; eqs. (3)/(4) write
+    /// exp(−θ³) with none, i.e. 1° read literally (docs/assumptions.md). Also
+    /// accepted as `bloom_angle_scale_deg`.
+    #[serde(alias = "bloom_angle_scale_deg")]
     pub bloom_w_deg: f64,
     pub bloom_theta1_deg: f64,
     /// B = `bloom_k`·I·(age factor)·(1 + M_f)^e_mist / (1 + E₁)^e_ambient, × `glasses_bloom`
     /// with glasses; the point source's A uses the same factors.
     pub bloom_k: f64,
     pub glasses_bloom: f64,
-    /// Halo, eq. (5): C·exp(−(θ − θ₁·λ/568)²/α²), C = `halo_k`·I.
+    /// Halo, eq. (5): C·exp(−(θ − θ₁·λ/568)²/α²), C = `halo_k`·I (or 10·E₁, see
+    /// `halo_amplitude`).
     pub halo_k: f64,
+    /// θ₁ as the model reads "ring diameter 3°": half of it (see `halo_radius`).
     pub halo_radius_deg: f64,
     pub halo_alpha_deg: f64,
+    /// Which reading gives the halo's amplitude C (docs/assumptions.md).
+    pub halo_amplitude: HaloAmplitude,
+    /// Which reading gives the halo's ring radius θ₁ (docs/assumptions.md).
+    pub halo_radius: HaloRadius,
+    /// How far out the bloom profiles are drawn (docs/assumptions.md).
+    pub bloom_range: BloomRange,
+    /// How a water highlight's `eta` is read by the glare condition (Table 2).
+    pub water_eta: WaterEta,
     /// Flare lines, eq. (6).
     pub flare_num_k: f64,
     pub flare_len_k_deg: f64,
@@ -288,6 +302,10 @@ impl Default for GlareModel {
             halo_k: 0.05,
             halo_radius_deg: 1.5,
             halo_alpha_deg: 0.225,
+            halo_amplitude: HaloAmplitude::Intensity,
+            halo_radius: HaloRadius::DiameterHalf,
+            bloom_range: BloomRange::Cutoff,
+            water_eta: WaterEta::MediaOverAir,
             flare_num_k: 1.2,
             flare_len_k_deg: 0.3,
             flare_width_k_deg: 0.004,
@@ -306,6 +324,93 @@ impl Default for GlareModel {
             contrast: 40.0,
             chaos_a: 0.8,
             chaos_z: 1.95,
+        }
+    }
+}
+
+/// The halo's amplitude C in eq. (2)/(5). The paper: "A is about ten times the
+/// ambient light"; the model: proportional to the source.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HaloAmplitude {
+    /// C = `halo_k` · I_e (the model's choice: a brighter source, a brighter ring).
+    #[default]
+    Intensity,
+    /// C = 10 · E₁ (the paper's sentence read literally; no dependence on the source).
+    AmbientX10,
+}
+
+/// The halo's ring radius θ₁ (at 568 nm).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HaloRadius {
+    /// θ₁ = `halo_radius_deg` (1.5°: half of the "diameter 3°" ring).
+    #[default]
+    DiameterHalf,
+    /// θ₁ = 2 · `halo_radius_deg` (3°): Spencer et al.'s formula, from which the paper
+    /// takes α, puts the ring at radius 3° · λ/568 nm.
+    Spencer,
+}
+
+/// How far out the bloom profiles (eqs. (1), (3), (4)) are drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum BloomRange {
+    /// Out to where the profile falls below half a level (the model's choice; about
+    /// 14° for the built-in sources).
+    #[default]
+    #[serde(rename = "cutoff_14")]
+    Cutoff,
+    /// Zero beyond θ = 8°: eq. (1) is stated for θ < 8° only.
+    #[serde(rename = "eq1_8deg")]
+    Eq1EightDeg,
+}
+
+impl BloomRange {
+    /// The largest θ (degrees) at which bloom is drawn.
+    pub fn limit_deg(self) -> f64 {
+        match self {
+            BloomRange::Cutoff => f64::INFINITY,
+            BloomRange::Eq1EightDeg => 8.0,
+        }
+    }
+}
+
+/// How a water highlight's η (`highlights[i].eta`, 1.33 by default) enters Table 2's
+/// total-internal-reflection test 1 − η²(1 − cos²θ) < 0.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WaterEta {
+    /// η as written (n_water / n_air = 1.33): the only reading under which water
+    /// can make glare (the model's choice).
+    #[default]
+    MediaOverAir,
+    /// η = 1 / `eta` (Table 2's "1/media" read literally: 0.75 for water; the TIR
+    /// test never passes, so water never makes glare).
+    AirOverMedia,
+}
+
+impl GlareModel {
+    /// The halo ring's radius θ₁ at 568 nm (degrees) under [`GlareModel::halo_radius`].
+    pub fn halo_ring_radius_deg(&self) -> f64 {
+        match self.halo_radius {
+            HaloRadius::DiameterHalf => self.halo_radius_deg,
+            HaloRadius::Spencer => 2.0 * self.halo_radius_deg,
+        }
+    }
+
+    /// The halo amplitude C for a source of effective intensity `ie` and ambient E₁.
+    pub fn halo_amplitude_for(&self, ie: f64, ambient: f64) -> f64 {
+        match self.halo_amplitude {
+            HaloAmplitude::Intensity => self.halo_k * ie,
+            HaloAmplitude::AmbientX10 => 10.0 * ambient,
+        }
+    }
+
+    /// The η the glare condition uses for a water highlight written with `eta`.
+    pub fn water_eta_for(&self, eta: f64) -> f64 {
+        match self.water_eta {
+            WaterEta::MediaOverAir => eta,
+            WaterEta::AirOverMedia => 1.0 / eta,
         }
     }
 }
@@ -404,6 +509,11 @@ impl GlareSection {
         }
         for (i, h) in self.highlights.iter().enumerate() {
             validate_highlight(h).map_err(|e| e.within(&format!("highlights[{i}]")))?;
+            if h.material == HighlightMaterial::Water {
+                // The η the condition unit will hold under `model.water_eta`.
+                check_eta(self.model.water_eta_for(h.eta))
+                    .map_err(|e| e.within(&format!("highlights[{i}]")))?;
+            }
         }
         if let Some(sh) = &self.shaded_highlights {
             closed(
@@ -482,10 +592,15 @@ fn validate_highlight(h: &Highlight) -> Result<(), ConfigError> {
     closed("intensity", h.intensity, 0.0, GLARE_INTENSITY_MAX)?;
     closed("specular", h.specular, 0.0, 1.0)?;
     interval("eta", h.eta, 0.0, false, 10.0, true)?;
-    // The glare-condition unit holds η in a fixed-point format: its own constructor
-    // says what fits (one source of limits), refused here under the scene's name.
+    check_eta(h.eta)?;
+    closed("radius", h.radius, 0.0, 1e6)
+}
+
+/// The glare-condition unit holds η in a fixed-point format: its own constructor
+/// says what fits (one source of limits), refused here under the scene's name.
+fn check_eta(eta: f64) -> Result<(), ConfigError> {
     rtl_model::units::glare_condition::GlareConditionConfig {
-        eta: h.eta,
+        eta,
         ..Default::default()
     }
     .build()
@@ -495,7 +610,7 @@ fn validate_highlight(h: &Highlight) -> Result<(), ConfigError> {
         } => ConfigError::out_of_range("eta", value, min, max),
         other => ConfigError::invalid("eta", &other.to_string()),
     })?;
-    closed("radius", h.radius, 0.0, 1e6)
+    Ok(())
 }
 
 fn validate_model(m: &GlareModel) -> Result<(), ConfigError> {

@@ -26,13 +26,13 @@ use super::render::{
 use super::timing::{predict_frame, FramePrediction};
 use super::voxmap::VoxelMap;
 use crate::pipeline::time_model::GpuModel;
-use crate::reference::envmap_prefilter::{PrefilterParams, THESIS_PYRAMID_LEVELS};
+use crate::reference::envmap_prefilter::{PrefilterParams, Weighting, THESIS_PYRAMID_LEVELS};
 use crate::scene::builtin::builtin;
 use crate::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use crate::scene::camera::CameraView;
 use crate::scene::environment::{
-    EnvBackground, EnvLambda, EnvLookup, EnvObject, EnvironmentSection, Prefilter, MAX_SIDE,
-    PYRAMID_DIVISOR,
+    EnvBackground, EnvLambda, EnvLookup, EnvObject, EnvWeighting, EnvironmentSection, Prefilter,
+    MAX_SIDE, PYRAMID_DIVISOR,
 };
 use crate::scene::envmap::EnvMap;
 use crate::scene::format::Scene;
@@ -144,9 +144,16 @@ pub fn build_map(
     section: &EnvironmentSection,
     env: &EnvMap,
 ) -> Result<(VoxelMap, MapBuild), ConfigError> {
-    let exposure = section.exposure.unwrap_or_else(|| env.auto_exposure());
+    let exposure = section.exposure_for(env);
     let levels = env_to_levels(env, exposure)?;
-    let params = PrefilterParams::thesis();
+    let params = match section.weighting {
+        EnvWeighting::SolidAngle => PrefilterParams::thesis(),
+        // Eq. (9) as written (`environment.weighting = "uniform"`).
+        EnvWeighting::Uniform => {
+            let t = PrefilterParams::thesis();
+            PrefilterParams::new(t.s(), t.levels(), Weighting::Uniform)?
+        }
+    };
     let t0 = Instant::now();
     let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter {
         Prefilter::Accelerated { threshold } => {
@@ -249,7 +256,9 @@ pub fn render_scene(scene: &Scene, with_truth: bool) -> Result<SceneFrame, Confi
     let size = (scene.image.width, scene.image.height);
     let cam = CameraView::new(&scene.camera, scene.image);
     let tris = object_geometry(object_of(object), lambda_of(section.lambda), &cam)?;
-    let opt = render_options(section);
+    let mut opt = render_options(section);
+    // The map's exposure (`exposure` or `exposure_rule`) for the background and truth.
+    opt.exposure = Some(info.exposure);
     let (image, frame, counters, truth) = if with_truth {
         let (image, truth, stats) =
             render_geometry_with_truth(&env, &map, &tris, &scene.camera, size, &opt)?;

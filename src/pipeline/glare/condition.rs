@@ -42,8 +42,12 @@ pub fn highlight_sources(
     let mut unit = None;
     for (i, h) in g.highlights.iter().enumerate() {
         let field = format!("glare.highlights[{i}]");
+        let eta = match h.material {
+            HighlightMaterial::Water => g.model.water_eta_for(h.eta),
+            HighlightMaterial::Metallic => h.eta,
+        };
         let u = GlareConditionConfig {
-            eta: h.eta,
+            eta,
             threshold: g.model.contrast.round().clamp(0.0, 65535.0) as u32,
             ..GlareConditionConfig::default()
         }

@@ -213,7 +213,9 @@ pub fn source_glare(s: &ScreenSource, ie: f64, det: &Determinants, p: &GlareMode
     } else {
         None
     };
-    let halo = (s.halo && ie > 0.0 && p.halo_k > 0.0).then_some(p.halo_k * ie);
+    // C = halo_k·I_e, or 10·E₁ under `halo_amplitude = "ambient_x10"`.
+    let c_halo = p.halo_amplitude_for(ie, det.ambient);
+    let halo = (s.halo && ie > 0.0 && c_halo > 0.0).then_some(c_halo);
     let size_deg = s.shape.extent() / s.px_per_deg;
     let size = 1.0 + size_deg / p.size_ref_deg;
     let ie_e = ie.powf(p.e_intensity);

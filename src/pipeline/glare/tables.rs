@@ -227,7 +227,7 @@ pub fn bloom_prim(s: &SourceGlare, b: &Bloom, p: &GlareModel, limit_px: f64) -> 
 pub fn halo_prim(s: &SourceGlare, det: &Determinants, p: &GlareModel) -> (AreaPrim, f64) {
     let lmax = det.wavelengths_nm.iter().cloned().fold(0.0, f64::max);
     let theta_max =
-        (p.halo_radius_deg * lmax / 568.0 + 4.0 * p.halo_alpha_deg).max(1.0 / s.px_per_deg);
+        (p.halo_ring_radius_deg() * lmax / 568.0 + 4.0 * p.halo_alpha_deg).max(1.0 / s.px_per_deg);
     let d_max_px = theta_max * s.px_per_deg;
     (
         AreaPrim {

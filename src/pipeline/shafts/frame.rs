@@ -17,7 +17,7 @@ use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
 use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
-use crate::scene::format::Scene;
+use crate::scene::format::{HCap, Scene};
 use crate::scene::limits;
 use crate::scene::math::Vec3;
 use rtl_model::driver::run_span;
@@ -274,7 +274,12 @@ impl<'a> ShaftsFrame<'a> {
         let f_alpha = p.f_alpha();
         let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
         let denom = f_ref * i_max * dr * p.exposure / corner_cos;
-        let h_ceiling = if denom > 0.0 { 255.0 / denom } else { 0.0 };
+        let h_ceiling = match cfg.h_cap {
+            HCap::OnePlane if denom > 0.0 => 255.0 / denom,
+            HCap::OnePlane => 0.0,
+            // `shafts.h_cap = "none"`: h_ref = h(s_near, 0); the colour saturates.
+            HCap::None => f64::INFINITY,
+        };
         let tables = tables::build(
             &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
         );
