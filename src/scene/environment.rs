@@ -10,7 +10,7 @@
 //! side = 128
 //! object = "teapot"
 //! lambda = "nonuniform"                 # or a number in [0, 1]
-//! prefilter = { type = "accelerated", threshold = 0.001 }
+//! prefilter = { type = "accelerated", threshold = 0.001 }   # or "exact"; default "auto"
 //! ```
 //!
 //! A relative `hdr` path is resolved against the scene file's directory when the file
@@ -29,9 +29,23 @@ use super::validate::{closed, interval};
 
 /// Default voxel map side s (the thesis': 128³).
 pub const DEFAULT_SIDE: u32 = 128;
-/// Smallest and largest voxel map side (the voxel map's own limit is 512).
+/// Smallest and largest voxel map side. The largest is the largest power of two whose
+/// cube fits the 3D texture sampler's texel RAM address (`rtl_model`'s
+/// `texture_sampler::MAX_TEXELS` = 2^24 texels, a 24-bit address): 256. A 512³ map
+/// (2^27 texels, 512 MiB at 4 bytes per texel) is beyond both that address and the
+/// 64–128 MB boards of the GeForce3 class, so it is refused before any work
+/// (docs/envmap.md, "Map side").
 pub const MIN_SIDE: u32 = 2;
-pub const MAX_SIDE: u32 = 512;
+pub const MAX_SIDE: u32 = max_cube_side(rtl_model::units::texture_sampler::MAX_TEXELS);
+
+/// The largest power of two s with s³ ≤ `texels`.
+pub const fn max_cube_side(texels: u64) -> u32 {
+    let mut s: u64 = 1;
+    while (2 * s) * (2 * s) * (2 * s) <= texels {
+        s *= 2;
+    }
+    s as u32
+}
 /// The thesis' accelerated-prefilter threshold th (Table 5, the figures).
 pub const THESIS_THRESHOLD: f64 = 0.001;
 /// The accelerated prefilter builds a 4-level pyramid of the map: its width and height
@@ -270,6 +284,29 @@ pub enum Prefilter {
     },
     /// Every voxel summed over every texel (slow: seconds to minutes at s = 128).
     Exact,
+    /// The default: the faster build at the map's side ([`Prefilter::resolve`]): the
+    /// accelerated one at th = [`THESIS_THRESHOLD`] up to [`AUTO_ACCELERATED_MAX_SIDE`],
+    /// the exact one above, where every lobe is narrower than a texel of the input and
+    /// the exact sum visits fewer samples than the dome that must resolve those lobes
+    /// (docs/envmap.md, "Map side").
+    Auto,
+}
+
+/// The largest side at which [`Prefilter::Auto`] picks the accelerated build.
+pub const AUTO_ACCELERATED_MAX_SIDE: u32 = 128;
+
+impl Prefilter {
+    /// The build this prefilter means at side `side`: [`Prefilter::Auto`] resolved,
+    /// the others as they are.
+    pub fn resolve(self, side: u32) -> Prefilter {
+        match self {
+            Prefilter::Auto if side <= AUTO_ACCELERATED_MAX_SIDE => Prefilter::Accelerated {
+                threshold: THESIS_THRESHOLD,
+            },
+            Prefilter::Auto => Prefilter::Exact,
+            other => other,
+        }
+    }
 }
 
 fn default_threshold() -> f64 {
@@ -278,9 +315,7 @@ fn default_threshold() -> f64 {
 
 impl Default for Prefilter {
     fn default() -> Self {
-        Prefilter::Accelerated {
-            threshold: THESIS_THRESHOLD,
-        }
+        Prefilter::Auto
     }
 }
 
@@ -392,8 +427,10 @@ impl EnvironmentSection {
             other => ConfigError::invalid(field, &other.to_string()),
         })?;
         let (w, h) = (env.width(), env.height());
-        if matches!(self.prefilter, Prefilter::Accelerated { .. })
-            && (w % PYRAMID_DIVISOR != 0 || h % PYRAMID_DIVISOR != 0)
+        if matches!(
+            self.prefilter.resolve(self.side),
+            Prefilter::Accelerated { .. }
+        ) && (w % PYRAMID_DIVISOR != 0 || h % PYRAMID_DIVISOR != 0)
         {
             return Err(ConfigError::invalid(
                 field,

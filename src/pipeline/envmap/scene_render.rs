@@ -146,7 +146,8 @@ pub fn build_map(
     let levels = env_to_levels(env, exposure)?;
     let params = PrefilterParams::thesis();
     let t0 = Instant::now();
-    let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter {
+    let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter.resolve(section.side)
+    {
         Prefilter::Accelerated { threshold } => {
             let (map, st) = build_accelerated(&levels, section.side, &params, threshold)?;
             (
@@ -156,7 +157,7 @@ pub fn build_map(
                 Some(st.empty_voxels),
             )
         }
-        Prefilter::Exact => (
+        Prefilter::Exact | Prefilter::Auto => (
             build_exact(&levels, section.side, &params)?,
             "exact".to_string(),
             None,
