@@ -335,7 +335,7 @@ fn voxel_entry_width_is_configurable() {
 }
 
 /// Issue 17: a map above 128³ covers every voxel and stays within the 128³ bound.
-/// At s = 256 with a reduced input (the pattern at 64 × 32), every voxel of the
+/// At s = 256 with a reduced input (the pattern at 256 × 128), every voxel of the
 /// outer shell (x, y or z ∈ {0, s − 1}: the largest |t|, the narrowest lobes, where
 /// the thesis' fixed n = 72 dome left voxels empty) and a lattice through the
 /// interior (every 15th voxel per axis: the wide lobes, the coarser levels) is
@@ -349,7 +349,7 @@ fn side_256_covers_every_voxel_within_the_128_bound() {
     use glare_pipeline::pipeline::envmap::prefilter::{dome_frequencies, Accelerated, Exact};
     let s = 256u32;
     let th = 0.001;
-    let env = EnvMap::pattern(64, 32);
+    let env = EnvMap::pattern(256, 128);
     let lv = env_to_levels(&env, env.auto_exposure()).unwrap();
     let p = PrefilterParams::thesis();
     let acc = Accelerated::new(&lv, s, &p, th).unwrap();
@@ -385,6 +385,7 @@ fn side_256_covers_every_voxel_within_the_128_bound() {
         }
     }
     let mean = abs.map(|v| v / voxels.len() as f64);
+    println!("s = {s}: {} voxels, mean |Δ| {mean:?} levels", voxels.len());
     assert_eq!(empty, 0, "empty voxels at s = {s}, th = {th}");
     for c in 0..3 {
         assert!(mean[c] <= 1.0, "channel {c}: mean |Δ| {mean:?} levels");

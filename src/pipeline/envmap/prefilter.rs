@@ -52,7 +52,16 @@
 //! one dome: entries ω with (t̂·ω)^Λ > th, weights the full-hemisphere normalised w of
 //! (9) (the normaliser with the same −60 pruning as above), *not* renormalised over the
 //! kept entries — as [`select_weight_entries`] and [`WeightEntries::apply`]. A voxel
-//! with no entry gets F = 0 (the thesis' Fig. 19 "voxels not computed").
+//! with no entry gets F = 0 (the thesis' Fig. 19 "voxels not computed") in the study
+//! build [`build_accelerated_both`]; [`build_accelerated`] refuses such a map.
+//!
+//! **Side.** The domes above are the thesis' for its s = 128. Λ = g(|t|) grows like
+//! ln I·(|t|s)²/2, so the cap where (t̂·ω)^Λ > th shrinks like 1/(|t|s): with the n = 72
+//! dome, a 256³ map left 2 481 840 voxels (15 %) with no vertex in their cap. The
+//! frequencies are therefore [`dome_frequencies`]`(s)`: the thesis' up to s = 128,
+//! ⌈n·s/128⌉ above, which keeps each voxel's cap-to-spacing ratio that of the s = 128
+//! map (0 empty voxels at th = 0.001 at 64, 128 and 256: docs/envmap.md, "Map side").
+//! A finished map with an empty voxel is an error ([`check_coverage`]).
 //!
 //! **Level choice.** ψ_½ = acos(2^(−1/Λ)) is the lobe's half-weight angle (cos^Λ ψ_½ = ½).
 //! Level k's dome has vertex spacing ≈ a_k = atan 2 / n_k (0.0154 rad at n = 72, 0.123
