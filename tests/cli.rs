@@ -114,7 +114,10 @@ fn bad_reproduction_knobs_name_the_variable() {
         assert!(err.contains(var), "{var}={value}: {err}");
         // Refused before any work: the "under a second", with margin for a
         // loaded machine (a build would take minutes).
-        assert!(t0.elapsed().as_secs_f64() < 10.0, "{var}={value}: slow refusal");
+        assert!(
+            t0.elapsed().as_secs_f64() < 10.0,
+            "{var}={value}: slow refusal"
+        );
         let written = std::fs::read_dir(&dir).map_or(0, |d| d.count());
         assert_eq!(written, 0, "{var}={value}: files written");
         let _ = std::fs::remove_dir_all(&dir);
@@ -205,9 +208,17 @@ fn envmap_side_sweep_writes_rows_and_names_bad_values() {
             .unwrap()
     };
     let out = run("side", "8,16");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let csv = std::fs::read_to_string(dir.join("sweep_side.csv")).unwrap();
-    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
     assert_eq!(rows.len(), 2, "{csv}");
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
@@ -228,7 +239,10 @@ fn envmap_side_sweep_writes_rows_and_names_bad_values() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{param}={values}: {err}");
         assert!(err.contains(name), "{param}={values}: {err}");
-        assert!(!dir.join("sweep_side.csv").exists(), "{param}={values}: wrote a CSV");
+        assert!(
+            !dir.join("sweep_side.csv").exists(),
+            "{param}={values}: wrote a CSV"
+        );
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
