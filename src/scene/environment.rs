@@ -273,7 +273,7 @@ pub enum EnvBackground {
 }
 
 /// How the voxel map is prefiltered.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Prefilter {
     /// The thesis' accelerated build (pyramid, domes, weight table pruned at
@@ -289,6 +289,7 @@ pub enum Prefilter {
     /// the exact one above, where every lobe is narrower than a texel of the input and
     /// the exact sum visits fewer samples than the dome that must resolve those lobes
     /// (docs/envmap.md, "Map side").
+    #[default]
     Auto,
 }
 
@@ -311,12 +312,6 @@ impl Prefilter {
 
 fn default_threshold() -> f64 {
     THESIS_THRESHOLD
-}
-
-impl Default for Prefilter {
-    fn default() -> Self {
-        Prefilter::Auto
-    }
 }
 
 /// The camera of the thesis' renders: at (0, 1, 3.9) looking at the origin, y up, 36°
