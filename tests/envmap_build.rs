@@ -405,4 +405,21 @@ fn side_256_covers_every_voxel_within_the_128_bound() {
         thesis_empty > 0,
         "the n = 72 dome covered every voxel at s = {s}"
     );
+    // The figures of docs/envmap.md's "Map side" table: Λ and the th-cap radius
+    // ψ_th = acos(th^(1/Λ)) at |t| = 1 and at the corner voxel, per side. The cap
+    // narrows like 1/s, which is why the finest dome must follow the side.
+    let mut prev = f64::INFINITY;
+    for side in [64u32, 128, 256] {
+        let q = PrefilterParams::new(side as f64, p.levels(), p.weighting()).unwrap();
+        let c = 1.0 - 1.0 / side as f64;
+        let psi = |l: f64| th.powf(1.0 / l).acos();
+        let (l1, lc) = (q.lambda([0.0, 0.0, 1.0]), q.lambda([c, c, c]));
+        println!(
+            "s = {side}: Λ(1) = {l1:.0}, ψ_th(1) = {:.4} rad; Λ(corner) = {lc:.0}, ψ_th(corner) = {:.4} rad",
+            psi(l1),
+            psi(lc)
+        );
+        assert!(psi(l1) < prev);
+        prev = psi(l1);
+    }
 }
