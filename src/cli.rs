@@ -107,7 +107,8 @@ pub enum Command {
     /// scenes) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
-    /// Error against run time for one shafts parameter: renders the scene for each
+    /// Error against run time for one shafts parameter (or glare / shading width, or
+    /// `side` of an environment-map scene): renders the scene for each
     /// value, compares with the f64 ray-marched reference, writes
     /// DIR/sweep_<param>.csv and .png and prints a table. With --shard K/N, only
     /// its share of the values, to DIR/sweep_<param>.shard-K-of-N.csv; `sweep merge`
@@ -269,9 +270,9 @@ fn sweep_merge(out: &std::path::Path, dirs: &[PathBuf]) -> Result<(), String> {
     let set = crate::report::shard::load(dirs)?;
     match set.id.kind.as_str() {
         "shafts" => crate::pipeline::shafts::sweep::merge_cli(&set, out),
-        "glare" | "shading" => crate::report::sweep_out::merge_sweep(&set, out),
+        "glare" | "shading" | "envmap" => crate::report::sweep_out::merge_sweep(&set, out),
         other => Err(format!(
-            "{}: unknown kind of sweep '{other}' (known: shafts, glare, shading)",
+            "{}: unknown kind of sweep '{other}' (known: shafts, glare, shading, envmap)",
             set.files[0].display()
         )),
     }
@@ -430,6 +431,9 @@ fn reproduce(
     if name.starts_with("envmap-") {
         // Refuse a malformed ENVMAP_PATTERN_SIZE before any build or file.
         crate::pipeline::envmap::reproduce::cli_env("pattern")?;
+        // And an ENVMAP_TABLE3_S beyond the supported side (issue 17).
+        crate::pipeline::envmap::reproduce::cli_side()?;
+        crate::pipeline::envmap::reproduce::cli_thresholds()?;
     }
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
@@ -457,9 +461,10 @@ fn reproduce(
                 crate::pipeline::glare::gauss_seeds::cli_seeds()?,
             )?;
         }
-        "envmap-table3" => crate::pipeline::envmap::reproduce::table3(
+        "envmap-table3" => crate::pipeline::envmap::reproduce::table3_at(
             out,
             crate::pipeline::envmap::reproduce::cli_side()?,
+            &crate::pipeline::envmap::reproduce::cli_thresholds()?,
         )?,
         "envmap-table5" => {
             crate::pipeline::envmap::reproduce::table5(
@@ -576,6 +581,16 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
             .transpose()?;
         return crate::pipeline::shading::sweep::shading_sweep_cli(
             scene, param, values, out, image, shard, resume,
+        );
+    }
+    if let Some(mut s) = crate::pipeline::envmap::scene_render::environment_scene(scene)? {
+        if let Some(img) = image {
+            let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+            s.image.width = w;
+            s.image.height = h;
+        }
+        return crate::pipeline::envmap::sweep::envmap_sweep_cli(
+            &s, scene, param, values, out, shard, resume,
         );
     }
     match glare_scene(scene)? {

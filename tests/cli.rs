@@ -96,7 +96,12 @@ fn bad_reproduction_knobs_name_the_variable() {
         ("ENVMAP_PATTERN_SIZE", "5000x100", "envmap-table3"),
         ("GLARE_GAUSS_SEEDS", "0", "glare-gauss-seeds"),
         ("GLARE_GAUSS_SEEDS", "many", "glare-gauss-seeds"),
+        // Issue 17: beyond the 3D sampler's largest cube, refused in well under a
+        // second (the timing is the issue's bound, asserted generously below).
+        ("ENVMAP_TABLE3_S", "512", "envmap-table3"),
+        ("ENVMAP_TABLE3_TH", "0.001,1", "envmap-table3"),
     ] {
+        let t0 = std::time::Instant::now();
         let dir = std::env::temp_dir().join(format!("knob-{}-{name}", std::process::id()));
         let out = bin()
             .args(["reproduce", name, "--out"])
@@ -107,6 +112,12 @@ fn bad_reproduction_knobs_name_the_variable() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{var}={value} accepted");
         assert!(err.contains(var), "{var}={value}: {err}");
+        // Refused before any work: the issue's "under a second", with margin for a
+        // loaded machine (a build would take minutes).
+        assert!(
+            t0.elapsed().as_secs_f64() < 10.0,
+            "{var}={value}: slow refusal"
+        );
         let written = std::fs::read_dir(&dir).map_or(0, |d| d.count());
         assert_eq!(written, 0, "{var}={value}: files written");
         let _ = std::fs::remove_dir_all(&dir);
@@ -179,4 +190,59 @@ fn an_expensive_scene_prints_its_work_up_front() {
         line.contains("expensive scene") && line.contains("2.42e9"),
         "the first stderr line is not the work estimate: {line}"
     );
+}
+
+/// Issue 17: `sweep --param side` on an environment scene writes one row per side
+/// (error against the truth, wall time, the map's memory), and refuses a side beyond
+/// the sampler's largest cube or an unknown parameter before writing anything.
+#[test]
+fn envmap_side_sweep_writes_rows_and_names_bad_values() {
+    let dir = std::env::temp_dir().join(format!("envmap-side-sweep-{}", std::process::id()));
+    let run = |param: &str, values: &str| {
+        bin()
+            .args(["sweep", "--scene", "env-pattern-sphere", "--param", param])
+            .args(["--values", values, "--image", "24x24", "--out"])
+            .arg(&dir)
+            .env("CI", "1")
+            .output()
+            .unwrap()
+    };
+    let out = run("side", "8,16");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("sweep_side.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 2, "{csv}");
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for (row, side) in rows.iter().zip([8u64, 16]) {
+        assert_eq!(row[col("value")], side.to_string());
+        assert_eq!(row[col("ram_bits")], (side * side * side * 24).to_string());
+        let e: f64 = row[col("mean_abs_levels")].parse().unwrap();
+        assert!(e.is_finite() && e > 0.0, "{csv}");
+    }
+    assert!(dir.join("sweep_side.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+    for (param, values, name) in [
+        ("side", "16,512", "environment.side"),
+        ("side", "24", "environment.side"),
+        ("planes", "8", "param"),
+    ] {
+        let out = run(param, values);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{param}={values}: {err}");
+        assert!(err.contains(name), "{param}={values}: {err}");
+        assert!(
+            !dir.join("sweep_side.csv").exists(),
+            "{param}={values}: wrote a CSV"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -120,12 +120,22 @@ fn a_minimal_section_takes_the_thesis_defaults() {
     let text = "[camera]\neye = [0.0, 1.0, 3.9]\nlook_at = [0.0, 0.0, 0.0]\n[environment]\nmap = \"pattern\"\n";
     let e = Scene::from_toml_str(text).unwrap().environment.unwrap();
     assert_eq!(e.side, 128);
-    assert_eq!(
-        e.prefilter,
-        Prefilter::Accelerated {
-            threshold: TABLE5_TH
-        }
-    );
+    // The default picks the faster build at the side (issue 17): the thesis'
+    // accelerated one at 128 and below, the exact one above.
+    assert_eq!(e.prefilter, Prefilter::Auto);
+    for side in [2, 64, 128] {
+        assert_eq!(
+            e.prefilter.resolve(side),
+            Prefilter::Accelerated {
+                threshold: TABLE5_TH
+            }
+        );
+    }
+    assert_eq!(e.prefilter.resolve(256), Prefilter::Exact);
+    let exact = Prefilter::Exact;
+    assert_eq!(exact.resolve(64), Prefilter::Exact);
+    let acc = Prefilter::Accelerated { threshold: 0.01 };
+    assert_eq!(acc.resolve(256), acc);
     assert_eq!(e.lambda, EnvLambda::Uniform(1.0));
     assert_eq!(e.lookup, EnvLookup::Voxel3d);
     assert_eq!(e.background, EnvBackground::Environment);

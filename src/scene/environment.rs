@@ -10,7 +10,7 @@
 //! side = 128
 //! object = "teapot"
 //! lambda = "nonuniform"                 # or a number in [0, 1]
-//! prefilter = { type = "accelerated", threshold = 0.001 }
+//! prefilter = { type = "accelerated", threshold = 0.001 }   # or "exact"; default "auto"
 //! ```
 //!
 //! A relative `hdr` path is resolved against the scene file's directory when the file
@@ -29,8 +29,12 @@ use super::validate::{closed, interval};
 
 /// Default voxel map side s (the thesis': 128³).
 pub const DEFAULT_SIDE: u32 = 128;
-/// Smallest and largest voxel map side: the render's 3D texture sampler holds s³ texels,
-/// at most its `MAX_TEXELS` (2²⁴), so s ≤ 256 ([`super::limits::ENV_MAX_SIDE`]).
+/// Smallest and largest voxel map side. The largest is the largest power of two whose
+/// cube fits the 3D texture sampler's texel RAM address (`rtl_model`'s
+/// `texture_sampler::MAX_TEXELS` = 2^24 texels, a 24-bit address): 256
+/// ([`super::limits::ENV_MAX_SIDE`]). A 512³ map (2^27 texels, 512 MiB at 4 bytes per
+/// texel) is beyond both that address and the 64–128 MB boards of the GeForce3 class,
+/// so it is refused before any work (docs/envmap.md, "Map side").
 pub const MIN_SIDE: u32 = 2;
 pub const MAX_SIDE: u32 = super::limits::ENV_MAX_SIDE;
 /// The thesis' accelerated-prefilter threshold th (Table 5, the figures).
@@ -326,7 +330,7 @@ pub enum EnvBackground {
 }
 
 /// How the voxel map is prefiltered.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Prefilter {
     /// The thesis' accelerated build (pyramid, domes, weight table pruned at
@@ -337,18 +341,34 @@ pub enum Prefilter {
     },
     /// Every voxel summed over every texel (slow: seconds to minutes at s = 128).
     Exact,
+    /// The default: the faster build at the map's side ([`Prefilter::resolve`]): the
+    /// accelerated one at th = [`THESIS_THRESHOLD`] up to [`AUTO_ACCELERATED_MAX_SIDE`],
+    /// the exact one above, where every lobe is narrower than a texel of the input and
+    /// the exact sum visits fewer samples than the dome that must resolve those lobes
+    /// (docs/envmap.md, "Map side").
+    #[default]
+    Auto,
+}
+
+/// The largest side at which [`Prefilter::Auto`] picks the accelerated build.
+pub const AUTO_ACCELERATED_MAX_SIDE: u32 = 128;
+
+impl Prefilter {
+    /// The build this prefilter means at side `side`: [`Prefilter::Auto`] resolved,
+    /// the others as they are.
+    pub fn resolve(self, side: u32) -> Prefilter {
+        match self {
+            Prefilter::Auto if side <= AUTO_ACCELERATED_MAX_SIDE => Prefilter::Accelerated {
+                threshold: THESIS_THRESHOLD,
+            },
+            Prefilter::Auto => Prefilter::Exact,
+            other => other,
+        }
+    }
 }
 
 fn default_threshold() -> f64 {
     THESIS_THRESHOLD
-}
-
-impl Default for Prefilter {
-    fn default() -> Self {
-        Prefilter::Accelerated {
-            threshold: THESIS_THRESHOLD,
-        }
-    }
 }
 
 /// The camera of the thesis' renders: at (0, 1, 3.9) looking at the origin, y up, 36°
@@ -466,8 +486,10 @@ impl EnvironmentSection {
             other => ConfigError::invalid(field, &other.to_string()),
         })?;
         let (w, h) = (env.width(), env.height());
-        if matches!(self.prefilter, Prefilter::Accelerated { .. })
-            && (w % PYRAMID_DIVISOR != 0 || h % PYRAMID_DIVISOR != 0)
+        if matches!(
+            self.prefilter.resolve(self.side),
+            Prefilter::Accelerated { .. }
+        ) && (w % PYRAMID_DIVISOR != 0 || h % PYRAMID_DIVISOR != 0)
         {
             return Err(ConfigError::invalid(
                 field,

@@ -35,8 +35,17 @@ pub const SHAFTS_ATTRS: u32 = 8;
 /// Fraction bits of the shafts interpolator's outputs (s16.16, the projective inputs).
 pub const SHAFTS_ATTR_FRAC: u32 = 16;
 /// Largest environment voxel-map side s: the 3D texture sampler holds s³ ≤
-/// [`MAX_TEXELS`] texels, so s ≤ 2^(log2(MAX_TEXELS) / 3) (256 at 2²⁴).
-pub const ENV_MAX_SIDE: u32 = 1 << (MAX_TEXELS.trailing_zeros() / 3);
+/// [`MAX_TEXELS`] texels, and the reflection unit needs a power of two (256 at 2²⁴).
+pub const ENV_MAX_SIDE: u32 = max_cube_side(MAX_TEXELS);
+
+/// The largest power of two s with s³ ≤ `texels`.
+pub const fn max_cube_side(texels: u64) -> u32 {
+    let mut s: u64 = 1;
+    while (2 * s) * (2 * s) * (2 * s) <= texels {
+        s *= 2;
+    }
+    s as u32
+}
 
 /// `[rounding]`: where GL leaves the rounding to the implementation, which choice the
 /// units make (docs/shading.md, "The GL oracle"). The defaults are the GeForce-style

@@ -14,6 +14,7 @@ pub mod roughness;
 pub mod scene_render;
 pub mod slice;
 pub mod studies;
+pub mod sweep;
 pub mod table5;
 pub mod timing;
 mod truth;

@@ -52,7 +52,16 @@
 //! one dome: entries ω with (t̂·ω)^Λ > th, weights the full-hemisphere normalised w of
 //! (9) (the normaliser with the same −60 pruning as above), *not* renormalised over the
 //! kept entries — as [`select_weight_entries`] and [`WeightEntries::apply`]. A voxel
-//! with no entry gets F = 0 (the thesis' Fig. 19 "voxels not computed").
+//! with no entry gets F = 0 (the thesis' Fig. 19 "voxels not computed") in the study
+//! build [`build_accelerated_both`]; [`build_accelerated`] refuses such a map.
+//!
+//! **Side.** The domes above are the thesis' for its s = 128. Λ = g(|t|) grows like
+//! ln I·(|t|s)²/2, so the cap where (t̂·ω)^Λ > th shrinks like 1/(|t|s): with the n = 72
+//! dome, a 256³ map left 2 481 840 voxels (15 %) with no vertex in their cap. The
+//! frequencies are therefore [`dome_frequencies`]`(s)`: the thesis' up to s = 128,
+//! ⌈n·s/128⌉ above, which keeps each voxel's cap-to-spacing ratio that of the s = 128
+//! map (0 empty voxels at th = 0.001 at 64, 128 and 256: docs/envmap.md, "Map side").
+//! A finished map with an empty voxel is an error ([`check_coverage`]).
 //!
 //! **Level choice.** ψ_½ = acos(2^(−1/Λ)) is the lobe's half-weight angle (cos^Λ ψ_½ = ½).
 //! Level k's dome has vertex spacing ≈ a_k = atan 2 / n_k (0.0154 rad at n = 72, 0.123
@@ -471,12 +480,10 @@ pub fn build_exact_bits(
     bits: u32,
 ) -> Result<VoxelMap, ConfigError> {
     let mut map = VoxelMap::new(s, bits)?;
-    let p = params_for(s, params)?;
-    let index = SphereIndex::from_equirect(env_levels, p.weighting());
+    let exact = Exact::new(env_levels, s, params)?;
     let probe = map.clone();
     fill_voxels(&mut map, None, "exact", &|x, y, z, scratch| {
-        let t = probe.voxel_t(x, y, z);
-        let r = prefilter_voxel_indexed(&index, t, p.lambda(t), None, scratch);
+        let r = exact.voxel(probe.voxel_t(x, y, z), scratch);
         (r.f, r.f, [0, 0])
     });
     Ok(map)
@@ -511,12 +518,30 @@ pub struct DomeLevels {
 
 impl DomeLevels {
     /// The thesis' pyramid (4 levels; W and H must halve 3 times) on the domes of
-    /// frequency 72, 36, 18, 9.
+    /// frequency 72, 36, 18, 9 (the s = 128 domes of [`DomeLevels::for_side`]).
     pub fn thesis(env_levels: &Equirect, weighting: Weighting) -> Result<Self, ConfigError> {
+        Self::with_frequencies(env_levels, weighting, THESIS_DOME_FREQUENCIES)
+    }
+
+    /// The pyramid on the domes of [`dome_frequencies`]`(s)`: the thesis' four for
+    /// s ≤ 128, scaled by s / 128 above (module notes, "Side").
+    pub fn for_side(
+        env_levels: &Equirect,
+        s: u32,
+        weighting: Weighting,
+    ) -> Result<Self, ConfigError> {
+        Self::with_frequencies(env_levels, weighting, dome_frequencies(s))
+    }
+
+    fn with_frequencies(
+        env_levels: &Equirect,
+        weighting: Weighting,
+        frequencies: [u32; 4],
+    ) -> Result<Self, ConfigError> {
         let pyr = build_pyramid(env_levels, THESIS_PYRAMID_LEVELS)?;
         let mut levels = Vec::with_capacity(pyr.len());
         let mut spacing = Vec::with_capacity(pyr.len());
-        for (lvl, n) in pyr.iter().zip(THESIS_DOME_FREQUENCIES) {
+        for (lvl, n) in pyr.iter().zip(frequencies) {
             let dome = Dome::new(n)?;
             let radiance = dome.resample(lvl);
             levels.push(SphereIndex::from_dome(&dome, &radiance, weighting));
@@ -539,6 +564,21 @@ impl DomeLevels {
         self.levels.get(level)
     }
 }
+
+/// The dome frequencies of the four pyramid levels at voxel side `s`: the thesis'
+/// 72 / 36 / 18 / 9 (its s = 128) for s ≤ 128, × s / 128 above (144 / 72 / 36 / 18 at
+/// s = 256). The narrowest lobe's width scales as 1 / s (Λ ≈ ln I·(|t|s)²/2), so the
+/// finest dome's spacing must too for the lobe-to-spacing ratio of every |t| — and so
+/// the coverage measured at s = 128 — to hold at every side (module notes, "Side").
+pub fn dome_frequencies(s: u32) -> [u32; 4] {
+    let s = u64::from(s.max(REFERENCE_SIDE));
+    let r = u64::from(REFERENCE_SIDE);
+    // ⌈n·s / 128⌉: never coarser than the ratio asks (sides need not be powers of two).
+    THESIS_DOME_FREQUENCIES.map(|n| (u64::from(n) * s).div_ceil(r) as u32)
+}
+
+/// The side the thesis' dome frequencies were chosen for (its 128³ map).
+pub const REFERENCE_SIDE: u32 = 128;
 
 /// ψ_½ with cos^Λ ψ_½ = ½ (π/2 for Λ ≤ 0 or NaN).
 pub fn half_weight_angle(lambda: f64) -> f64 {
@@ -567,7 +607,30 @@ pub fn build_accelerated(
     th: f64,
 ) -> Result<(VoxelMap, TableStats), ConfigError> {
     let (m, _, st) = build_accelerated_both(env_levels, s, params, th)?;
+    check_coverage(&st, s, th)?;
     Ok((m, st))
+}
+
+/// A finished map has no empty voxel: one would be a black texel that no lobe put
+/// there. The error names the threshold `envmap.th` and the finest dome frequency
+/// (`envmap_prefilter.dome_frequency`, [`dome_frequencies`] of the side), the two
+/// parameters that decide whether a voxel's lobe above th holds a dome vertex.
+/// The study builds ([`build_accelerated_both`]: Table 3 at large th, the thesis'
+/// Fig. 19 "voxels not computed") count empty voxels instead.
+pub fn check_coverage(st: &TableStats, s: u32, th: f64) -> Result<(), ConfigError> {
+    if st.empty_voxels == 0 {
+        return Ok(());
+    }
+    Err(ConfigError::invalid(
+        "envmap.th",
+        &format!(
+            "{th} leaves {} of the {s}³ voxels with no weight-table entry (no vertex of the \
+             finest dome, envmap_prefilter.dome_frequency = {}, has a lobe weight above th): \
+             lower th or use the exact prefilter",
+            st.empty_voxels,
+            dome_frequencies(s)[0]
+        ),
+    ))
 }
 
 /// As [`build_accelerated`], also returning the map with each voxel's kept weights
@@ -590,11 +653,10 @@ pub fn build_accelerated_both_bits(
     th: f64,
     bits: u32,
 ) -> Result<(VoxelMap, VoxelMap, TableStats), ConfigError> {
-    let th = check_th(th)?;
+    check_th(th)?;
     let t0 = Instant::now();
     let mut map = VoxelMap::new(s, bits)?;
-    let p = params_for(s, params)?;
-    let domes = DomeLevels::thesis(env_levels, p.weighting())?;
+    let acc = Accelerated::new(env_levels, s, params, th)?;
     let probe = map.clone();
     let mut renorm = map.clone();
     let stats = fill_voxels(
@@ -602,10 +664,7 @@ pub fn build_accelerated_both_bits(
         Some(&mut renorm),
         "accelerated",
         &|x, y, z, scratch| {
-            let t = probe.voxel_t(x, y, z);
-            let lambda = p.lambda(t);
-            let idx = &domes.levels[domes.level_for(lambda)];
-            let r = prefilter_voxel_indexed(idx, t, lambda, Some(th), scratch);
+            let r = acc.voxel(probe.voxel_t(x, y, z), scratch);
             let rn = if r.kept_weight > 0.0 {
                 r.f.map(|c| c / r.kept_weight)
             } else {
@@ -621,6 +680,63 @@ pub fn build_accelerated_both_bits(
         empty_voxels: stats[1],
     };
     Ok((map, renorm, stats))
+}
+
+/// The accelerated build's per-voxel filter at one side: the side's Λ = g(|t|), its
+/// domes ([`DomeLevels::for_side`]) and th. [`build_accelerated`] runs it on every
+/// voxel; [`Accelerated::voxel`] runs it on one (tests check chosen voxels of a map
+/// too large to build whole in a test).
+#[derive(Clone, Debug)]
+pub struct Accelerated {
+    params: PrefilterParams,
+    domes: DomeLevels,
+    th: f64,
+}
+
+impl Accelerated {
+    /// th ∈ [0, 1) (`envmap.th`), `params` with s replaced by the side `s`.
+    pub fn new(
+        env_levels: &Equirect,
+        s: u32,
+        params: &PrefilterParams,
+        th: f64,
+    ) -> Result<Self, ConfigError> {
+        let th = check_th(th)?;
+        let params = params_for(s, params)?;
+        let domes = DomeLevels::for_side(env_levels, s, params.weighting())?;
+        Ok(Accelerated { params, domes, th })
+    }
+
+    /// F of the voxel at `t` (codes not rounded), its kept weight and entries.
+    pub fn voxel(&self, t: [f64; 3], scratch: &mut Vec<(u32, f64)>) -> VoxelResult {
+        let lambda = self.params.lambda(t);
+        let idx = &self.domes.levels[self.domes.level_for(lambda)];
+        prefilter_voxel_indexed(idx, t, lambda, Some(self.th), scratch)
+    }
+}
+
+/// The exact build's per-voxel filter at one side (as [`build_exact`]).
+#[derive(Clone, Debug)]
+pub struct Exact {
+    params: PrefilterParams,
+    index: SphereIndex,
+}
+
+impl Exact {
+    pub fn new(
+        env_levels: &Equirect,
+        s: u32,
+        params: &PrefilterParams,
+    ) -> Result<Self, ConfigError> {
+        let params = params_for(s, params)?;
+        let index = SphereIndex::from_equirect(env_levels, params.weighting());
+        Ok(Exact { params, index })
+    }
+
+    /// F of the voxel at `t`.
+    pub fn voxel(&self, t: [f64; 3], scratch: &mut Vec<(u32, f64)>) -> VoxelResult {
+        prefilter_voxel_indexed(&self.index, t, self.params.lambda(t), None, scratch)
+    }
 }
 
 /// Per-channel mean |Δ| and variance of Δ (Δ = a − b in codes) over all voxels;

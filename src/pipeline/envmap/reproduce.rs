@@ -17,7 +17,8 @@
 //! `DIR/table3_extra.csv` (entries, empty voxels, and the same errors with each
 //! voxel's kept weights renormalised) and `DIR/prefilter_times.csv`.
 //! The CLI uses s = 128 (the thesis); the environment variable `ENVMAP_TABLE3_S`
-//! overrides it for quick runs.
+//! overrides it (up to `scene::environment::MAX_SIDE`, 256), and `ENVMAP_TABLE3_TH`
+//! (a comma list) runs only those thresholds.
 //!
 //! Measured (release, 2 cores shared, s = 128; mean |Δ| (r, g, b) in levels, build s,
 //! table MB at 8 bytes per entry):
@@ -93,6 +94,9 @@ pub fn cli_side() -> Result<u32, String> {
     match std::env::var("ENVMAP_TABLE3_S") {
         Ok(v) => match v.trim().parse::<u32>() {
             Ok(s) if (MIN_SIDE..=MAX_SIDE).contains(&s) && s.is_power_of_two() => Ok(s),
+            Ok(s) if s > MAX_SIDE => Err(format!(
+                "ENVMAP_TABLE3_S: {s} is beyond the largest supported side {MAX_SIDE} ({MAX_SIDE}³ is the largest cube the 3D texture sampler's 2^24-texel address holds; docs/envmap.md, \"Map side\")"
+            )),
             _ => Err(format!(
                 "ENVMAP_TABLE3_S: '{v}' is not a power of two in {MIN_SIDE} ..= {MAX_SIDE} (the reflection_vector unit needs a power-of-two side)"
             )),
@@ -101,8 +105,30 @@ pub fn cli_side() -> Result<u32, String> {
     }
 }
 
+/// The thresholds of a Table 3 run: `ENVMAP_TABLE3_TH` (a comma list, each in
+/// [0, 1)) if set, else [`THESIS_TH`] — one th keeps a run at s = 256 to minutes.
+/// Checked before any build.
+pub fn cli_thresholds() -> Result<Vec<f64>, String> {
+    let Ok(v) = std::env::var("ENVMAP_TABLE3_TH") else {
+        return Ok(THESIS_TH.to_vec());
+    };
+    v.split(',')
+        .map(|x| match x.trim().parse::<f64>() {
+            Ok(th) if (0.0..1.0).contains(&th) => Ok(th),
+            _ => Err(format!(
+                "ENVMAP_TABLE3_TH: '{v}' is not a comma list of thresholds in [0, 1)"
+            )),
+        })
+        .collect()
+}
+
 /// Run Table 3 at voxel side `s` into `out` (see the module doc).
 pub fn table3(out: &Path, s: u32) -> Result<(), String> {
+    table3_at(out, s, &THESIS_TH)
+}
+
+/// [`table3`] at the thresholds `ths`.
+pub fn table3_at(out: &Path, s: u32, ths: &[f64]) -> Result<(), String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let params = PrefilterParams::thesis();
     let mut t3 =
@@ -125,7 +151,7 @@ pub fn table3(out: &Path, s: u32) -> Result<(), String> {
             prune_bound(&levels, params.weighting()),
             rayon::current_num_threads()
         );
-        for th in THESIS_TH {
+        for &th in ths {
             let (acc, ren, st) = build_accelerated_both(&levels, s, &params, th).map_err(e)?;
             let (mean, var) = voxel_error(&acc, &exact).ok_or("internal: side mismatch")?;
             let (rmean, rvar) = voxel_error(&ren, &exact).ok_or("internal: side mismatch")?;

@@ -155,7 +155,8 @@ pub fn build_map(
         }
     };
     let t0 = Instant::now();
-    let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter {
+    let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter.resolve(section.side)
+    {
         Prefilter::Accelerated { threshold } => {
             let (map, st) = build_accelerated(&levels, section.side, &params, threshold)?;
             (
@@ -165,7 +166,7 @@ pub fn build_map(
                 Some(st.empty_voxels),
             )
         }
-        Prefilter::Exact => (
+        Prefilter::Exact | Prefilter::Auto => (
             build_exact(&levels, section.side, &params)?,
             "exact".to_string(),
             None,

@@ -15,8 +15,9 @@ use rtl_model::ConfigError;
 
 use super::slice::Slice;
 
-/// Largest side accepted (512³ × 3 channels fits comfortably in memory).
-pub const MAX_SIDE: u32 = 512;
+/// Largest side accepted: the largest cube the 3D texture sampler can hold (256; the
+/// scene's `environment.side` limit is the same constant).
+pub const MAX_SIDE: u32 = crate::scene::limits::ENV_MAX_SIDE;
 
 /// Cube-map slices a map keeps (most recently made last; see [`Textures`]).
 const SLICES_KEPT: usize = 4;
@@ -63,7 +64,7 @@ impl PartialEq for VoxelMap {
 impl Eq for VoxelMap {}
 
 impl VoxelMap {
-    /// An all-zero map; `s` in 1 ..= 512 (`envmap.voxels`), `bits` in 1 ..= 16
+    /// An all-zero map; `s` in 1 ..= [`MAX_SIDE`] (`envmap.voxels`), `bits` in 1 ..= 16
     /// (`envmap.voxel_bits`).
     pub fn new(s: u32, bits: u32) -> Result<Self, ConfigError> {
         rtl_model::error::check_range("envmap.voxels", s.into(), 1, MAX_SIDE.into())?;
