@@ -100,6 +100,10 @@ pub enum Command {
         /// rows there are another run's.
         #[arg(long)]
         resume: bool,
+        /// Memory budget, as for `render`: checked for the largest scene the
+        /// reproduction renders before any work.
+        #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
+        max_memory: Option<u64>,
     },
     /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
     /// scenes) as TOML, to start a scene file from:
@@ -226,6 +230,10 @@ pub struct SweepArgs {
     /// wall times. Refused, naming the file, if the rows there are another sweep's.
     #[arg(long)]
     pub resume: bool,
+    /// Memory budget, as for `render`: the largest point of the sweep is checked
+    /// against it before the first point runs (docs/inputs.md).
+    #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
+    pub max_memory: Option<u64>,
 }
 
 /// `sweep`'s subcommands.
@@ -293,7 +301,8 @@ pub fn run(cli: Cli) -> Result<(), String> {
             out,
             values,
             resume,
-        } => reproduce(&name, &out, values, resume),
+            max_memory,
+        } => reproduce(&name, &out, values, resume, max_memory),
         Command::Scene { name } => {
             print!(
                 "{}",
@@ -376,6 +385,7 @@ fn reproduce(
     out: &std::path::Path,
     values: Option<Vec<u32>>,
     resume: bool,
+    max_memory: Option<u64>,
 ) -> Result<(), String> {
     use crate::pipeline::glare::reproduce as g;
     use crate::pipeline::shafts::reproduce as r;
@@ -397,6 +407,7 @@ fn reproduce(
         // Refuse a malformed ENVMAP_PATTERN_SIZE before any build or file.
         crate::pipeline::envmap::reproduce::cli_env("pattern")?;
     }
+    crate::frame::budget::check_reproduction(name, max_memory)?;
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
     match name {
@@ -532,6 +543,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.shard,
         args.resume,
     );
+    crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
     if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)

@@ -39,13 +39,7 @@ pub fn render_cli(
     }
     let scene = load_scene(name)?;
     if !plan_only {
-        let (budget, from) = match max_memory {
-            Some(b) => (b, "--max-memory".to_string()),
-            None => (
-                super::budget::default_budget(),
-                "default: half of MemAvailable".to_string(),
-            ),
-        };
+        let (budget, from) = super::budget::resolve(max_memory);
         super::budget::check(&scene, budget, &from)?;
         work_note(&scene);
     }
