@@ -407,7 +407,8 @@ fn reproduce(
         // Refuse a malformed ENVMAP_PATTERN_SIZE before any build or file.
         crate::pipeline::envmap::reproduce::cli_env("pattern")?;
     }
-    crate::frame::budget::check_reproduction(name, max_memory)?;
+    crate::frame::budget::check_reproduction(name, values.as_deref(), max_memory)?;
+    let points = crate::frame::budget::reproduction_points(name, values.as_deref())?;
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
     match name {
@@ -520,6 +521,10 @@ fn reproduce(
         out.display(),
         t0.elapsed().as_secs_f64()
     );
+    // The range warnings of the frames it rendered (issue 16), once each.
+    if let Some(points) = points {
+        crate::frame::range::print_points(&crate::frame::range::check_points(&points));
+    }
     Ok(())
 }
 
@@ -544,6 +549,41 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.resume,
     );
     crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
+    sweep_kinds(
+        scene,
+        param,
+        values,
+        out,
+        truth_samples,
+        image,
+        shard,
+        resume,
+    )?;
+    // The range warnings of the points it ran (its shard's share), once each.
+    if let Some(mut points) = crate::frame::budget::sweep_points(scene, param, values, image)? {
+        if let Some(sh) = shard {
+            let keep = sh.indices(points.len());
+            points = keep.into_iter().map(|i| points[i].clone()).collect();
+        }
+        crate::frame::range::print_points(&crate::frame::range::check_points(&points));
+    }
+    Ok(())
+}
+
+/// [`sweep`] by kind: a shading scene, a scene with a `[glare]` section, a shafts
+/// scene.
+// The command line's options, one argument each.
+#[allow(clippy::too_many_arguments)]
+fn sweep_kinds(
+    scene: &str,
+    param: &str,
+    values: &str,
+    out: &std::path::Path,
+    truth_samples: u32,
+    image: Option<&str>,
+    shard: Option<Shard>,
+    resume: bool,
+) -> Result<(), String> {
     if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)

@@ -524,8 +524,8 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
             ],
         ),
     ];
-    for (what, args) in runs {
-        let (code, wall, rss, err) = run_measured(&args, &dir);
+    for (what, args) in &runs {
+        let (code, wall, rss, err) = run_measured(args, &dir);
         println!(
             "{what}: exit {code:?}, {:.3} s, peak RSS {:.1} MB",
             wall.as_secs_f64(),
@@ -538,7 +538,10 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
         assert!(wall < Duration::from_secs(1), "{what}: took {wall:?}");
         assert!(rss < 200_000_000, "{what}: peak RSS {rss} bytes");
         assert!(!out.exists(), "{what}: an image was written");
-        assert!(!sweep_dir.exists(), "{what}: the sweep wrote into its --out");
+        assert!(
+            !sweep_dir.exists(),
+            "{what}: the sweep wrote into its --out"
+        );
     }
     // The sweep's refusal names the point that is too large.
     let (_, _, _, err) = run_measured(runs[0].1.as_slice(), &dir);

@@ -275,34 +275,21 @@ pub fn check_items(
     ))
 }
 
-/// `sweep`'s memory check, before the first point runs: the largest point of the
-/// sweep of `param` over `values` on `scene_name` (with `--image` applied) against the
-/// budget. A shading scene (`shading-*`) counts its sphere view's buffers. Errors in
-/// the scene, param or values are the sweep's own (the same checks it makes next).
-pub fn check_sweep(
+/// The frames of a sweep of `param` over `values` on `scene_name` (with `--image`
+/// applied), each with its label (`planes = 20`): what the memory check and the range
+/// warnings look at. None for a shading scene (`shading-*`: sphere views, no scene)
+/// and for `test` (the sweep refuses it). Errors in the scene, param or values are the
+/// sweep's own (the same checks it makes next).
+pub fn sweep_points(
     scene_name: &str,
     param: &str,
     values: &str,
     image: Option<&str>,
-    max_memory: Option<u64>,
-) -> Result<(), String> {
+) -> Result<Option<Vec<(String, Scene)>>, String> {
     use crate::pipeline::shafts::sweep as sh;
-    let (budget, from) = resolve(max_memory);
-    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
-        // Square views only (the sweep refuses others); 256 by default.
-        let side = match image {
-            Some(img) => u64::from(sh::parse_image(img)?.0),
-            None => 256,
-        };
-        let item = Item {
-            what: format!("image buffers ({side} × {side} pixels)"),
-            bytes: (side * side).saturating_mul(BYTES_PER_PIXEL),
-            shrink: "--image".into(),
-        };
-        return check_items(vec![item], &format!("--image {side}x{side}"), budget, &from);
-    }
-    if scene_name == "test" {
-        return Ok(()); // refused by the sweep itself: nothing to sweep
+    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) || scene_name == "test"
+    {
+        return Ok(None);
     }
     let mut base = crate::scene::load::load_scene(scene_name)?;
     if let Some(img) = image {
@@ -310,7 +297,7 @@ pub fn check_sweep(
         base.image.width = w;
         base.image.height = h;
     }
-    let points: Vec<(String, Scene)> = if base.glare.is_some() {
+    Ok(Some(if base.glare.is_some() {
         let vs = crate::report::sweep_out::parse_int_values(values)?;
         let scenes = crate::pipeline::glare::sweep::glare_scenes(&base, param, &vs)?;
         vs.iter()
@@ -325,21 +312,79 @@ pub fn check_sweep(
             .map(|v| format!("{} = {v}", p.name()))
             .zip(scenes)
             .collect()
-    };
-    check_largest(&points, budget, &from)
+    }))
 }
 
-/// `reproduce NAME`'s memory check, before any work: the largest built-in scene the
-/// reproduction renders, at the sizes its environment variables set
-/// (`ENVMAP_TABLE3_S`, `ENVMAP_IMAGE_SIZE`), against the budget. The shading
-/// reproductions render fixed sphere views (256 × 256 at most) and are counted as
-/// such.
-pub fn check_reproduction(name: &str, max_memory: Option<u64>) -> Result<(), String> {
-    use crate::scene::load::load_scene;
+/// `sweep`'s memory check, before the first point runs: the largest of its
+/// [`sweep_points`] against the budget. A shading scene (`shading-*`) counts its
+/// sphere view's buffers.
+pub fn check_sweep(
+    scene_name: &str,
+    param: &str,
+    values: &str,
+    image: Option<&str>,
+    max_memory: Option<u64>,
+) -> Result<(), String> {
     let (budget, from) = resolve(max_memory);
+    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
+        // Square views only (the sweep refuses others); 256 by default.
+        let side = match image {
+            Some(img) => u64::from(crate::pipeline::shafts::sweep::parse_image(img)?.0),
+            None => 256,
+        };
+        let item = Item {
+            what: format!("image buffers ({side} × {side} pixels)"),
+            bytes: (side * side).saturating_mul(BYTES_PER_PIXEL),
+            shrink: "--image".into(),
+        };
+        return check_items(vec![item], &format!("--image {side}x{side}"), budget, &from);
+    }
+    match sweep_points(scene_name, param, values, image)? {
+        Some(points) => check_largest(&points, budget, &from),
+        None => Ok(()),
+    }
+}
+
+/// The built-in scenes `reproduce NAME` renders, each with its label, at the sizes its
+/// environment variables set (`ENVMAP_TABLE3_S`, `ENVMAP_IMAGE_SIZE`) and with its
+/// `--values` (shafts-fig4: planes at 8- and 16-bit texels; shafts-fig5: sub-planes).
+/// None for the shading reproductions (sphere views, no scene) and unknown names.
+pub fn reproduction_points(
+    name: &str,
+    values: Option<&[u32]>,
+) -> Result<Option<Vec<(String, Scene)>>, String> {
+    use crate::scene::load::load_scene;
     let scenes: Vec<&str> = match name {
-        "shafts-fig4" => vec!["fig4"],
-        "shafts-fig5" | "shafts-vs-raymarch" => vec!["fig6"],
+        "shafts-fig4" => {
+            let base = load_scene("fig4")?;
+            let default: Vec<u32> = (1..=20).map(|k| 10 * k).collect();
+            let mut points = Vec::new();
+            for bits in [8, 16] {
+                for &n in values.unwrap_or(&default) {
+                    let mut s = base.clone();
+                    s.shafts.planes = n;
+                    s.shafts.texel_bits = bits;
+                    s.shafts.fb_bits = bits;
+                    points.push((format!("planes = {n} ({bits}-bit texels)"), s));
+                }
+            }
+            return Ok(Some(points));
+        }
+        "shafts-fig5" => {
+            let base = load_scene("fig6")?;
+            let default: Vec<u32> = (1..=25).collect();
+            let points = values
+                .unwrap_or(&default)
+                .iter()
+                .map(|&m| {
+                    let mut s = base.clone();
+                    s.shafts.subplanes = m;
+                    (format!("subplanes = {m}"), s)
+                })
+                .collect();
+            return Ok(Some(points));
+        }
+        "shafts-vs-raymarch" => vec!["fig6"],
         "shafts-stage" => vec!["stage"],
         "glare-fig4" | "glare-fig5" | "glare-fig7" | "glare-fig8" | "glare-throughput"
         | "glare-gauss-seeds" => vec![
@@ -356,15 +401,7 @@ pub fn check_reproduction(name: &str, max_memory: Option<u64>) -> Result<(), Str
             "env-venice_sunset-teapot",
             "env-st_fagans_interior-teapot",
         ],
-        n if n.starts_with("shading-") => {
-            let item = Item {
-                what: "image buffers (256 × 256 pixels)".into(),
-                bytes: 256 * 256 * BYTES_PER_PIXEL,
-                shrink: "nothing: the shading reproductions' views are fixed".into(),
-            };
-            return check_items(vec![item], name, budget, &from);
-        }
-        _ => return Ok(()), // an unknown name is refused by `reproduce` itself
+        _ => return Ok(None),
     };
     let mut points = Vec::new();
     for s in scenes {
@@ -390,5 +427,28 @@ pub fn check_reproduction(name: &str, max_memory: Option<u64>) -> Result<(), Str
         };
         points.push((label, scene));
     }
-    check_largest(&points, budget, &from)
+    Ok(Some(points))
+}
+
+/// `reproduce NAME`'s memory check, before any work: the largest of its
+/// [`reproduction_points`] against the budget. The shading reproductions render
+/// fixed sphere views (256 × 256 at most) and are counted as such.
+pub fn check_reproduction(
+    name: &str,
+    values: Option<&[u32]>,
+    max_memory: Option<u64>,
+) -> Result<(), String> {
+    let (budget, from) = resolve(max_memory);
+    if name.starts_with("shading-") {
+        let item = Item {
+            what: "image buffers (256 × 256 pixels)".into(),
+            bytes: 256 * 256 * BYTES_PER_PIXEL,
+            shrink: "nothing: the shading reproductions' views are fixed".into(),
+        };
+        return check_items(vec![item], name, budget, &from);
+    }
+    match reproduction_points(name, values)? {
+        Some(points) => check_largest(&points, budget, &from),
+        None => Ok(()),
+    }
 }
