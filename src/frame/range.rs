@@ -811,6 +811,8 @@ impl std::fmt::Display for PointWarning {
 pub fn check_points(points: &[(String, Scene)]) -> Vec<PointWarning> {
     let mut out: Vec<PointWarning> = Vec::new();
     for (label, scene) in points {
+        // A run stopped (SIGINT, SIGTERM) once its rows are saved ends here.
+        crate::report::interrupt::exit_if_requested();
         let warnings = if super::plan::environment_scene(scene) {
             check_environment(scene)
         } else {

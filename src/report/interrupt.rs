@@ -66,3 +66,12 @@ pub fn stop_if_requested(done: usize, total: usize, file: &std::path::Path) {
         std::process::exit(exit_status(sig));
     }
 }
+
+/// After the last row, in the work a run does once its rows are saved (its range
+/// warnings): if a signal asked to stop, exit with [`exit_status`] at once; every row
+/// is already on file, so the message is not needed and `--resume` has nothing left.
+pub fn exit_if_requested() {
+    if let Some(sig) = requested() {
+        std::process::exit(exit_status(sig));
+    }
+}
