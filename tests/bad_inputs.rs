@@ -457,8 +457,8 @@ fn run_measured(args: &[&str], dir: &Path) -> (Option<i32>, Duration, u64, Strin
 }
 
 /// A scene whose light maps alone need ~800 GB (4000 spots × 4096² texels) is refused
-/// under the default budget (half of MemAvailable) and a small scene under an explicit
-/// `--max-memory`: each in under 1 s of wall time with a peak RSS under 200 MB (both
+/// under the default budget (half of MemAvailable), and a small scene and a sweep whose
+/// largest point is too large under an explicit `--max-memory`: each in under 1 s of wall time with a peak RSS under 200 MB (both
 /// generous: the refusal takes milliseconds and ~10 MB; the bound is loose for a
 /// loaded machine), and the message lists what is large and the field to shrink.
 #[cfg(target_os = "linux")]
@@ -486,7 +486,27 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
     let small = dir.join("fig6-4096.toml");
     std::fs::write(&small, one_light).unwrap();
     let small_s = small.to_string_lossy();
-    let runs: [(&str, Vec<&str>); 2] = [
+    let sweep_dir = dir.join("sweep");
+    let sweep_s = sweep_dir.to_string_lossy();
+    let runs: [(&str, Vec<&str>); 3] = [
+        // A sweep: its largest point (the last value) is checked before the first
+        // runs; nothing is written, not even the output directory.
+        (
+            "sweep fig6 light_map_texels 64,4096, --max-memory 64M",
+            vec![
+                "sweep",
+                "--scene",
+                "fig6",
+                "--param",
+                "light_map_texels",
+                "--values",
+                "64,4096",
+                "--out",
+                &sweep_s,
+                "--max-memory",
+                "64M",
+            ],
+        ),
         (
             "4000 lights, default budget",
             vec!["render", "--scene", &huge_s, "--out", &out_s],
@@ -504,8 +524,8 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
             ],
         ),
     ];
-    for (what, args) in runs {
-        let (code, wall, rss, err) = run_measured(&args, &dir);
+    for (what, args) in &runs {
+        let (code, wall, rss, err) = run_measured(args, &dir);
         println!(
             "{what}: exit {code:?}, {:.3} s, peak RSS {:.1} MB",
             wall.as_secs_f64(),
@@ -518,6 +538,13 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
         assert!(wall < Duration::from_secs(1), "{what}: took {wall:?}");
         assert!(rss < 200_000_000, "{what}: peak RSS {rss} bytes");
         assert!(!out.exists(), "{what}: an image was written");
+        assert!(
+            !sweep_dir.exists(),
+            "{what}: the sweep wrote into its --out"
+        );
     }
+    // The sweep's refusal names the point that is too large.
+    let (_, _, _, err) = run_measured(runs[0].1.as_slice(), &dir);
+    assert!(err.contains("light_map_texels = 4096"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

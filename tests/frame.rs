@@ -168,3 +168,33 @@ fn same_bytes_on_one_and_two_threads() {
         serde_json::to_string(&two.counters()).unwrap()
     );
 }
+
+/// `render`'s progress bar (issue 16): with a (hidden) bar the frame is the same bytes
+/// and counters as without, and the bar reached its length: one step per sample plane
+/// of each light's planes pass and one per other pass, counted here from the plan.
+#[test]
+fn the_progress_bar_reaches_its_length_and_changes_nothing() {
+    use glare_pipeline::frame::run::render_with_progress;
+    let s = small();
+    let p = plan(&s).unwrap();
+    let planes_passes = p
+        .passes
+        .iter()
+        .filter(|p| matches!(p.step, Step::Shafts(ShaftsPass::Planes { .. })))
+        .count() as u64;
+    assert!(planes_passes >= 1, "night-street has lights in a medium");
+    let want = planes_passes * u64::from(s.shafts.planes) + (p.passes.len() as u64 - planes_passes);
+    let plain = render(&s).unwrap();
+    let (f, (pos, len)) = render_with_progress(&s, false).unwrap();
+    assert_eq!(
+        len, want,
+        "steps: {planes_passes} planes passes of {} planes + the other passes",
+        s.shafts.planes
+    );
+    assert_eq!(pos, len, "the bar stopped short of its length");
+    assert_eq!(f.fb, plain.fb);
+    assert_eq!(
+        serde_json::to_string(&f.counters()).unwrap(),
+        serde_json::to_string(&plain.counters()).unwrap()
+    );
+}

@@ -68,9 +68,15 @@ fn rows_in(path: &Path, skip: usize) -> Option<usize> {
 
 /// Start `cmd`, wait until `path` holds at least one row past `skip` header lines
 /// while the child still runs, then send it `signal` (`kill -SIGNAL pid`); returns the
-/// child's exit status. Fails if the run ends before it could be cut.
-fn cut_short(mut cmd: Command, path: &Path, skip: usize, signal: &str) -> std::process::ExitStatus {
-    let mut child: Child = cmd.spawn().unwrap();
+/// child's exit status and stderr. Fails if the run ends before it could be cut.
+fn cut_short(
+    mut cmd: Command,
+    path: &Path,
+    skip: usize,
+    signal: &str,
+) -> (std::process::ExitStatus, String) {
+    let child: Child = cmd.spawn().unwrap();
+    let mut child = child;
     let t0 = Instant::now();
     loop {
         if let Some(st) = child.try_wait().unwrap() {
@@ -94,9 +100,9 @@ fn cut_short(mut cmd: Command, path: &Path, skip: usize, signal: &str) -> std::p
         .status()
         .unwrap();
     assert!(st.success(), "kill -{signal} failed");
-    let st = child.wait().unwrap();
-    assert!(!st.success(), "the cut sweep still exited 0");
-    st
+    let o = child.wait_with_output().unwrap();
+    assert!(!o.status.success(), "the cut sweep still exited 0");
+    (o.status, String::from_utf8_lossy(&o.stderr).into_owned())
 }
 
 /// The CSV holds complete rows only: a header, then lines of the header's field
@@ -157,7 +163,7 @@ fn killed_then_resumed_matches_uninterrupted(name: &str, signal: &str) {
 
     let cut = tmp(&format!("{name}-cut"));
     let csv = cut.join("sweep_planes.csv");
-    cut_short(sweep(&cut, &[]), &csv, 1, signal);
+    let (status, err) = cut_short(sweep(&cut, &[]), &csv, 1, signal);
     let text = std::fs::read_to_string(&csv).unwrap();
     let rows = complete_rows(&text, 1);
     assert!(
@@ -165,6 +171,20 @@ fn killed_then_resumed_matches_uninterrupted(name: &str, signal: &str) {
         "{} rows after the cut",
         rows.len()
     );
+    // SIGINT and SIGTERM are caught: the run stops after the row it was computing is
+    // saved, says how far it got and how to go on, and exits 128 + the signal
+    // (SIGKILL cannot be caught: no message, killed by the signal).
+    let caught = match signal {
+        "INT" => Some(130),
+        "TERM" => Some(143),
+        _ => None,
+    };
+    assert_eq!(status.code(), caught, "{err}");
+    let said = format!(
+        "interrupted after {} of {N_VALUES} rows; rerun the same command with --resume to continue",
+        rows.len()
+    );
+    assert_eq!(err.contains(&said), caught.is_some(), "{err}");
     // The rows left are the uninterrupted run's first rows (but wall).
     let full = common::without_wall(&whole.join("sweep_planes.csv"));
     assert_eq!(
@@ -222,7 +242,12 @@ fn a_sweep_stopped_with_sigint_keeps_complete_rows_and_resumes_to_the_same_bytes
     killed_then_resumed_matches_uninterrupted("int", "INT");
 }
 
-/// A shard cut short is refused by `sweep merge` as incomplete; `--resume` finishes
+#[test]
+fn a_sweep_stopped_with_sigterm_keeps_complete_rows_and_resumes_to_the_same_bytes() {
+    killed_then_resumed_matches_uninterrupted("term", "TERM");
+}
+
+/// A shard cut short (SIGINT) is refused by `sweep merge` as incomplete; `--resume` finishes
 /// it, and the merge of the three shards is the unsharded sweep (but wall).
 #[test]
 fn a_killed_shard_resumes_and_merges_to_the_unsharded_sweep() {
@@ -239,10 +264,19 @@ fn a_killed_shard_resumes_and_merges_to_the_unsharded_sweep() {
     }
     let file = shards.join("sweep_planes.shard-2-of-3.csv");
     // Two header lines: the shard's record and the columns.
-    cut_short(sweep(&shards, &["--shard", "2/3"]), &file, 2, "KILL");
+    let (status, err) = cut_short(sweep(&shards, &["--shard", "2/3"]), &file, 2, "INT");
+    assert_eq!(status.code(), Some(130), "{err}");
     let text = std::fs::read_to_string(&file).unwrap();
     let rows = complete_rows(&text, 2);
     assert!(!rows.is_empty() && rows.len() < 4, "{} rows", rows.len());
+    // A shard counts the rows of its own share (4 of the 12 values).
+    assert!(
+        err.contains(&format!(
+            "interrupted after {} of 4 rows; rerun the same command with --resume",
+            rows.len()
+        )),
+        "{err}"
+    );
 
     let merged = tmp("shard-merged");
     let m = bin()
@@ -365,22 +399,28 @@ fn resume_refuses_another_sweeps_rows_naming_the_file() {
     assert_eq!(rows[1][1], "30");
 }
 
-/// Only the reproductions that save rows as they go take --resume.
+/// Only the reproductions that save rows as they go take --resume; the refusal says
+/// why: a fast one finishes in seconds, a long one does not save its rows yet.
 #[test]
 fn reproduce_resume_is_refused_where_nothing_resumes() {
     let out = tmp("reproduce");
-    let o = bin()
-        .args(["reproduce", "glare-fig4", "--resume", "--out"])
-        .arg(&*out)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("resume") && err.contains("glare-fig4"),
-        "{err}"
-    );
-    assert!(!out.exists(), "files written");
+    for (name, why) in [
+        ("glare-fig4", "finishes in seconds"),
+        ("envmap-table3", "does not save its rows as it goes"),
+    ] {
+        let o = bin()
+            .args(["reproduce", name, "--resume", "--out"])
+            .arg(&*out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("resume") && err.contains(name) && err.contains(why),
+            "{err}"
+        );
+        assert!(!out.exists(), "files written");
+    }
 }
 
 /// The atomic writer: a write that fails leaves the old file and no temporary file;

@@ -288,3 +288,56 @@ fn values_parse_lists_ranges_and_pairs() {
     );
     assert!(err(Param::Planes, &format!("1..{MAX_VALUES},7")).contains("values"));
 }
+
+/// Range warnings after a sweep (issue 16): fig6 with a near/far ratio of 10⁹ loses
+/// the depth buffer's resolution at every point; the warning is printed once, naming
+/// the unit, the field and every point where it fired. The same sweep of the ordinary
+/// fig6 prints none.
+#[test]
+fn a_sweep_out_of_range_warns_once_naming_its_points() {
+    let out = tmp("warns");
+    let toml = glare_pipeline::scene::builtin::builtin_toml("fig6").unwrap();
+    assert!(toml.contains("near = 0.5") && toml.contains("far = 40.0"));
+    let extreme = out.join("near.toml");
+    std::fs::create_dir_all(&*out).unwrap();
+    std::fs::write(
+        &extreme,
+        toml.replace("near = 0.5", "near = 1e-8")
+            .replace("far = 40.0", "far = 10.0"),
+    )
+    .unwrap();
+    let sweep_of = |scene: &str, dir: &str| {
+        let o = bin()
+            .args(["sweep", "--scene", scene, "--image", "48x32"])
+            .args([
+                "--truth-samples",
+                "4",
+                "--param",
+                "planes",
+                "--values",
+                "4,8",
+            ])
+            .arg("--out")
+            .arg(out.join(dir))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    let err = sweep_of(&extreme.to_string_lossy(), "extreme");
+    let lines: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert_eq!(lines.len(), 1, "one distinct warning: {err}");
+    let w = lines[0];
+    for want in [
+        "shadow_compare (depth buffer)",
+        "depth resolution",
+        "camera.near = 1e-8",
+        "at planes = 4",
+        "planes = 8",
+    ] {
+        assert!(w.contains(want), "{want:?} missing: {w}");
+    }
+    let err = sweep_of("fig6", "ordinary");
+    assert!(!err.contains("warning:"), "{err}");
+}

@@ -207,6 +207,12 @@ pub fn check(scene: &Scene, budget: u64, budget_from: &str) -> Result<Estimate, 
     if total <= budget {
         return Ok(e);
     }
+    Err(refusal(&e, budget, budget_from))
+}
+
+/// The refusal of an estimate over `budget`: the total, the budget and where it came
+/// from, and the four largest items with the fields that shrink them.
+fn refusal(e: &Estimate, budget: u64, budget_from: &str) -> String {
     let mut items = e.items.clone();
     items.sort_by_key(|i| std::cmp::Reverse(i.bytes));
     let list: Vec<String> = items
@@ -215,10 +221,234 @@ pub fn check(scene: &Scene, budget: u64, budget_from: &str) -> Result<Estimate, 
         .filter(|i| i.bytes > 0)
         .map(|i| format!("  {} — {} (shrink: {})", human(i.bytes), i.what, i.shrink))
         .collect();
-    Err(format!(
+    format!(
         "max-memory: the scene needs about {} but the budget is {} ({budget_from}); nothing was allocated. Largest:\n{}\nShrink those fields, or raise the budget with --max-memory SIZE (e.g. 8G).",
-        human(total),
+        human(e.total()),
         human(budget),
         list.join("\n")
+    )
+}
+
+/// The budget `--max-memory` gives (`None`: the default, [`default_budget`]) and
+/// where it came from, for [`check`]'s message.
+pub fn resolve(max_memory: Option<u64>) -> (u64, String) {
+    match max_memory {
+        Some(b) => (b, "--max-memory".to_string()),
+        None => (
+            default_budget(),
+            "default: half of MemAvailable".to_string(),
+        ),
+    }
+}
+
+/// [`check`] for a run of several frames (the points of a sweep, the scenes of a
+/// reproduction), before the first one runs: the largest point is checked, and a
+/// refusal names it (`label`, e.g. `light_map_texels = 4096`) after [`check`]'s text.
+pub fn check_largest(
+    points: &[(String, Scene)],
+    budget: u64,
+    budget_from: &str,
+) -> Result<(), String> {
+    let Some((label, scene)) = points.iter().max_by_key(|(_, s)| estimate(s).total()) else {
+        return Ok(());
+    };
+    check(scene, budget, budget_from)
+        .map(|_| ())
+        .map_err(|e| format!("{e}\n(the largest point of this run: {label})"))
+}
+
+/// [`check`] for frames that are not a [`Scene`] (the shading sweeps' sphere views):
+/// the items given.
+pub fn check_items(
+    items: Vec<Item>,
+    label: &str,
+    budget: u64,
+    budget_from: &str,
+) -> Result<(), String> {
+    let e = Estimate { items };
+    if e.total() <= budget {
+        return Ok(());
+    }
+    Err(format!(
+        "{}\n(the largest point of this run: {label})",
+        refusal(&e, budget, budget_from)
     ))
+}
+
+/// The frames of a sweep of `param` over `values` on `scene_name` (with `--image`
+/// applied), each with its label (`planes = 20`): what the memory check and the range
+/// warnings look at. None for a shading scene (`shading-*`: sphere views, no scene)
+/// and for `test` (the sweep refuses it). Errors in the scene, param or values are the
+/// sweep's own (the same checks it makes next).
+pub fn sweep_points(
+    scene_name: &str,
+    param: &str,
+    values: &str,
+    image: Option<&str>,
+) -> Result<Option<Vec<(String, Scene)>>, String> {
+    use crate::pipeline::shafts::sweep as sh;
+    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) || scene_name == "test"
+    {
+        return Ok(None);
+    }
+    let mut base = crate::scene::load::load_scene(scene_name)?;
+    if let Some(img) = image {
+        let (w, h) = sh::parse_image(img)?;
+        base.image.width = w;
+        base.image.height = h;
+    }
+    Ok(Some(if base.glare.is_some() {
+        let vs = crate::report::sweep_out::parse_int_values(values)?;
+        let scenes = crate::pipeline::glare::sweep::glare_scenes(&base, param, &vs)?;
+        vs.iter()
+            .map(|v| format!("{param} = {v}"))
+            .zip(scenes)
+            .collect()
+    } else {
+        let p = sh::Param::from_name(param)?;
+        let vs = sh::parse_values(p, values)?;
+        let scenes = sh::sweep_scenes(&base, p, &vs)?;
+        vs.iter()
+            .map(|v| format!("{} = {v}", p.name()))
+            .zip(scenes)
+            .collect()
+    }))
+}
+
+/// `sweep`'s memory check, before the first point runs: the largest of its
+/// [`sweep_points`] against the budget. A shading scene (`shading-*`) counts its
+/// sphere view's buffers.
+pub fn check_sweep(
+    scene_name: &str,
+    param: &str,
+    values: &str,
+    image: Option<&str>,
+    max_memory: Option<u64>,
+) -> Result<(), String> {
+    let (budget, from) = resolve(max_memory);
+    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
+        // Square views only (the sweep refuses others); 256 by default.
+        let side = match image {
+            Some(img) => u64::from(crate::pipeline::shafts::sweep::parse_image(img)?.0),
+            None => 256,
+        };
+        let item = Item {
+            what: format!("image buffers ({side} × {side} pixels)"),
+            bytes: (side * side).saturating_mul(BYTES_PER_PIXEL),
+            shrink: "--image".into(),
+        };
+        return check_items(vec![item], &format!("--image {side}x{side}"), budget, &from);
+    }
+    match sweep_points(scene_name, param, values, image)? {
+        Some(points) => check_largest(&points, budget, &from),
+        None => Ok(()),
+    }
+}
+
+/// The built-in scenes `reproduce NAME` renders, each with its label, at the sizes its
+/// environment variables set (`ENVMAP_TABLE3_S`, `ENVMAP_IMAGE_SIZE`) and with its
+/// `--values` (shafts-fig4: planes at 8- and 16-bit texels; shafts-fig5: sub-planes).
+/// None for the shading reproductions (sphere views, no scene) and unknown names.
+pub fn reproduction_points(
+    name: &str,
+    values: Option<&[u32]>,
+) -> Result<Option<Vec<(String, Scene)>>, String> {
+    use crate::scene::load::load_scene;
+    let scenes: Vec<&str> = match name {
+        "shafts-fig4" => {
+            let base = load_scene("fig4")?;
+            let default: Vec<u32> = (1..=20).map(|k| 10 * k).collect();
+            let mut points = Vec::new();
+            for bits in [8, 16] {
+                for &n in values.unwrap_or(&default) {
+                    let mut s = base.clone();
+                    s.shafts.planes = n;
+                    s.shafts.texel_bits = bits;
+                    s.shafts.fb_bits = bits;
+                    points.push((format!("planes = {n} ({bits}-bit texels)"), s));
+                }
+            }
+            return Ok(Some(points));
+        }
+        "shafts-fig5" => {
+            let base = load_scene("fig6")?;
+            let default: Vec<u32> = (1..=25).collect();
+            let points = values
+                .unwrap_or(&default)
+                .iter()
+                .map(|&m| {
+                    let mut s = base.clone();
+                    s.shafts.subplanes = m;
+                    (format!("subplanes = {m}"), s)
+                })
+                .collect();
+            return Ok(Some(points));
+        }
+        "shafts-vs-raymarch" => vec!["fig6"],
+        "shafts-stage" => vec!["stage"],
+        "glare-fig4" | "glare-fig5" | "glare-fig7" | "glare-fig8" | "glare-throughput"
+        | "glare-gauss-seeds" => vec![
+            "glare-point",
+            "glare-elliptic",
+            "glare-flare",
+            "street-light",
+            "leaves",
+        ],
+        "frame-elaboration" => vec!["night-street"],
+        "sim-speed" => vec!["fig6", "night-street"],
+        n if n.starts_with("envmap-") => vec![
+            "env-pattern-teapot",
+            "env-venice_sunset-teapot",
+            "env-st_fagans_interior-teapot",
+        ],
+        _ => return Ok(None),
+    };
+    let mut points = Vec::new();
+    for s in scenes {
+        let mut scene = load_scene(s)?;
+        if name.starts_with("envmap-") {
+            let run = crate::pipeline::envmap::reproduce::RenderRun::cli()?;
+            let size = if name == "envmap-timing" {
+                (640, 480)
+            } else {
+                (run.size, run.size)
+            };
+            (scene.image.width, scene.image.height) = size;
+            if let Some(env) = scene.environment.as_mut() {
+                env.side = run.s;
+            }
+        }
+        let label = match &scene.environment {
+            Some(env) if name.starts_with("envmap-") => format!(
+                "{name}: scene {s}, side {} ($ENVMAP_TABLE3_S), image {} × {} ($ENVMAP_IMAGE_SIZE)",
+                env.side, scene.image.width, scene.image.height
+            ),
+            _ => format!("{name}: scene {s}"),
+        };
+        points.push((label, scene));
+    }
+    Ok(Some(points))
+}
+
+/// `reproduce NAME`'s memory check, before any work: the largest of its
+/// [`reproduction_points`] against the budget. The shading reproductions render
+/// fixed sphere views (256 × 256 at most) and are counted as such.
+pub fn check_reproduction(
+    name: &str,
+    values: Option<&[u32]>,
+    max_memory: Option<u64>,
+) -> Result<(), String> {
+    let (budget, from) = resolve(max_memory);
+    if name.starts_with("shading-") {
+        let item = Item {
+            what: "image buffers (256 × 256 pixels)".into(),
+            bytes: 256 * 256 * BYTES_PER_PIXEL,
+            shrink: "nothing: the shading reproductions' views are fixed".into(),
+        };
+        return check_items(vec![item], name, budget, &from);
+    }
+    match reproduction_points(name, values)? {
+        Some(points) => check_largest(&points, budget, &from),
+        None => Ok(()),
+    }
 }

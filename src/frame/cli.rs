@@ -4,7 +4,7 @@
 
 use super::chip::{chip_table, elaborate};
 use super::plan::{plan, plan_table, test_scene_plan};
-use super::run::render;
+use super::run::render_with_progress;
 use crate::pipeline::shafts::cli::{load_scene, reference_image};
 use crate::report::table::{counters_table, elaboration_table, text_table};
 use std::path::Path;
@@ -39,13 +39,7 @@ pub fn render_cli(
     }
     let scene = load_scene(name)?;
     if !plan_only {
-        let (budget, from) = match max_memory {
-            Some(b) => (b, "--max-memory".to_string()),
-            None => (
-                super::budget::default_budget(),
-                "default: half of MemAvailable".to_string(),
-            ),
-        };
+        let (budget, from) = super::budget::resolve(max_memory);
         super::budget::check(&scene, budget, &from)?;
         work_note(&scene);
     }
@@ -82,7 +76,9 @@ pub fn render_cli(
         }
         return Ok(());
     }
-    let f = render(&scene).map_err(|e| e.to_string())?;
+    let setting = std::env::var("GLARE_PROGRESS").ok();
+    let shown = crate::report::progress::frame_bar_wanted(work(&scene), setting.as_deref());
+    let (f, _) = render_with_progress(&scene, shown).map_err(|e| e.to_string())?;
     let warnings = super::range::check(&scene, &f);
     f.fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
@@ -181,16 +177,22 @@ pub const LARGE_WORK_FRAGMENTS: f64 = 2e9;
 /// A line on stderr before an expensive render: the estimated sample-plane fragments
 /// (pixels × planes × (1 + sub-planes) × lights) and memory.
 fn work_note(scene: &crate::scene::format::Scene) {
-    let px = f64::from(scene.image.width) * f64::from(scene.image.height);
-    let s = &scene.shafts;
-    let lights = scene.lights.len().max(1) as f64;
-    let fragments = px * f64::from(s.planes) * (1.0 + f64::from(s.subplanes)) * lights;
+    let fragments = work(scene);
     if fragments > LARGE_WORK_FRAGMENTS {
         eprintln!(
             "note: an expensive scene: about {fragments:.2e} sample-plane fragments and {} of buffers and tables; this may take minutes",
             super::budget::human(super::budget::estimate(scene).total())
         );
     }
+}
+
+/// A scene's estimated sample-plane fragments: pixels × planes × (1 + sub-planes) ×
+/// lights (what [`work_note`] prints and what decides `render`'s progress bar).
+fn work(scene: &crate::scene::format::Scene) -> f64 {
+    let px = f64::from(scene.image.width) * f64::from(scene.image.height);
+    let s = &scene.shafts;
+    let lights = scene.lights.len().max(1) as f64;
+    px * f64::from(s.planes) * (1.0 + f64::from(s.subplanes)) * lights
 }
 
 /// `units --scene NAME`: the chip the scene elaborates.

@@ -776,3 +776,86 @@ fn lit_samples(scene: &Scene) -> Vec<(f64, f64)> {
     });
     out
 }
+
+/// One distinct warning of a run of several frames (a sweep, a reproduction), with
+/// every point where it fired.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PointWarning {
+    /// The warning at the first point where it fired.
+    pub warning: RangeWarning,
+    /// The labels of the points where it fired (`planes = 20`), in order.
+    pub points: Vec<String>,
+}
+
+impl std::fmt::Display for PointWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} [at {}", self.warning, self.points[0])?;
+        if self.points.len() > 1 {
+            write!(
+                f,
+                " and {} more point(s): {}",
+                self.points.len() - 1,
+                self.points[1..].join(", ")
+            )?;
+        }
+        write!(f, "]")
+    }
+}
+
+/// The warnings of the points of a sweep or reproduction (label, scene), once per
+/// distinct warning (pipeline, unit, event, field), each naming the points where it
+/// fired. Each point is checked on its frame reduced to [`REDUCED_WIDTH`] pixels wide
+/// (as the sensitivity check renders it: a sweep does not keep its frames), an
+/// environment scene by [`check_environment`]; a point whose frame does not render
+/// here is skipped (the run itself reported it).
+pub fn check_points(points: &[(String, Scene)]) -> Vec<PointWarning> {
+    let mut out: Vec<PointWarning> = Vec::new();
+    for (label, scene) in points {
+        // A run stopped (SIGINT, SIGTERM) once its rows are saved ends here.
+        crate::report::interrupt::exit_if_requested();
+        let warnings = if super::plan::environment_scene(scene) {
+            check_environment(scene)
+        } else {
+            let s = reduced(scene);
+            match render(&s) {
+                Ok(f) => check(&s, &f),
+                Err(_) => continue,
+            }
+        };
+        for w in warnings {
+            let same = |p: &&mut PointWarning| {
+                let o = &p.warning;
+                (
+                    o.pipeline.as_str(),
+                    o.unit.as_str(),
+                    o.event.as_str(),
+                    o.field.as_str(),
+                ) == (
+                    w.pipeline.as_str(),
+                    w.unit.as_str(),
+                    w.event.as_str(),
+                    w.field.as_str(),
+                )
+            };
+            match out.iter_mut().find(same) {
+                Some(p) => {
+                    if !p.points.contains(label) {
+                        p.points.push(label.clone());
+                    }
+                }
+                None => out.push(PointWarning {
+                    warning: w,
+                    points: vec![label.clone()],
+                }),
+            }
+        }
+    }
+    out
+}
+
+/// Print [`check_points`]' warnings to stderr, one a line.
+pub fn print_points(warnings: &[PointWarning]) {
+    for w in warnings {
+        eprintln!("{w}");
+    }
+}

@@ -108,13 +108,63 @@ pub fn render(scene: &Scene) -> Result<Frame, ConfigError> {
 
 /// [`render`] with the GPU passes timed on `gpu`.
 pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
+    render_inner(scene, gpu, None).map(|(f, _)| f)
+}
+
+/// [`render`] with a progress bar on stderr (`report::progress::FrameProgress`, drawn
+/// when `shown` and stderr is a terminal outside CI): one step per sample plane of
+/// each light and one per other pass ([`progress_steps`]). Returns the frame and the
+/// bar's (position, length) at the end, which are equal for a frame that finished.
+/// The bar changes no pixel and no counter.
+pub fn render_with_progress(
+    scene: &Scene,
+    shown: bool,
+) -> Result<(Frame, (u64, u64)), ConfigError> {
+    render_inner(scene, Gpu::for_scene(scene), Some(shown))
+}
+
+/// The steps of a frame's bar: the sample planes of each planes pass (one step per
+/// plane, its sub-planes included), one per other pass.
+pub fn progress_steps(scene: &Scene, plan: &Plan) -> u64 {
+    let planes = plan
+        .prepared
+        .as_ref()
+        .map_or(scene.shafts.planes, |p| p.scene.shafts.planes);
+    plan.passes
+        .iter()
+        .map(|p| match p.step {
+            Step::Shafts(ShaftsPass::Planes { .. }) => u64::from(planes),
+            _ => 1,
+        })
+        .sum()
+}
+
+fn render_inner(
+    scene: &Scene,
+    gpu: Gpu,
+    bar: Option<bool>,
+) -> Result<(Frame, (u64, u64)), ConfigError> {
     let t0 = Instant::now();
     let plan = plan(scene)?;
+    let progress = bar.map(|shown| {
+        crate::report::progress::FrameProgress::install(
+            progress_steps(scene, &plan),
+            &scene.name,
+            shown,
+        )
+    });
     let mut state = FrameState::new(scene, &plan, gpu)?;
     for pass in &plan.passes {
         state.run(pass)?;
+        if !matches!(pass.step, Step::Shafts(ShaftsPass::Planes { .. })) {
+            crate::report::progress::frame_step(1);
+        }
     }
     state.finish_shafts();
+    let at = progress
+        .as_ref()
+        .map_or((0, 0), |p| (p.position(), p.length()));
+    drop(progress);
     let FrameState {
         shafts_done,
         shaded,
@@ -133,17 +183,20 @@ pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
             ))
         }
     };
-    Ok(Frame {
-        plan,
-        fb,
-        shafts: shafts_done,
-        shaded,
-        linked,
-        glare,
-        gpu,
-        times,
-        wall_seconds: t0.elapsed().as_secs_f64(),
-    })
+    Ok((
+        Frame {
+            plan,
+            fb,
+            shafts: shafts_done,
+            shaded,
+            linked,
+            glare,
+            gpu,
+            times,
+            wall_seconds: t0.elapsed().as_secs_f64(),
+        },
+        at,
+    ))
 }
 
 /// The picture a glare scene's passes draw before its glare (the shafts passes and the

@@ -5,6 +5,7 @@ pub mod atomic;
 pub mod csv_out;
 pub mod elaboration;
 pub mod image_out;
+pub mod interrupt;
 pub mod metrics;
 pub mod plot;
 pub mod progress;

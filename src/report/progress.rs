@@ -70,3 +70,71 @@ pub fn try_map_with_progress<T, R, E>(
     bar.finish_and_clear();
     Ok(out)
 }
+
+thread_local! {
+    /// The bar of the frame this thread is rendering (`render`), if one is installed.
+    static FRAME_BAR: std::cell::RefCell<Option<ProgressBar>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Whether `render` shows its frame's bar for `work` (its sample-plane fragments),
+/// given `GLARE_PROGRESS`: `always` shows it whatever the work, `never` hides it,
+/// anything else (or unset) shows it above [`FRAME_BAR_WORK`]. On a terminal outside
+/// CI only ([`should_hide`] still applies).
+pub fn frame_bar_wanted(work: f64, setting: Option<&str>) -> bool {
+    match setting.map(str::trim) {
+        Some(s) if s.eq_ignore_ascii_case("always") => true,
+        Some(s) if s.eq_ignore_ascii_case("never") => false,
+        _ => work > FRAME_BAR_WORK,
+    }
+}
+
+/// Sample-plane fragments above which `render` draws a bar (a few seconds of frame).
+pub const FRAME_BAR_WORK: f64 = 2e8;
+
+/// A frame's bar, installed for this thread while it lives: the frame's passes call
+/// [`frame_step`] (a sample plane, a pass), and the bar is cleared when it is dropped.
+pub struct FrameProgress {
+    bar: ProgressBar,
+}
+
+impl FrameProgress {
+    /// Install a bar of `len` steps for this thread's frame; drawn (per
+    /// [`progress_bar`]'s rules) when `shown`, else hidden but counting.
+    pub fn install(len: u64, what: &str, shown: bool) -> FrameProgress {
+        let bar = if shown {
+            progress_bar(len, what)
+        } else {
+            ProgressBar::hidden().with_message(what.to_string())
+        };
+        bar.set_length(len);
+        FRAME_BAR.with(|b| *b.borrow_mut() = Some(bar.clone()));
+        FrameProgress { bar }
+    }
+
+    /// Steps done so far.
+    pub fn position(&self) -> u64 {
+        self.bar.position()
+    }
+
+    /// Steps in all.
+    pub fn length(&self) -> u64 {
+        self.bar.length().unwrap_or(0)
+    }
+}
+
+impl Drop for FrameProgress {
+    fn drop(&mut self) {
+        FRAME_BAR.with(|b| *b.borrow_mut() = None);
+        self.bar.finish_and_clear();
+    }
+}
+
+/// Advance this thread's frame bar by `n` steps (nothing when none is installed).
+/// Called once per sample plane or pass, never per fragment.
+pub fn frame_step(n: u64) {
+    FRAME_BAR.with(|b| {
+        if let Some(bar) = b.borrow().as_ref() {
+            bar.inc(n);
+        }
+    });
+}

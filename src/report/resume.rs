@@ -69,6 +69,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         resume: bool,
         value_of: fn(&R) -> String,
     ) -> Result<Journal<R>, String> {
+        crate::report::interrupt::arm();
         let record = record_path(csv);
         let mut j = Journal {
             target: Target::Plain {
@@ -150,6 +151,7 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         shard: Shard,
         resume: bool,
     ) -> Result<Journal<R>, String> {
+        crate::report::interrupt::arm();
         let path = out.join(shard.file_name(&id.param));
         let mut j = Journal {
             target: Target::Shard {
@@ -223,11 +225,33 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
     }
 
     /// Add value index `i`'s row and save the rows so far (atomically; a whole sweep's
-    /// file takes the gap-free prefix of them).
+    /// file takes the gap-free prefix of them). If SIGINT or SIGTERM came meanwhile,
+    /// the run stops here, the row saved: `report::interrupt`.
     pub fn record(&mut self, i: usize, row: R) -> Result<(), String> {
         let at = self.rows.partition_point(|(k, _)| *k < i);
         self.rows.insert(at, (i, row));
-        self.save()
+        self.save()?;
+        let (saved, total) = self.saved_of_total();
+        crate::report::interrupt::stop_if_requested(saved, total, self.path());
+        Ok(())
+    }
+
+    /// Rows on file and rows this run writes in all: a whole sweep keeps the gap-free
+    /// prefix of its values; a shard, every row of its share.
+    fn saved_of_total(&self) -> (usize, usize) {
+        match &self.target {
+            Target::Plain { .. } => (
+                self.rows
+                    .iter()
+                    .enumerate()
+                    .take_while(|(at, (i, _))| at == i)
+                    .count(),
+                self.id.values.len(),
+            ),
+            Target::Shard { shard, .. } => {
+                (self.rows.len(), shard.indices(self.id.values.len()).len())
+            }
+        }
     }
 
     fn save(&self) -> Result<(), String> {

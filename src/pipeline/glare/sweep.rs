@@ -62,7 +62,7 @@ pub fn apply(hw: &mut GlareHw, param: &str, v: u32) -> Result<(), String> {
 
 /// The scene of each value, validated (an invalid value is an error naming the field,
 /// e.g. `glare.hw.shape_log2`, before anything runs).
-fn glare_scenes(base: &Scene, param: &str, values: &[u32]) -> Result<Vec<Scene>, String> {
+pub fn glare_scenes(base: &Scene, param: &str, values: &[u32]) -> Result<Vec<Scene>, String> {
     let mut scenes = Vec::new();
     for &v in values {
         let mut s = base.clone();

@@ -150,6 +150,8 @@ pub(super) fn planes_pass(
             passes,
             last,
         )?;
+        // One step of `render`'s bar per plane (nothing when no bar is installed).
+        crate::report::progress::frame_step(1);
     }
     Ok(())
 }
