@@ -849,3 +849,13 @@ fn round_div_matches_round_shift_and_exact_rounding() {
         }
     }
 }
+
+/// The case proptest found: EXPAND_NORMAL of a finite e near f64::MAX overflowed to ∞.
+#[test]
+fn twin_mapping_of_a_huge_finite_element_stays_finite() {
+    for m in [twin::Mapping::ExpandNormal, twin::Mapping::ExpandNegate] {
+        for e in [1.25e308, f64::MAX, -f64::MAX] {
+            assert!(twin::map(m, e).is_finite(), "{m:?} {e}");
+        }
+    }
+}

@@ -3,7 +3,8 @@
 //! the input mappings of Table NV_register_combiners.4, the products gcc1/gcc3 and dot
 //! products gcc2/gcc4 (replicated to R, G, B), the sum gcc5 or the mux gcc6 (SPARE0
 //! alpha ≥ 0.5 → C·D, else A·B), and out = max(min((gcc + cbias)·cscale, 1), −1).
-//! Non-finite inputs read as 0, so no NaN comes out.
+//! Non-finite inputs read as 0 and finite ones are held within f64::MAX / 2, so no NaN
+//! or ∞ comes out.
 
 /// Table NV_register_combiners.4, by the spec's names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -18,9 +19,16 @@ pub enum Mapping {
     SignedNegate,
 }
 
-/// The mapping function of Table NV_register_combiners.4 on one element `e`.
+/// The mapping function of Table NV_register_combiners.4 on one element `e`. NaN or ±∞
+/// reads as 0, and |e| is held within f64::MAX / 2 (no register comes near it), so
+/// EXPAND_NORMAL's 2e − 1 cannot overflow to ∞ (proptest `twin_never_nan` found
+/// e = 1.25e308); every other value maps exactly as the table says.
 pub fn map(m: Mapping, e: f64) -> f64 {
-    let e = if e.is_finite() { e } else { 0.0 };
+    let e = if e.is_finite() {
+        e.clamp(-f64::MAX / 2.0, f64::MAX / 2.0)
+    } else {
+        0.0
+    };
     match m {
         Mapping::UnsignedIdentity => e.max(0.0),
         Mapping::UnsignedInvert => 1.0 - e.clamp(0.0, 1.0), // 1 − min(max(e, 0), 1)
