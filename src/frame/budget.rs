@@ -291,6 +291,22 @@ pub fn sweep_points(
     {
         return Ok(None);
     }
+    // An environment scene sweeps its own parameters (`side`), as `sweep` dispatches it.
+    if let Some(mut env) = crate::pipeline::envmap::scene_render::environment_scene(scene_name)? {
+        if let Some(img) = image {
+            let (w, h) = sh::parse_image(img)?;
+            env.image.width = w;
+            env.image.height = h;
+        }
+        let vs = crate::report::sweep_out::parse_int_values(values)?;
+        let scenes = crate::pipeline::envmap::sweep::envmap_scenes(&env, param, &vs)?;
+        return Ok(Some(
+            vs.iter()
+                .map(|v| format!("{param} = {v}"))
+                .zip(scenes)
+                .collect(),
+        ));
+    }
     let mut base = crate::scene::load::load_scene(scene_name)?;
     if let Some(img) = image {
         let (w, h) = sh::parse_image(img)?;
