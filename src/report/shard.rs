@@ -138,6 +138,35 @@ pub struct SweepId {
 }
 
 impl SweepId {
+    /// The identity of a sweep of `param` over a scene (the glare and environment-map
+    /// sweeps): `scene_arg` as given to `--scene`, the image size, and the scene itself
+    /// (after `--image`) by fingerprint, so that shards rendered from two different
+    /// files of one name are refused.
+    pub fn of_scene(
+        kind: &str,
+        scene: &crate::scene::format::Scene,
+        scene_arg: &str,
+        param: &str,
+        values: &[u32],
+        title: String,
+    ) -> Result<SweepId, String> {
+        Ok(SweepId {
+            kind: kind.into(),
+            scene: scene_arg.into(),
+            param: param.into(),
+            values: values.iter().map(u32::to_string).collect(),
+            settings: [
+                (
+                    "image".to_string(),
+                    format!("{}x{}", scene.image.width, scene.image.height),
+                ),
+                ("scene_fingerprint".to_string(), fingerprint(scene)?),
+            ]
+            .into(),
+            title,
+        })
+    }
+
     /// "sweep planes on fig4".
     pub fn describe(&self) -> String {
         format!("sweep {} on {}", self.param, self.scene)

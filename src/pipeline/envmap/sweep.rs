@@ -24,7 +24,7 @@
 use super::scene_render::render_scene;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
-use crate::report::shard::{fingerprint, pick, Shard, SweepId};
+use crate::report::shard::{pick, Shard, SweepId};
 use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
 use crate::scene::format::Scene;
 use std::path::Path;
@@ -135,21 +135,14 @@ fn sweep_id(
     param: &str,
     values: &[u32],
 ) -> Result<SweepId, String> {
-    Ok(SweepId {
-        kind: "envmap".into(),
-        scene: scene_arg.into(),
-        param: param.into(),
-        values: values.iter().map(u32::to_string).collect(),
-        settings: [
-            (
-                "image".to_string(),
-                format!("{}x{}", scene.image.width, scene.image.height),
-            ),
-            ("scene_fingerprint".to_string(), fingerprint(scene)?),
-        ]
-        .into(),
-        title: title(scene, param),
-    })
+    SweepId::of_scene(
+        "envmap",
+        scene,
+        scene_arg,
+        param,
+        values,
+        title(scene, param),
+    )
 }
 
 /// The CLI: the whole sweep into `out/sweep_<param>.csv` and `.png` (or with `shard`

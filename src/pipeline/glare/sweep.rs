@@ -11,7 +11,7 @@ use crate::report::image_out::Framebuffer;
 use crate::report::metrics::error_stats;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
-use crate::report::shard::{fingerprint, pick, Shard, SweepId};
+use crate::report::shard::{pick, Shard, SweepId};
 use crate::report::sweep_out::shard_sweep;
 pub use crate::report::sweep_out::{
     parse_int_values, sweep_table, write_sweep, SweepRow as GlareSweepRow,
@@ -199,21 +199,14 @@ fn sweep_id(
     param: &str,
     values: &[u32],
 ) -> Result<SweepId, String> {
-    Ok(SweepId {
-        kind: "glare".into(),
-        scene: scene_arg.into(),
-        param: param.into(),
-        values: values.iter().map(u32::to_string).collect(),
-        settings: [
-            (
-                "image".to_string(),
-                format!("{}x{}", scene.image.width, scene.image.height),
-            ),
-            ("scene_fingerprint".to_string(), fingerprint(scene)?),
-        ]
-        .into(),
-        title: title(scene, param),
-    })
+    SweepId::of_scene(
+        "glare",
+        scene,
+        scene_arg,
+        param,
+        values,
+        title(scene, param),
+    )
 }
 
 /// The CLI: the whole sweep, or with `shard` only its share, written to the shard
