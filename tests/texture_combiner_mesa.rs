@@ -167,20 +167,7 @@ fn render(ctx: &Context, d: &Draw) -> Result<Vec<[u8; 4]>, String> {
         (g.glFinish)();
     }
     ctx.check(&format!("drawing {}", d.label))?;
-    let mut out = vec![[0u8; 4]; PIXELS];
-    unsafe {
-        (g.glReadPixels)(
-            0,
-            0,
-            SIDE as c_int,
-            SIDE as c_int,
-            gl::RGBA,
-            gl::UNSIGNED_BYTE,
-            out.as_mut_ptr() as *mut c_void,
-        );
-    }
-    ctx.check("glReadPixels")?;
-    Ok(out)
+    ctx.read_pixels()
 }
 
 /// The unit in its Mesa mode, configured as the draw's stage: Arg0..Arg2 on the

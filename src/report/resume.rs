@@ -224,6 +224,24 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         })
     }
 
+    /// The items `only` picks (every item without a shard) that have no row yet, with
+    /// their indices, after printing the [`Journal::resume_note`] on stderr: the work
+    /// list of every sweep that records into a journal.
+    pub fn pending<'a, T>(
+        &self,
+        items: &'a [T],
+        only: Option<crate::report::shard::Shard>,
+    ) -> Vec<(usize, &'a T)> {
+        let todo: Vec<(usize, &T)> = crate::report::shard::pick(items, only)
+            .into_iter()
+            .filter(|(i, _)| !self.is_done(*i))
+            .collect();
+        if let Some(note) = self.resume_note(todo.len()) {
+            eprintln!("{note}");
+        }
+        todo
+    }
+
     /// Add value index `i`'s row and save the rows so far (atomically; a whole sweep's
     /// file takes the gap-free prefix of them). If SIGINT or SIGTERM came meanwhile,
     /// the run stops here, the row saved: `report::interrupt`.

@@ -339,10 +339,15 @@ impl Context {
             (g.glFinish)();
         }
         self.check("drawing the points")?;
+        self.read_pixels()
+    }
+
+    /// The framebuffer, RGBA per pixel, row 0 at y = 0.
+    pub fn read_pixels(&self) -> Result<Vec<[u8; 4]>, String> {
         let mut out = vec![[0u8; 4]; PIXELS];
-        // SAFETY: see above.
+        // SAFETY: a current context; the buffer holds SIDE × SIDE RGBA pixels.
         unsafe {
-            (g.glReadPixels)(
+            (self.gl.glReadPixels)(
                 0,
                 0,
                 SIDE as c_int,

@@ -24,7 +24,7 @@
 use super::scene_render::render_scene;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
-use crate::report::shard::{pick, Shard, SweepId};
+use crate::report::shard::{Shard, SweepId};
 use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
 use crate::scene::format::Scene;
 use std::path::Path;
@@ -108,13 +108,7 @@ fn envmap_rows(
     journal: &mut Journal<SweepRow>,
 ) -> Result<(), String> {
     let scenes = envmap_scenes(base, param, values)?;
-    let todo: Vec<(usize, &Scene)> = pick(&scenes, only)
-        .into_iter()
-        .filter(|(i, _)| !journal.is_done(*i))
-        .collect();
-    if let Some(note) = journal.resume_note(todo.len()) {
-        eprintln!("{note}");
-    }
+    let todo = journal.pending(&scenes, only);
     try_map_with_progress(&todo, &format!("sweep {param}"), |&(i, s)| {
         let row = envmap_row(s, param)?;
         journal.record(i, row)

@@ -11,7 +11,7 @@ use crate::report::image_out::Framebuffer;
 use crate::report::metrics::error_stats;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
-use crate::report::shard::{pick, Shard, SweepId};
+use crate::report::shard::{Shard, SweepId};
 use crate::report::sweep_out::shard_sweep;
 pub use crate::report::sweep_out::{
     parse_int_values, sweep_table, write_sweep, SweepRow as GlareSweepRow,
@@ -89,13 +89,7 @@ pub fn glare_rows(
     journal: &mut Journal<GlareSweepRow>,
 ) -> Result<(), String> {
     let scenes = glare_scenes(base, param, values)?;
-    let todo: Vec<(usize, &Scene)> = pick(&scenes, only)
-        .into_iter()
-        .filter(|(i, _)| !journal.is_done(*i))
-        .collect();
-    if let Some(note) = journal.resume_note(todo.len()) {
-        eprintln!("{note}");
-    }
+    let todo = journal.pending(&scenes, only);
     try_map_with_progress(
         &todo,
         &format!("sweep {param}"),

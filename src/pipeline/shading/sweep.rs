@@ -46,7 +46,7 @@ use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
-use crate::report::shard::{pick, Shard, SweepId};
+use crate::report::shard::{Shard, SweepId};
 use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_combiner::CombineFunction;
@@ -465,13 +465,7 @@ pub fn shading_rows(
     journal: &mut Journal<ShadingSweepRow>,
 ) -> Result<(), String> {
     let (param, jobs, view) = shading_jobs(scene, param, values, opts)?;
-    let todo: Vec<(usize, &(u32, Job))> = pick(&jobs, only)
-        .into_iter()
-        .filter(|(i, _)| !journal.is_done(*i))
-        .collect();
-    if let Some(note) = journal.resume_note(todo.len()) {
-        eprintln!("{note}");
-    }
+    let todo = journal.pending(&jobs, only);
     try_map_with_progress(&todo, &format!("sweep {param}"), |&(i, (v, j))| {
         let m = run(j, &view).map_err(|e| format!("values: {param} = {v}: {e}"))?;
         journal.record(

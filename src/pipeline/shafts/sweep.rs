@@ -23,7 +23,7 @@ use crate::report::metrics::{error_stats, error_stats_at, representative_pixels}
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
 use crate::report::progress::progress_bar;
 use crate::report::resume::Journal;
-use crate::report::shard::{fingerprint, finish_shard, pick, Shard, ShardSet, SweepId};
+use crate::report::shard::{fingerprint, finish_shard, Shard, ShardSet, SweepId};
 use crate::report::table::text_table;
 use crate::scene::format::{Scene, ShaftsConfig};
 use serde::{Deserialize, Serialize};
@@ -447,13 +447,7 @@ pub fn sweep_rows(
     journal: &mut Journal<SweepRow>,
 ) -> Result<f64, String> {
     let scenes = check_sweep(base, param, values, truth_samples)?;
-    let todo: Vec<(usize, &Scene)> = pick(&scenes, only)
-        .into_iter()
-        .filter(|(k, _)| !journal.is_done(*k))
-        .collect();
-    if let Some(note) = journal.resume_note(todo.len()) {
-        eprintln!("{note}");
-    }
+    let todo = journal.pending(&scenes, only);
     if todo.is_empty() {
         return Ok(0.0);
     }
