@@ -142,9 +142,10 @@ impl SweepId {
     /// sweeps): `scene_arg` as given to `--scene`, the image size, and the scene itself
     /// (after `--image`) by fingerprint, so that shards rendered from two different
     /// files of one name are refused.
-    pub fn of_scene(
+    pub fn of_scene<T: Serialize>(
         kind: &str,
-        scene: &crate::scene::format::Scene,
+        scene: &T,
+        image: (u32, u32),
         scene_arg: &str,
         param: &str,
         values: &[u32],
@@ -156,10 +157,7 @@ impl SweepId {
             param: param.into(),
             values: values.iter().map(u32::to_string).collect(),
             settings: [
-                (
-                    "image".to_string(),
-                    format!("{}x{}", scene.image.width, scene.image.height),
-                ),
+                ("image".to_string(), format!("{}x{}", image.0, image.1)),
                 ("scene_fingerprint".to_string(), fingerprint(scene)?),
             ]
             .into(),

@@ -132,6 +132,7 @@ fn sweep_id(
     SweepId::of_scene(
         "envmap",
         scene,
+        (scene.image.width, scene.image.height),
         scene_arg,
         param,
         values,

@@ -196,6 +196,7 @@ fn sweep_id(
     SweepId::of_scene(
         "glare",
         scene,
+        (scene.image.width, scene.image.height),
         scene_arg,
         param,
         values,
