@@ -5,6 +5,8 @@
 //! levels, and the pixels that changed), and a PNG strip per assumption shows, per
 //! scene, the default picture, each alternative's and its |Δ| × [`DIFF_GAIN`].
 //! The ledger itself, with the figures this writes, is docs/assumptions.md.
+//! `envmap.dome_pick` changes the voxel map itself, so it is also measured on the maps
+//! ([`dome_pick_maps`]: `assumptions_maps.csv`, each pick against the exact prefilter).
 //!
 //! The full run renders the built-ins at their own sizes (the CLI); [`Reduced`]
 //! shrinks them for the tests (tests/assumptions.rs).
