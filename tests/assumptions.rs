@@ -65,8 +65,10 @@ const TESTED: &[&str] = &[
     "glare.water_eta",
     "envmap.exposure_rule",
     "envmap.weighting",
+    "envmap.dome_pick",
     "shafts.f_scale",
     "shafts.h_cap",
+    "shafts.plane_step",
 ];
 
 #[test]
@@ -112,6 +114,65 @@ fn weighting_renders_and_differs() {
 }
 
 #[test]
+fn dome_pick_renders_and_differs() {
+    renders_and_differs("envmap.dome_pick");
+}
+
+/// The dome pick on the maps themselves (`assumptions_maps.csv`, side 16): both picks
+/// are measured against the exact prefilter, and they build different maps.
+#[test]
+fn dome_pick_maps_differ_against_the_exact_map() {
+    let rows = glare_pipeline::frame::assumptions::dome_pick_maps(16).unwrap();
+    assert_eq!(rows.len(), 4, "two maps × two picks");
+    for pair in rows.chunks(2) {
+        let (def, alt) = (&pair[0], &pair[1]);
+        assert_eq!(def.env, alt.env);
+        assert!(def.dome_pick.contains("half_weight") && alt.dome_pick.contains("voxel_spacing"));
+        for r in pair {
+            assert!(r.mean_abs_levels.is_finite() && r.max_abs_levels >= r.mean_abs_levels);
+        }
+        assert!(
+            (def.mean_abs_levels, def.max_abs_levels, def.changed_voxels)
+                != (alt.mean_abs_levels, alt.max_abs_levels, alt.changed_voxels),
+            "{}: the two picks built the same map",
+            def.env
+        );
+    }
+}
+
+/// The literal pick is the voxel spacing of eq. (12): the dome chosen at |t| is the
+/// coarsest whose vertex spacing atan 2 / n is ≤ atan(2 / (|t|·s)) — computed here from
+/// eq. (12) directly, while the prefilter derives it from Λ = g(|t|) via eq. (13) — and
+/// it is never finer than the model's pick.
+#[test]
+fn voxel_spacing_pick_follows_eq12() {
+    use glare_pipeline::pipeline::envmap::prefilter::{
+        dome_frequencies, env_to_levels, Accelerated, DomePick,
+    };
+    use glare_pipeline::reference::envmap_prefilter::PrefilterParams;
+    use glare_pipeline::scene::envmap::EnvMap;
+    let s = 128;
+    let env = EnvMap::pattern(512, 256);
+    let lv = env_to_levels(&env, 1.0).unwrap();
+    let def = Accelerated::new(&lv, s, &PrefilterParams::thesis(), 0.001).unwrap();
+    let alt = def.clone().with_dome_pick(DomePick::VoxelSpacing);
+    let spacing = dome_frequencies(s).map(|n| 2f64.atan() / n as f64);
+    let mut coarser = 0;
+    for r in [0.03, 0.1, 0.2, 0.4, 0.7, 0.95] {
+        let t = [r * 0.6, r * 0.8, 0.0];
+        let psi = (2.0 / (r * s as f64)).atan();
+        let want = (0..4).rev().find(|&k| spacing[k] <= psi).unwrap_or(0);
+        assert_eq!(alt.level(t), want, "|t| = {r}: ψ_voxel = {psi}");
+        assert!(alt.level(t) >= def.level(t), "|t| = {r}");
+        coarser += usize::from(alt.level(t) > def.level(t));
+    }
+    assert!(
+        coarser >= 3,
+        "the literal pick is coarser on {coarser} of 6 shells"
+    );
+}
+
+#[test]
 fn f_scale_renders_and_differs() {
     renders_and_differs("shafts.f_scale");
 }
@@ -119,6 +180,37 @@ fn f_scale_renders_and_differs() {
 #[test]
 fn h_cap_renders_and_differs() {
     renders_and_differs("shafts.h_cap");
+}
+
+#[test]
+fn plane_step_renders_and_differs() {
+    renders_and_differs("shafts.plane_step");
+}
+
+/// Δt = Δr on every ray under-weights off-axis rays against Δr·t/r (t/r ≥ 1), with
+/// the tables unchanged: no pixel gets brighter, and the frame's beam is dimmer
+/// (fig4 at 96 × 64, 8 planes).
+#[test]
+fn plane_spacing_dims_the_off_axis_rays() {
+    let mut s = scene_named("fig4").unwrap();
+    s.image.width = 96;
+    s.image.height = 64;
+    s.shafts.planes = 8;
+    let def = render_picture(&s).unwrap();
+    s.shafts.plane_step = glare_pipeline::scene::format::PlaneStep::PlaneSpacing;
+    let alt = render_picture(&s).unwrap();
+    for (i, (a, d)) in alt.levels.iter().zip(&def.levels).enumerate() {
+        for c in 0..3 {
+            assert!(a[c] <= d[c], "pixel {i} channel {c}: {} > {}", a[c], d[c]);
+        }
+    }
+    let sum = |p: &[[f64; 3]]| p.iter().flatten().sum::<f64>();
+    assert!(
+        sum(&def.levels) > sum(&alt.levels),
+        "Δt = Δr·t/r ≥ Δr: {} vs {}",
+        sum(&def.levels),
+        sum(&alt.levels)
+    );
 }
 
 /// The water reading decides whether the puddle glares: under η = 1.33 the highlight
@@ -182,6 +274,17 @@ fn fields_parse_by_name_and_default_to_the_model() {
     assert_eq!(s.glare.as_ref().unwrap().model.bloom_w_deg, 1.0);
     let s = set("h_cap = \"one_plane\"", "h_cap = \"none\"");
     assert_eq!(s.shafts.h_cap, glare_pipeline::scene::format::HCap::None);
+    // plane_step is written only when not the default (the built-ins' files and sweep
+    // identities are unchanged).
+    assert!(!base.contains("plane_step"));
+    let s = set(
+        "h_cap = \"one_plane\"",
+        "h_cap = \"one_plane\"\nplane_step = \"plane_spacing\"",
+    );
+    assert_eq!(
+        s.shafts.plane_step,
+        glare_pipeline::scene::format::PlaneStep::PlaneSpacing
+    );
 }
 
 /// A bad value is refused naming its field.
@@ -210,6 +313,11 @@ fn bad_values_name_their_field() {
             "glare.model.water_eta",
         ),
         ("h_cap = \"one_plane\"", "h_cap = \"half\"", "shafts.h_cap"),
+        (
+            "h_cap = \"one_plane\"",
+            "h_cap = \"one_plane\"\nplane_step = \"ray\"",
+            "shafts.plane_step",
+        ),
     ] {
         let e = Scene::from_toml_str(&base.replacen(from, to, 1)).unwrap_err();
         assert_eq!(e.field(), field, "{to}: {e}");
@@ -229,6 +337,27 @@ fn bad_values_name_their_field() {
     ))
     .unwrap_err();
     assert_eq!(e.field(), "environment.weighting", "{e}");
+    let e = Scene::from_toml_str(&env.replacen(
+        "[environment]\n",
+        "[environment]\ndome_pick = \"coarse\"\n",
+        1,
+    ))
+    .unwrap_err();
+    assert_eq!(e.field(), "environment.dome_pick", "{e}");
+    // The pick is the accelerated build's: with the exact prefilter it is refused.
+    let exact = env.replacen(
+        "[environment]\n",
+        "[environment]\ndome_pick = \"voxel_spacing\"\n",
+        1,
+    );
+    assert!(
+        Scene::from_toml_str(&exact).is_ok(),
+        "the built-in is accelerated"
+    );
+    let accelerated = "type = \"accelerated\"\nthreshold = 0.001";
+    assert!(exact.contains(accelerated));
+    let e = Scene::from_toml_str(&exact.replace(accelerated, "type = \"exact\"")).unwrap_err();
+    assert_eq!(e.field(), "environment.dome_pick", "{e}");
     // An explicit exposure leaves no rule to apply: both at once is refused.
     let e = Scene::from_toml_str(&env.replacen(
         "[environment]\n",

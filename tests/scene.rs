@@ -728,6 +728,7 @@ fn valid_extremes_are_accepted() {
         shadow_depth_bits: 32,
         f_scale: glare_pipeline::scene::format::FScale::LitVolume,
         h_cap: glare_pipeline::scene::format::HCap::OnePlane,
+        plane_step: glare_pipeline::scene::format::PlaneStep::AlongRay,
         light_map_texels: 4096,
     };
     s.validate().unwrap();

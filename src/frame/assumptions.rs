@@ -5,6 +5,8 @@
 //! levels, and the pixels that changed), and a PNG strip per assumption shows, per
 //! scene, the default picture, each alternative's and its |Δ| × [`DIFF_GAIN`].
 //! The ledger itself, with the figures this writes, is docs/assumptions.md.
+//! `envmap.dome_pick` changes the voxel map itself, so it is also measured on the maps
+//! ([`dome_pick_maps`]: `assumptions_maps.csv`, each pick against the exact prefilter).
 //!
 //! The full run renders the built-ins at their own sizes (the CLI); [`Reduced`]
 //! shrinks them for the tests (tests/assumptions.rs).
@@ -16,11 +18,16 @@ use serde::Serialize;
 
 use super::plan::environment_scene;
 use super::run::render;
+use crate::pipeline::envmap::prefilter::{
+    build_accelerated_picked, build_exact, env_to_levels, voxel_error, DomePick,
+};
 use crate::pipeline::envmap::scene_render::render_scene;
+use crate::reference::envmap_prefilter::PrefilterParams;
 use crate::report::metrics::error_stats;
 use crate::scene::builtin::builtin;
-use crate::scene::environment::{EnvWeighting, ExposureRule};
-use crate::scene::format::{FScale, HCap, Scene};
+use crate::scene::environment::{EnvDomePick, EnvWeighting, ExposureRule, THESIS_THRESHOLD};
+use crate::scene::envmap::EnvMap;
+use crate::scene::format::{FScale, HCap, PlaneStep, Scene};
 use crate::scene::glare::{
     BloomRange, HaloAmplitude, HaloRadius, Highlight, HighlightMaterial, WaterEta,
 };
@@ -104,6 +111,12 @@ pub const ALTERNATIVES: &[Alternative] = &[
         apply: |s| env(s).weighting = EnvWeighting::Uniform,
     },
     Alternative {
+        assumption: "envmap.dome_pick",
+        alternative: "dome_pick = \"voxel_spacing\"",
+        scenes: &["env-pattern-sphere", "env-st_fagans_interior-sphere"],
+        apply: |s| env(s).dome_pick = EnvDomePick::VoxelSpacing,
+    },
+    Alternative {
         assumption: "shafts.f_scale",
         alternative: "f_scale = \"lit_volume\"",
         scenes: &["fig4", "fig6"],
@@ -114,6 +127,12 @@ pub const ALTERNATIVES: &[Alternative] = &[
         alternative: "h_cap = \"none\"",
         scenes: &["fig4", "fig6"],
         apply: |s| s.shafts.h_cap = HCap::None,
+    },
+    Alternative {
+        assumption: "shafts.plane_step",
+        alternative: "plane_step = \"plane_spacing\"",
+        scenes: &["fig4", "fig6"],
+        apply: |s| s.shafts.plane_step = PlaneStep::PlaneSpacing,
     },
 ];
 
@@ -280,6 +299,12 @@ pub fn assumptions(
         }
     }
     crate::report::csv_out::write_csv(&out.join("assumptions.csv"), &rows)?;
+    if only.is_none_or(|o| "envmap.dome_pick".starts_with(o)) {
+        let side = reduced.map_or(crate::scene::environment::DEFAULT_SIDE, |r| r.env_side);
+        let maps = dome_pick_maps(side)?;
+        crate::report::csv_out::write_csv(&out.join("assumptions_maps.csv"), &maps)?;
+        print!("{}", maps_table(&maps));
+    }
     for (assumption, scenes) in &strips {
         let path = out.join(format!("assumptions_{}.png", assumption.replace('.', "_")));
         write_strip(&path, scenes)?;
@@ -349,6 +374,101 @@ pub fn table(rows: &[AssumptionRow]) -> String {
             r.max_levels,
             r.mean_abs_levels,
             r.changed_pixels
+        );
+    }
+    s
+}
+
+/// The maps on which `envmap.dome_pick` is measured (the thesis' two: its pattern and
+/// a photo; as `reproduce envmap-table3`).
+pub const DOME_PICK_MAPS: [&str; 2] = ["pattern", "st_fagans_interior"];
+
+/// One row of `assumptions_maps.csv`: an accelerated map (th = 0.001, the map's auto
+/// exposure) built with one dome pick, against the exact prefilter of the same map.
+#[derive(Clone, Debug, Serialize)]
+pub struct MapRow {
+    pub assumption: String,
+    /// `dome_pick = "…"` as written in the scene file (the default included).
+    pub dome_pick: String,
+    pub env: String,
+    pub side: u32,
+    /// Mean |Δ| over every voxel and channel, in levels (8-bit codes).
+    pub mean_abs_levels: f64,
+    /// Largest |Δ| of any voxel channel, in levels.
+    pub max_abs_levels: f64,
+    /// Voxels where any channel differs from the exact map.
+    pub changed_voxels: u64,
+    /// Wall time of the accelerated build (pyramid, domes, table, filter), seconds.
+    pub build_seconds: f64,
+    /// Its weight table, MB at 8 bytes per entry.
+    pub table_mbytes: f64,
+    /// Wall time of the exact build it is compared with, seconds.
+    pub exact_seconds: f64,
+}
+
+/// `envmap.dome_pick` on the voxel maps themselves: for each of [`DOME_PICK_MAPS`] at
+/// side `side`, the exact map, then the accelerated map under each dome pick and its
+/// difference from the exact one (the thesis' Table 3 measure, plus the max).
+pub fn dome_pick_maps(side: u32) -> Result<Vec<MapRow>, String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    let params = PrefilterParams::thesis();
+    let mut rows = Vec::new();
+    for name in DOME_PICK_MAPS {
+        let env = EnvMap::builtin(name).map_err(e)?;
+        let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+        let t0 = std::time::Instant::now();
+        let exact = build_exact(&levels, side, &params).map_err(e)?;
+        let exact_seconds = t0.elapsed().as_secs_f64();
+        for (pick, written) in [
+            (DomePick::HalfWeight, "dome_pick = \"half_weight\""),
+            (DomePick::VoxelSpacing, "dome_pick = \"voxel_spacing\""),
+        ] {
+            let (acc, st) =
+                build_accelerated_picked(&levels, side, &params, THESIS_THRESHOLD, pick)
+                    .map_err(e)?;
+            let (mean, _) = voxel_error(&acc, &exact).ok_or("internal: side mismatch")?;
+            let mut max = 0u32;
+            let mut changed = 0u64;
+            for (a, b) in acc.data().iter().zip(exact.data()) {
+                let d = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+                max = max.max(d);
+                changed += u64::from(d > 0);
+            }
+            rows.push(MapRow {
+                assumption: "envmap.dome_pick".to_string(),
+                dome_pick: written.to_string(),
+                env: name.to_string(),
+                side,
+                mean_abs_levels: mean.iter().sum::<f64>() / 3.0,
+                max_abs_levels: f64::from(max),
+                changed_voxels: changed,
+                build_seconds: st.build_seconds,
+                table_mbytes: st.mbytes(),
+                exact_seconds,
+            });
+        }
+    }
+    Ok(rows)
+}
+
+/// The map rows as a terminal table.
+pub fn maps_table(rows: &[MapRow]) -> String {
+    let mut s = format!(
+        "{:<30} {:<20} {:>5} {:>9} {:>6} {:>10} {:>9} {:>9} {:>9}\n",
+        "dome_pick", "env", "side", "mean|Δ|", "max", "changed", "build s", "table MB", "exact s"
+    );
+    for r in rows {
+        s += &format!(
+            "{:<30} {:<20} {:>5} {:>9.3} {:>6.0} {:>10} {:>9.2} {:>9.1} {:>9.2}\n",
+            r.dome_pick,
+            r.env,
+            r.side,
+            r.mean_abs_levels,
+            r.max_abs_levels,
+            r.changed_voxels,
+            r.build_seconds,
+            r.table_mbytes,
+            r.exact_seconds
         );
     }
     s

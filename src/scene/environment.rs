@@ -67,6 +67,10 @@ pub struct EnvironmentSection {
     /// uniform sum (docs/assumptions.md).
     #[serde(default, skip_serializing_if = "EnvWeighting::is_default")]
     pub weighting: EnvWeighting,
+    /// Which pyramid level's geodesic dome the accelerated prefilter filters each voxel
+    /// on (docs/assumptions.md, envmap.dome_pick); only with an accelerated prefilter.
+    #[serde(default, skip_serializing_if = "EnvDomePick::is_default")]
+    pub dome_pick: EnvDomePick,
     /// Voxel map side s: a power of two in [`MIN_SIDE`] ..= [`MAX_SIDE`].
     #[serde(default = "default_side")]
     pub side: u32,
@@ -132,6 +136,27 @@ impl EnvWeighting {
     }
 }
 
+/// The dome (pyramid level) a voxel's lobe is filtered on in the accelerated build
+/// (the thesis §3.4.1: rough voxels use the reduced images; it states no rule).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EnvDomePick {
+    /// The coarsest dome whose vertex spacing is ≤ ½ × the lobe's half-weight angle
+    /// acos(2^(−1/Λ)) (the model's choice: the lobe well sampled).
+    #[default]
+    HalfWeight,
+    /// The coarsest dome whose spacing is ≤ the voxel spacing ψ_voxel of eq. (12) at
+    /// the voxel's |t| (the thesis read literally: a voxel is computed at the
+    /// resolution it is stored at).
+    VoxelSpacing,
+}
+
+impl EnvDomePick {
+    fn is_default(&self) -> bool {
+        *self == EnvDomePick::default()
+    }
+}
+
 impl EnvironmentSection {
     /// The exposure the section's map is read at: `exposure` if given, else the one
     /// `exposure_rule` picks for `env`.
@@ -172,6 +197,7 @@ impl Default for EnvironmentSection {
             exposure: None,
             exposure_rule: ExposureRule::default(),
             weighting: EnvWeighting::default(),
+            dome_pick: EnvDomePick::default(),
             side: DEFAULT_SIDE,
             object: None,
             lambda: EnvLambda::default(),
@@ -450,6 +476,21 @@ impl EnvironmentSection {
         }
         if let Prefilter::Accelerated { threshold } = self.prefilter {
             interval("prefilter.threshold", threshold, 0.0, true, 1.0, false).map_err(f)?;
+        }
+        if !self.dome_pick.is_default()
+            && !matches!(
+                self.prefilter.resolve(self.side),
+                Prefilter::Accelerated { .. }
+            )
+        {
+            return Err(f(ConfigError::invalid(
+                "dome_pick",
+                &format!(
+                    "picks the dome of the accelerated prefilter; side {} uses the exact one \
+                     (set prefilter = {{ type = \"accelerated\" }} or remove dome_pick)",
+                    self.side
+                ),
+            )));
         }
         for (i, r) in self.reflectors.iter().enumerate() {
             let g = |e: ConfigError| f(e.within(&format!("reflectors[{i}]")));

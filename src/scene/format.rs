@@ -295,6 +295,10 @@ pub struct ShaftsConfig {
     /// Whether h's full scale is capped so one plane cannot exceed full scale (see
     /// [`HCap`], docs/assumptions.md).
     pub h_cap: HCap,
+    /// The ray length Δt each sample plane stands for in eq. (5) (see [`PlaneStep`],
+    /// docs/assumptions.md).
+    #[serde(skip_serializing_if = "PlaneStep::is_default")]
+    pub plane_step: PlaneStep,
     /// Side of each spot's light-map texture (a power of two, 2 ..= 4096): the beam's
     /// rim is as sharp as one texel of it.
     pub light_map_texels: u32,
@@ -328,6 +332,27 @@ pub enum HCap {
     None,
 }
 
+/// Δt of eq. (5): the length of a pixel's ray between two sample planes, which the
+/// plane's scale (a vertex colour) carries.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum PlaneStep {
+    /// Δt = Δr·t/r per mesh vertex: the planes are Δr apart in view depth, so an
+    /// off-axis ray crosses Δr/cos between them (the model's choice; interpolated).
+    #[default]
+    AlongRay,
+    /// Δt = Δr for every pixel: the planes' spacing, one scale per plane (the paper's
+    /// eq. (5) read literally; off-axis rays are under-weighted by cos). The tables and
+    /// h's cap are those of `along_ray`, so only Δt changes.
+    PlaneSpacing,
+}
+
+impl PlaneStep {
+    fn is_default(&self) -> bool {
+        *self == PlaneStep::default()
+    }
+}
+
 impl Default for ShaftsConfig {
     fn default() -> Self {
         ShaftsConfig {
@@ -348,6 +373,7 @@ impl Default for ShaftsConfig {
             shadow_depth_bits: 8,
             f_scale: FScale::Table,
             h_cap: HCap::OnePlane,
+            plane_step: PlaneStep::AlongRay,
             light_map_texels: 256,
         }
     }

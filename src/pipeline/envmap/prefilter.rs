@@ -74,6 +74,16 @@
 //! Table 3 (it matters for time only near the centre, where the n = 72 dome's
 //! hemisphere would be visited).
 //!
+//! The thesis states no rule: §3.4.1 says only that the rough voxels near the centre are
+//! *stored* at a low resolution, so computing them from the full-resolution map is
+//! wasted work, and they are computed from the reduced images. Read literally, a voxel
+//! is computed at the resolution it is stored at: [`DomePick::VoxelSpacing`] takes the
+//! coarsest dome with a_k ≤ ψ_voxel, the angle between neighbouring voxels of the shell
+//! at |t| (eq. (12)); by eq. (13) that is where the lobe has fallen to 1/I,
+//! ψ_voxel = acos(I^(−1/Λ)) ≈ √8·ψ_½ at I = 256, so that reading picks a dome about 5.7×
+//! coarser than the model's [`DomePick::HalfWeight`] (`environment.dome_pick`;
+//! docs/assumptions.md, envmap.dome_pick, has its effect on the maps and the renders).
+//!
 //! **Renormalised or not.** `reproduce envmap-table3` measures both (s = 128, pattern,
 //! mean |Δ| at th = 0.001 / 0.01 / 0.1): not renormalised 0.26 / 2.85 / 30.7 levels,
 //! renormalised 0.14 / 0.48 / 12.8; the thesis 0.1–0.3 / 3.8 / 38. The thesis' growth,
@@ -104,6 +114,20 @@ use std::time::Instant;
 pub const PRUNE_LOG: f64 = 60.0;
 /// Level choice: the coarsest dome whose spacing is ≤ this × the lobe's half-weight angle.
 pub const LEVEL_FRACTION: f64 = 0.5;
+
+/// Which pyramid level's dome a voxel's lobe is filtered on in the accelerated build
+/// (module notes, "Level choice"; the scene's `environment.dome_pick`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum DomePick {
+    /// The model's: the coarsest dome whose vertex spacing is ≤ [`LEVEL_FRACTION`] × the
+    /// lobe's half-weight angle acos(2^(−1/Λ)) (the lobe well sampled).
+    #[default]
+    HalfWeight,
+    /// The thesis' §3.4.1 read literally: the coarsest dome whose spacing is ≤ the
+    /// voxel spacing ψ_voxel of eq. (12) at the voxel's |t|, i.e. acos(I^(−1/Λ)) by
+    /// eq. (13) (a voxel computed at the resolution it is stored at).
+    VoxelSpacing,
+}
 /// Bytes per weight-table entry: a 4-byte vertex index and a 4-byte f32 weight.
 pub const BYTES_PER_ENTRY: u64 = 8;
 /// Voxel bits of the thesis' map (256 levels).
@@ -553,10 +577,23 @@ impl DomeLevels {
     /// The level used at lobe exponent Λ (module notes): the coarsest k with
     /// spacing_k ≤ LEVEL_FRACTION · acos(2^(−1/Λ)), else 0.
     pub fn level_for(&self, lambda: f64) -> usize {
-        let half = half_weight_angle(lambda);
+        self.level_within(LEVEL_FRACTION * half_weight_angle(lambda))
+    }
+
+    /// The level `pick` chooses at lobe exponent Λ with `levels` intensity levels I
+    /// (eq. (13)'s I; only [`DomePick::VoxelSpacing`] reads it).
+    pub fn level_picked(&self, pick: DomePick, lambda: f64, levels: f64) -> usize {
+        match pick {
+            DomePick::HalfWeight => self.level_for(lambda),
+            DomePick::VoxelSpacing => self.level_within(lobe_angle(lambda, levels.ln())),
+        }
+    }
+
+    /// The coarsest level whose dome spacing is ≤ `angle` (radians), else 0.
+    pub fn level_within(&self, angle: f64) -> usize {
         (0..self.spacing.len())
             .rev()
-            .find(|&k| self.spacing[k] <= LEVEL_FRACTION * half)
+            .find(|&k| self.spacing[k] <= angle)
             .unwrap_or(0)
     }
 
@@ -582,11 +619,17 @@ pub const REFERENCE_SIDE: u32 = 128;
 
 /// ψ_½ with cos^Λ ψ_½ = ½ (π/2 for Λ ≤ 0 or NaN).
 pub fn half_weight_angle(lambda: f64) -> f64 {
+    lobe_angle(lambda, std::f64::consts::LN_2)
+}
+
+/// ψ with cos^Λ ψ = e^(−`ln_ratio`), i.e. acos(exp(−ln_ratio/Λ)) (π/2 for Λ ≤ 0 or
+/// NaN): ln 2 gives the half-weight angle, ln I the voxel spacing of eq. (13).
+pub fn lobe_angle(lambda: f64, ln_ratio: f64) -> f64 {
     if !(lambda > 0.0) {
         return 0.5 * PI;
     }
-    // 2^(−1/Λ) = exp(−ln 2/Λ); acos near 1 via 2·asin(√((1 − c)/2)).
-    let one_minus = -(-std::f64::consts::LN_2 / lambda).exp_m1();
+    // exp(−r/Λ); acos near 1 via 2·asin(√((1 − c)/2)).
+    let one_minus = -(-ln_ratio / lambda).exp_m1();
     2.0 * (0.5 * one_minus).sqrt().min(1.0).asin()
 }
 
@@ -606,7 +649,18 @@ pub fn build_accelerated(
     params: &PrefilterParams,
     th: f64,
 ) -> Result<(VoxelMap, TableStats), ConfigError> {
-    let (m, _, st) = build_accelerated_both(env_levels, s, params, th)?;
+    build_accelerated_picked(env_levels, s, params, th, DomePick::default())
+}
+
+/// [`build_accelerated`] with the dome of each voxel chosen by `pick`.
+pub fn build_accelerated_picked(
+    env_levels: &Equirect,
+    s: u32,
+    params: &PrefilterParams,
+    th: f64,
+    pick: DomePick,
+) -> Result<(VoxelMap, TableStats), ConfigError> {
+    let (m, _, st) = build_both(env_levels, s, params, th, VOXEL_BITS, pick)?;
     check_coverage(&st, s, th)?;
     Ok((m, st))
 }
@@ -653,10 +707,21 @@ pub fn build_accelerated_both_bits(
     th: f64,
     bits: u32,
 ) -> Result<(VoxelMap, VoxelMap, TableStats), ConfigError> {
+    build_both(env_levels, s, params, th, bits, DomePick::default())
+}
+
+fn build_both(
+    env_levels: &Equirect,
+    s: u32,
+    params: &PrefilterParams,
+    th: f64,
+    bits: u32,
+    pick: DomePick,
+) -> Result<(VoxelMap, VoxelMap, TableStats), ConfigError> {
     check_th(th)?;
     let t0 = Instant::now();
     let mut map = VoxelMap::new(s, bits)?;
-    let acc = Accelerated::new(env_levels, s, params, th)?;
+    let acc = Accelerated::new(env_levels, s, params, th)?.with_dome_pick(pick);
     let probe = map.clone();
     let mut renorm = map.clone();
     let stats = fill_voxels(
@@ -691,6 +756,7 @@ pub struct Accelerated {
     params: PrefilterParams,
     domes: DomeLevels,
     th: f64,
+    pick: DomePick,
 }
 
 impl Accelerated {
@@ -704,13 +770,33 @@ impl Accelerated {
         let th = check_th(th)?;
         let params = params_for(s, params)?;
         let domes = DomeLevels::for_side(env_levels, s, params.weighting())?;
-        Ok(Accelerated { params, domes, th })
+        Ok(Accelerated {
+            params,
+            domes,
+            th,
+            pick: DomePick::default(),
+        })
+    }
+
+    /// The same filter with each voxel's dome chosen by `pick`.
+    pub fn with_dome_pick(mut self, pick: DomePick) -> Self {
+        self.pick = pick;
+        self
+    }
+
+    /// The pyramid level (0 = finest) of the voxel at `t`.
+    pub fn level(&self, t: [f64; 3]) -> usize {
+        self.domes
+            .level_picked(self.pick, self.params.lambda(t), self.params.levels())
     }
 
     /// F of the voxel at `t` (codes not rounded), its kept weight and entries.
     pub fn voxel(&self, t: [f64; 3], scratch: &mut Vec<(u32, f64)>) -> VoxelResult {
         let lambda = self.params.lambda(t);
-        let idx = &self.domes.levels[self.domes.level_for(lambda)];
+        let idx =
+            &self.domes.levels[self
+                .domes
+                .level_picked(self.pick, lambda, self.params.levels())];
         prefilter_voxel_indexed(idx, t, lambda, Some(self.th), scratch)
     }
 }

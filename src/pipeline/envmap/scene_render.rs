@@ -18,7 +18,7 @@ use serde::Serialize;
 
 use super::image::{ErrorStats, Image};
 use super::objects::{object_geometry, LambdaSpec, Object};
-use super::prefilter::{build_accelerated, build_exact, env_to_levels};
+use super::prefilter::{build_accelerated_picked, build_exact, env_to_levels, DomePick};
 use super::render::{
     render_geometry, render_geometry_with_truth, Background, FrameInfo, Lookup, RenderOptions,
     Truth, MAX_IMAGE_SIDE,
@@ -31,8 +31,8 @@ use crate::scene::builtin::builtin;
 use crate::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use crate::scene::camera::CameraView;
 use crate::scene::environment::{
-    EnvBackground, EnvLambda, EnvLookup, EnvObject, EnvWeighting, EnvironmentSection, Prefilter,
-    MAX_SIDE, PYRAMID_DIVISOR,
+    EnvBackground, EnvDomePick, EnvLambda, EnvLookup, EnvObject, EnvWeighting, EnvironmentSection,
+    Prefilter, MAX_SIDE, PYRAMID_DIVISOR,
 };
 use crate::scene::envmap::EnvMap;
 use crate::scene::format::Scene;
@@ -158,7 +158,13 @@ pub fn build_map(
     let (map, prefilter, table_mbytes, empty_voxels) = match section.prefilter.resolve(section.side)
     {
         Prefilter::Accelerated { threshold } => {
-            let (map, st) = build_accelerated(&levels, section.side, &params, threshold)?;
+            let pick = match section.dome_pick {
+                EnvDomePick::HalfWeight => DomePick::HalfWeight,
+                // The thesis read literally (`environment.dome_pick = "voxel_spacing"`).
+                EnvDomePick::VoxelSpacing => DomePick::VoxelSpacing,
+            };
+            let (map, st) =
+                build_accelerated_picked(&levels, section.side, &params, threshold, pick)?;
             (
                 map,
                 format!("accelerated, th = {threshold}"),

@@ -16,6 +16,7 @@ use super::tables::GTables;
 use super::view::vec3;
 use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
+use crate::scene::format::PlaneStep;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
@@ -373,7 +374,11 @@ fn plane(
                 alpha / std::f64::consts::PI * nf,
                 s / tables.s_max * hw,
                 t / tables.t_max * hh,
-                s_plane * t / r,
+                match cfg.plane_step {
+                    PlaneStep::AlongRay => s_plane * t / r,
+                    // `shafts.plane_step = "plane_spacing"`: Δt = Δr on every ray.
+                    PlaneStep::PlaneSpacing => s_plane,
+                },
                 la[0],
                 la[1],
                 la[2],
