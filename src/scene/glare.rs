@@ -545,12 +545,15 @@ fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
     if let Some(dv) = &s.directivity {
         direction("directivity", dv)?;
     }
+    // a, b and n are checked whatever the kind: a kind that ignores them must not
+    // carry a NaN or an out-of-range value through the scene (it would not survive a
+    // write and read back: NaN ≠ NaN).
+    closed("a", s.a, 0.0, 1e6)?;
+    closed("b", s.b, 0.0, 1e6)?;
+    point("n", &s.n)?;
     match s.kind {
-        SourceKind::Point => {}
-        SourceKind::Circle => closed("a", s.a, 0.0, 1e6)?,
+        SourceKind::Point | SourceKind::Circle => {}
         SourceKind::Cylindrical | SourceKind::Elliptic => {
-            closed("a", s.a, 0.0, 1e6)?;
-            closed("b", s.b, 0.0, 1e6)?;
             if s.b > s.a {
                 return Err(ConfigError::invalid(
                     "b",
