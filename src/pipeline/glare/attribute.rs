@@ -7,13 +7,16 @@
 //!
 //! | source | configured → ideal |
 //! |---|---|
-//! | shape RAM resolution | `shape_log2` k → k + 3 (8× the cells per side) |
-//! | shape RAM entries | `shape_bits` → 24 |
-//! | falloff RAM resolution | `falloff_log2` m → m + 4 |
-//! | falloff RAM entries | `falloff_bits` → 24 |
-//! | weight_bits | → 16 |
-//! | coord_frac_bits | → 20 (the interpolator's position fraction) |
+//! | shape RAM resolution | `shape_log2` k → min(k + 3, 10) (8× the cells per side) |
+//! | falloff RAM resolution | `falloff_log2` → 12 |
+//! | falloff RAM entries | `falloff_bits` → 20 |
+//! | weight_bits | → 12 |
+//! | coord_frac_bits | → 16 (the RAM address fraction) |
 //! | fb_bits (output rounding) | 8 → 16 (the glare combiner's framebuffer) |
+//!
+//! Each is the widest the unit takes (`luminance_ram`, `glare_combiner` limits), not the
+//! mathematical limit; the shape RAM's entries are 16 bits by default, already its
+//! widest, so they are not a source.
 //!
 //! The Gaussian noise of the flare lines is part of the scene (the reference draws the
 //! same lines), so it is not an error source.
@@ -46,42 +49,36 @@ pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
             }),
         })
     };
+    // The widest each field takes (the luminance RAM's and combiner's own limits).
     add(
         "shape RAM resolution",
         "shape_log2",
         c.shape_log2,
-        c.shape_log2 + 3,
+        (c.shape_log2 + 3).min(10),
         |h, v| h.shape_log2 = v,
-    );
-    add(
-        "shape RAM entries",
-        "shape_bits",
-        c.shape_bits,
-        24,
-        |h, v| h.shape_bits = v,
     );
     add(
         "falloff RAM resolution",
         "falloff_log2",
         c.falloff_log2,
-        c.falloff_log2 + 4,
+        12,
         |h, v| h.falloff_log2 = v,
     );
     add(
         "falloff RAM entries",
         "falloff_bits",
         c.falloff_bits,
-        24,
+        20,
         |h, v| h.falloff_bits = v,
     );
-    add("weight_bits", "weight_bits", c.weight_bits, 16, |h, v| {
+    add("weight_bits", "weight_bits", c.weight_bits, 12, |h, v| {
         h.weight_bits = v
     });
     add(
         "coord_frac_bits",
         "coord_frac_bits",
         c.coord_frac_bits,
-        20,
+        16,
         |h, v| h.coord_frac_bits = v,
     );
     add(
@@ -95,7 +92,7 @@ pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
 }
 
 /// The bound of "all ideal": the 16-bit framebuffer read as 8-bit levels rounds by at
-/// most 1/257 level, the tables at 8× resolution and 24-bit entries leave a sampling
+/// most 1/257 level, the tables at their widest leave a sampling
 /// error well under a level; the mean |Δ| is held to 0.5 level and at most 1 % of the
 /// values (source rims and flare-line edges, where one more cell moves a pixel's value
 /// by the profile's slope) may be off by more than 2 levels.

@@ -44,8 +44,11 @@ pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
     add(
         "table scaling (h cap)",
         format!(
-            "shafts.f_scale {:?} → lit_volume (h's cap rises by F(0)/F(α_min))",
-            c.f_scale
+            "shafts.f_scale {} → lit_volume (h's cap rises by F(0)/F(α_min))",
+            match c.f_scale {
+                FScale::Table => "table",
+                FScale::LitVolume => "lit_volume",
+            }
         ),
         Box::new(|s| s.shafts.f_scale = FScale::LitVolume),
     );
