@@ -111,6 +111,23 @@ pub enum Command {
     /// scenes) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
+    /// Error attribution (issue 18): render the scene as configured, then once per
+    /// error source with only that source made ideal (a wide width, a larger table,
+    /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
+    /// DIR/attribution.png (shares of the squared error) and a difference image per
+    /// source above 5 %, and print the table (docs/results.md, "Error attribution").
+    /// Shafts scenes (fig4, fig6, stage, files), glare scenes and env-MAP-OBJECT scenes.
+    Attribute {
+        /// A built-in scene or a TOML scene file.
+        #[arg(long)]
+        scene: String,
+        /// Output directory.
+        #[arg(long, default_value = "out/attribute")]
+        out: PathBuf,
+        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240).
+        #[arg(long)]
+        image: Option<String>,
+    },
     /// Error against run time for one shafts parameter (or glare / shading width, or
     /// `side` of an environment-map scene): renders the scene for each
     /// value, compares with the f64 ray-marched reference, writes
@@ -321,6 +338,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             resume,
             max_memory,
         } => reproduce(&name, &out, values, resume, max_memory),
+        Command::Attribute { scene, out, image } => attribute_cmd(&scene, &out, image.as_deref()),
         Command::Scene { name } => {
             print!(
                 "{}",
@@ -707,6 +725,96 @@ fn sweep_kinds(
             resume,
         ),
     }
+}
+
+/// `attribute`: every argument checked (scene, image size, output directory) before
+/// anything renders; the pipeline picked by the scene's sections (glare, then an
+/// environment object, then shafts).
+fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Result<(), String> {
+    use crate::report::attribution::table;
+    if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) || scene == "test" {
+        return Err(format!(
+            "scene: '{scene}' has no error sources attribute knows (it covers shafts \
+             scenes: fig4, fig6, stage; glare scenes; env-MAP-OBJECT scenes; TOML files)"
+        ));
+    }
+    let size = image
+        .map(crate::pipeline::shafts::sweep::parse_image)
+        .transpose()?;
+    let mut s = match crate::pipeline::envmap::scene_render::environment_scene(scene)? {
+        Some(s) => s,
+        None => crate::pipeline::shafts::cli::load_scene(scene)?,
+    };
+    if let Some((w, h)) = size {
+        s.image.width = w;
+        s.image.height = h;
+    }
+    s.validate().map_err(|e| e.to_string())?;
+    if out.exists() && !out.is_dir() {
+        return Err(format!(
+            "out: {} is a file; attribute writes a directory",
+            out.display()
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let (a, kind) = if s.glare.is_some() {
+        let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
+            Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
+        } else {
+            None
+        };
+        let a = crate::pipeline::glare::attribute::attribute_glare(&s, backdrop.as_ref(), out)?;
+        (a, "glare")
+    } else if s.environment.as_ref().is_some_and(|e| e.object.is_some()) {
+        (
+            crate::pipeline::envmap::attribute::attribute_envmap(&s, out)?,
+            "environment map",
+        )
+    } else if s.lights.is_empty() {
+        return Err(format!(
+            "scene: '{scene}' has no lights, glare or environment object: nothing to attribute"
+        ));
+    } else {
+        (
+            crate::pipeline::shafts::attribute::attribute_shafts(&s, out)?,
+            "shafts",
+        )
+    };
+    println!(
+        "attribute {scene} ({kind}, {}x{}): configured mean {:.3} / RMS {:.3} / max {:.1} levels; wrote {} and {} in {:.1} s",
+        s.image.width,
+        s.image.height,
+        a.configured.mean_abs,
+        a.configured.rms,
+        a.configured.max,
+        a.csv.display(),
+        a.png.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    print!("{}", table(&a.rows));
+    if let Some(d) = a.dominant() {
+        println!(
+            "largest source: {} ({:.1} % of the squared error; {} band, {:.0} % of what it removes; changed pixels in {})",
+            d.source,
+            d.share * 100.0,
+            d.band,
+            d.band_share * 100.0,
+            d.bbox
+        );
+    }
+    println!(
+        "all ideal: mean {:.3}, RMS {:.3}, max {:.1} levels, {:.3} % of values off by > 2 levels: {} the bound; interaction remainder {:.1} %",
+        a.all_ideal.mean_abs,
+        a.all_ideal.rms,
+        a.all_ideal.max,
+        a.all_ideal_outliers * 100.0,
+        if a.within_bound { "within" } else { "OUTSIDE" },
+        a.remainder_share * 100.0
+    );
+    for p in &a.diff_images {
+        println!("difference image: {}", p.display());
+    }
+    Ok(())
 }
 
 fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String> {

@@ -2,6 +2,7 @@
 
 pub mod alternates;
 pub mod atomic;
+pub mod attribution;
 pub mod csv_out;
 pub mod elaboration;
 pub mod image_out;

@@ -2,6 +2,7 @@
 //! (exact and accelerated), the renderer, its studies and the `[environment]` scene
 //! renderer: see docs/envmap.md.
 
+pub mod attribute;
 pub mod dump;
 pub mod image;
 pub mod interpolator;

@@ -1,6 +1,7 @@
 //! The glare renderer (SPEC B): host set-up, the units' frame, throughput,
 //! reproductions and sweeps.
 
+pub mod attribute;
 pub mod background;
 pub mod cli;
 pub mod condition;

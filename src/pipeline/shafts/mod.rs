@@ -1,5 +1,6 @@
 //! The light-shafts pipeline by sample planes (SPEC A).
 
+pub mod attribute;
 mod chunked;
 pub mod cli;
 pub mod frame;
