@@ -85,6 +85,8 @@ struct PlaneBuffers {
 /// What every fragment of plane i shares.
 struct PlaneCtx<'a> {
     ctx: &'a LightCtx<'a>,
+    /// The camera depth buffer's words ([`rtl_model::units::shadow_compare::ShadowCompare::words`]).
+    zwords: Option<&'a [u32]>,
     jtex: Option<&'a TextureSampler>,
     zword: u32,
     color_codes: [u32; 3],
@@ -109,12 +111,19 @@ pub(super) fn planes_pass(
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
     let mut jtex: Option<TextureSampler> = None;
+    // The camera depth buffer is read-only here: its words unpacked once for every
+    // plane's and sub-plane's depth tests.
+    let zwords = match (&ctx.units.zbuf, ctx.zstate) {
+        (Some(z), Some(zs)) => z.words(zs),
+        _ => None,
+    };
+    let zwords = zwords.as_deref();
 
     for i in 0..n {
         let r = r0 + (i as f64 + 0.5) * dr;
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
-            let jbuf = subplanes_into_j(ctx, p, r, dr, ctr, passes, last)?;
+            let jbuf = subplanes_into_j(ctx, p, zwords, r, dr, ctr, passes, last)?;
             // Copy to texture: read the J buffer, write the texture (memory traffic).
             let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
             let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
@@ -141,6 +150,7 @@ pub(super) fn planes_pass(
         plane(
             ctx,
             p,
+            zwords,
             tables,
             r,
             dr,
@@ -158,9 +168,11 @@ pub(super) fn planes_pass(
 
 /// Interval [r − Δr/2, r + Δr/2]'s m sub-planes: H·I_l of each, blended with its
 /// weight into a fresh J buffer (one PassStats per sub-plane). Returns the J buffer.
+#[allow(clippy::too_many_arguments)]
 fn subplanes_into_j(
     ctx: &LightCtx,
     p: &Prepared,
+    zwords: Option<&[u32]>,
     r: f64,
     dr: f64,
     ctr: &mut BTreeMap<String, Counters>,
@@ -209,7 +221,7 @@ fn subplanes_into_j(
         );
         let mut wb = WalkBuffers::default();
         walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-            ctx.visible(px, (w, h), |_, _| zw, &mut zspan, &mut b);
+            ctx.visible_words(px, (w, h), |_, _| zw, zwords, &mut zspan, &mut b);
             ctx.h_il(px, 4, &mut spans, &mut b);
             pix.extend(b.visible.iter().map(|&i| {
                 let i = i as usize;
@@ -316,6 +328,7 @@ const BLEND_CHUNK: usize = 4096;
 fn plane(
     ctx: &LightCtx,
     p: &Prepared,
+    zwords: Option<&[u32]>,
     tables: &GTables,
     r: f64,
     dr: f64,
@@ -343,6 +356,7 @@ fn plane(
         .map_or(1.0, |v| v.2);
     let pc = PlaneCtx {
         ctx,
+        zwords,
         jtex,
         zword: unit_depth_word(plane_z, ZBUF_BITS),
         color_codes,
@@ -473,7 +487,14 @@ fn shade_chunk(
 ) {
     let ctx = pc.ctx;
     let u = ctx.units;
-    ctx.visible(px, viewport, |_, _| pc.zword, &mut sp.zbuf, &mut b.chunk);
+    ctx.visible_words(
+        px,
+        viewport,
+        |_, _| pc.zword,
+        pc.zwords,
+        &mut sp.zbuf,
+        &mut b.chunk,
+    );
     let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
     b.f_in.clear();
