@@ -425,6 +425,59 @@ proptest! {
         prop_assert_eq!(out.len(), inputs.len());
     }
 
+    /// The read-only test forms (`test_batch`, `test_filter`, and `test_filter_words`
+    /// on the unpacked words) against the kernel's Test word by word, on a RAM filled
+    /// by random writes: the same lit bits (kept indices), the same counters, any
+    /// coordinate word (out-of-map and beyond the s16 wires included).
+    #[test]
+    fn read_only_test_forms_agree_with_the_kernel(
+        w in 1u32..=9, h in 1u32..=9, n in 1u32..=MAX_DEPTH_BITS, k in 0u32..=8,
+        bias_raw in any::<u32>(),
+        writes in prop::collection::vec((0i32..9, 0i32..9, any::<u32>()), 0..60),
+        tests in prop::collection::vec(
+            (prop_oneof![-3i32..12, any::<i32>()], prop_oneof![-3i32..12, any::<i32>()], any::<u64>()),
+            0..80,
+        ),
+    ) {
+        let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+        let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
+        let u = unit(w, h, n, bias, k);
+        let mut st = u.fresh_state();
+        let mut c = Counters::default();
+        for &(x, y, d) in &writes {
+            u.kernel(&mut st, &ShadowIn::Write { x, y, depth: d }, &mut c);
+        }
+        let ins: Vec<ShadowIn> =
+            tests.iter().map(|&(x, y, depth)| ShadowIn::Test { x, y, depth }).collect();
+        let (mut s_k, mut c_k) = (st.clone(), Counters::default());
+        let want: Vec<ShadowOut> = ins.iter().map(|i| u.kernel(&mut s_k, i, &mut c_k)).collect();
+        let lit: Vec<u32> = (0..want.len() as u32).filter(|&i| want[i as usize].lit).collect();
+
+        let (mut out, mut c_b) = (Vec::new(), Counters::default());
+        prop_assert!(u.test_batch(&st, &ins, &mut out, &mut c_b));
+        prop_assert_eq!(&out, &want);
+        prop_assert_eq!(c_b, c_k);
+
+        let cands = || tests.iter().enumerate().map(|(i, &(x, y, d))| (i as u32, x, y, d));
+        let (mut kept, mut c_f) = (Vec::new(), Counters::default());
+        prop_assert_eq!(u.test_filter(&st, cands(), &mut kept, &mut c_f), Some(tests.len()));
+        prop_assert_eq!(&kept, &lit);
+        prop_assert_eq!(c_f, c_k);
+
+        let words = u.words(&st).unwrap();
+        prop_assert_eq!(words.len(), (w * h) as usize);
+        let (mut kept, mut c_w) = (Vec::new(), Counters::default());
+        prop_assert_eq!(u.test_filter_words(&words, cands(), &mut kept, &mut c_w), Some(tests.len()));
+        prop_assert_eq!(&kept, &lit);
+        prop_assert_eq!(c_w, c_k);
+
+        // A state or word list of another size: nothing done.
+        let other = unit(w + 1, h, n, bias, k).fresh_state();
+        prop_assert_eq!(u.test_filter(&other, cands(), &mut kept, &mut c_f), None);
+        prop_assert!(u.words(&other).is_none());
+        prop_assert_eq!(u.test_filter_words(&words[1..], cands(), &mut kept, &mut c_w), None);
+    }
+
     #[test]
     fn random_configs_never_panic_and_errors_name_the_field(
         width in field(4096), height in field(4096), depth_bits in field(32),
@@ -454,6 +507,29 @@ proptest! {
             }
             (Err(e), Some(f)) => prop_assert_eq!(e.field(), f),
             (r, f) => prop_assert!(false, "{:?} vs expected {:?}", r.map(|_| ()), f),
+        }
+    }
+}
+
+/// `address` (one unsigned compare per axis) is the s16-clamped map test: every
+/// coordinate word from −2¹⁶ to 2¹⁶ and the i32 extremes, at the largest map side
+/// and small ones.
+#[test]
+fn address_is_the_clamped_wire_test() {
+    let clamped = |u: &ShadowCompare, x: i32, y: i32| {
+        let lim = 1i32 << 15;
+        let (x, y) = (x.clamp(-lim, lim - 1), y.clamp(-lim, lim - 1));
+        (x >= 0 && y >= 0 && x < u.width() as i32 && y < u.height() as i32)
+            .then(|| y as usize * u.width() as usize + x as usize)
+    };
+    for (w, h) in [(1, 1), (3, 5), (4096, 4096)] {
+        let u = unit(w, h, 8, 0, 0);
+        let words = (-(1i32 << 16)..=(1 << 16)).chain([i32::MIN, i32::MAX, i32::MIN + 1]);
+        for v in words {
+            for o in [0, 2, -1, 4095, 4096] {
+                assert_eq!(u.address(v, o), clamped(&u, v, o), "({v}, {o}) on {w}×{h}");
+                assert_eq!(u.address(o, v), clamped(&u, o, v), "({o}, {v}) on {w}×{h}");
+            }
         }
     }
 }

@@ -263,6 +263,39 @@ fn coord_word(rng: &mut Rng, size: u32, int_bits: u32, frac: u32) -> i32 {
     v.clamp(-lim, lim - 1) as i32
 }
 
+/// `kernel_batch_keep` under random keep masks (none, all, and mixed): the kept
+/// outputs are the drivers' `out`, and the counters are the batch kernel's on every
+/// input, whatever is skipped.
+fn assert_keep_agrees(
+    u: &TextureSampler,
+    inputs: &[TextureSamplerIn],
+    out: &[[u32; 4]],
+    rng: &mut Rng,
+) {
+    let mut want = Counters::default();
+    let mut o = Vec::new();
+    u.kernel_batch(&mut (), inputs, &mut o, &mut want);
+    for mode in 0..3 {
+        let keep: Vec<bool> = (0..inputs.len())
+            .map(|_| match mode {
+                0 => false,
+                1 => true,
+                _ => rng.below(2) == 0,
+            })
+            .collect();
+        let mut got = Vec::new();
+        let mut c = Counters::default();
+        u.kernel_batch_keep(inputs, &keep, &mut got, &mut c);
+        assert_eq!(got.len(), inputs.len());
+        assert_eq!(c, want, "kernel_batch_keep counters (mode {mode})");
+        for (i, k) in keep.iter().enumerate() {
+            if *k {
+                assert_eq!(got[i], out[i], "kept output {i} (mode {mode})");
+            }
+        }
+    }
+}
+
 const FILTERS: [Filter; 2] = [Filter::Nearest, Filter::Linear];
 const ROUNDINGS: [WeightRounding; 2] = [WeightRounding::Round, WeightRounding::Truncate];
 const CONTENTS: [Content; 3] = [Content::Random, Content::Checker, Content::RandomExtremes];
@@ -338,7 +371,8 @@ proptest! {
                 TextureSamplerIn { coord }
             })
             .collect();
-        common::assert_drivers_agree(&u, (), &inputs);
+        let out = common::assert_drivers_agree(&u, (), &inputs);
+        assert_keep_agrees(&u, &inputs, &out, &mut rng);
     }
 
     /// llvmpipe's datapath (successive lerps, any weight rounding incl. half-to-even)
@@ -377,7 +411,8 @@ proptest! {
         for input in &inputs {
             check(&u, &r, input, b);
         }
-        common::assert_drivers_agree(&u, (), &inputs);
+        let out = common::assert_drivers_agree(&u, (), &inputs);
+        assert_keep_agrees(&u, &inputs, &out, &mut rng);
     }
 
     /// Random, mostly invalid configs: never a panic; an error names a

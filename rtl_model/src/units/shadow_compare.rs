@@ -287,9 +287,12 @@ impl ShadowCompare {
     /// to their s16 wires (which keeps out-of-map coordinates out of the map).
     #[inline]
     pub fn address(&self, x: i32, y: i32) -> Option<usize> {
-        let lim = 1i32 << (COORD_BITS - 1);
-        let (x, y) = (x.clamp(-lim, lim - 1), y.clamp(-lim, lim - 1)); // i32 → s16
-        if x < 0 || y < 0 || x >= self.cfg.width as i32 || y >= self.cfg.height as i32 {
+        // i32 → s16 clamps an out-of-map coordinate to one still out of the map (a
+        // side is at most MAX_MAP_SIDE ≤ 2¹⁵), so the map test on the clamped wires
+        // is the test on the words: one unsigned compare per axis (a negative word
+        // is ≥ 2³¹ as u32).
+        const { assert!(MAX_MAP_SIDE <= 1 << (COORD_BITS - 1)) };
+        if x as u32 >= self.cfg.width || y as u32 >= self.cfg.height {
             return None;
         }
         // u12 × u13 → u25 (≤ 2²⁴ − 1 for a 4096² map), + u12 → addr_bits.
@@ -300,6 +303,20 @@ impl ShadowCompare {
     /// kernel's Test arm, which reads the state and never writes it.
     #[inline]
     fn test(&self, st: &ShadowState, x: i32, y: i32, depth: u64, ctr: &mut Counters) -> ShadowOut {
+        self.test_read(x, y, depth, |a| self.read(st, a), ctr)
+    }
+
+    /// The test with the stored word at an address from `read` (the packed RAM, or
+    /// its words unpacked by [`Self::words`]).
+    #[inline(always)]
+    fn test_read(
+        &self,
+        x: i32,
+        y: i32,
+        depth: u64,
+        read: impl Fn(usize) -> u32,
+        ctr: &mut Counters,
+    ) -> ShadowOut {
         let k = self.cfg.frag_frac_bits;
         let Some(addr) = self.address(x, y) else {
             ctr.saturations += 1; // border lookup: lit by convention
@@ -312,8 +329,8 @@ impl ShadowCompare {
         let fmask = (1u64 << self.frag_bits()) - 1;
         let f = depth & fmask; // u64 → u(n).k wire, ≤ 40 bits
         ctr.table_reads += 1;
-        let s = self.read(st, addr); // u(n)
-                                     // frag − bias·2ᵏ: u(n+k) − u(n+k) → s(n+k+1)
+        let s = read(addr); // u(n)
+                            // frag − bias·2ᵏ: u(n+k) − u(n+k) → s(n+k+1)
         let fb = f as i64 - ((self.cfg.bias as i64) << k);
         // stored·2ᵏ: u(n) → u(n+k); LEQUAL on s(n+k+1)
         let lit = fb <= (s as i64) << k;
@@ -345,6 +362,72 @@ impl ShadowCompare {
             _ => unreachable!("checked above: tests only"),
         }));
         true
+    }
+
+    /// Depth tests against a shared, read-only RAM, kept as indices: for each
+    /// `(i, x, y, depth)` of `cands` the test `ShadowIn::Test { x, y, depth }`, and
+    /// `i` pushed onto `lit` when it is lit. The outputs' `lit` bits and
+    /// the counters of [`Self::test_batch`] on those tests, without building the
+    /// input and output words. Returns the number of tests, or None (nothing done)
+    /// for a state of another config's size.
+    #[inline]
+    pub fn test_filter(
+        &self,
+        st: &ShadowState,
+        cands: impl Iterator<Item = (u32, i32, i32, u64)>,
+        lit: &mut Vec<u32>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        if st.ram.len() as u64 != self.ram_bits() {
+            return None;
+        }
+        let mut c = Counters::default();
+        let mut n = 0;
+        for (i, x, y, depth) in cands {
+            n += 1;
+            if self.test(st, x, y, depth, &mut c).lit {
+                lit.push(i);
+            }
+        }
+        *ctr += c;
+        Some(n)
+    }
+
+    /// The RAM's words in address order (y·width + x), unpacked from a state of this
+    /// config's size (else None): what [`Self::test_filter_words`] reads.
+    pub fn words(&self, st: &ShadowState) -> Option<Vec<u32>> {
+        if st.ram.len() as u64 != self.ram_bits() {
+            return None;
+        }
+        let n = self.cfg.width as usize * self.cfg.height as usize;
+        Some((0..n).map(|a| self.read(st, a)).collect())
+    }
+
+    /// [`Self::test_filter`] against the words of a read-only RAM unpacked by
+    /// [`Self::words`] (a word per address instead of a packed field): the same
+    /// kept indices and counters. None (nothing done) when `words` is not one word
+    /// per address of this config.
+    #[inline]
+    pub fn test_filter_words(
+        &self,
+        words: &[u32],
+        cands: impl Iterator<Item = (u32, i32, i32, u64)>,
+        lit: &mut Vec<u32>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        if words.len() != self.cfg.width as usize * self.cfg.height as usize {
+            return None;
+        }
+        let mut c = Counters::default();
+        let mut n = 0;
+        for (i, x, y, depth) in cands {
+            n += 1;
+            if self.test_read(x, y, depth, |a| words[a], &mut c).lit {
+                lit.push(i);
+            }
+        }
+        *ctr += c;
+        Some(n)
     }
 
     #[inline]

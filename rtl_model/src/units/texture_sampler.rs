@@ -656,9 +656,14 @@ impl TextureSampler {
 
     /// `sample` over a chunk of one-channel 1D or 2D coordinates with the texel
     /// fetches counted once per chunk; false (nothing done) for other configs.
+    /// Only the inputs `keep` selects (by index) are sampled; the others give
+    /// `[0; 4]` but are counted as sampled (their fetches and wrapped coordinate
+    /// wires), so the counters are those of all the inputs.
+    #[inline(always)]
     fn sample_batch_1ch(
         &self,
         inputs: &[TextureSamplerIn],
+        keep: impl Fn(usize) -> bool,
         out: &mut Vec<[u32; 4]>,
         ctr: &mut Counters,
     ) -> bool {
@@ -675,7 +680,14 @@ impl TextureSampler {
             v
         };
         match self.cfg.filter {
-            Filter::Nearest => out.extend(inputs.iter().map(|x| {
+            Filter::Nearest => out.extend(inputs.iter().enumerate().map(|(k, x)| {
+                if !keep(k) {
+                    wire(x.coord[0]);
+                    if d == 2 {
+                        wire(x.coord[1]);
+                    }
+                    return [0; 4];
+                }
                 let ix = self.address_axis(0, wire(x.coord[0]) >> f);
                 let iy = if d == 2 {
                     self.address_axis(1, wire(x.coord[1]) >> f)
@@ -687,7 +699,14 @@ impl TextureSampler {
             Filter::Linear => {
                 let shift = d as u32 * self.cfg.weight_bits; // 1 ..= 32
                 let half = 1u64 << (shift - 1);
-                out.extend(inputs.iter().map(|x| {
+                out.extend(inputs.iter().enumerate().map(|(k, x)| {
+                    if !keep(k) {
+                        wire(x.coord[0]);
+                        if d == 2 {
+                            wire(x.coord[1]);
+                        }
+                        return [0; 4];
+                    }
                     let (ix, wx) = self.linear_axis(0, wire(x.coord[0]));
                     let acc = if d == 1 {
                         self.read(ix[0], 0) as u64 * wx[0] + self.read(ix[1], 0) as u64 * wx[1]
@@ -711,6 +730,30 @@ impl TextureSampler {
         );
         ctr.overflows += overflows;
         true
+    }
+
+    /// [`Unit::kernel_batch`] where the caller discards some outputs: the outputs of
+    /// the inputs with `keep[i]` are the kernel's; the others are unspecified (`[0;
+    /// 4]` where the batch kernel skips their filtering, the kernel's otherwise). The
+    /// counters are always those of the kernel on every input (a skipped sample still
+    /// counts its fetches and wrapped coordinate wires). `keep` is as long as `inputs`.
+    pub fn kernel_batch_keep(
+        &self,
+        inputs: &[TextureSamplerIn],
+        keep: &[bool],
+        out: &mut Vec<[u32; 4]>,
+        ctr: &mut Counters,
+    ) {
+        assert_eq!(
+            keep.len(),
+            inputs.len(),
+            "texture_sampler: one keep flag per input"
+        );
+        if self.cfg.filter_rounding == FilterRounding::SuccessiveLerps
+            || !self.sample_batch_1ch(inputs, |k| keep[k], out, ctr)
+        {
+            out.extend(inputs.iter().map(|x| self.sample(x, ctr)));
+        }
     }
 
     /// The datapath on one coordinate: the filtered codes (unused channels 0).
@@ -884,7 +927,7 @@ impl Unit for TextureSampler {
         // The batch kernel is the product-weight datapath; successive lerps go word
         // by word.
         if self.cfg.filter_rounding == FilterRounding::SuccessiveLerps
-            || !self.sample_batch_1ch(inputs, out, ctr)
+            || !self.sample_batch_1ch(inputs, |_| true, out, ctr)
         {
             out.extend(inputs.iter().map(|x| self.kernel(st, x, ctr)));
         }

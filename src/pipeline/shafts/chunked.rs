@@ -63,6 +63,21 @@ impl UnitSpan {
         self.tally.add(inputs.len());
     }
 
+    /// The sampler's batch kernel where only the outputs with `keep` are used
+    /// ([`TextureSampler::kernel_batch_keep`]): counted as the batch kernel on all.
+    #[inline]
+    pub fn feed_keep(
+        &mut self,
+        unit: &TextureSampler,
+        inputs: &[TextureSamplerIn],
+        keep: &[bool],
+        out: &mut Vec<[u32; 4]>,
+    ) {
+        out.clear();
+        unit.kernel_batch_keep(inputs, keep, out, &mut self.ctr);
+        self.tally.add(inputs.len());
+    }
+
     /// A single-channel weighted blend in lanes ([`AdditiveBlend::blend_lanes`]):
     /// `dst` blended in place, counted as the batch kernel counts those inputs.
     #[inline]
@@ -143,6 +158,8 @@ pub(super) struct ChunkBuffers {
     pdepth_in: Vec<ProjectiveIn>,
     pdepth_out: Vec<ProjectiveOut>,
     tex_in: Vec<TextureSamplerIn>,
+    /// Whether each light-map sample is used (in front of the light, inside its square).
+    tex_keep: Vec<bool>,
     tex_out: Vec<[u32; 4]>,
     shadow_in: Vec<ShadowIn>,
     shadow_out: Vec<ShadowOut>,
@@ -179,18 +196,50 @@ impl LightCtx<'_> {
     pub fn visible(
         &self,
         px: &PolyLanes,
-        (width, height): (u32, u32),
+        viewport: (u32, u32),
         depth: impl Fn(&PolyLanes, usize) -> u32,
         span: &mut UnitSpan,
         b: &mut ChunkBuffers,
     ) {
+        self.visible_words(px, viewport, depth, None, span, b);
+    }
+
+    /// [`Self::visible`] reading the depth buffer's words unpacked by
+    /// [`ShadowCompare::words`] when given (`zwords`, of this light's `zstate`).
+    pub fn visible_words(
+        &self,
+        px: &PolyLanes,
+        (width, height): (u32, u32),
+        depth: impl Fn(&PolyLanes, usize) -> u32,
+        zwords: Option<&[u32]>,
+        span: &mut UnitSpan,
+        b: &mut ChunkBuffers,
+    ) {
+        b.visible.clear();
+        let frags =
+            (0..px.len() as u32).filter(|&i| is_fragment_lane(px, i as usize, width, height));
+        let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
+            b.visible.extend(frags);
+            return;
+        };
+        // The fragments tested as they are found, the lit ones kept (the test batch's
+        // outputs and counters without its input and output words).
+        let tests = frags.map(|i| {
+            let j = i as usize;
+            (i, px.x[j] as i32, px.y[j] as i32, depth(px, j) as u64)
+        });
+        let tested = match zwords {
+            Some(words) => z.test_filter_words(words, tests, &mut b.visible, &mut span.ctr),
+            None => z.test_filter(zs, tests, &mut b.visible, &mut span.ctr),
+        };
+        if let Some(n) = tested {
+            span.tally.add(n);
+            return;
+        }
         b.visible.clear();
         b.visible.extend(
             (0..px.len() as u32).filter(|&i| is_fragment_lane(px, i as usize, width, height)),
         );
-        let (Some(z), Some(zs)) = (&self.units.zbuf, self.zstate) else {
-            return;
-        };
         b.depth_in.clear();
         b.depth_in.extend(b.visible.iter().map(|&i| {
             let i = i as usize;
@@ -244,7 +293,18 @@ impl LightCtx<'_> {
                         0,
                     ],
                 }));
-                spans.light_map.feed(lm, &mut (), &b.tex_in, &mut b.tex_out);
+                // A sample outside the light's square or behind the projector is
+                // replaced by 0 below: not filtered, only counted.
+                let one = 1i32 << u.proj.out_format().frac_bits;
+                b.tex_keep.clear();
+                b.tex_keep.extend(
+                    b.proj_out
+                        .iter()
+                        .map(|p| !p.behind && (0..=one).contains(&p.u) && (0..=one).contains(&p.v)),
+                );
+                spans
+                    .light_map
+                    .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
                 b.hil.extend(b.tex_out.iter().map(|t| t[0]));
             }
             None => b.hil.resize(n, self.tex_max),

@@ -29,9 +29,9 @@ use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit};
 use std::collections::BTreeMap;
 
-/// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l and the
-/// counters of the units that made them.
-type SubPlaneHil = (Vec<u32>, Vec<u32>, BTreeMap<String, Counters>);
+/// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l, whether
+/// their rows never go up, and the counters of the units that made them.
+type SubPlaneHil = (Vec<u32>, Vec<u32>, bool, BTreeMap<String, Counters>);
 
 /// A plane fragment's framebuffer position and colour (texel_bits unorm).
 #[derive(Clone, Copy, Debug)]
@@ -86,6 +86,8 @@ struct PlaneBuffers {
 /// What every fragment of plane i shares.
 struct PlaneCtx<'a> {
     ctx: &'a LightCtx<'a>,
+    /// The camera depth buffer's words ([`rtl_model::units::shadow_compare::ShadowCompare::words`]).
+    zwords: Option<&'a [u32]>,
     jtex: Option<&'a TextureSampler>,
     zword: u32,
     color_codes: [u32; 3],
@@ -110,12 +112,19 @@ pub(super) fn planes_pass(
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
     let mut jtex: Option<TextureSampler> = None;
+    // The camera depth buffer is read-only here: its words unpacked once for every
+    // plane's and sub-plane's depth tests.
+    let zwords = match (&ctx.units.zbuf, ctx.zstate) {
+        (Some(z), Some(zs)) => z.words(zs),
+        _ => None,
+    };
+    let zwords = zwords.as_deref();
 
     for i in 0..n {
         let r = r0 + (i as f64 + 0.5) * dr;
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
-            let jbuf = subplanes_into_j(ctx, p, r, dr, ctr, passes, last)?;
+            let jbuf = subplanes_into_j(ctx, p, zwords, r, dr, ctr, passes, last)?;
             // Copy to texture: read the J buffer, write the texture (memory traffic).
             let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
             let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
@@ -142,6 +151,7 @@ pub(super) fn planes_pass(
         plane(
             ctx,
             p,
+            zwords,
             tables,
             r,
             dr,
@@ -159,9 +169,11 @@ pub(super) fn planes_pass(
 
 /// Interval [r − Δr/2, r + Δr/2]'s m sub-planes: H·I_l of each, blended with its
 /// weight into a fresh J buffer (one PassStats per sub-plane). Returns the J buffer.
+#[allow(clippy::too_many_arguments)]
 fn subplanes_into_j(
     ctx: &LightCtx,
     p: &Prepared,
+    zwords: Option<&[u32]>,
     r: f64,
     dr: f64,
     ctr: &mut BTreeMap<String, Counters>,
@@ -209,25 +221,29 @@ fn subplanes_into_j(
             Vec::with_capacity((w * h) as usize),
         );
         let mut wb = WalkBuffers::default();
+        let (mut rows_in_order, mut last_y) = (true, 0);
         walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-            ctx.visible(px, (w, h), |_, _| zw, &mut zspan, &mut b);
+            ctx.visible_words(px, (w, h), |_, _| zw, zwords, &mut zspan, &mut b);
             ctx.h_il(px, 4, &mut spans, &mut b);
             pix.extend(b.visible.iter().map(|&i| {
                 let i = i as usize;
-                px.y[i] as u32 * w + px.x[i] as u32
+                let y = px.y[i] as u32;
+                rows_in_order &= y >= last_y;
+                last_y = y;
+                y * w + px.x[i] as u32
             }));
             hil.extend_from_slice(&b.hil);
         });
         counters_add(&mut local, "polygon_interpolator", c_int);
         ctx.close_visible(zspan, &mut local);
         spans.close(ctx, &mut local);
-        Ok((pix, hil, local))
+        Ok((pix, hil, rows_in_order, local))
     };
     let all: Vec<usize> = (0..m).collect();
     for batch in all.chunks(SUBPLANE_BATCH) {
         let results: Vec<_> = batch.par_iter().map(|&j| sub(j)).collect();
         for (&j, res) in batch.iter().zip(results) {
-            let (pix, hil, local) = res?;
+            let (pix, hil, rows_in_order, local) = res?;
             for (k, c) in local {
                 counters_add(ctr, &k, c);
             }
@@ -238,7 +254,7 @@ fn subplanes_into_j(
             // m = 25).
             let wmax = max_code(cfg.weight_bits) as u64;
             let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
-            let span = blend_j(&u.j_blend, &mut jbuf, w, &pix, &hil, weight);
+            let span = blend_j(&u.j_blend, &mut jbuf, w, &pix, &hil, rows_in_order, weight);
             span.close("additive_blend (J buffer)", u.j_blend.timing(), ctr);
             let mut st = PassStats::new(
                 PassKind::SubPlane,
@@ -261,17 +277,18 @@ const J_BAND_ROWS: usize = 16;
 /// the J buffer: one span of the J-buffer blend. A parallelogram's walk covers each
 /// pixel once and goes down the rows, so bands of rows are disjoint runs of `pix`,
 /// blended in parallel, each a chunk at a time (each reads what the span driver read;
-/// the counters are sums, the same in any order).
+/// the counters are sums, the same in any order). `rows_in_order`: the rows of `pix`
+/// never go up (found by the walk, on its thread; else one chunk after the other).
 fn blend_j(
     u: &AdditiveBlend,
     jbuf: &mut [u32],
     w: u32,
     pix: &[u32],
     hil: &[u32],
+    rows_in_order: bool,
     weight: u32,
 ) -> UnitSpan {
     let band = J_BAND_ROWS * w as usize;
-    let rows_in_order = pix.windows(2).all(|p| p[0] / w <= p[1] / w);
     // In lanes: the J values at the chunk's pixels gathered, blended in place
     // (`blend_lanes`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]), scattered.
     let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
@@ -317,6 +334,7 @@ const BLEND_CHUNK: usize = 4096;
 fn plane(
     ctx: &LightCtx,
     p: &Prepared,
+    zwords: Option<&[u32]>,
     tables: &GTables,
     r: f64,
     dr: f64,
@@ -344,6 +362,7 @@ fn plane(
         .map_or(1.0, |v| v.2);
     let pc = PlaneCtx {
         ctx,
+        zwords,
         jtex,
         zword: unit_depth_word(plane_z, ZBUF_BITS),
         color_codes,
@@ -478,7 +497,14 @@ fn shade_chunk(
 ) {
     let ctx = pc.ctx;
     let u = ctx.units;
-    ctx.visible(px, viewport, |_, _| pc.zword, &mut sp.zbuf, &mut b.chunk);
+    ctx.visible_words(
+        px,
+        viewport,
+        |_, _| pc.zword,
+        pc.zwords,
+        &mut sp.zbuf,
+        &mut b.chunk,
+    );
     let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
     b.f_in.clear();
@@ -567,24 +593,76 @@ fn shade_chunk(
     }));
 }
 
+/// The blend's inputs of `chunk`: each fragment's colour over its framebuffer pixel.
+fn blend_inputs(fb: &Framebuffer, chunk: &[PlaneFrag], ins: &mut Vec<AdditiveBlendIn>) {
+    ins.clear();
+    ins.extend(chunk.iter().map(|f| AdditiveBlendIn {
+        src: [f.rgb[0], f.rgb[1], f.rgb[2], 0],
+        dst: fb.pixel(f.x, f.y),
+        weight: 0,
+    }));
+}
+
+/// Whether no two fragments fall on one pixel of the `fb`-sized framebuffer.
+fn covers_once(fb: &Framebuffer, frags: &[PlaneFrag]) -> bool {
+    let mut seen = vec![0u64; ((fb.width * fb.height) as usize).div_ceil(64)];
+    frags.iter().all(|f| {
+        let i = (f.y * fb.width + f.x) as usize;
+        let (word, bit) = (&mut seen[i / 64], 1u64 << (i % 64));
+        let fresh = *word & bit == 0;
+        *word |= bit;
+        fresh
+    })
+}
+
 /// The plane's fragments added into the framebuffer, a chunk at a time (one span;
 /// a mesh covers each pixel once, so each chunk reads what the span driver read).
+/// When no pixel has two fragments (checked), the chunks are blended in parallel
+/// from the framebuffer as it was (what each read anyway) and written back after;
+/// the counters are sums, the same in any order.
 fn blend_plane(
     u: &AdditiveBlend,
     fb: &mut Framebuffer,
     frags: &[PlaneFrag],
     ctr: &mut BTreeMap<String, Counters>,
 ) {
+    if covers_once(fb, frags) {
+        let mut outs = vec![[0u32; 4]; frags.len()];
+        let src: &Framebuffer = fb;
+        let parts: Vec<UnitSpan> = frags
+            .par_chunks(BLEND_CHUNK)
+            .zip(outs.par_chunks_mut(BLEND_CHUNK))
+            .map_init(
+                || {
+                    (
+                        Vec::with_capacity(BLEND_CHUNK),
+                        Vec::with_capacity(BLEND_CHUNK),
+                    )
+                },
+                |(ins, o), (chunk, dst)| {
+                    let mut span = UnitSpan::default();
+                    blend_inputs(src, chunk, ins);
+                    span.feed(u, &mut (), ins, o);
+                    dst.copy_from_slice(o);
+                    span
+                },
+            )
+            .collect();
+        let mut span = UnitSpan::default();
+        for p in &parts {
+            span.merge(p);
+        }
+        for (f, o) in frags.iter().zip(&outs) {
+            fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
+        }
+        span.close("additive_blend", u.timing(), ctr);
+        return;
+    }
     let mut span = UnitSpan::default();
     let mut ins = Vec::with_capacity(BLEND_CHUNK);
     let mut outs = Vec::with_capacity(BLEND_CHUNK);
     for chunk in frags.chunks(BLEND_CHUNK) {
-        ins.clear();
-        ins.extend(chunk.iter().map(|f| AdditiveBlendIn {
-            src: [f.rgb[0], f.rgb[1], f.rgb[2], 0],
-            dst: fb.pixel(f.x, f.y),
-            weight: 0,
-        }));
+        blend_inputs(fb, chunk, &mut ins);
         span.feed(u, &mut (), &ins, &mut outs);
         for (f, o) in chunk.iter().zip(&outs) {
             fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
