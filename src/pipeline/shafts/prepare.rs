@@ -123,8 +123,10 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
             alpha_min: 0.0,
         };
     }
-    // h is stored relative to h(s_near): the 2nd percentile of the lit samples' light
-    // distances, so that only the few samples next to the cone's apex clamp (1/s²).
+    // h is stored relative to h(s_near): the NEAR_PERCENTILE-th percentile of the lit
+    // samples' light distances (0: the nearest, refined below, so that before the cap no
+    // fragment's h exceeds h_ref; a higher percentile would let the few samples next to
+    // the cone's apex clamp, 1/s²).
     s_all.sort_by(f64::total_cmp);
     let s_near = s_all[(s_all.len() as f64 * NEAR_PERCENTILE) as usize];
     // The grid can pass up to half a cell from the true nearest point (next to a
