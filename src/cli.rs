@@ -86,7 +86,10 @@ pub enum Command {
     /// frame-elaboration (night-street and four reduced variants: units, gates, RAM
     /// bits, predicted and simulated time, error against the f64 reference),
     /// assumptions (each selectable alternative of docs/assumptions.md on the
-    /// built-ins it affects: assumptions.csv and a PNG strip per assumption).
+    /// built-ins it affects: assumptions.csv, assumptions_maps.csv — the dome pick's
+    /// maps against the exact prefilter — and a PNG strip per assumption),
+    /// sim-speed (the Fig. 6(b) frame against its 180-sample ray-march, and the glare
+    /// and envmap frames, wall time in one run).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
