@@ -435,6 +435,21 @@ pub const LONG_REPRODUCTIONS: &[&str] = &[
     "sim-speed",
 ];
 
+/// The reproductions that save their rows (or items) as they go and take `--resume`:
+/// shafts-fig4 and shafts-fig5 through `report::resume::Journal`, the others through
+/// `report::items::ItemJournal` (docs/sweep.md).
+pub const RESUMABLE_REPRODUCTIONS: &[&str] = &[
+    "shafts-fig4",
+    "shafts-fig5",
+    "glare-gauss-seeds",
+    "envmap-table3",
+    "envmap-table5",
+    "envmap-timing",
+    "envmap-lambda-sweep",
+    "envmap-roughness",
+    "envmap-images",
+];
+
 fn reproduce(
     name: &str,
     out: &std::path::Path,
@@ -449,7 +464,7 @@ fn reproduce(
             "values: only shafts-fig4 (planes) and shafts-fig5 (sub-planes) take --values, not '{name}'"
         ));
     }
-    if resume && !matches!(name, "shafts-fig4" | "shafts-fig5") {
+    if resume && !RESUMABLE_REPRODUCTIONS.contains(&name) {
         let why = if LONG_REPRODUCTIONS.contains(&name) {
             "takes minutes but does not save its rows as it goes yet (it writes its files \
              whole when it is done), so there is nothing to resume from; run it again \
@@ -459,8 +474,8 @@ fn reproduce(
              it is done, so there is nothing to resume: run it again without --resume"
         };
         return Err(format!(
-            "resume: '{name}' {why}. Only shafts-fig4 and shafts-fig5 save their rows as \
-             they go and can resume"
+            "resume: '{name}' {why}. These save their items as they go and can resume: {}",
+            RESUMABLE_REPRODUCTIONS.join(", ")
         ));
     }
     if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
@@ -496,38 +511,44 @@ fn reproduce(
         "glare-fig8" => g::fig8(out)?,
         "glare-throughput" => g::throughput(out)?,
         "glare-gauss-seeds" => {
-            crate::pipeline::glare::gauss_seeds::gauss_seeds(
+            crate::pipeline::glare::gauss_seeds::gauss_seeds_resumable(
                 out,
                 crate::pipeline::glare::gauss_seeds::cli_seeds()?,
+                resume,
             )?;
         }
         "envmap-table3" => crate::pipeline::envmap::reproduce::table3_at(
             out,
             crate::pipeline::envmap::reproduce::cli_side()?,
             &crate::pipeline::envmap::reproduce::cli_thresholds()?,
+            resume,
         )?,
         "envmap-table5" => {
-            crate::pipeline::envmap::reproduce::table5(
+            crate::pipeline::envmap::reproduce::table5_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "envmap-timing" => {
-            crate::pipeline::envmap::reproduce::timing(
+            crate::pipeline::envmap::reproduce::timing_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::cli_side()?,
+                resume,
             )?;
         }
         "envmap-lambda-sweep" => {
-            crate::pipeline::envmap::studies::lambda_sweep(
+            crate::pipeline::envmap::studies::lambda_sweep_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "envmap-roughness" => {
-            crate::pipeline::envmap::studies::roughness(
+            crate::pipeline::envmap::studies::roughness_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "shading-brdf-properties" => {
@@ -552,9 +573,10 @@ fn reproduce(
             }
         }
         "envmap-images" => {
-            crate::pipeline::envmap::reproduce::images(
+            crate::pipeline::envmap::reproduce::images_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "shading-normalize-cube" => {
