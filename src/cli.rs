@@ -96,10 +96,12 @@ pub enum Command {
         /// sub-planes, default 1,…,25), comma-separated.
         #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_parser = arg_u32)]
         values: Option<Vec<u32>>,
-        /// shafts-fig4 and shafts-fig5: continue an interrupted run with the same
-        /// --values and --out from the rows its CSVs hold (they are saved as each
-        /// row finishes), rendering only the rest; refused, naming the file, if the
-        /// rows there are another run's.
+        /// Continue an interrupted run with the same --values, --out and environment
+        /// variables from the rows (items) it saved as each finished, computing only
+        /// the rest: shafts-fig4 and shafts-fig5 (their CSVs), and glare-gauss-seeds,
+        /// the envmap-* reproductions, frame-elaboration and shading-brdf-properties
+        /// (DIR/NAME.resume.jsonl). Refused, naming the file and what differs, if the
+        /// rows there are another run's; refused with the reason for the others.
         #[arg(long)]
         resume: bool,
         /// Memory budget, as for `render`: checked for the largest scene the
@@ -415,24 +417,27 @@ pub const REPRODUCTIONS: &[&str] = &[
     "assumptions",
 ];
 
-/// The reproductions that ran past 30 s (release build, defaults, one run each on the
-/// shared 2-core machine under load; `reproduce NAME` timed with a 40 s cap, issue 16)
-/// and do not save their rows as they go: `--resume` is refused for them with that
-/// reason. The others not listed here and not shafts-fig4/fig5 finish in seconds.
-pub const LONG_REPRODUCTIONS: &[&str] = &[
-    "shafts-stage",
-    "glare-fig8",
-    "glare-gauss-seeds",
-    "envmap-table3",
-    "envmap-table5",
-    "envmap-images",
-    "envmap-timing",
-    "envmap-lambda-sweep",
-    "envmap-roughness",
-    "shading-brdf-properties",
-    "shading-factorization",
-    "frame-elaboration",
-    "sim-speed",
+/// The reproductions that ran past 30 s and do not save their rows as they go, each
+/// with the reason (release build, defaults, one run each on the shared 2-core machine
+/// under load, `reproduce NAME` timed with a 300 s cap: docs/sweep.md): `--resume` is
+/// refused for them with it. The others not here and not in
+/// [`RESUMABLE_REPRODUCTIONS`] finish in under 30 s.
+pub const LONG_REPRODUCTIONS: &[(&str, &str)] = &[
+    (
+        "shafts-stage",
+        "takes about 110 s but is one frame and one row, so no finished item exists \
+         before the end",
+    ),
+    (
+        "shading-factorization",
+        "takes minutes but does not save its items as it goes yet (its factorisations \
+         are computed together before any row)",
+    ),
+    (
+        "sim-speed",
+        "takes about 110 s but is a timing: its rows are best-of-several wall times, \
+         which a resumed run would mix from two machine states",
+    ),
 ];
 
 /// The reproductions that save their rows (or items) as they go and take `--resume`:
@@ -448,6 +453,8 @@ pub const RESUMABLE_REPRODUCTIONS: &[&str] = &[
     "envmap-lambda-sweep",
     "envmap-roughness",
     "envmap-images",
+    "frame-elaboration",
+    "shading-brdf-properties",
 ];
 
 fn reproduce(
@@ -465,13 +472,14 @@ fn reproduce(
         ));
     }
     if resume && !RESUMABLE_REPRODUCTIONS.contains(&name) {
-        let why = if LONG_REPRODUCTIONS.contains(&name) {
-            "takes minutes but does not save its rows as it goes yet (it writes its files \
-             whole when it is done), so there is nothing to resume from; run it again \
-             without --resume"
-        } else {
-            "finishes in seconds (under 30 s in release) and writes its files whole when \
-             it is done, so there is nothing to resume: run it again without --resume"
+        let why = match LONG_REPRODUCTIONS.iter().find(|(n, _)| *n == name) {
+            Some((_, why)) => {
+                format!("{why}, so there is nothing to resume from; run it again without --resume")
+            }
+            None => "finishes in seconds (under 30 s in release) and writes its files whole \
+                     when it is done, so there is nothing to resume: run it again without \
+                     --resume"
+                .to_string(),
         };
         return Err(format!(
             "resume: '{name}' {why}. These save their items as they go and can resume: {}",
@@ -552,7 +560,7 @@ fn reproduce(
             )?;
         }
         "shading-brdf-properties" => {
-            crate::pipeline::shading::brdf_properties::brdf_properties(out)?;
+            crate::pipeline::shading::brdf_properties::brdf_properties_resumable(out, resume)?;
         }
         "shading-factorization" => {
             use crate::pipeline::shading::factor::reproduce as f;
@@ -596,7 +604,7 @@ fn reproduce(
             print!("{}", crate::frame::assumptions::table(&rows));
         }
         "frame-elaboration" => {
-            let rows = crate::frame::reproduce::frame_elaboration(out, None)?;
+            let rows = crate::frame::reproduce::frame_elaboration_resumable(out, None, resume)?;
             print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
         }
         "shading-vertex-float" => {
