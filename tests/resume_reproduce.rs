@@ -255,3 +255,62 @@ fn a_journal_of_other_settings_is_refused_naming_the_setting() {
     );
     assert_eq!(items_in(&journal), Some(6));
 }
+
+/// frame-elaboration at 32 × 24 (the library call; the CLI's size is fixed): a run
+/// whose journal lost its last three variants (as a run stopped after two would have
+/// left it) resumes to the uninterrupted run's CSV (wall time aside), grid and frame
+/// images; the grid's kept panels are read back from their PNGs.
+#[test]
+fn frame_elaboration_resumes_to_the_same_images_and_rows() {
+    use glare_pipeline::frame::reproduce::frame_elaboration_resumable as run;
+    let size = Some((32, 24));
+    let whole = tmp("elab-whole");
+    std::fs::create_dir_all(&*whole).unwrap();
+    run(&whole, size, false).unwrap();
+    let cut = tmp("elab-cut");
+    std::fs::create_dir_all(&*cut).unwrap();
+    let journal_of_whole = whole.join("frame-elaboration.resume.jsonl");
+    std::fs::copy(
+        &journal_of_whole,
+        cut.join("frame-elaboration.resume.jsonl"),
+    )
+    .unwrap();
+    let journal = cut.join("frame-elaboration.resume.jsonl");
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 6, "a record and five variants");
+    // Keep the record and the first two variants (the journal is in key order; which
+    // two does not matter); remove every output.
+    std::fs::write(&journal, format!("{}\n", lines[..3].join("\n"))).unwrap();
+    for e in std::fs::read_dir(&*cut).unwrap() {
+        let p = e.unwrap().path();
+        if p != journal {
+            std::fs::remove_file(p).unwrap();
+        }
+    }
+    // The two kept variants' PNGs come back only through a render: put the whole
+    // run's in place, as the interrupted run had written them.
+    for l in &lines[1..3] {
+        let key = l.split('"').nth(3).unwrap();
+        let f = format!("frame_{}.png", key.replace(' ', "_").to_lowercase());
+        std::fs::copy(whole.join(&f), cut.join(&f)).unwrap();
+    }
+    run(&cut, size, true).unwrap();
+    let wall = ["simulation_wall_seconds"];
+    assert_eq!(
+        without(&cut.join("frame_elaboration.csv"), &wall),
+        without(&whole.join("frame_elaboration.csv"), &wall)
+    );
+    let mut names = 0;
+    for e in std::fs::read_dir(&*whole).unwrap() {
+        let n = e.unwrap().file_name().to_string_lossy().into_owned();
+        if n.ends_with(".png") {
+            names += 1;
+            assert!(
+                std::fs::read(whole.join(&n)).unwrap() == std::fs::read(cut.join(&n)).unwrap(),
+                "{n} differs"
+            );
+        }
+    }
+    assert_eq!(names, 6, "five frames and the grid");
+}
