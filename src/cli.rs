@@ -99,10 +99,12 @@ pub enum Command {
         /// sub-planes, default 1,…,25), comma-separated.
         #[arg(long, value_delimiter = ',', allow_negative_numbers = true, value_parser = arg_u32)]
         values: Option<Vec<u32>>,
-        /// shafts-fig4 and shafts-fig5: continue an interrupted run with the same
-        /// --values and --out from the rows its CSVs hold (they are saved as each
-        /// row finishes), rendering only the rest; refused, naming the file, if the
-        /// rows there are another run's.
+        /// Continue an interrupted run with the same --values, --out and environment
+        /// variables from the rows (items) it saved as each finished, computing only
+        /// the rest: shafts-fig4 and shafts-fig5 (their CSVs), and glare-gauss-seeds,
+        /// the envmap-* reproductions, frame-elaboration and shading-brdf-properties
+        /// (DIR/NAME.resume.jsonl). Refused, naming the file and what differs, if the
+        /// rows there are another run's; refused with the reason for the others.
         #[arg(long)]
         resume: bool,
         /// Memory budget, as for `render`: checked for the largest scene the
@@ -436,24 +438,44 @@ pub const REPRODUCTIONS: &[&str] = &[
     "assumptions",
 ];
 
-/// The reproductions that ran past 30 s (release build, defaults, one run each on the
-/// shared 2-core machine under load; `reproduce NAME` timed with a 40 s cap, issue 16)
-/// and do not save their rows as they go: `--resume` is refused for them with that
-/// reason. The others not listed here and not shafts-fig4/fig5 finish in seconds.
-pub const LONG_REPRODUCTIONS: &[&str] = &[
-    "shafts-stage",
-    "glare-fig8",
+/// The reproductions that ran past 30 s and do not save their rows as they go, each
+/// with the reason (release build, defaults, one run each on the shared 2-core machine
+/// under load, `reproduce NAME` timed with a 300 s cap: docs/sweep.md): `--resume` is
+/// refused for them with it. The others not here and not in
+/// [`RESUMABLE_REPRODUCTIONS`] finish in under 30 s.
+pub const LONG_REPRODUCTIONS: &[(&str, &str)] = &[
+    (
+        "shafts-stage",
+        "takes about 110 s but is one frame and one row, so no finished item exists \
+         before the end",
+    ),
+    (
+        "shading-factorization",
+        "takes minutes but does not save its items as it goes yet (its factorisations \
+         are computed together before any row)",
+    ),
+    (
+        "sim-speed",
+        "takes about 110 s but is a timing: its rows are best-of-several wall times, \
+         which a resumed run would mix from two machine states",
+    ),
+];
+
+/// The reproductions that save their rows (or items) as they go and take `--resume`:
+/// shafts-fig4 and shafts-fig5 through `report::resume::Journal`, the others through
+/// `report::items::ItemJournal` (docs/sweep.md).
+pub const RESUMABLE_REPRODUCTIONS: &[&str] = &[
+    "shafts-fig4",
+    "shafts-fig5",
     "glare-gauss-seeds",
     "envmap-table3",
     "envmap-table5",
-    "envmap-images",
     "envmap-timing",
     "envmap-lambda-sweep",
     "envmap-roughness",
-    "shading-brdf-properties",
-    "shading-factorization",
+    "envmap-images",
     "frame-elaboration",
-    "sim-speed",
+    "shading-brdf-properties",
 ];
 
 fn reproduce(
@@ -470,18 +492,19 @@ fn reproduce(
             "values: only shafts-fig4 (planes) and shafts-fig5 (sub-planes) take --values, not '{name}'"
         ));
     }
-    if resume && !matches!(name, "shafts-fig4" | "shafts-fig5") {
-        let why = if LONG_REPRODUCTIONS.contains(&name) {
-            "takes minutes but does not save its rows as it goes yet (it writes its files \
-             whole when it is done), so there is nothing to resume from; run it again \
-             without --resume"
-        } else {
-            "finishes in seconds (under 30 s in release) and writes its files whole when \
-             it is done, so there is nothing to resume: run it again without --resume"
+    if resume && !RESUMABLE_REPRODUCTIONS.contains(&name) {
+        let why = match LONG_REPRODUCTIONS.iter().find(|(n, _)| *n == name) {
+            Some((_, why)) => {
+                format!("{why}, so there is nothing to resume from; run it again without --resume")
+            }
+            None => "finishes in seconds (under 30 s in release) and writes its files whole \
+                     when it is done, so there is nothing to resume: run it again without \
+                     --resume"
+                .to_string(),
         };
         return Err(format!(
-            "resume: '{name}' {why}. Only shafts-fig4 and shafts-fig5 save their rows as \
-             they go and can resume"
+            "resume: '{name}' {why}. These save their items as they go and can resume: {}",
+            RESUMABLE_REPRODUCTIONS.join(", ")
         ));
     }
     if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
@@ -517,42 +540,48 @@ fn reproduce(
         "glare-fig8" => g::fig8(out)?,
         "glare-throughput" => g::throughput(out)?,
         "glare-gauss-seeds" => {
-            crate::pipeline::glare::gauss_seeds::gauss_seeds(
+            crate::pipeline::glare::gauss_seeds::gauss_seeds_resumable(
                 out,
                 crate::pipeline::glare::gauss_seeds::cli_seeds()?,
+                resume,
             )?;
         }
         "envmap-table3" => crate::pipeline::envmap::reproduce::table3_at(
             out,
             crate::pipeline::envmap::reproduce::cli_side()?,
             &crate::pipeline::envmap::reproduce::cli_thresholds()?,
+            resume,
         )?,
         "envmap-table5" => {
-            crate::pipeline::envmap::reproduce::table5(
+            crate::pipeline::envmap::reproduce::table5_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "envmap-timing" => {
-            crate::pipeline::envmap::reproduce::timing(
+            crate::pipeline::envmap::reproduce::timing_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::cli_side()?,
+                resume,
             )?;
         }
         "envmap-lambda-sweep" => {
-            crate::pipeline::envmap::studies::lambda_sweep(
+            crate::pipeline::envmap::studies::lambda_sweep_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "envmap-roughness" => {
-            crate::pipeline::envmap::studies::roughness(
+            crate::pipeline::envmap::studies::roughness_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "shading-brdf-properties" => {
-            crate::pipeline::shading::brdf_properties::brdf_properties(out)?;
+            crate::pipeline::shading::brdf_properties::brdf_properties_resumable(out, resume)?;
         }
         "shading-factorization" => {
             use crate::pipeline::shading::factor::reproduce as f;
@@ -573,9 +602,10 @@ fn reproduce(
             }
         }
         "envmap-images" => {
-            crate::pipeline::envmap::reproduce::images(
+            crate::pipeline::envmap::reproduce::images_resumable(
                 out,
                 crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
             )?;
         }
         "shading-normalize-cube" => {
@@ -595,7 +625,7 @@ fn reproduce(
             print!("{}", crate::frame::assumptions::table(&rows));
         }
         "frame-elaboration" => {
-            let rows = crate::frame::reproduce::frame_elaboration(out, None)?;
+            let rows = crate::frame::reproduce::frame_elaboration_resumable(out, None, resume)?;
             print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
         }
         "shading-vertex-float" => {

@@ -400,13 +400,14 @@ fn resume_refuses_another_sweeps_rows_naming_the_file() {
 }
 
 /// Only the reproductions that save rows as they go take --resume; the refusal says
-/// why: a fast one finishes in seconds, a long one does not save its rows yet.
+/// why: a fast one finishes in seconds, a long one of a single frame has no item to
+/// keep.
 #[test]
 fn reproduce_resume_is_refused_where_nothing_resumes() {
     let out = tmp("reproduce");
     for (name, why) in [
         ("glare-fig4", "finishes in seconds"),
-        ("envmap-table3", "does not save its rows as it goes"),
+        ("shafts-stage", "one frame and one row"),
     ] {
         let o = bin()
             .args(["reproduce", name, "--resume", "--out"])

@@ -337,7 +337,7 @@ pub fn variants(base: &Scene) -> Vec<Variant> {
 }
 
 /// One row of `frame-elaboration`.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct ElaborationRow {
     pub variant: String,
     pub units_present: usize,
@@ -363,6 +363,19 @@ pub fn frame_elaboration(
     out: &Path,
     size: Option<(u32, u32)>,
 ) -> Result<Vec<ElaborationRow>, String> {
+    frame_elaboration_resumable(out, size, false)
+}
+
+/// [`frame_elaboration`], saving each variant's row (its PNG written first) as it
+/// finishes to `DIR/frame-elaboration.resume.jsonl`; with `resume`, the variants of an
+/// interrupted run of the same size are kept (their images read back from their PNGs,
+/// which hold the framebuffer's RGBA bytes exactly) and only the others rendered
+/// (`report::items`).
+pub fn frame_elaboration_resumable(
+    out: &Path,
+    size: Option<(u32, u32)>,
+    resume: bool,
+) -> Result<Vec<ElaborationRow>, String> {
     let mut base = crate::scene::builtin_showcase::night_street();
     if let Some((w, h)) = size {
         base.image.width = w;
@@ -372,35 +385,51 @@ pub fn frame_elaboration(
     let mut images = Vec::new();
     // Every variant on the showcase's GPU, so the times compare.
     let gpu = Gpu::for_scene(&base);
-    for v in variants(&base) {
-        let chip = elaborate(&v.scene);
-        let (f, e) = render_with_error(&v.scene, gpu)?;
+    let all = variants(&base);
+    let journal = crate::report::items::ItemJournal::<ElaborationRow>::open(
+        out,
+        "frame-elaboration",
+        &[(
+            "image",
+            format!("{}x{}", base.image.width, base.image.height),
+        )],
+        all.len(),
+        resume,
+    )?;
+    for v in all {
         let png = out.join(format!(
             "frame_{}.png",
             v.name.replace(' ', "_").to_lowercase()
         ));
-        f.fb.save_png(&png)
-            .map_err(|err| format!("out: {}: {err}", png.display()))?;
-        let left: Vec<&str> = chip.left_out().map(|u| u.instance).collect();
-        rows.push(ElaborationRow {
-            variant: v.name.to_string(),
-            units_present: chip.present().count(),
-            gates_nand2: chip.gates(),
-            ram_bits: chip.ram_bits(),
-            left_out: left.join("; "),
-            gpu: f.gpu.name().to_string(),
-            predicted_seconds: f.predicted_seconds(),
-            simulation_wall_seconds: f.wall_seconds,
-            error_mean_abs: e.total.mean_abs,
-            error_mean_abs_frame: e.total.mean_abs_frame,
-            error_rms: e.total.rms,
-            error_max: e.total.max,
-            error_bound: e.bound,
-        });
-        let rgba = image::RgbaImage::from_raw(f.fb.width, f.fb.height, f.fb.to_rgba8())
-            .ok_or("frame: framebuffer size mismatch")?;
+        let row = journal.item(v.name, || {
+            let chip = elaborate(&v.scene);
+            let (f, e) = render_with_error(&v.scene, gpu)?;
+            f.fb.save_png(&png)
+                .map_err(|err| format!("out: {}: {err}", png.display()))?;
+            let left: Vec<&str> = chip.left_out().map(|u| u.instance).collect();
+            Ok(ElaborationRow {
+                variant: v.name.to_string(),
+                units_present: chip.present().count(),
+                gates_nand2: chip.gates(),
+                ram_bits: chip.ram_bits(),
+                left_out: left.join("; "),
+                gpu: f.gpu.name().to_string(),
+                predicted_seconds: f.predicted_seconds(),
+                simulation_wall_seconds: f.wall_seconds,
+                error_mean_abs: e.total.mean_abs,
+                error_mean_abs_frame: e.total.mean_abs_frame,
+                error_rms: e.total.rms,
+                error_max: e.total.max,
+                error_bound: e.bound,
+            })
+        })?;
+        rows.push(row);
+        let rgba = image::open(&png)
+            .map_err(|err| format!("out: {}: {err}", png.display()))?
+            .to_rgba8();
         images.push((v.name, rgba));
     }
+    journal.finish()?;
     crate::report::csv_out::write_csv(&out.join("frame_elaboration.csv"), &rows)?;
     let refs: Vec<(&str, &image::RgbaImage)> = images.iter().map(|(n, i)| (*n, i)).collect();
     crate::report::plot::image_grid(&out.join("frame_elaboration.png"), &refs, 5)?;

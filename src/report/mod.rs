@@ -7,6 +7,7 @@ pub mod csv_out;
 pub mod elaboration;
 pub mod image_out;
 pub mod interrupt;
+pub mod items;
 pub mod metrics;
 pub mod plot;
 pub mod progress;

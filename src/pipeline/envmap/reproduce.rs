@@ -124,11 +124,30 @@ pub fn cli_thresholds() -> Result<Vec<f64>, String> {
 
 /// Run Table 3 at voxel side `s` into `out` (see the module doc).
 pub fn table3(out: &Path, s: u32) -> Result<(), String> {
-    table3_at(out, s, &THESIS_TH)
+    table3_at(out, s, &THESIS_TH, false)
 }
 
-/// [`table3`] at the thresholds `ths`.
-pub fn table3_at(out: &Path, s: u32, ths: &[f64]) -> Result<(), String> {
+/// What the rows of an environment-map reproduction depend on besides its own sizes:
+/// the pattern's resolution (`ENVMAP_PATTERN_SIZE` as resolved), for its journal
+/// (`report::items`).
+fn journal_settings(
+    more: &[(&'static str, String)],
+) -> Result<Vec<(&'static str, String)>, String> {
+    let p = cli_env("pattern")?;
+    let mut v = vec![(
+        "ENVMAP_PATTERN_SIZE",
+        format!("{}x{}", p.width(), p.height()),
+    )];
+    v.extend_from_slice(more);
+    Ok(v)
+}
+
+/// [`table3`] at the thresholds `ths`. Each environment's exact build (its
+/// `prefilter_times.csv` line) and each (environment, th) row is saved as it finishes
+/// to `DIR/envmap-table3.resume.jsonl`; with `resume`, those of an interrupted run of
+/// the same side, thresholds and pattern are kept and only the others built
+/// (`report::items`; an environment whose rows are all saved is not built at all).
+pub fn table3_at(out: &Path, s: u32, ths: &[f64], resume: bool) -> Result<(), String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let params = PrefilterParams::thesis();
     let mut t3 =
@@ -137,60 +156,88 @@ pub fn table3_at(out: &Path, s: u32, ths: &[f64]) -> Result<(), String> {
         "env,th,entries,entries_per_voxel,empty_voxels,renorm_mean_r,renorm_mean_g,renorm_mean_b,renorm_var_r,renorm_var_g,renorm_var_b\n",
     );
     let mut times = String::from("env,s,exact_seconds,exposure,prune_bound,threads\n");
-    for name in ["pattern", "st_fagans_interior"] {
-        let env = cli_env(name)?;
-        let exposure = env.auto_exposure();
-        let levels = env_to_levels(&env, exposure).map_err(e)?;
-        let t0 = Instant::now();
-        let exact = build_exact(&levels, s, &params).map_err(e)?;
-        let exact_s = t0.elapsed().as_secs_f64();
-        eprintln!("{name}: exact {s}³ in {exact_s:.1} s");
-        let _ = writeln!(
-            times,
-            "{name},{s},{exact_s:.3},{exposure:.6e},{:.3e},{}",
-            prune_bound(&levels, params.weighting()),
-            rayon::current_num_threads()
-        );
-        for &th in ths {
-            let (acc, ren, st) = build_accelerated_both(&levels, s, &params, th).map_err(e)?;
-            let (mean, var) = voxel_error(&acc, &exact).ok_or("internal: side mismatch")?;
-            let (rmean, rvar) = voxel_error(&ren, &exact).ok_or("internal: side mismatch")?;
-            eprintln!(
-                "{name} th={th}: mean |Δ| {:.3} {:.3} {:.3}, {:.1} s, {:.1} MB, {} empty",
-                mean[0],
-                mean[1],
-                mean[2],
-                st.build_seconds,
-                st.mbytes(),
-                st.empty_voxels
-            );
-            let _ = writeln!(
-                t3,
-                "{name},{th},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.3},{:.2}",
-                mean[0],
-                mean[1],
-                mean[2],
-                var[0],
-                var[1],
-                var[2],
-                st.build_seconds,
-                st.mbytes()
-            );
-            let _ = writeln!(
-                extra,
-                "{name},{th},{},{:.2},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
-                st.entries,
-                st.entries as f64 / (s as f64).powi(3),
-                st.empty_voxels,
-                rmean[0],
-                rmean[1],
-                rmean[2],
-                rvar[0],
-                rvar[1],
-                rvar[2]
-            );
+    let names = ["pattern", "st_fagans_interior"];
+    let list = ths.iter().map(|th| th.to_string()).collect::<Vec<_>>();
+    let journal = crate::report::items::ItemJournal::<Vec<String>>::open(
+        out,
+        "envmap-table3",
+        &journal_settings(&[
+            ("ENVMAP_TABLE3_S", s.to_string()),
+            ("ENVMAP_TABLE3_TH", list.join(",")),
+        ])?,
+        names.len() * (1 + ths.len()),
+        resume,
+    )?;
+    for name in names {
+        let exact_key = format!("{name}/exact");
+        let keys: Vec<String> = ths.iter().map(|th| format!("{name}/th={th}")).collect();
+        // The exact map, built only while a row of this environment is left.
+        let mut built = None;
+        if !journal.has(&exact_key) || !journal.has_all(keys.iter().map(String::as_str)) {
+            let env = cli_env(name)?;
+            let exposure = env.auto_exposure();
+            let levels = env_to_levels(&env, exposure).map_err(e)?;
+            let t0 = Instant::now();
+            let exact = build_exact(&levels, s, &params).map_err(e)?;
+            let exact_s = t0.elapsed().as_secs_f64();
+            eprintln!("{name}: exact {s}³ in {exact_s:.1} s");
+            journal.item(&exact_key, || {
+                Ok(vec![format!(
+                    "{name},{s},{exact_s:.3},{exposure:.6e},{:.3e},{}",
+                    prune_bound(&levels, params.weighting()),
+                    rayon::current_num_threads()
+                )])
+            })?;
+            built = Some((levels, exact));
+        }
+        let line = journal.item(&exact_key, || Err("internal: no exact build".into()))?;
+        let _ = writeln!(times, "{}", line[0]);
+        for (&th, key) in ths.iter().zip(&keys) {
+            let lines = journal.item(key, || {
+                let (levels, exact) = built.as_ref().ok_or("internal: no exact map")?;
+                let (acc, ren, st) = build_accelerated_both(levels, s, &params, th).map_err(e)?;
+                let (mean, var) = voxel_error(&acc, exact).ok_or("internal: side mismatch")?;
+                let (rmean, rvar) = voxel_error(&ren, exact).ok_or("internal: side mismatch")?;
+                eprintln!(
+                    "{name} th={th}: mean |Δ| {:.3} {:.3} {:.3}, {:.1} s, {:.1} MB, {} empty",
+                    mean[0],
+                    mean[1],
+                    mean[2],
+                    st.build_seconds,
+                    st.mbytes(),
+                    st.empty_voxels
+                );
+                Ok(vec![
+                    format!(
+                        "{name},{th},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.3},{:.2}",
+                        mean[0],
+                        mean[1],
+                        mean[2],
+                        var[0],
+                        var[1],
+                        var[2],
+                        st.build_seconds,
+                        st.mbytes()
+                    ),
+                    format!(
+                        "{name},{th},{},{:.2},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4}",
+                        st.entries,
+                        st.entries as f64 / (s as f64).powi(3),
+                        st.empty_voxels,
+                        rmean[0],
+                        rmean[1],
+                        rmean[2],
+                        rvar[0],
+                        rvar[1],
+                        rvar[2]
+                    ),
+                ])
+            })?;
+            let _ = writeln!(t3, "{}", lines[0]);
+            let _ = writeln!(extra, "{}", lines[1]);
         }
     }
+    journal.finish()?;
     crate::report::image_out::write_file(&out.join("table3.csv"), t3.as_bytes())?;
     crate::report::image_out::write_file(&out.join("table3_extra.csv"), extra.as_bytes())?;
     crate::report::image_out::write_file(&out.join("prefilter_times.csv"), times.as_bytes())?;
@@ -277,6 +324,19 @@ fn both_maps(env: &EnvMap, s: u32) -> Result<(VoxelMap, VoxelMap, f64, f64), Str
 /// (a) truth, (b) exact, (c) |a − b| × 8, (d) accelerated, (e) |a − d| × 8.
 /// Returns the rows.
 pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
+    table5_resumable(out, run, false)
+}
+
+/// [`table5`], saving each (env, object, λ) case (its two rows, their extra lines and
+/// its figure, written first) and each environment's times line as it finishes to
+/// `DIR/envmap-table5.resume.jsonl`; with `resume`, those of an interrupted run of the
+/// same sizes are kept and only the others rendered (`report::items`; an environment
+/// whose times line is saved is not built again).
+pub fn table5_resumable(
+    out: &Path,
+    run: RenderRun,
+    resume: bool,
+) -> Result<Vec<Table5Row>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let size = (run.size, run.size);
     let mut rows = Vec::new();
@@ -287,21 +347,42 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
         "env,env_width,env_height,s,size,exact_build_seconds,accelerated_build_seconds,truth_and_render_seconds\n",
     );
     let opt = RenderOptions::default();
+    let journal = crate::report::items::ItemJournal::<(Vec<Table5Row>, Vec<String>)>::open(
+        out,
+        "envmap-table5",
+        &journal_settings(&[
+            ("ENVMAP_TABLE3_S", run.s.to_string()),
+            ("ENVMAP_IMAGE_SIZE", run.size.to_string()),
+        ])?,
+        TABLE5_ENVS.len() * (1 + 2 * TABLE5_LAMBDAS.len()),
+        resume,
+    )?;
     for name in TABLE5_ENVS {
-        let env = cli_env(name)?;
-        let (exact, acc, t_exact, t_acc) = both_maps(&env, run.s)?;
-        eprintln!(
-            "{name}: maps {s}³ exact {t_exact:.1} s, accelerated {t_acc:.1} s",
-            s = run.s
-        );
+        let times_key = format!("{name}/times");
+        // The maps, built only while this environment has work left.
+        let mut maps = None;
+        if !journal.has(&times_key) {
+            let env = cli_env(name)?;
+            let (exact, acc, t_exact, t_acc) = both_maps(&env, run.s)?;
+            eprintln!(
+                "{name}: maps {s}³ exact {t_exact:.1} s, accelerated {t_acc:.1} s",
+                s = run.s
+            );
+            maps = Some((env, exact, acc, t_exact, t_acc));
+        }
         let t0 = Instant::now();
         for object in [Object::Sphere, Object::Teapot] {
             for lambda in TABLE5_LAMBDAS {
+                let key = format!("{name}/{}/lambda={}", object.name(), lambda.label());
+                let (case_rows, case_extra) = journal.item(&key, || {
+                let (env, exact, acc, _, _) = maps.as_ref().ok_or("internal: no maps")?;
+                let mut rows = Vec::new();
+                let mut extra = Vec::new();
                 let t1 = Instant::now();
                 let (img_e, truth, st_e) =
-                    render_object_with(&env, &exact, object, lambda, size, &opt).map_err(e)?;
+                    render_object_with(env, exact, object, lambda, size, &opt).map_err(e)?;
                 let (img_a, st_a) =
-                    render_against(&env, &acc, object, lambda, size, &opt, &truth).map_err(e)?;
+                    render_against(env, acc, object, lambda, size, &opt, &truth).map_err(e)?;
                 eprintln!(
                     "{name} {} λ={}: {} px, mean |Δ| exact {:.2} {:.2} {:.2}, accelerated {:.2} {:.2} {:.2} ({:.1} s)",
                     object.name(),
@@ -325,8 +406,7 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
                         var: st.cos_phi.var,
                     });
                     let (m, sm, mx) = (st.simplified.mean, st.cos_phi.mean_signed, st.cos_phi.max);
-                    let _ = writeln!(
-                        extra,
+                    extra.push(format!(
                         "{},{name},{},{accelerated},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{},{}",
                         object.name(),
                         lambda.label(),
@@ -341,7 +421,7 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
                         mx[1],
                         mx[2],
                         st.back_normal_pixels
-                    );
+                    ));
                 }
                 let fig = match (name, object, lambda) {
                     ("pattern", Object::Sphere, LambdaSpec::Uniform(0.5)) => Some("fig20.png"),
@@ -366,18 +446,31 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
                         5,
                     )?;
                 }
+                Ok((rows, extra))
+                })?;
+                rows.extend(case_rows);
+                for l in case_extra {
+                    let _ = writeln!(extra, "{l}");
+                }
             }
         }
-        let _ = writeln!(
-            times,
-            "{name},{},{},{},{},{t_exact:.3},{t_acc:.3},{:.3}",
-            env.width(),
-            env.height(),
-            run.s,
-            run.size,
-            t0.elapsed().as_secs_f64()
-        );
+        let (_, line) = journal.item(&times_key, || {
+            let (env, _, _, t_exact, t_acc) = maps.as_ref().ok_or("internal: no maps")?;
+            Ok((
+                Vec::new(),
+                vec![format!(
+                    "{name},{},{},{},{},{t_exact:.3},{t_acc:.3},{:.3}",
+                    env.width(),
+                    env.height(),
+                    run.s,
+                    run.size,
+                    t0.elapsed().as_secs_f64()
+                )],
+            ))
+        })?;
+        let _ = writeln!(times, "{}", line[0]);
     }
+    journal.finish()?;
     let mut csv = format!("{}\n", Table5Row::CSV_HEADER);
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());
@@ -396,49 +489,75 @@ pub fn table5(out: &Path, run: RenderRun) -> Result<Vec<Table5Row>, String> {
 /// `DIR/fig17_st_fagans_interior.png`: sphere, teapot, and their Phong truths).
 /// Returns the files written.
 pub fn images(out: &Path, run: RenderRun) -> Result<Vec<std::path::PathBuf>, String> {
+    images_resumable(out, run, false)
+}
+
+/// [`images`], noting each environment's two figures in
+/// `DIR/envmap-images.resume.jsonl` once both are written; with `resume`, the figures
+/// of an interrupted run of the same sizes are kept and only the other environment is
+/// rendered (`report::items`).
+pub fn images_resumable(
+    out: &Path,
+    run: RenderRun,
+    resume: bool,
+) -> Result<Vec<std::path::PathBuf>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let size = (run.size, run.size);
     let opt = RenderOptions::default();
     let mut files = Vec::new();
-    for (name, uni, non) in [
+    let envs = [
         ("pattern", "fig14", "fig15"),
         ("st_fagans_interior", "fig16", "fig17"),
-    ] {
-        let env = cli_env(name)?;
-        let params = PrefilterParams::thesis();
-        let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
-        let (acc, st) = build_accelerated(&levels, run.s, &params, TABLE5_TH).map_err(e)?;
-        eprintln!(
-            "{name}: accelerated {}³ map in {:.1} s",
-            run.s, st.build_seconds
-        );
-        let mut panels: Vec<(String, Image)> = Vec::new();
-        for object in [Object::Sphere, Object::Teapot] {
-            for l in [1.0, 0.5, 0.25] {
-                let img = render_image(&env, &acc, object, LambdaSpec::Uniform(l), size, &opt)
-                    .map_err(e)?;
-                panels.push((format!("{}, λ = {l}", object.name()), img));
+    ];
+    let journal = crate::report::items::ItemJournal::<Vec<String>>::open(
+        out,
+        "envmap-images",
+        &journal_settings(&[
+            ("ENVMAP_TABLE3_S", run.s.to_string()),
+            ("ENVMAP_IMAGE_SIZE", run.size.to_string()),
+        ])?,
+        envs.len(),
+        resume,
+    )?;
+    for (name, uni, non) in envs {
+        let written = journal.item(name, || {
+            let env = cli_env(name)?;
+            let params = PrefilterParams::thesis();
+            let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+            let (acc, st) = build_accelerated(&levels, run.s, &params, TABLE5_TH).map_err(e)?;
+            eprintln!(
+                "{name}: accelerated {}³ map in {:.1} s",
+                run.s, st.build_seconds
+            );
+            let mut panels: Vec<(String, Image)> = Vec::new();
+            for object in [Object::Sphere, Object::Teapot] {
+                for l in [1.0, 0.5, 0.25] {
+                    let img = render_image(&env, &acc, object, LambdaSpec::Uniform(l), size, &opt)
+                        .map_err(e)?;
+                    panels.push((format!("{}, λ = {l}", object.name()), img));
+                }
             }
-        }
-        let refs: Vec<(String, &Image)> = panels.iter().map(|(c, i)| (c.clone(), i)).collect();
-        let f = out.join(format!("{uni}_{name}.png"));
-        grid(&f, &refs, 3)?;
-        files.push(f);
-        let mut panels: Vec<(String, Image)> = Vec::new();
-        let mut truths: Vec<(String, Image)> = Vec::new();
-        for object in [Object::Sphere, Object::Teapot] {
-            let (img, truth, _) =
-                render_object_with(&env, &acc, object, LambdaSpec::NonUniform, size, &opt)
-                    .map_err(e)?;
-            panels.push((format!("{}, non-uniform λ", object.name()), img));
-            truths.push((format!("{}, Phong truth", object.name()), truth.cos_phi));
-        }
-        panels.extend(truths);
-        let refs: Vec<(String, &Image)> = panels.iter().map(|(c, i)| (c.clone(), i)).collect();
-        let f = out.join(format!("{non}_{name}.png"));
-        grid(&f, &refs, 2)?;
-        files.push(f);
+            let refs: Vec<(String, &Image)> = panels.iter().map(|(c, i)| (c.clone(), i)).collect();
+            let f_uni = format!("{uni}_{name}.png");
+            grid(&out.join(&f_uni), &refs, 3)?;
+            let mut panels: Vec<(String, Image)> = Vec::new();
+            let mut truths: Vec<(String, Image)> = Vec::new();
+            for object in [Object::Sphere, Object::Teapot] {
+                let (img, truth, _) =
+                    render_object_with(&env, &acc, object, LambdaSpec::NonUniform, size, &opt)
+                        .map_err(e)?;
+                panels.push((format!("{}, non-uniform λ", object.name()), img));
+                truths.push((format!("{}, Phong truth", object.name()), truth.cos_phi));
+            }
+            panels.extend(truths);
+            let refs: Vec<(String, &Image)> = panels.iter().map(|(c, i)| (c.clone(), i)).collect();
+            let f_non = format!("{non}_{name}.png");
+            grid(&out.join(&f_non), &refs, 2)?;
+            Ok(vec![f_uni, f_non])
+        })?;
+        files.extend(written.iter().map(|f| out.join(f)));
     }
+    journal.finish()?;
     for f in &files {
         println!("{}", f.display());
     }
@@ -465,27 +584,54 @@ pub const TIMING_SLICE_LAMBDA: f64 = 0.5;
 /// (`object,width,height,fragments,wall_seconds,predicted_seconds_geforce3`) and
 /// `DIR/elaboration.txt` (the samplers elaborated and left out, texture bytes).
 pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
+    timing_resumable(out, s, false)
+}
+
+/// [`timing`], saving each frame's row and elaboration text as it finishes to
+/// `DIR/envmap-timing.resume.jsonl`; with `resume`, those of an interrupted run of the
+/// same side are kept and only the other frames rendered (`report::items`; the map is
+/// built only while a frame is left).
+pub fn timing_resumable(out: &Path, s: u32, resume: bool) -> Result<Vec<TimingRow>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let env = cli_env("pattern")?;
-    let params = PrefilterParams::thesis();
-    let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
-    let (map, st) = build_accelerated(&levels, s, &params, TABLE5_TH).map_err(e)?;
-    eprintln!(
-        "pattern: accelerated {s}³ map (th = {TABLE5_TH}) in {:.1} s",
-        st.build_seconds
-    );
-    let gpu = GpuModel::geforce3();
-    let mut rows = Vec::new();
-    let mut elab = String::new();
-    for (suffix, lambda, lookup) in [
+    let cases = [
         ("", LambdaSpec::NonUniform, Lookup::Voxel3D),
         (
             "_slice2d",
             LambdaSpec::Uniform(TIMING_SLICE_LAMBDA),
             Lookup::Auto,
         ),
-    ] {
-        for object in [Object::Sphere, Object::Teapot] {
+    ];
+    let objects = [Object::Sphere, Object::Teapot];
+    let journal = crate::report::items::ItemJournal::<(TimingRow, String)>::open(
+        out,
+        "envmap-timing",
+        &journal_settings(&[("ENVMAP_TABLE3_S", s.to_string())])?,
+        cases.len() * objects.len(),
+        resume,
+    )?;
+    let key = |suffix: &str, object: Object| format!("{}{suffix}", object.name());
+    let mut map = None;
+    if !cases
+        .iter()
+        .all(|c| objects.iter().all(|&o| journal.has(&key(c.0, o))))
+    {
+        let params = PrefilterParams::thesis();
+        let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+        let (m, st) = build_accelerated(&levels, s, &params, TABLE5_TH).map_err(e)?;
+        eprintln!(
+            "pattern: accelerated {s}³ map (th = {TABLE5_TH}) in {:.1} s",
+            st.build_seconds
+        );
+        map = Some(m);
+    }
+    let gpu = GpuModel::geforce3();
+    let mut rows = Vec::new();
+    let mut elab = String::new();
+    for (suffix, lambda, lookup) in cases {
+        for object in objects {
+            let (row, text) = journal.item(&key(suffix, object), || {
+            let map = map.as_ref().ok_or("internal: no map")?;
             let opt = RenderOptions {
                 lookup,
                 ..RenderOptions::default()
@@ -493,10 +639,10 @@ pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
             // The textures first (kept with the map: the 3D map once, the cube map once
             // per λ), timed apart: the frame below is the render with them resident.
             let t_up = Instant::now();
-            upload_textures(&map, lambda, &opt).map_err(e)?;
+            upload_textures(map, lambda, &opt).map_err(e)?;
             let up = t_up.elapsed().as_secs_f64();
             let t0 = Instant::now();
-            let (_, f) = render_frame(&env, &map, object, lambda, TIMING_SIZE, &opt).map_err(e)?;
+            let (_, f) = render_frame(&env, map, object, lambda, TIMING_SIZE, &opt).map_err(e)?;
             let wall = t0.elapsed().as_secs_f64();
             let p = predict_frame(&gpu, &f);
             let name = format!("{}{suffix}", object.name());
@@ -510,8 +656,7 @@ pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
                 p.bytes / 1e6
             );
             let el = &f.elaboration;
-            let _ = writeln!(
-                elab,
+            let text = format!(
                 "{name} (λ = {}): texture {} bytes, saved {} bytes, gates saved (3D sampler − 2D sampler − cube_map_address) {:.0}\n{}",
                 lambda.label(),
                 el.texture_bytes,
@@ -519,16 +664,23 @@ pub fn timing(out: &Path, s: u32) -> Result<Vec<TimingRow>, String> {
                 el.gates_saved,
                 crate::report::table::elaboration_table(&el.units)
             );
-            rows.push(TimingRow {
-                object: name,
-                width: TIMING_SIZE.0,
-                height: TIMING_SIZE.1,
-                fragments: f.fragments,
-                wall_seconds: wall,
-                predicted_seconds_geforce3: p.seconds,
-            });
+            Ok((
+                TimingRow {
+                    object: name,
+                    width: TIMING_SIZE.0,
+                    height: TIMING_SIZE.1,
+                    fragments: f.fragments,
+                    wall_seconds: wall,
+                    predicted_seconds_geforce3: p.seconds,
+                },
+                text,
+            ))
+            })?;
+            let _ = writeln!(elab, "{text}");
+            rows.push(row);
         }
     }
+    journal.finish()?;
     let mut csv = format!("{}\n", TimingRow::CSV_HEADER);
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());

@@ -274,7 +274,7 @@ pub(super) const ROUGHNESS_BITS: u32 = 8;
 
 /// One row of the roughness comparison: a λ source's errors against the intended-λ
 /// truth ([`Truth::intended`], eq. 3, 8-bit levels).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RoughnessRow {
     pub object: String,
     /// [`LambdaSource::label`].

@@ -77,54 +77,106 @@ impl SweepRow {
 /// [`SWEEP_LAMBDAS`] (uniform). The truth is made once per (object, λ) and shared by
 /// both maps. Writes `DIR/lambda_sweep.csv` ([`SweepRow::CSV_HEADER`]). Returns the rows.
 pub fn lambda_sweep(out: &Path, run: RenderRun) -> Result<Vec<SweepRow>, String> {
+    lambda_sweep_resumable(out, run, false)
+}
+
+/// A (object, λ) case's rows as the journal keeps them, one per map: (voxel bits,
+/// cos φ mean, simplified mean, pixels, back-normal pixels).
+type SweepItem = Vec<(u32, [f64; 3], [f64; 3], usize, usize)>;
+
+/// [`lambda_sweep`], saving each (object, λ) case's rows as it finishes to
+/// `DIR/envmap-lambda-sweep.resume.jsonl`; with `resume`, those of an interrupted run
+/// of the same sizes are kept and only the others rendered (`report::items`; the maps
+/// are built only while a case is left).
+pub fn lambda_sweep_resumable(
+    out: &Path,
+    run: RenderRun,
+    resume: bool,
+) -> Result<Vec<SweepRow>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let env = super::reproduce::cli_env("pattern")?;
-    let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
-    let params = PrefilterParams::thesis();
+    let objects = [Object::Sphere, Object::Teapot];
+    let journal = crate::report::items::ItemJournal::<SweepItem>::open(
+        out,
+        "envmap-lambda-sweep",
+        &[
+            (
+                "ENVMAP_PATTERN_SIZE",
+                format!("{}x{}", env.width(), env.height()),
+            ),
+            ("ENVMAP_TABLE3_S", run.s.to_string()),
+            ("ENVMAP_IMAGE_SIZE", run.size.to_string()),
+        ],
+        objects.len() * SWEEP_LAMBDAS.len(),
+        resume,
+    )?;
+    let key = |object: Object, lambda: f64| format!("{}/lambda={lambda}", object.name());
+    let left = objects
+        .iter()
+        .any(|&o| SWEEP_LAMBDAS.iter().any(|&l| !journal.has(&key(o, l))));
     let mut maps = Vec::new();
-    for bits in SWEEP_BITS {
-        let t0 = Instant::now();
-        maps.push((
-            bits,
-            build_exact_bits(&levels, run.s, &params, bits).map_err(e)?,
-        ));
-        eprintln!(
-            "pattern: exact {s}³ map, {bits}-bit voxels, {:.1} s",
-            t0.elapsed().as_secs_f64(),
-            s = run.s
-        );
+    if left {
+        let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+        let params = PrefilterParams::thesis();
+        for bits in SWEEP_BITS {
+            let t0 = Instant::now();
+            maps.push((
+                bits,
+                build_exact_bits(&levels, run.s, &params, bits).map_err(e)?,
+            ));
+            eprintln!(
+                "pattern: exact {s}³ map, {bits}-bit voxels, {:.1} s",
+                t0.elapsed().as_secs_f64(),
+                s = run.s
+            );
+        }
     }
     let opt = RenderOptions::default();
     let size = (run.size, run.size);
     let mut rows = Vec::new();
-    for object in [Object::Sphere, Object::Teapot] {
+    for object in objects {
         for lambda in SWEEP_LAMBDAS {
-            let spec = LambdaSpec::Uniform(lambda);
-            // The first map's render makes the truth; the others reuse it.
-            let (_, truth, first) =
-                render_object_with(&env, &maps[0].1, object, spec, size, &opt).map_err(e)?;
-            for (k, (bits, map)) in maps.iter().enumerate() {
-                let st = if k == 0 {
-                    first.clone()
-                } else {
-                    render_against(&env, map, object, spec, size, &opt, &truth)
-                        .map_err(e)?
-                        .1
-                };
+            let item = journal.item(&key(object, lambda), || {
+                let spec = LambdaSpec::Uniform(lambda);
+                let first_map = &maps.first().ok_or("internal: no maps")?.1;
+                // The first map's render makes the truth; the others reuse it.
+                let (_, truth, first) =
+                    render_object_with(&env, first_map, object, spec, size, &opt).map_err(e)?;
+                let mut item = SweepItem::new();
+                for (k, (bits, map)) in maps.iter().enumerate() {
+                    let st = if k == 0 {
+                        first.clone()
+                    } else {
+                        render_against(&env, map, object, spec, size, &opt, &truth)
+                            .map_err(e)?
+                            .1
+                    };
+                    item.push((
+                        *bits,
+                        st.cos_phi.mean,
+                        st.simplified.mean,
+                        st.cos_phi.pixels,
+                        st.back_normal_pixels,
+                    ));
+                }
+                Ok(item)
+            })?;
+            for (bits, cos_phi, simplified, pixels, back_normal_pixels) in item {
                 let row = SweepRow {
                     object,
-                    voxel_bits: *bits,
+                    voxel_bits: bits,
                     lambda,
-                    cos_phi: st.cos_phi.mean,
-                    simplified: st.simplified.mean,
-                    pixels: st.cos_phi.pixels,
-                    back_normal_pixels: st.back_normal_pixels,
+                    cos_phi,
+                    simplified,
+                    pixels,
+                    back_normal_pixels,
                 };
                 eprintln!("{}", row.to_csv());
                 rows.push(row);
             }
         }
     }
+    journal.finish()?;
     let mut csv = format!("{}\n", SweepRow::CSV_HEADER);
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());
@@ -141,31 +193,69 @@ pub fn lambda_sweep(out: &Path, run: RenderRun) -> Result<Vec<SweepRow>, String>
 /// ([`RoughnessRow::CSV_HEADER`]) and `DIR/roughness_sphere.png` (per vertex, texture,
 /// intended truth; then |Δ| × 8 of each against that truth). Returns the rows.
 pub fn roughness(out: &Path, run: RenderRun) -> Result<Vec<RoughnessRow>, String> {
+    roughness_resumable(out, run, false)
+}
+
+/// [`roughness`], saving the sphere's rows (its figure written first) and the
+/// teapot's as each finishes to `DIR/envmap-roughness.resume.jsonl`; with `resume`,
+/// those of an interrupted run of the same sizes are kept (`report::items`; the map is
+/// built only while one is left).
+pub fn roughness_resumable(
+    out: &Path,
+    run: RenderRun,
+    resume: bool,
+) -> Result<Vec<RoughnessRow>, String> {
     let e = |x: rtl_model::ConfigError| x.to_string();
     let env = super::reproduce::cli_env("pattern")?;
-    let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
-    let map = build_exact_bits(&levels, run.s, &PrefilterParams::thesis(), 8).map_err(e)?;
+    let journal = crate::report::items::ItemJournal::<Vec<RoughnessRow>>::open(
+        out,
+        "envmap-roughness",
+        &[
+            (
+                "ENVMAP_PATTERN_SIZE",
+                format!("{}x{}", env.width(), env.height()),
+            ),
+            ("ENVMAP_TABLE3_S", run.s.to_string()),
+            ("ENVMAP_IMAGE_SIZE", run.size.to_string()),
+        ],
+        2,
+        resume,
+    )?;
+    let map = if journal.has_all(["sphere", "teapot"]) {
+        None
+    } else {
+        let levels = env_to_levels(&env, env.auto_exposure()).map_err(e)?;
+        Some(build_exact_bits(&levels, run.s, &PrefilterParams::thesis(), 8).map_err(e)?)
+    };
     let size = (run.size, run.size);
     let side = DEFAULT_LAMBDA_TEXTURE_SIDE;
-    // The sphere's renders and truth are kept for the figure (no second render).
-    let sphere = roughness_comparison_images(&env, &map, Object::Sphere, size, side).map_err(e)?;
-    let mut rows = sphere.rows;
-    rows.extend(roughness_comparison(&env, &map, Object::Teapot, size, side).map_err(e)?);
-    let (imgs, truth) = (sphere.images, sphere.truth);
-    let d: Vec<_> = imgs.iter().map(|i| i.diff(&truth, 8.0)).collect();
-    let blank = truth.diff(&truth, 0.0);
-    grid(
-        &out.join("roughness_sphere.png"),
-        &[
-            ("λ per vertex".to_string(), &imgs[0]),
-            (format!("λ from a {side}² texture"), &imgs[1]),
-            ("truth at the intended λ".to_string(), &truth),
-            ("|Δ| × 8, per vertex".to_string(), &d[0]),
-            ("|Δ| × 8, texture".to_string(), &d[1]),
-            (String::new(), &blank),
-        ],
-        3,
-    )?;
+    let mut rows = journal.item("sphere", || {
+        let map = map.as_ref().ok_or("internal: no map")?;
+        // The sphere's renders and truth are kept for the figure (no second render).
+        let sphere =
+            roughness_comparison_images(&env, map, Object::Sphere, size, side).map_err(e)?;
+        let (imgs, truth) = (sphere.images, sphere.truth);
+        let d: Vec<_> = imgs.iter().map(|i| i.diff(&truth, 8.0)).collect();
+        let blank = truth.diff(&truth, 0.0);
+        grid(
+            &out.join("roughness_sphere.png"),
+            &[
+                ("λ per vertex".to_string(), &imgs[0]),
+                (format!("λ from a {side}² texture"), &imgs[1]),
+                ("truth at the intended λ".to_string(), &truth),
+                ("|Δ| × 8, per vertex".to_string(), &d[0]),
+                ("|Δ| × 8, texture".to_string(), &d[1]),
+                (String::new(), &blank),
+            ],
+            3,
+        )?;
+        Ok(sphere.rows)
+    })?;
+    rows.extend(journal.item("teapot", || {
+        let map = map.as_ref().ok_or("internal: no map")?;
+        roughness_comparison(&env, map, Object::Teapot, size, side).map_err(e)
+    })?);
+    journal.finish()?;
     let mut csv = format!("{}\n", RoughnessRow::CSV_HEADER);
     for r in &rows {
         let _ = writeln!(csv, "{}", r.to_csv());

@@ -8,7 +8,7 @@ use super::voxmap::VoxelMap;
 use crate::scene::envmap::EnvMap;
 
 /// One row of the thesis' Table 5 (errors against the cos φ truth, 8-bit levels).
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Table5Row {
     pub object: String,
     pub env: String,

@@ -100,7 +100,7 @@ pub fn predict_frame(m: &GpuModel, f: &FrameInfo) -> FramePrediction {
 }
 
 /// One row of `timing.csv`.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct TimingRow {
     pub object: String,
     pub width: u32,

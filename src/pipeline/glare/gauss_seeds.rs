@@ -197,15 +197,71 @@ pub fn summarise(design: &'static str, rows: &[SeedRow]) -> Summary {
 /// and seed), `DIR/gauss_seeds_summary.csv` and `DIR/gauss_seeds_4sigma.png` (the 4σ
 /// count's histogram for both designs against the Poisson pmf). Returns the summaries.
 pub fn gauss_seeds(out: &Path, seeds: u64) -> Result<Vec<Summary>, String> {
+    gauss_seeds_resumable(out, seeds, false)
+}
+
+/// A row as the journal keeps it (the design is in its key).
+type SeedItem = (f64, f64, u64, u64, bool, bool, bool);
+
+fn to_item(r: &SeedRow) -> SeedItem {
+    (
+        r.ks_d,
+        r.ks_p,
+        r.count_3sigma,
+        r.count_4sigma,
+        r.passes_ks,
+        r.passes_3sigma,
+        r.passes_4sigma,
+    )
+}
+
+fn from_item(design: &'static str, seed: u64, t: SeedItem) -> SeedRow {
+    SeedRow {
+        design,
+        seed,
+        ks_d: t.0,
+        ks_p: t.1,
+        count_3sigma: t.2,
+        count_4sigma: t.3,
+        passes_ks: t.4,
+        passes_3sigma: t.5,
+        passes_4sigma: t.6,
+    }
+}
+
+/// Rows saved per journal write: the rows take milliseconds each, a write of the
+/// whole journal about as long (`report::items`; a `kill -9` loses at most these or
+/// the last second's).
+pub const JOURNAL_BATCH: usize = 64;
+
+/// [`gauss_seeds`], saving each row as it finishes to `DIR/glare-gauss-seeds.resume.jsonl`
+/// ([`JOURNAL_BATCH`] at a time); with `resume`, the rows an interrupted run of the
+/// same seeds saved are kept and only the others run (`report::items`).
+pub fn gauss_seeds_resumable(out: &Path, seeds: u64, resume: bool) -> Result<Vec<Summary>, String> {
     let u = GaussianNoise::geforce();
-    let unit: Vec<SeedRow> = (1..=seeds)
-        .into_par_iter()
-        .map(|seed| unit_row_with(&u, seed))
-        .collect();
-    let ideal: Vec<SeedRow> = (1..=seeds)
-        .into_par_iter()
-        .map(|seed| ideal_row_with(&u, seed))
-        .collect();
+    let journal = crate::report::items::ItemJournal::<SeedItem>::open(
+        out,
+        "glare-gauss-seeds",
+        &[
+            ("GLARE_GAUSS_SEEDS", seeds.to_string()),
+            ("samples", SAMPLES.to_string()),
+        ],
+        2 * seeds as usize,
+        resume,
+    )?
+    .batch(JOURNAL_BATCH);
+    let design = |name: &'static str, f: &(dyn Fn(u64) -> SeedRow + Sync)| {
+        (1..=seeds)
+            .into_par_iter()
+            .map(|seed| {
+                let t = journal.item(&format!("{name}/seed={seed}"), || Ok(to_item(&f(seed))))?;
+                Ok(from_item(name, seed, t))
+            })
+            .collect::<Result<Vec<SeedRow>, String>>()
+    };
+    let unit = design("gaussian_noise", &|seed| unit_row_with(&u, seed))?;
+    let ideal = design("ideal_f64", &|seed| ideal_row_with(&u, seed))?;
+    journal.finish()?;
     let rows: Vec<SeedRow> = unit.iter().chain(ideal.iter()).cloned().collect();
     write_csv(&out.join("gauss_seeds.csv"), &rows)?;
     let summaries = vec![

@@ -282,7 +282,7 @@ pub fn albedo_by_incidence(case: &ModelCase, thetas: &[f64], tol: AlbedoTol) -> 
 }
 
 /// One row of albedo_by_incidence.csv.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct IncidenceRow {
     pub model: String,
     pub params: String,
@@ -296,7 +296,7 @@ pub struct IncidenceRow {
 }
 
 /// One row of brdf_properties.csv.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, serde::Deserialize)]
 pub struct PropertyRow {
     pub model: String,
     pub params: String,
@@ -458,11 +458,31 @@ pub fn measure(
 /// Writes brdf_properties.csv, albedo_by_incidence.csv, hg.csv and dipole.csv into
 /// `out` and returns the property rows.
 pub fn brdf_properties(out: &Path) -> Result<Vec<PropertyRow>, String> {
+    brdf_properties_resumable(out, false)
+}
+
+/// [`brdf_properties`], saving each model case's rows as it finishes to
+/// `DIR/shading-brdf-properties.resume.jsonl`; with `resume`, the cases an
+/// interrupted run saved are kept and only the others measured (`report::items`).
+pub fn brdf_properties_resumable(out: &Path, resume: bool) -> Result<Vec<PropertyRow>, String> {
     let cases = catalogue();
+    let journal = crate::report::items::ItemJournal::<(PropertyRow, Vec<IncidenceRow>)>::open(
+        out,
+        "shading-brdf-properties",
+        &[("cases", cases.len().to_string())],
+        cases.len(),
+        resume,
+    )?;
     let measured: Vec<(PropertyRow, Vec<IncidenceRow>)> = cases
         .par_iter()
-        .map(|c| measure(c, &INCIDENCE_DEG, AlbedoTol::default()))
-        .collect();
+        .enumerate()
+        .map(|(i, c)| {
+            journal.item(&format!("case={i}"), || {
+                Ok(measure(c, &INCIDENCE_DEG, AlbedoTol::default()))
+            })
+        })
+        .collect::<Result<_, String>>()?;
+    journal.finish()?;
     let rows: Vec<PropertyRow> = measured.iter().map(|m| m.0.clone()).collect();
     let incidences: Vec<IncidenceRow> = measured.into_iter().flat_map(|m| m.1).collect();
     write_csv(&out.join("brdf_properties.csv"), &rows)?;

@@ -26,7 +26,6 @@ use crate::reference::brdf::{Brdf, ShadingFrame};
 use crate::report::elaboration::Elaborated;
 use crate::scene::limits::GlRounding;
 use crate::scene::math::Vec3;
-use rtl_model::units::modulate::Modulate;
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupConfig};
 use rtl_model::units::texture_combiner::{
     CombineFunction, CombineSource, TextureCombiner, TextureCombinerConfig, TextureCombinerIn,
@@ -438,7 +437,7 @@ impl ShadingPath {
                 let n = units.len();
                 for (i, s) in units.into_iter().enumerate() {
                     let name = if i + 1 == n {
-                        "modulate (factor product)".to_string()
+                        "modulate_chain (factor product)".to_string()
                     } else {
                         format!("texture_sampler (factor {i})")
                     };
@@ -446,7 +445,7 @@ impl ShadingPath {
                 }
             }
             _ => {
-                // Two 64² factor textures of 8 bits and their modulate, at the defaults.
+                // Two 64² factor textures of 8 bits and their modulate chain, at the defaults.
                 let sampler = TextureSampler::new(
                     TextureSamplerConfig::geforce_2d(64, 64),
                     &vec![0; 64 * 64],
@@ -457,7 +456,11 @@ impl ShadingPath {
                     name: FACTORS.into(),
                     summary: None,
                     left_out: Some("no factored BRDF".into()),
-                    gates_saved: 2.0 * sampler + UnitSummary::of(&Modulate::geforce()).gates_nand2,
+                    gates_saved: 2.0 * sampler
+                        + GlRounding::default()
+                            .chain(8)
+                            .map(|c| UnitSummary::of(&c).gates_nand2)
+                            .unwrap_or(0.0),
                     cycles_saved: fragments,
                 });
             }

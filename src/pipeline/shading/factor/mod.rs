@@ -36,7 +36,7 @@ use crate::scene::limits::GlRounding;
 use crate::scene::math::{v3, Vec3};
 use rtl_model::counters::Counters;
 use rtl_model::error::ConfigError;
-use rtl_model::units::modulate::{Modulate, ModulateChain, ModulateMode};
+use rtl_model::units::modulate::ModulateChain;
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 
 /// What the factors approximate.
@@ -390,7 +390,6 @@ pub struct FactorRenderer {
     samplers: Vec<(Projection, TextureSampler, FactorTexture)>,
     /// Each factor's scale: the f64 value of its top code.
     scales: Vec<f64>,
-    modulate: Modulate,
     /// The factors × constant colour chain: `modulate`'s stages, rounded per stage
     /// (default) or fused (Mesa's llvmpipe).
     chain: ModulateChain,
@@ -424,7 +423,6 @@ impl FactorRenderer {
         rounding: GlRounding,
     ) -> Result<Self, ConfigError> {
         let combiner_bits = texel_bits.max(8);
-        let modulate = Modulate::new(combiner_bits, ModulateMode::Exact)?;
         let chain = rounding.chain(combiner_bits)?;
         let mut total = if irradiance.is_finite() {
             irradiance.max(0.0)
@@ -465,7 +463,6 @@ impl FactorRenderer {
             target: fact.target,
             samplers,
             scales,
-            modulate,
             chain,
             texel_bits,
             combiner_bits,
@@ -497,14 +494,14 @@ impl FactorRenderer {
         self.texel_bits
     }
     /// The units this reconstruction elaborates: one sampler per factor texture,
-    /// then the modulate that multiplies them.
+    /// then the modulate chain that multiplies them (with the constant colour).
     pub fn summaries(&self) -> Vec<rtl_model::UnitSummary> {
         let mut v: Vec<rtl_model::UnitSummary> = self
             .samplers
             .iter()
             .map(|(_, s, _)| rtl_model::UnitSummary::of(s))
             .collect();
-        v.push(rtl_model::UnitSummary::of(&self.modulate));
+        v.push(rtl_model::UnitSummary::of(&self.chain));
         v
     }
 
