@@ -7,8 +7,8 @@
 //! picks the one that runs), so each simulator builds once per test run; the Verilator
 //! build is reused across runs while its sources are unchanged. Vectors: exhaustive
 //! where the unit's input word has ≤ 2^20 values, else `RTL_COSIM_COUNT` transactions
-//! (default 100 000 under Verilator, 10 000 under Icarus, which is ~50× slower; the
-//! long run is `RTL_COSIM_COUNT=1000000 cargo test --release --test rtl_cosim`).
+//! (default 100 000 under both simulators; a longer run is
+//! `RTL_COSIM_COUNT=1000000 cargo test --test rtl_cosim -- --nocapture`).
 //!
 //! A simulator that is not installed is skipped with a printed SKIP note (`.ci/run`
 //! installs both); the test never passes silently without running anything it found.
@@ -28,11 +28,11 @@ fn work_dir() -> PathBuf {
     Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim")
 }
 
-fn count(sim: &str) -> usize {
+fn count() -> usize {
     std::env::var("RTL_COSIM_COUNT")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(if sim == "icarus" { 10_000 } else { 100_000 })
+        .unwrap_or(100_000)
 }
 
 fn have(tool: &str, arg: &str) -> bool {
@@ -46,7 +46,7 @@ fn have(tool: &str, arg: &str) -> bool {
 /// The Verilog sources every build reads, in order.
 fn sources(blocks: &[PathBuf]) -> Vec<PathBuf> {
     let d = verilog_dir();
-    let mut v = vec![d.join("tb/tb_vectors.v")];
+    let mut v = vec![d.join("tb/tb_vectors.v"), d.join("tb/rtl_rom.v")];
     for e in RTL_UNITS {
         v.push(d.join(format!("units/{}.v", e.name)));
     }
@@ -98,7 +98,7 @@ fn build_verilator() -> Option<Built> {
         return None;
     }
     let dir = work_dir().join("verilator");
-    let (sets, blocks) = write_sets(&dir, count("verilator"));
+    let (sets, blocks) = write_sets(&dir, count());
     let srcs = sources(&blocks);
     // Rebuild only when a source changed (the vectors are read at run time).
     let stamp: String = srcs
@@ -140,7 +140,7 @@ fn build_icarus() -> Option<Built> {
         return None;
     }
     let dir = work_dir().join("icarus");
-    let (sets, blocks) = write_sets(&dir, count("icarus"));
+    let (sets, blocks) = write_sets(&dir, count());
     let vvp = dir.join("cosim.vvp");
     let mut c = Command::new("iverilog");
     c.args(["-g2005", "-s", "cosim_top", "-o"])
@@ -221,7 +221,7 @@ fn check_all(b: &Built, sim: &str) {
         if s.n != n || s.checked != n || s.mismatches != 0 || s.valid_errors != 0 {
             failed.push(format!("{tag}: {s:?}"));
         }
-        assert!(v.exhaustive || n >= count(sim));
+        assert!(v.exhaustive || n >= count());
     }
     assert!(
         failed.is_empty(),

@@ -18,6 +18,7 @@
 use super::seeded;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombinerConfig};
 use rtl_model::units::glare_condition::{ConditionIn, GlareConditionConfig, Material};
 use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
@@ -69,6 +70,25 @@ pub struct Field {
     pub width: u32,
 }
 
+/// A table the unit reads through ports (`<name>_addr<i>` out, `<name>_data<i>` in,
+/// synchronous read: data the clock after the address); the cosim block attaches a
+/// `rtl_rom` loaded with `words` to each of the `ports` read ports.
+#[derive(Clone, Debug)]
+pub struct RomPort {
+    pub name: &'static str,
+    pub ports: u32,
+    pub width: u32,
+    pub words: Vec<u64>,
+}
+
+impl RomPort {
+    /// Address width: ⌈log₂ depth⌉ (at least 1).
+    pub fn addr_bits(&self) -> u32 {
+        let n = self.words.len().max(2) as u64;
+        64 - (n - 1).leading_zeros()
+    }
+}
+
 /// A unit's vectors at one configuration, with what the testbench needs to run them.
 #[derive(Clone, Debug)]
 pub struct VectorSet {
@@ -88,6 +108,8 @@ pub struct VectorSet {
     pub expected: Vec<String>,
     /// The model's gate estimate at this configuration (NAND2 equivalents).
     pub gates_model: f64,
+    /// Tables the unit reads through ports (none: empty).
+    pub roms: Vec<RomPort>,
 }
 
 /// One unit with Verilog: its name (= the Verilog module and file stem) and its
@@ -107,6 +129,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "additive_blend",
         vectors: additive_blend_vectors,
+    },
+    RtlEntry {
+        name: "bloom_flare_modulator",
+        vectors: bloom_flare_modulator_vectors,
     },
     RtlEntry {
         name: "glare_combiner",
@@ -267,6 +293,7 @@ fn collect<U: Unit>(
         stimulus,
         expected,
         gates_model: u.cost().gates_nand2(),
+        roms: Vec::new(),
     }
 }
 
@@ -309,7 +336,8 @@ impl VectorSet {
 
     /// The module `cosim_<tag>`: the generic testbench driving the unit's module at
     /// this configuration's parameters, its packed words sliced into the named ports.
-    pub fn cosim_block(&self) -> String {
+    /// Tables are read from `<dir>/<name>.hex`.
+    pub fn cosim_block(&self, dir: &Path) -> String {
         let tag = self.tag();
         let (iw, ow) = (self.in_bits(), self.out_bits());
         let mut v = String::new();
@@ -323,6 +351,18 @@ impl VectorSet {
         let _ = writeln!(v, "  wire clk, rst, in_valid, out_valid;");
         let _ = writeln!(v, "  wire [{}:0] in_word;", iw - 1);
         let _ = writeln!(v, "  wire [{}:0] out_word;", ow - 1);
+        for r in &self.roms {
+            for i in 0..r.ports {
+                let _ = writeln!(
+                    v,
+                    "  wire [{}:0] {}_addr{i};\n  wire [{}:0] {}_data{i};",
+                    r.addr_bits() - 1,
+                    r.name,
+                    r.width - 1,
+                    r.name
+                );
+            }
+        }
         let _ = writeln!(
             v,
             "  tb_vectors #(.IN_W({iw}), .OUT_W({ow}), .LAT({}), .II({}), .TAG(\"{tag}\")) tb (",
@@ -359,7 +399,29 @@ impl VectorSet {
             ));
             hi -= f.width;
         }
+        for r in &self.roms {
+            for i in 0..r.ports {
+                ports.push(format!(".{0}_addr{i}({0}_addr{i})", r.name));
+                ports.push(format!(".{0}_data{i}({0}_data{i})", r.name));
+            }
+        }
         let _ = writeln!(v, "      {});", ports.join(",\n      "));
+        for r in &self.roms {
+            let file = dir.join(format!("{}.hex", r.name));
+            for i in 0..r.ports {
+                let _ = writeln!(
+                    v,
+                    "  rtl_rom #(.W({}), .DEPTH({}), .AW({}), .FILE(\"{}\")) {}_rom{i} (.clk(clk), .addr({}_addr{i}), .data({}_data{i}));",
+                    r.width,
+                    r.words.len(),
+                    r.addr_bits(),
+                    file.display(),
+                    r.name,
+                    r.name,
+                    r.name
+                );
+            }
+        }
         let _ = writeln!(v, "endmodule");
         v
     }
@@ -377,7 +439,14 @@ impl VectorSet {
         put("header.txt", self.header())?;
         put("stimulus.hex", lines(&self.stimulus))?;
         put("expected.hex", lines(&self.expected))?;
-        put(&format!("cosim_{}.v", self.tag()), self.cosim_block())?;
+        for r in &self.roms {
+            let digits = r.width.div_ceil(4) as usize;
+            let words: Vec<String> = r.words.iter().map(|w| format!("{w:0digits$x}")).collect();
+            put(&format!("{}.hex", r.name), lines(&words))?;
+        }
+        // The block names the table files by absolute path (one build, any cwd).
+        let abs = std::fs::canonicalize(dir).map_err(|e| io(dir, e))?;
+        put(&format!("cosim_{}.v", self.tag()), self.cosim_block(&abs))?;
         Ok(())
     }
 }
@@ -533,6 +602,71 @@ fn glare_condition_vectors(
     ];
     let probe = make(&[0; 6]);
     Ok(collect(&u, (), config, probe, make, params, count, seed))
+}
+
+fn bloom_flare_modulator_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    // Radial correction off (the Verilog implements the plain datapath).
+    let cfg = match config {
+        RtlConfig::Default => BloomFlareModulatorConfig::default(),
+        // 17 input bits: exhaustive.
+        RtlConfig::Narrow => BloomFlareModulatorConfig {
+            coord_frac_bits: 2,
+            shape_log2: 2,
+            shape_bits: 3,
+            falloff_log2: 2,
+            falloff_bits: 3,
+            weight_bits: 2,
+            gain_int_bits: 2,
+            gain_frac_bits: 1,
+            out_bits: 2,
+            ..BloomFlareModulatorConfig::default()
+        },
+    };
+    // Random table contents (seeded): every entry matters, not a smooth shape.
+    let w = cfg.widths();
+    let mut rng = seeded(seed ^ 0x5eed_7ab1e);
+    let shape: Vec<f64> = (0..w.shape_len()).map(|_| rng.random::<f64>()).collect();
+    let falloff: Vec<f64> = (0..w.falloff_len()).map(|_| rng.random::<f64>()).collect();
+    let u = cfg.build(&shape, &falloff).map_err(|e| e.to_string())?;
+    let cw = cfg.coord_frac_bits + 2;
+    let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
+    let make = move |v: &[u64]| LumIn {
+        u: sx(v[0]),
+        v: sx(v[1]),
+        gain: [v[2] as u32, v[3] as u32, v[4] as u32],
+    };
+    let params = vec![
+        ("COORD_FRAC_BITS", cfg.coord_frac_bits as u64),
+        ("SHAPE_LOG2", cfg.shape_log2 as u64),
+        ("SHAPE_BITS", cfg.shape_bits as u64),
+        ("FALLOFF_LOG2", cfg.falloff_log2 as u64),
+        ("FALLOFF_BITS", cfg.falloff_bits as u64),
+        ("WEIGHT_BITS", cfg.weight_bits as u64),
+        ("GAIN_INT_BITS", cfg.gain_int_bits as u64),
+        ("GAIN_FRAC_BITS", cfg.gain_frac_bits as u64),
+        ("OUT_BITS", cfg.out_bits as u64),
+    ];
+    let mut v = collect(&u, (), config, make(&[0; 5]), make, params, count, seed);
+    let table = |codes: &[u32]| codes.iter().map(|&c| c as u64).collect::<Vec<u64>>();
+    v.roms = vec![
+        RomPort {
+            name: "shape",
+            ports: 4,
+            width: cfg.shape_bits,
+            words: table(u.shape_codes()),
+        },
+        RomPort {
+            name: "falloff",
+            ports: 2,
+            width: cfg.falloff_bits,
+            words: table(u.falloff_codes()),
+        },
+    ];
+    Ok(v)
 }
 
 // ---- whole-unit synthesis -------------------------------------------------------------
