@@ -21,6 +21,7 @@ use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombinerConfig};
 use rtl_model::units::glare_condition::{ConditionIn, GlareConditionConfig, Material};
+use rtl_model::units::halo_modulator::HaloModulatorConfig;
 use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
 use rtl_model::{Counters, Signal, Unit};
 use std::fmt::Write as _;
@@ -133,6 +134,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "bloom_flare_modulator",
         vectors: bloom_flare_modulator_vectors,
+    },
+    RtlEntry {
+        name: "halo_modulator",
+        vectors: halo_modulator_vectors,
     },
     RtlEntry {
         name: "glare_combiner",
@@ -666,6 +671,73 @@ fn bloom_flare_modulator_vectors(
             words: table(u.falloff_codes()),
         },
     ];
+    Ok(v)
+}
+
+fn halo_modulator_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
+    // The same widths as bloom_flare_modulator's (narrow: 17 input bits, exhaustive).
+    let b = match config {
+        RtlConfig::Default => BloomFlareModulatorConfig::default(),
+        RtlConfig::Narrow => BloomFlareModulatorConfig {
+            coord_frac_bits: 2,
+            shape_log2: 2,
+            shape_bits: 3,
+            falloff_log2: 2,
+            falloff_bits: 3,
+            weight_bits: 2,
+            gain_int_bits: 2,
+            gain_frac_bits: 1,
+            out_bits: 2,
+            ..BloomFlareModulatorConfig::default()
+        },
+    };
+    let cfg = HaloModulatorConfig::from_widths(b.widths());
+    let w = cfg.widths();
+    let mut rng = seeded(seed ^ 0x4a10);
+    let mut table = |n: usize| (0..n).map(|_| rng.random::<f64>()).collect::<Vec<f64>>();
+    let shape = table(w.shape_len());
+    let rings = [
+        table(w.falloff_len()),
+        table(w.falloff_len()),
+        table(w.falloff_len()),
+    ];
+    let u = cfg
+        .build(&shape, [&rings[0], &rings[1], &rings[2]])
+        .map_err(|e| e.to_string())?;
+    let cw = cfg.coord_frac_bits + 2;
+    let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
+    let make = move |v: &[u64]| LumIn {
+        u: sx(v[0]),
+        v: sx(v[1]),
+        gain: [v[2] as u32, v[3] as u32, v[4] as u32],
+    };
+    let params = vec![
+        ("COORD_FRAC_BITS", cfg.coord_frac_bits as u64),
+        ("SHAPE_LOG2", cfg.shape_log2 as u64),
+        ("SHAPE_BITS", cfg.shape_bits as u64),
+        ("FALLOFF_LOG2", cfg.falloff_log2 as u64),
+        ("FALLOFF_BITS", cfg.falloff_bits as u64),
+        ("WEIGHT_BITS", cfg.weight_bits as u64),
+        ("GAIN_INT_BITS", cfg.gain_int_bits as u64),
+        ("GAIN_FRAC_BITS", cfg.gain_frac_bits as u64),
+        ("OUT_BITS", cfg.out_bits as u64),
+    ];
+    let mut v = collect(&u, (), config, make(&[0; 5]), make, params, count, seed);
+    let codes = |c: &[u32]| c.iter().map(|&x| x as u64).collect::<Vec<u64>>();
+    v.roms = vec![RomPort {
+        name: "shape",
+        ports: 4,
+        width: cfg.shape_bits,
+        words: codes(u.shape_codes()),
+    }];
+    for (c, name) in ["ring_r", "ring_g", "ring_b"].into_iter().enumerate() {
+        v.roms.push(RomPort {
+            name,
+            ports: 2,
+            width: cfg.falloff_bits,
+            words: codes(u.ring_codes(c)),
+        });
+    }
     Ok(v)
 }
 
