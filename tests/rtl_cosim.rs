@@ -318,3 +318,96 @@ fn pack_hex_puts_the_first_field_in_the_top_bits() {
     let want = (0b101u128 << 71) | (((1u128 << 63) | 1) << 1) | 1;
     assert_eq!(rtl::pack_hex(&s), format!("{want:019x}"));
 }
+
+#[test]
+fn trace_vectors_cli_writes_the_files_and_names_bad_arguments() {
+    let exe = env!("CARGO_BIN_EXE_glare-pipeline");
+    let dir = work_dir().join("cli");
+    let _ = std::fs::remove_dir_all(&dir);
+    let o = Command::new(exe)
+        .args(["trace", "glare_combiner", "--vectors"])
+        .arg(&dir)
+        .args(["--count", "300", "--seed", "5"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stim = std::fs::read_to_string(dir.join("stimulus.hex")).unwrap();
+    let exp = std::fs::read_to_string(dir.join("expected.hex")).unwrap();
+    assert_eq!(stim.lines().count(), 300);
+    assert_eq!(exp.lines().count(), 300);
+    let want = rtl::vectors("glare_combiner", RtlConfig::Default, 300, 5).unwrap();
+    assert_eq!(stim.lines().collect::<Vec<_>>(), want.stimulus);
+    let header = std::fs::read_to_string(dir.join("header.txt")).unwrap();
+    assert!(header.contains("latency 1\n"), "{header}");
+    assert!(dir.join("cosim_glare_combiner_default.v").exists());
+    for (args, field) in [
+        (vec!["--config", "wide"], "config:"),
+        (vec!["--count", "0"], "count:"),
+    ] {
+        let o = Command::new(exe)
+            .args(["trace", "modulate", "--vectors"])
+            .arg(&dir)
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && err.contains(field),
+            "{args:?}: {err}"
+        );
+    }
+    let o = Command::new(exe)
+        .args(["trace", "shadow_compare", "--vectors"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("unit:"), "{err}");
+}
+
+/// Cycle-exactness is checked, not just values: the same modulate vectors with the
+/// testbench told a latency one clock longer than the Verilog's. The unit's first
+/// output then arrives on a clock where none is expected, and its last is missing on
+/// the clock the testbench expects it: two valid errors (Icarus: a one-block compile
+/// is quick).
+#[test]
+fn icarus_catches_a_wrong_latency() {
+    if !have("iverilog", "-V") {
+        println!("SKIP: iverilog not found; the wrong-latency check did not run");
+        return;
+    }
+    let root = work_dir().join("wrong_latency");
+    let mut v = rtl::vectors("modulate", RtlConfig::Narrow, 1, SEED).unwrap();
+    v.latency += 1;
+    let dir = root.join(v.tag());
+    v.write(&dir).unwrap();
+    let top = root.join("cosim_top.v");
+    std::fs::write(&top, rtl::cosim_top(&[v.tag()])).unwrap();
+    let d = verilog_dir();
+    let vvp = root.join("cosim.vvp");
+    run_ok(
+        Command::new("iverilog")
+            .args(["-g2005", "-s", "cosim_top", "-o"])
+            .arg(&vvp)
+            .arg(d.join("tb/tb_vectors.v"))
+            .arg(d.join("units/modulate.v"))
+            .arg(dir.join(format!("cosim_{}.v", v.tag())))
+            .arg(&top),
+        "iverilog compile",
+    );
+    let b = Built {
+        dir: root.clone(),
+        sets: Vec::new(),
+        run: vec![
+            "vvp".into(),
+            "-n".into(),
+            vvp.to_string_lossy().into_owned(),
+        ],
+    };
+    let n = v.stimulus.len();
+    let s = simulate(&b, &v.tag(), n, &dir.join("expected.hex"));
+    assert_eq!(s.checked, n, "{s:?}");
+    assert_eq!(s.valid_errors, 2, "{s:?}");
+    // Every other output is compared against its predecessor's expected word.
+    assert!(s.mismatches > 0, "{s:?}");
+}
