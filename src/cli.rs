@@ -35,6 +35,11 @@ pub enum Command {
         /// Rewrite the registry's figures in this datasheet (docs/units.md) instead.
         #[arg(long, value_name = "PATH", conflicts_with_all = ["json", "alternates"])]
         datasheet: Option<PathBuf>,
+        /// Also synthesise each unit that has Verilog (rtl_model/verilog/units/) with
+        /// Yosys at its default widths and report `gates_yosys` beside the model's
+        /// gates (docs/rtl.md). Needs `yosys` on PATH.
+        #[arg(long, conflicts_with_all = ["scene", "datasheet", "alternates"])]
+        synth: bool,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// through its pass plan, and print the plan, the chip, each pipeline's counters
@@ -182,6 +187,18 @@ pub enum Command {
         /// Output VCD file.
         #[arg(long, default_value = "out/trace.vcd")]
         out: PathBuf,
+        /// Instead of a VCD: write stimulus and expected-response vectors for the
+        /// unit's Verilog into this directory (header.txt, stimulus.hex, expected.hex,
+        /// cosim_<unit>_<config>.v; docs/rtl.md).
+        #[arg(long, value_name = "DIR", conflicts_with = "pixels")]
+        vectors: Option<PathBuf>,
+        /// Transactions in the vector set (ignored when the input space is ≤ 2^20:
+        /// then every input word is written).
+        #[arg(long, requires = "vectors", allow_negative_numbers = true, value_parser = arg_u64)]
+        count: Option<u64>,
+        /// The unit's configuration for the vectors: default (GeForce) or narrow.
+        #[arg(long, requires = "vectors", default_value = "default")]
+        config: String,
     },
 }
 
@@ -312,10 +329,14 @@ fn sweep_merge(out: &std::path::Path, dirs: &[PathBuf]) -> Result<(), String> {
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Units {
+            json, synth: true, ..
+        } => units_synth(json),
+        Command::Units {
             json,
             alternates,
             scene,
             datasheet,
+            ..
         } => match (scene, datasheet) {
             (Some(name), _) => crate::frame::cli::units_scene_cli(&name, json),
             (None, Some(path)) => registry::datasheet::refresh_file(&path).map(|m| println!("{m}")),
@@ -384,9 +405,42 @@ pub fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Trace {
             unit,
+            vectors: Some(dir),
+            count,
+            seed,
+            config,
+            ..
+        } => {
+            let cfg = registry::rtl::RtlConfig::parse(&config)?;
+            let n = count.unwrap_or(100_000);
+            let max = registry::rtl::MAX_VECTORS as u64;
+            if n == 0 || n > max {
+                return Err(format!("count: {n} is out of range (1 ..= {max})"));
+            }
+            let v = registry::rtl::vectors(&unit, cfg, n as usize, seed)?;
+            v.write(&dir)?;
+            println!(
+                "wrote {} transactions of {} ({}, {}; latency {}, II {}) into {}",
+                v.stimulus.len(),
+                v.unit,
+                cfg.name(),
+                if v.exhaustive {
+                    "exhaustive"
+                } else {
+                    "seeded random + corners"
+                },
+                v.latency,
+                v.ii,
+                dir.display()
+            );
+            Ok(())
+        }
+        Command::Trace {
+            unit,
             pixels,
             seed,
             out,
+            ..
         } => {
             if pixels == 0 || pixels > MAX_TRACE_PIXELS {
                 return Err(format!(
@@ -859,6 +913,55 @@ fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String
 }
 
 pub use crate::report::image_out::write_file;
+
+/// `units --synth`: every unit's summary, and for each unit with Verilog the Yosys
+/// count at its default widths beside the model's.
+fn units_synth(json: bool) -> Result<(), String> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut synths = std::collections::BTreeMap::new();
+    for e in registry::rtl::RTL_UNITS {
+        let s = registry::rtl::synth(root, e.name, registry::rtl::RtlConfig::Default)?;
+        synths.insert(e.name, s);
+    }
+    let s = registry::summaries();
+    if json {
+        let mut rows = Vec::new();
+        for u in &s {
+            let mut v = serde_json::to_value(u).map_err(|e| e.to_string())?;
+            let y = synths.get(u.name);
+            if let Some(o) = v.as_object_mut() {
+                o.insert("gates_yosys".into(), y.map(|y| y.gates_yosys).into());
+                o.insert("gates_yosys_rel_diff".into(), y.map(|y| y.rel_diff).into());
+            }
+            rows.push(v);
+        }
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    let rows: Vec<Vec<String>> = s
+        .iter()
+        .filter_map(|u| synths.get(u.name))
+        .map(|y| {
+            vec![
+                y.name.to_string(),
+                format!("{:.0}", y.gates_model),
+                format!("{:.0}", y.gates_yosys),
+                format!("{:+.1} %", 100.0 * y.rel_diff),
+            ]
+        })
+        .collect();
+    print!(
+        "{}",
+        text_table(
+            &["unit", "gates_model", "gates_yosys", "model vs yosys"],
+            &rows
+        )
+    );
+    Ok(())
+}
 
 fn units(json: bool, alternates: bool) -> Result<(), String> {
     let s = registry::summaries();

@@ -10,6 +10,7 @@
 //! `datasheet` writes the registry's figures into docs/units.md.
 
 pub mod datasheet;
+pub mod rtl;
 
 mod additive_blend;
 mod bloom_flare_modulator;

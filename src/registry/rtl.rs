@@ -1,0 +1,856 @@
+//! RTL beside the model: for every unit with Verilog in `rtl_model/verilog/units/`,
+//! the model writes stimulus and expected-response vectors (`trace UNIT --vectors DIR`)
+//! and the testbench wiring that runs the Verilog on them under Verilator and Icarus
+//! (docs/rtl.md has the flow).
+//!
+//! A transaction is one input word of the unit: its fields (`Unit::in_signals`, in
+//! order) packed into one word, the first field in the most significant bits, written
+//! as one hex line; the expected response is the output word (`Unit::out_signals`)
+//! packed the same way. The testbench (`rtl_model/verilog/tb/tb_vectors.v`) drives
+//! input k on clock k·II and checks the output on clock k·II + latency, on every clock.
+//!
+//! Inputs are exhaustive when the input word has at most [`EXHAUSTIVE_BITS`] bits;
+//! otherwise the first eighth are corner cases (every field drawn from 0, 1, the
+//! midpoint ± 0, max − 1 and max) and the rest are uniform, all from a seeded
+//! generator. Expected responses come from the unit's kernel in order (a unit with
+//! state carries it from one transaction to the next, from its reset state).
+
+use super::seeded;
+use rand::Rng;
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
+use rtl_model::units::glare_combiner::{CombineIn, GlareCombinerConfig};
+use rtl_model::units::glare_condition::{ConditionIn, GlareConditionConfig, Material};
+use rtl_model::units::halo_modulator::HaloModulatorConfig;
+use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
+use rtl_model::{Counters, Signal, Unit};
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// An input word of at most this many bits is enumerated exhaustively.
+pub const EXHAUSTIVE_BITS: u32 = 20;
+
+/// Most transactions a random vector set holds (`trace --count`).
+pub const MAX_VECTORS: usize = 1 << 22;
+
+/// Which configuration of a unit the vectors exercise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RtlConfig {
+    /// The GeForce-era default (as `units` prints it).
+    Default,
+    /// A narrow configuration, small enough to be exhaustive where the unit allows.
+    Narrow,
+}
+
+impl RtlConfig {
+    pub const ALL: [RtlConfig; 2] = [RtlConfig::Default, RtlConfig::Narrow];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RtlConfig::Default => "default",
+            RtlConfig::Narrow => "narrow",
+        }
+    }
+
+    /// Parse `default` or `narrow` (error names `--config`).
+    pub fn parse(text: &str) -> Result<Self, String> {
+        match text {
+            "default" => Ok(RtlConfig::Default),
+            "narrow" => Ok(RtlConfig::Narrow),
+            _ => Err(format!(
+                "config: '{text}' is not a configuration (allowed: default, narrow)"
+            )),
+        }
+    }
+}
+
+/// One named field of a packed word.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Field {
+    pub name: &'static str,
+    pub width: u32,
+}
+
+/// A table the unit reads through ports (`<name>_addr<i>` out, `<name>_data<i>` in,
+/// synchronous read: data the clock after the address); the cosim block attaches a
+/// `rtl_rom` loaded with `words` to each of the `ports` read ports.
+#[derive(Clone, Debug)]
+pub struct RomPort {
+    pub name: &'static str,
+    pub ports: u32,
+    pub width: u32,
+    pub words: Vec<u64>,
+}
+
+impl RomPort {
+    /// Address width: ⌈log₂ depth⌉ (at least 1).
+    pub fn addr_bits(&self) -> u32 {
+        let n = self.words.len().max(2) as u64;
+        64 - (n - 1).leading_zeros()
+    }
+}
+
+/// A unit's vectors at one configuration, with what the testbench needs to run them.
+#[derive(Clone, Debug)]
+pub struct VectorSet {
+    pub unit: &'static str,
+    pub config: RtlConfig,
+    pub latency: u32,
+    pub ii: u32,
+    /// The Verilog module's parameters at this configuration.
+    pub params: Vec<(&'static str, u64)>,
+    pub in_fields: Vec<Field>,
+    pub out_fields: Vec<Field>,
+    /// Every input word was enumerated.
+    pub exhaustive: bool,
+    /// Packed input words, hex.
+    pub stimulus: Vec<String>,
+    /// Packed expected output words, hex.
+    pub expected: Vec<String>,
+    /// The model's gate estimate at this configuration (NAND2 equivalents).
+    pub gates_model: f64,
+    /// Tables the unit reads through ports (none: empty).
+    pub roms: Vec<RomPort>,
+}
+
+/// One unit with Verilog: its name (= the Verilog module and file stem) and its
+/// vector writer.
+pub struct RtlEntry {
+    pub name: &'static str,
+    /// `count` transactions (ignored when exhaustive) from `seed` at `config`.
+    pub vectors: fn(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String>,
+}
+
+/// Every unit with Verilog, in datasheet order.
+pub const RTL_UNITS: &[RtlEntry] = &[
+    RtlEntry {
+        name: "modulate",
+        vectors: modulate_vectors,
+    },
+    RtlEntry {
+        name: "additive_blend",
+        vectors: additive_blend_vectors,
+    },
+    RtlEntry {
+        name: "bloom_flare_modulator",
+        vectors: bloom_flare_modulator_vectors,
+    },
+    RtlEntry {
+        name: "halo_modulator",
+        vectors: halo_modulator_vectors,
+    },
+    RtlEntry {
+        name: "glare_combiner",
+        vectors: glare_combiner_vectors,
+    },
+    RtlEntry {
+        name: "glare_condition",
+        vectors: glare_condition_vectors,
+    },
+];
+
+/// The entry of a unit with Verilog; the error names the unit argument.
+pub fn rtl_entry(name: &str) -> Result<&'static RtlEntry, String> {
+    RTL_UNITS.iter().find(|e| e.name == name).ok_or_else(|| {
+        let known: Vec<&str> = RTL_UNITS.iter().map(|e| e.name).collect();
+        if super::entry(name).is_some() {
+            format!(
+                "unit: '{name}' has no Verilog yet (units with Verilog: {})",
+                known.join(", ")
+            )
+        } else {
+            format!(
+                "unit: unknown unit '{name}' (units with Verilog: {})",
+                known.join(", ")
+            )
+        }
+    })
+}
+
+/// The vectors of the named unit (errors name `unit`, `count` or the config field).
+pub fn vectors(
+    name: &str,
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    if count == 0 || count > MAX_VECTORS {
+        return Err(format!(
+            "count: {count} is out of range (1 ..= {MAX_VECTORS})"
+        ));
+    }
+    (rtl_entry(name)?.vectors)(config, count, seed)
+}
+
+/// Pack field values (first field most significant) into a hex word of
+/// ⌈Σ widths / 4⌉ digits.
+pub fn pack_hex(signals: &[Signal]) -> String {
+    let total: u32 = signals.iter().map(|s| s.width).sum();
+    let digits = total.div_ceil(4).max(1) as usize;
+    // Little-endian 64-bit limbs.
+    let mut limbs = vec![0u64; digits.div_ceil(16) + 1];
+    let mut pos = 0u32;
+    for s in signals.iter().rev() {
+        let v = if s.width >= 64 {
+            s.value
+        } else {
+            s.value & ((1u64 << s.width) - 1)
+        };
+        let (li, off) = ((pos / 64) as usize, pos % 64);
+        limbs[li] |= v << off;
+        if off + s.width > 64 && off > 0 {
+            limbs[li + 1] |= v >> (64 - off);
+        }
+        pos += s.width;
+    }
+    let mut out = String::with_capacity(digits);
+    for d in (0..digits).rev() {
+        let bit = d * 4;
+        let nib = (limbs[bit / 64] >> (bit % 64)) & 0xf;
+        out.push(char::from_digit(nib as u32, 16).unwrap_or('0'));
+    }
+    out
+}
+
+fn fields(sig: &[Signal]) -> Vec<Field> {
+    sig.iter()
+        .map(|s| Field {
+            name: s.name,
+            width: s.width,
+        })
+        .collect()
+}
+
+/// The vectors of `u` from reset state `state`: `make` builds an input word from field
+/// values in `in_signals` order (`probe` is any input word, for the field widths).
+#[allow(clippy::too_many_arguments)]
+fn collect<U: Unit>(
+    u: &U,
+    mut state: U::State,
+    config: RtlConfig,
+    probe: U::In,
+    make: impl Fn(&[u64]) -> U::In,
+    params: Vec<(&'static str, u64)>,
+    count: usize,
+    seed: u64,
+) -> VectorSet {
+    let in_f = fields(&u.in_signals(&probe));
+    let widths: Vec<u32> = in_f.iter().map(|f| f.width).collect();
+    let total: u32 = widths.iter().sum();
+    let exhaustive = total <= EXHAUSTIVE_BITS;
+    let inputs: Vec<U::In> = if exhaustive {
+        (0..1u64 << total)
+            .map(|mut x| {
+                // The last field holds the least significant bits.
+                let mut vals = vec![0u64; widths.len()];
+                for (v, &w) in vals.iter_mut().zip(&widths).rev() {
+                    *v = x & ((1u64 << w) - 1);
+                    x >>= w;
+                }
+                make(&vals)
+            })
+            .collect()
+    } else {
+        let mut rng = seeded(seed);
+        let corners = count / 8;
+        (0..count)
+            .map(|i| {
+                let vals: Vec<u64> = widths
+                    .iter()
+                    .map(|&w| {
+                        let max = if w >= 64 { u64::MAX } else { (1u64 << w) - 1 };
+                        if i < corners {
+                            let mid = 1u64 << (w - 1);
+                            let c = [0, 1, mid - 1, mid, max - 1, max];
+                            c[rng.random_range(0..c.len())] & max
+                        } else {
+                            rng.random_range(0..=max)
+                        }
+                    })
+                    .collect();
+                make(&vals)
+            })
+            .collect()
+    };
+    let mut ctr = Counters::default();
+    let mut stimulus = Vec::with_capacity(inputs.len());
+    let mut expected = Vec::with_capacity(inputs.len());
+    let mut out_f = Vec::new();
+    for x in &inputs {
+        let y = u.kernel(&mut state, x, &mut ctr);
+        let os = u.out_signals(&y);
+        if out_f.is_empty() {
+            out_f = fields(&os);
+        }
+        stimulus.push(pack_hex(&u.in_signals(x)));
+        expected.push(pack_hex(&os));
+    }
+    let t = u.timing();
+    VectorSet {
+        unit: u.name(),
+        config,
+        latency: t.latency,
+        ii: t.ii,
+        params,
+        in_fields: in_f,
+        out_fields: out_f,
+        exhaustive,
+        stimulus,
+        expected,
+        gates_model: u.cost().gates_nand2(),
+        roms: Vec::new(),
+    }
+}
+
+impl VectorSet {
+    /// The tag of this unit and configuration: `<unit>_<config>`.
+    pub fn tag(&self) -> String {
+        format!("{}_{}", self.unit, self.config.name())
+    }
+
+    pub fn in_bits(&self) -> u32 {
+        self.in_fields.iter().map(|f| f.width).sum()
+    }
+
+    pub fn out_bits(&self) -> u32 {
+        self.out_fields.iter().map(|f| f.width).sum()
+    }
+
+    /// The header file: one `key value…` line each.
+    pub fn header(&self) -> String {
+        let mut h = String::new();
+        let _ = writeln!(h, "unit {}", self.unit);
+        let _ = writeln!(h, "config {}", self.config.name());
+        let _ = writeln!(h, "count {}", self.stimulus.len());
+        let _ = writeln!(h, "exhaustive {}", u8::from(self.exhaustive));
+        let _ = writeln!(h, "latency {}", self.latency);
+        let _ = writeln!(h, "ii {}", self.ii);
+        let _ = writeln!(h, "in_bits {}", self.in_bits());
+        let _ = writeln!(h, "out_bits {}", self.out_bits());
+        for f in &self.in_fields {
+            let _ = writeln!(h, "in {} {}", f.name, f.width);
+        }
+        for f in &self.out_fields {
+            let _ = writeln!(h, "out {} {}", f.name, f.width);
+        }
+        for (k, v) in &self.params {
+            let _ = writeln!(h, "param {k} {v}");
+        }
+        h
+    }
+
+    /// The module `cosim_<tag>`: the generic testbench driving the unit's module at
+    /// this configuration's parameters, its packed words sliced into the named ports.
+    /// Tables are read from `<dir>/<name>.hex`.
+    pub fn cosim_block(&self, dir: &Path) -> String {
+        let tag = self.tag();
+        let (iw, ow) = (self.in_bits(), self.out_bits());
+        let mut v = String::new();
+        let _ = writeln!(
+            v,
+            "// Generated by `glare-pipeline trace {} --vectors DIR --config {}`.",
+            self.unit,
+            self.config.name()
+        );
+        let _ = writeln!(v, "module cosim_{tag};");
+        let _ = writeln!(v, "  wire clk, rst, in_valid, out_valid;");
+        let _ = writeln!(v, "  wire [{}:0] in_word;", iw - 1);
+        let _ = writeln!(v, "  wire [{}:0] out_word;", ow - 1);
+        for r in &self.roms {
+            for i in 0..r.ports {
+                let _ = writeln!(
+                    v,
+                    "  wire [{}:0] {}_addr{i};\n  wire [{}:0] {}_data{i};",
+                    r.addr_bits() - 1,
+                    r.name,
+                    r.width - 1,
+                    r.name
+                );
+            }
+        }
+        let _ = writeln!(
+            v,
+            "  tb_vectors #(.IN_W({iw}), .OUT_W({ow}), .LAT({}), .II({}), .TAG(\"{tag}\")) tb (",
+            self.latency, self.ii
+        );
+        let _ = writeln!(
+            v,
+            "      .clk(clk), .rst(rst), .in_valid(in_valid), .in_word(in_word),"
+        );
+        let _ = writeln!(v, "      .out_valid(out_valid), .out_word(out_word));");
+        let params: Vec<String> = self
+            .params
+            .iter()
+            .map(|(k, val)| format!(".{k}({val})"))
+            .collect();
+        let _ = writeln!(v, "  {} #({}) dut (", self.unit, params.join(", "));
+        let _ = writeln!(
+            v,
+            "      .clk(clk), .rst(rst), .in_valid(in_valid), .out_valid(out_valid),"
+        );
+        let mut ports = Vec::new();
+        let mut hi = iw;
+        for f in &self.in_fields {
+            ports.push(format!(".{}(in_word[{}:{}])", f.name, hi - 1, hi - f.width));
+            hi -= f.width;
+        }
+        let mut hi = ow;
+        for f in &self.out_fields {
+            ports.push(format!(
+                ".{}(out_word[{}:{}])",
+                f.name,
+                hi - 1,
+                hi - f.width
+            ));
+            hi -= f.width;
+        }
+        for r in &self.roms {
+            for i in 0..r.ports {
+                ports.push(format!(".{0}_addr{i}({0}_addr{i})", r.name));
+                ports.push(format!(".{0}_data{i}({0}_data{i})", r.name));
+            }
+        }
+        let _ = writeln!(v, "      {});", ports.join(",\n      "));
+        for r in &self.roms {
+            let file = dir.join(format!("{}.hex", r.name));
+            for i in 0..r.ports {
+                let _ = writeln!(
+                    v,
+                    "  rtl_rom #(.W({}), .DEPTH({}), .AW({}), .FILE(\"{}\")) {}_rom{i} (.clk(clk), .addr({}_addr{i}), .data({}_data{i}));",
+                    r.width,
+                    r.words.len(),
+                    r.addr_bits(),
+                    file.display(),
+                    r.name,
+                    r.name,
+                    r.name
+                );
+            }
+        }
+        let _ = writeln!(v, "endmodule");
+        v
+    }
+
+    /// Write `header.txt`, `stimulus.hex`, `expected.hex` and `cosim_<tag>.v` into
+    /// `dir` (created if missing).
+    pub fn write(&self, dir: &Path) -> Result<(), String> {
+        let io =
+            |p: &Path, e: std::io::Error| format!("vectors: cannot write {}: {e}", p.display());
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        let put = |name: &str, text: String| {
+            let p = dir.join(name);
+            std::fs::write(&p, text).map_err(|e| io(&p, e))
+        };
+        put("header.txt", self.header())?;
+        put("stimulus.hex", lines(&self.stimulus))?;
+        put("expected.hex", lines(&self.expected))?;
+        for r in &self.roms {
+            let digits = r.width.div_ceil(4) as usize;
+            let words: Vec<String> = r.words.iter().map(|w| format!("{w:0digits$x}")).collect();
+            put(&format!("{}.hex", r.name), lines(&words))?;
+        }
+        // The block names the table files by absolute path (one build, any cwd).
+        let abs = std::fs::canonicalize(dir).map_err(|e| io(dir, e))?;
+        put(&format!("cosim_{}.v", self.tag()), self.cosim_block(&abs))?;
+        Ok(())
+    }
+}
+
+fn lines(words: &[String]) -> String {
+    let mut s = String::with_capacity(words.iter().map(|w| w.len() + 1).sum());
+    for w in words {
+        s.push_str(w);
+        s.push('\n');
+    }
+    s
+}
+
+/// A top module instantiating the cosim blocks of `tags` (Verilator wants one top;
+/// `+tag=TAG` picks the block that runs).
+pub fn cosim_top(tags: &[String]) -> String {
+    let mut v =
+        String::from("// Generated: one instance of each cosim block.\nmodule cosim_top;\n");
+    for t in tags {
+        let _ = writeln!(v, "  cosim_{t} u_{t} ();");
+    }
+    v.push_str("  initial if (!$test$plusargs(\"tag=\")) begin\n");
+    v.push_str("    $display(\"COSIM error=no-tag (pass +tag=<unit>_<config>)\");\n");
+    v.push_str("    $finish;\n  end\nendmodule\n");
+    v
+}
+
+// ---- the units ----------------------------------------------------------------------
+
+fn modulate_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
+    let u = match config {
+        RtlConfig::Default => Modulate::geforce(),
+        RtlConfig::Narrow => Modulate::new(4, ModulateMode::Exact).map_err(|e| e.to_string())?,
+    };
+    let make = |v: &[u64]| ModulateIn {
+        a: v[0] as u32,
+        b: v[1] as u32,
+    };
+    let params = vec![("BITS", u.bits() as u64)];
+    Ok(collect(
+        &u,
+        (),
+        config,
+        ModulateIn::default(),
+        make,
+        params,
+        count,
+        seed,
+    ))
+}
+
+fn additive_blend_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
+    // The Verilog implements GL_ONE, GL_ONE (unweighted) with fb_bits ≥ src_bits
+    // (the source widened by bit replication), four channels.
+    let u = match config {
+        RtlConfig::Default => AdditiveBlend::geforce(),
+        RtlConfig::Narrow => AdditiveBlend::new(1, 3, 4, false, 8).map_err(|e| e.to_string())?,
+    };
+    let make = |v: &[u64]| AdditiveBlendIn {
+        src: std::array::from_fn(|c| v[c] as u32),
+        dst: std::array::from_fn(|c| v[4 + c] as u32),
+        weight: 0,
+    };
+    let params = vec![
+        ("SRC_BITS", u.src_bits() as u64),
+        ("FB_BITS", u.fb_bits() as u64),
+    ];
+    Ok(collect(
+        &u,
+        (),
+        config,
+        AdditiveBlendIn::default(),
+        make,
+        params,
+        count,
+        seed,
+    ))
+}
+
+fn glare_combiner_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
+    let cfg = match config {
+        RtlConfig::Default => GlareCombinerConfig::default(),
+        RtlConfig::Narrow => GlareCombinerConfig {
+            fb_bits: 3,
+            lum_bits: 3,
+        },
+    };
+    let u = cfg.build().map_err(|e| e.to_string())?;
+    let make = |v: &[u64]| CombineIn {
+        fb: std::array::from_fn(|c| v[c] as u32),
+        lum: std::array::from_fn(|c| v[3 + c] as u32),
+    };
+    let params = vec![
+        ("FB_BITS", cfg.fb_bits as u64),
+        ("LUM_BITS", cfg.lum_bits as u64),
+    ];
+    Ok(collect(
+        &u,
+        (),
+        config,
+        CombineIn::default(),
+        make,
+        params,
+        count,
+        seed,
+    ))
+}
+
+fn glare_condition_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let cfg = match config {
+        RtlConfig::Default => GlareConditionConfig::default(),
+        // 15 input bits: exhaustive.
+        RtlConfig::Narrow => GlareConditionConfig {
+            int_bits: 2,
+            frac_bits: 1,
+            coef_bits: 2,
+            cos_frac_bits: 2,
+            eta: 1.333,
+            eta_frac_bits: 2,
+            threshold: 3,
+            out_bits: 2,
+        },
+    };
+    let u = cfg.build().map_err(|e| e.to_string())?;
+    let cw = cfg.cos_frac_bits + 1;
+    // Sign-extend an s1.cf wire value.
+    let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
+    let make = move |v: &[u64]| ConditionIn {
+        material: if v[0] == 1 {
+            Material::Water
+        } else {
+            Material::Metallic
+        },
+        intensity: v[1] as u32,
+        specular: v[2] as u32,
+        cos_alpha: sx(v[3]),
+        cos_theta: sx(v[4]),
+        ambient: v[5] as u32,
+    };
+    let params = vec![
+        ("INT_BITS", cfg.int_bits as u64),
+        ("FRAC_BITS", cfg.frac_bits as u64),
+        ("COEF_BITS", cfg.coef_bits as u64),
+        ("COS_FRAC_BITS", cfg.cos_frac_bits as u64),
+        ("ETA_FRAC_BITS", cfg.eta_frac_bits as u64),
+        ("ETA_CODE", u.eta_code() as u64),
+        ("THRESHOLD", cfg.threshold as u64),
+        ("OUT_BITS", cfg.out_bits as u64),
+    ];
+    let probe = make(&[0; 6]);
+    Ok(collect(&u, (), config, probe, make, params, count, seed))
+}
+
+fn bloom_flare_modulator_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    // Radial correction off (the Verilog implements the plain datapath).
+    let cfg = match config {
+        RtlConfig::Default => BloomFlareModulatorConfig::default(),
+        // 17 input bits: exhaustive.
+        RtlConfig::Narrow => BloomFlareModulatorConfig {
+            coord_frac_bits: 2,
+            shape_log2: 2,
+            shape_bits: 3,
+            falloff_log2: 2,
+            falloff_bits: 3,
+            weight_bits: 2,
+            gain_int_bits: 2,
+            gain_frac_bits: 1,
+            out_bits: 2,
+            ..BloomFlareModulatorConfig::default()
+        },
+    };
+    // Random table contents (seeded): every entry matters, not a smooth shape.
+    let w = cfg.widths();
+    let mut rng = seeded(seed ^ 0x5eed_7ab1e);
+    let shape: Vec<f64> = (0..w.shape_len()).map(|_| rng.random::<f64>()).collect();
+    let falloff: Vec<f64> = (0..w.falloff_len()).map(|_| rng.random::<f64>()).collect();
+    let u = cfg.build(&shape, &falloff).map_err(|e| e.to_string())?;
+    let cw = cfg.coord_frac_bits + 2;
+    let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
+    let make = move |v: &[u64]| LumIn {
+        u: sx(v[0]),
+        v: sx(v[1]),
+        gain: [v[2] as u32, v[3] as u32, v[4] as u32],
+    };
+    let params = vec![
+        ("COORD_FRAC_BITS", cfg.coord_frac_bits as u64),
+        ("SHAPE_LOG2", cfg.shape_log2 as u64),
+        ("SHAPE_BITS", cfg.shape_bits as u64),
+        ("FALLOFF_LOG2", cfg.falloff_log2 as u64),
+        ("FALLOFF_BITS", cfg.falloff_bits as u64),
+        ("WEIGHT_BITS", cfg.weight_bits as u64),
+        ("GAIN_INT_BITS", cfg.gain_int_bits as u64),
+        ("GAIN_FRAC_BITS", cfg.gain_frac_bits as u64),
+        ("OUT_BITS", cfg.out_bits as u64),
+    ];
+    let mut v = collect(&u, (), config, make(&[0; 5]), make, params, count, seed);
+    let table = |codes: &[u32]| codes.iter().map(|&c| c as u64).collect::<Vec<u64>>();
+    v.roms = vec![
+        RomPort {
+            name: "shape",
+            ports: 4,
+            width: cfg.shape_bits,
+            words: table(u.shape_codes()),
+        },
+        RomPort {
+            name: "falloff",
+            ports: 2,
+            width: cfg.falloff_bits,
+            words: table(u.falloff_codes()),
+        },
+    ];
+    Ok(v)
+}
+
+fn halo_modulator_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
+    // The same widths as bloom_flare_modulator's (narrow: 17 input bits, exhaustive).
+    let b = match config {
+        RtlConfig::Default => BloomFlareModulatorConfig::default(),
+        RtlConfig::Narrow => BloomFlareModulatorConfig {
+            coord_frac_bits: 2,
+            shape_log2: 2,
+            shape_bits: 3,
+            falloff_log2: 2,
+            falloff_bits: 3,
+            weight_bits: 2,
+            gain_int_bits: 2,
+            gain_frac_bits: 1,
+            out_bits: 2,
+            ..BloomFlareModulatorConfig::default()
+        },
+    };
+    let cfg = HaloModulatorConfig::from_widths(b.widths());
+    let w = cfg.widths();
+    let mut rng = seeded(seed ^ 0x4a10);
+    let mut table = |n: usize| (0..n).map(|_| rng.random::<f64>()).collect::<Vec<f64>>();
+    let shape = table(w.shape_len());
+    let rings = [
+        table(w.falloff_len()),
+        table(w.falloff_len()),
+        table(w.falloff_len()),
+    ];
+    let u = cfg
+        .build(&shape, [&rings[0], &rings[1], &rings[2]])
+        .map_err(|e| e.to_string())?;
+    let cw = cfg.coord_frac_bits + 2;
+    let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
+    let make = move |v: &[u64]| LumIn {
+        u: sx(v[0]),
+        v: sx(v[1]),
+        gain: [v[2] as u32, v[3] as u32, v[4] as u32],
+    };
+    let params = vec![
+        ("COORD_FRAC_BITS", cfg.coord_frac_bits as u64),
+        ("SHAPE_LOG2", cfg.shape_log2 as u64),
+        ("SHAPE_BITS", cfg.shape_bits as u64),
+        ("FALLOFF_LOG2", cfg.falloff_log2 as u64),
+        ("FALLOFF_BITS", cfg.falloff_bits as u64),
+        ("WEIGHT_BITS", cfg.weight_bits as u64),
+        ("GAIN_INT_BITS", cfg.gain_int_bits as u64),
+        ("GAIN_FRAC_BITS", cfg.gain_frac_bits as u64),
+        ("OUT_BITS", cfg.out_bits as u64),
+    ];
+    let mut v = collect(&u, (), config, make(&[0; 5]), make, params, count, seed);
+    let codes = |c: &[u32]| c.iter().map(|&x| x as u64).collect::<Vec<u64>>();
+    v.roms = vec![RomPort {
+        name: "shape",
+        ports: 4,
+        width: cfg.shape_bits,
+        words: codes(u.shape_codes()),
+    }];
+    for (c, name) in ["ring_r", "ring_g", "ring_b"].into_iter().enumerate() {
+        v.roms.push(RomPort {
+            name,
+            ports: 2,
+            width: cfg.falloff_bits,
+            words: codes(u.ring_codes(c)),
+        });
+    }
+    Ok(v)
+}
+
+// ---- whole-unit synthesis -------------------------------------------------------------
+
+/// The Verilog file of a unit with Verilog, in the source tree.
+pub fn verilog_file(root: &Path, unit: &str) -> std::path::PathBuf {
+    root.join("rtl_model/verilog/units")
+        .join(format!("{unit}.v"))
+}
+
+/// A unit synthesised by Yosys at one configuration.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Synth {
+    pub name: &'static str,
+    pub config: &'static str,
+    /// The model's `cost()` at this configuration, NAND2 equivalents.
+    pub gates_model: f64,
+    /// Yosys' cells weighted by `rtl_model::cost::CELL_WEIGHTS`.
+    pub gates_yosys: f64,
+    /// (model − Yosys) / Yosys.
+    pub rel_diff: f64,
+    /// Yosys cell counts by cell type.
+    pub cells: std::collections::BTreeMap<String, u64>,
+}
+
+/// NAND2 equivalents of Yosys' gate-level cells under the model's one weight table.
+/// Flip-flops with a synchronous reset (`$_SDFF_*`) count as a flip-flop plus an AND
+/// gate, with an enable (`$_DFFE_*`) as a flip-flop plus a 2:1 mux.
+pub fn weigh_cells(cells: &std::collections::BTreeMap<String, u64>) -> Result<f64, String> {
+    let w = rtl_model::cost::CELL_WEIGHTS;
+    let mut g = 0.0;
+    for (cell, &n) in cells {
+        let per = match cell.as_str() {
+            "$_AND_" => w.and2,
+            "$_NAND_" => w.nand2,
+            "$_OR_" => w.or2,
+            "$_NOR_" => w.nor2,
+            "$_XOR_" => w.xor2,
+            "$_XNOR_" => w.xnor2,
+            "$_MUX_" => w.mux2,
+            "$_NOT_" => w.not,
+            "$_BUF_" => 0.0,
+            "$_DFF_P_" | "$_DFF_N_" => w.dff,
+            c if c.starts_with("$_SDFF_") => w.dff + w.and2,
+            c if c.starts_with("$_DFFE_") => w.dff + w.mux2,
+            c if c.starts_with("$_SDFFE_") || c.starts_with("$_SDFFCE_") => w.dff + w.and2 + w.mux2,
+            other => return Err(format!("synth: Yosys cell {other} has no NAND2 weight")),
+        };
+        g += per * n as f64;
+    }
+    Ok(g)
+}
+
+/// Synthesise `unit`'s Verilog at `config` with the calibration's pinned script
+/// (rtl_model/verilog/calibrate.sh) plus `chparam` for the configured widths:
+/// `read_verilog; chparam; synth -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; stat`.
+pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String> {
+    let e = rtl_entry(unit)?;
+    let v = (e.vectors)(config, 1, 1)?;
+    let file = verilog_file(root, e.name);
+    let tmp = std::env::temp_dir().join(format!(
+        "glare_synth_{}_{}_{}.stat",
+        e.name,
+        config.name(),
+        std::process::id()
+    ));
+    let sets: Vec<String> = v
+        .params
+        .iter()
+        .map(|(k, x)| format!("-set {k} {x}"))
+        .collect();
+    let script = format!(
+        "read_verilog {}; chparam {} {}; synth -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        file.display(),
+        sets.join(" "),
+        e.name,
+        e.name,
+        tmp.display()
+    );
+    let out = std::process::Command::new("yosys")
+        .args(["-q", "-p", &script])
+        .output()
+        .map_err(|err| {
+            format!("synth: cannot run yosys ({err}); install it (apt-get install yosys)")
+        })?;
+    if !out.status.success() {
+        return Err(format!(
+            "synth: yosys failed on {}: {}",
+            file.display(),
+            String::from_utf8_lossy(&out.stderr)
+        ));
+    }
+    let text = std::fs::read_to_string(&tmp).map_err(|err| format!("synth: {err}"))?;
+    let _ = std::fs::remove_file(&tmp);
+    let mut cells = std::collections::BTreeMap::new();
+    for line in text.lines() {
+        let toks: Vec<&str> = line.split_whitespace().collect();
+        let cell = toks
+            .iter()
+            .find(|t| t.starts_with("$_") && t.ends_with('_'));
+        let n = toks.iter().find_map(|t| t.parse::<u64>().ok());
+        if let (Some(c), Some(n)) = (cell, n) {
+            *cells.entry(c.to_string()).or_insert(0) += n;
+        }
+    }
+    let gates_yosys = weigh_cells(&cells)?;
+    Ok(Synth {
+        name: e.name,
+        config: config.name(),
+        gates_model: v.gates_model,
+        gates_yosys,
+        rel_diff: (v.gates_model - gates_yosys) / gates_yosys,
+        cells,
+    })
+}

@@ -1,0 +1,413 @@
+//! Co-simulation: every unit with Verilog (`rtl_model/verilog/units/<unit>.v`) runs
+//! the model's vectors under Verilator and Icarus, bit-exact and cycle-exact, at the
+//! GeForce default and a narrow configuration (docs/rtl.md).
+//!
+//! One Verilator build and one Icarus compile hold every unit and configuration (the
+//! generated `cosim_top` instantiates each `cosim_<unit>_<config>` block; `+tag=`
+//! picks the one that runs), so each simulator builds once per test run; the Verilator
+//! build is reused across runs while its sources are unchanged. Vectors: exhaustive
+//! where the unit's input word has ≤ 2^20 values, else `RTL_COSIM_COUNT` transactions
+//! (default 100 000 under both simulators; a longer run is
+//! `RTL_COSIM_COUNT=1000000 cargo test --test rtl_cosim -- --nocapture`).
+//!
+//! A simulator that is not installed is skipped with a printed SKIP note (`.ci/run`
+//! installs both); the test never passes silently without running anything it found.
+
+use glare_pipeline::registry::rtl::{self, RtlConfig, VectorSet, RTL_UNITS};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::OnceLock;
+
+const SEED: u64 = 20;
+
+fn verilog_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl_model/verilog")
+}
+
+fn work_dir() -> PathBuf {
+    Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_cosim")
+}
+
+fn count() -> usize {
+    std::env::var("RTL_COSIM_COUNT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(100_000)
+}
+
+fn have(tool: &str, arg: &str) -> bool {
+    Command::new(tool)
+        .arg(arg)
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// The Verilog sources every build reads, in order.
+fn sources(blocks: &[PathBuf]) -> Vec<PathBuf> {
+    let d = verilog_dir();
+    let mut v = vec![d.join("tb/tb_vectors.v"), d.join("tb/rtl_rom.v")];
+    for e in RTL_UNITS {
+        v.push(d.join(format!("units/{}.v", e.name)));
+    }
+    v.extend(blocks.iter().cloned());
+    v
+}
+
+/// One simulator's vector sets written and its simulation built.
+struct Built {
+    dir: PathBuf,
+    sets: Vec<VectorSet>,
+    /// Command to run a tag: program and leading arguments.
+    run: Vec<String>,
+}
+
+fn write_sets(dir: &Path, n: usize) -> (Vec<VectorSet>, Vec<PathBuf>) {
+    std::fs::create_dir_all(dir).unwrap();
+    let mut sets = Vec::new();
+    let mut blocks = Vec::new();
+    for e in RTL_UNITS {
+        for cfg in RtlConfig::ALL {
+            let v = rtl::vectors(e.name, cfg, n, SEED).unwrap();
+            let d = dir.join(v.tag());
+            v.write(&d).unwrap();
+            blocks.push(d.join(format!("cosim_{}.v", v.tag())));
+            sets.push(v);
+        }
+    }
+    let tags: Vec<String> = sets.iter().map(VectorSet::tag).collect();
+    let top = dir.join("cosim_top.v");
+    std::fs::write(&top, rtl::cosim_top(&tags)).unwrap();
+    blocks.push(top);
+    (sets, blocks)
+}
+
+fn run_ok(cmd: &mut Command, what: &str) {
+    let o = cmd.output().unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(
+        o.status.success(),
+        "{what} failed:\n{}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+fn build_verilator() -> Option<Built> {
+    if !have("verilator", "--version") {
+        println!("SKIP: verilator not found; the Verilator co-simulation did not run");
+        return None;
+    }
+    let dir = work_dir().join("verilator");
+    let (sets, blocks) = write_sets(&dir, count());
+    let srcs = sources(&blocks);
+    // Rebuild only when a source changed (the vectors are read at run time).
+    let stamp: String = srcs
+        .iter()
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    let stamp_file = dir.join("obj/sources.stamp");
+    let bin = dir.join("obj/Vcosim_top");
+    if !(bin.exists() && std::fs::read_to_string(&stamp_file).ok().as_deref() == Some(&stamp)) {
+        let mut c = Command::new("verilator");
+        c.args([
+            "--binary",
+            "--timing",
+            "-Wno-fatal",
+            "-Wno-lint",
+            "-Wno-style",
+            "-O1",
+            "--top-module",
+            "cosim_top",
+            "-j",
+            "2",
+            "-Mdir",
+        ])
+        .arg(dir.join("obj"))
+        .args(&srcs);
+        run_ok(&mut c, "verilator build");
+        std::fs::write(&stamp_file, &stamp).unwrap();
+    }
+    Some(Built {
+        dir,
+        sets,
+        run: vec![bin.to_string_lossy().into_owned()],
+    })
+}
+
+fn build_icarus() -> Option<Built> {
+    if !have("iverilog", "-V") {
+        println!("SKIP: iverilog not found; the Icarus co-simulation did not run");
+        return None;
+    }
+    let dir = work_dir().join("icarus");
+    let (sets, blocks) = write_sets(&dir, count());
+    let vvp = dir.join("cosim.vvp");
+    let mut c = Command::new("iverilog");
+    c.args(["-g2005", "-s", "cosim_top", "-o"])
+        .arg(&vvp)
+        .args(sources(&blocks));
+    run_ok(&mut c, "iverilog compile");
+    Some(Built {
+        dir,
+        sets,
+        run: vec![
+            "vvp".into(),
+            "-n".into(),
+            vvp.to_string_lossy().into_owned(),
+        ],
+    })
+}
+
+static VERILATOR: OnceLock<Option<Built>> = OnceLock::new();
+static ICARUS: OnceLock<Option<Built>> = OnceLock::new();
+
+/// The summary line's numbers.
+#[derive(Debug, PartialEq, Eq)]
+struct Summary {
+    n: usize,
+    checked: usize,
+    mismatches: usize,
+    valid_errors: usize,
+    first_bad: i64,
+}
+
+fn simulate(b: &Built, tag: &str, n: usize, expect: &Path) -> Summary {
+    let stim = b.dir.join(tag).join("stimulus.hex");
+    let o = Command::new(&b.run[0])
+        .args(&b.run[1..])
+        .arg(format!("+tag={tag}"))
+        .arg(format!("+n={n}"))
+        .arg(format!("+stim={}", stim.display()))
+        .arg(format!("+expect={}", expect.display()))
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("COSIM ") && l.contains(" n="))
+        .unwrap_or_else(|| panic!("{tag}: no summary line in\n{out}"));
+    let get = |k: &str| -> i64 {
+        line.split_whitespace()
+            .find_map(|w| w.strip_prefix(&format!("{k}=")))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{tag}: no {k} in {line}"))
+    };
+    Summary {
+        n: get("n") as usize,
+        checked: get("checked") as usize,
+        mismatches: get("mismatches") as usize,
+        valid_errors: get("valid_errors") as usize,
+        first_bad: get("first_bad"),
+    }
+}
+
+fn check_all(b: &Built, sim: &str) {
+    let mut failed = Vec::new();
+    for v in &b.sets {
+        let tag = v.tag();
+        let n = v.stimulus.len();
+        let s = simulate(b, &tag, n, &b.dir.join(&tag).join("expected.hex"));
+        println!(
+            "{sim} {tag}: {} transactions ({}), {} mismatches, {} valid errors",
+            s.checked,
+            if v.exhaustive {
+                "exhaustive"
+            } else {
+                "random + corners"
+            },
+            s.mismatches,
+            s.valid_errors
+        );
+        if s.n != n || s.checked != n || s.mismatches != 0 || s.valid_errors != 0 {
+            failed.push(format!("{tag}: {s:?}"));
+        }
+        assert!(v.exhaustive || n >= count());
+    }
+    assert!(
+        failed.is_empty(),
+        "{sim} mismatches:\n{}",
+        failed.join("\n")
+    );
+}
+
+#[test]
+fn verilator_runs_every_unit_bit_and_cycle_exact() {
+    if let Some(b) = VERILATOR.get_or_init(build_verilator) {
+        check_all(b, "verilator");
+    }
+}
+
+#[test]
+fn icarus_runs_every_unit_bit_and_cycle_exact() {
+    if let Some(b) = ICARUS.get_or_init(build_icarus) {
+        check_all(b, "icarus");
+    }
+}
+
+/// Flip one bit of one expected word: both simulators report exactly that transaction.
+fn corrupted_vector_is_caught(b: &Built) {
+    let tag = "modulate_default";
+    let dir = b.dir.join(tag);
+    let text = std::fs::read_to_string(dir.join("expected.hex")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(String::from).collect();
+    let k = 12_345;
+    let w = u64::from_str_radix(&lines[k], 16).unwrap() ^ 1;
+    lines[k] = format!("{w:02x}");
+    let bad = dir.join("expected_corrupted.hex");
+    std::fs::write(&bad, lines.join("\n") + "\n").unwrap();
+    let s = simulate(b, tag, lines.len(), &bad);
+    assert_eq!(s.mismatches, 1, "{s:?}");
+    assert_eq!(s.first_bad, k as i64, "{s:?}");
+    assert_eq!(s.valid_errors, 0, "{s:?}");
+}
+
+#[test]
+fn verilator_catches_a_corrupted_expected_vector() {
+    if let Some(b) = VERILATOR.get_or_init(build_verilator) {
+        corrupted_vector_is_caught(b);
+    }
+}
+
+#[test]
+fn icarus_catches_a_corrupted_expected_vector() {
+    if let Some(b) = ICARUS.get_or_init(build_icarus) {
+        corrupted_vector_is_caught(b);
+    }
+}
+
+#[test]
+fn vectors_are_exhaustive_for_small_input_words_and_seeded_otherwise() {
+    // modulate at 8 bits: 2^16 input words, every one written.
+    let v = rtl::vectors("modulate", RtlConfig::Default, 5, 1).unwrap();
+    assert!(v.exhaustive);
+    assert_eq!(v.stimulus.len(), 1 << 16);
+    assert_eq!(v.stimulus[0x1234], "1234");
+    // round(0x12 * 0x34 / 255) = round(936 / 255) = 4.
+    assert_eq!(v.expected[0x1234], "04");
+    // glare_combiner at its default: 60 input bits, `count` seeded transactions.
+    let a = rtl::vectors("glare_combiner", RtlConfig::Default, 1000, 7).unwrap();
+    let b = rtl::vectors("glare_combiner", RtlConfig::Default, 1000, 7).unwrap();
+    let c = rtl::vectors("glare_combiner", RtlConfig::Default, 1000, 8).unwrap();
+    assert!(!a.exhaustive);
+    assert_eq!(a.stimulus.len(), 1000);
+    assert_eq!(a.stimulus, b.stimulus);
+    assert_ne!(a.stimulus, c.stimulus);
+    assert_eq!(a.in_bits(), 3 * 8 + 3 * 12);
+    assert_eq!(a.stimulus[0].len(), 15);
+}
+
+#[test]
+fn vector_errors_name_the_argument() {
+    let e = rtl::vectors("modulate", RtlConfig::Default, 0, 1).unwrap_err();
+    assert!(e.starts_with("count:"), "{e}");
+    let e = rtl::vectors("no_such_unit", RtlConfig::Default, 10, 1).unwrap_err();
+    assert!(e.starts_with("unit:"), "{e}");
+    let e = RtlConfig::parse("wide").unwrap_err();
+    assert!(e.starts_with("config:"), "{e}");
+}
+
+#[test]
+fn pack_hex_puts_the_first_field_in_the_top_bits() {
+    use rtl_model::Signal;
+    let s = [
+        Signal::new("a", 3, 0b101),
+        Signal::new("b", 70, (1 << 63) | 1),
+        Signal::new("c", 1, 1),
+    ];
+    // 74 bits → 19 digits: 101 · 0…(6 zeros) 1 (bit 63) 0…0 1 · 1.
+    let want = (0b101u128 << 71) | (((1u128 << 63) | 1) << 1) | 1;
+    assert_eq!(rtl::pack_hex(&s), format!("{want:019x}"));
+}
+
+#[test]
+fn trace_vectors_cli_writes_the_files_and_names_bad_arguments() {
+    let exe = env!("CARGO_BIN_EXE_glare-pipeline");
+    let dir = work_dir().join("cli");
+    let _ = std::fs::remove_dir_all(&dir);
+    let o = Command::new(exe)
+        .args(["trace", "glare_combiner", "--vectors"])
+        .arg(&dir)
+        .args(["--count", "300", "--seed", "5"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stim = std::fs::read_to_string(dir.join("stimulus.hex")).unwrap();
+    let exp = std::fs::read_to_string(dir.join("expected.hex")).unwrap();
+    assert_eq!(stim.lines().count(), 300);
+    assert_eq!(exp.lines().count(), 300);
+    let want = rtl::vectors("glare_combiner", RtlConfig::Default, 300, 5).unwrap();
+    assert_eq!(stim.lines().collect::<Vec<_>>(), want.stimulus);
+    let header = std::fs::read_to_string(dir.join("header.txt")).unwrap();
+    assert!(header.contains("latency 1\n"), "{header}");
+    assert!(dir.join("cosim_glare_combiner_default.v").exists());
+    for (args, field) in [
+        (vec!["--config", "wide"], "config:"),
+        (vec!["--count", "0"], "count:"),
+    ] {
+        let o = Command::new(exe)
+            .args(["trace", "modulate", "--vectors"])
+            .arg(&dir)
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            !o.status.success() && err.contains(field),
+            "{args:?}: {err}"
+        );
+    }
+    let o = Command::new(exe)
+        .args(["trace", "shadow_compare", "--vectors"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("unit:"), "{err}");
+}
+
+/// Cycle-exactness is checked, not just values: the same modulate vectors with the
+/// testbench told a latency one clock longer than the Verilog's. The unit's first
+/// output then arrives on a clock where none is expected, and its last is missing on
+/// the clock the testbench expects it: two valid errors (Icarus: a one-block compile
+/// is quick).
+#[test]
+fn icarus_catches_a_wrong_latency() {
+    if !have("iverilog", "-V") {
+        println!("SKIP: iverilog not found; the wrong-latency check did not run");
+        return;
+    }
+    let root = work_dir().join("wrong_latency");
+    let mut v = rtl::vectors("modulate", RtlConfig::Narrow, 1, SEED).unwrap();
+    v.latency += 1;
+    let dir = root.join(v.tag());
+    v.write(&dir).unwrap();
+    let top = root.join("cosim_top.v");
+    std::fs::write(&top, rtl::cosim_top(&[v.tag()])).unwrap();
+    let d = verilog_dir();
+    let vvp = root.join("cosim.vvp");
+    run_ok(
+        Command::new("iverilog")
+            .args(["-g2005", "-s", "cosim_top", "-o"])
+            .arg(&vvp)
+            .arg(d.join("tb/tb_vectors.v"))
+            .arg(d.join("units/modulate.v"))
+            .arg(dir.join(format!("cosim_{}.v", v.tag())))
+            .arg(&top),
+        "iverilog compile",
+    );
+    let b = Built {
+        dir: root.clone(),
+        sets: Vec::new(),
+        run: vec![
+            "vvp".into(),
+            "-n".into(),
+            vvp.to_string_lossy().into_owned(),
+        ],
+    };
+    let n = v.stimulus.len();
+    let s = simulate(&b, &v.tag(), n, &dir.join("expected.hex"));
+    assert_eq!(s.checked, n, "{s:?}");
+    assert_eq!(s.valid_errors, 2, "{s:?}");
+    // Every other output is compared against its predecessor's expected word.
+    assert!(s.mismatches > 0, "{s:?}");
+}
