@@ -9,8 +9,7 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Child, Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Output, Stdio};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_glare-pipeline"))
@@ -67,41 +66,16 @@ fn rows_in(path: &Path, skip: usize) -> Option<usize> {
 }
 
 /// Start `cmd`, wait until `path` holds at least one row past `skip` header lines
-/// while the child still runs, then send it `signal` (`kill -SIGNAL pid`); returns the
-/// child's exit status and stderr. Fails if the run ends before it could be cut.
+/// while the child still runs, then send it `signal`; returns the child's exit status
+/// and stderr.
 fn cut_short(
-    mut cmd: Command,
+    cmd: Command,
     path: &Path,
     skip: usize,
     signal: &str,
 ) -> (std::process::ExitStatus, String) {
-    let child: Child = cmd.spawn().unwrap();
-    let mut child = child;
-    let t0 = Instant::now();
-    loop {
-        if let Some(st) = child.try_wait().unwrap() {
-            panic!(
-                "the sweep ended ({st:?}) before it could be cut; rows: {:?}",
-                rows_in(path, skip)
-            );
-        }
-        if rows_in(path, skip).is_some_and(|n| n >= 1) {
-            break;
-        }
-        assert!(
-            t0.elapsed() < Duration::from_secs(300),
-            "no row after 300 s"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let st = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .unwrap();
-    assert!(st.success(), "kill -{signal} failed");
-    let o = child.wait_with_output().unwrap();
-    assert!(!o.status.success(), "the cut sweep still exited 0");
+    let ready = || rows_in(path, skip).is_some_and(|n| n >= 1);
+    let o = common::cut_when(cmd, ready, "row", signal);
     (o.status, String::from_utf8_lossy(&o.stderr).into_owned())
 }
 

@@ -9,7 +9,6 @@ mod common;
 
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_glare-pipeline"))
@@ -49,34 +48,10 @@ fn items_in(journal: &Path) -> Option<usize> {
 }
 
 /// Start `cmd`, wait until `journal` holds an item while the child still runs, send
-/// it `kill -SIGNAL`; returns its exit status and stderr. Fails if the run ends first.
-fn cut_short(mut cmd: Command, journal: &Path, signal: &str) -> (Option<i32>, String) {
-    let mut child = cmd.spawn().unwrap();
-    let t0 = Instant::now();
-    loop {
-        if let Some(st) = child.try_wait().unwrap() {
-            panic!(
-                "the reproduction ended ({st:?}) before it could be cut; items: {:?}",
-                items_in(journal)
-            );
-        }
-        if items_in(journal).is_some_and(|n| n >= 1) {
-            break;
-        }
-        assert!(
-            t0.elapsed() < Duration::from_secs(300),
-            "no item after 300 s"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let st = Command::new("kill")
-        .arg(format!("-{signal}"))
-        .arg(child.id().to_string())
-        .status()
-        .unwrap();
-    assert!(st.success(), "kill -{signal} failed");
-    let o = child.wait_with_output().unwrap();
-    assert!(!o.status.success(), "the cut run still exited 0");
+/// it `kill -SIGNAL`; returns its exit status and stderr.
+fn cut_short(cmd: Command, journal: &Path, signal: &str) -> (Option<i32>, String) {
+    let ready = || items_in(journal).is_some_and(|n| n >= 1);
+    let o = common::cut_when(cmd, ready, "journal item", signal);
     (
         o.status.code(),
         String::from_utf8_lossy(&o.stderr).into_owned(),

@@ -163,3 +163,39 @@ pub fn without_wall(csv: &std::path::Path) -> Vec<Vec<String>> {
         })
         .collect()
 }
+
+/// Start `cmd`, wait (up to 300 s) until `ready()` while the child still runs, then
+/// send it `kill -SIGNAL`; returns its output, which must not be a success. Fails if
+/// the run ends before it could be cut (`what` names what `ready` waits for).
+pub fn cut_when(
+    mut cmd: std::process::Command,
+    ready: impl Fn() -> bool,
+    what: &str,
+    signal: &str,
+) -> std::process::Output {
+    use std::time::{Duration, Instant};
+    let mut child = cmd.spawn().unwrap();
+    let t0 = Instant::now();
+    loop {
+        if let Some(st) = child.try_wait().unwrap() {
+            panic!("the run ended ({st:?}) before it could be cut: no {what} yet");
+        }
+        if ready() {
+            break;
+        }
+        assert!(
+            t0.elapsed() < Duration::from_secs(300),
+            "no {what} after 300 s"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let st = std::process::Command::new("kill")
+        .arg(format!("-{signal}"))
+        .arg(child.id().to_string())
+        .status()
+        .unwrap();
+    assert!(st.success(), "kill -{signal} failed");
+    let o = child.wait_with_output().unwrap();
+    assert!(!o.status.success(), "the cut run still exited 0");
+    o
+}
