@@ -221,6 +221,9 @@ fn fields(sig: &[Signal]) -> Vec<Field> {
         .collect()
 }
 
+/// A module's Verilog parameters, by name.
+type VerilogParams = Vec<(&'static str, u64)>;
+
 /// The vectors of `u` from reset state `state`: `make` builds an input word from field
 /// values in `in_signals` order (`probe` is any input word, for the field widths).
 #[allow(clippy::too_many_arguments)]
@@ -230,7 +233,7 @@ fn collect<U: Unit>(
     config: RtlConfig,
     probe: U::In,
     make: impl Fn(&[u64]) -> U::In,
-    params: Vec<(&'static str, u64)>,
+    params: VerilogParams,
     count: usize,
     seed: u64,
 ) -> VectorSet {
@@ -609,15 +612,12 @@ fn glare_condition_vectors(
     Ok(collect(&u, (), config, probe, make, params, count, seed))
 }
 
-fn bloom_flare_modulator_vectors(
-    config: RtlConfig,
-    count: usize,
-    seed: u64,
-) -> Result<VectorSet, String> {
-    // Radial correction off (the Verilog implements the plain datapath).
-    let cfg = match config {
+/// The luminance modulators' widths (bloom/flare and halo share them): the GeForce
+/// default, or the narrow one with 17 input bits (exhaustive). Radial correction off
+/// (the Verilog implements the plain datapath).
+fn luminance_widths(config: RtlConfig) -> BloomFlareModulatorConfig {
+    match config {
         RtlConfig::Default => BloomFlareModulatorConfig::default(),
-        // 17 input bits: exhaustive.
         RtlConfig::Narrow => BloomFlareModulatorConfig {
             coord_frac_bits: 2,
             shape_log2: 2,
@@ -630,13 +630,14 @@ fn bloom_flare_modulator_vectors(
             out_bits: 2,
             ..BloomFlareModulatorConfig::default()
         },
-    };
-    // Random table contents (seeded): every entry matters, not a smooth shape.
-    let w = cfg.widths();
-    let mut rng = seeded(seed ^ 0x5eed_7ab1e);
-    let shape: Vec<f64> = (0..w.shape_len()).map(|_| rng.random::<f64>()).collect();
-    let falloff: Vec<f64> = (0..w.falloff_len()).map(|_| rng.random::<f64>()).collect();
-    let u = cfg.build(&shape, &falloff).map_err(|e| e.to_string())?;
+    }
+}
+
+/// A luminance modulator's input word from the vector fields (u, v sign-extended
+/// from coord_frac_bits + 2 bits; the three gains) and its Verilog parameters.
+fn luminance_ports(
+    cfg: &BloomFlareModulatorConfig,
+) -> (impl Fn(&[u64]) -> LumIn + Copy, VerilogParams) {
     let cw = cfg.coord_frac_bits + 2;
     let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
     let make = move |v: &[u64]| LumIn {
@@ -655,42 +656,48 @@ fn bloom_flare_modulator_vectors(
         ("GAIN_FRAC_BITS", cfg.gain_frac_bits as u64),
         ("OUT_BITS", cfg.out_bits as u64),
     ];
+    (make, params)
+}
+
+/// Table codes as vector words.
+fn rom_words(codes: &[u32]) -> Vec<u64> {
+    codes.iter().map(|&c| c as u64).collect()
+}
+
+fn bloom_flare_modulator_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let cfg = luminance_widths(config);
+    // Random table contents (seeded): every entry matters, not a smooth shape.
+    let w = cfg.widths();
+    let mut rng = seeded(seed ^ 0x5eed_7ab1e);
+    let shape: Vec<f64> = (0..w.shape_len()).map(|_| rng.random::<f64>()).collect();
+    let falloff: Vec<f64> = (0..w.falloff_len()).map(|_| rng.random::<f64>()).collect();
+    let u = cfg.build(&shape, &falloff).map_err(|e| e.to_string())?;
+    let (make, params) = luminance_ports(&cfg);
     let mut v = collect(&u, (), config, make(&[0; 5]), make, params, count, seed);
-    let table = |codes: &[u32]| codes.iter().map(|&c| c as u64).collect::<Vec<u64>>();
     v.roms = vec![
         RomPort {
             name: "shape",
             ports: 4,
             width: cfg.shape_bits,
-            words: table(u.shape_codes()),
+            words: rom_words(u.shape_codes()),
         },
         RomPort {
             name: "falloff",
             ports: 2,
             width: cfg.falloff_bits,
-            words: table(u.falloff_codes()),
+            words: rom_words(u.falloff_codes()),
         },
     ];
     Ok(v)
 }
 
 fn halo_modulator_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
-    // The same widths as bloom_flare_modulator's (narrow: 17 input bits, exhaustive).
-    let b = match config {
-        RtlConfig::Default => BloomFlareModulatorConfig::default(),
-        RtlConfig::Narrow => BloomFlareModulatorConfig {
-            coord_frac_bits: 2,
-            shape_log2: 2,
-            shape_bits: 3,
-            falloff_log2: 2,
-            falloff_bits: 3,
-            weight_bits: 2,
-            gain_int_bits: 2,
-            gain_frac_bits: 1,
-            out_bits: 2,
-            ..BloomFlareModulatorConfig::default()
-        },
-    };
+    // The same widths as bloom_flare_modulator's.
+    let b = luminance_widths(config);
     let cfg = HaloModulatorConfig::from_widths(b.widths());
     let w = cfg.widths();
     let mut rng = seeded(seed ^ 0x4a10);
@@ -704,38 +711,20 @@ fn halo_modulator_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<
     let u = cfg
         .build(&shape, [&rings[0], &rings[1], &rings[2]])
         .map_err(|e| e.to_string())?;
-    let cw = cfg.coord_frac_bits + 2;
-    let sx = move |v: u64| (((v as u32) << (32 - cw)) as i32) >> (32 - cw);
-    let make = move |v: &[u64]| LumIn {
-        u: sx(v[0]),
-        v: sx(v[1]),
-        gain: [v[2] as u32, v[3] as u32, v[4] as u32],
-    };
-    let params = vec![
-        ("COORD_FRAC_BITS", cfg.coord_frac_bits as u64),
-        ("SHAPE_LOG2", cfg.shape_log2 as u64),
-        ("SHAPE_BITS", cfg.shape_bits as u64),
-        ("FALLOFF_LOG2", cfg.falloff_log2 as u64),
-        ("FALLOFF_BITS", cfg.falloff_bits as u64),
-        ("WEIGHT_BITS", cfg.weight_bits as u64),
-        ("GAIN_INT_BITS", cfg.gain_int_bits as u64),
-        ("GAIN_FRAC_BITS", cfg.gain_frac_bits as u64),
-        ("OUT_BITS", cfg.out_bits as u64),
-    ];
+    let (make, params) = luminance_ports(&b);
     let mut v = collect(&u, (), config, make(&[0; 5]), make, params, count, seed);
-    let codes = |c: &[u32]| c.iter().map(|&x| x as u64).collect::<Vec<u64>>();
     v.roms = vec![RomPort {
         name: "shape",
         ports: 4,
         width: cfg.shape_bits,
-        words: codes(u.shape_codes()),
+        words: rom_words(u.shape_codes()),
     }];
     for (c, name) in ["ring_r", "ring_g", "ring_b"].into_iter().enumerate() {
         v.roms.push(RomPort {
             name,
             ports: 2,
             width: cfg.falloff_bits,
-            words: codes(u.ring_codes(c)),
+            words: rom_words(u.ring_codes(c)),
         });
     }
     Ok(v)
