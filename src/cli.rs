@@ -504,11 +504,6 @@ pub const LONG_REPRODUCTIONS: &[(&str, &str)] = &[
          before the end",
     ),
     (
-        "shading-factorization",
-        "takes minutes but does not save its items as it goes yet (its factorisations \
-         are computed together before any row)",
-    ),
-    (
         "sim-speed",
         "takes about 110 s but is a timing: its rows are best-of-several wall times, \
          which a resumed run would mix from two machine states",
@@ -530,6 +525,7 @@ pub const RESUMABLE_REPRODUCTIONS: &[&str] = &[
     "envmap-images",
     "frame-elaboration",
     "shading-brdf-properties",
+    "shading-factorization",
 ];
 
 fn reproduce(
@@ -651,7 +647,7 @@ fn reproduce(
                 ceilings: vec![f64::INFINITY, 4.0 / e, 1.0 / e],
                 ..f::FactorSweep::default()
             };
-            for line in f::factorization(out, brdf.as_ref(), &sweep)? {
+            for line in f::factorization_resumable(out, brdf.as_ref(), &sweep, resume)? {
                 println!("{line}");
             }
         }

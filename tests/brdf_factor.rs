@@ -513,3 +513,67 @@ fn reproduction_writes_its_files() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `reproduce shading-factorization --resume` (issue 16): a journal cut after the first
+/// ceiling (the ∞ one: its floats must survive JSON) resumes to the uninterrupted run's
+/// bytes — CSV, plots, spheres, summary and journal. A journal of another sweep is
+/// refused.
+#[test]
+fn reproduction_resumes_from_a_cut_journal_to_the_same_bytes() {
+    use glare_pipeline::pipeline::shading::factor::reproduce::{
+        factorization_resumable, FactorSweep,
+    };
+    let cfg = FactorSweep {
+        resolutions: vec![16, 32],
+        texel_bits: vec![6, 8],
+        view: SphereView {
+            size: 24,
+            ..SphereView::default()
+        },
+        ceilings: vec![f64::INFINITY, 4.0],
+        svd: small_svd(),
+        homomorphic: HomomorphicParams {
+            max_iterations: 20,
+            ..HomomorphicParams::default()
+        },
+        ..FactorSweep::default()
+    };
+    let base = std::env::temp_dir().join(format!("brdf-factor-resume-{}", std::process::id()));
+    let (whole, cut) = (base.join("whole"), base.join("cut"));
+    let a = factorization_resumable(&whole, &BlinnLobe, &cfg, false).unwrap();
+    factorization_resumable(&cut, &BlinnLobe, &cfg, false).unwrap();
+    let journal = cut.join("shading-factorization.resume.jsonl");
+    let text = std::fs::read_to_string(&journal).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 3, "a record and two ceilings");
+    std::fs::write(&journal, format!("{}\n", lines[..2].join("\n"))).unwrap();
+    for f in std::fs::read_dir(&cut).unwrap() {
+        let f = f.unwrap().path();
+        if f != journal {
+            std::fs::remove_file(f).unwrap();
+        }
+    }
+    let b = factorization_resumable(&cut, &BlinnLobe, &cfg, true).unwrap();
+    assert_eq!(a, b);
+    let mut names: Vec<_> = std::fs::read_dir(&whole)
+        .unwrap()
+        .map(|f| f.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 5, "{names:?}");
+    for n in &names {
+        let (x, y) = (
+            std::fs::read(whole.join(n)).unwrap(),
+            std::fs::read(cut.join(n)),
+        );
+        assert_eq!(Some(&x), y.as_ref().ok(), "{n:?} differs after the resume");
+    }
+    // Another sweep (one more texel width) is refused, naming the setting.
+    let other = FactorSweep {
+        texel_bits: vec![6, 8, 10],
+        ..cfg
+    };
+    let e = factorization_resumable(&cut, &BlinnLobe, &other, true).unwrap_err();
+    assert!(e.contains("sweep"), "{e}");
+    let _ = std::fs::remove_dir_all(&base);
+}

@@ -11,7 +11,7 @@ use crate::report::plot::{image_grid, line_plot, Axis, PlotSpec, Series};
 use crate::scene::math::Vec3;
 use image::RgbaImage;
 use rtl_model::counters::Counters;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// STAND-IN MATERIAL, to be replaced by the shared Cook–Torrance reference when the
@@ -201,22 +201,35 @@ pub fn factorisations(
 ) -> Result<Vec<(Factorisation, f64)>, String> {
     let mut out = Vec::new();
     for &ceiling in &cfg.ceilings {
-        let svd = SvdParams { ceiling, ..cfg.svd };
-        let fit = SvdFit::new(brdf, cfg.target, &svd).map_err(|e| e.to_string())?;
-        for &n in &cfg.resolutions {
-            out.push((fit.textures(brdf, n).map_err(|e| e.to_string())?, ceiling));
-        }
-        let hp = HomomorphicParams {
-            ceiling,
-            ..cfg.homomorphic
-        };
-        let mut warm: Option<Factorisation> = None;
-        for &n in &cfg.resolutions {
-            let (f, _) = homomorphic::factorise(brdf, cfg.target, n, &hp, warm.as_ref())
-                .map_err(|e| e.to_string())?;
-            warm = Some(f.clone());
-            out.push((f, ceiling));
-        }
+        out.extend(factorisations_at(brdf, cfg, ceiling)?);
+    }
+    Ok(out)
+}
+
+/// The factorisations of one ceiling: SVD at every resolution, then the homomorphic
+/// ones (each resolution warm-started from the one before, so a ceiling is one unit
+/// of work).
+fn factorisations_at(
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+    ceiling: f64,
+) -> Result<Vec<(Factorisation, f64)>, String> {
+    let mut out = Vec::new();
+    let svd = SvdParams { ceiling, ..cfg.svd };
+    let fit = SvdFit::new(brdf, cfg.target, &svd).map_err(|e| e.to_string())?;
+    for &n in &cfg.resolutions {
+        out.push((fit.textures(brdf, n).map_err(|e| e.to_string())?, ceiling));
+    }
+    let hp = HomomorphicParams {
+        ceiling,
+        ..cfg.homomorphic
+    };
+    let mut warm: Option<Factorisation> = None;
+    for &n in &cfg.resolutions {
+        let (f, _) = homomorphic::factorise(brdf, cfg.target, n, &hp, warm.as_ref())
+            .map_err(|e| e.to_string())?;
+        warm = Some(f.clone());
+        out.push((f, ceiling));
     }
     Ok(out)
 }
@@ -283,6 +296,103 @@ fn plot_nonempty(path: &Path, spec: &PlotSpec, mut series: Vec<Series>) -> Resul
 /// A sphere the image may show: method, ceiling, 8-bit RMS, hardware and f64 levels.
 type SphereCandidate = (String, f64, f64, Vec<f64>, Vec<f64>);
 
+/// One ceiling's rows and sphere candidates, the journal's item. Floats are kept as
+/// their bit patterns: a ceiling is ∞, which JSON cannot hold, and the bytes must
+/// come back exactly.
+#[derive(Clone, Default, Serialize, Deserialize)]
+struct CeilingItem {
+    rows: Vec<RowBits>,
+    candidates: Vec<CandidateBits>,
+}
+
+#[derive(Clone, Serialize, Deserialize)]
+struct CandidateBits(String, u64, u64, Vec<u64>, Vec<u64>);
+
+impl From<SphereCandidate> for CandidateBits {
+    fn from((m, c, rms, hw, fl): SphereCandidate) -> Self {
+        let bits = |v: Vec<f64>| v.into_iter().map(f64::to_bits).collect();
+        CandidateBits(m, c.to_bits(), rms.to_bits(), bits(hw), bits(fl))
+    }
+}
+
+impl From<CandidateBits> for SphereCandidate {
+    fn from(CandidateBits(m, c, rms, hw, fl): CandidateBits) -> Self {
+        let f = |v: Vec<u64>| v.into_iter().map(f64::from_bits).collect();
+        (m, f64::from_bits(c), f64::from_bits(rms), f(hw), f(fl))
+    }
+}
+
+/// A [`FactorRow`]: its text and integer fields, then its floats' bit patterns in
+/// field order (ceiling, f64 mean/RMS/max, hardware mean/RMS/max, quant max/bound).
+#[derive(Clone, Serialize, Deserialize)]
+struct RowBits {
+    text: [String; 3],
+    ints: [u64; 8],
+    floats: [u64; 9],
+}
+
+impl From<&FactorRow> for RowBits {
+    fn from(r: &FactorRow) -> Self {
+        RowBits {
+            text: [r.brdf.clone(), r.method.clone(), r.target.clone()],
+            ints: [
+                r.resolution.into(),
+                r.textures.into(),
+                r.texel_bits.into(),
+                r.combiner_bits.into(),
+                r.table_bits,
+                r.scale_shift.into(),
+                r.saturations,
+                r.pixels,
+            ],
+            floats: [
+                r.ceiling,
+                r.f64_mean,
+                r.f64_rms,
+                r.f64_max,
+                r.hw_mean,
+                r.hw_rms,
+                r.hw_max,
+                r.quant_max,
+                r.quant_bound,
+            ]
+            .map(f64::to_bits),
+        }
+    }
+}
+
+impl From<&RowBits> for FactorRow {
+    fn from(b: &RowBits) -> Self {
+        let [brdf, method, target] = b.text.clone();
+        let [resolution, textures, texel_bits, combiner_bits, table_bits, scale_shift, saturations, pixels] =
+            b.ints;
+        let [ceiling, f64_mean, f64_rms, f64_max, hw_mean, hw_rms, hw_max, quant_max, quant_bound] =
+            b.floats.map(f64::from_bits);
+        FactorRow {
+            brdf,
+            method,
+            target,
+            ceiling,
+            resolution: resolution as u32,
+            textures: textures as u32,
+            texel_bits: texel_bits as u32,
+            combiner_bits: combiner_bits as u32,
+            table_bits,
+            scale_shift: scale_shift as u32,
+            f64_mean,
+            f64_rms,
+            f64_max,
+            hw_mean,
+            hw_rms,
+            hw_max,
+            quant_max,
+            quant_bound,
+            saturations,
+            pixels,
+        }
+    }
+}
+
 fn gray(levels: &[f64], size: u32) -> RgbaImage {
     RgbaImage::from_fn(size, size, |x, y| {
         let v = levels[(y * size + x) as usize].round().clamp(0.0, 255.0) as u8;
@@ -299,21 +409,55 @@ pub fn factorization(
     brdf: &dyn Brdf,
     cfg: &FactorSweep,
 ) -> Result<Vec<String>, String> {
+    factorization_resumable(out, brdf, cfg, false)
+}
+
+/// [`factorization`], saving each ceiling's rows and sphere candidates as it finishes
+/// to `DIR/shading-factorization.resume.jsonl` (`report::items`); with `resume`,
+/// those of an interrupted run of the same sweep are kept and only the other
+/// ceilings are factorised.
+pub fn factorization_resumable(
+    out: &Path,
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+    resume: bool,
+) -> Result<Vec<String>, String> {
     let imgs = SphereImages::new(&cfg.view, brdf);
-    let facts = factorisations(brdf, cfg)?;
+    // The journal's record: everything the rows depend on, by value.
+    let settings = [
+        ("brdf", brdf.name().to_string()),
+        ("sweep", format!("{cfg:?}")),
+    ];
+    let journal = crate::report::items::ItemJournal::<CeilingItem>::open(
+        out,
+        "shading-factorization",
+        &settings,
+        cfg.ceilings.len(),
+        resume,
+    )?;
     let mut rows = Vec::new();
     // (method, ceiling, 8-bit RMS, hardware image, f64 image) at 64² × 8 bits.
     let mut candidates: Vec<SphereCandidate> = Vec::new();
     let show = (64, 8);
-    for f in &facts {
-        for &b in &cfg.texel_bits {
-            let (row, hw, fl) = score(brdf, f, b, &cfg.view, &imgs)?;
-            if (row.resolution, b) == show {
-                candidates.push((row.method.clone(), row.ceiling, row.hw_rms, hw, fl));
+    for (k, &ceiling) in cfg.ceilings.iter().enumerate() {
+        let item = journal.item(&format!("ceiling{k}"), || {
+            let mut item = CeilingItem::default();
+            for f in &factorisations_at(brdf, cfg, ceiling)? {
+                for &b in &cfg.texel_bits {
+                    let (row, hw, fl) = score(brdf, f, b, &cfg.view, &imgs)?;
+                    if (row.resolution, b) == show {
+                        item.candidates
+                            .push((row.method.clone(), row.ceiling, row.hw_rms, hw, fl).into());
+                    }
+                    item.rows.push(RowBits::from(&row));
+                }
             }
-            rows.push(row);
-        }
+            Ok(item)
+        })?;
+        rows.extend(item.rows.iter().map(FactorRow::from));
+        candidates.extend(item.candidates.into_iter().map(SphereCandidate::from));
     }
+    journal.finish()?;
     write_csv(&out.join("factorization.csv"), &rows)?;
 
     for &c in &cfg.ceilings {
