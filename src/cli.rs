@@ -269,6 +269,12 @@ pub struct SweepArgs {
     /// against it before the first point runs (docs/inputs.md).
     #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
     pub max_memory: Option<u64>,
+    /// Add each row's dominant error source (`attribute` at that row's configuration)
+    /// as the columns dominant_source and dominant_share; the attributions go to
+    /// DIR/attribute_<param>_<value>/. Shading scenes only (issue 18), not with
+    /// --shard or --resume.
+    #[arg(long)]
+    pub attribute: bool,
 }
 
 /// `sweep`'s subcommands.
@@ -638,6 +644,11 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.resume,
     );
     crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
+    if args.attribute {
+        return crate::pipeline::shading::sweep::attributed_sweep_cli(
+            scene, param, values, out, image, shard, resume,
+        );
+    }
     sweep_kinds(
         scene,
         param,

@@ -130,6 +130,43 @@ fn shading_scenes_name_a_dominant_source_and_all_ideal_is_within_bound() {
     let _ = std::fs::remove_dir_all(&out);
 }
 
+/// `sweep --attribute` on a tiny shading-specular sweep (32² view, two values): the
+/// CSV gains dominant_source and dominant_share, a 16-entry table's dominant source
+/// is the table size; without the flag the same sweep's CSV has the plain columns
+/// and the same error columns.
+#[test]
+fn sweep_attribute_adds_the_dominant_source_columns() {
+    use glare_pipeline::pipeline::shading::sweep::{
+        shading_sweep, shading_sweep_attributed, ShadingSweepOptions,
+    };
+    let opts = ShadingSweepOptions { view_size: 32 };
+    let out = scratch("sweep-attr");
+    let (rows, csv, _) =
+        shading_sweep_attributed("shading-specular", "lookup_log2", &[4, 8], &out, &opts).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header = text.lines().next().unwrap();
+    assert!(
+        header.ends_with(",dominant_source,dominant_share"),
+        "{header}"
+    );
+    assert_eq!(text.lines().count(), 3);
+    assert_eq!(rows[0].dominant_source, "specular lookup table size");
+    assert!(rows[0].dominant_share > 0.5 && rows[0].dominant_share <= 1.0);
+    assert!(out
+        .join("attribute_lookup_log2_4/attribution.csv")
+        .is_file());
+    let plain = scratch("sweep-plain");
+    let (prow, pcsv, _) =
+        shading_sweep("shading-specular", "lookup_log2", &[4, 8], &plain, &opts).unwrap();
+    let ptext = std::fs::read_to_string(&pcsv).unwrap();
+    assert!(!ptext.contains("dominant_source"));
+    for (a, p) in rows.iter().zip(&prow) {
+        assert_eq!((a.value, a.rms_levels), (p.value, p.rms_levels));
+    }
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&plain);
+}
+
 fn refused(args: &[&str], names: &str) {
     let o = bin().arg("attribute").args(args).output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
