@@ -116,7 +116,8 @@ pub enum Command {
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
     /// DIR/attribution.png (shares of the squared error) and a difference image per
     /// source above 5 %, and print the table (docs/results.md, "Error attribution").
-    /// Shafts scenes (fig4, fig6, stage, files), glare scenes and env-MAP-OBJECT scenes.
+    /// Shafts scenes (fig4, fig6, stage, files), glare scenes, env-MAP-OBJECT scenes
+    /// and shading-* scenes (not shading-vertex).
     Attribute {
         /// A built-in scene or a TOML scene file.
         #[arg(long)]
@@ -645,6 +646,9 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
     );
     crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
     if args.attribute {
+        let image = image
+            .map(crate::pipeline::shafts::sweep::parse_image)
+            .transpose()?;
         return crate::pipeline::shading::sweep::attributed_sweep_cli(
             scene, param, values, out, image, shard, resume,
         );

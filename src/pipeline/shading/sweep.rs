@@ -711,7 +711,7 @@ pub fn attributed_sweep_cli(
     param: &str,
     values: &str,
     out: &Path,
-    image: Option<&str>,
+    image: Option<(u32, u32)>,
     shard: Option<Shard>,
     resume: bool,
 ) -> Result<(), String> {
@@ -730,8 +730,7 @@ pub fn attributed_sweep_cli(
     check_param(&sc, param)?;
     let values = parse_int_values(values)?;
     let mut opts = ShadingSweepOptions::default();
-    if let Some(img) = image {
-        let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+    if let Some((w, h)) = image {
         if w != h {
             return Err(format!("image: the sphere view is square, not {w}x{h}"));
         }
