@@ -126,7 +126,8 @@ pub enum Command {
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
     /// DIR/attribution.png (shares of the squared error) and a difference image per
     /// source above 5 %, and print the table (docs/results.md, "Error attribution").
-    /// Shafts scenes (fig4, fig6, stage, files), glare scenes and env-MAP-OBJECT scenes.
+    /// Shafts scenes (fig4, fig6, stage, files), glare scenes, env-MAP-OBJECT scenes
+    /// and shading-* scenes (not shading-vertex).
     Attribute {
         /// A built-in scene or a TOML scene file.
         #[arg(long)]
@@ -291,6 +292,12 @@ pub struct SweepArgs {
     /// against it before the first point runs (docs/inputs.md).
     #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
     pub max_memory: Option<u64>,
+    /// Add each row's dominant error source (`attribute` at that row's configuration)
+    /// as the columns dominant_source and dominant_share; the attributions go to
+    /// DIR/attribute_<param>_<value>/. Shading scenes only (issue 18), not with
+    /// --shard or --resume.
+    #[arg(long)]
+    pub attribute: bool,
 }
 
 /// `sweep`'s subcommands.
@@ -721,6 +728,14 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.resume,
     );
     crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
+    if args.attribute {
+        let image = image
+            .map(crate::pipeline::shafts::sweep::parse_image)
+            .transpose()?;
+        return crate::pipeline::shading::sweep::attributed_sweep_cli(
+            scene, param, values, out, image, shard, resume,
+        );
+    }
     sweep_kinds(
         scene,
         param,
@@ -814,16 +829,24 @@ fn sweep_kinds(
 /// anything renders; the pipeline picked by the scene's sections (glare, then an
 /// environment object, then shafts).
 fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Result<(), String> {
-    use crate::report::attribution::table;
-    if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) || scene == "test" {
+    if scene == "test" {
         return Err(format!(
             "scene: '{scene}' has no error sources attribute knows (it covers shafts \
-             scenes: fig4, fig6, stage; glare scenes; env-MAP-OBJECT scenes; TOML files)"
+             scenes: fig4, fig6, stage; glare scenes; env-MAP-OBJECT scenes; shading-* \
+             scenes; TOML files)"
         ));
     }
     let size = image
         .map(crate::pipeline::shafts::sweep::parse_image)
         .transpose()?;
+    if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
+        let c = crate::pipeline::shading::attribute::config_for_cli(scene, size)?;
+        check_attribute_out(out)?;
+        let t0 = std::time::Instant::now();
+        let a = crate::pipeline::shading::attribute::attribute_shading(&c, out)?;
+        let n = c.view.size;
+        return print_attribution(scene, "shading", (n, n), &a, t0);
+    }
     let mut s = match crate::pipeline::envmap::scene_render::environment_scene(scene)? {
         Some(s) => s,
         None => crate::pipeline::shafts::cli::load_scene(scene)?,
@@ -833,12 +856,7 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
         s.image.height = h;
     }
     s.validate().map_err(|e| e.to_string())?;
-    if out.exists() && !out.is_dir() {
-        return Err(format!(
-            "out: {} is a file; attribute writes a directory",
-            out.display()
-        ));
-    }
+    check_attribute_out(out)?;
     let t0 = std::time::Instant::now();
     let (a, kind) = if s.glare.is_some() {
         let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
@@ -863,10 +881,31 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
             "shafts",
         )
     };
+    print_attribution(scene, kind, (s.image.width, s.image.height), &a, t0)
+}
+
+/// `out` may not be a file (attribute writes a directory).
+fn check_attribute_out(out: &std::path::Path) -> Result<(), String> {
+    if out.exists() && !out.is_dir() {
+        return Err(format!(
+            "out: {} is a file; attribute writes a directory",
+            out.display()
+        ));
+    }
+    Ok(())
+}
+
+/// The attribution's summary line, table, largest source and all-ideal line.
+fn print_attribution(
+    scene: &str,
+    kind: &str,
+    (w, h): (u32, u32),
+    a: &crate::report::attribution::Attribution,
+    t0: std::time::Instant,
+) -> Result<(), String> {
+    use crate::report::attribution::table;
     println!(
-        "attribute {scene} ({kind}, {}x{}): configured mean {:.3} / RMS {:.3} / max {:.1} levels; wrote {} and {} in {:.1} s",
-        s.image.width,
-        s.image.height,
+        "attribute {scene} ({kind}, {w}x{h}): configured mean {:.3} / RMS {:.3} / max {:.1} levels; wrote {} and {} in {:.1} s",
         a.configured.mean_abs,
         a.configured.rms,
         a.configured.max,

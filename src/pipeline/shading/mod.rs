@@ -2,6 +2,7 @@
 //! vertex lighting, texture and register combiners, specular lookup, normalisation
 //! cube map and BRDF factor textures — beside their f64 references.
 
+pub mod attribute;
 pub mod brdf_properties;
 pub mod brdfs;
 pub mod factor;
