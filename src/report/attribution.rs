@@ -236,13 +236,14 @@ fn slug(name: &str) -> String {
         .join("_")
 }
 
-/// Run the attribution of `base` (see the module notes) and write `out/attribution.csv`,
+/// Run the attribution of `base` (see the module notes; `name` titles the chart) and
+/// write `out/attribution.csv`,
 /// `out/attribution.png` and `out/diff_<source>.png` per source above
 /// [`DIFF_IMAGE_SHARE`]. Every ideal scene is built and passed to `check` before
 /// anything is rendered or written; `render` gives an image and its reference.
 #[allow(clippy::too_many_arguments)]
 pub fn attribute<S: Clone>(
-    title: &str,
+    name: &str,
     base: &S,
     (w, h): (u32, u32),
     sources: &[Source<S>],
@@ -402,7 +403,8 @@ pub fn attribute<S: Clone>(
     let csv = out.join("attribution.csv");
     write_csv(&csv, &rows)?;
     let png = out.join("attribution.png");
-    bar_chart(&png, title, &rows)?;
+    let title = format!("{name} ({w}x{h}): error removed by making one source ideal");
+    bar_chart(&png, &title, &rows)?;
     let mut diff_images = Vec::new();
     for (k, s) in sources.iter().enumerate() {
         if rows[k + 1].share > DIFF_IMAGE_SHARE {

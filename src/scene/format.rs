@@ -380,6 +380,12 @@ impl Default for ShaftsConfig {
 }
 
 impl Scene {
+    /// The name up to its first ':' (the built-ins' names are "fig6: a description"):
+    /// what plot titles show.
+    pub fn short_name(&self) -> &str {
+        self.name.split(':').next().unwrap_or("")
+    }
+
     /// Whether `objects[i]` is drawn by the frame's object pass (shading units,
     /// environment reflections) rather than as a Lambert object by the shafts passes:
     /// it has a material or reflects the environment.

@@ -84,12 +84,8 @@ fn render(s: &Scene) -> Result<Rendered, String> {
 /// Attribute the error of the environment scene `scene` into `out`.
 pub fn attribute_envmap(scene: &Scene, out: &Path) -> Result<Attribution, String> {
     let (w, h) = (scene.image.width, scene.image.height);
-    let title = format!(
-        "{} ({w}x{h}): error removed by making one source ideal",
-        scene.name.split(':').next().unwrap_or("").trim()
-    );
     attribute(
-        &title,
+        scene.short_name().trim(),
         scene,
         (w, h),
         &sources(scene),

@@ -117,10 +117,7 @@ fn envmap_rows(
 }
 
 fn title(base: &Scene, param: &str) -> String {
-    format!(
-        "{}: error and run time against {param}",
-        base.name.split(':').next().unwrap_or("")
-    )
+    format!("{}: error and run time against {param}", base.short_name())
 }
 
 fn sweep_id(

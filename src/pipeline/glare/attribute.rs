@@ -117,12 +117,8 @@ pub fn attribute_glare(
     if scene.glare.is_none() {
         return Err("scene: it has no [glare] section".into());
     }
-    let title = format!(
-        "{} ({w}x{h}): error removed by making one source ideal",
-        scene.name.split(':').next().unwrap_or("").trim()
-    );
     attribute(
-        &title,
+        scene.short_name().trim(),
         scene,
         (w, h),
         &sources(scene),

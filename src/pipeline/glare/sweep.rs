@@ -144,10 +144,7 @@ pub fn glare_rows(
 
 /// The plot's title: the scene's name up to its first ':'.
 fn title(base: &Scene, param: &str) -> String {
-    format!(
-        "{}: error and run time against {param}",
-        base.name.split(':').next().unwrap_or("")
-    )
+    format!("{}: error and run time against {param}", base.short_name())
 }
 
 /// Run the sweep and write `out/sweep_<param>.csv` and `.png`; see [`glare_rows`].

@@ -222,12 +222,8 @@ pub fn render(c: &ShadingConfig) -> Result<Rendered, String> {
 /// Attribute the error of the shading scene `c` into `out`.
 pub fn attribute_shading(c: &ShadingConfig, out: &Path) -> Result<Attribution, String> {
     let n = c.view.size;
-    let title = format!(
-        "{} ({n}x{n}): error removed by making one source ideal",
-        c.scene.name()
-    );
     attribute(
-        &title,
+        &c.scene.name(),
         c,
         (n, n),
         &sources(c),

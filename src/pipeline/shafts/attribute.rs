@@ -160,12 +160,8 @@ pub fn attribute_shafts(scene: &Scene, out: &Path) -> Result<Attribution, String
     let srcs = sources(scene);
     // The reference does not depend on `[shafts]`: once, after every check.
     let truth = std::cell::OnceCell::new();
-    let title = format!(
-        "{} ({w}x{h}): error removed by making one source ideal",
-        scene.name.split(':').next().unwrap_or("").trim()
-    );
     attribute(
-        &title,
+        scene.short_name().trim(),
         scene,
         (w, h),
         &srcs,
