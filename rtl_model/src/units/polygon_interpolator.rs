@@ -385,6 +385,28 @@ impl AttrLine {
         outs: &mut [PolyOut],
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
+        let a = self.a;
+        self.fill_slots(outs.iter_mut().map(|o| &mut o.attrs[a]), round)
+    }
+
+    /// [`AttrLine::fill`] into one attribute lane (`lane[j]`, j < lane.len()).
+    #[inline(always)]
+    fn fill_lane(
+        &self,
+        lane: &mut [i64],
+        round: impl Fn(i64) -> i64,
+    ) -> (u64, u64, Option<(i64, u64)>) {
+        self.fill_slots(lane.iter_mut(), round)
+    }
+
+    /// The run's values of the attribute, in order, into `slots` (one per output of the
+    /// run: a PolyOut word's attribute or a lane's entry).
+    #[inline(always)]
+    fn fill_slots<'s>(
+        &self,
+        slots: impl Iterator<Item = &'s mut i64>,
+        round: impl Fn(i64) -> i64,
+    ) -> (u64, u64, Option<(i64, u64)>) {
         let one = |v: i64| {
             let r = round(v);
             let c = r.clamp(self.lo, self.hi);
@@ -396,60 +418,7 @@ impl AttrLine {
             // so one step wraps at most once).
             let span = max - min + 1;
             let (mut v, mut wraps) = (self.a0, 0u64);
-            for (j, o) in outs.iter_mut().enumerate() {
-                v += self.g;
-                if v > max {
-                    v -= span;
-                    wraps += 1;
-                } else if v < min {
-                    v += span;
-                    wraps += 1;
-                }
-                let (c, s, u) = one(v);
-                o.attrs[self.a] = c;
-                let counted = u64::from(self.inside.contains(&j));
-                sat += s * counted;
-                under += u * counted;
-            }
-            return (sat, under, Some((v, wraps)));
-        }
-        if self.g == 0 {
-            // A constant along the run: one rounding.
-            let (c, s, u) = one(self.a0);
-            outs.iter_mut().for_each(|o| o.attrs[self.a] = c);
-            let n = self.inside.len() as u64;
-            return (s * n, u * n, None);
-        }
-        for (j, o) in outs.iter_mut().enumerate() {
-            // |a0 + j·g| < 2^61 along the run: no i64 overflow.
-            let (c, s, u) = one(self.a0 + (j as i64 + 1) * self.g);
-            o.attrs[self.a] = c;
-            let counted = u64::from(self.inside.contains(&j));
-            sat += s * counted;
-            under += u * counted;
-        }
-        (sat, under, None)
-    }
-}
-
-impl AttrLine {
-    /// [`AttrLine::fill`] into one attribute lane (`lane[j]`, j < lane.len()).
-    #[inline(always)]
-    fn fill_lane(
-        &self,
-        lane: &mut [i64],
-        round: impl Fn(i64) -> i64,
-    ) -> (u64, u64, Option<(i64, u64)>) {
-        let one = |v: i64| {
-            let r = round(v);
-            let c = r.clamp(self.lo, self.hi);
-            (c, u64::from(c != r), u64::from(r == 0 && v != 0))
-        };
-        let (mut sat, mut under) = (0u64, 0u64);
-        if let Some((min, max)) = self.wrap {
-            let span = max - min + 1;
-            let (mut v, mut wraps) = (self.a0, 0u64);
-            for (j, o) in lane.iter_mut().enumerate() {
+            for (j, o) in slots.enumerate() {
                 v += self.g;
                 if v > max {
                     v -= span;
@@ -467,12 +436,14 @@ impl AttrLine {
             return (sat, under, Some((v, wraps)));
         }
         if self.g == 0 {
+            // A constant along the run: one rounding.
             let (c, s, u) = one(self.a0);
-            lane.fill(c);
+            slots.for_each(|o| *o = c);
             let n = self.inside.len() as u64;
             return (s * n, u * n, None);
         }
-        for (j, o) in lane.iter_mut().enumerate() {
+        for (j, o) in slots.enumerate() {
+            // |a0 + j·g| < 2^61 along the run: no i64 overflow.
             let (c, s, u) = one(self.a0 + (j as i64 + 1) * self.g);
             *o = c;
             let counted = u64::from(self.inside.contains(&j));
