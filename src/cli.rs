@@ -40,6 +40,10 @@ pub enum Command {
         /// gates (docs/rtl.md). Needs `yosys` on PATH.
         #[arg(long, conflicts_with_all = ["scene", "datasheet", "alternates"])]
         synth: bool,
+        /// With --synth: synthesise only these units (comma-separated names); the
+        /// others report no Yosys count. Synthesis of every unit takes tens of minutes.
+        #[arg(long, value_name = "UNITS", value_delimiter = ',', requires = "synth")]
+        only: Vec<String>,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// through its pass plan, and print the plan, the chip, each pipeline's counters
@@ -336,8 +340,11 @@ fn sweep_merge(out: &std::path::Path, dirs: &[PathBuf]) -> Result<(), String> {
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
         Command::Units {
-            json, synth: true, ..
-        } => units_synth(json),
+            json,
+            synth: true,
+            only,
+            ..
+        } => units_synth(json, &only),
         Command::Units {
             json,
             alternates,
@@ -950,12 +957,27 @@ fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String
 pub use crate::report::image_out::write_file;
 
 /// `units --synth`: every unit's summary, and for each unit with Verilog the Yosys
-/// count at its default widths beside the model's.
-fn units_synth(json: bool) -> Result<(), String> {
+/// count at its default widths beside the model's (`only`: just those units; an
+/// unknown name or one without Verilog is refused, naming `--only`, before any run).
+fn units_synth(json: bool, only: &[String]) -> Result<(), String> {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for name in only {
+        registry::rtl::rtl_entry(name).map_err(|e| format!("--only: {e}"))?;
+    }
     let mut synths = std::collections::BTreeMap::new();
     for e in registry::rtl::RTL_UNITS {
+        if !only.is_empty() && !only.iter().any(|n| n == e.name) {
+            continue;
+        }
+        // Progress on stderr: one unit can take minutes (ABC on wide multipliers).
+        eprintln!("units --synth: {} …", e.name);
+        let started = std::time::Instant::now();
         let s = registry::rtl::synth(root, e.name, registry::rtl::RtlConfig::Default)?;
+        eprintln!(
+            "units --synth: {} done in {:.0} s",
+            e.name,
+            started.elapsed().as_secs_f64()
+        );
         synths.insert(e.name, s);
     }
     let s = registry::summaries();
