@@ -113,11 +113,13 @@ module texture_sampler #(
       // ---- clock 2: lane weights u(WB+1)^2 -> u(2WB+1) while the RAM reads ----
       localparam PW = 2 * WB + 1;
       localparam ACC = TB + 2 * WB;
+      // Axis weights W - fx, fx: u(WB+1) each (fx <= W).
+      wire [WB:0] ws0 = W - fs1, wt0 = W - ft1;
       reg [PW-1:0] pw0, pw1, pw2, pw3;
       always @(posedge clk) begin
-        pw0 <= (W - fs1) * (W - ft1);
-        pw1 <= fs1 * (W - ft1);
-        pw2 <= (W - fs1) * ft1;
+        pw0 <= ws0 * wt0;
+        pw1 <= fs1 * wt0;
+        pw2 <= ws0 * ft1;
         pw3 <= fs1 * ft1;
       end
       // ---- clock 3: texel x weight, u(TB) x u(2WB+1) -> < 2^(TB+2WB) ----

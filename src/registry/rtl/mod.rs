@@ -17,6 +17,7 @@
 
 use super::seeded;
 
+mod projective_texcoord;
 mod shadow_compare;
 mod texture_sampler;
 use rand::Rng;
@@ -181,6 +182,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "texture_sampler",
         vectors: texture_sampler::texture_sampler_vectors,
+    },
+    RtlEntry {
+        name: "projective_texcoord",
+        vectors: projective_texcoord::projective_texcoord_vectors,
     },
 ];
 
@@ -841,7 +846,11 @@ pub fn weigh_cells(cells: &std::collections::BTreeMap<String, u64>) -> Result<f6
 
 /// Synthesise `unit`'s Verilog at `config` with the calibration's pinned script
 /// (rtl_model/verilog/calibrate.sh) plus `chparam` for the configured widths:
-/// `read_verilog; chparam; synth -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; stat`.
+/// `read_verilog; chparam; synth -flatten -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX;
+/// stat`. `-flatten` makes a unit with submodules one module, so `stat` lists its
+/// cells once (unflattened it lists each submodule's cells per module and again in the
+/// hierarchy total, which the cell sum below would count twice); a single-module unit
+/// synthesises the same either way.
 pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String> {
     let e = rtl_entry(unit)?;
     let v = (e.vectors)(config, 1, 1)?;
@@ -858,7 +867,7 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         .map(|(k, x)| format!("-set {k} {x}"))
         .collect();
     let script = format!(
-        "read_verilog {}; chparam {} {}; synth -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        "read_verilog {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
         file.display(),
         sets.join(" "),
         e.name,
