@@ -357,7 +357,7 @@ fn trace_vectors_cli_writes_the_files_and_names_bad_arguments() {
         );
     }
     let o = Command::new(exe)
-        .args(["trace", "shadow_compare", "--vectors"])
+        .args(["trace", "vertex_lighting", "--vectors"])
         .arg(&dir)
         .output()
         .unwrap();

@@ -16,6 +16,10 @@
 //! state carries it from one transaction to the next, from its reset state).
 
 use super::seeded;
+
+mod projective_texcoord;
+mod shadow_compare;
+mod texture_sampler;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
@@ -90,6 +94,28 @@ impl RomPort {
     }
 }
 
+/// A read/write RAM the unit holds outside itself (its bits are `ram_bits` in the
+/// model's cost, not gates): ports `<name>_raddr` out, `<name>_rdata` in (synchronous
+/// read-first: the word before any write on the same clock edge, the clock after the
+/// address), `<name>_we`, `<name>_waddr`, `<name>_wdata` and `<name>_clear` out (a
+/// one-clock flash clear of every word to `clear_value`). The cosim block attaches a
+/// `rtl_ram` (rtl_model/verilog/tb/rtl_rom.v), every word at `clear_value` from reset.
+#[derive(Clone, Debug)]
+pub struct RamPort {
+    pub name: &'static str,
+    pub width: u32,
+    pub depth: u64,
+    pub clear_value: u64,
+}
+
+impl RamPort {
+    /// Address width: ⌈log₂ depth⌉ (at least 1).
+    pub fn addr_bits(&self) -> u32 {
+        let n = self.depth.max(2);
+        64 - (n - 1).leading_zeros()
+    }
+}
+
 /// A unit's vectors at one configuration, with what the testbench needs to run them.
 #[derive(Clone, Debug)]
 pub struct VectorSet {
@@ -111,6 +137,8 @@ pub struct VectorSet {
     pub gates_model: f64,
     /// Tables the unit reads through ports (none: empty).
     pub roms: Vec<RomPort>,
+    /// Read/write RAMs the unit uses through ports (none: empty).
+    pub rams: Vec<RamPort>,
 }
 
 /// One unit with Verilog: its name (= the Verilog module and file stem) and its
@@ -146,6 +174,18 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "glare_condition",
         vectors: glare_condition_vectors,
+    },
+    RtlEntry {
+        name: "shadow_compare",
+        vectors: shadow_compare::shadow_compare_vectors,
+    },
+    RtlEntry {
+        name: "texture_sampler",
+        vectors: texture_sampler::texture_sampler_vectors,
+    },
+    RtlEntry {
+        name: "projective_texcoord",
+        vectors: projective_texcoord::projective_texcoord_vectors,
     },
 ];
 
@@ -302,6 +342,7 @@ fn collect<U: Unit>(
         expected,
         gates_model: u.cost().gates_nand2(),
         roms: Vec::new(),
+        rams: Vec::new(),
     }
 }
 
@@ -371,6 +412,13 @@ impl VectorSet {
                 );
             }
         }
+        for r in &self.rams {
+            let (a, w, n) = (r.addr_bits() - 1, r.width - 1, r.name);
+            let _ = writeln!(
+                v,
+                "  wire [{a}:0] {n}_raddr, {n}_waddr;\n  wire [{w}:0] {n}_rdata, {n}_wdata;\n  wire {n}_we, {n}_clear;"
+            );
+        }
         let _ = writeln!(
             v,
             "  tb_vectors #(.IN_W({iw}), .OUT_W({ow}), .LAT({}), .II({}), .TAG(\"{tag}\")) tb (",
@@ -413,6 +461,11 @@ impl VectorSet {
                 ports.push(format!(".{0}_data{i}({0}_data{i})", r.name));
             }
         }
+        for r in &self.rams {
+            for p in ["raddr", "rdata", "we", "waddr", "wdata", "clear"] {
+                ports.push(format!(".{0}_{p}({0}_{p})", r.name));
+            }
+        }
         let _ = writeln!(v, "      {});", ports.join(",\n      "));
         for r in &self.roms {
             let file = dir.join(format!("{}.hex", r.name));
@@ -429,6 +482,16 @@ impl VectorSet {
                     r.name
                 );
             }
+        }
+        for r in &self.rams {
+            let (n, w) = (r.name, r.width);
+            let _ = writeln!(
+                v,
+                "  rtl_ram #(.W({w}), .DEPTH({}), .AW({}), .CLEAR({w}'h{:x})) {n}_ram (.clk(clk), .raddr({n}_raddr), .rdata({n}_rdata), .we({n}_we), .waddr({n}_waddr), .wdata({n}_wdata), .clear({n}_clear));",
+                r.depth,
+                r.addr_bits(),
+                r.clear_value
+            );
         }
         let _ = writeln!(v, "endmodule");
         v
@@ -783,7 +846,11 @@ pub fn weigh_cells(cells: &std::collections::BTreeMap<String, u64>) -> Result<f6
 
 /// Synthesise `unit`'s Verilog at `config` with the calibration's pinned script
 /// (rtl_model/verilog/calibrate.sh) plus `chparam` for the configured widths:
-/// `read_verilog; chparam; synth -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; stat`.
+/// `read_verilog; chparam; synth -flatten -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX;
+/// stat`. `-flatten` makes a unit with submodules one module, so `stat` lists its
+/// cells once (unflattened it lists each submodule's cells per module and again in the
+/// hierarchy total, which the cell sum below would count twice); a single-module unit
+/// synthesises the same either way.
 pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String> {
     let e = rtl_entry(unit)?;
     let v = (e.vectors)(config, 1, 1)?;
@@ -800,7 +867,7 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         .map(|(k, x)| format!("-set {k} {x}"))
         .collect();
     let script = format!(
-        "read_verilog {}; chparam {} {}; synth -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        "read_verilog {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
         file.display(),
         sets.join(" "),
         e.name,
