@@ -3,6 +3,6 @@
 //! RAM bits and error of every configuration evaluated. Beside the frame because it
 //! drives more than one pipeline (shafts and glare scenes).
 
-
+pub mod cli;
 pub mod eval;
 pub mod search;
