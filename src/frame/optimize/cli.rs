@@ -220,10 +220,9 @@ pub fn plot(path: &Path, title: &str, o: &Outcome, budget: &Budget) -> Result<()
         .into_iter()
         .filter(|s| !s.points.is_empty())
         .collect();
-    let joined: Vec<bool> = series
-        .iter()
-        .map(|s| s.label.starts_with("Pareto"))
-        .collect();
+    // Markers only: the front is over three axes, so its points in this plane are
+    // not a line.
+    let joined = vec![false; series.len()];
     let mut spec = PlotSpec::new(
         title,
         &format!("{} error (8-bit levels)", metric.name()),
@@ -348,13 +347,12 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     }
     let Some(best) = o.best_scene(&ev) else {
         return Err(format!(
-            "budget: no configuration evaluated meets {} (the defaults do not{}); {} holds \
-             what was evaluated",
+            "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
             plan.budget.describe(),
             if o.end == End::DefaultsBreakBudget {
-                ""
+                "neither the defaults nor any widening of them up to 3 steps"
             } else {
-                " or were not reached"
+                "the search stopped first"
             },
             csv.display()
         ));

@@ -5,14 +5,19 @@
 //! Every render goes through the path `sweep` uses: a shafts scene through
 //! `pipeline::shafts::cli::render_scene`, a glare scene through `pipeline::glare::cli::render_and_predict_over`
 //! against `reference_levels` (the analytic formulas over the frame's sources and line
-//! draws). The reference is computed ONCE per [`Evaluator`]: for glare from the
-//! frame at the scene's own widths (so a narrower `fb_bits` pays for rounding its
-//! background, and a narrower `noise_bits` for moving its flare lines).
+//! draws). The reference is computed ONCE per [`Evaluator`] — for glare once per
+//! framebuffer width: the glare model's luminances are framebuffer codes (A = 29 is
+//! 29 codes, saturating at the largest code), so the reference, like `sweep`'s, is
+//! drawn at the frame's `fb_bits`; it comes from the frame at the scene's other
+//! widths (so a narrower `noise_bits` pays for moving its flare lines).
 //!
 //! A shafts scene has two references ([`Reference`]). `Wide` (the default) is the
-//! same sample-plane frame with every searchable width and table wide (texel, weight,
-//! coordinate and framebuffer 16 bits, shadow depth 24, tables 1024, shadow map
-//! 2048; `attribute`'s "ideal" of each): it isolates what the widths cost. `Truth`
+//! same sample-plane frame with every bit width wide (texel, weight, coordinate and
+//! framebuffer 16 bits, shadow depth 24: `attribute`'s "ideal" of each) and the
+//! scene's own table sizes and sampling: it isolates what the widths cost. (With the
+//! tables wide too, 1024-texel light maps and a 2048² shadow map, the defaults of
+//! `fig6` at 48x32 were 6.6 levels max from it: the light map's rim and the shadow
+//! edges move by a texel, which no width repairs.) `Truth`
 //! is `sweep`'s ray-marched f64 reference (`reference_image`), which also holds the
 //! algorithm's own error (n planes, the mesh, the sphere's tessellation): on `fig6`
 //! at 96x64 the defaults are already 7.2 levels RMS from it (`sweep --scene fig6
@@ -26,6 +31,9 @@ use crate::pipeline::shafts::sweep::{elaborated_gates, Param, Value, DEFAULT_TRU
 use crate::report::image_out::Framebuffer;
 use crate::report::metrics::{error_stats, ErrorStats};
 use crate::scene::format::Scene;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::rc::Rc;
 use std::time::Instant;
 
 /// NAND2 equivalents of one RAM bit in the `area` objective: a 6-transistor SRAM
@@ -61,18 +69,16 @@ const GLARE_SEARCH: &[&str] = &[
     "fb_bits",
 ];
 
-/// The shafts widths searched when `--params` is not given: the bit widths and the
-/// table sizes (not the sampling counts planes, subplanes, mesh: they are the
-/// algorithm's, not the datapath's).
+/// The shafts widths searched when `--params` is not given: the bit widths. The
+/// table sizes (f_texels, light_map_texels, shadow_resolution) and the sampling
+/// counts (planes, subplanes) are the algorithm's sampling, kept as the scene has
+/// them in the `Wide` reference too; `--params` can still name them.
 const SHAFTS_DEFAULT: &[&str] = &[
     "texel_bits",
     "fb_bits",
     "weight_bits",
     "coord_frac_bits",
     "shadow_depth_bits",
-    "f_texels",
-    "light_map_texels",
-    "shadow_resolution",
 ];
 
 impl Kind {
@@ -243,8 +249,8 @@ impl Reference {
     }
 }
 
-/// `scene` with every searchable shafts width and table wide (never narrower than
-/// it is): the `Wide` reference's configuration.
+/// `scene` with every shafts bit width wide (never narrower than it is), its table
+/// sizes and sampling unchanged: the `Wide` reference's configuration.
 pub fn wide_shafts(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     let c = &mut s.shafts;
@@ -253,9 +259,6 @@ pub fn wide_shafts(scene: &Scene) -> Scene {
     c.weight_bits = c.weight_bits.max(16);
     c.coord_frac_bits = c.coord_frac_bits.max(16);
     c.shadow_depth_bits = c.shadow_depth_bits.max(24);
-    c.f_texels = c.f_texels.max(1024);
-    c.light_map_texels = c.light_map_texels.max(1024);
-    c.shadow_resolution = c.shadow_resolution.max(2048);
     s
 }
 
@@ -269,6 +272,8 @@ pub struct Evaluator {
     /// A glare scene's shafts background, drawn once (it does not depend on the glare
     /// widths).
     backdrop: Option<Framebuffer>,
+    /// A glare scene's references by framebuffer width (the base's is `reference`).
+    by_fb: RefCell<BTreeMap<u32, Rc<Vec<[f64; 3]>>>>,
 }
 
 impl Evaluator {
@@ -303,13 +308,41 @@ impl Evaluator {
                 )
             }
         };
+        let by_fb = RefCell::new(BTreeMap::from([(
+            kind.fb_bits(base),
+            Rc::new(reference.clone()),
+        )]));
         Ok(Evaluator {
             kind,
             base: base.clone(),
             reference,
             reference_seconds: t0.elapsed().as_secs_f64(),
             backdrop,
+            by_fb,
         })
+    }
+
+    /// The reference `scene` is measured against: the one reference of a shafts
+    /// scene; for glare, the reference at `scene`'s framebuffer width (drawn from the
+    /// base scene at that width the first time it is asked for).
+    pub fn reference_for(&self, scene: &Scene) -> Result<Rc<Vec<[f64; 3]>>, String> {
+        let fb = self.kind.fb_bits(scene);
+        if self.kind == Kind::Shafts {
+            return Ok(Rc::new(self.reference.clone()));
+        }
+        if let Some(r) = self.by_fb.borrow().get(&fb) {
+            return Ok(r.clone());
+        }
+        let mut at = self.base.clone();
+        if let Some(g) = at.glare.as_mut() {
+            g.hw.fb_bits = fb;
+        }
+        at.validate().map_err(|e| e.to_string())?;
+        let bg = glare_background(&at, self.backdrop.as_ref());
+        let (f, _, _) = render_and_predict_over(&at, bg.as_deref()).map_err(|e| e.to_string())?;
+        let r = Rc::new(reference_levels(&at, &f).map_err(|e| e.to_string())?);
+        self.by_fb.borrow_mut().insert(fb, r.clone());
+        Ok(r)
     }
 
     /// Render `scene` (the base with other widths) and measure it.
@@ -317,7 +350,8 @@ impl Evaluator {
         match self.kind {
             Kind::Shafts => {
                 let (r, pred, wall) = render_scene(scene)?;
-                let error = error_stats(&r.levels(), &self.reference).map_err(|e| e.to_string())?;
+                let reference = self.reference_for(scene)?;
+                let error = error_stats(&r.levels(), &reference).map_err(|e| e.to_string())?;
                 Ok(Metrics {
                     gates: elaborated_gates(&r),
                     ram_bits: r
@@ -335,7 +369,8 @@ impl Evaluator {
                 let bg = glare_background(scene, self.backdrop.as_ref());
                 let (f, pred, wall) =
                     render_and_predict_over(scene, bg.as_deref()).map_err(|e| e.to_string())?;
-                let error = error_stats(&f.levels(), &self.reference).map_err(|e| e.to_string())?;
+                let reference = self.reference_for(scene)?;
+                let error = error_stats(&f.levels(), &reference).map_err(|e| e.to_string())?;
                 Ok(Metrics {
                     gates: f.units.iter().map(|u| u.gates_nand2).sum(),
                     ram_bits: f.units.iter().map(|u| u.ram_bits).sum(),
@@ -348,8 +383,11 @@ impl Evaluator {
     }
 
     /// The sound lower bound of [`output_bound`] for `scene`'s output width.
-    pub fn bound(&self, scene: &Scene) -> ErrorStats {
-        output_bound(&self.reference, self.kind.fb_bits(scene))
+    pub fn bound(&self, scene: &Scene) -> Result<ErrorStats, String> {
+        Ok(output_bound(
+            &self.reference_for(scene)?,
+            self.kind.fb_bits(scene),
+        ))
     }
 }
 

@@ -8,12 +8,21 @@
 //!   budget, no render can meet it: the point is recorded as pruned and never run.
 //!   No upper bound (the datasheets' "Error bound") is used to skip a simulation, so
 //!   the pruning never drops a point that would have passed.
+//! * **Repair.** If the defaults break the budget, the parameter whose one-step
+//!   widening removes the most error per cost added is widened, until the budget is
+//!   met (at most [`MAX_WIDEN_STEPS`] steps above a default; none left: the search
+//!   ends, reporting it).
 //! * **Descent.** Each step narrows one parameter by one step (one bit, or half a
 //!   table) from the current point. Of the narrowings that meet the budget and save
 //!   objective cost, the one with the best saving per error added is taken (error
 //!   as the budget's worst ratio value / limit). A narrowing that breaks the budget
 //!   (by bound or by simulation), reaches the parameter's lower limit, or saves
-//!   nothing backs that parameter off for the rest of the search. The scores are
+//!   nothing — also one step further ([`LOOKAHEAD`] = 2 steps: the error is not
+//!   monotone in every width) — backs that parameter off for the rest of the pass;
+//!   passes repeat from the point reached until one moves nothing. Then a polish:
+//!   one step wider in one parameter traded for up to two steps narrower in
+//!   another, the first trade that meets the budget and saves cost taken, and the
+//!   passes resume; no trade left: the search has converged. The scores are
 //!   lazy (a parameter scored at an earlier point is re-simulated only when it would
 //!   be chosen), which keeps the simulations near one per step.
 //! * **Order.** The parameters are tried in an order shuffled by `--seed`
@@ -205,7 +214,8 @@ pub enum End {
     MaxEvals,
     Seconds,
     Interrupted,
-    /// The defaults themselves break the budget.
+    /// The defaults break the budget and no widening (up to MAX_WIDEN_STEPS per
+    /// parameter) repaired them.
     DefaultsBreakBudget,
 }
 
@@ -288,7 +298,7 @@ impl<'a> Book<'a> {
                 return Ok(Visit::Invalid);
             }
         };
-        let bound = self.ev.bound(&scene);
+        let bound = self.ev.bound(&scene)?;
         let status = if self.prune && !self.budget.meets(&bound) {
             self.pruned += 1;
             Status::Pruned(bound)
@@ -358,6 +368,36 @@ pub fn describe(params: &[&str], values: &[u32]) -> String {
         .join(" ")
 }
 
+/// How many steps above its default the repair phase may widen a parameter.
+pub const MAX_WIDEN_STEPS: u32 = 3;
+
+/// `values` with parameter `i` widened by one step, or None `MAX_WIDEN_STEPS` above
+/// its default `d`.
+fn widen(kind: Kind, params: &[&str], values: &[u32], d: &[u32], i: usize) -> Option<Vec<u32>> {
+    let v = values[i];
+    let (n, cap) = match kind.step(params[i]) {
+        Step::Bit => (v.checked_add(1)?, d[i].saturating_add(MAX_WIDEN_STEPS)),
+        Step::Halve => (v.checked_mul(2)?, d[i].saturating_mul(1 << MAX_WIDEN_STEPS)),
+    };
+    if n > cap {
+        return None;
+    }
+    let mut out = values.to_vec();
+    out[i] = n;
+    Some(out)
+}
+
+/// `values` with parameter `i` widened by one step (no cap: the polish only trades
+/// a step back that a narrowing took).
+fn widen_any(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
+    let mut out = values.to_vec();
+    out[i] = match kind.step(params[i]) {
+        Step::Bit => values[i].checked_add(1)?,
+        Step::Halve => values[i].checked_mul(2)?,
+    };
+    Some(out)
+}
+
 /// `values` with parameter `i` narrowed by one step, or None at its floor.
 fn narrow(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
     let v = values[i];
@@ -398,6 +438,8 @@ pub fn dominates(b: (f64, f64, f64), a: (f64, f64, f64)) -> bool {
     b.0 <= a.0 && b.1 <= a.1 && b.2 <= a.2 && (b.0 < a.0 || b.1 < a.1 || b.2 < a.2)
 }
 
+/// Narrowings of one parameter tried past a violation before it backs off.
+pub const LOOKAHEAD: usize = 2;
 /// Lazy priority: unscored parameters first.
 const UNSCORED: f64 = f64::INFINITY;
 /// Error added below this (in budget ratio) counts as this much: a free saving is
@@ -432,59 +474,145 @@ pub fn search(
         Visit::Invalid => return Err("scene: its own widths do not validate".into()),
         Visit::Stopped(end) => return Ok(finish(book, 0, None, end)),
     };
-    let meets = |p: &Point| p.metrics().is_some_and(|m| budget.meets(&m.error));
-    if !meets(&book.points[d]) {
-        return Ok(finish(book, d, None, End::DefaultsBreakBudget));
+    // Repair: while the point breaks the budget, widen the parameter with the best
+    // error removed per cost added (at most MAX_WIDEN_STEPS above its default).
+    let mut x = d;
+    loop {
+        let mx = *book.points[x].metrics().ok_or("defaults pruned")?;
+        if budget.meets(&mx.error) {
+            break;
+        }
+        let mut pick: Option<(f64, usize)> = None;
+        for i in 0..params.len() {
+            let Some(y) = widen(ev.kind, params, &book.points[x].values, &start, i) else {
+                continue;
+            };
+            let j = match book.visit(&y, limits, started, on_point)? {
+                Visit::At(j) => j,
+                Visit::Invalid => continue,
+                Visit::Stopped(end) => return Ok(finish(book, d, None, end)),
+            };
+            let Some(my) = book.points[j].metrics() else {
+                continue;
+            };
+            let gain = budget.ratio(&mx.error) - budget.ratio(&my.error);
+            if gain <= 0.0 {
+                continue;
+            }
+            let added = (objective.cost(my) - objective.cost(&mx)).max(0.0);
+            let s = gain / (added + 1.0);
+            if pick.is_none_or(|(b, _)| s > b) {
+                pick = Some((s, j));
+            }
+        }
+        match pick {
+            Some((_, j)) => x = j,
+            None => {
+                let best = book.best(objective);
+                return Ok(finish(book, d, best, End::DefaultsBreakBudget));
+            }
+        }
     }
     let mut order: Vec<usize> = (0..params.len()).collect();
     order.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed));
-    let mut active = order;
-    let mut score = vec![UNSCORED; params.len()];
-    let mut x = d;
-    let end = loop {
-        // The active parameter with the highest (possibly stale) score.
-        let Some(k) = (0..active.len()).reduce(|a, b| {
-            if score[active[b]] > score[active[a]] {
-                b
-            } else {
-                a
+    // Passes until one moves nothing: a parameter backed off in one pass is tried
+    // again from where the next pass starts.
+    let end = 'passes: loop {
+        let at_start = x;
+        let mut active = order.clone();
+        let mut score = vec![UNSCORED; params.len()];
+        loop {
+            // The active parameter with the highest (possibly stale) score.
+            let Some(k) = (0..active.len()).reduce(|a, b| {
+                if score[active[b]] > score[active[a]] {
+                    b
+                } else {
+                    a
+                }
+            }) else {
+                break;
+            };
+            let i = active[k];
+            // The first of up to LOOKAHEAD narrowings of parameter i that meets the
+            // budget and saves cost (error is not monotone in every width: one bit
+            // less can break the budget where two bits less does not).
+            let mut found: Option<(usize, f64)> = None;
+            let mut y = book.points[x].values.clone();
+            for _ in 0..LOOKAHEAD {
+                let Some(n) = narrow(ev.kind, params, &y, i) else {
+                    break;
+                };
+                y = n;
+                let j = match book.visit(&y, limits, started, on_point)? {
+                    Visit::At(j) => j,
+                    Visit::Invalid => break,
+                    Visit::Stopped(end) => break 'passes end,
+                };
+                let (Some(mx), Some(my)) = (book.points[x].metrics(), book.points[j].metrics())
+                else {
+                    // Pruned by the bound: never simulated; look further.
+                    continue;
+                };
+                let saving = objective.cost(mx) - objective.cost(my);
+                if budget.meets(&my.error) && saving > 0.0 {
+                    let added = (budget.ratio(&my.error) - budget.ratio(&mx.error)).max(0.0);
+                    found = Some((j, saving / (added + EPS)));
+                    break;
+                }
             }
-        }) else {
-            break End::Converged;
-        };
-        let i = active[k];
-        let Some(y) = narrow(ev.kind, params, &book.points[x].values, i) else {
-            active.remove(k);
-            continue;
-        };
-        let j = match book.visit(&y, limits, started, on_point)? {
-            Visit::At(j) => j,
-            Visit::Invalid => {
+            let Some((j, s)) = found else {
+                // Back off: this parameter stays where it is for the rest of the pass.
                 active.remove(k);
                 continue;
+            };
+            score[i] = s;
+            let others = active
+                .iter()
+                .filter(|&&o| o != i)
+                .map(|&o| score[o])
+                .fold(f64::NEG_INFINITY, f64::max);
+            if s >= others {
+                x = j;
             }
-            Visit::Stopped(end) => break end,
-        };
-        let (Some(mx), Some(my)) = (book.points[x].metrics(), book.points[j].metrics()) else {
-            // Pruned by the bound: back off.
-            active.remove(k);
-            continue;
-        };
-        let saving = objective.cost(mx) - objective.cost(my);
-        if !budget.meets(&my.error) || saving <= 0.0 {
-            active.remove(k);
+        }
+        if x != at_start {
             continue;
         }
-        let added = (budget.ratio(&my.error) - budget.ratio(&mx.error)).max(0.0);
-        let s = saving / (added + EPS);
-        score[i] = s;
-        let others = active
-            .iter()
-            .filter(|&&o| o != i)
-            .map(|&o| score[o])
-            .fold(f64::NEG_INFINITY, f64::max);
-        if s >= others {
-            x = j;
+        // Polish: trade one step of width in parameter a for up to LOOKAHEAD steps
+        // less in parameter b, taking the first trade that meets the budget and
+        // saves cost (a greedy descent stops in a local minimum such a trade leaves);
+        // none left: converged.
+        let mut moved = false;
+        'trade: for &a in &order {
+            let Some(up) = widen_any(ev.kind, params, &book.points[x].values, a) else {
+                continue;
+            };
+            for &b in order.iter().filter(|&&b| b != a) {
+                let mut y = up.clone();
+                for _ in 0..LOOKAHEAD {
+                    let Some(n) = narrow(ev.kind, params, &y, b) else {
+                        break;
+                    };
+                    y = n;
+                    let j = match book.visit(&y, limits, started, on_point)? {
+                        Visit::At(j) => j,
+                        Visit::Invalid => break,
+                        Visit::Stopped(end) => break 'passes end,
+                    };
+                    let (Some(mx), Some(my)) = (book.points[x].metrics(), book.points[j].metrics())
+                    else {
+                        continue;
+                    };
+                    if budget.meets(&my.error) && objective.cost(my) < objective.cost(mx) {
+                        x = j;
+                        moved = true;
+                        break 'trade;
+                    }
+                }
+            }
+        }
+        if !moved {
+            break End::Converged;
         }
     };
     let best = book.best(objective);
