@@ -521,17 +521,14 @@ pub fn search(
         let at_start = x;
         let mut active = order.clone();
         let mut score = vec![UNSCORED; params.len()];
-        loop {
-            // The active parameter with the highest (possibly stale) score.
-            let Some(k) = (0..active.len()).reduce(|a, b| {
-                if score[active[b]] > score[active[a]] {
-                    b
-                } else {
-                    a
-                }
-            }) else {
-                break;
-            };
+        // The active parameter with the highest (possibly stale) score.
+        while let Some(k) = (0..active.len()).reduce(|a, b| {
+            if score[active[b]] > score[active[a]] {
+                b
+            } else {
+                a
+            }
+        }) {
             let i = active[k];
             // The first of up to LOOKAHEAD narrowings of parameter i that meets the
             // budget and saves cost (error is not monotone in every width: one bit
