@@ -9,8 +9,9 @@
 //!   No upper bound (the datasheets' "Error bound") is used to skip a simulation, so
 //!   the pruning never drops a point that would have passed.
 //! * **Repair.** If the defaults break the budget, the parameter whose one-step
-//!   widening removes the most error per cost added is widened, until the budget is
-//!   met (at most [`MAX_WIDEN_STEPS`] steps above a default; none left: the search
+//!   widening removes the most error per cost added is widened (if none removes
+//!   any, every parameter is widened one step together), until the budget is met
+//!   (at most [`MAX_WIDEN_STEPS`] steps above a default; none left: the search
 //!   ends, reporting it).
 //! * **Descent.** Each step narrows one parameter by one step (one bit, or half a
 //!   table) from the current point. Of the narrowings that meet the budget and save
@@ -335,6 +336,45 @@ impl<'a> Book<'a> {
         Ok(Visit::At(at))
     }
 
+    /// From `from`, up to [`LOOKAHEAD`] narrowings of parameter `i`: the first point
+    /// that meets the budget and costs less than point `x`, with its score (cost
+    /// saved per error added); pruned points are stepped over. `Err(end)` when a
+    /// limit stopped the search.
+    // The search's state, one argument each.
+    #[allow(clippy::too_many_arguments)]
+    fn first_saving(
+        &mut self,
+        objective: Objective,
+        x: usize,
+        from: &[u32],
+        i: usize,
+        limits: &Limits,
+        started: Instant,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<Option<(usize, f64)>, End>, String> {
+        let mut y = from.to_vec();
+        for _ in 0..LOOKAHEAD {
+            let Some(n) = narrow(self.ev.kind, &self.params, &y, i) else {
+                break;
+            };
+            y = n;
+            let j = match self.visit(&y, limits, started, on_point)? {
+                Visit::At(j) => j,
+                Visit::Invalid => break,
+                Visit::Stopped(end) => return Ok(Err(end)),
+            };
+            let (Some(mx), Some(my)) = (self.points[x].metrics(), self.points[j].metrics()) else {
+                continue;
+            };
+            let saving = objective.cost(mx) - objective.cost(my);
+            if self.budget.meets(&my.error) && saving > 0.0 {
+                let added = (self.budget.ratio(&my.error) - self.budget.ratio(&mx.error)).max(0.0);
+                return Ok(Ok(Some((j, saving / (added + EPS)))));
+            }
+        }
+        Ok(Ok(None))
+    }
+
     /// `a=1 b=2` for a point's values.
     pub fn describe(&self, values: &[u32]) -> String {
         describe(&self.params, values)
@@ -505,8 +545,29 @@ pub fn search(
                 pick = Some((s, j));
             }
         }
-        match pick {
-            Some((_, j)) => x = j,
+        if let Some((_, j)) = pick {
+            x = j;
+            continue;
+        }
+        // No single widening helps (the error may need two widths at once, e.g.
+        // texels and framebuffer): widen every parameter by one step together.
+        let mut y = book.points[x].values.clone();
+        for i in 0..params.len() {
+            if let Some(n) = widen(ev.kind, params, &y, &start, i) {
+                y = n;
+            }
+        }
+        let j = match book.visit(&y, limits, started, on_point)? {
+            Visit::At(j) => Some(j),
+            Visit::Invalid => None,
+            Visit::Stopped(end) => return Ok(finish(book, d, None, end)),
+        };
+        match j.filter(|&j| {
+            book.points[j]
+                .metrics()
+                .is_some_and(|my| budget.ratio(&my.error) < budget.ratio(&mx.error))
+        }) {
+            Some(j) => x = j,
             None => {
                 let best = book.best(objective);
                 return Ok(finish(book, d, best, End::DefaultsBreakBudget));
@@ -533,30 +594,12 @@ pub fn search(
             // The first of up to LOOKAHEAD narrowings of parameter i that meets the
             // budget and saves cost (error is not monotone in every width: one bit
             // less can break the budget where two bits less does not).
-            let mut found: Option<(usize, f64)> = None;
-            let mut y = book.points[x].values.clone();
-            for _ in 0..LOOKAHEAD {
-                let Some(n) = narrow(ev.kind, params, &y, i) else {
-                    break;
+            let from = book.points[x].values.clone();
+            let found =
+                match book.first_saving(objective, x, &from, i, limits, started, on_point)? {
+                    Ok(f) => f,
+                    Err(end) => break 'passes end,
                 };
-                y = n;
-                let j = match book.visit(&y, limits, started, on_point)? {
-                    Visit::At(j) => j,
-                    Visit::Invalid => break,
-                    Visit::Stopped(end) => break 'passes end,
-                };
-                let (Some(mx), Some(my)) = (book.points[x].metrics(), book.points[j].metrics())
-                else {
-                    // Pruned by the bound: never simulated; look further.
-                    continue;
-                };
-                let saving = objective.cost(mx) - objective.cost(my);
-                if budget.meets(&my.error) && saving > 0.0 {
-                    let added = (budget.ratio(&my.error) - budget.ratio(&mx.error)).max(0.0);
-                    found = Some((j, saving / (added + EPS)));
-                    break;
-                }
-            }
             let Some((j, s)) = found else {
                 // Back off: this parameter stays where it is for the rest of the pass.
                 active.remove(k);
@@ -585,26 +628,14 @@ pub fn search(
                 continue;
             };
             for &b in order.iter().filter(|&&b| b != a) {
-                let mut y = up.clone();
-                for _ in 0..LOOKAHEAD {
-                    let Some(n) = narrow(ev.kind, params, &y, b) else {
-                        break;
-                    };
-                    y = n;
-                    let j = match book.visit(&y, limits, started, on_point)? {
-                        Visit::At(j) => j,
-                        Visit::Invalid => break,
-                        Visit::Stopped(end) => break 'passes end,
-                    };
-                    let (Some(mx), Some(my)) = (book.points[x].metrics(), book.points[j].metrics())
-                    else {
-                        continue;
-                    };
-                    if budget.meets(&my.error) && objective.cost(my) < objective.cost(mx) {
+                match book.first_saving(objective, x, &up, b, limits, started, on_point)? {
+                    Ok(Some((j, _))) => {
                         x = j;
                         moved = true;
                         break 'trade;
                     }
+                    Ok(None) => {}
+                    Err(end) => break 'passes end,
                 }
             }
         }
