@@ -131,42 +131,7 @@ pub enum Command {
     /// (every configuration evaluated), DIR/pareto.png (gates against error, the front,
     /// the default) and DIR/best.toml (the scene with the widths found, for
     /// `render --scene`), verified by a fresh render.
-    Optimize {
-        /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
-        /// glare-elliptic, …) or a TOML file of either.
-        #[arg(long)]
-        scene: String,
-        /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
-        /// repeat for several limits. At least one.
-        #[arg(long)]
-        budget: Vec<String>,
-        /// What to minimise: gates, ram (RAM bits) or area (gates + 1.5 × RAM bits).
-        #[arg(long, default_value = "gates")]
-        objective: String,
-        /// The parameters to search (comma list of `sweep`'s names for the scene);
-        /// default: every width and table size of the scene's pipeline.
-        #[arg(long)]
-        params: Option<String>,
-        /// Output directory.
-        #[arg(long, default_value = "out/optimize")]
-        out: PathBuf,
-        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 96x64).
-        #[arg(long)]
-        size: Option<String>,
-        /// Stop after this many simulations (pruned points do not count).
-        #[arg(long)]
-        max_evals: Option<usize>,
-        /// Stop starting simulations after this many seconds.
-        #[arg(long, allow_negative_numbers = true)]
-        seconds: Option<f64>,
-        /// Seed of the parameter order (ties go to the earlier parameter).
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// Shafts scenes: the error is against `wide` (the same frame with every
-        /// width wide, default) or `truth` (the ray-marched f64 reference).
-        #[arg(long, default_value = "wide")]
-        reference: String,
-    },
+    Optimize(crate::frame::optimize::cli::OptimizeArgs),
     /// Error attribution (issue 18): render the scene as configured, then once per
     /// error source with only that source made ideal (a wide width, a larger table,
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
@@ -420,31 +385,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             resume,
             max_memory,
         } => reproduce(&name, &out, values, resume, max_memory),
-        Command::Optimize {
-            scene,
-            budget,
-            objective,
-            params,
-            out,
-            size,
-            max_evals,
-            seconds,
-            seed,
-            reference,
-        } => {
-            crate::frame::optimize::cli::optimize_cli(&crate::frame::optimize::cli::OptimizeArgs {
-                scene,
-                budget,
-                objective,
-                params,
-                out,
-                size,
-                max_evals,
-                seconds,
-                seed,
-                reference,
-            })
-        }
+        Command::Optimize(a) => crate::frame::optimize::cli::optimize_cli(&a),
         Command::Attribute { scene, out, image } => attribute_cmd(&scene, &out, image.as_deref()),
         Command::Scene { name } => {
             print!(

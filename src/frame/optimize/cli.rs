@@ -14,18 +14,42 @@ use crate::scene::format::Scene;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-/// The command line's options, as given.
-#[derive(Clone, Debug)]
+/// The command line's options, as given (checked by [`check`]).
+#[derive(Clone, Debug, clap::Args)]
 pub struct OptimizeArgs {
+    /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
+    /// glare-elliptic, …) or a TOML file of either.
+    #[arg(long)]
     pub scene: String,
+    /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
+    /// repeat for several limits. At least one.
+    #[arg(long)]
     pub budget: Vec<String>,
+    /// What to minimise: gates, ram (RAM bits) or area (gates + 1.5 × RAM bits).
+    #[arg(long, default_value = "gates")]
     pub objective: String,
+    /// The parameters to search (comma list of `sweep`'s names for the scene);
+    /// default: every bit width of the scene's pipeline.
+    #[arg(long)]
     pub params: Option<String>,
+    /// Output directory.
+    #[arg(long, default_value = "out/optimize")]
     pub out: PathBuf,
+    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 96x64).
+    #[arg(long)]
     pub size: Option<String>,
+    /// Stop after this many simulations (pruned points do not count).
+    #[arg(long)]
     pub max_evals: Option<usize>,
+    /// Stop starting simulations after this many seconds.
+    #[arg(long, allow_negative_numbers = true)]
     pub seconds: Option<f64>,
+    /// Seed of the parameter order (ties go to the earlier parameter).
+    #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Shafts scenes: the error is against `wide` (the same frame with every bit
+    /// width wide, default) or `truth` (the ray-marched f64 reference).
+    #[arg(long, default_value = "wide")]
     pub reference: String,
 }
 

@@ -26,6 +26,7 @@
 
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::{reference_levels, render_and_predict_over};
+use crate::pipeline::glare::sweep::GLARE_PARAMS;
 use crate::pipeline::shafts::cli::{reference_image, render_scene};
 use crate::pipeline::shafts::sweep::{elaborated_gates, Param, Value, DEFAULT_TRUTH_SAMPLES};
 use crate::report::image_out::Framebuffer;
@@ -57,17 +58,15 @@ pub enum Step {
     Halve,
 }
 
-/// The glare widths the search narrows (`sweep`'s glare names but `radial`, a switch).
-const GLARE_SEARCH: &[&str] = &[
-    "shape_log2",
-    "shape_bits",
-    "falloff_log2",
-    "falloff_bits",
-    "weight_bits",
-    "coord_frac_bits",
-    "noise_bits",
-    "fb_bits",
-];
+/// The glare widths the search narrows: `sweep`'s glare names but `radial`, a
+/// switch.
+fn glare_search() -> Vec<&'static str> {
+    GLARE_PARAMS
+        .iter()
+        .copied()
+        .filter(|p| *p != "radial")
+        .collect()
+}
 
 /// The shafts widths searched when `--params` is not given: the bit widths. The
 /// table sizes (f_texels, light_map_texels, shadow_resolution) and the sampling
@@ -97,7 +96,7 @@ impl Kind {
     pub fn default_params(self) -> Vec<&'static str> {
         match self {
             Kind::Shafts => SHAFTS_DEFAULT.to_vec(),
-            Kind::Glare => GLARE_SEARCH.to_vec(),
+            Kind::Glare => glare_search(),
         }
     }
 
@@ -109,7 +108,7 @@ impl Kind {
                 .filter(|p| !p.is_pair())
                 .map(Param::name)
                 .collect(),
-            Kind::Glare => GLARE_SEARCH.to_vec(),
+            Kind::Glare => glare_search(),
         }
     }
 
