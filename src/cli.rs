@@ -125,6 +125,13 @@ pub enum Command {
     /// scenes) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
+    /// Bit-width optimisation (issue 21, docs/optimize.md): from the GeForce defaults,
+    /// the cheapest widths of a shafts or glare scene within an error budget (a greedy
+    /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
+    /// (every configuration evaluated), DIR/pareto.png (gates against error, the front,
+    /// the default) and DIR/best.toml (the scene with the widths found, for
+    /// `render --scene`), verified by a fresh render.
+    Optimize(crate::frame::optimize::cli::OptimizeArgs),
     /// Error attribution (issue 18): render the scene as configured, then once per
     /// error source with only that source made ideal (a wide width, a larger table,
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
@@ -378,6 +385,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             resume,
             max_memory,
         } => reproduce(&name, &out, values, resume, max_memory),
+        Command::Optimize(a) => crate::frame::optimize::cli::optimize_cli(&a),
         Command::Attribute { scene, out, image } => attribute_cmd(&scene, &out, image.as_deref()),
         Command::Scene { name } => {
             print!(

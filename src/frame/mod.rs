@@ -15,6 +15,7 @@ pub mod chip;
 pub mod cli;
 pub mod glare_link;
 pub mod objects;
+pub mod optimize;
 pub mod plan;
 pub mod range;
 pub mod reflection;

@@ -341,6 +341,18 @@ impl Sizes {
 
 /// Write a line plot of `series` as an RGB PNG of `spec.width × spec.height`.
 pub fn line_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), String> {
+    points_plot(path, spec, series, &[])
+}
+
+/// [`line_plot`] where series `i` is drawn as markers only unless `joined[i]` (a
+/// series past the end of `joined` is joined): scatter plots such as `optimize`'s
+/// front.
+pub fn points_plot(
+    path: &Path,
+    spec: &PlotSpec,
+    series: &[Series],
+    joined: &[bool],
+) -> Result<(), String> {
     check_series(path, spec, series)?;
     ensure_font().map_err(|e| err_at(path, e))?;
     let xr = AxisRange::from_values(
@@ -370,6 +382,7 @@ pub fn line_plot(path: &Path, spec: &PlotSpec, series: &[Series]) -> Result<(), 
         let ctx = Ctx {
             spec,
             series,
+            joined,
             xr,
             yl: yl_range,
             yr,
@@ -418,6 +431,8 @@ fn save_rgb(path: &Path, w: u32, h: u32, buf: Vec<u8>) -> Result<(), String> {
 struct Ctx<'a> {
     spec: &'a PlotSpec,
     series: &'a [Series],
+    /// Whether series i is a polyline (absent: yes).
+    joined: &'a [bool],
     xr: AxisRange,
     yl: AxisRange,
     yr: Option<AxisRange>,
@@ -613,15 +628,20 @@ impl Ctx<'_> {
             let marks = pts
                 .iter()
                 .map(|&p| EmptyElement::at(p) + Polygon::new(poly.clone(), fill));
+            let line = self.joined.get(i).copied().unwrap_or(true);
             let anno = if s.axis == Axis::Right && right {
-                chart
-                    .draw_secondary_series(LineSeries::new(pts.clone(), style))
-                    .map_err(e)?;
+                if line {
+                    chart
+                        .draw_secondary_series(LineSeries::new(pts.clone(), style))
+                        .map_err(e)?;
+                }
                 chart.draw_secondary_series(marks).map_err(e)?
             } else {
-                chart
-                    .draw_series(LineSeries::new(pts.clone(), style))
-                    .map_err(e)?;
+                if line {
+                    chart
+                        .draw_series(LineSeries::new(pts.clone(), style))
+                        .map_err(e)?;
+                }
                 chart.draw_series(marks).map_err(e)?
             };
             let seg = (m.legend * 1.6) as i32;

@@ -1,0 +1,424 @@
+//! `optimize`: every argument checked before any work, the search run with a
+//! progress bar, `pareto.csv` rewritten atomically after every point (so Ctrl-C
+//! leaves a valid file of what was evaluated), then `pareto.png`, `best.toml` and the
+//! verification of the best point by a fresh render of `best.toml`.
+
+use super::eval::{Evaluator, Kind, Reference};
+use super::search::{
+    area, describe, search, Budget, End, Limit, Limits, Objective, Outcome, Point, Status,
+};
+use crate::report::atomic::write_bytes;
+use crate::report::csv_out::write_csv;
+use crate::report::plot::{points_plot, Axis, PlotSpec, Series};
+use crate::scene::format::Scene;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The command line's options, as given (checked by [`check`]).
+#[derive(Clone, Debug, clap::Args)]
+pub struct OptimizeArgs {
+    /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
+    /// glare-elliptic, …) or a TOML file of either.
+    #[arg(long)]
+    pub scene: String,
+    /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
+    /// repeat for several limits. At least one.
+    #[arg(long)]
+    pub budget: Vec<String>,
+    /// What to minimise: gates, ram (RAM bits) or area (gates + 1.5 × RAM bits).
+    #[arg(long, default_value = "gates")]
+    pub objective: String,
+    /// The parameters to search (comma list of `sweep`'s names for the scene);
+    /// default: every bit width of the scene's pipeline.
+    #[arg(long)]
+    pub params: Option<String>,
+    /// Output directory.
+    #[arg(long, default_value = "out/optimize")]
+    pub out: PathBuf,
+    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 96x64).
+    #[arg(long)]
+    pub size: Option<String>,
+    /// Stop after this many simulations (pruned points do not count).
+    #[arg(long)]
+    pub max_evals: Option<usize>,
+    /// Stop starting simulations after this many seconds.
+    #[arg(long, allow_negative_numbers = true)]
+    pub seconds: Option<f64>,
+    /// Seed of the parameter order (ties go to the earlier parameter).
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Shafts scenes: the error is against `wide` (the same frame with every bit
+    /// width wide, default) or `truth` (the ray-marched f64 reference).
+    #[arg(long, default_value = "wide")]
+    pub reference: String,
+}
+
+/// The options checked, with the scene loaded.
+pub struct Plan {
+    pub scene: Scene,
+    pub scene_arg: String,
+    pub budget: Budget,
+    pub objective: Objective,
+    pub params: Vec<&'static str>,
+    pub out: PathBuf,
+    pub max_evals: Option<usize>,
+    pub seconds: Option<f64>,
+    pub seed: u64,
+    pub reference: Reference,
+}
+
+/// Every argument checked, in the order given, each error naming its argument; no
+/// rendering, no file written.
+pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
+    let name = a.scene.as_str();
+    if name == "test"
+        || name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX)
+        || crate::pipeline::envmap::scene_render::environment_scene(name)?.is_some()
+    {
+        return Err(format!(
+            "scene: '{name}' is not a scene optimize can search (it covers shafts scenes: \
+             fig4, fig6, stage; glare scenes: glare-point, glare-elliptic, …; TOML files \
+             of either)"
+        ));
+    }
+    let mut scene = crate::scene::load::load_scene(name)?;
+    if let Some(size) = &a.size {
+        let (w, h) = crate::pipeline::shafts::sweep::parse_image(size).map_err(|e| {
+            e.replacen("image:", "size:", 1)
+                .replace("--image", "--size")
+        })?;
+        scene.image.width = w;
+        scene.image.height = h;
+        scene.validate().map_err(|e| format!("size: {size}: {e}"))?;
+    }
+    if a.budget.is_empty() {
+        return Err("budget: at least one --budget is needed, e.g. --budget \"max<=1\"".into());
+    }
+    let budget = Budget(
+        a.budget
+            .iter()
+            .map(|b| Limit::parse(b))
+            .collect::<Result<_, _>>()?,
+    );
+    let objective = Objective::parse(&a.objective)?;
+    let kind = Kind::of(&scene);
+    let params = match &a.params {
+        Some(list) => kind.parse_params(list)?,
+        None => kind.default_params(),
+    };
+    if a.max_evals == Some(0) {
+        return Err("max-evals: must be at least 1".into());
+    }
+    if let Some(t) = a.seconds {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(format!("seconds: {t} is not a positive number of seconds"));
+        }
+    }
+    let reference = Reference::parse(&a.reference)?;
+    if a.out.exists() && !a.out.is_dir() {
+        return Err(format!(
+            "out: {} exists and is not a directory",
+            a.out.display()
+        ));
+    }
+    Ok(Plan {
+        scene,
+        scene_arg: a.scene.clone(),
+        budget,
+        objective,
+        params,
+        out: a.out.clone(),
+        max_evals: a.max_evals,
+        seconds: a.seconds,
+        seed: a.seed,
+        reference,
+    })
+}
+
+/// One row of `pareto.csv`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ParetoRow {
+    pub index: usize,
+    /// `param=value` for every searched parameter.
+    pub config: String,
+    /// `simulated`, or `pruned` (its bound broke the budget; never simulated).
+    pub evaluation: &'static str,
+    pub gates_nand2: Option<f64>,
+    pub ram_bits: Option<u64>,
+    pub area_nand2: Option<f64>,
+    pub mean_levels: Option<f64>,
+    pub rms_levels: Option<f64>,
+    pub max_levels: Option<f64>,
+    /// The sound lower bound from the output width (module `eval`).
+    pub bound_mean_levels: f64,
+    pub bound_rms_levels: f64,
+    pub bound_max_levels: f64,
+    pub predicted_hw_seconds: Option<f64>,
+    pub wall_seconds: Option<f64>,
+    pub meets_budget: bool,
+    pub on_front: bool,
+    pub is_default: bool,
+    pub is_best: bool,
+}
+
+/// The CSV rows of `points` (`defaults`, `best`: indices).
+pub fn rows(
+    params: &[&str],
+    points: &[Point],
+    budget: &Budget,
+    defaults: Option<usize>,
+    best: Option<usize>,
+) -> Vec<ParetoRow> {
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let m = p.metrics();
+            ParetoRow {
+                index: i,
+                config: describe(params, &p.values),
+                evaluation: match p.status {
+                    Status::Simulated(_) => "simulated",
+                    Status::Pruned(_) => "pruned",
+                },
+                gates_nand2: m.map(|m| m.gates),
+                ram_bits: m.map(|m| m.ram_bits),
+                area_nand2: m.map(area),
+                mean_levels: m.map(|m| m.error.mean_abs),
+                rms_levels: m.map(|m| m.error.rms),
+                max_levels: m.map(|m| m.error.max),
+                bound_mean_levels: p.bound.mean_abs,
+                bound_rms_levels: p.bound.rms,
+                bound_max_levels: p.bound.max,
+                predicted_hw_seconds: m.map(|m| m.predicted_seconds),
+                wall_seconds: m.map(|m| m.wall_seconds),
+                meets_budget: m.is_some_and(|m| budget.meets(&m.error)),
+                on_front: p.on_front,
+                is_default: defaults == Some(i),
+                is_best: best == Some(i),
+            }
+        })
+        .collect()
+}
+
+/// `pareto.png`: gates against the budget's first error metric; every simulated
+/// point, the front, the default and the best point as separate marked series.
+pub fn plot(path: &Path, title: &str, o: &Outcome, budget: &Budget) -> Result<(), String> {
+    let metric = budget.primary();
+    let xy = |p: &Point| p.metrics().map(|m| (metric.of(&m.error), m.gates));
+    let all: Vec<(f64, f64)> = o.points.iter().filter_map(xy).collect();
+    if all.is_empty() {
+        return Ok(());
+    }
+    let mut front: Vec<(f64, f64)> = o
+        .points
+        .iter()
+        .filter(|p| p.on_front)
+        .filter_map(xy)
+        .collect();
+    front.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    let one = |i: Option<usize>| i.and_then(|i| xy(&o.points[i])).into_iter().collect();
+    let series = vec![
+        Series {
+            label: "evaluated".into(),
+            points: all,
+            axis: Axis::Left,
+        },
+        Series {
+            label: "Pareto front (gates, RAM bits, error)".into(),
+            points: front,
+            axis: Axis::Left,
+        },
+        Series {
+            label: "GeForce defaults".into(),
+            points: one(Some(o.defaults)),
+            axis: Axis::Left,
+        },
+        Series {
+            label: "best within budget".into(),
+            points: one(o.best),
+            axis: Axis::Left,
+        },
+    ];
+    let series: Vec<Series> = series
+        .into_iter()
+        .filter(|s| !s.points.is_empty())
+        .collect();
+    // Markers only: the front is over three axes, so its points in this plane are
+    // not a line.
+    let joined = vec![false; series.len()];
+    let mut spec = PlotSpec::new(
+        title,
+        &format!("{} error (8-bit levels)", metric.name()),
+        "gates (NAND2)",
+    );
+    spec.width = 900;
+    spec.height = 600;
+    points_plot(path, &spec, &series, &joined)
+}
+
+/// `best.toml`: the whole scene (its `[shafts]` or `[glare.hw]` widths the best
+/// point's), as `render --scene best.toml` reads it.
+pub fn best_toml(scene: &Scene, header: &str) -> Result<String, String> {
+    let body =
+        toml::to_string_pretty(scene).map_err(|e| format!("best.toml: cannot write TOML: {e}"))?;
+    Ok(format!("{header}\n{body}"))
+}
+
+/// The command.
+pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
+    let plan = check(a)?;
+    std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
+    let csv = plan.out.join("pareto.csv");
+    let t0 = std::time::Instant::now();
+    let ev = Evaluator::new(&plan.scene, plan.reference)?;
+    eprintln!(
+        "optimize {} ({}x{}, {} scene): reference in {:.1} s; budget {}; objective {}; params {}",
+        plan.scene_arg,
+        plan.scene.image.width,
+        plan.scene.image.height,
+        ev.kind.name(),
+        ev.reference_seconds,
+        plan.budget.describe(),
+        plan.objective.name(),
+        plan.params.join(",")
+    );
+    crate::report::interrupt::arm();
+    let bar = crate::report::progress::progress_bar(plan.max_evals.unwrap_or(0) as u64, "optimize");
+    let stop = || crate::report::interrupt::requested().is_some();
+    let limits = Limits {
+        max_evals: plan.max_evals,
+        seconds: plan.seconds,
+        stop: &stop,
+    };
+    let mut saved: Result<(), String> = Ok(());
+    let mut on_point = |book: &super::search::Book| {
+        let best = book.best(plan.objective);
+        let r = rows(&plan.params, &book.points, &plan.budget, Some(0), best);
+        if let Err(e) = write_csv(&csv, &r) {
+            saved = Err(e);
+        }
+        if plan.max_evals.is_none() {
+            bar.set_length(book.simulations as u64 + 1);
+        }
+        bar.set_position(book.simulations as u64);
+        let cost = best
+            .and_then(|i| book.points[i].metrics())
+            .map(|m| plan.objective.cost(m));
+        bar.set_message(match cost {
+            Some(c) => format!("best {} {c:.0}", plan.objective.name()),
+            None => "no point within budget yet".into(),
+        });
+    };
+    let o = search(
+        &ev,
+        &plan.params,
+        &plan.budget,
+        plan.objective,
+        plan.seed,
+        &limits,
+        &mut on_point,
+    );
+    bar.finish_and_clear();
+    saved?;
+    let o = o?;
+    let r = rows(
+        &plan.params,
+        &o.points,
+        &plan.budget,
+        Some(o.defaults),
+        o.best,
+    );
+    write_csv(&csv, &r)?;
+    if o.end == End::Interrupted {
+        if let Some(sig) = crate::report::interrupt::requested() {
+            eprintln!(
+                "optimize: interrupted after {} simulations; {} holds every point evaluated",
+                o.simulations,
+                csv.display()
+            );
+            std::process::exit(crate::report::interrupt::exit_status(sig));
+        }
+    }
+    let title = format!(
+        "optimize {} ({}x{}): {} within {}",
+        plan.scene.short_name(),
+        plan.scene.image.width,
+        plan.scene.image.height,
+        plan.objective.name(),
+        plan.budget.describe()
+    );
+    plot(&plan.out.join("pareto.png"), &title, &o, &plan.budget)?;
+    let d = o.points[o.defaults].metrics().copied();
+    println!(
+        "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",
+        plan.scene_arg,
+        o.simulations,
+        o.pruned,
+        o.end,
+        t0.elapsed().as_secs_f64()
+    );
+    if let Some(d) = d {
+        println!(
+            "  defaults: {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3}",
+            describe(&o.params, &o.points[o.defaults].values),
+            d.gates,
+            d.ram_bits,
+            d.error.max,
+            d.error.rms,
+            d.error.mean_abs
+        );
+    }
+    let Some(best) = o.best_scene(&ev) else {
+        return Err(format!(
+            "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
+            plan.budget.describe(),
+            if o.end == End::DefaultsBreakBudget {
+                "neither the defaults nor any widening of them up to 3 steps"
+            } else {
+                "the search stopped first"
+            },
+            csv.display()
+        ));
+    };
+    let best = best?;
+    let bi = o.best.unwrap_or(0);
+    let header = format!(
+        "# optimize --scene {} --objective {} --budget \"{}\" ({}x{}): {}",
+        plan.scene_arg,
+        plan.objective.name(),
+        plan.budget.describe(),
+        plan.scene.image.width,
+        plan.scene.image.height,
+        describe(&o.params, &o.points[bi].values)
+    );
+    let toml_path = plan.out.join("best.toml");
+    write_bytes(&toml_path, best_toml(&best, &header)?.as_bytes())?;
+    // Verification: the written file read back and rendered afresh.
+    let again = Scene::from_file(&toml_path).map_err(|e| format!("best.toml: {e}"))?;
+    let m = ev.evaluate(&again)?;
+    println!(
+        "  best:     {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3} \
+         (verified by a fresh render of {}: {})",
+        describe(&o.params, &o.points[bi].values),
+        m.gates,
+        m.ram_bits,
+        m.error.max,
+        m.error.rms,
+        m.error.mean_abs,
+        toml_path.display(),
+        if plan.budget.meets(&m.error) {
+            "meets the budget"
+        } else {
+            "BREAKS the budget"
+        }
+    );
+    println!("  wrote {}, pareto.png, best.toml", csv.display());
+    if !plan.budget.meets(&m.error) {
+        return Err(format!(
+            "budget: the fresh render of {} breaks it",
+            toml_path.display()
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,425 @@
+//! The evaluation core of `optimize` (issue 21): a scene and a width assignment
+//! (param → value, the names `sweep` knows) in, the elaborated cost and the error
+//! against the scene's f64 reference out.
+//!
+//! Every render goes through the path `sweep` uses: a shafts scene through
+//! `pipeline::shafts::cli::render_scene`, a glare scene through `pipeline::glare::cli::render_and_predict_over`
+//! against `reference_levels` (the analytic formulas over the frame's sources and line
+//! draws). The reference is computed ONCE per [`Evaluator`] — for glare once per
+//! framebuffer width: the glare model's luminances are framebuffer codes (A = 29 is
+//! 29 codes, saturating at the largest code), so the reference, like `sweep`'s, is
+//! drawn at the frame's `fb_bits`; it comes from the frame at the scene's other
+//! widths (so a narrower `noise_bits` pays for moving its flare lines).
+//!
+//! A shafts scene has two references ([`Reference`]). `Wide` (the default) is the
+//! same sample-plane frame with every bit width wide (texel, weight, coordinate and
+//! framebuffer 16 bits, shadow depth 24: `attribute`'s "ideal" of each) and the
+//! scene's own table sizes and sampling: it isolates what the widths cost. (With the
+//! tables wide too, 1024-texel light maps and a 2048² shadow map, the defaults of
+//! `fig6` at 48x32 were 6.6 levels max from it: the light map's rim and the shadow
+//! edges move by a texel, which no width repairs.) `Truth`
+//! is `sweep`'s ray-marched f64 reference (`reference_image`), which also holds the
+//! algorithm's own error (n planes, the mesh, the sphere's tessellation): on `fig6`
+//! at 96x64 the defaults are already 7.2 levels RMS from it (`sweep --scene fig6
+//! --param fb_bits --values 8 --image 96x64`), so no width budget of a few levels can
+//! be met against it.
+
+use crate::pipeline::glare::background::from_framebuffer;
+use crate::pipeline::glare::cli::{reference_levels, render_and_predict_over};
+use crate::pipeline::glare::sweep::GLARE_PARAMS;
+use crate::pipeline::shafts::cli::{reference_image, render_scene};
+use crate::pipeline::shafts::sweep::{elaborated_gates, Param, Value, DEFAULT_TRUTH_SAMPLES};
+use crate::report::image_out::Framebuffer;
+use crate::report::metrics::{error_stats, ErrorStats};
+use crate::scene::format::Scene;
+use std::cell::RefCell;
+use std::collections::BTreeMap;
+use std::rc::Rc;
+use std::time::Instant;
+
+/// NAND2 equivalents of one RAM bit in the `area` objective: a 6-transistor SRAM
+/// cell against the 4 transistors of a NAND2 (an assumption of this model, not a
+/// figure from the seeds; docs/optimize.md).
+pub const RAM_BIT_NAND2: f64 = 1.5;
+
+/// Which pipeline's widths a scene exposes to the search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    Shafts,
+    Glare,
+}
+
+/// How a parameter is narrowed by one step of the search.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// One bit less (a width, or the log2 of a table's size).
+    Bit,
+    /// Half the size (a table side or a count).
+    Halve,
+}
+
+/// The glare widths the search narrows: `sweep`'s glare names but `radial`, a
+/// switch.
+fn glare_search() -> Vec<&'static str> {
+    GLARE_PARAMS
+        .iter()
+        .copied()
+        .filter(|p| *p != "radial")
+        .collect()
+}
+
+/// The shafts widths searched when `--params` is not given: the bit widths. The
+/// table sizes (f_texels, light_map_texels, shadow_resolution) and the sampling
+/// counts (planes, subplanes) are the algorithm's sampling, kept as the scene has
+/// them in the `Wide` reference too; `--params` can still name them.
+const SHAFTS_DEFAULT: &[&str] = &[
+    "texel_bits",
+    "fb_bits",
+    "weight_bits",
+    "coord_frac_bits",
+    "shadow_depth_bits",
+];
+
+impl Kind {
+    /// The kind of a scene: glare with a `[glare]` section, else shafts. Scenes
+    /// `optimize` cannot search (the environment-map and shading scenes are read by
+    /// their own loaders) are refused by the CLI before this.
+    pub fn of(scene: &Scene) -> Kind {
+        if scene.glare.is_some() {
+            Kind::Glare
+        } else {
+            Kind::Shafts
+        }
+    }
+
+    /// The parameters searched when `--params` is not given.
+    pub fn default_params(self) -> Vec<&'static str> {
+        match self {
+            Kind::Shafts => SHAFTS_DEFAULT.to_vec(),
+            Kind::Glare => glare_search(),
+        }
+    }
+
+    /// Every parameter the search can narrow for this kind.
+    pub fn known(self) -> Vec<&'static str> {
+        match self {
+            Kind::Shafts => Param::ALL
+                .into_iter()
+                .filter(|p| !p.is_pair())
+                .map(Param::name)
+                .collect(),
+            Kind::Glare => glare_search(),
+        }
+    }
+
+    /// How `param` narrows.
+    pub fn step(self, param: &str) -> Step {
+        match (self, param) {
+            (Kind::Shafts, "f_texels" | "light_map_texels" | "shadow_resolution")
+            | (Kind::Shafts, "planes" | "subplanes") => Step::Halve,
+            _ => Step::Bit,
+        }
+    }
+
+    /// `--params` checked against this kind: each name known (`-` read as `_`), none
+    /// twice; errors name `params`.
+    pub fn parse_params(self, list: &str) -> Result<Vec<&'static str>, String> {
+        let known = self.known();
+        let mut out: Vec<&'static str> = Vec::new();
+        for item in list.split(',') {
+            let norm = item.trim().replace('-', "_");
+            let p = known.iter().find(|k| **k == norm).ok_or_else(|| {
+                format!(
+                    "params: unknown parameter '{}' for a {} scene (known: {})",
+                    item.trim(),
+                    self.name(),
+                    known.join(", ")
+                )
+            })?;
+            if out.contains(p) {
+                return Err(format!("params: '{p}' is given twice"));
+            }
+            out.push(p);
+        }
+        Ok(out)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Shafts => "shafts",
+            Kind::Glare => "glare",
+        }
+    }
+
+    /// The value of `param` in `scene`.
+    pub fn get(self, scene: &Scene, param: &str) -> Result<u32, String> {
+        match self {
+            Kind::Shafts => {
+                let c = &scene.shafts;
+                Ok(match Param::from_name(param)? {
+                    Param::Planes => c.planes,
+                    Param::Subplanes => c.subplanes,
+                    Param::TexelBits => c.texel_bits,
+                    Param::FbBits => c.fb_bits,
+                    Param::WeightBits => c.weight_bits,
+                    Param::CoordFracBits => c.coord_frac_bits,
+                    Param::ShadowResolution => c.shadow_resolution,
+                    Param::ShadowDepthBits => c.shadow_depth_bits,
+                    Param::FTexels => c.f_texels,
+                    Param::LightMapTexels => c.light_map_texels,
+                    Param::Mesh | Param::HTexels => {
+                        return Err(format!("params: '{param}' is a pair (AxB)"))
+                    }
+                })
+            }
+            Kind::Glare => {
+                let g = scene.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
+                Ok(match param {
+                    "shape_log2" => g.shape_log2,
+                    "shape_bits" => g.shape_bits,
+                    "falloff_log2" => g.falloff_log2,
+                    "falloff_bits" => g.falloff_bits,
+                    "weight_bits" => g.weight_bits,
+                    "coord_frac_bits" => g.coord_frac_bits,
+                    "noise_bits" => g.noise_bits,
+                    "fb_bits" => g.fb_bits,
+                    _ => return Err(format!("params: unknown glare width '{param}'")),
+                })
+            }
+        }
+    }
+
+    /// `base` with `values[i]` set into `params[i]` (through `sweep`'s own setters),
+    /// validated: an invalid point is an error naming the field.
+    pub fn apply(self, base: &Scene, params: &[&str], values: &[u32]) -> Result<Scene, String> {
+        let mut s = base.clone();
+        for (p, &v) in params.iter().zip(values) {
+            match self {
+                Kind::Shafts => Param::from_name(p)?.apply(&mut s.shafts, Value::One(v))?,
+                Kind::Glare => {
+                    let g = s.glare.as_mut().ok_or("scene: no [glare] section")?;
+                    crate::pipeline::glare::sweep::apply(&mut g.hw, p, v)?;
+                }
+            }
+        }
+        s.validate().map_err(|e| e.to_string())?;
+        Ok(s)
+    }
+
+    /// The output (framebuffer) width of a scene: the bound of [`output_bound`].
+    pub fn fb_bits(self, scene: &Scene) -> u32 {
+        match self {
+            Kind::Shafts => scene.shafts.fb_bits,
+            Kind::Glare => scene.glare.as_ref().map_or(8, |g| g.hw.fb_bits),
+        }
+    }
+}
+
+/// What one simulated configuration costs and how far it is from the reference.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Metrics {
+    /// Gates (NAND2 equivalents) of the units the frame elaborated, at these widths.
+    pub gates: f64,
+    pub ram_bits: u64,
+    /// Error against the reference, 8-bit levels, over every channel of the image.
+    pub error: ErrorStats,
+    /// Predicted hardware time (GeForce2 GTS for shafts, the glare ASIC for glare).
+    pub predicted_seconds: f64,
+    /// Wall time of the simulation.
+    pub wall_seconds: f64,
+}
+
+/// What a shafts scene's error is measured against (module notes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reference {
+    Wide,
+    Truth,
+}
+
+impl Reference {
+    pub fn parse(text: &str) -> Result<Reference, String> {
+        match text.trim() {
+            "wide" => Ok(Reference::Wide),
+            "truth" => Ok(Reference::Truth),
+            other => Err(format!(
+                "reference: unknown reference '{other}' (known: wide, truth)"
+            )),
+        }
+    }
+}
+
+/// `scene` with every shafts bit width wide (never narrower than it is), its table
+/// sizes and sampling unchanged: the `Wide` reference's configuration.
+pub fn wide_shafts(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    let c = &mut s.shafts;
+    c.texel_bits = c.texel_bits.max(16);
+    c.fb_bits = c.fb_bits.max(16);
+    c.weight_bits = c.weight_bits.max(16);
+    c.coord_frac_bits = c.coord_frac_bits.max(16);
+    c.shadow_depth_bits = c.shadow_depth_bits.max(24);
+    s
+}
+
+/// A scene, its reference (computed once) and what every render of it needs.
+pub struct Evaluator {
+    pub kind: Kind,
+    pub base: Scene,
+    pub reference: Vec<[f64; 3]>,
+    /// Wall time of the reference.
+    pub reference_seconds: f64,
+    /// A glare scene's shafts background, drawn once (it does not depend on the glare
+    /// widths).
+    backdrop: Option<Framebuffer>,
+    /// A glare scene's references by framebuffer width (the base's is `reference`).
+    by_fb: RefCell<BTreeMap<u32, Rc<Vec<[f64; 3]>>>>,
+}
+
+impl Evaluator {
+    /// Validate `base` and compute its reference (`reference` matters for shafts
+    /// scenes only).
+    pub fn new(base: &Scene, reference: Reference) -> Result<Evaluator, String> {
+        base.validate().map_err(|e| e.to_string())?;
+        let kind = Kind::of(base);
+        let t0 = Instant::now();
+        let (reference, backdrop) = match kind {
+            Kind::Shafts => match reference {
+                Reference::Truth => (reference_image(base, DEFAULT_TRUTH_SAMPLES)?.0, None),
+                Reference::Wide => {
+                    let wide = wide_shafts(base);
+                    wide.validate()
+                        .map_err(|e| format!("{e} (the wide reference of the scene)"))?;
+                    (render_scene(&wide)?.0.levels(), None)
+                }
+            },
+            Kind::Glare => {
+                let backdrop = if crate::frame::plan::shafts_backdrop(base) {
+                    Some(crate::frame::run::shafts_backdrop(base).map_err(|e| e.to_string())?)
+                } else {
+                    None
+                };
+                let bg = glare_background(base, backdrop.as_ref());
+                let (f, _, _) =
+                    render_and_predict_over(base, bg.as_deref()).map_err(|e| e.to_string())?;
+                (
+                    reference_levels(base, &f).map_err(|e| e.to_string())?,
+                    backdrop,
+                )
+            }
+        };
+        let by_fb = RefCell::new(BTreeMap::from([(
+            kind.fb_bits(base),
+            Rc::new(reference.clone()),
+        )]));
+        Ok(Evaluator {
+            kind,
+            base: base.clone(),
+            reference,
+            reference_seconds: t0.elapsed().as_secs_f64(),
+            backdrop,
+            by_fb,
+        })
+    }
+
+    /// The reference `scene` is measured against: the one reference of a shafts
+    /// scene; for glare, the reference at `scene`'s framebuffer width (drawn from the
+    /// base scene at that width the first time it is asked for).
+    pub fn reference_for(&self, scene: &Scene) -> Result<Rc<Vec<[f64; 3]>>, String> {
+        let fb = self.kind.fb_bits(scene);
+        if self.kind == Kind::Shafts {
+            return Ok(Rc::new(self.reference.clone()));
+        }
+        if let Some(r) = self.by_fb.borrow().get(&fb) {
+            return Ok(r.clone());
+        }
+        let mut at = self.base.clone();
+        if let Some(g) = at.glare.as_mut() {
+            g.hw.fb_bits = fb;
+        }
+        at.validate().map_err(|e| e.to_string())?;
+        let bg = glare_background(&at, self.backdrop.as_ref());
+        let (f, _, _) = render_and_predict_over(&at, bg.as_deref()).map_err(|e| e.to_string())?;
+        let r = Rc::new(reference_levels(&at, &f).map_err(|e| e.to_string())?);
+        self.by_fb.borrow_mut().insert(fb, r.clone());
+        Ok(r)
+    }
+
+    /// Render `scene` (the base with other widths) and measure it.
+    pub fn evaluate(&self, scene: &Scene) -> Result<Metrics, String> {
+        match self.kind {
+            Kind::Shafts => {
+                let (r, pred, wall) = render_scene(scene)?;
+                let reference = self.reference_for(scene)?;
+                let error = error_stats(&r.levels(), &reference).map_err(|e| e.to_string())?;
+                Ok(Metrics {
+                    gates: elaborated_gates(&r),
+                    ram_bits: r
+                        .elaboration
+                        .iter()
+                        .filter_map(|e| e.summary.as_ref())
+                        .map(|s| s.ram_bits)
+                        .sum(),
+                    error,
+                    predicted_seconds: pred.seconds,
+                    wall_seconds: wall,
+                })
+            }
+            Kind::Glare => {
+                let bg = glare_background(scene, self.backdrop.as_ref());
+                let (f, pred, wall) =
+                    render_and_predict_over(scene, bg.as_deref()).map_err(|e| e.to_string())?;
+                let reference = self.reference_for(scene)?;
+                let error = error_stats(&f.levels(), &reference).map_err(|e| e.to_string())?;
+                Ok(Metrics {
+                    gates: f.units.iter().map(|u| u.gates_nand2).sum(),
+                    ram_bits: f.units.iter().map(|u| u.ram_bits).sum(),
+                    error,
+                    predicted_seconds: pred.seconds,
+                    wall_seconds: wall,
+                })
+            }
+        }
+    }
+
+    /// The sound lower bound of [`output_bound`] for `scene`'s output width.
+    pub fn bound(&self, scene: &Scene) -> Result<ErrorStats, String> {
+        Ok(output_bound(
+            &self.reference_for(scene)?,
+            self.kind.fb_bits(scene),
+        ))
+    }
+}
+
+/// A glare scene's background at its framebuffer width, as `sweep` draws it.
+fn glare_background(scene: &Scene, backdrop: Option<&Framebuffer>) -> Option<Vec<[u32; 3]>> {
+    backdrop.map(|fb| from_framebuffer(fb, scene.glare.as_ref().map_or(8, |g| g.hw.fb_bits)))
+}
+
+/// A guaranteed lower bound on the error of ANY image whose values are codes of an
+/// `fb_bits`-bit framebuffer shown in 8-bit levels (code · 255 / (2^fb_bits − 1),
+/// `Framebuffer::levels`): each value can at best be the level nearest its reference
+/// value, so |image − reference| ≥ that distance value by value, and the mean, RMS and
+/// max of the distances bound the image's mean, RMS and max from below. It follows
+/// from the reference and the width alone, before anything is simulated.
+pub fn output_bound(reference: &[[f64; 3]], fb_bits: u32) -> ErrorStats {
+    let max_code = rtl_model::unorm::max_code(fb_bits) as f64;
+    let step = 255.0 / max_code;
+    let (mut sum, mut sq, mut max) = (0.0f64, 0.0f64, 0.0f64);
+    for x in reference.iter().flatten() {
+        let code = (x / step).round().clamp(0.0, max_code);
+        let d = (x - code * step).abs();
+        sum += d;
+        sq += d * d;
+        max = max.max(d);
+    }
+    let n = reference.len() as u64 * 3;
+    if n == 0 {
+        return ErrorStats::EMPTY;
+    }
+    ErrorStats {
+        mean_abs: sum / n as f64,
+        rms: (sq / n as f64).sqrt(),
+        max,
+        n,
+    }
+}

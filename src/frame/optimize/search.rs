@@ -1,0 +1,701 @@
+//! The search of `optimize` (issue 21): from the GeForce defaults, a greedy descent
+//! in the style of `fxpopt` and Minibit, with a sound bound that prunes before any
+//! simulation.
+//!
+//! * **Bound.** Before a configuration is simulated, [`super::eval::output_bound`]
+//!   gives a guaranteed LOWER bound of its mean, RMS and max error from its
+//!   framebuffer width and the reference alone. If that bound already breaks the
+//!   budget, no render can meet it: the point is recorded as pruned and never run.
+//!   No upper bound (the datasheets' "Error bound") is used to skip a simulation, so
+//!   the pruning never drops a point that would have passed.
+//! * **Repair.** If the defaults break the budget, the parameter whose one-step
+//!   widening removes the most error per cost added is widened (if none removes
+//!   any, every parameter is widened one step together), until the budget is met
+//!   (at most [`MAX_WIDEN_STEPS`] steps above a default; none left: the search
+//!   ends, reporting it).
+//! * **Descent.** Each step narrows one parameter by one step (one bit, or half a
+//!   table) from the current point. Of the narrowings that meet the budget and save
+//!   objective cost, the one with the best saving per error added is taken (error
+//!   as the budget's worst ratio value / limit). A narrowing that breaks the budget
+//!   (by bound or by simulation), reaches the parameter's lower limit, or saves
+//!   nothing — also one step further ([`LOOKAHEAD`] = 2 steps: the error is not
+//!   monotone in every width) — backs that parameter off for the rest of the pass;
+//!   passes repeat from the point reached until one moves nothing. Then a polish:
+//!   one step wider in one parameter traded for up to two steps narrower in
+//!   another, the first trade that meets the budget and saves cost taken, and the
+//!   passes resume; no trade left: the search has converged. The scores are
+//!   lazy (a parameter scored at an earlier point is re-simulated only when it would
+//!   be chosen), which keeps the simulations near one per step.
+//! * **Order.** The parameters are tried in an order shuffled by `--seed`
+//!   (ChaCha8); ties go to the earlier one, so a seed gives one search.
+
+use super::eval::{Evaluator, Kind, Metrics, Step, RAM_BIT_NAND2};
+use crate::report::metrics::ErrorStats;
+use crate::scene::format::Scene;
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// An error statistic a budget limits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Metric {
+    Mean,
+    Rms,
+    Max,
+}
+
+impl Metric {
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Mean => "mean",
+            Metric::Rms => "rms",
+            Metric::Max => "max",
+        }
+    }
+    pub fn of(self, e: &ErrorStats) -> f64 {
+        match self {
+            Metric::Mean => e.mean_abs,
+            Metric::Rms => e.rms,
+            Metric::Max => e.max,
+        }
+    }
+}
+
+/// One `--budget`: metric ≤ limit, in 8-bit levels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limit {
+    pub metric: Metric,
+    pub limit: f64,
+}
+
+impl Limit {
+    /// `max<=1`, `rms<=0.5`, `mean<=0.3` (spaces allowed); errors name `budget`.
+    pub fn parse(text: &str) -> Result<Limit, String> {
+        let bad = |why: &str| {
+            format!(
+                "budget: '{text}' {why} (a budget is METRIC<=LEVELS with METRIC one of \
+                 max, rms, mean, e.g. \"max<=1\")"
+            )
+        };
+        let (m, v) = text.split_once("<=").ok_or_else(|| bad("has no '<='"))?;
+        let metric = match m.trim().to_ascii_lowercase().as_str() {
+            "max" => Metric::Max,
+            "rms" => Metric::Rms,
+            "mean" => Metric::Mean,
+            _ => return Err(bad("names an unknown metric")),
+        };
+        let limit: f64 = v
+            .trim()
+            .parse()
+            .map_err(|_| bad("has a limit that is not a number"))?;
+        if !limit.is_finite() || limit < 0.0 {
+            return Err(bad("has a limit that is not a finite number ≥ 0"));
+        }
+        Ok(Limit { metric, limit })
+    }
+}
+
+/// Every limit at once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Budget(pub Vec<Limit>);
+
+impl Budget {
+    pub fn meets(&self, e: &ErrorStats) -> bool {
+        self.0.iter().all(|l| l.metric.of(e) <= l.limit)
+    }
+    /// The worst value / limit over the limits (1 = at the budget).
+    pub fn ratio(&self, e: &ErrorStats) -> f64 {
+        self.0
+            .iter()
+            .map(|l| {
+                let v = l.metric.of(e);
+                if l.limit > 0.0 {
+                    v / l.limit
+                } else if v > 0.0 {
+                    f64::INFINITY
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+    /// The first limit's metric: the error axis of the front and the plot.
+    pub fn primary(&self) -> Metric {
+        self.0.first().map_or(Metric::Max, |l| l.metric)
+    }
+    pub fn describe(&self) -> String {
+        self.0
+            .iter()
+            .map(|l| format!("{}<={}", l.metric.name(), l.limit))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// What the search minimises.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Objective {
+    Gates,
+    Ram,
+    /// Gates + RAM bits × [`RAM_BIT_NAND2`].
+    Area,
+}
+
+impl Objective {
+    pub fn parse(text: &str) -> Result<Objective, String> {
+        match text.trim() {
+            "gates" => Ok(Objective::Gates),
+            "ram" => Ok(Objective::Ram),
+            "area" => Ok(Objective::Area),
+            other => Err(format!(
+                "objective: unknown objective '{other}' (known: gates, ram, area)"
+            )),
+        }
+    }
+    pub fn name(self) -> &'static str {
+        match self {
+            Objective::Gates => "gates",
+            Objective::Ram => "ram",
+            Objective::Area => "area",
+        }
+    }
+    pub fn cost(self, m: &Metrics) -> f64 {
+        match self {
+            Objective::Gates => m.gates,
+            Objective::Ram => m.ram_bits as f64,
+            Objective::Area => area(m),
+        }
+    }
+}
+
+/// Gates + RAM bits in NAND2 equivalents.
+pub fn area(m: &Metrics) -> f64 {
+    m.gates + m.ram_bits as f64 * RAM_BIT_NAND2
+}
+
+/// What became of one configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Status {
+    /// Its bound broke the budget: never simulated.
+    Pruned(ErrorStats),
+    Simulated(Metrics),
+}
+
+/// One evaluated configuration (in the order evaluated).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Point {
+    pub values: Vec<u32>,
+    pub bound: ErrorStats,
+    pub status: Status,
+    pub on_front: bool,
+}
+
+impl Point {
+    pub fn metrics(&self) -> Option<&Metrics> {
+        match &self.status {
+            Status::Simulated(m) => Some(m),
+            Status::Pruned(_) => None,
+        }
+    }
+}
+
+/// The limits of one run; `stop` is asked before each simulation (Ctrl-C).
+pub struct Limits<'a> {
+    pub max_evals: Option<usize>,
+    pub seconds: Option<f64>,
+    pub stop: &'a dyn Fn() -> bool,
+}
+
+/// Why the search ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum End {
+    /// No parameter can be narrowed further within the budget.
+    Converged,
+    MaxEvals,
+    Seconds,
+    Interrupted,
+    /// The defaults break the budget and no widening (up to MAX_WIDEN_STEPS per
+    /// parameter) repaired them.
+    DefaultsBreakBudget,
+}
+
+/// A search's result.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    pub params: Vec<&'static str>,
+    pub points: Vec<Point>,
+    /// Index of the defaults and of the best point found (meeting the budget).
+    pub defaults: usize,
+    pub best: Option<usize>,
+    pub simulations: usize,
+    pub pruned: usize,
+    pub end: End,
+}
+
+impl Outcome {
+    pub fn best_scene(&self, ev: &Evaluator) -> Option<Result<Scene, String>> {
+        self.best.map(|i| {
+            ev.kind
+                .apply(&ev.base, &self.params, &self.points[i].values)
+        })
+    }
+}
+
+/// The evaluated points and their index, shared by the search and the grid.
+pub struct Book<'a> {
+    ev: &'a Evaluator,
+    params: Vec<&'static str>,
+    budget: &'a Budget,
+    pub points: Vec<Point>,
+    /// values → point index, or None for an invalid configuration.
+    index: HashMap<Vec<u32>, Option<usize>>,
+    pub simulations: usize,
+    pub pruned: usize,
+    /// Use the bound (false: the exhaustive grid simulates everything).
+    prune: bool,
+}
+
+/// What [`Book::visit`] found.
+enum Visit {
+    Invalid,
+    Stopped(End),
+    At(usize),
+}
+
+impl<'a> Book<'a> {
+    pub fn new(
+        ev: &'a Evaluator,
+        params: &[&'static str],
+        budget: &'a Budget,
+        prune: bool,
+    ) -> Self {
+        Book {
+            ev,
+            params: params.to_vec(),
+            budget,
+            points: Vec::new(),
+            index: HashMap::new(),
+            simulations: 0,
+            pruned: 0,
+            prune,
+        }
+    }
+
+    fn visit(
+        &mut self,
+        values: &[u32],
+        limits: &Limits,
+        started: Instant,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Visit, String> {
+        if let Some(&at) = self.index.get(values) {
+            return Ok(at.map_or(Visit::Invalid, Visit::At));
+        }
+        let scene = match self.ev.kind.apply(&self.ev.base, &self.params, values) {
+            Ok(s) => s,
+            Err(_) => {
+                self.index.insert(values.to_vec(), None);
+                return Ok(Visit::Invalid);
+            }
+        };
+        let bound = self.ev.bound(&scene)?;
+        let status = if self.prune && !self.budget.meets(&bound) {
+            self.pruned += 1;
+            Status::Pruned(bound)
+        } else {
+            if (limits.stop)() {
+                return Ok(Visit::Stopped(End::Interrupted));
+            }
+            if limits.max_evals.is_some_and(|n| self.simulations >= n) {
+                return Ok(Visit::Stopped(End::MaxEvals));
+            }
+            if limits
+                .seconds
+                .is_some_and(|t| started.elapsed().as_secs_f64() >= t)
+            {
+                return Ok(Visit::Stopped(End::Seconds));
+            }
+            self.simulations += 1;
+            let m = self
+                .ev
+                .evaluate(&scene)
+                .map_err(|e| format!("{} ({}): {e}", self.describe(values), self.ev.kind.name()))?;
+            Status::Simulated(m)
+        };
+        self.points.push(Point {
+            values: values.to_vec(),
+            bound,
+            status,
+            on_front: false,
+        });
+        let at = self.points.len() - 1;
+        self.index.insert(values.to_vec(), Some(at));
+        mark_front(&mut self.points, self.budget.primary());
+        on_point(self);
+        Ok(Visit::At(at))
+    }
+
+    /// From `from`, up to [`LOOKAHEAD`] narrowings of parameter `i`: the first point
+    /// that meets the budget and costs less than point `x`, with its score (cost
+    /// saved per error added); pruned points are stepped over. `Err(end)` when a
+    /// limit stopped the search.
+    // The search's state, one argument each.
+    #[allow(clippy::too_many_arguments)]
+    fn first_saving(
+        &mut self,
+        objective: Objective,
+        x: usize,
+        from: &[u32],
+        i: usize,
+        limits: &Limits,
+        started: Instant,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<Option<(usize, f64)>, End>, String> {
+        let mut y = from.to_vec();
+        for _ in 0..LOOKAHEAD {
+            let Some(n) = narrow(self.ev.kind, &self.params, &y, i) else {
+                break;
+            };
+            y = n;
+            let j = match self.visit(&y, limits, started, on_point)? {
+                Visit::At(j) => j,
+                Visit::Invalid => break,
+                Visit::Stopped(end) => return Ok(Err(end)),
+            };
+            let (Some(mx), Some(my)) = (self.points[x].metrics(), self.points[j].metrics()) else {
+                continue;
+            };
+            let saving = objective.cost(mx) - objective.cost(my);
+            if self.budget.meets(&my.error) && saving > 0.0 {
+                let added = (self.budget.ratio(&my.error) - self.budget.ratio(&mx.error)).max(0.0);
+                return Ok(Ok(Some((j, saving / (added + EPS)))));
+            }
+        }
+        Ok(Ok(None))
+    }
+
+    /// `a=1 b=2` for a point's values.
+    pub fn describe(&self, values: &[u32]) -> String {
+        describe(&self.params, values)
+    }
+
+    /// Lowest objective cost among the simulated points that meet the budget.
+    pub fn best(&self, objective: Objective) -> Option<usize> {
+        let mut best: Option<(usize, f64, f64)> = None;
+        for (i, p) in self.points.iter().enumerate() {
+            if let Some(m) = p.metrics() {
+                if !self.budget.meets(&m.error) {
+                    continue;
+                }
+                let (c, r) = (objective.cost(m), self.budget.ratio(&m.error));
+                if best.is_none_or(|(_, bc, br)| c < bc || (c == bc && r < br)) {
+                    best = Some((i, c, r));
+                }
+            }
+        }
+        best.map(|b| b.0)
+    }
+}
+
+/// `a=1 b=2`.
+pub fn describe(params: &[&str], values: &[u32]) -> String {
+    params
+        .iter()
+        .zip(values)
+        .map(|(p, v)| format!("{p}={v}"))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// How many steps above its default the repair phase may widen a parameter.
+pub const MAX_WIDEN_STEPS: u32 = 3;
+
+/// `values` with parameter `i` widened by one step, or None `MAX_WIDEN_STEPS` above
+/// its default `d`.
+fn widen(kind: Kind, params: &[&str], values: &[u32], d: &[u32], i: usize) -> Option<Vec<u32>> {
+    let v = values[i];
+    let (n, cap) = match kind.step(params[i]) {
+        Step::Bit => (v.checked_add(1)?, d[i].saturating_add(MAX_WIDEN_STEPS)),
+        Step::Halve => (v.checked_mul(2)?, d[i].saturating_mul(1 << MAX_WIDEN_STEPS)),
+    };
+    if n > cap {
+        return None;
+    }
+    let mut out = values.to_vec();
+    out[i] = n;
+    Some(out)
+}
+
+/// `values` with parameter `i` widened by one step (no cap: the polish only trades
+/// a step back that a narrowing took).
+fn widen_any(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
+    let mut out = values.to_vec();
+    out[i] = match kind.step(params[i]) {
+        Step::Bit => values[i].checked_add(1)?,
+        Step::Halve => values[i].checked_mul(2)?,
+    };
+    Some(out)
+}
+
+/// `values` with parameter `i` narrowed by one step, or None at its floor.
+fn narrow(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
+    let v = values[i];
+    let n = match kind.step(params[i]) {
+        Step::Bit => v.checked_sub(1)?,
+        Step::Halve if v > 1 => v / 2,
+        Step::Halve => return None,
+    };
+    let mut out = values.to_vec();
+    out[i] = n;
+    Some(out)
+}
+
+/// The defaults' values of `params` in the evaluator's scene.
+pub fn defaults(ev: &Evaluator, params: &[&'static str]) -> Result<Vec<u32>, String> {
+    params.iter().map(|p| ev.kind.get(&ev.base, p)).collect()
+}
+
+/// Mark the points on the Pareto front of (gates, RAM bits, `metric` error) among
+/// the simulated points: none of them is dominated by another (≤ in all three, < in
+/// one).
+pub fn mark_front(points: &mut [Point], metric: Metric) {
+    let key = |p: &Point| {
+        p.metrics()
+            .map(|m| (m.gates, m.ram_bits as f64, metric.of(&m.error)))
+    };
+    let keys: Vec<Option<(f64, f64, f64)>> = points.iter().map(key).collect();
+    for i in 0..points.len() {
+        points[i].on_front = match keys[i] {
+            None => false,
+            Some(a) => !keys.iter().flatten().any(|b| dominates(*b, a)),
+        };
+    }
+}
+
+/// b dominates a: no worse in every coordinate, better in one.
+pub fn dominates(b: (f64, f64, f64), a: (f64, f64, f64)) -> bool {
+    b.0 <= a.0 && b.1 <= a.1 && b.2 <= a.2 && (b.0 < a.0 || b.1 < a.1 || b.2 < a.2)
+}
+
+/// Narrowings of one parameter tried past a violation before it backs off.
+pub const LOOKAHEAD: usize = 2;
+/// Lazy priority: unscored parameters first.
+const UNSCORED: f64 = f64::INFINITY;
+/// Error added below this (in budget ratio) counts as this much: a free saving is
+/// taken by its size.
+const EPS: f64 = 1e-3;
+
+/// The greedy descent (module notes). `on_point` sees the book after each new point
+/// (the CLI saves the CSV and moves the progress bar there).
+pub fn search(
+    ev: &Evaluator,
+    params: &[&'static str],
+    budget: &Budget,
+    objective: Objective,
+    seed: u64,
+    limits: &Limits,
+    on_point: &mut dyn FnMut(&Book),
+) -> Result<Outcome, String> {
+    let started = Instant::now();
+    let mut book = Book::new(ev, params, budget, true);
+    let start = defaults(ev, params)?;
+    let finish = |book: Book, defaults: usize, best: Option<usize>, end: End| Outcome {
+        params: params.to_vec(),
+        points: book.points,
+        defaults,
+        best,
+        simulations: book.simulations,
+        pruned: book.pruned,
+        end,
+    };
+    let d = match book.visit(&start, limits, started, on_point)? {
+        Visit::At(i) => i,
+        Visit::Invalid => return Err("scene: its own widths do not validate".into()),
+        Visit::Stopped(end) => return Ok(finish(book, 0, None, end)),
+    };
+    // Repair: while the point breaks the budget, widen the parameter with the best
+    // error removed per cost added (at most MAX_WIDEN_STEPS above its default).
+    let mut x = d;
+    loop {
+        let mx = *book.points[x].metrics().ok_or("defaults pruned")?;
+        if budget.meets(&mx.error) {
+            break;
+        }
+        let mut pick: Option<(f64, usize)> = None;
+        for i in 0..params.len() {
+            let Some(y) = widen(ev.kind, params, &book.points[x].values, &start, i) else {
+                continue;
+            };
+            let j = match book.visit(&y, limits, started, on_point)? {
+                Visit::At(j) => j,
+                Visit::Invalid => continue,
+                Visit::Stopped(end) => return Ok(finish(book, d, None, end)),
+            };
+            let Some(my) = book.points[j].metrics() else {
+                continue;
+            };
+            let gain = budget.ratio(&mx.error) - budget.ratio(&my.error);
+            if gain <= 0.0 {
+                continue;
+            }
+            let added = (objective.cost(my) - objective.cost(&mx)).max(0.0);
+            let s = gain / (added + 1.0);
+            if pick.is_none_or(|(b, _)| s > b) {
+                pick = Some((s, j));
+            }
+        }
+        if let Some((_, j)) = pick {
+            x = j;
+            continue;
+        }
+        // No single widening helps (the error may need two widths at once, e.g.
+        // texels and framebuffer): widen every parameter by one step together.
+        let mut y = book.points[x].values.clone();
+        for i in 0..params.len() {
+            if let Some(n) = widen(ev.kind, params, &y, &start, i) {
+                y = n;
+            }
+        }
+        let j = match book.visit(&y, limits, started, on_point)? {
+            Visit::At(j) => Some(j),
+            Visit::Invalid => None,
+            Visit::Stopped(end) => return Ok(finish(book, d, None, end)),
+        };
+        match j.filter(|&j| {
+            book.points[j]
+                .metrics()
+                .is_some_and(|my| budget.ratio(&my.error) < budget.ratio(&mx.error))
+        }) {
+            Some(j) => x = j,
+            None => {
+                let best = book.best(objective);
+                return Ok(finish(book, d, best, End::DefaultsBreakBudget));
+            }
+        }
+    }
+    let mut order: Vec<usize> = (0..params.len()).collect();
+    order.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed));
+    // Passes until one moves nothing: a parameter backed off in one pass is tried
+    // again from where the next pass starts.
+    let end = 'passes: loop {
+        let at_start = x;
+        let mut active = order.clone();
+        let mut score = vec![UNSCORED; params.len()];
+        // The active parameter with the highest (possibly stale) score.
+        while let Some(k) = (0..active.len()).reduce(|a, b| {
+            if score[active[b]] > score[active[a]] {
+                b
+            } else {
+                a
+            }
+        }) {
+            let i = active[k];
+            // The first of up to LOOKAHEAD narrowings of parameter i that meets the
+            // budget and saves cost (error is not monotone in every width: one bit
+            // less can break the budget where two bits less does not).
+            let from = book.points[x].values.clone();
+            let found =
+                match book.first_saving(objective, x, &from, i, limits, started, on_point)? {
+                    Ok(f) => f,
+                    Err(end) => break 'passes end,
+                };
+            let Some((j, s)) = found else {
+                // Back off: this parameter stays where it is for the rest of the pass.
+                active.remove(k);
+                continue;
+            };
+            score[i] = s;
+            let others = active
+                .iter()
+                .filter(|&&o| o != i)
+                .map(|&o| score[o])
+                .fold(f64::NEG_INFINITY, f64::max);
+            if s >= others {
+                x = j;
+            }
+        }
+        if x != at_start {
+            continue;
+        }
+        // Polish: trade one step of width in parameter a for up to LOOKAHEAD steps
+        // less in parameter b, taking the first trade that meets the budget and
+        // saves cost (a greedy descent stops in a local minimum such a trade leaves);
+        // none left: converged.
+        let mut moved = false;
+        'trade: for &a in &order {
+            let Some(up) = widen_any(ev.kind, params, &book.points[x].values, a) else {
+                continue;
+            };
+            for &b in order.iter().filter(|&&b| b != a) {
+                match book.first_saving(objective, x, &up, b, limits, started, on_point)? {
+                    Ok(Some((j, _))) => {
+                        x = j;
+                        moved = true;
+                        break 'trade;
+                    }
+                    Ok(None) => {}
+                    Err(end) => break 'passes end,
+                }
+            }
+        }
+        if !moved {
+            break End::Converged;
+        }
+    };
+    let best = book.best(objective);
+    Ok(finish(book, d, best, end))
+}
+
+/// Every value a parameter takes from its default down, one step at a time, while
+/// the scene with only that change validates.
+pub fn ladder(ev: &Evaluator, params: &[&'static str], i: usize) -> Result<Vec<u32>, String> {
+    let mut v = defaults(ev, params)?;
+    let mut out = vec![v[i]];
+    while let Some(n) = narrow(ev.kind, params, &v, i) {
+        if ev.kind.apply(&ev.base, params, &n).is_err() {
+            break;
+        }
+        v = n;
+        out.push(v[i]);
+    }
+    Ok(out)
+}
+
+/// The exhaustive grid over every parameter's [`ladder`], each point simulated (no
+/// pruning): what the search is measured against. Returns the book.
+pub fn grid<'a>(
+    ev: &'a Evaluator,
+    params: &[&'static str],
+    budget: &'a Budget,
+) -> Result<Book<'a>, String> {
+    let ladders: Vec<Vec<u32>> = (0..params.len())
+        .map(|i| ladder(ev, params, i))
+        .collect::<Result<_, _>>()?;
+    let mut book = Book::new(ev, params, budget, false);
+    let never = || false;
+    let limits = Limits {
+        max_evals: None,
+        seconds: None,
+        stop: &never,
+    };
+    let started = Instant::now();
+    let mut at = vec![0usize; params.len()];
+    loop {
+        let values: Vec<u32> = at.iter().zip(&ladders).map(|(&k, l)| l[k]).collect();
+        book.visit(&values, &limits, started, &mut |_| {})?;
+        // Next index, odometer style.
+        let mut d = 0;
+        loop {
+            if d == at.len() {
+                return Ok(book);
+            }
+            at[d] += 1;
+            if at[d] < ladders[d].len() {
+                break;
+            }
+            at[d] = 0;
+            d += 1;
+        }
+    }
+}
