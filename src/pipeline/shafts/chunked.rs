@@ -228,6 +228,20 @@ impl LightCtx<'_> {
             b.visible.extend(frags);
             return;
         };
+        // On the unpacked words: every walked pixel tested in one pass without a
+        // branch, the lit fragments kept.
+        if let Some(words) = zwords {
+            let cand = |i: usize| {
+                let frag = is_fragment_lane(px, i, width, height);
+                (frag, px.x[i] as i32, px.y[i] as i32, depth(px, i) as u64)
+            };
+            if let Some(n) =
+                z.test_filter_lanes(words, px.len(), cand, &mut b.visible, &mut span.ctr)
+            {
+                span.tally.add(n);
+                return;
+            }
+        }
         // The fragments tested as they are found, the lit ones kept (the test batch's
         // outputs and counters without its input and output words).
         let tests = frags.map(|i| {
