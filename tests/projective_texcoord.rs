@@ -357,6 +357,17 @@ fn random_valid_config() -> impl Strategy<Value = ProjectiveTexcoordConfig> {
         .prop_map(|((a, b, c, d), (e, f, g, h))| cfg(a, b, c, d, e, f, g, h))
 }
 
+/// The shafts frame's depth unit (r/q): s2.16 out, two Newton steps at N = 30.
+fn shafts_depth() -> ProjectiveTexcoordConfig {
+    ProjectiveTexcoordConfig {
+        out_int_bits: 2,
+        out_frac_bits: 16,
+        newton_steps: 2,
+        newton_frac_bits: 30,
+        ..ProjectiveTexcoordConfig::geforce()
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(common::cases()))]
 
@@ -407,13 +418,7 @@ proptest! {
         raw in prop::collection::vec((any::<i32>(), any::<i32>(), -4096i64..(1i64 << 31)), 0..300),
     ) {
         let c = if depth {
-            ProjectiveTexcoordConfig {
-                out_int_bits: 2,
-                out_frac_bits: 16,
-                newton_steps: 2,
-                newton_frac_bits: 30,
-                ..ProjectiveTexcoordConfig::geforce()
-            }
+            shafts_depth()
         } else {
             ProjectiveTexcoordConfig::geforce()
         };
@@ -437,15 +442,7 @@ proptest! {
         ),
     ) {
         let a = ProjectiveTexcoordConfig::geforce().build().unwrap();
-        let b = ProjectiveTexcoordConfig {
-            out_int_bits: 2,
-            out_frac_bits: 16,
-            newton_steps: 2,
-            newton_frac_bits: 30,
-            ..ProjectiveTexcoordConfig::geforce()
-        }
-        .build()
-        .unwrap();
+        let b = shafts_depth().build().unwrap();
         prop_assert!(a.pair_lanes_apply(&b));
         let lane = |k: usize| raw.iter().map(|x| [x.0 as i64, x.1 as i64, x.2 as i64, x.3][k]).collect::<Vec<i64>>();
         let (s, t, r, q) = (lane(0), lane(1), lane(2), lane(3));
