@@ -22,7 +22,8 @@ mod common;
 use glare_pipeline::reference::projective_texcoord::{project, project_codes};
 use proptest::prelude::*;
 use rtl_model::units::projective_texcoord::{
-    recip_rom_entry, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
+    recip_rom_entry, ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
+    ProjectiveTexcoordConfig,
 };
 use rtl_model::{Counters, Unit, UnitSummary};
 
@@ -464,10 +465,9 @@ proptest! {
             }
             c
         };
-        let (mut lanes, mut bu) = (Default::default(), vec![7i32]);
+        let (mut lanes, mut bu) = (ProjLanes::default(), vec![7i32]);
         let (mut ca, mut cb) = (Counters::default(), Counters::default());
         prop_assert!(a.kernel_pair_lanes(&b, [&s, &t, &r, &q], &idx, &mut lanes, &mut bu, &mut ca, &mut cb));
-        let lanes: rtl_model::units::projective_texcoord::ProjLanes = lanes;
         prop_assert_eq!(lanes.len(), idx.len());
         let got_a: Vec<ProjectiveOut> = (0..idx.len())
             .map(|j| ProjectiveOut { u: lanes.u[j], v: lanes.v[j], behind: lanes.behind[j] })
@@ -483,10 +483,9 @@ proptest! {
         let c = ProjectiveTexcoordConfig { recip_index_bits: 7, ..ProjectiveTexcoordConfig::geforce() }
             .build()
             .unwrap();
-        let mut none = Default::default();
+        let mut none = ProjLanes::default();
         let mut nu = Vec::new();
         prop_assert!(!a.kernel_pair_lanes(&c, [&s, &t, &r, &q], &idx, &mut none, &mut nu, &mut ca, &mut cb));
-        let none: rtl_model::units::projective_texcoord::ProjLanes = none;
         prop_assert!(none.is_empty() && nu.is_empty());
     }
 
