@@ -474,7 +474,7 @@ proptest! {
         // In lanes: every other test a candidate (the others masked off).
         let cand = |i: usize| {
             let (x, y, d) = tests[i];
-            (i % 2 == 0, x, y, d)
+            (i & 1 == 0, x, y, d)
         };
         let ins2: Vec<ShadowIn> = ins.iter().step_by(2).copied().collect();
         let (mut s_2, mut c_2) = (st.clone(), Counters::default());
