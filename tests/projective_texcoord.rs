@@ -22,7 +22,8 @@ mod common;
 use glare_pipeline::reference::projective_texcoord::{project, project_codes};
 use proptest::prelude::*;
 use rtl_model::units::projective_texcoord::{
-    recip_rom_entry, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
+    recip_rom_entry, ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
+    ProjectiveTexcoordConfig,
 };
 use rtl_model::{Counters, Unit, UnitSummary};
 
@@ -357,6 +358,17 @@ fn random_valid_config() -> impl Strategy<Value = ProjectiveTexcoordConfig> {
         .prop_map(|((a, b, c, d), (e, f, g, h))| cfg(a, b, c, d, e, f, g, h))
 }
 
+/// The shafts frame's depth unit (r/q): s2.16 out, two Newton steps at N = 30.
+fn shafts_depth() -> ProjectiveTexcoordConfig {
+    ProjectiveTexcoordConfig {
+        out_int_bits: 2,
+        out_frac_bits: 16,
+        newton_steps: 2,
+        newton_frac_bits: 30,
+        ..ProjectiveTexcoordConfig::geforce()
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(common::cases()))]
 
@@ -407,13 +419,7 @@ proptest! {
         raw in prop::collection::vec((any::<i32>(), any::<i32>(), -4096i64..(1i64 << 31)), 0..300),
     ) {
         let c = if depth {
-            ProjectiveTexcoordConfig {
-                out_int_bits: 2,
-                out_frac_bits: 16,
-                newton_steps: 2,
-                newton_frac_bits: 30,
-                ..ProjectiveTexcoordConfig::geforce()
-            }
+            shafts_depth()
         } else {
             ProjectiveTexcoordConfig::geforce()
         };
@@ -423,6 +429,64 @@ proptest! {
             .map(|&(s, t, q)| ProjectiveIn { s: s as i64, t: t as i64, q })
             .collect();
         common::assert_drivers_agree(&u, (), &inputs);
+    }
+
+    /// The shared front end of two units dividing by the same q
+    /// (`kernel_pair_lanes`, the shafts frame's light map and depth): each unit's
+    /// outputs are those the three drivers give it on its own inputs, (s, t, q) and
+    /// (r, 0, q) at the chosen indices, and its counters the kernel's on them.
+    #[test]
+    fn pair_lane_form_agrees_with_each_unit_through_the_drivers(
+        raw in prop::collection::vec(
+            (any::<i32>(), any::<i32>(), any::<i32>(), -4096i64..(1i64 << 31), any::<bool>()),
+            0..300,
+        ),
+    ) {
+        let a = ProjectiveTexcoordConfig::geforce().build().unwrap();
+        let b = shafts_depth().build().unwrap();
+        prop_assert!(a.pair_lanes_apply(&b));
+        let lane = |k: usize| raw.iter().map(|x| [x.0 as i64, x.1 as i64, x.2 as i64, x.3][k]).collect::<Vec<i64>>();
+        let (s, t, r, q) = (lane(0), lane(1), lane(2), lane(3));
+        let idx: Vec<u32> = (0..raw.len() as u32).filter(|&i| raw[i as usize].4).collect();
+        let ins_a: Vec<ProjectiveIn> = idx.iter().map(|&i| {
+            let i = i as usize;
+            ProjectiveIn { s: s[i], t: t[i], q: q[i] }
+        }).collect();
+        let ins_b: Vec<ProjectiveIn> = idx.iter().map(|&i| {
+            let i = i as usize;
+            ProjectiveIn { s: r[i], t: 0, q: q[i] }
+        }).collect();
+        let out_a = common::assert_drivers_agree(&a, (), &ins_a);
+        let out_b = common::assert_drivers_agree(&b, (), &ins_b);
+        let kernel_ctr = |u: &ProjectiveTexcoord, ins: &[ProjectiveIn]| {
+            let mut c = Counters::default();
+            for x in ins {
+                u.kernel(&mut (), x, &mut c);
+            }
+            c
+        };
+        let (mut lanes, mut bu) = (ProjLanes::default(), vec![7i32]);
+        let (mut ca, mut cb) = (Counters::default(), Counters::default());
+        prop_assert!(a.kernel_pair_lanes(&b, [&s, &t, &r, &q], &idx, &mut lanes, &mut bu, &mut ca, &mut cb));
+        prop_assert_eq!(lanes.len(), idx.len());
+        let got_a: Vec<ProjectiveOut> = (0..idx.len())
+            .map(|j| ProjectiveOut { u: lanes.u[j], v: lanes.v[j], behind: lanes.behind[j] })
+            .collect();
+        prop_assert_eq!(got_a, out_a);
+        // Appended after what the vector held.
+        prop_assert_eq!(bu[0], 7);
+        prop_assert_eq!(&bu[1..], &out_b.iter().map(|o| o.u).collect::<Vec<_>>()[..]);
+        prop_assert!(out_b.iter().all(|o| o.v == 0));
+        prop_assert_eq!(ca, kernel_ctr(&a, &ins_a));
+        prop_assert_eq!(cb, kernel_ctr(&b, &ins_b));
+        // Another ROM: not a pair; nothing done.
+        let c = ProjectiveTexcoordConfig { recip_index_bits: 7, ..ProjectiveTexcoordConfig::geforce() }
+            .build()
+            .unwrap();
+        let mut none = ProjLanes::default();
+        let mut nu = Vec::new();
+        prop_assert!(!a.kernel_pair_lanes(&c, [&s, &t, &r, &q], &idx, &mut none, &mut nu, &mut ca, &mut cb));
+        prop_assert!(none.is_empty() && nu.is_empty());
     }
 
     #[test]

@@ -471,6 +471,34 @@ proptest! {
         prop_assert_eq!(&kept, &lit);
         prop_assert_eq!(c_w, c_k);
 
+        // In lanes: every other test a candidate (the others masked off).
+        let cand = |i: usize| {
+            let (x, y, d) = tests[i];
+            (i & 1 == 0, x, y, d)
+        };
+        let ins2: Vec<ShadowIn> = ins.iter().step_by(2).copied().collect();
+        let (mut s_2, mut c_2) = (st.clone(), Counters::default());
+        let lit2: Vec<u32> = ins2
+            .iter()
+            .enumerate()
+            .filter(|(_, i)| u.kernel(&mut s_2, i, &mut c_2).lit)
+            .map(|(j, _)| 2 * j as u32)
+            .collect();
+        let (mut kept, mut c_l) = (vec![99], Counters::default());
+        prop_assert_eq!(u.test_filter_lanes(&words, tests.len(), cand, &mut kept, &mut c_l), Some(ins2.len()));
+        prop_assert_eq!(kept[0], 99);
+        prop_assert_eq!(&kept[1..], &lit2[..]);
+        prop_assert_eq!(c_l, c_2);
+        let all = |i: usize| {
+            let (x, y, d) = tests[i];
+            (true, x, y, d)
+        };
+        let (mut kept, mut c_l) = (Vec::new(), Counters::default());
+        prop_assert_eq!(u.test_filter_lanes(&words, tests.len(), all, &mut kept, &mut c_l), Some(tests.len()));
+        prop_assert_eq!(&kept, &lit);
+        prop_assert_eq!(c_l, c_k);
+        prop_assert_eq!(u.test_filter_lanes(&words[1..], tests.len(), all, &mut kept, &mut c_l), None);
+
         // A state or word list of another size: nothing done.
         let other = unit(w + 1, h, n, bias, k).fresh_state();
         prop_assert_eq!(u.test_filter(&other, cands(), &mut kept, &mut c_f), None);

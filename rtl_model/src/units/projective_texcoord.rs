@@ -111,6 +111,70 @@ pub struct ProjectiveOut {
     pub behind: bool,
 }
 
+/// The projective unit's outputs in lanes ([`ProjectiveTexcoord::kernel_pair_lanes`]):
+/// u, v (raw s(out_int).(out_frac) codes, 0 behind the projector) and `behind`.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct ProjLanes {
+    pub u: Vec<i32>,
+    pub v: Vec<i32>,
+    pub behind: Vec<bool>,
+}
+
+impl ProjLanes {
+    pub fn clear(&mut self) {
+        self.u.clear();
+        self.v.clear();
+        self.behind.clear();
+    }
+
+    fn reserve(&mut self, n: usize) {
+        self.u.reserve(n);
+        self.v.reserve(n);
+        self.behind.reserve(n);
+    }
+
+    pub fn len(&self) -> usize {
+        self.u.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.u.is_empty()
+    }
+}
+
+/// One block's reciprocal front end ([`ProjectiveTexcoord::front_lanes`]): per lane 1
+/// in front of the projector (q > 0) else 0, the exponent p, the normalised
+/// mantissa m and its ROM entry.
+struct Front {
+    live: [i64; LANES],
+    p: [i64; LANES],
+    m: [i64; LANES],
+    r: [i64; LANES],
+}
+
+impl Default for Front {
+    fn default() -> Self {
+        Front {
+            live: [0; LANES],
+            p: [0; LANES],
+            m: [0; LANES],
+            r: [0; LANES],
+        }
+    }
+}
+
+impl Front {
+    /// A block of `len` lanes counted: a ROM read per lane in front of the projector,
+    /// an underflow per lane behind it, and `sat` saturations.
+    #[inline(always)]
+    fn count(&self, len: usize, sat: i64, ctr: &mut Counters) {
+        let lit: i64 = self.live[..len].iter().sum();
+        ctr.table_reads += lit as u64;
+        ctr.underflows += (len as i64 - lit) as u64;
+        ctr.saturations += sat as u64;
+    }
+}
+
 /// What the integrator needs to write the ROM as a `$readmemh` table.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct RomParams {
@@ -421,25 +485,45 @@ impl ProjectiveTexcoord {
         let len = inputs.len();
         debug_assert!(len <= LANES);
         let w = self.in_bits();
-        let fm = w.saturating_sub(2);
-        let ib = self.cfg.recip_index_bits;
-        let n = self.cfg.newton_frac_bits;
-        let of = self.cfg.out_frac_bits as i64;
-        let r_max = (1i64 << (n + 1)) - 1;
-        let fmask = (1u64 << fm) - 1;
-        let (mut s, mut t, mut m, mut p, mut r) = (
-            [0i64; LANES],
-            [0i64; LANES],
-            [0i64; LANES],
-            [0i64; LANES],
-            [0i64; LANES],
-        );
-        let mut live = [0i64; LANES]; // 1 in front of the projector, 0 behind
+        let (mut s, mut t) = ([0i64; LANES], [0i64; LANES]);
         for (j, x) in inputs.iter().enumerate() {
-            let q = sext(x.q, w);
             s[j] = sext(x.s, w);
             t[j] = sext(x.t, w);
-            live[j] = i64::from(q > 0);
+        }
+        let mut f = Front::default();
+        self.front_lanes(|j| inputs[j].q, len, &mut f);
+        let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
+        let sat = self.back_lanes(&f, len, &s, &t, &mut u, &mut v);
+        f.count(len, sat, ctr);
+        out.extend((0..len).map(|j| {
+            if f.live[j] == 1 {
+                ProjectiveOut {
+                    u: u[j] as i32,
+                    v: v[j] as i32,
+                    behind: false,
+                }
+            } else {
+                ProjectiveOut {
+                    u: 0,
+                    v: 0,
+                    behind: true,
+                }
+            }
+        }));
+    }
+
+    /// The reciprocal's front end of up to [`LANES`] lanes (q of lane j from `q(j)`,
+    /// masked to its wire): whether q > 0, and q's exponent, normalised mantissa and
+    /// ROM entry (computed on q = 1 behind the projector).
+    #[inline(always)]
+    fn front_lanes(&self, q: impl Fn(usize) -> i64, len: usize, f: &mut Front) {
+        let w = self.in_bits();
+        let fm = w.saturating_sub(2);
+        let ib = self.cfg.recip_index_bits;
+        let fmask = (1u64 << fm) - 1;
+        for j in 0..len {
+            let q = sext(q(j), w);
+            f.live[j] = i64::from(q > 0);
             let qq = if q > 0 { q as u64 } else { 1 };
             let pj = 63 - qq.leading_zeros();
             let mj = qq << (fm - pj);
@@ -449,13 +533,32 @@ impl ProjectiveTexcoord {
             } else {
                 frac << (ib - fm)
             } as usize;
-            m[j] = mj as i64;
-            p[j] = pj as i64;
-            r[j] = self.rom_flat[idx] as i64;
+            f.m[j] = mj as i64;
+            f.p[j] = pj as i64;
+            f.r[j] = self.rom_flat[idx] as i64;
         }
-        let (live, s, t, m, p) = (&live[..len], &s[..len], &t[..len], &m[..len], &p[..len]);
+    }
+
+    /// After [`Self::front_lanes`]: the Newton steps on the front end's ROM entries
+    /// and the scaling of the lanes' (s, t) (sign-extended) into `u`, `v` (clamped;
+    /// meaningless behind the projector). Returns the saturations in front of it.
+    #[inline(always)]
+    fn back_lanes(
+        &self,
+        f: &Front,
+        len: usize,
+        s: &[i64; LANES],
+        t: &[i64; LANES],
+        u: &mut [i64; LANES],
+        v: &mut [i64; LANES],
+    ) -> i64 {
+        let fm = self.in_bits().saturating_sub(2);
+        let n = self.cfg.newton_frac_bits;
+        let of = self.cfg.out_frac_bits as i64;
+        let r_max = (1i64 << (n + 1)) - 1;
+        let mut r = f.r;
+        let (live, m, p) = (&f.live[..len], &f.m[..len], &f.p[..len]);
         let r = &mut r[..len];
-        let lit: i64 = live.iter().sum();
         let mut sat = 0i64;
         let mut fr = self.cfg.recip_entry_bits;
         for _ in 0..self.cfg.newton_steps {
@@ -476,7 +579,6 @@ impl ProjectiveTexcoord {
         let ob = self.out_bits();
         let (lo, hi) = (-(1i64 << (ob - 1)), (1i64 << (ob - 1)) - 1);
         let frl = fr as i64 - of;
-        let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
         for j in 0..len {
             let sh = frl + p[j]; // ≥ 1
             let half = 1i64 << (sh - 1);
@@ -486,24 +588,73 @@ impl ProjectiveTexcoord {
             u[j] = a.clamp(lo, hi);
             v[j] = b.clamp(lo, hi);
         }
-        ctr.table_reads += lit as u64;
-        ctr.underflows += (len as i64 - lit) as u64;
-        ctr.saturations += sat as u64;
-        out.extend((0..len).map(|j| {
-            if live[j] == 1 {
-                ProjectiveOut {
-                    u: u[j] as i32,
-                    v: v[j] as i32,
-                    behind: false,
-                }
-            } else {
-                ProjectiveOut {
-                    u: 0,
-                    v: 0,
-                    behind: true,
-                }
+        sat
+    }
+
+    /// Whether [`Self::kernel_pair_lanes`] applies to this unit and `other`: both
+    /// take the lane form, on inputs of the same width and the same ROM (I, E).
+    pub fn pair_lanes_apply(&self, other: &ProjectiveTexcoord) -> bool {
+        self.lanes_apply()
+            && other.lanes_apply()
+            && self.in_bits() == other.in_bits()
+            && self.cfg.recip_index_bits == other.cfg.recip_index_bits
+            && self.cfg.recip_entry_bits == other.cfg.recip_entry_bits
+    }
+
+    /// Two units that divide by the same q, fed from attribute lanes at indices `idx`:
+    /// this unit on (s, t, q), `other` on (r, 0, q). Where
+    /// [`Self::pair_lanes_apply`], q's leading-zero count, normalisation and ROM read
+    /// are done once per input for both (the same ROM, the same wire), then each
+    /// unit's Newton steps and scaling on its own config. Outputs in lanes: this
+    /// unit's u, v and behind appended to `out`, `other`'s u to `other_u` (0 behind the
+    /// projector; its v, t·r = 0, is 0). Each unit's counters are exactly its batch
+    /// kernel's on its own inputs (`ctr`, `other_ctr`; both count a ROM read per input
+    /// in front and an underflow per input behind, as each unit's front end would).
+    /// Returns false with nothing done where the pair form does not apply.
+    #[allow(clippy::too_many_arguments)]
+    pub fn kernel_pair_lanes(
+        &self,
+        other: &ProjectiveTexcoord,
+        [s, t, r, q]: [&[i64]; 4],
+        idx: &[u32],
+        out: &mut ProjLanes,
+        other_u: &mut Vec<i32>,
+        ctr: &mut Counters,
+        other_ctr: &mut Counters,
+    ) -> bool {
+        if !self.pair_lanes_apply(other) {
+            return false;
+        }
+        let w = self.in_bits();
+        out.reserve(idx.len());
+        other_u.reserve(idx.len());
+        let zero = [0i64; LANES];
+        for block in idx.chunks(LANES) {
+            let len = block.len();
+            let (mut sl, mut tl, mut rl) = ([0i64; LANES], [0i64; LANES], [0i64; LANES]);
+            for (j, &i) in block.iter().enumerate() {
+                let i = i as usize;
+                sl[j] = sext(s[i], w);
+                tl[j] = sext(t[i], w);
+                rl[j] = sext(r[i], w);
             }
-        }));
+            let mut f = Front::default();
+            self.front_lanes(|j| q[block[j] as usize], len, &mut f);
+            let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
+            let sat = self.back_lanes(&f, len, &sl, &tl, &mut u, &mut v);
+            f.count(len, sat, ctr);
+            let (mut du, mut dv) = ([0i64; LANES], [0i64; LANES]);
+            let dsat = other.back_lanes(&f, len, &rl, &zero, &mut du, &mut dv);
+            f.count(len, dsat, other_ctr);
+            let live = &f.live[..len];
+            out.u
+                .extend(u[..len].iter().zip(live).map(|(&a, &l)| (a * l) as i32));
+            out.v
+                .extend(v[..len].iter().zip(live).map(|(&a, &l)| (a * l) as i32));
+            out.behind.extend(live.iter().map(|&l| l == 0));
+            other_u.extend(du[..len].iter().zip(live).map(|(&a, &l)| (a * l) as i32));
+        }
+        true
     }
 
     /// [`Self::scale`] in a 64-bit carrier when the product is shifted right (the

@@ -430,6 +430,54 @@ impl ShadowCompare {
         Some(n)
     }
 
+    /// [`Self::test_filter_words`] over lanes `0..len`, lane i a candidate when
+    /// `cand(i).0`, tested at (x, y, depth) = `cand(i).1 ..`: the same kept indices
+    /// (ascending), counters and count, each lane tested without a branch (a lane
+    /// that is no candidate, or off the map, reads word 0 and is masked off), so a
+    /// chunk of walked pixels is filtered in one pass.
+    pub fn test_filter_lanes(
+        &self,
+        words: &[u32],
+        len: usize,
+        cand: impl Fn(usize) -> (bool, i32, i32, u64),
+        lit: &mut Vec<u32>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        let (w, h) = (self.cfg.width, self.cfg.height);
+        if words.len() != w as usize * h as usize || len > u32::MAX as usize {
+            return None;
+        }
+        let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let bias = (self.cfg.bias as i64) << k;
+        let base = lit.len();
+        lit.resize(base + len, 0);
+        let dst = &mut lit[base..];
+        let (mut kept, mut n, mut reads) = (0usize, 0usize, 0usize);
+        for i in 0..len {
+            let (is_cand, x, y, depth) = cand(i);
+            // `address`'s test: one unsigned compare per axis.
+            let in_map = (x as u32) < w && (y as u32) < h;
+            let a = if in_map {
+                y as usize * w as usize + x as usize
+            } else {
+                0
+            };
+            let s = words[a];
+            let fb = (depth & fmask) as i64 - bias;
+            // Off the map: a border lookup, lit by convention.
+            let l = !in_map | (fb <= (s as i64) << k);
+            dst[kept] = i as u32;
+            kept += usize::from(is_cand & l);
+            n += usize::from(is_cand);
+            reads += usize::from(is_cand & in_map);
+        }
+        lit.truncate(base + kept);
+        ctr.table_reads += reads as u64;
+        ctr.saturations += (n - reads) as u64;
+        Some(n)
+    }
+
     #[inline]
     fn read(&self, st: &ShadowState, addr: usize) -> u32 {
         let n = self.cfg.depth_bits as usize;

@@ -15,7 +15,9 @@ use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
 use rtl_model::units::additive_blend::AdditiveBlend;
 use rtl_model::units::polygon_interpolator::PolyLanes;
-use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveOut, ProjectiveTexcoord};
+use rtl_model::units::projective_texcoord::{
+    ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
+};
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
 use rtl_model::unorm::max_code;
@@ -161,6 +163,10 @@ pub(super) struct ChunkBuffers {
     /// Whether each light-map sample is used (in front of the light, inside its square).
     tex_keep: Vec<bool>,
     tex_out: Vec<[u32; 4]>,
+    /// The light-map projective unit's outputs in lanes, and the depth unit's u
+    /// ([`LightCtx::h_il`]'s shared front end).
+    proj_lanes: ProjLanes,
+    pdepth_u: Vec<i32>,
     shadow_in: Vec<ShadowIn>,
     shadow_out: Vec<ShadowOut>,
 }
@@ -222,6 +228,20 @@ impl LightCtx<'_> {
             b.visible.extend(frags);
             return;
         };
+        // On the unpacked words: every walked pixel tested in one pass without a
+        // branch, the lit fragments kept.
+        if let Some(words) = zwords {
+            let cand = |i: usize| {
+                let frag = is_fragment_lane(px, i, width, height);
+                (frag, px.x[i] as i32, px.y[i] as i32, depth(px, i) as u64)
+            };
+            if let Some(n) =
+                z.test_filter_lanes(words, px.len(), cand, &mut b.visible, &mut span.ctr)
+            {
+                span.tally.add(n);
+                return;
+            }
+        }
         // The fragments tested as they are found, the lit ones kept (the test batch's
         // outputs and counters without its input and output words).
         let tests = frags.map(|i| {
@@ -271,6 +291,9 @@ impl LightCtx<'_> {
     /// light map through the projective unit, shadow compare at the light-space texel.
     /// `base` is the attribute index of s.
     pub fn h_il(&self, px: &PolyLanes, base: usize, spans: &mut HilSpans, b: &mut ChunkBuffers) {
+        if self.h_il_pair(px, base, spans, b) {
+            return;
+        }
         let u = self.units;
         b.hil.clear();
         let n = b.visible.len();
@@ -364,6 +387,107 @@ impl LightCtx<'_> {
                 }
             }
         }
+    }
+
+    /// [`Self::h_il`] with the light map and the shadow map, where the light-map and
+    /// the depth projective units share their reciprocal front end
+    /// ([`ProjectiveTexcoord::kernel_pair_lanes`]: the same q, each unit counted as
+    /// its own batch kernel), their outputs in lanes. False with nothing done
+    /// elsewhere (the general path then runs).
+    fn h_il_pair(
+        &self,
+        px: &PolyLanes,
+        base: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) -> bool {
+        let u = self.units;
+        let (Some(lm), Some(sh), Some(ss)) = (self.lm_tex, &u.shadow, self.sstate) else {
+            return false;
+        };
+        if base + 3 >= px.attrs.len() || !u.proj.pair_lanes_apply(&u.proj_depth) {
+            return false;
+        }
+        let a = &px.attrs;
+        b.proj_lanes.clear();
+        b.pdepth_u.clear();
+        let n = b.visible.len();
+        u.proj.kernel_pair_lanes(
+            &u.proj_depth,
+            [&a[base], &a[base + 1], &a[base + 2], &a[base + 3]],
+            &b.visible,
+            &mut b.proj_lanes,
+            &mut b.pdepth_u,
+            &mut spans.proj.ctr,
+            &mut spans.proj_depth.ctr,
+        );
+        spans.proj.tally.add(n);
+        spans.proj_depth.tally.add(n);
+        let pl = &b.proj_lanes;
+        // The light map: a sample outside the light's square or behind the projector
+        // is replaced by 0 below: not filtered, only counted.
+        let log2 = lm.size()[0].trailing_zeros();
+        let fr = lm.coord_frac_bits();
+        let one = 1i32 << u.proj.out_format().frac_bits;
+        b.tex_in.clear();
+        b.tex_in
+            .extend(pl.u.iter().zip(&pl.v).map(|(&pu, &pv)| TextureSamplerIn {
+                coord: [
+                    texel_word(pu, log2, &u.proj, fr),
+                    texel_word(pv, log2, &u.proj, fr),
+                    0,
+                ],
+            }));
+        b.tex_keep.clear();
+        b.tex_keep.extend(
+            pl.u.iter()
+                .zip(&pl.v)
+                .zip(&pl.behind)
+                .map(|((&pu, &pv), &bh)| !bh && (0..=one).contains(&pu) && (0..=one).contains(&pv)),
+        );
+        spans
+            .light_map
+            .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
+        // The shadow map at the light-space texel, the depth through the same q.
+        let res = sh.width();
+        let of = u.proj.out_format().frac_bits;
+        let shift = of - res.trailing_zeros().min(of);
+        let dbits = sh.depth_bits();
+        let dfrac = u.proj_depth.out_format().frac_bits;
+        let dmax = max_code(dbits) as i64;
+        b.shadow_in.clear();
+        b.shadow_in.extend(
+            pl.u.iter()
+                .zip(&pl.v)
+                .zip(&b.pdepth_u)
+                .map(|((&pu, &pv), &d)| {
+                    let dv = d.max(0) as i64;
+                    let word = if dbits >= dfrac {
+                        dv << (dbits - dfrac)
+                    } else {
+                        dv >> (dfrac - dbits)
+                    };
+                    ShadowIn::Test {
+                        x: pu >> shift,
+                        y: pv >> shift,
+                        depth: word.min(dmax) as u64,
+                    }
+                }),
+        );
+        spans
+            .shadow
+            .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
+        // H·I_l: the light map's sample where kept (in front, inside the square) and
+        // lit by the shadow map, else 0.
+        b.hil.clear();
+        b.hil.extend(
+            b.tex_out
+                .iter()
+                .zip(&b.tex_keep)
+                .zip(&b.shadow_out)
+                .map(|((t, &k), l)| if k && l.lit { t[0] } else { 0 }),
+        );
+        true
     }
 }
 

@@ -120,11 +120,17 @@ pub(super) fn planes_pass(
     };
     let zwords = zwords.as_deref();
 
+    // Interval i's sub-planes' H·I_l (independent of the framebuffer and the J
+    // buffer): interval i + 1's are computed beside plane i's blend into the
+    // framebuffer, then merged and blended in order as before.
+    let hil_of = |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr);
+    let mut pending = None;
     for i in 0..n {
         let r = r0 + (i as f64 + 0.5) * dr;
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
-            let jbuf = subplanes_into_j(ctx, p, zwords, r, dr, ctr, passes, last)?;
+            let hils = pending.take().unwrap_or_else(|| hil_of(i));
+            let jbuf = subplanes_into_j(ctx, p, hils, ctr, passes, last)?;
             // Copy to texture: read the J buffer, write the texture (memory traffic).
             let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
             let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
@@ -148,7 +154,8 @@ pub(super) fn planes_pass(
                 }
             }
         }
-        plane(
+        let next = m > 1 && i + 1 < n;
+        pending = plane(
             ctx,
             p,
             zwords,
@@ -160,6 +167,7 @@ pub(super) fn planes_pass(
             ctr,
             passes,
             last,
+            || next.then(|| hil_of(i + 1)),
         )?;
         // One step of `render`'s bar per plane (nothing when no bar is installed).
         crate::report::progress::frame_step(1);
@@ -167,29 +175,23 @@ pub(super) fn planes_pass(
     Ok(())
 }
 
-/// Interval [r − Δr/2, r + Δr/2]'s m sub-planes: H·I_l of each, blended with its
-/// weight into a fresh J buffer (one PassStats per sub-plane). Returns the J buffer.
-#[allow(clippy::too_many_arguments)]
-fn subplanes_into_j(
+/// Interval [r − Δr/2, r + Δr/2]'s m sub-planes' H·I_l, in sub-plane order: each
+/// independent of the J buffer and the framebuffer, so computed in parallel, each
+/// with its own counters, to be merged and blended in sub-plane order by
+/// [`subplanes_into_j`] (the same spans, counters and bytes as one after the other,
+/// whatever the thread count).
+fn subplanes_hil(
     ctx: &LightCtx,
     p: &Prepared,
     zwords: Option<&[u32]>,
     r: f64,
     dr: f64,
-    ctr: &mut BTreeMap<String, Counters>,
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
-) -> Result<Vec<u32>, ConfigError> {
+) -> Vec<Result<SubPlaneHil, ConfigError>> {
     let u = ctx.units;
     let sc = &p.scene;
     let cfg = sc.shafts;
     let (w, h) = (sc.image.width, sc.image.height);
     let m = cfg.subplanes as usize;
-    let mut jbuf = vec![0u32; (w * h) as usize];
-    // H·I_l of each sub-plane: independent of the J buffer, so computed for a batch of
-    // sub-planes at a time in parallel, each with its own counters, then merged and
-    // blended in sub-plane order (the same spans, counters and bytes as one after the
-    // other, whatever the thread count).
     let sub = |j: usize| -> Result<SubPlaneHil, ConfigError> {
         let mut local = BTreeMap::new();
         let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
@@ -240,32 +242,53 @@ fn subplanes_into_j(
         Ok((pix, hil, rows_in_order, local))
     };
     let all: Vec<usize> = (0..m).collect();
+    let mut out = Vec::with_capacity(m);
     for batch in all.chunks(SUBPLANE_BATCH) {
-        let results: Vec<_> = batch.par_iter().map(|&j| sub(j)).collect();
-        for (&j, res) in batch.iter().zip(results) {
-            let (pix, hil, rows_in_order, local) = res?;
-            for (k, c) in local {
-                counters_add(ctr, &k, c);
-            }
-            // Sub-plane j's blend weight: the driver splits full scale W into m parts
-            // ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the weights sum to
-            // exactly W and J of a fully lit interval is full scale; a single
-            // round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6, 250/255 at
-            // m = 25).
-            let wmax = max_code(cfg.weight_bits) as u64;
-            let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
-            let span = blend_j(&u.j_blend, &mut jbuf, w, &pix, &hil, rows_in_order, weight);
-            span.close("additive_blend (J buffer)", u.j_blend.timing(), ctr);
-            let mut st = PassStats::new(
-                PassKind::SubPlane,
-                ctx.li,
-                u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
-            );
-            st.triangles = 1;
-            st.walked = (w * h) as u64;
-            st.fragments = pix.len() as u64;
-            push_pass(passes, last, ctr, st);
+        out.par_extend(batch.par_iter().map(|&j| sub(j)));
+    }
+    out
+}
+
+/// An interval's sub-planes' H·I_l ([`subplanes_hil`]) merged in sub-plane order and
+/// blended with their weights into a fresh J buffer (one PassStats per sub-plane).
+/// Returns the J buffer.
+fn subplanes_into_j(
+    ctx: &LightCtx,
+    p: &Prepared,
+    hils: Vec<Result<SubPlaneHil, ConfigError>>,
+    ctr: &mut BTreeMap<String, Counters>,
+    passes: &mut Vec<PassStats>,
+    last: &mut Traffic,
+) -> Result<Vec<u32>, ConfigError> {
+    let u = ctx.units;
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let (w, h) = (sc.image.width, sc.image.height);
+    let m = cfg.subplanes as usize;
+    let mut jbuf = vec![0u32; (w * h) as usize];
+    for (j, res) in hils.into_iter().enumerate() {
+        let (pix, hil, rows_in_order, local) = res?;
+        for (k, c) in local {
+            counters_add(ctr, &k, c);
         }
+        // Sub-plane j's blend weight: the driver splits full scale W into m parts
+        // ⌊(j+1)W/m⌋ − ⌊jW/m⌋ (each round(W/m) or one off), so the weights sum to
+        // exactly W and J of a fully lit interval is full scale; a single
+        // round(W/m) would make ΣJ m·round(W/m)/W (258/255 at m = 6, 250/255 at
+        // m = 25).
+        let wmax = max_code(cfg.weight_bits) as u64;
+        let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
+        let span = blend_j(&u.j_blend, &mut jbuf, w, &pix, &hil, rows_in_order, weight);
+        span.close("additive_blend (J buffer)", u.j_blend.timing(), ctr);
+        let mut st = PassStats::new(
+            PassKind::SubPlane,
+            ctx.li,
+            u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
+        );
+        st.triangles = 1;
+        st.walked = (w * h) as u64;
+        st.fragments = pix.len() as u64;
+        push_pass(passes, last, ctr, st);
     }
     Ok(jbuf)
 }
@@ -329,9 +352,11 @@ const BLEND_CHUNK: usize = 4096;
 
 /// Plane i at eye distance r: a cols × rows mesh whose vertices carry α, s, t, light
 /// coordinates and the vertex colour S·Δt/Δr (= S·t/r: Δt grows off-axis); each cell
-/// drawn and shaded in parallel, then blended in cell order.
+/// drawn and shaded in parallel, then blended in cell order. `beside` (work that
+/// neither reads nor writes the framebuffer) runs on the pool beside the blend; its
+/// result is returned.
 #[allow(clippy::too_many_arguments)]
-fn plane(
+fn plane<T: Send>(
     ctx: &LightCtx,
     p: &Prepared,
     zwords: Option<&[u32]>,
@@ -343,7 +368,8 @@ fn plane(
     ctr: &mut BTreeMap<String, Counters>,
     passes: &mut Vec<PassStats>,
     last: &mut Traffic,
-) -> Result<(), ConfigError> {
+    beside: impl FnOnce() -> T + Send,
+) -> Result<T, ConfigError> {
     let u = ctx.units;
     let sc = &p.scene;
     let cfg = sc.shafts;
@@ -439,7 +465,7 @@ fn plane(
     for s in spans.modulate {
         s.close("modulate", u.modulate.timing(), ctr);
     }
-    blend_plane(&u.blend, fb, &frags, ctr);
+    let ((), t) = rayon::join(|| blend_plane(&u.blend, fb, &frags, ctr), beside);
     let mut st = PassStats::new(
         PassKind::Plane,
         ctx.li,
@@ -453,7 +479,7 @@ fn plane(
     st.walked = walked;
     st.fragments = frags.len() as u64;
     push_pass(passes, last, ctr, st);
-    Ok(())
+    Ok(t)
 }
 
 /// One mesh cell (a GL quad: two triangles) walked, depth-tested and shaded.
