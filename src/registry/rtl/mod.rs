@@ -27,6 +27,8 @@ use rtl_model::{Counters, Signal, Unit};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod texture_combiner;
+
 /// An input word of at most this many bits is enumerated exhaustively.
 pub const EXHAUSTIVE_BITS: u32 = 20;
 
@@ -146,6 +148,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "glare_condition",
         vectors: glare_condition_vectors,
+    },
+    RtlEntry {
+        name: "texture_combiner",
+        vectors: texture_combiner::texture_combiner_vectors,
     },
 ];
 
