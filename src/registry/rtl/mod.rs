@@ -28,6 +28,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 mod texture_combiner;
+pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
 /// An input word of at most this many bits is enumerated exhaustively.
 pub const EXHAUSTIVE_BITS: u32 = 20;

@@ -84,8 +84,8 @@ pub(super) fn params(c: &TextureCombinerConfig) -> Result<VerilogParams, String>
 }
 
 /// The vectors of one texture-environment configuration (the harness's default and
-/// narrow ones, or any other for a sweep by hand).
-pub(super) fn vectors_of(
+/// narrow ones, or any other: tests/rtl_texture_combiner.rs sweeps the functions).
+pub fn vectors_of(
     cfg: TextureCombinerConfig,
     config: RtlConfig,
     count: usize,
