@@ -27,6 +27,7 @@ use rtl_model::{Counters, Signal, Unit};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod modulate_chain;
 mod texture_combiner;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
@@ -153,6 +154,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "texture_combiner",
         vectors: texture_combiner::texture_combiner_vectors,
+    },
+    RtlEntry {
+        name: "modulate_chain",
+        vectors: modulate_chain::modulate_chain_vectors,
     },
 ];
 
