@@ -27,6 +27,7 @@ use rtl_model::{Counters, Signal, Unit};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod final_combiner;
 mod modulate_chain;
 mod texture_combiner;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
@@ -158,6 +159,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "modulate_chain",
         vectors: modulate_chain::modulate_chain_vectors,
+    },
+    RtlEntry {
+        name: "final_combiner",
+        vectors: final_combiner::final_combiner_vectors,
     },
 ];
 
