@@ -29,6 +29,7 @@ use std::path::Path;
 
 mod final_combiner;
 mod modulate_chain;
+mod register_combiner;
 mod texture_combiner;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
@@ -163,6 +164,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "final_combiner",
         vectors: final_combiner::final_combiner_vectors,
+    },
+    RtlEntry {
+        name: "register_combiner",
+        vectors: register_combiner::register_combiner_vectors,
     },
 ];
 
@@ -416,8 +421,15 @@ impl VectorSet {
         }
         let mut hi = ow;
         for f in &self.out_fields {
+            // An output named like an input (a unit whose output word is its input
+            // word updated, as register_combiner's register set) is the port `o_<name>`.
+            let prefix = if self.in_fields.iter().any(|i| i.name == f.name) {
+                "o_"
+            } else {
+                ""
+            };
             ports.push(format!(
-                ".{}(out_word[{}:{}])",
+                ".{prefix}{}(out_word[{}:{}])",
                 f.name,
                 hi - 1,
                 hi - f.width
