@@ -6,8 +6,8 @@
 use super::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::fixed_point::Quant;
 use rtl_model::units::register_combiner::{
-    Bias, ComponentUsage, Mapping, PortionConfig, Register, RegisterCombinerConfig,
-    RegisterFile, Scale, VariableInput, REGISTER_COUNT,
+    Bias, ComponentUsage, Mapping, PortionConfig, Register, RegisterCombinerConfig, RegisterFile,
+    Scale, VariableInput, REGISTER_COUNT,
 };
 
 /// The GeForce default (Table 5's initial state: A·B with B = 1 to SPARE0, N 9, G 0,
@@ -61,22 +61,59 @@ fn config(config: RtlConfig) -> RegisterCombinerConfig {
 fn portion_params(prefix: &'static str, p: &PortionConfig, out: &mut VerilogParams) {
     // Parameter names are 'static: one table per portion.
     const RGB: [&str; 20] = [
-        "RGB_A_IN", "RGB_A_MAP", "RGB_A_USE", "RGB_B_IN", "RGB_B_MAP", "RGB_B_USE",
-        "RGB_C_IN", "RGB_C_MAP", "RGB_C_USE", "RGB_D_IN", "RGB_D_MAP", "RGB_D_USE",
-        "RGB_AB_OUT", "RGB_CD_OUT", "RGB_SUM_OUT", "RGB_SCALE", "RGB_BIAS", "RGB_AB_DOT",
-        "RGB_CD_DOT", "RGB_MUX_SUM",
+        "RGB_A_IN",
+        "RGB_A_MAP",
+        "RGB_A_USE",
+        "RGB_B_IN",
+        "RGB_B_MAP",
+        "RGB_B_USE",
+        "RGB_C_IN",
+        "RGB_C_MAP",
+        "RGB_C_USE",
+        "RGB_D_IN",
+        "RGB_D_MAP",
+        "RGB_D_USE",
+        "RGB_AB_OUT",
+        "RGB_CD_OUT",
+        "RGB_SUM_OUT",
+        "RGB_SCALE",
+        "RGB_BIAS",
+        "RGB_AB_DOT",
+        "RGB_CD_DOT",
+        "RGB_MUX_SUM",
     ];
     const ALPHA: [&str; 20] = [
-        "ALPHA_A_IN", "ALPHA_A_MAP", "ALPHA_A_USE", "ALPHA_B_IN", "ALPHA_B_MAP",
-        "ALPHA_B_USE", "ALPHA_C_IN", "ALPHA_C_MAP", "ALPHA_C_USE", "ALPHA_D_IN",
-        "ALPHA_D_MAP", "ALPHA_D_USE", "ALPHA_AB_OUT", "ALPHA_CD_OUT", "ALPHA_SUM_OUT",
-        "ALPHA_SCALE", "ALPHA_BIAS", "ALPHA_AB_DOT", "ALPHA_CD_DOT", "ALPHA_MUX_SUM",
+        "ALPHA_A_IN",
+        "ALPHA_A_MAP",
+        "ALPHA_A_USE",
+        "ALPHA_B_IN",
+        "ALPHA_B_MAP",
+        "ALPHA_B_USE",
+        "ALPHA_C_IN",
+        "ALPHA_C_MAP",
+        "ALPHA_C_USE",
+        "ALPHA_D_IN",
+        "ALPHA_D_MAP",
+        "ALPHA_D_USE",
+        "ALPHA_AB_OUT",
+        "ALPHA_CD_OUT",
+        "ALPHA_SUM_OUT",
+        "ALPHA_SCALE",
+        "ALPHA_BIAS",
+        "ALPHA_AB_DOT",
+        "ALPHA_CD_DOT",
+        "ALPHA_MUX_SUM",
     ];
     let names = if prefix == "RGB" { RGB } else { ALPHA };
     let mut vals = Vec::with_capacity(20);
     for v in [p.a, p.b, p.c, p.d] {
         vals.push(v.input.index() as u64);
-        vals.push(Mapping::ALL.iter().position(|&m| m == v.mapping).unwrap_or(0) as u64);
+        vals.push(
+            Mapping::ALL
+                .iter()
+                .position(|&m| m == v.mapping)
+                .unwrap_or(0) as u64,
+        );
         vals.push(match v.component_usage {
             ComponentUsage::Rgb => 0,
             ComponentUsage::Alpha => 1,
