@@ -31,6 +31,12 @@ use rtl_model::{Counters, Signal, Unit};
 use std::fmt::Write as _;
 use std::path::Path;
 
+mod final_combiner;
+mod modulate_chain;
+mod register_combiner;
+mod texture_combiner;
+pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
+
 /// An input word of at most this many bits is enumerated exhaustively.
 pub const EXHAUSTIVE_BITS: u32 = 20;
 
@@ -186,6 +192,22 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "projective_texcoord",
         vectors: projective_texcoord::projective_texcoord_vectors,
+    },
+    RtlEntry {
+        name: "texture_combiner",
+        vectors: texture_combiner::texture_combiner_vectors,
+    },
+    RtlEntry {
+        name: "modulate_chain",
+        vectors: modulate_chain::modulate_chain_vectors,
+    },
+    RtlEntry {
+        name: "final_combiner",
+        vectors: final_combiner::final_combiner_vectors,
+    },
+    RtlEntry {
+        name: "register_combiner",
+        vectors: register_combiner::register_combiner_vectors,
     },
 ];
 
@@ -447,8 +469,15 @@ impl VectorSet {
         }
         let mut hi = ow;
         for f in &self.out_fields {
+            // An output named like an input (a unit whose output word is its input
+            // word updated, as register_combiner's register set) is the port `o_<name>`.
+            let prefix = if self.in_fields.iter().any(|i| i.name == f.name) {
+                "o_"
+            } else {
+                ""
+            };
             ports.push(format!(
-                ".{}(out_word[{}:{}])",
+                ".{prefix}{}(out_word[{}:{}])",
                 f.name,
                 hi - 1,
                 hi - f.width

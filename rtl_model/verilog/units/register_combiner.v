@@ -1,0 +1,329 @@
+// register_combiner — one GENERAL combiner stage of GL_NV_register_combiners, RGB and
+// alpha portions (rtl_model/src/units/register_combiner.rs, steps 1-7 of its notes):
+// select, map (Table 4, in half-LSB units), products (or dot products over R, G, B),
+// one product rounding round(p * 2^G / (4S)), the sum or the SPARE0-alpha mux, bias,
+// scale, one output rounding round(V / 2^(G+2)), clamp to [-S, S], write into the
+// register set. S = 2^(N-1) - 1. The state is parameters, per portion P = RGB, ALPHA:
+//   P_V_IN  register 0 .. 11 (Table NV_register_combiners.1 order)
+//   P_V_MAP Table 4 in the model's order: 0 UNSIGNED_IDENTITY 1 UNSIGNED_INVERT
+//           2 EXPAND_NORMAL 3 EXPAND_NEGATE 4 HALF_BIAS_NORMAL 5 HALF_BIAS_NEGATE
+//           6 SIGNED_IDENTITY 7 SIGNED_NEGATE
+//   P_V_USE 0 RGB 1 ALPHA 2 BLUE
+//   P_AB_OUT, P_CD_OUT, P_SUM_OUT  a register 0 .. 11, 15 DISCARD
+//   P_SCALE 0 NONE 1 x2 2 x4 3 x1/2; P_BIAS 1 BIAS_BY_NEGATIVE_ONE_HALF;
+//   P_AB_DOT, P_CD_DOT (RGB only), P_MUX_SUM
+// ROUNDING is the model's Quant in declaration order (0 TRN 1 TRN_ZERO 2 RND
+// 3 RND_ZERO 4 RND_INF 5 RND_MIN_INF 6 RND_CONV), for both roundings.
+// Latency 3, II 1: stage 1 the input set, stage 2 the rounded products, stage 3 the
+// written set.
+module register_combiner #(
+    parameter N = 9,
+    parameter G = 0,
+    parameter ROUNDING = 2,
+    parameter RGB_A_IN = 4, parameter RGB_A_MAP = 0, parameter RGB_A_USE = 0,
+    parameter RGB_B_IN = 0, parameter RGB_B_MAP = 1, parameter RGB_B_USE = 0,
+    parameter RGB_C_IN = 0, parameter RGB_C_MAP = 0, parameter RGB_C_USE = 0,
+    parameter RGB_D_IN = 0, parameter RGB_D_MAP = 0, parameter RGB_D_USE = 0,
+    parameter RGB_AB_OUT = 15, parameter RGB_CD_OUT = 15, parameter RGB_SUM_OUT = 6,
+    parameter RGB_SCALE = 0, parameter RGB_BIAS = 0,
+    parameter RGB_AB_DOT = 0, parameter RGB_CD_DOT = 0, parameter RGB_MUX_SUM = 0,
+    parameter ALPHA_A_IN = 4, parameter ALPHA_A_MAP = 0, parameter ALPHA_A_USE = 1,
+    parameter ALPHA_B_IN = 0, parameter ALPHA_B_MAP = 1, parameter ALPHA_B_USE = 1,
+    parameter ALPHA_C_IN = 0, parameter ALPHA_C_MAP = 0, parameter ALPHA_C_USE = 1,
+    parameter ALPHA_D_IN = 0, parameter ALPHA_D_MAP = 0, parameter ALPHA_D_USE = 1,
+    parameter ALPHA_AB_OUT = 15, parameter ALPHA_CD_OUT = 15, parameter ALPHA_SUM_OUT = 6,
+    parameter ALPHA_SCALE = 0, parameter ALPHA_BIAS = 0,
+    parameter ALPHA_AB_DOT = 0, parameter ALPHA_CD_DOT = 0, parameter ALPHA_MUX_SUM = 0,
+    parameter UNUSED = 0
+) (
+    input clk,
+    input rst,
+    input in_valid,
+    input  [N-1:0] zero_r,
+    input  [N-1:0] zero_g,
+    input  [N-1:0] zero_b,
+    input  [N-1:0] zero_a,
+    input  [N-1:0] ccc0_r,
+    input  [N-1:0] ccc0_g,
+    input  [N-1:0] ccc0_b,
+    input  [N-1:0] ccc0_a,
+    input  [N-1:0] ccc1_r,
+    input  [N-1:0] ccc1_g,
+    input  [N-1:0] ccc1_b,
+    input  [N-1:0] ccc1_a,
+    input  [N-1:0] fog_r,
+    input  [N-1:0] fog_g,
+    input  [N-1:0] fog_b,
+    input  [N-1:0] fog_a,
+    input  [N-1:0] pri_r,
+    input  [N-1:0] pri_g,
+    input  [N-1:0] pri_b,
+    input  [N-1:0] pri_a,
+    input  [N-1:0] sec_r,
+    input  [N-1:0] sec_g,
+    input  [N-1:0] sec_b,
+    input  [N-1:0] sec_a,
+    input  [N-1:0] spare0_r,
+    input  [N-1:0] spare0_g,
+    input  [N-1:0] spare0_b,
+    input  [N-1:0] spare0_a,
+    input  [N-1:0] spare1_r,
+    input  [N-1:0] spare1_g,
+    input  [N-1:0] spare1_b,
+    input  [N-1:0] spare1_a,
+    input  [N-1:0] tex0_r,
+    input  [N-1:0] tex0_g,
+    input  [N-1:0] tex0_b,
+    input  [N-1:0] tex0_a,
+    input  [N-1:0] tex1_r,
+    input  [N-1:0] tex1_g,
+    input  [N-1:0] tex1_b,
+    input  [N-1:0] tex1_a,
+    input  [N-1:0] tex2_r,
+    input  [N-1:0] tex2_g,
+    input  [N-1:0] tex2_b,
+    input  [N-1:0] tex2_a,
+    input  [N-1:0] tex3_r,
+    input  [N-1:0] tex3_g,
+    input  [N-1:0] tex3_b,
+    input  [N-1:0] tex3_a,
+    output reg out_valid,
+    output [N-1:0] o_zero_r,
+    output [N-1:0] o_zero_g,
+    output [N-1:0] o_zero_b,
+    output [N-1:0] o_zero_a,
+    output [N-1:0] o_ccc0_r,
+    output [N-1:0] o_ccc0_g,
+    output [N-1:0] o_ccc0_b,
+    output [N-1:0] o_ccc0_a,
+    output [N-1:0] o_ccc1_r,
+    output [N-1:0] o_ccc1_g,
+    output [N-1:0] o_ccc1_b,
+    output [N-1:0] o_ccc1_a,
+    output [N-1:0] o_fog_r,
+    output [N-1:0] o_fog_g,
+    output [N-1:0] o_fog_b,
+    output [N-1:0] o_fog_a,
+    output [N-1:0] o_pri_r,
+    output [N-1:0] o_pri_g,
+    output [N-1:0] o_pri_b,
+    output [N-1:0] o_pri_a,
+    output [N-1:0] o_sec_r,
+    output [N-1:0] o_sec_g,
+    output [N-1:0] o_sec_b,
+    output [N-1:0] o_sec_a,
+    output [N-1:0] o_spare0_r,
+    output [N-1:0] o_spare0_g,
+    output [N-1:0] o_spare0_b,
+    output [N-1:0] o_spare0_a,
+    output [N-1:0] o_spare1_r,
+    output [N-1:0] o_spare1_g,
+    output [N-1:0] o_spare1_b,
+    output [N-1:0] o_spare1_a,
+    output [N-1:0] o_tex0_r,
+    output [N-1:0] o_tex0_g,
+    output [N-1:0] o_tex0_b,
+    output [N-1:0] o_tex0_a,
+    output [N-1:0] o_tex1_r,
+    output [N-1:0] o_tex1_g,
+    output [N-1:0] o_tex1_b,
+    output [N-1:0] o_tex1_a,
+    output [N-1:0] o_tex2_r,
+    output [N-1:0] o_tex2_g,
+    output [N-1:0] o_tex2_b,
+    output [N-1:0] o_tex2_a,
+    output [N-1:0] o_tex3_r,
+    output [N-1:0] o_tex3_g,
+    output [N-1:0] o_tex3_b,
+    output [N-1:0] o_tex3_a
+);
+  localparam W = 2 * N + G + 16;
+  localparam signed [W-1:0] S = (1 << (N - 1)) - 1;
+  // Register i, component c (0 r .. 3 a) at [(47 - 4i - c)*N +: N].
+  wire [48*N-1:0] f0 = {zero_r, zero_g, zero_b, zero_a, ccc0_r, ccc0_g, ccc0_b, ccc0_a, ccc1_r, ccc1_g, ccc1_b, ccc1_a, fog_r, fog_g, fog_b, fog_a, pri_r, pri_g, pri_b, pri_a, sec_r, sec_g, sec_b, sec_a, spare0_r, spare0_g, spare0_b, spare0_a, spare1_r, spare1_g, spare1_b, spare1_a, tex0_r, tex0_g, tex0_b, tex0_a, tex1_r, tex1_g, tex1_b, tex1_a, tex2_r, tex2_g, tex2_b, tex2_a, tex3_r, tex3_g, tex3_b, tex3_a};
+
+  // floor(num / den) plus the carry of ROUNDING; den > 0.
+  function signed [W-1:0] rdiv;
+    input signed [W-1:0] num;
+    input signed [W-1:0] den;
+    reg signed [W-1:0] q, rem, twice;
+    reg neg, up;
+    begin
+      q = num / den;  // toward zero
+      rem = num - q * den;
+      if (rem < 0) begin
+        q = q - 1;
+        rem = rem + den;
+      end
+      neg = num < 0;
+      twice = 2 * rem;
+      if (rem == 0) up = 1'b0;
+      else
+        case (ROUNDING)
+          0: up = 1'b0;
+          1: up = neg;
+          default:
+          if (twice > den) up = 1'b1;
+          else if (twice < den) up = 1'b0;
+          else
+            case (ROUNDING)
+              2: up = 1'b1;
+              3: up = neg;
+              4: up = !neg;
+              5: up = 1'b0;
+              default: up = q[0];
+            endcase
+        endcase
+      rdiv = q + up;
+    end
+  endfunction
+
+  // A variable: register component (ZERO reads 0), sign-extended, then Table 4 in
+  // half-LSB units (s(N+2)).
+  function signed [W-1:0] mapped;
+    input [48*N-1:0] f;
+    input integer in, m, cu, lane;
+    reg [N-1:0] x;
+    reg signed [W-1:0] r, p;
+    begin
+      x = f[(47-4*in-(cu == 1 ? 3 : cu == 2 ? 2 : lane))*N+:N];
+      r = in == 0 ? 0 : $signed({{(W - N) {x[N-1]}}, x});
+      p = r < 0 ? 0 : r;
+      case (m)
+        0: mapped = 2 * p;
+        1: mapped = 2 * (S - (p > S ? S : p));
+        2: mapped = 2 * (2 * p - S);
+        3: mapped = 2 * (S - 2 * p);
+        4: mapped = 2 * p - S;
+        5: mapped = S - 2 * p;
+        6: mapped = 2 * r;
+        default: mapped = -2 * r;
+      endcase
+    end
+  endfunction
+
+  // Step 4: round(p * 2^G / (4S)).
+  function signed [W-1:0] rp;
+    input signed [W-1:0] p;
+    begin
+      rp = rdiv(p <<< G, 4 * S);
+    end
+  endfunction
+
+  // Step 6: clamp(round((2x - b) * k / 2^(G+2)), -S, S).
+  function signed [W-1:0] outv;
+    input signed [W-1:0] x;
+    input integer scale, bias;
+    reg signed [W-1:0] v, r;
+    begin
+      v = (2 * x - (bias ? (S <<< G) : 0)) * (scale == 0 ? 2 : scale == 1 ? 4 : scale == 2 ? 8 : 1);
+      r = rdiv(v, 1 << (G + 2));
+      outv = r > S ? S : r < -S ? -S : r;
+    end
+  endfunction
+
+  reg v1, v2;
+  reg [48*N-1:0] f1, f2, f3, fo;
+  // Stage 2's rounded products: lane l's q_ab at [l*W +: W] (lanes 0..2 RGB, 3 alpha).
+  reg [4*W-1:0] qab, qcd;
+  reg mux_cd;
+  integer l;
+  reg signed [W-1:0] ab [0:3], cd [0:3];
+  reg signed [W-1:0] dab, dcd, x, sum;
+  always @(posedge clk) begin
+    if (rst) begin
+      v1 <= 1'b0;
+      v2 <= 1'b0;
+      out_valid <= 1'b0;
+    end else begin
+      v1 <= in_valid;
+      v2 <= v1;
+      out_valid <= v2;
+    end
+    // Stage 1: the input set.
+    f1 <= f0;
+    // Stage 2: products (s(2N+2)), dot products (s(2N+3)), each rounded once.
+    for (l = 0; l < 3; l = l + 1) begin
+      ab[l] = mapped(f1, RGB_A_IN, RGB_A_MAP, RGB_A_USE, l) * mapped(f1, RGB_B_IN, RGB_B_MAP, RGB_B_USE, l);
+      cd[l] = mapped(f1, RGB_C_IN, RGB_C_MAP, RGB_C_USE, l) * mapped(f1, RGB_D_IN, RGB_D_MAP, RGB_D_USE, l);
+    end
+    ab[3] = mapped(f1, ALPHA_A_IN, ALPHA_A_MAP, ALPHA_A_USE, 3) * mapped(f1, ALPHA_B_IN, ALPHA_B_MAP, ALPHA_B_USE, 3);
+    cd[3] = mapped(f1, ALPHA_C_IN, ALPHA_C_MAP, ALPHA_C_USE, 3) * mapped(f1, ALPHA_D_IN, ALPHA_D_MAP, ALPHA_D_USE, 3);
+    dab = rp(ab[0] + ab[1] + ab[2]);
+    dcd = rp(cd[0] + cd[1] + cd[2]);
+    for (l = 0; l < 3; l = l + 1) begin
+      qab[l*W+:W] <= RGB_AB_DOT ? dab : rp(ab[l]);
+      qcd[l*W+:W] <= RGB_CD_DOT ? dcd : rp(cd[l]);
+    end
+    qab[3*W+:W] <= rp(ab[3]);
+    qcd[3*W+:W] <= rp(cd[3]);
+    // SPARE0 alpha of the input set >= 0.5: c >= 2^(N-2) (non-negative).
+    mux_cd <= !f1[(47-4*6-3)*N+N-1] && f1[(47-4*6-3)*N+N-2];
+    f2 <= f1;
+    // Stage 3: outputs written into the set (RGB lanes 0..2, alpha lane 3).
+    f3 = f2;
+    for (l = 0; l < 4; l = l + 1) begin
+      sum = (l < 3 ? RGB_MUX_SUM : ALPHA_MUX_SUM) ?
+          (mux_cd ? $signed(qcd[l*W+:W]) : $signed(qab[l*W+:W])) :
+          $signed(qab[l*W+:W]) + $signed(qcd[l*W+:W]);
+      if (l < 3) begin
+        if (RGB_AB_OUT != 15) f3[(47-4*RGB_AB_OUT-l)*N+:N] = outv(qab[l*W+:W], RGB_SCALE, RGB_BIAS);
+        if (RGB_CD_OUT != 15) f3[(47-4*RGB_CD_OUT-l)*N+:N] = outv(qcd[l*W+:W], RGB_SCALE, RGB_BIAS);
+        if (RGB_SUM_OUT != 15) f3[(47-4*RGB_SUM_OUT-l)*N+:N] = outv(sum, RGB_SCALE, RGB_BIAS);
+      end else begin
+        if (ALPHA_AB_OUT != 15) f3[(47-4*ALPHA_AB_OUT-3)*N+:N] = outv(qab[3*W+:W], ALPHA_SCALE, ALPHA_BIAS);
+        if (ALPHA_CD_OUT != 15) f3[(47-4*ALPHA_CD_OUT-3)*N+:N] = outv(qcd[3*W+:W], ALPHA_SCALE, ALPHA_BIAS);
+        if (ALPHA_SUM_OUT != 15) f3[(47-4*ALPHA_SUM_OUT-3)*N+:N] = outv(sum, ALPHA_SCALE, ALPHA_BIAS);
+      end
+    end
+    fo <= f3;
+  end
+  assign o_zero_r = fo[47*N+:N];
+  assign o_zero_g = fo[46*N+:N];
+  assign o_zero_b = fo[45*N+:N];
+  assign o_zero_a = fo[44*N+:N];
+  assign o_ccc0_r = fo[43*N+:N];
+  assign o_ccc0_g = fo[42*N+:N];
+  assign o_ccc0_b = fo[41*N+:N];
+  assign o_ccc0_a = fo[40*N+:N];
+  assign o_ccc1_r = fo[39*N+:N];
+  assign o_ccc1_g = fo[38*N+:N];
+  assign o_ccc1_b = fo[37*N+:N];
+  assign o_ccc1_a = fo[36*N+:N];
+  assign o_fog_r = fo[35*N+:N];
+  assign o_fog_g = fo[34*N+:N];
+  assign o_fog_b = fo[33*N+:N];
+  assign o_fog_a = fo[32*N+:N];
+  assign o_pri_r = fo[31*N+:N];
+  assign o_pri_g = fo[30*N+:N];
+  assign o_pri_b = fo[29*N+:N];
+  assign o_pri_a = fo[28*N+:N];
+  assign o_sec_r = fo[27*N+:N];
+  assign o_sec_g = fo[26*N+:N];
+  assign o_sec_b = fo[25*N+:N];
+  assign o_sec_a = fo[24*N+:N];
+  assign o_spare0_r = fo[23*N+:N];
+  assign o_spare0_g = fo[22*N+:N];
+  assign o_spare0_b = fo[21*N+:N];
+  assign o_spare0_a = fo[20*N+:N];
+  assign o_spare1_r = fo[19*N+:N];
+  assign o_spare1_g = fo[18*N+:N];
+  assign o_spare1_b = fo[17*N+:N];
+  assign o_spare1_a = fo[16*N+:N];
+  assign o_tex0_r = fo[15*N+:N];
+  assign o_tex0_g = fo[14*N+:N];
+  assign o_tex0_b = fo[13*N+:N];
+  assign o_tex0_a = fo[12*N+:N];
+  assign o_tex1_r = fo[11*N+:N];
+  assign o_tex1_g = fo[10*N+:N];
+  assign o_tex1_b = fo[9*N+:N];
+  assign o_tex1_a = fo[8*N+:N];
+  assign o_tex2_r = fo[7*N+:N];
+  assign o_tex2_g = fo[6*N+:N];
+  assign o_tex2_b = fo[5*N+:N];
+  assign o_tex2_a = fo[4*N+:N];
+  assign o_tex3_r = fo[3*N+:N];
+  assign o_tex3_g = fo[2*N+:N];
+  assign o_tex3_b = fo[1*N+:N];
+  assign o_tex3_a = fo[0*N+:N];
+endmodule

@@ -1,0 +1,111 @@
+//! final_combiner's vectors. The Verilog (rtl_model/verilog/units/final_combiner.v)
+//! takes the final-combiner state (variables A .. G, rounding, colour-sum clamp) as
+//! parameters: one configuration per set of vectors.
+
+use super::{collect, RtlConfig, VectorSet, VerilogParams};
+use rtl_model::fixed_point::Quant;
+use rtl_model::units::final_combiner::{FinalCombinerConfig, FinalInput, FinalVariable};
+use rtl_model::units::register_combiner::{
+    ComponentUsage, Mapping, Register, RegisterFile, REGISTER_COUNT,
+};
+
+/// The GeForce default (the fog blend A = fog alpha, B = SPARE0 + SECONDARY, C = fog,
+/// G = SPARE0 alpha; N 9, out 8, RND), and a narrow one (N 4, out 3, RND_CONV, colour
+/// sum clamped) reading E_TIMES_F, both inverting mappings and BLUE on G.
+fn config(config: RtlConfig) -> FinalCombinerConfig {
+    match config {
+        RtlConfig::Default => FinalCombinerConfig::geforce(),
+        RtlConfig::Narrow => {
+            use ComponentUsage::{Alpha, Blue, Rgb};
+            use Mapping::{UnsignedIdentity as Id, UnsignedInvert as Inv};
+            let reg = |r, m, u| FinalVariable::new(FinalInput::Register(r), m, u);
+            FinalCombinerConfig {
+                internal_bits: 4,
+                out_bits: 3,
+                rounding: Quant::RndConv,
+                color_sum_clamp: true,
+                a: reg(Register::Texture0, Inv, Rgb),
+                b: FinalVariable::new(FinalInput::ETimesF, Id, Rgb),
+                c: FinalVariable::new(FinalInput::Spare0PlusSecondaryColor, Inv, Rgb),
+                d: reg(Register::PrimaryColor, Id, Alpha),
+                e: reg(Register::Texture1, Id, Rgb),
+                f: reg(Register::SecondaryColor, Inv, Alpha),
+                g: reg(Register::Texture2, Inv, Blue),
+            }
+        }
+    }
+}
+
+fn params(c: &FinalCombinerConfig) -> VerilogParams {
+    let quant = [
+        Quant::Trn,
+        Quant::TrnZero,
+        Quant::Rnd,
+        Quant::RndZero,
+        Quant::RndInf,
+        Quant::RndMinInf,
+        Quant::RndConv,
+    ];
+    let mut p = vec![
+        ("N", c.internal_bits as u64),
+        ("OUT_BITS", c.out_bits as u64),
+        (
+            "ROUNDING",
+            quant.iter().position(|&q| q == c.rounding).unwrap_or(2) as u64,
+        ),
+        ("COLOR_SUM_CLAMP", u64::from(c.color_sum_clamp)),
+    ];
+    let vars: [(&'static str, &'static str, &'static str, FinalVariable); 7] = [
+        ("A_IN", "A_MAP", "A_USE", c.a),
+        ("B_IN", "B_MAP", "B_USE", c.b),
+        ("C_IN", "C_MAP", "C_USE", c.c),
+        ("D_IN", "D_MAP", "D_USE", c.d),
+        ("E_IN", "E_MAP", "E_USE", c.e),
+        ("F_IN", "F_MAP", "F_USE", c.f),
+        ("G_IN", "G_MAP", "G_USE", c.g),
+    ];
+    for (i, m, u, v) in vars {
+        let input = match v.input {
+            FinalInput::Register(r) => r.index() as u64,
+            FinalInput::ETimesF => 12,
+            FinalInput::Spare0PlusSecondaryColor => 13,
+        };
+        let usage = match v.component_usage {
+            ComponentUsage::Rgb => 0,
+            ComponentUsage::Alpha => 1,
+            ComponentUsage::Blue => 2,
+        };
+        p.push((i, input));
+        p.push((m, u64::from(v.mapping == Mapping::UnsignedInvert)));
+        p.push((u, usage));
+    }
+    p
+}
+
+pub(super) fn final_combiner_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let cfg = self::config(config);
+    let u = cfg.build().map_err(|e| e.to_string())?;
+    let make = |v: &[u64]| {
+        let mut f = RegisterFile::default();
+        for (i, reg) in f.regs.iter_mut().enumerate().take(REGISTER_COUNT) {
+            for (c, x) in reg.iter_mut().enumerate() {
+                *x = v[4 * i + c] as i32;
+            }
+        }
+        f
+    };
+    Ok(collect(
+        &u,
+        (),
+        config,
+        RegisterFile::default(),
+        make,
+        params(&cfg),
+        count,
+        seed,
+    ))
+}
