@@ -17,6 +17,7 @@
 
 mod chaos_map;
 mod gaussian_noise;
+mod polygon_interpolator;
 mod stream;
 
 use super::seeded;
@@ -130,6 +131,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "modulate",
         vectors: modulate_vectors,
+    },
+    RtlEntry {
+        name: "polygon_interpolator",
+        vectors: polygon_interpolator::polygon_interpolator_vectors,
     },
     RtlEntry {
         name: "additive_blend",
