@@ -15,6 +15,11 @@
 //! generator. Expected responses come from the unit's kernel in order (a unit with
 //! state carries it from one transaction to the next, from its reset state).
 
+mod chaos_map;
+mod gaussian_noise;
+mod polygon_interpolator;
+mod stream;
+
 use super::seeded;
 
 mod projective_texcoord;
@@ -162,6 +167,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
         vectors: modulate_vectors,
     },
     RtlEntry {
+        name: "polygon_interpolator",
+        vectors: polygon_interpolator::polygon_interpolator_vectors,
+    },
+    RtlEntry {
         name: "additive_blend",
         vectors: additive_blend_vectors,
     },
@@ -172,6 +181,14 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "halo_modulator",
         vectors: halo_modulator_vectors,
+    },
+    RtlEntry {
+        name: "gaussian_noise",
+        vectors: gaussian_noise::gaussian_noise_vectors,
+    },
+    RtlEntry {
+        name: "chaos_map",
+        vectors: chaos_map::chaos_map_vectors,
     },
     RtlEntry {
         name: "glare_combiner",
@@ -454,7 +471,14 @@ impl VectorSet {
         let params: Vec<String> = self
             .params
             .iter()
-            .map(|(k, val)| format!(".{k}({val})"))
+            .map(|(k, val)| {
+                // Unsized literals are 32-bit signed: wider values are sized.
+                if *val >= 1 << 31 {
+                    format!(".{k}(64'd{val})")
+                } else {
+                    format!(".{k}({val})")
+                }
+            })
             .collect();
         let _ = writeln!(v, "  {} #({}) dut (", self.unit, params.join(", "));
         let _ = writeln!(

@@ -1,0 +1,268 @@
+// gaussian_noise — the N(0, 1) source of the flare lines, Box–Muller mode
+// (rtl_model/src/units/gaussian_noise.rs). Two taus88 generators A and B (reset to the
+// model's GaussState::from_seed(SEED): SplitMix64 words, computed here by a constant
+// function), one step of each per accepted request; the top B bits are k1, k2; then
+// ln / sqrt / sin ROMs (ports, synchronous read) with linear interpolation, and the
+// outputs x, y in s(O+1).f. Latency 9, II 1:
+//   1-2 request delay (the state steps later; the outputs depend only on the count of
+//       requests, so this is the model's sequence two clocks later)
+//   3   generator register: state step, k1, k2
+//   4   U1 leading-one, mantissa align, phase align -> ln, sin address registers
+//   5   ROM data (ln, sin, cos)
+//   6   ln interpolate, Y = e*ln2 - L (rounded, >= 0), sin/cos interpolate, quadrant
+//   7   sqrt normalise -> sqrt address registers
+//   8   ROM data (sqrt)
+//   9   sqrt interpolate, r*cos, r*sin, round, saturate, sign -> output registers
+// The central-limit mode is not implemented (the vector writer builds Box–Muller).
+module gaussian_noise #(
+    parameter UNIFORM_BITS  = 32,
+    parameter TABLE_LOG2    = 10,
+    parameter TABLE_BITS    = 18,
+    parameter OUT_FRAC_BITS = 12,
+    parameter OUT_INT_BITS  = 3,
+    parameter LN2           = 46516319,  // round(ln 2 * 2^(TABLE_BITS+8))
+    parameter SEED          = 1,
+    // derived (do not set)
+    parameter OB            = 1 + OUT_INT_BITS + OUT_FRAC_BITS,
+    parameter SQAW          = TABLE_LOG2
+) (
+    input                       clk,
+    input                       rst,
+    input                       in_valid,
+    input                       req,
+    output reg [TABLE_LOG2:0]   ln_addr0,
+    output reg [TABLE_LOG2:0]   ln_addr1,
+    input      [TABLE_BITS-1:0] ln_data0,
+    input      [TABLE_BITS-1:0] ln_data1,
+    output reg [SQAW-1:0]       sqrt_addr0,
+    output reg [SQAW-1:0]       sqrt_addr1,
+    input      [TABLE_BITS+1:0] sqrt_data0,
+    input      [TABLE_BITS+1:0] sqrt_data1,
+    output reg [TABLE_LOG2:0]   sin_addr0,
+    output reg [TABLE_LOG2:0]   sin_addr1,
+    output reg [TABLE_LOG2:0]   sin_addr2,
+    output reg [TABLE_LOG2:0]   sin_addr3,
+    input      [TABLE_BITS:0]   sin_data0,
+    input      [TABLE_BITS:0]   sin_data1,
+    input      [TABLE_BITS:0]   sin_data2,
+    input      [TABLE_BITS:0]   sin_data3,
+    output reg                  out_valid,
+    output reg [OB-1:0]         x,
+    output reg [OB-1:0]         y
+);
+  localparam B = UNIFORM_BITS;
+  localparam T = TABLE_LOG2;
+  localparam E = TABLE_BITS;
+  localparam D = TABLE_BITS;
+  localparam TD = T + D;
+  localparam PB = B - 2;
+  localparam F = OUT_FRAC_BITS;
+  localparam [2*E+5:0] MAXC = (1 << (OUT_INT_BITS + F)) - 1;
+
+  // ---- reset state: GaussState::from_seed(SEED) ----
+  function [31:0] seed_word;
+    input [63:0] seed;
+    input integer idx;
+    reg [63:0] s, z;
+    reg [31:0] r, mn;
+    integer j;
+    begin
+      s = seed;
+      r = 0;
+      for (j = 0; j <= idx; j = j + 1) begin
+        s = s + 64'h9E3779B97F4A7C15;
+        z = s;
+        z = (z ^ (z >> 30)) * 64'hBF58476D1CE4E5B9;
+        z = (z ^ (z >> 27)) * 64'h94D049BB133111EB;
+        z = z ^ (z >> 31);
+        r = z[31:0];
+      end
+      mn = (idx % 3 == 0) ? 32'd2 : (idx % 3 == 1) ? 32'd8 : 32'd16;
+      seed_word = (r < mn) ? r + mn : r;
+    end
+  endfunction
+  localparam [31:0] SA0 = seed_word(SEED, 0);
+  localparam [31:0] SA1 = seed_word(SEED, 1);
+  localparam [31:0] SA2 = seed_word(SEED, 2);
+  localparam [31:0] SB0 = seed_word(SEED, 3);
+  localparam [31:0] SB1 = seed_word(SEED, 4);
+  localparam [31:0] SB2 = seed_word(SEED, 5);
+
+  // ---- taus88 (L'Ecuyer 1996) ----
+  function [95:0] taus_next;  // {s2, s1, s0} stepped
+    input [95:0] s;
+    reg [31:0] s0, s1, s2, b;
+    begin
+      s0 = s[31:0];
+      s1 = s[63:32];
+      s2 = s[95:64];
+      b = ((s0 << 13) ^ s0) >> 19;
+      s0 = ((s0 & 32'hFFFFFFFE) << 12) ^ b;
+      b = ((s1 << 2) ^ s1) >> 25;
+      s1 = ((s1 & 32'hFFFFFFF8) << 4) ^ b;
+      b = ((s2 << 3) ^ s2) >> 11;
+      s2 = ((s2 & 32'hFFFFFFF0) << 17) ^ b;
+      taus_next = {s2, s1, s0};
+    end
+  endfunction
+
+  // Linear interpolation a + round((b - a) * t / 2^D), entries up to E + 2 bits.
+  function [E+2:0] interp;
+    input [E+1:0] a;
+    input [E+1:0] b;
+    input [D-1:0] t;
+    reg signed [E+2:0] df;
+    reg signed [E+D+3:0] pr, sh;
+    begin
+      df = $signed({1'b0, b}) - $signed({1'b0, a});
+      pr = df * $signed({1'b0, t});
+      pr = pr + $signed({{E + 4{1'b0}}, 1'b1, {D - 1{1'b0}}});
+      sh = pr >>> D;
+      interp = a + sh[E+2:0];
+    end
+  endfunction
+
+  reg [1:0] rq;
+  reg [95:0] sa, sb;
+  reg [B-1:0] k1, k2;
+  reg v3, v4, v5, v6, v7, v8;
+  wire [95:0] na = taus_next(sa);
+  wire [95:0] nb = taus_next(sb);
+  wire [31:0] raw_a = na[31:0] ^ na[63:32] ^ na[95:64];
+  wire [31:0] raw_b = nb[31:0] ^ nb[63:32] ^ nb[95:64];
+
+  // ---- stage 4: leading one of U1 = 2 k1 + 1, alignments ----
+  wire [B:0] u1 = {k1, 1'b1};
+  reg [5:0] p;
+  integer i;
+  always @(*) begin
+    p = 0;
+    for (i = 0; i <= B; i = i + 1) if (u1[i]) p = i;
+  end
+  wire [B+TD:0] u1w = {u1, {TD{1'b0}}} >> p;
+  wire [TD-1:0] fr = u1w[TD-1:0];
+  wire [5:0] ee = B + 1 - p;
+  wire [PB+TD-1:0] phw = {k2[PB-1:0], {TD{1'b0}}} >> PB;
+  wire [TD-1:0] pp = phw[TD-1:0];
+  wire [TD:0] pc = {1'b1, {TD{1'b0}}} - pp;
+  wire [T:0] pci1 = pc[TD:D] + 1;
+  reg [D-1:0] t_ln4, t_s4, t_c4, t_ln5, t_s5, t_c5;
+  reg [5:0] ee4, ee5;
+  reg [1:0] q4, q5;
+
+  // ---- stage 6: ln, sin, cos interpolation; Y ----
+  wire [E+2:0] l6 = interp({2'b0, ln_data0}, {2'b0, ln_data1}, t_ln5);
+  wire [E+2:0] s6 = interp({1'b0, sin_data0}, {1'b0, sin_data1}, t_s5);
+  wire [E+2:0] c6 = interp({1'b0, sin_data2}, {1'b0, sin_data3}, t_c5);
+  localparam [E+7:0] LN2C = LN2;
+  wire [E+14:0] eln = ee5 * LN2C;  // u6 x u(E+8)
+  wire signed [E+16:0] y8 = $signed({2'b0, eln}) - $signed({6'b0, l6, 8'b0});
+  wire signed [E+16:0] yr = (y8 + 128) >>> 8;
+  wire [E+5:0] y6 = yr[E+16] ? 0 : yr[E+5:0];
+  reg [E+5:0] yv;
+  reg signed [E+3:0] cos6, sin6;
+
+  // ---- stage 7: sqrt normalise ----
+  reg [5:0] bl;
+  always @(*) begin
+    bl = 0;
+    for (i = 0; i < E + 6; i = i + 1) if (yv[i]) bl = i + 1;
+  end
+  wire signed [7:0] qq = $signed({2'b0, bl}) - E;
+  wire signed [7:0] kk = qq >>> 1;
+  // m = Y * 2^(T-1-2k), as (Y << (T+E+2)) >> (E + 3 + 2k)
+  wire [7:0] rsh = E + 3 + 2 * kk;
+  wire [2*E+T+7:0] mw = {yv, {T + E + 2{1'b0}}} >> rsh;
+  wire [TD-1:0] m7 = mw[TD-1:0];
+  wire [T-1:0] sqi = m7[TD-1:D] - (1 << (T - 2));
+  reg signed [7:0] k7, k8;
+  reg z7, z8;
+  reg [D-1:0] t_q7, t_q8;
+  reg signed [E+3:0] cos7, sin7, cos8, sin8;
+
+  // ---- stage 9: r = S 2^k; x = round(S |c| 2^(k+f-2E)), saturate, sign ----
+  wire [E+2:0] s9 = interp(sqrt_data0, sqrt_data1, t_q8);
+  wire [7:0] osh = 2 * E - F - k8;  // >= 1 in the configurations built
+  function [OB-1:0] scale;
+    input [E+2:0] s;
+    input signed [E+3:0] c;
+    input [7:0] sh;
+    input zero;
+    reg [E+2:0] ca;
+    reg [2*E+5:0] pr, mg;
+    begin
+      ca = c[E+3] ? -c : c;
+      pr = s * ca;
+      mg = ((pr >> (sh - 1)) + 1) >> 1;
+      if (mg > MAXC) mg = MAXC;
+      if (zero) scale = 0;
+      else scale = c[E+3] ? -mg[OB-1:0] : mg[OB-1:0];
+    end
+  endfunction
+
+  always @(posedge clk) begin
+    if (rst) begin
+      rq <= 0;
+      sa <= {SA2, SA1, SA0};
+      sb <= {SB2, SB1, SB0};
+      {v3, v4, v5, v6, v7, v8, out_valid} <= 0;
+    end else begin
+      rq <= {rq[0], in_valid & req};
+      {v3, v4, v5, v6, v7, v8, out_valid} <= {rq[1], v3, v4, v5, v6, v7, v8};
+      if (rq[1]) begin
+        sa <= na;
+        sb <= nb;
+      end
+    end
+    // 3
+    k1 <= raw_a[31:32-B];
+    k2 <= raw_b[31:32-B];
+    // 4
+    ln_addr0 <= {1'b0, fr[TD-1:D]};
+    ln_addr1 <= {1'b0, fr[TD-1:D]} + 1;
+    sin_addr0 <= {1'b0, pp[TD-1:D]};
+    sin_addr1 <= {1'b0, pp[TD-1:D]} + 1;
+    sin_addr2 <= pc[TD:D];
+    sin_addr3 <= pci1 > (1 << T) ? (1 << T) : pci1;
+    t_ln4 <= fr[D-1:0];
+    t_s4 <= pp[D-1:0];
+    t_c4 <= pc[D-1:0];
+    ee4 <= ee;
+    q4 <= k2[B-1:B-2];
+    // 5
+    {t_ln5, t_s5, t_c5, ee5, q5} <= {t_ln4, t_s4, t_c4, ee4, q4};
+    // 6
+    yv <= y6;
+    case (q5)
+      2'd0: begin
+        cos6 <= c6;
+        sin6 <= s6;
+      end
+      2'd1: begin
+        cos6 <= -s6;
+        sin6 <= c6;
+      end
+      2'd2: begin
+        cos6 <= -c6;
+        sin6 <= -s6;
+      end
+      default: begin
+        cos6 <= s6;
+        sin6 <= -c6;
+      end
+    endcase
+    // 7
+    sqrt_addr0 <= (yv == 0) ? 0 : sqi;
+    sqrt_addr1 <= (yv == 0) ? 1 : sqi + 1;
+    t_q7 <= m7[D-1:0];
+    k7 <= kk;
+    z7 <= (yv == 0);
+    cos7 <= cos6;
+    sin7 <= sin6;
+    // 8
+    {t_q8, k8, z8, cos8, sin8} <= {t_q7, k7, z7, cos7, sin7};
+    // 9
+    x <= scale(s9, cos8, osh, z8);
+    y <= scale(s9, sin8, osh, z8);
+  end
+endmodule

@@ -1,0 +1,207 @@
+//! polygon_interpolator's vectors: random small triangles and parallelograms are set
+//! up by the model (`setup_triangle`, `setup_parallelogram`), each walked by its
+//! serpentine moves (`PolySetup::moves`) through the kernel, primitive after primitive,
+//! until `count` moves. A transaction is `{load, move}`: `load` is set on each
+//! primitive's first move (Hold) and makes the Verilog take that primitive's start
+//! state (the setup's `PolyState`) from its read ports, one table entry per primitive
+//! in order. The setup itself (plane equations, divisions) is the model's: the Verilog
+//! is the walker. Implemented: 4 attributes, WRAP accumulators, RND output rounding.
+
+use super::{Field, RomPort, RtlConfig, VectorSet};
+use crate::registry::seeded;
+use rand::Rng;
+use rtl_model::fixed_point::{Format, Overflow, Quant};
+use rtl_model::units::polygon_interpolator::{
+    Move, PolyState, PolygonInterpolatorConfig, Vertex, EDGES,
+};
+use rtl_model::{Counters, Unit};
+
+/// Attributes the Verilog has ports for.
+const ATTRS: usize = 4;
+
+/// The configuration built at `config`: the default (4 attributes s16.16, positions
+/// s13.4, accumulators s20.24, output s16.8), or narrow (positions s5.1 — ±16 px —,
+/// unsigned attributes u4.2, accumulators s6.6, output u4.1).
+pub fn config_of(config: RtlConfig) -> PolygonInterpolatorConfig {
+    match config {
+        RtlConfig::Default => PolygonInterpolatorConfig::default(),
+        RtlConfig::Narrow => PolygonInterpolatorConfig {
+            attrs: ATTRS as u32,
+            subpixel_bits: 1,
+            coord_int_bits: 5,
+            attr_fmt: Format {
+                int_bits: 4,
+                frac_bits: 2,
+                signed: false,
+            },
+            acc_int_bits: 6,
+            acc_frac_bits: 6,
+            acc_overflow: Overflow::Wrap,
+            out_int_bits: 4,
+            out_frac_bits: 1,
+            out_quant: Quant::Rnd,
+        },
+    }
+}
+
+fn mask(v: i64, w: u32) -> u64 {
+    (v as u64) & (u64::MAX >> (64 - w))
+}
+
+pub(super) fn polygon_interpolator_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let cfg = config_of(config);
+    let u = cfg.build().map_err(|e| e.to_string())?;
+    let (c, s) = (cfg.coord_int_bits, cfg.subpixel_bits);
+    let ew = u.edge_bits();
+    let aw = cfg.acc_int_bits + cfg.acc_frac_bits;
+    let mut rng = seeded(seed);
+    let mut ctr = Counters::default();
+    // Primitive centres keep a margin from the position range; sizes up to `span` px.
+    let half = 1i64 << (c - 1);
+    let span: i64 = if c > 8 { 24 } else { 6 };
+    let sub = 1i64 << s;
+    let aw_attr = cfg.attr_fmt.width();
+    let mut starts: Vec<PolyState> = Vec::new();
+    let mut stimulus = Vec::with_capacity(count);
+    let mut expected = Vec::with_capacity(count);
+    let mut out_f: Vec<Field> = Vec::new();
+    while stimulus.len() < count {
+        let cx = rng.random_range(-half + span..half - span) * sub;
+        let cy = rng.random_range(-half + span..half - span) * sub;
+        let mut vert = || {
+            let mut attrs = [0i64; 16];
+            for a in attrs.iter_mut().take(ATTRS) {
+                *a = rng.random_range(0..1i64 << aw_attr);
+            }
+            Vertex {
+                x: cx + rng.random_range(-span * sub / 2..=span * sub / 2),
+                y: cy + rng.random_range(-span * sub / 2..=span * sub / 2),
+                attrs,
+            }
+        };
+        let v = [vert(), vert(), vert()];
+        let setup = if rng.random_range(0..4) == 0 {
+            match u.setup_parallelogram(&v, &mut ctr) {
+                Ok(p) => p,
+                Err(_) => continue,
+            }
+        } else {
+            u.setup_triangle(&v, &mut ctr)
+        };
+        let moves = setup.moves();
+        if moves.is_empty() {
+            continue;
+        }
+        let mut st = setup.state.clone();
+        starts.push(setup.state);
+        for (i, mv) in moves.iter().enumerate() {
+            if stimulus.len() == count {
+                break;
+            }
+            let load = u64::from(i == 0);
+            debug_assert!(i > 0 || *mv == Move::Hold);
+            stimulus.push(format!("{:x}", (load << 2) | mv.code()));
+            let o = u.kernel(&mut st, mv, &mut ctr);
+            let mut sig = u.out_signals(&o);
+            // The Verilog's port for `inside` is `is_inside` (a SystemVerilog keyword).
+            sig[2].name = "is_inside";
+            if out_f.is_empty() {
+                out_f = super::fields(&sig);
+            }
+            expected.push(super::pack_hex(&sig));
+        }
+    }
+    // Tables: 2^PB primitives (one spare: the address runs one ahead of the loads).
+    let pb = (64 - (starts.len() as u64).leading_zeros()).max(1);
+    let n = 1usize << pb;
+    let table = |per: usize, f: &dyn Fn(&PolyState, usize) -> u64| -> Vec<u64> {
+        let mut w = vec![0u64; n * per];
+        for (p, st) in starts.iter().enumerate() {
+            for i in 0..per {
+                w[p * per + i] = f(st, i);
+            }
+        }
+        w
+    };
+    let roms = vec![
+        RomPort {
+            name: "pos",
+            ports: 2,
+            width: c,
+            words: table(2, &|st, i| mask(if i == 0 { st.x } else { st.y }, c)),
+        },
+        RomPort {
+            name: "ef",
+            ports: EDGES as u32,
+            width: ew,
+            words: table(EDGES, &|st, i| mask(st.edge[i], ew)),
+        },
+        RomPort {
+            name: "ef_dx",
+            ports: EDGES as u32,
+            width: ew,
+            words: table(EDGES, &|st, i| mask(st.edge_dx[i], ew)),
+        },
+        RomPort {
+            name: "ef_dy",
+            ports: EDGES as u32,
+            width: ew,
+            words: table(EDGES, &|st, i| mask(st.edge_dy[i], ew)),
+        },
+        RomPort {
+            name: "acc",
+            ports: ATTRS as u32,
+            width: aw,
+            words: table(ATTRS, &|st, i| mask(st.acc[i], aw)),
+        },
+        RomPort {
+            name: "grad_x",
+            ports: ATTRS as u32,
+            width: aw,
+            words: table(ATTRS, &|st, i| mask(st.grad_x[i], aw)),
+        },
+        RomPort {
+            name: "grad_y",
+            ports: ATTRS as u32,
+            width: aw,
+            words: table(ATTRS, &|st, i| mask(st.grad_y[i], aw)),
+        },
+    ];
+    let t = u.timing();
+    Ok(VectorSet {
+        unit: u.name(),
+        config,
+        latency: t.latency,
+        ii: t.ii,
+        params: vec![
+            ("COORD_INT_BITS", c as u64),
+            ("EDGE_BITS", ew as u64),
+            ("ACC_INT_BITS", cfg.acc_int_bits as u64),
+            ("ACC_FRAC_BITS", cfg.acc_frac_bits as u64),
+            ("OUT_INT_BITS", cfg.out_int_bits as u64),
+            ("OUT_FRAC_BITS", cfg.out_frac_bits as u64),
+            ("OUT_SIGNED", u64::from(cfg.attr_fmt.signed)),
+            ("PRIM_BITS", pb as u64),
+        ],
+        in_fields: vec![
+            Field {
+                name: "load",
+                width: 1,
+            },
+            Field {
+                name: "move",
+                width: 2,
+            },
+        ],
+        out_fields: out_f,
+        exhaustive: false,
+        stimulus,
+        expected,
+        gates_model: u.cost().gates_nand2(),
+        roms,
+    })
+}
