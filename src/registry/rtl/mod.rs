@@ -15,6 +15,9 @@
 //! generator. Expected responses come from the unit's kernel in order (a unit with
 //! state carries it from one transaction to the next, from its reset state).
 
+mod cube_map_address;
+mod reflection_vector;
+
 use super::seeded;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
@@ -146,6 +149,14 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "glare_condition",
         vectors: glare_condition_vectors,
+    },
+    RtlEntry {
+        name: "cube_map_address",
+        vectors: cube_map_address::cube_map_address_vectors,
+    },
+    RtlEntry {
+        name: "reflection_vector",
+        vectors: reflection_vector::reflection_vector_vectors,
     },
 ];
 
