@@ -749,6 +749,18 @@ pub fn verilog_file(root: &Path, unit: &str) -> std::path::PathBuf {
         .join(format!("{unit}.v"))
 }
 
+/// Modules shared by several units' Verilog (`rtl_model/verilog/lib/<name>.v`): the
+/// co-simulation compiles them with the units, synthesis reads them before the unit.
+pub const VERILOG_LIB: &[&str] = &["luminance_datapath"];
+
+/// The shared modules' files ([`VERILOG_LIB`]), in the source tree.
+pub fn verilog_lib_files(root: &Path) -> Vec<std::path::PathBuf> {
+    VERILOG_LIB
+        .iter()
+        .map(|m| root.join("rtl_model/verilog/lib").join(format!("{m}.v")))
+        .collect()
+}
+
 /// A unit synthesised by Yosys at one configuration.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Synth {
@@ -794,7 +806,9 @@ pub fn weigh_cells(cells: &std::collections::BTreeMap<String, u64>) -> Result<f6
 
 /// Synthesise `unit`'s Verilog at `config` with the calibration's pinned script
 /// (rtl_model/verilog/calibrate.sh) plus `chparam` for the configured widths:
-/// `read_verilog; chparam; synth -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; stat`.
+/// `read_verilog; chparam; synth -flatten -top; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX;
+/// stat` (the shared modules of [`VERILOG_LIB`] read first; -flatten is a no-op on a
+/// unit of one module).
 pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String> {
     let e = rtl_entry(unit)?;
     let v = (e.vectors)(config, 1, 1)?;
@@ -810,8 +824,14 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         .iter()
         .map(|(k, x)| format!("-set {k} {x}"))
         .collect();
+    // The shared modules first; -flatten makes `stat` one module (a hierarchy would
+    // list a submodule's cells again in its total).
+    let lib: String = verilog_lib_files(root)
+        .iter()
+        .map(|f| format!("read_verilog {}; ", f.display()))
+        .collect();
     let script = format!(
-        "read_verilog {}; chparam {} {}; synth -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        "{lib}read_verilog {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
         file.display(),
         sets.join(" "),
         e.name,
