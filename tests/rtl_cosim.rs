@@ -47,6 +47,8 @@ fn have(tool: &str, arg: &str) -> bool {
 fn sources(blocks: &[PathBuf]) -> Vec<PathBuf> {
     let d = verilog_dir();
     let mut v = vec![d.join("tb/tb_vectors.v"), d.join("tb/rtl_rom.v")];
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    v.extend(rtl::verilog_lib_files(root));
     for e in RTL_UNITS {
         v.push(d.join(format!("units/{}.v", e.name)));
     }

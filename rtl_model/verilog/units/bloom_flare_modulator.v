@@ -3,6 +3,8 @@
 // correction off): (u, v) -> SHAPE RAM (bilinear) -> d -> FALLOFF RAM (linear) -> p
 // -> x RGB gain, saturating. The tables are ports with synchronous read (the pipeline
 // loads them per primitive): 4 shape read ports (the four banks) and 2 falloff ports.
+// The datapath is rtl_model/verilog/lib/luminance_datapath.v with one falloff table
+// (NR = 1), shared with halo_modulator.v.
 // Latency 6, II 1:
 //   1 address registers (clamp, split into index and weight)   -> shape RAM read
 //   2 shape data                                                 (bilinear, round: d)
@@ -33,156 +35,60 @@ module bloom_flare_modulator #(
     input      [GAIN_INT_BITS+GAIN_FRAC_BITS-1:0] gain_r,
     input      [GAIN_INT_BITS+GAIN_FRAC_BITS-1:0] gain_g,
     input      [GAIN_INT_BITS+GAIN_FRAC_BITS-1:0] gain_b,
-    output reg [SAW-1:0]                      shape_addr0,
-    output reg [SAW-1:0]                      shape_addr1,
-    output reg [SAW-1:0]                      shape_addr2,
-    output reg [SAW-1:0]                      shape_addr3,
+    output     [SAW-1:0]                      shape_addr0,
+    output     [SAW-1:0]                      shape_addr1,
+    output     [SAW-1:0]                      shape_addr2,
+    output     [SAW-1:0]                      shape_addr3,
     input      [SHAPE_BITS-1:0]               shape_data0,
     input      [SHAPE_BITS-1:0]               shape_data1,
     input      [SHAPE_BITS-1:0]               shape_data2,
     input      [SHAPE_BITS-1:0]               shape_data3,
-    output reg [FAW-1:0]                      falloff_addr0,
-    output reg [FAW-1:0]                      falloff_addr1,
+    output     [FAW-1:0]                      falloff_addr0,
+    output     [FAW-1:0]                      falloff_addr1,
     input      [FALLOFF_BITS-1:0]             falloff_data0,
     input      [FALLOFF_BITS-1:0]             falloff_data1,
-    output reg                                out_valid,
-    output reg [SHAPE_BITS-1:0]               d,
-    output reg [OUT_BITS-1:0]                 lum_r,
-    output reg [OUT_BITS-1:0]                 lum_g,
-    output reg [OUT_BITS-1:0]                 lum_b
+    output                                    out_valid,
+    output     [SHAPE_BITS-1:0]               d,
+    output     [OUT_BITS-1:0]                 lum_r,
+    output     [OUT_BITS-1:0]                 lum_g,
+    output     [OUT_BITS-1:0]                 lum_b
 );
-  localparam F = COORD_FRAC_BITS;
-  localparam K = SHAPE_LOG2;
-  localparam SB = SHAPE_BITS;
-  localparam M = FALLOFF_LOG2;
-  localparam FB = FALLOFF_BITS;
-  localparam WB = WEIGHT_BITS;
-  localparam GB = GAIN_INT_BITS + GAIN_FRAC_BITS;
-  localparam GF = GAIN_FRAC_BITS;
-  localparam S = F + 1 - K;  // fraction bits of the cell position
-  localparam R = FB + GAIN_INT_BITS;  // p replicated width
-  localparam SH = R + GF;
-  localparam PW = R + 1 + GB;  // p x gain
-  localparam REP_D = (M + WB + SB - 1) / SB;
-  localparam REP_P = (R + FB - 1) / FB;
-
-  // ---- stage 1: clamp to [-1, 1], split into (index, weight) ----
-  function [K+WB:0] split;  // {index u(K+1), weight u(WB)}
-    input [F+1:0] c;
-    reg signed [F+2:0] a;
-    reg [F+1:0] ac;
-    reg [K:0] i;
-    reg [WB-1:0] w;
-    reg [F+1:0] frac;
-    begin
-      a = $signed({c[F+1], c}) + $signed({3'b001, {F{1'b0}}});  // u + 1
-      if (a < 0) ac = 0;
-      else if (a > $signed({3'b010, {F{1'b0}}})) ac = {2'b10, {F{1'b0}}};
-      else ac = a[F+1:0];
-      if (S <= 0) begin
-        i = ac << (-S);
-        w = 0;
-      end else begin
-        i = ac >> S;
-        frac = ac & ((1 << S) - 1);
-        if (S >= WB) w = frac >> (S - WB);
-        else w = frac << (WB - S);
-      end
-      split = {i, w};
-    end
-  endfunction
-
-  wire [K+WB:0] su = split(u);
-  wire [K+WB:0] sv = split(v);
-  wire [K:0] iu = su[K+WB:WB];
-  wire [K:0] jv = sv[K+WB:WB];
-  wire [K:0] iu1 = (iu == SIDE - 1) ? iu : iu + 1;
-  wire [K:0] jv1 = (jv == SIDE - 1) ? jv : jv + 1;
-
-  reg [WB-1:0] wx1, wy1, wx2, wy2;
-  reg [3*GB-1:0] g1, g2, g3, g4;
-  reg v1, v2, v3, v4, v5;
-  always @(posedge clk) begin
-    shape_addr0 <= jv * SIDE + iu;  // s00
-    shape_addr1 <= jv * SIDE + iu1;  // s10
-    shape_addr2 <= jv1 * SIDE + iu;  // s01
-    shape_addr3 <= jv1 * SIDE + iu1;  // s11
-    wx1 <= su[WB-1:0];
-    wy1 <= sv[WB-1:0];
-    g1 <= {gain_r, gain_g, gain_b};
-    // stage 2: the RAM presents the samples; carry the weights along
-    wx2 <= wx1;
-    wy2 <= wy1;
-    g2 <= g1;
-  end
-
-  // ---- after stage 2: bilinear, round to d ----
-  wire signed [SB+1:0] s00 = {2'b00, shape_data0};
-  wire signed [SB+1:0] s10 = {2'b00, shape_data1};
-  wire signed [SB+1:0] s01 = {2'b00, shape_data2};
-  wire signed [SB+1:0] s11 = {2'b00, shape_data3};
-  wire signed [WB+1:0] wxs = {2'b00, wx2};
-  wire signed [WB+1:0] wys = {2'b00, wy2};
-  wire signed [SB+2*WB+3:0] r0 = (s00 <<< WB) + (s10 - s00) * wxs;
-  wire signed [SB+2*WB+3:0] r1 = (s01 <<< WB) + (s11 - s01) * wxs;
-  wire signed [SB+2*WB+3:0] t = (r0 <<< WB) + (r1 - r0) * wys;
-  wire [SB+2*WB+3:0] tr = t + (1 << (2 * WB - 1));
-  wire [SB-1:0] d_c = tr[2*WB+:SB];
-  // falloff address: d replicated to M + WB bits
-  wire [REP_D*SB-1:0] drep = {REP_D{d_c}};
-  wire [M+WB-1:0] faddr = drep[REP_D*SB-1-:(M+WB)];
-
-  reg [SB-1:0] d3, d4, d5;
-  reg [WB-1:0] fw3, fw4;
-  always @(posedge clk) begin
-    falloff_addr0 <= faddr[M+WB-1:WB];
-    falloff_addr1 <= faddr[M+WB-1:WB] + 1;
-    fw3 <= faddr[WB-1:0];
-    d3 <= d_c;
-    g3 <= g2;
-    // stage 4: the falloff RAM presents its samples
-    fw4 <= fw3;
-    d4 <= d3;
-    g4 <= g3;
-  end
-
-  // ---- after stage 4: lerp to p, replicate, x gain, round, saturate ----
-  wire signed [FB+1:0] f0 = {2'b00, falloff_data0};
-  wire signed [FB+1:0] f1 = {2'b00, falloff_data1};
-  wire signed [FB+WB+3:0] ft = (f0 <<< WB) + (f1 - f0) * $signed({2'b00, fw4});
-  wire [FB+WB+3:0] ftr = ft + (1 << (WB - 1));
-  wire [FB-1:0] p = ftr[WB+:FB];
-  wire [REP_P*FB-1:0] prep_r = {REP_P{p}};
-  wire [R:0] prep = {1'b0, prep_r[REP_P*FB-1-:R]} + p[FB-1];
-  function [OUT_BITS-1:0] gmul;
-    input [R:0] pr;
-    input [GB-1:0] g;
-    reg [PW-1:0] prod;
-    reg [PW-1:0] l;
-    begin
-      prod = pr * g;
-      l = (prod + ({{(PW - 1) {1'b0}}, 1'b1} << (SH - 1))) >> SH;
-      gmul = (l > {OUT_BITS{1'b1}}) ? {OUT_BITS{1'b1}} : l[OUT_BITS-1:0];
-    end
-  endfunction
-
-  reg [OUT_BITS-1:0] l5r, l5g, l5b;
-  always @(posedge clk) begin
-    l5r <= gmul(prep, g4[3*GB-1-:GB]);
-    l5g <= gmul(prep, g4[2*GB-1-:GB]);
-    l5b <= gmul(prep, g4[GB-1:0]);
-    d5 <= d4;
-    d <= d5;
-    lum_r <= l5r;
-    lum_g <= l5g;
-    lum_b <= l5b;
-  end
-
-  always @(posedge clk) begin
-    if (rst) begin
-      {v1, v2, v3, v4, v5, out_valid} <= 6'b0;
-    end else begin
-      {v1, v2, v3, v4, v5, out_valid} <= {in_valid, v1, v2, v3, v4, v5};
-    end
-  end
+  luminance_datapath #(
+      .COORD_FRAC_BITS(COORD_FRAC_BITS),
+      .SHAPE_LOG2(SHAPE_LOG2),
+      .SHAPE_BITS(SHAPE_BITS),
+      .FALLOFF_LOG2(FALLOFF_LOG2),
+      .FALLOFF_BITS(FALLOFF_BITS),
+      .WEIGHT_BITS(WEIGHT_BITS),
+      .GAIN_INT_BITS(GAIN_INT_BITS),
+      .GAIN_FRAC_BITS(GAIN_FRAC_BITS),
+      .OUT_BITS(OUT_BITS),
+      .NR(1)
+  ) dp (
+      .clk(clk),
+      .rst(rst),
+      .in_valid(in_valid),
+      .u(u),
+      .v(v),
+      .gain_r(gain_r),
+      .gain_g(gain_g),
+      .gain_b(gain_b),
+      .shape_addr0(shape_addr0),
+      .shape_addr1(shape_addr1),
+      .shape_addr2(shape_addr2),
+      .shape_addr3(shape_addr3),
+      .shape_data0(shape_data0),
+      .shape_data1(shape_data1),
+      .shape_data2(shape_data2),
+      .shape_data3(shape_data3),
+      .falloff_addr0(falloff_addr0),
+      .falloff_addr1(falloff_addr1),
+      .falloff_data0(falloff_data0),
+      .falloff_data1(falloff_data1),
+      .out_valid(out_valid),
+      .d(d),
+      .lum_r(lum_r),
+      .lum_g(lum_g),
+      .lum_b(lum_b)
+  );
 endmodule

@@ -16,8 +16,10 @@
 //! state carries it from one transaction to the next, from its reset state).
 
 mod chaos_map;
+mod cube_map_address;
 mod gaussian_noise;
 mod polygon_interpolator;
+mod reflection_vector;
 mod stream;
 
 use super::seeded;
@@ -225,6 +227,14 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "register_combiner",
         vectors: register_combiner::register_combiner_vectors,
+    },
+    RtlEntry {
+        name: "cube_map_address",
+        vectors: cube_map_address::cube_map_address_vectors,
+    },
+    RtlEntry {
+        name: "reflection_vector",
+        vectors: reflection_vector::reflection_vector_vectors,
     },
 ];
 
@@ -854,6 +864,18 @@ pub fn verilog_file(root: &Path, unit: &str) -> std::path::PathBuf {
         .join(format!("{unit}.v"))
 }
 
+/// Modules shared by several units' Verilog (`rtl_model/verilog/lib/<name>.v`): the
+/// co-simulation compiles them with the units, synthesis reads them before the unit.
+pub const VERILOG_LIB: &[&str] = &["luminance_datapath"];
+
+/// The shared modules' files ([`VERILOG_LIB`]), in the source tree.
+pub fn verilog_lib_files(root: &Path) -> Vec<std::path::PathBuf> {
+    VERILOG_LIB
+        .iter()
+        .map(|m| root.join("rtl_model/verilog/lib").join(format!("{m}.v")))
+        .collect()
+}
+
 /// A unit synthesised by Yosys at one configuration.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Synth {
@@ -903,7 +925,8 @@ pub fn weigh_cells(cells: &std::collections::BTreeMap<String, u64>) -> Result<f6
 /// stat`. `-flatten` makes a unit with submodules one module, so `stat` lists its
 /// cells once (unflattened it lists each submodule's cells per module and again in the
 /// hierarchy total, which the cell sum below would count twice); a single-module unit
-/// synthesises the same either way.
+/// synthesises the same either way. The shared modules of [`VERILOG_LIB`] are read
+/// first.
 pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String> {
     let e = rtl_entry(unit)?;
     let v = (e.vectors)(config, 1, 1)?;
@@ -919,8 +942,14 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         .iter()
         .map(|(k, x)| format!("-set {k} {x}"))
         .collect();
+    // The shared modules first; -flatten makes `stat` one module (a hierarchy would
+    // list a submodule's cells again in its total).
+    let lib: String = verilog_lib_files(root)
+        .iter()
+        .map(|f| format!("read_verilog {}; ", f.display()))
+        .collect();
     let script = format!(
-        "read_verilog {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        "{lib}read_verilog {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
         file.display(),
         sets.join(" "),
         e.name,

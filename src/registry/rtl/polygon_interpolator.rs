@@ -203,5 +203,6 @@ pub(super) fn polygon_interpolator_vectors(
         expected,
         gates_model: u.cost().gates_nand2(),
         roms,
+        rams: Vec::new(),
     })
 }

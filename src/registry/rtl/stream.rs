@@ -40,5 +40,6 @@ pub(super) fn request_stream<U: Unit<In = ()>>(
         expected,
         gates_model: u.cost().gates_nand2(),
         roms: Vec::new(),
+        rams: Vec::new(),
     }
 }
