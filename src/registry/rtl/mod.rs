@@ -15,6 +15,8 @@
 //! generator. Expected responses come from the unit's kernel in order (a unit with
 //! state carries it from one transaction to the next, from its reset state).
 
+pub mod dpi;
+
 use super::seeded;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
