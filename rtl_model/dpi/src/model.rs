@@ -405,13 +405,19 @@ impl Spec {
     fn take_enum(&mut self, key: &str, names: &[&str], default: usize) -> Result<usize, String> {
         match self.kv.remove(key) {
             None => Ok(default),
-            Some(v) => names.iter().position(|n| *n == v).ok_or_else(|| {
-                format!(
-                    "{}.{key}: '{v}' is not one of {}",
-                    self.unit,
-                    names.join(", ")
-                )
-            }),
+            // By name, or by its code (the index, as a Verilog parameter holds it).
+            Some(v) => names
+                .iter()
+                .position(|n| *n == v)
+                .or_else(|| v.parse::<usize>().ok().filter(|&i| i < names.len()))
+                .ok_or_else(|| {
+                    format!(
+                        "{}.{key}: '{v}' is not one of {} (or its code 0 ..= {})",
+                        self.unit,
+                        names.join(", "),
+                        names.len() - 1
+                    )
+                }),
         }
     }
 

@@ -20,12 +20,13 @@ pub struct DpiEntry {
 }
 
 /// Every unit with Verilog and a DPI model. texture_sampler has a DPI model
-/// (`texture_sampler_new`, `glare_dpi_open("texture_sampler", …)`); its entry joins
-/// when its Verilog does: `DpiEntry { name: "texture_sampler", spec: |c| params_spec(c, "texture_sampler") }`.
+/// (`texture_sampler_new`, `glare_dpi_open("texture_sampler", …)`) and its spec
+/// ([`texture_sampler_spec`]); its entry joins when its Verilog does:
+/// `DpiEntry { name: "texture_sampler", spec: texture_sampler_spec },`.
 pub const DPI_UNITS: &[DpiEntry] = &[
     DpiEntry {
         name: "modulate",
-        spec: |c| params_spec(c, "modulate"),
+        spec: |c| params_spec(c, "modulate", &[]),
     },
     DpiEntry {
         name: "bloom_flare_modulator",
@@ -47,17 +48,40 @@ pub const DPI_UNITS: &[DpiEntry] = &[
     },
 ];
 
-/// The spec of a unit whose Verilog parameters are its config fields (upper case):
-/// `bits=8 seed=20` for modulate's `BITS`.
-pub fn params_spec(config: RtlConfig, unit: &str) -> String {
+/// The spec of a unit from its Verilog parameters at `config` (its vector writer's),
+/// each the config field of the same name in lower case (`BITS=8` → `bits=8`) unless
+/// `rename` maps it to another field (`Some`) or drops it (`None`, a derived width).
+pub fn params_spec(config: RtlConfig, unit: &str, rename: &[(&str, Option<&str>)]) -> String {
     let mut s = String::new();
     if let Ok(v) = super::vectors(unit, config, 1, 1) {
         for (k, x) in &v.params {
-            let _ = write!(s, "{}={x} ", k.to_lowercase());
+            match rename.iter().find(|(p, _)| p == k) {
+                Some((_, None)) => {}
+                Some((_, Some(field))) => {
+                    let _ = write!(s, "{field}={x} ");
+                }
+                None => {
+                    let _ = write!(s, "{}={x} ", k.to_lowercase());
+                }
+            }
         }
     }
     let _ = write!(s, "seed={TABLE_SEED}");
     s
+}
+
+/// texture_sampler's spec from its Verilog parameters (2D, one channel, linear, four
+/// texel ports; `ADDR_S`/`ADDR_T` are the address modes, `ADDR_BITS` is derived).
+pub fn texture_sampler_spec(config: RtlConfig) -> String {
+    params_spec(
+        config,
+        "texture_sampler",
+        &[
+            ("ADDR_S", Some("address_s")),
+            ("ADDR_T", Some("address_t")),
+            ("ADDR_BITS", None),
+        ],
+    )
 }
 
 /// The entry of a unit the DPI-C testbench runs; the error names the unit argument.
