@@ -16,6 +16,7 @@
 //! state carries it from one transaction to the next, from its reset state).
 
 pub mod dpi;
+pub mod speed;
 
 use super::seeded;
 use rand::Rng;
@@ -105,6 +106,10 @@ pub struct VectorSet {
     pub out_fields: Vec<Field>,
     /// Every input word was enumerated.
     pub exhaustive: bool,
+    /// Seconds the model's batch kernel (`Unit::kernel_batch`, from the reset state)
+    /// took per pass over these inputs (the fastest of a few passes): the model's
+    /// side of the speed table (`units --rtl-speed`).
+    pub model_batch_secs: f64,
     /// Packed input words, hex.
     pub stimulus: Vec<String>,
     /// Packed expected output words, hex.
@@ -277,6 +282,7 @@ fn collect<U: Unit>(
             })
             .collect()
     };
+    let state0 = state.clone();
     let mut ctr = Counters::default();
     let mut stimulus = Vec::with_capacity(inputs.len());
     let mut expected = Vec::with_capacity(inputs.len());
@@ -291,6 +297,7 @@ fn collect<U: Unit>(
         expected.push(pack_hex(&os));
     }
     let t = u.timing();
+    let model_batch_secs = time_batch(u, &state0, &inputs);
     VectorSet {
         unit: u.name(),
         config,
@@ -300,11 +307,33 @@ fn collect<U: Unit>(
         in_fields: in_f,
         out_fields: out_f,
         exhaustive,
+        model_batch_secs,
         stimulus,
         expected,
         gates_model: u.cost().gates_nand2(),
         roms: Vec::new(),
     }
+}
+
+/// Seconds per pass of `u`'s batch kernel over `inputs` from `state0`: the fastest
+/// of passes repeated for at least 5 ms (at most 16).
+fn time_batch<U: Unit>(u: &U, state0: &U::State, inputs: &[U::In]) -> f64 {
+    let mut best = f64::INFINITY;
+    let started = std::time::Instant::now();
+    let mut out = Vec::with_capacity(inputs.len());
+    for _ in 0..16 {
+        let mut st = state0.clone();
+        let mut ctr = Counters::default();
+        out.clear();
+        let t = std::time::Instant::now();
+        u.kernel_batch(&mut st, inputs, &mut out, &mut ctr);
+        best = best.min(t.elapsed().as_secs_f64());
+        std::hint::black_box(&out);
+        if started.elapsed().as_secs_f64() > 0.005 {
+            break;
+        }
+    }
+    best
 }
 
 impl VectorSet {
