@@ -51,7 +51,7 @@ fn bad_configs_name_the_field() {
         "{}",
         last_error()
     );
-    let shape = vec![0.5; 4];
+    let shape = [0.5; 4];
     let fall = vec![0.5; 257];
     let h = unsafe {
         bloom_flare_modulator_new(
@@ -76,7 +76,7 @@ fn bad_configs_name_the_field() {
         "{}",
         last_error()
     );
-    let tex = vec![0u32; 16];
+    let tex = [0u32; 16];
     let h = unsafe {
         texture_sampler_new(
             4,
