@@ -44,6 +44,19 @@ pub enum Command {
         /// others report no Yosys count. Synthesis of every unit takes tens of minutes.
         #[arg(long, value_name = "UNITS", value_delimiter = ',', requires = "synth")]
         only: Vec<String>,
+        /// Instead: the speed table of the units with Verilog — the model's batch
+        /// kernel (pixels/s) beside Verilator (cycles/s, transactions/s) on the same
+        /// vectors and configuration, in one run (docs/rtl.md). Needs verilator, g++
+        /// and make.
+        #[arg(long, conflicts_with_all = ["scene", "datasheet", "alternates", "synth"])]
+        rtl_speed: bool,
+        /// With --rtl-speed: transactions per unit (exhaustive vector sets keep their
+        /// size).
+        #[arg(long, default_value_t = 1_000_000, requires = "rtl_speed")]
+        count: usize,
+        /// With --rtl-speed: the configuration (default or narrow).
+        #[arg(long, default_value = "default", requires = "rtl_speed")]
+        config: String,
     },
     /// Render a scene (default: the paper's Fig. 6(b) sphere under a spotlight) to PNG
     /// through its pass plan, and print the plan, the chip, each pipeline's counters
@@ -352,6 +365,13 @@ pub fn run(cli: Cli) -> Result<(), String> {
             only,
             ..
         } => units_synth(json, &only),
+        Command::Units {
+            json,
+            rtl_speed: true,
+            count,
+            config,
+            ..
+        } => units_rtl_speed(json, count, &config),
         Command::Units {
             json,
             alternates,
@@ -963,6 +983,60 @@ fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String
 }
 
 pub use crate::report::image_out::write_file;
+
+/// `units --rtl-speed`: the model beside Verilator per unit with Verilog.
+fn units_rtl_speed(json: bool, count: usize, config: &str) -> Result<(), String> {
+    use registry::rtl;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let config = rtl::RtlConfig::parse(config).map_err(|e| format!("--{e}"))?;
+    if count == 0 || count > rtl::MAX_VECTORS {
+        return Err(format!(
+            "--count: {count} is out of range (1 ..= {})",
+            rtl::MAX_VECTORS
+        ));
+    }
+    let dir = std::env::temp_dir().join(format!("glare_rtl_speed_{}", std::process::id()));
+    let rows = rtl::speed::rtl_speed(root, &dir, config, count, 20);
+    let _ = std::fs::remove_dir_all(&dir);
+    let rows = rows?;
+    if json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&rows).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    let t: Vec<Vec<String>> = rows
+        .iter()
+        .map(|r| {
+            vec![
+                r.unit.to_string(),
+                r.config.to_string(),
+                r.transactions.to_string(),
+                format!("{:.3e}", r.model_pixels_per_s),
+                format!("{:.3e}", r.verilator_cycles_per_s),
+                format!("{:.3e}", r.verilator_transactions_per_s),
+                format!("{:.0}", r.model_over_verilator),
+            ]
+        })
+        .collect();
+    print!(
+        "{}",
+        text_table(
+            &[
+                "unit",
+                "config",
+                "transactions",
+                "model pixels/s",
+                "Verilator cycles/s",
+                "Verilator transactions/s",
+                "model ÷ Verilator"
+            ],
+            &t
+        )
+    );
+    Ok(())
+}
 
 /// `units --synth`: every unit's summary, and for each unit with Verilog the Yosys
 /// count at its default widths beside the model's (`only`: just those units; an

@@ -17,9 +17,11 @@
 
 mod chaos_map;
 mod cube_map_address;
+pub mod dpi;
 mod gaussian_noise;
 mod polygon_interpolator;
 mod reflection_vector;
+pub mod speed;
 mod stream;
 
 use super::seeded;
@@ -142,6 +144,10 @@ pub struct VectorSet {
     pub out_fields: Vec<Field>,
     /// Every input word was enumerated.
     pub exhaustive: bool,
+    /// Seconds the model's batch kernel (`Unit::kernel_batch`, from the reset state)
+    /// took per pass over these inputs (the fastest of a few passes): the model's
+    /// side of the speed table (`units --rtl-speed`).
+    pub model_batch_secs: f64,
     /// Packed input words, hex.
     pub stimulus: Vec<String>,
     /// Packed expected output words, hex.
@@ -364,6 +370,7 @@ fn collect<U: Unit>(
             })
             .collect()
     };
+    let state0 = state.clone();
     let mut ctr = Counters::default();
     let mut stimulus = Vec::with_capacity(inputs.len());
     let mut expected = Vec::with_capacity(inputs.len());
@@ -378,6 +385,7 @@ fn collect<U: Unit>(
         expected.push(pack_hex(&os));
     }
     let t = u.timing();
+    let model_batch_secs = time_batch(u, &state0, &inputs);
     VectorSet {
         unit: u.name(),
         config,
@@ -387,12 +395,42 @@ fn collect<U: Unit>(
         in_fields: in_f,
         out_fields: out_f,
         exhaustive,
+        model_batch_secs,
         stimulus,
         expected,
         gates_model: u.cost().gates_nand2(),
         roms: Vec::new(),
         rams: Vec::new(),
     }
+}
+
+/// Seconds per pass of `u`'s batch kernel over `inputs` from `state0`: the fastest
+/// of passes repeated for at least 5 ms (at most 16).
+fn time_batch<U: Unit>(u: &U, state0: &U::State, inputs: &[U::In]) -> f64 {
+    time_batch_walks(u, &[(state0.clone(), inputs)])
+}
+
+/// [`time_batch`] over several walks, each from its own start state (a unit whose
+/// state is loaded per primitive): the fastest pass over all of them.
+pub(super) fn time_batch_walks<U: Unit>(u: &U, walks: &[(U::State, &[U::In])]) -> f64 {
+    let mut best = f64::INFINITY;
+    let started = std::time::Instant::now();
+    let mut out = Vec::new();
+    for _ in 0..16 {
+        let t = std::time::Instant::now();
+        for (state0, inputs) in walks {
+            let mut st = state0.clone();
+            let mut ctr = Counters::default();
+            out.clear();
+            u.kernel_batch(&mut st, inputs, &mut out, &mut ctr);
+            std::hint::black_box(&out);
+        }
+        best = best.min(t.elapsed().as_secs_f64());
+        if started.elapsed().as_secs_f64() > 0.005 {
+            break;
+        }
+    }
+    best
 }
 
 impl VectorSet {

@@ -66,6 +66,8 @@ pub(super) fn polygon_interpolator_vectors(
     let sub = 1i64 << s;
     let aw_attr = cfg.attr_fmt.width();
     let mut starts: Vec<PolyState> = Vec::new();
+    // Each primitive's moves, for timing the batch kernel (`units --rtl-speed`).
+    let mut walks: Vec<Vec<Move>> = Vec::new();
     let mut stimulus = Vec::with_capacity(count);
     let mut expected = Vec::with_capacity(count);
     let mut out_f: Vec<Field> = Vec::new();
@@ -98,6 +100,7 @@ pub(super) fn polygon_interpolator_vectors(
         }
         let mut st = setup.state.clone();
         starts.push(setup.state);
+        walks.push(Vec::new());
         for (i, mv) in moves.iter().enumerate() {
             if stimulus.len() == count {
                 break;
@@ -105,6 +108,9 @@ pub(super) fn polygon_interpolator_vectors(
             let load = u64::from(i == 0);
             debug_assert!(i > 0 || *mv == Move::Hold);
             stimulus.push(format!("{:x}", (load << 2) | mv.code()));
+            if let Some(w) = walks.last_mut() {
+                w.push(*mv);
+            }
             let o = u.kernel(&mut st, mv, &mut ctr);
             let mut sig = u.out_signals(&o);
             // The Verilog's port for `inside` is `is_inside` (a SystemVerilog keyword).
@@ -172,6 +178,12 @@ pub(super) fn polygon_interpolator_vectors(
         },
     ];
     let t = u.timing();
+    let timed: Vec<(PolyState, &[Move])> = starts
+        .iter()
+        .cloned()
+        .zip(walks.iter().map(Vec::as_slice))
+        .collect();
+    let model_batch_secs = super::time_batch_walks(&u, &timed);
     Ok(VectorSet {
         unit: u.name(),
         config,
@@ -199,6 +211,7 @@ pub(super) fn polygon_interpolator_vectors(
         ],
         out_fields: out_f,
         exhaustive: false,
+        model_batch_secs,
         stimulus,
         expected,
         gates_model: u.cost().gates_nand2(),

@@ -3,7 +3,7 @@
 //! expected words are the kernel's outputs in order from the unit's reset state (the
 //! state carries from one transaction to the next, as in hardware).
 
-use super::{fields, pack_hex, RtlConfig, VectorSet, VerilogParams};
+use super::{fields, pack_hex, time_batch_walks, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::{Counters, Unit};
 
 /// `count` requests from reset state `state`.
@@ -15,6 +15,8 @@ pub(super) fn request_stream<U: Unit<In = ()>>(
     count: usize,
 ) -> VectorSet {
     let mut ctr = Counters::default();
+    let requests = vec![(); count];
+    let model_batch_secs = time_batch_walks(u, &[(state.clone(), &requests[..])]);
     let in_f = fields(&u.in_signals(&()));
     let word = pack_hex(&u.in_signals(&()));
     let mut out_f = Vec::new();
@@ -36,6 +38,7 @@ pub(super) fn request_stream<U: Unit<In = ()>>(
         in_fields: in_f,
         out_fields: out_f,
         exhaustive: false,
+        model_batch_secs,
         stimulus: vec![word; count],
         expected,
         gates_model: u.cost().gates_nand2(),
