@@ -140,7 +140,7 @@ impl Kind {
             let norm = item.trim().replace('-', "_");
             let p = known.iter().find(|k| **k == norm).ok_or_else(|| {
                 format!(
-                    "params: unknown parameter '{}' for a {} scene (known: {})",
+                    "params: unknown parameter '{}' for this {} scene (known: {})",
                     item.trim(),
                     self.name(),
                     known.join(", ")
