@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, clap::Args)]
 pub struct OptimizeArgs {
     /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
-    /// glare-elliptic, …) or a TOML file of either.
+    /// glare-elliptic, …), an environment-map scene (env-pattern-sphere, …) or a TOML
+    /// file of these.
     #[arg(long)]
     pub scene: String,
     /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
