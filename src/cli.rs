@@ -139,7 +139,7 @@ pub enum Command {
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
     /// Bit-width optimisation (issue 21, docs/optimize.md): from the GeForce defaults,
-    /// the cheapest widths of a shafts or glare scene within an error budget (a greedy
+    /// the cheapest widths of a shafts, glare or environment-map scene within an error budget (a greedy
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
     /// (every configuration evaluated), DIR/pareto.png (gates against error, the front,
     /// the default) and DIR/best.toml (the scene with the widths found, for

@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, clap::Args)]
 pub struct OptimizeArgs {
     /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
-    /// glare-elliptic, …) or a TOML file of either.
+    /// glare-elliptic, …), an environment-map scene (env-pattern-sphere, …) or a TOML
+    /// file of these.
     #[arg(long)]
     pub scene: String,
     /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
@@ -71,17 +72,17 @@ pub struct Plan {
 /// rendering, no file written.
 pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
     let name = a.scene.as_str();
-    if name == "test"
-        || name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX)
-        || crate::pipeline::envmap::scene_render::environment_scene(name)?.is_some()
-    {
+    if name == "test" || name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
         return Err(format!(
             "scene: '{name}' is not a scene optimize can search (it covers shafts scenes: \
-             fig4, fig6, stage; glare scenes: glare-point, glare-elliptic, …; TOML files \
-             of either)"
+             fig4, fig6, stage; glare scenes: glare-point, glare-elliptic, …; \
+             environment-map scenes: env-pattern-sphere, …; TOML files of these)"
         ));
     }
-    let mut scene = crate::scene::load::load_scene(name)?;
+    let mut scene = match crate::pipeline::envmap::scene_render::environment_scene(name)? {
+        Some(env) => env,
+        None => crate::scene::load::load_scene(name)?,
+    };
     if let Some(size) = &a.size {
         let (w, h) = crate::pipeline::shafts::sweep::parse_image(size).map_err(|e| {
             e.replacen("image:", "size:", 1)

@@ -24,6 +24,7 @@
 //! --param fb_bits --values 8 --image 96x64`), so no width budget of a few levels can
 //! be met against it.
 
+use crate::pipeline::envmap::sweep::{envmap_row, envmap_scenes, ENVMAP_PARAMS};
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::{reference_levels, render_and_predict_over};
 use crate::pipeline::glare::sweep::GLARE_PARAMS;
@@ -47,6 +48,8 @@ pub const RAM_BIT_NAND2: f64 = 1.5;
 pub enum Kind {
     Shafts,
     Glare,
+    /// An environment-map scene (`[environment]`): `envmap::sweep`'s parameters.
+    Envmap,
 }
 
 /// How a parameter is narrowed by one step of the search.
@@ -81,12 +84,15 @@ const SHAFTS_DEFAULT: &[&str] = &[
 ];
 
 impl Kind {
-    /// The kind of a scene: glare with a `[glare]` section, else shafts. Scenes
-    /// `optimize` cannot search (the environment-map and shading scenes are read by
-    /// their own loaders) are refused by the CLI before this.
+    /// The kind of a scene: glare with a `[glare]` section, environment map with an
+    /// `[environment]` section (and no `[glare]`, as `environment_scene` reads it),
+    /// else shafts. The shading scenes (`shading-*`, not `Scene`s) are refused by the
+    /// CLI before this.
     pub fn of(scene: &Scene) -> Kind {
         if scene.glare.is_some() {
             Kind::Glare
+        } else if scene.environment.is_some() {
+            Kind::Envmap
         } else {
             Kind::Shafts
         }
@@ -97,6 +103,7 @@ impl Kind {
         match self {
             Kind::Shafts => SHAFTS_DEFAULT.to_vec(),
             Kind::Glare => glare_search(),
+            Kind::Envmap => ENVMAP_PARAMS.to_vec(),
         }
     }
 
@@ -109,6 +116,7 @@ impl Kind {
                 .map(Param::name)
                 .collect(),
             Kind::Glare => glare_search(),
+            Kind::Envmap => ENVMAP_PARAMS.to_vec(),
         }
     }
 
@@ -117,6 +125,8 @@ impl Kind {
         match (self, param) {
             (Kind::Shafts, "f_texels" | "light_map_texels" | "shadow_resolution")
             | (Kind::Shafts, "planes" | "subplanes") => Step::Halve,
+            // The voxel map's side is a power of two (`environment.side`).
+            (Kind::Envmap, _) => Step::Halve,
             _ => Step::Bit,
         }
     }
@@ -130,7 +140,7 @@ impl Kind {
             let norm = item.trim().replace('-', "_");
             let p = known.iter().find(|k| **k == norm).ok_or_else(|| {
                 format!(
-                    "params: unknown parameter '{}' for a {} scene (known: {})",
+                    "params: unknown parameter '{}' for this {} scene (known: {})",
                     item.trim(),
                     self.name(),
                     known.join(", ")
@@ -148,6 +158,7 @@ impl Kind {
         match self {
             Kind::Shafts => "shafts",
             Kind::Glare => "glare",
+            Kind::Envmap => "environment-map",
         }
     }
 
@@ -186,6 +197,18 @@ impl Kind {
                     _ => return Err(format!("params: unknown glare width '{param}'")),
                 })
             }
+            Kind::Envmap => {
+                let e = scene
+                    .environment
+                    .as_ref()
+                    .ok_or("scene: no [environment] section")?;
+                match param {
+                    "side" => Ok(e.side),
+                    _ => Err(format!(
+                        "params: unknown environment-map parameter '{param}'"
+                    )),
+                }
+            }
         }
     }
 
@@ -200,17 +223,23 @@ impl Kind {
                     let g = s.glare.as_mut().ok_or("scene: no [glare] section")?;
                     crate::pipeline::glare::sweep::apply(&mut g.hw, p, v)?;
                 }
+                // `sweep`'s own setter (validates the scene, naming `environment.side`).
+                Kind::Envmap => s = envmap_scenes(&s, p, &[v])?.remove(0),
             }
         }
         s.validate().map_err(|e| e.to_string())?;
         Ok(s)
     }
 
-    /// The output (framebuffer) width of a scene: the bound of [`output_bound`].
-    pub fn fb_bits(self, scene: &Scene) -> u32 {
+    /// The output (framebuffer) width of a scene, for the bound of [`output_bound`];
+    /// None when the pipeline's error is not measured on such codes against a
+    /// reference the evaluator holds (environment maps: `envmap_row` measures the
+    /// object's pixels against the Phong truth inside the render), so no bound.
+    pub fn fb_bits(self, scene: &Scene) -> Option<u32> {
         match self {
-            Kind::Shafts => scene.shafts.fb_bits,
-            Kind::Glare => scene.glare.as_ref().map_or(8, |g| g.hw.fb_bits),
+            Kind::Shafts => Some(scene.shafts.fb_bits),
+            Kind::Glare => Some(scene.glare.as_ref().map_or(8, |g| g.hw.fb_bits)),
+            Kind::Envmap => None,
         }
     }
 }
@@ -292,6 +321,9 @@ impl Evaluator {
                     (render_scene(&wide)?.0.levels(), None)
                 }
             },
+            // The environment map's truth (Phong, with the cos φ test) is drawn by
+            // `envmap_row` beside each render over the object's pixels; nothing here.
+            Kind::Envmap => (Vec::new(), None),
             Kind::Glare => {
                 let backdrop = if crate::frame::plan::shafts_backdrop(base) {
                     Some(crate::frame::run::shafts_backdrop(base).map_err(|e| e.to_string())?)
@@ -308,7 +340,7 @@ impl Evaluator {
             }
         };
         let by_fb = RefCell::new(BTreeMap::from([(
-            kind.fb_bits(base),
+            kind.fb_bits(base).unwrap_or(0),
             Rc::new(reference.clone()),
         )]));
         Ok(Evaluator {
@@ -325,8 +357,8 @@ impl Evaluator {
     /// scene; for glare, the reference at `scene`'s framebuffer width (drawn from the
     /// base scene at that width the first time it is asked for).
     pub fn reference_for(&self, scene: &Scene) -> Result<Rc<Vec<[f64; 3]>>, String> {
-        let fb = self.kind.fb_bits(scene);
-        if self.kind == Kind::Shafts {
+        let fb = self.kind.fb_bits(scene).unwrap_or(0);
+        if self.kind != Kind::Glare {
             return Ok(Rc::new(self.reference.clone()));
         }
         if let Some(r) = self.by_fb.borrow().get(&fb) {
@@ -378,15 +410,32 @@ impl Evaluator {
                     wall_seconds: wall,
                 })
             }
+            Kind::Envmap => {
+                // `sweep`'s row: the render against the Phong truth (cos φ test).
+                let r = envmap_row(scene, "side")?;
+                Ok(Metrics {
+                    gates: r.gates_nand2,
+                    ram_bits: r.ram_bits,
+                    error: ErrorStats {
+                        mean_abs: r.mean_abs_levels,
+                        rms: r.rms_levels,
+                        max: r.max_levels,
+                        n: 0,
+                    },
+                    predicted_seconds: r.predicted_hw_seconds,
+                    wall_seconds: r.wall_seconds,
+                })
+            }
         }
     }
 
-    /// The sound lower bound of [`output_bound`] for `scene`'s output width.
+    /// The sound lower bound of [`output_bound`] for `scene`'s output width; for a
+    /// kind without one (environment maps) the trivial bound 0, which prunes nothing.
     pub fn bound(&self, scene: &Scene) -> Result<ErrorStats, String> {
-        Ok(output_bound(
-            &self.reference_for(scene)?,
-            self.kind.fb_bits(scene),
-        ))
+        match self.kind.fb_bits(scene) {
+            Some(fb) => Ok(output_bound(&self.reference_for(scene)?, fb)),
+            None => Ok(ErrorStats::EMPTY),
+        }
     }
 }
 
