@@ -58,10 +58,32 @@ fn sources(blocks: &[PathBuf]) -> Vec<PathBuf> {
 
 /// One simulator's vector sets written and its simulation built.
 struct Built {
+    /// The simulator's name (in messages and scratch file names).
+    sim: &'static str,
+    /// Where the vector sets are (one subdirectory per tag).
     dir: PathBuf,
-    sets: Vec<VectorSet>,
+    sets: &'static [VectorSet],
     /// Command to run a tag: program and leading arguments.
     run: Vec<String>,
+}
+
+/// Every unit's vector sets at both configurations and the Verilog blocks wiring them,
+/// written once and read by both simulators (generating them is a good part of the
+/// test's time in a debug build).
+struct Sets {
+    dir: PathBuf,
+    sets: Vec<VectorSet>,
+    blocks: Vec<PathBuf>,
+}
+
+static SETS: OnceLock<Sets> = OnceLock::new();
+
+fn shared_sets() -> &'static Sets {
+    SETS.get_or_init(|| {
+        let dir = work_dir().join("sets");
+        let (sets, blocks) = write_sets(&dir, count());
+        Sets { dir, sets, blocks }
+    })
 }
 
 fn write_sets(dir: &Path, n: usize) -> (Vec<VectorSet>, Vec<PathBuf>) {
@@ -100,8 +122,8 @@ fn build_verilator() -> Option<Built> {
         return None;
     }
     let dir = work_dir().join("verilator");
-    let (sets, blocks) = write_sets(&dir, count());
-    let srcs = sources(&blocks);
+    let shared = shared_sets();
+    let srcs = sources(&shared.blocks);
     // Rebuild only when a source changed (the vectors are read at run time).
     let stamp: String = srcs
         .iter()
@@ -130,8 +152,9 @@ fn build_verilator() -> Option<Built> {
         std::fs::write(&stamp_file, &stamp).unwrap();
     }
     Some(Built {
-        dir,
-        sets,
+        sim: "verilator",
+        dir: shared.dir.clone(),
+        sets: &shared.sets,
         run: vec![bin.to_string_lossy().into_owned()],
     })
 }
@@ -142,16 +165,18 @@ fn build_icarus() -> Option<Built> {
         return None;
     }
     let dir = work_dir().join("icarus");
-    let (sets, blocks) = write_sets(&dir, count());
+    std::fs::create_dir_all(&dir).unwrap();
+    let shared = shared_sets();
     let vvp = dir.join("cosim.vvp");
     let mut c = Command::new("iverilog");
     c.args(["-g2005", "-s", "cosim_top", "-o"])
         .arg(&vvp)
-        .args(sources(&blocks));
+        .args(sources(&shared.blocks));
     run_ok(&mut c, "iverilog compile");
     Some(Built {
-        dir,
-        sets,
+        sim: "icarus",
+        dir: shared.dir.clone(),
+        sets: &shared.sets,
         run: vec![
             "vvp".into(),
             "-n".into(),
@@ -203,12 +228,35 @@ fn simulate(b: &Built, tag: &str, n: usize, expect: &Path) -> Summary {
     }
 }
 
-fn check_all(b: &Built, sim: &str) {
+/// Run every set, two simulations at a time (the sets are independent; results are
+/// printed and checked in set order).
+fn check_all(b: &Built) {
+    let sim = b.sim;
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let results: Vec<std::sync::Mutex<Option<Summary>>> =
+        b.sets.iter().map(|_| std::sync::Mutex::new(None)).collect();
+    let workers = std::thread::available_parallelism().map_or(2, |n| n.get().min(4));
+    std::thread::scope(|scope| {
+        for _ in 0..workers {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let Some(v) = b.sets.get(i) else { break };
+                let tag = v.tag();
+                let s = simulate(
+                    b,
+                    &tag,
+                    v.stimulus.len(),
+                    &b.dir.join(&tag).join("expected.hex"),
+                );
+                *results[i].lock().unwrap() = Some(s);
+            });
+        }
+    });
     let mut failed = Vec::new();
-    for v in &b.sets {
+    for (v, r) in b.sets.iter().zip(results) {
         let tag = v.tag();
         let n = v.stimulus.len();
-        let s = simulate(b, &tag, n, &b.dir.join(&tag).join("expected.hex"));
+        let s = r.into_inner().unwrap().expect("every set simulated");
         println!(
             "{sim} {tag}: {} transactions ({}), {} mismatches, {} valid errors",
             s.checked,
@@ -235,14 +283,14 @@ fn check_all(b: &Built, sim: &str) {
 #[test]
 fn verilator_runs_every_unit_bit_and_cycle_exact() {
     if let Some(b) = VERILATOR.get_or_init(build_verilator) {
-        check_all(b, "verilator");
+        check_all(b);
     }
 }
 
 #[test]
 fn icarus_runs_every_unit_bit_and_cycle_exact() {
     if let Some(b) = ICARUS.get_or_init(build_icarus) {
-        check_all(b, "icarus");
+        check_all(b);
     }
 }
 
@@ -255,7 +303,7 @@ fn corrupted_vector_is_caught(b: &Built) {
     let k = 12_345;
     let w = u64::from_str_radix(&lines[k], 16).unwrap() ^ 1;
     lines[k] = format!("{w:02x}");
-    let bad = dir.join("expected_corrupted.hex");
+    let bad = dir.join(format!("expected_corrupted_{}.hex", b.sim));
     std::fs::write(&bad, lines.join("\n") + "\n").unwrap();
     let s = simulate(b, tag, lines.len(), &bad);
     assert_eq!(s.mismatches, 1, "{s:?}");
@@ -398,8 +446,9 @@ fn icarus_catches_a_wrong_latency() {
         "iverilog compile",
     );
     let b = Built {
+        sim: "icarus",
         dir: root.clone(),
-        sets: Vec::new(),
+        sets: &[],
         run: vec![
             "vvp".into(),
             "-n".into(),
