@@ -2,12 +2,11 @@
 //! takes the final-combiner state (variables A .. G, rounding, colour-sum clamp) as
 //! parameters: one configuration per set of vectors.
 
+use super::register_combiner::register_file_of;
 use super::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::fixed_point::Quant;
 use rtl_model::units::final_combiner::{FinalCombinerConfig, FinalInput, FinalVariable};
-use rtl_model::units::register_combiner::{
-    ComponentUsage, Mapping, Register, RegisterFile, REGISTER_COUNT,
-};
+use rtl_model::units::register_combiner::{ComponentUsage, Mapping, Register, RegisterFile};
 
 /// The GeForce default (the fog blend A = fog alpha, B = SPARE0 + SECONDARY, C = fog,
 /// G = SPARE0 alpha; N 9, out 8, RND), and a narrow one (N 4, out 3, RND_CONV, colour
@@ -89,21 +88,12 @@ pub(super) fn final_combiner_vectors(
 ) -> Result<VectorSet, String> {
     let cfg = self::config(config);
     let u = cfg.build().map_err(|e| e.to_string())?;
-    let make = |v: &[u64]| {
-        let mut f = RegisterFile::default();
-        for (i, reg) in f.regs.iter_mut().enumerate().take(REGISTER_COUNT) {
-            for (c, x) in reg.iter_mut().enumerate() {
-                *x = v[4 * i + c] as i32;
-            }
-        }
-        f
-    };
     Ok(collect(
         &u,
         (),
         config,
         RegisterFile::default(),
-        make,
+        register_file_of,
         params(&cfg),
         count,
         seed,

@@ -154,6 +154,18 @@ fn params(c: &RegisterCombinerConfig) -> VerilogParams {
     p
 }
 
+/// The register file of an input word's fields (register i, channel c at 4·i + c):
+/// the combiners' input word is their register file.
+pub(super) fn register_file_of(v: &[u64]) -> RegisterFile {
+    let mut f = RegisterFile::default();
+    for (i, reg) in f.regs.iter_mut().enumerate().take(REGISTER_COUNT) {
+        for (c, x) in reg.iter_mut().enumerate() {
+            *x = v[4 * i + c] as i32;
+        }
+    }
+    f
+}
+
 pub(super) fn register_combiner_vectors(
     config: RtlConfig,
     count: usize,
@@ -161,21 +173,12 @@ pub(super) fn register_combiner_vectors(
 ) -> Result<VectorSet, String> {
     let cfg = self::config(config);
     let u = cfg.build().map_err(|e| e.to_string())?;
-    let make = |v: &[u64]| {
-        let mut f = RegisterFile::default();
-        for (i, reg) in f.regs.iter_mut().enumerate().take(REGISTER_COUNT) {
-            for (c, x) in reg.iter_mut().enumerate() {
-                *x = v[4 * i + c] as i32;
-            }
-        }
-        f
-    };
     Ok(collect(
         &u,
         (),
         config,
         RegisterFile::default(),
-        make,
+        register_file_of,
         params(&cfg),
         count,
         seed,
