@@ -122,6 +122,7 @@ fn build_verilator() -> Option<Built> {
         return None;
     }
     let dir = work_dir().join("verilator");
+    std::fs::create_dir_all(&dir).unwrap();
     let shared = shared_sets();
     let srcs = sources(&shared.blocks);
     // Rebuild only when a source changed (the vectors are read at run time).
