@@ -36,22 +36,10 @@ fn config(config: RtlConfig) -> FinalCombinerConfig {
 }
 
 fn params(c: &FinalCombinerConfig) -> VerilogParams {
-    let quant = [
-        Quant::Trn,
-        Quant::TrnZero,
-        Quant::Rnd,
-        Quant::RndZero,
-        Quant::RndInf,
-        Quant::RndMinInf,
-        Quant::RndConv,
-    ];
     let mut p = vec![
         ("N", c.internal_bits as u64),
         ("OUT_BITS", c.out_bits as u64),
-        (
-            "ROUNDING",
-            quant.iter().position(|&q| q == c.rounding).unwrap_or(2) as u64,
-        ),
+        ("ROUNDING", super::quant_code(c.rounding)),
         ("COLOR_SUM_CLAMP", u64::from(c.color_sum_clamp)),
     ];
     let vars: [(&'static str, &'static str, &'static str, FinalVariable); 7] = [

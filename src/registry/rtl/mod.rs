@@ -404,6 +404,15 @@ fn collect<U: Unit>(
     }
 }
 
+/// A rounding mode as the combiners' Verilog `ROUNDING` parameter: its index in
+/// `Quant::ALL` (TRN, TRN_ZERO, RND, RND_ZERO, RND_INF, RND_MIN_INF, RND_CONV).
+pub(super) fn quant_code(q: rtl_model::fixed_point::Quant) -> u64 {
+    rtl_model::fixed_point::Quant::ALL
+        .iter()
+        .position(|&x| x == q)
+        .expect("Quant::ALL lists every rounding mode") as u64
+}
+
 /// Seconds per pass of `u`'s batch kernel over `inputs` from `state0`: the fastest
 /// of passes repeated for at least 5 ms (at most 16).
 fn time_batch<U: Unit>(u: &U, state0: &U::State, inputs: &[U::In]) -> f64 {

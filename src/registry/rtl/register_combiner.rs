@@ -132,22 +132,10 @@ fn portion_params(prefix: &'static str, p: &PortionConfig, out: &mut VerilogPara
 }
 
 fn params(c: &RegisterCombinerConfig) -> VerilogParams {
-    let quant = [
-        Quant::Trn,
-        Quant::TrnZero,
-        Quant::Rnd,
-        Quant::RndZero,
-        Quant::RndInf,
-        Quant::RndMinInf,
-        Quant::RndConv,
-    ];
     let mut p = vec![
         ("N", c.internal_bits as u64),
         ("G", c.guard_bits as u64),
-        (
-            "ROUNDING",
-            quant.iter().position(|&q| q == c.rounding).unwrap_or(2) as u64,
-        ),
+        ("ROUNDING", super::quant_code(c.rounding)),
     ];
     portion_params("RGB", &c.rgb, &mut p);
     portion_params("ALPHA", &c.alpha, &mut p);
