@@ -79,6 +79,8 @@ fn build_sim(dir: &Path, lib: &Path) -> PathBuf {
         v.join("dpi/glare_dpi_pkg.sv"),
         v.join("dpi/tb_dpi.sv"),
         v.join("dpi/dpi_rom.sv"),
+        // rtl_ram: a unit's RAM outside it is the same module as in the co-simulation.
+        v.join("tb/rtl_rom.v"),
     ];
     srcs.extend(glare_pipeline::registry::rtl::verilog_lib_files(&root()));
     for e in DPI_UNITS {

@@ -97,7 +97,10 @@ pub fn dpi_entry(name: &str) -> Result<&'static DpiEntry, String> {
 }
 
 /// The module `dpi_<tag>`: `tb_dpi` driving the unit's module at this configuration's
-/// parameters, the model opened with `spec`, tables from the model (`dpi_rom`).
+/// parameters, the model opened with `spec`, tables from the model (`dpi_rom`). The
+/// wires, the unit's instance and the table instances come from the helpers that
+/// build the co-simulation block ([`VectorSet::cosim_block`]), so both wire a unit
+/// the same way.
 pub fn dpi_block(v: &VectorSet, spec: &str) -> String {
     let tag = v.tag();
     let (iw, ow) = (v.in_bits(), v.out_bits());
@@ -109,21 +112,7 @@ pub fn dpi_block(v: &VectorSet, spec: &str) -> String {
         v.config.name()
     );
     let _ = writeln!(s, "module dpi_{tag};");
-    let _ = writeln!(s, "  wire clk, rst, in_valid, out_valid;");
-    let _ = writeln!(s, "  wire [{}:0] in_word;", iw - 1);
-    let _ = writeln!(s, "  wire [{}:0] out_word;", ow - 1);
-    for r in &v.roms {
-        for i in 0..r.ports {
-            let _ = writeln!(
-                s,
-                "  wire [{}:0] {}_addr{i};\n  wire [{}:0] {}_data{i};",
-                r.addr_bits() - 1,
-                r.name,
-                r.width - 1,
-                r.name
-            );
-        }
-    }
+    s.push_str(&v.dut_wires());
     let _ = writeln!(
         s,
         "  tb_dpi #(.IN_W({iw}), .OUT_W({ow}), .LAT({}), .II({}), .TAG(\"{tag}\"), .UNIT(\"{}\"), .SPEC(\"{spec}\")) tb (",
@@ -133,50 +122,17 @@ pub fn dpi_block(v: &VectorSet, spec: &str) -> String {
         s,
         "      .clk(clk), .rst(rst), .in_valid(in_valid), .in_word(in_word),\n      .out_valid(out_valid), .out_word(out_word));"
     );
-    let params: Vec<String> = v.params.iter().map(|(k, x)| format!(".{k}({x})")).collect();
-    let _ = writeln!(s, "  {} #({}) dut (", v.unit, params.join(", "));
-    let mut ports =
-        vec![".clk(clk), .rst(rst), .in_valid(in_valid), .out_valid(out_valid)".to_string()];
-    let mut hi = iw;
-    for f in &v.in_fields {
-        ports.push(format!(".{}(in_word[{}:{}])", f.name, hi - 1, hi - f.width));
-        hi -= f.width;
-    }
-    let mut hi = ow;
-    for f in &v.out_fields {
-        ports.push(format!(
-            ".{}(out_word[{}:{}])",
-            f.name,
-            hi - 1,
-            hi - f.width
-        ));
-        hi -= f.width;
-    }
-    for r in &v.roms {
-        for i in 0..r.ports {
-            ports.push(format!(
-                ".{0}_addr{i}({0}_addr{i}), .{0}_data{i}({0}_data{i})",
-                r.name
-            ));
-        }
-    }
-    let _ = writeln!(s, "      {});", ports.join(",\n      "));
-    for r in &v.roms {
-        for i in 0..r.ports {
-            let _ = writeln!(
-                s,
-                "  dpi_rom #(.W({}), .DEPTH({}), .AW({}), .UNIT(\"{}\"), .SPEC(\"{spec}\"), .TABLE(\"{}\")) {}_rom{i} (.clk(clk), .addr({}_addr{i}), .data({}_data{i}));",
-                r.width,
-                r.words.len(),
-                r.addr_bits(),
-                v.unit,
-                r.name,
-                r.name,
-                r.name,
-                r.name
-            );
-        }
-    }
+    s.push_str(&v.dut_instance());
+    s.push_str(&v.table_instances(|r| {
+        format!(
+            "dpi_rom #(.W({}), .DEPTH({}), .AW({}), .UNIT(\"{}\"), .SPEC(\"{spec}\"), .TABLE(\"{}\"))",
+            r.width,
+            r.words.len(),
+            r.addr_bits(),
+            v.unit,
+            r.name
+        )
+    }));
     let _ = writeln!(s, "endmodule");
     s
 }

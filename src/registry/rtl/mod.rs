@@ -493,9 +493,43 @@ impl VectorSet {
             self.config.name()
         );
         let _ = writeln!(v, "module cosim_{tag};");
+        v.push_str(&self.dut_wires());
+        let _ = writeln!(
+            v,
+            "  tb_vectors #(.IN_W({iw}), .OUT_W({ow}), .LAT({}), .II({}), .TAG(\"{tag}\")) tb (",
+            self.latency, self.ii
+        );
+        let _ = writeln!(
+            v,
+            "      .clk(clk), .rst(rst), .in_valid(in_valid), .in_word(in_word),"
+        );
+        let _ = writeln!(v, "      .out_valid(out_valid), .out_word(out_word));");
+        v.push_str(&self.dut_instance());
+        v.push_str(&self.table_instances(|r| {
+            format!(
+                "rtl_rom #(.W({}), .DEPTH({}), .AW({}), .FILE(\"{}\"))",
+                r.width,
+                r.words.len(),
+                r.addr_bits(),
+                dir.join(format!("{}.hex", r.name)).display()
+            )
+        }));
+        let _ = writeln!(v, "endmodule");
+        v
+    }
+
+    // The unit's side of a testbench block, shared by the co-simulation
+    // (`cosim_block`) and the DPI-C scoreboard (`dpi::dpi_block`), so a unit's ports
+    // are wired the same in both. Only the ROM module differs (`rtl_rom` from the
+    // vector set's files, `dpi_rom` from the model).
+
+    /// The wires a block declares: the testbench handshake, the packed words and every
+    /// table port (ROM read ports, RAM read/write ports).
+    fn dut_wires(&self) -> String {
+        let mut v = String::new();
         let _ = writeln!(v, "  wire clk, rst, in_valid, out_valid;");
-        let _ = writeln!(v, "  wire [{}:0] in_word;", iw - 1);
-        let _ = writeln!(v, "  wire [{}:0] out_word;", ow - 1);
+        let _ = writeln!(v, "  wire [{}:0] in_word;", self.in_bits() - 1);
+        let _ = writeln!(v, "  wire [{}:0] out_word;", self.out_bits() - 1);
         for r in &self.roms {
             for i in 0..r.ports {
                 let _ = writeln!(
@@ -515,16 +549,13 @@ impl VectorSet {
                 "  wire [{a}:0] {n}_raddr, {n}_waddr;\n  wire [{w}:0] {n}_rdata, {n}_wdata;\n  wire {n}_we, {n}_clear;"
             );
         }
-        let _ = writeln!(
-            v,
-            "  tb_vectors #(.IN_W({iw}), .OUT_W({ow}), .LAT({}), .II({}), .TAG(\"{tag}\")) tb (",
-            self.latency, self.ii
-        );
-        let _ = writeln!(
-            v,
-            "      .clk(clk), .rst(rst), .in_valid(in_valid), .in_word(in_word),"
-        );
-        let _ = writeln!(v, "      .out_valid(out_valid), .out_word(out_word));");
+        v
+    }
+
+    /// The unit's instance `dut`: this configuration's parameters, the packed words
+    /// sliced into the named ports, the table ports to the wires of [`Self::dut_wires`].
+    fn dut_instance(&self) -> String {
+        let mut v = String::new();
         let params: Vec<String> = self
             .params
             .iter()
@@ -543,12 +574,12 @@ impl VectorSet {
             "      .clk(clk), .rst(rst), .in_valid(in_valid), .out_valid(out_valid),"
         );
         let mut ports = Vec::new();
-        let mut hi = iw;
+        let mut hi = self.in_bits();
         for f in &self.in_fields {
             ports.push(format!(".{}(in_word[{}:{}])", f.name, hi - 1, hi - f.width));
             hi -= f.width;
         }
-        let mut hi = ow;
+        let mut hi = self.out_bits();
         for f in &self.out_fields {
             // An output named like an input (a unit whose output word is its input
             // word updated, as register_combiner's register set) is the port `o_<name>`.
@@ -577,19 +608,22 @@ impl VectorSet {
             }
         }
         let _ = writeln!(v, "      {});", ports.join(",\n      "));
+        v
+    }
+
+    /// The tables outside the unit: each ROM read port an instance of `rom(port)` (the
+    /// module and its parameters: `rtl_rom` from a file, `dpi_rom` from the model), each
+    /// RAM an `rtl_ram` (rtl_model/verilog/tb/rtl_rom.v; written by the unit itself, so
+    /// the same in every block).
+    fn table_instances(&self, rom: impl Fn(&RomPort) -> String) -> String {
+        let mut v = String::new();
         for r in &self.roms {
-            let file = dir.join(format!("{}.hex", r.name));
+            let m = rom(r);
             for i in 0..r.ports {
+                let n = r.name;
                 let _ = writeln!(
                     v,
-                    "  rtl_rom #(.W({}), .DEPTH({}), .AW({}), .FILE(\"{}\")) {}_rom{i} (.clk(clk), .addr({}_addr{i}), .data({}_data{i}));",
-                    r.width,
-                    r.words.len(),
-                    r.addr_bits(),
-                    file.display(),
-                    r.name,
-                    r.name,
-                    r.name
+                    "  {m} {n}_rom{i} (.clk(clk), .addr({n}_addr{i}), .data({n}_data{i}));"
                 );
             }
         }
@@ -603,7 +637,6 @@ impl VectorSet {
                 r.clear_value
             );
         }
-        let _ = writeln!(v, "endmodule");
         v
     }
 
