@@ -45,14 +45,19 @@ fn run_ok(cmd: &mut Command, what: &str) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-/// The C library, built by cargo into this target directory (debug profile; a no-op
-/// when it is up to date).
+/// The C library, built by cargo into this target directory (a no-op when it is up to
+/// date). In the `test` profile, the one `cargo test` builds `rtl_model` and its
+/// dependencies in: only `glare_dpi` itself compiles here (the `dev` profile rebuilt
+/// `rtl_model`, `fixed`, `serde`… a second time). Its output directory is `debug/`
+/// either way.
 fn build_library() -> PathBuf {
     run_ok(
         Command::new(env!("CARGO"))
             .args([
                 "build",
                 "-q",
+                "--profile",
+                "test",
                 "-p",
                 "glare_dpi",
                 "--features",
