@@ -45,14 +45,19 @@ fn run_ok(cmd: &mut Command, what: &str) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-/// The C library, built by cargo into this target directory (debug profile; a no-op
-/// when it is up to date).
+/// The C library, built by cargo into this target directory (a no-op when it is up to
+/// date). In the `test` profile, the one `cargo test` builds in: on a clean target
+/// this build took 49 s user where the `dev` profile took 82 s (serde, fixed,
+/// rtl_model… still compile again, their features unified for this package alone).
+/// Its output directory is `debug/` either way.
 fn build_library() -> PathBuf {
     run_ok(
         Command::new(env!("CARGO"))
             .args([
                 "build",
                 "-q",
+                "--profile",
+                "test",
                 "-p",
                 "glare_dpi",
                 "--features",
