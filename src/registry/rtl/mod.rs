@@ -28,7 +28,9 @@ use super::seeded;
 
 mod projective_texcoord;
 mod shadow_compare;
+mod specular_lookup;
 mod texture_sampler;
+pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
@@ -221,6 +223,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "texture_combiner",
         vectors: texture_combiner::texture_combiner_vectors,
+    },
+    RtlEntry {
+        name: "specular_lookup",
+        vectors: specular_lookup::specular_lookup_vectors,
     },
     RtlEntry {
         name: "modulate_chain",
