@@ -10,6 +10,7 @@
 use glare_pipeline::registry::rtl::{self, specular_lookup_vectors_of, RtlConfig};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_sampler::Filter;
+use rtl_model::UnitSummary;
 use std::path::Path;
 use std::process::Command;
 
@@ -33,6 +34,17 @@ const CASES: &[Case] = &[
     (17, true, 12, 16, 16, Filter::Linear, true),
 ];
 
+/// The harness's narrow configuration (src/registry/rtl/specular_lookup.rs).
+const HARNESS_NARROW: SpecularLookupConfig = SpecularLookupConfig {
+    table_log2: 5,
+    entry_bits: 5,
+    in_bits: 10,
+    signed_input: true,
+    filter: Filter::Linear,
+    weight_bits: 3,
+    exponent: 8.0,
+};
+
 #[test]
 fn icarus_runs_nearest_and_other_widths_bit_and_cycle_exact() {
     if !Command::new("iverilog")
@@ -46,10 +58,19 @@ fn icarus_runs_nearest_and_other_widths_bit_and_cycle_exact() {
     }
     let verilog = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl_model/verilog");
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_specular_lookup");
-    // The model's cost of the harness's two sets too (docs/units.md's hand synthesis).
-    for c in RtlConfig::ALL {
+    // The model's cost of the harness's two sets too, by part (docs/units.md's hand
+    // synthesis beside Yosys).
+    for (c, cfg) in [
+        (RtlConfig::Default, SpecularLookupConfig::geforce()),
+        (RtlConfig::Narrow, HARNESS_NARROW),
+    ] {
         let v = rtl::vectors("specular_lookup", c, 1, 1).unwrap();
+        let s = UnitSummary::of(&cfg.build().unwrap());
+        assert_eq!(s.gates_nand2, v.gates_model, "{c:?}");
         println!("{}: {:.0} NAND2 model", v.tag(), v.gates_model);
+        for (part, g) in &s.breakdown {
+            println!("  {part}: {g:.0}");
+        }
     }
     let mut failed = Vec::new();
     for (i, &(n, signed, k, b, w, filter, random)) in CASES.iter().enumerate() {
@@ -62,8 +83,8 @@ fn icarus_runs_nearest_and_other_widths_bit_and_cycle_exact() {
             weight_bits: w,
             exponent: 32.0,
         };
-        let v = specular_lookup_vectors_of(cfg, random, RtlConfig::Narrow, 1, 11 + i as u64)
-            .unwrap();
+        let v =
+            specular_lookup_vectors_of(cfg, random, RtlConfig::Narrow, 1, 11 + i as u64).unwrap();
         assert!(v.exhaustive, "{cfg:?}");
         assert_eq!(v.stimulus.len(), 1 << n, "{cfg:?}");
         let dir = work.join(format!("c{i}"));

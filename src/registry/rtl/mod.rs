@@ -30,7 +30,6 @@ mod projective_texcoord;
 mod shadow_compare;
 mod specular_lookup;
 mod texture_sampler;
-pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
@@ -46,6 +45,7 @@ mod final_combiner;
 mod modulate_chain;
 mod register_combiner;
 mod texture_combiner;
+pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
 /// An input word of at most this many bits is enumerated exhaustively.
