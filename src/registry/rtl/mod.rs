@@ -28,6 +28,7 @@ use super::seeded;
 
 mod projective_texcoord;
 mod shadow_compare;
+mod specular_lookup;
 mod texture_sampler;
 use rand::Rng;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
@@ -44,6 +45,7 @@ mod final_combiner;
 mod modulate_chain;
 mod register_combiner;
 mod texture_combiner;
+pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
 /// An input word of at most this many bits is enumerated exhaustively.
@@ -221,6 +223,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "texture_combiner",
         vectors: texture_combiner::texture_combiner_vectors,
+    },
+    RtlEntry {
+        name: "specular_lookup",
+        vectors: specular_lookup::specular_lookup_vectors,
     },
     RtlEntry {
         name: "modulate_chain",
