@@ -68,10 +68,10 @@ impl ShadingFile {
     /// top-level `[shading]` table (checked, errors naming the field). None for
     /// anything else (a `Scene` name or file: the caller reads it as before).
     pub fn resolve(name: &str) -> Result<Option<ShadingFile>, String> {
-        if name.starts_with(SCENE_PREFIX) {
+        let path = Path::new(name);
+        if name.starts_with(SCENE_PREFIX) && !path.is_file() {
             return ShadingFile::builtin(name).map(Some);
         }
-        let path = Path::new(name);
         if !path.is_file() {
             return Ok(None);
         }
