@@ -323,7 +323,9 @@ fn envmap_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
 
 /// The front's rows of a `pareto.csv`: (gates, RAM bits, `metric` levels) of every
 /// row marked `on_front`, and of every simulated row.
-fn csv_points(csv: &str, metric: &str) -> (Vec<(f64, f64, f64)>, Vec<(f64, f64, f64)>) {
+type Costs = Vec<(f64, f64, f64)>;
+
+fn csv_points(csv: &str, metric: &str) -> (Costs, Costs) {
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
