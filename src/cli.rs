@@ -67,8 +67,10 @@ pub enum Command {
         /// leaves, shaded-metal, shaded-dielectric; the showcase night-street, every
         /// pipeline in one frame; the environment-map scenes env-MAP-OBJECT: env-pattern-sphere,
         /// env-pattern-teapot, env-venice_sunset-sphere, env-venice_sunset-teapot,
-        /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot) or a TOML
-        /// scene file.
+        /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot), a shading
+        /// scene (shading-<model>, shading-specular, shading-vertex: the sphere of
+        /// `sweep`'s shading path at the GeForce widths) or a TOML scene file (one
+        /// with a `[shading]` table is a shading scene at its widths, docs/optimize.md).
         #[arg(long, default_value = "fig6")]
         scene: String,
         /// Output PNG.
@@ -139,11 +141,12 @@ pub enum Command {
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
     /// Bit-width optimisation (issue 21, docs/optimize.md): from the GeForce defaults,
-    /// the cheapest widths of a shafts, glare or environment-map scene within an error budget (a greedy
+    /// the cheapest widths of a shafts, glare, environment-map or shading scene within an error budget (a greedy
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
     /// (every configuration evaluated), DIR/pareto.png (gates against error, the front,
     /// the default) and DIR/best.toml (the scene with the widths found, for
-    /// `render --scene`), verified by a fresh render.
+    /// `render --scene`; for a shading scene its `[shading]` file form), verified by a
+    /// fresh render.
     Optimize(crate::frame::optimize::cli::OptimizeArgs),
     /// Error attribution (issue 18): render the scene as configured, then once per
     /// error source with only that source made ideal (a wide width, a larger table,

@@ -12,7 +12,7 @@
 //!   --scene` accepts as is.
 
 use glare_pipeline::frame::optimize::cli::best_toml;
-use glare_pipeline::frame::optimize::eval::{Evaluator, Reference};
+use glare_pipeline::frame::optimize::eval::{Evaluator, Reference, Target};
 use glare_pipeline::frame::optimize::search::{
     dominates, grid, search, Budget, Limit, Limits, Objective, Outcome, Status,
 };
@@ -33,7 +33,7 @@ fn budget(text: &str) -> Budget {
     Budget(vec![Limit::parse(text).unwrap()])
 }
 
-fn run(ev: &Evaluator, params: &[&'static str], b: &Budget, o: Objective, max: usize) -> Outcome {
+fn run(ev: &dyn Target, params: &[&'static str], b: &Budget, o: Objective, max: usize) -> Outcome {
     let never = || false;
     let limits = Limits {
         max_evals: Some(max),
@@ -318,5 +318,185 @@ fn envmap_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
         m.error
     );
     assert_eq!(m.ram_bits, best.ram_bits);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The front's rows of a `pareto.csv`: (gates, RAM bits, `metric` levels) of every
+/// row marked `on_front`, and of every simulated row.
+type Costs = Vec<(f64, f64, f64)>;
+
+fn csv_points(csv: &str, metric: &str) -> (Costs, Costs) {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (g, r, e, f, ev) = (
+        col("gates_nand2"),
+        col("ram_bits"),
+        col(&format!("{metric}_levels")),
+        col("on_front"),
+        col("evaluation"),
+    );
+    let (mut front, mut all) = (Vec::new(), Vec::new());
+    for line in lines {
+        let v: Vec<&str> = line.split(',').collect();
+        if v[ev] != "simulated" {
+            continue;
+        }
+        let p = (
+            v[g].parse::<f64>().unwrap(),
+            v[r].parse::<f64>().unwrap(),
+            v[e].parse::<f64>().unwrap(),
+        );
+        all.push(p);
+        if v[f] == "true" {
+            front.push(p);
+        }
+    }
+    (front, all)
+}
+
+/// A shading scene (issue 21's "shading"): `shading-specular`'s texture-shader
+/// lookup path on a 24² sphere (the sweep's 256² takes minutes per search in a
+/// test-profile run), RAM within max ≤ 3 levels, the defaults (max 1.1 levels at
+/// 32²) within it. The search returns a point no more costly than the defaults; the
+/// output-width bound (the lookup's entries are the output: `lookup_bits`) is below
+/// the simulated error at every simulated point and breaks the budget at 4-bit
+/// entries, so such points are never simulated; `best.toml`, written in the
+/// `[shading]` file form, read back and rendered afresh, meets the budget.
+#[test]
+fn shading_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
+    use glare_pipeline::frame::optimize::shading::ShadingEvaluator;
+    use glare_pipeline::pipeline::shading::scene_file::ShadingFile;
+    use glare_pipeline::pipeline::shading::sweep::sweep_view;
+    let file = ShadingFile::builtin("shading-specular").unwrap();
+    let ev = ShadingEvaluator::new(file.point, sweep_view(24)).unwrap();
+    let params: Vec<&'static str> = file.point.widths().into_iter().map(|(p, _)| p).collect();
+    assert_eq!(
+        params,
+        ["cube_face", "cube_bits", "lookup_log2", "lookup_bits"]
+    );
+    let b = budget("max<=3");
+    // The bound: 4-bit lookup entries are 17 levels apart; the reference's values
+    // sit up to half of that from them.
+    let mut v = glare_pipeline::frame::optimize::search::defaults(&ev, &params).unwrap();
+    v[3] = 4;
+    let bound = ev.bound_at(&params, &v).unwrap().expect("a valid point");
+    assert!(!b.meets(&bound), "bound at lookup_bits 4: {bound:?}");
+    let o = run(&ev, &params, &b, Objective::Ram, 30);
+    let d = o.points[o.defaults].metrics().copied().unwrap();
+    assert!(b.meets(&d.error), "defaults {:?}", d.error);
+    let bi = o.best.expect("a best point: the defaults meet the budget");
+    let best = o.points[bi].metrics().copied().unwrap();
+    assert!(best.ram_bits <= d.ram_bits, "best {best:?}, defaults {d:?}");
+    assert!(o.points.len() >= 5, "{} points", o.points.len());
+    for p in &o.points {
+        match &p.status {
+            Status::Simulated(m) => {
+                assert!(p.bound.max <= m.error.max + 1e-9, "{p:?}");
+                assert!(p.bound.rms <= m.error.rms + 1e-9, "{p:?}");
+                assert!(p.bound.mean_abs <= m.error.mean_abs + 1e-9, "{p:?}");
+            }
+            Status::Pruned(bound) => assert!(!b.meets(bound)),
+        }
+    }
+    // best.toml: the [shading] file form, read back, rendered afresh.
+    let best_file = ShadingFile {
+        point: ev.point(&o.params, &o.points[bi].values).unwrap(),
+        image: Some(24),
+    };
+    let text = best_file.to_toml("# test").unwrap();
+    let again = ShadingFile::parse(&text).unwrap();
+    assert_eq!(again, best_file);
+    let m = ev.measure(&again.point).unwrap();
+    assert!(
+        b.meets(&m.error),
+        "fresh render of best.toml: {:?}",
+        m.error
+    );
+    assert_eq!(m.ram_bits, best.ram_bits);
+    assert_eq!(m.error.max, best.error.max);
+}
+
+/// The CLI on a shading scene end to end (`shading-blinn_phong` on a 16² sphere,
+/// whose defaults are 9.1 levels RMS from the reference, within the budget of 10):
+/// `pareto.csv` whose front is mutually
+/// non-dominated (every simulated row off it dominated by one on it), the best row
+/// no more costly than the defaults, and a `best.toml` that `render --scene` accepts
+/// as is and whose fresh render (`--json`) meets the budget.
+#[test]
+fn cli_on_a_shading_scene_front_non_dominated_and_render_of_best_toml_meets_the_budget() {
+    let dir = tmp("cli-shading");
+    let out = dir.join("o");
+    let bin = env!("CARGO_BIN_EXE_glare-pipeline");
+    let st = Command::new(bin)
+        .args([
+            "optimize",
+            "--scene",
+            "shading-blinn_phong",
+            "--budget",
+            "rms<=10",
+            "--objective",
+            "area",
+            "--size",
+            "16x16",
+            "--max-evals",
+            "12",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "{}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let csv = std::fs::read_to_string(out.join("pareto.csv")).unwrap();
+    let (front, all) = csv_points(&csv, "rms");
+    assert!(all.len() >= 3, "{csv}");
+    assert!(!front.is_empty());
+    for a in &front {
+        for c in &front {
+            assert!(!dominates(*a, *c), "{a:?} dominates {c:?} on the front");
+        }
+    }
+    for k in all.iter().filter(|k| !front.contains(k)) {
+        assert!(
+            front.iter().any(|f| dominates(*f, *k)),
+            "{k:?} off the front"
+        );
+    }
+    // The best row costs no more area than the defaults' row.
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |n: &str| header.iter().position(|h| *h == n).unwrap();
+    let area_of = |flag: &str| {
+        csv.lines()
+            .skip(1)
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .find(|v| v[col(flag)] == "true")
+            .map(|v| v[col("area_nand2")].parse::<f64>().unwrap())
+            .unwrap()
+    };
+    assert!(area_of("is_best") <= area_of("is_default"));
+    assert!(out.join("pareto.png").is_file());
+    let toml = std::fs::read_to_string(out.join("best.toml")).unwrap();
+    assert!(toml.contains("[shading]") && toml.contains("scene = \"shading-blinn_phong\""));
+    let st = Command::new(bin)
+        .args(["render", "--json", "--scene"])
+        .arg(out.join("best.toml"))
+        .arg("--out")
+        .arg(dir.join("best.png"))
+        .output()
+        .unwrap();
+    assert!(
+        st.status.success(),
+        "render of best.toml: {}",
+        String::from_utf8_lossy(&st.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&st.stdout).unwrap();
+    let rms = v["rms_levels"].as_f64().unwrap();
+    assert!(rms <= 10.0, "fresh render of best.toml: rms {rms}");
+    assert_eq!(v["image"].as_u64(), Some(16));
+    assert!(dir.join("best.png").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }

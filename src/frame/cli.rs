@@ -37,6 +37,13 @@ pub fn render_cli(
         }
         return crate::pipeline::test_scene::render_cli(out, json, reference);
     }
+    // A shading scene (`shading-*`, or a file with a `[shading]` table: what
+    // `optimize` writes as best.toml for one) renders through the shading sweep's path.
+    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+        return crate::pipeline::shading::scene_file::render_cli(
+            &f, out, json, reference, plan_only,
+        );
+    }
     let scene = load_scene(name)?;
     if !plan_only {
         let (budget, from) = super::budget::resolve(max_memory);

@@ -18,8 +18,9 @@ use std::path::{Path, PathBuf};
 #[derive(Clone, Debug, clap::Args)]
 pub struct OptimizeArgs {
     /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
-    /// glare-elliptic, …), an environment-map scene (env-pattern-sphere, …) or a TOML
-    /// file of these.
+    /// glare-elliptic, …), an environment-map scene (env-pattern-sphere, …), a shading
+    /// scene (shading-<model>, shading-specular, shading-vertex) or a TOML file of
+    /// these.
     #[arg(long)]
     pub scene: String,
     /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
@@ -36,7 +37,8 @@ pub struct OptimizeArgs {
     /// Output directory.
     #[arg(long, default_value = "out/optimize")]
     pub out: PathBuf,
-    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 96x64).
+    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 96x64; square for a
+    /// shading scene's sphere view).
     #[arg(long)]
     pub size: Option<String>,
     /// Stop after this many simulations (pruned points do not count).
@@ -72,11 +74,12 @@ pub struct Plan {
 /// rendering, no file written.
 pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
     let name = a.scene.as_str();
-    if name == "test" || name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
+    if name == "test" {
         return Err(format!(
             "scene: '{name}' is not a scene optimize can search (it covers shafts scenes: \
              fig4, fig6, stage; glare scenes: glare-point, glare-elliptic, …; \
-             environment-map scenes: env-pattern-sphere, …; TOML files of these)"
+             environment-map scenes: env-pattern-sphere, …; shading scenes: \
+             shading-<model>, shading-specular, shading-vertex; TOML files of these)"
         ));
     }
     let mut scene = match crate::pipeline::envmap::scene_render::environment_scene(name)? {
@@ -268,6 +271,10 @@ pub fn best_toml(scene: &Scene, header: &str) -> Result<String, String> {
 
 /// The command.
 pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
+    // A shading scene (`shading-*` or a `[shading]` file) has its own driver.
+    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(&a.scene)? {
+        return super::shading::optimize_shading_cli(a, f);
+    }
     let plan = check(a)?;
     std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
     let csv = plan.out.join("pareto.csv");

@@ -472,3 +472,46 @@ pub fn output_bound(reference: &[[f64; 3]], fb_bits: u32) -> ErrorStats {
         n,
     }
 }
+
+/// What the search (`search.rs`) needs of what it searches, whatever its kind: a
+/// `Scene` through an [`Evaluator`], or a shading scene (`super::shading`). A
+/// configuration is the values of the searched parameters.
+pub trait Target {
+    /// The kind's name, for messages.
+    fn kind_name(&self) -> &'static str;
+    /// How `param` narrows.
+    fn step(&self, param: &str) -> Step;
+    /// The default (GeForce) value of `param`, where the search starts.
+    fn default_value(&self, param: &str) -> Result<u32, String>;
+    /// Whether `values` is a configuration the units accept.
+    fn valid(&self, params: &[&str], values: &[u32]) -> bool;
+    /// The sound lower bound of the configuration's error, before any simulation;
+    /// None for a configuration the units refuse.
+    fn bound_at(&self, params: &[&str], values: &[u32]) -> Result<Option<ErrorStats>, String>;
+    /// Simulate the configuration and measure it.
+    fn evaluate_at(&self, params: &[&str], values: &[u32]) -> Result<Metrics, String>;
+}
+
+impl Target for Evaluator {
+    fn kind_name(&self) -> &'static str {
+        self.kind.name()
+    }
+    fn step(&self, param: &str) -> Step {
+        self.kind.step(param)
+    }
+    fn default_value(&self, param: &str) -> Result<u32, String> {
+        self.kind.get(&self.base, param)
+    }
+    fn valid(&self, params: &[&str], values: &[u32]) -> bool {
+        self.kind.apply(&self.base, params, values).is_ok()
+    }
+    fn bound_at(&self, params: &[&str], values: &[u32]) -> Result<Option<ErrorStats>, String> {
+        match self.kind.apply(&self.base, params, values) {
+            Ok(scene) => self.bound(&scene).map(Some),
+            Err(_) => Ok(None),
+        }
+    }
+    fn evaluate_at(&self, params: &[&str], values: &[u32]) -> Result<Metrics, String> {
+        self.evaluate(&self.kind.apply(&self.base, params, values)?)
+    }
+}

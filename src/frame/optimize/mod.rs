@@ -1,8 +1,9 @@
 //! `optimize` (issue 21, docs/optimize.md): for a scene and an error budget, the
 //! cheapest widths found by a pruned greedy descent, and the Pareto front of gates,
 //! RAM bits and error of every configuration evaluated. Beside the frame because it
-//! drives more than one pipeline (shafts and glare scenes).
+//! drives more than one pipeline (shafts, glare, environment-map and shading scenes).
 
 pub mod cli;
 pub mod eval;
 pub mod search;
+pub mod shading;

@@ -29,7 +29,7 @@
 //! * **Order.** The parameters are tried in an order shuffled by `--seed`
 //!   (ChaCha8); ties go to the earlier one, so a seed gives one search.
 
-use super::eval::{Evaluator, Kind, Metrics, Step, RAM_BIT_NAND2};
+use super::eval::{Evaluator, Metrics, Step, Target, RAM_BIT_NAND2};
 use crate::report::metrics::ErrorStats;
 use crate::scene::format::Scene;
 use rand::seq::SliceRandom;
@@ -244,7 +244,7 @@ impl Outcome {
 
 /// The evaluated points and their index, shared by the search and the grid.
 pub struct Book<'a> {
-    ev: &'a Evaluator,
+    ev: &'a dyn Target,
     params: Vec<&'static str>,
     budget: &'a Budget,
     pub points: Vec<Point>,
@@ -265,7 +265,7 @@ enum Visit {
 
 impl<'a> Book<'a> {
     pub fn new(
-        ev: &'a Evaluator,
+        ev: &'a dyn Target,
         params: &[&'static str],
         budget: &'a Budget,
         prune: bool,
@@ -292,14 +292,10 @@ impl<'a> Book<'a> {
         if let Some(&at) = self.index.get(values) {
             return Ok(at.map_or(Visit::Invalid, Visit::At));
         }
-        let scene = match self.ev.kind.apply(&self.ev.base, &self.params, values) {
-            Ok(s) => s,
-            Err(_) => {
-                self.index.insert(values.to_vec(), None);
-                return Ok(Visit::Invalid);
-            }
+        let Some(bound) = self.ev.bound_at(&self.params, values)? else {
+            self.index.insert(values.to_vec(), None);
+            return Ok(Visit::Invalid);
         };
-        let bound = self.ev.bound(&scene)?;
         let status = if self.prune && !self.budget.meets(&bound) {
             self.pruned += 1;
             Status::Pruned(bound)
@@ -319,8 +315,8 @@ impl<'a> Book<'a> {
             self.simulations += 1;
             let m = self
                 .ev
-                .evaluate(&scene)
-                .map_err(|e| format!("{} ({}): {e}", self.describe(values), self.ev.kind.name()))?;
+                .evaluate_at(&self.params, values)
+                .map_err(|e| format!("{} ({}): {e}", self.describe(values), self.ev.kind_name()))?;
             Status::Simulated(m)
         };
         self.points.push(Point {
@@ -354,7 +350,7 @@ impl<'a> Book<'a> {
     ) -> Result<Result<Option<(usize, f64)>, End>, String> {
         let mut y = from.to_vec();
         for _ in 0..LOOKAHEAD {
-            let Some(n) = narrow(self.ev.kind, &self.params, &y, i) else {
+            let Some(n) = narrow(self.ev, &self.params, &y, i) else {
                 break;
             };
             y = n;
@@ -413,9 +409,9 @@ pub const MAX_WIDEN_STEPS: u32 = 3;
 
 /// `values` with parameter `i` widened by one step, or None `MAX_WIDEN_STEPS` above
 /// its default `d`.
-fn widen(kind: Kind, params: &[&str], values: &[u32], d: &[u32], i: usize) -> Option<Vec<u32>> {
+fn widen(t: &dyn Target, params: &[&str], values: &[u32], d: &[u32], i: usize) -> Option<Vec<u32>> {
     let v = values[i];
-    let (n, cap) = match kind.step(params[i]) {
+    let (n, cap) = match t.step(params[i]) {
         Step::Bit => (v.checked_add(1)?, d[i].saturating_add(MAX_WIDEN_STEPS)),
         Step::Halve => (v.checked_mul(2)?, d[i].saturating_mul(1 << MAX_WIDEN_STEPS)),
     };
@@ -429,9 +425,9 @@ fn widen(kind: Kind, params: &[&str], values: &[u32], d: &[u32], i: usize) -> Op
 
 /// `values` with parameter `i` widened by one step (no cap: the polish only trades
 /// a step back that a narrowing took).
-fn widen_any(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
+fn widen_any(t: &dyn Target, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
     let mut out = values.to_vec();
-    out[i] = match kind.step(params[i]) {
+    out[i] = match t.step(params[i]) {
         Step::Bit => values[i].checked_add(1)?,
         Step::Halve => values[i].checked_mul(2)?,
     };
@@ -439,9 +435,9 @@ fn widen_any(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Ve
 }
 
 /// `values` with parameter `i` narrowed by one step, or None at its floor.
-fn narrow(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
+fn narrow(t: &dyn Target, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u32>> {
     let v = values[i];
-    let n = match kind.step(params[i]) {
+    let n = match t.step(params[i]) {
         Step::Bit => v.checked_sub(1)?,
         Step::Halve if v > 1 => v / 2,
         Step::Halve => return None,
@@ -452,8 +448,8 @@ fn narrow(kind: Kind, params: &[&str], values: &[u32], i: usize) -> Option<Vec<u
 }
 
 /// The defaults' values of `params` in the evaluator's scene.
-pub fn defaults(ev: &Evaluator, params: &[&'static str]) -> Result<Vec<u32>, String> {
-    params.iter().map(|p| ev.kind.get(&ev.base, p)).collect()
+pub fn defaults(ev: &dyn Target, params: &[&'static str]) -> Result<Vec<u32>, String> {
+    params.iter().map(|p| ev.default_value(p)).collect()
 }
 
 /// Mark the points on the Pareto front of (gates, RAM bits, `metric` error) among
@@ -489,7 +485,7 @@ const EPS: f64 = 1e-3;
 /// The greedy descent (module notes). `on_point` sees the book after each new point
 /// (the CLI saves the CSV and moves the progress bar there).
 pub fn search(
-    ev: &Evaluator,
+    ev: &dyn Target,
     params: &[&'static str],
     budget: &Budget,
     objective: Objective,
@@ -524,7 +520,7 @@ pub fn search(
         }
         let mut pick: Option<(f64, usize)> = None;
         for i in 0..params.len() {
-            let Some(y) = widen(ev.kind, params, &book.points[x].values, &start, i) else {
+            let Some(y) = widen(ev, params, &book.points[x].values, &start, i) else {
                 continue;
             };
             let j = match book.visit(&y, limits, started, on_point)? {
@@ -553,7 +549,7 @@ pub fn search(
         // texels and framebuffer): widen every parameter by one step together.
         let mut y = book.points[x].values.clone();
         for i in 0..params.len() {
-            if let Some(n) = widen(ev.kind, params, &y, &start, i) {
+            if let Some(n) = widen(ev, params, &y, &start, i) {
                 y = n;
             }
         }
@@ -624,7 +620,7 @@ pub fn search(
         // none left: converged.
         let mut moved = false;
         'trade: for &a in &order {
-            let Some(up) = widen_any(ev.kind, params, &book.points[x].values, a) else {
+            let Some(up) = widen_any(ev, params, &book.points[x].values, a) else {
                 continue;
             };
             for &b in order.iter().filter(|&&b| b != a) {
@@ -649,11 +645,11 @@ pub fn search(
 
 /// Every value a parameter takes from its default down, one step at a time, while
 /// the scene with only that change validates.
-pub fn ladder(ev: &Evaluator, params: &[&'static str], i: usize) -> Result<Vec<u32>, String> {
+pub fn ladder(ev: &dyn Target, params: &[&'static str], i: usize) -> Result<Vec<u32>, String> {
     let mut v = defaults(ev, params)?;
     let mut out = vec![v[i]];
-    while let Some(n) = narrow(ev.kind, params, &v, i) {
-        if ev.kind.apply(&ev.base, params, &n).is_err() {
+    while let Some(n) = narrow(ev, params, &v, i) {
+        if !ev.valid(params, &n) {
             break;
         }
         v = n;
@@ -665,7 +661,7 @@ pub fn ladder(ev: &Evaluator, params: &[&'static str], i: usize) -> Result<Vec<u
 /// The exhaustive grid over every parameter's [`ladder`], each point simulated (no
 /// pruning): what the search is measured against. Returns the book.
 pub fn grid<'a>(
-    ev: &'a Evaluator,
+    ev: &'a dyn Target,
     params: &[&'static str],
     budget: &'a Budget,
 ) -> Result<Book<'a>, String> {

@@ -136,16 +136,37 @@ pub fn render_sphere(
     view: &SphereView,
     cfg: &PathConfig,
 ) -> Result<SphereRender, ConfigError> {
-    let view = &match e.light {
+    render_sphere_against(e, view, cfg, sphere_reference(e, view)?)
+}
+
+/// The entry's view: `view` under the entry's own light, if it has one.
+fn entry_view(e: &CatalogueEntry, view: &SphereView) -> SphereView {
+    match e.light {
         Some(l) => SphereView {
             light: crate::scene::math::v3(l[0], l[1], l[2]).normalized(),
             ..*view
         },
         None => *view,
-    };
+    }
+}
+
+/// The f64 reference levels of one catalogue entry's sphere (what [`render_sphere`]
+/// compares with; it depends on no width, so a search draws it once).
+pub fn sphere_reference(e: &CatalogueEntry, view: &SphereView) -> Result<Vec<f64>, ConfigError> {
     let brdf = MaterialBrdf::new(&e.material, e.color)?;
+    Ok(entry_view(e, view).reference_levels(&brdf))
+}
+
+/// [`render_sphere`] against a reference drawn before ([`sphere_reference`] of the
+/// same entry and view).
+pub fn render_sphere_against(
+    e: &CatalogueEntry,
+    view: &SphereView,
+    cfg: &PathConfig,
+    reference: Vec<f64>,
+) -> Result<SphereRender, ConfigError> {
+    let view = &entry_view(e, view);
     let path = material_path(&e.material, e.color, cfg)?;
-    let reference = view.reference_levels(&brdf);
     let t0 = Instant::now();
     let mut counters = PathCounters::new();
     let mut hardware = Vec::with_capacity(reference.len());

@@ -9,6 +9,7 @@ pub mod factor;
 pub mod materials;
 pub mod normalize_cube;
 pub mod path;
+pub mod scene_file;
 pub mod scene_pass;
 pub mod specular;
 pub mod sphere;

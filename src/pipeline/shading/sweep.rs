@@ -31,17 +31,20 @@
 //! bound) or, for `shading-vertex`, vertices × II at the GeForce3 clock. The widths
 //! change it only through the textures a path reads (or the unit's II).
 
-use super::brdfs::{catalogue, render_sphere, sphere_error, CatalogueEntry};
+use super::brdfs::{
+    catalogue, render_sphere, render_sphere_against, sphere_error, sphere_reference, CatalogueEntry,
+};
 use super::materials::lobe_kind;
 use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig};
 use super::path::combiner_stage;
 use super::path::PathConfig;
 use super::specular::{
     cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels, SphereVectors,
+    SQUARING_BITS,
 };
 use super::sphere::SphereView;
 use super::squaring::SquaringChain;
-use super::vertex_float::{measure, one_light, sphere_vertices};
+use super::vertex_float::{exact_levels, measure, measure_against, one_light, sphere_vertices};
 use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
@@ -206,37 +209,68 @@ enum Job {
 
 /// The config of `scene` with `param` (a name [`check_param`] accepted) set to `v`.
 fn job(scene: &ShadingScene, param: &str, v: u32) -> Job {
+    let mut j = base_job(scene, param == "combiner_bits");
+    set(&mut j, param, v);
+    j
+}
+
+/// A scene's defaults: the GeForce path of a catalogue model, `shading-specular`'s
+/// lookup path (its squaring path with `squaring`, at [`SQUARING_DEFAULT_BITS`]), the
+/// e8m23 vertex lighting.
+fn base_job(scene: &ShadingScene, squaring: bool) -> Job {
     match scene {
-        ShadingScene::Model(e) => {
-            let mut c = PathConfig::default();
-            match param {
-                "cube_face" => c.cube.face_side = v,
-                "lookup_log2" => c.lookup.table_log2 = v,
-                "lookup_bits" => c.lookup.entry_bits = v,
-                "factor_size" => c.factor_resolution = v,
-                _ => c.factor_bits = v,
-            }
-            Job::Model(*e, c)
-        }
-        ShadingScene::Specular => {
-            let mut c = LookupPathConfig::default();
-            match param {
-                "combiner_bits" => return Job::Squaring(v),
-                "cube_face" => c.cube.face_side = v,
-                "cube_bits" => c.cube.texel_bits = v,
-                "lookup_log2" => c.lookup.table_log2 = v,
-                _ => c.lookup.entry_bits = v,
-            }
-            Job::Lookup(c)
-        }
-        ShadingScene::Vertex => {
-            let c = VertexLightingConfig::geforce();
-            Job::Vertex(match param {
+        ShadingScene::Model(e) => Job::Model(*e, PathConfig::default()),
+        ShadingScene::Specular if squaring => Job::Squaring(SQUARING_DEFAULT_BITS),
+        ShadingScene::Specular => Job::Lookup(LookupPathConfig::default()),
+        ShadingScene::Vertex => Job::Vertex(VertexLightingConfig::geforce()),
+    }
+}
+
+/// `param` (a name [`check_param`] accepted for the job's scene) set to `v`: the
+/// sweep's setter of every width.
+fn set(j: &mut Job, param: &str, v: u32) {
+    match j {
+        Job::Model(_, c) => match param {
+            "cube_face" => c.cube.face_side = v,
+            "lookup_log2" => c.lookup.table_log2 = v,
+            "lookup_bits" => c.lookup.entry_bits = v,
+            "factor_size" => c.factor_resolution = v,
+            _ => c.factor_bits = v,
+        },
+        Job::Squaring(bits) => *bits = v,
+        Job::Lookup(c) => match param {
+            "cube_face" => c.cube.face_side = v,
+            "cube_bits" => c.cube.texel_bits = v,
+            "lookup_log2" => c.lookup.table_log2 = v,
+            _ => c.lookup.entry_bits = v,
+        },
+        Job::Vertex(c) => {
+            *c = match param {
                 "vertex_mantissa" => c.with_format(c.format.exp_bits, v),
                 _ => c.with_format(v, c.format.mant_bits),
-            })
+            }
         }
     }
+}
+
+/// The value of `param` in `j` (the inverse of [`set`]); None for a width the job's
+/// path does not have.
+fn get(j: &Job, param: &str) -> Option<u32> {
+    Some(match (j, param) {
+        (Job::Model(_, c), "cube_face") => c.cube.face_side,
+        (Job::Model(_, c), "lookup_log2") => c.lookup.table_log2,
+        (Job::Model(_, c), "lookup_bits") => c.lookup.entry_bits,
+        (Job::Model(_, c), "factor_size") => c.factor_resolution,
+        (Job::Model(_, c), "factor_bits") => c.factor_bits,
+        (Job::Squaring(bits), "combiner_bits") => *bits,
+        (Job::Lookup(c), "cube_face") => c.cube.face_side,
+        (Job::Lookup(c), "cube_bits") => c.cube.texel_bits,
+        (Job::Lookup(c), "lookup_log2") => c.lookup.table_log2,
+        (Job::Lookup(c), "lookup_bits") => c.lookup.entry_bits,
+        (Job::Vertex(c), "vertex_mantissa") => c.format.mant_bits,
+        (Job::Vertex(c), "vertex_exponent") => c.format.exp_bits,
+        _ => return None,
+    })
 }
 
 /// Build every unit the job elaborates, without rendering: a bad width is an error
@@ -330,11 +364,19 @@ fn specular_measured(
     wall: f64,
     units: &[UnitSummary],
     textures: u32,
+    reference: Option<&[f64]>,
 ) -> Result<Measured, ConfigError> {
-    let reference = reference_levels(vectors, (1u32 << SPECULAR_K) as f64);
+    let owned;
+    let reference = match reference {
+        Some(r) => r,
+        None => {
+            owned = reference_levels(vectors, (1u32 << SPECULAR_K) as f64);
+            &owned
+        }
+    };
     let mask: Vec<bool> = vectors.iter().map(|v| v.is_some()).collect();
     let rgb = |v: &[f64]| v.iter().map(|&x| [x; 3]).collect::<Vec<_>>();
-    let st = error_stats_masked(&rgb(hw), &rgb(&reference), &mask)?;
+    let st = error_stats_masked(&rgb(hw), &rgb(reference), &mask)?;
     let (gates, ram) = total(units);
     Ok(Measured {
         mean: st.mean_abs,
@@ -348,11 +390,36 @@ fn specular_measured(
 }
 
 fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
+    run_with(j, view, None).map(|(m, _)| m)
+}
+
+/// [`run`], against a reference drawn before when `reference` is given (else drawn
+/// here, as the sweep does); also the hardware's levels per pixel of the view (none
+/// for `shading-vertex`).
+fn run_with(
+    j: &Job,
+    view: &SphereView,
+    reference: Option<&ShadingReference>,
+) -> Result<(Measured, Vec<f64>), ConfigError> {
+    let mismatch = || {
+        ConfigError::invalid(
+            "shading reference",
+            "drawn for another kind of shading scene",
+        )
+    };
+    let image = |r: Option<&ShadingReference>| match r {
+        None => Ok(None),
+        Some(ShadingReference::Image { levels, .. }) => Ok(Some(levels.clone())),
+        Some(ShadingReference::Vertex(_)) => Err(mismatch()),
+    };
     match j {
         Job::Model(e, cfg) => {
             // The units' shading of the sphere (render_sphere's clock: the host's
             // factorisation and the reference are not in it).
-            let r = render_sphere(e, view, cfg)?;
+            let r = match image(reference)? {
+                Some(levels) => render_sphere_against(e, view, cfg, levels)?,
+                None => render_sphere(e, view, cfg)?,
+            };
             let wall = r.wall_seconds;
             let st = sphere_error(&r)?;
             let fragments = st.n / 3;
@@ -369,7 +436,7 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
                 .filter(|u| u.summary.is_some() && u.name.starts_with("texture_sampler (factor"))
                 .count() as u32;
             let textures = 2 + 2 * u32::from(lookup) + factors;
-            Ok(Measured {
+            let m = Measured {
                 mean: st.mean_abs,
                 rms: st.rms,
                 max: st.max,
@@ -377,7 +444,8 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
                 wall,
                 gates,
                 ram,
-            })
+            };
+            Ok((m, r.hardware))
         }
         Job::Squaring(bits) => {
             let cube = cube_8bit()?;
@@ -393,7 +461,9 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
             units.extend((0..SPECULAR_K).map(|_| UnitSummary::of(&chain.square_stage)));
             units.push(UnitSummary::of(&chain.final_stage));
             // Textures: a normal map and the cube for h.
-            specular_measured(&v8, &hw, wall, &units, 2)
+            let r = image(reference)?;
+            let m = specular_measured(&v8, &hw, wall, &units, 2, r.as_deref())?;
+            Ok((m, hw))
         }
         Job::Lookup(c) => {
             let cube = c.cube.build()?;
@@ -415,18 +485,24 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
             units.push(UnitSummary::of(&dot3));
             units.push(UnitSummary::of(&lut));
             // Textures: the normal map, the cube for h, the lookup's 1D texture.
-            specular_measured(&v, &hw, wall, &units, 3)
+            let r = image(reference)?;
+            let m = specular_measured(&v, &hw, wall, &units, 3, r.as_deref())?;
+            Ok((m, hw))
         }
         Job::Vertex(c) => {
             let setup = one_light();
             let verts = sphere_vertices(VERTEX_RINGS, VERTEX_SEGMENTS);
             let t0 = Instant::now();
-            let row = measure(*c, &setup, &verts)
-                .map_err(|e| ConfigError::invalid("vertex_lighting", &e))?;
+            let row = match reference {
+                None => measure(*c, &setup, &verts),
+                Some(ShadingReference::Vertex(exact)) => measure_against(*c, &setup, &verts, exact),
+                Some(ShadingReference::Image { .. }) => return Err(mismatch()),
+            }
+            .map_err(|e| ConfigError::invalid("vertex_lighting", &e))?;
             let wall = t0.elapsed().as_secs_f64();
             let s = UnitSummary::of(&VertexLighting::new(*c, &setup)?);
             let clock = GpuModel::geforce3().clock_hz;
-            Ok(Measured {
+            let m = Measured {
                 mean: row.mean_levels,
                 rms: row.rms_levels,
                 max: row.max_levels,
@@ -434,7 +510,8 @@ fn run(j: &Job, view: &SphereView) -> Result<Measured, ConfigError> {
                 wall,
                 gates: s.gates_nand2,
                 ram: s.ram_bits,
-            })
+            };
+            Ok((m, Vec::new()))
         }
     }
 }
@@ -508,12 +585,17 @@ fn shading_jobs(
     for (v, j) in &jobs {
         validate(j).map_err(|e| format!("values: {param} = {v}: {e}"))?;
     }
-    let view = SphereView {
-        size: opts.view_size,
+    Ok((param, jobs, sweep_view(opts.view_size)))
+}
+
+/// The sphere view of a shading sweep: `size`² pixels, E = π (as `reproduce
+/// shading-brdfs`).
+pub fn sweep_view(size: u32) -> SphereView {
+    SphereView {
+        size,
         irradiance: std::f64::consts::PI,
         ..SphereView::default()
-    };
-    Ok((param, jobs, view))
+    }
 }
 
 /// The plot's title.
@@ -754,4 +836,177 @@ pub fn attributed_sweep_cli(
         );
     }
     Ok(())
+}
+
+// ------------------------------------------------------------ joint points (optimize)
+
+/// The register combiners' internal width of `shading-specular`'s squaring path when
+/// no `combiner_bits` is given: 9 bits, the GeForce 256/2's (the first of
+/// `reproduce shading-specular`'s [`SQUARING_BITS`]).
+pub const SQUARING_DEFAULT_BITS: u32 = SQUARING_BITS[0];
+
+/// One configuration of a shading scene with several widths set at once (`optimize`,
+/// a shading scene file): the sweep's configuration at the scene's defaults, each
+/// width set through the sweep's own setter, every unit built.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingPoint {
+    scene: ShadingScene,
+    job: Job,
+}
+
+impl ShadingPoint {
+    /// `scene` at its defaults with `widths` set. A name the scene does not take is
+    /// an error naming `param` ([`check_param`]); a value a unit refuses is an error
+    /// `NAME = VALUE: <the unit's field and limits>`. On `shading-specular`,
+    /// `combiner_bits` (the squaring path) does not mix with the lookup path's widths.
+    pub fn new(scene: &ShadingScene, widths: &[(&str, u32)]) -> Result<ShadingPoint, String> {
+        let names: Vec<&'static str> = widths
+            .iter()
+            .map(|(p, _)| check_param(scene, p))
+            .collect::<Result<_, _>>()?;
+        let squaring = names.contains(&"combiner_bits");
+        if let Some(other) = names.iter().find(|p| squaring && **p != "combiner_bits") {
+            return Err(format!(
+                "param: combiner_bits is {}'s squaring path and '{other}' its lookup \
+                 path; a configuration is one path",
+                scene.name()
+            ));
+        }
+        let mut job = base_job(scene, squaring);
+        // Set one width at a time, every unit built after each: an error names the
+        // width that made the configuration invalid.
+        for (p, (_, v)) in names.iter().zip(widths) {
+            set(&mut job, p, *v);
+            validate(&job).map_err(|e| format!("{p} = {v}: {e}"))?;
+        }
+        validate(&job).map_err(|e| e.to_string())?;
+        Ok(ShadingPoint { scene: *scene, job })
+    }
+
+    pub fn scene(&self) -> &ShadingScene {
+        &self.scene
+    }
+
+    /// The value of `param` at this point; an error naming `param` for a width
+    /// this point's path does not have.
+    pub fn value(&self, param: &str) -> Result<u32, String> {
+        get(&self.job, param).ok_or_else(|| {
+            format!(
+                "param: '{param}' is not a width of this {} configuration",
+                self.scene.name()
+            )
+        })
+    }
+
+    /// Every width of this point's path, in [`params_of`]'s order.
+    pub fn widths(&self) -> Vec<(&'static str, u32)> {
+        params_of(&self.scene)
+            .iter()
+            .filter_map(|p| get(&self.job, p).map(|v| (*p, v)))
+            .collect()
+    }
+
+    /// The width of the codes the error is measured on: each output value is a
+    /// code k shown as k · 255 / (2^bits − 1) levels. The catalogue paths end in an
+    /// 8-bit combiner, the squaring chain in unorm8, the lookup path in the lookup's
+    /// entries (`lookup_bits`), vertex lighting in its colour width.
+    pub fn output_bits(&self) -> u32 {
+        match &self.job {
+            Job::Model(..) | Job::Squaring(_) => 8,
+            Job::Lookup(c) => c.lookup.entry_bits,
+            Job::Vertex(c) => c.color_bits,
+        }
+    }
+}
+
+/// What a shading point's error is measured against: the sweep's reference, which
+/// depends on no searched width, so it is drawn once.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ShadingReference {
+    /// Levels per pixel of the view (row-major, grey, background 0) and the covered
+    /// pixels (the error is over these).
+    Image { levels: Vec<f64>, mask: Vec<bool> },
+    /// The GL twin's exact colour per vertex (`vertex_float::exact_levels`).
+    Vertex(Vec<[f64; 3]>),
+}
+
+impl ShadingReference {
+    /// The reference values the error is taken over, as RGB: the covered pixels,
+    /// or the vertices' ideal codes (the exact colour rounded, as `measure`
+    /// compares).
+    pub fn values(&self) -> Vec<[f64; 3]> {
+        match self {
+            ShadingReference::Image { levels, mask } => levels
+                .iter()
+                .zip(mask)
+                .filter(|(_, m)| **m)
+                .map(|(&x, _)| [x; 3])
+                .collect(),
+            ShadingReference::Vertex(v) => v.iter().map(|c| c.map(f64::round)).collect(),
+        }
+    }
+}
+
+/// The reference of `point`'s scene on `view` (the sweep's: the catalogue model's
+/// f64 sphere, 255·(n̂·ĥ)^32, the GL twin's vertex colours at the point's colour
+/// width).
+pub fn shading_reference(
+    point: &ShadingPoint,
+    view: &SphereView,
+) -> Result<ShadingReference, String> {
+    let e = |e: ConfigError| e.to_string();
+    Ok(match &point.job {
+        Job::Model(entry, _) => ShadingReference::Image {
+            levels: sphere_reference(entry, view).map_err(e)?,
+            mask: view.pixels().iter().map(Option::is_some).collect(),
+        },
+        Job::Squaring(_) | Job::Lookup(_) => {
+            // The reference reads the exact n̂·ĥ, not the cube's vectors.
+            let v = sphere_vectors(view, &cube_8bit().map_err(e)?).map_err(e)?;
+            ShadingReference::Image {
+                levels: reference_levels(&v, (1u32 << SPECULAR_K) as f64),
+                mask: v.iter().map(Option::is_some).collect(),
+            }
+        }
+        Job::Vertex(c) => ShadingReference::Vertex(exact_levels(
+            c,
+            &one_light(),
+            &sphere_vertices(VERTEX_RINGS, VERTEX_SEGMENTS),
+        )),
+    })
+}
+
+/// What one shading point measured (the sweep's row) and the hardware's levels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShadingMeasure {
+    pub mean_abs_levels: f64,
+    pub rms_levels: f64,
+    pub max_levels: f64,
+    pub predicted_hw_seconds: f64,
+    pub wall_seconds: f64,
+    pub gates_nand2: f64,
+    pub ram_bits: u64,
+    /// Grey levels per pixel of the view (row-major; background 0); empty for
+    /// `shading-vertex`, which has no image.
+    pub levels: Vec<f64>,
+}
+
+/// Render `point` on `view` through the sweep's path and measure it against
+/// `reference` (its [`shading_reference`] on the same view).
+pub fn measure_point(
+    point: &ShadingPoint,
+    view: &SphereView,
+    reference: &ShadingReference,
+) -> Result<ShadingMeasure, String> {
+    let (m, levels) = run_with(&point.job, view, Some(reference)).map_err(|e| e.to_string())?;
+    Ok(ShadingMeasure {
+        mean_abs_levels: m.mean,
+        rms_levels: m.rms,
+        max_levels: m.max,
+        predicted_hw_seconds: m.predicted,
+        wall_seconds: m.wall,
+        gates_nand2: m.gates,
+        ram_bits: m.ram,
+        levels,
+    })
 }

@@ -156,19 +156,53 @@ pub fn measure(
     setup: &LightingSetup,
     verts: &[([f64; 3], [f64; 3])],
 ) -> Result<VertexFloatRow, String> {
-    let u = VertexLighting::new(cfg, setup).map_err(|e| e.to_string())?;
-    let gl = gl_lighting(&cfg, setup);
+    measure_against(cfg, setup, verts, &exact_levels(&cfg, setup, verts))
+}
+
+/// The GL twin's exact colour of every vertex, clamp(c) · (2^color_bits − 1): the
+/// reference [`measure`] compares with. It depends on the colour width, the lighting
+/// state and the normalise / local-viewer switches, not on the float format, so a
+/// search over the format draws it once.
+pub fn exact_levels(
+    cfg: &VertexLightingConfig,
+    setup: &LightingSetup,
+    verts: &[([f64; 3], [f64; 3])],
+) -> Vec<[f64; 3]> {
+    let gl = gl_lighting(cfg, setup);
     let scale = ((1u64 << cfg.color_bits) - 1) as f64;
+    verts
+        .iter()
+        .map(|&(p, n)| {
+            let c = light_vertex(&gl, p, n);
+            [0, 1, 2].map(|k| c[k].clamp(0.0, 1.0) * scale)
+        })
+        .collect()
+}
+
+/// [`measure`] against exact colours drawn before ([`exact_levels`] of the same
+/// colour width, setup and vertices).
+pub fn measure_against(
+    cfg: VertexLightingConfig,
+    setup: &LightingSetup,
+    verts: &[([f64; 3], [f64; 3])],
+    exact_all: &[[f64; 3]],
+) -> Result<VertexFloatRow, String> {
+    if exact_all.len() != verts.len() {
+        return Err(format!(
+            "vertex reference: {} colours for {} vertices",
+            exact_all.len(),
+            verts.len()
+        ));
+    }
+    let u = VertexLighting::new(cfg, setup).map_err(|e| e.to_string())?;
     let mut ctr = Counters::default();
     let (mut got, mut ideal) = (Vec::new(), Vec::new());
     let mut max_exact: f64 = 0.0;
-    for &(p, n) in verts {
+    for (&(p, n), &exact) in verts.iter().zip(exact_all) {
         let input = u
             .vertex_from_f64(p, n, &mut ctr)
             .map_err(|e| e.to_string())?;
         let out = u.kernel(&mut (), &input, &mut ctr);
-        let c = light_vertex(&gl, p, n);
-        let exact = [0, 1, 2].map(|k| c[k].clamp(0.0, 1.0) * scale);
         let code = [0, 1, 2].map(|k| out.rgba[k] as f64);
         for k in 0..3 {
             max_exact = max_exact.max((code[k] - exact[k]).abs());

@@ -1,0 +1,235 @@
+//! A shading scene as a file (issue 21): the smallest form `render --scene` and
+//! `optimize --scene` take for the built-in `shading-*` scenes at other widths, and
+//! what `optimize` writes as `best.toml` for them.
+//!
+//! ```toml
+//! [shading]
+//! scene = "shading-blinn_phong"   # a built-in shading scene (`sweep`'s names)
+//! image = 64                      # the sphere view's side in pixels (default 256)
+//!
+//! [shading.hw]                    # the scene's widths (`sweep`'s names); a width
+//! cube_face = 32                  # not given keeps its GeForce default
+//! lookup_log2 = 7
+//! ```
+//!
+//! Every field is checked before anything renders, each error naming it
+//! (`shading.scene`, `shading.image`, `shading.hw.<width>`); an unknown key is
+//! refused. A file without a top-level `[shading]` table is not one of these (it is
+//! read as a `Scene`).
+
+use super::sweep::{
+    measure_point, params_of, shading_reference, sweep_view, ShadingPoint, ShadingScene,
+    SCENE_PREFIX,
+};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// The sphere view's side when the file gives none (the `shading-brdfs` view).
+pub const DEFAULT_IMAGE: u32 = 256;
+
+/// A shading scene at given widths: what a file (or a `shading-*` name, at the
+/// defaults) describes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingFile {
+    pub point: ShadingPoint,
+    /// The sphere view's side in pixels; None for `shading-vertex` (no image).
+    pub image: Option<u32>,
+}
+
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct FileForm {
+    shading: Section,
+}
+
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct Section {
+    scene: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    image: Option<u32>,
+    #[serde(default)]
+    hw: BTreeMap<String, u32>,
+}
+
+impl ShadingFile {
+    /// A built-in `shading-*` scene at its defaults (errors name `scene`).
+    pub fn builtin(name: &str) -> Result<ShadingFile, String> {
+        let sc = ShadingScene::parse(name)?;
+        let point = ShadingPoint::new(&sc, &[])?;
+        Ok(ShadingFile {
+            point,
+            image: (sc != ShadingScene::Vertex).then_some(DEFAULT_IMAGE),
+        })
+    }
+
+    /// `name` as a shading scene: a `shading-*` name, or a TOML file with a
+    /// top-level `[shading]` table (checked, errors naming the field). None for
+    /// anything else (a `Scene` name or file: the caller reads it as before).
+    pub fn resolve(name: &str) -> Result<Option<ShadingFile>, String> {
+        let path = Path::new(name);
+        if name.starts_with(SCENE_PREFIX) && !path.is_file() {
+            return ShadingFile::builtin(name).map(Some);
+        }
+        if !path.is_file() {
+            return Ok(None);
+        }
+        let Ok(text) = std::fs::read_to_string(path) else {
+            return Ok(None);
+        };
+        match text.parse::<toml::Table>() {
+            Ok(t) if t.contains_key("shading") => {}
+            _ => return Ok(None),
+        }
+        ShadingFile::parse(&text)
+            .map(Some)
+            .map_err(|e| format!("{e} (in {name})"))
+    }
+
+    /// The file form's text, checked.
+    pub fn parse(text: &str) -> Result<ShadingFile, String> {
+        let f: FileForm = toml::from_str(text).map_err(|e| {
+            format!(
+                "shading: {}",
+                e.message().lines().next().unwrap_or("not a shading scene")
+            )
+        })?;
+        let s = f.shading;
+        let sc =
+            ShadingScene::parse(&s.scene).map_err(|e| e.replacen("scene:", "shading.scene:", 1))?;
+        let image = match (sc, s.image) {
+            (ShadingScene::Vertex, Some(_)) => {
+                return Err(
+                    "shading.image: shading-vertex lights sphere vertices, it has no image".into(),
+                )
+            }
+            (ShadingScene::Vertex, None) => None,
+            (_, Some(n)) => {
+                rtl_model::error::check_range("shading.image", n.into(), 2, 4096)
+                    .map_err(|e| e.to_string())?;
+                Some(n)
+            }
+            (_, None) => Some(DEFAULT_IMAGE),
+        };
+        let valid = params_of(&sc).join(", ");
+        let mut widths: Vec<(&str, u32)> = Vec::new();
+        for (k, v) in &s.hw {
+            if !params_of(&sc).contains(&k.as_str()) {
+                return Err(format!(
+                    "shading.hw.{k}: not a width of {} (valid: {valid})",
+                    sc.name()
+                ));
+            }
+            widths.push((k.as_str(), *v));
+        }
+        // Set one width at a time: an invalid value is named by its key.
+        let mut so_far: Vec<(&str, u32)> = Vec::new();
+        for (k, v) in &widths {
+            so_far.push((k, *v));
+            ShadingPoint::new(&sc, &so_far).map_err(|e| format!("shading.hw.{k}: {e}"))?;
+        }
+        let point = ShadingPoint::new(&sc, &widths).map_err(|e| format!("shading.hw: {e}"))?;
+        Ok(ShadingFile { point, image })
+    }
+
+    /// The file form (`header`, comment lines, first), every width of the point's
+    /// path written out.
+    pub fn to_toml(&self, header: &str) -> Result<String, String> {
+        let f = FileForm {
+            shading: Section {
+                scene: self.point.scene().name(),
+                image: self.image,
+                hw: self
+                    .point
+                    .widths()
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v))
+                    .collect(),
+            },
+        };
+        let body =
+            toml::to_string_pretty(&f).map_err(|e| format!("shading: cannot write TOML: {e}"))?;
+        Ok(format!("{header}\n{body}"))
+    }
+}
+
+/// `render --scene` of a shading scene: the sweep's render of the point on its view
+/// against the sweep's reference; the sphere's grey levels to `out` (and the
+/// reference's to `reference`), the error, gates, RAM bits and predicted time
+/// printed (`json`: as one JSON object). `shading-vertex` has no image: nothing is
+/// written. `plan_only`: the configuration only.
+pub fn render_cli(
+    f: &ShadingFile,
+    out: &Path,
+    json: bool,
+    reference: Option<&Path>,
+    plan_only: bool,
+) -> Result<(), String> {
+    let name = f.point.scene().name();
+    let widths = f
+        .point
+        .widths()
+        .iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    if plan_only {
+        println!("shading scene {name}: {widths}");
+        return Ok(());
+    }
+    let size = f.image.unwrap_or(DEFAULT_IMAGE);
+    let view = sweep_view(size);
+    let r = shading_reference(&f.point, &view)?;
+    let m = measure_point(&f.point, &view, &r)?;
+    let grey = |v: &[f64]| v.iter().map(|&x| [x; 3]).collect::<Vec<_>>();
+    let mut wrote = Vec::new();
+    if f.image.is_some() {
+        crate::report::image_out::levels_png(&grey(&m.levels), size, size, out)?;
+        wrote.push(out.display().to_string());
+        if let (Some(p), super::sweep::ShadingReference::Image { levels, .. }) = (reference, &r) {
+            crate::report::image_out::levels_png(&grey(levels), size, size, p)
+                .map_err(|e| e.replacen("out:", "reference:", 1))?;
+            wrote.push(p.display().to_string());
+        }
+    }
+    if json {
+        let v = serde_json::json!({
+            "scene": name,
+            "widths": f.point.widths().into_iter().collect::<BTreeMap<_, _>>(),
+            "image": f.image,
+            "mean_abs_levels": m.mean_abs_levels,
+            "rms_levels": m.rms_levels,
+            "max_levels": m.max_levels,
+            "gates_nand2": m.gates_nand2,
+            "ram_bits": m.ram_bits,
+            "predicted_hw_seconds": m.predicted_hw_seconds,
+            "wall_seconds": m.wall_seconds,
+            "wrote": wrote,
+        });
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+        );
+        return Ok(());
+    }
+    println!(
+        "shading scene {name} ({}): {widths}",
+        f.image
+            .map_or("vertices, no image".to_string(), |s| format!("{s}x{s}"))
+    );
+    println!(
+        "  error against the reference: mean {:.3} rms {:.3} max {:.3} levels",
+        m.mean_abs_levels, m.rms_levels, m.max_levels
+    );
+    println!(
+        "  gates {:.0} NAND2, RAM bits {}, predicted {:.6} s (GeForce3), wall {:.3} s",
+        m.gates_nand2, m.ram_bits, m.predicted_hw_seconds, m.wall_seconds
+    );
+    if wrote.is_empty() {
+        println!("  no image written (shading-vertex has none)");
+    } else {
+        println!("  wrote {}", wrote.join(", "));
+    }
+    Ok(())
+}
