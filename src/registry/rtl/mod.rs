@@ -44,6 +44,7 @@ mod final_combiner;
 mod modulate_chain;
 mod register_combiner;
 mod texture_combiner;
+mod vertex_lighting;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
 /// An input word of at most this many bits is enumerated exhaustively.
@@ -241,6 +242,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "reflection_vector",
         vectors: reflection_vector::reflection_vector_vectors,
+    },
+    RtlEntry {
+        name: "vertex_lighting",
+        vectors: vertex_lighting::vertex_lighting_vectors,
     },
 ];
 
