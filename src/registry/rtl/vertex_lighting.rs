@@ -6,19 +6,23 @@
 //! parameters. [`verilog_params`] refuses anything else (no light or several, kept
 //! subnormals, M < 2), naming the field.
 //!
-//! * default: GeForce 256 (IEEE single 8/23, nearest-even, 8-bit colours,
-//!   GL_NORMALIZE, infinite viewer), a local spot light with attenuation and a
-//!   specular material: every special (RSQ ×2, RCP, two pows) is on the path;
-//! * narrow: E 4, M 6, truncation, 4-bit colours, no GL_NORMALIZE, a local viewer,
-//!   a local light without a spot.
+//! * default: GeForce 256's datapath (IEEE single 8/23, nearest-even, GL_NORMALIZE,
+//!   infinite viewer) with 16-bit colours instead of 8 (at 8 bits the output hides
+//!   almost every one-ulp difference inside the float datapath: a hand mutation
+//!   dropping the adder's sticky bit went unseen in 2·10⁴ vertices), a local spot
+//!   light with attenuation and a specular material: every special (RSQ ×3, RCP,
+//!   two pows) is on the path;
+//! * narrow: E 4, M 6, truncation, 12-bit colours (every bit of a sum ≥ 2^−5),
+//!   no GL_NORMALIZE, a local viewer, a directional light without a spot.
 //!
-//! The input word is six format words (96 bits default, 66 narrow), so 10⁵ vertices
+//! The input word is six format words (192 bits default, 66 narrow), so 10⁵ vertices
 //! (`count`), shaped from the seeded raw words: one in eight is the raw wire (with
 //! the corners of the first eighth: ±0, the reserved exponent, max finite…), one in
 //! eight has a zero-length normal (±0 or a flushed subnormal), one in eight sits
-//! exactly at the light (d² = 0: rsq and the attenuation saturate), the rest have
-//! coordinates in [−16, 16] and normals of length about 2^−3 ..= 4 so N·L ≤ 0, the
-//! spot cone's edge, specular highlights and the [0, 1] clamps all occur.
+//! exactly at the light's position register (for the default's local light d² = 0:
+//! rsq saturates, L = 0, the spot is 0), the rest have coordinates of magnitude
+//! 2^−4 ..= 4 and normal components 2^−3 ..= 2 (exponents spread, random signs), so N·L ≤ 0,
+//! the spot cone's edge, specular highlights and the [0, 1] clamps all occur.
 
 use super::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::units::vertex_lighting::{
@@ -94,31 +98,40 @@ fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
             setup.material.emission = [0.05, 0.0, 0.02];
             setup.material.specular = [0.8; 3];
             setup.material.shininess = 32.0;
+            // Above and in front of the origin, the cone aimed at it: most shaped
+            // vertices (|P| components 2^-4 ..= 4) fall inside.
             let light = Light {
-                position: [1.0, 2.0, -3.0, 1.0],
+                position: [0.5, 1.0, 2.0, 1.0],
                 ambient: [0.1, 0.1, 0.1],
                 diffuse: [0.9, 0.8, 0.7],
                 specular: [1.0; 3],
-                spot_direction: [0.0, -0.5, -1.0],
+                spot_direction: [-0.5, -1.0, -2.0],
                 spot_exponent: 4.0,
-                spot_cutoff: 60.0,
-                attenuation: [1.0, 0.1, 0.05],
+                spot_cutoff: 75.0,
+                attenuation: [1.0, 0.05, 0.02],
             };
-            (VertexLightingConfig::geforce(), light)
+            // 16-bit colours: the unorm shows 16 of the sum's 24 bits (GeForce's 8
+            // hide almost every one-ulp difference of the float datapath).
+            let cfg = VertexLightingConfig {
+                color_bits: 16,
+                ..VertexLightingConfig::geforce()
+            };
+            (cfg, light)
         }
         RtlConfig::Narrow => {
             setup.material.specular = [0.5; 3];
             setup.material.shininess = 8.0;
+            // Directional (the default's light is local): each of LOCAL, SPOT,
+            // NORMALIZE, LOCAL_VIEWER and ROUNDING takes both values across the two.
             let light = Light {
-                position: [0.5, 1.0, 0.75, 1.0],
+                position: [0.3, 0.8, 0.5, 0.0],
                 ambient: [0.25, 0.25, 0.25],
                 diffuse: [1.0, 0.75, 0.5],
-                attenuation: [0.5, 0.25, 0.125],
                 ..Light::default()
             };
             let mut cfg = VertexLightingConfig::geforce().with_format(4, 6);
             cfg.format.rounding = Rounding::Truncate;
-            cfg.color_bits = 4;
+            cfg.color_bits = 12; // every bit of a sum ≥ 2^-5 is visible
             cfg.normalize = false;
             cfg.local_viewer = true;
             (cfg, light)
@@ -155,17 +168,14 @@ pub(super) fn vertex_lighting_vectors(
         let mut w: [u64; 6] = std::array::from_fn(|i| v[i]);
         if sel != 0 {
             for (i, x) in w.iter_mut().enumerate() {
-                *x = if i < 3 {
-                    shaped(*x, -4) // |P| in 2^-4 ..= 2^4
-                } else {
-                    shaped(*x, -3) // |n| components in 2^-3 ..= 2^5 (scaled below)
-                };
-            }
-            // Normals: exponents bias − 3 ..= bias + 1 (the 8 offsets folded to 5).
-            for x in &mut w[3..] {
+                // Exponents bias + lo ..= bias + lo + 7, those above bias + top
+                // folded down by 4: |P| components 2^-4 ..= 4, |n| components
+                // 2^-3 ..= 2 (the narrow config does not normalise n).
+                let (lo, top) = if i < 3 { (-4, 1) } else { (-3, 0) };
+                *x = shaped(*x, lo);
                 let e = (*x >> m) & ((1 << e_bits) - 1);
-                if e > bias + 1 {
-                    *x -= 3 << m;
+                if e > bias + top {
+                    *x -= 4 << m;
                 }
             }
         }
