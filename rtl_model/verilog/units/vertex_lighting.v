@@ -254,12 +254,13 @@ module vertex_lighting #(
       else if (fz(x)) fp_add = y;
       else if (fz(y)) fp_add = x;
       else begin
-        swap = (fe(y) > fe(x)) || (fe(y) == fe(x) && y[M-1:0] > x[M-1:0]);
+        eb = fe(x);
+        es = fe(y);
+        swap = (es > eb) || (es == eb && y[M-1:0] > x[M-1:0]);
         big = swap ? y : x;
         sml = swap ? x : y;
-        eb = fe(big);
-        es = fe(sml);
-        d = eb - es;
+        d = swap ? es - eb : eb - es;
+        if (swap) eb = es;
         bs = {1'b1, big[M-1:0], 3'b000};
         sfull = {1'b1, sml[M-1:0], 3'b000};
         if (d > M + 3) begin
