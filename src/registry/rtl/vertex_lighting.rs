@@ -156,7 +156,7 @@ pub(super) fn vertex_lighting_vectors(
     // A word with the raw sign and mantissa and an exponent in bias + lo ..= bias + lo + 7.
     let shaped = move |v: u64, lo: i64| {
         let e = (bias as i64 + lo + ((v >> m) & 7) as i64) as u64;
-        (v & (sign_mask | mant_mask)) | e << m
+        (v & (sign_mask | mant_mask)) | (e << m)
     };
     let light = u.light_registers()[0].vector;
     let make = move |v: &[u64]| {
@@ -187,8 +187,8 @@ pub(super) fn vertex_lighting_vectors(
         }
         if sel == 2 {
             // The vertex at the light (a local light's position; d² = 0).
-            for k in 0..3 {
-                w[k] = light[k].0;
+            for (x, l) in w.iter_mut().zip(light) {
+                *x = l.0;
             }
         }
         VertexLightingIn {
