@@ -420,7 +420,7 @@ fn trace_vectors_cli_writes_the_files_and_names_bad_arguments() {
         );
     }
     let o = Command::new(exe)
-        .args(["trace", "vertex_lighting", "--vectors"])
+        .args(["trace", "polygon_variable_generator", "--vectors"])
         .arg(&dir)
         .output()
         .unwrap();

@@ -145,25 +145,25 @@ pub struct VertexLightingOut {
 
 /// A spot light's loaded registers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct SpotRegs {
+pub struct SpotRegs {
     /// ŝ, unit.
-    direction: [Fp; 3],
-    cos_cutoff: Fp,
-    exponent: Fp,
+    pub direction: [Fp; 3],
+    pub cos_cutoff: Fp,
+    pub exponent: Fp,
 }
 
 /// One light's loaded registers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct LightRegs {
+pub struct LightRegs {
     /// Local: position xyz/w; directional: unit direction toward the light.
-    local: bool,
-    vector: [Fp; 3],
-    attenuation: [Fp; 3],
-    spot: Option<SpotRegs>,
+    pub local: bool,
+    pub vector: [Fp; 3],
+    pub attenuation: [Fp; 3],
+    pub spot: Option<SpotRegs>,
     /// a_m·a_i, d_m·d_i, s_m·s_i.
-    ambient: [Fp; 3],
-    diffuse: [Fp; 3],
-    specular: [Fp; 3],
+    pub ambient: [Fp; 3],
+    pub diffuse: [Fp; 3],
+    pub specular: [Fp; 3],
 }
 
 /// The validated unit with its loaded lighting state.
@@ -348,6 +348,17 @@ impl VertexLighting {
     /// Enabled lights.
     pub fn light_count(&self) -> usize {
         self.lights.len()
+    }
+
+    /// The loaded light registers (what the host wrote, rounded to the format): the
+    /// RTL's state (`registry::rtl` passes them to the Verilog as parameters).
+    pub fn light_registers(&self) -> &[LightRegs] {
+        &self.lights
+    }
+
+    /// The loaded e_m + a_m·a_s, shininess and alpha unorm (see [`Self::light_registers`]).
+    pub fn material_registers(&self) -> ([Fp; 3], Fp, u32) {
+        (self.base, self.shininess, self.alpha)
     }
 
     /// Saturations/underflows of the load (host values rounded into registers).

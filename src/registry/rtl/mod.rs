@@ -45,6 +45,7 @@ mod final_combiner;
 mod modulate_chain;
 mod register_combiner;
 mod texture_combiner;
+mod vertex_lighting;
 pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
@@ -247,6 +248,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "reflection_vector",
         vectors: reflection_vector::reflection_vector_vectors,
+    },
+    RtlEntry {
+        name: "vertex_lighting",
+        vectors: vertex_lighting::vertex_lighting_vectors,
     },
 ];
 

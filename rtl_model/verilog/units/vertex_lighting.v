@@ -1,0 +1,555 @@
+// vertex_lighting — GL 1.x fixed-function lighting of one vertex in a configurable
+// float format (rtl_model/src/units/vertex_lighting.rs, arithmetic of
+// rtl_model/src/float_format.rs), bit-exact with the model.
+//
+// Format: 1 + EXP_BITS + MANT_BITS, IEEE layout, the all-ones exponent reserved (it
+// reads as the largest finite exponent, never produced), subnormals flushed (operands
+// read as zero, results below the smallest normal become ±0), each operation
+// exactly rounded once: ROUNDING 0 = nearest-even, 1 = toward zero. Overflow
+// saturates to ±max finite.
+//   mul: (M+1)×(M+1) significand product, 1-bit normalise, round.
+//   add: operands ordered by magnitude, the smaller aligned with guard, round and a
+//        jammed sticky bit (exactly rounded), LZC normalise, round; exact cancel → +0.
+//   rcp: ⌊2^(2M+4)/sig⌋ by restoring division, remainder → sticky (the model's
+//        exactly rounded reciprocal); rcp(±0) = ±max finite.
+//   rsq: sig (doubled for an odd exponent) → ⌊√⌊2^(2P)/sig⌋⌋, 2P = 3M + 8 + M mod 2,
+//        by restoring division then a restoring square root; inexact unless both
+//        remainders are 0 (the model's exactly rounded 1/√|x|); rsq(0) = +max finite.
+//   pow: the model's log2 → mul → exp2: K = M + 4 squaring steps of y in u1.K
+//        (truncated each step), log rounded to the format, t = s·log2 x, then
+//        2^t = 2^n · Π 2^(2^-k) over the set bits of t's K fraction bits, the
+//        constants a ROM of K words in u1.K built by a constant function exactly as
+//        the model builds it (K integer square roots from 2 at K + 16 bits), each
+//        product truncated to u1.K; pow(x, 0) = 1, pow(x ≤ 0, s) = 0.
+//
+// Restriction (the vector writer refuses anything else): exactly ONE light, its
+// loaded registers (position or direction, attenuation, spot, the colour products)
+// and the material's (e_m + a_m·a_s, shininess, alpha) as parameters, format words
+// as the model loaded them. LOCAL selects a local light (attenuation by rcp) or a
+// directional one; SPOT a spot cone (cutoff < 180°) or none; NORMALIZE
+// (GL_NORMALIZE) and LOCAL_VIEWER as in the model. Subnormals flushed only.
+//
+// Schedule: the model's Timing is a schedule over shared FP units (6 multipliers,
+// 4 adders, one special-function unit): II = max(1, ⌈muls/6⌉, ⌈adds/4⌉, specials),
+// latency II + 6. This Verilog computes the same function as one fixed datapath
+// (every operation its own operator, in the model's order) into a register on the
+// clock a vertex is accepted, then a delay line presents it on the model's cycle:
+// one vertex every II clocks, output LATENCY clocks after its input.
+module vertex_lighting #(
+    parameter EXP_BITS     = 8,
+    parameter MANT_BITS    = 23,
+    parameter ROUNDING     = 0,
+    parameter COLOR_BITS   = 8,
+    parameter NORMALIZE    = 1,
+    parameter LOCAL_VIEWER = 0,
+    parameter LOCAL        = 1,
+    parameter SPOT         = 0,
+    // The light's loaded registers (format words).
+    parameter [63:0] LIGHT_X   = 0,
+    parameter [63:0] LIGHT_Y   = 0,
+    parameter [63:0] LIGHT_Z   = 0,
+    parameter [63:0] ATT_C     = 0,
+    parameter [63:0] ATT_L     = 0,
+    parameter [63:0] ATT_Q     = 0,
+    parameter [63:0] SPOT_X    = 0,
+    parameter [63:0] SPOT_Y    = 0,
+    parameter [63:0] SPOT_Z    = 0,
+    parameter [63:0] SPOT_COS  = 0,
+    parameter [63:0] SPOT_EXP  = 0,
+    parameter [63:0] AMB_R     = 0,
+    parameter [63:0] AMB_G     = 0,
+    parameter [63:0] AMB_B     = 0,
+    parameter [63:0] DIF_R     = 0,
+    parameter [63:0] DIF_G     = 0,
+    parameter [63:0] DIF_B     = 0,
+    parameter [63:0] SPE_R     = 0,
+    parameter [63:0] SPE_G     = 0,
+    parameter [63:0] SPE_B     = 0,
+    // The material's: e_m + a_m·a_s, shininess, and the alpha unorm.
+    parameter [63:0] BASE_R    = 0,
+    parameter [63:0] BASE_G    = 0,
+    parameter [63:0] BASE_B    = 0,
+    parameter [63:0] SHININESS = 0,
+    parameter [63:0] ALPHA     = 0
+) (
+    input                   clk,
+    input                   rst,
+    input                   in_valid,
+    input  [EXP_BITS+MANT_BITS:0] px,
+    input  [EXP_BITS+MANT_BITS:0] py,
+    input  [EXP_BITS+MANT_BITS:0] pz,
+    input  [EXP_BITS+MANT_BITS:0] nx,
+    input  [EXP_BITS+MANT_BITS:0] ny,
+    input  [EXP_BITS+MANT_BITS:0] nz,
+    output                  out_valid,
+    output [COLOR_BITS-1:0] r,
+    output [COLOR_BITS-1:0] g,
+    output [COLOR_BITS-1:0] b,
+    output [COLOR_BITS-1:0] a
+);
+  localparam W = 1 + EXP_BITS + MANT_BITS;
+  localparam E = EXP_BITS;
+  localparam M = MANT_BITS;
+  localparam CB = COLOR_BITS;
+  localparam integer BIAS = (1 << (E - 1)) - 1;
+  localparam integer EMIN = 1 - BIAS;
+  localparam integer EMAX = BIAS;
+  localparam K = M + 4;  // pow's fraction bits
+  localparam VW = E + M + 8;  // fp_pack's operand width
+  localparam RK = 2 * M + 4;  // rcp: ⌊2^RK / sig⌋
+  localparam TWO_P = 3 * M + 8 + (M % 2);  // rsq: ⌊2^TWO_P / sig⌋
+  localparam QB = TWO_P - M + 1;  // rsq quotient bits
+  localparam QB2 = QB + (QB % 2);
+  localparam RB = QB2 / 2;  // rsq root bits
+  localparam TW = M + 21;  // exp2's signed t·2^K
+  localparam [W-1:0] ONE = {2'b00, {(E - 1) {1'b1}}, {M{1'b0}}};
+  localparam [W-2:0] MAXMAG = {{(E - 1) {1'b1}}, 1'b0, {M{1'b1}}};
+
+  // The model's Timing: issues per light 36 / 28 / 7, per normalise 6 / 2 / 1.
+  localparam NK = NORMALIZE + LOCAL_VIEWER;
+  localparam MULS = 36 + 6 * NK;
+  localparam ADDS = 28 + 2 * NK;
+  localparam SPECIALS = 7 + NK;
+  localparam II_MUL = (MULS + 5) / 6;
+  localparam II_ADD = (ADDS + 3) / 4;
+  localparam II_A = II_MUL > II_ADD ? II_MUL : II_ADD;
+  localparam II = II_A > SPECIALS ? II_A : SPECIALS;
+  localparam LATENCY = II + 6;
+
+  // ---- the exp2 constants: 2^(2^-k) in u1.K, k = 1 ..= K (the model's ROM) ----------
+  function [127:0] isqrt128(input [127:0] v);
+    reg [127:0] rem, root, trial;
+    integer i;
+    begin
+      rem  = 0;
+      root = 0;
+      for (i = 63; i >= 0; i = i - 1) begin
+        rem   = (rem << 2) | ((v >> (2 * i)) & 128'd3);
+        trial = (root << 2) | 128'd1;
+        if (rem >= trial) begin
+          rem  = rem - trial;
+          root = (root << 1) | 128'd1;
+        end else root = root << 1;
+      end
+      isqrt128 = root;
+    end
+  endfunction
+
+  function [K*(K+1)-1:0] exp2_rom_all(input integer dummy);
+    reg [127:0] c, word;
+    reg [K*(K+1)-1:0] acc;
+    integer i, wide;
+    begin
+      wide = K + 16;
+      c = 128'd2 << wide;
+      acc = 0;
+      for (i = 0; i < K; i = i + 1) begin
+        c = isqrt128(c << wide);
+        word = (c + 128'd32768) >> 16;
+        acc = acc | ({{(K * (K + 1) - K - 1) {1'b0}}, word[K:0]} << (i * (K + 1)));
+      end
+      exp2_rom_all = acc;
+    end
+  endfunction
+
+  localparam [K*(K+1)-1:0] EXP2_ROM = exp2_rom_all(0);
+
+  // ---- fields ----------------------------------------------------------------------
+  // Zero (a zero exponent field: subnormals are flushed).
+  function fz(input [W-1:0] x);
+    fz = x[W-2:M] == 0;
+  endfunction
+
+  // Effective biased exponent (the reserved all-ones field reads as 2^E − 2).
+  function integer fe(input [W-1:0] x);
+    begin
+      if (&x[W-2:M]) fe = (1 << E) - 2;
+      else fe = x[W-2:M];
+    end
+  endfunction
+
+  // ---- rounding --------------------------------------------------------------------
+  // (−1)^neg · sig · 2^(ex − M), sig = 1.f (M + 1 bits), with the round bit and the
+  // sticky bit below it: round once, saturate or flush.
+  function [W-1:0] fp_round(input neg, input integer ex, input [M:0] sig, input rbit,
+                            input sticky);
+    reg up;
+    reg [M+1:0] q;
+    integer e, biased;
+    begin
+      up = (ROUNDING == 0) ? (rbit & (sticky | sig[0])) : 1'b0;
+      q = {1'b0, sig} + {{(M + 1) {1'b0}}, up};
+      e = ex;
+      if (q[M+1]) begin
+        e = e + 1;
+        q = q >> 1;
+      end
+      biased = e + BIAS;
+      if (e > EMAX) fp_round = {neg, MAXMAG};
+      else if (e < EMIN) fp_round = {neg, {(W - 1) {1'b0}}};
+      else fp_round = {neg, biased[E-1:0], q[M-1:0]};
+    end
+  endfunction
+
+  // (−1)^neg · (val + frac) · 2^ex0, frac > 0 iff sticky: normalise and round (the
+  // model's round_pack); val = 0 gives ±0.
+  function [W-1:0] fp_pack(input neg, input integer ex0, input [VW-1:0] val,
+                           input sticky);
+    integer t, i;
+    reg [VW-1:0] sh, mask;
+    reg [63:0] v64;
+    reg st;
+    begin
+      if (val == 0) fp_pack = {neg, {(W - 1) {1'b0}}};
+      else begin
+        // The leading one: a 6-level normalising shifter (VW ≤ 64).
+        v64 = {{(64 - VW) {1'b0}}, val};
+        t = 63;
+        for (i = 32; i > 0; i = i / 2)
+        if ((v64 >> (64 - i)) == 0) begin
+          v64 = v64 << i;
+          t = t - i;
+        end
+        if (t > M) begin
+          sh   = val >> (t - M - 1);  // sig at [M+1:1], the round bit at 0
+          mask = ~({VW{1'b1}} << (t - M - 1));
+          st   = sticky | (|(val & mask));
+          fp_pack = fp_round(neg, ex0 + t, sh[M+1:1], sh[0], st);
+        end else begin
+          sh = val << (M - t);
+          fp_pack = fp_round(neg, ex0 + t, sh[M:0], 1'b0, sticky);
+        end
+      end
+    end
+  endfunction
+
+  // ---- arithmetic ------------------------------------------------------------------
+  function [W-1:0] fp_mul(input [W-1:0] x, input [W-1:0] y);
+    reg neg;
+    reg [M:0] sx, sy;
+    reg [2*M+1:0] p;
+    integer ex;
+    begin
+      neg = x[W-1] ^ y[W-1];
+      if (fz(x) || fz(y)) fp_mul = {neg, {(W - 1) {1'b0}}};
+      else begin
+        sx = {1'b1, x[M-1:0]};
+        sy = {1'b1, y[M-1:0]};
+        p  = sx * sy;
+        ex = fe(x) + fe(y) - 2 * BIAS;
+        if (p[2*M+1]) fp_mul = fp_round(neg, ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
+        else fp_mul = fp_round(neg, ex, p[2*M:M], p[M-1], |p[M-2:0]);
+      end
+    end
+  endfunction
+
+  function [W-1:0] fp_add(input [W-1:0] x, input [W-1:0] y);
+    reg swap, st;
+    reg [W-1:0] big, sml;
+    integer eb, es, d;
+    reg [M+3:0] bs, ss, sfull, mask;
+    reg [M+4:0] s;
+    begin
+      if (fz(x) && fz(y)) fp_add = {x[W-1] & y[W-1], {(W - 1) {1'b0}}};
+      else if (fz(x)) fp_add = y;
+      else if (fz(y)) fp_add = x;
+      else begin
+        eb = fe(x);
+        es = fe(y);
+        swap = (es > eb) || (es == eb && y[M-1:0] > x[M-1:0]);
+        big = swap ? y : x;
+        sml = swap ? x : y;
+        d = swap ? es - eb : eb - es;
+        if (swap) eb = es;
+        bs = {1'b1, big[M-1:0], 3'b000};
+        sfull = {1'b1, sml[M-1:0], 3'b000};
+        if (d > M + 3) begin
+          ss = 0;
+          st = 1'b1;
+        end else begin
+          ss   = sfull >> d;
+          mask = ~({(M + 4) {1'b1}} << d);
+          st   = |(sfull & mask);
+        end
+        ss[0] = ss[0] | st;
+        if (big[W-1] == sml[W-1]) s = {1'b0, bs} + {1'b0, ss};
+        else s = {1'b0, bs} - {1'b0, ss};
+        if (s == 0) fp_add = {W{1'b0}};
+        else
+          fp_add = fp_pack(big[W-1], eb - BIAS - M - 3, {{(VW - M - 5) {1'b0}}, s}, 1'b0);
+      end
+    end
+  endfunction
+
+  function [W-1:0] fp_neg(input [W-1:0] x);
+    fp_neg = {~x[W-1], x[W-2:0]};
+  endfunction
+
+  // Signed comparison key (±0 and flushed subnormals are 0).
+  function signed [W:0] fkey(input [W-1:0] x);
+    begin
+      if (fz(x)) fkey = 0;
+      else if (x[W-1]) fkey = -$signed({2'b00, x[W-2:0]});
+      else fkey = $signed({2'b00, x[W-2:0]});
+    end
+  endfunction
+
+  function flt(input [W-1:0] x, input [W-1:0] y);
+    flt = fkey(x) < fkey(y);
+  endfunction
+
+  function [W-1:0] fmax0(input [W-1:0] x);
+    fmax0 = (!x[W-1] && !fz(x)) ? x : {W{1'b0}};
+  endfunction
+
+  function [W-1:0] fp_rcp(input [W-1:0] x);
+    reg [M:0] sig;
+    reg [M+2:0] rem;
+    reg [M+4:0] q;
+    integer j, lsb;
+    begin
+      if (fz(x)) fp_rcp = {x[W-1], MAXMAG};
+      else begin
+        sig = {1'b1, x[M-1:0]};
+        rem = {{(M + 2) {1'b0}}, 1'b1} << (M - 1);  // 2^RK >> (M + 5) < sig
+        q   = 0;
+        for (j = M + 4; j >= 0; j = j - 1) begin
+          rem = rem << 1;
+          if (rem >= {2'b00, sig}) begin
+            rem  = rem - {2'b00, sig};
+            q[j] = 1'b1;
+          end
+        end
+        lsb = fe(x) - BIAS - M;
+        fp_rcp = fp_pack(x[W-1], -RK - lsb, {{(VW - M - 5) {1'b0}}, q}, rem != 0);
+      end
+    end
+  endfunction
+
+  function [W-1:0] fp_rsq(input [W-1:0] x);
+    reg [M+1:0] sig;
+    reg [M+3:0] rem;
+    reg [QB2-1:0] quo;
+    reg [RB+1:0] rem2, trial;
+    reg [RB-1:0] root;
+    integer j, lsb;
+    begin
+      if (fz(x)) fp_rsq = {1'b0, MAXMAG};
+      else begin
+        lsb = fe(x) - BIAS - M;
+        if (lsb % 2 != 0) begin
+          sig = {1'b1, x[M-1:0], 1'b0};
+          lsb = lsb - 1;
+        end else sig = {1'b0, 1'b1, x[M-1:0]};
+        // ⌊2^TWO_P / sig⌋: the remainder before quotient bit QB − 1 is 2^(M−1) < sig.
+        rem = {{(M + 3) {1'b0}}, 1'b1} << (M - 1);
+        quo = 0;
+        for (j = QB - 1; j >= 0; j = j - 1) begin
+          rem = rem << 1;
+          if (rem >= {2'b00, sig}) begin
+            rem    = rem - {2'b00, sig};
+            quo[j] = 1'b1;
+          end
+        end
+        // ⌊√quo⌋, restoring.
+        rem2 = 0;
+        root = 0;
+        for (j = RB - 1; j >= 0; j = j - 1) begin
+          rem2  = (rem2 << 2) | {{RB{1'b0}}, quo[2*j+:2]};
+          trial = {root, 2'b01};
+          if (rem2 >= trial) begin
+            rem2 = rem2 - trial;
+            root = {root[RB-2:0], 1'b1};
+          end else root = {root[RB-2:0], 1'b0};
+        end
+        fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
+                         rem != 0 || rem2 != 0);
+      end
+    end
+  endfunction
+
+  function [W-1:0] fp_exp2(input [W-1:0] t);
+    reg [M:0] sig;
+    reg [TW-1:0] mag, mask;
+    reg inexact;
+    reg signed [TW-1:0] tfix;
+    reg [K-1:0] f;
+    reg [K:0] prod;
+    reg [2*K+1:0] wide;
+    integer sh, n, i;
+    begin
+      if (fz(t)) fp_exp2 = ONE;
+      else begin
+        sig = {1'b1, t[M-1:0]};
+        sh  = fe(t) - BIAS - M + K;
+        inexact = 1'b0;
+        if (sh >= 18) mag = {{(TW - 1) {1'b0}}, 1'b1} << (M + 18);
+        else if (sh >= 0) mag = {{(TW - M - 1) {1'b0}}, sig} << sh;
+        else if (-sh >= M + 1) begin
+          mag = 0;
+          inexact = 1'b1;
+        end else begin
+          mag = {{(TW - M - 1) {1'b0}}, sig} >> (-sh);
+          mask = ~({TW{1'b1}} << (-sh));
+          inexact = |({{(TW - M - 1) {1'b0}}, sig} & mask);
+        end
+        if (t[W-1]) tfix = -$signed(mag + {{(TW - 1) {1'b0}}, inexact});
+        else tfix = $signed(mag);
+        n = tfix >>> K;
+        f = tfix[K-1:0];
+        if (n > EMAX + 1) fp_exp2 = {1'b0, MAXMAG};
+        else if (n < EMIN - M - 2) fp_exp2 = {W{1'b0}};
+        else begin
+          prod = {1'b1, {K{1'b0}}};
+          for (i = 1; i <= K; i = i + 1)
+          if (f[K-i]) begin
+            wide = prod * EXP2_ROM[(i-1)*(K+1)+:(K+1)];
+            prod = wide[2*K:K];
+          end
+          fp_exp2 = fp_pack(1'b0, n - K, {{(VW - K - 1) {1'b0}}, prod}, 1'b0);
+        end
+      end
+    end
+  endfunction
+
+  function [W-1:0] fp_pow(input [W-1:0] x, input [W-1:0] s);
+    reg [K:0] y;
+    reg [2*K+1:0] z;
+    reg [K-1:0] f;
+    reg signed [VW-1:0] lfix;
+    reg [VW-1:0] lmag;
+    reg [W-1:0] l;
+    integer i, e;
+    begin
+      if (fz(s)) fp_pow = ONE;
+      else if (x[W-1] || fz(x)) fp_pow = {W{1'b0}};
+      else begin
+        y = {1'b1, x[M-1:0], 4'b0000};
+        f = 0;
+        for (i = 0; i < K; i = i + 1) begin
+          z = y * y;
+          f = {f[K-2:0], z[2*K+1]};
+          if (z[2*K+1]) y = z[2*K+1:K+1];
+          else y = z[2*K:K];
+        end
+        e = fe(x) - BIAS;
+        lfix = e;
+        lfix = (lfix <<< K) + $signed({1'b0, f});
+        lmag = lfix < 0 ? -lfix : lfix;
+        l = fp_pack(lfix < 0, -K, lmag, 1'b0);
+        fp_pow = fp_exp2(fp_mul(s, l));
+      end
+    end
+  endfunction
+
+  // x clamped to [0, 1] as a CB-bit unorm, round(x·(2^CB − 1)) half up.
+  function [CB-1:0] fp_unorm(input [W-1:0] x);
+    reg [M+CB:0] prod;
+    reg [M+CB+1:0] sum;
+    integer sh;
+    begin
+      if (fz(x) || x[W-1]) fp_unorm = 0;
+      else if (x[W-2:0] >= ONE[W-2:0]) fp_unorm = {CB{1'b1}};
+      else begin
+        prod = {1'b1, x[M-1:0]} * {CB{1'b1}};
+        sh = BIAS + M - fe(x);
+        if (sh >= M + CB + 2) fp_unorm = 0;
+        else begin
+          sum = {1'b0, prod} + ({{(M + CB + 1) {1'b0}}, 1'b1} << (sh - 1));
+          fp_unorm = sum >> sh;
+        end
+      end
+    end
+  endfunction
+
+  // ---- the datapath, in the model's order (VertexLighting::light) --------------------
+  function [W-1:0] dot3(input [3*W-1:0] u, input [3*W-1:0] v);
+    reg [W-1:0] t0, t1, t2, s;
+    begin
+      t0 = fp_mul(u[3*W-1-:W], v[3*W-1-:W]);
+      t1 = fp_mul(u[2*W-1-:W], v[2*W-1-:W]);
+      s = fp_add(t0, t1);
+      t2 = fp_mul(u[W-1:0], v[W-1:0]);
+      dot3 = fp_add(s, t2);
+    end
+  endfunction
+
+  function [3*W-1:0] normalise(input [3*W-1:0] v);
+    reg [W-1:0] rr;
+    begin
+      rr = fp_rsq(dot3(v, v));
+      normalise = {fp_mul(v[3*W-1-:W], rr), fp_mul(v[2*W-1-:W], rr), fp_mul(v[W-1:0], rr)};
+    end
+  endfunction
+
+  localparam [3*W-1:0] LVEC = {LIGHT_X[W-1:0], LIGHT_Y[W-1:0], LIGHT_Z[W-1:0]};
+  localparam [3*W-1:0] SDIR = {SPOT_X[W-1:0], SPOT_Y[W-1:0], SPOT_Z[W-1:0]};
+  localparam [3*W-1:0] AMB = {AMB_R[W-1:0], AMB_G[W-1:0], AMB_B[W-1:0]};
+  localparam [3*W-1:0] DIF = {DIF_R[W-1:0], DIF_G[W-1:0], DIF_B[W-1:0]};
+  localparam [3*W-1:0] SPE = {SPE_R[W-1:0], SPE_G[W-1:0], SPE_B[W-1:0]};
+  localparam [3*W-1:0] BASE = {BASE_R[W-1:0], BASE_G[W-1:0], BASE_B[W-1:0]};
+
+  function [3*CB-1:0] light(input [3*W-1:0] p, input [3*W-1:0] nin);
+    reg [3*W-1:0] n, v, vp, lv, hv, h;
+    reg [W-1:0] d2, rr, d, den, att, c, spot, nl_raw, nl, nh, spec, kk, t, acc;
+    integer ch;
+    begin
+      if (NORMALIZE) n = normalise(nin);
+      else n = nin;
+      if (LOCAL_VIEWER)
+        v = normalise({fp_neg(p[3*W-1-:W]), fp_neg(p[2*W-1-:W]), fp_neg(p[W-1:0])});
+      else v = {{W{1'b0}}, {W{1'b0}}, ONE};
+      if (LOCAL) begin
+        vp = {fp_add(LVEC[3*W-1-:W], fp_neg(p[3*W-1-:W])),
+              fp_add(LVEC[2*W-1-:W], fp_neg(p[2*W-1-:W])),
+              fp_add(LVEC[W-1:0], fp_neg(p[W-1:0]))};
+        d2 = dot3(vp, vp);
+        rr = fp_rsq(d2);
+        lv = {fp_mul(vp[3*W-1-:W], rr), fp_mul(vp[2*W-1-:W], rr), fp_mul(vp[W-1:0], rr)};
+        d = fp_mul(d2, rr);
+        den = fp_add(ATT_C[W-1:0], fp_mul(ATT_L[W-1:0], d));
+        den = fp_add(den, fp_mul(ATT_Q[W-1:0], d2));
+        att = fp_rcp(den);
+      end else begin
+        lv  = LVEC;
+        att = ONE;
+      end
+      if (SPOT) begin
+        c = fp_neg(dot3(lv, SDIR));
+        if (flt(c, SPOT_COS[W-1:0])) spot = {W{1'b0}};
+        else spot = fp_pow(c, SPOT_EXP[W-1:0]);
+      end else spot = ONE;
+      nl_raw = dot3(n, lv);
+      nl = fmax0(nl_raw);
+      if (flt({W{1'b0}}, nl_raw)) begin
+        hv = {fp_add(lv[3*W-1-:W], v[3*W-1-:W]), fp_add(lv[2*W-1-:W], v[2*W-1-:W]),
+              fp_add(lv[W-1:0], v[W-1:0])};
+        h = normalise(hv);
+        nh = fmax0(dot3(n, h));
+        spec = fp_pow(nh, SHININESS[W-1:0]);
+      end else spec = {W{1'b0}};
+      kk = fp_mul(att, spot);
+      for (ch = 2; ch >= 0; ch = ch - 1) begin
+        t = fp_add(AMB[ch*W+:W], fp_mul(nl, DIF[ch*W+:W]));
+        t = fp_add(t, fp_mul(spec, SPE[ch*W+:W]));
+        acc = fp_add(BASE[ch*W+:W], fp_mul(kk, t));
+        light[ch*CB+:CB] = fp_unorm(acc);
+      end
+    end
+  endfunction
+
+  // ---- pipeline: the result on the clock a vertex is accepted, then a delay line ----
+  localparam OW = 3 * CB;
+  reg [OW-1:0] s0;
+  reg [(LATENCY-1)*OW-1:0] dl;
+  reg [LATENCY-1:0] vc;
+  always @(posedge clk) begin
+    if (rst) vc <= 0;
+    else vc <= {vc[LATENCY-2:0], in_valid};
+    if (in_valid) s0 <= light({px, py, pz}, {nx, ny, nz});
+    dl <= {dl[(LATENCY-2)*OW-1:0], s0};
+  end
+  assign out_valid = vc[LATENCY-1];
+  assign {r, g, b} = dl[(LATENCY-1)*OW-1-:OW];
+  assign a = ALPHA[CB-1:0];
+endmodule
