@@ -523,11 +523,11 @@ proptest! {
             setup.row_moves(row, &mut moves);
         }
         prop_assert_eq!(&moves, &setup.moves());
-        let mut runs = Vec::new();
+        let mut row_runs = Vec::new();
         for row in 0..setup.bbox.map_or(0, |b| b.height()) {
-            setup.row_runs(row, &mut runs);
+            setup.row_runs(row, &mut row_runs);
         }
-        let decoded: Vec<Move> = runs.iter().flat_map(|&(m, n)| std::iter::repeat_n(m, n)).collect();
+        let decoded: Vec<Move> = row_runs.iter().flat_map(|&(m, n)| std::iter::repeat_n(m, n)).collect();
         prop_assert_eq!(&decoded, &moves);
         for &(m, n) in &runs {
             moves.extend(std::iter::repeat_n([Move::Hold, Move::Right, Move::Left, Move::Down][m as usize], n));
