@@ -459,10 +459,10 @@ impl AttrLine {
         self.fill_slots(outs.iter_mut().map(|o| &mut o.attrs[a]), round)
     }
 
-    /// [`AttrLine::fill`] appending the run's values to one attribute lane, each
-    /// written once (no zero fill first): a constant in one `resize`, an affine run
-    /// in three loops (before, on and after the covered interval, only the middle one
-    /// counting events).
+    /// [`AttrLine::fill`] appending the run's values to one attribute lane: a
+    /// constant written once (one `resize`), else the lane grown by `run` and filled
+    /// as a slice (the loop the compiler vectorises; an `extend` from a counting
+    /// closure did not, and kept the event counts in memory).
     #[inline(always)]
     fn extend_lane(
         &self,
@@ -470,30 +470,15 @@ impl AttrLine {
         run: usize,
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
-        if self.wrap.is_some() {
-            let base = lane.len();
-            lane.resize(base + run, 0);
-            return self.fill_slots(lane[base..].iter_mut(), round);
-        }
-        let one = |v: i64| self.one(v, &round);
-        if self.g == 0 {
-            let (c, s, u) = one(self.a0);
+        if self.wrap.is_none() && self.g == 0 {
+            let (c, s, u) = self.one(self.a0, &round);
             lane.resize(lane.len() + run, c);
             let n = self.inside.len() as u64;
             return (s * n, u * n, None);
         }
-        // |a0 + j·g| < 2^61 along the run: no i64 overflow.
-        let at = |j: usize| self.a0 + (j as i64 + 1) * self.g;
-        lane.extend((0..self.inside.start).map(|j| one(at(j)).0));
-        let (mut sat, mut under) = (0u64, 0u64);
-        lane.extend(self.inside.clone().map(|j| {
-            let (c, s, u) = one(at(j));
-            sat += s;
-            under += u;
-            c
-        }));
-        lane.extend((self.inside.end..run).map(|j| one(at(j)).0));
-        (sat, under, None)
+        let base = lane.len();
+        lane.resize(base + run, 0);
+        self.fill_slots(lane[base..].iter_mut(), round)
     }
 
     /// One accumulator value rounded and clamped into the output format: (code,
