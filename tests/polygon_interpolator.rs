@@ -264,9 +264,18 @@ fn exhaustive_all_triangles_on_a_3px_half_pixel_grid() {
                 let value = |i: usize, x, y| {
                     twin::triangle_value(tri, [f[0].2[i], f[1].2[i], f[2].2[i]], x, y)
                 };
-                let (cov, _) = check_walk(&u, &setup, &covers, &value);
+                let (cov, outs) = check_walk(&u, &setup, &covers, &value);
                 covered_total += cov.len();
                 check_bbox_holds_coverage(&setup, (-1, -1, 4, 4), &covers);
+                // The walk as the shafts passes feed it: rows run-length coded.
+                let mut runs = Vec::new();
+                for row in 0..setup.bbox.map_or(0, |b| b.height()) {
+                    setup.row_runs(row, &mut runs);
+                }
+                let mut end = setup.state.clone();
+                let mut ctr = Counters::default();
+                run_span(&u, &mut end, &setup.moves(), &mut ctr);
+                runs_agree_with_span(&u, &setup.state, &runs, &outs, &end, &ctr, "walk rows");
             }
         }
     }
@@ -514,6 +523,12 @@ proptest! {
             setup.row_moves(row, &mut moves);
         }
         prop_assert_eq!(&moves, &setup.moves());
+        let mut row_runs = Vec::new();
+        for row in 0..setup.bbox.map_or(0, |b| b.height()) {
+            setup.row_runs(row, &mut row_runs);
+        }
+        let decoded: Vec<Move> = row_runs.iter().flat_map(|&(m, n)| std::iter::repeat_n(m, n)).collect();
+        prop_assert_eq!(&decoded, &moves);
         for &(m, n) in &runs {
             moves.extend(std::iter::repeat_n([Move::Hold, Move::Right, Move::Left, Move::Down][m as usize], n));
         }
@@ -769,6 +784,52 @@ fn accumulator_overflow_is_counted_never_silent() {
         match mode {
             Overflow::Wrap => assert!(ctr.overflows > 0 && ctr.saturations == 0, "{ctr:?}"),
             _ => assert!(ctr.saturations > 0 && ctr.overflows == 0, "{ctr:?}"),
+        }
+    }
+}
+
+/// Runs of every move long enough to wrap the pixel counters (2 ..= 4 integer bits)
+/// and, in a 3-integer-bit accumulator, the attributes: the batch kernel's and the
+/// lane forms' closed-form runs must fall back to the kernel where a register wraps
+/// or saturates, with the drivers' words, final state and counters.
+#[test]
+fn runs_of_every_move_wrap_the_counters_as_the_kernel_does() {
+    for c in 2..=4u32 {
+        for mode in [Overflow::Wrap, Overflow::Sat] {
+            let u = PolygonInterpolatorConfig {
+                attrs: 2,
+                subpixel_bits: 1,
+                coord_int_bits: c,
+                acc_int_bits: 3,
+                acc_frac_bits: 6,
+                acc_overflow: mode,
+                out_int_bits: 8,
+                out_frac_bits: 2,
+                ..PolygonInterpolatorConfig::default()
+            }
+            .build()
+            .unwrap();
+            let lim = (1i64 << (c - 1)) as f64 - 0.5;
+            let v = |x: f64, y: f64, a: [f64; 2]| {
+                u.vertex_from_f64(0, x, y, &a, &mut Counters::default())
+                    .unwrap()
+            };
+            let s = u.setup_triangle(
+                &[
+                    v(-lim, -lim, [0.0, 3.0]),
+                    v(lim, -lim, [20.0, -3.0]),
+                    v(-lim, lim, [-20.0, 1.0]),
+                ],
+                &mut Counters::default(),
+            );
+            for m in [Move::Hold, Move::Right, Move::Left, Move::Down] {
+                for n in 1..=3 * (1usize << c) {
+                    let mut moves = s.moves();
+                    moves.extend(std::iter::repeat_n(m, n));
+                    common::assert_drivers_agree(&u, s.state.clone(), &moves);
+                    lanes_agree_with_span(&u, &s.state, &moves);
+                }
+            }
         }
     }
 }
@@ -1043,4 +1104,45 @@ fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Mo
         assert_eq!(st, s_span, "lane final state differs (chunk {chunk})");
         assert_eq!(c, c_span, "lane counters differ (chunk {chunk})");
     }
+    // The run-length coded form: each run whole, and each run split in two with an
+    // empty entry between (a closed-form run may end part-way through a run of moves).
+    let mut runs: Vec<(Move, usize)> = Vec::new();
+    for &m in moves {
+        match runs.last_mut() {
+            Some((last, n)) if *last == m => *n += 1,
+            _ => runs.push((m, 1)),
+        }
+    }
+    let split: Vec<(Move, usize)> = runs
+        .iter()
+        .flat_map(|&(m, n)| [(m, n / 2), (m, 0), (m, n - n / 2)])
+        .collect();
+    for (name, coded) in [("whole runs", &runs), ("split runs", &split)] {
+        runs_agree_with_span(u, state, coded, &out_span, &s_span, &c_span, name);
+    }
+}
+
+/// `kernel_runs_lanes` on run-length coded moves, in one call, gives the span
+/// driver's words `out`, final state `end` and counters `ctr` (its timing added once).
+fn runs_agree_with_span(
+    u: &PolygonInterpolator,
+    state: &PolyState,
+    runs: &[(Move, usize)],
+    out: &[PolyOut],
+    end: &PolyState,
+    ctr: &Counters,
+    name: &str,
+) {
+    let mut st = state.clone();
+    let mut c = Counters::default();
+    let mut lanes = PolyLanes::default();
+    lanes.clear(u.attrs() as usize);
+    u.kernel_runs_lanes(&mut st, runs, &mut lanes, &mut c);
+    let mut tally = rtl_model::driver::SpanTally::new();
+    tally.add(lanes.len());
+    tally.close(u.timing(), &mut c);
+    let words: Vec<PolyOut> = (0..lanes.len()).map(|i| lanes.word(i)).collect();
+    assert_eq!(words, out, "run-coded lane words differ ({name})");
+    assert_eq!(&st, end, "run-coded final state differs ({name})");
+    assert_eq!(&c, ctr, "run-coded counters differ ({name})");
 }

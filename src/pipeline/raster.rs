@@ -3,6 +3,8 @@
 //! the viewport still cost the walker its clocks (counted); only covered pixels
 //! inside the viewport come out as fragments.
 
+use std::cell::RefCell;
+
 use rtl_model::driver::SpanTally;
 use rtl_model::error::ConfigError;
 use rtl_model::units::polygon_interpolator::{
@@ -54,6 +56,7 @@ pub fn quantise<const N: usize>(
 #[derive(Clone, Debug, Default)]
 pub struct WalkBuffers {
     moves: Vec<Move>,
+    runs: Vec<(Move, usize)>,
     outs: Vec<PolyOut>,
     frags: Vec<Fragment>,
     lanes: PolyLanes,
@@ -94,8 +97,8 @@ pub fn walk_rows_raw(
 }
 
 /// [`walk_rows_raw`] with each chunk's outputs in lanes
-/// ([`PolygonInterpolator::kernel_batch_lanes`]): the same words in the same chunks,
-/// the same counters.
+/// ([`PolygonInterpolator::kernel_runs_lanes`] on each row's moves run-length coded,
+/// [`PolySetup::row_runs`]): the same words in the same chunks, the same counters.
 pub fn walk_rows_lanes(
     u: &PolygonInterpolator,
     s: &PolySetup,
@@ -105,16 +108,19 @@ pub fn walk_rows_lanes(
 ) {
     let mut st = s.state.clone();
     let mut tally = SpanTally::new();
-    let rows = s.bbox.map_or(0, |b| b.height());
-    buf.moves.clear();
+    let (rows, width) = s.bbox.map_or((0, 0), |b| (b.height(), b.width() as usize));
+    buf.runs.clear();
+    let mut moves = 0;
     for row in 0..rows {
-        s.row_moves(row, &mut buf.moves);
-        if buf.moves.len() >= WALK_CHUNK_MOVES || row + 1 == rows {
+        s.row_runs(row, &mut buf.runs);
+        moves += width;
+        if moves >= WALK_CHUNK_MOVES || row + 1 == rows {
             buf.lanes.clear(u.attrs() as usize);
-            u.kernel_batch_lanes(&mut st, &buf.moves, &mut buf.lanes, ctr);
-            tally.add(buf.moves.len());
+            u.kernel_runs_lanes(&mut st, &buf.runs, &mut buf.lanes, ctr);
+            tally.add(moves);
             sink(&buf.lanes);
-            buf.moves.clear();
+            buf.runs.clear();
+            moves = 0;
         }
     }
     tally.close(u.timing(), ctr);
@@ -133,8 +139,8 @@ pub fn is_fragment(f: &PolyOut, width: u32, height: u32) -> bool {
     f.inside && f.x >= 0 && f.y >= 0 && f.x < width as i64 && f.y < height as i64
 }
 
-/// [`walk_rows_raw`] keeping each row's fragments (covered pixels inside the `width`
-/// × `height` viewport), handed to `sink` when a row has any.
+/// [`walk_rows_lanes`] keeping each chunk's fragments (covered pixels inside the
+/// `width` × `height` viewport), handed to `sink` when a chunk has any.
 pub fn walk_rows(
     u: &PolygonInterpolator,
     s: &PolySetup,
@@ -145,22 +151,30 @@ pub fn walk_rows(
     mut sink: impl FnMut(&[Fragment]),
 ) {
     let mut frags = std::mem::take(&mut buf.frags);
-    walk_rows_raw(u, s, ctr, buf, |outs| {
+    walk_rows_lanes(u, s, ctr, buf, |l| {
         frags.clear();
-        frags.extend(
-            outs.iter()
-                .filter(|f| is_fragment(f, width, height))
-                .map(|f| Fragment {
-                    x: f.x as u32,
-                    y: f.y as u32,
-                    attrs: f.attrs,
-                }),
-        );
+        for i in (0..l.len()).filter(|&i| is_fragment_lane(l, i, width, height)) {
+            let mut attrs = [0i64; MAX_ATTRS];
+            for (a, lane) in attrs.iter_mut().zip(&l.attrs[..l.k]) {
+                *a = lane[i];
+            }
+            frags.push(Fragment {
+                x: l.x[i] as u32,
+                y: l.y[i] as u32,
+                attrs,
+            });
+        }
         if !frags.is_empty() {
             sink(&frags);
         }
     });
     buf.frags = frags;
+}
+
+thread_local! {
+    /// [`walk`]'s buffers, kept by each thread from one primitive to the next (a
+    /// pass draws thousands of small triangles; each walk clears them first).
+    static WALK_BUFFERS: RefCell<WalkBuffers> = RefCell::new(WalkBuffers::default());
 }
 
 /// Walk one set-up primitive; keep covered pixels inside a `width` × `height` viewport.
@@ -172,9 +186,8 @@ pub fn walk(
     ctr: &mut Counters,
     out: &mut Vec<Fragment>,
 ) {
-    let mut buf = WalkBuffers::default();
-    walk_rows(u, s, width, height, ctr, &mut buf, |f| {
-        out.extend_from_slice(f)
+    WALK_BUFFERS.with_borrow_mut(|buf| {
+        walk_rows(u, s, width, height, ctr, buf, |f| out.extend_from_slice(f))
     });
 }
 

@@ -360,6 +360,76 @@ impl PolySetup {
         };
         out.resize(out.len() + b.width() as usize - 1, dir);
     }
+
+    /// [`Self::row_moves`] run-length coded: `(Hold or Down, 1)`, then `(Right or Left,
+    /// width − 1)`, appended to `out` (what [`PolygonInterpolator::kernel_runs_lanes`]
+    /// takes).
+    pub fn row_runs(&self, row: u64, out: &mut Vec<(Move, usize)>) {
+        let Some(b) = self.bbox else {
+            return;
+        };
+        out.push((if row == 0 { Move::Hold } else { Move::Down }, 1));
+        let dir = if row & 1 == 0 {
+            Move::Right
+        } else {
+            Move::Left
+        };
+        out.push((dir, b.width() as usize - 1));
+    }
+}
+
+/// The registers' increments of one move, as the kernel's step mux picks them: the
+/// pixel counters (dx, dy), the edges and the attribute accumulators (`Hold`: none).
+#[derive(Clone, Copy)]
+struct Step {
+    dx: i64,
+    dy: i64,
+    edge: [i64; EDGES],
+    grad: [i64; MAX_ATTRS],
+}
+
+impl Step {
+    #[inline]
+    fn of(st: &PolyState, mv: Move, k: usize) -> Step {
+        let mut s = Step {
+            dx: 0,
+            dy: 0,
+            edge: [0; EDGES],
+            grad: [0; MAX_ATTRS],
+        };
+        match mv {
+            Move::Hold => {}
+            Move::Right | Move::Left => {
+                let sign = if mv == Move::Right { 1 } else { -1 };
+                s.dx = sign;
+                for (e, &d) in s.edge.iter_mut().zip(&st.edge_dx) {
+                    *e = sign * d;
+                }
+                for (g, &d) in s.grad.iter_mut().zip(&st.grad_x).take(k) {
+                    *g = sign * d;
+                }
+            }
+            Move::Down => {
+                s.dy = 1;
+                s.edge = st.edge_dy;
+                s.grad[..k].copy_from_slice(&st.grad_y[..k]);
+            }
+        }
+        s
+    }
+}
+
+/// The output rounding by `sh` (≥ 1) bits in mode `q` of an accumulator value
+/// (|v| < 2^61): [`round_shift_right_i64`], with RND as one add and a shift and TRN
+/// as a shift (the same integers: floor((v + 2^(sh−1)) / 2^sh) is floor(v / 2^sh) plus
+/// one iff the dropped bits are at least half).
+#[inline(always)]
+fn round_acc(v: i64, sh: u32, q: Quant) -> i64 {
+    match q {
+        Quant::Rnd => (v + (1i64 << (sh - 1))) >> sh,
+        Quant::Trn => v >> sh,
+        _ => round_shift_right_i64(v, sh, q),
+    }
 }
 
 /// One attribute along a closed-form run: A = a0 + j·g at step j = 1 ..= run,
@@ -389,14 +459,35 @@ impl AttrLine {
         self.fill_slots(outs.iter_mut().map(|o| &mut o.attrs[a]), round)
     }
 
-    /// [`AttrLine::fill`] into one attribute lane (`lane[j]`, j < lane.len()).
+    /// [`AttrLine::fill`] appending the run's values to one attribute lane: a
+    /// constant written once (one `resize`), else the lane grown by `run` and filled
+    /// as a slice (the loop the compiler vectorises; an `extend` from a counting
+    /// closure did not, and kept the event counts in memory).
     #[inline(always)]
-    fn fill_lane(
+    fn extend_lane(
         &self,
-        lane: &mut [i64],
+        lane: &mut Vec<i64>,
+        run: usize,
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
-        self.fill_slots(lane.iter_mut(), round)
+        if self.wrap.is_none() && self.g == 0 {
+            let (c, s, u) = self.one(self.a0, &round);
+            lane.resize(lane.len() + run, c);
+            let n = self.inside.len() as u64;
+            return (s * n, u * n, None);
+        }
+        let base = lane.len();
+        lane.resize(base + run, 0);
+        self.fill_slots(lane[base..].iter_mut(), round)
+    }
+
+    /// One accumulator value rounded and clamped into the output format: (code,
+    /// saturated, underflowed).
+    #[inline(always)]
+    fn one(&self, v: i64, round: &impl Fn(i64) -> i64) -> (i64, u64, u64) {
+        let r = round(v);
+        let c = r.clamp(self.lo, self.hi);
+        (c, u64::from(c != r), u64::from(r == 0 && v != 0))
     }
 
     /// The run's values of the attribute, in order, into `slots` (one per output of the
@@ -407,11 +498,7 @@ impl AttrLine {
         slots: impl Iterator<Item = &'s mut i64>,
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
-        let one = |v: i64| {
-            let r = round(v);
-            let c = r.clamp(self.lo, self.hi);
-            (c, u64::from(c != r), u64::from(r == 0 && v != 0))
-        };
+        let one = |v: i64| self.one(v, &round);
         let (mut sat, mut under) = (0u64, 0u64);
         if let Some((min, max)) = self.wrap {
             // s(acc) + s(acc) → s(acc + 1), back into s(acc) modulo 2^acc (|g| ≤ 2^(acc−1),
@@ -459,6 +546,7 @@ impl AttrLine {
 struct RunPlan {
     shift: u32,
     x_end: i64,
+    y_end: i64,
     edge_end: [i64; EDGES],
     acc_end: [i64; MAX_ATTRS],
     wraps: [bool; MAX_ATTRS],
@@ -470,11 +558,11 @@ struct RunPlan {
 impl RunPlan {
     /// Attribute `a`'s line along the run.
     #[inline]
-    fn line(&self, st: &PolyState, a: usize, sign: i64) -> AttrLine {
+    fn line(&self, st: &PolyState, a: usize, step: &Step) -> AttrLine {
         AttrLine {
             a,
             a0: st.acc[a],
-            g: sign * st.grad_x[a],
+            g: step.grad[a],
             lo: self.out_range.0,
             hi: self.out_range.1,
             inside: self.inside.clone(),
@@ -504,6 +592,7 @@ impl RunPlan {
     #[inline]
     fn finish(&self, st: &mut PolyState, k: usize) {
         st.x = self.x_end;
+        st.y = self.y_end;
         st.edge = self.edge_end;
         st.acc[..k].copy_from_slice(&self.acc_end[..k]);
     }
@@ -950,34 +1039,36 @@ impl PolygonInterpolator {
         }
     }
 
-    /// `run` steps of `sign` (±1 pixel in x) in closed form, outputs appended; false
-    /// (nothing done) if a register might wrap or saturate on the way, or the output
-    /// rounding is a left shift (its 64-bit form could overflow).
+    /// `run` moves `mv` in closed form, outputs appended; false (nothing done) if a
+    /// register might wrap or saturate on the way, or the output rounding is a left
+    /// shift (its 64-bit form could overflow).
     fn run_in_closed_form(
         &self,
         st: &mut PolyState,
-        sign: i64,
+        mv: Move,
         run: usize,
         out: &mut Vec<PolyOut>,
         ctr: &mut Counters,
     ) -> bool {
-        let Some(mut plan) = self.run_plan(st, sign, run) else {
+        let k = self.cfg.attrs as usize;
+        let step = Step::of(st, mv, k);
+        let Some(mut plan) = self.run_plan(st, &step, run) else {
             return false;
         };
-        let k = self.cfg.attrs as usize;
         let base = out.len();
         out.resize(
             base + run,
             PolyOut {
                 x: 0,
-                y: st.y,
+                y: 0,
                 inside: false,
                 attrs: [0; MAX_ATTRS],
             },
         );
         let outs = &mut out[base..];
         for (j, o) in outs.iter_mut().enumerate() {
-            o.x = st.x + sign * (j as i64 + 1);
+            o.x = st.x + step.dx * (j as i64 + 1);
+            o.y = st.y + step.dy * (j as i64 + 1);
         }
         for o in &mut outs[plan.inside.clone()] {
             o.inside = true;
@@ -986,17 +1077,15 @@ impl PolygonInterpolator {
         // The rounding mode is matched once per run, so each loop has its own form.
         let sh = plan.shift;
         for a in 0..k {
-            let line = plan.line(st, a, sign);
+            let line = plan.line(st, a, &step);
             let (sat, under, wrapped) = match self.cfg.out_quant {
-                Quant::Trn => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Trn)),
-                Quant::TrnZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::TrnZero)),
-                Quant::Rnd => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::Rnd)),
-                Quant::RndZero => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndZero)),
-                Quant::RndInf => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndInf)),
-                Quant::RndMinInf => {
-                    line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndMinInf))
-                }
-                Quant::RndConv => line.fill(outs, |v| round_shift_right_i64(v, sh, Quant::RndConv)),
+                Quant::Trn => line.fill(outs, |v| round_acc(v, sh, Quant::Trn)),
+                Quant::TrnZero => line.fill(outs, |v| round_acc(v, sh, Quant::TrnZero)),
+                Quant::Rnd => line.fill(outs, |v| round_acc(v, sh, Quant::Rnd)),
+                Quant::RndZero => line.fill(outs, |v| round_acc(v, sh, Quant::RndZero)),
+                Quant::RndInf => line.fill(outs, |v| round_acc(v, sh, Quant::RndInf)),
+                Quant::RndMinInf => line.fill(outs, |v| round_acc(v, sh, Quant::RndMinInf)),
+                Quant::RndConv => line.fill(outs, |v| round_acc(v, sh, Quant::RndConv)),
             };
             plan.count(a, sat, under, wrapped, ctr);
         }
@@ -1014,74 +1103,81 @@ impl PolygonInterpolator {
         out: &mut PolyLanes,
         ctr: &mut Counters,
     ) {
-        assert_eq!(
-            out.k, self.cfg.attrs as usize,
-            "PolyLanes cleared for another attrs"
-        );
         let mut i = 0;
         while i < moves.len() {
             let mv = moves[i];
-            let sign = match mv {
-                Move::Right => 1,
-                Move::Left => -1,
-                Move::Hold | Move::Down => {
-                    out.push(&self.kernel(st, &mv, ctr));
-                    i += 1;
-                    continue;
-                }
-            };
             let run = moves[i..].iter().take_while(|&&m| m == mv).count();
-            if !self.run_in_closed_form_lanes(st, sign, run, out, ctr) {
-                for m in &moves[i..i + run] {
-                    out.push(&self.kernel(st, m, ctr));
-                }
-            }
+            self.kernel_runs_lanes(st, &[(mv, run)], out, ctr);
             i += run;
         }
     }
 
-    /// [`Self::run_in_closed_form`] appending to lanes.
+    /// [`Self::kernel_batch_lanes`] on run-length coded moves: `(m, n)` is `n` moves
+    /// `m` (n = 0 is none). The same words, final state and counters as the moves
+    /// written out, however a run of one move is split into entries
+    /// ([`PolySetup::row_runs`] codes a walk row as two). Each run goes in closed
+    /// form where no register can wrap or saturate on the way (every kind of move: a
+    /// step is affine in the run), else one kernel call per move.
+    pub fn kernel_runs_lanes(
+        &self,
+        st: &mut PolyState,
+        runs: &[(Move, usize)],
+        out: &mut PolyLanes,
+        ctr: &mut Counters,
+    ) {
+        assert_eq!(
+            out.k, self.cfg.attrs as usize,
+            "PolyLanes cleared for another attrs"
+        );
+        for &(mv, run) in runs {
+            if run > 0 && !self.run_in_closed_form_lanes(st, mv, run, out, ctr) {
+                for _ in 0..run {
+                    out.push(&self.kernel(st, &mv, ctr));
+                }
+            }
+        }
+    }
+
+    /// [`Self::run_in_closed_form`] appending to lanes, each entry written once.
     fn run_in_closed_form_lanes(
         &self,
         st: &mut PolyState,
-        sign: i64,
+        mv: Move,
         run: usize,
         out: &mut PolyLanes,
         ctr: &mut Counters,
     ) -> bool {
-        let Some(mut plan) = self.run_plan(st, sign, run) else {
+        let k = self.cfg.attrs as usize;
+        let step = Step::of(st, mv, k);
+        let Some(mut plan) = self.run_plan(st, &step, run) else {
             return false;
         };
-        let k = self.cfg.attrs as usize;
         let base = out.len();
-        out.x.extend((1..=run as i64).map(|j| st.x + sign * j));
-        out.y.resize(base + run, st.y);
+        let (x0, y0, dx, dy) = (st.x, st.y, step.dx, step.dy);
+        for (lane, c0, d) in [(&mut out.x, x0, dx), (&mut out.y, y0, dy)] {
+            if d == 0 {
+                lane.resize(base + run, c0);
+            } else {
+                lane.extend((1..=run as i64).map(|j| c0 + d * j));
+            }
+        }
+        out.inside.resize(base + plan.inside.start, false);
+        out.inside.resize(base + plan.inside.end, true);
         out.inside.resize(base + run, false);
-        out.inside[base + plan.inside.start..base + plan.inside.end].fill(true);
         let sh = plan.shift;
         for a in 0..k {
-            let line = plan.line(st, a, sign);
+            let line = plan.line(st, a, &step);
             let lane = &mut out.attrs[a];
-            lane.resize(base + run, 0);
-            let lane = &mut lane[base..];
             let (sat, under, wrapped) = match self.cfg.out_quant {
-                Quant::Trn => line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::Trn)),
-                Quant::TrnZero => {
-                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::TrnZero))
-                }
-                Quant::Rnd => line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::Rnd)),
-                Quant::RndZero => {
-                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndZero))
-                }
-                Quant::RndInf => {
-                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndInf))
-                }
+                Quant::Trn => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::Trn)),
+                Quant::TrnZero => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::TrnZero)),
+                Quant::Rnd => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::Rnd)),
+                Quant::RndZero => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndZero)),
+                Quant::RndInf => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndInf)),
                 Quant::RndMinInf => {
-                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndMinInf))
+                    line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndMinInf))
                 }
-                Quant::RndConv => {
-                    line.fill_lane(lane, |v| round_shift_right_i64(v, sh, Quant::RndConv))
-                }
+                Quant::RndConv => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndConv)),
             };
             plan.count(a, sat, under, wrapped, ctr);
         }
@@ -1089,29 +1185,32 @@ impl PolygonInterpolator {
         true
     }
 
-    /// Whether `run` steps of `sign` can go in closed form (see
+    /// Whether `run` moves of `step` can go in closed form (see
     /// [`Self::run_in_closed_form`]), and if so the registers' last values and the
     /// covered interval of the run.
-    fn run_plan(&self, st: &PolyState, sign: i64, run: usize) -> Option<RunPlan> {
+    fn run_plan(&self, st: &PolyState, step: &Step, run: usize) -> Option<RunPlan> {
         let k = self.cfg.attrs as usize;
         let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
         if shift <= 0 {
             return None;
         }
-        let steps = sign * run as i64;
-        // Pixel counter (c bits) and edges (ew bits): the last value must fit.
-        let x_end = st.x + steps;
-        if wrap_signed(x_end, self.cfg.coord_int_bits) != x_end {
+        let steps = run as i64;
+        // Pixel counters (c bits): the last values must fit.
+        let cw = self.cfg.coord_int_bits;
+        let (x_end, y_end) = (st.x + steps * step.dx, st.y + steps * step.dy);
+        if wrap_signed(x_end, cw) != x_end || wrap_signed(y_end, cw) != y_end {
             return None;
         }
+        // Edges (ew bits): the last values must fit.
         let ew = self.edge_bits();
+        // (An i64 overflow on the way is a value no ≤ 62-bit register holds.)
+        let affine = |a: i64, d: i64| d.checked_mul(steps).and_then(|p| p.checked_add(a));
         let mut edge_end = [0i64; EDGES];
-        for ((end_e, &e0), &dx) in edge_end.iter_mut().zip(&st.edge).zip(&st.edge_dx) {
-            let end = e0 as i128 + steps as i128 * dx as i128;
-            if end != wrap_signed(end as i64, ew) as i128 {
-                return None;
+        for ((end_e, &e0), &d) in edge_end.iter_mut().zip(&st.edge).zip(&step.edge) {
+            match affine(e0, d) {
+                Some(end) if wrap_signed(end, ew) == end => *end_e = end,
+                _ => return None,
             }
-            *end_e = end as i64;
         }
         // Accumulators (≤ 62 bits): the last value strictly above the format's minimum
         // (fit_acc sends the minimum through the overflow mode) and at most its maximum,
@@ -1119,28 +1218,29 @@ impl PolygonInterpolator {
         // stepped modularly below (each wrap counted, as the kernel counts it); under
         // a SAT mode the run goes to the per-step kernel.
         let acc = self.acc_fmt();
+        let (acc_min, acc_max) = (acc.min_raw() as i64, acc.max_raw() as i64);
         let mut acc_end = [0i64; MAX_ATTRS];
         let mut wraps = [false; MAX_ATTRS];
         for a in 0..k {
-            let end = st.acc[a] as i128 + steps as i128 * st.grad_x[a] as i128;
-            if end <= acc.min_raw() || end > acc.max_raw() {
-                if self.cfg.acc_overflow != Overflow::Wrap {
-                    return None;
-                }
-                wraps[a] = true;
-            } else {
-                acc_end[a] = end as i64;
+            match affine(st.acc[a], step.grad[a]) {
+                Some(end) if end > acc_min && end <= acc_max => acc_end[a] = end,
+                _ if self.cfg.acc_overflow == Overflow::Wrap => wraps[a] = true,
+                _ => return None,
             }
         }
         // Each edge is affine along the run, E + j·D (j = 1 ..= run), so the pixels
-        // inside all edges are one interval of j: intersect each edge's half-line.
-        let (mut j_lo, mut j_hi) = (1i64, run as i64);
-        for e in 0..EDGES {
-            let (e0, d) = (st.edge[e], sign * st.edge_dx[e]);
+        // inside all edges are one interval of j: intersect each edge's half-line. An
+        // edge inside at both ends of the run bounds nothing (no division).
+        let (mut j_lo, mut j_hi) = (1i64, steps);
+        for ((&e0, &d), &end) in st.edge.iter().zip(&step.edge).zip(&edge_end) {
             if d > 0 {
-                j_lo = j_lo.max((-e0).div_euclid(d) + i64::from((-e0).rem_euclid(d) != 0));
+                if e0 + d < 0 {
+                    j_lo = j_lo.max((-e0).div_euclid(d) + i64::from((-e0).rem_euclid(d) != 0));
+                }
             } else if d < 0 {
-                j_hi = j_hi.min(e0.div_euclid(-d));
+                if end < 0 {
+                    j_hi = j_hi.min(e0.div_euclid(-d));
+                }
             } else if e0 < 0 {
                 j_hi = 0;
             }
@@ -1154,10 +1254,11 @@ impl PolygonInterpolator {
         Some(RunPlan {
             shift: shift as u32,
             x_end,
+            y_end,
             edge_end,
             acc_end,
             wraps,
-            acc_range: (acc.min_raw() as i64, acc.max_raw() as i64),
+            acc_range: (acc_min, acc_max),
             out_range: (of.min_raw() as i64, of.max_raw() as i64),
             inside,
         })
@@ -1263,12 +1364,13 @@ impl Unit for PolygonInterpolator {
         out
     }
 
-    /// Runs of `Right` or `Left` moves are evaluated in closed form where the run can
-    /// neither wrap nor saturate any register: every accumulator is affine along the
-    /// run (A + k·g), so if its last value lies strictly inside its format (and the
-    /// pixel counter's and edges' last values inside theirs) no step of the run fits,
-    /// wraps or counts anything, and each step's value is A + k·g exactly. Other moves,
-    /// and runs that might overflow, go through the per-step kernel.
+    /// Runs of one move are evaluated in closed form where the run can neither wrap
+    /// nor saturate any register: every register is affine along the run (A + k·g;
+    /// a `Down` run steps by the y-increments, a `Hold` run by none), so if its last
+    /// value lies strictly inside its format (and the pixel counters' and edges' last
+    /// values inside theirs) no step of the run fits, wraps or counts anything, and
+    /// each step's value is A + k·g exactly. Runs that might overflow go through the
+    /// per-step kernel.
     fn kernel_batch(
         &self,
         st: &mut PolyState,
@@ -1279,17 +1381,8 @@ impl Unit for PolygonInterpolator {
         let mut i = 0;
         while i < moves.len() {
             let mv = moves[i];
-            let sign = match mv {
-                Move::Right => 1,
-                Move::Left => -1,
-                Move::Hold | Move::Down => {
-                    out.push(self.kernel(st, &mv, ctr));
-                    i += 1;
-                    continue;
-                }
-            };
             let run = moves[i..].iter().take_while(|&&m| m == mv).count();
-            if !self.run_in_closed_form(st, sign, run, out, ctr) {
+            if !self.run_in_closed_form(st, mv, run, out, ctr) {
                 for m in &moves[i..i + run] {
                     out.push(self.kernel(st, m, ctr));
                 }
