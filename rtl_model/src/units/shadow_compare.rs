@@ -478,6 +478,48 @@ impl ShadowCompare {
         Some(n)
     }
 
+    /// Depth tests of lanes `0..len` against a read-only RAM's words unpacked by
+    /// [`Self::words`], lane i the test `ShadowIn::Test` at (x, y, depth) =
+    /// `test(i)`: its output's `lit` bit pushed onto `lit` (in lane order), the
+    /// counters those of [`Self::test_batch`] on those tests, without the input and
+    /// output words and without a branch (a lane off the map reads word 0, masked
+    /// off). None (nothing done) when `words` is not one word per address.
+    pub fn test_lit_lanes(
+        &self,
+        words: &[u32],
+        len: usize,
+        test: impl Fn(usize) -> (i32, i32, u64),
+        lit: &mut Vec<bool>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        let (w, h) = (self.cfg.width, self.cfg.height);
+        if words.len() != w as usize * h as usize {
+            return None;
+        }
+        let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let bias = (self.cfg.bias as i64) << k;
+        let mut reads = 0usize;
+        lit.extend((0..len).map(|i| {
+            let (x, y, depth) = test(i);
+            // `address`'s test: one unsigned compare per axis.
+            let in_map = (x as u32) < w && (y as u32) < h;
+            let a = if in_map {
+                y as usize * w as usize + x as usize
+            } else {
+                0
+            };
+            let s = words[a];
+            let fb = (depth & fmask) as i64 - bias;
+            reads += usize::from(in_map);
+            // Off the map: a border lookup, lit by convention.
+            !in_map | (fb <= (s as i64) << k)
+        }));
+        ctr.table_reads += reads as u64;
+        ctr.saturations += (len - reads) as u64;
+        Some(len)
+    }
+
     #[inline]
     fn read(&self, st: &ShadowState, addr: usize) -> u32 {
         let n = self.cfg.depth_bits as usize;
