@@ -499,6 +499,19 @@ proptest! {
         prop_assert_eq!(c_l, c_k);
         prop_assert_eq!(u.test_filter_lanes(&words[1..], tests.len(), all, &mut kept, &mut c_l), None);
 
+        // The lit bits in lanes, appended after what the vector holds.
+        let test = |i: usize| tests[i];
+        let (mut bits, mut c_b) = (vec![false], Counters::default());
+        prop_assert_eq!(u.test_lit_lanes(&words, tests.len(), test, &mut bits, &mut c_b), Some(tests.len()));
+        prop_assert!(!bits[0]);
+        let want_bits: Vec<bool> = want.iter().map(|o| o.lit).collect();
+        prop_assert_eq!(&bits[1..], &want_bits[..]);
+        prop_assert_eq!(c_b, c_k);
+        let (mut bits, mut c_b) = (Vec::new(), Counters::default());
+        prop_assert_eq!(u.test_lit_lanes(&words[1..], tests.len(), test, &mut bits, &mut c_b), None);
+        prop_assert!(bits.is_empty());
+        prop_assert_eq!(c_b, Counters::default());
+
         // A state or word list of another size: nothing done.
         let other = unit(w + 1, h, n, bias, k).fresh_state();
         prop_assert_eq!(u.test_filter(&other, cands(), &mut kept, &mut c_f), None);

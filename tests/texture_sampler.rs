@@ -293,6 +293,40 @@ fn assert_keep_agrees(
                 assert_eq!(got[i], out[i], "kept output {i} (mode {mode})");
             }
         }
+        // The lane form: kept lanes get channel 0 of the drivers' output, the others
+        // stay as they were; the counters are the batch kernel's on every input.
+        let s: Vec<i32> = inputs.iter().map(|x| x.coord[0]).collect();
+        let t: Vec<i32> = inputs.iter().map(|x| x.coord[1]).collect();
+        let mut lanes = vec![u32::MAX; inputs.len()];
+        let mut c = Counters::default();
+        let cfg = u.config();
+        let applies = cfg.channels == 1
+            && cfg.dims <= 2
+            && cfg.filter_rounding == FilterRounding::ProductWeights;
+        assert_eq!(
+            u.sample_lanes_keep(&s, &t, |i| keep[i], &mut lanes, &mut c),
+            applies,
+            "sample_lanes_keep applies to one-channel 1D/2D product-weight configs only"
+        );
+        if applies {
+            assert_eq!(c, want, "sample_lanes_keep counters (mode {mode})");
+            for (i, k) in keep.iter().enumerate() {
+                let expect = if *k { out[i][0] } else { u32::MAX };
+                assert_eq!(lanes[i], expect, "lane {i} (mode {mode})");
+            }
+        } else {
+            assert_eq!(c, Counters::default(), "nothing counted when refused");
+            assert!(
+                lanes.iter().all(|&v| v == u32::MAX),
+                "nothing written when refused"
+            );
+        }
+        if !inputs.is_empty() {
+            let mut short = vec![0u32; inputs.len() - 1];
+            let mut c = Counters::default();
+            assert!(!u.sample_lanes_keep(&s, &t, |_| true, &mut short, &mut c));
+            assert_eq!(c, Counters::default());
+        }
     }
 }
 

@@ -447,26 +447,13 @@ impl ShadowCompare {
         if words.len() != w as usize * h as usize || len > u32::MAX as usize {
             return None;
         }
-        let k = self.cfg.frag_frac_bits;
-        let fmask = (1u64 << self.frag_bits()) - 1;
-        let bias = (self.cfg.bias as i64) << k;
         let base = lit.len();
         lit.resize(base + len, 0);
         let dst = &mut lit[base..];
         let (mut kept, mut n, mut reads) = (0usize, 0usize, 0usize);
         for i in 0..len {
             let (is_cand, x, y, depth) = cand(i);
-            // `address`'s test: one unsigned compare per axis.
-            let in_map = (x as u32) < w && (y as u32) < h;
-            let a = if in_map {
-                y as usize * w as usize + x as usize
-            } else {
-                0
-            };
-            let s = words[a];
-            let fb = (depth & fmask) as i64 - bias;
-            // Off the map: a border lookup, lit by convention.
-            let l = !in_map | (fb <= (s as i64) << k);
+            let (in_map, l) = self.lane_test(words, x, y, depth);
             dst[kept] = i as u32;
             kept += usize::from(is_cand & l);
             n += usize::from(is_cand);
@@ -476,6 +463,56 @@ impl ShadowCompare {
         ctr.table_reads += reads as u64;
         ctr.saturations += (n - reads) as u64;
         Some(n)
+    }
+
+    /// Depth tests of lanes `0..len` against a read-only RAM's words unpacked by
+    /// [`Self::words`], lane i the test `ShadowIn::Test` at (x, y, depth) =
+    /// `test(i)`: its output's `lit` bit pushed onto `lit` (in lane order), the
+    /// counters those of [`Self::test_batch`] on those tests, without the input and
+    /// output words and without a branch (a lane off the map reads word 0, masked
+    /// off). None (nothing done) when `words` is not one word per address.
+    pub fn test_lit_lanes(
+        &self,
+        words: &[u32],
+        len: usize,
+        test: impl Fn(usize) -> (i32, i32, u64),
+        lit: &mut Vec<bool>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        let (w, h) = (self.cfg.width, self.cfg.height);
+        if words.len() != w as usize * h as usize {
+            return None;
+        }
+        let mut reads = 0usize;
+        lit.extend((0..len).map(|i| {
+            let (x, y, depth) = test(i);
+            let (in_map, l) = self.lane_test(words, x, y, depth);
+            reads += usize::from(in_map);
+            l
+        }));
+        ctr.table_reads += reads as u64;
+        ctr.saturations += (len - reads) as u64;
+        Some(len)
+    }
+
+    /// One test of the lane forms on unpacked words (one word per address, checked
+    /// by the caller), without a branch: (inside the map, lit). A lane off the map
+    /// reads word 0, masked off: a border lookup, lit by convention.
+    #[inline(always)]
+    fn lane_test(&self, words: &[u32], x: i32, y: i32, depth: u64) -> (bool, bool) {
+        let (w, h) = (self.cfg.width, self.cfg.height);
+        let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let bias = (self.cfg.bias as i64) << k;
+        // `address`'s test: one unsigned compare per axis.
+        let in_map = (x as u32) < w && (y as u32) < h;
+        let a = if in_map {
+            y as usize * w as usize + x as usize
+        } else {
+            0
+        };
+        let fb = (depth & fmask) as i64 - bias;
+        (in_map, !in_map | (fb <= (words[a] as i64) << k))
     }
 
     #[inline]

@@ -756,6 +756,92 @@ impl TextureSampler {
         }
     }
 
+    /// The batch kernel's lane form for a one-channel 1D or 2D texture: input i is
+    /// the coordinate word `s[i]` (and `t[i]` for 2D; `t` is not read for 1D). Each
+    /// input with `keep(i)` gets its channel-0 code in `out[i]`; the other `out`
+    /// entries are left as they are. The counters are those of
+    /// [`Unit::kernel_batch`] on every input (fetches and wrapped coordinate wires
+    /// counted in one pass over the lanes, the filter run on the kept ones only).
+    /// False with nothing done where the batch kernel goes word by word (other
+    /// configs, successive lerps) or the lanes' lengths differ.
+    pub fn sample_lanes_keep(
+        &self,
+        s: &[i32],
+        t: &[i32],
+        keep: impl Fn(usize) -> bool,
+        out: &mut [u32],
+        ctr: &mut Counters,
+    ) -> bool {
+        let d = self.cfg.dims as usize;
+        let n = s.len();
+        if self.cfg.channels != 1
+            || d > 2
+            || self.cfg.filter_rounding == FilterRounding::SuccessiveLerps
+            || out.len() != n
+            || (d == 2 && t.len() != n)
+        {
+            return false;
+        }
+        // The wrapped wires of every input: a branch-free count over the lanes.
+        let sh = 64 - self.coord_bits();
+        let wraps = |c: &[i32]| -> u64 {
+            c.iter()
+                .map(|&w| u64::from((((w as i64) << sh) >> sh) != w as i64))
+                .sum()
+        };
+        let mut overflows = wraps(s);
+        if d == 2 {
+            overflows += wraps(t);
+        }
+        let f = self.cfg.coord_frac_bits;
+        let w = self.cfg.size[0] as u64;
+        let wire = |word: i32| self.coord_wire(word).0;
+        match self.cfg.filter {
+            Filter::Nearest => {
+                for (i, o) in out.iter_mut().enumerate() {
+                    if keep(i) {
+                        let ix = self.address_axis(0, wire(s[i]) >> f);
+                        let iy = if d == 2 {
+                            self.address_axis(1, wire(t[i]) >> f)
+                        } else {
+                            0
+                        };
+                        *o = self.read(iy * w + ix, 0);
+                    }
+                }
+            }
+            Filter::Linear => {
+                let shift = d as u32 * self.cfg.weight_bits; // 1 ..= 32
+                let half = 1u64 << (shift - 1);
+                for (i, o) in out.iter_mut().enumerate() {
+                    if !keep(i) {
+                        continue;
+                    }
+                    let (ix, wx) = self.linear_axis(0, wire(s[i]));
+                    let acc = if d == 1 {
+                        self.read(ix[0], 0) as u64 * wx[0] + self.read(ix[1], 0) as u64 * wx[1]
+                    } else {
+                        let (iy, wy) = self.linear_axis(1, wire(t[i]));
+                        let (r0, r1) = (iy[0] * w, iy[1] * w);
+                        // u(tb) × u(2wb+1), four terms < 2^(tb+2wb)
+                        self.read(r0 + ix[0], 0) as u64 * (wx[0] * wy[0])
+                            + self.read(r0 + ix[1], 0) as u64 * (wx[1] * wy[0])
+                            + self.read(r1 + ix[0], 0) as u64 * (wx[0] * wy[1])
+                            + self.read(r1 + ix[1], 0) as u64 * (wx[1] * wy[1])
+                    };
+                    *o = ((acc + half) >> shift) as u32;
+                }
+            }
+        }
+        texel_fetch(
+            ctr,
+            n as u64 * self.cfg.texels_per_sample() as u64,
+            self.cfg.texel_bits,
+        );
+        ctr.overflows += overflows;
+        true
+    }
+
     /// The datapath on one coordinate: the filtered codes (unused channels 0).
     // Per-axis loops index several parallel per-axis arrays, as the hardware does.
     #[allow(clippy::needless_range_loop)]

@@ -14,6 +14,7 @@ use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
 use rtl_model::units::additive_blend::AdditiveBlend;
+use rtl_model::units::modulate::Modulate;
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::projective_texcoord::{
     ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
@@ -78,6 +79,56 @@ impl UnitSpan {
         out.clear();
         unit.kernel_batch_keep(inputs, keep, out, &mut self.ctr);
         self.tally.add(inputs.len());
+    }
+
+    /// A one-channel 1D or 2D sampler on coordinate lanes `s` (and `t` for 2D):
+    /// channel 0 of each output into `out` (cleared first), through
+    /// [`TextureSampler::sample_lanes_keep`] (every sample kept), or else through the
+    /// batch kernel on input words built in `ins` (outputs in `outs`). Counted as the
+    /// batch kernel on those inputs either way.
+    #[inline]
+    pub fn feed_sampler_lanes(
+        &mut self,
+        unit: &TextureSampler,
+        s: &[i32],
+        t: &[i32],
+        out: &mut Vec<u32>,
+        ins: &mut Vec<TextureSamplerIn>,
+        outs: &mut Vec<[u32; 4]>,
+    ) {
+        out.clear();
+        out.resize(s.len(), 0);
+        if unit.sample_lanes_keep(s, t, |_| true, out, &mut self.ctr) {
+            self.tally.add(s.len());
+            return;
+        }
+        ins.clear();
+        ins.extend((0..s.len()).map(|i| TextureSamplerIn {
+            coord: [s[i], t.get(i).copied().unwrap_or(0), 0],
+        }));
+        self.feed(unit, &mut (), ins, outs);
+        out.clear();
+        out.extend(outs.iter().map(|o| o[0]));
+    }
+
+    /// `n` modulates in lanes, pair k = `pair(k)`, the products into `out` (cleared
+    /// first). The modulate's batch kernel is its per-pair datapath
+    /// ([`Modulate::apply`]) and counts nothing (no saturation or wrap is possible),
+    /// so this is the batch kernel without the input words.
+    #[inline]
+    pub fn feed_modulate(
+        &mut self,
+        unit: &Modulate,
+        n: usize,
+        pair: impl Fn(usize) -> (u32, u32),
+        out: &mut Vec<u32>,
+    ) {
+        out.clear();
+        out.extend((0..n).map(|k| {
+            let (a, b) = pair(k);
+            unit.apply(a, b)
+        }));
+        self.tally.add(n);
     }
 
     /// A single-channel weighted blend in lanes ([`AdditiveBlend::blend_lanes`]):
@@ -162,6 +213,11 @@ pub(super) struct ChunkBuffers {
     tex_in: Vec<TextureSamplerIn>,
     /// Whether each light-map sample is used (in front of the light, inside its square).
     tex_keep: Vec<bool>,
+    /// The light-map samples' texel-space coordinate words in lanes, and whether the
+    /// shadow map lights each fragment ([`LightCtx::h_il`]'s lane form).
+    tex_s: Vec<i32>,
+    tex_t: Vec<i32>,
+    lit: Vec<bool>,
     tex_out: Vec<[u32; 4]>,
     /// The light-map projective unit's outputs in lanes, and the depth unit's u
     /// ([`LightCtx::h_il`]'s shared front end).
@@ -181,6 +237,9 @@ pub(super) struct LightCtx<'a> {
     pub lm_tex: Option<&'a TextureSampler>,
     pub sstate: Option<&'a ShadowState>,
     pub zstate: Option<&'a ShadowState>,
+    /// The shadow map's words unpacked ([`ShadowCompare::words`] of `sstate`), when
+    /// the pass has them: its tests then run in lanes.
+    pub swords: Option<&'a [u32]>,
     pub light: &'a crate::scene::format::Light,
     pub tex_max: u32,
 }
@@ -424,30 +483,7 @@ impl LightCtx<'_> {
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
         let pl = &b.proj_lanes;
-        // The light map: a sample outside the light's square or behind the projector
-        // is replaced by 0 below: not filtered, only counted.
-        let log2 = lm.size()[0].trailing_zeros();
-        let fr = lm.coord_frac_bits();
         let one = 1i32 << u.proj.out_format().frac_bits;
-        b.tex_in.clear();
-        b.tex_in
-            .extend(pl.u.iter().zip(&pl.v).map(|(&pu, &pv)| TextureSamplerIn {
-                coord: [
-                    texel_word(pu, log2, &u.proj, fr),
-                    texel_word(pv, log2, &u.proj, fr),
-                    0,
-                ],
-            }));
-        b.tex_keep.clear();
-        b.tex_keep.extend(
-            pl.u.iter()
-                .zip(&pl.v)
-                .zip(&pl.behind)
-                .map(|((&pu, &pv), &bh)| !bh && (0..=one).contains(&pu) && (0..=one).contains(&pv)),
-        );
-        spans
-            .light_map
-            .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
         // The shadow map at the light-space texel, the depth through the same q.
         let res = sh.width();
         let of = u.proj.out_format().frac_bits;
@@ -455,38 +491,92 @@ impl LightCtx<'_> {
         let dbits = sh.depth_bits();
         let dfrac = u.proj_depth.out_format().frac_bits;
         let dmax = max_code(dbits) as i64;
-        b.shadow_in.clear();
-        b.shadow_in.extend(
-            pl.u.iter()
-                .zip(&pl.v)
-                .zip(&b.pdepth_u)
-                .map(|((&pu, &pv), &d)| {
-                    let dv = d.max(0) as i64;
-                    let word = if dbits >= dfrac {
-                        dv << (dbits - dfrac)
-                    } else {
-                        dv >> (dfrac - dbits)
-                    };
-                    ShadowIn::Test {
-                        x: pu >> shift,
-                        y: pv >> shift,
-                        depth: word.min(dmax) as u64,
-                    }
-                }),
-        );
-        spans
-            .shadow
-            .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
-        // H·I_l: the light map's sample where kept (in front, inside the square) and
-        // lit by the shadow map, else 0.
+        let depth_word = |d: i32| -> u64 {
+            let dv = d.max(0) as i64;
+            let word = if dbits >= dfrac {
+                dv << (dbits - dfrac)
+            } else {
+                dv >> (dfrac - dbits)
+            };
+            word.min(dmax) as u64
+        };
+        b.lit.clear();
+        // On the shadow map's unpacked words: the lit bits in lanes, no test words.
+        let tested = self.swords.and_then(|words| {
+            let pd = &b.pdepth_u;
+            sh.test_lit_lanes(
+                words,
+                n,
+                |i| (pl.u[i] >> shift, pl.v[i] >> shift, depth_word(pd[i])),
+                &mut b.lit,
+                &mut spans.shadow.ctr,
+            )
+        });
+        match tested {
+            Some(k) => spans.shadow.tally.add(k),
+            None => {
+                b.shadow_in.clear();
+                b.shadow_in
+                    .extend(
+                        pl.u.iter()
+                            .zip(&pl.v)
+                            .zip(&b.pdepth_u)
+                            .map(|((&pu, &pv), &d)| ShadowIn::Test {
+                                x: pu >> shift,
+                                y: pv >> shift,
+                                depth: depth_word(d),
+                            }),
+                    );
+                spans
+                    .shadow
+                    .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
+                b.lit.extend(b.shadow_out.iter().map(|o| o.lit));
+            }
+        }
+        // The light map: a sample behind the projector, outside the light's square or
+        // in shadow gives H·I_l = 0 whatever its value: not filtered, only counted.
+        let log2 = lm.size()[0].trailing_zeros();
+        let fr = lm.coord_frac_bits();
+        b.tex_s.clear();
+        b.tex_s
+            .extend(pl.u.iter().map(|&pu| texel_word(pu, log2, &u.proj, fr)));
+        b.tex_t.clear();
+        b.tex_t
+            .extend(pl.v.iter().map(|&pv| texel_word(pv, log2, &u.proj, fr)));
+        let lit = &b.lit;
+        let keep = |i: usize| {
+            !pl.behind[i] && (0..=one).contains(&pl.u[i]) && (0..=one).contains(&pl.v[i]) && lit[i]
+        };
+        // H·I_l: the light map's sample where kept, else 0.
         b.hil.clear();
-        b.hil.extend(
-            b.tex_out
-                .iter()
-                .zip(&b.tex_keep)
-                .zip(&b.shadow_out)
-                .map(|((t, &k), l)| if k && l.lit { t[0] } else { 0 }),
-        );
+        b.hil.resize(n, 0);
+        if lm.sample_lanes_keep(
+            &b.tex_s,
+            &b.tex_t,
+            keep,
+            &mut b.hil,
+            &mut spans.light_map.ctr,
+        ) {
+            spans.light_map.tally.add(n);
+        } else {
+            b.tex_in.clear();
+            b.tex_in.extend(
+                b.tex_s
+                    .iter()
+                    .zip(&b.tex_t)
+                    .map(|(&s, &t)| TextureSamplerIn { coord: [s, t, 0] }),
+            );
+            b.tex_keep.clear();
+            b.tex_keep.extend((0..n).map(keep));
+            spans
+                .light_map
+                .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
+            for ((o, t), &k) in b.hil.iter_mut().zip(&b.tex_out).zip(&b.tex_keep) {
+                if k {
+                    *o = t[0];
+                }
+            }
+        }
         true
     }
 }

@@ -570,6 +570,7 @@ fn light_ctx<'b>(
         lm_tex: ls.lm_tex.as_ref(),
         sstate: ls.sstate.as_ref(),
         zstate,
+        swords: None,
         light: &p.scene.lights[ls.li],
         tex_max: max_code(p.scene.shafts.texel_bits),
     }

@@ -20,7 +20,6 @@ use crate::scene::format::PlaneStep;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
-use rtl_model::units::modulate::ModulateIn;
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
@@ -78,9 +77,16 @@ struct PlaneBuffers {
     h_out: Vec<[u32; 4]>,
     j_in: Vec<TextureSamplerIn>,
     j_out: Vec<[u32; 4]>,
-    m_in: Vec<ModulateIn>,
     m_a: Vec<u32>,
     m_b: Vec<u32>,
+    /// The samplers' coordinate words and outputs in lanes (F: s; h: s, t; J: x, y).
+    f_s: Vec<i32>,
+    f_o: Vec<u32>,
+    h_s: Vec<i32>,
+    h_t: Vec<i32>,
+    h_o: Vec<u32>,
+    j_s: Vec<i32>,
+    j_t: Vec<i32>,
 }
 
 /// What every fragment of plane i shares.
@@ -119,12 +125,24 @@ pub(super) fn planes_pass(
         _ => None,
     };
     let zwords = zwords.as_deref();
+    // The shadow map is read-only here too: its words unpacked once for the H·I_l
+    // tests in lanes.
+    let swords = match (&ctx.units.shadow, ctx.sstate) {
+        (Some(sh), Some(ss)) => sh.words(ss),
+        _ => None,
+    };
+    let ctx = &LightCtx {
+        swords: swords.as_deref(),
+        ..*ctx
+    };
 
     // Interval i's sub-planes' H·I_l (independent of the framebuffer and the J
     // buffer): interval i + 1's are computed beside plane i's blend into the
     // framebuffer, then merged and blended in order as before.
     let hil_of = |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr);
     let mut pending = None;
+    // The planes' fragment list and blend buffers, reused from plane to plane.
+    let (mut frags, mut scratch) = (Vec::new(), BlendScratch::default());
     for i in 0..n {
         let r = r0 + (i as f64 + 0.5) * dr;
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
@@ -164,6 +182,7 @@ pub(super) fn planes_pass(
             dr,
             jtex.as_ref().filter(|_| m > 1),
             fb,
+            (&mut frags, &mut scratch),
             ctr,
             passes,
             last,
@@ -365,6 +384,7 @@ fn plane<T: Send>(
     dr: f64,
     jtex: Option<&TextureSampler>,
     fb: &mut Framebuffer,
+    (frags, scratch): (&mut Vec<PlaneFrag>, &mut BlendScratch),
     ctr: &mut BTreeMap<String, Counters>,
     passes: &mut Vec<PassStats>,
     last: &mut Traffic,
@@ -446,7 +466,7 @@ fn plane<T: Send>(
             cell(&pc, &q, w, h)
         })
         .collect();
-    let mut frags = Vec::new();
+    frags.clear();
     let mut spans = PlaneSpans::default();
     for d in drawn {
         let (f, s) = d?;
@@ -465,7 +485,8 @@ fn plane<T: Send>(
     for s in spans.modulate {
         s.close("modulate", u.modulate.timing(), ctr);
     }
-    let ((), t) = rayon::join(|| blend_plane(&u.blend, fb, &frags, ctr), beside);
+    let frags = &*frags;
+    let ((), t) = rayon::join(|| blend_plane(&u.blend, fb, frags, ctr, scratch), beside);
     let mut st = PassStats::new(
         PassKind::Plane,
         ctx.li,
@@ -533,39 +554,37 @@ fn shade_chunk(
     );
     let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
-    b.f_in.clear();
     let [alpha, hs, ht] = [&px.attrs[0], &px.attrs[1], &px.attrs[2]];
-    b.f_in.extend(vis.iter().map(|&i| TextureSamplerIn {
-        coord: [(alpha[i as usize] >> sh) as i32, 0, 0],
-    }));
-    b.h_in.clear();
-    b.h_in.extend(vis.iter().map(|&i| {
-        let i = i as usize;
-        TextureSamplerIn {
-            coord: [(hs[i] >> sh) as i32, (ht[i] >> sh) as i32, 0],
-        }
-    }));
-    sp.f.feed(&u.f_tex, &mut (), &b.f_in, &mut b.f_out);
-    sp.h.feed(&u.h_tex, &mut (), &b.h_in, &mut b.h_out);
+    // F(α) and h(s, t) in lanes: coordinate words in, one code per fragment out.
+    b.f_s.clear();
+    b.f_s
+        .extend(vis.iter().map(|&i| (alpha[i as usize] >> sh) as i32));
+    b.h_s.clear();
+    b.h_s
+        .extend(vis.iter().map(|&i| (hs[i as usize] >> sh) as i32));
+    b.h_t.clear();
+    b.h_t
+        .extend(vis.iter().map(|&i| (ht[i as usize] >> sh) as i32));
+    sp.f.feed_sampler_lanes(&u.f_tex, &b.f_s, &[], &mut b.f_o, &mut b.f_in, &mut b.f_out);
+    sp.h.feed_sampler_lanes(
+        &u.h_tex,
+        &b.h_s,
+        &b.h_t,
+        &mut b.h_o,
+        &mut b.h_in,
+        &mut b.h_out,
+    );
 
     // J: the sub-plane average (m > 1) or H·I_l on the plane itself (m = 1).
     match pc.jtex {
         Some(t) => {
             let fr = t.coord_frac_bits();
-            b.j_in.clear();
-            b.j_in.extend(vis.iter().map(|&i| {
-                let i = i as usize;
-                TextureSamplerIn {
-                    coord: [
-                        ((px.x[i] as i32) << fr) + (1 << fr >> 1),
-                        ((px.y[i] as i32) << fr) + (1 << fr >> 1),
-                        0,
-                    ],
-                }
-            }));
-            sp.j.feed(t, &mut (), &b.j_in, &mut b.j_out);
-            b.m_a.clear();
-            b.m_a.extend(b.j_out.iter().map(|v| v[0]));
+            let centre = |c: i64| ((c as i32) << fr) + (1 << fr >> 1);
+            b.j_s.clear();
+            b.j_s.extend(vis.iter().map(|&i| centre(px.x[i as usize])));
+            b.j_t.clear();
+            b.j_t.extend(vis.iter().map(|&i| centre(px.y[i as usize])));
+            sp.j.feed_sampler_lanes(t, &b.j_s, &b.j_t, &mut b.m_a, &mut b.j_in, &mut b.j_out);
         }
         None => {
             ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
@@ -575,40 +594,25 @@ fn shade_chunk(
     }
     let vis = &b.chunk.visible;
     let md = &u.modulate;
+    let n = vis.len();
+    let (s_attr, tex_max) = (&px.attrs[3], ctx.tex_max);
     // J · S
-    b.m_in.clear();
-    b.m_in
-        .extend(vis.iter().zip(&b.m_a).map(|(&i, &j)| ModulateIn {
-            a: j,
-            b: attr_unorm(px.attrs[3][i as usize], ctx.tex_max),
-        }));
-    sp.modulate[0].feed(md, &mut (), &b.m_in, &mut b.m_b);
+    let m_a = &b.m_a;
+    sp.modulate[0].feed_modulate(
+        md,
+        n,
+        |k| (m_a[k], attr_unorm(s_attr[vis[k] as usize], tex_max)),
+        &mut b.m_b,
+    );
     // · F
-    b.m_in.clear();
-    b.m_in.extend(
-        b.m_b
-            .iter()
-            .zip(&b.f_out)
-            .map(|(&a, f)| ModulateIn { a, b: f[0] }),
-    );
-    sp.modulate[1].feed(md, &mut (), &b.m_in, &mut b.m_a);
+    let (m_b, f_o) = (&b.m_b, &b.f_o);
+    sp.modulate[1].feed_modulate(md, n, |k| (m_b[k], f_o[k]), &mut b.m_a);
     // · colour (three channels)
-    b.m_in.clear();
-    b.m_in.extend(
-        b.m_a
-            .iter()
-            .flat_map(|&x| pc.color_codes.map(|c| ModulateIn { a: x, b: c })),
-    );
-    sp.modulate[2].feed(md, &mut (), &b.m_in, &mut b.m_b);
+    let (m_a, cc) = (&b.m_a, pc.color_codes);
+    sp.modulate[2].feed_modulate(md, 3 * n, |k| (m_a[k / 3], cc[k % 3]), &mut b.m_b);
     // · h
-    b.m_in.clear();
-    b.m_in.extend(
-        b.m_b
-            .chunks(3)
-            .zip(&b.h_out)
-            .flat_map(|(c, h)| c.iter().map(move |&a| ModulateIn { a, b: h[0] })),
-    );
-    sp.modulate[3].feed(md, &mut (), &b.m_in, &mut b.m_a);
+    let (m_b, h_o) = (&b.m_b, &b.h_o);
+    sp.modulate[3].feed_modulate(md, 3 * n, |k| (m_b[k], h_o[k / 3]), &mut b.m_a);
     out.extend(vis.iter().zip(b.m_a.chunks(3)).map(|(&i, c)| {
         let i = i as usize;
         PlaneFrag {
@@ -629,9 +633,19 @@ fn blend_inputs(fb: &Framebuffer, chunk: &[PlaneFrag], ins: &mut Vec<AdditiveBle
     }));
 }
 
-/// Whether no two fragments fall on one pixel of the `fb`-sized framebuffer.
-fn covers_once(fb: &Framebuffer, frags: &[PlaneFrag]) -> bool {
-    let mut seen = vec![0u64; ((fb.width * fb.height) as usize).div_ceil(64)];
+/// Buffers of the framebuffer blend, reused from plane to plane: the pixels seen
+/// ([`covers_once`]) and the blend's outputs.
+#[derive(Default)]
+struct BlendScratch {
+    seen: Vec<u64>,
+    outs: Vec<[u32; 4]>,
+}
+
+/// Whether no two fragments fall on one pixel of the `fb`-sized framebuffer (`seen`
+/// is the bitmap, cleared first).
+fn covers_once(fb: &Framebuffer, frags: &[PlaneFrag], seen: &mut Vec<u64>) -> bool {
+    seen.clear();
+    seen.resize(((fb.width * fb.height) as usize).div_ceil(64), 0);
     frags.iter().all(|f| {
         let i = (f.y * fb.width + f.x) as usize;
         let (word, bit) = (&mut seen[i / 64], 1u64 << (i % 64));
@@ -651,9 +665,12 @@ fn blend_plane(
     fb: &mut Framebuffer,
     frags: &[PlaneFrag],
     ctr: &mut BTreeMap<String, Counters>,
+    scratch: &mut BlendScratch,
 ) {
-    if covers_once(fb, frags) {
-        let mut outs = vec![[0u32; 4]; frags.len()];
+    if covers_once(fb, frags, &mut scratch.seen) {
+        let outs = &mut scratch.outs;
+        outs.clear();
+        outs.resize(frags.len(), [0u32; 4]);
         let src: &Framebuffer = fb;
         let parts: Vec<UnitSpan> = frags
             .par_chunks(BLEND_CHUNK)
@@ -678,7 +695,7 @@ fn blend_plane(
         for p in &parts {
             span.merge(p);
         }
-        for (f, o) in frags.iter().zip(&outs) {
+        for (f, o) in frags.iter().zip(outs.iter()) {
             fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
         }
         span.close("additive_blend", u.timing(), ctr);
