@@ -324,10 +324,15 @@ fn envmap_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
     let ev = Evaluator::new(&base, Reference::Wide).unwrap();
     assert_eq!(ev.kind.default_params(), vec!["side"]);
     let d0 = ev.evaluate(&base).unwrap();
+    assert_eq!(ev.truths_drawn(), 1);
     let b = budget(&format!("max<={}", d0.error.max));
     let o = run(&ev, &["side"], &b, Objective::Ram, 4);
     let d = o.points[o.defaults].metrics().copied().unwrap();
     assert_eq!(d.ram_bits, d0.ram_bits);
+    // The defaults' render in the search reused the truth drawn above (one truth per
+    // side simulated), with the same errors as the render that drew it.
+    assert_eq!(d.error, d0.error);
+    assert_eq!(ev.truths_drawn(), o.simulations);
     // The search tried at least one narrower map.
     assert!(o.points.len() >= 2, "{} points", o.points.len());
     let bi = o.best.expect("a best point: the defaults meet the budget");
@@ -349,6 +354,9 @@ fn envmap_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
         m.error
     );
     assert_eq!(m.ram_bits, best.ram_bits);
+    assert_eq!(m.error, best.error);
+    // best.toml read back is the scene the search rendered: no new truth drawn.
+    assert_eq!(ev.truths_drawn(), o.simulations);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
