@@ -143,8 +143,8 @@ pub enum Command {
     /// Bit-width optimisation (issue 21, docs/optimize.md): from the GeForce defaults,
     /// the cheapest widths of a shafts, glare, environment-map or shading scene within an error budget (a greedy
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
-    /// (every configuration evaluated), DIR/pareto.png (gates against error, the front,
-    /// the default) and DIR/best.toml (the scene with the widths found, for
+    /// (every configuration evaluated), DIR/pareto.png (the objective against the first
+    /// budget's error, that plane's front, the default) and DIR/best.toml (the scene with the widths found, for
     /// `render --scene`; for a shading scene its `[shading]` file form), verified by a
     /// fresh render.
     Optimize(crate::frame::optimize::cli::OptimizeArgs),

@@ -10,16 +10,20 @@
 //!   the search simulates ≤ 1/3 of the exhaustive grid while finding its optimum.
 //! * The CLI end to end: pareto.csv, pareto.png and a best.toml that `render
 //!   --scene` accepts as is.
+//! * Ctrl-C: SIGINT after the first point leaves a whole pareto.csv and exit 130.
 
 use glare_pipeline::frame::optimize::cli::best_toml;
 use glare_pipeline::frame::optimize::eval::{Evaluator, Reference, Target};
 use glare_pipeline::frame::optimize::search::{
-    dominates, grid, search, Budget, Limit, Limits, Objective, Outcome, Status,
+    dominates, dominates_2d, grid, objective_front, objective_key, search, Budget, Limit, Limits,
+    Metric, Objective, Outcome, Status,
 };
 use glare_pipeline::scene::format::Scene;
 use glare_pipeline::scene::load::load_scene;
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Command, Stdio};
+
+mod common;
 
 fn scene_at(name: &str, w: u32, h: u32) -> Scene {
     let mut s = load_scene(name).unwrap();
@@ -149,6 +153,32 @@ fn glare_elliptic_ram_no_more_than_one_parameter_sweeps_and_front_non_dominated(
             );
         }
     }
+    // The front pareto.png draws: (RAM bits, max error), the same two rules in the plane.
+    let on = objective_front(&o.points, Objective::Ram, Metric::Max);
+    let key = |i: usize| objective_key(&o.points[i], Objective::Ram, Metric::Max);
+    let front2: Vec<(f64, f64)> = (0..o.points.len())
+        .filter(|&i| on[i])
+        .map(|i| key(i).unwrap())
+        .collect();
+    assert!(front2.len() >= 2, "2-D front: {front2:?}");
+    for a in &front2 {
+        for c in &front2 {
+            assert!(
+                !dominates_2d(*a, *c),
+                "{a:?} dominates {c:?} on the 2-D front"
+            );
+        }
+    }
+    for i in (0..o.points.len()).filter(|&i| !on[i]) {
+        if let Some(k) = key(i) {
+            assert!(
+                front2.iter().any(|f| dominates_2d(*f, k)),
+                "{k:?} off the 2-D front"
+            );
+        }
+    }
+    // The best point within the budget is on it.
+    assert!(on[bi], "best point off the 2-D front");
 }
 
 #[test]
@@ -252,6 +282,7 @@ fn cli_writes_csv_png_and_a_best_toml_render_accepts() {
     for col in [
         "gates_nand2",
         "ram_bits",
+        "on_objective_front",
         "mean_levels",
         "rms_levels",
         "max_levels",
@@ -293,10 +324,15 @@ fn envmap_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
     let ev = Evaluator::new(&base, Reference::Wide).unwrap();
     assert_eq!(ev.kind.default_params(), vec!["side"]);
     let d0 = ev.evaluate(&base).unwrap();
+    assert_eq!(ev.truths_drawn(), 1);
     let b = budget(&format!("max<={}", d0.error.max));
     let o = run(&ev, &["side"], &b, Objective::Ram, 4);
     let d = o.points[o.defaults].metrics().copied().unwrap();
     assert_eq!(d.ram_bits, d0.ram_bits);
+    // The defaults' render in the search reused the truth drawn above (one truth per
+    // side simulated), with the same errors as the render that drew it.
+    assert_eq!(d.error, d0.error);
+    assert_eq!(ev.truths_drawn(), o.simulations);
     // The search tried at least one narrower map.
     assert!(o.points.len() >= 2, "{} points", o.points.len());
     let bi = o.best.expect("a best point: the defaults meet the budget");
@@ -318,6 +354,85 @@ fn envmap_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
         m.error
     );
     assert_eq!(m.ram_bits, best.ram_bits);
+    assert_eq!(m.error, best.error);
+    // best.toml read back is the scene the search rendered: no new truth drawn.
+    assert_eq!(ev.truths_drawn(), o.simulations);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Ctrl-C: SIGINT once the first point is in pareto.csv stops the run after the render
+/// in flight with exit 130, leaving a whole pareto.csv (its header, every row complete
+/// and parseable) of what was evaluated, and nothing else. fig6 at 96x64 with the
+/// default five widths runs tens of simulations (83 to convergence), so it is still
+/// running when the first row appears; the poll waits up to 300 s (no timing asserted).
+#[test]
+fn ctrl_c_leaves_a_whole_pareto_csv_and_exit_130() {
+    let dir = tmp("sigint");
+    let out = dir.join("o");
+    let csv = out.join("pareto.csv");
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_glare-pipeline"));
+    cmd.args([
+        "optimize",
+        "--scene",
+        "fig6",
+        "--budget",
+        "max<=2",
+        "--objective",
+        "gates",
+        "--size",
+        "96x64",
+        "--out",
+    ])
+    .arg(&out)
+    .stdout(Stdio::piped())
+    .stderr(Stdio::piped());
+    let rows_now = || {
+        std::fs::read_to_string(&csv)
+            .map(|t| t.lines().count().saturating_sub(1))
+            .unwrap_or(0)
+    };
+    let o = common::cut_when(cmd, || rows_now() >= 1, "pareto.csv row", "INT");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted after"), "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.ends_with('\n'), "last line cut: {text:?}");
+    let mut r = csv::Reader::from_reader(text.as_bytes());
+    let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("{name} missing from {header:?}"))
+    };
+    let (eval, gates, max, front, default) = (
+        col("evaluation"),
+        col("gates_nand2"),
+        col("max_levels"),
+        col("on_front"),
+        col("is_default"),
+    );
+    let rows: Vec<csv::StringRecord> = r.records().map(|x| x.unwrap()).collect();
+    assert!(!rows.is_empty(), "no row in {text:?}");
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), header.len(), "row {i} incomplete: {row:?}");
+        match &row[eval] {
+            "simulated" => {
+                row[gates].parse::<f64>().unwrap();
+                row[max].parse::<f64>().unwrap();
+            }
+            "pruned" => assert!(row[gates].is_empty(), "row {i}: {row:?}"),
+            other => panic!("row {i}: evaluation {other:?}"),
+        }
+        row[front].parse::<bool>().unwrap();
+        assert_eq!(row[default].parse::<bool>().unwrap(), i == 0, "row {i}");
+    }
+    // Stopped before the end: no plot, no best.toml, no temporary file left.
+    let names: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["pareto.csv"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

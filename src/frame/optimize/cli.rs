@@ -5,7 +5,8 @@
 
 use super::eval::{Evaluator, Kind, Reference};
 use super::search::{
-    area, describe, search, Budget, End, Limit, Limits, Objective, Outcome, Point, Status,
+    area, describe, objective_front, objective_key, search, Budget, End, Limit, Limits, Objective,
+    Outcome, Point, Status,
 };
 use crate::report::atomic::write_bytes;
 use crate::report::csv_out::write_csv;
@@ -160,7 +161,10 @@ pub struct ParetoRow {
     pub predicted_hw_seconds: Option<f64>,
     pub wall_seconds: Option<f64>,
     pub meets_budget: bool,
+    /// On the front of (gates, RAM bits, error of the first budget's metric).
     pub on_front: bool,
+    /// On the front of (the objective's cost, that error): the one `pareto.png` draws.
+    pub on_objective_front: bool,
     pub is_default: bool,
     pub is_best: bool,
 }
@@ -170,9 +174,11 @@ pub fn rows(
     params: &[&str],
     points: &[Point],
     budget: &Budget,
+    objective: Objective,
     defaults: Option<usize>,
     best: Option<usize>,
 ) -> Vec<ParetoRow> {
+    let on = objective_front(points, objective, budget.primary());
     points
         .iter()
         .enumerate()
@@ -198,6 +204,7 @@ pub fn rows(
                 wall_seconds: m.map(|m| m.wall_seconds),
                 meets_budget: m.is_some_and(|m| budget.meets(&m.error)),
                 on_front: p.on_front,
+                on_objective_front: on[i],
                 is_default: defaults == Some(i),
                 is_best: best == Some(i),
             }
@@ -205,56 +212,84 @@ pub fn rows(
         .collect()
 }
 
-/// `pareto.png`: gates against the budget's first error metric; every simulated
-/// point, the front, the default and the best point as separate marked series.
-pub fn plot(path: &Path, title: &str, o: &Outcome, budget: &Budget) -> Result<(), String> {
+/// `pareto.png`: the objective's cost against the budget's first error metric;
+/// every simulated point, the front in that plane ([`objective_front`], joined), the
+/// default and the best point as separate series.
+pub fn plot(
+    path: &Path,
+    title: &str,
+    o: &Outcome,
+    budget: &Budget,
+    objective: Objective,
+) -> Result<(), String> {
     let metric = budget.primary();
-    let xy = |p: &Point| p.metrics().map(|m| (metric.of(&m.error), m.gates));
+    let xy = |p: &Point| objective_key(p, objective, metric);
     let all: Vec<(f64, f64)> = o.points.iter().filter_map(xy).collect();
     if all.is_empty() {
         return Ok(());
     }
+    let on = objective_front(&o.points, objective, metric);
     let mut front: Vec<(f64, f64)> = o
         .points
         .iter()
-        .filter(|p| p.on_front)
-        .filter_map(xy)
+        .zip(&on)
+        .filter(|(_, &f)| f)
+        .filter_map(|(p, _)| xy(p))
         .collect();
+    // Along the front: error up, cost down.
     front.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    front.dedup();
     let one = |i: Option<usize>| i.and_then(|i| xy(&o.points[i])).into_iter().collect();
+    let (cost, unit) = match objective {
+        Objective::Gates => ("gates", "gates (NAND2)"),
+        Objective::Ram => ("RAM bits", "RAM bits"),
+        Objective::Area => ("area", "area (NAND2: gates + 1.5 x RAM bits)"),
+    };
     let series = vec![
-        Series {
-            label: "evaluated".into(),
-            points: all,
-            axis: Axis::Left,
-        },
-        Series {
-            label: "Pareto front (gates, RAM bits, error)".into(),
-            points: front,
-            axis: Axis::Left,
-        },
-        Series {
-            label: "GeForce defaults".into(),
-            points: one(Some(o.defaults)),
-            axis: Axis::Left,
-        },
-        Series {
-            label: "best within budget".into(),
-            points: one(o.best),
-            axis: Axis::Left,
-        },
+        (
+            Series {
+                label: "evaluated (simulated)".into(),
+                points: all,
+                axis: Axis::Left,
+            },
+            false,
+        ),
+        (
+            Series {
+                label: format!(
+                    "Pareto front of ({cost}, {} error): no point has less of both",
+                    metric.name()
+                ),
+                points: front,
+                axis: Axis::Left,
+            },
+            true,
+        ),
+        (
+            Series {
+                label: "GeForce defaults".into(),
+                points: one(Some(o.defaults)),
+                axis: Axis::Left,
+            },
+            false,
+        ),
+        (
+            Series {
+                label: "best within budget".into(),
+                points: one(o.best),
+                axis: Axis::Left,
+            },
+            false,
+        ),
     ];
-    let series: Vec<Series> = series
+    let (series, joined): (Vec<Series>, Vec<bool>) = series
         .into_iter()
-        .filter(|s| !s.points.is_empty())
-        .collect();
-    // Markers only: the front is over three axes, so its points in this plane are
-    // not a line.
-    let joined = vec![false; series.len()];
+        .filter(|(s, _)| !s.points.is_empty())
+        .unzip();
     let mut spec = PlotSpec::new(
         title,
         &format!("{} error (8-bit levels)", metric.name()),
-        "gates (NAND2)",
+        unit,
     );
     spec.width = 900;
     spec.height = 600;
@@ -302,7 +337,14 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     let mut saved: Result<(), String> = Ok(());
     let mut on_point = |book: &super::search::Book| {
         let best = book.best(plan.objective);
-        let r = rows(&plan.params, &book.points, &plan.budget, Some(0), best);
+        let r = rows(
+            &plan.params,
+            &book.points,
+            &plan.budget,
+            plan.objective,
+            Some(0),
+            best,
+        );
         if let Err(e) = write_csv(&csv, &r) {
             saved = Err(e);
         }
@@ -334,6 +376,7 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
         &plan.params,
         &o.points,
         &plan.budget,
+        plan.objective,
         Some(o.defaults),
         o.best,
     );
@@ -356,7 +399,13 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
         plan.objective.name(),
         plan.budget.describe()
     );
-    plot(&plan.out.join("pareto.png"), &title, &o, &plan.budget)?;
+    plot(
+        &plan.out.join("pareto.png"),
+        &title,
+        &o,
+        &plan.budget,
+        plan.objective,
+    )?;
     let d = o.points[o.defaults].metrics().copied();
     println!(
         "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",

@@ -24,7 +24,9 @@
 //! --param fb_bits --values 8 --image 96x64`), so no width budget of a few levels can
 //! be met against it.
 
-use crate::pipeline::envmap::sweep::{envmap_row, envmap_scenes, ENVMAP_PARAMS};
+use crate::pipeline::envmap::render::Truth;
+use crate::pipeline::envmap::scene_render::{render_scene as render_env, render_scene_against};
+use crate::pipeline::envmap::sweep::{envmap_row_of, envmap_scenes, ENVMAP_PARAMS};
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::{reference_levels, render_and_predict_over};
 use crate::pipeline::glare::sweep::GLARE_PARAMS;
@@ -34,7 +36,7 @@ use crate::report::image_out::Framebuffer;
 use crate::report::metrics::{error_stats, ErrorStats};
 use crate::scene::format::Scene;
 use std::cell::RefCell;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::rc::Rc;
 use std::time::Instant;
 
@@ -302,6 +304,11 @@ pub struct Evaluator {
     backdrop: Option<Framebuffer>,
     /// A glare scene's references by framebuffer width (the base's is `reference`).
     by_fb: RefCell<BTreeMap<u32, Rc<Vec<[f64; 3]>>>>,
+    /// An environment-map scene's Phong truths, by the scene (as TOML) they were drawn
+    /// for: the truth depends on the map's side s (Λ = g(λ·|r|, s, I)), so one per
+    /// side searched, drawn the first time that scene is rendered and reused after
+    /// (the verification's fresh render of `best.toml`).
+    truths: RefCell<HashMap<String, Rc<Truth>>>,
 }
 
 impl Evaluator {
@@ -321,8 +328,8 @@ impl Evaluator {
                     (render_scene(&wide)?.0.levels(), None)
                 }
             },
-            // The environment map's truth (Phong, with the cos φ test) is drawn by
-            // `envmap_row` beside each render over the object's pixels; nothing here.
+            // The environment map's truth (Phong, with the cos φ test) depends on the
+            // map's side, which is searched: drawn by `evaluate`, once per scene.
             Kind::Envmap => (Vec::new(), None),
             Kind::Glare => {
                 let backdrop = if crate::frame::plan::shafts_backdrop(base) {
@@ -350,6 +357,7 @@ impl Evaluator {
             reference_seconds: t0.elapsed().as_secs_f64(),
             backdrop,
             by_fb,
+            truths: RefCell::new(HashMap::new()),
         })
     }
 
@@ -411,8 +419,24 @@ impl Evaluator {
                 })
             }
             Kind::Envmap => {
-                // `sweep`'s row: the render against the Phong truth (cos φ test).
-                let r = envmap_row(scene, "side")?;
+                // `sweep`'s row: the render against the Phong truth (cos φ test), the
+                // truth drawn the first time this scene is rendered.
+                let key = toml::to_string(scene)
+                    .map_err(|e| format!("scene: cannot write it as TOML: {e}"))?;
+                let known = self.truths.borrow().get(&key).cloned();
+                let f = match &known {
+                    Some(t) => render_scene_against(scene, t),
+                    None => render_env(scene, true),
+                }
+                .map_err(|e| e.to_string())?;
+                if known.is_none() {
+                    if let Some(t) = &f.truth {
+                        self.truths
+                            .borrow_mut()
+                            .insert(key, Rc::new(t.truth.clone()));
+                    }
+                }
+                let r = envmap_row_of(&f, "side")?;
                 Ok(Metrics {
                     gates: r.gates_nand2,
                     ram_bits: r.ram_bits,
@@ -427,6 +451,12 @@ impl Evaluator {
                 })
             }
         }
+    }
+
+    /// How many environment-map truths this evaluator has drawn (one per distinct
+    /// scene rendered; 0 for other kinds).
+    pub fn truths_drawn(&self) -> usize {
+        self.truths.borrow().len()
     }
 
     /// The sound lower bound of [`output_bound`] for `scene`'s output width; for a

@@ -474,6 +474,37 @@ pub fn dominates(b: (f64, f64, f64), a: (f64, f64, f64)) -> bool {
     b.0 <= a.0 && b.1 <= a.1 && b.2 <= a.2 && (b.0 < a.0 || b.1 < a.1 || b.2 < a.2)
 }
 
+/// The (objective cost, `metric` error) of a simulated point: the plane `pareto.png`
+/// draws (error on x, cost on y).
+pub fn objective_key(p: &Point, objective: Objective, metric: Metric) -> Option<(f64, f64)> {
+    p.metrics()
+        .map(|m| (metric.of(&m.error), objective.cost(m)))
+}
+
+/// b dominates a in the plane of [`objective_key`]: no worse in both, better in one.
+pub fn dominates_2d(b: (f64, f64), a: (f64, f64)) -> bool {
+    b.0 <= a.0 && b.1 <= a.1 && (b.0 < a.0 || b.1 < a.1)
+}
+
+/// For each point, whether it is on the front of (objective cost, `metric` error)
+/// among the simulated points: the front `pareto.png` draws and `pareto.csv`'s
+/// `on_objective_front` column. The 3-D front of [`mark_front`] (gates, RAM bits,
+/// error) holds every point of this one whose key no other point shares, and
+/// more: a point with fewer gates but more RAM bits than another is on the 3-D
+/// front whichever objective is chosen.
+pub fn objective_front(points: &[Point], objective: Objective, metric: Metric) -> Vec<bool> {
+    let keys: Vec<Option<(f64, f64)>> = points
+        .iter()
+        .map(|p| objective_key(p, objective, metric))
+        .collect();
+    keys.iter()
+        .map(|k| match k {
+            None => false,
+            Some(a) => !keys.iter().flatten().any(|b| dominates_2d(*b, *a)),
+        })
+        .collect()
+}
+
 /// Narrowings of one parameter tried past a violation before it backs off.
 pub const LOOKAHEAD: usize = 2;
 /// Lazy priority: unscored parameters first.

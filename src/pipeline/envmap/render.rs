@@ -297,6 +297,12 @@ pub fn render_against(
     truth: &Truth,
 ) -> Result<(Image, RenderStats), ConfigError> {
     let r = render_core(env, map, object, lambda, size, opt, true)?;
+    against(r, truth)
+}
+
+/// The errors of `r` against `truth`, made by an earlier render of the same pixels:
+/// its object mask, size and map side checked against `r`'s ("envmap_render.truth").
+fn against(r: Rendered, truth: &Truth) -> Result<(Image, RenderStats), ConfigError> {
     if truth.cos_phi.mask != r.img.mask
         || truth.simplified.mask != r.img.mask
         || truth.cos_phi.width != r.img.width
@@ -404,6 +410,24 @@ pub fn render_geometry_with_truth(
 ) -> Result<(Image, Truth, RenderStats), ConfigError> {
     let r = render_tris(env, map, &drawn(tris, camera)?, size, opt, true)?;
     with_truth(r, opt)
+}
+
+/// As [`render_geometry_with_truth`], but reusing `truth` from an earlier call with
+/// the same environment, exposure, triangles, camera, size and map side (as
+/// [`render_against`] for the thesis objects): the truth depends on the map's side s
+/// (Λ = g(λ·|r|, s, I)), never on its voxels. Its object mask, size and side are
+/// checked against this render's ("envmap_render.truth").
+pub fn render_geometry_against(
+    env: &EnvMap,
+    map: &VoxelMap,
+    tris: &[(Triangle, [f64; 3])],
+    camera: &Camera,
+    size: (u32, u32),
+    opt: &RenderOptions,
+    truth: &Truth,
+) -> Result<(Image, RenderStats), ConfigError> {
+    let r = render_tris(env, map, &drawn(tris, camera)?, size, opt, true)?;
+    against(r, truth)
 }
 
 /// The render's image, its two truths and the errors against them.

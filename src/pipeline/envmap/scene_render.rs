@@ -20,8 +20,8 @@ use super::image::{ErrorStats, Image};
 use super::objects::{object_geometry, LambdaSpec, Object};
 use super::prefilter::{build_accelerated_picked, build_exact, env_to_levels, DomePick};
 use super::render::{
-    render_geometry, render_geometry_with_truth, Background, FrameInfo, Lookup, RenderOptions,
-    Truth, MAX_IMAGE_SIDE,
+    render_geometry, render_geometry_against, render_geometry_with_truth, Background, FrameInfo,
+    Lookup, RenderOptions, Truth, MAX_IMAGE_SIDE,
 };
 use super::timing::{predict_frame, FramePrediction};
 use super::voxmap::VoxelMap;
@@ -255,6 +255,32 @@ fn drawable(scene: &Scene) -> Result<(&EnvironmentSection, EnvObject), ConfigErr
 /// Render an environment scene (module notes); with `with_truth` also the Phong truth
 /// and the errors against it. Every check runs before the map is built.
 pub fn render_scene(scene: &Scene, with_truth: bool) -> Result<SceneFrame, ConfigError> {
+    render_scene_with(
+        scene,
+        if with_truth {
+            TruthOf::Make
+        } else {
+            TruthOf::None
+        },
+    )
+}
+
+/// [`render_scene`] with the truth, reusing `truth` from an earlier render of the same
+/// scene (`optimize` draws it once per distinct scene: it depends on the map's side
+/// through Λ = g(λ·|r|, s, I), never on the voxels). Its object pixels and side must
+/// be this render's, else an error naming "envmap_render.truth".
+pub fn render_scene_against(scene: &Scene, truth: &Truth) -> Result<SceneFrame, ConfigError> {
+    render_scene_with(scene, TruthOf::Reuse(truth))
+}
+
+/// What [`render_scene_with`] does about the Phong truth.
+enum TruthOf<'a> {
+    None,
+    Make,
+    Reuse(&'a Truth),
+}
+
+fn render_scene_with(scene: &Scene, truth_of: TruthOf) -> Result<SceneFrame, ConfigError> {
     let (section, object) = drawable(scene)?;
     scene.validate()?;
     let env = section.load()?;
@@ -266,19 +292,32 @@ pub fn render_scene(scene: &Scene, with_truth: bool) -> Result<SceneFrame, Confi
     let mut opt = render_options(section);
     // The map's exposure (`exposure` or `exposure_rule`) for the background and truth.
     opt.exposure = Some(info.exposure);
-    let (image, frame, counters, truth) = if with_truth {
-        let (image, truth, stats) =
-            render_geometry_with_truth(&env, &map, &tris, &scene.camera, size, &opt)?;
-        let t = SceneTruth {
-            truth,
-            cos_phi: stats.cos_phi,
-            simplified: stats.simplified,
-        };
-        (image, stats.frame, stats.counters, Some(t))
-    } else {
-        let (image, frame, counters) =
-            render_geometry(&env, &map, &tris, &scene.camera, size, &opt)?;
-        (image, frame, counters, None)
+    let (image, frame, counters, truth) = match truth_of {
+        TruthOf::Make => {
+            let (image, truth, stats) =
+                render_geometry_with_truth(&env, &map, &tris, &scene.camera, size, &opt)?;
+            let t = SceneTruth {
+                truth,
+                cos_phi: stats.cos_phi,
+                simplified: stats.simplified,
+            };
+            (image, stats.frame, stats.counters, Some(t))
+        }
+        TruthOf::Reuse(truth) => {
+            let (image, stats) =
+                render_geometry_against(&env, &map, &tris, &scene.camera, size, &opt, truth)?;
+            let t = SceneTruth {
+                truth: truth.clone(),
+                cos_phi: stats.cos_phi,
+                simplified: stats.simplified,
+            };
+            (image, stats.frame, stats.counters, Some(t))
+        }
+        TruthOf::None => {
+            let (image, frame, counters) =
+                render_geometry(&env, &map, &tris, &scene.camera, size, &opt)?;
+            (image, frame, counters, None)
+        }
     };
     let render_seconds = t0.elapsed().as_secs_f64();
     Ok(SceneFrame {

@@ -21,7 +21,7 @@
 //! The CSV, plot, resume and shards are those of the glare and shading sweeps
 //! (`report::sweep_out`).
 
-use super::scene_render::render_scene;
+use super::scene_render::{render_scene, SceneFrame};
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
 use crate::report::shard::{Shard, SweepId};
@@ -59,6 +59,12 @@ pub fn envmap_scenes(base: &Scene, param: &str, values: &[u32]) -> Result<Vec<Sc
 /// One row: render `s` with its truth (module notes).
 pub fn envmap_row(s: &Scene, param: &str) -> Result<SweepRow, String> {
     let f = render_scene(s, true).map_err(|e| e.to_string())?;
+    envmap_row_of(&f, param)
+}
+
+/// The row of a render made with its truth (by [`render_scene`] or
+/// [`super::scene_render::render_scene_against`]).
+pub fn envmap_row_of(f: &SceneFrame, param: &str) -> Result<SweepRow, String> {
     let t = f
         .truth
         .as_ref()
