@@ -276,7 +276,14 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
     let mut saved: Result<(), String> = Ok(());
     let mut on_point = |book: &super::search::Book| {
         let best = book.best(plan.objective);
-        let r = rows(&plan.params, &book.points, &plan.budget, Some(0), best);
+        let r = rows(
+            &plan.params,
+            &book.points,
+            &plan.budget,
+            plan.objective,
+            Some(0),
+            best,
+        );
         if let Err(e) = write_csv(&csv, &r) {
             saved = Err(e);
         }
@@ -308,6 +315,7 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
         &plan.params,
         &o.points,
         &plan.budget,
+        plan.objective,
         Some(o.defaults),
         o.best,
     );
@@ -327,7 +335,13 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
         plan.objective.name(),
         plan.budget.describe()
     );
-    plot(&plan.out.join("pareto.png"), &title, &o, &plan.budget)?;
+    plot(
+        &plan.out.join("pareto.png"),
+        &title,
+        &o,
+        &plan.budget,
+        plan.objective,
+    )?;
     println!(
         "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",
         a.scene,
