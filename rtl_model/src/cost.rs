@@ -310,7 +310,11 @@ mod tests {
         // A run of ones 2^a − 1 (a ≥ 2) is 2^a − 2^0: two digits, shifted anywhere.
         for a in 2..40 {
             for s in [0u32, 3, 9] {
-                assert_eq!(prim::naf_digits(((1u64 << a) - 1) << s), 2, "a = {a}, s = {s}");
+                assert_eq!(
+                    prim::naf_digits(((1u64 << a) - 1) << s),
+                    2,
+                    "a = {a}, s = {s}"
+                );
             }
         }
         // 248 = 2^8 − 2^3; 219 = 2^8 − 2^5 − 2^2 − 2^0 (binary 1101_1011: six ones).
