@@ -187,6 +187,46 @@ pub mod prim {
             + half_adder() * n
     }
 
+    /// Non-zero digits of `c` in its non-adjacent form (canonical signed digits,
+    /// digits in {−1, 0, 1}, no two adjacent non-zero): the fewest shifted terms
+    /// whose sum or difference is c (248 = 2^8 − 2^3: 2; 2^12 − 1: 2; 85: 4).
+    pub fn naf_digits(mut c: u64) -> u32 {
+        let mut d = 0;
+        while c != 0 {
+            if c & 1 == 1 {
+                // digit +1 when c ≡ 1 (mod 4), −1 when c ≡ 3 (the carry clears the run)
+                if c & 3 == 1 {
+                    c -= 1;
+                } else {
+                    c += 1;
+                }
+                d += 1;
+            }
+            c >>= 1;
+        }
+        d
+    }
+
+    /// x × C for an n-bit unsigned x and a constant C: shift-adds over C's d non-zero
+    /// signed digits ([`naf_digits`]), d − 1 adders/subtractors, each taken as an
+    /// (n+1)-bit [`subtractor`] (the bits below each term's shift pass through as
+    /// wires; where two terms overlap the cells are full adders, above the shorter
+    /// one an incrementer, about n + 1 cells a term, counted all as full adders, the
+    /// subtractor's inverters covering the −1 digits). A power of two (d = 1) is
+    /// wiring; C = 0 is constant 0. This is the design a constant multiplier is built
+    /// as by hand; Yosys (the pinned script) does not recode C to signed digits but
+    /// sums C's binary ones (measured alone, `assign y = x * C`: 9 bits × 248 = 195
+    /// NAND2 where this counts 83; 12 bits × 4095 = 801 against 108), so where C has
+    /// runs of ones Yosys' count of such a multiplier is larger (docs/units.md,
+    /// specular_lookup).
+    pub fn constant_multiplier(n: u32, c: u64) -> Cells {
+        let d = naf_digits(c);
+        if n == 0 || d <= 1 {
+            return Cells::default();
+        }
+        subtractor(n + 1) * (d - 1) as f64
+    }
+
     /// n-bit 2:1 multiplexer.
     pub fn mux(n: u32) -> Cells {
         Cells {
@@ -260,6 +300,39 @@ impl Cost {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn naf_digits_are_the_fewest_signed_terms() {
+        // No two adjacent ones: the binary digits are already the NAF.
+        for c in [0u64, 1, 5, 0b1010_0101, 0b1001_0001_0101] {
+            assert_eq!(prim::naf_digits(c), c.count_ones(), "c = {c}");
+        }
+        // A run of ones 2^a − 1 (a ≥ 2) is 2^a − 2^0: two digits, shifted anywhere.
+        for a in 2..40 {
+            for s in [0u32, 3, 9] {
+                assert_eq!(
+                    prim::naf_digits(((1u64 << a) - 1) << s),
+                    2,
+                    "a = {a}, s = {s}"
+                );
+            }
+        }
+        // 248 = 2^8 − 2^3; 219 = 2^8 − 2^5 − 2^2 − 2^0 (binary 1101_1011: six ones).
+        assert_eq!(prim::naf_digits(248), 2);
+        assert_eq!(prim::naf_digits(219), 4);
+    }
+
+    #[test]
+    fn constant_multiplier_is_wiring_for_a_power_of_two() {
+        for s in 0..30 {
+            assert_eq!(prim::constant_multiplier(9, 1u64 << s).nand2_eq(), 0.0);
+        }
+        assert_eq!(prim::constant_multiplier(9, 0).nand2_eq(), 0.0);
+        // d digits: d − 1 (n+1)-bit subtractors, below the general n × bits(C) array.
+        let c = prim::constant_multiplier(9, 248).nand2_eq();
+        assert_eq!(c, prim::subtractor(10).nand2_eq());
+        assert!(c < prim::multiplier(9, 8).nand2_eq());
+    }
 
     #[test]
     fn adder_sizes_grow_linearly() {

@@ -43,7 +43,7 @@ use crate::error::{check_finite, check_range, ConfigError};
 use crate::packed_rom::PackedRom;
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::units::texture_sampler::Filter;
-use crate::wire::{bits_for, sign_extend};
+use crate::wire::sign_extend;
 use serde::{Deserialize, Serialize};
 
 /// Smallest and largest exponent the host writes tables for.
@@ -333,12 +333,24 @@ impl Unit for SpecularLookup {
         }
     }
 
+    /// Priced as the Verilog (`rtl_model/verilog/units/specular_lookup.v`) is built:
+    /// the input word feeds the position logic directly, the first register is the
+    /// position's (Timing: position | ROM read…), so there is no input register; the
+    /// ROM's synchronous read is the ROM's own output register (nearest has no other).
+    /// At m = k the position is x·2^w: its w fraction bits, the lerp weight, are
+    /// constant 0, so with the linear filter only T_i0 is live (no weight register,
+    /// d = T1 − T0, d·f, rounder or + T0: the output is T_i0 delayed to the latency),
+    /// and with the nearest filter the index rounder adds to constant-0 bits. When
+    /// m ≠ k, x × C is a constant multiplier ([`prim::constant_multiplier`]).
     fn cost(&self) -> Cost {
         let c = self.cfg;
-        let (n, k, b, w) = (c.in_bits, c.table_log2, c.entry_bits, c.weight_bits);
+        let (k, b, w) = (c.table_log2, c.entry_bits, c.weight_bits);
         let m = c.magnitude_bits();
-        let pw = k + w; // the position u(k).w
-        let mut cost = Cost::default().part("input register", prim::register(n));
+        let exact = self.position_is_exact();
+        // Fraction bits of the position that are not constant 0.
+        let wf = if exact { 0 } else { w };
+        let pw = k + wf; // the position's live bits, u(k).wf
+        let mut cost = Cost::default();
         if c.signed_input {
             cost = cost.part(
                 "negative → 0 (sign-bit AND gates)",
@@ -348,11 +360,16 @@ impl Unit for SpecularLookup {
                 },
             );
         }
-        if !self.position_is_exact() {
-            let cb = bits_for(self.position_scale);
+        if !exact {
             cost = cost
-                .part("position: x × C (constant)", prim::multiplier(m, cb))
-                .part("position: rounder", prim::adder(pw + 1))
+                .part(
+                    "position: x × C (constant, shift-adds over C's signed digits)",
+                    prim::constant_multiplier(m, self.position_scale),
+                )
+                .part(
+                    "position: rounder (+ 2^(m−1), incrementer)",
+                    prim::half_adder() * (pw + 1) as f64,
+                )
                 .part(
                     "position: guard clamp (comparator + mux)",
                     prim::comparator(pw + 1) + prim::mux(pw),
@@ -360,11 +377,27 @@ impl Unit for SpecularLookup {
         }
         cost = cost.part("position register", prim::register(pw));
         let cost = match c.filter {
-            Filter::Nearest => cost
-                .part(
-                    "nearest: index rounder (incrementer)",
-                    prim::half_adder() * (k + 1) as f64,
+            Filter::Nearest => {
+                let cost = if exact {
+                    cost
+                } else {
+                    cost.part(
+                        "nearest: index rounder (incrementer)",
+                        prim::half_adder() * (k + 1) as f64,
+                    )
+                };
+                cost.part(
+                    "bank select register, even/odd output mux",
+                    prim::register(1) + prim::mux(b),
                 )
+            }
+            Filter::Linear if exact => cost
+                .part(
+                    "even/odd banks: odd-bank address incrementer, T0 select",
+                    prim::half_adder() * k.saturating_sub(1) as f64 + prim::mux(b),
+                )
+                .part("bank select register", prim::register(1))
+                .part("T0 stage register (weight 0)", prim::register(b))
                 .part("output register", prim::register(b)),
             Filter::Linear => cost
                 .part(
@@ -372,8 +405,8 @@ impl Unit for SpecularLookup {
                     prim::half_adder() * k.saturating_sub(1) as f64 + prim::mux(b) * 2.0,
                 )
                 .part(
-                    "ROM output registers (T0, T1, f)",
-                    prim::register(2 * b + w),
+                    "weight and bank select registers (f, sel)",
+                    prim::register(w + 1),
                 )
                 .part("d = T1 − T0", prim::subtractor(b + 1))
                 .part("lerp multiplier d × f", prim::multiplier(b + 1, w))
