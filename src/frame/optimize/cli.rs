@@ -304,6 +304,143 @@ pub fn best_toml(scene: &Scene, header: &str) -> Result<String, String> {
     Ok(format!("{header}\n{body}"))
 }
 
+/// One search as both drivers run it (`optimize_cli` for a `Scene`,
+/// `shading::optimize_shading_cli` for a shading scene): a progress bar with the best
+/// cost so far, `pareto.csv` rewritten after every point, the final CSV, exit 130 on
+/// Ctrl-C with the CSV whole, `pareto.png`, and the summary lines.
+pub struct SearchRun<'a> {
+    /// The scene as the command line named it.
+    pub label: &'a str,
+    /// pareto.png's title.
+    pub title: &'a str,
+    pub params: &'a [&'static str],
+    pub budget: &'a Budget,
+    pub objective: Objective,
+    pub max_evals: Option<usize>,
+    pub seconds: Option<f64>,
+    pub seed: u64,
+    pub out: &'a Path,
+    pub started: std::time::Instant,
+}
+
+impl SearchRun<'_> {
+    fn csv(&self) -> PathBuf {
+        self.out.join("pareto.csv")
+    }
+
+    /// Search `target`; the outcome with its files written (an interrupted run exits).
+    pub fn run(&self, target: &dyn super::eval::Target) -> Result<Outcome, String> {
+        let csv = self.csv();
+        crate::report::interrupt::arm();
+        let bar =
+            crate::report::progress::progress_bar(self.max_evals.unwrap_or(0) as u64, "optimize");
+        let stop = || crate::report::interrupt::requested().is_some();
+        let limits = Limits {
+            max_evals: self.max_evals,
+            seconds: self.seconds,
+            stop: &stop,
+        };
+        let mut saved: Result<(), String> = Ok(());
+        let mut on_point = |book: &super::search::Book| {
+            let best = book.best(self.objective);
+            let r = rows(
+                self.params,
+                &book.points,
+                self.budget,
+                self.objective,
+                Some(0),
+                best,
+            );
+            if let Err(e) = write_csv(&csv, &r) {
+                saved = Err(e);
+            }
+            if self.max_evals.is_none() {
+                bar.set_length(book.simulations as u64 + 1);
+            }
+            bar.set_position(book.simulations as u64);
+            let cost = best
+                .and_then(|i| book.points[i].metrics())
+                .map(|m| self.objective.cost(m));
+            bar.set_message(match cost {
+                Some(c) => format!("best {} {c:.0}", self.objective.name()),
+                None => "no point within budget yet".into(),
+            });
+        };
+        let o = search(
+            target,
+            self.params,
+            self.budget,
+            self.objective,
+            self.seed,
+            &limits,
+            &mut on_point,
+        );
+        bar.finish_and_clear();
+        saved?;
+        let o = o?;
+        let r = rows(
+            self.params,
+            &o.points,
+            self.budget,
+            self.objective,
+            Some(o.defaults),
+            o.best,
+        );
+        write_csv(&csv, &r)?;
+        if o.end == End::Interrupted {
+            if let Some(sig) = crate::report::interrupt::requested() {
+                eprintln!(
+                    "optimize: interrupted after {} simulations; {} holds every point evaluated",
+                    o.simulations,
+                    csv.display()
+                );
+                std::process::exit(crate::report::interrupt::exit_status(sig));
+            }
+        }
+        plot(
+            &self.out.join("pareto.png"),
+            self.title,
+            &o,
+            self.budget,
+            self.objective,
+        )?;
+        println!(
+            "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",
+            self.label,
+            o.simulations,
+            o.pruned,
+            o.end,
+            self.started.elapsed().as_secs_f64()
+        );
+        if let Some(d) = o.points[o.defaults].metrics() {
+            println!(
+                "  defaults: {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3}",
+                describe(&o.params, &o.points[o.defaults].values),
+                d.gates,
+                d.ram_bits,
+                d.error.max,
+                d.error.rms,
+                d.error.mean_abs
+            );
+        }
+        Ok(o)
+    }
+
+    /// The error when no configuration evaluated meets the budget.
+    pub fn no_best(&self, o: &Outcome) -> String {
+        format!(
+            "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
+            self.budget.describe(),
+            if o.end == End::DefaultsBreakBudget {
+                "neither the defaults nor any widening of them up to 3 steps"
+            } else {
+                "the search stopped first"
+            },
+            self.csv().display()
+        )
+    }
+}
+
 /// The command.
 pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     // A shading scene (`shading-*` or a `[shading]` file) has its own driver.
@@ -326,71 +463,6 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
         plan.objective.name(),
         plan.params.join(",")
     );
-    crate::report::interrupt::arm();
-    let bar = crate::report::progress::progress_bar(plan.max_evals.unwrap_or(0) as u64, "optimize");
-    let stop = || crate::report::interrupt::requested().is_some();
-    let limits = Limits {
-        max_evals: plan.max_evals,
-        seconds: plan.seconds,
-        stop: &stop,
-    };
-    let mut saved: Result<(), String> = Ok(());
-    let mut on_point = |book: &super::search::Book| {
-        let best = book.best(plan.objective);
-        let r = rows(
-            &plan.params,
-            &book.points,
-            &plan.budget,
-            plan.objective,
-            Some(0),
-            best,
-        );
-        if let Err(e) = write_csv(&csv, &r) {
-            saved = Err(e);
-        }
-        if plan.max_evals.is_none() {
-            bar.set_length(book.simulations as u64 + 1);
-        }
-        bar.set_position(book.simulations as u64);
-        let cost = best
-            .and_then(|i| book.points[i].metrics())
-            .map(|m| plan.objective.cost(m));
-        bar.set_message(match cost {
-            Some(c) => format!("best {} {c:.0}", plan.objective.name()),
-            None => "no point within budget yet".into(),
-        });
-    };
-    let o = search(
-        &ev,
-        &plan.params,
-        &plan.budget,
-        plan.objective,
-        plan.seed,
-        &limits,
-        &mut on_point,
-    );
-    bar.finish_and_clear();
-    saved?;
-    let o = o?;
-    let r = rows(
-        &plan.params,
-        &o.points,
-        &plan.budget,
-        plan.objective,
-        Some(o.defaults),
-        o.best,
-    );
-    write_csv(&csv, &r)?;
-    if o.end == End::Interrupted {
-        if let Some(sig) = crate::report::interrupt::requested() {
-            eprintln!(
-                "optimize: interrupted after {} simulations; {} holds every point evaluated",
-                o.simulations,
-                csv.display()
-            );
-            std::process::exit(crate::report::interrupt::exit_status(sig));
-        }
-    }
     let title = format!(
         "optimize {} ({}x{}): {} within {}",
         plan.scene.short_name(),
@@ -399,44 +471,21 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
         plan.objective.name(),
         plan.budget.describe()
     );
-    plot(
-        &plan.out.join("pareto.png"),
-        &title,
-        &o,
-        &plan.budget,
-        plan.objective,
-    )?;
-    let d = o.points[o.defaults].metrics().copied();
-    println!(
-        "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",
-        plan.scene_arg,
-        o.simulations,
-        o.pruned,
-        o.end,
-        t0.elapsed().as_secs_f64()
-    );
-    if let Some(d) = d {
-        println!(
-            "  defaults: {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3}",
-            describe(&o.params, &o.points[o.defaults].values),
-            d.gates,
-            d.ram_bits,
-            d.error.max,
-            d.error.rms,
-            d.error.mean_abs
-        );
-    }
+    let run = SearchRun {
+        label: &plan.scene_arg,
+        title: &title,
+        params: &plan.params,
+        budget: &plan.budget,
+        objective: plan.objective,
+        max_evals: plan.max_evals,
+        seconds: plan.seconds,
+        seed: plan.seed,
+        out: &plan.out,
+        started: t0,
+    };
+    let o = run.run(&ev)?;
     let Some(best) = o.best_scene(&ev) else {
-        return Err(format!(
-            "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
-            plan.budget.describe(),
-            if o.end == End::DefaultsBreakBudget {
-                "neither the defaults nor any widening of them up to 3 steps"
-            } else {
-                "the search stopped first"
-            },
-            csv.display()
-        ));
+        return Err(run.no_best(&o));
     };
     let best = best?;
     let bi = o.best.unwrap_or(0);

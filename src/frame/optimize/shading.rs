@@ -15,9 +15,9 @@
 //! reference is already whole codes, so its bound is 0. The units' datasheet error
 //! bounds are upper bounds and prune nothing.
 
-use super::cli::{plot, rows, OptimizeArgs};
+use super::cli::{OptimizeArgs, SearchRun};
 use super::eval::{output_bound, Metrics, Reference, Step, Target};
-use super::search::{describe, search, Budget, End, Limit, Limits, Objective};
+use super::search::{describe, Budget, Limit, Objective};
 use crate::pipeline::shading::scene_file::ShadingFile;
 use crate::pipeline::shading::sphere::SphereView;
 use crate::pipeline::shading::sweep::{
@@ -25,7 +25,6 @@ use crate::pipeline::shading::sweep::{
     ShadingReference, ShadingScene, SQUARING_DEFAULT_BITS,
 };
 use crate::report::atomic::write_bytes;
-use crate::report::csv_out::write_csv;
 use crate::report::metrics::ErrorStats;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -265,113 +264,26 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
         plan.objective.name(),
         plan.params.join(",")
     );
-    crate::report::interrupt::arm();
-    let bar = crate::report::progress::progress_bar(plan.max_evals.unwrap_or(0) as u64, "optimize");
-    let stop = || crate::report::interrupt::requested().is_some();
-    let limits = Limits {
-        max_evals: plan.max_evals,
-        seconds: plan.seconds,
-        stop: &stop,
-    };
-    let mut saved: Result<(), String> = Ok(());
-    let mut on_point = |book: &super::search::Book| {
-        let best = book.best(plan.objective);
-        let r = rows(
-            &plan.params,
-            &book.points,
-            &plan.budget,
-            plan.objective,
-            Some(0),
-            best,
-        );
-        if let Err(e) = write_csv(&csv, &r) {
-            saved = Err(e);
-        }
-        if plan.max_evals.is_none() {
-            bar.set_length(book.simulations as u64 + 1);
-        }
-        bar.set_position(book.simulations as u64);
-        let cost = best
-            .and_then(|i| book.points[i].metrics())
-            .map(|m| plan.objective.cost(m));
-        bar.set_message(match cost {
-            Some(c) => format!("best {} {c:.0}", plan.objective.name()),
-            None => "no point within budget yet".into(),
-        });
-    };
-    let o = search(
-        &ev,
-        &plan.params,
-        &plan.budget,
-        plan.objective,
-        plan.seed,
-        &limits,
-        &mut on_point,
-    );
-    bar.finish_and_clear();
-    saved?;
-    let o = o?;
-    let r = rows(
-        &plan.params,
-        &o.points,
-        &plan.budget,
-        plan.objective,
-        Some(o.defaults),
-        o.best,
-    );
-    write_csv(&csv, &r)?;
-    if o.end == End::Interrupted {
-        if let Some(sig) = crate::report::interrupt::requested() {
-            eprintln!(
-                "optimize: interrupted after {} simulations; {} holds every point evaluated",
-                o.simulations,
-                csv.display()
-            );
-            std::process::exit(crate::report::interrupt::exit_status(sig));
-        }
-    }
     let title = format!(
         "optimize {name} ({size_text}): {} within {}",
         plan.objective.name(),
         plan.budget.describe()
     );
-    plot(
-        &plan.out.join("pareto.png"),
-        &title,
-        &o,
-        &plan.budget,
-        plan.objective,
-    )?;
-    println!(
-        "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",
-        a.scene,
-        o.simulations,
-        o.pruned,
-        o.end,
-        t0.elapsed().as_secs_f64()
-    );
-    if let Some(d) = o.points[o.defaults].metrics() {
-        println!(
-            "  defaults: {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3}",
-            describe(&o.params, &o.points[o.defaults].values),
-            d.gates,
-            d.ram_bits,
-            d.error.max,
-            d.error.rms,
-            d.error.mean_abs
-        );
-    }
+    let run = SearchRun {
+        label: &a.scene,
+        title: &title,
+        params: &plan.params,
+        budget: &plan.budget,
+        objective: plan.objective,
+        max_evals: plan.max_evals,
+        seconds: plan.seconds,
+        seed: plan.seed,
+        out: &plan.out,
+        started: t0,
+    };
+    let o = run.run(&ev)?;
     let Some(bi) = o.best else {
-        return Err(format!(
-            "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
-            plan.budget.describe(),
-            if o.end == End::DefaultsBreakBudget {
-                "neither the defaults nor any widening of them up to 3 steps"
-            } else {
-                "the search stopped first"
-            },
-            csv.display()
-        ));
+        return Err(run.no_best(&o));
     };
     let best = ShadingFile {
         point: ev.point(&o.params, &o.points[bi].values)?,
