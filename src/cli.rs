@@ -1017,9 +1017,12 @@ fn units_rtl_speed(json: bool, count: usize, config: &str) -> Result<(), String>
                 r.config.to_string(),
                 r.transactions.to_string(),
                 format!("{:.3e}", r.model_pixels_per_s),
-                format!("{:.3e}", r.verilator_cycles_per_s),
-                format!("{:.3e}", r.verilator_transactions_per_s),
-                format!("{:.0}", r.model_over_verilator),
+                r.verilator_cycles_per_s
+                    .map_or("— (too short)".into(), |v| format!("{v:.3e}")),
+                r.verilator_transactions_per_s
+                    .map_or("— (too short)".into(), |v| format!("{v:.3e}")),
+                r.model_over_verilator
+                    .map_or("—".into(), |v| format!("{v:.0}")),
             ]
         })
         .collect();

@@ -20,12 +20,14 @@ pub struct SpeedRow {
     /// Clocks the testbench runs: reset, (n − 1)·II + latency, and its tail.
     pub verilator_cycles: u64,
     /// Verilator wall time of the run less that of a one-transaction run (start-up,
-    /// file opening), seconds.
-    pub verilator_secs: f64,
-    pub verilator_cycles_per_s: f64,
-    pub verilator_transactions_per_s: f64,
+    /// file opening), seconds. `None` (and the rates with it) when that difference is
+    /// under [`MIN_TIMED_SECS`]: an exhaustive set of a few hundred words (exhaustive
+    /// sets keep their size) runs within the start-up's own noise.
+    pub verilator_secs: Option<f64>,
+    pub verilator_cycles_per_s: Option<f64>,
+    pub verilator_transactions_per_s: Option<f64>,
     /// model pixels/s ÷ Verilator transactions/s.
-    pub model_over_verilator: f64,
+    pub model_over_verilator: Option<f64>,
 }
 
 fn run(cmd: &mut Command, what: &str) -> Result<String, String> {
@@ -108,6 +110,9 @@ fn time_run(bin: &Path, dir: &Path, tag: &str, n: usize) -> Result<(f64, String)
     Ok((secs, line))
 }
 
+/// The shortest Verilator run (less its start-up) that gets a rate.
+pub const MIN_TIMED_SECS: f64 = 0.05;
+
 /// The speed table at `config`: `count` transactions per unit (exhaustive sets keep
 /// their size), vectors from `seed`, work files under `dir`.
 pub fn rtl_speed(
@@ -132,10 +137,11 @@ pub fn rtl_speed(
         let tag = s.tag();
         let (t1, _) = time_run(&bin, dir, &tag, 1)?;
         let (tn, _) = time_run(&bin, dir, &tag, n)?;
-        let secs = (tn - t1).max(1e-9);
+        let secs = tn - t1;
+        let timed = (secs >= MIN_TIMED_SECS).then_some(secs);
         let cycles = 2 + (n as u64 - 1) * s.ii as u64 + s.latency as u64 + 3;
         let model = n as f64 / s.model_batch_secs.max(1e-12);
-        let vtx = n as f64 / secs;
+        let vtx = timed.map(|t| n as f64 / t);
         eprintln!("units --rtl-speed: {tag}: {n} transactions, Verilator {secs:.3} s");
         rows.push(SpeedRow {
             unit: s.unit,
@@ -143,10 +149,10 @@ pub fn rtl_speed(
             transactions: n,
             model_pixels_per_s: model,
             verilator_cycles: cycles,
-            verilator_secs: secs,
-            verilator_cycles_per_s: cycles as f64 / secs,
+            verilator_secs: timed,
+            verilator_cycles_per_s: timed.map(|t| cycles as f64 / t),
             verilator_transactions_per_s: vtx,
-            model_over_verilator: model / vtx,
+            model_over_verilator: vtx.map(|v| model / v),
         });
     }
     Ok(rows)
