@@ -426,6 +426,42 @@ impl SearchRun<'_> {
         Ok(o)
     }
 
+    /// The best point's line after its fresh render (`m`, of the written `best`
+    /// file), the files written; an error when that render breaks the budget.
+    pub fn verified(
+        &self,
+        o: &Outcome,
+        best: usize,
+        best_file: &Path,
+        m: &super::eval::Metrics,
+    ) -> Result<(), String> {
+        let meets = self.budget.meets(&m.error);
+        println!(
+            "  best:     {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3} \
+             (verified by a fresh render of {}: {})",
+            describe(&o.params, &o.points[best].values),
+            m.gates,
+            m.ram_bits,
+            m.error.max,
+            m.error.rms,
+            m.error.mean_abs,
+            best_file.display(),
+            if meets {
+                "meets the budget"
+            } else {
+                "BREAKS the budget"
+            }
+        );
+        println!("  wrote {}, pareto.png, best.toml", self.csv().display());
+        if !meets {
+            return Err(format!(
+                "budget: the fresh render of {} breaks it",
+                best_file.display()
+            ));
+        }
+        Ok(())
+    }
+
     /// The error when no configuration evaluated meets the budget.
     pub fn no_best(&self, o: &Outcome) -> String {
         format!(
@@ -449,7 +485,6 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     }
     let plan = check(a)?;
     std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
-    let csv = plan.out.join("pareto.csv");
     let t0 = std::time::Instant::now();
     let ev = Evaluator::new(&plan.scene, plan.reference)?;
     eprintln!(
@@ -503,28 +538,5 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     // Verification: the written file read back and rendered afresh.
     let again = Scene::from_file(&toml_path).map_err(|e| format!("best.toml: {e}"))?;
     let m = ev.evaluate(&again)?;
-    println!(
-        "  best:     {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3} \
-         (verified by a fresh render of {}: {})",
-        describe(&o.params, &o.points[bi].values),
-        m.gates,
-        m.ram_bits,
-        m.error.max,
-        m.error.rms,
-        m.error.mean_abs,
-        toml_path.display(),
-        if plan.budget.meets(&m.error) {
-            "meets the budget"
-        } else {
-            "BREAKS the budget"
-        }
-    );
-    println!("  wrote {}, pareto.png, best.toml", csv.display());
-    if !plan.budget.meets(&m.error) {
-        return Err(format!(
-            "budget: the fresh render of {} breaks it",
-            toml_path.display()
-        ));
-    }
-    Ok(())
+    run.verified(&o, bi, &toml_path, &m)
 }

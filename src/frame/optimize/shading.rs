@@ -247,7 +247,6 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
         .image
         .map_or("vertices".to_string(), |s| format!("{s}x{s}"));
     std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
-    let csv = plan.out.join("pareto.csv");
     let t0 = Instant::now();
     let view = sweep_view(
         plan.file
@@ -302,28 +301,5 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
     let again = ShadingFile::resolve(&toml_path.display().to_string())?
         .ok_or_else(|| format!("best.toml: {} is not a shading scene", toml_path.display()))?;
     let m = ev.measure(&again.point)?;
-    println!(
-        "  best:     {} gates {:.0} RAM bits {} max {:.3} rms {:.3} mean {:.3} \
-         (verified by a fresh render of {}: {})",
-        describe(&o.params, &o.points[bi].values),
-        m.gates,
-        m.ram_bits,
-        m.error.max,
-        m.error.rms,
-        m.error.mean_abs,
-        toml_path.display(),
-        if plan.budget.meets(&m.error) {
-            "meets the budget"
-        } else {
-            "BREAKS the budget"
-        }
-    );
-    println!("  wrote {}, pareto.png, best.toml", csv.display());
-    if !plan.budget.meets(&m.error) {
-        return Err(format!(
-            "budget: the fresh render of {} breaks it",
-            toml_path.display()
-        ));
-    }
-    Ok(())
+    run.verified(&o, bi, &toml_path, &m)
 }
