@@ -94,6 +94,7 @@ module vertex_lighting #(
   localparam integer BIAS = (1 << (E - 1)) - 1;
   localparam integer EMIN = 1 - BIAS;
   localparam integer EMAX = BIAS;
+  localparam [E-1:0] BIAS_E = BIAS;
   localparam K = M + 4;  // pow's fraction bits
   localparam VW = E + M + 8;  // fp_pack's operand width
   localparam RK = 2 * M + 4;  // rcp: ⌊2^RK / sig⌋
@@ -177,21 +178,16 @@ module vertex_lighting #(
   // sticky bit below it: round once, saturate or flush.
   function [W-1:0] fp_round(input neg, input integer ex, input [M:0] sig, input rbit,
                             input sticky);
-    reg up;
     reg [M+1:0] q;
-    integer e, biased;
+    integer e;
     begin
-      up = (ROUNDING == 0) ? (rbit & (sticky | sig[0])) : 1'b0;
-      q = {1'b0, sig} + {{(M + 1) {1'b0}}, up};
-      e = ex;
-      if (q[M+1]) begin
-        e = e + 1;
-        q = q >> 1;
-      end
-      biased = e + BIAS;
+      // Rounding up a significand of all ones carries into bit M + 1 and leaves the
+      // fraction bits zero: the exponent steps up and the fraction needs no shift.
+      q = {1'b0, sig} + (ROUNDING == 0 && rbit && (sticky || sig[0]));
+      e = ex + q[M+1];
       if (e > EMAX) fp_round = {neg, MAXMAG};
       else if (e < EMIN) fp_round = {neg, {(W - 1) {1'b0}}};
-      else fp_round = {neg, biased[E-1:0], q[M-1:0]};
+      else fp_round = {neg, e[E-1:0] + BIAS_E, q[M-1:0]};
     end
   endfunction
 
@@ -240,55 +236,49 @@ module vertex_lighting #(
 
   // ---- arithmetic ------------------------------------------------------------------
   function [W-1:0] fp_mul(input [W-1:0] x, input [W-1:0] y);
-    reg neg;
-    reg [M:0] sx, sy;
     reg [2*M+1:0] p;
     integer ex;
     begin
-      neg = x[W-1] ^ y[W-1];
-      if (`VL_FZ(x) || `VL_FZ(y)) fp_mul = {neg, {(W - 1) {1'b0}}};
+      if (`VL_FZ(x) || `VL_FZ(y)) fp_mul = {x[W-1] ^ y[W-1], {(W - 1) {1'b0}}};
       else begin
-        sx = {1'b1, x[M-1:0]};
-        sy = {1'b1, y[M-1:0]};
-        p  = sx * sy;
+        p  = {1'b1, x[M-1:0]} * {1'b1, y[M-1:0]};
         ex = `VL_FE(x) + `VL_FE(y) - 2 * BIAS;
-        if (p[2*M+1]) fp_mul = fp_round(neg, ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
-        else fp_mul = fp_round(neg, ex, p[2*M:M], p[M-1], |p[M-2:0]);
+        if (p[2*M+1])
+          fp_mul = fp_round(x[W-1] ^ y[W-1], ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
+        else fp_mul = fp_round(x[W-1] ^ y[W-1], ex, p[2*M:M], p[M-1], |p[M-2:0]);
       end
     end
   endfunction
 
   function [W-1:0] fp_add(input [W-1:0] x, input [W-1:0] y);
-    reg swap, st;
     reg [W-1:0] big, sml;
-    integer eb, es, d;
-    reg [M+3:0] bs, ss, sfull, mask;
+    reg [E-1:0] eb, es, d;
+    reg [M+3:0] bs, ss;
     reg [M+4:0] s;
     begin
-      if (`VL_FZ(x) && `VL_FZ(y)) fp_add = {x[W-1] & y[W-1], {(W - 1) {1'b0}}};
-      else if (`VL_FZ(x)) fp_add = y;
-      else if (`VL_FZ(y)) fp_add = x;
+      if (`VL_FZ(x) || `VL_FZ(y))
+        fp_add = `VL_FZ(y) ? (`VL_FZ(x) ? {x[W-1] & y[W-1], {(W - 1) {1'b0}}} : x) : y;
       else begin
         eb = `VL_FE(x);
         es = `VL_FE(y);
-        swap = (es > eb) || (es == eb && y[M-1:0] > x[M-1:0]);
-        big = swap ? y : x;
-        sml = swap ? x : y;
-        d = swap ? es - eb : eb - es;
-        if (swap) eb = es;
-        bs = {1'b1, big[M-1:0], 3'b000};
-        sfull = {1'b1, sml[M-1:0], 3'b000};
-        if (d > M + 3) begin
-          ss = 0;
-          st = 1'b1;
+        if ((es > eb) || (es == eb && y[M-1:0] > x[M-1:0])) begin
+          big = y;
+          sml = x;
+          d   = es - eb;
+          eb  = es;
         end else begin
-          ss   = sfull >> d;
-          mask = ~({(M + 4) {1'b1}} << d);
-          st   = |(sfull & mask);
+          big = x;
+          sml = y;
+          d   = eb - es;
         end
-        ss[0] = ss[0] | st;
-        if (big[W-1] == sml[W-1]) s = {1'b0, bs} + {1'b0, ss};
-        else s = {1'b0, bs} - {1'b0, ss};
+        // The smaller aligned with guard and round bits, the bits shifted out jammed
+        // into its lsb (sticky); shifted out entirely it is the sticky bit alone.
+        ss = {1'b1, sml[M-1:0], 3'b000};
+        if (d > M + 3) ss = 1;
+        else ss = (ss >> d) | (|(ss & ~({(M + 4) {1'b1}} << d)));
+        bs = {1'b1, big[M-1:0], 3'b000};
+        if (big[W-1] == sml[W-1]) s = bs + ss;
+        else s = bs - ss;
         if (s == 0) fp_add = {W{1'b0}};
         else
           fp_add = fp_pack(big[W-1], eb - BIAS - M - 3, {{(VW - M - 5) {1'b0}}, s}, 1'b0);
@@ -342,7 +332,7 @@ module vertex_lighting #(
     reg [M+1:0] sig;
     reg [TWO_P:0] qw, rw;
     reg [QB2-1:0] quo;
-    reg [RB+1:0] rem2, trial;
+    reg [RB+1:0] rem2;
     reg [RB-1:0] root;
     integer j, lsb;
     begin
@@ -361,12 +351,11 @@ module vertex_lighting #(
         rem2 = 0;
         root = 0;
         for (j = RB - 1; j >= 0; j = j - 1) begin
-          rem2  = (rem2 << 2) | {{RB{1'b0}}, quo[2*j+:2]};
-          trial = {root, 2'b01};
-          if (rem2 >= trial) begin
-            rem2 = rem2 - trial;
+          rem2 = {rem2[RB-1:0], quo[2*j+:2]};
+          if (rem2 >= {root, 2'b01}) begin
+            rem2 = rem2 - {root, 2'b01};
             root = {root[RB-2:0], 1'b1};
-          end else root = {root[RB-2:0], 1'b0};
+          end else root = root << 1;
         end
         fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
                          rw != 0 || rem2 != 0);
