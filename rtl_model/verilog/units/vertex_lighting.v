@@ -307,30 +307,33 @@ module vertex_lighting #(
     fmax0 = (!x[W-1] && !`VL_FZ(x)) ? x : {W{1'b0}};
   endfunction
 
-  // The dividends of the reciprocals: 2^RK (rcp) and 2^TWO_P (rsq).
-  localparam [RK:0] RCP_NUM = {1'b1, {RK{1'b0}}};
-  localparam [TWO_P:0] RSQ_NUM = {1'b1, {TWO_P{1'b0}}};
-
   function [W-1:0] fp_rcp(input [W-1:0] x);
-    reg [RK:0] sig, q, rem;
-    integer lsb;
+    reg [M:0] sig;
+    reg [M+2:0] rem;
+    reg [M+4:0] q;
+    integer j, lsb;
     begin
       if (`VL_FZ(x)) fp_rcp = {x[W-1], MAXMAG};
       else begin
-        // ⌊2^RK / sig⌋ (M + 5 bits: sig ≥ 2^M) and its remainder; one divider, a
-        // restoring array once synthesised.
-        sig = {{(RK - M) {1'b0}}, 1'b1, x[M-1:0]};
-        q   = RCP_NUM / sig;
-        rem = RCP_NUM % sig;
+        sig = {1'b1, x[M-1:0]};
+        rem = {{(M + 2) {1'b0}}, 1'b1} << (M - 1);  // 2^RK >> (M + 5) < sig
+        q   = 0;
+        for (j = M + 4; j >= 0; j = j - 1) begin
+          rem = rem << 1;
+          if (rem >= {2'b00, sig}) begin
+            rem  = rem - {2'b00, sig};
+            q[j] = 1'b1;
+          end
+        end
         lsb = `VL_FE(x) - BIAS - M;
-        fp_rcp = fp_pack(x[W-1], -RK - lsb, {{(VW - M - 5) {1'b0}}, q[M+4:0]}, rem != 0);
+        fp_rcp = fp_pack(x[W-1], -RK - lsb, {{(VW - M - 5) {1'b0}}, q}, rem != 0);
       end
     end
   endfunction
 
   function [W-1:0] fp_rsq(input [W-1:0] x);
     reg [M+1:0] sig;
-    reg [TWO_P:0] qw, rw;
+    reg [M+3:0] rem;
     reg [QB2-1:0] quo;
     reg [RB+1:0] rem2;
     reg [RB-1:0] root;
@@ -343,10 +346,16 @@ module vertex_lighting #(
           sig = {1'b1, x[M-1:0], 1'b0};
           lsb = lsb - 1;
         end else sig = {1'b0, 1'b1, x[M-1:0]};
-        // ⌊2^TWO_P / sig⌋ (QB bits: sig ≥ 2^M) and its remainder; one divider.
-        qw  = RSQ_NUM / {{(TWO_P - M - 1) {1'b0}}, sig};
-        rw  = RSQ_NUM % {{(TWO_P - M - 1) {1'b0}}, sig};
-        quo = qw[QB2-1:0];
+        // ⌊2^TWO_P / sig⌋: the remainder before quotient bit QB − 1 is 2^(M−1) < sig.
+        rem = {{(M + 3) {1'b0}}, 1'b1} << (M - 1);
+        quo = 0;
+        for (j = QB - 1; j >= 0; j = j - 1) begin
+          rem = rem << 1;
+          if (rem >= {2'b00, sig}) begin
+            rem    = rem - {2'b00, sig};
+            quo[j] = 1'b1;
+          end
+        end
         // ⌊√quo⌋, restoring.
         rem2 = 0;
         root = 0;
@@ -358,7 +367,7 @@ module vertex_lighting #(
           end else root = root << 1;
         end
         fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
-                         rw != 0 || rem2 != 0);
+                         rem != 0 || rem2 != 0);
       end
     end
   endfunction
