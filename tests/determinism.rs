@@ -114,7 +114,7 @@ fn every_built_in_renders_the_same_bytes_and_counters_on_1_and_2_threads_twice()
             let first = one_a.install(|| render_builtin(name));
             (first, second.join().unwrap())
         });
-        let runs = vec![
+        let runs = [
             (1, 1, first_1),
             (1, 2, second_1),
             (2, 1, two.install(|| render_builtin(name))),
