@@ -94,29 +94,32 @@ fn render_builtin(name: &str) -> Output {
 
 #[test]
 fn every_built_in_renders_the_same_bytes_and_counters_on_1_and_2_threads_twice() {
-    let pools: Vec<(usize, rayon::ThreadPool)> = [1, 2]
-        .into_iter()
-        .map(|n| {
-            (
-                n,
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(n)
-                    .build()
-                    .unwrap(),
-            )
-        })
-        .collect();
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    // Two pools of 1 thread, so that the two 1-thread runs go at once (each is still
+    // alone in its pool, and a core would otherwise idle through them), then the two
+    // 2-thread runs one after the other in the pool of 2.
+    let (one_a, one_b, two) = (pool(1), pool(1), pool(2));
     let mut names = builtin_names();
     names.push("test");
     assert!(names.len() >= 15, "{names:?}");
     let mut bad = Vec::new();
     for name in &names {
-        let mut runs = Vec::new();
-        for (n, pool) in &pools {
-            for run in 1..=2 {
-                runs.push((*n, run, pool.install(|| render_builtin(name))));
-            }
-        }
+        let (first_1, second_1) = std::thread::scope(|scope| {
+            let second = scope.spawn(|| one_b.install(|| render_builtin(name)));
+            let first = one_a.install(|| render_builtin(name));
+            (first, second.join().unwrap())
+        });
+        let runs = [
+            (1, 1, first_1),
+            (1, 2, second_1),
+            (2, 1, two.install(|| render_builtin(name))),
+            (2, 2, two.install(|| render_builtin(name))),
+        ];
         let (_, _, first) = &runs[0];
         assert!(
             first.codes.iter().any(|&c| c != 0),

@@ -41,6 +41,13 @@ fn reproduce(name: &str, out: &Path, env: &[(&str, &str)], extra: &[&str]) -> Co
     c
 }
 
+/// Run `cmd` to its end on a thread of its own: the uninterrupted run goes on beside
+/// the one that is cut short (their directories are apart), so that the two cores are
+/// busy while the test waits for a journal item.
+fn beside(mut cmd: Command) -> std::thread::JoinHandle<Output> {
+    std::thread::spawn(move || cmd.output().unwrap())
+}
+
 /// Items in a journal (its lines after the record), None while it does not exist.
 fn items_in(journal: &Path) -> Option<usize> {
     let text = std::fs::read_to_string(journal).ok()?;
@@ -75,10 +82,7 @@ fn gauss_seeds_stopped_with_sigint_resumes_to_the_same_bytes() {
     let env = [("GLARE_GAUSS_SEEDS", "40")];
     let name = "glare-gauss-seeds";
     let whole = tmp("gauss-whole");
-    let w = ok(
-        reproduce(name, &whole, &env, &[]).output().unwrap(),
-        "uninterrupted run",
-    );
+    let whole_run = beside(reproduce(name, &whole, &env, &[]));
     let cut = tmp("gauss-cut");
     let journal = cut.join("glare-gauss-seeds.resume.jsonl");
     let (code, err) = cut_short(reproduce(name, &cut, &env, &[]), &journal, "INT");
@@ -90,6 +94,7 @@ fn gauss_seeds_stopped_with_sigint_resumes_to_the_same_bytes() {
     // Every finished item is on file (SIGINT saves the batch), and no output yet.
     assert_eq!(items_in(&journal), Some(k));
     assert!(!cut.join("gauss_seeds.csv").exists());
+    let w = ok(whole_run.join().unwrap(), "uninterrupted run");
 
     let r = ok(
         reproduce(name, &cut, &env, &["--resume"]).output().unwrap(),
@@ -155,10 +160,7 @@ fn envmap_table3_stopped_with_sigterm_resumes_to_the_same_tables() {
     ];
     let name = "envmap-table3";
     let whole = tmp("table3-whole");
-    ok(
-        reproduce(name, &whole, &env, &[]).output().unwrap(),
-        "uninterrupted run",
-    );
+    let whole_run = beside(reproduce(name, &whole, &env, &[]));
     let cut = tmp("table3-cut");
     let journal = cut.join("envmap-table3.resume.jsonl");
     let (code, err) = cut_short(reproduce(name, &cut, &env, &[]), &journal, "TERM");
@@ -168,6 +170,7 @@ fn envmap_table3_stopped_with_sigterm_resumes_to_the_same_tables() {
     assert!(k >= 1 && k < n, "{err}");
     assert_eq!(items_in(&journal), Some(k));
     assert!(!cut.join("table3.csv").exists());
+    ok(whole_run.join().unwrap(), "uninterrupted run");
     ok(
         reproduce(name, &cut, &env, &["--resume"]).output().unwrap(),
         "resumed run",

@@ -243,7 +243,7 @@ fn cost(v: &VectorSet) -> u64 {
 fn check_all(b: &Built) {
     let sim = b.sim;
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<std::sync::Mutex<Option<Summary>>> =
+    let results: Vec<std::sync::Mutex<Option<(Summary, f64)>>> =
         b.sets.iter().map(|_| std::sync::Mutex::new(None)).collect();
     let mut order: Vec<usize> = (0..b.sets.len()).collect();
     order.sort_by_key(|&i| std::cmp::Reverse(cost(&b.sets[i])));
@@ -255,13 +255,14 @@ fn check_all(b: &Built) {
                 let Some(&i) = order.get(k) else { break };
                 let v = &b.sets[i];
                 let tag = v.tag();
+                let t0 = std::time::Instant::now();
                 let s = simulate(
                     b,
                     &tag,
                     v.stimulus.len(),
                     &b.dir.join(&tag).join("expected.hex"),
                 );
-                *results[i].lock().unwrap() = Some(s);
+                *results[i].lock().unwrap() = Some((s, t0.elapsed().as_secs_f64()));
             });
         }
     });
@@ -269,9 +270,9 @@ fn check_all(b: &Built) {
     for (v, r) in b.sets.iter().zip(results) {
         let tag = v.tag();
         let n = v.stimulus.len();
-        let s = r.into_inner().unwrap().expect("every set simulated");
+        let (s, secs) = r.into_inner().unwrap().expect("every set simulated");
         println!(
-            "{sim} {tag}: {} transactions ({}), {} mismatches, {} valid errors",
+            "{sim} {tag}: {} transactions ({}), {} mismatches, {} valid errors, {secs:.1} s wall",
             s.checked,
             if v.exhaustive {
                 "exhaustive"

@@ -94,6 +94,7 @@ module vertex_lighting #(
   localparam integer BIAS = (1 << (E - 1)) - 1;
   localparam integer EMIN = 1 - BIAS;
   localparam integer EMAX = BIAS;
+  localparam [E-1:0] BIAS_E = BIAS;
   localparam K = M + 4;  // pow's fraction bits
   localparam VW = E + M + 8;  // fp_pack's operand width
   localparam RK = 2 * M + 4;  // rcp: ⌊2^RK / sig⌋
@@ -153,41 +154,40 @@ module vertex_lighting #(
   endfunction
 
   localparam [K*(K+1)-1:0] EXP2_ROM = exp2_rom_all(0);
+  // The same words as an array of constant nets, which fp_exp2 indexes: read from the
+  // wide parameter, Icarus would rebuild all K·(K + 1) bits on every read.
+  wire [K:0] exp2_rom[0:K-1];
+  genvar gr;
+  generate
+    for (gr = 0; gr < K; gr = gr + 1) begin : g_exp2_rom
+      assign exp2_rom[gr] = EXP2_ROM[gr*(K+1)+:(K+1)];
+    end
+  endgenerate
 
   // ---- fields ----------------------------------------------------------------------
+  // Macros, not functions: a function call is a thread fork and join in Icarus, and
+  // these two were most of the calls (the same gates either way). x is an identifier.
   // Zero (a zero exponent field: subnormals are flushed).
-  function fz(input [W-1:0] x);
-    fz = x[W-2:M] == 0;
-  endfunction
-
-  // Effective biased exponent (the reserved all-ones field reads as 2^E − 2).
-  function integer fe(input [W-1:0] x);
-    begin
-      if (&x[W-2:M]) fe = (1 << E) - 2;
-      else fe = x[W-2:M];
-    end
-  endfunction
+`define VL_FZ(x) (x[W-2:M] == 0)
+  // Effective biased exponent, E bits unsigned (the reserved all-ones field reads as
+  // 2^E − 2).
+`define VL_FE(x) ((&x[W-2:M]) ? {{(E - 1) {1'b1}}, 1'b0} : x[W-2:M])
 
   // ---- rounding --------------------------------------------------------------------
   // (−1)^neg · sig · 2^(ex − M), sig = 1.f (M + 1 bits), with the round bit and the
   // sticky bit below it: round once, saturate or flush.
   function [W-1:0] fp_round(input neg, input integer ex, input [M:0] sig, input rbit,
                             input sticky);
-    reg up;
     reg [M+1:0] q;
-    integer e, biased;
+    integer e;
     begin
-      up = (ROUNDING == 0) ? (rbit & (sticky | sig[0])) : 1'b0;
-      q = {1'b0, sig} + {{(M + 1) {1'b0}}, up};
-      e = ex;
-      if (q[M+1]) begin
-        e = e + 1;
-        q = q >> 1;
-      end
-      biased = e + BIAS;
+      // Rounding up a significand of all ones carries into bit M + 1 and leaves the
+      // fraction bits zero: the exponent steps up and the fraction needs no shift.
+      q = {1'b0, sig} + (ROUNDING == 0 && rbit && (sticky || sig[0]));
+      e = ex + q[M+1];
       if (e > EMAX) fp_round = {neg, MAXMAG};
       else if (e < EMIN) fp_round = {neg, {(W - 1) {1'b0}}};
-      else fp_round = {neg, biased[E-1:0], q[M-1:0]};
+      else fp_round = {neg, e[E-1:0] + BIAS_E, q[M-1:0]};
     end
   endfunction
 
@@ -195,85 +195,90 @@ module vertex_lighting #(
   // model's round_pack); val = 0 gives ±0.
   function [W-1:0] fp_pack(input neg, input integer ex0, input [VW-1:0] val,
                            input sticky);
-    integer t, i;
-    reg [VW-1:0] sh, mask;
-    reg [63:0] v64;
-    reg st;
+    integer t;
+    reg [63:0] v;
     begin
       if (val == 0) fp_pack = {neg, {(W - 1) {1'b0}}};
       else begin
-        // The leading one: a 6-level normalising shifter (VW ≤ 64).
-        v64 = {{(64 - VW) {1'b0}}, val};
+        // The leading one to bit 63: a 6-level normalising shifter (VW ≤ 64), t its
+        // position in val. Then sig = v[63:63−M], the round bit below it and the
+        // sticky bit the OR of the rest (all zero when val has ≤ M + 1 bits).
+        v = {{(64 - VW) {1'b0}}, val};
         t = 63;
-        for (i = 32; i > 0; i = i / 2)
-        if ((v64 >> (64 - i)) == 0) begin
-          v64 = v64 << i;
-          t = t - i;
+        if (v[63:32] == 0) begin
+          v = v << 32;
+          t = t - 32;
         end
-        if (t > M) begin
-          sh   = val >> (t - M - 1);  // sig at [M+1:1], the round bit at 0
-          mask = ~({VW{1'b1}} << (t - M - 1));
-          st   = sticky | (|(val & mask));
-          fp_pack = fp_round(neg, ex0 + t, sh[M+1:1], sh[0], st);
-        end else begin
-          sh = val << (M - t);
-          fp_pack = fp_round(neg, ex0 + t, sh[M:0], 1'b0, sticky);
+        if (v[63:48] == 0) begin
+          v = v << 16;
+          t = t - 16;
         end
+        if (v[63:56] == 0) begin
+          v = v << 8;
+          t = t - 8;
+        end
+        if (v[63:60] == 0) begin
+          v = v << 4;
+          t = t - 4;
+        end
+        if (v[63:62] == 0) begin
+          v = v << 2;
+          t = t - 2;
+        end
+        if (!v[63]) begin
+          v = v << 1;
+          t = t - 1;
+        end
+        fp_pack = fp_round(neg, ex0 + t, v[63:63-M], v[62-M], sticky | (|v[61-M:0]));
       end
     end
   endfunction
 
   // ---- arithmetic ------------------------------------------------------------------
   function [W-1:0] fp_mul(input [W-1:0] x, input [W-1:0] y);
-    reg neg;
-    reg [M:0] sx, sy;
     reg [2*M+1:0] p;
     integer ex;
     begin
-      neg = x[W-1] ^ y[W-1];
-      if (fz(x) || fz(y)) fp_mul = {neg, {(W - 1) {1'b0}}};
+      if (`VL_FZ(x) || `VL_FZ(y)) fp_mul = {x[W-1] ^ y[W-1], {(W - 1) {1'b0}}};
       else begin
-        sx = {1'b1, x[M-1:0]};
-        sy = {1'b1, y[M-1:0]};
-        p  = sx * sy;
-        ex = fe(x) + fe(y) - 2 * BIAS;
-        if (p[2*M+1]) fp_mul = fp_round(neg, ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
-        else fp_mul = fp_round(neg, ex, p[2*M:M], p[M-1], |p[M-2:0]);
+        p  = {1'b1, x[M-1:0]} * {1'b1, y[M-1:0]};
+        ex = `VL_FE(x) + `VL_FE(y) - 2 * BIAS;
+        if (p[2*M+1])
+          fp_mul = fp_round(x[W-1] ^ y[W-1], ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
+        else fp_mul = fp_round(x[W-1] ^ y[W-1], ex, p[2*M:M], p[M-1], |p[M-2:0]);
       end
     end
   endfunction
 
   function [W-1:0] fp_add(input [W-1:0] x, input [W-1:0] y);
-    reg swap, st;
     reg [W-1:0] big, sml;
-    integer eb, es, d;
-    reg [M+3:0] bs, ss, sfull, mask;
+    reg [E-1:0] eb, es, d;
+    reg [M+3:0] bs, ss;
     reg [M+4:0] s;
     begin
-      if (fz(x) && fz(y)) fp_add = {x[W-1] & y[W-1], {(W - 1) {1'b0}}};
-      else if (fz(x)) fp_add = y;
-      else if (fz(y)) fp_add = x;
+      if (`VL_FZ(x) || `VL_FZ(y))
+        fp_add = `VL_FZ(y) ? (`VL_FZ(x) ? {x[W-1] & y[W-1], {(W - 1) {1'b0}}} : x) : y;
       else begin
-        eb = fe(x);
-        es = fe(y);
-        swap = (es > eb) || (es == eb && y[M-1:0] > x[M-1:0]);
-        big = swap ? y : x;
-        sml = swap ? x : y;
-        d = swap ? es - eb : eb - es;
-        if (swap) eb = es;
-        bs = {1'b1, big[M-1:0], 3'b000};
-        sfull = {1'b1, sml[M-1:0], 3'b000};
-        if (d > M + 3) begin
-          ss = 0;
-          st = 1'b1;
+        eb = `VL_FE(x);
+        es = `VL_FE(y);
+        if ((es > eb) || (es == eb && y[M-1:0] > x[M-1:0])) begin
+          big = y;
+          sml = x;
+          d   = es - eb;
+          eb  = es;
         end else begin
-          ss   = sfull >> d;
-          mask = ~({(M + 4) {1'b1}} << d);
-          st   = |(sfull & mask);
+          big = x;
+          sml = y;
+          d   = eb - es;
         end
-        ss[0] = ss[0] | st;
-        if (big[W-1] == sml[W-1]) s = {1'b0, bs} + {1'b0, ss};
-        else s = {1'b0, bs} - {1'b0, ss};
+        // The smaller aligned with guard and round bits, the bits shifted out jammed
+        // into its lsb (sticky); shifted out entirely it is the sticky bit alone.
+        ss = {1'b1, sml[M-1:0], 3'b000};
+        if (d > M + 3) ss = 1;
+        else ss = (ss >> d) | (|(ss & ~({(M + 4) {1'b1}} << d)));
+        bs = {1'b1, big[M-1:0], 3'b000};
+        if (big[W-1] == sml[W-1]) s = bs + ss;
+        else s = bs - ss;
         if (s == 0) fp_add = {W{1'b0}};
         else
           fp_add = fp_pack(big[W-1], eb - BIAS - M - 3, {{(VW - M - 5) {1'b0}}, s}, 1'b0);
@@ -288,7 +293,7 @@ module vertex_lighting #(
   // Signed comparison key (±0 and flushed subnormals are 0).
   function signed [W:0] fkey(input [W-1:0] x);
     begin
-      if (fz(x)) fkey = 0;
+      if (`VL_FZ(x)) fkey = 0;
       else if (x[W-1]) fkey = -$signed({2'b00, x[W-2:0]});
       else fkey = $signed({2'b00, x[W-2:0]});
     end
@@ -299,7 +304,7 @@ module vertex_lighting #(
   endfunction
 
   function [W-1:0] fmax0(input [W-1:0] x);
-    fmax0 = (!x[W-1] && !fz(x)) ? x : {W{1'b0}};
+    fmax0 = (!x[W-1] && !`VL_FZ(x)) ? x : {W{1'b0}};
   endfunction
 
   function [W-1:0] fp_rcp(input [W-1:0] x);
@@ -308,7 +313,7 @@ module vertex_lighting #(
     reg [M+4:0] q;
     integer j, lsb;
     begin
-      if (fz(x)) fp_rcp = {x[W-1], MAXMAG};
+      if (`VL_FZ(x)) fp_rcp = {x[W-1], MAXMAG};
       else begin
         sig = {1'b1, x[M-1:0]};
         rem = {{(M + 2) {1'b0}}, 1'b1} << (M - 1);  // 2^RK >> (M + 5) < sig
@@ -320,7 +325,7 @@ module vertex_lighting #(
             q[j] = 1'b1;
           end
         end
-        lsb = fe(x) - BIAS - M;
+        lsb = `VL_FE(x) - BIAS - M;
         fp_rcp = fp_pack(x[W-1], -RK - lsb, {{(VW - M - 5) {1'b0}}, q}, rem != 0);
       end
     end
@@ -330,13 +335,13 @@ module vertex_lighting #(
     reg [M+1:0] sig;
     reg [M+3:0] rem;
     reg [QB2-1:0] quo;
-    reg [RB+1:0] rem2, trial;
+    reg [RB+1:0] rem2;
     reg [RB-1:0] root;
     integer j, lsb;
     begin
-      if (fz(x)) fp_rsq = {1'b0, MAXMAG};
+      if (`VL_FZ(x)) fp_rsq = {1'b0, MAXMAG};
       else begin
-        lsb = fe(x) - BIAS - M;
+        lsb = `VL_FE(x) - BIAS - M;
         if (lsb % 2 != 0) begin
           sig = {1'b1, x[M-1:0], 1'b0};
           lsb = lsb - 1;
@@ -355,12 +360,11 @@ module vertex_lighting #(
         rem2 = 0;
         root = 0;
         for (j = RB - 1; j >= 0; j = j - 1) begin
-          rem2  = (rem2 << 2) | {{RB{1'b0}}, quo[2*j+:2]};
-          trial = {root, 2'b01};
-          if (rem2 >= trial) begin
-            rem2 = rem2 - trial;
+          rem2 = {rem2[RB-1:0], quo[2*j+:2]};
+          if (rem2 >= {root, 2'b01}) begin
+            rem2 = rem2 - {root, 2'b01};
             root = {root[RB-2:0], 1'b1};
-          end else root = {root[RB-2:0], 1'b0};
+          end else root = root << 1;
         end
         fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
                          rem != 0 || rem2 != 0);
@@ -378,10 +382,10 @@ module vertex_lighting #(
     reg [2*K+1:0] wide;
     integer sh, n, i;
     begin
-      if (fz(t)) fp_exp2 = ONE;
+      if (`VL_FZ(t)) fp_exp2 = ONE;
       else begin
         sig = {1'b1, t[M-1:0]};
-        sh  = fe(t) - BIAS - M + K;
+        sh  = `VL_FE(t) - BIAS - M + K;
         inexact = 1'b0;
         if (sh >= 18) mag = {{(TW - 1) {1'b0}}, 1'b1} << (M + 18);
         else if (sh >= 0) mag = {{(TW - M - 1) {1'b0}}, sig} << sh;
@@ -403,7 +407,7 @@ module vertex_lighting #(
           prod = {1'b1, {K{1'b0}}};
           for (i = 1; i <= K; i = i + 1)
           if (f[K-i]) begin
-            wide = prod * EXP2_ROM[(i-1)*(K+1)+:(K+1)];
+            wide = prod * exp2_rom[i-1];
             prod = wide[2*K:K];
           end
           fp_exp2 = fp_pack(1'b0, n - K, {{(VW - K - 1) {1'b0}}, prod}, 1'b0);
@@ -421,8 +425,8 @@ module vertex_lighting #(
     reg [W-1:0] l;
     integer i, e;
     begin
-      if (fz(s)) fp_pow = ONE;
-      else if (x[W-1] || fz(x)) fp_pow = {W{1'b0}};
+      if (`VL_FZ(s)) fp_pow = ONE;
+      else if (x[W-1] || `VL_FZ(x)) fp_pow = {W{1'b0}};
       else begin
         y = {1'b1, x[M-1:0], 4'b0000};
         f = 0;
@@ -432,7 +436,7 @@ module vertex_lighting #(
           if (z[2*K+1]) y = z[2*K+1:K+1];
           else y = z[2*K:K];
         end
-        e = fe(x) - BIAS;
+        e = `VL_FE(x) - BIAS;
         lfix = e;
         lfix = (lfix <<< K) + $signed({1'b0, f});
         lmag = lfix < 0 ? -lfix : lfix;
@@ -448,11 +452,11 @@ module vertex_lighting #(
     reg [M+CB+1:0] sum;
     integer sh;
     begin
-      if (fz(x) || x[W-1]) fp_unorm = 0;
+      if (`VL_FZ(x) || x[W-1]) fp_unorm = 0;
       else if (x[W-2:0] >= ONE[W-2:0]) fp_unorm = {CB{1'b1}};
       else begin
         prod = {1'b1, x[M-1:0]} * {CB{1'b1}};
-        sh = BIAS + M - fe(x);
+        sh = BIAS + M - `VL_FE(x);
         if (sh >= M + CB + 2) fp_unorm = 0;
         else begin
           sum = {1'b0, prod} + ({{(M + CB + 1) {1'b0}}, 1'b1} << (sh - 1));
@@ -553,3 +557,6 @@ module vertex_lighting #(
   assign {r, g, b} = dl[(LATENCY-1)*OW-1-:OW];
   assign a = ALPHA[CB-1:0];
 endmodule
+
+`undef VL_FZ
+`undef VL_FE
