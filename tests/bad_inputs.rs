@@ -397,6 +397,29 @@ fn every_bad_input_is_refused_naming_its_field() {
     );
 }
 
+/// docs/inputs.md quotes the corpus size ("`tests/bad_inputs/cases.toml` holds N
+/// cases"); the figure must be the corpus's own count, so a case added or removed
+/// without the doc fails here (it said 249 when the file held 279).
+#[test]
+fn docs_inputs_quotes_the_corpus_size() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/inputs.md"))
+        .expect("docs/inputs.md");
+    // The sentence with a number ("… holds the user-level cases" is another).
+    let lead = "`tests/bad_inputs/cases.toml` holds ";
+    let quoted: usize = doc
+        .match_indices(lead)
+        .find_map(|(at, _)| {
+            let rest = &doc[at + lead.len()..];
+            rest.split_whitespace().next()?.parse().ok()
+        })
+        .expect("docs/inputs.md quotes the corpus size after its name");
+    assert_eq!(
+        quoted,
+        load_cases().len(),
+        "docs/inputs.md quotes {quoted} cases; cases.toml holds the other number"
+    );
+}
+
 // ---------------------------------------------------------------------------------
 // The memory budget: refused fast and small.
 
