@@ -397,6 +397,29 @@ fn every_bad_input_is_refused_naming_its_field() {
     );
 }
 
+/// docs/inputs.md quotes the corpus size ("`tests/bad_inputs/cases.toml` holds N
+/// cases"); the figure must be the corpus's own count, so a case added or removed
+/// without the doc fails here (it said 249 when the file held 279).
+#[test]
+fn docs_inputs_quotes_the_corpus_size() {
+    let doc = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/inputs.md"))
+        .expect("docs/inputs.md");
+    // The sentence with a number ("… holds the user-level cases" is another).
+    let lead = "`tests/bad_inputs/cases.toml` holds ";
+    let quoted: usize = doc
+        .match_indices(lead)
+        .find_map(|(at, _)| {
+            let rest = &doc[at + lead.len()..];
+            rest.split_whitespace().next()?.parse().ok()
+        })
+        .expect("docs/inputs.md quotes the corpus size after its name");
+    assert_eq!(
+        quoted,
+        load_cases().len(),
+        "docs/inputs.md quotes {quoted} cases; cases.toml holds the other number"
+    );
+}
+
 // ---------------------------------------------------------------------------------
 // The memory budget: refused fast and small.
 
@@ -546,5 +569,60 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
     // The sweep's refusal names the point that is too large.
     let (_, _, _, err) = run_measured(runs[0].1.as_slice(), &dir);
     assert!(err.contains("light_map_texels = 4096"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A shading scene honours the budget as the other pipelines' scenes do: under a
+/// budget smaller than its sphere view's buffers (`frame::budget::shading_estimate`)
+/// `render` refuses it naming `--max-memory` and the field that shrinks the view
+/// (`shading.image`), and writes nothing; the same scene file under the default
+/// budget (and under a budget that holds it) renders and writes its PNG.
+#[test]
+fn a_shading_scene_honours_the_memory_budget() {
+    use glare_pipeline::frame::budget::{shading_estimate, BYTES_PER_PIXEL};
+    let bin = env!("CARGO_BIN_EXE_glare-pipeline");
+    let dir = std::env::temp_dir().join(format!("budget-shading-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("small.toml");
+    std::fs::write(
+        &file,
+        "[shading]\nscene = \"shading-blinn_phong\"\nimage = 16\n",
+    )
+    .unwrap();
+    let out = dir.join("out.png");
+    let need = shading_estimate(Some(16)).total();
+    assert_eq!(need, 16 * 16 * BYTES_PER_PIXEL);
+    let render = |budget: Option<String>| {
+        let mut c = Command::new(bin);
+        c.arg("render")
+            .arg("--scene")
+            .arg(&file)
+            .arg("--out")
+            .arg(&out);
+        if let Some(b) = budget {
+            c.args(["--max-memory", &b]);
+        }
+        c.output().unwrap()
+    };
+    // One byte short of the view's estimate: refused, nothing written.
+    let o = render(Some((need - 1).to_string()));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(err.contains("--max-memory"), "{err}");
+    assert!(err.contains("shading.image"), "{err}");
+    assert!(err.contains("16 × 16"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists(), "a refused render wrote {}", out.display());
+    // Exactly the estimate, and the default budget: rendered.
+    for budget in [Some(need.to_string()), None] {
+        let o = render(budget.clone());
+        assert!(
+            o.status.success(),
+            "budget {budget:?}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(out.is_file(), "budget {budget:?}: no PNG");
+        std::fs::remove_file(&out).unwrap();
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

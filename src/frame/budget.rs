@@ -202,12 +202,46 @@ pub fn human(bytes: u64) -> String {
 /// (largest first) with the fields that shrink them. `budget_from` says where the
 /// budget came from (for the message).
 pub fn check(scene: &Scene, budget: u64, budget_from: &str) -> Result<Estimate, String> {
-    let e = estimate(scene);
-    let total = e.total();
-    if total <= budget {
+    check_estimate(estimate(scene), budget, budget_from)
+}
+
+/// [`check`] for an estimate already made (a shading scene's: [`shading_estimate`]).
+pub fn check_estimate(e: Estimate, budget: u64, budget_from: &str) -> Result<Estimate, String> {
+    if e.total() <= budget {
         return Ok(e);
     }
     Err(refusal(&e, budget, budget_from))
+}
+
+/// Bytes per lit sphere vertex of `shading-vertex` (position and normal in f64, the
+/// exact and the hardware colours, generous as [`BYTES_PER_PIXEL`] is).
+pub const BYTES_PER_VERTEX: u64 = 128;
+
+/// The large allocations of `render --scene` on a shading scene (`shading-*`, or a
+/// file with a `[shading]` table): the sphere view's image buffers (`image` × `image`
+/// pixels; the file's `shading.image` shrinks them), or for `shading-vertex`
+/// (`image` None: no image) its fixed sphere of lit vertices.
+pub fn shading_estimate(image: Option<u32>) -> Estimate {
+    use crate::pipeline::shading::sweep::{VERTEX_RINGS, VERTEX_SEGMENTS};
+    let item = match image {
+        Some(side) => {
+            let s = u64::from(side);
+            Item {
+                what: format!("image buffers ({side} × {side} pixels)"),
+                bytes: (s * s).saturating_mul(BYTES_PER_PIXEL),
+                shrink: "shading.image (in a [shading] scene file; default 256)".into(),
+            }
+        }
+        None => {
+            let n = u64::from(VERTEX_RINGS) * u64::from(VERTEX_SEGMENTS);
+            Item {
+                what: format!("sphere vertices ({n}, lit one by one)"),
+                bytes: n.saturating_mul(BYTES_PER_VERTEX),
+                shrink: "nothing: shading-vertex's sphere is fixed".into(),
+            }
+        }
+    };
+    Estimate { items: vec![item] }
 }
 
 /// The refusal of an estimate over `budget`: the total, the budget and where it came

@@ -12,7 +12,8 @@ use std::path::Path;
 /// `render --scene NAME [--plan]`. Before any work: the output paths are checked
 /// (errors name `out` or `reference`), the scene is loaded and validated, and its
 /// memory estimate is checked against `max_memory` (bytes; `None` = the default
-/// budget, half of `MemAvailable`: `frame::budget`).
+/// budget, half of `MemAvailable`: `frame::budget`), a shading scene's too
+/// (`budget::shading_estimate`: its sphere view).
 pub fn render_cli(
     name: &str,
     out: &Path,
@@ -40,6 +41,11 @@ pub fn render_cli(
     // A shading scene (`shading-*`, or a file with a `[shading]` table: what
     // `optimize` writes as best.toml for one) renders through the shading sweep's path.
     if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+        if !plan_only {
+            let (budget, from) = super::budget::resolve(max_memory);
+            let e = super::budget::shading_estimate(f.image);
+            super::budget::check_estimate(e, budget, &from)?;
+        }
         return crate::pipeline::shading::scene_file::render_cli(
             &f, out, json, reference, plan_only,
         );

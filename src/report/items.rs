@@ -25,8 +25,13 @@
 //! its outputs from all of them: the bytes of an uninterrupted run but for its
 //! wall-time columns. Without `--resume` an old journal is removed first. The journal
 //! stays beside the outputs when the run is complete, so `--resume` after a complete
-//! run only writes the outputs again. Floats round-trip exactly (serde_json with
-//! `float_roundtrip`; a unit test below checks awkward values).
+//! run only writes the outputs again. Finite floats round-trip exactly (serde_json with
+//! `float_roundtrip`; a unit test below checks awkward values). JSON has no infinity
+//! or NaN: serde_json writes a non-finite f64 as `null`, which does not read back as
+//! an f64 (`--resume` then refused the journal). A field that can be non-finite is
+//! marked `#[serde(with = "crate::report::items::nonfinite")]` ([`nonfinite`]: the
+//! strings `"inf"`, `"-inf"`, `"NaN"`), or the item keeps bit patterns
+//! (shading-factorization's ceilings).
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -256,6 +261,48 @@ impl<T: Serialize + DeserializeOwned + Clone> ItemJournal<T> {
     }
 }
 
+/// A non-finite `f64` in JSON: `#[serde(with = "crate::report::items::nonfinite")]`
+/// on a field writes a finite value as the number it is and ±∞ and NaN as the strings
+/// `"inf"`, `"-inf"` and `"NaN"` (what the csv crate writes for them, so a CSV of the
+/// same rows keeps its bytes), and reads either form back: a finite value to the same
+/// bits, ±∞ to ±∞, `"NaN"` to a NaN.
+pub mod nonfinite {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if x.is_finite() {
+            s.serialize_f64(*x)
+        } else if x.is_nan() {
+            s.serialize_str("NaN")
+        } else if *x > 0.0 {
+            s.serialize_str("inf")
+        } else {
+            s.serialize_str("-inf")
+        }
+    }
+
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Form {
+        Number(f64),
+        Text(String),
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        match Form::deserialize(d)? {
+            Form::Number(x) => Ok(x),
+            Form::Text(t) => match t.as_str() {
+                "inf" => Ok(f64::INFINITY),
+                "-inf" => Ok(f64::NEG_INFINITY),
+                "NaN" => Ok(f64::NAN),
+                _ => Err(serde::de::Error::custom(format!(
+                    "'{t}' is not a number (a number, \"inf\", \"-inf\" or \"NaN\")"
+                ))),
+            },
+        }
+    }
+}
+
 fn poisoned<E>(_: E) -> String {
     "a reproduction thread failed while saving its journal".to_string()
 }
@@ -353,6 +400,68 @@ mod tests {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back), bits(&xs));
         assert_eq!(k.item("b", || Ok(vec![1.0])).unwrap(), vec![1.0]);
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[derive(Clone, Serialize, Deserialize)]
+    struct Marked {
+        #[serde(with = "nonfinite")]
+        x: f64,
+        plain: f64,
+    }
+
+    /// A non-finite float in a marked field is written as valid JSON (a string, where
+    /// serde_json alone writes `null`) and comes back the same on --resume; an
+    /// unmarked one is still `null`, which does not read back (what `nonfinite` is for).
+    #[test]
+    fn non_finite_floats_in_marked_fields_are_valid_json_and_come_back() {
+        let d = dir("nonfinite");
+        let xs = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            0.1 + 0.2,
+            -0.0,
+            5e-324,
+            f64::MAX,
+        ];
+        let j: ItemJournal<Marked> = ItemJournal::open(&d, "t", &[], xs.len(), false).unwrap();
+        for (i, &x) in xs.iter().enumerate() {
+            j.record(&format!("k{i}"), Marked { x, plain: 1.5 })
+                .unwrap();
+        }
+        let text = std::fs::read_to_string(j.path()).unwrap();
+        for line in text.lines() {
+            assert!(!line.contains("null"), "{line}");
+            serde_json::from_str::<serde_json::Value>(line).expect("each line is JSON");
+        }
+        assert!(text.contains(r#""x":"inf""#), "{text}");
+        assert!(text.contains(r#""x":"-inf""#), "{text}");
+        assert!(text.contains(r#""x":"NaN""#), "{text}");
+        let k: ItemJournal<Marked> = ItemJournal::open(&d, "t", &[], xs.len(), true).unwrap();
+        assert_eq!(k.resumed(), xs.len());
+        for (i, &x) in xs.iter().enumerate() {
+            let back = k.item(&format!("k{i}"), || panic!("recomputed")).unwrap();
+            if x.is_nan() {
+                assert!(back.x.is_nan());
+            } else {
+                assert_eq!(back.x.to_bits(), x.to_bits(), "{x}");
+            }
+        }
+        // Unmarked, serde_json writes null and the value cannot be read back.
+        let line = serde_json::to_string(&Marked {
+            x: 1.0,
+            plain: f64::INFINITY,
+        })
+        .unwrap();
+        assert!(line.contains(r#""plain":null"#), "{line}");
+        assert!(serde_json::from_str::<Marked>(&line).is_err());
+        // A string that is not one of the three is refused, naming it.
+        let e = serde_json::from_str::<Marked>(r#"{"x":"infinity","plain":0.0}"#)
+            .err()
+            .unwrap()
+            .to_string();
+        assert!(e.contains("'infinity' is not a number"), "{e}");
         let _ = std::fs::remove_dir_all(&d);
     }
 

@@ -624,19 +624,18 @@ impl Unit for ShadowCompare {
         let yb = bits_for(self.cfg.height as u64 - 1);
         let wb = bits_for(self.cfg.width as u64);
         let xb = bits_for(self.cfg.width as u64 - 1);
-        let c = Cost::default()
-            .part(
-                "input registers (op, x, y, frag depth)",
-                prim::register(2 + 2 * COORD_BITS + n + k),
-            )
-            .part(
-                "out-of-map checks (x ≥ w, y ≥ h, signs)",
-                prim::comparator(COORD_BITS) * 2.0
-                    + Cells {
-                        or2: 3.0,
-                        ..Cells::default()
-                    },
-            );
+        // No input register: as in the Verilog (rtl_model/verilog/units/shadow_compare.v),
+        // the two clocks of `timing()` are the stage-1 registers (beside the RAM read)
+        // and the output register; the inputs feed the map test and the address
+        // directly.
+        let c = Cost::default().part(
+            "out-of-map checks (x ≥ w, y ≥ h, signs)",
+            prim::comparator(COORD_BITS) * 2.0
+                + Cells {
+                    or2: 3.0,
+                    ..Cells::default()
+                },
+        );
         // y·w + x: wires when w is a power of two ({y, x} concatenated); otherwise a
         // general y × w multiplier and an adder (an upper estimate: a synthesised
         // constant w would reduce it to shift-adds).
@@ -662,6 +661,10 @@ impl Unit for ShadowCompare {
         .part(
             "write forwarding (address match + bypass mux)",
             prim::comparator(a) + prim::mux(n),
+        )
+        .part(
+            "write forwarding registers (clear, write enable, address, word)",
+            prim::register(2 + a + n),
         )
         .part(
             "output register (lit, written, stored)",

@@ -288,8 +288,13 @@ pub struct IncidenceRow {
     pub params: String,
     pub theta_deg: f64,
     pub phi_deg: f64,
+    /// Non-finite where the model's values are (`PropertyRow::all_finite`); kept
+    /// through the --resume journal as a string then (`report::items::nonfinite`).
+    #[serde(with = "crate::report::items::nonfinite")]
     pub albedo: f64,
-    /// The stated error (|A_τ − A_100τ| + the GK estimate).
+    /// The stated error (|A_τ − A_100τ| + the GK estimate); ∞ where the quadrature's
+    /// estimate is NaN (`reference::quadrature`).
+    #[serde(with = "crate::report::items::nonfinite")]
     pub error: f64,
     pub converged: bool,
     pub evaluations: u64,
@@ -301,18 +306,24 @@ pub struct PropertyRow {
     pub model: String,
     pub params: String,
     pub reciprocal_claimed: bool,
-    /// max |R(ω_i, ω_o) − R(ω_o, ω_i)| / max(1, R) over the pairs.
+    /// max |R(ω_i, ω_o) − R(ω_o, ω_i)| / max(1, R) over the pairs. This and the
+    /// albedo fields below can be non-finite (`all_finite`, the quadrature's ∞ error
+    /// estimate); the --resume journal keeps them as strings (`report::items::nonfinite`).
+    #[serde(with = "crate::report::items::nonfinite")]
     pub max_reciprocity_residual: f64,
     pub pairs: usize,
     pub energy_claimed: bool,
     /// The largest albedo over the incidences…
+    #[serde(with = "crate::report::items::nonfinite")]
     pub max_albedo: f64,
     /// …its stated quadrature error…
+    #[serde(with = "crate::report::items::nonfinite")]
     pub albedo_error: f64,
     /// …and where it occurred.
     pub worst_theta_deg: f64,
     pub worst_phi_deg: f64,
     /// The largest stated error over every incidence of the row.
+    #[serde(with = "crate::report::items::nonfinite")]
     pub max_albedo_error: f64,
     /// Every value finite and every quadrature converged.
     pub all_finite: bool,
@@ -519,4 +530,77 @@ pub fn brdf_properties_resumable(out: &Path, resume: bool) -> Result<Vec<Propert
     println!("henyey_greenstein: worst |∫p − 1|, |∫p cos − g| = {hg_worst:.2e}");
     println!("dipole: worst |2π∫R_d r dr − closed form| = {dip_worst:.2e}");
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::items::ItemJournal;
+
+    /// A case whose quadrature stated an ∞ error (and a NaN albedo) is journaled as
+    /// valid JSON and comes back the same on --resume; the CSV of the same rows writes
+    /// `inf` and `NaN` as the csv crate writes those floats.
+    #[test]
+    fn non_finite_albedo_fields_round_trip_through_the_resume_journal() {
+        let d = std::env::temp_dir().join(format!("brdf-props-inf-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        let inc = IncidenceRow {
+            model: "m".into(),
+            params: "tau=inf".into(),
+            theta_deg: 89.9,
+            phi_deg: 0.0,
+            albedo: f64::NAN,
+            error: f64::INFINITY,
+            converged: false,
+            evaluations: 7,
+        };
+        let row = PropertyRow {
+            model: "m".into(),
+            params: "tau=inf".into(),
+            reciprocal_claimed: true,
+            max_reciprocity_residual: f64::NEG_INFINITY,
+            pairs: 1,
+            energy_claimed: false,
+            max_albedo: 0.25,
+            albedo_error: f64::INFINITY,
+            worst_theta_deg: 89.9,
+            worst_phi_deg: 0.0,
+            max_albedo_error: f64::INFINITY,
+            all_finite: false,
+            converged: false,
+        };
+        type Item = (PropertyRow, Vec<IncidenceRow>);
+        let j: ItemJournal<Item> = ItemJournal::open(&d, "p", &[], 1, false).unwrap();
+        j.record("case=0", (row.clone(), vec![inc.clone()]))
+            .unwrap();
+        let text = std::fs::read_to_string(j.path()).unwrap();
+        assert!(!text.contains("null"), "{text}");
+        for line in text.lines() {
+            serde_json::from_str::<serde_json::Value>(line).expect("each line is JSON");
+        }
+        let k: ItemJournal<Item> = ItemJournal::open(&d, "p", &[], 1, true).unwrap();
+        let (r, incs) = k.item("case=0", || panic!("recomputed")).unwrap();
+        assert_eq!(r, row);
+        assert!(incs[0].albedo.is_nan());
+        assert_eq!(incs[0].error, f64::INFINITY);
+        assert_eq!(
+            (incs[0].theta_deg, incs[0].evaluations),
+            (inc.theta_deg, inc.evaluations)
+        );
+        let csv = d.join("inc.csv");
+        crate::report::csv_out::write_csv(&csv, &[inc]).unwrap();
+        let body = std::fs::read_to_string(&csv).unwrap();
+        assert_eq!(
+            body.lines().nth(1),
+            Some("m,tau=inf,89.9,0.0,NaN,inf,false,7")
+        );
+        // The bytes the unmarked floats gave (the CSV is unchanged by the marking).
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.serialize((f64::NAN, f64::INFINITY, f64::NEG_INFINITY))
+            .unwrap();
+        let plain = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert_eq!(plain, "NaN,inf,-inf\n");
+        let _ = std::fs::remove_dir_all(&d);
+    }
 }
