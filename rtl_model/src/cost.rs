@@ -190,7 +190,12 @@ pub mod prim {
     /// Non-zero digits of `c` in its non-adjacent form (canonical signed digits,
     /// digits in {−1, 0, 1}, no two adjacent non-zero): the fewest shifted terms
     /// whose sum or difference is c (248 = 2^8 − 2^3: 2; 2^12 − 1: 2; 85: 4).
-    pub fn naf_digits(mut c: u64) -> u32 {
+    pub fn naf_digits(c: u64) -> u32 {
+        naf_digits_u128(c as u128)
+    }
+
+    /// [`naf_digits`] of a constant wider than 64 bits (chaos_map's 1/(1 − a) at F > 30).
+    pub fn naf_digits_u128(mut c: u128) -> u32 {
         let mut d = 0;
         while c != 0 {
             if c & 1 == 1 {
@@ -220,7 +225,12 @@ pub mod prim {
     /// runs of ones Yosys' count of such a multiplier is larger (docs/units.md,
     /// specular_lookup).
     pub fn constant_multiplier(n: u32, c: u64) -> Cells {
-        let d = naf_digits(c);
+        constant_multiplier_u128(n, c as u128)
+    }
+
+    /// [`constant_multiplier`] by a constant wider than 64 bits.
+    pub fn constant_multiplier_u128(n: u32, c: u128) -> Cells {
+        let d = naf_digits_u128(c);
         if n == 0 || d <= 1 {
             return Cells::default();
         }
@@ -320,6 +330,9 @@ mod tests {
         // 248 = 2^8 − 2^3; 219 = 2^8 − 2^5 − 2^2 − 2^0 (binary 1101_1011: six ones).
         assert_eq!(prim::naf_digits(248), 2);
         assert_eq!(prim::naf_digits(219), 4);
+        // Beyond 64 bits: a run of 100 ones is two digits; 5·2^96 + 5·2^4 is four.
+        assert_eq!(prim::naf_digits_u128((1u128 << 100) - 1), 2);
+        assert_eq!(prim::naf_digits_u128((5u128 << 96) | (5 << 4)), 4);
     }
 
     #[test]

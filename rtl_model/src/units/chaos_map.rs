@@ -425,6 +425,15 @@ impl Unit for ChaosMap {
         }
     }
 
+    /// Priced as rtl_model/verilog/units/chaos_map.v is built. a, z, log2 u and I/n are
+    /// constants of the configuration (the Verilog's parameters `A`, `ZQ`, `LU_*`,
+    /// `K_OUT`; `recip` is computed from `A` when the unit is built), so z × Δ,
+    /// (S − a) × 1/(1 − a) and ΣS × I/n are constant multipliers
+    /// ([`prim::constant_multiplier`]: shift-adds over the constant's signed digits;
+    /// I/n = 2^−2 at the default is wiring), not general array multipliers. The
+    /// interpolators multiply two data words and stay general. Registers are the
+    /// Verilog's: the patch states (with their write port), the 7-stage datapath's
+    /// stage registers, the ROM address registers, the request counter and valid chain.
     fn cost(&self) -> Cost {
         let c = &self.cfg;
         let (f, t, e, zf, o, n) = (
@@ -436,19 +445,35 @@ impl Unit for ChaosMap {
             c.patches,
         );
         let d = e;
-        let ir = (128 - self.recip.leading_zeros()).saturating_sub(f + RECIP_EXTRA_BITS);
+        // The Verilog's patch index and request counter (`IW`), p = F + 1 − bl (7 bits).
+        let (iw, pw) = (7, 7);
         let stages = |w: u32| 32 - w.leading_zeros();
         let interp = prim::subtractor(e + 2) + prim::multiplier(e + 2, d) + prim::adder(e + 2);
         let rom_bits = self.log2_rom.ram_bits() + self.exp2_rom.ram_bits();
         let mut cost = Cost::default()
             .part("patch state registers", prim::register(n * f))
+            .part("patch state write port (load enables)", prim::mux(n * f))
             .part("patch select", prim::mux_k(f, n))
             .part("lzc of S", prim::leading_zero_counter(f))
             .part("mantissa normaliser", prim::shifter(t + d, stages(f)))
+            .part(
+                "ROM addresses i, i + 1 (log2, exp2)",
+                prim::half_adder() * (2 * t) as f64,
+            )
             .part("log2 interpolator", interp)
             .part("p·2^E − L", prim::subtractor(e + 6))
-            .part("z × Δ", prim::multiplier(zf + 1, e + 6))
+            .part(
+                "z × Δ (z constant)",
+                prim::constant_multiplier(e + 6, self.z_q),
+            )
             .part("− log2 u", prim::subtractor(e + zf + 8))
+            .part(
+                "V < 0 → 0",
+                Cells {
+                    and2: (e + zf + 9) as f64,
+                    ..Cells::default()
+                },
+            )
             .part("exp2 interpolator", interp)
             .part("2^−n shifter", prim::shifter(f + 1, stages(f + e)))
             .part("round inc", prim::adder(f))
@@ -456,21 +481,32 @@ impl Unit for ChaosMap {
             .part("S + inc, saturate", prim::saturating_adder(f + 1))
             .part("S − a", prim::subtractor(f))
             .part(
-                "(S − a) × 1/(1 − a)",
-                prim::multiplier(f, ir + f + RECIP_EXTRA_BITS),
+                "(S − a) × 1/(1 − a) (constant)",
+                prim::constant_multiplier_u128(f, self.recip),
             )
             .part("branch mux", prim::mux(f))
             .part(
                 "patch accumulator",
                 prim::adder(f + 6) + prim::register(f + 6),
             )
-            .part("× I/n, round, saturate", {
-                prim::multiplier(f + 6, o + GAIN_EXTRA_BITS)
+            .part("× I/n (constant), round, saturate", {
+                prim::constant_multiplier(f + 6, self.k_out)
                     + prim::adder(o + 1)
                     + prim::comparator(o + 1)
                     + prim::mux(o)
             })
-            .part("pipeline registers", prim::register(6 * (e + zf + 8)))
+            .part(
+                "stage registers (S ×5, p ×2, t ×4, index ×6, n ×3, X, S′)",
+                prim::register(5 * f + 2 * pw + 4 * d + 6 * iw + 3 * 9 + (e + 2) + f),
+            )
+            .part(
+                "ROM address registers (2 × log2, 2 × exp2)",
+                prim::register(2 * (2 * t + 1)),
+            )
+            .part(
+                "request counter and valid chain",
+                prim::register(iw + 1 + 6 + 2),
+            )
             .part("output register", prim::register(o));
         if c.escape == Escape::MinStep {
             // inc == 0 (an OR tree) forces bit 0: max(inc, 1) = inc | (inc == 0).

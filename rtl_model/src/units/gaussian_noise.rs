@@ -523,7 +523,12 @@ impl Unit for GaussianNoise {
                     .part("lzc of U1", prim::leading_zero_counter(bb + 1))
                     .part("mantissa normaliser", prim::shifter(t + d, stages(bb + 1)))
                     .part("ln interpolator", Self::interp_cells(e, d))
-                    .part("e × ln2", prim::multiplier(6, e + 8))
+                    // LN2 is a constant (the Verilog's parameter): shift-adds over its
+                    // signed digits, not a general 6 × (E + 8) array.
+                    .part(
+                        "e × ln2 (constant)",
+                        prim::constant_multiplier(6, self.ln2 as u64),
+                    )
                     .part("e·ln2 − L, round", prim::subtractor(e + 14))
                     .part("y registers", prim::register(3 * (e + 6)))
                     .part("lzc of Y", prim::leading_zero_counter(e + 5))

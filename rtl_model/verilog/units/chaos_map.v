@@ -158,7 +158,10 @@ module chaos_map #(
   wire [E+F+1:0] inc = (ESCAPE != 0 && inc0 == 0) ? 1 : inc0;
   wire [E+F+2:0] sum_l = s6 + inc;
   wire [F-1:0] nl = sum_l > SMAX ? SMAX : sum_l[F-1:0];
-  wire [3*F+3:0] rp = (s6 - AQ) * RECIP;
+  // S - a at F bits (only S > a uses the product, and then 0 < S - a < 2^F): at the
+  // product's width the borrow would be copied into 2F + 4 more operand bits
+  wire [F-1:0] sma = s6 - AQ;
+  wire [3*F+3:0] rp = sma * RECIP;
   wire [F-1:0] nr = rp >> FR;
   wire [F-1:0] ns6 = s6 <= AQ ? nl : nr;
   reg [F-1:0] ns;
