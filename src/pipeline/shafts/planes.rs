@@ -466,11 +466,11 @@ fn plane<T: Send>(
             cell(&pc, &q, w, h)
         })
         .collect();
-    frags.clear();
     let mut spans = PlaneSpans::default();
+    let mut cell_frags = Vec::with_capacity(drawn.len());
     for d in drawn {
         let (f, s) = d?;
-        frags.extend(f);
+        cell_frags.push(f);
         spans.merge(&s);
     }
     let walked = spans.interp.pixels_in;
@@ -485,8 +485,16 @@ fn plane<T: Send>(
     for s in spans.modulate {
         s.close("modulate", u.modulate.timing(), ctr);
     }
-    let frags = &*frags;
-    let ((), t) = rayon::join(|| blend_plane(&u.blend, fb, frags, ctr, scratch), beside);
+    // The cells' fragments joined in cell order on the pool, beside `beside`, not
+    // between two parallel sections.
+    let blend = || {
+        frags.clear();
+        for f in &cell_frags {
+            frags.extend_from_slice(f);
+        }
+        blend_plane(&u.blend, fb, frags, ctr, scratch)
+    };
+    let ((), t) = rayon::join(blend, beside);
     let mut st = PassStats::new(
         PassKind::Plane,
         ctx.li,
