@@ -574,3 +574,167 @@ fn address_is_the_clamped_wire_test() {
         }
     }
 }
+
+/// `test_filter_flat` on lanes (x, y, inside) at one depth, against the kernel's
+/// Test on the candidates (covered lanes inside the viewport) in lane order, run on
+/// a copy of `st` (a test never changes it), and against `test_filter_lanes` on the
+/// same candidates: the same kept indices (appended), counters and count.
+#[allow(clippy::too_many_arguments)]
+fn flat_agrees(
+    u: &ShadowCompare,
+    st: &rtl_model::units::shadow_compare::ShadowState,
+    words: &[u32],
+    x: &[i64],
+    y: &[i64],
+    inside: &[bool],
+    viewport: (u32, u32),
+    depth: u64,
+) {
+    let (vw, vh) = (viewport.0 as i64, viewport.1 as i64);
+    let is_cand = |i: usize| inside[i] && x[i] >= 0 && y[i] >= 0 && x[i] < vw && y[i] < vh;
+    let (mut s_k, mut c_k) = (st.clone(), Counters::default());
+    let mut want = vec![7u32];
+    let mut n = 0;
+    for i in (0..x.len()).filter(|&i| is_cand(i)) {
+        n += 1;
+        let t = ShadowIn::Test {
+            x: x[i] as i32,
+            y: y[i] as i32,
+            depth,
+        };
+        if u.kernel(&mut s_k, &t, &mut c_k).lit {
+            want.push(i as u32);
+        }
+    }
+    let (mut kept, mut c_f) = (vec![7u32], Counters::default());
+    assert_eq!(
+        u.test_filter_flat(words, (x, y, inside), viewport, depth, &mut kept, &mut c_f),
+        Some(n),
+        "test_filter_flat: candidate count"
+    );
+    assert_eq!(
+        kept, want,
+        "test_filter_flat: kept lanes differ from the kernel's"
+    );
+    assert_eq!(
+        c_f, c_k,
+        "test_filter_flat: counters differ from the kernel's"
+    );
+    let cand = |i: usize| (is_cand(i), x[i] as i32, y[i] as i32, depth);
+    let (mut kept_l, mut c_l) = (vec![7u32], Counters::default());
+    assert_eq!(
+        u.test_filter_lanes(words, x.len(), cand, &mut kept_l, &mut c_l),
+        Some(n)
+    );
+    assert_eq!(
+        kept_l, kept,
+        "test_filter_flat and test_filter_lanes differ"
+    );
+    assert_eq!(c_l, c_f);
+    // Words of another size, or lanes of different lengths: nothing done.
+    let (mut none, mut c_n) = (Vec::new(), Counters::default());
+    assert_eq!(
+        u.test_filter_flat(
+            &words[1..],
+            (x, y, inside),
+            viewport,
+            depth,
+            &mut none,
+            &mut c_n
+        ),
+        None
+    );
+    if !x.is_empty() {
+        assert_eq!(
+            u.test_filter_flat(
+                words,
+                (x, &y[1..], inside),
+                viewport,
+                depth,
+                &mut none,
+                &mut c_n
+            ),
+            None
+        );
+    }
+    assert!(none.is_empty());
+    assert_eq!(c_n, Counters::default());
+}
+
+/// A RAM of `u` filled by writes of every third depth code from `seed`.
+fn filled(u: &ShadowCompare, seed: u32) -> rtl_model::units::shadow_compare::ShadowState {
+    let mut st = u.fresh_state();
+    let mut c = Counters::default();
+    let far = ((1u64 << u.depth_bits()) - 1) as u32;
+    let mut v = seed;
+    for y in 0..4 {
+        for x in 0..4 {
+            v = v.wrapping_mul(2_654_435_761).wrapping_add(0x9e37);
+            if v % 5 != 0 {
+                let depth = v % (far + 1);
+                u.kernel(&mut st, &ShadowIn::Write { x, y, depth }, &mut c);
+            }
+        }
+    }
+    st
+}
+
+/// Exhaustive at narrow widths: a 3 × 3 map of 2-bit words, every bias, fraction
+/// width 0 ..= 2 and fragment depth word (and some beyond the wires), over lanes
+/// that cover −1 ..= 4 on both axes, covered and not, against viewports smaller,
+/// equal and larger than the map.
+#[test]
+fn flat_test_form_agrees_exhaustively_at_2_bits() {
+    let (mut x, mut y, mut inside) = (Vec::new(), Vec::new(), Vec::new());
+    for yy in -1i64..=4 {
+        for xx in -1i64..=4 {
+            for ins in [true, false] {
+                x.push(xx);
+                y.push(yy);
+                inside.push(ins);
+            }
+        }
+    }
+    for k in 0..=2 {
+        for bias in 0..=3 {
+            let u = unit(3, 3, 2, bias, k);
+            let st = filled(&u, bias * 7 + k);
+            let words = u.words(&st).unwrap();
+            for depth in (0..1u64 << (2 + k)).chain([1u64 << 40, u64::MAX]) {
+                for viewport in [(2, 3), (3, 3), (5, 4), (0, 0)] {
+                    flat_agrees(&u, &st, &words, &x, &y, &inside, viewport, depth);
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(300))]
+    /// Random configs, RAM contents, viewports, depths and lanes (coordinates off the
+    /// map and beyond the s16 wires included).
+    #[test]
+    fn flat_test_form_agrees_with_the_kernel(
+        w in 1u32..=9, h in 1u32..=9, n in 1u32..=MAX_DEPTH_BITS, k in 0u32..=8,
+        bias_raw in any::<u32>(), depth in any::<u64>(), vw in 0u32..=12, vh in 0u32..=12,
+        writes in prop::collection::vec((0i32..9, 0i32..9, any::<u32>()), 0..60),
+        lanes in prop::collection::vec(
+            (prop_oneof![-3i64..12, any::<i64>()], prop_oneof![-3i64..12, any::<i64>()], any::<bool>()),
+            0..80,
+        ),
+    ) {
+        let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+        let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
+        let u = unit(w, h, n, bias, k);
+        let mut st = u.fresh_state();
+        let mut c = Counters::default();
+        for &(x, y, d) in &writes {
+            u.kernel(&mut st, &ShadowIn::Write { x, y, depth: d }, &mut c);
+        }
+        let words = u.words(&st).unwrap();
+        let x: Vec<i64> = lanes.iter().map(|l| l.0).collect();
+        let y: Vec<i64> = lanes.iter().map(|l| l.1).collect();
+        let inside: Vec<bool> = lanes.iter().map(|l| l.2).collect();
+        flat_agrees(&u, &st, &words, &x, &y, &inside, (vw, vh), depth);
+    }
+}

@@ -340,6 +340,50 @@ impl AdditiveBlend {
         ctr.saturations += sat;
         ctr.underflows += under;
     }
+
+    /// The batch kernel on unweighted pixels in lanes (the framebuffer's form): lane i
+    /// is the input `AdditiveBlendIn { src: src(i), dst: dst(i), weight: 0 }`, its
+    /// output written to `out[i]`, the counters those [`Unit::kernel_batch`] counts on
+    /// these inputs. Chosen from the config: an unweighted blend has one contribution
+    /// table, built once, and no input words are made. False (nothing done) when
+    /// weighted or the source is wider than [`CONTRIBUTION_LUT_BITS`].
+    pub fn blend_pixels(
+        &self,
+        src: impl Fn(usize) -> [u32; 4],
+        dst: impl Fn(usize) -> [u32; 4],
+        out: &mut [[u32; 4]],
+        ctr: &mut Counters,
+    ) -> bool {
+        if self.weighted || self.src_bits > CONTRIBUTION_LUT_BITS {
+            return false;
+        }
+        let ch = self.channels as usize;
+        let (max, src_mask) = (self.fb_max(), max_code(self.src_bits));
+        let mut lut = [0u32; 1 << CONTRIBUTION_LUT_BITS];
+        for (s, q) in lut.iter_mut().enumerate().take(1 << self.src_bits) {
+            *q = self.contribution(s as u32, 0);
+        }
+        let (mut sat, mut under) = (0u64, 0u64);
+        for (i, o) in out.iter_mut().enumerate() {
+            let (s, d) = (src(i), dst(i));
+            let mut r = [0u32; 4];
+            for (c, rc) in r.iter_mut().enumerate().take(ch) {
+                let sm = s[c] & src_mask;
+                let q = lut[sm as usize]; // u(f)
+                let sum = (d[c] & max) + q; // u(f+1)
+                *rc = sum.min(max);
+                sat += u64::from(sum > max);
+                under += u64::from(sm != 0 && q == 0);
+            }
+            *o = r;
+        }
+        let bytes = bytes_for_bits(self.pixel_bits()) * out.len() as u64;
+        ctr.mem_read_bytes += bytes;
+        ctr.mem_write_bytes += bytes;
+        ctr.saturations += sat;
+        ctr.underflows += under;
+        true
+    }
 }
 
 /// Widest source whose contributions the batch kernel tabulates (2^10 entries).

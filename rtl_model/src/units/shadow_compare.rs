@@ -465,6 +465,61 @@ impl ShadowCompare {
         Some(n)
     }
 
+    /// [`Self::test_filter_lanes`] where every lane tests the one depth word `depth`
+    /// (a plane parallel to the screen) and lane i is a candidate when `inside[i]` and
+    /// (x[i], y[i]) lies in the `vw` × `vh` viewport, tested at (x[i], y[i]): the same
+    /// kept indices, counters and count. The lanes are read straight from the slices
+    /// and the biased fragment depth is computed once, so the loop holds no closure
+    /// state. None (nothing done) when `words` is not one word per address or the
+    /// lanes' lengths differ.
+    pub fn test_filter_flat(
+        &self,
+        words: &[u32],
+        (x, y, inside): (&[i64], &[i64], &[bool]),
+        (vw, vh): (u32, u32),
+        depth: u64,
+        lit: &mut Vec<u32>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        let (w, h) = (self.cfg.width, self.cfg.height);
+        let len = x.len();
+        if words.len() != w as usize * h as usize
+            || y.len() != len
+            || inside.len() != len
+            || len > u32::MAX as usize
+        {
+            return None;
+        }
+        // `lane_test`'s left side, the same for every lane.
+        let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let fb = (depth & fmask) as i64 - ((self.cfg.bias as i64) << k);
+        let (vw, vh, mw, mh) = (vw as i64, vh as i64, w as i64, h as i64);
+        let base = lit.len();
+        lit.resize(base + len, 0);
+        let dst = &mut lit[base..];
+        let (mut kept, mut n, mut reads) = (0usize, 0usize, 0usize);
+        for (i, ((&xi, &yi), &ins)) in x.iter().zip(y).zip(inside).enumerate() {
+            // A candidate has 0 ≤ x < vw, 0 ≤ y < vh: `lane_test`'s wires hold it.
+            let cand = ins & (xi >= 0) & (yi >= 0) & (xi < vw) & (yi < vh);
+            let in_map = cand & (xi < mw) & (yi < mh);
+            let a = if in_map {
+                yi as usize * w as usize + xi as usize
+            } else {
+                0
+            };
+            let l = !in_map | (fb <= (words[a] as i64) << k);
+            dst[kept] = i as u32;
+            kept += usize::from(cand & l);
+            n += usize::from(cand);
+            reads += usize::from(in_map);
+        }
+        lit.truncate(base + kept);
+        ctr.table_reads += reads as u64;
+        ctr.saturations += (n - reads) as u64;
+        Some(n)
+    }
+
     /// Depth tests of lanes `0..len` against a read-only RAM's words unpacked by
     /// [`Self::words`], lane i the test `ShadowIn::Test` at (x, y, depth) =
     /// `test(i)`: its output's `lit` bit pushed onto `lit` (in lane order), the
@@ -484,12 +539,22 @@ impl ShadowCompare {
             return None;
         }
         let mut reads = 0usize;
-        lit.extend((0..len).map(|i| {
-            let (x, y, depth) = test(i);
-            let (in_map, l) = self.lane_test(words, x, y, depth);
-            reads += usize::from(in_map);
-            l
-        }));
+        // A block of bits at a time in a local buffer: a store into `lit` may alias
+        // what `test` reads, a store into the buffer cannot, so `test`'s captures
+        // stay in registers.
+        let mut block = [false; LIT_BLOCK];
+        let mut i = 0;
+        while i < len {
+            let m = (len - i).min(LIT_BLOCK);
+            for (j, b) in block[..m].iter_mut().enumerate() {
+                let (x, y, depth) = test(i + j);
+                let (in_map, l) = self.lane_test(words, x, y, depth);
+                reads += usize::from(in_map);
+                *b = l;
+            }
+            lit.extend_from_slice(&block[..m]);
+            i += m;
+        }
         ctr.table_reads += reads as u64;
         ctr.saturations += (len - reads) as u64;
         Some(len)
@@ -527,6 +592,9 @@ impl ShadowCompare {
         st.ram[addr * n..(addr + 1) * n].store_le::<u32>(d);
     }
 }
+
+/// Lanes [`ShadowCompare::test_lit_lanes`] tests into its local buffer at a time.
+const LIT_BLOCK: usize = 256;
 
 fn max_code(bits: u32) -> u32 {
     if bits >= 32 {

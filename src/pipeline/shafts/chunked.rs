@@ -145,6 +145,24 @@ impl UnitSpan {
         self.tally.add(src.len());
     }
 
+    /// Unweighted pixel blends in lanes ([`AdditiveBlend::blend_pixels`]): lane i
+    /// `src(i)` over `dst(i)` into `out[i]`, counted as the batch kernel counts those
+    /// inputs. False with nothing done (the batch kernel on input words then runs).
+    #[inline]
+    pub fn feed_blend_pixels(
+        &mut self,
+        unit: &AdditiveBlend,
+        src: impl Fn(usize) -> [u32; 4],
+        dst: impl Fn(usize) -> [u32; 4],
+        out: &mut [[u32; 4]],
+    ) -> bool {
+        if !unit.blend_pixels(src, dst, out, &mut self.ctr) {
+            return false;
+        }
+        self.tally.add(out.len());
+        true
+    }
+
     /// The same span continued elsewhere (a part done on another thread).
     pub fn merge(&mut self, other: &UnitSpan) {
         self.ctr += other.ctr;
@@ -267,6 +285,37 @@ impl LightCtx<'_> {
         b: &mut ChunkBuffers,
     ) {
         self.visible_words(px, viewport, depth, None, span, b);
+    }
+
+    /// [`Self::visible_words`] at one depth word `zword` for every pixel (a plane
+    /// parallel to the screen): with the unpacked words, the test in lanes straight
+    /// from the chunk's slices ([`ShadowCompare::test_filter_flat`]: the same kept
+    /// fragments and counters), else [`Self::visible_words`].
+    pub fn visible_flat(
+        &self,
+        px: &PolyLanes,
+        viewport: (u32, u32),
+        zword: u32,
+        zwords: Option<&[u32]>,
+        span: &mut UnitSpan,
+        b: &mut ChunkBuffers,
+    ) {
+        if let (Some(z), Some(_), Some(words)) = (&self.units.zbuf, self.zstate, zwords) {
+            b.visible.clear();
+            let lanes = (&px.x[..], &px.y[..], &px.inside[..]);
+            if let Some(n) = z.test_filter_flat(
+                words,
+                lanes,
+                viewport,
+                zword as u64,
+                &mut b.visible,
+                &mut span.ctr,
+            ) {
+                span.tally.add(n);
+                return;
+            }
+        }
+        self.visible_words(px, viewport, |_, _| zword, zwords, span, b);
     }
 
     /// [`Self::visible`] reading the depth buffer's words unpacked by

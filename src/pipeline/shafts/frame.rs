@@ -20,6 +20,7 @@ use crate::report::image_out::Framebuffer;
 use crate::scene::format::{HCap, Scene};
 use crate::scene::limits;
 use crate::scene::math::Vec3;
+use rayon::prelude::*;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
@@ -411,18 +412,24 @@ impl<'a> ShaftsFrame<'a> {
         let mut c_int = Counters::default();
         let mut c_z = Counters::default();
         let mut stats = PassStats::new(PassKind::ObjectDepth, 0, 0);
-        for o in &self.p.objects {
-            for (tri, _) in &o.triangles {
-                let Some(hv) = project_tri(&self.cam, tri, |_, _| [0.0; 8]) else {
-                    continue;
-                };
-                let frags = draw_triangle(&self.units.interp, &hv, w, h, &mut c_int)?;
+        let tris: Vec<&[Vec3; 3]> = (self.p.objects.iter())
+            .flat_map(|o| o.triangles.iter().map(|(tri, _)| tri))
+            .collect();
+        let cam = &self.cam;
+        draw_triangles(
+            &self.units.interp,
+            &tris,
+            (w, h),
+            |tri| project_tri(cam, tri, |_, _| [0.0; 8]),
+            |frags, c| {
+                c_int += c;
                 stats.triangles += 1;
                 let ins = depth_writes(&frags, ZBUF_BITS);
                 stats.fragments += ins.len() as u64;
                 run_span(z, zs, &ins, &mut c_z);
-            }
-        }
+                Ok(())
+            },
+        )?;
         stats.walked = c_int.pixels_in;
         counters_add(&mut self.ctr, "polygon_interpolator", c_int);
         counters_add(&mut self.ctr, "shadow_compare (depth buffer writes)", c_z);
@@ -480,38 +487,41 @@ impl<'a> ShaftsFrame<'a> {
         let mut c_int = Counters::default();
         let mut c_s = Counters::default();
         let mut stats = PassStats::new(PassKind::ShadowMap, li, 0);
-        for o in p.objects.iter().filter(|o| o.occluder) {
-            for (tri, _) in &o.triangles {
-                let mut hv = [HostVertex {
-                    x: 0.0,
-                    y: 0.0,
-                    attrs: [0.0; MAX_ATTRS],
-                }; 3];
-                let mut ok = true;
-                for k in 0..3 {
-                    let q = lv.strq(tri[k]);
-                    if q[3] <= 1e-9 {
-                        ok = false;
-                        break;
-                    }
-                    let mut attrs = [0.0; MAX_ATTRS];
-                    attrs[0] = q[2] / q[3];
-                    hv[k] = HostVertex {
-                        x: q[0] / q[3] * res as f64,
-                        y: q[1] / q[3] * res as f64,
-                        attrs,
-                    };
+        let tris: Vec<&[Vec3; 3]> = (p.objects.iter().filter(|o| o.occluder))
+            .flat_map(|o| o.triangles.iter().map(|(tri, _)| tri))
+            .collect();
+        let host = |tri: &&[Vec3; 3]| {
+            let mut hv = [HostVertex {
+                x: 0.0,
+                y: 0.0,
+                attrs: [0.0; MAX_ATTRS],
+            }; 3];
+            for k in 0..3 {
+                let q = lv.strq(tri[k]);
+                if q[3] <= 1e-9 {
+                    return None;
                 }
-                if !ok || hv.iter().any(|v| v.x.abs() > 4000.0 || v.y.abs() > 4000.0) {
-                    continue;
-                }
-                let frags = draw_triangle(&self.units.interp, &hv, res, res, &mut c_int)?;
-                stats.triangles += 1;
-                let ins = depth_writes(&frags, s.depth_bits());
-                stats.fragments += ins.len() as u64;
-                run_span(s, ss, &ins, &mut c_s);
+                let mut attrs = [0.0; MAX_ATTRS];
+                attrs[0] = q[2] / q[3];
+                hv[k] = HostVertex {
+                    x: q[0] / q[3] * res as f64,
+                    y: q[1] / q[3] * res as f64,
+                    attrs,
+                };
             }
-        }
+            if hv.iter().any(|v| v.x.abs() > 4000.0 || v.y.abs() > 4000.0) {
+                return None;
+            }
+            Some(hv)
+        };
+        draw_triangles(&self.units.interp, &tris, (res, res), host, |frags, c| {
+            c_int += c;
+            stats.triangles += 1;
+            let ins = depth_writes(&frags, s.depth_bits());
+            stats.fragments += ins.len() as u64;
+            run_span(s, ss, &ins, &mut c_s);
+            Ok(())
+        })?;
         stats.walked = c_int.pixels_in;
         counters_add(&mut self.ctr, "polygon_interpolator", c_int);
         counters_add(&mut self.ctr, "shadow_compare (shadow map writes)", c_s);
@@ -609,6 +619,40 @@ fn depth_writes(frags: &[Fragment], bits: u32) -> Vec<ShadowIn> {
             depth: window_depth_word(f.attrs[0], bits),
         })
         .collect()
+}
+
+/// Triangles drawn at a time in parallel: fixed, so the split never depends on the
+/// thread count, and it bounds the fragments held at once.
+const DRAW_BATCH: usize = 256;
+
+/// Each item's triangle (`host`: its host vertices, None when it is skipped) drawn by
+/// [`draw_triangle`] on its own, a batch of items in parallel; `sink` gets each drawn
+/// triangle's fragments and interpolator counters in item order. The counters are
+/// sums, so their total is the one drawing into one set gives, and the first error
+/// in item order is returned after the triangles before it were sunk, as drawing
+/// one after the other did.
+fn draw_triangles<T: Sync>(
+    u: &PolygonInterpolator,
+    items: &[T],
+    (w, h): (u32, u32),
+    host: impl Fn(&T) -> Option<[HostVertex; 3]> + Sync,
+    mut sink: impl FnMut(Vec<Fragment>, Counters) -> Result<(), ConfigError>,
+) -> Result<(), ConfigError> {
+    for batch in items.chunks(DRAW_BATCH) {
+        let drawn: Vec<Option<Result<(Vec<Fragment>, Counters), ConfigError>>> = batch
+            .par_iter()
+            .map(|item| {
+                let hv = host(item)?;
+                let mut c = Counters::default();
+                Some(draw_triangle(u, &hv, w, h, &mut c).map(|f| (f, c)))
+            })
+            .collect();
+        for d in drawn.into_iter().flatten() {
+            let (frags, c) = d?;
+            sink(frags, c)?;
+        }
+    }
+    Ok(())
 }
 
 /// A window depth in s16.16 raw → an unsigned depth word of `bits`.
@@ -727,34 +771,37 @@ fn object_pass(
     let lpos = vec3(ctx.light.position);
     let medium = sc.medium;
     let mut frags_all: Vec<Fragment> = Vec::new();
-    for o in &p.objects {
-        for (tri, nrm) in &o.triangles {
-            let attrs = |k: usize, pt: Vec3| {
-                let to_l = lpos - pt;
-                let s2 = to_l.dot(to_l).max(1e-12);
-                let lambert = nrm[k].dot(to_l.normalized()).max(0.0);
-                let tt = (pt - ctx.cam.eye).length();
-                let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
-                let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
-                let la = ctx.light_attrs(pt);
-                [
-                    0.0,
-                    (o.color[0] * light_scale * ctx.light.color[0]).min(1.0),
-                    (o.color[1] * light_scale * ctx.light.color[1]).min(1.0),
-                    (o.color[2] * light_scale * ctx.light.color[2]).min(1.0),
-                    la[0],
-                    la[1],
-                    la[2],
-                    la[3],
-                ]
-            };
-            let Some(hv) = project_tri(ctx.cam, tri, attrs) else {
-                continue;
-            };
-            stats.triangles += 1;
-            frags_all.extend(draw_triangle(&u.interp, &hv, w, h, &mut c_int)?);
-        }
-    }
+    let tris: Vec<(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])> = (p.objects.iter())
+        .flat_map(|o| o.triangles.iter().map(move |(tri, nrm)| (o, tri, nrm)))
+        .collect();
+    let host = |&(o, tri, nrm): &(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])| {
+        let attrs = |k: usize, pt: Vec3| {
+            let to_l = lpos - pt;
+            let s2 = to_l.dot(to_l).max(1e-12);
+            let lambert = nrm[k].dot(to_l.normalized()).max(0.0);
+            let tt = (pt - ctx.cam.eye).length();
+            let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
+            let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
+            let la = ctx.light_attrs(pt);
+            [
+                0.0,
+                (o.color[0] * light_scale * ctx.light.color[0]).min(1.0),
+                (o.color[1] * light_scale * ctx.light.color[1]).min(1.0),
+                (o.color[2] * light_scale * ctx.light.color[2]).min(1.0),
+                la[0],
+                la[1],
+                la[2],
+                la[3],
+            ]
+        };
+        project_tri(ctx.cam, tri, attrs)
+    };
+    draw_triangles(&u.interp, &tris, (w, h), host, |frags, c| {
+        c_int += c;
+        stats.triangles += 1;
+        frags_all.extend(frags);
+        Ok(())
+    })?;
     stats.walked = c_int.pixels_in;
     counters_add(ctr, "polygon_interpolator", c_int);
     // The object pass is light work (a few thousand fragments): one chunk.

@@ -244,7 +244,7 @@ fn subplanes_hil(
         let mut wb = WalkBuffers::default();
         let (mut rows_in_order, mut last_y) = (true, 0);
         walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-            ctx.visible_words(px, (w, h), |_, _| zw, zwords, &mut zspan, &mut b);
+            ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
             ctx.h_il(px, 4, &mut spans, &mut b);
             pix.extend(b.visible.iter().map(|&i| {
                 let i = i as usize;
@@ -466,11 +466,11 @@ fn plane<T: Send>(
             cell(&pc, &q, w, h)
         })
         .collect();
-    frags.clear();
     let mut spans = PlaneSpans::default();
+    let mut cell_frags = Vec::with_capacity(drawn.len());
     for d in drawn {
         let (f, s) = d?;
-        frags.extend(f);
+        cell_frags.push(f);
         spans.merge(&s);
     }
     let walked = spans.interp.pixels_in;
@@ -485,8 +485,16 @@ fn plane<T: Send>(
     for s in spans.modulate {
         s.close("modulate", u.modulate.timing(), ctr);
     }
-    let frags = &*frags;
-    let ((), t) = rayon::join(|| blend_plane(&u.blend, fb, frags, ctr, scratch), beside);
+    // The cells' fragments joined in cell order on the pool, beside `beside`, not
+    // between two parallel sections.
+    let blend = || {
+        frags.clear();
+        for f in &cell_frags {
+            frags.extend_from_slice(f);
+        }
+        blend_plane(&u.blend, fb, frags, ctr, scratch)
+    };
+    let ((), t) = rayon::join(blend, beside);
     let mut st = PassStats::new(
         PassKind::Plane,
         ctx.li,
@@ -544,10 +552,10 @@ fn shade_chunk(
 ) {
     let ctx = pc.ctx;
     let u = ctx.units;
-    ctx.visible_words(
+    ctx.visible_flat(
         px,
         viewport,
-        |_, _| pc.zword,
+        pc.zword,
         pc.zwords,
         &mut sp.zbuf,
         &mut b.chunk,
@@ -684,9 +692,18 @@ fn blend_plane(
                 },
                 |(ins, o), (chunk, dst)| {
                     let mut span = UnitSpan::default();
-                    blend_inputs(src, chunk, ins);
-                    span.feed(u, &mut (), ins, o);
-                    dst.copy_from_slice(o);
+                    // Unweighted: the blend straight from the fragments and the
+                    // framebuffer (no input words), else the batch kernel.
+                    let rgb = |i: usize| {
+                        let c = chunk[i].rgb;
+                        [c[0], c[1], c[2], 0]
+                    };
+                    let fbpx = |i: usize| src.pixel(chunk[i].x, chunk[i].y);
+                    if !span.feed_blend_pixels(u, rgb, fbpx, dst) {
+                        blend_inputs(src, chunk, ins);
+                        span.feed(u, &mut (), ins, o);
+                        dst.copy_from_slice(o);
+                    }
                     span
                 },
             )
