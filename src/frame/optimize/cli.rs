@@ -32,7 +32,8 @@ pub struct OptimizeArgs {
     #[arg(long, default_value = "gates")]
     pub objective: String,
     /// The parameters to search (comma list of `sweep`'s names for the scene);
-    /// default: every bit width of the scene's pipeline.
+    /// default: the scene's pipeline's storage and filter bit widths (shafts: not the
+    /// interpolator's or the reciprocal's, which `--params` can name; docs/optimize.md).
     #[arg(long)]
     pub params: Option<String>,
     /// Output directory.
