@@ -469,9 +469,12 @@ impl SearchRun<'_> {
             "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
             self.budget.describe(),
             if o.end == End::DefaultsBreakBudget {
-                "neither the defaults nor any widening of them up to 3 steps"
+                format!(
+                    "neither the defaults nor any widening the repair tried, up to {} steps",
+                    super::search::MAX_WIDEN_STEPS
+                )
             } else {
-                "the search stopped first"
+                "the search stopped first".to_string()
             },
             self.csv().display()
         )
