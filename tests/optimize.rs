@@ -703,7 +703,10 @@ fn interpolator_and_reciprocal_widths_are_searchable_and_cut_cost() {
             "acc_int_bits,acc_frac_bits,recip_index_bits,recip_entry_bits,newton_frac_bits",
         )
         .unwrap();
-    let d: Vec<u32> = params.iter().map(|p| ev.default_value(p).unwrap()).collect();
+    let d: Vec<u32> = params
+        .iter()
+        .map(|p| ev.default_value(p).unwrap())
+        .collect();
     assert_eq!(d, vec![20, 24, 8, 16, 20]);
     let at_d = ev.evaluate_at(&params, &d).unwrap();
     assert_eq!(at_d, {
@@ -719,7 +722,13 @@ fn interpolator_and_reciprocal_widths_are_searchable_and_cut_cost() {
         if params[i] == "recip_index_bits" {
             assert!(m.ram_bits < at_d.ram_bits, "{}: {m:?}", params[i]);
         } else {
-            assert!(m.gates < at_d.gates, "{}: {} ≥ {}", params[i], m.gates, at_d.gates);
+            assert!(
+                m.gates < at_d.gates,
+                "{}: {} ≥ {}",
+                params[i],
+                m.gates,
+                at_d.gates
+            );
         }
     }
     let scene = ev.kind.apply(&base, &params, &narrower).unwrap();
