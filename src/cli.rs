@@ -284,7 +284,9 @@ pub struct SweepArgs {
     pub scene: Option<String>,
     /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
     /// coord_frac_bits, mesh, shadow_resolution, shadow_depth_bits, f_texels, h_texels,
-    /// light_map_texels. Glare scenes: shape_log2, shape_bits, falloff_log2,
+    /// light_map_texels, acc_int_bits, acc_frac_bits (the interpolator's accumulators),
+    /// recip_index_bits, recip_entry_bits, newton_frac_bits (the projective
+    /// reciprocal). Glare scenes: shape_log2, shape_bits, falloff_log2,
     /// falloff_bits, weight_bits, coord_frac_bits, noise_bits, fb_bits, radial (0/1).
     /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
     /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,

@@ -13,11 +13,12 @@
 //! * Ctrl-C: SIGINT after the first point leaves a whole pareto.csv and exit 130.
 
 use glare_pipeline::frame::optimize::cli::best_toml;
-use glare_pipeline::frame::optimize::eval::{Evaluator, Reference, Target};
+use glare_pipeline::frame::optimize::eval::{Evaluator, Metrics, Reference, Step, Target};
 use glare_pipeline::frame::optimize::search::{
-    dominates, dominates_2d, grid, objective_front, objective_key, search, Budget, Limit, Limits,
-    Metric, Objective, Outcome, Status,
+    dominates, dominates_2d, grid, objective_front, objective_key, search, Budget, End, Limit,
+    Limits, Metric, Objective, Outcome, Status,
 };
+use glare_pipeline::report::metrics::ErrorStats;
 use glare_pipeline::scene::format::Scene;
 use glare_pipeline::scene::load::load_scene;
 use std::path::PathBuf;
@@ -613,5 +614,132 @@ fn cli_on_a_shading_scene_front_non_dominated_and_render_of_best_toml_meets_the_
     assert!(rms <= 10.0, "fresh render of best.toml: rms {rms}");
     assert_eq!(v["image"].as_u64(), Some(16));
     assert!(dir.join("best.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A made-up landscape over three widths `a, b, c` (defaults 8, cost 100 gates a bit),
+/// where the repair's first two moves cannot help: the max error is 5 (+0.5 per bit
+/// of `c` above 8) unless `a` and `b` are both at least 10, and then 1.5 + |c − 7|.
+/// So no one-step widening and not the joint step (9, 9, 9) lowers it; only `a` and
+/// `b` two steps wider together do (2.5 at c = 8), and then the trade of one bit less
+/// of `c` meets max ≤ 2 (1.5 at c = 7). Before `repair_wider` this search ended
+/// `DefaultsBreakBudget`.
+struct Landscape;
+
+impl Target for Landscape {
+    fn kind_name(&self) -> &'static str {
+        "landscape"
+    }
+    fn step(&self, _: &str) -> Step {
+        Step::Bit
+    }
+    fn default_value(&self, _: &str) -> Result<u32, String> {
+        Ok(8)
+    }
+    fn valid(&self, _: &[&str], values: &[u32]) -> bool {
+        values.iter().all(|&v| (1..=16).contains(&v))
+    }
+    fn bound_at(&self, p: &[&str], values: &[u32]) -> Result<Option<ErrorStats>, String> {
+        Ok(self.valid(p, values).then(|| stats(0.0)))
+    }
+    fn evaluate_at(&self, _: &[&str], v: &[u32]) -> Result<Metrics, String> {
+        let (a, b, c) = (v[0], v[1], v[2] as f64);
+        let max = if a >= 10 && b >= 10 {
+            1.5 + (c - 7.0).abs()
+        } else {
+            5.0 + 0.5 * (c - 8.0).max(0.0)
+        };
+        Ok(Metrics {
+            gates: 100.0 * v.iter().sum::<u32>() as f64,
+            ram_bits: 0,
+            error: stats(max),
+            predicted_seconds: 0.0,
+            wall_seconds: 0.0,
+        })
+    }
+}
+
+fn stats(max: f64) -> ErrorStats {
+    ErrorStats {
+        mean_abs: max / 4.0,
+        rms: max / 2.0,
+        max,
+        n: 3,
+    }
+}
+
+#[test]
+fn repair_tries_two_step_pairs_and_trades_when_the_joint_step_fails() {
+    let b = budget("max<=2");
+    let o = run(&Landscape, &["a", "b", "c"], &b, Objective::Gates, 200);
+    // The moves before the wider repairs could not reach the budget: every point
+    // with at most one step more in each width breaks it.
+    for p in &o.points {
+        if p.values.iter().all(|&v| v <= 9) {
+            assert!(!b.meets(&p.metrics().unwrap().error), "{:?}", p.values);
+        }
+    }
+    assert_ne!(o.end, End::DefaultsBreakBudget);
+    let best = &o.points[o.best.expect("the wider repairs reach the budget")];
+    // a and b two steps wider together, then c one step narrower (the trade), and
+    // the descent can take nothing off that.
+    assert_eq!(best.values, vec![10, 10, 7]);
+    assert!(o.points.iter().any(|p| p.values == vec![10, 10, 8]));
+    assert_eq!(o.end, End::Converged);
+}
+
+/// The interpolator's accumulators and the projective reciprocal are search
+/// parameters of a shafts scene: named by `--params`, at the GeForce defaults in a
+/// built-in scene (whose `[shafts]` does not write them), each narrowing cutting the
+/// elaborated gates (the reciprocal's ROM index: its RAM bits), and a narrowed one
+/// written to best.toml and read back.
+#[test]
+fn interpolator_and_reciprocal_widths_are_searchable_and_cut_cost() {
+    let base = scene_at("fig6", 48, 32);
+    let ev = Evaluator::new(&base, Reference::Wide).unwrap();
+    let params = ev
+        .kind
+        .parse_params(
+            "acc_int_bits,acc_frac_bits,recip_index_bits,recip_entry_bits,newton_frac_bits",
+        )
+        .unwrap();
+    let d: Vec<u32> = params
+        .iter()
+        .map(|p| ev.default_value(p).unwrap())
+        .collect();
+    assert_eq!(d, vec![20, 24, 8, 16, 20]);
+    let at_d = ev.evaluate_at(&params, &d).unwrap();
+    assert_eq!(at_d, {
+        let mut m = ev.evaluate(&base).unwrap();
+        m.wall_seconds = at_d.wall_seconds;
+        m
+    });
+    let narrower = [18, 16, 6, 12, 16];
+    for (i, &n) in narrower.iter().enumerate() {
+        let mut v = d.clone();
+        v[i] = n;
+        let m = ev.evaluate_at(&params, &v).unwrap();
+        if params[i] == "recip_index_bits" {
+            assert!(m.ram_bits < at_d.ram_bits, "{}: {m:?}", params[i]);
+        } else {
+            assert!(
+                m.gates < at_d.gates,
+                "{}: {} ≥ {}",
+                params[i],
+                m.gates,
+                at_d.gates
+            );
+        }
+    }
+    let scene = ev.kind.apply(&base, &params, &narrower).unwrap();
+    let text = best_toml(&scene, "# test").unwrap();
+    assert!(text.contains("acc_frac_bits = 16"), "{text}");
+    let dir = tmp("unit-widths");
+    let path = dir.join("best.toml");
+    std::fs::write(&path, text).unwrap();
+    assert_eq!(Scene::from_file(&path).unwrap().shafts, scene.shafts);
+    // Out of the unit's range: refused, naming the shafts field.
+    let e = ev.kind.apply(&base, &["acc_frac_bits"], &[0]).unwrap_err();
+    assert!(e.contains("shafts.acc_frac_bits"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }

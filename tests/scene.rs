@@ -730,6 +730,7 @@ fn valid_extremes_are_accepted() {
         h_cap: glare_pipeline::scene::format::HCap::OnePlane,
         plane_step: glare_pipeline::scene::format::PlaneStep::AlongRay,
         light_map_texels: 4096,
+        ..ShaftsConfig::default()
     };
     s.validate().unwrap();
     s.medium = Medium {

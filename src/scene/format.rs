@@ -302,6 +302,50 @@ pub struct ShaftsConfig {
     /// Side of each spot's light-map texture (a power of two, 2 ..= 4096): the beam's
     /// rim is as sharp as one texel of it.
     pub light_map_texels: u32,
+    /// The polygon interpolator's attribute accumulators, s(int).(frac): integer bits
+    /// including the sign (GeForce default 20) and fraction bits (24). The
+    /// interpolator is most of a shafts chip's gates (8 attributes × 44-bit
+    /// accumulators); `optimize` searches these (docs/optimize.md).
+    #[serde(skip_serializing_if = "is_default_acc_int")]
+    pub acc_int_bits: u32,
+    #[serde(skip_serializing_if = "is_default_acc_frac")]
+    pub acc_frac_bits: u32,
+    /// The projective-texcoord unit's reciprocal: ROM index bits (default 8, 2^8
+    /// entries), ROM entry bits (16) and the Newton step's fraction bits (20). The
+    /// depth projection shares the ROM (index and entry bits); its own Newton steps
+    /// stay at 30 fraction bits.
+    #[serde(skip_serializing_if = "is_default_recip_index")]
+    pub recip_index_bits: u32,
+    #[serde(skip_serializing_if = "is_default_recip_entry")]
+    pub recip_entry_bits: u32,
+    #[serde(skip_serializing_if = "is_default_newton_frac")]
+    pub newton_frac_bits: u32,
+}
+
+/// GeForce-era defaults of the unit widths in `[shafts]` (those of
+/// `PolygonInterpolatorConfig::default` and `ProjectiveTexcoordConfig::geforce`); a
+/// scene that leaves them at these writes none of them, so scene files and dumps made
+/// before the fields existed read and print the same.
+pub const DEFAULT_ACC_INT_BITS: u32 = 20;
+pub const DEFAULT_ACC_FRAC_BITS: u32 = 24;
+pub const DEFAULT_RECIP_INDEX_BITS: u32 = 8;
+pub const DEFAULT_RECIP_ENTRY_BITS: u32 = 16;
+pub const DEFAULT_NEWTON_FRAC_BITS: u32 = 20;
+
+fn is_default_acc_int(v: &u32) -> bool {
+    *v == DEFAULT_ACC_INT_BITS
+}
+fn is_default_acc_frac(v: &u32) -> bool {
+    *v == DEFAULT_ACC_FRAC_BITS
+}
+fn is_default_recip_index(v: &u32) -> bool {
+    *v == DEFAULT_RECIP_INDEX_BITS
+}
+fn is_default_recip_entry(v: &u32) -> bool {
+    *v == DEFAULT_RECIP_ENTRY_BITS
+}
+fn is_default_newton_frac(v: &u32) -> bool {
+    *v == DEFAULT_NEWTON_FRAC_BITS
 }
 
 /// Full scale of the 8-bit F(α) table.
@@ -375,6 +419,11 @@ impl Default for ShaftsConfig {
             h_cap: HCap::OnePlane,
             plane_step: PlaneStep::AlongRay,
             light_map_texels: 256,
+            acc_int_bits: DEFAULT_ACC_INT_BITS,
+            acc_frac_bits: DEFAULT_ACC_FRAC_BITS,
+            recip_index_bits: DEFAULT_RECIP_INDEX_BITS,
+            recip_entry_bits: DEFAULT_RECIP_ENTRY_BITS,
+            newton_frac_bits: DEFAULT_NEWTON_FRAC_BITS,
         }
     }
 }

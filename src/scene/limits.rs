@@ -18,6 +18,7 @@ use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::luminance_ram::{LumWidths, Radial};
 use rtl_model::units::modulate::{ChainRounding, ModulateChain, ModulateMode};
 use rtl_model::units::polygon_interpolator::{PolygonInterpolatorConfig, MAX_ATTRS};
+use rtl_model::units::projective_texcoord::ProjectiveTexcoordConfig;
 use rtl_model::units::shadow_compare::ShadowCompareConfig;
 use rtl_model::units::texture_sampler::{
     FilterRounding, TextureSamplerConfig, WeightRounding, MAX_TEXELS,
@@ -173,15 +174,63 @@ pub fn depth_buffer(image: ImageSize) -> ShadowCompareConfig {
 }
 
 /// The shafts pipeline's polygon interpolator (GeForce defaults, 8 attributes, s16.16
-/// outputs); its vertex positions bound the image size.
-pub fn shafts_interpolator() -> PolygonInterpolatorConfig {
+/// outputs, accumulators `shafts.acc_int_bits`.`shafts.acc_frac_bits`); its vertex
+/// positions bound the image size.
+pub fn shafts_interpolator(s: &ShaftsConfig) -> PolygonInterpolatorConfig {
     PolygonInterpolatorConfig {
         attrs: SHAFTS_ATTRS,
         out_int_bits: 16,
         out_frac_bits: SHAFTS_ATTR_FRAC,
+        acc_int_bits: s.acc_int_bits,
+        acc_frac_bits: s.acc_frac_bits,
         ..PolygonInterpolatorConfig::default()
     }
 }
+
+/// The light-map / shadow-map projective unit: GeForce defaults with the reciprocal
+/// of `shafts.recip_index_bits`, `shafts.recip_entry_bits`, `shafts.newton_frac_bits`.
+pub fn shafts_projective(s: &ShaftsConfig) -> ProjectiveTexcoordConfig {
+    ProjectiveTexcoordConfig {
+        recip_index_bits: s.recip_index_bits,
+        recip_entry_bits: s.recip_entry_bits,
+        newton_frac_bits: s.newton_frac_bits,
+        ..ProjectiveTexcoordConfig::geforce()
+    }
+}
+
+/// The depth projection (light-space depth, 2.16 out, two Newton steps at 30 fraction
+/// bits): it divides by the same q as [`shafts_projective`] and shares its ROM
+/// (`shafts.recip_index_bits`, `shafts.recip_entry_bits`).
+pub fn shafts_projective_depth(s: &ShaftsConfig) -> ProjectiveTexcoordConfig {
+    ProjectiveTexcoordConfig {
+        out_int_bits: 2,
+        out_frac_bits: 16,
+        newton_steps: 2,
+        newton_frac_bits: 30,
+        recip_index_bits: s.recip_index_bits,
+        recip_entry_bits: s.recip_entry_bits,
+        ..ProjectiveTexcoordConfig::geforce()
+    }
+}
+
+/// Error mapping of the interpolator's and the projective units' widths onto the
+/// `shafts` fields they come from.
+const SHAFTS_UNIT_WIDTHS: [(&str, &str); 5] = [
+    ("polygon_interpolator.acc_int_bits", "shafts.acc_int_bits"),
+    ("polygon_interpolator.acc_frac_bits", "shafts.acc_frac_bits"),
+    (
+        "projective_texcoord.recip_index_bits",
+        "shafts.recip_index_bits",
+    ),
+    (
+        "projective_texcoord.recip_entry_bits",
+        "shafts.recip_entry_bits",
+    ),
+    (
+        "projective_texcoord.newton_frac_bits",
+        "shafts.newton_frac_bits",
+    ),
+];
 
 /// The image size against the units it sizes: the camera depth buffer (shadow-compare
 /// map side) and the interpolator's vertex range (a sample plane's corner vertex lies
@@ -194,7 +243,10 @@ pub fn check_image(image: ImageSize) -> Result<(), ConfigError> {
         ("polygon_interpolator.vertices[0].y", "image.height"),
     ]);
     depth_buffer(image).build().map_err(&map)?;
-    let interp = shafts_interpolator().build().map_err(&map)?;
+    // The accumulator widths do not bound the vertex range: the defaults' here.
+    let interp = shafts_interpolator(&ShaftsConfig::default())
+        .build()
+        .map_err(&map)?;
     let attrs = [0.0; MAX_ATTRS];
     let mut ctr = Counters::default();
     interp
@@ -254,6 +306,10 @@ pub fn check_shafts(scene: &Scene) -> Result<(), ConfigError> {
         ("shadow_compare.depth_bits", "shafts.shadow_depth_bits"),
         ("shadow_compare.bias", "shafts.shadow_depth_bits"),
     ]))?;
+    let widths = onto(&SHAFTS_UNIT_WIDTHS);
+    shafts_interpolator(s).build().map_err(&widths)?;
+    shafts_projective(s).build().map_err(&widths)?;
+    shafts_projective_depth(s).build().map_err(&widths)?;
     Ok(())
 }
 

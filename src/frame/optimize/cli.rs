@@ -32,7 +32,8 @@ pub struct OptimizeArgs {
     #[arg(long, default_value = "gates")]
     pub objective: String,
     /// The parameters to search (comma list of `sweep`'s names for the scene);
-    /// default: every bit width of the scene's pipeline.
+    /// default: the scene's pipeline's storage and filter bit widths (shafts: not the
+    /// interpolator's or the reciprocal's, which `--params` can name; docs/optimize.md).
     #[arg(long)]
     pub params: Option<String>,
     /// Output directory.
@@ -468,9 +469,12 @@ impl SearchRun<'_> {
             "budget: no configuration evaluated meets {} ({}); {} holds what was evaluated",
             self.budget.describe(),
             if o.end == End::DefaultsBreakBudget {
-                "neither the defaults nor any widening of them up to 3 steps"
+                format!(
+                    "neither the defaults nor any widening the repair tried, up to {} steps",
+                    super::search::MAX_WIDEN_STEPS
+                )
             } else {
-                "the search stopped first"
+                "the search stopped first".to_string()
             },
             self.csv().display()
         )

@@ -34,7 +34,10 @@ use crate::pipeline::shafts::cli::{reference_image, render_scene};
 use crate::pipeline::shafts::sweep::{elaborated_gates, Param, Value, DEFAULT_TRUTH_SAMPLES};
 use crate::report::image_out::Framebuffer;
 use crate::report::metrics::{error_stats, ErrorStats};
-use crate::scene::format::Scene;
+use crate::scene::format::{
+    Scene, DEFAULT_ACC_FRAC_BITS, DEFAULT_ACC_INT_BITS, DEFAULT_NEWTON_FRAC_BITS,
+    DEFAULT_RECIP_ENTRY_BITS, DEFAULT_RECIP_INDEX_BITS,
+};
 use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
 use std::rc::Rc;
@@ -180,6 +183,11 @@ impl Kind {
                     Param::ShadowDepthBits => c.shadow_depth_bits,
                     Param::FTexels => c.f_texels,
                     Param::LightMapTexels => c.light_map_texels,
+                    Param::AccIntBits => c.acc_int_bits,
+                    Param::AccFracBits => c.acc_frac_bits,
+                    Param::RecipIndexBits => c.recip_index_bits,
+                    Param::RecipEntryBits => c.recip_entry_bits,
+                    Param::NewtonFracBits => c.newton_frac_bits,
                     Param::Mesh | Param::HTexels => {
                         return Err(format!("params: '{param}' is a pair (AxB)"))
                     }
@@ -289,6 +297,15 @@ pub fn wide_shafts(scene: &Scene) -> Scene {
     c.weight_bits = c.weight_bits.max(16);
     c.coord_frac_bits = c.coord_frac_bits.max(16);
     c.shadow_depth_bits = c.shadow_depth_bits.max(24);
+    // The interpolator's accumulators and the projective reciprocal: never narrower
+    // than the GeForce defaults (s20.24, a 2^8 × 16-bit ROM, 20-bit Newton step), which
+    // are already wider than the s16.16 / 4.12 outputs they feed; so the reference of
+    // a scene at the defaults is the one it had before these were searchable.
+    c.acc_int_bits = c.acc_int_bits.max(DEFAULT_ACC_INT_BITS);
+    c.acc_frac_bits = c.acc_frac_bits.max(DEFAULT_ACC_FRAC_BITS);
+    c.recip_index_bits = c.recip_index_bits.max(DEFAULT_RECIP_INDEX_BITS);
+    c.recip_entry_bits = c.recip_entry_bits.max(DEFAULT_RECIP_ENTRY_BITS);
+    c.newton_frac_bits = c.newton_frac_bits.max(DEFAULT_NEWTON_FRAC_BITS);
     s
 }
 

@@ -10,7 +10,9 @@
 //!   the pruning never drops a point that would have passed.
 //! * **Repair.** If the defaults break the budget, the parameter whose one-step
 //!   widening removes the most error per cost added is widened (if none removes
-//!   any, every parameter is widened one step together), until the budget is met
+//!   any, every parameter is widened one step together; if that does not lower
+//!   the error either, [`Book::repair_wider`]: two-step single widenings, the two
+//!   best of them together, and storage-vs-filter trades), until the budget is met
 //!   (at most [`MAX_WIDEN_STEPS`] steps above a default; none left: the search
 //!   ends, reporting it).
 //! * **Descent.** Each step narrows one parameter by one step (one bit, or half a
@@ -371,6 +373,113 @@ impl<'a> Book<'a> {
         Ok(Ok(None))
     }
 
+    /// The repair's last resort at point `x` (it breaks the budget; no single
+    /// one-step widening and no joint step lowered its error), in the order tried:
+    /// 1. each parameter alone two steps wider (the error is not monotone in every
+    ///    width: one bit more can do nothing where two do);
+    /// 2. the two parameters whose widenings in 1. left the least error, widened
+    ///    together by one and by two steps (fig6 at 720x480 needs the texels and the
+    ///    framebuffer wider together);
+    /// 3. from the lowest-error point of 1. and 2., each other parameter one step
+    ///    narrower: a storage-vs-filter trade (fig6's by-hand repair at full size
+    ///    widened texels and framebuffer and narrowed the filter weights and
+    ///    coordinate fractions, docs/optimize.md).
+    ///
+    /// Returns the point of lowest error ratio among these if it is below `x`'s
+    /// (None: the repair gives up), `Err(end)` when a limit stopped it. Widenings
+    /// stay within [`MAX_WIDEN_STEPS`] of the defaults `d`.
+    fn repair_wider(
+        &mut self,
+        x: usize,
+        d: &[u32],
+        limits: &Limits,
+        started: Instant,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<Option<usize>, End>, String> {
+        let Some(mx) = self.points[x].metrics().copied() else {
+            return Ok(Ok(None));
+        };
+        let from = self.points[x].values.clone();
+        let n = self.params.len();
+        let ratio_of = |b: &Book, j: usize| b.points[j].metrics().map(|m| b.budget.ratio(&m.error));
+        let mut best: Option<(f64, usize)> = None;
+        let consider = |b: &Book, j: usize, best: &mut Option<(f64, usize)>| {
+            if let Some(r) = ratio_of(b, j) {
+                if best.is_none_or(|(br, _)| r < br) {
+                    *best = Some((r, j));
+                }
+            }
+        };
+        // 1. Two steps wider, one parameter at a time; each parameter's lowest error
+        // over its one- and two-step widenings ranks it for 2.
+        let mut rank: Vec<(f64, usize)> = Vec::new();
+        for i in 0..n {
+            let Some(one) = widen(self.ev, &self.params, &from, d, i) else {
+                continue;
+            };
+            let mut lowest = self
+                .index
+                .get(&one)
+                .copied()
+                .flatten()
+                .and_then(|j| ratio_of(self, j));
+            if let Some(two) = widen(self.ev, &self.params, &one, d, i) {
+                match self.visit(&two, limits, started, on_point)? {
+                    Visit::At(j) => {
+                        consider(self, j, &mut best);
+                        if let Some(r) = ratio_of(self, j) {
+                            lowest = Some(lowest.map_or(r, |l: f64| l.min(r)));
+                        }
+                    }
+                    Visit::Invalid => {}
+                    Visit::Stopped(end) => return Ok(Err(end)),
+                }
+            }
+            if let Some(l) = lowest {
+                rank.push((l, i));
+            }
+        }
+        // 2. The two best-ranked parameters together, one and two steps wider.
+        rank.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        if let [(_, a), (_, b), ..] = rank[..] {
+            let mut y = from.clone();
+            for _ in 0..2 {
+                let Some(ya) = widen(self.ev, &self.params, &y, d, a) else {
+                    break;
+                };
+                let Some(yb) = widen(self.ev, &self.params, &ya, d, b) else {
+                    break;
+                };
+                y = yb;
+                match self.visit(&y, limits, started, on_point)? {
+                    Visit::At(j) => consider(self, j, &mut best),
+                    Visit::Invalid => break,
+                    Visit::Stopped(end) => return Ok(Err(end)),
+                }
+            }
+        }
+        // 3. Trades from the lowest-error point so far: each parameter it did not
+        // widen, one step narrower.
+        if let Some((_, c)) = best {
+            let cv = self.points[c].values.clone();
+            for i in 0..n {
+                if cv[i] != from[i] {
+                    continue;
+                }
+                let Some(y) = narrow(self.ev, &self.params, &cv, i) else {
+                    continue;
+                };
+                match self.visit(&y, limits, started, on_point)? {
+                    Visit::At(j) => consider(self, j, &mut best),
+                    Visit::Invalid => {}
+                    Visit::Stopped(end) => return Ok(Err(end)),
+                }
+            }
+        }
+        let rx = self.budget.ratio(&mx.error);
+        Ok(Ok(best.filter(|&(r, _)| r < rx).map(|(_, j)| j)))
+    }
+
     /// `a=1 b=2` for a point's values.
     pub fn describe(&self, values: &[u32]) -> String {
         describe(&self.params, values)
@@ -405,7 +514,7 @@ pub fn describe(params: &[&str], values: &[u32]) -> String {
 }
 
 /// How many steps above its default the repair phase may widen a parameter.
-pub const MAX_WIDEN_STEPS: u32 = 3;
+pub const MAX_WIDEN_STEPS: u32 = 4;
 
 /// `values` with parameter `i` widened by one step, or None `MAX_WIDEN_STEPS` above
 /// its default `d`.
@@ -596,8 +705,15 @@ pub fn search(
         }) {
             Some(j) => x = j,
             None => {
-                let best = book.best(objective);
-                return Ok(finish(book, d, best, End::DefaultsBreakBudget));
+                // The joint step did not help either: the wider repairs before giving up.
+                match book.repair_wider(x, &start, limits, started, on_point)? {
+                    Ok(Some(j)) => x = j,
+                    Ok(None) => {
+                        let best = book.best(objective);
+                        return Ok(finish(book, d, best, End::DefaultsBreakBudget));
+                    }
+                    Err(end) => return Ok(finish(book, d, None, end)),
+                }
             }
         }
     }

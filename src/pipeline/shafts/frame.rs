@@ -26,7 +26,7 @@ use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{PolyLanes, PolyOut, PolygonInterpolator, MAX_ATTRS};
-use rtl_model::units::projective_texcoord::{ProjectiveTexcoord, ProjectiveTexcoordConfig};
+use rtl_model::units::projective_texcoord::ProjectiveTexcoord;
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 use rtl_model::unorm::max_code;
@@ -287,7 +287,7 @@ impl<'a> ShaftsFrame<'a> {
 
         // The unit configs come from the scene's limits module, which validation
         // builds too (one source of limits).
-        let interp = limits::shafts_interpolator().build()?;
+        let interp = limits::shafts_interpolator(&cfg).build()?;
         let sampler_cfg = |dims: u32, size: [u32; 3]| limits::shafts_sampler(sc, dims, size);
         let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
             .map_err(|e| e.within("shafts.f_texels"))?;
@@ -307,15 +307,8 @@ impl<'a> ShaftsFrame<'a> {
             h_tex,
             modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
             blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 4, false, cfg.weight_bits)?,
-            proj: ProjectiveTexcoordConfig::geforce().build()?,
-            proj_depth: ProjectiveTexcoordConfig {
-                out_int_bits: 2,
-                out_frac_bits: 16,
-                newton_steps: 2,
-                newton_frac_bits: 30,
-                ..ProjectiveTexcoordConfig::geforce()
-            }
-            .build()?,
+            proj: limits::shafts_projective(&cfg).build()?,
+            proj_depth: limits::shafts_projective_depth(&cfg).build()?,
             zbuf: if has_objects {
                 Some(limits::depth_buffer(sc.image).build()?)
             } else {

@@ -55,10 +55,15 @@ pub enum Param {
     FTexels,
     HTexels,
     LightMapTexels,
+    AccIntBits,
+    AccFracBits,
+    RecipIndexBits,
+    RecipEntryBits,
+    NewtonFracBits,
 }
 
 impl Param {
-    pub const ALL: [Param; 12] = [
+    pub const ALL: [Param; 17] = [
         Param::Planes,
         Param::Subplanes,
         Param::TexelBits,
@@ -71,6 +76,11 @@ impl Param {
         Param::FTexels,
         Param::HTexels,
         Param::LightMapTexels,
+        Param::AccIntBits,
+        Param::AccFracBits,
+        Param::RecipIndexBits,
+        Param::RecipEntryBits,
+        Param::NewtonFracBits,
     ];
 
     /// The name on the command line and in the CSV (= the `shafts` field name).
@@ -88,6 +98,11 @@ impl Param {
             Param::FTexels => "f_texels",
             Param::HTexels => "h_texels",
             Param::LightMapTexels => "light_map_texels",
+            Param::AccIntBits => "acc_int_bits",
+            Param::AccFracBits => "acc_frac_bits",
+            Param::RecipIndexBits => "recip_index_bits",
+            Param::RecipEntryBits => "recip_entry_bits",
+            Param::NewtonFracBits => "newton_frac_bits",
         }
     }
 
@@ -139,6 +154,11 @@ impl Param {
                 Param::ShadowDepthBits => cfg.shadow_depth_bits = x,
                 Param::FTexels => cfg.f_texels = x,
                 Param::LightMapTexels => cfg.light_map_texels = x,
+                Param::AccIntBits => cfg.acc_int_bits = x,
+                Param::AccFracBits => cfg.acc_frac_bits = x,
+                Param::RecipIndexBits => cfg.recip_index_bits = x,
+                Param::RecipEntryBits => cfg.recip_entry_bits = x,
+                Param::NewtonFracBits => cfg.newton_frac_bits = x,
                 Param::Mesh | Param::HTexels => return wrong(),
             },
         }
