@@ -694,24 +694,31 @@ impl ProjectiveTexcoord {
         let w = self.in_bits();
         out.reserve(idx.len());
         other_u.reserve(idx.len());
-        // The four lanes at one length: one bounds check per gathered index.
+        // The four lanes at one length k; an index clamped to k − 1 (a no-op on the
+        // indices of the lanes' words) needs no bounds check, so the gather vectorises.
         let k = s.len().min(t.len()).min(r.len()).min(q.len());
         let (s, t, r, q) = (&s[..k], &t[..k], &r[..k], &q[..k]);
+        // One block's lanes, reused from block to block (only the first `len` of each
+        // are read).
+        let (mut sl, mut tl, mut rl, mut ql) =
+            ([0i64; LANES], [0i64; LANES], [0i64; LANES], [0i64; LANES]);
+        let mut f = Front::default();
+        let (mut u, mut v, mut du) = ([0i64; LANES], [0i64; LANES], [0i64; LANES]);
         for block in idx.chunks(LANES) {
             let len = block.len();
-            let (mut sl, mut tl, mut rl, mut ql) =
-                ([0i64; LANES], [0i64; LANES], [0i64; LANES], [0i64; LANES]);
+            let last = block.iter().copied().max().unwrap_or(0) as usize;
+            assert!(
+                last < k,
+                "kernel_pair_lanes: index {last} past the lanes ({k})"
+            );
             let lanes = sl.iter_mut().zip(&mut tl).zip(&mut rl).zip(&mut ql);
             for ((((sj, tj), rj), qj), &i) in lanes.zip(block) {
-                let i = i as usize;
+                let i = (i as usize).min(k - 1);
                 (*sj, *tj, *rj, *qj) = (sext(s[i], w), sext(t[i], w), sext(r[i], w), q[i]);
             }
-            let mut f = Front::default();
             self.front_lanes(&ql, len, &mut f);
-            let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
             let sat = self.back_lanes(&f, len, &sl, &mut u, Some((&tl, &mut v)));
             f.count(len, sat, ctr);
-            let mut du = [0i64; LANES];
             let dsat = other.back_lanes(&f, len, &rl, &mut du, None);
             f.count(len, dsat, other_ctr);
             // 0 behind the projector: the value masked by the lane's live bit.
