@@ -694,8 +694,9 @@ impl ProjectiveTexcoord {
         let w = self.in_bits();
         out.reserve(idx.len());
         other_u.reserve(idx.len());
-        // The four lanes at one length k; an index clamped to k − 1 (a no-op on the
-        // indices of the lanes' words) needs no bounds check, so the gather vectorises.
+        // The four lanes at one length k. Each block's indices are checked against k
+        // once; inside the loop an index clamped to k − 1 (a no-op after the check)
+        // needs no bounds check, so the gather compiles to vector gathers.
         let k = s.len().min(t.len()).min(r.len()).min(q.len());
         let (s, t, r, q) = (&s[..k], &t[..k], &r[..k], &q[..k]);
         // One block's lanes, reused from block to block (only the first `len` of each
