@@ -1211,7 +1211,7 @@ fn runs_agree_with_span(
             .map(|o| {
                 let mut o = *o;
                 for (a, v) in o.attrs.iter_mut().enumerate().take(k) {
-                    if unread >> a & 1 == 1 {
+                    if (unread >> a) & 1 == 1 {
                         *v = 0;
                     }
                 }
@@ -1221,7 +1221,7 @@ fn runs_agree_with_span(
         assert_eq!(words, want, "unread {unread:#b}: words differ ({name})");
         assert_eq!(&st, end, "unread {unread:#b}: final state differs ({name})");
         assert_eq!(&c, ctr, "unread {unread:#b}: counters differ ({name})");
-        for a in (0..k).filter(|&a| unread >> a & 1 == 1) {
+        for a in (0..k).filter(|&a| (unread >> a) & 1 == 1) {
             assert!(
                 lanes.attrs[a].is_empty(),
                 "unread lane {a} written ({name})"

@@ -270,7 +270,7 @@ impl PolyLanes {
     /// Whether attribute `a`'s lane is written.
     #[inline]
     pub fn is_read(&self, a: usize) -> bool {
-        self.unread >> a & 1 == 0
+        (self.unread >> a) & 1 == 0
     }
 
     /// Append one word (its first `k` attributes, the unread ones left out).
@@ -281,7 +281,7 @@ impl PolyLanes {
         let unread = self.unread;
         let lanes = self.attrs.iter_mut().zip(&o.attrs).take(self.k);
         for (a, (l, &v)) in lanes.enumerate() {
-            if unread >> a & 1 == 0 {
+            if (unread >> a) & 1 == 0 {
                 l.push(v);
             }
         }
