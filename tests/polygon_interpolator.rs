@@ -834,6 +834,54 @@ fn runs_of_every_move_wrap_the_counters_as_the_kernel_does() {
     }
 }
 
+/// The closed-form runs' event-free form (a run whose first and last codes are in
+/// range and of one strict sign is written without counting): on one triangle, an
+/// attribute that stays positive (every run event-free), one that crosses zero
+/// (rounds to 0 on the way: underflows), one that leaves the output range part-way
+/// (saturations) and one that stays negative, in every rounding mode: the lane forms
+/// give the drivers' words, final state and counters, and the events are there.
+#[test]
+fn event_free_runs_and_runs_with_events_agree_with_the_drivers() {
+    for q in Quant::ALL {
+        let u = PolygonInterpolatorConfig {
+            attrs: 4,
+            attr_fmt: Format {
+                int_bits: 10,
+                frac_bits: 8,
+                signed: true,
+            },
+            out_int_bits: 4,
+            out_frac_bits: 2,
+            out_quant: q,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let v = |x: f64, y: f64, a: [f64; 4]| {
+            u.vertex_from_f64(0, x, y, &a, &mut Counters::default())
+                .unwrap()
+        };
+        let s = u.setup_triangle(
+            &[
+                v(0.0, 0.0, [1.0, -0.4, -12.0, -1.0]),
+                v(60.0, 0.0, [5.0, 0.4, 12.0, -5.0]),
+                v(0.0, 40.0, [3.0, 0.2, 0.0, -3.0]),
+            ],
+            &mut Counters::default(),
+        );
+        let moves = s.moves();
+        let mut c = Counters::default();
+        rtl_model::driver::run_span(&u, &mut s.state.clone(), &moves, &mut c);
+        assert!(c.underflows > 0, "{q:?}: the zero crossing must underflow");
+        assert!(
+            c.saturations > 0,
+            "{q:?}: the third attribute must saturate"
+        );
+        common::assert_drivers_agree(&u, s.state.clone(), &moves);
+        lanes_agree_with_span(&u, &s.state, &moves);
+    }
+}
+
 #[test]
 fn wrapped_gradients_still_give_exact_in_range_pixels() {
     // Diagonal slivers ~0.2 px thick with the attribute rising 100 across them: the
@@ -1145,4 +1193,39 @@ fn runs_agree_with_span(
     assert_eq!(words, out, "run-coded lane words differ ({name})");
     assert_eq!(&st, end, "run-coded final state differs ({name})");
     assert_eq!(&c, ctr, "run-coded counters differ ({name})");
+    // Lanes no consumer reads (`PolyLanes::clear_unread`): the same words with those
+    // attributes 0 (their lanes empty), the same final state and counters.
+    let k = u.attrs() as usize;
+    for unread in [0b0101_0101u32, 0b1111, u32::MAX] {
+        let mut st = state.clone();
+        let mut c = Counters::default();
+        let mut lanes = PolyLanes::default();
+        lanes.clear_unread(k, unread);
+        u.kernel_runs_lanes(&mut st, runs, &mut lanes, &mut c);
+        let mut tally = rtl_model::driver::SpanTally::new();
+        tally.add(lanes.len());
+        tally.close(u.timing(), &mut c);
+        let words: Vec<PolyOut> = (0..lanes.len()).map(|i| lanes.word(i)).collect();
+        let want: Vec<PolyOut> = out
+            .iter()
+            .map(|o| {
+                let mut o = *o;
+                for (a, v) in o.attrs.iter_mut().enumerate().take(k) {
+                    if (unread >> a) & 1 == 1 {
+                        *v = 0;
+                    }
+                }
+                o
+            })
+            .collect();
+        assert_eq!(words, want, "unread {unread:#b}: words differ ({name})");
+        assert_eq!(&st, end, "unread {unread:#b}: final state differs ({name})");
+        assert_eq!(&c, ctr, "unread {unread:#b}: counters differ ({name})");
+        for a in (0..k).filter(|&a| (unread >> a) & 1 == 1) {
+            assert!(
+                lanes.attrs[a].is_empty(),
+                "unread lane {a} written ({name})"
+            );
+        }
+    }
 }

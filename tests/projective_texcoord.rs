@@ -369,6 +369,79 @@ fn shafts_depth() -> ProjectiveTexcoordConfig {
     }
 }
 
+/// `a.kernel_pair_lanes(b, …)` on the lanes [s, t, r, q] at every other index: where
+/// the pair form applies, each unit's outputs are those the three drivers give it on
+/// its own inputs ((s, t, q) and (r, 0, q)) and its counters the kernel's on them;
+/// elsewhere nothing is done.
+fn pair_agrees(a: &ProjectiveTexcoord, b: &ProjectiveTexcoord, [s, t, r, q]: [&[i64]; 4]) {
+    let idx: Vec<u32> = (0..s.len() as u32).step_by(2).collect();
+    let ins = |x: &[i64], y: Option<&[i64]>| -> Vec<ProjectiveIn> {
+        idx.iter()
+            .map(|&i| {
+                let i = i as usize;
+                ProjectiveIn {
+                    s: x[i],
+                    t: y.map_or(0, |y| y[i]),
+                    q: q[i],
+                }
+            })
+            .collect()
+    };
+    let (ins_a, ins_b) = (ins(s, Some(t)), ins(r, None));
+    let (mut lanes, mut bu) = (ProjLanes::default(), Vec::new());
+    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+    let done = a.kernel_pair_lanes(b, [s, t, r, q], &idx, &mut lanes, &mut bu, &mut ca, &mut cb);
+    assert_eq!(done, a.pair_lanes_apply(b));
+    if !done {
+        assert!(lanes.is_empty() && bu.is_empty());
+        return;
+    }
+    let out_a = common::assert_drivers_agree(a, (), &ins_a);
+    let out_b = common::assert_drivers_agree(b, (), &ins_b);
+    let got_a: Vec<ProjectiveOut> = (0..idx.len())
+        .map(|j| ProjectiveOut {
+            u: lanes.u[j],
+            v: lanes.v[j],
+            behind: lanes.behind[j],
+        })
+        .collect();
+    assert_eq!(got_a, out_a);
+    assert_eq!(bu, out_b.iter().map(|o| o.u).collect::<Vec<_>>());
+    let kernel_ctr = |u: &ProjectiveTexcoord, ins: &[ProjectiveIn]| {
+        let mut c = Counters::default();
+        for x in ins {
+            u.kernel(&mut (), x, &mut c);
+        }
+        c
+    };
+    assert_eq!(ca, kernel_ctr(a, &ins_a));
+    assert_eq!(cb, kernel_ctr(b, &ins_b));
+}
+
+/// The pair form exhaustively at narrow widths (W = 6): every (s, q) with t and r
+/// running over the wire too, at pairs that differ in outputs and Newton steps.
+#[test]
+fn pair_lane_form_exhaustive_at_narrow_widths() {
+    let pairs = [
+        (cfg(4, 2, 4, 4, 3, 6, 0, 8), cfg(3, 3, 2, 6, 3, 6, 2, 9)),
+        (cfg(3, 3, 5, 4, 2, 4, 1, 6), cfg(3, 3, 1, 3, 2, 4, 0, 5)),
+    ];
+    let (mut s, mut t, mut r, mut q) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for qq in -32i64..32 {
+        for ss in -32i64..32 {
+            s.push(ss);
+            t.push((ss * 7 + qq) % 32);
+            r.push(-ss ^ qq);
+            q.push(qq);
+        }
+    }
+    for (a, b) in pairs {
+        let (a, b) = (a.build().unwrap(), b.build().unwrap());
+        assert!(a.pair_lanes_apply(&b), "{a:?} {b:?}");
+        pair_agrees(&a, &b, [&s, &t, &r, &q]);
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(common::cases()))]
 
@@ -487,6 +560,33 @@ proptest! {
         let mut nu = Vec::new();
         prop_assert!(!a.kernel_pair_lanes(&c, [&s, &t, &r, &q], &idx, &mut none, &mut nu, &mut ca, &mut cb));
         prop_assert!(none.is_empty() && nu.is_empty());
+    }
+
+    /// The pair form at random pairs of configs that share the front end (W, I, E)
+    /// and differ in everything else (outputs, Newton steps and width: the 32-bit
+    /// multiplies where W ≤ 32 and N ≤ 30, the 64-bit ones elsewhere), on unmasked
+    /// words: each unit's outputs and counters are its own drivers' and kernel's.
+    #[test]
+    fn pair_lane_form_agrees_at_random_configs(
+        a in random_valid_config(),
+        b in random_valid_config(),
+        raw in prop::collection::vec((any::<i64>(), any::<i64>(), any::<i64>(), any::<i64>()), 0..150),
+        wide_q in any::<bool>(),
+    ) {
+        let a = a.build().unwrap();
+        let b = ProjectiveTexcoordConfig {
+            in_int_bits: a.config().in_int_bits,
+            in_frac_bits: a.config().in_frac_bits,
+            recip_index_bits: a.config().recip_index_bits,
+            recip_entry_bits: a.config().recip_entry_bits,
+            ..b
+        }
+        .build()
+        .unwrap();
+        let w = a.in_bits();
+        // q mostly in front of the projector unless `wide_q` (any word).
+        let q: Vec<i64> = raw.iter().map(|x| if wide_q { x.3 } else { (x.3 & ((1i64 << (w - 1)) - 1)) >> (x.3 as u64 % 64).min(w as u64 - 1) }).collect();
+        pair_agrees(&a, &b, [&raw.iter().map(|x| x.0).collect::<Vec<_>>(), &raw.iter().map(|x| x.1).collect::<Vec<_>>(), &raw.iter().map(|x| x.2).collect::<Vec<_>>(), &q]);
     }
 
     #[test]

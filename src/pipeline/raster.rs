@@ -60,6 +60,21 @@ pub struct WalkBuffers {
     outs: Vec<PolyOut>,
     frags: Vec<Fragment>,
     lanes: PolyLanes,
+    /// Attributes whose lanes [`walk_rows_lanes`] leaves unwritten (bit a for
+    /// attribute a; [`PolyLanes::clear_unread`]).
+    unread: u32,
+}
+
+impl WalkBuffers {
+    /// Buffers for a walk whose sink reads none of the attributes in the mask
+    /// `unread` (bit a for attribute a): [`walk_rows_lanes`] leaves their lanes empty
+    /// (still computed and counted by the interpolator).
+    pub fn unread(unread: u32) -> Self {
+        WalkBuffers {
+            unread,
+            ..WalkBuffers::default()
+        }
+    }
 }
 
 /// Moves of the walk fed to the interpolator at a time (whole bounding-box rows).
@@ -115,7 +130,7 @@ pub fn walk_rows_lanes(
         s.row_runs(row, &mut buf.runs);
         moves += width;
         if moves >= WALK_CHUNK_MOVES || row + 1 == rows {
-            buf.lanes.clear(u.attrs() as usize);
+            buf.lanes.clear_unread(u.attrs() as usize, buf.unread);
             u.kernel_runs_lanes(&mut st, &buf.runs, &mut buf.lanes, ctr);
             tally.add(moves);
             sink(&buf.lanes);

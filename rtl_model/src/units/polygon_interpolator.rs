@@ -225,10 +225,18 @@ pub struct PolyLanes {
     pub x: Vec<i64>,
     pub y: Vec<i64>,
     pub inside: Vec<bool>,
-    /// One lane per attribute (only the config's first `attrs` are written).
+    /// One lane per attribute (only the config's first `attrs` are written, and of
+    /// those not the ones in `unread`).
     pub attrs: [Vec<i64>; MAX_ATTRS],
     /// Attributes written (the config's `attrs`).
     pub k: usize,
+    /// Attributes no consumer of these lanes reads (bit a for attribute a): their
+    /// lanes stay empty; the kernel still computes and counts them (the same events,
+    /// the same final state). Set by [`PolyLanes::clear_unread`]; 0 by
+    /// [`PolyLanes::clear`].
+    pub unread: u32,
+    /// Where an unread attribute's run is computed (its events counted), reused.
+    spare: Vec<i64>,
 }
 
 impl PolyLanes {
@@ -241,8 +249,14 @@ impl PolyLanes {
         self.x.is_empty()
     }
 
-    /// Empty, ready for `k` attributes (buffers kept).
+    /// Empty, ready for `k` attributes (buffers kept), every one written.
     pub fn clear(&mut self, k: usize) {
+        self.clear_unread(k, 0);
+    }
+
+    /// Empty, ready for `k` attributes (buffers kept), those in the mask `unread`
+    /// (bit a for attribute a) not written: lanes no consumer reads.
+    pub fn clear_unread(&mut self, k: usize, unread: u32) {
         self.x.clear();
         self.y.clear();
         self.inside.clear();
@@ -250,23 +264,37 @@ impl PolyLanes {
             l.clear();
         }
         self.k = k;
+        self.unread = unread;
     }
 
-    /// Append one word (its first `k` attributes).
+    /// Whether attribute `a`'s lane is written.
+    #[inline]
+    pub fn is_read(&self, a: usize) -> bool {
+        (self.unread >> a) & 1 == 0
+    }
+
+    /// Append one word (its first `k` attributes, the unread ones left out).
     pub fn push(&mut self, o: &PolyOut) {
         self.x.push(o.x);
         self.y.push(o.y);
         self.inside.push(o.inside);
-        for (l, &v) in self.attrs.iter_mut().zip(&o.attrs).take(self.k) {
-            l.push(v);
+        let unread = self.unread;
+        let lanes = self.attrs.iter_mut().zip(&o.attrs).take(self.k);
+        for (a, (l, &v)) in lanes.enumerate() {
+            if (unread >> a) & 1 == 0 {
+                l.push(v);
+            }
         }
     }
 
-    /// Word i as a [`PolyOut`] (attributes past `k` 0).
+    /// Word i as a [`PolyOut`] (attributes past `k` and unread ones 0).
     pub fn word(&self, i: usize) -> PolyOut {
         let mut attrs = [0i64; MAX_ATTRS];
-        for (a, l) in attrs.iter_mut().zip(&self.attrs).take(self.k) {
-            *a = l[i];
+        let lanes = attrs.iter_mut().zip(&self.attrs).take(self.k);
+        for (a, (v, l)) in lanes.enumerate() {
+            if self.is_read(a) {
+                *v = l[i];
+            }
         }
         PolyOut {
             x: self.x[i],
@@ -456,11 +484,12 @@ impl AttrLine {
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
         let a = self.a;
-        self.fill_slots(outs.iter_mut().map(|o| &mut o.attrs[a]), round)
+        let run = outs.len();
+        self.fill_slots(outs.iter_mut().map(|o| &mut o.attrs[a]), run, round)
     }
 
     /// [`AttrLine::fill`] appending the run's values to one attribute lane: a
-    /// constant written once (one `resize`), else the lane grown by `run` and filled
+    /// constant written once (one `resize`; not at all unless `keep`), else the lane grown by `run` and filled
     /// as a slice (the loop the compiler vectorises; an `extend` from a counting
     /// closure did not, and kept the event counts in memory).
     #[inline(always)]
@@ -468,17 +497,41 @@ impl AttrLine {
         &self,
         lane: &mut Vec<i64>,
         run: usize,
+        keep: bool,
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
         if self.wrap.is_none() && self.g == 0 {
             let (c, s, u) = self.one(self.a0, &round);
-            lane.resize(lane.len() + run, c);
+            if keep {
+                lane.resize(lane.len() + run, c);
+            }
             let n = self.inside.len() as u64;
             return (s * n, u * n, None);
         }
+        if !keep && self.quiet(run, &round) {
+            return (0, 0, None); // unread, and nothing to count
+        }
         let base = lane.len();
         lane.resize(base + run, 0);
-        self.fill_slots(lane[base..].iter_mut(), round)
+        self.fill_slots(lane[base..].iter_mut(), run, round)
+    }
+
+    /// Whether a run of `run` steps that does not wrap has no event to count:
+    /// rounding (every mode) is monotone, so along the affine run the rounded values
+    /// go from the first step's to the last's; if both are inside the output range and
+    /// of one strict sign, no step saturates or rounds to 0. Then the codes are the
+    /// rounded values, written with no counting (the same codes).
+    #[inline(always)]
+    fn quiet(&self, run: usize, round: &impl Fn(i64) -> i64) -> bool {
+        if self.wrap.is_some() {
+            return false; // (and a0 + run·g may not even fit 64 bits)
+        }
+        let (first, last) = (
+            round(self.a0 + self.g),
+            round(self.a0 + run as i64 * self.g),
+        );
+        let (lo, hi) = (first.min(last), first.max(last));
+        lo >= self.lo && hi <= self.hi && (lo > 0 || hi < 0)
     }
 
     /// One accumulator value rounded and clamped into the output format: (code,
@@ -496,6 +549,7 @@ impl AttrLine {
     fn fill_slots<'s>(
         &self,
         slots: impl Iterator<Item = &'s mut i64>,
+        run: usize,
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
         let one = |v: i64| self.one(v, &round);
@@ -528,6 +582,12 @@ impl AttrLine {
             slots.for_each(|o| *o = c);
             let n = self.inside.len() as u64;
             return (s * n, u * n, None);
+        }
+        if self.quiet(run, &round) {
+            for (j, o) in slots.enumerate() {
+                *o = round(self.a0 + (j as i64 + 1) * self.g);
+            }
+            return (0, 0, None);
         }
         for (j, o) in slots.enumerate() {
             // |a0 + j·g| < 2^61 along the run: no i64 overflow.
@@ -1167,17 +1227,33 @@ impl PolygonInterpolator {
         let sh = plan.shift;
         for a in 0..k {
             let line = plan.line(st, a, &step);
-            let lane = &mut out.attrs[a];
+            // An unread attribute is computed into the spare lane (a constant one not
+            // at all), its events counted all the same.
+            let keep = out.is_read(a);
+            let lane = if keep {
+                &mut out.attrs[a]
+            } else {
+                out.spare.clear();
+                &mut out.spare
+            };
             let (sat, under, wrapped) = match self.cfg.out_quant {
-                Quant::Trn => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::Trn)),
-                Quant::TrnZero => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::TrnZero)),
-                Quant::Rnd => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::Rnd)),
-                Quant::RndZero => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndZero)),
-                Quant::RndInf => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndInf)),
-                Quant::RndMinInf => {
-                    line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndMinInf))
+                Quant::Trn => line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::Trn)),
+                Quant::TrnZero => {
+                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::TrnZero))
                 }
-                Quant::RndConv => line.extend_lane(lane, run, |v| round_acc(v, sh, Quant::RndConv)),
+                Quant::Rnd => line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::Rnd)),
+                Quant::RndZero => {
+                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndZero))
+                }
+                Quant::RndInf => {
+                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndInf))
+                }
+                Quant::RndMinInf => {
+                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndMinInf))
+                }
+                Quant::RndConv => {
+                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndConv))
+                }
             };
             plan.count(a, sat, under, wrapped, ctr);
         }

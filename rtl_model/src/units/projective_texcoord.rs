@@ -33,6 +33,12 @@ use serde::{Deserialize, Serialize};
 /// Inputs per block of the batch kernel's lane form.
 const LANES: usize = 64;
 
+/// Entries of the largest ROM (I ≤ 12): the lane form's flat copy of the ROM is this
+/// long (zero past 2ᴵ), so its index, masked to it, needs no bounds check and the
+/// look-up vectorises as a gather. A real index is always < 2ᴵ: the mask changes
+/// nothing.
+const ROM_MAX: usize = 1 << 12;
+
 /// The plain config (serde-friendly); [`ProjectiveTexcoordConfig::build`] validates it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct ProjectiveTexcoordConfig {
@@ -91,8 +97,9 @@ impl ProjectiveTexcoordConfig {
 pub struct ProjectiveTexcoord {
     cfg: ProjectiveTexcoordConfig,
     rom: BitVec<u64, Lsb0>,
-    /// The same ROM one entry a word (E ≤ 24 bits), for the batch kernel's lane form.
-    rom_flat: Vec<u32>,
+    /// The same ROM one entry a word (E ≤ 24 bits), for the batch kernel's lane form,
+    /// zero-filled to [`ROM_MAX`] entries.
+    rom_flat: Box<[u32; ROM_MAX]>,
 }
 
 /// Homogeneous coordinates from the interpolator: raw s(in_int).(in_frac) codes.
@@ -219,9 +226,10 @@ impl ProjectiveTexcoord {
             let e = eb as usize;
             rom[i * e..(i + 1) * e].store_le::<u64>(recip_rom_entry(i as u64, ib, eb));
         }
-        let rom_flat = (0..depth)
-            .map(|i| recip_rom_entry(i as u64, ib, eb) as u32)
-            .collect();
+        let mut rom_flat = Box::new([0u32; ROM_MAX]);
+        for (i, e) in rom_flat.iter_mut().take(depth).enumerate() {
+            *e = recip_rom_entry(i as u64, ib, eb) as u32;
+        }
         Ok(ProjectiveTexcoord { cfg, rom, rom_flat })
     }
 
@@ -470,6 +478,15 @@ impl ProjectiveTexcoord {
         self.fits_64() && self.recip_frac_bits() > self.cfg.out_frac_bits
     }
 
+    /// Whether every multiplier operand of the lane form fits 32 signed bits: s and t
+    /// (W ≤ 32) and the reciprocal (u1.N with N + 1 ≤ 31 after a Newton step; the
+    /// ROM's u0.E, E ≤ 24, before). Then each product is the 32 × 32 → 64-bit
+    /// multiply of the same integers (one vector instruction where a 64 × 64 one is
+    /// several), chosen once per block from the config.
+    fn mul_32(&self) -> bool {
+        self.in_bits() <= 32 && (self.cfg.newton_steps == 0 || self.cfg.newton_frac_bits <= 30)
+    }
+
     /// The kernel over up to [`LANES`] inputs in structure-of-arrays form, each step
     /// a loop over the lanes with the config's shifts uniform (the compiler vectorises
     /// the Newton steps and the scaling): the same arithmetic as [`Self::kernel`] in
@@ -485,15 +502,16 @@ impl ProjectiveTexcoord {
         let len = inputs.len();
         debug_assert!(len <= LANES);
         let w = self.in_bits();
-        let (mut s, mut t) = ([0i64; LANES], [0i64; LANES]);
+        let (mut s, mut t, mut q) = ([0i64; LANES], [0i64; LANES], [0i64; LANES]);
         for (j, x) in inputs.iter().enumerate() {
             s[j] = sext(x.s, w);
             t[j] = sext(x.t, w);
+            q[j] = x.q;
         }
         let mut f = Front::default();
-        self.front_lanes(|j| inputs[j].q, len, &mut f);
+        self.front_lanes(&q, len, &mut f);
         let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
-        let sat = self.back_lanes(&f, len, &s, &t, &mut u, &mut v);
+        let sat = self.back_lanes(&f, len, &s, &mut u, Some((&t, &mut v)));
         f.count(len, sat, ctr);
         out.extend((0..len).map(|j| {
             if f.live[j] == 1 {
@@ -512,46 +530,82 @@ impl ProjectiveTexcoord {
         }));
     }
 
-    /// The reciprocal's front end of up to [`LANES`] lanes (q of lane j from `q(j)`,
-    /// masked to its wire): whether q > 0, and q's exponent, normalised mantissa and
-    /// ROM entry (computed on q = 1 behind the projector).
+    /// The reciprocal's front end of the first `len` lanes of `q` (masked to its
+    /// wire): whether q > 0, and q's exponent, normalised mantissa and ROM entry
+    /// (computed on q = 1 behind the projector). Branch-free, so it vectorises
+    /// (leading-zero count and shifts; the ROM read apart).
     #[inline(always)]
-    fn front_lanes(&self, q: impl Fn(usize) -> i64, len: usize, f: &mut Front) {
+    fn front_lanes(&self, q: &[i64; LANES], len: usize, f: &mut Front) {
         let w = self.in_bits();
         let fm = w.saturating_sub(2);
         let ib = self.cfg.recip_index_bits;
         let fmask = (1u64 << fm) - 1;
-        for j in 0..len {
-            let q = sext(q(j), w);
-            f.live[j] = i64::from(q > 0);
+        // The I bits below the leading one: shifted down (fm ≥ I) or up (zero-filled).
+        let (down, up) = (fm.saturating_sub(ib), ib.saturating_sub(fm));
+        let rom = &*self.rom_flat;
+        let lanes = f
+            .live
+            .iter_mut()
+            .zip(f.p.iter_mut())
+            .zip(f.m.iter_mut())
+            .zip(f.r.iter_mut())
+            .zip(&q[..len]);
+        for ((((live, p), m), r), &q) in lanes {
+            let q = sext(q, w);
+            *live = i64::from(q > 0);
             let qq = if q > 0 { q as u64 } else { 1 };
             let pj = 63 - qq.leading_zeros();
             let mj = qq << (fm - pj);
-            let frac = mj & fmask;
-            let idx = if fm >= ib {
-                frac >> (fm - ib)
-            } else {
-                frac << (ib - fm)
-            } as usize;
-            f.m[j] = mj as i64;
-            f.p[j] = pj as i64;
-            f.r[j] = self.rom_flat[idx] as i64;
+            *m = mj as i64;
+            *p = pj as i64;
+            *r = (((mj & fmask) >> down) << up) as i64; // the ROM index, read below
+        }
+        for r in &mut f.r[..len] {
+            *r = rom[*r as usize & (ROM_MAX - 1)] as i64;
         }
     }
 
     /// After [`Self::front_lanes`]: the Newton steps on the front end's ROM entries
-    /// and the scaling of the lanes' (s, t) (sign-extended) into `u`, `v` (clamped;
-    /// meaningless behind the projector). Returns the saturations in front of it.
+    /// and the scaling of the lanes' s (sign-extended) into `u`, and of t into v
+    /// where `tv` is given (a unit whose v no one reads skips it; t = 0 would give
+    /// v = 0 and no saturation). Clamped; meaningless behind the projector. Returns
+    /// the saturations in front of it. In 32-bit multiplies where
+    /// [`Self::mul_32`], else in 64-bit ones: the same integers.
     #[inline(always)]
     fn back_lanes(
         &self,
         f: &Front,
         len: usize,
         s: &[i64; LANES],
-        t: &[i64; LANES],
         u: &mut [i64; LANES],
-        v: &mut [i64; LANES],
+        tv: Option<(&[i64; LANES], &mut [i64; LANES])>,
     ) -> i64 {
+        if self.mul_32() {
+            self.back_lanes_with::<true>(f, len, s, u, tv)
+        } else {
+            self.back_lanes_with::<false>(f, len, s, u, tv)
+        }
+    }
+
+    /// [`Self::back_lanes`] with its multiplier chosen: `NARROW`, the operands
+    /// (known to fit) as 32-bit words.
+    #[inline(always)]
+    fn back_lanes_with<const NARROW: bool>(
+        &self,
+        f: &Front,
+        len: usize,
+        s: &[i64; LANES],
+        u: &mut [i64; LANES],
+        tv: Option<(&[i64; LANES], &mut [i64; LANES])>,
+    ) -> i64 {
+        #[inline(always)]
+        fn mul<const NARROW: bool>(a: i64, b: i64) -> i64 {
+            if NARROW {
+                (a as i32 as i64) * (b as i32 as i64)
+            } else {
+                a * b
+            }
+        }
         let fm = self.in_bits().saturating_sub(2);
         let n = self.cfg.newton_frac_bits;
         let of = self.cfg.out_frac_bits as i64;
@@ -567,11 +621,11 @@ impl ProjectiveTexcoord {
             let (down, up) = (fm.saturating_sub(n), n.saturating_sub(fm));
             for ((rj, &mj), &l) in r.iter_mut().zip(m).zip(live) {
                 let mn = (mj >> down) << up; // u1.N
-                let d = (two - mn * *rj + half) >> fr;
-                sat += i64::from(d < 0 || d > r_max) * l;
+                let d = (two - mul::<NARROW>(mn, *rj) + half) >> fr;
+                sat += i64::from(d < 0 || d > r_max) & l;
                 let d = d.clamp(0, r_max);
-                let rn = (*rj * d + half) >> fr;
-                sat += i64::from(rn > r_max) * l;
+                let rn = (mul::<NARROW>(*rj, d) + half) >> fr;
+                sat += i64::from(rn > r_max) & l;
                 *rj = rn.min(r_max);
             }
             fr = n;
@@ -579,14 +633,25 @@ impl ProjectiveTexcoord {
         let ob = self.out_bits();
         let (lo, hi) = (-(1i64 << (ob - 1)), (1i64 << (ob - 1)) - 1);
         let frl = fr as i64 - of;
-        for j in 0..len {
-            let sh = frl + p[j]; // ≥ 1
-            let half = 1i64 << (sh - 1);
-            let a = (s[j] * r[j] + half) >> sh;
-            let b = (t[j] * r[j] + half) >> sh;
-            sat += (i64::from(a < lo || a > hi) + i64::from(b < lo || b > hi)) * live[j];
-            u[j] = a.clamp(lo, hi);
-            v[j] = b.clamp(lo, hi);
+        // One coordinate: s·r·2⁻ᵖ rounded (ties up), (clamped, saturated in front).
+        let scale = |x: i64, rj: i64, pj: i64, l: i64| {
+            let sh = frl + pj; // ≥ 1
+            let a = (mul::<NARROW>(x, rj) + (1i64 << (sh - 1))) >> sh;
+            (a.clamp(lo, hi), i64::from(a < lo || a > hi) & l)
+        };
+        let lanes = u.iter_mut().zip(s).zip(&*r).zip(p).zip(live);
+        for ((((uj, &sj), &rj), &pj), &l) in lanes {
+            let (a, e) = scale(sj, rj, pj, l);
+            *uj = a;
+            sat += e;
+        }
+        if let Some((t, v)) = tv {
+            let lanes = v.iter_mut().zip(t).zip(&*r).zip(p).zip(live);
+            for ((((vj, &tj), &rj), &pj), &l) in lanes {
+                let (b, e) = scale(tj, rj, pj, l);
+                *vj = b;
+                sat += e;
+            }
         }
         sat
     }
@@ -605,11 +670,12 @@ impl ProjectiveTexcoord {
     /// this unit on (s, t, q), `other` on (r, 0, q). Where
     /// [`Self::pair_lanes_apply`], q's leading-zero count, normalisation and ROM read
     /// are done once per input for both (the same ROM, the same wire), then each
-    /// unit's Newton steps and scaling on its own config. Outputs in lanes: this
-    /// unit's u, v and behind appended to `out`, `other`'s u to `other_u` (0 behind the
-    /// projector; its v, t·r = 0, is 0). Each unit's counters are exactly its batch
-    /// kernel's on its own inputs (`ctr`, `other_ctr`; both count a ROM read per input
-    /// in front and an underflow per input behind, as each unit's front end would).
+    /// unit's Newton steps and scaling on its own config (`other` scales r only: its
+    /// v, t·r = 0, is 0 and never saturates). Outputs in lanes: this unit's u, v and
+    /// behind appended to `out`, `other`'s u to `other_u` (0 behind the projector).
+    /// Each unit's counters are exactly its batch kernel's on its own inputs (`ctr`,
+    /// `other_ctr`; both count a ROM read per input in front and an underflow per
+    /// input behind, as each unit's front end would).
     /// Returns false with nothing done where the pair form does not apply.
     #[allow(clippy::too_many_arguments)]
     pub fn kernel_pair_lanes(
@@ -628,31 +694,41 @@ impl ProjectiveTexcoord {
         let w = self.in_bits();
         out.reserve(idx.len());
         other_u.reserve(idx.len());
-        let zero = [0i64; LANES];
+        // The four lanes at one length k. Each block's indices are checked against k
+        // once; inside the loop an index clamped to k − 1 (a no-op after the check)
+        // needs no bounds check, so the gather compiles to vector gathers.
+        let k = s.len().min(t.len()).min(r.len()).min(q.len());
+        let (s, t, r, q) = (&s[..k], &t[..k], &r[..k], &q[..k]);
+        // One block's lanes, reused from block to block (only the first `len` of each
+        // are read).
+        let (mut sl, mut tl, mut rl, mut ql) =
+            ([0i64; LANES], [0i64; LANES], [0i64; LANES], [0i64; LANES]);
+        let mut f = Front::default();
+        let (mut u, mut v, mut du) = ([0i64; LANES], [0i64; LANES], [0i64; LANES]);
         for block in idx.chunks(LANES) {
             let len = block.len();
-            let (mut sl, mut tl, mut rl) = ([0i64; LANES], [0i64; LANES], [0i64; LANES]);
-            for (j, &i) in block.iter().enumerate() {
-                let i = i as usize;
-                sl[j] = sext(s[i], w);
-                tl[j] = sext(t[i], w);
-                rl[j] = sext(r[i], w);
+            let last = block.iter().copied().max().unwrap_or(0) as usize;
+            assert!(
+                last < k,
+                "kernel_pair_lanes: index {last} past the lanes ({k})"
+            );
+            let lanes = sl.iter_mut().zip(&mut tl).zip(&mut rl).zip(&mut ql);
+            for ((((sj, tj), rj), qj), &i) in lanes.zip(block) {
+                let i = (i as usize).min(k - 1);
+                (*sj, *tj, *rj, *qj) = (sext(s[i], w), sext(t[i], w), sext(r[i], w), q[i]);
             }
-            let mut f = Front::default();
-            self.front_lanes(|j| q[block[j] as usize], len, &mut f);
-            let (mut u, mut v) = ([0i64; LANES], [0i64; LANES]);
-            let sat = self.back_lanes(&f, len, &sl, &tl, &mut u, &mut v);
+            self.front_lanes(&ql, len, &mut f);
+            let sat = self.back_lanes(&f, len, &sl, &mut u, Some((&tl, &mut v)));
             f.count(len, sat, ctr);
-            let (mut du, mut dv) = ([0i64; LANES], [0i64; LANES]);
-            let dsat = other.back_lanes(&f, len, &rl, &zero, &mut du, &mut dv);
+            let dsat = other.back_lanes(&f, len, &rl, &mut du, None);
             f.count(len, dsat, other_ctr);
+            // 0 behind the projector: the value masked by the lane's live bit.
             let live = &f.live[..len];
-            out.u
-                .extend(u[..len].iter().zip(live).map(|(&a, &l)| (a * l) as i32));
-            out.v
-                .extend(v[..len].iter().zip(live).map(|(&a, &l)| (a * l) as i32));
+            let keep = |(&a, &l): (&i64, &i64)| (a & l.wrapping_neg()) as i32;
+            out.u.extend(u[..len].iter().zip(live).map(keep));
+            out.v.extend(v[..len].iter().zip(live).map(keep));
             out.behind.extend(live.iter().map(|&l| l == 0));
-            other_u.extend(du[..len].iter().zip(live).map(|(&a, &l)| (a * l) as i32));
+            other_u.extend(du[..len].iter().zip(live).map(keep));
         }
         true
     }

@@ -241,7 +241,9 @@ fn subplanes_hil(
             Vec::with_capacity((w * h) as usize),
             Vec::with_capacity((w * h) as usize),
         );
-        let mut wb = WalkBuffers::default();
+        // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
+        // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
+        let mut wb = WalkBuffers::unread(0b1111);
         let (mut rows_in_order, mut last_y) = (true, 0);
         walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
             ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
@@ -522,7 +524,8 @@ fn cell(
     let mut spans = PlaneSpans::default();
     let mut out = Vec::new();
     let mut b = PlaneBuffers::default();
-    let mut wb = WalkBuffers::default();
+    // With sub-planes J comes from the J texture: no one reads the light attributes.
+    let mut wb = WalkBuffers::unread(if pc.jtex.is_some() { 0xf0 } else { 0 });
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
     for s in u.interp.setup_quad(&qv, &mut c_int) {
