@@ -147,6 +147,9 @@ pub struct VectorSet {
     pub out_fields: Vec<Field>,
     /// Every input word was enumerated.
     pub exhaustive: bool,
+    /// The unit carries no state (`Unit::State` is zero-sized, `()`), so each
+    /// expected word depends on its input word alone and the set may be repeated.
+    pub stateless: bool,
     /// Seconds the model's batch kernel (`Unit::kernel_batch`, from the reset state)
     /// took per pass over these inputs (the fastest of a few passes): the model's
     /// side of the speed table (`units --rtl-speed`).
@@ -402,6 +405,7 @@ fn collect<U: Unit>(
         config,
         latency: t.latency,
         ii: t.ii,
+        stateless: std::mem::size_of::<U::State>() == 0,
         params,
         in_fields: in_f,
         out_fields: out_f,
