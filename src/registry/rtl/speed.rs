@@ -81,6 +81,7 @@ pub fn build_verilator(root: &Path, dir: &Path, sets: &[VectorSet]) -> Result<Pa
         "-Mdir",
     ])
     .arg(dir.join("obj"))
+    .arg(super::verilog_include_arg(root))
     .args(&srcs);
     run(
         &mut c,
