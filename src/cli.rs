@@ -1017,7 +1017,11 @@ fn units_rtl_speed(json: bool, count: usize, config: &str) -> Result<(), String>
             vec![
                 r.unit.to_string(),
                 r.config.to_string(),
-                r.transactions.to_string(),
+                if r.set_size < r.transactions {
+                    format!("{} ({} repeated)", r.transactions, r.set_size)
+                } else {
+                    r.transactions.to_string()
+                },
                 format!("{:.3e}", r.model_pixels_per_s),
                 r.verilator_cycles_per_s
                     .map_or("— (too short)".into(), |v| format!("{v:.3e}")),

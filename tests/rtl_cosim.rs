@@ -128,6 +128,9 @@ fn build_verilator() -> Option<Built> {
     // Rebuild only when a source changed (the vectors are read at run time).
     let stamp: String = srcs
         .iter()
+        .chain(&rtl::verilog_include_files(Path::new(env!(
+            "CARGO_MANIFEST_DIR"
+        ))))
         .map(|p| std::fs::read_to_string(p).unwrap())
         .collect();
     let stamp_file = dir.join("obj/sources.stamp");
@@ -148,6 +151,9 @@ fn build_verilator() -> Option<Built> {
             "-Mdir",
         ])
         .arg(dir.join("obj"))
+        .arg(rtl::verilog_include_arg(Path::new(env!(
+            "CARGO_MANIFEST_DIR"
+        ))))
         .args(&srcs);
         run_ok(&mut c, "verilator build");
         std::fs::write(&stamp_file, &stamp).unwrap();
@@ -172,6 +178,9 @@ fn build_icarus() -> Option<Built> {
     let mut c = Command::new("iverilog");
     c.args(["-g2005", "-s", "cosim_top", "-o"])
         .arg(&vvp)
+        .arg(rtl::verilog_include_arg(Path::new(env!(
+            "CARGO_MANIFEST_DIR"
+        ))))
         .args(sources(&shared.blocks));
     run_ok(&mut c, "iverilog compile");
     Some(Built {

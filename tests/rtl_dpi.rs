@@ -94,6 +94,9 @@ fn build_sim(dir: &Path, lib: &Path) -> PathBuf {
     srcs.extend(blocks);
     let stamp: String = srcs
         .iter()
+        .chain(&glare_pipeline::registry::rtl::verilog_include_files(
+            &root(),
+        ))
         .map(|p| std::fs::read_to_string(p).unwrap())
         .collect();
     let stamp_file = dir.join("obj/sources.stamp");
@@ -117,6 +120,7 @@ fn build_sim(dir: &Path, lib: &Path) -> PathBuf {
         .arg(format!("-L{libdir} -lglare_dpi -Wl,-rpath,{libdir}"))
         .arg("-Mdir")
         .arg(dir.join("obj"))
+        .arg(glare_pipeline::registry::rtl::verilog_include_arg(&root()))
         .args(&srcs);
         run_ok(&mut c, "verilator build");
         std::fs::write(&stamp_file, &stamp).unwrap();

@@ -7,12 +7,14 @@
 //! cycle-exact against the model's vectors. Skips with a printed note without
 //! `iverilog`.
 
+mod common;
+
+use common::icarus;
 use glare_pipeline::registry::rtl::{self, specular_lookup_vectors_of, RtlConfig};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_sampler::Filter;
 use rtl_model::UnitSummary;
 use std::path::Path;
-use std::process::Command;
 
 /// (in_bits, signed, table_log2, entry_bits, weight_bits, filter, random table).
 type Case = (u32, bool, u32, u32, u32, Filter, bool);
@@ -47,16 +49,10 @@ const HARNESS_NARROW: SpecularLookupConfig = SpecularLookupConfig {
 
 #[test]
 fn icarus_runs_nearest_and_other_widths_bit_and_cycle_exact() {
-    if !Command::new("iverilog")
-        .arg("-V")
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-    {
+    if !icarus::have_iverilog() {
         println!("SKIP: iverilog not found; the specular_lookup configurations did not run");
         return;
     }
-    let verilog = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl_model/verilog");
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_specular_lookup");
     // The model's cost of the harness's two sets too, by part (docs/units.md's hand
     // synthesis beside Yosys).
@@ -87,45 +83,14 @@ fn icarus_runs_nearest_and_other_widths_bit_and_cycle_exact() {
             specular_lookup_vectors_of(cfg, random, RtlConfig::Narrow, 1, 11 + i as u64).unwrap();
         assert!(v.exhaustive, "{cfg:?}");
         assert_eq!(v.stimulus.len(), 1 << n, "{cfg:?}");
-        let dir = work.join(format!("c{i}"));
-        v.write(&dir).unwrap();
-        let tag = v.tag();
-        let vvp = dir.join("sim.vvp");
-        let c = Command::new("iverilog")
-            .args(["-g2005", "-s", &format!("cosim_{tag}"), "-o"])
-            .arg(&vvp)
-            .arg(verilog.join("tb/tb_vectors.v"))
-            .arg(verilog.join("tb/rtl_rom.v"))
-            .arg(verilog.join("units/specular_lookup.v"))
-            .arg(dir.join(format!("cosim_{tag}.v")))
-            .output()
-            .unwrap();
-        assert!(
-            c.status.success(),
-            "iverilog: {}",
-            String::from_utf8_lossy(&c.stderr)
+        let line = icarus::run_set(
+            &v,
+            &work.join(format!("c{i}")),
+            &["tb/rtl_rom.v", "units/specular_lookup.v"],
         );
-        let o = Command::new("vvp")
-            .arg("-n")
-            .arg(&vvp)
-            .arg(format!("+tag={tag}"))
-            .arg(format!("+n={}", v.stimulus.len()))
-            .arg(format!("+stim={}", dir.join("stimulus.hex").display()))
-            .arg(format!("+expect={}", dir.join("expected.hex").display()))
-            .output()
-            .unwrap();
-        let out = String::from_utf8_lossy(&o.stdout);
-        let line = out
-            .lines()
-            .find(|l| l.starts_with("COSIM") && l.contains(" n="))
-            .unwrap_or_else(|| panic!("{cfg:?}: no summary line:\n{out}"));
         // The model's cost at this configuration, for a hand synthesis (docs/units.md).
         println!("{cfg:?} ({:.0} NAND2 model): {line}", v.gates_model);
-        let want = format!(
-            "n={0} checked={0} mismatches=0 valid_errors=0 first_bad=-1",
-            v.stimulus.len()
-        );
-        if !line.ends_with(&want) {
+        if !line.ends_with(&icarus::clean_tail(v.stimulus.len())) {
             failed.push(format!("{cfg:?}: {line}"));
         }
     }

@@ -5,13 +5,15 @@
 //! configuration, the state being module parameters), bit- and cycle-exact against
 //! the model's vectors. Skips with a printed note without `iverilog`.
 
+mod common;
+
+use common::icarus;
 use glare_pipeline::registry::rtl::{texture_combiner_vectors_of, RtlConfig};
 use rtl_model::units::texture_combiner::{
     CombineFunction, CombineSource, CombinerRounding, OperandAlpha, OperandRgb,
     TextureCombinerConfig,
 };
 use std::path::Path;
-use std::process::Command;
 
 /// Transactions per configuration (random and corners: the input word is 48 bits).
 const COUNT: usize = 20_000;
@@ -44,57 +46,24 @@ fn config(i: usize) -> TextureCombinerConfig {
 
 #[test]
 fn icarus_runs_every_combine_function_bit_and_cycle_exact() {
-    if !Command::new("iverilog")
-        .arg("-V")
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-    {
+    if !icarus::have_iverilog() {
         println!("SKIP: iverilog not found; the texture_combiner function sweep did not run");
         return;
     }
-    let verilog = Path::new(env!("CARGO_MANIFEST_DIR")).join("rtl_model/verilog");
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_texture_combiner");
     let mut failed = Vec::new();
     for i in 0..CombineFunction::ALL.len() {
         let cfg = config(i);
         let v = texture_combiner_vectors_of(cfg, RtlConfig::Narrow, COUNT, 7 + i as u64).unwrap();
         assert_eq!(v.stimulus.len(), COUNT);
-        let dir = work.join(format!("f{i}"));
-        v.write(&dir).unwrap();
-        let tag = v.tag();
-        let vvp = dir.join("sim.vvp");
-        let c = Command::new("iverilog")
-            .args(["-g2005", "-s", &format!("cosim_{tag}"), "-o"])
-            .arg(&vvp)
-            .arg(verilog.join("tb/tb_vectors.v"))
-            .arg(verilog.join("units/texture_combiner.v"))
-            .arg(dir.join(format!("cosim_{tag}.v")))
-            .output()
-            .unwrap();
-        assert!(
-            c.status.success(),
-            "iverilog: {}",
-            String::from_utf8_lossy(&c.stderr)
+        let line = icarus::run_set(
+            &v,
+            &work.join(format!("f{i}")),
+            &["units/texture_combiner.v"],
         );
-        let o = Command::new("vvp")
-            .arg("-n")
-            .arg(&vvp)
-            .arg(format!("+tag={tag}"))
-            .arg(format!("+n={COUNT}"))
-            .arg(format!("+stim={}", dir.join("stimulus.hex").display()))
-            .arg(format!("+expect={}", dir.join("expected.hex").display()))
-            .output()
-            .unwrap();
-        let out = String::from_utf8_lossy(&o.stdout);
-        let want = format!("checked={COUNT} mismatches=0 valid_errors=0 first_bad=-1");
-        let line = out
-            .lines()
-            .find(|l| l.starts_with("COSIM ") && l.contains(" n="))
-            .unwrap_or("no summary line");
         println!("{:?}/{:?}: {line}", cfg.combine_rgb, cfg.combine_alpha);
-        if !line.ends_with(&want) {
-            failed.push(format!("{cfg:?}: {out}"));
+        if !line.ends_with(&icarus::clean_tail(COUNT)) {
+            failed.push(format!("{cfg:?}: {line}"));
         }
     }
     assert!(failed.is_empty(), "mismatches:\n{}", failed.join("\n"));

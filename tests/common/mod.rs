@@ -1,6 +1,7 @@
 //! Helpers shared by the unit tests.
 #![allow(dead_code)]
 
+pub mod icarus;
 pub mod shafts;
 
 use rtl_model::driver::{run_batch, run_span, run_tick};

@@ -13,36 +13,9 @@
 //   5 luminance registers
 //   6 output registers
 module halo_modulator #(
-    parameter COORD_FRAC_BITS = 14,
-    parameter SHAPE_LOG2      = 7,
-    parameter SHAPE_BITS      = 16,
-    parameter FALLOFF_LOG2    = 8,
-    parameter FALLOFF_BITS    = 16,
-    parameter WEIGHT_BITS     = 8,
-    parameter GAIN_INT_BITS   = 12,
-    parameter GAIN_FRAC_BITS  = 4,
-    parameter OUT_BITS        = 12,
-    // derived (do not set)
-    parameter SIDE            = (1 << SHAPE_LOG2) + 1,
-    parameter SAW             = $clog2(SIDE * SIDE),
-    parameter FAW             = FALLOFF_LOG2 + 1
+`include "luminance_params.vh"
 ) (
-    input                                     clk,
-    input                                     rst,
-    input                                     in_valid,
-    input      [COORD_FRAC_BITS+1:0]          u,
-    input      [COORD_FRAC_BITS+1:0]          v,
-    input      [GAIN_INT_BITS+GAIN_FRAC_BITS-1:0] gain_r,
-    input      [GAIN_INT_BITS+GAIN_FRAC_BITS-1:0] gain_g,
-    input      [GAIN_INT_BITS+GAIN_FRAC_BITS-1:0] gain_b,
-    output     [SAW-1:0]                      shape_addr0,
-    output     [SAW-1:0]                      shape_addr1,
-    output     [SAW-1:0]                      shape_addr2,
-    output     [SAW-1:0]                      shape_addr3,
-    input      [SHAPE_BITS-1:0]               shape_data0,
-    input      [SHAPE_BITS-1:0]               shape_data1,
-    input      [SHAPE_BITS-1:0]               shape_data2,
-    input      [SHAPE_BITS-1:0]               shape_data3,
+`include "luminance_ports.vh"
     output     [FAW-1:0]                      ring_r_addr0,
     output     [FAW-1:0]                      ring_r_addr1,
     input      [FALLOFF_BITS-1:0]             ring_r_data0,
@@ -65,33 +38,10 @@ module halo_modulator #(
   assign {ring_r_addr0, ring_g_addr0, ring_b_addr0} = {3{a0}};
   assign {ring_r_addr1, ring_g_addr1, ring_b_addr1} = {3{a1}};
   luminance_datapath #(
-      .COORD_FRAC_BITS(COORD_FRAC_BITS),
-      .SHAPE_LOG2(SHAPE_LOG2),
-      .SHAPE_BITS(SHAPE_BITS),
-      .FALLOFF_LOG2(FALLOFF_LOG2),
-      .FALLOFF_BITS(FALLOFF_BITS),
-      .WEIGHT_BITS(WEIGHT_BITS),
-      .GAIN_INT_BITS(GAIN_INT_BITS),
-      .GAIN_FRAC_BITS(GAIN_FRAC_BITS),
-      .OUT_BITS(OUT_BITS),
+`include "luminance_dp_params.vh"
       .NR(3)
   ) dp (
-      .clk(clk),
-      .rst(rst),
-      .in_valid(in_valid),
-      .u(u),
-      .v(v),
-      .gain_r(gain_r),
-      .gain_g(gain_g),
-      .gain_b(gain_b),
-      .shape_addr0(shape_addr0),
-      .shape_addr1(shape_addr1),
-      .shape_addr2(shape_addr2),
-      .shape_addr3(shape_addr3),
-      .shape_data0(shape_data0),
-      .shape_data1(shape_data1),
-      .shape_data2(shape_data2),
-      .shape_data3(shape_data3),
+`include "luminance_dp_ports.vh"
       .falloff_addr0(a0),
       .falloff_addr1(a1),
       .falloff_data0({ring_r_data0, ring_g_data0, ring_b_data0}),

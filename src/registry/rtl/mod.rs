@@ -147,6 +147,9 @@ pub struct VectorSet {
     pub out_fields: Vec<Field>,
     /// Every input word was enumerated.
     pub exhaustive: bool,
+    /// The unit carries no state (`Unit::State` is zero-sized, `()`), so each
+    /// expected word depends on its input word alone and the set may be repeated.
+    pub stateless: bool,
     /// Seconds the model's batch kernel (`Unit::kernel_batch`, from the reset state)
     /// took per pass over these inputs (the fastest of a few passes): the model's
     /// side of the speed table (`units --rtl-speed`).
@@ -402,6 +405,7 @@ fn collect<U: Unit>(
         config,
         latency: t.latency,
         ii: t.ii,
+        stateless: std::mem::size_of::<U::State>() == 0,
         params,
         in_fields: in_f,
         out_fields: out_f,
@@ -967,6 +971,31 @@ pub fn verilog_lib_files(root: &Path) -> Vec<std::path::PathBuf> {
         .collect()
 }
 
+/// Headers in `rtl_model/verilog/lib/` that units `include` (port lists and wiring
+/// shared by several units): the simulators and Yosys (`synth`) get
+/// [`verilog_include_arg`].
+pub const VERILOG_INCLUDES: &[&str] = &[
+    "combiner_register_file.vh",
+    "luminance_params.vh",
+    "luminance_ports.vh",
+    "luminance_dp_params.vh",
+    "luminance_dp_ports.vh",
+];
+
+/// The headers' files ([`VERILOG_INCLUDES`]), for build stamps.
+pub fn verilog_include_files(root: &Path) -> Vec<std::path::PathBuf> {
+    VERILOG_INCLUDES
+        .iter()
+        .map(|h| root.join("rtl_model/verilog/lib").join(h))
+        .collect()
+}
+
+/// `-I<root>/rtl_model/verilog/lib`: where Verilator and Icarus find the headers
+/// (both search the working directory and `-I`, not the including file's directory).
+pub fn verilog_include_arg(root: &Path) -> String {
+    format!("-I{}", root.join("rtl_model/verilog/lib").display())
+}
+
 /// A unit synthesised by Yosys at one configuration.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Synth {
@@ -1040,7 +1069,8 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         .map(|f| format!("read_verilog {}; ", f.display()))
         .collect();
     let script = format!(
-        "{lib}read_verilog {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        "{lib}read_verilog {} {}; chparam {} {}; synth -flatten -top {}; abc -g AND,NAND,OR,NOR,XOR,XNOR,MUX; tee -o {} stat",
+        verilog_include_arg(root),
         file.display(),
         sets.join(" "),
         e.name,

@@ -211,6 +211,7 @@ pub(super) fn polygon_interpolator_vectors(
         ],
         out_fields: out_f,
         exhaustive: false,
+        stateless: false,
         model_batch_secs,
         stimulus,
         expected,

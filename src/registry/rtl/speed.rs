@@ -14,15 +14,20 @@ use std::time::Instant;
 pub struct SpeedRow {
     pub unit: &'static str,
     pub config: &'static str,
+    /// Transactions Verilator runs: `count`, or the set's size for a stateful unit.
     pub transactions: usize,
+    /// Distinct transactions in the vector set: fewer than `transactions` where a
+    /// stateless unit's exhaustive set is repeated to reach `count` (the model's rate
+    /// is over one pass of the set).
+    pub set_size: usize,
     /// Model: transactions (pixels) per second of the batch kernel.
     pub model_pixels_per_s: f64,
     /// Clocks the testbench runs: reset, (n − 1)·II + latency, and its tail.
     pub verilator_cycles: u64,
     /// Verilator wall time of the run less that of a one-transaction run (start-up,
     /// file opening), seconds. `None` (and the rates with it) when that difference is
-    /// under [`MIN_TIMED_SECS`]: an exhaustive set of a few hundred words (exhaustive
-    /// sets keep their size) runs within the start-up's own noise.
+    /// under [`MIN_TIMED_SECS`] (start-up noise; a short set is repeated, see
+    /// [`repeat_to`], so only a very small `count` falls under it).
     pub verilator_secs: Option<f64>,
     pub verilator_cycles_per_s: Option<f64>,
     pub verilator_transactions_per_s: Option<f64>,
@@ -76,6 +81,7 @@ pub fn build_verilator(root: &Path, dir: &Path, sets: &[VectorSet]) -> Result<Pa
         "-Mdir",
     ])
     .arg(dir.join("obj"))
+    .arg(super::verilog_include_arg(root))
     .args(&srcs);
     run(
         &mut c,
@@ -113,8 +119,21 @@ fn time_run(bin: &Path, dir: &Path, tag: &str, n: usize) -> Result<(f64, String)
 /// The shortest Verilator run (less its start-up) that gets a rate.
 pub const MIN_TIMED_SECS: f64 = 0.05;
 
-/// The speed table at `config`: `count` transactions per unit (exhaustive sets keep
-/// their size), vectors from `seed`, work files under `dir`.
+/// `s` with its transactions repeated in order up to `count`, when it is an
+/// exhaustive set of a stateless unit shorter than that (each expected word depends
+/// on its own input word only); any other set as it is.
+pub fn repeat_to(mut s: VectorSet, count: usize) -> VectorSet {
+    let n = s.stimulus.len();
+    if s.exhaustive && s.stateless && n > 0 && n < count {
+        s.stimulus = s.stimulus.iter().cycle().take(count).cloned().collect();
+        s.expected = s.expected.iter().cycle().take(count).cloned().collect();
+    }
+    s
+}
+
+/// The speed table at `config`: `count` transactions per unit (a stateless unit's
+/// shorter exhaustive set repeated to `count`, [`repeat_to`]; a stateful unit's set
+/// is `count` long already), vectors from `seed`, work files under `dir`.
 pub fn rtl_speed(
     root: &Path,
     dir: &Path,
@@ -123,8 +142,11 @@ pub fn rtl_speed(
     seed: u64,
 ) -> Result<Vec<SpeedRow>, String> {
     let mut sets = Vec::new();
+    let mut sizes = Vec::new();
     for e in RTL_UNITS {
-        sets.push(super::vectors(e.name, config, count, seed)?);
+        let s = super::vectors(e.name, config, count, seed)?;
+        sizes.push(s.stimulus.len());
+        sets.push(repeat_to(s, count));
     }
     eprintln!(
         "units --rtl-speed: building the Verilator binary of {} units …",
@@ -132,7 +154,7 @@ pub fn rtl_speed(
     );
     let bin = build_verilator(root, dir, &sets)?;
     let mut rows = Vec::new();
-    for s in &sets {
+    for (s, &set_size) in sets.iter().zip(&sizes) {
         let n = s.stimulus.len();
         let tag = s.tag();
         let (t1, _) = time_run(&bin, dir, &tag, 1)?;
@@ -140,13 +162,14 @@ pub fn rtl_speed(
         let secs = tn - t1;
         let timed = (secs >= MIN_TIMED_SECS).then_some(secs);
         let cycles = 2 + (n as u64 - 1) * s.ii as u64 + s.latency as u64 + 3;
-        let model = n as f64 / s.model_batch_secs.max(1e-12);
+        let model = set_size as f64 / s.model_batch_secs.max(1e-12);
         let vtx = timed.map(|t| n as f64 / t);
         eprintln!("units --rtl-speed: {tag}: {n} transactions, Verilator {secs:.3} s");
         rows.push(SpeedRow {
             unit: s.unit,
             config: config.name(),
             transactions: n,
+            set_size,
             model_pixels_per_s: model,
             verilator_cycles: cycles,
             verilator_secs: timed,
@@ -156,4 +179,34 @@ pub fn rtl_speed(
         });
     }
     Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_stateless_exhaustive_sets_repeat() {
+        let d = RtlConfig::Default;
+        let s = super::super::vectors("specular_lookup", d, 10, 1).unwrap();
+        assert!(s.exhaustive && s.stateless);
+        let n = s.stimulus.len();
+        let r = repeat_to(s.clone(), 2 * n + 3);
+        assert_eq!(r.stimulus.len(), 2 * n + 3);
+        assert_eq!(r.expected.len(), 2 * n + 3);
+        assert_eq!(r.stimulus[n..2 * n], s.stimulus[..]);
+        assert_eq!(r.expected[2 * n..], s.expected[..3]);
+        // A set at least `count` long, a stateful unit's, or a seeded one: as it is.
+        assert_eq!(repeat_to(s.clone(), n).stimulus.len(), n);
+        let sc = super::super::vectors("shadow_compare", RtlConfig::Narrow, 50, 1).unwrap();
+        assert!(!sc.stateless);
+        let g = super::super::vectors("gaussian_noise", d, 50, 1).unwrap();
+        assert!(!g.stateless);
+        let mut fake = g.clone();
+        fake.exhaustive = true;
+        assert_eq!(repeat_to(fake, 500).stimulus.len(), 50);
+        let m = super::super::vectors("glare_combiner", d, 50, 1).unwrap();
+        assert!(m.stateless && !m.exhaustive);
+        assert_eq!(repeat_to(m, 500).stimulus.len(), 50);
+    }
 }

@@ -38,6 +38,7 @@ pub(super) fn request_stream<U: Unit<In = ()>>(
         in_fields: in_f,
         out_fields: out_f,
         exhaustive: false,
+        stateless: false,
         model_batch_secs,
         stimulus: vec![word; count],
         expected,

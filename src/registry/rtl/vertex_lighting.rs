@@ -11,7 +11,8 @@
 //!   almost every one-ulp difference inside the float datapath: a hand mutation
 //!   dropping the adder's sticky bit went unseen in 2·10⁴ vertices), a local spot
 //!   light with attenuation and a specular material: every special (RSQ ×3, RCP,
-//!   two pows) is on the path;
+//!   two pows, their exponents 4.5 and 32.5 non-integers so exp2's floor acts) is
+//!   on the path;
 //! * narrow: E 4, M 6, truncation, 12-bit colours (every bit of a sum ≥ 2^−5),
 //!   no GL_NORMALIZE, a local viewer, a directional light without a spot.
 //!
@@ -23,12 +24,24 @@
 //! rsq saturates, L = 0, the spot is 0), the rest have coordinates of magnitude
 //! 2^−4 ..= 4 and normal components 2^−3 ..= 2 (exponents spread, random signs), so N·L ≤ 0,
 //! the spot cone's edge, specular highlights and the [0, 1] clamps all occur.
+//!
+//! Before all of these come the **fault corners** ([`fault_corners`]): vertices on
+//! which a wrong rounding in a rarely deciding position reaches the output. Each is
+//! found by running [`light_with`], the kernel's datapath for one light, once as the
+//! model computes it and once with one hand mutation of the Verilog applied to every
+//! RSQ, RCP or exp2 — RSQ's or RCP's remainder dropped from the sticky bit (the
+//! quotient rounded as if exact), or exp2's ⌊t·2^K⌋ of a negative t truncated toward
+//! zero instead of floored — and keeping the vertex when the output words differ.
+//! A test checks `light_with` without a fault against the kernel. They replace the
+//! first vertices of the stream, so the count is unchanged.
 
-use super::{collect, RtlConfig, VectorSet, VerilogParams};
+use super::{collect, seeded, RtlConfig, VectorSet, VerilogParams};
+use rand::Rng;
 use rtl_model::units::vertex_lighting::{
     Light, LightingSetup, VertexLighting, VertexLightingConfig, VertexLightingIn,
 };
-use rtl_model::{Fp, Rounding, Subnormals};
+use rtl_model::{Counters, FloatFormat, Fp, Rounding, Subnormals};
+use std::cell::Cell;
 
 /// The Verilog's parameters for `u`, or why the Verilog does not implement it.
 pub(super) fn verilog_params(u: &VertexLighting) -> Result<VerilogParams, String> {
@@ -90,6 +103,12 @@ pub(super) fn verilog_params(u: &VertexLighting) -> Result<VerilogParams, String
     Ok(p)
 }
 
+/// Fault corners searched for per fault, shaped vertices tried at most, and the
+/// redraws of a vertex's normal low bits (see [`fault_corners`]).
+const CORNERS_PER_FAULT: usize = 16;
+const CORNER_TRIES: usize = 40_000;
+const SWEEP: usize = 64;
+
 /// The unit at `config` (see the module docs).
 fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
     let mut setup = LightingSetup::default();
@@ -97,7 +116,7 @@ fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
         RtlConfig::Default => {
             setup.material.emission = [0.05, 0.0, 0.02];
             setup.material.specular = [0.8; 3];
-            setup.material.shininess = 32.0;
+            setup.material.shininess = 32.5;
             // Above and in front of the origin, the cone aimed at it: most shaped
             // vertices (|P| components 2^-4 ..= 4) fall inside.
             let light = Light {
@@ -106,7 +125,7 @@ fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
                 diffuse: [0.9, 0.8, 0.7],
                 specular: [1.0; 3],
                 spot_direction: [-0.5, -1.0, -2.0],
-                spot_exponent: 4.0,
+                spot_exponent: 4.5,
                 spot_cutoff: 75.0,
                 attenuation: [1.0, 0.05, 0.02],
             };
@@ -141,13 +160,304 @@ fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
     VertexLighting::new(cfg, &setup).map_err(|e| e.to_string())
 }
 
-pub(super) fn vertex_lighting_vectors(
-    config: RtlConfig,
-    count: usize,
+/// A hand mutation of the Verilog the fault corners are chosen to expose.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Fault {
+    None,
+    /// RSQ's remainders dropped from the sticky bit.
+    RsqSticky,
+    /// RCP's remainder dropped from the sticky bit.
+    RcpSticky,
+    /// exp2's fixed-point t of a negative t truncated toward zero, not floored.
+    Exp2Floor,
+}
+
+const FAULTS: [Fault; 3] = [Fault::RsqSticky, Fault::RcpSticky, Fault::Exp2Floor];
+
+/// The kernel's float operations, with one fault applied to RSQ, RCP or exp2.
+struct Datapath {
+    f: FloatFormat,
+    fault: Fault,
+    ctr: Counters,
+    /// The fault changed an RSQ, RCP or exp2 result.
+    changed: bool,
+}
+
+impl Datapath {
+    /// (sig, lsb) of a non-zero word: sig·2^lsb, sig in [2^M, 2^(M+1)).
+    fn parts(&self, x: Fp) -> (u128, i32) {
+        let f = &self.f;
+        let (_, e, mant) = f.fields(x);
+        let e = e.min((1 << f.exp_bits) - 2) as i32;
+        let m = f.mant_bits;
+        ((1u128 << m) | mant as u128, e - f.bias() - m as i32)
+    }
+
+    /// (−1)^neg · q · 2^lsb rounded once with no sticky bit (exact in f64 here).
+    fn round(&mut self, neg: bool, q: u128, lsb: i32) -> Fp {
+        let v = q as f64 * 2f64.powi(lsb);
+        let v = if neg { -v } else { v };
+        self.f
+            .from_f64("vertex_lighting", v, &mut self.ctr)
+            .unwrap_or(Fp(0))
+    }
+
+    fn rsq(&mut self, x: Fp) -> Fp {
+        if self.fault != Fault::RsqSticky || self.f.is_zero(x) {
+            return self.f.rsq(x, &mut self.ctr);
+        }
+        // The model's ⌊√⌊2^(2P)/sig⌋⌋, rounded as if exact.
+        let m = self.f.mant_bits;
+        let (sig, lsb) = self.parts(x);
+        let (sig, lsb) = if lsb % 2 != 0 {
+            (sig << 1, lsb - 1)
+        } else {
+            (sig, lsb)
+        };
+        let two_p = 3 * m + 8 + (m % 2);
+        let r = ((1u128 << two_p) / sig).isqrt();
+        let y = self.round(false, r, -(two_p as i32 / 2) - lsb / 2);
+        self.changed |= y != self.f.rsq(x, &mut self.ctr);
+        y
+    }
+
+    fn rcp(&mut self, x: Fp) -> Fp {
+        if self.fault != Fault::RcpSticky || self.f.is_zero(x) {
+            return self.f.rcp(x, &mut self.ctr);
+        }
+        let k = 2 * self.f.mant_bits + 4;
+        let (sig, lsb) = self.parts(x);
+        let neg = self.f.is_neg(x);
+        let y = self.round(neg, (1u128 << k) / sig, -(k as i32) - lsb);
+        self.changed |= y != self.f.rcp(x, &mut self.ctr);
+        y
+    }
+
+    /// The model's pow: log2 (K squarings) → mul → exp2.
+    fn pow(&mut self, x: Fp, s: Fp) -> Fp {
+        let f = self.f;
+        if f.is_zero(s) {
+            return f.one();
+        }
+        if !f.lt(Fp(0), x) {
+            return Fp(0);
+        }
+        let (m, k) = (f.mant_bits, f.pow_frac_bits());
+        let (sig, lsb) = self.parts(x);
+        let mut y = sig << (k - m);
+        let mut frac: i128 = 0;
+        for _ in 0..k {
+            let z = y * y;
+            frac <<= 1;
+            if z >> (2 * k + 1) != 0 {
+                frac |= 1;
+                y = z >> (k + 1);
+            } else {
+                y = z >> k;
+            }
+        }
+        let l_fix = ((lsb as i128 + m as i128) << k) + frac;
+        let l = self.round(l_fix < 0, l_fix.unsigned_abs(), -(k as i32));
+        let t = f.mul(s, l, &mut self.ctr);
+        if self.fault == Fault::Exp2Floor && f.is_neg(t) && !f.is_zero(t) {
+            // ⌊|t|·2^K⌋ (exact in f64): the mutation's t·2^K of a negative t.
+            let mag = (-f.to_f64(t) * 2f64.powi(k as i32)).floor();
+            let tt = self.round(true, mag as u128, -(k as i32));
+            let y = f.exp2(tt, &mut self.ctr);
+            self.changed |= y != f.exp2(t, &mut self.ctr);
+            return y;
+        }
+        f.exp2(t, &mut self.ctr)
+    }
+
+    fn dot3(&mut self, a: &[Fp; 3], b: &[Fp; 3]) -> Fp {
+        let (f, c) = (self.f, &mut self.ctr);
+        let t0 = f.mul(a[0], b[0], c);
+        let t1 = f.mul(a[1], b[1], c);
+        let s = f.add(t0, t1, c);
+        let t2 = f.mul(a[2], b[2], c);
+        f.add(s, t2, c)
+    }
+
+    fn normalise(&mut self, v: &[Fp; 3]) -> [Fp; 3] {
+        let d = self.dot3(v, v);
+        let r = self.rsq(d);
+        v.map(|c| self.f.mul(c, r, &mut self.ctr))
+    }
+}
+
+/// [`light_with`]'s result.
+struct Lit {
+    rgb: [u32; 3],
+    /// The fault changed an RSQ, RCP or exp2 result (whether or not `rgb` shows it).
+    changed: bool,
+    /// The normalised half vector, when the specular term is computed.
+    h: Option<[Fp; 3]>,
+}
+
+/// The kernel's colour words for `input` (one light, `VertexLighting::light`'s order
+/// of operations) with `fault` applied.
+fn light_with(u: &VertexLighting, input: &VertexLightingIn, fault: Fault) -> Lit {
+    let cfg = u.config();
+    let f = cfg.format;
+    let mut dp = Datapath {
+        f,
+        fault,
+        ctr: Counters::default(),
+        changed: false,
+    };
+    let p = &input.position;
+    let n = if cfg.normalize {
+        dp.normalise(&input.normal)
+    } else {
+        input.normal
+    };
+    let v = if cfg.local_viewer {
+        dp.normalise(&p.map(|c| f.neg(c)))
+    } else {
+        [Fp(0), Fp(0), f.one()]
+    };
+    let (base, shininess, _) = u.material_registers();
+    let l = &u.light_registers()[0];
+    let (lv, att) = if l.local {
+        let vp = [0, 1, 2].map(|k| f.sub(l.vector[k], p[k], &mut dp.ctr));
+        let d2 = dp.dot3(&vp, &vp);
+        let r = dp.rsq(d2);
+        let lv = vp.map(|c| f.mul(c, r, &mut dp.ctr));
+        let d = f.mul(d2, r, &mut dp.ctr);
+        let [kc, kl, kq] = l.attenuation;
+        let t = f.mul(kl, d, &mut dp.ctr);
+        let den = f.add(kc, t, &mut dp.ctr);
+        let t = f.mul(kq, d2, &mut dp.ctr);
+        let den = f.add(den, t, &mut dp.ctr);
+        (lv, dp.rcp(den))
+    } else {
+        (l.vector, f.one())
+    };
+    let spot = match &l.spot {
+        None => f.one(),
+        Some(s) => {
+            let c = f.neg(dp.dot3(&lv, &s.direction));
+            if f.lt(c, s.cos_cutoff) {
+                Fp(0)
+            } else {
+                dp.pow(c, s.exponent)
+            }
+        }
+    };
+    let nl_raw = dp.dot3(&n, &lv);
+    let nl = f.max0(nl_raw);
+    let mut half = None;
+    let spec = if f.lt(Fp(0), nl_raw) {
+        let hv = [0, 1, 2].map(|k| f.add(lv[k], v[k], &mut dp.ctr));
+        let h = dp.normalise(&hv);
+        half = Some(h);
+        let nh = f.max0(dp.dot3(&n, &h));
+        dp.pow(nh, shininess)
+    } else {
+        Fp(0)
+    };
+    let c = &mut dp.ctr;
+    let k = f.mul(att, spot, c);
+    let rgb = [0, 1, 2].map(|i| {
+        let t = f.mul(nl, l.diffuse[i], c);
+        let t = f.add(l.ambient[i], t, c);
+        let s = f.mul(spec, l.specular[i], c);
+        let t = f.add(t, s, c);
+        let kt = f.mul(k, t, c);
+        f.to_unorm(f.add(base[i], kt, c), cfg.color_bits, c)
+    });
+    Lit {
+        rgb,
+        changed: dp.changed,
+        h: half,
+    }
+}
+
+/// Up to `per_fault` vertices for each of [`FAULTS`] on which it changes the output,
+/// from at most `tries` shaped vertices (a fault that cannot act at this
+/// configuration, e.g. a sticky bit under truncation, finds none). A 1-ulp change
+/// inside the float datapath reaches a colour word only when the sum sits near a
+/// rounding point of the unorm, so: every other vertex has its normal aimed at the
+/// half vector (N·H ≈ 1, pow's t a small negative non-integer: exp2's floor acts)
+/// and every fourth is on the spot light's axis (the spot's pow likewise),
+/// and a vertex on which the fault changes an RSQ, RCP or exp2 result but not the
+/// output is tried again with the normal's low mantissa bits redrawn (the sum moves
+/// by a few of its ulps), up to [`SWEEP`] times.
+fn fault_corners(
+    u: &VertexLighting,
+    make: &impl Fn(&[u64]) -> VertexLightingIn,
+    per_fault: usize,
+    tries: usize,
     seed: u64,
-) -> Result<VectorSet, String> {
-    let u = unit_of(config)?;
-    let params = verilog_params(&u)?;
+) -> Vec<VertexLightingIn> {
+    let fmt = u.format();
+    let w = fmt.width();
+    let low = (1u64 << (fmt.mant_bits / 2).min(10)) - 1;
+    let aim = (1u64 << fmt.mant_bits.saturating_sub(5)) - 1;
+    let mut rng = seeded(seed ^ 0x5f1c_ad0e_7a11_c0de);
+    let l = u.light_registers()[0];
+    let mut ctr = Counters::default();
+    let mut found = [0usize; FAULTS.len()];
+    let mut out = Vec::new();
+    for t in 0..tries {
+        if found.iter().all(|&n| n >= per_fault) {
+            break;
+        }
+        let raw: Vec<u64> = (0..6).map(|_| rng.random_range(0..1u64 << w)).collect();
+        let mut x = make(&raw);
+        if let (2, Some(s), true) = (t % 4, &l.spot, l.local) {
+            // On the spot cone's axis (c ≈ 1: the spot's pow has t a small negative
+            // non-integer), a distance 2^-2 ..= 4 from the light.
+            let tau = 2f64.powf(rng.random_range(-2.0..2.0));
+            for (k, c) in x.position.iter_mut().enumerate() {
+                let p = fmt.to_f64(l.vector[k]) + tau * fmt.to_f64(s.direction[k]);
+                *c = fmt.from_f64("position", p, &mut ctr).unwrap_or(Fp(0));
+            }
+        } else if t % 2 == 1 {
+            // Four times as far out (a local light's attenuation keeps the sum below
+            // the clamp), N = H with its low mantissa bits redrawn: N·H just below 1.
+            for c in &mut x.position {
+                let (_, e, _) = fmt.fields(*c);
+                if e != 0 && e + 3 < (1 << fmt.exp_bits) {
+                    *c = Fp(c.0 + (2 << fmt.mant_bits));
+                }
+            }
+            let Some(h) = light_with(u, &x, Fault::None).h else {
+                continue;
+            };
+            for (c, h) in x.normal.iter_mut().zip(h) {
+                *c = Fp((h.0 & !aim) | rng.random_range(0..=aim));
+            }
+        }
+        for (n, &fault) in found.iter_mut().zip(&FAULTS) {
+            if *n >= per_fault {
+                continue;
+            }
+            let lit = light_with(u, &x, fault);
+            let mut hit = (lit.rgb != light_with(u, &x, Fault::None).rgb).then_some(x);
+            if hit.is_none() && lit.changed {
+                hit = (0..SWEEP).find_map(|_| {
+                    let mut y = x;
+                    for c in &mut y.normal {
+                        *c = Fp((c.0 & !low) | rng.random_range(0..=low));
+                    }
+                    let a = light_with(u, &y, fault).rgb;
+                    (a != light_with(u, &y, Fault::None).rgb).then_some(y)
+                });
+            }
+            if let Some(y) = hit {
+                *n += 1;
+                out.push(y);
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// The shaped vertex of six seeded raw words (see the module docs).
+fn shaper(u: &VertexLighting) -> impl Fn(&[u64]) -> VertexLightingIn {
     let fmt = u.format();
     let (e_bits, m) = (fmt.exp_bits, fmt.mant_bits);
     let bias = fmt.bias() as u64;
@@ -159,7 +469,7 @@ pub(super) fn vertex_lighting_vectors(
         (v & (sign_mask | mant_mask)) | (e << m)
     };
     let light = u.light_registers()[0].vector;
-    let make = move |v: &[u64]| {
+    move |v: &[u64]| {
         // A selector from all six words (the shaping below reads their low bits).
         let h = v.iter().fold(0xcbf2_9ce4_8422_2325u64, |a, &x| {
             (a ^ x).wrapping_mul(0x0000_0100_0000_01b3)
@@ -195,6 +505,31 @@ pub(super) fn vertex_lighting_vectors(
             position: [Fp(w[0]), Fp(w[1]), Fp(w[2])],
             normal: [Fp(w[3]), Fp(w[4]), Fp(w[5])],
         }
+    }
+}
+
+pub(super) fn vertex_lighting_vectors(
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let u = unit_of(config)?;
+    let params = verilog_params(&u)?;
+    let make = shaper(&u);
+    // The fault corners first, in place of the stream's first vertices (`collect`
+    // calls `make` once per vertex, in order).
+    let corners = fault_corners(
+        &u,
+        &make,
+        (count / 64).min(CORNERS_PER_FAULT),
+        CORNER_TRIES,
+        seed,
+    );
+    let next = Cell::new(0usize);
+    let make = |v: &[u64]| {
+        let i = next.get();
+        next.set(i + 1);
+        corners.get(i).copied().unwrap_or_else(|| make(v))
     };
     Ok(collect(
         &u,
@@ -233,6 +568,55 @@ mod tests {
         // Both built-in configurations pass.
         for c in RtlConfig::ALL {
             assert!(verilog_params(&unit_of(c).unwrap()).is_ok());
+        }
+    }
+
+    /// `light_with` without a fault is the kernel; the fault corners come first and
+    /// each changes the output under its fault.
+    #[test]
+    fn fault_corners_lead_and_the_datapath_copy_is_the_kernel() {
+        use rtl_model::Unit;
+        for c in RtlConfig::ALL {
+            let u = unit_of(c).unwrap();
+            let make = shaper(&u);
+            let corners = fault_corners(&u, &make, 4, 20_000, 3);
+            let mut rng = seeded(9);
+            let mut ctr = Counters::default();
+            let shaped = (0..3000).map(|_| {
+                let raw: Vec<u64> = (0..6).map(|_| rng.random_range(0..1u64 << 20)).collect();
+                make(&raw)
+            });
+            for x in corners.iter().copied().chain(shaped) {
+                let y = u.kernel(&mut (), &x, &mut ctr);
+                assert_eq!(
+                    light_with(&u, &x, Fault::None).rgb,
+                    y.rgba[..3],
+                    "{c:?} {x:?}"
+                );
+            }
+            for x in &corners {
+                let good = light_with(&u, x, Fault::None).rgb;
+                assert!(FAULTS.iter().any(|&f| light_with(&u, x, f).rgb != good));
+            }
+            let set = vertex_lighting_vectors(c, 1000, 3).unwrap();
+            assert_eq!(set.stimulus.len(), 1000);
+            for (k, x) in fault_corners(&u, &make, 1000 / 64, CORNER_TRIES, 3)
+                .iter()
+                .enumerate()
+            {
+                assert_eq!(set.stimulus[k], super::super::pack_hex(&u.in_signals(x)));
+            }
+        }
+        // Every fault is found at the default (nearest-even, a local spot light) with
+        // tests/rtl_cosim.rs's seed.
+        let u = unit_of(RtlConfig::Default).unwrap();
+        let corners = fault_corners(&u, &shaper(&u), CORNERS_PER_FAULT, CORNER_TRIES, 20);
+        for f in FAULTS {
+            let n = corners
+                .iter()
+                .filter(|x| light_with(&u, x, f).rgb != light_with(&u, x, Fault::None).rgb)
+                .count();
+            assert!(n > 0, "{f:?}: no corner");
         }
     }
 }

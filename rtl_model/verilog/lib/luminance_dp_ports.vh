@@ -1,0 +1,18 @@
+// Both units' ports wired straight to their luminance_datapath instance
+// (`include`d first in its port list).
+      .clk(clk),
+      .rst(rst),
+      .in_valid(in_valid),
+      .u(u),
+      .v(v),
+      .gain_r(gain_r),
+      .gain_g(gain_g),
+      .gain_b(gain_b),
+      .shape_addr0(shape_addr0),
+      .shape_addr1(shape_addr1),
+      .shape_addr2(shape_addr2),
+      .shape_addr3(shape_addr3),
+      .shape_data0(shape_data0),
+      .shape_data1(shape_data1),
+      .shape_data2(shape_data2),
+      .shape_data3(shape_data3),
