@@ -670,7 +670,7 @@ fn filled(u: &ShadowCompare, seed: u32) -> rtl_model::units::shadow_compare::Sha
     for y in 0..4 {
         for x in 0..4 {
             v = v.wrapping_mul(2_654_435_761).wrapping_add(0x9e37);
-            if v % 5 != 0 {
+            if !v.is_multiple_of(5) {
                 let depth = v % (far + 1);
                 u.kernel(&mut st, &ShadowIn::Write { x, y, depth }, &mut c);
             }

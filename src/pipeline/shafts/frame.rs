@@ -618,6 +618,9 @@ fn depth_writes(frags: &[Fragment], bits: u32) -> Vec<ShadowIn> {
 /// thread count, and it bounds the fragments held at once.
 const DRAW_BATCH: usize = 256;
 
+/// One triangle drawn: its fragments and its interpolator counters, or the error.
+type DrawnTriangle = Result<(Vec<Fragment>, Counters), ConfigError>;
+
 /// Each item's triangle (`host`: its host vertices, None when it is skipped) drawn by
 /// [`draw_triangle`] on its own, a batch of items in parallel; `sink` gets each drawn
 /// triangle's fragments and interpolator counters in item order. The counters are
@@ -632,7 +635,7 @@ fn draw_triangles<T: Sync>(
     mut sink: impl FnMut(Vec<Fragment>, Counters) -> Result<(), ConfigError>,
 ) -> Result<(), ConfigError> {
     for batch in items.chunks(DRAW_BATCH) {
-        let drawn: Vec<Option<Result<(Vec<Fragment>, Counters), ConfigError>>> = batch
+        let drawn: Vec<Option<DrawnTriangle>> = batch
             .par_iter()
             .map(|item| {
                 let hv = host(item)?;
