@@ -35,6 +35,25 @@ fn unit(w: u32, h: u32, n: u32, bias: u32, k: u32) -> ShadowCompare {
     .unwrap()
 }
 
+/// A unit whose bias is `bias_raw` folded into its depth range, after `writes`
+/// through the kernel: the state the read-only test forms start from, and the
+/// writes' counters.
+fn unit_after_writes(
+    (w, h, n, k): (u32, u32, u32, u32),
+    bias_raw: u32,
+    writes: &[(i32, i32, u32)],
+) -> (ShadowCompare, <ShadowCompare as Unit>::State, Counters) {
+    let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+    let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
+    let u = unit(w, h, n, bias, k);
+    let mut st = u.fresh_state();
+    let mut c = Counters::default();
+    for &(x, y, d) in writes {
+        u.kernel(&mut st, &ShadowIn::Write { x, y, depth: d }, &mut c);
+    }
+    (u, st, c)
+}
+
 /// Half-width of the disagreement band in LSBs, plus the derived f64 slack.
 fn band(n: u32, k: u32) -> f64 {
     0.5 * (1.0 + (-(k as f64)).exp2()) + 4.0 * ((n as f64) - 53.0).exp2()
@@ -439,14 +458,7 @@ proptest! {
             0..80,
         ),
     ) {
-        let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
-        let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
-        let u = unit(w, h, n, bias, k);
-        let mut st = u.fresh_state();
-        let mut c = Counters::default();
-        for &(x, y, d) in &writes {
-            u.kernel(&mut st, &ShadowIn::Write { x, y, depth: d }, &mut c);
-        }
+        let (u, st, _) = unit_after_writes((w, h, n, k), bias_raw, &writes);
         let ins: Vec<ShadowIn> =
             tests.iter().map(|&(x, y, depth)| ShadowIn::Test { x, y, depth }).collect();
         let (mut s_k, mut c_k) = (st.clone(), Counters::default());
@@ -513,7 +525,7 @@ proptest! {
         prop_assert_eq!(c_b, Counters::default());
 
         // A state or word list of another size: nothing done.
-        let other = unit(w + 1, h, n, bias, k).fresh_state();
+        let other = unit(w + 1, h, n, u.bias(), k).fresh_state();
         prop_assert_eq!(u.test_filter(&other, cands(), &mut kept, &mut c_f), None);
         prop_assert!(u.words(&other).is_none());
         prop_assert_eq!(u.test_filter_words(&words[1..], cands(), &mut kept, &mut c_w), None);
@@ -723,14 +735,7 @@ proptest! {
             0..80,
         ),
     ) {
-        let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
-        let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
-        let u = unit(w, h, n, bias, k);
-        let mut st = u.fresh_state();
-        let mut c = Counters::default();
-        for &(x, y, d) in &writes {
-            u.kernel(&mut st, &ShadowIn::Write { x, y, depth: d }, &mut c);
-        }
+        let (u, st, _) = unit_after_writes((w, h, n, k), bias_raw, &writes);
         let words = u.words(&st).unwrap();
         let x: Vec<i64> = lanes.iter().map(|l| l.0).collect();
         let y: Vec<i64> = lanes.iter().map(|l| l.1).collect();

@@ -28,6 +28,16 @@ pub struct HostVertex {
     pub attrs: [f64; MAX_ATTRS],
 }
 
+impl HostVertex {
+    /// At the origin with every attribute zero: what a triangle's vertices start as
+    /// before the host fills them in.
+    pub const ORIGIN: HostVertex = HostVertex {
+        x: 0.0,
+        y: 0.0,
+        attrs: [0.0; MAX_ATTRS],
+    };
+}
+
 /// Host attributes for a vertex: the `N` given, then zeros up to `MAX_ATTRS` (a unit
 /// configured for k ≤ N attributes reads the first k). `N > MAX_ATTRS` does not compile.
 pub fn host_attrs<const N: usize>(a: [f64; N]) -> [f64; MAX_ATTRS] {

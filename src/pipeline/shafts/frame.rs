@@ -484,11 +484,7 @@ impl<'a> ShaftsFrame<'a> {
             .flat_map(|o| o.triangles.iter().map(|(tri, _)| tri))
             .collect();
         let host = |tri: &&[Vec3; 3]| {
-            let mut hv = [HostVertex {
-                x: 0.0,
-                y: 0.0,
-                attrs: [0.0; MAX_ATTRS],
-            }; 3];
+            let mut hv = [HostVertex::ORIGIN; 3];
             for k in 0..3 {
                 let q = lv.strq(tri[k]);
                 if q[3] <= 1e-9 {
@@ -670,11 +666,7 @@ fn project_tri(
     tri: &[Vec3; 3],
     attrs: impl Fn(usize, Vec3) -> [f64; 8],
 ) -> Option<[HostVertex; 3]> {
-    let mut hv = [HostVertex {
-        x: 0.0,
-        y: 0.0,
-        attrs: [0.0; MAX_ATTRS],
-    }; 3];
+    let mut hv = [HostVertex::ORIGIN; 3];
     for k in 0..3 {
         let (x, y, z) = cam.project(tri[k])?;
         if x.abs() > 8000.0 || y.abs() > 8000.0 {
