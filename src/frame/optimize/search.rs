@@ -393,11 +393,13 @@ impl<'a> Book<'a> {
     ///    or two-step widening changed the error at all is *sensitive*;
     /// 2. pairs widened together, step by step up to their caps: the two
     ///    parameters whose widenings in 1. left the least error, ties to the earlier
-    ///    (two widths that do nothing alone can act together), and the two sensitive
-    ///    ones that left the least (two widths that each make it worse alone can
-    ///    help together: fig6 at 720x480 needs the texels and the framebuffer wider
-    ///    together; ranking only the first pair, its repair paired two widths whose
-    ///    widenings changed nothing);
+    ///    (two widths that do nothing alone can act together), then every pair of
+    ///    sensitive ones, in the order of 1. (two widths that each make it worse
+    ///    alone can help together: fig6 at 720x480 needs the texels and the
+    ///    framebuffer wider together, and at 9 bits each the two-step widenings
+    ///    that left the least error were the framebuffer's and the filter
+    ///    weights', not the texels'; the repair before these pairs paired two
+    ///    widths whose widenings changed nothing);
     /// 3. from the lowest-error point of 1. and 2. (or `x`), a line search over each
     ///    sensitive parameter in turn, in the order of 1.: its values above the
     ///    current one up to its cap, then below it towards its floor, narrowing
@@ -469,9 +471,11 @@ impl<'a> Book<'a> {
         if let [(_, a), (_, b), ..] = rank[..] {
             pairs.push((a, b));
         }
-        if let [a, b, ..] = sens[..] {
-            if !pairs.contains(&(a, b)) {
-                pairs.push((a, b));
+        for (k, &a) in sens.iter().enumerate() {
+            for &b in &sens[k + 1..] {
+                if !pairs.contains(&(a, b)) {
+                    pairs.push((a, b));
+                }
             }
         }
         for (a, b) in pairs {
