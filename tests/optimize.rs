@@ -804,3 +804,27 @@ fn repair_line_searches_find_the_storage_vs_filter_trade() {
     assert!(o.points.iter().all(|p| p.values.iter().all(|&v| v <= 12)));
     assert_eq!(o.end, End::Converged);
 }
+
+/// pareto.png's error axis: cut at 5 × the budget's first limit (or at the start's
+/// or best's error, if larger) only when some point lies beyond, and the start
+/// point labelled for what it is.
+#[test]
+fn pareto_png_cuts_far_points_and_labels_the_start() {
+    use glare_pipeline::frame::optimize::cli::{plot_clip, start_label};
+    let b = budget("max<=2");
+    // One point wrapped (fig6's narrow accumulators: 251.6 levels).
+    assert_eq!(plot_clip(&[1.9, 5.7, 251.6], &b, &[5.7, 1.9]), Some(10.0));
+    assert_eq!(plot_clip(&[1.9, 5.7, 9.9], &b, &[5.7]), None);
+    // The start beyond 5 × the limit stays in view.
+    assert_eq!(plot_clip(&[1.9, 12.0, 251.6], &b, &[12.0]), Some(12.0));
+    assert_eq!(plot_clip(&[1.9, 251.6], &budget("max<=0"), &[]), None);
+    assert_eq!(start_label("fig6"), "start: GeForce defaults");
+    let dir = tmp("start-label");
+    let f = dir.join("hand.toml");
+    std::fs::write(&f, "").unwrap();
+    assert_eq!(
+        start_label(f.to_str().unwrap()),
+        "start: the widths of hand.toml"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
