@@ -432,7 +432,7 @@ impl<'a> Book<'a> {
         // 1. Two steps wider, one parameter at a time; each parameter's lowest error
         // over its one- and two-step widenings ranks it for 2. and 3.
         let mut rank: Vec<(f64, usize)> = Vec::new();
-        let mut sensitive = vec![false; n];
+        let mut sensitive: Vec<usize> = Vec::new();
         for i in 0..n {
             let Some(one) = widen(self.ev, &self.params, &from, d, i) else {
                 continue;
@@ -456,7 +456,9 @@ impl<'a> Book<'a> {
                 }
             }
             if let Some(l) = lowest {
-                sensitive[i] = changed;
+                if changed {
+                    sensitive.push(i);
+                }
                 rank.push((l, i));
             }
         }
@@ -464,7 +466,7 @@ impl<'a> Book<'a> {
         let sens: Vec<usize> = rank
             .iter()
             .map(|&(_, i)| i)
-            .filter(|&i| sensitive[i])
+            .filter(|i| sensitive.contains(i))
             .collect();
         // 2. The pairs, each widened together up to its caps.
         let mut pairs: Vec<(usize, usize)> = Vec::new();
@@ -480,10 +482,7 @@ impl<'a> Book<'a> {
         }
         for (a, b) in pairs {
             let mut y = from.clone();
-            loop {
-                let Some(ya) = widen(self.ev, &self.params, &y, d, a) else {
-                    break;
-                };
+            while let Some(ya) = widen(self.ev, &self.params, &y, d, a) {
                 let Some(yb) = widen(self.ev, &self.params, &ya, d, b) else {
                     break;
                 };
