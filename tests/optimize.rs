@@ -743,3 +743,88 @@ fn interpolator_and_reciprocal_widths_are_searchable_and_cut_cost() {
     assert!(e.contains("shafts.acc_frac_bits"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A made-up landscape over four widths `s1, s2, f, u` (defaults 8; 100 gates a bit
+/// of `s1, s2, f`, `u` free) where the budget needs a storage-vs-filter trade, as
+/// fig6 does at 720x480: the max error is 5 + 0.25 per bit of `s1` or `s2` away from
+/// 8 + 0.5 per bit of `f` away from 8 (every widening alone makes it worse; `u`
+/// changes nothing) unless `s1` and `s2` are both at least 11, and then
+/// 1.5 + |f − 5|. So max ≤ 2 needs both storage widths three steps wider AND the
+/// filter three steps narrower. Before the line searches the repair paired `u` with
+/// `s1` (the two least-error widenings, `u`'s changing nothing), widened pairs two
+/// steps only and narrowed one step: it ended `DefaultsBreakBudget`.
+struct Trade;
+
+impl Target for Trade {
+    fn kind_name(&self) -> &'static str {
+        "trade"
+    }
+    fn step(&self, _: &str) -> Step {
+        Step::Bit
+    }
+    fn default_value(&self, _: &str) -> Result<u32, String> {
+        Ok(8)
+    }
+    fn valid(&self, _: &[&str], values: &[u32]) -> bool {
+        values.iter().all(|&v| (1..=16).contains(&v))
+    }
+    fn bound_at(&self, p: &[&str], values: &[u32]) -> Result<Option<ErrorStats>, String> {
+        Ok(self.valid(p, values).then(|| stats(0.0)))
+    }
+    fn evaluate_at(&self, _: &[&str], v: &[u32]) -> Result<Metrics, String> {
+        let [s1, s2, f] = [v[0], v[1], v[2]].map(f64::from);
+        let max = if s1 >= 11.0 && s2 >= 11.0 {
+            1.5 + (f - 5.0).abs()
+        } else {
+            5.0 + 0.25 * ((s1 - 8.0).abs() + (s2 - 8.0).abs()) + 0.5 * (f - 8.0).abs()
+        };
+        Ok(Metrics {
+            gates: 100.0 * (v[0] + v[1] + v[2]) as f64,
+            ram_bits: 0,
+            error: stats(max),
+            predicted_seconds: 0.0,
+            wall_seconds: 0.0,
+        })
+    }
+}
+
+#[test]
+fn repair_line_searches_find_the_storage_vs_filter_trade() {
+    let b = budget("max<=2");
+    let o = run(&Trade, &["s1", "s2", "f", "u"], &b, Objective::Gates, 200);
+    assert_ne!(o.end, End::DefaultsBreakBudget);
+    let best = &o.points[o.best.expect("the line searches reach the budget")];
+    // s1 and s2 three steps wider together (the pair of the two widths whose
+    // widening changed the error), then f three steps narrower (its line search);
+    // the descent can take nothing off that (u saves nothing).
+    assert_eq!(best.values, vec![11, 11, 5, 8]);
+    assert!(o.points.iter().any(|p| p.values == vec![11, 11, 8, 8]));
+    assert!(b.meets(&best.metrics().unwrap().error));
+    // Never wider than MAX_WIDEN_STEPS (4) above a default.
+    assert!(o.points.iter().all(|p| p.values.iter().all(|&v| v <= 12)));
+    assert_eq!(o.end, End::Converged);
+}
+
+/// pareto.png's error axis: cut at 5 × the budget's first limit (or at the start's
+/// or best's error, if larger) only when some point lies beyond, and the start
+/// point labelled for what it is.
+#[test]
+fn pareto_png_cuts_far_points_and_labels_the_start() {
+    use glare_pipeline::frame::optimize::cli::{plot_clip, start_label};
+    let b = budget("max<=2");
+    // One point wrapped (fig6's narrow accumulators: 251.6 levels).
+    assert_eq!(plot_clip(&[1.9, 5.7, 251.6], &b, &[5.7, 1.9]), Some(10.0));
+    assert_eq!(plot_clip(&[1.9, 5.7, 9.9], &b, &[5.7]), None);
+    // The start beyond 5 × the limit stays in view.
+    assert_eq!(plot_clip(&[1.9, 12.0, 251.6], &b, &[12.0]), Some(12.0));
+    assert_eq!(plot_clip(&[1.9, 251.6], &budget("max<=0"), &[]), None);
+    assert_eq!(start_label("fig6"), "start: GeForce defaults");
+    let dir = tmp("start-label");
+    let f = dir.join("hand.toml");
+    std::fs::write(&f, "").unwrap();
+    assert_eq!(
+        start_label(f.to_str().unwrap()),
+        "start: the widths of hand.toml"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

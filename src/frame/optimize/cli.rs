@@ -213,18 +213,66 @@ pub fn rows(
         .collect()
 }
 
+/// The error axis of `pareto.png` runs to at most this many times the budget's
+/// first limit (or the start's or the best point's error, if larger): one point far
+/// off (fig6's 8-bit interpolator accumulators wrap to 252 levels) would squeeze
+/// the points near the budget into a sliver.
+pub const PLOT_CLIP_LIMITS: f64 = 5.0;
+
+/// The error beyond which `pareto.png` leaves points off, None: no clip (no
+/// positive limit, or no point beyond it). `xs`: every simulated point's error;
+/// `keep`: errors that must stay in view (the start, the best).
+pub fn plot_clip(xs: &[f64], budget: &Budget, keep: &[f64]) -> Option<f64> {
+    let limit = budget.0.first().map(|l| l.limit).filter(|&l| l > 0.0)?;
+    let clip = keep
+        .iter()
+        .copied()
+        .fold(PLOT_CLIP_LIMITS * limit, f64::max);
+    xs.iter().any(|&x| x > clip).then_some(clip)
+}
+
+/// What `pareto.png` calls the search's start point: the GeForce defaults for a
+/// built-in scene, the file's widths for a scene file (`--scene FILE`).
+pub fn start_label(scene_arg: &str) -> String {
+    let path = Path::new(scene_arg);
+    if !crate::scene::load::builtin_names().contains(&scene_arg) && path.is_file() {
+        let name = path
+            .file_name()
+            .map_or(scene_arg.into(), |n| n.to_string_lossy());
+        format!("start: the widths of {name}")
+    } else {
+        "start: GeForce defaults".into()
+    }
+}
+
 /// `pareto.png`: the objective's cost against the budget's first error metric;
 /// every simulated point, the front in that plane ([`objective_front`], joined), the
-/// default and the best point as separate series.
+/// start point (labelled `start`) and the best point as separate series; points
+/// beyond [`plot_clip`] left off, the x axis's label saying how many and how far.
 pub fn plot(
     path: &Path,
     title: &str,
     o: &Outcome,
     budget: &Budget,
     objective: Objective,
+    start: &str,
 ) -> Result<(), String> {
     let metric = budget.primary();
-    let xy = |p: &Point| objective_key(p, objective, metric);
+    let keep: Vec<f64> = [Some(o.defaults), o.best]
+        .into_iter()
+        .flatten()
+        .filter_map(|i| objective_key(&o.points[i], objective, metric))
+        .map(|k| k.0)
+        .collect();
+    let xs: Vec<f64> = o
+        .points
+        .iter()
+        .filter_map(|p| objective_key(p, objective, metric))
+        .map(|k| k.0)
+        .collect();
+    let clip = plot_clip(&xs, budget, &keep);
+    let xy =
+        |p: &Point| objective_key(p, objective, metric).filter(|k| clip.is_none_or(|c| k.0 <= c));
     let all: Vec<(f64, f64)> = o.points.iter().filter_map(xy).collect();
     if all.is_empty() {
         return Ok(());
@@ -268,7 +316,7 @@ pub fn plot(
         ),
         (
             Series {
-                label: "GeForce defaults".into(),
+                label: start.into(),
                 points: one(Some(o.defaults)),
                 axis: Axis::Left,
             },
@@ -287,11 +335,17 @@ pub fn plot(
         .into_iter()
         .filter(|(s, _)| !s.points.is_empty())
         .unzip();
-    let mut spec = PlotSpec::new(
-        title,
-        &format!("{} error (8-bit levels)", metric.name()),
-        unit,
-    );
+    let mut x_label = format!("{} error (8-bit levels)", metric.name());
+    if let Some(c) = clip {
+        let off: Vec<f64> = xs.iter().copied().filter(|&x| x > c).collect();
+        let far = off.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        x_label.push_str(&format!(
+            "; axis cut at {c:.2}: {} point{} beyond it left off (up to {far:.1})",
+            off.len(),
+            if off.len() == 1 { "" } else { "s" }
+        ));
+    }
+    let mut spec = PlotSpec::new(title, &x_label, unit);
     spec.width = 900;
     spec.height = 600;
     points_plot(path, &spec, &series, &joined)
@@ -404,6 +458,7 @@ impl SearchRun<'_> {
             &o,
             self.budget,
             self.objective,
+            &start_label(self.label),
         )?;
         println!(
             "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",

@@ -11,8 +11,10 @@
 //! * **Repair.** If the defaults break the budget, the parameter whose one-step
 //!   widening removes the most error per cost added is widened (if none removes
 //!   any, every parameter is widened one step together; if that does not lower
-//!   the error either, [`Book::repair_wider`]: two-step single widenings, the two
-//!   best of them together, and storage-vs-filter trades), until the budget is met
+//!   the error either, [`Book::repair_wider`]: two-step single widenings, pairs of
+//!   them widened together up to their caps, and line searches over each width
+//!   whose widening changed the error, down as well as up: the storage-vs-filter
+//!   trades), until the budget is met
 //!   (at most [`MAX_WIDEN_STEPS`] steps above a default; none left: the search
 //!   ends, reporting it).
 //! * **Descent.** Each step narrows one parameter by one step (one bit, or half a
@@ -265,6 +267,17 @@ enum Visit {
     At(usize),
 }
 
+/// What [`Book::probe`] found.
+enum Probe {
+    Invalid,
+    Stopped(End),
+    Pruned,
+    /// Simulated; meets the budget.
+    Meets(usize),
+    /// Simulated; breaks the budget at this error ratio.
+    At(usize, f64),
+}
+
 impl<'a> Book<'a> {
     pub fn new(
         ev: &'a dyn Target,
@@ -376,18 +389,30 @@ impl<'a> Book<'a> {
     /// The repair's last resort at point `x` (it breaks the budget; no single
     /// one-step widening and no joint step lowered its error), in the order tried:
     /// 1. each parameter alone two steps wider (the error is not monotone in every
-    ///    width: one bit more can do nothing where two do);
-    /// 2. the two parameters whose widenings in 1. left the least error, widened
-    ///    together by one and by two steps (fig6 at 720x480 needs the texels and the
-    ///    framebuffer wider together);
-    /// 3. from the lowest-error point of 1. and 2., each other parameter one step
-    ///    narrower: a storage-vs-filter trade (fig6's by-hand repair at full size
-    ///    widened texels and framebuffer and narrowed the filter weights and
-    ///    coordinate fractions, docs/optimize.md).
+    ///    width: one bit more can do nothing where two do). A parameter whose one-
+    ///    or two-step widening changed the error at all is *sensitive*;
+    /// 2. pairs widened together, step by step up to their caps: the two
+    ///    parameters whose widenings in 1. left the least error, ties to the earlier
+    ///    (two widths that do nothing alone can act together), then every pair of
+    ///    sensitive ones, in the order of 1. (two widths that each make it worse
+    ///    alone can help together: fig6 at 720x480 needs the texels and the
+    ///    framebuffer wider together, and at 9 bits each the two-step widenings
+    ///    that left the least error were the framebuffer's and the filter
+    ///    weights', not the texels'; the repair before these pairs paired two
+    ///    widths whose widenings changed nothing);
+    /// 3. from the lowest-error point of 1. and 2. (or `x`), a line search over each
+    ///    sensitive parameter in turn, in the order of 1.: its values above the
+    ///    current one up to its cap, then below it towards its floor, narrowing
+    ///    ending after [`LOOKAHEAD`] steps that do not lower the line's lowest error
+    ///    (or at a point pruned by the bound); the next line starts from the lowest
+    ///    point of the last. After 2., this explores the storage-vs-filter trades of
+    ///    fig6's by-hand repair at full size, which widened texels and framebuffer
+    ///    and narrowed the filter weights and coordinate fractions (docs/optimize.md).
     ///
-    /// Returns the point of lowest error ratio among these if it is below `x`'s
-    /// (None: the repair gives up), `Err(end)` when a limit stopped it. Widenings
-    /// stay within [`MAX_WIDEN_STEPS`] of the defaults `d`.
+    /// The first point that meets the budget ends it. Returns that point, else the
+    /// point of lowest error ratio if it is below `x`'s (None: the repair gives up);
+    /// `Err(end)` when a limit stopped it. Widenings stay within
+    /// [`MAX_WIDEN_STEPS`] of the defaults `d`.
     fn repair_wider(
         &mut self,
         x: usize,
@@ -399,20 +424,15 @@ impl<'a> Book<'a> {
         let Some(mx) = self.points[x].metrics().copied() else {
             return Ok(Ok(None));
         };
+        let rx = self.budget.ratio(&mx.error);
         let from = self.points[x].values.clone();
         let n = self.params.len();
-        let ratio_of = |b: &Book, j: usize| b.points[j].metrics().map(|m| b.budget.ratio(&m.error));
+        // The lowest error ratio seen, and where.
         let mut best: Option<(f64, usize)> = None;
-        let consider = |b: &Book, j: usize, best: &mut Option<(f64, usize)>| {
-            if let Some(r) = ratio_of(b, j) {
-                if best.is_none_or(|(br, _)| r < br) {
-                    *best = Some((r, j));
-                }
-            }
-        };
         // 1. Two steps wider, one parameter at a time; each parameter's lowest error
-        // over its one- and two-step widenings ranks it for 2.
+        // over its one- and two-step widenings ranks it for 2. and 3.
         let mut rank: Vec<(f64, usize)> = Vec::new();
+        let mut sensitive: Vec<usize> = Vec::new();
         for i in 0..n {
             let Some(one) = widen(self.ev, &self.params, &from, d, i) else {
                 continue;
@@ -422,62 +442,130 @@ impl<'a> Book<'a> {
                 .get(&one)
                 .copied()
                 .flatten()
-                .and_then(|j| ratio_of(self, j));
+                .and_then(|j| self.ratio_of(j));
+            let mut changed = lowest.is_some_and(|r| r != rx);
             if let Some(two) = widen(self.ev, &self.params, &one, d, i) {
-                match self.visit(&two, limits, started, on_point)? {
-                    Visit::At(j) => {
-                        consider(self, j, &mut best);
-                        if let Some(r) = ratio_of(self, j) {
-                            lowest = Some(lowest.map_or(r, |l: f64| l.min(r)));
-                        }
+                match self.probe(&two, &mut best, limits, started, on_point)? {
+                    Probe::Stopped(end) => return Ok(Err(end)),
+                    Probe::Meets(j) => return Ok(Ok(Some(j))),
+                    Probe::At(_, r) => {
+                        changed |= r != rx;
+                        lowest = Some(lowest.map_or(r, |l: f64| l.min(r)));
                     }
-                    Visit::Invalid => {}
-                    Visit::Stopped(end) => return Ok(Err(end)),
+                    Probe::Invalid | Probe::Pruned => {}
                 }
             }
             if let Some(l) = lowest {
+                if changed {
+                    sensitive.push(i);
+                }
                 rank.push((l, i));
             }
         }
-        // 2. The two best-ranked parameters together, one and two steps wider.
         rank.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let sens: Vec<usize> = rank
+            .iter()
+            .map(|&(_, i)| i)
+            .filter(|i| sensitive.contains(i))
+            .collect();
+        // 2. The pairs, each widened together up to its caps.
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
         if let [(_, a), (_, b), ..] = rank[..] {
+            pairs.push((a, b));
+        }
+        for (k, &a) in sens.iter().enumerate() {
+            for &b in &sens[k + 1..] {
+                if !pairs.contains(&(a, b)) {
+                    pairs.push((a, b));
+                }
+            }
+        }
+        for (a, b) in pairs {
             let mut y = from.clone();
-            for _ in 0..2 {
-                let Some(ya) = widen(self.ev, &self.params, &y, d, a) else {
-                    break;
-                };
+            while let Some(ya) = widen(self.ev, &self.params, &y, d, a) {
                 let Some(yb) = widen(self.ev, &self.params, &ya, d, b) else {
                     break;
                 };
                 y = yb;
-                match self.visit(&y, limits, started, on_point)? {
-                    Visit::At(j) => consider(self, j, &mut best),
-                    Visit::Invalid => break,
-                    Visit::Stopped(end) => return Ok(Err(end)),
+                match self.probe(&y, &mut best, limits, started, on_point)? {
+                    Probe::Stopped(end) => return Ok(Err(end)),
+                    Probe::Meets(j) => return Ok(Ok(Some(j))),
+                    Probe::At(..) => {}
+                    Probe::Invalid | Probe::Pruned => break,
                 }
             }
         }
-        // 3. Trades from the lowest-error point so far: each parameter it did not
-        // widen, one step narrower.
-        if let Some((_, c)) = best {
+        // 3. Line searches over the sensitive parameters, from the lowest point so far.
+        let mut c = best.filter(|&(r, _)| r < rx).map_or(x, |(_, j)| j);
+        for &i in &sens {
+            let Some(rc) = self.ratio_of(c) else {
+                break;
+            };
             let cv = self.points[c].values.clone();
-            for i in 0..n {
-                if cv[i] != from[i] {
-                    continue;
-                }
-                let Some(y) = narrow(self.ev, &self.params, &cv, i) else {
-                    continue;
-                };
-                match self.visit(&y, limits, started, on_point)? {
-                    Visit::At(j) => consider(self, j, &mut best),
-                    Visit::Invalid => {}
-                    Visit::Stopped(end) => return Ok(Err(end)),
+            let mut line = (rc, c);
+            for wider in [true, false] {
+                let mut y = cv.clone();
+                let mut misses = 0;
+                while misses < LOOKAHEAD {
+                    let next = if wider {
+                        widen(self.ev, &self.params, &y, d, i)
+                    } else {
+                        narrow(self.ev, &self.params, &y, i)
+                    };
+                    let Some(next) = next else {
+                        break;
+                    };
+                    y = next;
+                    match self.probe(&y, &mut best, limits, started, on_point)? {
+                        Probe::Stopped(end) => return Ok(Err(end)),
+                        Probe::Meets(j) => return Ok(Ok(Some(j))),
+                        Probe::At(j, r) if r < line.0 => (line, misses) = ((r, j), 0),
+                        // Wider runs to the cap (at most MAX_WIDEN_STEPS steps):
+                        // the error is not monotone in a width (fig6's texels one
+                        // bit wider alone: max 5.72 -> 9.08 at 720x480).
+                        Probe::At(..) if wider => {}
+                        Probe::At(..) => misses += 1,
+                        Probe::Invalid | Probe::Pruned => break,
+                    }
                 }
             }
+            c = line.1;
         }
-        let rx = self.budget.ratio(&mx.error);
         Ok(Ok(best.filter(|&(r, _)| r < rx).map(|(_, j)| j)))
+    }
+
+    /// The error ratio of point `j` (None: pruned).
+    fn ratio_of(&self, j: usize) -> Option<f64> {
+        self.points[j]
+            .metrics()
+            .map(|m| self.budget.ratio(&m.error))
+    }
+
+    /// Visit `y` for the repair, keeping the lowest error ratio seen in `best`.
+    fn probe(
+        &mut self,
+        y: &[u32],
+        best: &mut Option<(f64, usize)>,
+        limits: &Limits,
+        started: Instant,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Probe, String> {
+        let j = match self.visit(y, limits, started, on_point)? {
+            Visit::At(j) => j,
+            Visit::Invalid => return Ok(Probe::Invalid),
+            Visit::Stopped(end) => return Ok(Probe::Stopped(end)),
+        };
+        let Some(m) = self.points[j].metrics() else {
+            return Ok(Probe::Pruned);
+        };
+        if self.budget.meets(&m.error) {
+            return Ok(Probe::Meets(j));
+        }
+        let r = self.budget.ratio(&m.error);
+        if best.is_none_or(|(br, _)| r < br) {
+            *best = Some((r, j));
+        }
+        Ok(Probe::At(j, r))
     }
 
     /// `a=1 b=2` for a point's values.
