@@ -86,6 +86,22 @@ module reflection_vector #(
   localparam signed [NW-1:0] HMAX = ({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1)) - 1;
   localparam signed [NW-1:0] HMIN = -({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1));
 
+  // Leading-one search, unrolled: POS |= K and V >>= K where V >> K != 0, for
+  // K = 2^(BITS-1) .. 1 (BITS <= 7; a step with K >= 2^BITS is constant-false).
+`define RV_LZ_STEP(POS, V, BITS, K) \
+        if ((K) < (1 << (BITS)) && (V >> (K)) != 0) begin \
+          POS = POS | (K); \
+          V = V >> (K); \
+        end
+`define RV_LZ_STEPS(POS, V, BITS) \
+        `RV_LZ_STEP(POS, V, BITS, 64) \
+        `RV_LZ_STEP(POS, V, BITS, 32) \
+        `RV_LZ_STEP(POS, V, BITS, 16) \
+        `RV_LZ_STEP(POS, V, BITS, 8) \
+        `RV_LZ_STEP(POS, V, BITS, 4) \
+        `RV_LZ_STEP(POS, V, BITS, 2) \
+        `RV_LZ_STEP(POS, V, BITS, 1)
+
   // ---- per vector (0: n, 1: e): stages 1-4 (7), n^_i registered raw at stage S5 ----
   wire [2*A-1:0] addr_w;
   wire [6*HW-1:0] hat_w;  // {v^ (e), n^ (n)}, component 0 lowest, before the zero muxes
@@ -125,7 +141,6 @@ module reflection_vector #(
       reg signed [P-1:0] mf0, mf1, mf2;
       reg [7:0] rs;
       reg signed [NW-1:0] h0, h1, h2;
-      integer b;
       always @(posedge clk) begin
         // stage 1: block normalise to s(P) mantissas
         x0 = g == 0 ? nx : ex;
@@ -134,11 +149,7 @@ module reflection_vector #(
         orv = (x0[W-1] ? -x0 : x0) | (x1[W-1] ? -x1 : x1) | (x2[W-1] ? -x2 : x2);
         q = 0;  // leading one of orv (0 when orv = 0)
         ov = orv;
-        for (b = QB - 1; b >= 0; b = b - 1)
-          if ((ov >> (1 << b)) != 0) begin
-            q = q | (1 << b);
-            ov = ov >> (1 << b);
-          end
+        `RV_LZ_STEPS(q, ov, QB)
         sh = q > P - 2 ? q - (P - 2) : 0;
         m1_0 <= x0 >>> sh;  // at XW = max(W, P) bits, then the low P
         m1_1 <= x1 >>> sh;
@@ -150,11 +161,7 @@ module reflection_vector #(
         // stage 3: leading one p, k = p/2, address {parity, A-1 bits below}, m_N
         p = 0;
         u = s2;
-        for (b = PB - 1; b >= 0; b = b - 1)
-          if ((u >> (1 << b)) != 0) begin
-            p = p | (1 << b);
-            u = u >> (1 << b);
-          end
+        `RV_LZ_STEPS(p, u, PB)
         idx_w = ({{A{1'b0}}, s2 & ~({{(SW - 1) {1'b0}}, 1'b1} << p)} << A1) >> p;  // < 2^(A-1)
         addr3 <= ({{(SW + A - 1) {1'b0}}, p[0]} << A1) | idx_w;
         mn_w = ({{N{1'b0}}, s2} << N) >> {p[PB-1:1], 1'b0};
@@ -280,4 +287,6 @@ module reflection_vector #(
     else vld <= {vld[LAT-2:0], in_valid};
   end
   assign out_valid = vld[LAT-1];
+`undef RV_LZ_STEP
+`undef RV_LZ_STEPS
 endmodule
