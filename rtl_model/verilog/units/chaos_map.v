@@ -118,7 +118,7 @@ module chaos_map #(
   // combinational temporaries
   reg issue;
   reg [IW-1:0] idx1;
-  reg [F-1:0] s1, sv;
+  reg [F-1:0] s1;
   reg [6:0] q, bl;
   reg [F+TD-1:0] sw;
   reg signed [E+1:0] df;  // interpolation: b - a
@@ -137,13 +137,11 @@ module chaos_map #(
   reg [F+O+21:0] rnd;
   integer i;
 
-  // The leading one of s1, unrolled: q |= K and sv >>= K where sv >> K != 0, for
-  // K = 2^(FB-1) .. 1 (F <= 128; a step with K >= 2^FB is constant-false).
+  // The leading one of s1, unrolled: for K = 2^(FB-1) .. 1, q |= K where s1 has a one
+  // at q | K or above (F <= 128; a step with K >= 2^FB is constant-false). s1 is not
+  // shifted (a mux per step would cost Yosys more than the priority loop).
 `define CM_LZ_STEP(K) \
-    if ((K) < (1 << FB) && (sv >> (K)) != 0) begin \
-      q = q | (K); \
-      sv = sv >> (K); \
-    end
+    if ((K) < (1 << FB) && (s1 >> (q | (K))) != 0) q = q | (K);
 
   always @(posedge clk) begin
     // ---- 1: state read, leading one, mantissa align ----
@@ -151,7 +149,6 @@ module chaos_map #(
     idx1 = (in_valid & step) ? 0 : cnt;
     s1 = st[idx1];
     q = 0;
-    sv = s1;
     `CM_LZ_STEP(64)
     `CM_LZ_STEP(32)
     `CM_LZ_STEP(16)

@@ -116,13 +116,11 @@ module gaussian_noise #(
     pr = df * $signed({1'b0, T_}) + IRND; \
     DST = ia + pr[E+D+2:D];
 
-  // One step of a leading-one search: POS |= K and V >>= K where V >> K != 0, for K
-  // below 2^BITS (a step with K >= 2^BITS is constant-false).
+  // One step of a leading-one search: POS |= K where V has a one at POS | K or above,
+  // for K below 2^BITS (a step with K >= 2^BITS is constant-false). V is not shifted
+  // (a mux per step would cost Yosys more than the priority loop).
 `define GN_LZ_STEP(POS, V, BITS, K) \
-    if ((K) < (1 << (BITS)) && (V >> (K)) != 0) begin \
-      POS = POS | (K); \
-      V = V >> (K); \
-    end
+    if ((K) < (1 << (BITS)) && (V >> (POS | (K))) != 0) POS = POS | (K);
 `define GN_LZ(POS, V, BITS) \
     `GN_LZ_STEP(POS, V, BITS, 32) \
     `GN_LZ_STEP(POS, V, BITS, 16) \
@@ -175,7 +173,6 @@ module gaussian_noise #(
   reg [E+2:0] l6, s6, c6, s9;
   reg [E+14:0] eln;  // u6 x u(E+8)
   reg signed [E+16:0] yr;
-  reg [E+5:0] yt;
   reg signed [7:0] qq, kk;
   reg [7:0] rsh, osh;
   reg [2*E+T+7:0] mw;
@@ -249,8 +246,7 @@ module gaussian_noise #(
     endcase
     // 7: sqrt normalise; m = Y * 2^(T-1-2k), as (Y << (T+E+2)) >> (E + 3 + 2k)
     bl = 0;
-    yt = yv;
-    `GN_LZ(bl, yt, YB)
+    `GN_LZ(bl, yv, YB)
     if (yv != 0) bl = bl + 1;
     qq = $signed({2'b0, bl}) - E;
     kk = qq >>> 1;
