@@ -97,7 +97,7 @@ module chaos_map #(
   // assigns, which vvp re-evaluates bit by bit on every input change), the leading one
   // a binary search (log2 steps, not a loop over bits), the interpolator inline (a
   // function call runs as a thread), and each branch's arithmetic only when taken.
-  localparam FB = $clog2(F);  // binary-search steps for the leading one
+  localparam FB = $clog2(F + 1);  // binary-search steps for the leading one of {s1, 0}
   localparam [Z:0] ZQW = ZQ;
   localparam [VW-1:0] LUW = LU_MAG;
   localparam signed [E+D+2:0] IRND = {{E + 3{1'b0}}, 1'b1, {D - 1{1'b0}}};
@@ -119,7 +119,8 @@ module chaos_map #(
   reg issue;
   reg [IW-1:0] idx1;
   reg [F-1:0] s1;
-  reg [6:0] q, bl;
+  reg [F:0] s10;
+  reg [6:0] bl;
   reg [F+TD-1:0] sw;
   reg signed [E+1:0] df;  // interpolation: b - a
   reg signed [E+D+2:0] pr;  // (b - a) t + 2^(D-1)
@@ -137,18 +138,20 @@ module chaos_map #(
   reg [F+O+21:0] rnd;
   integer i;
 
-  // The leading one of s1, unrolled: for K = 2^(FB-1) .. 1, q |= K where s1 has a one
-  // at q | K or above (F <= 128; a step with K >= 2^FB is constant-false). s1 is not
-  // shifted (a mux per step would cost Yosys more than the priority loop).
+  // bl = the leading one of {s1, 0} (s1's leading one + 1, 0 for s1 = 0), unrolled: for
+  // K = 2^(FB-1) .. 1, bl |= K where {s1, 0} has a one at bl | K or above (F < 128; a
+  // step with K >= 2^FB is constant-false). The word is not shifted (a mux per step
+  // would cost Yosys more than the priority loop).
 `define CM_LZ_STEP(K) \
-    if ((K) < (1 << FB) && (s1 >> (q | (K))) != 0) q = q | (K);
+    if ((K) < (1 << FB) && (s10 >> (bl | (K))) != 0) bl = bl | (K);
 
   always @(posedge clk) begin
     // ---- 1: state read, leading one, mantissa align ----
     issue = (in_valid & step) | (busy & cnt < N);
     idx1 = (in_valid & step) ? 0 : cnt;
     s1 = st[idx1];
-    q = 0;
+    bl = 0;
+    s10 = {s1, 1'b0};
     `CM_LZ_STEP(64)
     `CM_LZ_STEP(32)
     `CM_LZ_STEP(16)
@@ -156,7 +159,6 @@ module chaos_map #(
     `CM_LZ_STEP(4)
     `CM_LZ_STEP(2)
     `CM_LZ_STEP(1)
-    bl = s1 == 0 ? 0 : q + 1;
     sw = {s1, {TD{1'b0}}} >> (bl - 1);
     // ---- 3: L interpolate, delta = p 2^E - L, V = Zq delta - LU (>= 0) ----
     df = $signed({1'b0, log2_data1}) - $signed({1'b0, log2_data0});

@@ -141,7 +141,7 @@ module gaussian_noise #(
     end
 
   localparam UB = $clog2(B + 1);  // leading one of U1 (B + 1 bits)
-  localparam YB = $clog2(E + 6);  // leading one of Y (E + 6 bits)
+  localparam YB = $clog2(E + 7);  // leading one of {Y, 0} (E + 7 bits)
   localparam signed [E+D+3:0] IRND = {{E + 4{1'b0}}, 1'b1, {D - 1{1'b0}}};
   localparam [E+7:0] LN2C = LN2;
 
@@ -153,6 +153,7 @@ module gaussian_noise #(
   reg [5:0] ee4, ee5;
   reg [1:0] q4, q5;
   reg [E+5:0] yv;
+  reg [E+6:0] y2;
   reg signed [E+3:0] cos6, sin6;
   reg signed [7:0] k7, k8;
   reg z7, z8;
@@ -245,9 +246,9 @@ module gaussian_noise #(
       end
     endcase
     // 7: sqrt normalise; m = Y * 2^(T-1-2k), as (Y << (T+E+2)) >> (E + 3 + 2k)
-    bl = 0;
-    `GN_LZ(bl, yv, YB)
-    if (yv != 0) bl = bl + 1;
+    bl = 0;  // the leading one of {Y, 0}: Y's leading one + 1, 0 for Y = 0
+    y2 = {yv, 1'b0};
+    `GN_LZ(bl, y2, YB)
     qq = $signed({2'b0, bl}) - E;
     kk = qq >>> 1;
     rsh = E + 3 + 2 * kk;
