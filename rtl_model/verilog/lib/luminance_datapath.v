@@ -103,15 +103,17 @@ module luminance_datapath #(
   reg v1, v2, v3, v4, v5;
   reg signed [F+2:0] sa;
   reg [F+1:0] sac, sfr;
-  reg [K:0] iu, jv;
+  reg [K:0] iu, jv, iu1, jv1;
   reg [WB-1:0] wu, wv;
   always @(posedge clk) begin
     `LD_SPLIT(iu, wu, u)
     `LD_SPLIT(jv, wv, v)
+    iu1 = (iu == SIDE - 1) ? iu : iu + 1;
+    jv1 = (jv == SIDE - 1) ? jv : jv + 1;
     shape_addr0 <= jv * SIDE + iu;  // s00
-    shape_addr1 <= jv * SIDE + ((iu == SIDE - 1) ? iu : iu + 1);  // s10
-    shape_addr2 <= ((jv == SIDE - 1) ? jv : jv + 1) * SIDE + iu;  // s01
-    shape_addr3 <= ((jv == SIDE - 1) ? jv : jv + 1) * SIDE + ((iu == SIDE - 1) ? iu : iu + 1);  // s11
+    shape_addr1 <= jv * SIDE + iu1;  // s10
+    shape_addr2 <= jv1 * SIDE + iu;  // s01
+    shape_addr3 <= jv1 * SIDE + iu1;  // s11
     wx1 <= wu;
     wy1 <= wv;
     g1 <= {gain_r, gain_g, gain_b};
