@@ -70,49 +70,52 @@ module luminance_datapath #(
   localparam REP_D = (M + WB + SB - 1) / SB;
   localparam REP_P = (R + FB - 1) / FB;
 
-  // ---- stage 1: clamp to [-1, 1], split into (index, weight) ----
-  function [K+WB:0] split;  // {index u(K+1), weight u(WB)}
-    input [F+1:0] c;
-    reg signed [F+2:0] a;
-    reg [F+1:0] ac;
-    reg [K:0] i;
-    reg [WB-1:0] w;
-    reg [F+1:0] frac;
-    begin
-      a = $signed({c[F+1], c}) + $signed({3'b001, {F{1'b0}}});  // u + 1
-      if (a < 0) ac = 0;
-      else if (a > $signed({3'b010, {F{1'b0}}})) ac = {2'b10, {F{1'b0}}};
-      else ac = a[F+1:0];
-      if (S <= 0) begin
-        i = ac << (-S);
-        w = 0;
-      end else begin
-        i = ac >> S;
-        frac = ac & ((1 << S) - 1);
-        if (S >= WB) w = frac >> (S - WB);
-        else w = frac << (WB - S);
-      end
-      split = {i, w};
-    end
-  endfunction
+  // Written for Icarus's interpreter (docs/rtl.md): every combinational step is a
+  // blocking temporary in the clocked block of the stage it feeds, evaluated once per
+  // clock (the continuous bilinear and lerp nets were re-evaluated on each of the four
+  // shape words' and the falloff words' changes), and the functions are macros (a
+  // function call runs as a thread).
 
-  wire [K+WB:0] su = split(u);
-  wire [K+WB:0] sv = split(v);
-  wire [K:0] iu = su[K+WB:WB];
-  wire [K:0] jv = sv[K+WB:WB];
-  wire [K:0] iu1 = (iu == SIDE - 1) ? iu : iu + 1;
-  wire [K:0] jv1 = (jv == SIDE - 1) ? jv : jv + 1;
+  // ---- stage 1: clamp to [-1, 1], split into (index u(K+1), weight u(WB)) ----
+`define LD_SPLIT(I_, W_, C) \
+    sa = $signed({C[F+1], C}) + $signed({3'b001, {F{1'b0}}});  /* u + 1 */ \
+    if (sa < 0) sac = 0; \
+    else if (sa > $signed({3'b010, {F{1'b0}}})) sac = {2'b10, {F{1'b0}}}; \
+    else sac = sa[F+1:0]; \
+    if (S <= 0) begin \
+      I_ = sac << (-S); \
+      W_ = 0; \
+    end else begin \
+      I_ = sac >> S; \
+      sfr = sac & ((1 << S) - 1); \
+      if (S >= WB) W_ = sfr >> (S - WB); \
+      else W_ = sfr << (WB - S); \
+    end
+
+  // p x gain, rounded, saturated
+`define LD_GMUL(DST, PR, G) \
+    gprod = PR * G; \
+    gl = (gprod + ({{(PW - 1) {1'b0}}, 1'b1} << (SH - 1))) >> SH; \
+    DST <= (gl > {OUT_BITS{1'b1}}) ? {OUT_BITS{1'b1}} : gl[OUT_BITS-1:0];
 
   reg [WB-1:0] wx1, wy1, wx2, wy2;
   reg [3*GB-1:0] g1, g2, g3, g4;
   reg v1, v2, v3, v4, v5;
+  reg signed [F+2:0] sa;
+  reg [F+1:0] sac, sfr;
+  reg [K:0] iu, jv, iu1, jv1;
+  reg [WB-1:0] wu, wv;
   always @(posedge clk) begin
+    `LD_SPLIT(iu, wu, u)
+    `LD_SPLIT(jv, wv, v)
+    iu1 = (iu == SIDE - 1) ? iu : iu + 1;
+    jv1 = (jv == SIDE - 1) ? jv : jv + 1;
     shape_addr0 <= jv * SIDE + iu;  // s00
     shape_addr1 <= jv * SIDE + iu1;  // s10
     shape_addr2 <= jv1 * SIDE + iu;  // s01
     shape_addr3 <= jv1 * SIDE + iu1;  // s11
-    wx1 <= su[WB-1:0];
-    wy1 <= sv[WB-1:0];
+    wx1 <= wu;
+    wy1 <= wv;
     g1 <= {gain_r, gain_g, gain_b};
     // stage 2: the RAM presents the samples; carry the weights along
     wx2 <= wx1;
@@ -120,29 +123,30 @@ module luminance_datapath #(
     g2 <= g1;
   end
 
-  // ---- after stage 2: bilinear, round to d ----
-  wire signed [SB+1:0] s00 = {2'b00, shape_data0};
-  wire signed [SB+1:0] s10 = {2'b00, shape_data1};
-  wire signed [SB+1:0] s01 = {2'b00, shape_data2};
-  wire signed [SB+1:0] s11 = {2'b00, shape_data3};
-  wire signed [WB+1:0] wxs = {2'b00, wx2};
-  wire signed [WB+1:0] wys = {2'b00, wy2};
-  wire signed [SB+2*WB+3:0] r0 = (s00 <<< WB) + (s10 - s00) * wxs;
-  wire signed [SB+2*WB+3:0] r1 = (s01 <<< WB) + (s11 - s01) * wxs;
-  wire signed [SB+2*WB+3:0] t = (r0 <<< WB) + (r1 - r0) * wys;
-  wire [SB+2*WB+3:0] tr = t + (1 << (2 * WB - 1));
-  wire [SB-1:0] d_c = tr[2*WB+:SB];
-  // falloff address: d replicated to M + WB bits
-  wire [REP_D*SB-1:0] drep = {REP_D{d_c}};
-  wire [M+WB-1:0] faddr = drep[REP_D*SB-1-:(M+WB)];
-
+  // ---- stage 3: bilinear, round to d; the falloff address, d replicated to M + WB bits ----
   reg [SB-1:0] d3, d4, d5;
   reg [WB-1:0] fw3, fw4;
+  reg signed [SB+1:0] s00, s10, s01, s11;
+  reg signed [WB+1:0] wxs, wys;
+  reg signed [SB+2*WB+3:0] r0, r1, t;
+  reg [SB+2*WB+3:0] tr;
+  reg [REP_D*SB-1:0] drep;
   always @(posedge clk) begin
-    falloff_addr0 <= faddr[M+WB-1:WB];
-    falloff_addr1 <= faddr[M+WB-1:WB] + 1;
-    fw3 <= faddr[WB-1:0];
-    d3 <= d_c;
+    s00 = {2'b00, shape_data0};
+    s10 = {2'b00, shape_data1};
+    s01 = {2'b00, shape_data2};
+    s11 = {2'b00, shape_data3};
+    wxs = {2'b00, wx2};
+    wys = {2'b00, wy2};
+    r0 = (s00 <<< WB) + (s10 - s00) * wxs;
+    r1 = (s01 <<< WB) + (s11 - s01) * wxs;
+    t = (r0 <<< WB) + (r1 - r0) * wys;
+    tr = t + (1 << (2 * WB - 1));
+    drep = {REP_D{tr[2*WB+:SB]}};
+    falloff_addr0 <= drep[REP_D*SB-1-:M];
+    falloff_addr1 <= drep[REP_D*SB-1-:M] + 1;
+    fw3 <= drep[REP_D*SB-1-M-:WB];
+    d3 <= tr[2*WB+:SB];
     g3 <= g2;
     // stage 4: the falloff RAM presents its samples
     fw4 <= fw3;
@@ -150,46 +154,38 @@ module luminance_datapath #(
     g4 <= g3;
   end
 
-  // ---- after stage 4: per table, lerp to p, replicate (u1.R operand) ----
-  wire [NR*(R+1)-1:0] prep;
-  genvar gi;
-  generate
-    for (gi = 0; gi < NR; gi = gi + 1) begin : g_table
-      wire signed [FB+1:0] f0 = {2'b00, falloff_data0[gi*FB+:FB]};
-      wire signed [FB+1:0] f1 = {2'b00, falloff_data1[gi*FB+:FB]};
-      wire signed [FB+WB+3:0] ft = (f0 <<< WB) + (f1 - f0) * $signed({2'b00, fw4});
-      wire [FB+WB+3:0] ftr = ft + (1 << (WB - 1));
-      wire [FB-1:0] p = ftr[WB+:FB];
-      wire [REP_P*FB-1:0] prep_w = {REP_P{p}};
-      assign prep[gi*(R+1)+:R+1] = {1'b0, prep_w[REP_P*FB-1-:R]} + p[FB-1];
-    end
-  endgenerate
+  // ---- stage 5: per table, lerp to p, replicate (u1.R operand); x gain ----
   // colour c reads table c (NR = 3) or the one table (NR = 1)
   localparam CR = NR == 1 ? 0 : 2;
   localparam CG = NR == 1 ? 0 : 1;
-  function [OUT_BITS-1:0] gmul;
-    input [R:0] pr;
-    input [GB-1:0] g;
-    reg [PW-1:0] prod;
-    reg [PW-1:0] l;
-    begin
-      prod = pr * g;
-      l = (prod + ({{(PW - 1) {1'b0}}, 1'b1} << (SH - 1))) >> SH;
-      gmul = (l > {OUT_BITS{1'b1}}) ? {OUT_BITS{1'b1}} : l[OUT_BITS-1:0];
-    end
-  endfunction
-
+  reg [NR*(R+1)-1:0] prep;
+  reg signed [FB+1:0] f0, f1;
+  reg signed [FB+WB+3:0] ft;
+  reg [FB+WB+3:0] ftr;
+  reg [REP_P*FB-1:0] prep_w;
+  reg [PW-1:0] gprod, gl;
+  integer gi;
   reg [OUT_BITS-1:0] l5r, l5g, l5b;
   always @(posedge clk) begin
-    l5r <= gmul(prep[CR*(R+1)+:R+1], g4[3*GB-1-:GB]);
-    l5g <= gmul(prep[CG*(R+1)+:R+1], g4[2*GB-1-:GB]);
-    l5b <= gmul(prep[0+:R+1], g4[GB-1:0]);
+    for (gi = 0; gi < NR; gi = gi + 1) begin
+      f0 = {2'b00, falloff_data0[gi*FB+:FB]};
+      f1 = {2'b00, falloff_data1[gi*FB+:FB]};
+      ft = (f0 <<< WB) + (f1 - f0) * $signed({2'b00, fw4});
+      ftr = ft + (1 << (WB - 1));
+      prep_w = {REP_P{ftr[WB+:FB]}};
+      prep[gi*(R+1)+:R+1] = {1'b0, prep_w[REP_P*FB-1-:R]} + ftr[WB+FB-1];
+    end
+    `LD_GMUL(l5r, prep[CR*(R+1)+:R+1], g4[3*GB-1-:GB])
+    `LD_GMUL(l5g, prep[CG*(R+1)+:R+1], g4[2*GB-1-:GB])
+    `LD_GMUL(l5b, prep[0+:R+1], g4[GB-1:0])
     d5 <= d4;
     d <= d5;
     lum_r <= l5r;
     lum_g <= l5g;
     lum_b <= l5b;
   end
+`undef LD_SPLIT
+`undef LD_GMUL
 
   always @(posedge clk) begin
     if (rst) begin

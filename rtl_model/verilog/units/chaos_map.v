@@ -92,90 +92,84 @@ module chaos_map #(
     end
   endfunction
 
-  // a + round((b - a) * t / 2^D), entries u1.E
-  function [E+1:0] interp;
-    input [E:0] a;
-    input [E:0] b;
-    input [D-1:0] t;
-    reg signed [E+1:0] df;
-    reg signed [E+D+2:0] pr, sh;
-    begin
-      df = $signed({1'b0, b}) - $signed({1'b0, a});
-      pr = df * $signed({1'b0, t});
-      pr = pr + $signed({{E + 3{1'b0}}, 1'b1, {D - 1{1'b0}}});
-      sh = pr >>> D;
-      interp = a + sh[E+1:0];
-    end
-  endfunction
+  // Written for Icarus's interpreter (docs/rtl.md): one clocked block, every
+  // combinational step a blocking temporary evaluated once per clock (no continuous
+  // assigns, which vvp re-evaluates bit by bit on every input change), the leading one
+  // a binary search (log2 steps, not a loop over bits), the interpolator inline (a
+  // function call runs as a thread), and each branch's arithmetic only when taken.
+  localparam FB = $clog2(F + 1);  // binary-search steps for the leading one of {s1, 0}
+  localparam [Z:0] ZQW = ZQ;
+  localparam [VW-1:0] LUW = LU_MAG;
+  localparam signed [E+D+2:0] IRND = {{E + 3{1'b0}}, 1'b1, {D - 1{1'b0}}};
 
   reg [F-1:0] st[0:N-1];
   reg [IW-1:0] cnt;  // clocks since the request (0 .. II-1), issuing while < N
   reg busy;
-  wire issue = (in_valid & step) | (busy & cnt < N);
-  wire [IW-1:0] idx1 = (in_valid & step) ? 0 : cnt;
-
-  // ---- 1 ----
-  wire [F-1:0] s1 = st[idx1];
-  reg [6:0] bl;
-  integer i;
-  always @(*) begin
-    bl = 0;
-    for (i = 0; i < F; i = i + 1) if (s1[i]) bl = i + 1;
-  end
-  wire [F+TD-1:0] sw = {s1, {TD{1'b0}}} >> (bl - 1);
-  wire [TD-1:0] fr = sw[TD-1:0];
   reg [F-1:0] s2, s3, s4, s5, s6;
   reg [6:0] p2, p3;
-  reg [D-1:0] t2, t3;
-  reg [IW-1:0] x2, x3, x4, x5, x6;
-  reg v2, v3, v4, v5, v6;
-
-  // ---- 3 ----
-  wire [E+1:0] l3 = interp(log2_data0, log2_data1, t3);
-  wire [E+6:0] delta = {p3, {E{1'b0}}} - l3;  // u6.E
-  localparam [Z:0] ZQW = ZQ;
-  wire [EZ+7:0] zdu = ZQW * delta;  // u1.Z x u6.E
-  wire signed [VW-1:0] zd = $signed({2'b0, zdu});
-  localparam [VW-1:0] LUW = LU_MAG;
-  wire signed [VW-1:0] vr = LU_NEG ? zd + $signed(LUW) : zd - $signed(LUW);
-  wire [VW-1:0] v = vr < 0 ? 0 : vr;
-  wire [8:0] nn = v[VW-1:EZ];
-  wire [EZ+TD-1:0] phw = {v[EZ-1:0], {TD{1'b0}}} >> EZ;
-  wire [TD-1:0] ph = phw[TD-1:0];
-  reg [8:0] n4, n5;
-  reg [D-1:0] t4, t5;
-
-  // ---- 5 ----
-  wire [E+1:0] x5w = interp(exp2_data0, exp2_data1, t5);
+  reg [D-1:0] t2, t3, t4, t5;
+  reg [IW-1:0] x2, x3, x4, x5, x6, x7;
+  reg v2, v3, v4, v5, v6, v7;
+  reg [8:0] n4, n5, n6;
   reg [E+1:0] xq;
-  reg [8:0] n6;
-
-  // ---- 6 ----
-  // inc = round(X * 2^(F-E-n)) = round((X << F) / 2^(E+n))
-  wire [E+F+1:0] xw = {xq, {F{1'b0}}};
-  wire [9:0] rs = E + n6 - 1;
-  wire [E+F+1:0] inc0 = s6 == 0 ? 0 : ((xw >> rs) + 1) >> 1;
-  wire [E+F+1:0] inc = (ESCAPE != 0 && inc0 == 0) ? 1 : inc0;
-  wire [E+F+2:0] sum_l = s6 + inc;
-  wire [F-1:0] nl = sum_l > SMAX ? SMAX : sum_l[F-1:0];
-  // S - a at F bits (only S > a uses the product, and then 0 < S - a < 2^F): at the
-  // product's width the borrow would be copied into 2F + 4 more operand bits
-  wire [F-1:0] sma = s6 - AQ;
-  wire [3*F+3:0] rp = sma * RECIP;
-  wire [F-1:0] nr = rp >> FR;
-  wire [F-1:0] ns6 = s6 <= AQ ? nl : nr;
   reg [F-1:0] ns;
-  reg v7;
-  reg [IW-1:0] x7;
-
-  // ---- 7 and output ----
   reg [F+6:0] acc;
-  wire [F+6:0] acc_n = (x7 == 0 ? 0 : acc) + ns;
   reg last;
-  wire [F+O+21:0] prod = acc * K_OUT;
-  wire [F+O+21:0] rnd = (prod + (1 << (F + 13))) >> (F + 14);
+  // combinational temporaries
+  reg issue;
+  reg [IW-1:0] idx1;
+  reg [F-1:0] s1;
+  reg [F:0] s10;
+  reg [6:0] bl;
+  reg [F+TD-1:0] sw;
+  reg signed [E+1:0] df;  // interpolation: b - a
+  reg signed [E+D+2:0] pr;  // (b - a) t + 2^(D-1)
+  reg [E+1:0] l3;
+  reg [E+6:0] delta;  // u6.E
+  reg [EZ+7:0] zdu;  // u1.Z x u6.E
+  reg signed [VW-1:0] vr;
+  reg [VW-1:0] v;
+  reg [EZ+TD-1:0] phw;
+  reg [E+F+1:0] inc;
+  reg [9:0] rs;
+  reg [E+F+2:0] sum_l;
+  reg [F-1:0] sma;
+  reg [3*F+3:0] rp;
+  reg [F+O+21:0] rnd;
+  integer i;
+
+  // bl = the leading one of {s1, 0} (s1's leading one + 1, 0 for s1 = 0), unrolled: for
+  // K = 2^(FB-1) .. 1, bl |= K where {s1, 0} has a one at bl | K or above (F < 128; a
+  // step with K >= 2^FB is constant-false). The word is not shifted (a mux per step
+  // would cost Yosys more than the priority loop).
+`define CM_LZ_STEP(K) \
+    if ((K) < (1 << FB) && (s10 >> (bl | (K))) != 0) bl = bl | (K);
 
   always @(posedge clk) begin
+    // ---- 1: state read, leading one, mantissa align ----
+    issue = (in_valid & step) | (busy & cnt < N);
+    idx1 = (in_valid & step) ? 0 : cnt;
+    s1 = st[idx1];
+    bl = 0;
+    s10 = {s1, 1'b0};
+    `CM_LZ_STEP(64)
+    `CM_LZ_STEP(32)
+    `CM_LZ_STEP(16)
+    `CM_LZ_STEP(8)
+    `CM_LZ_STEP(4)
+    `CM_LZ_STEP(2)
+    `CM_LZ_STEP(1)
+    sw = {s1, {TD{1'b0}}} >> (bl - 1);
+    // ---- 3: L interpolate, delta = p 2^E - L, V = Zq delta - LU (>= 0) ----
+    df = $signed({1'b0, log2_data1}) - $signed({1'b0, log2_data0});
+    pr = df * $signed({1'b0, t3}) + IRND;
+    l3 = log2_data0 + pr[E+D+1:D];
+    delta = {p3, {E{1'b0}}} - l3;
+    zdu = ZQW * delta;
+    if (LU_NEG) vr = $signed({2'b0, zdu}) + $signed(LUW);
+    else vr = $signed({2'b0, zdu}) - $signed(LUW);
+    v = vr < 0 ? 0 : vr;
+    phw = {v[EZ-1:0], {TD{1'b0}}} >> EZ;
     if (rst) begin
       cnt <= 0;
       busy <= 0;
@@ -192,38 +186,55 @@ module chaos_map #(
       {v2, v3, v4, v5, v6, v7} <= {issue, v2, v3, v4, v5, v6};
       if (v7) begin
         st[x7] <= ns;
-        acc <= acc_n;
+        acc <= (x7 == 0 ? 0 : acc) + ns;
       end
       last <= v7 && x7 == N - 1;
       out_valid <= last;
     end
     // 1
-    log2_addr0 <= {1'b0, fr[TD-1:D]};
-    log2_addr1 <= {1'b0, fr[TD-1:D]} + 1;
+    log2_addr0 <= {1'b0, sw[TD-1:D]};
+    log2_addr1 <= {1'b0, sw[TD-1:D]} + 1;
     s2 <= s1;
     p2 <= F + 1 - bl;
-    t2 <= fr[D-1:0];
+    t2 <= sw[D-1:0];
     x2 <= idx1;
     // 2
     {s3, p3, t3, x3} <= {s2, p2, t2, x2};
     // 3
-    exp2_addr0 <= {1'b0, ph[TD-1:D]};
-    exp2_addr1 <= {1'b0, ph[TD-1:D]} + 1;
-    t4 <= ph[D-1:0];
-    n4 <= nn;
+    exp2_addr0 <= {1'b0, phw[TD-1:D]};
+    exp2_addr1 <= {1'b0, phw[TD-1:D]} + 1;
+    t4 <= phw[D-1:0];
+    n4 <= v[VW-1:EZ];
     s4 <= s3;
     x4 <= x3;
     // 4
     {s5, n5, x5, t5} <= {s4, n4, x4, t4};
-    // 5
-    xq <= x5w;
+    // 5: X interpolate
+    df = $signed({1'b0, exp2_data1}) - $signed({1'b0, exp2_data0});
+    pr = df * $signed({1'b0, t5}) + IRND;
+    xq <= exp2_data0 + pr[E+D+1:D];
     n6 <= n5;
     s6 <= s5;
     x6 <= x5;
-    // 6
-    ns <= ns6;
+    // 6: inc = round(X * 2^(F-E-n)) = round((X << F) / 2^(E+n)), escape, S + inc
+    // (saturating) | right branch floor((S - a) RECIP / 2^(F+4)); S - a at F bits (only
+    // S > a uses the product, and then 0 < S - a < 2^F): at the product's width the
+    // borrow would be copied into 2F + 4 more operand bits
+    if (s6 <= AQ) begin
+      rs = E + n6 - 1;
+      inc = s6 == 0 ? 0 : (({xq, {F{1'b0}}} >> rs) + 1) >> 1;
+      if (ESCAPE != 0 && inc == 0) inc = 1;
+      sum_l = s6 + inc;
+      ns <= sum_l > SMAX ? SMAX : sum_l[F-1:0];
+    end else begin
+      sma = s6 - AQ;
+      rp = sma * RECIP;
+      ns <= rp >> FR;
+    end
     x7 <= x6;
-    // output
+    // output: round(sum * K / 2^(F+14)), saturating
+    rnd = (acc * K_OUT + (1 << (F + 13))) >> (F + 14);
     ip <= rnd > {O{1'b1}} ? {O{1'b1}} : rnd[O-1:0];
   end
+`undef CM_LZ_STEP
 endmodule

@@ -40,64 +40,65 @@ module final_combiner #(
   localparam [63:0] U = (64'd1 << OUT_BITS) - 1;
   // Wide enough for U * S^2: 2(N-1) + OUT_BITS bits, plus headroom.
   localparam W = 2 * N + OUT_BITS + 2;
-  // Register i, component c (0 r .. 3 a) at [(47 - 4i - c)*N +: N].
-  wire [48*N-1:0] file = `COMBINER_REGISTER_FILE;
+  // Written for Icarus's interpreter (docs/rtl.md): the register file is concatenated
+  // in the clocked block (a continuous concatenation of the 48 ports is rebuilt on each
+  // port's change), the roundings and variable reads are macros (a function call runs
+  // as a thread, and copied the 48N-bit file on every call), and E_TIMES_F and the
+  // colour sum are formed only when a variable reads them. The macros use the block's
+  // temporaries below.
 
-  // floor(num / den) + the carry ROUNDING gives, num >= 0.
-  function [W-1:0] rdiv;
-    input [W-1:0] num;
-    input [W-1:0] den;
-    reg [W-1:0] q, rem;
-    reg up;
-    begin
-      q = num / den;
-      rem = num % den;
-      case (ROUNDING)
-        0, 1: up = 1'b0;
-        2, 4: up = 2 * rem >= den && rem != 0;
-        3, 5: up = 2 * rem > den;
-        default: up = 2 * rem > den || (2 * rem == den && rem != 0 && q[0]);
-      endcase
-      rdiv = q + up;
+  // DST = floor(NUM / DEN) + the carry ROUNDING gives, NUM >= 0; NUM, DEN at W bits.
+`define FC_RDIV(DST, NUM, DEN) \
+    rn = NUM; \
+    rd = DEN; \
+    rq = rn / rd; \
+    rr = rn % rd; \
+    case (ROUNDING) \
+      0, 1: rup = 1'b0; \
+      2, 4: rup = 2 * rr >= rd && rr != 0; \
+      3, 5: rup = 2 * rr > rd; \
+      default: rup = 2 * rr > rd || (2 * rr == rd && rr != 0 && rq[0]); \
+    endcase \
+    DST = rq + rup;
+
+  // DST = register REG's component C (register i, component c (0 r .. 3 a) at
+  // [(47 - 4i - c)*N +: N]), sign-extended to W bits, then max(0, x).
+`define FC_COMP(DST, REG, C) \
+    cx = fl[(47-4*(REG)-(C))*N+:N]; \
+    DST = ((REG) == 0 || cx[N-1]) ? 0 : {{(W - N) {1'b0}}, cx};
+
+  // DST = the unsigned mapping M of X (a W-bit variable, already >= 0).
+`define FC_UMAP(DST, X, M) \
+    DST = (M) == 1 ? (X > S ? 0 : S - X) : X;
+
+  // DST = a register variable on lane LANE (usage RGB reads the lane; ALPHA 3; BLUE 2).
+`define FC_REGVAR(DST, IN, M, CU, LANE) \
+    `FC_COMP(ct, IN, (CU) == 1 ? 3 : (CU) == 2 ? 2 : (LANE)) \
+    `FC_UMAP(DST, ct, M)
+
+  // DST = variable V (IN, MAP, USE) on lane l: a register, E_TIMES_F or the colour sum.
+`define FC_VAR(DST, IN, M, CU) \
+    if ((IN) == 12) begin \
+      `FC_UMAP(DST, ef, M) \
+    end else if ((IN) == 13) begin \
+      `FC_UMAP(DST, sum, M) \
+    end else begin \
+      `FC_REGVAR(DST, IN, M, CU, l) \
     end
-  endfunction
 
-  // Register component, sign-extended to W bits, then max(0, x).
-  function [W-1:0] comp;
-    input [48*N-1:0] f;
-    input integer reg_i;
-    input integer c;
-    reg [N-1:0] x;
-    begin
-      x = f[(47-4*reg_i-c)*N+:N];
-      comp = (reg_i == 0 || x[N-1]) ? 0 : {{(W - N) {1'b0}}, x};
-    end
-  endfunction
-
-  // The unsigned mapping of a value already >= 0.
-  function [W-1:0] umap;
-    input [W-1:0] x;
-    input integer m;
-    begin
-      umap = m == 1 ? (x > S ? 0 : S - x) : x;
-    end
-  endfunction
-
-  // A register variable on lane l (usage RGB reads the lane; ALPHA 3; BLUE 2).
-  function [W-1:0] regvar;
-    input [48*N-1:0] f;
-    input integer in, m, cu, lane;
-    begin
-      regvar = umap(comp(f, in, cu == 1 ? 3 : cu == 2 ? 2 : lane), m);
-    end
-  endfunction
-
+  localparam EF = A_IN == 12 || B_IN == 12 || C_IN == 12 || D_IN == 12;
+  localparam CS = B_IN == 13 || C_IN == 13 || D_IN == 13;
   reg v1, v2;
   reg [W-1:0] va [0:3], vb [0:3], vc [0:3], vd [0:3];
   reg [W-1:0] x2 [0:3];
   reg [OUT_BITS-1:0] y [0:3];
   integer l;
-  reg [W-1:0] ef, sum, t;
+  reg [48*N-1:0] fl;
+  reg [W-1:0] ef, sum, t, te, tv;
+  // the macros' temporaries
+  reg [N-1:0] cx;
+  reg [W-1:0] ct, rn, rd, rq, rr;
+  reg rup;
   always @(posedge clk) begin
     if (rst) begin
       v1 <= 1'b0;
@@ -108,20 +109,31 @@ module final_combiner #(
       v2 <= v1;
       out_valid <= v2;
     end
+    fl = `COMBINER_REGISTER_FILE;
     // Stage 1: the variables A .. D of each RGB lane, G in lane 3's A.
     for (l = 0; l < 3; l = l + 1) begin
-      ef = rdiv(regvar(file, E_IN, E_MAP, E_USE, l) * regvar(file, F_IN, F_MAP, F_USE, l), S);
-      sum = comp(file, 6, l) + comp(file, 5, l);  // u(N)
-      if (COLOR_SUM_CLAMP && sum > S) sum = S;
-      va[l] <= A_IN == 12 ? umap(ef, A_MAP) : regvar(file, A_IN, A_MAP, A_USE, l);
-      vb[l] <= B_IN == 12 ? umap(ef, B_MAP) : B_IN == 13 ? umap(sum, B_MAP) :
-               regvar(file, B_IN, B_MAP, B_USE, l);
-      vc[l] <= C_IN == 12 ? umap(ef, C_MAP) : C_IN == 13 ? umap(sum, C_MAP) :
-               regvar(file, C_IN, C_MAP, C_USE, l);
-      vd[l] <= D_IN == 12 ? umap(ef, D_MAP) : D_IN == 13 ? umap(sum, D_MAP) :
-               regvar(file, D_IN, D_MAP, D_USE, l);
+      if (EF) begin
+        `FC_REGVAR(te, E_IN, E_MAP, E_USE, l)
+        `FC_REGVAR(tv, F_IN, F_MAP, F_USE, l)
+        `FC_RDIV(ef, te * tv, S)
+      end
+      if (CS) begin
+        `FC_COMP(te, 6, l)
+        `FC_COMP(tv, 5, l)
+        sum = te + tv;  // u(N)
+        if (COLOR_SUM_CLAMP && sum > S) sum = S;
+      end
+      `FC_VAR(t, A_IN, A_MAP, A_USE)
+      va[l] <= t;
+      `FC_VAR(t, B_IN, B_MAP, B_USE)
+      vb[l] <= t;
+      `FC_VAR(t, C_IN, C_MAP, C_USE)
+      vc[l] <= t;
+      `FC_VAR(t, D_IN, D_MAP, D_USE)
+      vd[l] <= t;
     end
-    va[3] <= regvar(file, G_IN, G_MAP, G_USE, 3);
+    `FC_REGVAR(t, G_IN, G_MAP, G_USE, 3)
+    va[3] <= t;
     // Stage 2: A*B + (S - A)*C + S*D clamped to S^2; G as it is.
     for (l = 0; l < 3; l = l + 1) begin
       t = va[l] * vb[l] + (S - va[l]) * vc[l] + S * vd[l];
@@ -129,9 +141,18 @@ module final_combiner #(
     end
     x2[3] <= va[3];
     // Stage 3: the output codes.
-    for (l = 0; l < 3; l = l + 1) y[l] <= rdiv(x2[l] * U, S * S);
-    y[3] <= rdiv(x2[3] * U, S);
+    for (l = 0; l < 3; l = l + 1) begin
+      `FC_RDIV(t, x2[l] * U, S * S)
+      y[l] <= t;
+    end
+    `FC_RDIV(t, x2[3] * U, S)
+    y[3] <= t;
   end
+`undef FC_RDIV
+`undef FC_COMP
+`undef FC_UMAP
+`undef FC_REGVAR
+`undef FC_VAR
   assign r = y[0];
   assign g = y[1];
   assign b = y[2];

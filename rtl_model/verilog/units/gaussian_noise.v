@@ -88,119 +88,101 @@ module gaussian_noise #(
   localparam [31:0] SB1 = seed_word(SEED, 4);
   localparam [31:0] SB2 = seed_word(SEED, 5);
 
-  // ---- taus88 (L'Ecuyer 1996) ----
-  function [95:0] taus_next;  // {s2, s1, s0} stepped
-    input [95:0] s;
-    reg [31:0] s0, s1, s2, b;
-    begin
-      s0 = s[31:0];
-      s1 = s[63:32];
-      s2 = s[95:64];
-      b = ((s0 << 13) ^ s0) >> 19;
-      s0 = ((s0 & 32'hFFFFFFFE) << 12) ^ b;
-      b = ((s1 << 2) ^ s1) >> 25;
-      s1 = ((s1 & 32'hFFFFFFF8) << 4) ^ b;
-      b = ((s2 << 3) ^ s2) >> 11;
-      s2 = ((s2 & 32'hFFFFFFF0) << 17) ^ b;
-      taus_next = {s2, s1, s0};
-    end
-  endfunction
+  // Written for Icarus's interpreter (docs/rtl.md): one clocked block, every
+  // combinational step a blocking temporary evaluated once per clock (no continuous
+  // assigns or `always @*` loops, which vvp re-evaluated on every input change), the
+  // leading ones binary searches (unrolled), the taus88 step, the interpolators and the
+  // output scaling macros (a function call runs as a thread).
 
-  // Linear interpolation a + round((b - a) * t / 2^D), entries up to E + 2 bits.
-  function [E+2:0] interp;
-    input [E+1:0] a;
-    input [E+1:0] b;
-    input [D-1:0] t;
-    reg signed [E+2:0] df;
-    reg signed [E+D+3:0] pr, sh;
-    begin
-      df = $signed({1'b0, b}) - $signed({1'b0, a});
-      pr = df * $signed({1'b0, t});
-      pr = pr + $signed({{E + 4{1'b0}}, 1'b1, {D - 1{1'b0}}});
-      sh = pr >>> D;
-      interp = a + sh[E+2:0];
+  // ---- taus88 (L'Ecuyer 1996): DST = {s2, s1, s0} of S stepped ----
+`define GN_TAUS(DST, S) \
+    ts0 = S[31:0]; \
+    ts1 = S[63:32]; \
+    ts2 = S[95:64]; \
+    tsb = ((ts0 << 13) ^ ts0) >> 19; \
+    ts0 = ((ts0 & 32'hFFFFFFFE) << 12) ^ tsb; \
+    tsb = ((ts1 << 2) ^ ts1) >> 25; \
+    ts1 = ((ts1 & 32'hFFFFFFF8) << 4) ^ tsb; \
+    tsb = ((ts2 << 3) ^ ts2) >> 11; \
+    ts2 = ((ts2 & 32'hFFFFFFF0) << 17) ^ tsb; \
+    DST = {ts2, ts1, ts0};
+
+  // Linear interpolation DST = a + round((b - a) * t / 2^D), entries A, B_ up to E + 2
+  // bits.
+`define GN_INTERP(DST, A, B_, T_) \
+    ia = A; \
+    ib = B_; \
+    df = $signed({1'b0, ib}) - $signed({1'b0, ia}); \
+    pr = df * $signed({1'b0, T_}) + IRND; \
+    DST = ia + pr[E+D+2:D];
+
+  // One step of a leading-one search: POS |= K where V has a one at POS | K or above,
+  // for K below 2^BITS (a step with K >= 2^BITS is constant-false). V is not shifted
+  // (a mux per step would cost Yosys more than the priority loop).
+`define GN_LZ_STEP(POS, V, BITS, K) \
+    if ((K) < (1 << (BITS)) && (V >> (POS | (K))) != 0) POS = POS | (K);
+`define GN_LZ(POS, V, BITS) \
+    `GN_LZ_STEP(POS, V, BITS, 32) \
+    `GN_LZ_STEP(POS, V, BITS, 16) \
+    `GN_LZ_STEP(POS, V, BITS, 8) \
+    `GN_LZ_STEP(POS, V, BITS, 4) \
+    `GN_LZ_STEP(POS, V, BITS, 2) \
+    `GN_LZ_STEP(POS, V, BITS, 1)
+
+  // Stage 9: DST <= round(S |c| 2^(k+f-2E)), saturated, signed (0 for a zero Y).
+`define GN_SCALE(DST, C) \
+    if (z8) DST <= 0; \
+    else begin \
+      ca = C[E+3] ? -C : C; \
+      spr = s9 * ca; \
+      mg = ((spr >> (osh - 1)) + 1) >> 1; \
+      if (mg > MAXC) mg = MAXC; \
+      DST <= C[E+3] ? -mg[OB-1:0] : mg[OB-1:0]; \
     end
-  endfunction
+
+  localparam UB = $clog2(B + 1);  // leading one of U1 (B + 1 bits)
+  localparam YB = $clog2(E + 7);  // leading one of {Y, 0} (E + 7 bits)
+  localparam signed [E+D+3:0] IRND = {{E + 4{1'b0}}, 1'b1, {D - 1{1'b0}}};
+  localparam [E+7:0] LN2C = LN2;
 
   reg [1:0] rq;
   reg [95:0] sa, sb;
   reg [B-1:0] k1, k2;
   reg v3, v4, v5, v6, v7, v8;
-  wire [95:0] na = taus_next(sa);
-  wire [95:0] nb = taus_next(sb);
-  wire [31:0] raw_a = na[31:0] ^ na[63:32] ^ na[95:64];
-  wire [31:0] raw_b = nb[31:0] ^ nb[63:32] ^ nb[95:64];
-
-  // ---- stage 4: leading one of U1 = 2 k1 + 1, alignments ----
-  wire [B:0] u1 = {k1, 1'b1};
-  reg [5:0] p;
-  integer i;
-  always @(*) begin
-    p = 0;
-    for (i = 0; i <= B; i = i + 1) if (u1[i]) p = i;
-  end
-  wire [B+TD:0] u1w = {u1, {TD{1'b0}}} >> p;
-  wire [TD-1:0] fr = u1w[TD-1:0];
-  wire [5:0] ee = B + 1 - p;
-  wire [PB+TD-1:0] phw = {k2[PB-1:0], {TD{1'b0}}} >> PB;
-  wire [TD-1:0] pp = phw[TD-1:0];
-  wire [TD:0] pc = {1'b1, {TD{1'b0}}} - pp;
-  wire [T:0] pci1 = pc[TD:D] + 1;
   reg [D-1:0] t_ln4, t_s4, t_c4, t_ln5, t_s5, t_c5;
   reg [5:0] ee4, ee5;
   reg [1:0] q4, q5;
-
-  // ---- stage 6: ln, sin, cos interpolation; Y ----
-  wire [E+2:0] l6 = interp({2'b0, ln_data0}, {2'b0, ln_data1}, t_ln5);
-  wire [E+2:0] s6 = interp({1'b0, sin_data0}, {1'b0, sin_data1}, t_s5);
-  wire [E+2:0] c6 = interp({1'b0, sin_data2}, {1'b0, sin_data3}, t_c5);
-  localparam [E+7:0] LN2C = LN2;
-  wire [E+14:0] eln = ee5 * LN2C;  // u6 x u(E+8)
-  wire signed [E+16:0] y8 = $signed({2'b0, eln}) - $signed({6'b0, l6, 8'b0});
-  wire signed [E+16:0] yr = (y8 + 128) >>> 8;
-  wire [E+5:0] y6 = yr[E+16] ? 0 : yr[E+5:0];
   reg [E+5:0] yv;
+  reg [E+6:0] y2;
   reg signed [E+3:0] cos6, sin6;
-
-  // ---- stage 7: sqrt normalise ----
-  reg [5:0] bl;
-  always @(*) begin
-    bl = 0;
-    for (i = 0; i < E + 6; i = i + 1) if (yv[i]) bl = i + 1;
-  end
-  wire signed [7:0] qq = $signed({2'b0, bl}) - E;
-  wire signed [7:0] kk = qq >>> 1;
-  // m = Y * 2^(T-1-2k), as (Y << (T+E+2)) >> (E + 3 + 2k)
-  wire [7:0] rsh = E + 3 + 2 * kk;
-  wire [2*E+T+7:0] mw = {yv, {T + E + 2{1'b0}}} >> rsh;
-  wire [TD-1:0] m7 = mw[TD-1:0];
-  wire [T-1:0] sqi = m7[TD-1:D] - (1 << (T - 2));
   reg signed [7:0] k7, k8;
   reg z7, z8;
   reg [D-1:0] t_q7, t_q8;
   reg signed [E+3:0] cos7, sin7, cos8, sin8;
-
-  // ---- stage 9: r = S 2^k; x = round(S |c| 2^(k+f-2E)), saturate, sign ----
-  wire [E+2:0] s9 = interp(sqrt_data0, sqrt_data1, t_q8);
-  wire [7:0] osh = 2 * E - F - k8;  // >= 1 in the configurations built
-  function [OB-1:0] scale;
-    input [E+2:0] s;
-    input signed [E+3:0] c;
-    input [7:0] sh;
-    input zero;
-    reg [E+2:0] ca;
-    reg [2*E+5:0] pr, mg;
-    begin
-      ca = c[E+3] ? -c : c;
-      pr = s * ca;
-      mg = ((pr >> (sh - 1)) + 1) >> 1;
-      if (mg > MAXC) mg = MAXC;
-      if (zero) scale = 0;
-      else scale = c[E+3] ? -mg[OB-1:0] : mg[OB-1:0];
-    end
-  endfunction
+  // combinational temporaries
+  reg [95:0] na, nb;
+  reg [31:0] ts0, ts1, ts2, tsb;
+  reg [B:0] u1;
+  reg [5:0] p, bl;
+  reg [B+TD:0] u1w;
+  reg [PB+TD-1:0] phw;
+  reg [TD:0] pc;
+  reg [T:0] pci1;
+  reg [E+1:0] ia, ib;
+  reg signed [E+2:0] df;
+  reg signed [E+D+3:0] pr;
+  reg [E+2:0] l6, s6, c6, s9;
+  reg [E+14:0] eln;  // u6 x u(E+8)
+  reg signed [E+16:0] yr;
+  reg signed [7:0] qq, kk;
+  reg [7:0] rsh, osh;
+  reg [2*E+T+7:0] mw;
+  reg [E+2:0] ca;
+  reg [2*E+5:0] spr, mg;
 
   always @(posedge clk) begin
+    `GN_TAUS(na, sa)
+    `GN_TAUS(nb, sb)
     if (rst) begin
       rq <= 0;
       sa <= {SA2, SA1, SA0};
@@ -215,24 +197,36 @@ module gaussian_noise #(
       end
     end
     // 3
-    k1 <= raw_a[31:32-B];
-    k2 <= raw_b[31:32-B];
-    // 4
-    ln_addr0 <= {1'b0, fr[TD-1:D]};
-    ln_addr1 <= {1'b0, fr[TD-1:D]} + 1;
-    sin_addr0 <= {1'b0, pp[TD-1:D]};
-    sin_addr1 <= {1'b0, pp[TD-1:D]} + 1;
+    k1 <= (na[31:0] ^ na[63:32] ^ na[95:64]) >> (32 - B);
+    k2 <= (nb[31:0] ^ nb[63:32] ^ nb[95:64]) >> (32 - B);
+    // 4: leading one of U1 = 2 k1 + 1, alignments
+    u1 = {k1, 1'b1};
+    p = 0;
+    `GN_LZ(p, u1, UB)
+    u1w = {k1, 1'b1, {TD{1'b0}}} >> p;
+    phw = {k2[PB-1:0], {TD{1'b0}}} >> PB;
+    pc = {1'b1, {TD{1'b0}}} - phw[TD-1:0];
+    pci1 = pc[TD:D] + 1;
+    ln_addr0 <= {1'b0, u1w[TD-1:D]};
+    ln_addr1 <= {1'b0, u1w[TD-1:D]} + 1;
+    sin_addr0 <= {1'b0, phw[TD-1:D]};
+    sin_addr1 <= {1'b0, phw[TD-1:D]} + 1;
     sin_addr2 <= pc[TD:D];
     sin_addr3 <= pci1 > (1 << T) ? (1 << T) : pci1;
-    t_ln4 <= fr[D-1:0];
-    t_s4 <= pp[D-1:0];
+    t_ln4 <= u1w[D-1:0];
+    t_s4 <= phw[D-1:0];
     t_c4 <= pc[D-1:0];
-    ee4 <= ee;
+    ee4 <= B + 1 - p;
     q4 <= k2[B-1:B-2];
     // 5
     {t_ln5, t_s5, t_c5, ee5, q5} <= {t_ln4, t_s4, t_c4, ee4, q4};
-    // 6
-    yv <= y6;
+    // 6: ln, sin, cos interpolation; Y = e ln2 - L rounded, >= 0
+    `GN_INTERP(l6, {2'b0, ln_data0}, {2'b0, ln_data1}, t_ln5)
+    `GN_INTERP(s6, {1'b0, sin_data0}, {1'b0, sin_data1}, t_s5)
+    `GN_INTERP(c6, {1'b0, sin_data2}, {1'b0, sin_data3}, t_c5)
+    eln = ee5 * LN2C;
+    yr = ($signed({2'b0, eln}) - $signed({6'b0, l6, 8'b0}) + 128) >>> 8;
+    yv <= yr[E+16] ? 0 : yr[E+5:0];
     case (q5)
       2'd0: begin
         cos6 <= c6;
@@ -251,18 +245,32 @@ module gaussian_noise #(
         sin6 <= -c6;
       end
     endcase
-    // 7
-    sqrt_addr0 <= (yv == 0) ? 0 : sqi;
-    sqrt_addr1 <= (yv == 0) ? 1 : sqi + 1;
-    t_q7 <= m7[D-1:0];
+    // 7: sqrt normalise; m = Y * 2^(T-1-2k), as (Y << (T+E+2)) >> (E + 3 + 2k)
+    bl = 0;  // the leading one of {Y, 0}: Y's leading one + 1, 0 for Y = 0
+    y2 = {yv, 1'b0};
+    `GN_LZ(bl, y2, YB)
+    qq = $signed({2'b0, bl}) - E;
+    kk = qq >>> 1;
+    rsh = E + 3 + 2 * kk;
+    mw = {yv, {T + E + 2{1'b0}}} >> rsh;
+    sqrt_addr0 <= (yv == 0) ? 0 : mw[TD-1:D] - (1 << (T - 2));
+    sqrt_addr1 <= (yv == 0) ? 1 : mw[TD-1:D] - (1 << (T - 2)) + 1;
+    t_q7 <= mw[D-1:0];
     k7 <= kk;
     z7 <= (yv == 0);
     cos7 <= cos6;
     sin7 <= sin6;
     // 8
     {t_q8, k8, z8, cos8, sin8} <= {t_q7, k7, z7, cos7, sin7};
-    // 9
-    x <= scale(s9, cos8, osh, z8);
-    y <= scale(s9, sin8, osh, z8);
+    // 9: r = S 2^k; x = round(S |c| 2^(k+f-2E)), saturate, sign
+    `GN_INTERP(s9, sqrt_data0, sqrt_data1, t_q8)
+    osh = 2 * E - F - k8;  // >= 1 in the configurations built
+    `GN_SCALE(x, cos8)
+    `GN_SCALE(y, sin8)
   end
+`undef GN_TAUS
+`undef GN_INTERP
+`undef GN_LZ_STEP
+`undef GN_LZ
+`undef GN_SCALE
 endmodule

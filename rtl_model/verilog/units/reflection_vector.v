@@ -74,223 +74,207 @@ module reflection_vector #(
   localparam CW = (TW + 1 + (OS < 0 ? -OS : 0)) > OW ? (TW + 1 + (OS < 0 ? -OS : 0)) : OW + 1;
   localparam LAT = NEWTON ? 12 : 9;
 
-  // ---- stage 1: lambda clamp ----
+  // Written for Icarus's interpreter (docs/rtl.md): each vector's stages are one clocked
+  // block and the shared stages another, every combinational step a blocking temporary
+  // evaluated once per clock (no `always @*` or continuous-assign cascades), the
+  // leading-one searches binary (log2 steps, not a loop over bits), no function calls.
   localparam [L:0] ONE = {1'b1, {L{1'b0}}};
-  // lam_sr[(k-1)(L+1) +: L+1] is lambda at stage k
-  reg [(LAT-1)*(L+1)-1:0] lam_sr;
-  always @(posedge clk) lam_sr <= {lam_sr, lambda > ONE ? ONE : lambda};
+  localparam QS = 2 * R > N ? 2 * R - N : 0;  // q = y0^2 in u1.N: right shift, rounded
+  localparam QL = 2 * R > N ? 0 : N - 2 * R;  // or left shift
+  localparam [2*R+N:0] QRND = 2 * R > N ? {{(2 * R + N) {1'b0}}, 1'b1} << (QS - 1) : 0;
+  localparam signed [NW-1:0] ONE_NW = 1;
+  localparam signed [NW-1:0] HMAX = ({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1)) - 1;
+  localparam signed [NW-1:0] HMIN = -({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1));
 
-  // ---- per vector (0: n, 1: e): stages 1-4 (7), and the comb n^_i ----
+  // Leading-one search, unrolled: for K = 2^(BITS-1) .. 1, POS |= K where V has a one
+  // at POS | K or above (V >> (POS | K) != 0), so POS is the leading one's position (0
+  // when V = 0); BITS <= 7, a step with K >= 2^BITS is constant-false. V is not
+  // shifted: a mux per step on V's bits would cost Yosys more than the priority loop
+  // (32 bits: 76 cells, the loop 79, shifting V 81; 38 bits: 90, 98, 108).
+`define RV_LZ_STEP(POS, V, BITS, K) \
+        if ((K) < (1 << (BITS)) && (V >> (POS | (K))) != 0) POS = POS | (K);
+`define RV_LZ_STEPS(POS, V, BITS) \
+        `RV_LZ_STEP(POS, V, BITS, 64) \
+        `RV_LZ_STEP(POS, V, BITS, 32) \
+        `RV_LZ_STEP(POS, V, BITS, 16) \
+        `RV_LZ_STEP(POS, V, BITS, 8) \
+        `RV_LZ_STEP(POS, V, BITS, 4) \
+        `RV_LZ_STEP(POS, V, BITS, 2) \
+        `RV_LZ_STEP(POS, V, BITS, 1)
+
+  // ---- per vector (0: n, 1: e): stages 1-4 (7), n^_i registered raw at stage S5 ----
   wire [2*A-1:0] addr_w;
-  wire [2*R-1:0] data_w = {rsqrt_data1, rsqrt_data0};
-  wire [6*HW-1:0] hat_w;  // {v^ (e), n^ (n)}, component 0 lowest
+  wire [6*HW-1:0] hat_w;  // {v^ (e), n^ (n)}, component 0 lowest, before the zero muxes
   wire [1:0] zero_w;
   genvar g;
   generate
     for (g = 0; g < 2; g = g + 1) begin : g_vec
-      wire signed [W-1:0] x0 = g == 0 ? nx : ex;
-      wire signed [W-1:0] x1 = g == 0 ? ny : ey;
-      wire signed [W-1:0] x2 = g == 0 ? nz : ez;
-      wire [W-1:0] a0 = x0[W-1] ? -x0 : x0;
-      wire [W-1:0] a1 = x1[W-1] ? -x1 : x1;
-      wire [W-1:0] a2 = x2[W-1] ? -x2 : x2;
-      wire [W-1:0] orv = a0 | a1 | a2;
-      reg [QB-1:0] q;
-      integer i;
-      always @* begin
-        q = 0;
-        for (i = 0; i < W; i = i + 1) if (orv[i]) q = i;
-      end
-      wire [QB-1:0] sh = q > P - 2 ? q - (P - 2) : 0;
-      wire signed [XW-1:0] xs0 = x0;
-      wire signed [XW-1:0] xs1 = x1;
-      wire signed [XW-1:0] xs2 = x2;
-      wire signed [XW-1:0] t0 = xs0 >>> sh;
-      wire signed [XW-1:0] t1 = xs1 >>> sh;
-      wire signed [XW-1:0] t2 = xs2 >>> sh;
-      // stage 1: mantissas s(P)
-      reg signed [P-1:0] m1_0, m1_1, m1_2;
-      reg z1;
-      always @(posedge clk) begin
-        m1_0 <= t0[P-1:0];
-        m1_1 <= t1[P-1:0];
-        m1_2 <= t2[P-1:0];
-        z1 <= orv == 0;
-      end
-      // stage 2: S = sum of squares, u(2P)
-      wire [SW-1:0] sq = m1_0 * m1_0 + m1_1 * m1_1 + m1_2 * m1_2;
+      reg signed [P-1:0] m1_0, m1_1, m1_2, m2_0, m2_1, m2_2, m3_0, m3_1, m3_2;
+      reg signed [P-1:0] m4_0, m4_1, m4_2, m5_0, m5_1, m5_2, m6_0, m6_1, m6_2;
+      reg signed [P-1:0] m7_0, m7_1, m7_2;
+      reg z1, z2, z3, z4, z5, z6, z7;
       reg [SW-1:0] s2;
-      reg signed [P-1:0] m2_0, m2_1, m2_2;
-      reg z2;
-      always @(posedge clk) begin
-        s2 <= sq;
-        {m2_0, m2_1, m2_2, z2} <= {m1_0, m1_1, m1_2, z1};
-      end
-      // stage 3: leading one p, k = p/2, address {parity, A-1 bits below}, m_N
-      reg [PB-1:0] p;
-      integer j;
-      always @* begin
-        p = 0;
-        for (j = 0; j < SW; j = j + 1) if (s2[j]) p = j;
-      end
-      wire [SW-1:0] below = s2 & ~({{(SW - 1) {1'b0}}, 1'b1} << p);
-      wire [SW+A-1:0] idx_w = ({{A{1'b0}}, below} << A1) >> p;  // < 2^(A-1)
-      wire [A-1:0] addr = ({{(SW + A - 1) {1'b0}}, p[0]} << A1) | idx_w;
-      wire [PB-1:0] k = p >> 1;
-      wire [SW+N-1:0] mn_w = ({{N{1'b0}}, s2} << N) >> (2 * k);
       reg [A-1:0] addr3;
-      reg [N+1:0] mn3, mn4;
-      reg [KB-1:0] k3, k4;
-      reg signed [P-1:0] m3_0, m3_1, m3_2, m4_0, m4_1, m4_2;
-      reg z3, z4;
+      reg [N+1:0] mn3, mn4, mn5;
+      reg [KB-1:0] k3, k4, k5, k6, k7;
+      reg [N:0] q5, y7;
+      reg [R-1:0] y05, y06;
+      reg [N+1:0] d6;
+      reg [3*HW-1:0] h5;  // n^ (or v^), saturated, before the zero muxes
+      reg zh5;
+      // combinational temporaries
+      reg signed [W-1:0] x0, x1, x2;
+      reg [W-1:0] orv;
+      reg [QB-1:0] q, sh;
+      reg [PB-1:0] p;
+      reg [SW+A-1:0] idx_w;
+      reg [SW+N-1:0] mn_w;
+      reg [R-1:0] y0;
+      reg [2*R+N:0] qw;
+      reg [2*N+2:0] mq;
+      reg signed [2*N+4:0] dr;
+      reg [R+N+2:0] ydw;
+      reg [N+2:0] y1;
+      reg [YW-1:0] yf;
+      reg [KB-1:0] kf;
+      reg signed [P-1:0] mf0, mf1, mf2;
+      reg [7:0] rs;
+      reg signed [NW-1:0] h0, h1, h2;
       always @(posedge clk) begin
-        addr3 <= addr;
+        // stage 1: block normalise to s(P) mantissas
+        x0 = g == 0 ? nx : ex;
+        x1 = g == 0 ? ny : ey;
+        x2 = g == 0 ? nz : ez;
+        orv = (x0[W-1] ? -x0 : x0) | (x1[W-1] ? -x1 : x1) | (x2[W-1] ? -x2 : x2);
+        q = 0;  // leading one of orv (0 when orv = 0)
+        `RV_LZ_STEPS(q, orv, QB)
+        sh = q > P - 2 ? q - (P - 2) : 0;
+        m1_0 <= x0 >>> sh;  // at XW = max(W, P) bits, then the low P
+        m1_1 <= x1 >>> sh;
+        m1_2 <= x2 >>> sh;
+        z1 <= orv == 0;
+        // stage 2: S = sum of squares, u(2P)
+        s2 <= m1_0 * m1_0 + m1_1 * m1_1 + m1_2 * m1_2;
+        {m2_0, m2_1, m2_2, z2} <= {m1_0, m1_1, m1_2, z1};
+        // stage 3: leading one p, k = p/2, address {parity, A-1 bits below}, m_N
+        p = 0;
+        `RV_LZ_STEPS(p, s2, PB)
+        idx_w = ({{A{1'b0}}, s2 & ~({{(SW - 1) {1'b0}}, 1'b1} << p)} << A1) >> p;  // < 2^(A-1)
+        addr3 <= ({{(SW + A - 1) {1'b0}}, p[0]} << A1) | idx_w;
+        mn_w = ({{N{1'b0}}, s2} << N) >> {p[PB-1:1], 1'b0};
         mn3 <= mn_w[N+1:0];
-        k3 <= k;
+        k3 <= p >> 1;
         {m3_0, m3_1, m3_2, z3} <= {m2_0, m2_1, m2_2, z2};
         // stage 4: the ROM presents y0
         {mn4, k4, m4_0, m4_1, m4_2, z4} <= {mn3, k3, m3_0, m3_1, m3_2, z3};
-      end
-      assign addr_w[g*A+:A] = addr3;
-      wire [R-1:0] y0 = data_w[g*R+:R];
-      wire [YW-1:0] yf;
-      wire [KB-1:0] kf;
-      wire signed [P-1:0] mf0, mf1, mf2;
-      wire zf;
-      if (NEWTON) begin : g_newton
-        // stage 5: q = y0^2 in u1.N (rounded, ties up)
-        wire [2*R:0] yy = y0 * y0;
-        wire [2*R+N:0] qw = 2 * R > N ? (yy + ({{(2 * R + N) {1'b0}}, 1'b1} << (2 * R - N - 1))) >> (2 * R - N)
-            : {{N{1'b0}}, yy} << (N - 2 * R);
-        reg [N:0] q5;
-        reg [R-1:0] y05, y06;
-        reg [N+1:0] mn5;
-        reg [KB-1:0] k5, k6, k7;
-        reg signed [P-1:0] m5_0, m5_1, m5_2, m6_0, m6_1, m6_2, m7_0, m7_1, m7_2;
-        reg z5, z6, z7;
-        // stage 6: d = 3 - m_N q, rounded to u2.N, clamped
-        wire [2*N+2:0] mq = mn5 * q5;
-        wire signed [2*N+4:0] dm = $signed({3'b011, {(2 * N) {1'b0}}}) - $signed({2'b00, mq});
-        wire signed [2*N+4:0] dr = (dm + $signed({{(2 * N + 4) {1'b0}}, 1'b1} << (N - 1))) >>> N;
-        reg [N+1:0] d6;
-        // stage 7: y' = y0 d / 2 in u1.N, clamped
-        wire [R+N+2:0] ydw = y06 * d6 + ({{(R + N + 2) {1'b0}}, 1'b1} << R);
-        wire [N+2:0] y1 = ydw >> (R + 1);
-        reg [N:0] y7;
-        always @(posedge clk) begin
+        y0 = g == 0 ? rsqrt_data0 : rsqrt_data1;
+        if (NEWTON) begin
+          // stage 5: q = y0^2 in u1.N (rounded, ties up)
+          qw = ((y0 * y0 + QRND) >> QS) << QL;
           q5 <= qw[N:0];
           y05 <= y0;
           {mn5, k5, m5_0, m5_1, m5_2, z5} <= {mn4, k4, m4_0, m4_1, m4_2, z4};
+          // stage 6: d = 3 - m_N q, rounded to u2.N, clamped
+          mq = mn5 * q5;
+          dr = ($signed({3'b011, {(2 * N) {1'b0}}}) - $signed({2'b00, mq})
+                + $signed({{(2 * N + 4) {1'b0}}, 1'b1} << (N - 1))) >>> N;
           d6 <= dr < 0 ? {(N + 2) {1'b0}} : dr > $signed({{(N + 2) {1'b0}}, {(N + 2) {1'b1}}}) ?
               {(N + 2) {1'b1}} : dr[N+1:0];
           y06 <= y05;
           {k6, m6_0, m6_1, m6_2, z6} <= {k5, m5_0, m5_1, m5_2, z5};
+          // stage 7: y' = y0 d / 2 in u1.N, clamped
+          ydw = y06 * d6 + ({{(R + N + 2) {1'b0}}, 1'b1} << R);
+          y1 = ydw >> (R + 1);
           y7 <= y1 > {1'b0, {(N + 1) {1'b1}}} ? {(N + 1) {1'b1}} : y1[N:0];
           {k7, m7_0, m7_1, m7_2, z7} <= {k6, m6_0, m6_1, m6_2, z6};
+          yf = y7;
+          {kf, mf0, mf1, mf2} = {k7, m7_0, m7_1, m7_2};
+          zh5 <= z7;
+        end else begin
+          yf = {1'b0, y0};
+          {kf, mf0, mf1, mf2} = {k4, m4_0, m4_1, m4_2};
+          zh5 <= z4;
         end
-        assign yf = y7;
-        assign {kf, mf0, mf1, mf2, zf} = {k7, m7_0, m7_1, m7_2, z7};
-      end else begin : g_rom
-        assign yf = {1'b0, y0};
-        assign {kf, mf0, mf1, mf2, zf} = {k4, m4_0, m4_1, m4_2, z4};
+        // n^_i = x'_i y >> (k + FY - B), rounded (ties up), saturated to s2.B
+        rs = kf + (FY + LB - B);
+        h0 = (((mf0 * $signed({1'b0, yf})) <<< (LB + 1)) + (ONE_NW <<< rs)) >>> (rs + 1);
+        h1 = (((mf1 * $signed({1'b0, yf})) <<< (LB + 1)) + (ONE_NW <<< rs)) >>> (rs + 1);
+        h2 = (((mf2 * $signed({1'b0, yf})) <<< (LB + 1)) + (ONE_NW <<< rs)) >>> (rs + 1);
+        h5[HW-1:0] <= h0 > HMAX ? HMAX[HW-1:0] : h0 < HMIN ? HMIN[HW-1:0] : h0[HW-1:0];
+        h5[2*HW-1:HW] <= h1 > HMAX ? HMAX[HW-1:0] : h1 < HMIN ? HMIN[HW-1:0] : h1[HW-1:0];
+        h5[3*HW-1:2*HW] <= h2 > HMAX ? HMAX[HW-1:0] : h2 < HMIN ? HMIN[HW-1:0] : h2[HW-1:0];
       end
-      // n^_i = x'_i y >> (k + FY - B), rounded (ties up), saturated to s2.B
-      wire [7:0] rs = kf + (FY + LB - B);
-      wire signed [NW-1:0] one = 1;
-      wire signed [NW-1:0] h0 = (((mf0 * $signed({1'b0, yf})) <<< (LB + 1)) + (one <<< rs)) >>> (rs + 1);
-      wire signed [NW-1:0] h1 = (((mf1 * $signed({1'b0, yf})) <<< (LB + 1)) + (one <<< rs)) >>> (rs + 1);
-      wire signed [NW-1:0] h2 = (((mf2 * $signed({1'b0, yf})) <<< (LB + 1)) + (one <<< rs)) >>> (rs + 1);
-      localparam signed [NW-1:0] HMAX = ({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1)) - 1;
-      localparam signed [NW-1:0] HMIN = -({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1));
-      assign hat_w[g*3*HW+:HW] = h0 > HMAX ? HMAX[HW-1:0] : h0 < HMIN ? HMIN[HW-1:0] : h0[HW-1:0];
-      assign hat_w[g*3*HW+HW+:HW] = h1 > HMAX ? HMAX[HW-1:0] : h1 < HMIN ? HMIN[HW-1:0] : h1[HW-1:0];
-      assign hat_w[g*3*HW+2*HW+:HW] = h2 > HMAX ? HMAX[HW-1:0] : h2 < HMIN ? HMIN[HW-1:0] : h2[HW-1:0];
-      assign zero_w[g] = zf;
+      assign addr_w[g*A+:A] = addr3;
+      assign hat_w[g*3*HW+:3*HW] = h5;
+      assign zero_w[g] = zh5;
     end
   endgenerate
   assign rsqrt_addr0 = addr_w[A-1:0];
   assign rsqrt_addr1 = addr_w[2*A-1:A];
 
   localparam S5 = NEWTON ? 8 : 5;  // the n^, v^ stage
-  // ---- n^, v^ with the zero-vector muxes ----
-  reg [3*HW-1:0] nh5, vh5, nh6, vh6;
-  reg zn5, ze5, zn6, ze6, zn7, ze7, zn8, ze8;
-  wire [3*HW-1:0] nraw = hat_w[3*HW-1:0];
-  wire [3*HW-1:0] vraw = hat_w[6*HW-1:3*HW];
-  always @(posedge clk) begin
-    nh5 <= zero_w[0] ? (zero_w[1] ? 0 : vraw) : nraw;
-    vh5 <= zero_w[1] ? (zero_w[0] ? 0 : nraw) : vraw;
-    {zn5, ze5} <= {zero_w[0], zero_w[1]};
-  end
-
-  // ---- d = n^.v^ rounded to s3.B, saturated ----
-  function signed [HW-1:0] cmp;
-    input [3*HW-1:0] v;
-    input integer i;
-    cmp = v[i*HW+:HW];
-  endfunction
-  wire signed [2*HW+1:0] dot = cmp(nh5, 0) * cmp(vh5, 0) + cmp(nh5, 1) * cmp(vh5, 1) + cmp(nh5, 2) * cmp(vh5, 2);
-  wire signed [2*HW+1:0] dotr = (dot + $signed({{(2 * HW + 1) {1'b0}}, 1'b1} << (B - 1))) >>> B;
+  localparam RW = DW + HW + 2;
   localparam signed [2*HW+1:0] DMAX = ({{(2 * HW + 1) {1'b0}}, 1'b1} << (DW - 1)) - 1;
   localparam signed [2*HW+1:0] DMIN = -({{(2 * HW + 1) {1'b0}}, 1'b1} << (DW - 1));
-  reg signed [DW-1:0] d6;
-  always @(posedge clk) begin
-    d6 <= dotr > DMAX ? DMAX[DW-1:0] : dotr < DMIN ? DMIN[DW-1:0] : dotr[DW-1:0];
-    {nh6, vh6, zn6, ze6} <= {nh5, vh5, zn5, ze5};
-  end
-
-  // ---- r = 2 d n^ - v^ (aligned), rounded to s3.B, saturated ----
-  localparam RW = DW + HW + 2;
   localparam signed [RW-1:0] RMAX = ({{(RW - 1) {1'b0}}, 1'b1} << (DW - 1)) - 1;
   localparam signed [RW-1:0] RMIN = -({{(RW - 1) {1'b0}}, 1'b1} << (DW - 1));
-  function signed [DW-1:0] refl;
-    input signed [DW-1:0] dd;
-    input signed [HW-1:0] nn;
-    input signed [HW-1:0] vv;
-    reg signed [RW-1:0] x;
-    begin
-      x = ((((dd * nn) <<< 1) - (vv <<< B)) + $signed({{(RW - 1) {1'b0}}, 1'b1} << (B - 1))) >>> B;
-      refl = x > RMAX ? RMAX[DW-1:0] : x < RMIN ? RMIN[DW-1:0] : x[DW-1:0];
-    end
-  endfunction
-  reg signed [DW-1:0] r7_0, r7_1, r7_2;
-  reg bf7, bf8;
-  always @(posedge clk) begin
-    r7_0 <= refl(d6, cmp(nh6, 0), cmp(vh6, 0));
-    r7_1 <= refl(d6, cmp(nh6, 1), cmp(vh6, 1));
-    r7_2 <= refl(d6, cmp(nh6, 2), cmp(vh6, 2));
-    bf7 <= d6 < 0;
-    {zn7, ze7} <= {zn6, ze6};
-  end
-
-  // ---- t = r lambda, exact ----
-  wire [L:0] lam7 = lam_sr[(S5+1)*(L+1)+:L+1];  // stage S5 + 2
-  reg signed [TW-1:0] t8_0, t8_1, t8_2;
-  always @(posedge clk) begin
-    t8_0 <= r7_0 * $signed({1'b0, lam7});
-    t8_1 <= r7_1 * $signed({1'b0, lam7});
-    t8_2 <= r7_2 * $signed({1'b0, lam7});
-    {bf8, zn8, ze8} <= {bf7, zn7, ze7};
-  end
-
-  // ---- coord = (t + 1) >> OS, rounded (ties up), saturated to s(OW) ----
+  localparam signed [RW-1:0] RRND = {{(RW - 1) {1'b0}}, 1'b1} << (B - 1);
   localparam signed [CW-1:0] CMAX = ({{(CW - 1) {1'b0}}, 1'b1} << (OW - 1)) - 1;
   localparam signed [CW-1:0] CMIN = -({{(CW - 1) {1'b0}}, 1'b1} << (OW - 1));
-  function [OW-1:0] coord;
-    input signed [TW-1:0] tt;
-    reg signed [CW-1:0] x;
-    begin
-      x = tt;
-      x = x + $signed({{(CW - 1) {1'b0}}, 1'b1} << (B + L));
-      if (OS > 0) x = (x + $signed({{(CW - 1) {1'b0}}, 1'b1} << (OS > 0 ? OS - 1 : 0))) >>> (OS > 0 ? OS : 0);
-      else x = x <<< (OS > 0 ? 0 : -OS);
-      coord = x > CMAX ? CMAX[OW-1:0] : x < CMIN ? CMIN[OW-1:0] : x[OW-1:0];
-    end
-  endfunction
+  // coord = (t + 1) >> OS rounded (ties up), or << -OS: one constant added, two shifts
+  localparam integer COS = OS > 0 ? OS : 0;
+  localparam integer CSL = OS > 0 ? 0 : -OS;
+  localparam signed [CW-1:0] CADD = ({{(CW - 1) {1'b0}}, 1'b1} << (B + L))
+      + ({{(CW - 1) {1'b0}}, OS > 0 ? 1'b1 : 1'b0} << (OS > 0 ? OS - 1 : 0));
+
+  // lam_sr[(k-1)(L+1) +: L+1] is lambda at stage k
+  reg [(LAT-1)*(L+1)-1:0] lam_sr;
+  reg [3*HW-1:0] nh6, vh6;
+  reg zn6, ze6, zn7, ze7, zn8, ze8;
+  reg signed [DW-1:0] d6;
+  reg signed [DW-1:0] r7_0, r7_1, r7_2;
+  reg bf7, bf8;
+  reg signed [TW-1:0] t8_0, t8_1, t8_2;
+  // combinational temporaries
+  reg [3*HW-1:0] nh, vh;
+  reg signed [HW-1:0] n0, n1, n2, e0, e1, e2;
+  reg signed [2*HW+1:0] dotr;
+  reg signed [RW-1:0] xr0, xr1, xr2;
+  reg signed [CW-1:0] c0, c1, c2;
   always @(posedge clk) begin
-    s <= coord(t8_0);
-    t <= coord(t8_1);
-    r <= coord(t8_2);
+    // stage 1: lambda clamp
+    lam_sr <= {lam_sr, lambda > ONE ? ONE : lambda};
+    // ---- stage S5 + 1: the zero-vector muxes; d = n^.v^ rounded to s3.B, saturated ----
+    nh = zero_w[0] ? (zero_w[1] ? {(3 * HW) {1'b0}} : hat_w[6*HW-1:3*HW]) : hat_w[3*HW-1:0];
+    vh = zero_w[1] ? (zero_w[0] ? {(3 * HW) {1'b0}} : hat_w[3*HW-1:0]) : hat_w[6*HW-1:3*HW];
+    {n2, n1, n0} = nh;
+    {e2, e1, e0} = vh;
+    dotr = (n0 * e0 + n1 * e1 + n2 * e2 + $signed({{(2 * HW + 1) {1'b0}}, 1'b1} << (B - 1))) >>> B;
+    d6 <= dotr > DMAX ? DMAX[DW-1:0] : dotr < DMIN ? DMIN[DW-1:0] : dotr[DW-1:0];
+    {nh6, vh6, zn6, ze6} <= {nh, vh, zero_w[0], zero_w[1]};
+    // ---- r = 2 d n^ - v^ (aligned), rounded to s3.B, saturated ----
+    {n2, n1, n0} = nh6;
+    {e2, e1, e0} = vh6;
+    xr0 = ((((d6 * n0) <<< 1) - (e0 <<< B)) + RRND) >>> B;
+    xr1 = ((((d6 * n1) <<< 1) - (e1 <<< B)) + RRND) >>> B;
+    xr2 = ((((d6 * n2) <<< 1) - (e2 <<< B)) + RRND) >>> B;
+    r7_0 <= xr0 > RMAX ? RMAX[DW-1:0] : xr0 < RMIN ? RMIN[DW-1:0] : xr0[DW-1:0];
+    r7_1 <= xr1 > RMAX ? RMAX[DW-1:0] : xr1 < RMIN ? RMIN[DW-1:0] : xr1[DW-1:0];
+    r7_2 <= xr2 > RMAX ? RMAX[DW-1:0] : xr2 < RMIN ? RMIN[DW-1:0] : xr2[DW-1:0];
+    bf7 <= d6 < 0;
+    {zn7, ze7} <= {zn6, ze6};
+    // ---- t = r lambda, exact (lambda at stage S5 + 2) ----
+    t8_0 <= r7_0 * $signed({1'b0, lam_sr[(S5+1)*(L+1)+:L+1]});
+    t8_1 <= r7_1 * $signed({1'b0, lam_sr[(S5+1)*(L+1)+:L+1]});
+    t8_2 <= r7_2 * $signed({1'b0, lam_sr[(S5+1)*(L+1)+:L+1]});
+    {bf8, zn8, ze8} <= {bf7, zn7, ze7};
+    // ---- coord = (t + 1) >> OS, rounded (ties up), saturated to s(OW) ----
+    c0 = ((t8_0 + CADD) >>> COS) <<< CSL;
+    c1 = ((t8_1 + CADD) >>> COS) <<< CSL;
+    c2 = ((t8_2 + CADD) >>> COS) <<< CSL;
+    s <= c0 > CMAX ? CMAX[OW-1:0] : c0 < CMIN ? CMIN[OW-1:0] : c0[OW-1:0];
+    t <= c1 > CMAX ? CMAX[OW-1:0] : c1 < CMIN ? CMIN[OW-1:0] : c1[OW-1:0];
+    r <= c2 > CMAX ? CMAX[OW-1:0] : c2 < CMIN ? CMIN[OW-1:0] : c2[OW-1:0];
     {back_facing, zero_n, zero_e} <= {bf8, zn8, ze8};
   end
 
@@ -300,4 +284,6 @@ module reflection_vector #(
     else vld <= {vld[LAT-2:0], in_valid};
   end
   assign out_valid = vld[LAT-1];
+`undef RV_LZ_STEP
+`undef RV_LZ_STEPS
 endmodule

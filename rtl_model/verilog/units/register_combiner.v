@@ -93,87 +93,65 @@ module register_combiner #(
   localparam W = 2 * N + G + 16;
   localparam signed [W-1:0] S = (1 << (N - 1)) - 1;
   // Register i, component c (0 r .. 3 a) at [(47 - 4i - c)*N +: N].
-  wire [48*N-1:0] f0 = `COMBINER_REGISTER_FILE;
 
-  // floor(num / den) plus the carry of ROUNDING; den > 0.
-  function signed [W-1:0] rdiv;
-    input signed [W-1:0] num;
-    input signed [W-1:0] den;
-    reg signed [W-1:0] q, rem, twice;
-    reg neg, up;
-    begin
-      q = num / den;  // toward zero
-      rem = num - q * den;
-      if (rem < 0) begin
-        q = q - 1;
-        rem = rem + den;
-      end
-      neg = num < 0;
-      twice = 2 * rem;
-      if (rem == 0) up = 1'b0;
-      else
-        case (ROUNDING)
-          0: up = 1'b0;
-          1: up = neg;
-          default:
-          if (twice > den) up = 1'b1;
-          else if (twice < den) up = 1'b0;
-          else
-            case (ROUNDING)
-              2: up = 1'b1;
-              3: up = neg;
-              4: up = !neg;
-              5: up = 1'b0;
-              default: up = q[0];
-            endcase
-        endcase
-      rdiv = q + up;
-    end
-  endfunction
+  // Written for Icarus's interpreter (docs/rtl.md): the register file is concatenated
+  // in the clocked block (a continuous concatenation of the 48 ports is rebuilt on each
+  // port's change), and the roundings and mappings are macros (a function call runs as
+  // a thread, and copied the 48N-bit file on every call). Each macro uses the block's
+  // temporaries below.
 
-  // A variable: register component (ZERO reads 0), sign-extended, then Table 4 in
-  // half-LSB units (s(N+2)).
-  function signed [W-1:0] mapped;
-    input [48*N-1:0] f;
-    input integer in, m, cu, lane;
-    reg [N-1:0] x;
-    reg signed [W-1:0] r, p;
-    begin
-      x = f[(47-4*in-(cu == 1 ? 3 : cu == 2 ? 2 : lane))*N+:N];
-      r = in == 0 ? 0 : $signed({{(W - N) {x[N-1]}}, x});
-      p = r < 0 ? 0 : r;
-      case (m)
-        0: mapped = 2 * p;
-        1: mapped = 2 * (S - (p > S ? S : p));
-        2: mapped = 2 * (2 * p - S);
-        3: mapped = 2 * (S - 2 * p);
-        4: mapped = 2 * p - S;
-        5: mapped = S - 2 * p;
-        6: mapped = 2 * r;
-        default: mapped = -2 * r;
-      endcase
-    end
-  endfunction
+  // DST = floor(NUM / DEN) plus the carry of ROUNDING; DEN > 0. NUM, DEN at W bits.
+`define RC_RDIV(DST, NUM, DEN) \
+    rn = NUM; \
+    rd = DEN; \
+    rq = rn / rd;  /* toward zero */ \
+    rr = rn - rq * rd; \
+    if (rr < 0) begin \
+      rq = rq - 1; \
+      rr = rr + rd; \
+    end \
+    rt = 2 * rr; \
+    if (rr == 0) rup = 1'b0; \
+    else \
+      case (ROUNDING) \
+        0: rup = 1'b0; \
+        1: rup = rn < 0; \
+        default: \
+        if (rt > rd) rup = 1'b1; \
+        else if (rt < rd) rup = 1'b0; \
+        else \
+          case (ROUNDING) \
+            2: rup = 1'b1; \
+            3: rup = rn < 0; \
+            4: rup = !(rn < 0); \
+            5: rup = 1'b0; \
+            default: rup = rq[0]; \
+          endcase \
+      endcase \
+    DST = rq + rup;
 
-  // Step 4: round(p * 2^G / (4S)).
-  function signed [W-1:0] rp;
-    input signed [W-1:0] p;
-    begin
-      rp = rdiv(p <<< G, 4 * S);
-    end
-  endfunction
+  // DST = variable (IN, M, CU) on LANE: the register component (ZERO reads 0),
+  // sign-extended, then Table 4 in half-LSB units (s(N+2)).
+`define RC_MAPPED(DST, IN, M, CU, LANE) \
+    mx = f1[(47-4*(IN)-((CU) == 1 ? 3 : (CU) == 2 ? 2 : (LANE)))*N+:N]; \
+    mr = (IN) == 0 ? 0 : $signed({{(W - N) {mx[N-1]}}, mx}); \
+    mp = mr < 0 ? 0 : mr; \
+    case (M) \
+      0: DST = 2 * mp; \
+      1: DST = 2 * (S - (mp > S ? S : mp)); \
+      2: DST = 2 * (2 * mp - S); \
+      3: DST = 2 * (S - 2 * mp); \
+      4: DST = 2 * mp - S; \
+      5: DST = S - 2 * mp; \
+      6: DST = 2 * mr; \
+      default: DST = -2 * mr; \
+    endcase
 
-  // Step 6: clamp(round((2x - b) * k / 2^(G+2)), -S, S).
-  function signed [W-1:0] outv;
-    input signed [W-1:0] x;
-    input integer scale, bias;
-    reg signed [W-1:0] v, r;
-    begin
-      v = (2 * x - (bias ? (S <<< G) : 0)) * (scale == 0 ? 2 : scale == 1 ? 4 : scale == 2 ? 8 : 1);
-      r = rdiv(v, 1 << (G + 2));
-      outv = r > S ? S : r < -S ? -S : r;
-    end
-  endfunction
+  // Step 6: DST = clamp(round((2x - b) * k / 2^(G+2)), -S, S), x = X at W bits.
+`define RC_OUTV(DST, X, SCALE, BIAS) \
+    ox = X; \
+    `RC_RDIV(ov, (2 * ox - ((BIAS) ? (S <<< G) : 0)) * ((SCALE) == 0 ? 2 : (SCALE) == 1 ? 4 : (SCALE) == 2 ? 8 : 1), 1 << (G + 2)) \
+    DST = ov > S ? S : ov < -S ? -S : ov;
 
   reg v1, v2;
   reg [48*N-1:0] f1, f2, f3, fo;
@@ -182,7 +160,11 @@ module register_combiner #(
   reg mux_cd;
   integer l;
   reg signed [W-1:0] ab [0:3], cd [0:3];
-  reg signed [W-1:0] dab, dcd, x, sum;
+  reg signed [W-1:0] va, vb, q, x, sum;
+  // the macros' temporaries
+  reg [N-1:0] mx;
+  reg signed [W-1:0] mr, mp, rn, rd, rq, rr, rt, ox, ov;
+  reg rup;
   always @(posedge clk) begin
     if (rst) begin
       v1 <= 1'b0;
@@ -194,22 +176,43 @@ module register_combiner #(
       out_valid <= v2;
     end
     // Stage 1: the input set.
-    f1 <= f0;
-    // Stage 2: products (s(2N+2)), dot products (s(2N+3)), each rounded once.
+    f1 <= `COMBINER_REGISTER_FILE;
+    // Stage 2: products (s(2N+2)), dot products (s(2N+3)), each rounded once:
+    // round(p * 2^G / (4S)).
     for (l = 0; l < 3; l = l + 1) begin
-      ab[l] = mapped(f1, RGB_A_IN, RGB_A_MAP, RGB_A_USE, l) * mapped(f1, RGB_B_IN, RGB_B_MAP, RGB_B_USE, l);
-      cd[l] = mapped(f1, RGB_C_IN, RGB_C_MAP, RGB_C_USE, l) * mapped(f1, RGB_D_IN, RGB_D_MAP, RGB_D_USE, l);
+      `RC_MAPPED(va, RGB_A_IN, RGB_A_MAP, RGB_A_USE, l)
+      `RC_MAPPED(vb, RGB_B_IN, RGB_B_MAP, RGB_B_USE, l)
+      ab[l] = va * vb;
+      `RC_MAPPED(va, RGB_C_IN, RGB_C_MAP, RGB_C_USE, l)
+      `RC_MAPPED(vb, RGB_D_IN, RGB_D_MAP, RGB_D_USE, l)
+      cd[l] = va * vb;
     end
-    ab[3] = mapped(f1, ALPHA_A_IN, ALPHA_A_MAP, ALPHA_A_USE, 3) * mapped(f1, ALPHA_B_IN, ALPHA_B_MAP, ALPHA_B_USE, 3);
-    cd[3] = mapped(f1, ALPHA_C_IN, ALPHA_C_MAP, ALPHA_C_USE, 3) * mapped(f1, ALPHA_D_IN, ALPHA_D_MAP, ALPHA_D_USE, 3);
-    dab = rp(ab[0] + ab[1] + ab[2]);
-    dcd = rp(cd[0] + cd[1] + cd[2]);
-    for (l = 0; l < 3; l = l + 1) begin
-      qab[l*W+:W] <= RGB_AB_DOT ? dab : rp(ab[l]);
-      qcd[l*W+:W] <= RGB_CD_DOT ? dcd : rp(cd[l]);
-    end
-    qab[3*W+:W] <= rp(ab[3]);
-    qcd[3*W+:W] <= rp(cd[3]);
+    `RC_MAPPED(va, ALPHA_A_IN, ALPHA_A_MAP, ALPHA_A_USE, 3)
+    `RC_MAPPED(vb, ALPHA_B_IN, ALPHA_B_MAP, ALPHA_B_USE, 3)
+    ab[3] = va * vb;
+    `RC_MAPPED(va, ALPHA_C_IN, ALPHA_C_MAP, ALPHA_C_USE, 3)
+    `RC_MAPPED(vb, ALPHA_D_IN, ALPHA_D_MAP, ALPHA_D_USE, 3)
+    cd[3] = va * vb;
+    if (RGB_AB_DOT) begin
+      `RC_RDIV(q, (ab[0] + ab[1] + ab[2]) <<< G, 4 * S)
+      qab[3*W-1:0] <= {q, q, q};
+    end else
+      for (l = 0; l < 3; l = l + 1) begin
+        `RC_RDIV(q, ab[l] <<< G, 4 * S)
+        qab[l*W+:W] <= q;
+      end
+    if (RGB_CD_DOT) begin
+      `RC_RDIV(q, (cd[0] + cd[1] + cd[2]) <<< G, 4 * S)
+      qcd[3*W-1:0] <= {q, q, q};
+    end else
+      for (l = 0; l < 3; l = l + 1) begin
+        `RC_RDIV(q, cd[l] <<< G, 4 * S)
+        qcd[l*W+:W] <= q;
+      end
+    `RC_RDIV(q, ab[3] <<< G, 4 * S)
+    qab[3*W+:W] <= q;
+    `RC_RDIV(q, cd[3] <<< G, 4 * S)
+    qcd[3*W+:W] <= q;
     // SPARE0 alpha of the input set >= 0.5: c >= 2^(N-2) (non-negative).
     mux_cd <= !f1[(47-4*6-3)*N+N-1] && f1[(47-4*6-3)*N+N-2];
     f2 <= f1;
@@ -220,17 +223,38 @@ module register_combiner #(
           (mux_cd ? $signed(qcd[l*W+:W]) : $signed(qab[l*W+:W])) :
           $signed(qab[l*W+:W]) + $signed(qcd[l*W+:W]);
       if (l < 3) begin
-        if (RGB_AB_OUT != 15) f3[(47-4*RGB_AB_OUT-l)*N+:N] = outv(qab[l*W+:W], RGB_SCALE, RGB_BIAS);
-        if (RGB_CD_OUT != 15) f3[(47-4*RGB_CD_OUT-l)*N+:N] = outv(qcd[l*W+:W], RGB_SCALE, RGB_BIAS);
-        if (RGB_SUM_OUT != 15) f3[(47-4*RGB_SUM_OUT-l)*N+:N] = outv(sum, RGB_SCALE, RGB_BIAS);
+        if (RGB_AB_OUT != 15) begin
+          `RC_OUTV(x, qab[l*W+:W], RGB_SCALE, RGB_BIAS)
+          f3[(47-4*RGB_AB_OUT-l)*N+:N] = x;
+        end
+        if (RGB_CD_OUT != 15) begin
+          `RC_OUTV(x, qcd[l*W+:W], RGB_SCALE, RGB_BIAS)
+          f3[(47-4*RGB_CD_OUT-l)*N+:N] = x;
+        end
+        if (RGB_SUM_OUT != 15) begin
+          `RC_OUTV(x, sum, RGB_SCALE, RGB_BIAS)
+          f3[(47-4*RGB_SUM_OUT-l)*N+:N] = x;
+        end
       end else begin
-        if (ALPHA_AB_OUT != 15) f3[(47-4*ALPHA_AB_OUT-3)*N+:N] = outv(qab[3*W+:W], ALPHA_SCALE, ALPHA_BIAS);
-        if (ALPHA_CD_OUT != 15) f3[(47-4*ALPHA_CD_OUT-3)*N+:N] = outv(qcd[3*W+:W], ALPHA_SCALE, ALPHA_BIAS);
-        if (ALPHA_SUM_OUT != 15) f3[(47-4*ALPHA_SUM_OUT-3)*N+:N] = outv(sum, ALPHA_SCALE, ALPHA_BIAS);
+        if (ALPHA_AB_OUT != 15) begin
+          `RC_OUTV(x, qab[3*W+:W], ALPHA_SCALE, ALPHA_BIAS)
+          f3[(47-4*ALPHA_AB_OUT-3)*N+:N] = x;
+        end
+        if (ALPHA_CD_OUT != 15) begin
+          `RC_OUTV(x, qcd[3*W+:W], ALPHA_SCALE, ALPHA_BIAS)
+          f3[(47-4*ALPHA_CD_OUT-3)*N+:N] = x;
+        end
+        if (ALPHA_SUM_OUT != 15) begin
+          `RC_OUTV(x, sum, ALPHA_SCALE, ALPHA_BIAS)
+          f3[(47-4*ALPHA_SUM_OUT-3)*N+:N] = x;
+        end
       end
     end
     fo <= f3;
   end
+`undef RC_RDIV
+`undef RC_MAPPED
+`undef RC_OUTV
   assign o_zero_r = fo[47*N+:N];
   assign o_zero_g = fo[46*N+:N];
   assign o_zero_b = fo[45*N+:N];

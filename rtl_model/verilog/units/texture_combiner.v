@@ -56,73 +56,56 @@ module texture_combiner #(
   localparam F_REPLACE = 0, F_MODULATE = 1, F_ADD = 2, F_ADD_SIGNED = 3,
              F_INTERPOLATE = 4, F_SUBTRACT = 5, F_DOT3_RGB = 6, F_DOT3_RGBA = 7;
 
-  // Source s, channel c (0 r .. 3 a) at [(15 - 4s - c)*BITS +: BITS].
-  wire [16*BITS-1:0] src = {
-    texture_r, texture_g, texture_b, texture_a,
-    constant_r, constant_g, constant_b, constant_a,
-    primary_r, primary_g, primary_b, primary_a,
-    previous_r, previous_g, previous_b, previous_a
-  };
+  // Written for Icarus's interpreter (docs/rtl.md): the sources are concatenated and the
+  // arguments, X and the roundings computed in the clocked blocks (continuous
+  // assigns and function calls in them were re-evaluated on every one of the 16 input
+  // changes), the functions are macros (a function call runs as a thread), every
+  // argument's part-select is a constant expression of the parameters.
 
-  // Mapped arguments: lane l (0..2 RGB, 3 alpha), argument i at [(3l + i)*BITS +: BITS].
-  wire [12*BITS-1:0] arg;
-  genvar l, i;
-  generate
-    for (l = 0; l < 3; l = l + 1) begin : rgb_lane
-      for (i = 0; i < 3; i = i + 1) begin : rgb_arg
-        localparam S = (SRC_RGB >> (2 * i)) & 3;
-        localparam O = (OP_RGB >> (2 * i)) & 3;
-        localparam C = O >= 2 ? 3 : l;  // SRC_ALPHA reads the alpha channel
-        wire [BITS-1:0] code = src[(15-4*S-C)*BITS+:BITS];
-        // ONE_MINUS: N - c, the bitwise NOT.
-        assign arg[(3*l+i)*BITS+:BITS] = (O == 1 || O == 3) ? ~code : code;
-      end
-    end
-    for (i = 0; i < 3; i = i + 1) begin : alpha_arg
-      localparam S = (SRC_ALPHA >> (2 * i)) & 3;
-      wire [BITS-1:0] code = src[(15-4*S-3)*BITS+:BITS];
-      assign arg[(9+i)*BITS+:BITS] = OP_ALPHA[i] ? ~code : code;
-    end
-  endgenerate
+  localparam signed [W-1:0] NW = $signed({{(W - BITS) {1'b0}}, N});
 
-  // One lane's X for a non-DOT3 function F at scale SC.
-  function signed [W-1:0] exact;
-    input integer f;
-    input integer sc;
-    input [BITS-1:0] a0, a1, a2;
-    reg signed [W-1:0] x0, x1, x2, n;
-    begin
-      x0 = $signed({{(W - BITS) {1'b0}}, a0});
-      x1 = $signed({{(W - BITS) {1'b0}}, a1});
-      x2 = $signed({{(W - BITS) {1'b0}}, a2});
-      n  = $signed({{(W - BITS) {1'b0}}, N});
-      case (f)
-        F_REPLACE: exact = sc * x0;  // u(n) << 2 -> u(n+2)
-        F_MODULATE: exact = sc * (x0 * x1);  // u(n) x u(n) -> u(2n), << 2
-        F_ADD: exact = sc * (x0 + x1);  // u(n+1) << 2 -> u(n+3)
-        F_ADD_SIGNED: exact = sc * (2 * (x0 + x1) - n);  // s(n+3), scaled s(n+5)
-        F_INTERPOLATE: exact = sc * (x0 * x2 + x1 * (n - x2));  // <= N^2, u(2n+2)
-        default: exact = sc * (x0 - x1);  // SUBTRACT: s(n+1) << 2 -> s(n+3)
-      endcase
-    end
-  endfunction
+  // Source s, channel c (0 r .. 3 a) at [(15 - 4s - c)*BITS +: BITS]. Mapped
+  // arguments: lane l (0..2 RGB, 3 alpha), argument i at [(3l + i)*BITS +: BITS].
+  // RGB argument i of lane L: SRC_ALPHA reads the alpha channel; ONE_MINUS: N - c,
+  // the bitwise NOT.
+`define TC_RGB_ARG(L, I) \
+    ac = sv[(15-4*((SRC_RGB >> (2 * (I))) & 3)-(((OP_RGB >> (2 * (I))) & 3) >= 2 ? 3 : (L)))*BITS+:BITS]; \
+    arg[(3*(L)+(I))*BITS+:BITS] = (((OP_RGB >> (2 * (I))) & 3) == 1 || ((OP_RGB >> (2 * (I))) & 3) == 3) ? ~ac : ac;
+`define TC_ALPHA_ARG(I) \
+    ac = sv[(15-4*((SRC_ALPHA >> (2 * (I))) & 3)-3)*BITS+:BITS]; \
+    arg[(9+(I))*BITS+:BITS] = OP_ALPHA[I] ? ~ac : ac;
+
+  // One lane's X for a non-DOT3 function F at scale SC, arguments A0, A1, A2.
+`define TC_EXACT(DST, F, SC, A0, A1, A2) \
+    e0 = $signed({{(W - BITS) {1'b0}}, A0}); \
+    e1 = $signed({{(W - BITS) {1'b0}}, A1}); \
+    e2 = $signed({{(W - BITS) {1'b0}}, A2}); \
+    case (F) \
+      F_REPLACE: DST = (SC) * e0;  /* u(n) << 2 -> u(n+2) */ \
+      F_MODULATE: DST = (SC) * (e0 * e1);  /* u(n) x u(n) -> u(2n), << 2 */ \
+      F_ADD: DST = (SC) * (e0 + e1);  /* u(n+1) << 2 -> u(n+3) */ \
+      F_ADD_SIGNED: DST = (SC) * (2 * (e0 + e1) - NW);  /* s(n+3), scaled s(n+5) */ \
+      F_INTERPOLATE: DST = (SC) * (e0 * e2 + e1 * (NW - e2));  /* <= N^2, u(2n+2) */ \
+      default: DST = (SC) * (e0 - e1);  /* SUBTRACT: s(n+1) << 2 -> s(n+3) */ \
+    endcase
 
   // DOT3: sum over r, g, b of (2a0 - N)(2a1 - N) (each factor s(n+1), the sum s(2n+4)).
-  function signed [W-1:0] dot3;
-    input [12*BITS-1:0] args;
-    integer k;
-    reg signed [W-1:0] p, q;
-    begin
-      dot3 = 0;
-      for (k = 0; k < 3; k = k + 1) begin
-        p = 2 * $signed({{(W - BITS) {1'b0}}, args[(3*k)*BITS+:BITS]})
-            - $signed({{(W - BITS) {1'b0}}, N});
-        q = 2 * $signed({{(W - BITS) {1'b0}}, args[(3*k+1)*BITS+:BITS]})
-            - $signed({{(W - BITS) {1'b0}}, N});
-        dot3 = dot3 + p * q;
-      end
+`define TC_DOT3_TERM(K) \
+    e0 = 2 * $signed({{(W - BITS) {1'b0}}, arg[(3*(K))*BITS+:BITS]}) - NW; \
+    e1 = 2 * $signed({{(W - BITS) {1'b0}}, arg[(3*(K)+1)*BITS+:BITS]}) - NW; \
+    dot = dot + e0 * e1;
+
+  // Clamp X / D to [0, N] and round half up once.
+`define TC_CLAMP_ROUND(DST, X, D_) \
+    cx = X; \
+    if (cx < 0) DST = 0; \
+    else if ((D_) == 0) DST = cx > NW ? N : cx[BITS-1:0]; \
+    else if ((D_) == 1) DST = cx > 2 * NW ? N : ((cx + 1) >>> 1); \
+    else if (cx > NW * NW) DST = N; \
+    else begin \
+      ct = cx + (1 << (BITS - 1));  /* u(2n) + half -> u(2n+1) */ \
+      DST = (ct + (ct >>> BITS)) >>> BITS; \
     end
-  endfunction
 
   localparam RGB_DOT3 = COMBINE_RGB == F_DOT3_RGB || COMBINE_RGB == F_DOT3_RGBA;
   // The divisor class of a lane: 0 D = 1, 1 D = 2, 2 D = N.
@@ -133,55 +116,76 @@ module texture_combiner #(
       (COMBINE_ALPHA == F_MODULATE || COMBINE_ALPHA == F_INTERPOLATE) ? 2 :
       COMBINE_ALPHA == F_ADD_SIGNED ? 1 : 0;
 
-  wire signed [W-1:0] dot = dot3(arg);
-  // X of lane l at [l*W +: W].
-  wire [4*W-1:0] xr;
-  generate
-    for (l = 0; l < 3; l = l + 1) begin : rgb_x
-      assign xr[l*W+:W] = RGB_DOT3 ? RGB_SCALE * dot :
-          exact(COMBINE_RGB, RGB_SCALE, arg[(3*l)*BITS+:BITS], arg[(3*l+1)*BITS+:BITS],
-                arg[(3*l+2)*BITS+:BITS]);
-    end
-  endgenerate
-  assign xr[3*W+:W] = COMBINE_RGB == F_DOT3_RGBA ? ALPHA_SCALE * dot :
-      exact(COMBINE_ALPHA, ALPHA_SCALE, arg[9*BITS+:BITS], arg[10*BITS+:BITS],
-            arg[11*BITS+:BITS]);
-
-  // Stage 1: X per lane.
+  // Stage 1: X per lane, lane l at [l*W +: W].
   reg [4*W-1:0] x1;
   reg v1;
+  reg [16*BITS-1:0] sv;
+  reg [12*BITS-1:0] arg;
+  reg [BITS-1:0] ac;
+  reg signed [W-1:0] e0, e1, e2, dot, xl;
   always @(posedge clk) begin
     if (rst) v1 <= 1'b0;
     else v1 <= in_valid;
-    x1 <= xr;
-  end
-
-  // Clamp X / D to [0, N] and round half up once.
-  function [BITS-1:0] clamp_round;
-    input signed [W-1:0] x;
-    input integer d;
-    reg signed [W-1:0] n, t;
-    begin
-      n = $signed({{(W - BITS) {1'b0}}, N});
-      if (x < 0) clamp_round = 0;
-      else if (d == 0) clamp_round = x > n ? N : x[BITS-1:0];
-      else if (d == 1) clamp_round = x > 2 * n ? N : ((x + 1) >>> 1);
-      else if (x > n * n) clamp_round = N;
-      else begin
-        t = x + (1 << (BITS - 1));  // u(2n) + half -> u(2n+1)
-        clamp_round = (t + (t >>> BITS)) >>> BITS;
-      end
+    sv = {
+      texture_r, texture_g, texture_b, texture_a,
+      constant_r, constant_g, constant_b, constant_a,
+      primary_r, primary_g, primary_b, primary_a,
+      previous_r, previous_g, previous_b, previous_a
+    };
+    `TC_RGB_ARG(0, 0)
+    `TC_RGB_ARG(0, 1)
+    `TC_RGB_ARG(0, 2)
+    `TC_RGB_ARG(1, 0)
+    `TC_RGB_ARG(1, 1)
+    `TC_RGB_ARG(1, 2)
+    `TC_RGB_ARG(2, 0)
+    `TC_RGB_ARG(2, 1)
+    `TC_RGB_ARG(2, 2)
+    `TC_ALPHA_ARG(0)
+    `TC_ALPHA_ARG(1)
+    `TC_ALPHA_ARG(2)
+    if (RGB_DOT3 || COMBINE_RGB == F_DOT3_RGBA) begin
+      dot = 0;
+      `TC_DOT3_TERM(0)
+      `TC_DOT3_TERM(1)
+      `TC_DOT3_TERM(2)
     end
-  endfunction
+    if (RGB_DOT3) begin
+      xl = RGB_SCALE * dot;
+      x1[3*W-1:0] <= {xl, xl, xl};
+    end else begin
+      `TC_EXACT(xl, COMBINE_RGB, RGB_SCALE, arg[0+:BITS], arg[BITS+:BITS], arg[2*BITS+:BITS])
+      x1[0+:W] <= xl;
+      `TC_EXACT(xl, COMBINE_RGB, RGB_SCALE, arg[3*BITS+:BITS], arg[4*BITS+:BITS], arg[5*BITS+:BITS])
+      x1[W+:W] <= xl;
+      `TC_EXACT(xl, COMBINE_RGB, RGB_SCALE, arg[6*BITS+:BITS], arg[7*BITS+:BITS], arg[8*BITS+:BITS])
+      x1[2*W+:W] <= xl;
+    end
+    if (COMBINE_RGB == F_DOT3_RGBA) xl = ALPHA_SCALE * dot;
+    else begin
+      `TC_EXACT(xl, COMBINE_ALPHA, ALPHA_SCALE, arg[9*BITS+:BITS], arg[10*BITS+:BITS], arg[11*BITS+:BITS])
+    end
+    x1[3*W+:W] <= xl;
+  end
 
   // Stage 2: the codes.
   reg [4*BITS-1:0] y;
+  reg signed [W-1:0] cx, ct;
+  reg [BITS-1:0] y0, y1, y2, y3;
   always @(posedge clk) begin
     if (rst) out_valid <= 1'b0;
     else out_valid <= v1;
-    y <= {clamp_round(x1[3*W+:W], A_D), clamp_round(x1[2*W+:W], RGB_D),
-          clamp_round(x1[W+:W], RGB_D), clamp_round(x1[0+:W], RGB_D)};
+    `TC_CLAMP_ROUND(y3, x1[3*W+:W], A_D)
+    `TC_CLAMP_ROUND(y2, x1[2*W+:W], RGB_D)
+    `TC_CLAMP_ROUND(y1, x1[W+:W], RGB_D)
+    `TC_CLAMP_ROUND(y0, x1[0+:W], RGB_D)
+    y <= {y3, y2, y1, y0};
   end
+`undef TC_RGB_ARG
+`undef TC_ALPHA_ARG
+`undef TC_EXACT
+`undef TC_DOT3_TERM
+`undef TC_CLAMP_ROUND
   assign r = y[0+:BITS];
   assign g = y[BITS+:BITS];
   assign b = y[2*BITS+:BITS];
