@@ -46,31 +46,35 @@ fn run_ok(cmd: &mut Command, what: &str) -> String {
 }
 
 /// The C library, built by cargo into this target directory (a no-op when it is up to
-/// date). In the `test` profile, the one `cargo test` builds in: on a clean target
-/// this build took 49 s user where the `dev` profile took 82 s (serde, fixed,
-/// rtl_model… still compile again, their features unified for this package alone).
-/// Its output directory is `debug/` either way.
+/// date), with the features `cargo test --workspace` resolved: a test build of the
+/// whole workspace that selects only glare_dpi's `header` test, so its dependencies
+/// (serde, fixed, rtl_model, …) are the ones the suite already compiled and only
+/// glare_dpi itself builds again, with `dpi` (`cargo build -p glare_dpi --features
+/// dpi` resolves features for that package alone and compiled those dependencies a
+/// second time: 49 s user on a clean target).
 fn build_library() -> PathBuf {
     run_ok(
         Command::new(env!("CARGO"))
             .args([
-                "build",
-                "-q",
-                "--profile",
                 "test",
-                "-p",
-                "glare_dpi",
+                "-q",
+                "--workspace",
+                "--no-run",
                 "--features",
-                "dpi",
-                "--lib",
+                "glare_dpi/dpi",
+                "--test",
+                "header",
             ])
             .current_dir(root()),
-        "cargo build -p glare_dpi --features dpi",
+        "cargo test --workspace --no-run --features glare_dpi/dpi --test header",
     );
     let target = std::env::var("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|_| root().join("target"));
-    let lib = target.join("debug/libglare_dpi.so");
+    // A test build leaves the library in deps/ (a cdylib's name has no hash there, so
+    // a later build of glare_dpi without `dpi` would overwrite it: Verilator's link then
+    // fails on the missing DPI symbols, never a silent pass).
+    let lib = target.join("debug/deps/libglare_dpi.so");
     assert!(lib.exists(), "{} missing after the build", lib.display());
     lib
 }
