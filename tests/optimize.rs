@@ -624,11 +624,33 @@ fn cli_on_a_shading_scene_front_non_dominated_and_render_of_best_toml_meets_the_
 /// `b` two steps wider together do (2.5 at c = 8), and then the trade of one bit less
 /// of `c` meets max ≤ 2 (1.5 at c = 7). Before `repair_wider` this search ended
 /// `DefaultsBreakBudget`.
-struct Landscape;
+fn landscape_max_error(v: &[u32]) -> f64 {
+    let (a, b, c) = (v[0], v[1], v[2] as f64);
+    if a >= 10 && b >= 10 {
+        1.5 + (c - 7.0).abs()
+    } else {
+        5.0 + 0.5 * (c - 8.0).max(0.0)
+    }
+}
 
-impl Target for Landscape {
+const LANDSCAPE: MadeUp = MadeUp {
+    kind: "landscape",
+    max_error: landscape_max_error,
+    priced: 3,
+};
+
+/// A made-up search target: every width defaults to 8 and may be 1..=16, no bound
+/// prunes, the first `priced` widths cost 100 gates a bit, and `max_error` gives the
+/// max error of a point.
+struct MadeUp {
+    kind: &'static str,
+    max_error: fn(&[u32]) -> f64,
+    priced: usize,
+}
+
+impl Target for MadeUp {
     fn kind_name(&self) -> &'static str {
-        "landscape"
+        self.kind
     }
     fn step(&self, _: &str) -> Step {
         Step::Bit
@@ -643,16 +665,10 @@ impl Target for Landscape {
         Ok(self.valid(p, values).then(|| stats(0.0)))
     }
     fn evaluate_at(&self, _: &[&str], v: &[u32]) -> Result<Metrics, String> {
-        let (a, b, c) = (v[0], v[1], v[2] as f64);
-        let max = if a >= 10 && b >= 10 {
-            1.5 + (c - 7.0).abs()
-        } else {
-            5.0 + 0.5 * (c - 8.0).max(0.0)
-        };
         Ok(Metrics {
-            gates: 100.0 * v.iter().sum::<u32>() as f64,
+            gates: 100.0 * v[..self.priced].iter().sum::<u32>() as f64,
             ram_bits: 0,
-            error: stats(max),
+            error: stats((self.max_error)(v)),
             predicted_seconds: 0.0,
             wall_seconds: 0.0,
         })
@@ -671,7 +687,7 @@ fn stats(max: f64) -> ErrorStats {
 #[test]
 fn repair_tries_two_step_pairs_and_trades_when_the_joint_step_fails() {
     let b = budget("max<=2");
-    let o = run(&Landscape, &["a", "b", "c"], &b, Objective::Gates, 200);
+    let o = run(&LANDSCAPE, &["a", "b", "c"], &b, Objective::Gates, 200);
     // The moves before the wider repairs could not reach the budget: every point
     // with at most one step more in each width breaks it.
     for p in &o.points {
@@ -753,45 +769,25 @@ fn interpolator_and_reciprocal_widths_are_searchable_and_cut_cost() {
 /// filter three steps narrower. Before the line searches the repair paired `u` with
 /// `s1` (the two least-error widenings, `u`'s changing nothing), widened pairs two
 /// steps only and narrowed one step: it ended `DefaultsBreakBudget`.
-struct Trade;
-
-impl Target for Trade {
-    fn kind_name(&self) -> &'static str {
-        "trade"
-    }
-    fn step(&self, _: &str) -> Step {
-        Step::Bit
-    }
-    fn default_value(&self, _: &str) -> Result<u32, String> {
-        Ok(8)
-    }
-    fn valid(&self, _: &[&str], values: &[u32]) -> bool {
-        values.iter().all(|&v| (1..=16).contains(&v))
-    }
-    fn bound_at(&self, p: &[&str], values: &[u32]) -> Result<Option<ErrorStats>, String> {
-        Ok(self.valid(p, values).then(|| stats(0.0)))
-    }
-    fn evaluate_at(&self, _: &[&str], v: &[u32]) -> Result<Metrics, String> {
-        let [s1, s2, f] = [v[0], v[1], v[2]].map(f64::from);
-        let max = if s1 >= 11.0 && s2 >= 11.0 {
-            1.5 + (f - 5.0).abs()
-        } else {
-            5.0 + 0.25 * ((s1 - 8.0).abs() + (s2 - 8.0).abs()) + 0.5 * (f - 8.0).abs()
-        };
-        Ok(Metrics {
-            gates: 100.0 * (v[0] + v[1] + v[2]) as f64,
-            ram_bits: 0,
-            error: stats(max),
-            predicted_seconds: 0.0,
-            wall_seconds: 0.0,
-        })
+fn trade_max_error(v: &[u32]) -> f64 {
+    let [s1, s2, f] = [v[0], v[1], v[2]].map(f64::from);
+    if s1 >= 11.0 && s2 >= 11.0 {
+        1.5 + (f - 5.0).abs()
+    } else {
+        5.0 + 0.25 * ((s1 - 8.0).abs() + (s2 - 8.0).abs()) + 0.5 * (f - 8.0).abs()
     }
 }
+
+const TRADE: MadeUp = MadeUp {
+    kind: "trade",
+    max_error: trade_max_error,
+    priced: 3,
+};
 
 #[test]
 fn repair_line_searches_find_the_storage_vs_filter_trade() {
     let b = budget("max<=2");
-    let o = run(&Trade, &["s1", "s2", "f", "u"], &b, Objective::Gates, 200);
+    let o = run(&TRADE, &["s1", "s2", "f", "u"], &b, Objective::Gates, 200);
     assert_ne!(o.end, End::DefaultsBreakBudget);
     let best = &o.points[o.best.expect("the line searches reach the budget")];
     // s1 and s2 three steps wider together (the pair of the two widths whose

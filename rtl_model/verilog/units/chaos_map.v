@@ -14,6 +14,8 @@
 //   6 inc = round(X 2^(F-E-n)), escape, S + inc (saturating) | right branch, branch mux
 //   7 state write-back and patch accumulator
 // then the output register: round(sum * K / 2^(F+14)), saturating.
+`include "leading_one.vh"
+
 module chaos_map #(
     parameter PATCHES     = 4,
     parameter STATE_BITS  = 32,
@@ -138,12 +140,8 @@ module chaos_map #(
   reg [F+O+21:0] rnd;
   integer i;
 
-  // bl = the leading one of {s1, 0} (s1's leading one + 1, 0 for s1 = 0), unrolled: for
-  // K = 2^(FB-1) .. 1, bl |= K where {s1, 0} has a one at bl | K or above (F < 128; a
-  // step with K >= 2^FB is constant-false). The word is not shifted (a mux per step
-  // would cost Yosys more than the priority loop).
-`define CM_LZ_STEP(K) \
-    if ((K) < (1 << FB) && (s10 >> (bl | (K))) != 0) bl = bl | (K);
+  // bl = the leading one of {s1, 0} (s1's leading one + 1, 0 for s1 = 0): LEAD_ONE
+  // (lib/leading_one.vh; F < 128).
 
   always @(posedge clk) begin
     // ---- 1: state read, leading one, mantissa align ----
@@ -152,13 +150,7 @@ module chaos_map #(
     s1 = st[idx1];
     bl = 0;
     s10 = {s1, 1'b0};
-    `CM_LZ_STEP(64)
-    `CM_LZ_STEP(32)
-    `CM_LZ_STEP(16)
-    `CM_LZ_STEP(8)
-    `CM_LZ_STEP(4)
-    `CM_LZ_STEP(2)
-    `CM_LZ_STEP(1)
+    `LEAD_ONE(bl, s10, FB)
     sw = {s1, {TD{1'b0}}} >> (bl - 1);
     // ---- 3: L interpolate, delta = p 2^E - L, V = Zq delta - LU (>= 0) ----
     df = $signed({1'b0, log2_data1}) - $signed({1'b0, log2_data0});
@@ -236,5 +228,4 @@ module chaos_map #(
     rnd = (acc * K_OUT + (1 << (F + 13))) >> (F + 14);
     ip <= rnd > {O{1'b1}} ? {O{1'b1}} : rnd[O-1:0];
   end
-`undef CM_LZ_STEP
 endmodule

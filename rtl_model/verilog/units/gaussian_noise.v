@@ -14,6 +14,8 @@
 //   8   ROM data (sqrt)
 //   9   sqrt interpolate, r*cos, r*sin, round, saturate, sign -> output registers
 // The central-limit mode is not implemented (the vector writer builds Box–Muller).
+`include "leading_one.vh"
+
 module gaussian_noise #(
     parameter UNIFORM_BITS  = 32,
     parameter TABLE_LOG2    = 10,
@@ -116,18 +118,7 @@ module gaussian_noise #(
     pr = df * $signed({1'b0, T_}) + IRND; \
     DST = ia + pr[E+D+2:D];
 
-  // One step of a leading-one search: POS |= K where V has a one at POS | K or above,
-  // for K below 2^BITS (a step with K >= 2^BITS is constant-false). V is not shifted
-  // (a mux per step would cost Yosys more than the priority loop).
-`define GN_LZ_STEP(POS, V, BITS, K) \
-    if ((K) < (1 << (BITS)) && (V >> (POS | (K))) != 0) POS = POS | (K);
-`define GN_LZ(POS, V, BITS) \
-    `GN_LZ_STEP(POS, V, BITS, 32) \
-    `GN_LZ_STEP(POS, V, BITS, 16) \
-    `GN_LZ_STEP(POS, V, BITS, 8) \
-    `GN_LZ_STEP(POS, V, BITS, 4) \
-    `GN_LZ_STEP(POS, V, BITS, 2) \
-    `GN_LZ_STEP(POS, V, BITS, 1)
+  // Leading-one searches: LEAD_ONE (lib/leading_one.vh).
 
   // Stage 9: DST <= round(S |c| 2^(k+f-2E)), saturated, signed (0 for a zero Y).
 `define GN_SCALE(DST, C) \
@@ -202,7 +193,7 @@ module gaussian_noise #(
     // 4: leading one of U1 = 2 k1 + 1, alignments
     u1 = {k1, 1'b1};
     p = 0;
-    `GN_LZ(p, u1, UB)
+    `LEAD_ONE(p, u1, UB)
     u1w = {k1, 1'b1, {TD{1'b0}}} >> p;
     phw = {k2[PB-1:0], {TD{1'b0}}} >> PB;
     pc = {1'b1, {TD{1'b0}}} - phw[TD-1:0];
@@ -248,7 +239,7 @@ module gaussian_noise #(
     // 7: sqrt normalise; m = Y * 2^(T-1-2k), as (Y << (T+E+2)) >> (E + 3 + 2k)
     bl = 0;  // the leading one of {Y, 0}: Y's leading one + 1, 0 for Y = 0
     y2 = {yv, 1'b0};
-    `GN_LZ(bl, y2, YB)
+    `LEAD_ONE(bl, y2, YB)
     qq = $signed({2'b0, bl}) - E;
     kk = qq >>> 1;
     rsh = E + 3 + 2 * kk;
@@ -270,7 +261,5 @@ module gaussian_noise #(
   end
 `undef GN_TAUS
 `undef GN_INTERP
-`undef GN_LZ_STEP
-`undef GN_LZ
 `undef GN_SCALE
 endmodule

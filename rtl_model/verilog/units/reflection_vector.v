@@ -11,6 +11,8 @@
 //   4 ROM data                       10 (7) r = 2 d n^ - v^
 //   5 (NEWTON) q = y0^2              11 (8) t = r lambda
 //   6 (NEWTON) d = 3 - m q           12 (9) coord = (t + 1) scaled, saturated
+`include "leading_one.vh"
+
 module reflection_vector #(
     parameter IN_INT_BITS      = 16,
     parameter IN_FRAC_BITS     = 16,
@@ -86,21 +88,7 @@ module reflection_vector #(
   localparam signed [NW-1:0] HMAX = ({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1)) - 1;
   localparam signed [NW-1:0] HMIN = -({{(NW - 1) {1'b0}}, 1'b1} << (HW - 1));
 
-  // Leading-one search, unrolled: for K = 2^(BITS-1) .. 1, POS |= K where V has a one
-  // at POS | K or above (V >> (POS | K) != 0), so POS is the leading one's position (0
-  // when V = 0); BITS <= 7, a step with K >= 2^BITS is constant-false. V is not
-  // shifted: a mux per step on V's bits would cost Yosys more than the priority loop
-  // (32 bits: 76 cells, the loop 79, shifting V 81; 38 bits: 90, 98, 108).
-`define RV_LZ_STEP(POS, V, BITS, K) \
-        if ((K) < (1 << (BITS)) && (V >> (POS | (K))) != 0) POS = POS | (K);
-`define RV_LZ_STEPS(POS, V, BITS) \
-        `RV_LZ_STEP(POS, V, BITS, 64) \
-        `RV_LZ_STEP(POS, V, BITS, 32) \
-        `RV_LZ_STEP(POS, V, BITS, 16) \
-        `RV_LZ_STEP(POS, V, BITS, 8) \
-        `RV_LZ_STEP(POS, V, BITS, 4) \
-        `RV_LZ_STEP(POS, V, BITS, 2) \
-        `RV_LZ_STEP(POS, V, BITS, 1)
+  // Leading-one searches: LEAD_ONE (lib/leading_one.vh).
 
   // ---- per vector (0: n, 1: e): stages 1-4 (7), n^_i registered raw at stage S5 ----
   wire [2*A-1:0] addr_w;
@@ -147,7 +135,7 @@ module reflection_vector #(
         x2 = g == 0 ? nz : ez;
         orv = (x0[W-1] ? -x0 : x0) | (x1[W-1] ? -x1 : x1) | (x2[W-1] ? -x2 : x2);
         q = 0;  // leading one of orv (0 when orv = 0)
-        `RV_LZ_STEPS(q, orv, QB)
+        `LEAD_ONE(q, orv, QB)
         sh = q > P - 2 ? q - (P - 2) : 0;
         m1_0 <= x0 >>> sh;  // at XW = max(W, P) bits, then the low P
         m1_1 <= x1 >>> sh;
@@ -158,7 +146,7 @@ module reflection_vector #(
         {m2_0, m2_1, m2_2, z2} <= {m1_0, m1_1, m1_2, z1};
         // stage 3: leading one p, k = p/2, address {parity, A-1 bits below}, m_N
         p = 0;
-        `RV_LZ_STEPS(p, s2, PB)
+        `LEAD_ONE(p, s2, PB)
         idx_w = ({{A{1'b0}}, s2 & ~({{(SW - 1) {1'b0}}, 1'b1} << p)} << A1) >> p;  // < 2^(A-1)
         addr3 <= ({{(SW + A - 1) {1'b0}}, p[0]} << A1) | idx_w;
         mn_w = ({{N{1'b0}}, s2} << N) >> {p[PB-1:1], 1'b0};
@@ -284,6 +272,4 @@ module reflection_vector #(
     else vld <= {vld[LAT-2:0], in_valid};
   end
   assign out_valid = vld[LAT-1];
-`undef RV_LZ_STEP
-`undef RV_LZ_STEPS
 endmodule

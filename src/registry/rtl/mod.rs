@@ -980,6 +980,7 @@ pub const VERILOG_INCLUDES: &[&str] = &[
     "luminance_ports.vh",
     "luminance_dp_params.vh",
     "luminance_dp_ports.vh",
+    "leading_one.vh",
 ];
 
 /// The headers' files ([`VERILOG_INCLUDES`]), for build stamps.
