@@ -421,18 +421,17 @@ impl<'a> Book<'a> {
         started: Instant,
         on_point: &mut dyn FnMut(&Book),
     ) -> Result<Result<Option<usize>, End>, String> {
-        let Some(mx) = self.points[x].metrics().copied() else {
+        let Some(rx) = self.ratio_of(x) else {
             return Ok(Ok(None));
         };
-        let rx = self.budget.ratio(&mx.error);
         let from = self.points[x].values.clone();
         let n = self.params.len();
         // The lowest error ratio seen, and where.
         let mut best: Option<(f64, usize)> = None;
         // 1. Two steps wider, one parameter at a time; each parameter's lowest error
-        // over its one- and two-step widenings ranks it for 2. and 3.
-        let mut rank: Vec<(f64, usize)> = Vec::new();
-        let mut sensitive: Vec<usize> = Vec::new();
+        // over its one- and two-step widenings ranks it for 2. and 3.; the flag: it
+        // is sensitive.
+        let mut rank: Vec<(f64, usize, bool)> = Vec::new();
         for i in 0..n {
             let Some(one) = widen(self.ev, &self.params, &from, d, i) else {
                 continue;
@@ -456,21 +455,14 @@ impl<'a> Book<'a> {
                 }
             }
             if let Some(l) = lowest {
-                if changed {
-                    sensitive.push(i);
-                }
-                rank.push((l, i));
+                rank.push((l, i, changed));
             }
         }
         rank.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let sens: Vec<usize> = rank
-            .iter()
-            .map(|&(_, i)| i)
-            .filter(|i| sensitive.contains(i))
-            .collect();
+        let sens: Vec<usize> = rank.iter().filter(|r| r.2).map(|r| r.1).collect();
         // 2. The pairs, each widened together up to its caps.
         let mut pairs: Vec<(usize, usize)> = Vec::new();
-        if let [(_, a), (_, b), ..] = rank[..] {
+        if let [(_, a, _), (_, b, _), ..] = rank[..] {
             pairs.push((a, b));
         }
         for (k, &a) in sens.iter().enumerate() {
