@@ -54,6 +54,29 @@
 `define VL_FE(x) ((&x[W-2:M]) ? {{(E - 1) {1'b1}}, 1'b0} : x[W-2:M])
 // An operator's parameter list.
 `define VL_FP #(.EXP_BITS(EXP_BITS), .MANT_BITS(MANT_BITS), .ROUNDING(ROUNDING))
+`define VL_FP3(lu, lv) #(.EXP_BITS(EXP_BITS), .MANT_BITS(MANT_BITS), .ROUNDING(ROUNDING), .LU(lu), .LV(lv))
+`define VL_FPN(lin) #(.EXP_BITS(EXP_BITS), .MANT_BITS(MANT_BITS), .ROUNDING(ROUNDING), .LIN(lin))
+
+// Icarus only, scheduling and no logic: an operator is a process woken by its first
+// changed input; with WAIT rounds of #0 it runs once, when all its inputs have
+// settled, instead of once per input event (a glitch re-running everything after it).
+// WAIT is the operator's level minus its earliest input's (defparams below, from
+// the levels L_* of the datapath; the inputs are level 0, a constant is −1). A wrong
+// WAIT only costs time: an input that changes later wakes the process again.
+// Yosys and Verilator see neither the parameter nor the waits.
+`ifdef __ICARUS__
+`define VL_WAIT_PARAM parameter WAIT = 1;
+`define VL_SETTLE repeat (WAIT) #0;
+`define VL_WAIT(inst, v) defparam inst.WAIT = v;
+`else
+`define VL_WAIT_PARAM
+`define VL_SETTLE
+`define VL_WAIT(inst, v)
+`endif
+`define VL_MAX(a, b) ((a) > (b) ? (a) : (b))
+`define VL_FMIN(a, b) ((a) < 0 ? (b) : (b) < 0 ? (a) : (a) < (b) ? (a) : (b))
+`define VL_WT(f1, s1, f2, s2) (`VL_FMIN(f1, f2) < 0 ? 1 : `VL_MAX(s1, s2) + 1 - `VL_FMIN(f1, f2))
+`define VL_NEXT(s) ((s) < 0 ? -1 : (s) + 1)
 
 // x · y, exactly rounded.
 (* keep_hierarchy *)
@@ -82,7 +105,11 @@ module vertex_lighting_mul #(
     end
   endfunction
 
-  always @(x, y) o = fp_mul(x, y);
+  `VL_WAIT_PARAM
+  always @(x, y) begin
+    `VL_SETTLE
+    o = fp_mul(x, y);
+  end
 endmodule
 
 // x + y, exactly rounded.
@@ -133,7 +160,11 @@ module vertex_lighting_add #(
     end
   endfunction
 
-  always @(x, y) o = fp_add(x, y);
+  `VL_WAIT_PARAM
+  always @(x, y) begin
+    `VL_SETTLE
+    o = fp_add(x, y);
+  end
 endmodule
 
 // 1 / x, exactly rounded.
@@ -173,7 +204,11 @@ module vertex_lighting_rcp #(
     end
   endfunction
 
-  always @(x) o = fp_rcp(x);
+  `VL_WAIT_PARAM
+  always @(x) begin
+    `VL_SETTLE
+    o = fp_rcp(x);
+  end
 endmodule
 
 // 1 / √|x|, exactly rounded.
@@ -233,7 +268,11 @@ module vertex_lighting_rsq #(
     end
   endfunction
 
-  always @(x) o = fp_rsq(x);
+  `VL_WAIT_PARAM
+  always @(x) begin
+    `VL_SETTLE
+    o = fp_rsq(x);
+  end
 endmodule
 
 // pow's log2 x (x > 0), the model's K = M + 4 squarings.
@@ -278,7 +317,11 @@ module vertex_lighting_log2 #(
     end
   endfunction
 
-  always @(x, f) l = log_pack(x, f);
+  `VL_WAIT_PARAM
+  always @(x, f) begin
+    `VL_SETTLE
+    l = log_pack(x, f);
+  end
 endmodule
 
 // One squaring stage of log2: z = y², y in u1.K; the carry (z ≥ 2) is the next
@@ -404,7 +447,11 @@ module vertex_lighting_exp2 #(
     end
   endfunction
 
-  always @(t) o = fp_exp2(t);
+  `VL_WAIT_PARAM
+  always @(t) begin
+    `VL_SETTLE
+    o = fp_exp2(t);
+  end
 endmodule
 
 // x clamped to [0, 1] as a CB-bit unorm, round(x·(2^CB − 1)) half up.
@@ -440,14 +487,20 @@ module vertex_lighting_unorm #(
     end
   endfunction
 
-  always @(x) u = fp_unorm(x);
+  `VL_WAIT_PARAM
+  always @(x) begin
+    `VL_SETTLE
+    u = fp_unorm(x);
+  end
 endmodule
 
 // u · v = (u_x·v_x + u_y·v_y) + u_z·v_z, in the model's order.
 module vertex_lighting_dot3 #(
     parameter EXP_BITS  = 8,
     parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    parameter ROUNDING  = 0,
+    parameter LU        = 0,  // u's and v's levels (Icarus scheduling only)
+    parameter LV        = 0
 ) (
     input  [3*(EXP_BITS+MANT_BITS+1)-1:0] u,
     input  [3*(EXP_BITS+MANT_BITS+1)-1:0] v,
@@ -460,25 +513,31 @@ module vertex_lighting_dot3 #(
   vertex_lighting_add `VL_FP a0 (.x(t0), .y(t1), .o(s));
   vertex_lighting_mul `VL_FP m2 (.x(u[W-1:0]), .y(v[W-1:0]), .o(t2));
   vertex_lighting_add `VL_FP a1 (.x(s), .y(t2), .o(o));
+  `VL_WAIT(m0, `VL_WT(LU, LU, LV, LV))
+  `VL_WAIT(m1, `VL_WT(LU, LU, LV, LV))
+  `VL_WAIT(m2, `VL_WT(LU, LU, LV, LV))
+  `VL_WAIT(a1, 2)
 endmodule
 
 // v · rsq(v · v).
 module vertex_lighting_norm #(
     parameter EXP_BITS  = 8,
     parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    parameter ROUNDING  = 0,
+    parameter LIN       = 0  // v's level (Icarus scheduling only)
 ) (
     input  [3*(EXP_BITS+MANT_BITS+1)-1:0] v,
     output [3*(EXP_BITS+MANT_BITS+1)-1:0] o
 );
   localparam W = 1 + EXP_BITS + MANT_BITS;
   wire [W-1:0] d2, rr;
-  vertex_lighting_dot3 `VL_FP dt (.u(v), .v(v), .o(d2));
+  vertex_lighting_dot3 `VL_FP3(LIN, LIN) dt (.u(v), .v(v), .o(d2));
   vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
   genvar gc;
   generate
     for (gc = 0; gc < 3; gc = gc + 1) begin : g_c
       vertex_lighting_mul `VL_FP m (.x(v[gc*W+:W]), .y(rr), .o(o[gc*W+:W]));
+      `VL_WAIT(m, 5)
     end
   endgenerate
 endmodule
@@ -598,6 +657,26 @@ module vertex_lighting #(
   localparam [3*W-1:0] BASE = {BASE_R[W-1:0], BASE_G[W-1:0], BASE_B[W-1:0]};
   localparam [3*W-1:0] NEG3 = {3{1'b1, {(W - 1) {1'b0}}}};  // XOR: negate each
 
+  // Levels (Icarus scheduling only, see VL_WAIT): the delta round in which a signal
+  // settles, the inputs 0, a constant −1; F_/S_ a signal's first and last change.
+  localparam integer L_N = NORMALIZE ? 5 : 0;
+  localparam integer L_V = LOCAL_VIEWER ? 5 : -1;
+  localparam integer L_LV = LOCAL ? 6 : -1;
+  localparam integer L_ATT = LOCAL ? 10 : -1;
+  localparam integer L_CD = L_LV < 0 ? -1 : L_LV + 3;
+  localparam integer F_SPOT = SPOT ? L_CD : -1;
+  localparam integer S_SPOT = (SPOT && L_CD >= 0) ? L_CD + 3 : -1;
+  localparam integer L_NL = `VL_MAX(L_N, L_LV) + 3;
+  localparam integer L_HV = `VL_NEXT(`VL_MAX(L_LV, L_V));
+  localparam integer L_H = L_HV < 0 ? -1 : L_HV + 5;
+  localparam integer L_NHR = `VL_MAX(L_N, L_H) + 3;
+  localparam integer F_SPEC = `VL_FMIN(L_NL, L_NHR);
+  localparam integer S_SPEC = `VL_MAX(L_NL, L_NHR + 3);
+  localparam integer L_KK = `VL_NEXT(`VL_MAX(L_ATT, S_SPOT));
+  localparam integer L_T1 = L_NL + 2;
+  localparam integer L_MS = S_SPEC + 1;
+  localparam integer L_T2 = `VL_MAX(L_T1, L_MS) + 1;
+
   // ---- the datapath, in the model's order (VertexLighting::light) --------------------
   wire [3*W-1:0] p = {px, py, pz};
   wire [3*W-1:0] nin = {nx, ny, nz};
@@ -607,12 +686,12 @@ module vertex_lighting #(
   genvar gc;
   generate
     if (NORMALIZE) begin : g_norm
-      vertex_lighting_norm `VL_FP nrm (.v(nin), .o(n));
+      vertex_lighting_norm `VL_FPN(0) nrm (.v(nin), .o(n));
     end else begin : g_nonorm
       assign n = nin;
     end
     if (LOCAL_VIEWER) begin : g_viewer
-      vertex_lighting_norm `VL_FP nrm (.v(p ^ NEG3), .o(v));
+      vertex_lighting_norm `VL_FPN(0) nrm (.v(p ^ NEG3), .o(v));
     end else begin : g_noviewer
       assign v = {{W{1'b0}}, {W{1'b0}}, ONE};
     end
@@ -623,8 +702,9 @@ module vertex_lighting #(
         vertex_lighting_add `VL_FP ad (.x(LVEC[gc*W+:W]), .y(p[gc*W+:W] ^ NEG3[W-1:0]),
                                      .o(vp[gc*W+:W]));
         vertex_lighting_mul `VL_FP m (.x(vp[gc*W+:W]), .y(rr), .o(lv[gc*W+:W]));
+        `VL_WAIT(m, 5)
       end
-      vertex_lighting_dot3 `VL_FP dt (.u(vp), .v(vp), .o(d2));
+      vertex_lighting_dot3 `VL_FP3(1, 1) dt (.u(vp), .v(vp), .o(d2));
       vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
       vertex_lighting_mul `VL_FP md (.x(d2), .y(rr), .o(d));
       vertex_lighting_mul `VL_FP ml (.x(ATT_L[W-1:0]), .y(d), .o(tl));
@@ -632,13 +712,15 @@ module vertex_lighting #(
       vertex_lighting_mul `VL_FP mq (.x(ATT_Q[W-1:0]), .y(d2), .o(tq));
       vertex_lighting_add `VL_FP a2 (.x(den1), .y(tq), .o(den));
       vertex_lighting_rcp `VL_FP rc (.x(den), .o(att));
+      `VL_WAIT(md, 2)
+      `VL_WAIT(a2, 4)
     end else begin : g_dir
       assign lv  = LVEC;
       assign att = ONE;
     end
     if (SPOT) begin : g_spot
       wire [W-1:0] cd, c, pw;
-      vertex_lighting_dot3 `VL_FP dt (.u(lv), .v(SDIR), .o(cd));
+      vertex_lighting_dot3 `VL_FP3(L_LV, -1) dt (.u(lv), .v(SDIR), .o(cd));
       assign c = cd ^ NEG3[W-1:0];
       vertex_lighting_pow `VL_FP pwr (.x(c), .s(SPOT_EXP[W-1:0]), .o(pw));
       reg c_lt;  // c < the cutoff's cosine
@@ -648,14 +730,15 @@ module vertex_lighting #(
       assign spot = ONE;
     end
   endgenerate
-  vertex_lighting_dot3 `VL_FP dnl (.u(n), .v(lv), .o(nl_raw));
+  vertex_lighting_dot3 `VL_FP3(L_N, L_LV) dnl (.u(n), .v(lv), .o(nl_raw));
   generate
     for (gc = 0; gc < 3; gc = gc + 1) begin : g_h
       vertex_lighting_add `VL_FP ad (.x(lv[gc*W+:W]), .y(v[gc*W+:W]), .o(hv[gc*W+:W]));
+      `VL_WAIT(ad, `VL_WT(L_LV, L_LV, L_V, L_V))
     end
   endgenerate
-  vertex_lighting_norm `VL_FP nrh (.v(hv), .o(h));
-  vertex_lighting_dot3 `VL_FP dnh (.u(n), .v(h), .o(nh_raw));
+  vertex_lighting_norm `VL_FPN(L_HV) nrh (.v(hv), .o(h));
+  vertex_lighting_dot3 `VL_FP3(L_N, L_H) dnh (.u(n), .v(h), .o(nh_raw));
   // max(0, ·) and the N·L > 0 test, as processes (a function in a continuous
   // assignment is re-run by Icarus on every input event).
   reg [W-1:0] nl, nh;
@@ -668,6 +751,7 @@ module vertex_lighting #(
   vertex_lighting_pow `VL_FP psp (.x(nh), .s(SHININESS[W-1:0]), .o(sp));
   assign spec = nl_pos ? sp : {W{1'b0}};
   vertex_lighting_mul `VL_FP mkk (.x(att), .y(spot), .o(kk));
+  `VL_WAIT(mkk, `VL_WT(L_ATT, L_ATT, F_SPOT, S_SPOT))
   generate
     for (gc = 0; gc < 3; gc = gc + 1) begin : g_ch
       wire [W-1:0] md, t1, ms, t2, mk, acc;
@@ -677,6 +761,9 @@ module vertex_lighting #(
       vertex_lighting_add `VL_FP a2 (.x(t1), .y(ms), .o(t2));
       vertex_lighting_mul `VL_FP m3 (.x(kk), .y(t2), .o(mk));
       vertex_lighting_add `VL_FP a3 (.x(BASE[gc*W+:W]), .y(mk), .o(acc));
+      `VL_WAIT(m2, `VL_WT(F_SPEC, S_SPEC, -1, -1))
+      `VL_WAIT(a2, `VL_WT(L_T1, L_T1, L_MS, L_MS))
+      `VL_WAIT(m3, `VL_WT(L_KK, L_KK, L_T2, L_T2))
       vertex_lighting_unorm #(
           .EXP_BITS(EXP_BITS),
           .MANT_BITS(MANT_BITS),
@@ -708,3 +795,12 @@ endmodule
 `undef VL_FZ
 `undef VL_FE
 `undef VL_FP
+`undef VL_FP3
+`undef VL_FPN
+`undef VL_WAIT_PARAM
+`undef VL_SETTLE
+`undef VL_WAIT
+`undef VL_MAX
+`undef VL_FMIN
+`undef VL_WT
+`undef VL_NEXT
