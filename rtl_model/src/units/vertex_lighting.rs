@@ -46,7 +46,7 @@
 //! 256's quoted T&L rate (the calibration; 6 and 4 are the fewest lanes that meet it).
 //! Latency = II + 6 (multiply 2, add 2, clamp/convert 1, output register 1).
 
-use crate::cost::{prim, Cost};
+use crate::cost::{prim, Cells, Cost};
 use crate::counters::Counters;
 use crate::error::{check_finite, check_range, ConfigError};
 use crate::float_format::{FloatFormat, Fp};
@@ -553,12 +553,20 @@ impl Unit for VertexLighting {
                 prim::divider(sig + 2, guard) * 2.0,
             )
             .part(
+                // A squarer is about half a multiplier (its partial products are
+                // symmetric), but the prim set has no squarer: priced as a multiplier
+                // (docs/units.md, vertex_lighting's synthesis notes).
                 "LOG: K squaring stages u1.K (unrolled, pipelined)",
                 prim::multiplier(k + 1, k + 1) * k as f64 + prim::mux(k + 1) * k as f64,
             )
             .part(
+                // Each stage multiplies by its own ROM constant (fixed at design
+                // time): shift-adds over the constant's signed digits.
                 "EXP: K conditional multiplies by the ROM constants",
-                (prim::multiplier(k + 1, k + 1) + prim::mux(k + 1)) * k as f64,
+                fmt.exp2_rom()
+                    .iter()
+                    .map(|&c| prim::constant_multiplier(k + 1, c) + prim::mux(k + 1))
+                    .fold(Cells::default(), |acc, x| acc + x),
             )
             .part(
                 "special-function pipeline registers",
