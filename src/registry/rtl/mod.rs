@@ -1151,7 +1151,8 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
 fn synth_modules(text: &str, top: &str) -> Result<Vec<SynthModule>, String> {
     use std::collections::BTreeMap;
     // name → (own cells, submodule instances)
-    let mut mods: BTreeMap<String, (BTreeMap<String, u64>, Vec<(String, u64)>)> = BTreeMap::new();
+    type Mods = BTreeMap<String, (BTreeMap<String, u64>, Vec<(String, u64)>)>;
+    let mut mods: Mods = BTreeMap::new();
     let mut cur: Option<String> = None;
     for line in text.lines() {
         let t = line.trim();
@@ -1178,11 +1179,7 @@ fn synth_modules(text: &str, top: &str) -> Result<Vec<SynthModule>, String> {
             entry.1.push((toks[0].to_string(), n));
         }
     }
-    fn inclusive(
-        m: &str,
-        mods: &BTreeMap<String, (BTreeMap<String, u64>, Vec<(String, u64)>)>,
-        depth: u32,
-    ) -> Result<f64, String> {
+    fn inclusive(m: &str, mods: &Mods, depth: u32) -> Result<f64, String> {
         let (own, subs) = mods
             .get(m)
             .ok_or_else(|| format!("synth: Yosys stat has no module {m}"))?;
@@ -1195,12 +1192,7 @@ fn synth_modules(text: &str, top: &str) -> Result<Vec<SynthModule>, String> {
         }
         Ok(g)
     }
-    fn count(
-        m: &str,
-        times: u64,
-        mods: &BTreeMap<String, (BTreeMap<String, u64>, Vec<(String, u64)>)>,
-        out: &mut BTreeMap<String, u64>,
-    ) {
+    fn count(m: &str, times: u64, mods: &Mods, out: &mut BTreeMap<String, u64>) {
         if let Some((_, subs)) = mods.get(m) {
             for (s, n) in subs {
                 *out.entry(s.clone()).or_insert(0) += times * n;
