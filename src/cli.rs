@@ -1083,6 +1083,11 @@ fn units_synth(json: bool, only: &[String]) -> Result<(), String> {
             if let Some(o) = v.as_object_mut() {
                 o.insert("gates_yosys".into(), y.map(|y| y.gates_yosys).into());
                 o.insert("gates_yosys_rel_diff".into(), y.map(|y| y.rel_diff).into());
+                // A hierarchical unit's kept modules (one instance each, and how many).
+                if let Some(y) = y.filter(|y| !y.modules.is_empty()) {
+                    let m = serde_json::to_value(&y.modules).map_err(|e| e.to_string())?;
+                    o.insert("gates_yosys_modules".into(), m);
+                }
             }
             rows.push(v);
         }
@@ -1111,6 +1116,34 @@ fn units_synth(json: bool, only: &[String]) -> Result<(), String> {
             &rows
         )
     );
+    // Hierarchical units: each kept module's count (one instance, its submodules in).
+    for y in synths.values().filter(|y| !y.modules.is_empty()) {
+        let rows: Vec<Vec<String>> = y
+            .modules
+            .iter()
+            .map(|m| {
+                vec![
+                    m.module.clone(),
+                    m.instances.to_string(),
+                    format!("{:.0}", m.gates_yosys),
+                    format!("{:.0}", m.gates_yosys * m.instances as f64),
+                ]
+            })
+            .collect();
+        println!("\n{} (hierarchical: each module synthesised once)", y.name);
+        print!(
+            "{}",
+            text_table(
+                &[
+                    "module",
+                    "instances",
+                    "gates_yosys (one)",
+                    "gates_yosys (all)"
+                ],
+                &rows
+            )
+        );
+    }
     Ok(())
 }
 

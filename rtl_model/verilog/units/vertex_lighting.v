@@ -35,7 +35,563 @@
 // (every operation its own operator, in the model's order) into a register on the
 // clock a vertex is accepted, then a delay line presents it on the model's cycle:
 // one vertex every II clocks, output LATENCY clocks after its input.
+//
+// Hierarchy: the operators are modules (vertex_lighting_mul, _add, _rcp, _rsq,
+// _log2 with its K squaring stages _log2_sq, _exp2, _unorm), instantiated where the
+// datapath has them; dot3, normalise and pow are modules that group operators.
+// The operators carry (* keep_hierarchy *): `units --synth` (synth -flatten) keeps
+// them, synthesises each ONCE and counts it per instance (Yosys's design hierarchy
+// total), so no logic is optimised across an operator's ports (a constant operand
+// stays a port): a conservative count. The rounding helpers (fp_round, fp_pack) and
+// the format's widths are lib/vertex_lighting_fp.vh, `include`d into each operator.
+
+// Fields, as macros (a function call is a thread fork and join in Icarus, and these
+// two were most of the calls; the same gates either way). x is an identifier.
+// Zero (a zero exponent field: subnormals are flushed).
+`define VL_FZ(x) (x[W-2:M] == 0)
+// Effective biased exponent, E bits unsigned (the reserved all-ones field reads as
+// 2^E − 2).
+`define VL_FE(x) ((&x[W-2:M]) ? {{(E - 1) {1'b1}}, 1'b0} : x[W-2:M])
+// An operator's parameter list.
+`define VL_FP #(.EXP_BITS(EXP_BITS), .MANT_BITS(MANT_BITS), .ROUNDING(ROUNDING))
+`define VL_FP3(lu, lv) #(.EXP_BITS(EXP_BITS), .MANT_BITS(MANT_BITS), .ROUNDING(ROUNDING), .LU(lu), .LV(lv))
+`define VL_FPN(lin) #(.EXP_BITS(EXP_BITS), .MANT_BITS(MANT_BITS), .ROUNDING(ROUNDING), .LIN(lin))
+
+// Icarus only, scheduling and no logic: an operator is a process woken by its first
+// changed input; with WAIT rounds of #0 it runs once, when all its inputs have
+// settled, instead of once per input event (a glitch re-running everything after it).
+// WAIT is the operator's level minus its earliest input's (defparams below, from
+// the levels L_* of the datapath; the inputs are level 0, a constant is −1). A wrong
+// WAIT only costs time: an input that changes later wakes the process again.
+// Yosys and Verilator see neither the parameter nor the waits.
+`ifdef __ICARUS__
+`define VL_WAIT_PARAM parameter WAIT = 1;
+`define VL_SETTLE repeat (WAIT) #0;
+`define VL_WAIT(inst, v) defparam inst.WAIT = v;
+`else
+`define VL_WAIT_PARAM
+`define VL_SETTLE
+`define VL_WAIT(inst, v)
+`endif
+`define VL_MAX(a, b) ((a) > (b) ? (a) : (b))
+`define VL_FMIN(a, b) ((a) < 0 ? (b) : (b) < 0 ? (a) : (a) < (b) ? (a) : (b))
+`define VL_WT(f1, s1, f2, s2) (`VL_FMIN(f1, f2) < 0 ? 1 : `VL_MAX(s1, s2) + 1 - `VL_FMIN(f1, f2))
+`define VL_NEXT(s) ((s) < 0 ? -1 : (s) + 1)
+
+// x · y, exactly rounded.
+(* keep_hierarchy *)
+module vertex_lighting_mul #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    input  [EXP_BITS+MANT_BITS:0] y,
+    output reg [EXP_BITS+MANT_BITS:0] o
+);
+`include "vertex_lighting_fp.vh"
+  function [W-1:0] fp_mul(input [W-1:0] x, input [W-1:0] y);
+    reg [2*M+1:0] p;
+    integer ex;
+    begin
+      if (`VL_FZ(x) || `VL_FZ(y)) fp_mul = {x[W-1] ^ y[W-1], {(W - 1) {1'b0}}};
+      else begin
+        p  = {1'b1, x[M-1:0]} * {1'b1, y[M-1:0]};
+        ex = `VL_FE(x) + `VL_FE(y) - 2 * BIAS;
+        if (p[2*M+1])
+          fp_mul = fp_round(x[W-1] ^ y[W-1], ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
+        else fp_mul = fp_round(x[W-1] ^ y[W-1], ex, p[2*M:M], p[M-1], |p[M-2:0]);
+      end
+    end
+  endfunction
+
+  `VL_WAIT_PARAM
+  always @(x, y) begin
+    `VL_SETTLE
+    o = fp_mul(x, y);
+  end
+endmodule
+
+// x + y, exactly rounded.
+(* keep_hierarchy *)
+module vertex_lighting_add #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    input  [EXP_BITS+MANT_BITS:0] y,
+    output reg [EXP_BITS+MANT_BITS:0] o
+);
+`include "vertex_lighting_fp.vh"
+  function [W-1:0] fp_add(input [W-1:0] x, input [W-1:0] y);
+    reg [W-1:0] big, sml;
+    reg [E-1:0] eb, es, d;
+    reg [M+3:0] bs, ss;
+    reg [M+4:0] s;
+    begin
+      if (`VL_FZ(x) || `VL_FZ(y))
+        fp_add = `VL_FZ(y) ? (`VL_FZ(x) ? {x[W-1] & y[W-1], {(W - 1) {1'b0}}} : x) : y;
+      else begin
+        eb = `VL_FE(x);
+        es = `VL_FE(y);
+        if ((es > eb) || (es == eb && y[M-1:0] > x[M-1:0])) begin
+          big = y;
+          sml = x;
+          d   = es - eb;
+          eb  = es;
+        end else begin
+          big = x;
+          sml = y;
+          d   = eb - es;
+        end
+        // The smaller aligned with guard and round bits, the bits shifted out jammed
+        // into its lsb (sticky); shifted out entirely it is the sticky bit alone.
+        ss = {1'b1, sml[M-1:0], 3'b000};
+        if (d > M + 3) ss = 1;
+        else ss = (ss >> d) | (|(ss & ~({(M + 4) {1'b1}} << d)));
+        bs = {1'b1, big[M-1:0], 3'b000};
+        if (big[W-1] == sml[W-1]) s = bs + ss;
+        else s = bs - ss;
+        if (s == 0) fp_add = {W{1'b0}};
+        else
+          fp_add = fp_pack(big[W-1], eb - BIAS - M - 3, {{(VW - M - 5) {1'b0}}, s}, 1'b0);
+      end
+    end
+  endfunction
+
+  `VL_WAIT_PARAM
+  always @(x, y) begin
+    `VL_SETTLE
+    o = fp_add(x, y);
+  end
+endmodule
+
+// 1 / x, exactly rounded.
+(* keep_hierarchy *)
+module vertex_lighting_rcp #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    output reg [EXP_BITS+MANT_BITS:0] o
+);
+`include "vertex_lighting_fp.vh"
+  localparam RK = 2 * M + 4;  // ⌊2^RK / sig⌋
+
+  function [W-1:0] fp_rcp(input [W-1:0] x);
+    reg [M:0] sig;
+    reg [M+2:0] rem;
+    reg [M+4:0] q;
+    integer j, lsb;
+    begin
+      if (`VL_FZ(x)) fp_rcp = {x[W-1], MAXMAG};
+      else begin
+        sig = {1'b1, x[M-1:0]};
+        rem = {{(M + 2) {1'b0}}, 1'b1} << (M - 1);  // 2^RK >> (M + 5) < sig
+        q   = 0;
+        for (j = M + 4; j >= 0; j = j - 1) begin
+          rem = rem << 1;
+          if (rem >= {2'b00, sig}) begin
+            rem  = rem - {2'b00, sig};
+            q[j] = 1'b1;
+          end
+        end
+        lsb = `VL_FE(x) - BIAS - M;
+        fp_rcp = fp_pack(x[W-1], -RK - lsb, {{(VW - M - 5) {1'b0}}, q}, rem != 0);
+      end
+    end
+  endfunction
+
+  `VL_WAIT_PARAM
+  always @(x) begin
+    `VL_SETTLE
+    o = fp_rcp(x);
+  end
+endmodule
+
+// 1 / √|x|, exactly rounded.
+(* keep_hierarchy *)
+module vertex_lighting_rsq #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    output reg [EXP_BITS+MANT_BITS:0] o
+);
+`include "vertex_lighting_fp.vh"
+  localparam TWO_P = 3 * M + 8 + (M % 2);  // ⌊2^TWO_P / sig⌋
+  localparam QB = TWO_P - M + 1;  // quotient bits
+  localparam QB2 = QB + (QB % 2);
+  localparam RB = QB2 / 2;  // root bits
+
+  function [W-1:0] fp_rsq(input [W-1:0] x);
+    reg [M+1:0] sig;
+    reg [M+3:0] rem;
+    reg [QB2-1:0] quo;
+    reg [RB+1:0] rem2;
+    reg [RB-1:0] root;
+    integer j, lsb;
+    begin
+      if (`VL_FZ(x)) fp_rsq = {1'b0, MAXMAG};
+      else begin
+        lsb = `VL_FE(x) - BIAS - M;
+        if (lsb % 2 != 0) begin
+          sig = {1'b1, x[M-1:0], 1'b0};
+          lsb = lsb - 1;
+        end else sig = {1'b0, 1'b1, x[M-1:0]};
+        // ⌊2^TWO_P / sig⌋: the remainder before quotient bit QB − 1 is 2^(M−1) < sig.
+        rem = {{(M + 3) {1'b0}}, 1'b1} << (M - 1);
+        quo = 0;
+        for (j = QB - 1; j >= 0; j = j - 1) begin
+          rem = rem << 1;
+          if (rem >= {2'b00, sig}) begin
+            rem    = rem - {2'b00, sig};
+            quo[j] = 1'b1;
+          end
+        end
+        // ⌊√quo⌋, restoring.
+        rem2 = 0;
+        root = 0;
+        for (j = RB - 1; j >= 0; j = j - 1) begin
+          rem2 = {rem2[RB-1:0], quo[2*j+:2]};
+          if (rem2 >= {root, 2'b01}) begin
+            rem2 = rem2 - {root, 2'b01};
+            root = {root[RB-2:0], 1'b1};
+          end else root = root << 1;
+        end
+        fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
+                         rem != 0 || rem2 != 0);
+      end
+    end
+  endfunction
+
+  `VL_WAIT_PARAM
+  always @(x) begin
+    `VL_SETTLE
+    o = fp_rsq(x);
+  end
+endmodule
+
+// pow's log2 x (x > 0), the model's K = M + 4 squarings.
+(* keep_hierarchy *)
+module vertex_lighting_log2 #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    output reg [EXP_BITS+MANT_BITS:0] l
+);
+`include "vertex_lighting_fp.vh"
+  // K squaring stages of y = 1.f in u1.K, each stage's carry a fraction bit of log2.
+  // (Each stage's own wires: one wide vector of all stages, part-selected, costs
+  // Icarus the whole vector on every stage's change.)
+  wire [K:0] y0 = {1'b1, x[M-1:0], 4'b0000};
+  wire [K-1:0] f;
+  genvar gi;
+  generate
+    for (gi = 0; gi < K; gi = gi + 1) begin : g_sq
+      wire [K:0] yo;
+      if (gi == 0) begin : g_first
+        vertex_lighting_log2_sq #(.K(K)) sq (.y(y0), .yo(yo), .b(f[K-1-gi]));
+      end else begin : g_next
+        vertex_lighting_log2_sq #(.K(K)) sq (.y(g_sq[gi-1].yo), .yo(yo), .b(f[K-1-gi]));
+      end
+    end
+  endgenerate
+
+  // The log rounded to the format: (e − BIAS) + 0.f.
+  function [W-1:0] log_pack(input [W-1:0] x, input [K-1:0] f);
+    reg signed [VW-1:0] lfix;
+    reg [VW-1:0] lmag;
+    integer e;
+    begin
+      e = `VL_FE(x) - BIAS;
+      lfix = e;
+      lfix = (lfix <<< K) + $signed({1'b0, f});
+      lmag = lfix < 0 ? -lfix : lfix;
+      log_pack = fp_pack(lfix < 0, -K, lmag, 1'b0);
+    end
+  endfunction
+
+  `VL_WAIT_PARAM
+  always @(x, f) begin
+    `VL_SETTLE
+    l = log_pack(x, f);
+  end
+endmodule
+
+// One squaring stage of log2: z = y², y in u1.K; the carry (z ≥ 2) is the next
+// fraction bit and picks the truncated u1.K result.
+(* keep_hierarchy *)
+module vertex_lighting_log2_sq #(
+    parameter K = 27
+) (
+    input          [K:0] y,
+    output reg     [K:0] yo,
+    output reg           b
+);
+  // A process, not continuous assignments: Icarus's net multiplier is bitwise.
+  reg [2*K+1:0] z;
+  always @(y) begin
+    z  = y * y;
+    b  = z[2*K+1];
+    yo = b ? z[2*K+1:K+1] : z[2*K:K];
+  end
+endmodule
+
+// pow's 2^t: 2^n · Π 2^(2^-k) over the set bits of t's K fraction bits.
+// The product stays in [1, 2) (every ROM word is above 1.0, and the product of all K
+// words, truncated at each step, is below 2: 1.99999984 at K = 27), so its leading
+// one is not carried: each step holds the K fraction bits, p = 1.f. Carried, that bit
+// is constant only by that argument, through the multipliers, and ABC's SAT sweep
+// (&fraig) stalled on it; the steps are kept modules, so each is swept alone.
+(* keep_hierarchy *)
+module vertex_lighting_exp2 #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] t,
+    output reg [EXP_BITS+MANT_BITS:0] o
+);
+`include "vertex_lighting_fp.vh"
+  localparam TW = M + 21;  // the signed t·2^K
+
+  // ---- the exp2 constants: 2^(2^-k) in u1.K, k = 1 ..= K (the model's ROM) --------
+  function [127:0] isqrt128(input [127:0] v);
+    reg [127:0] rem, root, trial;
+    integer i;
+    begin
+      rem  = 0;
+      root = 0;
+      for (i = 63; i >= 0; i = i - 1) begin
+        rem   = (rem << 2) | ((v >> (2 * i)) & 128'd3);
+        trial = (root << 2) | 128'd1;
+        if (rem >= trial) begin
+          rem  = rem - trial;
+          root = (root << 1) | 128'd1;
+        end else root = root << 1;
+      end
+      isqrt128 = root;
+    end
+  endfunction
+
+  function [K*(K+1)-1:0] exp2_rom_all(input integer dummy);
+    reg [127:0] c, word;
+    reg [K*(K+1)-1:0] acc;
+    integer i, wide;
+    begin
+      wide = K + 16;
+      c = 128'd2 << wide;
+      acc = 0;
+      for (i = 0; i < K; i = i + 1) begin
+        c = isqrt128(c << wide);
+        word = (c + 128'd32768) >> 16;
+        acc = acc | ({{(K * (K + 1) - K - 1) {1'b0}}, word[K:0]} << (i * (K + 1)));
+      end
+      exp2_rom_all = acc;
+    end
+  endfunction
+
+  localparam [K*(K+1)-1:0] EXP2_ROM = exp2_rom_all(0);
+
+  // t as n + f/2^K (n integer, f the K fraction bits), and the cases that skip the
+  // product: t = 0 gives 1; n above the format's range saturates, below it flushes.
+  `VL_WAIT_PARAM
+  reg [K-1:0] f;
+  reg signed [TW-1:0] n;
+  reg zero_t, sat, flush;
+  always @(t) begin : front
+    reg [M:0] sig;
+    reg [TW-1:0] mag, mask;
+    reg inexact;
+    reg signed [TW-1:0] tfix;
+    integer sh;
+    `VL_SETTLE
+    sig = {1'b1, t[M-1:0]};
+    sh  = `VL_FE(t) - BIAS - M + K;
+    inexact = 1'b0;
+    if (sh >= 18) mag = {{(TW - 1) {1'b0}}, 1'b1} << (M + 18);
+    else if (sh >= 0) mag = {{(TW - M - 1) {1'b0}}, sig} << sh;
+    else if (-sh >= M + 1) begin
+      mag = 0;
+      inexact = 1'b1;
+    end else begin
+      mag = {{(TW - M - 1) {1'b0}}, sig} >> (-sh);
+      mask = ~({TW{1'b1}} << (-sh));
+      inexact = |({{(TW - M - 1) {1'b0}}, sig} & mask);
+    end
+    if (t[W-1]) tfix = -$signed(mag + {{(TW - 1) {1'b0}}, inexact});
+    else tfix = $signed(mag);
+    n = tfix >>> K;
+    f = tfix[K-1:0];
+    zero_t = `VL_FZ(t);
+    sat = n > EMAX + 1;
+    flush = n < EMIN - M - 2;
+  end
+
+  // The K steps: step i multiplies by the ROM's word i when f's bit K−1−i is set.
+  genvar gi;
+  generate
+    for (gi = 0; gi < K; gi = gi + 1) begin : g_st
+      wire [K-1:0] q;
+      if (gi == 0) begin : g_first
+        vertex_lighting_exp2_step #(.K(K), .C(EXP2_ROM[gi*(K+1)+:(K+1)]))
+            st (.p({K{1'b0}}), .b(f[K-1-gi]), .q(q));
+        `VL_WAIT(st, gi + 1)
+      end else begin : g_next
+        vertex_lighting_exp2_step #(.K(K), .C(EXP2_ROM[gi*(K+1)+:(K+1)]))
+            st (.p(g_st[gi-1].q), .b(f[K-1-gi]), .q(q));
+        `VL_WAIT(st, gi + 1)
+      end
+    end
+  endgenerate
+
+  always @(zero_t, sat, flush, n, g_st[K-1].q) begin
+`ifdef __ICARUS__
+    repeat (K + 1) #0;  // after the last step (scheduling only, as VL_SETTLE)
+`endif
+    if (zero_t) o = ONE;
+    else if (sat) o = {1'b0, MAXMAG};
+    else if (flush) o = {W{1'b0}};
+    else o = fp_pack(1'b0, n - K, {{(VW - K - 1) {1'b0}}, 1'b1, g_st[K-1].q}, 1'b0);
+  end
+endmodule
+
+// One step of exp2's product: q = b ? frac(1.p · C) : p, truncated to K fraction
+// bits; C is the ROM word, 2^(2^-i) in u1.K.
+(* keep_hierarchy *)
+module vertex_lighting_exp2_step #(
+    parameter K = 27,
+    parameter [K:0] C = 0
+) (
+    input      [K-1:0] p,
+    input              b,
+    output reg [K-1:0] q
+);
+  `VL_WAIT_PARAM
+  reg [2*K+1:0] wide;
+  always @(p, b) begin
+    `VL_SETTLE
+    wide = {1'b1, p} * C;
+    q = b ? wide[2*K-1:K] : p;
+  end
+endmodule
+
+// x clamped to [0, 1] as a CB-bit unorm, round(x·(2^CB − 1)) half up.
+(* keep_hierarchy *)
+module vertex_lighting_unorm #(
+    parameter EXP_BITS   = 8,
+    parameter MANT_BITS  = 23,
+    parameter ROUNDING   = 0,
+    parameter COLOR_BITS = 8
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    output reg [COLOR_BITS-1:0]   u
+);
+`include "vertex_lighting_fp.vh"
+  localparam CB = COLOR_BITS;
+
+  function [CB-1:0] fp_unorm(input [W-1:0] x);
+    reg [M+CB:0] prod;
+    reg [M+CB+1:0] sum;
+    integer sh;
+    begin
+      if (`VL_FZ(x) || x[W-1]) fp_unorm = 0;
+      else if (x[W-2:0] >= ONE[W-2:0]) fp_unorm = {CB{1'b1}};
+      else begin
+        prod = {1'b1, x[M-1:0]} * {CB{1'b1}};
+        sh = BIAS + M - `VL_FE(x);
+        if (sh >= M + CB + 2) fp_unorm = 0;
+        else begin
+          sum = {1'b0, prod} + ({{(M + CB + 1) {1'b0}}, 1'b1} << (sh - 1));
+          fp_unorm = sum >> sh;
+        end
+      end
+    end
+  endfunction
+
+  `VL_WAIT_PARAM
+  always @(x) begin
+    `VL_SETTLE
+    u = fp_unorm(x);
+  end
+endmodule
+
+// u · v = (u_x·v_x + u_y·v_y) + u_z·v_z, in the model's order.
+module vertex_lighting_dot3 #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0,
+    parameter LU        = 0,  // u's and v's levels (Icarus scheduling only)
+    parameter LV        = 0
+) (
+    input  [3*(EXP_BITS+MANT_BITS+1)-1:0] u,
+    input  [3*(EXP_BITS+MANT_BITS+1)-1:0] v,
+    output [  EXP_BITS+MANT_BITS:0]       o
+);
+  localparam W = 1 + EXP_BITS + MANT_BITS;
+  wire [W-1:0] t0, t1, t2, s;
+  vertex_lighting_mul `VL_FP m0 (.x(u[3*W-1-:W]), .y(v[3*W-1-:W]), .o(t0));
+  vertex_lighting_mul `VL_FP m1 (.x(u[2*W-1-:W]), .y(v[2*W-1-:W]), .o(t1));
+  vertex_lighting_add `VL_FP a0 (.x(t0), .y(t1), .o(s));
+  vertex_lighting_mul `VL_FP m2 (.x(u[W-1:0]), .y(v[W-1:0]), .o(t2));
+  vertex_lighting_add `VL_FP a1 (.x(s), .y(t2), .o(o));
+  `VL_WAIT(m0, `VL_WT(LU, LU, LV, LV))
+  `VL_WAIT(m1, `VL_WT(LU, LU, LV, LV))
+  `VL_WAIT(m2, `VL_WT(LU, LU, LV, LV))
+  `VL_WAIT(a1, 2)
+endmodule
+
+// v · rsq(v · v).
+module vertex_lighting_norm #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0,
+    parameter LIN       = 0  // v's level (Icarus scheduling only)
+) (
+    input  [3*(EXP_BITS+MANT_BITS+1)-1:0] v,
+    output [3*(EXP_BITS+MANT_BITS+1)-1:0] o
+);
+  localparam W = 1 + EXP_BITS + MANT_BITS;
+  wire [W-1:0] d2, rr;
+  vertex_lighting_dot3 `VL_FP3(LIN, LIN) dt (.u(v), .v(v), .o(d2));
+  vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
+  genvar gc;
+  generate
+    for (gc = 0; gc < 3; gc = gc + 1) begin : g_c
+      vertex_lighting_mul `VL_FP m (.x(v[gc*W+:W]), .y(rr), .o(o[gc*W+:W]));
+      `VL_WAIT(m, 5)
+    end
+  endgenerate
+endmodule
+
+// x^s as the model's log2 → mul → exp2; pow(x, 0) = 1, pow(x ≤ 0, s) = 0.
+module vertex_lighting_pow #(
+    parameter EXP_BITS  = 8,
+    parameter MANT_BITS = 23,
+    parameter ROUNDING  = 0
+) (
+    input  [EXP_BITS+MANT_BITS:0] x,
+    input  [EXP_BITS+MANT_BITS:0] s,
+    output [EXP_BITS+MANT_BITS:0] o
+);
+  localparam W = 1 + EXP_BITS + MANT_BITS;
+  localparam M = MANT_BITS;
+  localparam [W-1:0] ONE = {2'b00, {(EXP_BITS - 1) {1'b1}}, {M{1'b0}}};
+  wire [W-1:0] l, t, e;
+  vertex_lighting_log2 `VL_FP lg (.x(x), .l(l));
+  vertex_lighting_mul `VL_FP mu (.x(s), .y(l), .o(t));
+  vertex_lighting_exp2 `VL_FP ex (.t(t), .o(e));
+  assign o = (s[W-2:M] == 0) ? ONE : (x[W-1] || x[W-2:M] == 0) ? {W{1'b0}} : e;
+endmodule
+
 module vertex_lighting #(
+
     parameter EXP_BITS     = 8,
     parameter MANT_BITS    = 23,
     parameter ROUNDING     = 0,
@@ -91,20 +647,7 @@ module vertex_lighting #(
   localparam E = EXP_BITS;
   localparam M = MANT_BITS;
   localparam CB = COLOR_BITS;
-  localparam integer BIAS = (1 << (E - 1)) - 1;
-  localparam integer EMIN = 1 - BIAS;
-  localparam integer EMAX = BIAS;
-  localparam [E-1:0] BIAS_E = BIAS;
-  localparam K = M + 4;  // pow's fraction bits
-  localparam VW = E + M + 8;  // fp_pack's operand width
-  localparam RK = 2 * M + 4;  // rcp: ⌊2^RK / sig⌋
-  localparam TWO_P = 3 * M + 8 + (M % 2);  // rsq: ⌊2^TWO_P / sig⌋
-  localparam QB = TWO_P - M + 1;  // rsq quotient bits
-  localparam QB2 = QB + (QB % 2);
-  localparam RB = QB2 / 2;  // rsq root bits
-  localparam TW = M + 21;  // exp2's signed t·2^K
   localparam [W-1:0] ONE = {2'b00, {(E - 1) {1'b1}}, {M{1'b0}}};
-  localparam [W-2:0] MAXMAG = {{(E - 1) {1'b1}}, 1'b0, {M{1'b1}}};
 
   // The model's Timing: issues per light 36 / 28 / 7, per normalise 6 / 2 / 1.
   localparam NK = NORMALIZE + LOCAL_VIEWER;
@@ -116,179 +659,6 @@ module vertex_lighting #(
   localparam II_A = II_MUL > II_ADD ? II_MUL : II_ADD;
   localparam II = II_A > SPECIALS ? II_A : SPECIALS;
   localparam LATENCY = II + 6;
-
-  // ---- the exp2 constants: 2^(2^-k) in u1.K, k = 1 ..= K (the model's ROM) ----------
-  function [127:0] isqrt128(input [127:0] v);
-    reg [127:0] rem, root, trial;
-    integer i;
-    begin
-      rem  = 0;
-      root = 0;
-      for (i = 63; i >= 0; i = i - 1) begin
-        rem   = (rem << 2) | ((v >> (2 * i)) & 128'd3);
-        trial = (root << 2) | 128'd1;
-        if (rem >= trial) begin
-          rem  = rem - trial;
-          root = (root << 1) | 128'd1;
-        end else root = root << 1;
-      end
-      isqrt128 = root;
-    end
-  endfunction
-
-  function [K*(K+1)-1:0] exp2_rom_all(input integer dummy);
-    reg [127:0] c, word;
-    reg [K*(K+1)-1:0] acc;
-    integer i, wide;
-    begin
-      wide = K + 16;
-      c = 128'd2 << wide;
-      acc = 0;
-      for (i = 0; i < K; i = i + 1) begin
-        c = isqrt128(c << wide);
-        word = (c + 128'd32768) >> 16;
-        acc = acc | ({{(K * (K + 1) - K - 1) {1'b0}}, word[K:0]} << (i * (K + 1)));
-      end
-      exp2_rom_all = acc;
-    end
-  endfunction
-
-  localparam [K*(K+1)-1:0] EXP2_ROM = exp2_rom_all(0);
-  // The same words as an array of constant nets, which fp_exp2 indexes: read from the
-  // wide parameter, Icarus would rebuild all K·(K + 1) bits on every read.
-  wire [K:0] exp2_rom[0:K-1];
-  genvar gr;
-  generate
-    for (gr = 0; gr < K; gr = gr + 1) begin : g_exp2_rom
-      assign exp2_rom[gr] = EXP2_ROM[gr*(K+1)+:(K+1)];
-    end
-  endgenerate
-
-  // ---- fields ----------------------------------------------------------------------
-  // Macros, not functions: a function call is a thread fork and join in Icarus, and
-  // these two were most of the calls (the same gates either way). x is an identifier.
-  // Zero (a zero exponent field: subnormals are flushed).
-`define VL_FZ(x) (x[W-2:M] == 0)
-  // Effective biased exponent, E bits unsigned (the reserved all-ones field reads as
-  // 2^E − 2).
-`define VL_FE(x) ((&x[W-2:M]) ? {{(E - 1) {1'b1}}, 1'b0} : x[W-2:M])
-
-  // ---- rounding --------------------------------------------------------------------
-  // (−1)^neg · sig · 2^(ex − M), sig = 1.f (M + 1 bits), with the round bit and the
-  // sticky bit below it: round once, saturate or flush.
-  function [W-1:0] fp_round(input neg, input integer ex, input [M:0] sig, input rbit,
-                            input sticky);
-    reg [M+1:0] q;
-    integer e;
-    begin
-      // Rounding up a significand of all ones carries into bit M + 1 and leaves the
-      // fraction bits zero: the exponent steps up and the fraction needs no shift.
-      q = {1'b0, sig} + (ROUNDING == 0 && rbit && (sticky || sig[0]));
-      e = ex + q[M+1];
-      if (e > EMAX) fp_round = {neg, MAXMAG};
-      else if (e < EMIN) fp_round = {neg, {(W - 1) {1'b0}}};
-      else fp_round = {neg, e[E-1:0] + BIAS_E, q[M-1:0]};
-    end
-  endfunction
-
-  // (−1)^neg · (val + frac) · 2^ex0, frac > 0 iff sticky: normalise and round (the
-  // model's round_pack); val = 0 gives ±0.
-  function [W-1:0] fp_pack(input neg, input integer ex0, input [VW-1:0] val,
-                           input sticky);
-    integer t;
-    reg [63:0] v;
-    begin
-      if (val == 0) fp_pack = {neg, {(W - 1) {1'b0}}};
-      else begin
-        // The leading one to bit 63: a 6-level normalising shifter (VW ≤ 64), t its
-        // position in val. Then sig = v[63:63−M], the round bit below it and the
-        // sticky bit the OR of the rest (all zero when val has ≤ M + 1 bits).
-        v = {{(64 - VW) {1'b0}}, val};
-        t = 63;
-        if (v[63:32] == 0) begin
-          v = v << 32;
-          t = t - 32;
-        end
-        if (v[63:48] == 0) begin
-          v = v << 16;
-          t = t - 16;
-        end
-        if (v[63:56] == 0) begin
-          v = v << 8;
-          t = t - 8;
-        end
-        if (v[63:60] == 0) begin
-          v = v << 4;
-          t = t - 4;
-        end
-        if (v[63:62] == 0) begin
-          v = v << 2;
-          t = t - 2;
-        end
-        if (!v[63]) begin
-          v = v << 1;
-          t = t - 1;
-        end
-        fp_pack = fp_round(neg, ex0 + t, v[63:63-M], v[62-M], sticky | (|v[61-M:0]));
-      end
-    end
-  endfunction
-
-  // ---- arithmetic ------------------------------------------------------------------
-  function [W-1:0] fp_mul(input [W-1:0] x, input [W-1:0] y);
-    reg [2*M+1:0] p;
-    integer ex;
-    begin
-      if (`VL_FZ(x) || `VL_FZ(y)) fp_mul = {x[W-1] ^ y[W-1], {(W - 1) {1'b0}}};
-      else begin
-        p  = {1'b1, x[M-1:0]} * {1'b1, y[M-1:0]};
-        ex = `VL_FE(x) + `VL_FE(y) - 2 * BIAS;
-        if (p[2*M+1])
-          fp_mul = fp_round(x[W-1] ^ y[W-1], ex + 1, p[2*M+1:M+1], p[M], |p[M-1:0]);
-        else fp_mul = fp_round(x[W-1] ^ y[W-1], ex, p[2*M:M], p[M-1], |p[M-2:0]);
-      end
-    end
-  endfunction
-
-  function [W-1:0] fp_add(input [W-1:0] x, input [W-1:0] y);
-    reg [W-1:0] big, sml;
-    reg [E-1:0] eb, es, d;
-    reg [M+3:0] bs, ss;
-    reg [M+4:0] s;
-    begin
-      if (`VL_FZ(x) || `VL_FZ(y))
-        fp_add = `VL_FZ(y) ? (`VL_FZ(x) ? {x[W-1] & y[W-1], {(W - 1) {1'b0}}} : x) : y;
-      else begin
-        eb = `VL_FE(x);
-        es = `VL_FE(y);
-        if ((es > eb) || (es == eb && y[M-1:0] > x[M-1:0])) begin
-          big = y;
-          sml = x;
-          d   = es - eb;
-          eb  = es;
-        end else begin
-          big = x;
-          sml = y;
-          d   = eb - es;
-        end
-        // The smaller aligned with guard and round bits, the bits shifted out jammed
-        // into its lsb (sticky); shifted out entirely it is the sticky bit alone.
-        ss = {1'b1, sml[M-1:0], 3'b000};
-        if (d > M + 3) ss = 1;
-        else ss = (ss >> d) | (|(ss & ~({(M + 4) {1'b1}} << d)));
-        bs = {1'b1, big[M-1:0], 3'b000};
-        if (big[W-1] == sml[W-1]) s = bs + ss;
-        else s = bs - ss;
-        if (s == 0) fp_add = {W{1'b0}};
-        else
-          fp_add = fp_pack(big[W-1], eb - BIAS - M - 3, {{(VW - M - 5) {1'b0}}, s}, 1'b0);
-      end
-    end
-  endfunction
-
-  function [W-1:0] fp_neg(input [W-1:0] x);
-    fp_neg = {~x[W-1], x[W-2:0]};
-  endfunction
 
   // Signed comparison key (±0 and flushed subnormals are 0).
   function signed [W:0] fkey(input [W-1:0] x);
@@ -307,240 +677,132 @@ module vertex_lighting #(
     fmax0 = (!x[W-1] && !`VL_FZ(x)) ? x : {W{1'b0}};
   endfunction
 
-  function [W-1:0] fp_rcp(input [W-1:0] x);
-    reg [M:0] sig;
-    reg [M+2:0] rem;
-    reg [M+4:0] q;
-    integer j, lsb;
-    begin
-      if (`VL_FZ(x)) fp_rcp = {x[W-1], MAXMAG};
-      else begin
-        sig = {1'b1, x[M-1:0]};
-        rem = {{(M + 2) {1'b0}}, 1'b1} << (M - 1);  // 2^RK >> (M + 5) < sig
-        q   = 0;
-        for (j = M + 4; j >= 0; j = j - 1) begin
-          rem = rem << 1;
-          if (rem >= {2'b00, sig}) begin
-            rem  = rem - {2'b00, sig};
-            q[j] = 1'b1;
-          end
-        end
-        lsb = `VL_FE(x) - BIAS - M;
-        fp_rcp = fp_pack(x[W-1], -RK - lsb, {{(VW - M - 5) {1'b0}}, q}, rem != 0);
-      end
-    end
-  endfunction
-
-  function [W-1:0] fp_rsq(input [W-1:0] x);
-    reg [M+1:0] sig;
-    reg [M+3:0] rem;
-    reg [QB2-1:0] quo;
-    reg [RB+1:0] rem2;
-    reg [RB-1:0] root;
-    integer j, lsb;
-    begin
-      if (`VL_FZ(x)) fp_rsq = {1'b0, MAXMAG};
-      else begin
-        lsb = `VL_FE(x) - BIAS - M;
-        if (lsb % 2 != 0) begin
-          sig = {1'b1, x[M-1:0], 1'b0};
-          lsb = lsb - 1;
-        end else sig = {1'b0, 1'b1, x[M-1:0]};
-        // ⌊2^TWO_P / sig⌋: the remainder before quotient bit QB − 1 is 2^(M−1) < sig.
-        rem = {{(M + 3) {1'b0}}, 1'b1} << (M - 1);
-        quo = 0;
-        for (j = QB - 1; j >= 0; j = j - 1) begin
-          rem = rem << 1;
-          if (rem >= {2'b00, sig}) begin
-            rem    = rem - {2'b00, sig};
-            quo[j] = 1'b1;
-          end
-        end
-        // ⌊√quo⌋, restoring.
-        rem2 = 0;
-        root = 0;
-        for (j = RB - 1; j >= 0; j = j - 1) begin
-          rem2 = {rem2[RB-1:0], quo[2*j+:2]};
-          if (rem2 >= {root, 2'b01}) begin
-            rem2 = rem2 - {root, 2'b01};
-            root = {root[RB-2:0], 1'b1};
-          end else root = root << 1;
-        end
-        fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
-                         rem != 0 || rem2 != 0);
-      end
-    end
-  endfunction
-
-  function [W-1:0] fp_exp2(input [W-1:0] t);
-    reg [M:0] sig;
-    reg [TW-1:0] mag, mask;
-    reg inexact;
-    reg signed [TW-1:0] tfix;
-    reg [K-1:0] f;
-    reg [K:0] prod;
-    reg [2*K+1:0] wide;
-    integer sh, n, i;
-    begin
-      if (`VL_FZ(t)) fp_exp2 = ONE;
-      else begin
-        sig = {1'b1, t[M-1:0]};
-        sh  = `VL_FE(t) - BIAS - M + K;
-        inexact = 1'b0;
-        if (sh >= 18) mag = {{(TW - 1) {1'b0}}, 1'b1} << (M + 18);
-        else if (sh >= 0) mag = {{(TW - M - 1) {1'b0}}, sig} << sh;
-        else if (-sh >= M + 1) begin
-          mag = 0;
-          inexact = 1'b1;
-        end else begin
-          mag = {{(TW - M - 1) {1'b0}}, sig} >> (-sh);
-          mask = ~({TW{1'b1}} << (-sh));
-          inexact = |({{(TW - M - 1) {1'b0}}, sig} & mask);
-        end
-        if (t[W-1]) tfix = -$signed(mag + {{(TW - 1) {1'b0}}, inexact});
-        else tfix = $signed(mag);
-        n = tfix >>> K;
-        f = tfix[K-1:0];
-        if (n > EMAX + 1) fp_exp2 = {1'b0, MAXMAG};
-        else if (n < EMIN - M - 2) fp_exp2 = {W{1'b0}};
-        else begin
-          prod = {1'b1, {K{1'b0}}};
-          for (i = 1; i <= K; i = i + 1)
-          if (f[K-i]) begin
-            wide = prod * exp2_rom[i-1];
-            prod = wide[2*K:K];
-          end
-          fp_exp2 = fp_pack(1'b0, n - K, {{(VW - K - 1) {1'b0}}, prod}, 1'b0);
-        end
-      end
-    end
-  endfunction
-
-  function [W-1:0] fp_pow(input [W-1:0] x, input [W-1:0] s);
-    reg [K:0] y;
-    reg [2*K+1:0] z;
-    reg [K-1:0] f;
-    reg signed [VW-1:0] lfix;
-    reg [VW-1:0] lmag;
-    reg [W-1:0] l;
-    integer i, e;
-    begin
-      if (`VL_FZ(s)) fp_pow = ONE;
-      else if (x[W-1] || `VL_FZ(x)) fp_pow = {W{1'b0}};
-      else begin
-        y = {1'b1, x[M-1:0], 4'b0000};
-        f = 0;
-        for (i = 0; i < K; i = i + 1) begin
-          z = y * y;
-          f = {f[K-2:0], z[2*K+1]};
-          if (z[2*K+1]) y = z[2*K+1:K+1];
-          else y = z[2*K:K];
-        end
-        e = `VL_FE(x) - BIAS;
-        lfix = e;
-        lfix = (lfix <<< K) + $signed({1'b0, f});
-        lmag = lfix < 0 ? -lfix : lfix;
-        l = fp_pack(lfix < 0, -K, lmag, 1'b0);
-        fp_pow = fp_exp2(fp_mul(s, l));
-      end
-    end
-  endfunction
-
-  // x clamped to [0, 1] as a CB-bit unorm, round(x·(2^CB − 1)) half up.
-  function [CB-1:0] fp_unorm(input [W-1:0] x);
-    reg [M+CB:0] prod;
-    reg [M+CB+1:0] sum;
-    integer sh;
-    begin
-      if (`VL_FZ(x) || x[W-1]) fp_unorm = 0;
-      else if (x[W-2:0] >= ONE[W-2:0]) fp_unorm = {CB{1'b1}};
-      else begin
-        prod = {1'b1, x[M-1:0]} * {CB{1'b1}};
-        sh = BIAS + M - `VL_FE(x);
-        if (sh >= M + CB + 2) fp_unorm = 0;
-        else begin
-          sum = {1'b0, prod} + ({{(M + CB + 1) {1'b0}}, 1'b1} << (sh - 1));
-          fp_unorm = sum >> sh;
-        end
-      end
-    end
-  endfunction
-
-  // ---- the datapath, in the model's order (VertexLighting::light) --------------------
-  function [W-1:0] dot3(input [3*W-1:0] u, input [3*W-1:0] v);
-    reg [W-1:0] t0, t1, t2, s;
-    begin
-      t0 = fp_mul(u[3*W-1-:W], v[3*W-1-:W]);
-      t1 = fp_mul(u[2*W-1-:W], v[2*W-1-:W]);
-      s = fp_add(t0, t1);
-      t2 = fp_mul(u[W-1:0], v[W-1:0]);
-      dot3 = fp_add(s, t2);
-    end
-  endfunction
-
-  function [3*W-1:0] normalise(input [3*W-1:0] v);
-    reg [W-1:0] rr;
-    begin
-      rr = fp_rsq(dot3(v, v));
-      normalise = {fp_mul(v[3*W-1-:W], rr), fp_mul(v[2*W-1-:W], rr), fp_mul(v[W-1:0], rr)};
-    end
-  endfunction
-
   localparam [3*W-1:0] LVEC = {LIGHT_X[W-1:0], LIGHT_Y[W-1:0], LIGHT_Z[W-1:0]};
   localparam [3*W-1:0] SDIR = {SPOT_X[W-1:0], SPOT_Y[W-1:0], SPOT_Z[W-1:0]};
   localparam [3*W-1:0] AMB = {AMB_R[W-1:0], AMB_G[W-1:0], AMB_B[W-1:0]};
   localparam [3*W-1:0] DIF = {DIF_R[W-1:0], DIF_G[W-1:0], DIF_B[W-1:0]};
   localparam [3*W-1:0] SPE = {SPE_R[W-1:0], SPE_G[W-1:0], SPE_B[W-1:0]};
   localparam [3*W-1:0] BASE = {BASE_R[W-1:0], BASE_G[W-1:0], BASE_B[W-1:0]};
+  localparam [3*W-1:0] NEG3 = {3{1'b1, {(W - 1) {1'b0}}}};  // XOR: negate each
 
-  function [3*CB-1:0] light(input [3*W-1:0] p, input [3*W-1:0] nin);
-    reg [3*W-1:0] n, v, vp, lv, hv, h;
-    reg [W-1:0] d2, rr, d, den, att, c, spot, nl_raw, nl, nh, spec, kk, t, acc;
-    integer ch;
-    begin
-      if (NORMALIZE) n = normalise(nin);
-      else n = nin;
-      if (LOCAL_VIEWER)
-        v = normalise({fp_neg(p[3*W-1-:W]), fp_neg(p[2*W-1-:W]), fp_neg(p[W-1:0])});
-      else v = {{W{1'b0}}, {W{1'b0}}, ONE};
-      if (LOCAL) begin
-        vp = {fp_add(LVEC[3*W-1-:W], fp_neg(p[3*W-1-:W])),
-              fp_add(LVEC[2*W-1-:W], fp_neg(p[2*W-1-:W])),
-              fp_add(LVEC[W-1:0], fp_neg(p[W-1:0]))};
-        d2 = dot3(vp, vp);
-        rr = fp_rsq(d2);
-        lv = {fp_mul(vp[3*W-1-:W], rr), fp_mul(vp[2*W-1-:W], rr), fp_mul(vp[W-1:0], rr)};
-        d = fp_mul(d2, rr);
-        den = fp_add(ATT_C[W-1:0], fp_mul(ATT_L[W-1:0], d));
-        den = fp_add(den, fp_mul(ATT_Q[W-1:0], d2));
-        att = fp_rcp(den);
-      end else begin
-        lv  = LVEC;
-        att = ONE;
-      end
-      if (SPOT) begin
-        c = fp_neg(dot3(lv, SDIR));
-        if (flt(c, SPOT_COS[W-1:0])) spot = {W{1'b0}};
-        else spot = fp_pow(c, SPOT_EXP[W-1:0]);
-      end else spot = ONE;
-      nl_raw = dot3(n, lv);
-      nl = fmax0(nl_raw);
-      if (flt({W{1'b0}}, nl_raw)) begin
-        hv = {fp_add(lv[3*W-1-:W], v[3*W-1-:W]), fp_add(lv[2*W-1-:W], v[2*W-1-:W]),
-              fp_add(lv[W-1:0], v[W-1:0])};
-        h = normalise(hv);
-        nh = fmax0(dot3(n, h));
-        spec = fp_pow(nh, SHININESS[W-1:0]);
-      end else spec = {W{1'b0}};
-      kk = fp_mul(att, spot);
-      for (ch = 2; ch >= 0; ch = ch - 1) begin
-        t = fp_add(AMB[ch*W+:W], fp_mul(nl, DIF[ch*W+:W]));
-        t = fp_add(t, fp_mul(spec, SPE[ch*W+:W]));
-        acc = fp_add(BASE[ch*W+:W], fp_mul(kk, t));
-        light[ch*CB+:CB] = fp_unorm(acc);
-      end
+  // Levels (Icarus scheduling only, see VL_WAIT): the delta round in which a signal
+  // settles, the inputs 0, a constant −1; F_/S_ a signal's first and last change.
+  localparam integer L_N = NORMALIZE ? 5 : 0;
+  localparam integer L_V = LOCAL_VIEWER ? 5 : -1;
+  localparam integer L_LV = LOCAL ? 6 : -1;
+  localparam integer L_ATT = LOCAL ? 10 : -1;
+  localparam integer L_CD = L_LV < 0 ? -1 : L_LV + 3;
+  localparam integer F_SPOT = SPOT ? L_CD : -1;
+  localparam integer S_SPOT = (SPOT && L_CD >= 0) ? L_CD + 3 : -1;
+  localparam integer L_NL = `VL_MAX(L_N, L_LV) + 3;
+  localparam integer L_HV = `VL_NEXT(`VL_MAX(L_LV, L_V));
+  localparam integer L_H = L_HV < 0 ? -1 : L_HV + 5;
+  localparam integer L_NHR = `VL_MAX(L_N, L_H) + 3;
+  localparam integer F_SPEC = `VL_FMIN(L_NL, L_NHR);
+  localparam integer S_SPEC = `VL_MAX(L_NL, L_NHR + 3);
+  localparam integer L_KK = `VL_NEXT(`VL_MAX(L_ATT, S_SPOT));
+  localparam integer L_T1 = L_NL + 2;
+  localparam integer L_MS = S_SPEC + 1;
+  localparam integer L_T2 = `VL_MAX(L_T1, L_MS) + 1;
+
+  // ---- the datapath, in the model's order (VertexLighting::light) --------------------
+  wire [3*W-1:0] p = {px, py, pz};
+  wire [3*W-1:0] nin = {nx, ny, nz};
+  wire [3*W-1:0] n, v, lv, hv, h;
+  wire [W-1:0] att, spot, nl_raw, nh_raw, sp, spec, kk;
+  wire [3*CB-1:0] rgb;
+  genvar gc;
+  generate
+    if (NORMALIZE) begin : g_norm
+      vertex_lighting_norm `VL_FPN(0) nrm (.v(nin), .o(n));
+    end else begin : g_nonorm
+      assign n = nin;
     end
-  endfunction
+    if (LOCAL_VIEWER) begin : g_viewer
+      vertex_lighting_norm `VL_FPN(0) nrm (.v(p ^ NEG3), .o(v));
+    end else begin : g_noviewer
+      assign v = {{W{1'b0}}, {W{1'b0}}, ONE};
+    end
+    if (LOCAL) begin : g_local
+      wire [3*W-1:0] vp;
+      wire [W-1:0] d2, rr, d, tl, den1, tq, den;
+      for (gc = 0; gc < 3; gc = gc + 1) begin : g_c
+        vertex_lighting_add `VL_FP ad (.x(LVEC[gc*W+:W]), .y(p[gc*W+:W] ^ NEG3[W-1:0]),
+                                     .o(vp[gc*W+:W]));
+        vertex_lighting_mul `VL_FP m (.x(vp[gc*W+:W]), .y(rr), .o(lv[gc*W+:W]));
+        `VL_WAIT(m, 5)
+      end
+      vertex_lighting_dot3 `VL_FP3(1, 1) dt (.u(vp), .v(vp), .o(d2));
+      vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
+      vertex_lighting_mul `VL_FP md (.x(d2), .y(rr), .o(d));
+      vertex_lighting_mul `VL_FP ml (.x(ATT_L[W-1:0]), .y(d), .o(tl));
+      vertex_lighting_add `VL_FP a1 (.x(ATT_C[W-1:0]), .y(tl), .o(den1));
+      vertex_lighting_mul `VL_FP mq (.x(ATT_Q[W-1:0]), .y(d2), .o(tq));
+      vertex_lighting_add `VL_FP a2 (.x(den1), .y(tq), .o(den));
+      vertex_lighting_rcp `VL_FP rc (.x(den), .o(att));
+      `VL_WAIT(md, 2)
+      `VL_WAIT(a2, 4)
+    end else begin : g_dir
+      assign lv  = LVEC;
+      assign att = ONE;
+    end
+    if (SPOT) begin : g_spot
+      wire [W-1:0] cd, c, pw;
+      vertex_lighting_dot3 `VL_FP3(L_LV, -1) dt (.u(lv), .v(SDIR), .o(cd));
+      assign c = cd ^ NEG3[W-1:0];
+      vertex_lighting_pow `VL_FP pwr (.x(c), .s(SPOT_EXP[W-1:0]), .o(pw));
+      reg c_lt;  // c < the cutoff's cosine
+      always @(c) c_lt = flt(c, SPOT_COS[W-1:0]);
+      assign spot = c_lt ? {W{1'b0}} : pw;
+    end else begin : g_nospot
+      assign spot = ONE;
+    end
+  endgenerate
+  vertex_lighting_dot3 `VL_FP3(L_N, L_LV) dnl (.u(n), .v(lv), .o(nl_raw));
+  generate
+    for (gc = 0; gc < 3; gc = gc + 1) begin : g_h
+      vertex_lighting_add `VL_FP ad (.x(lv[gc*W+:W]), .y(v[gc*W+:W]), .o(hv[gc*W+:W]));
+      `VL_WAIT(ad, `VL_WT(L_LV, L_LV, L_V, L_V))
+    end
+  endgenerate
+  vertex_lighting_norm `VL_FPN(L_HV) nrh (.v(hv), .o(h));
+  vertex_lighting_dot3 `VL_FP3(L_N, L_H) dnh (.u(n), .v(h), .o(nh_raw));
+  // max(0, ·) and the N·L > 0 test, as processes (a function in a continuous
+  // assignment is re-run by Icarus on every input event).
+  reg [W-1:0] nl, nh;
+  reg nl_pos;
+  always @(nl_raw) begin
+    nl = fmax0(nl_raw);
+    nl_pos = flt({W{1'b0}}, nl_raw);
+  end
+  always @(nh_raw) nh = fmax0(nh_raw);
+  vertex_lighting_pow `VL_FP psp (.x(nh), .s(SHININESS[W-1:0]), .o(sp));
+  assign spec = nl_pos ? sp : {W{1'b0}};
+  vertex_lighting_mul `VL_FP mkk (.x(att), .y(spot), .o(kk));
+  `VL_WAIT(mkk, `VL_WT(L_ATT, L_ATT, F_SPOT, S_SPOT))
+  generate
+    for (gc = 0; gc < 3; gc = gc + 1) begin : g_ch
+      wire [W-1:0] md, t1, ms, t2, mk, acc;
+      vertex_lighting_mul `VL_FP m1 (.x(nl), .y(DIF[gc*W+:W]), .o(md));
+      vertex_lighting_add `VL_FP a1 (.x(AMB[gc*W+:W]), .y(md), .o(t1));
+      vertex_lighting_mul `VL_FP m2 (.x(spec), .y(SPE[gc*W+:W]), .o(ms));
+      vertex_lighting_add `VL_FP a2 (.x(t1), .y(ms), .o(t2));
+      vertex_lighting_mul `VL_FP m3 (.x(kk), .y(t2), .o(mk));
+      vertex_lighting_add `VL_FP a3 (.x(BASE[gc*W+:W]), .y(mk), .o(acc));
+      `VL_WAIT(m2, `VL_WT(F_SPEC, S_SPEC, -1, -1))
+      `VL_WAIT(a2, `VL_WT(L_T1, L_T1, L_MS, L_MS))
+      `VL_WAIT(m3, `VL_WT(L_KK, L_KK, L_T2, L_T2))
+      vertex_lighting_unorm #(
+          .EXP_BITS(EXP_BITS),
+          .MANT_BITS(MANT_BITS),
+          .ROUNDING(ROUNDING),
+          .COLOR_BITS(COLOR_BITS)
+      ) un (
+          .x(acc),
+          .u(rgb[gc*CB+:CB])
+      );
+    end
+  endgenerate
 
   // ---- pipeline: the result on the clock a vertex is accepted, then a delay line ----
   localparam OW = 3 * CB;
@@ -550,7 +812,7 @@ module vertex_lighting #(
   always @(posedge clk) begin
     if (rst) vc <= 0;
     else vc <= {vc[LATENCY-2:0], in_valid};
-    if (in_valid) s0 <= light({px, py, pz}, {nx, ny, nz});
+    if (in_valid) s0 <= rgb;
     dl <= {dl[(LATENCY-2)*OW-1:0], s0};
   end
   assign out_valid = vc[LATENCY-1];
@@ -560,3 +822,13 @@ endmodule
 
 `undef VL_FZ
 `undef VL_FE
+`undef VL_FP
+`undef VL_FP3
+`undef VL_FPN
+`undef VL_WAIT_PARAM
+`undef VL_SETTLE
+`undef VL_WAIT
+`undef VL_MAX
+`undef VL_FMIN
+`undef VL_WT
+`undef VL_NEXT

@@ -981,6 +981,7 @@ pub const VERILOG_INCLUDES: &[&str] = &[
     "luminance_dp_params.vh",
     "luminance_dp_ports.vh",
     "leading_one.vh",
+    "vertex_lighting_fp.vh",
 ];
 
 /// The headers' files ([`VERILOG_INCLUDES`]), for build stamps.
@@ -1010,6 +1011,22 @@ pub struct Synth {
     pub rel_diff: f64,
     /// Yosys cell counts by cell type.
     pub cells: std::collections::BTreeMap<String, u64>,
+    /// A hierarchical unit's kept modules (`(* keep_hierarchy *)`, see [`synth`]): per
+    /// module (its name without Yosys' `$paramod…\` prefix), the instances in the
+    /// whole unit and the NAND2 equivalents of ONE instance with its own submodules.
+    /// Empty for a flattened unit.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub modules: Vec<SynthModule>,
+}
+
+/// One kept module of a hierarchical unit ([`Synth::modules`]).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct SynthModule {
+    pub module: String,
+    /// Instances in the whole unit (through every level of the hierarchy).
+    pub instances: u64,
+    /// NAND2 equivalents of one instance, its submodules included.
+    pub gates_yosys: f64,
 }
 
 /// NAND2 equivalents of Yosys' gate-level cells under the model's one weight table.
@@ -1048,6 +1065,14 @@ pub fn weigh_cells(cells: &std::collections::BTreeMap<String, u64>) -> Result<f6
 /// hierarchy total, which the cell sum below would count twice); a single-module unit
 /// synthesises the same either way. The shared modules of [`VERILOG_LIB`] are read
 /// first.
+///
+/// Hierarchical units: modules marked `(* keep_hierarchy *)` (vertex_lighting's FP
+/// operators) survive `-flatten`; Yosys synthesises each such module ONCE (ABC per
+/// module) and `stat` then prints each module's own cells and a `design hierarchy`
+/// section whose cell counts are the whole unit's, each submodule's cells times its
+/// instance count. Only that section is counted (the per-module sections would count
+/// the submodules twice); no logic is optimised across a kept module's ports (a
+/// conservative count). The script is the same for every unit.
 pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String> {
     let e = rtl_entry(unit)?;
     let v = (e.vectors)(config, 1, 1)?;
@@ -1093,8 +1118,13 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
     }
     let text = std::fs::read_to_string(&tmp).map_err(|err| format!("synth: {err}"))?;
     let _ = std::fs::remove_file(&tmp);
+    let hier = text.find("=== design hierarchy ===");
+    let modules = match hier {
+        Some(_) => synth_modules(&text, e.name)?,
+        None => Vec::new(),
+    };
     let mut cells = std::collections::BTreeMap::new();
-    for line in text.lines() {
+    for line in text[hier.unwrap_or(0)..].lines() {
         let toks: Vec<&str> = line.split_whitespace().collect();
         let cell = toks
             .iter()
@@ -1112,5 +1142,76 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         gates_yosys,
         rel_diff: (v.gates_model - gates_yosys) / gates_yosys,
         cells,
+        modules,
     })
+}
+
+/// The kept modules of a hierarchical `stat` (per-module sections before `design
+/// hierarchy`): each module's own cells weighted, plus its submodules' (recursively),
+/// and the instance count of each in the whole of `top`.
+fn synth_modules(text: &str, top: &str) -> Result<Vec<SynthModule>, String> {
+    use std::collections::BTreeMap;
+    // name → (own cells, submodule instances)
+    type Mods = BTreeMap<String, (BTreeMap<String, u64>, Vec<(String, u64)>)>;
+    let mut mods: Mods = BTreeMap::new();
+    let mut cur: Option<String> = None;
+    for line in text.lines() {
+        let t = line.trim();
+        if let Some(name) = t.strip_prefix("=== ").and_then(|r| r.strip_suffix(" ===")) {
+            if name == "design hierarchy" {
+                break;
+            }
+            mods.entry(name.to_string()).or_default();
+            cur = Some(name.to_string());
+            continue;
+        }
+        let Some(m) = cur.as_ref() else { continue };
+        let toks: Vec<&str> = t.split_whitespace().collect();
+        if toks.len() != 2 {
+            continue;
+        }
+        let Ok(n) = toks[1].parse::<u64>() else {
+            continue;
+        };
+        let entry = mods.get_mut(m).expect("section entered");
+        if toks[0].starts_with("$_") && toks[0].ends_with('_') {
+            *entry.0.entry(toks[0].to_string()).or_insert(0) += n;
+        } else if !t.starts_with("Number of") {
+            entry.1.push((toks[0].to_string(), n));
+        }
+    }
+    fn inclusive(m: &str, mods: &Mods, depth: u32) -> Result<f64, String> {
+        let (own, subs) = mods
+            .get(m)
+            .ok_or_else(|| format!("synth: Yosys stat has no module {m}"))?;
+        if depth > 16 {
+            return Err("synth: module hierarchy too deep".into());
+        }
+        let mut g = weigh_cells(own)?;
+        for (s, n) in subs {
+            g += inclusive(s, mods, depth + 1)? * *n as f64;
+        }
+        Ok(g)
+    }
+    fn count(m: &str, times: u64, mods: &Mods, out: &mut BTreeMap<String, u64>) {
+        if let Some((_, subs)) = mods.get(m) {
+            for (s, n) in subs {
+                *out.entry(s.clone()).or_insert(0) += times * n;
+                count(s, times * n, mods, out);
+            }
+        }
+    }
+    let mut instances = BTreeMap::new();
+    count(top, 1, &mods, &mut instances);
+    let mut out = Vec::new();
+    for (m, n) in instances {
+        // `$paramod$<hash>\name` or `$paramod\name\P=…`: the name is the second field.
+        let short = m.split('\\').nth(1).unwrap_or(&m).to_string();
+        out.push(SynthModule {
+            gates_yosys: inclusive(&m, &mods, 0)?,
+            module: short,
+            instances: n,
+        });
+    }
+    Ok(out)
 }
