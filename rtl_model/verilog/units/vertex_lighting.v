@@ -74,6 +74,15 @@
 `define VL_WAIT(inst, v)
 `endif
 `define VL_MAX(a, b) ((a) > (b) ? (a) : (b))
+// Rounds (Icarus scheduling only, see VL_WAIT) from an operator's input change to its
+// output's, for the operators made of kept pieces: RSQ's front, its NQ division pieces
+// (each a round after the last) and the root with the pack; pow's LOG (its stages run
+// in the round their input changes), the multiply, EXP's front, its NCH product pieces
+// and the pack. Every other operator takes one.
+`define VL_NQ(m) ((2 * (m) + 9 + (m) % 2 + 7) / 8)
+`define VL_D_RSQ(m) (`VL_NQ(m) + 2)
+`define VL_NCH(m) (((m) + 4 + 8) / 9)
+`define VL_D_POW(m) (`VL_NCH(m) + 4)
 `define VL_FMIN(a, b) ((a) < 0 ? (b) : (b) < 0 ? (a) : (a) < (b) ? (a) : (b))
 `define VL_WT(f1, s1, f2, s2) (`VL_FMIN(f1, f2) < 0 ? 1 : `VL_MAX(s1, s2) + 1 - `VL_FMIN(f1, f2))
 `define VL_NEXT(s) ((s) < 0 ? -1 : (s) + 1)
@@ -211,7 +220,9 @@ module vertex_lighting_rcp #(
   end
 endmodule
 
-// 1 / √|x|, exactly rounded.
+// 1 / √|x|, exactly rounded. The division's steps are kept modules of up to CH steps
+// each: as one module, ABC's SAT sweep (&fraig) stalled (more than 20 CPU-minutes,
+// unfinished), while each piece alone is swept in seconds.
 (* keep_hierarchy *)
 module vertex_lighting_rsq #(
     parameter EXP_BITS  = 8,
@@ -226,52 +237,103 @@ module vertex_lighting_rsq #(
   localparam QB = TWO_P - M + 1;  // quotient bits
   localparam QB2 = QB + (QB % 2);
   localparam RB = QB2 / 2;  // root bits
+  localparam CH = 8;  // steps per kept module
+  localparam NQ = (QB + CH - 1) / CH;  // division pieces
 
-  function [W-1:0] fp_rsq(input [W-1:0] x);
-    reg [M+1:0] sig;
-    reg [M+3:0] rem;
-    reg [QB2-1:0] quo;
-    reg [RB+1:0] rem2;
-    reg [RB-1:0] root;
-    integer j, lsb;
-    begin
-      if (`VL_FZ(x)) fp_rsq = {1'b0, MAXMAG};
-      else begin
-        lsb = `VL_FE(x) - BIAS - M;
-        if (lsb % 2 != 0) begin
-          sig = {1'b1, x[M-1:0], 1'b0};
-          lsb = lsb - 1;
-        end else sig = {1'b0, 1'b1, x[M-1:0]};
-        // ⌊2^TWO_P / sig⌋: the remainder before quotient bit QB − 1 is 2^(M−1) < sig.
-        rem = {{(M + 3) {1'b0}}, 1'b1} << (M - 1);
-        quo = 0;
-        for (j = QB - 1; j >= 0; j = j - 1) begin
-          rem = rem << 1;
-          if (rem >= {2'b00, sig}) begin
-            rem    = rem - {2'b00, sig};
-            quo[j] = 1'b1;
-          end
-        end
-        // ⌊√quo⌋, restoring.
-        rem2 = 0;
-        root = 0;
-        for (j = RB - 1; j >= 0; j = j - 1) begin
-          rem2 = {rem2[RB-1:0], quo[2*j+:2]};
-          if (rem2 >= {root, 2'b01}) begin
-            rem2 = rem2 - {root, 2'b01};
-            root = {root[RB-2:0], 1'b1};
-          end else root = root << 1;
-        end
-        fp_rsq = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
-                         rem != 0 || rem2 != 0);
-      end
-    end
-  endfunction
-
+  // sig (doubled for an odd exponent, so the exponent halves exactly) and the lsb.
   `VL_WAIT_PARAM
+  reg [M+1:0] sig;
+  integer lsb;
+  reg zero_x;
   always @(x) begin
     `VL_SETTLE
-    o = fp_rsq(x);
+    zero_x = `VL_FZ(x);
+    lsb = `VL_FE(x) - BIAS - M;
+    if (lsb % 2 != 0) begin
+      sig = {1'b1, x[M-1:0], 1'b0};
+      lsb = lsb - 1;
+    end else sig = {1'b0, 1'b1, x[M-1:0]};
+  end
+
+  // ⌊2^TWO_P / sig⌋, restoring: the remainder before quotient bit QB − 1 is
+  // 2^(M−1) < sig. quo's bits QB2 − 1 .. QB are 0 (QB odd).
+  wire [QB2-1:0] quo;
+  genvar gq;
+  generate
+    if (QB2 > QB) begin : g_pad
+      assign quo[QB2-1:QB] = 0;
+    end
+    for (gq = 0; gq < NQ; gq = gq + 1) begin : g_div
+      localparam N = (QB - gq * CH) < CH ? (QB - gq * CH) : CH;
+      wire [M+3:0] rin, rout;
+      if (gq == 0) begin : g_first
+        assign rin = {{(M + 3) {1'b0}}, 1'b1} << (M - 1);
+      end else begin : g_next
+        assign rin = g_div[gq-1].rout;
+      end
+      vertex_lighting_div_steps #(.RW(M + 4), .SW(M + 2), .N(N)) st (
+          .rem(rin), .sig(sig), .rem_o(rout), .q(quo[QB-1-gq*CH-:N]));
+      `VL_WAIT(st, gq + 1)
+    end
+  endgenerate
+  wire [M+3:0] rem_q = g_div[NQ-1].rout;
+
+  // ⌊√quo⌋, restoring, and the pack. (x in the list: woken when x changes, it waits
+  // for the last division piece, so o changes once, `VL_D_RSQ rounds after x.)
+  always @(x, zero_x, lsb, quo, rem_q) begin : root_pack
+    reg [RB+1:0] rem2;
+    reg [RB-1:0] root;
+    integer j;
+`ifdef __ICARUS__
+    repeat (NQ + 2) #0;  // scheduling only, as VL_SETTLE
+`endif
+    rem2 = 0;
+    root = 0;
+    for (j = RB - 1; j >= 0; j = j - 1) begin
+      rem2 = {rem2[RB-1:0], quo[2*j+:2]};
+      if (rem2 >= {root, 2'b01}) begin
+        rem2 = rem2 - {root, 2'b01};
+        root = {root[RB-2:0], 1'b1};
+      end else root = root << 1;
+    end
+    if (zero_x) o = {1'b0, MAXMAG};
+    else
+      o = fp_pack(1'b0, -(TWO_P / 2) - lsb / 2, {{(VW - RB) {1'b0}}, root},
+                  rem_q != 0 || rem2 != 0);
+  end
+endmodule
+
+// N restoring-division steps: rem ← 2·rem, and where rem ≥ sig, rem ← rem − sig with
+// quotient bit 1 (q's MSB first).
+(* keep_hierarchy *)
+module vertex_lighting_div_steps #(
+    parameter RW = 27,
+    parameter SW = 25,
+    parameter N  = 8
+) (
+    input      [RW-1:0] rem,
+    input      [SW-1:0] sig,
+    output reg [RW-1:0] rem_o,
+    output reg [N-1:0]  q
+);
+  `VL_WAIT_PARAM
+  // The steps on local copies, the ports written once (Icarus propagates every write
+  // to an output port).
+  reg [RW-1:0] r;
+  reg [N-1:0] qq;
+  integer j;
+  always @(rem, sig) begin
+    `VL_SETTLE
+    r = rem;
+    for (j = N - 1; j >= 0; j = j - 1) begin
+      r = r << 1;
+      if (r >= {{(RW - SW) {1'b0}}, sig}) begin
+        r = r - {{(RW - SW) {1'b0}}, sig};
+        qq[j] = 1'b1;
+      end else qq[j] = 1'b0;
+    end
+    rem_o = r;
+    q = qq;
   end
 endmodule
 
@@ -318,6 +380,7 @@ module vertex_lighting_log2 #(
   endfunction
 
   `VL_WAIT_PARAM
+  // (The stages run in the round x changes, so one round settles f too.)
   always @(x, f) begin
     `VL_SETTLE
     l = log_pack(x, f);
@@ -434,51 +497,78 @@ module vertex_lighting_exp2 #(
     flush = n < EMIN - M - 2;
   end
 
-  // The K steps: step i multiplies by the ROM's word i when f's bit K−1−i is set.
-  genvar gi;
+  // The product over f's set bits, in kept modules of up to CH steps each (swept alone
+  // by ABC: the whole chain in one module stalled its SAT sweep).
+  localparam CH = 9;
+  localparam NCH = (K + CH - 1) / CH;
+  genvar gc;
   generate
-    for (gi = 0; gi < K; gi = gi + 1) begin : g_st
+    for (gc = 0; gc < NCH; gc = gc + 1) begin : g_ch
+      localparam N = (K - gc * CH) < CH ? (K - gc * CH) : CH;
       wire [K-1:0] q;
-      if (gi == 0) begin : g_first
-        vertex_lighting_exp2_step #(.K(K), .C(EXP2_ROM[gi*(K+1)+:(K+1)]))
-            st (.p({K{1'b0}}), .b(f[K-1-gi]), .q(q));
-        `VL_WAIT(st, gi + 1)
+      wire [K-1:0] pin;
+      if (gc == 0) begin : g_first
+        assign pin = {K{1'b0}};
       end else begin : g_next
-        vertex_lighting_exp2_step #(.K(K), .C(EXP2_ROM[gi*(K+1)+:(K+1)]))
-            st (.p(g_st[gi-1].q), .b(f[K-1-gi]), .q(q));
-        `VL_WAIT(st, gi + 1)
+        assign pin = g_ch[gc-1].q;
       end
+      vertex_lighting_exp2_steps #(.K(K), .N(N),
+          .ROM(EXP2_ROM[gc*CH*(K+1)+:N*(K+1)])) st (
+          .p(pin), .f(f[K-1-gc*CH-:N]), .q(q));
+      `VL_WAIT(st, gc + 1)
     end
   endgenerate
+  wire [K-1:0] pf = g_ch[NCH-1].q;
 
-  always @(zero_t, sat, flush, n, g_st[K-1].q) begin
+  // (t in the list: woken when t changes, it waits for the last piece, a round after
+  // the front's and each piece a round after the last.)
+  always @(t, zero_t, sat, flush, n, pf) begin
 `ifdef __ICARUS__
-    repeat (K + 1) #0;  // after the last step (scheduling only, as VL_SETTLE)
+    repeat (WAIT + NCH + 1) #0;  // scheduling only, as VL_SETTLE
 `endif
     if (zero_t) o = ONE;
     else if (sat) o = {1'b0, MAXMAG};
     else if (flush) o = {W{1'b0}};
-    else o = fp_pack(1'b0, n - K, {{(VW - K - 1) {1'b0}}, 1'b1, g_st[K-1].q}, 1'b0);
+    else o = fp_pack(1'b0, n - K, {{(VW - K - 1) {1'b0}}, 1'b1, pf}, 1'b0);
   end
 endmodule
 
-// One step of exp2's product: q = b ? frac(1.p · C) : p, truncated to K fraction
-// bits; C is the ROM word, 2^(2^-i) in u1.K.
+// N steps of exp2's product: for each set bit of f (MSB first) multiply 1.p by the
+// next ROM word (2^(2^-k) in u1.K), truncated to u1.K; p and q are K fraction bits
+// (the product is 1.p, in [1, 2)).
 (* keep_hierarchy *)
-module vertex_lighting_exp2_step #(
+module vertex_lighting_exp2_steps #(
     parameter K = 27,
-    parameter [K:0] C = 0
+    parameter N = 9,
+    parameter [N*(K+1)-1:0] ROM = 0
 ) (
     input      [K-1:0] p,
-    input              b,
+    input      [N-1:0] f,
     output reg [K-1:0] q
 );
   `VL_WAIT_PARAM
+  // The ROM words as constant nets (read from the wide parameter, Icarus would
+  // rebuild all its bits on every read); the product on a local copy, the port
+  // written once.
+  wire [K:0] rom[0:N-1];
+  genvar gr;
+  generate
+    for (gr = 0; gr < N; gr = gr + 1) begin : g_rom
+      assign rom[gr] = ROM[gr*(K+1)+:(K+1)];
+    end
+  endgenerate
   reg [2*K+1:0] wide;
-  always @(p, b) begin
+  reg [K-1:0] a;
+  integer i;
+  always @(p, f) begin
     `VL_SETTLE
-    wide = {1'b1, p} * C;
-    q = b ? wide[2*K-1:K] : p;
+    a = p;
+    for (i = 0; i < N; i = i + 1)
+    if (f[N-1-i]) begin
+      wide = {1'b1, a} * rom[i];
+      a = wide[2*K-1:K];
+    end
+    q = a;
   end
 endmodule
 
@@ -565,7 +655,7 @@ module vertex_lighting_norm #(
   generate
     for (gc = 0; gc < 3; gc = gc + 1) begin : g_c
       vertex_lighting_mul `VL_FP m (.x(v[gc*W+:W]), .y(rr), .o(o[gc*W+:W]));
-      `VL_WAIT(m, 5)
+      `VL_WAIT(m, 4 + `VL_D_RSQ(MANT_BITS))
     end
   endgenerate
 endmodule
@@ -687,19 +777,22 @@ module vertex_lighting #(
 
   // Levels (Icarus scheduling only, see VL_WAIT): the delta round in which a signal
   // settles, the inputs 0, a constant −1; F_/S_ a signal's first and last change.
-  localparam integer L_N = NORMALIZE ? 5 : 0;
-  localparam integer L_V = LOCAL_VIEWER ? 5 : -1;
-  localparam integer L_LV = LOCAL ? 6 : -1;
-  localparam integer L_ATT = LOCAL ? 10 : -1;
+  // RSQ and pow take D_RSQ and D_POW rounds (VL_D_RSQ, VL_D_POW).
+  localparam integer D_RSQ = `VL_D_RSQ(M);
+  localparam integer D_POW = `VL_D_POW(M);
+  localparam integer L_N = NORMALIZE ? 4 + D_RSQ : 0;
+  localparam integer L_V = LOCAL_VIEWER ? 4 + D_RSQ : -1;
+  localparam integer L_LV = LOCAL ? 5 + D_RSQ : -1;
+  localparam integer L_ATT = LOCAL ? 9 + D_RSQ : -1;
   localparam integer L_CD = L_LV < 0 ? -1 : L_LV + 3;
   localparam integer F_SPOT = SPOT ? L_CD : -1;
-  localparam integer S_SPOT = (SPOT && L_CD >= 0) ? L_CD + 3 : -1;
+  localparam integer S_SPOT = (SPOT && L_CD >= 0) ? L_CD + D_POW : -1;
   localparam integer L_NL = `VL_MAX(L_N, L_LV) + 3;
   localparam integer L_HV = `VL_NEXT(`VL_MAX(L_LV, L_V));
-  localparam integer L_H = L_HV < 0 ? -1 : L_HV + 5;
+  localparam integer L_H = L_HV < 0 ? -1 : L_HV + 4 + D_RSQ;
   localparam integer L_NHR = `VL_MAX(L_N, L_H) + 3;
   localparam integer F_SPEC = `VL_FMIN(L_NL, L_NHR);
-  localparam integer S_SPEC = `VL_MAX(L_NL, L_NHR + 3);
+  localparam integer S_SPEC = `VL_MAX(L_NL, L_NHR + D_POW);
   localparam integer L_KK = `VL_NEXT(`VL_MAX(L_ATT, S_SPOT));
   localparam integer L_T1 = L_NL + 2;
   localparam integer L_MS = S_SPEC + 1;
@@ -730,7 +823,7 @@ module vertex_lighting #(
         vertex_lighting_add `VL_FP ad (.x(LVEC[gc*W+:W]), .y(p[gc*W+:W] ^ NEG3[W-1:0]),
                                      .o(vp[gc*W+:W]));
         vertex_lighting_mul `VL_FP m (.x(vp[gc*W+:W]), .y(rr), .o(lv[gc*W+:W]));
-        `VL_WAIT(m, 5)
+        `VL_WAIT(m, 4 + D_RSQ)
       end
       vertex_lighting_dot3 `VL_FP3(1, 1) dt (.u(vp), .v(vp), .o(d2));
       vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
@@ -740,8 +833,8 @@ module vertex_lighting #(
       vertex_lighting_mul `VL_FP mq (.x(ATT_Q[W-1:0]), .y(d2), .o(tq));
       vertex_lighting_add `VL_FP a2 (.x(den1), .y(tq), .o(den));
       vertex_lighting_rcp `VL_FP rc (.x(den), .o(att));
-      `VL_WAIT(md, 2)
-      `VL_WAIT(a2, 4)
+      `VL_WAIT(md, 1 + D_RSQ)
+      `VL_WAIT(a2, 3 + D_RSQ)
     end else begin : g_dir
       assign lv  = LVEC;
       assign att = ONE;
@@ -832,3 +925,7 @@ endmodule
 `undef VL_FMIN
 `undef VL_WT
 `undef VL_NEXT
+`undef VL_NQ
+`undef VL_D_RSQ
+`undef VL_NCH
+`undef VL_D_POW
