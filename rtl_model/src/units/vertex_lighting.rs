@@ -521,15 +521,27 @@ impl Unit for VertexLighting {
         let sig = m + 1;
         let guard = m + 4; // significand + guard/round/sticky in the adder
         let stages = bits_for(guard as u64);
+        let rsq_quotient_bits = 2 * m + 9 + m % 2;
+        let rsq_root_bits = rsq_quotient_bits.div_ceil(2);
         // One FP multiplier: significand multiplier, exponent adder (+ bias correction),
         // 1-bit normalise, rounding incrementer.
         let fmul = prim::multiplier(sig, sig)
             + prim::adder(e + 1) * 2.0
             + prim::mux(sig)
             + prim::adder(sig);
-        // One FP adder: exponent compare/subtract, operand swap, alignment shifter,
-        // significand add/subtract, LZC, normalising shifter, rounding incrementer.
-        let fadd = prim::subtractor(e + 1)
+        // One FP adder: the operands ordered by magnitude (exponent and significand
+        // compared as one (E + M)-bit word), exponent subtract, operand swap, alignment
+        // shifter with the sticky OR of the bits it shifts out (a thermometer mask of
+        // the shift, an AND and an OR per guard bit), significand add/subtract, LZC,
+        // normalising shifter, rounding incrementer.
+        let sticky = Cells {
+            and2: guard as f64,
+            or2: (2 * guard - 1) as f64,
+            ..Cells::default()
+        };
+        let fadd = prim::comparator(w - 1)
+            + prim::subtractor(e + 1)
+            + sticky
             + prim::mux(w) * 2.0
             + prim::shifter(guard, stages)
             + prim::adder(guard + 1)
@@ -549,8 +561,12 @@ impl Unit for VertexLighting {
                 prim::divider(sig + 1, guard),
             )
             .part(
-                "RSQ: square-root recurrence and divide (M + 4 bits each)",
-                prim::divider(sig + 2, guard) * 2.0,
+                // The kernel's ⌊√⌊2^(3M+8+M mod 2)/sig⌋⌋ (float_format.rs `rsq`): a
+                // division with 2M + 9 + M mod 2 quotient bits, then a root of half as
+                // many bits, each step an (RB + 2)-bit compare and subtract.
+                "RSQ: restoring divide (2M + 9 + M mod 2 quotient bits), then square root",
+                prim::divider(sig + 2, rsq_quotient_bits)
+                    + prim::divider(rsq_root_bits + 2, rsq_root_bits),
             )
             .part(
                 // A squarer is about half a multiplier (its partial products are
