@@ -73,6 +73,8 @@
 `define VL_SETTLE
 `define VL_WAIT(inst, v)
 `endif
+// An operator's format parameters (every operator module takes the same three).
+`define VL_FMT_PARAMS parameter EXP_BITS = 8, parameter MANT_BITS = 23, parameter ROUNDING = 0
 `define VL_MAX(a, b) ((a) > (b) ? (a) : (b))
 // Rounds (Icarus scheduling only, see VL_WAIT) from an operator's input change to its
 // output's, for the operators made of kept pieces: RSQ's front, its NQ division pieces
@@ -90,9 +92,7 @@
 // x · y, exactly rounded.
 (* keep_hierarchy *)
 module vertex_lighting_mul #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] x,
     input  [EXP_BITS+MANT_BITS:0] y,
@@ -124,9 +124,7 @@ endmodule
 // x + y, exactly rounded.
 (* keep_hierarchy *)
 module vertex_lighting_add #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] x,
     input  [EXP_BITS+MANT_BITS:0] y,
@@ -179,9 +177,7 @@ endmodule
 // 1 / x, exactly rounded.
 (* keep_hierarchy *)
 module vertex_lighting_rcp #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] x,
     output reg [EXP_BITS+MANT_BITS:0] o
@@ -225,9 +221,7 @@ endmodule
 // unfinished), while each piece alone is swept in seconds.
 (* keep_hierarchy *)
 module vertex_lighting_rsq #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] x,
     output reg [EXP_BITS+MANT_BITS:0] o
@@ -340,9 +334,7 @@ endmodule
 // pow's log2 x (x > 0), the model's K = M + 4 squarings.
 (* keep_hierarchy *)
 module vertex_lighting_log2 #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] x,
     output reg [EXP_BITS+MANT_BITS:0] l
@@ -414,9 +406,7 @@ endmodule
 // (&fraig) stalled on it; the steps are kept modules, so each is swept alone.
 (* keep_hierarchy *)
 module vertex_lighting_exp2 #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] t,
     output reg [EXP_BITS+MANT_BITS:0] o
@@ -614,9 +604,7 @@ endmodule
 
 // u · v = (u_x·v_x + u_y·v_y) + u_z·v_z, in the model's order.
 module vertex_lighting_dot3 #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0,
+    `VL_FMT_PARAMS,
     parameter LU        = 0,  // u's and v's levels (Icarus scheduling only)
     parameter LV        = 0
 ) (
@@ -639,9 +627,7 @@ endmodule
 
 // v · rsq(v · v).
 module vertex_lighting_norm #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0,
+    `VL_FMT_PARAMS,
     parameter LIN       = 0  // v's level (Icarus scheduling only)
 ) (
     input  [3*(EXP_BITS+MANT_BITS+1)-1:0] v,
@@ -662,9 +648,7 @@ endmodule
 
 // x^s as the model's log2 → mul → exp2; pow(x, 0) = 1, pow(x ≤ 0, s) = 0.
 module vertex_lighting_pow #(
-    parameter EXP_BITS  = 8,
-    parameter MANT_BITS = 23,
-    parameter ROUNDING  = 0
+    `VL_FMT_PARAMS
 ) (
     input  [EXP_BITS+MANT_BITS:0] x,
     input  [EXP_BITS+MANT_BITS:0] s,
@@ -922,6 +906,7 @@ endmodule
 `undef VL_SETTLE
 `undef VL_WAIT
 `undef VL_MAX
+`undef VL_FMT_PARAMS
 `undef VL_FMIN
 `undef VL_WT
 `undef VL_NEXT
