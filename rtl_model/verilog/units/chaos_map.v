@@ -127,6 +127,7 @@ module chaos_map #(
   reg signed [E+1:0] df;  // interpolation: b - a
   reg signed [E+D+2:0] pr;  // (b - a) t + 2^(D-1)
   reg [E+1:0] l3;
+  reg [E+1:0] iw;  // an interpolant before its cut to the entries' E + 1 bits
   reg [E+6:0] delta;  // u6.E
   reg [EZ+7:0] zdu;  // u1.Z x u6.E
   reg signed [VW-1:0] vr;
@@ -155,7 +156,11 @@ module chaos_map #(
     // ---- 3: L interpolate, delta = p 2^E - L, V = Zq delta - LU (>= 0) ----
     df = $signed({1'b0, log2_data1}) - $signed({1'b0, log2_data0});
     pr = df * $signed({1'b0, t3}) + IRND;
-    l3 = log2_data0 + pr[E+D+1:D];
+    // The interpolant lies between its two entries (E + 1 bits), so the carry above them
+    // is cut: left in, it is 0 only through the product, which ABC's SAT sweep
+    // (&fraig) stalled on proving (docs/units.md, gaussian_noise and chaos_map).
+    iw = log2_data0 + pr[E+D+1:D];
+    l3 = {1'b0, iw[E:0]};
     delta = {p3, {E{1'b0}}} - l3;
     zdu = ZQW * delta;
     if (LU_NEG) vr = $signed({2'b0, zdu}) + $signed(LUW);
@@ -204,7 +209,8 @@ module chaos_map #(
     // 5: X interpolate
     df = $signed({1'b0, exp2_data1}) - $signed({1'b0, exp2_data0});
     pr = df * $signed({1'b0, t5}) + IRND;
-    xq <= exp2_data0 + pr[E+D+1:D];
+    iw = exp2_data0 + pr[E+D+1:D];
+    xq <= {1'b0, iw[E:0]};  // cut as l3
     n6 <= n5;
     s6 <= s5;
     x6 <= x5;
