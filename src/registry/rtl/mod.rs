@@ -1125,12 +1125,7 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
     };
     let mut cells = std::collections::BTreeMap::new();
     for line in text[hier.unwrap_or(0)..].lines() {
-        let toks: Vec<&str> = line.split_whitespace().collect();
-        let cell = toks
-            .iter()
-            .find(|t| t.starts_with("$_") && t.ends_with('_'));
-        let n = toks.iter().find_map(|t| t.parse::<u64>().ok());
-        if let (Some(c), Some(n)) = (cell, n) {
+        if let Some((c, n)) = stat_cell(line) {
             *cells.entry(c.to_string()).or_insert(0) += n;
         }
     }
@@ -1144,6 +1139,17 @@ pub fn synth(root: &Path, unit: &str, config: RtlConfig) -> Result<Synth, String
         cells,
         modules,
     })
+}
+
+/// A `stat` line's gate-level cell and its count: "     $_AND_     77" (older Yosys)
+/// or "  77  $_AND_" (newer); None for any other line.
+fn stat_cell(line: &str) -> Option<(&str, u64)> {
+    let toks: Vec<&str> = line.split_whitespace().collect();
+    let cell = toks
+        .iter()
+        .find(|t| t.starts_with("$_") && t.ends_with('_'))?;
+    let n = toks.iter().find_map(|t| t.parse::<u64>().ok())?;
+    Some((cell, n))
 }
 
 /// The kept modules of a hierarchical `stat` (per-module sections before `design
@@ -1166,18 +1172,17 @@ fn synth_modules(text: &str, top: &str) -> Result<Vec<SynthModule>, String> {
             continue;
         }
         let Some(m) = cur.as_ref() else { continue };
-        let toks: Vec<&str> = t.split_whitespace().collect();
-        if toks.len() != 2 {
+        let entry = mods.get_mut(m).expect("section entered");
+        if let Some((c, n)) = stat_cell(t) {
+            *entry.0.entry(c.to_string()).or_insert(0) += n;
             continue;
         }
-        let Ok(n) = toks[1].parse::<u64>() else {
-            continue;
-        };
-        let entry = mods.get_mut(m).expect("section entered");
-        if toks[0].starts_with("$_") && toks[0].ends_with('_') {
-            *entry.0.entry(toks[0].to_string()).or_insert(0) += n;
-        } else if !t.starts_with("Number of") {
-            entry.1.push((toks[0].to_string(), n));
+        // A submodule instance line: "name count".
+        let toks: Vec<&str> = t.split_whitespace().collect();
+        if let [name, count] = toks[..] {
+            if let (Ok(n), false) = (count.parse::<u64>(), t.starts_with("Number of")) {
+                entry.1.push((name.to_string(), n));
+            }
         }
     }
     fn inclusive(m: &str, mods: &Mods, depth: u32) -> Result<f64, String> {
