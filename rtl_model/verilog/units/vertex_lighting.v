@@ -81,9 +81,14 @@
 // (each a round after the last) and the root with the pack; pow's LOG (its stages run
 // in the round their input changes), the multiply, EXP's front, its NCH product pieces
 // and the pack. Every other operator takes one.
-`define VL_NQ(m) ((2 * (m) + 9 + (m) % 2 + 7) / 8)
+// The piece sizes and counts are these macros' only, so the modules and the rounds
+// cannot disagree: RSQ divides 2M + 9 + M mod 2 quotient bits in pieces of VL_RSQ_CH
+// steps, EXP multiplies K = M + 4 times in pieces of VL_EXP_CH.
+`define VL_RSQ_CH 8
+`define VL_EXP_CH 9
+`define VL_NQ(m) ((2 * (m) + 9 + (m) % 2 + `VL_RSQ_CH - 1) / `VL_RSQ_CH)
 `define VL_D_RSQ(m) (`VL_NQ(m) + 2)
-`define VL_NCH(m) (((m) + 4 + 8) / 9)
+`define VL_NCH(m) (((m) + 4 + `VL_EXP_CH - 1) / `VL_EXP_CH)
 `define VL_D_POW(m) (`VL_NCH(m) + 4)
 `define VL_FMIN(a, b) ((a) < 0 ? (b) : (b) < 0 ? (a) : (a) < (b) ? (a) : (b))
 `define VL_WT(f1, s1, f2, s2) (`VL_FMIN(f1, f2) < 0 ? 1 : `VL_MAX(s1, s2) + 1 - `VL_FMIN(f1, f2))
@@ -231,8 +236,8 @@ module vertex_lighting_rsq #(
   localparam QB = TWO_P - M + 1;  // quotient bits
   localparam QB2 = QB + (QB % 2);
   localparam RB = QB2 / 2;  // root bits
-  localparam CH = 8;  // steps per kept module
-  localparam NQ = (QB + CH - 1) / CH;  // division pieces
+  localparam CH = `VL_RSQ_CH;  // steps per kept module
+  localparam NQ = `VL_NQ(M);  // division pieces, ⌈QB / CH⌉
 
   // sig (doubled for an odd exponent, so the exponent halves exactly) and the lsb.
   `VL_WAIT_PARAM
@@ -489,8 +494,8 @@ module vertex_lighting_exp2 #(
 
   // The product over f's set bits, in kept modules of up to CH steps each (swept alone
   // by ABC: the whole chain in one module stalled its SAT sweep).
-  localparam CH = 9;
-  localparam NCH = (K + CH - 1) / CH;
+  localparam CH = `VL_EXP_CH;  // steps per kept module
+  localparam NCH = `VL_NCH(M);  // ⌈K / CH⌉
   genvar gc;
   generate
     for (gc = 0; gc < NCH; gc = gc + 1) begin : g_ch
@@ -911,6 +916,8 @@ endmodule
 `undef VL_WT
 `undef VL_NEXT
 `undef VL_NQ
+`undef VL_RSQ_CH
+`undef VL_EXP_CH
 `undef VL_D_RSQ
 `undef VL_NCH
 `undef VL_D_POW
