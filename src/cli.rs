@@ -353,9 +353,11 @@ fn sweep_merge(out: &std::path::Path, dirs: &[PathBuf]) -> Result<(), String> {
     let set = crate::report::shard::load(dirs)?;
     match set.id.kind.as_str() {
         "shafts" => crate::pipeline::shafts::sweep::merge_cli(&set, out),
-        "glare" | "shading" | "envmap" => crate::report::sweep_out::merge_sweep(&set, out),
+        "glare" | "shading" | "envmap" | "frame" => {
+            crate::report::sweep_out::merge_sweep(&set, out)
+        }
         other => Err(format!(
-            "{}: unknown kind of sweep '{other}' (known: shafts, glare, shading, envmap)",
+            "{}: unknown kind of sweep '{other}' (known: shafts, glare, shading, envmap, frame)",
             set.files[0].display()
         )),
     }
@@ -828,6 +830,19 @@ fn sweep_kinds(
         return crate::pipeline::envmap::sweep::envmap_sweep_cli(
             &s, scene, param, values, out, shard, resume,
         );
+    }
+    if scene != "test" {
+        let mut s = crate::scene::load::load_scene(scene)?;
+        if crate::frame::sweep::is_frame_scene(&s)? {
+            if let Some(img) = image {
+                let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+                s.image.width = w;
+                s.image.height = h;
+            }
+            return crate::frame::sweep::frame_sweep_cli(
+                &s, scene, param, values, out, shard, resume,
+            );
+        }
     }
     match glare_scene(scene)? {
         Some(mut s) => {

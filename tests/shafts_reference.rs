@@ -86,6 +86,7 @@ fn scene(
         shafts: ShaftsConfig::default(),
         glare: None,
         rounding: None,
+        shading_hw: None,
         environment: None,
     }
 }

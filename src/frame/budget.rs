@@ -347,6 +347,17 @@ pub fn sweep_points(
         base.image.width = w;
         base.image.height = h;
     }
+    if super::sweep::is_frame_scene(&base)? {
+        let p = super::sweep::resolve_param(&base, param)?;
+        let vs = crate::report::sweep_out::parse_int_values(values)?;
+        let scenes = super::sweep::frame_scenes(&base, &p, &vs)?;
+        return Ok(Some(
+            vs.iter()
+                .map(|v| format!("{} = {v}", p.qualified()))
+                .zip(scenes)
+                .collect(),
+        ));
+    }
     Ok(Some(if base.glare.is_some() {
         let vs = crate::report::sweep_out::parse_int_values(values)?;
         let scenes = crate::pipeline::glare::sweep::glare_scenes(&base, param, &vs)?;

@@ -99,16 +99,7 @@ pub fn render_cli(
         Some(path) => Some(super::reproduce::frame_error(&scene, &f, Some(path))?),
         None => None,
     };
-    let elaboration: Vec<_> = [
-        f.shafts.as_ref().map(|s| s.elaboration.clone()),
-        f.shaded.as_ref().map(|s| s.elaboration.clone()),
-        f.linked.as_ref().map(|l| l.shading.elaboration.clone()),
-        f.glare.as_ref().map(|(g, _)| g.elaboration.clone()),
-    ]
-    .into_iter()
-    .flatten()
-    .flatten()
-    .collect();
+    let elaboration = f.elaboration();
     if json {
         // `counters` is the drawing pipeline's map as before the frame existed (the
         // glare frame's for a glare scene, else the shafts frame's); every pipeline's

@@ -22,3 +22,4 @@ pub mod reflection;
 pub mod reproduce;
 pub mod run;
 pub mod speed;
+pub mod sweep;

@@ -144,6 +144,41 @@ pub fn plan(scene: &Scene) -> Result<Plan, ConfigError> {
     Ok(Plan { passes, prepared })
 }
 
+/// The pipelines whose widths a scene's frame uses, each once, in plan order:
+/// "shafts", "shading" (objects with a material), "environment" (reflectors of an
+/// environment map), "glare". An environment-map scene of the thesis is
+/// "environment" alone.
+pub fn frame_pipelines(scene: &Scene) -> Result<Vec<&'static str>, ConfigError> {
+    let mut v: Vec<&'static str> = Vec::new();
+    let mut add = |p: &'static str| {
+        if !v.contains(&p) {
+            v.push(p);
+        }
+    };
+    let has_material = scene.objects.iter().any(|o| o.material.is_some());
+    for pass in plan(scene)?.passes {
+        match pass.step {
+            Step::TestScene => {}
+            Step::EnvironmentScene => add("environment"),
+            Step::Shafts(_) => add("shafts"),
+            Step::ShadedObjects | Step::ShadedHighlights => {
+                if has_material {
+                    add("shading");
+                }
+                if scene
+                    .environment
+                    .as_ref()
+                    .is_some_and(|e| !e.reflectors.is_empty())
+                {
+                    add("environment");
+                }
+            }
+            Step::Glare => add("glare"),
+        }
+    }
+    Ok(v)
+}
+
 /// The plan of the foundation test scene: its passes are fixed.
 pub fn test_scene_plan() -> Plan {
     let p = |name: &str, reads: &[&str], writes: &[&str], units: &[&'static str]| Pass {

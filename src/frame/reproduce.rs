@@ -92,6 +92,20 @@ pub fn frame_error(
     f: &Frame,
     reference: Option<&Path>,
 ) -> Result<FrameError, String> {
+    let (e, ref_total) = frame_error_and_reference(scene, f)?;
+    if let Some(path) = reference {
+        let (w, h) = (scene.image.width, scene.image.height);
+        levels_png(&ref_total, w, h, path).map_err(|e| e.replacen("out:", "reference:", 1))?;
+    }
+    Ok(e)
+}
+
+/// The frame's error (module notes) and its composed f64 reference in 8-bit levels
+/// (row-major RGB): what `sweep` and `attribute` compare a frame scene against.
+pub fn frame_error_and_reference(
+    scene: &Scene,
+    f: &Frame,
+) -> Result<(FrameError, Vec<[f64; 3]>), String> {
     let (w, h) = (scene.image.width, scene.image.height);
     let n = (w * h) as usize;
     let all = vec![true; n];
@@ -207,15 +221,15 @@ pub fn frame_error(
         &ref_total,
         &all,
     );
-    if let Some(path) = reference {
-        levels_png(&ref_total, w, h, path).map_err(|e| e.replacen("out:", "reference:", 1))?;
-    }
     let bound = passes.iter().map(|p| p.mean_abs_frame).sum();
-    Ok(FrameError {
-        passes,
-        total,
-        bound,
-    })
+    Ok((
+        FrameError {
+            passes,
+            total,
+            bound,
+        },
+        ref_total,
+    ))
 }
 
 /// The scene the glare pass rendered (with the highlights the shading found).

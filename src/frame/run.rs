@@ -82,6 +82,21 @@ impl Frame {
         self.times.iter().map(|t| t.seconds).sum()
     }
 
+    /// Every pipeline's elaboration at the scene's widths (shafts, shading, glare),
+    /// in that order: the units the frame elaborated and those it left out.
+    pub fn elaboration(&self) -> Vec<crate::report::elaboration::Elaborated> {
+        [
+            self.shafts.as_ref().map(|s| s.elaboration.clone()),
+            self.shaded.as_ref().map(|s| s.elaboration.clone()),
+            self.linked.as_ref().map(|l| l.shading.elaboration.clone()),
+            self.glare.as_ref().map(|(g, _)| g.elaboration.clone()),
+        ]
+        .into_iter()
+        .flatten()
+        .flatten()
+        .collect()
+    }
+
     /// The counters of every pipeline, each under its pipeline's name.
     pub fn counters(&self) -> BTreeMap<String, BTreeMap<String, Counters>> {
         let mut out = BTreeMap::new();

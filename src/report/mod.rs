@@ -14,5 +14,6 @@ pub mod progress;
 pub mod resume;
 pub mod shard;
 pub mod spectrum;
+pub mod suggest;
 pub mod sweep_out;
 pub mod table;

@@ -160,6 +160,7 @@ pub fn fig4() -> Scene {
         },
         glare: None,
         rounding: None,
+        shading_hw: None,
         environment: None,
     }
 }
@@ -200,6 +201,7 @@ pub fn fig6() -> Scene {
         shafts: ShaftsConfig::default(),
         glare: None,
         rounding: None,
+        shading_hw: None,
         environment: None,
     }
 }
@@ -300,6 +302,7 @@ pub fn stage() -> Scene {
         shafts: ShaftsConfig::default(),
         glare: None,
         rounding: None,
+        shading_hw: None,
         environment: None,
     }
 }

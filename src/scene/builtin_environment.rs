@@ -64,6 +64,7 @@ fn environment_scene(map: &str, object: EnvObject, lambda: EnvLambda) -> Scene {
         shafts: ShaftsConfig::default(),
         glare: None,
         rounding: None,
+        shading_hw: None,
         environment: Some(EnvironmentSection {
             map: Some(map.to_string()),
             object: Some(object),

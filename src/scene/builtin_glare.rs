@@ -73,6 +73,7 @@ fn glare_scene(name: &str, seed: u64, camera: Camera, glare: GlareSection) -> Sc
         shafts: ShaftsConfig::default(),
         glare: Some(glare),
         rounding: None,
+        shading_hw: None,
         environment: None,
     }
 }
@@ -196,6 +197,7 @@ pub fn street_light() -> Scene {
         shafts: ShaftsConfig::default(),
         glare: Some(g),
         rounding: None,
+        shading_hw: None,
         environment: None,
     }
 }

@@ -188,6 +188,7 @@ pub fn night_street() -> Scene {
         // The street's surroundings as the chrome ball reflects them: Venice at dusk
         // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
         rounding: None,
+        shading_hw: None,
         environment: Some(EnvironmentSection {
             map: Some("venice_sunset".into()),
             exposure: Some(NIGHT_EXPOSURE),

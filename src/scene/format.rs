@@ -39,6 +39,10 @@ pub struct Scene {
     /// filter, weight); none = the GeForce-style defaults (docs/shading.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rounding: Option<super::limits::GlRounding>,
+    /// The widths of the shading units the object pass runs; none = the GeForce
+    /// defaults (`scene::shading_hw`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shading_hw: Option<super::shading_hw::ShadingHw>,
 }
 
 fn default_seed() -> u64 {

@@ -16,6 +16,7 @@ pub mod limits;
 pub mod load;
 pub mod material;
 pub mod math;
+pub mod shading_hw;
 pub mod teapot;
 pub mod test_scene;
 pub mod validate;

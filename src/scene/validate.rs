@@ -88,6 +88,9 @@ impl Scene {
             validate_object(o).map_err(|e| e.within(&format!("objects[{i}]")))?;
         }
         validate_shafts(&self.shafts).map_err(|e| e.within("shafts"))?;
+        if let Some(hw) = &self.shading_hw {
+            hw.validate()?;
+        }
         super::limits::check_shafts(self)?;
         if let Some(env) = &self.environment {
             env.validate()?;

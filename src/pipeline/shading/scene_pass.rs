@@ -62,6 +62,22 @@ pub fn shade_scene(
     shade_objects(scene, light, intensity, radius, &|_| true)
 }
 
+/// The shading path's configuration in a scene's frame: its `[rounding]` and its
+/// `[shading_hw]` widths (each the GeForce default without the section).
+pub fn path_config(scene: &Scene) -> PathConfig {
+    let mut cfg = PathConfig {
+        rounding: crate::scene::limits::GlRounding::of(scene),
+        ..PathConfig::default()
+    };
+    if let Some(hw) = scene.shading_hw {
+        cfg.cube.face_side = hw.cube_face;
+        cfg.lookup.table_log2 = hw.lookup_log2;
+        cfg.factor_resolution = hw.factor_size;
+        cfg.factor_bits = hw.factor_bits;
+    }
+    cfg
+}
+
 /// [`shade_scene`] for the objects `selected` accepts: a pixel whose nearest object is
 /// not selected is left to another pass (None), and costs no shading work.
 pub fn shade_objects(
@@ -76,10 +92,7 @@ pub fn shade_objects(
         .get(light)
         .map(|l| vec3(l.position))
         .ok_or_else(|| ConfigError::invalid("glare.shaded_highlights.light", "no such light"))?;
-    let cfg = PathConfig {
-        rounding: crate::scene::limits::GlRounding::of(scene),
-        ..PathConfig::default()
-    };
+    let cfg = path_config(scene);
     let paths: Vec<ShadingPath> = scene
         .objects
         .iter()

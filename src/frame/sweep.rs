@@ -1,0 +1,252 @@
+//! `sweep` on a frame scene: a scene whose frame runs more than one pipeline
+//! (`night-street`, `shaded-metal`, `shaded-dielectric`, `street-light`, a file like
+//! them). Any width of any pipeline the frame runs can be swept; each value's scene is
+//! rendered through the frame as `render` renders it and compared with the frame's
+//! composed f64 reference (`reproduce::frame_error_and_reference`), so the error is
+//! the whole picture's, every pass's sources included.
+//!
+//! A parameter is named as `PIPELINE.FIELD` (`shafts.planes`, `glare.fb_bits`,
+//! `environment.side`, `shading.cube_face`) or by its field alone when only one
+//! pipeline of the scene has a field of that name (`planes`); a name two pipelines
+//! share (`fb_bits` on a scene with shafts and glare) is refused naming both.
+//!
+//! A row holds the frame's error (mean |Δ|, RMS, max in 8-bit levels over every pixel
+//! and channel), the predicted frame time (the sum over passes, `render`'s), the
+//! simulation's wall time, and the gates and RAM bits of every unit the frame's
+//! pipelines elaborated at that value. The CSV, plot, resume and shards are those of
+//! the other sweeps (`report::sweep_out`).
+
+use super::plan::frame_pipelines;
+use super::reproduce::frame_error_and_reference;
+use super::run::render;
+use crate::pipeline::glare::sweep::{apply as apply_glare, GLARE_PARAMS};
+use crate::pipeline::shafts::sweep::{Param as ShaftsParam, Value as ShaftsValue};
+use crate::report::metrics::error_stats;
+use crate::report::progress::try_map_with_progress;
+use crate::report::resume::Journal;
+use crate::report::shard::{Shard, SweepId};
+use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
+use crate::scene::format::Scene;
+use crate::scene::shading_hw::SHADING_HW_FIELDS;
+use std::path::Path;
+
+/// Whether `scene` is a frame scene for `sweep` and `attribute`: its frame runs the
+/// widths of more than one pipeline (an environment-map scene of the thesis and a
+/// single pipeline's scene keep their own sweep and attribution).
+pub fn is_frame_scene(scene: &Scene) -> Result<bool, String> {
+    Ok(frame_pipelines(scene).map_err(|e| e.to_string())?.len() > 1)
+}
+
+/// One sweepable field of a frame scene: its pipeline and qualified name.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameParam {
+    pub pipeline: &'static str,
+    /// The field's name within its pipeline (`planes`, `fb_bits`, `side`).
+    pub field: &'static str,
+}
+
+impl FrameParam {
+    /// `shafts.planes`, `glare.fb_bits`, `environment.side`, `shading.cube_face`.
+    pub fn qualified(&self) -> String {
+        format!("{}.{}", self.pipeline, self.field)
+    }
+
+    /// Set this field of `s` to `v` (no validation: the caller validates the scene).
+    pub fn apply(&self, s: &mut Scene, v: u32) -> Result<(), String> {
+        match self.pipeline {
+            "shafts" => {
+                let p = ShaftsParam::from_name(self.field)?;
+                p.apply(&mut s.shafts, ShaftsValue::One(v))
+            }
+            "glare" => {
+                let g = s
+                    .glare
+                    .as_mut()
+                    .ok_or("scene: it has no [glare] section to sweep")?;
+                apply_glare(&mut g.hw, self.field, v)
+            }
+            "environment" => {
+                let e = s
+                    .environment
+                    .as_mut()
+                    .ok_or("scene: it has no [environment] section to sweep")?;
+                e.side = v;
+                Ok(())
+            }
+            "shading" => s
+                .shading_hw
+                .get_or_insert_with(Default::default)
+                .set(self.field, v),
+            other => Err(format!("internal: no pipeline '{other}'")),
+        }
+    }
+}
+
+/// Every field a frame sweep can change on `scene`, by the pipelines its frame runs
+/// (shafts' pair-valued `mesh` and `h_texels` are not among them: a frame sweep's
+/// values are whole numbers).
+pub fn frame_params(scene: &Scene) -> Result<Vec<FrameParam>, String> {
+    let pipelines = frame_pipelines(scene).map_err(|e| e.to_string())?;
+    let mut v = Vec::new();
+    for p in pipelines {
+        let fields: Vec<&'static str> = match p {
+            "shafts" => ShaftsParam::ALL
+                .iter()
+                .filter(|p| !p.is_pair())
+                .map(|p| p.name())
+                .collect(),
+            "glare" => GLARE_PARAMS.to_vec(),
+            "environment" => vec!["side"],
+            "shading" => SHADING_HW_FIELDS.to_vec(),
+            _ => vec![],
+        };
+        v.extend(
+            fields
+                .into_iter()
+                .map(|field| FrameParam { pipeline: p, field }),
+        );
+    }
+    Ok(v)
+}
+
+/// `param` as one of `scene`'s frame params (module notes); errors name `param` and
+/// list the valid names.
+pub fn resolve_param(scene: &Scene, param: &str) -> Result<FrameParam, String> {
+    let all = frame_params(scene)?;
+    let norm = param.trim().replace('-', "_");
+    let norm = norm
+        .strip_prefix("glare.hw.")
+        .map(|f| format!("glare.{f}"))
+        .or_else(|| {
+            norm.strip_prefix("envmap.")
+                .map(|f| format!("environment.{f}"))
+        })
+        .unwrap_or(norm);
+    let hits: Vec<&FrameParam> = all
+        .iter()
+        .filter(|p| p.qualified() == norm || p.field == norm)
+        .collect();
+    match hits.as_slice() {
+        [one] => Ok((*one).clone()),
+        [] => {
+            let names: Vec<String> = all.iter().map(FrameParam::qualified).collect();
+            let near = crate::report::suggest::nearest(&norm, names.iter().map(String::as_str));
+            Err(format!(
+                "param: '{param}' is not a width of this frame's pipelines{} (valid: {})",
+                near.map_or(String::new(), |n| format!("; did you mean {n}?")),
+                names.join(", ")
+            ))
+        }
+        many => Err(format!(
+            "param: '{param}' names a field of several pipelines of this frame; say which: {}",
+            many.iter()
+                .map(|p| p.qualified())
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )),
+    }
+}
+
+/// The scene of each value, validated: an invalid value is an error naming the field
+/// and the value, before anything runs.
+pub fn frame_scenes(base: &Scene, p: &FrameParam, values: &[u32]) -> Result<Vec<Scene>, String> {
+    values
+        .iter()
+        .map(|&v| {
+            let mut s = base.clone();
+            p.apply(&mut s, v)
+                .map_err(|e| format!("{e} (value {} = {v})", p.qualified()))?;
+            s.validate()
+                .map_err(|e| format!("{e} (value {} = {v})", p.qualified()))?;
+            Ok(s)
+        })
+        .collect()
+}
+
+/// One row: render `s` through its frame and compare it with the composed reference.
+pub fn frame_row(s: &Scene, p: &FrameParam, value: u32) -> Result<SweepRow, String> {
+    let f = render(s).map_err(|e| e.to_string())?;
+    let (_, reference) = frame_error_and_reference(s, &f)?;
+    let st = error_stats(&f.fb.levels(), &reference).map_err(|e| e.to_string())?;
+    let units = f.elaboration();
+    let summaries = units.iter().filter_map(|u| u.summary.as_ref());
+    Ok(SweepRow {
+        param: p.qualified(),
+        value,
+        mean_abs_levels: st.mean_abs,
+        rms_levels: st.rms,
+        max_levels: st.max,
+        predicted_hw_seconds: f.predicted_seconds(),
+        wall_seconds: f.wall_seconds,
+        gates_nand2: summaries.clone().map(|u| u.gates_nand2).sum(),
+        ram_bits: summaries.map(|u| u.ram_bits).sum(),
+    })
+}
+
+fn frame_rows(
+    scenes: &[Scene],
+    p: &FrameParam,
+    values: &[u32],
+    only: Option<Shard>,
+    journal: &mut Journal<SweepRow>,
+) -> Result<(), String> {
+    let todo = journal.pending(scenes, only);
+    try_map_with_progress(&todo, &format!("sweep {}", p.qualified()), |&(i, s)| {
+        let row = frame_row(s, p, values[i])?;
+        journal.record(i, row)
+    })?;
+    Ok(())
+}
+
+fn title(base: &Scene, param: &str) -> String {
+    format!(
+        "{}: frame error and run time against {param}",
+        base.short_name()
+    )
+}
+
+/// The CLI: the whole sweep into `out/sweep_<param>.csv` and `.png` (`param`
+/// qualified, e.g. `sweep_shafts.planes.csv`), or with `shard` only its share, for
+/// `sweep merge`; continuing with `resume`.
+pub fn frame_sweep_cli(
+    scene: &Scene,
+    scene_arg: &str,
+    param: &str,
+    values: &str,
+    out: &Path,
+    shard: Option<Shard>,
+    resume: bool,
+) -> Result<(), String> {
+    let p = resolve_param(scene, param)?;
+    let values = parse_int_values(values)?;
+    // Every value is checked before a journal removes an old CSV.
+    let scenes = frame_scenes(scene, &p, &values)?;
+    let name = p.qualified();
+    let id = SweepId::of_scene(
+        "frame",
+        scene,
+        (scene.image.width, scene.image.height),
+        scene_arg,
+        &name,
+        &values,
+        title(scene, &name),
+    )?;
+    if let Some(shard) = shard {
+        let mut journal = Journal::shard(out, &id, shard, resume)?;
+        frame_rows(&scenes, &p, &values, Some(shard), &mut journal)?;
+        return shard_sweep(out, &id, shard, &journal.into_rows());
+    }
+    let csv = out.join(format!("sweep_{name}.csv"));
+    let mut journal = Journal::plain(&csv, &id, resume, |r: &SweepRow| r.value.to_string())?;
+    frame_rows(&scenes, &p, &values, None, &mut journal)?;
+    let rows: Vec<SweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
+    let (csv, png) = write_sweep(&rows, &title(scene, &name), &name, out)?;
+    println!(
+        "sweep {name} on {} (the whole frame against its composed reference): wrote {} and {}",
+        scene.name,
+        csv.display(),
+        png.display()
+    );
+    print!("{}", sweep_table(&name, &rows));
+    Ok(())
+}
