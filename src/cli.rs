@@ -913,7 +913,20 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
     s.validate().map_err(|e| e.to_string())?;
     check_attribute_out(out)?;
     let t0 = std::time::Instant::now();
-    let (a, kind) = if s.glare.is_some() {
+    let (a, kind) = if crate::frame::sweep::is_frame_scene(&s)? {
+        let kinds = crate::frame::plan::frame_pipelines(&s)
+            .map_err(|e| e.to_string())?
+            .join(" + ");
+        let a = crate::frame::attribute::attribute_frame(&s, out)?;
+        print_attribution(
+            scene,
+            &format!("frame: {kinds}"),
+            (s.image.width, s.image.height),
+            &a,
+            t0,
+        )?;
+        return Ok(());
+    } else if s.glare.is_some() {
         let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
             Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
         } else {

@@ -9,6 +9,7 @@
 //! glare conditions).
 
 pub mod assumptions;
+pub mod attribute;
 pub mod budget;
 pub mod check;
 pub mod chip;

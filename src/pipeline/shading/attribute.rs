@@ -248,3 +248,67 @@ pub fn config_for_cli(scene: &str, image: Option<(u32, u32)>) -> Result<ShadingC
     c.check()?;
     Ok(c)
 }
+
+/// The shading units' sources in a frame scene (`[shading_hw]`; `frame::attribute`):
+/// the normalisation cube's face side for every material, the specular lookup's size
+/// where a Phong or Blinn–Phong material runs it, the factor textures' side and texel
+/// bits where a factored material does; each set to the widest this module's sphere
+/// attribution uses.
+pub fn scene_sources(
+    base: &crate::scene::format::Scene,
+) -> Vec<Source<crate::scene::format::Scene>> {
+    use crate::scene::shading_hw::ShadingHw;
+    let hw = base.shading_hw.unwrap_or_default();
+    let kinds: Vec<&str> = base
+        .objects
+        .iter()
+        .filter_map(|o| o.material.as_ref().map(lobe_kind))
+        .collect();
+    let mut v: Vec<Source<crate::scene::format::Scene>> = Vec::new();
+    let mut add = |name: &str, field: &str, from: u32, to: u32, set: fn(&mut ShadingHw, u32)| {
+        let to = to.max(from);
+        v.push(Source {
+            name: name.into(),
+            ideal: format!("shading_hw.{field} {from} → {to}"),
+            make_ideal: Box::new(move |s| {
+                set(s.shading_hw.get_or_insert_with(Default::default), to)
+            }),
+        })
+    };
+    if kinds.is_empty() {
+        return v;
+    }
+    add(
+        "normalisation cube resolution",
+        "cube_face",
+        hw.cube_face,
+        512,
+        |h, x| h.cube_face = x,
+    );
+    if kinds.contains(&"lookup") {
+        add(
+            "specular lookup table size",
+            "lookup_log2",
+            hw.lookup_log2,
+            12,
+            |h, x| h.lookup_log2 = x,
+        );
+    }
+    if kinds.contains(&"factored") {
+        add(
+            "factor texture resolution",
+            "factor_size",
+            hw.factor_size,
+            256,
+            |h, x| h.factor_size = x,
+        );
+        add(
+            "factor texel bits",
+            "factor_bits",
+            hw.factor_bits,
+            16,
+            |h, x| h.factor_bits = x,
+        );
+    }
+    v
+}
