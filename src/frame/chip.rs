@@ -3,8 +3,9 @@
 //! what was left out with the gates it saved. `units --scene FILE` prints it.
 //!
 //! Gates and RAM bits are each unit's at its registry defaults (`units`), so two
-//! scenes' chips compare like for like; a pipeline's own elaboration (printed by
-//! `render`) has the scene's widths.
+//! scenes' chips compare like for like, and the tables say so; once the frame has run,
+//! `render` reports the chip it really elaborated, at the scene's widths
+//! (`Frame::elaboration`), as its one chip table.
 
 use super::plan::{environment_scene, shafts_backdrop};
 use crate::pipeline::shading::materials::lobe_kind;
@@ -126,6 +127,11 @@ pub const INSTANCES: &[(&str, &str, Feature)] = &[
     ("texture_sampler (h)", "texture_sampler", Feature::Fog),
     ("additive_blend (J buffer)", "additive_blend", Feature::Fog),
     (
+        "cube_map_address (normalisation cube)",
+        "cube_map_address",
+        Feature::Shading,
+    ),
+    (
         "texture_sampler (normalisation cube)",
         "texture_sampler",
         Feature::Shading,
@@ -135,6 +141,11 @@ pub const INSTANCES: &[(&str, &str, Feature)] = &[
     (
         "texture_sampler (factor textures)",
         "texture_sampler",
+        Feature::Shading,
+    ),
+    (
+        "modulate_chain (factor product)",
+        "modulate_chain",
         Feature::Shading,
     ),
     (
@@ -178,7 +189,10 @@ fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static st
     let fog = backdrop && lit && scatters(&scene.medium);
     let glare = scene.glare.as_ref();
     let present = match feature {
-        Feature::Objects => gpu_objects || fog,
+        // An environment-map scene draws its object through the interpolator alone.
+        Feature::Objects => {
+            gpu_objects || fog || instance == "polygon_interpolator" && environment_scene(scene)
+        }
         Feature::Shadows => {
             backdrop && !scene.lights.is_empty() && scene.objects.iter().any(|o| o.occluder)
                 || instance == "projective_texcoord" && light_maps(scene)
@@ -196,19 +210,13 @@ fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static st
                     .as_ref()
                     .is_some_and(|e| !e.reflectors.is_empty())
         }
-        Feature::Highlights => glare.is_some_and(|g| {
-            !g.highlights.is_empty()
-                || g.shaded_highlights.is_some()
-                    && scene
-                        .objects
-                        .iter()
-                        .any(|o| o.material.is_some_and(|m| m.has_specular()))
-        }),
+        Feature::Highlights => highlights_to_test(scene),
         Feature::Glare => glare.is_some(),
     };
     if !present {
         return Some(feature.absent_because());
     }
+    let highlights = highlights_to_test(scene);
     let g = glare;
     let lobe = |kind: &str| {
         scene
@@ -219,7 +227,11 @@ fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static st
     };
     match instance {
         "specular_lookup" if !lobe("lookup") => Some("no Phong or Blinn–Phong lobe"),
-        "texture_sampler (factor textures)" if !lobe("factored") => Some("no factored BRDF"),
+        "texture_sampler (factor textures)" | "modulate_chain (factor product)"
+            if !lobe("factored") =>
+        {
+            Some("no factored BRDF")
+        }
         "shadow_compare (depth buffer)" if !gpu_objects => Some("no objects drawn by the GPU"),
         "additive_blend (J buffer)" if scene.shafts.subplanes <= 1 => {
             Some("m = 1: no sub-sample planes")
@@ -227,14 +239,31 @@ fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static st
         "chaos_map" if !g.is_some_and(|g| g.sources.iter().any(|s| s.fluctuation.is_some())) => {
             Some("no fluctuating glare source")
         }
-        "gaussian_noise" if !g.is_some_and(|g| g.sources.iter().any(|s| s.flare)) => {
-            Some("no glare source with flare lines")
+        // A highlight that passes the glare conditions becomes a source with halo and
+        // flare lines: which ones pass is found per frame, so the chip has both units.
+        "gaussian_noise"
+            if !g.is_some_and(|g| g.sources.iter().any(|s| s.flare)) && !highlights =>
+        {
+            Some("no glare source with flare lines, no highlight to test")
         }
-        "halo_modulator" if !g.is_some_and(|g| g.sources.iter().any(|s| s.halo)) => {
-            Some("no glare source with a halo")
+        "halo_modulator" if !g.is_some_and(|g| g.sources.iter().any(|s| s.halo)) && !highlights => {
+            Some("no glare source with a halo, no highlight to test")
         }
         _ => None,
     }
+}
+
+/// Whether the glare conditions have a highlight to test: one written in the scene,
+/// or a specular material under `glare.shaded_highlights`.
+fn highlights_to_test(scene: &Scene) -> bool {
+    scene.glare.as_ref().is_some_and(|g| {
+        !g.highlights.is_empty()
+            || g.shaded_highlights.is_some()
+                && scene
+                    .objects
+                    .iter()
+                    .any(|o| o.material.is_some_and(|m| m.has_specular()))
+    })
 }
 
 /// Whether a spot light carries a light map (drawn by the shafts passes).
@@ -291,13 +320,13 @@ pub fn chip_table(chip: &Chip) -> String {
             "unit instance",
             "feature",
             "elaborated",
-            "gates_nand2",
-            "ram_bits",
+            "gates_nand2 (defaults)",
+            "ram_bits (defaults)",
         ],
         &rows,
     );
     s.push_str(&format!(
-        "chip: {} of {} unit instances, {:.0} NAND2 gates, {} RAM/ROM bits; left out {} ({:.0} gates saved)\n",
+        "chip: {} of {} unit instances, {:.0} NAND2 gates, {} RAM/ROM bits at the registry's default widths; left out {} ({:.0} gates saved)\n",
         chip.present().count(),
         chip.units.len(),
         chip.gates(),

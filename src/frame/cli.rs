@@ -6,7 +6,7 @@ use super::chip::{chip_table, elaborate};
 use super::plan::{plan, plan_table, test_scene_plan};
 use super::run::render_with_progress;
 use crate::pipeline::shafts::cli::{load_scene, reference_image};
-use crate::report::table::{counters_table, elaboration_table, text_table};
+use crate::report::table::{chip_elaboration_table, counters_table, text_table};
 use std::path::Path;
 
 /// `render --scene NAME [--plan]`. Before any work: the output paths are checked
@@ -62,7 +62,7 @@ pub fn render_cli(
         if !json {
             let p = plan(&scene).map_err(|e| e.to_string())?;
             print!(
-                "pass plan:\n{}\nchip:\n{}\n",
+                "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths):\n{}\n",
                 plan_table(&p),
                 chip_table(&chip)
             );
@@ -82,7 +82,7 @@ pub fn render_cli(
             );
         } else {
             print!(
-                "pass plan:\n{}\nchip:\n{}",
+                "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths, `render` reports them at the scene's):\n{}",
                 plan_table(&p),
                 chip_table(&chip)
             );
@@ -113,10 +113,9 @@ pub fn render_cli(
         let v = serde_json::json!({
             "scene": scene.name,
             "plan": f.plan.passes,
-            "chip": chip,
+            "chip": elaboration,
             "counters": counters,
             "counters_by_pipeline": f.counters(),
-            "elaboration": elaboration,
             "gpu": f.gpu.name(),
             "predicted_by_pass": f.times,
             "predicted_seconds": f.predicted_seconds(),
@@ -140,13 +139,12 @@ pub fn render_cli(
         f.wall_seconds
     );
     print!("\npass plan:\n{}", plan_table(&f.plan));
-    print!("\nchip:\n{}", chip_table(&chip));
     for (pipeline, c) in f.counters() {
         print!("\n{pipeline} counters:\n{}", counters_table(&c));
     }
     print!(
-        "\nelaboration (each pipeline, at the scene's widths):\n{}",
-        elaboration_table(&elaboration)
+        "\nchip (the units each pass elaborated, at the scene's widths):\n{}",
+        chip_elaboration_table(&elaboration)
     );
     if let Some(l) = &f.linked {
         print!("\n{}", crate::frame::glare_link::summary(l));

@@ -85,3 +85,20 @@ pub fn elaboration_table(units: &[crate::report::elaboration::Elaborated]) -> St
         &rows,
     )
 }
+
+/// [`elaboration_table`] with its totals: the chip a frame really elaborated, at the
+/// scene's widths (what `render` reports as its one chip).
+pub fn chip_elaboration_table(units: &[crate::report::elaboration::Elaborated]) -> String {
+    let present: Vec<&rtl_model::UnitSummary> =
+        units.iter().filter_map(|e| e.summary.as_ref()).collect();
+    let left_out: Vec<_> = units.iter().filter(|e| e.left_out.is_some()).collect();
+    format!(
+        "{}chip: {} units elaborated at the scene's widths, {:.0} NAND2 gates, {} RAM/ROM bits; left out {} ({:.0} gates saved)\n",
+        elaboration_table(units),
+        present.len(),
+        present.iter().map(|s| s.gates_nand2).sum::<f64>(),
+        present.iter().map(|s| s.ram_bits).sum::<u64>(),
+        left_out.len(),
+        left_out.iter().map(|e| e.gates_saved).sum::<f64>()
+    )
+}
