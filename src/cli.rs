@@ -140,7 +140,7 @@ pub enum Command {
     /// scenes) as TOML, to start a scene file from:
     /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
     Scene { name: String },
-    /// Bit-width optimisation (issue 21, docs/optimize.md): from the GeForce defaults,
+    /// Bit-width optimisation (docs/optimize.md): from the GeForce defaults,
     /// the cheapest widths of a shafts, glare, environment-map or shading scene within an error budget (a greedy
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
     /// (every configuration evaluated), DIR/pareto.png (the objective against the first
@@ -148,7 +148,7 @@ pub enum Command {
     /// `render --scene`; for a shading scene its `[shading]` file form), verified by a
     /// fresh render.
     Optimize(crate::frame::optimize::cli::OptimizeArgs),
-    /// Error attribution (issue 18): render the scene as configured, then once per
+    /// Error attribution: render the scene as configured, then once per
     /// error source with only that source made ideal (a wide width, a larger table,
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
     /// DIR/attribution.png (shares of the squared error) and a difference image per
@@ -323,7 +323,7 @@ pub struct SweepArgs {
     pub max_memory: Option<u64>,
     /// Add each row's dominant error source (`attribute` at that row's configuration)
     /// as the columns dominant_source and dominant_share; the attributions go to
-    /// DIR/attribute_<param>_<value>/. Shading scenes only (issue 18), not with
+    /// DIR/attribute_<param>_<value>/. Shading scenes only, not with
     /// --shard or --resume.
     #[arg(long)]
     pub attribute: bool,
@@ -612,7 +612,7 @@ fn reproduce(
     if name.starts_with("envmap-") {
         // Refuse a malformed ENVMAP_PATTERN_SIZE before any build or file.
         crate::pipeline::envmap::reproduce::cli_env("pattern")?;
-        // And an ENVMAP_TABLE3_S beyond the supported side (issue 17).
+        // And an ENVMAP_TABLE3_S beyond the supported side.
         crate::pipeline::envmap::reproduce::cli_side()?;
         crate::pipeline::envmap::reproduce::cli_thresholds()?;
     }
@@ -742,7 +742,7 @@ fn reproduce(
         out.display(),
         t0.elapsed().as_secs_f64()
     );
-    // The range warnings of the frames it rendered (issue 16), once each.
+    // The range warnings of the frames it rendered, once each.
     if let Some(points) = points {
         crate::frame::range::print_points(&crate::frame::range::check_points(&points));
     }

@@ -1,4 +1,4 @@
-//! `reproduce assumptions` (issue 19): every constant the papers leave open or state
+//! `reproduce assumptions`: every constant the papers leave open or state
 //! differently that has a selectable alternative in the scene file is rendered both
 //! ways on the built-ins it affects; a CSV row per (assumption, alternative, scene)
 //! gives the difference from the scene as it is (RMS, max and mean |Δ| in 8-bit

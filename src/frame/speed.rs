@@ -1,4 +1,4 @@
-//! `reproduce sim-speed`: the simulator's own wall time (issue 15), measured in one
+//! `reproduce sim-speed`: the simulator's own wall time, measured in one
 //! run so that ratios compare like with like on whatever machine runs it.
 //!
 //! - The Fig. 6(b) frame (built-in `fig6`, 720 × 480, n = 30, m = 6) bit-accurately

@@ -68,7 +68,7 @@ pub struct GpuModel {
 }
 
 impl GpuModel {
-    /// GeForce2 GTS defaults (SPEC E and docs/throughput.md).
+    /// GeForce2 GTS defaults (NVIDIA's published figures; docs/throughput.md).
     pub fn geforce2_gts() -> Self {
         GpuModel {
             clock_hz: 200e6,
@@ -99,7 +99,7 @@ impl GpuModel {
 }
 
 impl GpuModel {
-    /// GeForce3 (SPEC E; the environment-map thesis' card): 200 MHz, 4 pipes × 2
+    /// GeForce3 (Okumura's thesis' card): 200 MHz, 4 pipes × 2
     /// texture units, 3D textures, 4 textures per pass, about 7.36 GB/s (230 MHz DDR on
     /// a 128-bit bus); the cache, depth, set-up and overhead as the GTS.
     pub fn geforce3() -> Self {

@@ -1,4 +1,4 @@
-//! f64 twin of `chaos_map`: the intermittent map of SPEC B (9)–(11) and the patch
+//! f64 twin of `chaos_map`: the intermittent map of Matsuda and Ikedo (9)–(11) and the patch
 //! average I_p = I·(1/n)·Σ S_i. Never NaN: S = 0 gives 0^z = 0; a, z are taken as
 //! given (the caller keeps 0 < a < 1, 1 < z < 2).
 

@@ -1,4 +1,4 @@
-//! f64 twin of `glare_condition` (SPEC B, Table 2), on real values:
+//! f64 twin of `glare_condition` (Matsuda and Ikedo, Table 2), on real values:
 //! metallic I_ps = I·I_s·cos²α, water I_ps = I·cos α (cos α < 0 → no highlight, both
 //! materials); contrast_ok = I_ps ≥ T·I_a; water also needs total internal reflection
 //! 1 − η²(1 − cos²θ) < 0; the highlight value saturates at `out_max`.

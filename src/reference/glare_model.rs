@@ -1,4 +1,4 @@
-//! The glare formulas in f64 (SPEC B): bloom (1), (3), (4), halo (2), (5), flare lines
+//! The glare formulas in f64 (Matsuda and Ikedo): bloom (1), (3), (4), halo (2), (5), flare lines
 //! (6) with the R1 forms of docs/glare.md, the determinants' factors, the 2D source
 //! shapes on screen and their distance functions, and the reference image.
 //!

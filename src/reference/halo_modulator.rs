@@ -48,7 +48,7 @@ pub fn halo_modulator_radial(
     (d, lum)
 }
 
-/// Ring centre for wavelength λ (nm), SPEC B eq. (5): θ₁ · λ / 568.
+/// Ring centre for wavelength λ (nm), Matsuda and Ikedo eq. (5): θ₁ · λ / 568.
 pub fn ring_radius(theta1: f64, lambda_nm: f64) -> f64 {
     theta1 * lambda_nm / 568.0
 }

@@ -1,4 +1,4 @@
-//! Phong ground truth (f64) of a glossy reflector in an environment map — SPEC C,
+//! Phong ground truth (f64) of a glossy reflector in an environment map —
 //! eqs. (1)–(5) of Okumura's thesis:
 //!
 //! L(r, n, Λ) = K_r ∫_Ω f(cos θ, cos φ, Λ) L_i dl,   f = cos^Λ θ if cos θ ≥ 0 and

@@ -1,6 +1,6 @@
 //! The shafts' ray-marching reference (Nishita 1987 style, the paper's "truth"):
 //! per pixel, the camera ray, the first surface, and the single-scattering integral
-//! I_s by the midpoint rule with a shadow ray at every sample (SPEC A (1)–(4)).
+//! I_s by the midpoint rule with a shadow ray at every sample (Dobashi et al. eqs. (1)–(4)).
 //!
 //! ## Exactly what is computed (the hardware pipeline uses the same formulas)
 //! * **Camera ray.** Frame as `Mat4::look_at(eye, look_at, up)`: f = norm(look_at − eye),

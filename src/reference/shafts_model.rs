@@ -1,4 +1,4 @@
-//! The single-scattering model of the light shafts (SPEC A, Dobashi et al.), in f64:
+//! The single-scattering model of the light shafts (Dobashi et al.), in f64:
 //!
 //! * I_v = I_o · exp(−ρκT) + I_s                                  (1)
 //! * I_s = ∫₀ᵀ H(t) · I_l(t) · g(α, s, t) dt                        (2)

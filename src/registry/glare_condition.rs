@@ -1,4 +1,4 @@
-//! `glare_condition`: whether a specular highlight becomes a glare source (SPEC B, Table 2).
+//! `glare_condition`: whether a specular highlight becomes a glare source (Matsuda and Ikedo, Table 2).
 
 use super::{seeded, trace_unit, UnitEntry};
 use rand::Rng;

@@ -1,4 +1,4 @@
-//! Error attribution by ablation (issue 18): which unit, table or host approximation a
+//! Error attribution by ablation: which unit, table or host approximation a
 //! scene's error against its f64 reference comes from.
 //!
 //! The scene is rendered once as configured, then once per error source with only

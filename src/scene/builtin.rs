@@ -1,4 +1,4 @@
-//! Built-in scenes: the paper's test scenes (Dobashi et al., SPEC A), 720 × 480.
+//! Built-in scenes: the paper's test scenes (Dobashi et al.), 720 × 480.
 //!
 //! # Brightness
 //!

@@ -1,4 +1,4 @@
-//! Built-in environment-map scenes (SPEC C, Okumura's thesis §4.3): every built-in
+//! Built-in environment-map scenes (Okumura's thesis §4.3): every built-in
 //! map × the sphere and the teapot, named `env-<map>-<object>`, rendered as
 //! `reproduce envmap-images` and the golden test render them: the thesis camera,
 //! 256 × 256, the accelerated 128³ map (th = 0.001) at the map's auto exposure, the

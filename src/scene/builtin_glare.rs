@@ -1,4 +1,4 @@
-//! Built-in glare scenes (SPEC B, the paper's Figs. 4, 5, 7, 8), 720 × 480.
+//! Built-in glare scenes (Matsuda and Ikedo, the paper's Figs. 4, 5, 7, 8), 720 × 480.
 //!
 //! The camera's 25° field of view puts ~19 pixels on a degree, so the halo's 3°
 //! ring is ~57 pixels across and its 0.35° width ~7 pixels, and the bloom's tail

@@ -1,4 +1,4 @@
-//! The `[environment]` section of a scene (SPEC C, Okumura's multi-scale environment
+//! The `[environment]` section of a scene (Okumura's multi-scale environment
 //! map): which environment (a built-in map or a Radiance `.hdr` file), how its voxel
 //! map is built (side s, prefilter), and the thesis object drawn with it (sphere or
 //! teapot, smoothness λ, lookup path, background). The scene's `camera` and `image`

@@ -1,5 +1,5 @@
 //! Environment maps (host side, f64): the input of the multi-scale environment map
-//! (SPEC C, Okumura's thesis) and of its Phong ground truth.
+//! (Okumura's thesis) and of its Phong ground truth.
 //!
 //! # Conventions (shared with `reference::envmap_prefilter`)
 //!

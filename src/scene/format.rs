@@ -28,10 +28,10 @@ pub struct Scene {
     pub objects: Vec<Object>,
     #[serde(default)]
     pub shafts: ShaftsConfig,
-    /// Glare sources and the glare renderer's settings (SPEC B); none = no glare.
+    /// Glare sources and the glare renderer's settings (Matsuda and Ikedo); none = no glare.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glare: Option<super::glare::GlareSection>,
-    /// An environment map and the thesis object drawn with it (SPEC C); none = no
+    /// An environment map and the thesis object drawn with it (Okumura's thesis); none = no
     /// environment.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub environment: Option<super::environment::EnvironmentSection>,
@@ -99,7 +99,7 @@ fn default_far() -> f64 {
 }
 
 /// The participating medium, homogeneous: density ρ, extinction κ, phase constant K
-/// (F(α) = K·(1 + 9·cos¹⁶(α/2)), SPEC A (4)).
+/// (F(α) = K·(1 + 9·cos¹⁶(α/2)), Dobashi et al. eq. (4)).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Medium {
@@ -268,7 +268,7 @@ fn default_subdivisions() -> u32 {
     8
 }
 
-/// How the shafts are drawn in hardware (SPEC A).
+/// How the shafts are drawn in hardware (Dobashi et al.).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ShaftsConfig {

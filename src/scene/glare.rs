@@ -1,4 +1,4 @@
-//! The glare section of a scene (SPEC B): light sources as the glare renderer sees
+//! The glare section of a scene (Matsuda and Ikedo's glare renderer): light sources as the glare renderer sees
 //! them, the determinants of Table 1, specular highlights for the glare conditions of
 //! Table 2, the empirical forms the paper leaves open, and the hardware widths.
 //!
@@ -42,7 +42,7 @@ pub enum Background {
     /// All zero.
     #[default]
     Black,
-    /// The scene's lights and objects through the light-shafts pipeline (SPEC A).
+    /// The scene's lights and objects through the light-shafts pipeline (Dobashi et al.).
     Shafts,
     /// A vertical gradient (linear RGB in [0, 1], top to bottom): a night sky.
     Sky { top: [f64; 3], bottom: [f64; 3] },

@@ -1,4 +1,4 @@
-//! Surface materials of scene objects (SPEC D): which reflection model an object's
+//! Surface materials of scene objects (the models of Shinya's survey): which reflection model an object's
 //! surface follows, with its parameters, and how the hardware renders its specular
 //! term. An object without a material is the Lambert surface of its `color`, as in
 //! every scene written before materials existed (those files load unchanged).

@@ -1,4 +1,4 @@
-//! The evaluation core of `optimize` (issue 21): a scene and a width assignment
+//! The evaluation core of `optimize`: a scene and a width assignment
 //! (param → value, the names `sweep` knows) in, the elaborated cost and the error
 //! against the scene's f64 reference out.
 //!

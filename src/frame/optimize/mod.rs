@@ -1,4 +1,4 @@
-//! `optimize` (issue 21, docs/optimize.md): for a scene and an error budget, the
+//! `optimize` (docs/optimize.md): for a scene and an error budget, the
 //! cheapest widths found by a pruned greedy descent, and the Pareto front of gates,
 //! RAM bits and error of every configuration evaluated. Beside the frame because it
 //! drives more than one pipeline (shafts, glare, environment-map and shading scenes).

@@ -1,4 +1,4 @@
-//! The search of `optimize` (issue 21): from the GeForce defaults, a greedy descent
+//! The search of `optimize`: from the GeForce defaults, a greedy descent
 //! in the style of `fxpopt` and Minibit, with a sound bound that prunes before any
 //! simulation.
 //!

@@ -1,5 +1,5 @@
-//! `attribute --scene S` for an environment-map scene (issue 18;
-//! `report::attribution`): the voxel map's error sources.
+//! `attribute --scene S` for an environment-map scene (`report::attribution`): the
+//! voxel map's error sources.
 //!
 //! Renders go through the path `sweep --param side` uses ([`render_scene`] with the
 //! truth). The reference is the truth of eq. (3), without the cos φ test: what the

@@ -1,4 +1,4 @@
-//! Writing a finished voxel map out, and reading it back (`envmap-dump`, issue 19):
+//! Writing a finished voxel map out, and reading it back (`envmap-dump`):
 //! a user can inspect the prefiltered map or reuse it elsewhere.
 //!
 //! A dump is a directory of

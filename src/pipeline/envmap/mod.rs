@@ -1,4 +1,4 @@
-//! The multi-scale environment map (SPEC C, issue 5): the voxel map, its prefilter
+//! The multi-scale environment map (Okumura's thesis): the voxel map, its prefilter
 //! (exact and accelerated), the renderer, its studies and the `[environment]` scene
 //! renderer: see docs/envmap.md.
 

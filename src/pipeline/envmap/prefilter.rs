@@ -1,4 +1,4 @@
-//! Building the s³ voxel map of the multi-scale environment map (SPEC C, eqs. (8)(9),
+//! Building the s³ voxel map of the multi-scale environment map (Okumura's thesis, eqs. (8)(9),
 //! (13), (14)): the exact prefilter of every voxel, and the thesis' accelerated build
 //! (pyramid → geodesic domes → weight table with threshold th).
 //!

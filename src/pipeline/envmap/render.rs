@@ -1,5 +1,5 @@
-//! Rendering a sphere or the Utah teapot with the multi-scale environment map (SPEC C,
-//! the thesis §3.5 and §4.3, Table 5) through the hardware units, against the Phong
+//! Rendering a sphere or the Utah teapot with the multi-scale environment map (Okumura's
+//! thesis §3.5 and §4.3, Table 5) through the hardware units, against the Phong
 //! ground truth.
 //!
 //! # The per-pixel path, and what in it is f64
@@ -19,7 +19,7 @@
 //!    thesis' GeForce3: where λ changes fast across a triangle (the sphere's 6 o'clock
 //!    seam of the non-uniform λ, where it jumps from ≈ 1 back to 0) the reflection is
 //!    distorted — the thesis' Fig. 17(b) artefact. [`LambdaSource::Texture`] (the
-//!    thesis' proposed fix, issue 5's option) takes λ per pixel from a roughness
+//!    thesis' proposed fix) takes λ per pixel from a roughness
 //!    texture instead: see "Per-pixel roughness" below.
 //!    Triangles seen from their back get their normals flipped (two-sided lighting; the
 //!    teapot is an open sheet whose inside shows at the rim and the spout).

@@ -1,5 +1,5 @@
 //! Per-pixel roughness from a texture ([`RenderOptions::lambda_source`]): the thesis'
-//! proposed fix for the per-vertex λ's smear (issue 5), the intended-λ truth's errors
+//! proposed fix for the per-vertex λ's smear, the intended-λ truth's errors
 //! and the comparison of the two λ sources. The render itself is [`super::render`]'s.
 //!
 //! - **Texture coordinates: object-linear texgen** ([`object_texgen`], host f64 per
@@ -333,7 +333,7 @@ impl RoughnessRow {
     }
 }
 
-/// The thesis' proposed fix measured (issue 5): `object` with the non-uniform λ at
+/// The thesis' proposed fix measured: `object` with the non-uniform λ at
 /// `size`, rendered with λ per vertex and with a `side` × `side` roughness texture,
 /// each against the intended-λ truth (the same truth image for both: it depends only
 /// on the geometry and the interpolated n, r, (u, v)). Rows in that order. Errors as

@@ -1,4 +1,4 @@
-//! The 2D-slice elaboration (issue 5): a scene whose roughness is uniform needs only one
+//! The 2D-slice elaboration: a scene whose roughness is uniform needs only one
 //! sphere of the voxel map, so it is rendered with a 2D texture — a CUBE MAP, as
 //! GeForce3 addressed environment maps — and the 2D (bilinear) `texture_sampler`
 //! instead of the 3D (trilinear) one.

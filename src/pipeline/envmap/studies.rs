@@ -1,4 +1,4 @@
-//! Two studies behind docs/envmap.md's readings of Table 5 (issue 5):
+//! Two studies behind docs/envmap.md's readings of Table 5:
 //!
 //! - [`lambda_sweep`] (`reproduce envmap-lambda-sweep`): the pattern's error against
 //!   the Phong truth at eight λ from 1 to 0.125, with 8-bit and 16-bit voxels, split

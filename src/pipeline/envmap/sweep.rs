@@ -1,5 +1,5 @@
 //! `sweep --scene <environment scene> --param side`: error against run time and memory
-//! for the voxel map's side s (issue 17; docs/sweep.md, "Environment-map scenes").
+//! for the voxel map's side s (docs/sweep.md, "Environment-map scenes").
 //!
 //! For each side the scene's `environment.side` is set and the scene re-validated
 //! (a side beyond `scene::environment::MAX_SIDE` is an error naming

@@ -1,4 +1,4 @@
-//! Frame timing of the environment-map renderer (issue 5, the thesis' Table 6): the
+//! Frame timing of the environment-map renderer (the thesis' Table 6): the
 //! wall time of the bit-accurate model, and the time predicted for GeForce3-class
 //! hardware from the renderer's counters ([`FrameInfo`]), in the style of the shafts'
 //! throughput model (`crate::pipeline::time_model`, [`GpuModel::geforce3`]).

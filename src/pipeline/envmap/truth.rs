@@ -1,4 +1,4 @@
-//! The Phong ground truth of a render (SPEC C, eqs. 1–3) at the rendered pixels, and
+//! The Phong ground truth of a render (Okumura's thesis, eqs. 1–3) at the rendered pixels, and
 //! the errors against the intended-λ truth. See [`super::render`]'s module notes
 //! ("Ground truth and errors") and [`super::roughness`] (the intended λ, the seam band).
 

@@ -1,4 +1,4 @@
-//! The s³ voxel map of the multi-scale environment map (SPEC C, eqs. 6–9).
+//! The s³ voxel map of the multi-scale environment map (Okumura's thesis, eqs. 6–9).
 //!
 //! Voxel (x, y, z), each in 0 .. s, has its centre at
 //! t = (2(x + ½)/s − 1, 2(y + ½)/s − 1, 2(z + ½)/s − 1) ∈ (−1, 1)³, in the same world axes

@@ -1,4 +1,4 @@
-//! `attribute --scene S` for a glare scene (issue 18; `report::attribution`): the
+//! `attribute --scene S` for a glare scene (`report::attribution`): the
 //! glare renderer's error sources, each a `[glare.hw]` width or RAM size set wide.
 //!
 //! Renders go through the path `sweep` uses ([`render_and_predict_over`] through the

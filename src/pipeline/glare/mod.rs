@@ -1,4 +1,4 @@
-//! The glare renderer (SPEC B): host set-up, the units' frame, throughput,
+//! The glare renderer (Matsuda and Ikedo): host set-up, the units' frame, throughput,
 //! reproductions and sweeps.
 
 pub mod attribute;

@@ -1,6 +1,6 @@
 //! The glare renderer's throughput model: pixels per clock per pipe, parallel pipes,
-//! clock → pixels/s, and the gates and RAM bits of the configuration (SPEC B: the
-//! paper's renderer fills 1.2 × 10⁹ pixels/s with a ~80 k-gate modulator).
+//! clock → pixels/s, and the gates and RAM bits of the configuration (Matsuda and
+//! Ikedo's renderer fills 1.2 × 10⁹ pixels/s with a ~80 k-gate modulator).
 //!
 //! Every pipe holds a polygon interpolator, a bloom/flare modulator, a halo modulator
 //! and a combiner, each II = 1: one pixel per clock per pipe. The polygon-variable

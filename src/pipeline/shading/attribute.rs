@@ -1,4 +1,4 @@
-//! `attribute --scene shading-<name>` (issue 18; `report::attribution`): the shading
+//! `attribute --scene shading-<name>` (`report::attribution`): the shading
 //! pipeline's error sources, each an elaborated unit's width or table size set to the
 //! widest its config takes.
 //!

@@ -1,4 +1,4 @@
-//! A shading scene as a file (issue 21): the smallest form `render --scene` and
+//! A shading scene as a file: the smallest form `render --scene` and
 //! `optimize --scene` take for the built-in `shading-*` scenes at other widths, and
 //! what `optimize` writes as `best.toml` for them.
 //!

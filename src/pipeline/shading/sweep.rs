@@ -703,7 +703,7 @@ pub fn shading_sweep_cli(
     Ok(())
 }
 
-/// One row of `sweep --attribute` (issue 18): the sweep's row and, from
+/// One row of `sweep --attribute`: the sweep's row and, from
 /// [`super::attribute::attribute_shading`] at that row's configuration, the source
 /// whose ideal alone removes the most squared error and its share.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]

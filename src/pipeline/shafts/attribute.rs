@@ -1,4 +1,4 @@
-//! `attribute --scene S` for a shafts scene (issue 18; `report::attribution`): the
+//! `attribute --scene S` for a shafts scene (`report::attribution`): the
 //! error sources of the sample-plane pipeline and what "ideal" means for each.
 //!
 //! Renders go through the path `sweep` uses ([`render_scene`] through the bit-accurate

@@ -1,4 +1,4 @@
-//! One frame of the shafts pipeline (SPEC A) through the bit-accurate units.
+//! One frame of the shafts pipeline (Dobashi et al.) through the bit-accurate units.
 //!
 //! Per frame: a depth pass of the objects into the camera's depth buffer. Per light:
 //! a shadow-map pass of the occluders; the objects' colour pass (per-vertex Lambert
@@ -7,7 +7,7 @@
 //! modulated with H·I_l (shadow compare × projective light map) and the plane's
 //! vertex colour, and added into the framebuffer. With m > 1 sub-sample planes, H·I_l
 //! is instead averaged over m sub-planes per interval into a J buffer with 8-bit
-//! blend weights, copied to a texture and looked up on plane i (SPEC A (7)–(9)).
+//! blend weights, copied to a texture and looked up on plane i (Dobashi et al. eqs. (7)–(9)).
 //!
 //! Host work (vertex positions, α, s, t, light coordinates) is f64, as the
 //! application processor computes it; every per-pixel step is a unit kernel.

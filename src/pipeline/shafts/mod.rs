@@ -1,4 +1,5 @@
-//! The light-shafts pipeline by sample planes (SPEC A).
+//! The light-shafts pipeline by sample planes (Dobashi, Yamamoto and Nishita;
+//! docs/references.md).
 
 pub mod attribute;
 mod chunked;

@@ -1,4 +1,4 @@
-//! The sample-plane pass of one light (SPEC A (5)–(9)): per interval i, the m
+//! The sample-plane pass of one light (Dobashi et al. eqs. (5)–(9)): per interval i, the m
 //! sub-planes' H·I_l averaged into the J buffer and copied to a texture (m > 1), then
 //! plane i drawn as a cols × rows mesh whose fragments take F(α)·h(s, t), J, the
 //! plane scale and the light colour through the modulate unit into the framebuffer.

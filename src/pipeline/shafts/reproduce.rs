@@ -1,4 +1,4 @@
-//! The paper's experiments (Dobashi et al., SPEC A): `reproduce shafts-fig4`,
+//! The paper's experiments (Dobashi et al.): `reproduce shafts-fig4`,
 //! `shafts-fig5`, `shafts-vs-raymarch`, `shafts-stage`. Each writes CSV and PNG.
 
 use super::cli::{levels_png, reference_image, render_scene};

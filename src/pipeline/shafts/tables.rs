@@ -1,4 +1,4 @@
-//! The g = F(α)·h(s, t) tables (SPEC A (6)) as unorm texels: F a 1D texture over
+//! The g = F(α)·h(s, t) tables (Dobashi et al. eq. (6)) as unorm texels: F a 1D texture over
 //! α ∈ [0°, 180°], h a 2D texture over s ∈ [0, s_max], t ∈ [0, t_max].
 //!
 //! Normalisation: F is stored as F/F_max (F_max = 10K at α = 0). h is singular as

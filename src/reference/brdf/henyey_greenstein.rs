@@ -3,8 +3,8 @@
 //!   p(cos θ) = (1/4π) (1 − g²) / (1 + g² − 2g cos θ)^{3/2},
 //!
 //! θ the scattering angle between the propagation directions before and after the
-//! event (cos θ = 1 is straight on; g > 0 scatters forward). The seed writes the
-//! exponent as 2/3, a typo (SPEC D): only 3/2 integrates to 1 over the sphere. Its
+//! event (cos θ = 1 is straight on; g > 0 scatters forward). Shinya's survey writes
+//! the exponent as 2/3, a typo: only 3/2 integrates to 1 over the sphere. Its
 //! "+2g s·s'" has s pointing back toward the light, the same function.
 //!
 //! Normalised, ∫ p dω = 1, with mean cosine ∫ p cos θ dω = g (tested to 1e-6 over

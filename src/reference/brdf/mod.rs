@@ -1,4 +1,4 @@
-//! f64 reflection models of the shading seed (SPEC D), in pbrt-v4's shape: one small
+//! f64 reflection models of Shinya's survey, in pbrt-v4's shape: one small
 //! type per model, `eval(ω_i, ω_o)` in a local shading frame, no hidden state.
 //!
 //! Local frame: the normal is +z, the tangent (the anisotropy or hair direction) is +x,

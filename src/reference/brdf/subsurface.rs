@@ -1,4 +1,4 @@
-//! The two subsurface models the seed surveys, as references.
+//! The two subsurface models Shinya's survey describes, as references.
 //!
 //! **Dipole diffusion** (Jensen, Marschner, Levoy and Hanrahan 2001), [`Dipole`]: a
 //! semi-infinite medium of absorption σ_a, reduced scattering σ'_s and relative index η.

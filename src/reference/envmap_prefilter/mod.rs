@@ -1,5 +1,5 @@
-//! Multi-scale environment map prefilter — f64 building blocks (SPEC C, the thesis
-//! `seeds/003`, eqs. (8)–(14)): the roughness map g(|t|), geodesic domes, the
+//! Multi-scale environment map prefilter — f64 building blocks (Okumura's
+//! thesis, eqs. (8)–(14)): the roughness map g(|t|), geodesic domes, the
 //! environment pyramid, log-domain normalised Phong weights, the exact prefilter of
 //! one voxel and the weight-table entry selection. The voxel-map and table builds
 //! come later.

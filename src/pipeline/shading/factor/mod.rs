@@ -1,5 +1,5 @@
 //! BRDF factor textures: a host step factorises a BRDF into a few 2D textures, and the
-//! multi-texture units rebuild it per pixel as their product (SPEC D, issue 13).
+//! multi-texture units rebuild it per pixel as their product (Kautz and McCool 1999; McCool, Ang and Ahmad 2001).
 //!
 //! Two factorisations, both of the same target value `v(ω_i, ω_o)` ([`FactorTarget`]):
 //! * **Separable / SVD** (Kautz and McCool 1999, [`svd`]): v ≈ G(h) · H(d), with h the
