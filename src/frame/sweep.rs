@@ -51,6 +51,57 @@ impl FrameParam {
         format!("{}.{}", self.pipeline, self.field)
     }
 
+    /// The param of a qualified name in [`FRAME_PARAMS`].
+    pub fn of_qualified(name: &str) -> Option<FrameParam> {
+        FRAME_PARAMS
+            .iter()
+            .find(|(_, _, q)| *q == name)
+            .map(|&(pipeline, field, _)| FrameParam { pipeline, field })
+    }
+
+    /// The qualified name as a static string (from [`FRAME_PARAMS`]).
+    pub fn qualified_static(&self) -> &'static str {
+        FRAME_PARAMS
+            .iter()
+            .find(|(p, f, _)| *p == self.pipeline && *f == self.field)
+            .map_or("", |(_, _, q)| q)
+    }
+
+    /// This field's value in `s` (the shading defaults when `[shading_hw]` is absent).
+    pub fn get(&self, s: &Scene) -> Result<u32, String> {
+        match self.pipeline {
+            "shafts" => Ok(ShaftsParam::from_name(self.field)?.get(&s.shafts)),
+            "glare" => {
+                let g = s.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
+                Ok(match self.field {
+                    "shape_log2" => g.shape_log2,
+                    "shape_bits" => g.shape_bits,
+                    "falloff_log2" => g.falloff_log2,
+                    "falloff_bits" => g.falloff_bits,
+                    "weight_bits" => g.weight_bits,
+                    "coord_frac_bits" => g.coord_frac_bits,
+                    "noise_bits" => g.noise_bits,
+                    "fb_bits" => g.fb_bits,
+                    _ => u32::from(g.radial),
+                })
+            }
+            "environment" => Ok(s
+                .environment
+                .as_ref()
+                .ok_or("scene: no [environment] section")?
+                .side),
+            _ => {
+                let hw = s.shading_hw.unwrap_or_default();
+                Ok(match self.field {
+                    "cube_face" => hw.cube_face,
+                    "lookup_log2" => hw.lookup_log2,
+                    "factor_size" => hw.factor_size,
+                    _ => hw.factor_bits,
+                })
+            }
+        }
+    }
+
     /// Set this field of `s` to `v` (no validation: the caller validates the scene).
     pub fn apply(&self, s: &mut Scene, v: u32) -> Result<(), String> {
         match self.pipeline {
@@ -82,31 +133,68 @@ impl FrameParam {
     }
 }
 
-/// Every field a frame sweep can change on `scene`, by the pipelines its frame runs
-/// (shafts' pair-valued `mesh` and `h_texels` are not among them: a frame sweep's
-/// values are whole numbers).
+/// Every frame param by its qualified name: (pipeline, field, `pipeline.field`).
+/// Shafts' pair-valued `mesh` and `h_texels` are not among them: a frame sweep's
+/// values are whole numbers. A test checks this against each pipeline's own list
+/// ([`pipeline_param_names`]).
+pub const FRAME_PARAMS: &[(&str, &str, &str)] = &[
+    ("shafts", "planes", "shafts.planes"),
+    ("shafts", "subplanes", "shafts.subplanes"),
+    ("shafts", "texel_bits", "shafts.texel_bits"),
+    ("shafts", "fb_bits", "shafts.fb_bits"),
+    ("shafts", "weight_bits", "shafts.weight_bits"),
+    ("shafts", "coord_frac_bits", "shafts.coord_frac_bits"),
+    ("shafts", "shadow_resolution", "shafts.shadow_resolution"),
+    ("shafts", "shadow_depth_bits", "shafts.shadow_depth_bits"),
+    ("shafts", "f_texels", "shafts.f_texels"),
+    ("shafts", "light_map_texels", "shafts.light_map_texels"),
+    ("shafts", "acc_int_bits", "shafts.acc_int_bits"),
+    ("shafts", "acc_frac_bits", "shafts.acc_frac_bits"),
+    ("shafts", "recip_index_bits", "shafts.recip_index_bits"),
+    ("shafts", "recip_entry_bits", "shafts.recip_entry_bits"),
+    ("shafts", "newton_frac_bits", "shafts.newton_frac_bits"),
+    ("shading", "cube_face", "shading.cube_face"),
+    ("shading", "lookup_log2", "shading.lookup_log2"),
+    ("shading", "factor_size", "shading.factor_size"),
+    ("shading", "factor_bits", "shading.factor_bits"),
+    ("environment", "side", "environment.side"),
+    ("glare", "shape_log2", "glare.shape_log2"),
+    ("glare", "shape_bits", "glare.shape_bits"),
+    ("glare", "falloff_log2", "glare.falloff_log2"),
+    ("glare", "falloff_bits", "glare.falloff_bits"),
+    ("glare", "weight_bits", "glare.weight_bits"),
+    ("glare", "coord_frac_bits", "glare.coord_frac_bits"),
+    ("glare", "noise_bits", "glare.noise_bits"),
+    ("glare", "fb_bits", "glare.fb_bits"),
+    ("glare", "radial", "glare.radial"),
+];
+
+/// Every field a frame sweep can change on `scene`, by the pipelines its frame runs,
+/// in [`FRAME_PARAMS`]' order.
 pub fn frame_params(scene: &Scene) -> Result<Vec<FrameParam>, String> {
     let pipelines = frame_pipelines(scene).map_err(|e| e.to_string())?;
-    let mut v = Vec::new();
-    for p in pipelines {
-        let fields: Vec<&'static str> = match p {
-            "shafts" => ShaftsParam::ALL
-                .iter()
-                .filter(|p| !p.is_pair())
-                .map(|p| p.name())
-                .collect(),
-            "glare" => GLARE_PARAMS.to_vec(),
-            "environment" => vec!["side"],
-            "shading" => SHADING_HW_FIELDS.to_vec(),
-            _ => vec![],
-        };
-        v.extend(
-            fields
-                .into_iter()
-                .map(|field| FrameParam { pipeline: p, field }),
-        );
-    }
-    Ok(v)
+    Ok(FRAME_PARAMS
+        .iter()
+        .filter(|(p, _, _)| pipelines.contains(p))
+        .map(|&(pipeline, field, _)| FrameParam { pipeline, field })
+        .collect())
+}
+
+/// The qualified name of every param of each pipeline's own list (shafts' single-
+/// valued `sweep` params, the shading widths, the map's side, the glare widths): what
+/// [`FRAME_PARAMS`] must hold, in its order.
+pub fn pipeline_param_names() -> Vec<String> {
+    let shafts = ShaftsParam::ALL
+        .iter()
+        .filter(|p| !p.is_pair())
+        .map(|p| format!("shafts.{}", p.name()));
+    let shading = SHADING_HW_FIELDS.iter().map(|f| format!("shading.{f}"));
+    let glare = GLARE_PARAMS.iter().map(|f| format!("glare.{f}"));
+    shafts
+        .chain(shading)
+        .chain(std::iter::once("environment.side".to_string()))
+        .chain(glare)
+        .collect()
 }
 
 /// `param` as one of `scene`'s frame params (module notes); errors name `param` and
@@ -163,16 +251,17 @@ pub fn frame_scenes(base: &Scene, p: &FrameParam, values: &[u32]) -> Result<Vec<
         .collect()
 }
 
-/// One row: render `s` through its frame and compare it with the composed reference.
-pub fn frame_row(s: &Scene, p: &FrameParam, value: u32) -> Result<SweepRow, String> {
+/// One row (of `param` = `value`): render `s` through its frame and compare it with
+/// the composed reference.
+pub fn frame_row(s: &Scene, param: &str) -> Result<SweepRow, String> {
     let f = render(s).map_err(|e| e.to_string())?;
     let (_, reference) = frame_error_and_reference(s, &f)?;
     let st = error_stats(&f.fb.levels(), &reference).map_err(|e| e.to_string())?;
     let units = f.elaboration();
     let summaries = units.iter().filter_map(|u| u.summary.as_ref());
     Ok(SweepRow {
-        param: p.qualified(),
-        value,
+        param: param.to_string(),
+        value: FrameParam::of_qualified(param).map_or(Ok(0), |p| p.get(s))?,
         mean_abs_levels: st.mean_abs,
         rms_levels: st.rms,
         max_levels: st.max,
@@ -186,13 +275,12 @@ pub fn frame_row(s: &Scene, p: &FrameParam, value: u32) -> Result<SweepRow, Stri
 fn frame_rows(
     scenes: &[Scene],
     p: &FrameParam,
-    values: &[u32],
     only: Option<Shard>,
     journal: &mut Journal<SweepRow>,
 ) -> Result<(), String> {
     let todo = journal.pending(scenes, only);
     try_map_with_progress(&todo, &format!("sweep {}", p.qualified()), |&(i, s)| {
-        let row = frame_row(s, p, values[i])?;
+        let row = frame_row(s, p.qualified_static())?;
         journal.record(i, row)
     })?;
     Ok(())
@@ -233,12 +321,12 @@ pub fn frame_sweep_cli(
     )?;
     if let Some(shard) = shard {
         let mut journal = Journal::shard(out, &id, shard, resume)?;
-        frame_rows(&scenes, &p, &values, Some(shard), &mut journal)?;
+        frame_rows(&scenes, &p, Some(shard), &mut journal)?;
         return shard_sweep(out, &id, shard, &journal.into_rows());
     }
     let csv = out.join(format!("sweep_{name}.csv"));
     let mut journal = Journal::plain(&csv, &id, resume, |r: &SweepRow| r.value.to_string())?;
-    frame_rows(&scenes, &p, &values, None, &mut journal)?;
+    frame_rows(&scenes, &p, None, &mut journal)?;
     let rows: Vec<SweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
     let (csv, png) = write_sweep(&rows, &title(scene, &name), &name, out)?;
     println!(

@@ -109,8 +109,8 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
     let objective = Objective::parse(&a.objective)?;
     let kind = Kind::of(&scene);
     let params = match &a.params {
-        Some(list) => kind.parse_params(list)?,
-        None => kind.default_params(),
+        Some(list) => kind.parse_params_for(&scene, list)?,
+        None => kind.default_params_for(&scene),
     };
     if a.max_evals == Some(0) {
         return Err("max-evals: must be at least 1".into());

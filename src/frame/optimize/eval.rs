@@ -24,6 +24,7 @@
 //! --param fb_bits --values 8 --image 96x64`), so no width budget of a few levels can
 //! be met against it.
 
+use crate::frame::sweep::{FrameParam, FRAME_PARAMS};
 use crate::pipeline::envmap::render::Truth;
 use crate::pipeline::envmap::scene_render::{render_scene as render_env, render_scene_against};
 use crate::pipeline::envmap::sweep::{envmap_row_of, envmap_scenes, ENVMAP_PARAMS};
@@ -55,6 +56,10 @@ pub enum Kind {
     Glare,
     /// An environment-map scene (`[environment]`): `envmap::sweep`'s parameters.
     Envmap,
+    /// A frame of several pipelines (`frame::sweep::is_frame_scene`): every
+    /// pipeline's widths by qualified name (`shafts.texel_bits`, `glare.fb_bits`),
+    /// each point rendered through the frame against its composed reference.
+    Frame,
 }
 
 /// How a parameter is narrowed by one step of the search.
@@ -94,7 +99,9 @@ impl Kind {
     /// else shafts. The shading scenes (`shading-*`, not `Scene`s) are refused by the
     /// CLI before this.
     pub fn of(scene: &Scene) -> Kind {
-        if scene.glare.is_some() {
+        if crate::frame::sweep::is_frame_scene(scene).unwrap_or(false) {
+            Kind::Frame
+        } else if scene.glare.is_some() {
             Kind::Glare
         } else if scene.environment.is_some() {
             Kind::Envmap
@@ -109,6 +116,22 @@ impl Kind {
             Kind::Shafts => SHAFTS_DEFAULT.to_vec(),
             Kind::Glare => glare_search(),
             Kind::Envmap => ENVMAP_PARAMS.to_vec(),
+            Kind::Frame => {
+                // Each pipeline's own defaults, qualified.
+                let mut v: Vec<&'static str> = SHAFTS_DEFAULT
+                    .iter()
+                    .map(|f| ("shafts", *f))
+                    .chain(glare_search().into_iter().map(|f| ("glare", f)))
+                    .chain([
+                        ("shading", "factor_bits"),
+                        ("shading", "cube_face"),
+                        ("environment", "side"),
+                    ])
+                    .map(|(pipeline, field)| FrameParam { pipeline, field }.qualified_static())
+                    .collect();
+                v.retain(|q| !q.is_empty());
+                v
+            }
         }
     }
 
@@ -122,7 +145,48 @@ impl Kind {
                 .collect(),
             Kind::Glare => glare_search(),
             Kind::Envmap => ENVMAP_PARAMS.to_vec(),
+            Kind::Frame => FRAME_PARAMS
+                .iter()
+                .filter(|(_, f, _)| *f != "radial")
+                .map(|(_, _, q)| *q)
+                .collect(),
         }
+    }
+
+    /// [`Kind::default_params`] for `scene`: a frame scene's narrowed to the
+    /// pipelines its frame runs.
+    pub fn default_params_for(self, scene: &Scene) -> Vec<&'static str> {
+        let mut v = self.default_params();
+        if self == Kind::Frame {
+            let present = crate::frame::plan::frame_pipelines(scene).unwrap_or_default();
+            v.retain(|q| {
+                FrameParam::of_qualified(q).is_some_and(|p| present.contains(&p.pipeline))
+            });
+        }
+        v
+    }
+
+    /// `--params` for `scene`: a frame scene's names resolved as `sweep` resolves
+    /// them (`shafts.texel_bits`, or a field only one of its pipelines has), the
+    /// others checked by [`Kind::parse_params`]; errors name `params`.
+    pub fn parse_params_for(self, scene: &Scene, list: &str) -> Result<Vec<&'static str>, String> {
+        if self != Kind::Frame {
+            return self.parse_params(list);
+        }
+        let mut out: Vec<&'static str> = Vec::new();
+        for item in list.split(',') {
+            let p = crate::frame::sweep::resolve_param(scene, item)
+                .map_err(|e| e.replacen("param:", "params:", 1))?;
+            let q = p.qualified_static();
+            if q.ends_with(".radial") {
+                return Err("params: glare.radial is a switch, not a width to narrow".into());
+            }
+            if out.contains(&q) {
+                return Err(format!("params: '{q}' is given twice"));
+            }
+            out.push(q);
+        }
+        Ok(out)
     }
 
     /// How `param` narrows.
@@ -132,6 +196,12 @@ impl Kind {
             | (Kind::Shafts, "planes" | "subplanes") => Step::Halve,
             // The voxel map's side is a power of two (`environment.side`).
             (Kind::Envmap, _) => Step::Halve,
+            (Kind::Frame, q) => match FrameParam::of_qualified(q) {
+                Some(p) if p.pipeline == "environment" => Step::Halve,
+                Some(p) if matches!(p.field, "cube_face" | "factor_size") => Step::Halve,
+                Some(p) if p.pipeline == "shafts" => Kind::Shafts.step(p.field),
+                _ => Step::Bit,
+            },
             _ => Step::Bit,
         }
     }
@@ -164,35 +234,17 @@ impl Kind {
             Kind::Shafts => "shafts",
             Kind::Glare => "glare",
             Kind::Envmap => "environment-map",
+            Kind::Frame => "frame",
         }
     }
 
     /// The value of `param` in `scene`.
     pub fn get(self, scene: &Scene, param: &str) -> Result<u32, String> {
         match self {
-            Kind::Shafts => {
-                let c = &scene.shafts;
-                Ok(match Param::from_name(param)? {
-                    Param::Planes => c.planes,
-                    Param::Subplanes => c.subplanes,
-                    Param::TexelBits => c.texel_bits,
-                    Param::FbBits => c.fb_bits,
-                    Param::WeightBits => c.weight_bits,
-                    Param::CoordFracBits => c.coord_frac_bits,
-                    Param::ShadowResolution => c.shadow_resolution,
-                    Param::ShadowDepthBits => c.shadow_depth_bits,
-                    Param::FTexels => c.f_texels,
-                    Param::LightMapTexels => c.light_map_texels,
-                    Param::AccIntBits => c.acc_int_bits,
-                    Param::AccFracBits => c.acc_frac_bits,
-                    Param::RecipIndexBits => c.recip_index_bits,
-                    Param::RecipEntryBits => c.recip_entry_bits,
-                    Param::NewtonFracBits => c.newton_frac_bits,
-                    Param::Mesh | Param::HTexels => {
-                        return Err(format!("params: '{param}' is a pair (AxB)"))
-                    }
-                })
-            }
+            Kind::Shafts => match Param::from_name(param)? {
+                Param::Mesh | Param::HTexels => Err(format!("params: '{param}' is a pair (AxB)")),
+                p => Ok(p.get(&scene.shafts)),
+            },
             Kind::Glare => {
                 let g = scene.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
                 Ok(match param {
@@ -219,6 +271,9 @@ impl Kind {
                     )),
                 }
             }
+            Kind::Frame => FrameParam::of_qualified(param)
+                .ok_or_else(|| format!("params: unknown frame parameter '{param}'"))?
+                .get(scene),
         }
     }
 
@@ -235,6 +290,9 @@ impl Kind {
                 }
                 // `sweep`'s own setter (validates the scene, naming `environment.side`).
                 Kind::Envmap => s = envmap_scenes(&s, p, &[v])?.remove(0),
+                Kind::Frame => FrameParam::of_qualified(p)
+                    .ok_or_else(|| format!("params: unknown frame parameter '{p}'"))?
+                    .apply(&mut s, v)?,
             }
         }
         s.validate().map_err(|e| e.to_string())?;
@@ -249,7 +307,9 @@ impl Kind {
         match self {
             Kind::Shafts => Some(scene.shafts.fb_bits),
             Kind::Glare => Some(scene.glare.as_ref().map_or(8, |g| g.hw.fb_bits)),
-            Kind::Envmap => None,
+            // The frame's reference follows its picture (the glare over it): no
+            // bound from one reference, so nothing is pruned.
+            Kind::Envmap | Kind::Frame => None,
         }
     }
 }
@@ -347,7 +407,8 @@ impl Evaluator {
             },
             // The environment map's truth (Phong, with the cos φ test) depends on the
             // map's side, which is searched: drawn by `evaluate`, once per scene.
-            Kind::Envmap => (Vec::new(), None),
+            // A frame's composed reference is drawn with each render (`evaluate`).
+            Kind::Envmap | Kind::Frame => (Vec::new(), None),
             Kind::Glare => {
                 let backdrop = if crate::frame::plan::shafts_backdrop(base) {
                     Some(crate::frame::run::shafts_backdrop(base).map_err(|e| e.to_string())?)
@@ -433,6 +494,21 @@ impl Evaluator {
                     error,
                     predicted_seconds: pred.seconds,
                     wall_seconds: wall,
+                })
+            }
+            Kind::Frame => {
+                let r = crate::frame::sweep::frame_row(scene, "frame")?;
+                Ok(Metrics {
+                    gates: r.gates_nand2,
+                    ram_bits: r.ram_bits,
+                    error: ErrorStats {
+                        mean_abs: r.mean_abs_levels,
+                        rms: r.rms_levels,
+                        max: r.max_levels,
+                        n: 0,
+                    },
+                    predicted_seconds: r.predicted_hw_seconds,
+                    wall_seconds: r.wall_seconds,
                 })
             }
             Kind::Envmap => {

@@ -165,6 +165,29 @@ impl Param {
         Ok(())
     }
 
+    /// This param's value in `cfg` (a pair's first number).
+    pub fn get(self, cfg: &ShaftsConfig) -> u32 {
+        match self {
+            Param::Planes => cfg.planes,
+            Param::Subplanes => cfg.subplanes,
+            Param::TexelBits => cfg.texel_bits,
+            Param::FbBits => cfg.fb_bits,
+            Param::WeightBits => cfg.weight_bits,
+            Param::CoordFracBits => cfg.coord_frac_bits,
+            Param::ShadowResolution => cfg.shadow_resolution,
+            Param::ShadowDepthBits => cfg.shadow_depth_bits,
+            Param::FTexels => cfg.f_texels,
+            Param::LightMapTexels => cfg.light_map_texels,
+            Param::AccIntBits => cfg.acc_int_bits,
+            Param::AccFracBits => cfg.acc_frac_bits,
+            Param::RecipIndexBits => cfg.recip_index_bits,
+            Param::RecipEntryBits => cfg.recip_entry_bits,
+            Param::NewtonFracBits => cfg.newton_frac_bits,
+            Param::Mesh => cfg.mesh[0],
+            Param::HTexels => cfg.h_texels[0],
+        }
+    }
+
     fn value_help(self) -> &'static str {
         if self.is_pair() {
             "values like 15x10,30x20"
