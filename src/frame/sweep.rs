@@ -218,7 +218,15 @@ pub fn resolve_param(scene: &Scene, param: &str) -> Result<FrameParam, String> {
         [one] => Ok((*one).clone()),
         [] => {
             let names: Vec<String> = all.iter().map(FrameParam::qualified).collect();
-            let near = crate::report::suggest::nearest(&norm, names.iter().map(String::as_str));
+            // The nearest qualified name, or the nearest field (then its qualified
+            // name): "plane" → shafts.planes.
+            let near = crate::report::suggest::nearest(&norm, names.iter().map(String::as_str))
+                .map(str::to_string)
+                .or_else(|| {
+                    crate::report::suggest::nearest(&norm, all.iter().map(|p| p.field))
+                        .and_then(|f| all.iter().find(|p| p.field == f))
+                        .map(FrameParam::qualified)
+                });
             Err(format!(
                 "param: '{param}' is not a width of this frame's pipelines{} (valid: {})",
                 near.map_or(String::new(), |n| format!("; did you mean {n}?")),
