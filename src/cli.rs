@@ -363,6 +363,31 @@ fn sweep_merge(out: &std::path::Path, dirs: &[PathBuf]) -> Result<(), String> {
     }
 }
 
+impl Command {
+    /// The command as a user typed it, for the start of an error message: its name
+    /// and the scene or item it works on (`sweep --scene night-street`,
+    /// `reproduce shafts-fig4`).
+    pub fn label(&self) -> String {
+        let with_scene = |cmd: &str, scene: Option<&str>| match scene {
+            Some(s) => format!("{cmd} --scene {s}"),
+            None => cmd.to_string(),
+        };
+        match self {
+            Command::Units { scene, .. } => with_scene("units", scene.as_deref()),
+            Command::Render { scene, .. } => with_scene("render", Some(scene)),
+            Command::Reproduce { name, .. } => format!("reproduce {name}"),
+            Command::Scene { name } => format!("scene {name}"),
+            Command::Optimize(a) => with_scene("optimize", Some(&a.scene)),
+            Command::Attribute { scene, .. } => with_scene("attribute", Some(scene)),
+            Command::Sweep { merge: Some(_), .. } => "sweep merge".into(),
+            Command::Sweep { args, .. } => with_scene("sweep", args.scene.as_deref()),
+            Command::Tables { .. } => "tables".into(),
+            Command::EnvmapDump { scene, .. } => with_scene("envmap-dump", Some(scene)),
+            Command::Trace { unit, .. } => format!("trace {unit}"),
+        }
+    }
+}
+
 /// Run a parsed command; errors are returned as text naming the field at fault.
 pub fn run(cli: Cli) -> Result<(), String> {
     match cli.command {
