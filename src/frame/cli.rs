@@ -205,6 +205,32 @@ pub fn units_scene_cli(name: &str, json: bool) -> Result<(), String> {
                 .into(),
         );
     }
+    // A shading scene's chip is its path's units at its widths.
+    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+        let (gates, ram_bits) = crate::pipeline::shading::sweep::point_cost(&f.point)?;
+        let widths: std::collections::BTreeMap<_, _> = f.point.widths().into_iter().collect();
+        if json {
+            let v = serde_json::json!({
+                "scene": f.point.scene().name(),
+                "widths": widths,
+                "gates_nand2": gates,
+                "ram_bits": ram_bits,
+            });
+            println!(
+                "{}",
+                serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
+            );
+        } else {
+            let w: Vec<String> = widths.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            println!(
+                "shading scene {}: {}
+chip: the shading path's units at these widths, {gates:.0} NAND2 gates, {ram_bits} RAM/ROM bits",
+                f.point.scene().name(),
+                w.join(" ")
+            );
+        }
+        return Ok(());
+    }
     let scene = load_scene(name)?;
     let chip = elaborate(&scene);
     if json {

@@ -991,6 +991,14 @@ pub struct ShadingMeasure {
     pub levels: Vec<f64>,
 }
 
+/// The gates and RAM bits `point`'s path elaborates at its widths (from a render of a
+/// small view: the units elaborated do not depend on the view's size); what
+/// `units --scene shading-*` prints.
+pub fn point_cost(point: &ShadingPoint) -> Result<(f64, u64), String> {
+    let (m, _) = run_with(&point.job, &sweep_view(16), None).map_err(|e| e.to_string())?;
+    Ok((m.gates, m.ram))
+}
+
 /// Render `point` on `view` through the sweep's path and measure it against
 /// `reference` (its [`shading_reference`] on the same view).
 pub fn measure_point(
