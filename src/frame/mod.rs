@@ -21,4 +21,5 @@ pub mod range;
 pub mod reflection;
 pub mod reproduce;
 pub mod run;
+pub mod scene_text;
 pub mod speed;

@@ -576,6 +576,7 @@ fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
             .filter(|l| !l.is_empty())
             .collect::<Vec<_>>()
             .join("; ");
+        let msg = with_suggestion(msg);
         let located = e.span().map(|sp| match locate_field(s, sp.clone(), &msg) {
             Some(found) => found,
             None => (text_field(s, sp.start), sp.start),
@@ -594,6 +595,24 @@ fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
         };
         ConfigError::invalid(&field, &format!("{what}{msg}{at}"))
     })
+}
+
+/// An "unknown field `x`, expected one of `a`, `b`" (or unknown variant) message with
+/// the nearest valid name appended: "; did you mean `b`?".
+fn with_suggestion(msg: String) -> String {
+    if !(msg.starts_with("unknown field") || msg.starts_with("unknown variant")) {
+        return msg;
+    }
+    let quoted: Vec<&str> = msg.split('`').skip(1).step_by(2).collect();
+    let Some((typo, valid)) = quoted.split_first() else {
+        return msg;
+    };
+    let hint = super::load::did_you_mean(typo, valid, "`");
+    if hint.is_empty() {
+        msg
+    } else {
+        format!("{msg}; {hint}")
+    }
 }
 
 /// 1-based line and column (in characters) of a byte offset.
