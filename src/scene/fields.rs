@@ -20,7 +20,7 @@
 
 use rtl_model::error::{check_finite, check_range, ConfigError};
 
-use super::validate::{closed, interval};
+use super::validate::{self as V, interval};
 
 /// A field's TOML type.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -154,6 +154,19 @@ fn num(x: f64) -> String {
 }
 
 impl Range {
+    /// Check a real against this range (see [`Field::real`]).
+    pub fn real(&self, name: &str, x: f64) -> Result<(), ConfigError> {
+        match *self {
+            Range::Real {
+                lo,
+                lo_closed,
+                hi,
+                hi_closed,
+            } => interval(name, x, lo, lo_closed, hi, hi_closed),
+            _ => check_finite(name, x).map(|_| ()),
+        }
+    }
+
     /// As the reference shows it.
     pub fn text(&self) -> String {
         match self {
@@ -204,15 +217,7 @@ impl Field {
     /// the caller writes it, with indices). A field whose range is not a real
     /// interval only needs to be finite.
     pub fn real(&self, name: &str, x: f64) -> Result<(), ConfigError> {
-        match self.range {
-            Range::Real {
-                lo,
-                lo_closed,
-                hi,
-                hi_closed,
-            } => interval(name, x, lo, lo_closed, hi, hi_closed),
-            _ => check_finite(name, x).map(|_| ()),
-        }
+        self.range.real(name, x)
     }
 
     /// [`Field::real`] for every element of an array.
@@ -252,11 +257,6 @@ impl Field {
     }
 }
 
-/// `closed` kept reachable for callers that check a bare interval.
-pub fn check_closed(name: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
-    closed(name, x, lo, hi)
-}
-
 // ---------------------------------------------------------------------------------
 // Limit sources, named once.
 
@@ -277,8 +277,9 @@ const IMAGE_MAX_U: u64 = super::validate::IMAGE_MAX as u64;
 const TEX_MAX: u64 = rtl_model::units::texture_sampler::MAX_SIZE as u64;
 const ENV_MIN_SIDE: u64 = super::environment::MIN_SIDE as u64;
 const ENV_MAX_SIDE: u64 = super::environment::MAX_SIDE as u64;
-const WMAX: f64 = super::validate::WORLD_MAX;
-const POS: Range = closed_range(-WMAX, WMAX);
+const WMAX: f64 = V::WORLD_MAX;
+/// A position or direction component: within ±WORLD_MAX.
+pub const POS: Range = closed_range(-WMAX, WMAX);
 
 macro_rules! fields {
     ($( $name:ident = $path:literal, $ty:expr, $unit:literal, $range:expr, $default:literal,
@@ -354,12 +355,12 @@ fields! {
     // ---- [medium]
     MEDIUM = "medium", Ty::Table, "", Range::None, "", NONE, "",
         "The participating medium, homogeneous: density ρ, extinction κ, phase constant K with F(α) = K·(1 + 9·cos¹⁶(α/2)) (Dobashi et al. 2002, eq. 4).";
-    MEDIUM_RHO = "medium.rho", Ty::Real, "per world unit", closed_range(0.0, 1e6), "0.05",
+    MEDIUM_RHO = "medium.rho", Ty::Real, "per world unit", closed_range(0.0, V::MEDIUM_MAX), "0.05",
         "MEDIUM_MAX = 10⁶ (ρκ = 10³ is a documented stiff case; exp underflows to 0, never NaN)", "",
         "Density ρ; attenuation is exp(−ρκ·length).";
-    MEDIUM_KAPPA = "medium.kappa", Ty::Real, "", closed_range(0.0, 1e6), "1.0", "as medium.rho", "",
+    MEDIUM_KAPPA = "medium.kappa", Ty::Real, "", closed_range(0.0, V::MEDIUM_MAX), "1.0", "as medium.rho", "",
         "Extinction coefficient κ.";
-    MEDIUM_K = "medium.k", Ty::Real, "", closed_range(0.0, 1e6), "1.0", "as medium.rho", "",
+    MEDIUM_K = "medium.k", Ty::Real, "", closed_range(0.0, V::MEDIUM_MAX), "1.0", "as medium.rho", "",
         "Phase-function constant K.";
 
     // ---- [[lights]]
@@ -374,10 +375,10 @@ fields! {
     LIGHT_CUTOFF_DEG = "lights[].cutoff_deg", Ty::Real, "degrees", open_range(0.0, 90.0), "20.0",
         "a cone's half-angle (a spot's frustum)", "kind = \"spot\"",
         "Cone half-angle (ignored by a point light, which only needs it finite).";
-    LIGHT_INTENSITY = "lights[].intensity", Ty::Real, "full scale / world unit²", closed_range(0.0, 1e9), "1.0",
+    LIGHT_INTENSITY = "lights[].intensity", Ty::Real, "full scale / world unit²", closed_range(0.0, V::INTENSITY_MAX), "1.0",
         "INTENSITY_MAX = 10⁹", "",
         "Radiant intensity on the axis, times color; 1.0 lights a white surface at distance 1 to full scale.";
-    LIGHT_COLOR = "lights[].color", Ty::Reals(3), "", closed_range(0.0, 1e3), "[1.0, 1.0, 1.0]",
+    LIGHT_COLOR = "lights[].color", Ty::Reals(3), "", closed_range(0.0, V::LIGHT_COLOR_MAX), "[1.0, 1.0, 1.0]",
         "LIGHT_COLOR_MAX = 10³", "",
         "Colour of the light, linear RGB.";
     LIGHT_MAP = "lights[].light_map", Ty::Tagged, "", Range::None, "none", NONE, "kind = \"spot\"",
@@ -425,7 +426,7 @@ fields! {
     SHAPE_POSITION = "objects[].shape.position", Ty::Reals(3), "world units", POS, "required", WORLD,
         "type = \"teapot\"",
         "Where the teapot stands.";
-    SHAPE_SCALE = "objects[].shape.scale", Ty::Real, "", open_closed(0.0, 1e5), "1.0",
+    SHAPE_SCALE = "objects[].shape.scale", Ty::Real, "", open_closed(0.0, V::TEAPOT_SCALE_MAX), "1.0",
         "TEAPOT_SCALE_MAX = 10⁵ (the data spans ~6.4 units: the result stays within WORLD_MAX)", "type = \"teapot\"",
         "Scale of the teapot data.";
     SHAPE_ROTATE_Y_DEG = "objects[].shape.rotate_y_deg", Ty::Real, "degrees", Range::Finite, "0.0", NONE,
@@ -445,7 +446,7 @@ fields! {
     MATERIAL_KS = "objects[].material.ks", Ty::Real, "", closed_range(0.0, 1.0), "required", BRDF,
         "model = \"phong\", \"blinn_phong\" or \"kajiya_kay\"",
         "Specular coefficient k_s.";
-    MATERIAL_EXPONENT = "objects[].material.exponent", Ty::Real, "", closed_range(0.0, 1e5), "required",
+    MATERIAL_EXPONENT = "objects[].material.exponent", Ty::Real, "", closed_range(0.0, super::material::EXPONENT_MAX), "required",
         "EXPONENT_MAX = 10⁵: beyond it cos^n underflows for every angle a texel resolves",
         "model = \"phong\", \"blinn_phong\" or \"kajiya_kay\"",
         "Specular exponent n.";
@@ -592,7 +593,7 @@ fields! {
     SOURCE_VERTICES = "glare.sources[].vertices", Ty::Points, "world units", POS, "[]",
         "2 ..= 64 vertices besides position", "kind = \"polygon\"",
         "P₁ … P_n; with position as P₀ they span the polygon.";
-    SOURCE_INTENSITY = "glare.sources[].intensity", Ty::Real, "codes", closed_range(0.0, 1e9), "required", CODES, "",
+    SOURCE_INTENSITY = "glare.sources[].intensity", Ty::Real, "codes", closed_range(0.0, super::glare::GLARE_INTENSITY_MAX), "required", CODES, "",
         "I; 2000 is about 8× saturation.";
     SOURCE_AREA_SIZE = "glare.sources[].area_size", Ty::Real, "", closed_range(0.0, 1.0), "1.0", MODEL, "",
         "The effective intensity is area_size × I.";
@@ -624,7 +625,7 @@ fields! {
         "The surface normal.";
     HIGHLIGHT_LIGHT = "glare.highlights[].light", Ty::Reals(3), "world units", POS, "required", WORLD, "",
         "The light's position.";
-    HIGHLIGHT_INTENSITY = "glare.highlights[].intensity", Ty::Real, "codes", closed_range(0.0, 1e9), "required",
+    HIGHLIGHT_INTENSITY = "glare.highlights[].intensity", Ty::Real, "codes", closed_range(0.0, super::glare::GLARE_INTENSITY_MAX), "required",
         CODES, "", "The light's intensity I.";
     HIGHLIGHT_SPECULAR = "glare.highlights[].specular", Ty::Real, "", closed_range(0.0, 1.0), "1.0", MODEL,
         "material = \"metallic\"", "I_s, the specular coefficient.";
@@ -637,7 +638,7 @@ fields! {
         "Highlights found by the shading units on objects with a specular material; none = only the written highlights.";
     SHADED_LIGHT = "glare.shaded_highlights.light", Ty::Int, "", Range::Unit("an index into lights"), "required",
         "the scene's light count", "", "The scene light whose highlights are sought.";
-    SHADED_INTENSITY = "glare.shaded_highlights.intensity", Ty::Real, "codes", closed_range(0.0, 1e9), "required",
+    SHADED_INTENSITY = "glare.shaded_highlights.intensity", Ty::Real, "codes", closed_range(0.0, super::glare::GLARE_INTENSITY_MAX), "required",
         CODES, "", "I of Table 2 for that light.";
     SHADED_RADIUS = "glare.shaded_highlights.radius", Ty::Real, "world units", closed_range(0.0, 1e6), "0.02", WORLD,
         "", "Radius of the glare source disc a highlight becomes.";
@@ -753,7 +754,7 @@ fields! {
     ENV_HDR = "environment.hdr", Ty::Str, "", Range::Unit("a Radiance .hdr file, equirectangular"), "none",
         "envmap MAX_HDR_BYTES", "",
         "A Radiance file, relative to the scene file's directory.";
-    ENV_EXPOSURE = "environment.exposure", Ty::Real, "levels per radiance unit", open_closed(0.0, 1e300), "none",
+    ENV_EXPOSURE = "environment.exposure", Ty::Real, "levels per radiance unit", open_closed(0.0, super::environment::MAX_EXPOSURE), "none",
         "MAX_EXPOSURE (the auto exposure's own cap)", "",
         "Radiance × exposure → levels (255 = full scale); none = chosen by exposure_rule.";
     ENV_EXPOSURE_RULE = "environment.exposure_rule", Ty::Choice(&["p99_solid_angle", "p99_texels", "max"]), "",
