@@ -6,7 +6,9 @@
 //!
 //! ```toml
 //! [environment]
-//! hdr = "maps/venice_sunset_512.hdr"   # or: map = "venice_sunset"
+//! map = "venice_sunset"            # a built-in map (pattern, venice_sunset, st_fagans_interior)
+//! # hdr = "my_map.hdr"               # or a Radiance file of your own, relative to this file
+//! #                                  # (the built-in maps ship as src/scene/data/envmaps/*.hdr)
 //! side = 128
 //! object = "teapot"
 //! lambda = "nonuniform"                 # or a number in [0, 1]

@@ -325,12 +325,12 @@ fields! {
         "Seed of every random choice made for the scene (noise, leaves, patches).";
 
     // ---- [image]
-    IMAGE = "image", Ty::Table, "", Range::None, "", NONE, "",
-        "Output size in pixels.";
-    IMAGE_WIDTH = "image.width", Ty::Int, "pixels", ints(1, IMAGE_MAX_U), "720",
+    IMAGE = "image", Ty::Table, "", Range::None, "{ width = 720, height = 480 }", NONE, "",
+        "Output size in pixels (the paper's 720 × 480 when left out; both fields when given).";
+    IMAGE_WIDTH = "image.width", Ty::Int, "pixels", ints(1, IMAGE_MAX_U), "required",
         "shadow_compare MAX_MAP_SIDE (the camera depth buffer) and the polygon_interpolator coordinate format (13 integer bits: vertices up to 4095.94)", "",
         "Image width.";
-    IMAGE_HEIGHT = "image.height", Ty::Int, "pixels", ints(1, IMAGE_MAX_U), "480",
+    IMAGE_HEIGHT = "image.height", Ty::Int, "pixels", ints(1, IMAGE_MAX_U), "required",
         "as image.width", "",
         "Image height.";
 
@@ -353,14 +353,14 @@ fields! {
         "Far clip distance; must exceed near.";
 
     // ---- [medium]
-    MEDIUM = "medium", Ty::Table, "", Range::None, "", NONE, "",
-        "The participating medium, homogeneous: density ρ, extinction κ, phase constant K with F(α) = K·(1 + 9·cos¹⁶(α/2)) (Dobashi et al. 2002, eq. 4).";
-    MEDIUM_RHO = "medium.rho", Ty::Real, "per world unit", closed_range(0.0, V::MEDIUM_MAX), "0.05",
+    MEDIUM = "medium", Ty::Table, "", Range::None, "{ rho = 0.05, kappa = 1.0, k = 1.0 }", NONE, "",
+        "The participating medium, homogeneous: density ρ, extinction κ, phase constant K with F(α) = K·(1 + 9·cos¹⁶(α/2)) (Dobashi et al., eq. 4).";
+    MEDIUM_RHO = "medium.rho", Ty::Real, "per world unit", closed_range(0.0, V::MEDIUM_MAX), "required",
         "MEDIUM_MAX = 10⁶ (ρκ = 10³ is a documented stiff case; exp underflows to 0, never NaN)", "",
         "Density ρ; attenuation is exp(−ρκ·length).";
-    MEDIUM_KAPPA = "medium.kappa", Ty::Real, "", closed_range(0.0, V::MEDIUM_MAX), "1.0", "as medium.rho", "",
+    MEDIUM_KAPPA = "medium.kappa", Ty::Real, "", closed_range(0.0, V::MEDIUM_MAX), "required", "as medium.rho", "",
         "Extinction coefficient κ.";
-    MEDIUM_K = "medium.k", Ty::Real, "", closed_range(0.0, V::MEDIUM_MAX), "1.0", "as medium.rho", "",
+    MEDIUM_K = "medium.k", Ty::Real, "", closed_range(0.0, V::MEDIUM_MAX), "required", "as medium.rho", "",
         "Phase-function constant K.";
 
     // ---- [[lights]]
@@ -375,7 +375,7 @@ fields! {
     LIGHT_CUTOFF_DEG = "lights[].cutoff_deg", Ty::Real, "degrees", open_range(0.0, 90.0), "20.0",
         "a cone's half-angle (a spot's frustum)", "kind = \"spot\"",
         "Cone half-angle (ignored by a point light, which only needs it finite).";
-    LIGHT_INTENSITY = "lights[].intensity", Ty::Real, "full scale / world unit²", closed_range(0.0, V::INTENSITY_MAX), "1.0",
+    LIGHT_INTENSITY = "lights[].intensity", Ty::Real, "full scale × world unit²", closed_range(0.0, V::INTENSITY_MAX), "1.0",
         "INTENSITY_MAX = 10⁹", "",
         "Radiant intensity on the axis, times color; 1.0 lights a white surface at distance 1 to full scale.";
     LIGHT_COLOR = "lights[].color", Ty::Reals(3), "", closed_range(0.0, V::LIGHT_COLOR_MAX), "[1.0, 1.0, 1.0]",
@@ -483,7 +483,7 @@ fields! {
 
     // ---- [shafts]
     SHAFTS = "shafts", Ty::Table, "", Range::None, "", NONE, "",
-        "How the light shafts are drawn in hardware (Dobashi et al. 2002): sample planes, tables and widths.";
+        "How the light shafts are drawn in hardware (Dobashi et al.): sample planes, tables and widths.";
     SHAFTS_PLANES = "shafts.planes", Ty::Int, "", ints(1, 10_000), "30",
         "10 000: the documented stiff case of thousands of blended planes", "",
         "n, sample planes.";
@@ -548,7 +548,7 @@ fields! {
 
     // ---- [glare]
     GLARE = "glare", Ty::Table, "", Range::None, "none", NONE, "",
-        "Glare sources and the glare renderer's settings (Kakimoto et al. 2004); none = no glare. Intensities are framebuffer codes (255 = full scale).";
+        "Glare sources and the glare renderer's settings (Matsuda and Ikedo); none = no glare. Intensities are framebuffer codes (255 = full scale).";
     GLARE_BACKGROUND = "glare.background", Ty::Tagged, "", Range::None, "{ type = \"black\" }", NONE, "",
         "What the glare is drawn over, tagged by `type`.";
     GLARE_BACKGROUND_TYPE = "glare.background.type", Ty::Choice(BACKGROUNDS), "", Range::None, "required", NONE, "",
@@ -748,7 +748,7 @@ fields! {
 
     // ---- [environment]
     ENVIRONMENT = "environment", Ty::Table, "", Range::None, "none", NONE, "",
-        "An environment map and the object drawn with it (Okumura's multi-scale environment map); none = no environment. docs/envmap.md.";
+        "An environment map and the object drawn with it (Okumura's multi-scale environment map, docs/envmap.md); none = no environment.";
     ENV_MAP = "environment.map", Ty::Choice(&super::envmap::BUILTIN_NAMES), "", Range::None, "none", NONE, "",
         "A built-in map; exactly one of map and hdr.";
     ENV_HDR = "environment.hdr", Ty::Str, "", Range::Unit("a Radiance .hdr file, equirectangular"), "none",
@@ -903,14 +903,23 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
          exactly what the unit accepts (docs/inputs.md, \"One source of limits\").\n\n\
          Columns: **path** (`[]` marks an array of tables), **type**, **unit**, \
          **range** (of each element, for an array), **default** (`required`: must be \
-         given; `none`: left out means the feature is off), **limit** (where the range \
+         given when its section is; `none`: left out means the feature is off), **limit** (where the range \
          comes from), **when** (the variant the field belongs to).\n\n",
     );
     // Sections: every table entry starts one; its fields follow.
-    let mut current = "";
+    let mut current = "-";
     for f in FIELDS {
-        let top = f.path.split(['.', '[']).next().unwrap_or(f.path);
+        let first = f.path.split(['.', '[']).next().unwrap_or(f.path);
+        // Top-level values (name, seed) form one group.
+        let top = if first == f.path && !f.ty.is_section() {
+            ""
+        } else {
+            first
+        };
         if top != current {
+            if current != "-" {
+                s.push('\n');
+            }
             current = top;
             let head = field(top).filter(|h| h.ty.is_section());
             match head {
@@ -920,7 +929,7 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
                         _ => format!("`[{top}]`"),
                     };
                     s.push_str(&format!("## {form}\n\n{}\n\n", h.doc));
-                    if h.default != "" {
+                    if !h.default.is_empty() {
                         s.push_str(&format!("Default: {}.\n\n", h.default));
                     }
                 }
@@ -955,13 +964,7 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
             code(f.when),
             cell(f.doc)
         ));
-        if FIELDS.last().map(|l| l.path) == Some(f.path) {
-            s.push('\n');
-        }
     }
-    // A blank line after each table.
-    let s = s.replace("|\n## ", "|\n\n## ");
-    let mut s = s;
     s.push_str(OTHER_FORMS);
     s.push_str(&format!(
         "\n## A worked example\n\n`glare-pipeline scene {example_name}` writes the \
@@ -970,9 +973,11 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
          Save it as `my.toml`, change what you want (say `[shafts] planes = 60` for \
          finer shafts, or a second `[[lights]]`), and render it with \
          `glare-pipeline render --scene my.toml --out my.png`. A misspelt key is \
-         refused before anything renders, naming it and the nearest valid key \
-         (`camera.fvo: unknown field ... did you mean fovy_deg?`).\n"
+         refused before anything renders, naming its path and the nearest valid key: \
+         `fvo = 40` under `[camera]` gives ``camera.fvo: unknown field `fvo`, … did you \
+         mean `fovy_deg`?``.\n"
     ));
+    s.push_str(REFERENCES);
     s
 }
 
@@ -991,3 +996,14 @@ A file with a top-level `[test_scene]` table is the foundation test scene: a fix
 that exercises every foundation unit. It has no parameters; the table is empty \
 (`glare-pipeline scene test` prints it), and `render --scene FILE` renders it as \
 `render --scene test` does.\n";
+
+/// The works the descriptions name.
+const REFERENCES: &str = "\n## References\n\n\
+- Dobashi, Yamamoto, Nishita, \"An accurate, fast method using graphics hardware for \
+rendering shafts of light\" (the light shafts: `[medium]`, `[[lights]]`, `[shafts]`).\n\
+- Matsuda, Ikedo, \"A realtime renderer for glare effect based upon empirical \
+approach\" (`[glare]`: Tables 1 and 2, eqs. 1–11).\n\
+- Okumura, master's thesis, \"Fast rendering of reflections of non-uniform surfaces \
+using a multi-scale environment map\" (`[environment]`).\n\
+- Spencer, Shirley, Zimmerman, Greenberg, \"Physically-based glare effects for digital \
+images\", SIGGRAPH 1995 (`glare.model.halo_radius = \"spencer\"`).\n";
