@@ -1825,6 +1825,23 @@ fn docs_scenes_md_is_generated_from_the_table() {
     for f in FIELDS {
         assert!(want.contains(&format!("`{}`", f.path)), "{}", f.path);
     }
+    // A width whose range a unit decides shows that range in numbers: the values
+    // validation accepts, one interval, refused just outside.
+    for f in FIELDS {
+        if f.ty == Ty::Int
+            && matches!(f.range, fields::Range::Unit(_))
+            && (f.path.starts_with("shafts.") || f.path.starts_with("glare.hw."))
+        {
+            let (lo, hi) = fields::probe_int(f.path)
+                .unwrap_or_else(|| panic!("{}: no interval found", f.path));
+            assert!(lo <= hi && hi < 1 << 20, "{}", f.path);
+            assert!(
+                want.contains(&format!("{lo} ..= {hi} (unit)")),
+                "{}",
+                f.path
+            );
+        }
+    }
 }
 
 /// The body of a printed scene after its header comment lines.

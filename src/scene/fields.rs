@@ -904,7 +904,9 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
          Columns: **path** (`[]` marks an array of tables), **type**, **unit**, \
          **range** (of each element, for an array), **default** (`required`: must be \
          given when its section is; `none`: left out means the feature is off), **limit** (where the range \
-         comes from), **when** (the variant the field belongs to).\n\n",
+         comes from; a range marked (unit) is what the named unit's own check accepts, \
+         found by validating a built-in with the field set and the other fields at \
+         their values), **when** (the variant the field belongs to).\n\n",
     );
     // Sections: every table entry starts one; its fields follow.
     let mut current = "-";
@@ -958,7 +960,7 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
             f.path,
             cell(&f.ty.text()),
             cell(f.unit),
-            cell(&f.range.text()),
+            cell(&range_text(f)),
             default,
             cell(f.limit),
             code(f.when),
@@ -979,6 +981,75 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
     ));
     s.push_str(REFERENCES);
     s
+}
+
+/// The range column: a unit-decided integer range is found by validating a built-in
+/// with the field set (see [`probe_int`]).
+fn range_text(f: &Field) -> String {
+    match (f.ty, f.range) {
+        (Ty::Int, Range::Unit(_)) => match probe_int(f.path) {
+            Some((lo, hi)) => format!("{lo} ..= {hi} (unit)"),
+            None => f.range.text(),
+        },
+        _ => f.range.text(),
+    }
+}
+
+/// The values a unit-decided integer field accepts, with the other fields at a
+/// built-in's values (fig6 for `shafts`, glare-point for `glare.hw`): every value
+/// 0 ..= 64 is validated, and past 64 the largest accepted one is found by bisection
+/// (the units' limits are upper bounds). None for another field, or when the accepted
+/// values are not one interval.
+pub fn probe_int(path: &str) -> Option<(u64, u64)> {
+    let base = match path.split('.').next()? {
+        "shafts" => "fig6",
+        "glare" if path.starts_with("glare.hw.") => "glare-point",
+        _ => return None,
+    };
+    let scene = super::builtin::builtin(base).ok()?;
+    let value = toml::Value::try_from(&scene).ok()?;
+    let ok = |x: u64| -> bool {
+        let mut v = value.clone();
+        let mut cur = &mut v;
+        let parts: Vec<&str> = path.split('.').collect();
+        for p in &parts[..parts.len() - 1] {
+            match cur.get_mut(*p) {
+                Some(c) => cur = c,
+                None => return false,
+            }
+        }
+        let Some(t) = cur.as_table_mut() else {
+            return false;
+        };
+        t.insert(
+            parts[parts.len() - 1].to_string(),
+            toml::Value::Integer(x as i64),
+        );
+        v.try_into::<super::format::Scene>()
+            .is_ok_and(|s| s.validate().is_ok())
+    };
+    let accepted: Vec<u64> = (0..=64).filter(|&x| ok(x)).collect();
+    let (&lo, &hi) = (accepted.first()?, accepted.last()?);
+    if hi - lo + 1 != accepted.len() as u64 {
+        return None;
+    }
+    if hi < 64 {
+        return Some((lo, hi));
+    }
+    // Bisection for the largest accepted value in 64 ..= 2^20.
+    let (mut good, mut bad) = (64u64, 1u64 << 20);
+    if ok(bad) {
+        return None;
+    }
+    while bad - good > 1 {
+        let mid = (good + bad) / 2;
+        if ok(mid) {
+            good = mid;
+        } else {
+            bad = mid;
+        }
+    }
+    Some((lo, good))
 }
 
 /// The two file forms besides a scene.
