@@ -1757,7 +1757,8 @@ fn validation_ranges_are_the_tables() {
     // A field at each end of its range is accepted, just outside is refused, naming
     // the field: the ranges validation checks are the table's.
     let base = builtin("glare-flare").unwrap();
-    let cases: Vec<(fields::Field, fn(&mut Scene, f64))> = vec![
+    type Setter = fn(&mut Scene, f64);
+    let cases: Vec<(fields::Field, Setter)> = vec![
         (fields::MEDIUM_RHO, |s, x| s.medium.rho = x),
         (fields::CAMERA_FOVY_DEG, |s, x| s.camera.fovy_deg = x),
         (fields::LIGHT_INTENSITY, |s, x| s.lights[0].intensity = x),
