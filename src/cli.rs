@@ -136,10 +136,22 @@ pub enum Command {
         #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
         max_memory: Option<u64>,
     },
-    /// Print a built-in scene (fig4, fig6, stage, the glare and env-MAP-OBJECT
-    /// scenes) as TOML, to start a scene file from:
-    /// `glare-pipeline scene fig6 > my.toml`, then `render --scene my.toml`.
-    Scene { name: String },
+    /// Print a scene as the TOML file that renders the same, to start a scene file
+    /// from: `glare-pipeline scene fig6 > my.toml`, edit, then `render --scene
+    /// my.toml`. Any name `render --scene` takes: the built-in scenes (compact,
+    /// each section commented, units after the values), `test` (its `[test_scene]`
+    /// form) and the shading-* scenes (their `[shading]` form); a scene file prints
+    /// the same way. Every field of the format: docs/scenes.md.
+    Scene {
+        /// A built-in scene name (a misspelt one gets the nearest names) or a TOML file.
+        #[arg(required_unless_present = "reference")]
+        name: Option<String>,
+        /// Instead: write the scene format's reference (every section and field with
+        /// its type, unit, range, default and where the range comes from) to this
+        /// Markdown file, as docs/scenes.md is made.
+        #[arg(long, value_name = "FILE", conflicts_with = "name")]
+        reference: Option<PathBuf>,
+    },
     /// Bit-width optimisation (docs/optimize.md): from the GeForce defaults,
     /// the cheapest widths of a shafts, glare, environment-map or shading scene within an error budget (a greedy
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
@@ -376,7 +388,10 @@ impl Command {
             Command::Units { scene, .. } => with_scene("units", scene.as_deref()),
             Command::Render { scene, .. } => with_scene("render", Some(scene)),
             Command::Reproduce { name, .. } => format!("reproduce {name}"),
-            Command::Scene { name } => format!("scene {name}"),
+            Command::Scene { name, .. } => match name {
+                Some(n) => format!("scene {n}"),
+                None => "scene --reference".into(),
+            },
             Command::Optimize(a) => with_scene("optimize", Some(&a.scene)),
             Command::Attribute { scene, .. } => with_scene("attribute", Some(scene)),
             Command::Sweep { merge: Some(_), .. } => "sweep merge".into(),
@@ -439,12 +454,8 @@ pub fn run(cli: Cli) -> Result<(), String> {
         } => reproduce(&name, &out, values, resume, max_memory),
         Command::Optimize(a) => crate::frame::optimize::cli::optimize_cli(&a),
         Command::Attribute { scene, out, image } => attribute_cmd(&scene, &out, image.as_deref()),
-        Command::Scene { name } => {
-            print!(
-                "{}",
-                crate::scene::builtin::builtin_toml(&name).map_err(|e| e.to_string())?
-            );
-            Ok(())
+        Command::Scene { name, reference } => {
+            crate::frame::scene_text::scene_cli(name.as_deref(), reference.as_deref())
         }
         Command::Sweep {
             merge: Some(SweepCommand::Merge { out, dirs }),

@@ -1350,3 +1350,694 @@ fn every_builtin_object_tessellates() {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------
+// The field table (src/scene/fields.rs) against the serde format, docs/scenes.md,
+// `scene NAME` for every name, did-you-mean.
+
+use glare_pipeline::scene::fields::{self, Ty, FIELDS};
+use glare_pipeline::scene::load::{self, every_scene_name, load_scene, SHADING_NAMES};
+use std::collections::BTreeSet;
+
+/// A scene text that sets every optional section and every variant's fields (not
+/// validated: it is for the serde format only). `background` picks the glare
+/// background's variant.
+fn maximal_text(background: &str) -> String {
+    format!(
+        r#"name = "maximal"
+seed = 3
+[image]
+width = 64
+height = 48
+[camera]
+eye = [0.0, 1.0, 5.0]
+look_at = [0.0, 0.0, 0.0]
+up = [0.0, 1.0, 0.0]
+fovy_deg = 40.0
+near = 0.5
+far = 40.0
+[medium]
+rho = 0.1
+kappa = 0.5
+k = 1.0
+[[lights]]
+kind = "spot"
+position = [0.0, 5.0, 0.0]
+direction = [0.0, -1.0, 0.0]
+cutoff_deg = 30.0
+intensity = 2.0
+color = [1.0, 0.5, 0.5]
+light_map = {{ type = "smooth", exponent = 2.0 }}
+[[lights]]
+position = [0.0, 5.0, 0.0]
+light_map = {{ type = "polka_dots", dots = 4, radius = 0.2 }}
+[[lights]]
+position = [0.0, 5.0, 0.0]
+light_map = {{ type = "image", path = "map.png" }}
+[[lights]]
+kind = "point"
+position = [1.0, 5.0, 0.0]
+[[objects]]
+shape = {{ type = "sphere", center = [0.0, 0.0, 0.0], radius = 1.0 }}
+material = {{ model = "lambert" }}
+[[objects]]
+shape = {{ type = "plane", center = [0.0, 0.0, 0.0], normal = [0.0, 1.0, 0.0], tangent = [1.0, 0.0, 0.0], half_size = [1.0, 1.0] }}
+material = {{ model = "phong", ks = 0.5, exponent = 10.0, normalized = true }}
+[[objects]]
+shape = {{ type = "box", min = [0.0, 0.0, 0.0], max = [1.0, 1.0, 1.0] }}
+material = {{ model = "blinn_phong", ks = 0.5, exponent = 10.0 }}
+[[objects]]
+shape = {{ type = "teapot", position = [0.0, 0.0, 0.0], scale = 1.0, rotate_y_deg = 10.0, subdivisions = 4 }}
+material = {{ model = "cook_torrance", distribution = "ggx", roughness = 0.3, ior = 1.5, extinction = 1.0, fresnel = "schlick" }}
+[[objects]]
+shape = {{ type = "sphere", center = [0.0, 0.0, 0.0], radius = 1.0 }}
+material = {{ model = "ward", rho_s = 0.2, alpha_x = 0.1, alpha_y = 0.2 }}
+[[objects]]
+shape = {{ type = "sphere", center = [0.0, 0.0, 0.0], radius = 1.0 }}
+material = {{ model = "oren_nayar", sigma_deg = 20.0 }}
+[[objects]]
+shape = {{ type = "sphere", center = [0.0, 0.0, 0.0], radius = 1.0 }}
+material = {{ model = "kajiya_kay", ks = 0.3, exponent = 8.0 }}
+occluder = false
+color = [0.5, 0.5, 0.5]
+[shafts]
+acc_int_bits = 21
+acc_frac_bits = 23
+recip_index_bits = 9
+recip_entry_bits = 15
+newton_frac_bits = 21
+plane_step = "plane_spacing"
+[rounding]
+chain = "fused"
+filter = "successive_lerps"
+weight = "truncate"
+[shading_hw]
+cube_face = 32
+lookup_log2 = 7
+factor_size = 48
+factor_bits = 7
+[glare]
+background = {background}
+frame = 3
+[[glare.sources]]
+kind = "polygon"
+position = [0.0, 2.0, 0.0]
+a = 0.5
+b = 0.2
+n = [0.0, 0.0, 1.0]
+vertices = [[1.0, 2.0, 0.0], [0.0, 3.0, 0.0]]
+intensity = 500.0
+area_size = 0.5
+directivity = [0.0, 0.0, 1.0]
+color = [1.0, 1.0, 0.5]
+bloom = false
+halo = false
+flare = false
+fluctuation = {{ patches = 4, spread = 0.5, patch_radius = 0.1 }}
+[[glare.highlights]]
+material = "water"
+position = [0.0, 0.0, 0.0]
+normal = [0.0, 1.0, 0.0]
+light = [0.0, 5.0, 0.0]
+intensity = 100.0
+specular = 0.5
+eta = 1.2
+radius = 0.05
+[glare.shaded_highlights]
+light = 0
+intensity = 100.0
+radius = 0.05
+[environment]
+map = "pattern"
+hdr = "x.hdr"
+exposure = 1.0
+exposure_rule = "max"
+weighting = "uniform"
+dome_pick = "voxel_spacing"
+side = 64
+object = "sphere"
+lambda = 0.5
+lookup = "auto"
+background = "black"
+reflectors = [{{ object = 0, lambda = 0.5, reflectance = 0.5 }}]
+prefilter = {{ type = "accelerated", threshold = 0.01 }}
+"#
+    )
+}
+
+/// The maximal scenes, one per glare background variant, as the serde format reads
+/// them.
+fn maximal_scenes() -> Vec<Scene> {
+    [
+        r#"{ type = "sky", top = [0.1, 0.1, 0.2], bottom = [0.0, 0.0, 0.0] }"#,
+        r#"{ type = "canopy", leaves = 10, sky = [0.5, 0.5, 0.9], leaf = [0.1, 0.2, 0.1] }"#,
+        r#"{ type = "black" }"#,
+        r#"{ type = "shafts" }"#,
+    ]
+    .iter()
+    .enumerate()
+    .map(|(i, b)| {
+        // The other prefilters' tags too (their fields are the accelerated one's).
+        let prefilter = ["accelerated", "accelerated", "exact", "auto"][i];
+        let text = maximal_text(b).replace(
+            r#"prefilter = { type = "accelerated", threshold = 0.01 }"#,
+            &format!(
+                "prefilter = {{ type = \"{prefilter}\"{} }}",
+                if prefilter == "accelerated" {
+                    ", threshold = 0.01"
+                } else {
+                    ""
+                }
+            ),
+        );
+        toml::from_str::<Scene>(&text).unwrap()
+    })
+    .collect()
+}
+
+/// Every key path of a TOML value: `camera`, `camera.eye`, `lights`,
+/// `lights[].light_map.type`, …
+fn key_paths(prefix: &str, v: &toml::Value, out: &mut BTreeSet<String>) {
+    let toml::Value::Table(t) = v else { return };
+    for (k, x) in t {
+        let p = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        out.insert(p.clone());
+        match x {
+            toml::Value::Table(_) => key_paths(&p, x, out),
+            toml::Value::Array(a) if !a.is_empty() && a.iter().all(|e| e.is_table()) => {
+                for e in a {
+                    key_paths(&format!("{p}[]"), e, out);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// Every string value of a TOML value with its generic path.
+fn string_values(prefix: &str, v: &toml::Value, out: &mut BTreeSet<(String, String)>) {
+    let toml::Value::Table(t) = v else { return };
+    for (k, x) in t {
+        let p = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match x {
+            toml::Value::String(s) => {
+                out.insert((p, s.clone()));
+            }
+            toml::Value::Table(_) => string_values(&p, x, out),
+            toml::Value::Array(a) => {
+                for e in a {
+                    string_values(&format!("{p}[]"), e, out);
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+/// A concrete path (keys and array indices) to the first place a generic path
+/// (`lights[].light_map.dots`) exists in `v`.
+fn locate(v: &toml::Value, parts: &[&str]) -> Option<Vec<(String, Option<usize>)>> {
+    let Some((part, rest)) = parts.split_first() else {
+        return Some(Vec::new());
+    };
+    let (key, array) = match part.strip_suffix("[]") {
+        Some(k) => (k, true),
+        None => (*part, false),
+    };
+    let x = v.get(key)?;
+    if !array {
+        let mut tail = locate(x, rest)?;
+        tail.insert(0, (key.to_string(), None));
+        return Some(tail);
+    }
+    let a = x.as_array()?;
+    a.iter().enumerate().find_map(|(i, e)| {
+        let mut tail = locate(e, rest)?;
+        tail.insert(0, (key.to_string(), Some(i)));
+        Some(tail)
+    })
+}
+
+/// The value at a generic path (the first place it exists).
+fn value_at<'a>(v: &'a toml::Value, path: &str) -> Option<&'a toml::Value> {
+    let parts: Vec<&str> = path.split('.').collect();
+    let steps = locate(v, &parts)?;
+    let mut cur = v;
+    for (k, i) in steps {
+        cur = cur.get(k.as_str())?;
+        if let Some(i) = i {
+            cur = cur.get(i)?;
+        }
+    }
+    Some(cur)
+}
+
+/// Set or remove the value at a generic path (the first place it exists).
+fn set_at(v: &mut toml::Value, path: &str, value: Option<toml::Value>) {
+    let parts: Vec<&str> = path.split('.').collect();
+    let steps = locate(v, &parts).expect("the path exists");
+    let n = steps.len();
+    let mut cur = v;
+    for (j, (k, i)) in steps.into_iter().enumerate() {
+        if j + 1 == n {
+            let t = cur.as_table_mut().expect("a table");
+            match value {
+                Some(x) => {
+                    t.insert(k, x);
+                }
+                None => {
+                    t.remove(&k);
+                }
+            }
+            return;
+        }
+        cur = cur.get_mut(k.as_str()).expect("a key");
+        if let Some(i) = i {
+            cur = cur.get_mut(i).expect("an element");
+        }
+    }
+}
+
+/// The scenes whose serialised forms are searched for key paths: every built-in and
+/// the maximal scenes.
+fn format_scenes() -> Vec<Scene> {
+    let mut v: Vec<Scene> = load::builtin_names()
+        .into_iter()
+        .map(|n| builtin(n).unwrap())
+        .collect();
+    v.extend(maximal_scenes());
+    v
+}
+
+#[test]
+fn field_table_matches_the_serde_format() {
+    let mut found = BTreeSet::new();
+    for s in format_scenes() {
+        let v = toml::Value::try_from(&s).unwrap();
+        // What serialises deserialises to the same scene: the keys are the format's.
+        let back: Scene = toml::from_str(&toml::to_string(&s).unwrap()).unwrap();
+        assert_eq!(back, s, "{}", s.name);
+        key_paths("", &v, &mut found);
+    }
+    let table: BTreeSet<String> = FIELDS.iter().map(|f| f.path.to_string()).collect();
+    assert_eq!(table.len(), FIELDS.len(), "a path is listed twice");
+    let missing: Vec<_> = found.difference(&table).collect();
+    assert!(
+        missing.is_empty(),
+        "key paths of the scene format missing from src/scene/fields.rs: {missing:?}"
+    );
+    let stale: Vec<_> = table.difference(&found).collect();
+    assert!(
+        stale.is_empty(),
+        "src/scene/fields.rs lists paths the scene format does not have: {stale:?}"
+    );
+}
+
+#[test]
+fn every_table_entry_deserializes_with_its_default_and_choices() {
+    let bases: Vec<toml::Value> = format_scenes()
+        .iter()
+        .map(|s| toml::Value::try_from(s).unwrap())
+        .collect();
+    let parse = |text: &str| {
+        text.parse::<toml::Table>()
+            .map(toml::Value::Table)
+            .unwrap_or_else(|e| panic!("{text}: {e}"))
+    };
+    let mut strings = BTreeSet::new();
+    for b in &bases {
+        string_values("", b, &mut strings);
+    }
+    let mut checked_defaults = 0;
+    for f in FIELDS {
+        let base = bases
+            .iter()
+            .find(|b| value_at(b, f.path).is_some())
+            .unwrap_or_else(|| panic!("{}: in no scene", f.path));
+        // Each choice of a choice field is accepted at that path; a choice not listed
+        // is refused.
+        let choices: &[&str] = match f.ty {
+            Ty::Choice(c) | Ty::RealOr(c) => c,
+            _ => &[],
+        };
+        let tag = (f.path.ends_with(".type") || f.path.ends_with(".model"))
+            && fields::field(f.path.rsplit_once('.').unwrap().0)
+                .is_some_and(|p| p.ty == Ty::Tagged);
+        for c in choices {
+            if tag {
+                // A variant tag: some scene of the format holds each variant (its
+                // fields differ, so the tag alone cannot be swapped).
+                assert!(
+                    strings.contains(&(f.path.to_string(), c.to_string())),
+                    "{} = \"{c}\": in no scene",
+                    f.path
+                );
+                continue;
+            }
+            let mut v = base.clone();
+            set_at(&mut v, f.path, Some(toml::Value::String(c.to_string())));
+            let text = toml::to_string(&v).unwrap();
+            if let Err(e) = toml::from_str::<Scene>(&text) {
+                panic!("{} = \"{c}\" is refused: {e}", f.path);
+            }
+        }
+        // `environment.map` is a string to serde; validation refuses a name not
+        // listed (checked below).
+        if !choices.is_empty() && !tag && f.path != "environment.map" {
+            let mut v = base.clone();
+            set_at(&mut v, f.path, Some(toml::Value::String("no_such".into())));
+            assert!(
+                toml::from_str::<Scene>(&toml::to_string(&v).unwrap()).is_err(),
+                "{} accepts a choice the table does not list",
+                f.path
+            );
+        }
+        // The default: the field left out reads back as the table says (a field
+        // written only when it differs from its default reads back absent).
+        match f.default {
+            "required" | "" => {}
+            "none" => {
+                let mut v = base.clone();
+                set_at(&mut v, f.path, None);
+                let s: Scene = toml::from_str(&toml::to_string(&v).unwrap())
+                    .unwrap_or_else(|e| panic!("{} left out: {e}", f.path));
+                let again = toml::Value::try_from(&s).unwrap();
+                assert!(value_at(&again, f.path).is_none(), "{}: not none", f.path);
+                checked_defaults += 1;
+            }
+            d => {
+                let want = parse(&format!("v = {d}"))["v"].clone();
+                let mut v = base.clone();
+                set_at(&mut v, f.path, None);
+                let s: Scene = toml::from_str(&toml::to_string(&v).unwrap())
+                    .unwrap_or_else(|e| panic!("{} left out: {e}", f.path));
+                let again = toml::Value::try_from(&s).unwrap();
+                if let Some(got) = value_at(&again, f.path) {
+                    assert_eq!(got, &want, "{}: the default", f.path);
+                    checked_defaults += 1;
+                }
+            }
+        }
+    }
+    assert!(
+        checked_defaults > 100,
+        "only {checked_defaults} defaults checked"
+    );
+    let mut s = builtin("env-pattern-sphere").unwrap();
+    s.environment.as_mut().unwrap().map = Some("no_such".into());
+    expect_field(s.validate(), "environment.map");
+}
+
+#[test]
+fn validation_ranges_are_the_tables() {
+    use fields::Range;
+    // A field at each end of its range is accepted, just outside is refused, naming
+    // the field: the ranges validation checks are the table's.
+    let base = builtin("glare-flare").unwrap();
+    type Setter = fn(&mut Scene, f64);
+    let cases: Vec<(fields::Field, Setter)> = vec![
+        (fields::MEDIUM_RHO, |s, x| s.medium.rho = x),
+        (fields::CAMERA_FOVY_DEG, |s, x| s.camera.fovy_deg = x),
+        (fields::LIGHT_INTENSITY, |s, x| s.lights[0].intensity = x),
+        (fields::SHAFTS_PLANES, |s, x| s.shafts.planes = x as u32),
+        (fields::SHAFTS_S_MAX, |s, x| s.shafts.s_max = x),
+        (fields::IMAGE_WIDTH, |s, x| s.image.width = x as u32),
+        (fields::GLARE_AGE, |s, x| {
+            s.glare.as_mut().unwrap().determinants.age = x
+        }),
+        (fields::CHAOS_Z, |s, x| {
+            s.glare.as_mut().unwrap().model.chaos_z = x
+        }),
+        (fields::HW_PIPES, |s, x| {
+            s.glare.as_mut().unwrap().hw.pipes = x as u32
+        }),
+    ];
+    let mut s0 = base.clone();
+    if s0.lights.is_empty() {
+        s0.lights.push(kitchen_sink().lights[0].clone());
+    }
+    for (f, set) in cases {
+        let (lo, lo_in, hi, hi_in, step) = match f.range {
+            Range::Real {
+                lo,
+                lo_closed,
+                hi,
+                hi_closed,
+            } => (lo, lo_closed, hi, hi_closed, (hi - lo) * 1e-6),
+            Range::Int { lo, hi } => (lo as f64, true, hi as f64, true, 1.0),
+            other => panic!("{}: {other:?}", f.path),
+        };
+        let check = |x: f64, ok: bool| {
+            let mut s = s0.clone();
+            set(&mut s, x);
+            let r = s.validate();
+            assert_eq!(r.is_ok(), ok, "{} = {x}: {r:?}", f.path);
+            if let Err(e) = r {
+                assert!(
+                    e.field().ends_with(f.path.rsplit('.').next().unwrap()),
+                    "{e}"
+                );
+            }
+        };
+        let inside = |x: f64, closed: bool, dir: f64| if closed { x } else { x + dir * step };
+        check(inside(lo, lo_in, 1.0), true);
+        check(inside(hi, hi_in, -1.0), true);
+        if lo > 0.0 || !matches!(f.range, Range::Int { .. }) {
+            check(if lo_in { lo - step } else { lo }, false);
+        }
+        check(if hi_in { hi + step } else { hi }, false);
+    }
+}
+
+#[test]
+fn docs_scenes_md_is_generated_from_the_table() {
+    let want = glare_pipeline::frame::scene_text::reference_text().unwrap();
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/scenes.md");
+    let have = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        have == want,
+        "docs/scenes.md differs from what the generator writes: run \
+         `glare-pipeline scene --reference docs/scenes.md`"
+    );
+    // Every field is in it with its unit and range.
+    for f in FIELDS {
+        // A top-level section is a heading, everything else a row.
+        let shown = [
+            format!("| `{}` | {} | {} |", f.path, f.ty.text(), f.unit),
+            format!("## `[{}]`", f.path),
+            format!("## `[[{}]]`", f.path),
+        ];
+        assert!(
+            shown.iter().any(|t| want.contains(t.as_str())),
+            "{}",
+            f.path
+        );
+    }
+    // A width whose range a unit decides shows that range in numbers: the values
+    // validation accepts, one interval, refused just outside.
+    for f in FIELDS {
+        if f.ty == Ty::Int
+            && matches!(f.range, fields::Range::Unit(_))
+            && (f.path.starts_with("shafts.") || f.path.starts_with("glare.hw."))
+        {
+            let (lo, hi) = fields::probe_int(f.path)
+                .unwrap_or_else(|| panic!("{}: no interval found", f.path));
+            assert!(lo <= hi && hi < 1 << 20, "{}", f.path);
+            assert!(
+                want.contains(&format!("{lo} ..= {hi} (unit)")),
+                "{}",
+                f.path
+            );
+        }
+    }
+}
+
+/// The body of a printed scene after its header comment lines.
+fn body(text: &str) -> &str {
+    let start = text.find("\n\n").map_or(0, |i| i + 2);
+    &text[start..]
+}
+
+#[test]
+fn scene_name_prints_compact_toml_that_loads_back_for_every_builtin() {
+    use glare_pipeline::frame::scene_text::scene_text;
+    use glare_pipeline::pipeline::shading::scene_file::ShadingFile;
+    use glare_pipeline::scene::print::scene_toml;
+    // The shading names this layer lists are the shading pipeline's.
+    assert_eq!(
+        SHADING_NAMES.to_vec(),
+        glare_pipeline::pipeline::shading::sweep::scene_names()
+    );
+    for name in every_scene_name() {
+        let text = scene_text(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(text.starts_with("# "), "{name}: a comment says what it is");
+        // Compact: every line is a comment, a header, blank or `key = value` (no
+        // vector element on a line of its own).
+        for line in text.lines() {
+            let t = line.trim();
+            assert!(
+                t.is_empty() || t.starts_with('#') || t.starts_with('[') || t.contains(" = "),
+                "{name}: line `{line}`"
+            );
+        }
+        if name == load::TEST_NAME {
+            assert_eq!(
+                glare_pipeline::scene::test_scene::parse_file(&text),
+                Ok(true)
+            );
+            continue;
+        }
+        if SHADING_NAMES.contains(&name) {
+            let f = ShadingFile::parse(&text).unwrap();
+            let built = ShadingFile::builtin(name).unwrap();
+            assert_eq!(f, built, "{name}");
+            assert_eq!(f.to_toml("").unwrap(), built.to_toml("").unwrap());
+            continue;
+        }
+        let loaded = Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let want = builtin(name).unwrap();
+        assert_eq!(loaded, want, "{name}");
+        // Printing the loaded scene again gives the same text, byte for byte.
+        let again = scene_toml(&loaded, "").unwrap();
+        assert_eq!(
+            again,
+            body(&text),
+            "{name}: the round trip is not byte-stable"
+        );
+        let lines = text.lines().count();
+        let pretty = toml::to_string_pretty(&want).unwrap().lines().count();
+        assert!(
+            lines < pretty,
+            "{name}: {lines} lines, pretty TOML {pretty}"
+        );
+        // Each section has a comment line above its header.
+        let ls: Vec<&str> = text.lines().collect();
+        for (i, l) in ls.iter().enumerate() {
+            if l.starts_with('[') && !l.contains('=') {
+                let header = l.trim_matches(['[', ']']);
+                let first = !ls[..i].iter().any(|p| p.trim_matches(['[', ']']) == header);
+                if first {
+                    assert!(ls[i - 1].starts_with("# "), "{name}: no comment above {l}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn scene_files_render_the_same_bytes_as_the_builtins() {
+    use glare_pipeline::frame::scene_text::scene_text;
+    use glare_pipeline::pipeline::shading::scene_file::{render_cli, ShadingFile};
+    use glare_pipeline::scene::print::scene_toml;
+    let dir = scratch_dir().join(format!("render_{:?}", std::thread::current().id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A shafts scene and a glare scene at a small image: the built-in against its
+    // printed file read back from disk.
+    for name in ["fig6", "glare-point"] {
+        let mut s = builtin(name).unwrap();
+        s.image = ImageSize {
+            width: 48,
+            height: 32,
+        };
+        let file = dir.join(format!("{name}.toml"));
+        std::fs::write(&file, scene_toml(&s, "# test\n\n").unwrap()).unwrap();
+        let loaded = Scene::from_file(&file).unwrap();
+        assert_eq!(loaded, s);
+        let a = dir.join(format!("{name}_builtin.png"));
+        let b = dir.join(format!("{name}_file.png"));
+        glare_pipeline::frame::run::render(&s)
+            .unwrap()
+            .fb
+            .save_png(&a)
+            .unwrap();
+        glare_pipeline::frame::run::render(&loaded)
+            .unwrap()
+            .fb
+            .save_png(&b)
+            .unwrap();
+        let (pa, pb) = (std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        assert!(pa.len() > 100);
+        assert_eq!(pa, pb, "{name}: the file renders other bytes");
+    }
+    // A shading scene at a small view: `scene NAME`'s form with the view shrunk.
+    let text = scene_text("shading-phong")
+        .unwrap()
+        .replace("image = 256", "image = 24");
+    let f = ShadingFile::parse(&text).unwrap();
+    let mut built = ShadingFile::builtin("shading-phong").unwrap();
+    built.image = Some(24);
+    assert_eq!(f, built);
+    let (a, b) = (
+        dir.join("shading_builtin.png"),
+        dir.join("shading_file.png"),
+    );
+    render_cli(&built, &a, true, None, false).unwrap();
+    render_cli(&f, &b, true, None, false).unwrap();
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+}
+
+#[test]
+fn misspelt_names_and_missing_files_are_told_apart() {
+    let e = load_scene("fig7").unwrap_err();
+    assert!(e.contains("did you mean fig4 or fig6?"), "{e}");
+    let e = load_scene("glare-pont").unwrap_err();
+    assert!(e.contains("did you mean glare-point?"), "{e}");
+    let e = load_scene("env-pattern").unwrap_err();
+    assert!(
+        e.contains("did you mean env-pattern-sphere or env-pattern-teapot?"),
+        "{e}"
+    );
+    let e = load_scene("shading-phogn").unwrap_err();
+    assert!(e.contains("did you mean shading-phong?"), "{e}");
+    let e = load_scene("zzzzzzzz").unwrap_err();
+    assert!(!e.contains("did you mean"), "{e}");
+    for missing in ["./nope.toml", "dir/scene", "nope.toml"] {
+        let e = load_scene(missing).unwrap_err();
+        assert_eq!(e, format!("scene: file not found: {missing}"));
+    }
+    // `test` and the shading scenes are names of other kinds: said so.
+    assert!(load_scene("test")
+        .unwrap_err()
+        .contains("foundation test scene"));
+    assert!(load_scene("shading-phong")
+        .unwrap_err()
+        .contains("shading scene"));
+}
+
+#[test]
+fn a_misspelt_key_names_its_path_and_the_nearest_key() {
+    let t = builtin_toml("fig6").unwrap();
+    let cases = [
+        ("fovy_deg = 40.0", "fvo = 40.0", "camera.fvo", "`fovy_deg`"),
+        (
+            "cutoff_deg",
+            "cutof_deg",
+            "lights[0].cutof_deg",
+            "`cutoff_deg`",
+        ),
+        ("planes = 30", "plnaes = 30", "shafts.plnaes", "`planes`"),
+        (
+            "type = \"sphere\"",
+            "type = \"spehre\"",
+            "objects[0].shape.type",
+            "`sphere`",
+        ),
+    ];
+    for (from, to, field, hint) in cases {
+        assert!(t.contains(from), "{from}");
+        let e = Scene::from_toml_str(&t.replacen(from, to, 1)).unwrap_err();
+        assert_eq!(e.field(), field, "{e}");
+        assert!(
+            e.to_string().contains(&format!("did you mean {hint}?")),
+            "{e}"
+        );
+    }
+}

@@ -29,7 +29,8 @@ pub fn render_cli(
             check_png_path("reference", r)?;
         }
     }
-    if name == "test" {
+    // The foundation test scene: `test`, or its `[test_scene]` file form.
+    if crate::scene::test_scene::resolve(name)? {
         if !json {
             print!("pass plan:\n{}", plan_table(&test_scene_plan()));
         }

@@ -22,5 +22,6 @@ pub mod range;
 pub mod reflection;
 pub mod reproduce;
 pub mod run;
+pub mod scene_text;
 pub mod speed;
 pub mod sweep;

@@ -64,16 +64,17 @@ pub fn builtin(name: &str) -> Result<Scene, ConfigError> {
     Ok(scene)
 }
 
-/// The TOML text of a built-in scene, to start a scene file from:
+/// The TOML text of a built-in scene, to start a scene file from: compact and
+/// commented ([`super::print::scene_toml`]), and
 /// `Scene::from_toml_str(&builtin_toml(x)?)? == builtin(x)?`.
 pub fn builtin_toml(name: &str) -> Result<String, ConfigError> {
     let scene = builtin(name)?;
-    let body = toml::to_string_pretty(&scene)
-        .map_err(|e| ConfigError::invalid("scene", &format!("cannot write TOML: {e}")))?;
-    Ok(format!(
-        "# Built-in scene `{name}` of glare-pipeline ({}).\n\n{body}",
+    let header = format!(
+        "# Built-in scene `{name}` of glare-pipeline ({}).\n\
+         # Render it with `glare-pipeline render --scene FILE`; every field is in docs/scenes.md.\n\n",
         scene.name
-    ))
+    );
+    super::print::scene_toml(&scene, &header)
 }
 
 /// The medium of every built-in: ρ = 0.025, κ = 0.8 (ρκ = 0.02), K = 1 (see the module

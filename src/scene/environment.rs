@@ -6,7 +6,9 @@
 //!
 //! ```toml
 //! [environment]
-//! hdr = "maps/venice_sunset_512.hdr"   # or: map = "venice_sunset"
+//! map = "venice_sunset"            # a built-in map (pattern, venice_sunset, st_fagans_interior)
+//! # hdr = "my_map.hdr"               # or a Radiance file of your own, relative to this file
+//! #                                  # (the built-in maps ship as src/scene/data/envmaps/*.hdr)
 //! side = 128
 //! object = "teapot"
 //! lambda = "nonuniform"                 # or a number in [0, 1]
@@ -24,8 +26,8 @@ use serde::de::{self, Deserializer, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 
 use super::envmap::{EnvMap, BUILTIN_NAMES};
+use super::fields;
 use super::format::Camera;
-use super::validate::{closed, interval};
 
 /// Default voxel map side s (the thesis': 128³).
 pub const DEFAULT_SIDE: u32 = 128;
@@ -452,7 +454,7 @@ impl EnvironmentSection {
             _ => {}
         }
         if let Some(e) = self.exposure {
-            interval("exposure", e, 0.0, false, MAX_EXPOSURE, true).map_err(f)?;
+            fields::ENV_EXPOSURE.real("exposure", e).map_err(f)?;
             if !self.exposure_rule.is_default() {
                 return Err(f(ConfigError::invalid(
                     "exposure_rule",
@@ -460,7 +462,9 @@ impl EnvironmentSection {
                 )));
             }
         }
-        check_range("side", self.side.into(), MIN_SIDE.into(), MAX_SIDE.into()).map_err(f)?;
+        // The range from the field table; the power of two below, with its reason.
+        let (lo, hi) = fields::ENV_SIDE.bounds().unwrap_or((0.0, 0.0));
+        check_range("side", self.side.into(), lo as u64, hi as u64).map_err(f)?;
         if !self.side.is_power_of_two() {
             return Err(f(ConfigError::invalid(
                 "side",
@@ -472,10 +476,12 @@ impl EnvironmentSection {
         }
         super::limits::check_env_side(self.side).map_err(f)?;
         if let EnvLambda::Uniform(l) = self.lambda {
-            closed("lambda", l, 0.0, 1.0).map_err(f)?;
+            fields::ENV_LAMBDA.real("lambda", l).map_err(f)?;
         }
         if let Prefilter::Accelerated { threshold } = self.prefilter {
-            interval("prefilter.threshold", threshold, 0.0, true, 1.0, false).map_err(f)?;
+            fields::PREFILTER_THRESHOLD
+                .real("prefilter.threshold", threshold)
+                .map_err(f)?;
         }
         if !self.dome_pick.is_default()
             && !matches!(
@@ -494,8 +500,12 @@ impl EnvironmentSection {
         }
         for (i, r) in self.reflectors.iter().enumerate() {
             let g = |e: ConfigError| f(e.within(&format!("reflectors[{i}]")));
-            closed("lambda", r.lambda, 0.0, 1.0).map_err(g)?;
-            closed("reflectance", r.reflectance, 0.0, 1.0).map_err(g)?;
+            fields::REFLECTOR_LAMBDA
+                .real("lambda", r.lambda)
+                .map_err(g)?;
+            fields::REFLECTOR_REFLECTANCE
+                .real("reflectance", r.reflectance)
+                .map_err(g)?;
         }
         if self.object.is_some() && !self.reflectors.is_empty() {
             return Err(f(ConfigError::invalid(

@@ -462,8 +462,8 @@ impl Default for GlareHw {
 // ---------------------------------------------------------------------------------
 // Validation: every error names its field (`glare.sources[1].a`).
 
-use super::validate::{closed, direction, interval, point};
-use rtl_model::error::check_range;
+use super::fields;
+use super::validate::{direction, point};
 use rtl_model::ConfigError;
 
 /// Largest intensity (codes) accepted: 10⁹ (10⁶ is a documented stiff case).
@@ -480,28 +480,28 @@ impl GlareSection {
             Background::Black | Background::Shafts => {}
             Background::Sky { top, bottom } => {
                 for k in 0..3 {
-                    closed(&format!("background.top[{k}]"), top[k], 0.0, 1.0)?;
-                    closed(&format!("background.bottom[{k}]"), bottom[k], 0.0, 1.0)?;
+                    fields::GLARE_BACKGROUND_TOP.real(&format!("background.top[{k}]"), top[k])?;
+                    fields::GLARE_BACKGROUND_BOTTOM
+                        .real(&format!("background.bottom[{k}]"), bottom[k])?;
                 }
             }
             Background::Canopy { leaves, sky, leaf } => {
-                check_range("background.leaves", (*leaves).into(), 0, 10_000)?;
+                fields::GLARE_BACKGROUND_LEAVES.int("background.leaves", (*leaves).into())?;
                 for k in 0..3 {
-                    closed(&format!("background.sky[{k}]"), sky[k], 0.0, 1.0)?;
-                    closed(&format!("background.leaf[{k}]"), leaf[k], 0.0, 1.0)?;
+                    fields::GLARE_BACKGROUND_SKY.real(&format!("background.sky[{k}]"), sky[k])?;
+                    fields::GLARE_BACKGROUND_LEAF
+                        .real(&format!("background.leaf[{k}]"), leaf[k])?;
                 }
             }
         }
         let d = &self.determinants;
-        closed("determinants.ambient", d.ambient, 0.0, 1e6)?;
-        closed("determinants.age", d.age, 0.0, 120.0)?;
-        closed("determinants.mist", d.mist, 0.0, 1e3)?;
+        fields::GLARE_AMBIENT.real("determinants.ambient", d.ambient)?;
+        fields::GLARE_AGE.real("determinants.age", d.age)?;
+        fields::GLARE_MIST.real("determinants.mist", d.mist)?;
         for k in 0..3 {
-            closed(
+            fields::GLARE_WAVELENGTHS.real(
                 &format!("determinants.wavelengths_nm[{k}]"),
                 d.wavelengths_nm[k],
-                300.0,
-                900.0,
             )?;
         }
         for (i, s) in self.sources.iter().enumerate() {
@@ -516,31 +516,26 @@ impl GlareSection {
             }
         }
         if let Some(sh) = &self.shaded_highlights {
-            closed(
-                "shaded_highlights.intensity",
-                sh.intensity,
-                0.0,
-                GLARE_INTENSITY_MAX,
-            )?;
-            closed("shaded_highlights.radius", sh.radius, 0.0, 1e6)?;
+            fields::SHADED_INTENSITY.real("shaded_highlights.intensity", sh.intensity)?;
+            fields::SHADED_RADIUS.real("shaded_highlights.radius", sh.radius)?;
         }
         validate_model(&self.model).map_err(|e| e.within("model"))?;
         let hw = &self.hw;
         // The widths go into the units' configs: checked by building those
         // (their own ranges, errors mapped onto `hw.<field>`).
         super::limits::check_glare(hw)?;
-        interval("hw.clock_mhz", hw.clock_mhz, 0.0, false, 1e5, true)?;
-        check_range("hw.pipes", hw.pipes.into(), 1, 256)?;
-        check_range("frame", self.frame.into(), 0, 10_000_000)
+        fields::HW_CLOCK_MHZ.real("hw.clock_mhz", hw.clock_mhz)?;
+        fields::HW_PIPES.int("hw.pipes", hw.pipes.into())?;
+        fields::GLARE_FRAME.int("frame", self.frame.into())
     }
 }
 
 fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
     point("position", &s.position)?;
-    closed("intensity", s.intensity, 0.0, GLARE_INTENSITY_MAX)?;
-    closed("area_size", s.area_size, 0.0, 1.0)?;
+    fields::SOURCE_INTENSITY.real("intensity", s.intensity)?;
+    fields::SOURCE_AREA_SIZE.real("area_size", s.area_size)?;
     for k in 0..3 {
-        closed(&format!("color[{k}]"), s.color[k], 0.0, 1.0)?;
+        fields::SOURCE_COLOR.real(&format!("color[{k}]"), s.color[k])?;
     }
     if let Some(dv) = &s.directivity {
         direction("directivity", dv)?;
@@ -548,8 +543,8 @@ fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
     // a, b and n are checked whatever the kind: a kind that ignores them must not
     // carry a NaN or an out-of-range value through the scene (it would not survive a
     // write and read back: NaN ≠ NaN).
-    closed("a", s.a, 0.0, 1e6)?;
-    closed("b", s.b, 0.0, 1e6)?;
+    fields::SOURCE_A.real("a", s.a)?;
+    fields::SOURCE_B.real("b", s.b)?;
     point("n", &s.n)?;
     match s.kind {
         SourceKind::Point | SourceKind::Circle => {}
@@ -581,9 +576,9 @@ fn validate_source(s: &GlareSource) -> Result<(), ConfigError> {
         }
     }
     if let Some(f) = &s.fluctuation {
-        check_range("fluctuation.patches", f.patches.into(), 1, 64)?;
-        closed("fluctuation.spread", f.spread, 0.0, 1e6)?;
-        closed("fluctuation.patch_radius", f.patch_radius, 0.0, 1e6)?;
+        fields::FLUCTUATION_PATCHES.int("fluctuation.patches", f.patches.into())?;
+        fields::FLUCTUATION_SPREAD.real("fluctuation.spread", f.spread)?;
+        fields::FLUCTUATION_PATCH_RADIUS.real("fluctuation.patch_radius", f.patch_radius)?;
     }
     Ok(())
 }
@@ -592,11 +587,11 @@ fn validate_highlight(h: &Highlight) -> Result<(), ConfigError> {
     point("position", &h.position)?;
     direction("normal", &h.normal)?;
     point("light", &h.light)?;
-    closed("intensity", h.intensity, 0.0, GLARE_INTENSITY_MAX)?;
-    closed("specular", h.specular, 0.0, 1.0)?;
-    interval("eta", h.eta, 0.0, false, 10.0, true)?;
+    fields::HIGHLIGHT_INTENSITY.real("intensity", h.intensity)?;
+    fields::HIGHLIGHT_SPECULAR.real("specular", h.specular)?;
+    fields::HIGHLIGHT_ETA.real("eta", h.eta)?;
     check_eta(h.eta)?;
-    closed("radius", h.radius, 0.0, 1e6)
+    fields::HIGHLIGHT_RADIUS.real("radius", h.radius)
 }
 
 /// The glare-condition unit holds η in a fixed-point format: its own constructor
@@ -617,55 +612,42 @@ fn check_eta(eta: f64) -> Result<(), ConfigError> {
 }
 
 fn validate_model(m: &GlareModel) -> Result<(), ConfigError> {
-    closed("point_a", m.point_a, 0.0, 1e6)?;
-    closed("point_k", m.point_k, 0.0, 1e6)?;
-    interval(
-        "point_theta0_deg",
-        m.point_theta0_deg,
-        0.0,
-        false,
-        90.0,
-        true,
-    )?;
-    closed("point_m", m.point_m, 0.5, 8.0)?;
-    closed("bloom_n", m.bloom_n, 0.5, 10.0)?;
-    closed("bloom_m", m.bloom_m, 0.5, 8.0)?;
-    interval("bloom_w_deg", m.bloom_w_deg, 0.0, false, 90.0, true)?;
-    interval(
-        "bloom_theta1_deg",
-        m.bloom_theta1_deg,
-        0.0,
-        false,
-        90.0,
-        true,
-    )?;
-    closed("bloom_k", m.bloom_k, 0.0, 1e6)?;
-    closed("glasses_bloom", m.glasses_bloom, 0.0, 1.0)?;
-    closed("halo_k", m.halo_k, 0.0, 1e6)?;
-    closed("halo_radius_deg", m.halo_radius_deg, 0.0, 90.0)?;
-    interval("halo_alpha_deg", m.halo_alpha_deg, 0.0, false, 90.0, true)?;
-    closed("flare_num_k", m.flare_num_k, 0.0, 1e6)?;
-    closed("flare_len_k_deg", m.flare_len_k_deg, 0.0, 1e3)?;
-    closed("flare_width_k_deg", m.flare_width_k_deg, 0.0, 1e3)?;
-    closed("flare_intensity_k", m.flare_intensity_k, 0.0, 1e6)?;
-    closed("flare_spread_rad", m.flare_spread_rad, 0.0, 10.0)?;
-    check_range("flare_max_lines", m.flare_max_lines.into(), 0, 1024)?;
-    for (name, e) in [
-        ("e_intensity", m.e_intensity),
-        ("e_glasses", m.e_glasses),
-        ("e_size", m.e_size),
-        ("e_ambient", m.e_ambient),
-        ("e_mist", m.e_mist),
-        ("e_directivity", m.e_directivity),
-        ("e_shape", m.e_shape),
+    fields::POINT_A.real("point_a", m.point_a)?;
+    fields::POINT_K.real("point_k", m.point_k)?;
+    fields::POINT_THETA0_DEG.real("point_theta0_deg", m.point_theta0_deg)?;
+    fields::POINT_M.real("point_m", m.point_m)?;
+    fields::BLOOM_N.real("bloom_n", m.bloom_n)?;
+    fields::BLOOM_M.real("bloom_m", m.bloom_m)?;
+    fields::BLOOM_W_DEG.real("bloom_w_deg", m.bloom_w_deg)?;
+    fields::BLOOM_THETA1_DEG.real("bloom_theta1_deg", m.bloom_theta1_deg)?;
+    fields::BLOOM_K.real("bloom_k", m.bloom_k)?;
+    fields::GLASSES_BLOOM.real("glasses_bloom", m.glasses_bloom)?;
+    fields::HALO_K.real("halo_k", m.halo_k)?;
+    fields::HALO_RADIUS_DEG.real("halo_radius_deg", m.halo_radius_deg)?;
+    fields::HALO_ALPHA_DEG.real("halo_alpha_deg", m.halo_alpha_deg)?;
+    fields::FLARE_NUM_K.real("flare_num_k", m.flare_num_k)?;
+    fields::FLARE_LEN_K_DEG.real("flare_len_k_deg", m.flare_len_k_deg)?;
+    fields::FLARE_WIDTH_K_DEG.real("flare_width_k_deg", m.flare_width_k_deg)?;
+    fields::FLARE_INTENSITY_K.real("flare_intensity_k", m.flare_intensity_k)?;
+    fields::FLARE_SPREAD_RAD.real("flare_spread_rad", m.flare_spread_rad)?;
+    fields::FLARE_MAX_LINES.int("flare_max_lines", m.flare_max_lines.into())?;
+    for (f, e) in [
+        (fields::E_INTENSITY, m.e_intensity),
+        (fields::E_GLASSES, m.e_glasses),
+        (fields::E_SIZE, m.e_size),
+        (fields::E_AMBIENT, m.e_ambient),
+        (fields::E_MIST, m.e_mist),
+        (fields::E_DIRECTIVITY, m.e_directivity),
+        (fields::E_SHAPE, m.e_shape),
     ] {
         // Monotone as Table 1 says: the sign of each argument's effect is fixed by
         // where the form puts it; a negative exponent would flip it.
-        closed(name, e, 0.0, 8.0)?;
+        let name = f.path.rsplit('.').next().unwrap_or(f.path);
+        f.real(name, e)?;
     }
-    interval("size_ref_deg", m.size_ref_deg, 0.0, false, 90.0, true)?;
-    closed("glasses_flare", m.glasses_flare, 1.0, 100.0)?;
-    interval("contrast", m.contrast, 0.0, false, 1e6, true)?;
-    interval("chaos_a", m.chaos_a, 0.0, false, 1.0, false)?;
-    interval("chaos_z", m.chaos_z, 1.0, false, 2.0, false)
+    fields::SIZE_REF_DEG.real("size_ref_deg", m.size_ref_deg)?;
+    fields::GLASSES_FLARE.real("glasses_flare", m.glasses_flare)?;
+    fields::CONTRAST.real("contrast", m.contrast)?;
+    fields::CHAOS_A.real("chaos_a", m.chaos_a)?;
+    fields::CHAOS_Z.real("chaos_z", m.chaos_z)
 }

@@ -1,5 +1,7 @@
-//! Loading a scene by name: a built-in (every list: the shafts figures, the glare
-//! built-ins, the environment scenes, the showcase) or a TOML file.
+//! Loading a scene by name, in one place for every command: a built-in (every list:
+//! the shafts figures, the glare built-ins, the environment scenes, the showcase) or
+//! a TOML file. A misspelt name gets the nearest names ("did you mean glare-point?"),
+//! a path that looks like a file and does not exist gets "file not found".
 
 use super::builtin::{builtin, BUILTIN_NAMES};
 use super::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
@@ -7,6 +9,26 @@ use super::builtin_glare::GLARE_BUILTIN_NAMES;
 use super::builtin_showcase::SHOWCASE_NAMES;
 use super::format::Scene;
 use std::path::Path;
+
+/// The foundation test scene's name (`render --scene test`).
+pub const TEST_NAME: &str = "test";
+
+/// Every built-in shading scene (`shading-<model>`, `shading-specular`,
+/// `shading-vertex`): the names `render --scene` takes for the shading units' spheres.
+/// The shading pipeline defines them; tests/scene.rs checks this list against it.
+pub const SHADING_NAMES: &[&str] = &[
+    "shading-lambert",
+    "shading-oren_nayar",
+    "shading-phong",
+    "shading-blinn_phong",
+    "shading-cook_torrance_metal",
+    "shading-cook_torrance_dielectric",
+    "shading-cook_torrance_backlit",
+    "shading-ward",
+    "shading-kajiya_kay",
+    "shading-specular",
+    "shading-vertex",
+];
 
 /// Every built-in scene name, in the order help texts list them.
 pub fn builtin_names() -> Vec<&'static str> {
@@ -19,17 +41,189 @@ pub fn builtin_names() -> Vec<&'static str> {
         .collect()
 }
 
-/// A built-in scene by name, or a TOML scene file by path.
+/// Every name `render --scene` takes: the built-in scenes, `test` and the shading
+/// scenes.
+pub fn every_scene_name() -> Vec<&'static str> {
+    let mut v = builtin_names();
+    v.push(TEST_NAME);
+    v.extend_from_slice(SHADING_NAMES);
+    v
+}
+
+/// Whether `name` is meant as a file: it has a path separator or ends in `.toml`.
+pub fn looks_like_file(name: &str) -> bool {
+    name.contains('/') || name.contains('\\') || name.ends_with(".toml")
+}
+
+/// Optimal string alignment distance (Levenshtein with adjacent transpositions), in
+/// characters.
+pub fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().collect();
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    for (j, x) in d[0].iter_mut().enumerate() {
+        *x = j;
+    }
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            let cost = usize::from(a[i - 1] != b[j - 1]);
+            let mut v = (d[i - 1][j] + 1)
+                .min(d[i][j - 1] + 1)
+                .min(d[i - 1][j - 1] + cost);
+            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
+                v = v.min(d[i - 2][j - 2] + 1);
+            }
+            d[i][j] = v;
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+/// The candidates nearest to `word` (all of those at the smallest distance, at most
+/// three), if that distance is small: at most a third of the word's length (at least
+/// 1, at most 3). A candidate that starts like the word (its prefix of the word's
+/// length is that close) counts too, so `fvo` finds `fovy_deg` and `env-pattern`
+/// finds both env-pattern scenes.
+pub fn suggest<'a>(word: &str, candidates: &[&'a str]) -> Vec<&'a str> {
+    let n = word.chars().count();
+    let limit = (n / 3).clamp(1, 3);
+    let dist = |c: &str| {
+        let prefix: String = c.chars().take(n).collect();
+        let p = if n >= 3 && c.chars().count() > n {
+            edit_distance(word, &prefix)
+        } else {
+            usize::MAX
+        };
+        edit_distance(word, c).min(p)
+    };
+    let scored: Vec<(usize, &'a str)> = candidates
+        .iter()
+        .filter(|c| **c != word)
+        .map(|c| (dist(c), *c))
+        .filter(|(d, _)| *d <= limit)
+        .collect();
+    let Some(best) = scored.iter().map(|(d, _)| *d).min() else {
+        return Vec::new();
+    };
+    scored
+        .into_iter()
+        .filter(|(d, _)| *d == best)
+        .map(|(_, c)| c)
+        .take(3)
+        .collect()
+}
+
+/// "did you mean a?" / "did you mean a or b?" (empty when nothing is near), with
+/// each name wrapped in `quote`.
+pub fn did_you_mean(word: &str, candidates: &[&str], quote: &str) -> String {
+    let s = suggest(word, candidates);
+    let q: Vec<String> = s.iter().map(|c| format!("{quote}{c}{quote}")).collect();
+    match q.len() {
+        0 => String::new(),
+        1 => format!("did you mean {}?", q[0]),
+        _ => format!(
+            "did you mean {} or {}?",
+            q[..q.len() - 1].join(", "),
+            q[q.len() - 1]
+        ),
+    }
+}
+
+/// The error for a scene name that is neither a built-in nor a file.
+pub fn unknown_scene(name: &str) -> String {
+    if looks_like_file(name) {
+        return format!("scene: file not found: {name}");
+    }
+    let hint = did_you_mean(name, &every_scene_name(), "");
+    let hint = if hint.is_empty() {
+        String::new()
+    } else {
+        format!("; {hint}")
+    };
+    format!(
+        "scene: unknown scene '{name}'{hint} (built-in scenes: {}, {TEST_NAME}, {}; or a TOML scene file)",
+        builtin_names().join(", "),
+        SHADING_NAMES.join(", ")
+    )
+}
+
+/// A top-level table that makes a file one of the other file forms (not a `Scene`).
+pub fn other_form(text: &str) -> Option<&'static str> {
+    let t = text.parse::<toml::Table>().ok()?;
+    ["shading", "test_scene"]
+        .into_iter()
+        .find(|k| t.contains_key(*k))
+}
+
+/// A built-in scene by name, or a TOML scene file by path. Every command that takes
+/// a scene of lights and objects resolves its name here; a misspelt name, a missing
+/// file or a name of another kind (`test`, `shading-*`) gets an error saying so.
 pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
     if builtin_names().contains(&name_or_path) {
         return builtin(name_or_path).map_err(|e| e.to_string());
     }
     let p = Path::new(name_or_path);
+    if p.is_file() {
+        if let Some(form) = std::fs::read_to_string(p)
+            .ok()
+            .as_deref()
+            .and_then(other_form)
+        {
+            return Err(format!(
+                "scene: {name_or_path} is a [{form}] file ({}), not a scene of lights and \
+                 objects; `render --scene` takes it",
+                if form == "shading" {
+                    "a shading scene"
+                } else {
+                    "the foundation test scene"
+                }
+            ));
+        }
+    }
     if p.exists() {
         return Scene::from_file(p).map_err(|e| e.to_string());
     }
-    Err(format!(
-        "scene: '{name_or_path}' is neither a built-in scene ({}, test) nor a file",
-        builtin_names().join(", ")
-    ))
+    if name_or_path == TEST_NAME {
+        return Err(format!(
+            "scene: '{TEST_NAME}' is the foundation test scene, a fixed scene without scene \
+             fields; `render --scene {TEST_NAME}` renders it"
+        ));
+    }
+    if SHADING_NAMES.contains(&name_or_path) {
+        return Err(format!(
+            "scene: '{name_or_path}' is a shading scene, not a scene of lights and objects; \
+             `render`, `sweep`, `optimize` and `attribute` take it"
+        ));
+    }
+    Err(unknown_scene(name_or_path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn distances_and_suggestions() {
+        assert_eq!(edit_distance("fig7", "fig6"), 1);
+        assert_eq!(edit_distance("fvo", "fov"), 1);
+        assert_eq!(edit_distance("", "abc"), 3);
+        assert_eq!(suggest("glare-pont", &builtin_names()), vec!["glare-point"]);
+        assert_eq!(suggest("fig7", &builtin_names()), vec!["fig4", "fig6"]);
+        assert_eq!(
+            suggest("fvo", &["eye", "look_at", "up", "fovy_deg", "near", "far"]),
+            vec!["fovy_deg"]
+        );
+        assert!(suggest("zzzzzzzz", &builtin_names()).is_empty());
+        assert_eq!(
+            did_you_mean("glare-pont", &builtin_names(), ""),
+            "did you mean glare-point?"
+        );
+        assert_eq!(
+            did_you_mean("fig7", &builtin_names(), ""),
+            "did you mean fig4 or fig6?"
+        );
+    }
 }

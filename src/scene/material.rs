@@ -6,7 +6,7 @@
 use rtl_model::error::ConfigError;
 use serde::{Deserialize, Serialize};
 
-use super::validate::{closed, interval};
+use super::fields;
 
 /// `objects[i].material`: a reflection model and its parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -85,8 +85,8 @@ impl Material {
         match *self {
             Material::Lambert => Ok(()),
             Material::Phong { ks, exponent, .. } | Material::BlinnPhong { ks, exponent, .. } => {
-                closed(&f("ks"), ks, 0.0, 1.0)?;
-                closed(&f("exponent"), exponent, 0.0, EXPONENT_MAX)
+                fields::MATERIAL_KS.real(&f("ks"), ks)?;
+                fields::MATERIAL_EXPONENT.real(&f("exponent"), exponent)
             }
             Material::CookTorrance {
                 roughness,
@@ -94,24 +94,26 @@ impl Material {
                 extinction,
                 ..
             } => {
-                interval(&f("roughness"), roughness, 0.0, false, 1.0, true)?;
-                interval(&f("ior"), ior, 0.0, false, 100.0, true)?;
-                closed(&f("extinction"), extinction, 0.0, 100.0)
+                fields::MATERIAL_ROUGHNESS.real(&f("roughness"), roughness)?;
+                fields::MATERIAL_IOR.real(&f("ior"), ior)?;
+                fields::MATERIAL_EXTINCTION.real(&f("extinction"), extinction)
             }
             Material::Ward {
                 rho_s,
                 alpha_x,
                 alpha_y,
             } => {
-                closed(&f("rho_s"), rho_s, 0.0, 1.0)?;
-                interval(&f("alpha_x"), alpha_x, 0.0, false, 1.0, true)?;
-                interval(&f("alpha_y"), alpha_y, 0.0, false, 1.0, true)
+                fields::MATERIAL_RHO_S.real(&f("rho_s"), rho_s)?;
+                fields::MATERIAL_ALPHA_X.real(&f("alpha_x"), alpha_x)?;
+                fields::MATERIAL_ALPHA_Y.real(&f("alpha_y"), alpha_y)
             }
             // The reference takes σ ≤ 1.5 rad (85.9°).
-            Material::OrenNayar { sigma_deg } => closed(&f("sigma_deg"), sigma_deg, 0.0, 85.0),
+            Material::OrenNayar { sigma_deg } => {
+                fields::MATERIAL_SIGMA_DEG.real(&f("sigma_deg"), sigma_deg)
+            }
             Material::KajiyaKay { ks, exponent } => {
-                closed(&f("ks"), ks, 0.0, 1.0)?;
-                closed(&f("exponent"), exponent, 0.0, EXPONENT_MAX)
+                fields::MATERIAL_KS.real(&f("ks"), ks)?;
+                fields::MATERIAL_EXPONENT.real(&f("exponent"), exponent)
             }
         }
     }

@@ -10,7 +10,7 @@
 //! (the factor textures' side, 1 ..= 4096), `factor_bits` (their texel bits,
 //! 1 ..= 16).
 
-use rtl_model::error::{check_range, ConfigError};
+use rtl_model::error::ConfigError;
 use serde::{Deserialize, Serialize};
 
 /// The sweepable fields, in the order help texts list them.
@@ -58,18 +58,13 @@ impl ShadingHw {
         Ok(())
     }
 
-    /// Each field within its unit's range (errors name `shading_hw.FIELD`).
+    /// Each field within its unit's range (the scene field table's; errors name
+    /// `shading_hw.FIELD`).
     pub fn validate(&self) -> Result<(), ConfigError> {
-        check_range("shading_hw.cube_face", self.cube_face.into(), 2, 512)?;
-        if !self.cube_face.is_power_of_two() {
-            return Err(ConfigError::invalid(
-                "shading_hw.cube_face",
-                &format!("must be a power of two, not {}", self.cube_face),
-            ));
-        }
-        check_range("shading_hw.lookup_log2", self.lookup_log2.into(), 1, 12)?;
-        check_range("shading_hw.factor_size", self.factor_size.into(), 1, 4096)?;
-        check_range("shading_hw.factor_bits", self.factor_bits.into(), 1, 16)?;
-        Ok(())
+        use super::fields as F;
+        F::SHADING_HW_CUBE_FACE.int("shading_hw.cube_face", self.cube_face.into())?;
+        F::SHADING_HW_LOOKUP_LOG2.int("shading_hw.lookup_log2", self.lookup_log2.into())?;
+        F::SHADING_HW_FACTOR_SIZE.int("shading_hw.factor_size", self.factor_size.into())?;
+        F::SHADING_HW_FACTOR_BITS.int("shading_hw.factor_bits", self.factor_bits.into())
     }
 }

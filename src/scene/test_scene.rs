@@ -109,3 +109,62 @@ pub fn occluder_quads() -> Vec<[Vec3; 4]> {
     .map(|q| q.map(|p| p + v3(0.9 - c, 0.0, 0.1)))
     .collect()
 }
+
+/// The top-level table of the test scene's file form.
+pub const FILE_TABLE: &str = "test_scene";
+
+/// The test scene's file form (what `scene test` prints): it has no parameters, so
+/// the `[test_scene]` table is empty; `render --scene FILE` renders it as
+/// `render --scene test` does.
+pub fn file_toml() -> String {
+    format!(
+        "# The foundation test scene of glare-pipeline (`render --scene test`): a fixed\n\
+         # {WIDTH} × {HEIGHT} scene that exercises every foundation unit: a checkered floor \
+         ({CHECKER_SIZE}² RGBA\n\
+         # checker), a spot with a {LIGHTMAP_SIZE}² light map and a shadow map, and a \
+         window-frame occluder.\n\
+         # It has no fields: this table names it, so `render --scene FILE` renders it.\n\
+         # A scene of your own starts from a built-in instead: `glare-pipeline scene fig6`.\n\
+         \n[{FILE_TABLE}]\n"
+    )
+}
+
+/// Whether `name` is the test scene: the name `test`, or a file with a top-level
+/// `[test_scene]` table (which must be empty and alone: anything else in it is an
+/// error naming the key).
+pub fn resolve(name: &str) -> Result<bool, String> {
+    if name == super::load::TEST_NAME {
+        return Ok(true);
+    }
+    let path = std::path::Path::new(name);
+    if !path.is_file() {
+        return Ok(false);
+    }
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return Ok(false);
+    };
+    parse_file(&text).map_err(|e| format!("{e} (in {name})"))
+}
+
+/// Whether `text` is the test scene's file form (`Ok(false)`: another file form).
+pub fn parse_file(text: &str) -> Result<bool, String> {
+    let Ok(t) = text.parse::<toml::Table>() else {
+        return Ok(false);
+    };
+    let Some(v) = t.get(FILE_TABLE) else {
+        return Ok(false);
+    };
+    if let Some(k) = t.keys().find(|k| *k != FILE_TABLE) {
+        return Err(format!(
+            "{k}: a [{FILE_TABLE}] file holds nothing else (the test scene is fixed)"
+        ));
+    }
+    match v.as_table() {
+        Some(inner) if inner.is_empty() => Ok(true),
+        Some(inner) => Err(format!(
+            "{FILE_TABLE}.{}: the test scene has no fields (it is fixed)",
+            inner.keys().next().map_or("", |k| k.as_str())
+        )),
+        None => Err(format!("{FILE_TABLE}: must be a table")),
+    }
+}

@@ -21,10 +21,11 @@
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use rtl_model::error::{check_finite, check_range, short, ConfigError};
+use rtl_model::error::{check_finite, short, ConfigError};
 use serde::de::{self, Deserialize, Deserializer, MapAccess, SeqAccess, Unexpected, Visitor};
 use toml::Spanned;
 
+use super::fields;
 use super::format::{Camera, Light, LightKind, LightMap, Object, Scene, ShaftsConfig, Shape};
 use super::math::{v3, Vec3};
 
@@ -69,18 +70,13 @@ pub const TEAPOT_SCALE_MAX: f64 = 1e5;
 impl Scene {
     /// Check every field; the first error found names its field.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        check_range("image.width", self.image.width.into(), 1, IMAGE_MAX.into())?;
-        check_range(
-            "image.height",
-            self.image.height.into(),
-            1,
-            IMAGE_MAX.into(),
-        )?;
+        fields::IMAGE_WIDTH.int("image.width", self.image.width.into())?;
+        fields::IMAGE_HEIGHT.int("image.height", self.image.height.into())?;
         super::limits::check_image(self.image)?;
         validate_camera(&self.camera)?;
-        closed("medium.rho", self.medium.rho, 0.0, MEDIUM_MAX)?;
-        closed("medium.kappa", self.medium.kappa, 0.0, MEDIUM_MAX)?;
-        closed("medium.k", self.medium.k, 0.0, MEDIUM_MAX)?;
+        fields::MEDIUM_RHO.real("medium.rho", self.medium.rho)?;
+        fields::MEDIUM_KAPPA.real("medium.kappa", self.medium.kappa)?;
+        fields::MEDIUM_K.real("medium.k", self.medium.k)?;
         for (i, l) in self.lights.iter().enumerate() {
             validate_light(l).map_err(|e| e.within(&format!("lights[{i}]")))?;
         }
@@ -200,8 +196,8 @@ pub fn validate_camera(c: &Camera) -> Result<(), ConfigError> {
             "is parallel to the view direction (look_at − eye): the image's roll is undefined",
         ));
     }
-    interval("camera.fovy_deg", c.fovy_deg, 0.0, false, 180.0, false)?;
-    interval("camera.near", c.near, 0.0, false, WORLD_MAX, true)?;
+    fields::CAMERA_FOVY_DEG.real("camera.fovy_deg", c.fovy_deg)?;
+    fields::CAMERA_NEAR.real("camera.near", c.near)?;
     check_finite("camera.far", c.far)?;
     if c.far <= c.near {
         return Err(ConfigError::invalid(
@@ -222,7 +218,7 @@ fn validate_light(l: &Light) -> Result<(), ConfigError> {
     match l.kind {
         LightKind::Spot => {
             direction("direction", &l.direction)?;
-            interval("cutoff_deg", l.cutoff_deg, 0.0, false, 90.0, false)?;
+            fields::LIGHT_CUTOFF_DEG.real("cutoff_deg", l.cutoff_deg)?;
         }
         LightKind::Point => {
             // The cutoff is unused by a point light, but still a number. The direction
@@ -241,9 +237,9 @@ fn validate_light(l: &Light) -> Result<(), ConfigError> {
             check_finite("cutoff_deg", l.cutoff_deg)?;
         }
     }
-    closed("intensity", l.intensity, 0.0, INTENSITY_MAX)?;
+    fields::LIGHT_INTENSITY.real("intensity", l.intensity)?;
     for (k, &c) in l.color.iter().enumerate() {
-        closed(&format!("color[{k}]"), c, 0.0, LIGHT_COLOR_MAX)?;
+        fields::LIGHT_COLOR.real(&format!("color[{k}]"), c)?;
     }
     if let Some(map) = &l.light_map {
         if l.kind == LightKind::Point {
@@ -260,10 +256,10 @@ fn validate_light(l: &Light) -> Result<(), ConfigError> {
 
 fn validate_light_map(m: &LightMap) -> Result<(), ConfigError> {
     match m {
-        LightMap::Smooth { exponent } => closed("exponent", *exponent, 0.0, 64.0),
+        LightMap::Smooth { exponent } => fields::LIGHT_MAP_EXPONENT.real("exponent", *exponent),
         LightMap::PolkaDots { dots, radius } => {
-            check_range("dots", (*dots).into(), 1, 64)?;
-            interval("radius", *radius, 0.0, false, 0.5, true)
+            fields::LIGHT_MAP_DOTS.int("dots", (*dots).into())?;
+            fields::LIGHT_MAP_RADIUS.real("radius", *radius)
         }
         LightMap::Image { path } => {
             if path.trim().is_empty() {
@@ -278,7 +274,7 @@ fn validate_light_map(m: &LightMap) -> Result<(), ConfigError> {
 fn validate_object(o: &Object) -> Result<(), ConfigError> {
     validate_shape(&o.shape)?;
     for (k, &c) in o.color.iter().enumerate() {
-        closed(&format!("color[{k}]"), c, 0.0, 1.0)?;
+        fields::OBJECT_COLOR.real(&format!("color[{k}]"), c)?;
     }
     if let Some(m) = &o.material {
         m.validate()?;
@@ -293,7 +289,7 @@ pub fn validate_shape(s: &Shape) -> Result<(), ConfigError> {
     match s {
         Shape::Sphere { center, radius } => {
             point("shape.center", center)?;
-            interval("shape.radius", *radius, 0.0, false, WORLD_MAX, true)
+            fields::SHAPE_RADIUS.real("shape.radius", *radius)
         }
         Shape::Plane {
             center,
@@ -311,14 +307,7 @@ pub fn validate_shape(s: &Shape) -> Result<(), ConfigError> {
                 ));
             }
             for (k, &h) in half_size.iter().enumerate() {
-                interval(
-                    &format!("shape.half_size[{k}]"),
-                    h,
-                    0.0,
-                    false,
-                    WORLD_MAX,
-                    true,
-                )?;
+                fields::SHAPE_HALF_SIZE.real(&format!("shape.half_size[{k}]"), h)?;
             }
             Ok(())
         }
@@ -346,38 +335,31 @@ pub fn validate_shape(s: &Shape) -> Result<(), ConfigError> {
             subdivisions,
         } => {
             point("shape.position", position)?;
-            interval("shape.scale", *scale, 0.0, false, TEAPOT_SCALE_MAX, true)?;
+            fields::SHAPE_SCALE.real("shape.scale", *scale)?;
             check_finite("shape.rotate_y_deg", *rotate_y_deg)?;
-            check_range("shape.subdivisions", (*subdivisions).into(), 1, 64)
+            fields::SHAPE_SUBDIVISIONS.int("shape.subdivisions", (*subdivisions).into())
         }
     }
 }
 
 /// Field paths relative to `shafts`.
 fn validate_shafts(s: &ShaftsConfig) -> Result<(), ConfigError> {
-    check_range("planes", s.planes.into(), 1, 10_000)?;
-    check_range("subplanes", s.subplanes.into(), 1, 256)?;
+    fields::SHAFTS_PLANES.int("planes", s.planes.into())?;
+    fields::SHAFTS_SUBPLANES.int("subplanes", s.subplanes.into())?;
     for (k, &m) in s.mesh.iter().enumerate() {
-        check_range(&format!("mesh[{k}]"), m.into(), 1, 256)?;
+        fields::SHAFTS_MESH.int(&format!("mesh[{k}]"), m.into())?;
     }
     // Table sizes: at least 2 texels (the tables' own rule: a lerp needs two ends), at
     // most the sampler's axis (its own constant). The widths, the texel product and the
     // shadow map are checked by building the units ([`super::limits::check_shafts`]).
-    let max_side = rtl_model::units::texture_sampler::MAX_SIZE.into();
-    check_range("f_texels", s.f_texels.into(), 2, max_side)?;
+    fields::SHAFTS_F_TEXELS.int("f_texels", s.f_texels.into())?;
     for (k, &h) in s.h_texels.iter().enumerate() {
-        check_range(&format!("h_texels[{k}]"), h.into(), 2, max_side)?;
+        fields::SHAFTS_H_TEXELS.int(&format!("h_texels[{k}]"), h.into())?;
     }
-    closed("s_max", s.s_max, 0.0, WORLD_MAX)?;
-    closed("t_max", s.t_max, 0.0, WORLD_MAX)?;
-    check_range("light_map_texels", s.light_map_texels.into(), 2, max_side)?;
-    if !s.light_map_texels.is_power_of_two() {
-        return Err(ConfigError::invalid(
-            "light_map_texels",
-            &format!("{} is not a power of two", s.light_map_texels),
-        ));
-    }
-    Ok(())
+    fields::SHAFTS_S_MAX.real("s_max", s.s_max)?;
+    fields::SHAFTS_T_MAX.real("t_max", s.t_max)?;
+    // A power of two (the table's range says so).
+    fields::SHAFTS_LIGHT_MAP_TEXELS.int("light_map_texels", s.light_map_texels.into())
 }
 
 // ---------------------------------------------------------------------------------
@@ -540,7 +522,7 @@ pub(crate) fn interval(
 /// `field[k]`).
 pub(crate) fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
     for (k, &x) in p.iter().enumerate() {
-        closed(&format!("{field}[{k}]"), x, -WORLD_MAX, WORLD_MAX)?;
+        fields::POS.real(&format!("{field}[{k}]"), x)?;
     }
     Ok(v3(p[0], p[1], p[2]))
 }
@@ -579,6 +561,7 @@ fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
             .filter(|l| !l.is_empty())
             .collect::<Vec<_>>()
             .join("; ");
+        let msg = with_suggestion(msg);
         let located = e.span().map(|sp| match locate_field(s, sp.clone(), &msg) {
             Some(found) => found,
             None => (text_field(s, sp.start), sp.start),
@@ -597,6 +580,24 @@ fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
         };
         ConfigError::invalid(&field, &format!("{what}{msg}{at}"))
     })
+}
+
+/// An "unknown field `x`, expected one of `a`, `b`" (or unknown variant) message with
+/// the nearest valid name appended: "; did you mean `b`?".
+fn with_suggestion(msg: String) -> String {
+    if !(msg.starts_with("unknown field") || msg.starts_with("unknown variant")) {
+        return msg;
+    }
+    let quoted: Vec<&str> = msg.split('`').skip(1).step_by(2).collect();
+    let Some((typo, valid)) = quoted.split_first() else {
+        return msg;
+    };
+    let hint = super::load::did_you_mean(typo, valid, "`");
+    if hint.is_empty() {
+        msg
+    } else {
+        format!("{msg}; {hint}")
+    }
 }
 
 /// 1-based line and column (in characters) of a byte offset.

@@ -69,7 +69,10 @@ impl ShadingFile {
     /// anything else (a `Scene` name or file: the caller reads it as before).
     pub fn resolve(name: &str) -> Result<Option<ShadingFile>, String> {
         let path = Path::new(name);
-        if name.starts_with(SCENE_PREFIX) && !path.is_file() {
+        if name.starts_with(SCENE_PREFIX)
+            && !path.is_file()
+            && !crate::scene::load::looks_like_file(name)
+        {
             return ShadingFile::builtin(name).map(Some);
         }
         if !path.is_file() {

@@ -108,9 +108,17 @@ impl ShadingScene {
             .find(|e| e.label == rest)
             .map(ShadingScene::Model)
             .ok_or_else(|| {
+                let names = scene_names();
+                let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+                let hint = crate::scene::load::did_you_mean(name, &refs, "");
+                let hint = if hint.is_empty() {
+                    String::new()
+                } else {
+                    format!("; {hint}")
+                };
                 format!(
-                    "scene: unknown shading scene '{name}' (known: {})",
-                    scene_names().join(", ")
+                    "scene: unknown shading scene '{name}'{hint} (known: {})",
+                    names.join(", ")
                 )
             })
     }
