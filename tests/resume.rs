@@ -106,15 +106,15 @@ fn complete_rows(text: &str, header_lines: usize) -> Vec<Vec<String>> {
     rows
 }
 
-/// The printed table without its first line (paths and times) and its `wall_s`
-/// column.
+/// The printed table without its first line (paths and times) and its
+/// `wall_seconds` column.
 fn table_without_wall(stdout: &[u8]) -> Vec<Vec<String>> {
     let text = String::from_utf8_lossy(stdout);
     let lines: Vec<&str> = text.lines().skip(1).collect();
     let wall = lines[0]
         .split_whitespace()
-        .position(|c| c == "wall_s")
-        .expect("a wall_s column");
+        .position(|c| c == "wall_seconds")
+        .expect("a wall_seconds column");
     lines
         .iter()
         .filter(|l| !l.starts_with("--"))
@@ -455,4 +455,59 @@ fn stale_temporary_files_of_a_killed_run_are_removed() {
     ];
     want.sort();
     assert_eq!(names, want);
+}
+
+/// Ctrl-C twice: the second SIGINT, sent while the row the first one waits for is
+/// still being computed, ends the run at once, but still with the saved/resume line
+/// (counting the rows on file, which are whole) and status 130; `--resume` then
+/// finishes it to the uninterrupted run's rows.
+#[test]
+fn a_sweep_interrupted_twice_still_says_what_it_saved_and_resumes() {
+    use std::time::{Duration, Instant};
+    let cut = tmp("int-twice");
+    let csv = cut.join("sweep_planes.csv");
+    let mut child = sweep(&cut, &[]).spawn().unwrap();
+    let t0 = Instant::now();
+    while !rows_in(&csv, 1).is_some_and(|n| n >= 1) {
+        assert!(child.try_wait().unwrap().is_none(), "ended before a row");
+        assert!(
+            t0.elapsed() < Duration::from_secs(300),
+            "no row after 300 s"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    for _ in 0..2 {
+        let st = Command::new("kill")
+            .arg("-INT")
+            .arg(child.id().to_string())
+            .status()
+            .unwrap();
+        assert!(st.success());
+        // Long enough for the handler to count the first before the second comes,
+        // far shorter than a row.
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let rows = complete_rows(&text, 1);
+    assert!(rows.len() < N_VALUES, "{} rows", rows.len());
+    let said = format!(
+        "interrupted after {} of {N_VALUES} rows; rerun the same command with --resume to continue",
+        rows.len()
+    );
+    assert!(err.contains(&said), "{err}");
+    assert_eq!(err.matches("interrupted after").count(), 1, "{err}");
+    let r = ok(
+        sweep(&cut, &["--resume"]).output().unwrap(),
+        "resumed sweep",
+    );
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(
+        err.contains(&format!("resume: {} rows", rows.len())),
+        "{err}"
+    );
+    let resumed = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(complete_rows(&resumed, 1).len(), N_VALUES);
 }
