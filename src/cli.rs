@@ -1186,7 +1186,7 @@ fn units_synth(json: bool, only: &[String]) -> Result<(), String> {
 }
 
 /// The widest the `units` table's widths column gets before it wraps.
-const UNITS_WIDTHS_COLUMN: usize = 48;
+const UNITS_WIDTHS_COLUMN: usize = 44;
 
 /// `words` joined by spaces into lines of at most `width` characters (a longer word
 /// gets a line of its own); one empty line for no words.
@@ -1251,7 +1251,7 @@ fn units(json: bool, alternates: bool) -> Result<(), String> {
             text_table(
                 &[
                     "unit",
-                    "widths (bits)",
+                    "widths",
                     "latency_cycles",
                     "ii_cycles",
                     "gates_nand2",
@@ -1259,6 +1259,10 @@ fn units(json: bool, alternates: bool) -> Result<(), String> {
                 ],
                 &rows
             )
+        );
+        println!(
+            "widths in bits, but *_log2 (log2 of a table or texture side) and attrs, \
+             operands (counts); gates in NAND2 equivalents"
         );
     }
     if alternates {

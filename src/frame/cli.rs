@@ -62,14 +62,22 @@ pub fn render_cli(
         if !json {
             print!("pass plan:\n{}", plan_table(&test_scene_plan()));
         }
-        if plan_only {
-            return Ok(());
-        }
-        let passes = test_scene_plan()
+        let passes: Vec<PassEntry> = test_scene_plan()
             .passes
             .iter()
             .map(|p| pass_entry(p, None))
             .collect();
+        if plan_only {
+            if json {
+                let mut r = RenderJson::new("test", Family::Test).image(
+                    crate::scene::test_scene::WIDTH,
+                    crate::scene::test_scene::HEIGHT,
+                );
+                r.passes = passes;
+                r.print()?;
+            }
+            return Ok(());
+        }
         return crate::pipeline::test_scene::render_cli(out, json, reference, passes);
     }
     // A shading scene (`shading-*`, or a file with a `[shading]` table: what
@@ -145,7 +153,7 @@ pub fn render_cli(
             gpu: Some("GeForce3".into()),
             cycles: None,
             clock_mhz: None,
-            wall_seconds: f.render_seconds,
+            wall_seconds: Some(f.render_seconds),
         };
         r.error = match (&f.truth, reference) {
             (Some(t), Some(_)) => Some(serde_json::json!({
@@ -161,11 +169,18 @@ pub fn render_cli(
     if plan_only {
         let p = plan(&scene).map_err(|e| e.to_string())?;
         if json {
-            let v = serde_json::json!({ "scene": scene.name, "plan": p.passes, "chip": chip });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-            );
+            // The render's object with nothing rendered: no outputs, counters or
+            // times, no family sub-object.
+            let family = if super::plan::environment_scene(&scene) {
+                Family::Environment
+            } else {
+                Family::Frame
+            };
+            let mut r =
+                RenderJson::new(&scene.name, family).image(scene.image.width, scene.image.height);
+            r.passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
+            r.chip = value(&chip)?;
+            r.print()?;
         } else {
             print!(
                 "pass plan:\n{}\nchip:\n{}",
@@ -235,7 +250,7 @@ pub fn render_cli(
             gpu: Some(f.gpu.name().to_string()),
             cycles: None,
             clock_mhz: None,
-            wall_seconds: f.wall_seconds,
+            wall_seconds: Some(f.wall_seconds),
         };
         r.error = error.as_ref().map(value).transpose()?;
         r.warnings = value(&warnings)?;

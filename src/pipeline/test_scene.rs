@@ -510,7 +510,7 @@ pub fn render_cli(
             gpu: None,
             cycles: Some(ctr.predicted_cycles),
             clock_mhz: Some(ctr.clock_mhz),
-            wall_seconds: t0.elapsed().as_secs_f64(),
+            wall_seconds: Some(t0.elapsed().as_secs_f64()),
         };
         j.error = error;
         return j.print();

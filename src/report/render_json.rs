@@ -54,8 +54,8 @@ pub struct Timing {
     pub cycles: Option<u64>,
     /// The clock `cycles` are counted at, in MHz.
     pub clock_mhz: Option<f64>,
-    /// Wall time of the simulation.
-    pub wall_seconds: f64,
+    /// Wall time of the simulation (None with `--plan`: nothing ran).
+    pub wall_seconds: Option<f64>,
 }
 
 /// The scene families.
@@ -104,7 +104,7 @@ pub struct RenderJson {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<Value>,
     pub warnings: Value,
-    /// The family's own sub-object, under [`Family::key`].
+    /// The family's own sub-object, under [`Family::key`] (absent with `--plan`).
     #[serde(flatten)]
     pub extra: BTreeMap<&'static str, Value>,
 }

@@ -175,6 +175,17 @@ pub fn render_cli(
         .collect::<Vec<_>>()
         .join(" ");
     if plan_only {
+        if json {
+            // The render's object with nothing rendered (docs/json.md).
+            let mut j = crate::report::render_json::RenderJson::new(
+                &name,
+                crate::report::render_json::Family::Shading,
+            );
+            if let Some(side) = f.image {
+                j = j.image(side, side);
+            }
+            return j.print();
+        }
         println!("shading scene {name}: {widths}");
         return Ok(());
     }
@@ -220,7 +231,7 @@ pub fn render_cli(
             gpu: Some("GeForce3".into()),
             cycles: None,
             clock_mhz: None,
-            wall_seconds: m.wall_seconds,
+            wall_seconds: Some(m.wall_seconds),
         };
         if reference.is_some() {
             j.error = Some(error);
