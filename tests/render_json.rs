@@ -133,10 +133,13 @@ fn minimal() -> Value {
     })
 }
 
+/// One way to break the minimal object.
+type Breaker = Box<dyn Fn(&mut Value)>;
+
 #[test]
 fn the_validator_accepts_the_minimal_object_and_refuses_each_kind_of_fault() {
     assert_eq!(violations(&minimal()), Vec::<String>::new());
-    let broken: Vec<(&str, Box<dyn Fn(&mut Value)>)> = vec![
+    let broken: Vec<(&str, Breaker)> = vec![
         (
             "missing required",
             Box::new(|v| {

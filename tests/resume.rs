@@ -492,7 +492,7 @@ fn a_sweep_interrupted_twice_still_says_what_it_saved_and_resumes() {
     let csv = cut.join("sweep_planes.csv");
     let mut child = sweep(&cut, &[]).spawn().unwrap();
     let t0 = Instant::now();
-    while !rows_in(&csv, 1).is_some_and(|n| n >= 1) {
+    while rows_in(&csv, 1).unwrap_or(0) < 1 {
         assert!(child.try_wait().unwrap().is_none(), "ended before a row");
         assert!(
             t0.elapsed() < Duration::from_secs(300),
