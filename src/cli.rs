@@ -92,6 +92,10 @@ pub enum Command {
         /// half of the machine's available memory (MemAvailable). docs/inputs.md.
         #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
         max_memory: Option<u64>,
+        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240; square for a
+        /// shading scene's sphere view; the test scene's size is fixed).
+        #[arg(long, value_name = "WxH")]
+        image: Option<String>,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
@@ -135,6 +139,11 @@ pub enum Command {
         /// reproduction renders before any work.
         #[arg(long, value_name = "SIZE", allow_negative_numbers = true, value_parser = crate::frame::budget::parse_bytes)]
         max_memory: Option<u64>,
+        /// The image size, NxN (8 ..= 1024), of envmap-table5, envmap-images,
+        /// envmap-lambda-sweep and envmap-roughness (default 256x256). Wins over
+        /// $ENVMAP_IMAGE_SIZE, which sets the same size when --image is not given.
+        #[arg(long, value_name = "WxH")]
+        image: Option<String>,
     },
     /// Print a scene as the TOML file that renders the same, to start a scene file
     /// from: `glare-pipeline scene fig6 > my.toml`, edit, then `render --scene
@@ -174,8 +183,9 @@ pub enum Command {
         /// Output directory.
         #[arg(long, default_value = "out/attribute")]
         out: PathBuf,
-        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240).
-        #[arg(long)]
+        /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240; square for a
+        /// shading scene's sphere view).
+        #[arg(long, value_name = "WxH")]
         image: Option<String>,
     },
     /// Error against run time for one shafts parameter (or glare / shading width, or
@@ -315,8 +325,9 @@ pub struct SweepArgs {
     /// Samples per ray of the ray-marched reference (computed once per sweep).
     #[arg(long, default_value_t = crate::pipeline::shafts::sweep::DEFAULT_TRUTH_SAMPLES, allow_negative_numbers = true, value_parser = arg_u32)]
     pub truth_samples: u32,
-    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps).
-    #[arg(long)]
+    /// Override the scene's image size, WIDTHxHEIGHT (e.g. 360x240 for quick sweeps;
+    /// square for a shading scene's sphere view).
+    #[arg(long, value_name = "WxH")]
     pub image: Option<String>,
     /// Run only shard K of N (1 <= K <= N): the values whose index i (from 0) has
     /// i mod N = K - 1, written to DIR/sweep_<param>.shard-K-of-N.csv for
@@ -437,6 +448,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             reference,
             plan,
             max_memory,
+            image,
         } => crate::frame::cli::render_cli(
             &scene,
             &out,
@@ -444,6 +456,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             reference.as_deref(),
             plan,
             max_memory,
+            image.as_deref(),
         ),
         Command::Reproduce {
             name,
@@ -451,7 +464,8 @@ pub fn run(cli: Cli) -> Result<(), String> {
             values,
             resume,
             max_memory,
-        } => reproduce(&name, &out, values, resume, max_memory),
+            image,
+        } => reproduce(&name, &out, values, resume, max_memory, image.as_deref()),
         Command::Optimize(a) => crate::frame::optimize::cli::optimize_cli(&a),
         Command::Attribute { scene, out, image } => attribute_cmd(&scene, &out, image.as_deref()),
         Command::Scene { name, reference } => {
@@ -460,9 +474,13 @@ pub fn run(cli: Cli) -> Result<(), String> {
         Command::Sweep {
             merge: Some(SweepCommand::Merge { out, dirs }),
             ..
-        } => sweep_merge(&out, &dirs),
+        } => {
+            check_dir_out("out", &out)?;
+            sweep_merge(&out, &dirs)
+        }
         Command::Sweep { merge: None, args } => sweep(args),
         Command::Tables { dir } => {
+            check_dir_out("dir", &dir)?;
             let t = registry::tables();
             crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
             println!(
@@ -474,6 +492,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
         }
         Command::EnvmapDump { scene, out, side } => {
             let sc = crate::scene::load::load_scene(&scene)?;
+            check_dir_out("out", &out)?;
             let (_, car) = crate::pipeline::envmap::dump::dump_scene(&sc, side, &out)?;
             println!(
                 "wrote {}³ × {} bits ({}, exposure {}) to {}: {}, {} slices, {}",
@@ -619,9 +638,26 @@ fn reproduce(
     values: Option<Vec<u32>>,
     resume: bool,
     max_memory: Option<u64>,
+    image: Option<&str>,
 ) -> Result<(), String> {
     use crate::pipeline::glare::reproduce as g;
     use crate::pipeline::shafts::reproduce as r;
+    if !REPRODUCTIONS.contains(&name) {
+        return Err(format!(
+            "name: unknown reproduction '{name}' (known: {})",
+            REPRODUCTIONS.join(", ")
+        ));
+    }
+    if let Some(img) = image {
+        use crate::pipeline::envmap::reproduce::{set_image_side, IMAGE_REPRODUCTIONS};
+        if !IMAGE_REPRODUCTIONS.contains(&name) {
+            return Err(format!(
+                "--image: '{name}' has no image size to set; --image sizes {}",
+                IMAGE_REPRODUCTIONS.join(", ")
+            ));
+        }
+        set_image_side(img)?;
+    }
     if values.is_some() && !matches!(name, "shafts-fig4" | "shafts-fig5") {
         return Err(format!(
             "values: only shafts-fig4 (planes) and shafts-fig5 (sub-planes) take --values, not '{name}'"
@@ -654,6 +690,7 @@ fn reproduce(
     }
     crate::frame::budget::check_reproduction(name, values.as_deref(), max_memory)?;
     let points = crate::frame::budget::reproduction_points(name, values.as_deref())?;
+    check_dir_out("out", out)?;
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
     match name {
@@ -806,6 +843,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.resume,
     );
     crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
+    check_dir_out("out", out)?;
     if args.attribute {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)
@@ -988,15 +1026,15 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
     print_attribution(scene, kind, (s.image.width, s.image.height), &a, t0)
 }
 
-/// `out` may not be a file (attribute writes a directory).
+/// `out` is a directory attribute can write (`report::outputs`).
 fn check_attribute_out(out: &std::path::Path) -> Result<(), String> {
-    if out.exists() && !out.is_dir() {
-        return Err(format!(
-            "out: {} is a file; attribute writes a directory",
-            out.display()
-        ));
-    }
-    Ok(())
+    check_dir_out("out", out)
+}
+
+/// A command's output directory, checked before any work: not a file, and a place
+/// that takes new files (`report::outputs`).
+pub fn check_dir_out(arg: &str, dir: &std::path::Path) -> Result<(), String> {
+    crate::report::outputs::check_outputs(&[crate::report::outputs::Output::dir(arg, dir)])
 }
 
 /// The attribution's summary line, table, largest source and all-ideal line.
@@ -1020,11 +1058,11 @@ fn print_attribution(
     print!("{}", table(&a.rows));
     if let Some(d) = a.dominant() {
         println!(
-            "largest source: {} ({:.1} % of the squared error; {} band, {:.0} % of what it removes; changed pixels in {})",
+            "largest source: {} ({:.1} % of the squared error; {:.0} % of what it removes is in the {} band; pixels it changes by > 1 level: {})",
             d.source,
             d.share * 100.0,
-            d.band,
             d.band_share * 100.0,
+            d.band,
             d.bbox
         );
     }
@@ -1211,6 +1249,27 @@ fn units_synth(json: bool, only: &[String]) -> Result<(), String> {
     Ok(())
 }
 
+/// The widest the `units` table's widths column gets before it wraps.
+const UNITS_WIDTHS_COLUMN: usize = 44;
+
+/// `words` joined by spaces into lines of at most `width` characters (a longer word
+/// gets a line of its own); one empty line for no words.
+fn wrap_words(words: &[String], width: usize) -> Vec<String> {
+    let mut lines = vec![String::new()];
+    for w in words {
+        let last = lines.last_mut().expect("one line at least");
+        if last.is_empty() {
+            last.push_str(w);
+        } else if last.chars().count() + 1 + w.chars().count() <= width {
+            last.push(' ');
+            last.push_str(w);
+        } else {
+            lines.push(w.clone());
+        }
+    }
+    lines
+}
+
 fn units(json: bool, alternates: bool) -> Result<(), String> {
     let s = registry::summaries();
     if json {
@@ -1219,29 +1278,55 @@ fn units(json: bool, alternates: bool) -> Result<(), String> {
             serde_json::to_string_pretty(&s).map_err(|e| e.to_string())?
         );
     } else {
-        let rows: Vec<Vec<String>> = s
-            .iter()
-            .map(|u| {
-                vec![
-                    u.name.to_string(),
-                    u.widths
-                        .iter()
-                        .map(|w| format!("{}={}", w.name, w.bits))
-                        .collect::<Vec<_>>()
-                        .join(" "),
-                    u.latency.to_string(),
-                    u.ii.to_string(),
-                    format!("{:.0}", u.gates_nand2),
-                    u.ram_bits.to_string(),
-                ]
-            })
-            .collect();
+        // The widths wrapped onto continuation lines, so the table fits in about 120
+        // columns (`--json` has them as a list).
+        let mut rows: Vec<Vec<String>> = Vec::new();
+        for u in &s {
+            let widths: Vec<String> = u
+                .widths
+                .iter()
+                .map(|w| format!("{}={}", w.name, w.bits))
+                .collect();
+            let lines = wrap_words(&widths, UNITS_WIDTHS_COLUMN);
+            for (k, line) in lines.into_iter().enumerate() {
+                rows.push(if k == 0 {
+                    vec![
+                        u.name.to_string(),
+                        line,
+                        u.latency.to_string(),
+                        u.ii.to_string(),
+                        format!("{:.0}", u.gates_nand2),
+                        u.ram_bits.to_string(),
+                    ]
+                } else {
+                    vec![
+                        String::new(),
+                        line,
+                        String::new(),
+                        String::new(),
+                        String::new(),
+                        String::new(),
+                    ]
+                });
+            }
+        }
         print!(
             "{}",
             text_table(
-                &["unit", "widths", "latency", "ii", "gates_nand2", "ram_bits"],
+                &[
+                    "unit",
+                    "widths",
+                    "latency_cycles",
+                    "ii_cycles",
+                    "gates_nand2",
+                    "ram_bits"
+                ],
                 &rows
             )
+        );
+        println!(
+            "widths in bits, but *_log2 (log2 of a table or texture side) and attrs, \
+             operands (counts); gates in NAND2 equivalents"
         );
     }
     if alternates {

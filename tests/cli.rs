@@ -246,3 +246,128 @@ fn envmap_side_sweep_writes_rows_and_names_bad_values() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every output is checked before the first pass: two outputs at one path are
+/// refused naming both, an unwritable place names its argument, and nothing is
+/// written (the refusal comes before the render, not after it).
+#[test]
+fn outputs_are_checked_before_any_work_and_nothing_is_written() {
+    let dir = std::env::temp_dir().join(format!("cli-outputs-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let x = dir.join("x.png");
+    let o = bin()
+        .args(["render", "--scene", "fig6", "--out"])
+        .arg(&x)
+        .arg("--reference")
+        .arg(dir.join("sub/../x.png"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("out and reference"), "{err}");
+    assert!(!dir.exists(), "a refused render wrote {}", dir.display());
+    // An unwritable place: refused before the render, naming the argument.
+    let t0 = std::time::Instant::now();
+    let o = bin()
+        .args([
+            "render",
+            "--scene",
+            "fig6",
+            "--out",
+            "/proc/cli-outputs/x.png",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.starts_with("out:") || err.contains("\nout:") || err.contains("error: out:"),
+        "{err}"
+    );
+    assert!(err.contains("cannot write"), "{err}");
+    eprintln!("refused in {:.2} s", t0.elapsed().as_secs_f64());
+    // The directories of the other commands.
+    for args in [
+        &[
+            "sweep",
+            "--scene",
+            "fig4",
+            "--param",
+            "planes",
+            "--values",
+            "10",
+            "--image",
+            "24x16",
+            "--out",
+            "/proc/cli-o",
+        ][..],
+        &[
+            "attribute",
+            "--scene",
+            "fig6",
+            "--image",
+            "24x16",
+            "--out",
+            "/proc/cli-o",
+        ],
+        &[
+            "optimize",
+            "--scene",
+            "fig6",
+            "--budget",
+            "max<=2",
+            "--image",
+            "24x16",
+            "--out",
+            "/proc/cli-o",
+        ],
+        &["reproduce", "glare-fig4", "--out", "/proc/cli-o"],
+        &["tables", "--dir", "/proc/cli-o"],
+        &[
+            "envmap-dump",
+            "--scene",
+            "env-pattern-sphere",
+            "--side",
+            "8",
+            "--out",
+            "/proc/cli-o",
+        ],
+    ] {
+        let o = bin().args(args).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?}");
+        assert!(err.contains("cannot write in `/proc`"), "{args:?}: {err}");
+    }
+}
+
+/// `reproduce --image` sizes the envmap reproductions' images and wins over
+/// `$ENVMAP_IMAGE_SIZE`: `--image 16x16` with the variable at 24 writes the bytes the
+/// variable at 16 alone writes, and not those of 24.
+#[test]
+fn reproduce_image_sets_the_size_and_wins_over_the_variable() {
+    let dir = std::env::temp_dir().join(format!("cli-repro-image-{}", std::process::id()));
+    let run = |tag: &str, flag: Option<&str>, var: &str| {
+        let out = dir.join(tag);
+        let _ = std::fs::remove_dir_all(&out);
+        let mut c = bin();
+        c.args(["reproduce", "envmap-images", "--out"])
+            .arg(&out)
+            .env("ENVMAP_TABLE3_S", "8")
+            .env("ENVMAP_IMAGE_SIZE", var);
+        if let Some(f) = flag {
+            c.args(["--image", f]);
+        }
+        let o = c.output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read(out.join("fig14_pattern.png")).unwrap()
+    };
+    let flag = run("flag", Some("16x16"), "24");
+    let var16 = run("var16", None, "16");
+    let var24 = run("var24", None, "24");
+    assert!(
+        flag == var16,
+        "--image 16x16 did not give the 16-pixel images"
+    );
+    assert!(flag != var24, "--image lost to $ENVMAP_IMAGE_SIZE");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -242,7 +242,7 @@ fn render_report_lists_what_was_left_out() {
         String::from_utf8_lossy(&out.stderr)
     );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let rows = v["chip"].as_array().unwrap();
+    let rows = v["chip"]["units"].as_array().unwrap();
     assert_eq!(rows.len(), ALL_UNITS.len());
     let halo = rows.iter().find(|r| r["name"] == "halo_modulator").unwrap();
     assert_eq!(halo["left_out"], "no source shows a halo");

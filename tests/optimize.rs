@@ -553,7 +553,7 @@ fn cli_on_a_shading_scene_front_non_dominated_and_render_of_best_toml_meets_the_
             "rms<=10",
             "--objective",
             "area",
-            "--size",
+            "--image",
             "16x16",
             "--max-evals",
             "12",
@@ -610,9 +610,9 @@ fn cli_on_a_shading_scene_front_non_dominated_and_render_of_best_toml_meets_the_
         String::from_utf8_lossy(&st.stderr)
     );
     let v: serde_json::Value = serde_json::from_slice(&st.stdout).unwrap();
-    let rms = v["rms_levels"].as_f64().unwrap();
+    let rms = v["shading"]["error_levels"]["rms_levels"].as_f64().unwrap();
     assert!(rms <= 10.0, "fresh render of best.toml: rms {rms}");
-    assert_eq!(v["image"].as_u64(), Some(16));
+    assert_eq!(v["image"]["width"].as_u64(), Some(16));
     assert!(dir.join("best.png").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }

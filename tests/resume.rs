@@ -106,15 +106,15 @@ fn complete_rows(text: &str, header_lines: usize) -> Vec<Vec<String>> {
     rows
 }
 
-/// The printed table without its first line (paths and times) and its `wall_s`
-/// column.
+/// The printed table without its first line (paths and times) and its
+/// `wall_seconds` column.
 fn table_without_wall(stdout: &[u8]) -> Vec<Vec<String>> {
     let text = String::from_utf8_lossy(stdout);
     let lines: Vec<&str> = text.lines().skip(1).collect();
     let wall = lines[0]
         .split_whitespace()
-        .position(|c| c == "wall_s")
-        .expect("a wall_s column");
+        .position(|c| c == "wall_seconds")
+        .expect("a wall_seconds column");
     lines
         .iter()
         .filter(|l| !l.starts_with("--"))
@@ -455,4 +455,83 @@ fn stale_temporary_files_of_a_killed_run_are_removed() {
     ];
     want.sort();
     assert_eq!(names, want);
+}
+
+/// Ctrl-C twice: the second SIGINT, sent 30 ms after the first while the row the
+/// first one waits for is still being computed (after a cheap first row, rows of
+/// about a second each), ends the run at once, but still with the saved/resume line
+/// (counting the rows on file, which are whole) and status 130; `--resume` then
+/// finishes the rows. (Before, the second signal ended the run without a word.)
+#[test]
+fn a_sweep_interrupted_twice_still_says_what_it_saved_and_resumes() {
+    use std::time::{Duration, Instant};
+    const VALUES: &str = "10,150,160,170";
+    let sweep = |out: &Path, extra: &[&str]| {
+        let mut c = bin();
+        c.args([
+            "sweep",
+            "--scene",
+            "fig4",
+            "--image",
+            "160x120",
+            "--truth-samples",
+            "8",
+            "--param",
+            "planes",
+            "--values",
+            VALUES,
+            "--out",
+        ])
+        .arg(out)
+        .args(extra)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+        c
+    };
+    let cut = tmp("int-twice");
+    let csv = cut.join("sweep_planes.csv");
+    let mut child = sweep(&cut, &[]).spawn().unwrap();
+    let t0 = Instant::now();
+    while rows_in(&csv, 1).unwrap_or(0) < 1 {
+        assert!(child.try_wait().unwrap().is_none(), "ended before a row");
+        assert!(
+            t0.elapsed() < Duration::from_secs(300),
+            "no row after 300 s"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    for _ in 0..2 {
+        let st = Command::new("kill")
+            .arg("-INT")
+            .arg(child.id().to_string())
+            .status()
+            .unwrap();
+        assert!(st.success());
+        std::thread::sleep(Duration::from_millis(30));
+    }
+    let o = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(130), "{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.ends_with('\n'), "last line cut: {text:?}");
+    let rows = text.lines().count() - 1;
+    assert!((1..4).contains(&rows), "{rows} rows");
+    let said = format!(
+        "interrupted after {rows} of 4 rows; rerun the same command with --resume to continue"
+    );
+    assert!(err.contains(&said), "{err}");
+    assert_eq!(err.matches("interrupted after").count(), 1, "{err}");
+    let r = ok(
+        sweep(&cut, &["--resume"]).output().unwrap(),
+        "resumed sweep",
+    );
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains(&format!("resume: {rows} rows")), "{err}");
+    let resumed = std::fs::read_to_string(&csv).unwrap();
+    let values: Vec<String> = resumed
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(1).unwrap().to_string())
+        .collect();
+    assert_eq!(values.join(","), VALUES, "{resumed}");
 }

@@ -336,3 +336,28 @@ pub fn chip_table(chip: &Chip) -> String {
     ));
     s
 }
+
+/// The chip as `render --plan --json` gives it: every instance, present or left out
+/// with why, at the registry's default widths (`widths` says so), and the totals.
+pub fn defaults_json(chip: &Chip) -> serde_json::Value {
+    serde_json::json!({
+        "widths": "registry defaults",
+        "units": chip.units,
+        "gates_nand2": chip.gates(),
+        "ram_bits": chip.ram_bits(),
+        "gates_saved": chip.gates_saved(),
+    })
+}
+
+/// The chip a render really elaborated (each pass's units at the scene's widths, and
+/// what was left out with what it saved), as `render --json` gives it.
+pub fn elaborated_json(units: &[crate::report::elaboration::Elaborated]) -> serde_json::Value {
+    let present = units.iter().filter_map(|u| u.summary.as_ref());
+    serde_json::json!({
+        "widths": "scene",
+        "units": units,
+        "gates_nand2": present.clone().map(|s| s.gates_nand2).sum::<f64>(),
+        "ram_bits": present.map(|s| s.ram_bits).sum::<u64>(),
+        "gates_saved": units.iter().filter(|u| u.left_out.is_some()).map(|u| u.gates_saved).sum::<f64>(),
+    })
+}

@@ -6,14 +6,31 @@ use super::chip::{chip_table, elaborate};
 use super::plan::{plan, plan_table, test_scene_plan};
 use super::run::render_with_progress;
 use crate::pipeline::shafts::cli::{load_scene, reference_image};
+use crate::report::render_json::{value, Family, PassEntry, RenderJson, Timing};
 use crate::report::table::{chip_elaboration_table, counters_table, text_table};
 use std::path::Path;
 
+/// A plan's pass as `render --json` lists it, with its time if it has one.
+pub fn pass_entry(p: &super::plan::Pass, t: Option<&super::run::PassTime>) -> PassEntry {
+    PassEntry {
+        name: p.name.clone(),
+        pipeline: p.pipeline.to_string(),
+        reads: p.reads.clone(),
+        writes: p.writes.clone(),
+        units: p.units.iter().map(|u| u.to_string()).collect(),
+        on: t.map(|t| t.on.clone()),
+        predicted_seconds: t.map(|t| t.seconds),
+        wall_seconds: t.map(|t| t.wall_seconds),
+    }
+}
+
 /// `render --scene NAME [--plan]`. Before any work: the output paths are checked
-/// (errors name `out` or `reference`), the scene is loaded and validated, and its
-/// memory estimate is checked against `max_memory` (bytes; `None` = the default
-/// budget, half of `MemAvailable`: `frame::budget`), a shading scene's too
-/// (`budget::shading_estimate`: its sphere view).
+/// (writable, distinct; errors name `out` or `reference`: `report::outputs`), the
+/// scene is loaded, `image` (`--image WIDTHxHEIGHT`) replaces its image size, it is
+/// validated, and its memory estimate is checked against `max_memory` (bytes; `None`
+/// = the default budget, half of `MemAvailable`: `frame::budget`), a shading scene's
+/// too (`budget::shading_estimate`: its sphere view). `json`: one object of the shape
+/// `report::render_json` prints for every family (docs/json.md).
 pub fn render_cli(
     name: &str,
     out: &Path,
@@ -21,27 +38,63 @@ pub fn render_cli(
     reference: Option<&Path>,
     plan_only: bool,
     max_memory: Option<u64>,
+    image: Option<&str>,
 ) -> Result<(), String> {
-    use crate::report::image_out::check_png_path;
+    use crate::report::outputs::{check_outputs, Output};
+    let size = image
+        .map(crate::report::image_arg::parse_image)
+        .transpose()?;
     if !plan_only {
-        check_png_path("out", out)?;
+        let mut outs = vec![Output::png("out", out)];
         if let Some(r) = reference {
-            check_png_path("reference", r)?;
+            outs.push(Output::png("reference", r));
         }
+        check_outputs(&outs)?;
     }
     // The foundation test scene: `test`, or its `[test_scene]` file form.
     if crate::scene::test_scene::resolve(name)? {
+        if let Some((w, h)) = size {
+            return Err(format!(
+                "--image: the foundation test scene has a fixed size ({}x{}); --image {w}x{h} cannot change it",
+                crate::scene::test_scene::WIDTH,
+                crate::scene::test_scene::HEIGHT
+            ));
+        }
         if !json {
             print!("pass plan:\n{}", plan_table(&test_scene_plan()));
         }
+        let passes: Vec<PassEntry> = test_scene_plan()
+            .passes
+            .iter()
+            .map(|p| pass_entry(p, None))
+            .collect();
         if plan_only {
+            if json {
+                let mut r = RenderJson::new("test", Family::Test).image(
+                    crate::scene::test_scene::WIDTH,
+                    crate::scene::test_scene::HEIGHT,
+                );
+                r.passes = passes;
+                r.print()?;
+            }
             return Ok(());
         }
-        return crate::pipeline::test_scene::render_cli(out, json, reference);
+        return crate::pipeline::test_scene::render_cli(out, json, reference, passes);
     }
     // A shading scene (`shading-*`, or a file with a `[shading]` table: what
     // `optimize` writes as best.toml for one) renders through the shading sweep's path.
-    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+    if let Some(mut f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+        if let Some(img) = image {
+            if f.image.is_none() {
+                return Err(format!(
+                    "--image: {name} lights sphere vertices; it has no image to size"
+                ));
+            }
+            let side = crate::report::image_arg::square_side(img)?;
+            rtl_model::error::check_range("--image", side.into(), 2, 4096)
+                .map_err(|e| e.to_string())?;
+            f.image = Some(side);
+        }
         if !plan_only {
             let (budget, from) = super::budget::resolve(max_memory);
             let e = super::budget::shading_estimate(f.image);
@@ -51,7 +104,14 @@ pub fn render_cli(
             &f, out, json, reference, plan_only,
         );
     }
-    let scene = load_scene(name)?;
+    let mut scene = load_scene(name)?;
+    if let Some((w, h)) = size {
+        scene.image.width = w;
+        scene.image.height = h;
+        scene
+            .validate()
+            .map_err(|e| format!("--image {w}x{h}: {e}"))?;
+    }
     if !plan_only {
         let (budget, from) = super::budget::resolve(max_memory);
         super::budget::check(&scene, budget, &from)?;
@@ -60,8 +120,8 @@ pub fn render_cli(
     let chip = elaborate(&scene);
     if super::plan::environment_scene(&scene) && !plan_only {
         // The thesis' environment scenes keep their own report (map build, truth).
+        let p = plan(&scene).map_err(|e| e.to_string())?;
         if !json {
-            let p = plan(&scene).map_err(|e| e.to_string())?;
             print!(
                 "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths):\n{}\n",
                 plan_table(&p),
@@ -71,16 +131,56 @@ pub fn render_cli(
         let warnings = super::range::check_environment(&scene);
         super::range::print(&warnings);
         let w = serde_json::to_value(&warnings).map_err(|e| e.to_string())?;
-        return crate::pipeline::envmap::scene_render::render_cli(&scene, out, json, reference, w);
+        use crate::pipeline::envmap::scene_render as sr;
+        let f = sr::render_and_write(&scene, out, reference)?;
+        if !json {
+            return sr::print_text(&scene, &f, out, reference);
+        }
+        let passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
+        let mut r = RenderJson::new(&scene.name, Family::Environment)
+            .image(f.frame.width, f.frame.height)
+            .outputs(Some(out), f.truth.as_ref().and(reference))
+            .family_details(serde_json::json!({
+                "map": f.map,
+                "frame": f.frame,
+                "prediction": f.prediction,
+            }));
+        r.passes = passes;
+        r.chip = super::chip::elaborated_json(&f.frame.elaboration.units);
+        r.counters.insert("envmap".into(), value(&f.counters)?);
+        r.timing = Timing {
+            predicted_seconds: Some(f.prediction.seconds),
+            gpu: Some("GeForce3".into()),
+            cycles: None,
+            clock_mhz: None,
+            wall_seconds: Some(f.render_seconds),
+        };
+        r.error = match (&f.truth, reference) {
+            (Some(t), Some(_)) => Some(serde_json::json!({
+                "against": "Phong truth",
+                "cos_phi": t.cos_phi,
+                "simplified": t.simplified,
+            })),
+            _ => None,
+        };
+        r.warnings = w;
+        return r.print();
     }
     if plan_only {
         let p = plan(&scene).map_err(|e| e.to_string())?;
         if json {
-            let v = serde_json::json!({ "scene": scene.name, "plan": p.passes, "chip": chip });
-            println!(
-                "{}",
-                serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-            );
+            // The render's object with nothing rendered: no outputs, counters or
+            // times, no family sub-object.
+            let family = if super::plan::environment_scene(&scene) {
+                Family::Environment
+            } else {
+                Family::Frame
+            };
+            let mut r =
+                RenderJson::new(&scene.name, family).image(scene.image.width, scene.image.height);
+            r.passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
+            r.chip = super::chip::defaults_json(&chip);
+            r.print()?;
         } else {
             print!(
                 "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths, `render` reports them at the scene's):\n{}",
@@ -102,34 +202,50 @@ pub fn render_cli(
     };
     let elaboration = f.elaboration();
     if json {
-        // `counters` is the drawing pipeline's map as before the frame existed (the
-        // glare frame's for a glare scene, else the shafts frame's); every pipeline's
-        // is under `counters_by_pipeline`.
-        let counters = match (&f.glare, &f.shafts) {
-            (Some((g, _)), _) => serde_json::to_value(&g.counters),
-            (None, Some(s)) => serde_json::to_value(&s.counters),
-            (None, None) => Ok(serde_json::Value::Null),
+        let mut passes: Vec<PassEntry> = Vec::new();
+        let mut times: Vec<Option<&super::run::PassTime>> = f.times.iter().map(Some).collect();
+        for ps in &f.plan.passes {
+            let t = times
+                .iter_mut()
+                .find(|t| t.is_some_and(|t| t.pass == ps.name))
+                .and_then(Option::take);
+            passes.push(pass_entry(ps, t));
         }
-        .map_err(|e| e.to_string())?;
-        let v = serde_json::json!({
-            "scene": scene.name,
-            "plan": f.plan.passes,
-            "chip": elaboration,
-            "counters": counters,
-            "counters_by_pipeline": f.counters(),
-            "gpu": f.gpu.name(),
-            "predicted_by_pass": f.times,
-            "predicted_seconds": f.predicted_seconds(),
-            "wall_seconds": f.wall_seconds,
-            "error_vs_reference": error,
-            "warnings": warnings,
-        });
+        // A timed pass the plan does not list (none today): kept, with what is known.
+        for t in times.into_iter().flatten() {
+            passes.push(PassEntry {
+                name: t.pass.clone(),
+                pipeline: String::new(),
+                reads: Vec::new(),
+                writes: Vec::new(),
+                units: Vec::new(),
+                on: Some(t.on.clone()),
+                predicted_seconds: Some(t.seconds),
+                wall_seconds: Some(t.wall_seconds),
+            });
+        }
+        let mut r = RenderJson::new(&scene.name, Family::Frame)
+            .image(scene.image.width, scene.image.height)
+            .outputs(Some(out), reference)
+            .family_details(serde_json::json!({
+                "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
+            }));
+        r.passes = passes;
+        r.chip = super::chip::elaborated_json(&elaboration);
+        for (pipeline, c) in f.counters() {
+            r.counters.insert(pipeline, value(&c)?);
+        }
+        r.timing = Timing {
+            predicted_seconds: Some(f.predicted_seconds()),
+            gpu: Some(f.gpu.name().to_string()),
+            cycles: None,
+            clock_mhz: None,
+            wall_seconds: Some(f.wall_seconds),
+        };
+        r.error = error.as_ref().map(value).transpose()?;
+        r.warnings = value(&warnings)?;
         super::range::print(&warnings);
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
-        return Ok(());
+        return r.print();
     }
     println!(
         "{} ({}x{}): wrote {} in {:.2} s of simulation",
@@ -237,7 +353,8 @@ chip: the shading path's units at these widths, {gates:.0} NAND2 gates, {ram_bit
     if json {
         println!(
             "{}",
-            serde_json::to_string_pretty(&chip).map_err(|e| e.to_string())?
+            serde_json::to_string_pretty(&super::chip::defaults_json(&chip))
+                .map_err(|e| e.to_string())?
         );
     } else {
         print!("{}", chip_table(&chip));

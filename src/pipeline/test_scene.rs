@@ -446,10 +446,18 @@ fn texel_word(raw: i32, log2_size: u32, proj: &ProjectiveTexcoord) -> i32 {
 }
 
 /// `render` for the CLI: writes the PNG, prints the counters.
-pub fn render_cli(out: &Path, json: bool, reference: Option<&Path>) -> Result<(), String> {
+/// `passes`: the test scene's plan as `render --json` lists it (`frame::plan` builds it).
+pub fn render_cli(
+    out: &Path,
+    json: bool,
+    reference: Option<&Path>,
+    passes: Vec<crate::report::render_json::PassEntry>,
+) -> Result<(), String> {
+    let t0 = std::time::Instant::now();
     let (fb, ctr) = render().map_err(|e| e.to_string())?;
     fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    let mut error = None;
     if let Some(path) = reference {
         let r = crate::reference::test_scene::render_reference();
         let mut img = Framebuffer::new(WIDTH, HEIGHT, 8);
@@ -477,13 +485,35 @@ pub fn render_cli(out: &Path, json: bool, reference: Option<&Path>) -> Result<()
             sum / n.max(1) as f64,
             max
         );
+        error = Some(serde_json::json!({
+            "mean_abs_levels": sum / n.max(1) as f64,
+            "max_levels": max,
+            "covered_channels": n,
+        }));
     }
     if json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&ctr).map_err(|e| e.to_string())?
-        );
-        return Ok(());
+        use crate::report::render_json::{value, Family, RenderJson, Timing};
+        let units: serde_json::Map<String, serde_json::Value> = ctr
+            .units
+            .iter()
+            .map(|(name, c)| Ok((name.clone(), value(c)?)))
+            .collect::<Result<_, String>>()?;
+        let mut j = RenderJson::new("test", Family::Test)
+            .image(WIDTH, HEIGHT)
+            .outputs(Some(out), reference)
+            .family_details(serde_json::json!({ "covered_pixels": ctr.covered_pixels }));
+        j.passes = passes;
+        j.counters
+            .insert("test scene".into(), serde_json::Value::Object(units));
+        j.timing = Timing {
+            predicted_seconds: Some(ctr.predicted_cycles as f64 / (ctr.clock_mhz * 1e6)),
+            gpu: None,
+            cycles: Some(ctr.predicted_cycles),
+            clock_mhz: Some(ctr.clock_mhz),
+            wall_seconds: Some(t0.elapsed().as_secs_f64()),
+        };
+        j.error = error;
+        return j.print();
     }
     println!(
         "test scene {WIDTH}x{HEIGHT}: {} covered pixels; wrote {}",

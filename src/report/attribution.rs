@@ -89,9 +89,12 @@ pub struct AttributionRow {
     pub interaction_share: f64,
     /// Pixels the ideal changes by more than [`CHANGED_LEVELS`].
     pub changed_pixels: u64,
-    /// Their bounding box `x0..=x1,y0..=y1`, or `none`.
+    /// Their bounding box `x X0–X1, y Y0–Y1` (inclusive pixel coordinates), or `none
+    /// by > 1 level` when no pixel changed that much.
     pub bbox: String,
-    /// `top`, `middle` or `bottom` third holding most of the removed squared error.
+    /// `top`, `middle` or `bottom` third holding most of the removed squared error
+    /// (changes of any size count here, so a band is named even when `bbox` finds no
+    /// pixel changed by more than [`CHANGED_LEVELS`]).
     pub band: String,
     /// Fraction of the removed squared error in that band.
     pub band_share: f64,
@@ -161,10 +164,12 @@ fn where_in_image(
             bands[(y as u64 * 3 / h as u64) as usize] += e0 - e;
         }
     }
+    // No pixel changed by more than CHANGED_LEVELS: the source's changes are smaller
+    // (spread thin), though its band can still hold most of what it removes.
     let bbox = if n == 0 {
-        "none".to_string()
+        format!("none by > {CHANGED_LEVELS} level")
     } else {
-        format!("{x0}..={x1},{y0}..={y1}")
+        format!("x {x0}–{x1}, y {y0}–{y1}")
     };
     // The band's part of what the source removes where it removes any (a band where
     // it adds error does not count against the others).
@@ -580,12 +585,12 @@ pub fn table(rows: &[AttributionRow]) -> String {
     crate::report::table::text_table(
         &[
             "source",
-            "mean",
-            "rms",
-            "max",
+            "mean_levels",
+            "rms_levels",
+            "max_levels",
             "share_%",
             "interact_%",
-            "changed_bbox",
+            "bbox",
             "band",
         ],
         &body,

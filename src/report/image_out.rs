@@ -104,38 +104,10 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), String> {
     crate::report::atomic::write_bytes(path, bytes).map_err(|e| format!("out: {e}"))
 }
 
-/// Check, before any work, that `path` can take a PNG: not a directory (say so), a
-/// file name ending in `.png`, and a parent that is not a file. Errors name `arg`
-/// (`out`, `reference`), so a bad `--reference` is never blamed on `--out`.
+/// Check, before any work, that `path` can take a PNG (`report::outputs`): not a
+/// directory (say so), a file name ending in `.png`, a parent that is not a file, a
+/// place that takes a new file. Errors name `arg` (`out`, `reference`), so a bad
+/// `--reference` is never blamed on `--out`.
 pub fn check_png_path(arg: &str, path: &Path) -> Result<(), String> {
-    let shown = path.display();
-    if path.is_dir() {
-        return Err(format!(
-            "{arg}: `{shown}` is a directory; give a PNG file path (e.g. {}/render.png)",
-            shown
-        ));
-    }
-    let png = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("png"));
-    if !png {
-        return Err(format!(
-            "{arg}: `{shown}`: the file name must end in .png (the image written is a PNG)"
-        ));
-    }
-    let mut dir = path.parent();
-    while let Some(d) = dir.filter(|d| !d.as_os_str().is_empty()) {
-        if d.exists() {
-            if !d.is_dir() {
-                return Err(format!(
-                    "{arg}: `{shown}`: `{}` is not a directory",
-                    d.display()
-                ));
-            }
-            break;
-        }
-        dir = d.parent();
-    }
-    Ok(())
+    crate::report::outputs::check_outputs(&[crate::report::outputs::Output::png(arg, path)])
 }

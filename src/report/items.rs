@@ -226,20 +226,31 @@ impl<T: Serialize + DeserializeOwned + Clone> ItemJournal<T> {
             // Held to the exit: no other thread records or saves meanwhile.
             let s = self.state.lock().map_err(poisoned)?;
             self.save(&s)?;
-            eprintln!(
-                "\ninterrupted after {} of {} items of reproduce {}; rerun the same command \
-                 with --resume to continue\n(the items are saved in {})",
-                s.items.len(),
-                self.total,
-                self.record.reproduction,
-                self.path.display()
-            );
-            std::process::exit(crate::report::interrupt::exit_status(sig));
+            crate::report::interrupt::exit_with(sig, Some(&self.stopped_line(&s)));
         }
         Ok(())
     }
 
+    /// What a run stopped now says: the items on file and how to continue.
+    fn stopped_line(&self, s: &State<T>) -> String {
+        format!(
+            "interrupted after {} of {} items of reproduce {}; rerun the same command \
+             with --resume to continue\n(the items are saved in {})",
+            s.items.len(),
+            self.total,
+            self.record.reproduction,
+            self.path.display()
+        )
+    }
+
     fn save(&self, s: &State<T>) -> Result<(), String> {
+        self.write(s)?;
+        // What a second signal prints (`report::interrupt`): the items now on file.
+        crate::report::interrupt::saved(self.stopped_line(s));
+        Ok(())
+    }
+
+    fn write(&self, s: &State<T>) -> Result<(), String> {
         let p = &self.path;
         crate::report::atomic::write_with(p, |w| {
             let io = |e: serde_json::Error| std::io::Error::other(e.to_string());

@@ -239,6 +239,13 @@ impl<R: Serialize + DeserializeOwned> Journal<R> {
         if let Some(note) = self.resume_note(todo.len()) {
             eprintln!("{note}");
         }
+        // What a second signal prints before the next row is saved.
+        let (saved, total) = self.saved_of_total();
+        crate::report::interrupt::saved(crate::report::interrupt::message(
+            saved,
+            total,
+            self.path(),
+        ));
         todo
     }
 

@@ -108,7 +108,8 @@ pub fn write_sweep(
     Ok((csv, png))
 }
 
-/// The rows as a terminal table, headed by the param's name.
+/// The rows as a terminal table, headed by the param's name; the columns are named as
+/// in the CSV.
 pub fn sweep_table(param: &str, rows: &[SweepRow]) -> String {
     let table: Vec<Vec<String>> = rows
         .iter()
@@ -128,11 +129,11 @@ pub fn sweep_table(param: &str, rows: &[SweepRow]) -> String {
     text_table(
         &[
             param,
-            "mean_abs",
-            "rms",
-            "max",
-            "predicted_hw_s",
-            "wall_s",
+            "mean_abs_levels",
+            "rms_levels",
+            "max_levels",
+            "predicted_hw_seconds",
+            "wall_seconds",
             "gates_nand2",
             "ram_bits",
         ],

@@ -40,9 +40,9 @@ pub struct OptimizeArgs {
     #[arg(long, default_value = "out/optimize")]
     pub out: PathBuf,
     /// Override the scene's image size, WIDTHxHEIGHT (e.g. 96x64; square for a
-    /// shading scene's sphere view).
-    #[arg(long)]
-    pub size: Option<String>,
+    /// shading scene's sphere view). `--size` is an older name for it.
+    #[arg(long, alias = "size", value_name = "WxH")]
+    pub image: Option<String>,
     /// Stop after this many simulations (pruned points do not count).
     #[arg(long)]
     pub max_evals: Option<usize>,
@@ -88,14 +88,13 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
         Some(env) => env,
         None => crate::scene::load::load_scene(name)?,
     };
-    if let Some(size) = &a.size {
-        let (w, h) = crate::pipeline::shafts::sweep::parse_image(size).map_err(|e| {
-            e.replacen("image:", "size:", 1)
-                .replace("--image", "--size")
-        })?;
+    if let Some(size) = &a.image {
+        let (w, h) = crate::report::image_arg::parse_image(size)?;
         scene.image.width = w;
         scene.image.height = h;
-        scene.validate().map_err(|e| format!("size: {size}: {e}"))?;
+        scene
+            .validate()
+            .map_err(|e| format!("--image {size}: {e}"))?;
     }
     if a.budget.is_empty() {
         return Err("budget: at least one --budget is needed, e.g. --budget \"max<=1\"".into());
@@ -121,12 +120,7 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
         }
     }
     let reference = Reference::parse(&a.reference)?;
-    if a.out.exists() && !a.out.is_dir() {
-        return Err(format!(
-            "out: {} exists and is not a directory",
-            a.out.display()
-        ));
-    }
+    crate::cli::check_dir_out("out", &a.out)?;
     Ok(Plan {
         scene,
         scene_arg: a.scene.clone(),
@@ -406,8 +400,14 @@ impl SearchRun<'_> {
                 Some(0),
                 best,
             );
-            if let Err(e) = write_csv(&csv, &r) {
-                saved = Err(e);
+            match write_csv(&csv, &r) {
+                // What a second signal prints (`report::interrupt`).
+                Ok(()) => crate::report::interrupt::saved(format!(
+                    "optimize: interrupted after {} simulations; {} holds every point evaluated",
+                    book.simulations,
+                    csv.display()
+                )),
+                Err(e) => saved = Err(e),
             }
             if self.max_evals.is_none() {
                 bar.set_length(book.simulations as u64 + 1);
@@ -444,12 +444,12 @@ impl SearchRun<'_> {
         write_csv(&csv, &r)?;
         if o.end == End::Interrupted {
             if let Some(sig) = crate::report::interrupt::requested() {
-                eprintln!(
+                let line = format!(
                     "optimize: interrupted after {} simulations; {} holds every point evaluated",
                     o.simulations,
                     csv.display()
                 );
-                std::process::exit(crate::report::interrupt::exit_status(sig));
+                crate::report::interrupt::exit_with(sig, Some(&line));
             }
         }
         plot(

@@ -164,18 +164,17 @@ pub struct ShadingPlan {
 /// argument; nothing rendered, nothing written.
 pub fn check(a: &OptimizeArgs, mut file: ShadingFile) -> Result<ShadingPlan, String> {
     let sc = *file.point.scene();
-    if let Some(size) = &a.size {
-        let (w, h) = crate::pipeline::shafts::sweep::parse_image(size).map_err(|e| {
-            e.replacen("image:", "size:", 1)
-                .replace("--image", "--size")
-        })?;
+    if let Some(size) = &a.image {
+        let (w, h) = crate::report::image_arg::parse_image(size)?;
         if sc == ShadingScene::Vertex {
-            return Err("size: shading-vertex lights sphere vertices, it has no image".into());
+            return Err("--image: shading-vertex lights sphere vertices, it has no image".into());
         }
         if w != h {
-            return Err(format!("size: the sphere view is square, not {w}x{h}"));
+            return Err(format!(
+                "--image: the sphere view is square, not {w}x{h} (e.g. {w}x{w})"
+            ));
         }
-        rtl_model::error::check_range("size", w.into(), 2, 4096).map_err(|e| e.to_string())?;
+        rtl_model::error::check_range("--image", w.into(), 2, 4096).map_err(|e| e.to_string())?;
         file.image = Some(w);
     }
     if a.budget.is_empty() {
@@ -218,12 +217,7 @@ pub fn check(a: &OptimizeArgs, mut file: ShadingFile) -> Result<ShadingPlan, Str
             a.reference
         ));
     }
-    if a.out.exists() && !a.out.is_dir() {
-        return Err(format!(
-            "out: {} exists and is not a directory",
-            a.out.display()
-        ));
-    }
+    crate::cli::check_dir_out("out", &a.out)?;
     Ok(ShadingPlan {
         file,
         budget,

@@ -265,10 +265,47 @@ pub struct RenderRun {
     pub size: u32,
 }
 
+/// `reproduce --image NxN`: the image side for this process, set once before any
+/// [`RenderRun::cli`]; it wins over `$ENVMAP_IMAGE_SIZE`.
+static IMAGE_SIDE: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
+
+/// The reproductions whose image size `--image` (or `$ENVMAP_IMAGE_SIZE`) sets.
+pub const IMAGE_REPRODUCTIONS: &[&str] = &[
+    "envmap-table5",
+    "envmap-images",
+    "envmap-lambda-sweep",
+    "envmap-roughness",
+];
+
+/// `reproduce --image`: a square size, 8 ..= 1024 on a side (errors name `--image`),
+/// used by every later [`RenderRun::cli`] of this process instead of
+/// `$ENVMAP_IMAGE_SIZE`.
+pub fn set_image_side(text: &str) -> Result<u32, String> {
+    let side = crate::report::image_arg::parse_image(text).and_then(|(w, h)| {
+        if w != h {
+            return Err(format!(
+                "--image: {w}x{h} is not square; these reproductions render square images (e.g. {w}x{w})"
+            ));
+        }
+        if !(8..=1024).contains(&w) {
+            return Err(format!("--image: {w}x{h}: each side must be in 8 ..= 1024"));
+        }
+        Ok(w)
+    })?;
+    let _ = IMAGE_SIDE.set(side);
+    Ok(side)
+}
+
 impl RenderRun {
-    /// The CLI's: s = 128 (or `ENVMAP_TABLE3_S`), 256 × 256 (or `ENVMAP_IMAGE_SIZE`,
-    /// 8 ..= 1024).
+    /// The CLI's: s = 128 (or `ENVMAP_TABLE3_S`), 256 × 256 (or `reproduce --image`,
+    /// else `ENVMAP_IMAGE_SIZE`, 8 ..= 1024).
     pub fn cli() -> Result<Self, String> {
+        if let Some(&size) = IMAGE_SIDE.get() {
+            return Ok(RenderRun {
+                s: cli_side()?,
+                size,
+            });
+        }
         let size = match std::env::var("ENVMAP_IMAGE_SIZE") {
             Ok(v) => match v.trim().parse::<u32>() {
                 Ok(n) if (8..=1024).contains(&n) => n,

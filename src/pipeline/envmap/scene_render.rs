@@ -340,49 +340,32 @@ fn write_png(img: &Image, path: &Path) -> Result<(), String> {
         .map_err(|e| format!("out: {}: {e}", path.display()))
 }
 
-/// `render --scene` for an environment scene: the PNG at `out`; the counters, the
-/// elaboration and the predicted GeForce3 time (or all of it as JSON); with
-/// `reference`, the Phong truth (with the cos φ test) written there and the errors
-/// against both truths. `warnings` (the frame's out-of-range warnings, a JSON array)
-/// goes into the JSON as `warnings`; the caller prints them as text.
-pub fn render_cli(
+/// `render --scene` for an environment scene: render it and write the PNG at `out`;
+/// with `reference`, the Phong truth (with the cos φ test) written there. The
+/// caller reports it: [`print_text`], or `render --json`'s object
+/// (`report::render_json`, built in `frame::cli`).
+pub fn render_and_write(
     scene: &Scene,
     out: &Path,
-    json: bool,
     reference: Option<&Path>,
-    warnings: serde_json::Value,
-) -> Result<(), String> {
+) -> Result<SceneFrame, String> {
     let f = render_scene(scene, reference.is_some()).map_err(|e| e.to_string())?;
     write_png(&f.image, out)?;
     if let (Some(path), Some(t)) = (reference, &f.truth) {
         write_png(&t.truth.cos_phi, path).map_err(|e| e.replacen("out:", "reference:", 1))?;
     }
+    Ok(f)
+}
+
+/// The text report of [`render_and_write`]'s frame: the counters, the elaboration,
+/// the predicted GeForce3 time, and with `reference` the errors against both truths.
+pub fn print_text(
+    scene: &Scene,
+    f: &SceneFrame,
+    out: &Path,
+    reference: Option<&Path>,
+) -> Result<(), String> {
     let el = &f.frame.elaboration;
-    if json {
-        let error = f.truth.as_ref().map(|t| {
-            serde_json::json!({
-                "cos_phi": t.cos_phi,
-                "simplified": t.simplified,
-            })
-        });
-        let v = serde_json::json!({
-            "scene": scene.name,
-            "map": f.map,
-            "frame": f.frame,
-            "counters": f.counters,
-            "elaboration": el,
-            "predicted_seconds_geforce3": f.prediction.seconds,
-            "prediction": f.prediction,
-            "error_vs_phong_truth": error,
-            "wall_seconds": f.render_seconds,
-            "warnings": warnings,
-        });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
-        return Ok(());
-    }
     let m = &f.map;
     println!(
         "{} ({}x{}): wrote {} in {:.2} s of simulation",
@@ -436,7 +419,7 @@ pub fn render_cli(
             ("without it", &t.simplified),
         ] {
             println!(
-                "error against the Phong truth {what} ({} object pixels): mean |Δ| {:.3} {:.3} {:.3}, max {:.0} {:.0} {:.0} levels",
+                "error against the Phong truth {what} ({} object pixels), 8-bit levels: mean |Δ| R {:.3} G {:.3} B {:.3}, max R {:.0} G {:.0} B {:.0}",
                 s.pixels, s.mean[0], s.mean[1], s.mean[2], s.max[0], s.max[1], s.max[2]
             );
         }

@@ -239,7 +239,7 @@ pub fn attribute_shading(c: &ShadingConfig, out: &Path) -> Result<Attribution, S
 pub fn config_for_cli(scene: &str, image: Option<(u32, u32)>) -> Result<ShadingConfig, String> {
     let size = match image {
         Some((w, h)) if w != h => {
-            return Err(format!("image: the sphere view is square, not {w}x{h}"))
+            return Err(format!("--image: the sphere view is square, not {w}x{h}"))
         }
         Some((w, _)) => w,
         None => super::sweep::ShadingSweepOptions::default().view_size,

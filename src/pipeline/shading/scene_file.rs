@@ -178,6 +178,17 @@ pub fn render_cli(
         .collect::<Vec<_>>()
         .join(" ");
     if plan_only {
+        if json {
+            // The render's object with nothing rendered (docs/json.md).
+            let mut j = crate::report::render_json::RenderJson::new(
+                &name,
+                crate::report::render_json::Family::Shading,
+            );
+            if let Some(side) = f.image {
+                j = j.image(side, side);
+            }
+            return j.print();
+        }
         println!("shading scene {name}: {widths}");
         return Ok(());
     }
@@ -197,24 +208,38 @@ pub fn render_cli(
         }
     }
     if json {
-        let v = serde_json::json!({
-            "scene": name,
-            "widths": f.point.widths().into_iter().collect::<BTreeMap<_, _>>(),
-            "image": f.image,
+        use crate::report::render_json::{Family, RenderJson, Timing};
+        let error = serde_json::json!({
             "mean_abs_levels": m.mean_abs_levels,
             "rms_levels": m.rms_levels,
             "max_levels": m.max_levels,
-            "gates_nand2": m.gates_nand2,
-            "ram_bits": m.ram_bits,
-            "predicted_hw_seconds": m.predicted_hw_seconds,
-            "wall_seconds": m.wall_seconds,
-            "wrote": wrote,
         });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&v).map_err(|e| e.to_string())?
-        );
-        return Ok(());
+        let written = f.image.is_some();
+        let ref_written = written
+            && reference.is_some()
+            && matches!(r, super::sweep::ShadingReference::Image { .. });
+        let mut j = RenderJson::new(&name, Family::Shading)
+            .outputs(written.then_some(out), reference.filter(|_| ref_written))
+            .family_details(serde_json::json!({
+                "widths": f.point.widths().into_iter().collect::<BTreeMap<_, _>>(),
+                "error_levels": error,
+                "gates_nand2": m.gates_nand2,
+                "ram_bits": m.ram_bits,
+            }));
+        if let Some(side) = f.image {
+            j = j.image(side, side);
+        }
+        j.timing = Timing {
+            predicted_seconds: Some(m.predicted_hw_seconds),
+            gpu: Some("GeForce3".into()),
+            cycles: None,
+            clock_mhz: None,
+            wall_seconds: Some(m.wall_seconds),
+        };
+        if reference.is_some() {
+            j.error = Some(error);
+        }
+        return j.print();
     }
     println!(
         "shading scene {name} ({}): {widths}",
@@ -222,7 +247,7 @@ pub fn render_cli(
             .map_or("vertices, no image".to_string(), |s| format!("{s}x{s}"))
     );
     println!(
-        "  error against the reference: mean {:.3} rms {:.3} max {:.3} levels",
+        "  error against the reference (8-bit levels): mean |Δ| {:.3}, rms {:.3}, max {:.3}",
         m.mean_abs_levels, m.rms_levels, m.max_levels
     );
     println!(

@@ -682,10 +682,10 @@ pub fn shading_sweep_cli(
     let mut opts = ShadingSweepOptions::default();
     if let Some((w, h)) = image {
         if sc == ShadingScene::Vertex {
-            return Err("image: shading-vertex lights sphere vertices, it has no image".into());
+            return Err("--image: shading-vertex lights sphere vertices, it has no image".into());
         }
         if w != h {
-            return Err(format!("image: the sphere view is square, not {w}x{h}"));
+            return Err(format!("--image: the sphere view is square, not {w}x{h}"));
         }
         opts.view_size = w;
     }
@@ -822,7 +822,7 @@ pub fn attributed_sweep_cli(
     let mut opts = ShadingSweepOptions::default();
     if let Some((w, h)) = image {
         if w != h {
-            return Err(format!("image: the sphere view is square, not {w}x{h}"));
+            return Err(format!("--image: the sphere view is square, not {w}x{h}"));
         }
         opts.view_size = w;
     }

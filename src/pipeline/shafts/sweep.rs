@@ -302,7 +302,7 @@ pub fn parse_values(param: Param, text: &str) -> Result<Vec<Value>, String> {
 /// `--image WxH`; a malformed size is an error naming `image` (the range is checked
 /// by the scene's validation, as `image.width` / `image.height`).
 pub fn parse_image(text: &str) -> Result<(u32, u32), String> {
-    parse_pair(text).map_err(|e| format!("image: {e}; --image takes WIDTHxHEIGHT, e.g. 360x240"))
+    crate::report::image_arg::parse_image(text)
 }
 
 /// One row of `sweep_<param>.csv` (read back from shard files by `sweep merge`).
@@ -712,7 +712,8 @@ pub fn merge_cli(set: &ShardSet, out: &Path) -> Result<(), String> {
     Ok(())
 }
 
-/// The rows as the terminal table, headed by the param's name.
+/// The rows as the terminal table, headed by the param's name; the columns are named
+/// as in the CSV (`error_levels` is the mean |Δ| in 8-bit levels).
 fn table(param: Param, rows: &[SweepRow]) -> String {
     let table: Vec<Vec<String>> = rows
         .iter()
@@ -732,8 +733,8 @@ fn table(param: Param, rows: &[SweepRow]) -> String {
             param.name(),
             "error_levels",
             "rms_levels",
-            "predicted_hw_s",
-            "wall_s",
+            "predicted_hw_seconds",
+            "wall_seconds",
             "gates_nand2",
         ],
         &table,
