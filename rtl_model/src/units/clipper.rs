@@ -42,13 +42,14 @@
 //! inside the screen range, so only a vertex rounded across its edge can); a clip word
 //! that overflows its format in the lerp saturates, counted too.
 //!
-//! **Timing.** The pass-through stream is one vertex a clock through the divider: a
-//! triangle every 3 clocks (II = 3), latency = 1 (distances) + 6 (plane stages) +
-//! the divider's depth + 1 (output register). A clipped triangle holds the stream for
-//! more: each plane stage that cuts an edge spends [`Clipper::cut_cycles`] on its
-//! t divider, and every output vertex beyond 3 one more clock through the output
-//! divider. The kernel adds those clocks to `cycles` and `stalls` (the next triangle
-//! waits), so all three drivers count them alike.
+//! **Timing.** Sequenced: one distance unit (a vertex a clock), one cut engine, one
+//! output divider (a division a clock). A triangle that passes untouched takes
+//! 3 vertices × (x, y, depth) = 9 divisions: II = 9; latency = 1 (distances) + 1
+//! (outcodes) + the divider's depth + 1 (output register). A clipped triangle holds
+//! the stream for more: each cutting plane visits every vertex once, each cut edge
+//! spends [`Clipper::cut_cycles`] in the cut engine, and every output vertex beyond 3
+//! three more divisions. The kernel adds those clocks to `cycles` and `stalls` (the
+//! next triangle waits), so all three drivers count them alike.
 //!
 //! **Counters** beyond the common ones are the unit's state, [`ClipStats`]: polygons
 //! in, out (drawn), clipped, culled, and vertices generated.
@@ -127,8 +128,9 @@ pub struct ClipperConfig {
 
 impl Default for ClipperConfig {
     /// 8 attributes in s16.16 (the shafts pipeline's), s24.16 clip coordinates, the
-    /// interpolator's s13.4 screen, a 720 × 480 viewport, the guard band the whole
-    /// screen range (−4096 ..= 4095), near and far clipped.
+    /// interpolator's s13.4 screen, a 720 × 480 viewport, the guard band the screen
+    /// range's whole pixels less one on the negative side (−4095 ..= 4095: a cut vertex
+    /// rounded across its edge stays inside the format), near and far clipped.
     fn default() -> Self {
         ClipperConfig {
             attrs: 8,
@@ -141,7 +143,7 @@ impl Default for ClipperConfig {
             subpixel_bits: 4,
             viewport_width: 720,
             viewport_height: 480,
-            guard_min: -4096,
+            guard_min: -4095,
             guard_max: 4095,
             near_far: NearFar::Both,
             attr_lerp: AttrLerp::Screen,
