@@ -463,14 +463,14 @@ impl Clipper {
         let t = div_round(di << tf, di - d_o).clamp(0, one);
         let (lo, hi) = self.clip_range();
         let mut c = [0i64; 4];
-        for k in 0..4 {
+        for (k, ck) in c.iter_mut().enumerate() {
+            // s(cw+1) × u(tf+1) → s(cw+tf+2), rounded back to the clip format.
             let delta = o.c[k] as i128 - i.c[k] as i128; // s(cw+1)
-                                                         // s(cw+1) × u(tf+1) → s(cw+tf+2), rounded back to the clip format.
             let v = i.c[k] as i128 + div_round(delta * t, one);
             if v < lo as i128 || v > hi as i128 {
                 ctr.saturations += 1;
             }
-            c[k] = v.clamp(lo as i128, hi as i128) as i64;
+            *ck = v.clamp(lo as i128, hi as i128) as i64;
         }
         // The attributes' parameter: t at the near plane, else s = t·w_O/w_new.
         let a_t = if p == 0 || self.cfg.attr_lerp == AttrLerp::Homogeneous || c[3] <= 0 {
@@ -490,7 +490,7 @@ impl Clipper {
     }
 
     /// Divide and map a clip-space vertex to the screen (w > 0).
-    fn to_screen(&self, v: &Work, ctr: &mut Counters) -> ScreenVertex {
+    fn screen_vertex(&self, v: &Work, ctr: &mut Counters) -> ScreenVertex {
         let [x, y, z, w] = v.c.map(|c| c as i128);
         let (vw, vh) = (
             self.cfg.viewport_width as i128,
@@ -610,7 +610,7 @@ impl Clipper {
             return (out, extra);
         }
         for (k, v) in poly[..n].iter().enumerate() {
-            out.v[k] = self.to_screen(v, ctr);
+            out.v[k] = self.screen_vertex(v, ctr);
         }
         out.n = n as u32;
         stats.polygons_out += 1;
