@@ -327,7 +327,8 @@ fn every_polygon_handed_on_fits_the_interpolator_and_counts_add_up() {
             }
             out_n += u64::from(out.n > 0);
             let tf64: [ClipVertexF; 3] = std::array::from_fn(|k| to_f64(&u, &tri.v[k]));
-            count_diff += u32::from((out.n > 0) != !s.clip(&tf64).is_empty());
+            let drawn = !s.clip(&tf64).is_empty();
+            count_diff += u32::from((out.n > 0) != drawn);
         }
         assert_eq!(st.polygons_in, n);
         assert_eq!(st.polygons_out, out_n);
