@@ -11,6 +11,7 @@ use super::plan::{environment_scene, shafts_backdrop};
 use crate::pipeline::shading::materials::lobe_kind;
 use crate::pipeline::shafts::frame::scatters;
 use crate::registry;
+use crate::scene::clip::clip_needed;
 use crate::scene::format::{LightKind, Scene};
 use serde::Serialize;
 
@@ -96,6 +97,7 @@ impl Chip {
 
 /// Every instance a chip can have: (instance, registry unit, feature).
 pub const INSTANCES: &[(&str, &str, Feature)] = &[
+    ("clipper", "clipper", Feature::Objects),
     (
         "polygon_interpolator",
         "polygon_interpolator",
@@ -233,6 +235,10 @@ fn absent(scene: &Scene, instance: &str, feature: Feature) -> Option<&'static st
             Some("no factored BRDF")
         }
         "shadow_compare (depth buffer)" if !gpu_objects => Some("no objects drawn by the GPU"),
+        "clipper" if !gpu_objects => Some("no objects drawn by the GPU"),
+        "clipper" if clip_needed(scene).is_none() => Some(
+            "every object inside the near and far planes and the guard band (sample planes cover the viewport only)",
+        ),
         "additive_blend (J buffer)" if scene.shafts.subplanes <= 1 => {
             Some("m = 1: no sub-sample planes")
         }

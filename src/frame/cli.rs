@@ -263,6 +263,16 @@ pub fn render_cli(
         "\nchip (the units each pass elaborated, at the scene's widths):\n{}",
         chip_elaboration_table(&elaboration)
     );
+    if let Some(c) = f.shafts.as_ref().and_then(|s| s.clip_stats) {
+        println!(
+            "\nclipper: {} polygons in, {} out, {} clipped, {} culled, {} vertices generated",
+            c.polygons_in,
+            c.polygons_out,
+            c.polygons_clipped,
+            c.polygons_culled,
+            c.vertices_generated
+        );
+    }
     if let Some(l) = &f.linked {
         print!("\n{}", crate::frame::glare_link::summary(l));
     }

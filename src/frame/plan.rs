@@ -264,7 +264,10 @@ fn shafts_pass(p: &Prepared, sp: ShaftsPass) -> Pass {
     let sub = p.scene.shafts.subplanes > 1;
     let lm = |l: usize| p.light_maps.get(l).is_some_and(|m| m.is_some());
     let s = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    let (name, reads, writes, units): (String, Vec<String>, Vec<String>, Vec<&'static str>) =
+    // The camera's object passes go through the clipper when the scene needs it.
+    let clip = matches!(sp, ShaftsPass::Depth | ShaftsPass::Objects { .. })
+        && crate::scene::clip::clip_needed(&p.scene).is_some();
+    let (name, reads, writes, mut units): (String, Vec<String>, Vec<String>, Vec<&'static str>) =
         match sp {
             ShaftsPass::Depth => (
                 "depth".into(),
@@ -332,6 +335,9 @@ fn shafts_pass(p: &Prepared, sp: ShaftsPass) -> Pass {
                 )
             }
         };
+    if clip {
+        units.insert(0, "clipper");
+    }
     Pass {
         step: Step::Shafts(sp),
         name,

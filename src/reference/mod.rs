@@ -5,6 +5,7 @@ pub mod additive_blend;
 pub mod bloom_flare_modulator;
 pub mod brdf;
 pub mod chaos_map;
+pub mod clipper;
 pub mod cube_map_address;
 pub mod envmap_prefilter;
 pub mod final_combiner;

@@ -15,6 +15,7 @@ pub mod rtl;
 mod additive_blend;
 mod bloom_flare_modulator;
 mod chaos_map;
+mod clipper;
 mod cube_map_address;
 mod final_combiner;
 mod gaussian_noise;
@@ -69,6 +70,7 @@ pub const UNITS: &[UnitEntry] = &[
     modulate_chain::ENTRY,
     additive_blend::ENTRY,
     texture_sampler::ENTRY,
+    clipper::ENTRY,
     polygon_interpolator::ENTRY,
     shadow_compare::ENTRY,
     projective_texcoord::ENTRY,

@@ -13,6 +13,7 @@
 
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::AdditiveBlend;
+use rtl_model::units::clipper::ClipperConfig;
 use rtl_model::units::gaussian_noise::GaussianNoiseConfig;
 use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::luminance_ram::{LumWidths, Radial};
@@ -184,6 +185,28 @@ pub fn shafts_interpolator(s: &ShaftsConfig) -> PolygonInterpolatorConfig {
         acc_int_bits: s.acc_int_bits,
         acc_frac_bits: s.acc_frac_bits,
         ..PolygonInterpolatorConfig::default()
+    }
+}
+
+/// The clipper in front of the shafts pipeline's interpolator: its attributes and
+/// screen format are the interpolator's ([`shafts_interpolator`]), its viewport the
+/// image, its guard band the interpolator's range of whole pixels less one on the
+/// negative side (−4095 ..= 4095 at 13 integer bits): a cut vertex rounded across the
+/// guard band's edge (by under a pixel) stays inside the format on both sides.
+pub fn shafts_clipper(scene: &Scene) -> ClipperConfig {
+    let interp = shafts_interpolator(&scene.shafts);
+    let half = 1i32 << (interp.coord_int_bits - 1);
+    ClipperConfig {
+        attrs: interp.attrs,
+        attr_int_bits: interp.attr_fmt.int_bits,
+        attr_frac_bits: interp.attr_fmt.frac_bits,
+        screen_int_bits: interp.coord_int_bits,
+        subpixel_bits: interp.subpixel_bits,
+        viewport_width: scene.image.width,
+        viewport_height: scene.image.height,
+        guard_min: -half + 1,
+        guard_max: half - 1,
+        ..ClipperConfig::default()
     }
 }
 

@@ -6,6 +6,7 @@ pub mod builtin_environment;
 pub mod builtin_glare;
 pub mod builtin_showcase;
 pub mod camera;
+pub mod clip;
 pub mod environment;
 pub mod envmap;
 pub mod fields;

@@ -4,6 +4,7 @@
 pub mod additive_blend;
 pub mod bloom_flare_modulator;
 pub mod chaos_map;
+pub mod clipper;
 pub mod cube_map_address;
 pub mod final_combiner;
 pub mod gaussian_noise;

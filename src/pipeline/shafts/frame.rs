@@ -15,7 +15,7 @@
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
 use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
-use crate::pipeline::raster::{draw_triangle, host_attrs, Fragment, HostVertex};
+use crate::pipeline::raster::{draw_triangle, host_attrs, walk, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{HCap, Scene};
 use crate::scene::limits;
@@ -24,8 +24,11 @@ use rayon::prelude::*;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::clipper::{ClipIn, ClipStats, Clipper};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
-use rtl_model::units::polygon_interpolator::{PolyLanes, PolyOut, PolygonInterpolator, MAX_ATTRS};
+use rtl_model::units::polygon_interpolator::{
+    PolyLanes, PolyOut, PolygonInterpolator, Vertex, MAX_ATTRS,
+};
 use rtl_model::units::projective_texcoord::ProjectiveTexcoord;
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
@@ -127,6 +130,8 @@ pub struct FrameResult {
     pub passes: Vec<PassStats>,
     pub elaboration: Vec<Elaborated>,
     pub tables: GTables,
+    /// The clipper's polygon counts, when the scene elaborated it.
+    pub clip_stats: Option<ClipStats>,
 }
 
 impl Prepared {
@@ -159,6 +164,9 @@ pub(super) struct Units {
     pub(super) zbuf: Option<ShadowCompare>,
     pub(super) shadow: Option<ShadowCompare>,
     pub(super) j_blend: AdditiveBlend,
+    /// The clipper in front of the interpolator for the camera's object passes, when
+    /// the scene's objects can leave its planes ([`crate::scene::clip::clip_needed`]).
+    pub(super) clipper: Option<Clipper>,
 }
 
 pub(super) fn counters_add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
@@ -241,6 +249,7 @@ pub struct ShaftsFrame<'a> {
     zstate: Option<ShadowState>,
     light: Option<LightState>,
     elaboration: Vec<Elaborated>,
+    clip_stats: ClipStats,
 }
 
 /// The current light's view, light map and shadow map.
@@ -325,6 +334,11 @@ impl<'a> ShaftsFrame<'a> {
             },
             // The J buffer lives in the RGBA framebuffer, as on the real part (its traffic counts 4 channels).
             j_blend: AdditiveBlend::new(tex_bits, tex_bits, 4, true, cfg.weight_bits)?,
+            clipper: if has_objects && crate::scene::clip::clip_needed(sc).is_some() {
+                Some(limits::shafts_clipper(sc).build()?)
+            } else {
+                None
+            },
         };
 
         let fb = match fb {
@@ -354,6 +368,7 @@ impl<'a> ShaftsFrame<'a> {
             zstate,
             light: None,
             elaboration: Vec::new(),
+            clip_stats: ClipStats::default(),
         })
     }
 
@@ -393,6 +408,7 @@ impl<'a> ShaftsFrame<'a> {
             passes: self.passes,
             elaboration: self.elaboration,
             tables: self.tables,
+            clip_stats: self.units.clipper.map(|_| self.clip_stats),
         }
     }
 
@@ -409,11 +425,13 @@ impl<'a> ShaftsFrame<'a> {
             .flat_map(|o| o.triangles.iter().map(|(tri, _)| tri))
             .collect();
         let cam = &self.cam;
-        draw_triangles(
+        let clipper = self.units.clipper.as_ref();
+        let clip = draw_triangles(
             &self.units.interp,
+            clipper,
             &tris,
             (w, h),
-            |tri| project_tri(cam, tri, |_, _| [0.0; 8]),
+            |tri| project_tri(cam, tri, clipper.is_some(), |_, _| [0.0; 8]),
             |frags, c| {
                 c_int += c;
                 stats.triangles += 1;
@@ -424,6 +442,7 @@ impl<'a> ShaftsFrame<'a> {
             },
         )?;
         stats.walked = c_int.pixels_in;
+        clip.close(clipper, &mut self.ctr, &mut self.clip_stats);
         counters_add(&mut self.ctr, "polygon_interpolator", c_int);
         counters_add(&mut self.ctr, "shadow_compare (depth buffer writes)", c_z);
         push_pass(&mut self.passes, &mut self.last, &self.ctr, stats);
@@ -501,16 +520,23 @@ impl<'a> ShaftsFrame<'a> {
             if hv.iter().any(|v| v.x.abs() > 4000.0 || v.y.abs() > 4000.0) {
                 return None;
             }
-            Some(hv)
+            Some(HostTri::Screen(hv))
         };
-        draw_triangles(&self.units.interp, &tris, (res, res), host, |frags, c| {
-            c_int += c;
-            stats.triangles += 1;
-            let ins = depth_writes(&frags, s.depth_bits());
-            stats.fragments += ins.len() as u64;
-            run_span(s, ss, &ins, &mut c_s);
-            Ok(())
-        })?;
+        draw_triangles(
+            &self.units.interp,
+            None,
+            &tris,
+            (res, res),
+            host,
+            |frags, c| {
+                c_int += c;
+                stats.triangles += 1;
+                let ins = depth_writes(&frags, s.depth_bits());
+                stats.fragments += ins.len() as u64;
+                run_span(s, ss, &ins, &mut c_s);
+                Ok(())
+            },
+        )?;
         stats.walked = c_int.pixels_in;
         counters_add(&mut self.ctr, "polygon_interpolator", c_int);
         counters_add(&mut self.ctr, "shadow_compare (shadow map writes)", c_s);
@@ -532,6 +558,7 @@ impl<'a> ShaftsFrame<'a> {
             &mut self.ctr,
             &mut self.passes,
             &mut self.last,
+            &mut self.clip_stats,
         )
     }
 
@@ -614,8 +641,101 @@ fn depth_writes(frags: &[Fragment], bits: u32) -> Vec<ShadowIn> {
 /// thread count, and it bounds the fragments held at once.
 const DRAW_BATCH: usize = 256;
 
-/// One triangle drawn: its fragments and its interpolator counters, or the error.
-type DrawnTriangle = Result<(Vec<Fragment>, Counters), ConfigError>;
+/// One triangle drawn: its fragments, its interpolator counters and (through the
+/// clipper) the clipper's counters, or the error.
+type DrawnTriangle = Result<(Vec<Fragment>, Counters, Option<ClipTally>), ConfigError>;
+
+/// A triangle as the host hands it to the rasteriser: on the screen, or (through the
+/// clipper) in clip space.
+#[derive(Clone, Copy, Debug)]
+enum HostTri {
+    Screen([HostVertex; 3]),
+    Clip([ClipHost; 3]),
+}
+
+/// A clip-space vertex (x, y, z, w) and its host attributes.
+#[derive(Clone, Copy, Debug)]
+struct ClipHost {
+    c: [f64; 4],
+    attrs: [f64; MAX_ATTRS],
+}
+
+/// The clipper's counters over a pass: its unit counters (kernel events and the
+/// clocks a clipped triangle holds the stream), its polygon counts, the triangles fed.
+#[derive(Clone, Copy, Debug, Default)]
+struct ClipTally {
+    ctr: Counters,
+    stats: ClipStats,
+    n: u64,
+}
+
+impl std::ops::AddAssign for ClipTally {
+    fn add_assign(&mut self, o: ClipTally) {
+        self.ctr += o.ctr;
+        self.stats += o.stats;
+        self.n += o.n;
+    }
+}
+
+impl ClipTally {
+    /// End the pass's span through the clipper: its timing counters (one stream of
+    /// `n` triangles) added, the counters filed under "clipper" and the polygon counts
+    /// into `stats`. Nothing when the frame has no clipper.
+    fn close(
+        mut self,
+        clipper: Option<&Clipper>,
+        ctr: &mut BTreeMap<String, Counters>,
+        stats: &mut ClipStats,
+    ) {
+        if let Some(cl) = clipper {
+            rtl_model::driver::add_span_counters(cl.timing(), self.n, &mut self.ctr);
+            counters_add(ctr, "clipper", self.ctr);
+            *stats += self.stats;
+        }
+    }
+}
+
+/// A clip-space triangle through the clipper, its polygon fanned into triangles
+/// (v0, vᵢ, vᵢ₊₁) for the interpolator, each set up and walked; the window depth the
+/// clipper computes is attribute 0.
+fn draw_clipped(
+    u: &PolygonInterpolator,
+    cl: &Clipper,
+    v: &[ClipHost; 3],
+    w: u32,
+    h: u32,
+    ctr: &mut Counters,
+) -> Result<(Vec<Fragment>, ClipTally), ConfigError> {
+    let k = u.attrs() as usize;
+    let mut t = ClipTally {
+        n: 1,
+        ..ClipTally::default()
+    };
+    let mut input = ClipIn::default();
+    for (i, hv) in v.iter().enumerate() {
+        input.v[i] = cl.vertex_from_f64(i, hv.c, &hv.attrs[..k], &mut t.ctr)?;
+    }
+    let out = cl.kernel(&mut t.stats, &input, &mut t.ctr);
+    let verts: Vec<Vertex> = out
+        .vertices()
+        .iter()
+        .map(|s| {
+            let mut attrs = s.attrs;
+            attrs[0] = s.depth;
+            Vertex {
+                x: s.x,
+                y: s.y,
+                attrs,
+            }
+        })
+        .collect();
+    let mut frags = Vec::new();
+    for i in 1..verts.len().saturating_sub(1) {
+        let s = u.setup_triangle(&[verts[0], verts[i], verts[i + 1]], ctr);
+        walk(u, &s, w, h, ctr, &mut frags);
+    }
+    Ok((frags, t))
+}
 
 /// Each item's triangle (`host`: its host vertices, None when it is skipped) drawn by
 /// [`draw_triangle`] on its own, a batch of items in parallel; `sink` gets each drawn
@@ -625,26 +745,39 @@ type DrawnTriangle = Result<(Vec<Fragment>, Counters), ConfigError>;
 /// one after the other did.
 fn draw_triangles<T: Sync>(
     u: &PolygonInterpolator,
+    clipper: Option<&Clipper>,
     items: &[T],
     (w, h): (u32, u32),
-    host: impl Fn(&T) -> Option<[HostVertex; 3]> + Sync,
+    host: impl Fn(&T) -> Option<HostTri> + Sync,
     mut sink: impl FnMut(Vec<Fragment>, Counters) -> Result<(), ConfigError>,
-) -> Result<(), ConfigError> {
+) -> Result<ClipTally, ConfigError> {
+    let mut clip = ClipTally::default();
     for batch in items.chunks(DRAW_BATCH) {
         let drawn: Vec<Option<DrawnTriangle>> = batch
             .par_iter()
             .map(|item| {
-                let hv = host(item)?;
                 let mut c = Counters::default();
-                Some(draw_triangle(u, &hv, w, h, &mut c).map(|f| (f, c)))
+                Some(match (host(item)?, clipper) {
+                    (HostTri::Screen(hv), _) => {
+                        draw_triangle(u, &hv, w, h, &mut c).map(|f| (f, c, None))
+                    }
+                    (HostTri::Clip(cv), Some(cl)) => {
+                        draw_clipped(u, cl, &cv, w, h, &mut c).map(|(f, t)| (f, c, Some(t)))
+                    }
+                    // Clip-space triangles come only from a frame with a clipper.
+                    (HostTri::Clip(_), None) => return None,
+                })
             })
             .collect();
         for d in drawn.into_iter().flatten() {
-            let (frags, c) = d?;
+            let (frags, c, t) = d?;
+            if let Some(t) = t {
+                clip += t;
+            }
             sink(frags, c)?;
         }
     }
-    Ok(())
+    Ok(clip)
 }
 
 /// A window depth in s16.16 raw → an unsigned depth word of `bits`.
@@ -658,14 +791,24 @@ fn window_depth_word(raw: i64, bits: u32) -> u32 {
     v.clamp(0, max) as u32
 }
 
-/// Project a world triangle with per-vertex attributes; `None` if any vertex is
-/// behind the eye (no clipper is modelled; such triangles are skipped and counted by
-/// the caller's triangle count only). attrs[0] is replaced by the window depth.
+/// Project a world triangle with per-vertex attributes. Without the clipper (`clip`
+/// false: the scene's objects stay inside its planes, [`crate::scene::clip`]) onto
+/// the screen, `None` if any vertex is behind the eye (skipped, counted by the
+/// caller's triangle count only); attrs[0] is replaced by the window depth. With it,
+/// in clip space, for the clipper to cut and divide.
 fn project_tri(
     cam: &CameraView,
     tri: &[Vec3; 3],
+    clip: bool,
     attrs: impl Fn(usize, Vec3) -> [f64; 8],
-) -> Option<[HostVertex; 3]> {
+) -> Option<HostTri> {
+    if clip {
+        let v = std::array::from_fn(|k| ClipHost {
+            c: cam.view_proj.apply(tri[k]),
+            attrs: host_attrs(attrs(k, tri[k])),
+        });
+        return Some(HostTri::Clip(v));
+    }
     let mut hv = [HostVertex::ORIGIN; 3];
     for k in 0..3 {
         let (x, y, z) = cam.project(tri[k])?;
@@ -676,7 +819,7 @@ fn project_tri(
         a[0] = z;
         hv[k] = HostVertex { x, y, attrs: a };
     }
-    Some(hv)
+    Some(HostTri::Screen(hv))
 }
 
 /// An s16.16 attribute in [0, 1] → a unorm code of full scale `max` (round half up,
@@ -746,10 +889,12 @@ fn object_pass(
     ctr: &mut BTreeMap<String, Counters>,
     passes: &mut Vec<PassStats>,
     last: &mut Traffic,
+    clip_stats: &mut ClipStats,
 ) -> Result<(), ConfigError> {
     let u = ctx.units;
     let sc = &p.scene;
     let (w, h) = (sc.image.width, sc.image.height);
+    let clipper = u.clipper.as_ref();
     let mut stats = PassStats::new(
         PassKind::Objects,
         ctx.li,
@@ -782,15 +927,16 @@ fn object_pass(
                 la[3],
             ]
         };
-        project_tri(ctx.cam, tri, attrs)
+        project_tri(ctx.cam, tri, clipper.is_some(), attrs)
     };
-    draw_triangles(&u.interp, &tris, (w, h), host, |frags, c| {
+    let clip = draw_triangles(&u.interp, clipper, &tris, (w, h), host, |frags, c| {
         c_int += c;
         stats.triangles += 1;
         frags_all.extend(frags);
         Ok(())
     })?;
     stats.walked = c_int.pixels_in;
+    clip.close(clipper, ctr, clip_stats);
     counters_add(ctr, "polygon_interpolator", c_int);
     // The object pass is light work (a few thousand fragments): one chunk.
     let mut b = ChunkBuffers::default();
@@ -885,6 +1031,10 @@ fn elaborate(
     .into_iter()
     .map(|(name, s)| Elaborated::present(name, s))
     .collect();
+    // The clipper only when the scene needs it (the chip lists it left out otherwise).
+    if let Some(cl) = &units.clipper {
+        out.insert(0, Elaborated::present("clipper", UnitSummary::of(cl)));
+    }
     let cfg = &p.scene.shafts;
     let would_shadow = ShadowCompareConfig {
         width: cfg.shadow_resolution,
