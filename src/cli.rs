@@ -174,8 +174,10 @@ pub enum Command {
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
     /// DIR/attribution.png (shares of the squared error) and a difference image per
     /// source above 5 %, and print the table (docs/results.md, "Error attribution").
-    /// Shafts scenes (fig4, fig6, stage, files), glare scenes, env-MAP-OBJECT scenes
-    /// and shading-* scenes (not shading-vertex).
+    /// Shafts scenes (fig4, fig6, stage, files), glare scenes, env-MAP-OBJECT scenes,
+    /// shading-* scenes (not shading-vertex), and frame scenes of several pipelines
+    /// (night-street, shaded-metal, street-light, …: every pipeline's sources on the
+    /// whole frame's error).
     Attribute {
         /// A built-in scene or a TOML scene file.
         #[arg(long)]
@@ -189,7 +191,8 @@ pub enum Command {
         image: Option<String>,
     },
     /// Error against run time for one shafts parameter (or glare / shading width, or
-    /// `side` of an environment-map scene): renders the scene for each
+    /// `side` of an environment-map scene, or any width of any pipeline of a frame
+    /// scene such as night-street): renders the scene for each
     /// value, compares with the f64 ray-marched reference, writes
     /// DIR/sweep_<param>.csv and .png and prints a table. With --shard K/N, only
     /// its share of the values, to DIR/sweep_<param>.shard-K-of-N.csv; `sweep merge`
@@ -299,9 +302,9 @@ pub const MAX_TRACE_PIXELS: usize = 100_000;
 /// `sweep`'s options (without `merge`).
 #[derive(Args, Debug)]
 pub struct SweepArgs {
-    /// A built-in scene (fig4, fig6, stage), a TOML scene file, or a shading scene
-    /// (shading-<model> of the shading-brdfs catalogue, shading-specular,
-    /// shading-vertex).
+    /// A built-in scene (fig4, fig6, stage, the glare, env-MAP-OBJECT and frame
+    /// scenes), a TOML scene file, or a shading scene (shading-<model> of the
+    /// shading-brdfs catalogue, shading-specular, shading-vertex).
     #[arg(long, required = true)]
     pub scene: Option<String>,
     /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
@@ -313,6 +316,9 @@ pub struct SweepArgs {
     /// Shading scenes (shading-<model>, shading-specular, shading-vertex):
     /// combiner_bits, factor_size, factor_bits, lookup_log2, lookup_bits, cube_face,
     /// cube_bits, vertex_mantissa, vertex_exponent (docs/shading.md).
+    /// Frame scenes (several pipelines: night-street, shaded-metal, street-light):
+    /// PIPELINE.FIELD, e.g. shafts.planes, glare.fb_bits, shading.cube_face,
+    /// environment.side, or a field only one of its pipelines has (docs/sweep.md).
     #[arg(long, required = true)]
     pub param: Option<String>,
     /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be

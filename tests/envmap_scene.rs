@@ -494,13 +494,7 @@ fn render_scene_cli_writes_the_same_png_for_the_file_and_the_builtin() {
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert!(v["timing"]["predicted_seconds"].as_f64().unwrap() > 0.0);
         assert_eq!(v["timing"]["gpu"], "GeForce3");
-        assert!(
-            v["environment"]["elaboration"]["units"]
-                .as_array()
-                .unwrap()
-                .len()
-                >= 2
-        );
+        assert!(v["chip"]["units"].as_array().unwrap().len() >= 2);
         counters.push(v["counters"]["envmap"].clone());
         pngs.push(std::fs::read(&png).unwrap());
     }
