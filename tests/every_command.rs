@@ -163,26 +163,36 @@ fn runs(scene: &str, dir: &Path) -> Vec<Run> {
 }
 
 /// The numbers of a CSV column whose name starts with `prefix`.
-fn column(csv: &Path, prefix: &str) -> Vec<f64> {
-    let text = std::fs::read_to_string(csv).unwrap_or_else(|e| panic!("{}: {e}", csv.display()));
+fn column(csv: &Path, prefix: &str) -> Result<Vec<f64>, String> {
+    let text = std::fs::read_to_string(csv).map_err(|e| format!("{}: {e}", csv.display()))?;
     let mut lines = text.lines().filter(|l| !l.starts_with('#'));
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let head: Vec<&str> = lines.next().ok_or("an empty CSV")?.split(',').collect();
     let i = head
         .iter()
         .position(|c| c.starts_with(prefix))
-        .unwrap_or_else(|| panic!("{}: no column {prefix} in {head:?}", csv.display()));
-    lines
-        .map(|l| l.split(',').nth(i).unwrap().parse().unwrap_or(f64::NAN))
-        .collect()
+        .ok_or_else(|| format!("{}: no column {prefix} in {head:?}", csv.display()))?;
+    Ok(lines
+        .map(|l| {
+            l.split(',')
+                .nth(i)
+                .and_then(|x| x.parse().ok())
+                .unwrap_or(f64::NAN)
+        })
+        .collect())
+}
+
+/// A measured value that is there and not zero (NaN is not).
+fn positive(x: f64) -> bool {
+    x > 0.0
 }
 
 /// The one CSV a sweep writes into `dir`.
-fn sweep_csv(dir: &Path) -> PathBuf {
+fn sweep_csv(dir: &Path) -> Result<PathBuf, String> {
     std::fs::read_dir(dir)
-        .unwrap()
+        .map_err(|e| format!("{}: {e}", dir.display()))?
         .map(|e| e.unwrap().path())
         .find(|p| p.extension().is_some_and(|e| e == "csv"))
-        .unwrap_or_else(|| panic!("no CSV in {}", dir.display()))
+        .ok_or_else(|| format!("no CSV in {}", dir.display()))
 }
 
 /// Any number under `key` anywhere in `v` that is > 0.
@@ -219,24 +229,25 @@ fn check_success(r: &Run, stdout: &str) -> Result<(), String> {
             }
         }
         "sweep" => {
-            let csv = sweep_csv(&r.outputs[0]);
+            let csv = sweep_csv(&r.outputs[0])?;
             for c in ["gates_nand2", "predicted_hw_seconds"] {
-                let v = column(&csv, c);
-                if v.len() != 2 || v.iter().any(|x| !(*x > 0.0)) {
+                let v = column(&csv, c)?;
+                if v.len() != 2 || !v.iter().all(|x| positive(*x)) {
                     return Err(format!("{c} {v:?}"));
                 }
             }
-            // An 8-bit render is never exactly its f64 reference at both values.
-            let max = column(&csv, "max");
-            if max.iter().all(|x| !(*x > 0.0)) {
-                return Err(format!("max error {max:?}"));
+            // An 8-bit render is never exactly its f64 reference at both values: the
+            // max (or, for the shafts sweep, the representative pixels' error).
+            let err = column(&csv, "max").or_else(|_| column(&csv, "error_levels"))?;
+            if !err.iter().any(|x| positive(*x)) {
+                return Err(format!("error {err:?}"));
             }
         }
         "attribute" => {
             let csv = r.outputs[0].join("attribution.csv");
-            let max = column(&csv, "max");
-            if !(max[0] > 0.0) {
-                return Err(format!("configured max error {}", max[0]));
+            let max = column(&csv, "max")?;
+            if !max.first().is_some_and(|m| *m > 0.0) {
+                return Err(format!("configured max error {max:?}"));
             }
         }
         "optimize" => {
@@ -250,7 +261,7 @@ fn check_success(r: &Run, stdout: &str) -> Result<(), String> {
                 .and_then(|t| t.split_whitespace().next())
                 .and_then(|t| t.parse().ok())
                 .ok_or(format!("no gates in {d}"))?;
-            if !(gates > 0.0) {
+            if !positive(gates) {
                 return Err(d.to_string());
             }
         }
@@ -261,7 +272,7 @@ fn check_success(r: &Run, stdout: &str) -> Result<(), String> {
                 .and_then(|t| t.split_whitespace().last())
                 .and_then(|t| t.parse::<f64>().ok())
                 .ok_or("no NAND2 gates total")?;
-            if !(gates > 0.0) {
+            if !positive(gates) {
                 return Err(format!("{gates} gates"));
             }
         }
@@ -289,16 +300,21 @@ fn every_command_measures_every_builtin_or_refuses_up_front() {
                 let Some(r) = queue.lock().unwrap().pop() else {
                     break;
                 };
+                let t0 = std::time::Instant::now();
                 let o = Command::new(env!("CARGO_BIN_EXE_glare-pipeline"))
                     .args(&r.args)
                     .env("GLARE_PROGRESS", "never")
                     .output()
                     .unwrap();
+                let secs = t0.elapsed().as_secs_f64();
+                if secs > 30.0 {
+                    eprintln!("slow: {secs:.0} s: {}", r.args.join(" "));
+                }
                 let (out, err) = (
                     String::from_utf8_lossy(&o.stdout),
                     String::from_utf8_lossy(&o.stderr),
                 );
-                let what = format!("{}", r.args.join(" "));
+                let what = r.args.join(" ");
                 let verdict = if o.status.success() {
                     check_success(r, &out)
                 } else if o.status.code() != Some(2) || err.contains("panicked") {

@@ -19,13 +19,13 @@
 use super::plan::frame_pipelines;
 use super::reproduce::frame_error_and_reference;
 use super::run::render;
-use crate::pipeline::glare::sweep::{apply as apply_glare, GLARE_PARAMS};
+use crate::pipeline::glare::sweep::{apply as apply_glare, get as apply_get, GLARE_PARAMS};
 use crate::pipeline::shafts::sweep::{Param as ShaftsParam, Value as ShaftsValue};
 use crate::report::metrics::error_stats;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
 use crate::report::shard::{Shard, SweepId};
-use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
+use crate::report::sweep_out::{parse_int_values, run_sweep, sweep_table, SweepRow};
 use crate::scene::format::Scene;
 use crate::scene::shading_hw::SHADING_HW_FIELDS;
 use std::path::Path;
@@ -72,18 +72,8 @@ impl FrameParam {
         match self.pipeline {
             "shafts" => Ok(ShaftsParam::from_name(self.field)?.get(&s.shafts)),
             "glare" => {
-                let g = s.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
-                Ok(match self.field {
-                    "shape_log2" => g.shape_log2,
-                    "shape_bits" => g.shape_bits,
-                    "falloff_log2" => g.falloff_log2,
-                    "falloff_bits" => g.falloff_bits,
-                    "weight_bits" => g.weight_bits,
-                    "coord_frac_bits" => g.coord_frac_bits,
-                    "noise_bits" => g.noise_bits,
-                    "fb_bits" => g.fb_bits,
-                    _ => u32::from(g.radial),
-                })
+                let g = &s.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
+                apply_get(g, self.field)
             }
             "environment" => Ok(s
                 .environment
@@ -327,16 +317,12 @@ pub fn frame_sweep_cli(
         &values,
         title(scene, &name),
     )?;
-    if let Some(shard) = shard {
-        let mut journal = Journal::shard(out, &id, shard, resume)?;
-        frame_rows(&scenes, &p, Some(shard), &mut journal)?;
-        return shard_sweep(out, &id, shard, &journal.into_rows());
-    }
-    let csv = out.join(format!("sweep_{name}.csv"));
-    let mut journal = Journal::plain(&csv, &id, resume, |r: &SweepRow| r.value.to_string())?;
-    frame_rows(&scenes, &p, None, &mut journal)?;
-    let rows: Vec<SweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
-    let (csv, png) = write_sweep(&rows, &title(scene, &name), &name, out)?;
+    let Some((rows, csv, png)) = run_sweep(out, &id, shard, resume, |only, journal| {
+        frame_rows(&scenes, &p, only, journal)
+    })?
+    else {
+        return Ok(());
+    };
     println!(
         "sweep {name} on {} (the whole frame against its composed reference): wrote {} and {}",
         scene.name,

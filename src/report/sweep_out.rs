@@ -164,3 +164,33 @@ pub fn shard_sweep(
     print!("{}", sweep_table(&id.param, &rows));
     Ok(())
 }
+
+/// A sweep of [`SweepRow`]s run as the command line asks: with `shard`, only its share
+/// of the values into its shard file (the line and table printed; returns None);
+/// without, every value into `out/sweep_<id.param>.csv`, continuing with `resume` from
+/// the rows an interrupted run left, then the CSV and plot written (returns the rows
+/// and the two paths). `rows` renders the values a journal lacks (those of `shard`).
+pub fn run_sweep(
+    out: &Path,
+    id: &SweepId,
+    shard: Option<Shard>,
+    resume: bool,
+    mut rows: impl FnMut(
+        Option<Shard>,
+        &mut crate::report::resume::Journal<SweepRow>,
+    ) -> Result<(), String>,
+) -> Result<Option<(Vec<SweepRow>, PathBuf, PathBuf)>, String> {
+    use crate::report::resume::Journal;
+    if let Some(shard) = shard {
+        let mut journal = Journal::shard(out, id, shard, resume)?;
+        rows(Some(shard), &mut journal)?;
+        shard_sweep(out, id, shard, &journal.into_rows())?;
+        return Ok(None);
+    }
+    let csv = out.join(format!("sweep_{}.csv", id.param));
+    let mut journal = Journal::plain(&csv, id, resume, |r: &SweepRow| r.value.to_string())?;
+    rows(None, &mut journal)?;
+    let done: Vec<SweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
+    let (csv, png) = write_sweep(&done, &id.title, &id.param, out)?;
+    Ok(Some((done, csv, png)))
+}

@@ -246,18 +246,8 @@ impl Kind {
                 p => Ok(p.get(&scene.shafts)),
             },
             Kind::Glare => {
-                let g = scene.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
-                Ok(match param {
-                    "shape_log2" => g.shape_log2,
-                    "shape_bits" => g.shape_bits,
-                    "falloff_log2" => g.falloff_log2,
-                    "falloff_bits" => g.falloff_bits,
-                    "weight_bits" => g.weight_bits,
-                    "coord_frac_bits" => g.coord_frac_bits,
-                    "noise_bits" => g.noise_bits,
-                    "fb_bits" => g.fb_bits,
-                    _ => return Err(format!("params: unknown glare width '{param}'")),
-                })
+                let g = &scene.glare.as_ref().ok_or("scene: no [glare] section")?.hw;
+                crate::pipeline::glare::sweep::get(g, param)
             }
             Kind::Envmap => {
                 let e = scene
@@ -326,6 +316,25 @@ pub struct Metrics {
     pub predicted_seconds: f64,
     /// Wall time of the simulation.
     pub wall_seconds: f64,
+}
+
+impl Metrics {
+    /// A sweep row's measurements (the environment-map and frame kinds measure
+    /// through `sweep`'s own row).
+    pub fn of_row(r: &crate::report::sweep_out::SweepRow) -> Metrics {
+        Metrics {
+            gates: r.gates_nand2,
+            ram_bits: r.ram_bits,
+            error: ErrorStats {
+                mean_abs: r.mean_abs_levels,
+                rms: r.rms_levels,
+                max: r.max_levels,
+                n: 0,
+            },
+            predicted_seconds: r.predicted_hw_seconds,
+            wall_seconds: r.wall_seconds,
+        }
+    }
 }
 
 /// What a shafts scene's error is measured against (module notes).
@@ -498,18 +507,7 @@ impl Evaluator {
             }
             Kind::Frame => {
                 let r = crate::frame::sweep::frame_row(scene, "frame")?;
-                Ok(Metrics {
-                    gates: r.gates_nand2,
-                    ram_bits: r.ram_bits,
-                    error: ErrorStats {
-                        mean_abs: r.mean_abs_levels,
-                        rms: r.rms_levels,
-                        max: r.max_levels,
-                        n: 0,
-                    },
-                    predicted_seconds: r.predicted_hw_seconds,
-                    wall_seconds: r.wall_seconds,
-                })
+                Ok(Metrics::of_row(&r))
             }
             Kind::Envmap => {
                 // `sweep`'s row: the render against the Phong truth (cos φ test), the
@@ -530,18 +528,7 @@ impl Evaluator {
                     }
                 }
                 let r = envmap_row_of(&f, "side")?;
-                Ok(Metrics {
-                    gates: r.gates_nand2,
-                    ram_bits: r.ram_bits,
-                    error: ErrorStats {
-                        mean_abs: r.mean_abs_levels,
-                        rms: r.rms_levels,
-                        max: r.max_levels,
-                        n: 0,
-                    },
-                    predicted_seconds: r.predicted_hw_seconds,
-                    wall_seconds: r.wall_seconds,
-                })
+                Ok(Metrics::of_row(&r))
             }
         }
     }

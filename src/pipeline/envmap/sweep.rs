@@ -25,7 +25,7 @@ use super::scene_render::{render_scene, SceneFrame};
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
 use crate::report::shard::{Shard, SweepId};
-use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
+use crate::report::sweep_out::{parse_int_values, run_sweep, sweep_table, SweepRow};
 use crate::scene::format::Scene;
 use std::path::Path;
 
@@ -158,16 +158,12 @@ pub fn envmap_sweep_cli(
     // Every value is checked before a journal removes an old CSV.
     envmap_scenes(scene, param, &values)?;
     let id = sweep_id(scene, scene_arg, param, &values)?;
-    if let Some(shard) = shard {
-        let mut journal = Journal::shard(out, &id, shard, resume)?;
-        envmap_rows(scene, param, &values, Some(shard), &mut journal)?;
-        return shard_sweep(out, &id, shard, &journal.into_rows());
-    }
-    let csv = out.join(format!("sweep_{param}.csv"));
-    let mut journal = Journal::plain(&csv, &id, resume, |r: &SweepRow| r.value.to_string())?;
-    envmap_rows(scene, param, &values, None, &mut journal)?;
-    let rows: Vec<SweepRow> = journal.into_rows().into_iter().map(|(_, r)| r).collect();
-    let (csv, png) = write_sweep(&rows, &title(scene, param), param, out)?;
+    let Some((rows, csv, png)) = run_sweep(out, &id, shard, resume, |only, journal| {
+        envmap_rows(scene, param, &values, only, journal)
+    })?
+    else {
+        return Ok(());
+    };
     println!(
         "sweep {param} on {}: wrote {} and {}",
         scene.name,

@@ -60,6 +60,28 @@ pub fn apply(hw: &mut GlareHw, param: &str, v: u32) -> Result<(), String> {
     Ok(())
 }
 
+/// The value of `param` in `hw` (`radial` as 0 or 1); an unknown name is an error
+/// naming `param`.
+pub fn get(hw: &GlareHw, param: &str) -> Result<u32, String> {
+    Ok(match param {
+        "shape_log2" => hw.shape_log2,
+        "shape_bits" => hw.shape_bits,
+        "falloff_log2" => hw.falloff_log2,
+        "falloff_bits" => hw.falloff_bits,
+        "weight_bits" => hw.weight_bits,
+        "coord_frac_bits" => hw.coord_frac_bits,
+        "noise_bits" => hw.noise_bits,
+        "fb_bits" => hw.fb_bits,
+        "radial" => u32::from(hw.radial),
+        _ => {
+            return Err(format!(
+                "param: unknown glare width '{param}' (known: {})",
+                GLARE_PARAMS.join(", ")
+            ))
+        }
+    })
+}
+
 /// The scene of each value, validated (an invalid value is an error naming the field,
 /// e.g. `glare.hw.shape_log2`, before anything runs).
 pub fn glare_scenes(base: &Scene, param: &str, values: &[u32]) -> Result<Vec<Scene>, String> {
@@ -107,22 +129,7 @@ pub fn glare_rows(
             let lv = reference_levels(s, &f).map_err(|e| e.to_string())?;
             let st = error_stats(&f.levels(), &lv).map_err(|e| e.to_string())?;
             let g = s.glare.as_ref().map(|g| g.hw).unwrap_or_default();
-            let mut v = 0;
-            for (name, x) in [
-                ("shape_log2", g.shape_log2),
-                ("shape_bits", g.shape_bits),
-                ("falloff_log2", g.falloff_log2),
-                ("falloff_bits", g.falloff_bits),
-                ("weight_bits", g.weight_bits),
-                ("coord_frac_bits", g.coord_frac_bits),
-                ("noise_bits", g.noise_bits),
-                ("fb_bits", g.fb_bits),
-                ("radial", u32::from(g.radial)),
-            ] {
-                if name == param {
-                    v = x;
-                }
-            }
+            let v = get(&g, param)?;
             journal.record(
                 i,
                 GlareSweepRow {
