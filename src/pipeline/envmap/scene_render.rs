@@ -144,6 +144,44 @@ pub fn build_map(
     section: &EnvironmentSection,
     env: &EnvMap,
 ) -> Result<(VoxelMap, MapBuild), ConfigError> {
+    // A process that renders one environment many times (an attribution's or an
+    // optimisation's renders of a frame that reflects it) builds each map once: the
+    // map is a function of the section and the source map alone, so a copy of the
+    // first build is the same bytes. The record keeps the first build's time.
+    let key = format!("{section:?}|{}x{}", env.width(), env.height());
+    if let Some(hit) = MAP_CACHE
+        .lock()
+        .ok()
+        .and_then(|c| c.iter().find(|(k, _)| *k == key).map(|(_, m)| m.clone()))
+    {
+        return Ok(hit);
+    }
+    let built = build_map_uncached(section, env)?;
+    if built.0.bytes() <= MAP_CACHE_MAX_BYTES {
+        if let Ok(mut c) = MAP_CACHE.lock() {
+            if c.len() >= MAP_CACHE_ENTRIES {
+                c.remove(0);
+            }
+            c.push((key, built.clone()));
+        }
+    }
+    Ok(built)
+}
+
+/// Maps [`build_map`] keeps: the most recent few, each at most this large (a 128³ map
+/// of 16-bit RGB is 12.6 MB; 256³ maps are rebuilt).
+const MAP_CACHE_ENTRIES: usize = 4;
+const MAP_CACHE_MAX_BYTES: u64 = 16 << 20;
+
+/// (section and source size, the map and its build record), oldest first.
+type CachedMap = (String, (VoxelMap, MapBuild));
+static MAP_CACHE: std::sync::Mutex<Vec<CachedMap>> = std::sync::Mutex::new(Vec::new());
+
+/// [`build_map`] without the cache: build the map from the source.
+fn build_map_uncached(
+    section: &EnvironmentSection,
+    env: &EnvMap,
+) -> Result<(VoxelMap, MapBuild), ConfigError> {
     let exposure = section.exposure_for(env);
     let levels = env_to_levels(env, exposure)?;
     let params = match section.weighting {
