@@ -1037,11 +1037,7 @@ fn check_attribute_out(out: &std::path::Path) -> Result<(), String> {
     check_dir_out("out", out)
 }
 
-/// A command's output directory, checked before any work: not a file, and a place
-/// that takes new files (`report::outputs`).
-pub fn check_dir_out(arg: &str, dir: &std::path::Path) -> Result<(), String> {
-    crate::report::outputs::check_outputs(&[crate::report::outputs::Output::dir(arg, dir)])
-}
+pub use crate::report::outputs::check_dir_out;
 
 /// The attribution's summary line, table, largest source and all-ideal line.
 fn print_attribution(

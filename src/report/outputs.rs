@@ -219,3 +219,9 @@ mod tests {
         std::fs::remove_dir_all(&d).unwrap();
     }
 }
+
+/// A command's output directory, checked before any work: not a file, and a place
+/// that takes new files.
+pub fn check_dir_out(arg: &str, dir: &Path) -> Result<(), String> {
+    check_outputs(&[Output::dir(arg, dir)])
+}

@@ -120,7 +120,7 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
         }
     }
     let reference = Reference::parse(&a.reference)?;
-    crate::cli::check_dir_out("out", &a.out)?;
+    crate::report::outputs::check_dir_out("out", &a.out)?;
     Ok(Plan {
         scene,
         scene_arg: a.scene.clone(),

@@ -217,7 +217,7 @@ pub fn check(a: &OptimizeArgs, mut file: ShadingFile) -> Result<ShadingPlan, Str
             a.reference
         ));
     }
-    crate::cli::check_dir_out("out", &a.out)?;
+    crate::report::outputs::check_dir_out("out", &a.out)?;
     Ok(ShadingPlan {
         file,
         budget,
