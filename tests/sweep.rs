@@ -240,7 +240,7 @@ fn bad_input_names_the_field_and_writes_nothing() {
             "--values",
             "10",
         ],
-        "scene: 'nonesuch.toml'",
+        "scene: file not found: nonesuch.toml",
     );
     fails(
         &["--scene", "test", "--param", "planes", "--values", "10"],
