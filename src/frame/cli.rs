@@ -51,58 +51,20 @@ pub fn render_cli(
         }
         check_outputs(&outs)?;
     }
+    let out = RenderOut {
+        out,
+        json,
+        reference,
+        plan_only,
+    };
     // The foundation test scene: `test`, or its `[test_scene]` file form.
     if crate::scene::test_scene::resolve(name)? {
-        if let Some((w, h)) = size {
-            return Err(format!(
-                "--image: the foundation test scene has a fixed size ({}x{}); --image {w}x{h} cannot change it",
-                crate::scene::test_scene::WIDTH,
-                crate::scene::test_scene::HEIGHT
-            ));
-        }
-        if !json {
-            print!("pass plan:\n{}", plan_table(&test_scene_plan()));
-        }
-        let passes: Vec<PassEntry> = test_scene_plan()
-            .passes
-            .iter()
-            .map(|p| pass_entry(p, None))
-            .collect();
-        if plan_only {
-            if json {
-                let mut r = RenderJson::new("test", Family::Test).image(
-                    crate::scene::test_scene::WIDTH,
-                    crate::scene::test_scene::HEIGHT,
-                );
-                r.passes = passes;
-                r.print()?;
-            }
-            return Ok(());
-        }
-        return crate::pipeline::test_scene::render_cli(out, json, reference, passes);
+        return render_test_scene(size, &out);
     }
     // A shading scene (`shading-*`, or a file with a `[shading]` table: what
     // `optimize` writes as best.toml for one) renders through the shading sweep's path.
-    if let Some(mut f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
-        if let Some(img) = image {
-            if f.image.is_none() {
-                return Err(format!(
-                    "--image: {name} lights sphere vertices; it has no image to size"
-                ));
-            }
-            let side = crate::report::image_arg::square_side(img)?;
-            rtl_model::error::check_range("--image", side.into(), 2, 4096)
-                .map_err(|e| e.to_string())?;
-            f.image = Some(side);
-        }
-        if !plan_only {
-            let (budget, from) = super::budget::resolve(max_memory);
-            let e = super::budget::shading_estimate(f.image);
-            super::budget::check_estimate(e, budget, &from)?;
-        }
-        return crate::pipeline::shading::scene_file::render_cli(
-            &f, out, json, reference, plan_only,
-        );
+    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+        return render_shading_scene(name, f, image, max_memory, &out);
     }
     let mut scene = load_scene(name)?;
     if let Some((w, h)) = size {
@@ -120,133 +82,254 @@ pub fn render_cli(
     let chip = elaborate(&scene);
     if super::plan::environment_scene(&scene) && !plan_only {
         // The thesis' environment scenes keep their own report (map build, truth).
-        let p = plan(&scene).map_err(|e| e.to_string())?;
-        if !json {
-            print!(
-                "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths):\n{}\n",
-                plan_table(&p),
-                chip_table(&chip)
-            );
-        }
-        let warnings = super::range::check_environment(&scene);
-        super::range::print(&warnings);
-        let w = serde_json::to_value(&warnings).map_err(|e| e.to_string())?;
-        use crate::pipeline::envmap::scene_render as sr;
-        let f = sr::render_and_write(&scene, out, reference)?;
-        if !json {
-            return sr::print_text(&scene, &f, out, reference);
-        }
-        let passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
-        let mut r = RenderJson::new(&scene.name, Family::Environment)
-            .image(f.frame.width, f.frame.height)
-            .outputs(Some(out), f.truth.as_ref().and(reference))
-            .family_details(serde_json::json!({
-                "map": f.map,
-                "frame": f.frame,
-                "prediction": f.prediction,
-            }));
-        r.passes = passes;
-        r.chip = super::chip::elaborated_json(&f.frame.elaboration.units);
-        r.counters.insert("envmap".into(), value(&f.counters)?);
-        r.timing = Timing {
-            predicted_seconds: Some(f.prediction.seconds),
-            gpu: Some("GeForce3".into()),
-            cycles: None,
-            clock_mhz: None,
-            wall_seconds: Some(f.render_seconds),
-        };
-        r.error = match (&f.truth, reference) {
-            (Some(t), Some(_)) => Some(serde_json::json!({
-                "against": "Phong truth",
-                "cos_phi": t.cos_phi,
-                "simplified": t.simplified,
-            })),
-            _ => None,
-        };
-        r.warnings = w;
-        return r.print();
+        return render_environment_scene(&scene, &chip, &out);
     }
     if plan_only {
-        let p = plan(&scene).map_err(|e| e.to_string())?;
+        return print_plan(&scene, &chip, json);
+    }
+    render_frame(&scene, &out)
+}
+
+/// Where and how `render` reports: the PNG, JSON or text, the reference PNG, and
+/// whether only the plan is asked for.
+struct RenderOut<'a> {
+    out: &'a Path,
+    json: bool,
+    reference: Option<&'a Path>,
+    plan_only: bool,
+}
+
+/// `render` of the foundation test scene (fixed size: `--image` is refused).
+fn render_test_scene(size: Option<(u32, u32)>, o: &RenderOut) -> Result<(), String> {
+    let (out, json, reference, plan_only) = (o.out, o.json, o.reference, o.plan_only);
+    if let Some((w, h)) = size {
+        return Err(format!(
+            "--image: the foundation test scene has a fixed size ({}x{}); --image {w}x{h} cannot change it",
+            crate::scene::test_scene::WIDTH,
+            crate::scene::test_scene::HEIGHT
+        ));
+    }
+    if !json {
+        print!("pass plan:\n{}", plan_table(&test_scene_plan()));
+    }
+    let passes: Vec<PassEntry> = test_scene_plan()
+        .passes
+        .iter()
+        .map(|p| pass_entry(p, None))
+        .collect();
+    if plan_only {
         if json {
-            // The render's object with nothing rendered: no outputs, counters or
-            // times, no family sub-object.
-            let family = if super::plan::environment_scene(&scene) {
-                Family::Environment
-            } else {
-                Family::Frame
-            };
-            let mut r =
-                RenderJson::new(&scene.name, family).image(scene.image.width, scene.image.height);
-            r.passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
-            r.chip = super::chip::defaults_json(&chip);
-            r.print()?;
-        } else {
-            print!(
-                "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths, `render` reports them at the scene's):\n{}",
-                plan_table(&p),
-                chip_table(&chip)
+            let mut r = RenderJson::new("test", Family::Test).image(
+                crate::scene::test_scene::WIDTH,
+                crate::scene::test_scene::HEIGHT,
             );
+            r.passes = passes;
+            r.print()?;
         }
         return Ok(());
     }
+    crate::pipeline::test_scene::render_cli(out, json, reference, passes)
+}
+
+/// `render` of a shading scene at `image` (a square side) or its own size.
+fn render_shading_scene(
+    name: &str,
+    mut f: crate::pipeline::shading::scene_file::ShadingFile,
+    image: Option<&str>,
+    max_memory: Option<u64>,
+    o: &RenderOut,
+) -> Result<(), String> {
+    let (out, json, reference, plan_only) = (o.out, o.json, o.reference, o.plan_only);
+    if let Some(img) = image {
+        if f.image.is_none() {
+            return Err(format!(
+                "--image: {name} lights sphere vertices; it has no image to size"
+            ));
+        }
+        let side = crate::report::image_arg::square_side(img)?;
+        rtl_model::error::check_range("--image", side.into(), 2, 4096)
+            .map_err(|e| e.to_string())?;
+        f.image = Some(side);
+    }
+    if !plan_only {
+        let (budget, from) = super::budget::resolve(max_memory);
+        let e = super::budget::shading_estimate(f.image);
+        super::budget::check_estimate(e, budget, &from)?;
+    }
+    crate::pipeline::shading::scene_file::render_cli(&f, out, json, reference, plan_only)
+}
+
+/// `render` of an environment-map scene of the thesis: its own report (map build,
+/// truth), in the one JSON shape.
+fn render_environment_scene(
+    scene: &crate::scene::format::Scene,
+    chip: &super::chip::Chip,
+    o: &RenderOut,
+) -> Result<(), String> {
+    let (out, json, reference) = (o.out, o.json, o.reference);
+    // The thesis' environment scenes keep their own report (map build, truth).
+    let p = plan(scene).map_err(|e| e.to_string())?;
+    if !json {
+        print!(
+            "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths):\n{}\n",
+            plan_table(&p),
+            chip_table(chip)
+        );
+    }
+    let warnings = super::range::check_environment(scene);
+    super::range::print(&warnings);
+    let w = serde_json::to_value(&warnings).map_err(|e| e.to_string())?;
+    use crate::pipeline::envmap::scene_render as sr;
+    let f = sr::render_and_write(scene, out, reference)?;
+    if !json {
+        return sr::print_text(scene, &f, out, reference);
+    }
+    let passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
+    let mut r = RenderJson::new(&scene.name, Family::Environment)
+        .image(f.frame.width, f.frame.height)
+        .outputs(Some(out), f.truth.as_ref().and(reference))
+        .family_details(serde_json::json!({
+            "map": f.map,
+            "frame": f.frame,
+            "prediction": f.prediction,
+        }));
+    r.passes = passes;
+    r.chip = super::chip::elaborated_json(&f.frame.elaboration.units);
+    r.counters.insert("envmap".into(), value(&f.counters)?);
+    r.timing = Timing {
+        predicted_seconds: Some(f.prediction.seconds),
+        gpu: Some("GeForce3".into()),
+        cycles: None,
+        clock_mhz: None,
+        wall_seconds: Some(f.render_seconds),
+    };
+    r.error = match (&f.truth, reference) {
+        (Some(t), Some(_)) => Some(serde_json::json!({
+            "against": "Phong truth",
+            "cos_phi": t.cos_phi,
+            "simplified": t.simplified,
+        })),
+        _ => None,
+    };
+    r.warnings = w;
+    r.print()
+}
+
+/// `render --plan`: the pass plan and the chip before any pass runs.
+fn print_plan(
+    scene: &crate::scene::format::Scene,
+    chip: &super::chip::Chip,
+    json: bool,
+) -> Result<(), String> {
+    let p = plan(scene).map_err(|e| e.to_string())?;
+    if json {
+        // The render's object with nothing rendered: no outputs, counters or
+        // times, no family sub-object.
+        let family = if super::plan::environment_scene(scene) {
+            Family::Environment
+        } else {
+            Family::Frame
+        };
+        let mut r =
+            RenderJson::new(&scene.name, family).image(scene.image.width, scene.image.height);
+        r.passes = p.passes.iter().map(|ps| pass_entry(ps, None)).collect();
+        r.chip = super::chip::defaults_json(chip);
+        r.print()?;
+    } else {
+        print!(
+            "pass plan:\n{}\nchip (from the scene, before any pass runs; gates at the registry's default widths, `render` reports them at the scene's):\n{}",
+            plan_table(&p),
+            chip_table(chip)
+        );
+    }
+    Ok(())
+}
+
+/// `render` of a frame: run the passes, write the PNG (and the reference), report.
+fn render_frame(scene: &crate::scene::format::Scene, o: &RenderOut) -> Result<(), String> {
+    let (out, reference) = (o.out, o.reference);
     let setting = std::env::var("GLARE_PROGRESS").ok();
-    let shown = crate::report::progress::frame_bar_wanted(work(&scene), setting.as_deref());
-    let (f, _) = render_with_progress(&scene, shown).map_err(|e| e.to_string())?;
-    let warnings = super::range::check(&scene, &f);
+    let shown = crate::report::progress::frame_bar_wanted(work(scene), setting.as_deref());
+    let (f, _) = render_with_progress(scene, shown).map_err(|e| e.to_string())?;
+    let warnings = super::range::check(scene, &f);
     f.fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
     let error = match reference {
-        Some(path) => Some(super::reproduce::frame_error(&scene, &f, Some(path))?),
+        Some(path) => Some(super::reproduce::frame_error(scene, &f, Some(path))?),
         None => None,
     };
     let elaboration = f.elaboration();
-    if json {
-        let mut passes: Vec<PassEntry> = Vec::new();
-        let mut times: Vec<Option<&super::run::PassTime>> = f.times.iter().map(Some).collect();
-        for ps in &f.plan.passes {
-            let t = times
-                .iter_mut()
-                .find(|t| t.is_some_and(|t| t.pass == ps.name))
-                .and_then(Option::take);
-            passes.push(pass_entry(ps, t));
-        }
-        // A timed pass the plan does not list (none today): kept, with what is known.
-        for t in times.into_iter().flatten() {
-            passes.push(PassEntry {
-                name: t.pass.clone(),
-                pipeline: String::new(),
-                reads: Vec::new(),
-                writes: Vec::new(),
-                units: Vec::new(),
-                on: Some(t.on.clone()),
-                predicted_seconds: Some(t.seconds),
-                wall_seconds: Some(t.wall_seconds),
-            });
-        }
-        let mut r = RenderJson::new(&scene.name, Family::Frame)
-            .image(scene.image.width, scene.image.height)
-            .outputs(Some(out), reference)
-            .family_details(serde_json::json!({
-                "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
-            }));
-        r.passes = passes;
-        r.chip = super::chip::elaborated_json(&elaboration);
-        for (pipeline, c) in f.counters() {
-            r.counters.insert(pipeline, value(&c)?);
-        }
-        r.timing = Timing {
-            predicted_seconds: Some(f.predicted_seconds()),
-            gpu: Some(f.gpu.name().to_string()),
-            cycles: None,
-            clock_mhz: None,
-            wall_seconds: Some(f.wall_seconds),
-        };
-        r.error = error.as_ref().map(value).transpose()?;
-        r.warnings = value(&warnings)?;
-        super::range::print(&warnings);
-        return r.print();
+    if o.json {
+        return print_frame_json(scene, &f, &elaboration, error.as_ref(), &warnings, o);
     }
+    print_frame_text(scene, &f, &elaboration, error.as_ref(), &warnings, out)
+}
+
+/// A rendered frame's `render --json` object.
+fn print_frame_json(
+    scene: &crate::scene::format::Scene,
+    f: &super::run::Frame,
+    elaboration: &[crate::report::elaboration::Elaborated],
+    error: Option<&super::reproduce::FrameError>,
+    warnings: &[super::range::RangeWarning],
+    o: &RenderOut,
+) -> Result<(), String> {
+    let (out, reference) = (o.out, o.reference);
+    let mut passes: Vec<PassEntry> = Vec::new();
+    let mut times: Vec<Option<&super::run::PassTime>> = f.times.iter().map(Some).collect();
+    for ps in &f.plan.passes {
+        let t = times
+            .iter_mut()
+            .find(|t| t.is_some_and(|t| t.pass == ps.name))
+            .and_then(Option::take);
+        passes.push(pass_entry(ps, t));
+    }
+    // A timed pass the plan does not list (none today): kept, with what is known.
+    for t in times.into_iter().flatten() {
+        passes.push(PassEntry {
+            name: t.pass.clone(),
+            pipeline: String::new(),
+            reads: Vec::new(),
+            writes: Vec::new(),
+            units: Vec::new(),
+            on: Some(t.on.clone()),
+            predicted_seconds: Some(t.seconds),
+            wall_seconds: Some(t.wall_seconds),
+        });
+    }
+    let mut r = RenderJson::new(&scene.name, Family::Frame)
+        .image(scene.image.width, scene.image.height)
+        .outputs(Some(out), reference)
+        .family_details(serde_json::json!({
+            "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
+        }));
+    r.passes = passes;
+    r.chip = super::chip::elaborated_json(elaboration);
+    for (pipeline, c) in f.counters() {
+        r.counters.insert(pipeline, value(&c)?);
+    }
+    r.timing = Timing {
+        predicted_seconds: Some(f.predicted_seconds()),
+        gpu: Some(f.gpu.name().to_string()),
+        cycles: None,
+        clock_mhz: None,
+        wall_seconds: Some(f.wall_seconds),
+    };
+    r.error = error.map(value).transpose()?;
+    r.warnings = value(&warnings)?;
+    super::range::print(warnings);
+    r.print()
+}
+
+/// A rendered frame's text report.
+fn print_frame_text(
+    scene: &crate::scene::format::Scene,
+    f: &super::run::Frame,
+    elaboration: &[crate::report::elaboration::Elaborated],
+    error: Option<&super::reproduce::FrameError>,
+    warnings: &[super::range::RangeWarning],
+    out: &Path,
+) -> Result<(), String> {
     println!(
         "{} ({}x{}): wrote {} in {:.2} s of simulation",
         scene.name,
@@ -261,7 +344,7 @@ pub fn render_cli(
     }
     print!(
         "\nchip (the units each pass elaborated, at the scene's widths):\n{}",
-        chip_elaboration_table(&elaboration)
+        chip_elaboration_table(elaboration)
     );
     if let Some(c) = f.shafts.as_ref().and_then(|s| s.clip_stats) {
         println!(
@@ -294,9 +377,9 @@ pub fn render_cli(
     );
     println!("predicted frame time: {:.6} s", f.predicted_seconds());
     if let Some(e) = error {
-        print!("\n{}", super::reproduce::error_table(&e));
+        print!("\n{}", super::reproduce::error_table(e));
     }
-    super::range::print(&warnings);
+    super::range::print(warnings);
     Ok(())
 }
 

@@ -185,6 +185,12 @@ fn normalised(path: &Path) -> PathBuf {
     }
 }
 
+/// A command's output directory, checked before any work: not a file, and a place
+/// that takes new files.
+pub fn check_dir_out(arg: &str, dir: &Path) -> Result<(), String> {
+    check_outputs(&[Output::dir(arg, dir)])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -218,10 +224,4 @@ mod tests {
             .contains(".png"));
         std::fs::remove_dir_all(&d).unwrap();
     }
-}
-
-/// A command's output directory, checked before any work: not a file, and a place
-/// that takes new files.
-pub fn check_dir_out(arg: &str, dir: &Path) -> Result<(), String> {
-    check_outputs(&[Output::dir(arg, dir)])
 }
