@@ -140,44 +140,13 @@ fn twin_cuts(s: &ClipSetup, tri: &[ClipVertexF; 3], margin: [f64; 2]) -> (u32, b
         if d.iter().any(|&x| x < 0.0) {
             cuts |= 1 << p;
             // Clip by this plane alone (the twin's own stage).
-            let one = ClipSetup { ..*s };
-            poly = clip_one(&one, &poly, p);
+            poly = s.clip_stage(&poly, p);
             if poly.is_empty() {
                 break;
             }
         }
     }
     (cuts, close)
-}
-
-/// The twin's stage p on a polygon (re-running its whole clip would redo every plane).
-fn clip_one(s: &ClipSetup, poly: &[ClipVertexF], p: usize) -> Vec<ClipVertexF> {
-    let d: Vec<f64> = poly.iter().map(|v| s.distances(&v.c)[p]).collect();
-    let n = poly.len();
-    let mut next = Vec::new();
-    for a in 0..n {
-        let b = (a + 1) % n;
-        if d[a] >= 0.0 {
-            next.push(poly[a].clone());
-        }
-        if (d[a] >= 0.0) != (d[b] >= 0.0) {
-            let (i, o, di, d_o) = if d[a] >= 0.0 {
-                (&poly[a], &poly[b], d[a], d[b])
-            } else {
-                (&poly[b], &poly[a], d[b], d[a])
-            };
-            let t = di / (di - d_o);
-            next.push(ClipVertexF {
-                c: std::array::from_fn(|k| i.c[k] + t * (o.c[k] - i.c[k])),
-                attrs: i.attrs.clone(),
-            });
-        }
-    }
-    if next.len() < 3 {
-        Vec::new()
-    } else {
-        next
-    }
 }
 
 /// Largest |O − I| over the clip words of the triangle's edges.

@@ -25,19 +25,24 @@ const VALUES: &str = "10,20,30,40,50,60,70,80,90,100,110,120";
 const N_VALUES: usize = 12;
 
 fn sweep(out: &Path, extra: &[&str]) -> Command {
+    sweep_at("90x60", VALUES, out, extra)
+}
+
+/// `sweep` of fig4's planes at `image` over `values` with an 8-sample truth, into `out`.
+fn sweep_at(image: &str, values: &str, out: &Path, extra: &[&str]) -> Command {
     let mut c = bin();
     c.args([
         "sweep",
         "--scene",
         "fig4",
         "--image",
-        "90x60",
+        image,
         "--truth-samples",
         "8",
         "--param",
         "planes",
         "--values",
-        VALUES,
+        values,
         "--out",
     ])
     .arg(out)
@@ -466,28 +471,7 @@ fn stale_temporary_files_of_a_killed_run_are_removed() {
 fn a_sweep_interrupted_twice_still_says_what_it_saved_and_resumes() {
     use std::time::{Duration, Instant};
     const VALUES: &str = "10,150,160,170";
-    let sweep = |out: &Path, extra: &[&str]| {
-        let mut c = bin();
-        c.args([
-            "sweep",
-            "--scene",
-            "fig4",
-            "--image",
-            "160x120",
-            "--truth-samples",
-            "8",
-            "--param",
-            "planes",
-            "--values",
-            VALUES,
-            "--out",
-        ])
-        .arg(out)
-        .args(extra)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped());
-        c
-    };
+    let sweep = |out: &Path, extra: &[&str]| sweep_at("160x120", VALUES, out, extra);
     let cut = tmp("int-twice");
     let csv = cut.join("sweep_planes.csv");
     let mut child = sweep(&cut, &[]).spawn().unwrap();

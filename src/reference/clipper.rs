@@ -88,29 +88,40 @@ impl ClipSetup {
             if !self.active(p) || poly.is_empty() {
                 continue;
             }
-            let d: Vec<f64> = poly.iter().map(|v| self.distances(&v.c)[p]).collect();
-            if d.iter().all(|&x| x >= 0.0) {
-                continue;
-            }
-            let n = poly.len();
-            let mut next = Vec::with_capacity(n + 1);
-            for a in 0..n {
-                let b = (a + 1) % n;
-                if d[a] >= 0.0 {
-                    next.push(poly[a].clone());
-                }
-                if (d[a] >= 0.0) != (d[b] >= 0.0) {
-                    let (i, o, di, d_o) = if d[a] >= 0.0 {
-                        (&poly[a], &poly[b], d[a], d[b])
-                    } else {
-                        (&poly[b], &poly[a], d[b], d[a])
-                    };
-                    next.push(self.cut(i, o, di, d_o, p));
-                }
-            }
-            poly = if next.len() < 3 { Vec::new() } else { next };
+            poly = self.clip_stage(&poly, p);
         }
         poly
+    }
+
+    /// One stage of [`ClipSetup::clip_polygon`]: `poly` clipped by plane `p` alone
+    /// (Sutherland–Hodgman); unchanged when wholly inside, empty when less than a
+    /// triangle is left.
+    pub fn clip_stage(&self, poly: &[ClipVertexF], p: usize) -> Vec<ClipVertexF> {
+        let d: Vec<f64> = poly.iter().map(|v| self.distances(&v.c)[p]).collect();
+        if d.iter().all(|&x| x >= 0.0) {
+            return poly.to_vec();
+        }
+        let n = poly.len();
+        let mut next = Vec::with_capacity(n + 1);
+        for a in 0..n {
+            let b = (a + 1) % n;
+            if d[a] >= 0.0 {
+                next.push(poly[a].clone());
+            }
+            if (d[a] >= 0.0) != (d[b] >= 0.0) {
+                let (i, o, di, d_o) = if d[a] >= 0.0 {
+                    (&poly[a], &poly[b], d[a], d[b])
+                } else {
+                    (&poly[b], &poly[a], d[b], d[a])
+                };
+                next.push(self.cut(i, o, di, d_o, p));
+            }
+        }
+        if next.len() < 3 {
+            Vec::new()
+        } else {
+            next
+        }
     }
 
     fn cut(&self, i: &ClipVertexF, o: &ClipVertexF, di: f64, d_o: f64, p: usize) -> ClipVertexF {
