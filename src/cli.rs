@@ -911,32 +911,27 @@ fn sweep_kinds(
             &s, scene, param, values, out, shard, resume,
         );
     }
+    // A scene of several pipelines sweeps through the frame, a glare scene through the
+    // glare pass (over its shafts backdrop, if any), the rest as shafts scenes.
     if scene != "test" {
         let mut s = crate::scene::load::load_scene(scene)?;
+        if let Some(img) = image {
+            let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
+            s.image.width = w;
+            s.image.height = h;
+        }
         if crate::frame::sweep::is_frame_scene(&s)? {
-            if let Some(img) = image {
-                let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
-                s.image.width = w;
-                s.image.height = h;
-            }
             return crate::frame::sweep::frame_sweep_cli(
                 &s, scene, param, values, out, shard, resume,
             );
         }
-    }
-    match glare_scene(scene)? {
-        Some(mut s) => {
-            if let Some(img) = image {
-                let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
-                s.image.width = w;
-                s.image.height = h;
-            }
+        if s.glare.is_some() {
             let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
                 Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
             } else {
                 None
             };
-            crate::pipeline::glare::sweep::glare_sweep_cli(
+            return crate::pipeline::glare::sweep::glare_sweep_cli(
                 &s,
                 scene,
                 param,
@@ -945,19 +940,19 @@ fn sweep_kinds(
                 backdrop.as_ref(),
                 shard,
                 resume,
-            )
+            );
         }
-        None => crate::pipeline::shafts::sweep::sweep_cli(
-            scene,
-            param,
-            values,
-            out,
-            truth_samples,
-            image,
-            shard,
-            resume,
-        ),
     }
+    crate::pipeline::shafts::sweep::sweep_cli(
+        scene,
+        param,
+        values,
+        out,
+        truth_samples,
+        image,
+        shard,
+        resume,
+    )
 }
 
 /// `attribute`: every argument checked (scene, image size, output directory) before
@@ -994,18 +989,11 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
     check_attribute_out(out)?;
     let t0 = std::time::Instant::now();
     let (a, kind) = if crate::frame::sweep::is_frame_scene(&s)? {
-        let kinds = crate::frame::plan::frame_pipelines(&s)
-            .map_err(|e| e.to_string())?
-            .join(" + ");
-        let a = crate::frame::attribute::attribute_frame(&s, out)?;
-        print_attribution(
-            scene,
-            &format!("frame: {kinds}"),
-            (s.image.width, s.image.height),
-            &a,
-            t0,
-        )?;
-        return Ok(());
+        let pipelines = crate::frame::plan::frame_pipelines(&s).map_err(|e| e.to_string())?;
+        (
+            crate::frame::attribute::attribute_frame(&s, out)?,
+            format!("frame: {}", pipelines.join(" + ")),
+        )
     } else if s.glare.is_some() {
         let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
             Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
@@ -1013,11 +1001,11 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
             None
         };
         let a = crate::pipeline::glare::attribute::attribute_glare(&s, backdrop.as_ref(), out)?;
-        (a, "glare")
+        (a, "glare".to_string())
     } else if s.environment.as_ref().is_some_and(|e| e.object.is_some()) {
         (
             crate::pipeline::envmap::attribute::attribute_envmap(&s, out)?,
-            "environment map",
+            "environment map".to_string(),
         )
     } else if s.lights.is_empty() {
         return Err(format!(
@@ -1026,10 +1014,10 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
     } else {
         (
             crate::pipeline::shafts::attribute::attribute_shafts(&s, out)?,
-            "shafts",
+            "shafts".to_string(),
         )
     };
-    print_attribution(scene, kind, (s.image.width, s.image.height), &a, t0)
+    print_attribution(scene, &kind, (s.image.width, s.image.height), &a, t0)
 }
 
 /// `out` is a directory attribute can write (`report::outputs`).
@@ -1081,14 +1069,6 @@ fn print_attribution(
         println!("difference image: {}", p.display());
     }
     Ok(())
-}
-
-fn glare_scene(name: &str) -> Result<Option<crate::scene::format::Scene>, String> {
-    if name == "test" {
-        return Ok(None);
-    }
-    let s = crate::pipeline::shafts::cli::load_scene(name)?;
-    Ok(s.glare.is_some().then_some(s))
 }
 
 pub use crate::report::image_out::write_file;

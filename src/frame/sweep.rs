@@ -249,17 +249,17 @@ pub fn frame_scenes(base: &Scene, p: &FrameParam, values: &[u32]) -> Result<Vec<
         .collect()
 }
 
-/// One row (of `param` = `value`): render `s` through its frame and compare it with
-/// the composed reference.
-pub fn frame_row(s: &Scene, param: &str) -> Result<SweepRow, String> {
+/// One row: render `s` through its frame and compare it with the composed reference;
+/// `param` (when the row is a sweep's) names the swept field and gives its value.
+pub fn frame_row(s: &Scene, param: Option<&FrameParam>) -> Result<SweepRow, String> {
     let f = render(s).map_err(|e| e.to_string())?;
     let (_, reference) = frame_error_and_reference(s, &f)?;
     let st = error_stats(&f.fb.levels(), &reference).map_err(|e| e.to_string())?;
     let units = f.elaboration();
     let summaries = units.iter().filter_map(|u| u.summary.as_ref());
     Ok(SweepRow {
-        param: param.to_string(),
-        value: FrameParam::of_qualified(param).map_or(Ok(0), |p| p.get(s))?,
+        param: param.map_or_else(String::new, FrameParam::qualified),
+        value: param.map_or(Ok(0), |p| p.get(s))?,
         mean_abs_levels: st.mean_abs,
         rms_levels: st.rms,
         max_levels: st.max,
@@ -278,7 +278,7 @@ fn frame_rows(
 ) -> Result<(), String> {
     let todo = journal.pending(scenes, only);
     try_map_with_progress(&todo, &format!("sweep {}", p.qualified()), |&(i, s)| {
-        let row = frame_row(s, p.qualified_static())?;
+        let row = frame_row(s, Some(p))?;
         journal.record(i, row)
     })?;
     Ok(())

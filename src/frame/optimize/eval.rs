@@ -506,7 +506,7 @@ impl Evaluator {
                 })
             }
             Kind::Frame => {
-                let r = crate::frame::sweep::frame_row(scene, "frame")?;
+                let r = crate::frame::sweep::frame_row(scene, None)?;
                 Ok(Metrics::of_row(&r))
             }
             Kind::Envmap => {
