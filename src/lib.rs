@@ -1,6 +1,7 @@
 //! The system around the hardware: f64 references, scenes, pipelines, reports, CLI.
 
 pub mod cli;
+pub mod conformance;
 pub mod frame;
 pub mod pipeline;
 pub mod reference;

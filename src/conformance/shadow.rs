@@ -1,0 +1,14 @@
+//! The `Texture_shadow_comparator` suite (src/tests/texture_shadow_comparator_tests.cpp in nxdk_pgraph_tests): not described yet.
+
+use super::{Case, Chip, Suite};
+
+pub const SUITE: Suite = Suite {
+    name: "Texture_shadow_comparator",
+    source: "src/tests/texture_shadow_comparator_tests.cpp",
+    cases,
+};
+
+/// Every case of the suite, predicted in `chip`'s modes.
+pub fn cases(_chip: Chip) -> Vec<Case> {
+    Vec::new()
+}
