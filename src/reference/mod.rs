@@ -2,6 +2,7 @@
 //! references. The reference never imports a unit's kernel; tests are where they meet.
 
 pub mod additive_blend;
+pub mod blend;
 pub mod bloom_flare_modulator;
 pub mod brdf;
 pub mod chaos_map;

@@ -13,6 +13,7 @@ pub mod datasheet;
 pub mod rtl;
 
 mod additive_blend;
+mod blend;
 mod bloom_flare_modulator;
 mod chaos_map;
 mod clipper;
@@ -69,6 +70,7 @@ pub const UNITS: &[UnitEntry] = &[
     modulate::ENTRY,
     modulate_chain::ENTRY,
     additive_blend::ENTRY,
+    blend::ENTRY,
     texture_sampler::ENTRY,
     clipper::ENTRY,
     polygon_interpolator::ENTRY,

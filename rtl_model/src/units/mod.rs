@@ -2,6 +2,7 @@
 //! `src/reference/`, a property test in `tests/` and a datasheet in `docs/units.md`.
 
 pub mod additive_blend;
+pub mod blend;
 pub mod bloom_flare_modulator;
 pub mod chaos_map;
 pub mod clipper;
