@@ -89,7 +89,14 @@ fn extract_and_run_count_exact_off_by_one_and_worse() {
     assert_eq!(rep.tally.off1, 2);
     assert_eq!(rep.tally.worse, 1);
     assert_eq!(rep.tally.max_levels, 2);
-    let classes: Vec<&str> = rep.mismatch_classes.iter().map(|f| f.feature.as_str()).collect();
+    // One image: the calibration half (even positions of the sorted names) holds it.
+    assert_eq!(rep.calibration_half, rep.tally);
+    assert_eq!(rep.validation_half.compared, 0);
+    let classes: Vec<&str> = rep
+        .mismatch_classes
+        .iter()
+        .map(|f| f.feature.as_str())
+        .collect();
     assert_eq!(classes, ["wrong", "one level off"]);
     let w = rep.worst.as_ref().unwrap();
     assert_eq!((w.region.as_str(), w.max_levels), ("wrong", 2));

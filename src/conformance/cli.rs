@@ -243,6 +243,19 @@ pub fn report_text(reports: &[SuiteReport], chip: Chip) -> String {
                 f.feature, t.off1, t.worse, t.compared, t.max_levels
             );
         }
+        let half = |t: &super::run::Tally| {
+            format!(
+                "{} of {} exact ({})",
+                t.exact,
+                t.compared,
+                share(t.exact, t.compared)
+            )
+        };
+        s += &format!(
+            "  calibration half (even file names): {}; validation half (odd): {}\n",
+            half(&r.calibration_half),
+            half(&r.validation_half)
+        );
         if let Some(w) = &r.worst {
             s += &format!(
                 "  worst region: {} {} — {} pixels off, max {} levels (model {}, hardware {})\n",

@@ -78,6 +78,11 @@ pub struct SuiteReport {
     /// Every feature, in name order.
     pub features: Vec<FeatureTally>,
     pub worst: Option<Worst>,
+    /// The images at even positions of the suite's file names sorted bytewise: the half
+    /// any undocumented width or rounding is chosen on.
+    pub calibration_half: Tally,
+    /// The images at odd positions: the half that checks the choice.
+    pub validation_half: Tally,
     /// Difference images written (with a checkout), paths.
     pub difference_images: Vec<String>,
 }
@@ -179,7 +184,11 @@ pub fn run_suite(
     let mut features: BTreeMap<String, Tally> = BTreeMap::new();
     let mut worst: Option<Worst> = None;
     let mut diffs = Vec::new();
+    let mut names: Vec<&str> = cases.iter().map(|c| c.image.as_str()).collect();
+    names.sort_unstable();
+    let mut halves = [Tally::default(), Tally::default()];
     for case in &cases {
+        let half = names.binary_search(&case.image.as_str()).unwrap_or(0) % 2;
         let (hw, capture) = hardware_pixels(suite, case, &source)?;
         let mut case_off = false;
         for (r, px) in case.regions.iter().zip(&hw) {
@@ -207,6 +216,7 @@ pub fn run_suite(
                 });
             }
             features.entry(r.feature.clone()).or_default().merge(&t);
+            halves[half].merge(&t);
             total.merge(&t);
         }
         if let (Some(cap), Some(dir), true) = (&capture, diff_dir, case_off) {
@@ -245,6 +255,8 @@ pub fn run_suite(
         mismatch_classes,
         features,
         worst,
+        calibration_half: halves[0].clone(),
+        validation_half: halves[1].clone(),
         difference_images: diffs,
     })
 }
