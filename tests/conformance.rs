@@ -81,7 +81,7 @@ fn extract_and_run_count_exact_off_by_one_and_worse() {
         assert_eq!(r.pixels, cap.region(r.rect, &r.name).unwrap());
     }
     let diff_dir = dir.join("diff");
-    let rep = run_suite(&SYNTHETIC, Chip::Nv2a, Some(&dir), Some(&diff_dir)).unwrap();
+    let rep = run_suite(&SYNTHETIC, Chip::Nv2a, Some(&dir), Some(&diff_dir), false).unwrap();
     assert_eq!(rep.images, 1);
     assert_eq!(rep.tally.regions, 4);
     assert_eq!(rep.tally.compared, 36 + 8 + 2 + 1);
@@ -135,7 +135,10 @@ fn a_capture_smaller_than_a_region_is_refused_naming_it() {
 fn committed_reports() -> Vec<SuiteReport> {
     suites()
         .iter()
-        .map(|s| run_suite(s, Chip::Nv2a, None, None).unwrap_or_else(|e| panic!("{}: {e}", s.name)))
+        .map(|s| {
+            run_suite(s, Chip::Nv2a, None, None, false)
+                .unwrap_or_else(|e| panic!("{}: {e}", s.name))
+        })
         .collect()
 }
 

@@ -47,6 +47,10 @@ pub enum ConformanceCommand {
         /// JSON (one object per suite) instead of tables.
         #[arg(long)]
         json: bool,
+        /// With --golden: a difference image for every image, not only those with a
+        /// pixel off.
+        #[arg(long, requires = "golden")]
+        all_images: bool,
     },
 }
 
@@ -135,6 +139,7 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
             chip,
             out,
             json,
+            all_images,
         } => {
             let chosen = chosen(suite.as_deref())?;
             let chip = parse_chip(&chip)?;
@@ -149,6 +154,7 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
                     chip,
                     golden.as_deref(),
                     golden.as_ref().map(|_| out.as_path()),
+                    all_images,
                 )?);
             }
             if json {

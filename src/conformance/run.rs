@@ -163,13 +163,14 @@ fn hardware_pixels(
 }
 
 /// Runs `suite` in `chip`'s modes against the committed values, or against the
-/// captures in `golden` (then difference images of every image with a pixel off go to
-/// `diff_dir`, if given).
+/// captures in `golden` (then difference images of every image with a pixel off, or
+/// of every image with `all_images`, go to `diff_dir`, if given).
 pub fn run_suite(
     suite: &Suite,
     chip: Chip,
     golden: Option<&Path>,
     diff_dir: Option<&Path>,
+    all_images: bool,
 ) -> Result<SuiteReport, String> {
     let cases = (suite.cases)(chip);
     let committed;
@@ -219,7 +220,7 @@ pub fn run_suite(
             halves[half].merge(&t);
             total.merge(&t);
         }
-        if let (Some(cap), Some(dir), true) = (&capture, diff_dir, case_off) {
+        if let (Some(cap), Some(dir), true) = (&capture, diff_dir, case_off || all_images) {
             let path = dir
                 .join(suite.name)
                 .join(format!("{}.diff.png", case.image.trim_end_matches(".png")));
