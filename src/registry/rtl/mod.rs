@@ -15,6 +15,7 @@
 //! generator. Expected responses come from the unit's kernel in order (a unit with
 //! state carries it from one transaction to the next, from its reset state).
 
+mod blend;
 mod chaos_map;
 mod cube_map_address;
 pub mod dpi;
@@ -46,6 +47,7 @@ mod modulate_chain;
 mod register_combiner;
 mod texture_combiner;
 mod vertex_lighting;
+pub use blend::vectors_of as blend_vectors_of;
 pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 
@@ -187,6 +189,10 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "additive_blend",
         vectors: additive_blend_vectors,
+    },
+    RtlEntry {
+        name: "blend",
+        vectors: blend::blend_vectors,
     },
     RtlEntry {
         name: "bloom_flare_modulator",
