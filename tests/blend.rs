@@ -7,6 +7,7 @@
 //!   the one rounding, ≤ ½ LSB, and the clamp is 1-Lipschitz: |unit − twin| ≤ ½.
 //! * `PerTerm`: each term rounded (≤ ½ each), then ±: |unit − twin| ≤ 1.
 //! * MIN, MAX and the two signed equations: no rounding at all, exact (0).
+//!
 //! The only slack is 1e-9 LSB for the twin's own f64 rounding.
 
 mod common;

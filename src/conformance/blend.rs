@@ -312,7 +312,7 @@ fn units(chip: Chip, eq: BlendEquation, src: BlendFactor) -> Units {
 
 /// The render target's texel at (u, v) after every draw covering it, through the unit.
 fn texel(t: &Target, u: &Units, x: u32, y: u32, ctr: &mut Counters) -> [u32; 4] {
-    let grey = ((x / t.checker) + (y / t.checker)) % 2 == 0;
+    let grey = ((x / t.checker) + (y / t.checker)).is_multiple_of(2);
     let mut px = if grey { RT_GREY } else { RT_BLACK };
     for d in &t.draws {
         if x < d.x0 || x >= d.x1 || y < d.y0 || y >= d.y1 {
@@ -339,7 +339,7 @@ fn texel(t: &Target, u: &Units, x: u32, y: u32, ctr: &mut Counters) -> [u32; 4] 
 /// The screen pixel over target texel (x, y): the texel blended onto the checkerboard.
 fn on_screen(s: &Screen, t: &Target, u: &Units, x: u32, y: u32, ctr: &mut Counters) -> [u8; 3] {
     let (px, py) = (t.sx + x, t.sy + y);
-    let grey = ((px / s.cell_w) + (py / s.cell_h)) % 2 == 0;
+    let grey = ((px / s.cell_w) + (py / s.cell_h)).is_multiple_of(2);
     let g = if grey { FB_GREY } else { 0 };
     let src = texel(t, u, x, y, ctr);
     let o = u.onto_screen.kernel(
@@ -364,7 +364,7 @@ fn cuts(
 ) -> Vec<u32> {
     let mut v: Vec<u32> = edges.filter(|&e| e <= len).collect();
     v.extend((0..=len).step_by(checker as usize));
-    v.extend((0..=len).filter(|&p| (screen_off + p) % cell == 0));
+    v.extend((0..=len).filter(|&p| (screen_off + p).is_multiple_of(cell)));
     v.push(0);
     v.push(len);
     v.sort_unstable();
@@ -455,7 +455,7 @@ fn patches(t: &Target, k: usize, xs: &[u32], ys: &[u32]) -> Vec<Patch> {
 }
 
 fn grey_cell(t: &Target, p: &Patch) -> bool {
-    ((p.x0 / t.checker) + (p.y0 / t.checker)) % 2 == 0
+    ((p.x0 / t.checker) + (p.y0 / t.checker)).is_multiple_of(2)
 }
 
 /// The regions of one image: per draw, the chosen patches, predicted through the units.
@@ -470,7 +470,7 @@ fn regions(s: &Screen, u: &Units, eq_name: &str, spot: bool) -> Vec<Region> {
             // or one patch alternating between them (spot).
             let mut chosen: Vec<(Patch, bool)> = Vec::new();
             for grey in [true, false] {
-                if spot && grey != (k % 2 == 0) {
+                if spot && grey != k.is_multiple_of(2) {
                     continue;
                 }
                 if let Some(p) = ps
