@@ -1080,8 +1080,8 @@ fn unnormalised_direction_scales_n_dot_l_exactly() {
             ..Light::default()
         };
         let long = VertexLighting::new(cfg, &one_light_setup(light(2.0, c), m)).unwrap();
-        let unit = VertexLighting::new(cfg, &one_light_setup(light(1.0, c.map(|x| 2.0 * x)), m))
-            .unwrap();
+        let unit =
+            VertexLighting::new(cfg, &one_light_setup(light(1.0, c.map(|x| 2.0 * x)), m)).unwrap();
         let normalised = VertexLighting::new(
             VertexLightingConfig::geforce(),
             &one_light_setup(light(2.0, c), m),

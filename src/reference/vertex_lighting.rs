@@ -89,7 +89,14 @@ fn light_terms_dir(
         (normalize(vp), att.min(f64::MAX))
     } else {
         let d = [l.position[0], l.position[1], l.position[2]];
-        (if normalize_directional { normalize(d) } else { d }, 1.0)
+        (
+            if normalize_directional {
+                normalize(d)
+            } else {
+                d
+            },
+            1.0,
+        )
     };
     let spot = if l.spot_cutoff == 180.0 {
         1.0
@@ -196,8 +203,9 @@ pub fn light_vertex_nv2a(
             let t = light_terms_dir(s, l, p, n, sw.normalize_directional);
             let k = t.att * t.spot;
             for ch in 0..3 {
-                d[ch] += k * (m.ambient[ch] * l.ambient[ch]
-                    + t.n_dot_l.max(0.0) * m.diffuse[ch] * l.diffuse[ch]);
+                d[ch] += k
+                    * (m.ambient[ch] * l.ambient[ch]
+                        + t.n_dot_l.max(0.0) * m.diffuse[ch] * l.diffuse[ch]);
                 sp[ch] += k * t.specular * m.specular[ch] * l.specular[ch];
             }
         }
