@@ -38,6 +38,7 @@
 //!   cell against the FF one, which the test source does not explain;
 //! * the specular curve: SET_SPECULAR_PARAMS' six coefficients are not documented; the
 //!   unit's pow(N·H, 16) stands for the "Pow 16" set (its mismatch class is reported).
+//!
 //! Every region is inset from the quad's edges (3 px) and from checker-cell edges (2 px).
 
 use super::{Case, Chip, Prediction, Rect, Region, Suite};
@@ -260,7 +261,7 @@ impl Units {
             lights,
         };
         let separate = column < 2;
-        let alpha_from_vertex = column % 2 == 0;
+        let alpha_from_vertex = column.is_multiple_of(2);
         let cfg = VertexLightingConfig {
             normalize: false,
             normalize_directional: !nv2a,
@@ -401,7 +402,7 @@ fn cell_rects(r: Rect) -> Vec<Rect> {
 /// What a quad exercises (the mismatch classes).
 fn feature(t: &Test, row: usize, column: usize, nv2a_alpha_lt_one: bool) -> String {
     let specular_enable = row >= 2;
-    let specular_source = row % 2 == 0;
+    let specular_source = row.is_multiple_of(2);
     let separate = column < 2;
     let f = if specular_source {
         if !specular_enable {
@@ -436,11 +437,11 @@ fn case(u: &Units, t: &Test) -> Case {
     let (qw, qh) = (FB_W / 6.0, FB_H / 6.0);
     let fmt = FloatFormat::IEEE_SINGLE;
     let mut regions = Vec::new();
-    for row in 0..4 {
+    for row in 0..4usize {
         let top = qh + QUAD_SPACING + row as f64 * (qh + QUAD_SPACING);
         let specular_enable = row >= 2;
-        let specular_source = row % 2 == 0;
-        for column in 0..4 {
+        let specular_source = row.is_multiple_of(2);
+        for column in 0..4usize {
             let left = qw + column as f64 * (qw + QUAD_SPACING);
             let vl = u.lighting(t, specular_enable, column);
             let mut ctr = Counters::default();
@@ -470,7 +471,7 @@ fn case(u: &Units, t: &Test) -> Case {
             // the material alpha 0.75 on lit diffuse rows, the vertex specular alpha on
             // specular rows with ALPHA_FROM_MATERIAL_SPECULAR and specular enabled.
             let opaque = if specular_source {
-                !(specular_enable && column % 2 == 0)
+                !(specular_enable && column.is_multiple_of(2))
             } else {
                 !t.lighting
             };
