@@ -157,3 +157,17 @@ fn every_described_case_is_in_the_committed_tables() {
         }
     }
 }
+
+#[test]
+fn docs_state_the_figures_of_this_run() {
+    use glare_pipeline::conformance::cli::{doc_block, doc_block_bounds};
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/conformance.md");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (a, b) = doc_block_bounds(&text).unwrap();
+    assert_eq!(
+        &text[a..b],
+        doc_block(&committed_reports()),
+        "docs/conformance.md's figures differ from this run: rerun \
+         `cargo run --release -- conformance run --doc docs/conformance.md`"
+    );
+}

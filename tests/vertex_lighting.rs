@@ -931,3 +931,232 @@ fn summary_and_calibration() {
         .iter()
         .any(|w| w.name == "mant_bits" && w.bits == 23));
 }
+
+// ------------------------------------------------------------------ NV2A modes
+
+use glare_pipeline::reference::vertex_lighting::{light_vertex_nv2a, Nv2aSwitches};
+use rtl_model::units::vertex_lighting::LightControl;
+
+fn with_control(cfg: VertexLightingConfig, lc: LightControl) -> VertexLightingConfig {
+    VertexLightingConfig {
+        light_control: Some(lc),
+        ..cfg
+    }
+}
+
+fn all_controls() -> Vec<LightControl> {
+    let mut v = Vec::new();
+    for bits in 0u32..16 {
+        v.push(LightControl {
+            lighting: bits & 1 != 0,
+            specular_enable: bits & 2 != 0,
+            separate_specular: bits & 4 != 0,
+            specular_alpha_from_vertex: bits & 8 != 0,
+        });
+    }
+    v
+}
+
+fn rand_colours(rng: &mut ChaCha8Rng, bits: u32) -> [u32; 4] {
+    let max = (1u32 << bits) - 1;
+    std::array::from_fn(|_| rng.random_range(0..=max))
+}
+
+fn run2(u: &VertexLighting, i: &VertexLightingIn) -> ([u32; 4], [u32; 4]) {
+    let mut ctr = Counters::default();
+    let o = u.kernel(&mut (), i, &mut ctr);
+    (o.rgba, o.secondary)
+}
+
+/// The switches' routing, exact for every combination: lighting off passes the vertex
+/// colours through; specular disabled gives (0, 0, 0, max); the secondary alpha is the
+/// vertex's specular alpha only with `specular_alpha_from_vertex`; the default (no light
+/// control) leaves the secondary colour zero.
+#[test]
+fn light_control_routing_is_exact() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    for bits in [1u32, 5, 8, 12] {
+        let max = (1u32 << bits) - 1;
+        let setup = random_setup(&mut rng, 2);
+        let base = VertexLightingConfig {
+            color_bits: bits,
+            ..VertexLightingConfig::geforce()
+        };
+        let gl = VertexLighting::new(base, &setup).unwrap();
+        for lc in all_controls() {
+            let u = VertexLighting::new(with_control(base, lc), &setup).unwrap();
+            for _ in 0..200 {
+                let (p, n) = random_vertex(&mut rng, true);
+                let mut ctr = Counters::default();
+                let mut i = u.vertex_from_f64(p, n, &mut ctr).unwrap();
+                i.diffuse = rand_colours(&mut rng, bits);
+                i.specular = rand_colours(&mut rng, bits);
+                let (pri, sec) = run2(&u, &i);
+                let (gl_pri, gl_sec) = run2(&gl, &i);
+                assert_eq!(gl_sec, [0; 4], "no light control: no secondary colour");
+                if !lc.lighting {
+                    assert_eq!(pri, i.diffuse, "{lc:?}: diffuse passes through");
+                }
+                if !lc.specular_enable {
+                    assert_eq!(sec, [0, 0, 0, max], "{lc:?}: specular disabled");
+                } else {
+                    let a = if lc.specular_alpha_from_vertex {
+                        i.specular[3]
+                    } else {
+                        max
+                    };
+                    assert_eq!(sec[3], a, "{lc:?}: secondary alpha");
+                    if !lc.lighting || !lc.separate_specular {
+                        assert_eq!(sec[..3], i.specular[..3], "{lc:?}: specular passes");
+                    }
+                }
+                if lc.lighting {
+                    assert_eq!(pri[3], gl_pri[3], "{lc:?}: primary alpha = material's");
+                }
+            }
+        }
+    }
+}
+
+/// Separate specular splits GL's single sum exactly: the primary equals the GL path
+/// with the material's specular zeroed, the secondary equals the GL path with
+/// emission, ambient and diffuse zeroed (the same operations in the same order, the
+/// zero terms adding exactly), so both inherit the GL path's width-derived bound
+/// against the twin (`within_bound_vs_twin`). Specular disabled or not separate: the
+/// primary is the one sum, identical between the two (the switch only routes).
+#[test]
+fn separate_specular_splits_the_gl_sum_exactly() {
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let split = LightControl::default();
+    for (name, cfg) in bound_configs() {
+        for lights in [1usize, 3, 8] {
+            let setup = random_setup(&mut rng, lights);
+            let mut no_spec = setup.clone();
+            no_spec.material.specular = [0.0; 3];
+            let mut spec_only = setup.clone();
+            spec_only.material.emission = [0.0; 3];
+            spec_only.material.ambient = [0.0; 3];
+            spec_only.material.diffuse = [0.0, 0.0, 0.0, setup.material.diffuse[3]];
+            let u = VertexLighting::new(with_control(cfg, split), &setup).unwrap();
+            let joined = |specular_enable| LightControl {
+                specular_enable,
+                separate_specular: false,
+                ..split
+            };
+            let j_on = VertexLighting::new(with_control(cfg, joined(true)), &setup).unwrap();
+            let j_off = VertexLighting::new(with_control(cfg, joined(false)), &setup).unwrap();
+            let gl_d = VertexLighting::new(cfg, &no_spec).unwrap();
+            let gl_s = VertexLighting::new(cfg, &spec_only).unwrap();
+            for _ in 0..50 {
+                let (p, n) = random_vertex(&mut rng, cfg.normalize);
+                let mut ctr = Counters::default();
+                let i = u.vertex_from_f64(p, n, &mut ctr).unwrap();
+                let (pri, sec) = run2(&u, &i);
+                assert_eq!(pri, run2(&gl_d, &i).0, "{name}: primary");
+                assert_eq!(sec[..3], run2(&gl_s, &i).0[..3], "{name}: secondary");
+                assert_eq!(run2(&j_on, &i).0, run2(&j_off, &i).0, "{name}: joined");
+            }
+        }
+    }
+}
+
+/// A directional light kept as written (`normalize_directional` off) scales N·L by its
+/// length: L = 2·d̂ with diffuse colour c gives exactly what d̂ with 2c gives (a power
+/// of two scales every product exactly), specular off.
+#[test]
+fn unnormalised_direction_scales_n_dot_l_exactly() {
+    let mut rng = ChaCha8Rng::seed_from_u64(13);
+    let cfg = VertexLightingConfig {
+        normalize_directional: false,
+        ..VertexLightingConfig::geforce()
+    };
+    for _ in 0..20 {
+        let mut m = shiny();
+        m.specular = [0.0; 3];
+        let c = [0.1, 0.2, 0.3].map(|x: f64| x * rng.random_range(0.5..1.5));
+        let light = |w: f64, d: [f64; 3]| Light {
+            position: [0.0, 0.0, w, 0.0],
+            diffuse: d,
+            ..Light::default()
+        };
+        let long = VertexLighting::new(cfg, &one_light_setup(light(2.0, c), m)).unwrap();
+        let unit =
+            VertexLighting::new(cfg, &one_light_setup(light(1.0, c.map(|x| 2.0 * x)), m)).unwrap();
+        let normalised = VertexLighting::new(
+            VertexLightingConfig::geforce(),
+            &one_light_setup(light(2.0, c), m),
+        )
+        .unwrap();
+        let plain = VertexLighting::new(cfg, &one_light_setup(light(1.0, c), m)).unwrap();
+        for _ in 0..50 {
+            let (p, n) = random_vertex(&mut rng, true);
+            assert_eq!(run(&long, p, n).0, run(&unit, p, n).0);
+            // GL's normalisation at load: the length-2 vector acts as the unit one.
+            assert_eq!(run(&normalised, p, n).0, run(&plain, p, n).0);
+        }
+    }
+}
+
+/// The twin's two colours: separate specular splits `light_vertex` (primary +
+/// secondary = GL's sum, f64 to 1e-12); lighting off and specular disabled route the
+/// vertex colours as the unit does.
+#[test]
+fn twin_light_control_matches_gl_sum() {
+    let mut rng = ChaCha8Rng::seed_from_u64(14);
+    for lights in [1usize, 4] {
+        let setup = random_setup(&mut rng, lights);
+        let gl = GlLighting {
+            state: setup,
+            normalize: true,
+            local_viewer: false,
+        };
+        for _ in 0..100 {
+            let (p, n) = random_vertex(&mut rng, true);
+            let dv = [0.1, 0.2, 0.3, 0.4];
+            let sv = [0.5, 0.6, 0.7, 0.8];
+            let sw = |lighting, specular_enable, separate_specular| Nv2aSwitches {
+                normalize_directional: true,
+                lighting,
+                specular_enable,
+                separate_specular,
+                specular_alpha_from_vertex: true,
+            };
+            let whole = light_vertex(&gl, p, n);
+            let (pri, sec) = light_vertex_nv2a(&gl, &sw(true, true, true), p, n, dv, sv);
+            for c in 0..3 {
+                assert!((pri[c] + sec[c] - whole[c]).abs() <= 1e-12 * (1.0 + whole[c].abs()));
+            }
+            assert_eq!(sec[3], sv[3]);
+            let (pri, sec) = light_vertex_nv2a(&gl, &sw(true, false, true), p, n, dv, sv);
+            for c in 0..3 {
+                assert!((pri[c] - whole[c]).abs() <= 1e-12 * (1.0 + whole[c].abs()));
+            }
+            assert_eq!(sec, [0.0, 0.0, 0.0, 1.0]);
+            let (pri, sec) = light_vertex_nv2a(&gl, &sw(false, true, false), p, n, dv, sv);
+            assert_eq!(pri, dv);
+            assert_eq!(sec, sv);
+        }
+    }
+}
+
+/// Tick, span and batch drivers agree with light control on (colours in the input).
+#[test]
+fn drivers_agree_with_light_control() {
+    let mut rng = ChaCha8Rng::seed_from_u64(15);
+    let setup = random_setup(&mut rng, 2);
+    for lc in all_controls() {
+        let cfg = with_control(VertexLightingConfig::geforce(), lc);
+        let u = VertexLighting::new(cfg, &setup).unwrap();
+        let mut ctr = Counters::default();
+        let inputs: Vec<VertexLightingIn> = (0..16)
+            .map(|_| {
+                let (p, n) = random_vertex(&mut rng, true);
+                let mut i = u.vertex_from_f64(p, n, &mut ctr).unwrap();
+                i.diffuse = rand_colours(&mut rng, 8);
+                i.specular = rand_colours(&mut rng, 8);
+                i
+            })
+            .collect();
+        common::assert_drivers_agree(&u, (), &inputs);
+    }
+}

@@ -51,6 +51,10 @@ pub enum ConformanceCommand {
         /// pixel off.
         #[arg(long, requires = "golden")]
         all_images: bool,
+        /// Also rewrite the figures block of this page (docs/conformance.md, between
+        /// its `conformance:begin` and `conformance:end` markers) from this run.
+        #[arg(long, value_name = "PATH")]
+        doc: Option<PathBuf>,
     },
 }
 
@@ -140,9 +144,14 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
             out,
             json,
             all_images,
+            doc,
         } => {
             let chosen = chosen(suite.as_deref())?;
             let chip = parse_chip(&chip)?;
+            if let Some(d) = &doc {
+                doc_block_bounds(&read_doc(d)?)
+                    .map_err(|e| format!("--doc: {}: {e}", d.display()))?;
+            }
             if let Some(g) = &golden {
                 check_golden(g)?;
                 crate::report::outputs::check_dir_out("--out", &out)?;
@@ -156,6 +165,14 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
                     golden.as_ref().map(|_| out.as_path()),
                     all_images,
                 )?);
+            }
+            if let Some(d) = &doc {
+                let text = read_doc(d)?;
+                let (a, b) =
+                    doc_block_bounds(&text).map_err(|e| format!("--doc: {}: {e}", d.display()))?;
+                let new = format!("{}{}{}", &text[..a], doc_block(&reports), &text[b..]);
+                std::fs::write(d, new).map_err(|e| format!("--doc: {}: {e}", d.display()))?;
+                eprintln!("rewrote the figures of {}", d.display());
             }
             if json {
                 let text = serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?;
@@ -278,6 +295,75 @@ pub fn report_text(reports: &[SuiteReport], chip: Chip) -> String {
                     .unwrap_or("")
             );
         }
+    }
+    s
+}
+
+const DOC_BEGIN: &str = "<!-- conformance:begin (written by `conformance run --doc`) -->\n";
+const DOC_END: &str = "<!-- conformance:end -->";
+
+fn read_doc(path: &Path) -> Result<String, String> {
+    std::fs::read_to_string(path).map_err(|e| format!("--doc: {}: {e}", path.display()))
+}
+
+/// The byte range between the page's markers (after the begin line, before the end).
+pub fn doc_block_bounds(text: &str) -> Result<(usize, usize), String> {
+    let a = text
+        .find(DOC_BEGIN)
+        .map(|i| i + DOC_BEGIN.len())
+        .ok_or("no `<!-- conformance:begin … -->` line")?;
+    let b = text[a..]
+        .find(DOC_END)
+        .map(|i| a + i)
+        .ok_or("no `<!-- conformance:end -->` line")?;
+    Ok((a, b))
+}
+
+/// The figures block of docs/conformance.md: the per-suite table, both halves, and
+/// every mismatch class.
+pub fn doc_block(reports: &[SuiteReport]) -> String {
+    let mut s = String::from(
+        "| suite | images | regions | pixels | exact | off by 1 | worse | exact share | calibration half exact | validation half exact |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    let half = |t: &super::run::Tally| format!("{} of {}", t.exact, t.compared);
+    for r in reports {
+        let t = &r.tally;
+        if r.images == 0 {
+            s += &format!(
+                "| {} | 0 | n/a | n/a | n/a | n/a | n/a | n/a | n/a | n/a |\n",
+                r.suite
+            );
+            continue;
+        }
+        s += &format!(
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+            r.suite,
+            r.images,
+            t.regions,
+            t.compared,
+            t.exact,
+            t.off1,
+            t.worse,
+            share(t.exact, t.compared),
+            half(&r.calibration_half),
+            half(&r.validation_half)
+        );
+    }
+    s += "\nMismatch classes (features with pixels not exact):\n\n";
+    let mut any = false;
+    for r in reports {
+        for f in &r.mismatch_classes {
+            any = true;
+            let t = &f.tally;
+            s += &format!(
+                "- {} / {}: {} off by 1 and {} worse of {} pixels in {} regions (max {} levels)\n",
+                r.suite, f.feature, t.off1, t.worse, t.compared, t.regions, t.max_levels
+            );
+        }
+    }
+    if !any {
+        s += "- none\n";
     }
     s
 }

@@ -15,7 +15,8 @@
 //! out: normalize(0) = 0 (a zero-length normal with GL_NORMALIZE, a light at the
 //! vertex, L = −V, a local viewer at the vertex); a zero attenuation denominator gives
 //! att = f64::MAX (the unit saturates to its largest finite value). Directional light
-//! and spot directions are normalised (the unit does it at load). Colours are
+//! and spot directions are normalised (the unit does it at load; `light_vertex_nv2a`
+//! can keep the directional vector as given, the NV2A mode). Colours are
 //! non-negative (the unit refuses negative ones), so no ∞ − ∞ can arise.
 
 use rtl_model::lighting_state::{Light, LightingSetup};
@@ -65,6 +66,18 @@ pub struct LightTerms {
 /// The per-light factors of light `l` at eye-space position `p` with normal `n`
 /// (already normalised if GL_NORMALIZE applies).
 pub fn light_terms(s: &GlLighting, l: &Light, p: V3, n: V3) -> LightTerms {
+    light_terms_dir(s, l, p, n, true)
+}
+
+/// [`light_terms`] with the directional vector normalised (GL) or used as given
+/// (`normalize_directional` false: the NV2A's register as the host wrote it).
+fn light_terms_dir(
+    s: &GlLighting,
+    l: &Light,
+    p: V3,
+    n: V3,
+    normalize_directional: bool,
+) -> LightTerms {
     let local = l.position[3] != 0.0;
     let (lv, att) = if local {
         let w = l.position[3];
@@ -75,8 +88,13 @@ pub fn light_terms(s: &GlLighting, l: &Light, p: V3, n: V3) -> LightTerms {
         let att = if den > 0.0 { 1.0 / den } else { f64::MAX };
         (normalize(vp), att.min(f64::MAX))
     } else {
+        let d = [l.position[0], l.position[1], l.position[2]];
         (
-            normalize([l.position[0], l.position[1], l.position[2]]),
+            if normalize_directional {
+                normalize(d)
+            } else {
+                d
+            },
             1.0,
         )
     };
@@ -144,4 +162,66 @@ pub fn light_vertex(s: &GlLighting, p: V3, n: V3) -> [f64; 4] {
 /// A colour as an n-bit level, GL's clamp to [0, 1] then ×(2ⁿ − 1) (not rounded).
 pub fn to_levels(c: f64, bits: u32) -> f64 {
     c.clamp(0.0, 1.0) * ((1u64 << bits) - 1) as f64
+}
+
+/// The NV2A's switches the unit's `light_control` and `normalize_directional` modes
+/// model (SET_LIGHTING_ENABLE, SET_SPECULAR_ENABLE, SET_LIGHT_CONTROL's
+/// SEPARATE_SPECULAR and ALPHA_FROM_MATERIAL_SPECULAR).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Nv2aSwitches {
+    pub normalize_directional: bool,
+    pub lighting: bool,
+    pub specular_enable: bool,
+    pub separate_specular: bool,
+    pub specular_alpha_from_vertex: bool,
+}
+
+/// The NV2A's two colours of a vertex (primary, secondary), RGB unclamped, from its
+/// eye-space `p`, normal `n` and vertex colours (`diffuse`, `specular`, RGBA in
+/// [0, 1]): lighting off passes the vertex colours through; lit, the specular sum
+/// Σ att·spot·spec·s_m·s_l is the secondary RGB when specular is enabled and separate,
+/// otherwise it joins the primary and the secondary RGB is the vertex's specular.
+/// Specular disabled: secondary (0, 0, 0, 1); else its alpha is the vertex's specular
+/// alpha with `specular_alpha_from_vertex`, 1 without.
+pub fn light_vertex_nv2a(
+    s: &GlLighting,
+    sw: &Nv2aSwitches,
+    p: V3,
+    n: V3,
+    diffuse: [f64; 4],
+    specular: [f64; 4],
+) -> ([f64; 4], [f64; 4]) {
+    let mut secondary = [specular[0], specular[1], specular[2], 1.0];
+    let primary = if !sw.lighting {
+        diffuse
+    } else {
+        let m = &s.state.material;
+        let n = if s.normalize { normalize(n) } else { n };
+        let mut d = [0, 1, 2].map(|k| m.emission[k] + m.ambient[k] * s.state.scene_ambient[k]);
+        let mut sp = [0.0; 3];
+        for l in &s.state.lights {
+            let t = light_terms_dir(s, l, p, n, sw.normalize_directional);
+            let k = t.att * t.spot;
+            for ch in 0..3 {
+                d[ch] += k
+                    * (m.ambient[ch] * l.ambient[ch]
+                        + t.n_dot_l.max(0.0) * m.diffuse[ch] * l.diffuse[ch]);
+                sp[ch] += k * t.specular * m.specular[ch] * l.specular[ch];
+            }
+        }
+        if sw.specular_enable && sw.separate_specular {
+            secondary[..3].copy_from_slice(&sp);
+        } else {
+            for ch in 0..3 {
+                d[ch] += sp[ch];
+            }
+        }
+        [d[0], d[1], d[2], m.diffuse[3]]
+    };
+    if !sw.specular_enable {
+        secondary = [0.0, 0.0, 0.0, 1.0];
+    } else if sw.specular_alpha_from_vertex {
+        secondary[3] = specular[3];
+    }
+    (primary, secondary)
 }

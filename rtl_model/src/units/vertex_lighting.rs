@@ -27,6 +27,14 @@
 //! * Products a_m·a_i, d_m·d_i, s_m·s_i and e_m + a_m·a_s are formed at load (the
 //!   driver's precomputation, f64 then one rounding to the format).
 //!
+//! * NV2A modes (config): `normalize_directional` off keeps a directional light's
+//!   vector as the host wrote it (N·L scales with its length, h = normalize(L + V) of
+//!   that vector); `light_control` gives the two-colour output and its switches
+//!   (lighting off passes the vertex colours through, specular enable, separate
+//!   specular, secondary alpha from the vertex), see [`LightControl`]. The defaults keep
+//!   GL's single colour; with `light_control` the diffuse and specular sums are kept
+//!   apart (3 more multiplies per light, 3 more adds per vertex).
+//!
 //! The datapath's operation order, each op rounded once (dot3(a, b) =
 //! (a₀b₀ + a₁b₁) + a₂b₂): see [`VertexLighting::light`]; tests/vertex_lighting.rs
 //! derives its error bound from exactly this order.
@@ -97,6 +105,54 @@ pub struct VertexLightingConfig {
     pub normalize: bool,
     /// GL_LIGHT_MODEL_LOCAL_VIEWER: V = normalize(−P) instead of (0, 0, 1).
     pub local_viewer: bool,
+    /// Normalise a directional light's vector at load (GL: the driver does). Off, the
+    /// register holds the vector as the host wrote it, as the NV2A's
+    /// NV097_SET_LIGHT_INFINITE_DIRECTION does: N·L then scales with its length (the
+    /// Specular captures of nxdk_pgraph_tests show it). Default on.
+    #[serde(default = "yes")]
+    pub normalize_directional: bool,
+    /// The NV2A's two-colour output and its light-control switches ([`LightControl`]).
+    /// None (the default): GL's single colour, specular summed into it, as before.
+    #[serde(default)]
+    pub light_control: Option<LightControl>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// The NV2A's lighting switches, as its registers name them (nv_regs.h of pbkit;
+/// behaviour read from the CC0 Specular captures of github.com/abaire/
+/// nxdk_pgraph_tests_golden_results, the ControlFlags tests): the unit then outputs a
+/// primary (diffuse) and a secondary (specular) colour per vertex.
+/// * `lighting` false (SET_LIGHTING_ENABLE = 0): primary = the vertex's diffuse colour,
+///   secondary RGB = the vertex's specular colour (passed through).
+/// * lighting on: the specular sum Σ k·spec·s goes to the secondary colour only when
+///   `specular_enable` and `separate_specular` are both set; otherwise it is added to
+///   the primary and the secondary RGB is the vertex's specular colour (passed through).
+///   Primary alpha = the material's diffuse alpha.
+/// * `specular_enable` false (SET_SPECULAR_ENABLE = 0): secondary = (0, 0, 0, 1).
+/// * else the secondary alpha is the vertex's specular alpha with
+///   `specular_alpha_from_vertex` (SET_LIGHT_CONTROL ALPHA_FROM_MATERIAL_SPECULAR), 1
+///   without.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct LightControl {
+    pub lighting: bool,
+    pub specular_enable: bool,
+    pub separate_specular: bool,
+    pub specular_alpha_from_vertex: bool,
+}
+
+impl Default for LightControl {
+    fn default() -> Self {
+        LightControl {
+            lighting: true,
+            specular_enable: true,
+            separate_specular: true,
+            specular_alpha_from_vertex: true,
+        }
+    }
 }
 
 impl Default for VertexLightingConfig {
@@ -114,6 +170,8 @@ impl VertexLightingConfig {
             color_bits: 8,
             normalize: true,
             local_viewer: false,
+            normalize_directional: true,
+            light_control: None,
         }
     }
 
@@ -130,17 +188,23 @@ impl VertexLightingConfig {
     }
 }
 
-/// One vertex: eye-space position and normal as format words.
+/// One vertex: eye-space position and normal as format words; with
+/// [`LightControl`], also its diffuse and specular colours (RGBA unorms of
+/// `color_bits`, what the passthroughs forward; ignored without it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct VertexLightingIn {
     pub position: [Fp; 3],
     pub normal: [Fp; 3],
+    pub diffuse: [u32; 4],
+    pub specular: [u32; 4],
 }
 
-/// The lit colour: RGBA unorms of `color_bits`.
+/// The lit colour: RGBA unorms of `color_bits`; with [`LightControl`], `rgba` is the
+/// primary colour and `secondary` the specular one (all zero without it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct VertexLightingOut {
     pub rgba: [u32; 4],
+    pub secondary: [u32; 4],
 }
 
 /// A spot light's loaded registers.
@@ -261,6 +325,12 @@ impl VertexLighting {
             let local = w != 0.0;
             let v = if local {
                 [0, 1, 2].map(|k| l.position[k] / w)
+            } else if !cfg.normalize_directional {
+                unit3(
+                    &lf("position"),
+                    [l.position[0], l.position[1], l.position[2]],
+                )?;
+                [l.position[0], l.position[1], l.position[2]]
             } else {
                 unit3(
                     &lf("position"),
@@ -403,6 +473,89 @@ impl VertexLighting {
 
     /// The datapath on one vertex.
     pub fn light(&self, input: &VertexLightingIn, ctr: &mut Counters) -> VertexLightingOut {
+        match self.cfg.light_control {
+            None => self.light_gl(input, ctr),
+            Some(lc) => self.light_nv2a(&lc, input, ctr),
+        }
+    }
+
+    /// The NV2A's two-colour path ([`LightControl`]): the diffuse sum
+    /// e_m + a_m·a_s + Σ k·(a + nl·d) and the specular sum Σ k·(spec·s) are kept apart
+    /// (each op rounded once, [`Self::light_terms`]' order), then routed by the switches;
+    /// a specular sum that goes to the primary is added to it before the conversion.
+    fn light_nv2a(
+        &self,
+        lc: &LightControl,
+        input: &VertexLightingIn,
+        ctr: &mut Counters,
+    ) -> VertexLightingOut {
+        let f = &self.cfg.format;
+        let bits = self.cfg.color_bits;
+        let max = ((1u64 << bits) - 1) as u32;
+        let vs = input.specular.map(|c| c.min(max));
+        let mut secondary = [vs[0], vs[1], vs[2], max];
+        let rgba = if !lc.lighting {
+            input.diffuse.map(|c| c.min(max))
+        } else {
+            let mut dacc = self.base;
+            let mut sacc = [Fp(0); 3];
+            self.accumulate(input, ctr, |c, k, t_diffuse, t_spec, ctr| {
+                dacc[c] = f.add(dacc[c], f.mul(k, t_diffuse, ctr), ctr);
+                sacc[c] = f.add(sacc[c], f.mul(k, t_spec, ctr), ctr);
+            });
+            let split = lc.specular_enable && lc.separate_specular;
+            if split {
+                for c in 0..3 {
+                    secondary[c] = f.to_unorm(sacc[c], bits, ctr);
+                }
+            } else {
+                for c in 0..3 {
+                    dacc[c] = f.add(dacc[c], sacc[c], ctr);
+                }
+            }
+            [
+                f.to_unorm(dacc[0], bits, ctr),
+                f.to_unorm(dacc[1], bits, ctr),
+                f.to_unorm(dacc[2], bits, ctr),
+                self.alpha,
+            ]
+        };
+        if !lc.specular_enable {
+            secondary = [0, 0, 0, max];
+        } else if lc.specular_alpha_from_vertex {
+            secondary[3] = vs[3];
+        }
+        VertexLightingOut { rgba, secondary }
+    }
+
+    /// GL's single colour (the default path).
+    fn light_gl(&self, input: &VertexLightingIn, ctr: &mut Counters) -> VertexLightingOut {
+        let f = &self.cfg.format;
+        let mut acc = self.base;
+        self.accumulate(input, ctr, |c, k, t_diffuse, t_spec, ctr| {
+            let t = f.add(t_diffuse, t_spec, ctr);
+            acc[c] = f.add(acc[c], f.mul(k, t, ctr), ctr);
+        });
+        let bits = self.cfg.color_bits;
+        VertexLightingOut {
+            rgba: [
+                f.to_unorm(acc[0], bits, ctr),
+                f.to_unorm(acc[1], bits, ctr),
+                f.to_unorm(acc[2], bits, ctr),
+                self.alpha,
+            ],
+            secondary: [0; 4],
+        }
+    }
+
+    /// Every light's terms at the vertex: `sum(c, k, a + nl·d, spec·s, ctr)` per light
+    /// and channel, k = att·spot (the callback forms the sums).
+    fn accumulate(
+        &self,
+        input: &VertexLightingIn,
+        ctr: &mut Counters,
+        mut sum: impl FnMut(usize, Fp, Fp, Fp, &mut Counters),
+    ) {
         let f = &self.cfg.format;
         let p = &input.position;
         let n = if self.cfg.normalize {
@@ -415,7 +568,6 @@ impl VertexLighting {
         } else {
             [Fp(0), Fp(0), f.one()]
         };
-        let mut acc = self.base;
         for l in &self.lights {
             let (lv, att) = if l.local {
                 let vp = [0, 1, 2].map(|k| f.sub(l.vector[k], p[k], ctr));
@@ -452,20 +604,11 @@ impl VertexLighting {
                 Fp(0)
             };
             let k = f.mul(att, spot, ctr);
-            for (c, a) in acc.iter_mut().enumerate() {
+            for c in 0..3 {
                 let t = f.add(l.ambient[c], f.mul(nl, l.diffuse[c], ctr), ctr);
-                let t = f.add(t, f.mul(spec, l.specular[c], ctr), ctr);
-                *a = f.add(*a, f.mul(k, t, ctr), ctr);
+                let ts = f.mul(spec, l.specular[c], ctr);
+                sum(c, k, t, ts, ctr);
             }
-        }
-        let bits = self.cfg.color_bits;
-        VertexLightingOut {
-            rgba: [
-                f.to_unorm(acc[0], bits, ctr),
-                f.to_unorm(acc[1], bits, ctr),
-                f.to_unorm(acc[2], bits, ctr),
-                self.alpha,
-            ],
         }
     }
 
@@ -473,9 +616,15 @@ impl VertexLighting {
     pub fn issues(&self) -> Issues {
         let n = self.lights.len() as u32;
         let k = u32::from(self.cfg.normalize) + u32::from(self.cfg.local_viewer);
+        // Two colours: k·(spec·s) is its own multiply per light and channel (3), and the
+        // specular sum joins the primary with 3 adds when it is not separate.
+        let (lc_muls, lc_adds) = match self.cfg.light_control {
+            None => (0, 0),
+            Some(_) => (3 * n, 3),
+        };
         Issues {
-            muls: ISSUES_PER_LIGHT.muls * n + ISSUES_PER_NORMALISE.muls * k,
-            adds: ISSUES_PER_LIGHT.adds * n + ISSUES_PER_NORMALISE.adds * k,
+            muls: ISSUES_PER_LIGHT.muls * n + ISSUES_PER_NORMALISE.muls * k + lc_muls,
+            adds: ISSUES_PER_LIGHT.adds * n + ISSUES_PER_NORMALISE.adds * k + lc_adds,
             specials: ISSUES_PER_LIGHT.specials * n + ISSUES_PER_NORMALISE.specials * k,
         }
     }
@@ -552,8 +701,26 @@ impl Unit for VertexLighting {
         // Register file: per light 19 words (vector 3, attenuation 3, spot 5, the three
         // colour products 9 — minus one spare), base 3, shininess 1; vertex temporaries 24.
         let regfile_words = 19 * MAX_LIGHTS as u32 + 4 + 24;
+        let cb = self.cfg.color_bits;
+        let light_control = match self.cfg.light_control {
+            None => Cells::default(),
+            // Vertex colours in (8 words), the specular accumulators (3 words), the
+            // secondary output registers and the routing: a 2:1 mux per primary channel
+            // (lit / vertex diffuse, 4 channels) and a 3:1 per secondary one.
+            Some(_) => {
+                prim::register(8 * cb)
+                    + prim::register(3 * w)
+                    + prim::register(4 * cb)
+                    + prim::mux(4 * cb)
+                    + prim::mux(4 * cb) * 2.0
+            }
+        };
         Cost::default()
             .part("input registers (P, n)", prim::register(6 * w))
+            .part(
+                "light control (vertex colours, specular sum, secondary colour, routing)",
+                light_control,
+            )
             .part("FP multipliers (6)", fmul * FP_MULTIPLIERS as f64)
             .part("FP adders (4)", fadd * FP_ADDERS as f64)
             .part(
@@ -638,20 +805,40 @@ impl Unit for VertexLighting {
     fn in_signals(&self, i: &VertexLightingIn) -> Vec<Signal> {
         const NAMES: [&str; 6] = ["px", "py", "pz", "nx", "ny", "nz"];
         let w = self.cfg.format.width();
-        i.position
+        let mut sigs: Vec<Signal> = i
+            .position
             .iter()
             .chain(i.normal.iter())
             .zip(NAMES)
             .map(|(v, name)| Signal::new(name, w, v.0))
-            .collect()
+            .collect();
+        if self.cfg.light_control.is_some() {
+            const COLOURS: [&str; 8] = ["dr", "dg", "db", "da", "sr", "sg", "sb", "sa"];
+            let b = self.cfg.color_bits;
+            sigs.extend(
+                i.diffuse
+                    .iter()
+                    .chain(i.specular.iter())
+                    .zip(COLOURS)
+                    .map(|(&v, name)| Signal::new(name, b, v as u64)),
+            );
+        }
+        sigs
     }
 
     fn out_signals(&self, o: &VertexLightingOut) -> Vec<Signal> {
         const NAMES: [&str; 4] = ["r", "g", "b", "a"];
+        const SECONDARY: [&str; 4] = ["r2", "g2", "b2", "a2"];
         let b = self.cfg.color_bits;
+        let secondary = if self.cfg.light_control.is_some() {
+            &o.secondary[..]
+        } else {
+            &[]
+        };
         o.rgba
             .iter()
             .zip(NAMES)
+            .chain(secondary.iter().zip(SECONDARY))
             .map(|(&v, name)| Signal::new(name, b, v as u64))
             .collect()
     }

@@ -504,6 +504,7 @@ fn shaper(u: &VertexLighting) -> impl Fn(&[u64]) -> VertexLightingIn {
         VertexLightingIn {
             position: [Fp(w[0]), Fp(w[1]), Fp(w[2])],
             normal: [Fp(w[3]), Fp(w[4]), Fp(w[5])],
+            ..VertexLightingIn::default()
         }
     }
 }
