@@ -60,7 +60,9 @@ fn states() -> Vec<BlendConfig> {
 #[test]
 fn icarus_runs_every_equation_and_factor_bit_and_cycle_exact() {
     if !icarus::have_iverilog() {
-        println!("SKIP: iverilog not found; the blend state sweep did not run");
+        common::tools::skip(
+            "iverilog not found; the blend state sweep did not run (apt-get install iverilog)",
+        );
         return;
     }
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_blend");
@@ -82,7 +84,9 @@ fn icarus_runs_every_equation_and_factor_bit_and_cycle_exact() {
 #[test]
 fn icarus_runs_the_8_bit_alpha_blend_bit_and_cycle_exact() {
     if !icarus::have_iverilog() {
-        println!("SKIP: iverilog not found; the 8-bit blend did not run");
+        common::tools::skip(
+            "iverilog not found; the 8-bit blend did not run (apt-get install iverilog)",
+        );
         return;
     }
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_blend_8");
