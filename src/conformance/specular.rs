@@ -31,9 +31,9 @@
 //! its unnormalised directional light as modes), `polygon_interpolator` (positions with
 //! the XDK viewport offset 0.53125 truncated to 1/16 px; the quad as two triangles),
 //! `register_combiner` and `final_combiner` (the test's combiner setup). Where the
-//! source alpha is below one, the blend is modelled as modulate(dst, 1 − a) then the
-//! weighted add of src·a (`modulate`, `additive_blend`); the NV2A's own blend rounding
-//! belongs to the Blend suite. Left out, with the reason:
+//! source alpha is below one, the `blend` unit blends (SRC_ALPHA, ONE_MINUS_SRC_ALPHA,
+//! ADD) with one rounding on the NV2A, a rounding per term in the GeForce2 modes (as the
+//! Blend suite). Left out, with the reason:
 //! * translucent patches of the `_VS` captures: their checkerboard is shifted by one
 //!   cell against the FF one, which the test source does not explain;
 //! * the specular curve: SET_SPECULAR_PARAMS' six coefficients are not documented; the
@@ -46,11 +46,10 @@ use crate::pipeline::raster::{walk, Fragment};
 use rtl_model::counters::Counters;
 use rtl_model::fixed_point::{Format, Quant};
 use rtl_model::float_format::FloatFormat;
-use rtl_model::units::additive_blend::AdditiveBlendConfig;
+use rtl_model::units::blend::{Blend, BlendConfig, BlendEquation, BlendFactor, BlendRounding};
 use rtl_model::units::final_combiner::{
     FinalCombiner, FinalCombinerConfig, FinalInput, FinalVariable,
 };
-use rtl_model::units::modulate::{Modulate, ModulateMode};
 use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
 use rtl_model::units::register_combiner::{
     ComponentUsage, FragmentInputs, Mapping, PortionConfig, Register, RegisterCombiner,
@@ -152,8 +151,7 @@ struct Units {
     combiner_specular: RegisterCombiner,
     combiner_diffuse: RegisterCombiner,
     final_combiner: FinalCombiner,
-    modulate: Modulate,
-    blend: rtl_model::units::additive_blend::AdditiveBlend,
+    blend: Blend,
 }
 
 fn ok<T, E: std::fmt::Display>(r: Result<T, E>, what: &str) -> T {
@@ -212,12 +210,18 @@ impl Units {
             "final_combiner",
         );
         let blend = ok(
-            AdditiveBlendConfig {
-                weighted: true,
-                ..AdditiveBlendConfig::default()
+            BlendConfig {
+                equation: BlendEquation::Add,
+                src_factor: BlendFactor::SrcAlpha,
+                dst_factor: BlendFactor::OneMinusSrcAlpha,
+                rounding: match chip {
+                    Chip::Nv2a => BlendRounding::Once,
+                    Chip::GeForce2 => BlendRounding::PerTerm,
+                },
+                ..BlendConfig::default()
             }
             .build(),
-            "additive_blend",
+            "blend",
         );
         Units {
             chip,
@@ -225,7 +229,6 @@ impl Units {
             combiner_specular: stage0(Register::SecondaryColor),
             combiner_diffuse: stage0(Register::PrimaryColor),
             final_combiner,
-            modulate: ok(Modulate::new(8, ModulateMode::Exact), "modulate"),
             blend,
         }
     }
@@ -359,12 +362,14 @@ fn combine(u: &Units, specular_source: bool, pri: [u32; 4], sec: [u32; 4]) -> ([
     ([o[0], o[1], o[2]], o[3])
 }
 
-/// SRC_ALPHA, ONE_MINUS_SRC_ALPHA over `dst` (see the module docs for the stand-in).
+/// SRC_ALPHA, ONE_MINUS_SRC_ALPHA over the grey `dst` (the framebuffer's alpha is not
+/// read by these factors).
 fn blend(u: &Units, src: [u32; 3], a: u32, dst: u8) -> [u8; 3] {
-    src.map(|s| {
-        let d = u.modulate.apply(dst as u32, 255 - a);
-        u.blend.blend_channel(s, d, a).0 as u8
-    })
+    let d = dst as u32;
+    let (o, _) = u
+        .blend
+        .blend_pixel(&[src[0], src[1], src[2], a], &[d, d, d, 255]);
+    [o[0] as u8, o[1] as u8, o[2] as u8]
 }
 
 /// The checker colour of the cell holding pixel (x, y) (FF layout).
