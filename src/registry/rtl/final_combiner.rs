@@ -30,6 +30,7 @@ fn config(config: RtlConfig) -> FinalCombinerConfig {
                 e: reg(Register::Texture1, Id, Rgb),
                 f: reg(Register::SecondaryColor, Inv, Alpha),
                 g: reg(Register::Texture2, Inv, Blue),
+                ..FinalCombinerConfig::geforce()
             }
         }
     }

@@ -53,6 +53,7 @@ fn config(config: RtlConfig) -> RegisterCombinerConfig {
                     cd_dot_product: false,
                     mux_sum: true,
                 },
+                ..RegisterCombinerConfig::geforce()
             }
         }
     }
