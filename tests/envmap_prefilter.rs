@@ -119,9 +119,8 @@ fn dome_counts_unit_and_solid_angles() {
         // Class I: the 12 five-fold corners have 5/6 of a hexagonal vertex's share;
         // central projection stretches the face centres.
         assert!(mx / mn < 2.5, "n = {n}: ratio {}", mx / mn);
-        if n == 72 {
-            assert!(dt.as_secs_f64() < 1.0, "n = 72 built in {dt:?}");
-        }
+        // Its build time is a benchmark (`cargo bench --bench envmap`), not a test: a
+        // wall-clock bound flakes on a loaded machine.
     }
     let counts: Vec<u64> = THESIS_DOME_FREQUENCIES
         .iter()

@@ -17,6 +17,9 @@
 //! `cargo test --test gate_calibration -- --nocapture` prints the table of
 //! docs/units.md (gate calibration section).
 
+#[path = "common/tools.rs"]
+mod tools;
+
 use rtl_model::cost::{prim, Cells, CELL_WEIGHTS};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -313,9 +316,9 @@ fn live_yosys_reproduces_committed_counts() {
             .trim()
             .to_string(),
         _ => {
-            println!(
-                "note: yosys not on PATH: live re-synthesis skipped; the committed \
-                 yosys_stat.txt is still checked (tolerance, cksums)"
+            tools::skip(
+                "yosys not on PATH: live re-synthesis skipped; the committed \
+                 yosys_stat.txt is still checked (tolerance, cksums) (apt-get install yosys)",
             );
             return;
         }

@@ -12,8 +12,9 @@
 //! channel code (u32, little endian), and separately the counters as serde_json text.
 //!
 //! **Regenerating.** `GOLDEN_PRINT=1 cargo test --test golden -- --nocapture
-//! --test-threads 1` prints each table (`("name", image, counters),`) instead of
-//! asserting; paste it over the constants. A deliberate output change is its own commit
+//! --test-threads 1` prints each table (`("name", image, counters),`) before asserting
+//! (it still fails on a mismatch: printing never turns the check into a pass); paste it
+//! over the constants. A deliberate output change is its own commit
 //! that updates these constants and says why the output changed; a restructuring or
 //! speed commit never touches them.
 //!
@@ -158,8 +159,8 @@ fn shrink(name: &str) -> Scene {
 
 type Row = (String, u64, u64);
 
-/// Print the rows (GOLDEN_PRINT set) or assert them against `want`, listing every
-/// mismatch at once.
+/// Assert the rows against `want`, listing every mismatch at once (printing them first
+/// when GOLDEN_PRINT is set).
 fn check(table: &str, rows: &[Row], want: &[(&str, u64, u64)]) {
     if std::env::var_os("GOLDEN_PRINT").is_some() {
         println!("const {table}: &[(&str, u64, u64)] = &[");
@@ -167,7 +168,6 @@ fn check(table: &str, rows: &[Row], want: &[(&str, u64, u64)]) {
             println!("    (\"{n}\", {i:#018x}, {c:#018x}),");
         }
         println!("];");
-        return;
     }
     let got: Vec<(&str, u64, u64)> = rows.iter().map(|(n, i, c)| (n.as_str(), *i, *c)).collect();
     let mut bad = Vec::new();

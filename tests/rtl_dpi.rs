@@ -7,8 +7,12 @@
 //! on one transaction (`GLARE_DPI_CORRUPT=k`, read by the library) must be caught on
 //! exactly that transaction.
 //!
-//! Without `verilator`, `g++` or `make` (Verilator's `--binary` build) the test prints a SKIP note and passes
+//! Without `verilator`, `g++` or `make` (Verilator's `--binary` build) the test prints a SKIP note on
+//! stderr and passes; under `.ci/run` (`GLARE_REQUIRE_TOOLS`) it fails
 //! (`.ci/run` installs them).
+
+#[path = "common/tools.rs"]
+mod tools;
 
 use glare_pipeline::registry::rtl::dpi::{write_dpi_blocks, DPI_UNITS};
 use glare_pipeline::registry::rtl::RTL_UNITS;
@@ -164,7 +168,10 @@ fn dpi_units_have_verilog() {
 #[test]
 fn verilator_runs_the_model_as_scoreboard() {
     if !have("verilator", "--version") || !have("g++", "--version") || !have("make", "--version") {
-        println!("SKIP: verilator, g++ or make not found; the DPI-C testbench did not run");
+        tools::skip(
+            "verilator, g++ or make not found; the DPI-C testbench did not run \
+             (apt-get install verilator g++ make)",
+        );
         return;
     }
     let lib = build_library();

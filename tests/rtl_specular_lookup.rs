@@ -50,7 +50,10 @@ const HARNESS_NARROW: SpecularLookupConfig = SpecularLookupConfig {
 #[test]
 fn icarus_runs_nearest_and_other_widths_bit_and_cycle_exact() {
     if !icarus::have_iverilog() {
-        println!("SKIP: iverilog not found; the specular_lookup configurations did not run");
+        common::tools::skip(
+            "iverilog not found; the specular_lookup configurations did not run \
+             (apt-get install iverilog)",
+        );
         return;
     }
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_specular_lookup");

@@ -47,7 +47,10 @@ fn config(i: usize) -> TextureCombinerConfig {
 #[test]
 fn icarus_runs_every_combine_function_bit_and_cycle_exact() {
     if !icarus::have_iverilog() {
-        println!("SKIP: iverilog not found; the texture_combiner function sweep did not run");
+        common::tools::skip(
+            "iverilog not found; the texture_combiner function sweep did not run \
+             (apt-get install iverilog)",
+        );
         return;
     }
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_texture_combiner");

@@ -409,7 +409,7 @@ fn run_oracle() -> Result<Outcome, String> {
 fn oracle_child() {
     match run_oracle() {
         Err(e) => panic!("OSMesa oracle failed: {e}"),
-        Ok(Outcome::Skipped(why)) => note(&format!("SKIP: {why}\n")),
+        Ok(Outcome::Skipped(why)) => osmesa::tools::skip(&why),
         Ok(Outcome::Ran(renderer, tallies)) => {
             let mut text = format!("texture_combiner vs OSMesa [{renderer}]\n");
             let mut total = 0;

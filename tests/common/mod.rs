@@ -3,6 +3,7 @@
 
 pub mod icarus;
 pub mod shafts;
+pub mod tools;
 
 use rtl_model::driver::{run_batch, run_span, run_tick};
 use rtl_model::trace::VcdTrace;

@@ -12,6 +12,9 @@
 //! fails → an error, which the tests turn into a failure.
 #![allow(dead_code)]
 
+#[path = "../common/tools.rs"]
+pub mod tools;
+
 use std::ffi::{c_void, CStr};
 use std::io::Write;
 use std::os::raw::{c_char, c_float, c_int, c_uint};
@@ -410,7 +413,8 @@ pub fn open_or_skip() -> Result<(Context, String), String> {
     if let Ok(want) = std::env::var("GALLIUM_DRIVER") {
         if !renderer.starts_with(&want) {
             return Err(format!(
-                "GALLIUM_DRIVER={want} is not in this libOSMesa (renderer {renderer})"
+                "GALLIUM_DRIVER={want} is not in this libOSMesa (renderer {renderer}); \
+                 apt-get install libosmesa6-dev (Debian's carries llvmpipe and softpipe)"
             ));
         }
     }
@@ -423,7 +427,7 @@ pub fn open_or_note_skip() -> Option<(Context, String)> {
     match open_or_skip() {
         Ok(c) => Some(c),
         Err(why) => {
-            note(&format!("SKIP: {why}\n"));
+            tools::skip(&why);
             None
         }
     }
