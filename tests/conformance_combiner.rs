@@ -7,7 +7,6 @@ use glare_pipeline::conformance::{store, Case, Chip};
 use rtl_model::units::register_combiner::BiasConstant;
 use rtl_model::Quant;
 use std::collections::BTreeMap;
-use std::path::Path;
 
 #[derive(Default, Debug, Clone, Copy)]
 struct Tally {
@@ -46,15 +45,6 @@ fn tally(cases: &[Case], exp: &store::Expected) -> BTreeMap<(String, String), Ta
         }
     }
     t
-}
-
-#[test]
-#[ignore = "writes tables/conformance/Combiner.txt from a checkout of the captures (GOLDEN)"]
-fn extract_table() {
-    let golden = std::env::var("GOLDEN").unwrap_or_else(|_| "/work/golden".into());
-    let cases = combiner::cases(Chip::Nv2a);
-    let text = store::extract(&combiner::SUITE, &cases, Path::new(&golden)).unwrap();
-    std::fs::write(store::table_path("Combiner"), text).unwrap();
 }
 
 #[test]
