@@ -98,7 +98,6 @@ fn zero(u: ComponentUsage) -> VariableInput {
 }
 
 /// A portion A·B → ab, C·D → cd, sum or mux → sum, with scale and bias.
-#[allow(clippy::too_many_arguments)]
 fn portion(
     usage: ComponentUsage,
     vars: [VariableInput; 4],
@@ -367,7 +366,7 @@ use ComponentUsage::{Alpha, Blue, Rgb};
 
 /// CombinerOps: stage 0 R0 = op(C0 · 1) on both portions (the alpha portion reads C0's
 /// blue), C0 = (0.1, 0.25, 1, 0.5); left half RGB opaque, right half blended by R0.a.
-fn combiner_ops(chip: Modes) -> Case {
+fn combiner_ops(m: Modes) -> Case {
     let c0 = host_rgba([0.1, 0.25, 1.0, 0.5]);
     let ops = [
         ("IDENTITY", Scale::None, Bias::None, 200, 74),
@@ -411,11 +410,11 @@ fn combiner_ops(chip: Modes) -> Case {
             bias,
             false,
         );
-        let st = [stage(chip, rgb_p, alpha_p, c0, [0; 4], false)];
+        let st = [stage(m, rgb_p, alpha_p, c0, [0; 4], false)];
         let r0 = freg(Register::Spare0, Rgb);
-        let left = shade(chip, &st, &Final::just(r0, g_one()), [0; 4]);
+        let left = shade(m, &st, &Final::just(r0, g_one()), [0; 4]);
         let right = shade(
-            chip,
+            m,
             &st,
             &Final::just(r0, freg(Register::Spare0, Alpha)),
             [0; 4],
@@ -443,7 +442,7 @@ fn combiner_ops(chip: Modes) -> Case {
 /// AlphaFromBlue: stage 0 A·B (row "AB") or C·D (row "CD") of C0 = (0.25, 0.5, b, 0)
 /// and the diffuse (1, 1, 1, 0) to R0 with that output's blue-to-alpha flag; the
 /// alpha portion writes nothing. Right halves blended by R0.a.
-fn alpha_from_blue(chip: Modes) -> Case {
+fn alpha_from_blue(m: Modes) -> Case {
     let mut regions = Vec::new();
     let diffuse = host_rgba([1.0, 1.0, 1.0, 0.0]);
     for (row, y, ab) in [("AB", 192, true), ("CD", 264, false)] {
@@ -465,12 +464,12 @@ fn alpha_from_blue(chip: Modes) -> Case {
             let st = [RegisterCombinerConfig {
                 ab_blue_to_alpha: ab,
                 cd_blue_to_alpha: !ab,
-                ..stage(chip, rgb_p, discard(Alpha), c0, [0; 4], false)
+                ..stage(m, rgb_p, discard(Alpha), c0, [0; 4], false)
             }];
             let r0 = freg(Register::Spare0, Rgb);
-            let left = shade(chip, &st, &Final::just(r0, g_one()), diffuse);
+            let left = shade(m, &st, &Final::just(r0, g_one()), diffuse);
             let right = shade(
-                chip,
+                m,
                 &st,
                 &Final::just(r0, freg(Register::Spare0, Alpha)),
                 diffuse,
@@ -508,7 +507,7 @@ fn grid(k: usize) -> Rect {
 
 /// Mux: stage 0 R0 = 1, R0.a = C0.a (0x82, 0x81, 0x00); stage 1 V0 = mux(C0 = red,
 /// C1 = blue) by R0.a, with the combiner control's MUX_SELECT LSB or MSB.
-fn mux(chip: Modes) -> Case {
+fn mux(m: Modes) -> Case {
     let mut regions = Vec::new();
     let draws = [
         (0x82u32, false),
@@ -520,7 +519,7 @@ fn mux(chip: Modes) -> Case {
     ];
     for (k, (a, msb)) in draws.into_iter().enumerate() {
         let s0 = stage(
-            chip,
+            m,
             portion(
                 Rgb,
                 [one(Rgb), one(Rgb), zero(Rgb), zero(Rgb)],
@@ -547,7 +546,7 @@ fn mux(chip: Modes) -> Case {
             msb,
         );
         let s1 = stage(
-            chip,
+            m,
             portion(
                 Rgb,
                 [
@@ -577,7 +576,7 @@ fn mux(chip: Modes) -> Case {
             freg(Register::PrimaryColor, Rgb),
             freg(Register::PrimaryColor, Alpha),
         );
-        let c = rgb(shade(chip, &[s0, s1], &fin, [255; 4]));
+        let c = rgb(shade(m, &[s0, s1], &fin, [255; 4]));
         let q = grid(k);
         let sel = if msb { "MSB" } else { "LSB" };
         let feature = format!("mux {sel}");
@@ -597,11 +596,11 @@ fn mux(chip: Modes) -> Case {
 
 /// Independence: a stage's outputs are written after all its reads (R1 gets R0's old
 /// value), and blue-to-alpha along a three-stage chain.
-fn independence(chip: Modes) -> Case {
+fn independence(m: Modes) -> Case {
     let c0_stage = |c0: [f32; 4]| host_rgba(c0);
-    let r0_only = |chip, c0| {
+    let r0_only = |m, c0| {
         stage(
-            chip,
+            m,
             portion(
                 Rgb,
                 [
@@ -621,11 +620,11 @@ fn independence(chip: Modes) -> Case {
             false,
         )
     };
-    let swap = |chip, c0, blue: bool| RegisterCombinerConfig {
+    let swap = |m, c0, blue: bool| RegisterCombinerConfig {
         ab_blue_to_alpha: blue,
         cd_blue_to_alpha: blue,
         ..stage(
-            chip,
+            m,
             portion(
                 Rgb,
                 [
@@ -646,14 +645,14 @@ fn independence(chip: Modes) -> Case {
         )
     };
     let green = [
-        r0_only(chip, c0_stage([0.0, 1.0, 0.0, 1.0])),
-        swap(chip, c0_stage([1.0, 0.0, 0.0, 1.0]), false),
+        r0_only(m, c0_stage([0.0, 1.0, 0.0, 1.0])),
+        swap(m, c0_stage([1.0, 0.0, 0.0, 1.0]), false),
     ];
     let grey = [
-        r0_only(chip, c0_stage([0.0, 0.0, 0.25, 0.0])),
-        swap(chip, c0_stage([0.0, 0.0, 0.75, 0.0]), true),
+        r0_only(m, c0_stage([0.0, 0.0, 0.25, 0.0])),
+        swap(m, c0_stage([0.0, 0.0, 0.75, 0.0]), true),
         stage(
-            chip,
+            m,
             portion(
                 Rgb,
                 [
@@ -679,19 +678,19 @@ fn independence(chip: Modes) -> Case {
             "green_from_r0_stage0",
             "stage outputs after reads",
             grid(0),
-            rgb(shade(chip, &green, &r(Register::Spare1), [0; 4])),
+            rgb(shade(m, &green, &r(Register::Spare1), [0; 4])),
         ),
         flat(
             "dgrey_from_r0_stage1_alpha",
             "blue to alpha AB/CD (stage chain)",
             grid(2),
-            rgb(shade(chip, &grey, &r(Register::Spare1), [0; 4])),
+            rgb(shade(m, &grey, &r(Register::Spare1), [0; 4])),
         ),
         flat(
             "lgrey_from_r0_stage1",
             "blue to alpha AB/CD (stage chain)",
             grid(4),
-            rgb(shade(chip, &grey, &r(Register::Spare0), [0; 4])),
+            rgb(shade(m, &grey, &r(Register::Spare0), [0; 4])),
         ),
     ];
     Case {
@@ -703,16 +702,16 @@ fn independence(chip: Modes) -> Case {
 /// ColorAlphaIndependence: a green quad (the diffuse), then a blue quad whose alpha is
 /// R1.a = R0's blue as stage 1 reads it (0: stage 1 writes R0's RGB after its reads),
 /// blended over the green: the green stays.
-fn color_alpha_independence(chip: Modes) -> Case {
+fn color_alpha_independence(m: Modes) -> Case {
     let diffuse = host_rgba([0.1, 1.0, 0.1, 1.0]);
     let green = shade(
-        chip,
+        m,
         &[],
         &Final::just(freg(Register::PrimaryColor, Rgb), g_one()),
         diffuse,
     );
     let s0 = stage(
-        chip,
+        m,
         portion(
             Rgb,
             [
@@ -732,7 +731,7 @@ fn color_alpha_independence(chip: Modes) -> Case {
         false,
     );
     let s1 = stage(
-        chip,
+        m,
         portion(
             Rgb,
             [
@@ -764,7 +763,7 @@ fn color_alpha_independence(chip: Modes) -> Case {
         false,
     );
     let blue = shade(
-        chip,
+        m,
         &[s0, s1],
         &Final::just(freg(Register::Spare0, Rgb), freg(Register::Spare1, Alpha)),
         diffuse,
@@ -783,7 +782,7 @@ fn color_alpha_independence(chip: Modes) -> Case {
 
 /// Flags: SPARE0_PLUS_SECONDARY_COLOR (V1 + R0) unclamped and clamped, and with R0 or
 /// V1 inverted.
-fn flags(chip: Modes) -> Case {
+fn flags(m: Modes) -> Case {
     let spec_r0 = FinalVariable::new(
         FinalInput::Spare0PlusSecondaryColor,
         Mapping::UnsignedIdentity,
@@ -791,7 +790,7 @@ fn flags(chip: Modes) -> Case {
     );
     let write = |ab: Register, cd: Register, vars, c0| {
         stage(
-            chip,
+            m,
             portion(
                 Rgb,
                 vars,
@@ -892,7 +891,7 @@ fn flags(chip: Modes) -> Case {
         .into_iter()
         .enumerate()
         .map(|(k, (name, feature, st, fin))| {
-            flat(name, feature, grid(k), rgb(shade(chip, st, &fin, [0; 4])))
+            flat(name, feature, grid(k), rgb(shade(m, st, &fin, [0; 4])))
         })
         .collect();
     Case {
@@ -903,7 +902,7 @@ fn flags(chip: Modes) -> Case {
 
 /// SpecialInputs: E_TIMES_F of the final combiner's own C0 · C1; SPARE0 + SECONDARY
 /// with no flag, R0 inverted, V1 inverted.
-fn special_inputs(chip: Modes) -> Case {
+fn special_inputs(m: Modes) -> Case {
     let fc = [host_rgba([1.0, 0.75, 0.5, 1.0]), host_rgba([0.5; 4])];
     let ef = Final {
         abcd: [
@@ -923,7 +922,7 @@ fn special_inputs(chip: Modes) -> Case {
         clamp: false,
     };
     let s0 = [stage(
-        chip,
+        m,
         portion(
             Rgb,
             [
@@ -962,25 +961,25 @@ fn special_inputs(chip: Modes) -> Case {
             "ef_prod",
             "final E_TIMES_F",
             Rect::new(200, 74, 64, 64),
-            rgb(shade(chip, &[], &ef, [0; 4])),
+            rgb(shade(m, &[], &ef, [0; 4])),
         ),
         flat(
             "spec_r0_sum",
             "final V1 + R0",
             Rect::new(200, 170, 64, 64),
-            rgb(shade(chip, &s0, &spec(false, false), [0; 4])),
+            rgb(shade(m, &s0, &spec(false, false), [0; 4])),
         ),
         flat(
             "inv_r0",
             "final add-invert R0",
             Rect::new(500, 170, 64, 64),
-            rgb(shade(chip, &s0, &spec(true, false), [0; 4])),
+            rgb(shade(m, &s0, &spec(true, false), [0; 4])),
         ),
         flat(
             "inv_spec",
             "final add-invert V1",
             Rect::new(200, 242, 64, 64),
-            rgb(shade(chip, &s0, &spec(false, true), [0; 4])),
+            rgb(shade(m, &s0, &spec(false, true), [0; 4])),
         ),
     ];
     Case {
@@ -990,7 +989,7 @@ fn special_inputs(chip: Modes) -> Case {
 }
 
 /// UnboundTexSampler: the final combiner's D = TEXn (black) and TEXn inverted (white).
-fn unbound_tex_sampler(chip: Modes) -> Case {
+fn unbound_tex_sampler(m: Modes) -> Case {
     let tex = [
         Register::Texture0,
         Register::Texture1,
@@ -1012,7 +1011,7 @@ fn unbound_tex_sampler(chip: Modes) -> Case {
                 &format!("tex{k}{suffix}"),
                 "unbound texture sampler",
                 Rect::new(x, y, 64, 64),
-                rgb(shade(chip, &[], &fin, [0; 4])),
+                rgb(shade(m, &[], &fin, [0; 4])),
             ));
         }
     }
@@ -1028,15 +1027,15 @@ pub fn cases(chip: Chip) -> Vec<Case> {
 }
 
 /// Every case, predicted in the modes `m` gives (the calibration sweeps these).
-pub fn cases_in(chip: Modes) -> Vec<Case> {
+pub fn cases_in(m: Modes) -> Vec<Case> {
     vec![
-        alpha_from_blue(chip),
-        color_alpha_independence(chip),
-        combiner_ops(chip),
-        flags(chip),
-        independence(chip),
-        mux(chip),
-        special_inputs(chip),
-        unbound_tex_sampler(chip),
+        alpha_from_blue(m),
+        color_alpha_independence(m),
+        combiner_ops(m),
+        flags(m),
+        independence(m),
+        mux(m),
+        special_inputs(m),
+        unbound_tex_sampler(m),
     ]
 }

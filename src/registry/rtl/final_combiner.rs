@@ -35,7 +35,6 @@ fn config(config: RtlConfig) -> FinalCombinerConfig {
                 specular_add_invert_r0: true,
                 specular_add_invert_v1: true,
                 constants: Some([[3, 7, 0, 5], [6, 1, 4, 2]]),
-                ..FinalCombinerConfig::geforce()
             }
         }
     }

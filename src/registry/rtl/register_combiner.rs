@@ -60,7 +60,6 @@ fn config(config: RtlConfig) -> RegisterCombinerConfig {
                 ab_blue_to_alpha: true,
                 cd_blue_to_alpha: true,
                 stage_constants: Some([[7, 0, 5, 3], [1, 6, 2, 4]]),
-                ..RegisterCombinerConfig::geforce()
             }
         }
     }
