@@ -70,7 +70,8 @@ fn variable(c: &FinalCombinerConfig, file: &RegisterFile, v: &FinalVariable, lan
         FinalInput::Spare0PlusSecondaryColor => {
             let sp = [0, 1, 2].map(|l| reg_value(file, Register::Spare0, l, n));
             let se = [0, 1, 2].map(|l| reg_value(file, Register::SecondaryColor, l, n));
-            twin::spare0_plus_secondary_color(sp, se, c.color_sum_clamp)[lane]
+            let inv = [c.specular_add_invert_r0, c.specular_add_invert_v1];
+            twin::spare0_plus_secondary_color_inverted(sp, se, inv, c.color_sum_clamp)[lane]
         }
     };
     twin::map(twin_mapping(v.mapping), raw)
@@ -108,6 +109,13 @@ fn rgb_bound(c: &FinalCombinerConfig) -> f64 {
 fn check(u: &FinalCombiner, file: &RegisterFile) -> f64 {
     let c = u.config();
     let out = u.kernel(&mut (), file, &mut Counters::default());
+    // NV2A: the final combiner's own constants are read instead of the set's.
+    let mut read = *file;
+    if let Some([c0, c1]) = c.constants {
+        read.set(Register::ConstantColor0, c0);
+        read.set(Register::ConstantColor1, c1);
+    }
+    let file = &read;
     let var = |v: &FinalVariable, l| variable(&c, file, v, l);
     let rgb = twin::fcoc_rgb(
         [0, 1, 2].map(|l| var(&c.a, l)),
@@ -180,8 +188,17 @@ fn random_variable(rng: &mut ChaCha8Rng, name: char) -> FinalVariable {
     FinalVariable::new(FinalInput::Register(r), mapping, usage)
 }
 
+/// A random final combiner, the NV2A modes among them (add-invert flags, own
+/// constants).
 fn random_config(rng: &mut ChaCha8Rng, base: FinalCombinerConfig) -> FinalCombinerConfig {
+    let s = ((1i64 << (base.internal_bits.clamp(3, 24) - 1)) - 1) as i32;
+    let constants = rng
+        .random::<bool>()
+        .then(|| std::array::from_fn(|_| std::array::from_fn(|_| rng.random_range(0..=s))));
     FinalCombinerConfig {
+        specular_add_invert_r0: rng.random(),
+        specular_add_invert_v1: rng.random(),
+        constants,
         color_sum_clamp: rng.random(),
         a: random_variable(rng, 'a'),
         b: random_variable(rng, 'b'),
@@ -428,6 +445,80 @@ fn config_errors_name_the_field() {
     let mut c = g;
     c.b.component_usage = ComponentUsage::Alpha; // B is SPARE0_PLUS_SECONDARY_COLOR
     assert_eq!(err(c), "final_combiner.b.component_usage");
+    let c = FinalCombinerConfig {
+        constants: Some([[0; 4], [0, 0, 256, 0]]),
+        ..g
+    };
+    assert_eq!(err(c), "final_combiner.constants");
+}
+
+/// NV2A SPARE0_PLUS_SECONDARY_COLOR with the add-invert flags: (S − R0) + V1,
+/// R0 + (S − V1), (S − R0) + (S − V1), exactly, for every pair of codes at 9 and 5
+/// bits (at 9 bits R0 = 191, V1 = 0 inverted gives 64: the Flags capture), with the
+/// clamp to S under COLOR_SUM_CLAMP; the final combiner's own constants read instead
+/// of the set's (E·F of C0 = 255, C1 = 127 gives 127: the SpecialInputs capture).
+#[test]
+fn nv2a_add_invert_flags_and_own_constants() {
+    for n in [9u32, 5] {
+        let s = one(n) as i64;
+        let u_max = 255i64.min((1 << (n - 1)) - 1);
+        for (ir, iv) in [(true, false), (false, true), (true, true), (false, false)] {
+            for clamp in [false, true] {
+                let c = FinalCombinerConfig {
+                    internal_bits: n,
+                    out_bits: n - 1,
+                    a: FinalVariable::new(
+                        FinalInput::Register(Register::Zero),
+                        Mapping::UnsignedInvert,
+                        ComponentUsage::Rgb,
+                    ),
+                    b: FinalVariable::new(
+                        FinalInput::Spare0PlusSecondaryColor,
+                        Mapping::UnsignedIdentity,
+                        ComponentUsage::Rgb,
+                    ),
+                    c: FinalVariable::register(Register::Zero, ComponentUsage::Rgb),
+                    color_sum_clamp: clamp,
+                    specular_add_invert_r0: ir,
+                    specular_add_invert_v1: iv,
+                    ..FinalCombinerConfig::geforce()
+                };
+                let u = c.build().unwrap();
+                for r0 in 0..=s.min(u_max) {
+                    for v1 in (0..=s).step_by(if n == 9 { 7 } else { 1 }) {
+                        let mut f = RegisterFile::default();
+                        f.set(Register::Spare0, [r0 as i32; 4]);
+                        f.set(Register::SecondaryColor, [v1 as i32; 4]);
+                        let out = u.kernel(&mut (), &f, &mut Counters::default());
+                        let t = |x: i64, inv: bool| if inv { s - x } else { x };
+                        let want = (t(r0, ir) + t(v1, iv)).min(s); // min(·, 1) of fcoc either way
+                        assert_eq!(out[0] as i64, want, "N {n} r0 {r0} v1 {v1} inv {ir} {iv}");
+                        check(&u, &f);
+                    }
+                }
+            }
+        }
+    }
+    let c = FinalCombinerConfig {
+        a: FinalVariable::register(Register::Zero, ComponentUsage::Rgb),
+        b: FinalVariable::register(Register::Zero, ComponentUsage::Rgb),
+        c: FinalVariable::register(Register::Zero, ComponentUsage::Rgb),
+        d: FinalVariable::new(
+            FinalInput::ETimesF,
+            Mapping::UnsignedIdentity,
+            ComponentUsage::Rgb,
+        ),
+        e: FinalVariable::register(Register::ConstantColor0, ComponentUsage::Rgb),
+        f: FinalVariable::register(Register::ConstantColor1, ComponentUsage::Rgb),
+        constants: Some([[255, 191, 127, 255], [127; 4]]),
+        ..FinalCombinerConfig::geforce()
+    };
+    let u = c.build().unwrap();
+    let mut f = RegisterFile::default();
+    f.set(Register::ConstantColor0, [1; 4]);
+    let out = u.kernel(&mut (), &f, &mut Counters::default());
+    assert_eq!(&out[..3], &[127, 95, 63]);
+    check(&u, &f);
 }
 
 #[test]

@@ -36,8 +36,9 @@ use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::units::register_combiner::{
-    Bias, ComponentUsage, FragmentInputs, Mapping, PortionConfig, Register, RegisterCombiner,
-    RegisterCombinerConfig, RegisterFile, Scale, VariableInput, REGISTER_COUNT,
+    unbound_texture, Bias, BiasConstant, ComponentUsage, FragmentInputs, Mapping, MuxSelect,
+    PortionConfig, Register, RegisterCombiner, RegisterCombinerConfig, RegisterFile, Scale,
+    VariableInput, REGISTER_COUNT,
 };
 use rtl_model::{Counters, Quant, Unit, UnitSummary};
 
@@ -61,6 +62,12 @@ fn portion_bounds(c: &RegisterCombinerConfig, p: &PortionConfig) -> [f64; 3] {
     let e_r = rounding_error(c.rounding);
     let e_p = e_r / (c.guard_bits as f64).exp2();
     let exact_out = c.guard_bits == 0 && p.bias == Bias::None && p.scale != Scale::ByOneHalf;
+    // HalfCode's bias is a whole number of codes: at G = 0 it adds no rounding either.
+    let exact_out = exact_out
+        || c.guard_bits == 0
+            && p.bias == Bias::ByNegativeOneHalf
+            && c.bias_constant == BiasConstant::HalfCode
+            && p.scale != Scale::ByOneHalf;
     let e_o = if exact_out { 0.0 } else { e_r };
     let s = p.scale.value();
     let terms = if p.mux_sum { 1.0 } else { 2.0 };
@@ -80,13 +87,18 @@ fn value(file: &RegisterFile, v: &VariableInput, lane: usize, n: u32) -> f64 {
     sext(file.regs[v.input.index()][comp], n) as f64 / one(n)
 }
 
-fn op(p: &PortionConfig) -> twin::OutputOp {
+fn op(c: &RegisterCombinerConfig, p: &PortionConfig) -> twin::OutputOp {
+    let bias = match (p.bias, c.bias_constant) {
+        (Bias::None, _) => 0.0,
+        (Bias::ByNegativeOneHalf, BiasConstant::ExactHalf) => p.bias.value(),
+        (Bias::ByNegativeOneHalf, BiasConstant::HalfCode) => twin::nv2a_bias(c.internal_bits),
+    };
     twin::OutputOp {
         ab_dot_product: p.ab_dot_product,
         cd_dot_product: p.cd_dot_product,
         mux_sum: p.mux_sum,
         scale: p.scale.value(),
-        bias: p.bias.value(),
+        bias,
     }
 }
 
@@ -95,18 +107,29 @@ fn expected(c: &RegisterCombinerConfig, file: &RegisterFile) -> [[(f64, f64); 4]
     let n = c.internal_bits;
     let s = one(n);
     let mut want = file.regs.map(|r| r.map(|x| (sext(x, n) as f64, 0.0)));
+    // Per-stage constants: read instead of the set's; the output passes the set's on.
+    let mut read = *file;
+    if let Some([c0, c1]) = c.stage_constants {
+        read.set(Register::ConstantColor0, c0);
+        read.set(Register::ConstantColor1, c1);
+    }
+    let file = &read;
     let spare0_alpha = sext(file.get(Register::Spare0)[3], n) as f64 / s;
+    let mux_cd = match c.mux_select {
+        MuxSelect::Msb => spare0_alpha >= 0.5,
+        MuxSelect::Lsb => twin::mux_lsb_selects_cd(spare0_alpha, s),
+    };
     let mapped =
         |v: &VariableInput, lane| twin::map(twin_mapping(v.mapping), value(file, v, lane, n));
     for alpha in [false, true] {
         let p = if alpha { c.alpha } else { c.rgb };
         let vars = [p.a, p.b, p.c, p.d];
         let outs: [[f64; 4]; 3] = if alpha {
-            let r = twin::general_alpha(vars.map(|v| mapped(&v, 3)), spare0_alpha, &op(&p));
+            let r = twin::general_alpha_mux(vars.map(|v| mapped(&v, 3)), mux_cd, &op(c, &p));
             r.map(|x| [0.0, 0.0, 0.0, x])
         } else {
             let v = vars.map(|v| [0, 1, 2].map(|l| mapped(&v, l)));
-            let r = twin::general_rgb(v, spare0_alpha, &op(&p));
+            let r = twin::general_rgb_mux(v, mux_cd, &op(c, &p));
             r.map(|x| [x[0], x[1], x[2], 0.0])
         };
         let bounds = portion_bounds(c, &p);
@@ -115,6 +138,12 @@ fn expected(c: &RegisterCombinerConfig, file: &RegisterFile) -> [[(f64, f64); 4]
             if let Some(r) = dst {
                 for lane in lanes.clone() {
                     want[r.index()][lane] = (outs[k][lane] * s, bounds[k]);
+                }
+                // NV2A blue-to-alpha: out1 / out2's blue to the register's alpha.
+                let blue = [c.ab_blue_to_alpha, c.cd_blue_to_alpha];
+                if !alpha && k < 2 && blue[k] {
+                    let [_, _, b] = [outs[k][0], outs[k][1], outs[k][2]];
+                    want[r.index()][3] = (twin::blue_to_alpha([0.0, 0.0, b]) * s, bounds[k]);
                 }
             }
         }
@@ -217,10 +246,33 @@ fn random_portion(rng: &mut ChaCha8Rng, alpha: bool) -> PortionConfig {
     }
 }
 
+/// A random stage, the NV2A modes among them (bias constant, mux select, blue-to-alpha
+/// where the alpha portion does not write the same register, per-stage constants).
 fn random_config(rng: &mut ChaCha8Rng, base: RegisterCombinerConfig) -> RegisterCombinerConfig {
+    let rgb = random_portion(rng, false);
+    let alpha = random_portion(rng, true);
+    let alpha_writes = [alpha.ab_output, alpha.cd_output, alpha.sum_output];
+    let free = |dst: Option<Register>| dst.is_none() || !alpha_writes.contains(&dst);
+    let s = ((1i64 << (base.internal_bits.clamp(3, 24) - 1)) - 1) as i32;
+    let stage_constants = rng
+        .random::<bool>()
+        .then(|| std::array::from_fn(|_| std::array::from_fn(|_| rng.random_range(0..=s))));
     RegisterCombinerConfig {
-        rgb: random_portion(rng, false),
-        alpha: random_portion(rng, true),
+        rgb,
+        alpha,
+        bias_constant: if rng.random() {
+            BiasConstant::HalfCode
+        } else {
+            BiasConstant::ExactHalf
+        },
+        mux_select: if rng.random() {
+            MuxSelect::Lsb
+        } else {
+            MuxSelect::Msb
+        },
+        ab_blue_to_alpha: rng.random::<bool>() && free(rgb.ab_output),
+        cd_blue_to_alpha: rng.random::<bool>() && free(rgb.cd_output),
+        stage_constants,
         ..base
     }
 }
@@ -605,6 +657,191 @@ fn config_errors_name_the_field() {
     let mut c = g;
     c.rgb.sum_output = None;
     assert!(c.build().is_ok());
+    // NV2A: blue-to-alpha into a register whose alpha the alpha portion also writes.
+    let mut c = g;
+    c.rgb.ab_output = Some(Register::Spare1);
+    c.alpha.ab_output = Some(Register::Spare1);
+    c.ab_blue_to_alpha = true;
+    assert_eq!(err(c), "register_combiner.ab_blue_to_alpha");
+    c.ab_blue_to_alpha = false;
+    assert!(c.build().is_ok());
+    // Per-stage constants outside the register codes 0 ..= S.
+    for bad in [-1, 256] {
+        let c = RegisterCombinerConfig {
+            stage_constants: Some([[0, 0, 0, bad], [0; 4]]),
+            ..g
+        };
+        assert_eq!(err(c), "register_combiner.stage_constants");
+    }
+}
+
+/// The NV2A's −½ is 2^(N−2) codes: BIAS of x is x − 2^(N−2) and SHIFT_LEFT_1_BIAS is
+/// 2(x − 2^(N−2)), clamped, EXACTLY (no rounding at G = 0) for every code x, at every
+/// width 3 ..= 12 (at N = 9: 1.0 → 127 and 254, the CombinerOps capture). ExactHalf
+/// gives x − S/2 rounded, one code more at x = S.
+#[test]
+fn nv2a_bias_is_the_half_code_exactly_at_every_width() {
+    for n in 3u32..=12 {
+        let s = one(n) as i64;
+        let h = 1i64 << (n - 2);
+        for (scale, k) in [(Scale::None, 1i64), (Scale::ByTwo, 2)] {
+            let stage = |bias_constant| {
+                let rgb = PortionConfig {
+                    a: VariableInput::new(
+                        Register::Texture0,
+                        Mapping::SignedIdentity,
+                        ComponentUsage::Rgb,
+                    ),
+                    b: VariableInput::new(
+                        Register::Zero,
+                        Mapping::UnsignedInvert,
+                        ComponentUsage::Rgb,
+                    ),
+                    sum_output: Some(Register::Spare1),
+                    scale,
+                    bias: Bias::ByNegativeOneHalf,
+                    ..PortionConfig::initial(ComponentUsage::Rgb)
+                };
+                RegisterCombinerConfig {
+                    internal_bits: n,
+                    rgb,
+                    bias_constant,
+                    ..RegisterCombinerConfig::geforce()
+                }
+                .build()
+                .unwrap()
+            };
+            let (nv2a, spec) = (
+                stage(BiasConstant::HalfCode),
+                stage(BiasConstant::ExactHalf),
+            );
+            for x in -s..=s {
+                let mut f = RegisterFile::default();
+                f.set(Register::Texture0, [x as i32; 4]);
+                let mut ctr = Counters::default();
+                let got = nv2a.kernel(&mut (), &f, &mut ctr).get(Register::Spare1)[0] as i64;
+                assert_eq!(got, (k * (x - h)).clamp(-s, s), "N {n}, ×{k}, x {x}");
+                check(&nv2a, &f);
+                check(&spec, &f);
+            }
+            let mut f = RegisterFile::default();
+            f.set(Register::Texture0, [s as i32; 4]);
+            let top = |u: &RegisterCombiner| {
+                u.kernel(&mut (), &f, &mut Counters::default())
+                    .get(Register::Spare1)[0] as i64
+            };
+            assert_eq!(
+                top(&spec) - top(&nv2a),
+                1,
+                "N {n}, ×{k}: ExactHalf rounds up"
+            );
+        }
+    }
+}
+
+/// NV2A mux select LSB: C·D exactly when SPARE0 alpha's code is odd (0x82 → A·B,
+/// 0x81 → C·D, the Mux capture), at every code of 9 and 5 bits; MSB is the spec's.
+#[test]
+fn mux_lsb_selects_on_spare0_alphas_low_bit() {
+    for n in [9u32, 5] {
+        let s = one(n) as i32;
+        let rgb = PortionConfig {
+            a: VariableInput::new(
+                Register::Texture0,
+                Mapping::SignedIdentity,
+                ComponentUsage::Rgb,
+            ),
+            b: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, ComponentUsage::Rgb),
+            c: VariableInput::new(
+                Register::Texture1,
+                Mapping::SignedIdentity,
+                ComponentUsage::Rgb,
+            ),
+            d: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, ComponentUsage::Rgb),
+            mux_sum: true,
+            sum_output: Some(Register::Spare1),
+            ..PortionConfig::initial(ComponentUsage::Rgb)
+        };
+        let u = RegisterCombinerConfig {
+            internal_bits: n,
+            rgb,
+            mux_select: MuxSelect::Lsb,
+            ..RegisterCombinerConfig::geforce()
+        }
+        .build()
+        .unwrap();
+        for alpha in -s - 1..=s {
+            let mut f = RegisterFile::default();
+            f.set(Register::Texture0, [3, 3, 3, 0]);
+            f.set(Register::Texture1, [-5, -5, -5, 0]);
+            f.set(Register::Spare0, [0, 0, 0, alpha]);
+            let out = u.kernel(&mut (), &f, &mut Counters::default());
+            let want = if alpha & 1 == 1 { -5 } else { 3 };
+            assert_eq!(out.get(Register::Spare1)[0], want, "N {n}, alpha {alpha}");
+            check(&u, &f);
+        }
+    }
+}
+
+/// Blue-to-alpha writes out1's / out2's blue (after scale, bias and clamp) to its
+/// register's alpha; per-stage constants are read instead of the set's and the set's
+/// pass on; the unbound texture is (0, 0, 0, 1).
+#[test]
+fn blue_to_alpha_and_stage_constants() {
+    let n = 9;
+    let rgb = PortionConfig {
+        a: VariableInput::new(
+            Register::ConstantColor0,
+            Mapping::UnsignedIdentity,
+            ComponentUsage::Rgb,
+        ),
+        b: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, ComponentUsage::Rgb),
+        c: VariableInput::new(
+            Register::ConstantColor1,
+            Mapping::UnsignedIdentity,
+            ComponentUsage::Rgb,
+        ),
+        d: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, ComponentUsage::Rgb),
+        ab_output: Some(Register::Spare0),
+        cd_output: Some(Register::Spare1),
+        sum_output: None,
+        scale: Scale::ByTwo,
+        ..PortionConfig::initial(ComponentUsage::Rgb)
+    };
+    let c = RegisterCombinerConfig {
+        internal_bits: n,
+        rgb,
+        alpha: PortionConfig::discard(ComponentUsage::Alpha),
+        ab_blue_to_alpha: true,
+        cd_blue_to_alpha: true,
+        stage_constants: Some([[10, 20, 30, 40], [50, 60, 200, 70]]),
+        ..RegisterCombinerConfig::geforce()
+    };
+    let u = c.build().unwrap();
+    let mut f = RegisterFile::default();
+    f.set(Register::ConstantColor0, [1, 1, 1, 1]);
+    f.set(Register::Spare0, [0, 0, 0, 99]);
+    f.set(Register::Spare1, [0, 0, 0, 98]);
+    let out = u.kernel(&mut (), &f, &mut Counters::default());
+    assert_eq!(out.get(Register::Spare0), [20, 40, 60, 60]);
+    assert_eq!(out.get(Register::Spare1), [100, 120, 255, 255]);
+    assert_eq!(out.get(Register::ConstantColor0), [1, 1, 1, 1]);
+    check(&u, &f);
+    let off = RegisterCombinerConfig {
+        ab_blue_to_alpha: false,
+        cd_blue_to_alpha: false,
+        ..c
+    };
+    let out = off
+        .build()
+        .unwrap()
+        .kernel(&mut (), &f, &mut Counters::default());
+    assert_eq!(
+        (out.get(Register::Spare0)[3], out.get(Register::Spare1)[3]),
+        (99, 98)
+    );
+    assert_eq!(unbound_texture(8), [0, 0, 0, 255]);
+    assert_eq!(unbound_texture(5), [0, 0, 0, 31]);
 }
 
 #[test]

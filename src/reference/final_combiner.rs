@@ -22,9 +22,27 @@ pub fn spare0_plus_secondary_color(
     secondary: [f64; 3],
     color_sum_clamp: bool,
 ) -> [f64; 3] {
+    spare0_plus_secondary_color_inverted(spare0, secondary, [false, false], color_sum_clamp)
+}
+
+/// The NV2A's form: SPARE0 (`invert[0]`, SPECULAR_ADD_INVERT_R0) and SECONDARY_COLOR
+/// (`invert[1]`, SPECULAR_ADD_INVERT_V1) each under UNSIGNED_INVERT instead of
+/// UNSIGNED_IDENTITY when set.
+pub fn spare0_plus_secondary_color_inverted(
+    spare0: [f64; 3],
+    secondary: [f64; 3],
+    invert: [bool; 2],
+    color_sum_clamp: bool,
+) -> [f64; 3] {
+    let m = |inv: bool| {
+        if inv {
+            Mapping::UnsignedInvert
+        } else {
+            Mapping::UnsignedIdentity
+        }
+    };
     [0, 1, 2].map(|i| {
-        let s = map(Mapping::UnsignedIdentity, spare0[i])
-            + map(Mapping::UnsignedIdentity, secondary[i]);
+        let s = map(m(invert[0]), spare0[i]) + map(m(invert[1]), secondary[i]);
         if color_sum_clamp {
             s.min(1.0)
         } else {

@@ -24,6 +24,13 @@
 //! 4. min(x, S²) (a clamp counted in `saturations` when x > S²), then
 //!    out = round(x·U / S²) by `rounding` → u(O). Alpha: round(G·U / S).
 //!
+//! NV2A modes (defaults off, the GeForce behaviour): `specular_add_invert_r0` /
+//! `specular_add_invert_v1` put SPARE0 / SECONDARY_COLOR under UNSIGNED_INVERT in the
+//! pseudo-register's sum (S − min(max(e, 0), S), exact); `constants` gives the final
+//! combiner its own CONSTANT_COLOR0/1. COLOR_SUM_CLAMP_NV is the NV2A's
+//! SPECULAR_CLAMP (the Combiner/Flags capture: 0.5·(1 + 1) gives 254 unclamped, 127
+//! clamped).
+//!
 //! The GeForce 256 bug above 2 (spec, NVIDIA Implementation Details) is not modelled:
 //! GeForce2 GTS and later compute the full range.
 //!
@@ -97,6 +104,19 @@ pub struct FinalCombinerConfig {
     pub e: FinalVariable,
     pub f: FinalVariable,
     pub g: FinalVariable,
+    /// NV2A: SPARE0 enters SPARE0_PLUS_SECONDARY_COLOR under UNSIGNED_INVERT (1 − R0)
+    /// instead of UNSIGNED_IDENTITY (NV097_SET_COMBINER_SPECULAR_FOG_CW1 bit 5,
+    /// SPECULAR_ADD_INVERT_R0; the Combiner/Flags and SpecialInputs captures).
+    #[serde(default)]
+    pub specular_add_invert_r0: bool,
+    /// NV2A: the same for SECONDARY_COLOR (1 − V1; SPECULAR_ADD_INVERT_V1).
+    #[serde(default)]
+    pub specular_add_invert_v1: bool,
+    /// NV2A: the final combiner's own CONSTANT_COLOR0/1 as register codes RGBA
+    /// (0 ..= S), read instead of the register set's (NV097_SET_SPECULAR_FOG_FACTOR
+    /// 0/1). `None`: the set's (GL's one pair).
+    #[serde(default)]
+    pub constants: Option<[[i32; 4]; 2]>,
 }
 
 impl Default for FinalCombinerConfig {
@@ -129,6 +149,9 @@ impl FinalCombinerConfig {
             e: reg(Register::Zero, Rgb),
             f: reg(Register::Zero, Rgb),
             g: reg(Register::Spare0, Alpha),
+            specular_add_invert_r0: false,
+            specular_add_invert_v1: false,
+            constants: None,
         }
     }
 
@@ -211,6 +234,15 @@ impl FinalCombiner {
                 ));
             }
         }
+        if let Some(k) = cfg.constants {
+            let s = one_code(cfg.internal_bits);
+            if k.iter().flatten().any(|&c| !(0..=s).contains(&(c as i64))) {
+                return Err(ConfigError::invalid(
+                    &f("constants"),
+                    &format!("a constant outside the register codes 0 ..= {s}"),
+                ));
+            }
+        }
         Ok(FinalCombiner { cfg })
     }
 
@@ -274,6 +306,20 @@ impl FinalCombiner {
     pub fn combine(&self, file: &RegisterFile, ctr: &mut Counters) -> FinalCombinerOut {
         let c = self.cfg;
         let s = self.one() as i128;
+        // NV2A: the final combiner's own constants replace the set's.
+        let staged;
+        let file = match c.constants {
+            Some([c0, c1]) => {
+                staged = {
+                    let mut f = *file;
+                    f.set(Register::ConstantColor0, c0);
+                    f.set(Register::ConstantColor1, c1);
+                    f
+                };
+                &staged
+            }
+            None => file,
+        };
         // Step 2: the pseudo-registers (E, F are registers: validated).
         let mut specials = Specials::default();
         let uses = |x: FinalInput| [c.a, c.b, c.c, c.d].iter().any(|v| v.input == x);
@@ -289,14 +335,17 @@ impl FinalCombiner {
                 specials.e_times_f[lane] = q;
             }
             if uses(FinalInput::Spare0PlusSecondaryColor) {
-                let id = |r| {
-                    self.mapped_register(
-                        file,
-                        &VariableInput::new(r, Mapping::UnsignedIdentity, ComponentUsage::Rgb),
-                        lane,
-                    )
+                // UNSIGNED_IDENTITY, or UNSIGNED_INVERT under the NV2A's add-invert flags.
+                let term = |r, invert: bool| {
+                    let m = if invert {
+                        Mapping::UnsignedInvert
+                    } else {
+                        Mapping::UnsignedIdentity
+                    };
+                    self.mapped_register(file, &VariableInput::new(r, m, ComponentUsage::Rgb), lane)
                 };
-                let mut sum = id(Register::Spare0) + id(Register::SecondaryColor); // u(N)
+                let mut sum = term(Register::Spare0, c.specular_add_invert_r0)
+                    + term(Register::SecondaryColor, c.specular_add_invert_v1); // u(N)
                 if c.color_sum_clamp && sum > s {
                     ctr.saturations += 1;
                     sum = s;
@@ -364,7 +413,7 @@ impl Unit for FinalCombiner {
         let xw = 2 * n + 1;
         let file_bits = (REGISTER_COUNT as u32 - 1) * 4 * n;
         let lanes = 6.0 * 3.0 + 1.0; // A … F × RGB, G
-        Cost::default()
+        let mut cost = Cost::default()
             .part("input register set", prim::register(file_bits))
             .part(
                 "variable select: 14 inputs × component (19 lanes)",
@@ -403,7 +452,20 @@ impl Unit for FinalCombiner {
                 "sum, clamp to 1, ×U ÷S² rounding (3 lanes + G)",
                 (prim::adder(xw) * 2.0 + prim::comparator(xw) + prim::adder(xw + o) * 3.0) * 4.0,
             )
-            .part("output register", prim::register(4 * o))
+            .part("output register", prim::register(4 * o));
+        if self.cfg.specular_add_invert_r0 || self.cfg.specular_add_invert_v1 {
+            cost = cost.part(
+                "add-invert subtractors S − x (NV2A, 2 × 3)",
+                (prim::subtractor(n) + prim::mux(n)) * 6.0,
+            );
+        }
+        if self.cfg.constants.is_some() {
+            cost = cost.part(
+                "final CONSTANT_COLOR0/1 registers (NV2A)",
+                prim::register(8 * n),
+            );
+        }
+        cost
     }
 
     fn widths(&self) -> Vec<Width> {

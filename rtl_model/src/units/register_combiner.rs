@@ -37,15 +37,24 @@
 //! 5. gcc5 = q_AB + q_CD (exact), or gcc6 = the mux: SPARE0 alpha of the INPUT
 //!    register set ≥ 0.5 → CD, else AB (the spec's corrected sense, August 2000).
 //!    With c ↔ c/S and S odd, "≥ 0.5" is exactly c ≥ 2^(N−2): the alpha's top
-//!    magnitude bit, as hardware tests it.
+//!    magnitude bit, as hardware tests it (`mux_select` = Msb). The NV2A tests the
+//!    code's LOW bit by default (`mux_select` = Lsb; its combiner control's
+//!    MUX_SELECT, nxdk_pgraph_tests Combiner/Mux capture).
 //! 6. Scale and bias, then one output rounding: V = (2x − b·W)·k in units 1/(4W)
-//!    (b = 1 for BIAS_BY_NEGATIVE_ONE_HALF, k = 2, 4, 8, 1 for NONE, ×2, ×4, ×½),
+//!    (b = 1 for BIAS_BY_NEGATIVE_ONE_HALF, k = 2, 4, 8, 1 for NONE, ×2, ×4, ×½;
+//!    `bias_constant` = HalfCode makes b = (S + 1)/S: the NV2A subtracts 2^(N−2)
+//!    codes, −128/255 at N = 9, as the Combiner/CombinerOps capture shows),
 //!    out = round(V / 2^(G+2)) by `rounding` (a shift), clamped to [−S, S]: every
 //!    clamp counts in `saturations`, a non-zero V rounded to 0 in `underflows`.
 //!    Exact (no rounding) at G = 0 with scale 1, 2 or 4 and no bias.
 //! 7. Write: out1/out2/out3 replace the RGB (RGB portion) or alpha (alpha portion)
 //!    components of the registers named by abOutput/cdOutput/sumOutput (DISCARD =
 //!    `None`); the updated set is the stage's output (the next stage's input).
+//!    NV2A only: `ab_blue_to_alpha` / `cd_blue_to_alpha` also write out1's / out2's
+//!    blue to the alpha of abOutput's / cdOutput's register (COLOR_OCW bits 19/18).
+//!
+//! NV2A per-stage constants (`stage_constants`): the stage reads its own
+//! CONSTANT_COLOR0/1 instead of the set's; the output set passes the set's on.
 //!
 //! Config errors (the spec's INVALID_OPERATION / INVALID_VALUE cases) name the field:
 //! RGB usage on the alpha portion, BLUE on the RGB portion, FOG with ALPHA usage, a dot
@@ -400,6 +409,89 @@ pub struct RegisterCombinerConfig {
     pub rounding: Quant,
     pub rgb: PortionConfig,
     pub alpha: PortionConfig,
+    /// What BIAS_BY_NEGATIVE_ONE_HALF subtracts ([`BiasConstant`]); `ExactHalf` by
+    /// default, `HalfCode` on the NV2A.
+    #[serde(default)]
+    pub bias_constant: BiasConstant,
+    /// Which bit of SPARE0's alpha the mux (gcc6/gcc4a) tests ([`MuxSelect`]); `Msb`
+    /// (the spec's ≥ 0.5) by default, `Lsb` on the NV2A unless its combiner control
+    /// selects MSB.
+    #[serde(default)]
+    pub mux_select: MuxSelect,
+    /// NV2A: the RGB portion's AB output's blue is also written to the alpha of the
+    /// abOutput register (NV097_SET_COMBINER_COLOR_OCW bit 19, AB_BLUE_TO_ALPHA; the
+    /// AlphaFromBlue and Independence captures). Not in GL_NV_register_combiners.
+    #[serde(default)]
+    pub ab_blue_to_alpha: bool,
+    /// NV2A: the same for the CD output (COLOR_OCW bit 18, CD_BLUE_TO_ALPHA).
+    #[serde(default)]
+    pub cd_blue_to_alpha: bool,
+    /// NV2A: this stage's own CONSTANT_COLOR0/1 as register codes RGBA (0 ..= S), read
+    /// instead of the register set's (NV097_SET_COMBINER_FACTOR0/1 + 4·stage with
+    /// SET_COMBINER_CONTROL FACTOR0/1 = EACH_STAGE). `None`: the set's (GL's one pair).
+    #[serde(default)]
+    pub stage_constants: Option<[[i32; 4]; 2]>,
+}
+
+/// The constant BIAS_BY_NEGATIVE_ONE_HALF_NV subtracts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "SCREAMING_SNAKE_CASE")]
+pub enum BiasConstant {
+    /// Exactly ½ (S/2 codes, a half code: the spec's real −0.5). The model's default.
+    #[default]
+    ExactHalf,
+    /// 2^(N−2) codes = (S + 1)/2, the register's top magnitude bit: −128/255 at N = 9.
+    /// The NV2A (nxdk_pgraph_tests Combiner/CombinerOps capture: BIAS of 1.0 gives
+    /// 127/255, SHIFT_LEFT_1_BIAS gives 254/255; ExactHalf gives 128 and 255). With
+    /// G = 0 and scale 1 or 2 the biased output needs no rounding.
+    HalfCode,
+}
+
+impl BiasConstant {
+    /// The bias in half codes (units 1/(2S)) at S = `s`: S or S + 1.
+    #[inline]
+    pub fn half_codes(self, s: i64) -> i64 {
+        match self {
+            BiasConstant::ExactHalf => s,
+            BiasConstant::HalfCode => s + 1,
+        }
+    }
+
+    /// The bias as a real at S = `s` (0.5 or (S + 1)/(2S)).
+    pub fn value(self, s: i64) -> f64 {
+        self.half_codes(s) as f64 / (2 * s) as f64
+    }
+}
+
+/// The SPARE0-alpha test of the mux (gcc6 / gcc4a).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "SCREAMING_SNAKE_CASE")]
+pub enum MuxSelect {
+    /// SPARE0 alpha ≥ 0.5 ⇔ code ≥ 2^(N−2), its top magnitude bit (the spec;
+    /// NV097_SET_COMBINER_CONTROL_MUX_SELECT_MSB on the NV2A).
+    #[default]
+    Msb,
+    /// The code's lowest bit (NV097_SET_COMBINER_CONTROL_MUX_SELECT_LSB, the NV2A's
+    /// reset value; Combiner/Mux capture: alpha 0x82 selects AB, 0x81 selects CD).
+    Lsb,
+}
+
+impl MuxSelect {
+    /// Whether the mux picks C·D for SPARE0 alpha code `c` (sign-extended, N bits).
+    #[inline]
+    pub fn selects_cd(self, c: i64, internal_bits: u32) -> bool {
+        match self {
+            MuxSelect::Msb => c >= 1i64 << (internal_bits - 2),
+            MuxSelect::Lsb => c & 1 == 1,
+        }
+    }
+}
+
+/// What an NV2A texture stage with no texture bound returns: (0, 0, 0, 1) as
+/// `bits`-bit unorm RGBA (Combiner/UnboundTexSampler capture: TEXn reads black,
+/// its inversion white). A host edge for [`FragmentInputs::texture`].
+pub fn unbound_texture(bits: u32) -> [u32; 4] {
+    [0, 0, 0, ((1u64 << bits) - 1) as u32]
 }
 
 impl Default for RegisterCombinerConfig {
@@ -419,6 +511,21 @@ impl RegisterCombinerConfig {
             rounding: Quant::Rnd,
             rgb: PortionConfig::initial(ComponentUsage::Rgb),
             alpha: PortionConfig::initial(ComponentUsage::Alpha),
+            bias_constant: BiasConstant::ExactHalf,
+            mux_select: MuxSelect::Msb,
+            ab_blue_to_alpha: false,
+            cd_blue_to_alpha: false,
+            stage_constants: None,
+        }
+    }
+
+    /// The NV2A's behaviour where it differs from the GeForce 256/2 defaults, on top of
+    /// `self`: the −½ bias is 2^(N−2) codes and the mux tests SPARE0 alpha's low bit.
+    pub fn nv2a(self) -> Self {
+        RegisterCombinerConfig {
+            bias_constant: BiasConstant::HalfCode,
+            mux_select: MuxSelect::Lsb,
+            ..self
         }
     }
 
@@ -524,6 +631,27 @@ impl RegisterCombiner {
         check_range(&f("guard_bits"), cfg.guard_bits as u64, 0, 16)?;
         cfg.rgb.validate(&f("rgb"), false)?;
         cfg.alpha.validate(&f("alpha"), true)?;
+        for (name, on, dst) in [
+            ("ab_blue_to_alpha", cfg.ab_blue_to_alpha, cfg.rgb.ab_output),
+            ("cd_blue_to_alpha", cfg.cd_blue_to_alpha, cfg.rgb.cd_output),
+        ] {
+            let a = &cfg.alpha;
+            if on && dst.is_some() && [a.ab_output, a.cd_output, a.sum_output].contains(&dst) {
+                return Err(ConfigError::invalid(
+                    &f(name),
+                    "the alpha portion writes the same register's alpha (which write wins is undocumented)",
+                ));
+            }
+        }
+        if let Some(k) = cfg.stage_constants {
+            let s = one_code(cfg.internal_bits);
+            if k.iter().flatten().any(|&c| !(0..=s).contains(&(c as i64))) {
+                return Err(ConfigError::invalid(
+                    &f("stage_constants"),
+                    &format!("a constant outside the register codes 0 ..= {s}"),
+                ));
+            }
+        }
         Ok(RegisterCombiner { cfg })
     }
 
@@ -600,7 +728,8 @@ impl RegisterCombiner {
         let g = self.cfg.guard_bits;
         let s = self.one() as i128;
         let b = if portion.bias == Bias::ByNegativeOneHalf {
-            s << g // ½ in units 1/(2W)
+            // ½ in units 1/(2W): S·2^G (ExactHalf) or (S + 1)·2^G (HalfCode).
+            (self.cfg.bias_constant.half_codes(s as i64) as i128) << g
         } else {
             0
         };
@@ -654,9 +783,10 @@ impl RegisterCombiner {
                 None => self.round_product(cd[lane], ctr),
             };
         }
-        // Step 5: the mux reads SPARE0 alpha of the input set: ≥ 0.5 ⇔ c ≥ 2^(N−2).
+        // Step 5: the mux reads SPARE0 alpha of the input set: ≥ 0.5 ⇔ c ≥ 2^(N−2)
+        // (Msb), or its low bit (Lsb).
         let spare0_alpha = sign_extend(file.regs[Register::Spare0.index()][3] as i64, n);
-        let mux_cd = spare0_alpha >= 1i64 << (n - 2);
+        let mux_cd = self.cfg.mux_select.selects_cd(spare0_alpha, n);
         let mut out = [[0i32; 4]; 3];
         for lane in lanes {
             let sum = if p.mux_sum {
@@ -687,8 +817,32 @@ impl RegisterCombiner {
         for r in next.regs.iter_mut().flatten() {
             *r = sign_extend(*r as i64, n) as i32; // the N-bit register wires
         }
+        // NV2A per-stage constants replace the set's CONSTANT_COLOR0/1 for this stage's
+        // reads (the output set passes the input's on).
+        let staged;
+        let file = match self.cfg.stage_constants {
+            Some([c0, c1]) => {
+                staged = {
+                    let mut f = *file;
+                    f.set(Register::ConstantColor0, c0);
+                    f.set(Register::ConstantColor1, c1);
+                    f
+                };
+                &staged
+            }
+            None => file,
+        };
         let rgb = self.portion_outputs(file, &self.cfg.rgb, 0..3, ctr);
         let alpha = self.portion_outputs(file, &self.cfg.alpha, 3..4, ctr);
+        // NV2A blue-to-alpha: out1/out2's blue lane also to its register's alpha.
+        for (on, dst, vals) in [
+            (self.cfg.ab_blue_to_alpha, self.cfg.rgb.ab_output, rgb[0]),
+            (self.cfg.cd_blue_to_alpha, self.cfg.rgb.cd_output, rgb[1]),
+        ] {
+            if let (true, Some(r)) = (on, dst) {
+                next.regs[r.index()][3] = vals[2];
+            }
+        }
         for (p, outs, lanes) in [(&self.cfg.rgb, rgb, 0..3), (&self.cfg.alpha, alpha, 3..4)] {
             for (dst, vals) in [p.ab_output, p.cd_output, p.sum_output].iter().zip(outs) {
                 if let Some(r) = dst {
@@ -735,7 +889,7 @@ impl Unit for RegisterCombiner {
         };
         // 16 variable lanes: 12 RGB (4 variables × 3) and 4 alpha.
         let lanes = 16.0;
-        Cost::default()
+        let mut cost = Cost::default()
             .part("input register set", prim::register(file_bits))
             .part(
                 "variable select: register 12:1 × component (16 lanes)",
@@ -782,7 +936,20 @@ impl Unit for RegisterCombiner {
                 "write-back: 8 writable registers × 4 components, 4:1",
                 prim::mux_k(n, 4) * 32.0,
             )
-            .part("output register set", prim::register(file_bits))
+            .part("output register set", prim::register(file_bits));
+        if self.cfg.stage_constants.is_some() {
+            cost = cost.part(
+                "per-stage CONSTANT_COLOR0/1 registers (NV2A)",
+                prim::register(8 * n),
+            );
+        }
+        if self.cfg.ab_blue_to_alpha || self.cfg.cd_blue_to_alpha {
+            cost = cost.part(
+                "blue-to-alpha write-back selects (NV2A, 8 alphas)",
+                prim::mux(n) * 8.0,
+            );
+        }
+        cost
     }
 
     fn widths(&self) -> Vec<Width> {

@@ -12,6 +12,9 @@
 //          12 E_TIMES_F, 13 SPARE0_PLUS_SECONDARY_COLOR
 //   V_MAP  0 UNSIGNED_IDENTITY (max(0, x)), 1 UNSIGNED_INVERT (S - min(max(0, x), S))
 //   V_USE  0 RGB, 1 ALPHA, 2 BLUE
+// NV2A modes (0 = the GeForce default): INVERT_R0 / INVERT_V1 put SPARE0 / SECONDARY
+// under UNSIGNED_INVERT in the colour sum; FINAL_CONST 1 reads C0_R .. C1_A (codes) as
+// CONSTANT_COLOR0/1 instead of the set's.
 // Latency 3, II 1: stage 1 the variables, stage 2 the clamped sums, stage 3 the codes.
 module final_combiner #(
     parameter N = 9,
@@ -24,7 +27,10 @@ module final_combiner #(
     parameter D_IN = 0, parameter D_MAP = 0, parameter D_USE = 0,
     parameter E_IN = 0, parameter E_MAP = 0, parameter E_USE = 0,
     parameter F_IN = 0, parameter F_MAP = 0, parameter F_USE = 0,
-    parameter G_IN = 6, parameter G_MAP = 0, parameter G_USE = 1
+    parameter G_IN = 6, parameter G_MAP = 0, parameter G_USE = 1,
+    parameter INVERT_R0 = 0, parameter INVERT_V1 = 0, parameter FINAL_CONST = 0,
+    parameter C0_R = 0, parameter C0_G = 0, parameter C0_B = 0, parameter C0_A = 0,
+    parameter C1_R = 0, parameter C1_G = 0, parameter C1_B = 0, parameter C1_A = 0
 ) (
     input clk,
     input rst,
@@ -110,6 +116,16 @@ module final_combiner #(
       out_valid <= v2;
     end
     fl = `COMBINER_REGISTER_FILE;
+    if (FINAL_CONST) begin
+      fl[43*N+:N] = C0_R;
+      fl[42*N+:N] = C0_G;
+      fl[41*N+:N] = C0_B;
+      fl[40*N+:N] = C0_A;
+      fl[39*N+:N] = C1_R;
+      fl[38*N+:N] = C1_G;
+      fl[37*N+:N] = C1_B;
+      fl[36*N+:N] = C1_A;
+    end
     // Stage 1: the variables A .. D of each RGB lane, G in lane 3's A.
     for (l = 0; l < 3; l = l + 1) begin
       if (EF) begin
@@ -120,6 +136,8 @@ module final_combiner #(
       if (CS) begin
         `FC_COMP(te, 6, l)
         `FC_COMP(tv, 5, l)
+        if (INVERT_R0) te = te > S ? 0 : S - te;
+        if (INVERT_V1) tv = tv > S ? 0 : S - tv;
         sum = te + tv;  // u(N)
         if (COLOR_SUM_CLAMP && sum > S) sum = S;
       end

@@ -12,6 +12,11 @@
 //   P_AB_OUT, P_CD_OUT, P_SUM_OUT  a register 0 .. 11, 15 DISCARD
 //   P_SCALE 0 NONE 1 x2 2 x4 3 x1/2; P_BIAS 1 BIAS_BY_NEGATIVE_ONE_HALF;
 //   P_AB_DOT, P_CD_DOT (RGB only), P_MUX_SUM
+// NV2A modes (0 = the GeForce default): BIAS_HALF_CODE 1 makes the -1/2 bias 2^(N-2)
+// codes ((S+1)/2) instead of S/2; MUX_LSB 1 tests SPARE0 alpha's low bit instead of
+// >= 0.5; AB_BLUE_TO_ALPHA / CD_BLUE_TO_ALPHA also write the RGB portion's out1 / out2
+// blue to its register's alpha; STAGE_CONST 1 makes the stage read C0_R .. C1_A (codes)
+// as CONSTANT_COLOR0/1 instead of the set's (which pass on).
 // ROUNDING is the model's Quant in declaration order (0 TRN 1 TRN_ZERO 2 RND
 // 3 RND_ZERO 4 RND_INF 5 RND_MIN_INF 6 RND_CONV), for both roundings.
 // Latency 3, II 1: stage 1 the input set, stage 2 the rounded products, stage 3 the
@@ -34,6 +39,11 @@ module register_combiner #(
     parameter ALPHA_AB_OUT = 15, parameter ALPHA_CD_OUT = 15, parameter ALPHA_SUM_OUT = 6,
     parameter ALPHA_SCALE = 0, parameter ALPHA_BIAS = 0,
     parameter ALPHA_AB_DOT = 0, parameter ALPHA_CD_DOT = 0, parameter ALPHA_MUX_SUM = 0,
+    parameter BIAS_HALF_CODE = 0, parameter MUX_LSB = 0,
+    parameter AB_BLUE_TO_ALPHA = 0, parameter CD_BLUE_TO_ALPHA = 0,
+    parameter STAGE_CONST = 0,
+    parameter C0_R = 0, parameter C0_G = 0, parameter C0_B = 0, parameter C0_A = 0,
+    parameter C1_R = 0, parameter C1_G = 0, parameter C1_B = 0, parameter C1_A = 0,
     parameter UNUSED = 0
 ) (
     input clk,
@@ -133,7 +143,7 @@ module register_combiner #(
   // DST = variable (IN, M, CU) on LANE: the register component (ZERO reads 0),
   // sign-extended, then Table 4 in half-LSB units (s(N+2)).
 `define RC_MAPPED(DST, IN, M, CU, LANE) \
-    mx = f1[(47-4*(IN)-((CU) == 1 ? 3 : (CU) == 2 ? 2 : (LANE)))*N+:N]; \
+    mx = fr[(47-4*(IN)-((CU) == 1 ? 3 : (CU) == 2 ? 2 : (LANE)))*N+:N]; \
     mr = (IN) == 0 ? 0 : $signed({{(W - N) {mx[N-1]}}, mx}); \
     mp = mr < 0 ? 0 : mr; \
     case (M) \
@@ -150,11 +160,11 @@ module register_combiner #(
   // Step 6: DST = clamp(round((2x - b) * k / 2^(G+2)), -S, S), x = X at W bits.
 `define RC_OUTV(DST, X, SCALE, BIAS) \
     ox = X; \
-    `RC_RDIV(ov, (2 * ox - ((BIAS) ? (S <<< G) : 0)) * ((SCALE) == 0 ? 2 : (SCALE) == 1 ? 4 : (SCALE) == 2 ? 8 : 1), 1 << (G + 2)) \
+    `RC_RDIV(ov, (2 * ox - ((BIAS) ? ((BIAS_HALF_CODE ? S + 1 : S) <<< G) : 0)) * ((SCALE) == 0 ? 2 : (SCALE) == 1 ? 4 : (SCALE) == 2 ? 8 : 1), 1 << (G + 2)) \
     DST = ov > S ? S : ov < -S ? -S : ov;
 
   reg v1, v2;
-  reg [48*N-1:0] f1, f2, f3, fo;
+  reg [48*N-1:0] f1, f2, f3, fo, fr;
   // Stage 2's rounded products: lane l's q_ab at [l*W +: W] (lanes 0..2 RGB, 3 alpha).
   reg [4*W-1:0] qab, qcd;
   reg mux_cd;
@@ -178,7 +188,19 @@ module register_combiner #(
     // Stage 1: the input set.
     f1 <= `COMBINER_REGISTER_FILE;
     // Stage 2: products (s(2N+2)), dot products (s(2N+3)), each rounded once:
-    // round(p * 2^G / (4S)).
+    // round(p * 2^G / (4S)). The variables read fr: the input set with the stage's
+    // own constants when STAGE_CONST.
+    fr = f1;
+    if (STAGE_CONST) begin
+      fr[43*N+:N] = C0_R;
+      fr[42*N+:N] = C0_G;
+      fr[41*N+:N] = C0_B;
+      fr[40*N+:N] = C0_A;
+      fr[39*N+:N] = C1_R;
+      fr[38*N+:N] = C1_G;
+      fr[37*N+:N] = C1_B;
+      fr[36*N+:N] = C1_A;
+    end
     for (l = 0; l < 3; l = l + 1) begin
       `RC_MAPPED(va, RGB_A_IN, RGB_A_MAP, RGB_A_USE, l)
       `RC_MAPPED(vb, RGB_B_IN, RGB_B_MAP, RGB_B_USE, l)
@@ -213,8 +235,9 @@ module register_combiner #(
     qab[3*W+:W] <= q;
     `RC_RDIV(q, cd[3] <<< G, 4 * S)
     qcd[3*W+:W] <= q;
-    // SPARE0 alpha of the input set >= 0.5: c >= 2^(N-2) (non-negative).
-    mux_cd <= !f1[(47-4*6-3)*N+N-1] && f1[(47-4*6-3)*N+N-2];
+    // SPARE0 alpha of the input set >= 0.5: c >= 2^(N-2) (non-negative); or, MUX_LSB,
+    // its low bit.
+    mux_cd <= MUX_LSB ? f1[(47-4*6-3)*N] : !f1[(47-4*6-3)*N+N-1] && f1[(47-4*6-3)*N+N-2];
     f2 <= f1;
     // Stage 3: outputs written into the set (RGB lanes 0..2, alpha lane 3).
     f3 = f2;
@@ -249,6 +272,15 @@ module register_combiner #(
           f3[(47-4*ALPHA_SUM_OUT-3)*N+:N] = x;
         end
       end
+    end
+    // NV2A blue-to-alpha: out1 / out2's blue lane to its register's alpha.
+    if (AB_BLUE_TO_ALPHA && RGB_AB_OUT != 15) begin
+      `RC_OUTV(x, qab[2*W+:W], RGB_SCALE, RGB_BIAS)
+      f3[(47-4*RGB_AB_OUT-3)*N+:N] = x;
+    end
+    if (CD_BLUE_TO_ALPHA && RGB_CD_OUT != 15) begin
+      `RC_OUTV(x, qcd[2*W+:W], RGB_SCALE, RGB_BIAS)
+      f3[(47-4*RGB_CD_OUT-3)*N+:N] = x;
     end
     fo <= f3;
   end

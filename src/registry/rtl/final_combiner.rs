@@ -10,7 +10,8 @@ use rtl_model::units::register_combiner::{ComponentUsage, Mapping, Register, Reg
 
 /// The GeForce default (the fog blend A = fog alpha, B = SPARE0 + SECONDARY, C = fog,
 /// G = SPARE0 alpha; N 9, out 8, RND), and a narrow one (N 4, out 3, RND_CONV, colour
-/// sum clamped) reading E_TIMES_F, both inverting mappings and BLUE on G.
+/// sum clamped) reading E_TIMES_F, both inverting mappings and BLUE on G, in the NV2A
+/// modes (both add-invert flags, the final combiner's own constants read by F).
 fn config(config: RtlConfig) -> FinalCombinerConfig {
     match config {
         RtlConfig::Default => FinalCombinerConfig::geforce(),
@@ -28,8 +29,12 @@ fn config(config: RtlConfig) -> FinalCombinerConfig {
                 c: FinalVariable::new(FinalInput::Spare0PlusSecondaryColor, Inv, Rgb),
                 d: reg(Register::PrimaryColor, Id, Alpha),
                 e: reg(Register::Texture1, Id, Rgb),
-                f: reg(Register::SecondaryColor, Inv, Alpha),
+                f: reg(Register::ConstantColor1, Inv, Alpha),
                 g: reg(Register::Texture2, Inv, Blue),
+                // The NV2A modes (the default configuration keeps the GeForce's).
+                specular_add_invert_r0: true,
+                specular_add_invert_v1: true,
+                constants: Some([[3, 7, 0, 5], [6, 1, 4, 2]]),
             }
         }
     }
@@ -41,7 +46,17 @@ fn params(c: &FinalCombinerConfig) -> VerilogParams {
         ("OUT_BITS", c.out_bits as u64),
         ("ROUNDING", super::quant_code(c.rounding)),
         ("COLOR_SUM_CLAMP", u64::from(c.color_sum_clamp)),
+        ("INVERT_R0", u64::from(c.specular_add_invert_r0)),
+        ("INVERT_V1", u64::from(c.specular_add_invert_v1)),
+        ("FINAL_CONST", u64::from(c.constants.is_some())),
     ];
+    const NAMES: [&str; 8] = [
+        "C0_R", "C0_G", "C0_B", "C0_A", "C1_R", "C1_G", "C1_B", "C1_A",
+    ];
+    let k = c.constants.unwrap_or_default();
+    for (name, v) in NAMES.into_iter().zip(k.iter().flatten()) {
+        p.push((name, *v as u64));
+    }
     let vars: [(&'static str, &'static str, &'static str, FinalVariable); 7] = [
         ("A_IN", "A_MAP", "A_USE", c.a),
         ("B_IN", "B_MAP", "B_USE", c.b),

@@ -6,13 +6,14 @@
 use super::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::fixed_point::Quant;
 use rtl_model::units::register_combiner::{
-    Bias, ComponentUsage, Mapping, PortionConfig, Register, RegisterCombinerConfig, RegisterFile,
-    Scale, VariableInput, REGISTER_COUNT,
+    Bias, BiasConstant, ComponentUsage, Mapping, MuxSelect, PortionConfig, Register,
+    RegisterCombinerConfig, RegisterFile, Scale, VariableInput, REGISTER_COUNT,
 };
 
 /// The GeForce default (Table 5's initial state: A·B with B = 1 to SPARE0, N 9, G 0,
 /// RND) and a narrow one (N 4, G 2, RND_CONV) with an RGB dot product, every
-/// mapping, the −½ bias with ×2, and the alpha portion's mux at ×½.
+/// mapping, the −½ bias with ×2, and the alpha portion's mux at ×½, in the NV2A modes
+/// (the half-code bias, the LSB mux, both blue-to-alpha writes, per-stage constants).
 fn config(config: RtlConfig) -> RegisterCombinerConfig {
     match config {
         RtlConfig::Default => RegisterCombinerConfig::geforce(),
@@ -31,7 +32,7 @@ fn config(config: RtlConfig) -> RegisterCombinerConfig {
                     c: v(Register::PrimaryColor, HalfBiasNegate, Alpha),
                     d: v(Register::Spare1, SignedNegate, Rgb),
                     ab_output: Some(Register::Spare1),
-                    cd_output: None,
+                    cd_output: Some(Register::Texture0),
                     sum_output: Some(Register::Spare0),
                     scale: Scale::ByTwo,
                     bias: Bias::ByNegativeOneHalf,
@@ -53,6 +54,12 @@ fn config(config: RtlConfig) -> RegisterCombinerConfig {
                     cd_dot_product: false,
                     mux_sum: true,
                 },
+                // The NV2A modes (the default configuration keeps the GeForce's).
+                bias_constant: BiasConstant::HalfCode,
+                mux_select: MuxSelect::Lsb,
+                ab_blue_to_alpha: true,
+                cd_blue_to_alpha: true,
+                stage_constants: Some([[7, 0, 5, 3], [1, 6, 2, 4]]),
             }
         }
     }
@@ -139,6 +146,21 @@ fn params(c: &RegisterCombinerConfig) -> VerilogParams {
     ];
     portion_params("RGB", &c.rgb, &mut p);
     portion_params("ALPHA", &c.alpha, &mut p);
+    p.push((
+        "BIAS_HALF_CODE",
+        u64::from(c.bias_constant == BiasConstant::HalfCode),
+    ));
+    p.push(("MUX_LSB", u64::from(c.mux_select == MuxSelect::Lsb)));
+    p.push(("AB_BLUE_TO_ALPHA", u64::from(c.ab_blue_to_alpha)));
+    p.push(("CD_BLUE_TO_ALPHA", u64::from(c.cd_blue_to_alpha)));
+    p.push(("STAGE_CONST", u64::from(c.stage_constants.is_some())));
+    const NAMES: [&str; 8] = [
+        "C0_R", "C0_G", "C0_B", "C0_A", "C1_R", "C1_G", "C1_B", "C1_A",
+    ];
+    let k = c.stage_constants.unwrap_or_default();
+    for (name, v) in NAMES.into_iter().zip(k.iter().flatten()) {
+        p.push((name, *v as u64));
+    }
     p
 }
 
