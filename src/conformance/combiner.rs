@@ -1,7 +1,8 @@
 //! The `Combiner` suite: nxdk_pgraph_tests' src/tests/combiner_tests.cpp on the NV2A,
 //! predicted through the `register_combiner` and `final_combiner` units (and, where a
-//! half-quad is alpha-blended over the background, the `texture_combiner` unit's
-//! INTERPOLATE, the same lerp as the ROP's SRC_ALPHA / ONE_MINUS_SRC_ALPHA blend).
+//! half-quad is alpha-blended over the background, the `blend` unit: SRC_ALPHA,
+//! ONE_MINUS_SRC_ALPHA, ADD with the hardware's one rounding, in both chips' modes:
+//! this suite is about the combiners).
 //!
 //! How the test programs map onto the units (read from the test source; names are the
 //! NV2A's, the units' are GL_NV_register_combiners'):
@@ -38,15 +39,13 @@
 //! that differ.
 
 use super::{Case, Chip, Prediction, Rect, Region, Suite};
+use rtl_model::units::blend::{Blend, BlendEquation, BlendFactor};
 use rtl_model::units::final_combiner::{
     FinalCombiner, FinalCombinerConfig, FinalInput, FinalVariable,
 };
 use rtl_model::units::register_combiner::{
     unbound_texture, Bias, BiasConstant, ComponentUsage, FragmentInputs, Mapping, MuxSelect,
     PortionConfig, Register, RegisterCombiner, RegisterCombinerConfig, Scale, VariableInput,
-};
-use rtl_model::units::texture_combiner::{
-    CombineFunction, CombinerRounding, OperandRgb, TextureCombinerConfig, TextureCombinerIn,
 };
 use rtl_model::{Counters, Quant, Unit};
 
@@ -279,30 +278,15 @@ fn rgb(c: [u32; 4]) -> [u8; 3] {
     [c[0] as u8, c[1] as u8, c[2] as u8]
 }
 
-/// src over dst with SRC_ALPHA, ONE_MINUS_SRC_ALPHA: the texture combiner's
-/// INTERPOLATE (Arg0 = src, Arg1 = dst, Arg2 = src alpha; one rounding, half up).
+/// src over dst with SRC_ALPHA, ONE_MINUS_SRC_ALPHA, ADD through the `blend` unit (one
+/// rounding, as the NV2A blends).
 fn blend_over(src: [u32; 4], dst: [u32; 3]) -> [u8; 3] {
-    let cfg = TextureCombinerConfig {
-        operand_rgb: [
-            OperandRgb::SrcColor,
-            OperandRgb::SrcColor,
-            OperandRgb::SrcAlpha,
-        ],
-        ..TextureCombinerConfig::with_functions(
-            8,
-            CombineFunction::Interpolate,
-            CombineFunction::Interpolate,
-            CombinerRounding::GeforceInteger,
-        )
-    };
-    let unit = cfg.build().expect("a valid INTERPOLATE stage");
-    let input = TextureCombinerIn {
-        texture: src,
-        constant: [dst[0], dst[1], dst[2], 255],
-        primary_color: src,
-        previous: [0; 4],
-    };
-    rgb(unit.kernel(&mut (), &input, &mut Counters::default()))
+    let unit = Blend::with(
+        BlendEquation::Add,
+        BlendFactor::SrcAlpha,
+        BlendFactor::OneMinusSrcAlpha,
+    );
+    rgb(unit.blend_pixel(&src, &[dst[0], dst[1], dst[2], 255]).0)
 }
 
 fn flat(name: &str, feature: &str, rect: Rect, c: [u8; 3]) -> Region {
