@@ -81,7 +81,15 @@ fn extract_and_run_count_exact_off_by_one_and_worse() {
         assert_eq!(r.pixels, cap.region(r.rect, &r.name).unwrap());
     }
     let diff_dir = dir.join("diff");
-    let rep = run_suite(&SYNTHETIC, Chip::Nv2a, Some(&dir), Some(&diff_dir), false).unwrap();
+    let rep = run_suite(
+        &SYNTHETIC,
+        Chip::Nv2a,
+        Some(&dir),
+        Some(&diff_dir),
+        false,
+        None,
+    )
+    .unwrap();
     assert_eq!(rep.images, 1);
     assert_eq!(rep.tally.regions, 4);
     assert_eq!(rep.tally.compared, 36 + 8 + 2 + 1);
@@ -136,7 +144,7 @@ fn committed_reports() -> Vec<SuiteReport> {
     suites()
         .iter()
         .map(|s| {
-            run_suite(s, Chip::Nv2a, None, None, false)
+            run_suite(s, Chip::Nv2a, None, None, false, None)
                 .unwrap_or_else(|e| panic!("{}: {e}", s.name))
         })
         .collect()

@@ -570,11 +570,13 @@ mod tests {
     /// images (measured: the screen pass rounds the same both ways there).
     #[test]
     fn nv2a_modes_match_the_hardware_and_per_term_rounding_does_not() {
-        let nv2a = super::super::run::run_suite(&SUITE, Chip::Nv2a, None, None, false).unwrap();
+        let nv2a =
+            super::super::run::run_suite(&SUITE, Chip::Nv2a, None, None, false, None).unwrap();
         assert_eq!(nv2a.images, 1673);
         assert!(nv2a.tally.compared > 5_000_000);
         assert_eq!(nv2a.tally.exact, nv2a.tally.compared, "{:?}", nv2a.worst);
-        let gf2 = super::super::run::run_suite(&SUITE, Chip::GeForce2, None, None, false).unwrap();
+        let gf2 =
+            super::super::run::run_suite(&SUITE, Chip::GeForce2, None, None, false, None).unwrap();
         assert_eq!(gf2.tally.compared, nv2a.tally.compared);
         assert!(gf2.tally.off1 > 0 && gf2.tally.exact < gf2.tally.compared);
         let feature = |f: &str| {

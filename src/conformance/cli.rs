@@ -51,6 +51,10 @@ pub enum ConformanceCommand {
         /// pixel off.
         #[arg(long, requires = "golden")]
         all_images: bool,
+        /// Only the case of this image (a file name of the suite, e.g. CombinerOps.png);
+        /// needs --suite.
+        #[arg(long, value_name = "IMAGE", requires = "suite")]
+        case: Option<String>,
         /// Also rewrite the figures block of this page (docs/conformance.md, between
         /// its `conformance:begin` and `conformance:end` markers) from this run.
         #[arg(long, value_name = "PATH")]
@@ -144,10 +148,14 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
             out,
             json,
             all_images,
+            case,
             doc,
         } => {
             let chosen = chosen(suite.as_deref())?;
             let chip = parse_chip(&chip)?;
+            if doc.is_some() && case.is_some() {
+                return Err("--doc: the figures are of whole suites; drop --case".into());
+            }
             if let Some(d) = &doc {
                 doc_block_bounds(&read_doc(d)?)
                     .map_err(|e| format!("--doc: {}: {e}", d.display()))?;
@@ -164,6 +172,7 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
                     golden.as_deref(),
                     golden.as_ref().map(|_| out.as_path()),
                     all_images,
+                    case.as_deref(),
                 )?);
             }
             if let Some(d) = &doc {

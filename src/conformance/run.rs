@@ -164,15 +164,30 @@ fn hardware_pixels(
 
 /// Runs `suite` in `chip`'s modes against the committed values, or against the
 /// captures in `golden` (then difference images of every image with a pixel off, or
-/// of every image with `all_images`, go to `diff_dir`, if given).
+/// of every image with `all_images`, go to `diff_dir`, if given). With `only_case`, only
+/// the case of that image (file name, `.png` optional); an unknown name is refused.
 pub fn run_suite(
     suite: &Suite,
     chip: Chip,
     golden: Option<&Path>,
     diff_dir: Option<&Path>,
     all_images: bool,
+    only_case: Option<&str>,
 ) -> Result<SuiteReport, String> {
-    let cases = (suite.cases)(chip);
+    let mut cases = (suite.cases)(chip);
+    // The halves are positions among all of the suite's images, with or without --case.
+    let mut names: Vec<String> = cases.iter().map(|c| c.image.clone()).collect();
+    names.sort_unstable();
+    if let Some(name) = only_case {
+        let want = format!("{}.png", name.trim_end_matches(".png"));
+        cases.retain(|c| c.image == want);
+        if cases.is_empty() {
+            return Err(format!(
+                "--case: {name} is not an image of suite {}",
+                suite.name
+            ));
+        }
+    }
     let committed;
     let source = match golden {
         Some(dir) => Source::Captures(dir),
@@ -185,11 +200,9 @@ pub fn run_suite(
     let mut features: BTreeMap<String, Tally> = BTreeMap::new();
     let mut worst: Option<Worst> = None;
     let mut diffs = Vec::new();
-    let mut names: Vec<&str> = cases.iter().map(|c| c.image.as_str()).collect();
-    names.sort_unstable();
     let mut halves = [Tally::default(), Tally::default()];
     for case in &cases {
-        let half = names.binary_search(&case.image.as_str()).unwrap_or(0) % 2;
+        let half = names.binary_search(&case.image).unwrap_or(0) % 2;
         let (hw, capture) = hardware_pixels(suite, case, &source)?;
         let mut case_off = false;
         for (r, px) in case.regions.iter().zip(&hw) {
