@@ -40,6 +40,7 @@ pub(super) fn shadow_compare_vectors(
             depth_bits: 3,
             bias: 1,
             frag_frac_bits: 1,
+            ..ShadowCompareConfig::geforce()
         },
     };
     let u = cfg.build().map_err(|e| e.to_string())?;
