@@ -206,6 +206,14 @@ pub enum Command {
         #[command(flatten)]
         args: SweepArgs,
     },
+    /// The model against captures of real GeForce3-class silicon (the original Xbox's
+    /// NV2A, github.com/abaire/nxdk_pgraph_tests_golden_results): each hardware test
+    /// described as regions the model's units predict, compared pixel by pixel
+    /// (docs/conformance.md).
+    Conformance {
+        #[command(subcommand)]
+        cmd: crate::conformance::cli::ConformanceCommand,
+    },
     /// Write every RAM/ROM table as $readmemh hex plus a manifest.
     Tables {
         /// Output directory.
@@ -414,6 +422,7 @@ impl Command {
             Command::Sweep { merge: Some(_), .. } => "sweep merge".into(),
             Command::Sweep { args, .. } => with_scene("sweep", args.scene.as_deref()),
             Command::Tables { .. } => "tables".into(),
+            Command::Conformance { cmd } => cmd.label(),
             Command::EnvmapDump { scene, .. } => with_scene("envmap-dump", Some(scene)),
             Command::Trace { unit, .. } => format!("trace {unit}"),
         }
@@ -485,6 +494,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             sweep_merge(&out, &dirs)
         }
         Command::Sweep { merge: None, args } => sweep(args),
+        Command::Conformance { cmd } => crate::conformance::cli::conformance_cli(cmd),
         Command::Tables { dir } => {
             check_dir_out("dir", &dir)?;
             let t = registry::tables();

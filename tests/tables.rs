@@ -22,10 +22,12 @@ fn committed_tables_match_regeneration() {
             path.display()
         );
     }
-    // No stale files either.
+    // No stale files either (folders such as tables/conformance/ have their own tests).
     let mut listed: Vec<String> = std::fs::read_dir(&dir)
         .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .map(|e| e.unwrap())
+        .filter(|e| e.file_type().unwrap().is_file())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
         .collect();
     listed.sort();
     let mut want: Vec<String> = files.iter().map(|(n, _)| n.clone()).collect();

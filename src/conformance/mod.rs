@@ -11,7 +11,9 @@
 //! `conformance run` compares the predictions with those, or with the full images.
 
 pub mod blend;
+pub mod cli;
 pub mod combiner;
+pub mod run;
 pub mod shadow;
 pub mod specular;
 pub mod store;

@@ -37,12 +37,10 @@ pub struct Expected {
     pub images: BTreeMap<String, Vec<ExpectedRegion>>,
 }
 
-/// Where a suite's expected values live in the repository.
-pub fn table_path(suite: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tables")
-        .join("conformance")
-        .join(format!("{suite}.txt"))
+/// Where `conformance extract` writes a suite's expected values under `dir`
+/// (`tables/conformance` in the repository by default).
+pub fn table_path(dir: &Path, suite: &str) -> PathBuf {
+    dir.join(format!("{suite}.txt"))
 }
 
 /// The capture `image` of `suite` in a checkout of the captures' repository (`dir` is
@@ -214,16 +212,25 @@ pub fn parse(text: &str) -> Result<Expected, String> {
     Ok(exp)
 }
 
+/// The committed table of `suite`, built into the program (so `conformance run` works
+/// from any directory).
+pub fn committed_text(suite: &str) -> Option<&'static str> {
+    Some(match suite {
+        "Combiner" => include_str!("../../tables/conformance/Combiner.txt"),
+        "Blend_tests" => include_str!("../../tables/conformance/Blend_tests.txt"),
+        "Texture_shadow_comparator" => {
+            include_str!("../../tables/conformance/Texture_shadow_comparator.txt")
+        }
+        "Specular" => include_str!("../../tables/conformance/Specular.txt"),
+        _ => return None,
+    })
+}
+
 /// A suite's committed expected values.
 pub fn load(suite: &str) -> Result<Expected, String> {
-    let path = table_path(suite);
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        format!(
-            "{}: {e} (write it with `conformance extract --golden DIR --suite {suite}`)",
-            path.display()
-        )
-    })?;
-    parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    let text =
+        committed_text(suite).ok_or_else(|| format!("no committed table for suite {suite}"))?;
+    parse(text).map_err(|e| format!("tables/conformance/{suite}.txt: {e}"))
 }
 
 #[cfg(test)]

@@ -1,0 +1,283 @@
+//! The `conformance` command: `extract` and `run` (module notes in `conformance`).
+
+use super::run::{chip_name, run_suite, SuiteReport};
+use super::store::{extract, table_path};
+use super::{suites, Chip, Suite};
+use crate::report::table::text_table;
+use clap::Subcommand;
+use std::path::{Path, PathBuf};
+
+#[derive(Subcommand, Debug)]
+pub enum ConformanceCommand {
+    /// Read a checkout of the hardware captures
+    /// (github.com/abaire/nxdk_pgraph_tests_golden_results) and write each suite's
+    /// compact expected values (the captures' pixels inside every compared region,
+    /// run-length encoded, with provenance) to DIR/<suite>.txt.
+    Extract {
+        /// The checkout (or its results/ folder).
+        #[arg(long, value_name = "DIR")]
+        golden: PathBuf,
+        /// Only this suite (Combiner, Blend_tests, Texture_shadow_comparator, Specular).
+        #[arg(long)]
+        suite: Option<String>,
+        /// Where the tables go (the program reads them from the repository's
+        /// tables/conformance when it is built).
+        #[arg(long, value_name = "DIR", default_value = "tables/conformance")]
+        dir: PathBuf,
+    },
+    /// Predict every region of every hardware test through the model's units and
+    /// compare with the hardware: per suite, images, pixels compared, exact, off by
+    /// one level, worse, the worst region and the mismatch classes (features with
+    /// pixels not exact). Against the committed values, or against the full captures
+    /// of a checkout (then DIR/<suite>/<image>.diff.png shows hardware, model and
+    /// difference for every image with a pixel off).
+    Run {
+        /// A checkout of the captures to compare against instead of the committed values.
+        #[arg(long, value_name = "DIR")]
+        golden: Option<PathBuf>,
+        /// Only this suite.
+        #[arg(long)]
+        suite: Option<String>,
+        /// The units' modes: nv2a (the captures' chip) or geforce2 (the project's defaults).
+        #[arg(long, default_value = "nv2a")]
+        chip: String,
+        /// Where difference images go (with --golden).
+        #[arg(long, value_name = "DIR", default_value = "out/conformance")]
+        out: PathBuf,
+        /// JSON (one object per suite) instead of tables.
+        #[arg(long)]
+        json: bool,
+        /// With --golden: a difference image for every image, not only those with a
+        /// pixel off.
+        #[arg(long, requires = "golden")]
+        all_images: bool,
+    },
+}
+
+impl ConformanceCommand {
+    pub fn label(&self) -> String {
+        match self {
+            ConformanceCommand::Extract { suite, .. } => with_suite("conformance extract", suite),
+            ConformanceCommand::Run { suite, .. } => with_suite("conformance run", suite),
+        }
+    }
+}
+
+fn with_suite(cmd: &str, suite: &Option<String>) -> String {
+    match suite {
+        Some(s) => format!("{cmd} --suite {s}"),
+        None => cmd.to_string(),
+    }
+}
+
+/// The suites a `--suite` names (all without it); an unknown name is refused with the
+/// known ones.
+fn chosen(suite: Option<&str>) -> Result<Vec<&'static Suite>, String> {
+    let all = suites();
+    match suite {
+        None => Ok(all.to_vec()),
+        Some(name) => all
+            .iter()
+            .find(|s| s.name.eq_ignore_ascii_case(name))
+            .map(|s| vec![*s])
+            .ok_or_else(|| {
+                let known: Vec<&str> = all.iter().map(|s| s.name).collect();
+                format!(
+                    "--suite: unknown suite '{name}' (known: {})",
+                    known.join(", ")
+                )
+            }),
+    }
+}
+
+fn parse_chip(s: &str) -> Result<Chip, String> {
+    match s.to_ascii_lowercase().as_str() {
+        "nv2a" => Ok(Chip::Nv2a),
+        "geforce2" => Ok(Chip::GeForce2),
+        _ => Err(format!(
+            "--chip: unknown chip '{s}' (known: nv2a, geforce2)"
+        )),
+    }
+}
+
+fn check_golden(dir: &Path) -> Result<(), String> {
+    if !dir.is_dir() {
+        return Err(format!(
+            "--golden: {} is not a directory (a checkout of github.com/abaire/nxdk_pgraph_tests_golden_results)",
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
+pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
+    match cmd {
+        ConformanceCommand::Extract { golden, suite, dir } => {
+            let chosen = chosen(suite.as_deref())?;
+            check_golden(&golden)?;
+            std::fs::create_dir_all(&dir).map_err(|e| format!("--dir: {}: {e}", dir.display()))?;
+            // Every table is read before any is written: a missing capture loses nothing.
+            let mut texts = Vec::new();
+            for s in &chosen {
+                let cases = (s.cases)(Chip::Nv2a);
+                texts.push((s, cases.len(), extract(s, &cases, &golden)?));
+            }
+            for (s, n, text) in texts {
+                let path = table_path(&dir, s.name);
+                std::fs::write(&path, &text).map_err(|e| format!("{}: {e}", path.display()))?;
+                println!(
+                    "wrote {} ({n} images, {} bytes)",
+                    path.display(),
+                    text.len()
+                );
+            }
+            Ok(())
+        }
+        ConformanceCommand::Run {
+            golden,
+            suite,
+            chip,
+            out,
+            json,
+            all_images,
+        } => {
+            let chosen = chosen(suite.as_deref())?;
+            let chip = parse_chip(&chip)?;
+            if let Some(g) = &golden {
+                check_golden(g)?;
+                crate::report::outputs::check_dir_out("--out", &out)?;
+            }
+            let mut reports = Vec::new();
+            for s in chosen {
+                reports.push(run_suite(
+                    s,
+                    chip,
+                    golden.as_deref(),
+                    golden.as_ref().map(|_| out.as_path()),
+                    all_images,
+                )?);
+            }
+            if json {
+                let text = serde_json::to_string_pretty(&reports).map_err(|e| e.to_string())?;
+                println!("{text}");
+            } else {
+                print!("{}", report_text(&reports, chip));
+            }
+            Ok(())
+        }
+    }
+}
+
+fn share(n: u64, d: u64) -> String {
+    if d == 0 {
+        "n/a".into()
+    } else {
+        format!("{:.2} %", 100.0 * n as f64 / d as f64)
+    }
+}
+
+/// The per-suite table, then each suite's mismatch classes and worst region.
+pub fn report_text(reports: &[SuiteReport], chip: Chip) -> String {
+    let header = [
+        "suite",
+        "images",
+        "regions",
+        "pixels",
+        "exact",
+        "off by 1",
+        "worse",
+        "exact share",
+        "max |Δ| (levels)",
+    ];
+    let rows: Vec<Vec<String>> = reports
+        .iter()
+        .map(|r| {
+            let t = &r.tally;
+            if r.images == 0 {
+                let mut row = vec![r.suite.clone(), "0".into()];
+                row.resize(header.len(), "n/a".into());
+                return row;
+            }
+            vec![
+                r.suite.clone(),
+                r.images.to_string(),
+                t.regions.to_string(),
+                t.compared.to_string(),
+                t.exact.to_string(),
+                t.off1.to_string(),
+                t.worse.to_string(),
+                share(t.exact, t.compared),
+                if t.compared == 0 {
+                    "n/a".into()
+                } else {
+                    t.max_levels.to_string()
+                },
+            ]
+        })
+        .collect();
+    let against = reports
+        .first()
+        .map(|r| r.against.as_str())
+        .unwrap_or("committed");
+    let mut s = format!(
+        "Model ({} modes) against NV2A captures ({}):\n",
+        chip_name(chip),
+        if against == "captures" {
+            "the checkout's PNGs"
+        } else {
+            "the committed expected values"
+        }
+    );
+    s += &text_table(&header, &rows);
+    for r in reports {
+        if r.images == 0 {
+            s += &format!("\n{}: no cases described yet.\n", r.suite);
+            continue;
+        }
+        if r.mismatch_classes.is_empty() {
+            s += &format!("\n{}: every compared pixel exact.\n", r.suite);
+            continue;
+        }
+        s += &format!(
+            "\n{} mismatch classes (feature: pixels off by 1 / worse of compared, max |Δ|):\n",
+            r.suite
+        );
+        for f in &r.mismatch_classes {
+            let t = &f.tally;
+            s += &format!(
+                "  {}: {} / {} of {} (max {} levels)\n",
+                f.feature, t.off1, t.worse, t.compared, t.max_levels
+            );
+        }
+        let half = |t: &super::run::Tally| {
+            format!(
+                "{} of {} exact ({})",
+                t.exact,
+                t.compared,
+                share(t.exact, t.compared)
+            )
+        };
+        s += &format!(
+            "  calibration half (even file names): {}; validation half (odd): {}\n",
+            half(&r.calibration_half),
+            half(&r.validation_half)
+        );
+        if let Some(w) = &r.worst {
+            s += &format!(
+                "  worst region: {} {} — {} pixels off, max {} levels (model {}, hardware {})\n",
+                w.image, w.region, w.off_pixels, w.max_levels, w.model, w.hardware
+            );
+        }
+        if !r.difference_images.is_empty() {
+            s += &format!(
+                "  {} difference images under {}\n",
+                r.difference_images.len(),
+                r.difference_images[0]
+                    .rsplit_once('/')
+                    .map(|x| x.0)
+                    .unwrap_or("")
+            );
+        }
+    }
+    s
+}
