@@ -261,7 +261,15 @@ fn every_function_equals_the_twin_on_representable_depths_exhaustively() {
                     for s in 0..=max {
                         let mut st = u.fresh_state();
                         let mut c = Counters::default();
-                        u.kernel(&mut st, &ShadowIn::Write { x: 0, y: 0, depth: s }, &mut c);
+                        u.kernel(
+                            &mut st,
+                            &ShadowIn::Write {
+                                x: 0,
+                                y: 0,
+                                depth: s,
+                            },
+                            &mut c,
+                        );
                         twin.clear();
                         twin.write(0, 0, s as f64 / max as f64);
                         for f in 0..(1u64 << (n + k)) {
@@ -269,7 +277,10 @@ fn every_function_equals_the_twin_on_representable_depths_exhaustively() {
                             let out = u.kernel(&mut st, &t(0), &mut c);
                             // In LSBs: exact in f64.
                             let want = lit_with(tf, f as f64 / unit_k, bias as f64, s as f64);
-                            assert_eq!(out.lit, want, "{func:?} n={n} k={k} bias={bias} s={s} f={f}");
+                            assert_eq!(
+                                out.lit, want,
+                                "{func:?} n={n} k={k} bias={bias} s={s} f={f}"
+                            );
                             assert_eq!(out.stored, s);
                             counts[fi][usize::from(want)] += 1;
                             // The border (x = 1 is off the 1 × 1 map).
@@ -277,11 +288,22 @@ fn every_function_equals_the_twin_on_representable_depths_exhaustively() {
                             let fz = f as f64 / unit_k / max as f64; // in depth units
                             let bz = bias as f64 / max as f64;
                             let bw = twin.test_with(tf, 1, 0, fz, bz);
-                            let exact = lit_with(tf, (f as f64 / unit_k).min(max as f64), bias as f64, max as f64);
-                            assert_eq!(b.lit, exact, "border {func:?} n={n} k={k} bias={bias} f={f}");
+                            let exact = lit_with(
+                                tf,
+                                (f as f64 / unit_k).min(max as f64),
+                                bias as f64,
+                                max as f64,
+                            );
+                            assert_eq!(
+                                b.lit, exact,
+                                "border {func:?} n={n} k={k} bias={bias} f={f}"
+                            );
                             // The twin in depth units agrees but where f64 division rounds
                             // an equality (never for these codes at n ≤ 4: checked).
-                            assert_eq!(bw, exact, "twin border {func:?} n={n} k={k} bias={bias} f={f}");
+                            assert_eq!(
+                                bw, exact,
+                                "twin border {func:?} n={n} k={k} bias={bias} f={f}"
+                            );
                         }
                     }
                 }
@@ -341,7 +363,15 @@ fn load_texel(u: &ShadowCompare, word: u32, twin: Texel) -> u32 {
     let mut st = u.fresh_state();
     let mut c = Counters::default();
     u.kernel(&mut st, &ShadowIn::Clear, &mut c);
-    let o = u.kernel(&mut st, &ShadowIn::Write { x: 1, y: 0, depth: word }, &mut c);
+    let o = u.kernel(
+        &mut st,
+        &ShadowIn::Write {
+            x: 1,
+            y: 0,
+            depth: word,
+        },
+        &mut c,
+    );
     let z = texel_depth(twin, word);
     assert_eq!(
         o.stored as f64,
@@ -366,9 +396,25 @@ fn z16_texels_are_their_word_exhaustively() {
     let mut c = Counters::default();
     for w in [0u32, 1, 0x7ffe, 0x7fff, 0x8000, 0xfffe] {
         eq.kernel(&mut st, &ShadowIn::Clear, &mut c);
-        eq.kernel(&mut st, &ShadowIn::Write { x: 0, y: 0, depth: w }, &mut c);
+        eq.kernel(
+            &mut st,
+            &ShadowIn::Write {
+                x: 0,
+                y: 0,
+                depth: w,
+            },
+            &mut c,
+        );
         for (f, want) in [(w as u64, true), (w as u64 + 1, false)] {
-            let o = eq.kernel(&mut st, &ShadowIn::Test { x: 0, y: 0, depth: f }, &mut c);
+            let o = eq.kernel(
+                &mut st,
+                &ShadowIn::Test {
+                    x: 0,
+                    y: 0,
+                    depth: f,
+                },
+                &mut c,
+            );
             assert_eq!(o.lit, want, "word {w:#x} frag {f:#x}");
         }
     }
@@ -393,9 +439,26 @@ fn z24s8_texels_are_the_word_shifted_right_8() {
             assert_eq!(load_texel(&eq, (d << 8) | s, Texel::Z24S8), d);
             let mut st = eq.fresh_state();
             let mut c = Counters::default();
-            eq.kernel(&mut st, &ShadowIn::Write { x: 0, y: 0, depth: (d << 8) | s }, &mut c);
+            eq.kernel(
+                &mut st,
+                &ShadowIn::Write {
+                    x: 0,
+                    y: 0,
+                    depth: (d << 8) | s,
+                },
+                &mut c,
+            );
             let t = |f: u64, st: &mut _, c: &mut Counters| {
-                eq.kernel(st, &ShadowIn::Test { x: 0, y: 0, depth: f }, c).lit
+                eq.kernel(
+                    st,
+                    &ShadowIn::Test {
+                        x: 0,
+                        y: 0,
+                        depth: f,
+                    },
+                    c,
+                )
+                .lit
             };
             assert!(t(d as u64, &mut st, &mut c), "depth {d:#x} stencil {s:#x}");
             assert!(!t(d as u64 + 1, &mut st, &mut c));
@@ -587,6 +650,28 @@ fn datasheet_numbers_at_defaults() {
     }
     assert_eq!((s.latency, s.ii), (2, 1));
     assert_eq!(s.ram_bits, 512 * 512 * 24);
+    // Any other compare function adds its part (the same for all seven); a texel
+    // format widens only the stage-1 depth register (Z24S8: 32 bits, not 24).
+    let with = |compare, texel| {
+        let cfg = ShadowCompareConfig {
+            compare,
+            texel,
+            ..ShadowCompareConfig::geforce()
+        };
+        UnitSummary::of(&cfg.build().unwrap()).gates_nand2
+    };
+    let extra: Vec<f64> = CompareFunc::ALL
+        .into_iter()
+        .map(|f| with(f, DepthTexel::Unorm) - s.gates_nand2)
+        .collect();
+    println!("  another compare function: +{:.1}", extra[0]);
+    assert_eq!(extra[3], 0.0);
+    for (i, e) in extra.iter().enumerate() {
+        assert!(i == 3 || (*e > 0.0 && *e == extra[0]), "{i}: {e}");
+    }
+    let z24 = with(CompareFunc::Lequal, DepthTexel::Z24S8) - s.gates_nand2;
+    println!("  Z24S8 texels: +{z24:.1}");
+    assert!(z24 > 0.0);
 }
 
 /// A config field drawn from valid and invalid values.

@@ -29,9 +29,7 @@
 use super::{Case, Chip, Prediction, Rect, Region, Suite};
 use rtl_model::units::final_combiner::{FinalCombinerConfig, FinalVariable};
 use rtl_model::units::register_combiner::{ComponentUsage, Register, RegisterFile};
-use rtl_model::units::shadow_compare::{
-    CompareFunc, DepthTexel, ShadowCompareConfig, ShadowIn,
-};
+use rtl_model::units::shadow_compare::{CompareFunc, DepthTexel, ShadowCompareConfig, ShadowIn};
 use rtl_model::{Counters, Unit};
 
 pub const SUITE: Suite = Suite {
@@ -70,12 +68,42 @@ struct Raw {
 
 /// The six configurations per compare function, as the test program lists them.
 const RAWS: [Raw; 6] = [
-    Raw { texel: DepthTexel::Z16, min: 0, max: 0xFFFF, reference: 0x7FFF },
-    Raw { texel: DepthTexel::Z16, min: 0, max: 256, reference: 128 },
-    Raw { texel: DepthTexel::Z16, min: 256, max: 512, reference: 384 },
-    Raw { texel: DepthTexel::Z24S8, min: 0, max: 0xFF_FFFF, reference: 0x7F_FFFF },
-    Raw { texel: DepthTexel::Z24S8, min: 0, max: 256, reference: 128 },
-    Raw { texel: DepthTexel::Z24S8, min: 256, max: 512, reference: 384 },
+    Raw {
+        texel: DepthTexel::Z16,
+        min: 0,
+        max: 0xFFFF,
+        reference: 0x7FFF,
+    },
+    Raw {
+        texel: DepthTexel::Z16,
+        min: 0,
+        max: 256,
+        reference: 128,
+    },
+    Raw {
+        texel: DepthTexel::Z16,
+        min: 256,
+        max: 512,
+        reference: 384,
+    },
+    Raw {
+        texel: DepthTexel::Z24S8,
+        min: 0,
+        max: 0xFF_FFFF,
+        reference: 0x7F_FFFF,
+    },
+    Raw {
+        texel: DepthTexel::Z24S8,
+        min: 0,
+        max: 256,
+        reference: 128,
+    },
+    Raw {
+        texel: DepthTexel::Z24S8,
+        min: 256,
+        max: 512,
+        reference: 384,
+    },
 ];
 
 /// The capture's suffix for a compare function.
@@ -291,7 +319,10 @@ mod tests {
     #[test]
     fn layout_matches_the_test_program() {
         assert_eq!((BOX_W, BOX_H, GRID_LEFT), (42, 32, 5));
-        assert_eq!((EX_W, EX_H, EX_STEP, EX_LEFT, EX_TOP), (21, 64, 63, 141, 230));
+        assert_eq!(
+            (EX_W, EX_H, EX_STEP, EX_LEFT, EX_TOP),
+            (21, 64, 63, 141, 230)
+        );
         let c = cases(Chip::Nv2a);
         assert_eq!(c.len(), 96);
         let mut names: Vec<&str> = c.iter().map(|c| c.image.as_str()).collect();
@@ -304,7 +335,13 @@ mod tests {
             for (i, a) in case.regions.iter().enumerate() {
                 assert!(a.rect.y >= QUAD_TOP && a.rect.y + a.rect.h <= QUAD_TOP + QUAD_H);
                 for b in &case.regions[i + 1..] {
-                    assert!(!overlaps(a.rect, b.rect), "{} {} {}", case.image, a.name, b.name);
+                    assert!(
+                        !overlaps(a.rect, b.rect),
+                        "{} {} {}",
+                        case.image,
+                        a.name,
+                        b.name
+                    );
                 }
             }
         }

@@ -913,8 +913,7 @@ impl Unit for ShadowCompare {
                 prim::comparator(n + k + 1) + prim::mux_k(1, 3) + prim::mux(n + k),
             )
         };
-        c
-        .part(
+        c.part(
             "bias subtractor frag − bias·2^k",
             prim::subtractor(n + k + 1),
         )
