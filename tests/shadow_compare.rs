@@ -11,28 +11,53 @@
 //! (≤ 1 LSB). The only slack is f64 rounding of the products z·(2ⁿ − 1) in the host
 //! helper and in this test: ≤ 4 · 2ⁿ⁻⁵³ LSB, derived from the f64 unit roundoff on
 //! values below 2ⁿ LSB.
+//!
+//! The same band holds for every compare function: the outcome of the one comparator
+//! (less, equal, greater) of D_q can differ from that of D only if |D| ≤ |ε_f − ε_s|,
+//! and each function is a fixed truth table of that outcome. On representable depths
+//! (no quantisation) the unit equals the twin exactly, for every function and texel
+//! format.
 
 mod common;
 
-use glare_pipeline::reference::shadow_compare::{lit as lit_ref, ShadowMapRef};
+use glare_pipeline::reference::shadow_compare::{
+    lit as lit_ref, lit_with, texel_depth, Compare, ShadowMapRef, Texel,
+};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::units::shadow_compare::{
-    ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowOut, MAX_DEPTH_BITS,
+    CompareFunc, DepthTexel, ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowOut,
+    MAX_DEPTH_BITS,
 };
 use rtl_model::{Counters, Unit, UnitSummary};
 
 fn unit(w: u32, h: u32, n: u32, bias: u32, k: u32) -> ShadowCompare {
+    unit_f(w, h, n, bias, k, CompareFunc::Lequal)
+}
+
+/// A unit with compare function `func` (unorm texels).
+fn unit_f(w: u32, h: u32, n: u32, bias: u32, k: u32, func: CompareFunc) -> ShadowCompare {
     ShadowCompareConfig {
         width: w,
         height: h,
         depth_bits: n,
         bias,
         frag_frac_bits: k,
+        compare: func,
+        texel: DepthTexel::Unorm,
     }
     .build()
     .unwrap()
+}
+
+/// The twin's function of the unit's (matched by GL name, not by code).
+fn twin_func(f: CompareFunc) -> Compare {
+    let t = Compare::ALL
+        .into_iter()
+        .find(|c| format!("{c:?}").to_uppercase() == f.name())
+        .unwrap();
+    t
 }
 
 /// A unit whose bias is `bias_raw` folded into its depth range, after `writes`
@@ -41,11 +66,12 @@ fn unit(w: u32, h: u32, n: u32, bias: u32, k: u32) -> ShadowCompare {
 fn unit_after_writes(
     (w, h, n, k): (u32, u32, u32, u32),
     bias_raw: u32,
+    func: u32,
     writes: &[(i32, i32, u32)],
 ) -> (ShadowCompare, <ShadowCompare as Unit>::State, Counters) {
     let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
     let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
-    let u = unit(w, h, n, bias, k);
+    let u = unit_f(w, h, n, bias, k, CompareFunc::ALL[func as usize % 8]);
     let mut st = u.fresh_state();
     let mut c = Counters::default();
     for &(x, y, d) in writes {
@@ -96,11 +122,18 @@ fn run_against_twin(u: &ShadowCompare, ops: &[Op]) -> (u64, f64) {
             Op::Test(x, y, z) => {
                 let depth = u.frag_word(z, &mut host).unwrap();
                 let out = u.kernel(&mut st, &ShadowIn::Test { x, y, depth }, &mut ctr);
-                let want = twin.test(x as i64, y as i64, z, bias_units);
+                let func = twin_func(u.compare());
+                let want = twin.test_with(func, x as i64, y as i64, z, bias_units);
                 match twin.stored(x as i64, y as i64) {
                     None => {
-                        assert!(out.lit, "out-of-map lookup must be lit");
                         assert_eq!(out.stored, u.far());
+                        if out.lit != want {
+                            // The border: the far plane, the fragment clamped to it.
+                            let d = (z.min(1.0) - 1.0) * lsb - u.bias() as f64;
+                            assert!(d.abs() <= band(n, k), "border: |D| = {d} LSB");
+                            dis += 1;
+                            worst = worst.max(d.abs());
+                        }
                     }
                     Some(s) => {
                         let sq = u.depth_word(s, &mut host).unwrap();
@@ -109,8 +142,8 @@ fn run_against_twin(u: &ShadowCompare, ops: &[Op]) -> (u64, f64) {
                             let d = (z - s) * lsb - u.bias() as f64;
                             assert!(
                                 d.abs() <= band(n, k),
-                                "n={n} k={k} bias={}: frag {z} stored {s}: hw {} twin {want}, \
-                                 |D| = {} LSB > band {}",
+                                "{func:?} n={n} k={k} bias={}: frag {z} stored {s}: hw {} \
+                                 twin {want}, |D| = {} LSB > band {}",
                                 u.bias(),
                                 out.lit,
                                 d.abs(),
@@ -208,6 +241,238 @@ fn representable_depths_are_exact_exhaustively() {
         }
     }
     assert!(cases < 1 << 20);
+}
+
+/// Every compare function on representable depths equals the twin exactly: every
+/// (stored, fragment, bias) at n ≤ 4 bits, k ≤ 2 fraction bits, in the map and on the
+/// border (the far plane, the fragment clamped to it).
+#[test]
+fn every_function_equals_the_twin_on_representable_depths_exhaustively() {
+    let mut counts = [[0u64; 2]; 8];
+    for (fi, func) in CompareFunc::ALL.into_iter().enumerate() {
+        let tf = twin_func(func);
+        for n in 1..=4u32 {
+            for k in 0..=2u32 {
+                let max = (1u32 << n) - 1;
+                let unit_k = (1u64 << k) as f64;
+                for bias in 0..=max {
+                    let u = unit_f(1, 1, n, bias, k, func);
+                    let mut twin = ShadowMapRef::new(1, 1);
+                    for s in 0..=max {
+                        let mut st = u.fresh_state();
+                        let mut c = Counters::default();
+                        u.kernel(
+                            &mut st,
+                            &ShadowIn::Write {
+                                x: 0,
+                                y: 0,
+                                depth: s,
+                            },
+                            &mut c,
+                        );
+                        twin.clear();
+                        twin.write(0, 0, s as f64 / max as f64);
+                        for f in 0..(1u64 << (n + k)) {
+                            let t = |x| ShadowIn::Test { x, y: 0, depth: f };
+                            let out = u.kernel(&mut st, &t(0), &mut c);
+                            // In LSBs: exact in f64.
+                            let want = lit_with(tf, f as f64 / unit_k, bias as f64, s as f64);
+                            assert_eq!(
+                                out.lit, want,
+                                "{func:?} n={n} k={k} bias={bias} s={s} f={f}"
+                            );
+                            assert_eq!(out.stored, s);
+                            counts[fi][usize::from(want)] += 1;
+                            // The border (x = 1 is off the 1 × 1 map).
+                            let b = u.kernel(&mut st, &t(1), &mut c);
+                            let fz = f as f64 / unit_k / max as f64; // in depth units
+                            let bz = bias as f64 / max as f64;
+                            let bw = twin.test_with(tf, 1, 0, fz, bz);
+                            let exact = lit_with(
+                                tf,
+                                (f as f64 / unit_k).min(max as f64),
+                                bias as f64,
+                                max as f64,
+                            );
+                            assert_eq!(
+                                b.lit, exact,
+                                "border {func:?} n={n} k={k} bias={bias} f={f}"
+                            );
+                            // The twin in depth units agrees but where f64 division rounds
+                            // an equality (never for these codes at n ≤ 4: checked).
+                            assert_eq!(
+                                bw, exact,
+                                "twin border {func:?} n={n} k={k} bias={bias} f={f}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // NEVER and ALWAYS are constant; every other function sees both outcomes.
+    for (fi, func) in CompareFunc::ALL.into_iter().enumerate() {
+        let [off, on] = counts[fi];
+        match func {
+            CompareFunc::Never => assert_eq!(on, 0),
+            CompareFunc::Always => assert_eq!(off, 0),
+            _ => assert!(off > 0 && on > 0, "{func:?}: {off} unlit, {on} lit"),
+        }
+    }
+    // Complements: LESS/GEQUAL, EQUAL/NOTEQUAL, LEQUAL/GREATER, NEVER/ALWAYS.
+    for (a, b) in [(1, 6), (2, 5), (3, 4), (0, 7)] {
+        assert_eq!(counts[a][0], counts[b][1]);
+        assert_eq!(counts[a][1], counts[b][0]);
+    }
+}
+
+/// The 3-bit code is GL's order (GL_NEVER 0x200 … GL_ALWAYS 0x207, less 0x200) and a
+/// truth table over (less, equal, greater).
+#[test]
+fn function_codes_are_truth_tables() {
+    for (i, f) in CompareFunc::ALL.into_iter().enumerate() {
+        assert_eq!(f.code(), i as u32);
+        assert_eq!(CompareFunc::from_code(i as u32), Some(f));
+        assert_eq!(f.eval(0, 1), i & 1 == 1, "{f:?} less");
+        assert_eq!(f.eval(1, 1), i & 2 == 2, "{f:?} equal");
+        assert_eq!(f.eval(2, 1), i & 4 == 4, "{f:?} greater");
+    }
+    assert_eq!(CompareFunc::from_code(8), None);
+    assert_eq!(CompareFunc::default(), CompareFunc::Lequal);
+    assert_eq!(DepthTexel::default(), DepthTexel::Unorm);
+}
+
+/// A texel format's unit, 2 × 1 texels, LEQUAL unless given.
+fn texel_unit(texel: DepthTexel, func: CompareFunc) -> ShadowCompare {
+    ShadowCompareConfig {
+        width: 2,
+        height: 1,
+        depth_bits: texel.required_depth_bits().unwrap(),
+        bias: 0,
+        frag_frac_bits: 0,
+        compare: func,
+        texel,
+    }
+    .build()
+    .unwrap()
+}
+
+/// Load one texel word through a depth-pass write after a clear and return the
+/// stored depth code; check it against the twin's depth of the word.
+fn load_texel(u: &ShadowCompare, word: u32, twin: Texel) -> u32 {
+    let mut st = u.fresh_state();
+    let mut c = Counters::default();
+    u.kernel(&mut st, &ShadowIn::Clear, &mut c);
+    let o = u.kernel(
+        &mut st,
+        &ShadowIn::Write {
+            x: 1,
+            y: 0,
+            depth: word,
+        },
+        &mut c,
+    );
+    let z = texel_depth(twin, word);
+    assert_eq!(
+        o.stored as f64,
+        (z * u.far() as f64).round(),
+        "{:?} word {word:#x}",
+        u.texel()
+    );
+    o.stored
+}
+
+/// Z16: every 16-bit word is its own depth code (bits above 16 ignored); the
+/// compare is at texel precision: a fragment word equal to the texel is EQUAL, one
+/// LSB either side LESS or GREATER.
+#[test]
+fn z16_texels_are_their_word_exhaustively() {
+    let eq = texel_unit(DepthTexel::Z16, CompareFunc::Equal);
+    for w in 0..=0xffffu32 {
+        assert_eq!(load_texel(&eq, w, Texel::Z16), w);
+        assert_eq!(load_texel(&eq, w | 0xabcd_0000, Texel::Z16), w);
+    }
+    let mut st = eq.fresh_state();
+    let mut c = Counters::default();
+    for w in [0u32, 1, 0x7ffe, 0x7fff, 0x8000, 0xfffe] {
+        eq.kernel(&mut st, &ShadowIn::Clear, &mut c);
+        eq.kernel(
+            &mut st,
+            &ShadowIn::Write {
+                x: 0,
+                y: 0,
+                depth: w,
+            },
+            &mut c,
+        );
+        for (f, want) in [(w as u64, true), (w as u64 + 1, false)] {
+            let o = eq.kernel(
+                &mut st,
+                &ShadowIn::Test {
+                    x: 0,
+                    y: 0,
+                    depth: f,
+                },
+                &mut c,
+            );
+            assert_eq!(o.lit, want, "word {w:#x} frag {f:#x}");
+        }
+    }
+}
+
+/// Z24S8: a 32-bit word's depth is word >> 8 whatever the stencil byte, over every
+/// 24-bit depth code in steps (and its neighbours) and every stencil byte at a few
+/// codes; the compare is at 24-bit texel precision.
+#[test]
+fn z24s8_texels_are_the_word_shifted_right_8() {
+    let eq = texel_unit(DepthTexel::Z24S8, CompareFunc::Equal);
+    let codes: Vec<u32> = (0..1u32 << 24)
+        .step_by(4099)
+        .chain([1, 0x7f_fffe, 0x7f_ffff, 0x80_0000, 0xff_fffe, 0xff_ffff])
+        .collect();
+    for &d in &codes {
+        assert_eq!(load_texel(&eq, d << 8, Texel::Z24S8), d);
+        assert_eq!(load_texel(&eq, (d << 8) | 0xff, Texel::Z24S8), d);
+    }
+    for s in 0..=0xffu32 {
+        for d in [0u32, 0x80, 0x7f_ffff, 0xff_fffe] {
+            assert_eq!(load_texel(&eq, (d << 8) | s, Texel::Z24S8), d);
+            let mut st = eq.fresh_state();
+            let mut c = Counters::default();
+            eq.kernel(
+                &mut st,
+                &ShadowIn::Write {
+                    x: 0,
+                    y: 0,
+                    depth: (d << 8) | s,
+                },
+                &mut c,
+            );
+            let t = |f: u64, st: &mut _, c: &mut Counters| {
+                eq.kernel(
+                    st,
+                    &ShadowIn::Test {
+                        x: 0,
+                        y: 0,
+                        depth: f,
+                    },
+                    c,
+                )
+                .lit
+            };
+            assert!(t(d as u64, &mut st, &mut c), "depth {d:#x} stencil {s:#x}");
+            assert!(!t(d as u64 + 1, &mut st, &mut c));
+        }
+    }
+    // A format fixes the depth width; the error names the field.
+    for (texel, n) in [(DepthTexel::Z24S8, 16), (DepthTexel::Z16, 24)] {
+        let cfg = ShadowCompareConfig {
+            depth_bits: n,
+            texel,
+            ..ShadowCompareConfig::geforce()
+        };
+        assert_eq!(cfg.build().unwrap_err().field(), "shadow_compare.texel");
+    }
 }
 
 #[test]
@@ -385,6 +650,28 @@ fn datasheet_numbers_at_defaults() {
     }
     assert_eq!((s.latency, s.ii), (2, 1));
     assert_eq!(s.ram_bits, 512 * 512 * 24);
+    // Any other compare function adds its part (the same for all seven); a texel
+    // format widens only the stage-1 depth register (Z24S8: 32 bits, not 24).
+    let with = |compare, texel| {
+        let cfg = ShadowCompareConfig {
+            compare,
+            texel,
+            ..ShadowCompareConfig::geforce()
+        };
+        UnitSummary::of(&cfg.build().unwrap()).gates_nand2
+    };
+    let extra: Vec<f64> = CompareFunc::ALL
+        .into_iter()
+        .map(|f| with(f, DepthTexel::Unorm) - s.gates_nand2)
+        .collect();
+    println!("  another compare function: +{:.1}", extra[0]);
+    assert_eq!(extra[3], 0.0);
+    for (i, e) in extra.iter().enumerate() {
+        assert!(i == 3 || (*e > 0.0 && *e == extra[0]), "{i}: {e}");
+    }
+    let z24 = with(CompareFunc::Lequal, DepthTexel::Z24S8) - s.gates_nand2;
+    println!("  Z24S8 texels: +{z24:.1}");
+    assert!(z24 > 0.0);
 }
 
 /// A config field drawn from valid and invalid values.
@@ -404,10 +691,11 @@ proptest! {
     fn disagreements_lie_in_the_quantisation_band_at_24_16_and_narrow_4_bits(
         which in 0usize..3,
         bias in 0u32..=4,
+        func in 0usize..8,
         ops in prop::collection::vec(op_strategy(4), 1..64),
     ) {
         let (n, k) = BOUND_CONFIGS[which];
-        let u = unit(4, 4, n, bias, k);
+        let u = unit_f(4, 4, n, bias, k, CompareFunc::ALL[func]);
         run_against_twin(&u, &ops);
     }
 
@@ -425,12 +713,25 @@ proptest! {
     #[test]
     fn tick_and_span_drivers_agree(
         w in 1u32..=8, h in 1u32..=8, n in 1u32..=MAX_DEPTH_BITS, k in 0u32..=8,
-        bias_raw in any::<u32>(),
+        bias_raw in any::<u32>(), func in 0usize..8, texel in 0usize..3,
         raw in prop::collection::vec((0u8..8, -2i32..10, -2i32..10, any::<u64>()), 0..40),
     ) {
+        // A texel format fixes the depth width.
+        let texel = [DepthTexel::Unorm, DepthTexel::Z16, DepthTexel::Z24S8][texel];
+        let n = texel.required_depth_bits().unwrap_or(n);
         let far = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
         let bias = (bias_raw as u64 % (far as u64 + 1)) as u32;
-        let u = unit(w, h, n, bias, k);
+        let u = ShadowCompareConfig {
+            width: w,
+            height: h,
+            depth_bits: n,
+            bias,
+            frag_frac_bits: k,
+            compare: CompareFunc::ALL[func],
+            texel,
+        }
+        .build()
+        .unwrap();
         // Unmasked depth words: the unit masks them to its wires.
         let inputs: Vec<ShadowIn> = raw
             .iter()
@@ -451,14 +752,14 @@ proptest! {
     #[test]
     fn read_only_test_forms_agree_with_the_kernel(
         w in 1u32..=9, h in 1u32..=9, n in 1u32..=MAX_DEPTH_BITS, k in 0u32..=8,
-        bias_raw in any::<u32>(),
+        bias_raw in any::<u32>(), func in 0u32..8,
         writes in prop::collection::vec((0i32..9, 0i32..9, any::<u32>()), 0..60),
         tests in prop::collection::vec(
             (prop_oneof![-3i32..12, any::<i32>()], prop_oneof![-3i32..12, any::<i32>()], any::<u64>()),
             0..80,
         ),
     ) {
-        let (u, st, _) = unit_after_writes((w, h, n, k), bias_raw, &writes);
+        let (u, st, _) = unit_after_writes((w, h, n, k), bias_raw, func, &writes);
         let ins: Vec<ShadowIn> =
             tests.iter().map(|&(x, y, depth)| ShadowIn::Test { x, y, depth }).collect();
         let (mut s_k, mut c_k) = (st.clone(), Counters::default());
@@ -525,7 +826,7 @@ proptest! {
         prop_assert_eq!(c_b, Counters::default());
 
         // A state or word list of another size: nothing done.
-        let other = unit(w + 1, h, n, u.bias(), k).fresh_state();
+        let other = unit_f(w + 1, h, n, u.bias(), k, u.compare()).fresh_state();
         prop_assert_eq!(u.test_filter(&other, cands(), &mut kept, &mut c_f), None);
         prop_assert!(u.words(&other).is_none());
         prop_assert_eq!(u.test_filter_words(&words[1..], cands(), &mut kept, &mut c_w), None);
@@ -534,9 +835,11 @@ proptest! {
     #[test]
     fn random_configs_never_panic_and_errors_name_the_field(
         width in field(4096), height in field(4096), depth_bits in field(32),
-        bias in any::<u32>(), frag_frac_bits in field(8),
+        bias in any::<u32>(), frag_frac_bits in field(8), func in 0usize..8, texel in 0usize..3,
     ) {
-        let cfg = ShadowCompareConfig { width, height, depth_bits, bias, frag_frac_bits };
+        let texel = [DepthTexel::Unorm, DepthTexel::Z16, DepthTexel::Z24S8][texel];
+        let compare = CompareFunc::ALL[func];
+        let cfg = ShadowCompareConfig { width, height, depth_bits, bias, frag_frac_bits, compare, texel };
         let far = if (1..=31).contains(&depth_bits) { (1u64 << depth_bits) - 1 } else { u32::MAX as u64 };
         let first_bad = if !(1..=4096).contains(&width) {
             Some("shadow_compare.width")
@@ -548,6 +851,8 @@ proptest! {
             Some("shadow_compare.bias")
         } else if frag_frac_bits > 8 {
             Some("shadow_compare.frag_frac_bits")
+        } else if texel.required_depth_bits().is_some_and(|b| b != depth_bits) {
+            Some("shadow_compare.texel")
         } else {
             None
         };
@@ -707,14 +1012,16 @@ fn flat_test_form_agrees_exhaustively_at_2_bits() {
             }
         }
     }
-    for k in 0..=2 {
-        for bias in 0..=3 {
-            let u = unit(3, 3, 2, bias, k);
-            let st = filled(&u, bias * 7 + k);
-            let words = u.words(&st).unwrap();
-            for depth in (0..1u64 << (2 + k)).chain([1u64 << 40, u64::MAX]) {
-                for viewport in [(2, 3), (3, 3), (5, 4), (0, 0)] {
-                    flat_agrees(&u, &st, &words, &x, &y, &inside, viewport, depth);
+    for func in CompareFunc::ALL {
+        for k in 0..=2 {
+            for bias in 0..=3 {
+                let u = unit_f(3, 3, 2, bias, k, func);
+                let st = filled(&u, bias * 7 + k);
+                let words = u.words(&st).unwrap();
+                for depth in (0..1u64 << (2 + k)).chain([1u64 << 40, u64::MAX]) {
+                    for viewport in [(2, 3), (3, 3), (5, 4), (0, 0)] {
+                        flat_agrees(&u, &st, &words, &x, &y, &inside, viewport, depth);
+                    }
                 }
             }
         }
@@ -728,14 +1035,15 @@ proptest! {
     #[test]
     fn flat_test_form_agrees_with_the_kernel(
         w in 1u32..=9, h in 1u32..=9, n in 1u32..=MAX_DEPTH_BITS, k in 0u32..=8,
-        bias_raw in any::<u32>(), depth in any::<u64>(), vw in 0u32..=12, vh in 0u32..=12,
+        bias_raw in any::<u32>(), func in 0u32..8, depth in any::<u64>(),
+        vw in 0u32..=12, vh in 0u32..=12,
         writes in prop::collection::vec((0i32..9, 0i32..9, any::<u32>()), 0..60),
         lanes in prop::collection::vec(
             (prop_oneof![-3i64..12, any::<i64>()], prop_oneof![-3i64..12, any::<i64>()], any::<bool>()),
             0..80,
         ),
     ) {
-        let (u, st, _) = unit_after_writes((w, h, n, k), bias_raw, &writes);
+        let (u, st, _) = unit_after_writes((w, h, n, k), bias_raw, func, &writes);
         let words = u.words(&st).unwrap();
         let x: Vec<i64> = lanes.iter().map(|l| l.0).collect();
         let y: Vec<i64> = lanes.iter().map(|l| l.1).collect();

@@ -108,6 +108,7 @@ impl TestSceneUnits {
             depth_bits: SHADOW_DEPTH_BITS,
             bias: 8,
             frag_frac_bits: 0,
+            ..ShadowCompareConfig::geforce()
         }
         .build()?;
         Ok(TestSceneUnits {

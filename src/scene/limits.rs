@@ -160,6 +160,7 @@ pub fn shafts_shadow(s: &ShaftsConfig) -> ShadowCompareConfig {
         depth_bits: s.shadow_depth_bits,
         bias: shadow_bias(s.shadow_depth_bits),
         frag_frac_bits: 0,
+        ..ShadowCompareConfig::geforce()
     }
 }
 
@@ -171,6 +172,7 @@ pub fn depth_buffer(image: ImageSize) -> ShadowCompareConfig {
         depth_bits: ZBUF_BITS,
         bias: 0,
         frag_frac_bits: 0,
+        ..ShadowCompareConfig::geforce()
     }
 }
 

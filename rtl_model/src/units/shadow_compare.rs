@@ -1,7 +1,23 @@
 //! shadow_compare — the shadow-map unit (H in the light-shaft model): a depth RAM of
 //! `width × height` words of `depth_bits`, written in the depth pass (z-buffer LESS:
 //! keep the minimum) and read and compared per fragment in the lookup pass
-//! (GL_ARB_shadow, compare LEQUAL): lit ⇔ frag_depth − bias ≤ stored_depth.
+//! (GL_ARB_shadow, compare LEQUAL by default): lit ⇔ frag_depth − bias ≤ stored_depth.
+//!
+//! Modes (config fields whose defaults are the GeForce2 behaviour above):
+//! * `compare`: the eight functions of GL_ARB_shadow / GL_EXT_shadow_funcs and of the
+//!   NV2A's `NV097_SET_SHADOW_COMPARE_FUNC` (NEVER, LESS, EQUAL, LEQUAL, GREATER,
+//!   NOTEQUAL, GEQUAL, ALWAYS): lit ⇔ (frag − bias) OP stored. The function's 3-bit
+//!   code (GL's low three bits: NEVER 0 … ALWAYS 7) is a truth table indexed by the
+//!   comparator's outcome (bit 0: less, bit 1: equal, bit 2: greater), so the eight
+//!   functions cost one 3:1 mux behind the one comparator.
+//! * `texel`: how a depth-pass `Write` word is read as a depth. `Unorm` (default): the
+//!   word's low n bits. `Z16`: a 16-bit depth texel (n must be 16). `Z24S8`: a 32-bit
+//!   texel holding the depth in its high 24 bits and stencil in the low 8 (n must be
+//!   24), depth = word >> 8. The NV2A's `DEPTH_Y16_FIXED` and `DEPTH_X8_Y24_FIXED`
+//!   texture formats, as measured on the captures of nxdk_pgraph_tests'
+//!   texture_shadow_comparator raw-value tests (github.com/abaire/nxdk_pgraph_tests,
+//!   MIT; captures github.com/abaire/nxdk_pgraph_tests_golden_results, CC0): the
+//!   compare is an integer compare at the texel's precision.
 //!
 //! Widths (n = `depth_bits`, k = `frag_frac_bits`):
 //! * stored depth: u(n) unorm, code d stands for d / (2ⁿ − 1); a cleared texel holds
@@ -15,8 +31,10 @@
 //! * address y·w + x: u(⌈log₂ h⌉) × u(⌈log₂(w+1)⌉) + u(⌈log₂ w⌉) → u(⌈log₂(w·h)⌉) ≤ u24.
 //! * compare: f − bias·2ᵏ is s(n+k+1); stored·2ᵏ is u(n+k); one (n+k+1)-bit comparator.
 //!
-//! Conventions: a lookup outside the map is *lit* (the map's border is the far plane,
-//! as GL_CLAMP_TO_BORDER with border depth 1.0) and a depth-pass write outside the map
+//! Conventions: a lookup outside the map compares against the far plane (the map's
+//! border, as GL_CLAMP_TO_BORDER with border depth 1.0) with the fragment depth
+//! clamped to the far plane (GL clamps r to [0, 1]): under LEQUAL it is always *lit*.
+//! A depth-pass write outside the map
 //! is dropped; both are counted in `saturations` (a coordinate clamped to the border).
 //! `Clear` is a one-clock flash clear of the RAM to the far plane (real parts use a
 //! fast-clear tag per block; a design that clears by writes would spend
@@ -55,6 +73,123 @@ pub struct ShadowCompareConfig {
     pub bias: u32,
     /// Extra fraction bits k of the incoming fragment depth, 0 ..= 8.
     pub frag_frac_bits: u32,
+    /// The depth compare function (GeForce2 default: LEQUAL).
+    #[serde(default, skip_serializing_if = "CompareFunc::is_default")]
+    pub compare: CompareFunc,
+    /// How a depth-pass write word is read as a depth (default: its low n bits).
+    #[serde(default, skip_serializing_if = "DepthTexel::is_default")]
+    pub texel: DepthTexel,
+}
+
+/// A depth compare function: lit ⇔ (frag − bias) OP stored.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CompareFunc {
+    Never,
+    Less,
+    Equal,
+    #[default]
+    Lequal,
+    Greater,
+    Notequal,
+    Gequal,
+    Always,
+}
+
+impl CompareFunc {
+    /// All eight, in code order.
+    pub const ALL: [CompareFunc; 8] = [
+        CompareFunc::Never,
+        CompareFunc::Less,
+        CompareFunc::Equal,
+        CompareFunc::Lequal,
+        CompareFunc::Greater,
+        CompareFunc::Notequal,
+        CompareFunc::Gequal,
+        CompareFunc::Always,
+    ];
+
+    /// The 3-bit code: GL's `GL_NEVER` … `GL_ALWAYS` minus 0x200, and the NV2A's
+    /// `NV097_SET_SHADOW_COMPARE_FUNC` value. Bit 0: lit when less, bit 1: when equal,
+    /// bit 2: when greater.
+    pub const fn code(self) -> u32 {
+        self as u32
+    }
+
+    /// The function of a 3-bit code (None above 7).
+    pub fn from_code(code: u32) -> Option<CompareFunc> {
+        CompareFunc::ALL.get(code as usize).copied()
+    }
+
+    /// GL's name of the function ("LEQUAL").
+    pub const fn name(self) -> &'static str {
+        match self {
+            CompareFunc::Never => "NEVER",
+            CompareFunc::Less => "LESS",
+            CompareFunc::Equal => "EQUAL",
+            CompareFunc::Lequal => "LEQUAL",
+            CompareFunc::Greater => "GREATER",
+            CompareFunc::Notequal => "NOTEQUAL",
+            CompareFunc::Gequal => "GEQUAL",
+            CompareFunc::Always => "ALWAYS",
+        }
+    }
+
+    /// a OP b: the code's bit at the comparator's outcome (0 less, 1 equal, 2 greater).
+    #[inline(always)]
+    pub fn eval(self, a: i64, b: i64) -> bool {
+        let outcome = 2 * u32::from(a > b) + u32::from(a == b);
+        (self.code() >> outcome) & 1 == 1
+    }
+
+    pub fn is_default(&self) -> bool {
+        *self == CompareFunc::default()
+    }
+}
+
+/// How a depth-pass write word is read as a depth (see the module notes).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DepthTexel {
+    /// The word's low n bits.
+    #[default]
+    Unorm,
+    /// A 16-bit depth texel (`depth_bits` 16).
+    Z16,
+    /// A 32-bit texel, depth in the high 24 bits, stencil in the low 8 (`depth_bits` 24).
+    Z24S8,
+}
+
+impl DepthTexel {
+    /// Bits of the texel word: n (`Unorm`), 16 or 32.
+    pub fn word_bits(self, depth_bits: u32) -> u32 {
+        match self {
+            DepthTexel::Unorm => depth_bits,
+            DepthTexel::Z16 => 16,
+            DepthTexel::Z24S8 => 32,
+        }
+    }
+
+    /// Right shift from the texel word to the depth: 8 for `Z24S8`, else 0.
+    pub fn shift(self) -> u32 {
+        match self {
+            DepthTexel::Z24S8 => 8,
+            _ => 0,
+        }
+    }
+
+    /// The depth width the format requires (None: any).
+    pub fn required_depth_bits(self) -> Option<u32> {
+        match self {
+            DepthTexel::Unorm => None,
+            DepthTexel::Z16 => Some(16),
+            DepthTexel::Z24S8 => Some(24),
+        }
+    }
+
+    pub fn is_default(&self) -> bool {
+        *self == DepthTexel::default()
+    }
 }
 
 impl Default for ShadowCompareConfig {
@@ -73,6 +208,8 @@ impl ShadowCompareConfig {
             depth_bits: 24,
             bias: 2,
             frag_frac_bits: 0,
+            compare: CompareFunc::Lequal,
+            texel: DepthTexel::Unorm,
         }
     }
 
@@ -152,6 +289,17 @@ impl ShadowCompare {
             0,
             MAX_FRAG_FRAC_BITS as u64,
         )?;
+        if let Some(n) = cfg.texel.required_depth_bits() {
+            if cfg.depth_bits != n {
+                return Err(ConfigError::invalid(
+                    "shadow_compare.texel",
+                    &format!(
+                        "{:?} texels hold {n}-bit depths, but depth_bits is {}",
+                        cfg.texel, cfg.depth_bits
+                    ),
+                ));
+            }
+        }
         Ok(ShadowCompare { cfg })
     }
 
@@ -179,6 +327,35 @@ impl ShadowCompare {
     }
     pub fn frag_frac_bits(&self) -> u32 {
         self.cfg.frag_frac_bits
+    }
+    pub fn compare(&self) -> CompareFunc {
+        self.cfg.compare
+    }
+    pub fn texel(&self) -> DepthTexel {
+        self.cfg.texel
+    }
+
+    /// Width of the input depth wire: the fragment depth (n + k) or a texel word,
+    /// whichever is wider.
+    pub fn in_depth_bits(&self) -> u32 {
+        self.frag_bits()
+            .max(self.cfg.texel.word_bits(self.cfg.depth_bits))
+    }
+
+    /// The depth a depth-pass write word stands for, per `texel`: u(n).
+    #[inline]
+    pub fn texel_depth(&self, word: u32) -> u32 {
+        (word >> self.cfg.texel.shift()) & self.far() // u32 → u(n) wire
+    }
+
+    /// The outcome of a lookup outside the map: the fragment depth clamped to the
+    /// far plane, less the bias, against the far plane.
+    #[inline]
+    fn border_lit(&self, f: u64) -> bool {
+        let k = self.cfg.frag_frac_bits;
+        let far_k = (self.far() as i64) << k; // u(n+k)
+        let fb = (f as i64).min(far_k) - ((self.cfg.bias as i64) << k);
+        self.cfg.compare.eval(fb, far_k)
     }
 
     /// The far-plane code 2ⁿ − 1 (a cleared texel).
@@ -318,22 +495,22 @@ impl ShadowCompare {
         ctr: &mut Counters,
     ) -> ShadowOut {
         let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let f = depth & fmask; // u64 → u(n).k wire, ≤ 40 bits
         let Some(addr) = self.address(x, y) else {
-            ctr.saturations += 1; // border lookup: lit by convention
+            ctr.saturations += 1; // border lookup: against the far plane
             return ShadowOut {
-                lit: true,
+                lit: self.border_lit(f),
                 stored: self.far(),
                 written: false,
             };
         };
-        let fmask = (1u64 << self.frag_bits()) - 1;
-        let f = depth & fmask; // u64 → u(n).k wire, ≤ 40 bits
         ctr.table_reads += 1;
         let s = read(addr); // u(n)
                             // frag − bias·2ᵏ: u(n+k) − u(n+k) → s(n+k+1)
         let fb = f as i64 - ((self.cfg.bias as i64) << k);
-        // stored·2ᵏ: u(n) → u(n+k); LEQUAL on s(n+k+1)
-        let lit = fb <= (s as i64) << k;
+        // stored·2ᵏ: u(n) → u(n+k); the compare function on s(n+k+1)
+        let lit = self.cfg.compare.eval(fb, (s as i64) << k);
         ShadowOut {
             lit,
             stored: s,
@@ -494,6 +671,8 @@ impl ShadowCompare {
         let k = self.cfg.frag_frac_bits;
         let fmask = (1u64 << self.frag_bits()) - 1;
         let fb = (depth & fmask) as i64 - ((self.cfg.bias as i64) << k);
+        let border = self.border_lit(depth & fmask);
+        let cmp = self.cfg.compare;
         let (vw, vh, mw, mh) = (vw as i64, vh as i64, w as i64, h as i64);
         let base = lit.len();
         lit.resize(base + len, 0);
@@ -508,7 +687,7 @@ impl ShadowCompare {
             } else {
                 0
             };
-            let l = !in_map | (fb <= (words[a] as i64) << k);
+            let l = (!in_map & border) | (in_map & cmp.eval(fb, (words[a] as i64) << k));
             dst[kept] = i as u32;
             kept += usize::from(cand & l);
             n += usize::from(cand);
@@ -576,8 +755,14 @@ impl ShadowCompare {
         } else {
             0
         };
-        let fb = (depth & fmask) as i64 - bias;
-        (in_map, !in_map | (fb <= (words[a] as i64) << k))
+        let f = depth & fmask;
+        let fb = f as i64 - bias;
+        let l = if in_map {
+            self.cfg.compare.eval(fb, (words[a] as i64) << k)
+        } else {
+            self.border_lit(f)
+        };
+        (in_map, l)
     }
 
     #[inline]
@@ -647,7 +832,7 @@ impl Unit for ShadowCompare {
                         written: false,
                     };
                 };
-                let d = depth & far; // u32 → u(n) wire
+                let d = self.texel_depth(depth); // texel word → u(n) wire
                 ctr.table_reads += 1; // read half of the read-modify-write
                 let old = self.read(st, addr); // u(n)
                 let written = d < old; // n-bit comparator (z-buffer LESS)
@@ -713,11 +898,22 @@ impl Unit for ShadowCompare {
             c.part("address multiplier y·w", prim::multiplier(yb, wb))
                 .part("address adder + x", prim::adder(a.max(xb)))
         };
+        let c = c.part(
+            "stage-1 registers (address, depth word, op, in-map)",
+            prim::register(a + self.in_depth_bits() + 3),
+        );
+        // LEQUAL is the one comparator's output; any other function adds an equality
+        // compare, the 3:1 truth-table mux of the function's code, and the border's
+        // fragment clamp (an AND of the integer bits, an OR of the fraction bits).
+        let c = if self.cfg.compare == CompareFunc::Lequal {
+            c
+        } else {
+            c.part(
+                "compare function (equality, truth-table mux, border clamp)",
+                prim::comparator(n + k + 1) + prim::mux_k(1, 3) + prim::mux(n + k),
+            )
+        };
         c.part(
-            "stage-1 registers (address, frag depth, op, in-map)",
-            prim::register(a + n + k + 3),
-        )
-        .part(
             "bias subtractor frag − bias·2^k",
             prim::subtractor(n + k + 1),
         )
@@ -772,14 +968,17 @@ impl Unit for ShadowCompare {
         let wire = |v: i32| v.clamp(-lim, lim - 1) as i64 as u64 & m16; // i32 → s16
         let (op, x, y, d) = match *i {
             ShadowIn::Clear => (0u64, 0i32, 0i32, 0u64),
-            ShadowIn::Write { x, y, depth } => (1, x, y, depth as u64 & self.far() as u64),
+            ShadowIn::Write { x, y, depth } => {
+                let tb = self.cfg.texel.word_bits(self.cfg.depth_bits);
+                (1, x, y, depth as u64 & ((1u64 << tb) - 1))
+            }
             ShadowIn::Test { x, y, depth } => (2, x, y, depth & ((1u64 << self.frag_bits()) - 1)),
         };
         vec![
             Signal::new("op", 2, op),
             Signal::new("x", COORD_BITS, wire(x)),
             Signal::new("y", COORD_BITS, wire(y)),
-            Signal::new("depth", self.frag_bits(), d),
+            Signal::new("depth", self.in_depth_bits(), d),
         ]
     }
 

@@ -1042,6 +1042,7 @@ fn elaborate(
         depth_bits: cfg.shadow_depth_bits,
         bias: 1,
         frag_frac_bits: 0,
+        ..ShadowCompareConfig::geforce()
     }
     .build()
     .map_or(0.0, |s| s.cost().gates_nand2());

@@ -29,6 +29,7 @@ use super::seeded;
 
 mod projective_texcoord;
 mod shadow_compare;
+pub use shadow_compare::shadow_compare_mode_sets;
 mod specular_lookup;
 mod texture_sampler;
 use rand::Rng;
@@ -166,6 +167,10 @@ pub struct VectorSet {
     pub roms: Vec<RomPort>,
     /// Read/write RAMs the unit uses through ports (none: empty).
     pub rams: Vec<RamPort>,
+    /// A mode beyond the configuration (a non-default config field, as
+    /// `shadow_compare`'s compare function), appended to the tag; None for the
+    /// configuration itself.
+    pub variant: Option<String>,
 }
 
 /// One unit with Verilog: its name (= the Verilog module and file stem) and its
@@ -422,6 +427,7 @@ fn collect<U: Unit>(
         gates_model: u.cost().gates_nand2(),
         roms: Vec::new(),
         rams: Vec::new(),
+        variant: None,
     }
 }
 
@@ -466,7 +472,10 @@ pub(super) fn time_batch_walks<U: Unit>(u: &U, walks: &[(U::State, &[U::In])]) -
 impl VectorSet {
     /// The tag of this unit and configuration: `<unit>_<config>`.
     pub fn tag(&self) -> String {
-        format!("{}_{}", self.unit, self.config.name())
+        match &self.variant {
+            None => format!("{}_{}", self.unit, self.config.name()),
+            Some(v) => format!("{}_{}_{v}", self.unit, self.config.name()),
+        }
     }
 
     pub fn in_bits(&self) -> u32 {

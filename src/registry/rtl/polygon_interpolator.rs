@@ -218,5 +218,6 @@ pub(super) fn polygon_interpolator_vectors(
         gates_model: u.cost().gates_nand2(),
         roms,
         rams: Vec::new(),
+        variant: None,
     })
 }

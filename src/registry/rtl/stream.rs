@@ -45,5 +45,6 @@ pub(super) fn request_stream<U: Unit<In = ()>>(
         gates_model: u.cost().gates_nand2(),
         roms: Vec::new(),
         rams: Vec::new(),
+        variant: None,
     }
 }
