@@ -10,8 +10,11 @@
 //! (default 100 000 under both simulators; a longer run is
 //! `RTL_COSIM_COUNT=1000000 cargo test --test rtl_cosim -- --nocapture`).
 //!
-//! A simulator that is not installed is skipped with a printed SKIP note (`.ci/run`
-//! installs both); the test never passes silently without running anything it found.
+//! A simulator that is not installed is skipped with a SKIP note on stderr; under
+//! `.ci/run` (which installs both and sets `GLARE_REQUIRE_TOOLS`) it fails instead.
+
+#[path = "common/tools.rs"]
+mod tools;
 
 use glare_pipeline::registry::rtl::{self, RtlConfig, VectorSet, RTL_UNITS};
 use std::path::{Path, PathBuf};
@@ -126,7 +129,10 @@ fn run_ok(cmd: &mut Command, what: &str) {
 
 fn build_verilator() -> Option<Built> {
     if !have("verilator", "--version") {
-        println!("SKIP: verilator not found; the Verilator co-simulation did not run");
+        tools::skip(
+            "verilator not found; the Verilator co-simulation did not run \
+             (apt-get install verilator g++ make)",
+        );
         return None;
     }
     let dir = work_dir().join("verilator");
@@ -176,7 +182,9 @@ fn build_verilator() -> Option<Built> {
 
 fn build_icarus() -> Option<Built> {
     if !have("iverilog", "-V") {
-        println!("SKIP: iverilog not found; the Icarus co-simulation did not run");
+        tools::skip(
+            "iverilog not found; the Icarus co-simulation did not run (apt-get install iverilog)",
+        );
         return None;
     }
     let dir = work_dir().join("icarus");
@@ -454,7 +462,9 @@ fn trace_vectors_cli_writes_the_files_and_names_bad_arguments() {
 #[test]
 fn icarus_catches_a_wrong_latency() {
     if !have("iverilog", "-V") {
-        println!("SKIP: iverilog not found; the wrong-latency check did not run");
+        tools::skip(
+            "iverilog not found; the wrong-latency check did not run (apt-get install iverilog)",
+        );
         return;
     }
     let root = work_dir().join("wrong_latency");

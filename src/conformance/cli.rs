@@ -366,8 +366,15 @@ pub fn doc_block(reports: &[SuiteReport]) -> String {
             any = true;
             let t = &f.tally;
             s += &format!(
-                "- {} / {}: {} off by 1 and {} worse of {} pixels in {} regions (max {} levels)\n",
-                r.suite, f.feature, t.off1, t.worse, t.compared, t.regions, t.max_levels
+                "- {} / {}: {} off by 1 and {} worse of {} pixels in {} regions (max {} level{})\n",
+                r.suite,
+                f.feature,
+                t.off1,
+                t.worse,
+                t.compared,
+                t.regions,
+                t.max_levels,
+                if t.max_levels == 1 { "" } else { "s" }
             );
         }
     }
