@@ -132,7 +132,7 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
             }
             for (s, n, text) in texts {
                 let path = table_path(&dir, s.name);
-                std::fs::write(&path, &text).map_err(|e| format!("{}: {e}", path.display()))?;
+                crate::report::atomic::write_bytes(&path, text.as_bytes())?;
                 println!(
                     "wrote {} ({n} images, {} bytes)",
                     path.display(),
@@ -180,7 +180,8 @@ pub fn conformance_cli(cmd: ConformanceCommand) -> Result<(), String> {
                 let (a, b) =
                     doc_block_bounds(&text).map_err(|e| format!("--doc: {}: {e}", d.display()))?;
                 let new = format!("{}{}{}", &text[..a], doc_block(&reports), &text[b..]);
-                std::fs::write(d, new).map_err(|e| format!("--doc: {}: {e}", d.display()))?;
+                crate::report::atomic::write_bytes(d, new.as_bytes())
+                    .map_err(|e| format!("--doc: {e}"))?;
                 eprintln!("rewrote the figures of {}", d.display());
             }
             if json {

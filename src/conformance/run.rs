@@ -323,9 +323,10 @@ pub fn write_difference(cap: &Capture, regions: &[Region], path: &Path) -> Resul
             img.put_pixel(2 * w + x, y, at(&diff));
         }
     }
-    if let Some(parent) = path.parent() {
-        std::fs::create_dir_all(parent).map_err(|e| format!("{}: {e}", parent.display()))?;
-    }
-    img.save(path)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    // Through the one atomic writer (the temporary file keeps the `.png` the encoder is
+    // picked by; the parent directory is made there).
+    crate::report::atomic::write_atomically(path, |tmp| {
+        img.save(tmp)
+            .map_err(|e| format!("{}: {e}", path.display()))
+    })
 }
