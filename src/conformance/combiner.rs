@@ -395,32 +395,56 @@ fn combiner_ops(m: Modes) -> Case {
             false,
         );
         let st = [stage(m, rgb_p, alpha_p, c0, [0; 4], false)];
-        let r0 = freg(Register::Spare0, Rgb);
-        let left = shade(m, &st, &Final::just(r0, g_one()), [0; 4]);
-        let right = shade(
+        let feature = format!("combiner output {name}");
+        let alpha_feature = format!("{feature} (alpha, blended)");
+        regions.extend(r0_halves(
             m,
             &st,
-            &Final::just(r0, freg(Register::Spare0, Alpha)),
             [0; 4],
-        );
-        let feature = format!("combiner output {name}");
-        regions.push(flat(
-            &format!("{name}/rgb"),
+            (x, y),
+            name,
             &feature,
-            Rect::new(x, y, 32, 64),
-            rgb(left),
-        ));
-        regions.extend(blended(
-            &format!("{name}/alpha"),
-            &format!("{feature} (alpha, blended)"),
-            Rect::new(x + 32, y, 32, 64),
-            right,
+            &alpha_feature,
         ));
     }
     Case {
         image: "CombinerOps.png".into(),
         regions,
     }
+}
+
+/// A 64 × 64 quad whose stages write R0: its left half (32 px) shows R0's RGB, opaque;
+/// its right half shows R0's RGB blended over the checkerboard by R0's alpha.
+fn r0_halves(
+    m: Modes,
+    stages: &[RegisterCombinerConfig],
+    diffuse: [u32; 4],
+    (x, y): (u32, u32),
+    name: &str,
+    feature: &str,
+    alpha_feature: &str,
+) -> Vec<Region> {
+    let r0 = freg(Register::Spare0, Rgb);
+    let left = shade(m, stages, &Final::just(r0, g_one()), diffuse);
+    let right = shade(
+        m,
+        stages,
+        &Final::just(r0, freg(Register::Spare0, Alpha)),
+        diffuse,
+    );
+    let mut regions = vec![flat(
+        &format!("{name}/rgb"),
+        feature,
+        Rect::new(x, y, 32, 64),
+        rgb(left),
+    )];
+    regions.extend(blended(
+        &format!("{name}/alpha"),
+        alpha_feature,
+        Rect::new(x + 32, y, 32, 64),
+        right,
+    ));
+    regions
 }
 
 /// AlphaFromBlue: stage 0 A·B (row "AB") or C·D (row "CD") of C0 = (0.25, 0.5, b, 0)
@@ -450,27 +474,17 @@ fn alpha_from_blue(m: Modes) -> Case {
                 cd_blue_to_alpha: !ab,
                 ..stage(m, rgb_p, discard(Alpha), c0, [0; 4], false)
             }];
-            let r0 = freg(Register::Spare0, Rgb);
-            let left = shade(m, &st, &Final::just(r0, g_one()), diffuse);
-            let right = shade(
-                m,
-                &st,
-                &Final::just(r0, freg(Register::Spare0, Alpha)),
-                diffuse,
-            );
             let feature = format!("blue to alpha {row}");
             let name = format!("{row}/blue_{}", host_byte(b));
-            regions.push(flat(
-                &format!("{name}/rgb"),
+            let alpha_feature = format!("{feature} (blended)");
+            regions.extend(r0_halves(
+                m,
+                &st,
+                diffuse,
+                (x, y),
+                &name,
                 &feature,
-                Rect::new(x, y, 32, 64),
-                rgb(left),
-            ));
-            regions.extend(blended(
-                &format!("{name}/alpha"),
-                &format!("{feature} (blended)"),
-                Rect::new(x + 32, y, 32, 64),
-                right,
+                &alpha_feature,
             ));
         }
     }
