@@ -96,6 +96,18 @@ fn zero(u: ComponentUsage) -> VariableInput {
     var(Register::Zero, u)
 }
 
+/// A portion that writes A · 1 to R0 (SPARE0): the test's "copy this input" stage.
+fn into_r0(usage: ComponentUsage, a: VariableInput) -> PortionConfig {
+    portion(
+        usage,
+        [a, one(usage), zero(usage), zero(usage)],
+        [Some(Register::Spare0), None, None],
+        Scale::None,
+        Bias::None,
+        false,
+    )
+}
+
 /// A portion A·B → ab, C·D → cd, sum or mux → sum, with scale and bias.
 fn portion(
     usage: ComponentUsage,
@@ -518,27 +530,8 @@ fn mux(m: Modes) -> Case {
     for (k, (a, msb)) in draws.into_iter().enumerate() {
         let s0 = stage(
             m,
-            portion(
-                Rgb,
-                [one(Rgb), one(Rgb), zero(Rgb), zero(Rgb)],
-                [Some(Register::Spare0), None, None],
-                Scale::None,
-                Bias::None,
-                false,
-            ),
-            portion(
-                Alpha,
-                [
-                    var(Register::ConstantColor0, Alpha),
-                    one(Alpha),
-                    zero(Alpha),
-                    zero(Alpha),
-                ],
-                [Some(Register::Spare0), None, None],
-                Scale::None,
-                Bias::None,
-                false,
-            ),
+            into_r0(Rgb, one(Rgb)),
+            into_r0(Alpha, var(Register::ConstantColor0, Alpha)),
             [0, 0, 0, a],
             [0; 4],
             msb,
@@ -599,19 +592,7 @@ fn independence(m: Modes) -> Case {
     let r0_only = |m, c0| {
         stage(
             m,
-            portion(
-                Rgb,
-                [
-                    var(Register::ConstantColor0, Rgb),
-                    one(Rgb),
-                    zero(Rgb),
-                    zero(Rgb),
-                ],
-                [Some(Register::Spare0), None, None],
-                Scale::None,
-                Bias::None,
-                false,
-            ),
+            into_r0(Rgb, var(Register::ConstantColor0, Rgb)),
             discard(Alpha),
             c0,
             [0; 4],
@@ -710,19 +691,7 @@ fn color_alpha_independence(m: Modes) -> Case {
     );
     let s0 = stage(
         m,
-        portion(
-            Rgb,
-            [
-                var(Register::ConstantColor0, Rgb),
-                one(Rgb),
-                zero(Rgb),
-                zero(Rgb),
-            ],
-            [Some(Register::Spare0), None, None],
-            Scale::None,
-            Bias::None,
-            false,
-        ),
+        into_r0(Rgb, var(Register::ConstantColor0, Rgb)),
         discard(Alpha),
         [0; 4],
         [0; 4],
@@ -730,19 +699,7 @@ fn color_alpha_independence(m: Modes) -> Case {
     );
     let s1 = stage(
         m,
-        portion(
-            Rgb,
-            [
-                var(Register::ConstantColor0, Rgb),
-                one(Rgb),
-                zero(Rgb),
-                zero(Rgb),
-            ],
-            [Some(Register::Spare0), None, None],
-            Scale::None,
-            Bias::None,
-            false,
-        ),
+        into_r0(Rgb, var(Register::ConstantColor0, Rgb)),
         portion(
             Alpha,
             [
