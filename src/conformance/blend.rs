@@ -173,35 +173,27 @@ fn stacks(
 ) -> Vec<Draw> {
     let mut v = Vec::new();
     let want = |w: Write| only.is_none_or(|o| o == w);
-    if want(Write::Colour) {
-        for (i, &c) in COLOUR_STACK.iter().enumerate() {
-            let (x, y) = (colour_at.0, colour_at.1 + sw * i as u32);
+    // A column of `sw`-pixel swatches downward from `at`.
+    let column = |v: &mut Vec<Draw>, stack: &[u32; 4], at: (u32, u32), write: Write| {
+        for (i, &c) in stack.iter().enumerate() {
+            let (x, y) = (at.0, at.1 + sw * i as u32);
             v.push(Draw {
                 x0: x,
                 y0: y,
                 x1: x + sw,
                 y1: y + sw,
                 argb: c,
-                write: Write::Colour,
+                write,
                 index: i,
                 dst,
             });
         }
+    };
+    if want(Write::Colour) {
+        column(&mut v, &COLOUR_STACK, colour_at, Write::Colour);
     }
     if want(Write::Both) {
-        for (i, &c) in COLOUR_ALPHA_STACK.iter().enumerate() {
-            let (x, y) = (both_at.0, both_at.1 + sw * i as u32);
-            v.push(Draw {
-                x0: x,
-                y0: y,
-                x1: x + sw,
-                y1: y + sw,
-                argb: c,
-                write: Write::Both,
-                index: i,
-                dst,
-            });
-        }
+        column(&mut v, &COLOUR_ALPHA_STACK, both_at, Write::Both);
     }
     if want(Write::Alpha) {
         for (i, &c) in ALPHA_STACK.iter().enumerate() {
