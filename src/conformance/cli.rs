@@ -257,54 +257,62 @@ pub fn report_text(reports: &[SuiteReport], chip: Chip) -> String {
     );
     s += &text_table(&header, &rows);
     for r in reports {
-        if r.images == 0 {
-            s += &format!("\n{}: no cases described yet.\n", r.suite);
-            continue;
-        }
-        if r.mismatch_classes.is_empty() {
-            s += &format!("\n{}: every compared pixel exact.\n", r.suite);
-            continue;
-        }
+        s += &suite_details(r);
+    }
+    s
+}
+
+/// One suite's lines under the table: its mismatch classes, halves, worst region and
+/// difference images (or that it is exact, or has no cases).
+fn suite_details(r: &SuiteReport) -> String {
+    let mut s = String::new();
+    if r.images == 0 {
+        s += &format!("\n{}: no cases described yet.\n", r.suite);
+        return s;
+    }
+    if r.mismatch_classes.is_empty() {
+        s += &format!("\n{}: every compared pixel exact.\n", r.suite);
+        return s;
+    }
+    s += &format!(
+        "\n{} mismatch classes (feature: pixels off by 1 / worse of compared, max |Δ|):\n",
+        r.suite
+    );
+    for f in &r.mismatch_classes {
+        let t = &f.tally;
         s += &format!(
-            "\n{} mismatch classes (feature: pixels off by 1 / worse of compared, max |Δ|):\n",
-            r.suite
+            "  {}: {} / {} of {} (max {} levels)\n",
+            f.feature, t.off1, t.worse, t.compared, t.max_levels
         );
-        for f in &r.mismatch_classes {
-            let t = &f.tally;
-            s += &format!(
-                "  {}: {} / {} of {} (max {} levels)\n",
-                f.feature, t.off1, t.worse, t.compared, t.max_levels
-            );
-        }
-        let half = |t: &super::run::Tally| {
-            format!(
-                "{} of {} exact ({})",
-                t.exact,
-                t.compared,
-                share(t.exact, t.compared)
-            )
-        };
+    }
+    let half = |t: &super::run::Tally| {
+        format!(
+            "{} of {} exact ({})",
+            t.exact,
+            t.compared,
+            share(t.exact, t.compared)
+        )
+    };
+    s += &format!(
+        "  calibration half (even file names): {}; validation half (odd): {}\n",
+        half(&r.calibration_half),
+        half(&r.validation_half)
+    );
+    if let Some(w) = &r.worst {
         s += &format!(
-            "  calibration half (even file names): {}; validation half (odd): {}\n",
-            half(&r.calibration_half),
-            half(&r.validation_half)
+            "  worst region: {} {} — {} pixels off, max {} levels (model {}, hardware {})\n",
+            w.image, w.region, w.off_pixels, w.max_levels, w.model, w.hardware
         );
-        if let Some(w) = &r.worst {
-            s += &format!(
-                "  worst region: {} {} — {} pixels off, max {} levels (model {}, hardware {})\n",
-                w.image, w.region, w.off_pixels, w.max_levels, w.model, w.hardware
-            );
-        }
-        if !r.difference_images.is_empty() {
-            s += &format!(
-                "  {} difference images under {}\n",
-                r.difference_images.len(),
-                r.difference_images[0]
-                    .rsplit_once('/')
-                    .map(|x| x.0)
-                    .unwrap_or("")
-            );
-        }
+    }
+    if !r.difference_images.is_empty() {
+        s += &format!(
+            "  {} difference images under {}\n",
+            r.difference_images.len(),
+            r.difference_images[0]
+                .rsplit_once('/')
+                .map(|x| x.0)
+                .unwrap_or("")
+        );
     }
     s
 }

@@ -735,14 +735,9 @@ fn color_alpha_independence(m: Modes) -> Case {
     }
 }
 
-/// Flags: SPARE0_PLUS_SECONDARY_COLOR (V1 + R0) unclamped and clamped, and with R0 or
-/// V1 inverted.
-fn flags(m: Modes) -> Case {
-    let spec_r0 = FinalVariable::new(
-        FinalInput::Spare0PlusSecondaryColor,
-        Mapping::UnsignedIdentity,
-        Rgb,
-    );
+/// Flags' three stage-0 setups: V1 and R0 both 1; R0 = C0 = 0.75 (V1 = 0); V1 = C0 =
+/// 0.75 (R0 = 0).
+fn flags_stages(m: Modes) -> [[RegisterCombinerConfig; 1]; 3] {
     let write = |ab: Register, cd: Register, vars, c0| {
         stage(
             m,
@@ -786,6 +781,18 @@ fn flags(m: Modes) -> Case {
         c_only,
         c75,
     )];
+    [both_one, r0_75, v1_75]
+}
+
+/// Flags: SPARE0_PLUS_SECONDARY_COLOR (V1 + R0) unclamped and clamped, and with R0 or
+/// V1 inverted.
+fn flags(m: Modes) -> Case {
+    let spec_r0 = FinalVariable::new(
+        FinalInput::Spare0PlusSecondaryColor,
+        Mapping::UnsignedIdentity,
+        Rgb,
+    );
+    let [both_one, r0_75, v1_75] = flags_stages(m);
     let half = Final {
         abcd: [
             freg(Register::ConstantColor0, Rgb),

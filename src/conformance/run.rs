@@ -162,6 +162,38 @@ fn hardware_pixels(
     }
 }
 
+/// One region's pixels against its prediction.
+fn region_tally(r: &Region, hardware: &[[u8; 3]]) -> Tally {
+    let mut t = Tally {
+        regions: 1,
+        ..Tally::default()
+    };
+    for (i, h) in hardware.iter().enumerate() {
+        t.add_pixel(channel_diff(r.predicted.at(i), *h));
+    }
+    t
+}
+
+/// Replaces `worst` by region `r` of `image` when `r` is further from the hardware
+/// (largest difference, then most pixels off).
+fn keep_worst(worst: &mut Option<Worst>, image: &str, r: &Region, hardware: &[[u8; 3]], t: &Tally) {
+    let off = t.off1 + t.worse;
+    let further = match worst {
+        None => off > 0,
+        Some(w) => (t.max_levels, off) > (w.max_levels, w.off_pixels),
+    };
+    if further {
+        *worst = Some(Worst {
+            image: image.to_string(),
+            region: r.name.clone(),
+            off_pixels: off,
+            max_levels: t.max_levels,
+            model: hex(r.predicted.at(0)),
+            hardware: hex(most_common(hardware)),
+        });
+    }
+}
+
 /// Runs `suite` in `chip`'s modes against the committed values, or against the
 /// captures in `golden` (then difference images of every image with a pixel off, or
 /// of every image with `all_images`, go to `diff_dir`, if given). With `only_case`, only
@@ -206,29 +238,9 @@ pub fn run_suite(
         let (hw, capture) = hardware_pixels(suite, case, &source)?;
         let mut case_off = false;
         for (r, px) in case.regions.iter().zip(&hw) {
-            let mut t = Tally {
-                regions: 1,
-                ..Tally::default()
-            };
-            for (i, h) in px.iter().enumerate() {
-                t.add_pixel(channel_diff(r.predicted.at(i), *h));
-            }
-            let off = t.off1 + t.worse;
-            case_off |= off > 0;
-            let better = match &worst {
-                None => off > 0,
-                Some(w) => (t.max_levels, off) > (w.max_levels, w.off_pixels),
-            };
-            if better {
-                worst = Some(Worst {
-                    image: case.image.clone(),
-                    region: r.name.clone(),
-                    off_pixels: off,
-                    max_levels: t.max_levels,
-                    model: hex(r.predicted.at(0)),
-                    hardware: hex(most_common(px)),
-                });
-            }
+            let t = region_tally(r, px);
+            case_off |= t.off1 + t.worse > 0;
+            keep_worst(&mut worst, &case.image, r, px, &t);
             features.entry(r.feature.clone()).or_default().merge(&t);
             halves[half].merge(&t);
             total.merge(&t);
