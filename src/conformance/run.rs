@@ -110,7 +110,8 @@ fn channel_diff(a: [u8; 3], b: [u8; 3]) -> u32 {
 }
 
 /// Every region's pixels of one case, row-major, in the case's region order.
-type RegionPixels = Vec<Vec<[u8; 3]>>;
+/// (Borrowed from the committed table, owned when read from a capture.)
+type RegionPixels<'a> = Vec<std::borrow::Cow<'a, [[u8; 3]]>>;
 
 /// Where the hardware pixels of a case come from.
 enum Source<'a> {
@@ -120,11 +121,11 @@ enum Source<'a> {
 
 /// The hardware's pixels for every region of `case` (same order), or an error naming
 /// the image and region the table lacks or holds with another rectangle.
-fn hardware_pixels(
+fn hardware_pixels<'a>(
     suite: &Suite,
     case: &Case,
-    source: &Source,
-) -> Result<(RegionPixels, Option<Capture>), String> {
+    source: &Source<'a>,
+) -> Result<(RegionPixels<'a>, Option<Capture>), String> {
     match source {
         Source::Committed(images) => {
             let regions = images.get(&case.image).ok_or_else(|| {
@@ -147,7 +148,7 @@ fn hardware_pixels(
                         suite.name, case.image, r.name
                     ));
                 }
-                out.push(e.pixels.clone());
+                out.push(std::borrow::Cow::Borrowed(e.pixels.as_slice()));
             }
             Ok((out, None))
         }
@@ -155,7 +156,9 @@ fn hardware_pixels(
             let cap = Capture::load(&capture_path(dir, suite.name, &case.image))?;
             let mut out = Vec::with_capacity(case.regions.len());
             for r in &case.regions {
-                out.push(cap.region(r.rect, &format!("{}/{}", case.image, r.name))?);
+                out.push(std::borrow::Cow::Owned(
+                    cap.region(r.rect, &format!("{}/{}", case.image, r.name))?,
+                ));
             }
             Ok((out, Some(cap)))
         }
