@@ -307,19 +307,7 @@ impl FinalCombiner {
         let c = self.cfg;
         let s = self.one() as i128;
         // NV2A: the final combiner's own constants replace the set's.
-        let staged;
-        let file = match c.constants {
-            Some([c0, c1]) => {
-                staged = {
-                    let mut f = *file;
-                    f.set(Register::ConstantColor0, c0);
-                    f.set(Register::ConstantColor1, c1);
-                    f
-                };
-                &staged
-            }
-            None => file,
-        };
+        let file = &*file.with_constants(c.constants);
         // Step 2: the pseudo-registers (E, F are registers: validated).
         let mut specials = Specials::default();
         let uses = |x: FinalInput| [c.a, c.b, c.c, c.d].iter().any(|v| v.input == x);

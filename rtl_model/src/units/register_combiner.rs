@@ -71,6 +71,7 @@ use crate::fixed_point::{round_div, round_shift, Quant};
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::wire::sign_extend;
 use serde::{Deserialize, Serialize};
+use std::borrow::Cow;
 
 /// Table NV_register_combiners.1: 8 + MAX_TEXTURE_UNITS_ARB (4, GeForce3) registers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -549,6 +550,20 @@ impl RegisterFile {
     pub fn set(&mut self, r: Register, v: [i32; 4]) {
         self.regs[r.index()] = v;
     }
+
+    /// The set with CONSTANT_COLOR0/1 replaced by `constants` (the NV2A's per-stage or
+    /// final-combiner constants), or the set itself without them.
+    pub fn with_constants(&self, constants: Option<[[i32; 4]; 2]>) -> Cow<'_, RegisterFile> {
+        match constants {
+            Some([c0, c1]) => {
+                let mut f = *self;
+                f.set(Register::ConstantColor0, c0);
+                f.set(Register::ConstantColor1, c1);
+                Cow::Owned(f)
+            }
+            None => Cow::Borrowed(self),
+        }
+    }
 }
 
 /// The fragment values that initialise COMBINER0's register set, as `input_bits`-bit
@@ -819,19 +834,7 @@ impl RegisterCombiner {
         }
         // NV2A per-stage constants replace the set's CONSTANT_COLOR0/1 for this stage's
         // reads (the output set passes the input's on).
-        let staged;
-        let file = match self.cfg.stage_constants {
-            Some([c0, c1]) => {
-                staged = {
-                    let mut f = *file;
-                    f.set(Register::ConstantColor0, c0);
-                    f.set(Register::ConstantColor1, c1);
-                    f
-                };
-                &staged
-            }
-            None => file,
-        };
+        let file = &*file.with_constants(self.cfg.stage_constants);
         let rgb = self.portion_outputs(file, &self.cfg.rgb, 0..3, ctr);
         let alpha = self.portion_outputs(file, &self.cfg.alpha, 3..4, ctr);
         // NV2A blue-to-alpha: out1/out2's blue lane also to its register's alpha.
