@@ -448,9 +448,13 @@ fn explore_slopes() {
     }
 }
 
-/// Datasheet numbers: `cargo test --test chaos_map -- --nocapture report`.
+/// Datasheet numbers (`cargo test --test chaos_map -- --nocapture report` prints them),
+/// asserted to be what docs/units.md quotes.
 #[test]
 fn report() {
+    use common::docs::{assert_quotes, grouped, section};
+    let doc = section("units.md", "## chaos_map");
+    let at = "docs/units.md, section chaos_map,";
     let u = ChaosMap::geforce();
     let t = u.timing();
     let c = u.cost();
@@ -463,15 +467,57 @@ fn report() {
         u.a_quantised(),
         u.z_quantised()
     );
+    assert_quotes(
+        &doc,
+        &format!("II = max(n, 7) = {}, latency n + 7 = {}", t.ii, t.latency),
+        at,
+    );
+    assert_quotes(
+        &doc,
+        &format!(
+            "**Gates {} NAND2, ROM {} bits**",
+            grouped(c.gates_nand2()),
+            grouped(c.ram_bits as f64)
+        ),
+        at,
+    );
     for (part, g) in &c.breakdown {
         println!("    {part}: {g:.0}");
     }
+    // The largest parts, quoted in thousands.
+    let kilo = |name: &str| {
+        let g = c
+            .breakdown
+            .iter()
+            .find(|(p, _)| p.starts_with(name))
+            .unwrap_or_else(|| panic!("no cost part {name:?}"))
+            .1;
+        format!("{:.1} k", g / 1000.0)
+    };
+    let largest = format!(
+        "log2 and exp2 interpolators {} each, the stage registers {}, z×Δ {}, (S − a)×1/(1 − a) {};",
+        kilo("log2 interpolator"),
+        kilo("stage registers"),
+        kilo("z × Δ"),
+        kilo("(S − a) × 1/(1 − a)")
+    );
+    assert_eq!(kilo("log2 interpolator"), kilo("exp2 interpolator"));
+    assert_quotes(&doc, &largest, at);
     let worst = [1u64, 1 << 8, 1 << 16, 1 << 24, u.a_code() / 2, u.a_code()]
         .iter()
         .map(|&s| (s, step_bound_lsb(&u, s)))
         .collect::<Vec<_>>();
-    println!(
-        "default step bounds (S code, LSB): {worst:?}; right branch {}",
-        step_bound_lsb(&u, u.a_code() + 1)
+    let right = step_bound_lsb(&u, u.a_code() + 1);
+    println!("default step bounds (S code, LSB): {worst:?}; right branch {right}");
+    // S = 2⁻¹⁶ .. 2⁻⁸, 0.4 (a/2) and 0.8 (a) at F = 32.
+    assert_eq!(format!("{:.2}", worst[2].1), "0.50");
+    assert_quotes(
+        &doc,
+        &format!(
+            "{:.2} LSB at S = 2⁻⁸, ~{:.0} LSB at S = 0.4 and ~{:.0} LSB at S = 0.8",
+            worst[3].1, worst[4].1, worst[5].1
+        ),
+        at,
     );
+    assert_quotes(&doc, &format!("= {right} LSB (reciprocal low"), at);
 }

@@ -381,9 +381,14 @@ fn erfc_matches_known_values() {
     }
 }
 
-/// Datasheet numbers: `cargo test --test gaussian_noise -- --nocapture report`.
+/// Datasheet and statistics figures (`cargo test --test gaussian_noise -- --nocapture
+/// report` prints them), asserted to be what docs/units.md and docs/glare.md quote.
 #[test]
 fn report() {
+    use common::docs::{assert_quotes, grouped, section};
+    let units = section("units.md", "## gaussian_noise");
+    let at = "docs/units.md, section gaussian_noise,";
+    let glare = section("glare.md", "### Gaussian noise generator");
     for u in [
         GaussianNoise::geforce(),
         cfg(GaussMode::CentralLimit, 32, 10, 18, 12, 3),
@@ -394,6 +399,7 @@ fn report() {
         let (c3, c4) = twin::tail_counts(&v, lsb(&u));
         let t = u.timing();
         let c = u.cost();
+        let per_clock = u.samples_per_call() as f64 / t.ii as f64;
         println!(
             "{:?}: seed {SEED}, N = {n}: KS D = {:.5} p = {:.4}; |x|>3 {c3} (N(0,1) {:.2}); |x|>4 {c4} (N(0,1) {:.2}); \
              latency {} II {} samples/clock {:.3}; gates {:.0} NAND2; ROM bits {}",
@@ -404,23 +410,90 @@ fn report() {
             twin::normal_two_sided_tail(4.0) * n as f64,
             t.latency,
             t.ii,
-            u.samples_per_call() as f64 / t.ii as f64,
+            per_clock,
             c.gates_nand2(),
             c.ram_bits
         );
         for (part, g) in &c.breakdown {
             println!("    {part}: {g:.0}");
         }
+        // The two tables of docs/units.md: timing and cost, statistics at 10⁵.
+        let mode = format!("{:?}", u.mode());
+        let rate = if per_clock >= 1.0 {
+            format!("{per_clock:.0}")
+        } else {
+            format!("1/{:.0}", 1.0 / per_clock)
+        };
+        assert_quotes(
+            &units,
+            &format!(
+                "| {mode} | {} | {} | {rate} | {} | {}",
+                t.latency,
+                t.ii,
+                grouped(c.gates_nand2()),
+                grouped(c.ram_bits as f64)
+            ),
+            at,
+        );
+        let four = if mode == "BoxMuller" {
+            format!("**{c4}**")
+        } else {
+            c4.to_string()
+        };
+        assert_quotes(
+            &units,
+            &format!("| {mode} | 10⁵ | {:.5} | {:.3} | {c3} |", ks.d, ks.p),
+            at,
+        );
+        assert_quotes(&units, &format!("| {four} |"), at);
+        // docs/glare.md's design table quotes the same run.
+        let p_text = if mode == "BoxMuller" {
+            format!("**p = {:.2}**", ks.p)
+        } else {
+            format!("p = {:.2}", ks.p)
+        };
+        assert_quotes(
+            &glare,
+            &format!("| {:.5}, {p_text} | {c3} (", ks.d),
+            "docs/glare.md's noise design table",
+        );
     }
     let u = GaussianNoise::geforce();
+    let c = u.cost();
+    let kilo = |name: &str| {
+        let g = c
+            .breakdown
+            .iter()
+            .find(|(p, _)| p.starts_with(name))
+            .unwrap_or_else(|| panic!("no cost part {name:?}"))
+            .1;
+        format!("{:.1} k", g / 1000.0)
+    };
+    assert_quotes(
+        &units,
+        &format!(
+            "sin/cos interpolators {}, r×cos/r×sin {}, √ interpolator {}, ln interpolator {}",
+            kilo("sin, cos interpolators"),
+            kilo("r × cos, r × sin"),
+            kilo("√ interpolator"),
+            kilo("ln interpolator")
+        ),
+        at,
+    );
     let worst = (0..64u64)
         .map(|k| bm_bound_lsb(&u, k))
         .chain([bm_bound_lsb(&u, u32::MAX as u64)])
         .fold(0.0f64, f64::max);
+    let (half, tail) = (bm_bound_lsb(&u, 1 << 31), bm_bound_lsb(&u, 0));
     println!(
-        "default bound (LSB of 2^-12): worst {worst:.3} (u1 → 1, r → 0: the √ near 0); at u1 = ½ {:.3}; at u1 = 2^-33 (r = 6.76) {:.3}",
-        bm_bound_lsb(&u, 1 << 31),
-        bm_bound_lsb(&u, 0)
+        "default bound (LSB of 2^-12): worst {worst:.3} (u1 → 1, r → 0: the √ near 0); at u1 = ½ {half:.3}; at u1 = 2^-33 (r = 6.76) {tail:.3}",
+    );
+    assert_quotes(
+        &units,
+        &format!(
+            "At defaults: {half:.2} LSB at u1 = ½, {tail:.2} LSB at u1 = 2⁻³³ (r = 6.76), up to {worst:.1} LSB"
+        ),
+        at,
     );
 }
 

@@ -47,16 +47,32 @@ fn exhaustive_narrow_widths() {
     }
 }
 
+/// The defaults' timing and cost (`-- --nocapture` prints them), asserted to be what
+/// docs/units.md quotes.
 #[test]
 fn defaults_cost() {
     let m = GlareCombiner::geforce();
+    let (t, c) = (m.timing(), m.cost());
     println!(
         "glare_combiner defaults: latency {} II {} gates {:.0} NAND2, RAM bits {}",
-        m.timing().latency,
-        m.timing().ii,
-        m.cost().gates_nand2(),
-        m.cost().ram_bits
+        t.latency,
+        t.ii,
+        c.gates_nand2(),
+        c.ram_bits
     );
+    let doc = common::docs::section("units.md", "## glare_combiner");
+    let at = "docs/units.md, section glare_combiner,";
+    common::docs::assert_quotes(
+        &doc,
+        &format!("Latency **{}**, II **{}**", t.latency, t.ii),
+        at,
+    );
+    common::docs::assert_quotes(
+        &doc,
+        &format!("**{} NAND2**", common::docs::grouped(c.gates_nand2())),
+        at,
+    );
+    common::docs::assert_quotes(&doc, &format!("RAM {}.", c.ram_bits), at);
 }
 
 proptest! {

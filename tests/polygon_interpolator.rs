@@ -1023,6 +1023,11 @@ fn serpentine_moves_visit_every_bbox_pixel_once() {
 #[test]
 fn print_datasheet_numbers() {
     // cargo test --test polygon_interpolator print_datasheet_numbers -- --nocapture
+    // prints the datasheet's figures; the test fails when docs/units.md no longer
+    // quotes them.
+    use common::docs::{assert_quotes, grouped, section};
+    let doc = section("units.md", "## polygon_interpolator");
+    let at = "docs/units.md, section polygon_interpolator,";
     for (name, u) in [
         ("default", PolygonInterpolator::geforce()),
         ("wide", cfg_wide(4)),
@@ -1046,21 +1051,51 @@ fn print_datasheet_numbers() {
             u.edge_bits(),
             u.setup_cycles()
         );
+        // The cost table's row: walker | setup | total.
+        let row = format!(
+            "| {} | {} | {} |",
+            grouped(s.gates_nand2 - setup),
+            grouped(setup),
+            grouped(s.gates_nand2)
+        );
+        assert_quotes(&doc, &row, at);
         if name == "default" {
+            assert_quotes(&doc, &format!("Latency **{}**", s.latency), at);
+            assert_quotes(&doc, &format!("**II {}**", s.ii), at);
+            assert_quotes(&doc, &format!("({} at defaults)", u.setup_cycles()), at);
+            assert_quotes(&doc, &format!("edges {} b", u.edge_bits()), at);
+            // The breakdown paragraph quotes every part, in order.
+            let para = &doc[doc.find("Default breakdown:").expect("breakdown paragraph")..];
+            let mut from = 0;
             for (part, g) in &s.breakdown {
                 println!("  {part}: {g:.0}");
+                let q = format!(" {}", grouped(*g));
+                let k = para[from..].find(&q).unwrap_or_else(|| {
+                    panic!("{at} breakdown no longer quotes {part} = {}", grouped(*g))
+                });
+                from += k + q.len();
             }
         }
     }
     // Gates by the configured attribute count (default widths otherwise).
+    let gates = |k: u32| UnitSummary::of(&cfg_default(k)).gates_nand2;
     for k in [0, 1, 2, 4, 8, 10, 16] {
-        let u = cfg_default(k);
         println!(
             "default widths, K = {k}: gates {:.0}, setup_cycles {}",
-            UnitSummary::of(&u).gates_nand2,
-            u.setup_cycles()
+            gates(k),
+            cfg_default(k).setup_cycles()
         );
     }
+    let by_k: Vec<String> = [0, 2, 4, 8, 10, 16]
+        .iter()
+        .map(|&k| format!("{k} {}", grouped(gates(k))))
+        .collect();
+    assert_quotes(&doc, &format!("K = {}", by_k.join(", ")), at);
+    assert_quotes(
+        &doc,
+        &format!("{} per attribute", grouped(gates(1) - gates(0))),
+        at,
+    );
 }
 
 #[test]
