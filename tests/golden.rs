@@ -11,10 +11,10 @@
 //! Each row hashes (FNV-1a 64, [`fnv1a`]) the frame's width, height, bits and every
 //! channel code (u32, little endian), and separately the counters as serde_json text.
 //!
-//! **Regenerating.** `GOLDEN_PRINT=1 cargo test --test golden -- --nocapture
-//! --test-threads 1` prints each table (`("name", image, counters),`) before asserting
-//! (it still fails on a mismatch: printing never turns the check into a pass); paste it
-//! over the constants. A deliberate output change is its own commit
+//! **Regenerating.** `cargo test --test golden -- --ignored --nocapture
+//! print_golden_tables` prints each table (`("name", image, counters),`) and asserts
+//! nothing; it is a separate, ignored test, so printing never turns a check into a
+//! pass. Paste its output over the constants. A deliberate output change is its own commit
 //! that updates these constants and says why the output changed; a restructuring or
 //! speed commit never touches them.
 //!
@@ -159,16 +159,17 @@ fn shrink(name: &str) -> Scene {
 
 type Row = (String, u64, u64);
 
-/// Assert the rows against `want`, listing every mismatch at once (printing them first
-/// when GOLDEN_PRINT is set).
-fn check(table: &str, rows: &[Row], want: &[(&str, u64, u64)]) {
-    if std::env::var_os("GOLDEN_PRINT").is_some() {
-        println!("const {table}: &[(&str, u64, u64)] = &[");
-        for (n, i, c) in rows {
-            println!("    (\"{n}\", {i:#018x}, {c:#018x}),");
-        }
-        println!("];");
+/// The rows as Rust constants, to paste over a table after a deliberate change.
+fn print_table(table: &str, rows: &[Row]) {
+    println!("const {table}: &[(&str, u64, u64)] = &[");
+    for (n, i, c) in rows {
+        println!("    (\"{n}\", {i:#018x}, {c:#018x}),");
     }
+    println!("];");
+}
+
+/// Assert the rows against `want`, listing every mismatch at once.
+fn check(table: &str, rows: &[Row], want: &[(&str, u64, u64)]) {
     let got: Vec<(&str, u64, u64)> = rows.iter().map(|(n, i, c)| (n.as_str(), *i, *c)).collect();
     let mut bad = Vec::new();
     for w in want {
@@ -310,4 +311,16 @@ fn scene_builtins() {
 #[test]
 fn envmap_builtins() {
     check("ENVMAP", &envmap_rows(), ENVMAP);
+}
+
+/// Prints every table for regenerating the constants (see the module doc); ignored, so
+/// it runs only when asked for, and it asserts nothing.
+#[test]
+#[ignore = "prints the golden tables for a deliberate output change"]
+fn print_golden_tables() {
+    print_table("SHAFTS", &shafts_rows());
+    print_table("TEST_SCENE", &test_scene_rows());
+    print_table("GLARE", &glare_rows());
+    print_table("SCENES", &scene_rows());
+    print_table("ENVMAP", &envmap_rows());
 }
