@@ -165,7 +165,10 @@ impl Brdf for MaterialBrdf {
     }
     fn eval(&self, wi: Vec3, wo: Vec3) -> f64 {
         self.lambert.as_ref().map_or(0.0, |l| l.eval(wi, wo))
-            + self.oren_nayar.as_ref().map_or(0.0, |o| o.eval(wi, wo))
+            // The full Oren–Nayar fit dips below zero near grazing for rough, dark
+            // surfaces (σ ≳ 0.8, ρ ≲ 0.5, Δφ near π); a radiance cannot, and the
+            // hardware's unorm factor textures cannot hold it: clamped at 0.
+            + self.oren_nayar.as_ref().map_or(0.0, |o| o.eval(wi, wo).max(0.0))
             + self.lobe.as_ref().map_or(0.0, |l| l.eval(wi, wo))
     }
 }

@@ -108,16 +108,40 @@ impl Fresnel {
 
 /// Unpolarised Fresnel reflectance of a dielectric (Cook and Torrance's form):
 /// g = √(η² − 1 + c²), F = ½ ((g − c)/(g + c))² (1 + ((c(g + c) − 1)/(c(g − c) + 1))²);
-/// g² < 0 is total internal reflection (F = 1). `c` ∈ (0, 1].
+/// no real g is total internal reflection (F = 1). `c` ∈ (0, 1].
 pub fn fresnel_dielectric(c: f64, eta: f64) -> f64 {
-    let g2 = eta * eta - 1.0 + c * c;
-    if g2 <= 0.0 {
+    let Some(g) = fresnel_g(c, eta) else {
         return 1.0;
-    }
-    let g = g2.sqrt();
+    };
     let a = (g - c) / (g + c);
     let b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
     (0.5 * a * a * (1.0 + b * b)).min(1.0)
+}
+
+/// 1 − [`fresnel_dielectric`], formed directly as ½ (T_s + T_p) with
+/// T_s = 4cg/(c + g)² and T_p = 4η²cg/(η²c + g)² (each a product of two ratios in
+/// [0, 1]): near grazing F → 1 and 1 − F would keep only the digits F lost.
+pub fn fresnel_dielectric_transmittance(c: f64, eta: f64) -> f64 {
+    let Some(g) = fresnel_g(c, eta) else {
+        return 0.0;
+    };
+    let e2c = eta * eta * c;
+    let t_s = (c / (c + g)) * (g / (c + g));
+    let t_p = (e2c / (e2c + g)) * (g / (e2c + g));
+    (2.0 * (t_s + t_p)).clamp(0.0, 1.0)
+}
+
+/// g = √(η² − 1 + c²) without cancellation or underflow: hypot(√(η² − 1), c) for
+/// η ≥ 1 (at η = 1, g = c exactly, however small c is: c² would underflow below
+/// 1.5·10⁻¹⁵⁴ and read as total internal reflection); √((c − s)(c + s)) with
+/// s = √(1 − η²) for η < 1, None (total internal reflection) when c ≤ s.
+fn fresnel_g(c: f64, eta: f64) -> Option<f64> {
+    if eta >= 1.0 {
+        Some(((eta - 1.0) * (eta + 1.0)).sqrt().hypot(c))
+    } else {
+        let s = ((1.0 - eta) * (1.0 + eta)).sqrt();
+        (c > s).then(|| ((c - s) * (c + s)).sqrt())
+    }
 }
 
 /// Unpolarised Fresnel reflectance of a conductor of index η + ik from the complex

@@ -21,7 +21,7 @@
 
 use super::{above_horizon, check_range, Brdf, BrdfParamError};
 use crate::scene::math::Vec3;
-use std::f64::consts::{FRAC_1_PI, PI};
+use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum OrenNayarForm {
@@ -78,10 +78,22 @@ impl Brdf for OrenNayar {
             return 0.0;
         };
         let (rho, s2) = (self.params.rho, self.params.sigma * self.params.sigma);
-        let (ti, to) = (wi.z.min(1.0).acos(), wo.z.min(1.0).acos());
-        let (alpha, beta) = (ti.max(to), ti.min(to));
         let pi_ = (wi.x * wi.x + wi.y * wi.y).sqrt();
         let po = (wo.x * wo.x + wo.y * wo.y).sqrt();
+        // The angles from the components, not from acos(z): sin θ = |(x, y)|, cos θ = z,
+        // and the complement γ = π/2 − θ = atan2(z, |(x, y)|) keeps its relative digits
+        // near grazing, where tan β and 1 − (2β/π)³ would otherwise lose them.
+        let side = |p: f64, z: f64| (p, z.min(1.0), z.min(1.0).atan2(p));
+        // α is the direction nearer the horizon (the smaller cos θ, a tie broken by the
+        // larger sin θ), β the other: the same choice either way round, so the model
+        // stays exactly reciprocal.
+        let ((sin_a, cos_a, gamma_a), (sin_b, cos_b, gamma_b)) = if (wi.z, -pi_) <= (wo.z, -po) {
+            (side(pi_, wi.z), side(po, wo.z))
+        } else {
+            (side(po, wo.z), side(pi_, wi.z))
+        };
+        let (alpha, beta) = (FRAC_PI_2 - gamma_a, FRAC_PI_2 - gamma_b);
+        let tan_beta = sin_b / cos_b;
         let cos_dphi = if pi_ > 0.0 && po > 0.0 {
             ((wi.x * wo.x + wi.y * wo.y) / (pi_ * po)).clamp(-1.0, 1.0)
         } else {
@@ -91,21 +103,29 @@ impl Brdf for OrenNayar {
         let b = 0.45 * s2 / (s2 + 0.09);
         match self.params.form {
             OrenNayarForm::Qualitative => {
-                rho * FRAC_1_PI * (a + b * cos_dphi.max(0.0) * alpha.sin() * beta.tan())
+                rho * FRAC_1_PI * (a + b * cos_dphi.max(0.0) * sin_a * tan_beta)
             }
             OrenNayarForm::Full => {
-                let two_beta_pi = 2.0 * beta / PI;
+                // 2β/π = 1 − δ with δ = 2γ_β/π; the cubes and squares of 1 − δ are
+                // expanded so that 1 − (1 − δ)ⁿ is formed without cancellation, and
+                // 1 − sin α = cos²α/(1 + sin α).
+                let delta = 2.0 * gamma_b / PI;
                 let c2 = if cos_dphi >= 0.0 {
-                    b * alpha.sin()
+                    b * sin_a
                 } else {
-                    b * (alpha.sin() - two_beta_pi.powi(3))
+                    let one_minus_sin_a = cos_a * cos_a / (1.0 + sin_a);
+                    let one_minus_cube = delta * (3.0 - 3.0 * delta + delta * delta);
+                    b * (one_minus_cube - one_minus_sin_a)
                 };
                 let c3 = 0.125 * s2 / (s2 + 0.09) * (4.0 * alpha * beta / (PI * PI)).powi(2);
-                let direct = a
-                    + cos_dphi * c2 * beta.tan()
-                    + (1.0 - cos_dphi.abs()) * c3 * (0.5 * (alpha + beta)).tan();
-                let inter =
-                    0.17 * rho * s2 / (s2 + 0.13) * (1.0 - cos_dphi * two_beta_pi * two_beta_pi);
+                // tan((α + β)/2) = 1/tan((γ_α + γ_β)/2).
+                let tan_half_sum = 1.0 / (0.5 * (gamma_a + gamma_b)).tan();
+                let direct =
+                    a + cos_dphi * c2 * tan_beta + (1.0 - cos_dphi.abs()) * c3 * tan_half_sum;
+                // 1 − cos Δφ (2β/π)² = (1 − cos Δφ) + cos Δφ (2δ − δ²).
+                let one_minus_square = delta * (2.0 - delta);
+                let inter = 0.17 * rho * s2 / (s2 + 0.13)
+                    * ((1.0 - cos_dphi) + cos_dphi * one_minus_square);
                 rho * FRAC_1_PI * (direct + inter)
             }
         }

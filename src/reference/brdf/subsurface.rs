@@ -5,7 +5,7 @@
 //! With σ'_t = σ_a + σ'_s, reduced albedo α' = σ'_s/σ'_t, σ_tr = √(3 σ_a σ'_t),
 //! z_r = 1/σ'_t, z_v = z_r (1 + 4A/3), A = (1 + F_dr)/(1 − F_dr) and the diffuse
 //! Fresnel reflectance fit F_dr = −1.440/η² + 0.710/η + 0.668 + 0.0636 η (fitted for
-//! η ≈ 1…2; at η = 1 it gives −4e-4, A = 0.9992):
+//! η ≈ 1…2; at η = 1 it gives +1.6·10⁻³, A = 1.0032):
 //!
 //!   R_d(r) = α'/(4π) [z_r (1 + σ_tr d_r) e^{−σ_tr d_r}/d_r³ + z_v (1 + σ_tr d_v) e^{−σ_tr d_v}/d_v³],
 //!   d_r = √(r² + z_r²), d_v = √(r² + z_v²),
@@ -30,7 +30,7 @@
 //! entering, it keeps the flux: ∫ f cos θ_o dω_o is the scattered fraction, ≤ 1).
 //! Symmetric in (ω_i, ω_o) by construction.
 
-use super::cook_torrance::fresnel_dielectric;
+use super::cook_torrance::fresnel_dielectric_transmittance;
 use super::henyey_greenstein::HenyeyGreenstein;
 use super::{above_horizon, check_range, Brdf, BrdfParamError, COS_FLOOR};
 use crate::scene::math::Vec3;
@@ -195,8 +195,8 @@ impl Brdf for DipoleBrdf {
             return 0.0;
         };
         let eta = self.dipole.params.eta;
-        let ti = 1.0 - fresnel_dielectric(wi.z.min(1.0), eta);
-        let to = 1.0 - fresnel_dielectric(wo.z.min(1.0), eta);
+        let ti = fresnel_dielectric_transmittance(wi.z.min(1.0), eta);
+        let to = fresnel_dielectric_transmittance(wo.z.min(1.0), eta);
         ti * to * self.dipole.total_reflectance() * FRAC_1_PI
     }
     fn energy_normalised(&self) -> bool {
@@ -269,8 +269,8 @@ impl Brdf for HanrahanKrueger {
         };
         let (mu_i, mu_o) = (refracted_cos(wi), refracted_cos(wo));
         let cos_psi = -((wi.x * wo.x + wi.y * wo.y) * inv_eta2 + mu_i * mu_o);
-        let t_i = 1.0 - fresnel_dielectric(wi.z.min(1.0), p.eta);
-        let t_o = 1.0 - fresnel_dielectric(wo.z.min(1.0), p.eta);
+        let t_i = fresnel_dielectric_transmittance(wi.z.min(1.0), p.eta);
+        let t_o = fresnel_dielectric_transmittance(wo.z.min(1.0), p.eta);
         // 1 − e^{−τ(1/μ_i + 1/μ_o)}; μ > 0 above the horizon (μ ≥ √(1 − 1/η²) or = cos θ).
         let path = 1.0 / mu_i + 1.0 / mu_o;
         let absorbed = if p.depth.is_infinite() {
@@ -278,7 +278,9 @@ impl Brdf for HanrahanKrueger {
         } else {
             -(-p.depth * path).exp_m1()
         };
-        p.albedo * t_i * t_o * self.phase.phase(cos_psi) * absorbed * inv_eta2 / (mu_i + mu_o)
+        // The symmetric factors are multiplied together first (t_i·t_o), so swapping ω_i
+        // and ω_o gives the same bits at any albedo.
+        p.albedo * (t_i * t_o) * self.phase.phase(cos_psi) * absorbed * inv_eta2 / (mu_i + mu_o)
     }
     fn energy_normalised(&self) -> bool {
         true
