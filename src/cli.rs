@@ -1,4 +1,8 @@
 //! The clap front end: `units`, `render`, `reproduce`, `sweep`, `tables`, `trace`.
+//!
+//! The doc comments of the argument structs are the command's `--help` text, where
+//! `<model>`, `<suite>` and the like are literal placeholders a user reads, not HTML.
+#![allow(rustdoc::invalid_html_tags)]
 
 use crate::registry;
 use crate::report::alternates::modulate_alternates;

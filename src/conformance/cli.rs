@@ -1,4 +1,8 @@
 //! The `conformance` command: `extract` and `run` (module notes in `conformance`).
+//!
+//! The doc comments of the argument structs are the command's `--help` text, where
+//! `<model>`, `<suite>` and the like are literal placeholders a user reads, not HTML.
+#![allow(rustdoc::invalid_html_tags)]
 
 use super::run::{chip_name, run_suite, SuiteReport};
 use super::store::{extract, table_path};

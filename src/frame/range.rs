@@ -4,7 +4,7 @@
 //! its fragments, or a table's range was clamped — naming the unit, the event, the
 //! share, the scene field that drove it there and the nearest value that would fit.
 //!
-//! A counter rule is one row of [`RULES`]: the pipeline and unit instance, the event,
+//! A counter rule is one row of `RULES`: the pipeline and unit instance, the event,
 //! its denominator (fragments, or fragments × 3 channels), the threshold, and the scene
 //! fields that can drive it (in the order they are tried). The driving field is found by
 //! a sensitivity check: the frame is rendered reduced (at most [`REDUCED_WIDTH`] pixels

@@ -4,8 +4,8 @@
 //!
 //!   fcoc = [ min(A·B + (1 − A)·C + D, 1) per R, G, B ;  G ]
 //!
-//! with the variables A … G chosen by FinalCombinerInputNV (<input>, <mapping>,
-//! <componentUsage>): A … F are RGB vectors (usage RGB or ALPHA), G a scalar (ALPHA or
+//! with the variables A … G chosen by FinalCombinerInputNV (`<input>`, `<mapping>`,
+//! `<componentUsage>`): A … F are RGB vectors (usage RGB or ALPHA), G a scalar (ALPHA or
 //! BLUE). Two pseudo-registers besides Table 1's: E_TIMES_F_NV (the product E·F of the
 //! mapped E and F) and SPARE0_PLUS_SECONDARY_COLOR_NV (SPARE0 and SECONDARY_COLOR each
 //! under UNSIGNED_IDENTITY, summed, clamped to [0, 1] when COLOR_SUM_CLAMP_NV is set);
@@ -59,7 +59,7 @@ pub enum FinalInput {
     Spare0PlusSecondaryColor,
 }
 
-/// One final-combiner variable: <input>, <mapping>, <componentUsage>.
+/// One final-combiner variable: `<input>`, `<mapping>`, `<componentUsage>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct FinalVariable {
     pub input: FinalInput,

@@ -472,7 +472,7 @@ impl ProjectiveTexcoord {
     }
 
     /// Whether the batch kernel's lane form applies: the 64-bit carriers fit
-    /// ([`Self::fits_64`]) and the output shift F_r + p − out_frac is a right shift
+    /// (`Self::fits_64`) and the output shift F_r + p − out_frac is a right shift
     /// for every exponent p ≥ 0 (F_r > out_frac).
     fn lanes_apply(&self) -> bool {
         self.fits_64() && self.recip_frac_bits() > self.cfg.out_frac_bits
@@ -801,8 +801,8 @@ impl Unit for ProjectiveTexcoord {
         }
     }
 
-    /// The lane form where it applies ([`Self::lanes_apply`]); else the kernel in
-    /// 64-bit carriers where the config fits them ([`Self::fits_64`]); otherwise the
+    /// The lane form where it applies (`Self::lanes_apply`); else the kernel in
+    /// 64-bit carriers where the config fits them (`Self::fits_64`); otherwise the
     /// per-word kernel.
     fn kernel_batch(
         &self,

@@ -697,7 +697,7 @@ impl Unit for ReflectionVector {
         self.parts(input, ctr).out
     }
 
-    /// The 64-bit form ([`FastForm`]) where the config has it, its counters summed per
+    /// The 64-bit form (`FastForm`) where the config has it, its counters summed per
     /// chunk; else the per-word kernel.
     fn kernel_batch(
         &self,

@@ -190,7 +190,7 @@ impl Mapping {
     }
 }
 
-/// The <componentUsage> of CombinerInputNV / FinalCombinerInputNV.
+/// The `<componentUsage>` of CombinerInputNV / FinalCombinerInputNV.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum ComponentUsage {
@@ -202,7 +202,7 @@ pub enum ComponentUsage {
     Blue,
 }
 
-/// CombinerOutputNV <scale>: NONE, SCALE_BY_TWO_NV, SCALE_BY_FOUR_NV,
+/// CombinerOutputNV `<scale>`: NONE, SCALE_BY_TWO_NV, SCALE_BY_FOUR_NV,
 /// SCALE_BY_ONE_HALF_NV.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
@@ -233,7 +233,7 @@ impl Scale {
     }
 }
 
-/// CombinerOutputNV <bias>: NONE or BIAS_BY_NEGATIVE_ONE_HALF_NV.
+/// CombinerOutputNV `<bias>`: NONE or BIAS_BY_NEGATIVE_ONE_HALF_NV.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum Bias {
@@ -251,7 +251,7 @@ impl Bias {
     }
 }
 
-/// One variable's CombinerInputNV: <input>, <mapping>, <componentUsage>.
+/// One variable's CombinerInputNV: `<input>`, `<mapping>`, `<componentUsage>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct VariableInput {
     pub input: Register,
@@ -277,19 +277,19 @@ pub struct PortionConfig {
     pub b: VariableInput,
     pub c: VariableInput,
     pub d: VariableInput,
-    /// <abOutput>; `None` = DISCARD_NV.
+    /// `<abOutput>`; `None` = DISCARD_NV.
     pub ab_output: Option<Register>,
-    /// <cdOutput>; `None` = DISCARD_NV.
+    /// `<cdOutput>`; `None` = DISCARD_NV.
     pub cd_output: Option<Register>,
-    /// <sumOutput>; `None` = DISCARD_NV.
+    /// `<sumOutput>`; `None` = DISCARD_NV.
     pub sum_output: Option<Register>,
     pub scale: Scale,
     pub bias: Bias,
-    /// <abDotProduct> (RGB portion only).
+    /// `<abDotProduct>` (RGB portion only).
     pub ab_dot_product: bool,
-    /// <cdDotProduct> (RGB portion only).
+    /// `<cdDotProduct>` (RGB portion only).
     pub cd_dot_product: bool,
-    /// <muxSum>: gcc6/gcc4a (the mux) instead of the sum.
+    /// `<muxSum>`: gcc6/gcc4a (the mux) instead of the sum.
     pub mux_sum: bool,
 }
 

@@ -644,7 +644,7 @@ impl ShadowCompare {
 
     /// [`Self::test_filter_lanes`] where every lane tests the one depth word `depth`
     /// (a plane parallel to the screen) and lane i is a candidate when `inside[i]` and
-    /// (x[i], y[i]) lies in the `vw` × `vh` viewport, tested at (x[i], y[i]): the same
+    /// `(x[i], y[i])` lies in the `vw` × `vh` viewport, tested at `(x[i], y[i])`: the same
     /// kept indices, counters and count. The lanes are read straight from the slices
     /// and the biased fragment depth is computed once, so the loop holds no closure
     /// state. None (nothing done) when `words` is not one word per address or the

@@ -1002,7 +1002,7 @@ impl Unit for TextureSampler {
     }
 
     /// One-channel 1D and 2D textures (the shafts' F, h, light map and J) through
-    /// [`TextureSampler::sample_batch_1ch`]; anything else word by word.
+    /// `TextureSampler::sample_batch_1ch`; anything else word by word.
     fn kernel_batch(
         &self,
         st: &mut (),

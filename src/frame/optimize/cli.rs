@@ -2,6 +2,10 @@
 //! progress bar, `pareto.csv` rewritten atomically after every point (so Ctrl-C
 //! leaves a valid file of what was evaluated), then `pareto.png`, `best.toml` and the
 //! verification of the best point by a fresh render of `best.toml`.
+//!
+//! The doc comments of the argument struct are the command's `--help` text, where
+//! `<model>` is a literal placeholder a user reads, not HTML.
+#![allow(rustdoc::invalid_html_tags)]
 
 use super::eval::{Evaluator, Kind, Reference};
 use super::search::{

@@ -11,7 +11,7 @@
 //! * **Repair.** If the defaults break the budget, the parameter whose one-step
 //!   widening removes the most error per cost added is widened (if none removes
 //!   any, every parameter is widened one step together; if that does not lower
-//!   the error either, [`Book::repair_wider`]: two-step single widenings, pairs of
+//!   the error either, `Book::repair_wider`: two-step single widenings, pairs of
 //!   them widened together up to their caps, and line searches over each width
 //!   whose widening changed the error, down as well as up: the storage-vs-filter
 //!   trades), until the budget is met

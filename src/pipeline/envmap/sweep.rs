@@ -6,7 +6,7 @@
 //! `environment.side` before anything runs), then the scene is rendered as `render
 //! --scene … --reference` does ([`render_scene`] with the Phong truth): the map is
 //! built with the scene's prefilter ([`super::scene_render::build_map`]: the default
-//! picks the exact build above [`super::scene_render::ACCELERATED_MAX_SIDE`]) and the
+//! picks the exact build above [`crate::scene::environment::AUTO_ACCELERATED_MAX_SIDE`]) and the
 //! frame drawn through the units. A row holds:
 //!
 //! * `mean_abs_levels`, `rms_levels`, `max_levels`: the render against the Phong truth

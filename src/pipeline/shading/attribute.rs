@@ -8,7 +8,7 @@
 //! [`sphere_vectors`] and [`lookup_levels`] against 255·(n̂·ĥ)^32 (the sweep's
 //! `cube_*` / `lookup_*` rows). Pixels off the sphere are 0 in both. "Ideal" for each
 //! source (a source is listed only where the scene's path elaborates its unit, as
-//! [`params_of`] says):
+//! `params_of` says):
 //!
 //! | scene | source | configured → ideal |
 //! |---|---|---|

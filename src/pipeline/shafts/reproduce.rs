@@ -88,7 +88,7 @@ fn reproduction_id(figure: &str, file: &str, param: &str, values: &[u32], bits: 
 /// 8-bit textures and framebuffer (`fig4.csv`) and for 16-bit (`fig4_wide.csv`).
 /// Each CSV is rewritten as each row finishes; with `resume`, the rows an interrupted
 /// run left are kept and only the others rendered (`report::resume`). The frames are
-/// independent and run side by side ([`run_points`]) in row order, so the rows on file
+/// independent and run side by side (`run_points`) in row order, so the rows on file
 /// stay a prefix of each CSV (what `--resume` reads back).
 pub fn fig4(out: &Path, planes: &[u32], resume: bool) -> Result<(), String> {
     let base = scene("fig4")?;
@@ -174,7 +174,7 @@ pub fn fig4(out: &Path, planes: &[u32], resume: bool) -> Result<(), String> {
 /// Fig. 6 images at m = 1 and m = 6. `fig5.csv` is rewritten as each row finishes;
 /// with `resume`, the rows an interrupted run left are kept (`report::resume`). The
 /// reference frame is rendered once (first, on every thread) and is also the row of
-/// its m; the other frames are independent and run side by side ([`run_points`]) in
+/// its m; the other frames are independent and run side by side (`run_points`) in
 /// row order, so the rows on file stay a prefix of the CSV.
 pub fn fig5(out: &Path, subplanes: &[u32], resume: bool) -> Result<(), String> {
     let base = scene("fig6")?;

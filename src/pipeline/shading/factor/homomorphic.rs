@@ -3,9 +3,9 @@
 //! exp(something) — positive by construction.
 //!
 //! The system: one row per sample pair (ω_i, ω_o),
-//!   Σ_j Σ_corners w · x_j[texel] = ln max(v, ε),
+//!   Σ_j Σ_corners w · `x_j[texel]` = ln max(v, ε),
 //! with x_j = ln p_j the unknown log texels and w the bilinear weights the sampler will
-//! use, plus smoothness rows √λ · (x[a] − x[b]) = 0 between neighbouring texels of each
+//! use, plus smoothness rows √λ · (`x[a]` − `x[b]`) = 0 between neighbouring texels of each
 //! factor (they settle texels no sample reaches, e.g. outside the parabolic disc).
 //! Solved by conjugate gradients on the normal equations (CGLS, matrix-free).
 //!

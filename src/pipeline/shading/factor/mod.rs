@@ -4,7 +4,7 @@
 //! Two factorisations, both of the same target value `v(ω_i, ω_o)` ([`FactorTarget`]):
 //! * **Separable / SVD** (Kautz and McCool 1999, [`svd`]): v ≈ G(h) · H(d), with h the
 //!   half-angle vector and d the difference vector (Rusinkiewicz 1998): the leading term
-//!   of the SVD of the matrix M[h][d], found by power iteration (alternating least
+//!   of the SVD of the matrix `M[h][d]`, found by power iteration (alternating least
 //!   squares) with the below-horizon entries weighted 0.
 //! * **Homomorphic** (McCool, Ang and Ahmad 2001, [`homomorphic`]):
 //!   log v ≈ log p₁(ω_i) + log p₂(h) + log p₃(ω_o), a sparse linear least-squares

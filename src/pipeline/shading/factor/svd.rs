@@ -1,5 +1,5 @@
 //! The separable approximation of Kautz and McCool (1999): v(ω_i, ω_o) ≈ G(h) · H(d),
-//! the leading term σ₁ u₁ v₁ᵀ of the SVD of the matrix M[h][d] = v(ω_i(h, d), ω_o(h, d)).
+//! the leading term σ₁ u₁ v₁ᵀ of the SVD of the matrix `M[h][d]` = v(ω_i(h, d), ω_o(h, d)).
 //!
 //! How it is computed (our own code, no linear-algebra dependency):
 //! * M is sampled on a quadrature grid: the centres of a Q × Q grid over each
