@@ -25,8 +25,8 @@ use glare_pipeline::reference::polygon_interpolator as twin;
 use proptest::prelude::*;
 use rtl_model::driver::run_span;
 use rtl_model::units::polygon_interpolator::{
-    Move, PolyLanes, PolyOut, PolySetup, PolyState, PolygonInterpolator, PolygonInterpolatorConfig,
-    Vertex, MAX_ATTRS,
+    Barycentric, Move, PolyLanes, PolyOut, PolySetup, PolyState, PolygonInterpolator,
+    PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
 };
 use rtl_model::{Counters, Format, Overflow, Quant, Unit, UnitSummary};
 
@@ -563,6 +563,12 @@ proptest! {
             out_int_bits: out_int,
             out_frac_bits: out_frac,
             out_quant: q,
+            // The barycentric mode on odd attribute counts, weight bits 0 ..= 17 (0 and
+            // 17 invalid).
+            barycentric: (attrs % 2 == 1).then_some(Barycentric {
+                weight_bits: out_frac % 18,
+                strict: s % 2 == 0,
+            }),
         };
         match cfg.build() {
             Err(e) => prop_assert!(e.field().starts_with("polygon_interpolator."), "{}", e.field()),
@@ -1262,5 +1268,155 @@ fn runs_agree_with_span(
                 "unread lane {a} written ({name})"
             );
         }
+    }
+}
+
+// ------------------------------------------------------------ barycentric mode
+
+/// A config with the barycentric mode: default or narrow widths, w weight bits.
+fn cfg_bary(narrow: bool, k: u32, w: u32, strict: bool, q: Quant) -> PolygonInterpolator {
+    let base = if narrow {
+        PolygonInterpolatorConfig {
+            subpixel_bits: 2,
+            attr_fmt: Format {
+                int_bits: 9,
+                frac_bits: 0,
+                signed: true,
+            },
+            out_int_bits: 9,
+            out_frac_bits: 0,
+            ..PolygonInterpolatorConfig::default()
+        }
+    } else {
+        PolygonInterpolatorConfig::default()
+    };
+    PolygonInterpolatorConfig {
+        attrs: k,
+        out_quant: q,
+        barycentric: Some(Barycentric {
+            weight_bits: w,
+            strict,
+        }),
+        ..base
+    }
+    .build()
+    .unwrap()
+}
+
+/// The barycentric value A1 + (q0·Δ0 + q2·Δ2)/2^w has fa + w fraction bits; the
+/// output rounding from there to `out_frac_bits` is the only other error.
+fn bary_round_bound(u: &PolygonInterpolator, w: u32) -> f64 {
+    let f = u.attr_fmt().frac_bits + w;
+    let o = u.out_frac_bits();
+    if o >= f {
+        0.0
+    } else {
+        match u.out_quant() {
+            Quant::Trn | Quant::TrnZero => (-(o as f64)).exp2(),
+            _ => (-(o as f64 + 1.0)).exp2(),
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// The barycentric mode against the twin, on random triangles (either winding):
+    /// coverage exact; every covered pixel within the output rounding of
+    /// `barycentric_value` (the weights' quantisation is exact in both), and within
+    /// 2^−w·(|Δ0| + |Δ2|) + that rounding of the exact plane (the width-derived cost
+    /// of quantising the weights).
+    #[test]
+    fn barycentric_triangles_match_the_twin(
+        narrow in any::<bool>(),
+        k in 1u32..=4,
+        w in 1u32..=16,
+        strict in any::<bool>(),
+        q in prop::sample::select(Quant::ALL.to_vec()),
+        pts in pts_strategy(3, -10.0, 60.0),
+        attrs in attrs_strategy(3),
+    ) {
+        let u = cfg_bary(narrow, k, w, strict, q);
+        let (vs, ps, ats) = quantise(&u, &pts, &attrs);
+        let tri = [ps[0], ps[1], ps[2]];
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut Counters::default());
+        let mut st = setup.state.clone();
+        let mut ctr = Counters::default();
+        let outs = run_span(&u, &mut st, &setup.moves(), &mut ctr);
+        let r = bary_round_bound(&u, w);
+        let scale = (-(w as f64)).exp2();
+        let s = u.subpixel_bits();
+        for o in &outs {
+            prop_assert_eq!(o.inside, twin::triangle_covers(tri, o.x, o.y));
+            if !o.inside {
+                continue;
+            }
+            let p = twin::centre(o.x, o.y);
+            for (i, &code) in o.attrs.iter().enumerate().take(k as usize) {
+                let a = [ats[0][i], ats[1][i], ats[2][i]];
+                let got = u.out_to_f64(code);
+                let want = clamp_out(&u, twin::barycentric_value(tri, a, p, s, w, strict));
+                prop_assert!((got - want).abs() <= r + SLACK,
+                    "attr {} at ({}, {}): {} vs twin {}", i, o.x, o.y, got, want);
+                let plane = clamp_out(&u, twin::plane_at(tri, a, p));
+                let qb = scale * ((a[0] - a[1]).abs() + (a[2] - a[1]).abs()) + r;
+                prop_assert!((got - plane).abs() <= qb + SLACK,
+                    "attr {} at ({}, {}): {} vs plane {} (bound {})", i, o.x, o.y, got, plane, qb);
+            }
+        }
+    }
+
+    /// Tick, span, batch and lane drivers agree in the barycentric mode (the fast
+    /// paths step aside: every move goes through the kernel).
+    #[test]
+    fn barycentric_drivers_agree(
+        narrow in any::<bool>(),
+        k in 0u32..=4,
+        w in 1u32..=16,
+        strict in any::<bool>(),
+        pts in pts_strategy(3, -5.0, 30.0),
+        attrs in attrs_strategy(3),
+        extra in prop::collection::vec(0u8..4, 0..30),
+    ) {
+        let u = cfg_bary(narrow, k, w, strict, Quant::Rnd);
+        let mut ctr = Counters::default();
+        let vs: Vec<Vertex> = (0..3)
+            .map(|i| u.vertex_from_f64(i, pts[i].0, pts[i].1, &attrs[i][..k as usize], &mut ctr).unwrap())
+            .collect();
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
+        let mut moves = setup.moves();
+        moves.extend(extra.iter().map(|&m| [Move::Hold, Move::Right, Move::Left, Move::Down][m as usize]));
+        common::assert_drivers_agree(&u, setup.state.clone(), &moves);
+        lanes_agree_with_span(&u, &setup.state, &moves);
+    }
+}
+
+/// The mode leaves the plane path alone: parallelograms keep their planes (no
+/// barycentric registers), and weight bits outside 1 ..= 16 name the field.
+#[test]
+fn barycentric_mode_scope_and_errors() {
+    let u = cfg_bary(false, 2, 8, true, Quant::Rnd);
+    let mut ctr = Counters::default();
+    let v = |i, x, y| {
+        u.vertex_from_f64(i, x, y, &[1.0, 2.0], &mut Counters::default())
+            .unwrap()
+    };
+    let p = u
+        .setup_parallelogram(&[v(0, 0.0, 0.0), v(1, 8.0, 0.0), v(2, 8.0, 8.0)], &mut ctr)
+        .unwrap();
+    assert!(p.state.bary.is_none());
+    let t = u.setup_triangle(&[v(0, 0.0, 0.0), v(1, 8.0, 0.0), v(2, 8.0, 8.0)], &mut ctr);
+    assert!(t.state.bary.is_some());
+    for w in [0u32, 17] {
+        let e = PolygonInterpolatorConfig {
+            barycentric: Some(Barycentric {
+                weight_bits: w,
+                strict: false,
+            }),
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap_err();
+        assert_eq!(e.field(), "polygon_interpolator.barycentric.weight_bits");
     }
 }

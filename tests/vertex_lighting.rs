@@ -36,13 +36,16 @@
 mod common;
 
 use glare_pipeline::pipeline::shading::vertex_float::gl_lighting;
-use glare_pipeline::reference::vertex_lighting::{light_vertex, normalize, to_levels, GlLighting};
+use glare_pipeline::reference::vertex_lighting::{
+    light_vertex, light_vertex_nv2a, normalize, to_levels, GlLighting, Nv2aSwitches,
+};
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::float_format::{FloatFormat, Rounding, Subnormals};
 use rtl_model::units::vertex_lighting::{
-    Light, LightingSetup, Material, VertexLighting, VertexLightingConfig, VertexLightingIn,
+    Light, LightingSetup, Material, SpecularCurve, VertexLighting, VertexLightingConfig,
+    VertexLightingIn,
 };
 use rtl_model::{Counters, Unit, UnitSummary};
 
@@ -263,7 +266,19 @@ fn level_bound(cfg: &VertexLightingConfig, gl: &GlLighting, p: V3, n: V3) -> [Op
         let hv = [0, 1, 2].map(|k| b.add(lv[k], v[k]));
         let h = b.normalise(&hv);
         let nh = b.max0(b.dot3(&nn, &h));
-        let cand = b.pow(nh, shin);
+        let cand = match cfg.specular_curve.coefficients() {
+            None => b.pow(nh, shin),
+            // The NV2A curve: (x + k0)·rcp(k1·x + k2), 0 unless both are positive.
+            Some(k) => {
+                let k = k.map(|c| b.load(c));
+                let num = b.add(nh, k[0]);
+                let den = b.add(b.mul(k[1], nh), k[2]);
+                let q = b.mul(num, b.rcp(den));
+                let holds = num.v > 0.0 && den.v > 0.0;
+                let sure = num.v.abs() > num.e && den.v.abs() > den.e;
+                b.branch(holds, sure, q)
+            }
+        };
         let spec = b.branch(nl_raw.v > 0.0, nl_raw.v.abs() > nl_raw.e, cand);
         let k = b.mul(att, spot);
         for (c, a) in acc.iter_mut().enumerate() {
@@ -415,7 +430,21 @@ fn check(u: &VertexLighting, gl: &GlLighting, p: V3, n: V3) -> Option<f64> {
     let mut ctr = Counters::default();
     let input = u.vertex_from_f64(p, n, &mut ctr).unwrap();
     let out = u.kernel(&mut (), &input, &mut ctr);
-    let want = light_vertex(gl, p, n);
+    let want = match cfg.specular_curve.coefficients() {
+        None => light_vertex(gl, p, n),
+        // GL's single sum with the NV2A curve: the twin's joined primary colour.
+        Some(k) => {
+            let sw = Nv2aSwitches {
+                normalize_directional: true,
+                lighting: true,
+                specular_enable: true,
+                separate_specular: false,
+                specular_alpha_from_vertex: false,
+                specular_curve: Some(k),
+            };
+            light_vertex_nv2a(gl, &sw, p, n, [0.0; 4], [0.0; 4]).0
+        }
+    };
     let bounds = level_bound(&cfg, gl, p, n);
     let mut checked = true;
     let mut worst: f64 = 0.0;
@@ -459,6 +488,162 @@ proptest! {
             check(&u, &gl, p, n);
         }
     }
+}
+
+/// The NV2A's SET_SPECULAR_PARAMS curve as the XDK's driver generates it for a power
+/// (k0 in −0.9995 ..= 0 and k1 below it, k2 = 1 + k0 − k1: the shapes of the test
+/// program's sets, Pow1 … Pow24, MechAssault …), or a random set of the same form.
+fn random_curve(rng: &mut ChaCha8Rng) -> SpecularCurve {
+    const SETS: [[f32; 3]; 6] = [
+        [-0.803673, -2.7813, 2.97762],
+        [-0.972162, -3.20637, 3.23421],
+        [0.0, -0.494592, 1.49459],
+        [-0.0, 0.9, 0.1],
+        [-0.838916, -2.887156, 3.048239],
+        [-0.421539, -1.70592, 2.28438],
+    ];
+    let k = if rng.random_range(0..3) == 0 {
+        let k0: f32 = rng.random_range(-0.9995..0.0);
+        let k1: f32 = rng.random_range(-3.6..1.0);
+        [k0, k1, 1.0 + k0 - k1]
+    } else {
+        SETS[rng.random_range(0..SETS.len())]
+    };
+    SpecularCurve::nv2a([k[0], k[1], k[2], 0.0, 0.0, 0.0])
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// The NV2A specular curve (`specular_curve`) in every bound config, 1 ..= 8
+    /// lights: within the width-derived bound of the twin's `nv2a_specular` (the
+    /// evaluator runs the unit's order: x + k0, k1·x + k2, rcp, ·, the sign branch).
+    #[test]
+    fn nv2a_curve_within_bound_vs_twin(ci in 0usize..6, lights in 1usize..=8, seed in any::<u64>()) {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let cfg = VertexLightingConfig {
+            specular_curve: random_curve(&mut rng),
+            ..bound_configs()[ci].1
+        };
+        let setup = random_setup(&mut rng, lights);
+        let u = VertexLighting::new(cfg, &setup).unwrap();
+        let gl = gl_lighting(&cfg, &setup);
+        for _ in 0..4 {
+            let (p, n) = random_vertex(&mut rng, cfg.normalize);
+            check(&u, &gl, p, n);
+        }
+    }
+}
+
+/// The curve's anchors, exact in IEEE single: 1 at x = 1 (k2 = 1 + k0 − k1), 0 at
+/// and below x = −k0, 0 past the denominator's zero −k2/k1 (the NonUnitNormal
+/// captures: normals of length 0.972 and 1.009 give no specular at power 125), and
+/// above pow(x, 16) near the ControlFlags quads' N·h = 0.93 (the captures' +1 level).
+#[test]
+fn nv2a_curve_anchors() {
+    let p125 = [
+        -0.972162f32,
+        -3.20637,
+        3.23421,
+        -0.945147,
+        -3.14027,
+        3.19512,
+    ];
+    let setup = |shininess: f64| {
+        let mut m = shiny();
+        m.shininess = shininess;
+        m.specular = [1.0; 3];
+        m.diffuse = [0.0, 0.0, 0.0, 1.0];
+        m.ambient = [0.0; 3];
+        m.emission = [0.0; 3];
+        let light = Light {
+            position: [0.0, 0.0, 1.0, 0.0],
+            ambient: [0.0; 3],
+            diffuse: [0.0; 3],
+            specular: [1.0; 3],
+            ..Light::default()
+        };
+        LightingSetup {
+            scene_ambient: [0.0; 3],
+            ..one_light_setup(light, m)
+        }
+    };
+    let cfg = VertexLightingConfig {
+        normalize: false,
+        specular_curve: SpecularCurve::nv2a(p125),
+        ..VertexLightingConfig::geforce()
+    };
+    let u = VertexLighting::new(cfg, &setup(0.0)).unwrap();
+    // N = length·(0, 0, 1), L = V = (0, 0, 1): N·h = length.
+    let at = |len: f64| run(&u, [0.0, 0.0, -7.0], [0.0, 0.0, len]).0[0];
+    assert_eq!(at(1.0), 255, "f(1) = 1");
+    assert_eq!(at(0.972), 0, "below −k0");
+    assert!(at(0.973) > 0, "just above −k0");
+    assert!(at(1.008) > 0, "below the pole");
+    assert_eq!(at(1.009), 0, "past the denominator's zero");
+    let pow16 = [-0.803673f32, -2.7813, 2.97762, -0.64766, -2.36199, 2.71433];
+    let c16 = VertexLighting::new(
+        VertexLightingConfig {
+            specular_curve: SpecularCurve::nv2a(pow16),
+            ..cfg
+        },
+        &setup(0.0),
+    )
+    .unwrap();
+    let p16 = VertexLighting::new(VertexLightingConfig { ..cfg_power(cfg) }, &setup(16.0)).unwrap();
+    let x: f64 = 0.93;
+    let n = [(1.0 - x * x).sqrt(), 0.0, x];
+    let (c, p) = (
+        run(&c16, [0.0, 0.0, -7.0], n).0[0],
+        run(&p16, [0.0, 0.0, -7.0], n).0[0],
+    );
+    assert!(c > p, "curve {c} above pow16 {p} at N·h = 0.93");
+}
+
+fn cfg_power(cfg: VertexLightingConfig) -> VertexLightingConfig {
+    VertexLightingConfig {
+        specular_curve: SpecularCurve::Power,
+        ..cfg
+    }
+}
+
+/// Tick, span and batch drivers agree with the NV2A curve (and light control).
+#[test]
+fn drivers_agree_with_nv2a_curve() {
+    let mut rng = ChaCha8Rng::seed_from_u64(16);
+    for lights in [1usize, 3] {
+        let setup = random_setup(&mut rng, lights);
+        for lc in [None, Some(LightControl::default())] {
+            let cfg = VertexLightingConfig {
+                light_control: lc,
+                specular_curve: random_curve(&mut rng),
+                ..VertexLightingConfig::geforce()
+            };
+            let u = VertexLighting::new(cfg, &setup).unwrap();
+            let mut ctr = Counters::default();
+            let inputs: Vec<VertexLightingIn> = (0..16)
+                .map(|_| {
+                    let (p, n) = random_vertex(&mut rng, true);
+                    let mut i = u.vertex_from_f64(p, n, &mut ctr).unwrap();
+                    i.diffuse = rand_colours(&mut rng, 8);
+                    i.specular = rand_colours(&mut rng, 8);
+                    i
+                })
+                .collect();
+            common::assert_drivers_agree(&u, (), &inputs);
+        }
+    }
+}
+
+/// A non-finite coefficient is an error naming the field.
+#[test]
+fn nv2a_curve_rejects_non_finite() {
+    let cfg = VertexLightingConfig {
+        specular_curve: SpecularCurve::nv2a([f32::NAN, 0.0, 1.0, 0.0, 0.0, 0.0]),
+        ..VertexLightingConfig::geforce()
+    };
+    let e = VertexLighting::new(cfg, &LightingSetup::default()).unwrap_err();
+    assert_eq!(e.field(), "vertex_lighting.specular_curve.params");
 }
 
 /// Most vertices get a finite bound in every config (the check is not vacuous), and
@@ -934,7 +1119,6 @@ fn summary_and_calibration() {
 
 // ------------------------------------------------------------------ NV2A modes
 
-use glare_pipeline::reference::vertex_lighting::{light_vertex_nv2a, Nv2aSwitches};
 use rtl_model::units::vertex_lighting::LightControl;
 
 fn with_control(cfg: VertexLightingConfig, lc: LightControl) -> VertexLightingConfig {
@@ -1120,6 +1304,7 @@ fn twin_light_control_matches_gl_sum() {
                 specular_enable,
                 separate_specular,
                 specular_alpha_from_vertex: true,
+                specular_curve: None,
             };
             let whole = light_vertex(&gl, p, n);
             let (pri, sec) = light_vertex_nv2a(&gl, &sw(true, true, true), p, n, dv, sv);

@@ -27,8 +27,8 @@
 //! vertex program; the VS captures show the same lighting behaviour as the FF ones.
 //! The source alpha blends over the checkerboard (SRC_ALPHA, ONE_MINUS_SRC_ALPHA).
 //!
-//! The predictions go through the units: `vertex_lighting` (the NV2A's light control and
-//! its unnormalised directional light as modes), `polygon_interpolator` (positions with
+//! The predictions go through the units: `vertex_lighting` (the NV2A's light control,
+//! its unnormalised directional light and its SET_SPECULAR_PARAMS curve as modes), `polygon_interpolator` (positions with
 //! the XDK viewport offset 0.53125 truncated to 1/16 px; the quad as two triangles),
 //! `register_combiner` and `final_combiner` (the test's combiner setup). Where the
 //! source alpha is below one, the `blend` unit blends (SRC_ALPHA, ONE_MINUS_SRC_ALPHA,
@@ -36,8 +36,10 @@
 //! Blend suite). Left out, with the reason:
 //! * translucent patches of the `_VS` captures: their checkerboard is shifted by one
 //!   cell against the FF one, which the test source does not explain;
-//! * the specular curve: SET_SPECULAR_PARAMS' six coefficients are not documented; the
-//!   unit's pow(N·H, 16) stands for the "Pow 16" set (its mismatch class is reported).
+//!
+//! The interpolator's barycentric mode (8 weight bits, strict) was chosen on the
+//! calibration half (the `_FF` captures) among 7, 8, 9 bits × floor/strict and checked
+//! on the validation half (the `_VS` captures): docs/conformance.md.
 //!
 //! Every region is inset from the quad's edges (3 px) and from checker-cell edges (2 px).
 
@@ -50,13 +52,16 @@ use rtl_model::units::blend::{Blend, BlendConfig, BlendEquation, BlendFactor, Bl
 use rtl_model::units::final_combiner::{
     FinalCombiner, FinalCombinerConfig, FinalInput, FinalVariable,
 };
-use rtl_model::units::polygon_interpolator::{PolygonInterpolator, PolygonInterpolatorConfig};
+use rtl_model::units::polygon_interpolator::{
+    Barycentric, PolygonInterpolator, PolygonInterpolatorConfig,
+};
 use rtl_model::units::register_combiner::{
     ComponentUsage, FragmentInputs, Mapping, PortionConfig, Register, RegisterCombiner,
     RegisterCombinerConfig, VariableInput,
 };
 use rtl_model::units::vertex_lighting::{
-    Light, LightControl, LightingSetup, Material, VertexLighting, VertexLightingConfig,
+    Light, LightControl, LightingSetup, Material, SpecularCurve, VertexLighting,
+    VertexLightingConfig,
 };
 use std::collections::HashMap;
 
@@ -66,6 +71,7 @@ pub const SUITE: Suite = Suite {
     cases,
 };
 
+const STRICT: bool = true;
 const FB_W: f64 = 640.0;
 const FB_H: f64 = 480.0;
 /// The XDK default viewport offset (SetXDKDefaultViewportAndFixedFunctionMatrices).
@@ -91,6 +97,8 @@ const SPECULAR: [[f64; 4]; 4] = [
     [0.0, 1.0, 0.0, 1.0],
     [0.0, 1.0, 0.0, 0.20],
 ];
+/// SET_SPECULAR_PARAMS as the test writes them ("Pow 16").
+const POW16_PARAMS: [f32; 6] = [-0.803673, -2.7813, 2.97762, -0.64766, -2.36199, 2.71433];
 const N_XY: f64 = 0.099014754297667;
 const N_Z: f64 = 0.990147542976674;
 /// UL, UR, LR, LL normals (x, y signs), D3D eye space (z toward the scene).
@@ -176,6 +184,15 @@ impl Units {
                 out_int_bits: 9,
                 out_frac_bits: 0,
                 out_quant: Quant::Rnd,
+                // The NV2A's colours: 8-bit barycentric weights, the second vertex the
+                // base (strict weights: chosen on the calibration half, module docs).
+                barycentric: match chip {
+                    Chip::Nv2a => Some(Barycentric {
+                        weight_bits: 8,
+                        strict: STRICT,
+                    }),
+                    Chip::GeForce2 => None,
+                },
                 ..PolygonInterpolatorConfig::default()
             }
             .build(),
@@ -274,6 +291,13 @@ impl Units {
                 separate_specular: separate,
                 specular_alpha_from_vertex: alpha_from_vertex,
             }),
+            // The NV2A evaluates the specular term through SET_SPECULAR_PARAMS ("Pow 16"
+            // as the test writes it); GL's pow(N·h, 16) in the GeForce2 modes.
+            specular_curve: if nv2a {
+                SpecularCurve::nv2a(POW16_PARAMS)
+            } else {
+                SpecularCurve::Power
+            },
             ..VertexLightingConfig::geforce()
         };
         ok(VertexLighting::new(cfg, &setup), "vertex_lighting")
@@ -417,7 +441,7 @@ fn feature(t: &Test, row: usize, column: usize, nv2a_alpha_lt_one: bool) -> Stri
         } else if !separate {
             "lit, not separate: vertex specular passes".to_string()
         } else if t.light {
-            "lit specular, separate (pow 16 for SPECULAR_PARAMS)".to_string()
+            "lit specular, separate (SET_SPECULAR_PARAMS curve)".to_string()
         } else {
             "lit specular, separate, no light: 0".to_string()
         }

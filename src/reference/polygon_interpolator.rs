@@ -117,6 +117,43 @@ pub fn parallelogram_value(v: [P; 3], a: [f64; 3], x: i64, y: i64) -> f64 {
     triangle_value(v, a, x, y)
 }
 
+/// The NV2A's barycentric attribute of triangle v at p (the unit's `barycentric`
+/// mode): the weights of v0 and v2, λ0 = E(v1, v2, p)/area and λ2 = E(v0, v1, p)/area,
+/// quantised down to multiples of 2^−w — `strict`: an exact multiple takes the step
+/// below — then A = a1 + q0·(a0 − a1) + q2·(a2 − a1). The quantisation is done exactly:
+/// positions on the 2^−`subpixel_bits` grid (pixel centres on the half grid) make every
+/// edge function an integer, so q = ⌊(2^w·E − t)/area⌋ in integers; the rest is f64.
+/// Zero area → `a[1]`.
+pub fn barycentric_value(
+    v: [P; 3],
+    a: [f64; 3],
+    p: P,
+    subpixel_bits: u32,
+    weight_bits: u32,
+    strict: bool,
+) -> f64 {
+    // To integers on the half-sub-pixel grid (exact: the grid is 2^−(s+1)).
+    let g = (1u64 << (subpixel_bits + 1)) as f64;
+    let i = |q: P| [(q[0] * g) as i128, (q[1] * g) as i128];
+    let e = |a: [i128; 2], b: [i128; 2], c: [i128; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    let (v0, v1, v2, pi) = (i(v[0]), i(v[1]), i(v[2]), i(p));
+    let ar = e(v0, v1, v2);
+    if ar == 0 {
+        return a[1];
+    }
+    let t = i128::from(strict);
+    let q = |num: i128| {
+        // The weight's sign follows the winding: divide by |area| with E signed alike.
+        let (num, den) = if ar > 0 { (num, ar) } else { (-num, -ar) };
+        (((num << weight_bits) - t).div_euclid(den)).clamp(0, 1i128 << weight_bits) as f64
+    };
+    let scale = (1u64 << weight_bits) as f64;
+    let (q0, q2) = (q(e(v1, v2, pi)), q(e(v0, v1, pi)));
+    a[1] + (q0 * (a[0] - a[1]) + q2 * (a[2] - a[1])) / scale
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -142,6 +179,20 @@ mod tests {
                 assert!(!(a && b), "{x},{y}");
             }
         }
+    }
+
+    #[test]
+    fn barycentric_value_is_the_plane_on_exact_weights() {
+        // Weights that are multiples of 2^−8 at the centre: the plane's value.
+        let v = [[0.0, 0.0], [4.0, 0.0], [4.0, 4.0]];
+        let a = [0.0, 64.0, 192.0];
+        let p = [3.5, 0.5];
+        let plane = plane_at(v, a, p);
+        assert_eq!(barycentric_value(v, a, p, 4, 8, false), plane);
+        // Strict: both exact weights take the step below (1/256 each).
+        let s = barycentric_value(v, a, p, 4, 8, true);
+        assert_eq!(s, 64.0 + (31.0 * -64.0 + 31.0 * 128.0) / 256.0);
+        assert!(s != plane);
     }
 
     #[test]

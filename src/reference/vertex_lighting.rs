@@ -66,7 +66,20 @@ pub struct LightTerms {
 /// The per-light factors of light `l` at eye-space position `p` with normal `n`
 /// (already normalised if GL_NORMALIZE applies).
 pub fn light_terms(s: &GlLighting, l: &Light, p: V3, n: V3) -> LightTerms {
-    light_terms_dir(s, l, p, n, true)
+    light_terms_dir(s, l, p, n, true, None)
+}
+
+/// The NV2A's specular curve of x = max(N·h, 0) with its coefficients (k0, k1, k2)
+/// (`vertex_lighting`'s `SpecularCurve::Nv2aParams`): (x + k0)/(k1·x + k2), 0 unless
+/// the numerator and the denominator are both positive.
+pub fn nv2a_specular(x: f64, k: [f64; 3]) -> f64 {
+    let num = x + k[0];
+    let den = k[1] * x + k[2];
+    if num > 0.0 && den > 0.0 {
+        num / den
+    } else {
+        0.0
+    }
 }
 
 /// [`light_terms`] with the directional vector normalised (GL) or used as given
@@ -77,6 +90,7 @@ fn light_terms_dir(
     p: V3,
     n: V3,
     normalize_directional: bool,
+    curve: Option<[f64; 3]>,
 ) -> LightTerms {
     let local = l.position[3] != 0.0;
     let (lv, att) = if local {
@@ -117,7 +131,11 @@ fn light_terms_dir(
         };
         let h = normalize([0, 1, 2].map(|k| lv[k] + v[k]));
         let nh = dot(n, h).max(0.0);
-        (nh, pow0(nh, s.state.material.shininess))
+        let f = match curve {
+            None => pow0(nh, s.state.material.shininess),
+            Some(k) => nv2a_specular(nh, k),
+        };
+        (nh, f)
     } else {
         (0.0, 0.0)
     };
@@ -167,13 +185,15 @@ pub fn to_levels(c: f64, bits: u32) -> f64 {
 /// The NV2A's switches the unit's `light_control` and `normalize_directional` modes
 /// model (SET_LIGHTING_ENABLE, SET_SPECULAR_ENABLE, SET_LIGHT_CONTROL's
 /// SEPARATE_SPECULAR and ALPHA_FROM_MATERIAL_SPECULAR).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Nv2aSwitches {
     pub normalize_directional: bool,
     pub lighting: bool,
     pub specular_enable: bool,
     pub separate_specular: bool,
     pub specular_alpha_from_vertex: bool,
+    /// The specular curve's (k0, k1, k2) ([`nv2a_specular`]); None: pow(x, shininess).
+    pub specular_curve: Option<[f64; 3]>,
 }
 
 /// The NV2A's two colours of a vertex (primary, secondary), RGB unclamped, from its
@@ -200,7 +220,7 @@ pub fn light_vertex_nv2a(
         let mut d = [0, 1, 2].map(|k| m.emission[k] + m.ambient[k] * s.state.scene_ambient[k]);
         let mut sp = [0.0; 3];
         for l in &s.state.lights {
-            let t = light_terms_dir(s, l, p, n, sw.normalize_directional);
+            let t = light_terms_dir(s, l, p, n, sw.normalize_directional, sw.specular_curve);
             let k = t.att * t.spot;
             for ch in 0..3 {
                 d[ch] += k

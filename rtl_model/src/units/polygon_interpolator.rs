@@ -80,6 +80,34 @@ pub struct PolygonInterpolatorConfig {
     pub out_frac_bits: u32,
     /// Rounding of the accumulator to the output (default RND: add half, truncate).
     pub out_quant: Quant,
+    /// Triangle attributes by quantised barycentric weights instead of plane
+    /// accumulators ([`Barycentric`]); None (the default): the planes.
+    #[serde(default)]
+    pub barycentric: Option<Barycentric>,
+}
+
+/// The NV2A's triangle attribute interpolation, read from the CC0 Gouraud captures of
+/// nxdk_pgraph_tests' Specular suite (ControlFlags*, docs/conformance.md): per pixel the
+/// two barycentric weights of a triangle's first and third vertices are quantised DOWN
+/// to `weight_bits` fraction bits, and the attribute is
+/// A = A1 + q0·(A0 − A1) + q2·(A2 − A1) (the second vertex the base), rounded once
+/// into the output format by `out_quant`. No document gives this; the captures show
+/// it: along a row of a quad with slope 1.79 levels/px the hardware steps by 3 and by
+/// 1 (no rounding of any plane does that), and 8 weight bits with the second vertex as
+/// base reproduce them (97.6 % of the pixels of the lighting-off quads, where the
+/// rounded plane gives 65 %).
+///
+/// The weights come from the walker's exact edge functions: λ_i = E_i/(2·area2) for
+/// the edge opposite vertex i, so q_i = ⌊(2^w·E_i − t)/(2·area2)⌋ with t = 1 when
+/// `strict` (a weight exactly on a multiple of 2^−w takes the step below, as the
+/// captures mostly show), 0 for the floor. Only triangles (and GL quads, as two
+/// triangles) use it; parallelograms keep their planes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Barycentric {
+    /// Fraction bits of the quantised weights, 1 ..= 16 (the NV2A: 8).
+    pub weight_bits: u32,
+    /// Exact multiples of 2^−w round down to the step below.
+    pub strict: bool,
 }
 
 impl Default for PolygonInterpolatorConfig {
@@ -99,6 +127,7 @@ impl Default for PolygonInterpolatorConfig {
             out_int_bits: 16,
             out_frac_bits: 8,
             out_quant: Quant::Rnd,
+            barycentric: None,
         }
     }
 }
@@ -133,6 +162,9 @@ impl PolygonInterpolatorConfig {
             1,
             48,
         )?;
+        if let Some(b) = self.barycentric {
+            check_range(&f("barycentric.weight_bits"), b.weight_bits as u64, 1, 16)?;
+        }
         if self.attr_fmt.signed && self.out_int_bits == 0 {
             return Err(ConfigError::invalid(
                 &f("out_int_bits"),
@@ -196,6 +228,23 @@ pub struct PolyState {
     pub acc: [i64; MAX_ATTRS],
     pub grad_x: [i64; MAX_ATTRS],
     pub grad_y: [i64; MAX_ATTRS],
+    /// Barycentric mode ([`Barycentric`]), loaded by a triangle's setup: None for the
+    /// planes (and always for parallelograms).
+    pub bary: Option<BaryRegs>,
+}
+
+/// A triangle's registers for the barycentric mode: which edge functions give the
+/// weights of the first and third vertices (and the top-left bias to add back), the
+/// doubled area in edge units, and per attribute the base (second vertex) and the two
+/// differences.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BaryRegs {
+    pub edge_of: [usize; 2],
+    pub bias: [i64; 2],
+    /// Σ of the unbiased edge functions: 2·area2 (h units × sub-pixel units).
+    pub denom: i64,
+    pub base: [i64; MAX_ATTRS],
+    pub delta: [[i64; MAX_ATTRS]; 2],
 }
 
 impl PolyState {
@@ -332,6 +381,8 @@ pub struct PolySetup {
     /// Doubled area in sub-pixel² units (> 0), 0 if degenerate.
     pub area2: i128,
     pub state: PolyState,
+    /// Which edges are top or left (no −1 bias in their start value).
+    pub top_left: [bool; EDGES],
 }
 
 impl PolySetup {
@@ -341,6 +392,7 @@ impl PolySetup {
             edges: 0,
             area2,
             state: PolyState::empty(),
+            top_left: [true; EDGES],
         }
     }
 
@@ -905,7 +957,7 @@ impl PolygonInterpolator {
             return PolySetup::empty(0);
         }
         let p = |u: &Vertex| [u.x, u.y];
-        if area2 > 0 {
+        let mut setup = if area2 > 0 {
             self.setup_poly(&[p(&v[0]), p(&v[1]), p(&v[2])], &v[0], area2, &nx, &ny, ctr)
         } else {
             // Reverse the winding so that the interior is on the positive side of every
@@ -919,7 +971,77 @@ impl PolygonInterpolator {
                 &ny,
                 ctr,
             )
+        };
+        if self.cfg.barycentric.is_some() && setup.bbox.is_some() {
+            // Edge i runs from cyc[i] to cyc[i + 1]: the edge opposite v0 is edge 1
+            // either way; opposite v2, edge 0 (cyc = v0 v1 v2) or 2 (v0 v2 v1).
+            let edge_of = [1, if area2 > 0 { 0 } else { 2 }];
+            let bias = edge_of.map(|e| self.unbiased_edge(&setup, e) - setup.state.edge[e]);
+            let mut regs = BaryRegs {
+                edge_of,
+                bias,
+                denom: (2 * area2.abs()) as i64,
+                ..BaryRegs::default()
+            };
+            for i in 0..self.cfg.attrs as usize {
+                // attr + 1 bits each.
+                regs.base[i] = v[1].attrs[i];
+                regs.delta[0][i] = v[0].attrs[i] - v[1].attrs[i];
+                regs.delta[1][i] = v[2].attrs[i] - v[1].attrs[i];
+            }
+            setup.state.bary = Some(regs);
         }
+        setup
+    }
+
+    /// The barycentric mode's output stage ([`Barycentric`]): the two weights from the
+    /// edge functions (bias added back), quantised down to w bits, then per attribute
+    /// base·2^w + q0·Δ0 + q2·Δ2 rounded once by `out_quant` into the output format
+    /// (saturating, events counted only for covered pixels).
+    fn barycentric_out(
+        &self,
+        b: &BaryRegs,
+        cfg: Barycentric,
+        edge: &[i64; EDGES],
+        inside: bool,
+        out: &mut PolyOut,
+        ctr: &mut Counters,
+    ) {
+        let w = cfg.weight_bits;
+        let t = i128::from(cfg.strict);
+        let den = i128::from(b.denom.max(1));
+        // s(edge) · 2^w − t → edge + w + 1 bits; ÷ the doubled area (a w + 1-bit
+        // quotient once clamped to 0 ..= 2^w: pixels outside give weights outside).
+        let q = [0, 1].map(|j| {
+            let e = i128::from(edge[b.edge_of[j]] + b.bias[j]);
+            ((e << w) - t).div_euclid(den).clamp(0, 1i128 << w)
+        });
+        let af = self.cfg.attr_fmt;
+        // base·2^w + two (attr + 1) × (w + 1) products → attr + w + 3 bits.
+        let wide = Format {
+            int_bits: af.int_bits + 3,
+            frac_bits: af.frac_bits + w,
+            signed: true,
+        };
+        let of = self.out_fmt();
+        for i in 0..self.cfg.attrs as usize {
+            let raw = (i128::from(b.base[i]) << w)
+                + q[0] * i128::from(b.delta[0][i])
+                + q[1] * i128::from(b.delta[1][i]);
+            let (v, ev) =
+                Fx { raw, fmt: wide }.assign_events(of, self.cfg.out_quant, Overflow::Sat);
+            if inside {
+                ctr.saturations += u64::from(ev.saturated);
+                ctr.underflows += u64::from(ev.underflowed);
+            }
+            out.attrs[i] = v.raw as i64;
+        }
+    }
+
+    /// Edge `e`'s function at the setup's first pixel without the top-left bias (the
+    /// bias is −1 on edges that are not top or left).
+    fn unbiased_edge(&self, setup: &PolySetup, e: usize) -> i64 {
+        setup.state.edge[e] + i64::from(!setup.top_left[e])
     }
 
     /// GL quad setup: two triangles (v0 v1 v2) and (v0 v2 v3) sharing the edge v0–v2,
@@ -1053,6 +1175,7 @@ impl PolygonInterpolator {
             ..PolyState::default()
         };
         let n = cyc.len();
+        let mut tl = [true; EDGES];
         for i in 0..n {
             let (a, b) = (cyc[i], cyc[(i + 1) % n]);
             let (dx, dy) = (b[0] - a[0], b[1] - a[1]); // s(c+s+1)
@@ -1064,6 +1187,7 @@ impl PolygonInterpolator {
             // E > 0 ⇔ E − 1 ≥ 0 on integers, so the bias makes inside a sign test.
             let top_left = (dy == 0 && dx > 0) || dy < 0;
             st.edge[i] = e - i64::from(!top_left);
+            tl[i] = top_left;
             st.edge_dx[i] = -dy * step; // one pixel right: Δp_h = 2^(s+1)
             st.edge_dy[i] = dx * step;
         }
@@ -1096,6 +1220,7 @@ impl PolygonInterpolator {
             edges: n as u32,
             area2,
             state: st,
+            top_left: tl,
         }
     }
 
@@ -1110,6 +1235,9 @@ impl PolygonInterpolator {
         out: &mut Vec<PolyOut>,
         ctr: &mut Counters,
     ) -> bool {
+        if st.bary.is_some() {
+            return false; // the weights' quantisation is not affine along a run
+        }
         let k = self.cfg.attrs as usize;
         let step = Step::of(st, mv, k);
         let Some(mut plan) = self.run_plan(st, &step, run) else {
@@ -1207,6 +1335,9 @@ impl PolygonInterpolator {
         out: &mut PolyLanes,
         ctr: &mut Counters,
     ) -> bool {
+        if st.bary.is_some() {
+            return false; // the weights' quantisation is not affine along a run
+        }
         let k = self.cfg.attrs as usize;
         let step = Step::of(st, mv, k);
         let Some(mut plan) = self.run_plan(st, &step, run) else {
@@ -1425,6 +1556,10 @@ impl Unit for PolygonInterpolator {
             attrs: [0; MAX_ATTRS],
         };
         let of = self.out_fmt();
+        if let (Some(b), Some(cfg)) = (&st.bary, self.cfg.barycentric) {
+            self.barycentric_out(b, cfg, &st.edge, inside, &mut out, ctr);
+            return out;
+        }
         for i in 0..k {
             let (v, ev) = Fx {
                 raw: st.acc[i] as i128,
@@ -1446,7 +1581,8 @@ impl Unit for PolygonInterpolator {
     /// value lies strictly inside its format (and the pixel counters' and edges' last
     /// values inside theirs) no step of the run fits, wraps or counts anything, and
     /// each step's value is A + k·g exactly. Runs that might overflow go through the
-    /// per-step kernel.
+    /// per-step kernel, and so does every move of the barycentric mode (its output is
+    /// not affine along a run).
     fn kernel_batch(
         &self,
         st: &mut PolyState,
@@ -1568,6 +1704,21 @@ impl Unit for PolygonInterpolator {
             .part(
                 "setup: operand registers (area, Nx, Ny, start numerator)",
                 prim::register(area_w + 2 * nw + start_w),
+            )
+            .part(
+                "barycentric weights: 2 dividers (edge/area, w + 1 quotient bits), per attribute 2 multipliers (w+1)×(attr+1), 2 adders, base and delta registers",
+                match self.cfg.barycentric {
+                    None => Cells::default(),
+                    Some(b) => {
+                        let w = b.weight_bits;
+                        let wide = attr_w + w + 3;
+                        prim::divider(ew + 1, w + 1) * 2.0
+                            + (prim::multiplier(w + 1, ad) * 2.0
+                                + prim::adder(wide) * 2.0
+                                + prim::register(attr_w + 2 * ad))
+                                * k as f64
+                    }
+                },
             )
     }
 

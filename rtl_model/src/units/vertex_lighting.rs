@@ -33,7 +33,10 @@
 //!   (lighting off passes the vertex colours through, specular enable, separate
 //!   specular, secondary alpha from the vertex), see [`LightControl`]. The defaults keep
 //!   GL's single colour; with `light_control` the diffuse and specular sums are kept
-//!   apart (3 more multiplies per light, 3 more adds per vertex).
+//!   apart (3 more multiplies per light, 3 more adds per vertex). `specular_curve`
+//!   replaces pow(N·h, s) by the NV2A's curve of its SET_SPECULAR_PARAMS registers,
+//!   (x + k0)·rcp(k1·x + k2), see [`SpecularCurve`] (per light 1 more multiply, 2 more
+//!   adds, one RCP instead of LOG + EXP).
 //!
 //! The datapath's operation order, each op rounded once (dot3(a, b) =
 //! (a₀b₀ + a₁b₁) + a₂b₂): see [`VertexLighting::light`]; tests/vertex_lighting.rs
@@ -115,6 +118,60 @@ pub struct VertexLightingConfig {
     /// None (the default): GL's single colour, specular summed into it, as before.
     #[serde(default)]
     pub light_control: Option<LightControl>,
+    /// The specular curve: GL's pow(N·h, shininess) (the default) or the NV2A's
+    /// rational curve of its SET_SPECULAR_PARAMS registers ([`SpecularCurve`]).
+    #[serde(default)]
+    pub specular_curve: SpecularCurve,
+}
+
+/// How the unit turns N·h into the specular factor.
+///
+/// The NV2A (NV20 T&L) has no pow for the specular term: the host writes six
+/// coefficients (NV097_SET_SPECULAR_PARAMS, IEEE single words), which the XDK's Direct3D
+/// driver derives from the material's power (the derivation, reverse-engineered from a
+/// retail XBE, is in the public xgu library, github.com/dracc/xgu, `xgux.h`; the xemu
+/// emulator inverts it to a power, `hw/xbox/nv2a/pgraph/pgraph.c`). For the first
+/// triplet (k0, k1, k2) the driver keeps k2 = 1 + k0 − k1, so that the curve
+/// f(x) = (x + k0)/(k1·x + k2) is 1 at x = 1; f vanishes at x = −k0 and its denominator
+/// at x = −k2/k1 (> 1). That f is the chip's curve is read from the CC0 captures of
+/// nxdk_pgraph_tests' Specular suite: `NonUnitNormal` (power 125: k0 = −0.972162,
+/// −k2/k1 = 1.00868) lights no pixel with normals of length 0.972 and lights the
+/// centre at 0.973, goes dark again between 1.008 and 1.009 — the zeros of the
+/// numerator and of the denominator; and the ControlFlags quads ("Pow 16") come out
+/// exactly with it (docs/conformance.md). The second triplet (the driver's curve for
+/// half the power) is not used by this model: nothing in the captures modelled so far
+/// depends on it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SpecularCurve {
+    /// GL: max(N·h, 0)^shininess (the material's shininess).
+    #[default]
+    Power,
+    /// The NV2A: f = (x + k0)·rcp(k1·x + k2) with x = max(N·h, 0), 0 unless both the
+    /// numerator and the denominator are positive (an x past the denominator's zero
+    /// gives 0, as the captures show). `params` are the six SET_SPECULAR_PARAMS words
+    /// as the host wrote them (IEEE single bits); k0..k2 = params[0..3] are loaded into
+    /// the format (one rounding each), the shininess is not used.
+    Nv2aParams { params: [u32; 6] },
+}
+
+impl SpecularCurve {
+    /// The NV2A curve from the host's six floats (rounded to IEEE single, as the host
+    /// pushes them).
+    pub fn nv2a(params: [f32; 6]) -> Self {
+        SpecularCurve::Nv2aParams {
+            params: params.map(f32::to_bits),
+        }
+    }
+
+    /// (k0, k1, k2) as f64 (the first triplet), or None for `Power`.
+    pub fn coefficients(&self) -> Option<[f64; 3]> {
+        match self {
+            SpecularCurve::Power => None,
+            SpecularCurve::Nv2aParams { params } => {
+                Some([0, 1, 2].map(|k| f32::from_bits(params[k]) as f64))
+            }
+        }
+    }
 }
 
 fn yes() -> bool {
@@ -172,6 +229,7 @@ impl VertexLightingConfig {
             local_viewer: false,
             normalize_directional: true,
             light_control: None,
+            specular_curve: SpecularCurve::Power,
         }
     }
 
@@ -238,6 +296,8 @@ pub struct VertexLighting {
     /// e_m + a_m·a_s.
     base: [Fp; 3],
     shininess: Fp,
+    /// k0, k1, k2 of [`SpecularCurve::Nv2aParams`] (None: pow).
+    curve: Option<[Fp; 3]>,
     alpha: u32,
     load_counters: Counters,
 }
@@ -306,6 +366,17 @@ impl VertexLighting {
             )?;
         }
         let shininess = word(&f("material.shininess"), shin, &mut ctr)?;
+        let curve = match cfg.specular_curve.coefficients() {
+            None => None,
+            Some(k) => {
+                let mut w = [Fp(0); 3];
+                for (i, c) in k.iter().enumerate() {
+                    let v = check_finite(&f("specular_curve.params"), *c)?;
+                    w[i] = word(&f("specular_curve.params"), v, &mut ctr)?;
+                }
+                Some(w)
+            }
+        };
         let alpha = fmt.to_unorm(
             word(&f("material.diffuse"), m.diffuse[3], &mut ctr)?,
             cfg.color_bits,
@@ -393,6 +464,7 @@ impl VertexLighting {
             lights,
             base,
             shininess,
+            curve,
             alpha,
             load_counters: ctr,
         })
@@ -599,7 +671,7 @@ impl VertexLighting {
                 let hv = [0, 1, 2].map(|k| f.add(lv[k], v[k], ctr));
                 let h = self.normalise(&hv, ctr);
                 let nh = f.max0(self.dot3(&n, &h, ctr));
-                f.pow(nh, self.shininess, ctr)
+                self.specular_factor(nh, ctr)
             } else {
                 Fp(0)
             };
@@ -612,6 +684,29 @@ impl VertexLighting {
         }
     }
 
+    /// The specular factor of x = max(N·h, 0): pow(x, shininess), or the NV2A's
+    /// (x + k0)·rcp(k1·x + k2), 0 unless numerator and denominator are positive.
+    fn specular_factor(&self, nh: Fp, ctr: &mut Counters) -> Fp {
+        let f = &self.cfg.format;
+        match self.curve {
+            None => f.pow(nh, self.shininess, ctr),
+            Some([k0, k1, k2]) => {
+                let num = f.add(nh, k0, ctr);
+                let den = f.add(f.mul(k1, nh, ctr), k2, ctr);
+                if f.lt(Fp(0), num) && f.lt(Fp(0), den) {
+                    f.mul(num, f.rcp(den, ctr), ctr)
+                } else {
+                    Fp(0)
+                }
+            }
+        }
+    }
+
+    /// The loaded k0, k1, k2 of the NV2A specular curve (None: pow).
+    pub fn curve_registers(&self) -> Option<[Fp; 3]> {
+        self.curve
+    }
+
     /// Issues per vertex on each resource (see the module docs).
     pub fn issues(&self) -> Issues {
         let n = self.lights.len() as u32;
@@ -622,10 +717,17 @@ impl VertexLighting {
             None => (0, 0),
             Some(_) => (3 * n, 3),
         };
+        // The NV2A curve per light: k1·x and num·rcp (2 multiplies) instead of s·log
+        // (1), two adds, one RCP instead of LOG + EXP.
+        let (c_muls, c_adds, c_specials) = match self.curve {
+            None => (0, 0, 0),
+            Some(_) => (n, 2 * n, n),
+        };
         Issues {
-            muls: ISSUES_PER_LIGHT.muls * n + ISSUES_PER_NORMALISE.muls * k + lc_muls,
-            adds: ISSUES_PER_LIGHT.adds * n + ISSUES_PER_NORMALISE.adds * k + lc_adds,
-            specials: ISSUES_PER_LIGHT.specials * n + ISSUES_PER_NORMALISE.specials * k,
+            muls: ISSUES_PER_LIGHT.muls * n + ISSUES_PER_NORMALISE.muls * k + lc_muls + c_muls,
+            adds: ISSUES_PER_LIGHT.adds * n + ISSUES_PER_NORMALISE.adds * k + lc_adds + c_adds,
+            specials: ISSUES_PER_LIGHT.specials * n + ISSUES_PER_NORMALISE.specials * k
+                - c_specials,
         }
     }
 }
@@ -715,8 +817,15 @@ impl Unit for VertexLighting {
                     + prim::mux(4 * cb) * 2.0
             }
         };
+        // The NV2A curve's three coefficient registers (the adds, multiplies and RCP run
+        // on the shared lanes; the LOG/EXP stay for the spot exponent).
+        let curve = match self.curve {
+            None => Cells::default(),
+            Some(_) => prim::register(3 * w),
+        };
         Cost::default()
             .part("input registers (P, n)", prim::register(6 * w))
+            .part("NV2A specular curve coefficients (k0, k1, k2)", curve)
             .part(
                 "light control (vertex colours, specular sum, secondary colour, routing)",
                 light_control,

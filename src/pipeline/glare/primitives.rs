@@ -46,6 +46,7 @@ pub fn interpolator(coord_frac_bits: u32) -> Result<PolygonInterpolator, ConfigE
         out_int_bits: 2,
         out_frac_bits: coord_frac_bits,
         out_quant: Quant::Rnd,
+        barycentric: None,
     }
     .build()
 }

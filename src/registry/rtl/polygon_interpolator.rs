@@ -40,6 +40,7 @@ pub fn config_of(config: RtlConfig) -> PolygonInterpolatorConfig {
             out_int_bits: 4,
             out_frac_bits: 1,
             out_quant: Quant::Rnd,
+            barycentric: None,
         },
     }
 }

@@ -53,6 +53,11 @@ pub(super) fn verilog_params(u: &VertexLighting) -> Result<VerilogParams, String
             u.light_count()
         ));
     }
+    if u.curve_registers().is_some() {
+        return Err(
+            "vertex_lighting.specular_curve: the Verilog evaluates pow (the NV2A curve is not implemented in vertex_lighting.v)".into(),
+        );
+    }
     if fmt.subnormals != Subnormals::Flush {
         return Err(
             "vertex_lighting.format.subnormals: the Verilog flushes subnormals only".into(),
