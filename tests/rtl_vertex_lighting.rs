@@ -138,6 +138,12 @@ fn mode_sets_cover_every_switch_set_and_tell_the_modes_apart() {
                     "{}",
                     v.tag()
                 );
+                // Its channels differ (a coloured light): a channel swap shows.
+                let g2_differs = v
+                    .expected
+                    .iter()
+                    .any(|s| field(s, &v.out_fields, "g2") != field(s, &v.out_fields, "r2"));
+                assert!(g2_differs, "{}", v.tag());
             }
         }
     }

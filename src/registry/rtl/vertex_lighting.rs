@@ -16,6 +16,11 @@
 //! * narrow: E 4, M 6, truncation, 12-bit colours (every bit of a sum ≥ 2^−5),
 //!   no GL_NORMALIZE, a local viewer, a directional light without a spot.
 //!
+//! Both are GL's single colour. The NV2A modes (`normalize_directional` off, and
+//! `light_control` with its four switches: LIGHT_CONTROL, LIGHTING, SPECULAR_ENABLE,
+//! SEPARATE_SPECULAR, SPEC_ALPHA_FROM_VERTEX, the vertex colours in, the secondary
+//! colour out) are [`vertex_lighting_mode_sets`], run by tests/rtl_vertex_lighting.rs.
+//!
 //! The input word is six format words (192 bits default, 66 narrow), so 10⁵ vertices
 //! (`count`), shaped from the seeded raw words: one in eight is the raw wire (with
 //! the corners of the first eighth: ±0, the reserved exponent, max finite…), one in
@@ -583,6 +588,11 @@ pub fn light_controls() -> [LightControl; 16] {
 /// M = 6).
 const NARROW_MODE_DIRECTION: [f64; 4] = [0.6, 0.9, 0.5, 0.0];
 
+/// The mode sets' light specular colour: unequal channels, so the separate specular
+/// colour's channels differ (the configurations' lights are grey: a swap of two
+/// secondary channels would pass them).
+const MODE_SPECULAR: [f64; 3] = [1.0, 0.7, 0.4];
+
 /// A light-control set's name: `lit`, `spec`, `sep`, `valpha` (the four switches) 0 or 1.
 fn light_control_name(lc: &LightControl) -> String {
     format!(
@@ -598,7 +608,8 @@ fn light_control_name(lc: &LightControl) -> String {
 /// configurations, each a set of `count` vertices tagged
 /// `vertex_lighting_<config>_<mode>`:
 /// * narrow (E 4, M 6, truncate, 12-bit colours, no GL_NORMALIZE, a local viewer) with
-///   a directional light of length ≈ 1.19 ([`NARROW_MODE_DIRECTION`]): the direction
+///   a directional light of length ≈ 1.19 ([`NARROW_MODE_DIRECTION`]), specular colour
+///   [`MODE_SPECULAR`] as in every mode set: the direction
 ///   normalised at load (`nd1`) or as written (`nd0`), each with GL's single colour
 ///   (`gl`) and with every light-control switch set ([`light_controls`]): 34 sets;
 /// * default (IEEE single, nearest-even, GL_NORMALIZE, 16-bit colours) with its local
@@ -617,6 +628,7 @@ pub fn vertex_lighting_mode_sets(count: usize, seed: u64) -> Result<Vec<VectorSe
             cfg.normalize_directional = nd;
             cfg.light_control = lc;
             setup.lights[0].position = NARROW_MODE_DIRECTION;
+            setup.lights[0].specular = MODE_SPECULAR;
             let name = lc.as_ref().map_or("gl".into(), light_control_name);
             modes.push((
                 RtlConfig::Narrow,
@@ -627,8 +639,9 @@ pub fn vertex_lighting_mode_sets(count: usize, seed: u64) -> Result<Vec<VectorSe
         }
     }
     for lc in light_controls() {
-        let (mut cfg, setup) = setup_of(RtlConfig::Default);
+        let (mut cfg, mut setup) = setup_of(RtlConfig::Default);
         cfg.light_control = Some(lc);
+        setup.lights[0].specular = MODE_SPECULAR;
         modes.push((RtlConfig::Default, light_control_name(&lc), cfg, setup));
     }
     // One seed for all: the sets of one configuration and input width (every light-
