@@ -1345,3 +1345,46 @@ fn drivers_agree_with_light_control() {
         common::assert_drivers_agree(&u, (), &inputs);
     }
 }
+
+/// Light control's cost is its own part and nothing else: 0 without it; with it the
+/// total grows by exactly that part, which holds the secondary colour's converters (as
+/// many as the primary's: both sums are converted in the same clock), so it exceeds
+/// the primary's conversion part by the registers and muxes, at every colour width.
+#[test]
+fn light_control_cost_is_its_own_part_with_the_secondary_converters() {
+    const PART: &str =
+        "light control (vertex colours, specular sum, secondary colour and its conversion, routing)";
+    let part = |u: &VertexLighting, name: &str| {
+        u.cost()
+            .breakdown
+            .iter()
+            .find(|(n, _)| n.as_str() == name)
+            .map(|&(_, g)| g)
+            .unwrap_or_else(|| panic!("no part {name}"))
+    };
+    let setup = LightingSetup::default();
+    for bits in [1, 5, 8, 16] {
+        for (e, m) in [(8, 23), (5, 10), (4, 6)] {
+            let gl_cfg = VertexLightingConfig {
+                color_bits: bits,
+                ..VertexLightingConfig::geforce().with_format(e, m)
+            };
+            let gl = VertexLighting::new(gl_cfg, &setup).unwrap();
+            let lc =
+                VertexLighting::new(with_control(gl_cfg, LightControl::default()), &setup).unwrap();
+            assert_eq!(part(&gl, PART), 0.0);
+            let extra = lc.cost().gates_nand2() - gl.cost().gates_nand2();
+            assert!((extra - part(&lc, PART)).abs() < 1e-6, "{bits} e{e}m{m}");
+            let conv = part(&gl, "unorm conversion (3 × significand × (2^n − 1), round)");
+            // Registers: 8 + 4 colours in and out and 3 words; muxes 4 + 8 colours.
+            let w = 1 + e + m;
+            let regs = rtl_model::cost::prim::register(12 * bits + 3 * w).nand2_eq();
+            let muxes = rtl_model::cost::prim::mux(12 * bits).nand2_eq();
+            assert!(
+                (part(&lc, PART) - (conv + regs + muxes)).abs() < 1e-6,
+                "{bits} e{e}m{m}: {} against {conv} + {regs} + {muxes}",
+                part(&lc, PART)
+            );
+        }
+    }
+}

@@ -1,6 +1,7 @@
 //! Helpers shared by the unit tests.
 #![allow(dead_code)]
 
+pub mod cosim;
 pub mod docs;
 pub mod icarus;
 pub mod shafts;

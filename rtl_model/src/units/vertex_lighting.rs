@@ -804,14 +804,19 @@ impl Unit for VertexLighting {
         // colour products 9 — minus one spare), base 3, shininess 1; vertex temporaries 24.
         let regfile_words = 19 * MAX_LIGHTS as u32 + 4 + 24;
         let cb = self.cfg.color_bits;
+        // One unorm converter: significand × (2^n − 1), round.
+        let unorm = prim::multiplier(sig, cb) + prim::adder(sig + cb);
         let light_control = match self.cfg.light_control {
             None => Cells::default(),
             // Vertex colours in (8 words), the specular accumulators (3 words), the
-            // secondary output registers and the routing: a 2:1 mux per primary channel
-            // (lit / vertex diffuse, 4 channels) and a 3:1 per secondary one.
+            // secondary's converters (the separate specular sum is converted in the same
+            // clock as the primary: 3 more, as vertex_lighting.v has them), its output
+            // registers and the routing: a 2:1 mux per primary channel (lit / vertex
+            // diffuse, 4 channels) and a 3:1 per secondary one.
             Some(_) => {
                 prim::register(8 * cb)
                     + prim::register(3 * w)
+                    + unorm * 3.0
                     + prim::register(4 * cb)
                     + prim::mux(4 * cb)
                     + prim::mux(4 * cb) * 2.0
@@ -827,7 +832,7 @@ impl Unit for VertexLighting {
             .part("input registers (P, n)", prim::register(6 * w))
             .part("NV2A specular curve coefficients (k0, k1, k2)", curve)
             .part(
-                "light control (vertex colours, specular sum, secondary colour, routing)",
+                "light control (vertex colours, specular sum, secondary colour and its conversion, routing)",
                 light_control,
             )
             .part("FP multipliers (6)", fmul * FP_MULTIPLIERS as f64)
@@ -870,9 +875,7 @@ impl Unit for VertexLighting {
             )
             .part(
                 "unorm conversion (3 × significand × (2^n − 1), round)",
-                (prim::multiplier(sig, self.cfg.color_bits)
-                    + prim::adder(sig + self.cfg.color_bits))
-                    * 3.0,
+                unorm * 3.0,
             )
             .part(
                 "register file (lights, material, temporaries)",

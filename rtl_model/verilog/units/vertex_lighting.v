@@ -29,6 +29,26 @@
 // directional one; SPOT a spot cone (cutoff < 180°) or none; NORMALIZE
 // (GL_NORMALIZE) and LOCAL_VIEWER as in the model. Subnormals flushed only.
 //
+// NV2A modes (the model's config fields; nxdk_pgraph_tests' Specular captures):
+// * normalize_directional: a load-time choice, so no parameter of its own — a
+//   directional light's LIGHT_X/Y/Z are the vector normalised at load or as the host
+//   wrote it, and the datapath uses them as given either way (N·L scales with the
+//   length, H = normalize(L + V) of that vector).
+// * light_control: LIGHT_CONTROL = 1 gives two colours, primary (r, g, b, a) and
+//   secondary (r2, g2, b2, a2), from the vertex's diffuse (dr … da) and specular
+//   (sr … sa) colour ports, routed by LIGHTING, SPECULAR_ENABLE, SEPARATE_SPECULAR and
+//   SPEC_ALPHA_FROM_VERTEX as the model's `light_nv2a`: lighting off, no datapath is
+//   built and the primary is the vertex's diffuse; lighting on, the diffuse sum
+//   e_m + a_m·a_s + k·(a + nl·d) and the specular sum k·(spec·s) are formed apart
+//   (one more multiply per channel than GL's k·(t + spec·s), one add fewer), the
+//   specular sum converted as the secondary RGB when specular is enabled and
+//   separate, else added to the diffuse sum before its conversion (one more add);
+//   the primary alpha is the material's. Secondary: (0, 0, 0, 1) with specular
+//   disabled; else RGB the lit specular (separate) or the vertex's, alpha the
+//   vertex's specular alpha (SPEC_ALPHA_FROM_VERTEX) or 1. II and latency follow the
+//   model's issues (3 more multiplies and 3 more adds). LIGHT_CONTROL = 0 (the
+//   default) is GL's single colour: the colour ports are unused, r2 … a2 are 0.
+//
 // Schedule: the model's Timing is a schedule over shared FP units (6 multipliers,
 // 4 adders, one special-function unit): II = max(1, ⌈muls/6⌉, ⌈adds/4⌉, specials),
 // latency II + 6. This Verilog computes the same function as one fixed datapath
@@ -679,6 +699,14 @@ module vertex_lighting #(
     parameter LOCAL_VIEWER = 0,
     parameter LOCAL        = 1,
     parameter SPOT         = 0,
+    // The NV2A's light control (the model's `light_control`): 0 = GL's single colour
+    // (the vertex colour ports unused, the secondary outputs 0); 1 = two colours,
+    // routed by the four switches below (the model's `LightControl` fields).
+    parameter LIGHT_CONTROL          = 0,
+    parameter LIGHTING               = 1,
+    parameter SPECULAR_ENABLE        = 1,
+    parameter SEPARATE_SPECULAR      = 1,
+    parameter SPEC_ALPHA_FROM_VERTEX = 1,
     // The light's loaded registers (format words).
     parameter [63:0] LIGHT_X   = 0,
     parameter [63:0] LIGHT_Y   = 0,
@@ -716,11 +744,25 @@ module vertex_lighting #(
     input  [EXP_BITS+MANT_BITS:0] nx,
     input  [EXP_BITS+MANT_BITS:0] ny,
     input  [EXP_BITS+MANT_BITS:0] nz,
+    // The vertex's diffuse and specular colours (LIGHT_CONTROL only).
+    input  [COLOR_BITS-1:0] dr,
+    input  [COLOR_BITS-1:0] dg,
+    input  [COLOR_BITS-1:0] db,
+    input  [COLOR_BITS-1:0] da,
+    input  [COLOR_BITS-1:0] sr,
+    input  [COLOR_BITS-1:0] sg,
+    input  [COLOR_BITS-1:0] sb,
+    input  [COLOR_BITS-1:0] sa,
     output                  out_valid,
     output [COLOR_BITS-1:0] r,
     output [COLOR_BITS-1:0] g,
     output [COLOR_BITS-1:0] b,
-    output [COLOR_BITS-1:0] a
+    output [COLOR_BITS-1:0] a,
+    // The secondary (specular) colour (LIGHT_CONTROL only; 0 without).
+    output [COLOR_BITS-1:0] r2,
+    output [COLOR_BITS-1:0] g2,
+    output [COLOR_BITS-1:0] b2,
+    output [COLOR_BITS-1:0] a2
 );
   localparam W = 1 + EXP_BITS + MANT_BITS;
   localparam E = EXP_BITS;
@@ -728,10 +770,18 @@ module vertex_lighting #(
   localparam CB = COLOR_BITS;
   localparam [W-1:0] ONE = {2'b00, {(E - 1) {1'b1}}, {M{1'b0}}};
 
-  // The model's Timing: issues per light 36 / 28 / 7, per normalise 6 / 2 / 1.
+  // Light control: the lighting datapath is built unless lighting is off (then both
+  // colours are the vertex's); the lit specular sum is its own colour when specular
+  // is enabled and separate, else it joins the diffuse sum.
+  localparam LC = LIGHT_CONTROL ? 1 : 0;
+  localparam LIT = !LIGHT_CONTROL || LIGHTING;
+  localparam SPLIT = SPECULAR_ENABLE && SEPARATE_SPECULAR;
+
+  // The model's Timing: issues per light 36 / 28 / 7, per normalise 6 / 2 / 1; light
+  // control 3 multiplies (k·spec·s per channel, one light) and 3 adds (the join).
   localparam NK = NORMALIZE + LOCAL_VIEWER;
-  localparam MULS = 36 + 6 * NK;
-  localparam ADDS = 28 + 2 * NK;
+  localparam MULS = 36 + 6 * NK + 3 * LC;
+  localparam ADDS = 28 + 2 * NK + 3 * LC;
   localparam SPECIALS = 7 + NK;
   localparam II_MUL = (MULS + 5) / 6;
   localparam II_ADD = (ADDS + 3) / 4;
@@ -786,120 +836,195 @@ module vertex_lighting #(
   localparam integer L_T1 = L_NL + 2;
   localparam integer L_MS = S_SPEC + 1;
   localparam integer L_T2 = `VL_MAX(L_T1, L_MS) + 1;
+  // Light control: k·(a + nl·d), the diffuse sum, k·spec·s.
+  localparam integer L_MK = `VL_MAX(L_KK, L_T1) + 1;
+  localparam integer L_DACC = L_MK + 1;
+  localparam integer L_MKS = `VL_MAX(L_KK, L_MS) + 1;
 
   // ---- the datapath, in the model's order (VertexLighting::light) --------------------
-  wire [3*W-1:0] p = {px, py, pz};
-  wire [3*W-1:0] nin = {nx, ny, nz};
-  wire [3*W-1:0] n, v, lv, hv, h;
-  wire [W-1:0] att, spot, nl_raw, nh_raw, sp, spec, kk;
-  wire [3*CB-1:0] rgb;
+  // rgb: the lit colour (GL), or with light control the lit primary (the diffuse sum,
+  // plus the specular sum unless split); rgb2: the lit secondary (the specular sum,
+  // when split).
+  wire [3*CB-1:0] rgb, rgb2;
   genvar gc;
   generate
-    if (NORMALIZE) begin : g_norm
-      vertex_lighting_norm `VL_FPN(0) nrm (.v(nin), .o(n));
-    end else begin : g_nonorm
-      assign n = nin;
-    end
-    if (LOCAL_VIEWER) begin : g_viewer
-      vertex_lighting_norm `VL_FPN(0) nrm (.v(p ^ NEG3), .o(v));
-    end else begin : g_noviewer
-      assign v = {{W{1'b0}}, {W{1'b0}}, ONE};
-    end
-    if (LOCAL) begin : g_local
-      wire [3*W-1:0] vp;
-      wire [W-1:0] d2, rr, d, tl, den1, tq, den;
-      for (gc = 0; gc < 3; gc = gc + 1) begin : g_c
-        vertex_lighting_add `VL_FP ad (.x(LVEC[gc*W+:W]), .y(p[gc*W+:W] ^ NEG3[W-1:0]),
-                                     .o(vp[gc*W+:W]));
-        vertex_lighting_mul `VL_FP m (.x(vp[gc*W+:W]), .y(rr), .o(lv[gc*W+:W]));
-        `VL_WAIT(m, 4 + D_RSQ)
+    if (LIT) begin : g_lit
+      wire [3*W-1:0] p = {px, py, pz};
+      wire [3*W-1:0] nin = {nx, ny, nz};
+      wire [3*W-1:0] n, v, lv, hv, h;
+      wire [W-1:0] att, spot, nl_raw, nh_raw, sp, spec, kk;
+      if (NORMALIZE) begin : g_norm
+        vertex_lighting_norm `VL_FPN(0) nrm (.v(nin), .o(n));
+      end else begin : g_nonorm
+        assign n = nin;
       end
-      vertex_lighting_dot3 `VL_FP3(1, 1) dt (.u(vp), .v(vp), .o(d2));
-      vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
-      vertex_lighting_mul `VL_FP md (.x(d2), .y(rr), .o(d));
-      vertex_lighting_mul `VL_FP ml (.x(ATT_L[W-1:0]), .y(d), .o(tl));
-      vertex_lighting_add `VL_FP a1 (.x(ATT_C[W-1:0]), .y(tl), .o(den1));
-      vertex_lighting_mul `VL_FP mq (.x(ATT_Q[W-1:0]), .y(d2), .o(tq));
-      vertex_lighting_add `VL_FP a2 (.x(den1), .y(tq), .o(den));
-      vertex_lighting_rcp `VL_FP rc (.x(den), .o(att));
-      `VL_WAIT(md, 1 + D_RSQ)
-      `VL_WAIT(a2, 3 + D_RSQ)
-    end else begin : g_dir
-      assign lv  = LVEC;
-      assign att = ONE;
-    end
-    if (SPOT) begin : g_spot
-      wire [W-1:0] cd, c, pw;
-      vertex_lighting_dot3 `VL_FP3(L_LV, -1) dt (.u(lv), .v(SDIR), .o(cd));
-      assign c = cd ^ NEG3[W-1:0];
-      vertex_lighting_pow `VL_FP pwr (.x(c), .s(SPOT_EXP[W-1:0]), .o(pw));
-      reg c_lt;  // c < the cutoff's cosine
-      always @(c) c_lt = flt(c, SPOT_COS[W-1:0]);
-      assign spot = c_lt ? {W{1'b0}} : pw;
-    end else begin : g_nospot
-      assign spot = ONE;
+      if (LOCAL_VIEWER) begin : g_viewer
+        vertex_lighting_norm `VL_FPN(0) nrm (.v(p ^ NEG3), .o(v));
+      end else begin : g_noviewer
+        assign v = {{W{1'b0}}, {W{1'b0}}, ONE};
+      end
+      if (LOCAL) begin : g_local
+        wire [3*W-1:0] vp;
+        wire [W-1:0] d2, rr, d, tl, den1, tq, den;
+        for (gc = 0; gc < 3; gc = gc + 1) begin : g_c
+          vertex_lighting_add `VL_FP ad (.x(LVEC[gc*W+:W]), .y(p[gc*W+:W] ^ NEG3[W-1:0]),
+                                       .o(vp[gc*W+:W]));
+          vertex_lighting_mul `VL_FP m (.x(vp[gc*W+:W]), .y(rr), .o(lv[gc*W+:W]));
+          `VL_WAIT(m, 4 + D_RSQ)
+        end
+        vertex_lighting_dot3 `VL_FP3(1, 1) dt (.u(vp), .v(vp), .o(d2));
+        vertex_lighting_rsq `VL_FP rs (.x(d2), .o(rr));
+        vertex_lighting_mul `VL_FP md (.x(d2), .y(rr), .o(d));
+        vertex_lighting_mul `VL_FP ml (.x(ATT_L[W-1:0]), .y(d), .o(tl));
+        vertex_lighting_add `VL_FP a1 (.x(ATT_C[W-1:0]), .y(tl), .o(den1));
+        vertex_lighting_mul `VL_FP mq (.x(ATT_Q[W-1:0]), .y(d2), .o(tq));
+        vertex_lighting_add `VL_FP ad2 (.x(den1), .y(tq), .o(den));
+        vertex_lighting_rcp `VL_FP rc (.x(den), .o(att));
+        `VL_WAIT(md, 1 + D_RSQ)
+        `VL_WAIT(ad2, 3 + D_RSQ)
+      end else begin : g_dir
+        // A directional light: its register as loaded (normalised at load, or as the
+        // host wrote it: the model's `normalize_directional` acts on the parameter).
+        assign lv  = LVEC;
+        assign att = ONE;
+      end
+      if (SPOT) begin : g_spot
+        wire [W-1:0] cd, c, pw;
+        vertex_lighting_dot3 `VL_FP3(L_LV, -1) dt (.u(lv), .v(SDIR), .o(cd));
+        assign c = cd ^ NEG3[W-1:0];
+        vertex_lighting_pow `VL_FP pwr (.x(c), .s(SPOT_EXP[W-1:0]), .o(pw));
+        reg c_lt;  // c < the cutoff's cosine
+        always @(c) c_lt = flt(c, SPOT_COS[W-1:0]);
+        assign spot = c_lt ? {W{1'b0}} : pw;
+      end else begin : g_nospot
+        assign spot = ONE;
+      end
+      vertex_lighting_dot3 `VL_FP3(L_N, L_LV) dnl (.u(n), .v(lv), .o(nl_raw));
+      for (gc = 0; gc < 3; gc = gc + 1) begin : g_h
+        vertex_lighting_add `VL_FP ad (.x(lv[gc*W+:W]), .y(v[gc*W+:W]), .o(hv[gc*W+:W]));
+        `VL_WAIT(ad, `VL_WT(L_LV, L_LV, L_V, L_V))
+      end
+      vertex_lighting_norm `VL_FPN(L_HV) nrh (.v(hv), .o(h));
+      vertex_lighting_dot3 `VL_FP3(L_N, L_H) dnh (.u(n), .v(h), .o(nh_raw));
+      // max(0, ·) and the N·L > 0 test, as processes (a function in a continuous
+      // assignment is re-run by Icarus on every input event).
+      reg [W-1:0] nl, nh;
+      reg nl_pos;
+      always @(nl_raw) begin
+        nl = fmax0(nl_raw);
+        nl_pos = flt({W{1'b0}}, nl_raw);
+      end
+      always @(nh_raw) nh = fmax0(nh_raw);
+      vertex_lighting_pow `VL_FP psp (.x(nh), .s(SHININESS[W-1:0]), .o(sp));
+      assign spec = nl_pos ? sp : {W{1'b0}};
+      vertex_lighting_mul `VL_FP mkk (.x(att), .y(spot), .o(kk));
+      `VL_WAIT(mkk, `VL_WT(L_ATT, L_ATT, F_SPOT, S_SPOT))
+      for (gc = 0; gc < 3; gc = gc + 1) begin : g_ch
+        wire [W-1:0] md, t1, ms, acc;
+        vertex_lighting_mul `VL_FP m1 (.x(nl), .y(DIF[gc*W+:W]), .o(md));
+        vertex_lighting_add `VL_FP a1 (.x(AMB[gc*W+:W]), .y(md), .o(t1));
+        vertex_lighting_mul `VL_FP m2 (.x(spec), .y(SPE[gc*W+:W]), .o(ms));
+        `VL_WAIT(m2, `VL_WT(F_SPEC, S_SPEC, -1, -1))
+        if (!LIGHT_CONTROL) begin : g_gl
+          // acc = e_m + a_m·a_s + k·((a + nl·d) + spec·s).
+          wire [W-1:0] t2, mk;
+          vertex_lighting_add `VL_FP ad2 (.x(t1), .y(ms), .o(t2));
+          vertex_lighting_mul `VL_FP m3 (.x(kk), .y(t2), .o(mk));
+          vertex_lighting_add `VL_FP a3 (.x(BASE[gc*W+:W]), .y(mk), .o(acc));
+          `VL_WAIT(ad2, `VL_WT(L_T1, L_T1, L_MS, L_MS))
+          `VL_WAIT(m3, `VL_WT(L_KK, L_KK, L_T2, L_T2))
+        end else begin : g_two
+          // The model's two sums (light_nv2a): diffuse dacc = e_m + a_m·a_s +
+          // k·(a + nl·d), specular sacc = 0 + k·(spec·s). One light, so sacc is the
+          // product mks itself: 0 + x = x for every non-zero x (a product is never
+          // the reserved exponent), and a zero x gives a zero either way, which the
+          // join (x + ±0 = x for x ≠ 0) and the unorm (±0 → 0) do not tell apart.
+          wire [W-1:0] mk, dacc, mks;
+          vertex_lighting_mul `VL_FP m3 (.x(kk), .y(t1), .o(mk));
+          vertex_lighting_add `VL_FP a3 (.x(BASE[gc*W+:W]), .y(mk), .o(dacc));
+          vertex_lighting_mul `VL_FP m4 (.x(kk), .y(ms), .o(mks));
+          `VL_WAIT(m3, `VL_WT(L_KK, L_KK, L_T1, L_T1))
+          `VL_WAIT(m4, `VL_WT(L_KK, L_KK, L_MS, L_MS))
+          if (SPLIT) begin : g_split
+            // The specular sum is the secondary colour.
+            assign acc = dacc;
+            vertex_lighting_unorm #(
+                .EXP_BITS(EXP_BITS),
+                .MANT_BITS(MANT_BITS),
+                .ROUNDING(ROUNDING),
+                .COLOR_BITS(COLOR_BITS)
+            ) un2 (
+                .x(mks),
+                .u(rgb2[gc*CB+:CB])
+            );
+          end else begin : g_join
+            // The specular sum joins the diffuse before the conversion.
+            vertex_lighting_add `VL_FP a4 (.x(dacc), .y(mks), .o(acc));
+            `VL_WAIT(a4, `VL_WT(L_DACC, L_DACC, L_MKS, L_MKS))
+            assign rgb2[gc*CB+:CB] = 0;
+          end
+        end
+        vertex_lighting_unorm #(
+            .EXP_BITS(EXP_BITS),
+            .MANT_BITS(MANT_BITS),
+            .ROUNDING(ROUNDING),
+            .COLOR_BITS(COLOR_BITS)
+        ) un (
+            .x(acc),
+            .u(rgb[gc*CB+:CB])
+        );
+      end
+      if (!LIGHT_CONTROL) begin : g_nosec
+        assign rgb2 = 0;
+      end
+    end else begin : g_unlit
+      // Lighting off: no datapath, both colours are the vertex's.
+      assign rgb  = 0;
+      assign rgb2 = 0;
     end
   endgenerate
-  vertex_lighting_dot3 `VL_FP3(L_N, L_LV) dnl (.u(n), .v(lv), .o(nl_raw));
+
+  // ---- the outputs: GL's lit RGB (alpha the material's), or with light control the
+  // primary and secondary RGBA (the model's light_nv2a routing) ------------------------
+  localparam OW = LIGHT_CONTROL ? 8 * CB : 3 * CB;
+  localparam [CB-1:0] CMAX = {CB{1'b1}};
+  wire [OW-1:0] res;
   generate
-    for (gc = 0; gc < 3; gc = gc + 1) begin : g_h
-      vertex_lighting_add `VL_FP ad (.x(lv[gc*W+:W]), .y(v[gc*W+:W]), .o(hv[gc*W+:W]));
-      `VL_WAIT(ad, `VL_WT(L_LV, L_LV, L_V, L_V))
-    end
-  endgenerate
-  vertex_lighting_norm `VL_FPN(L_HV) nrh (.v(hv), .o(h));
-  vertex_lighting_dot3 `VL_FP3(L_N, L_H) dnh (.u(n), .v(h), .o(nh_raw));
-  // max(0, ·) and the N·L > 0 test, as processes (a function in a continuous
-  // assignment is re-run by Icarus on every input event).
-  reg [W-1:0] nl, nh;
-  reg nl_pos;
-  always @(nl_raw) begin
-    nl = fmax0(nl_raw);
-    nl_pos = flt({W{1'b0}}, nl_raw);
-  end
-  always @(nh_raw) nh = fmax0(nh_raw);
-  vertex_lighting_pow `VL_FP psp (.x(nh), .s(SHININESS[W-1:0]), .o(sp));
-  assign spec = nl_pos ? sp : {W{1'b0}};
-  vertex_lighting_mul `VL_FP mkk (.x(att), .y(spot), .o(kk));
-  `VL_WAIT(mkk, `VL_WT(L_ATT, L_ATT, F_SPOT, S_SPOT))
-  generate
-    for (gc = 0; gc < 3; gc = gc + 1) begin : g_ch
-      wire [W-1:0] md, t1, ms, t2, mk, acc;
-      vertex_lighting_mul `VL_FP m1 (.x(nl), .y(DIF[gc*W+:W]), .o(md));
-      vertex_lighting_add `VL_FP a1 (.x(AMB[gc*W+:W]), .y(md), .o(t1));
-      vertex_lighting_mul `VL_FP m2 (.x(spec), .y(SPE[gc*W+:W]), .o(ms));
-      vertex_lighting_add `VL_FP a2 (.x(t1), .y(ms), .o(t2));
-      vertex_lighting_mul `VL_FP m3 (.x(kk), .y(t2), .o(mk));
-      vertex_lighting_add `VL_FP a3 (.x(BASE[gc*W+:W]), .y(mk), .o(acc));
-      `VL_WAIT(m2, `VL_WT(F_SPEC, S_SPEC, -1, -1))
-      `VL_WAIT(a2, `VL_WT(L_T1, L_T1, L_MS, L_MS))
-      `VL_WAIT(m3, `VL_WT(L_KK, L_KK, L_T2, L_T2))
-      vertex_lighting_unorm #(
-          .EXP_BITS(EXP_BITS),
-          .MANT_BITS(MANT_BITS),
-          .ROUNDING(ROUNDING),
-          .COLOR_BITS(COLOR_BITS)
-      ) un (
-          .x(acc),
-          .u(rgb[gc*CB+:CB])
-      );
+    if (LIGHT_CONTROL) begin : g_route
+      // Primary: lit RGB and the material's alpha, or the vertex's diffuse.
+      wire [4*CB-1:0] pri = LIGHTING ? {rgb, ALPHA[CB-1:0]} : {dr, dg, db, da};
+      // Secondary: (0, 0, 0, 1) with specular disabled; else the lit specular sum
+      // when lit and separate, the vertex's specular RGB otherwise; alpha the vertex's
+      // specular alpha or 1.
+      wire [3*CB-1:0] srgb = !SPECULAR_ENABLE ? {(3 * CB) {1'b0}} :
+          (LIGHTING && SEPARATE_SPECULAR) ? rgb2 : {sr, sg, sb};
+      wire [CB-1:0] salpha = (SPECULAR_ENABLE && SPEC_ALPHA_FROM_VERTEX) ? sa : CMAX;
+      assign res = {pri, srgb, salpha};
+    end else begin : g_gl_out
+      assign res = rgb;
     end
   endgenerate
 
   // ---- pipeline: the result on the clock a vertex is accepted, then a delay line ----
-  localparam OW = 3 * CB;
   reg [OW-1:0] s0;
   reg [(LATENCY-1)*OW-1:0] dl;
   reg [LATENCY-1:0] vc;
   always @(posedge clk) begin
     if (rst) vc <= 0;
     else vc <= {vc[LATENCY-2:0], in_valid};
-    if (in_valid) s0 <= rgb;
+    if (in_valid) s0 <= res;
     dl <= {dl[(LATENCY-2)*OW-1:0], s0};
   end
   assign out_valid = vc[LATENCY-1];
-  assign {r, g, b} = dl[(LATENCY-1)*OW-1-:OW];
-  assign a = ALPHA[CB-1:0];
+  generate
+    if (LIGHT_CONTROL) begin : g_out2
+      assign {r, g, b, a, r2, g2, b2, a2} = dl[(LATENCY-1)*OW-1-:OW];
+    end else begin : g_out1
+      assign {r, g, b} = dl[(LATENCY-1)*OW-1-:OW];
+      assign a = ALPHA[CB-1:0];
+      assign {r2, g2, b2, a2} = 0;
+    end
+  endgenerate
 endmodule
 
 `undef VL_FZ

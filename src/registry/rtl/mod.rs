@@ -51,6 +51,7 @@ mod vertex_lighting;
 pub use blend::vectors_of as blend_vectors_of;
 pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
+pub use vertex_lighting::{light_controls, vertex_lighting_mode_sets};
 
 /// An input word of at most this many bits is enumerated exhaustively.
 pub const EXHAUSTIVE_BITS: u32 = 20;

@@ -16,6 +16,11 @@
 //! * narrow: E 4, M 6, truncation, 12-bit colours (every bit of a sum ≥ 2^−5),
 //!   no GL_NORMALIZE, a local viewer, a directional light without a spot.
 //!
+//! Both are GL's single colour. The NV2A modes (`normalize_directional` off, and
+//! `light_control` with its four switches: LIGHT_CONTROL, LIGHTING, SPECULAR_ENABLE,
+//! SEPARATE_SPECULAR, SPEC_ALPHA_FROM_VERTEX, the vertex colours in, the secondary
+//! colour out) are [`vertex_lighting_mode_sets`], run by tests/rtl_vertex_lighting.rs.
+//!
 //! The input word is six format words (192 bits default, 66 narrow), so 10⁵ vertices
 //! (`count`), shaped from the seeded raw words: one in eight is the raw wire (with
 //! the corners of the first eighth: ±0, the reserved exponent, max finite…), one in
@@ -38,7 +43,7 @@
 use super::{collect, seeded, RtlConfig, VectorSet, VerilogParams};
 use rand::Rng;
 use rtl_model::units::vertex_lighting::{
-    Light, LightingSetup, VertexLighting, VertexLightingConfig, VertexLightingIn,
+    Light, LightControl, LightingSetup, VertexLighting, VertexLightingConfig, VertexLightingIn,
 };
 use rtl_model::{Counters, FloatFormat, Fp, Rounding, Subnormals};
 use std::cell::Cell;
@@ -88,7 +93,19 @@ pub(super) fn verilog_params(u: &VertexLighting) -> Result<VerilogParams, String
         ("LOCAL_VIEWER", u64::from(cfg.local_viewer)),
         ("LOCAL", u64::from(l.local)),
         ("SPOT", u64::from(spot.is_some())),
+        ("LIGHT_CONTROL", u64::from(cfg.light_control.is_some())),
     ];
+    if let Some(lc) = cfg.light_control {
+        p.extend([
+            ("LIGHTING", u64::from(lc.lighting)),
+            ("SPECULAR_ENABLE", u64::from(lc.specular_enable)),
+            ("SEPARATE_SPECULAR", u64::from(lc.separate_specular)),
+            (
+                "SPEC_ALPHA_FROM_VERTEX",
+                u64::from(lc.specular_alpha_from_vertex),
+            ),
+        ]);
+    }
     let names3 = |a: [&'static str; 3], v: [Fp; 3]| a.into_iter().zip(v.map(w));
     p.extend(names3(["LIGHT_X", "LIGHT_Y", "LIGHT_Z"], l.vector));
     p.extend(names3(["ATT_C", "ATT_L", "ATT_Q"], l.attenuation));
@@ -116,6 +133,12 @@ const SWEEP: usize = 64;
 
 /// The unit at `config` (see the module docs).
 fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
+    let (cfg, setup) = setup_of(config);
+    VertexLighting::new(cfg, &setup).map_err(|e| e.to_string())
+}
+
+/// The config and loaded state of `config`'s unit (see the module docs).
+fn setup_of(config: RtlConfig) -> (VertexLightingConfig, LightingSetup) {
     let mut setup = LightingSetup::default();
     let (cfg, light) = match config {
         RtlConfig::Default => {
@@ -162,7 +185,7 @@ fn unit_of(config: RtlConfig) -> Result<VertexLighting, String> {
         }
     };
     setup.lights = vec![light];
-    VertexLighting::new(cfg, &setup).map_err(|e| e.to_string())
+    (cfg, setup)
 }
 
 /// A hand mutation of the Verilog the fault corners are chosen to expose.
@@ -476,7 +499,7 @@ fn shaper(u: &VertexLighting) -> impl Fn(&[u64]) -> VertexLightingIn {
     let light = u.light_registers()[0].vector;
     move |v: &[u64]| {
         // A selector from all six words (the shaping below reads their low bits).
-        let h = v.iter().fold(0xcbf2_9ce4_8422_2325u64, |a, &x| {
+        let h = v[..6].iter().fold(0xcbf2_9ce4_8422_2325u64, |a, &x| {
             (a ^ x).wrapping_mul(0x0000_0100_0000_01b3)
         });
         let sel = h >> 61;
@@ -506,10 +529,14 @@ fn shaper(u: &VertexLighting) -> impl Fn(&[u64]) -> VertexLightingIn {
                 *x = l.0;
             }
         }
+        // With light control, the vertex's diffuse and specular colours: the words
+        // after the six as drawn (their corners 0, 1, the midpoint ± 0, max − 1, max).
+        let colour = |k: usize| std::array::from_fn(|c| v.get(k + c).map_or(0, |&x| x as u32));
         VertexLightingIn {
             position: [Fp(w[0]), Fp(w[1]), Fp(w[2])],
             normal: [Fp(w[3]), Fp(w[4]), Fp(w[5])],
-            ..VertexLightingIn::default()
+            diffuse: colour(6),
+            specular: colour(10),
         }
     }
 }
@@ -547,6 +574,95 @@ pub(super) fn vertex_lighting_vectors(
         count,
         seed,
     ))
+}
+
+/// Every set of the light-control switches, in a fixed order: lighting,
+/// specular_enable, separate_specular and specular_alpha_from_vertex are bits 3, 2, 1
+/// and 0 of the index.
+pub fn light_controls() -> [LightControl; 16] {
+    std::array::from_fn(|m| LightControl {
+        lighting: m & 8 != 0,
+        specular_enable: m & 4 != 0,
+        separate_specular: m & 2 != 0,
+        specular_alpha_from_vertex: m & 1 != 0,
+    })
+}
+
+/// The narrow mode sets' directional light: (0.6, 0.9, 0.5), length ≈ 1.19, so
+/// `normalize_directional` changes its registers (none of its components is exact at
+/// M = 6).
+const NARROW_MODE_DIRECTION: [f64; 4] = [0.6, 0.9, 0.5, 0.0];
+
+/// The mode sets' light specular colour: unequal channels, so the separate specular
+/// colour's channels differ (the configurations' lights are grey: a swap of two
+/// secondary channels would pass them).
+const MODE_SPECULAR: [f64; 3] = [1.0, 0.7, 0.4];
+
+/// A light-control set's name: `lit`, `spec`, `sep`, `valpha` (the four switches) 0 or 1.
+fn light_control_name(lc: &LightControl) -> String {
+    format!(
+        "lit{}_spec{}_sep{}_valpha{}",
+        u8::from(lc.lighting),
+        u8::from(lc.specular_enable),
+        u8::from(lc.separate_specular),
+        u8::from(lc.specular_alpha_from_vertex)
+    )
+}
+
+/// The NV2A modes (`normalize_directional`, `light_control`) beyond the two
+/// configurations, each a set of `count` vertices tagged
+/// `vertex_lighting_<config>_<mode>`:
+/// * narrow (E 4, M 6, truncate, 12-bit colours, no GL_NORMALIZE, a local viewer) with
+///   a directional light of length ≈ 1.19 ([`NARROW_MODE_DIRECTION`]), specular colour
+///   [`MODE_SPECULAR`] as in every mode set: the direction
+///   normalised at load (`nd1`) or as written (`nd0`), each with GL's single colour
+///   (`gl`) and with every light-control switch set ([`light_controls`]): 34 sets;
+/// * default (IEEE single, nearest-even, GL_NORMALIZE, 16-bit colours) with its local
+///   spot light, so k = att·spot scales both sums: every switch set, 16 sets.
+///
+/// The vertices are shaped as the configurations' (the module docs) with no fault
+/// corners, from `seed` in every set (so the sets of one configuration with the same
+/// input word, e.g. nd0 and nd1 of one switch set, see the same vertices); the vertex's diffuse and specular colours are the drawn words as they
+/// are, the first eighth from the corners 0, 1, the midpoint ± 0, max − 1 and max.
+pub fn vertex_lighting_mode_sets(count: usize, seed: u64) -> Result<Vec<VectorSet>, String> {
+    let mut modes = Vec::new();
+    for nd in [false, true] {
+        let lcs = std::iter::once(None).chain(light_controls().map(Some));
+        for lc in lcs {
+            let (mut cfg, mut setup) = setup_of(RtlConfig::Narrow);
+            cfg.normalize_directional = nd;
+            cfg.light_control = lc;
+            setup.lights[0].position = NARROW_MODE_DIRECTION;
+            setup.lights[0].specular = MODE_SPECULAR;
+            let name = lc.as_ref().map_or("gl".into(), light_control_name);
+            modes.push((
+                RtlConfig::Narrow,
+                format!("nd{}_{name}", u8::from(nd)),
+                cfg,
+                setup,
+            ));
+        }
+    }
+    for lc in light_controls() {
+        let (mut cfg, mut setup) = setup_of(RtlConfig::Default);
+        cfg.light_control = Some(lc);
+        setup.lights[0].specular = MODE_SPECULAR;
+        modes.push((RtlConfig::Default, light_control_name(&lc), cfg, setup));
+    }
+    // One seed for all: the sets of one configuration and input width (every light-
+    // control set of a configuration, nd0 and nd1 alike) see the same vertices.
+    modes
+        .into_iter()
+        .map(|(config, name, cfg, setup)| {
+            let u = VertexLighting::new(cfg, &setup).map_err(|e| e.to_string())?;
+            let params = verilog_params(&u)?;
+            let probe = VertexLightingIn::default();
+            let make = shaper(&u);
+            let mut v = collect(&u, (), config, probe, make, params, count, seed);
+            v.variant = Some(name);
+            Ok(v)
+        })
+        .collect()
 }
 
 #[cfg(test)]
