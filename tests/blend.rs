@@ -37,6 +37,7 @@ fn unit(
         dst_factor,
         constant,
         rounding,
+        ..BlendConfig::default()
     }
     .build()
     .unwrap()
@@ -345,4 +346,156 @@ fn batch_path_agrees_exhaustively_at_8_bits() {
     let span = rtl_model::driver::run_span(&b, &mut (), &inputs, &mut c);
     common::assert_batch_agrees(&b, &(), &inputs, &span, &(), &c);
     assert!(b.timing().latency >= 1 && b.cost().gates_nand2() > 0.0);
+}
+
+// ---------------------------------------------------------------------------------
+// The additive datapath against additive_blend, bit for bit.
+
+use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::blend::BlendDatapath;
+use rtl_model::unorm::max_code;
+
+/// A unit's cost (cells, RAM bits, named parts) as JSON, to compare two units'.
+fn cost_json(u: &impl Unit) -> String {
+    serde_json::to_string(&u.cost()).unwrap()
+}
+
+/// Both units, the same configuration: `additive_blend` (src, fb, weighted, k) and the
+/// `blend` additive datapath, at weight `w`.
+fn both(s: u32, f: u32, weighted: bool, k: u32, w: u32) -> (AdditiveBlend, Blend) {
+    let a = AdditiveBlend::new(s, f, 4, weighted, k).unwrap();
+    let b = Blend::additive(s, f, weighted, k).unwrap().with_weight(w);
+    (a, b)
+}
+
+/// Every source, destination (channel 0; the other channels varied with them) and
+/// weight at every width triple where the channel's input space is ≤ 2²⁰ (s, f ≤ 6,
+/// k ≤ 4 and 8): the kernel's outputs and counters, the batch kernel's, the lane and
+/// pixel forms', and the cost, timing and widths.
+#[test]
+fn additive_datapath_equals_additive_blend_bit_for_bit_exhaustively() {
+    let mut compared = 0u64;
+    for s in 1..=6u32 {
+        for f in 1..=6u32 {
+            for (weighted, k) in [(false, 8), (true, 1), (true, 2), (true, 4), (true, 8)] {
+                let ws: Vec<u32> = if weighted {
+                    (0..=max_code(k)).collect()
+                } else {
+                    vec![0]
+                };
+                for &w in &ws {
+                    let (a, b) = both(s, f, weighted, k, w);
+                    assert_eq!(cost_json(&a), cost_json(&b), "cost s{s} f{f} k{k}");
+                    assert_eq!(a.timing(), b.timing());
+                    assert_eq!(a.widths(), b.widths());
+                    let (sm, fm) = (max_code(s), max_code(f));
+                    let mut ins_a = Vec::new();
+                    let mut ins_b = Vec::new();
+                    for sv in 0..=sm {
+                        for dv in 0..=fm {
+                            let src = [sv, (sv * 7 + 3) & sm, sm - sv, (sv ^ 1) & sm];
+                            let dst = [dv, fm - dv, (dv * 5 + 1) & fm, 0];
+                            ins_a.push(AdditiveBlendIn {
+                                src,
+                                dst,
+                                weight: w,
+                            });
+                            ins_b.push(BlendIn { src, dst });
+                        }
+                    }
+                    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+                    let oa = rtl_model::driver::run_span(&a, &mut (), &ins_a, &mut ca);
+                    let ob = rtl_model::driver::run_span(&b, &mut (), &ins_b, &mut cb);
+                    assert_eq!(oa, ob, "kernel s{s} f{f} k{k} w{w}");
+                    assert_eq!(ca, cb, "kernel counters s{s} f{f} k{k} w{w}");
+                    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+                    let oa = rtl_model::driver::run_batch(&a, &mut (), &ins_a, 37, &mut ca);
+                    let ob = rtl_model::driver::run_batch(&b, &mut (), &ins_b, 37, &mut cb);
+                    assert_eq!(oa, ob, "batch s{s} f{f} k{k} w{w}");
+                    assert_eq!(ca, cb, "batch counters s{s} f{f} k{k} w{w}");
+                    // The lane form (J buffer) and the pixel form (framebuffer).
+                    let src: Vec<u32> = ins_a.iter().map(|x| x.src[0]).collect();
+                    let mut da: Vec<u32> = ins_a.iter().map(|x| x.dst[0]).collect();
+                    let mut db = da.clone();
+                    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+                    a.blend_lanes(&src, &mut da, w, &mut ca);
+                    b.blend_lanes(&src, &mut db, &mut cb);
+                    assert_eq!(da, db, "lanes s{s} f{f} k{k} w{w}");
+                    assert_eq!(ca, cb, "lanes counters s{s} f{f} k{k} w{w}");
+                    let n = ins_a.len();
+                    let (mut pa, mut pb) = (vec![[0u32; 4]; n], vec![[0u32; 4]; n]);
+                    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+                    let ra = a.blend_pixels(|i| ins_a[i].src, |i| ins_a[i].dst, &mut pa, &mut ca);
+                    let rb = b.blend_pixels(|i| ins_b[i].src, |i| ins_b[i].dst, &mut pb, &mut cb);
+                    assert_eq!((ra, &pa, ca), (rb, &pb, cb), "pixels s{s} f{f} k{k}");
+                    compared += n as u64;
+                }
+            }
+        }
+    }
+    assert!(compared > 1_000_000, "{compared} pixels compared");
+}
+
+/// The hardware's widths, 8-bit source, framebuffer and weight: every source,
+/// destination and weight (2²⁴ channel inputs) through the lane form, and every
+/// source and destination through the kernel at the weights 0, 1, 128, 254 and 255.
+#[test]
+fn additive_datapath_equals_additive_blend_at_8_bits_for_all_inputs() {
+    let src: Vec<u32> = (0..1u32 << 16).map(|i| i >> 8).collect();
+    let dst0: Vec<u32> = (0..1u32 << 16).map(|i| i & 255).collect();
+    for weighted in [false, true] {
+        for w in 0..=255u32 {
+            let (a, b) = both(8, 8, weighted, 8, w);
+            let (mut da, mut db) = (dst0.clone(), dst0.clone());
+            let (mut ca, mut cb) = (Counters::default(), Counters::default());
+            a.blend_lanes(&src, &mut da, w, &mut ca);
+            b.blend_lanes(&src, &mut db, &mut cb);
+            assert!(da == db && ca == cb, "w{w} weighted {weighted}");
+            if [0, 1, 128, 254, 255].contains(&w) {
+                let ins_a: Vec<AdditiveBlendIn> = (0..src.len())
+                    .map(|i| AdditiveBlendIn {
+                        src: [src[i], dst0[i], 255 - src[i], src[i] ^ 0x5a],
+                        dst: [dst0[i], src[i], 255 - dst0[i], 0],
+                        weight: w,
+                    })
+                    .collect();
+                let ins_b: Vec<BlendIn> = ins_a
+                    .iter()
+                    .map(|x| BlendIn {
+                        src: x.src,
+                        dst: x.dst,
+                    })
+                    .collect();
+                let (mut ca, mut cb) = (Counters::default(), Counters::default());
+                let oa = rtl_model::driver::run_span(&a, &mut (), &ins_a, &mut ca);
+                let ob = rtl_model::driver::run_span(&b, &mut (), &ins_b, &mut cb);
+                assert!(oa == ob && ca == cb, "kernel w{w} weighted {weighted}");
+            }
+        }
+    }
+    assert_eq!(
+        Blend::additive(8, 8, false, 8).unwrap().datapath(),
+        BlendDatapath::Additive
+    );
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// Random widths up to 16 bits (where exhaustion is impossible): the same outputs
+    /// and counters, and the same cost.
+    #[test]
+    fn additive_datapath_equals_additive_blend_at_random_widths(
+        s in 1u32..=16, f in 1u32..=16, k in 1u32..=16, weighted in any::<bool>(),
+        w in any::<u32>(), src in any::<[u32; 4]>(), dst in any::<[u32; 4]>(),
+    ) {
+        let (a, b) = both(s, f, weighted, k, w & max_code(k));
+        let mut ca = Counters::default();
+        let mut cb = Counters::default();
+        let oa = a.kernel(&mut (), &AdditiveBlendIn { src, dst, weight: w }, &mut ca);
+        let ob = b.kernel(&mut (), &BlendIn { src, dst }, &mut cb);
+        prop_assert_eq!(oa, ob);
+        prop_assert_eq!(ca, cb);
+        prop_assert_eq!(cost_json(&a), cost_json(&b));
+    }
 }

@@ -114,37 +114,7 @@ pub struct AdditiveBlendIn {
 /// The new framebuffer value per channel (channels ≥ `channels` are 0).
 pub type AdditiveBlendOut = [u32; 4];
 
-/// round(x / (2ᵏ − 1)) for x ≤ (2^q − 1)(2ᵏ − 1), integers only, as the hardware does
-/// it without a divider. With t = x + 2ᵏ⁻¹ and J = ⌈q / k⌉:
-///
-///   round(x / (2ᵏ−1)) = ⌊ t · Σ_{j=0..J} 2^{jk} / 2^{(J+1)k} ⌋.
-///
-/// Proof: 2ᵏ − 1 is odd, so x/(2ᵏ−1) is never a half-integer and round = ⌊y / M⌋ with
-/// y = t − 1 and M = 2ᵏ − 1. Write y = nM + r (0 ≤ r < M). Since Σ 2^{jk} =
-/// (2^{(J+1)k} − 1)/M, the right side is ⌊(y+1)/M − (y+1)/(M·2^{(J+1)k})⌋ =
-/// ⌊n + (r+1)/M − ε⌋ with 0 < ε ≤ (r+1)/M because y + 1 = t < 2^{q+k} ≤ 2^{(J+1)k};
-/// so it equals n. The sum is J shift-adds of t (for k = 8 = q it is Blinn's
-/// (t + (t >> 8)) >> 8). Widths: t u(q+k); Σ u(q + k + Jk + 1) ≤ u(2q + 2k) ≤ u(64).
-///
-/// `k` and `q` are clamped to 1 ..= 16; outside the precondition the result is the
-/// same formula (no panic), no longer the rounded quotient.
-pub fn round_div_mersenne(x: u64, k: u32, q: u32) -> u64 {
-    let k = k.clamp(1, 16);
-    let q = q.clamp(1, 16);
-    let terms = q.div_ceil(k) + 1; // J + 1 shifted copies
-    if q + k * terms < 64 && x >> (q + k) == 0 {
-        // The same sum in a 64-bit carrier: its u(q + k + Jk + 1) fits.
-        let t = x + (1u64 << (k - 1));
-        let acc: u64 = (0..terms).map(|j| t << (j * k)).sum();
-        return acc >> (terms * k);
-    }
-    let t = x as u128 + (1u128 << (k - 1)); // u(q+k) + 2ᵏ⁻¹ → u(q+k) within the precondition
-    let mut acc: u128 = 0;
-    for j in 0..terms {
-        acc += t << (j * k); // running sum grows to u(q + k + Jk + 1)
-    }
-    u64::try_from(acc >> (terms * k)).unwrap_or(u64::MAX) // top bits: u(q)
-}
+pub use super::blend::round_div_mersenne;
 
 impl AdditiveBlend {
     /// Build from the individual fields (see [`AdditiveBlendConfig`]).

@@ -71,6 +71,7 @@ pub(super) fn blend_vectors(
             dst_factor: BlendFactor::OneMinusConstantColor,
             constant: [1, 2, 3, 0],
             rounding: BlendRounding::Once,
+            ..BlendConfig::default()
         },
     };
     vectors_of(cfg, config, count, seed)
