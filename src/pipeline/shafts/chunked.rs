@@ -134,12 +134,7 @@ impl UnitSpan {
     /// A single-channel weighted blend in lanes ([`Blend::blend_lanes`]):
     /// `dst` blended in place, counted as the batch kernel counts those inputs.
     #[inline]
-    pub fn feed_blend_lanes(
-        &mut self,
-        unit: &Blend,
-        src: &[u32],
-        dst: &mut [u32],
-    ) {
+    pub fn feed_blend_lanes(&mut self, unit: &Blend, src: &[u32], dst: &mut [u32]) {
         unit.blend_lanes(src, dst, &mut self.ctr);
         self.tally.add(src.len());
     }
