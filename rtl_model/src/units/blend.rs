@@ -871,11 +871,7 @@ impl Unit for Blend {
     type State = ();
 
     fn name(&self) -> &'static str {
-        // The additive datapath keeps the name the pipelines' reports have used.
-        match self.cfg.datapath {
-            BlendDatapath::Additive => "additive_blend",
-            BlendDatapath::Programmable => "blend",
-        }
+        "blend"
     }
 
     fn kernel(&self, _: &mut (), input: &BlendIn, ctr: &mut Counters) -> [u32; 4] {
