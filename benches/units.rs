@@ -7,7 +7,7 @@ use glare_pipeline::registry;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rtl_model::driver::{run_span, run_tick};
-use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::chaos_map::ChaosMap;
 use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
@@ -59,12 +59,12 @@ fn units(c: &mut Criterion) {
         .collect();
     bench_unit(c, &m, (), &inputs);
 
-    let blend = AdditiveBlend::geforce();
-    let inputs: Vec<AdditiveBlendIn> = (0..N)
-        .map(|_| AdditiveBlendIn {
+    // The additive datapath the shafts and object passes use (GL_ONE, GL_ONE).
+    let blend = Blend::additive(8, 8, false, 8).expect("8-bit additive blend");
+    let inputs: Vec<BlendIn> = (0..N)
+        .map(|_| BlendIn {
             src: [byte(), byte(), byte(), byte()],
             dst: [byte(), byte(), byte(), byte()],
-            weight: 255,
         })
         .collect();
     bench_unit(c, &blend, (), &inputs);

@@ -3,7 +3,8 @@
 //! factors rotating, then each factor as source and as destination factor, 3-bit
 //! channels with a non-trivial constant colour, under Icarus (one compile per state,
 //! the state being module parameters), bit- and cycle-exact against the model's
-//! vectors. Skips with a printed note without `iverilog`.
+//! vectors; and the additive datapath's sets. Skips with a printed note without
+//! `iverilog`.
 
 mod common;
 
@@ -103,6 +104,31 @@ fn icarus_runs_the_8_bit_alpha_blend_bit_and_cycle_exact() {
         assert!(
             line.ends_with(&icarus::clean_tail(COUNT)),
             "{equation:?}: {line}"
+        );
+    }
+}
+
+/// The additive datapath (`DATAPATH = 1`, the pipelines' blends): every set of
+/// `blend_mode_sets` — 8-bit GL_ONE and weighted, and the narrow widening and
+/// narrowing ones, exhaustive — under Icarus, bit- and cycle-exact (latency 3).
+#[test]
+fn icarus_runs_the_additive_datapath_bit_and_cycle_exact() {
+    if !icarus::have_iverilog() {
+        common::tools::skip(
+            "iverilog not found; the additive blend did not run (apt-get install iverilog)",
+        );
+        return;
+    }
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("rtl_blend_additive");
+    let sets = glare_pipeline::registry::rtl::blend_mode_sets(COUNT, 5).unwrap();
+    assert_eq!(sets.len(), 6);
+    for v in &sets {
+        let n = v.stimulus.len();
+        let line = icarus::run_set(v, &work.join(v.tag()), &["units/blend.v"]);
+        assert!(
+            line.ends_with(&icarus::clean_tail(n)),
+            "{}: {line}",
+            v.tag()
         );
     }
 }

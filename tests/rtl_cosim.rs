@@ -110,6 +110,13 @@ fn write_sets(dir: &Path, n: usize) -> (Vec<VectorSet>, Vec<PathBuf>) {
         blocks.push(d.join(format!("cosim_{}.v", v.tag())));
         sets.push(v);
     }
+    // blend's additive datapath (the pipelines' blends), each its own set.
+    for v in rtl::blend_mode_sets(n, SEED).unwrap() {
+        let d = dir.join(v.tag());
+        v.write(&d).unwrap();
+        blocks.push(d.join(format!("cosim_{}.v", v.tag())));
+        sets.push(v);
+    }
     let tags: Vec<String> = sets.iter().map(VectorSet::tag).collect();
     let top = dir.join("cosim_top.v");
     std::fs::write(&top, rtl::cosim_top(&tags)).unwrap();

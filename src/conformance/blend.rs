@@ -284,6 +284,7 @@ fn units(chip: Chip, eq: BlendEquation, src: BlendFactor) -> Units {
             dst_factor,
             constant,
             rounding,
+            ..BlendConfig::default()
         }
         .build()
         .expect("8-bit blend state is valid")

@@ -13,6 +13,8 @@ use crate::pipeline::shafts::frame::scatters;
 use crate::registry;
 use crate::scene::clip::clip_needed;
 use crate::scene::format::{LightKind, Scene};
+use rtl_model::units::blend::Blend;
+use rtl_model::UnitSummary;
 use serde::Serialize;
 
 /// The scene feature a unit instance serves.
@@ -109,7 +111,7 @@ pub const INSTANCES: &[(&str, &str, Feature)] = &[
         Feature::Objects,
     ),
     ("modulate", "modulate", Feature::Objects),
-    ("additive_blend", "additive_blend", Feature::Objects),
+    ("additive_blend", "blend", Feature::Objects),
     (
         "shadow_compare (shadow map)",
         "shadow_compare",
@@ -127,7 +129,7 @@ pub const INSTANCES: &[(&str, &str, Feature)] = &[
     ),
     ("texture_sampler (F)", "texture_sampler", Feature::Fog),
     ("texture_sampler (h)", "texture_sampler", Feature::Fog),
-    ("additive_blend (J buffer)", "additive_blend", Feature::Fog),
+    ("additive_blend (J buffer)", "blend", Feature::Fog),
     (
         "cube_map_address (normalisation cube)",
         "cube_map_address",
@@ -284,10 +286,17 @@ fn light_maps(scene: &Scene) -> bool {
 /// Elaborate the chip of a scene.
 pub fn elaborate(scene: &Scene) -> Chip {
     let summaries = registry::summaries();
+    // The additive blends (instances named `additive_blend …`) are `blend`'s additive
+    // datapath, GL_ONE at 8 bits, not its programmable default.
+    let additive = UnitSummary::of(&Blend::additive(8, 8, false, 8).expect("8-bit additive blend"));
     let units = INSTANCES
         .iter()
         .map(|&(instance, unit, feature)| {
-            let s = summaries.iter().find(|s| s.name == unit);
+            let s = if unit == "blend" && instance.starts_with("additive_blend") {
+                Some(&additive)
+            } else {
+                summaries.iter().find(|s| s.name == unit)
+            };
             let left_out = absent(scene, instance, feature);
             ChipUnit {
                 instance,

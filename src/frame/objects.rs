@@ -6,7 +6,7 @@
 //! framebuffer before the lights' Lambert and sample-plane passes add to it.
 //!
 //! Widths: the shading path's output, the irradiance code and the sum are 8-bit unorm
-//! (the `modulate` and `additive_blend` units at 8 bits); the result is converted to
+//! (the `modulate` unit and `blend`'s additive datapath at 8 bits); the result is converted to
 //! `shafts.fb_bits` (widened to 16 bits and narrowed, as the hardware copies it).
 //!
 //! Host work (f64, per fragment, as the application processor sets up vertex colours
@@ -27,7 +27,7 @@ use crate::scene::format::Scene;
 use crate::scene::geometry::{Ray, SceneGeometry};
 use crate::scene::lightmap::{light_weight, LightMapSampler};
 use rtl_model::driver::run_span;
-use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn, ModulateMode};
 use rtl_model::{ConfigError, Counters};
 use std::collections::BTreeMap;
@@ -74,7 +74,7 @@ pub fn shaded_objects_pass(
     // shows its reflection alone.
     let selected = |i: usize| scene.objects.get(i).is_some_and(|o| o.material.is_some());
     let modulate = Modulate::new(8, ModulateMode::Exact)?;
-    let blend = AdditiveBlend::new(8, 8, 4, false, 8)?;
+    let blend = Blend::additive(8, 8, false, 8)?;
     let cam = CameraView::new(&scene.camera, scene.image);
     let geometry = SceneGeometry::without_meshes(&scene.objects)?;
     let mut counters: BTreeMap<String, Counters> = BTreeMap::new();
@@ -157,15 +157,14 @@ pub fn shaded_objects_pass(
         *counters
             .entry("modulate (shaded objects)".into())
             .or_default() += c;
-        let ins: Vec<AdditiveBlendIn> = at
+        let ins: Vec<BlendIn> = at
             .iter()
             .zip(lit.chunks(3))
             .map(|(&i, l)| {
                 let d = sum[i].unwrap_or([0; 3]);
-                AdditiveBlendIn {
+                BlendIn {
                     src: [l[0], l[1], l[2], 0],
                     dst: [d[0], d[1], d[2], 0],
-                    weight: 0,
                 }
             })
             .collect();
@@ -245,7 +244,7 @@ pub fn shading_stats(light: usize, fragments: u64) -> PassStats {
 /// The reflection added (saturating) where its object is the one shaded.
 fn add_reflection(
     r: &Reflection,
-    blend: &AdditiveBlend,
+    blend: &Blend,
     sum: &mut [Option<[u32; 3]>],
     objects: &[Option<usize>],
     counters: &mut BTreeMap<String, Counters>,
@@ -253,15 +252,14 @@ fn add_reflection(
     let at: Vec<usize> = (0..sum.len())
         .filter(|&i| objects[i] == Some(r.object) && r.pixels[i].is_some())
         .collect();
-    let ins: Vec<AdditiveBlendIn> = at
+    let ins: Vec<BlendIn> = at
         .iter()
         .map(|&i| {
             let s = r.pixels[i].unwrap_or([0; 3]);
             let d = sum[i].unwrap_or([0; 3]);
-            AdditiveBlendIn {
+            BlendIn {
                 src: [s[0], s[1], s[2], 0],
                 dst: [d[0], d[1], d[2], 0],
-                weight: 0,
             }
         })
         .collect();

@@ -11,8 +11,8 @@
 //!   `projective_texcoord` divides them (three instances: checker, light map, depth);
 //!   `texture_sampler` filters the RGBA checker (bilinear, repeat) and the luminance
 //!   light map (bilinear, clamp); `shadow_compare` tests the light-space depth;
-//!   `modulate` combines; `additive_blend` adds an ambient pass and the spot pass into
-//!   the 8-bit RGBA framebuffer.
+//!   `modulate` combines; `blend` (its additive datapath, GL_ONE, GL_ONE) adds an
+//!   ambient pass and the spot pass into the 8-bit RGBA framebuffer.
 //!
 //! Host work (vertex transforms, in f64 as the application processor would) is here;
 //! everything per pixel runs through the units' kernels with the span driver.
@@ -24,7 +24,7 @@ use crate::scene::math::v3;
 pub use crate::scene::test_scene::*;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
-use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{
     PolygonInterpolator, PolygonInterpolatorConfig, Vertex,
@@ -59,7 +59,7 @@ pub struct TestSceneUnits {
     pub lightmap: TextureSampler,
     pub shadow: ShadowCompare,
     pub modulate: Modulate,
-    pub blend: AdditiveBlend,
+    pub blend: Blend,
 }
 
 /// Counters per unit, in pipeline order.
@@ -119,7 +119,7 @@ impl TestSceneUnits {
             lightmap,
             shadow,
             modulate: Modulate::geforce(),
-            blend: AdditiveBlend::geforce(),
+            blend: Blend::additive(8, 8, false, 8)?,
         })
     }
 }
@@ -190,7 +190,7 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
     }
 
     // ---- floor passes.
-    let mut fb = Framebuffer::new(WIDTH, HEIGHT, units.blend.fb_bits());
+    let mut fb = Framebuffer::new(WIDTH, HEIGHT, units.blend.bits());
     let n = FLOOR_CELLS;
     let grid = |i: usize, j: usize| {
         let f = |k: usize| -FLOOR_HALF + 2.0 * FLOOR_HALF * k as f64 / n as f64;
@@ -403,7 +403,7 @@ fn shade(
 
     // Two additive passes into the framebuffer: ambient, then the spot.
     for pass in 0..2 {
-        let blends: Vec<AdditiveBlendIn> = frags
+        let blends: Vec<BlendIn> = frags
             .iter()
             .enumerate()
             .map(|(k, f)| {
@@ -414,10 +414,9 @@ fn shade(
                         m2[k * 3 + ch]
                     }
                 };
-                AdditiveBlendIn {
+                BlendIn {
                     src: [src(0), src(1), src(2), 0],
                     dst: fb.pixel(f.x, f.y),
-                    weight: 0,
                 }
             })
             .collect();

@@ -1,7 +1,6 @@
 //! f64 twins of the hardware units (one per unit, named after it) and whole-image
 //! references. The reference never imports a unit's kernel; tests are where they meet.
 
-pub mod additive_blend;
 pub mod blend;
 pub mod bloom_flare_modulator;
 pub mod brdf;

@@ -12,7 +12,6 @@
 pub mod datasheet;
 pub mod rtl;
 
-mod additive_blend;
 mod blend;
 mod bloom_flare_modulator;
 mod chaos_map;
@@ -69,7 +68,6 @@ pub struct UnitEntry {
 pub const UNITS: &[UnitEntry] = &[
     modulate::ENTRY,
     modulate_chain::ENTRY,
-    additive_blend::ENTRY,
     blend::ENTRY,
     texture_sampler::ENTRY,
     clipper::ENTRY,

@@ -503,13 +503,13 @@ fields! {
     SHAFTS_T_MAX = "shafts.t_max", Ty::Real, "world units", closed_range(0.0, WMAX), "0.0", WORLD, "",
         "Range of the h table's t axis; 0 = fit to the scene.";
     SHAFTS_TEXEL_BITS = "shafts.texel_bits", Ty::Int, "bits", Range::Unit("1 ..= 16"), "8",
-        "texture_sampler texel_bits, modulate bits, additive_blend src_bits", "",
+        "texture_sampler texel_bits, modulate bits, blend src_bits", "",
         "Texel width of the F, h and light-map textures (GeForce2: 8).";
-    SHAFTS_FB_BITS = "shafts.fb_bits", Ty::Int, "bits", Range::Unit("additive_blend's fb_bits range"), "8",
-        "additive_blend fb_bits", "",
+    SHAFTS_FB_BITS = "shafts.fb_bits", Ty::Int, "bits", Range::Unit("blend's bits range"), "8",
+        "blend bits", "",
         "Framebuffer bits per channel.";
     SHAFTS_WEIGHT_BITS = "shafts.weight_bits", Ty::Int, "bits", Range::Unit("texture_sampler's weight_bits range"), "8",
-        "texture_sampler weight_bits, additive_blend weight_bits", "",
+        "texture_sampler weight_bits, blend constant_bits", "",
         "Filter and blend weight width.";
     SHAFTS_COORD_FRAC_BITS = "shafts.coord_frac_bits", Ty::Int, "bits",
         Range::Unit("texture_sampler's coord_frac_bits range"), "8", "texture_sampler coord_frac_bits", "",

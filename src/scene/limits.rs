@@ -12,7 +12,7 @@
 //! docs/inputs.md, "One source of limits"; `tests/limits.rs` pins it.
 
 use rtl_model::error::ConfigError;
-use rtl_model::units::additive_blend::AdditiveBlend;
+use rtl_model::units::blend::Blend;
 use rtl_model::units::clipper::ClipperConfig;
 use rtl_model::units::gaussian_noise::GaussianNoiseConfig;
 use rtl_model::units::glare_combiner::GlareCombinerConfig;
@@ -311,20 +311,20 @@ pub fn check_shafts(scene: &Scene) -> Result<(), ConfigError> {
         .map_err(onto(&sampler("shafts.light_map_texels")))?;
     let tex = [
         ("modulate.bits", "shafts.texel_bits"),
-        ("additive_blend.src_bits", "shafts.texel_bits"),
-        ("additive_blend.fb_bits", "shafts.fb_bits"),
-        ("additive_blend.weight_bits", "shafts.weight_bits"),
+        ("blend.src_bits", "shafts.texel_bits"),
+        ("blend.bits", "shafts.fb_bits"),
+        ("blend.constant_bits", "shafts.weight_bits"),
     ];
     rtl_model::units::modulate::Modulate::new(s.texel_bits, ModulateMode::Exact)
         .map_err(onto(&tex))?;
-    AdditiveBlend::new(s.texel_bits, s.fb_bits, 4, false, s.weight_bits).map_err(onto(&tex))?;
+    Blend::additive(s.texel_bits, s.fb_bits, false, s.weight_bits).map_err(onto(&tex))?;
     // The J buffer: texel-wide, weighted by 1/m.
     let j = [
-        ("additive_blend.src_bits", "shafts.texel_bits"),
-        ("additive_blend.fb_bits", "shafts.texel_bits"),
-        ("additive_blend.weight_bits", "shafts.weight_bits"),
+        ("blend.src_bits", "shafts.texel_bits"),
+        ("blend.bits", "shafts.texel_bits"),
+        ("blend.constant_bits", "shafts.weight_bits"),
     ];
-    AdditiveBlend::new(s.texel_bits, s.texel_bits, 4, true, s.weight_bits).map_err(onto(&j))?;
+    Blend::additive(s.texel_bits, s.texel_bits, true, s.weight_bits).map_err(onto(&j))?;
     shafts_shadow(s).build().map_err(onto(&[
         ("shadow_compare.width", "shafts.shadow_resolution"),
         ("shadow_compare.height", "shafts.shadow_resolution"),

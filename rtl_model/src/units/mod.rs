@@ -1,7 +1,6 @@
 //! One file per hardware unit. Each has an f64 twin in the main crate's
 //! `src/reference/`, a property test in `tests/` and a datasheet in `docs/units.md`.
 
-pub mod additive_blend;
 pub mod blend;
 pub mod bloom_flare_modulator;
 pub mod chaos_map;

@@ -8,8 +8,16 @@
 // ONE_MINUS_CONSTANT_COLOR, CONSTANT_ALPHA, ONE_MINUS_CONSTANT_ALPHA; CONST_R..A the
 // constant colour; ROUNDING 0 = once (round((s*fs +- d*fd)/M)), 1 = per term.
 // Signed arithmetic is done as magnitude and sign in unsigned wires.
-// Latency 4, II 1: stage 1 factor select (framebuffer read), stage 2 multiply,
-// stage 3 add / divide by M / clamp, stage 4 write-back register.
+// SRC_BITS: the source ports' width; the source is aligned to BITS first (bit
+// replication when widening, round to nearest when narrowing).
+// DATAPATH 0 = programmable (every factor and equation; CONST_BITS = BITS), latency 4,
+// II 1: stage 1 factor select (framebuffer read), stage 2 multiply, stage 3 add /
+// divide by M / clamp, stage 4 write-back register.
+// DATAPATH 1 = additive (ADD; SRC_FACTOR 1 = ONE or 13 = CONSTANT_ALPHA, a weight of
+// CONST_BITS bits; DST_FACTOR 1 = ONE): y_c = min(dst_c + q_c, M) with
+// q_c = align(src_c), or round(align(src_c) * CONST_A / (2^CONST_BITS - 1)). Latency 3,
+// II 1: stage 1 aligns and weights the source while the framebuffer is read, stage 2
+// adds and saturates, stage 3 is the write-back register.
 module blend #(
     parameter BITS       = 8,
     parameter EQUATION   = 0,
@@ -19,15 +27,18 @@ module blend #(
     parameter CONST_G    = 0,
     parameter CONST_B    = 0,
     parameter CONST_A    = 0,
-    parameter ROUNDING   = 0
+    parameter ROUNDING   = 0,
+    parameter DATAPATH   = 0,
+    parameter SRC_BITS   = BITS,
+    parameter CONST_BITS = BITS
 ) (
     input                 clk,
     input                 rst,
     input                 in_valid,
-    input      [BITS-1:0] src_r,
-    input      [BITS-1:0] src_g,
-    input      [BITS-1:0] src_b,
-    input      [BITS-1:0] src_a,
+    input  [SRC_BITS-1:0] src_r,
+    input  [SRC_BITS-1:0] src_g,
+    input  [SRC_BITS-1:0] src_b,
+    input  [SRC_BITS-1:0] src_a,
     input      [BITS-1:0] dst_r,
     input      [BITS-1:0] dst_g,
     input      [BITS-1:0] dst_b,
@@ -41,6 +52,52 @@ module blend #(
   localparam [BITS-1:0] M = {BITS{1'b1}};
   localparam [4*BITS-1:0] K = {CONST_R[BITS-1:0], CONST_G[BITS-1:0], CONST_B[BITS-1:0],
                                CONST_A[BITS-1:0]};
+  localparam [CONST_BITS-1:0] WEIGHT = CONST_A[CONST_BITS-1:0];
+  localparam REP = (BITS + SRC_BITS - 1) / SRC_BITS;  // copies for bit replication
+
+  // round(x / (2^k - 1)) for x <= (2^q - 1)(2^k - 1): with t = x + 2^(k-1) and
+  // J = ceil(q / k), (t * sum_{j=0..J} 2^(jk)) >> (J+1)k (round_div_mersenne; 2^k - 1
+  // is odd: no ties). The sum is at most q + k + Jk + 1 <= 64 bits.
+  function [BITS-1:0] rdm;
+    input [63:0] x;
+    input integer k;
+    input integer q;
+    reg [79:0] t, acc;
+    integer j, terms;
+    begin
+      terms = (q + k - 1) / k + 1;
+      t = {16'd0, x} + (80'd1 << (k - 1));
+      acc = 0;
+      for (j = 0; j < 17; j = j + 1)  // terms <= 17 (k >= 1, q <= 16)
+        if (j < terms) acc = acc + (t << (j * k));
+      acc = acc >> (terms * k);
+      rdm = acc[BITS-1:0];
+    end
+  endfunction
+
+  // A source channel aligned to BITS: bit replication (wiring) when widening,
+  // round(v * M / (2^SRC_BITS - 1)) when narrowing.
+  function [BITS-1:0] align;
+    input [SRC_BITS-1:0] v;
+    reg [REP*SRC_BITS-1:0] r;
+    begin
+      if (BITS >= SRC_BITS) begin
+        r = {REP{v}};
+        align = r[REP*SRC_BITS-1-:BITS];
+      end else begin
+        align = rdm({32'd0, v} * {32'd0, M}, SRC_BITS, BITS);
+      end
+    end
+  endfunction
+
+  // The additive datapath's contribution of an aligned source channel.
+  function [BITS-1:0] contribution;
+    input [BITS-1:0] a;
+    begin
+      if (SRC_FACTOR == 13) contribution = rdm({32'd0, a} * {32'd0, WEIGHT}, CONST_BITS, BITS);
+      else contribution = a;
+    end
+  endfunction
   localparam W = 4 * BITS + 4;  // the shift-add accumulator
 
   // Channel c of a packed RGBA word (c = 0 red .. 3 alpha; red in the top bits).
@@ -106,12 +163,14 @@ module blend #(
     sub0 = (a > b) ? sat(a - b) : {BITS{1'b0}};
   endfunction
 
-  wire [4*BITS-1:0] src = {src_r, src_g, src_b, src_a};
+  wire [4*BITS-1:0] src = {align(src_r), align(src_g), align(src_b), align(src_a)};
   wire [4*BITS-1:0] dst = {dst_r, dst_g, dst_b, dst_a};
 
   reg [4*BITS-1:0] s1, d1, fs1, fd1, s2, d2, y3, y4;
   reg [8*BITS-1:0] ps2, pd2;  // four u(2n) products each
   reg v1, v2, v3;
+  reg [4*BITS-1:0] q1, a2, a3;  // additive: contribution, saturated sum, write data
+  reg [BITS:0] sum;  // u(n) + u(n) -> u(n+1)
   integer c;
   reg [2*BITS-1:0] ps, pd;
   reg [BITS-1:0] sc, dc, r;
@@ -127,7 +186,7 @@ module blend #(
       v1 <= in_valid;
       v2 <= v1;
       v3 <= v2;
-      out_valid <= v3;
+      out_valid <= (DATAPATH == 1) ? v2 : v3;
     end
     // Stage 1: operands and factors.
     s1 <= src;
@@ -183,6 +242,14 @@ module blend #(
     end
     // Stage 4: write-back register.
     y4 <= y3;
+    // The additive datapath: stage 1 contribution (d1 holds the framebuffer read),
+    // stage 2 saturating add, stage 3 write-back register.
+    for (c = 0; c < 4; c = c + 1) begin
+      q1[(3-c)*BITS+:BITS] <= contribution(ch(src, c));
+      sum = {1'b0, ch(q1, c)} + {1'b0, ch(d1, c)};
+      a2[(3-c)*BITS+:BITS] <= sum[BITS] ? M : sum[BITS-1:0];
+    end
+    a3 <= a2;
   end
-  assign {y_r, y_g, y_b, y_a} = y4;
+  assign {y_r, y_g, y_b, y_a} = (DATAPATH == 1) ? a3 : y4;
 endmodule

@@ -13,7 +13,7 @@ use super::frame::{counters_add, Units};
 use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
-use rtl_model::units::additive_blend::AdditiveBlend;
+use rtl_model::units::blend::Blend;
 use rtl_model::units::modulate::Modulate;
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::projective_texcoord::{
@@ -131,27 +131,21 @@ impl UnitSpan {
         self.tally.add(n);
     }
 
-    /// A single-channel weighted blend in lanes ([`AdditiveBlend::blend_lanes`]):
+    /// A single-channel weighted blend in lanes ([`Blend::blend_lanes`]):
     /// `dst` blended in place, counted as the batch kernel counts those inputs.
     #[inline]
-    pub fn feed_blend_lanes(
-        &mut self,
-        unit: &AdditiveBlend,
-        src: &[u32],
-        dst: &mut [u32],
-        weight: u32,
-    ) {
-        unit.blend_lanes(src, dst, weight, &mut self.ctr);
+    pub fn feed_blend_lanes(&mut self, unit: &Blend, src: &[u32], dst: &mut [u32]) {
+        unit.blend_lanes(src, dst, &mut self.ctr);
         self.tally.add(src.len());
     }
 
-    /// Unweighted pixel blends in lanes ([`AdditiveBlend::blend_pixels`]): lane i
+    /// Unweighted pixel blends in lanes ([`Blend::blend_pixels`]): lane i
     /// `src(i)` over `dst(i)` into `out[i]`, counted as the batch kernel counts those
     /// inputs. False with nothing done (the batch kernel on input words then runs).
     #[inline]
     pub fn feed_blend_pixels(
         &mut self,
-        unit: &AdditiveBlend,
+        unit: &Blend,
         src: impl Fn(usize) -> [u32; 4],
         dst: impl Fn(usize) -> [u32; 4],
         out: &mut [[u32; 4]],

@@ -23,7 +23,7 @@ use crate::scene::math::Vec3;
 use rayon::prelude::*;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
-use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::clipper::{ClipIn, ClipStats, Clipper};
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{
@@ -158,12 +158,12 @@ pub(super) struct Units {
     pub(super) f_tex: TextureSampler,
     pub(super) h_tex: TextureSampler,
     pub(super) modulate: Modulate,
-    pub(super) blend: AdditiveBlend,
+    pub(super) blend: Blend,
     pub(super) proj: ProjectiveTexcoord,
     pub(super) proj_depth: ProjectiveTexcoord,
     pub(super) zbuf: Option<ShadowCompare>,
     pub(super) shadow: Option<ShadowCompare>,
-    pub(super) j_blend: AdditiveBlend,
+    pub(super) j_blend: Blend,
     /// The clipper in front of the interpolator for the camera's object passes, when
     /// the scene's objects can leave its planes ([`crate::scene::clip::clip_needed`]).
     pub(super) clipper: Option<Clipper>,
@@ -315,7 +315,7 @@ impl<'a> ShaftsFrame<'a> {
             f_tex,
             h_tex,
             modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
-            blend: AdditiveBlend::new(tex_bits, cfg.fb_bits, 4, false, cfg.weight_bits)?,
+            blend: Blend::additive(tex_bits, cfg.fb_bits, false, cfg.weight_bits)?,
             proj: limits::shafts_projective(&cfg).build()?,
             proj_depth: limits::shafts_projective_depth(&cfg).build()?,
             zbuf: if has_objects {
@@ -333,7 +333,7 @@ impl<'a> ShaftsFrame<'a> {
                 None
             },
             // The J buffer lives in the RGBA framebuffer, as on the real part (its traffic counts 4 channels).
-            j_blend: AdditiveBlend::new(tex_bits, tex_bits, 4, true, cfg.weight_bits)?,
+            j_blend: Blend::additive(tex_bits, tex_bits, true, cfg.weight_bits)?,
             clipper: if has_objects && crate::scene::clip::clip_needed(sc).is_some() {
                 Some(limits::shafts_clipper(sc).build()?)
             } else {
@@ -841,7 +841,7 @@ fn modulate_all(
 }
 
 fn blend_into(
-    u: &AdditiveBlend,
+    u: &Blend,
     fb: &mut Framebuffer,
     frags: &[&PolyOut],
     rgb: &[[u32; 3]],
@@ -849,13 +849,12 @@ fn blend_into(
 ) {
     // Triangles of one object may cover a pixel twice: every destination is read
     // before any is written, as the span driver ran it.
-    let ins: Vec<AdditiveBlendIn> = frags
+    let ins: Vec<BlendIn> = frags
         .iter()
         .zip(rgb)
-        .map(|(f, c)| AdditiveBlendIn {
+        .map(|(f, c)| BlendIn {
             src: [c[0], c[1], c[2], 0],
             dst: fb.pixel(f.x as u32, f.y as u32),
-            weight: 0,
         })
         .collect();
     let mut c = Counters::default();

@@ -19,7 +19,7 @@ use crate::report::image_out::Framebuffer;
 use crate::scene::format::PlaneStep;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
-use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
+use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
@@ -324,7 +324,7 @@ const J_BAND_ROWS: usize = 16;
 /// the counters are sums, the same in any order). `rows_in_order`: the rows of `pix`
 /// never go up (found by the walk, on its thread; else one chunk after the other).
 fn blend_j(
-    u: &AdditiveBlend,
+    u: &Blend,
     jbuf: &mut [u32],
     w: u32,
     pix: &[u32],
@@ -333,6 +333,8 @@ fn blend_j(
     weight: u32,
 ) -> UnitSpan {
     let band = J_BAND_ROWS * w as usize;
+    // The plane's weight is the blend's constant alpha (CONSTANT_ALPHA, ONE), set per draw.
+    let u = &u.with_weight(weight);
     // In lanes: the J values at the chunk's pixels gathered, blended in place
     // (`blend_lanes`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]), scattered.
     let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
@@ -341,7 +343,7 @@ fn blend_j(
         for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
             lanes.clear();
             lanes.extend(pc.iter().map(|&px| jb[px as usize - base]));
-            span.feed_blend_lanes(u, hc, &mut lanes, weight);
+            span.feed_blend_lanes(u, hc, &mut lanes);
             for (&px, &o) in pc.iter().zip(&lanes) {
                 jb[px as usize - base] = o;
             }
@@ -635,12 +637,11 @@ fn shade_chunk(
 }
 
 /// The blend's inputs of `chunk`: each fragment's colour over its framebuffer pixel.
-fn blend_inputs(fb: &Framebuffer, chunk: &[PlaneFrag], ins: &mut Vec<AdditiveBlendIn>) {
+fn blend_inputs(fb: &Framebuffer, chunk: &[PlaneFrag], ins: &mut Vec<BlendIn>) {
     ins.clear();
-    ins.extend(chunk.iter().map(|f| AdditiveBlendIn {
+    ins.extend(chunk.iter().map(|f| BlendIn {
         src: [f.rgb[0], f.rgb[1], f.rgb[2], 0],
         dst: fb.pixel(f.x, f.y),
-        weight: 0,
     }));
 }
 
@@ -672,7 +673,7 @@ fn covers_once(fb: &Framebuffer, frags: &[PlaneFrag], seen: &mut Vec<u64>) -> bo
 /// from the framebuffer as it was (what each read anyway) and written back after;
 /// the counters are sums, the same in any order.
 fn blend_plane(
-    u: &AdditiveBlend,
+    u: &Blend,
     fb: &mut Framebuffer,
     frags: &[PlaneFrag],
     ctr: &mut BTreeMap<String, Counters>,

@@ -33,7 +33,6 @@ pub use shadow_compare::shadow_compare_mode_sets;
 mod specular_lookup;
 mod texture_sampler;
 use rand::Rng;
-use rtl_model::units::additive_blend::{AdditiveBlend, AdditiveBlendIn};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulatorConfig, LumIn};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombinerConfig};
 use rtl_model::units::glare_condition::{ConditionIn, GlareConditionConfig, Material};
@@ -48,7 +47,7 @@ mod modulate_chain;
 mod register_combiner;
 mod texture_combiner;
 mod vertex_lighting;
-pub use blend::vectors_of as blend_vectors_of;
+pub use blend::{blend_mode_sets, vectors_of as blend_vectors_of};
 pub use specular_lookup::vectors_of as specular_lookup_vectors_of;
 pub use texture_combiner::vectors_of as texture_combiner_vectors_of;
 pub use vertex_lighting::{light_controls, vertex_lighting_mode_sets};
@@ -191,10 +190,6 @@ pub const RTL_UNITS: &[RtlEntry] = &[
     RtlEntry {
         name: "polygon_interpolator",
         vectors: polygon_interpolator::polygon_interpolator_vectors,
-    },
-    RtlEntry {
-        name: "additive_blend",
-        vectors: additive_blend_vectors,
     },
     RtlEntry {
         name: "blend",
@@ -736,34 +731,6 @@ fn modulate_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<Vector
         (),
         config,
         ModulateIn::default(),
-        make,
-        params,
-        count,
-        seed,
-    ))
-}
-
-fn additive_blend_vectors(config: RtlConfig, count: usize, seed: u64) -> Result<VectorSet, String> {
-    // The Verilog implements GL_ONE, GL_ONE (unweighted) with fb_bits ≥ src_bits
-    // (the source widened by bit replication), four channels.
-    let u = match config {
-        RtlConfig::Default => AdditiveBlend::geforce(),
-        RtlConfig::Narrow => AdditiveBlend::new(1, 3, 4, false, 8).map_err(|e| e.to_string())?,
-    };
-    let make = |v: &[u64]| AdditiveBlendIn {
-        src: std::array::from_fn(|c| v[c] as u32),
-        dst: std::array::from_fn(|c| v[4 + c] as u32),
-        weight: 0,
-    };
-    let params = vec![
-        ("SRC_BITS", u.src_bits() as u64),
-        ("FB_BITS", u.fb_bits() as u64),
-    ];
-    Ok(collect(
-        &u,
-        (),
-        config,
-        AdditiveBlendIn::default(),
         make,
         params,
         count,
