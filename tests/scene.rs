@@ -1366,6 +1366,7 @@ fn maximal_text(background: &str) -> String {
     format!(
         r#"name = "maximal"
 seed = 3
+chip = "nv2a"
 [image]
 width = 64
 height = 48

@@ -75,6 +75,7 @@ fn scene(
     Scene {
         name: "test".into(),
         seed: 1,
+        chip: Default::default(),
         image: ImageSize {
             width: w,
             height: h,

@@ -1,6 +1,7 @@
 //! The hardware: bit-accurate, cycle-level units of a GeForce2/GeForce3-era glare and
 //! shading pipeline. Integers only in datapaths; nothing here imports the main crate.
 
+pub mod chip_preset;
 pub mod cost;
 pub mod counters;
 pub mod driver;
@@ -16,6 +17,7 @@ pub mod units;
 pub mod unorm;
 pub mod wire;
 
+pub use chip_preset::ChipPreset;
 pub use cost::{Cells, Cost};
 pub use counters::Counters;
 pub use error::ConfigError;

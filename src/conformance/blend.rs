@@ -37,12 +37,11 @@
 //!
 //! [`Chip::Nv2a`] blends with one rounding of (s·f_s ± d·f_d)/255 (the hardware's);
 //! [`Chip::GeForce2`] with the project's present path, a modulate per term then the
-//! add (`BlendRounding::PerTerm`), so the report shows what the second rounding costs.
+//! add (`BlendRounding::PerTerm`), so the report shows what the second rounding costs
+//! (both from the chip preset, [`Chip::blend_rounding`]).
 
 use super::{Case, Chip, Prediction, Rect, Region, Suite};
-use rtl_model::units::blend::{
-    Blend, BlendConfig, BlendEquation, BlendFactor, BlendIn, BlendRounding,
-};
+use rtl_model::units::blend::{Blend, BlendConfig, BlendEquation, BlendFactor, BlendIn};
 use rtl_model::{Counters, Unit};
 
 pub const SUITE: Suite = Suite {
@@ -272,10 +271,7 @@ struct Units {
 }
 
 fn units(chip: Chip, eq: BlendEquation, src: BlendFactor) -> Units {
-    let rounding = match chip {
-        Chip::Nv2a => BlendRounding::Once,
-        Chip::GeForce2 => BlendRounding::PerTerm,
-    };
+    let rounding = chip.blend_rounding();
     let build = |equation, src_factor, dst_factor, constant| {
         BlendConfig {
             bits: 8,

@@ -42,7 +42,8 @@ pub enum ConformanceCommand {
         /// Only this suite.
         #[arg(long)]
         suite: Option<String>,
-        /// The units' modes: nv2a (the captures' chip) or geforce2 (the project's defaults).
+        /// The units' modes: nv2a (the captures' chip) or geforce2 (the project's defaults);
+        /// the same chip presets a scene's `chip` field selects.
         #[arg(long, default_value = "nv2a")]
         chip: String,
         /// Where difference images go (with --golden).
@@ -102,14 +103,9 @@ fn chosen(suite: Option<&str>) -> Result<Vec<&'static Suite>, String> {
     }
 }
 
+/// The chip preset `--chip` names (case-insensitive), as a scene's `chip` field does.
 fn parse_chip(s: &str) -> Result<Chip, String> {
-    match s.to_ascii_lowercase().as_str() {
-        "nv2a" => Ok(Chip::Nv2a),
-        "geforce2" => Ok(Chip::GeForce2),
-        _ => Err(format!(
-            "--chip: unknown chip '{s}' (known: nv2a, geforce2)"
-        )),
-    }
+    Chip::parse("--chip", &s.to_ascii_lowercase()).map_err(|e| e.to_string())
 }
 
 fn check_golden(dir: &Path) -> Result<(), String> {

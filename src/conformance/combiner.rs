@@ -180,16 +180,16 @@ fn stage(
         stage_constants: Some([codes(c0), codes(c1)]),
         ..RegisterCombinerConfig::geforce()
     };
-    let chip = match m.chip {
-        Chip::GeForce2 => base,
-        Chip::Nv2a => RegisterCombinerConfig {
-            mux_select: if mux_msb {
-                MuxSelect::Msb
-            } else {
-                MuxSelect::Lsb
-            },
-            ..base.nv2a()
-        },
+    // The chip's bias constant and reset mux select; a test that sets MUX_SELECT_MSB
+    // overrides the latter (the GeForce2's is MSB already).
+    let chip = m.chip.register_combiner(base);
+    let chip = if mux_msb {
+        RegisterCombinerConfig {
+            mux_select: MuxSelect::Msb,
+            ..chip
+        }
+    } else {
+        chip
     };
     RegisterCombinerConfig {
         bias_constant: m.bias_constant.unwrap_or(chip.bias_constant),

@@ -88,14 +88,9 @@ pub struct Case {
 }
 
 /// Which chip's behaviour the units follow where the GeForce2 (NV15) default and the
-/// NV2A differ.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Chip {
-    /// The project's defaults (GeForce2-class).
-    GeForce2,
-    /// The original Xbox's NV2A (the captures' chip).
-    Nv2a,
-}
+/// NV2A differ: the one mapping from a chip to its units' modes
+/// ([`rtl_model::chip_preset`]), which a scene's `chip` field selects too.
+pub use rtl_model::chip_preset::ChipPreset as Chip;
 
 /// A hardware test suite: a folder of captures and the cases that describe them.
 pub struct Suite {

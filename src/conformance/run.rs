@@ -292,10 +292,7 @@ pub fn run_suite(
 
 /// The chip's name as `--chip` takes it.
 pub fn chip_name(chip: Chip) -> &'static str {
-    match chip {
-        Chip::GeForce2 => "geforce2",
-        Chip::Nv2a => "nv2a",
-    }
+    chip.name()
 }
 
 /// Hardware | model | difference, side by side (each 640 × 480 for the captures). The

@@ -48,7 +48,7 @@ use crate::pipeline::raster::{walk, Fragment};
 use rtl_model::counters::Counters;
 use rtl_model::fixed_point::{Format, Quant};
 use rtl_model::float_format::FloatFormat;
-use rtl_model::units::blend::{Blend, BlendConfig, BlendEquation, BlendFactor, BlendRounding};
+use rtl_model::units::blend::{Blend, BlendConfig, BlendEquation, BlendFactor};
 use rtl_model::units::final_combiner::{
     FinalCombiner, FinalCombinerConfig, FinalInput, FinalVariable,
 };
@@ -231,10 +231,7 @@ impl Units {
                 equation: BlendEquation::Add,
                 src_factor: BlendFactor::SrcAlpha,
                 dst_factor: BlendFactor::OneMinusSrcAlpha,
-                rounding: match chip {
-                    Chip::Nv2a => BlendRounding::Once,
-                    Chip::GeForce2 => BlendRounding::PerTerm,
-                },
+                rounding: chip.blend_rounding(),
                 ..BlendConfig::default()
             }
             .build(),
@@ -252,7 +249,6 @@ impl Units {
 
     /// The vertex lighting unit for one quad's switches.
     fn lighting(&self, t: &Test, specular_enable: bool, column: usize) -> VertexLighting {
-        let nv2a = self.chip == Chip::Nv2a;
         let material = Material {
             emission: [0.0; 3],
             // The NV2A's registers hold the products with the material (the host
@@ -282,23 +278,29 @@ impl Units {
         };
         let separate = column < 2;
         let alpha_from_vertex = column.is_multiple_of(2);
-        let cfg = VertexLightingConfig {
-            normalize: false,
-            normalize_directional: !nv2a,
-            light_control: nv2a.then_some(LightControl {
+        // The chip's directional-light load and colour output; the switches are the
+        // test's light-control state.
+        let cfg = self.chip.vertex_lighting(
+            VertexLightingConfig {
+                normalize: false,
+                ..VertexLightingConfig::geforce()
+            },
+            LightControl {
                 lighting: t.lighting,
                 specular_enable,
                 separate_specular: separate,
                 specular_alpha_from_vertex: alpha_from_vertex,
-            }),
-            // The NV2A evaluates the specular term through SET_SPECULAR_PARAMS ("Pow 16"
-            // as the test writes it); GL's pow(N·h, 16) in the GeForce2 modes.
-            specular_curve: if nv2a {
-                SpecularCurve::nv2a(POW16_PARAMS)
-            } else {
-                SpecularCurve::Power
             },
-            ..VertexLightingConfig::geforce()
+        );
+        // The NV2A evaluates the specular term through SET_SPECULAR_PARAMS ("Pow 16" as
+        // the test writes it); GL's pow(N·h, 16) in the GeForce2 modes. The words are
+        // the application's, so the test sets them, not the chip preset.
+        let cfg = VertexLightingConfig {
+            specular_curve: match self.chip {
+                Chip::Nv2a => SpecularCurve::nv2a(POW16_PARAMS),
+                Chip::GeForce2 => SpecularCurve::Power,
+            },
+            ..cfg
         };
         ok(VertexLighting::new(cfg, &setup), "vertex_lighting")
     }

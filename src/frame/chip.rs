@@ -13,6 +13,7 @@ use crate::pipeline::shafts::frame::scatters;
 use crate::registry;
 use crate::scene::clip::clip_needed;
 use crate::scene::format::{LightKind, Scene};
+use rtl_model::chip_preset::ChipPreset;
 use rtl_model::units::blend::Blend;
 use rtl_model::UnitSummary;
 use serde::Serialize;
@@ -75,6 +76,8 @@ pub struct ChipUnit {
 #[derive(Clone, Debug, Serialize)]
 pub struct Chip {
     pub units: Vec<ChipUnit>,
+    /// The scene's chip preset (its `chip` field).
+    pub preset: ChipPreset,
 }
 
 impl Chip {
@@ -309,7 +312,36 @@ pub fn elaborate(scene: &Scene) -> Chip {
             }
         })
         .collect();
-    Chip { units }
+    Chip {
+        units,
+        preset: scene.chip,
+    }
+}
+
+/// The report's line on a frame scene's chip preset: its name and the units present
+/// whose modes it sets ([`ChipPreset::changes`]). No unit a frame elaborates has a
+/// mode that differs between the chips (`rtl_model::chip_preset`: shadow_compare's
+/// compare function and texel format are the scene's own state), so at `nv2a` the line
+/// says that the frame renders as at `geforce2`.
+pub fn preset_line(preset: ChipPreset, present_units: &[&str]) -> String {
+    let mut changed: Vec<&str> = present_units
+        .iter()
+        .copied()
+        .filter(|u| preset.changes(u))
+        .collect();
+    changed.dedup();
+    if preset.is_default() {
+        format!("chip preset: {preset} (the project's defaults)")
+    } else if changed.is_empty() {
+        format!(
+            "chip preset: {preset} (no unit of this frame has a mode that differs from the GeForce2's: the frame renders as under geforce2)"
+        )
+    } else {
+        format!(
+            "chip preset: {preset} (its modes in {})",
+            changed.join(", ")
+        )
+    }
 }
 
 /// The chip as text: what is present, then what was left out and why.
@@ -340,6 +372,9 @@ pub fn chip_table(chip: &Chip) -> String {
         ],
         &rows,
     );
+    let present: Vec<&str> = chip.present().map(|u| u.unit).collect();
+    s.push_str(&preset_line(chip.preset, &present));
+    s.push('\n');
     s.push_str(&format!(
         "chip: {} of {} unit instances, {:.0} NAND2 gates, {} RAM/ROM bits at the registry's default widths; left out {} ({:.0} gates saved)\n",
         chip.present().count(),
@@ -357,6 +392,7 @@ pub fn chip_table(chip: &Chip) -> String {
 pub fn defaults_json(chip: &Chip) -> serde_json::Value {
     serde_json::json!({
         "widths": "registry defaults",
+        "preset": chip.preset,
         "units": chip.units,
         "gates_nand2": chip.gates(),
         "ram_bits": chip.ram_bits(),
@@ -366,10 +402,14 @@ pub fn defaults_json(chip: &Chip) -> serde_json::Value {
 
 /// The chip a render really elaborated (each pass's units at the scene's widths, and
 /// what was left out with what it saved), as `render --json` gives it.
-pub fn elaborated_json(units: &[crate::report::elaboration::Elaborated]) -> serde_json::Value {
+pub fn elaborated_json(
+    units: &[crate::report::elaboration::Elaborated],
+    preset: ChipPreset,
+) -> serde_json::Value {
     let present = units.iter().filter_map(|u| u.summary.as_ref());
     serde_json::json!({
         "widths": "scene",
+        "preset": preset,
         "units": units,
         "gates_nand2": present.clone().map(|s| s.gates_nand2).sum::<f64>(),
         "ram_bits": present.map(|s| s.ram_bits).sum::<u64>(),

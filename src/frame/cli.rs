@@ -194,7 +194,7 @@ fn render_environment_scene(
             "prediction": f.prediction,
         }));
     r.passes = passes;
-    r.chip = super::chip::elaborated_json(&f.frame.elaboration.units);
+    r.chip = super::chip::elaborated_json(&f.frame.elaboration.units, scene.chip);
     r.counters.insert("envmap".into(), value(&f.counters)?);
     r.timing = Timing {
         predicted_seconds: Some(f.prediction.seconds),
@@ -304,7 +304,7 @@ fn print_frame_json(
             "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
         }));
     r.passes = passes;
-    r.chip = super::chip::elaborated_json(elaboration);
+    r.chip = super::chip::elaborated_json(elaboration, scene.chip);
     for (pipeline, c) in f.counters() {
         r.counters.insert(pipeline, value(&c)?);
     }
@@ -346,6 +346,11 @@ fn print_frame_text(
         "\nchip (the units each pass elaborated, at the scene's widths):\n{}",
         chip_elaboration_table(elaboration)
     );
+    let present: Vec<&str> = elaboration
+        .iter()
+        .filter_map(|u| u.summary.as_ref().map(|s| s.name))
+        .collect();
+    println!("{}", super::chip::preset_line(scene.chip, &present));
     if let Some(c) = f.shafts.as_ref().and_then(|s| s.clip_stats) {
         println!(
             "\nclipper: {} polygons in, {} out, {} clipped, {} culled, {} vertices generated",
@@ -423,6 +428,7 @@ pub fn units_scene_cli(name: &str, json: bool) -> Result<(), String> {
             let v = serde_json::json!({
                 "scene": f.point.scene().name(),
                 "widths": widths,
+                "chip_preset": f.point.chip().name(),
                 "gates_nand2": gates,
                 "ram_bits": ram_bits,
             });
@@ -437,6 +443,10 @@ pub fn units_scene_cli(name: &str, json: bool) -> Result<(), String> {
 chip: the shading path's units at these widths, {gates:.0} NAND2 gates, {ram_bits} RAM/ROM bits",
                 f.point.scene().name(),
                 w.join(" ")
+            );
+            println!(
+                "{}",
+                crate::pipeline::shading::scene_file::chip_line(&f.point)
             );
         }
         return Ok(());

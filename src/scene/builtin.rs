@@ -21,6 +21,7 @@
 //! receives I·albedo/d² ≈ 0.3–0.5 and the tops of the objects stay at or below ~1 —
 //! the objects stay visible beside the shafts, and both share the framebuffer's range.
 
+use rtl_model::chip_preset::ChipPreset;
 use rtl_model::error::ConfigError;
 
 use super::format::{
@@ -143,6 +144,7 @@ fn floor(half_size: [f64; 2], color: [f64; 3]) -> Object {
 /// per plane, whatever the brightness); in a dim beam the rounding wins at every n.
 pub fn fig4() -> Scene {
     Scene {
+        chip: ChipPreset::GeForce2,
         name: "fig4: one spotlight in an empty dark room (Dobashi et al. Fig. 4)".into(),
         seed: 4,
         image: ImageSize::default(),
@@ -173,6 +175,7 @@ pub fn fig4() -> Scene {
 /// m = 6.
 pub fn fig6() -> Scene {
     Scene {
+        chip: ChipPreset::GeForce2,
         name: "fig6: a sphere's shadow in a spotlight's cone (Dobashi et al. Fig. 6)".into(),
         seed: 6,
         image: ImageSize::default(),
@@ -218,6 +221,7 @@ pub fn stage() -> Scene {
         l
     };
     Scene {
+        chip: ChipPreset::GeForce2,
         name: "stage: five spotlights over a stage (Dobashi et al. Fig. 7)".into(),
         seed: 7,
         image: ImageSize::default(),

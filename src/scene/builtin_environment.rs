@@ -11,6 +11,7 @@ use super::environment::{
 };
 use super::envmap::BUILTIN_NAMES as MAP_NAMES;
 use super::format::{ImageSize, Medium, Scene, ShaftsConfig};
+use rtl_model::chip_preset::ChipPreset;
 
 /// Names of the built-in environment scenes (`env-<map>-<object>`).
 pub const ENVIRONMENT_BUILTIN_NAMES: &[&str] = &[
@@ -46,6 +47,7 @@ fn environment_scene(map: &str, object: EnvObject, lambda: EnvLambda) -> Scene {
         EnvLambda::NonUniform => "non-uniform λ".to_string(),
     };
     Scene {
+        chip: ChipPreset::GeForce2,
         name: format!(
             "env-{map}-{}: the thesis' {} ({shown_lambda}) in the {map} environment \
              (Okumura §4.3, multi-scale environment map)",

@@ -11,6 +11,7 @@ use super::glare::{
     Background, Determinants, Fluctuation, GlareHw, GlareModel, GlareSection, GlareSource,
     SourceKind,
 };
+use rtl_model::chip_preset::ChipPreset;
 
 /// Names of the built-in glare scenes.
 pub const GLARE_BUILTIN_NAMES: &[&str] = &[
@@ -63,6 +64,7 @@ pub fn source(kind: SourceKind, position: [f64; 3], intensity: f64) -> GlareSour
 
 fn glare_scene(name: &str, seed: u64, camera: Camera, glare: GlareSection) -> Scene {
     Scene {
+        chip: ChipPreset::GeForce2,
         name: name.into(),
         seed,
         image: ImageSize::default(),
@@ -154,6 +156,7 @@ pub fn street_light() -> Scene {
     g.model.bloom_k = 0.3;
     g.model.halo_k = 0.08;
     Scene {
+        chip: ChipPreset::GeForce2,
         name: "street-light: a street light at night (Matsuda-Ikedo Fig. 7)".into(),
         seed: 7,
         image: ImageSize::default(),

@@ -16,6 +16,7 @@ use super::glare::{
     Background, Determinants, GlareHw, GlareModel, GlareSection, ShadedHighlights, SourceKind,
 };
 use super::material::{Distribution, FresnelKind, Material};
+use rtl_model::chip_preset::ChipPreset;
 
 /// Names of the showcase built-ins.
 pub const SHOWCASE_NAMES: &[&str] = &["night-street"];
@@ -160,6 +161,7 @@ pub fn night_street() -> Scene {
     glare.model.bloom_k = 0.3;
     glare.model.halo_k = 0.08;
     Scene {
+        chip: ChipPreset::GeForce2,
         name: "night-street: a wet street under two lamps in light fog (every pipeline)".into(),
         seed: 21,
         image: ImageSize::default(),

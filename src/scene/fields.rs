@@ -323,6 +323,8 @@ fields! {
         "Free text shown in reports; the built-ins write \"short name: description\".";
     SEED = "seed", Ty::Int, "", Range::None, "1", NONE, "",
         "Seed of every random choice made for the scene (noise, leaves, patches).";
+    CHIP = "chip", Ty::Choice(&rtl_model::chip_preset::ChipPreset::NAMES), "", Range::None, "\"geforce2\"", NONE, "",
+        "Which chip's behaviour the units follow where the GeForce2 (NV15, the project's defaults) and the original Xbox's NV2A (GeForce3-class, the chip of the hardware captures, docs/conformance.md) differ. No unit a frame scene elaborates differs between the two (shadow_compare's compare function and texel format are the scene's state on both), so a frame renders the same under either. The `shading-*` scenes take it as `[shading] chip`, where the squaring path's register combiners and the vertex lighting follow it (docs/shading.md).";
 
     // ---- [image]
     IMAGE = "image", Ty::Table, "", Range::None, "{ width = 720, height = 480 }", NONE, "",

@@ -5,6 +5,7 @@
 //! RGB in [0, 1]; angles in degrees. Every field has a serde default where a sensible
 //! one exists, so a scene file states only what it changes.
 
+use rtl_model::chip_preset::ChipPreset;
 use serde::{Deserialize, Serialize};
 
 /// A whole scene.
@@ -17,6 +18,10 @@ pub struct Scene {
     /// Seed of every random choice made for this scene.
     #[serde(default = "default_seed")]
     pub seed: u64,
+    /// Which chip's behaviour the units follow where the GeForce2 and the NV2A differ
+    /// (`rtl_model::chip_preset`); left out = the GeForce2, the project's defaults.
+    #[serde(default, skip_serializing_if = "ChipPreset::is_default")]
+    pub chip: ChipPreset,
     #[serde(default)]
     pub image: ImageSize,
     pub camera: Camera,

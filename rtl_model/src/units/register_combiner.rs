@@ -520,16 +520,6 @@ impl RegisterCombinerConfig {
         }
     }
 
-    /// The NV2A's behaviour where it differs from the GeForce 256/2 defaults, on top of
-    /// `self`: the −½ bias is 2^(N−2) codes and the mux tests SPARE0 alpha's low bit.
-    pub fn nv2a(self) -> Self {
-        RegisterCombinerConfig {
-            bias_constant: BiasConstant::HalfCode,
-            mux_select: MuxSelect::Lsb,
-            ..self
-        }
-    }
-
     pub fn build(&self) -> Result<RegisterCombiner, ConfigError> {
         RegisterCombiner::new(*self)
     }

@@ -69,7 +69,7 @@ impl ShadingEvaluator {
                 }
             }
         }
-        ShadingPoint::new(self.base.scene(), &widths)
+        ShadingPoint::new(self.base.scene(), &widths).map(|p| p.on_chip(self.base.chip()))
     }
 
     /// Render `point` and measure it against the run's reference.
@@ -194,7 +194,8 @@ pub fn check(a: &OptimizeArgs, mut file: ShadingFile) -> Result<ShadingPlan, Str
     // The squaring path asked for on a point of the lookup path (the file's or the
     // defaults): start it from the GeForce combiners' width.
     if params.contains(&"combiner_bits") && file.point.value("combiner_bits").is_err() {
-        file.point = ShadingPoint::new(&sc, &[("combiner_bits", SQUARING_DEFAULT_BITS)])?;
+        file.point = ShadingPoint::new(&sc, &[("combiner_bits", SQUARING_DEFAULT_BITS)])?
+            .on_chip(file.point.chip());
     }
     if let Some(p) = params.iter().find(|p| file.point.value(p).is_err()) {
         return Err(format!(

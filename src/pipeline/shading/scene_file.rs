@@ -6,6 +6,7 @@
 //! [shading]
 //! scene = "shading-blinn_phong"   # a built-in shading scene (`sweep`'s names)
 //! image = 64                      # the sphere view's side in pixels (default 256)
+//! chip = "nv2a"                   # the chip preset (default "geforce2")
 //!
 //! [shading.hw]                    # the scene's widths (`sweep`'s names); a width
 //! cube_face = 32                  # not given keeps its GeForce default
@@ -13,7 +14,7 @@
 //! ```
 //!
 //! Every field is checked before anything renders, each error naming it
-//! (`shading.scene`, `shading.image`, `shading.hw.<width>`); an unknown key is
+//! (`shading.scene`, `shading.image`, `shading.chip`, `shading.hw.<width>`); an unknown key is
 //! refused. A file without a top-level `[shading]` table is not one of these (it is
 //! read as a `Scene`).
 
@@ -21,6 +22,7 @@ use super::sweep::{
     measure_point, params_of, shading_reference, sweep_view, ShadingPoint, ShadingScene,
     SCENE_PREFIX,
 };
+use rtl_model::chip_preset::ChipPreset;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -49,6 +51,9 @@ struct Section {
     scene: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     image: Option<u32>,
+    /// The chip preset's name ([`ChipPreset`]); left out: the GeForce2.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    chip: Option<toml::Value>,
     #[serde(default)]
     hw: BTreeMap<String, u32>,
 }
@@ -133,7 +138,22 @@ impl ShadingFile {
             ShadingPoint::new(&sc, &so_far).map_err(|e| format!("shading.hw.{k}: {e}"))?;
         }
         let point = ShadingPoint::new(&sc, &widths).map_err(|e| format!("shading.hw: {e}"))?;
-        Ok(ShadingFile { point, image })
+        let chip = match &s.chip {
+            None => ChipPreset::GeForce2,
+            Some(toml::Value::String(c)) => {
+                ChipPreset::parse("shading.chip", c).map_err(|e| e.to_string())?
+            }
+            Some(v) => {
+                return Err(format!(
+                    "shading.chip: {v} is not a chip preset's name (known: {})",
+                    ChipPreset::NAMES.join(", ")
+                ))
+            }
+        };
+        Ok(ShadingFile {
+            point: point.on_chip(chip),
+            image,
+        })
     }
 
     /// The file form (`header`, comment lines, first), every width of the point's
@@ -143,6 +163,8 @@ impl ShadingFile {
             shading: Section {
                 scene: self.point.scene().name(),
                 image: self.image,
+                chip: (!self.point.chip().is_default())
+                    .then(|| toml::Value::String(self.point.chip().to_string())),
                 hw: self
                     .point
                     .widths()
@@ -190,6 +212,7 @@ pub fn render_cli(
             return j.print();
         }
         println!("shading scene {name}: {widths}");
+        println!("  {}", chip_line(&f.point));
         return Ok(());
     }
     let size = f.image.unwrap_or(DEFAULT_IMAGE);
@@ -222,6 +245,8 @@ pub fn render_cli(
             .outputs(written.then_some(out), reference.filter(|_| ref_written))
             .family_details(serde_json::json!({
                 "widths": f.point.widths().into_iter().collect::<BTreeMap<_, _>>(),
+                "chip_preset": f.point.chip().name(),
+                "units_the_chip_changes": f.point.units_the_chip_changes(),
                 "error_levels": error,
                 "gates_nand2": m.gates_nand2,
                 "ram_bits": m.ram_bits,
@@ -246,6 +271,7 @@ pub fn render_cli(
         f.image
             .map_or("vertices, no image".to_string(), |s| format!("{s}x{s}"))
     );
+    println!("  {}", chip_line(&f.point));
     println!(
         "  error against the reference (8-bit levels): mean |Δ| {:.3}, rms {:.3}, max {:.3}",
         m.mean_abs_levels, m.rms_levels, m.max_levels
@@ -260,4 +286,24 @@ pub fn render_cli(
         println!("  wrote {}", wrote.join(", "));
     }
     Ok(())
+}
+
+/// The report's line on the chip preset: its name and the path's units whose modes it
+/// sets (docs/conformance.md, "Where they differ").
+pub fn chip_line(point: &ShadingPoint) -> String {
+    let chip = point.chip();
+    let changed = point.units_the_chip_changes();
+    if chip.is_default() {
+        format!("chip preset: {chip} (the project's defaults)")
+    } else if changed.is_empty() {
+        format!("chip preset: {chip} (no unit of this path has a mode that differs from the GeForce2's)")
+    } else {
+        let modes: Vec<String> = chip
+            .modes()
+            .into_iter()
+            .filter(|m| changed.contains(&m.unit))
+            .map(|m| format!("{}.{} = {}", m.unit, m.field, m.value))
+            .collect();
+        format!("chip preset: {chip} ({})", modes.join(", "))
+    }
 }

@@ -132,15 +132,25 @@ pub fn squaring_levels(
     ctr: &mut Counters,
 ) -> Result<Vec<f64>, ConfigError> {
     let chain = SquaringChain::new(internal_bits)?;
+    Ok(squaring_levels_on(vectors, k, &chain, ctr))
+}
+
+/// [`squaring_levels`] through a given chain (its width and chip modes).
+pub fn squaring_levels_on(
+    vectors: &SphereVectors,
+    k: u32,
+    chain: &SquaringChain,
+    ctr: &mut Counters,
+) -> Vec<f64> {
     let u8v = |a: &[u32; 3]| a.map(|c| c.min(255) as u8);
-    Ok(vectors
+    vectors
         .iter()
         .map(|v| {
             v.as_ref().map_or(0.0, |(n, h, _)| {
                 chain.specular(u8v(n), u8v(h), k, ctr) as f64
             })
         })
-        .collect())
+        .collect()
 }
 
 /// The reference 255·(n̂·ĥ)^s.

@@ -16,6 +16,7 @@
 //! k = 7 respectively (the dot product takes a stage); the function takes any k and
 //! leaves the pass count to the caller.
 
+use rtl_model::chip_preset::ChipPreset;
 use rtl_model::error::check_range;
 use rtl_model::units::final_combiner::{FinalCombiner, FinalCombinerConfig, FinalVariable};
 use rtl_model::units::register_combiner::{
@@ -60,21 +61,28 @@ fn ab_to_spare0(a: VariableInput, b: VariableInput, dot: bool) -> PortionConfig 
 
 impl SquaringChain {
     /// The chain at internal width `internal_bits` (3 ..= 24; 9 on GeForce 256/2),
-    /// 8-bit inputs and output, the units' default rounding. Errors name
-    /// `register_combiner.internal_bits` / `final_combiner.internal_bits`.
+    /// 8-bit inputs and output, the units' default rounding, the GeForce2's modes.
+    /// Errors name `register_combiner.internal_bits` / `final_combiner.internal_bits`.
     pub fn new(internal_bits: u32) -> Result<Self, ConfigError> {
+        Self::on_chip(internal_bits, ChipPreset::GeForce2)
+    }
+
+    /// [`SquaringChain::new`] with `chip`'s modes of the register and final combiners
+    /// (the chip preset: on the NV2A, the bias constant and the mux select). The chain
+    /// neither biases nor muxes, so its output is the same on both chips.
+    pub fn on_chip(internal_bits: u32, chip: ChipPreset) -> Result<Self, ConfigError> {
         let rgb = |r| VariableInput::new(r, Mapping::ExpandNormal, ComponentUsage::Rgb);
         let spare0 = VariableInput::new(
             Register::Spare0,
             Mapping::UnsignedIdentity,
             ComponentUsage::Rgb,
         );
-        let base = RegisterCombinerConfig {
+        let base = chip.register_combiner(RegisterCombinerConfig {
             internal_bits,
             input_bits: 8,
             alpha: PortionConfig::discard(ComponentUsage::Alpha),
             ..RegisterCombinerConfig::geforce()
-        };
+        });
         let dot_stage = RegisterCombinerConfig {
             rgb: ab_to_spare0(rgb(Register::Texture0), rgb(Register::Texture1), true),
             ..base
@@ -86,19 +94,20 @@ impl SquaringChain {
         }
         .build()?;
         let zero = FinalVariable::register(Register::Zero, ComponentUsage::Rgb);
-        let final_stage = FinalCombinerConfig {
-            internal_bits,
-            out_bits: 8,
-            a: zero,
-            b: zero,
-            c: zero,
-            d: FinalVariable::register(Register::Spare0, ComponentUsage::Rgb),
-            e: zero,
-            f: zero,
-            g: FinalVariable::register(Register::Zero, ComponentUsage::Alpha),
-            ..FinalCombinerConfig::geforce()
-        }
-        .build()?;
+        let final_stage = chip
+            .final_combiner(FinalCombinerConfig {
+                internal_bits,
+                out_bits: 8,
+                a: zero,
+                b: zero,
+                c: zero,
+                d: FinalVariable::register(Register::Spare0, ComponentUsage::Rgb),
+                e: zero,
+                f: zero,
+                g: FinalVariable::register(Register::Zero, ComponentUsage::Alpha),
+                ..FinalCombinerConfig::geforce()
+            })
+            .build()?;
         Ok(SquaringChain {
             dot_stage,
             square_stage,

@@ -39,7 +39,7 @@ use super::normalize_cube::{NormalizeCube, NormalizeCubeConfig};
 use super::path::combiner_stage;
 use super::path::PathConfig;
 use super::specular::{
-    cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels, SphereVectors,
+    cube_8bit, lookup_levels, reference_levels, sphere_vectors, squaring_levels_on, SphereVectors,
     SQUARING_BITS,
 };
 use super::sphere::SphereView;
@@ -51,6 +51,7 @@ use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;
 use crate::report::shard::{Shard, SweepId};
 use crate::report::sweep_out::{parse_int_values, shard_sweep, sweep_table, write_sweep, SweepRow};
+use rtl_model::chip_preset::{ChipPreset, GL_SINGLE_COLOR};
 use rtl_model::units::specular_lookup::SpecularLookupConfig;
 use rtl_model::units::texture_combiner::CombineFunction;
 use rtl_model::units::texture_sampler::{Filter, TextureSampler, TextureSamplerConfig};
@@ -210,7 +211,8 @@ impl Default for LookupPathConfig {
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Job {
     Model(CatalogueEntry, PathConfig),
-    Squaring(u32),
+    /// The register combiners' internal width, and the chip whose modes they take.
+    Squaring(u32, ChipPreset),
     Lookup(LookupPathConfig),
     Vertex(VertexLightingConfig),
 }
@@ -228,7 +230,9 @@ fn job(scene: &ShadingScene, param: &str, v: u32) -> Job {
 fn base_job(scene: &ShadingScene, squaring: bool) -> Job {
     match scene {
         ShadingScene::Model(e) => Job::Model(*e, PathConfig::default()),
-        ShadingScene::Specular if squaring => Job::Squaring(SQUARING_DEFAULT_BITS),
+        ShadingScene::Specular if squaring => {
+            Job::Squaring(SQUARING_DEFAULT_BITS, ChipPreset::GeForce2)
+        }
         ShadingScene::Specular => Job::Lookup(LookupPathConfig::default()),
         ShadingScene::Vertex => Job::Vertex(VertexLightingConfig::geforce()),
     }
@@ -245,7 +249,7 @@ fn set(j: &mut Job, param: &str, v: u32) {
             "factor_size" => c.factor_resolution = v,
             _ => c.factor_bits = v,
         },
-        Job::Squaring(bits) => *bits = v,
+        Job::Squaring(bits, _) => *bits = v,
         Job::Lookup(c) => match param {
             "cube_face" => c.cube.face_side = v,
             "cube_bits" => c.cube.texel_bits = v,
@@ -270,7 +274,7 @@ fn get(j: &Job, param: &str) -> Option<u32> {
         (Job::Model(_, c), "lookup_bits") => c.lookup.entry_bits,
         (Job::Model(_, c), "factor_size") => c.factor_resolution,
         (Job::Model(_, c), "factor_bits") => c.factor_bits,
-        (Job::Squaring(bits), "combiner_bits") => *bits,
+        (Job::Squaring(bits, _), "combiner_bits") => *bits,
         (Job::Lookup(c), "cube_face") => c.cube.face_side,
         (Job::Lookup(c), "cube_bits") => c.cube.texel_bits,
         (Job::Lookup(c), "lookup_log2") => c.lookup.table_log2,
@@ -297,8 +301,8 @@ fn validate(j: &Job) -> Result<(), ConfigError> {
             TextureSampler::new(cfg, &vec![0; (s as usize).saturating_mul(s as usize)])
                 .map_err(|e| e.within("shading.factor"))?;
         }
-        Job::Squaring(bits) => {
-            SquaringChain::new(*bits)?;
+        Job::Squaring(bits, chip) => {
+            SquaringChain::on_chip(*bits, *chip)?;
         }
         Job::Lookup(c) => {
             c.cube.build()?;
@@ -455,13 +459,13 @@ fn run_with(
             };
             Ok((m, r.hardware))
         }
-        Job::Squaring(bits) => {
+        Job::Squaring(bits, chip) => {
             let cube = cube_8bit()?;
-            let chain = SquaringChain::new(*bits)?;
+            let chain = SquaringChain::on_chip(*bits, *chip)?;
             let t0 = Instant::now();
             let v8 = sphere_vectors(view, &cube)?;
             let mut ctr = Counters::default();
-            let hw = squaring_levels(&v8, SPECULAR_K, *bits, &mut ctr)?;
+            let hw = squaring_levels_on(&v8, SPECULAR_K, &chain, &mut ctr);
             let wall = t0.elapsed().as_secs_f64();
             // The cube, the dot-product stage, k squaring stages and the final combiner.
             let mut units = cube_units(&cube).to_vec();
@@ -860,6 +864,7 @@ pub const SQUARING_DEFAULT_BITS: u32 = SQUARING_BITS[0];
 pub struct ShadingPoint {
     scene: ShadingScene,
     job: Job,
+    chip: ChipPreset,
 }
 
 impl ShadingPoint {
@@ -888,7 +893,46 @@ impl ShadingPoint {
             validate(&job).map_err(|e| format!("{p} = {v}: {e}"))?;
         }
         validate(&job).map_err(|e| e.to_string())?;
-        Ok(ShadingPoint { scene: *scene, job })
+        Ok(ShadingPoint {
+            scene: *scene,
+            job,
+            chip: ChipPreset::GeForce2,
+        })
+    }
+
+    /// The same widths in `chip`'s modes (the chip preset): `shading-specular`'s
+    /// squaring path takes its register and final combiner modes, `shading-vertex` its
+    /// vertex-lighting modes (with an OpenGL program's light-control state,
+    /// [`GL_SINGLE_COLOR`]); the catalogue models' and the lookup path's units (the
+    /// normalisation cube, texture combiners, specular lookup, factor textures) have
+    /// no mode that differs between the two chips.
+    pub fn on_chip(self, chip: ChipPreset) -> ShadingPoint {
+        let job = match self.job {
+            Job::Squaring(bits, _) => Job::Squaring(bits, chip),
+            Job::Vertex(c) => Job::Vertex(chip.vertex_lighting(c, GL_SINGLE_COLOR)),
+            other => other,
+        };
+        ShadingPoint { job, chip, ..self }
+    }
+
+    /// The chip preset the point's units follow.
+    pub fn chip(&self) -> ChipPreset {
+        self.chip
+    }
+
+    /// The units of the point's path the chip preset changes (registry names; empty
+    /// when none of them differs between the chips, or at the GeForce2 preset).
+    pub fn units_the_chip_changes(&self) -> Vec<&'static str> {
+        let units: &[&'static str] = match self.job {
+            Job::Squaring(..) => &["register_combiner", "final_combiner"],
+            Job::Vertex(_) => &["vertex_lighting"],
+            Job::Model(..) | Job::Lookup(_) => &[],
+        };
+        units
+            .iter()
+            .copied()
+            .filter(|u| self.chip.changes(u))
+            .collect()
     }
 
     pub fn scene(&self) -> &ShadingScene {
@@ -920,7 +964,7 @@ impl ShadingPoint {
     /// entries (`lookup_bits`), vertex lighting in its colour width.
     pub fn output_bits(&self) -> u32 {
         match &self.job {
-            Job::Model(..) | Job::Squaring(_) => 8,
+            Job::Model(..) | Job::Squaring(..) => 8,
             Job::Lookup(c) => c.lookup.entry_bits,
             Job::Vertex(c) => c.color_bits,
         }
@@ -968,7 +1012,7 @@ pub fn shading_reference(
             levels: sphere_reference(entry, view).map_err(e)?,
             mask: view.pixels().iter().map(Option::is_some).collect(),
         },
-        Job::Squaring(_) | Job::Lookup(_) => {
+        Job::Squaring(..) | Job::Lookup(_) => {
             // The reference reads the exact n̂·ĥ, not the cube's vectors.
             let v = sphere_vectors(view, &cube_8bit().map_err(e)?).map_err(e)?;
             ShadingReference::Image {

@@ -4,7 +4,9 @@
 //! one light and with eight, against its f64 twin (the GL 1.x equation); the error is
 //! counted in 8-bit levels against the twin's ideal 8-bit output round(255·clamp(c)).
 
-use crate::reference::vertex_lighting::{light_vertex, GlLighting};
+use crate::reference::vertex_lighting::{
+    light_vertex, light_vertex_nv2a, GlLighting, Nv2aSwitches,
+};
 use crate::report::csv_out::write_csv;
 use crate::report::metrics::error_stats;
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
@@ -161,8 +163,9 @@ pub fn measure(
 
 /// The GL twin's exact colour of every vertex, clamp(c) · (2^color_bits − 1): the
 /// reference [`measure`] compares with. It depends on the colour width, the lighting
-/// state and the normalise / local-viewer switches, not on the float format, so a
-/// search over the format draws it once.
+/// state, the normalise / local-viewer switches and the NV2A modes (`light_control`,
+/// `normalize_directional`: then the twin's NV2A path, its primary colour), not on the
+/// float format, so a search over the format draws it once.
 pub fn exact_levels(
     cfg: &VertexLightingConfig,
     setup: &LightingSetup,
@@ -173,7 +176,22 @@ pub fn exact_levels(
     verts
         .iter()
         .map(|&(p, n)| {
-            let c = light_vertex(&gl, p, n);
+            let c = match cfg.light_control {
+                None => light_vertex(&gl, p, n),
+                // The NV2A's modes (the chip preset): the twin's two-colour path with the
+                // unit's switches and directional-light load; the vertices carry no
+                // colours of their own, and the primary colour is the one compared.
+                Some(lc) => {
+                    let sw = Nv2aSwitches {
+                        normalize_directional: cfg.normalize_directional,
+                        lighting: lc.lighting,
+                        specular_enable: lc.specular_enable,
+                        separate_specular: lc.separate_specular,
+                        specular_alpha_from_vertex: lc.specular_alpha_from_vertex,
+                    };
+                    light_vertex_nv2a(&gl, &sw, p, n, [0.0; 4], [0.0; 4]).0
+                }
+            };
             [0, 1, 2].map(|k| c[k].clamp(0.0, 1.0) * scale)
         })
         .collect()
