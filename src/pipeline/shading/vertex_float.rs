@@ -188,6 +188,7 @@ pub fn exact_levels(
                         specular_enable: lc.specular_enable,
                         separate_specular: lc.separate_specular,
                         specular_alpha_from_vertex: lc.specular_alpha_from_vertex,
+                        specular_curve: cfg.specular_curve.coefficients(),
                     };
                     light_vertex_nv2a(&gl, &sw, p, n, [0.0; 4], [0.0; 4]).0
                 }
