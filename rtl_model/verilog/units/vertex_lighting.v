@@ -24,10 +24,11 @@
 //
 // Restriction (the vector writer refuses anything else): exactly ONE light, its
 // loaded registers (position or direction, attenuation, spot, the colour products)
-// and the material's (e_m + a_m·a_s, shininess, alpha) as parameters, format words
-// as the model loaded them. LOCAL selects a local light (attenuation by rcp) or a
-// directional one; SPOT a spot cone (cutoff < 180°) or none; NORMALIZE
-// (GL_NORMALIZE) and LOCAL_VIEWER as in the model. Subnormals flushed only.
+// and the material's (e_m + a_m·a_s, shininess or the specular curve's k0 … k2,
+// alpha) as parameters, format words as the model loaded them. LOCAL selects a local
+// light (attenuation by rcp) or a directional one; SPOT a spot cone (cutoff < 180°)
+// or none; NORMALIZE (GL_NORMALIZE) and LOCAL_VIEWER as in the model. Subnormals
+// flushed only.
 //
 // NV2A modes (the model's config fields; nxdk_pgraph_tests' Specular captures):
 // * normalize_directional: a load-time choice, so no parameter of its own — a
@@ -48,6 +49,13 @@
 //   vertex's specular alpha (SPEC_ALPHA_FROM_VERTEX) or 1. II and latency follow the
 //   model's issues (3 more multiplies and 3 more adds). LIGHT_CONTROL = 0 (the
 //   default) is GL's single colour: the colour ports are unused, r2 … a2 are 0.
+// * specular_curve: SPECULAR_CURVE = 1 replaces pow(x, SHININESS), x = max(N·h, 0),
+//   by the NV2A's SET_SPECULAR_PARAMS curve f = (x + k0)·rcp(k1·x + k2), k0 … k2 the
+//   loaded words CURVE_K0 … CURVE_K2, as the model's `specular_factor`: num = x + k0,
+//   den = k1·x + k2, the RCP operator on den, num·rcp, and f = 0 unless num > 0 and
+//   den > 0 (the sign gate). II and latency follow the model's issues (1 more
+//   multiply, 2 more adds, one special fewer: RCP instead of LOG + EXP).
+//   SPECULAR_CURVE = 0 (the default) is GL's pow, the datapath as before.
 //
 // Schedule: the model's Timing is a schedule over shared FP units (6 multipliers,
 // 4 adders, one special-function unit): II = max(1, ⌈muls/6⌉, ⌈adds/4⌉, specials),

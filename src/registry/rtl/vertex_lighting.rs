@@ -19,7 +19,8 @@
 //! Both are GL's single colour. The NV2A modes (`normalize_directional` off, and
 //! `light_control` with its four switches: LIGHT_CONTROL, LIGHTING, SPECULAR_ENABLE,
 //! SEPARATE_SPECULAR, SPEC_ALPHA_FROM_VERTEX, the vertex colours in, the secondary
-//! colour out) are [`vertex_lighting_mode_sets`], run by tests/rtl_vertex_lighting.rs.
+//! colour out; `specular_curve`: SPECULAR_CURVE and CURVE_K0 … CURVE_K2) are
+//! [`vertex_lighting_mode_sets`], run by tests/rtl_vertex_lighting.rs.
 //!
 //! The input word is six format words (192 bits default, 66 narrow), so 10⁵ vertices
 //! (`count`), shaped from the seeded raw words: one in eight is the raw wire (with
