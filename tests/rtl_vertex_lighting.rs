@@ -6,7 +6,9 @@
 //! (one build each, every mode a block of `cosim_top`), bit- and cycle-exact against
 //! the model's vectors (`registry::rtl::vertex_lighting_mode_sets`: 34 narrow sets
 //! with a directional light of length ≈ 1.19, 16 at the default's widths with its
-//! local spot light). A simulator that is not installed is skipped with a SKIP note
+//! local spot light), and the NV2A specular curve (`specular_curve`: 6 sets, the
+//! "Pow 16" and power-125 SET_SPECULAR_PARAMS words, with GL's colour and with light
+//! control). A simulator that is not installed is skipped with a SKIP note
 //! (under `.ci/run`, which sets `GLARE_REQUIRE_TOOLS`, it fails instead).
 
 mod common;
@@ -67,7 +69,11 @@ fn field(word: &str, fields: &[glare_pipeline::registry::rtl::Field], name: &str
 #[test]
 fn mode_sets_cover_every_switch_set_and_tell_the_modes_apart() {
     let sets = &shared().0;
-    assert_eq!(sets.len(), 2 * 17 + 16);
+    assert_eq!(sets.len(), 2 * 17 + 16 + 6);
+    // The testbench reads the tag into 64 characters.
+    for v in sets {
+        assert!(v.tag().len() <= 64, "{}", v.tag());
+    }
     let mut tags: Vec<String> = sets.iter().map(VectorSet::tag).collect();
     tags.sort();
     tags.dedup();
@@ -152,6 +158,106 @@ fn mode_sets_cover_every_switch_set_and_tell_the_modes_apart() {
         assert!(gl.params.contains(&("LIGHT_CONTROL", 0)));
         assert_eq!(gl.out_fields.len(), 4, "GL's single colour");
     }
+}
+
+/// The curve sets carry the curve's parameters, their colours differ from pow's on the
+/// same vertices, the power-125 set's x = N·h runs past both of its zeros, and at the
+/// narrow "Pow 16" set's switches the curve's two adds set II (9, pow's 8).
+#[test]
+fn curve_sets_differ_from_pow_and_reach_both_zeros() {
+    use rtl_model::units::vertex_lighting::{
+        LightControl, LightingSetup, SpecularCurve, VertexLighting, VertexLightingConfig,
+    };
+    use rtl_model::{FloatFormat, Fp, Unit};
+    let sets = &shared().0;
+    let curves: Vec<&VectorSet> = sets.iter().filter(|v| v.tag().contains("_curve")).collect();
+    assert_eq!(curves.len(), 6);
+    for v in &curves {
+        assert!(v.params.contains(&("SPECULAR_CURVE", 1)), "{}", v.tag());
+        for k in ["CURVE_K0", "CURVE_K1", "CURVE_K2"] {
+            assert!(v.params.iter().any(|(n, w)| *n == k && *w != 0), "{k}");
+        }
+    }
+    for v in sets.iter().filter(|v| !v.tag().contains("_curve")) {
+        assert!(!v
+            .params
+            .iter()
+            .any(|(n, _)| n.starts_with("SPECULAR_CURVE")));
+    }
+    // Curve against pow at the same configuration and switches (same vertices).
+    for (curve, pow) in [
+        ("narrow_nd1_curve125_gl", "narrow_nd1_gl"),
+        (
+            "narrow_nd1_curve125_lit1_spec1_sep1_valpha1",
+            "narrow_nd1_lit1_spec1_sep1_valpha1",
+        ),
+        (
+            "default_curve16_lit1_spec1_sep1_valpha1",
+            "default_lit1_spec1_sep1_valpha1",
+        ),
+        (
+            "default_curve125_lit1_spec1_sep0_valpha1",
+            "default_lit1_spec1_sep0_valpha1",
+        ),
+    ] {
+        let c = by_tag(sets, &format!("vertex_lighting_{curve}"));
+        let p = by_tag(sets, &format!("vertex_lighting_{pow}"));
+        assert_eq!(c.stimulus, p.stimulus, "{curve}");
+        let differ = (0..COUNT)
+            .filter(|&k| c.expected[k] != p.expected[k])
+            .count();
+        assert!(
+            differ > COUNT / 50,
+            "{curve}: {differ} vertices differ from pow"
+        );
+    }
+    // x = N·h (f64 from the words) over the narrow power-125 set's lit vertices: below
+    // the numerator's zero 0.972, between, and past the denominator's 1.00868.
+    let v = by_tag(sets, "vertex_lighting_narrow_nd1_curve125_gl");
+    let mut fmt = FloatFormat::IEEE_SINGLE;
+    fmt.exp_bits = 4;
+    fmt.mant_bits = 6;
+    let param = |n: &str| v.params.iter().find(|(k, _)| *k == n).unwrap().1;
+    let word = |s: &str, n: &str| fmt.to_f64(Fp(field(s, &v.in_fields, n)));
+    let l = ["LIGHT_X", "LIGHT_Y", "LIGHT_Z"].map(|n| fmt.to_f64(Fp(param(n))));
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let unit = |a: [f64; 3]| {
+        let r = dot(a, a).sqrt();
+        a.map(|c| if r > 0.0 { c / r } else { 0.0 })
+    };
+    let mut ranges = [0usize; 3];
+    for s in &v.stimulus {
+        let p = ["px", "py", "pz"].map(|n| word(s, n));
+        let n = ["nx", "ny", "nz"].map(|n| word(s, n));
+        if dot(n, l) <= 0.0 {
+            continue;
+        }
+        let vv = unit(p.map(|c| -c)); // the narrow configuration's local viewer
+        let x = dot(n, unit([l[0] + vv[0], l[1] + vv[1], l[2] + vv[2]]));
+        if x < 0.96 {
+            ranges[0] += 1;
+        } else if (0.98..1.0).contains(&x) {
+            ranges[1] += 1;
+        } else if x > 1.02 {
+            ranges[2] += 1;
+        }
+    }
+    println!("power 125, narrow: x < 0.96, 0.98 ..< 1, > 1.02: {ranges:?}");
+    assert!(ranges.iter().all(|&n| n > 0), "{ranges:?}");
+    // II: the narrow "Pow 16" set (no normalise, an infinite viewer, light control).
+    let iv = by_tag(
+        sets,
+        "vertex_lighting_narrow_nd1_iv_curve16_lit1_spec1_sep1_valpha0",
+    );
+    let mut cfg = VertexLightingConfig::geforce().with_format(4, 6);
+    cfg.normalize = false;
+    cfg.local_viewer = false;
+    cfg.light_control = Some(LightControl::default());
+    let setup = LightingSetup::default();
+    let pow_ii = VertexLighting::new(cfg, &setup).unwrap().timing().ii;
+    cfg.specular_curve = SpecularCurve::nv2a([-0.8, -2.8, 3.0, 0.0, 0.0, 0.0]);
+    let curve_ii = VertexLighting::new(cfg, &setup).unwrap().timing().ii;
+    assert_eq!((pow_ii, curve_ii, iv.ii), (8, 9, 9));
 }
 
 fn check(sim: Sim) {

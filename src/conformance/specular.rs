@@ -97,8 +97,9 @@ const SPECULAR: [[f64; 4]; 4] = [
     [0.0, 1.0, 0.0, 1.0],
     [0.0, 1.0, 0.0, 0.20],
 ];
-/// SET_SPECULAR_PARAMS as the test writes them ("Pow 16").
-const POW16_PARAMS: [f32; 6] = [-0.803673, -2.7813, 2.97762, -0.64766, -2.36199, 2.71433];
+/// SET_SPECULAR_PARAMS as the test writes them ("Pow 16"); also a co-simulated mode
+/// set of vertex_lighting.v (`registry::rtl::vertex_lighting_mode_sets`).
+pub const POW16_PARAMS: [f32; 6] = [-0.803673, -2.7813, 2.97762, -0.64766, -2.36199, 2.71433];
 const N_XY: f64 = 0.099014754297667;
 const N_Z: f64 = 0.990147542976674;
 /// UL, UR, LR, LL normals (x, y signs), D3D eye space (z toward the scene).

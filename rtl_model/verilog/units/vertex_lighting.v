@@ -24,10 +24,11 @@
 //
 // Restriction (the vector writer refuses anything else): exactly ONE light, its
 // loaded registers (position or direction, attenuation, spot, the colour products)
-// and the material's (e_m + a_m·a_s, shininess, alpha) as parameters, format words
-// as the model loaded them. LOCAL selects a local light (attenuation by rcp) or a
-// directional one; SPOT a spot cone (cutoff < 180°) or none; NORMALIZE
-// (GL_NORMALIZE) and LOCAL_VIEWER as in the model. Subnormals flushed only.
+// and the material's (e_m + a_m·a_s, shininess or the specular curve's k0 … k2,
+// alpha) as parameters, format words as the model loaded them. LOCAL selects a local
+// light (attenuation by rcp) or a directional one; SPOT a spot cone (cutoff < 180°)
+// or none; NORMALIZE (GL_NORMALIZE) and LOCAL_VIEWER as in the model. Subnormals
+// flushed only.
 //
 // NV2A modes (the model's config fields; nxdk_pgraph_tests' Specular captures):
 // * normalize_directional: a load-time choice, so no parameter of its own — a
@@ -48,6 +49,13 @@
 //   vertex's specular alpha (SPEC_ALPHA_FROM_VERTEX) or 1. II and latency follow the
 //   model's issues (3 more multiplies and 3 more adds). LIGHT_CONTROL = 0 (the
 //   default) is GL's single colour: the colour ports are unused, r2 … a2 are 0.
+// * specular_curve: SPECULAR_CURVE = 1 replaces pow(x, SHININESS), x = max(N·h, 0),
+//   by the NV2A's SET_SPECULAR_PARAMS curve f = (x + k0)·rcp(k1·x + k2), k0 … k2 the
+//   loaded words CURVE_K0 … CURVE_K2, as the model's `specular_factor`: num = x + k0,
+//   den = k1·x + k2, the RCP operator on den, num·rcp, and f = 0 unless num > 0 and
+//   den > 0 (the sign gate). II and latency follow the model's issues (1 more
+//   multiply, 2 more adds, one special fewer: RCP instead of LOG + EXP).
+//   SPECULAR_CURVE = 0 (the default) is GL's pow, the datapath as before.
 //
 // Schedule: the model's Timing is a schedule over shared FP units (6 multipliers,
 // 4 adders, one special-function unit): II = max(1, ⌈muls/6⌉, ⌈adds/4⌉, specials),
@@ -707,6 +715,11 @@ module vertex_lighting #(
     parameter SPECULAR_ENABLE        = 1,
     parameter SEPARATE_SPECULAR      = 1,
     parameter SPEC_ALPHA_FROM_VERTEX = 1,
+    // The NV2A's specular curve (the model's `specular_curve`): 0 = pow(N·h,
+    // SHININESS) (GL); 1 = (x + k0)·rcp(k1·x + k2), x = max(N·h, 0), 0 unless the
+    // numerator and the denominator are both positive, k0 … k2 the loaded
+    // SET_SPECULAR_PARAMS words CURVE_K0 … CURVE_K2 below.
+    parameter SPECULAR_CURVE         = 0,
     // The light's loaded registers (format words).
     parameter [63:0] LIGHT_X   = 0,
     parameter [63:0] LIGHT_Y   = 0,
@@ -733,7 +746,11 @@ module vertex_lighting #(
     parameter [63:0] BASE_G    = 0,
     parameter [63:0] BASE_B    = 0,
     parameter [63:0] SHININESS = 0,
-    parameter [63:0] ALPHA     = 0
+    parameter [63:0] ALPHA     = 0,
+    // The specular curve's k0, k1, k2 (SPECULAR_CURVE only; format words as loaded).
+    parameter [63:0] CURVE_K0  = 0,
+    parameter [63:0] CURVE_K1  = 0,
+    parameter [63:0] CURVE_K2  = 0
 ) (
     input                   clk,
     input                   rst,
@@ -778,11 +795,14 @@ module vertex_lighting #(
   localparam SPLIT = SPECULAR_ENABLE && SEPARATE_SPECULAR;
 
   // The model's Timing: issues per light 36 / 28 / 7, per normalise 6 / 2 / 1; light
-  // control 3 multiplies (k·spec·s per channel, one light) and 3 adds (the join).
+  // control 3 multiplies (k·spec·s per channel, one light) and 3 adds (the join); the
+  // specular curve 1 more multiply (k1·x and num·rcp instead of s·log), 2 more adds
+  // and one special fewer (RCP instead of LOG + EXP).
   localparam NK = NORMALIZE + LOCAL_VIEWER;
-  localparam MULS = 36 + 6 * NK + 3 * LC;
-  localparam ADDS = 28 + 2 * NK + 3 * LC;
-  localparam SPECIALS = 7 + NK;
+  localparam CV = SPECULAR_CURVE ? 1 : 0;
+  localparam MULS = 36 + 6 * NK + 3 * LC + CV;
+  localparam ADDS = 28 + 2 * NK + 3 * LC + 2 * CV;
+  localparam SPECIALS = 7 + NK - CV;
   localparam II_MUL = (MULS + 5) / 6;
   localparam II_ADD = (ADDS + 3) / 4;
   localparam II_A = II_MUL > II_ADD ? II_MUL : II_ADD;
@@ -819,6 +839,8 @@ module vertex_lighting #(
   // RSQ and pow take D_RSQ and D_POW rounds (VL_D_RSQ, VL_D_POW).
   localparam integer D_RSQ = `VL_D_RSQ(M);
   localparam integer D_POW = `VL_D_POW(M);
+  // The specular factor: pow, or the curve's add/mul → add → RCP → mul (4 rounds).
+  localparam integer D_SPF = SPECULAR_CURVE ? 4 : D_POW;
   localparam integer L_N = NORMALIZE ? 4 + D_RSQ : 0;
   localparam integer L_V = LOCAL_VIEWER ? 4 + D_RSQ : -1;
   localparam integer L_LV = LOCAL ? 5 + D_RSQ : -1;
@@ -831,7 +853,7 @@ module vertex_lighting #(
   localparam integer L_H = L_HV < 0 ? -1 : L_HV + 4 + D_RSQ;
   localparam integer L_NHR = `VL_MAX(L_N, L_H) + 3;
   localparam integer F_SPEC = `VL_FMIN(L_NL, L_NHR);
-  localparam integer S_SPEC = `VL_MAX(L_NL, L_NHR + D_POW);
+  localparam integer S_SPEC = `VL_MAX(L_NL, L_NHR + D_SPF);
   localparam integer L_KK = `VL_NEXT(`VL_MAX(L_ATT, S_SPOT));
   localparam integer L_T1 = L_NL + 2;
   localparam integer L_MS = S_SPEC + 1;
@@ -915,7 +937,22 @@ module vertex_lighting #(
         nl_pos = flt({W{1'b0}}, nl_raw);
       end
       always @(nh_raw) nh = fmax0(nh_raw);
-      vertex_lighting_pow `VL_FP psp (.x(nh), .s(SHININESS[W-1:0]), .o(sp));
+      if (SPECULAR_CURVE) begin : g_curve
+        // The NV2A curve, in the model's order (specular_factor): num = x + k0,
+        // den = k1·x + k2, num·rcp(den), 0 unless num > 0 and den > 0.
+        wire [W-1:0] num, tk, den, rd, q;
+        vertex_lighting_add `VL_FP an (.x(nh), .y(CURVE_K0[W-1:0]), .o(num));
+        vertex_lighting_mul `VL_FP mk (.x(CURVE_K1[W-1:0]), .y(nh), .o(tk));
+        vertex_lighting_add `VL_FP ad (.x(tk), .y(CURVE_K2[W-1:0]), .o(den));
+        vertex_lighting_rcp `VL_FP rc (.x(den), .o(rd));
+        vertex_lighting_mul `VL_FP mq (.x(num), .y(rd), .o(q));
+        `VL_WAIT(mq, 3)
+        reg pos;  // the sign gate: numerator and denominator both positive
+        always @(num, den) pos = flt({W{1'b0}}, num) && flt({W{1'b0}}, den);
+        assign sp = pos ? q : {W{1'b0}};
+      end else begin : g_pow
+        vertex_lighting_pow `VL_FP psp (.x(nh), .s(SHININESS[W-1:0]), .o(sp));
+      end
       assign spec = nl_pos ? sp : {W{1'b0}};
       vertex_lighting_mul `VL_FP mkk (.x(att), .y(spot), .o(kk));
       `VL_WAIT(mkk, `VL_WT(L_ATT, L_ATT, F_SPOT, S_SPOT))

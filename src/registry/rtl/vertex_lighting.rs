@@ -19,7 +19,8 @@
 //! Both are GL's single colour. The NV2A modes (`normalize_directional` off, and
 //! `light_control` with its four switches: LIGHT_CONTROL, LIGHTING, SPECULAR_ENABLE,
 //! SEPARATE_SPECULAR, SPEC_ALPHA_FROM_VERTEX, the vertex colours in, the secondary
-//! colour out) are [`vertex_lighting_mode_sets`], run by tests/rtl_vertex_lighting.rs.
+//! colour out; `specular_curve`: SPECULAR_CURVE and CURVE_K0 … CURVE_K2) are
+//! [`vertex_lighting_mode_sets`], run by tests/rtl_vertex_lighting.rs.
 //!
 //! The input word is six format words (192 bits default, 66 narrow), so 10⁵ vertices
 //! (`count`), shaped from the seeded raw words: one in eight is the raw wire (with
@@ -41,9 +42,11 @@
 //! first vertices of the stream, so the count is unchanged.
 
 use super::{collect, seeded, RtlConfig, VectorSet, VerilogParams};
+use crate::conformance::specular::POW16_PARAMS;
 use rand::Rng;
 use rtl_model::units::vertex_lighting::{
-    Light, LightControl, LightingSetup, VertexLighting, VertexLightingConfig, VertexLightingIn,
+    Light, LightControl, LightingSetup, SpecularCurve, VertexLighting, VertexLightingConfig,
+    VertexLightingIn,
 };
 use rtl_model::{Counters, FloatFormat, Fp, Rounding, Subnormals};
 use std::cell::Cell;
@@ -57,11 +60,6 @@ pub(super) fn verilog_params(u: &VertexLighting) -> Result<VerilogParams, String
             "vertex_lighting.lights: the Verilog implements exactly one light ({} given)",
             u.light_count()
         ));
-    }
-    if u.curve_registers().is_some() {
-        return Err(
-            "vertex_lighting.specular_curve: the Verilog evaluates pow (the NV2A curve is not implemented in vertex_lighting.v)".into(),
-        );
     }
     if fmt.subnormals != Subnormals::Flush {
         return Err(
@@ -122,6 +120,11 @@ pub(super) fn verilog_params(u: &VertexLighting) -> Result<VerilogParams, String
     p.extend(names3(["BASE_R", "BASE_G", "BASE_B"], base));
     p.push(("SHININESS", w(shininess)));
     p.push(("ALPHA", alpha as u64));
+    // The NV2A specular curve: only when set, so the pow sets' parameters are as before.
+    if let Some(k) = u.curve_registers() {
+        p.push(("SPECULAR_CURVE", 1));
+        p.extend(names3(["CURVE_K0", "CURVE_K1", "CURVE_K2"], k));
+    }
     Ok(p)
 }
 
@@ -598,6 +601,41 @@ const NARROW_MODE_DIRECTION: [f64; 4] = [0.6, 0.9, 0.5, 0.0];
 /// secondary channels would pass them).
 const MODE_SPECULAR: [f64; 3] = [1.0, 0.7, 0.4];
 
+/// SET_SPECULAR_PARAMS for power 125 as nxdk_pgraph_tests' Specular suite writes them
+/// (`NonUnitNormal`): the numerator's zero −k0 = 0.972162 and the denominator's
+/// −k2/k1 = 1.00868 bracket x = 1, so an x past either gives no specular.
+pub const POW125_PARAMS: [f32; 6] = [-0.972162, -3.20637, 3.23421, -0.945147, -3.14027, 3.19512];
+
+/// The specular-curve mode sets: (configuration, curve name, its words, light control).
+/// Narrow (no GL_NORMALIZE: x = N·h runs past 1, so both of the power-125 curve's
+/// zeros are inside its range) and the default's widths (x ≤ 1: the numerator's zero
+/// inside), each curve with GL's colour and with light control (separate, or joined
+/// to the primary). The narrow "Pow 16" set has an infinite viewer (no normalise at
+/// all): there the curve's 2 adds take II from 8 to 9 (⌈33/4⌉; pow's is ⌈31/4⌉ = 8), so
+/// the testbench's cycle check sees whether the Verilog counts them.
+fn curve_modes() -> [(RtlConfig, &'static str, [f32; 6], Option<LightControl>); 6] {
+    let lc = |separate_specular, specular_alpha_from_vertex| {
+        Some(LightControl {
+            separate_specular,
+            specular_alpha_from_vertex,
+            ..LightControl::default()
+        })
+    };
+    [
+        (RtlConfig::Narrow, "curve125", POW125_PARAMS, None),
+        (RtlConfig::Narrow, "curve125", POW125_PARAMS, lc(true, true)),
+        (RtlConfig::Narrow, "curve16", POW16_PARAMS, lc(true, false)),
+        (RtlConfig::Default, "curve16", POW16_PARAMS, None),
+        (RtlConfig::Default, "curve16", POW16_PARAMS, lc(true, true)),
+        (
+            RtlConfig::Default,
+            "curve125",
+            POW125_PARAMS,
+            lc(false, true),
+        ),
+    ]
+}
+
 /// A light-control set's name: `lit`, `spec`, `sep`, `valpha` (the four switches) 0 or 1.
 fn light_control_name(lc: &LightControl) -> String {
     format!(
@@ -618,7 +656,12 @@ fn light_control_name(lc: &LightControl) -> String {
 ///   normalised at load (`nd1`) or as written (`nd0`), each with GL's single colour
 ///   (`gl`) and with every light-control switch set ([`light_controls`]): 34 sets;
 /// * default (IEEE single, nearest-even, GL_NORMALIZE, 16-bit colours) with its local
-///   spot light, so k = att·spot scales both sums: every switch set, 16 sets.
+///   spot light, so k = att·spot scales both sums: every switch set, 16 sets;
+/// * the NV2A specular curve (`specular_curve`, [`curve_modes`]): the ControlFlags
+///   tests' "Pow 16" words ([`POW16_PARAMS`]) and the power-125 words
+///   ([`POW125_PARAMS`]), at narrow (the light as the `nd1` sets') and the default,
+///   with GL's colour and with light control: 6 sets, tagged
+///   `…_curve16_…` / `…_curve125_…`.
 ///
 /// The vertices are shaped as the configurations' (the module docs) with no fault
 /// corners, from `seed` in every set (so the sets of one configuration with the same
@@ -648,6 +691,27 @@ pub fn vertex_lighting_mode_sets(count: usize, seed: u64) -> Result<Vec<VectorSe
         cfg.light_control = Some(lc);
         setup.lights[0].specular = MODE_SPECULAR;
         modes.push((RtlConfig::Default, light_control_name(&lc), cfg, setup));
+    }
+    for (config, curve, words, lc) in curve_modes() {
+        let (mut cfg, mut setup) = setup_of(config);
+        cfg.light_control = lc;
+        cfg.specular_curve = SpecularCurve::nv2a(words);
+        setup.lights[0].specular = MODE_SPECULAR;
+        let mut name = format!(
+            "{curve}_{}",
+            lc.as_ref().map_or("gl".into(), light_control_name)
+        );
+        if config == RtlConfig::Narrow {
+            setup.lights[0].position = NARROW_MODE_DIRECTION;
+            let viewer = if curve == "curve16" {
+                cfg.local_viewer = false;
+                "_iv"
+            } else {
+                ""
+            };
+            name = format!("nd1{viewer}_{name}");
+        }
+        modes.push((config, name, cfg, setup));
     }
     // One seed for all: the sets of one configuration and input width (every light-
     // control set of a configuration, nd0 and nd1 alike) see the same vertices.
