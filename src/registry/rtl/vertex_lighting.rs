@@ -651,15 +651,15 @@ fn light_control_name(lc: &LightControl) -> String {
 /// configurations, each a set of `count` vertices tagged
 /// `vertex_lighting_<config>_<mode>`:
 /// * narrow (E 4, M 6, truncate, 12-bit colours, no GL_NORMALIZE, a local viewer) with
-///   a directional light of length ≈ 1.19 ([`NARROW_MODE_DIRECTION`]), specular colour
-///   [`MODE_SPECULAR`] as in every mode set: the direction
+///   a directional light of length ≈ 1.19 (`NARROW_MODE_DIRECTION`), specular colour
+///   `MODE_SPECULAR` as in every mode set: the direction
 ///   normalised at load (`nd1`) or as written (`nd0`), each with GL's single colour
 ///   (`gl`) and with every light-control switch set ([`light_controls`]): 34 sets;
 /// * default (IEEE single, nearest-even, GL_NORMALIZE, 16-bit colours) with its local
 ///   spot light, so k = att·spot scales both sums: every switch set, 16 sets;
-/// * the NV2A specular curve (`specular_curve`, [`curve_modes`]): the ControlFlags
+/// * the NV2A specular curve (`specular_curve`, `curve_modes`): the ControlFlags
 ///   tests' "Pow 16" words ([`POW16_PARAMS`]) and the power-125 words
-///   ([`POW125_PARAMS`]), at narrow (the light as the `nd1` sets') and the default,
+///   (`POW125_PARAMS`), at narrow (the light as the `nd1` sets') and the default,
 ///   with GL's colour and with light control: 6 sets, tagged
 ///   `…_curve16_…` / `…_curve125_…`.
 ///
