@@ -418,6 +418,46 @@ fn vectors_are_exhaustive_for_small_input_words_and_seeded_otherwise() {
     assert_eq!(a.stimulus[0].len(), 15);
 }
 
+/// The barycentric sets drive the mode: triangles of both windings (q2's edge 0 or 2)
+/// with and without each top-left bias, and parallelograms (mode off) among them; the
+/// strict and floor sets' expected words differ (exact multiples of 2^-w occur).
+#[test]
+fn barycentric_sets_cover_both_windings_biases_and_strictness() {
+    let sets = rtl::polygon_interpolator_mode_sets(20_000, SEED).unwrap();
+    assert!(sets.len() >= 8);
+    for v in &sets {
+        let ctl = v.roms.iter().find(|r| r.name == "bary_ctl").unwrap();
+        let seen = |m: u64, want: u64| ctl.words.iter().any(|&w| w & m == want);
+        let tag = v.tag();
+        assert!(
+            seen(0b1100, 0b1000) && seen(0b1100, 0b1100),
+            "{tag}: a winding missing"
+        );
+        assert!(
+            seen(0b1001, 0b1000) && seen(0b1001, 0b1001),
+            "{tag}: bias0 0/1"
+        );
+        assert!(
+            seen(0b1010, 0b1000) && seen(0b1010, 0b1010),
+            "{tag}: bias2 0/1"
+        );
+        assert!(v.params.contains(&("BARY", 1)), "{tag}");
+    }
+    let by = |t: &str| sets.iter().find(|v| v.tag() == t).unwrap();
+    let strict = by("polygon_interpolator_narrow_bary_w1_strict");
+    let cfg = rtl_model::units::polygon_interpolator::Barycentric {
+        weight_bits: 1,
+        strict: false,
+    };
+    assert!(strict.params.contains(&("STRICT", 1)));
+    // The same primitives with the floor: some outputs move.
+    let floor =
+        rtl::polygon_interpolator_mode_vectors(cfg, RtlConfig::Narrow, 20_000, SEED).unwrap();
+    assert!(floor.params.contains(&("STRICT", 0)));
+    assert_eq!(floor.stimulus.len(), strict.stimulus.len());
+    assert_ne!(floor.expected, strict.expected);
+}
+
 #[test]
 fn vector_errors_name_the_argument() {
     let e = rtl::vectors("modulate", RtlConfig::Default, 0, 1).unwrap_err();

@@ -84,22 +84,43 @@ pub fn polygon_interpolator_mode_sets(count: usize, seed: u64) -> Result<Vec<Vec
     modes
         .into_iter()
         .map(|(config, w, strict, out_frac)| {
-            let base = config_of(config);
-            let cfg = PolygonInterpolatorConfig {
-                barycentric: Some(Barycentric {
-                    weight_bits: w,
-                    strict,
-                }),
-                out_frac_bits: out_frac.unwrap_or(base.out_frac_bits),
-                ..base
+            let b = Barycentric {
+                weight_bits: w,
+                strict,
             };
-            let mut v = vectors_at(cfg, config, count, seed)?;
+            let mut v = mode_vectors_at(b, config, out_frac, count, seed)?;
             let of = out_frac.map_or(String::new(), |f| format!("_of{f}"));
             let kind = if strict { "strict" } else { "floor" };
             v.variant = Some(format!("bary_w{w}_{kind}{of}"));
             Ok(v)
         })
         .collect()
+}
+
+/// The vectors of the barycentric mode `b` at the widths of `config` (no variant tag).
+pub fn polygon_interpolator_mode_vectors(
+    b: Barycentric,
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    mode_vectors_at(b, config, None, count, seed)
+}
+
+fn mode_vectors_at(
+    b: Barycentric,
+    config: RtlConfig,
+    out_frac: Option<u32>,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let base = config_of(config);
+    let cfg = PolygonInterpolatorConfig {
+        barycentric: Some(b),
+        out_frac_bits: out_frac.unwrap_or(base.out_frac_bits),
+        ..base
+    };
+    vectors_at(cfg, config, count, seed)
 }
 
 fn vectors_at(
