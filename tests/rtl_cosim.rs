@@ -9,6 +9,8 @@
 //! where the unit's input word has ≤ 2^20 values, else `RTL_COSIM_COUNT` transactions
 //! (default 100 000 under both simulators; a longer run is
 //! `RTL_COSIM_COUNT=1000000 cargo test --test rtl_cosim -- --nocapture`).
+//! `RTL_COSIM_ONLY=unit[,unit…]` runs only those units' sets (all of them by default),
+//! e.g. `RTL_COSIM_ONLY=polygon_interpolator cargo test --test rtl_cosim`.
 //!
 //! A simulator that is not installed is skipped with a SKIP note on stderr; under
 //! `.ci/run` (which installs both and sets `GLARE_REQUIRE_TOOLS`) it fails instead.
@@ -36,6 +38,18 @@ fn count() -> usize {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(100_000)
+}
+
+/// The units `RTL_COSIM_ONLY` names (None: every unit).
+fn only() -> Option<Vec<String>> {
+    std::env::var("RTL_COSIM_ONLY")
+        .ok()
+        .map(|s| s.split(',').map(|u| u.trim().to_string()).collect())
+}
+
+/// Whether `unit`'s sets run.
+fn selected(unit: &str) -> bool {
+    only().is_none_or(|o| o.iter().any(|u| u == unit))
 }
 
 fn have(tool: &str, arg: &str) -> bool {
@@ -93,7 +107,15 @@ fn write_sets(dir: &Path, n: usize) -> (Vec<VectorSet>, Vec<PathBuf>) {
     std::fs::create_dir_all(dir).unwrap();
     let mut sets = Vec::new();
     let mut blocks = Vec::new();
-    for e in RTL_UNITS {
+    if let Some(o) = only() {
+        for u in &o {
+            assert!(
+                RTL_UNITS.iter().any(|e| e.name == u),
+                "RTL_COSIM_ONLY: '{u}' is not a unit with Verilog"
+            );
+        }
+    }
+    for e in RTL_UNITS.iter().filter(|e| selected(e.name)) {
         for cfg in RtlConfig::ALL {
             let v = rtl::vectors(e.name, cfg, n, SEED).unwrap();
             let d = dir.join(v.tag());
@@ -104,7 +126,12 @@ fn write_sets(dir: &Path, n: usize) -> (Vec<VectorSet>, Vec<PathBuf>) {
     }
     // shadow_compare's modes beyond the two configurations (compare functions, depth
     // texel formats), each its own set.
-    for v in rtl::shadow_compare_mode_sets(n, SEED).unwrap() {
+    // polygon_interpolator's barycentric mode (weight widths, strict and floor).
+    let modes = [
+        rtl::shadow_compare_mode_sets(n, SEED).unwrap(),
+        rtl::polygon_interpolator_mode_sets(n, SEED).unwrap(),
+    ];
+    for v in modes.into_iter().flatten().filter(|v| selected(v.unit)) {
         let d = dir.join(v.tag());
         v.write(&d).unwrap();
         blocks.push(d.join(format!("cosim_{}.v", v.tag())));
@@ -342,6 +369,12 @@ fn icarus_runs_every_unit_bit_and_cycle_exact() {
 
 /// Flip one bit of one expected word: both simulators report exactly that transaction.
 fn corrupted_vector_is_caught(b: &Built) {
+    if !selected("modulate") {
+        eprintln!(
+            "SKIP: RTL_COSIM_ONLY leaves out modulate: the corrupted-vector check did not run"
+        );
+        return;
+    }
     let tag = "modulate_default";
     let dir = b.dir.join(tag);
     let text = std::fs::read_to_string(dir.join("expected.hex")).unwrap();
@@ -390,6 +423,46 @@ fn vectors_are_exhaustive_for_small_input_words_and_seeded_otherwise() {
     assert_ne!(a.stimulus, c.stimulus);
     assert_eq!(a.in_bits(), 3 * 8 + 3 * 12);
     assert_eq!(a.stimulus[0].len(), 15);
+}
+
+/// The barycentric sets drive the mode: triangles of both windings (q2's edge 0 or 2)
+/// with and without each top-left bias, and parallelograms (mode off) among them; the
+/// strict and floor sets' expected words differ (exact multiples of 2^-w occur).
+#[test]
+fn barycentric_sets_cover_both_windings_biases_and_strictness() {
+    let sets = rtl::polygon_interpolator_mode_sets(20_000, SEED).unwrap();
+    assert!(sets.len() >= 8);
+    for v in &sets {
+        let ctl = v.roms.iter().find(|r| r.name == "bary_ctl").unwrap();
+        let seen = |m: u64, want: u64| ctl.words.iter().any(|&w| w & m == want);
+        let tag = v.tag();
+        assert!(
+            seen(0b1100, 0b1000) && seen(0b1100, 0b1100),
+            "{tag}: a winding missing"
+        );
+        assert!(
+            seen(0b1001, 0b1000) && seen(0b1001, 0b1001),
+            "{tag}: bias0 0/1"
+        );
+        assert!(
+            seen(0b1010, 0b1000) && seen(0b1010, 0b1010),
+            "{tag}: bias2 0/1"
+        );
+        assert!(v.params.contains(&("BARY", 1)), "{tag}");
+    }
+    let by = |t: &str| sets.iter().find(|v| v.tag() == t).unwrap();
+    let strict = by("polygon_interpolator_narrow_bary_w1_strict");
+    let cfg = rtl_model::units::polygon_interpolator::Barycentric {
+        weight_bits: 1,
+        strict: false,
+    };
+    assert!(strict.params.contains(&("STRICT", 1)));
+    // The same primitives with the floor: some outputs move.
+    let floor =
+        rtl::polygon_interpolator_mode_vectors(cfg, RtlConfig::Narrow, 20_000, SEED).unwrap();
+    assert!(floor.params.contains(&("STRICT", 0)));
+    assert_eq!(floor.stimulus.len(), strict.stimulus.len());
+    assert_ne!(floor.expected, strict.expected);
 }
 
 #[test]

@@ -13,6 +13,22 @@
 // with `load` set loads the next primitive's start state, then applies its move (the
 // first move of a walk is Hold). Implemented: 4 attributes (ports attr0..attr3), the
 // WRAP accumulator overflow and RND output rounding (the default configuration's).
+//
+// BARY = 1: the barycentric mode (the model's `barycentric: Some({weight_bits: W,
+// strict: STRICT})`, the NV2A's triangle colours read from its captures, see
+// docs/units.md). A triangle's attributes come from its two barycentric weights
+// instead of the accumulators: in stage 2 the weights of its first and third vertices
+// are the walker's edge functions of the opposite edges (ef[1], and ef[0] or ef[2] by
+// the winding; the top-left bias added back) divided by the doubled area, quantised
+// DOWN to W fraction bits, q = floor((E * 2^W - STRICT) / den) clamped to 0 ..= 2^W
+// (two restoring dividers of W + 1 quotient bits: the top bit is the clamp), and each
+// attribute is base * 2^W + q0 * d0 + q2 * d2 (two (W+1) x (attr+1) multipliers, two
+// adders), rounded once (RND) from its ATTR_FRAC + W fraction bits to the output,
+// saturating. The triangle's registers come from the setup through more read ports,
+// one entry per primitive (bary_ctl: {en, sel2, bias2, bias0}; bary_den: the doubled
+// area in edge units; bary_base, bary_d0, bary_d2: per attribute A1, A0 - A1, A2 - A1).
+// en = 0 (a parallelogram) keeps the accumulators' output. BARY = 0 (the default):
+// the ports are unused and the module is the planes' walker above.
 module polygon_interpolator #(
     parameter COORD_INT_BITS = 13,
     parameter EDGE_BITS      = 38,
@@ -22,12 +38,18 @@ module polygon_interpolator #(
     parameter OUT_FRAC_BITS  = 8,
     parameter OUT_SIGNED     = 1,
     parameter PRIM_BITS      = 8,
+    parameter BARY           = 0,
+    parameter W              = 8,
+    parameter STRICT         = 1,
+    parameter ATTR_INT_BITS  = 16,
+    parameter ATTR_FRAC_BITS = 16,
     // derived (do not set)
     parameter C              = COORD_INT_BITS,
     parameter EW             = EDGE_BITS,
     parameter AW             = ACC_INT_BITS + ACC_FRAC_BITS,
     parameter OW             = OUT_INT_BITS + OUT_FRAC_BITS,
-    parameter PB             = PRIM_BITS
+    parameter PB             = PRIM_BITS,
+    parameter AT             = ATTR_INT_BITS + ATTR_FRAC_BITS
 ) (
     input               clk,
     input               rst,
@@ -86,6 +108,34 @@ module polygon_interpolator #(
     input      [AW-1:0] grad_y_data1,
     input      [AW-1:0] grad_y_data2,
     input      [AW-1:0] grad_y_data3,
+    output     [PB-1:0] bary_ctl_addr0,
+    input      [3:0]    bary_ctl_data0,
+    output     [PB-1:0] bary_den_addr0,
+    input      [EW-1:0] bary_den_data0,
+    output     [PB+2-1:0] bary_base_addr0,
+    output     [PB+2-1:0] bary_base_addr1,
+    output     [PB+2-1:0] bary_base_addr2,
+    output     [PB+2-1:0] bary_base_addr3,
+    input      [AT-1:0] bary_base_data0,
+    input      [AT-1:0] bary_base_data1,
+    input      [AT-1:0] bary_base_data2,
+    input      [AT-1:0] bary_base_data3,
+    output     [PB+2-1:0] bary_d0_addr0,
+    output     [PB+2-1:0] bary_d0_addr1,
+    output     [PB+2-1:0] bary_d0_addr2,
+    output     [PB+2-1:0] bary_d0_addr3,
+    input      [AT:0]   bary_d0_data0,
+    input      [AT:0]   bary_d0_data1,
+    input      [AT:0]   bary_d0_data2,
+    input      [AT:0]   bary_d0_data3,
+    output     [PB+2-1:0] bary_d2_addr0,
+    output     [PB+2-1:0] bary_d2_addr1,
+    output     [PB+2-1:0] bary_d2_addr2,
+    output     [PB+2-1:0] bary_d2_addr3,
+    input      [AT:0]   bary_d2_data0,
+    input      [AT:0]   bary_d2_data1,
+    input      [AT:0]   bary_d2_data2,
+    input      [AT:0]   bary_d2_data3,
     output reg          out_valid,
     output reg [C-1:0]  x,
     output reg [C-1:0]  y,
@@ -136,6 +186,20 @@ module polygon_interpolator #(
   assign grad_y_addr1 = {pa, 2'd1};
   assign grad_y_addr2 = {pa, 2'd2};
   assign grad_y_addr3 = {pa, 2'd3};
+  assign bary_ctl_addr0 = pa;
+  assign bary_den_addr0 = pa;
+  assign bary_base_addr0 = {pa, 2'd0};
+  assign bary_base_addr1 = {pa, 2'd1};
+  assign bary_base_addr2 = {pa, 2'd2};
+  assign bary_base_addr3 = {pa, 2'd3};
+  assign bary_d0_addr0 = {pa, 2'd0};
+  assign bary_d0_addr1 = {pa, 2'd1};
+  assign bary_d0_addr2 = {pa, 2'd2};
+  assign bary_d0_addr3 = {pa, 2'd3};
+  assign bary_d2_addr0 = {pa, 2'd0};
+  assign bary_d2_addr1 = {pa, 2'd1};
+  assign bary_d2_addr2 = {pa, 2'd2};
+  assign bary_d2_addr3 = {pa, 2'd3};
 
   reg signed [C-1:0] px, py;
   reg signed [EW-1:0] ef[0:3], edx[0:3], edy[0:3];
@@ -169,6 +233,64 @@ module polygon_interpolator #(
     end
   endfunction
 
+  // Barycentric mode (BARY = 1). A weight: floor((e * 2^W - STRICT) / den) clamped to
+  // 0 ..= 2^W; e is an edge function with its bias added back (EW + 1 bits), den > 0.
+  localparam NW = EW + W + 2;  // the numerator, signed
+  localparam RW = AT + W + 3;  // base * 2^W + two products
+  localparam SB = ATTR_FRAC_BITS + W - OUT_FRAC_BITS;  // right shift of the rounding
+  localparam SBR = SB > 0 ? SB : 0;
+  localparam SBL = SB < 0 ? -SB : 0;
+  localparam WB = (RW + SBL > OW ? RW + SBL : OW) + 2;  // rounding carrier
+  localparam [WB-1:0] ONEB = 1;
+  localparam signed [WB-1:0] HALFB = SBR > 0 ? ONEB << (SBR > 0 ? SBR - 1 : 0) : 0;
+  localparam signed [WB-1:0] OMAXB = OUT_SIGNED ? (ONEB << (OW - 1)) - ONEB : (ONEB << OW) - ONEB;
+  localparam signed [WB-1:0] OMINB = OUT_SIGNED ? -(ONEB << (OW - 1)) : 0;
+  localparam [NW-1:0] TSTRICT = STRICT ? 1 : 0;
+  function [W:0] weight;
+    input signed [EW:0] e;
+    input [EW-1:0] den;
+    reg signed [NW-1:0] n;
+    reg [NW-1:0] dw, r;
+    integer i;
+    begin
+      n = ($signed({{(NW-EW-1){e[EW]}}, e}) <<< W) - $signed(TSTRICT);
+      dw = {{(NW-EW){1'b0}}, den};
+      weight = 0;
+      if (n[NW-1]) weight = 0;  // a negative weight: 0
+      else if (n >= (dw << W)) weight = 1 << W;  // the top quotient bit: the clamp
+      else begin
+        // W restoring rows: the remainder starts below den.
+        r = n >> W;
+        for (i = W - 1; i >= 0; i = i - 1) begin
+          r = (r << 1) | n[i];
+          if (r >= dw) begin
+            r = r - dw;
+            weight[i] = 1'b1;
+          end
+        end
+      end
+    end
+  endfunction
+  // base * 2^W + q0 * d0 + q2 * d2, rounded once (RND) to the output, saturating.
+  function [OW-1:0] outb;
+    input [AT-1:0] base;
+    input signed [AT:0] d0, d2;
+    input [W:0] q0, q2;
+    reg signed [RW-1:0] b, p0, p2, raw;
+    reg signed [WB-1:0] w;
+    begin
+      b = OUT_SIGNED ? {{(RW-AT){base[AT-1]}}, base} : {{(RW-AT){1'b0}}, base};
+      b = b <<< W;
+      p0 = $signed({1'b0, q0}) * d0;
+      p2 = $signed({1'b0, q2}) * d2;
+      raw = b + p0 + p2;
+      w = (($signed({{(WB-RW){raw[RW-1]}}, raw}) <<< SBL) + HALFB) >>> SBR;
+      if (w > OMAXB) w = OMAXB;
+      if (w < OMINB) w = OMINB;
+      outb = w[OW-1:0];
+    end
+  endfunction
+
   wire signed [EW-1:0] e_b0 = load ? ef_data0 : ef[0];
   wire signed [EW-1:0] edx_b0 = load ? ef_dx_data0 : edx[0];
   wire signed [EW-1:0] edy_b0 = load ? ef_dy_data0 : edy[0];
@@ -196,6 +318,55 @@ module polygon_interpolator #(
   wire signed [C-1:0] x_b = load ? pos_data0 : px;
   wire signed [C-1:0] y_b = load ? pos_data1 : py;
   wire [3:0] neg = {ef[3][EW-1], ef[2][EW-1], ef[1][EW-1], ef[0][EW-1]};
+
+  // The barycentric registers (loaded with the primitive) and outputs.
+  wire b_on;
+  wire [OW-1:0] bo0, bo1, bo2, bo3;
+  generate
+    if (BARY != 0) begin : g_bary
+      reg en, sel2;
+      reg signed [EW:0] bias0, bias2;
+      reg [EW-1:0] den;
+      reg [AT-1:0] base[0:3];
+      reg signed [AT:0] d0[0:3], d2[0:3];
+      always @(posedge clk)
+        if (ld) begin
+          {en, sel2} <= bary_ctl_data0[3:2];
+          bias2 <= bary_ctl_data0[1];
+          bias0 <= bary_ctl_data0[0];
+          den <= bary_den_data0;
+          base[0] <= bary_base_data0;
+          base[1] <= bary_base_data1;
+          base[2] <= bary_base_data2;
+          base[3] <= bary_base_data3;
+          d0[0] <= bary_d0_data0;
+          d0[1] <= bary_d0_data1;
+          d0[2] <= bary_d0_data2;
+          d0[3] <= bary_d0_data3;
+          d2[0] <= bary_d2_data0;
+          d2[1] <= bary_d2_data1;
+          d2[2] <= bary_d2_data2;
+          d2[3] <= bary_d2_data3;
+        end
+      // Stage 2: the weights from the stepped edge functions.
+      wire signed [EW:0] e0 = $signed({ef[1][EW-1], ef[1]}) + bias0;
+      wire signed [EW-1:0] e2r = sel2 ? ef[2] : ef[0];
+      wire signed [EW:0] e2 = $signed({e2r[EW-1], e2r}) + bias2;
+      wire [W:0] q0 = weight(e0, den);
+      wire [W:0] q2 = weight(e2, den);
+      assign b_on = en;
+      assign bo0 = outb(base[0], d0[0], d2[0], q0, q2);
+      assign bo1 = outb(base[1], d0[1], d2[1], q0, q2);
+      assign bo2 = outb(base[2], d0[2], d2[2], q0, q2);
+      assign bo3 = outb(base[3], d0[3], d2[3], q0, q2);
+    end else begin : g_plane
+      assign b_on = 1'b0;
+      assign bo0 = 0;
+      assign bo1 = 0;
+      assign bo2 = 0;
+      assign bo3 = 0;
+    end
+  endgenerate
 
   always @(posedge clk) begin
     if (rst) begin
@@ -239,9 +410,9 @@ module polygon_interpolator #(
     x <= px;
     y <= py;
     is_inside <= neg == 0;
-      attr0 <= outq(acc[0]);
-      attr1 <= outq(acc[1]);
-      attr2 <= outq(acc[2]);
-      attr3 <= outq(acc[3]);
+    attr0 <= b_on ? bo0 : outq(acc[0]);
+    attr1 <= b_on ? bo1 : outq(acc[1]);
+    attr2 <= b_on ? bo2 : outq(acc[2]);
+    attr3 <= b_on ? bo3 : outq(acc[3]);
   end
 endmodule

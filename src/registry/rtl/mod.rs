@@ -29,6 +29,7 @@ use super::seeded;
 
 mod projective_texcoord;
 mod shadow_compare;
+pub use polygon_interpolator::{polygon_interpolator_mode_sets, polygon_interpolator_mode_vectors};
 pub use shadow_compare::shadow_compare_mode_sets;
 mod specular_lookup;
 mod texture_sampler;

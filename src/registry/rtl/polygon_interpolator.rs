@@ -6,13 +6,19 @@
 //! state (the setup's `PolyState`) from its read ports, one table entry per primitive
 //! in order. The setup itself (plane equations, divisions) is the model's: the Verilog
 //! is the walker. Implemented: 4 attributes, WRAP accumulators, RND output rounding.
+//!
+//! The barycentric mode (`barycentric: Some(..)`, the Verilog's `BARY = 1`) has its
+//! own sets ([`polygon_interpolator_mode_sets`]): several weight widths, strict and
+//! floor, at the default and narrow widths. A triangle's mode registers (`BaryRegs`)
+//! are more read ports (bary_ctl: {en, sel2, bias2, bias0}, bary_den, and per
+//! attribute bary_base, bary_d0, bary_d2); a parallelogram's entry has en = 0.
 
 use super::{Field, RomPort, RtlConfig, VectorSet};
 use crate::registry::seeded;
 use rand::Rng;
 use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::polygon_interpolator::{
-    Move, PolyState, PolygonInterpolatorConfig, Vertex, EDGES,
+    Barycentric, Move, PolyState, PolygonInterpolatorConfig, Vertex, EDGES,
 };
 use rtl_model::{Counters, Unit};
 
@@ -54,7 +60,75 @@ pub(super) fn polygon_interpolator_vectors(
     count: usize,
     seed: u64,
 ) -> Result<VectorSet, String> {
-    let cfg = config_of(config);
+    vectors_at(config_of(config), config, count, seed)
+}
+
+/// The barycentric mode's sets, each its own tag: at the default widths w = 8 strict
+/// (the NV2A's), w = 8 floor, w = 16 strict and w = 1 floor; at the narrow widths
+/// w = 1 strict, w = 3 floor, w = 5 strict and w = 12 floor, and w = 1 floor with 4
+/// output fraction bits (more than the attributes' 2 + w: the rounding shifts left).
+/// Triangles of both windings and parallelograms (which keep their planes), as in the
+/// configurations' sets.
+pub fn polygon_interpolator_mode_sets(count: usize, seed: u64) -> Result<Vec<VectorSet>, String> {
+    let modes = [
+        (RtlConfig::Default, 8, true, None),
+        (RtlConfig::Default, 8, false, None),
+        (RtlConfig::Default, 16, true, None),
+        (RtlConfig::Default, 1, false, None),
+        (RtlConfig::Narrow, 1, true, None),
+        (RtlConfig::Narrow, 3, false, None),
+        (RtlConfig::Narrow, 5, true, None),
+        (RtlConfig::Narrow, 12, false, None),
+        (RtlConfig::Narrow, 1, false, Some(4)),
+    ];
+    modes
+        .into_iter()
+        .map(|(config, w, strict, out_frac)| {
+            let b = Barycentric {
+                weight_bits: w,
+                strict,
+            };
+            let mut v = mode_vectors_at(b, config, out_frac, count, seed)?;
+            let of = out_frac.map_or(String::new(), |f| format!("_of{f}"));
+            let kind = if strict { "strict" } else { "floor" };
+            v.variant = Some(format!("bary_w{w}_{kind}{of}"));
+            Ok(v)
+        })
+        .collect()
+}
+
+/// The vectors of the barycentric mode `b` at the widths of `config` (no variant tag).
+pub fn polygon_interpolator_mode_vectors(
+    b: Barycentric,
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    mode_vectors_at(b, config, None, count, seed)
+}
+
+fn mode_vectors_at(
+    b: Barycentric,
+    config: RtlConfig,
+    out_frac: Option<u32>,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
+    let base = config_of(config);
+    let cfg = PolygonInterpolatorConfig {
+        barycentric: Some(b),
+        out_frac_bits: out_frac.unwrap_or(base.out_frac_bits),
+        ..base
+    };
+    vectors_at(cfg, config, count, seed)
+}
+
+fn vectors_at(
+    cfg: PolygonInterpolatorConfig,
+    config: RtlConfig,
+    count: usize,
+    seed: u64,
+) -> Result<VectorSet, String> {
     let u = cfg.build().map_err(|e| e.to_string())?;
     let (c, s) = (cfg.coord_int_bits, cfg.subpixel_bits);
     let ew = u.edge_bits();
@@ -134,7 +208,7 @@ pub(super) fn polygon_interpolator_vectors(
         }
         w
     };
-    let roms = vec![
+    let mut roms = vec![
         RomPort {
             name: "pos",
             ports: 2,
@@ -178,6 +252,51 @@ pub(super) fn polygon_interpolator_vectors(
             words: table(ATTRS, &|st, i| mask(st.grad_y[i], aw)),
         },
     ];
+    if cfg.barycentric.is_some() {
+        let at = cfg.attr_fmt.width();
+        // Whether the start state is a barycentric triangle's, and its registers.
+        let regs = |st: &PolyState| st.bary.unwrap_or_default();
+        let ctl = |st: &PolyState| -> u64 {
+            let r = regs(st);
+            let en = u64::from(st.bary.is_some());
+            // q0's edge is always edge 1; q2's is edge 0 or 2 (sel2) by the winding.
+            debug_assert!(st.bary.is_none() || r.edge_of[0] == 1);
+            let sel2 = u64::from(r.edge_of[1] == 2);
+            (en << 3) | (sel2 << 2) | ((r.bias[1] as u64 & 1) << 1) | (r.bias[0] as u64 & 1)
+        };
+        roms.extend([
+            RomPort {
+                name: "bary_ctl",
+                ports: 1,
+                width: 4,
+                words: table(1, &|st, _| ctl(st)),
+            },
+            RomPort {
+                name: "bary_den",
+                ports: 1,
+                width: ew,
+                words: table(1, &|st, _| mask(regs(st).denom, ew)),
+            },
+            RomPort {
+                name: "bary_base",
+                ports: ATTRS as u32,
+                width: at,
+                words: table(ATTRS, &|st, i| mask(regs(st).base[i], at)),
+            },
+            RomPort {
+                name: "bary_d0",
+                ports: ATTRS as u32,
+                width: at + 1,
+                words: table(ATTRS, &|st, i| mask(regs(st).delta[0][i], at + 1)),
+            },
+            RomPort {
+                name: "bary_d2",
+                ports: ATTRS as u32,
+                width: at + 1,
+                words: table(ATTRS, &|st, i| mask(regs(st).delta[1][i], at + 1)),
+            },
+        ]);
+    }
     let t = u.timing();
     let timed: Vec<(PolyState, &[Move])> = starts
         .iter()
@@ -199,6 +318,11 @@ pub(super) fn polygon_interpolator_vectors(
             ("OUT_FRAC_BITS", cfg.out_frac_bits as u64),
             ("OUT_SIGNED", u64::from(cfg.attr_fmt.signed)),
             ("PRIM_BITS", pb as u64),
+            ("BARY", u64::from(cfg.barycentric.is_some())),
+            ("W", cfg.barycentric.map_or(8, |b| b.weight_bits) as u64),
+            ("STRICT", cfg.barycentric.map_or(1, |b| u64::from(b.strict))),
+            ("ATTR_INT_BITS", cfg.attr_fmt.int_bits as u64),
+            ("ATTR_FRAC_BITS", cfg.attr_fmt.frac_bits as u64),
         ],
         in_fields: vec![
             Field {
