@@ -212,7 +212,9 @@ fn the_progress_bar_reaches_its_length_and_changes_nothing() {
     );
 }
 
-/// The registry unit a counters or elaboration row names first: `objects[0]:
+/// The registry unit a counters or elaboration row names: the chip's unit of the
+/// instance the row starts with (`frame::chip::INSTANCES`), else the first registry
+/// unit it names: `objects[0]:
 /// cube_map_address (normalisation cube)` → `cube_map_address`, `objects[0]: factor
 /// textures (texture_sampler × modulate)` → `texture_sampler`.
 fn unit_of(row: &str) -> String {
@@ -221,6 +223,18 @@ fn unit_of(row: &str) -> String {
         .map(|s| s.name.to_string())
         .collect();
     let r = row.split_once(": ").map_or(row, |(_, r)| r);
+    // An instance the chip's own table names (`additive_blend (J buffer)` is `blend`'s
+    // additive datapath): the longest instance name the row starts with, as a whole word.
+    let instance = glare_pipeline::frame::chip::INSTANCES
+        .iter()
+        .filter(|(i, _, _)| {
+            r.strip_prefix(i)
+                .is_some_and(|rest| !rest.starts_with(|c: char| c.is_alphanumeric() || c == '_'))
+        })
+        .max_by_key(|(i, _, _)| i.len());
+    if let Some((_, unit, _)) = instance {
+        return unit.to_string();
+    }
     r.split(|c: char| !(c.is_alphanumeric() || c == '_'))
         .find(|t| names.iter().any(|n| n == t))
         .unwrap_or_else(|| panic!("{row}: names no registry unit"))
