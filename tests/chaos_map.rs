@@ -485,15 +485,7 @@ fn report() {
         println!("    {part}: {g:.0}");
     }
     // The largest parts, quoted in thousands.
-    let kilo = |name: &str| {
-        let g = c
-            .breakdown
-            .iter()
-            .find(|(p, _)| p.starts_with(name))
-            .unwrap_or_else(|| panic!("no cost part {name:?}"))
-            .1;
-        format!("{:.1} k", g / 1000.0)
-    };
+    let kilo = |name: &str| common::docs::kilo(&c.breakdown, name);
     let largest = format!(
         "log2 and exp2 interpolators {} each, the stage registers {}, z×Δ {}, (S − a)×1/(1 − a) {};",
         kilo("log2 interpolator"),

@@ -460,15 +460,7 @@ fn report() {
     }
     let u = GaussianNoise::geforce();
     let c = u.cost();
-    let kilo = |name: &str| {
-        let g = c
-            .breakdown
-            .iter()
-            .find(|(p, _)| p.starts_with(name))
-            .unwrap_or_else(|| panic!("no cost part {name:?}"))
-            .1;
-        format!("{:.1} k", g / 1000.0)
-    };
+    let kilo = |name: &str| common::docs::kilo(&c.breakdown, name);
     assert_quotes(
         &units,
         &format!(

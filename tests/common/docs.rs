@@ -66,3 +66,14 @@ pub fn assert_quotes(section: &str, quote: &str, where_: &str) {
          update the docs from the printed figures (`-- --nocapture`)"
     );
 }
+
+/// The gates of the cost part whose name starts with `name`, in thousands as the docs
+/// quote the largest parts ("5.7 k").
+pub fn kilo(breakdown: &[(String, f64)], name: &str) -> String {
+    let g = breakdown
+        .iter()
+        .find(|(p, _)| p.starts_with(name))
+        .unwrap_or_else(|| panic!("no cost part {name:?}"))
+        .1;
+    format!("{:.1} k", g / 1000.0)
+}
