@@ -18,7 +18,7 @@ use crate::registry::seeded;
 use rand::Rng;
 use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::polygon_interpolator::{
-    Barycentric, Move, PolyState, PolygonInterpolatorConfig, Vertex, EDGES,
+    Barycentric, Move, PolyState, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, EDGES,
 };
 use rtl_model::{Counters, Unit};
 
@@ -130,178 +130,25 @@ fn vectors_at(
     seed: u64,
 ) -> Result<VectorSet, String> {
     let u = cfg.build().map_err(|e| e.to_string())?;
-    let (c, s) = (cfg.coord_int_bits, cfg.subpixel_bits);
+    let c = cfg.coord_int_bits;
     let ew = u.edge_bits();
-    let aw = cfg.acc_int_bits + cfg.acc_frac_bits;
-    let mut rng = seeded(seed);
-    let mut ctr = Counters::default();
-    // Primitive centres keep a margin from the position range; sizes up to `span` px.
-    let half = 1i64 << (c - 1);
-    let span: i64 = if c > 8 { 24 } else { 6 };
-    let sub = 1i64 << s;
-    let aw_attr = cfg.attr_fmt.width();
-    let mut starts: Vec<PolyState> = Vec::new();
-    // Each primitive's moves, for timing the batch kernel (`units --rtl-speed`).
-    let mut walks: Vec<Vec<Move>> = Vec::new();
-    let mut stimulus = Vec::with_capacity(count);
-    let mut expected = Vec::with_capacity(count);
-    let mut out_f: Vec<Field> = Vec::new();
-    while stimulus.len() < count {
-        let cx = rng.random_range(-half + span..half - span) * sub;
-        let cy = rng.random_range(-half + span..half - span) * sub;
-        let mut vert = || {
-            let mut attrs = [0i64; 16];
-            for a in attrs.iter_mut().take(ATTRS) {
-                *a = rng.random_range(0..1i64 << aw_attr);
-            }
-            Vertex {
-                x: cx + rng.random_range(-span * sub / 2..=span * sub / 2),
-                y: cy + rng.random_range(-span * sub / 2..=span * sub / 2),
-                attrs,
-            }
-        };
-        let v = [vert(), vert(), vert()];
-        let setup = if rng.random_range(0..4) == 0 {
-            match u.setup_parallelogram(&v, &mut ctr) {
-                Ok(p) => p,
-                Err(_) => continue,
-            }
-        } else {
-            u.setup_triangle(&v, &mut ctr)
-        };
-        let moves = setup.moves();
-        if moves.is_empty() {
-            continue;
-        }
-        let mut st = setup.state.clone();
-        starts.push(setup.state);
-        walks.push(Vec::new());
-        for (i, mv) in moves.iter().enumerate() {
-            if stimulus.len() == count {
-                break;
-            }
-            let load = u64::from(i == 0);
-            debug_assert!(i > 0 || *mv == Move::Hold);
-            stimulus.push(format!("{:x}", (load << 2) | mv.code()));
-            if let Some(w) = walks.last_mut() {
-                w.push(*mv);
-            }
-            let o = u.kernel(&mut st, mv, &mut ctr);
-            let mut sig = u.out_signals(&o);
-            // The Verilog's port for `inside` is `is_inside` (a SystemVerilog keyword).
-            sig[2].name = "is_inside";
-            if out_f.is_empty() {
-                out_f = super::fields(&sig);
-            }
-            expected.push(super::pack_hex(&sig));
-        }
-    }
+    let walked = walk_primitives(&u, &cfg, count, seed);
     // Tables: 2^PB primitives (one spare: the address runs one ahead of the loads).
-    let pb = (64 - (starts.len() as u64).leading_zeros()).max(1);
-    let n = 1usize << pb;
-    let table = |per: usize, f: &dyn Fn(&PolyState, usize) -> u64| -> Vec<u64> {
-        let mut w = vec![0u64; n * per];
-        for (p, st) in starts.iter().enumerate() {
-            for i in 0..per {
-                w[p * per + i] = f(st, i);
-            }
-        }
-        w
+    let pb = (64 - (walked.starts.len() as u64).leading_zeros()).max(1);
+    let table = PrimTable {
+        starts: &walked.starts,
+        n: 1usize << pb,
     };
-    let mut roms = vec![
-        RomPort {
-            name: "pos",
-            ports: 2,
-            width: c,
-            words: table(2, &|st, i| mask(if i == 0 { st.x } else { st.y }, c)),
-        },
-        RomPort {
-            name: "ef",
-            ports: EDGES as u32,
-            width: ew,
-            words: table(EDGES, &|st, i| mask(st.edge[i], ew)),
-        },
-        RomPort {
-            name: "ef_dx",
-            ports: EDGES as u32,
-            width: ew,
-            words: table(EDGES, &|st, i| mask(st.edge_dx[i], ew)),
-        },
-        RomPort {
-            name: "ef_dy",
-            ports: EDGES as u32,
-            width: ew,
-            words: table(EDGES, &|st, i| mask(st.edge_dy[i], ew)),
-        },
-        RomPort {
-            name: "acc",
-            ports: ATTRS as u32,
-            width: aw,
-            words: table(ATTRS, &|st, i| mask(st.acc[i], aw)),
-        },
-        RomPort {
-            name: "grad_x",
-            ports: ATTRS as u32,
-            width: aw,
-            words: table(ATTRS, &|st, i| mask(st.grad_x[i], aw)),
-        },
-        RomPort {
-            name: "grad_y",
-            ports: ATTRS as u32,
-            width: aw,
-            words: table(ATTRS, &|st, i| mask(st.grad_y[i], aw)),
-        },
-    ];
+    let mut roms = state_roms(&table, c, ew, cfg.acc_int_bits + cfg.acc_frac_bits);
     if cfg.barycentric.is_some() {
-        let at = cfg.attr_fmt.width();
-        // Whether the start state is a barycentric triangle's, and its registers.
-        let regs = |st: &PolyState| st.bary.unwrap_or_default();
-        let ctl = |st: &PolyState| -> u64 {
-            let r = regs(st);
-            let en = u64::from(st.bary.is_some());
-            // q0's edge is always edge 1; q2's is edge 0 or 2 (sel2) by the winding.
-            debug_assert!(st.bary.is_none() || r.edge_of[0] == 1);
-            let sel2 = u64::from(r.edge_of[1] == 2);
-            (en << 3) | (sel2 << 2) | ((r.bias[1] as u64 & 1) << 1) | (r.bias[0] as u64 & 1)
-        };
-        roms.extend([
-            RomPort {
-                name: "bary_ctl",
-                ports: 1,
-                width: 4,
-                words: table(1, &|st, _| ctl(st)),
-            },
-            RomPort {
-                name: "bary_den",
-                ports: 1,
-                width: ew,
-                words: table(1, &|st, _| mask(regs(st).denom, ew)),
-            },
-            RomPort {
-                name: "bary_base",
-                ports: ATTRS as u32,
-                width: at,
-                words: table(ATTRS, &|st, i| mask(regs(st).base[i], at)),
-            },
-            RomPort {
-                name: "bary_d0",
-                ports: ATTRS as u32,
-                width: at + 1,
-                words: table(ATTRS, &|st, i| mask(regs(st).delta[0][i], at + 1)),
-            },
-            RomPort {
-                name: "bary_d2",
-                ports: ATTRS as u32,
-                width: at + 1,
-                words: table(ATTRS, &|st, i| mask(regs(st).delta[1][i], at + 1)),
-            },
-        ]);
+        roms.extend(barycentric_roms(&table, ew, cfg.attr_fmt.width()));
     }
     let t = u.timing();
-    let timed: Vec<(PolyState, &[Move])> = starts
+    let timed: Vec<(PolyState, &[Move])> = walked
+        .starts
         .iter()
         .cloned()
-        .zip(walks.iter().map(Vec::as_slice))
+        .zip(walked.walks.iter().map(Vec::as_slice))
         .collect();
     let model_batch_secs = super::time_batch_walks(&u, &timed);
     Ok(VectorSet {
@@ -334,15 +181,219 @@ fn vectors_at(
                 width: 2,
             },
         ],
-        out_fields: out_f,
+        out_fields: walked.out_fields,
         exhaustive: false,
         stateless: false,
         model_batch_secs,
-        stimulus,
-        expected,
+        stimulus: walked.stimulus,
+        expected: walked.expected,
         gates_model: u.cost().gates_nand2(),
         roms,
         rams: Vec::new(),
         variant: None,
     })
+}
+
+/// Random small primitives walked through the kernel: their start states, each one's
+/// moves (for timing the batch kernel, `units --rtl-speed`), and the packed stimulus
+/// and expected words.
+struct Walked {
+    starts: Vec<PolyState>,
+    walks: Vec<Vec<Move>>,
+    stimulus: Vec<String>,
+    expected: Vec<String>,
+    out_fields: Vec<Field>,
+}
+
+fn walk_primitives(
+    u: &PolygonInterpolator,
+    cfg: &PolygonInterpolatorConfig,
+    count: usize,
+    seed: u64,
+) -> Walked {
+    let (c, s) = (cfg.coord_int_bits, cfg.subpixel_bits);
+    let mut rng = seeded(seed);
+    let mut ctr = Counters::default();
+    // Primitive centres keep a margin from the position range; sizes up to `span` px.
+    let half = 1i64 << (c - 1);
+    let span: i64 = if c > 8 { 24 } else { 6 };
+    let sub = 1i64 << s;
+    let aw_attr = cfg.attr_fmt.width();
+    let mut w = Walked {
+        starts: Vec::new(),
+        walks: Vec::new(),
+        stimulus: Vec::with_capacity(count),
+        expected: Vec::with_capacity(count),
+        out_fields: Vec::new(),
+    };
+    while w.stimulus.len() < count {
+        let cx = rng.random_range(-half + span..half - span) * sub;
+        let cy = rng.random_range(-half + span..half - span) * sub;
+        let mut vert = || {
+            let mut attrs = [0i64; 16];
+            for a in attrs.iter_mut().take(ATTRS) {
+                *a = rng.random_range(0..1i64 << aw_attr);
+            }
+            Vertex {
+                x: cx + rng.random_range(-span * sub / 2..=span * sub / 2),
+                y: cy + rng.random_range(-span * sub / 2..=span * sub / 2),
+                attrs,
+            }
+        };
+        let v = [vert(), vert(), vert()];
+        let setup = if rng.random_range(0..4) == 0 {
+            match u.setup_parallelogram(&v, &mut ctr) {
+                Ok(p) => p,
+                Err(_) => continue,
+            }
+        } else {
+            u.setup_triangle(&v, &mut ctr)
+        };
+        let moves = setup.moves();
+        if moves.is_empty() {
+            continue;
+        }
+        let mut st = setup.state.clone();
+        w.starts.push(setup.state);
+        w.walks.push(Vec::new());
+        for (i, mv) in moves.iter().enumerate() {
+            if w.stimulus.len() == count {
+                break;
+            }
+            let load = u64::from(i == 0);
+            debug_assert!(i > 0 || *mv == Move::Hold);
+            w.stimulus.push(format!("{:x}", (load << 2) | mv.code()));
+            if let Some(walk) = w.walks.last_mut() {
+                walk.push(*mv);
+            }
+            let o = u.kernel(&mut st, mv, &mut ctr);
+            let mut sig = u.out_signals(&o);
+            // The Verilog's port for `inside` is `is_inside` (a SystemVerilog keyword).
+            sig[2].name = "is_inside";
+            if w.out_fields.is_empty() {
+                w.out_fields = super::fields(&sig);
+            }
+            w.expected.push(super::pack_hex(&sig));
+        }
+    }
+    w
+}
+
+/// The primitives' start states as ROM words: `n` slots (a power of two), `per` words
+/// each.
+struct PrimTable<'a> {
+    starts: &'a [PolyState],
+    n: usize,
+}
+
+impl PrimTable<'_> {
+    fn words(&self, per: usize, f: impl Fn(&PolyState, usize) -> u64) -> Vec<u64> {
+        let mut w = vec![0u64; self.n * per];
+        for (p, st) in self.starts.iter().enumerate() {
+            for i in 0..per {
+                w[p * per + i] = f(st, i);
+            }
+        }
+        w
+    }
+}
+
+/// A ROM port of `ports` read ports of `width`-bit words.
+fn port(name: &'static str, ports: usize, width: u32, words: Vec<u64>) -> RomPort {
+    RomPort {
+        name,
+        ports: ports as u32,
+        width,
+        words,
+    }
+}
+
+/// The walker's registers: position (c bits), edge functions and their steps (ew),
+/// attribute accumulators and gradients (aw).
+fn state_roms(t: &PrimTable, c: u32, ew: u32, aw: u32) -> Vec<RomPort> {
+    vec![
+        port(
+            "pos",
+            2,
+            c,
+            t.words(2, |st, i| mask(if i == 0 { st.x } else { st.y }, c)),
+        ),
+        port(
+            "ef",
+            EDGES,
+            ew,
+            t.words(EDGES, |st, i| mask(st.edge[i], ew)),
+        ),
+        port(
+            "ef_dx",
+            EDGES,
+            ew,
+            t.words(EDGES, |st, i| mask(st.edge_dx[i], ew)),
+        ),
+        port(
+            "ef_dy",
+            EDGES,
+            ew,
+            t.words(EDGES, |st, i| mask(st.edge_dy[i], ew)),
+        ),
+        port(
+            "acc",
+            ATTRS,
+            aw,
+            t.words(ATTRS, |st, i| mask(st.acc[i], aw)),
+        ),
+        port(
+            "grad_x",
+            ATTRS,
+            aw,
+            t.words(ATTRS, |st, i| mask(st.grad_x[i], aw)),
+        ),
+        port(
+            "grad_y",
+            ATTRS,
+            aw,
+            t.words(ATTRS, |st, i| mask(st.grad_y[i], aw)),
+        ),
+    ]
+}
+
+/// The barycentric mode's per-triangle registers (attributes `at` bits wide): the
+/// control word, the area, the base vertex's attributes and the two deltas.
+fn barycentric_roms(t: &PrimTable, ew: u32, at: u32) -> Vec<RomPort> {
+    let regs = |st: &PolyState| st.bary.unwrap_or_default();
+    let ctl = |st: &PolyState| -> u64 {
+        let r = regs(st);
+        let en = u64::from(st.bary.is_some());
+        // q0's edge is always edge 1; q2's is edge 0 or 2 (sel2) by the winding.
+        debug_assert!(st.bary.is_none() || r.edge_of[0] == 1);
+        let sel2 = u64::from(r.edge_of[1] == 2);
+        (en << 3) | (sel2 << 2) | ((r.bias[1] as u64 & 1) << 1) | (r.bias[0] as u64 & 1)
+    };
+    vec![
+        port("bary_ctl", 1, 4, t.words(1, |st, _| ctl(st))),
+        port(
+            "bary_den",
+            1,
+            ew,
+            t.words(1, |st, _| mask(regs(st).denom, ew)),
+        ),
+        port(
+            "bary_base",
+            ATTRS,
+            at,
+            t.words(ATTRS, |st, i| mask(regs(st).base[i], at)),
+        ),
+        port(
+            "bary_d0",
+            ATTRS,
+            at + 1,
+            t.words(ATTRS, |st, i| mask(regs(st).delta[0][i], at + 1)),
+        ),
+        port(
+            "bary_d2",
+            ATTRS,
+            at + 1,
+            t.words(ATTRS, |st, i| mask(regs(st).delta[1][i], at + 1)),
+        ),
+    ]
 }
