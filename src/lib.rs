@@ -1,5 +1,6 @@
 //! The system around the hardware: f64 references, scenes, pipelines, reports, CLI.
 
+pub mod chip;
 pub mod cli;
 pub mod conformance;
 pub mod frame;

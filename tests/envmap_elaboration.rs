@@ -4,13 +4,13 @@
 
 use std::sync::OnceLock;
 
+use glare_pipeline::chip::GpuModel;
 use glare_pipeline::pipeline::envmap::render::{
     quick_map, render_frame, render_object_with, Image, LambdaSpec, Lookup, Object, RenderOptions,
 };
 use glare_pipeline::pipeline::envmap::slice::{default_face_side, slice_from_map};
 use glare_pipeline::pipeline::envmap::timing::predict_frame;
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
-use glare_pipeline::pipeline::shafts::throughput::GpuModel;
 use glare_pipeline::scene::envmap::EnvMap;
 
 const SIZE: (u32, u32) = (64, 64);

@@ -1,10 +1,10 @@
 //! The shafts pipeline end to end on small frames: determinism whatever the thread
 //! count, agreement with the ray-marched reference, elaboration.
 
+use glare_pipeline::chip::{predict, GpuModel};
 use glare_pipeline::pipeline::shafts::frame::render_frame;
 use glare_pipeline::pipeline::shafts::host::prepare_scene;
 use glare_pipeline::pipeline::shafts::prepare::DEFAULT_EXPOSURE;
-use glare_pipeline::pipeline::shafts::throughput::{predict, GpuModel};
 use glare_pipeline::reference::raymarch::{raymarch_image, to_levels};
 use glare_pipeline::report::metrics::error_stats;
 use glare_pipeline::scene::builtin::builtin;

@@ -17,9 +17,9 @@
 //! (as in the shading pipeline's scene pass). The glare conditions get, per object,
 //! its brightest specular fragment *after* this scaling (an unlit sheen never counts).
 
+use crate::chip::{PassKind, PassStats};
 use crate::pipeline::shading::scene_pass::{highlight, shade_objects, FoundHighlight};
 use crate::pipeline::shafts::frame::Prepared;
-use crate::pipeline::time_model::{PassKind, PassStats};
 use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
 use crate::scene::camera::{vec3, CameraView};

@@ -6,9 +6,9 @@
 //! (saturating) to the object's shading.
 
 use super::objects::Reflection;
+use crate::chip::{PassKind, PassStats};
 use crate::pipeline::envmap::render::{render_geometry, render_geometry_with_truth};
 use crate::pipeline::envmap::scene_render::{build_map, render_options};
-use crate::pipeline::time_model::{PassKind, PassStats};
 use crate::report::elaboration::Elaborated;
 use crate::scene::camera::CameraView;
 use crate::scene::format::Scene;

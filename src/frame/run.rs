@@ -5,12 +5,12 @@
 use super::glare_link::{self, Linked};
 use super::objects::{shaded_objects_pass, shading_stats, ShadedObjects};
 use super::plan::{plan, Pass, Plan, Step};
+use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::render_and_predict_over;
 use crate::pipeline::glare::frame::GlareFrame;
 use crate::pipeline::glare::throughput::GlarePrediction;
 use crate::pipeline::shafts::frame::{FrameResult, ShaftsFrame, ShaftsPass};
-use crate::pipeline::time_model::{pass_seconds, GpuModel, PassStats};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use rtl_model::{ConfigError, Counters};

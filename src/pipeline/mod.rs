@@ -6,4 +6,3 @@ pub mod raster;
 pub mod shading;
 pub mod shafts;
 pub mod test_scene;
-pub mod time_model;

@@ -47,7 +47,7 @@ use super::render::{
 };
 use super::timing::{predict_frame, TimingRow};
 use super::voxmap::VoxelMap;
-use crate::pipeline::time_model::GpuModel;
+use crate::chip::GpuModel;
 use crate::reference::envmap_prefilter::PrefilterParams;
 use crate::scene::envmap::EnvMap;
 use std::fmt::Write as _;

@@ -25,7 +25,7 @@ use super::render::{
 };
 use super::timing::{predict_frame, FramePrediction};
 use super::voxmap::VoxelMap;
-use crate::pipeline::time_model::GpuModel;
+use crate::chip::GpuModel;
 use crate::reference::envmap_prefilter::{PrefilterParams, Weighting, THESIS_PYRAMID_LEVELS};
 use crate::scene::builtin::builtin;
 use crate::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;

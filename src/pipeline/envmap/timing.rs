@@ -1,7 +1,7 @@
 //! Frame timing of the environment-map renderer (the thesis' Table 6): the
 //! wall time of the bit-accurate model, and the time predicted for GeForce3-class
 //! hardware from the renderer's counters ([`FrameInfo`]), in the style of the shafts'
-//! throughput model (`crate::pipeline::time_model`, [`GpuModel::geforce3`]).
+//! throughput model (`crate::chip`, [`GpuModel::geforce3`]).
 //!
 //! # The model (every assumption a named constant or a `GpuModel` field)
 //!
@@ -32,7 +32,7 @@
 use serde::Serialize;
 
 use super::render::FrameInfo;
-use crate::pipeline::time_model::GpuModel;
+use crate::chip::GpuModel;
 
 /// Bytes per texel in video memory: RGB8 is stored as X8R8G8B8 on GeForce3.
 pub const TEXEL_BYTES: u64 = 4;

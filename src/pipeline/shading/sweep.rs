@@ -26,7 +26,7 @@
 //! ones, a bad value an error naming `values` and the unit's field.
 //!
 //! `predicted_hw_seconds` is the GeForce3 fill time of the shaded fragments
-//! ([`crate::pipeline::time_model::pass_seconds`] with the textures the path
+//! ([`crate::chip::pass_seconds`] with the textures the path
 //! reads per fragment and no memory traffic: at these texel widths the pass is fill
 //! bound) or, for `shading-vertex`, vertices × II at the GeForce3 clock. The widths
 //! change it only through the textures a path reads (or the unit's II).
@@ -45,7 +45,7 @@ use super::specular::{
 use super::sphere::SphereView;
 use super::squaring::SquaringChain;
 use super::vertex_float::{exact_levels, measure, measure_against, one_light, sphere_vertices};
-use crate::pipeline::time_model::{pass_seconds, GpuModel, PassKind, PassStats};
+use crate::chip::{pass_seconds, GpuModel, PassKind, PassStats};
 use crate::report::metrics::error_stats_masked;
 use crate::report::progress::try_map_with_progress;
 use crate::report::resume::Journal;

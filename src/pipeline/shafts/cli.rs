@@ -5,7 +5,7 @@
 use super::frame::{render_frame, FrameResult};
 use super::host::prepare_scene;
 use super::prepare::DEFAULT_EXPOSURE;
-use super::throughput::{predict, GpuModel, Prediction};
+use crate::chip::{predict, GpuModel, Prediction};
 use crate::reference::raymarch::{raymarch_image, to_levels};
 pub use crate::report::image_out::levels_png;
 use crate::scene::format::Scene;

@@ -80,7 +80,7 @@ pub struct Prepared {
 
 pub use crate::report::elaboration::Elaborated;
 
-pub use crate::pipeline::time_model::{PassKind, PassStats};
+pub use crate::chip::{PassKind, PassStats};
 
 /// Cumulative traffic over every unit's counters so far (to split it per pass).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -11,5 +11,4 @@ pub mod prepare;
 pub mod reproduce;
 pub mod sweep;
 pub mod tables;
-pub mod throughput;
 pub mod view;

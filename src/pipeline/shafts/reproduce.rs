@@ -3,8 +3,8 @@
 
 use super::cli::{levels_png, reference_image, render_scene};
 use super::frame::FrameResult;
-use super::throughput::split_objects_shafts;
-use super::throughput::Prediction;
+use crate::chip::split_objects_shafts;
+use crate::chip::Prediction;
 use crate::report::csv_out::write_csv;
 use crate::report::metrics::{error_stats, error_stats_at, representative_pixels, rms_percent};
 use crate::report::plot::{line_plot, Axis, PlotSpec, Series};
