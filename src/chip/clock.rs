@@ -78,6 +78,42 @@ impl PassTiming {
     }
 }
 
+/// One pass of a frame, clocked, beside its roofline prediction.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct NamedPassTiming {
+    /// The frame's pass name (as `render --plan` lists it).
+    pub pass: String,
+    pub timing: PassTiming,
+    /// The roofline's seconds for the same pass (the cross-check).
+    pub roofline_seconds: f64,
+}
+
+/// A frame's clocked timing.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct FrameTiming {
+    /// "clocked" or "sampled".
+    pub mode: String,
+    /// The chip preset's name.
+    pub chip: String,
+    pub clock_hz: f64,
+    pub passes: Vec<NamedPassTiming>,
+    /// In sampled mode: the estimated relative error of the frame's cycles (one
+    /// standard error over the sampled tiles), else `None`.
+    pub sampling_error: Option<f64>,
+}
+
+impl FrameTiming {
+    /// Clocks over every pass.
+    pub fn cycles_total(&self) -> u64 {
+        self.passes.iter().map(|p| p.timing.cycles).sum()
+    }
+
+    /// The frame's clocked seconds at the chip's clock.
+    pub fn clocked_seconds(&self) -> f64 {
+        self.cycles_total() as f64 / self.clock_hz
+    }
+}
+
 /// Clock one pass's work on a chip. `window` (clocks relative to the pass's start)
 /// asks for the chip-level signals over that range.
 pub fn clock_pass(

@@ -73,6 +73,27 @@ pub struct MemoryConfig {
     pub pages: Option<DramPages>,
 }
 
+/// What a pixel-pipe stage is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum StageKind {
+    /// A unit that takes a fragment every `ii` clocks and hands it on `latency` clocks
+    /// later.
+    Plain,
+    /// The texture units: lookups through the texture cache, waiting for misses.
+    Texture,
+}
+
+/// One stage of a pixel pipe (between the rasteriser and the ROP), its timing from the
+/// unit contract (the unit's `timing()` at the chip's configuration).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PipeStage {
+    /// The unit ("polygon_interpolator", "texture_sampler", "register_combiner", …).
+    pub name: String,
+    pub kind: StageKind,
+    pub latency: u32,
+    pub ii: u32,
+}
+
 /// A clocked chip: the stages a pass runs through and the memory behind them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ChipConfig {
@@ -93,6 +114,9 @@ pub struct ChipConfig {
     pub pass_overhead_clocks: u32,
     /// Entries (quads) of every FIFO between two stages.
     pub fifo_depth: u32,
+    /// The pixel pipe's stages in order, from the interpolator to the last combiner
+    /// (the rasteriser before them and the ROP after them are the chip's own).
+    pub pipe_stages: Vec<PipeStage>,
     pub texture_cache: CacheConfig,
     pub texture_layout: Layout,
     pub framebuffer_layout: Layout,
