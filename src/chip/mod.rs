@@ -5,6 +5,7 @@
 
 pub mod clock;
 pub mod config;
+pub mod params;
 pub mod presets;
 pub mod roofline;
 pub mod work;
