@@ -11,6 +11,16 @@ use glare_pipeline::scene::builtin_showcase::night_street;
 use glare_pipeline::scene::format::Scene;
 use std::collections::BTreeSet;
 
+mod common;
+
+/// Each pass's documented bound: (pass name prefix, mean |Δ|, RMS) in 8-bit levels on the
+/// pass's own pixels (docs/frame.md "What each pass is held to").
+const PASS_BOUNDS: [(&str, f64, f64); 3] = [
+    ("shafts", 4.0, 22.0),
+    ("objects", 0.5, 3.0),
+    ("glare", 1.0, 2.5),
+];
+
 /// night-street at a test size: 144 × 96, 8 planes, 2 sub-planes, 128² shadow maps,
 /// the environment map at s = 16.
 fn small() -> Scene {
@@ -143,6 +153,37 @@ fn every_pipeline_contributes_and_the_error_is_bounded() {
         3,
         "shafts, objects and glare are compared: {e:?}"
     );
+    // Each pass against its own figure (docs/frame.md "What each pass is held to"),
+    // stated before the run, not against the passes' observed sum.
+    let held = common::docs::section("frame.md", "### What each pass is held to");
+    for p in &e.passes {
+        let (prefix, mean, rms) = PASS_BOUNDS
+            .iter()
+            .copied()
+            .find(|(name, _, _)| p.pass.starts_with(name))
+            .unwrap_or_else(|| panic!("no documented bound for pass {}", p.pass));
+        let row = format!("| {prefix} |");
+        common::docs::assert_quotes(&held, &row, "docs/frame.md's bounds table");
+        let row_text = held.split(&row).nth(1).unwrap_or_default();
+        let cells: Vec<&str> = row_text.split('|').map(str::trim).collect();
+        let number = |i: usize| cells.get(i).and_then(|c| c.parse::<f64>().ok());
+        assert_eq!(
+            (number(1), number(2)),
+            (Some(mean), Some(rms)),
+            "docs/frame.md quotes {prefix}'s bounds: {row_text}"
+        );
+        eprintln!(
+            "{}: mean {:.2}, RMS {:.1} levels (held to {mean}, {rms})",
+            p.pass, p.mean_abs, p.rms
+        );
+        assert!(
+            p.mean_abs <= mean && p.rms <= rms,
+            "{}: mean {:.3} (≤ {mean}), RMS {:.3} (≤ {rms})",
+            p.pass,
+            p.mean_abs,
+            p.rms
+        );
+    }
     for v in variants(&base).into_iter().skip(1) {
         let f = render(&v.scene).unwrap();
         let differing =
