@@ -495,7 +495,7 @@ fn run_measured(args: &[&str], dir: &Path) -> (Option<i32>, Duration, u64, Strin
 /// shrink.
 #[cfg(target_os = "linux")]
 #[test]
-fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
+fn a_scene_over_the_memory_budget_is_refused_before_allocating() {
     let dir = std::env::temp_dir().join(format!("budget-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let mut text = String::from(
@@ -567,8 +567,10 @@ fn a_scene_over_the_memory_budget_is_refused_fast_and_small() {
         assert!(err.contains("max-memory"), "{what}: {err}");
         assert!(err.contains("shafts.light_map_texels"), "{what}: {err}");
         assert!(!err.contains("panicked"), "{what}: {err}");
-        assert!(cpu < Duration::from_secs(1), "{what}: took {cpu:?} of CPU");
-        assert!(rss < 200_000_000, "{what}: peak RSS {rss} bytes");
+        // Work done, not time taken: refused before the frame's buffers, tables or
+        // maps were allocated (the smallest of them, fig6's 4096² light map, is 16 MiB;
+        // parsing the 4000-light scene peaks near 22 MB). The CPU time is printed.
+        assert!(rss < 48_000_000, "{what}: peak RSS {rss} bytes");
         assert!(!out.exists(), "{what}: an image was written");
         assert!(
             !sweep_dir.exists(),
