@@ -868,7 +868,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         let image = image
             .map(crate::pipeline::shafts::sweep::parse_image)
             .transpose()?;
-        return crate::pipeline::shading::sweep::attributed_sweep_cli(
+        return crate::pipeline::shading::attributed_sweep::attributed_sweep_cli(
             scene, param, values, out, image, shard, resume,
         );
     }

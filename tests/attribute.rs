@@ -136,9 +136,8 @@ fn shading_scenes_name_a_dominant_source_and_all_ideal_is_within_bound() {
 /// and the same error columns.
 #[test]
 fn sweep_attribute_adds_the_dominant_source_columns() {
-    use glare_pipeline::pipeline::shading::sweep::{
-        shading_sweep, shading_sweep_attributed, ShadingSweepOptions,
-    };
+    use glare_pipeline::pipeline::shading::attributed_sweep::shading_sweep_attributed;
+    use glare_pipeline::pipeline::shading::sweep::{shading_sweep, ShadingSweepOptions};
     let opts = ShadingSweepOptions { view_size: 32 };
     let out = scratch("sweep-attr");
     let (rows, csv, _) =

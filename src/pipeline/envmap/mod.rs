@@ -3,6 +3,7 @@
 //! renderer: see docs/envmap.md.
 
 pub mod attribute;
+pub mod cube_slice;
 pub mod dump;
 pub mod image;
 pub mod interpolator;

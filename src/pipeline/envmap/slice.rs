@@ -54,6 +54,7 @@ use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 use rtl_model::{ConfigError, UnitSummary};
 use serde::Serialize;
 
+pub use super::cube_slice::Slice;
 use super::voxmap::{SliceTexture, VoxelMap};
 use crate::reference::cube_map_address::{face_st, stacked_st, texel_centre_directions};
 use crate::report::elaboration::Elaborated;
@@ -61,44 +62,6 @@ use crate::scene::math::Vec3;
 
 /// Largest face side: 6F rows must fit the sampler's 4096, and F is a power of two.
 pub const MAX_FACE_SIDE: u32 = 512;
-
-/// A cube map of six F × F RGB faces of unorm codes, stacked as one F × 6F texture
-/// (row-major, width F; face f in rows f·F ..< (f+1)·F).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Slice {
-    face: u32,
-    bits: u32,
-    lambda: f64,
-    data: Vec<[u32; 3]>,
-}
-
-impl Slice {
-    /// Face side F.
-    pub fn face_side(&self) -> u32 {
-        self.face
-    }
-    /// Width of the stacked texture (F).
-    pub fn width(&self) -> u32 {
-        self.face
-    }
-    /// Height of the stacked texture (6F).
-    pub fn height(&self) -> u32 {
-        6 * self.face
-    }
-    pub fn bits(&self) -> u32 {
-        self.bits
-    }
-    pub fn lambda(&self) -> f64 {
-        self.lambda
-    }
-    pub fn data(&self) -> &[[u32; 3]] {
-        &self.data
-    }
-    /// Bytes as stored (6F² texels × 3 channels × ⌈bits/8⌉), as [`VoxelMap::bytes`].
-    pub fn bytes(&self) -> u64 {
-        6 * (self.face as u64).pow(2) * 3 * (self.bits as u64).div_ceil(8)
-    }
-}
 
 /// F = the smallest power of two ≥ 4s/π (2s for s = 2^k), within 2 ..= 512.
 pub fn default_face_side(s: u32) -> u32 {

@@ -13,7 +13,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rtl_model::units::texture_sampler::TextureSampler;
 use rtl_model::ConfigError;
 
-use super::slice::Slice;
+use super::cube_slice::Slice;
 
 /// Largest side accepted: the largest cube the 3D texture sampler can hold (256; the
 /// scene's `environment.side` limit is the same constant).

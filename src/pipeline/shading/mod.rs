@@ -3,6 +3,7 @@
 //! cube map and BRDF factor textures — beside their f64 references.
 
 pub mod attribute;
+pub mod attributed_sweep;
 pub mod brdf_properties;
 pub mod brdfs;
 pub mod factor;
