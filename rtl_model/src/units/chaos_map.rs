@@ -77,6 +77,7 @@ pub struct ChaosMapConfig {
     pub z_frac_bits: u32,
     /// Output bits O (u0.O), 4 ..= 16.
     pub out_bits: u32,
+    /// What keeps the map off its fixed point at 0 (default `min_step`).
     pub escape: Escape,
 }
 
@@ -106,6 +107,8 @@ impl ChaosMapConfig {
         }
     }
 
+    /// Validate and build the unit; the same as [`ChaosMap::new`], errors name
+    /// `chaos_map.<field>`.
     pub fn build(&self) -> Result<ChaosMap, ConfigError> {
         ChaosMap::new(*self)
     }
@@ -132,6 +135,7 @@ pub struct ChaosMap {
 /// The n patch states, raw u0.F codes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ChaosState {
+    /// One state per patch (`patches` of them), each a u0.F code (F = `state_bits`).
     pub s: Vec<u64>,
 }
 
@@ -223,6 +227,7 @@ impl ChaosMap {
         }
     }
 
+    /// The config the unit was built from (a, z and I as given, before quantising).
     pub fn config(&self) -> ChaosMapConfig {
         self.cfg
     }

@@ -34,7 +34,9 @@ const NAME: &str = "glare_condition";
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Material {
+    /// A metal: I_ps = I·I_s·cos²α, glare on contrast alone.
     Metallic,
+    /// Water: I_ps = I·cos α, glare on contrast and total internal reflection.
     Water,
 }
 
@@ -116,6 +118,7 @@ pub struct GlareCondition {
 /// One highlight.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ConditionIn {
+    /// Which formula applies: metallic or water.
     pub material: Material,
     /// I, u(int_bits).(frac_bits).
     pub intensity: u32,
@@ -151,6 +154,7 @@ impl GlareCondition {
             .expect("defaults are valid")
     }
 
+    /// The config the unit was built from (η as given, before quantising).
     pub fn config(&self) -> GlareConditionConfig {
         self.cfg
     }
