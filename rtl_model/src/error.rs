@@ -25,7 +25,7 @@ pub enum ConfigError {
         value: f64,
     },
     /// A value that no range describes (a wrong combination, an unknown name, a
-    /// non-unit vector); `reason` says what is wrong.
+    /// zero direction vector); `reason` says what is wrong.
     #[error("{field}: {reason}")]
     Invalid {
         /// Dotted path of the field at fault.

@@ -1,5 +1,6 @@
-//! bloom_flare_modulator — the bloom and flare luminance modulation circuit (paper
-//! Fig. 2): (u, v) → SHAPE RAM (bilinear) → d → FALLOFF RAM (linear) → p → × RGB gain.
+//! bloom_flare_modulator — the bloom and flare luminance modulation circuit (Fig. 2 of
+//! M. Matsuda and T. Ikedo, "A Realtime Renderer for Glare Effect Based upon Empirical
+//! Approach"): (u, v) → SHAPE RAM (bilinear) → d → FALLOFF RAM (linear) → p → × RGB gain.
 //!
 //! The datapath, formats and widths are in [`crate::units::luminance_ram`]:
 //! u, v s2.F → clamp to [−1, 1] and split into index u(k+1) / weight u(wb) → 4 shape

@@ -1,4 +1,5 @@
-//! chaos_map — the 1/f fluctuation of sunlight through leaves (SPEC B, eqs. (9)–(11)):
+//! chaos_map — the 1/f fluctuation of sunlight through leaves (M. Matsuda and T. Ikedo,
+//! "A Realtime Renderer for Glare Effect Based upon Empirical Approach", eqs. (9)–(11)):
 //! the intermittent map
 //!   S_{k+1} = S_k + u·S_k^z         for 0 ≤ S_k ≤ a,
 //!   S_{k+1} = (S_k − a)/(1 − a)     for a < S_k ≤ 1,      u = (1 − a)/a^z, 1 < z < 2,

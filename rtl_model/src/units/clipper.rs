@@ -311,7 +311,7 @@ impl Clipper {
             .expect("default clipper config")
     }
 
-    /// Attributes carried per vertex, 0 ..= 8.
+    /// Attributes carried per vertex, 0 ..= 16.
     pub fn attrs(&self) -> u32 {
         self.cfg.attrs
     }

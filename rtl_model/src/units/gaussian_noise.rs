@@ -1,4 +1,5 @@
-//! gaussian_noise — the N(0, 1) source for the flare lines (SPEC B, eq. (6):
+//! gaussian_noise — the N(0, 1) source for the flare lines (M. Matsuda and T. Ikedo,
+//! "A Realtime Renderer for Glare Effect Based upon Empirical Approach", eq. (6):
 //! length = Gauss(num)·len, angle = Gauss(num)·ang + R(N)).
 //!
 //! Uniform source: two combined Tausworthe generators **taus88** (L'Ecuyer 1996: three

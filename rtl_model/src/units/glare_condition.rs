@@ -1,5 +1,6 @@
 //! glare_condition — decides whether a specular highlight becomes a glare source
-//! (SPEC B, Table 2): metallic I_ps = I·I_s·cos²α, water I_ps = I·cos α; glare when
+//! (M. Matsuda and T. Ikedo, "A Realtime Renderer for Glare Effect Based upon
+//! Empirical Approach", Table 2): metallic I_ps = I·I_s·cos²α, water I_ps = I·cos α; glare when
 //! I_ps ≥ T·I_a (T = 40 by default: no divider, T·I_a is a shift-add,
 //! (I_a<<5)+(I_a<<3)), and for water also total internal reflection
 //! 1 − η²(1 − cos²θ) < 0. The highlight value is output saturated at 255.

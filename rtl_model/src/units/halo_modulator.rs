@@ -1,7 +1,8 @@
-//! halo_modulator — the halo luminance modulation circuit (paper Fig. 3): the same
+//! halo_modulator — the halo luminance modulation circuit (Fig. 3 of M. Matsuda and
+//! T. Ikedo, "A Realtime Renderer for Glare Effect Based upon Empirical Approach"): the same
 //! SHAPE RAM as the bloom/flare modulator, then THREE ring RAMs (one falloff profile
-//! per colour channel R, G, B — the halo ring radius scales with wavelength, SPEC B
-//! eq. (5)), each times its channel gain.
+//! per colour channel R, G, B — the halo ring radius scales with wavelength, the
+//! paper's eq. (5)), each times its channel gain.
 //!
 //! The datapath, formats and widths are in [`crate::units::luminance_ram`]:
 //! u, v s2.F → clamp to [−1, 1] and split into index u(k+1) / weight u(wb) → 4 shape

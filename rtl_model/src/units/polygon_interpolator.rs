@@ -413,7 +413,8 @@ pub struct PolySetup {
     pub edges: u32,
     /// Doubled area in sub-pixel² units (> 0), 0 if degenerate.
     pub area2: i128,
-    /// The walker's registers at the first pixel (load them before the first `Hold`).
+    /// The walker's registers at the first pixel: the kernel's start state for this
+    /// primitive.
     pub state: PolyState,
     /// Which edges are top or left (no −1 bias in their start value).
     pub top_left: [bool; EDGES],

@@ -1,4 +1,5 @@
-//! polygon_variable_generator — the glare renderer's setup of area-fill quads (SPEC B,
+//! polygon_variable_generator — the glare renderer's setup of area-fill quads (M. Matsuda
+//! and T. Ikedo, "A Realtime Renderer for Glare Effect Based upon Empirical Approach",
 //! Fig. 1): from a source's (or flare line's) centre, extent, width and angle it makes
 //! the three vertices of the parallelogram the polygon interpolator walks, with the
 //! two attributes (u, v) — the pixel's position in the primitive's own normalised
@@ -126,9 +127,12 @@ pub struct PvgVertex {
     pub x: i64,
     /// Screen y, a raw s(coord_int_bits).(subpixel_bits) code (saturated, counted).
     pub y: i64,
-    /// Attribute u, the position along the primitive frame, a raw s2.(attr_frac_bits) code.
+    /// Attribute u, the first coordinate of the pixel's position in the primitive's
+    /// normalised frame (line: −1 at the centre … +1 at the tip), a raw code with
+    /// `attr_frac_bits` fraction bits.
     pub u: i64,
-    /// Attribute v, the position across the primitive frame, a raw s2.(attr_frac_bits) code.
+    /// Attribute v, the second coordinate in the primitive's frame (line: ±1 at the
+    /// sides), a raw code with `attr_frac_bits` fraction bits.
     pub v: i64,
 }
 
