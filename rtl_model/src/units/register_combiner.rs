@@ -248,8 +248,8 @@ impl Scale {
 pub enum Bias {
     /// NONE: nothing is added.
     None,
-    /// BIAS_BY_NEGATIVE_ONE_HALF_NV: −½ is added before the scale (−(S + 1)/2S with
-    /// `bias_constant` = `half_code`); not allowed with ×4 or ×½.
+    /// BIAS_BY_NEGATIVE_ONE_HALF_NV: −½ is added before the scale ((S + 1)/2 codes are
+    /// subtracted with [`BiasConstant::HalfCode`]); not allowed with ×4 or ×½.
     ByNegativeOneHalf,
 }
 
