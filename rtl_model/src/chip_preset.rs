@@ -67,8 +67,11 @@ pub const GL_SINGLE_COLOR: LightControl = LightControl {
 /// One mode a preset sets: the unit, its config field and the value.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct PresetMode {
+    /// The unit the preset configures, by its file name ("register_combiner", …).
     pub unit: &'static str,
+    /// The config field of that unit the preset sets ("bias_constant", …).
     pub field: &'static str,
+    /// The value the preset gives the field, as text (a mode name or a number).
     pub value: String,
 }
 

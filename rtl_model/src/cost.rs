@@ -24,30 +24,50 @@ pub const CELL_WEIGHTS: CellWeights = CellWeights {
     dff: 16.0 / 3.0,
 };
 
+/// The NAND2-equivalent area of one cell of each kind; [`CELL_WEIGHTS`] is the one set
+/// the model uses.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct CellWeights {
+    /// 2-input AND (a NAND2 plus an inverter: 4/3).
     pub and2: f64,
+    /// 2-input NAND, the unit of area (1).
     pub nand2: f64,
+    /// 2-input OR (a NOR2 plus an inverter: 4/3).
     pub or2: f64,
+    /// 2-input NOR (1).
     pub nor2: f64,
+    /// 2-input XOR (7/3).
     pub xor2: f64,
+    /// 2-input XNOR (7/3).
     pub xnor2: f64,
+    /// 2-to-1 multiplexer (7/3).
     pub mux2: f64,
+    /// Inverter (2/3).
     pub not: f64,
+    /// D flip-flop, one register bit (16/3).
     pub dff: f64,
 }
 
 /// A bag of cells (fractional counts allowed for averaged structures).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct Cells {
+    /// 2-input AND cells.
     pub and2: f64,
+    /// 2-input NAND cells.
     pub nand2: f64,
+    /// 2-input OR cells.
     pub or2: f64,
+    /// 2-input NOR cells.
     pub nor2: f64,
+    /// 2-input XOR cells.
     pub xor2: f64,
+    /// 2-input XNOR cells.
     pub xnor2: f64,
+    /// 2-to-1 multiplexer cells.
     pub mux2: f64,
+    /// Inverters.
     pub not: f64,
+    /// D flip-flops (register bits).
     pub dff: f64,
 }
 
@@ -290,6 +310,8 @@ pub struct Cost {
 }
 
 impl Cost {
+    /// Logic and register area in NAND2 equivalents, the cells weighed by [`CELL_WEIGHTS`];
+    /// RAM/ROM bits are not included (see [`Cost::ram_bits`]).
     pub fn gates_nand2(&self) -> f64 {
         self.cells.nand2_eq()
     }
@@ -301,6 +323,8 @@ impl Cost {
         self
     }
 
+    /// Add `bits` of RAM/ROM storage to the cost (reported beside the gates, never
+    /// folded into them).
     pub fn with_ram_bits(mut self, bits: u64) -> Self {
         self.ram_bits += bits;
         self

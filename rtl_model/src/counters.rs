@@ -9,7 +9,9 @@ use std::ops::AddAssign;
 pub struct Counters {
     /// Clock cycles from the first input to the last output leaving the unit.
     pub cycles: u64,
+    /// Input words (pixels, fragments, vertices or steps) the unit accepted.
     pub pixels_in: u64,
+    /// Output words the unit presented.
     pub pixels_out: u64,
     /// Cycles an input waited because the unit was not ready (initiation interval > 1).
     pub stalls: u64,
@@ -19,8 +21,11 @@ pub struct Counters {
     pub mem_read_bytes: u64,
     /// Bytes written to external memory (framebuffer).
     pub mem_write_bytes: u64,
+    /// Values clamped to their format's range (SAT, SAT_SYM, SAT_ZERO and unorm clamps).
     pub saturations: u64,
+    /// Values that did not fit and wrapped (WRAP): a wrap is never silent.
     pub overflows: u64,
+    /// Non-zero values that rounding turned into zero.
     pub underflows: u64,
 }
 

@@ -51,6 +51,7 @@ pub struct SpanTally {
 }
 
 impl SpanTally {
+    /// An empty span: no inputs counted yet.
     pub fn new() -> Self {
         SpanTally { n: 0 }
     }
@@ -66,6 +67,7 @@ impl SpanTally {
         self.n
     }
 
+    /// True when no input has been counted for this span yet.
     pub fn is_empty(&self) -> bool {
         self.n == 0
     }

@@ -4,20 +4,39 @@
 /// field (e.g. `texture_sampler.texel_bits`), so a user can find it in a scene file.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ConfigError {
+    /// A number outside its allowed range `min ..= max`.
     #[error("{field}: {} is out of range (allowed {} ..= {})", short(*.value), short(*.min), short(*.max))]
     OutOfRange {
+        /// Dotted path of the field at fault, e.g. `modulate.bits`.
         field: String,
+        /// The value given.
         value: f64,
+        /// Smallest allowed value.
         min: f64,
+        /// Largest allowed value.
         max: f64,
     },
+    /// A NaN or ±∞ where a finite number is needed.
     #[error("{field}: {} is not a finite number", short(*.value))]
-    NotFinite { field: String, value: f64 },
+    NotFinite {
+        /// Dotted path of the field at fault.
+        field: String,
+        /// The value given (NaN or ±∞).
+        value: f64,
+    },
+    /// A value that no range describes (a wrong combination, an unknown name, a
+    /// zero direction vector); `reason` says what is wrong.
     #[error("{field}: {reason}")]
-    Invalid { field: String, reason: String },
+    Invalid {
+        /// Dotted path of the field at fault.
+        field: String,
+        /// What is wrong, as a sentence for the user.
+        reason: String,
+    },
 }
 
 impl ConfigError {
+    /// An [`ConfigError::OutOfRange`] error naming `field`.
     pub fn out_of_range(field: &str, value: f64, min: f64, max: f64) -> Self {
         ConfigError::OutOfRange {
             field: field.to_string(),
@@ -27,6 +46,7 @@ impl ConfigError {
         }
     }
 
+    /// A [`ConfigError::NotFinite`] error naming `field`.
     pub fn not_finite(field: &str, value: f64) -> Self {
         ConfigError::NotFinite {
             field: field.to_string(),
@@ -34,6 +54,7 @@ impl ConfigError {
         }
     }
 
+    /// A [`ConfigError::Invalid`] error naming `field`, with a sentence saying why.
     pub fn invalid(field: &str, reason: &str) -> Self {
         ConfigError::Invalid {
             field: field.to_string(),

@@ -41,6 +41,8 @@ pub enum Quant {
 }
 
 impl Quant {
+    /// Every quantisation mode, in the order of the ap_fixed / ac_fixed names (TRN,
+    /// TRN_ZERO, RND, RND_ZERO, RND_INF, RND_MIN_INF, RND_CONV), for sweeps.
     pub const ALL: [Quant; 7] = [
         Quant::Trn,
         Quant::TrnZero,
@@ -67,6 +69,7 @@ pub enum Overflow {
 }
 
 impl Overflow {
+    /// Every overflow mode (WRAP, SAT, SAT_ZERO, SAT_SYM), for sweeps.
     pub const ALL: [Overflow; 4] = [
         Overflow::Wrap,
         Overflow::Sat,
@@ -79,8 +82,11 @@ impl Overflow {
 /// `frac_bits`; width = int + frac.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct Format {
+    /// Integer bits, including the sign bit when `signed`.
     pub int_bits: u32,
+    /// Fraction bits: the value of one LSB is 2^−frac_bits.
     pub frac_bits: u32,
+    /// Two's-complement signed when true, unsigned when false.
     pub signed: bool,
 }
 
@@ -126,6 +132,7 @@ impl Format {
         Ok(())
     }
 
+    /// Word width in bits, `int_bits + frac_bits` (1 ..= 63 for a stored format).
     pub fn width(&self) -> u32 {
         self.int_bits + self.frac_bits
     }
@@ -200,7 +207,9 @@ impl std::fmt::Display for Format {
 /// A fixed-point value: raw code and its format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Fx {
+    /// The raw two's-complement code: the value is raw · 2^−frac_bits.
     pub raw: i128,
+    /// The format the code is in.
     pub fmt: Format,
 }
 
@@ -225,6 +234,7 @@ impl Fx {
         Fx { raw, fmt }
     }
 
+    /// The value 0 in `fmt`.
     pub fn zero(fmt: Format) -> Self {
         Fx { raw: 0, fmt }
     }
@@ -320,6 +330,7 @@ impl Fx {
         Ok(exact.assign(fmt, q, o, ctr))
     }
 
+    /// The exact value as f64 (exact when the width is ≤ 53 bits).
     pub fn to_f64(self) -> f64 {
         self.raw as f64 * (-(self.fmt.frac_bits as f64)).exp2()
     }

@@ -78,7 +78,10 @@ pub struct FloatFormat {
     pub exp_bits: u32,
     /// Stored mantissa width M (the leading 1 is implied), 1 ..= 39.
     pub mant_bits: u32,
+    /// How a result is rounded to M mantissa bits (default: nearest-even).
     pub rounding: Rounding,
+    /// Whether values below the smallest normal are flushed to zero (the default) or kept
+    /// as subnormals.
     pub subnormals: Subnormals,
 }
 
@@ -142,10 +145,12 @@ impl FloatFormat {
         Ok(f)
     }
 
+    /// The same widths with another rounding mode.
     pub fn with_rounding(self, rounding: Rounding) -> Self {
         FloatFormat { rounding, ..self }
     }
 
+    /// The same widths with subnormals flushed or kept.
     pub fn with_subnormals(self, subnormals: Subnormals) -> Self {
         FloatFormat { subnormals, ..self }
     }
@@ -161,6 +166,7 @@ impl FloatFormat {
         1 + self.exp_bits + self.mant_bits
     }
 
+    /// Exponent bias, 2^(E−1) − 1 (127 for E = 8).
     pub fn bias(&self) -> i32 {
         (1 << (self.exp_bits - 1)) - 1
     }
@@ -197,10 +203,12 @@ impl FloatFormat {
         (1u64 << self.mant_bits) - 1
     }
 
+    /// The word for +0 (all bits clear).
     pub fn zero(&self) -> Fp {
         Fp(0)
     }
 
+    /// The word for 1.0 (biased exponent = bias, mantissa 0).
     pub fn one(&self) -> Fp {
         Fp((self.bias() as u64) << self.mant_bits)
     }
@@ -211,14 +219,17 @@ impl FloatFormat {
         Fp(e | self.mant_mask() | if neg { self.sign_bit() } else { 0 })
     }
 
+    /// True when the sign bit of `x` is set (including −0).
     pub fn is_neg(&self, x: Fp) -> bool {
         x.0 & self.sign_bit() != 0
     }
 
+    /// `x` with its sign bit flipped (exact; −0 for +0).
     pub fn neg(&self, x: Fp) -> Fp {
         Fp(x.0 ^ self.sign_bit())
     }
 
+    /// `x` with its sign bit cleared (exact).
     pub fn abs(&self, x: Fp) -> Fp {
         Fp(x.0 & !self.sign_bit())
     }

@@ -33,6 +33,8 @@
 //! # Ok::<(), ConfigError>(())
 //! ```
 
+#![warn(missing_docs)]
+
 pub mod chip_preset;
 pub mod cost;
 pub mod counters;

@@ -10,10 +10,16 @@ use serde::{Deserialize, Serialize};
 pub struct Light {
     /// GL_POSITION (x, y, z, w): w = 0 directional (toward the light), else local at xyz/w.
     pub position: [f64; 4],
+    /// GL_AMBIENT of the light, RGB, finite and ≥ 0 (default 0, 0, 0).
     pub ambient: [f64; 3],
+    /// GL_DIFFUSE of the light, RGB, finite and ≥ 0 (default 1, 1, 1).
     pub diffuse: [f64; 3],
+    /// GL_SPECULAR of the light, RGB, finite and ≥ 0 (default 1, 1, 1).
     pub specular: [f64; 3],
+    /// GL_SPOT_DIRECTION, eye space, non-zero (normalised when loaded; default 0, 0, −1);
+    /// read only when `spot_cutoff` is not 180.
     pub spot_direction: [f64; 3],
+    /// GL_SPOT_EXPONENT, 0 ..= 10⁴ (GL allows 0 ..= 128; default 0).
     pub spot_exponent: f64,
     /// Degrees: 0 ..= 90, or 180 (no spot).
     pub spot_cutoff: f64,
@@ -39,11 +45,15 @@ impl Default for Light {
 /// GL material (front face), GL's defaults.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Material {
+    /// GL_EMISSION, RGB, finite and ≥ 0 (default 0, 0, 0).
     pub emission: [f64; 3],
+    /// GL_AMBIENT of the material, RGB, finite and ≥ 0 (default 0.2, 0.2, 0.2).
     pub ambient: [f64; 3],
     /// RGBA: the vertex alpha is the diffuse alpha.
     pub diffuse: [f64; 4],
+    /// GL_SPECULAR of the material, RGB, finite and ≥ 0 (default 0, 0, 0).
     pub specular: [f64; 3],
+    /// GL_SHININESS, the specular exponent, 0 ..= 10⁴ (GL allows 0 ..= 128; default 0).
     pub shininess: f64,
 }
 
@@ -62,8 +72,11 @@ impl Default for Material {
 /// The lighting state the host loads: material, scene ambient, lights (≤ 8).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LightingSetup {
+    /// The front-face material.
     pub material: Material,
+    /// GL_LIGHT_MODEL_AMBIENT, RGB, finite and ≥ 0 (default 0.2, 0.2, 0.2).
     pub scene_ambient: [f64; 3],
+    /// The enabled lights, 0 ..= 8 (default: one GL_LIGHT0).
     pub lights: Vec<Light>,
 }
 

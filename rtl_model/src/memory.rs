@@ -33,6 +33,9 @@ pub struct MemoryModel {
 }
 
 impl MemoryModel {
+    /// A memory interface of `bytes_per_second` at a core clock of `clock_hz`. Both must be
+    /// finite and > 0; otherwise the error names `memory.bytes_per_second` or
+    /// `memory.clock_hz`.
     pub fn new(bytes_per_second: f64, clock_hz: f64) -> Result<Self, ConfigError> {
         for (f, v) in [
             ("memory.bytes_per_second", bytes_per_second),

@@ -36,12 +36,16 @@ impl Timing {
 /// A named bit field of an input or output word, for VCD traces.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Signal {
+    /// Signal name as it appears in the VCD (e.g. `a`, `out`).
     pub name: &'static str,
+    /// Width of the field in bits (the VCD variable's width).
     pub width: u32,
+    /// The field's value, in the low `width` bits.
     pub value: u64,
 }
 
 impl Signal {
+    /// A signal `name` of `width` bits carrying `value`.
     pub fn new(name: &'static str, width: u32, value: u64) -> Self {
         Signal { name, width, value }
     }
@@ -50,7 +54,9 @@ impl Signal {
 /// A named width of a unit's config (for `units` tables and sweeps).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct Width {
+    /// Config field the width comes from (e.g. `bits`, `texel_bits`).
     pub name: &'static str,
+    /// Width in bits.
     pub bits: u32,
 }
 
@@ -88,8 +94,11 @@ pub trait Unit {
         out.extend(inputs.iter().map(|x| self.kernel(state, x, ctr)));
     }
 
+    /// Latency and initiation interval under the current config.
     fn timing(&self) -> Timing;
 
+    /// Gate cost (NAND2 equivalents, with a breakdown) and RAM/ROM bits under the current
+    /// config.
     fn cost(&self) -> Cost;
 
     /// The configured widths, by name.
@@ -105,16 +114,24 @@ pub trait Unit {
 /// Summary of a unit for tables and `units --json`.
 #[derive(Clone, Debug, Serialize)]
 pub struct UnitSummary {
+    /// The unit's name, as in `rtl_model/src/units/<name>.rs`.
     pub name: &'static str,
+    /// Clocks from an input accepted to its output presented.
     pub latency: u32,
+    /// Initiation interval: clocks between accepted inputs.
     pub ii: u32,
+    /// Logic and register area in NAND2 equivalents.
     pub gates_nand2: f64,
+    /// RAM/ROM bits the unit holds, apart from the gates.
     pub ram_bits: u64,
+    /// The configured widths, by name.
     pub widths: Vec<Width>,
+    /// Named parts and their NAND2 equivalents.
     pub breakdown: Vec<(String, f64)>,
 }
 
 impl UnitSummary {
+    /// The summary of unit `u` under its current config.
     pub fn of<U: Unit>(u: &U) -> Self {
         let t = u.timing();
         let c = u.cost();

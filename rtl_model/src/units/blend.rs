@@ -82,25 +82,40 @@ const OUT_NAMES: [&str; 4] = ["y_r", "y_g", "y_b", "y_a"];
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum BlendFactor {
+    /// 0: the term vanishes.
     Zero,
+    /// 1 (the all-ones code M): the term passes unweighted, exactly.
     One,
+    /// The source colour, per channel (R_s, G_s, B_s, A_s) / M.
     SrcColor,
+    /// 1 − the source colour, per channel: (M − c_s) / M.
     OneMinusSrcColor,
+    /// The source alpha A_s / M on every channel.
     SrcAlpha,
+    /// 1 − the source alpha, (M − A_s) / M, on every channel.
     OneMinusSrcAlpha,
+    /// The destination alpha A_d / M on every channel.
     DstAlpha,
+    /// 1 − the destination alpha, (M − A_d) / M, on every channel.
     OneMinusDstAlpha,
+    /// The destination colour, per channel (R_d, G_d, B_d, A_d) / M.
     DstColor,
+    /// 1 − the destination colour, per channel: (M − c_d) / M.
     OneMinusDstColor,
     /// min(A_s, 1 − A_d) for colour, 1 for alpha.
     SrcAlphaSaturate,
+    /// The constant colour, per channel c / (2ᵏ − 1) (k = `constant_bits`).
     ConstantColor,
+    /// 1 − the constant colour, per channel.
     OneMinusConstantColor,
+    /// The constant alpha A_c / (2ᵏ − 1) on every channel.
     ConstantAlpha,
+    /// 1 − the constant alpha on every channel.
     OneMinusConstantAlpha,
 }
 
 impl BlendFactor {
+    /// Every factor, in the order of its 4-bit select code ([`BlendFactor::code`]).
     pub const ALL: [BlendFactor; 15] = [
         BlendFactor::Zero,
         BlendFactor::One,
@@ -149,6 +164,7 @@ pub enum BlendEquation {
 }
 
 impl BlendEquation {
+    /// Every equation, in the order of its 3-bit select code ([`BlendEquation::code`]).
     pub const ALL: [BlendEquation; 7] = [
         BlendEquation::Add,
         BlendEquation::Subtract,
@@ -205,11 +221,15 @@ pub struct BlendConfig {
     /// Channel width (unorm) of source, destination, constant and factors, 1 ..= 16.
     /// Default 8 (the NV2A's A8R8G8B8 surfaces).
     pub bits: u32,
+    /// The blend equation (default `add`).
     pub equation: BlendEquation,
+    /// The factor f_s that weighs the source (default `one`).
     pub src_factor: BlendFactor,
+    /// The factor f_d that weighs the destination (default `zero`).
     pub dst_factor: BlendFactor,
     /// The blend constant colour, RGBA codes of `bits` bits (NV097_SET_BLEND_COLOR).
     pub constant: [u32; 4],
+    /// Where the terms are rounded back to `bits` (default `once`, the hardware's).
     pub rounding: BlendRounding,
     /// Width of the incoming fragment colour (unorm), 1 ..= 16; absent = `bits`.
     /// Aligned to `bits` first: bit replication when widening, round-to-nearest when
@@ -307,7 +327,9 @@ pub struct Blend {
 /// of `bits` bits; every word is masked to its wire width).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct BlendIn {
+    /// The incoming fragment colour, RGBA codes of `src_bits` bits.
     pub src: [u32; 4],
+    /// The framebuffer's current colour, RGBA codes of `bits` bits.
     pub dst: [u32; 4],
 }
 
@@ -436,6 +458,7 @@ impl Blend {
         self.with_constant(c)
     }
 
+    /// The config the unit was built from (with its current constant colour).
     pub fn config(&self) -> BlendConfig {
         self.cfg
     }
@@ -455,6 +478,7 @@ impl Blend {
         self.cfg.constant_bits.unwrap_or(self.cfg.bits)
     }
 
+    /// Which datapath is built: every factor and equation, or the additive path only.
     pub fn datapath(&self) -> BlendDatapath {
         self.cfg.datapath
     }

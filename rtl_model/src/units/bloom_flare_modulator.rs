@@ -1,5 +1,6 @@
-//! bloom_flare_modulator — the bloom and flare luminance modulation circuit (paper
-//! Fig. 2): (u, v) → SHAPE RAM (bilinear) → d → FALLOFF RAM (linear) → p → × RGB gain.
+//! bloom_flare_modulator — the bloom and flare luminance modulation circuit (Fig. 2 of
+//! M. Matsuda and T. Ikedo, "A Realtime Renderer for Glare Effect Based upon Empirical
+//! Approach"): (u, v) → SHAPE RAM (bilinear) → d → FALLOFF RAM (linear) → p → × RGB gain.
 //!
 //! The datapath, formats and widths are in [`crate::units::luminance_ram`]:
 //! u, v s2.F → clamp to [−1, 1] and split into index u(k+1) / weight u(wb) → 4 shape
@@ -24,14 +25,24 @@ const NAME: &str = "bloom_flare_modulator";
 /// gain u12.4, out 12 bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct BloomFlareModulatorConfig {
+    /// F: fraction bits of the s2.F coordinates u, v, 2 ..= 16 (default 14).
     pub coord_frac_bits: u32,
+    /// k: the shape RAM has 2ᵏ cells per side, (2ᵏ+1)² samples; 1 ..= 10 (default 7).
     pub shape_log2: u32,
+    /// Shape entry and distance d width, unorm bits, 1 ..= 16 (default 16).
     pub shape_bits: u32,
+    /// m: the falloff RAM has 2ᵐ cells, 2ᵐ+1 samples; 1 ..= 12 (default 8).
     pub falloff_log2: u32,
+    /// Falloff entry and profile p width, unorm bits, 1 ..= 20 (default 16).
     pub falloff_bits: u32,
+    /// Interpolation weight width of both RAMs, 1 ..= 12 (default 8).
     pub weight_bits: u32,
+    /// Integer bits of the RGB gain, 0 ..= 16 (default 12).
     pub gain_int_bits: u32,
+    /// Fraction bits of the RGB gain, 0 ..= 16 (default 4); gain_int_bits + gain_frac_bits
+    /// must be ≥ 1 (the error names `gain_frac_bits`).
     pub gain_frac_bits: u32,
+    /// Luminance output width (framebuffer codes), 1 ..= 16 (default 12).
     pub out_bits: u32,
     /// Radial correction (default off); see [`Radial`].
     #[serde(default)]
@@ -61,6 +72,7 @@ impl BloomFlareModulatorConfig {
         }
     }
 
+    /// The config with the given shared-datapath widths (the inverse of `widths`).
     pub fn from_widths(w: LumWidths) -> Self {
         BloomFlareModulatorConfig {
             coord_frac_bits: w.coord_frac_bits,
@@ -123,10 +135,12 @@ impl BloomFlareModulator {
         BloomFlareModulatorConfig::default().build(shape, falloff)
     }
 
+    /// The config the modulator was built from.
     pub fn config(&self) -> BloomFlareModulatorConfig {
         BloomFlareModulatorConfig::from_widths(self.w)
     }
 
+    /// The shared-datapath widths of the modulator.
     pub fn lum_widths(&self) -> LumWidths {
         self.w
     }

@@ -1,4 +1,5 @@
-//! chaos_map — the 1/f fluctuation of sunlight through leaves (SPEC B, eqs. (9)–(11)):
+//! chaos_map — the 1/f fluctuation of sunlight through leaves (M. Matsuda and T. Ikedo,
+//! "A Realtime Renderer for Glare Effect Based upon Empirical Approach", eqs. (9)–(11)):
 //! the intermittent map
 //!   S_{k+1} = S_k + u·S_k^z         for 0 ≤ S_k ≤ a,
 //!   S_{k+1} = (S_k − a)/(1 − a)     for a < S_k ≤ 1,      u = (1 − a)/a^z, 1 < z < 2,
@@ -77,6 +78,7 @@ pub struct ChaosMapConfig {
     pub z_frac_bits: u32,
     /// Output bits O (u0.O), 4 ..= 16.
     pub out_bits: u32,
+    /// What keeps the map off its fixed point at 0 (default `min_step`).
     pub escape: Escape,
 }
 
@@ -106,6 +108,8 @@ impl ChaosMapConfig {
         }
     }
 
+    /// Validate and build the unit; the same as [`ChaosMap::new`], errors name
+    /// `chaos_map.<field>`.
     pub fn build(&self) -> Result<ChaosMap, ConfigError> {
         ChaosMap::new(*self)
     }
@@ -132,6 +136,7 @@ pub struct ChaosMap {
 /// The n patch states, raw u0.F codes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ChaosState {
+    /// One state per patch (`patches` of them), each a u0.F code (F = `state_bits`).
     pub s: Vec<u64>,
 }
 
@@ -223,6 +228,7 @@ impl ChaosMap {
         }
     }
 
+    /// The config the unit was built from (a, z and I as given, before quantising).
     pub fn config(&self) -> ChaosMapConfig {
         self.cfg
     }

@@ -200,16 +200,22 @@ impl ClipperConfig {
 /// One clip-space vertex (raw words).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ClipVertex {
+    /// Clip-space x, a raw s(clip_int_bits).(clip_frac_bits) code.
     pub x: i64,
+    /// Clip-space y, a raw s(clip_int_bits).(clip_frac_bits) code.
     pub y: i64,
+    /// Clip-space z, a raw s(clip_int_bits).(clip_frac_bits) code.
     pub z: i64,
+    /// Clip-space w, a raw s(clip_int_bits).(clip_frac_bits) code.
     pub w: i64,
+    /// Attributes, raw s(attr_int_bits).(attr_frac_bits) codes; the first `attrs` are used.
     pub attrs: [i64; MAX_ATTRS],
 }
 
 /// One input word: a triangle.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ClipIn {
+    /// The triangle's three vertices.
     pub v: [ClipVertex; 3],
 }
 
@@ -217,22 +223,31 @@ pub struct ClipIn {
 /// attributes (attribute format).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ScreenVertex {
+    /// Screen x = X/2w, a raw s(screen_int_bits).(subpixel_bits) code.
     pub x: i64,
+    /// Screen y = Y/2w, a raw s(screen_int_bits).(subpixel_bits) code.
     pub y: i64,
+    /// Window depth (z + w)/2w, a raw code in the attribute format.
     pub depth: i64,
+    /// Attributes in the attribute format, unchanged or interpolated at a cut; the first
+    /// `attrs` are used.
     pub attrs: [i64; MAX_ATTRS],
 }
 
 /// One output word: the clipped polygon (`n` = 0 when culled).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ClipOut {
+    /// Vertices of the polygon, 0 (culled) or 3 ..= 9.
     pub n: u32,
     /// Whether a plane cut it (false: untouched or culled).
     pub clipped: bool,
+    /// The polygon's vertices; only the first `n` are meaningful (see
+    /// [`ClipOut::vertices`]).
     pub v: [ScreenVertex; MAX_CLIP_VERTS],
 }
 
 impl ClipOut {
+    /// The polygon's `n` vertices, in order around the polygon.
     pub fn vertices(&self) -> &[ScreenVertex] {
         &self.v[..self.n as usize]
     }
@@ -241,6 +256,7 @@ impl ClipOut {
 /// The clipper's own counters (its state: summed over a stream).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct ClipStats {
+    /// Triangles received.
     pub polygons_in: u64,
     /// Polygons handed on (not culled).
     pub polygons_out: u64,
@@ -283,6 +299,7 @@ fn div_round(n: i128, d: i128) -> i128 {
 }
 
 impl Clipper {
+    /// The config the clipper was built from.
     pub fn config(&self) -> &ClipperConfig {
         &self.cfg
     }
@@ -294,6 +311,7 @@ impl Clipper {
             .expect("default clipper config")
     }
 
+    /// Attributes carried per vertex, 0 ..= 16.
     pub fn attrs(&self) -> u32 {
         self.cfg.attrs
     }

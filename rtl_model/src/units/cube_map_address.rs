@@ -120,6 +120,8 @@ impl CubeMapAddressConfig {
         }
     }
 
+    /// Validate and build the unit; the same as [`CubeMapAddress::new`], errors name
+    /// `cube_map_address.<field>`.
     pub fn build(&self) -> Result<CubeMapAddress, ConfigError> {
         CubeMapAddress::new(*self)
     }
@@ -129,6 +131,8 @@ impl CubeMapAddressConfig {
 /// (masked and sign-extended to their wires).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct CubeMapAddressIn {
+    /// The direction (x, y, z) in texel space of a map of side s (centre s/2), raw
+    /// s(in_int_bits).(in_frac_bits) codes.
     pub coord: [i32; 3],
 }
 
@@ -157,8 +161,12 @@ impl CubeMapAddressOut {
 /// One reciprocal result: |ma| = 2^p·m, y ≈ 1/m as u1.`frac` raw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rcp {
+    /// 1/m as a raw fixed-point code with `frac` fraction bits: u0.R from the ROM, u1.N
+    /// after the Newton step.
     pub y: u64,
+    /// Fraction bits of `y`: `rcp_bits` (R) without Newton, `newton_frac_bits` (N) with it.
     pub frac: u32,
+    /// Exponent p of the major axis: |ma| = 2^p·m, m ∈ [1, 2) (a leading-zero count).
     pub p: u32,
 }
 
@@ -222,6 +230,7 @@ impl CubeMapAddress {
         Self::geforce3()
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> CubeMapAddressConfig {
         self.cfg
     }

@@ -52,6 +52,7 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum FinalInput {
+    /// A register of the register set (Table 1 of the extension), read as it stands.
     Register(Register),
     /// E_TIMES_F_NV
     ETimesF,
@@ -62,12 +63,18 @@ pub enum FinalInput {
 /// One final-combiner variable: `<input>`, `<mapping>`, `<componentUsage>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct FinalVariable {
+    /// `<input>`: the register or pseudo-register read.
     pub input: FinalInput,
+    /// `<mapping>`: UNSIGNED_IDENTITY_NV or UNSIGNED_INVERT_NV only (others are refused
+    /// by [`FinalCombiner::new`], naming `<variable>.mapping`).
     pub mapping: Mapping,
+    /// `<componentUsage>`: RGB or ALPHA for A … F; ALPHA or BLUE for G (others are refused,
+    /// naming `<variable>.component_usage`).
     pub component_usage: ComponentUsage,
 }
 
 impl FinalVariable {
+    /// The variable `<input>`, `<mapping>`, `<componentUsage>`.
     pub const fn new(input: FinalInput, mapping: Mapping, component_usage: ComponentUsage) -> Self {
         FinalVariable {
             input,
@@ -97,12 +104,19 @@ pub struct FinalCombinerConfig {
     pub rounding: Quant,
     /// COLOR_SUM_CLAMP_NV (csc).
     pub color_sum_clamp: bool,
+    /// Variable A, the lerp's weight: A·B + (1 − A)·C (default FOG alpha).
     pub a: FinalVariable,
+    /// Variable B, weighted by A (default SPARE0_PLUS_SECONDARY_COLOR_NV).
     pub b: FinalVariable,
+    /// Variable C, weighted by 1 − A (default FOG RGB).
     pub c: FinalVariable,
+    /// Variable D, added after the lerp (default ZERO).
     pub d: FinalVariable,
+    /// Variable E, the first factor of the E_TIMES_F_NV pseudo-register (default ZERO).
     pub e: FinalVariable,
+    /// Variable F, the second factor of E_TIMES_F_NV (default ZERO).
     pub f: FinalVariable,
+    /// Variable G, the output alpha, a scalar (ALPHA or BLUE usage; default SPARE0 alpha).
     pub g: FinalVariable,
     /// NV2A: SPARE0 enters SPARE0_PLUS_SECONDARY_COLOR under UNSIGNED_INVERT (1 − R0)
     /// instead of UNSIGNED_IDENTITY (NV097_SET_COMBINER_SPECULAR_FOG_CW1 bit 5,
@@ -155,6 +169,8 @@ impl FinalCombinerConfig {
         }
     }
 
+    /// Validate and build the unit; the same as [`FinalCombiner::new`], errors name
+    /// `final_combiner.<field>`.
     pub fn build(&self) -> Result<FinalCombiner, ConfigError> {
         FinalCombiner::new(*self)
     }
@@ -253,6 +269,7 @@ impl FinalCombiner {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> FinalCombinerConfig {
         self.cfg
     }

@@ -1,4 +1,5 @@
-//! gaussian_noise — the N(0, 1) source for the flare lines (SPEC B, eq. (6):
+//! gaussian_noise — the N(0, 1) source for the flare lines (M. Matsuda and T. Ikedo,
+//! "A Realtime Renderer for Glare Effect Based upon Empirical Approach", eq. (6):
 //! length = Gauss(num)·len, angle = Gauss(num)·ang + R(N)).
 //!
 //! Uniform source: two combined Tausworthe generators **taus88** (L'Ecuyer 1996: three
@@ -67,6 +68,7 @@ pub enum GaussMode {
 /// The plain config (serde-friendly); [`GaussianNoiseConfig::build`] validates it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct GaussianNoiseConfig {
+    /// The datapath: Box–Muller (the default) or the central-limit sum.
     pub mode: GaussMode,
     /// Bits B of each uniform (top bits of the taus88 word), 8 ..= 32.
     pub uniform_bits: u32,
@@ -100,6 +102,8 @@ impl GaussianNoiseConfig {
         }
     }
 
+    /// Validate and build the unit; the same as [`GaussianNoise::new`], errors name
+    /// `gaussian_noise.<field>`.
     pub fn build(&self) -> Result<GaussianNoise, ConfigError> {
         GaussianNoise::new(*self)
     }
@@ -122,7 +126,9 @@ pub type Taus88Bits = BitArray<[u32; 3], Lsb0>;
 /// Generator state: the two taus88 instances A and B (192 state bits).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GaussState {
+    /// Generator A, the source of the uniform codes k1.
     pub a: Taus88Bits,
+    /// Generator B, the source of the uniform codes k2.
     pub b: Taus88Bits,
 }
 
@@ -130,7 +136,11 @@ pub struct GaussState {
 /// central-limit mode gives x only (`y = None`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct GaussOut {
+    /// The first normal sample, a raw s(O+1).f code (O = `out_int_bits`, f =
+    /// `out_frac_bits`).
     pub x: i32,
+    /// The second normal sample of a Box–Muller step (same format); `None` in the
+    /// central-limit mode.
     pub y: Option<i32>,
 }
 
@@ -257,10 +267,12 @@ impl GaussianNoise {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> GaussianNoiseConfig {
         self.cfg
     }
 
+    /// Which datapath is built: Box–Muller or the central-limit sum.
     pub fn mode(&self) -> GaussMode {
         self.cfg.mode
     }

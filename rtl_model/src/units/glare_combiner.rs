@@ -50,7 +50,9 @@ pub struct GlareCombiner {
 /// One pixel: the framebuffer RGB and the luminance RGB to add.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct CombineIn {
+    /// Framebuffer RGB, codes of `fb_bits` bits (masked to the wire).
     pub fb: [u32; 3],
+    /// Luminance RGB to add, codes of `lum_bits` bits (masked to the wire).
     pub lum: [u32; 3],
 }
 
@@ -62,6 +64,7 @@ impl GlareCombiner {
         }
     }
 
+    /// The config the combiner was built from.
     pub fn config(&self) -> GlareCombinerConfig {
         self.cfg
     }

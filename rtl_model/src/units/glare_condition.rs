@@ -1,5 +1,6 @@
 //! glare_condition — decides whether a specular highlight becomes a glare source
-//! (SPEC B, Table 2): metallic I_ps = I·I_s·cos²α, water I_ps = I·cos α; glare when
+//! (M. Matsuda and T. Ikedo, "A Realtime Renderer for Glare Effect Based upon
+//! Empirical Approach", Table 2): metallic I_ps = I·I_s·cos²α, water I_ps = I·cos α; glare when
 //! I_ps ≥ T·I_a (T = 40 by default: no divider, T·I_a is a shift-add,
 //! (I_a<<5)+(I_a<<3)), and for water also total internal reflection
 //! 1 − η²(1 − cos²θ) < 0. The highlight value is output saturated at 255.
@@ -34,7 +35,9 @@ const NAME: &str = "glare_condition";
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Material {
+    /// A metal: I_ps = I·I_s·cos²α, glare on contrast alone.
     Metallic,
+    /// Water: I_ps = I·cos α, glare on contrast and total internal reflection.
     Water,
 }
 
@@ -116,6 +119,7 @@ pub struct GlareCondition {
 /// One highlight.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ConditionIn {
+    /// Which formula applies: metallic or water.
     pub material: Material,
     /// I, u(int_bits).(frac_bits).
     pub intensity: u32,
@@ -151,6 +155,7 @@ impl GlareCondition {
             .expect("defaults are valid")
     }
 
+    /// The config the unit was built from (η as given, before quantising).
     pub fn config(&self) -> GlareConditionConfig {
         self.cfg
     }

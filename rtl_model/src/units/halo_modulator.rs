@@ -1,7 +1,8 @@
-//! halo_modulator — the halo luminance modulation circuit (paper Fig. 3): the same
+//! halo_modulator — the halo luminance modulation circuit (Fig. 3 of M. Matsuda and
+//! T. Ikedo, "A Realtime Renderer for Glare Effect Based upon Empirical Approach"): the same
 //! SHAPE RAM as the bloom/flare modulator, then THREE ring RAMs (one falloff profile
-//! per colour channel R, G, B — the halo ring radius scales with wavelength, SPEC B
-//! eq. (5)), each times its channel gain.
+//! per colour channel R, G, B — the halo ring radius scales with wavelength, the
+//! paper's eq. (5)), each times its channel gain.
 //!
 //! The datapath, formats and widths are in [`crate::units::luminance_ram`]:
 //! u, v s2.F → clamp to [−1, 1] and split into index u(k+1) / weight u(wb) → 4 shape
@@ -28,14 +29,24 @@ const NAME: &str = "halo_modulator";
 /// gain u12.4, out 12 bits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct HaloModulatorConfig {
+    /// F: fraction bits of the s2.F coordinates u, v, 2 ..= 16 (default 14).
     pub coord_frac_bits: u32,
+    /// k: the shape RAM has 2ᵏ cells per side, (2ᵏ+1)² samples; 1 ..= 10 (default 7).
     pub shape_log2: u32,
+    /// Shape entry and distance d width, unorm bits, 1 ..= 16 (default 16).
     pub shape_bits: u32,
+    /// m: each of the three ring RAMs has 2ᵐ cells, 2ᵐ+1 samples; 1 ..= 12 (default 8).
     pub falloff_log2: u32,
+    /// Ring entry and profile p_c width, unorm bits, 1 ..= 20 (default 16).
     pub falloff_bits: u32,
+    /// Interpolation weight width of the shape and ring RAMs, 1 ..= 12 (default 8).
     pub weight_bits: u32,
+    /// Integer bits of each channel gain, 0 ..= 16 (default 12).
     pub gain_int_bits: u32,
+    /// Fraction bits of each channel gain, 0 ..= 16 (default 4); gain_int_bits +
+    /// gain_frac_bits must be ≥ 1 (the error names `gain_frac_bits`).
     pub gain_frac_bits: u32,
+    /// Luminance output width (framebuffer codes), 1 ..= 16 (default 12).
     pub out_bits: u32,
     /// Radial correction (default off); see [`Radial`].
     #[serde(default)]
@@ -65,6 +76,7 @@ impl HaloModulatorConfig {
         }
     }
 
+    /// The config with the given shared-datapath widths (the inverse of `widths`).
     pub fn from_widths(w: LumWidths) -> Self {
         HaloModulatorConfig {
             coord_frac_bits: w.coord_frac_bits,
@@ -122,10 +134,12 @@ impl HaloModulator {
         HaloModulatorConfig::default().build(shape, rings)
     }
 
+    /// The config the modulator was built from.
     pub fn config(&self) -> HaloModulatorConfig {
         HaloModulatorConfig::from_widths(self.w)
     }
 
+    /// The shared-datapath widths of the modulator.
     pub fn lum_widths(&self) -> LumWidths {
         self.w
     }

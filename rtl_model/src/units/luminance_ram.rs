@@ -939,8 +939,12 @@ mod tests {
 /// the primitive's RGB gain (u(gi).(gf) codes).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct LumIn {
+    /// Horizontal position in the primitive frame, an s2.F code (F = `coord_frac_bits`);
+    /// clamped to [−1, 1].
     pub u: i32,
+    /// Vertical position in the primitive frame, an s2.F code; clamped to [−1, 1].
     pub v: i32,
+    /// The primitive's RGB gain, u(gi).(gf) codes (gain_int_bits, gain_frac_bits).
     pub gain: [u32; 3],
 }
 
@@ -948,6 +952,8 @@ pub struct LumIn {
 /// the RGB luminance in framebuffer codes (`out_bits`, saturated).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct LumOut {
+    /// The interpolated shape distance d, a unorm code of `shape_bits` bits.
     pub d: u32,
+    /// RGB luminance in framebuffer codes of `out_bits` bits, saturated.
     pub lum: [u32; 3],
 }

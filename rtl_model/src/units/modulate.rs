@@ -39,6 +39,7 @@ pub enum ModulateMode {
 }
 
 impl ModulateMode {
+    /// Every rounding mode, the default (`Exact`) first, for sweeps.
     pub const ALL: [ModulateMode; 4] = [
         ModulateMode::Exact,
         ModulateMode::Shift,
@@ -57,7 +58,9 @@ pub struct Modulate {
 /// Two n-bit unorm operands (texture colour and incoming colour).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ModulateIn {
+    /// First operand, a u(n) code (masked to `bits` wires).
     pub a: u32,
+    /// Second operand, a u(n) code (masked to `bits` wires).
     pub b: u32,
 }
 
@@ -76,10 +79,12 @@ impl Modulate {
         }
     }
 
+    /// Operand and result width n in bits, 1 ..= 16 (GeForce: 8).
     pub fn bits(&self) -> u32 {
         self.bits
     }
 
+    /// How the u(2n) product is brought back to n bits.
     pub fn mode(&self) -> ModulateMode {
         self.mode
     }

@@ -35,6 +35,8 @@ pub const DEFAULT_OPERANDS: u32 = 3;
 /// One input word: the operands (the first `operands` are read).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ModulateChainIn {
+    /// The operands, u(n) codes, multiplied left to right; only the first `operands`
+    /// are read.
     pub ops: [u32; MAX_OPERANDS],
 }
 
@@ -59,6 +61,7 @@ pub enum ChainRounding {
 }
 
 impl ChainRounding {
+    /// Both choices, the default (`PerStage`) first, for sweeps.
     pub const ALL: [ChainRounding; 2] = [ChainRounding::PerStage, ChainRounding::Fused];
 }
 
@@ -121,10 +124,12 @@ impl ModulateChain {
         }
     }
 
+    /// The `modulate` datapath of each stage (its width n and rounding mode).
     pub fn modulate(&self) -> &Modulate {
         &self.modulate
     }
 
+    /// Where the value between two stages is rounded: per stage or once at the end.
     pub fn rounding(&self) -> ChainRounding {
         self.rounding
     }

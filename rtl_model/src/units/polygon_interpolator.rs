@@ -184,9 +184,13 @@ pub struct PolygonInterpolator {
 /// One walker step. `Hold` emits the current pixel (the first pixel of a walk).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Move {
+    /// Stay on the current pixel and emit it (the first pixel of a walk).
     Hold,
+    /// Step one pixel right (x + 1): add each edge's and attribute's x increment.
     Right,
+    /// Step one pixel left (x − 1): subtract the x increments.
     Left,
+    /// Step one row down (y + 1): add the y increments.
     Down,
 }
 
@@ -207,8 +211,11 @@ impl Move {
 /// its wire width (two's-complement wrap / low bits), so any value is accepted.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct Vertex {
+    /// Screen x, a raw s(coord_int_bits).(subpixel_bits) code (sub-pixel units).
     pub x: i64,
+    /// Screen y, a raw s(coord_int_bits).(subpixel_bits) code (sub-pixel units).
     pub y: i64,
+    /// Attributes, raw codes in `attr_fmt`; only the first `attrs` are used.
     pub attrs: [i64; MAX_ATTRS],
 }
 
@@ -218,15 +225,20 @@ pub struct Vertex {
 pub struct PolyState {
     /// Current pixel (integer pixels, `coord_int_bits` wide).
     pub x: i64,
+    /// Current pixel row (integer pixels, `coord_int_bits` wide).
     pub y: i64,
     /// Edge functions at the current pixel centre (units: sub-pixel × half-sub-pixel),
     /// top-left bias included: the pixel is inside iff all are ≥ 0.
     pub edge: [i64; EDGES],
+    /// Change of each edge function for one pixel step in x (same units as `edge`).
     pub edge_dx: [i64; EDGES],
+    /// Change of each edge function for one pixel step in y (same units as `edge`).
     pub edge_dy: [i64; EDGES],
     /// Attribute accumulators, raw in `s(acc_int).(acc_frac)`.
     pub acc: [i64; MAX_ATTRS],
+    /// dA/dx of each attribute per pixel, raw in the accumulator format.
     pub grad_x: [i64; MAX_ATTRS],
+    /// dA/dy of each attribute per pixel, raw in the accumulator format.
     pub grad_y: [i64; MAX_ATTRS],
     /// Barycentric mode ([`Barycentric`]), loaded by a triangle's setup: None for the
     /// planes (and always for parallelograms).
@@ -239,11 +251,18 @@ pub struct PolyState {
 /// differences.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BaryRegs {
+    /// Index of the edge function that gives the weight of the first vertex and of the
+    /// third vertex (the edge opposite each).
     pub edge_of: [usize; 2],
+    /// The top-left bias of those two edges, added back before the weights are taken.
     pub bias: [i64; 2],
     /// Σ of the unbiased edge functions: 2·area2 (h units × sub-pixel units).
     pub denom: i64,
+    /// Per attribute, the second vertex's value (raw in `attr_fmt`): the base of the
+    /// weighted sum.
     pub base: [i64; MAX_ATTRS],
+    /// Per attribute, the differences A0 − A1 and A2 − A1 (raw, one bit wider than
+    /// `attr_fmt`).
     pub delta: [[i64; MAX_ATTRS]; 2],
 }
 
@@ -259,8 +278,11 @@ impl PolyState {
 /// One output word.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct PolyOut {
+    /// Pixel column (integer pixels).
     pub x: i64,
+    /// Pixel row (integer pixels).
     pub y: i64,
+    /// Whether the pixel centre is covered (every edge function ≥ 0, top-left rule).
     pub inside: bool,
     /// Raw codes in the output format (first `attrs` valid, the rest 0).
     pub attrs: [i64; MAX_ATTRS],
@@ -271,8 +293,11 @@ pub struct PolyOut {
 /// [`PolygonInterpolator::kernel_batch_lanes`] writes.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct PolyLanes {
+    /// Pixel columns, one per word.
     pub x: Vec<i64>,
+    /// Pixel rows, one per word.
     pub y: Vec<i64>,
+    /// Coverage flags, one per word.
     pub inside: Vec<bool>,
     /// One lane per attribute (only the config's first `attrs` are written, and of
     /// those not the ones in `unread`).
@@ -294,6 +319,7 @@ impl PolyLanes {
         self.x.len()
     }
 
+    /// True when no word is held.
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
     }
@@ -357,16 +383,22 @@ impl PolyLanes {
 /// Inclusive pixel bounding box of a primitive (pixels whose centres may be covered).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BBox {
+    /// Leftmost pixel column.
     pub x0: i64,
+    /// Top pixel row.
     pub y0: i64,
+    /// Rightmost pixel column (inclusive).
     pub x1: i64,
+    /// Bottom pixel row (inclusive).
     pub y1: i64,
 }
 
 impl BBox {
+    /// Columns in the box, x1 − x0 + 1.
     pub fn width(&self) -> u64 {
         (self.x1 - self.x0 + 1) as u64
     }
+    /// Rows in the box, y1 − y0 + 1.
     pub fn height(&self) -> u64 {
         (self.y1 - self.y0 + 1) as u64
     }
@@ -375,11 +407,14 @@ impl BBox {
 /// A set-up primitive: its bounding box (None if empty) and the walker's start state.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct PolySetup {
+    /// The pixels whose centres may be covered; `None` for an empty primitive.
     pub bbox: Option<BBox>,
     /// Edge functions used: 3 (triangle) or 4 (parallelogram); 0 if empty.
     pub edges: u32,
     /// Doubled area in sub-pixel² units (> 0), 0 if degenerate.
     pub area2: i128,
+    /// The walker's registers at the first pixel: the kernel's start state for this
+    /// primitive.
     pub state: PolyState,
     /// Which edges are top or left (no −1 bias in their start value).
     pub top_left: [bool; EDGES],
@@ -748,36 +783,49 @@ impl PolygonInterpolator {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> PolygonInterpolatorConfig {
         self.cfg
     }
+    /// Attributes per primitive, 0 ..= 16.
     pub fn attrs(&self) -> u32 {
         self.cfg.attrs
     }
+    /// Sub-pixel bits of vertex positions, 0 ..= 8.
     pub fn subpixel_bits(&self) -> u32 {
         self.cfg.subpixel_bits
     }
+    /// Integer bits of vertex positions and pixel counters, including the sign, 2 ..= 14.
     pub fn coord_int_bits(&self) -> u32 {
         self.cfg.coord_int_bits
     }
+    /// Format of the vertex attributes (width 1 ..= 32).
     pub fn attr_fmt(&self) -> Format {
         self.cfg.attr_fmt
     }
+    /// Integer bits of the signed accumulators, including the sign, 1 ..= 48.
     pub fn acc_int_bits(&self) -> u32 {
         self.cfg.acc_int_bits
     }
+    /// Fraction bits of the accumulators, 1 ..= 40.
     pub fn acc_frac_bits(&self) -> u32 {
         self.cfg.acc_frac_bits
     }
+    /// What an accumulator does on overflow: WRAP (counted in `overflows`) or a SAT mode
+    /// (counted in `saturations`).
     pub fn acc_overflow(&self) -> Overflow {
         self.cfg.acc_overflow
     }
+    /// Integer bits of the output attributes (including the sign when `attr_fmt` is
+    /// signed), 0 ..= 40.
     pub fn out_int_bits(&self) -> u32 {
         self.cfg.out_int_bits
     }
+    /// Fraction bits of the output attributes, 0 ..= 40.
     pub fn out_frac_bits(&self) -> u32 {
         self.cfg.out_frac_bits
     }
+    /// Rounding of an accumulator to the output format.
     pub fn out_quant(&self) -> Quant {
         self.cfg.out_quant
     }

@@ -1,4 +1,5 @@
-//! polygon_variable_generator — the glare renderer's setup of area-fill quads (SPEC B,
+//! polygon_variable_generator — the glare renderer's setup of area-fill quads (M. Matsuda
+//! and T. Ikedo, "A Realtime Renderer for Glare Effect Based upon Empirical Approach",
 //! Fig. 1): from a source's (or flare line's) centre, extent, width and angle it makes
 //! the three vertices of the parallelogram the polygon interpolator walks, with the
 //! two attributes (u, v) — the pixel's position in the primitive's own normalised
@@ -58,6 +59,8 @@ impl Default for PolygonVariableGeneratorConfig {
 }
 
 impl PolygonVariableGeneratorConfig {
+    /// Validate and build the quarter-wave ROM; errors name
+    /// `polygon_variable_generator.<field>`.
     pub fn build(self) -> Result<PolygonVariableGenerator, ConfigError> {
         let f = |s: &str| format!("{NAME}.{s}");
         check_range(&f("coord_int_bits"), self.coord_int_bits.into(), 2, 14)?;
@@ -90,7 +93,11 @@ pub struct PolygonVariableGenerator {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PrimKind {
+    /// Bloom or halo: the screen-aligned square of half-side R around the centre, the
+    /// rotation φ carried in the corners' (u, v).
     Area,
+    /// Flare line: the rectangle from the centre along φ, length L and half-width w;
+    /// u = −1 at the centre … +1 at the tip, v = ±1 at the sides.
     Line,
 }
 
@@ -99,20 +106,33 @@ pub enum PrimKind {
 /// `angle` in u(angle_bits) turns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PvgIn {
+    /// Area (bloom, halo) or line (flare line).
     pub kind: PrimKind,
+    /// Centre x, a raw s(coord_int_bits).(subpixel_bits) code.
     pub cx: i64,
+    /// Centre y, a raw s(coord_int_bits).(subpixel_bits) code.
     pub cy: i64,
+    /// R (area: half-side of the square) or L (line: length), in sub-pixel units.
     pub extent: u64,
+    /// Half-width w of a line, in sub-pixel units (unused for an area).
     pub half_width: u64,
+    /// The rotation φ in turns, a u(angle_bits) code (2^angle_bits = one turn).
     pub angle: u32,
 }
 
 /// A vertex: position codes and the (u, v) attribute codes (s2.f).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct PvgVertex {
+    /// Screen x, a raw s(coord_int_bits).(subpixel_bits) code (saturated, counted).
     pub x: i64,
+    /// Screen y, a raw s(coord_int_bits).(subpixel_bits) code (saturated, counted).
     pub y: i64,
+    /// Attribute u, the first coordinate of the pixel's position in the primitive's
+    /// normalised frame (line: −1 at the centre … +1 at the tip), a raw code with
+    /// `attr_frac_bits` fraction bits.
     pub u: i64,
+    /// Attribute v, the second coordinate in the primitive's frame (line: ±1 at the
+    /// sides), a raw code with `attr_frac_bits` fraction bits.
     pub v: i64,
 }
 
@@ -120,6 +140,7 @@ pub struct PvgVertex {
 pub type PvgOut = [PvgVertex; 3];
 
 impl PolygonVariableGenerator {
+    /// Validate and build the unit; the same as [`PolygonVariableGeneratorConfig::build`].
     pub fn new(cfg: PolygonVariableGeneratorConfig) -> Result<Self, ConfigError> {
         cfg.build()
     }
@@ -132,6 +153,7 @@ impl PolygonVariableGenerator {
             .expect("defaults are valid")
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> PolygonVariableGeneratorConfig {
         self.cfg
     }

@@ -87,6 +87,8 @@ impl ProjectiveTexcoordConfig {
         }
     }
 
+    /// Validate and build the ROM; the same as [`ProjectiveTexcoord::new`], errors name
+    /// `projective_texcoord.<field>`.
     pub fn build(&self) -> Result<ProjectiveTexcoord, ConfigError> {
         ProjectiveTexcoord::new(*self)
     }
@@ -105,16 +107,25 @@ pub struct ProjectiveTexcoord {
 /// Homogeneous coordinates from the interpolator: raw s(in_int).(in_frac) codes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ProjectiveIn {
+    /// Homogeneous s, a raw s(in_int_bits).(in_frac_bits) code (masked to its wire).
     pub s: i64,
+    /// Homogeneous t, a raw s(in_int_bits).(in_frac_bits) code (masked to its wire).
     pub t: i64,
+    /// Homogeneous q, a raw s(in_int_bits).(in_frac_bits) code; q ≤ 0 means behind the
+    /// projector.
     pub q: i64,
 }
 
 /// Texture coordinates: raw s(out_int).(out_frac) codes; `behind` when q ≤ 0.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ProjectiveOut {
+    /// u = s/q, a raw s(out_int_bits).(out_frac_bits) code (saturated, counted); 0 when
+    /// `behind`.
     pub u: i32,
+    /// v = t/q, a raw s(out_int_bits).(out_frac_bits) code (saturated, counted); 0 when
+    /// `behind`.
     pub v: i32,
+    /// q ≤ 0: the point is behind the projector or on its plane (counted in `underflows`).
     pub behind: bool,
 }
 
@@ -122,12 +133,16 @@ pub struct ProjectiveOut {
 /// u, v (raw s(out_int).(out_frac) codes, 0 behind the projector) and `behind`.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct ProjLanes {
+    /// u codes, one per word.
     pub u: Vec<i32>,
+    /// v codes, one per word.
     pub v: Vec<i32>,
+    /// Behind-the-projector flags, one per word.
     pub behind: Vec<bool>,
 }
 
 impl ProjLanes {
+    /// Empty the lanes (their buffers kept).
     pub fn clear(&mut self) {
         self.u.clear();
         self.v.clear();
@@ -140,10 +155,12 @@ impl ProjLanes {
         self.behind.reserve(n);
     }
 
+    /// Words held.
     pub fn len(&self) -> usize {
         self.u.len()
     }
 
+    /// True when no word is held.
     pub fn is_empty(&self) -> bool {
         self.u.is_empty()
     }
@@ -242,6 +259,7 @@ impl ProjectiveTexcoord {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> ProjectiveTexcoordConfig {
         self.cfg
     }

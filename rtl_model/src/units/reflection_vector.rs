@@ -125,6 +125,8 @@ impl ReflectionVectorConfig {
         }
     }
 
+    /// Validate and build the ROM; the same as [`ReflectionVector::new`], errors name
+    /// `reflection_vector.<field>`.
     pub fn build(&self) -> Result<ReflectionVector, ConfigError> {
         ReflectionVector::new(*self)
     }
@@ -134,14 +136,20 @@ impl ReflectionVectorConfig {
 /// sign-extended to W wires), and λ as a u1.L code (≤ 2^L; larger codes clamp to 1).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ReflectionVectorIn {
+    /// The normal n (not unit length), raw s(in_int_bits).(in_frac_bits) codes.
     pub n: [i64; 3],
+    /// The eye vector e = eye − p (not unit length), raw s(in_int_bits).(in_frac_bits)
+    /// codes.
     pub e: [i64; 3],
+    /// Smoothness λ, a u1.L code (L = `lambda_bits`): 2^L is 1.0, larger codes clamp to 1.0.
     pub lambda: u32,
 }
 
 /// The three texel-space coordinate words (s(coord_int).F) and flags.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ReflectionVectorOut {
+    /// Texel-space coordinates (t + 1)/2 · s per axis, raw s(coord_int_bits).(coord_frac_bits)
+    /// codes (saturated, counted).
     pub coord: [i32; 3],
     /// d = n̂·v̂ < 0 (the normal faces away from the eye).
     pub back_facing: bool,
@@ -174,14 +182,18 @@ pub struct ReflectionParts {
     pub lambda: u32,
     /// t = r·λ in s4.(B+L).
     pub t: [i64; 3],
+    /// The unit's output for the pixel.
     pub out: ReflectionVectorOut,
 }
 
 /// One reciprocal-square-root result: S = 2^(2k)·m, y ≈ 1/√m as u1.`frac` raw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Rsqrt {
+    /// 1/√m as a raw fixed-point code with `frac` fraction bits.
     pub y: u64,
+    /// Fraction bits of `y`: `rsqrt_bits` (R) without Newton, `newton_frac_bits` (N) with it.
     pub frac: u32,
+    /// Half the even exponent of S: S = 2^(2k)·m, m ∈ [1, 4).
     pub k: u32,
 }
 
@@ -296,6 +308,7 @@ impl ReflectionVector {
         Self::geforce3()
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> ReflectionVectorConfig {
         self.cfg
     }

@@ -95,8 +95,11 @@ pub enum Register {
     Spare1,
     /// TEXTURE0_ARB … TEXTURE3_ARB, read/write.
     Texture0,
+    /// TEXTURE1_ARB, read/write.
     Texture1,
+    /// TEXTURE2_ARB, read/write.
     Texture2,
+    /// TEXTURE3_ARB, read/write.
     Texture3,
 }
 
@@ -104,6 +107,7 @@ pub enum Register {
 pub const REGISTER_COUNT: usize = 12;
 
 impl Register {
+    /// Every register in Table 1 order (the order of [`Register::index`]).
     pub const ALL: [Register; REGISTER_COUNT] = [
         Register::Zero,
         Register::ConstantColor0,
@@ -156,6 +160,7 @@ pub enum Mapping {
 }
 
 impl Mapping {
+    /// Every mapping in Table 4 order, for sweeps.
     pub const ALL: [Mapping; 8] = [
         Mapping::UnsignedIdentity,
         Mapping::UnsignedInvert,
@@ -209,12 +214,16 @@ pub enum ComponentUsage {
 pub enum Scale {
     /// NONE: ×1.
     None,
+    /// SCALE_BY_TWO_NV: ×2.
     ByTwo,
+    /// SCALE_BY_FOUR_NV: ×4.
     ByFour,
+    /// SCALE_BY_ONE_HALF_NV: ×½.
     ByOneHalf,
 }
 
 impl Scale {
+    /// Every scale, NONE first.
     pub const ALL: [Scale; 4] = [Scale::None, Scale::ByTwo, Scale::ByFour, Scale::ByOneHalf];
 
     /// The scale ×2 (an integer: 2, 4, 8, 1).
@@ -237,7 +246,10 @@ impl Scale {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "SCREAMING_SNAKE_CASE")]
 pub enum Bias {
+    /// NONE: nothing is added.
     None,
+    /// BIAS_BY_NEGATIVE_ONE_HALF_NV: −½ is added before the scale ((S + 1)/2 codes are
+    /// subtracted with [`BiasConstant::HalfCode`]); not allowed with ×4 or ×½.
     ByNegativeOneHalf,
 }
 
@@ -254,12 +266,18 @@ impl Bias {
 /// One variable's CombinerInputNV: `<input>`, `<mapping>`, `<componentUsage>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct VariableInput {
+    /// `<input>`: the register read (ZERO reads 0).
     pub input: Register,
+    /// `<mapping>`: how the register's value is mapped before the products (Table 4).
     pub mapping: Mapping,
+    /// `<componentUsage>`: RGB or ALPHA on the RGB portion, ALPHA or BLUE on the alpha
+    /// portion; FOG with ALPHA usage is refused (its alpha is the final combiner's).
+    /// Errors name the variable's `component_usage`.
     pub component_usage: ComponentUsage,
 }
 
 impl VariableInput {
+    /// The variable `<input>`, `<mapping>`, `<componentUsage>`.
     pub const fn new(input: Register, mapping: Mapping, component_usage: ComponentUsage) -> Self {
         VariableInput {
             input,
@@ -273,9 +291,13 @@ impl VariableInput {
 /// (CombinerInputNV) and its output operation (CombinerOutputNV).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub struct PortionConfig {
+    /// Variable A, the first factor of A·B.
     pub a: VariableInput,
+    /// Variable B, the second factor of A·B.
     pub b: VariableInput,
+    /// Variable C, the first factor of C·D.
     pub c: VariableInput,
+    /// Variable D, the second factor of C·D.
     pub d: VariableInput,
     /// `<abOutput>`; `None` = DISCARD_NV.
     pub ab_output: Option<Register>,
@@ -283,7 +305,9 @@ pub struct PortionConfig {
     pub cd_output: Option<Register>,
     /// `<sumOutput>`; `None` = DISCARD_NV.
     pub sum_output: Option<Register>,
+    /// `<scale>`, applied after the sum (or mux) and the bias.
     pub scale: Scale,
+    /// `<bias>`, added before the scale.
     pub bias: Bias,
     /// `<abDotProduct>` (RGB portion only).
     pub ab_dot_product: bool,
@@ -408,7 +432,9 @@ pub struct RegisterCombinerConfig {
     pub guard_bits: u32,
     /// Rounding of the products and of the output (any ap_fixed mode).
     pub rounding: Quant,
+    /// The RGB portion (default: Table NV_register_combiners.5's initial state).
     pub rgb: PortionConfig,
+    /// The alpha portion (default: Table NV_register_combiners.5's initial state).
     pub alpha: PortionConfig,
     /// What BIAS_BY_NEGATIVE_ONE_HALF subtracts ([`BiasConstant`]); `ExactHalf` by
     /// default, `HalfCode` on the NV2A.
@@ -520,6 +546,8 @@ impl RegisterCombinerConfig {
         }
     }
 
+    /// Validate and build the unit; the same as [`RegisterCombiner::new`], errors name
+    /// `register_combiner.<field>`.
     pub fn build(&self) -> Result<RegisterCombiner, ConfigError> {
         RegisterCombiner::new(*self)
     }
@@ -529,14 +557,17 @@ impl RegisterCombinerConfig {
 /// R, G, B, A components as s(N) codes, code c ↔ c/S. Words are masked to N wires.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub struct RegisterFile {
+    /// R, G, B, A codes of each register, in [`Register::index`] order.
     pub regs: [[i32; 4]; REGISTER_COUNT],
 }
 
 impl RegisterFile {
+    /// Register `r`'s R, G, B, A codes.
     pub fn get(&self, r: Register) -> [i32; 4] {
         self.regs[r.index()]
     }
 
+    /// Overwrite register `r`'s R, G, B, A codes.
     pub fn set(&mut self, r: Register, v: [i32; 4]) {
         self.regs[r.index()] = v;
     }
@@ -560,10 +591,15 @@ impl RegisterFile {
 /// unorm codes, RGBA (Table NV_register_combiners.1's initial values).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub struct FragmentInputs {
+    /// PRIMARY_COLOR_NV, RGBA.
     pub primary_color: [u32; 4],
+    /// SECONDARY_COLOR_NV, RGBA.
     pub secondary_color: [u32; 4],
+    /// TEXTURE0_ARB … TEXTURE3_ARB, RGBA each.
     pub texture: [[u32; 4]; 4],
+    /// CONSTANT_COLOR0_NV, RGBA.
     pub constant_color0: [u32; 4],
+    /// CONSTANT_COLOR1_NV, RGBA.
     pub constant_color1: [u32; 4],
     /// RGB the fog colour, alpha the fog factor (1 when fog is off).
     pub fog: [u32; 4],
@@ -667,6 +703,7 @@ impl RegisterCombiner {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> RegisterCombinerConfig {
         self.cfg
     }

@@ -85,14 +85,22 @@ pub struct ShadowCompareConfig {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum CompareFunc {
+    /// Code 0: never lit.
     Never,
+    /// Code 1: lit when frag − bias < stored.
     Less,
+    /// Code 2: lit when frag − bias = stored.
     Equal,
+    /// Code 3 (the default): lit when frag − bias ≤ stored.
     #[default]
     Lequal,
+    /// Code 4: lit when frag − bias > stored.
     Greater,
+    /// Code 5: lit when frag − bias ≠ stored.
     Notequal,
+    /// Code 6: lit when frag − bias ≥ stored.
     Gequal,
+    /// Code 7: always lit.
     Always,
 }
 
@@ -142,6 +150,7 @@ impl CompareFunc {
         (self.code() >> outcome) & 1 == 1
     }
 
+    /// True for LEQUAL, the default (left out when a config is written).
     pub fn is_default(&self) -> bool {
         *self == CompareFunc::default()
     }
@@ -187,6 +196,7 @@ impl DepthTexel {
         }
     }
 
+    /// True for `Unorm`, the default (left out when a config is written).
     pub fn is_default(&self) -> bool {
         *self == DepthTexel::default()
     }
@@ -213,6 +223,7 @@ impl ShadowCompareConfig {
         }
     }
 
+    /// Validate; the same as [`ShadowCompare::new`], errors name `shadow_compare.<field>`.
     pub fn build(&self) -> Result<ShadowCompare, ConfigError> {
         ShadowCompare::new(*self)
     }
@@ -231,10 +242,25 @@ pub enum ShadowIn {
     Clear,
     /// Depth pass: store `depth` (u(n), masked to n bits) at (x, y) if it is less than
     /// the stored depth.
-    Write { x: i32, y: i32, depth: u32 },
+    Write {
+        /// Texel column (clamped to the s16 wire; outside the map the write is dropped).
+        x: i32,
+        /// Texel row (clamped to the s16 wire; outside the map the write is dropped).
+        y: i32,
+        /// The texel word written, read as a depth by `texel` (u(n) for `unorm`).
+        depth: u32,
+    },
     /// Lookup pass: compare a fragment depth (u(n).k raw, masked to n + k bits)
     /// against the stored depth at (x, y).
-    Test { x: i32, y: i32, depth: u64 },
+    Test {
+        /// Texel column (clamped to the s16 wire; outside the map: the far plane).
+        x: i32,
+        /// Texel row (clamped to the s16 wire; outside the map: the far plane).
+        y: i32,
+        /// The fragment depth, a raw u(n).k code (n = `depth_bits`, k =
+        /// `frag_frac_bits`).
+        depth: u64,
+    },
 }
 
 /// One output word.
@@ -253,6 +279,7 @@ pub struct ShadowOut {
 /// `(y·width + x)·depth_bits`, little-endian within the word.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ShadowState {
+    /// The packed depth words, `width · height · depth_bits` bits.
     pub ram: BitVec<u64, Lsb0>,
 }
 
@@ -310,27 +337,35 @@ impl ShadowCompare {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> ShadowCompareConfig {
         self.cfg
     }
+    /// Map width in texels, 1 ..= 4096.
     pub fn width(&self) -> u32 {
         self.cfg.width
     }
+    /// Map height in texels, 1 ..= 4096.
     pub fn height(&self) -> u32 {
         self.cfg.height
     }
+    /// Stored depth width n in bits, 1 ..= 32 (GeForce: 24).
     pub fn depth_bits(&self) -> u32 {
         self.cfg.depth_bits
     }
+    /// Depth bias in LSBs of the stored depth, 0 ..= 2ⁿ − 1.
     pub fn bias(&self) -> u32 {
         self.cfg.bias
     }
+    /// Extra fraction bits k of the incoming fragment depth, 0 ..= 8.
     pub fn frag_frac_bits(&self) -> u32 {
         self.cfg.frag_frac_bits
     }
+    /// The depth compare function (default LEQUAL).
     pub fn compare(&self) -> CompareFunc {
         self.cfg.compare
     }
+    /// How a depth-pass write word is read as a depth.
     pub fn texel(&self) -> DepthTexel {
         self.cfg.texel
     }

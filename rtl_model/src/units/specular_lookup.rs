@@ -106,6 +106,8 @@ impl SpecularLookupConfig {
         self.in_bits - u32::from(self.signed_input)
     }
 
+    /// Validate and load the table for the configured exponent; the same as
+    /// [`SpecularLookup::new`], errors name `specular_lookup.<field>`.
     pub fn build(&self) -> Result<SpecularLookup, ConfigError> {
         SpecularLookup::new(*self)
     }
@@ -114,6 +116,9 @@ impl SpecularLookupConfig {
 /// One pixel: the dot-product word (low `in_bits` wires; signed or unsigned).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct SpecularLookupIn {
+    /// The dot-product code: u(n) unorm, or s(n) two's complement when `signed_input`
+    /// (negative reads as 0, counted in `saturations`); a word wider than n wires is
+    /// masked and counts one `overflows`.
     pub code: i32,
 }
 
@@ -184,6 +189,7 @@ impl SpecularLookup {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> SpecularLookupConfig {
         self.cfg
     }

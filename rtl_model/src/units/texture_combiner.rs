@@ -61,17 +61,27 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CombineFunction {
+    /// Arg0.
     Replace,
+    /// Arg0 · Arg1.
     Modulate,
+    /// Arg0 + Arg1 (the scaled result clamps to 1, counted in `saturations`).
     Add,
+    /// Arg0 + Arg1 − 0.5, clamped to [0, 1]; at scale 1 every exact result is a tie,
+    /// which the `rounding` mode breaks.
     AddSigned,
+    /// Arg0 · Arg2 + Arg1 · (1 − Arg2): a lerp weighted by Arg2.
     Interpolate,
+    /// Arg0 − Arg1 (a negative result clamps to 0, counted in `saturations`).
     Subtract,
+    /// 4·Σ (Arg0 − 0.5)(Arg1 − 0.5) over r, g, b, the scalar written to r, g, b (RGB only).
     Dot3Rgb,
+    /// The same scalar into r, g, b and a; COMBINE_ALPHA is ignored (RGB only).
     Dot3Rgba,
 }
 
 impl CombineFunction {
+    /// Every function, in GL's order; the DOT3 ones last.
     pub const ALL: [CombineFunction; 8] = [
         CombineFunction::Replace,
         CombineFunction::Modulate,
@@ -86,6 +96,7 @@ impl CombineFunction {
     /// The functions COMBINE_ALPHA accepts (all but the DOT3 ones, the last two).
     pub const ALPHA: &'static [CombineFunction] = (&Self::ALL as &[CombineFunction]).split_at(6).0;
 
+    /// True for DOT3_RGB and DOT3_RGBA (the RGB-only functions).
     pub fn is_dot3(self) -> bool {
         matches!(self, CombineFunction::Dot3Rgb | CombineFunction::Dot3Rgba)
     }
@@ -104,13 +115,18 @@ impl CombineFunction {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CombineSource {
+    /// TEXTURE: the stage's texel.
     Texture,
+    /// CONSTANT: the texture environment colour.
     Constant,
+    /// PRIMARY_COLOR: the fragment's interpolated primary colour.
     PrimaryColor,
+    /// PREVIOUS: the previous stage's result (the primary colour at stage 0).
     Previous,
 }
 
 impl CombineSource {
+    /// Every source, in GL's order.
     pub const ALL: [CombineSource; 4] = [
         CombineSource::Texture,
         CombineSource::Constant,
@@ -123,13 +139,18 @@ impl CombineSource {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum OperandRgb {
+    /// c: the source's colour channel.
     SrcColor,
+    /// 1 − c (N − c, the bitwise NOT).
     OneMinusSrcColor,
+    /// a: the source's alpha, on every colour channel.
     SrcAlpha,
+    /// 1 − a on every colour channel.
     OneMinusSrcAlpha,
 }
 
 impl OperandRgb {
+    /// Every RGB operand, in GL's order.
     pub const ALL: [OperandRgb; 4] = [
         OperandRgb::SrcColor,
         OperandRgb::OneMinusSrcColor,
@@ -153,11 +174,14 @@ impl OperandRgb {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum OperandAlpha {
+    /// a: the source's alpha.
     SrcAlpha,
+    /// 1 − a (N − a, the bitwise NOT).
     OneMinusSrcAlpha,
 }
 
 impl OperandAlpha {
+    /// Both alpha operands.
     pub const ALL: [OperandAlpha; 2] = [OperandAlpha::SrcAlpha, OperandAlpha::OneMinusSrcAlpha];
 }
 
@@ -173,6 +197,7 @@ pub enum CombinerRounding {
 }
 
 impl CombinerRounding {
+    /// Both rounding modes, the default first.
     pub const ALL: [CombinerRounding; 2] = [
         CombinerRounding::GeforceInteger,
         CombinerRounding::MesaFloat32,
@@ -200,6 +225,7 @@ pub struct TextureCombinerConfig {
     pub rgb_scale: u32,
     /// ALPHA_SCALE: 1, 2 or 4.
     pub alpha_scale: u32,
+    /// How the stage rounds (default `geforce_integer`).
     pub rounding: CombinerRounding,
 }
 
@@ -288,9 +314,13 @@ impl TextureCombinerConfig {
 /// One fragment: the four RGBA sources the stage can read, each channel u(n).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct TextureCombinerIn {
+    /// TEXTURE: the stage's texel, RGBA.
     pub texture: [u32; 4],
+    /// CONSTANT: the texture environment colour, RGBA.
     pub constant: [u32; 4],
+    /// PRIMARY_COLOR: the fragment's primary colour, RGBA.
     pub primary_color: [u32; 4],
+    /// PREVIOUS: the previous stage's result, RGBA.
     pub previous: [u32; 4],
 }
 
@@ -309,7 +339,9 @@ impl TextureCombinerIn {
 /// operand mapping inverts it (ONE_MINUS_*). Its value is N − code when inverted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct CombineArg {
+    /// The selected source channel, a u(n) code.
     pub code: u32,
+    /// ONE_MINUS_*: the operand is N − code.
     pub invert: bool,
 }
 
@@ -332,16 +364,21 @@ pub struct TextureCombiner {
 }
 
 impl TextureCombiner {
+    /// Validate; the same as [`TextureCombinerConfig::build`], errors name
+    /// `texture_combiner.<field>`.
     pub fn new(cfg: TextureCombinerConfig) -> Result<Self, ConfigError> {
         cfg.build()
     }
 
+    /// GL's initial COMBINE state on an 8-bit GeForce (see
+    /// [`TextureCombinerConfig::geforce`]).
     pub fn geforce() -> Self {
         TextureCombiner {
             cfg: TextureCombinerConfig::geforce(),
         }
     }
 
+    /// The stage's texture-environment state.
     pub fn config(&self) -> &TextureCombinerConfig {
         &self.cfg
     }
@@ -486,7 +523,9 @@ pub mod binary32 {
     use super::CombineArg;
     use crate::unorm::max_code;
 
+    /// 1.0 as a binary32 bit pattern.
     pub const ONE: u32 = 0x3f80_0000;
+    /// 0.5 as a binary32 bit pattern.
     pub const HALF: u32 = 0x3f00_0000;
 
     /// (negative, significand with its hidden bit (u24), exponent of its LSB):

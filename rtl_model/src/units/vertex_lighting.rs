@@ -72,6 +72,8 @@ pub const MAX_LIGHTS: usize = 8;
 pub const MAX_EXPONENT: f64 = 1.0e4;
 /// FP multiplier and adder lanes (the fewest that meet the 8-clock calibration).
 pub const FP_MULTIPLIERS: u32 = 6;
+/// FP adder lanes, each issuing one add a clock (with [`FP_MULTIPLIERS`], the fewest
+/// that meet the 8-clock calibration).
 pub const FP_ADDERS: u32 = 4;
 /// Issues per light on the schedule's worst case (local light, spot, specular):
 /// multiplies 9 (local: d², L, d, k_l·d, k_q·d²) + 4 (spot dot3, s·log) + 3 (N·L) +
@@ -92,8 +94,11 @@ pub const ISSUES_PER_NORMALISE: Issues = Issues {
 /// Operation issues per vertex on each resource.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Issues {
+    /// Multiplies.
     pub muls: u32,
+    /// Adds (including the spot compare).
     pub adds: u32,
+    /// Special-function operations (RSQ, RCP, LOG, EXP).
     pub specials: u32,
 }
 
@@ -151,7 +156,11 @@ pub enum SpecularCurve {
     /// gives 0, as the captures show). `params` are the six SET_SPECULAR_PARAMS words
     /// as the host wrote them (IEEE single bits); k0..k2 = params[0..3] are loaded into
     /// the format (one rounding each), the shininess is not used.
-    Nv2aParams { params: [u32; 6] },
+    Nv2aParams {
+        /// The six SET_SPECULAR_PARAMS words, IEEE single bit patterns (k0, k1, k2 of
+        /// the first triplet, then the unused second triplet).
+        params: [u32; 6],
+    },
 }
 
 impl SpecularCurve {
@@ -195,9 +204,16 @@ fn yes() -> bool {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct LightControl {
+    /// SET_LIGHTING_ENABLE: light the vertex (true) or pass its colours through (false).
     pub lighting: bool,
+    /// SET_SPECULAR_ENABLE: compute the specular term; off, the secondary colour is
+    /// (0, 0, 0, 1).
     pub specular_enable: bool,
+    /// Send the specular sum to the secondary colour (with `specular_enable`) instead of
+    /// adding it to the primary.
     pub separate_specular: bool,
+    /// SET_LIGHT_CONTROL ALPHA_FROM_MATERIAL_SPECULAR: the secondary alpha is the vertex's
+    /// specular alpha; off, 1.
     pub specular_alpha_from_vertex: bool,
 }
 
@@ -251,9 +267,16 @@ impl VertexLightingConfig {
 /// `color_bits`, what the passthroughs forward; ignored without it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct VertexLightingIn {
+    /// Eye-space position P (x, y, z), words of `format`.
     pub position: [Fp; 3],
+    /// Eye-space normal N (x, y, z), words of `format`; normalised in the datapath when
+    /// `normalize` is set.
     pub normal: [Fp; 3],
+    /// The vertex's diffuse colour, RGBA unorms of `color_bits` (read only with
+    /// [`LightControl`]).
     pub diffuse: [u32; 4],
+    /// The vertex's specular colour, RGBA unorms of `color_bits` (read only with
+    /// [`LightControl`]).
     pub specular: [u32; 4],
 }
 
@@ -261,7 +284,11 @@ pub struct VertexLightingIn {
 /// primary colour and `secondary` the specular one (all zero without it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct VertexLightingOut {
+    /// The lit colour (the primary colour with [`LightControl`]), RGBA unorms of
+    /// `color_bits`.
     pub rgba: [u32; 4],
+    /// The secondary (specular) colour with [`LightControl`], RGBA unorms of `color_bits`;
+    /// all zero without it.
     pub secondary: [u32; 4],
 }
 
@@ -270,7 +297,9 @@ pub struct VertexLightingOut {
 pub struct SpotRegs {
     /// ŝ, unit.
     pub direction: [Fp; 3],
+    /// cos of GL_SPOT_CUTOFF: the spot factor is 0 where −L·ŝ is below it.
     pub cos_cutoff: Fp,
+    /// GL_SPOT_EXPONENT.
     pub exponent: Fp,
 }
 
@@ -279,12 +308,18 @@ pub struct SpotRegs {
 pub struct LightRegs {
     /// Local: position xyz/w; directional: unit direction toward the light.
     pub local: bool,
+    /// xyz/w of a local light, or the direction toward a directional light (unit unless
+    /// `normalize_directional` is off).
     pub vector: [Fp; 3],
+    /// Attenuation coefficients (constant, linear, quadratic); used for local lights.
     pub attenuation: [Fp; 3],
+    /// The spot registers; `None` when the cutoff is 180 (no spot).
     pub spot: Option<SpotRegs>,
     /// a_m·a_i, d_m·d_i, s_m·s_i.
     pub ambient: [Fp; 3],
+    /// Diffuse product d_m·d_i, RGB.
     pub diffuse: [Fp; 3],
+    /// Specular product s_m·s_i, RGB.
     pub specular: [Fp; 3],
 }
 
@@ -479,10 +514,13 @@ impl VertexLighting {
         }
     }
 
+    /// The config the unit was built from.
     pub fn config(&self) -> VertexLightingConfig {
         self.cfg
     }
 
+    /// The float format of the arithmetic (exponent and mantissa widths, rounding,
+    /// subnormals).
     pub fn format(&self) -> FloatFormat {
         self.cfg.format
     }
