@@ -36,14 +36,14 @@ const STAGES: [&str; 5] = [
 ];
 
 /// A pass of `cycles` clocks with `stages` (busy/stalled/starved splitting the clocks
-/// in a pattern), a timeline of `bucket` clocks, and the given cache counts and bytes.
+/// in a pattern), a timeline of `bucket` clocks, and the given cache hits and misses
+/// and bytes.
 fn pass(
     name: &str,
     cycles: u64,
     stages: &[&str],
     bucket: u64,
-    hits: u64,
-    misses: u64,
+    (hits, misses): (u64, u64),
     bytes: &[(&str, u64)],
     seed: u64,
 ) -> NamedPassTiming {
@@ -126,7 +126,7 @@ fn trace(range: std::ops::Range<u64>, seed: u64) -> WindowTrace {
     }
     for c in range.start + 1..range.end {
         for (s, (_, w)) in signals.iter().enumerate() {
-            if g.next() % 5 == 0 {
+            if g.next().is_multiple_of(5) {
                 changes.push((c, s as u32, g.next() % (1 << w)));
             }
         }
@@ -148,8 +148,7 @@ fn frame(mode: &str) -> FrameTiming {
         1_200,
         &["rasteriser", "polygon_interpolator", "rop"],
         10,
-        0,
-        0,
+        (0, 0),
         &[("depth", 9_600)],
         1,
     );
@@ -158,8 +157,7 @@ fn frame(mode: &str) -> FrameTiming {
         50_000,
         &STAGES,
         100,
-        90_000,
-        10_000,
+        (90_000, 10_000),
         &[
             ("texture", 320_000),
             ("depth", 400_000),
@@ -172,8 +170,7 @@ fn frame(mode: &str) -> FrameTiming {
         3_000,
         &["rasteriser", "rop"],
         30,
-        0,
-        0,
+        (0, 0),
         &[("copy", 12_000)],
         3,
     );
@@ -510,6 +507,9 @@ fn vcd_round_trips_through_a_parser() {
     let ft = frame("clocked");
     let path = tmp("t.vcd");
     ct::write_vcd(&ft, &path).unwrap();
+    if let Ok(d) = std::env::var("CHIP_REPORT_KEEP") {
+        std::fs::copy(&path, PathBuf::from(d).join("frame.vcd")).unwrap();
+    }
     let text = std::fs::read(&path).unwrap();
     let mut p = vcd::Parser::new(&text[..]);
     let header = p.parse_header().unwrap();
