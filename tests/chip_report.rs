@@ -658,6 +658,14 @@ fn a_trace_past_its_pass_is_clipped_and_bad_traces_are_refused() {
         e.contains("timing.passes[1]") && e.contains("clock order"),
         "{e}"
     );
+    // Through the file: the error names the path, and no file is left.
+    let path = tmp("refused.vcd");
+    let e = ct::write_vcd(&ft, &path).unwrap_err();
+    assert!(
+        e.contains("refused.vcd") && e.contains("clock order"),
+        "{e}"
+    );
+    assert!(!path.exists());
     let mut ft = frame("clocked");
     let tr = ft.passes[0].timing.window.as_mut().unwrap();
     tr.changes[0].2 = 2; // a 1-bit valid set to 2
@@ -760,4 +768,40 @@ fn chip_files_write_all_three_and_say_when_no_pass_traced() {
     let notes = f.write(&ft).unwrap();
     assert!(notes[2].starts_with("no VCD"), "{}", notes[2]);
     assert!(!f.vcd.exists());
+}
+
+#[test]
+fn the_table_stays_within_its_width_on_long_names_and_big_numbers() {
+    let long = "x".repeat(150);
+    let mut ft = frame("sampled");
+    ft.clock_hz = 1.0; // a frame of days: wide millisecond cells
+    for p in &mut ft.passes {
+        p.pass = format!("{} {long}", p.pass);
+        p.timing.cycles *= 1_000_000_000;
+        p.timing.bottleneck = long.clone();
+        for s in &mut p.timing.stages {
+            s.name = format!("{}{long}", s.name);
+        }
+        for f in &mut p.timing.fifos {
+            f.name = format!("{}{long}", f.name);
+        }
+        let b: BTreeMap<String, u64> = p
+            .timing
+            .bytes_by_client
+            .iter()
+            .map(|(c, b)| (format!("{c}{long}"), b * 1_000_000_000))
+            .collect();
+        p.timing.bytes_by_client = b;
+    }
+    let t = ct::print_table(&ft);
+    let widest = t.lines().map(|l| l.chars().count()).max().unwrap();
+    assert!(widest <= MAX_TABLE_COLUMNS, "{widest} columns:\n{t}");
+    // Every pass still has its row, its number and the start of its name.
+    for (i, p) in ft.passes.iter().enumerate() {
+        let head: String = p.pass.chars().take(5).collect();
+        assert!(
+            t.lines().any(|l| l.starts_with(&format!("{i}  {head}"))),
+            "pass {i}"
+        );
+    }
 }

@@ -367,24 +367,11 @@ pub fn print_table(ft: &FrameTiming) -> String {
         "roofline_ms",
         "clocked/roofline",
     ];
-    // The name column takes what the others leave of the line.
-    let others: usize = header[2..].iter().map(|h| h.len()).sum::<usize>()
-        + ft.cycles_total().to_string().len().saturating_sub(6)
-        + 2 * (header.len() - 1)
-        + ft.passes.len().to_string().len().max(1);
-    let name_room = MAX_TABLE_COLUMNS.saturating_sub(others).max(12);
     let mut rows: Vec<Vec<String>> = ft
         .passes
         .iter()
         .enumerate()
-        .map(|(i, p)| {
-            time_row(
-                i.to_string(),
-                &cut(&p.pass, name_room),
-                p.timing.cycles,
-                p.roofline_seconds,
-            )
-        })
+        .map(|(i, p)| time_row(i.to_string(), &p.pass, p.timing.cycles, p.roofline_seconds))
         .collect();
     rows.push(time_row(
         String::new(),
@@ -392,6 +379,22 @@ pub fn print_table(ft: &FrameTiming) -> String {
         ft.cycles_total(),
         roofline_total,
     ));
+    // The name column takes what the others leave of the line.
+    let others: usize = (0..header.len())
+        .filter(|&c| c != 1)
+        .map(|c| {
+            rows.iter()
+                .map(|r| r[c].chars().count())
+                .chain([header[c].len()])
+                .max()
+                .unwrap_or(0)
+        })
+        .sum::<usize>()
+        + 2 * (header.len() - 1);
+    let name_room = MAX_TABLE_COLUMNS.saturating_sub(others).max(12);
+    for r in &mut rows {
+        r[1] = cut(&r[1], name_room);
+    }
     out.push_str("\ntime per pass (clocked on the chip, and the roofline's prediction):\n");
     out.push_str(&aligned(
         &header,
@@ -416,7 +419,7 @@ pub fn print_table(ft: &FrameTiming) -> String {
                 or_na(bytes_per_second(total, t, hz), |b| {
                     format!("{:.2}", b / 1e9)
                 }),
-                t.bottleneck.clone(),
+                cut(&t.bottleneck, 36),
             ]
         })
         .collect();
@@ -472,7 +475,7 @@ pub fn print_table(ft: &FrameTiming) -> String {
         for (k, (client, &b)) in t.bytes_by_client.iter().enumerate() {
             rows.push(vec![
                 if k == 0 { i.to_string() } else { String::new() },
-                client.clone(),
+                cut(client, 20),
                 b.to_string(),
                 megabytes(b),
                 or_na(bytes_per_second(b, t, hz), |v| format!("{:.3}", v / 1e9)),
@@ -1212,9 +1215,9 @@ impl ScopeTree {
 /// outside 1 ..= 64, a value wider than its signal, a signal index out of range,
 /// changes out of clock order, one name with two widths.
 pub fn write_vcd(ft: &FrameTiming, path: &Path) -> Result<(), String> {
-    let mut bytes = Vec::new();
-    vcd_bytes(ft, &mut bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-    crate::report::atomic::write_bytes(path, &bytes)
+    // Streamed to the file (a long window is large); every check comes before the
+    // first byte, and a failure leaves no file.
+    crate::report::atomic::write_with(path, |w| vcd_bytes(ft, w).map_err(std::io::Error::other))
 }
 
 /// [`write_vcd`] into a writer.
