@@ -332,6 +332,13 @@ fn unmeasured_numbers_are_na_never_zero() {
         .unwrap();
     let last = stages.lines().last().unwrap();
     assert!(last.contains("n/a"), "{last}");
+    // A client of 0 bytes has no line in the memory table (the JSON keeps it).
+    let memory = t
+        .split("\n\n")
+        .find(|s| s.starts_with("memory traffic"))
+        .unwrap();
+    assert!(memory.lines().any(|l| l.starts_with("2  copy")), "{memory}");
+    assert!(!memory.lines().any(|l| l.starts_with("3 ")), "{memory}");
     // A long pass name is cut to fit, never wraps the line.
     assert!(t.contains('…'));
     // JSON: nulls for the same.

@@ -472,7 +472,8 @@ pub fn print_table(ft: &FrameTiming) -> String {
     for (i, p) in ft.passes.iter().enumerate() {
         let t = &p.timing;
         let total: u64 = t.bytes_by_client.values().sum();
-        for (k, (client, &b)) in t.bytes_by_client.iter().enumerate() {
+        let moved = t.bytes_by_client.iter().filter(|(_, &b)| b > 0);
+        for (k, (client, &b)) in moved.enumerate() {
             rows.push(vec![
                 if k == 0 { i.to_string() } else { String::new() },
                 cut(client, 20),
@@ -487,7 +488,8 @@ pub fn print_table(ft: &FrameTiming) -> String {
     }
     if !rows.is_empty() {
         out.push_str(
-            "\nmemory traffic by client (MB = 10^6 bytes; GB/s achieved over the pass):\n",
+            "\nmemory traffic by client (MB = 10^6 bytes; GB/s over the pass; clients of 0 bytes \
+             left out):\n",
         );
         out.push_str(&aligned(
             &["#", "client", "bytes", "MB", "GB/s", "share_%"],
