@@ -821,3 +821,34 @@ fn the_table_stays_within_its_width_on_long_names_and_big_numbers() {
         );
     }
 }
+
+#[test]
+fn a_frame_of_many_passes_draws_a_bounded_key() {
+    // 300 short passes: the key lists 120 in three columns and counts the rest; the
+    // image stays a few hundred pixels high.
+    let base = frame("clocked").passes[0].clone();
+    let ft = FrameTiming {
+        mode: "clocked".into(),
+        chip: "geforce2-gts".into(),
+        clock_hz: 200e6,
+        passes: (0..300)
+            .map(|i| {
+                let mut p = base.clone();
+                p.pass = format!("shadow map, light {i}");
+                p.timing.window = None;
+                p
+            })
+            .collect(),
+        ..Default::default()
+    };
+    let path = tmp("many.timeline.png");
+    ct::write_timeline_png(&ft, &path).unwrap();
+    let img = image::open(&path).unwrap().to_rgb8();
+    assert_eq!(img.width(), TIMELINE_WIDTH);
+    assert!(img.height() < 1400, "{}", img.height());
+    if let Ok(d) = std::env::var("CHIP_REPORT_KEEP") {
+        std::fs::copy(&path, PathBuf::from(d).join("many.png")).unwrap();
+    }
+    let rows = ct::write_timeline_csv(&ft, &tmp("many.timeline.csv")).unwrap();
+    assert_eq!(rows, 300 * 3 * 120);
+}

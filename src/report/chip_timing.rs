@@ -865,9 +865,20 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
     let axis_h = 56u32;
     let bar_h = 44u32;
     let key_line = 20u32;
-    let key_cols = if ft.passes.len() > 12 { 2 } else { 1 };
-    let key_rows = ft.passes.len().div_ceil(key_cols) as u32;
-    let h = lanes_top + lanes_h + axis_h + bar_h + 16 + key_line * (key_rows + 1) + 12;
+    // The key: one column up to 12 passes, two up to 48, then three; at most
+    // KEY_ROWS rows, the rest counted on a last line (the CSV lists every pass).
+    const KEY_ROWS: usize = 40;
+    let n_passes = ft.passes.len();
+    let key_cols = match n_passes {
+        0..=12 => 1,
+        13..=48 => 2,
+        _ => 3,
+    };
+    let key_rows = n_passes.div_ceil(key_cols).min(KEY_ROWS);
+    let listed = (key_rows * key_cols).min(n_passes);
+    let more_line = u32::from(listed < n_passes);
+    let key_rows = key_rows as u32;
+    let h = lanes_top + lanes_h + axis_h + bar_h + 16 + key_line * (key_rows + 1 + more_line) + 12;
     let mut cv = Canvas {
         w,
         h,
@@ -947,9 +958,19 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
         lanes_bottom + 1,
         dark,
     );
-    for &s in starts.iter().skip(1) {
+    // A boundary crosses the lanes where the passes on both sides are at least 8
+    // pixels wide; between narrower ones it stays in the band, so many short passes do
+    // not hide the lanes.
+    let px = |i: usize| x_of(ft.passes[i].timing.cycles as f64) - left as f64;
+    for (i, &s) in starts.iter().enumerate().skip(1) {
         let x = x_of(s as f64).round() as u32;
-        cv.rect(x, title_h, x + 1, lanes_bottom, [200, 40, 40]);
+        let through = px(i - 1) >= 8.0 && px(i) >= 8.0;
+        let bottom = if through {
+            lanes_bottom
+        } else {
+            title_h + band_h - 2
+        };
+        cv.rect(x, title_h, x + 1, bottom, [200, 40, 40]);
     }
     // Ticks.
     let step = tick_step(total as f64, 8.0);
@@ -1103,16 +1124,23 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
         )
         .map_err(de)?;
         let col_w = plot_w / key_cols as u32;
-        for (i, p) in ft.passes.iter().enumerate() {
+        for (i, p) in ft.passes.iter().enumerate().take(listed) {
             let (col, row) = (i / key_rows as usize, i % key_rows as usize);
             let share = p.timing.cycles as f64 / total as f64 * 100.0;
-            let line = format!(
-                "{i}  {} — {} clocks from {} ({:.1} %)",
-                cut(&p.pass, 70 / key_cols),
-                p.timing.cycles,
-                starts[i],
-                share
-            );
+            let line = if key_cols < 3 {
+                format!(
+                    "{i}  {} — {} clocks from {} ({share:.1} %)",
+                    cut(&p.pass, 70 / key_cols),
+                    p.timing.cycles,
+                    starts[i],
+                )
+            } else {
+                format!(
+                    "{i}  {} — {} clocks ({share:.1} %)",
+                    cut(&p.pass, 22),
+                    p.timing.cycles,
+                )
+            };
             root.draw_text(
                 &line,
                 &style(small_px, HPos::Left, VPos::Center),
@@ -1120,6 +1148,17 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
                     (left + col as u32 * col_w) as i32,
                     (key_y + key_line * (row as u32 + 1)) as i32,
                 ),
+            )
+            .map_err(de)?;
+        }
+        if listed < n_passes {
+            root.draw_text(
+                &format!(
+                    "… and {} more passes (the timeline CSV lists every pass)",
+                    n_passes - listed
+                ),
+                &style(small_px, HPos::Left, VPos::Center),
+                (left as i32, (key_y + key_line * (key_rows + 1)) as i32),
             )
             .map_err(de)?;
         }
