@@ -218,8 +218,14 @@ fn show_period(hz: f64) -> String {
     if !(hz.is_finite() && hz > 0.0) {
         return "n/a".into();
     }
-    let s = 1.0 / hz;
-    let (v, unit) = if s >= 1e-3 {
+    show_duration(1.0 / hz)
+}
+
+/// A duration for a reader: "0.5 ms", "5 ns".
+fn show_duration(s: f64) -> String {
+    let (v, unit) = if s >= 1.0 {
+        (s, "s")
+    } else if s >= 1e-3 {
         (s * 1e3, "ms")
     } else if s >= 1e-6 {
         (s * 1e6, "µs")
@@ -1086,8 +1092,10 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
         }
         root.draw_text(
             &format!(
-                "frame clock (1 clock = {}; red lines: pass boundaries)",
-                show_period(ft.clock_hz)
+                "frame clock (1 clock = {}, {} clocks = {}; red lines: pass boundaries)",
+                show_period(ft.clock_hz),
+                crate::report::plot::format_tick(step),
+                seconds(step as u64, ft.clock_hz).map_or("n/a".into(), show_duration)
             ),
             &style(text_px, HPos::Center, VPos::Top),
             ((left + plot_w / 2) as i32, (lanes_bottom + 30) as i32),
