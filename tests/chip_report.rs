@@ -852,3 +852,31 @@ fn a_frame_of_many_passes_draws_a_bounded_key() {
     let rows = ct::write_timeline_csv(&ft, &tmp("many.timeline.csv")).unwrap();
     assert_eq!(rows, 300 * 3 * 120);
 }
+
+#[test]
+fn a_frame_with_no_clocked_pass_writes_nothing_and_says_so() {
+    let ft = FrameTiming {
+        mode: "clocked".into(),
+        chip: "geforce2-gts".into(),
+        clock_hz: 200e6,
+        ..Default::default()
+    };
+    let f = ChipFiles::beside(&tmp("empty.png"), DEFAULT_VCD_WINDOW);
+    let notes = f.write(&ft).unwrap();
+    assert_eq!(notes.len(), 1);
+    assert!(
+        notes[0].contains("no pass of the frame was clocked"),
+        "{}",
+        notes[0]
+    );
+    for p in f.paths() {
+        assert!(!p.exists(), "{}", p.display());
+    }
+    assert!(ct::print_table(&ft).contains("no pass was clocked"));
+    assert_eq!(ct::json(&ft)["cycles_total"], 0);
+    // A trace at clocks no VCD time can hold is refused, not wrapped.
+    let mut ft = frame("clocked");
+    ft.passes[0].timing.cycles = u64::MAX / 1_000;
+    let e = ct::vcd_bytes(&ft, Vec::new()).unwrap_err();
+    assert!(e.contains("2^64 ps"), "{e}");
+}

@@ -141,6 +141,14 @@ impl ChipFiles {
     /// Returns a line per file for the report (a VCD not written says why).
     pub fn write(&self, ft: &FrameTiming) -> Result<Vec<String>, String> {
         let mut notes = Vec::new();
+        if ft.cycles_total() == 0 {
+            // Every pass kept to the roofline (or none clocked a clock): nothing to draw.
+            notes.push(format!(
+                "no timeline or VCD: no pass of the frame was clocked ({} passes, 0 clocks)",
+                ft.passes.len()
+            ));
+            return Ok(notes);
+        }
         write_timeline_png(ft, &self.timeline_png)?;
         notes.push(format!(
             "wrote {} (stage utilisation over the frame's clocks)",
@@ -692,15 +700,15 @@ fn buckets(ft: &FrameTiming) -> Result<Vec<Bucket<'_>>, String> {
     for (i, p) in ft.passes.iter().enumerate() {
         check_timeline(i, p)?;
         let tl = &p.timing.timeline;
-        let end = starts[i] + p.timing.cycles;
+        let end = starts[i].saturating_add(p.timing.cycles);
         for (s, row) in tl.busy.iter().enumerate() {
             for (b, &v) in row.iter().enumerate() {
-                let lo = starts[i] + b as u64 * tl.bucket_clocks;
+                let lo = starts[i].saturating_add(b as u64 * tl.bucket_clocks);
                 out.push(Bucket {
                     pass: i,
                     stage: &tl.stages[s],
                     start: lo,
-                    end: (lo + tl.bucket_clocks).min(end),
+                    end: lo.saturating_add(tl.bucket_clocks).min(end),
                     busy: v,
                 });
             }
@@ -896,7 +904,7 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
     for (i, p) in ft.passes.iter().enumerate() {
         let (a, b) = (
             x_of(starts[i] as f64),
-            x_of((starts[i] + p.timing.cycles) as f64),
+            x_of(starts[i] as f64 + p.timing.cycles as f64),
         );
         let (a, b) = (
             a.round() as u32,
@@ -1056,7 +1064,7 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
         for (i, p) in ft.passes.iter().enumerate() {
             let (a, b) = (
                 x_of(starts[i] as f64),
-                x_of((starts[i] + p.timing.cycles) as f64),
+                x_of(starts[i] as f64 + p.timing.cycles as f64),
             );
             let room = (b - a - 6.0).max(0.0);
             let ts = style(small_px, HPos::Left, VPos::Center);
@@ -1350,9 +1358,19 @@ pub fn vcd_bytes<W: Write>(ft: &FrameTiming, out: W) -> Result<(), String> {
         .iter()
         .map(|&(i, tr)| {
             let end = tr.end_clock.min(ft.passes[i].timing.cycles);
-            (starts[i] + tr.start_clock, starts[i] + end)
+            (
+                starts[i].saturating_add(tr.start_clock),
+                starts[i].saturating_add(end),
+            )
         })
         .fold((u64::MAX, 0), |(a, b), (c, d)| (a.min(c), b.max(d)));
+    // Every timestamp, half clocks included, must fit the VCD's 64-bit time.
+    if hi.checked_mul(ps).and_then(|t| t.checked_add(ps)).is_none() {
+        return Err(format!(
+            "timing: clock {hi} of the frame is beyond what a VCD in picoseconds can \
+             time (2^64 ps); trace an earlier window"
+        ));
+    }
     w.comment(&format!(
         " glare-pipeline clocked chip: {} at {}, {} timing; one clock = {ps} ps \
          (the chip's period{}); clocks {lo}..{hi} of the frame, the clock k at {ps}·k ps ",
