@@ -773,6 +773,18 @@ fn chip_files_write_all_three_and_say_when_no_pass_traced() {
     let f = ChipFiles::beside(&tmp("all.png"), 0..2_000);
     let notes = f.write(&ft).unwrap();
     assert_eq!(notes.len(), 3);
+    // The traced clocks, cut at the frame's end (54 200 clocks).
+    let f2 = ChipFiles::beside(&tmp("cut.png"), 50_000..60_000);
+    let mut ft2 = frame("clocked");
+    ft2.passes[0].timing.window = None;
+    ft2.passes[1].timing.window = None;
+    ft2.passes[2].timing.window = Some(trace(0..3_000, 5));
+    let n2 = f2.write(&ft2).unwrap();
+    assert!(
+        n2[2].ends_with("clocks 50000..54200 of the frame)"),
+        "{}",
+        n2[2]
+    );
     for p in f.paths() {
         assert!(p.exists(), "{}", p.display());
     }

@@ -166,7 +166,7 @@ impl ChipFiles {
                 "wrote {} (the chip's signals over clocks {}..{} of the frame)",
                 self.vcd.display(),
                 w.start,
-                w.end
+                w.end.min(ft.cycles_total())
             ));
         } else {
             notes.push(format!(
