@@ -30,7 +30,11 @@ pub fn pass_entry(p: &super::plan::Pass, t: Option<&super::run::PassTime>) -> Pa
 /// validated, and its memory estimate is checked against `max_memory` (bytes; `None`
 /// = the default budget, half of `MemAvailable`: `frame::budget`), a shading scene's
 /// too (`budget::shading_estimate`: its sphere view). `json`: one object of the shape
-/// `report::render_json` prints for every family (docs/json.md).
+/// `report::render_json` prints for every family (docs/json.md). `vcd_window`
+/// (`--vcd-window START..END`): the clocks the clocked chip's VCD traces
+/// (`report::chip_timing`); with clocked timing the timeline PNG and CSV and the VCD
+/// are written beside `out` and checked with it.
+#[allow(clippy::too_many_arguments)]
 pub fn render_cli(
     name: &str,
     out: &Path,
@@ -39,15 +43,25 @@ pub fn render_cli(
     plan_only: bool,
     max_memory: Option<u64>,
     image: Option<&str>,
+    vcd_window: Option<&str>,
 ) -> Result<(), String> {
     use crate::report::outputs::{check_outputs, Output};
     let size = image
         .map(crate::report::image_arg::parse_image)
         .transpose()?;
+    // Whether the frame is clocked on a chip (`--timing clocked|sampled`, wired beside
+    // this); until then, never.
+    let clocked = false;
+    let chip_files = crate::report::chip_timing::ChipFiles::for_render(out, vcd_window, clocked)?;
     if !plan_only {
         let mut outs = vec![Output::png("out", out)];
         if let Some(r) = reference {
             outs.push(Output::png("reference", r));
+        }
+        if let Some(f) = &chip_files {
+            outs.push(Output::png("out (timeline PNG)", &f.timeline_png));
+            outs.push(Output::file("out (timeline CSV)", &f.timeline_csv));
+            outs.push(Output::file("out (VCD)", &f.vcd));
         }
         check_outputs(&outs)?;
     }
@@ -56,6 +70,7 @@ pub fn render_cli(
         json,
         reference,
         plan_only,
+        chip_files,
     };
     // The foundation test scene: `test`, or its `[test_scene]` file form.
     if crate::scene::test_scene::resolve(name)? {
@@ -97,6 +112,10 @@ struct RenderOut<'a> {
     json: bool,
     reference: Option<&'a Path>,
     plan_only: bool,
+    /// The clocked chip's files and the VCD's window (None: the frame is not
+    /// clocked). The frame's clock takes the window per pass through
+    /// `report::chip_timing::pass_window`.
+    chip_files: Option<crate::report::chip_timing::ChipFiles>,
 }
 
 /// `render` of the foundation test scene (fixed size: `--image` is refused).
@@ -254,6 +273,11 @@ fn render_frame(scene: &crate::scene::format::Scene, o: &RenderOut) -> Result<()
     let warnings = super::range::check(scene, &f);
     f.fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
+    // The clocked chip's timeline (PNG, CSV) and VCD beside the picture.
+    let chip_notes = match (&f.timing, &o.chip_files) {
+        (Some(ft), Some(files)) => files.write(ft)?,
+        _ => Vec::new(),
+    };
     let error = match reference {
         Some(path) => Some(super::reproduce::frame_error(scene, &f, Some(path))?),
         None => None,
@@ -262,7 +286,11 @@ fn render_frame(scene: &crate::scene::format::Scene, o: &RenderOut) -> Result<()
     if o.json {
         return print_frame_json(scene, &f, &elaboration, error.as_ref(), &warnings, o);
     }
-    print_frame_text(scene, &f, &elaboration, error.as_ref(), &warnings, out)
+    print_frame_text(scene, &f, &elaboration, error.as_ref(), &warnings, out)?;
+    for n in chip_notes {
+        println!("{n}");
+    }
+    Ok(())
 }
 
 /// A rendered frame's `render --json` object.

@@ -74,6 +74,8 @@ pub struct Frame {
     pub gpu: Gpu,
     pub times: Vec<PassTime>,
     pub wall_seconds: f64,
+    /// The frame clocked on a chip (`render --timing clocked|sampled`), else None.
+    pub timing: Option<crate::chip::clock::FrameTiming>,
 }
 
 impl Frame {
@@ -209,6 +211,7 @@ fn render_inner(
             gpu,
             times,
             wall_seconds: t0.elapsed().as_secs_f64(),
+            timing: None,
         },
         at,
     ))

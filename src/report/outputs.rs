@@ -16,6 +16,8 @@ pub enum OutputKind {
     Png,
     /// A directory the command fills (created if missing).
     Dir,
+    /// A file of any other kind (a CSV, a VCD): not a directory.
+    File,
 }
 
 /// One output: the argument that names it, its path, and what is written there.
@@ -40,6 +42,14 @@ impl<'a> Output<'a> {
             arg,
             path,
             kind: OutputKind::Dir,
+        }
+    }
+
+    pub fn file(arg: &'a str, path: &'a Path) -> Self {
+        Output {
+            arg,
+            path,
+            kind: OutputKind::File,
         }
     }
 }
@@ -97,12 +107,19 @@ fn check_one(o: &Output) -> Result<(), String> {
                 ));
             }
         }
+        OutputKind::File => {
+            if path.is_dir() {
+                return Err(format!(
+                    "{arg}: `{shown}` is a directory; a file is written there"
+                ));
+            }
+        }
     }
     // The nearest existing directory at or above the place written: it must be a
     // directory and take a new file.
     let start = match o.kind {
         OutputKind::Dir => Some(path),
-        OutputKind::Png => path.parent(),
+        OutputKind::Png | OutputKind::File => path.parent(),
     };
     let mut dir = start;
     while let Some(d) = dir.filter(|d| !d.as_os_str().is_empty()) {
