@@ -43,7 +43,7 @@ pub struct Timeline {
 pub struct WindowTrace {
     pub start_clock: u64,
     pub end_clock: u64,
-    /// (name, width in bits): "<fifo>.valid", "<fifo>.ready", "<fifo>.level", …
+    /// (name, width in bits): `<fifo>.valid`, `<fifo>.ready`, `<fifo>.level`, …
     pub signals: Vec<(String, u32)>,
     /// (clock, signal index, value), in clock order.
     pub changes: Vec<(u64, u32, u64)>,
