@@ -5,8 +5,11 @@
 
 pub mod clock;
 pub mod config;
+pub mod fifo;
+pub mod memory;
 pub mod presets;
 pub mod roofline;
+pub mod texture_cache;
 pub mod work;
 
 pub use presets::GpuModel;
