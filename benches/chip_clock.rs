@@ -45,10 +45,20 @@ fn fig6b_plane() -> PassWork {
             texels.extend([a, a + 1]);
             // h: the plane's 2D texture at about 0.36 texels per pixel.
             let (s, t) = ((x * 256 / w).min(254), (y * 256 / h).min(254));
-            texels.extend([s + 256 * t, s + 1 + 256 * t, s + 256 * (t + 1), s + 1 + 256 * (t + 1)]);
+            texels.extend([
+                s + 256 * t,
+                s + 1 + 256 * t,
+                s + 256 * (t + 1),
+                s + 1 + 256 * (t + 1),
+            ]);
             // J: screen-mapped, about one texel per pixel.
             let (s, t) = ((x * 512 / w).min(510), (y * 512 / h).min(510));
-            texels.extend([s + 512 * t, s + 1 + 512 * t, s + 512 * (t + 1), s + 1 + 512 * (t + 1)]);
+            texels.extend([
+                s + 512 * t,
+                s + 1 + 512 * t,
+                s + 512 * (t + 1),
+                s + 1 + 512 * (t + 1),
+            ]);
         }
     }
     PassWork {

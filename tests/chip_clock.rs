@@ -123,7 +123,12 @@ fn engine_two_stages_reach_the_slower_rate() {
     assert_eq!((a.name.as_str(), a.busy), ("unit", n as u64));
     assert_eq!((b.name.as_str(), b.busy), ("slow", 3 * n as u64));
     // A, the faster, spends most of the pass stalled by the full FIFO.
-    assert!(a.stalled > a.busy, "A busy {} stalled {}", a.busy, a.stalled);
+    assert!(
+        a.stalled > a.busy,
+        "A busy {} stalled {}",
+        a.busy,
+        a.stalled
+    );
     let f = t.fifos.iter().find(|f| f.name == "unit_to_slow").unwrap();
     assert_eq!(f.high_water, 2);
     assert_eq!(t.bottleneck, "slow");
@@ -135,8 +140,12 @@ fn single_unit_span_is_the_unit_contract() {
     // unit, which the contract says takes (n − 1)·II + latency + 1 clocks.
     for (latency, ii) in [(1, 1), (2, 1), (3, 2), (5, 3), (7, 4)] {
         for n in [1u32, 2, 7, 64] {
-            let t = clock_pass(&ideal_chip(latency, ii), &strip(n, RopWork::default()), None)
-                .unwrap();
+            let t = clock_pass(
+                &ideal_chip(latency, ii),
+                &strip(n, RopWork::default()),
+                None,
+            )
+            .unwrap();
             let want = Timing { latency, ii }.span_cycles(n as u64);
             assert_eq!(t.cycles, want, "latency {latency} II {ii} n {n}");
             check_accounting(&t);
@@ -210,7 +219,9 @@ fn cache_hits_on_a_known_stream() {
     //   1 M (evicts 5) | 2 M | 2 H | 0 H  → 4 hits, 7 misses.
     let mut dm = cache(1, Replacement::Lru);
     let h = run_stream(&mut dm, &stream);
-    let want = [false, false, true, false, false, true, false, false, false, true, true];
+    let want = [
+        false, false, true, false, false, true, false, false, false, true, true,
+    ];
     assert_eq!(h, want);
     assert_eq!((dm.hits, dm.misses), (4, 7));
     // 2-way LRU (2 sets, set = line mod 2):
@@ -218,14 +229,16 @@ fn cache_hits_on_a_known_stream() {
     //   2 M (set 0 evicts 4, the LRU) {0,2} | 2 H | 0 H  → 6 hits, 5 misses.
     let mut lru = cache(2, Replacement::Lru);
     let h = run_stream(&mut lru, &stream);
-    let want = [false, false, true, false, true, true, false, true, false, true, true];
+    let want = [
+        false, false, true, false, true, true, false, true, false, true, true,
+    ];
     assert_eq!(h, want);
     assert_eq!((lru.hits, lru.misses), (6, 5));
     // 2-way FIFO: as LRU until 2, which evicts 0 (the first in) {4,2}; so the last 0
     // misses  → 5 hits, 6 misses.
     let mut fifo = cache(2, Replacement::Fifo);
     let h = run_stream(&mut fifo, &stream);
-    assert_eq!(*h.last().unwrap(), false);
+    assert!(!*h.last().unwrap());
     assert_eq!((fifo.hits, fifo.misses), (5, 6));
 }
 
@@ -319,7 +332,11 @@ fn hardware_passes_split_textures_and_pay_overhead() {
     // The overhead clocks are idle for every stage.
     assert!(t.stages.iter().all(|s| s.starved >= 200));
     // Timeline and window.
-    assert!(t.timeline.busy.iter().all(|b| b.len() <= 1024 && !b.is_empty()));
+    assert!(t
+        .timeline
+        .busy
+        .iter()
+        .all(|b| b.len() <= 1024 && !b.is_empty()));
     let w = t.window.as_ref().unwrap();
     assert_eq!((w.start_clock, w.end_clock), (0, 500));
     assert!(!w.changes.is_empty());
@@ -357,12 +374,9 @@ fn sampled_mode_estimates_the_full_pass() {
 #[test]
 fn deterministic() {
     let chip = ChipConfig::geforce3();
-    let work = plane(
-        96,
-        64,
-        vec![tex("h", [64, 64, 1], 4)],
-        |x, y, _, k| bilinear(x % 64, y, k, 64),
-    );
+    let work = plane(96, 64, vec![tex("h", [64, 64, 1], 4)], |x, y, _, k| {
+        bilinear(x % 64, y, k, 64)
+    });
     let a = clock_pass(&chip, &work, Some(10..200)).unwrap();
     let b = clock_pass(&chip, &work, Some(10..200)).unwrap();
     assert_eq!(a, b);
@@ -399,17 +413,29 @@ fn invalid_configs_name_the_field() {
         f(&mut c);
         let e = clock_pass(&c, &work, None).unwrap_err();
         assert_eq!(e.field(), field, "{e}");
-        assert_eq!(
-            clock_pass_sampled(&c, &work, 4).unwrap_err().field(),
-            field
-        );
+        assert_eq!(clock_pass_sampled(&c, &work, 4).unwrap_err().field(), field);
     };
-    bad(&|c| c.texture_cache.line_bytes = 48, "chip.texture_cache.line_bytes");
+    bad(
+        &|c| c.texture_cache.line_bytes = 48,
+        "chip.texture_cache.line_bytes",
+    );
     bad(&|c| c.texture_cache.ways = 3, "chip.texture_cache.ways");
-    bad(&|c| c.texture_cache.size_bytes = 1000, "chip.texture_cache.size_bytes");
-    bad(&|c| c.texture_cache.misses_in_flight = 0, "chip.texture_cache.misses_in_flight");
-    bad(&|c| c.memory.bytes_per_clock = f64::NAN, "chip.memory.bytes_per_clock");
-    bad(&|c| c.memory.bytes_per_clock = 0.0, "chip.memory.bytes_per_clock");
+    bad(
+        &|c| c.texture_cache.size_bytes = 1000,
+        "chip.texture_cache.size_bytes",
+    );
+    bad(
+        &|c| c.texture_cache.misses_in_flight = 0,
+        "chip.texture_cache.misses_in_flight",
+    );
+    bad(
+        &|c| c.memory.bytes_per_clock = f64::NAN,
+        "chip.memory.bytes_per_clock",
+    );
+    bad(
+        &|c| c.memory.bytes_per_clock = 0.0,
+        "chip.memory.bytes_per_clock",
+    );
     bad(&|c| c.memory.queue_depth = 0, "chip.memory.queue_depth");
     bad(&|c| c.clock_hz = -1.0, "chip.clock_hz");
     bad(&|c| c.pipes = 0, "chip.pipes");
@@ -417,7 +443,10 @@ fn invalid_configs_name_the_field() {
     bad(&|c| c.textures_per_pass = 0, "chip.textures_per_pass");
     bad(&|c| c.fifo_depth = 0, "chip.fifo_depth");
     bad(&|c| c.pipe_stages[1].ii = 0, "chip.pipe_stages[1].ii");
-    bad(&|c| c.pipe_stages[0].latency = 0, "chip.pipe_stages[0].latency");
+    bad(
+        &|c| c.pipe_stages[0].latency = 0,
+        "chip.pipe_stages[0].latency",
+    );
     bad(
         &|c| c.texture_layout = Layout::Tiled { w: 3, h: 4 },
         "chip.texture_layout.w",
@@ -476,12 +505,9 @@ fn inconsistent_work_is_an_error() {
 fn dram_pages_and_priority_cost_clocks() {
     // Page misses add clocks on the same traffic; fixed priority and round robin move
     // the same bytes.
-    let work = plane(
-        128,
-        64,
-        vec![tex("h", [128, 128, 1], 4)],
-        |x, y, _, k| bilinear(x, y, k, 128),
-    );
+    let work = plane(128, 64, vec![tex("h", [128, 128, 1], 4)], |x, y, _, k| {
+        bilinear(x, y, k, 128)
+    });
     let base = ChipConfig::geforce2_gts();
     let t0 = clock_pass(&base, &work, None).unwrap();
     let mut paged = base.clone();
@@ -499,4 +525,61 @@ fn dram_pages_and_priority_cost_clocks() {
     assert_eq!(t2.bytes_by_client, t0.bytes_by_client);
     check_accounting(&t1);
     check_accounting(&t2);
+}
+
+/// Wall time of the clocked chip on a Fig. 6(b)-sized sample plane (720 × 480, the F
+/// table with 2 texels per lookup and two 2D textures with 4), printed, not asserted:
+/// `cargo test --test chip_clock -- --ignored --nocapture fig6b_plane_speed`
+/// (the criterion figure is `cargo bench --bench chip_clock`).
+#[test]
+#[ignore]
+fn fig6b_plane_speed() {
+    let (w, h) = (720u32, 480u32);
+    let work = plane(
+        w,
+        h,
+        vec![
+            tex("F", [256, 1, 1], 2),
+            tex("h", [256, 256, 1], 4),
+            tex("J", [512, 512, 1], 4),
+        ],
+        |x, y, j, k| match j {
+            0 => ((x + y) * 255 / (w + h)).min(254) + k,
+            1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
+            _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
+        },
+    );
+    let chip = ChipConfig::geforce2_gts();
+    let n = work.fragments() as f64;
+    // CPU time of this thread (the machine may be shared): /proc/thread-self/schedstat's
+    // first field, ns on the CPU; wall time where it is absent.
+    let cpu = || -> f64 {
+        std::fs::read_to_string("/proc/thread-self/schedstat")
+            .ok()
+            .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+            .unwrap_or_else(|| {
+                std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0.0, |d| d.as_secs_f64() * 1e9)
+            })
+    };
+    for _ in 0..3 {
+        let t0 = cpu();
+        let t = clock_pass(&chip, &work, None).unwrap();
+        let full = cpu() - t0;
+        let t0 = cpu();
+        let (s, rse) = clock_pass_sampled(&chip, &work, 8).unwrap();
+        let sampled = cpu() - t0;
+        println!(
+            "clocked: {} cycles, {:.1} CPU ns/fragment ({}, hit rate {:.3}); sampled 1/8: {} cycles ({:+.2} %, rse {:.4}), {:.1} CPU ns/fragment",
+            t.cycles,
+            full / n,
+            t.bottleneck,
+            t.cache_hit_rate().unwrap_or(0.0),
+            s.cycles,
+            (s.cycles as f64 / t.cycles as f64 - 1.0) * 100.0,
+            rse,
+            sampled / n
+        );
+    }
 }

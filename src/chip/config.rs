@@ -166,7 +166,12 @@ impl ChipConfig {
         }
         range("chip.pipes", self.pipes as u64, 1, 64)?;
         range("chip.tmus_per_pipe", self.tmus_per_pipe as u64, 1, 16)?;
-        range("chip.textures_per_pass", self.textures_per_pass as u64, 1, 64)?;
+        range(
+            "chip.textures_per_pass",
+            self.textures_per_pass as u64,
+            1,
+            64,
+        )?;
         range(
             "chip.setup_clocks_per_triangle",
             self.setup_clocks_per_triangle as u64,
@@ -193,24 +198,44 @@ impl ChipConfig {
         if textures > 1 {
             return Err(ConfigError::invalid(
                 "chip.pipe_stages",
-                &format!("{textures} Texture stages; the chip has one (its units are tmus_per_pipe)"),
+                &format!(
+                    "{textures} Texture stages; the chip has one (its units are tmus_per_pipe)"
+                ),
             ));
         }
         let c = &self.texture_cache;
-        range("chip.texture_cache.line_bytes", c.line_bytes as u64, 4, 4096)?;
+        range(
+            "chip.texture_cache.line_bytes",
+            c.line_bytes as u64,
+            4,
+            4096,
+        )?;
         pow2("chip.texture_cache.line_bytes", c.line_bytes as u64)?;
-        range("chip.texture_cache.misses_in_flight", c.misses_in_flight as u64, 1, 1 << 16)?;
+        range(
+            "chip.texture_cache.misses_in_flight",
+            c.misses_in_flight as u64,
+            1,
+            1 << 16,
+        )?;
         if c.size_bytes > 0 {
-            range("chip.texture_cache.size_bytes", c.size_bytes as u64, c.line_bytes as u64, 1 << 30)?;
+            range(
+                "chip.texture_cache.size_bytes",
+                c.size_bytes as u64,
+                c.line_bytes as u64,
+                1 << 30,
+            )?;
             let lines = c.size_bytes / c.line_bytes;
             if lines * c.line_bytes != c.size_bytes {
                 return Err(ConfigError::invalid(
                     "chip.texture_cache.size_bytes",
-                    &format!("{} is not a whole number of {}-byte lines", c.size_bytes, c.line_bytes),
+                    &format!(
+                        "{} is not a whole number of {}-byte lines",
+                        c.size_bytes, c.line_bytes
+                    ),
                 ));
             }
             range("chip.texture_cache.ways", c.ways as u64, 1, lines as u64)?;
-            if lines % c.ways != 0 || !(lines / c.ways).is_power_of_two() {
+            if !lines.is_multiple_of(c.ways) || !(lines / c.ways).is_power_of_two() {
                 return Err(ConfigError::invalid(
                     "chip.texture_cache.ways",
                     &format!(
@@ -229,13 +254,28 @@ impl ChipConfig {
                 &format!("{} is not a positive finite number", m.bytes_per_clock),
             ));
         }
-        range("chip.memory.latency_clocks", m.latency_clocks as u64, 0, 1 << 20)?;
+        range(
+            "chip.memory.latency_clocks",
+            m.latency_clocks as u64,
+            0,
+            1 << 20,
+        )?;
         range("chip.memory.queue_depth", m.queue_depth as u64, 1, 1 << 16)?;
         if let Some(p) = &m.pages {
-            range("chip.memory.pages.page_bytes", p.page_bytes as u64, 64, 1 << 24)?;
+            range(
+                "chip.memory.pages.page_bytes",
+                p.page_bytes as u64,
+                64,
+                1 << 24,
+            )?;
             pow2("chip.memory.pages.page_bytes", p.page_bytes as u64)?;
             range("chip.memory.pages.banks", p.banks as u64, 1, 256)?;
-            range("chip.memory.pages.page_miss_clocks", p.page_miss_clocks as u64, 0, 1 << 16)?;
+            range(
+                "chip.memory.pages.page_miss_clocks",
+                p.page_miss_clocks as u64,
+                0,
+                1 << 16,
+            )?;
         }
         Ok(())
     }

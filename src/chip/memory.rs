@@ -54,6 +54,8 @@ pub struct Memory {
     in_flight: [VecDeque<u64>; 4],
     open_page: Vec<u64>,
     next_rr: usize,
+    /// The earliest arrival clock among the reads in flight (u64::MAX: none).
+    earliest_arrival: u64,
     /// Bytes each client moved (counted when the request is queued).
     pub bytes: [u64; 4],
     /// Clocks the channel transferred (fractional sum of the requests' occupancy).
@@ -73,6 +75,7 @@ impl Memory {
             in_flight: Default::default(),
             open_page: vec![u64::MAX; banks],
             next_rr: 0,
+            earliest_arrival: u64::MAX,
             bytes: [0; 4],
             transfer_clocks: 0.0,
         }
@@ -86,6 +89,7 @@ impl Memory {
         for q in &mut self.in_flight {
             q.clear();
         }
+        self.earliest_arrival = u64::MAX;
         for q in &mut self.queues {
             q.clear();
         }
@@ -178,9 +182,14 @@ impl Memory {
             if r.read {
                 let arrive = self.free_at.ceil() as u64 + self.cfg.latency_clocks as u64;
                 self.in_flight[c].push_back(arrive);
+                self.earliest_arrival = self.earliest_arrival.min(arrive);
             }
             changed = true;
         }
+        if self.earliest_arrival > now {
+            return changed;
+        }
+        self.earliest_arrival = u64::MAX;
         for c in 0..4 {
             while let Some(&a) = self.in_flight[c].front() {
                 if a > now {
@@ -189,6 +198,9 @@ impl Memory {
                 self.in_flight[c].pop_front();
                 self.reads_done[c] += 1;
                 changed = true;
+            }
+            if let Some(&a) = self.in_flight[c].front() {
+                self.earliest_arrival = self.earliest_arrival.min(a);
             }
         }
         changed
@@ -218,7 +230,14 @@ impl Memory {
             // The channel frees (or a queued request may start) at the end of the
             // current transfer.
             let f = self.free_at.floor() as u64;
-            next = next.min(if self.queued > 0 { f } else { self.free_at.ceil() as u64 }.max(now + 1));
+            next = next.min(
+                if self.queued > 0 {
+                    f
+                } else {
+                    self.free_at.ceil() as u64
+                }
+                .max(now + 1),
+            );
         } else if self.queued > 0 {
             next = next.min(now + 1);
         }

@@ -155,8 +155,11 @@ impl ChipConfig {
             setup_clocks_per_triangle: m.setup_clocks_per_triangle as u32,
             // 10 µs per pass at 200 MHz: the roofline's assumed figure.
             pass_overhead_clocks: (m.pass_overhead_s * m.clock_hz).round() as u32,
-            // assumed: 16 quads between stages.
-            fifo_depth: 16,
+            // assumed: 64 quads between stages (and waiting in the texture unit and
+            // the ROP): enough to cover the assumed memory latency (40 clocks) and a
+            // full request queue (16) at one quad per clock, as Igehy et al. size
+            // their prefetch FIFO to the latency.
+            fifo_depth: 64,
             // The unit contract at GeForce defaults; 2 general combiners
             // (MAX_GENERAL_COMBINERS_NV on NV1x, GL_NV_register_combiners).
             pipe_stages: nv_pipe_stages(2),

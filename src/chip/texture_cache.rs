@@ -26,6 +26,9 @@ pub struct Surface {
     slice: u64,
     /// Tiles per row (tiled layout).
     tiles_x: u64,
+    /// log2 of the width and height when both are powers of two (index → x, y, z by
+    /// shifts), else `None` (by division).
+    shifts: Option<(u32, u32)>,
 }
 
 fn ceil_log2(v: u32) -> u32 {
@@ -37,7 +40,7 @@ fn ceil_log2(v: u32) -> u32 {
 }
 
 /// Spread the low 16 bits of `v` to the even bit positions.
-#[inline]
+#[inline(always)]
 fn spread(v: u32) -> u64 {
     let mut x = v as u64 & 0xffff;
     x = (x | (x << 8)) & 0x00ff_00ff;
@@ -50,7 +53,7 @@ fn spread(v: u32) -> u64 {
 /// Morton index of (x, y) in a 2^bx × 2^by rectangle: the low min(bx, by) bits of x
 /// and y interleaved (x in the even bits), the remaining high bits of the longer axis
 /// above them.
-#[inline]
+#[inline(always)]
 pub fn morton(x: u32, y: u32, bx: u32, by: u32) -> u64 {
     let m = bx.min(by);
     let mask = (1u32 << m) - 1;
@@ -84,6 +87,8 @@ impl Surface {
             pow2_bits,
             slice,
             tiles_x,
+            shifts: (w.is_power_of_two() && h.is_power_of_two())
+                .then(|| (w.trailing_zeros(), h.trailing_zeros())),
         }
     }
 
@@ -93,7 +98,7 @@ impl Surface {
     }
 
     /// The byte address of element (x, y, z).
-    #[inline]
+    #[inline(always)]
     pub fn address_xyz(&self, x: u32, y: u32, z: u32) -> u64 {
         let w = self.size[0];
         let elem = match self.layout {
@@ -108,10 +113,15 @@ impl Surface {
     }
 
     /// The byte address of element index `i` = x + w·(y + h·z).
-    #[inline]
+    #[inline(always)]
     pub fn address(&self, i: u32) -> u64 {
         if let Layout::Linear = self.layout {
             return self.base + i as u64 * self.elem_bytes as u64;
+        }
+        if let Some((sw, sh)) = self.shifts {
+            let x = i & ((1 << sw) - 1);
+            let r = i >> sw;
+            return self.address_xyz(x, r & ((1 << sh) - 1), r >> sh);
         }
         let (w, h) = (self.size[0], self.size[1]);
         let x = i % w;
