@@ -436,6 +436,10 @@ fn invalid_configs_name_the_field() {
         &|c| c.memory.bytes_per_clock = 0.0,
         "chip.memory.bytes_per_clock",
     );
+    bad(
+        &|c| c.memory.bytes_per_clock = 1e-9,
+        "chip.memory.bytes_per_clock",
+    );
     bad(&|c| c.memory.queue_depth = 0, "chip.memory.queue_depth");
     bad(&|c| c.clock_hz = -1.0, "chip.clock_hz");
     bad(&|c| c.pipes = 0, "chip.pipes");
@@ -483,6 +487,12 @@ fn inconsistent_work_is_an_error() {
     assert_eq!(
         clock_pass(&chip, &w, None).unwrap_err().field(),
         "pass_work.frag_xy"
+    );
+    let mut w = strip(4, RopWork::default());
+    w.rop.colour_write_bytes = u32::MAX;
+    assert_eq!(
+        clock_pass(&chip, &w, None).unwrap_err().field(),
+        "pass_work.rop.colour_write_bytes"
     );
     let mut w = strip(4, RopWork::default());
     w.prim_walked.push(3);
@@ -563,6 +573,17 @@ fn fig6b_plane_speed() {
                     .map_or(0.0, |d| d.as_secs_f64() * 1e9)
             })
     };
+    let t = clock_pass(&chip, &work, None).unwrap();
+    for s in &t.stages {
+        println!(
+            "  {:<22} busy {:>7} stalled {:>7} starved {:>7}",
+            s.name, s.busy, s.stalled, s.starved
+        );
+    }
+    for f in &t.fifos {
+        println!("  {:<40} high water {}/{}", f.name, f.high_water, f.depth);
+    }
+    println!("  bytes {:?}", t.bytes_by_client);
     for _ in 0..3 {
         let t0 = cpu();
         let t = clock_pass(&chip, &work, None).unwrap();
@@ -582,4 +603,36 @@ fn fig6b_plane_speed() {
             sampled / n
         );
     }
+}
+
+#[test]
+fn copy_pass_is_bandwidth_and_empty_pass_is_overhead() {
+    // A copy of 4 096 bytes read and 4 096 written at 4 bytes per clock: 2 048 clocks
+    // of transfer after the overhead (the first request starts the clock after it is
+    // queued; the latency only delays the reads, which nothing waits for but the end).
+    let mut chip = ideal_chip(2, 1);
+    chip.memory.bytes_per_clock = 4.0;
+    chip.memory.latency_clocks = 10;
+    chip.pass_overhead_clocks = 50;
+    let work = PassWork {
+        width: 16,
+        height: 16,
+        copy_read_bytes: 4096,
+        copy_write_bytes: 4096,
+        ..PassWork::default()
+    };
+    let t = clock_pass(&chip, &work, None).unwrap();
+    check_accounting(&t);
+    assert_eq!(t.bytes_by_client["copy"], 8192);
+    assert!(t.cycles >= 50 + 2048, "{}", t.cycles);
+    assert!(t.cycles <= 50 + 2048 + 10 + 2, "{}", t.cycles);
+    assert_eq!(t.bottleneck, "memory (copy)");
+    let empty = PassWork {
+        width: 16,
+        height: 16,
+        ..PassWork::default()
+    };
+    let t = clock_pass(&chip, &empty, None).unwrap();
+    check_accounting(&t);
+    assert_eq!((t.cycles, t.bottleneck.as_str()), (50, "none"));
 }

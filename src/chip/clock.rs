@@ -624,11 +624,9 @@ impl<'a> Engine<'a> {
                 .flight
                 .front()
                 .is_some_and(|f| f.ready <= t && self.mem.reads_done(Client::Texture) < f.need);
-        self.cls[2 + i] = if blocked {
-            STALLED
-        } else if t < st.next_accept {
+        self.cls[2 + i] = if t < st.next_accept {
             BUSY
-        } else if refused || waiting || head_waits {
+        } else if blocked || refused || waiting || head_waits {
             STALLED
         } else {
             STARVED
@@ -706,11 +704,9 @@ impl<'a> Engine<'a> {
             }
         }
         let ri = self.rop_index();
-        self.cls[ri] = if blocked {
-            STALLED
-        } else if t < self.rop_next_accept {
+        self.cls[ri] = if t < self.rop_next_accept {
             BUSY
-        } else if refused || waiting {
+        } else if blocked || refused || waiting {
             STALLED
         } else {
             STARVED
@@ -917,6 +913,20 @@ pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
             return Err(ConfigError::invalid(
                 &format!("pass_work.textures[{j}].texel_bytes"),
                 &format!("{} is not in 1 ..= 64", t.texel_bytes),
+            ));
+        }
+    }
+    let r = &work.rop;
+    for (field, v) in [
+        ("depth_read_bytes", r.depth_read_bytes),
+        ("depth_write_bytes", r.depth_write_bytes),
+        ("colour_read_bytes", r.colour_read_bytes),
+        ("colour_write_bytes", r.colour_write_bytes),
+    ] {
+        if v > 1024 {
+            return Err(ConfigError::invalid(
+                &format!("pass_work.rop.{field}"),
+                &format!("{v} bytes per fragment is not in 0 ..= 1024"),
             ));
         }
     }
@@ -1223,7 +1233,7 @@ fn finish(chip: &ChipConfig, acc: Acc, hardware_passes: u32) -> PassTiming {
 
 /// The bottleneck rule (module comment): memory when its channel was busy in ≥ 90 % of
 /// the working clocks (named by the client that moved the most bytes), else the stage
-/// with the most busy clocks.
+/// with the most busy clocks ("none" when no stage was busy).
 fn bottleneck(stages: &[StageClocks], bytes: &[u64; 4], working: u64) -> String {
     let mem = stages.last().map_or(0, |s| s.busy);
     if working > 0 && mem as f64 >= MEMORY_SATURATED * working as f64 {
@@ -1241,7 +1251,11 @@ fn bottleneck(stages: &[StageClocks], bytes: &[u64; 4], working: u64) -> String 
             best = Some(s);
         }
     }
-    best.map_or_else(String::new, |s| s.name.clone())
+    match best {
+        Some(s) if s.busy > 0 => s.name.clone(),
+        // Nothing was busy (a pass with no work but its overhead).
+        _ => "none".to_string(),
+    }
 }
 
 /// Clock one pass's work on a chip. `window` (clocks relative to the pass's start)

@@ -248,10 +248,13 @@ impl ChipConfig {
         layout("chip.texture_layout", &self.texture_layout)?;
         layout("chip.framebuffer_layout", &self.framebuffer_layout)?;
         let m = &self.memory;
-        if !(m.bytes_per_clock.is_finite() && m.bytes_per_clock > 0.0) {
+        if !(m.bytes_per_clock.is_finite() && (1e-3..=1e12).contains(&m.bytes_per_clock)) {
             return Err(ConfigError::invalid(
                 "chip.memory.bytes_per_clock",
-                &format!("{} is not a positive finite number", m.bytes_per_clock),
+                &format!(
+                    "{} is not a finite number in 0.001 ..= 1e12",
+                    m.bytes_per_clock
+                ),
             ));
         }
         range(
