@@ -114,16 +114,1338 @@ impl FrameTiming {
     }
 }
 
+// ---------------------------------------------------------------------------------
+// The engine.
+//
+// A pass is clocked as one or more hardware passes (its textures in groups of
+// `textures_per_pass`; each group walks every primitive again and pays
+// `pass_overhead_clocks` first, all stages idle). Within a hardware pass, in every
+// clock, in this order (producers before consumers, so a FIFO's ready is the level at
+// the start of the clock and its valid falls through, as `fifo.rs` describes):
+//
+// 1. memory controller (`memory.rs`): starts queued requests, counts arrived reads;
+// 2. set-up: `setup_clocks_per_triangle` clocks per primitive, then hands it to the
+//    rasteriser through a FIFO of `fifo_depth` primitives;
+// 3. rasteriser: walks a primitive's `prim_walked` pixels at `pipes` pixels per clock
+//    and emits its covered fragments as 2×2 quads, at most one quad per clock, spread
+//    evenly over the walk (quad i of Q due at walk clock ⌊i·T/Q⌋, T = max(⌈walked /
+//    pipes⌉, Q)). Walk order (assumed): 8×8-pixel tiles in row order, 2×2 quads in row
+//    order within a tile. A full FIFO freezes the walk;
+// 4. the pipe stages in order. A Plain stage accepts a quad of n fragments every
+//    ⌈n / pipes⌉·II clocks and presents it (⌈n / pipes⌉ − 1)·II + latency clocks after
+//    accepting it (the unit contract's span per pipe). The Texture stage is the same
+//    with ⌈n / pipes⌉·⌈t / tmus_per_pipe⌉·II clocks per quad for t textures in the
+//    hardware pass; on accepting a quad it looks up every texel address of its
+//    fragments in the texture cache and queues a line read for each miss (at most
+//    `misses_in_flight` reads outstanding before it accepts another quad), and a quad
+//    leaves only when the reads it needs (its misses, or the in-flight fills it hit)
+//    have arrived — up to `fifo_depth` + latency quads wait inside it (the prefetching
+//    organisation of Igehy, Eldridge and Proudfoot, Graphics Hardware 1998);
+// 5. ROP: accepts a quad every ⌈n / pipes⌉ clocks, queues its depth and colour reads,
+//    holds up to `fifo_depth` quads until their reads arrive, then queues the depth
+//    and colour writes (every fragment is assumed to pass the depth test) and retires
+//    the quad;
+// 6. copy engine (the last hardware pass, after the ROP retired every quad): queues
+//    the copy's reads and writes in bursts of `COPY_BURST_BYTES`, one per clock.
+//
+// A stage's clock is *busy* when it is inside an accepted item's occupancy (II
+// window), else *stalled* when it holds work it cannot advance (a full FIFO
+// downstream, a full memory queue, a read not yet arrived), else *starved*. Memory is
+// busy while its channel transfers. Clocks in which nothing changes are skipped: the
+// engine jumps to the next clock at which a timer (an II window's end, a latency, a
+// read's arrival, the channel's next free clock) fires, crediting the skipped clocks
+// to each stage's current state. The pass ends at the first clock in which every
+// stage and the memory are idle.
+//
+// Bottleneck (the rule): when the memory channel was busy in ≥ 90 % of the pass's
+// clocks outside the pass overhead, "memory (<client>)" with the client that moved the
+// most bytes; otherwise the stage with the most busy clocks (the earliest on a tie).
+// ---------------------------------------------------------------------------------
+
+use super::config::StageKind;
+use super::fifo::Fifo;
+use super::memory::{Client, Memory, CLIENT_NAMES};
+use super::texture_cache::{Access, Cache, Surface};
+use std::collections::VecDeque;
+
+/// Bytes of one copy-to-texture request (assumed: one 64-byte burst).
+pub const COPY_BURST_BYTES: u64 = 64;
+/// Memory busy fraction above which the memory names the bottleneck.
+pub const MEMORY_SATURATED: f64 = 0.9;
+/// Timeline buckets at most (between half this and this on a long pass).
+const TIMELINE_BUCKETS: usize = 1024;
+
+const NONE: u32 = u32::MAX;
+const BUSY: u8 = 0;
+const STALLED: u8 = 1;
+const STARVED: u8 = 2;
+
+/// A 2×2 quad: its fragments by lane (lane = 2·(y & 1) + (x & 1)), `NONE` where
+/// uncovered.
+#[derive(Clone, Copy, Debug, Default)]
+struct Quad {
+    frag: [u32; 4],
+    n: u32,
+    x: u16,
+    y: u16,
+}
+
+/// The pass's quads, per primitive, in walk order.
+struct Quads {
+    quads: Vec<Quad>,
+    /// prim_start[p] .. prim_start[p + 1]: primitive p's quads.
+    prim_start: Vec<u32>,
+}
+
+fn build_quads(work: &PassWork) -> Quads {
+    let w = work.width.max(1) as usize;
+    let h = work.height.max(1) as usize;
+    let tiles_x = w.div_ceil(8);
+    let slots = tiles_x * h.div_ceil(8) * 16;
+    let mut stamp = vec![u32::MAX; slots];
+    let mut slot = vec![0u32; slots];
+    let mut quads = Vec::with_capacity(work.fragments() / 3 + 1);
+    let nprims = work.prim_first_fragment.len();
+    let mut prim_start = Vec::with_capacity(nprims + 1);
+    let mut scratch: Vec<Quad> = Vec::new();
+    let mut keys: Vec<u64> = Vec::new();
+    for p in 0..nprims {
+        prim_start.push(quads.len() as u32);
+        scratch.clear();
+        keys.clear();
+        for f in work.prim_fragments(p) {
+            let [x, y] = work.frag_xy[f];
+            let (x, y) = (x as usize, y as usize);
+            let wi = ((y >> 3) * tiles_x + (x >> 3)) * 16 + ((y >> 1) & 3) * 4 + ((x >> 1) & 3);
+            let lane = (y & 1) * 2 + (x & 1);
+            let mut q = slot[wi] as usize;
+            if stamp[wi] != p as u32 || scratch[q].frag[lane] != NONE {
+                q = scratch.len();
+                scratch.push(Quad {
+                    frag: [NONE; 4],
+                    n: 0,
+                    x: (x & !1) as u16,
+                    y: (y & !1) as u16,
+                });
+                keys.push(((wi as u64) << 32) | q as u64);
+                stamp[wi] = p as u32;
+                slot[wi] = q as u32;
+            }
+            scratch[q].frag[lane] = f as u32;
+            scratch[q].n += 1;
+        }
+        keys.sort_unstable();
+        quads.extend(keys.iter().map(|k| scratch[(k & 0xffff_ffff) as usize]));
+    }
+    prim_start.push(quads.len() as u32);
+    Quads { quads, prim_start }
+}
+
+/// Busy fractions per bucket, built while clocking: buckets of 2^shift clocks, two
+/// merged into one whenever the pass outgrows `TIMELINE_BUCKETS`.
+struct TimelineBuilder {
+    shift: u32,
+    busy: Vec<Vec<u64>>,
+}
+
+impl TimelineBuilder {
+    fn new(stages: usize) -> Self {
+        TimelineBuilder {
+            shift: 0,
+            busy: vec![Vec::with_capacity(TIMELINE_BUCKETS); stages],
+        }
+    }
+
+    fn fit(&mut self, clock: u64) {
+        while (clock >> self.shift) as usize >= TIMELINE_BUCKETS {
+            for b in &mut self.busy {
+                let merged: Vec<u64> = b.chunks(2).map(|c| c.iter().sum()).collect();
+                *b = merged;
+            }
+            self.shift += 1;
+        }
+    }
+
+    #[inline]
+    fn add(&mut self, stage: usize, t: u64, k: u64) {
+        // The common case: one clock inside the buckets already there.
+        let b = (t >> self.shift) as usize;
+        if k == 1 && b < TIMELINE_BUCKETS {
+            let v = &mut self.busy[stage];
+            if let Some(x) = v.get_mut(b) {
+                *x += 1;
+                return;
+            }
+        }
+        self.add_span(stage, t, k);
+    }
+
+    fn add_span(&mut self, stage: usize, mut t: u64, mut k: u64) {
+        while k > 0 {
+            self.fit(t + k - 1);
+            let b = (t >> self.shift) as usize;
+            let end = ((b as u64) + 1) << self.shift;
+            let span = k.min(end - t);
+            let v = &mut self.busy[stage];
+            if v.len() <= b {
+                v.resize(b + 1, 0);
+            }
+            v[b] += span;
+            t += span;
+            k -= span;
+        }
+    }
+
+    fn finish(mut self, names: Vec<String>, cycles: u64) -> Timeline {
+        if cycles == 0 {
+            return Timeline {
+                bucket_clocks: 1,
+                stages: names,
+                busy: vec![Vec::new(); self.busy.len()],
+            };
+        }
+        self.fit(cycles - 1);
+        let bc = 1u64 << self.shift;
+        let n = cycles.div_ceil(bc) as usize;
+        let busy = self
+            .busy
+            .iter()
+            .map(|v| {
+                (0..n)
+                    .map(|b| {
+                        let len = bc.min(cycles - b as u64 * bc);
+                        v.get(b).copied().unwrap_or(0) as f32 / len as f32
+                    })
+                    .collect()
+            })
+            .collect();
+        Timeline {
+            bucket_clocks: bc,
+            stages: names,
+            busy,
+        }
+    }
+}
+
+/// The chip-level signals over a window of clocks.
+struct WindowBuilder {
+    range: std::ops::Range<u64>,
+    signals: Vec<(String, u32)>,
+    last: Vec<u64>,
+    changes: Vec<(u64, u32, u64)>,
+}
+
+impl WindowBuilder {
+    /// Record `values` as the signals' values from clock `g` (global) for `k` clocks.
+    fn sample(&mut self, g: u64, k: u64, values: impl Iterator<Item = u64>) {
+        if g + k <= self.range.start || g >= self.range.end {
+            return;
+        }
+        let at = g.max(self.range.start);
+        for (i, v) in values.enumerate() {
+            if self.last[i] != v {
+                self.last[i] = v;
+                self.changes.push((at, i as u32, v));
+            }
+        }
+    }
+}
+
+fn bits_for(v: u64) -> u32 {
+    (64 - v.leading_zeros()).max(1)
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Flight {
+    ready: u64,
+    quad: u32,
+    need: u64,
+    need2: u64,
+}
+
+struct PipeUnit {
+    latency: u64,
+    ii: u64,
+    texture: bool,
+    next_accept: u64,
+    flight: VecDeque<Flight>,
+    cap: usize,
+}
+
+struct TexInfo {
+    surface: Surface,
+    offset: usize,
+    per_lookup: usize,
+}
+
+/// Everything one clocked pass accumulates over its hardware passes (and, in sampled
+/// mode, over its groups of tiles).
+struct Acc {
+    counts: Vec<[u64; 3]>,
+    timeline: TimelineBuilder,
+    window: Option<WindowBuilder>,
+    /// Global clock at which the next hardware pass starts.
+    offset: u64,
+    overhead: u64,
+    fifo_high: Vec<usize>,
+    hits: u64,
+    misses: u64,
+    bytes: [u64; 4],
+    mem_busy: u64,
+}
+
+struct Engine<'a> {
+    chip: &'a ChipConfig,
+    work: &'a PassWork,
+    quads: &'a Quads,
+    tex: Vec<TexInfo>,
+    stride: usize,
+    colour: Surface,
+    depth: Surface,
+    caches: Vec<Cache>,
+    mem: Memory,
+    fifo_sr: Fifo<u32>,
+    fifos: Vec<Fifo<u32>>,
+    pipes: Vec<PipeUnit>,
+    rop_flight: VecDeque<Flight>,
+    rop_next_accept: u64,
+    rop_retired: usize,
+    // set-up
+    next_prim: usize,
+    setup_hold: Option<u32>,
+    setup_until: u64,
+    // rasteriser
+    r_active: bool,
+    r_quad: usize,
+    r_start: usize,
+    r_end: usize,
+    r_total: u64,
+    r_base: u64,
+    // copy
+    copy_read_left: u64,
+    copy_write_left: u64,
+    copy_toggle: bool,
+    // this hardware pass's textures
+    group: std::ops::Range<usize>,
+    cls: Vec<u8>,
+    /// Texel fetches made without a cache (each a memory read).
+    uncached: u64,
+}
+
+impl<'a> Engine<'a> {
+    fn n_stages(&self) -> usize {
+        self.pipes.len() + 5
+    }
+
+    fn rop_index(&self) -> usize {
+        2 + self.pipes.len()
+    }
+
+    fn step_setup(&mut self, t: u64) -> bool {
+        let mut prog = false;
+        let s = self.chip.setup_clocks_per_triangle as u64;
+        let n = self.work.prim_first_fragment.len();
+        loop {
+            if let Some(p) = self.setup_hold {
+                if t < self.setup_until {
+                    self.cls[0] = BUSY;
+                    return prog;
+                }
+                if self.fifo_sr.push(p) {
+                    self.setup_hold = None;
+                    prog = true;
+                } else {
+                    self.cls[0] = STALLED;
+                    return prog;
+                }
+            }
+            if self.next_prim < n {
+                self.setup_hold = Some(self.next_prim as u32);
+                self.next_prim += 1;
+                self.setup_until = t + s;
+                prog = true;
+            } else {
+                self.cls[0] = STARVED;
+                return prog;
+            }
+        }
+    }
+
+    fn step_raster(&mut self, t: u64) -> bool {
+        let mut prog = false;
+        let pipes = self.chip.pipes as u64;
+        loop {
+            if self.r_active {
+                let pos = t - self.r_base;
+                if self.r_quad < self.r_end {
+                    let i = (self.r_quad - self.r_start) as u64;
+                    let nq = (self.r_end - self.r_start) as u64;
+                    if i * self.r_total / nq <= pos {
+                        if self.fifos[0].push(self.r_quad as u32) {
+                            self.r_quad += 1;
+                            prog = true;
+                        } else {
+                            self.r_base += 1;
+                            self.cls[1] = STALLED;
+                            return prog;
+                        }
+                    }
+                }
+                if pos + 1 >= self.r_total && self.r_quad == self.r_end {
+                    self.r_active = false;
+                    prog = true;
+                }
+                self.cls[1] = BUSY;
+                return prog;
+            }
+            let Some(p) = self.fifo_sr.pop() else {
+                self.cls[1] = STARVED;
+                return prog;
+            };
+            let p = p as usize;
+            prog = true;
+            self.r_start = self.quads.prim_start[p] as usize;
+            self.r_end = self.quads.prim_start[p + 1] as usize;
+            self.r_quad = self.r_start;
+            let nq = (self.r_end - self.r_start) as u64;
+            self.r_total = (self.work.prim_walked[p] as u64).div_ceil(pipes).max(nq);
+            if self.r_total > 0 {
+                self.r_active = true;
+                self.r_base = t;
+            }
+        }
+    }
+
+    /// Look up a quad's texels for this hardware pass's textures; returns the last
+    /// texture read it needs.
+    fn lookup(&mut self, q: &Quad) -> u64 {
+        let mut need = 0;
+        let tmus = self.chip.tmus_per_pipe as usize;
+        let pipes = self.chip.pipes as usize;
+        let shared = self.chip.texture_cache.shared;
+        for lane in 0..4 {
+            let f = q.frag[lane];
+            if f == NONE {
+                continue;
+            }
+            let frag_base = f as usize * self.stride;
+            for (slot, j) in self.group.clone().enumerate() {
+                let tex = &self.tex[j];
+                let start = frag_base + tex.offset;
+                let texels = &self.work.texels[start..start + tex.per_lookup];
+                if self.caches.is_empty() {
+                    self.uncached += texels.len() as u64;
+                    for &i in texels {
+                        let a = tex.surface.address(i);
+                        need = self
+                            .mem
+                            .enqueue(Client::Texture, tex.surface.elem_bytes, a, true);
+                    }
+                    continue;
+                }
+                let ci = if shared {
+                    0
+                } else {
+                    (lane % pipes) * tmus + slot % tmus
+                };
+                let cache = &mut self.caches[ci];
+                for &i in texels {
+                    let line = cache.line_of(tex.surface.address(i));
+                    match cache.access(line, self.mem.next_read(Client::Texture)) {
+                        Access::Hit { fill } => need = need.max(fill),
+                        Access::Miss => {
+                            let lb = cache.line_bytes();
+                            need = self
+                                .mem
+                                .enqueue(Client::Texture, lb, line * lb as u64, true);
+                        }
+                    }
+                }
+            }
+        }
+        need
+    }
+
+    fn step_pipe(&mut self, i: usize, t: u64) -> bool {
+        let mut prog = false;
+        let pipes = self.chip.pipes as u64;
+        let (mut blocked, mut waiting) = (false, false);
+        {
+            let st = &mut self.pipes[i];
+            if let Some(f) = st.flight.front().copied() {
+                if f.ready <= t {
+                    if st.texture && self.mem.reads_done(Client::Texture) < f.need {
+                        waiting = true;
+                    } else if self.fifos[i + 1].push(f.quad) {
+                        st.flight.pop_front();
+                        prog = true;
+                    } else {
+                        blocked = true;
+                    }
+                }
+            }
+        }
+        let st = &self.pipes[i];
+        let mut refused = false;
+        if !blocked && t >= st.next_accept && self.fifos[i].valid() {
+            let can = st.flight.len() < st.cap
+                && (!st.texture
+                    || (self.mem.reads_outstanding(Client::Texture)
+                        < self.chip.texture_cache.misses_in_flight as u64
+                        && self.mem.has_room()));
+            if can {
+                let q = self.fifos[i].pop().unwrap_or(0);
+                let quad = self.quads.quads[q as usize];
+                let lanes = (quad.n as u64).div_ceil(pipes).max(1);
+                let (texture, ii, latency) = (st.texture, st.ii, st.latency);
+                let (occ, need) = if texture {
+                    let t_n = self.group.len() as u64;
+                    let per = t_n.div_ceil(self.chip.tmus_per_pipe as u64).max(1);
+                    (lanes * per * ii, self.lookup(&quad))
+                } else {
+                    (lanes * ii, 0)
+                };
+                let st = &mut self.pipes[i];
+                st.flight.push_back(Flight {
+                    ready: t + occ - ii + latency,
+                    quad: q,
+                    need,
+                    need2: 0,
+                });
+                st.next_accept = t + occ;
+                prog = true;
+            } else {
+                refused = true;
+            }
+        }
+        let st = &self.pipes[i];
+        let head_waits = st.texture
+            && st
+                .flight
+                .front()
+                .is_some_and(|f| f.ready <= t && self.mem.reads_done(Client::Texture) < f.need);
+        self.cls[2 + i] = if t < st.next_accept {
+            BUSY
+        } else if blocked || refused || waiting || head_waits {
+            STALLED
+        } else {
+            STARVED
+        };
+        prog
+    }
+
+    fn step_rop(&mut self, t: u64) -> bool {
+        let mut prog = false;
+        let k = self.pipes.len();
+        let rop = self.work.rop;
+        let pipes = self.chip.pipes as u64;
+        let cap = self.chip.fifo_depth as usize;
+        let mut refused = false;
+        if t >= self.rop_next_accept && self.fifos[k].valid() {
+            if self.rop_flight.len() < cap && self.mem.has_room() {
+                let q = self.fifos[k].pop().unwrap_or(0);
+                let quad = self.quads.quads[q as usize];
+                let n = quad.n;
+                let (x, y) = (quad.x as u32, quad.y as u32);
+                let need = if rop.depth_read_bytes > 0 {
+                    let a = self.depth.address_xyz(x, y, 0);
+                    self.mem
+                        .enqueue(Client::Depth, n * rop.depth_read_bytes, a, true)
+                } else {
+                    0
+                };
+                let need2 = if rop.colour_read_bytes > 0 {
+                    let a = self.colour.address_xyz(x, y, 0);
+                    self.mem
+                        .enqueue(Client::Colour, n * rop.colour_read_bytes, a, true)
+                } else {
+                    0
+                };
+                self.rop_flight.push_back(Flight {
+                    ready: t,
+                    quad: q,
+                    need,
+                    need2,
+                });
+                self.rop_next_accept = t + (n as u64).div_ceil(pipes).max(1);
+                prog = true;
+            } else {
+                refused = true;
+            }
+        }
+        let mut blocked = false;
+        let mut waiting = false;
+        if let Some(f) = self.rop_flight.front().copied() {
+            if self.mem.reads_done(Client::Depth) >= f.need
+                && self.mem.reads_done(Client::Colour) >= f.need2
+            {
+                let writes = rop.depth_write_bytes > 0 || rop.colour_write_bytes > 0;
+                if writes && !self.mem.has_room() {
+                    blocked = true;
+                } else {
+                    let quad = self.quads.quads[f.quad as usize];
+                    let (x, y) = (quad.x as u32, quad.y as u32);
+                    if rop.depth_write_bytes > 0 {
+                        let a = self.depth.address_xyz(x, y, 0);
+                        self.mem
+                            .enqueue(Client::Depth, quad.n * rop.depth_write_bytes, a, false);
+                    }
+                    if rop.colour_write_bytes > 0 {
+                        let a = self.colour.address_xyz(x, y, 0);
+                        self.mem
+                            .enqueue(Client::Colour, quad.n * rop.colour_write_bytes, a, false);
+                    }
+                    self.rop_flight.pop_front();
+                    self.rop_retired += 1;
+                    prog = true;
+                }
+            } else {
+                waiting = true;
+            }
+        }
+        let ri = self.rop_index();
+        self.cls[ri] = if t < self.rop_next_accept {
+            BUSY
+        } else if blocked || refused || waiting {
+            STALLED
+        } else {
+            STARVED
+        };
+        prog
+    }
+
+    fn drawing_done(&self) -> bool {
+        self.rop_retired == self.quads.quads.len()
+            && self.next_prim == self.work.prim_first_fragment.len()
+            && self.setup_hold.is_none()
+            && !self.r_active
+            && !self.fifo_sr.valid()
+    }
+
+    fn step_copy(&mut self, t: u64) -> bool {
+        let ci = self.rop_index() + 1;
+        let _ = t;
+        if self.copy_read_left + self.copy_write_left == 0 || !self.drawing_done() {
+            self.cls[ci] = STARVED;
+            return false;
+        }
+        if !self.mem.has_room() {
+            self.cls[ci] = STALLED;
+            return false;
+        }
+        let read = if self.copy_read_left == 0 {
+            false
+        } else if self.copy_write_left == 0 {
+            true
+        } else {
+            self.copy_toggle = !self.copy_toggle;
+            self.copy_toggle
+        };
+        let left = if read {
+            &mut self.copy_read_left
+        } else {
+            &mut self.copy_write_left
+        };
+        let b = (*left).min(COPY_BURST_BYTES);
+        *left -= b;
+        self.mem.enqueue(Client::Copy, b as u32, 0, read);
+        self.cls[ci] = BUSY;
+        true
+    }
+
+    fn clock(&mut self, t: u64) -> bool {
+        let mut prog = self.mem.tick(t);
+        prog |= self.step_setup(t);
+        prog |= self.step_raster(t);
+        for i in 0..self.pipes.len() {
+            prog |= self.step_pipe(i, t);
+        }
+        prog |= self.step_rop(t);
+        prog |= self.step_copy(t);
+        let mi = self.n_stages() - 1;
+        self.cls[mi] = if self.mem.busy(t) { BUSY } else { STARVED };
+        prog
+    }
+
+    fn all_done(&self, t: u64) -> bool {
+        self.drawing_done()
+            && self.copy_read_left + self.copy_write_left == 0
+            && self.mem.idle(t)
+            && self.fifos.iter().all(|f| !f.valid())
+            && self.pipes.iter().all(|p| p.flight.is_empty())
+            && self.rop_flight.is_empty()
+    }
+
+    /// The next clock after `t` at which some timer fires.
+    fn next_event(&self, t: u64) -> Option<u64> {
+        let mut next = u64::MAX;
+        let mut at = |c: u64| {
+            if c > t {
+                next = next.min(c);
+            }
+        };
+        if self.setup_hold.is_some() {
+            at(self.setup_until);
+        }
+        if self.r_active && self.cls[1] == BUSY {
+            if self.r_quad < self.r_end {
+                let i = (self.r_quad - self.r_start) as u64;
+                let nq = (self.r_end - self.r_start) as u64;
+                at(self.r_base + i * self.r_total / nq);
+            }
+            at(self.r_base + self.r_total - 1);
+        }
+        for p in &self.pipes {
+            at(p.next_accept);
+            if let Some(f) = p.flight.front() {
+                at(f.ready);
+            }
+        }
+        at(self.rop_next_accept);
+        if let Some(m) = self.mem.next_event(t) {
+            at(m);
+        }
+        (next != u64::MAX).then_some(next)
+    }
+
+    fn signal_values(&self) -> impl Iterator<Item = u64> + '_ {
+        std::iter::once(&self.fifo_sr)
+            .chain(self.fifos.iter())
+            .flat_map(|f| [f.valid() as u64, f.ready() as u64, f.level() as u64])
+            .chain(std::iter::once(self.mem.queued() as u64))
+    }
+
+    fn record(&self, acc: &mut Acc, t: u64, k: u64) {
+        let g = acc.offset + t;
+        for (s, &c) in self.cls.iter().enumerate() {
+            acc.counts[s][c as usize] += k;
+            if c == BUSY {
+                acc.timeline.add(s, g, k);
+            }
+        }
+        if let Some(w) = acc.window.as_mut() {
+            w.sample(g, k, self.signal_values());
+        }
+    }
+
+    /// Clock one hardware pass (textures `group`; the copy on the last). Returns its
+    /// clocks (without the overhead).
+    fn run_hw_pass(
+        &mut self,
+        acc: &mut Acc,
+        group: std::ops::Range<usize>,
+        last: bool,
+    ) -> Result<u64, ConfigError> {
+        self.group = group;
+        self.mem.restart();
+        for c in &mut self.caches {
+            c.flush();
+        }
+        self.fifo_sr.clear();
+        for f in &mut self.fifos {
+            f.clear();
+        }
+        for p in &mut self.pipes {
+            p.next_accept = 0;
+            p.flight.clear();
+        }
+        self.rop_flight.clear();
+        self.rop_next_accept = 0;
+        self.rop_retired = 0;
+        self.next_prim = 0;
+        self.setup_hold = None;
+        self.setup_until = 0;
+        self.r_active = false;
+        (self.copy_read_left, self.copy_write_left) = if last {
+            (self.work.copy_read_bytes, self.work.copy_write_bytes)
+        } else {
+            (0, 0)
+        };
+        let mut t = 0u64;
+        loop {
+            let prog = self.clock(t);
+            if !prog && self.all_done(t) {
+                break;
+            }
+            self.record(acc, t, 1);
+            if prog {
+                t += 1;
+                continue;
+            }
+            let Some(next) = self.next_event(t) else {
+                return Err(ConfigError::invalid(
+                    "chip",
+                    "the clocked chip stopped with work left (no stage can advance)",
+                ));
+            };
+            self.record(acc, t + 1, next - t - 1);
+            t = next;
+        }
+        for (h, f) in acc
+            .fifo_high
+            .iter_mut()
+            .zip(std::iter::once(&self.fifo_sr).chain(self.fifos.iter()))
+        {
+            *h = (*h).max(f.high_water());
+        }
+        Ok(t)
+    }
+}
+
+/// Check that a pass's recorded work is consistent (every length and index), so the
+/// engine never indexes out of range. Errors name the field (`pass_work.texels`).
+pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
+    let n = work.fragments();
+    for (j, t) in work.textures.iter().enumerate() {
+        if t.texels_per_lookup == 0 || t.texels_per_lookup > 64 {
+            return Err(ConfigError::invalid(
+                &format!("pass_work.textures[{j}].texels_per_lookup"),
+                &format!("{} is not in 1 ..= 64", t.texels_per_lookup),
+            ));
+        }
+        if t.size.contains(&0) {
+            return Err(ConfigError::invalid(
+                &format!("pass_work.textures[{j}].size"),
+                "every dimension must be at least 1",
+            ));
+        }
+        if t.texel_bytes == 0 || t.texel_bytes > 64 {
+            return Err(ConfigError::invalid(
+                &format!("pass_work.textures[{j}].texel_bytes"),
+                &format!("{} is not in 1 ..= 64", t.texel_bytes),
+            ));
+        }
+    }
+    let r = &work.rop;
+    for (field, v) in [
+        ("depth_read_bytes", r.depth_read_bytes),
+        ("depth_write_bytes", r.depth_write_bytes),
+        ("colour_read_bytes", r.colour_read_bytes),
+        ("colour_write_bytes", r.colour_write_bytes),
+    ] {
+        if v > 1024 {
+            return Err(ConfigError::invalid(
+                &format!("pass_work.rop.{field}"),
+                &format!("{v} bytes per fragment is not in 0 ..= 1024"),
+            ));
+        }
+    }
+    let per = work.texels_per_fragment();
+    if work.texels.len() as u64 != n as u64 * per as u64 {
+        return Err(ConfigError::invalid(
+            "pass_work.texels",
+            &format!(
+                "{} texel indices for {n} fragments × {per} texels per fragment (expected {})",
+                work.texels.len(),
+                n as u64 * per as u64
+            ),
+        ));
+    }
+    if work.prim_first_fragment.len() != work.prim_walked.len() {
+        return Err(ConfigError::invalid(
+            "pass_work.prim_walked",
+            &format!(
+                "{} entries for {} primitives",
+                work.prim_walked.len(),
+                work.prim_first_fragment.len()
+            ),
+        ));
+    }
+    if n > 0 && work.prim_first_fragment.first() != Some(&0) {
+        return Err(ConfigError::invalid(
+            "pass_work.prim_first_fragment",
+            "the first primitive must start at fragment 0 (every fragment belongs to a primitive)",
+        ));
+    }
+    let mut prev = 0u32;
+    for &s in &work.prim_first_fragment {
+        if s < prev || s as usize > n {
+            return Err(ConfigError::invalid(
+                "pass_work.prim_first_fragment",
+                &format!("{s} is not in order within 0 ..= {n}"),
+            ));
+        }
+        prev = s;
+    }
+    if n > 0 && (work.width == 0 || work.height == 0) {
+        return Err(ConfigError::invalid(
+            "pass_work.width",
+            "a pass with fragments needs a framebuffer of at least 1 × 1",
+        ));
+    }
+    if let Some(bad) = work
+        .frag_xy
+        .iter()
+        .find(|p| p[0] as u32 >= work.width || p[1] as u32 >= work.height)
+    {
+        return Err(ConfigError::invalid(
+            "pass_work.frag_xy",
+            &format!(
+                "pixel ({}, {}) is outside the {} × {} framebuffer",
+                bad[0], bad[1], work.width, work.height
+            ),
+        ));
+    }
+    if work.prim_first_fragment.len() >= u32::MAX as usize || n >= u32::MAX as usize {
+        return Err(ConfigError::invalid(
+            "pass_work.frag_xy",
+            "more than 2^32 − 1 fragments or primitives in one pass",
+        ));
+    }
+    Ok(())
+}
+
+/// The stage names of a chip, in report order.
+pub fn stage_names(chip: &ChipConfig) -> Vec<String> {
+    let mut v = vec!["setup".to_string(), "raster".to_string()];
+    v.extend(chip.pipe_stages.iter().map(|s| s.name.clone()));
+    v.extend(["rop", "copy", "memory"].map(String::from));
+    v
+}
+
+/// The FIFO names of a chip ("<producer>_to_<consumer>"), in order.
+pub fn fifo_names(chip: &ChipConfig) -> Vec<String> {
+    let mut chain = vec!["raster".to_string()];
+    chain.extend(chip.pipe_stages.iter().map(|s| s.name.clone()));
+    chain.push("rop".to_string());
+    let mut v = vec!["setup_to_raster".to_string()];
+    v.extend(chain.windows(2).map(|w| format!("{}_to_{}", w[0], w[1])));
+    v
+}
+
+fn hw_groups(chip: &ChipConfig, work: &PassWork) -> Vec<std::ops::Range<usize>> {
+    let n = work.textures.len();
+    let tpp = chip.textures_per_pass.max(1) as usize;
+    if n == 0 {
+        // One hardware pass that reads no texture.
+        return std::iter::once(0..0).collect();
+    }
+    (0..n.div_ceil(tpp))
+        .map(|g| g * tpp..((g + 1) * tpp).min(n))
+        .collect()
+}
+
+fn new_acc(chip: &ChipConfig, window: Option<std::ops::Range<u64>>) -> Acc {
+    let names = stage_names(chip);
+    let fifos = fifo_names(chip);
+    let window = window.map(|range| {
+        let mut signals = Vec::new();
+        for f in &fifos {
+            let d = chip.fifo_depth as u64;
+            signals.push((format!("{f}.valid"), 1));
+            signals.push((format!("{f}.ready"), 1));
+            signals.push((format!("{f}.level"), bits_for(d)));
+        }
+        signals.push((
+            "memory.queue".to_string(),
+            bits_for(chip.memory.queue_depth as u64),
+        ));
+        let n = signals.len();
+        WindowBuilder {
+            range,
+            signals,
+            last: vec![u64::MAX; n],
+            changes: Vec::new(),
+        }
+    });
+    Acc {
+        counts: vec![[0; 3]; names.len()],
+        timeline: TimelineBuilder::new(names.len()),
+        window,
+        offset: 0,
+        overhead: 0,
+        fifo_high: vec![0; fifos.len()],
+        hits: 0,
+        misses: 0,
+        bytes: [0; 4],
+        mem_busy: 0,
+    }
+}
+
+/// Clock `work` on `chip` into `acc` (its clocks appended after `acc.offset`).
+fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, ConfigError> {
+    let quads = build_quads(work);
+    let colour = Surface::new(0, [work.width, work.height, 1], 4, chip.framebuffer_layout);
+    let align = |v: u64| (v + (1 << 20) - 1) & !((1 << 20) - 1);
+    let depth = Surface::new(
+        align(colour.bytes()),
+        [work.width, work.height, 1],
+        4,
+        chip.framebuffer_layout,
+    );
+    let mut base = align(depth.base + depth.bytes());
+    let mut tex = Vec::with_capacity(work.textures.len());
+    let mut offset = 0;
+    for t in &work.textures {
+        let surface = Surface::new(base, t.size, t.texel_bytes, chip.texture_layout);
+        base = align(base + surface.bytes());
+        tex.push(TexInfo {
+            surface,
+            offset,
+            per_lookup: t.texels_per_lookup as usize,
+        });
+        offset += t.texels_per_lookup as usize;
+    }
+    let cc = &chip.texture_cache;
+    let n_caches = if cc.size_bytes == 0 {
+        0
+    } else if cc.shared {
+        1
+    } else {
+        (chip.pipes * chip.tmus_per_pipe) as usize
+    };
+    let depth_fifo = chip.fifo_depth as usize;
+    let pipes = chip
+        .pipe_stages
+        .iter()
+        .map(|s| {
+            let texture = s.kind == StageKind::Texture;
+            let cap = if texture {
+                depth_fifo + s.latency as usize
+            } else {
+                (s.latency as usize).div_ceil(s.ii as usize) + 1
+            };
+            PipeUnit {
+                latency: s.latency as u64,
+                ii: s.ii as u64,
+                texture,
+                next_accept: 0,
+                flight: VecDeque::with_capacity(cap),
+                cap,
+            }
+        })
+        .collect::<Vec<_>>();
+    let n_stages = pipes.len() + 5;
+    let mut e = Engine {
+        chip,
+        work,
+        quads: &quads,
+        tex,
+        stride: offset,
+        colour,
+        depth,
+        caches: (0..n_caches).map(|_| Cache::new(cc)).collect(),
+        mem: Memory::new(&chip.memory),
+        fifo_sr: Fifo::new(depth_fifo),
+        fifos: (0..=chip.pipe_stages.len())
+            .map(|_| Fifo::new(depth_fifo))
+            .collect(),
+        pipes,
+        rop_flight: VecDeque::with_capacity(depth_fifo),
+        rop_next_accept: 0,
+        rop_retired: 0,
+        next_prim: 0,
+        setup_hold: None,
+        setup_until: 0,
+        r_active: false,
+        r_quad: 0,
+        r_start: 0,
+        r_end: 0,
+        r_total: 0,
+        r_base: 0,
+        copy_read_left: 0,
+        copy_write_left: 0,
+        copy_toggle: false,
+        group: 0..0,
+        cls: vec![STARVED; n_stages],
+        uncached: 0,
+    };
+    let groups = hw_groups(chip, work);
+    let overhead = chip.pass_overhead_clocks as u64;
+    let last = groups.len() - 1;
+    for (g, group) in groups.iter().enumerate() {
+        // The pass overhead: every stage idle.
+        if overhead > 0 {
+            e.cls.fill(STARVED);
+            e.fifo_sr.clear();
+            for f in &mut e.fifos {
+                f.clear();
+            }
+            e.record(acc, 0, overhead);
+            acc.offset += overhead;
+            acc.overhead += overhead;
+        }
+        let clocks = e.run_hw_pass(acc, group.clone(), g == last)?;
+        acc.offset += clocks;
+    }
+    acc.mem_busy = acc.counts[n_stages - 1][BUSY as usize];
+    for c in &e.caches {
+        acc.hits += c.hits;
+        acc.misses += c.misses;
+    }
+    // No cache: every texel fetch is a memory request (a miss).
+    acc.misses += e.uncached;
+    for (b, m) in acc.bytes.iter_mut().zip(e.mem.bytes) {
+        *b += m;
+    }
+    Ok(groups.len() as u32)
+}
+
+fn finish(chip: &ChipConfig, acc: Acc, hardware_passes: u32) -> PassTiming {
+    let names = stage_names(chip);
+    let cycles = acc.offset;
+    let stages: Vec<StageClocks> = names
+        .iter()
+        .zip(&acc.counts)
+        .map(|(n, c)| StageClocks {
+            name: n.clone(),
+            busy: c[0],
+            stalled: c[1],
+            starved: c[2],
+        })
+        .collect();
+    let fifos = fifo_names(chip)
+        .into_iter()
+        .zip(&acc.fifo_high)
+        .map(|(name, &h)| FifoHighWater {
+            name,
+            depth: chip.fifo_depth,
+            high_water: h as u32,
+        })
+        .collect();
+    let bytes_by_client: BTreeMap<String, u64> = CLIENT_NAMES
+        .iter()
+        .zip(acc.bytes)
+        .map(|(n, b)| (n.to_string(), b))
+        .collect();
+    let bottleneck = bottleneck(&stages, &acc.bytes, cycles - acc.overhead.min(cycles));
+    let window = acc.window.and_then(|w| {
+        (w.range.start < cycles).then(|| WindowTrace {
+            start_clock: w.range.start,
+            end_clock: w.range.end.min(cycles),
+            signals: w.signals,
+            changes: w.changes,
+        })
+    });
+    PassTiming {
+        cycles,
+        hardware_passes,
+        stages,
+        fifos,
+        cache_hits: acc.hits,
+        cache_misses: acc.misses,
+        bytes_by_client,
+        bottleneck,
+        timeline: acc.timeline.finish(names, cycles),
+        window,
+    }
+}
+
+/// The bottleneck rule (module comment): memory when its channel was busy in ≥ 90 % of
+/// the working clocks (named by the client that moved the most bytes), else the stage
+/// with the most busy clocks ("none" when no stage was busy).
+fn bottleneck(stages: &[StageClocks], bytes: &[u64; 4], working: u64) -> String {
+    let mem = stages.last().map_or(0, |s| s.busy);
+    if working > 0 && mem as f64 >= MEMORY_SATURATED * working as f64 {
+        let mut best = 0;
+        for c in 1..4 {
+            if bytes[c] > bytes[best] {
+                best = c;
+            }
+        }
+        return format!("memory ({})", CLIENT_NAMES[best]);
+    }
+    let mut best: Option<&StageClocks> = None;
+    for s in &stages[..stages.len().saturating_sub(1)] {
+        if best.is_none_or(|b| s.busy > b.busy) {
+            best = Some(s);
+        }
+    }
+    match best {
+        Some(s) if s.busy > 0 => s.name.clone(),
+        // Nothing was busy (a pass with no work but its overhead).
+        _ => "none".to_string(),
+    }
+}
+
 /// Clock one pass's work on a chip. `window` (clocks relative to the pass's start)
-/// asks for the chip-level signals over that range.
+/// asks for the chip-level signals over that range. The chip and the work are checked
+/// first; an error names the field at fault.
 pub fn clock_pass(
     chip: &ChipConfig,
     work: &PassWork,
     window: Option<std::ops::Range<u64>>,
 ) -> Result<PassTiming, ConfigError> {
-    let _ = (chip, work, window);
-    Err(ConfigError::invalid(
-        "timing",
-        "the clocked chip is being built; use --timing roofline",
-    ))
+    chip.validate()?;
+    validate_work(work)?;
+    check_stages(chip, work)?;
+    let mut acc = new_acc(chip, window);
+    let hw = run_pass(chip, work, &mut acc)?;
+    Ok(finish(chip, acc, hw))
+}
+
+fn check_stages(chip: &ChipConfig, work: &PassWork) -> Result<(), ConfigError> {
+    if !work.textures.is_empty()
+        && !chip
+            .pipe_stages
+            .iter()
+            .any(|s| s.kind == StageKind::Texture)
+    {
+        return Err(ConfigError::invalid(
+            "chip.pipe_stages",
+            "the pass reads textures but the chip has no Texture stage",
+        ));
+    }
+    Ok(())
+}
+
+/// Screen tiles of the sampled mode: 32 × 32 pixels.
+pub const SAMPLE_TILE: u32 = 32;
+/// Groups the sampled tiles are dealt into (round robin in raster order) for the
+/// error estimate.
+pub const SAMPLE_GROUPS: usize = 8;
+
+/// Sampled mode: clock a deterministic subset of the screen's 32 × 32 tiles exactly
+/// and scale to the whole pass. Tile (tx, ty) is sampled when (tx + 3·ty) mod `every`
+/// = 0 (a fixed diagonal pattern, one tile in `every`); the sampled tiles are dealt
+/// round robin, in raster order, into 8 groups and each group is clocked as a pass of
+/// its own (its fragments, the primitives that cover them with their walk scaled by
+/// the fraction of their fragments kept, no pass overhead). With c_g clocks for n_g
+/// fragments per group, the pass's clocks are R·N + hardware passes × overhead, R =
+/// Σc_g / Σn_g (a ratio estimator) and N the pass's fragments; the relative standard
+/// error returned is that of R over the groups, √(Σ(c_g − R·n_g)² / (G(G − 1))) /
+/// (n̄·R) — the spread between screen regions. It does not include the bias of clocking
+/// each group from an empty pipe (a fill and drain per group, a few hundred clocks).
+/// Counters (stage clocks, bytes, cache hits and misses) are scaled the same way; the
+/// timeline shows the sampled groups back to back. `every` ≤ 1, a pass without
+/// fragments, or one whose sample falls in fewer than two groups is clocked in full
+/// (error 0).
+pub fn clock_pass_sampled(
+    chip: &ChipConfig,
+    work: &PassWork,
+    every: u32,
+) -> Result<(PassTiming, f64), ConfigError> {
+    chip.validate()?;
+    validate_work(work)?;
+    check_stages(chip, work)?;
+    let n = work.fragments();
+    let full = |chip: &ChipConfig| -> Result<(PassTiming, f64), ConfigError> {
+        let mut acc = new_acc(chip, None);
+        let hw = run_pass(chip, work, &mut acc)?;
+        Ok((finish(chip, acc, hw), 0.0))
+    };
+    if every <= 1 || n == 0 {
+        return full(chip);
+    }
+    let tiles_x = work.width.div_ceil(SAMPLE_TILE) as usize;
+    let tiles_y = work.height.div_ceil(SAMPLE_TILE) as usize;
+    let mut tile_group = vec![u8::MAX; tiles_x * tiles_y];
+    let mut rank = 0usize;
+    for ty in 0..tiles_y {
+        for tx in 0..tiles_x {
+            if (tx + 3 * ty) % every as usize == 0 {
+                tile_group[ty * tiles_x + tx] = (rank % SAMPLE_GROUPS) as u8;
+                rank += 1;
+            }
+        }
+    }
+    let group_of = |f: usize| {
+        let [x, y] = work.frag_xy[f];
+        let t = (y as u32 / SAMPLE_TILE) as usize * tiles_x + (x as u32 / SAMPLE_TILE) as usize;
+        tile_group[t]
+    };
+    let per = work.texels_per_fragment();
+    let mut groups: Vec<PassWork> = (0..SAMPLE_GROUPS)
+        .map(|_| PassWork {
+            stats: None,
+            width: work.width,
+            height: work.height,
+            textures: work.textures.clone(),
+            rop: work.rop,
+            ..PassWork::default()
+        })
+        .collect();
+    for p in 0..work.prim_first_fragment.len() {
+        let r = work.prim_fragments(p);
+        let mut count = [0u64; SAMPLE_GROUPS];
+        for f in r.clone() {
+            let g = group_of(f);
+            if (g as usize) < SAMPLE_GROUPS {
+                count[g as usize] += 1;
+            }
+        }
+        let total = r.len() as u64;
+        for (g, &c) in count.iter().enumerate() {
+            if c > 0 {
+                let gw = &mut groups[g];
+                gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
+                gw.prim_walked
+                    .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
+            }
+        }
+        for f in r {
+            let g = group_of(f);
+            if (g as usize) < SAMPLE_GROUPS {
+                let gw = &mut groups[g as usize];
+                gw.frag_xy.push(work.frag_xy[f]);
+                gw.texels
+                    .extend_from_slice(&work.texels[f * per..(f + 1) * per]);
+            }
+        }
+    }
+    let used: Vec<&PassWork> = groups.iter().filter(|g| g.fragments() > 0).collect();
+    if used.len() < 2 {
+        return full(chip);
+    }
+    let mut inner = chip.clone();
+    inner.pass_overhead_clocks = 0;
+    let mut acc = new_acc(&inner, None);
+    let mut cn = Vec::with_capacity(used.len());
+    let mut hw = 1;
+    for g in &used {
+        let mut gw = (*g).clone();
+        // The copy's bytes shared by the groups in proportion to their fragments.
+        // (scaled back with the rest by N / Σn_g).
+        gw.copy_read_bytes = work.copy_read_bytes * g.fragments() as u64 / n as u64;
+        gw.copy_write_bytes = work.copy_write_bytes * g.fragments() as u64 / n as u64;
+        let before = acc.offset;
+        hw = run_pass(&inner, &gw, &mut acc)?;
+        cn.push(((acc.offset - before) as f64, g.fragments() as f64));
+    }
+    let c_sum: f64 = cn.iter().map(|c| c.0).sum();
+    let n_sum: f64 = cn.iter().map(|c| c.1).sum();
+    let r = c_sum / n_sum;
+    let gk = cn.len() as f64;
+    let var: f64 = cn.iter().map(|&(c, m)| (c - r * m).powi(2)).sum::<f64>() / (gk * (gk - 1.0));
+    let rse = if r > 0.0 {
+        var.sqrt() / (n_sum / gk * r)
+    } else {
+        0.0
+    };
+    let mut t = finish(&inner, acc, hw);
+    let work_clocks = (r * n as f64).round() as u64;
+    let overhead = hw as u64 * chip.pass_overhead_clocks as u64;
+    let cycles = work_clocks + overhead;
+    let s = if t.cycles > 0 {
+        work_clocks as f64 / t.cycles as f64
+    } else {
+        0.0
+    };
+    for st in &mut t.stages {
+        st.busy = (st.busy as f64 * s).round() as u64;
+        st.stalled = (st.stalled as f64 * s).round() as u64;
+        st.starved = cycles.saturating_sub(st.busy + st.stalled);
+        if st.busy + st.stalled > cycles {
+            st.stalled = cycles - st.busy.min(cycles);
+            st.busy = st.busy.min(cycles);
+        }
+    }
+    let f = n as f64 / n_sum;
+    let scale = |v: u64| (v as f64 * f).round() as u64;
+    t.cache_hits = scale(t.cache_hits);
+    t.cache_misses = scale(t.cache_misses);
+    for v in t.bytes_by_client.values_mut() {
+        *v = scale(*v);
+    }
+    let bytes: Vec<u64> = CLIENT_NAMES
+        .iter()
+        .map(|c| t.bytes_by_client.get(*c).copied().unwrap_or(0))
+        .collect();
+    t.bottleneck = bottleneck(
+        &t.stages,
+        &[bytes[0], bytes[1], bytes[2], bytes[3]],
+        work_clocks,
+    );
+    t.cycles = cycles;
+    Ok((t, rse))
 }

@@ -122,3 +122,164 @@ pub struct ChipConfig {
     pub framebuffer_layout: Layout,
     pub memory: MemoryConfig,
 }
+
+use rtl_model::ConfigError;
+
+fn range(field: &str, v: u64, min: u64, max: u64) -> Result<(), ConfigError> {
+    if v < min || v > max {
+        return Err(ConfigError::invalid(
+            field,
+            &format!("{v} is out of range (allowed {min} ..= {max})"),
+        ));
+    }
+    Ok(())
+}
+
+fn pow2(field: &str, v: u64) -> Result<(), ConfigError> {
+    if !v.is_power_of_two() {
+        return Err(ConfigError::invalid(
+            field,
+            &format!("{v} is not a power of two"),
+        ));
+    }
+    Ok(())
+}
+
+fn layout(field: &str, l: &Layout) -> Result<(), ConfigError> {
+    if let Layout::Tiled { w, h } = l {
+        range(&format!("{field}.w"), *w as u64, 1, 4096)?;
+        pow2(&format!("{field}.w"), *w as u64)?;
+        range(&format!("{field}.h"), *h as u64, 1, 4096)?;
+        pow2(&format!("{field}.h"), *h as u64)?;
+    }
+    Ok(())
+}
+
+impl ChipConfig {
+    /// Check every field; the error names the first bad one (`chip.texture_cache.line_bytes`).
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        if !(self.clock_hz.is_finite() && self.clock_hz > 0.0) {
+            return Err(ConfigError::invalid(
+                "chip.clock_hz",
+                &format!("{} is not a positive finite frequency", self.clock_hz),
+            ));
+        }
+        range("chip.pipes", self.pipes as u64, 1, 64)?;
+        range("chip.tmus_per_pipe", self.tmus_per_pipe as u64, 1, 16)?;
+        range(
+            "chip.textures_per_pass",
+            self.textures_per_pass as u64,
+            1,
+            64,
+        )?;
+        range(
+            "chip.setup_clocks_per_triangle",
+            self.setup_clocks_per_triangle as u64,
+            0,
+            1 << 20,
+        )?;
+        range(
+            "chip.pass_overhead_clocks",
+            self.pass_overhead_clocks as u64,
+            0,
+            1 << 30,
+        )?;
+        range("chip.fifo_depth", self.fifo_depth as u64, 1, 1 << 16)?;
+        let mut textures = 0;
+        for (i, s) in self.pipe_stages.iter().enumerate() {
+            let f = format!("chip.pipe_stages[{i}]");
+            if s.name.trim().is_empty() {
+                return Err(ConfigError::invalid(&format!("{f}.name"), "is empty"));
+            }
+            range(&format!("{f}.latency"), s.latency as u64, 1, 1 << 16)?;
+            range(&format!("{f}.ii"), s.ii as u64, 1, 1 << 16)?;
+            textures += (s.kind == StageKind::Texture) as u32;
+        }
+        if textures > 1 {
+            return Err(ConfigError::invalid(
+                "chip.pipe_stages",
+                &format!(
+                    "{textures} Texture stages; the chip has one (its units are tmus_per_pipe)"
+                ),
+            ));
+        }
+        let c = &self.texture_cache;
+        range(
+            "chip.texture_cache.line_bytes",
+            c.line_bytes as u64,
+            4,
+            4096,
+        )?;
+        pow2("chip.texture_cache.line_bytes", c.line_bytes as u64)?;
+        range(
+            "chip.texture_cache.misses_in_flight",
+            c.misses_in_flight as u64,
+            1,
+            1 << 16,
+        )?;
+        if c.size_bytes > 0 {
+            range(
+                "chip.texture_cache.size_bytes",
+                c.size_bytes as u64,
+                c.line_bytes as u64,
+                1 << 30,
+            )?;
+            let lines = c.size_bytes / c.line_bytes;
+            if lines * c.line_bytes != c.size_bytes {
+                return Err(ConfigError::invalid(
+                    "chip.texture_cache.size_bytes",
+                    &format!(
+                        "{} is not a whole number of {}-byte lines",
+                        c.size_bytes, c.line_bytes
+                    ),
+                ));
+            }
+            range("chip.texture_cache.ways", c.ways as u64, 1, lines as u64)?;
+            if !lines.is_multiple_of(c.ways) || !(lines / c.ways).is_power_of_two() {
+                return Err(ConfigError::invalid(
+                    "chip.texture_cache.ways",
+                    &format!(
+                        "{} lines in {} ways do not make a power-of-two number of sets",
+                        lines, c.ways
+                    ),
+                ));
+            }
+        }
+        layout("chip.texture_layout", &self.texture_layout)?;
+        layout("chip.framebuffer_layout", &self.framebuffer_layout)?;
+        let m = &self.memory;
+        if !(m.bytes_per_clock.is_finite() && (1e-3..=1e12).contains(&m.bytes_per_clock)) {
+            return Err(ConfigError::invalid(
+                "chip.memory.bytes_per_clock",
+                &format!(
+                    "{} is not a finite number in 0.001 ..= 1e12",
+                    m.bytes_per_clock
+                ),
+            ));
+        }
+        range(
+            "chip.memory.latency_clocks",
+            m.latency_clocks as u64,
+            0,
+            1 << 20,
+        )?;
+        range("chip.memory.queue_depth", m.queue_depth as u64, 1, 1 << 16)?;
+        if let Some(p) = &m.pages {
+            range(
+                "chip.memory.pages.page_bytes",
+                p.page_bytes as u64,
+                64,
+                1 << 24,
+            )?;
+            pow2("chip.memory.pages.page_bytes", p.page_bytes as u64)?;
+            range("chip.memory.pages.banks", p.banks as u64, 1, 256)?;
+            range(
+                "chip.memory.pages.page_miss_clocks",
+                p.page_miss_clocks as u64,
+                0,
+                1 << 16,
+            )?;
+        }
+        Ok(())
+    }
+}

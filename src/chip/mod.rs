@@ -5,9 +5,12 @@
 
 pub mod clock;
 pub mod config;
+pub mod fifo;
+pub mod memory;
 pub mod params;
 pub mod presets;
 pub mod roofline;
+pub mod texture_cache;
 pub mod work;
 
 pub use presets::GpuModel;

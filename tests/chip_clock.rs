@@ -1,0 +1,638 @@
+//! The clocked chip (src/chip/clock.rs, fifo.rs, texture_cache.rs, memory.rs) on
+//! synthetic passes whose answers can be worked by hand.
+
+use glare_pipeline::chip::clock::{clock_pass, clock_pass_sampled, PassTiming};
+use glare_pipeline::chip::config::{
+    Arbitration, CacheConfig, ChipConfig, Layout, MemoryConfig, PipeStage, Replacement, StageKind,
+};
+use glare_pipeline::chip::fifo::producer_consumer;
+use glare_pipeline::chip::texture_cache::{Access, Cache};
+use glare_pipeline::chip::work::{PassWork, RopWork, TextureWork};
+use rtl_model::Timing;
+
+/// A chip that adds nothing of its own: no set-up or pass overhead, deep FIFOs, a
+/// memory with (practically) unlimited bandwidth and no latency, one Plain stage.
+fn ideal_chip(latency: u32, ii: u32) -> ChipConfig {
+    ChipConfig {
+        name: "ideal".into(),
+        clock_hz: 100e6,
+        pipes: 4,
+        tmus_per_pipe: 1,
+        textures_per_pass: 4,
+        setup_clocks_per_triangle: 0,
+        pass_overhead_clocks: 0,
+        fifo_depth: 1024,
+        pipe_stages: vec![PipeStage {
+            name: "unit".into(),
+            kind: StageKind::Plain,
+            latency,
+            ii,
+        }],
+        texture_cache: CacheConfig {
+            size_bytes: 1 << 20,
+            line_bytes: 64,
+            ways: 16,
+            replacement: Replacement::Lru,
+            shared: true,
+            misses_in_flight: 1 << 16,
+        },
+        texture_layout: Layout::Linear,
+        framebuffer_layout: Layout::Linear,
+        memory: MemoryConfig {
+            bytes_per_clock: 1e12,
+            latency_clocks: 0,
+            queue_depth: 1 << 16,
+            arbitration: Arbitration::RoundRobin,
+            pages: None,
+        },
+    }
+}
+
+/// One primitive: a strip 2 pixels tall and 2·n wide, fragments in scanline order
+/// (so the rasteriser regroups them into n full quads), walking exactly its 4n pixels.
+fn strip(n: u32, rop: RopWork) -> PassWork {
+    let mut frag_xy = Vec::new();
+    for y in 0..2u16 {
+        for x in 0..(2 * n) as u16 {
+            frag_xy.push([x, y]);
+        }
+    }
+    PassWork {
+        width: 2 * n,
+        height: 2,
+        prim_first_fragment: vec![0],
+        prim_walked: vec![4 * n],
+        frag_xy,
+        rop,
+        ..PassWork::default()
+    }
+}
+
+fn check_accounting(t: &PassTiming) {
+    for s in &t.stages {
+        assert_eq!(
+            s.busy + s.stalled + s.starved,
+            t.cycles,
+            "stage {} does not account for every clock",
+            s.name
+        );
+    }
+}
+
+#[test]
+fn fifo_consumer_bound_rate_and_producer_stalls() {
+    // Producer II 1, consumer II 3, depth 2, 10 entries. The consumer takes entry i
+    // at clock 3i (it is never starved), so the last at 27: 28 clocks = (n − 1)·3 + 1.
+    // The producer pushes entries 0, 1, 2 at clocks 0, 1, 2; from then on it pushes
+    // entry i the clock after the consumer took entry i − 2 (ready is the level at
+    // the start of the clock): 3(i − 2) + 1. Its stalls are push₉ − push₀ − 9·1 =
+    // 22 − 0 − 9 = 13 (1 for entry 3, then 2 for each of entries 4 … 9).
+    let (n, p, c, d) = (10u64, 1u32, 3u32, 2usize);
+    let (clocks, stalled) = producer_consumer(n, p, c, d);
+    assert_eq!(clocks, (n - 1) * c as u64 + 1);
+    let push_last = c as u64 * (n - 1 - d as u64) + 1;
+    assert_eq!(stalled, push_last - (n - 1) * p as u64);
+    assert_eq!(stalled, 13);
+    // Producer bound (II 4 against 1): entry i pushed at 3 + 4i and taken at once;
+    // n·4 clocks, no stalls.
+    let (clocks, stalled) = producer_consumer(n, 4, 1, 1);
+    assert_eq!(clocks, n * 4);
+    assert_eq!(stalled, 0);
+}
+
+#[test]
+fn engine_two_stages_reach_the_slower_rate() {
+    // raster → A (latency 2, II 1) → FIFO of 2 → B (latency 3, II 3) → ROP, 40 full
+    // quads. B is the slower: it takes quad k at 2 + 3k (A presents quad 0 at clock 2)
+    // and presents the last at 2 + 3·39 + 3; the ROP takes it in that clock, so the
+    // pass is 2 + 117 + 3 + 1 = 123 clocks. A is busy one clock per quad, B three.
+    let n = 40u32;
+    let mut chip = ideal_chip(2, 1);
+    chip.fifo_depth = 2;
+    chip.pipe_stages.push(PipeStage {
+        name: "slow".into(),
+        kind: StageKind::Plain,
+        latency: 3,
+        ii: 3,
+    });
+    let t = clock_pass(&chip, &strip(n, RopWork::default()), None).unwrap();
+    check_accounting(&t);
+    assert_eq!(t.cycles, 2 + 3 * (n as u64 - 1) + 3 + 1);
+    let a = &t.stages[2];
+    let b = &t.stages[3];
+    assert_eq!((a.name.as_str(), a.busy), ("unit", n as u64));
+    assert_eq!((b.name.as_str(), b.busy), ("slow", 3 * n as u64));
+    // A, the faster, spends most of the pass stalled by the full FIFO.
+    assert!(
+        a.stalled > a.busy,
+        "A busy {} stalled {}",
+        a.busy,
+        a.stalled
+    );
+    let f = t.fifos.iter().find(|f| f.name == "unit_to_slow").unwrap();
+    assert_eq!(f.high_water, 2);
+    assert_eq!(t.bottleneck, "slow");
+}
+
+#[test]
+fn single_unit_span_is_the_unit_contract() {
+    // n quads of 4 fragments on 4 pipes: each pipe streams n fragments through the
+    // unit, which the contract says takes (n − 1)·II + latency + 1 clocks.
+    for (latency, ii) in [(1, 1), (2, 1), (3, 2), (5, 3), (7, 4)] {
+        for n in [1u32, 2, 7, 64] {
+            let t = clock_pass(
+                &ideal_chip(latency, ii),
+                &strip(n, RopWork::default()),
+                None,
+            )
+            .unwrap();
+            let want = Timing { latency, ii }.span_cycles(n as u64);
+            assert_eq!(t.cycles, want, "latency {latency} II {ii} n {n}");
+            check_accounting(&t);
+        }
+    }
+}
+
+#[test]
+fn bandwidth_bound_pass_takes_bytes_over_bandwidth() {
+    // 4 bytes of colour written per fragment at 2 bytes per clock: the memory moves
+    // 4·4n bytes in 8n clocks; the pass ends within the latency (and the pipeline's
+    // few clocks of fill) of that.
+    let n = 500u32;
+    let mut chip = ideal_chip(2, 1);
+    chip.memory.bytes_per_clock = 2.0;
+    chip.memory.latency_clocks = 20;
+    chip.memory.queue_depth = 4;
+    let rop = RopWork {
+        colour_write_bytes: 4,
+        ..RopWork::default()
+    };
+    let t = clock_pass(&chip, &strip(n, rop), None).unwrap();
+    check_accounting(&t);
+    let bytes = 16 * n as u64;
+    assert_eq!(t.bytes_by_client["colour"], bytes);
+    let ideal = bytes as f64 / chip.memory.bytes_per_clock;
+    assert!(t.cycles as f64 >= ideal, "{} < {ideal}", t.cycles);
+    assert!(
+        t.cycles as f64 <= ideal + chip.memory.latency_clocks as f64 + 8.0,
+        "{} clocks for {ideal}",
+        t.cycles
+    );
+    assert_eq!(t.bottleneck, "memory (colour)");
+    // Reads wait for the latency: with a colour read too, each quad's write follows
+    // its read, and the traffic doubles.
+    let rop = RopWork {
+        colour_read_bytes: 4,
+        colour_write_bytes: 4,
+        ..RopWork::default()
+    };
+    let t2 = clock_pass(&chip, &strip(n, rop), None).unwrap();
+    check_accounting(&t2);
+    assert!(t2.cycles as f64 >= 2.0 * ideal);
+    assert!(t2.cycles as f64 <= 2.0 * ideal + 2.0 * chip.memory.latency_clocks as f64 + 8.0);
+}
+
+fn cache(ways: u32, replacement: Replacement) -> Cache {
+    Cache::new(&CacheConfig {
+        size_bytes: 4 * 16,
+        line_bytes: 16,
+        ways,
+        replacement,
+        shared: true,
+        misses_in_flight: 1,
+    })
+}
+
+fn run_stream(c: &mut Cache, lines: &[u64]) -> Vec<bool> {
+    lines
+        .iter()
+        .map(|&l| matches!(c.access(l, 0), Access::Hit { .. }))
+        .collect()
+}
+
+#[test]
+fn cache_hits_on_a_known_stream() {
+    // Four 16-byte lines. Stream of line addresses: 0 1 0 4 0 1 5 1 2 2 0.
+    let stream = [0u64, 1, 0, 4, 0, 1, 5, 1, 2, 2, 0];
+    // Direct-mapped (4 sets, set = line mod 4):
+    //   0 M | 1 M | 0 H | 4 M (evicts 0) | 0 M (evicts 4) | 1 H | 5 M (evicts 1) |
+    //   1 M (evicts 5) | 2 M | 2 H | 0 H  → 4 hits, 7 misses.
+    let mut dm = cache(1, Replacement::Lru);
+    let h = run_stream(&mut dm, &stream);
+    let want = [
+        false, false, true, false, false, true, false, false, false, true, true,
+    ];
+    assert_eq!(h, want);
+    assert_eq!((dm.hits, dm.misses), (4, 7));
+    // 2-way LRU (2 sets, set = line mod 2):
+    //   0 M {0} | 1 M {1} | 0 H | 4 M {0,4} | 0 H (4 now LRU) | 1 H | 5 M {1,5} | 1 H |
+    //   2 M (set 0 evicts 4, the LRU) {0,2} | 2 H | 0 H  → 6 hits, 5 misses.
+    let mut lru = cache(2, Replacement::Lru);
+    let h = run_stream(&mut lru, &stream);
+    let want = [
+        false, false, true, false, true, true, false, true, false, true, true,
+    ];
+    assert_eq!(h, want);
+    assert_eq!((lru.hits, lru.misses), (6, 5));
+    // 2-way FIFO: as LRU until 2, which evicts 0 (the first in) {4,2}; so the last 0
+    // misses  → 5 hits, 6 misses.
+    let mut fifo = cache(2, Replacement::Fifo);
+    let h = run_stream(&mut fifo, &stream);
+    assert!(!*h.last().unwrap());
+    assert_eq!((fifo.hits, fifo.misses), (5, 6));
+}
+
+/// A w × h full-screen plane (one primitive, scanline order) with the given textures;
+/// texel indices from `texel(f, x, y, j, k)`.
+fn plane(
+    w: u32,
+    h: u32,
+    textures: Vec<TextureWork>,
+    texel: impl Fn(u32, u32, usize, u32) -> u32,
+) -> PassWork {
+    let mut frag_xy = Vec::new();
+    let mut texels = Vec::new();
+    for y in 0..h {
+        for x in 0..w {
+            frag_xy.push([x as u16, y as u16]);
+            for (j, t) in textures.iter().enumerate() {
+                for k in 0..t.texels_per_lookup {
+                    texels.push(texel(x, y, j, k));
+                }
+            }
+        }
+    }
+    PassWork {
+        width: w,
+        height: h,
+        textures,
+        prim_first_fragment: vec![0],
+        prim_walked: vec![w * h],
+        frag_xy,
+        texels,
+        rop: RopWork {
+            depth_read_bytes: 4,
+            colour_read_bytes: 4,
+            colour_write_bytes: 4,
+            ..RopWork::default()
+        },
+        ..PassWork::default()
+    }
+}
+
+fn tex(name: &str, size: [u32; 3], per: u32) -> TextureWork {
+    TextureWork {
+        name: name.into(),
+        size,
+        texel_bytes: 4,
+        texels_per_lookup: per,
+    }
+}
+
+/// Bilinear footprint of pixel (x, y) in a 2D texture of `s` × `s` texels mapped
+/// 1:1 to the screen (clamped).
+fn bilinear(x: u32, y: u32, k: u32, s: u32) -> u32 {
+    let tx = (x + (k & 1)).min(s - 1);
+    let ty = (y + (k >> 1)).min(s - 1);
+    tx + s * ty
+}
+
+#[test]
+fn hardware_passes_split_textures_and_pay_overhead() {
+    // 3 textures, 2 per pass: 2 hardware passes, each paying the overhead and the
+    // framebuffer traffic; texels are fetched once.
+    let mut chip = ChipConfig::geforce2_gts();
+    chip.pass_overhead_clocks = 100;
+    let work = plane(
+        64,
+        32,
+        vec![
+            tex("F", [256, 1, 1], 2),
+            tex("h", [64, 64, 1], 4),
+            tex("J", [64, 64, 1], 4),
+        ],
+        |x, y, j, k| {
+            if j == 0 {
+                (x + k).min(255)
+            } else {
+                bilinear(x, y, k, 64)
+            }
+        },
+    );
+    let t = clock_pass(&chip, &work, Some(0..500)).unwrap();
+    check_accounting(&t);
+    assert_eq!(t.hardware_passes, 2);
+    let frags = 64 * 32u64;
+    assert_eq!(t.bytes_by_client["colour"], 2 * frags * 8);
+    assert_eq!(t.bytes_by_client["depth"], 2 * frags * 4);
+    // Every texel fetch is a cache access; misses move whole lines.
+    assert_eq!(t.cache_hits + t.cache_misses, frags * (2 + 4 + 4));
+    assert_eq!(t.bytes_by_client["texture"], t.cache_misses * 64);
+    assert!(t.cycles > 200);
+    // The overhead clocks are idle for every stage.
+    assert!(t.stages.iter().all(|s| s.starved >= 200));
+    // Timeline and window.
+    assert!(t
+        .timeline
+        .busy
+        .iter()
+        .all(|b| b.len() <= 1024 && !b.is_empty()));
+    let w = t.window.as_ref().unwrap();
+    assert_eq!((w.start_clock, w.end_clock), (0, 500));
+    assert!(!w.changes.is_empty());
+    assert!(w.changes.windows(2).all(|c| c[0].0 <= c[1].0));
+}
+
+#[test]
+fn sampled_mode_estimates_the_full_pass() {
+    let chip = ChipConfig::geforce2_gts();
+    let work = plane(
+        256,
+        192,
+        vec![tex("h", [256, 256, 1], 4), tex("J", [256, 256, 1], 4)],
+        |x, y, _, k| bilinear(x, y, k, 256),
+    );
+    let full = clock_pass(&chip, &work, None).unwrap();
+    let (s, rse) = clock_pass_sampled(&chip, &work, 4).unwrap();
+    check_accounting(&s);
+    assert!(rse.is_finite() && rse >= 0.0);
+    let err = (s.cycles as f64 - full.cycles as f64).abs() / full.cycles as f64;
+    // The groups are clocked from an empty pipe (fill and drain); allow that bias
+    // (a few hundred clocks per group) beside three standard errors.
+    let bias = 8.0 * 400.0 / full.cycles as f64;
+    assert!(
+        err <= 3.0 * rse + bias,
+        "sampled {} against {} (rse {rse})",
+        s.cycles,
+        full.cycles
+    );
+    // every = 1 is the full run.
+    let (one, e1) = clock_pass_sampled(&chip, &work, 1).unwrap();
+    assert_eq!((one.cycles, e1), (full.cycles, 0.0));
+}
+
+#[test]
+fn deterministic() {
+    let chip = ChipConfig::geforce3();
+    let work = plane(96, 64, vec![tex("h", [64, 64, 1], 4)], |x, y, _, k| {
+        bilinear(x % 64, y, k, 64)
+    });
+    let a = clock_pass(&chip, &work, Some(10..200)).unwrap();
+    let b = clock_pass(&chip, &work, Some(10..200)).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn presets_validate_and_take_the_units_timing() {
+    use rtl_model::units::polygon_interpolator::PolygonInterpolator;
+    use rtl_model::Unit;
+    for name in ["geforce256", "geforce2-gts", "geforce3"] {
+        let c = ChipConfig::preset(name).unwrap();
+        c.validate().unwrap();
+        assert_eq!(c.name, name);
+        let interp = PolygonInterpolator::geforce().timing();
+        assert_eq!(
+            (c.pipe_stages[0].latency, c.pipe_stages[0].ii),
+            (interp.latency, interp.ii)
+        );
+    }
+    let gts = ChipConfig::geforce2_gts();
+    assert_eq!(gts.memory.bytes_per_clock, 5.3e9 / 200e6);
+    assert!(ChipConfig::geforce3().pipe_stages[2].latency > gts.pipe_stages[2].latency);
+    let e = ChipConfig::preset("voodoo2").unwrap_err();
+    assert_eq!(e.field(), "chip");
+    assert!(e.to_string().contains("geforce2-gts"));
+    assert!(ChipConfig::preset("glare-asic").is_err());
+}
+
+#[test]
+fn invalid_configs_name_the_field() {
+    let work = strip(4, RopWork::default());
+    let bad = |f: &dyn Fn(&mut ChipConfig), field: &str| {
+        let mut c = ChipConfig::geforce2_gts();
+        f(&mut c);
+        let e = clock_pass(&c, &work, None).unwrap_err();
+        assert_eq!(e.field(), field, "{e}");
+        assert_eq!(clock_pass_sampled(&c, &work, 4).unwrap_err().field(), field);
+    };
+    bad(
+        &|c| c.texture_cache.line_bytes = 48,
+        "chip.texture_cache.line_bytes",
+    );
+    bad(&|c| c.texture_cache.ways = 3, "chip.texture_cache.ways");
+    bad(
+        &|c| c.texture_cache.size_bytes = 1000,
+        "chip.texture_cache.size_bytes",
+    );
+    bad(
+        &|c| c.texture_cache.misses_in_flight = 0,
+        "chip.texture_cache.misses_in_flight",
+    );
+    bad(
+        &|c| c.memory.bytes_per_clock = f64::NAN,
+        "chip.memory.bytes_per_clock",
+    );
+    bad(
+        &|c| c.memory.bytes_per_clock = 0.0,
+        "chip.memory.bytes_per_clock",
+    );
+    bad(
+        &|c| c.memory.bytes_per_clock = 1e-9,
+        "chip.memory.bytes_per_clock",
+    );
+    bad(&|c| c.memory.queue_depth = 0, "chip.memory.queue_depth");
+    bad(&|c| c.clock_hz = -1.0, "chip.clock_hz");
+    bad(&|c| c.pipes = 0, "chip.pipes");
+    bad(&|c| c.tmus_per_pipe = 0, "chip.tmus_per_pipe");
+    bad(&|c| c.textures_per_pass = 0, "chip.textures_per_pass");
+    bad(&|c| c.fifo_depth = 0, "chip.fifo_depth");
+    bad(&|c| c.pipe_stages[1].ii = 0, "chip.pipe_stages[1].ii");
+    bad(
+        &|c| c.pipe_stages[0].latency = 0,
+        "chip.pipe_stages[0].latency",
+    );
+    bad(
+        &|c| c.texture_layout = Layout::Tiled { w: 3, h: 4 },
+        "chip.texture_layout.w",
+    );
+    bad(
+        &|c| {
+            c.memory.pages = Some(glare_pipeline::chip::config::DramPages {
+                page_bytes: 2048,
+                banks: 0,
+                page_miss_clocks: 10,
+            })
+        },
+        "chip.memory.pages.banks",
+    );
+    bad(
+        &|c| c.pipe_stages[2].kind = StageKind::Texture,
+        "chip.pipe_stages",
+    );
+}
+
+#[test]
+fn inconsistent_work_is_an_error() {
+    let chip = ChipConfig::geforce2_gts();
+    let mut w = plane(8, 8, vec![tex("h", [8, 8, 1], 4)], |x, y, _, k| {
+        bilinear(x, y, k, 8)
+    });
+    w.texels.pop();
+    assert_eq!(
+        clock_pass(&chip, &w, None).unwrap_err().field(),
+        "pass_work.texels"
+    );
+    let mut w = strip(4, RopWork::default());
+    w.frag_xy[3] = [100, 0];
+    assert_eq!(
+        clock_pass(&chip, &w, None).unwrap_err().field(),
+        "pass_work.frag_xy"
+    );
+    let mut w = strip(4, RopWork::default());
+    w.rop.colour_write_bytes = u32::MAX;
+    assert_eq!(
+        clock_pass(&chip, &w, None).unwrap_err().field(),
+        "pass_work.rop.colour_write_bytes"
+    );
+    let mut w = strip(4, RopWork::default());
+    w.prim_walked.push(3);
+    assert_eq!(
+        clock_pass(&chip, &w, None).unwrap_err().field(),
+        "pass_work.prim_walked"
+    );
+    let mut chip = ChipConfig::geforce2_gts();
+    chip.pipe_stages.retain(|s| s.kind != StageKind::Texture);
+    let w = plane(8, 8, vec![tex("h", [8, 8, 1], 4)], |x, y, _, k| {
+        bilinear(x, y, k, 8)
+    });
+    assert_eq!(
+        clock_pass(&chip, &w, None).unwrap_err().field(),
+        "chip.pipe_stages"
+    );
+}
+
+#[test]
+fn dram_pages_and_priority_cost_clocks() {
+    // Page misses add clocks on the same traffic; fixed priority and round robin move
+    // the same bytes.
+    let work = plane(128, 64, vec![tex("h", [128, 128, 1], 4)], |x, y, _, k| {
+        bilinear(x, y, k, 128)
+    });
+    let base = ChipConfig::geforce2_gts();
+    let t0 = clock_pass(&base, &work, None).unwrap();
+    let mut paged = base.clone();
+    paged.memory.pages = Some(glare_pipeline::chip::config::DramPages {
+        page_bytes: 2048,
+        banks: 4,
+        page_miss_clocks: 20,
+    });
+    let t1 = clock_pass(&paged, &work, None).unwrap();
+    assert!(t1.cycles > t0.cycles);
+    assert_eq!(t1.bytes_by_client, t0.bytes_by_client);
+    let mut fixed = base.clone();
+    fixed.memory.arbitration = Arbitration::FixedPriority;
+    let t2 = clock_pass(&fixed, &work, None).unwrap();
+    assert_eq!(t2.bytes_by_client, t0.bytes_by_client);
+    check_accounting(&t1);
+    check_accounting(&t2);
+}
+
+/// Wall time of the clocked chip on a Fig. 6(b)-sized sample plane (720 × 480, the F
+/// table with 2 texels per lookup and two 2D textures with 4), printed, not asserted:
+/// `cargo test --test chip_clock -- --ignored --nocapture fig6b_plane_speed`
+/// (the criterion figure is `cargo bench --bench chip_clock`).
+#[test]
+#[ignore]
+fn fig6b_plane_speed() {
+    let (w, h) = (720u32, 480u32);
+    let work = plane(
+        w,
+        h,
+        vec![
+            tex("F", [256, 1, 1], 2),
+            tex("h", [256, 256, 1], 4),
+            tex("J", [512, 512, 1], 4),
+        ],
+        |x, y, j, k| match j {
+            0 => ((x + y) * 255 / (w + h)).min(254) + k,
+            1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
+            _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
+        },
+    );
+    let chip = ChipConfig::geforce2_gts();
+    let n = work.fragments() as f64;
+    // CPU time of this thread (the machine may be shared): /proc/thread-self/schedstat's
+    // first field, ns on the CPU; wall time where it is absent.
+    let cpu = || -> f64 {
+        std::fs::read_to_string("/proc/thread-self/schedstat")
+            .ok()
+            .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+            .unwrap_or_else(|| {
+                std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0.0, |d| d.as_secs_f64() * 1e9)
+            })
+    };
+    let t = clock_pass(&chip, &work, None).unwrap();
+    for s in &t.stages {
+        println!(
+            "  {:<22} busy {:>7} stalled {:>7} starved {:>7}",
+            s.name, s.busy, s.stalled, s.starved
+        );
+    }
+    for f in &t.fifos {
+        println!("  {:<40} high water {}/{}", f.name, f.high_water, f.depth);
+    }
+    println!("  bytes {:?}", t.bytes_by_client);
+    for _ in 0..3 {
+        let t0 = cpu();
+        let t = clock_pass(&chip, &work, None).unwrap();
+        let full = cpu() - t0;
+        let t0 = cpu();
+        let (s, rse) = clock_pass_sampled(&chip, &work, 8).unwrap();
+        let sampled = cpu() - t0;
+        println!(
+            "clocked: {} cycles, {:.1} CPU ns/fragment ({}, hit rate {:.3}); sampled 1/8: {} cycles ({:+.2} %, rse {:.4}), {:.1} CPU ns/fragment",
+            t.cycles,
+            full / n,
+            t.bottleneck,
+            t.cache_hit_rate().unwrap_or(0.0),
+            s.cycles,
+            (s.cycles as f64 / t.cycles as f64 - 1.0) * 100.0,
+            rse,
+            sampled / n
+        );
+    }
+}
+
+#[test]
+fn copy_pass_is_bandwidth_and_empty_pass_is_overhead() {
+    // A copy of 4 096 bytes read and 4 096 written at 4 bytes per clock: 2 048 clocks
+    // of transfer after the overhead (the first request starts the clock after it is
+    // queued; the latency only delays the reads, which nothing waits for but the end).
+    let mut chip = ideal_chip(2, 1);
+    chip.memory.bytes_per_clock = 4.0;
+    chip.memory.latency_clocks = 10;
+    chip.pass_overhead_clocks = 50;
+    let work = PassWork {
+        width: 16,
+        height: 16,
+        copy_read_bytes: 4096,
+        copy_write_bytes: 4096,
+        ..PassWork::default()
+    };
+    let t = clock_pass(&chip, &work, None).unwrap();
+    check_accounting(&t);
+    assert_eq!(t.bytes_by_client["copy"], 8192);
+    assert!(t.cycles >= 50 + 2048, "{}", t.cycles);
+    assert!(t.cycles <= 50 + 2048 + 10 + 2, "{}", t.cycles);
+    assert_eq!(t.bottleneck, "memory (copy)");
+    let empty = PassWork {
+        width: 16,
+        height: 16,
+        ..PassWork::default()
+    };
+    let t = clock_pass(&chip, &empty, None).unwrap();
+    check_accounting(&t);
+    assert_eq!((t.cycles, t.bottleneck.as_str()), (50, "none"));
+}
