@@ -43,7 +43,7 @@ pub struct Timeline {
 pub struct WindowTrace {
     pub start_clock: u64,
     pub end_clock: u64,
-    /// (name, width in bits): "<fifo>.valid", "<fifo>.ready", "<fifo>.level", …
+    /// (name, width in bits): `<fifo>.valid`, `<fifo>.ready`, `<fifo>.level`, …
     pub signals: Vec<(String, u32)>,
     /// (clock, signal index, value), in clock order.
     pub changes: Vec<(u64, u32, u64)>,
@@ -1003,7 +1003,7 @@ pub fn stage_names(chip: &ChipConfig) -> Vec<String> {
     v
 }
 
-/// The FIFO names of a chip ("<producer>_to_<consumer>"), in order.
+/// The FIFO names of a chip (`<producer>_to_<consumer>`), in order.
 pub fn fifo_names(chip: &ChipConfig) -> Vec<String> {
     let mut chain = vec!["raster".to_string()];
     chain.extend(chip.pipe_stages.iter().map(|s| s.name.clone()));
