@@ -1003,7 +1003,7 @@ pub fn stage_names(chip: &ChipConfig) -> Vec<String> {
     v
 }
 
-/// The FIFO names of a chip ("<producer>_to_<consumer>"), in order.
+/// The FIFO names of a chip (`<producer>_to_<consumer>`), in order.
 pub fn fifo_names(chip: &ChipConfig) -> Vec<String> {
     let mut chain = vec!["raster".to_string()];
     chain.extend(chip.pipe_stages.iter().map(|s| s.name.clone()));
