@@ -6,6 +6,7 @@
 pub mod clock;
 pub mod config;
 pub mod presets;
+mod presets_pending;
 pub mod roofline;
 pub mod work;
 
