@@ -100,6 +100,8 @@ pub enum Command {
         /// shading scene's sphere view; the test scene's size is fixed).
         #[arg(long, value_name = "WxH")]
         image: Option<String>,
+        #[command(flatten)]
+        timing: crate::frame::cli::TimingArgs,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
@@ -468,6 +470,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             plan,
             max_memory,
             image,
+            timing,
         } => crate::frame::cli::render_cli(
             &scene,
             &out,
@@ -476,6 +479,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             plan,
             max_memory,
             image.as_deref(),
+            &timing,
         ),
         Command::Reproduce {
             name,

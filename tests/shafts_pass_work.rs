@@ -233,3 +233,60 @@ fn same_record_on_one_and_two_threads() {
     let (_, b) = pool(2).install(|| frame(&s4, true));
     assert_eq!(hash(&a), hash(&b));
 }
+
+/// The record's cost on the full-size fig6 (720 × 480, 30 planes, m = 6): wall time of
+/// the frame without and with recording (each record dropped as it arrives, as the
+/// clocked frame drops it after clocking), and the largest record per pass kind.
+/// Prints, asserts only that the record is complete. `cargo test --release --test
+/// shafts_pass_work -- --ignored --nocapture record_cost_on_fig6`.
+#[test]
+#[ignore]
+fn record_cost_on_fig6() {
+    use std::collections::BTreeMap;
+    use std::time::Instant;
+    let s = builtin("fig6").unwrap();
+    let (p, _) = prepare_scene(&s, DEFAULT_EXPOSURE).unwrap();
+    let run = |record: bool| {
+        let peak: Rc<RefCell<BTreeMap<&'static str, (usize, usize, u64)>>> = Rc::default();
+        let t = Instant::now();
+        let mut f = ShaftsFrame::new(&p, None).unwrap();
+        if record {
+            let pk = Rc::clone(&peak);
+            f.record_work(Box::new(move |w| {
+                let st = w.stats.as_ref().unwrap();
+                let mut m = pk.borrow_mut();
+                let e = m.entry(kind_name(st.kind)).or_default();
+                e.0 = e.0.max(w.heap_bytes());
+                e.1 += 1;
+                e.2 += w.fragments() as u64;
+                Ok(())
+            }));
+        }
+        for pass in passes(&p) {
+            f.run(pass).unwrap();
+        }
+        let r = f.finish();
+        let secs = t.elapsed().as_secs_f64();
+        let peak = peak.borrow().clone();
+        (r, secs, peak)
+    };
+    // Alternate, twice each, so a warm cache favours neither.
+    let mut off = Vec::new();
+    let mut on = Vec::new();
+    let mut kinds = BTreeMap::new();
+    for _ in 0..2 {
+        off.push(run(false).1);
+        let (r, secs, peak) = run(true);
+        on.push(secs);
+        assert_eq!(peak.values().map(|v| v.1).sum::<usize>(), r.passes.len());
+        kinds = peak;
+    }
+    println!("fig6 wall seconds without recording: {off:?}, with: {on:?}");
+    for (k, (bytes, n, frags)) in &kinds {
+        println!(
+            "{k}: {n} passes, largest record {:.2} MB, {:.0} fragments per pass",
+            *bytes as f64 / 1e6,
+            *frags as f64 / *n as f64
+        );
+    }
+}

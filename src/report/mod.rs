@@ -3,6 +3,7 @@
 pub mod alternates;
 pub mod atomic;
 pub mod attribution;
+pub mod chip_timing;
 pub mod csv_out;
 pub mod elaboration;
 pub mod image_arg;
