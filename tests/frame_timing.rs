@@ -65,7 +65,10 @@ fn what_cannot_be_clocked_is_refused_up_front() {
         &fig6,
     )
     .unwrap_err();
-    assert!(e.contains("--chip glare-asic") && e.contains("geforce2-gts"), "{e}");
+    assert!(
+        e.contains("--chip glare-asic") && e.contains("geforce2-gts"),
+        "{e}"
+    );
     let glare = plan(&builtin("glare-point").unwrap()).unwrap();
     assert!(check(&TimingRequest::default(), &glare).is_ok());
     for mode in [TimingMode::Clocked, TimingMode::Sampled] {

@@ -234,6 +234,9 @@ fn same_record_on_one_and_two_threads() {
     assert_eq!(hash(&a), hash(&b));
 }
 
+/// Per pass kind: the largest record (bytes), the passes, the fragments.
+type PerKind = std::collections::BTreeMap<&'static str, (usize, usize, u64)>;
+
 /// The record's cost on the full-size fig6 (720 × 480, 30 planes, m = 6): wall time of
 /// the frame without and with recording (each record dropped as it arrives, as the
 /// clocked frame drops it after clocking), and the largest record per pass kind.
@@ -247,7 +250,7 @@ fn record_cost_on_fig6() {
     let s = builtin("fig6").unwrap();
     let (p, _) = prepare_scene(&s, DEFAULT_EXPOSURE).unwrap();
     let run = |record: bool| {
-        let peak: Rc<RefCell<BTreeMap<&'static str, (usize, usize, u64)>>> = Rc::default();
+        let peak: Rc<RefCell<PerKind>> = Rc::default();
         let t = Instant::now();
         let mut f = ShaftsFrame::new(&p, None).unwrap();
         if record {

@@ -137,13 +137,15 @@ pub fn check(req: &TimingRequest, plan: &Plan) -> Result<(), String> {
             Step::Shafts(_) | Step::ShadedObjects | Step::ShadedHighlights => {}
             // The glare ASIC's clocked model plugs in here: once the glare pass records
             // its work (`FrameState::glare_pass`), accept it.
-            Step::Glare => return Err(format!(
+            Step::Glare => {
+                return Err(format!(
                 "--timing {}: the glare pass ({}) is not clocked yet; clocked and sampled timing \
                      support the shafts scenes (fig4, fig6, stage and scene files without glare); \
                      use --timing roofline",
                 req.mode.name(),
                 p.name
-            )),
+            ))
+            }
             Step::TestScene | Step::EnvironmentScene => {
                 return Err(unsupported_family(req.mode, "this scene"))
             }
