@@ -269,6 +269,11 @@ fn subplanes_hil(
         // One primitive (the parallelogram) walking the whole screen.
         let mut rec = recording.then(|| {
             let mut r = Rec::default();
+            // At most one fragment per pixel.
+            let px = (w * h) as usize;
+            r.xy.reserve(px);
+            r.texels
+                .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
             r.prim((w * h) as u64);
             r
         });
@@ -512,7 +517,13 @@ fn plane<T: Send>(
     let mut spans = PlaneSpans::default();
     let mut cell_frags = Vec::with_capacity(drawn.len());
     // The cells' records joined in cell order (the order their fragments blend in).
-    let mut rec = pc.record.then(Rec::default);
+    let mut rec = pc.record.then(|| {
+        // Sized once for every cell's record (no growing and copying on the way).
+        let mut all = Rec::default();
+        let cells = drawn.iter().filter_map(|d| d.as_ref().ok()?.2.as_ref());
+        all.reserve_for(cells);
+        all
+    });
     for d in drawn {
         let (f, s, r) = d?;
         cell_frags.push(f);

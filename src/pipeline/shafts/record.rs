@@ -58,6 +58,16 @@ impl Rec {
         self.xy.push([x as u16, y as u16]);
     }
 
+    /// Room for `parts` appended after what this one holds.
+    pub fn reserve_for<'x>(&mut self, parts: impl Iterator<Item = &'x Rec> + Clone) {
+        let sum = |f: fn(&Rec) -> usize| parts.clone().map(f).sum::<usize>();
+        self.prim_first.reserve(sum(|r| r.prim_first.len()));
+        self.prim_walked.reserve(sum(|r| r.prim_walked.len()));
+        self.prim_killed.reserve(sum(|r| r.prim_killed.len()));
+        self.xy.reserve(sum(|r| r.xy.len()));
+        self.texels.reserve(sum(|r| r.texels.len()));
+    }
+
     /// `other` after this one (its primitives and fragments follow).
     pub fn append(&mut self, other: Rec) {
         let base = self.xy.len() as u32;
