@@ -170,12 +170,19 @@ pub fn chip_config(chip: ChipName) -> Result<ChipConfig, String> {
     ChipConfig::preset(chip.name()).map_err(|e| format!("--chip {}: {e}", chip.name()))
 }
 
-/// One sampled pass: `crate::chip::clock::clock_pass_sampled` once the sampled mode
-/// lands (its timing and the relative standard error of its cycles).
+/// Every how many screen tiles sampled timing clocks one.
+const SAMPLE_EVERY: u32 = 8;
+
+/// One sampled pass (its timing and the relative standard error of its cycles): the
+/// body becomes `crate::chip::clock::clock_pass_sampled(chip, work, SAMPLE_EVERY)`
+/// once the sampled mode lands.
 fn clock_sampled(_chip: &ChipConfig, _work: &PassWork) -> Result<(PassTiming, f64), ConfigError> {
     Err(ConfigError::invalid(
         "timing",
-        "sampled clocking is being built; use --timing clocked or roofline",
+        &format!(
+            "sampled clocking (one screen tile in {SAMPLE_EVERY}) is being built; use --timing \
+             clocked or roofline"
+        ),
     ))
 }
 
