@@ -68,6 +68,7 @@ fn fig6b_plane() -> PassWork {
         textures,
         prim_first_fragment: vec![0, (w * h / 2)],
         prim_walked: vec![w * h / 2 + w, w * h / 2 + w],
+        prim_depth_killed: Vec::new(),
         frag_xy,
         texels,
         rop: RopWork {

@@ -100,12 +100,8 @@ pub enum Command {
         /// shading scene's sphere view; the test scene's size is fixed).
         #[arg(long, value_name = "WxH")]
         image: Option<String>,
-        /// With clocked timing, the clocks of the frame (counted from its start) that
-        /// the chip's signals are traced over, START..END, into OUT's .vcd beside the
-        /// timeline (OUT.timeline.png and .csv); default 0..2000, at most 1 000 000
-        /// clocks. GTKWave and Surfer open the VCD (docs/throughput.md).
-        #[arg(long, value_name = "START..END")]
-        vcd_window: Option<String>,
+        #[command(flatten)]
+        timing: crate::frame::cli::TimingArgs,
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
@@ -474,7 +470,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             plan,
             max_memory,
             image,
-            vcd_window,
+            timing,
         } => crate::frame::cli::render_cli(
             &scene,
             &out,
@@ -483,7 +479,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             plan,
             max_memory,
             image.as_deref(),
-            vcd_window.as_deref(),
+            &timing,
         ),
         Command::Reproduce {
             name,

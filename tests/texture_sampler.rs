@@ -1030,3 +1030,151 @@ fn half_to_even_weight_ties_and_successive_lerps_by_hand() {
     };
     assert_eq!(lerps.sample(&quarter, &mut ctr)[0], 1);
 }
+
+/// Every address-mode triple.
+fn all_address_modes() -> Vec<[AddressMode; 3]> {
+    let m = [AddressMode::Clamp, AddressMode::Wrap];
+    let mut v = Vec::new();
+    for a in m {
+        for b in m {
+            for c in m {
+                v.push([a, b, c]);
+            }
+        }
+    }
+    v
+}
+
+/// The footprint is the set of texels the kernel reads, in its order, and its length
+/// is the kernel's `table_reads`: on random inputs at every width, dimension, filter,
+/// filter rounding and address mode, (1) the footprint's length per lookup is the
+/// filter's texel count and its sum over a span the batch and word kernels'
+/// `table_reads`; (2) the kernel's output is the footprint's texels under their
+/// weights (the product-weight datapath rounded once; nearest: the one texel) on a
+/// random texture; (3) on a one-hot texture (one texel at full scale, the rest 0)
+/// the output is the weight the footprint gives that texel, for every texel, so each
+/// corner with a weight is the texel the kernel read; (4) the lane form gives the
+/// per-lookup footprints in lane order.
+#[test]
+fn footprint_is_what_the_kernel_reads() {
+    let mut rng = Rng(0x7e17_f007);
+    let sizes: [[u32; 3]; 3] = [[5, 3, 2], [4, 8, 2], [7, 1, 3]];
+    let mut lookups = 0u64;
+    for w in ALL_WIDTHS {
+        for dims in 1..=3u32 {
+            for filter in FILTERS {
+                for fr in [
+                    FilterRounding::ProductWeights,
+                    FilterRounding::SuccessiveLerps,
+                ] {
+                    for address in all_address_modes() {
+                        for size in sizes {
+                            let mut cfg =
+                                config(dims, size, 1, w, WeightRounding::Round, filter, address, 4);
+                            cfg.filter_rounding = fr;
+                            let texels = make_texels(&cfg, Content::Random, &mut rng);
+                            let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+                            let inputs: Vec<TextureSamplerIn> = (0..24)
+                                .map(|_| TextureSamplerIn {
+                                    coord: std::array::from_fn(|k| {
+                                        coord_word(&mut rng, cfg.size[k], 16, w.frac)
+                                    }),
+                                })
+                                .collect();
+                            lookups += inputs.len() as u64;
+                            footprint_checks(&u, &cfg, &texels, &inputs);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(lookups > 10_000, "{lookups} lookups checked");
+}
+
+fn footprint_checks(
+    u: &TextureSampler,
+    cfg: &TextureSamplerConfig,
+    texels: &[u32],
+    inputs: &[TextureSamplerIn],
+) {
+    let n_tex = cfg.texels_per_sample() as usize;
+    let mut all = Vec::new();
+    for x in inputs {
+        let before = all.len();
+        u.footprint(x, &mut all);
+        assert_eq!(all.len() - before, n_tex, "{cfg:?}: texels per lookup");
+        let c = u.corners(x);
+        assert_eq!(c.texels(), &all[before..]);
+        let count = cfg.size.iter().product::<u32>();
+        assert!(c.texels().iter().all(|&t| t < count), "index in range");
+    }
+    // (1) table_reads of the batch and of the word kernel.
+    let (mut cb, mut cw) = (Counters::default(), Counters::default());
+    let mut out = Vec::new();
+    u.kernel_batch(&mut (), inputs, &mut out, &mut cb);
+    for x in inputs {
+        u.kernel(&mut (), x, &mut cw);
+    }
+    assert_eq!(
+        cb.table_reads,
+        all.len() as u64,
+        "{cfg:?}: batch table_reads"
+    );
+    assert_eq!(
+        cw.table_reads,
+        all.len() as u64,
+        "{cfg:?}: word table_reads"
+    );
+    let d = cfg.dims;
+    let shift = d * cfg.weight_bits;
+    let full = (1u64 << cfg.texel_bits) - 1;
+    for (x, o) in inputs.iter().zip(&out) {
+        let c = u.corners(x);
+        // (2) the output from the footprint's texels and weights.
+        if cfg.filter == Filter::Nearest {
+            assert_eq!(o[0], texels[c.texel[0] as usize], "{cfg:?}: nearest texel");
+        } else if cfg.filter_rounding == FilterRounding::ProductWeights {
+            let acc: u64 = (0..c.len as usize)
+                .map(|k| texels[c.texel[k] as usize] as u64 * c.weight[k])
+                .sum();
+            assert_eq!(
+                o[0] as u64,
+                (acc + (1u64 << (shift - 1))) >> shift,
+                "{cfg:?}: {x:?}"
+            );
+            assert_eq!(c.weight[..c.len as usize].iter().sum::<u64>(), 1 << shift);
+        }
+    }
+    // (3) one-hot textures: every texel with a weight in the footprint is read.
+    if cfg.filter == Filter::Linear && cfg.filter_rounding == FilterRounding::ProductWeights {
+        let count = texels.len();
+        for hot in 0..count {
+            let mut t = vec![0u32; count];
+            t[hot] = full as u32;
+            let uh = TextureSampler::new(cfg.clone(), &t).unwrap();
+            for x in inputs.iter().take(6) {
+                let c = uh.corners(x);
+                let wsum: u64 = (0..c.len as usize)
+                    .filter(|&k| c.texel[k] as usize == hot)
+                    .map(|k| c.weight[k])
+                    .sum();
+                let want = (full * wsum + (1u64 << (shift - 1))) >> shift;
+                let got = uh.sample(x, &mut Counters::default())[0] as u64;
+                assert_eq!(got, want, "{cfg:?}: one-hot texel {hot} at {x:?}");
+            }
+        }
+    }
+    // (4) the lane form.
+    let s: Vec<i32> = inputs.iter().map(|x| x.coord[0]).collect();
+    let t: Vec<i32> = inputs.iter().map(|x| x.coord[1]).collect();
+    let r: Vec<i32> = inputs.iter().map(|x| x.coord[2]).collect();
+    let mut lanes = Vec::new();
+    let (tl, rl): (&[i32], &[i32]) = match d {
+        1 => (&[], &[]),
+        2 => (&t, &[]),
+        _ => (&t, &r),
+    };
+    u.footprint_lanes(&s, tl, rl, &mut lanes);
+    assert_eq!(lanes, all, "{cfg:?}: lane form");
+}

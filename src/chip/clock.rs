@@ -100,6 +100,22 @@ pub struct FrameTiming {
     /// In sampled mode: the estimated relative error of the frame's cycles (one
     /// standard error over the sampled tiles), else `None`.
     pub sampling_error: Option<f64>,
+    /// Passes of the frame that recorded no work (not clocked: not in `passes`,
+    /// not in `cycles_total`), with their roofline time.
+    pub roofline_only: Vec<RooflineOnlyPass>,
+}
+
+/// A pass of a clocked frame that recorded no work, timed by the roofline alone.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct RooflineOnlyPass {
+    /// The frame's pass name.
+    pub pass: String,
+    /// Its kind (`crate::chip::kind_name`).
+    pub kind: String,
+    /// The roofline's seconds.
+    pub seconds: f64,
+    /// Why it is not clocked ("roofline (no recorded work)").
+    pub why: String,
 }
 
 impl FrameTiming {

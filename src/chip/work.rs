@@ -78,6 +78,10 @@ pub struct PassWork {
     pub prim_first_fragment: Vec<u32>,
     /// Per primitive: the pixels the rasteriser walked (covered or not).
     pub prim_walked: Vec<u32>,
+    /// Per primitive: the covered fragments the depth test removed before any texture
+    /// was read (each read its depth, `rop.depth_read_bytes`, and went no further; they
+    /// are not in `frag_xy`). Empty when the pass has no depth test.
+    pub prim_depth_killed: Vec<u32>,
     /// Each fragment's pixel (x, y), y down.
     pub frag_xy: Vec<[u16; 2]>,
     /// Per fragment, per texture in `textures` order, `texels_per_lookup` texel indices
@@ -115,6 +119,23 @@ impl PassWork {
             .iter()
             .map(|t| t.texels_per_lookup as usize)
             .sum()
+    }
+
+    /// Fragments the depth test removed (see `prim_depth_killed`).
+    pub fn depth_killed(&self) -> u64 {
+        self.prim_depth_killed.iter().map(|&k| k as u64).sum()
+    }
+
+    /// Bytes the recorded vectors hold (their capacities): what recording costs in
+    /// memory while the pass is clocked.
+    pub fn heap_bytes(&self) -> usize {
+        use std::mem::size_of;
+        self.prim_first_fragment.capacity() * size_of::<u32>()
+            + self.prim_walked.capacity() * size_of::<u32>()
+            + self.prim_depth_killed.capacity() * size_of::<u32>()
+            + self.frag_xy.capacity() * size_of::<[u16; 2]>()
+            + self.texels.capacity() * size_of::<u32>()
+            + self.textures.capacity() * size_of::<TextureWork>()
     }
 
     /// The fragments of primitive `p` (a range into `frag_xy`).

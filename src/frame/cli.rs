@@ -4,11 +4,64 @@
 
 use super::chip::{chip_table, elaborate};
 use super::plan::{plan, plan_table, test_scene_plan};
-use super::run::render_with_progress;
+use super::run::render_timed;
+use super::timing::{ChipName, TimingMode, TimingRequest};
 use crate::pipeline::shafts::cli::{load_scene, reference_image};
 use crate::report::render_json::{value, Family, PassEntry, RenderJson, Timing};
 use crate::report::table::{chip_elaboration_table, counters_table, text_table};
 use std::path::Path;
+
+/// `render`'s timing flags.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct TimingArgs {
+    /// How the frame's time is found: roofline (max(fill, memory) plus set-up per
+    /// pass with an assumed texture-cache hit rate), clocked (each pass's work, as
+    /// the frame records it, clocked through the chip's stages, FIFOs, texture caches
+    /// and memory controller) or sampled (a fixed sample of screen tiles clocked and
+    /// scaled, with its estimated error). Clocked and sampled time the shafts scenes
+    /// (fig4, fig6, stage and scene files without glare); the roofline stays printed
+    /// beside them.
+    #[arg(long, value_enum, value_name = "MODE", default_value_t = TimingMode::Roofline)]
+    pub timing: TimingMode,
+    /// The chip the frame is timed on: geforce256, geforce2-gts or geforce3 for the
+    /// GPU passes (default: GeForce3 for a scene with an environment map, else the
+    /// GeForce2 GTS), or glare-asic (a glare scene's glare pass, which always runs
+    /// on it).
+    #[arg(long, value_enum, value_name = "CHIP")]
+    pub chip: Option<ChipName>,
+    /// With clocked timing, the clocks of the frame (counted from its start) that
+    /// the chip's signals are traced over, START..END, into OUT's .vcd beside the
+    /// timeline (OUT.timeline.png and .csv); default 0..2000, at most 1 000 000
+    /// clocks. GTKWave and Surfer open the VCD (docs/throughput.md).
+    #[arg(long, value_name = "START..END")]
+    pub vcd_window: Option<String>,
+}
+
+impl TimingArgs {
+    pub fn request(&self) -> TimingRequest {
+        TimingRequest {
+            mode: self.timing,
+            chip: self.chip,
+            window: None,
+        }
+    }
+
+    /// Refuse the flags for a scene family that renders outside the frame's passes
+    /// (`family`: "the foundation test scene", …): clocked or sampled timing, or a chip.
+    fn refuse_outside_frame(&self, family: &str) -> Result<(), String> {
+        if self.timing.records() {
+            return Err(super::timing::unsupported_family(self.timing, family));
+        }
+        match self.chip {
+            Some(c) => Err(format!(
+                "--chip {}: {family} is timed on its own fixed model; --chip applies to the \
+                 shafts, glare and showcase scenes",
+                c.name()
+            )),
+            None => Ok(()),
+        }
+    }
+}
 
 /// A plan's pass as `render --json` lists it, with its time if it has one.
 pub fn pass_entry(p: &super::plan::Pass, t: Option<&super::run::PassTime>) -> PassEntry {
@@ -43,16 +96,17 @@ pub fn render_cli(
     plan_only: bool,
     max_memory: Option<u64>,
     image: Option<&str>,
-    vcd_window: Option<&str>,
+    timing: &TimingArgs,
 ) -> Result<(), String> {
     use crate::report::outputs::{check_outputs, Output};
     let size = image
         .map(crate::report::image_arg::parse_image)
         .transpose()?;
-    // Whether the frame is clocked on a chip (`--timing clocked|sampled`, wired beside
-    // this); until then, never.
-    let clocked = false;
-    let chip_files = crate::report::chip_timing::ChipFiles::for_render(out, vcd_window, clocked)?;
+    let chip_files = crate::report::chip_timing::ChipFiles::for_render(
+        out,
+        timing.vcd_window.as_deref(),
+        timing.timing.records(),
+    )?;
     if !plan_only {
         let mut outs = vec![Output::png("out", out)];
         if let Some(r) = reference {
@@ -74,11 +128,13 @@ pub fn render_cli(
     };
     // The foundation test scene: `test`, or its `[test_scene]` file form.
     if crate::scene::test_scene::resolve(name)? {
+        timing.refuse_outside_frame("the foundation test scene")?;
         return render_test_scene(size, &out);
     }
     // A shading scene (`shading-*`, or a file with a `[shading]` table: what
     // `optimize` writes as best.toml for one) renders through the shading sweep's path.
     if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+        timing.refuse_outside_frame("a shading scene")?;
         return render_shading_scene(name, f, image, max_memory, &out);
     }
     let mut scene = load_scene(name)?;
@@ -89,6 +145,28 @@ pub fn render_cli(
             .validate()
             .map_err(|e| format!("--image {w}x{h}: {e}"))?;
     }
+    if super::plan::environment_scene(&scene) {
+        timing.refuse_outside_frame("an environment-map scene")?;
+    }
+    // Clocked timing's chip resolved, and what the frame cannot clock refused, before
+    // any work (the default roofline needs neither).
+    let mut req = timing.request();
+    req.window = out
+        .chip_files
+        .as_ref()
+        .map(|f| (f.vcd_window.start, f.vcd_window.end));
+    let chip_config = if req == TimingRequest::default() {
+        None
+    } else {
+        let p = plan(&scene).map_err(|e| e.to_string())?;
+        super::timing::check(&req, &p)?;
+        match req.mode.records() {
+            true => Some(super::timing::chip_config(
+                req.chip.unwrap_or(ChipName::of_gpu(req.gpu(&scene))),
+            )?),
+            false => None,
+        }
+    };
     if !plan_only {
         let (budget, from) = super::budget::resolve(max_memory);
         super::budget::check(&scene, budget, &from)?;
@@ -102,7 +180,7 @@ pub fn render_cli(
     if plan_only {
         return print_plan(&scene, &chip, json);
     }
-    render_frame(&scene, &out)
+    render_frame(&scene, &out, &req, chip_config)
 }
 
 /// Where and how `render` reports: the PNG, JSON or text, the reference PNG, and
@@ -265,11 +343,16 @@ fn print_plan(
 }
 
 /// `render` of a frame: run the passes, write the PNG (and the reference), report.
-fn render_frame(scene: &crate::scene::format::Scene, o: &RenderOut) -> Result<(), String> {
+fn render_frame(
+    scene: &crate::scene::format::Scene,
+    o: &RenderOut,
+    req: &TimingRequest,
+    chip: Option<crate::chip::config::ChipConfig>,
+) -> Result<(), String> {
     let (out, reference) = (o.out, o.reference);
     let setting = std::env::var("GLARE_PROGRESS").ok();
     let shown = crate::report::progress::frame_bar_wanted(work(scene), setting.as_deref());
-    let (f, _) = render_with_progress(scene, shown).map_err(|e| e.to_string())?;
+    let (f, _) = render_timed(scene, req, chip, Some(shown)).map_err(|e| e.to_string())?;
     let warnings = super::range::check(scene, &f);
     f.fb.save_png(out)
         .map_err(|e| format!("out: {}: {e}", out.display()))?;
@@ -328,9 +411,15 @@ fn print_frame_json(
     let mut r = RenderJson::new(&scene.name, Family::Frame)
         .image(scene.image.width, scene.image.height)
         .outputs(Some(out), reference)
-        .family_details(serde_json::json!({
-            "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
-        }));
+        .family_details(match &f.timing {
+            None => serde_json::json!({
+                "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
+            }),
+            Some(ft) => serde_json::json!({
+                "glare_link": f.linked.as_ref().map(crate::frame::glare_link::summary),
+                "chip_timing": crate::report::chip_timing::json(ft),
+            }),
+        });
     r.passes = passes;
     r.chip = super::chip::elaborated_json(elaboration, scene.chip);
     for (pipeline, c) in f.counters() {
@@ -339,8 +428,9 @@ fn print_frame_json(
     r.timing = Timing {
         predicted_seconds: Some(f.predicted_seconds()),
         gpu: Some(f.gpu.name().to_string()),
-        cycles: None,
-        clock_mhz: None,
+        // The clocked chip's cycles and clock, when it timed the frame.
+        cycles: f.timing.as_ref().map(|t| t.cycles_total()),
+        clock_mhz: f.timing.as_ref().map(|t| t.clock_hz / 1e6),
         wall_seconds: Some(f.wall_seconds),
     };
     r.error = error.map(value).transpose()?;
@@ -409,6 +499,12 @@ fn print_frame_text(
         text_table(&["pass", "on", "seconds", "simulation_wall_s"], &rows)
     );
     println!("predicted frame time: {:.6} s", f.predicted_seconds());
+    if let Some(ft) = &f.timing {
+        print!("\n{}", crate::report::chip_timing::print_table(ft));
+        for p in &ft.roofline_only {
+            println!("{} ({}): {:.6} s, {}", p.pass, p.kind, p.seconds, p.why);
+        }
+    }
     if let Some(e) = error {
         print!("\n{}", super::reproduce::error_table(e));
     }

@@ -25,3 +25,4 @@ pub mod run;
 pub mod scene_text;
 pub mod speed;
 pub mod sweep;
+pub mod timing;

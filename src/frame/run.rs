@@ -5,6 +5,8 @@
 use super::glare_link::{self, Linked};
 use super::objects::{shaded_objects_pass, shading_stats, ShadedObjects};
 use super::plan::{plan, Pass, Plan, Step};
+use super::timing::{Clock, TimingRequest};
+use crate::chip::clock::FrameTiming;
 use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::glare::background::from_framebuffer;
 use crate::pipeline::glare::cli::render_and_predict_over;
@@ -15,12 +17,16 @@ use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use rtl_model::{ConfigError, Counters};
 use serde::Serialize;
+use std::cell::RefCell;
 use std::collections::BTreeMap;
+use std::rc::Rc;
 use std::time::Instant;
 
 /// Which GPU runs the frame's GPU passes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub enum Gpu {
+    /// GeForce 256 (DDR): only when asked for (`render --chip geforce256`).
+    GeForce256,
     GeForce2Gts,
     GeForce3,
 }
@@ -38,6 +44,7 @@ impl Gpu {
 
     pub fn model(self) -> GpuModel {
         match self {
+            Gpu::GeForce256 => GpuModel::geforce256(),
             Gpu::GeForce2Gts => GpuModel::geforce2_gts(),
             Gpu::GeForce3 => GpuModel::geforce3(),
         }
@@ -45,6 +52,7 @@ impl Gpu {
 
     pub fn name(self) -> &'static str {
         match self {
+            Gpu::GeForce256 => "GeForce 256",
             Gpu::GeForce2Gts => "GeForce2 GTS",
             Gpu::GeForce3 => "GeForce3",
         }
@@ -74,8 +82,9 @@ pub struct Frame {
     pub gpu: Gpu,
     pub times: Vec<PassTime>,
     pub wall_seconds: f64,
-    /// The frame clocked on a chip (`render --timing clocked|sampled`), else None.
-    pub timing: Option<crate::chip::clock::FrameTiming>,
+    /// The clocked chip's timing (`render --timing clocked|sampled`), beside the
+    /// roofline's `times`; `None` with the default roofline timing.
+    pub timing: Option<FrameTiming>,
 }
 
 impl Frame {
@@ -125,7 +134,32 @@ pub fn render(scene: &Scene) -> Result<Frame, ConfigError> {
 
 /// [`render`] with the GPU passes timed on `gpu`.
 pub fn render_on(scene: &Scene, gpu: Gpu) -> Result<Frame, ConfigError> {
-    render_inner(scene, gpu, None).map(|(f, _)| f)
+    render_inner(scene, gpu, None, None).map(|(f, _)| f)
+}
+
+/// [`render`] timed as `req` asks: on its chip (the scene's GPU by default), and with
+/// clocked or sampled timing the shafts passes' recorded work clocked on that chip's
+/// clocked configuration `chip` ([`super::timing::chip_config`], resolved before any
+/// pass runs) into [`Frame::timing`]. `bar` as [`render_with_progress`]'s `shown`
+/// (`None`: no bar).
+pub fn render_timed(
+    scene: &Scene,
+    req: &TimingRequest,
+    chip: Option<crate::chip::config::ChipConfig>,
+    bar: Option<bool>,
+) -> Result<(Frame, (u64, u64)), ConfigError> {
+    let gpu = req.gpu(scene);
+    let clock = match (req.mode.records(), chip) {
+        (false, _) => None,
+        (true, Some(c)) => Some(Clock::new(req.mode, c, gpu.model()).with_window(req.window)),
+        (true, None) => {
+            return Err(ConfigError::invalid(
+                "chip",
+                "clocked timing needs the chip's clocked configuration",
+            ))
+        }
+    };
+    render_inner(scene, gpu, bar, clock)
 }
 
 /// [`render`] with a progress bar on stderr (`report::progress::FrameProgress`, drawn
@@ -137,7 +171,7 @@ pub fn render_with_progress(
     scene: &Scene,
     shown: bool,
 ) -> Result<(Frame, (u64, u64)), ConfigError> {
-    render_inner(scene, Gpu::for_scene(scene), Some(shown))
+    render_inner(scene, Gpu::for_scene(scene), Some(shown), None)
 }
 
 /// The steps of a frame's bar: the sample planes of each planes pass (one step per
@@ -160,6 +194,7 @@ fn render_inner(
     scene: &Scene,
     gpu: Gpu,
     bar: Option<bool>,
+    clock: Option<Clock>,
 ) -> Result<(Frame, (u64, u64)), ConfigError> {
     let t0 = Instant::now();
     let plan = plan(scene)?;
@@ -171,6 +206,9 @@ fn render_inner(
         )
     });
     let mut state = FrameState::new(scene, &plan, gpu)?;
+    if let Some(c) = clock {
+        state.clock_with(c);
+    }
     for pass in &plan.passes {
         state.run(pass)?;
         if !matches!(pass.step, Step::Shafts(ShaftsPass::Planes { .. })) {
@@ -188,8 +226,10 @@ fn render_inner(
         linked,
         glare,
         times,
+        clock,
         ..
     } = state;
+    let timing = clock.map(|c| c.borrow_mut().finish());
     let fb = match (&glare, &shafts_done) {
         (Some((g, _)), _) => g.fb.clone(),
         (None, Some(r)) => r.fb.clone(),
@@ -211,7 +251,7 @@ fn render_inner(
             gpu,
             times,
             wall_seconds: t0.elapsed().as_secs_f64(),
-            timing: None,
+            timing,
         },
         at,
     ))
@@ -242,9 +282,20 @@ struct FrameState<'a> {
     linked: Option<Linked>,
     glare: Option<(GlareFrame, GlarePrediction)>,
     times: Vec<PassTime>,
+    /// The clocked chip's timing as the passes run (clocked or sampled timing).
+    clock: Option<Rc<RefCell<Clock>>>,
 }
 
 impl<'a> FrameState<'a> {
+    /// Clock the passes' recorded work on `c`: the shafts passes record from now on.
+    fn clock_with(&mut self, c: Clock) {
+        let c = Rc::new(RefCell::new(c));
+        if let Some(f) = self.shafts.as_mut() {
+            f.record_work(super::timing::sink(&c));
+        }
+        self.clock = Some(c);
+    }
+
     fn new(scene: &'a Scene, plan: &'a Plan, gpu: Gpu) -> Result<Self, ConfigError> {
         Ok(FrameState {
             scene,
@@ -260,6 +311,7 @@ impl<'a> FrameState<'a> {
             linked: None,
             glare: None,
             times: Vec::new(),
+            clock: None,
         })
     }
 
@@ -291,6 +343,9 @@ impl<'a> FrameState<'a> {
     fn shafts_pass(&mut self, sp: ShaftsPass, name: &str, t: Instant) -> Result<(), ConfigError> {
         let f = self.shafts.as_mut().ok_or_else(no_shafts)?;
         let before = f.pass_stats().len();
+        if let Some(c) = &self.clock {
+            c.borrow_mut().begin(name);
+        }
         f.run(sp)?;
         let stats = f.pass_stats()[before..].to_vec();
         self.gpu_time(name, &stats, t);
@@ -310,6 +365,9 @@ impl<'a> FrameState<'a> {
         let refl = super::reflection::reflections(self.scene)?;
         let s = shaded_objects_pass(self.scene, p, f.framebuffer_mut(), hl, &refl)?;
         self.gpu_time(name, &s.stats, t);
+        if let Some(c) = &self.clock {
+            c.borrow_mut().roofline_only(name, &s.stats);
+        }
         self.shaded = Some(s);
         Ok(())
     }
@@ -326,6 +384,9 @@ impl<'a> FrameState<'a> {
                 .map_or(0, |h| h.light);
             let stats = [shading_stats(light, l.shading.fragments)];
             self.gpu_time(name, &stats, t);
+            if let Some(c) = &self.clock {
+                c.borrow_mut().roofline_only(name, &stats);
+            }
         }
         Ok(())
     }

@@ -418,6 +418,28 @@ pub fn lerp_round(w: i64, v0: i64, v1: i64, wb: u32) -> i64 {
     v0 + ((w * (v1 - v0) + (1i64 << (wb - 1))) >> wb)
 }
 
+/// The texels one lookup reads, in the kernel's order, with their filter weights:
+/// nearest reads 1 (weight 1); linear reads 2^dims corners, corner c taking axis k's
+/// upper texel when bit k of c is set (s fastest), each with its product weight
+/// Π_k w_k, u(d·wb + 1), summing to W^d. A texel is its RAM index x + w·(y + h·z)
+/// after the address mode (a clamped or wrapped corner may repeat another).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Corners {
+    /// Texels read: 1, 2, 4 or 8.
+    pub len: u32,
+    /// Texel indices, the first `len` used.
+    pub texel: [u32; 8],
+    /// Product weights (nearest: 1), the first `len` used.
+    pub weight: [u64; 8],
+}
+
+impl Corners {
+    /// The texel indices read, in order.
+    pub fn texels(&self) -> &[u32] {
+        &self.texel[..self.len as usize]
+    }
+}
+
 fn ceil_log2(n: u64) -> u32 {
     if n <= 1 {
         0
@@ -654,6 +676,96 @@ impl TextureSampler {
         )
     }
 
+    /// The corners of one lookup at the coordinate wires `c` (s(I).F per used axis):
+    /// the address arithmetic the kernel runs ([`Self::address_axis`] on floor(u) for
+    /// nearest, [`Self::linear_axis`] per axis for linear), shared by the kernel and
+    /// by [`Self::footprint`].
+    #[inline(always)]
+    // Per-axis loops index several parallel per-axis arrays, as the hardware does.
+    #[allow(clippy::needless_range_loop)]
+    fn corners_at(&self, c: &[i64; 3]) -> Corners {
+        let d = self.cfg.dims as usize;
+        let f = self.cfg.coord_frac_bits;
+        let mut out = Corners::default();
+        match self.cfg.filter {
+            Filter::Nearest => {
+                let mut idx = [0u64; 3];
+                for k in 0..d {
+                    // floor(u): s(I).F >> F → s(I)
+                    idx[k] = self.address_axis(k, c[k] >> f);
+                }
+                out.len = 1;
+                out.texel[0] = self.texel_addr(idx) as u32;
+                out.weight[0] = 1;
+            }
+            Filter::Linear => {
+                let big_w = 1u64 << self.cfg.weight_bits; // W = 2^wb
+                let mut i01 = [[0u64; 2]; 3];
+                let mut w01 = [[big_w, 0u64]; 3];
+                for k in 0..d {
+                    (i01[k], w01[k]) = self.linear_axis(k, c[k]);
+                }
+                out.len = 1 << d;
+                for corner in 0..(1usize << d) {
+                    let mut idx = [0u64; 3];
+                    let mut pw = 1u64;
+                    for k in 0..d {
+                        let b = (corner >> k) & 1;
+                        idx[k] = i01[k][b];
+                        pw *= w01[k][b]; // u(wb+1)^d → u(d·wb+1), ≤ W^d
+                    }
+                    // u(addr_bits) ≤ 24 bits: fits a u32.
+                    out.texel[corner] = self.texel_addr(idx) as u32;
+                    out.weight[corner] = pw;
+                }
+            }
+        }
+        out
+    }
+
+    /// The coordinate wires of an input word (no counters: the kernel counts a
+    /// wrapped word when it samples).
+    #[inline(always)]
+    fn wires(&self, input: &TextureSamplerIn) -> [i64; 3] {
+        let mut c = [0i64; 3];
+        for (k, ck) in c.iter_mut().enumerate().take(self.cfg.dims as usize) {
+            *ck = self.coord_wire(input.coord[k]).0;
+        }
+        c
+    }
+
+    /// The texels one lookup of `input` reads and their weights, in the kernel's
+    /// order (a pure function: no counters, no RAM read).
+    pub fn corners(&self, input: &TextureSamplerIn) -> Corners {
+        self.corners_at(&self.wires(input))
+    }
+
+    /// The texel indices (x + w·(y + h·z), after wrap or clamp) one lookup of `input`
+    /// fetches, in the kernel's order, appended to `out`: 1 (nearest) or 2, 4, 8
+    /// (linear in 1, 2, 3 dimensions). Over a span their count is the kernel's
+    /// `table_reads`.
+    pub fn footprint(&self, input: &TextureSamplerIn, out: &mut Vec<u32>) {
+        out.extend_from_slice(self.corners(input).texels());
+    }
+
+    /// [`Self::footprint`] of the lane form's inputs ([`Self::sample_lanes_keep`]):
+    /// lookup i at `s[i]` (and `t[i]` for 2D and 3D, `r[i]` for 3D; lanes of unused
+    /// axes are not read and may be empty), the lookups' texels appended in lane order.
+    pub fn footprint_lanes(&self, s: &[i32], t: &[i32], r: &[i32], out: &mut Vec<u32>) {
+        let d = self.cfg.dims as usize;
+        out.reserve(s.len() * self.cfg.texels_per_sample() as usize);
+        for (i, &si) in s.iter().enumerate() {
+            let input = TextureSamplerIn {
+                coord: [
+                    si,
+                    if d >= 2 { t[i] } else { 0 },
+                    if d >= 3 { r[i] } else { 0 },
+                ],
+            };
+            self.footprint(&input, out);
+        }
+    }
+
     /// `sample` over a chunk of one-channel 1D or 2D coordinates with the texel
     /// fetches counted once per chunk; false (nothing done) for other configs.
     /// Only the inputs `keep` selects (by index) are sampled; the others give
@@ -847,7 +959,6 @@ impl TextureSampler {
     #[allow(clippy::needless_range_loop)]
     pub fn sample(&self, input: &TextureSamplerIn, ctr: &mut Counters) -> [u32; 4] {
         let d = self.cfg.dims as usize;
-        let f = self.cfg.coord_frac_bits;
         let ch = self.cfg.channels;
         let mut c = [0i64; 3];
         for k in 0..d {
@@ -863,12 +974,7 @@ impl TextureSampler {
         let mut out = [0u32; 4];
         match self.cfg.filter {
             Filter::Nearest => {
-                let mut idx = [0u64; 3];
-                for k in 0..d {
-                    // floor(u): s(I).F >> F → s(I)
-                    idx[k] = self.address_axis(k, c[k] >> f);
-                }
-                let a = self.texel_addr(idx);
+                let a = self.corners_at(&c).texel[0] as u64;
                 for (cc, o) in out.iter_mut().enumerate().take(ch as usize) {
                     *o = self.read(a, cc as u32);
                 }
@@ -878,22 +984,10 @@ impl TextureSampler {
             }
             Filter::Linear => {
                 let wb = self.cfg.weight_bits;
-                let big_w = 1u64 << wb; // W = 2^wb
-                let mut i01 = [[0u64; 2]; 3];
-                let mut w01 = [[big_w, 0u64]; 3];
-                for k in 0..d {
-                    (i01[k], w01[k]) = self.linear_axis(k, c[k]);
-                }
+                let corners = self.corners_at(&c);
                 let mut acc = [0u64; 4]; // u(tb + d·wb) each
-                for corner in 0..(1usize << d) {
-                    let mut idx = [0u64; 3];
-                    let mut pw = 1u64;
-                    for k in 0..d {
-                        let b = (corner >> k) & 1;
-                        idx[k] = i01[k][b];
-                        pw *= w01[k][b]; // u(wb+1)^d → u(d·wb+1), ≤ W^d
-                    }
-                    let a = self.texel_addr(idx);
+                for (&a, &pw) in corners.texels().iter().zip(&corners.weight) {
+                    let a = a as u64;
                     for (cc, acc_c) in acc.iter_mut().enumerate().take(ch as usize) {
                         // u(tb) × u(d·wb+1); the sum stays ≤ (2^tb − 1)·W^d < 2^(tb+d·wb)
                         *acc_c += self.read(a, cc as u32) as u64 * pw;
@@ -918,22 +1012,18 @@ impl TextureSampler {
     fn successive_lerps(&self, c: &[i64; 3], out: &mut [u32; 4]) {
         let d = self.cfg.dims as usize;
         let wb = self.cfg.weight_bits;
-        let mut i01 = [[0u64; 2]; 3];
         let mut fx = [0i64; 3];
         for k in 0..d {
-            let (idx, w) = self.linear_axis(k, c[k]);
-            i01[k] = idx;
+            let (_, w) = self.linear_axis(k, c[k]);
             fx[k] = w[1] as i64; // the upper corner's weight: u(wb+1), ≤ W
         }
+        // The corner texels the product-weight datapath reads, in its order.
+        let at = self.corners_at(c);
         let corners = 1usize << d;
         for (cc, o) in out.iter_mut().enumerate().take(self.cfg.channels as usize) {
             let mut v = [0i64; 8]; // u(tb) codes; corner bit k selects axis k's texel
-            for (corner, vc) in v.iter_mut().enumerate().take(corners) {
-                let mut idx = [0u64; 3];
-                for k in 0..d {
-                    idx[k] = i01[k][(corner >> k) & 1];
-                }
-                *vc = self.read(self.texel_addr(idx), cc as u32) as i64;
+            for (vc, &a) in v.iter_mut().zip(at.texels()) {
+                *vc = self.read(a as u64, cc as u32) as i64;
             }
             // Axis k pairs corners 2j and 2j + 1 (they differ in axis k only).
             let mut len = corners;

@@ -211,6 +211,10 @@ impl HilSpans {
 /// Buffers of one thread's chunks, reused from chunk to chunk.
 #[derive(Clone, Debug, Default)]
 pub(super) struct ChunkBuffers {
+    /// Whether the last [`LightCtx::h_il`] took the light-map and shadow-map pair
+    /// path (its coordinates are then in `tex_s`, `tex_t` and `proj_lanes`, else in
+    /// `tex_in` and `shadow_in`).
+    pub(super) pair_path: bool,
     /// Indices (into the chunk's walked pixels) of the fragments that passed the
     /// depth test, in walk order.
     pub visible: Vec<u32>,
@@ -222,20 +226,20 @@ pub(super) struct ChunkBuffers {
     proj_out: Vec<ProjectiveOut>,
     pdepth_in: Vec<ProjectiveIn>,
     pdepth_out: Vec<ProjectiveOut>,
-    tex_in: Vec<TextureSamplerIn>,
+    pub(super) tex_in: Vec<TextureSamplerIn>,
     /// Whether each light-map sample is used (in front of the light, inside its square).
     tex_keep: Vec<bool>,
     /// The light-map samples' texel-space coordinate words in lanes, and whether the
     /// shadow map lights each fragment ([`LightCtx::h_il`]'s lane form).
-    tex_s: Vec<i32>,
-    tex_t: Vec<i32>,
+    pub(super) tex_s: Vec<i32>,
+    pub(super) tex_t: Vec<i32>,
     lit: Vec<bool>,
     tex_out: Vec<[u32; 4]>,
     /// The light-map projective unit's outputs in lanes, and the depth unit's u
     /// ([`LightCtx::h_il`]'s shared front end).
-    proj_lanes: ProjLanes,
+    pub(super) proj_lanes: ProjLanes,
     pdepth_u: Vec<i32>,
-    shadow_in: Vec<ShadowIn>,
+    pub(super) shadow_in: Vec<ShadowIn>,
     shadow_out: Vec<ShadowOut>,
 }
 
@@ -393,7 +397,8 @@ impl LightCtx<'_> {
     /// light map through the projective unit, shadow compare at the light-space texel.
     /// `base` is the attribute index of s.
     pub fn h_il(&self, px: &PolyLanes, base: usize, spans: &mut HilSpans, b: &mut ChunkBuffers) {
-        if self.h_il_pair(px, base, spans, b) {
+        b.pair_path = self.h_il_pair(px, base, spans, b);
+        if b.pair_path {
             return;
         }
         let u = self.units;

@@ -13,6 +13,7 @@
 //! application processor computes it; every per-pixel step is a unit kernel.
 
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
+use super::record::{self, Rec};
 use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
 use crate::pipeline::raster::{draw_triangle, host_attrs, walk, Fragment, HostVertex};
@@ -80,6 +81,7 @@ pub struct Prepared {
 
 pub use crate::report::elaboration::Elaborated;
 
+pub use crate::chip::work::PassWork;
 pub use crate::chip::{PassKind, PassStats};
 
 /// Cumulative traffic over every unit's counters so far (to split it per pass).
@@ -107,19 +109,47 @@ fn traffic(ctr: &BTreeMap<String, Counters>) -> Traffic {
     t
 }
 
-/// Push a finished pass, attributing the traffic counted since the previous one.
-pub(super) fn push_pass(
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
-    ctr: &BTreeMap<String, Counters>,
-    mut st: PassStats,
-) {
-    let now = traffic(ctr);
-    st.texel_bytes = now.texel_bytes - last.texel_bytes;
-    st.fb_bytes = now.fb_bytes - last.fb_bytes;
-    st.depth_tests = now.depth_tests - last.depth_tests;
-    *last = now;
-    passes.push(st);
+/// Where a finished pass's recorded work goes ([`ShaftsFrame::record_work`]): called
+/// once per pass, in pass order, with the pass's [`PassWork`] (its stats filled in).
+/// It owns what it keeps (share it with `Rc<RefCell<…>>` to read it back).
+pub type WorkSink = Box<dyn FnMut(PassWork) -> Result<(), ConfigError>>;
+
+/// The passes of a frame so far: their statistics, the traffic counted up to the last
+/// one, and where their recorded work goes when it is asked for.
+pub(super) struct PassLog {
+    pub passes: Vec<PassStats>,
+    last: Traffic,
+    sink: Option<WorkSink>,
+}
+
+impl PassLog {
+    /// Whether the passes record their work.
+    pub fn recording(&self) -> bool {
+        self.sink.is_some()
+    }
+
+    /// Push a finished pass, attributing the traffic counted since the previous one;
+    /// when recording, its work (`work`, the stats filled in; stats only when `None`)
+    /// goes to the sink.
+    pub fn push(
+        &mut self,
+        ctr: &BTreeMap<String, Counters>,
+        mut st: PassStats,
+        work: Option<PassWork>,
+    ) -> Result<(), ConfigError> {
+        let now = traffic(ctr);
+        st.texel_bytes = now.texel_bytes - self.last.texel_bytes;
+        st.fb_bytes = now.fb_bytes - self.last.fb_bytes;
+        st.depth_tests = now.depth_tests - self.last.depth_tests;
+        self.last = now;
+        if let Some(sink) = self.sink.as_mut() {
+            let mut w = work.unwrap_or_default();
+            w.stats = Some(st.clone());
+            sink(w)?;
+        }
+        self.passes.push(st);
+        Ok(())
+    }
 }
 
 /// The frame: framebuffer (fb_bits, RGB), counters per unit, passes, elaboration.
@@ -244,8 +274,7 @@ pub struct ShaftsFrame<'a> {
     sampler_cfg: TextureSamplerConfig,
     fb: Framebuffer,
     ctr: BTreeMap<String, Counters>,
-    passes: Vec<PassStats>,
-    last: Traffic,
+    log: PassLog,
     zstate: Option<ShadowState>,
     light: Option<LightState>,
     elaboration: Vec<Elaborated>,
@@ -363,8 +392,11 @@ impl<'a> ShaftsFrame<'a> {
             sampler_cfg: sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]),
             fb,
             ctr: BTreeMap::new(),
-            passes: Vec::new(),
-            last: Traffic::default(),
+            log: PassLog {
+                passes: Vec::new(),
+                last: Traffic::default(),
+                sink: None,
+            },
             zstate,
             light: None,
             elaboration: Vec::new(),
@@ -382,6 +414,14 @@ impl<'a> ShaftsFrame<'a> {
         }
     }
 
+    /// Record what each pass does from now on ([`PassWork`], for the clocked chip):
+    /// `sink` gets each pass's work as it finishes, in pass order. Recording reads what
+    /// the passes compute and changes no pixel and no counter; without a sink nothing
+    /// is recorded.
+    pub fn record_work(&mut self, sink: WorkSink) {
+        self.log.sink = Some(sink);
+    }
+
     /// The framebuffer, for a pass of another pipeline that draws into the same frame.
     pub fn framebuffer_mut(&mut self) -> &mut Framebuffer {
         &mut self.fb
@@ -390,7 +430,7 @@ impl<'a> ShaftsFrame<'a> {
     /// The time-model statistics of the passes run so far (a planes pass pushes one
     /// per plane, sub-plane batch and copy).
     pub fn pass_stats(&self) -> &[PassStats] {
-        &self.passes
+        &self.log.passes
     }
 
     /// The framebuffer, counters, passes and elaboration.
@@ -405,7 +445,7 @@ impl<'a> ShaftsFrame<'a> {
         FrameResult {
             fb: self.fb,
             counters: self.ctr,
-            passes: self.passes,
+            passes: self.log.passes,
             elaboration: self.elaboration,
             tables: self.tables,
             clip_stats: self.units.clipper.map(|_| self.clip_stats),
@@ -426,6 +466,7 @@ impl<'a> ShaftsFrame<'a> {
             .collect();
         let cam = &self.cam;
         let clipper = self.units.clipper.as_ref();
+        let mut rec = self.log.recording().then(Rec::default);
         let clip = draw_triangles(
             &self.units.interp,
             clipper,
@@ -435,6 +476,7 @@ impl<'a> ShaftsFrame<'a> {
             |frags, c| {
                 c_int += c;
                 stats.triangles += 1;
+                record_depth_triangle(rec.as_mut(), &frags, &c);
                 let ins = depth_writes(&frags, ZBUF_BITS);
                 stats.fragments += ins.len() as u64;
                 run_span(z, zs, &ins, &mut c_z);
@@ -445,8 +487,8 @@ impl<'a> ShaftsFrame<'a> {
         clip.close(clipper, &mut self.ctr, &mut self.clip_stats);
         counters_add(&mut self.ctr, "polygon_interpolator", c_int);
         counters_add(&mut self.ctr, "shadow_compare (depth buffer writes)", c_z);
-        push_pass(&mut self.passes, &mut self.last, &self.ctr, stats);
-        Ok(())
+        let work = rec.map(|r| r.into_work((w, h), Vec::new(), record::depth_only_rop(), false));
+        self.log.push(&self.ctr, stats, work)
     }
 
     /// Make `li` the current light (its view and light map), closing the previous one.
@@ -479,7 +521,8 @@ impl<'a> ShaftsFrame<'a> {
     fn close_light(&mut self) {
         if let Some(l) = self.light.take() {
             if l.li == 0 {
-                self.elaboration = elaborate(&self.units, l.lm_tex.as_ref(), self.p, &self.passes);
+                self.elaboration =
+                    elaborate(&self.units, l.lm_tex.as_ref(), self.p, &self.log.passes);
             }
         }
     }
@@ -522,6 +565,7 @@ impl<'a> ShaftsFrame<'a> {
             }
             Some(HostTri::Screen(hv))
         };
+        let mut rec = self.log.recording().then(Rec::default);
         draw_triangles(
             &self.units.interp,
             None,
@@ -531,6 +575,7 @@ impl<'a> ShaftsFrame<'a> {
             |frags, c| {
                 c_int += c;
                 stats.triangles += 1;
+                record_depth_triangle(rec.as_mut(), &frags, &c);
                 let ins = depth_writes(&frags, s.depth_bits());
                 stats.fragments += ins.len() as u64;
                 run_span(s, ss, &ins, &mut c_s);
@@ -540,8 +585,9 @@ impl<'a> ShaftsFrame<'a> {
         stats.walked = c_int.pixels_in;
         counters_add(&mut self.ctr, "polygon_interpolator", c_int);
         counters_add(&mut self.ctr, "shadow_compare (shadow map writes)", c_s);
-        push_pass(&mut self.passes, &mut self.last, &self.ctr, stats);
-        Ok(())
+        let work =
+            rec.map(|r| r.into_work((res, res), Vec::new(), record::depth_only_rop(), false));
+        self.log.push(&self.ctr, stats, work)
     }
 
     /// Object colour pass of light `li`.
@@ -556,8 +602,7 @@ impl<'a> ShaftsFrame<'a> {
             self.p,
             &mut self.fb,
             &mut self.ctr,
-            &mut self.passes,
-            &mut self.last,
+            &mut self.log,
             &mut self.clip_stats,
         )
     }
@@ -575,8 +620,7 @@ impl<'a> ShaftsFrame<'a> {
             &self.tables,
             &mut self.fb,
             &mut self.ctr,
-            &mut self.passes,
-            &mut self.last,
+            &mut self.log,
         )
     }
 }
@@ -622,6 +666,16 @@ impl PassStats {
 /// The light's far distance for the shadow map: beyond everything the planes reach.
 fn light_far(p: &Prepared, _l: &crate::scene::format::Light) -> f64 {
     (p.s_max * 1.5).max(1.0)
+}
+
+/// One triangle of a depth-only pass recorded: its walked pixels and its fragments.
+fn record_depth_triangle(rec: Option<&mut Rec>, frags: &[Fragment], c: &Counters) {
+    if let Some(r) = rec {
+        r.prim(c.pixels_in);
+        for f in frags {
+            r.frag(f.x as i64, f.y as i64);
+        }
+    }
 }
 
 /// Depth-buffer writes (keep the nearer) of fragments whose attribute 0 is the window
@@ -886,8 +940,7 @@ fn object_pass(
     p: &Prepared,
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
+    log: &mut PassLog,
     clip_stats: &mut ClipStats,
 ) -> Result<(), ConfigError> {
     let u = ctx.units;
@@ -928,9 +981,16 @@ fn object_pass(
         };
         project_tri(ctx.cam, tri, clipper.is_some(), attrs)
     };
+    // When recording: each drawn triangle's first fragment in `frags_all` and its
+    // walked pixels.
+    let recording = log.recording();
+    let mut prims: Vec<(usize, u64)> = Vec::new();
     let clip = draw_triangles(&u.interp, clipper, &tris, (w, h), host, |frags, c| {
         c_int += c;
         stats.triangles += 1;
+        if recording {
+            prims.push((frags_all.len(), c.pixels_in));
+        }
         frags_all.extend(frags);
         Ok(())
     })?;
@@ -976,8 +1036,34 @@ fn object_pass(
     let m = modulate_all(&u.modulate, &pairs, ctr);
     let rgb: Vec<[u32; 3]> = m.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
     blend_into(&u.blend, fb, &frags, &rgb, ctr);
-    push_pass(passes, last, ctr, stats);
-    Ok(())
+    let work = recording.then(|| {
+        let depth_tested = ctx.units.zbuf.is_some() && ctx.zstate.is_some();
+        let mut rec = Rec::default();
+        // The visible fragments (indices into `frags_all`, in walk order) per triangle.
+        let mut vis = b.visible.iter().peekable();
+        for (k, &(first, walked)) in prims.iter().enumerate() {
+            let end = prims.get(k + 1).map_or(frags_all.len(), |p| p.0);
+            rec.prim(walked);
+            let before = rec.xy.len();
+            while let Some(&&i) = vis.peek() {
+                if i as usize >= end {
+                    break;
+                }
+                rec.frag(px[i as usize].x, px[i as usize].y);
+                vis.next();
+            }
+            if depth_tested {
+                rec.killed((end - first) - (rec.xy.len() - before));
+            }
+        }
+        let (mut lm, mut sm) = (Vec::new(), Vec::new());
+        ctx.hil_footprint(&b, &mut lm, &mut sm);
+        let tex = ctx.hil_textures();
+        record::interleave(&ctx.hil_runs(&lm, &sm), rec.xy.len(), &mut rec.texels);
+        let rop = record::blend_rop(sc.shafts.fb_bits, depth_tested);
+        rec.into_work((w, h), tex, rop, depth_tested)
+    });
+    log.push(ctr, stats, work)
 }
 
 /// A window depth in [0, 1] → a depth word.

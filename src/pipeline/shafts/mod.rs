@@ -8,6 +8,7 @@ pub mod frame;
 pub mod host;
 mod planes;
 pub mod prepare;
+mod record;
 pub mod reproduce;
 pub mod sweep;
 pub mod tables;

@@ -9,9 +9,10 @@
 
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
 use super::frame::{
-    attr_unorm, counters_add, light_color_codes, push_pass, unit_depth_word, PassKind, PassStats,
-    Prepared, Traffic, ATTR_FRAC, SUBPLANE_BATCH, ZBUF_BITS,
+    attr_unorm, counters_add, light_color_codes, unit_depth_word, PassKind, PassLog, PassStats,
+    PassWork, Prepared, ATTR_FRAC, SUBPLANE_BATCH, ZBUF_BITS,
 };
+use super::record::{self, Rec};
 use super::tables::GTables;
 use super::view::vec3;
 use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
@@ -30,7 +31,14 @@ use std::collections::BTreeMap;
 
 /// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l, whether
 /// their rows never go up, and the counters of the units that made them.
-type SubPlaneHil = (Vec<u32>, Vec<u32>, bool, BTreeMap<String, Counters>);
+/// And, when recording, what the sub-plane did.
+type SubPlaneHil = (
+    Vec<u32>,
+    Vec<u32>,
+    bool,
+    BTreeMap<String, Counters>,
+    Option<Rec>,
+);
 
 /// A plane fragment's framebuffer position and colour (texel_bits unorm).
 #[derive(Clone, Copy, Debug)]
@@ -87,6 +95,9 @@ struct PlaneBuffers {
     h_o: Vec<u32>,
     j_s: Vec<i32>,
     j_t: Vec<i32>,
+    /// When recording: the chunk's footprints of F, h, and J or the light map and the
+    /// shadow map.
+    fp: [Vec<u32>; 4],
 }
 
 /// What every fragment of plane i shares.
@@ -98,6 +109,8 @@ struct PlaneCtx<'a> {
     zword: u32,
     color_codes: [u32; 3],
     coord_shift: u32,
+    /// Record the plane's work ([`Rec`]).
+    record: bool,
 }
 
 /// The n sample planes (and their sub-planes when m > 1).
@@ -107,13 +120,13 @@ pub(super) fn planes_pass(
     tables: &GTables,
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
+    log: &mut PassLog,
 ) -> Result<(), ConfigError> {
     let sc = &p.scene;
     let cfg = sc.shafts;
     let (w, h) = (sc.image.width, sc.image.height);
     let n = cfg.planes as usize;
+    let recording = log.recording();
     let m = cfg.subplanes as usize;
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
@@ -139,7 +152,8 @@ pub(super) fn planes_pass(
     // Interval i's sub-planes' H·I_l (independent of the framebuffer and the J
     // buffer): interval i + 1's are computed beside plane i's blend into the
     // framebuffer, then merged and blended in order as before.
-    let hil_of = |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr);
+    let hil_of =
+        |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr, recording);
     let mut pending = None;
     // The planes' fragment list and blend buffers, reused from plane to plane.
     let (mut frags, mut scratch) = (Vec::new(), BlendScratch::default());
@@ -148,12 +162,19 @@ pub(super) fn planes_pass(
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
             let hils = pending.take().unwrap_or_else(|| hil_of(i));
-            let jbuf = subplanes_into_j(ctx, p, hils, ctr, passes, last)?;
+            let jbuf = subplanes_into_j(ctx, p, hils, ctr, log)?;
             // Copy to texture: read the J buffer, write the texture (memory traffic).
             let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
             let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
             st.other_bytes = 2 * bytes;
-            push_pass(passes, last, ctr, st);
+            let work = recording.then(|| PassWork {
+                width: w,
+                height: h,
+                copy_read_bytes: bytes,
+                copy_write_bytes: bytes,
+                ..PassWork::default()
+            });
+            log.push(ctr, st, work)?;
             match jtex.as_mut() {
                 Some(t) => t.load(&jbuf)?,
                 None => {
@@ -184,8 +205,7 @@ pub(super) fn planes_pass(
             fb,
             (&mut frags, &mut scratch),
             ctr,
-            passes,
-            last,
+            log,
             || next.then(|| hil_of(i + 1)),
         )?;
         // One step of `render`'s bar per plane (nothing when no bar is installed).
@@ -205,6 +225,7 @@ fn subplanes_hil(
     zwords: Option<&[u32]>,
     r: f64,
     dr: f64,
+    recording: bool,
 ) -> Vec<Result<SubPlaneHil, ConfigError>> {
     let u = ctx.units;
     let sc = &p.scene;
@@ -245,9 +266,27 @@ fn subplanes_hil(
         // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
         let mut wb = WalkBuffers::unread(0b1111);
         let (mut rows_in_order, mut last_y) = (true, 0);
+        // One primitive (the parallelogram) walking the whole screen.
+        let mut rec = recording.then(|| {
+            let mut r = Rec::default();
+            // At most one fragment per pixel.
+            let px = (w * h) as usize;
+            r.xy.reserve(px);
+            r.texels
+                .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
+            r.prim((w * h) as u64);
+            r
+        });
+        let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+        let (mut lm, mut sm) = (Vec::new(), Vec::new());
         walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
             ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
             ctx.h_il(px, 4, &mut spans, &mut b);
+            if let Some(r) = rec.as_mut() {
+                record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
+                ctx.hil_footprint(&b, &mut lm, &mut sm);
+                record::interleave(&ctx.hil_runs(&lm, &sm), b.visible.len(), &mut r.texels);
+            }
             pix.extend(b.visible.iter().map(|&i| {
                 let i = i as usize;
                 let y = px.y[i] as u32;
@@ -260,7 +299,7 @@ fn subplanes_hil(
         counters_add(&mut local, "polygon_interpolator", c_int);
         ctx.close_visible(zspan, &mut local);
         spans.close(ctx, &mut local);
-        Ok((pix, hil, rows_in_order, local))
+        Ok((pix, hil, rows_in_order, local, rec))
     };
     let all: Vec<usize> = (0..m).collect();
     let mut out = Vec::with_capacity(m);
@@ -278,8 +317,7 @@ fn subplanes_into_j(
     p: &Prepared,
     hils: Vec<Result<SubPlaneHil, ConfigError>>,
     ctr: &mut BTreeMap<String, Counters>,
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
+    log: &mut PassLog,
 ) -> Result<Vec<u32>, ConfigError> {
     let u = ctx.units;
     let sc = &p.scene;
@@ -288,7 +326,7 @@ fn subplanes_into_j(
     let m = cfg.subplanes as usize;
     let mut jbuf = vec![0u32; (w * h) as usize];
     for (j, res) in hils.into_iter().enumerate() {
-        let (pix, hil, rows_in_order, local) = res?;
+        let (pix, hil, rows_in_order, local, rec) = res?;
         for (k, c) in local {
             counters_add(ctr, &k, c);
         }
@@ -309,7 +347,13 @@ fn subplanes_into_j(
         st.triangles = 1;
         st.walked = (w * h) as u64;
         st.fragments = pix.len() as u64;
-        push_pass(passes, last, ctr, st);
+        let work = rec.map(|r| {
+            let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+            // The J buffer: an RGBA target at texel_bits per channel.
+            let rop = record::blend_rop(cfg.texel_bits, depth_tested);
+            r.into_work((w, h), ctx.hil_textures(), rop, depth_tested)
+        });
+        log.push(ctr, st, work)?;
     }
     Ok(jbuf)
 }
@@ -390,8 +434,7 @@ fn plane<T: Send>(
     fb: &mut Framebuffer,
     (frags, scratch): (&mut Vec<PlaneFrag>, &mut BlendScratch),
     ctr: &mut BTreeMap<String, Counters>,
-    passes: &mut Vec<PassStats>,
-    last: &mut Traffic,
+    log: &mut PassLog,
     beside: impl FnOnce() -> T + Send,
 ) -> Result<T, ConfigError> {
     let u = ctx.units;
@@ -417,6 +460,7 @@ fn plane<T: Send>(
         zword: unit_depth_word(plane_z, ZBUF_BITS),
         color_codes,
         coord_shift: ATTR_FRAC - cfg.coord_frac_bits,
+        record: log.recording(),
     };
 
     let vertex = |k: u32, l: u32| {
@@ -458,7 +502,7 @@ fn plane<T: Send>(
     let cells: Vec<(u32, u32)> = (0..rows)
         .flat_map(|l| (0..cols).map(move |k| (k, l)))
         .collect();
-    let drawn: Vec<Result<(Vec<PlaneFrag>, PlaneSpans), ConfigError>> = cells
+    let drawn: Vec<Result<DrawnCell, ConfigError>> = cells
         .par_iter()
         .map(|&(k, l)| {
             let q = [
@@ -472,10 +516,21 @@ fn plane<T: Send>(
         .collect();
     let mut spans = PlaneSpans::default();
     let mut cell_frags = Vec::with_capacity(drawn.len());
+    // The cells' records joined in cell order (the order their fragments blend in).
+    let mut rec = pc.record.then(|| {
+        // Sized once for every cell's record (no growing and copying on the way).
+        let mut all = Rec::default();
+        let cells = drawn.iter().filter_map(|d| d.as_ref().ok()?.2.as_ref());
+        all.reserve_for(cells);
+        all
+    });
     for d in drawn {
-        let (f, s) = d?;
+        let (f, s, r) = d?;
         cell_frags.push(f);
         spans.merge(&s);
+        if let (Some(all), Some(r)) = (rec.as_mut(), r) {
+            all.append(r);
+        }
     }
     let walked = spans.interp.pixels_in;
     counters_add(ctr, "polygon_interpolator", spans.interp);
@@ -511,17 +566,33 @@ fn plane<T: Send>(
     st.triangles = 2 * (cols * rows) as u64;
     st.walked = walked;
     st.fragments = frags.len() as u64;
-    push_pass(passes, last, ctr, st);
+    let work = rec.map(|r| {
+        let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+        let mut tex = vec![
+            record::texture("texture_sampler (F)", &u.f_tex),
+            record::texture("texture_sampler (h)", &u.h_tex),
+        ];
+        match jtex {
+            Some(t) => tex.push(record::texture("texture_sampler (J)", t)),
+            None => tex.extend(ctx.hil_textures()),
+        }
+        r.into_work(
+            (w, h),
+            tex,
+            record::blend_rop(cfg.fb_bits, depth_tested),
+            depth_tested,
+        )
+    });
+    log.push(ctr, st, work)?;
     Ok(t)
 }
 
+/// One mesh cell drawn: its shaded fragments, its units' spans and, when recording,
+/// what it did.
+type DrawnCell = (Vec<PlaneFrag>, PlaneSpans, Option<Rec>);
+
 /// One mesh cell (a GL quad: two triangles) walked, depth-tested and shaded.
-fn cell(
-    pc: &PlaneCtx,
-    q: &[HostVertex; 4],
-    w: u32,
-    h: u32,
-) -> Result<(Vec<PlaneFrag>, PlaneSpans), ConfigError> {
+fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell, ConfigError> {
     let u = pc.ctx.units;
     let mut spans = PlaneSpans::default();
     let mut out = Vec::new();
@@ -530,13 +601,24 @@ fn cell(
     let mut wb = WalkBuffers::unread(if pc.jtex.is_some() { 0xf0 } else { 0 });
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
+    let mut rec = pc.record.then(Rec::default);
+    // A triangle's walked pixels: the interpolator's pixels since the previous one
+    // (the first takes the quad's set-up's).
+    let mut walked_before = 0;
     for s in u.interp.setup_quad(&qv, &mut c_int) {
+        if let Some(r) = rec.as_mut() {
+            r.prim(0);
+        }
         walk_rows_lanes(&u.interp, &s, &mut c_int, &mut wb, |px| {
-            shade_chunk(pc, px, (w, h), &mut spans, &mut b, &mut out)
+            shade_chunk(pc, px, (w, h), &mut spans, &mut b, &mut out, rec.as_mut())
         });
+        if let Some(r) = rec.as_mut() {
+            r.walked(c_int.pixels_in - walked_before);
+            walked_before = c_int.pixels_in;
+        }
     }
     spans.interp = c_int;
-    Ok((out, spans))
+    Ok((out, spans, rec))
 }
 
 /// The per-fragment product J · S · F · colour · h of one chunk, one 8-bit modulate at
@@ -554,6 +636,7 @@ fn shade_chunk(
     sp: &mut PlaneSpans,
     b: &mut PlaneBuffers,
     out: &mut Vec<PlaneFrag>,
+    rec: Option<&mut Rec>,
 ) {
     let ctx = pc.ctx;
     let u = ctx.units;
@@ -605,6 +688,9 @@ fn shade_chunk(
             b.m_a.extend_from_slice(&b.chunk.hil);
         }
     }
+    if let Some(r) = rec {
+        record_chunk(pc, px, viewport, b, r);
+    }
     let vis = &b.chunk.visible;
     let md = &u.modulate;
     let n = vis.len();
@@ -634,6 +720,43 @@ fn shade_chunk(
             rgb: [c[0], c[1], c[2]],
         }
     }));
+}
+
+/// A plane chunk's fragments recorded with their texel runs: F, h, then J (m > 1) or
+/// the light map and the shadow map (m = 1), each sampled on `b`'s coordinate lanes.
+fn record_chunk(
+    pc: &PlaneCtx,
+    px: &PolyLanes,
+    viewport: (u32, u32),
+    b: &mut PlaneBuffers,
+    r: &mut Rec,
+) {
+    let ctx = pc.ctx;
+    let u = ctx.units;
+    let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+    let vis = &b.chunk.visible;
+    record::chunk_fragments(r, px, vis, viewport, depth_tested);
+    let [f, hh, j, s] = &mut b.fp;
+    f.clear();
+    u.f_tex.footprint_lanes(&b.f_s, &[], &[], f);
+    hh.clear();
+    u.h_tex.footprint_lanes(&b.h_s, &b.h_t, &[], hh);
+    let mut runs: Vec<(&[u32], usize)> = vec![
+        (f, u.f_tex.config().texels_per_sample() as usize),
+        (hh, u.h_tex.config().texels_per_sample() as usize),
+    ];
+    match pc.jtex {
+        Some(t) => {
+            j.clear();
+            t.footprint_lanes(&b.j_s, &b.j_t, &[], j);
+            runs.push((j, t.config().texels_per_sample() as usize));
+        }
+        None => {
+            ctx.hil_footprint(&b.chunk, j, s);
+            runs.extend(ctx.hil_runs(j, s));
+        }
+    }
+    record::interleave(&runs, vis.len(), &mut r.texels);
 }
 
 /// The blend's inputs of `chunk`: each fragment's colour over its framebuffer pixel.

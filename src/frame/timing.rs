@@ -1,0 +1,296 @@
+//! How a frame's time is found: the roofline formula over each pass's counters (the
+//! default, `crate::chip::roofline`), or the clocked chip over what each pass did
+//! (`--timing clocked`: every recorded pass clocked in full; `--timing sampled`: a
+//! deterministic sample of its screen tiles clocked and scaled, with its error).
+//!
+//! With clocked or sampled timing the shafts passes record their work
+//! ([`crate::chip::work::PassWork`]) as they run; each pass's record is clocked as soon
+//! as the pass finishes and then dropped, so a frame never holds more than one pass's
+//! record. Passes that record nothing (the shading units' object pass, a glare
+//! scene's shaded highlights) keep their roofline time and are listed as such.
+
+use super::plan::{Plan, Step};
+use super::run::Gpu;
+use crate::chip::clock::{clock_pass, FrameTiming, NamedPassTiming, PassTiming, RooflineOnlyPass};
+use crate::chip::config::ChipConfig;
+use crate::chip::work::PassWork;
+use crate::chip::{pass_seconds, GpuModel, PassStats};
+use crate::pipeline::shafts::frame::WorkSink;
+use rtl_model::ConfigError;
+use std::cell::RefCell;
+use std::rc::Rc;
+
+/// How the frame's time is found (`render --timing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum TimingMode {
+    /// max(fill, memory) + set-up per pass, with an assumed texture-cache hit rate.
+    #[default]
+    Roofline,
+    /// Every pass's recorded work clocked through the chip's stages, caches and
+    /// memory controller.
+    Clocked,
+    /// A deterministic sample of each pass's screen tiles clocked exactly and scaled,
+    /// with its estimated error.
+    Sampled,
+}
+
+impl TimingMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            TimingMode::Roofline => "roofline",
+            TimingMode::Clocked => "clocked",
+            TimingMode::Sampled => "sampled",
+        }
+    }
+
+    /// Whether the passes record their work for the clocked chip.
+    pub fn records(self) -> bool {
+        self != TimingMode::Roofline
+    }
+}
+
+/// The chip a frame is timed on (`render --chip`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ChipName {
+    /// GeForce 256 (DDR): 120 MHz, 4 pipes × 1 texture unit.
+    #[value(name = "geforce256")]
+    GeForce256,
+    /// GeForce2 GTS: 200 MHz, 4 pipes × 2 texture units (the shafts paper's card).
+    #[value(name = "geforce2-gts")]
+    GeForce2Gts,
+    /// GeForce3: 200 MHz, 4 pipes × 2 texture units, 4 textures per pass, 3D textures.
+    #[value(name = "geforce3")]
+    GeForce3,
+    /// The glare ASIC (times a glare scene's glare pass).
+    #[value(name = "glare-asic")]
+    GlareAsic,
+}
+
+/// Every chip name, in the order `--chip` lists them.
+pub const CHIP_NAMES: [&str; 4] = ["geforce256", "geforce2-gts", "geforce3", "glare-asic"];
+
+impl ChipName {
+    pub fn name(self) -> &'static str {
+        match self {
+            ChipName::GeForce256 => CHIP_NAMES[0],
+            ChipName::GeForce2Gts => CHIP_NAMES[1],
+            ChipName::GeForce3 => CHIP_NAMES[2],
+            ChipName::GlareAsic => CHIP_NAMES[3],
+        }
+    }
+
+    /// The GPU this chip is for a frame's GPU passes (`None`: the glare ASIC, which
+    /// runs no GPU pass).
+    pub fn gpu(self) -> Option<Gpu> {
+        match self {
+            ChipName::GeForce256 => Some(Gpu::GeForce256),
+            ChipName::GeForce2Gts => Some(Gpu::GeForce2Gts),
+            ChipName::GeForce3 => Some(Gpu::GeForce3),
+            ChipName::GlareAsic => None,
+        }
+    }
+
+    /// The chip name of a GPU.
+    pub fn of_gpu(g: Gpu) -> ChipName {
+        match g {
+            Gpu::GeForce256 => ChipName::GeForce256,
+            Gpu::GeForce2Gts => ChipName::GeForce2Gts,
+            Gpu::GeForce3 => ChipName::GeForce3,
+        }
+    }
+}
+
+/// What `render` was asked for: the timing mode and the chip (`None`: the scene's
+/// GPU, [`Gpu::for_scene`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TimingRequest {
+    pub mode: TimingMode,
+    pub chip: Option<ChipName>,
+    /// The clocks of the frame (from its start) whose chip-level signals are traced
+    /// for the VCD, START..END (`render --vcd-window`); `None`: none traced.
+    pub window: Option<(u64, u64)>,
+}
+
+impl TimingRequest {
+    /// The GPU the frame's GPU passes run on.
+    pub fn gpu(&self, scene: &crate::scene::format::Scene) -> Gpu {
+        self.chip
+            .and_then(ChipName::gpu)
+            .unwrap_or_else(|| Gpu::for_scene(scene))
+    }
+}
+
+/// Refuse, before any pass runs, a request the frame cannot honour: `--chip
+/// glare-asic` for a frame without a glare pass, and clocked or sampled timing of a
+/// frame with a pass that cannot be clocked yet (the glare pass). The error names the
+/// flag and what is supported.
+pub fn check(req: &TimingRequest, plan: &Plan) -> Result<(), String> {
+    let has_glare = plan.passes.iter().any(|p| p.step == Step::Glare);
+    if req.chip == Some(ChipName::GlareAsic) && !has_glare {
+        return Err(format!(
+            "--chip glare-asic: this scene has no glare pass; its GPU passes run on {}",
+            CHIP_NAMES[..3].join(", ")
+        ));
+    }
+    if !req.mode.records() {
+        return Ok(());
+    }
+    for p in &plan.passes {
+        match p.step {
+            Step::Shafts(_) | Step::ShadedObjects | Step::ShadedHighlights => {}
+            // The glare ASIC's clocked model plugs in here: once the glare pass records
+            // its work (`FrameState::glare_pass`), accept it.
+            Step::Glare => {
+                return Err(format!(
+                "--timing {}: the glare pass ({}) is not clocked yet; clocked and sampled timing \
+                     support the shafts scenes (fig4, fig6, stage and scene files without glare); \
+                     use --timing roofline",
+                req.mode.name(),
+                p.name
+            ))
+            }
+            Step::TestScene | Step::EnvironmentScene => {
+                return Err(unsupported_family(req.mode, "this scene"))
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The refusal of clocked or sampled timing for a scene family without recorded work
+/// (the foundation test scene, the environment-map scenes, the shading scenes).
+pub fn unsupported_family(mode: TimingMode, family: &str) -> String {
+    format!(
+        "--timing {}: {family} has no recorded pass work to clock; clocked and sampled timing \
+         support the shafts scenes (fig4, fig6, stage and scene files without glare); use \
+         --timing roofline",
+        mode.name()
+    )
+}
+
+/// The clocked chip's configuration for `chip`, resolved before any pass runs.
+pub fn chip_config(chip: ChipName) -> Result<ChipConfig, String> {
+    ChipConfig::preset(chip.name()).map_err(|e| format!("--chip {}: {e}", chip.name()))
+}
+
+/// Every how many screen tiles sampled timing clocks one.
+const SAMPLE_EVERY: u32 = 8;
+
+/// One sampled pass: its timing and the relative standard error of its cycles.
+fn clock_sampled(chip: &ChipConfig, work: &PassWork) -> Result<(PassTiming, f64), ConfigError> {
+    crate::chip::clock::clock_pass_sampled(chip, work, SAMPLE_EVERY)
+}
+
+/// The frame's clocked timing as it is built, pass by pass.
+pub struct Clock {
+    mode: TimingMode,
+    chip: ChipConfig,
+    model: GpuModel,
+    /// The frame pass whose work arrives next.
+    pass: String,
+    timing: FrameTiming,
+    /// Per clocked pass: the relative standard error and cycles (sampled mode).
+    errors: Vec<(f64, u64)>,
+    /// The largest record one pass held (bytes), for the record's memory cost.
+    pub peak_record_bytes: usize,
+    /// The frame's clocks traced for the VCD (START..END from the frame's start).
+    window: Option<std::ops::Range<u64>>,
+}
+
+impl Clock {
+    pub fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
+        let timing = FrameTiming {
+            mode: mode.name().to_string(),
+            chip: chip.name.clone(),
+            clock_hz: chip.clock_hz,
+            ..FrameTiming::default()
+        };
+        Clock {
+            mode,
+            chip,
+            model,
+            pass: String::new(),
+            timing,
+            errors: Vec::new(),
+            peak_record_bytes: 0,
+            window: None,
+        }
+    }
+
+    /// Trace the chip-level signals over `window` (clocks from the frame's start).
+    pub fn with_window(mut self, window: Option<(u64, u64)>) -> Self {
+        self.window = window.map(|(a, b)| a..b);
+        self
+    }
+
+    /// The frame pass whose records follow.
+    pub fn begin(&mut self, pass: &str) {
+        self.pass = pass.to_string();
+    }
+
+    /// Clock one pass's record.
+    pub fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
+        self.peak_record_bytes = self.peak_record_bytes.max(work.heap_bytes());
+        let roofline_seconds = work
+            .stats
+            .as_ref()
+            .map_or(0.0, |s| pass_seconds(&self.model, s).0);
+        let timing = match self.mode {
+            TimingMode::Sampled => {
+                let (t, e) = clock_sampled(&self.chip, &work)?;
+                self.errors.push((e, t.cycles));
+                t
+            }
+            _ => {
+                // The frame's window in this pass's own clocks (a pass starts where the
+                // one before it ended).
+                let start = self.timing.cycles_total();
+                let window = self
+                    .window
+                    .as_ref()
+                    .and_then(|w| crate::report::chip_timing::pass_window(w, start));
+                clock_pass(&self.chip, &work, window)?
+            }
+        };
+        self.timing.passes.push(NamedPassTiming {
+            pass: self.pass.clone(),
+            timing,
+            roofline_seconds,
+        });
+        Ok(())
+    }
+
+    /// Passes that recorded nothing: their roofline time, listed as such.
+    pub fn roofline_only(&mut self, pass: &str, stats: &[PassStats]) {
+        for s in stats {
+            self.timing.roofline_only.push(RooflineOnlyPass {
+                pass: pass.to_string(),
+                kind: crate::chip::kind_name(s.kind).to_string(),
+                seconds: pass_seconds(&self.model, s).0,
+                why: "roofline (no recorded work)".to_string(),
+            });
+        }
+    }
+
+    /// The frame's timing. In sampled mode its relative error combines the passes'
+    /// (independent samples: the root of the summed squared errors in cycles, over
+    /// the frame's cycles).
+    pub fn finish(&mut self) -> FrameTiming {
+        if self.mode == TimingMode::Sampled {
+            let total: u64 = self.errors.iter().map(|e| e.1).sum();
+            let var: f64 = self
+                .errors
+                .iter()
+                .map(|&(e, c)| (e * c as f64).powi(2))
+                .sum();
+            self.timing.sampling_error = (total > 0).then(|| var.sqrt() / total as f64);
+        }
+        std::mem::take(&mut self.timing)
+    }
+}
+
+/// A sink for the shafts frame that clocks each pass's record as it arrives.
+pub fn sink(clock: &Rc<RefCell<Clock>>) -> WorkSink {
+    let c = Rc::clone(clock);
+    Box::new(move |w| c.borrow_mut().clock(w))
+}
