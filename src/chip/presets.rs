@@ -135,7 +135,8 @@ impl ChipConfig {
         };
         Ok(ChipConfig {
             name: "glare-asic".into(),
-            // The paper's 1.2 Gpixel/s as 4 pipes × 300 MHz (`[glare.hw] clock_mhz`,
+            // The paper gives the rate, 1.2 Gpixel/s, not the clock or the pipes: read
+            // as 4 pipes × 300 MHz at one pixel a clock (`[glare.hw] clock_mhz`,
             // `pipes`; docs/glare.md, "Throughput and gates").
             clock_hz: hw.clock_mhz * 1e6,
             pipes: hw.pipes,

@@ -265,7 +265,7 @@ pub fn scene_rows(name: &str, scene: &Scene) -> Result<(Vec<AsicRow>, Option<Str
 pub fn table(rows: &[AsicRow]) -> String {
     let na = || "n/a".to_string();
     let mut s = format!(
-        "{:<13} {:<34} {:>9} {:>9} {:>11} {:>11} {:>12} {:>12} {:>7}  bottleneck\n",
+        "{:<13} {:<36} {:>9} {:>9} {:>11} {:>11} {:>12} {:>12} {:>7}  bottleneck\n",
         "scene",
         "variant",
         "fragments",
@@ -290,7 +290,7 @@ pub fn table(rows: &[AsicRow]) -> String {
             .map(|v| format!("{:.0} %", 100.0 * v))
             .unwrap_or_else(na);
         s += &format!(
-            "{:<13} {:<34} {:>9} {:>9} {:>11.3e} {:>11} {:>12} {:>12} {:>7}  {}\n",
+            "{:<13} {:<36} {:>9} {:>9} {:>11.3e} {:>11} {:>12} {:>12} {:>7}  {}\n",
             r.scene,
             r.variant,
             r.fragments,
