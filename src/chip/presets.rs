@@ -80,14 +80,8 @@ impl GpuModel {
 // ---------------------------------------------------------------------------------
 // The glare ASIC (Matsuda and Ikedo): a clocked chip of its own, not a GeForce.
 
-use super::config::{
-    Arbitration, CacheConfig, ChipConfig, Layout, MemoryConfig, PipeStage, Replacement, StageKind,
-};
-use crate::scene::glare::GlareHw;
-use crate::scene::limits;
-use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
-use rtl_model::units::halo_modulator::HaloModulatorConfig;
-use rtl_model::{ConfigError, Unit};
+// The names this block uses are imported inside its functions (or written out), so
+// that it merges beside the GeForce presets' own imports.
 
 /// RAM-table words the host writes into the glare ASIC per clock: the shape RAM's four
 /// banks (or the falloff and ring RAMs) in parallel, one word each. Assumed (the paper
@@ -105,18 +99,28 @@ pub const GLARE_TABLE_WORDS_PER_CLOCK: u32 = 4;
 /// `glare-asic-throughput` reproduction sweeps it below that.
 pub const GLARE_MEMORY_BYTES_PER_SECOND: f64 = 9.6e9;
 
-impl ChipConfig {
+impl super::config::ChipConfig {
     /// Matsuda and Ikedo's glare ASIC at the default `[glare.hw]` (300 MHz, 4 pipes:
-    /// the paper's 1.2 Gpixel/s). [`ChipConfig::glare_asic_for`] gives it at a scene's
+    /// the paper's 1.2 Gpixel/s). [`Self::glare_asic_for`] gives it at a scene's
     /// widths, clock and pipes.
-    pub fn glare_asic() -> Result<ChipConfig, ConfigError> {
-        ChipConfig::glare_asic_for(&GlareHw::default())
+    pub fn glare_asic() -> Result<super::config::ChipConfig, rtl_model::ConfigError> {
+        Self::glare_asic_for(&crate::scene::glare::GlareHw::default())
     }
 
     /// The glare ASIC at a scene's `[glare.hw]`: every stage's latency and initiation
     /// interval from the unit's own `timing()` at the widths the glare pass builds it
     /// with (`scene::limits`), each field's source beside it.
-    pub fn glare_asic_for(hw: &GlareHw) -> Result<ChipConfig, ConfigError> {
+    pub fn glare_asic_for(
+        hw: &crate::scene::glare::GlareHw,
+    ) -> Result<super::config::ChipConfig, rtl_model::ConfigError> {
+        use super::config::{
+            Arbitration, CacheConfig, ChipConfig, Layout, MemoryConfig, PipeStage, Replacement,
+            StageKind,
+        };
+        use crate::scene::limits;
+        use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
+        use rtl_model::units::halo_modulator::HaloModulatorConfig;
+        use rtl_model::Unit;
         let lw = limits::lum_widths(hw);
         let ip = limits::glare_interpolator(hw.coord_frac_bits).build()?;
         let pvg = limits::glare_generator().build()?;
