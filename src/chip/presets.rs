@@ -162,9 +162,13 @@ impl super::config::ChipConfig {
             // flare line (its latency); the paper gives no other per-pass cost (one
             // glare pass per frame, no state change inside it).
             pass_overhead_clocks: noise.timing().latency,
-            // Assumed: 16 quads between two stages (no source; swept by
-            // `reproduce glare-asic-throughput`).
-            fifo_depth: 16,
+            // Assumed (no source): 64 quads between two stages, which also bounds the
+            // quads the ROP holds while their colour reads are in flight. A designer
+            // sizes that buffer to the read latency at one quad a clock (Little's law:
+            // ≥ 30 quads at 30 clocks), as the GeForce presets' 64 cover their 40;
+            // below the latency the pass is latency bound at depth ÷ latency quads a
+            // clock. Swept by `reproduce glare-asic-throughput` (16 and 2 deep).
+            fifo_depth: 64,
             pipe_stages: vec![
                 plain(ip.name(), ti.latency, ti.ii),
                 // Bloom/flare and halo modulators sit side by side in each pipe and a

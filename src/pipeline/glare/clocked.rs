@@ -203,9 +203,11 @@ pub fn variants(preset: &ChipConfig) -> Vec<(String, ChipConfig)> {
         format!("memory latency {} clocks", c.memory.latency_clocks),
         c,
     ));
-    let mut c = preset.clone();
-    c.fifo_depth = 2;
-    v.push(("FIFOs 2 deep".into(), c));
+    for depth in [16, 2] {
+        let mut c = preset.clone();
+        c.fifo_depth = depth;
+        v.push((format!("FIFOs {depth} deep"), c));
+    }
     v
 }
 
