@@ -105,6 +105,8 @@ pub enum Command {
     },
     /// Reproduce a paper figure: shafts-fig4, shafts-fig5, shafts-vs-raymarch,
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
+    /// glare-asic-throughput (the glare ASIC clocked on glare-flare, street-light and
+    /// leaves: sustained pixels/s against the paper's 1.2 Gpixel/s, the bottleneck),
     /// glare-gauss-seeds (seeds 1 ..= 1000, or $GLARE_GAUSS_SEEDS),
     /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S), envmap-table5 and envmap-images
     /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
@@ -602,6 +604,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "glare-fig7",
     "glare-fig8",
     "glare-throughput",
+    "glare-asic-throughput",
     "glare-gauss-seeds",
     "envmap-table3",
     "envmap-table5",
@@ -735,6 +738,9 @@ fn reproduce(
         )?,
         "glare-fig8" => g::fig8(out)?,
         "glare-throughput" => g::throughput(out)?,
+        "glare-asic-throughput" => {
+            crate::pipeline::glare::clocked::asic_throughput(out)?;
+        }
         "glare-gauss-seeds" => {
             crate::pipeline::glare::gauss_seeds::gauss_seeds_resumable(
                 out,

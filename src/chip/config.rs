@@ -165,7 +165,8 @@ impl ChipConfig {
             ));
         }
         range("chip.pipes", self.pipes as u64, 1, 64)?;
-        range("chip.tmus_per_pipe", self.tmus_per_pipe as u64, 1, 16)?;
+        // 0: a chip without texture units (the glare ASIC: its tables are on chip).
+        range("chip.tmus_per_pipe", self.tmus_per_pipe as u64, 0, 16)?;
         range(
             "chip.textures_per_pass",
             self.textures_per_pass as u64,
@@ -194,6 +195,12 @@ impl ChipConfig {
             range(&format!("{f}.latency"), s.latency as u64, 1, 1 << 16)?;
             range(&format!("{f}.ii"), s.ii as u64, 1, 1 << 16)?;
             textures += (s.kind == StageKind::Texture) as u32;
+        }
+        if textures == 1 && self.tmus_per_pipe == 0 {
+            return Err(ConfigError::invalid(
+                "chip.tmus_per_pipe",
+                "is 0 but the pipe has a Texture stage (give it at least one texture unit)",
+            ));
         }
         if textures > 1 {
             return Err(ConfigError::invalid(

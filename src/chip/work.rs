@@ -10,6 +10,9 @@ pub enum PassKind {
     SubPlane,
     CopyToTexture,
     Plane,
+    /// The glare ASIC's pass: bloom, halo and flare-line primitives added into the
+    /// picture.
+    Glare,
 }
 
 /// One pass's work, as counted by the units.
@@ -41,6 +44,7 @@ pub fn kind_name(k: PassKind) -> &'static str {
         PassKind::SubPlane => "sub_planes",
         PassKind::CopyToTexture => "copy_to_texture",
         PassKind::Plane => "planes",
+        PassKind::Glare => "glare",
     }
 }
 

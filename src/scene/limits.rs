@@ -7,11 +7,13 @@
 //! range); a unit's error is then mapped onto the scene field the user wrote
 //! (`shafts.texel_bits`, not `texture_sampler.texel_bits`). The pipelines build their
 //! units from the same functions ([`shafts_sampler`], [`shafts_shadow`],
-//! [`shafts_interpolator`], [`lum_widths`], [`glare_noise`], [`glare_combiner`]), so the
-//! two cannot drift. The audit (field → unit limit → where checked) is the table in
-//! docs/inputs.md, "One source of limits"; `tests/limits.rs` pins it.
+//! [`shafts_interpolator`], [`lum_widths`], [`glare_noise`], [`glare_combiner`],
+//! [`glare_interpolator`], [`glare_generator`]), so the two cannot drift. The audit
+//! (field → unit limit → where checked) is the table in docs/inputs.md, "One source of
+//! limits"; `tests/limits.rs` pins it.
 
 use rtl_model::error::ConfigError;
+use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::blend::Blend;
 use rtl_model::units::clipper::ClipperConfig;
 use rtl_model::units::gaussian_noise::GaussianNoiseConfig;
@@ -19,6 +21,7 @@ use rtl_model::units::glare_combiner::GlareCombinerConfig;
 use rtl_model::units::luminance_ram::{LumWidths, Radial};
 use rtl_model::units::modulate::{ChainRounding, ModulateChain, ModulateMode};
 use rtl_model::units::polygon_interpolator::{PolygonInterpolatorConfig, MAX_ATTRS};
+use rtl_model::units::polygon_variable_generator::PolygonVariableGeneratorConfig;
 use rtl_model::units::projective_texcoord::ProjectiveTexcoordConfig;
 use rtl_model::units::shadow_compare::ShadowCompareConfig;
 use rtl_model::units::texture_sampler::{
@@ -358,6 +361,46 @@ pub fn lum_widths(hw: &GlareHw) -> LumWidths {
             ..Radial::default()
         },
         ..LumWidths::default()
+    }
+}
+
+/// Sub-pixel bits of glare positions (interpolator and generator agree).
+pub const GLARE_SUBPIXEL_BITS: u32 = 4;
+/// Integer bits of glare positions, with the sign: ±8192 px.
+pub const GLARE_COORD_INT_BITS: u32 = 14;
+/// Fraction bits of the s2.f attributes the generator hands the interpolator.
+pub const GLARE_ATTR_FRAC_BITS: u32 = 14;
+
+/// The glare interpolator: two attributes (u, v), s2.14 in, s2.f out
+/// (f = `glare.hw.coord_frac_bits`).
+pub fn glare_interpolator(coord_frac_bits: u32) -> PolygonInterpolatorConfig {
+    PolygonInterpolatorConfig {
+        attrs: 2,
+        subpixel_bits: GLARE_SUBPIXEL_BITS,
+        coord_int_bits: GLARE_COORD_INT_BITS,
+        attr_fmt: Format {
+            int_bits: 2,
+            frac_bits: GLARE_ATTR_FRAC_BITS,
+            signed: true,
+        },
+        acc_int_bits: 4,
+        acc_frac_bits: 24,
+        acc_overflow: Overflow::Wrap,
+        out_int_bits: 2,
+        out_frac_bits: coord_frac_bits,
+        out_quant: Quant::Rnd,
+        barycentric: None,
+    }
+}
+
+/// The glare primitives' polygon-variable generator (positions and attributes as the
+/// interpolator takes them).
+pub fn glare_generator() -> PolygonVariableGeneratorConfig {
+    PolygonVariableGeneratorConfig {
+        coord_int_bits: GLARE_COORD_INT_BITS,
+        subpixel_bits: GLARE_SUBPIXEL_BITS,
+        attr_frac_bits: GLARE_ATTR_FRAC_BITS,
+        ..PolygonVariableGeneratorConfig::default()
     }
 }
 

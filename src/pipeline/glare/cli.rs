@@ -2,7 +2,7 @@
 //! and its prediction on the glare ASIC, and the f64 reference. `render` goes through
 //! the frame (`crate::frame`).
 
-use super::frame::{generator, glare_of, interpolator, render_glare_over, GlareFrame};
+use super::frame::{generator, glare_of, interpolator, render_glare_with, GlareFrame};
 use super::throughput::{predict, GlarePrediction};
 use crate::reference::glare_model::reference_image;
 use crate::scene::format::Scene;
@@ -37,8 +37,18 @@ pub fn render_and_predict_over(
     scene: &Scene,
     base: Option<&[[u32; 3]]>,
 ) -> Result<(GlareFrame, GlarePrediction, f64), ConfigError> {
+    render_and_predict_with(scene, base, false)
+}
+
+/// [`render_and_predict_over`], with `record` also recording the pass's work for the
+/// clocked chip ([`GlareFrame::work`]; `super::clocked::frame_timing` clocks it).
+pub fn render_and_predict_with(
+    scene: &Scene,
+    base: Option<&[[u32; 3]]>,
+    record: bool,
+) -> Result<(GlareFrame, GlarePrediction, f64), ConfigError> {
     let t0 = Instant::now();
-    let f = render_glare_over(scene, base)?;
+    let f = render_glare_with(scene, base, record)?;
     let wall = t0.elapsed().as_secs_f64();
     let g = glare_of(scene)?;
     let (setup, drain) = setup_and_drain(&f, g.hw.coord_frac_bits)?;

@@ -12,6 +12,7 @@ use super::tables::{
     bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples,
     radial_tables, ring_samples, shape_samples, AreaPrim,
 };
+use crate::chip::work::{PassKind, PassStats, PassWork, RopWork};
 use crate::reference::glare_model::{bloom_at, FlareLine, Shape2D, SourceGlare};
 use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
@@ -27,11 +28,11 @@ use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
 
 /// Sub-pixel bits of glare positions (interpolator and generator agree).
-pub const SUBPIXEL_BITS: u32 = 4;
+pub const SUBPIXEL_BITS: u32 = crate::scene::limits::GLARE_SUBPIXEL_BITS;
 /// Integer bits of glare positions, with the sign: ±8192 px.
-pub const COORD_INT_BITS: u32 = 14;
+pub const COORD_INT_BITS: u32 = crate::scene::limits::GLARE_COORD_INT_BITS;
 /// Fraction bits of the s2.f attributes the generator hands the interpolator.
-pub const ATTR_FRAC_BITS: u32 = 14;
+pub const ATTR_FRAC_BITS: u32 = crate::scene::limits::GLARE_ATTR_FRAC_BITS;
 
 /// One primitive drawn.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -65,6 +66,9 @@ pub struct GlareFrame {
     pub elaboration: Vec<Elaborated>,
     /// Units elaborated, with their summaries (for gates).
     pub units: Vec<UnitSummary>,
+    /// What the pass did, for the clocked chip ([`render_glare_with`] with `record`):
+    /// `None` unless asked for.
+    pub work: Option<PassWork>,
 }
 
 impl GlareFrame {
@@ -104,6 +108,19 @@ pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {
 pub fn render_glare_over(
     scene: &Scene,
     base: Option<&[[u32; 3]]>,
+) -> Result<GlareFrame, ConfigError> {
+    render_glare_with(scene, base, false)
+}
+
+/// [`render_glare_over`], and with `record` also what the pass did
+/// ([`GlareFrame::work`]): its primitives in draw order (the area primitives, then
+/// the flare lines, as the combiner adds them), each one's walked pixels and covered
+/// fragments in walk order, and the combiner's read-modify-write per fragment.
+/// Recording changes no pixel and no counter; off, it costs a branch per chunk.
+pub fn render_glare_with(
+    scene: &Scene,
+    base: Option<&[[u32; 3]]>,
+    record: bool,
 ) -> Result<GlareFrame, ConfigError> {
     let g = glare_of(scene)?;
     let (w, h) = (scene.image.width, scene.image.height);
@@ -202,6 +219,8 @@ pub fn render_glare_over(
         let mut bloom_cost: Option<UnitSummary> = None;
         let mut halo_cost: Option<UnitSummary> = None;
         let mut buf = DrawBuffers::default();
+        // The area primitives' covered fragments (pixel indices), when recording.
+        let mut area_pix: Vec<u32> = Vec::new();
         // An area primitive (bloom or halo) through the datapath, as its row of the
         // frame's primitive table.
         let mut draw = |kind: &'static str,
@@ -222,6 +241,7 @@ pub fn render_glare_over(
                 &mut fb,
                 &mut buf,
                 &mut counters,
+                record.then_some(&mut area_pix),
             )?;
             prims.push(PrimStat {
                 kind,
@@ -272,7 +292,7 @@ pub fn render_glare_over(
                 halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
             }
         }
-        Ok((prims, bloom_cost, halo_cost, buf))
+        Ok((prims, bloom_cost, halo_cost, buf, area_pix))
     };
     let walk_lines = || -> Result<Option<WalkedLines>, ConfigError> {
         if !any_flare {
@@ -329,8 +349,11 @@ pub fn render_glare_over(
         Ok(Some(out))
     };
     let (areas, walked) = rayon::join(draw_areas, walk_lines);
-    let (mut prims, mut bloom_cost, halo_cost, mut buf) = areas?;
+    let (mut prims, mut bloom_cost, halo_cost, mut buf, mut frag_pix) = areas?;
     if let Some(wl) = walked? {
+        if record {
+            frag_pix.extend(wl.pix.iter().map(|&i| i as u32));
+        }
         for (k, c) in wl.counters {
             add(&mut counters, &k, c);
         }
@@ -483,6 +506,12 @@ pub fn render_glare_over(
         0,
     )?;
 
+    let work = if record {
+        Some(pass_work(&prims, &frag_pix, &counters, g.hw.fb_bits, w, h)?)
+    } else {
+        None
+    };
+
     Ok(GlareFrame {
         fb,
         base,
@@ -494,6 +523,91 @@ pub fn render_glare_over(
         counters,
         elaboration,
         units,
+        work,
+    })
+}
+
+/// The glare pass's [`PassWork`] from its primitives (draw order), their covered
+/// fragments' pixel indices (the same order) and the frame's counters. An
+/// inconsistency between them is an error, never a panic.
+fn pass_work(
+    prims: &[PrimStat],
+    frag_pix: &[u32],
+    counters: &BTreeMap<String, Counters>,
+    fb_bits: u32,
+    width: u32,
+    height: u32,
+) -> Result<PassWork, ConfigError> {
+    let fragments: u64 = prims.iter().map(|p| p.fragments).sum();
+    if fragments != frag_pix.len() as u64 {
+        return Err(ConfigError::invalid(
+            "timing",
+            &format!(
+                "the glare pass recorded {} fragments but its primitives count {fragments}",
+                frag_pix.len()
+            ),
+        ));
+    }
+    let to_u32 = |v: u64, what: &str| {
+        u32::try_from(v).map_err(|_| {
+            ConfigError::invalid("timing", &format!("{what} {v} does not fit 32 bits"))
+        })
+    };
+    let mut prim_first_fragment = Vec::with_capacity(prims.len());
+    let mut prim_walked = Vec::with_capacity(prims.len());
+    let mut first = 0u64;
+    for p in prims {
+        prim_first_fragment.push(to_u32(first, "fragment index")?);
+        prim_walked.push(to_u32(p.walked, "walked pixels")?);
+        first += p.fragments;
+    }
+    // Image sides are at most 4095 (validation), so a position fits 16 bits.
+    let side = |v: u32, field: &str| {
+        u16::try_from(v).map_err(|_| {
+            ConfigError::invalid(field, "the clocked timing records positions in 16 bits")
+        })
+    };
+    side(width.saturating_sub(1), "image.width")?;
+    side(height.saturating_sub(1), "image.height")?;
+    let frag_xy = frag_pix
+        .iter()
+        .map(|&i| [(i % width) as u16, (i / width) as u16])
+        .collect();
+    // The combiner reads and writes the RGB pixel (3·fb_bits bits), as it counts.
+    let rgb = rtl_model::memory::bytes_for_bits(3 * fb_bits) as u32;
+    let comb = counters.get("glare_combiner").cloned().unwrap_or_default();
+    let walked: u64 = prims.iter().map(|p| p.walked).sum();
+    let stats = PassStats {
+        kind: PassKind::Glare,
+        light: 0,
+        walked,
+        fragments,
+        textures_per_fragment: 0,
+        triangles: prims.len() as u64,
+        texel_bytes: 0,
+        fb_bytes: comb.mem_read_bytes + comb.mem_write_bytes,
+        // The host's RAM-table words are on-chip writes, not memory traffic: counted
+        // per primitive in `GlareFrame::prims` (`table_words`), not here.
+        other_bytes: 0,
+        depth_tests: 0,
+    };
+    Ok(PassWork {
+        stats: Some(stats),
+        width,
+        height,
+        textures: Vec::new(),
+        prim_first_fragment,
+        prim_walked,
+        frag_xy,
+        texels: Vec::new(),
+        rop: RopWork {
+            depth_read_bytes: 0,
+            depth_write_bytes: 0,
+            colour_read_bytes: rgb,
+            colour_write_bytes: rgb,
+        },
+        copy_read_bytes: 0,
+        copy_write_bytes: 0,
     })
 }
 

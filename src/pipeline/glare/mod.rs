@@ -4,6 +4,7 @@
 pub mod attribute;
 pub mod background;
 pub mod cli;
+pub mod clocked;
 pub mod condition;
 pub mod fluctuation;
 pub mod frame;

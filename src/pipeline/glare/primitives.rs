@@ -2,20 +2,17 @@
 //! interpolator's set-up and walk (scissored to the viewport and fitted to the
 //! coordinate range), then a modulator and the combiner into the framebuffer.
 
-use super::frame::{ATTR_FRAC_BITS, COORD_INT_BITS, SUBPIXEL_BITS};
+use super::frame::{COORD_INT_BITS, SUBPIXEL_BITS};
 use super::tables::AreaPrim;
 use crate::report::image_out::Framebuffer;
 use crate::scene::glare::GlareSection;
 use rtl_model::driver::{run_span, SpanTally};
-use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
 use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
 use rtl_model::units::polygon_interpolator::{
-    Move, PolyOut, PolySetup, PolygonInterpolator, PolygonInterpolatorConfig, Vertex, MAX_ATTRS,
+    Move, PolyOut, PolySetup, PolygonInterpolator, Vertex, MAX_ATTRS,
 };
-use rtl_model::units::polygon_variable_generator::{
-    PolygonVariableGenerator, PolygonVariableGeneratorConfig, PrimKind, PvgIn,
-};
+use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::{ConfigError, Counters, Unit};
 use std::collections::BTreeMap;
 
@@ -29,36 +26,15 @@ pub fn lum_widths(g: &GlareSection) -> LumWidths {
     crate::scene::limits::lum_widths(&g.hw)
 }
 
-/// The glare interpolator: two attributes (u, v), s2.14 in, s2.f out.
+/// The glare interpolator: two attributes (u, v), s2.14 in, s2.f out
+/// ([`crate::scene::limits::glare_interpolator`]).
 pub fn interpolator(coord_frac_bits: u32) -> Result<PolygonInterpolator, ConfigError> {
-    PolygonInterpolatorConfig {
-        attrs: 2,
-        subpixel_bits: SUBPIXEL_BITS,
-        coord_int_bits: COORD_INT_BITS,
-        attr_fmt: Format {
-            int_bits: 2,
-            frac_bits: ATTR_FRAC_BITS,
-            signed: true,
-        },
-        acc_int_bits: 4,
-        acc_frac_bits: 24,
-        acc_overflow: Overflow::Wrap,
-        out_int_bits: 2,
-        out_frac_bits: coord_frac_bits,
-        out_quant: Quant::Rnd,
-        barycentric: None,
-    }
-    .build()
+    crate::scene::limits::glare_interpolator(coord_frac_bits).build()
 }
 
+/// The polygon-variable generator ([`crate::scene::limits::glare_generator`]).
 pub fn generator() -> Result<PolygonVariableGenerator, ConfigError> {
-    PolygonVariableGeneratorConfig {
-        coord_int_bits: COORD_INT_BITS,
-        subpixel_bits: SUBPIXEL_BITS,
-        attr_frac_bits: ATTR_FRAC_BITS,
-        ..PolygonVariableGeneratorConfig::default()
-    }
-    .build()
+    crate::scene::limits::glare_generator().build()
 }
 
 /// Move a set-up primitive's walk to the part of its bounding box inside the
@@ -181,7 +157,8 @@ pub(crate) struct Drawn {
 /// chunk (no primitive-long buffer); each unit's span is the whole primitive, so its
 /// timing counters are added once at the end ([`SpanTally`]) and equal one
 /// `run_span` over the primitive. Every unit's counter entry is made even when the
-/// walk is empty.
+/// walk is empty. With `record`, the covered fragments' framebuffer pixel indices are
+/// appended to it in walk order (for the clocked chip; nothing else changes).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn draw_prim<U>(
     pvg: &PolygonVariableGenerator,
@@ -193,6 +170,7 @@ pub(crate) fn draw_prim<U>(
     fb: &mut Framebuffer,
     buf: &mut DrawBuffers,
     ctr: &mut BTreeMap<String, Counters>,
+    mut record: Option<&mut Vec<u32>>,
 ) -> Result<Drawn, ConfigError>
 where
     U: Unit<In = LumIn, Out = LumOut, State = ()> + ?Sized,
@@ -215,6 +193,9 @@ where
         walk_bufs,
         ctr,
         |pix, lum| {
+            if let Some(r) = record.as_deref_mut() {
+                r.extend(pix.iter().map(|&i| i as u32));
+            }
             combine(
                 comb,
                 pix,
