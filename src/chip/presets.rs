@@ -281,7 +281,10 @@ fn geforce_memory() -> MemoryConfig {
         arbitration: Arbitration::RoundRobin,
         // assumed: no DRAM page model (bandwidth and latency only); swept with pages.
         pages: None,
+    }
+}
 
+// ---------------------------------------------------------------------------------
 // The glare ASIC (Matsuda and Ikedo): a clocked chip of its own, not a GeForce.
 
 // The names this block uses are imported inside its functions (or written out), so

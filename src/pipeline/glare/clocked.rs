@@ -118,6 +118,7 @@ pub fn frame_timing(
         clock_hz: chip.clock_hz,
         passes,
         sampling_error: None,
+        roofline_only: Vec::new(),
     })
 }
 

@@ -598,6 +598,8 @@ fn pass_work(
         textures: Vec::new(),
         prim_first_fragment,
         prim_walked,
+        // The glare datapath has no depth test.
+        prim_depth_killed: Vec::new(),
         frag_xy,
         texels: Vec::new(),
         rop: RopWork {
