@@ -271,6 +271,11 @@ enum Visit {
 /// limit (Err).
 type Stop = Result<usize, End>;
 
+/// A parameter's rank in the repair's step 1: the lowest error ratio of its one- and
+/// two-step widenings, the parameter, and whether any widening changed the error
+/// (it is sensitive).
+type Rank = (f64, usize, bool);
+
 /// What bounds one repair's probes: the defaults `d` (the widenings' caps), the
 /// limits and when the search started.
 struct Reach<'r> {
@@ -468,9 +473,9 @@ impl<'a> Book<'a> {
         rx: f64,
         best: &mut Option<(f64, usize)>,
         on_point: &mut dyn FnMut(&Book),
-    ) -> Result<Result<Vec<(f64, usize, bool)>, Stop>, String> {
+    ) -> Result<Result<Vec<Rank>, Stop>, String> {
         let (d, limits, started) = (reach.d, reach.limits, reach.started);
-        let mut rank: Vec<(f64, usize, bool)> = Vec::new();
+        let mut rank: Vec<Rank> = Vec::new();
         for i in 0..self.params.len() {
             let Some(one) = widen(self.ev, &self.params, from, d, i) else {
                 continue;
@@ -508,7 +513,7 @@ impl<'a> Book<'a> {
         &mut self,
         reach: &Reach,
         from: &[u32],
-        rank: &[(f64, usize, bool)],
+        rank: &[Rank],
         sens: &[usize],
         best: &mut Option<(f64, usize)>,
         on_point: &mut dyn FnMut(&Book),
