@@ -20,7 +20,7 @@
 use crate::pipeline::raster::{walk, Fragment};
 use crate::report::image_out::Framebuffer;
 use crate::report::table::text_table;
-use crate::scene::math::v3;
+use crate::scene::math::{v3, Vec3};
 pub use crate::scene::test_scene::*;
 use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
@@ -32,7 +32,9 @@ use rtl_model::units::polygon_interpolator::{
 use rtl_model::units::projective_texcoord::{
     ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, ProjectiveTexcoordConfig,
 };
-use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
+use rtl_model::units::shadow_compare::{
+    ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowOut, ShadowState,
+};
 use rtl_model::units::texture_sampler::{
     AddressMode, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -135,16 +137,56 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
     let units = TestSceneUnits::new()?;
     let v = views();
     let mut c_interp = Counters::default();
-    let mut c_proj = Counters::default();
-    let mut c_proj_depth = Counters::default();
-    let mut c_checker = Counters::default();
-    let mut c_lightmap = Counters::default();
-    let mut c_shadow = Counters::default();
-    let mut c_mod = Counters::default();
-    let mut c_blend = Counters::default();
-    let mut depth_pass_cycles = 0u64;
+    // The per-pixel units' counters, in [`shade`]'s order: projective (u,v and s,t),
+    // projective (depth), checker, light map, shadow_compare, modulate, additive_blend.
+    let mut c_pixel = [Counters::default(); 7];
+    let mut shadow_state: ShadowState = units.shadow.fresh_state();
+    let depth_pass_cycles = depth_pass(
+        &units,
+        &v,
+        &mut shadow_state,
+        &mut c_interp,
+        &mut c_pixel[4],
+    )?;
+    let mut fb = Framebuffer::new(WIDTH, HEIGHT, units.blend.bits());
+    let (floor_pass_cycles, covered) = floor_passes(
+        &units,
+        &v,
+        &mut shadow_state,
+        &mut fb,
+        &mut c_interp,
+        &mut c_pixel,
+    )?;
+    let [c_proj, c_proj_depth, c_checker, c_lightmap, c_shadow, c_mod, c_blend] = c_pixel;
+    let counters = SceneCounters {
+        units: vec![
+            ("polygon_interpolator".into(), c_interp),
+            ("projective_texcoord (u,v and s,t)".into(), c_proj),
+            ("projective_texcoord (depth)".into(), c_proj_depth),
+            ("texture_sampler (checker RGBA)".into(), c_checker),
+            ("texture_sampler (light map)".into(), c_lightmap),
+            ("shadow_compare".into(), c_shadow),
+            ("modulate".into(), c_mod),
+            ("additive_blend".into(), c_blend),
+        ],
+        predicted_cycles: depth_pass_cycles + floor_pass_cycles,
+        clock_mhz: 200.0,
+        covered_pixels: covered,
+    };
+    Ok((fb, counters))
+}
 
-    // ---- depth pass: the occluder in the light's view, into the shadow map.
+/// The depth pass: the occluder in the light's view, into the shadow map (a 1-attribute
+/// interpolator of the window depth, s16.16, written as u16). Returns its cycles: per
+/// primitive the walk's or the shadow writes', whichever is longer.
+fn depth_pass(
+    units: &TestSceneUnits,
+    v: &Views,
+    shadow_state: &mut ShadowState,
+    c_interp: &mut Counters,
+    c_shadow: &mut Counters,
+) -> Result<u64, ConfigError> {
+    let mut depth_pass_cycles = 0u64;
     let depth_interp = PolygonInterpolatorConfig {
         attrs: 1,
         out_int_bits: 16,
@@ -152,16 +194,15 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
         ..PolygonInterpolatorConfig::default()
     }
     .build()?;
-    let mut shadow_state: ShadowState = units.shadow.fresh_state();
     for q in occluder_quads() {
         let mut verts = [Vertex::default(); 4];
         for (i, p) in q.iter().enumerate() {
             let c = v.light.apply(*p);
             let (x, y) = to_screen(c, SHADOW_SIZE, SHADOW_SIZE);
             let z = (c[2] / c[3]) * 0.5 + 0.5; // window depth in [0, 1]
-            verts[i] = depth_interp.vertex_from_f64(i, x, y, &[z], &mut c_interp)?;
+            verts[i] = depth_interp.vertex_from_f64(i, x, y, &[z], c_interp)?;
         }
-        for s in depth_interp.setup_quad(&verts, &mut c_interp) {
+        for s in depth_interp.setup_quad(&verts, c_interp) {
             let mut c_walk = Counters::default();
             let mut frags = Vec::new();
             walk(
@@ -182,15 +223,26 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
                 })
                 .collect();
             let mut c_w = Counters::default();
-            run_span(&units.shadow, &mut shadow_state, &writes, &mut c_w);
+            run_span(&units.shadow, shadow_state, &writes, &mut c_w);
             depth_pass_cycles += c_walk.cycles.max(c_w.cycles);
-            c_interp += c_walk;
-            c_shadow += c_w;
+            *c_interp += c_walk;
+            *c_shadow += c_w;
         }
     }
+    Ok(depth_pass_cycles)
+}
 
-    // ---- floor passes.
-    let mut fb = Framebuffer::new(WIDTH, HEIGHT, units.blend.bits());
+/// The floor passes: FLOOR_CELLS² cells, each a quad set up, walked and shaded
+/// ([`shade`]) into `fb`. Returns (cycles: per primitive the walk's or the shading's,
+/// whichever is longer; covered pixels).
+fn floor_passes(
+    units: &TestSceneUnits,
+    v: &Views,
+    shadow_state: &mut ShadowState,
+    fb: &mut Framebuffer,
+    c_interp: &mut Counters,
+    c_pixel: &mut [Counters; 7],
+) -> Result<(u64, u64), ConfigError> {
     let n = FLOOR_CELLS;
     let grid = |i: usize, j: usize| {
         let f = |k: usize| -FLOOR_HALF + 2.0 * FLOOR_HALF * k as f64 / n as f64;
@@ -211,79 +263,61 @@ pub fn render() -> Result<(Framebuffer, SceneCounters), ConfigError> {
                 grid(i, j + 1),
             ];
             let mut verts = [Vertex::default(); 4];
-            for (k, (p, tu, tv)) in corners.iter().enumerate() {
-                let c = v.cam.apply(*p);
-                let (x, y) = to_screen(c, WIDTH, HEIGHT);
-                let inv_w = PERSPECTIVE_SCALE / c[3];
-                let l = v.light.apply(*p);
-                // Projective light coordinates: s = (x + w)/2, t = (w − y)/2 (y down),
-                // r = (z + w)/2, q = w, so that s/q, t/q, r/q lie in [0, 1].
-                let (ls, lt, lr, lq) = (
-                    (l[0] + l[3]) * 0.5,
-                    (l[3] - l[1]) * 0.5,
-                    (l[2] + l[3]) * 0.5,
-                    l[3],
-                );
-                // Per-vertex Lambert term with inverse-square fall-off (normal +y).
-                let to_light = v.light_pos - *p;
-                let d2 = to_light.dot(to_light);
-                let lambert = (to_light.normalized().y * LAMBERT_SCALE / d2).clamp(0.0, 1.0);
-                let attrs = [
-                    tu * CHECKER_REPEAT * inv_w,
-                    tv * CHECKER_REPEAT * inv_w,
-                    inv_w,
-                    ls * inv_w,
-                    lt * inv_w,
-                    lr * inv_w,
-                    lq * inv_w,
-                    lambert,
-                ];
-                verts[k] = units
-                    .interp
-                    .vertex_from_f64(k, x, y, &attrs, &mut c_interp)?;
+            for (k, &(p, tu, tv)) in corners.iter().enumerate() {
+                verts[k] = floor_vertex(units, v, k, p, (tu, tv), c_interp)?;
             }
-            for s in units.interp.setup_quad(&verts, &mut c_interp) {
+            for s in units.interp.setup_quad(&verts, c_interp) {
                 let mut c_walk = Counters::default();
                 let mut frags = Vec::new();
                 walk(&units.interp, &s, WIDTH, HEIGHT, &mut c_walk, &mut frags);
-                c_interp += c_walk;
-                let pass = shade(
-                    &units,
-                    &frags,
-                    &mut shadow_state,
-                    &mut fb,
-                    &mut [
-                        &mut c_proj,
-                        &mut c_proj_depth,
-                        &mut c_checker,
-                        &mut c_lightmap,
-                        &mut c_shadow,
-                        &mut c_mod,
-                        &mut c_blend,
-                    ],
-                );
+                *c_interp += c_walk;
+                let pass = shade(units, &frags, shadow_state, fb, c_pixel);
                 covered += frags.len() as u64;
                 floor_pass_cycles += c_walk.cycles.max(pass);
             }
         }
     }
+    Ok((floor_pass_cycles, covered))
+}
 
-    let counters = SceneCounters {
-        units: vec![
-            ("polygon_interpolator".into(), c_interp),
-            ("projective_texcoord (u,v and s,t)".into(), c_proj),
-            ("projective_texcoord (depth)".into(), c_proj_depth),
-            ("texture_sampler (checker RGBA)".into(), c_checker),
-            ("texture_sampler (light map)".into(), c_lightmap),
-            ("shadow_compare".into(), c_shadow),
-            ("modulate".into(), c_mod),
-            ("additive_blend".into(), c_blend),
-        ],
-        predicted_cycles: depth_pass_cycles + floor_pass_cycles,
-        clock_mhz: 200.0,
-        covered_pixels: covered,
-    };
-    Ok((fb, counters))
+/// Floor corner `k` at `p` with checker coordinates (tu, tv), as the interpolator's
+/// vertex: the checker's (u, v)/w and the light's projective (s, t, r, q)/w (1/w scaled
+/// by PERSPECTIVE_SCALE), 1/w, and the per-vertex Lambert term.
+fn floor_vertex(
+    units: &TestSceneUnits,
+    v: &Views,
+    k: usize,
+    p: Vec3,
+    (tu, tv): (f64, f64),
+    c_interp: &mut Counters,
+) -> Result<Vertex, ConfigError> {
+    let c = v.cam.apply(p);
+    let (x, y) = to_screen(c, WIDTH, HEIGHT);
+    let inv_w = PERSPECTIVE_SCALE / c[3];
+    let l = v.light.apply(p);
+    // Projective light coordinates: s = (x + w)/2, t = (w − y)/2 (y down),
+    // r = (z + w)/2, q = w, so that s/q, t/q, r/q lie in [0, 1].
+    let (ls, lt, lr, lq) = (
+        (l[0] + l[3]) * 0.5,
+        (l[3] - l[1]) * 0.5,
+        (l[2] + l[3]) * 0.5,
+        l[3],
+    );
+    // Per-vertex Lambert term with inverse-square fall-off (normal +y).
+    let to_light = v.light_pos - p;
+    let d2 = to_light.dot(to_light);
+    let lambert = (to_light.normalized().y * LAMBERT_SCALE / d2).clamp(0.0, 1.0);
+    let attrs = [
+        tu * CHECKER_REPEAT * inv_w,
+        tv * CHECKER_REPEAT * inv_w,
+        inv_w,
+        ls * inv_w,
+        lt * inv_w,
+        lr * inv_w,
+        lq * inv_w,
+        lambert,
+    ];
+    units.interp.vertex_from_f64(k, x, y, &attrs, c_interp)
 }
 
 /// Shade one primitive's covered fragments through the per-pixel units and blend the
@@ -293,41 +327,13 @@ fn shade(
     frags: &[Fragment],
     shadow_state: &mut ShadowState,
     fb: &mut Framebuffer,
-    ctrs: &mut [&mut Counters; 7],
+    ctrs: &mut [Counters; 7],
 ) -> u64 {
     if frags.is_empty() {
         return 0;
     }
     let mut c = [Counters::default(); 7];
-    // Interpolator outputs are s16.16 raw, the projective inputs' format.
-    let checker_in: Vec<ProjectiveIn> = frags
-        .iter()
-        .map(|f| ProjectiveIn {
-            s: f.attrs[0],
-            t: f.attrs[1],
-            q: f.attrs[2],
-        })
-        .collect();
-    let light_in: Vec<ProjectiveIn> = frags
-        .iter()
-        .map(|f| ProjectiveIn {
-            s: f.attrs[3],
-            t: f.attrs[4],
-            q: f.attrs[6],
-        })
-        .collect();
-    let depth_in: Vec<ProjectiveIn> = frags
-        .iter()
-        .map(|f| ProjectiveIn {
-            s: f.attrs[5],
-            t: 0,
-            q: f.attrs[6],
-        })
-        .collect();
-    let mut uv = run_span(&u.proj, &mut (), &checker_in, &mut c[0]);
-    let st = run_span(&u.proj, &mut (), &light_in, &mut c[0]);
-    uv.extend(st.iter().copied());
-    let depth = run_span(&u.proj_depth, &mut (), &depth_in, &mut c[1]);
+    let (uv, depth) = project(u, frags, &mut c);
     let n = frags.len();
     let (uv, st) = uv.split_at(n);
 
@@ -358,8 +364,68 @@ fn shade(
         .collect();
     let lit = run_span(&u.shadow, shadow_state, &tests, &mut c[4]);
 
-    // Light = light map · Lambert (· 0 in shadow or behind the light), then
-    // colour = albedo · light · light colour, plus albedo · ambient.
+    let (m1, m2) = modulate(u, frags, st, &albedo, &spot, &lit, &mut c[5]);
+    blend_passes(u, frags, &m1, &m2, fb, &mut c[6]);
+    let busiest = c.iter().map(|k| k.cycles).max().unwrap_or(0);
+    for (dst, src) in ctrs.iter_mut().zip(c) {
+        *dst += src;
+    }
+    busiest
+}
+
+/// The projective divides of every fragment: the checker's (u, v) then the light's
+/// (s, t) in one vector (fragment order each), and the light-space depths. The
+/// interpolator's outputs are s16.16 raw, the projective inputs' format.
+fn project(
+    u: &TestSceneUnits,
+    frags: &[Fragment],
+    c: &mut [Counters; 7],
+) -> (Vec<ProjectiveOut>, Vec<ProjectiveOut>) {
+    let checker_in: Vec<ProjectiveIn> = frags
+        .iter()
+        .map(|f| ProjectiveIn {
+            s: f.attrs[0],
+            t: f.attrs[1],
+            q: f.attrs[2],
+        })
+        .collect();
+    let light_in: Vec<ProjectiveIn> = frags
+        .iter()
+        .map(|f| ProjectiveIn {
+            s: f.attrs[3],
+            t: f.attrs[4],
+            q: f.attrs[6],
+        })
+        .collect();
+    let depth_in: Vec<ProjectiveIn> = frags
+        .iter()
+        .map(|f| ProjectiveIn {
+            s: f.attrs[5],
+            t: 0,
+            q: f.attrs[6],
+        })
+        .collect();
+    let mut uv = run_span(&u.proj, &mut (), &checker_in, &mut c[0]);
+    let st = run_span(&u.proj, &mut (), &light_in, &mut c[0]);
+    uv.extend(st.iter().copied());
+    let depth = run_span(&u.proj_depth, &mut (), &depth_in, &mut c[1]);
+    (uv, depth)
+}
+
+/// The modulate unit's work (counted in `c_mod`): light = light map · Lambert (· 0 in
+/// shadow or behind the light); returns the ambient and light products per fragment
+/// and channel (`m1`: albedo · ambient at 2ch, light · light colour at 2ch + 1) and
+/// the spot colour albedo · that (`m2`, 3 per fragment).
+fn modulate(
+    u: &TestSceneUnits,
+    frags: &[Fragment],
+    st: &[ProjectiveOut],
+    albedo: &[[u32; 4]],
+    spot: &[[u32; 4]],
+    lit: &[ShadowOut],
+    c_mod: &mut Counters,
+) -> (Vec<u32>, Vec<u32>) {
+    let n = frags.len();
     let lambert: Vec<u32> = frags
         .iter()
         .map(|f| (f.attrs[7] >> 8).clamp(0, 255) as u32)
@@ -369,10 +435,10 @@ fn shade(
         .zip(&lambert)
         .map(|(s, &l)| ModulateIn { a: s[0], b: l })
         .collect();
-    let light = run_span(&u.modulate, &mut (), &spot_l, &mut c[5]);
+    let light = run_span(&u.modulate, &mut (), &spot_l, c_mod);
     let light: Vec<u32> = light
         .iter()
-        .zip(&lit)
+        .zip(lit)
         .zip(st)
         .map(|((&l, s), p)| if s.lit && !p.behind { l } else { 0 })
         .collect();
@@ -389,7 +455,7 @@ fn shade(
             });
         }
     }
-    let m1 = run_span(&u.modulate, &mut (), &mods, &mut c[5]);
+    let m1 = run_span(&u.modulate, &mut (), &mods, c_mod);
     let mut mods2 = Vec::with_capacity(n * 3);
     for (k, a) in albedo.iter().enumerate() {
         for ch in 0..3 {
@@ -399,9 +465,20 @@ fn shade(
             });
         }
     }
-    let m2 = run_span(&u.modulate, &mut (), &mods2, &mut c[5]);
+    let m2 = run_span(&u.modulate, &mut (), &mods2, c_mod);
+    (m1, m2)
+}
 
-    // Two additive passes into the framebuffer: ambient, then the spot.
+/// Two additive passes into the framebuffer (counted in `c_blend`): ambient (`m1`'s
+/// even products), then the spot (`m2`).
+fn blend_passes(
+    u: &TestSceneUnits,
+    frags: &[Fragment],
+    m1: &[u32],
+    m2: &[u32],
+    fb: &mut Framebuffer,
+    c_blend: &mut Counters,
+) {
     for pass in 0..2 {
         let blends: Vec<BlendIn> = frags
             .iter()
@@ -420,16 +497,11 @@ fn shade(
                 }
             })
             .collect();
-        let out = run_span(&u.blend, &mut (), &blends, &mut c[6]);
+        let out = run_span(&u.blend, &mut (), &blends, c_blend);
         for (f, o) in frags.iter().zip(out) {
             fb.set(f.x, f.y, [o[0], o[1], o[2], 255]);
         }
     }
-    let busiest = c.iter().map(|k| k.cycles).max().unwrap_or(0);
-    for (dst, src) in ctrs.iter_mut().zip(c) {
-        **dst += src;
-    }
-    busiest
 }
 
 /// A projective s4.12 (normalised) coordinate → the sampler's texel-space word for a

@@ -401,10 +401,41 @@ pub fn integrate_light(
     let w0 = lp - ray.origin;
     let t_star_line = w0.dot(ray.dir);
     let d_perp = (w0 - ray.dir * t_star_line).length();
-    let width = d_perp.max(s_min).max(1e-12 * t_end);
-
+    let near = Nearest {
+        t_star_line,
+        d_perp,
+        width: d_perp.max(s_min).max(1e-12 * t_end),
+    };
     let mut breaks = vec![0.0, t_end];
     breaks.extend(cone_crossings(le, ray, t_end));
+    breaks.extend(nearest_breaks(&near, t_end, s_min));
+    breaks.extend(state_breaks(le, geom, ray, t_end, &near, tol, &mut evals));
+    let clean = clean_breaks(breaks, t_end);
+
+    let mut f = |t: f64| scatter_integrand(le, medium, geom, ray, t, s_min);
+    let (value, error, converged) = adaptive(&mut f, &clean, tol, &mut evals);
+    LightIntegral {
+        value,
+        error,
+        evaluations: evals,
+        converged,
+    }
+}
+
+/// Where the ray passes the light: the parameter of its closest approach on the
+/// infinite line, the distance there, and the width the breakpoints crowd to
+/// (the distance, at least s_min and 1e-12 · T).
+struct Nearest {
+    t_star_line: f64,
+    d_perp: f64,
+    width: f64,
+}
+
+/// Breakpoints at the closest approach (clamped into [0, T]), at width · 10^k either
+/// side of it, and where the distance to the light is s_min (the clamp's kink).
+fn nearest_breaks(near: &Nearest, t_end: f64, s_min: f64) -> Vec<f64> {
+    let (t_star_line, d_perp, width) = (near.t_star_line, near.d_perp, near.width);
+    let mut breaks = Vec::new();
     let t_star = t_star_line.clamp(0.0, t_end);
     breaks.push(t_star);
     for side in [-1.0, 1.0] {
@@ -417,7 +448,23 @@ pub fn integrate_light(
             breaks.push(t_star_line + side * (s_min * s_min - d_perp * d_perp).sqrt());
         }
     }
+    breaks
+}
 
+/// Breakpoints where the discrete state (in the cone, the map's label, lit) changes:
+/// probes uniform in t and uniform in the angle seen from the light, each change
+/// bisected down to 1e-13 · T. The state evaluations are counted in `evals`.
+fn state_breaks(
+    le: &LightEval<'_>,
+    geom: &SceneGeometry,
+    ray: &Ray,
+    t_end: f64,
+    near: &Nearest,
+    tol: &QuadTol,
+    evals: &mut u64,
+) -> Vec<f64> {
+    let (t_star_line, width) = (near.t_star_line, near.width);
+    let lp = le.frame.position;
     // Discrete state: (in cone, map label, H where the light emits).
     let fr = le.frame;
     let state = |t: f64, evals: &mut u64| -> (bool, u64, bool) {
@@ -449,8 +496,9 @@ pub fn integrate_light(
     }
     probes.sort_by(f64::total_cmp);
     probes.dedup();
-    let states: Vec<_> = probes.iter().map(|&t| state(t, &mut evals)).collect();
+    let states: Vec<_> = probes.iter().map(|&t| state(t, evals)).collect();
     let resolution = 1e-13 * t_end;
+    let mut breaks = Vec::new();
     for k in 1..probes.len() {
         if states[k] == states[k - 1] {
             continue;
@@ -462,7 +510,7 @@ pub fn integrate_light(
             if !(m > a && m < b) {
                 break;
             }
-            if state(m, &mut evals) == sa {
+            if state(m, evals) == sa {
                 a = m;
             } else {
                 b = m;
@@ -470,7 +518,12 @@ pub fn integrate_light(
         }
         breaks.push(0.5 * (a + b));
     }
+    breaks
+}
 
+/// The breakpoints inside [0, T], sorted, those within 1e-14 · T of the previous one
+/// dropped, the last one T and the first 0.
+fn clean_breaks(mut breaks: Vec<f64>, t_end: f64) -> Vec<f64> {
     breaks.retain(|t| t.is_finite() && *t >= 0.0 && *t <= t_end);
     breaks.sort_by(f64::total_cmp);
     let min_gap = 1e-14 * t_end;
@@ -487,15 +540,7 @@ pub fn integrate_light(
     if clean.first() != Some(&0.0) {
         clean.insert(0, 0.0);
     }
-
-    let mut f = |t: f64| scatter_integrand(le, medium, geom, ray, t, s_min);
-    let (value, error, converged) = adaptive(&mut f, &clean, tol, &mut evals);
-    LightIntegral {
-        value,
-        error,
-        evaluations: evals,
-        converged,
-    }
+    clean
 }
 
 #[cfg(test)]

@@ -257,6 +257,54 @@ pub fn attribute<S: Clone>(
     render: impl Fn(&S) -> Result<Rendered, String>,
     out: &Path,
 ) -> Result<Attribution, String> {
+    let (singles, all) = ideal_scenes(base, sources, &check)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
+    let Singles {
+        r0,
+        e0,
+        mut rows,
+        renders,
+        ra,
+    } = singles_rendered(base, (w, h), sources, &singles, &all, &render)?;
+    let all = all_ideal_rows(&mut rows, &ra, &r0, e0, (w, h), bound)?;
+    // Pairs of the largest sources when the remainder is large.
+    if all.remainder_share.abs() > PAIR_THRESHOLD {
+        pair_rows(base, sources, &render, &mut rows, &r0, e0, (w, h))?;
+    }
+
+    let csv = out.join("attribution.csv");
+    write_csv(&csv, &rows)?;
+    let png = out.join("attribution.png");
+    let title = format!("{name} ({w}x{h}): error removed by making one source ideal");
+    bar_chart(&png, &title, &rows)?;
+    let mut diff_images = Vec::new();
+    for (k, s) in sources.iter().enumerate() {
+        if rows[k + 1].share > DIFF_IMAGE_SHARE {
+            let p = out.join(format!("diff_{}.png", slug(&s.name)));
+            diff_png(&p, &r0.0, &renders[k].0, w, h)?;
+            diff_images.push(p);
+        }
+    }
+    Ok(Attribution {
+        rows,
+        configured: error_stats(&r0.0, &r0.1).map_err(|e| e.to_string())?,
+        all_ideal: all.stats,
+        all_ideal_outliers: all.outliers,
+        within_bound: all.within_bound,
+        remainder_share: all.remainder_share,
+        csv,
+        png,
+        diff_images,
+    })
+}
+
+/// The ideal scenes, each passed to `check` (`base` first): one per source with only
+/// that source ideal, and the scene with every source ideal.
+fn ideal_scenes<S: Clone>(
+    base: &S,
+    sources: &[Source<S>],
+    check: &impl Fn(&S) -> Result<(), String>,
+) -> Result<(Vec<S>, S), String> {
     check(base)?;
     let singles: Vec<S> = sources
         .iter()
@@ -272,8 +320,31 @@ pub fn attribute<S: Clone>(
         (s.make_ideal)(&mut all);
     }
     check(&all).map_err(|e| format!("all ideal: {e}"))?;
-    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
+    Ok((singles, all))
+}
 
+/// The configured render, one render per single ideal and the all-ideal render, with
+/// the rows of the configured scene and of each single source.
+struct Singles {
+    r0: Rendered,
+    /// The configured squared error.
+    e0: f64,
+    rows: Vec<AttributionRow>,
+    /// One per source, in the sources' order.
+    renders: Vec<Rendered>,
+    ra: Rendered,
+}
+
+/// Render the configured scene (checked to be `w` × `h`), each single ideal (its row
+/// made as it comes) and all ideal, under one progress bar.
+fn singles_rendered<S>(
+    base: &S,
+    (w, h): (u32, u32),
+    sources: &[Source<S>],
+    singles: &[S],
+    all: &S,
+    render: &impl Fn(&S) -> Result<Rendered, String>,
+) -> Result<Singles, String> {
     let bar = progress_bar(sources.len() as u64 + 2, "attribute");
     let step = |what: &str, s: &S| {
         let r = render(s).map_err(|e| format!("{what}: {e}"));
@@ -303,19 +374,47 @@ pub fn attribute<S: Clone>(
         h,
     )?];
     let mut renders = Vec::with_capacity(sources.len());
-    for (s, v) in sources.iter().zip(&singles) {
+    for (s, v) in sources.iter().zip(singles) {
         let r = step(&s.name, v).map_err(fail)?;
         rows.push(row(&s.name, "source", &s.ideal, &r, &r0, e0, w, h)?);
         renders.push(r);
     }
-    let ra = step("all ideal", &all).map_err(fail)?;
+    let ra = step("all ideal", all).map_err(fail)?;
     bar.finish_and_clear();
+    Ok(Singles {
+        r0,
+        e0,
+        rows,
+        renders,
+        ra,
+    })
+}
+
+/// What the all-ideal render gives: the remainder's share, its error, its outlier
+/// fraction and whether it is within the bound.
+struct AllIdeal {
+    remainder_share: f64,
+    stats: ErrorStats,
+    outliers: f64,
+    within_bound: bool,
+}
+
+/// The all-ideal row (with the interaction remainder as its interaction share) and the
+/// interaction remainder's row, pushed after the singles' rows.
+fn all_ideal_rows(
+    rows: &mut Vec<AttributionRow>,
+    ra: &Rendered,
+    r0: &Rendered,
+    e0: f64,
+    (w, h): (u32, u32),
+    bound: &Bound,
+) -> Result<AllIdeal, String> {
     let mut all_row = row(
         "all ideal",
         "all_ideal",
         "every source ideal at once",
-        &ra,
-        &r0,
+        ra,
+        r0,
         e0,
         w,
         h,
@@ -358,77 +457,69 @@ pub fn attribute<S: Clone>(
         band: "none".into(),
         band_share: 0.0,
     });
-
-    // Pairs of the largest sources when the remainder is large.
-    if remainder_share.abs() > PAIR_THRESHOLD {
-        let mut order: Vec<usize> = (0..sources.len()).collect();
-        order.sort_by(|&a, &b| {
-            rows[b + 1]
-                .removed_sq
-                .abs()
-                .total_cmp(&rows[a + 1].removed_sq.abs())
-        });
-        order.truncate(PAIR_SOURCES);
-        let pairs: Vec<(usize, usize)> = order
-            .iter()
-            .enumerate()
-            .flat_map(|(k, &a)| order[k + 1..].iter().map(move |&b| (a, b)))
-            .collect();
-        let bar = progress_bar(pairs.len() as u64, "attribute pairs");
-        for (a, b) in pairs {
-            let mut v = base.clone();
-            (sources[a].make_ideal)(&mut v);
-            (sources[b].make_ideal)(&mut v);
-            let name = format!("{} + {}", sources[a].name, sources[b].name);
-            let r = render(&v).map_err(|e| {
-                bar.abandon();
-                format!("{name}: {e}")
-            })?;
-            bar.inc(1);
-            let mut pr = row(
-                &name,
-                "pair",
-                &format!("{}; {}", sources[a].ideal, sources[b].ideal),
-                &r,
-                &r0,
-                e0,
-                w,
-                h,
-            )?;
-            pr.interaction_share = if e0 > 0.0 {
-                (pr.removed_sq - rows[a + 1].removed_sq - rows[b + 1].removed_sq) / e0
-            } else {
-                0.0
-            };
-            rows.push(pr);
-        }
-        bar.finish_and_clear();
-    }
-
-    let csv = out.join("attribution.csv");
-    write_csv(&csv, &rows)?;
-    let png = out.join("attribution.png");
-    let title = format!("{name} ({w}x{h}): error removed by making one source ideal");
-    bar_chart(&png, &title, &rows)?;
-    let mut diff_images = Vec::new();
-    for (k, s) in sources.iter().enumerate() {
-        if rows[k + 1].share > DIFF_IMAGE_SHARE {
-            let p = out.join(format!("diff_{}.png", slug(&s.name)));
-            diff_png(&p, &r0.0, &renders[k].0, w, h)?;
-            diff_images.push(p);
-        }
-    }
-    Ok(Attribution {
-        rows,
-        configured: error_stats(&r0.0, &r0.1).map_err(|e| e.to_string())?,
-        all_ideal: all_stats,
-        all_ideal_outliers: outliers,
-        within_bound,
+    Ok(AllIdeal {
         remainder_share,
-        csv,
-        png,
-        diff_images,
+        stats: all_stats,
+        outliers,
+        within_bound,
     })
+}
+
+/// The pairs of the [`PAIR_SOURCES`] sources removing the most (by |removed|), each
+/// rendered with both ideal; its interaction share is what the pair removes beyond
+/// the two singles (`rows[1..]` are the singles, in the sources' order).
+fn pair_rows<S: Clone>(
+    base: &S,
+    sources: &[Source<S>],
+    render: &impl Fn(&S) -> Result<Rendered, String>,
+    rows: &mut Vec<AttributionRow>,
+    r0: &Rendered,
+    e0: f64,
+    (w, h): (u32, u32),
+) -> Result<(), String> {
+    let mut order: Vec<usize> = (0..sources.len()).collect();
+    order.sort_by(|&a, &b| {
+        rows[b + 1]
+            .removed_sq
+            .abs()
+            .total_cmp(&rows[a + 1].removed_sq.abs())
+    });
+    order.truncate(PAIR_SOURCES);
+    let pairs: Vec<(usize, usize)> = order
+        .iter()
+        .enumerate()
+        .flat_map(|(k, &a)| order[k + 1..].iter().map(move |&b| (a, b)))
+        .collect();
+    let bar = progress_bar(pairs.len() as u64, "attribute pairs");
+    for (a, b) in pairs {
+        let mut v = base.clone();
+        (sources[a].make_ideal)(&mut v);
+        (sources[b].make_ideal)(&mut v);
+        let name = format!("{} + {}", sources[a].name, sources[b].name);
+        let r = render(&v).map_err(|e| {
+            bar.abandon();
+            format!("{name}: {e}")
+        })?;
+        bar.inc(1);
+        let mut pr = row(
+            &name,
+            "pair",
+            &format!("{}; {}", sources[a].ideal, sources[b].ideal),
+            &r,
+            r0,
+            e0,
+            w,
+            h,
+        )?;
+        pr.interaction_share = if e0 > 0.0 {
+            (pr.removed_sq - rows[a + 1].removed_sq - rows[b + 1].removed_sq) / e0
+        } else {
+            0.0
+        };
+        rows.push(pr);
+    }
+    bar.finish_and_clear();
+    Ok(())
 }
 
 /// What the ideal changes: red where the ideal image is brighter than the configured

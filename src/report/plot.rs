@@ -554,6 +554,30 @@ impl Ctx<'_> {
         corners[best].0.clone()
     }
 
+    /// The chart's frame on a white `root`: the title, the margins and the label areas
+    /// (with a `right` axis its label area, else a wider right margin).
+    fn frame<'a, 'b, DB: DrawingBackend>(
+        &self,
+        root: &'a DrawingArea<DB, plotters::coord::Shift>,
+        right: bool,
+    ) -> Result<ChartBuilder<'a, 'b, DB>, String> {
+        let m = self.m;
+        let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+        root.fill(&WHITE).map_err(e)?;
+        let mut builder = ChartBuilder::on(root);
+        builder
+            .caption(&self.spec.title, (FONT_FAMILY, m.title))
+            .margin(m.margin)
+            .x_label_area_size(m.x_area)
+            .y_label_area_size(m.y_area);
+        if right {
+            builder.right_y_label_area_size(m.y_area);
+        } else {
+            builder.margin_right(m.margin * 2);
+        }
+        Ok(builder)
+    }
+
     fn draw<DB, XC, YC>(
         &self,
         root: &DrawingArea<DB, plotters::coord::Shift>,
@@ -570,19 +594,8 @@ impl Ctx<'_> {
     {
         let m = self.m;
         let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-        root.fill(&WHITE).map_err(e)?;
         let right = y2.is_some();
-        let mut builder = ChartBuilder::on(root);
-        builder
-            .caption(&self.spec.title, (FONT_FAMILY, m.title))
-            .margin(m.margin)
-            .x_label_area_size(m.x_area)
-            .y_label_area_size(m.y_area);
-        if right {
-            builder.right_y_label_area_size(m.y_area);
-        } else {
-            builder.margin_right(m.margin * 2);
-        }
+        let mut builder = self.frame(root, right)?;
         let chart = builder
             .build_cartesian_2d(x.clone(), y.clone())
             .map_err(e)?;

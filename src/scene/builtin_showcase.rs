@@ -80,6 +80,56 @@ fn lamp_post(head: [f64; 3], side: f64) -> [Object; 2] {
 
 /// The showcase scene (module notes). 720 × 480.
 pub fn night_street() -> Scene {
+    let objects = street_objects();
+    let glare = lamp_glare();
+    Scene {
+        chip: ChipPreset::GeForce2,
+        name: "night-street: a wet street under two lamps in light fog (every pipeline)".into(),
+        seed: 21,
+        image: ImageSize::default(),
+        camera: Camera {
+            eye: [0.0, 1.7, 5.0],
+            look_at: [0.2, 1.6, -10.0],
+            up: [0.0, 1.0, 0.0],
+            fovy_deg: 42.0,
+            near: 0.5,
+            far: 100.0,
+        },
+        medium: Medium {
+            rho: 0.03,
+            kappa: 0.8,
+            k: 1.0,
+        },
+        lights: LAMPS.iter().map(|&h| lamp_light(h)).collect(),
+        objects,
+        // The F table spans the scattering angles the cones actually meet (seen from
+        // the side, the paper's table has 26 codes there: docs/shafts.md).
+        shafts: ShaftsConfig {
+            f_scale: FScale::LitVolume,
+            ..ShaftsConfig::default()
+        },
+        glare: Some(glare),
+        // The street's surroundings as the chrome ball reflects them: Venice at dusk
+        // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
+        rounding: None,
+        shading_hw: None,
+        environment: Some(EnvironmentSection {
+            map: Some("venice_sunset".into()),
+            exposure: Some(NIGHT_EXPOSURE),
+            side: 64,
+            reflectors: vec![Reflector {
+                object: CHROME,
+                lambda: 0.9,
+                reflectance: 0.6,
+            }],
+            ..EnvironmentSection::default()
+        }),
+    }
+}
+
+/// The street's objects, in `objects`' order ([`CHROME`] is index 1): the wet street,
+/// the chrome ball, the plaster and brick walls, and the two lamp posts.
+fn street_objects() -> Vec<Object> {
     let street = Object {
         shape: Shape::Plane {
             center: [0.0, 0.0, -13.0],
@@ -132,7 +182,12 @@ pub fn night_street() -> Scene {
     let mut objects = vec![street, chrome, plaster, brick];
     objects.extend(lamp_post(LAMPS[0], -1.0));
     objects.extend(lamp_post(LAMPS[1], 1.0));
+    objects
+}
 
+/// The glare section: the two lamps as circular sources without flare, the chrome
+/// ball's shaded highlight of the first, in a light mist.
+fn lamp_glare() -> GlareSection {
     let sources = LAMPS
         .iter()
         .map(|&head| {
@@ -160,49 +215,7 @@ pub fn night_street() -> Scene {
     glare.determinants.mist = 0.2;
     glare.model.bloom_k = 0.3;
     glare.model.halo_k = 0.08;
-    Scene {
-        chip: ChipPreset::GeForce2,
-        name: "night-street: a wet street under two lamps in light fog (every pipeline)".into(),
-        seed: 21,
-        image: ImageSize::default(),
-        camera: Camera {
-            eye: [0.0, 1.7, 5.0],
-            look_at: [0.2, 1.6, -10.0],
-            up: [0.0, 1.0, 0.0],
-            fovy_deg: 42.0,
-            near: 0.5,
-            far: 100.0,
-        },
-        medium: Medium {
-            rho: 0.03,
-            kappa: 0.8,
-            k: 1.0,
-        },
-        lights: LAMPS.iter().map(|&h| lamp_light(h)).collect(),
-        objects,
-        // The F table spans the scattering angles the cones actually meet (seen from
-        // the side, the paper's table has 26 codes there: docs/shafts.md).
-        shafts: ShaftsConfig {
-            f_scale: FScale::LitVolume,
-            ..ShaftsConfig::default()
-        },
-        glare: Some(glare),
-        // The street's surroundings as the chrome ball reflects them: Venice at dusk
-        // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
-        rounding: None,
-        shading_hw: None,
-        environment: Some(EnvironmentSection {
-            map: Some("venice_sunset".into()),
-            exposure: Some(NIGHT_EXPOSURE),
-            side: 64,
-            reflectors: vec![Reflector {
-                object: CHROME,
-                lambda: 0.9,
-                reflectance: 0.6,
-            }],
-            ..EnvironmentSection::default()
-        }),
-    }
+    glare
 }
 
 /// `objects[CHROME]` is the chrome ball.

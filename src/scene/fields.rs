@@ -938,49 +938,12 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
                 s.push('\n');
             }
             current = top;
-            let head = field(top).filter(|h| h.ty.is_section());
-            match head {
-                Some(h) => {
-                    let form = match h.ty {
-                        Ty::Tables => format!("`[[{top}]]`"),
-                        _ => format!("`[{top}]`"),
-                    };
-                    s.push_str(&format!("## {form}\n\n{}\n\n", h.doc));
-                    if !h.default.is_empty() {
-                        s.push_str(&format!("Default: {}.\n\n", h.default));
-                    }
-                }
-                None => s.push_str("## Top level\n\n"),
-            }
-            s.push_str("| path | type | unit | range | default | limit | when | description |\n");
-            s.push_str("|---|---|---|---|---|---|---|---|\n");
+            s.push_str(&section_heading(top));
         }
         if f.path == top && f.ty.is_section() {
             continue;
         }
-        let cell = |t: &str| t.replace('|', "\\|");
-        let code = |t: &str| {
-            if t.is_empty() {
-                String::new()
-            } else {
-                format!("`{}`", t.replace('|', "\\|"))
-            }
-        };
-        let default = match f.default {
-            "required" | "none" | "" => f.default.to_string(),
-            d => code(d),
-        };
-        s.push_str(&format!(
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} |\n",
-            f.path,
-            cell(&f.ty.text()),
-            cell(f.unit),
-            cell(&range_text(f)),
-            default,
-            cell(f.limit),
-            code(f.when),
-            cell(f.doc)
-        ));
+        s.push_str(&field_row(f));
     }
     s.push_str(OTHER_FORMS);
     s.push_str(&format!(
@@ -996,6 +959,56 @@ pub fn reference_markdown(example_name: &str, example: &str) -> String {
     ));
     s.push_str(REFERENCES);
     s
+}
+
+/// The heading of section `top` ("" for the top-level values): its title, its doc and
+/// default, and the table's header rows.
+fn section_heading(top: &str) -> String {
+    let mut s = String::new();
+    let head = field(top).filter(|h| h.ty.is_section());
+    match head {
+        Some(h) => {
+            let form = match h.ty {
+                Ty::Tables => format!("`[[{top}]]`"),
+                _ => format!("`[{top}]`"),
+            };
+            s.push_str(&format!("## {form}\n\n{}\n\n", h.doc));
+            if !h.default.is_empty() {
+                s.push_str(&format!("Default: {}.\n\n", h.default));
+            }
+        }
+        None => s.push_str("## Top level\n\n"),
+    }
+    s.push_str("| path | type | unit | range | default | limit | when | description |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|\n");
+    s
+}
+
+/// One field's row of its section's table (`|` escaped in every cell).
+fn field_row(f: &Field) -> String {
+    let cell = |t: &str| t.replace('|', "\\|");
+    let code = |t: &str| {
+        if t.is_empty() {
+            String::new()
+        } else {
+            format!("`{}`", t.replace('|', "\\|"))
+        }
+    };
+    let default = match f.default {
+        "required" | "none" | "" => f.default.to_string(),
+        d => code(d),
+    };
+    format!(
+        "| `{}` | {} | {} | {} | {} | {} | {} | {} |\n",
+        f.path,
+        cell(&f.ty.text()),
+        cell(f.unit),
+        cell(&range_text(f)),
+        default,
+        cell(f.limit),
+        code(f.when),
+        cell(f.doc)
+    )
 }
 
 /// The range column: a unit-decided integer range is found by validating a built-in

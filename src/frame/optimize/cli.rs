@@ -9,8 +9,8 @@
 
 use super::eval::{Evaluator, Kind, Reference};
 use super::search::{
-    area, describe, objective_front, objective_key, search, Budget, End, Limit, Limits, Objective,
-    Outcome, Point, Status,
+    area, describe, objective_front, objective_key, search, Budget, End, Limit, Limits, Metric,
+    Objective, Outcome, Point, Status,
 };
 use crate::report::atomic::write_bytes;
 use crate::report::csv_out::write_csv;
@@ -333,6 +333,16 @@ pub fn plot(
         .into_iter()
         .filter(|(s, _)| !s.points.is_empty())
         .unzip();
+    let x_label = x_axis_label(metric, clip, &xs);
+    let mut spec = PlotSpec::new(title, &x_label, unit);
+    spec.width = 900;
+    spec.height = 600;
+    points_plot(path, &spec, &series, &joined)
+}
+
+/// `pareto.png`'s x-axis label: the metric, and with the axis cut at `clip` how many of
+/// the errors `xs` lie beyond it and the largest.
+fn x_axis_label(metric: Metric, clip: Option<f64>, xs: &[f64]) -> String {
     let mut x_label = format!("{} error (8-bit levels)", metric.name());
     if let Some(c) = clip {
         let off: Vec<f64> = xs.iter().copied().filter(|&x| x > c).collect();
@@ -343,10 +353,7 @@ pub fn plot(
             if off.len() == 1 { "" } else { "s" }
         ));
     }
-    let mut spec = PlotSpec::new(title, &x_label, unit);
-    spec.width = 900;
-    spec.height = 600;
-    points_plot(path, &spec, &series, &joined)
+    x_label
 }
 
 /// `best.toml`: the whole scene (its `[shafts]` or `[glare.hw]` widths the best
@@ -464,6 +471,12 @@ impl SearchRun<'_> {
             self.objective,
             &start_label(self.label),
         )?;
+        self.print_summary(&o);
+        Ok(o)
+    }
+
+    /// The search's summary line and the defaults' line.
+    fn print_summary(&self, o: &Outcome) {
         println!(
             "optimize {}: {} simulations, {} pruned by the bound, ended: {:?}, {:.1} s",
             self.label,
@@ -483,7 +496,6 @@ impl SearchRun<'_> {
                 d.error.mean_abs
             );
         }
-        Ok(o)
     }
 
     /// The best point's line after its fresh render (`m`, of the written `best`

@@ -267,6 +267,23 @@ enum Visit {
     At(usize),
 }
 
+/// Where a repair step stopped early: at a point that meets the budget (Ok), or at a
+/// limit (Err).
+type Stop = Result<usize, End>;
+
+/// A parameter's rank in the repair's step 1: the lowest error ratio of its one- and
+/// two-step widenings, the parameter, and whether any widening changed the error
+/// (it is sensitive).
+type Rank = (f64, usize, bool);
+
+/// What bounds one repair's probes: the defaults `d` (the widenings' caps), the
+/// limits and when the search started.
+struct Reach<'r> {
+    d: &'r [u32],
+    limits: &'r Limits<'r>,
+    started: Instant,
+}
+
 /// What [`Book::probe`] found.
 enum Probe {
     Invalid,
@@ -424,16 +441,43 @@ impl<'a> Book<'a> {
         let Some(rx) = self.ratio_of(x) else {
             return Ok(Ok(None));
         };
+        let reach = Reach { d, limits, started };
         let from = self.points[x].values.clone();
-        let n = self.params.len();
         // The lowest error ratio seen, and where.
         let mut best: Option<(f64, usize)> = None;
-        // 1. Two steps wider, one parameter at a time; each parameter's lowest error
-        // over its one- and two-step widenings ranks it for 2. and 3.; the flag: it
-        // is sensitive.
-        let mut rank: Vec<(f64, usize, bool)> = Vec::new();
-        for i in 0..n {
-            let Some(one) = widen(self.ev, &self.params, &from, d, i) else {
+        let rank = match self.rank_two_steps(&reach, &from, rx, &mut best, on_point)? {
+            Ok(rank) => rank,
+            Err(stop) => return Ok(stop.map(Some)),
+        };
+        let sens: Vec<usize> = rank.iter().filter(|r| r.2).map(|r| r.1).collect();
+        if let Err(stop) = self.widen_pairs(&reach, &from, &rank, &sens, &mut best, on_point)? {
+            return Ok(stop.map(Some));
+        }
+        // 3. Line searches over the sensitive parameters, from the lowest point so far.
+        let c = best.filter(|&(r, _)| r < rx).map_or(x, |(_, j)| j);
+        if let Err(stop) = self.line_searches(&reach, c, &sens, &mut best, on_point)? {
+            return Ok(stop.map(Some));
+        }
+        Ok(Ok(best.filter(|&(r, _)| r < rx).map(|(_, j)| j)))
+    }
+
+    /// The repair's step 1 ([`Book::repair_wider`]): each parameter two steps wider
+    /// from `from` (error ratio `rx`), alone. Returns the ranking (lowest error ratio
+    /// over the parameter's one- and two-step widenings, the parameter, whether it is
+    /// sensitive), sorted by that error, ties to the earlier parameter; or where the
+    /// repair stopped.
+    fn rank_two_steps(
+        &mut self,
+        reach: &Reach,
+        from: &[u32],
+        rx: f64,
+        best: &mut Option<(f64, usize)>,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<Vec<Rank>, Stop>, String> {
+        let (d, limits, started) = (reach.d, reach.limits, reach.started);
+        let mut rank: Vec<Rank> = Vec::new();
+        for i in 0..self.params.len() {
+            let Some(one) = widen(self.ev, &self.params, from, d, i) else {
                 continue;
             };
             let mut lowest = self
@@ -444,9 +488,9 @@ impl<'a> Book<'a> {
                 .and_then(|j| self.ratio_of(j));
             let mut changed = lowest.is_some_and(|r| r != rx);
             if let Some(two) = widen(self.ev, &self.params, &one, d, i) {
-                match self.probe(&two, &mut best, limits, started, on_point)? {
-                    Probe::Stopped(end) => return Ok(Err(end)),
-                    Probe::Meets(j) => return Ok(Ok(Some(j))),
+                match self.probe(&two, best, limits, started, on_point)? {
+                    Probe::Stopped(end) => return Ok(Err(Err(end))),
+                    Probe::Meets(j) => return Ok(Err(Ok(j))),
                     Probe::At(_, r) => {
                         changed |= r != rx;
                         lowest = Some(lowest.map_or(r, |l: f64| l.min(r)));
@@ -459,8 +503,22 @@ impl<'a> Book<'a> {
             }
         }
         rank.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let sens: Vec<usize> = rank.iter().filter(|r| r.2).map(|r| r.1).collect();
-        // 2. The pairs, each widened together up to its caps.
+        Ok(Ok(rank))
+    }
+
+    /// The repair's step 2: the pairs (the two best-ranked parameters, then every pair
+    /// of sensitive ones `sens`), each widened together from `from` step by step up to
+    /// its caps. `Err`: where the repair stopped.
+    fn widen_pairs(
+        &mut self,
+        reach: &Reach,
+        from: &[u32],
+        rank: &[Rank],
+        sens: &[usize],
+        best: &mut Option<(f64, usize)>,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<(), Stop>, String> {
+        let (d, limits, started) = (reach.d, reach.limits, reach.started);
         let mut pairs: Vec<(usize, usize)> = Vec::new();
         if let [(_, a, _), (_, b, _), ..] = rank[..] {
             pairs.push((a, b));
@@ -473,23 +531,37 @@ impl<'a> Book<'a> {
             }
         }
         for (a, b) in pairs {
-            let mut y = from.clone();
+            let mut y = from.to_vec();
             while let Some(ya) = widen(self.ev, &self.params, &y, d, a) {
                 let Some(yb) = widen(self.ev, &self.params, &ya, d, b) else {
                     break;
                 };
                 y = yb;
-                match self.probe(&y, &mut best, limits, started, on_point)? {
-                    Probe::Stopped(end) => return Ok(Err(end)),
-                    Probe::Meets(j) => return Ok(Ok(Some(j))),
+                match self.probe(&y, best, limits, started, on_point)? {
+                    Probe::Stopped(end) => return Ok(Err(Err(end))),
+                    Probe::Meets(j) => return Ok(Err(Ok(j))),
                     Probe::At(..) => {}
                     Probe::Invalid | Probe::Pruned => break,
                 }
             }
         }
-        // 3. Line searches over the sensitive parameters, from the lowest point so far.
-        let mut c = best.filter(|&(r, _)| r < rx).map_or(x, |(_, j)| j);
-        for &i in &sens {
+        Ok(Ok(()))
+    }
+
+    /// The repair's step 3: from point `c`, a line search over each sensitive
+    /// parameter of `sens` in turn (wider up to its cap, then narrower, ending
+    /// [`LOOKAHEAD`] steps after the line's lowest error); the next line starts from
+    /// the lowest point of the last. `Err`: where the repair stopped.
+    fn line_searches(
+        &mut self,
+        reach: &Reach,
+        mut c: usize,
+        sens: &[usize],
+        best: &mut Option<(f64, usize)>,
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<(), Stop>, String> {
+        let (d, limits, started) = (reach.d, reach.limits, reach.started);
+        for &i in sens {
             let Some(rc) = self.ratio_of(c) else {
                 break;
             };
@@ -508,9 +580,9 @@ impl<'a> Book<'a> {
                         break;
                     };
                     y = next;
-                    match self.probe(&y, &mut best, limits, started, on_point)? {
-                        Probe::Stopped(end) => return Ok(Err(end)),
-                        Probe::Meets(j) => return Ok(Ok(Some(j))),
+                    match self.probe(&y, best, limits, started, on_point)? {
+                        Probe::Stopped(end) => return Ok(Err(Err(end))),
+                        Probe::Meets(j) => return Ok(Err(Ok(j))),
                         Probe::At(j, r) if r < line.0 => (line, misses) = ((r, j), 0),
                         // Wider runs to the cap (at most MAX_WIDEN_STEPS steps):
                         // the error is not monotone in a width (fig6's texels one
@@ -523,7 +595,7 @@ impl<'a> Book<'a> {
             }
             c = line.1;
         }
-        Ok(Ok(best.filter(|&(r, _)| r < rx).map(|(_, j)| j)))
+        Ok(Ok(()))
     }
 
     /// The error ratio of point `j` (None: pruned).
@@ -730,23 +802,126 @@ pub fn search(
         Visit::Invalid => return Err("scene: its own widths do not validate".into()),
         Visit::Stopped(end) => return Ok(finish(book, 0, None, end)),
     };
-    // Repair: while the point breaks the budget, widen the parameter with the best
-    // error removed per cost added (at most MAX_WIDEN_STEPS above its default).
-    let mut x = d;
-    loop {
-        let mx = *book.points[x].metrics().ok_or("defaults pruned")?;
-        if budget.meets(&mx.error) {
-            break;
+    let run = Descent {
+        ev,
+        params,
+        budget,
+        objective,
+        limits,
+        started,
+    };
+    let mut x = match run.repair(&mut book, d, &start, on_point)? {
+        Repaired::Meets(x) => x,
+        Repaired::GaveUp => {
+            let best = book.best(objective);
+            return Ok(finish(book, d, best, End::DefaultsBreakBudget));
         }
+        Repaired::Stopped(end) => return Ok(finish(book, d, None, end)),
+    };
+    let mut order: Vec<usize> = (0..params.len()).collect();
+    order.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed));
+    // Passes until one moves nothing: a parameter backed off in one pass is tried
+    // again from where the next pass starts.
+    let end = loop {
+        let at_start = x;
+        if let Err(end) = run.narrowing_pass(&mut book, &mut x, &order, on_point)? {
+            break end;
+        }
+        if x != at_start {
+            continue;
+        }
+        match run.polish(&mut book, &mut x, &order, on_point)? {
+            Ok(true) => {}
+            Ok(false) => break End::Converged,
+            Err(end) => break end,
+        }
+    };
+    let best = book.best(objective);
+    Ok(finish(book, d, best, end))
+}
+
+/// What every step of one [`search`] reads.
+struct Descent<'s> {
+    ev: &'s dyn Target,
+    params: &'s [&'static str],
+    budget: &'s Budget,
+    objective: Objective,
+    limits: &'s Limits<'s>,
+    started: Instant,
+}
+
+/// How the repair of the defaults ended.
+enum Repaired {
+    /// At this point, which meets the budget.
+    Meets(usize),
+    /// Nothing lowered the error further: the defaults break the budget.
+    GaveUp,
+    /// A limit stopped it.
+    Stopped(End),
+}
+
+impl Descent<'_> {
+    /// Repair: while point `x` (first the defaults `start`'s) breaks the budget, widen
+    /// the parameter with the best error removed per cost added (at most
+    /// MAX_WIDEN_STEPS above its default); else every parameter together; else the
+    /// wider repairs ([`Book::repair_wider`]) before giving up.
+    fn repair(
+        &self,
+        book: &mut Book,
+        mut x: usize,
+        start: &[u32],
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Repaired, String> {
+        loop {
+            let mx = *book.points[x].metrics().ok_or("defaults pruned")?;
+            if self.budget.meets(&mx.error) {
+                return Ok(Repaired::Meets(x));
+            }
+            match self.best_widening(book, x, &mx, start, on_point)? {
+                Ok(Some(j)) => {
+                    x = j;
+                    continue;
+                }
+                Ok(None) => {}
+                Err(end) => return Ok(Repaired::Stopped(end)),
+            }
+            // No single widening helps (the error may need two widths at once, e.g.
+            // texels and framebuffer): widen every parameter by one step together.
+            match self.joint_widening(book, x, &mx, start, on_point)? {
+                Ok(Some(j)) => x = j,
+                Ok(None) => {
+                    // The joint step did not help either: the wider repairs before giving up.
+                    match book.repair_wider(x, start, self.limits, self.started, on_point)? {
+                        Ok(Some(j)) => x = j,
+                        Ok(None) => return Ok(Repaired::GaveUp),
+                        Err(end) => return Ok(Repaired::Stopped(end)),
+                    }
+                }
+                Err(end) => return Ok(Repaired::Stopped(end)),
+            }
+        }
+    }
+
+    /// Of the one-step widenings of point `x` (metrics `mx`), the one removing the most
+    /// error ratio per cost added (None: none lowers the error). `Err(end)`: a limit.
+    fn best_widening(
+        &self,
+        book: &mut Book,
+        x: usize,
+        mx: &Metrics,
+        start: &[u32],
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<Option<usize>, End>, String> {
+        let (budget, objective) = (self.budget, self.objective);
         let mut pick: Option<(f64, usize)> = None;
-        for i in 0..params.len() {
-            let Some(y) = widen(ev, params, &book.points[x].values, &start, i) else {
+        for i in 0..self.params.len() {
+            let Some(y) = widen(self.ev, self.params, &book.points[x].values, start, i) else {
                 continue;
             };
-            let j = match book.visit(&y, limits, started, on_point)? {
+            let j = match book.visit(&y, self.limits, self.started, on_point)? {
                 Visit::At(j) => j,
                 Visit::Invalid => continue,
-                Visit::Stopped(end) => return Ok(finish(book, d, None, end)),
+                Visit::Stopped(end) => return Ok(Err(end)),
             };
             let Some(my) = book.points[j].metrics() else {
                 continue;
@@ -755,56 +930,56 @@ pub fn search(
             if gain <= 0.0 {
                 continue;
             }
-            let added = (objective.cost(my) - objective.cost(&mx)).max(0.0);
+            let added = (objective.cost(my) - objective.cost(mx)).max(0.0);
             let s = gain / (added + 1.0);
             if pick.is_none_or(|(b, _)| s > b) {
                 pick = Some((s, j));
             }
         }
-        if let Some((_, j)) = pick {
-            x = j;
-            continue;
-        }
-        // No single widening helps (the error may need two widths at once, e.g.
-        // texels and framebuffer): widen every parameter by one step together.
+        Ok(Ok(pick.map(|(_, j)| j)))
+    }
+
+    /// Point `x` with every parameter one step wider (those at their caps stay), when
+    /// that lowers the error ratio below `mx`'s (else None). `Err(end)`: a limit.
+    fn joint_widening(
+        &self,
+        book: &mut Book,
+        x: usize,
+        mx: &Metrics,
+        start: &[u32],
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<Option<usize>, End>, String> {
         let mut y = book.points[x].values.clone();
-        for i in 0..params.len() {
-            if let Some(n) = widen(ev, params, &y, &start, i) {
+        for i in 0..self.params.len() {
+            if let Some(n) = widen(self.ev, self.params, &y, start, i) {
                 y = n;
             }
         }
-        let j = match book.visit(&y, limits, started, on_point)? {
+        let j = match book.visit(&y, self.limits, self.started, on_point)? {
             Visit::At(j) => Some(j),
             Visit::Invalid => None,
-            Visit::Stopped(end) => return Ok(finish(book, d, None, end)),
+            Visit::Stopped(end) => return Ok(Err(end)),
         };
-        match j.filter(|&j| {
+        Ok(Ok(j.filter(|&j| {
             book.points[j]
                 .metrics()
-                .is_some_and(|my| budget.ratio(&my.error) < budget.ratio(&mx.error))
-        }) {
-            Some(j) => x = j,
-            None => {
-                // The joint step did not help either: the wider repairs before giving up.
-                match book.repair_wider(x, &start, limits, started, on_point)? {
-                    Ok(Some(j)) => x = j,
-                    Ok(None) => {
-                        let best = book.best(objective);
-                        return Ok(finish(book, d, best, End::DefaultsBreakBudget));
-                    }
-                    Err(end) => return Ok(finish(book, d, None, end)),
-                }
-            }
-        }
+                .is_some_and(|my| self.budget.ratio(&my.error) < self.budget.ratio(&mx.error))
+        })))
     }
-    let mut order: Vec<usize> = (0..params.len()).collect();
-    order.shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed));
-    // Passes until one moves nothing: a parameter backed off in one pass is tried
-    // again from where the next pass starts.
-    let end = 'passes: loop {
-        let at_start = x;
-        let mut active = order.clone();
-        let mut score = vec![UNSCORED; params.len()];
+
+    /// One pass of narrowings from point `x` (moved as it goes): the active parameter
+    /// with the highest (possibly stale) score is narrowed when its saving is at least
+    /// every other's score; a parameter with no saving backs off for the rest of the
+    /// pass. `Err(end)`: a limit.
+    fn narrowing_pass(
+        &self,
+        book: &mut Book,
+        x: &mut usize,
+        order: &[usize],
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<(), End>, String> {
+        let mut active = order.to_vec();
+        let mut score = vec![UNSCORED; self.params.len()];
         // The active parameter with the highest (possibly stale) score.
         while let Some(k) = (0..active.len()).reduce(|a, b| {
             if score[active[b]] > score[active[a]] {
@@ -817,12 +992,19 @@ pub fn search(
             // The first of up to LOOKAHEAD narrowings of parameter i that meets the
             // budget and saves cost (error is not monotone in every width: one bit
             // less can break the budget where two bits less does not).
-            let from = book.points[x].values.clone();
-            let found =
-                match book.first_saving(objective, x, &from, i, limits, started, on_point)? {
-                    Ok(f) => f,
-                    Err(end) => break 'passes end,
-                };
+            let from = book.points[*x].values.clone();
+            let found = match book.first_saving(
+                self.objective,
+                *x,
+                &from,
+                i,
+                self.limits,
+                self.started,
+                on_point,
+            )? {
+                Ok(f) => f,
+                Err(end) => return Ok(Err(end)),
+            };
             let Some((j, s)) = found else {
                 // Back off: this parameter stays where it is for the rest of the pass.
                 active.remove(k);
@@ -835,39 +1017,48 @@ pub fn search(
                 .map(|&o| score[o])
                 .fold(f64::NEG_INFINITY, f64::max);
             if s >= others {
-                x = j;
+                *x = j;
             }
         }
-        if x != at_start {
-            continue;
-        }
-        // Polish: trade one step of width in parameter a for up to LOOKAHEAD steps
-        // less in parameter b, taking the first trade that meets the budget and
-        // saves cost (a greedy descent stops in a local minimum such a trade leaves);
-        // none left: converged.
-        let mut moved = false;
-        'trade: for &a in &order {
-            let Some(up) = widen_any(ev, params, &book.points[x].values, a) else {
+        Ok(Ok(()))
+    }
+
+    /// Polish: trade one step of width in parameter a for up to LOOKAHEAD steps less
+    /// in parameter b, taking the first trade that meets the budget and saves cost (a
+    /// greedy descent stops in a local minimum such a trade leaves). Returns whether
+    /// it moved `x` (false: converged); `Err(end)`: a limit.
+    fn polish(
+        &self,
+        book: &mut Book,
+        x: &mut usize,
+        order: &[usize],
+        on_point: &mut dyn FnMut(&Book),
+    ) -> Result<Result<bool, End>, String> {
+        for &a in order {
+            let Some(up) = widen_any(self.ev, self.params, &book.points[*x].values, a) else {
                 continue;
             };
             for &b in order.iter().filter(|&&b| b != a) {
-                match book.first_saving(objective, x, &up, b, limits, started, on_point)? {
+                match book.first_saving(
+                    self.objective,
+                    *x,
+                    &up,
+                    b,
+                    self.limits,
+                    self.started,
+                    on_point,
+                )? {
                     Ok(Some((j, _))) => {
-                        x = j;
-                        moved = true;
-                        break 'trade;
+                        *x = j;
+                        return Ok(Ok(true));
                     }
                     Ok(None) => {}
-                    Err(end) => break 'passes end,
+                    Err(end) => return Ok(Err(end)),
                 }
             }
         }
-        if !moved {
-            break End::Converged;
-        }
-    };
-    let best = book.best(objective);
-    Ok(finish(book, d, best, end))
+        Ok(Ok(false))
+    }
 }
 
 /// Every value a parameter takes from its default down, one step at a time, while

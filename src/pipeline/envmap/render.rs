@@ -112,6 +112,7 @@ use rayon::prelude::*;
 use rtl_model::driver::{add_span_counters, run_span};
 use rtl_model::error::{check_range, ConfigError};
 use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn, CubeMapAddressOut};
+use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::units::reflection_vector::{
     ReflectionVector, ReflectionVectorConfig, ReflectionVectorIn, ReflectionVectorOut,
 };
@@ -524,6 +525,99 @@ fn render_tris(
     truth: bool,
 ) -> Result<Rendered, ConfigError> {
     let (w, h) = size;
+    check_drawn(drawn, size, opt)?;
+    let exposure = opt.exposure.unwrap_or_else(|| env.auto_exposure());
+    let levels_env = env.to_level_map(exposure)?;
+    let cam = CameraView::new(
+        drawn.camera,
+        ImageSize {
+            width: w,
+            height: h,
+        },
+    );
+    let units = RenderUnits::new(map, drawn, opt, &cam)?;
+
+    // ---- raster + depth test (walk.rs)
+    let walked = super::walk::walk(
+        drawn.tris,
+        &super::walk::WalkSetup {
+            cam: &cam,
+            texgen: &units.texgen,
+            interp: &units.interp,
+            uv_probe: units.uv_probe.as_ref(),
+            uv_from_render: units.texture_side.is_some(),
+            w,
+            h,
+        },
+    )?;
+    let (visible, triangles, fragments, c_int) = (
+        walked.visible,
+        walked.triangles,
+        walked.fragments,
+        walked.counters,
+    );
+
+    // ---- per visible pixel, host f64 (only where needed), then the roughness texture
+    let mut c_rough = Counters::default();
+    let mut host = units.host_shading(drawn, &visible, truth, &mut c_rough)?;
+    let rough_lambda = units.roughness_lambda(&host.rough_in, &mut host.shading, &mut c_rough);
+
+    // ---- the lookup chain into the object's pixels
+    let mut img = Image::new(w, h);
+    let [c_refl, c_cube, c_tex] = units.lookups(
+        map,
+        &host.shading,
+        rough_lambda.as_deref(),
+        &visible,
+        &mut img,
+    )?;
+
+    // ---- background
+    fill_background(&mut img, opt, &cam, &levels_env);
+    let background_pixels = img.mask.iter().filter(|&&m| !m).count() as u64;
+    // The truths' background: the same pixels, listed.
+    let background = if truth {
+        background_list(&img)
+    } else {
+        Vec::new()
+    };
+
+    let shaded = visible.len() as u64;
+    let frame = FrameInfo {
+        width: w,
+        height: h,
+        triangles,
+        fragments,
+        shaded,
+        background_pixels,
+        texels_per_lookup: units.sampler().config().texels_per_sample(),
+        roughness_texels_per_lookup: units
+            .rough
+            .as_ref()
+            .map_or(0, |rs| rs.config().texels_per_sample()),
+        elaboration: units.elaboration(map, shaded)?,
+    };
+    Ok(Rendered {
+        img,
+        background,
+        shading: host.shading,
+        levels_env,
+        side: units.s,
+        counters: units.counters(c_int, [c_refl, c_cube, c_tex], c_rough),
+        triangles,
+        back_normal_pixels: host.back_normal_pixels,
+        frame,
+    })
+}
+
+/// The render's own checks, before any work: the image size, the λ source, and what
+/// only a thesis object has (texgen, intended λ).
+fn check_drawn(
+    drawn: &Drawn<'_>,
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<(), ConfigError> {
+    let (w, h) = size;
     check_range("envmap_render.size", w.into(), 1, MAX_IMAGE_SIDE.into())?;
     check_range("envmap_render.size", h.into(), 1, MAX_IMAGE_SIDE.into())?;
     opt.lambda_source.validate()?;
@@ -541,197 +635,334 @@ fn render_tris(
             ));
         }
     }
-    let exposure = opt.exposure.unwrap_or_else(|| env.auto_exposure());
-    let levels_env = env.to_level_map(exposure)?;
-    let cam = CameraView::new(
-        drawn.camera,
-        ImageSize {
-            width: w,
-            height: h,
-        },
-    );
-    let geo = drawn.tris;
+    Ok(())
+}
 
-    // ---- units
-    // ONE interpolator: n, e, λ, z (8 attributes); with a roughness texture also the
-    // texture coordinate (u, v) as attributes 8 and 9 (10 attributes).
-    let texture_side = match opt.lambda_source {
-        LambdaSource::PerVertex => None,
-        LambdaSource::Texture { side } => Some(side),
-    };
-    let want_uv = texture_side.is_some() || opt.intended_truth;
-    let interp_uv = render_interpolator(RENDER_ATTRS_TEXTURE)?;
-    let interp = match texture_side {
-        Some(_) => interp_uv,
-        None => render_interpolator(RENDER_ATTRS)?,
-    };
-    // Per-vertex λ with the intended truth: the render stays at 8 attributes; the
-    // truth's (u, v) come from a MEASUREMENT walk of the 10-attribute config (not
-    // counted, not elaborated), so both sources see the same (u, v) codes.
-    let uv_probe = (texture_side.is_none() && opt.intended_truth).then_some(interp_uv);
-    // Without a thesis object (u, v) are never read (8 attributes, no probe).
-    let texgen = match drawn.object {
-        Some((object, _)) => object_texgen(object, &cam),
-        None => TexGen::unused(),
-    };
-    let rough = match (texture_side, drawn.object) {
-        (Some(side), Some((object, lambda))) => Some(roughness_sampler(object, lambda, side)?),
-        _ => None,
-    };
-    let s = map.side();
-    let sampler3 = slice::sampler_3d(map)?;
-    let refl_unit = match opt.reflection {
-        Reflection::Unit => Some(reflection_unit(sampler3, s)?),
-        Reflection::HostF64 => None,
-    };
-    let mut c_refl = Counters::default();
-    // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ:
-    // a cube map of six F × F faces through the 2D sampler, addressed by the
-    // cube_map_address unit from the reflection unit's words.
-    let face = slice::default_face_side(s);
-    let two_d = cube_map(map, opt, drawn.uniform)?;
-    let sampler: &TextureSampler = two_d.as_deref().map_or(sampler3, |(s2, _)| s2);
-    let cube = slice::cube_unit(sampler3.config(), s, face)?;
-    let cc = cube.config();
-    if (
-        sampler.config().coord_int_bits,
-        sampler.config().coord_frac_bits,
-    ) != (cc.coord_int_bits, cc.coord_frac_bits)
-    {
-        return Err(ConfigError::invalid(
-            "envmap_slice.sampler",
-            "the 2D sampler does not read the cube_map_address unit's word format",
-        ));
-    }
+/// The units one render instantiates (module notes, steps 2–6), and the choices that
+/// pick them.
+struct RenderUnits<'m> {
+    /// The roughness texture's side, with [`LambdaSource::Texture`].
+    texture_side: Option<u32>,
+    /// The truth or the texture reads (u, v).
+    want_uv: bool,
+    /// ONE interpolator: n, e, λ, z (8 attributes); with a roughness texture also the
+    /// texture coordinate (u, v) as attributes 8 and 9 (10 attributes).
+    interp: PolygonInterpolator,
+    /// Per-vertex λ with the intended truth: the render stays at 8 attributes; the
+    /// truth's (u, v) come from a MEASUREMENT walk of the 10-attribute config (not
+    /// counted, not elaborated), so both sources see the same (u, v) codes.
+    uv_probe: Option<PolygonInterpolator>,
+    texgen: TexGen,
+    /// The roughness texture's sampler.
+    rough: Option<TextureSampler>,
+    /// The map's side s.
+    s: u32,
+    sampler3: &'m TextureSampler,
+    refl_unit: Option<ReflectionVector>,
+    /// Cube-map face side F.
+    face: u32,
+    /// The 2D-slice elaboration's cube map and 2D sampler (None: the 3D path).
+    two_d: Option<SliceTexture>,
+    cube: CubeMapAddress,
+}
 
-    // ---- raster + depth test (walk.rs)
-    let walked = super::walk::walk(
-        geo,
-        &super::walk::WalkSetup {
-            cam: &cam,
-            texgen: &texgen,
-            interp: &interp,
-            uv_probe: uv_probe.as_ref(),
-            uv_from_render: texture_side.is_some(),
-            w,
-            h,
-        },
-    )?;
-    let (visible, triangles, fragments, c_int) = (
-        walked.visible,
-        walked.triangles,
-        walked.fragments,
-        walked.counters,
-    );
-
-    // ---- per visible pixel, host f64 (only where needed): n̂, the f64 r for the truth
-    // and the HostF64 paths, λ, and the roughness texture's inputs.
-    let mut img = Image::new(w, h);
-    let mut c_tex = Counters::default();
-    let mut c_rough = Counters::default();
-    let mut shading: Vec<(usize, Shading)> = Vec::new();
-    let mut rough_in: Vec<TextureSamplerIn> = Vec::new();
-    let mut back_normal_pixels = 0;
-    let a = |raw: i64| interp.out_to_f64(raw);
-    if truth || refl_unit.is_none() || rough.is_some() {
-        for f in &visible {
-            let n = v3(a(f.attrs[0]), a(f.attrs[1]), a(f.attrs[2])).normalized();
-            let v = v3(a(f.attrs[3]), a(f.attrs[4]), a(f.attrs[5])).normalized();
-            let lam = a(f.attrs[6]).clamp(0.0, 1.0);
-            if n.dot(v) < 0.0 {
-                back_normal_pixels += 1;
-            }
-            // The ideal f64 reflection of the interpolated n, e: the truth uses it, and
-            // the HostF64 paths (3D and 2D) address with it (module notes, steps 4–5).
-            let (n, r) = reflect(n, v);
-            let (u, vv) = (a(f.uv[0]), a(f.uv[1]));
-            if let Some(rs) = &rough {
-                rough_in.push(
-                    rs.config()
-                        .input_from_normalized([u, vv, 0.0], &mut c_rough)?,
-                );
-            }
-            let lambda_intended = match (want_uv, drawn.object) {
-                (true, Some((object, lambda))) => lambda_of_uv(object, lambda, u, vv),
-                _ => lam,
-            };
-            shading.push((
-                f.k as usize,
-                Shading {
-                    n,
-                    r,
-                    lambda: lam,
-                    lambda_intended,
-                },
+impl<'m> RenderUnits<'m> {
+    fn new(
+        map: &'m VoxelMap,
+        drawn: &Drawn<'_>,
+        opt: &RenderOptions,
+        cam: &CameraView,
+    ) -> Result<Self, ConfigError> {
+        let texture_side = match opt.lambda_source {
+            LambdaSource::PerVertex => None,
+            LambdaSource::Texture { side } => Some(side),
+        };
+        let want_uv = texture_side.is_some() || opt.intended_truth;
+        let interp_uv = render_interpolator(RENDER_ATTRS_TEXTURE)?;
+        let interp = match texture_side {
+            Some(_) => interp_uv,
+            None => render_interpolator(RENDER_ATTRS)?,
+        };
+        let uv_probe = (texture_side.is_none() && opt.intended_truth).then_some(interp_uv);
+        // Without a thesis object (u, v) are never read (8 attributes, no probe).
+        let texgen = match drawn.object {
+            Some((object, _)) => object_texgen(object, cam),
+            None => TexGen::unused(),
+        };
+        let rough = match (texture_side, drawn.object) {
+            (Some(side), Some((object, lambda))) => Some(roughness_sampler(object, lambda, side)?),
+            _ => None,
+        };
+        let s = map.side();
+        let sampler3 = slice::sampler_3d(map)?;
+        let refl_unit = match opt.reflection {
+            Reflection::Unit => Some(reflection_unit(sampler3, s)?),
+            Reflection::HostF64 => None,
+        };
+        // The 2D-slice elaboration: uniform λ (per vertex) reads the map only on |t| = λ:
+        // a cube map of six F × F faces through the 2D sampler, addressed by the
+        // cube_map_address unit from the reflection unit's words.
+        let face = slice::default_face_side(s);
+        let two_d = cube_map(map, opt, drawn.uniform)?;
+        let cube = slice::cube_unit(sampler3.config(), s, face)?;
+        let units = RenderUnits {
+            texture_side,
+            want_uv,
+            interp,
+            uv_probe,
+            texgen,
+            rough,
+            s,
+            sampler3,
+            refl_unit,
+            face,
+            two_d,
+            cube,
+        };
+        let (sc, cc) = (units.sampler().config(), units.cube.config());
+        if (sc.coord_int_bits, sc.coord_frac_bits) != (cc.coord_int_bits, cc.coord_frac_bits) {
+            return Err(ConfigError::invalid(
+                "envmap_slice.sampler",
+                "the 2D sampler does not read the cube_map_address unit's word format",
             ));
         }
+        Ok(units)
     }
-    // The roughness texture: λ = code / 255 replaces the interpolated λ; for the
-    // reflection unit as u1.L (`rough_lambda`).
-    let mut rough_lambda: Option<Vec<u32>> = None;
-    if let Some(rs) = &rough {
-        let codes = run_span(rs, &mut (), &rough_in, &mut c_rough);
+
+    /// The render's unit counters by name: the interpolator's `c_int`, the lookup
+    /// chain's `[reflection_vector, cube_map_address, sampler]` and the roughness
+    /// texture's `c_rough`, each unit's only where it ran.
+    fn counters(
+        &self,
+        c_int: Counters,
+        [c_refl, c_cube, c_tex]: [Counters; 3],
+        c_rough: Counters,
+    ) -> BTreeMap<String, Counters> {
+        let mut counters = BTreeMap::new();
+        counters.insert("polygon_interpolator".to_string(), c_int);
+        counters.insert("texture_sampler (envmap)".to_string(), c_tex);
+        if self.rough.is_some() {
+            counters.insert("texture_sampler (roughness)".to_string(), c_rough);
+        }
+        if self.refl_unit.is_some() {
+            counters.insert("reflection_vector".to_string(), c_refl);
+        }
+        if self.cube_used() {
+            counters.insert("cube_map_address".to_string(), c_cube);
+        }
+        counters
+    }
+
+    /// The sampler the object's lookups read: the 2D one on the 2D path, else the 3D.
+    fn sampler(&self) -> &TextureSampler {
+        self.two_d.as_deref().map_or(self.sampler3, |(s2, _)| s2)
+    }
+
+    /// The 2D path's `cube_map_address` unit runs (it needs the reflection unit's words).
+    fn cube_used(&self) -> bool {
+        self.two_d.is_some() && self.refl_unit.is_some()
+    }
+
+    /// Per visible pixel, host f64 (only where needed: the truth, the HostF64 path or the
+    /// roughness texture): n̂, the f64 r, λ, and the roughness texture's inputs (counted
+    /// in `c_rough`).
+    fn host_shading(
+        &self,
+        drawn: &Drawn<'_>,
+        visible: &[Frag],
+        truth: bool,
+        c_rough: &mut Counters,
+    ) -> Result<HostShading, ConfigError> {
+        let mut shading: Vec<(usize, Shading)> = Vec::new();
+        let mut rough_in: Vec<TextureSamplerIn> = Vec::new();
+        let mut back_normal_pixels = 0;
+        let a = |raw: i64| self.interp.out_to_f64(raw);
+        if truth || self.refl_unit.is_none() || self.rough.is_some() {
+            for f in visible {
+                let n = v3(a(f.attrs[0]), a(f.attrs[1]), a(f.attrs[2])).normalized();
+                let v = v3(a(f.attrs[3]), a(f.attrs[4]), a(f.attrs[5])).normalized();
+                let lam = a(f.attrs[6]).clamp(0.0, 1.0);
+                if n.dot(v) < 0.0 {
+                    back_normal_pixels += 1;
+                }
+                // The ideal f64 reflection of the interpolated n, e: the truth uses it, and
+                // the HostF64 paths (3D and 2D) address with it (module notes, steps 4–5).
+                let (n, r) = reflect(n, v);
+                let (u, vv) = (a(f.uv[0]), a(f.uv[1]));
+                if let Some(rs) = &self.rough {
+                    rough_in.push(rs.config().input_from_normalized([u, vv, 0.0], c_rough)?);
+                }
+                let lambda_intended = match (self.want_uv, drawn.object) {
+                    (true, Some((object, lambda))) => lambda_of_uv(object, lambda, u, vv),
+                    _ => lam,
+                };
+                shading.push((
+                    f.k as usize,
+                    Shading {
+                        n,
+                        r,
+                        lambda: lam,
+                        lambda_intended,
+                    },
+                ));
+            }
+        }
+        Ok(HostShading {
+            shading,
+            rough_in,
+            back_normal_pixels,
+        })
+    }
+
+    /// The roughness texture: λ = code / 255 replaces the interpolated λ in `shading`;
+    /// for the reflection unit as u1.L (returned).
+    fn roughness_lambda(
+        &self,
+        rough_in: &[TextureSamplerIn],
+        shading: &mut [(usize, Shading)],
+        c_rough: &mut Counters,
+    ) -> Option<Vec<u32>> {
+        let rs = self.rough.as_ref()?;
+        let codes = run_span(rs, &mut (), rough_in, c_rough);
         let max = ((1u32 << ROUGHNESS_BITS) - 1) as f64;
         for ((_, sh), c) in shading.iter_mut().zip(&codes) {
             sh.lambda = c[0] as f64 / max;
         }
-        if let Some(ru) = &refl_unit {
-            // The texture's u0.8 code c → u1.L: round(c · 2^L / 255), a constant
-            // multiply (integer, ties up).
-            let l = ru.config().lambda_bits;
-            let m = (1u64 << ROUGHNESS_BITS) - 1;
-            rough_lambda = Some(
-                codes
-                    .iter()
-                    .map(|c| ((2 * (c[0] as u64) * (1u64 << l) + m) / (2 * m)) as u32)
-                    .collect(),
-            );
-        }
+        let ru = self.refl_unit.as_ref()?;
+        // The texture's u0.8 code c → u1.L: round(c · 2^L / 255), a constant
+        // multiply (integer, ties up).
+        let l = ru.config().lambda_bits;
+        let m = (1u64 << ROUGHNESS_BITS) - 1;
+        Some(
+            codes
+                .iter()
+                .map(|c| ((2 * (c[0] as u64) * (1u64 << l) + m) / (2 * m)) as u32)
+                .collect(),
+        )
     }
 
-    // ---- the lookup chain, chunk by chunk (module notes, steps 4–6): reflection unit
-    // (→ cube_map_address on the 2D path) → sampler, on the units' batch path.
-    let max_code = map.max_code();
-    let units = Lookups {
-        refl: refl_unit.as_ref(),
-        cube: two_d.as_ref().map(|_| &cube),
-        sampler,
-        shading: &shading,
-        rough_lambda: rough_lambda.as_deref(),
-        face,
-    };
-    let mut texel8 = vec![[0u8; 3]; visible.len()];
-    let parts: Vec<Result<[Counters; 3], ConfigError>> = texel8
-        .par_chunks_mut(LOOKUP_CHUNK)
-        .zip(visible.par_chunks(LOOKUP_CHUNK))
-        .enumerate()
-        .map_init(LookupBufs::default, |b, (i, (px, frags))| {
-            units.chunk(b, i * LOOKUP_CHUNK, frags, px, max_code)
-        })
-        .collect();
-    // Counters summed in chunk order; each unit's timing once for its whole span (the
-    // frame's visible pixels), as one `run_span` adds it.
-    let mut c_cube = Counters::default();
-    for p in parts {
-        let [r, c, t] = p?;
-        c_refl += r;
-        c_cube += c;
-        c_tex += t;
-    }
-    let n_vis = visible.len() as u64;
-    if let Some(ru) = &refl_unit {
-        add_span_counters(ru.timing(), n_vis, &mut c_refl);
-        if two_d.is_some() {
-            add_span_counters(cube.timing(), n_vis, &mut c_cube);
+    /// The lookup chain, chunk by chunk (module notes, steps 4–6): reflection unit
+    /// (→ cube_map_address on the 2D path) → sampler, on the units' batch path; the
+    /// visible pixels' texels into `img` (masked). Returns the counters of the
+    /// reflection unit, `cube_map_address` and the sampler.
+    fn lookups(
+        &self,
+        map: &VoxelMap,
+        shading: &[(usize, Shading)],
+        rough_lambda: Option<&[u32]>,
+        visible: &[Frag],
+        img: &mut Image,
+    ) -> Result<[Counters; 3], ConfigError> {
+        let mut c_refl = Counters::default();
+        let mut c_tex = Counters::default();
+        let sampler = self.sampler();
+        let max_code = map.max_code();
+        let units = Lookups {
+            refl: self.refl_unit.as_ref(),
+            cube: self.two_d.as_ref().map(|_| &self.cube),
+            sampler,
+            shading,
+            rough_lambda,
+            face: self.face,
+        };
+        let mut texel8 = vec![[0u8; 3]; visible.len()];
+        let parts: Vec<Result<[Counters; 3], ConfigError>> = texel8
+            .par_chunks_mut(LOOKUP_CHUNK)
+            .zip(visible.par_chunks(LOOKUP_CHUNK))
+            .enumerate()
+            .map_init(LookupBufs::default, |b, (i, (px, frags))| {
+                units.chunk(b, i * LOOKUP_CHUNK, frags, px, max_code)
+            })
+            .collect();
+        // Counters summed in chunk order; each unit's timing once for its whole span (the
+        // frame's visible pixels), as one `run_span` adds it.
+        let mut c_cube = Counters::default();
+        for p in parts {
+            let [r, c, t] = p?;
+            c_refl += r;
+            c_cube += c;
+            c_tex += t;
         }
-    }
-    add_span_counters(sampler.timing(), n_vis, &mut c_tex);
-    for (f, p) in visible.iter().zip(&texel8) {
-        img.pixels[f.k as usize] = *p;
-        img.mask[f.k as usize] = true;
+        let n_vis = visible.len() as u64;
+        if let Some(ru) = &self.refl_unit {
+            add_span_counters(ru.timing(), n_vis, &mut c_refl);
+            if self.two_d.is_some() {
+                add_span_counters(self.cube.timing(), n_vis, &mut c_cube);
+            }
+        }
+        add_span_counters(sampler.timing(), n_vis, &mut c_tex);
+        for (f, p) in visible.iter().zip(&texel8) {
+            img.pixels[f.k as usize] = *p;
+            img.mask[f.k as usize] = true;
+        }
+        Ok([c_refl, c_cube, c_tex])
     }
 
-    // ---- background: rows in parallel (each pixel on its own)
+    /// What the render elaborated: the samplers and `cube_map_address` (the slice's
+    /// report), the reflection unit, and the roughness texture with the interpolator's
+    /// 2 texture-coordinate channels.
+    fn elaboration(&self, map: &VoxelMap, shaded: u64) -> Result<slice::Elaboration, ConfigError> {
+        let mut elaboration = slice::elaboration(
+            self.two_d.as_deref().map(|(s2, sl)| (s2, sl)),
+            self.sampler3,
+            &self.cube,
+            self.cube_used(),
+            map,
+            shaded,
+        );
+        if let Some(ru) = &self.refl_unit {
+            elaboration.units.push(Elaborated {
+                name: "reflection_vector".into(),
+                summary: Some(UnitSummary::of(ru)),
+                left_out: None,
+                gates_saved: 0.0,
+                cycles_saved: 0,
+            });
+        }
+        if let Some(rs) = &self.rough {
+            elaboration.units.push(Elaborated {
+                name: "texture_sampler (roughness)".into(),
+                summary: Some(UnitSummary::of(rs)),
+                left_out: None,
+                gates_saved: 0.0,
+                cycles_saved: 0,
+            });
+            // Not a unit of its own: the interpolator's 2 more attribute channels, costed
+            // as the increment over the 8-attribute configuration.
+            elaboration.units.push(Elaborated {
+                name: TEXCOORD_CHANNELS.into(),
+                summary: Some(texcoord_channels_cost()?),
+                left_out: None,
+                gates_saved: 0.0,
+                cycles_saved: 0,
+            });
+            elaboration.roughness_texture_bytes =
+                rs.config().texel_count() * u64::from(ROUGHNESS_BITS.div_ceil(8));
+        }
+        Ok(elaboration)
+    }
+}
+
+/// The host f64 shading of the visible pixels ([`RenderUnits::host_shading`]).
+struct HostShading {
+    shading: Vec<(usize, Shading)>,
+    /// The roughness texture's input words, one per visible pixel (with a texture).
+    rough_in: Vec<TextureSamplerIn>,
+    back_normal_pixels: usize,
+}
+
+/// The background pixels (those the object left unmasked) with their colours, listed.
+fn background_list(img: &Image) -> Vec<(usize, [u8; 3])> {
+    (0..img.pixels.len())
+        .filter(|&k| !img.mask[k])
+        .map(|k| (k, img.pixels[k]))
+        .collect()
+}
+
+/// The background (module notes, step 7) into every pixel the object left unmasked:
+/// rows in parallel (each pixel on its own).
+fn fill_background(img: &mut Image, opt: &RenderOptions, cam: &CameraView, levels_env: &EnvMap) {
+    let w = img.width;
     let bg_of = |x: u32, y: u32| match opt.background {
         Background::Black => [0; 3],
         Background::Environment => {
@@ -750,93 +981,6 @@ fn render_tris(
                 }
             }
         });
-    let background_pixels = img.mask.iter().filter(|&&m| !m).count() as u64;
-    // The truths' background: the same pixels, listed.
-    let background: Vec<(usize, [u8; 3])> = if truth {
-        (0..img.pixels.len())
-            .filter(|&k| !img.mask[k])
-            .map(|k| (k, img.pixels[k]))
-            .collect()
-    } else {
-        Vec::new()
-    };
-
-    let shaded = n_vis;
-    let cube_used = two_d.is_some() && refl_unit.is_some();
-    let mut elaboration = slice::elaboration(
-        two_d.as_deref().map(|(s2, sl)| (s2, sl)),
-        sampler3,
-        &cube,
-        cube_used,
-        map,
-        shaded,
-    );
-    let refl_used = refl_unit.as_ref();
-    if let Some(ru) = refl_used {
-        elaboration.units.push(Elaborated {
-            name: "reflection_vector".into(),
-            summary: Some(UnitSummary::of(ru)),
-            left_out: None,
-            gates_saved: 0.0,
-            cycles_saved: 0,
-        });
-    }
-    if let Some(rs) = &rough {
-        elaboration.units.push(Elaborated {
-            name: "texture_sampler (roughness)".into(),
-            summary: Some(UnitSummary::of(rs)),
-            left_out: None,
-            gates_saved: 0.0,
-            cycles_saved: 0,
-        });
-        // Not a unit of its own: the interpolator's 2 more attribute channels, costed
-        // as the increment over the 8-attribute configuration.
-        elaboration.units.push(Elaborated {
-            name: TEXCOORD_CHANNELS.into(),
-            summary: Some(texcoord_channels_cost()?),
-            left_out: None,
-            gates_saved: 0.0,
-            cycles_saved: 0,
-        });
-        elaboration.roughness_texture_bytes =
-            rs.config().texel_count() * u64::from(ROUGHNESS_BITS.div_ceil(8));
-    }
-    let frame = FrameInfo {
-        width: w,
-        height: h,
-        triangles,
-        fragments,
-        shaded,
-        background_pixels,
-        texels_per_lookup: sampler.config().texels_per_sample(),
-        roughness_texels_per_lookup: rough
-            .as_ref()
-            .map_or(0, |rs| rs.config().texels_per_sample()),
-        elaboration,
-    };
-    let mut counters = BTreeMap::new();
-    counters.insert("polygon_interpolator".to_string(), c_int);
-    counters.insert("texture_sampler (envmap)".to_string(), c_tex);
-    if rough.is_some() {
-        counters.insert("texture_sampler (roughness)".to_string(), c_rough);
-    }
-    if refl_used.is_some() {
-        counters.insert("reflection_vector".to_string(), c_refl);
-    }
-    if cube_used {
-        counters.insert("cube_map_address".to_string(), c_cube);
-    }
-    Ok(Rendered {
-        img,
-        background,
-        shading,
-        levels_env,
-        side: s,
-        counters,
-        triangles,
-        back_normal_pixels,
-        frame,
-    })
 }
 
 /// Visible pixels per lookup task: each task runs its pixels through the chain's units

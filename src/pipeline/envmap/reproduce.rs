@@ -374,7 +374,6 @@ pub fn table5_resumable(
     run: RenderRun,
     resume: bool,
 ) -> Result<Vec<Table5Row>, String> {
-    let e = |x: rtl_model::ConfigError| x.to_string();
     let size = (run.size, run.size);
     let mut rows = Vec::new();
     let mut extra = String::from(
@@ -412,78 +411,8 @@ pub fn table5_resumable(
             for lambda in TABLE5_LAMBDAS {
                 let key = format!("{name}/{}/lambda={}", object.name(), lambda.label());
                 let (case_rows, case_extra) = journal.item(&key, || {
-                let (env, exact, acc, _, _) = maps.as_ref().ok_or("internal: no maps")?;
-                let mut rows = Vec::new();
-                let mut extra = Vec::new();
-                let t1 = Instant::now();
-                let (img_e, truth, st_e) =
-                    render_object_with(env, exact, object, lambda, size, &opt).map_err(e)?;
-                let (img_a, st_a) =
-                    render_against(env, acc, object, lambda, size, &opt, &truth).map_err(e)?;
-                eprintln!(
-                    "{name} {} λ={}: {} px, mean |Δ| exact {:.2} {:.2} {:.2}, accelerated {:.2} {:.2} {:.2} ({:.1} s)",
-                    object.name(),
-                    lambda.label(),
-                    st_e.cos_phi.pixels,
-                    st_e.cos_phi.mean[0],
-                    st_e.cos_phi.mean[1],
-                    st_e.cos_phi.mean[2],
-                    st_a.cos_phi.mean[0],
-                    st_a.cos_phi.mean[1],
-                    st_a.cos_phi.mean[2],
-                    t1.elapsed().as_secs_f64()
-                );
-                for (accelerated, st) in [(false, &st_e), (true, &st_a)] {
-                    rows.push(Table5Row {
-                        object: object.name().to_string(),
-                        env: name.to_string(),
-                        lambda: lambda.label(),
-                        accelerated,
-                        mean: st.cos_phi.mean,
-                        var: st.cos_phi.var,
-                    });
-                    let (m, sm, mx) = (st.simplified.mean, st.cos_phi.mean_signed, st.cos_phi.max);
-                    extra.push(format!(
-                        "{},{name},{},{accelerated},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{},{}",
-                        object.name(),
-                        lambda.label(),
-                        st.cos_phi.pixels,
-                        m[0],
-                        m[1],
-                        m[2],
-                        sm[0],
-                        sm[1],
-                        sm[2],
-                        mx[0],
-                        mx[1],
-                        mx[2],
-                        st.back_normal_pixels
-                    ));
-                }
-                let fig = match (name, object, lambda) {
-                    ("pattern", Object::Sphere, LambdaSpec::Uniform(0.5)) => Some("fig20.png"),
-                    ("st_fagans_interior", Object::Teapot, LambdaSpec::NonUniform) => {
-                        Some("fig21.png")
-                    }
-                    _ => None,
-                };
-                if let Some(file) = fig {
-                    let g = format!("×{DIFF_GAIN}");
-                    let d_e = img_e.diff(&truth.cos_phi, DIFF_GAIN);
-                    let d_a = img_a.diff(&truth.cos_phi, DIFF_GAIN);
-                    grid(
-                        &out.join(file),
-                        &[
-                            ("(a) Phong truth".to_string(), &truth.cos_phi),
-                            ("(b) exact map".to_string(), &img_e),
-                            (format!("(c) |a − b| {g}"), &d_e),
-                            (format!("(d) accelerated, th = {TABLE5_TH}"), &img_a),
-                            (format!("(e) |a − d| {g}"), &d_a),
-                        ],
-                        5,
-                    )?;
-                }
-                Ok((rows, extra))
+                    let maps = maps.as_ref().ok_or("internal: no maps")?;
+                    table5_case(out, name, maps, (object, lambda), size, &opt)
                 })?;
                 rows.extend(case_rows);
                 for l in case_extra {
@@ -517,6 +446,93 @@ pub fn table5_resumable(
     crate::report::image_out::write_file(&out.join("table5_times.csv"), times.as_bytes())?;
     print!("{csv}");
     Ok(rows)
+}
+
+/// An environment's maps for Table 5: the environment, the exact and the accelerated
+/// map, and their build times (s).
+type Table5Maps = (EnvMap, VoxelMap, VoxelMap, f64, f64);
+
+/// One Table 5 case: `object` at `lambda` under environment `name`, rendered with the
+/// exact and the accelerated map against one truth. Returns its two rows (exact,
+/// accelerated) and their `table5_extra.csv` lines; writes its figure (Fig. 20 or 21)
+/// when it is that case.
+fn table5_case(
+    out: &Path,
+    name: &str,
+    (env, exact, acc, _, _): &Table5Maps,
+    (object, lambda): (Object, LambdaSpec),
+    size: (u32, u32),
+    opt: &RenderOptions,
+) -> Result<(Vec<Table5Row>, Vec<String>), String> {
+    let e = |x: rtl_model::ConfigError| x.to_string();
+    let mut rows = Vec::new();
+    let mut extra = Vec::new();
+    let t1 = Instant::now();
+    let (img_e, truth, st_e) =
+        render_object_with(env, exact, object, lambda, size, opt).map_err(e)?;
+    let (img_a, st_a) = render_against(env, acc, object, lambda, size, opt, &truth).map_err(e)?;
+    eprintln!(
+        "{name} {} λ={}: {} px, mean |Δ| exact {:.2} {:.2} {:.2}, accelerated {:.2} {:.2} {:.2} ({:.1} s)",
+        object.name(),
+        lambda.label(),
+        st_e.cos_phi.pixels,
+        st_e.cos_phi.mean[0],
+        st_e.cos_phi.mean[1],
+        st_e.cos_phi.mean[2],
+        st_a.cos_phi.mean[0],
+        st_a.cos_phi.mean[1],
+        st_a.cos_phi.mean[2],
+        t1.elapsed().as_secs_f64()
+    );
+    for (accelerated, st) in [(false, &st_e), (true, &st_a)] {
+        rows.push(Table5Row {
+            object: object.name().to_string(),
+            env: name.to_string(),
+            lambda: lambda.label(),
+            accelerated,
+            mean: st.cos_phi.mean,
+            var: st.cos_phi.var,
+        });
+        let (m, sm, mx) = (st.simplified.mean, st.cos_phi.mean_signed, st.cos_phi.max);
+        extra.push(format!(
+            "{},{name},{},{accelerated},{},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{},{},{},{}",
+            object.name(),
+            lambda.label(),
+            st.cos_phi.pixels,
+            m[0],
+            m[1],
+            m[2],
+            sm[0],
+            sm[1],
+            sm[2],
+            mx[0],
+            mx[1],
+            mx[2],
+            st.back_normal_pixels
+        ));
+    }
+    let fig = match (name, object, lambda) {
+        ("pattern", Object::Sphere, LambdaSpec::Uniform(0.5)) => Some("fig20.png"),
+        ("st_fagans_interior", Object::Teapot, LambdaSpec::NonUniform) => Some("fig21.png"),
+        _ => None,
+    };
+    if let Some(file) = fig {
+        let g = format!("×{DIFF_GAIN}");
+        let d_e = img_e.diff(&truth.cos_phi, DIFF_GAIN);
+        let d_a = img_a.diff(&truth.cos_phi, DIFF_GAIN);
+        grid(
+            &out.join(file),
+            &[
+                ("(a) Phong truth".to_string(), &truth.cos_phi),
+                ("(b) exact map".to_string(), &img_e),
+                (format!("(c) |a − b| {g}"), &d_e),
+                (format!("(d) accelerated, th = {TABLE5_TH}"), &img_a),
+                (format!("(e) |a − d| {g}"), &d_a),
+            ],
+            5,
+        )?;
+    }
+    Ok((rows, extra))
 }
 
 /// `reproduce envmap-images`: the Figs. 14–17 analogues with the accelerated map (th =

@@ -19,8 +19,8 @@
 //! read as a `Scene`).
 
 use super::sweep::{
-    measure_point, params_of, shading_reference, sweep_view, ShadingPoint, ShadingScene,
-    SCENE_PREFIX,
+    measure_point, params_of, shading_reference, sweep_view, ShadingMeasure, ShadingPoint,
+    ShadingScene, SCENE_PREFIX,
 };
 use rtl_model::chip_preset::ChipPreset;
 use serde::{Deserialize, Serialize};
@@ -200,20 +200,7 @@ pub fn render_cli(
         .collect::<Vec<_>>()
         .join(" ");
     if plan_only {
-        if json {
-            // The render's object with nothing rendered (docs/json.md).
-            let mut j = crate::report::render_json::RenderJson::new(
-                &name,
-                crate::report::render_json::Family::Shading,
-            );
-            if let Some(side) = f.image {
-                j = j.image(side, side);
-            }
-            return j.print();
-        }
-        println!("shading scene {name}: {widths}");
-        println!("  {}", chip_line(&f.point));
-        return Ok(());
+        return print_plan(f, &name, &widths, json);
     }
     let size = f.image.unwrap_or(DEFAULT_IMAGE);
     let view = sweep_view(size);
@@ -231,40 +218,7 @@ pub fn render_cli(
         }
     }
     if json {
-        use crate::report::render_json::{Family, RenderJson, Timing};
-        let error = serde_json::json!({
-            "mean_abs_levels": m.mean_abs_levels,
-            "rms_levels": m.rms_levels,
-            "max_levels": m.max_levels,
-        });
-        let written = f.image.is_some();
-        let ref_written = written
-            && reference.is_some()
-            && matches!(r, super::sweep::ShadingReference::Image { .. });
-        let mut j = RenderJson::new(&name, Family::Shading)
-            .outputs(written.then_some(out), reference.filter(|_| ref_written))
-            .family_details(serde_json::json!({
-                "widths": f.point.widths().into_iter().collect::<BTreeMap<_, _>>(),
-                "chip_preset": f.point.chip().name(),
-                "units_the_chip_changes": f.point.units_the_chip_changes(),
-                "error_levels": error,
-                "gates_nand2": m.gates_nand2,
-                "ram_bits": m.ram_bits,
-            }));
-        if let Some(side) = f.image {
-            j = j.image(side, side);
-        }
-        j.timing = Timing {
-            predicted_seconds: Some(m.predicted_hw_seconds),
-            gpu: Some("GeForce3".into()),
-            cycles: None,
-            clock_mhz: None,
-            wall_seconds: Some(m.wall_seconds),
-        };
-        if reference.is_some() {
-            j.error = Some(error);
-        }
-        return j.print();
+        return print_json(f, &name, &m, &r, out, reference);
     }
     println!(
         "shading scene {name} ({}): {widths}",
@@ -286,6 +240,69 @@ pub fn render_cli(
         println!("  wrote {}", wrote.join(", "));
     }
     Ok(())
+}
+
+/// `render --plan-only` of a shading scene: its widths and chip line (`json`: the
+/// render's object with nothing rendered, docs/json.md).
+fn print_plan(f: &ShadingFile, name: &str, widths: &str, json: bool) -> Result<(), String> {
+    if json {
+        let mut j = crate::report::render_json::RenderJson::new(
+            name,
+            crate::report::render_json::Family::Shading,
+        );
+        if let Some(side) = f.image {
+            j = j.image(side, side);
+        }
+        return j.print();
+    }
+    println!("shading scene {name}: {widths}");
+    println!("  {}", chip_line(&f.point));
+    Ok(())
+}
+
+/// `render --json` of a shading scene: the render's object with the widths, chip,
+/// error, gates, RAM bits and times of `m` (the files named where written).
+fn print_json(
+    f: &ShadingFile,
+    name: &str,
+    m: &ShadingMeasure,
+    r: &super::sweep::ShadingReference,
+    out: &Path,
+    reference: Option<&Path>,
+) -> Result<(), String> {
+    use crate::report::render_json::{Family, RenderJson, Timing};
+    let error = serde_json::json!({
+        "mean_abs_levels": m.mean_abs_levels,
+        "rms_levels": m.rms_levels,
+        "max_levels": m.max_levels,
+    });
+    let written = f.image.is_some();
+    let ref_written =
+        written && reference.is_some() && matches!(r, super::sweep::ShadingReference::Image { .. });
+    let mut j = RenderJson::new(name, Family::Shading)
+        .outputs(written.then_some(out), reference.filter(|_| ref_written))
+        .family_details(serde_json::json!({
+            "widths": f.point.widths().into_iter().collect::<BTreeMap<_, _>>(),
+            "chip_preset": f.point.chip().name(),
+            "units_the_chip_changes": f.point.units_the_chip_changes(),
+            "error_levels": error,
+            "gates_nand2": m.gates_nand2,
+            "ram_bits": m.ram_bits,
+        }));
+    if let Some(side) = f.image {
+        j = j.image(side, side);
+    }
+    j.timing = Timing {
+        predicted_seconds: Some(m.predicted_hw_seconds),
+        gpu: Some("GeForce3".into()),
+        cycles: None,
+        clock_mhz: None,
+        wall_seconds: Some(m.wall_seconds),
+    };
+    if reference.is_some() {
+        j.error = Some(error);
+    }
+    j.print()
 }
 
 /// The report's line on the chip preset: its name and the path's units whose modes it

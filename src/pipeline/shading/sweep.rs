@@ -413,119 +413,156 @@ fn run_with(
     view: &SphereView,
     reference: Option<&ShadingReference>,
 ) -> Result<(Measured, Vec<f64>), ConfigError> {
-    let mismatch = || {
-        ConfigError::invalid(
-            "shading reference",
-            "drawn for another kind of shading scene",
-        )
-    };
-    let image = |r: Option<&ShadingReference>| match r {
+    match j {
+        Job::Model(e, cfg) => run_model(e, cfg, view, reference),
+        Job::Squaring(bits, chip) => run_squaring(*bits, *chip, view, reference),
+        Job::Lookup(c) => run_lookup(c, view, reference),
+        Job::Vertex(c) => run_vertex(*c, reference),
+    }
+}
+
+/// A reference drawn for another kind of scene than the job's.
+fn reference_mismatch() -> ConfigError {
+    ConfigError::invalid(
+        "shading reference",
+        "drawn for another kind of shading scene",
+    )
+}
+
+/// The reference image's levels (None: no reference given); a vertex reference is a
+/// mismatch.
+fn given_levels(r: Option<&ShadingReference>) -> Result<Option<Vec<f64>>, ConfigError> {
+    match r {
         None => Ok(None),
         Some(ShadingReference::Image { levels, .. }) => Ok(Some(levels.clone())),
-        Some(ShadingReference::Vertex(_)) => Err(mismatch()),
-    };
-    match j {
-        Job::Model(e, cfg) => {
-            // The units' shading of the sphere (render_sphere's clock: the host's
-            // factorisation and the reference are not in it).
-            let r = match image(reference)? {
-                Some(levels) => render_sphere_against(e, view, cfg, levels)?,
-                None => render_sphere(e, view, cfg)?,
-            };
-            let wall = r.wall_seconds;
-            let st = sphere_error(&r)?;
-            let fragments = st.n / 3;
-            let elab = r.path.elaboration(fragments);
-            let used: Vec<UnitSummary> = elab.iter().filter_map(|u| u.summary.clone()).collect();
-            let (gates, ram) = total(&used);
-            // Textures per fragment: the cube for n and l, and for h with the lookup;
-            // the lookup's 1D table; one per factor texture.
-            let lookup = elab
-                .iter()
-                .any(|u| u.summary.is_some() && u.name == "specular_lookup");
-            let factors = elab
-                .iter()
-                .filter(|u| u.summary.is_some() && u.name.starts_with("texture_sampler (factor"))
-                .count() as u32;
-            let textures = 2 + 2 * u32::from(lookup) + factors;
-            let m = Measured {
-                mean: st.mean_abs,
-                rms: st.rms,
-                max: st.max,
-                predicted: fill_seconds(fragments, textures),
-                wall,
-                gates,
-                ram,
-            };
-            Ok((m, r.hardware))
-        }
-        Job::Squaring(bits, chip) => {
-            let cube = cube_8bit()?;
-            let chain = SquaringChain::on_chip(*bits, *chip)?;
-            let t0 = Instant::now();
-            let v8 = sphere_vectors(view, &cube)?;
-            let mut ctr = Counters::default();
-            let hw = squaring_levels_on(&v8, SPECULAR_K, &chain, &mut ctr);
-            let wall = t0.elapsed().as_secs_f64();
-            // The cube, the dot-product stage, k squaring stages and the final combiner.
-            let mut units = cube_units(&cube).to_vec();
-            units.push(UnitSummary::of(&chain.dot_stage));
-            units.extend((0..SPECULAR_K).map(|_| UnitSummary::of(&chain.square_stage)));
-            units.push(UnitSummary::of(&chain.final_stage));
-            // Textures: a normal map and the cube for h.
-            let r = image(reference)?;
-            let m = specular_measured(&v8, &hw, wall, &units, 2, r.as_deref())?;
-            Ok((m, hw))
-        }
-        Job::Lookup(c) => {
-            let cube = c.cube.build()?;
-            let bits = c.cube.texel_bits;
-            let s = (1u32 << SPECULAR_K) as f64;
-            let t0 = Instant::now();
-            let v = sphere_vectors(view, &cube)?;
-            let mut ctr = Counters::default();
-            let hw = lookup_levels(&v, bits, s, c.lookup, &mut ctr)?;
-            let wall = t0.elapsed().as_secs_f64();
-            let dot3 = combiner_stage(bits, CombineFunction::Dot3Rgb, 1)?;
-            let lut = SpecularLookupConfig {
-                exponent: s,
-                in_bits: bits,
-                ..c.lookup
-            }
-            .build()?;
-            let mut units = cube_units(&cube).to_vec();
-            units.push(UnitSummary::of(&dot3));
-            units.push(UnitSummary::of(&lut));
-            // Textures: the normal map, the cube for h, the lookup's 1D texture.
-            let r = image(reference)?;
-            let m = specular_measured(&v, &hw, wall, &units, 3, r.as_deref())?;
-            Ok((m, hw))
-        }
-        Job::Vertex(c) => {
-            let setup = one_light();
-            let verts = sphere_vertices(VERTEX_RINGS, VERTEX_SEGMENTS);
-            let t0 = Instant::now();
-            let row = match reference {
-                None => measure(*c, &setup, &verts),
-                Some(ShadingReference::Vertex(exact)) => measure_against(*c, &setup, &verts, exact),
-                Some(ShadingReference::Image { .. }) => return Err(mismatch()),
-            }
-            .map_err(|e| ConfigError::invalid("vertex_lighting", &e))?;
-            let wall = t0.elapsed().as_secs_f64();
-            let s = UnitSummary::of(&VertexLighting::new(*c, &setup)?);
-            let clock = GpuModel::geforce3().clock_hz;
-            let m = Measured {
-                mean: row.mean_levels,
-                rms: row.rms_levels,
-                max: row.max_levels,
-                predicted: verts.len() as f64 * s.ii as f64 / clock,
-                wall,
-                gates: s.gates_nand2,
-                ram: s.ram_bits,
-            };
-            Ok((m, Vec::new()))
-        }
+        Some(ShadingReference::Vertex(_)) => Err(reference_mismatch()),
     }
+}
+
+/// [`run_with`] of a model's sphere through its shading path.
+fn run_model(
+    e: &CatalogueEntry,
+    cfg: &PathConfig,
+    view: &SphereView,
+    reference: Option<&ShadingReference>,
+) -> Result<(Measured, Vec<f64>), ConfigError> {
+    // The units' shading of the sphere (render_sphere's clock: the host's
+    // factorisation and the reference are not in it).
+    let r = match given_levels(reference)? {
+        Some(levels) => render_sphere_against(e, view, cfg, levels)?,
+        None => render_sphere(e, view, cfg)?,
+    };
+    let wall = r.wall_seconds;
+    let st = sphere_error(&r)?;
+    let fragments = st.n / 3;
+    let elab = r.path.elaboration(fragments);
+    let used: Vec<UnitSummary> = elab.iter().filter_map(|u| u.summary.clone()).collect();
+    let (gates, ram) = total(&used);
+    // Textures per fragment: the cube for n and l, and for h with the lookup;
+    // the lookup's 1D table; one per factor texture.
+    let lookup = elab
+        .iter()
+        .any(|u| u.summary.is_some() && u.name == "specular_lookup");
+    let factors = elab
+        .iter()
+        .filter(|u| u.summary.is_some() && u.name.starts_with("texture_sampler (factor"))
+        .count() as u32;
+    let textures = 2 + 2 * u32::from(lookup) + factors;
+    let m = Measured {
+        mean: st.mean_abs,
+        rms: st.rms,
+        max: st.max,
+        predicted: fill_seconds(fragments, textures),
+        wall,
+        gates,
+        ram,
+    };
+    Ok((m, r.hardware))
+}
+
+/// [`run_with`] of the specular term by squaring in the register combiners (`bits`
+/// wide, `chip`'s modes).
+fn run_squaring(
+    bits: u32,
+    chip: ChipPreset,
+    view: &SphereView,
+    reference: Option<&ShadingReference>,
+) -> Result<(Measured, Vec<f64>), ConfigError> {
+    let cube = cube_8bit()?;
+    let chain = SquaringChain::on_chip(bits, chip)?;
+    let t0 = Instant::now();
+    let v8 = sphere_vectors(view, &cube)?;
+    let mut ctr = Counters::default();
+    let hw = squaring_levels_on(&v8, SPECULAR_K, &chain, &mut ctr);
+    let wall = t0.elapsed().as_secs_f64();
+    // The cube, the dot-product stage, k squaring stages and the final combiner.
+    let mut units = cube_units(&cube).to_vec();
+    units.push(UnitSummary::of(&chain.dot_stage));
+    units.extend((0..SPECULAR_K).map(|_| UnitSummary::of(&chain.square_stage)));
+    units.push(UnitSummary::of(&chain.final_stage));
+    // Textures: a normal map and the cube for h.
+    let r = given_levels(reference)?;
+    let m = specular_measured(&v8, &hw, wall, &units, 2, r.as_deref())?;
+    Ok((m, hw))
+}
+
+/// [`run_with`] of the specular term by the lookup table.
+fn run_lookup(
+    c: &LookupPathConfig,
+    view: &SphereView,
+    reference: Option<&ShadingReference>,
+) -> Result<(Measured, Vec<f64>), ConfigError> {
+    let cube = c.cube.build()?;
+    let bits = c.cube.texel_bits;
+    let s = (1u32 << SPECULAR_K) as f64;
+    let t0 = Instant::now();
+    let v = sphere_vectors(view, &cube)?;
+    let mut ctr = Counters::default();
+    let hw = lookup_levels(&v, bits, s, c.lookup, &mut ctr)?;
+    let wall = t0.elapsed().as_secs_f64();
+    let dot3 = combiner_stage(bits, CombineFunction::Dot3Rgb, 1)?;
+    let lut = SpecularLookupConfig {
+        exponent: s,
+        in_bits: bits,
+        ..c.lookup
+    }
+    .build()?;
+    let mut units = cube_units(&cube).to_vec();
+    units.push(UnitSummary::of(&dot3));
+    units.push(UnitSummary::of(&lut));
+    // Textures: the normal map, the cube for h, the lookup's 1D texture.
+    let r = given_levels(reference)?;
+    let m = specular_measured(&v, &hw, wall, &units, 3, r.as_deref())?;
+    Ok((m, hw))
+}
+
+/// [`run_with`] of vertex lighting (one light, the sphere's vertices).
+fn run_vertex(
+    c: VertexLightingConfig,
+    reference: Option<&ShadingReference>,
+) -> Result<(Measured, Vec<f64>), ConfigError> {
+    let setup = one_light();
+    let verts = sphere_vertices(VERTEX_RINGS, VERTEX_SEGMENTS);
+    let t0 = Instant::now();
+    let row = match reference {
+        None => measure(c, &setup, &verts),
+        Some(ShadingReference::Vertex(exact)) => measure_against(c, &setup, &verts, exact),
+        Some(ShadingReference::Image { .. }) => return Err(reference_mismatch()),
+    }
+    .map_err(|e| ConfigError::invalid("vertex_lighting", &e))?;
+    let wall = t0.elapsed().as_secs_f64();
+    let s = UnitSummary::of(&VertexLighting::new(c, &setup)?);
+    let clock = GpuModel::geforce3().clock_hz;
+    let m = Measured {
+        mean: row.mean_levels,
+        rms: row.rms_levels,
+        max: row.max_levels,
+        predicted: verts.len() as f64 * s.ii as f64 / clock,
+        wall,
+        gates: s.gates_nand2,
+        ram: s.ram_bits,
+    };
+    Ok((m, Vec::new()))
 }
 
 /// Sweep options: the sphere view's side in pixels (the `shading-brdfs` 256 by

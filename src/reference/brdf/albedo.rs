@@ -197,7 +197,7 @@ fn integrate(
 ) -> (f64, f64, u64, bool) {
     let mut evaluations = 0u64;
     let inner_ok = std::cell::Cell::new(true);
-    let mut weighted = |w: Vec3| -> f64 {
+    let weighted = |w: Vec3| -> f64 {
         evaluations += 1;
         if !(w.z > 0.0) {
             return 0.0;
@@ -216,159 +216,193 @@ fn integrate(
         }
         v
     };
-    let (outer_breaks, mut outer): (Vec<f64>, Box<dyn FnMut(f64) -> f64 + '_>) = match brdf.lobe() {
+    let (outer_breaks, mut outer) = match brdf.lobe() {
         Lobe::Diffuse
         | Lobe::Mirror { .. }
         | Lobe::HalfVector {
             anisotropic: false, ..
-        } => {
-            // Microfacet lobes peak at the mirror direction too (h = n there); in ω the
-            // lobe is about twice as wide as in h.
-            let (axis, width, half_vector) = match brdf.lobe() {
-                Lobe::Mirror { width } => (mirror(fixed), Some(width), false),
-                Lobe::HalfVector { width, .. } => (mirror(fixed), Some(2.0 * width), true),
-                _ => (v3(0.0, 0.0, 1.0), None, false),
-            };
-            let c_a = axis.z.min(1.0);
-            let s_a = (axis.x * axis.x + axis.y * axis.y).sqrt();
-            // u: perpendicular to the axis, toward +z (u_z = sin θ_axis); v = axis × u.
-            let u = if s_a > 1e-12 {
-                v3(-axis.x * c_a / s_a, -axis.y * c_a / s_a, s_a)
-            } else {
-                v3(1.0, 0.0, 0.0)
-            };
-            let v = axis.cross(u);
-            let theta_axis = c_a.acos();
-            let theta_max = (FRAC_PI_2 + theta_axis).min(PI);
-            let mut pts = vec![FRAC_PI_2, FRAC_PI_2 - theta_axis];
-            if let Some(w) = width {
-                pts.extend(geometric(w, theta_max));
-            }
-            // Grazing incidence puts features within ~cos θ_fixed of the horizon.
-            for d in geometric(fixed.z, 1.0) {
-                pts.extend([FRAC_PI_2 - d, theta_max - d]);
-            }
-            let breaks = breaks_in(0.0, theta_max, pts);
-            // A half-vector lobe is squeezed in ω: moving h by δ within the plane of
-            // incidence moves the reflection by 2δ (cos θ_f ĥ_f + sin θ_f ẑ), across
-            // it by only 2δ cos θ_f (ĥ_f the fixed direction's horizontal unit
-            // vector). Near grazing that is a thin sliver along e = cos θ_f ĥ_f +
-            // sin θ_f ẑ: azimuth breakpoints crowd toward e's direction, both ways.
-            let mut phi_pts = Vec::new();
-            if half_vector && s_a > 1e-12 {
-                let e = v3(c_a * fixed.x / s_a, c_a * fixed.y / s_a, s_a);
-                let phi_e = e.dot(v).atan2(e.dot(u));
-                for centre in [phi_e - PI, phi_e, phi_e + PI] {
-                    phi_pts.push(centre);
-                    for d in [1e-4, 1e-3, 1e-2, 1e-1] {
-                        phi_pts.extend([centre - d, centre + d]);
-                    }
-                }
-            }
-            let f = move |t: f64| -> f64 {
-                let (st, ct) = t.sin_cos();
-                // Above the horizon: ct c_a + st s_a cos φ > 0.
-                let phi_max = arc_half_width(ct * c_a, st * s_a);
-                if phi_max == 0.0 {
-                    return 0.0;
-                }
-                let mut g = |p: f64| {
-                    let (sp, cp) = p.sin_cos();
-                    weighted(axis * ct + (u * cp + v * sp) * st)
-                };
-                let b = breaks_in(
-                    -phi_max,
-                    phi_max,
-                    [-0.5 * phi_max, 0.0, 0.5 * phi_max]
-                        .into_iter()
-                        .chain(phi_pts.iter().copied()),
-                );
-                st * inner(&mut g, &b)
-            };
-            (breaks, Box::new(f))
-        }
+        } => about_axis(brdf.lobe(), fixed, weighted, inner),
         Lobe::HalfVector {
             width,
             anisotropic: true,
-        } => {
-            // h at polar angle θ, azimuth φ; the reflection 2(ω·h)h − ω is above the
-            // horizon iff cos(φ − φ_fixed) > q = −cos θ_f cos 2θ / (sin θ_f sin 2θ):
-            // the arc is closed-form here too.
-            let (c_f, s_f) = (
-                fixed.z.min(1.0),
-                (fixed.x * fixed.x + fixed.y * fixed.y).sqrt(),
-            );
-            let phi_f = fixed.y.atan2(fixed.x);
-            // The arc is cut from θ = π/4 − θ_f/2 (q = −1) and gone at π/4 + θ_f/2
-            // (q = 1): the outer integrand has √-type kinks there; breakpoints at
-            // them and crowding toward them.
-            let theta_f = c_f.acos();
-            let (cut, gone) = (0.25 * PI - 0.5 * theta_f, 0.25 * PI + 0.5 * theta_f);
-            let mut pts = geometric(width, FRAC_PI_2);
-            pts.extend([cut, gone]);
-            for d in geometric(c_f.min(width), 1.0) {
-                pts.extend([d, FRAC_PI_2 - d, cut - d, cut + d, gone - d, gone + d]);
-            }
-            let breaks = breaks_in(0.0, gone.min(FRAC_PI_2), pts);
-            // The lobe is a function of h's own azimuth (x, y axes): breakpoints at
-            // multiples of π/2, crowding toward 0 and π where an x-elongated lobe is.
-            let mut phi_pts = Vec::new();
-            for k in -4..=4 {
-                let centre = k as f64 * FRAC_PI_2;
-                phi_pts.push(centre);
-                if k % 2 == 0 {
-                    for d in [1e-4, 1e-3, 1e-2, 1e-1] {
-                        phi_pts.extend([centre - d, centre + d]);
-                    }
-                }
-            }
-            let f = move |t: f64| -> f64 {
-                let (st, ct) = t.sin_cos();
-                let (s2t, c2t) = (2.0 * st * ct, ct * ct - st * st);
-                let phi_max = arc_half_width(c_f * c2t, s_f * s2t);
-                if phi_max == 0.0 {
-                    return 0.0;
-                }
-                let mut g = |p: f64| {
-                    let (sp, cp) = p.sin_cos();
-                    let h = v3(st * cp, st * sp, ct);
-                    let d = fixed.dot(h);
-                    if !(d > 0.0) {
-                        return 0.0;
-                    }
-                    4.0 * d * weighted(h * (2.0 * d) - fixed)
-                };
-                let b = breaks_in(
-                    phi_f - phi_max,
-                    phi_f + phi_max,
-                    [phi_f - 0.5 * phi_max, phi_f, phi_f + 0.5 * phi_max]
-                        .into_iter()
-                        .chain(phi_pts.iter().copied()),
-                );
-                st * inner(&mut g, &b)
-            };
-            (breaks, Box::new(f))
-        }
-        Lobe::TangentCone { width } => {
-            let peak = (-fixed.x).clamp(-1.0, 1.0).acos();
-            let mut pts = vec![peak];
-            for d in geometric(width, PI) {
-                pts.extend([peak - d, peak + d]);
-            }
-            let breaks = breaks_in(0.0, PI, pts);
-            let f = move |t: f64| -> f64 {
-                let (st, ct) = t.sin_cos();
-                let mut g = |p: f64| {
-                    let (sp, cp) = p.sin_cos();
-                    weighted(v3(ct, st * cp, st * sp))
-                };
-                st * inner(&mut g, &[0.0, FRAC_PI_2, PI])
-            };
-            (breaks, Box::new(f))
-        }
+        } => anisotropic_half_vector(width, fixed, weighted, inner),
+        Lobe::TangentCone { width } => tangent_cone(width, fixed, weighted, inner),
     };
     let (value, est, _, outer_ok) =
         integrate_1d(&mut *outer, &outer_breaks, tol.rel, tol.abs, tol.max_outer);
     drop(outer);
     (value, est, evaluations, outer_ok && inner_ok.get())
+}
+
+/// The outer integral of one pass: its θ breakpoints and the integrand of θ (the
+/// inner φ integral times sin θ).
+type Outer<'a> = (Vec<f64>, Box<dyn FnMut(f64) -> f64 + 'a>);
+
+/// The outer integral of a diffuse, mirror or isotropic half-vector lobe: polar angle θ
+/// about the lobe's axis (the normal, or the mirror direction of `fixed`), azimuth φ
+/// inside; `weighted` is R · cos θ of a direction (0 below the horizon), `inner` the
+/// inner integral over φ.
+fn about_axis<'a>(
+    lobe: Lobe,
+    fixed: Vec3,
+    mut weighted: impl FnMut(Vec3) -> f64 + 'a,
+    inner: impl Fn(&mut dyn FnMut(f64) -> f64, &[f64]) -> f64 + 'a,
+) -> Outer<'a> {
+    // Microfacet lobes peak at the mirror direction too (h = n there); in ω the
+    // lobe is about twice as wide as in h.
+    let (axis, width, half_vector) = match lobe {
+        Lobe::Mirror { width } => (mirror(fixed), Some(width), false),
+        Lobe::HalfVector { width, .. } => (mirror(fixed), Some(2.0 * width), true),
+        _ => (v3(0.0, 0.0, 1.0), None, false),
+    };
+    let c_a = axis.z.min(1.0);
+    let s_a = (axis.x * axis.x + axis.y * axis.y).sqrt();
+    // u: perpendicular to the axis, toward +z (u_z = sin θ_axis); v = axis × u.
+    let u = if s_a > 1e-12 {
+        v3(-axis.x * c_a / s_a, -axis.y * c_a / s_a, s_a)
+    } else {
+        v3(1.0, 0.0, 0.0)
+    };
+    let v = axis.cross(u);
+    let theta_axis = c_a.acos();
+    let theta_max = (FRAC_PI_2 + theta_axis).min(PI);
+    let mut pts = vec![FRAC_PI_2, FRAC_PI_2 - theta_axis];
+    if let Some(w) = width {
+        pts.extend(geometric(w, theta_max));
+    }
+    // Grazing incidence puts features within ~cos θ_fixed of the horizon.
+    for d in geometric(fixed.z, 1.0) {
+        pts.extend([FRAC_PI_2 - d, theta_max - d]);
+    }
+    let breaks = breaks_in(0.0, theta_max, pts);
+    // A half-vector lobe is squeezed in ω: moving h by δ within the plane of
+    // incidence moves the reflection by 2δ (cos θ_f ĥ_f + sin θ_f ẑ), across
+    // it by only 2δ cos θ_f (ĥ_f the fixed direction's horizontal unit
+    // vector). Near grazing that is a thin sliver along e = cos θ_f ĥ_f +
+    // sin θ_f ẑ: azimuth breakpoints crowd toward e's direction, both ways.
+    let mut phi_pts = Vec::new();
+    if half_vector && s_a > 1e-12 {
+        let e = v3(c_a * fixed.x / s_a, c_a * fixed.y / s_a, s_a);
+        let phi_e = e.dot(v).atan2(e.dot(u));
+        for centre in [phi_e - PI, phi_e, phi_e + PI] {
+            phi_pts.push(centre);
+            for d in [1e-4, 1e-3, 1e-2, 1e-1] {
+                phi_pts.extend([centre - d, centre + d]);
+            }
+        }
+    }
+    let f = move |t: f64| -> f64 {
+        let (st, ct) = t.sin_cos();
+        // Above the horizon: ct c_a + st s_a cos φ > 0.
+        let phi_max = arc_half_width(ct * c_a, st * s_a);
+        if phi_max == 0.0 {
+            return 0.0;
+        }
+        let mut g = |p: f64| {
+            let (sp, cp) = p.sin_cos();
+            weighted(axis * ct + (u * cp + v * sp) * st)
+        };
+        let b = breaks_in(
+            -phi_max,
+            phi_max,
+            [-0.5 * phi_max, 0.0, 0.5 * phi_max]
+                .into_iter()
+                .chain(phi_pts.iter().copied()),
+        );
+        st * inner(&mut g, &b)
+    };
+    (breaks, Box::new(f))
+}
+
+/// The outer integral of an anisotropic half-vector lobe: the half vector h's polar
+/// angle θ outside, its azimuth φ inside (Jacobian 4 (ω·h)); as [`about_axis`].
+fn anisotropic_half_vector<'a>(
+    width: f64,
+    fixed: Vec3,
+    mut weighted: impl FnMut(Vec3) -> f64 + 'a,
+    inner: impl Fn(&mut dyn FnMut(f64) -> f64, &[f64]) -> f64 + 'a,
+) -> Outer<'a> {
+    // h at polar angle θ, azimuth φ; the reflection 2(ω·h)h − ω is above the
+    // horizon iff cos(φ − φ_fixed) > q = −cos θ_f cos 2θ / (sin θ_f sin 2θ):
+    // the arc is closed-form here too.
+    let (c_f, s_f) = (
+        fixed.z.min(1.0),
+        (fixed.x * fixed.x + fixed.y * fixed.y).sqrt(),
+    );
+    let phi_f = fixed.y.atan2(fixed.x);
+    // The arc is cut from θ = π/4 − θ_f/2 (q = −1) and gone at π/4 + θ_f/2
+    // (q = 1): the outer integrand has √-type kinks there; breakpoints at
+    // them and crowding toward them.
+    let theta_f = c_f.acos();
+    let (cut, gone) = (0.25 * PI - 0.5 * theta_f, 0.25 * PI + 0.5 * theta_f);
+    let mut pts = geometric(width, FRAC_PI_2);
+    pts.extend([cut, gone]);
+    for d in geometric(c_f.min(width), 1.0) {
+        pts.extend([d, FRAC_PI_2 - d, cut - d, cut + d, gone - d, gone + d]);
+    }
+    let breaks = breaks_in(0.0, gone.min(FRAC_PI_2), pts);
+    // The lobe is a function of h's own azimuth (x, y axes): breakpoints at
+    // multiples of π/2, crowding toward 0 and π where an x-elongated lobe is.
+    let mut phi_pts = Vec::new();
+    for k in -4..=4 {
+        let centre = k as f64 * FRAC_PI_2;
+        phi_pts.push(centre);
+        if k % 2 == 0 {
+            for d in [1e-4, 1e-3, 1e-2, 1e-1] {
+                phi_pts.extend([centre - d, centre + d]);
+            }
+        }
+    }
+    let f = move |t: f64| -> f64 {
+        let (st, ct) = t.sin_cos();
+        let (s2t, c2t) = (2.0 * st * ct, ct * ct - st * st);
+        let phi_max = arc_half_width(c_f * c2t, s_f * s2t);
+        if phi_max == 0.0 {
+            return 0.0;
+        }
+        let mut g = |p: f64| {
+            let (sp, cp) = p.sin_cos();
+            let h = v3(st * cp, st * sp, ct);
+            let d = fixed.dot(h);
+            if !(d > 0.0) {
+                return 0.0;
+            }
+            4.0 * d * weighted(h * (2.0 * d) - fixed)
+        };
+        let b = breaks_in(
+            phi_f - phi_max,
+            phi_f + phi_max,
+            [phi_f - 0.5 * phi_max, phi_f, phi_f + 0.5 * phi_max]
+                .into_iter()
+                .chain(phi_pts.iter().copied()),
+        );
+        st * inner(&mut g, &b)
+    };
+    (breaks, Box::new(f))
+}
+
+/// The outer integral of a tangent-cone lobe (about the x axis, the fibre's tangent):
+/// the angle θ from the tangent outside, the azimuth φ around it inside; as
+/// [`about_axis`].
+fn tangent_cone<'a>(
+    width: f64,
+    fixed: Vec3,
+    mut weighted: impl FnMut(Vec3) -> f64 + 'a,
+    inner: impl Fn(&mut dyn FnMut(f64) -> f64, &[f64]) -> f64 + 'a,
+) -> Outer<'a> {
+    let peak = (-fixed.x).clamp(-1.0, 1.0).acos();
+    let mut pts = vec![peak];
+    for d in geometric(width, PI) {
+        pts.extend([peak - d, peak + d]);
+    }
+    let breaks = breaks_in(0.0, PI, pts);
+    let f = move |t: f64| -> f64 {
+        let (st, ct) = t.sin_cos();
+        let mut g = |p: f64| {
+            let (sp, cp) = p.sin_cos();
+            weighted(v3(ct, st * cp, st * sp))
+        };
+        st * inner(&mut g, &[0.0, FRAC_PI_2, PI])
+    };
+    (breaks, Box::new(f))
 }

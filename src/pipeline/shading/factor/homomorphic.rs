@@ -317,39 +317,9 @@ pub fn factorise(
     let n = resolution;
     let texels = (n * n) as usize;
     let samples = (params.samples_per_texel as usize * texels).max(params.min_samples as usize);
-    let mut rng = ChaCha8Rng::seed_from_u64(params.seed);
-    let mut pairs = Vec::with_capacity(samples);
-    while pairs.len() < samples {
-        let (wi, wo) = if pairs.len() % 2 == 0 {
-            (disc_direction(&mut rng), disc_direction(&mut rng))
-        } else {
-            from_half_difference(disc_direction(&mut rng), disc_direction(&mut rng))
-        };
-        if wi.z > 0.0 && wo.z > 0.0 {
-            pairs.push((wi, wo));
-        }
-    }
+    let pairs = sample_pairs(params.seed, samples);
     let ln_floor = params.floor.ln();
-    let rows: Vec<Row> = pairs
-        .par_iter()
-        .map(|&(wi, wo)| {
-            let v = target.value(brdf, wi, wo).min(params.ceiling);
-            let mut idx = [0u32; 12];
-            let mut w = [0f32; 12];
-            for (k, p) in PROJECTIONS.iter().enumerate() {
-                let cs = corners(parabolic_coords(p.direction(wi, wo)), n);
-                for (c, (i, wt)) in cs.iter().enumerate() {
-                    idx[4 * k + c] = k as u32 * n * n + i;
-                    w[4 * k + c] = *wt as f32;
-                }
-            }
-            Row {
-                idx,
-                w,
-                y: if v > params.floor { v.ln() } else { ln_floor },
-            }
-        })
-        .collect();
+    let rows = log_rows(brdf, target, params, &pairs, n);
     let floored = rows.iter().filter(|r| r.y == ln_floor).count();
     let active = vec![true; rows.len()];
     let mut sys = System {
@@ -358,49 +328,8 @@ pub fn factorise(
         n,
         smooth: params.smoothness.sqrt(),
     };
-    // Start: the warm factors' logs at this resolution's texel centres, else the mean
-    // log target split evenly over the three factors.
-    let mut x = match warm {
-        Some(wf) if wf.factors.len() == 3 => {
-            let mut x = Vec::with_capacity(sys.unknowns());
-            for f in &wf.factors {
-                for i in 0..texels as u32 {
-                    let v = f.bilinear(FactorTexture::texel_uv(n, i % n, i / n));
-                    x.push(v.max(params.floor).ln());
-                }
-            }
-            x
-        }
-        _ => {
-            let mean = sys.rows.iter().map(|r| r.y).sum::<f64>() / sys.rows.len().max(1) as f64;
-            vec![mean / 3.0; sys.unknowns()]
-        }
-    };
-    // Active set on the floor: a floored row is a bound (fit ≤ ln ε), not a value to
-    // match. Solve, then keep only the floored rows the fit overshoots, and re-solve
-    // until the set stops changing (at most FLOOR_PASSES solves).
-    let mut iterations = 0;
-    let mut r = Vec::new();
-    for _pass in 0..FLOOR_PASSES {
-        let (it, res) = cgls(&sys, &mut x, params);
-        iterations += it;
-        r = res;
-        let mut changed = false;
-        for (row, on) in sys.rows.iter().zip(sys.active.iter_mut()) {
-            let want = row.y != ln_floor || row.predict(&x) > ln_floor;
-            changed |= want != *on;
-            *on = want;
-        }
-        if !changed {
-            break;
-        }
-    }
-    // The residual of the final set (rows switched off count 0).
-    for (rv, &on) in r.iter_mut().zip(&sys.active) {
-        if !on {
-            *rv = 0.0;
-        }
-    }
+    let mut x = start_logs(&sys, warm, params);
+    let (iterations, r) = solve_with_floor(&mut sys, &mut x, params, ln_floor);
     let data = sys.rows.len();
     let fitted = sys.active.iter().filter(|&&on| on).count();
     let residual_rms_log =
@@ -437,4 +366,113 @@ pub fn factorise(
             residual_rms_log,
         },
     ))
+}
+
+/// `samples` (ω_i, ω_o) pairs above the surface from the seeded generator: even ones
+/// two disc directions, odd ones a half and a difference vector (the specular peak
+/// sampled densely).
+fn sample_pairs(seed: u64, samples: usize) -> Vec<(Vec3, Vec3)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut pairs = Vec::with_capacity(samples);
+    while pairs.len() < samples {
+        let (wi, wo) = if pairs.len() % 2 == 0 {
+            (disc_direction(&mut rng), disc_direction(&mut rng))
+        } else {
+            from_half_difference(disc_direction(&mut rng), disc_direction(&mut rng))
+        };
+        if wi.z > 0.0 && wo.z > 0.0 {
+            pairs.push((wi, wo));
+        }
+    }
+    pairs
+}
+
+/// One least-squares row per pair: the log target (clamped to the ceiling, ln ε at or
+/// below the floor) against the bilinear weights (f32) of the three factors' 4 texels
+/// each at `n` × `n`.
+fn log_rows(
+    brdf: &dyn Brdf,
+    target: FactorTarget,
+    params: &HomomorphicParams,
+    pairs: &[(Vec3, Vec3)],
+    n: u32,
+) -> Vec<Row> {
+    let ln_floor = params.floor.ln();
+    pairs
+        .par_iter()
+        .map(|&(wi, wo)| {
+            let v = target.value(brdf, wi, wo).min(params.ceiling);
+            let mut idx = [0u32; 12];
+            let mut w = [0f32; 12];
+            for (k, p) in PROJECTIONS.iter().enumerate() {
+                let cs = corners(parabolic_coords(p.direction(wi, wo)), n);
+                for (c, (i, wt)) in cs.iter().enumerate() {
+                    idx[4 * k + c] = k as u32 * n * n + i;
+                    w[4 * k + c] = *wt as f32;
+                }
+            }
+            Row {
+                idx,
+                w,
+                y: if v > params.floor { v.ln() } else { ln_floor },
+            }
+        })
+        .collect()
+}
+
+/// Start: the warm factors' logs at this resolution's texel centres, else the mean
+/// log target split evenly over the three factors.
+fn start_logs(sys: &System, warm: Option<&Factorisation>, params: &HomomorphicParams) -> Vec<f64> {
+    let n = sys.n;
+    let texels = (n * n) as usize;
+    match warm {
+        Some(wf) if wf.factors.len() == 3 => {
+            let mut x = Vec::with_capacity(sys.unknowns());
+            for f in &wf.factors {
+                for i in 0..texels as u32 {
+                    let v = f.bilinear(FactorTexture::texel_uv(n, i % n, i / n));
+                    x.push(v.max(params.floor).ln());
+                }
+            }
+            x
+        }
+        _ => {
+            let mean = sys.rows.iter().map(|r| r.y).sum::<f64>() / sys.rows.len().max(1) as f64;
+            vec![mean / 3.0; sys.unknowns()]
+        }
+    }
+}
+
+/// Active set on the floor: a floored row is a bound (fit ≤ ln ε), not a value to
+/// match. Solve, then keep only the floored rows the fit overshoots, and re-solve
+/// until the set stops changing (at most FLOOR_PASSES solves). Returns the CGLS
+/// iterations and the residual of the final set (rows switched off count 0).
+fn solve_with_floor(
+    sys: &mut System,
+    x: &mut [f64],
+    params: &HomomorphicParams,
+    ln_floor: f64,
+) -> (u32, Vec<f64>) {
+    let mut iterations = 0;
+    let mut r = Vec::new();
+    for _pass in 0..FLOOR_PASSES {
+        let (it, res) = cgls(sys, x, params);
+        iterations += it;
+        r = res;
+        let mut changed = false;
+        for (row, on) in sys.rows.iter().zip(sys.active.iter_mut()) {
+            let want = row.y != ln_floor || row.predict(x) > ln_floor;
+            changed |= want != *on;
+            *on = want;
+        }
+        if !changed {
+            break;
+        }
+    }
+    for (rv, &on) in r.iter_mut().zip(&sys.active) {
+        if !on {
+            *rv = 0.0;
+        }
+    }
+    (iterations, r)
 }

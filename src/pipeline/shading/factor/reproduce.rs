@@ -423,6 +423,35 @@ pub fn factorization_resumable(
     resume: bool,
 ) -> Result<Vec<String>, String> {
     let imgs = SphereImages::new(&cfg.view, brdf);
+    let (rows, candidates) = sweep_ceilings(out, brdf, cfg, resume, &imgs)?;
+    write_csv(&out.join("factorization.csv"), &rows)?;
+    for &c in &cfg.ceilings {
+        plot_bits(out, brdf, cfg, &rows, c)?;
+        plot_resolution(out, brdf, &rows, c)?;
+    }
+    sphere_panels(out, cfg, &imgs, &candidates)?;
+    let summary = summary_lines(brdf, cfg, &rows);
+    crate::report::atomic::write_bytes(
+        &out.join("factorization_summary.txt"),
+        (summary.join("\n") + "\n").as_bytes(),
+    )
+    .map_err(|e| format!("out: {e}"))?;
+    Ok(summary)
+}
+
+/// The (resolution, texel bits) whose spheres are shown: 64² × 8 bits.
+const SHOW: (u32, u32) = (64, 8);
+
+/// Every ceiling's rows and sphere candidates (method, ceiling, 8-bit RMS, hardware
+/// image, f64 image at [`SHOW`]), each ceiling journalled as it finishes (kept from an
+/// interrupted run with `resume`).
+fn sweep_ceilings(
+    out: &Path,
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+    resume: bool,
+    imgs: &SphereImages,
+) -> Result<(Vec<FactorRow>, Vec<SphereCandidate>), String> {
     // The journal's record: everything the rows depend on, by value.
     let settings = [
         ("brdf", brdf.name().to_string()),
@@ -436,16 +465,14 @@ pub fn factorization_resumable(
         resume,
     )?;
     let mut rows = Vec::new();
-    // (method, ceiling, 8-bit RMS, hardware image, f64 image) at 64² × 8 bits.
     let mut candidates: Vec<SphereCandidate> = Vec::new();
-    let show = (64, 8);
     for (k, &ceiling) in cfg.ceilings.iter().enumerate() {
         let item = journal.item(&format!("ceiling{k}"), || {
             let mut item = CeilingItem::default();
             for f in &factorisations_at(brdf, cfg, ceiling)? {
                 for &b in &cfg.texel_bits {
-                    let (row, hw, fl) = score(brdf, f, b, &cfg.view, &imgs)?;
-                    if (row.resolution, b) == show {
+                    let (row, hw, fl) = score(brdf, f, b, &cfg.view, imgs)?;
+                    if (row.resolution, b) == SHOW {
                         item.candidates
                             .push((row.method.clone(), row.ceiling, row.hw_rms, hw, fl).into());
                     }
@@ -458,81 +485,104 @@ pub fn factorization_resumable(
         candidates.extend(item.candidates.into_iter().map(SphereCandidate::from));
     }
     journal.finish()?;
-    write_csv(&out.join("factorization.csv"), &rows)?;
+    Ok((rows, candidates))
+}
 
-    for &c in &cfg.ceilings {
-        let series = |method: &str, n: u32| Series {
-            label: format!("{method} {n}²"),
-            points: rows
-                .iter()
-                .filter(|r| r.method == method && r.resolution == n && r.ceiling == c)
-                .map(|r| (r.texel_bits as f64, r.hw_rms.max(1e-3)))
-                .collect(),
-            axis: Axis::Left,
-        };
-        let mut spec = PlotSpec::new(
-            &format!("{}, ceiling {c}: error vs texel bits", brdf.name()),
-            "texel bits",
-            "RMS error (8-bit levels)",
-        );
-        spec.log_y = true;
-        let shown: Vec<u32> = cfg
-            .resolutions
+/// `factorization_bits_ceiling_{c}.png`: the output RMS against texel bits at ceiling
+/// `c`, per method and shown resolution (16², 64², 256²).
+fn plot_bits(
+    out: &Path,
+    brdf: &dyn Brdf,
+    cfg: &FactorSweep,
+    rows: &[FactorRow],
+    c: f64,
+) -> Result<(), String> {
+    let series = |method: &str, n: u32| Series {
+        label: format!("{method} {n}²"),
+        points: rows
             .iter()
-            .copied()
-            .filter(|n| [16, 64, 256].contains(n))
-            .collect();
-        let mut s = Vec::new();
-        for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
-            for &n in &shown {
-                s.push(series(m.name(), n));
-            }
+            .filter(|r| r.method == method && r.resolution == n && r.ceiling == c)
+            .map(|r| (r.texel_bits as f64, r.hw_rms.max(1e-3)))
+            .collect(),
+        axis: Axis::Left,
+    };
+    let mut spec = PlotSpec::new(
+        &format!("{}, ceiling {c}: error vs texel bits", brdf.name()),
+        "texel bits",
+        "RMS error (8-bit levels)",
+    );
+    spec.log_y = true;
+    let shown: Vec<u32> = cfg
+        .resolutions
+        .iter()
+        .copied()
+        .filter(|n| [16, 64, 256].contains(n))
+        .collect();
+    let mut s = Vec::new();
+    for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+        for &n in &shown {
+            s.push(series(m.name(), n));
         }
-        plot_nonempty(
-            &out.join(format!("factorization_bits_ceiling_{c}.png")),
-            &spec,
-            s,
-        )?;
-
-        let by_res = |method: &str, what: &str| Series {
-            label: format!("{method} {what}"),
-            points: rows
-                .iter()
-                .filter(|r| r.method == method && r.texel_bits == 8 && r.ceiling == c)
-                .map(|r| {
-                    let v = match what {
-                        "f64 max" => r.f64_max,
-                        "8-bit max" => r.hw_max,
-                        "f64 RMS" => r.f64_rms,
-                        _ => r.hw_rms,
-                    };
-                    (r.resolution as f64, v.max(1e-3))
-                })
-                .collect(),
-            axis: Axis::Left,
-        };
-        let mut spec = PlotSpec::new(
-            &format!(
-                "{}, ceiling {c}: error vs resolution (8-bit texels)",
-                brdf.name()
-            ),
-            "texture resolution N (N × N texels per factor)",
-            "error (8-bit levels)",
-        );
-        spec.log_x = true;
-        spec.log_y = true;
-        let mut s = Vec::new();
-        for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
-            for what in ["f64 max", "8-bit max", "f64 RMS", "8-bit RMS"] {
-                s.push(by_res(m.name(), what));
-            }
-        }
-        plot_nonempty(
-            &out.join(format!("factorization_resolution_ceiling_{c}.png")),
-            &spec,
-            s,
-        )?;
     }
+    plot_nonempty(
+        &out.join(format!("factorization_bits_ceiling_{c}.png")),
+        &spec,
+        s,
+    )
+}
+
+/// `factorization_resolution_ceiling_{c}.png`: the f64 factors' and the 8-bit output's
+/// max and RMS errors against the resolution at 8-bit texels, ceiling `c`, per method.
+fn plot_resolution(out: &Path, brdf: &dyn Brdf, rows: &[FactorRow], c: f64) -> Result<(), String> {
+    let by_res = |method: &str, what: &str| Series {
+        label: format!("{method} {what}"),
+        points: rows
+            .iter()
+            .filter(|r| r.method == method && r.texel_bits == 8 && r.ceiling == c)
+            .map(|r| {
+                let v = match what {
+                    "f64 max" => r.f64_max,
+                    "8-bit max" => r.hw_max,
+                    "f64 RMS" => r.f64_rms,
+                    _ => r.hw_rms,
+                };
+                (r.resolution as f64, v.max(1e-3))
+            })
+            .collect(),
+        axis: Axis::Left,
+    };
+    let mut spec = PlotSpec::new(
+        &format!(
+            "{}, ceiling {c}: error vs resolution (8-bit texels)",
+            brdf.name()
+        ),
+        "texture resolution N (N × N texels per factor)",
+        "error (8-bit levels)",
+    );
+    spec.log_x = true;
+    spec.log_y = true;
+    let mut s = Vec::new();
+    for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
+        for what in ["f64 max", "8-bit max", "f64 RMS", "8-bit RMS"] {
+            s.push(by_res(m.name(), what));
+        }
+    }
+    plot_nonempty(
+        &out.join(format!("factorization_resolution_ceiling_{c}.png")),
+        &spec,
+        s,
+    )
+}
+
+/// `factorization_spheres.png`: per method, the ceiling whose 8-bit output is best
+/// (lowest RMS) at [`SHOW`]: the reference, the reconstruction, and |Δ| × 8 of the f64
+/// factors and of the 8-bit output (nothing written without candidates).
+fn sphere_panels(
+    out: &Path,
+    cfg: &FactorSweep,
+    imgs: &SphereImages,
+    candidates: &[SphereCandidate],
+) -> Result<(), String> {
     let size = cfg.view.size;
     let diff8 = |a: &[f64]| -> Vec<f64> {
         a.iter()
@@ -541,7 +591,6 @@ pub fn factorization_resumable(
             .collect()
     };
     let mut panels: Vec<(String, RgbaImage)> = Vec::new();
-    // Per method, the ceiling whose 8-bit output is best (lowest RMS) at 64² × 8 bits.
     let mut spheres: Vec<&SphereCandidate> = Vec::new();
     for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
         if let Some(c) = candidates
@@ -555,10 +604,10 @@ pub fn factorization_resumable(
     for (m, ceiling, _, hw, fl) in spheres {
         let m = format!("{m} (ceiling {ceiling})");
         panels.push(("f64 reference".to_string(), gray(&imgs.reference, size)));
-        panels.push((format!("{m} {}² × {} bits", show.0, show.1), gray(hw, size)));
+        panels.push((format!("{m} {}² × {} bits", SHOW.0, SHOW.1), gray(hw, size)));
         panels.push((format!("{m} f64 factors |Δ| × 8"), gray(&diff8(fl), size)));
         panels.push((
-            format!("{m} {} bits |Δ| × 8", show.1),
+            format!("{m} {} bits |Δ| × 8", SHOW.1),
             gray(&diff8(hw), size),
         ));
     }
@@ -566,7 +615,12 @@ pub fn factorization_resumable(
     if !refs.is_empty() {
         image_grid(&out.join("factorization_spheres.png"), &refs, 4)?;
     }
+    Ok(())
+}
 
+/// The summary's lines: the sweep's header, then per method its verdict, its lowest
+/// output RMS and its smallest table within 2 levels mean.
+fn summary_lines(brdf: &dyn Brdf, cfg: &FactorSweep, rows: &[FactorRow]) -> Vec<String> {
     let mut summary = vec![format!(
         "{} ({}; E = {}; {} covered pixels)",
         brdf.name(),
@@ -575,7 +629,7 @@ pub fn factorization_resumable(
         rows.first().map_or(0, |r| r.pixels)
     )];
     for m in [FactorMethod::Svd, FactorMethod::Homomorphic] {
-        summary.push(verdict(&rows, m.name()));
+        summary.push(verdict(rows, m.name()));
         let mine = || rows.iter().filter(|r| r.method == m.name());
         if let Some(r) = mine().min_by(|a, b| a.hw_rms.total_cmp(&b.hw_rms)) {
             summary.push(format!(
@@ -593,10 +647,5 @@ pub fn factorization_resumable(
             ));
         }
     }
-    crate::report::atomic::write_bytes(
-        &out.join("factorization_summary.txt"),
-        (summary.join("\n") + "\n").as_bytes(),
-    )
-    .map_err(|e| format!("out: {e}"))?;
-    Ok(summary)
+    summary
 }

@@ -129,6 +129,110 @@ fn weighted_ratio(pairs: impl Iterator<Item = (f64, f64)>) -> f64 {
     }
 }
 
+/// The fit's parameters, checked before any work (errors name `svd.<field>`).
+fn check_params(params: &SvdParams) -> Result<(), ConfigError> {
+    check_range("svd.quadrature", params.quadrature as u64, 4, 128)?;
+    check_range(
+        "svd.max_iterations",
+        params.max_iterations as u64,
+        1,
+        u32::MAX as u64,
+    )?;
+    if params.ceiling.is_nan() || params.ceiling <= 0.0 {
+        return Err(ConfigError::invalid(
+            "svd.ceiling",
+            &format!("{} is not a value > 0", params.ceiling),
+        ));
+    }
+    if !(params.tolerance.is_finite() && params.tolerance >= 0.0) {
+        return Err(ConfigError::invalid(
+            "svd.tolerance",
+            &format!("{} is not a finite value ≥ 0", params.tolerance),
+        ));
+    }
+    Ok(())
+}
+
+/// The power iteration on the row-major `nh` × `nd` matrix `m` (entries < 0 have weight
+/// 0): alternately H from G and G from H (G normalised to max 1), until G moves by at
+/// most the tolerance or the iterations run out. Returns (G, H, iterations run).
+fn power_iteration(
+    m: &[f64],
+    nh: usize,
+    nd: usize,
+    params: &SvdParams,
+) -> (Vec<f64>, Vec<f64>, u32) {
+    let mut g = vec![1.0; nh];
+    let mut hf = vec![1.0; nd];
+    let mut iterations = 0;
+    for it in 1..=params.max_iterations {
+        iterations = it;
+        // H_d = Σ_h w M G / Σ_h w G²
+        let mut num = vec![0.0; nd];
+        let mut den = vec![0.0; nd];
+        for (row, &gi) in m.chunks_exact(nd).zip(&g) {
+            for ((&mv, n), dd) in row.iter().zip(num.iter_mut()).zip(den.iter_mut()) {
+                if mv >= 0.0 {
+                    *n += mv * gi;
+                    *dd += gi * gi;
+                }
+            }
+        }
+        for ((x, n), dd) in hf.iter_mut().zip(&num).zip(&den) {
+            *x = if *dd > 0.0 { (n / dd).max(0.0) } else { 0.0 };
+        }
+        // G_h = Σ_d w M H / Σ_d w H², then normalised to max 1.
+        let new_g: Vec<f64> = m
+            .par_chunks_exact(nd)
+            .map(|row| {
+                weighted_ratio(
+                    row.iter()
+                        .zip(&hf)
+                        .filter(|(&mv, _)| mv >= 0.0)
+                        .map(|(&mv, &x)| (mv, x)),
+                )
+            })
+            .collect();
+        let gmax = new_g.iter().copied().fold(0.0, f64::max);
+        if gmax <= 0.0 {
+            // An all-zero target: the zero factors are exact.
+            g = new_g;
+            hf.iter_mut().for_each(|x| *x = 0.0);
+            break;
+        }
+        let new_g: Vec<f64> = new_g.iter().map(|x| x / gmax).collect();
+        let change = new_g
+            .iter()
+            .zip(&g)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        g = new_g;
+        for x in hf.iter_mut() {
+            *x *= gmax;
+        }
+        if change <= params.tolerance {
+            break;
+        }
+    }
+    (g, hf, iterations)
+}
+
+/// Over the weighted entries of `m` (row-major, `nd` columns; < 0: weight 0): the
+/// squared residual Σ (M − G H)², the squared target Σ M² and the count.
+fn residual_sums(m: &[f64], nd: usize, g: &[f64], hf: &[f64]) -> (f64, f64, f64) {
+    let (mut r2, mut t2, mut w) = (0.0, 0.0, 0.0);
+    for (row, &gi) in m.chunks_exact(nd).zip(g) {
+        for (&mv, &x) in row.iter().zip(hf) {
+            if mv >= 0.0 {
+                r2 += (mv - gi * x).powi(2);
+                t2 += mv * mv;
+                w += 1.0;
+            }
+        }
+    }
+    (r2, t2, w)
+}
+
 impl SvdFit {
     /// Sample M and run the power iteration. Errors name `svd.<field>`.
     pub fn new(
@@ -136,26 +240,8 @@ impl SvdFit {
         target: FactorTarget,
         params: &SvdParams,
     ) -> Result<Self, ConfigError> {
-        check_range("svd.quadrature", params.quadrature as u64, 4, 128)?;
-        check_range(
-            "svd.max_iterations",
-            params.max_iterations as u64,
-            1,
-            u32::MAX as u64,
-        )?;
-        if params.ceiling.is_nan() || params.ceiling <= 0.0 {
-            return Err(ConfigError::invalid(
-                "svd.ceiling",
-                &format!("{} is not a value > 0", params.ceiling),
-            ));
-        }
+        check_params(params)?;
         let target_c = (target, params.ceiling);
-        if !(params.tolerance.is_finite() && params.tolerance >= 0.0) {
-            return Err(ConfigError::invalid(
-                "svd.tolerance",
-                &format!("{} is not a finite value ≥ 0", params.tolerance),
-            ));
-        }
         let h_dirs = disc_directions(params.quadrature);
         let d_dirs = disc_directions(params.quadrature);
         let nd = d_dirs.len();
@@ -168,68 +254,8 @@ impl SvdFit {
                     .map(move |&d| entry(brdf, target_c, h, d).unwrap_or(-1.0))
             })
             .collect();
-        let mut g = vec![1.0; h_dirs.len()];
-        let mut hf = vec![1.0; nd];
-        let mut iterations = 0;
-        for it in 1..=params.max_iterations {
-            iterations = it;
-            // H_d = Σ_h w M G / Σ_h w G²
-            let mut num = vec![0.0; nd];
-            let mut den = vec![0.0; nd];
-            for (row, &gi) in m.chunks_exact(nd).zip(&g) {
-                for ((&mv, n), dd) in row.iter().zip(num.iter_mut()).zip(den.iter_mut()) {
-                    if mv >= 0.0 {
-                        *n += mv * gi;
-                        *dd += gi * gi;
-                    }
-                }
-            }
-            for ((x, n), dd) in hf.iter_mut().zip(&num).zip(&den) {
-                *x = if *dd > 0.0 { (n / dd).max(0.0) } else { 0.0 };
-            }
-            // G_h = Σ_d w M H / Σ_d w H², then normalised to max 1.
-            let new_g: Vec<f64> = m
-                .par_chunks_exact(nd)
-                .map(|row| {
-                    weighted_ratio(
-                        row.iter()
-                            .zip(&hf)
-                            .filter(|(&mv, _)| mv >= 0.0)
-                            .map(|(&mv, &x)| (mv, x)),
-                    )
-                })
-                .collect();
-            let gmax = new_g.iter().copied().fold(0.0, f64::max);
-            if gmax <= 0.0 {
-                // An all-zero target: the zero factors are exact.
-                g = new_g;
-                hf.iter_mut().for_each(|x| *x = 0.0);
-                break;
-            }
-            let new_g: Vec<f64> = new_g.iter().map(|x| x / gmax).collect();
-            let change = new_g
-                .iter()
-                .zip(&g)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
-            g = new_g;
-            for x in hf.iter_mut() {
-                *x *= gmax;
-            }
-            if change <= params.tolerance {
-                break;
-            }
-        }
-        let (mut r2, mut t2, mut w) = (0.0, 0.0, 0.0);
-        for (row, &gi) in m.chunks_exact(nd).zip(&g) {
-            for (&mv, &x) in row.iter().zip(&hf) {
-                if mv >= 0.0 {
-                    r2 += (mv - gi * x).powi(2);
-                    t2 += mv * mv;
-                    w += 1.0;
-                }
-            }
-        }
+        let (g, hf, iterations) = power_iteration(&m, h_dirs.len(), nd, params);
+        let (r2, t2, w) = residual_sums(&m, nd, &g, &hf);
         let w = f64::max(w, 1.0);
         Ok(SvdFit {
             target,
