@@ -90,3 +90,70 @@ fn what_cannot_be_clocked_is_refused_up_front() {
     // Clocked timing needs the chip's clocked configuration.
     assert!(render_timed(&small("fig6"), &clocked, None, None).is_err());
 }
+
+/// Clocked and sampled timing end to end on a small fig6: the same pixels as the
+/// roofline frame; every pass clocked with cycles, a named bottleneck and a timeline
+/// that spans its cycles (the report writes the timeline PNG/CSV, which refuse a
+/// timeline that does not, and in clocked mode the VCD); the sampled frame's cycles near the full count;
+/// the same cycles on 1 and 2 threads.
+#[test]
+fn clocked_and_sampled_frames_time_every_pass_and_change_no_pixel() {
+    use glare_pipeline::chip::config::ChipConfig;
+    use glare_pipeline::report::chip_timing::ChipFiles;
+    let s = small("fig6");
+    let base = render(&s).unwrap();
+    let timed = |mode| {
+        let req = TimingRequest {
+            mode,
+            chip: None,
+            window: Some((0, 500)),
+        };
+        render_timed(&s, &req, Some(ChipConfig::geforce2_gts()), None)
+            .unwrap()
+            .0
+    };
+    let dir = std::env::temp_dir().join(format!("frame-timing-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut cycles = Vec::new();
+    for mode in [TimingMode::Clocked, TimingMode::Sampled] {
+        let f = timed(mode);
+        assert_eq!(f.fb, base.fb, "{}: the clock changes no pixel", mode.name());
+        let ft = f.timing.as_ref().expect("a clocked frame has its timing");
+        assert!(!ft.passes.is_empty());
+        for p in &ft.passes {
+            assert!(p.timing.cycles > 0, "{}: {}", mode.name(), p.pass);
+            assert!(!p.timing.bottleneck.is_empty(), "{}", p.pass);
+        }
+        let out = dir.join(format!("{}.png", mode.name()));
+        let files = ChipFiles::for_render(&out, Some("0..500"), true)
+            .unwrap()
+            .unwrap();
+        let notes = files.write(ft).unwrap();
+        assert!(files.timeline_png.is_file() && files.timeline_csv.is_file());
+        // Only a fully clocked pass traces its clocks (a sampled one clocks tiles).
+        assert_eq!(
+            files.vcd.is_file(),
+            mode == TimingMode::Clocked,
+            "{}: {notes:?}",
+            mode.name()
+        );
+        cycles.push(ft.cycles_total() as f64);
+    }
+    let rel = (cycles[1] - cycles[0]).abs() / cycles[0];
+    assert!(
+        rel < 0.10,
+        "sampled {} against clocked {}",
+        cycles[1],
+        cycles[0]
+    );
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let one = pool(1).install(|| timed(TimingMode::Clocked));
+    let two = pool(2).install(|| timed(TimingMode::Clocked));
+    assert_eq!(one.timing, two.timing, "same cycles on 1 and 2 threads");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -176,9 +176,30 @@ pub fn chip_config(chip: ChipName) -> Result<ChipConfig, String> {
 /// Every how many screen tiles sampled timing clocks one.
 const SAMPLE_EVERY: u32 = 8;
 
-/// One sampled pass: its timing and the relative standard error of its cycles.
+/// One sampled pass: its timing and the relative standard error of its cycles. The
+/// sampled tiles' timeline (the groups clocked back to back) is stretched over the
+/// pass's scaled cycles, so the frame's timeline reads the same in both modes.
 fn clock_sampled(chip: &ChipConfig, work: &PassWork) -> Result<(PassTiming, f64), ConfigError> {
-    crate::chip::clock::clock_pass_sampled(chip, work, SAMPLE_EVERY)
+    let (mut t, e) = crate::chip::clock::clock_pass_sampled(chip, work, SAMPLE_EVERY)?;
+    stretch_timeline(&mut t.timeline, t.cycles);
+    Ok((t, e))
+}
+
+/// Resample `tl` so that its buckets span `cycles` clocks: as many buckets as before
+/// (or fewer, when the last would be empty), each taking the busy fractions of the
+/// bucket at the same relative position.
+fn stretch_timeline(tl: &mut crate::chip::clock::Timeline, cycles: u64) {
+    let n = tl.busy.first().map_or(0, Vec::len) as u64;
+    if n == 0 || cycles == 0 {
+        return;
+    }
+    let bucket = cycles.div_ceil(n).max(1);
+    let m = cycles.div_ceil(bucket);
+    for row in &mut tl.busy {
+        let old = std::mem::take(row);
+        *row = (0..m).map(|b| old[(b * n / m) as usize]).collect();
+    }
+    tl.bucket_clocks = bucket;
 }
 
 /// The frame's clocked timing as it is built, pass by pass.
