@@ -335,6 +335,10 @@ pub struct SweepArgs {
     /// Frame scenes (several pipelines: night-street, shaded-metal, street-light):
     /// PIPELINE.FIELD, e.g. shafts.planes, glare.fb_bits, shading.cube_face,
     /// environment.side, or a field only one of its pipelines has (docs/sweep.md).
+    /// The clocked chip's architecture (a scene the chip clocks, e.g. fig4, fig6,
+    /// stage: the frame drawn once and clocked on every value): pipes, tmus,
+    /// fifo_depth, cache_kb, cache_line, cache_ways, misses_in_flight, bandwidth_mbs,
+    /// mem_latency, mem_queue, clock_mhz (docs/throughput.md).
     #[arg(long, required = true)]
     pub param: Option<String>,
     /// Comma list (10,20,30; 15x10,30x20 for mesh and h_texels), items may be
@@ -872,6 +876,19 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.shard,
         args.resume,
     );
+    // An architecture parameter of the clocked chip: the frame drawn once, clocked on
+    // every value.
+    if let Some(p) = crate::chip::params::ChipParam::from_name(param) {
+        return crate::frame::chip_sweep::chip_sweep_cli(
+            scene,
+            p,
+            values,
+            out,
+            image,
+            args.max_memory,
+            (shard.is_some(), resume, args.attribute),
+        );
+    }
     crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
     check_dir_out("out", out)?;
     if args.attribute {

@@ -13,6 +13,7 @@ pub mod attribute;
 pub mod budget;
 pub mod check;
 pub mod chip;
+pub mod chip_sweep;
 pub mod cli;
 pub mod glare_link;
 pub mod objects;

@@ -85,6 +85,8 @@ pub struct Frame {
     /// The clocked chip's timing (`render --timing clocked|sampled`), beside the
     /// roofline's `times`; `None` with the default roofline timing.
     pub timing: Option<FrameTiming>,
+    /// The frame's recorded work clocked on other chips (`render_swept`), in order.
+    pub swept_timings: Vec<FrameTiming>,
 }
 
 impl Frame {
@@ -148,10 +150,27 @@ pub fn render_timed(
     chip: Option<crate::chip::config::ChipConfig>,
     bar: Option<bool>,
 ) -> Result<(Frame, (u64, u64)), ConfigError> {
+    render_swept(scene, req, chip, Vec::new(), bar)
+}
+
+/// [`render_timed`] whose recorded work is also clocked on each of `alternates` (an
+/// architecture sweep: one functional frame, every swept chip): their frame timings
+/// are [`Frame::swept_timings`], in order.
+pub fn render_swept(
+    scene: &Scene,
+    req: &TimingRequest,
+    chip: Option<crate::chip::config::ChipConfig>,
+    alternates: Vec<crate::chip::config::ChipConfig>,
+    bar: Option<bool>,
+) -> Result<(Frame, (u64, u64)), ConfigError> {
     let gpu = req.gpu(scene);
     let clock = match (req.mode.records(), chip) {
         (false, _) => None,
-        (true, Some(c)) => Some(Clock::new(req.mode, c, gpu.model()).with_window(req.window)),
+        (true, Some(c)) => Some(
+            Clock::new(req.mode, c, gpu.model())
+                .with_window(req.window)
+                .with_alternates(alternates),
+        ),
         (true, None) => {
             return Err(ConfigError::invalid(
                 "chip",
@@ -229,7 +248,13 @@ fn render_inner(
         clock,
         ..
     } = state;
-    let timing = clock.map(|c| c.borrow_mut().finish());
+    let (timing, swept_timings) = match clock {
+        Some(c) => {
+            let mut c = c.borrow_mut();
+            (Some(c.finish()), c.take_alternates())
+        }
+        None => (None, Vec::new()),
+    };
     let fb = match (&glare, &shafts_done) {
         (Some((g, _)), _) => g.fb.clone(),
         (None, Some(r)) => r.fb.clone(),
@@ -252,6 +277,7 @@ fn render_inner(
             times,
             wall_seconds: t0.elapsed().as_secs_f64(),
             timing,
+            swept_timings,
         },
         at,
     ))

@@ -216,6 +216,9 @@ pub struct Clock {
     pub peak_record_bytes: usize,
     /// The frame's clocks traced for the VCD (START..END from the frame's start).
     window: Option<std::ops::Range<u64>>,
+    /// Other chips each pass's record is also clocked on (an architecture sweep: one
+    /// functional frame, its records clocked on every swept chip), with their timing.
+    alternates: Vec<(ChipConfig, FrameTiming)>,
 }
 
 impl Clock {
@@ -235,7 +238,34 @@ impl Clock {
             errors: Vec::new(),
             peak_record_bytes: 0,
             window: None,
+            alternates: Vec::new(),
         }
+    }
+
+    /// Also clock every pass on each of `chips` (fully, without a window); their
+    /// frame timings come out of [`Clock::take_alternates`].
+    pub fn with_alternates(mut self, chips: Vec<ChipConfig>) -> Self {
+        self.alternates = chips
+            .into_iter()
+            .map(|c| {
+                let t = FrameTiming {
+                    mode: TimingMode::Clocked.name().to_string(),
+                    chip: c.name.clone(),
+                    clock_hz: c.clock_hz,
+                    ..FrameTiming::default()
+                };
+                (c, t)
+            })
+            .collect();
+        self
+    }
+
+    /// The alternate chips' frame timings, in the order they were given.
+    pub fn take_alternates(&mut self) -> Vec<FrameTiming> {
+        std::mem::take(&mut self.alternates)
+            .into_iter()
+            .map(|(_, t)| t)
+            .collect()
     }
 
     /// Trace the chip-level signals over `window` (clocks from the frame's start).
@@ -273,6 +303,13 @@ impl Clock {
                 clock_pass(&self.chip, &work, window)?
             }
         };
+        for (chip, t) in &mut self.alternates {
+            t.passes.push(NamedPassTiming {
+                pass: self.pass.clone(),
+                timing: clock_pass(chip, &work, None)?,
+                roofline_seconds,
+            });
+        }
         self.timing.passes.push(NamedPassTiming {
             pass: self.pass.clone(),
             timing,
