@@ -179,6 +179,8 @@ const NONE: u32 = u32::MAX;
 const BUSY: u8 = 0;
 const STALLED: u8 = 1;
 const STARVED: u8 = 2;
+/// No run open (a stage's class before its first recorded clock).
+const NO_RUN: u8 = u8::MAX;
 
 /// A 2×2 quad: its fragments by lane (lane = 2·(y & 1) + (x & 1)), `NONE` where
 /// uncovered.
@@ -264,20 +266,6 @@ impl TimelineBuilder {
             }
             self.shift += 1;
         }
-    }
-
-    #[inline]
-    fn add(&mut self, stage: usize, t: u64, k: u64) {
-        // The common case: one clock inside the buckets already there.
-        let b = (t >> self.shift) as usize;
-        if k == 1 && b < TIMELINE_BUCKETS {
-            let v = &mut self.busy[stage];
-            if let Some(x) = v.get_mut(b) {
-                *x += 1;
-                return;
-            }
-        }
-        self.add_span(stage, t, k);
     }
 
     fn add_span(&mut self, stage: usize, mut t: u64, mut k: u64) {
@@ -430,6 +418,12 @@ struct Engine<'a> {
     cls: Vec<u8>,
     /// Texel fetches made without a cache (each a memory read).
     uncached: u64,
+    /// cache_of[lane · group length + slot]: the cache that serves texture slot `slot`
+    /// of lane `lane` in this hardware pass.
+    cache_of: Vec<u16>,
+    /// Per stage: the class of its open run and the global clock the run began.
+    run_cls: Vec<u8>,
+    run_since: Vec<u64>,
 }
 
 impl<'a> Engine<'a> {
@@ -519,47 +513,63 @@ impl<'a> Engine<'a> {
     /// Look up a quad's texels for this hardware pass's textures; returns the last
     /// texture read it needs.
     fn lookup(&mut self, q: &Quad) -> u64 {
+        if self.caches.is_empty() {
+            return self.lookup_uncached(q);
+        }
         let mut need = 0;
-        let tmus = self.chip.tmus_per_pipe as usize;
-        let pipes = self.chip.pipes as usize;
-        let shared = self.chip.texture_cache.shared;
+        // The number the next texture read gets; it grows by one per miss queued.
+        let mut next = self.mem.next_read(Client::Texture);
+        let slots = self.group.len();
         for lane in 0..4 {
             let f = q.frag[lane];
             if f == NONE {
                 continue;
             }
             let frag_base = f as usize * self.stride;
-            for (slot, j) in self.group.clone().enumerate() {
-                let tex = &self.tex[j];
+            for slot in 0..slots {
+                let tex = &self.tex[self.group.start + slot];
                 let start = frag_base + tex.offset;
                 let texels = &self.work.texels[start..start + tex.per_lookup];
-                if self.caches.is_empty() {
-                    self.uncached += texels.len() as u64;
-                    for &i in texels {
-                        let a = tex.surface.address(i);
-                        need = self
-                            .mem
-                            .enqueue(Client::Texture, tex.surface.elem_bytes, a, true);
-                    }
-                    continue;
-                }
-                let ci = if shared {
-                    0
-                } else {
-                    (lane % pipes) * tmus + slot % tmus
-                };
-                let cache = &mut self.caches[ci];
+                // Which cache serves (lane, slot): precomputed per hardware pass (no
+                // division per lookup).
+                let cache = &mut self.caches[self.cache_of[lane * slots + slot] as usize];
                 for &i in texels {
                     let line = cache.line_of(tex.surface.address(i));
-                    match cache.access(line, self.mem.next_read(Client::Texture)) {
+                    match cache.access(line, next) {
                         Access::Hit { fill } => need = need.max(fill),
                         Access::Miss => {
                             let lb = cache.line_bytes();
                             need = self
                                 .mem
                                 .enqueue(Client::Texture, lb, line * lb as u64, true);
+                            next = need + 1;
                         }
                     }
+                }
+            }
+        }
+        need
+    }
+
+    /// `lookup` without a cache: every texel fetch is a memory read.
+    fn lookup_uncached(&mut self, q: &Quad) -> u64 {
+        let mut need = 0;
+        for lane in 0..4 {
+            let f = q.frag[lane];
+            if f == NONE {
+                continue;
+            }
+            let frag_base = f as usize * self.stride;
+            for j in self.group.clone() {
+                let tex = &self.tex[j];
+                let start = frag_base + tex.offset;
+                let texels = &self.work.texels[start..start + tex.per_lookup];
+                self.uncached += texels.len() as u64;
+                for &i in texels {
+                    let a = tex.surface.address(i);
+                    need = self
+                        .mem
+                        .enqueue(Client::Texture, tex.surface.elem_bytes, a, true);
                 }
             }
         }
@@ -815,16 +825,42 @@ impl<'a> Engine<'a> {
             .chain(std::iter::once(self.mem.queued() as u64))
     }
 
-    fn record(&self, acc: &mut Acc, t: u64, k: u64) {
+    /// Credit clocks `t .. t + k` (of this hardware pass) to each stage's current
+    /// class. The stage counters and the timeline are updated per run of one class
+    /// (when a stage changes class, or at `flush_runs`), not per clock: a stage keeps
+    /// its class for many clocks, and a sum over a run is the sum over its clocks.
+    fn record(&mut self, acc: &mut Acc, t: u64, k: u64) {
         let g = acc.offset + t;
-        for (s, &c) in self.cls.iter().enumerate() {
-            acc.counts[s][c as usize] += k;
-            if c == BUSY {
-                acc.timeline.add(s, g, k);
+        for s in 0..self.cls.len() {
+            let c = self.cls[s];
+            if c != self.run_cls[s] {
+                Self::credit(acc, s, self.run_cls[s], self.run_since[s], g);
+                self.run_cls[s] = c;
+                self.run_since[s] = g;
             }
         }
         if let Some(w) = acc.window.as_mut() {
             w.sample(g, k, self.signal_values());
+        }
+    }
+
+    /// Close every stage's run at global clock `end` (all clocks before it recorded).
+    fn flush_runs(&mut self, acc: &mut Acc, end: u64) {
+        for s in 0..self.cls.len() {
+            Self::credit(acc, s, self.run_cls[s], self.run_since[s], end);
+            self.run_cls[s] = NO_RUN;
+            self.run_since[s] = end;
+        }
+    }
+
+    /// Stage `s` was in class `c` over global clocks `from .. to`.
+    fn credit(acc: &mut Acc, s: usize, c: u8, from: u64, to: u64) {
+        if c == NO_RUN || to <= from {
+            return;
+        }
+        acc.counts[s][c as usize] += to - from;
+        if c == BUSY {
+            acc.timeline.add_span(s, from, to - from);
         }
     }
 
@@ -837,6 +873,19 @@ impl<'a> Engine<'a> {
         last: bool,
     ) -> Result<u64, ConfigError> {
         self.group = group;
+        let (pipes, tmus) = (self.chip.pipes as usize, self.chip.tmus_per_pipe as usize);
+        let shared = self.chip.texture_cache.shared;
+        let slots = self.group.len();
+        self.cache_of = (0..4 * slots)
+            .map(|k| {
+                let (lane, slot) = (k / slots.max(1), k % slots.max(1));
+                if shared {
+                    0
+                } else {
+                    ((lane % pipes) * tmus + slot % tmus) as u16
+                }
+            })
+            .collect();
         self.mem.restart();
         for c in &mut self.caches {
             c.flush();
@@ -881,6 +930,7 @@ impl<'a> Engine<'a> {
             self.record(acc, t + 1, next - t - 1);
             t = next;
         }
+        self.flush_runs(acc, acc.offset + t);
         for (h, f) in acc
             .fifo_high
             .iter_mut()
@@ -1149,6 +1199,9 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         group: 0..0,
         cls: vec![STARVED; n_stages],
         uncached: 0,
+        cache_of: Vec::new(),
+        run_cls: vec![NO_RUN; n_stages],
+        run_since: vec![0; n_stages],
     };
     let groups = hw_groups(chip, work);
     let overhead = chip.pass_overhead_clocks as u64;
@@ -1162,6 +1215,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
                 f.clear();
             }
             e.record(acc, 0, overhead);
+            e.flush_runs(acc, acc.offset + overhead);
             acc.offset += overhead;
             acc.overhead += overhead;
         }
