@@ -164,9 +164,9 @@ impl FrameTiming {
 
 use super::config::StageKind;
 use super::fifo::Fifo;
+use super::fifo::Ring;
 use super::memory::{Client, Memory, CLIENT_NAMES};
 use super::texture_cache::{Access, Cache, Surface};
-use std::collections::VecDeque;
 
 /// Bytes of one copy-to-texture request (assumed: one 64-byte burst).
 pub const COPY_BURST_BYTES: u64 = 64;
@@ -343,7 +343,7 @@ fn bits_for(v: u64) -> u32 {
     (64 - v.leading_zeros()).max(1)
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Flight {
     ready: u64,
     quad: u32,
@@ -356,7 +356,7 @@ struct PipeUnit {
     ii: u64,
     texture: bool,
     next_accept: u64,
-    flight: VecDeque<Flight>,
+    flight: Ring<Flight>,
     cap: usize,
 }
 
@@ -395,7 +395,7 @@ struct Engine<'a> {
     fifo_sr: Fifo<u32>,
     fifos: Vec<Fifo<u32>>,
     pipes: Vec<PipeUnit>,
-    rop_flight: VecDeque<Flight>,
+    rop_flight: Ring<Flight>,
     rop_next_accept: u64,
     rop_retired: usize,
     // set-up
@@ -1160,7 +1160,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
                 ii: s.ii as u64,
                 texture,
                 next_accept: 0,
-                flight: VecDeque::with_capacity(cap),
+                flight: Ring::with_capacity(cap),
                 cap,
             }
         })
@@ -1181,7 +1181,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
             .map(|_| Fifo::new(depth_fifo))
             .collect(),
         pipes,
-        rop_flight: VecDeque::with_capacity(depth_fifo),
+        rop_flight: Ring::with_capacity(depth_fifo),
         rop_next_accept: 0,
         rop_retired: 0,
         next_prim: 0,
