@@ -800,3 +800,63 @@ fn timing_fingerprints_unchanged() {
         assert_eq!((name.as_str(), *f), (*wn, *wf), "{name} changed");
     }
 }
+
+/// The sampled mode's error against the full count at one tile in 8 and in 16, on a
+/// Fig. 6(b)-sized plane (3 textures), a depth-only object pass (many small
+/// primitives) and a 2-texture sub-plane, printed, not asserted:
+/// `cargo test --test chip_clock -- --ignored --nocapture sampled_accuracy`.
+#[test]
+#[ignore]
+fn sampled_accuracy() {
+    let (w, h) = (720u32, 480u32);
+    let fig = plane(
+        w,
+        h,
+        vec![
+            tex("F", [256, 1, 1], 2),
+            tex("h", [256, 256, 1], 4),
+            tex("J", [512, 512, 1], 4),
+        ],
+        |x, y, j, k| match j {
+            0 => ((x + y) * 255 / (w + h)).min(254) + k,
+            1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
+            _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
+        },
+    );
+    let depth_only = RopWork {
+        depth_read_bytes: 4,
+        depth_write_bytes: 4,
+        ..RopWork::default()
+    };
+    let objects = scatter(720, 480, 6000, vec![], depth_only);
+    let sub = plane(
+        360,
+        240,
+        vec![tex("h", [256, 256, 1], 4), tex("J", [512, 512, 1], 4)],
+        |x, y, j, k| match j {
+            0 => bilinear(x * 256 / 360, y * 256 / 240, k, 256),
+            _ => bilinear(x * 512 / 360, y * 512 / 240, k, 512),
+        },
+    );
+    let chip = ChipConfig::geforce2_gts();
+    for (name, work) in [
+        ("fig6b plane", &fig),
+        ("objects", &objects),
+        ("sub-plane", &sub),
+    ] {
+        let full = clock_pass(&chip, work, None).unwrap();
+        for every in [8, 16] {
+            let t0 = std::time::Instant::now();
+            let (s, rse) = clock_pass_sampled(&chip, work, every).unwrap();
+            let ns = t0.elapsed().as_nanos() as f64 / work.fragments() as f64;
+            println!(
+                "{name}: {} fragments, full {} cycles; 1/{every}: {} cycles ({:+.2} %, rse {:.4}), {ns:.1} wall ns/fragment",
+                work.fragments(),
+                full.cycles,
+                s.cycles,
+                (s.cycles as f64 / full.cycles as f64 - 1.0) * 100.0,
+                rse
+            );
+        }
+    }
+}

@@ -1409,11 +1409,14 @@ pub fn clock_pass_sampled(
             ..PassWork::default()
         })
         .collect();
+    // Each fragment's group (u8::MAX: not sampled), found once.
+    let mut frag_group: Vec<u8> = Vec::new();
     for p in 0..work.prim_first_fragment.len() {
         let r = work.prim_fragments(p);
         let mut count = [0u64; SAMPLE_GROUPS];
-        for f in r.clone() {
-            let g = group_of(f);
+        frag_group.clear();
+        frag_group.extend(r.clone().map(group_of));
+        for &g in &frag_group {
             if (g as usize) < SAMPLE_GROUPS {
                 count[g as usize] += 1;
             }
@@ -1427,8 +1430,7 @@ pub fn clock_pass_sampled(
                     .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
             }
         }
-        for f in r {
-            let g = group_of(f);
+        for (f, &g) in r.zip(&frag_group) {
             if (g as usize) < SAMPLE_GROUPS {
                 let gw = &mut groups[g as usize];
                 gw.frag_xy.push(work.frag_xy[f]);
@@ -1437,7 +1439,8 @@ pub fn clock_pass_sampled(
             }
         }
     }
-    let used: Vec<&PassWork> = groups.iter().filter(|g| g.fragments() > 0).collect();
+    // The groups are clocked in place (no copy of their work).
+    let mut used: Vec<PassWork> = groups.into_iter().filter(|g| g.fragments() > 0).collect();
     if used.len() < 2 {
         return full(chip);
     }
@@ -1446,15 +1449,14 @@ pub fn clock_pass_sampled(
     let mut acc = new_acc(&inner, None);
     let mut cn = Vec::with_capacity(used.len());
     let mut hw = 1;
-    for g in &used {
-        let mut gw = (*g).clone();
+    for gw in &mut used {
         // The copy's bytes shared by the groups in proportion to their fragments.
         // (scaled back with the rest by N / Σn_g).
-        gw.copy_read_bytes = work.copy_read_bytes * g.fragments() as u64 / n as u64;
-        gw.copy_write_bytes = work.copy_write_bytes * g.fragments() as u64 / n as u64;
+        gw.copy_read_bytes = work.copy_read_bytes * gw.fragments() as u64 / n as u64;
+        gw.copy_write_bytes = work.copy_write_bytes * gw.fragments() as u64 / n as u64;
         let before = acc.offset;
-        hw = run_pass(&inner, &gw, &mut acc)?;
-        cn.push(((acc.offset - before) as f64, g.fragments() as f64));
+        hw = run_pass(&inner, gw, &mut acc)?;
+        cn.push(((acc.offset - before) as f64, gw.fragments() as f64));
     }
     let c_sum: f64 = cn.iter().map(|c| c.0).sum();
     let n_sum: f64 = cn.iter().map(|c| c.1).sum();
