@@ -179,8 +179,6 @@ const NONE: u32 = u32::MAX;
 const BUSY: u8 = 0;
 const STALLED: u8 = 1;
 const STARVED: u8 = 2;
-/// No run open (a stage's class before its first recorded clock).
-const NO_RUN: u8 = u8::MAX;
 
 /// A 2×2 quad: its fragments by lane (lane = 2·(y & 1) + (x & 1)), `NONE` where
 /// uncovered.
@@ -266,6 +264,19 @@ impl TimelineBuilder {
             }
             self.shift += 1;
         }
+    }
+
+    #[inline]
+    fn add(&mut self, stage: usize, t: u64, k: u64) {
+        // The common case: one clock inside the buckets already there.
+        let b = (t >> self.shift) as usize;
+        if k == 1 && b < TIMELINE_BUCKETS {
+            if let Some(x) = self.busy[stage].get_mut(b) {
+                *x += 1;
+                return;
+            }
+        }
+        self.add_span(stage, t, k);
     }
 
     fn add_span(&mut self, stage: usize, mut t: u64, mut k: u64) {
@@ -421,9 +432,6 @@ struct Engine<'a> {
     /// cache_of[lane · group length + slot]: the cache that serves texture slot `slot`
     /// of lane `lane` in this hardware pass.
     cache_of: Vec<u16>,
-    /// Per stage: the class of its open run and the global clock the run began.
-    run_cls: Vec<u8>,
-    run_since: Vec<u64>,
 }
 
 impl<'a> Engine<'a> {
@@ -825,42 +833,16 @@ impl<'a> Engine<'a> {
             .chain(std::iter::once(self.mem.queued() as u64))
     }
 
-    /// Credit clocks `t .. t + k` (of this hardware pass) to each stage's current
-    /// class. The stage counters and the timeline are updated per run of one class
-    /// (when a stage changes class, or at `flush_runs`), not per clock: a stage keeps
-    /// its class for many clocks, and a sum over a run is the sum over its clocks.
-    fn record(&mut self, acc: &mut Acc, t: u64, k: u64) {
+    fn record(&self, acc: &mut Acc, t: u64, k: u64) {
         let g = acc.offset + t;
-        for s in 0..self.cls.len() {
-            let c = self.cls[s];
-            if c != self.run_cls[s] {
-                Self::credit(acc, s, self.run_cls[s], self.run_since[s], g);
-                self.run_cls[s] = c;
-                self.run_since[s] = g;
+        for (s, &c) in self.cls.iter().enumerate() {
+            acc.counts[s][c as usize] += k;
+            if c == BUSY {
+                acc.timeline.add(s, g, k);
             }
         }
         if let Some(w) = acc.window.as_mut() {
             w.sample(g, k, self.signal_values());
-        }
-    }
-
-    /// Close every stage's run at global clock `end` (all clocks before it recorded).
-    fn flush_runs(&mut self, acc: &mut Acc, end: u64) {
-        for s in 0..self.cls.len() {
-            Self::credit(acc, s, self.run_cls[s], self.run_since[s], end);
-            self.run_cls[s] = NO_RUN;
-            self.run_since[s] = end;
-        }
-    }
-
-    /// Stage `s` was in class `c` over global clocks `from .. to`.
-    fn credit(acc: &mut Acc, s: usize, c: u8, from: u64, to: u64) {
-        if c == NO_RUN || to <= from {
-            return;
-        }
-        acc.counts[s][c as usize] += to - from;
-        if c == BUSY {
-            acc.timeline.add_span(s, from, to - from);
         }
     }
 
@@ -930,7 +912,6 @@ impl<'a> Engine<'a> {
             self.record(acc, t + 1, next - t - 1);
             t = next;
         }
-        self.flush_runs(acc, acc.offset + t);
         for (h, f) in acc
             .fifo_high
             .iter_mut()
@@ -1200,8 +1181,6 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         cls: vec![STARVED; n_stages],
         uncached: 0,
         cache_of: Vec::new(),
-        run_cls: vec![NO_RUN; n_stages],
-        run_since: vec![0; n_stages],
     };
     let groups = hw_groups(chip, work);
     let overhead = chip.pass_overhead_clocks as u64;
@@ -1215,7 +1194,6 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
                 f.clear();
             }
             e.record(acc, 0, overhead);
-            e.flush_runs(acc, acc.offset + overhead);
             acc.offset += overhead;
             acc.overhead += overhead;
         }
