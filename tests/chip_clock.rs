@@ -636,3 +636,227 @@ fn copy_pass_is_bandwidth_and_empty_pass_is_overhead() {
     check_accounting(&t);
     assert_eq!((t.cycles, t.bottleneck.as_str()), (50, "none"));
 }
+
+/// FNV-1a over a PassTiming's JSON: every field (cycles, stage clocks, FIFO high
+/// water, cache counts, bytes, bottleneck, timeline, window trace) in one number.
+fn fingerprint(t: &PassTiming, extra: f64) -> u64 {
+    let s = serde_json::to_string(&(t, extra)).unwrap();
+    s.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ b as u64).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// Many overlapping rectangles (primitives) at pseudo-random places, fragments in
+/// scanline order within each, walking a bounding box larger than what they cover;
+/// `textures` as given with pseudo-random texel indices.
+fn scatter(w: u32, h: u32, prims: u32, textures: Vec<TextureWork>, rop: RopWork) -> PassWork {
+    let mut seed = 0x9e37_79b9u32;
+    let mut rnd = |m: u32| {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        seed % m.max(1)
+    };
+    let mut work = PassWork {
+        width: w,
+        height: h,
+        textures,
+        rop,
+        ..PassWork::default()
+    };
+    for _ in 0..prims {
+        let (pw, ph) = (1 + rnd(40), 1 + rnd(30));
+        let (x0, y0) = (rnd(w - pw.min(w - 1)), rnd(h - ph.min(h - 1)));
+        work.prim_first_fragment.push(work.frag_xy.len() as u32);
+        work.prim_walked.push(pw * ph * 3 / 2 + rnd(64));
+        for y in y0..(y0 + ph).min(h) {
+            for x in x0..(x0 + pw).min(w) {
+                if rnd(7) == 0 {
+                    continue;
+                }
+                work.frag_xy.push([x as u16, y as u16]);
+                for t in &work.textures {
+                    let texels = t.size[0] * t.size[1] * t.size[2];
+                    let base = (x * 3 + y * 5 + rnd(4)) % texels;
+                    for k in 0..t.texels_per_lookup {
+                        work.texels.push((base + k) % texels);
+                    }
+                }
+            }
+        }
+    }
+    work
+}
+
+/// The engine's results on a spread of passes and chips, fingerprinted: restructuring
+/// the engine for speed must leave every one unchanged (the numbers were recorded
+/// from the engine before it was optimised).
+#[test]
+fn timing_fingerprints_unchanged() {
+    use glare_pipeline::chip::config::DramPages;
+    let fig = |w: u32, h: u32| {
+        plane(
+            w,
+            h,
+            vec![
+                tex("F", [256, 1, 1], 2),
+                tex("h", [256, 256, 1], 4),
+                tex("J", [512, 512, 1], 4),
+            ],
+            move |x, y, j, k| match j {
+                0 => ((x + y) * 255 / (w + h)).min(254) + k,
+                1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
+                _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
+            },
+        )
+    };
+    let rmw = RopWork {
+        depth_read_bytes: 4,
+        depth_write_bytes: 4,
+        colour_read_bytes: 4,
+        colour_write_bytes: 4,
+    };
+    let depth_only = RopWork {
+        depth_read_bytes: 4,
+        depth_write_bytes: 4,
+        ..RopWork::default()
+    };
+    let gts = ChipConfig::geforce2_gts();
+    let mut paged = ChipConfig::geforce3();
+    paged.memory.pages = Some(DramPages {
+        page_bytes: 2048,
+        banks: 4,
+        page_miss_clocks: 20,
+    });
+    paged.memory.arbitration = Arbitration::FixedPriority;
+    paged.texture_layout = Layout::Swizzled;
+    paged.framebuffer_layout = Layout::Tiled { w: 8, h: 4 };
+    let mut fifo_cache = ChipConfig::geforce256();
+    fifo_cache.texture_cache.replacement = Replacement::Fifo;
+    fifo_cache.texture_cache.shared = false;
+    fifo_cache.texture_cache.size_bytes = 2048;
+    fifo_cache.fifo_depth = 2;
+    fifo_cache.memory.queue_depth = 3;
+    fifo_cache.texture_cache.misses_in_flight = 2;
+    let mut uncached = ChipConfig::geforce2_gts();
+    uncached.texture_cache.size_bytes = 0;
+    uncached.texture_layout = Layout::Tiled { w: 4, h: 4 };
+    let mut slow = ChipConfig::geforce3();
+    slow.memory.bytes_per_clock = 1.5;
+    slow.memory.latency_clocks = 3;
+    let ideal = ideal_chip(5, 2);
+    let two = vec![tex("h", [64, 64, 1], 4), tex("J", [100, 60, 2], 8)];
+    let mut objects = scatter(200, 120, 300, vec![], depth_only);
+    objects.copy_read_bytes = 3000;
+    objects.copy_write_bytes = 4100;
+    let textured = scatter(160, 100, 200, two.clone(), rmw);
+    let cases: Vec<(&str, &ChipConfig, PassWork, Option<std::ops::Range<u64>>)> = vec![
+        ("gts fig", &gts, fig(160, 96), Some(100..3000)),
+        ("gf3 fig", &paged, fig(120, 80), Some(0..100_000)),
+        ("gf256 fifo", &fifo_cache, fig(64, 48), Some(50..700)),
+        ("uncached", &uncached, fig(48, 32), None),
+        ("objects gts", &gts, objects.clone(), Some(0..2000)),
+        ("objects paged", &paged, objects.clone(), None),
+        ("textured gts", &gts, textured.clone(), None),
+        ("textured slow", &slow, textured.clone(), Some(500..900)),
+        ("textured fifo", &fifo_cache, textured.clone(), None),
+        ("strip", &ideal, strip(40, rmw), Some(0..50)),
+    ];
+    let mut got = Vec::new();
+    for (name, chip, work, window) in &cases {
+        let t = clock_pass(chip, work, window.clone()).unwrap();
+        check_accounting(&t);
+        got.push((format!("{name} full"), fingerprint(&t, 0.0)));
+        let (s, rse) = clock_pass_sampled(chip, work, 4).unwrap();
+        got.push((format!("{name} sampled"), fingerprint(&s, rse)));
+    }
+    for (name, f) in &got {
+        println!("(\"{name}\", {f:#018x}),");
+    }
+    let want: &[(&str, u64)] = &[
+        ("gts fig full", 0x0ad050ee6a777bff),
+        ("gts fig sampled", 0x772603d92cc31614),
+        ("gf3 fig full", 0x1142134e3d2bd3ba),
+        ("gf3 fig sampled", 0xb976211ae7351596),
+        ("gf256 fifo full", 0x31ab464a3ee1ec02),
+        ("gf256 fifo sampled", 0x629f09e5ff15741e),
+        ("uncached full", 0x4f638485ed76d078),
+        ("uncached sampled", 0x4f638485ed76d078),
+        ("objects gts full", 0x0123de1efb77c0cf),
+        ("objects gts sampled", 0xea6ab27f570f04f0),
+        ("objects paged full", 0x45a5b83c53d15585),
+        ("objects paged sampled", 0xd4c238882142f1ea),
+        ("textured gts full", 0x054048e94e696962),
+        ("textured gts sampled", 0x0068ab8b1cefdfee),
+        ("textured slow full", 0x0cb55bf34fc9c8ba),
+        ("textured slow sampled", 0xb7dd8ab9774cfbe6),
+        ("textured fifo full", 0xee70ae0e91320211),
+        ("textured fifo sampled", 0xc0894266e92032f1),
+        ("strip full", 0xf85b3916e8dd7d2c),
+        ("strip sampled", 0xbc9e0a13a917bd9f),
+    ];
+    assert_eq!(got.len(), want.len());
+    for ((name, f), (wn, wf)) in got.iter().zip(want) {
+        assert_eq!((name.as_str(), *f), (*wn, *wf), "{name} changed");
+    }
+}
+
+/// The sampled mode's error against the full count at one tile in 8 and in 16, on a
+/// Fig. 6(b)-sized plane (3 textures), a depth-only object pass (many small
+/// primitives) and a 2-texture sub-plane, printed, not asserted:
+/// `cargo test --test chip_clock -- --ignored --nocapture sampled_accuracy`.
+#[test]
+#[ignore]
+fn sampled_accuracy() {
+    let (w, h) = (720u32, 480u32);
+    let fig = plane(
+        w,
+        h,
+        vec![
+            tex("F", [256, 1, 1], 2),
+            tex("h", [256, 256, 1], 4),
+            tex("J", [512, 512, 1], 4),
+        ],
+        |x, y, j, k| match j {
+            0 => ((x + y) * 255 / (w + h)).min(254) + k,
+            1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
+            _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
+        },
+    );
+    let depth_only = RopWork {
+        depth_read_bytes: 4,
+        depth_write_bytes: 4,
+        ..RopWork::default()
+    };
+    let objects = scatter(720, 480, 6000, vec![], depth_only);
+    let sub = plane(
+        360,
+        240,
+        vec![tex("h", [256, 256, 1], 4), tex("J", [512, 512, 1], 4)],
+        |x, y, j, k| match j {
+            0 => bilinear(x * 256 / 360, y * 256 / 240, k, 256),
+            _ => bilinear(x * 512 / 360, y * 512 / 240, k, 512),
+        },
+    );
+    let chip = ChipConfig::geforce2_gts();
+    for (name, work) in [
+        ("fig6b plane", &fig),
+        ("objects", &objects),
+        ("sub-plane", &sub),
+    ] {
+        let full = clock_pass(&chip, work, None).unwrap();
+        for every in [8, 16] {
+            let t0 = std::time::Instant::now();
+            let (s, rse) = clock_pass_sampled(&chip, work, every).unwrap();
+            let ns = t0.elapsed().as_nanos() as f64 / work.fragments() as f64;
+            println!(
+                "{name}: {} fragments, full {} cycles; 1/{every}: {} cycles ({:+.2} %, rse {:.4}), {ns:.1} wall ns/fragment",
+                work.fragments(),
+                full.cycles,
+                s.cycles,
+                (s.cycles as f64 / full.cycles as f64 - 1.0) * 100.0,
+                rse
+            );
+        }
+    }
+}

@@ -180,9 +180,9 @@ impl FrameTiming {
 
 use super::config::StageKind;
 use super::fifo::Fifo;
+use super::fifo::Ring;
 use super::memory::{Client, Memory, CLIENT_NAMES};
 use super::texture_cache::{Access, Cache, Surface};
-use std::collections::VecDeque;
 
 /// Bytes of one copy-to-texture request (assumed: one 64-byte burst).
 pub const COPY_BURST_BYTES: u64 = 64;
@@ -287,8 +287,7 @@ impl TimelineBuilder {
         // The common case: one clock inside the buckets already there.
         let b = (t >> self.shift) as usize;
         if k == 1 && b < TIMELINE_BUCKETS {
-            let v = &mut self.busy[stage];
-            if let Some(x) = v.get_mut(b) {
+            if let Some(x) = self.busy[stage].get_mut(b) {
                 *x += 1;
                 return;
             }
@@ -371,7 +370,7 @@ fn bits_for(v: u64) -> u32 {
     (64 - v.leading_zeros()).max(1)
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Flight {
     ready: u64,
     quad: u32,
@@ -384,7 +383,7 @@ struct PipeUnit {
     ii: u64,
     texture: bool,
     next_accept: u64,
-    flight: VecDeque<Flight>,
+    flight: Ring<Flight>,
     cap: usize,
 }
 
@@ -423,7 +422,7 @@ struct Engine<'a> {
     fifo_sr: Fifo<u32>,
     fifos: Vec<Fifo<u32>>,
     pipes: Vec<PipeUnit>,
-    rop_flight: VecDeque<Flight>,
+    rop_flight: Ring<Flight>,
     rop_next_accept: u64,
     rop_retired: usize,
     // set-up
@@ -446,6 +445,9 @@ struct Engine<'a> {
     cls: Vec<u8>,
     /// Texel fetches made without a cache (each a memory read).
     uncached: u64,
+    /// cache_of[lane · group length + slot]: the cache that serves texture slot `slot`
+    /// of lane `lane` in this hardware pass.
+    cache_of: Vec<u16>,
 }
 
 impl<'a> Engine<'a> {
@@ -535,47 +537,63 @@ impl<'a> Engine<'a> {
     /// Look up a quad's texels for this hardware pass's textures; returns the last
     /// texture read it needs.
     fn lookup(&mut self, q: &Quad) -> u64 {
+        if self.caches.is_empty() {
+            return self.lookup_uncached(q);
+        }
         let mut need = 0;
-        let tmus = self.chip.tmus_per_pipe as usize;
-        let pipes = self.chip.pipes as usize;
-        let shared = self.chip.texture_cache.shared;
+        // The number the next texture read gets; it grows by one per miss queued.
+        let mut next = self.mem.next_read(Client::Texture);
+        let slots = self.group.len();
         for lane in 0..4 {
             let f = q.frag[lane];
             if f == NONE {
                 continue;
             }
             let frag_base = f as usize * self.stride;
-            for (slot, j) in self.group.clone().enumerate() {
-                let tex = &self.tex[j];
+            for slot in 0..slots {
+                let tex = &self.tex[self.group.start + slot];
                 let start = frag_base + tex.offset;
                 let texels = &self.work.texels[start..start + tex.per_lookup];
-                if self.caches.is_empty() {
-                    self.uncached += texels.len() as u64;
-                    for &i in texels {
-                        let a = tex.surface.address(i);
-                        need = self
-                            .mem
-                            .enqueue(Client::Texture, tex.surface.elem_bytes, a, true);
-                    }
-                    continue;
-                }
-                let ci = if shared {
-                    0
-                } else {
-                    (lane % pipes) * tmus + slot % tmus
-                };
-                let cache = &mut self.caches[ci];
+                // Which cache serves (lane, slot): precomputed per hardware pass (no
+                // division per lookup).
+                let cache = &mut self.caches[self.cache_of[lane * slots + slot] as usize];
                 for &i in texels {
                     let line = cache.line_of(tex.surface.address(i));
-                    match cache.access(line, self.mem.next_read(Client::Texture)) {
+                    match cache.access(line, next) {
                         Access::Hit { fill } => need = need.max(fill),
                         Access::Miss => {
                             let lb = cache.line_bytes();
                             need = self
                                 .mem
                                 .enqueue(Client::Texture, lb, line * lb as u64, true);
+                            next = need + 1;
                         }
                     }
+                }
+            }
+        }
+        need
+    }
+
+    /// `lookup` without a cache: every texel fetch is a memory read.
+    fn lookup_uncached(&mut self, q: &Quad) -> u64 {
+        let mut need = 0;
+        for lane in 0..4 {
+            let f = q.frag[lane];
+            if f == NONE {
+                continue;
+            }
+            let frag_base = f as usize * self.stride;
+            for j in self.group.clone() {
+                let tex = &self.tex[j];
+                let start = frag_base + tex.offset;
+                let texels = &self.work.texels[start..start + tex.per_lookup];
+                self.uncached += texels.len() as u64;
+                for &i in texels {
+                    let a = tex.surface.address(i);
+                    need = self
+                        .mem
+                        .enqueue(Client::Texture, tex.surface.elem_bytes, a, true);
                 }
             }
         }
@@ -853,6 +871,19 @@ impl<'a> Engine<'a> {
         last: bool,
     ) -> Result<u64, ConfigError> {
         self.group = group;
+        let (pipes, tmus) = (self.chip.pipes as usize, self.chip.tmus_per_pipe as usize);
+        let shared = self.chip.texture_cache.shared;
+        let slots = self.group.len();
+        self.cache_of = (0..4 * slots)
+            .map(|k| {
+                let (lane, slot) = (k / slots.max(1), k % slots.max(1));
+                if shared {
+                    0
+                } else {
+                    ((lane % pipes) * tmus + slot % tmus) as u16
+                }
+            })
+            .collect();
         self.mem.restart();
         for c in &mut self.caches {
             c.flush();
@@ -1126,7 +1157,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
                 ii: s.ii as u64,
                 texture,
                 next_accept: 0,
-                flight: VecDeque::with_capacity(cap),
+                flight: Ring::with_capacity(cap),
                 cap,
             }
         })
@@ -1147,7 +1178,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
             .map(|_| Fifo::new(depth_fifo))
             .collect(),
         pipes,
-        rop_flight: VecDeque::with_capacity(depth_fifo),
+        rop_flight: Ring::with_capacity(depth_fifo),
         rop_next_accept: 0,
         rop_retired: 0,
         next_prim: 0,
@@ -1165,6 +1196,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         group: 0..0,
         cls: vec![STARVED; n_stages],
         uncached: 0,
+        cache_of: Vec::new(),
     };
     let groups = hw_groups(chip, work);
     let overhead = chip.pass_overhead_clocks as u64;
@@ -1371,11 +1403,14 @@ pub fn clock_pass_sampled(
             ..PassWork::default()
         })
         .collect();
+    // Each fragment's group (u8::MAX: not sampled), found once.
+    let mut frag_group: Vec<u8> = Vec::new();
     for p in 0..work.prim_first_fragment.len() {
         let r = work.prim_fragments(p);
         let mut count = [0u64; SAMPLE_GROUPS];
-        for f in r.clone() {
-            let g = group_of(f);
+        frag_group.clear();
+        frag_group.extend(r.clone().map(group_of));
+        for &g in &frag_group {
             if (g as usize) < SAMPLE_GROUPS {
                 count[g as usize] += 1;
             }
@@ -1389,8 +1424,7 @@ pub fn clock_pass_sampled(
                     .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
             }
         }
-        for f in r {
-            let g = group_of(f);
+        for (f, &g) in r.zip(&frag_group) {
             if (g as usize) < SAMPLE_GROUPS {
                 let gw = &mut groups[g as usize];
                 gw.frag_xy.push(work.frag_xy[f]);
@@ -1399,7 +1433,8 @@ pub fn clock_pass_sampled(
             }
         }
     }
-    let used: Vec<&PassWork> = groups.iter().filter(|g| g.fragments() > 0).collect();
+    // The groups are clocked in place (no copy of their work).
+    let mut used: Vec<PassWork> = groups.into_iter().filter(|g| g.fragments() > 0).collect();
     if used.len() < 2 {
         return full(chip);
     }
@@ -1408,15 +1443,14 @@ pub fn clock_pass_sampled(
     let mut acc = new_acc(&inner, None);
     let mut cn = Vec::with_capacity(used.len());
     let mut hw = 1;
-    for g in &used {
-        let mut gw = (*g).clone();
+    for gw in &mut used {
         // The copy's bytes shared by the groups in proportion to their fragments.
         // (scaled back with the rest by N / Σn_g).
-        gw.copy_read_bytes = work.copy_read_bytes * g.fragments() as u64 / n as u64;
-        gw.copy_write_bytes = work.copy_write_bytes * g.fragments() as u64 / n as u64;
+        gw.copy_read_bytes = work.copy_read_bytes * gw.fragments() as u64 / n as u64;
+        gw.copy_write_bytes = work.copy_write_bytes * gw.fragments() as u64 / n as u64;
         let before = acc.offset;
-        hw = run_pass(&inner, &gw, &mut acc)?;
-        cn.push(((acc.offset - before) as f64, g.fragments() as f64));
+        hw = run_pass(&inner, gw, &mut acc)?;
+        cn.push(((acc.offset - before) as f64, gw.fragments() as f64));
     }
     let c_sum: f64 = cn.iter().map(|c| c.0).sum();
     let n_sum: f64 = cn.iter().map(|c| c.1).sum();

@@ -38,6 +38,7 @@ impl<T: Copy + Default> Fifo<T> {
     }
 
     /// Entries held now.
+    #[inline]
     pub fn level(&self) -> usize {
         self.len
     }
@@ -48,21 +49,25 @@ impl<T: Copy + Default> Fifo<T> {
     }
 
     /// valid: an entry is waiting.
+    #[inline]
     pub fn valid(&self) -> bool {
         self.len > 0
     }
 
     /// ready: room for one more entry.
+    #[inline]
     pub fn ready(&self) -> bool {
         self.len < self.ring.len()
     }
 
     /// The oldest entry, if any.
+    #[inline]
     pub fn front(&self) -> Option<T> {
         (self.len > 0).then(|| self.ring[self.head])
     }
 
     /// Push; returns false (and leaves the FIFO as it was) when full.
+    #[inline]
     pub fn push(&mut self, v: T) -> bool {
         if self.len == self.ring.len() {
             return false;
@@ -78,6 +83,7 @@ impl<T: Copy + Default> Fifo<T> {
     }
 
     /// Pop the oldest entry.
+    #[inline]
     pub fn pop(&mut self) -> Option<T> {
         if self.len == 0 {
             return None;
@@ -95,6 +101,87 @@ impl<T: Copy + Default> Fifo<T> {
     pub fn clear(&mut self) {
         self.head = 0;
         self.len = 0;
+    }
+}
+
+/// An unbounded queue for the engine's inner loop (requests waiting for the memory
+/// channel, reads in flight, quads inside a unit): a power-of-two ring that grows
+/// when full. Unlike `VecDeque`, its push and pop are small enough to inline into the
+/// per-clock loop (the growth is out of line), and an index wraps with a mask.
+#[derive(Clone, Debug)]
+pub struct Ring<T: Copy + Default> {
+    buf: Vec<T>,
+    head: usize,
+    len: usize,
+}
+
+impl<T: Copy + Default> Default for Ring<T> {
+    fn default() -> Self {
+        Ring::with_capacity(8)
+    }
+}
+
+impl<T: Copy + Default> Ring<T> {
+    /// An empty ring with room for at least `cap` entries before it grows.
+    pub fn with_capacity(cap: usize) -> Self {
+        Ring {
+            buf: vec![T::default(); cap.max(2).next_power_of_two()],
+            head: 0,
+            len: 0,
+        }
+    }
+
+    #[inline]
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    #[inline]
+    pub fn front(&self) -> Option<&T> {
+        (self.len > 0).then(|| &self.buf[self.head])
+    }
+
+    #[inline]
+    pub fn push_back(&mut self, v: T) {
+        if self.len == self.buf.len() {
+            self.grow();
+        }
+        let mask = self.buf.len() - 1;
+        self.buf[(self.head + self.len) & mask] = v;
+        self.len += 1;
+    }
+
+    #[inline]
+    pub fn pop_front(&mut self) -> Option<T> {
+        if self.len == 0 {
+            return None;
+        }
+        let v = self.buf[self.head];
+        self.head = (self.head + 1) & (self.buf.len() - 1);
+        self.len -= 1;
+        Some(v)
+    }
+
+    pub fn clear(&mut self) {
+        self.head = 0;
+        self.len = 0;
+    }
+
+    /// Double the ring, its entries moved to the front in order.
+    #[cold]
+    #[inline(never)]
+    fn grow(&mut self) {
+        let n = self.buf.len();
+        let mut buf = Vec::with_capacity(2 * n);
+        buf.extend((0..self.len).map(|k| self.buf[(self.head + k) & (n - 1)]));
+        buf.resize(2 * n, T::default());
+        self.buf = buf;
+        self.head = 0;
     }
 }
 

@@ -18,7 +18,7 @@
 //! latency), so a client's reads are numbered and "read n has arrived" is a count.
 
 use super::config::{Arbitration, MemoryConfig};
-use std::collections::VecDeque;
+use super::fifo::Ring;
 
 /// The memory clients, in fixed-priority order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,7 +32,7 @@ pub enum Client {
 /// The clients' names, as `PassTiming::bytes_by_client` keys them.
 pub const CLIENT_NAMES: [&str; 4] = ["texture", "depth", "colour", "copy"];
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Request {
     bytes: u32,
     addr: u64,
@@ -43,7 +43,7 @@ struct Request {
 #[derive(Clone, Debug)]
 pub struct Memory {
     cfg: MemoryConfig,
-    queues: [VecDeque<Request>; 4],
+    queues: [Ring<Request>; 4],
     queued: usize,
     /// The channel is busy until this (fractional) clock.
     free_at: f64,
@@ -51,7 +51,7 @@ pub struct Memory {
     reads_issued: [u64; 4],
     reads_done: [u64; 4],
     /// Arrival clocks of reads transferred but not yet arrived, per client, in order.
-    in_flight: [VecDeque<u64>; 4],
+    in_flight: [Ring<u64>; 4],
     open_page: Vec<u64>,
     next_rr: usize,
     /// The earliest arrival clock among the reads in flight (u64::MAX: none).
