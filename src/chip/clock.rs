@@ -143,6 +143,8 @@ impl FrameTiming {
 // 2. set-up: `setup_clocks_per_triangle` clocks per primitive, then hands it to the
 //    rasteriser through a FIFO of `fifo_depth` primitives;
 // 3. rasteriser: walks a primitive's `prim_walked` pixels at `pipes` pixels per clock
+//    (`RasterWalk::BoundingBox`; with `CoveredQuads` its quads and its depth-killed
+//    fragments at `pipes` per clock)
 //    and emits its covered fragments as 2×2 quads, at most one quad per clock, spread
 //    evenly over the walk (quad i of Q due at walk clock ⌊i·T/Q⌋, T = max(⌈walked /
 //    pipes⌉, Q)). Walk order (assumed): 8×8-pixel tiles in row order, 2×2 quads in row
@@ -178,7 +180,7 @@ impl FrameTiming {
 // most bytes; otherwise the stage with the most busy clocks (the earliest on a tie).
 // ---------------------------------------------------------------------------------
 
-use super::config::StageKind;
+use super::config::{RasterWalk, StageKind};
 use super::fifo::Fifo;
 use super::fifo::Ring;
 use super::memory::{Client, Memory, CLIENT_NAMES};
@@ -526,7 +528,15 @@ impl<'a> Engine<'a> {
             self.r_end = self.quads.prim_start[p + 1] as usize;
             self.r_quad = self.r_start;
             let nq = (self.r_end - self.r_start) as u64;
-            self.r_total = (self.work.prim_walked[p] as u64).div_ceil(pipes).max(nq);
+            self.r_total = match self.chip.raster_walk {
+                RasterWalk::BoundingBox => {
+                    (self.work.prim_walked[p] as u64).div_ceil(pipes).max(nq)
+                }
+                RasterWalk::CoveredQuads => {
+                    let killed = self.work.prim_depth_killed.get(p).copied().unwrap_or(0);
+                    nq + u64::from(killed).div_ceil(pipes)
+                }
+            };
             if self.r_total > 0 {
                 self.r_active = true;
                 self.r_base = t;
@@ -1422,6 +1432,10 @@ pub fn clock_pass_sampled(
                 gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
                 gw.prim_walked
                     .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
+                if let Some(&killed) = work.prim_depth_killed.get(p) {
+                    gw.prim_depth_killed
+                        .push((killed as u64 * c).div_ceil(total) as u32);
+                }
             }
         }
         for (f, &g) in r.zip(&frag_group) {

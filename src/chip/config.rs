@@ -94,6 +94,22 @@ pub struct PipeStage {
     pub ii: u32,
 }
 
+/// What the rasteriser spends its clocks on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum RasterWalk {
+    /// Every pixel of the primitive's bounding box as the polygon interpolator walks
+    /// it (covered or not, inside the viewport or not), `pipes` pixels per clock: the
+    /// glare ASIC's interpolator (Matsuda and Ikedo's design walks the box).
+    BoundingBox,
+    /// Only the 2×2 quads that hold a fragment, one per clock, and the fragments the
+    /// depth test removes (`pipes` per clock): a rasteriser that traverses the
+    /// primitive's own quads inside the viewport, as edge-function traversal does
+    /// (McCormack and McNamara, "Tiled polygon traversal using half-plane edge
+    /// functions", Graphics Hardware 2000). Assumed for the GeForce presets: NVIDIA
+    /// does not publish its traversal.
+    CoveredQuads,
+}
+
 /// A clocked chip: the stages a pass runs through and the memory behind them.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ChipConfig {
@@ -112,6 +128,8 @@ pub struct ChipConfig {
     pub setup_clocks_per_triangle: u32,
     /// Clocks between passes (state change, pipeline flush).
     pub pass_overhead_clocks: u32,
+    /// What the rasteriser walks (its clocks per primitive).
+    pub raster_walk: RasterWalk,
     /// Entries (quads) of every FIFO between two stages.
     pub fifo_depth: u32,
     /// The pixel pipe's stages in order, from the interpolator to the last combiner

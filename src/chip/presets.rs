@@ -87,7 +87,8 @@ impl GpuModel {
 // ---------------------------------------------------------------------------------
 
 use super::config::{
-    Arbitration, CacheConfig, ChipConfig, Layout, MemoryConfig, PipeStage, Replacement, StageKind,
+    Arbitration, CacheConfig, ChipConfig, Layout, MemoryConfig, PipeStage, RasterWalk, Replacement,
+    StageKind,
 };
 use rtl_model::units::final_combiner::FinalCombiner;
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
@@ -159,6 +160,10 @@ impl ChipConfig {
             // the ROP): enough to cover the assumed memory latency (40 clocks) and a
             // full request queue (16) at one quad per clock, as Igehy et al. size
             // their prefetch FIFO to the latency.
+            // assumed: the rasteriser walks the primitive's own quads inside the viewport
+            // (edge-function traversal; McCormack and McNamara, Graphics Hardware 2000),
+            // not the polygon interpolator's bounding box.
+            raster_walk: RasterWalk::CoveredQuads,
             fifo_depth: 64,
             // The unit contract at GeForce defaults; 2 general combiners
             // (MAX_GENERAL_COMBINERS_NV on NV1x, GL_NV_register_combiners).
@@ -375,6 +380,9 @@ impl super::config::ChipConfig {
             // ≥ 30 quads at 30 clocks), as the GeForce presets' 64 cover their 40;
             // below the latency the pass is latency bound at depth ÷ latency quads a
             // clock. Swept by `reproduce glare-asic-throughput` (16 and 2 deep).
+            // The polygon interpolator walks the primitive's bounding box, one pixel a
+            // clock per pipe (the paper's design; `pipeline::glare::throughput`).
+            raster_walk: super::config::RasterWalk::BoundingBox,
             fifo_depth: 64,
             pipe_stages: vec![
                 plain(ip.name(), ti.latency, ti.ii),
