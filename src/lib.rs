@@ -1,9 +1,10 @@
 //! The system around the hardware: f64 references, scenes, pipelines, reports, CLI.
 //!
 //! The hardware itself is the `rtl_model` crate (bit-accurate, cycle-level units); this
-//! crate holds each unit's f64 twin ([`reference`]), the scene format ([`scene`]), the
-//! pipelines that chain the units into passes ([`pipeline`]), one frame through every
-//! pipeline ([`frame`]), the chip's time ([`chip`]) and the outputs ([`report`]).
+//! crate holds each unit's f64 twin ([`reference`](mod@crate::reference)), the scene
+//! format ([`scene`]), the pipelines that chain the units into passes ([`pipeline`]),
+//! one frame through every pipeline ([`frame`]), the chip's time ([`chip`]) and the
+//! outputs ([`report`]).
 //!
 //! # A unit at your widths against its f64 twin
 //!
