@@ -404,7 +404,10 @@ fn presets_validate_and_take_the_units_timing() {
     let e = ChipConfig::preset("voodoo2").unwrap_err();
     assert_eq!(e.field(), "chip");
     assert!(e.to_string().contains("geforce2-gts"));
-    assert_eq!(ChipConfig::preset("glare-asic").unwrap().name, "glare-asic");
+    assert_eq!(
+        ChipConfig::preset("glare-asic").unwrap_err().field(),
+        "chip"
+    );
 }
 
 #[test]
@@ -539,15 +542,10 @@ fn dram_pages_and_priority_cost_clocks() {
     check_accounting(&t2);
 }
 
-/// Wall time of the clocked chip on a Fig. 6(b)-sized sample plane (720 × 480, the F
-/// table with 2 texels per lookup and two 2D textures with 4), printed, not asserted:
-/// `cargo test --test chip_clock -- --ignored --nocapture fig6b_plane_speed`
-/// (the criterion figure is `cargo bench --bench chip_clock`).
-#[test]
-#[ignore]
-fn fig6b_plane_speed() {
-    let (w, h) = (720u32, 480u32);
-    let work = plane(
+/// A Fig. 6(b)-sized sample plane: w × h full screen, the F table with 2 texels per
+/// lookup and two 2D textures with 4 (h 256², J 512²), addresses following the pixel.
+fn fig6b_sized_plane(w: u32, h: u32) -> PassWork {
+    plane(
         w,
         h,
         vec![
@@ -560,7 +558,18 @@ fn fig6b_plane_speed() {
             1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
             _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
         },
-    );
+    )
+}
+
+/// Wall time of the clocked chip on a Fig. 6(b)-sized sample plane (720 × 480, the F
+/// table with 2 texels per lookup and two 2D textures with 4), printed, not asserted:
+/// `cargo test --test chip_clock -- --ignored --nocapture fig6b_plane_speed`
+/// (the criterion figure is `cargo bench --bench chip_clock`).
+#[test]
+#[ignore]
+fn fig6b_plane_speed() {
+    let (w, h) = (720u32, 480u32);
+    let work = fig6b_sized_plane(w, h);
     let chip = ChipConfig::geforce2_gts();
     let n = work.fragments() as f64;
     // CPU time of this thread (the machine may be shared): /proc/thread-self/schedstat's
@@ -696,22 +705,7 @@ fn scatter(w: u32, h: u32, prims: u32, textures: Vec<TextureWork>, rop: RopWork)
 #[test]
 fn timing_fingerprints_unchanged() {
     use glare_pipeline::chip::config::DramPages;
-    let fig = |w: u32, h: u32| {
-        plane(
-            w,
-            h,
-            vec![
-                tex("F", [256, 1, 1], 2),
-                tex("h", [256, 256, 1], 4),
-                tex("J", [512, 512, 1], 4),
-            ],
-            move |x, y, j, k| match j {
-                0 => ((x + y) * 255 / (w + h)).min(254) + k,
-                1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
-                _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
-            },
-        )
-    };
+    let fig = fig6b_sized_plane;
     let rmw = RopWork {
         depth_read_bytes: 4,
         depth_write_bytes: 4,
@@ -811,20 +805,7 @@ fn timing_fingerprints_unchanged() {
 #[ignore]
 fn sampled_accuracy() {
     let (w, h) = (720u32, 480u32);
-    let fig = plane(
-        w,
-        h,
-        vec![
-            tex("F", [256, 1, 1], 2),
-            tex("h", [256, 256, 1], 4),
-            tex("J", [512, 512, 1], 4),
-        ],
-        |x, y, j, k| match j {
-            0 => ((x + y) * 255 / (w + h)).min(254) + k,
-            1 => bilinear(x * 256 / w, y * 256 / h, k, 256),
-            _ => bilinear(x * 512 / w, y * 512 / h, k, 512),
-        },
-    );
+    let fig = fig6b_sized_plane(w, h);
     let depth_only = RopWork {
         depth_read_bytes: 4,
         depth_write_bytes: 4,
@@ -880,5 +861,8 @@ fn the_raster_walk_is_the_box_or_the_covered_quads() {
         t.stages.iter().find(|s| s.name == "raster").unwrap().busy
     };
     assert_eq!(raster_busy(RasterWalk::BoundingBox), u64::from(100 * n / 4));
-    assert_eq!(raster_busy(RasterWalk::CoveredQuads), u64::from(n + 2 * n / 4));
+    assert_eq!(
+        raster_busy(RasterWalk::CoveredQuads),
+        u64::from(n + 2 * n / 4)
+    );
 }

@@ -7,14 +7,10 @@ use glare_pipeline::frame::chip_sweep::{check_chip_sweep, run_chip_sweep};
 use glare_pipeline::scene::builtin::builtin;
 use glare_pipeline::scene::format::Scene;
 
+mod common;
+
 fn small() -> Scene {
-    let mut s = builtin("fig6").unwrap();
-    s.image.width = 64;
-    s.image.height = 48;
-    s.shafts.planes = 3;
-    s.shafts.subplanes = 2;
-    s.shafts.shadow_resolution = 64;
-    s
+    common::small_shafts_scene("fig6")
 }
 
 #[test]

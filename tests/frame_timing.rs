@@ -9,14 +9,10 @@ use glare_pipeline::frame::timing::{check, ChipName, TimingMode, TimingRequest};
 use glare_pipeline::scene::builtin::builtin;
 use glare_pipeline::scene::format::Scene;
 
+mod common;
+
 fn small(name: &str) -> Scene {
-    let mut s = builtin(name).unwrap();
-    s.image.width = 64;
-    s.image.height = 48;
-    s.shafts.planes = 3;
-    s.shafts.subplanes = 2;
-    s.shafts.shadow_resolution = 64;
-    s
+    common::small_shafts_scene(name)
 }
 
 #[test]

@@ -1,4 +1,4 @@
-//! The glare ASIC clocked (`src/pipeline/glare/clocked.rs`, `ChipConfig::glare_asic`):
+//! The glare ASIC clocked (`src/pipeline/glare/clocked.rs`, `pipeline::glare::asic_preset`):
 //! the recording of the glare pass's work (what it did equals what the units counted,
 //! it changes no pixel or counter, it is the same on 1 and 2 threads), the preset's
 //! fields against the units' own timing, and — once the clocked chip runs — the
@@ -9,9 +9,11 @@
 //! placeholder returning an error they fail (by design: they are not weakened to pass
 //! without the engine).
 
-use glare_pipeline::chip::config::{ChipConfig, StageKind};
-use glare_pipeline::chip::presets::GLARE_TABLE_WORDS_PER_CLOCK;
+use glare_pipeline::chip::config::StageKind;
 use glare_pipeline::chip::work::{PassKind, PassWork};
+use glare_pipeline::pipeline::glare::asic_preset::{
+    glare_asic, glare_asic_for, GLARE_TABLE_WORDS_PER_CLOCK,
+};
 use glare_pipeline::pipeline::glare::clocked::{
     check_chip, glare_chip, glare_frame_timing, record_glare, sustained_pixels_per_second,
     table_cycles, variants, ASIC_SCENES, GLARE_PASS, PAPER_PIXELS_PER_SECOND,
@@ -150,7 +152,7 @@ fn recording_is_deterministic_across_threads() {
 /// overhead from the units' own timing at the default widths.
 #[test]
 fn preset_fields_come_from_the_units() {
-    let c = ChipConfig::glare_asic().unwrap();
+    let c = glare_asic().unwrap();
     assert_eq!(c.name, "glare-asic");
     assert_eq!(c.clock_hz * c.pipes as f64, PAPER_PIXELS_PER_SECOND);
     assert_eq!((c.tmus_per_pipe, c.texture_cache.size_bytes), (0, 0));
@@ -183,7 +185,7 @@ fn preset_fields_come_from_the_units() {
         .unwrap();
     assert_eq!(c.pipe_stages[2].latency, comb.timing().latency);
     // With radial correction the modulators' square root lengthens their stage.
-    let radial = ChipConfig::glare_asic_for(&GlareHw { radial: true, ..hw }).unwrap();
+    let radial = glare_asic_for(&GlareHw { radial: true, ..hw }).unwrap();
     assert!(radial.pipe_stages[1].latency > c.pipe_stages[1].latency);
     // A scene's clock and pipes carry over.
     let mut s = scene("glare-flare");
@@ -200,7 +202,7 @@ fn preset_fields_come_from_the_units() {
 /// The glare pass refuses a GeForce, naming the chip, before any work.
 #[test]
 fn a_geforce_is_refused() {
-    let mut c = ChipConfig::glare_asic().unwrap();
+    let mut c = glare_asic().unwrap();
     c.name = "geforce3".into();
     let e = check_chip(&c).unwrap_err().to_string();
     assert!(e.contains("chip") && e.contains("geforce3"), "{e}");

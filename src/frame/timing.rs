@@ -170,7 +170,13 @@ pub fn unsupported_family(mode: TimingMode, family: &str) -> String {
 
 /// The clocked chip's configuration for `chip`, resolved before any pass runs.
 pub fn chip_config(chip: ChipName) -> Result<ChipConfig, String> {
-    ChipConfig::preset(chip.name()).map_err(|e| format!("--chip {}: {e}", chip.name()))
+    let c = match chip {
+        // The glare ASIC at the default glare widths (a glare scene's own are
+        // `pipeline::glare::clocked::glare_chip`).
+        ChipName::GlareAsic => crate::pipeline::glare::asic_preset::glare_asic(),
+        _ => ChipConfig::preset(chip.name()),
+    };
+    c.map_err(|e| format!("--chip {}: {e}", chip.name()))
 }
 
 /// Every how many screen tiles sampled timing clocks one.

@@ -203,3 +203,15 @@ pub fn cut_when(
     assert!(!o.status.success(), "the cut run still exited 0");
     o
 }
+
+/// A built-in shafts scene at a test size: 64 × 48, 3 planes, 2 sub-planes, 64² shadow
+/// maps (fast enough for every test that draws a whole frame).
+pub fn small_shafts_scene(name: &str) -> glare_pipeline::scene::format::Scene {
+    let mut s = glare_pipeline::scene::builtin::builtin(name).unwrap();
+    s.image.width = 64;
+    s.image.height = 48;
+    s.shafts.planes = 3;
+    s.shafts.subplanes = 2;
+    s.shafts.shadow_resolution = 64;
+    s
+}

@@ -1,7 +1,7 @@
 //! The glare ASIC clocked: the glare pass records what it did (its primitives, their
 //! walked pixels and covered fragments, the combiner's read-modify-write per fragment:
 //! a [`PassWork`]) and the clocked chip (`crate::chip::clock::clock_pass`) runs it on
-//! the glare ASIC's preset ([`ChipConfig::glare_asic_for`]). The host's RAM-table
+//! the glare ASIC's preset ([`glare_asic_for`]). The host's RAM-table
 //! writes between primitives are on-chip writes at
 //! [`GLARE_TABLE_WORDS_PER_CLOCK`] words a clock, added beside the clocked pass as a
 //! pass of their own (they are no memory traffic, and the pipe cannot modulate a
@@ -12,12 +12,12 @@
 //! against the paper's 1.2 Gpixel/s, with the bottleneck the clock names, and the
 //! assumed parameters of the preset swept.
 
+use super::asic_preset::{glare_asic_for, GLARE_TABLE_WORDS_PER_CLOCK};
 use super::cli::setup_and_drain;
 use super::frame::{glare_of, render_glare_with, GlareFrame};
 use super::throughput::{predict, GlarePrediction};
 use crate::chip::clock::{clock_pass, FrameTiming, NamedPassTiming, PassTiming, StageClocks};
 use crate::chip::config::ChipConfig;
-use crate::chip::presets::GLARE_TABLE_WORDS_PER_CLOCK;
 use crate::chip::work::PassWork;
 use crate::report::csv_out::write_csv;
 use crate::scene::format::Scene;
@@ -34,7 +34,7 @@ pub const PAPER_PIXELS_PER_SECOND: f64 = 1.2e9;
 
 /// The glare ASIC at the scene's `[glare.hw]` (widths, clock, pipes).
 pub fn glare_chip(scene: &Scene) -> Result<ChipConfig, ConfigError> {
-    ChipConfig::glare_asic_for(&glare_of(scene)?.hw)
+    glare_asic_for(&glare_of(scene)?.hw)
 }
 
 /// The glare pass of `scene`, rendered with its work recorded. What the pass does does

@@ -1,6 +1,7 @@
 //! The glare renderer (Matsuda and Ikedo): host set-up, the units' frame, throughput,
 //! reproductions and sweeps.
 
+pub mod asic_preset;
 pub mod attribute;
 pub mod background;
 pub mod cli;
