@@ -381,30 +381,20 @@ fn project(
     frags: &[Fragment],
     c: &mut [Counters; 7],
 ) -> (Vec<ProjectiveOut>, Vec<ProjectiveOut>) {
-    let checker_in: Vec<ProjectiveIn> = frags
-        .iter()
-        .map(|f| ProjectiveIn {
-            s: f.attrs[0],
-            t: f.attrs[1],
-            q: f.attrs[2],
-        })
-        .collect();
-    let light_in: Vec<ProjectiveIn> = frags
-        .iter()
-        .map(|f| ProjectiveIn {
-            s: f.attrs[3],
-            t: f.attrs[4],
-            q: f.attrs[6],
-        })
-        .collect();
-    let depth_in: Vec<ProjectiveIn> = frags
-        .iter()
-        .map(|f| ProjectiveIn {
-            s: f.attrs[5],
-            t: 0,
-            q: f.attrs[6],
-        })
-        .collect();
+    // Attribute indices (s, t, q) of each divide; `None` for t: the depth has no t.
+    let inputs = |s: usize, t: Option<usize>, q: usize| -> Vec<ProjectiveIn> {
+        frags
+            .iter()
+            .map(|f| ProjectiveIn {
+                s: f.attrs[s],
+                t: t.map_or(0, |t| f.attrs[t]),
+                q: f.attrs[q],
+            })
+            .collect()
+    };
+    let checker_in = inputs(0, Some(1), 2);
+    let light_in = inputs(3, Some(4), 6);
+    let depth_in = inputs(5, None, 6);
     let mut uv = run_span(&u.proj, &mut (), &checker_in, &mut c[0]);
     let st = run_span(&u.proj, &mut (), &light_in, &mut c[0]);
     uv.extend(st.iter().copied());
