@@ -846,6 +846,92 @@ fn tick_step(span: f64, n: f64) -> f64 {
         .unwrap_or(10.0 * p)
 }
 
+/// Where everything of the timeline PNG goes (pixels), from the frame and its lanes.
+struct TimelineLayout {
+    w: u32,
+    h: u32,
+    left: u32,
+    plot_w: u32,
+    title_h: u32,
+    band_h: u32,
+    lane_h: u32,
+    lanes_top: u32,
+    lanes_bottom: u32,
+    bar_y: u32,
+    bar_w: u32,
+    key_y: u32,
+    key_line: u32,
+    /// Key columns and rows, and the passes the key lists (the rest are counted).
+    key_cols: usize,
+    key_rows: u32,
+    listed: usize,
+    /// The frame's clocks.
+    total: u64,
+}
+
+impl TimelineLayout {
+    fn new(ft: &FrameTiming, lanes: &[&str], total: u64) -> Self {
+        let w = TIMELINE_WIDTH;
+        let left = 24 + 9 * lanes.iter().map(|s| s.chars().count()).max().unwrap_or(8) as u32;
+        let left = left.clamp(120, 420);
+        let right = 30u32;
+        let (title_h, band_h, lane_h) = (44u32, 26u32, 30u32);
+        let lanes_top = title_h + band_h;
+        let lanes_h = lane_h * lanes.len().max(1) as u32;
+        let (axis_h, bar_h, key_line) = (56u32, 44u32, 20u32);
+        // The key: one column up to 12 passes, two up to 48, then three; at most
+        // KEY_ROWS rows, the rest counted on a last line (the CSV lists every pass).
+        const KEY_ROWS: usize = 40;
+        let n_passes = ft.passes.len();
+        let key_cols = match n_passes {
+            0..=12 => 1,
+            13..=48 => 2,
+            _ => 3,
+        };
+        let key_rows = n_passes.div_ceil(key_cols).min(KEY_ROWS);
+        let listed = (key_rows * key_cols).min(n_passes);
+        let more_line = u32::from(listed < n_passes);
+        let key_rows = key_rows as u32;
+        let h =
+            lanes_top + lanes_h + axis_h + bar_h + 16 + key_line * (key_rows + 1 + more_line) + 12;
+        let lanes_bottom = lanes_top + lanes_h;
+        let bar_y = lanes_bottom + axis_h;
+        TimelineLayout {
+            w,
+            h,
+            left,
+            plot_w: w - left - right,
+            title_h,
+            band_h,
+            lane_h,
+            lanes_top,
+            lanes_bottom,
+            bar_y,
+            bar_w: 300,
+            key_y: bar_y + bar_h + 16,
+            key_line,
+            key_cols,
+            key_rows,
+            listed,
+            total,
+        }
+    }
+
+    /// The x pixel of a frame clock.
+    fn x_of(&self, clock: f64) -> f64 {
+        self.left as f64 + clock / self.total as f64 * self.plot_w as f64
+    }
+
+    /// Pass `i`'s left and right x (floating).
+    fn pass_span(&self, ft: &FrameTiming, starts: &[u64], i: usize) -> (f64, f64) {
+        let s = starts[i] as f64;
+        (
+            self.x_of(s),
+            self.x_of(s + ft.passes[i].timing.cycles as f64),
+        )
+    }
+}
+
 /// The timeline as a PNG, [`TIMELINE_WIDTH`] pixels wide: a lane per stage (the
 /// stages of every pass, in the order they first appear), each pixel column coloured
 /// by the stage's busy fraction over the clocks it covers (the buckets' fractions
@@ -863,72 +949,67 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
     }
     let starts = pass_starts(ft);
     let lanes = lane_order(ft);
-    let font = crate::report::plot::FONT_FAMILY;
-    let (title_px, text_px, small_px) = (22.0, 15.0, 13.0);
-    // Layout (pixels).
-    let w = TIMELINE_WIDTH;
-    let left = 24 + 9 * lanes.iter().map(|s| s.chars().count()).max().unwrap_or(8) as u32;
-    let left = left.clamp(120, 420);
-    let right = 30u32;
-    let plot_w = w - left - right;
-    let title_h = 44u32;
-    let band_h = 26u32;
-    let lane_h = 30u32;
-    let lanes_top = title_h + band_h;
-    let lanes_h = lane_h * lanes.len().max(1) as u32;
-    let axis_h = 56u32;
-    let bar_h = 44u32;
-    let key_line = 20u32;
-    // The key: one column up to 12 passes, two up to 48, then three; at most
-    // KEY_ROWS rows, the rest counted on a last line (the CSV lists every pass).
-    const KEY_ROWS: usize = 40;
-    let n_passes = ft.passes.len();
-    let key_cols = match n_passes {
-        0..=12 => 1,
-        13..=48 => 2,
-        _ => 3,
-    };
-    let key_rows = n_passes.div_ceil(key_cols).min(KEY_ROWS);
-    let listed = (key_rows * key_cols).min(n_passes);
-    let more_line = u32::from(listed < n_passes);
-    let key_rows = key_rows as u32;
-    let h = lanes_top + lanes_h + axis_h + bar_h + 16 + key_line * (key_rows + 1 + more_line) + 12;
+    let lay = TimelineLayout::new(ft, &lanes, total);
     let mut cv = Canvas {
-        w,
-        h,
-        buf: vec![255u8; w as usize * h as usize * 3],
+        w: lay.w,
+        h: lay.h,
+        buf: vec![255u8; lay.w as usize * lay.h as usize * 3],
     };
-    let x_of = |clock: f64| left as f64 + clock / total as f64 * plot_w as f64;
+    paint_pass_bands(&mut cv, ft, &starts, &lay);
+    paint_lanes(&mut cv, &all, &lanes, &lay);
+    paint_frame_and_boundaries(&mut cv, ft, &starts, &lay);
+    let step = tick_step(total as f64, 8.0);
+    let ticks = paint_ticks(&mut cv, step, &lay);
+    paint_colour_bar(&mut cv, &lay);
+    {
+        let root = BitMapBackend::with_buffer(&mut cv.buf, (lay.w, lay.h)).into_drawing_area();
+        let de = |x: DrawingAreaErrorKind<_>| e(x.to_string());
+        label_lanes_and_passes(&root, ft, &starts, &lanes, &lay).map_err(de)?;
+        label_axis_and_bar(&root, ft, &ticks, step, &lay).map_err(de)?;
+        draw_key(&root, ft, &starts, &lay).map_err(de)?;
+        root.present().map_err(de)?;
+    }
+    let img = image::RgbImage::from_raw(lay.w, lay.h, cv.buf)
+        .ok_or_else(|| e("internal: buffer size does not match the image".into()))?;
+    crate::report::atomic::write_atomically(path, |tmp| {
+        img.save_with_format(tmp, image::ImageFormat::Png)
+            .map_err(|x| e(format!("cannot write PNG: {x}")))
+    })
+}
 
-    // Pass bands.
-    for (i, p) in ft.passes.iter().enumerate() {
-        let (a, b) = (
-            x_of(starts[i] as f64),
-            x_of(starts[i] as f64 + p.timing.cycles as f64),
-        );
+/// The passes' bands along the top, alternating colours.
+fn paint_pass_bands(cv: &mut Canvas, ft: &FrameTiming, starts: &[u64], lay: &TimelineLayout) {
+    for i in 0..ft.passes.len() {
+        let (a, b) = lay.pass_span(ft, starts, i);
         let (a, b) = (
             a.round() as u32,
             (b.round() as u32).max(a.round() as u32 + 1),
         );
         cv.rect(
             a,
-            title_h,
-            b.min(left + plot_w),
-            title_h + band_h - 2,
+            lay.title_h,
+            b.min(lay.left + lay.plot_w),
+            lay.title_h + lay.band_h - 2,
             BAND[i % 2],
         );
     }
-    // Lanes: per pixel column, the overlap-weighted busy fraction per stage.
-    let mut sum = vec![vec![0f64; plot_w as usize]; lanes.len()];
-    let mut cover = vec![vec![0f64; plot_w as usize]; lanes.len()];
-    let px_clocks = total as f64 / plot_w as f64;
-    for b in &all {
+}
+
+/// Per pixel column and stage, the overlap-weighted busy fraction; a column the stage
+/// covers for under a tenth of its clocks reads as absent rather than as a fraction of
+/// almost nothing.
+fn paint_lanes(cv: &mut Canvas, all: &[Bucket<'_>], lanes: &[&str], lay: &TimelineLayout) {
+    let plot_w = lay.plot_w as usize;
+    let mut sum = vec![vec![0f64; plot_w]; lanes.len()];
+    let mut cover = vec![vec![0f64; plot_w]; lanes.len()];
+    let px_clocks = lay.total as f64 / lay.plot_w as f64;
+    for b in all {
         let Some(l) = lanes.iter().position(|s| *s == b.stage) else {
             continue;
         };
         let (lo, hi) = (b.start as f64, b.end as f64);
-        let c0 = ((lo / px_clocks).floor() as usize).min(plot_w as usize - 1);
-        let c1 = ((hi / px_clocks).ceil() as usize).min(plot_w as usize);
+        let c0 = ((lo / px_clocks).floor() as usize).min(plot_w - 1);
+        let c1 = ((hi / px_clocks).ceil() as usize).min(plot_w);
         for c in c0..c1 {
             let (cl, ch) = (c as f64 * px_clocks, (c + 1) as f64 * px_clocks);
             let ov = hi.min(ch) - lo.max(cl);
@@ -938,254 +1019,252 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
             }
         }
     }
-    for (l, _) in lanes.iter().enumerate() {
-        let y0 = lanes_top + l as u32 * lane_h;
-        for c in 0..plot_w {
+    for l in 0..lanes.len() {
+        let y0 = lay.lanes_top + l as u32 * lay.lane_h;
+        for c in 0..lay.plot_w {
             let cov = cover[l][c as usize];
-            for y in y0 + 2..y0 + lane_h - 2 {
-                // A column the stage covers for under a tenth of its clocks reads as
-                // absent rather than as a fraction of almost nothing.
+            for y in y0 + 2..y0 + lay.lane_h - 2 {
                 let col = if cov > 0.1 * px_clocks {
                     busy_colour(sum[l][c as usize] / cov)
                 } else {
-                    absent_colour(left + c, y)
+                    absent_colour(lay.left + c, y)
                 };
-                cv.put(left + c, y, col);
+                cv.put(lay.left + c, y, col);
             }
         }
     }
-    // Frame around the lanes, pass boundaries through them.
-    let dark = [40, 40, 40];
-    let lanes_bottom = lanes_top + lanes_h;
-    cv.rect(left - 1, lanes_top, left, lanes_bottom, dark);
-    cv.rect(
-        left + plot_w,
-        lanes_top,
-        left + plot_w + 1,
-        lanes_bottom,
-        dark,
+}
+
+/// The frame around the lanes and the pass boundaries. A boundary crosses the lanes
+/// where the passes on both sides are at least 8 pixels wide; between narrower ones it
+/// stays in the band, so many short passes do not hide the lanes.
+fn paint_frame_and_boundaries(
+    cv: &mut Canvas,
+    ft: &FrameTiming,
+    starts: &[u64],
+    lay: &TimelineLayout,
+) {
+    let (left, right, top, bottom) = (
+        lay.left,
+        lay.left + lay.plot_w,
+        lay.lanes_top,
+        lay.lanes_bottom,
     );
-    cv.rect(
-        left - 1,
-        lanes_bottom,
-        left + plot_w + 1,
-        lanes_bottom + 1,
-        dark,
-    );
-    // A boundary crosses the lanes where the passes on both sides are at least 8
-    // pixels wide; between narrower ones it stays in the band, so many short passes do
-    // not hide the lanes.
-    let px = |i: usize| x_of(ft.passes[i].timing.cycles as f64) - left as f64;
+    cv.rect(left - 1, top, left, bottom, DARK);
+    cv.rect(right, top, right + 1, bottom, DARK);
+    cv.rect(left - 1, bottom, right + 1, bottom + 1, DARK);
+    let px = |i: usize| lay.x_of(ft.passes[i].timing.cycles as f64) - left as f64;
     for (i, &s) in starts.iter().enumerate().skip(1) {
-        let x = x_of(s as f64).round() as u32;
+        let x = lay.x_of(s as f64).round() as u32;
         let through = px(i - 1) >= 8.0 && px(i) >= 8.0;
-        let bottom = if through {
-            lanes_bottom
+        let end = if through {
+            bottom
         } else {
-            title_h + band_h - 2
+            lay.title_h + lay.band_h - 2
         };
-        cv.rect(x, title_h, x + 1, bottom, [200, 40, 40]);
+        cv.rect(x, lay.title_h, x + 1, end, [200, 40, 40]);
     }
-    // Ticks.
-    let step = tick_step(total as f64, 8.0);
+}
+
+/// Tick marks every `step` clocks under the lanes; returns the ticks' clocks.
+fn paint_ticks(cv: &mut Canvas, step: f64, lay: &TimelineLayout) -> Vec<f64> {
     let mut ticks = Vec::new();
     let mut t = 0.0;
-    while t <= total as f64 + 0.5 {
+    while t <= lay.total as f64 + 0.5 {
         ticks.push(t);
-        let x = x_of(t).round() as u32;
-        cv.rect(x, lanes_bottom, x + 1, lanes_bottom + 6, dark);
+        let x = lay.x_of(t).round() as u32;
+        cv.rect(x, lay.lanes_bottom, x + 1, lay.lanes_bottom + 6, DARK);
         t += step;
     }
-    // Colour bar.
-    let bar_y = lanes_bottom + axis_h;
-    let bar_x = left;
-    let bar_w = 300u32;
+    ticks
+}
+
+/// The colour bar (busy fraction 0 … 1) and the "stage not in the pass" swatch.
+fn paint_colour_bar(cv: &mut Canvas, lay: &TimelineLayout) {
+    let (bar_x, bar_y, bar_w) = (lay.left, lay.bar_y, lay.bar_w);
     for x in 0..bar_w {
         let c = busy_colour(x as f64 / (bar_w - 1) as f64);
         cv.rect(bar_x + x, bar_y, bar_x + x + 1, bar_y + 14, c);
     }
-    cv.rect(
-        bar_x + bar_w + 150,
-        bar_y,
-        bar_x + bar_w + 180,
-        bar_y + 14,
-        [0; 3],
-    );
+    let swatch = bar_x + bar_w + 150;
+    cv.rect(swatch, bar_y, swatch + 30, bar_y + 14, [0; 3]);
     for x in 0..30 {
         for y in 0..14 {
-            cv.put(
-                bar_x + bar_w + 150 + x,
-                bar_y + y,
-                absent_colour(bar_x + bar_w + 150 + x, bar_y + y),
-            );
+            cv.put(swatch + x, bar_y + y, absent_colour(swatch + x, bar_y + y));
         }
     }
+}
 
-    // Text.
-    {
-        let root = BitMapBackend::with_buffer(&mut cv.buf, (w, h)).into_drawing_area();
-        let de = |x: DrawingAreaErrorKind<_>| e(x.to_string());
-        let style = |px: f64, hp: HPos, vp: VPos| {
-            TextStyle::from((font, px).into_font())
-                .color(&BLACK)
-                .pos(Pos::new(hp, vp))
+/// Dark grey of the frame and the ticks.
+const DARK: [u8; 3] = [40, 40, 40];
+
+/// The timeline's text in the font's `px` size, anchored at (`hp`, `vp`).
+fn timeline_text(px: f64, hp: HPos, vp: VPos) -> TextStyle<'static> {
+    TextStyle::from((crate::report::plot::FONT_FAMILY, px).into_font())
+        .color(&BLACK)
+        .pos(Pos::new(hp, vp))
+}
+
+/// Text sizes: title, labels, small print.
+const TITLE_PX: f64 = 22.0;
+const TEXT_PX: f64 = 15.0;
+const SMALL_PX: f64 = 13.0;
+
+type Root<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+type DrawResult =
+    Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
+
+/// The title, the lanes' names and the passes' labels in their bands ("3 name" where
+/// it fits, else "3", else none).
+fn label_lanes_and_passes(
+    root: &Root<'_>,
+    ft: &FrameTiming,
+    starts: &[u64],
+    lanes: &[&str],
+    lay: &TimelineLayout,
+) -> DrawResult {
+    let title = format!(
+        "Stage utilisation over the frame: {} at {}, {} ({} clocks)",
+        ft.chip,
+        show_clock(ft.clock_hz),
+        ft.mode,
+        lay.total
+    );
+    let name_x = (lay.left - 10) as i32;
+    root.draw_text(
+        &title,
+        &timeline_text(TITLE_PX, HPos::Left, VPos::Center),
+        (lay.left as i32, (lay.title_h / 2) as i32),
+    )?;
+    let right = timeline_text(TEXT_PX, HPos::Right, VPos::Center);
+    root.draw_text(
+        "pass",
+        &right,
+        (name_x, (lay.title_h + lay.band_h / 2) as i32),
+    )?;
+    for (l, s) in lanes.iter().enumerate() {
+        let y = lay.lanes_top + l as u32 * lay.lane_h + lay.lane_h / 2;
+        root.draw_text(s, &right, (name_x, y as i32))?;
+    }
+    let ts = timeline_text(SMALL_PX, HPos::Left, VPos::Center);
+    for (i, p) in ft.passes.iter().enumerate() {
+        let (a, b) = lay.pass_span(ft, starts, i);
+        let room = (b - a - 6.0).max(0.0);
+        let full = format!("{i} {}", p.pass);
+        let fits = |s: &str| {
+            root.estimate_text_size(s, &ts)
+                .map(|(tw, _)| f64::from(tw) <= room)
+                .unwrap_or(false)
         };
-        let title = format!(
-            "Stage utilisation over the frame: {} at {}, {} ({} clocks)",
-            ft.chip,
-            show_clock(ft.clock_hz),
-            ft.mode,
-            total
+        let label = if fits(&full) {
+            Some(full)
+        } else if fits(&i.to_string()) {
+            Some(i.to_string())
+        } else {
+            None
+        };
+        if let Some(label) = label {
+            let y = (lay.title_h + lay.band_h / 2 - 1) as i32;
+            root.draw_text(&label, &ts, ((a + 3.0) as i32, y))?;
+        }
+    }
+    Ok(())
+}
+
+/// The ticks' clocks, the axis caption and the colour bar's labels.
+fn label_axis_and_bar(
+    root: &Root<'_>,
+    ft: &FrameTiming,
+    ticks: &[f64],
+    step: f64,
+    lay: &TimelineLayout,
+) -> DrawResult {
+    for &t in ticks {
+        root.draw_text(
+            &crate::report::plot::format_tick(t),
+            &timeline_text(SMALL_PX, HPos::Center, VPos::Top),
+            (lay.x_of(t).round() as i32, (lay.lanes_bottom + 8) as i32),
+        )?;
+    }
+    root.draw_text(
+        &format!(
+            "frame clock (1 clock = {}, {} clocks = {}; red lines: pass boundaries)",
+            show_period(ft.clock_hz),
+            crate::report::plot::format_tick(step),
+            seconds(step as u64, ft.clock_hz).map_or("n/a".into(), show_duration)
+        ),
+        &timeline_text(TEXT_PX, HPos::Center, VPos::Top),
+        (
+            (lay.left + lay.plot_w / 2) as i32,
+            (lay.lanes_bottom + 30) as i32,
+        ),
+    )?;
+    let (bar_x, bar_y, bar_w) = (lay.left, lay.bar_y, lay.bar_w);
+    for (s, x, hp) in [
+        ("0", bar_x, HPos::Left),
+        ("0.5", bar_x + bar_w / 2, HPos::Center),
+        ("1", bar_x + bar_w, HPos::Right),
+    ] {
+        let style = timeline_text(SMALL_PX, hp, VPos::Top);
+        root.draw_text(s, &style, (x as i32, (bar_y + 17) as i32))?;
+    }
+    let beside = timeline_text(TEXT_PX, HPos::Left, VPos::Center);
+    let y = (bar_y + 7) as i32;
+    root.draw_text("busy fraction", &beside, ((bar_x + bar_w + 12) as i32, y))?;
+    root.draw_text(
+        "stage not in the pass",
+        &beside,
+        ((bar_x + bar_w + 188) as i32, y),
+    )
+}
+
+/// The key under the colour bar: every pass listed, its clocks and share.
+fn draw_key(root: &Root<'_>, ft: &FrameTiming, starts: &[u64], lay: &TimelineLayout) -> DrawResult {
+    let small = timeline_text(SMALL_PX, HPos::Left, VPos::Center);
+    root.draw_text(
+        "passes:",
+        &timeline_text(TEXT_PX, HPos::Left, VPos::Center),
+        (lay.left as i32, lay.key_y as i32),
+    )?;
+    let col_w = lay.plot_w / lay.key_cols as u32;
+    for (i, p) in ft.passes.iter().enumerate().take(lay.listed) {
+        let (col, row) = (i / lay.key_rows as usize, i % lay.key_rows as usize);
+        let share = p.timing.cycles as f64 / lay.total as f64 * 100.0;
+        let line = if lay.key_cols < 3 {
+            format!(
+                "{i}  {} — {} clocks from {} ({share:.1} %)",
+                cut(&p.pass, 70 / lay.key_cols),
+                p.timing.cycles,
+                starts[i],
+            )
+        } else {
+            format!(
+                "{i}  {} — {} clocks ({share:.1} %)",
+                cut(&p.pass, 22),
+                p.timing.cycles,
+            )
+        };
+        let at = (
+            (lay.left + col as u32 * col_w) as i32,
+            (lay.key_y + lay.key_line * (row as u32 + 1)) as i32,
         );
-        root.draw_text(
-            &title,
-            &style(title_px, HPos::Left, VPos::Center),
-            (left as i32, (title_h / 2) as i32),
-        )
-        .map_err(de)?;
-        root.draw_text(
-            "pass",
-            &style(text_px, HPos::Right, VPos::Center),
-            ((left - 10) as i32, (title_h + band_h / 2) as i32),
-        )
-        .map_err(de)?;
-        for (l, s) in lanes.iter().enumerate() {
-            root.draw_text(
-                s,
-                &style(text_px, HPos::Right, VPos::Center),
-                (
-                    (left - 10) as i32,
-                    (lanes_top + l as u32 * lane_h + lane_h / 2) as i32,
-                ),
-            )
-            .map_err(de)?;
-        }
-        // Pass labels in their bands: "3 name" where it fits, else "3", else none.
-        for (i, p) in ft.passes.iter().enumerate() {
-            let (a, b) = (
-                x_of(starts[i] as f64),
-                x_of(starts[i] as f64 + p.timing.cycles as f64),
-            );
-            let room = (b - a - 6.0).max(0.0);
-            let ts = style(small_px, HPos::Left, VPos::Center);
-            let full = format!("{i} {}", p.pass);
-            let fits = |s: &str| {
-                root.estimate_text_size(s, &ts)
-                    .map(|(tw, _)| f64::from(tw) <= room)
-                    .unwrap_or(false)
-            };
-            let label = if fits(&full) {
-                Some(full)
-            } else if fits(&i.to_string()) {
-                Some(i.to_string())
-            } else {
-                None
-            };
-            if let Some(label) = label {
-                root.draw_text(
-                    &label,
-                    &ts,
-                    ((a + 3.0) as i32, (title_h + band_h / 2 - 1) as i32),
-                )
-                .map_err(de)?;
-            }
-        }
-        for &t in &ticks {
-            root.draw_text(
-                &crate::report::plot::format_tick(t),
-                &style(small_px, HPos::Center, VPos::Top),
-                (x_of(t).round() as i32, (lanes_bottom + 8) as i32),
-            )
-            .map_err(de)?;
-        }
+        root.draw_text(&line, &small, at)?;
+    }
+    let n_passes = ft.passes.len();
+    if lay.listed < n_passes {
         root.draw_text(
             &format!(
-                "frame clock (1 clock = {}, {} clocks = {}; red lines: pass boundaries)",
-                show_period(ft.clock_hz),
-                crate::report::plot::format_tick(step),
-                seconds(step as u64, ft.clock_hz).map_or("n/a".into(), show_duration)
+                "… and {} more passes (the timeline CSV lists every pass)",
+                n_passes - lay.listed
             ),
-            &style(text_px, HPos::Center, VPos::Top),
-            ((left + plot_w / 2) as i32, (lanes_bottom + 30) as i32),
-        )
-        .map_err(de)?;
-        let bar_text = |s: &str, x: u32, hp: HPos| {
-            root.draw_text(
-                s,
-                &style(small_px, hp, VPos::Top),
-                (x as i32, (bar_y + 17) as i32),
-            )
-        };
-        bar_text("0", bar_x, HPos::Left).map_err(de)?;
-        bar_text("0.5", bar_x + bar_w / 2, HPos::Center).map_err(de)?;
-        bar_text("1", bar_x + bar_w, HPos::Right).map_err(de)?;
-        root.draw_text(
-            "busy fraction",
-            &style(text_px, HPos::Left, VPos::Center),
-            ((bar_x + bar_w + 12) as i32, (bar_y + 7) as i32),
-        )
-        .map_err(de)?;
-        root.draw_text(
-            "stage not in the pass",
-            &style(text_px, HPos::Left, VPos::Center),
-            ((bar_x + bar_w + 188) as i32, (bar_y + 7) as i32),
-        )
-        .map_err(de)?;
-        // Key: every pass, its clocks and share.
-        let key_y = bar_y + bar_h + 16;
-        root.draw_text(
-            "passes:",
-            &style(text_px, HPos::Left, VPos::Center),
-            (left as i32, key_y as i32),
-        )
-        .map_err(de)?;
-        let col_w = plot_w / key_cols as u32;
-        for (i, p) in ft.passes.iter().enumerate().take(listed) {
-            let (col, row) = (i / key_rows as usize, i % key_rows as usize);
-            let share = p.timing.cycles as f64 / total as f64 * 100.0;
-            let line = if key_cols < 3 {
-                format!(
-                    "{i}  {} — {} clocks from {} ({share:.1} %)",
-                    cut(&p.pass, 70 / key_cols),
-                    p.timing.cycles,
-                    starts[i],
-                )
-            } else {
-                format!(
-                    "{i}  {} — {} clocks ({share:.1} %)",
-                    cut(&p.pass, 22),
-                    p.timing.cycles,
-                )
-            };
-            root.draw_text(
-                &line,
-                &style(small_px, HPos::Left, VPos::Center),
-                (
-                    (left + col as u32 * col_w) as i32,
-                    (key_y + key_line * (row as u32 + 1)) as i32,
-                ),
-            )
-            .map_err(de)?;
-        }
-        if listed < n_passes {
-            root.draw_text(
-                &format!(
-                    "… and {} more passes (the timeline CSV lists every pass)",
-                    n_passes - listed
-                ),
-                &style(small_px, HPos::Left, VPos::Center),
-                (left as i32, (key_y + key_line * (key_rows + 1)) as i32),
-            )
-            .map_err(de)?;
-        }
-        root.present().map_err(de)?;
+            &small,
+            (
+                lay.left as i32,
+                (lay.key_y + lay.key_line * (lay.key_rows + 1)) as i32,
+            ),
+        )?;
     }
-    let img = image::RgbImage::from_raw(w, h, cv.buf)
-        .ok_or_else(|| e("internal: buffer size does not match the image".into()))?;
-    crate::report::atomic::write_atomically(path, |tmp| {
-        img.save_with_format(tmp, image::ImageFormat::Png)
-            .map_err(|x| e(format!("cannot write PNG: {x}")))
-    })
+    Ok(())
 }
 
 // ---------------------------------------------------------------------------------
