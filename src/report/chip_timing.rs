@@ -337,7 +337,6 @@ fn megabytes(b: u64) -> String {
 /// the first table; the others refer to passes by their number).
 pub fn print_table(ft: &FrameTiming) -> String {
     let hz = ft.clock_hz;
-    let mut out = String::new();
     let mode = match ft.mode.as_str() {
         "sampled" => format!(
             "sampled: a fixed sample of screen tiles clocked exactly, the rest scaled\n\
@@ -347,20 +346,52 @@ pub fn print_table(ft: &FrameTiming) -> String {
         "clocked" => "clocked: every fragment clocked".to_string(),
         other => other.to_string(),
     };
-    out.push_str(&format!(
+    let mut out = format!(
         "clocked chip: {} at {} (1 clock = {})\nmode: {mode}\n",
         ft.chip,
         show_clock(hz),
         show_period(hz)
-    ));
+    );
     if ft.passes.is_empty() {
         out.push_str("no pass was clocked\n");
         return out;
     }
-    let starts = pass_starts(ft);
-
-    // 1. Time per pass, beside the roofline.
     let roofline_total: f64 = ft.passes.iter().map(|p| p.roofline_seconds).sum();
+    out += &time_table(ft, roofline_total);
+    out += &bounds_table(ft);
+    out += &stage_table(ft);
+    out += &memory_table(ft);
+    out += &fifo_table(ft);
+    out.push_str(&format!(
+        "\nclocked frame time: {} s ({} cycles); roofline: {} s\n",
+        or_na(frame_seconds(ft), |s| format!("{s:.6}")),
+        ft.cycles_total(),
+        or_na(finite(roofline_total), |s| format!("{s:.6}")),
+    ));
+    out
+}
+
+/// A table of the report under its caption, or nothing when it has no rows.
+fn section(caption: &str, header: &[&str], right: &[bool], rows: &[Vec<String>]) -> String {
+    if rows.is_empty() {
+        return String::new();
+    }
+    format!("\n{caption}\n{}", aligned(header, right, rows))
+}
+
+/// The pass number on a pass's first row, blank on the rows after it.
+fn first_row_index(i: usize, k: usize) -> String {
+    if k == 0 {
+        i.to_string()
+    } else {
+        String::new()
+    }
+}
+
+/// Time per pass, beside the roofline, and the frame's total; the name column takes
+/// what the others leave of the line.
+fn time_table(ft: &FrameTiming, roofline_total: f64) -> String {
+    let hz = ft.clock_hz;
     let ms = |s: Option<f64>| or_na(s, |v| format!("{:.4}", v * 1e3));
     let time_row = |idx: String, name: &str, cycles: u64, roof: f64| {
         let clocked = seconds(cycles, hz);
@@ -393,7 +424,6 @@ pub fn print_table(ft: &FrameTiming) -> String {
         ft.cycles_total(),
         roofline_total,
     ));
-    // The name column takes what the others leave of the line.
     let others: usize = (0..header.len())
         .filter(|&c| c != 1)
         .map(|c| {
@@ -409,14 +439,17 @@ pub fn print_table(ft: &FrameTiming) -> String {
     for r in &mut rows {
         r[1] = cut(&r[1], name_room);
     }
-    out.push_str("\ntime per pass (clocked on the chip, and the roofline's prediction):\n");
-    out.push_str(&aligned(
+    section(
+        "time per pass (clocked on the chip, and the roofline's prediction):",
         &header,
         &[true, false, true, true, true, true],
         &rows,
-    ));
+    )
+}
 
-    // 2. What bounds each pass.
+/// What bounds each pass: its start, hardware passes, cache, bandwidth, bottleneck.
+fn bounds_table(ft: &FrameTiming) -> String {
+    let starts = pass_starts(ft);
     let rows: Vec<Vec<String>> = ft
         .passes
         .iter()
@@ -430,17 +463,15 @@ pub fn print_table(ft: &FrameTiming) -> String {
                 t.hardware_passes.to_string(),
                 or_na(t.cache_hit_rate(), |r| format!("{:.1}", r * 100.0)),
                 (t.cache_hits + t.cache_misses).to_string(),
-                or_na(bytes_per_second(total, t, hz), |b| {
+                or_na(bytes_per_second(total, t, ft.clock_hz), |b| {
                     format!("{:.2}", b / 1e9)
                 }),
                 cut(&t.bottleneck, 36),
             ]
         })
         .collect();
-    out.push_str(
-        "\nper pass (tex_hit_%: hits over lookups of the texture caches; GB/s: all memory clients):\n",
-    );
-    out.push_str(&aligned(
+    section(
+        "per pass (tex_hit_%: hits over lookups of the texture caches; GB/s: all memory clients):",
         &[
             "#",
             "start_clock",
@@ -452,16 +483,18 @@ pub fn print_table(ft: &FrameTiming) -> String {
         ],
         &[true, true, true, true, true, true, false],
         &rows,
-    ));
+    )
+}
 
-    // 3. Stages.
+/// Each stage's busy, stalled and starved share of its pass, with a bar.
+fn stage_table(ft: &FrameTiming) -> String {
     let mut rows = Vec::new();
     for (i, p) in ft.passes.iter().enumerate() {
         for (k, s) in p.timing.stages.iter().enumerate() {
             let u = utilisation(s.busy, s.stalled, s.starved, p.timing.cycles);
             let pct = |j: usize| or_na(u.map(|u| u[j]), |v| format!("{:.1}", v * 100.0));
             rows.push(vec![
-                if k == 0 { i.to_string() } else { String::new() },
+                first_row_index(i, k),
                 cut(&s.name, 28),
                 pct(0),
                 pct(1),
@@ -470,18 +503,16 @@ pub fn print_table(ft: &FrameTiming) -> String {
             ]);
         }
     }
-    if !rows.is_empty() {
-        out.push_str(
-            "\nstage utilisation (% of the pass's clocks; bar: # busy, = stalled, . starved):\n",
-        );
-        out.push_str(&aligned(
-            &["#", "stage", "busy_%", "stalled_%", "starved_%", "bar"],
-            &[true, false, true, true, true, false],
-            &rows,
-        ));
-    }
+    section(
+        "stage utilisation (% of the pass's clocks; bar: # busy, = stalled, . starved):",
+        &["#", "stage", "busy_%", "stalled_%", "starved_%", "bar"],
+        &[true, false, true, true, true, false],
+        &rows,
+    )
+}
 
-    // 4. Memory clients.
+/// The bytes each memory client moved per pass (clients of 0 bytes left out).
+fn memory_table(ft: &FrameTiming) -> String {
     let mut rows = Vec::new();
     for (i, p) in ft.passes.iter().enumerate() {
         let t = &p.timing;
@@ -489,39 +520,40 @@ pub fn print_table(ft: &FrameTiming) -> String {
         let moved = t.bytes_by_client.iter().filter(|(_, &b)| b > 0);
         for (k, (client, &b)) in moved.enumerate() {
             rows.push(vec![
-                if k == 0 { i.to_string() } else { String::new() },
+                first_row_index(i, k),
                 cut(client, 20),
                 b.to_string(),
                 megabytes(b),
-                or_na(bytes_per_second(b, t, hz), |v| format!("{:.3}", v / 1e9)),
+                or_na(bytes_per_second(b, t, ft.clock_hz), |v| {
+                    format!("{:.3}", v / 1e9)
+                }),
                 or_na(ratio(b as f64, total as f64), |v| {
                     format!("{:.1}", v * 100.0)
                 }),
             ]);
         }
     }
-    if !rows.is_empty() {
-        out.push_str(
-            "\nmemory traffic by client (MB = 10^6 bytes; GB/s over the pass; clients of 0 bytes \
-             left out):\n",
-        );
-        out.push_str(&aligned(
-            &["#", "client", "bytes", "MB", "GB/s", "share_%"],
-            &[true, false, true, true, true, true],
-            &rows,
-        ));
-    }
+    section(
+        "memory traffic by client (MB = 10^6 bytes; GB/s over the pass; clients of 0 bytes \
+         left out):",
+        &["#", "client", "bytes", "MB", "GB/s", "share_%"],
+        &[true, false, true, true, true, true],
+        &rows,
+    )
+}
 
-    // 5. FIFOs.
+/// Each FIFO's deepest occupancy against its depth.
+fn fifo_table(ft: &FrameTiming) -> String {
     let mut rows = Vec::new();
     for (i, p) in ft.passes.iter().enumerate() {
         for (k, f) in p.timing.fifos.iter().enumerate() {
+            let reached = f.depth > 0 && f.high_water >= f.depth;
             rows.push(vec![
-                if k == 0 { i.to_string() } else { String::new() },
+                first_row_index(i, k),
                 cut(&f.name, 40),
                 f.high_water.to_string(),
                 f.depth.to_string(),
-                if f.depth > 0 && f.high_water >= f.depth {
+                if reached {
                     "full".into()
                 } else {
                     String::new()
@@ -529,21 +561,12 @@ pub fn print_table(ft: &FrameTiming) -> String {
             ]);
         }
     }
-    if !rows.is_empty() {
-        out.push_str("\nFIFO high water (deepest occupancy over the pass, in entries):\n");
-        out.push_str(&aligned(
-            &["#", "fifo", "high_water", "depth", "reached"],
-            &[true, false, true, true, false],
-            &rows,
-        ));
-    }
-    out.push_str(&format!(
-        "\nclocked frame time: {} s ({} cycles); roofline: {} s\n",
-        or_na(frame_seconds(ft), |s| format!("{s:.6}")),
-        ft.cycles_total(),
-        or_na(finite(roofline_total), |s| format!("{s:.6}")),
-    ));
-    out
+    section(
+        "FIFO high water (deepest occupancy over the pass, in entries):",
+        &["#", "fifo", "high_water", "depth", "reached"],
+        &[true, false, true, true, false],
+        &rows,
+    )
 }
 
 /// [`FrameTiming::clocked_seconds`] where the clock is a clock (else None).
