@@ -1383,79 +1383,13 @@ pub fn write_vcd(ft: &FrameTiming, path: &Path) -> Result<(), String> {
 pub fn vcd_bytes<W: Write>(ft: &FrameTiming, out: W) -> Result<(), String> {
     let ps = vcd_clock_ps(ft.clock_hz)?;
     let starts = pass_starts(ft);
-    // Declarations: the union of every trace's signals by name, first-seen order.
-    let mut decl: Vec<Declared> = Vec::new();
-    let mut by_name: BTreeMap<String, usize> = BTreeMap::new();
-    let mut maps: Vec<Vec<usize>> = Vec::new();
     let traced: Vec<(usize, &WindowTrace)> = ft
         .passes
         .iter()
         .enumerate()
         .filter_map(|(i, p)| p.timing.window.as_ref().map(|w| (i, w)))
         .collect();
-    for &(i, tr) in &traced {
-        let at =
-            |what: String| format!("timing.passes[{i}] ({}): window: {what}", ft.passes[i].pass);
-        let mut map = Vec::new();
-        for (name, width) in &tr.signals {
-            if !(1..=64).contains(width) {
-                return Err(at(format!(
-                    "signal {name}: width {width} is outside 1 ..= 64"
-                )));
-            }
-            let name = vcd_name(name);
-            let k = match by_name.get(&name) {
-                Some(&k) => {
-                    if decl[k].width != *width {
-                        return Err(at(format!(
-                            "signal {name} is {width} bits wide here and {} in an earlier pass",
-                            decl[k].width
-                        )));
-                    }
-                    k
-                }
-                None => {
-                    let mut parts: Vec<String> = name.split('.').map(String::from).collect();
-                    let wire = parts.pop().unwrap_or_default();
-                    decl.push(Declared {
-                        scope: parts,
-                        wire,
-                        width: *width,
-                    });
-                    by_name.insert(name, decl.len() - 1);
-                    decl.len() - 1
-                }
-            };
-            map.push(k);
-        }
-        // Changes: in clock order, indices in range, values that fit.
-        let mut last = 0u64;
-        for (n, &(c, s, v)) in tr.changes.iter().enumerate() {
-            let Some(&k) = map.get(s as usize) else {
-                return Err(at(format!(
-                    "change {n}: signal index {s} (the window has {} signals)",
-                    map.len()
-                )));
-            };
-            if c < last {
-                return Err(at(format!(
-                    "change {n}: clock {c} comes after clock {last} (changes must be in clock order)"
-                )));
-            }
-            last = c;
-            let width = decl[k].width;
-            if width < 64 && v >> width != 0 {
-                return Err(at(format!(
-                    "change {n}: value {v} does not fit signal {}'s {width} bits",
-                    tr.signals[s as usize].0
-                )));
-            }
-        }
-        maps.push(map);
-    }
-
-    let io = |e: std::io::Error| e.to_string();
-    let mut w = vcd::Writer::new(out);
+    let (decl, maps) = declare_signals(ft, &traced)?;
     let (lo, hi) = traced
         .iter()
         .map(|&(i, tr)| {
@@ -1473,6 +1407,115 @@ pub fn vcd_bytes<W: Write>(ft: &FrameTiming, out: W) -> Result<(), String> {
              time (2^64 ps); trace an earlier window"
         ));
     }
+    let io = |e: std::io::Error| e.to_string();
+    let mut w = vcd::Writer::new(out);
+    let ids = vcd_header(&mut w, ft, ps, (lo, hi), &decl).map_err(io)?;
+    let mut state = VcdState {
+        value: vec![None; decl.len()],
+        declared_x: false,
+    };
+    for (t, &(i, tr)) in traced.iter().enumerate() {
+        let at = VcdPass {
+            ft,
+            pass: i,
+            start: starts[i],
+            trace: tr,
+            map: &maps[t],
+            ps,
+        };
+        vcd_window(&mut w, &at, &decl, &ids, &mut state).map_err(io)?;
+    }
+    if hi > lo {
+        w.timestamp(hi * ps).map_err(io)?;
+    }
+    w.flush().map_err(io)
+}
+
+/// The union of every trace's signals by name (first-seen order) and, per trace, its
+/// signals' indices into it; each trace checked: widths 1 ..= 64, one width per name,
+/// changes in clock order naming its signals with values that fit.
+fn declare_signals(
+    ft: &FrameTiming,
+    traced: &[(usize, &WindowTrace)],
+) -> Result<(Vec<Declared>, Vec<Vec<usize>>), String> {
+    let mut decl: Vec<Declared> = Vec::new();
+    let mut by_name: BTreeMap<String, usize> = BTreeMap::new();
+    let mut maps = Vec::new();
+    for &(i, tr) in traced {
+        let at =
+            |what: String| format!("timing.passes[{i}] ({}): window: {what}", ft.passes[i].pass);
+        let mut map = Vec::new();
+        for (name, width) in &tr.signals {
+            if !(1..=64).contains(width) {
+                return Err(at(format!(
+                    "signal {name}: width {width} is outside 1 ..= 64"
+                )));
+            }
+            let name = vcd_name(name);
+            let k = match by_name.get(&name) {
+                Some(&k) if decl[k].width != *width => {
+                    return Err(at(format!(
+                        "signal {name} is {width} bits wide here and {} in an earlier pass",
+                        decl[k].width
+                    )));
+                }
+                Some(&k) => k,
+                None => {
+                    let mut parts: Vec<String> = name.split('.').map(String::from).collect();
+                    let wire = parts.pop().unwrap_or_default();
+                    decl.push(Declared {
+                        scope: parts,
+                        wire,
+                        width: *width,
+                    });
+                    by_name.insert(name, decl.len() - 1);
+                    decl.len() - 1
+                }
+            };
+            map.push(k);
+        }
+        check_changes(tr, &map, &decl).map_err(at)?;
+        maps.push(map);
+    }
+    Ok((decl, maps))
+}
+
+/// A trace's changes: in clock order, signal indices in range, values that fit.
+fn check_changes(tr: &WindowTrace, map: &[usize], decl: &[Declared]) -> Result<(), String> {
+    let mut last = 0u64;
+    for (n, &(c, s, v)) in tr.changes.iter().enumerate() {
+        let Some(&k) = map.get(s as usize) else {
+            return Err(format!(
+                "change {n}: signal index {s} (the window has {} signals)",
+                map.len()
+            ));
+        };
+        if c < last {
+            return Err(format!(
+                "change {n}: clock {c} comes after clock {last} (changes must be in clock order)"
+            ));
+        }
+        last = c;
+        let width = decl[k].width;
+        if width < 64 && v >> width != 0 {
+            return Err(format!(
+                "change {n}: value {v} does not fit signal {}'s {width} bits",
+                tr.signals[s as usize].0
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The VCD's comment, time unit and declarations: `chip` with `clk`, `pass` and the
+/// signals' scopes. Returns the clock's, the pass name's and every signal's id.
+fn vcd_header<W: Write>(
+    w: &mut vcd::Writer<W>,
+    ft: &FrameTiming,
+    ps: u64,
+    (lo, hi): (u64, u64),
+    decl: &[Declared],
+) -> std::io::Result<VcdIds> {
     w.comment(&format!(
         " glare-pipeline clocked chip: {} at {}, {} timing; one clock = {ps} ps \
          (the chip's period{}); clocks {lo}..{hi} of the frame, the clock k at {ps}·k ps ",
@@ -1484,98 +1527,130 @@ pub fn vcd_bytes<W: Write>(ft: &FrameTiming, out: W) -> Result<(), String> {
         } else {
             String::new()
         }
-    ))
-    .map_err(io)?;
-    w.timescale(1, vcd::TimescaleUnit::PS).map_err(io)?;
-    w.add_module("chip").map_err(io)?;
-    let clk = w.add_wire(1, "clk").map_err(io)?;
-    let pass_id = w
-        .add_var(vcd::VarType::String, 1, "pass", None)
-        .map_err(io)?;
+    ))?;
+    w.timescale(1, vcd::TimescaleUnit::PS)?;
+    w.add_module("chip")?;
+    let clk = w.add_wire(1, "clk")?;
+    let pass = w.add_var(vcd::VarType::String, 1, "pass", None)?;
     let mut tree = ScopeTree::default();
     for (k, d) in decl.iter().enumerate() {
         tree.insert(&d.scope, k);
     }
     let mut ids: Vec<Option<vcd::IdCode>> = vec![None; decl.len()];
-    tree.write(&mut w, &decl, &mut ids).map_err(io)?;
-    let ids: Vec<vcd::IdCode> = ids.into_iter().map(|i| i.expect("declared")).collect();
-    w.upscope().map_err(io)?;
-    w.enddefinitions().map_err(io)?;
+    tree.write(w, decl, &mut ids)?;
+    let signals = ids.into_iter().map(|i| i.expect("declared")).collect();
+    w.upscope()?;
+    w.enddefinitions()?;
+    Ok(VcdIds { clk, pass, signals })
+}
 
-    let set = |w: &mut vcd::Writer<W>, k: usize, v: Option<u64>| -> std::io::Result<()> {
-        let width = decl[k].width;
-        if width == 1 {
-            w.change_scalar(
-                ids[k],
-                match v {
-                    None => vcd::Value::X,
-                    Some(0) => vcd::Value::V0,
-                    Some(_) => vcd::Value::V1,
-                },
-            )
-        } else {
-            let bits: Vec<vcd::Value> = (0..width)
-                .rev()
-                .map(|b| match v {
-                    None => vcd::Value::X,
-                    Some(v) if (v >> b) & 1 == 1 => vcd::Value::V1,
-                    Some(_) => vcd::Value::V0,
-                })
-                .collect();
-            w.change_vector(ids[k], bits)
+/// The VCD's ids: the clock, the pass name, every declared signal.
+struct VcdIds {
+    clk: vcd::IdCode,
+    pass: vcd::IdCode,
+    signals: Vec<vcd::IdCode>,
+}
+
+/// The values written so far (None: x) and whether every signal has been written once.
+struct VcdState {
+    value: Vec<Option<u64>>,
+    declared_x: bool,
+}
+
+/// One traced pass: its index, first frame clock, trace and the trace's signals'
+/// indices into the declarations; `ps` the clock's period in the VCD's unit.
+struct VcdPass<'a> {
+    ft: &'a FrameTiming,
+    pass: usize,
+    start: u64,
+    trace: &'a WindowTrace,
+    map: &'a [usize],
+    ps: u64,
+}
+
+/// Signal `k` set to `v` (None: x), as a scalar or a vector of its width.
+fn vcd_set<W: Write>(
+    w: &mut vcd::Writer<W>,
+    decl: &[Declared],
+    ids: &VcdIds,
+    k: usize,
+    v: Option<u64>,
+) -> std::io::Result<()> {
+    let width = decl[k].width;
+    if width == 1 {
+        return w.change_scalar(
+            ids.signals[k],
+            match v {
+                None => vcd::Value::X,
+                Some(0) => vcd::Value::V0,
+                Some(_) => vcd::Value::V1,
+            },
+        );
+    }
+    let bits: Vec<vcd::Value> = (0..width)
+        .rev()
+        .map(|b| match v {
+            None => vcd::Value::X,
+            Some(v) if (v >> b) & 1 == 1 => vcd::Value::V1,
+            Some(_) => vcd::Value::V0,
+        })
+        .collect();
+    w.change_vector(ids.signals[k], bits)
+}
+
+/// One pass's window, clock by clock on the frame's clocks: the clock's edges, at the
+/// window's start the pass's name and every signal's opening value (x for signals the
+/// pass does not trace), then each change as it happens.
+fn vcd_window<W: Write>(
+    w: &mut vcd::Writer<W>,
+    p: &VcdPass<'_>,
+    decl: &[Declared],
+    ids: &VcdIds,
+    st: &mut VcdState,
+) -> std::io::Result<()> {
+    let (tr, map, ps) = (p.trace, p.map, p.ps);
+    let end = tr.end_clock.min(p.ft.passes[p.pass].timing.cycles);
+    if tr.start_clock >= end {
+        return Ok(());
+    }
+    let mut ch = tr.changes.iter().peekable();
+    // Changes before the window's start set the value the window opens with.
+    let mut opening: Vec<Option<u64>> = vec![None; decl.len()];
+    while let Some(&&(c, s, v)) = ch.peek() {
+        if c > tr.start_clock {
+            break;
         }
-    };
-    let mut value: Vec<Option<u64>> = vec![None; decl.len()];
-    let mut declared_x = false;
-    for (t, &(i, tr)) in traced.iter().enumerate() {
-        let map = &maps[t];
-        let end = tr.end_clock.min(ft.passes[i].timing.cycles);
-        if tr.start_clock >= end {
-            continue;
+        opening[map[s as usize]] = Some(v);
+        ch.next();
+    }
+    for c in tr.start_clock..end {
+        let at = (p.start + c) * ps;
+        w.timestamp(at)?;
+        w.change_scalar(ids.clk, vcd::Value::V1)?;
+        if c == tr.start_clock {
+            w.change_string(ids.pass, &vcd_name(&p.ft.passes[p.pass].pass))?;
+            for (k, &open) in opening.iter().enumerate() {
+                let v = if map.contains(&k) { open } else { None };
+                if v != st.value[k] || !st.declared_x {
+                    vcd_set(w, decl, ids, k, v)?;
+                    st.value[k] = v;
+                }
+            }
+            st.declared_x = true;
         }
-        let mut ch = tr.changes.iter().peekable();
-        // Changes before the window's start set the value the window opens with.
-        let mut opening: Vec<Option<u64>> = vec![None; decl.len()];
-        while let Some(&&(c, s, v)) = ch.peek() {
-            if c > tr.start_clock {
+        while let Some(&&(cc, s, v)) = ch.peek() {
+            if cc != c {
                 break;
             }
-            opening[map[s as usize]] = Some(v);
+            let k = map[s as usize];
+            if st.value[k] != Some(v) {
+                vcd_set(w, decl, ids, k, Some(v))?;
+                st.value[k] = Some(v);
+            }
             ch.next();
         }
-        for c in tr.start_clock..end {
-            let at = (starts[i] + c) * ps;
-            w.timestamp(at).map_err(io)?;
-            w.change_scalar(clk, vcd::Value::V1).map_err(io)?;
-            if c == tr.start_clock {
-                w.change_string(pass_id, &vcd_name(&ft.passes[i].pass))
-                    .map_err(io)?;
-                for k in 0..decl.len() {
-                    let v = if map.contains(&k) { opening[k] } else { None };
-                    if v != value[k] || !declared_x {
-                        set(&mut w, k, v).map_err(io)?;
-                        value[k] = v;
-                    }
-                }
-                declared_x = true;
-            }
-            while let Some(&&(cc, s, v)) = ch.peek() {
-                if cc != c {
-                    break;
-                }
-                let k = map[s as usize];
-                if value[k] != Some(v) {
-                    set(&mut w, k, Some(v)).map_err(io)?;
-                    value[k] = Some(v);
-                }
-                ch.next();
-            }
-            w.timestamp(at + ps / 2).map_err(io)?;
-            w.change_scalar(clk, vcd::Value::V0).map_err(io)?;
-        }
+        w.timestamp(at + ps / 2)?;
+        w.change_scalar(ids.clk, vcd::Value::V0)?;
     }
-    if hi > lo {
-        w.timestamp(hi * ps).map_err(io)?;
-    }
-    w.flush().map_err(io)
+    Ok(())
 }
