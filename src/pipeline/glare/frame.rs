@@ -20,10 +20,12 @@ use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;
 use rtl_model::driver::{run_span, SpanTally};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
-use rtl_model::units::gaussian_noise::{GaussState, GaussianNoiseConfig};
+use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise, GaussianNoiseConfig};
+use rtl_model::units::glare_combiner::GlareCombiner;
 use rtl_model::units::halo_modulator::HaloModulatorConfig;
 use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
-use rtl_model::units::polygon_variable_generator::{PrimKind, PvgIn};
+use rtl_model::units::polygon_interpolator::PolygonInterpolator;
+use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
 
@@ -124,17 +126,93 @@ pub fn render_glare_with(
 ) -> Result<GlareFrame, ConfigError> {
     let g = glare_of(scene)?;
     let (w, h) = (scene.image.width, scene.image.height);
-    let screens = screen_sources(scene)?;
     let mut counters = BTreeMap::new();
-    let mut elaboration = Vec::new();
-    let mut units = Vec::new();
+    let found = find_sources(scene, g, &mut counters)?;
+    let sources = &found.sources;
+    let (base, mut fb) = starting_framebuffer(scene, g, base, &mut counters)?;
+    let (lines, noise) = flare_lines(scene, g, sources, &mut counters)?;
+    let u = GlareUnits {
+        g,
+        lw: lum_widths(g),
+        pvg: generator()?,
+        ip: interpolator(g.hw.coord_frac_bits)?,
+        comb: crate::scene::limits::glare_combiner(&g.hw).build()?,
+        width: w,
+        height: h,
+    };
+    // The flare lines' walks and modulation (their fragments kept, a few per cent of
+    // the frame's) run beside the area primitives' (rayon::join: two threads when
+    // free); the combiner then adds the lines in order after the areas, as one
+    // thread would. Counters are integer sums, so the merge order cannot change them.
+    let (areas, walked) = rayon::join(
+        || draw_area_prims(&u, sources, &mut fb, &mut counters, record),
+        || walk_flare_lines(&u, sources, &lines),
+    );
+    let mut areas = areas?;
+    if let Some(wl) = walked? {
+        combine_flare_lines(&u, &wl, &mut fb, &mut areas, &mut counters, record);
+    }
+    let kinds = GlareKinds::of(sources);
+    let (elaboration, units) = glare_elaboration(&u, kinds, &areas, &noise, found.summaries)?;
+    let work = if record {
+        Some(pass_work(
+            &areas.prims,
+            &areas.frag_pix,
+            &counters,
+            g.hw.fb_bits,
+            w,
+            h,
+        )?)
+    } else {
+        None
+    };
+    Ok(GlareFrame {
+        fb,
+        base,
+        sources: found.sources,
+        labels: found.labels,
+        lines,
+        patch_levels: found.patch_levels,
+        prims: areas.prims,
+        counters,
+        elaboration,
+        units,
+        work,
+    })
+}
 
-    // Fluctuation: the chaos map gives each patch its S_i(t).
+/// The glare pass's units and widths, built once per frame, shared by its primitives.
+struct GlareUnits<'a> {
+    g: &'a GlareSection,
+    lw: LumWidths,
+    pvg: PolygonVariableGenerator,
+    ip: PolygonInterpolator,
+    comb: GlareCombiner,
+    width: u32,
+    height: u32,
+}
+
+/// The frame's glare sources and what found them.
+struct FoundSources {
+    sources: Vec<SourceGlare>,
+    labels: Vec<String>,
+    /// Chaos values S_i(t) of the scene's screen sources.
+    patch_levels: Vec<f64>,
+    /// The chaos map's and the glare conditions' (used, summary), for the elaboration.
+    summaries: [(bool, Option<UnitSummary>); 2],
+}
+
+/// The screen sources at their fluctuating levels (the chaos map's S_i(t)), then the
+/// highlights the glare conditions pass, each with its glare.
+fn find_sources(
+    scene: &Scene,
+    g: &GlareSection,
+    counters: &mut BTreeMap<String, Counters>,
+) -> Result<FoundSources, ConfigError> {
+    let screens = screen_sources(scene)?;
     let (patch_levels, chaos_summary) =
-        super::fluctuation::patch_levels(scene, &screens, &mut counters)?;
-    // Highlights through the glare conditions: glare sources or saturated dots.
-    let (hl_sources, cond_summary) = super::condition::highlight_sources(scene, &mut counters)?;
-
+        super::fluctuation::patch_levels(scene, &screens, counters)?;
+    let (hl_sources, cond_summary) = super::condition::highlight_sources(scene, counters)?;
     let mut all: Vec<ScreenSource> = screens;
     let mut intensities: Vec<f64> = all
         .iter()
@@ -145,13 +223,28 @@ pub fn render_glare_with(
         intensities.push(i);
         all.push(s);
     }
-    let sources: Vec<SourceGlare> = all
+    let sources = all
         .iter()
         .zip(&intensities)
         .map(|(s, &i)| source_glare(s, i, &g.determinants, &g.model))
         .collect();
-    let labels = all.iter().map(|s| s.label.clone()).collect();
+    Ok(FoundSources {
+        sources,
+        labels: all.iter().map(|s| s.label.clone()).collect(),
+        patch_levels,
+        summaries: [chaos_summary, cond_summary],
+    })
+}
 
+/// The background the glare is added to (the given one, checked, or the scene's own)
+/// and the framebuffer holding it at full alpha.
+fn starting_framebuffer(
+    scene: &Scene,
+    g: &GlareSection,
+    base: Option<&[[u32; 3]]>,
+    counters: &mut BTreeMap<String, Counters>,
+) -> Result<(Vec<[u32; 3]>, Framebuffer), ConfigError> {
+    let (w, h) = (scene.image.width, scene.image.height);
     let base = match base {
         Some(b) if b.len() == (w * h) as usize => b.to_vec(),
         Some(b) => {
@@ -164,7 +257,7 @@ pub fn render_glare_with(
                 ),
             ))
         }
-        None => base_image(scene, &mut counters)?,
+        None => base_image(scene, counters)?,
     };
     let mut fb = Framebuffer::new(w, h, g.hw.fb_bits);
     for (i, p) in base.iter().enumerate() {
@@ -175,356 +268,437 @@ pub fn render_glare_with(
             rtl_model::unorm::max_code(g.hw.fb_bits),
         ]);
     }
+    Ok((base, fb))
+}
 
-    let any_bloom = sources.iter().any(|s| s.bloom.is_some());
-    let any_halo = sources.iter().any(|s| s.halo.is_some());
-    let any_flare = sources.iter().any(|s| s.flare.is_some());
-    let any = any_bloom || any_halo || any_flare;
-    let lw = lum_widths(g);
-
-    // Flare lines: two normals per line from the noise generator, decoded.
+/// Each source's flare lines: two normals per line from the noise generator (seeded
+/// by the scene), decoded; the generator when any source has lines.
+fn flare_lines(
+    scene: &Scene,
+    g: &GlareSection,
+    sources: &[SourceGlare],
+    counters: &mut BTreeMap<String, Counters>,
+) -> Result<(Vec<Vec<FlareLine>>, Option<GaussianNoise>), ConfigError> {
     let mut lines: Vec<Vec<FlareLine>> = vec![Vec::new(); sources.len()];
-    let noise = if any_flare {
-        let n = crate::scene::limits::glare_noise(&g.hw).build()?;
-        let scale = (1u64 << n.config().out_frac_bits) as f64;
-        let mut state = GaussState::from_seed(scene.seed);
-        let mut c = Counters::default();
-        for (i, s) in sources.iter().enumerate() {
-            if let Some(f) = &s.flare {
-                let outs = run_span(&n, &mut state, &vec![(); f.num as usize], &mut c);
-                let draws: Vec<(f64, f64)> = outs
-                    .iter()
-                    .map(|o| (o.x as f64 / scale, o.y.unwrap_or(0) as f64 / scale))
-                    .collect();
-                lines[i] = f.lines(&draws, s.px_per_deg);
-            }
+    if !GlareKinds::of(sources).flare {
+        return Ok((lines, None));
+    }
+    let n = crate::scene::limits::glare_noise(&g.hw).build()?;
+    let scale = (1u64 << n.config().out_frac_bits) as f64;
+    let mut state = GaussState::from_seed(scene.seed);
+    let mut c = Counters::default();
+    for (i, s) in sources.iter().enumerate() {
+        if let Some(f) = &s.flare {
+            let outs = run_span(&n, &mut state, &vec![(); f.num as usize], &mut c);
+            let draws: Vec<(f64, f64)> = outs
+                .iter()
+                .map(|o| (o.x as f64 / scale, o.y.unwrap_or(0) as f64 / scale))
+                .collect();
+            lines[i] = f.lines(&draws, s.px_per_deg);
         }
-        add(&mut counters, n.name(), c);
-        Some(n)
-    } else {
-        None
-    };
+    }
+    add(counters, n.name(), c);
+    Ok((lines, Some(n)))
+}
 
-    let pvg = generator()?;
-    let ip = interpolator(g.hw.coord_frac_bits)?;
-    let comb = crate::scene::limits::glare_combiner(&g.hw).build()?;
-    let diag = ((w as f64).powi(2) + (h as f64).powi(2)).sqrt();
-    // The flare lines' walks and modulation (their fragments kept, a few per cent of
-    // the frame's) run beside the area primitives' (rayon::join: two threads when
-    // free); the combiner then adds the lines in order after the areas, as one
-    // thread would. Counters are integer sums, so the merge order cannot change them.
-    let draw_areas = || -> Result<_, ConfigError> {
-        let mut prims = Vec::new();
-        // A modulator to cost the elaboration when no primitive builds one.
-        let mut bloom_cost: Option<UnitSummary> = None;
-        let mut halo_cost: Option<UnitSummary> = None;
-        let mut buf = DrawBuffers::default();
-        // The area primitives' covered fragments (pixel indices), when recording.
-        let mut area_pix: Vec<u32> = Vec::new();
-        // An area primitive (bloom or halo) through the datapath, as its row of the
-        // frame's primitive table.
-        let mut draw = |kind: &'static str,
-                        source: usize,
-                        a: &AreaPrim,
-                        m: &dyn Unit<In = LumIn, Out = LumOut, State = ()>,
-                        table_words: u64,
-                        gain: [u32; 3]|
-         -> Result<(), ConfigError> {
-            let input = area_input(a, &pvg)?;
-            let d = draw_prim(
-                &pvg,
-                &ip,
-                input,
-                m,
-                &comb,
-                gain,
-                &mut fb,
-                &mut buf,
-                &mut counters,
-                record.then_some(&mut area_pix),
-            )?;
-            prims.push(PrimStat {
-                kind,
-                source,
-                walked: d.walked,
-                fragments: d.fragments,
-                table_words,
-            });
-            Ok(())
-        };
-        for (i, s) in sources.iter().enumerate() {
-            if let Some(b) = &s.bloom {
-                let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
-                let a = fit_area(&a);
-                let l0 = bloom_at(b, 0.0, &g.model);
-                let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
-                let gain_l = l0.min(gmax);
-                let fall = profile_samples(
-                    |t| bloom_at(b, t, &g.model),
-                    theta_max,
-                    gain_l,
-                    lw.falloff_log2,
-                );
-                let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
-                let m = BloomFlareModulatorConfig::from_widths(lw)
-                    .build(&shape, &fall)?
-                    .with_kappa(kappa)?;
-                let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
-                draw("bloom", i, &a, &m, m.table_words(), gain)?;
-                bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
-            }
-            if let Some(cc) = s.halo {
-                let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
-                let a = fit_area(&a);
-                let rings: Vec<Vec<f64>> = g
-                    .determinants
-                    .wavelengths_nm
-                    .iter()
-                    .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
-                    .collect();
-                let (shape, kappa) =
-                    area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
-                let m = HaloModulatorConfig::from_widths(lw)
-                    .build(&shape, [&rings[0], &rings[1], &rings[2]])?
-                    .with_kappa(kappa)?;
-                let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
-                draw("halo", i, &a, &m, m.table_words(), gain)?;
-                halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
-            }
-        }
-        Ok((prims, bloom_cost, halo_cost, buf, area_pix))
+/// The area primitives drawn (and the flare lines combined after them): the frame's
+/// primitive table, a modulator of each kind to cost the elaboration, the buffers the
+/// combiner reuses, and with recording the covered fragments' pixel indices.
+struct DrawnAreas {
+    prims: Vec<PrimStat>,
+    bloom_cost: Option<UnitSummary>,
+    halo_cost: Option<UnitSummary>,
+    buf: DrawBuffers,
+    frag_pix: Vec<u32>,
+}
+
+/// Every source's bloom and halo as area primitives through the datapath into `fb`.
+fn draw_area_prims(
+    u: &GlareUnits<'_>,
+    sources: &[SourceGlare],
+    fb: &mut Framebuffer,
+    counters: &mut BTreeMap<String, Counters>,
+    record: bool,
+) -> Result<DrawnAreas, ConfigError> {
+    let (g, lw) = (u.g, u.lw);
+    let diag = ((u.width as f64).powi(2) + (u.height as f64).powi(2)).sqrt();
+    let mut out = DrawnAreas {
+        prims: Vec::new(),
+        bloom_cost: None,
+        halo_cost: None,
+        buf: DrawBuffers::default(),
+        frag_pix: Vec::new(),
     };
-    let walk_lines = || -> Result<Option<WalkedLines>, ConfigError> {
-        if !any_flare {
-            return Ok(None);
-        }
-        // Every line shares one spindle shape and one falloff: loaded once.
-        let m = BloomFlareModulatorConfig::from_widths(lw)
-            .build(&line_shape(&lw), &line_falloff_samples(lw.falloff_log2))?;
-        let mut out = WalkedLines {
+    // An area primitive (bloom or halo) through the datapath, as its row of the
+    // frame's primitive table.
+    let mut draw = |out: &mut DrawnAreas,
+                    kind: &'static str,
+                    source: usize,
+                    a: &AreaPrim,
+                    m: &dyn Unit<In = LumIn, Out = LumOut, State = ()>,
+                    table_words: u64,
+                    gain: [u32; 3]|
+     -> Result<(), ConfigError> {
+        let input = area_input(a, &u.pvg)?;
+        let d = draw_prim(
+            &u.pvg,
+            &u.ip,
+            input,
             m,
-            counters: BTreeMap::new(),
-            pix: Vec::new(),
-            lum: Vec::new(),
-            drawn: Vec::new(),
-        };
-        let mut wb = WalkBuffers::default();
-        for (i, s) in sources.iter().enumerate() {
-            for l in &lines[i] {
-                let (len, half_w) = (
-                    l.length_px.min(LINE_MAX_PX),
-                    0.5 * l.width_px.min(LINE_MAX_PX),
-                );
-                if !line_fits(s.center, l.angle, len, half_w) {
-                    continue;
-                }
-                let gain = gains(&lw, l.intensity, s.color, "bloom_flare_modulator.gain")?;
-                let input = PvgIn {
-                    kind: PrimKind::Line,
-                    cx: pos_code(s.center[0]),
-                    cy: pos_code(s.center[1]),
-                    extent: pos_code(len).max(0) as u64,
-                    half_width: pos_code(half_w).max(0) as u64,
-                    angle: pvg.angle_code(l.angle)?,
-                };
-                let (pix, lum) = (&mut out.pix, &mut out.lum);
-                let d = walk_prim(
-                    &pvg,
-                    &ip,
-                    input,
-                    &out.m,
-                    gain,
-                    w,
-                    h,
-                    &mut wb,
-                    &mut out.counters,
-                    |p, l| {
-                        pix.extend_from_slice(p);
-                        lum.extend_from_slice(l);
-                    },
-                )?;
-                out.drawn.push((i, d, out.pix.len()));
-            }
-        }
-        Ok(Some(out))
+            &u.comb,
+            gain,
+            fb,
+            &mut out.buf,
+            counters,
+            record.then_some(&mut out.frag_pix),
+        )?;
+        out.prims.push(PrimStat {
+            kind,
+            source,
+            walked: d.walked,
+            fragments: d.fragments,
+            table_words,
+        });
+        Ok(())
     };
-    let (areas, walked) = rayon::join(draw_areas, walk_lines);
-    let (mut prims, mut bloom_cost, halo_cost, mut buf, mut frag_pix) = areas?;
-    if let Some(wl) = walked? {
-        if record {
-            frag_pix.extend(wl.pix.iter().map(|&i| i as u32));
+    for (i, s) in sources.iter().enumerate() {
+        if let Some(b) = &s.bloom {
+            let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
+            let a = fit_area(&a);
+            let l0 = bloom_at(b, 0.0, &g.model);
+            let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
+            let gain_l = l0.min(gmax);
+            let fall = profile_samples(
+                |t| bloom_at(b, t, &g.model),
+                theta_max,
+                gain_l,
+                lw.falloff_log2,
+            );
+            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
+            let m = BloomFlareModulatorConfig::from_widths(lw)
+                .build(&shape, &fall)?
+                .with_kappa(kappa)?;
+            let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
+            draw(&mut out, "bloom", i, &a, &m, m.table_words(), gain)?;
+            out.bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
         }
-        for (k, c) in wl.counters {
-            add(&mut counters, &k, c);
+        if let Some(cc) = s.halo {
+            let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
+            let a = fit_area(&a);
+            let rings: Vec<Vec<f64>> = g
+                .determinants
+                .wavelengths_nm
+                .iter()
+                .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
+                .collect();
+            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
+            let m = HaloModulatorConfig::from_widths(lw)
+                .build(&shape, [&rings[0], &rings[1], &rings[2]])?
+                .with_kappa(kappa)?;
+            let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
+            draw(&mut out, "halo", i, &a, &m, m.table_words(), gain)?;
+            out.halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
         }
-        let mut start = 0;
-        for (n, &(i, d, end)) in wl.drawn.iter().enumerate() {
-            let (mut c, mut t) = (Counters::default(), SpanTally::new());
-            for (p, l) in wl.pix[start..end]
-                .chunks(LINE_COMBINE_CHUNK)
-                .zip(wl.lum[start..end].chunks(LINE_COMBINE_CHUNK))
-            {
-                combine(
-                    &comb,
-                    p,
-                    l,
-                    &mut fb,
-                    &mut buf.comb_in,
-                    &mut buf.comb_out,
-                    &mut c,
-                    &mut t,
-                );
+    }
+    Ok(out)
+}
+
+/// Every source's flare lines walked and modulated (not yet combined), their
+/// fragments kept in draw order; `None` when no source has lines.
+fn walk_flare_lines(
+    u: &GlareUnits<'_>,
+    sources: &[SourceGlare],
+    lines: &[Vec<FlareLine>],
+) -> Result<Option<WalkedLines>, ConfigError> {
+    if !GlareKinds::of(sources).flare {
+        return Ok(None);
+    }
+    let lw = u.lw;
+    // Every line shares one spindle shape and one falloff: loaded once.
+    let m = BloomFlareModulatorConfig::from_widths(lw)
+        .build(&line_shape(&lw), &line_falloff_samples(lw.falloff_log2))?;
+    let mut out = WalkedLines {
+        m,
+        counters: BTreeMap::new(),
+        pix: Vec::new(),
+        lum: Vec::new(),
+        drawn: Vec::new(),
+    };
+    let mut wb = WalkBuffers::default();
+    for (i, s) in sources.iter().enumerate() {
+        for l in &lines[i] {
+            let (len, half_w) = (
+                l.length_px.min(LINE_MAX_PX),
+                0.5 * l.width_px.min(LINE_MAX_PX),
+            );
+            if !line_fits(s.center, l.angle, len, half_w) {
+                continue;
             }
-            t.close(comb.timing(), &mut c);
-            add(&mut counters, comb.name(), c);
-            prims.push(PrimStat {
-                kind: "flare",
-                source: i,
-                walked: d.walked,
-                fragments: d.fragments,
-                // The shared tables are written before the first line only.
-                table_words: if n == 0 { wl.m.table_words() } else { 0 },
-            });
-            start = end;
+            let gain = gains(&lw, l.intensity, s.color, "bloom_flare_modulator.gain")?;
+            let input = PvgIn {
+                kind: PrimKind::Line,
+                cx: pos_code(s.center[0]),
+                cy: pos_code(s.center[1]),
+                extent: pos_code(len).max(0) as u64,
+                half_width: pos_code(half_w).max(0) as u64,
+                angle: u.pvg.angle_code(l.angle)?,
+            };
+            let (pix, lum) = (&mut out.pix, &mut out.lum);
+            let d = walk_prim(
+                &u.pvg,
+                &u.ip,
+                input,
+                &out.m,
+                gain,
+                u.width,
+                u.height,
+                &mut wb,
+                &mut out.counters,
+                |p, l| {
+                    pix.extend_from_slice(p);
+                    lum.extend_from_slice(l);
+                },
+            )?;
+            out.drawn.push((i, d, out.pix.len()));
         }
-        bloom_cost.get_or_insert_with(|| UnitSummary::of(&wl.m));
+    }
+    Ok(Some(out))
+}
+
+/// The walked flare lines added by the combiner after the areas, line by line in
+/// order, each a row of the primitive table (the shared tables written before the
+/// first line only).
+fn combine_flare_lines(
+    u: &GlareUnits<'_>,
+    wl: &WalkedLines,
+    fb: &mut Framebuffer,
+    areas: &mut DrawnAreas,
+    counters: &mut BTreeMap<String, Counters>,
+    record: bool,
+) {
+    if record {
+        areas.frag_pix.extend(wl.pix.iter().map(|&i| i as u32));
+    }
+    for (k, c) in &wl.counters {
+        add(counters, k, *c);
+    }
+    let comb = &u.comb;
+    let mut start = 0;
+    for (n, &(i, d, end)) in wl.drawn.iter().enumerate() {
+        let (mut c, mut t) = (Counters::default(), SpanTally::new());
+        for (p, l) in wl.pix[start..end]
+            .chunks(LINE_COMBINE_CHUNK)
+            .zip(wl.lum[start..end].chunks(LINE_COMBINE_CHUNK))
+        {
+            let buf = &mut areas.buf;
+            combine(
+                comb,
+                p,
+                l,
+                fb,
+                &mut buf.comb_in,
+                &mut buf.comb_out,
+                &mut c,
+                &mut t,
+            );
+        }
+        t.close(comb.timing(), &mut c);
+        add(counters, comb.name(), c);
+        areas.prims.push(PrimStat {
+            kind: "flare",
+            source: i,
+            walked: d.walked,
+            fragments: d.fragments,
+            table_words: if n == 0 { wl.m.table_words() } else { 0 },
+        });
+        start = end;
+    }
+    areas
+        .bloom_cost
+        .get_or_insert_with(|| UnitSummary::of(&wl.m));
+}
+
+/// Which glare the frame's sources show (what the elaboration builds for).
+#[derive(Clone, Copy)]
+struct GlareKinds {
+    bloom: bool,
+    halo: bool,
+    flare: bool,
+}
+
+impl GlareKinds {
+    fn of(sources: &[SourceGlare]) -> Self {
+        GlareKinds {
+            bloom: sources.iter().any(|s| s.bloom.is_some()),
+            halo: sources.iter().any(|s| s.halo.is_some()),
+            flare: sources.iter().any(|s| s.flare.is_some()),
+        }
     }
 
-    // Elaboration: what was built, and what was left out with what it saved.
+    fn any(self) -> bool {
+        self.bloom || self.halo || self.flare
+    }
+}
+
+/// One unit's row of the elaboration: built (`used`: its summary) or left out (why,
+/// and the gates and cycles that saved); nothing when there is no summary.
+fn elaborate_unit(
+    out: &mut (Vec<Elaborated>, Vec<UnitSummary>),
+    name: &str,
+    used: bool,
+    summary: Result<Option<UnitSummary>, ConfigError>,
+    why: &str,
+    cycles: u64,
+) -> Result<(), ConfigError> {
+    let Some(s) = summary? else {
+        return Ok(());
+    };
+    if used {
+        out.1.push(s.clone());
+        out.0.push(Elaborated {
+            name: name.into(),
+            summary: Some(s),
+            left_out: None,
+            gates_saved: 0.0,
+            cycles_saved: 0,
+        });
+    } else {
+        out.0.push(Elaborated {
+            name: name.into(),
+            summary: None,
+            left_out: Some(why.into()),
+            gates_saved: s.gates_nand2,
+            cycles_saved: cycles,
+        });
+    }
+    Ok(())
+}
+
+/// The two modulators' rows: each built if the frame's sources need it (its summary
+/// from a primitive that built it, else from an empty one at the frame's widths), or
+/// left out with the fragments it would have taken.
+fn elaborate_modulators(
+    o: &mut (Vec<Elaborated>, Vec<UnitSummary>),
+    lw: LumWidths,
+    kinds: GlareKinds,
+    areas: &DrawnAreas,
+) -> Result<(), ConfigError> {
     let frags_of = |k: &str| {
-        prims
+        areas
+            .prims
             .iter()
             .filter(|p| p.kind == k)
             .map(|p| p.fragments)
             .sum::<u64>()
     };
     let default_mod = || {
-        let wl = lw;
-        let shape = vec![0.0; wl.shape_len()];
-        let fall = vec![0.0; wl.falloff_len()];
-        BloomFlareModulatorConfig::from_widths(wl)
+        let shape = vec![0.0; lw.shape_len()];
+        let fall = vec![0.0; lw.falloff_len()];
+        BloomFlareModulatorConfig::from_widths(lw)
             .build(&shape, &fall)
             .map(|m| UnitSummary::of(&m))
     };
     let default_halo = || {
-        let wl = lw;
-        let shape = vec![0.0; wl.shape_len()];
-        let r = vec![0.0; wl.falloff_len()];
-        HaloModulatorConfig::from_widths(wl)
+        let shape = vec![0.0; lw.shape_len()];
+        let r = vec![0.0; lw.falloff_len()];
+        HaloModulatorConfig::from_widths(lw)
             .build(&shape, [&r, &r, &r])
             .map(|m| UnitSummary::of(&m))
     };
-    let mut push = |name: &str,
-                    used: bool,
-                    summary: Result<Option<UnitSummary>, ConfigError>,
-                    why: &str,
-                    cycles: u64|
-     -> Result<(), ConfigError> {
-        let Some(s) = summary? else {
-            return Ok(());
-        };
-        if used {
-            units.push(s.clone());
-            elaboration.push(Elaborated {
-                name: name.into(),
-                summary: Some(s),
-                left_out: None,
-                gates_saved: 0.0,
-                cycles_saved: 0,
-            });
-        } else {
-            elaboration.push(Elaborated {
-                name: name.into(),
-                summary: None,
-                left_out: Some(why.into()),
-                gates_saved: s.gates_nand2,
-                cycles_saved: cycles,
-            });
-        }
-        Ok(())
-    };
-    push(
-        "polygon_variable_generator",
-        any,
-        Ok(Some(UnitSummary::of(&pvg))),
-        "no glare source",
-        0,
-    )?;
-    push(
-        "polygon_interpolator",
-        any,
-        Ok(Some(UnitSummary::of(&ip))),
-        "no glare source",
-        0,
-    )?;
-    push(
+    elaborate_unit(
+        o,
         "bloom_flare_modulator",
-        any_bloom || any_flare,
-        bloom_cost.map_or_else(default_mod, Ok).map(Some),
+        kinds.bloom || kinds.flare,
+        areas
+            .bloom_cost
+            .clone()
+            .map_or_else(default_mod, Ok)
+            .map(Some),
         "no bloom and no flare line",
         frags_of("bloom") + frags_of("flare"),
     )?;
-    push(
+    elaborate_unit(
+        o,
         "halo_modulator",
-        any_halo,
-        halo_cost.map_or_else(default_halo, Ok).map(Some),
+        kinds.halo,
+        areas
+            .halo_cost
+            .clone()
+            .map_or_else(default_halo, Ok)
+            .map(Some),
         "no source shows a halo",
         frags_of("halo"),
     )?;
-    push(
-        "glare_combiner",
+    Ok(())
+}
+
+/// The glare pass's elaboration: each unit built (with its summary) or left out (with
+/// why and the gates and cycles that saved), and the summaries of those built.
+fn glare_elaboration(
+    u: &GlareUnits<'_>,
+    kinds: GlareKinds,
+    areas: &DrawnAreas,
+    noise: &Option<GaussianNoise>,
+    [chaos, cond]: [(bool, Option<UnitSummary>); 2],
+) -> Result<(Vec<Elaborated>, Vec<UnitSummary>), ConfigError> {
+    let any = kinds.any();
+    let mut out = (Vec::new(), Vec::new());
+    let o = &mut out;
+    let none = "no glare source";
+    elaborate_unit(
+        o,
+        "polygon_variable_generator",
         any,
-        Ok(Some(UnitSummary::of(&comb))),
-        "no glare source",
+        Ok(Some(UnitSummary::of(&u.pvg))),
+        none,
         0,
     )?;
-    let noise_summary = match &noise {
+    elaborate_unit(
+        o,
+        "polygon_interpolator",
+        any,
+        Ok(Some(UnitSummary::of(&u.ip))),
+        none,
+        0,
+    )?;
+    elaborate_modulators(o, u.lw, kinds, areas)?;
+    elaborate_unit(
+        o,
+        "glare_combiner",
+        any,
+        Ok(Some(UnitSummary::of(&u.comb))),
+        none,
+        0,
+    )?;
+    let noise_summary = match noise {
         Some(n) => UnitSummary::of(n),
         None => UnitSummary::of(&GaussianNoiseConfig::geforce().build()?),
     };
-    push(
+    elaborate_unit(
+        o,
         "gaussian_noise",
         noise.is_some(),
         Ok(Some(noise_summary)),
         "no flare lines (num = 0 for every source)",
         0,
     )?;
-    let (chaos_used, chaos_s) = chaos_summary;
-    push(
+    elaborate_unit(
+        o,
         "chaos_map",
-        chaos_used,
-        Ok(chaos_s),
+        chaos.0,
+        Ok(chaos.1),
         "no fluctuating source",
         0,
     )?;
-    let (cond_used, cond_s) = cond_summary;
-    push(
+    elaborate_unit(
+        o,
         "glare_condition",
-        cond_used,
-        Ok(cond_s),
+        cond.0,
+        Ok(cond.1),
         "no specular highlight",
         0,
     )?;
-
-    let work = if record {
-        Some(pass_work(&prims, &frag_pix, &counters, g.hw.fb_bits, w, h)?)
-    } else {
-        None
-    };
-
-    Ok(GlareFrame {
-        fb,
-        base,
-        sources,
-        labels,
-        lines,
-        patch_levels,
-        prims,
-        counters,
-        elaboration,
-        units,
-        work,
-    })
+    Ok(out)
 }
 
 /// The glare pass's [`PassWork`] from its primitives (draw order), their covered
