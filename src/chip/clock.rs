@@ -1385,6 +1385,44 @@ pub fn clock_pass_sampled(
     if every <= 1 || n == 0 {
         return full(chip);
     }
+    // The groups are clocked in place (no copy of their work).
+    let mut used: Vec<PassWork> = sample_groups(work, every)
+        .into_iter()
+        .filter(|g| g.fragments() > 0)
+        .collect();
+    if used.len() < 2 {
+        return full(chip);
+    }
+    let mut inner = chip.clone();
+    inner.pass_overhead_clocks = 0;
+    let mut acc = new_acc(&inner, None);
+    let mut cn = Vec::with_capacity(used.len());
+    let mut hw = 1;
+    for gw in &mut used {
+        // The copy's bytes shared by the groups in proportion to their fragments.
+        // (scaled back with the rest by N / Σn_g).
+        gw.copy_read_bytes = work.copy_read_bytes * gw.fragments() as u64 / n as u64;
+        gw.copy_write_bytes = work.copy_write_bytes * gw.fragments() as u64 / n as u64;
+        let before = acc.offset;
+        hw = run_pass(&inner, gw, &mut acc)?;
+        cn.push(((acc.offset - before) as f64, gw.fragments() as f64));
+    }
+    let (r, rse) = ratio_estimate(&cn);
+    let n_sum: f64 = cn.iter().map(|c| c.1).sum();
+    let t = finish(&inner, acc, hw);
+    let work_clocks = (r * n as f64).round() as u64;
+    let overhead = hw as u64 * chip.pass_overhead_clocks as u64;
+    Ok((
+        scale_sampled(t, work_clocks, overhead, n as f64 / n_sum),
+        rse,
+    ))
+}
+
+/// The sampled tiles' fragments dealt into [`SAMPLE_GROUPS`] passes of their own: one
+/// 32 × 32 tile in `every` (a fixed diagonal pattern), dealt round robin in raster
+/// order; each primitive keeps its share of its walked pixels and depth-killed
+/// fragments in proportion to the fragments a group holds.
+fn sample_groups(work: &PassWork, every: u32) -> Vec<PassWork> {
     let tiles_x = work.width.div_ceil(SAMPLE_TILE) as usize;
     let tiles_y = work.height.div_ceil(SAMPLE_TILE) as usize;
     let mut tile_group = vec![u8::MAX; tiles_x * tiles_y];
@@ -1426,16 +1464,14 @@ pub fn clock_pass_sampled(
             }
         }
         let total = r.len() as u64;
-        for (g, &c) in count.iter().enumerate() {
-            if c > 0 {
-                let gw = &mut groups[g];
-                gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
-                gw.prim_walked
-                    .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
-                if let Some(&killed) = work.prim_depth_killed.get(p) {
-                    gw.prim_depth_killed
-                        .push((killed as u64 * c).div_ceil(total) as u32);
-                }
+        for (g, &c) in count.iter().enumerate().filter(|(_, &c)| c > 0) {
+            let gw = &mut groups[g];
+            gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
+            gw.prim_walked
+                .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
+            if let Some(&killed) = work.prim_depth_killed.get(p) {
+                gw.prim_depth_killed
+                    .push((killed as u64 * c).div_ceil(total) as u32);
             }
         }
         for (f, &g) in r.zip(&frag_group) {
@@ -1447,25 +1483,12 @@ pub fn clock_pass_sampled(
             }
         }
     }
-    // The groups are clocked in place (no copy of their work).
-    let mut used: Vec<PassWork> = groups.into_iter().filter(|g| g.fragments() > 0).collect();
-    if used.len() < 2 {
-        return full(chip);
-    }
-    let mut inner = chip.clone();
-    inner.pass_overhead_clocks = 0;
-    let mut acc = new_acc(&inner, None);
-    let mut cn = Vec::with_capacity(used.len());
-    let mut hw = 1;
-    for gw in &mut used {
-        // The copy's bytes shared by the groups in proportion to their fragments.
-        // (scaled back with the rest by N / Σn_g).
-        gw.copy_read_bytes = work.copy_read_bytes * gw.fragments() as u64 / n as u64;
-        gw.copy_write_bytes = work.copy_write_bytes * gw.fragments() as u64 / n as u64;
-        let before = acc.offset;
-        hw = run_pass(&inner, gw, &mut acc)?;
-        cn.push(((acc.offset - before) as f64, gw.fragments() as f64));
-    }
+    groups
+}
+
+/// The ratio estimate of clocks per fragment over the groups' (clocks, fragments), and
+/// its relative standard error from the spread between the groups.
+fn ratio_estimate(cn: &[(f64, f64)]) -> (f64, f64) {
     let c_sum: f64 = cn.iter().map(|c| c.0).sum();
     let n_sum: f64 = cn.iter().map(|c| c.1).sum();
     let r = c_sum / n_sum;
@@ -1476,9 +1499,13 @@ pub fn clock_pass_sampled(
     } else {
         0.0
     };
-    let mut t = finish(&inner, acc, hw);
-    let work_clocks = (r * n as f64).round() as u64;
-    let overhead = hw as u64 * chip.pass_overhead_clocks as u64;
+    (r, rse)
+}
+
+/// The sampled groups' timing scaled to the whole pass: `work_clocks` of estimated work
+/// plus `overhead`; stage clocks scaled to the work, counts and bytes by `f` (all
+/// fragments over the sampled ones); the bottleneck named again on the scaled figures.
+fn scale_sampled(mut t: PassTiming, work_clocks: u64, overhead: u64, f: f64) -> PassTiming {
     let cycles = work_clocks + overhead;
     let s = if t.cycles > 0 {
         work_clocks as f64 / t.cycles as f64
@@ -1494,7 +1521,6 @@ pub fn clock_pass_sampled(
             st.busy = st.busy.min(cycles);
         }
     }
-    let f = n as f64 / n_sum;
     let scale = |v: u64| (v as f64 * f).round() as u64;
     t.cache_hits = scale(t.cache_hits);
     t.cache_misses = scale(t.cache_misses);
@@ -1511,5 +1537,5 @@ pub fn clock_pass_sampled(
         work_clocks,
     );
     t.cycles = cycles;
-    Ok((t, rse))
+    t
 }
