@@ -204,6 +204,16 @@ impl ChipConfig {
             1 << 30,
         )?;
         range("chip.fifo_depth", self.fifo_depth as u64, 1, 1 << 16)?;
+        self.validate_stages()?;
+        self.texture_cache.validate()?;
+        layout("chip.texture_layout", &self.texture_layout)?;
+        layout("chip.framebuffer_layout", &self.framebuffer_layout)?;
+        self.memory.validate()
+    }
+
+    /// The pipe's stages: named, latency and II in range, at most one Texture stage and
+    /// texture units for it.
+    fn validate_stages(&self) -> Result<(), ConfigError> {
         let mut textures = 0;
         for (i, s) in self.pipe_stages.iter().enumerate() {
             let f = format!("chip.pipe_stages[{i}]");
@@ -228,7 +238,15 @@ impl ChipConfig {
                 ),
             ));
         }
-        let c = &self.texture_cache;
+        Ok(())
+    }
+}
+
+impl CacheConfig {
+    /// Line, prefetch depth, and (a cache at all) whole lines in a power-of-two number
+    /// of sets; errors name the `chip.texture_cache` field.
+    fn validate(&self) -> Result<(), ConfigError> {
+        let c = self;
         range(
             "chip.texture_cache.line_bytes",
             c.line_bytes as u64,
@@ -270,9 +288,15 @@ impl ChipConfig {
                 ));
             }
         }
-        layout("chip.texture_layout", &self.texture_layout)?;
-        layout("chip.framebuffer_layout", &self.framebuffer_layout)?;
-        let m = &self.memory;
+        Ok(())
+    }
+}
+
+impl MemoryConfig {
+    /// Bandwidth, latency, queue and DRAM pages in range; errors name the
+    /// `chip.memory` field.
+    fn validate(&self) -> Result<(), ConfigError> {
+        let m = self;
         if !(m.bytes_per_clock.is_finite() && (1e-3..=1e12).contains(&m.bytes_per_clock)) {
             return Err(ConfigError::invalid(
                 "chip.memory.bytes_per_clock",
