@@ -175,7 +175,11 @@ pub enum Command {
     /// (every configuration evaluated), DIR/pareto.png (the objective against the first
     /// budget's error, that plane's front, the default) and DIR/best.toml (the scene with the widths found, for
     /// `render --scene`; for a shading scene its `[shading]` file form), verified by a
-    /// fresh render.
+    /// fresh render. With `--params` naming the clocked chip's parameters (pipes,
+    /// tmus, fifo_depth, cache_kb, …) and a time budget (`--budget "seconds<=0.17"`):
+    /// the cheapest chip whose clocked frame time meets it, with DIR/pareto.csv,
+    /// DIR/pareto.png and DIR/best_chip.toml (the chip's every field), verified by a
+    /// fresh clocked frame.
     Optimize(crate::frame::optimize::cli::OptimizeArgs),
     /// Error attribution: render the scene as configured, then once per
     /// error source with only that source made ideal (a wide width, a larger table,

@@ -309,10 +309,18 @@ impl Clock {
                 clock_pass(&self.chip, &work, window)?
             }
         };
-        for (chip, t) in &mut self.alternates {
+        // The alternates clocked side by side (each on its own chip: the same timings
+        // on any thread count), pushed in order.
+        use rayon::prelude::*;
+        let alternates: Vec<Result<PassTiming, ConfigError>> = self
+            .alternates
+            .par_iter()
+            .map(|(chip, _)| clock_pass(chip, &work, None))
+            .collect();
+        for ((_, t), timing) in self.alternates.iter_mut().zip(alternates) {
             t.passes.push(NamedPassTiming {
                 pass: self.pass.clone(),
-                timing: clock_pass(chip, &work, None)?,
+                timing: timing?,
                 roofline_seconds,
             });
         }

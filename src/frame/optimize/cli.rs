@@ -29,7 +29,8 @@ pub struct OptimizeArgs {
     #[arg(long)]
     pub scene: String,
     /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
-    /// repeat for several limits. At least one.
+    /// repeat for several limits. At least one. For a search of the chip's
+    /// architecture, one time budget: seconds<=S (the clocked frame time).
     #[arg(long)]
     pub budget: Vec<String>,
     /// What to minimise: gates, ram (RAM bits) or area (gates + 1.5 × RAM bits).
@@ -38,6 +39,9 @@ pub struct OptimizeArgs {
     /// The parameters to search (comma list of `sweep`'s names for the scene);
     /// default: the scene's pipeline's storage and filter bit widths (shafts: not the
     /// interpolator's or the reciprocal's, which `--params` can name; docs/optimize.md).
+    /// Or the clocked chip's parameters (pipes, tmus, fifo_depth, cache_kb,
+    /// cache_line, cache_ways, misses_in_flight, mem_queue) for a search of its
+    /// architecture within a time budget (fig4, fig6, stage).
     #[arg(long)]
     pub params: Option<String>,
     /// Output directory.
@@ -102,6 +106,17 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
     }
     if a.budget.is_empty() {
         return Err("budget: at least one --budget is needed, e.g. --budget \"max<=1\"".into());
+    }
+    if let Some(b) = a
+        .budget
+        .iter()
+        .find(|b| b.trim_start().starts_with("seconds"))
+    {
+        return Err(format!(
+            "budget: '{b}' is a time budget, which bounds an architecture search (--params \
+             naming the clocked chip's parameters: {}), not a search of bit widths",
+            crate::chip::params::ChipParam::names()
+        ));
     }
     let budget = Budget(
         a.budget
@@ -557,6 +572,13 @@ pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     // A shading scene (`shading-*` or a `[shading]` file) has its own driver.
     if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(&a.scene)? {
         return super::shading::optimize_shading_cli(a, f);
+    }
+    // Parameters of the clocked chip: an architecture search within a time budget.
+    if a.params
+        .as_deref()
+        .is_some_and(super::chip::names_chip_params)
+    {
+        return super::chip::optimize_chip_cli(a);
     }
     let plan = check(a)?;
     std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;

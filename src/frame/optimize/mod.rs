@@ -3,6 +3,7 @@
 //! RAM bits and error of every configuration evaluated. Beside the frame because it
 //! drives more than one pipeline (shafts, glare, environment-map and shading scenes).
 
+pub mod chip;
 pub mod cli;
 pub mod eval;
 pub mod search;
