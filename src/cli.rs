@@ -513,34 +513,8 @@ pub fn run(cli: Cli) -> Result<(), String> {
         }
         Command::Sweep { merge: None, args } => sweep(args),
         Command::Conformance { cmd } => crate::conformance::cli::conformance_cli(cmd),
-        Command::Tables { dir } => {
-            check_dir_out("dir", &dir)?;
-            let t = registry::tables();
-            crate::tables::write_all(&dir, &t).map_err(|e| format!("dir: {e}"))?;
-            println!(
-                "wrote {} tables and manifest.json to {}",
-                t.len(),
-                dir.display()
-            );
-            Ok(())
-        }
-        Command::EnvmapDump { scene, out, side } => {
-            let sc = crate::scene::load::load_scene(&scene)?;
-            check_dir_out("out", &out)?;
-            let (_, car) = crate::pipeline::envmap::dump::dump_scene(&sc, side, &out)?;
-            println!(
-                "wrote {}³ × {} bits ({}, exposure {}) to {}: {}, {} slices, {}",
-                car.side,
-                car.bits,
-                car.prefilter,
-                car.exposure,
-                out.display(),
-                car.volume,
-                car.slices.len(),
-                crate::pipeline::envmap::dump::SIDECAR_FILE
-            );
-            Ok(())
-        }
+        Command::Tables { dir } => tables_cmd(&dir),
+        Command::EnvmapDump { scene, out, side } => envmap_dump_cmd(&scene, &out, side),
         Command::Trace {
             unit,
             vectors: Some(dir),
@@ -548,57 +522,106 @@ pub fn run(cli: Cli) -> Result<(), String> {
             seed,
             config,
             ..
-        } => {
-            let cfg = registry::rtl::RtlConfig::parse(&config)?;
-            let n = count.unwrap_or(100_000);
-            let max = registry::rtl::MAX_VECTORS as u64;
-            if n == 0 || n > max {
-                return Err(format!("count: {n} is out of range (1 ..= {max})"));
-            }
-            let v = registry::rtl::vectors(&unit, cfg, n as usize, seed)?;
-            v.write(&dir)?;
-            println!(
-                "wrote {} transactions of {} ({}, {}; latency {}, II {}) into {}",
-                v.stimulus.len(),
-                v.unit,
-                cfg.name(),
-                if v.exhaustive {
-                    "exhaustive"
-                } else {
-                    "seeded random + corners"
-                },
-                v.latency,
-                v.ii,
-                dir.display()
-            );
-            Ok(())
-        }
+        } => trace_vectors_cmd(&unit, &dir, count, seed, &config),
         Command::Trace {
             unit,
             pixels,
             seed,
             out,
             ..
-        } => {
-            if pixels == 0 || pixels > MAX_TRACE_PIXELS {
-                return Err(format!(
-                    "pixels: {pixels} is out of range (1 ..= {MAX_TRACE_PIXELS})"
-                ));
-            }
-            let mut buf = Vec::new();
-            let ctr = registry::trace(&unit, pixels, seed, &mut buf)?;
-            write_file(&out, &buf)?;
-            println!(
-                "wrote {} ({} cycles, {} pixels in, {} out, {} stalls)",
-                out.display(),
-                ctr.cycles,
-                ctr.pixels_in,
-                ctr.pixels_out,
-                ctr.stalls
-            );
-            Ok(())
-        }
+        } => trace_pixels_cmd(&unit, pixels, seed, &out),
     }
+}
+
+/// `tables --dir`: every unit's ROM tables and their manifest.
+fn tables_cmd(dir: &std::path::Path) -> Result<(), String> {
+    check_dir_out("dir", dir)?;
+    let t = registry::tables();
+    crate::tables::write_all(dir, &t).map_err(|e| format!("dir: {e}"))?;
+    println!(
+        "wrote {} tables and manifest.json to {}",
+        t.len(),
+        dir.display()
+    );
+    Ok(())
+}
+
+/// `envmap-dump`: a scene's environment-map volume as slices with its sidecar.
+fn envmap_dump_cmd(scene: &str, out: &std::path::Path, side: Option<u32>) -> Result<(), String> {
+    let sc = crate::scene::load::load_scene(scene)?;
+    check_dir_out("out", out)?;
+    let (_, car) = crate::pipeline::envmap::dump::dump_scene(&sc, side, out)?;
+    println!(
+        "wrote {}³ × {} bits ({}, exposure {}) to {}: {}, {} slices, {}",
+        car.side,
+        car.bits,
+        car.prefilter,
+        car.exposure,
+        out.display(),
+        car.volume,
+        car.slices.len(),
+        crate::pipeline::envmap::dump::SIDECAR_FILE
+    );
+    Ok(())
+}
+
+/// `trace --vectors`: a unit's stimulus and expected-response vectors.
+fn trace_vectors_cmd(
+    unit: &str,
+    dir: &std::path::Path,
+    count: Option<u64>,
+    seed: u64,
+    config: &str,
+) -> Result<(), String> {
+    let cfg = registry::rtl::RtlConfig::parse(config)?;
+    let n = count.unwrap_or(100_000);
+    let max = registry::rtl::MAX_VECTORS as u64;
+    if n == 0 || n > max {
+        return Err(format!("count: {n} is out of range (1 ..= {max})"));
+    }
+    let v = registry::rtl::vectors(unit, cfg, n as usize, seed)?;
+    v.write(dir)?;
+    println!(
+        "wrote {} transactions of {} ({}, {}; latency {}, II {}) into {}",
+        v.stimulus.len(),
+        v.unit,
+        cfg.name(),
+        if v.exhaustive {
+            "exhaustive"
+        } else {
+            "seeded random + corners"
+        },
+        v.latency,
+        v.ii,
+        dir.display()
+    );
+    Ok(())
+}
+
+/// `trace`: a unit's VCD over `pixels` seeded pixels.
+fn trace_pixels_cmd(
+    unit: &str,
+    pixels: usize,
+    seed: u64,
+    out: &std::path::Path,
+) -> Result<(), String> {
+    if pixels == 0 || pixels > MAX_TRACE_PIXELS {
+        return Err(format!(
+            "pixels: {pixels} is out of range (1 ..= {MAX_TRACE_PIXELS})"
+        ));
+    }
+    let mut buf = Vec::new();
+    let ctr = registry::trace(unit, pixels, seed, &mut buf)?;
+    write_file(out, &buf)?;
+    println!(
+        "wrote {} ({} cycles, {} pixels in, {} out, {} stalls)",
+        out.display(),
+        ctr.cycles,
+        ctr.pixels_in,
+        ctr.pixels_out,
+        ctr.stalls
+    );
+    Ok(())
 }
 
 /// Every `reproduce` name, in the order `--help` lists them.
@@ -675,8 +698,39 @@ fn reproduce(
     max_memory: Option<u64>,
     image: Option<&str>,
 ) -> Result<(), String> {
-    use crate::pipeline::glare::reproduce as g;
-    use crate::pipeline::shafts::reproduce as r;
+    check_reproduction_args(name, values.as_deref(), resume, image)?;
+    crate::frame::budget::check_reproduction(name, values.as_deref(), max_memory)?;
+    let points = crate::frame::budget::reproduction_points(name, values.as_deref())?;
+    check_dir_out("out", out)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
+    let t0 = std::time::Instant::now();
+    if name.starts_with("envmap-") {
+        run_envmap_reproduction(name, out, resume)?;
+    } else if name.starts_with("shading-") {
+        run_shading_reproduction(name, out, resume)?;
+    } else {
+        run_frame_reproduction(name, out, values, resume)?;
+    }
+    println!(
+        "{name}: wrote {} in {:.1} s",
+        out.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    // The range warnings of the frames it rendered, once each.
+    if let Some(points) = points {
+        crate::frame::range::print_points(&crate::frame::range::check_points(&points));
+    }
+    Ok(())
+}
+
+/// `reproduce`'s arguments checked before any work: the name, `--image`, `--values`,
+/// `--resume`, and the environment variables of the environment-map reproductions.
+fn check_reproduction_args(
+    name: &str,
+    values: Option<&[u32]>,
+    resume: bool,
+    image: Option<&str>,
+) -> Result<(), String> {
     if !REPRODUCTIONS.contains(&name) {
         return Err(format!(
             "name: unknown reproduction '{name}' (known: {})",
@@ -713,7 +767,7 @@ fn reproduce(
             RESUMABLE_REPRODUCTIONS.join(", ")
         ));
     }
-    if let Some(v) = values.as_ref().and_then(|v| v.iter().position(|&x| x == 0)) {
+    if let Some(v) = values.and_then(|v| v.iter().position(|&x| x == 0)) {
         return Err(format!("values[{v}]: must be at least 1"));
     }
     if name.starts_with("envmap-") {
@@ -723,11 +777,18 @@ fn reproduce(
         crate::pipeline::envmap::reproduce::cli_side()?;
         crate::pipeline::envmap::reproduce::cli_thresholds()?;
     }
-    crate::frame::budget::check_reproduction(name, values.as_deref(), max_memory)?;
-    let points = crate::frame::budget::reproduction_points(name, values.as_deref())?;
-    check_dir_out("out", out)?;
-    std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
-    let t0 = std::time::Instant::now();
+    Ok(())
+}
+
+/// The shafts, glare and frame reproductions.
+fn run_frame_reproduction(
+    name: &str,
+    out: &std::path::Path,
+    values: Option<Vec<u32>>,
+    resume: bool,
+) -> Result<(), String> {
+    use crate::pipeline::glare::reproduce as g;
+    use crate::pipeline::shafts::reproduce as r;
     match name {
         "shafts-fig4" => r::fig4(
             out,
@@ -756,6 +817,28 @@ fn reproduce(
                 resume,
             )?;
         }
+        "sim-speed" => crate::frame::speed::sim_speed(out)?,
+        "assumptions" => {
+            let rows = crate::frame::assumptions::assumptions(out, None, None)?;
+            print!("{}", crate::frame::assumptions::table(&rows));
+        }
+        "frame-elaboration" => {
+            let rows = crate::frame::reproduce::frame_elaboration_resumable(out, None, resume)?;
+            print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
+        }
+        _ => {
+            return Err(format!(
+                "name: unknown reproduction '{name}' (known: {})",
+                REPRODUCTIONS.join(", ")
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// The environment-map reproductions.
+fn run_envmap_reproduction(name: &str, out: &std::path::Path, resume: bool) -> Result<(), String> {
+    match name {
         "envmap-table3" => crate::pipeline::envmap::reproduce::table3_at(
             out,
             crate::pipeline::envmap::reproduce::cli_side()?,
@@ -790,6 +873,26 @@ fn reproduce(
                 resume,
             )?;
         }
+        "envmap-images" => {
+            crate::pipeline::envmap::reproduce::images_resumable(
+                out,
+                crate::pipeline::envmap::reproduce::RenderRun::cli()?,
+                resume,
+            )?;
+        }
+        _ => {
+            return Err(format!(
+                "name: unknown reproduction '{name}' (known: {})",
+                REPRODUCTIONS.join(", ")
+            ))
+        }
+    }
+    Ok(())
+}
+
+/// The shading reproductions.
+fn run_shading_reproduction(name: &str, out: &std::path::Path, resume: bool) -> Result<(), String> {
+    match name {
         "shading-brdf-properties" => {
             crate::pipeline::shading::brdf_properties::brdf_properties_resumable(out, resume)?;
         }
@@ -811,13 +914,6 @@ fn reproduce(
                 println!("{line}");
             }
         }
-        "envmap-images" => {
-            crate::pipeline::envmap::reproduce::images_resumable(
-                out,
-                crate::pipeline::envmap::reproduce::RenderRun::cli()?,
-                resume,
-            )?;
-        }
         "shading-normalize-cube" => {
             crate::pipeline::shading::normalize_cube::reproduce(out)?;
         }
@@ -829,15 +925,6 @@ fn reproduce(
             let rows = crate::pipeline::shading::brdfs::shading_brdfs(out)?;
             print!("{}", crate::pipeline::shading::brdfs::table(&rows));
         }
-        "sim-speed" => crate::frame::speed::sim_speed(out)?,
-        "assumptions" => {
-            let rows = crate::frame::assumptions::assumptions(out, None, None)?;
-            print!("{}", crate::frame::assumptions::table(&rows));
-        }
-        "frame-elaboration" => {
-            let rows = crate::frame::reproduce::frame_elaboration_resumable(out, None, resume)?;
-            print!("{}", crate::frame::reproduce::elaboration_rows_table(&rows));
-        }
         "shading-vertex-float" => {
             crate::pipeline::shading::vertex_float::reproduce(out)?;
         }
@@ -847,15 +934,6 @@ fn reproduce(
                 REPRODUCTIONS.join(", ")
             ))
         }
-    }
-    println!(
-        "{name}: wrote {} in {:.1} s",
-        out.display(),
-        t0.elapsed().as_secs_f64()
-    );
-    // The range warnings of the frames it rendered, once each.
-    if let Some(points) = points {
-        crate::frame::range::print_points(&crate::frame::range::check_points(&points));
     }
     Ok(())
 }
