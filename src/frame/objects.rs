@@ -18,7 +18,9 @@
 //! its brightest specular fragment *after* this scaling (an unlit sheen never counts).
 
 use crate::chip::{PassKind, PassStats};
-use crate::pipeline::shading::scene_pass::{highlight, shade_objects, FoundHighlight};
+use crate::pipeline::shading::scene_pass::{
+    highlight, shade_objects, FoundHighlight, SceneShading,
+};
 use crate::pipeline::shafts::frame::Prepared;
 use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
@@ -68,50 +70,128 @@ pub fn shaded_objects_pass(
     highlight: Option<(usize, f64, f64)>,
     reflections: &[Reflection],
 ) -> Result<ShadedObjects, ConfigError> {
-    let (w, h) = (scene.image.width, scene.image.height);
-    let n = (w * h) as usize;
-    // The shading units shade the objects with a material; a reflector without one
-    // shows its reflection alone.
-    let selected = |i: usize| scene.objects.get(i).is_some_and(|o| o.material.is_some());
-    let modulate = Modulate::new(8, ModulateMode::Exact)?;
-    let blend = Blend::additive(8, 8, false, 8)?;
-    let cam = CameraView::new(&scene.camera, scene.image);
-    let geometry = SceneGeometry::without_meshes(&scene.objects)?;
-    let mut counters: BTreeMap<String, Counters> = BTreeMap::new();
-    let mut sum: Vec<Option<[u32; 3]>> = vec![None; n];
-    let mut objects: Vec<Option<usize>> = vec![None; n];
-    let mut eye_t: Vec<Option<f64>> = vec![None; n];
-    let mut highlights = Vec::new();
-    let mut elaboration = Vec::new();
-    let mut stats = Vec::new();
-    let mut fragments = 0;
-    for (li, light) in scene.lights.iter().enumerate() {
+    let mut pass = ObjectsPass::new(scene, p)?;
+    for li in 0..scene.lights.len() {
+        pass.light(li, highlight)?;
+    }
+    for r in reflections {
+        pass.reflection(r);
+    }
+    Ok(pass.finish(fb))
+}
+
+/// The pass as it runs: its units, the camera, and per pixel the 8-bit sum, the
+/// object coloured and the eye distance.
+struct ObjectsPass<'a> {
+    scene: &'a Scene,
+    p: &'a Prepared,
+    modulate: Modulate,
+    blend: Blend,
+    cam: CameraView,
+    geometry: SceneGeometry,
+    counters: BTreeMap<String, Counters>,
+    sum: Vec<Option<[u32; 3]>>,
+    objects: Vec<Option<usize>>,
+    eye_t: Vec<Option<f64>>,
+    highlights: Vec<FoundHighlight>,
+    elaboration: Vec<Elaborated>,
+    stats: Vec<PassStats>,
+    fragments: u64,
+}
+
+/// One light's fragments: their pixels, the (level, irradiance code) pairs of their
+/// channels, and the highlight light's (pixel, specular × grey) pairs.
+type LightFragments = (Vec<usize>, Vec<ModulateIn>, Vec<(usize, ModulateIn)>);
+
+impl<'a> ObjectsPass<'a> {
+    fn new(scene: &'a Scene, p: &'a Prepared) -> Result<Self, ConfigError> {
+        let n = (scene.image.width * scene.image.height) as usize;
+        Ok(ObjectsPass {
+            scene,
+            p,
+            modulate: Modulate::new(8, ModulateMode::Exact)?,
+            blend: Blend::additive(8, 8, false, 8)?,
+            cam: CameraView::new(&scene.camera, scene.image),
+            geometry: SceneGeometry::without_meshes(&scene.objects)?,
+            counters: BTreeMap::new(),
+            sum: vec![None; n],
+            objects: vec![None; n],
+            eye_t: vec![None; n],
+            highlights: Vec::new(),
+            elaboration: Vec::new(),
+            stats: Vec::new(),
+            fragments: 0,
+        })
+    }
+
+    /// Light `li`: the objects shaded, scaled by its irradiance and added to the sum
+    /// (and, for the highlight light, its brightest specular fragments found).
+    fn light(
+        &mut self,
+        li: usize,
+        highlight: Option<(usize, f64, f64)>,
+    ) -> Result<(), ConfigError> {
+        let scene = self.scene;
+        let light = &scene.lights[li];
         let (intensity, radius) = match highlight {
             Some((l, i, r)) if l == li => (i, r),
             _ => (1.0, 0.03),
         };
+        // The shading units shade the objects with a material; a reflector without one
+        // shows its reflection alone.
+        let selected = |i: usize| scene.objects.get(i).is_some_and(|o| o.material.is_some());
         let sh = shade_objects(scene, li, intensity, radius, &selected)?;
-        let map = LightMapSampler::for_light(light, li)?;
         let finds_highlights = highlight.is_some_and(|(l, _, _)| l == li);
-        // The highlight light's specular levels × its irradiance code (grey), per pixel.
-        let mut spec_pairs: Vec<(usize, ModulateIn)> = Vec::new();
         if li == 0 {
-            elaboration = sh.elaboration.clone();
+            self.elaboration = sh.elaboration.clone();
         }
         for (k, c) in &sh.counters {
-            *counters.entry(format!("light {li}: {k}")).or_default() += *c;
+            *self.counters.entry(format!("light {li}: {k}")).or_default() += *c;
         }
-        // Per fragment: the shaded levels × the light's irradiance code there.
+        let (at, pairs, spec_pairs) = self.fragments_of(li, &sh, finds_highlights)?;
+        if finds_highlights {
+            self.highlights = brightest(
+                scene,
+                &self.modulate,
+                &spec_pairs,
+                &sh.objects,
+                &self.cam,
+                &self.geometry,
+                vec3(light.position),
+                intensity,
+                radius,
+                &mut self.counters,
+            );
+        }
+        self.accumulate(&at, &pairs);
+        self.fragments += sh.fragments;
+        self.stats.push(shading_stats(li, sh.fragments));
+        Ok(())
+    }
+
+    /// Per fragment of light `li`'s shading: the shaded levels × the light's irradiance
+    /// code there (and the specular level × its grey code, for the highlight light).
+    fn fragments_of(
+        &mut self,
+        li: usize,
+        sh: &SceneShading,
+        finds_highlights: bool,
+    ) -> Result<LightFragments, ConfigError> {
+        let (scene, cam, w) = (self.scene, &self.cam, self.scene.image.width);
+        let light = &scene.lights[li];
+        let map = LightMapSampler::for_light(light, li)?;
         let lpos = vec3(light.position);
         let mut at = Vec::new();
         let mut pairs = Vec::new();
+        let mut spec_pairs = Vec::new();
         for (i, px) in sh.pixels.iter().enumerate() {
             let Some(rgb) = px else { continue };
-            objects[i] = sh.objects[i];
+            self.objects[i] = sh.objects[i];
             let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
             let dir = cam.ray_dir(x, y);
             // The eye distance, ray-cast once per pixel whatever the number of lights.
-            let t = *eye_t[i].get_or_insert_with(|| {
+            let geometry = &self.geometry;
+            let t = *self.eye_t[i].get_or_insert_with(|| {
                 geometry
                     .first_hit(
                         &Ray {
@@ -123,7 +203,7 @@ pub fn shaded_objects_pass(
                     .map_or(0.0, |(_, hit)| hit.t)
             });
             let point = cam.eye + dir * t;
-            let (k, grey) = irradiance_code(scene, p, light, &map, lpos, point, t);
+            let (k, grey) = irradiance_code(scene, self.p, light, &map, lpos, point, t);
             if finds_highlights && sh.speculars[i] > 0 {
                 spec_pairs.push((
                     i,
@@ -138,30 +218,22 @@ pub fn shaded_objects_pass(
                 pairs.push(ModulateIn { a: rgb[c], b: k[c] });
             }
         }
-        if finds_highlights {
-            highlights = brightest(
-                scene,
-                &modulate,
-                &spec_pairs,
-                &sh.objects,
-                &cam,
-                &geometry,
-                lpos,
-                intensity,
-                radius,
-                &mut counters,
-            );
-        }
+        Ok((at, pairs, spec_pairs))
+    }
+
+    /// The fragments at `at` modulated by their irradiance codes and added to the sum.
+    fn accumulate(&mut self, at: &[usize], pairs: &[ModulateIn]) {
         let mut c = Counters::default();
-        let lit = run_span(&modulate, &mut (), &pairs, &mut c);
-        *counters
+        let lit = run_span(&self.modulate, &mut (), pairs, &mut c);
+        *self
+            .counters
             .entry("modulate (shaded objects)".into())
             .or_default() += c;
         let ins: Vec<BlendIn> = at
             .iter()
             .zip(lit.chunks(3))
             .map(|(&i, l)| {
-                let d = sum[i].unwrap_or([0; 3]);
+                let d = self.sum[i].unwrap_or([0; 3]);
                 BlendIn {
                     src: [l[0], l[1], l[2], 0],
                     dst: [d[0], d[1], d[2], 0],
@@ -169,26 +241,28 @@ pub fn shaded_objects_pass(
             })
             .collect();
         let mut c = Counters::default();
-        let out = run_span(&blend, &mut (), &ins, &mut c);
-        *counters
+        let out = run_span(&self.blend, &mut (), &ins, &mut c);
+        *self
+            .counters
             .entry("additive_blend (shaded objects)".into())
             .or_default() += c;
         for (&i, o) in at.iter().zip(out) {
-            sum[i] = Some([o[0], o[1], o[2]]);
+            self.sum[i] = Some([o[0], o[1], o[2]]);
         }
-        fragments += sh.fragments;
-        stats.push(shading_stats(li, sh.fragments));
     }
-    for r in reflections {
-        // The reflector's pixels: where it is the nearest object.
-        for (i, o) in objects.iter_mut().enumerate() {
+
+    /// A reflector's environment reflection added where it is the nearest object.
+    fn reflection(&mut self, r: &Reflection) {
+        let (cam, w) = (&self.cam, self.scene.image.width);
+        for (i, o) in self.objects.iter_mut().enumerate() {
             if o.is_none() && r.pixels[i].is_some() {
                 let (x, y) = ((i as u32 % w) as f64 + 0.5, (i as u32 / w) as f64 + 0.5);
                 let ray = Ray {
                     origin: cam.eye,
                     dir: cam.ray_dir(x, y),
                 };
-                if geometry
+                if self
+                    .geometry
                     .first_hit(&ray, cam.far)
                     .is_some_and(|(k, _)| k == r.object)
                 {
@@ -196,29 +270,42 @@ pub fn shaded_objects_pass(
                 }
             }
         }
-        add_reflection(r, &blend, &mut sum, &objects, &mut counters);
+        add_reflection(
+            r,
+            &self.blend,
+            &mut self.sum,
+            &self.objects,
+            &mut self.counters,
+        );
         for (k, c) in &r.counters {
-            *counters.entry(k.clone()).or_default() += *c;
+            *self.counters.entry(k.clone()).or_default() += *c;
         }
-        stats.push(r.stats.clone());
-        elaboration.extend(r.elaboration.iter().cloned());
+        self.stats.push(r.stats.clone());
+        self.elaboration.extend(r.elaboration.iter().cloned());
     }
-    for (i, s) in sum.iter().enumerate() {
-        if let Some(rgb) = s {
-            let q = rgb
-                .map(|v| rtl_model::unorm::narrow(rtl_model::unorm::widen(v, 8, 16), 16, fb.bits));
-            fb.set(i as u32 % w, i as u32 / w, [q[0], q[1], q[2], 0]);
+
+    /// The sum written into `fb` (8-bit levels widened to 16 bits and narrowed to the
+    /// framebuffer's width, as the hardware copies it).
+    fn finish(self, fb: &mut Framebuffer) -> ShadedObjects {
+        let w = self.scene.image.width;
+        for (i, s) in self.sum.iter().enumerate() {
+            if let Some(rgb) = s {
+                let q = rgb.map(|v| {
+                    rtl_model::unorm::narrow(rtl_model::unorm::widen(v, 8, 16), 16, fb.bits)
+                });
+                fb.set(i as u32 % w, i as u32 / w, [q[0], q[1], q[2], 0]);
+            }
+        }
+        ShadedObjects {
+            objects: self.objects,
+            levels: self.sum,
+            highlights: self.highlights,
+            counters: self.counters,
+            elaboration: self.elaboration,
+            stats: self.stats,
+            fragments: self.fragments,
         }
     }
-    Ok(ShadedObjects {
-        objects,
-        levels: sum,
-        highlights,
-        counters,
-        elaboration,
-        stats,
-        fragments,
-    })
 }
 
 /// The time model's view of one light's shading: every fragment a pass over the

@@ -112,54 +112,16 @@ pub fn frame_error_and_reference(
     let mut passes = Vec::new();
     let mut ref_backdrop: Vec<[f64; 3]> = f.fb.levels();
     if let Some(sh) = &f.shafts {
-        // The ray march with the object pass's objects black: their pixels then hold
-        // the in-scatter and attenuation alone, to which the object pass's reference
-        // adds their colour.
-        let mut s = scene.clone();
-        s.glare = None;
+        let truth = shafts_truth(scene, f)?;
+        let mut shafts_hw = sh.levels();
+        ref_backdrop = truth.clone();
         if let Some(o) = &f.shaded {
-            for (i, obj) in s.objects.iter_mut().enumerate() {
-                if scene.shaded_object(i) && o.objects.contains(&Some(i)) {
-                    obj.color = [0.0; 3];
-                }
-            }
-        }
-        let (truth, _) = reference_image(&s, 180)?;
-        let hw = sh.levels();
-        let mut shafts_hw = hw.clone();
-        if let Some(o) = &f.shaded {
-            let p = f.plan.prepared.as_ref().ok_or("frame: no shafts set-up")?;
-            let refl =
-                super::reflection::reflections_with(scene, true).map_err(|e| e.to_string())?;
-            let obj_ref = super::objects::reference_levels(scene, p, &o.objects, &refl)
-                .map_err(|e| e.to_string())?;
-            // The object pass's output in fb levels (as written into the framebuffer).
-            let max = rtl_model::unorm::max_code(sh.fb.bits);
-            let obj_hw: Vec<[f64; 3]> = o
-                .levels
-                .iter()
-                .map(|l| {
-                    l.map_or([0.0; 3], |v| {
-                        v.map(|c| {
-                            rtl_model::unorm::narrow(
-                                rtl_model::unorm::widen(c, 8, 16),
-                                16,
-                                sh.fb.bits,
-                            ) as f64
-                                * 255.0
-                                / max as f64
-                        })
-                    })
-                })
-                .collect();
-            let mask: Vec<bool> = o.levels.iter().map(|l| l.is_some()).collect();
-            let obj_ref_dense: Vec<[f64; 3]> =
-                obj_ref.iter().map(|r| r.unwrap_or([0.0; 3])).collect();
+            let (obj_hw, mask, obj_ref) = object_pass_levels(scene, f, sh.fb.bits, o)?;
             passes.push(stats(
                 "objects (shading units, environment reflections)",
                 "BRDF references per channel, Phong environment truth",
                 &obj_hw,
-                &obj_ref_dense,
+                &obj_ref,
                 &mask,
             ));
             // The shafts passes' own contribution: the framebuffer less what the object
@@ -173,11 +135,9 @@ pub fn frame_error_and_reference(
             }
             ref_backdrop = truth
                 .iter()
-                .zip(&obj_ref_dense)
+                .zip(&obj_ref)
                 .map(|(t, o)| [0, 1, 2].map(|c| t[c] + o[c]))
                 .collect();
-        } else {
-            ref_backdrop = truth.clone();
         }
         passes.insert(
             0,
@@ -201,18 +161,7 @@ pub fn frame_error_and_reference(
             &lv,
             &all,
         ));
-        // The glare's analytic contribution, added to the backdrop's reference.
-        let max = rtl_model::unorm::max_code(g.fb.bits) as f64;
-        for ((t, r), b) in ref_total.iter_mut().zip(&lv).zip(&g.base) {
-            for c in 0..3 {
-                if f.shafts.is_some() {
-                    let contrib = r[c] - b[c] as f64 * 255.0 / max;
-                    t[c] = (t[c] + contrib).clamp(0.0, 255.0);
-                } else {
-                    t[c] = r[c];
-                }
-            }
-        }
+        add_glare_reference(&mut ref_total, &lv, g, f.shafts.is_some());
     }
     let total = stats(
         "frame",
@@ -230,6 +179,77 @@ pub fn frame_error_and_reference(
         },
         ref_total,
     ))
+}
+
+/// The shafts passes' truth: the ray march with the object pass's objects black (their
+/// pixels then hold the in-scatter and attenuation alone, to which the object pass's
+/// reference adds their colour).
+fn shafts_truth(scene: &Scene, f: &Frame) -> Result<Vec<[f64; 3]>, String> {
+    let mut s = scene.clone();
+    s.glare = None;
+    if let Some(o) = &f.shaded {
+        for (i, obj) in s.objects.iter_mut().enumerate() {
+            if scene.shaded_object(i) && o.objects.contains(&Some(i)) {
+                obj.color = [0.0; 3];
+            }
+        }
+    }
+    Ok(reference_image(&s, 180)?.0)
+}
+
+/// The object pass's levels in the framebuffer, the pixels it wrote, its reference.
+type ObjectPassLevels = (Vec<[f64; 3]>, Vec<bool>, Vec<[f64; 3]>);
+
+/// The object pass's output in framebuffer levels (as written into a `fb_bits`
+/// framebuffer), the mask of the pixels it wrote, and its reference (0 elsewhere).
+fn object_pass_levels(
+    scene: &Scene,
+    f: &Frame,
+    fb_bits: u32,
+    o: &super::objects::ShadedObjects,
+) -> Result<ObjectPassLevels, String> {
+    let p = f.plan.prepared.as_ref().ok_or("frame: no shafts set-up")?;
+    let refl = super::reflection::reflections_with(scene, true).map_err(|e| e.to_string())?;
+    let obj_ref =
+        super::objects::reference_levels(scene, p, &o.objects, &refl).map_err(|e| e.to_string())?;
+    let max = rtl_model::unorm::max_code(fb_bits);
+    let obj_hw: Vec<[f64; 3]> = o
+        .levels
+        .iter()
+        .map(|l| {
+            l.map_or([0.0; 3], |v| {
+                v.map(|c| {
+                    rtl_model::unorm::narrow(rtl_model::unorm::widen(c, 8, 16), 16, fb_bits) as f64
+                        * 255.0
+                        / max as f64
+                })
+            })
+        })
+        .collect();
+    let mask: Vec<bool> = o.levels.iter().map(|l| l.is_some()).collect();
+    let obj_ref_dense: Vec<[f64; 3]> = obj_ref.iter().map(|r| r.unwrap_or([0.0; 3])).collect();
+    Ok((obj_hw, mask, obj_ref_dense))
+}
+
+/// The glare's analytic contribution added to the backdrop's reference `total` (over a
+/// shafts picture: the glare reference `lv` less the base it was drawn over; alone: `lv`).
+fn add_glare_reference(
+    total: &mut [[f64; 3]],
+    lv: &[[f64; 3]],
+    g: &crate::pipeline::glare::frame::GlareFrame,
+    over_shafts: bool,
+) {
+    let max = rtl_model::unorm::max_code(g.fb.bits) as f64;
+    for ((t, r), b) in total.iter_mut().zip(lv).zip(&g.base) {
+        for c in 0..3 {
+            if over_shafts {
+                let contrib = r[c] - b[c] as f64 * 255.0 / max;
+                t[c] = (t[c] + contrib).clamp(0.0, 255.0);
+            } else {
+                t[c] = r[c];
+            }
+        }
+    }
 }
 
 /// The scene the glare pass rendered (with the highlights the shading found).

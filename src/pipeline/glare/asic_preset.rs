@@ -34,9 +34,7 @@ pub fn glare_asic() -> Result<ChipConfig, rtl_model::ConfigError> {
 pub fn glare_asic_for(
     hw: &crate::scene::glare::GlareHw,
 ) -> Result<ChipConfig, rtl_model::ConfigError> {
-    use crate::chip::config::{
-        Arbitration, CacheConfig, Layout, MemoryConfig, PipeStage, Replacement, StageKind,
-    };
+    use crate::chip::config::{CacheConfig, Layout, PipeStage, Replacement, StageKind};
     use crate::scene::limits;
     use rtl_model::units::bloom_flare_modulator::BloomFlareModulatorConfig;
     use rtl_model::units::halo_modulator::HaloModulatorConfig;
@@ -117,19 +115,25 @@ pub fn glare_asic_for(
         texture_layout: Layout::Linear,
         // Assumed: a scanline framebuffer (the paper does not say).
         framebuffer_layout: Layout::Linear,
-        memory: MemoryConfig {
-            // GLARE_MEMORY_BYTES_PER_SECOND (assumed) at the core clock.
-            bytes_per_clock: GLARE_MEMORY_BYTES_PER_SECOND / (hw.clock_mhz * 1e6),
-            // Assumed: 100 ns from a read's issue to its data (an SDRAM row miss
-            // and the controller), 30 clocks at 300 MHz.
-            latency_clocks: (100e-9 * hw.clock_mhz * 1e6).round() as u32,
-            // Assumed: enough requests in flight to cover the latency at one
-            // quad's read a clock (≥ 30 at 300 MHz), rounded up to a power of 2.
-            queue_depth: 64,
-            // One client (the combiner's colour read-modify-write): either rule.
-            arbitration: Arbitration::RoundRobin,
-            // Assumed: no page model (bandwidth and latency only).
-            pages: None,
-        },
+        memory: glare_memory(hw.clock_mhz),
     })
+}
+
+/// The glare ASIC's framebuffer memory at a core clock of `clock_mhz`.
+fn glare_memory(clock_mhz: f64) -> crate::chip::config::MemoryConfig {
+    use crate::chip::config::{Arbitration, MemoryConfig};
+    MemoryConfig {
+        // GLARE_MEMORY_BYTES_PER_SECOND (assumed) at the core clock.
+        bytes_per_clock: GLARE_MEMORY_BYTES_PER_SECOND / (clock_mhz * 1e6),
+        // Assumed: 100 ns from a read's issue to its data (an SDRAM row miss
+        // and the controller), 30 clocks at 300 MHz.
+        latency_clocks: (100e-9 * clock_mhz * 1e6).round() as u32,
+        // Assumed: enough requests in flight to cover the latency at one
+        // quad's read a clock (≥ 30 at 300 MHz), rounded up to a power of 2.
+        queue_depth: 64,
+        // One client (the combiner's colour read-modify-write): either rule.
+        arbitration: Arbitration::RoundRobin,
+        // Assumed: no page model (bandwidth and latency only).
+        pages: None,
+    }
 }

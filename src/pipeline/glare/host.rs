@@ -80,33 +80,48 @@ pub fn screen_source(
 ) -> Result<ScreenSource, ConfigError> {
     let p0 = vec3(s.position);
     let center = screen(cam, p0, &format!("{field}.position"))?;
-    let ppd = px_per_deg(cam);
     let to_eye = (cam.eye - p0).normalized();
     let c_dir = match s.directivity {
         Some(d) => vec3(d).normalized().dot(to_eye).max(0.0),
         None => 1.0,
     };
-    // The plane an extended source lies in faces D (or the eye, without D).
-    let normal = s.directivity.map_or(to_eye, |d| vec3(d).normalized());
-    let n_raw = vec3(s.n);
-    let n = (n_raw - normal * n_raw.dot(normal)).normalized();
-    let n = if n.length().is_finite() && n.length() > 0.5 {
-        n
-    } else {
-        // N parallel to D: any direction in the plane.
-        let t = if normal.y.abs() < 0.9 {
-            vec3([0.0, 1.0, 0.0])
-        } else {
-            vec3([1.0, 0.0, 0.0])
-        };
-        (t - normal * t.dot(normal)).normalized()
-    };
-    let m = normal.cross(n);
+    let (center, shape, aspect, base_rad) = screen_shape(cam, s, field, center, to_eye)?;
+    Ok(ScreenSource {
+        label: field.to_string(),
+        center,
+        shape,
+        px_per_deg: px_per_deg(cam),
+        intensity: s.intensity * s.area_size,
+        c_dir,
+        color: s.color,
+        bloom: s.bloom,
+        halo: s.halo,
+        flare: s.flare,
+        aspect,
+        base_rad,
+        patch: None,
+        core_only: false,
+    })
+}
+
+/// A source's outline on the screen: (its centre, its shape about the centre, the
+/// aspect b/a, the angle its streaks start from). A polygon's centre is its points'
+/// mean (the position and the vertices).
+fn screen_shape(
+    cam: &CameraView,
+    s: &GlareSource,
+    field: &str,
+    center: [f64; 2],
+    to_eye: Vec3,
+) -> Result<([f64; 2], Shape2D, f64, f64), ConfigError> {
+    let p0 = vec3(s.position);
+    let (m, n) = plane_axes(s, to_eye);
     let depth = cam.depth_of(p0).max(1e-12);
-    let f_px = ppd * 180.0 / std::f64::consts::PI;
-    let (shape, aspect, base_rad) = match s.kind {
-        SourceKind::Point => (Shape2D::Point, 1.0, 0.0),
+    let f_px = px_per_deg(cam) * 180.0 / std::f64::consts::PI;
+    Ok(match s.kind {
+        SourceKind::Point => (center, Shape2D::Point, 1.0, 0.0),
         SourceKind::Circle => (
+            center,
             Shape2D::Circle {
                 r: f_px * s.a / depth,
             },
@@ -119,6 +134,7 @@ pub fn screen_source(
             let (a, b, phi) = ellipse_from_conjugates(av, bv);
             let aspect = if a > 0.0 { b / a } else { 1.0 };
             (
+                center,
                 Shape2D::Ellipse { a, b, phi },
                 aspect,
                 phi + std::f64::consts::FRAC_PI_2,
@@ -131,6 +147,7 @@ pub fn screen_source(
             let phi = av[1].atan2(av[0]);
             let aspect = if h + r > 0.0 { r / (h + r) } else { 1.0 };
             (
+                center,
                 Shape2D::Capsule { h, r, phi },
                 aspect,
                 phi + std::f64::consts::FRAC_PI_2,
@@ -147,40 +164,29 @@ pub fn screen_source(
                 pts.iter().map(|p| p[1]).sum::<f64>() / n,
             ];
             let rel = pts.iter().map(|p| [p[0] - c[0], p[1] - c[1]]).collect();
-            return Ok(ScreenSource {
-                label: field.to_string(),
-                center: c,
-                shape: Shape2D::Polygon { pts: rel },
-                px_per_deg: ppd,
-                intensity: s.intensity * s.area_size,
-                c_dir,
-                color: s.color,
-                bloom: s.bloom,
-                halo: s.halo,
-                flare: s.flare,
-                aspect: 1.0,
-                base_rad: 0.0,
-                patch: None,
-                core_only: false,
-            });
+            (c, Shape2D::Polygon { pts: rel }, 1.0, 0.0)
         }
-    };
-    Ok(ScreenSource {
-        label: field.to_string(),
-        center,
-        shape,
-        px_per_deg: ppd,
-        intensity: s.intensity * s.area_size,
-        c_dir,
-        color: s.color,
-        bloom: s.bloom,
-        halo: s.halo,
-        flare: s.flare,
-        aspect,
-        base_rad,
-        patch: None,
-        core_only: false,
     })
+}
+
+/// The axes (M, N) of the plane an extended source lies in: the plane faces D (or the
+/// eye, without D); N is the scene's N in that plane (any direction in it when N is
+/// parallel to D), M = normal × N.
+fn plane_axes(s: &GlareSource, to_eye: Vec3) -> (Vec3, Vec3) {
+    let normal = s.directivity.map_or(to_eye, |d| vec3(d).normalized());
+    let n_raw = vec3(s.n);
+    let n = (n_raw - normal * n_raw.dot(normal)).normalized();
+    let n = if n.length().is_finite() && n.length() > 0.5 {
+        n
+    } else {
+        let t = if normal.y.abs() < 0.9 {
+            vec3([0.0, 1.0, 0.0])
+        } else {
+            vec3([1.0, 0.0, 0.0])
+        };
+        (t - normal * t.dot(normal)).normalized()
+    };
+    (normal.cross(n), n)
 }
 
 /// The constants of eqs. (1)–(6) for a source of effective intensity `ie` (codes).

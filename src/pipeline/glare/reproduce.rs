@@ -298,7 +298,39 @@ pub fn fig8(out: &Path) -> Result<(), String> {
     // The trace: I_p(t) of the source's patches through the chaos-map unit.
     let g = base.glare.as_ref().ok_or("scene: leaves has no glare")?;
     let patches = g.sources[0].fluctuation.map_or(1, |f| f.patches);
-    let (u, mut st) = chaos_unit(&base, 0, patches).map_err(|e| e.to_string())?;
+    let trace = fig8_trace(out, &base, g, patches)?;
+    let (freq, power) = welch_psd(&trace, 16);
+    let (f_lo, f_hi) = (1e-4, 1e-2);
+    let (slope, _) =
+        loglog_slope(&freq, &power, f_lo, f_hi, 8).ok_or("spectrum: too few bins for a slope")?;
+    let theory = theory_slope(g.model.chaos_z);
+    write_csv(
+        &out.join("fig8_slope.csv"),
+        &[SlopeRow {
+            z: g.model.chaos_z,
+            a: g.model.chaos_a,
+            patches,
+            steps: FIG8_STEPS,
+            f_lo,
+            f_hi,
+            slope,
+            theory,
+        }],
+    )?;
+    fig8_spectrum(out, g, &freq, &power, (f_lo, f_hi), (slope, theory))?;
+    println!("fig8: log-log slope {slope:.3} over [{f_lo}, {f_hi}] cycles/step; theory {theory:.3} for z = {}", g.model.chaos_z);
+    Ok(())
+}
+
+/// Fig. 8's trace: `FIG8_STEPS` steps of I_p(t) through the chaos-map unit (I_p / I);
+/// its first 4096 steps written as `fig8_trace.csv` and `.png`.
+fn fig8_trace(
+    out: &Path,
+    base: &Scene,
+    g: &crate::scene::glare::GlareSection,
+    patches: u32,
+) -> Result<Vec<f64>, String> {
+    let (u, mut st) = chaos_unit(base, 0, patches).map_err(|e| e.to_string())?;
     let mut c = Counters::default();
     let codes = u.run_trace(&mut st, FIG8_STEPS, &mut c);
     let scale = ((1u64 << u.config().out_bits) - 1) as f64;
@@ -326,24 +358,19 @@ pub fn fig8(out: &Path) -> Result<(), String> {
             axis: Axis::Left,
         }],
     )?;
-    let (freq, power) = welch_psd(&trace, 16);
-    let (f_lo, f_hi) = (1e-4, 1e-2);
-    let (slope, _) =
-        loglog_slope(&freq, &power, f_lo, f_hi, 8).ok_or("spectrum: too few bins for a slope")?;
-    let theory = theory_slope(g.model.chaos_z);
-    write_csv(
-        &out.join("fig8_slope.csv"),
-        &[SlopeRow {
-            z: g.model.chaos_z,
-            a: g.model.chaos_a,
-            patches,
-            steps: FIG8_STEPS,
-            f_lo,
-            f_hi,
-            slope,
-            theory,
-        }],
-    )?;
+    Ok(trace)
+}
+
+/// Fig. 8's spectrum: `fig8_spectrum.csv` and its log-log plot with the theory's slope
+/// from the first bin at or above `f_lo`.
+fn fig8_spectrum(
+    out: &Path,
+    g: &crate::scene::glare::GlareSection,
+    freq: &[f64],
+    power: &[f64],
+    (f_lo, f_hi): (f64, f64),
+    (slope, theory): (f64, f64),
+) -> Result<(), String> {
     #[derive(Serialize)]
     struct SpecRow {
         f: f64,
@@ -351,13 +378,13 @@ pub fn fig8(out: &Path) -> Result<(), String> {
     }
     let spec: Vec<SpecRow> = freq
         .iter()
-        .zip(&power)
+        .zip(power)
         .map(|(&f, &p)| SpecRow { f, power: p })
         .collect();
     write_csv(&out.join("fig8_spectrum.csv"), &spec)?;
     let p0 = power
         .iter()
-        .zip(&freq)
+        .zip(freq)
         .find(|(_, &f)| f >= f_lo)
         .map_or(1.0, |(p, _)| *p);
     let mut spec_plot = PlotSpec::new(
@@ -375,7 +402,7 @@ pub fn fig8(out: &Path) -> Result<(), String> {
                 label: "Welch spectrum of the chaos-map trace".into(),
                 points: freq
                     .iter()
-                    .zip(&power)
+                    .zip(power)
                     .filter(|(_, p)| **p > 0.0)
                     .map(|(&f, &p)| (f, p))
                     .collect(),
@@ -388,7 +415,6 @@ pub fn fig8(out: &Path) -> Result<(), String> {
             },
         ],
     )?;
-    println!("fig8: log-log slope {slope:.3} over [{f_lo}, {f_hi}] cycles/step; theory {theory:.3} for z = {}", g.model.chaos_z);
     Ok(())
 }
 

@@ -32,15 +32,30 @@ use std::path::Path;
 
 /// The sources of a shafts scene (module notes).
 pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
-    let c = base.shafts;
-    let mut v: Vec<Source<Scene>> = Vec::new();
-    let mut add = |name: &str, ideal: String, f: Box<dyn Fn(&mut Scene)>| {
+    let mut v = Vec::new();
+    let mut add = |name: &str, ideal: String, make_ideal: Box<dyn Fn(&mut Scene)>| {
         v.push(Source {
             name: name.to_string(),
             ideal,
-            make_ideal: f,
+            make_ideal,
         })
     };
+    width_sources(base, &mut add);
+    count_sources(base, &mut add);
+    v
+}
+
+/// A width or size `from`, made ideal: at least `to`.
+fn wide(from: u32, to: u32) -> u32 {
+    to.max(from)
+}
+
+/// A source by its name, what its ideal is, and how to make the scene ideal in it.
+type AddSource<'a> = &'a mut dyn FnMut(&str, String, Box<dyn Fn(&mut Scene)>);
+
+/// The table scaling and the widths and table sizes made ideal.
+fn width_sources(base: &Scene, add: AddSource) {
+    let c = base.shafts;
     add(
         "table scaling (h cap)",
         format!(
@@ -52,7 +67,6 @@ pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
         ),
         Box::new(|s| s.shafts.f_scale = FScale::LitVolume),
     );
-    let wide = |from: u32, to: u32| to.max(from);
     let tb = wide(c.texel_bits, 16);
     add(
         "texel_bits",
@@ -92,6 +106,11 @@ pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
         ),
         Box::new(move |s| s.shafts.h_texels = ht),
     );
+}
+
+/// The counts made ideal: planes, sub-planes, the mesh, the shadow map and light map.
+fn count_sources(base: &Scene, add: AddSource) {
+    let c = base.shafts;
     let n = (c.planes * 4).min(10_000);
     add(
         "planes",
@@ -131,7 +150,6 @@ pub fn sources(base: &Scene) -> Vec<Source<Scene>> {
         format!("shafts.light_map_texels {} → {lm}", c.light_map_texels),
         Box::new(move |s| s.shafts.light_map_texels = lm),
     );
-    v
 }
 
 /// The bound of "all ideal" (docs/results.md, "Error attribution"): the hardware's
