@@ -1025,11 +1025,7 @@ fn sweep_kinds(
         );
     }
     if let Some(mut s) = crate::pipeline::envmap::scene_render::environment_scene(scene)? {
-        if let Some(img) = image {
-            let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
-            s.image.width = w;
-            s.image.height = h;
-        }
+        crate::report::image_arg::apply_image(&mut s, image)?;
         return crate::pipeline::envmap::sweep::envmap_sweep_cli(
             &s, scene, param, values, out, shard, resume,
         );
@@ -1038,11 +1034,7 @@ fn sweep_kinds(
     // glare pass (over its shafts backdrop, if any), the rest as shafts scenes.
     if scene != "test" {
         let mut s = crate::scene::load::load_scene(scene)?;
-        if let Some(img) = image {
-            let (w, h) = crate::pipeline::shafts::sweep::parse_image(img)?;
-            s.image.width = w;
-            s.image.height = h;
-        }
+        crate::report::image_arg::apply_image(&mut s, image)?;
         if crate::frame::sweep::is_frame_scene(&s)? {
             return crate::frame::sweep::frame_sweep_cli(
                 &s, scene, param, values, out, shard, resume,

@@ -249,14 +249,7 @@ pub fn chip_sweep_cli(
         }
     }
     let mut scene = crate::scene::load::load_scene(scene_name)?;
-    if let Some(img) = image {
-        let (w, h) = crate::report::image_arg::parse_image(img)?;
-        scene.image.width = w;
-        scene.image.height = h;
-        scene
-            .validate()
-            .map_err(|e| format!("--image {img}: {e}"))?;
-    }
+    crate::report::image_arg::apply_image_checked(&mut scene, image)?;
     let sweep = check_chip_sweep(scene_name, scene, param, values)?;
     let (budget, from) = super::budget::resolve(max_memory);
     super::budget::check(&sweep.scene, budget, &from)?;

@@ -96,14 +96,7 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
         Some(env) => env,
         None => crate::scene::load::load_scene(name)?,
     };
-    if let Some(size) = &a.image {
-        let (w, h) = crate::report::image_arg::parse_image(size)?;
-        scene.image.width = w;
-        scene.image.height = h;
-        scene
-            .validate()
-            .map_err(|e| format!("--image {size}: {e}"))?;
-    }
+    crate::report::image_arg::apply_image_checked(&mut scene, a.image.as_deref())?;
     if a.budget.is_empty() {
         return Err("budget: at least one --budget is needed, e.g. --budget \"max<=1\"".into());
     }

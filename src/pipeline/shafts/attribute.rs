@@ -25,7 +25,7 @@
 //! reference's true sphere by up to a pixel: it is what "all ideal" keeps (the bound).
 
 use super::cli::{load_scene, reference_image, render_scene};
-use super::sweep::{parse_image, DEFAULT_TRUTH_SAMPLES};
+use super::sweep::DEFAULT_TRUTH_SAMPLES;
 use crate::report::attribution::{attribute, Attribution, Bound, Source};
 use crate::scene::format::{FScale, Scene};
 use std::path::Path;
@@ -200,10 +200,6 @@ pub fn attribute_shafts(scene: &Scene, out: &Path) -> Result<Attribution, String
 /// Load a shafts scene by name or file and apply `--image`.
 pub fn load_with_image(name: &str, image: Option<&str>) -> Result<Scene, String> {
     let mut scene = load_scene(name)?;
-    if let Some(img) = image {
-        let (w, h) = parse_image(img)?;
-        scene.image.width = w;
-        scene.image.height = h;
-    }
+    crate::report::image_arg::apply_image(&mut scene, image)?;
     Ok(scene)
 }
