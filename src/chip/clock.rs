@@ -98,7 +98,7 @@ pub struct FrameTiming {
     pub clock_hz: f64,
     pub passes: Vec<NamedPassTiming>,
     /// In sampled mode: the estimated relative error of the frame's cycles (one
-    /// standard error over the sampled tiles), else `None`.
+    /// standard error over the groups of sampled bands), else `None`.
     pub sampling_error: Option<f64>,
     /// Passes of the frame that recorded no work (not clocked: not in `passes`,
     /// not in `cycles_total`), with their roofline time.
@@ -396,7 +396,7 @@ struct TexInfo {
 }
 
 /// Everything one clocked pass accumulates over its hardware passes (and, in sampled
-/// mode, over its groups of tiles).
+/// mode, over its groups of sampled bands).
 struct Acc {
     counts: Vec<[u64; 3]>,
     timeline: TimelineBuilder,

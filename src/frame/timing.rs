@@ -1,7 +1,8 @@
 //! How a frame's time is found: the roofline formula over each pass's counters (the
 //! default, `crate::chip::roofline`), or the clocked chip over what each pass did
 //! (`--timing clocked`: every recorded pass clocked in full; `--timing sampled`: a
-//! deterministic sample of its screen tiles clocked and scaled, with its error).
+//! deterministic sample of its screen bands (rows of tiles) clocked and scaled, with
+//! its error).
 //!
 //! With clocked or sampled timing the shafts passes record their work
 //! ([`crate::chip::work::PassWork`]) as they run; each pass's record is clocked as soon
@@ -29,7 +30,8 @@ pub enum TimingMode {
     /// Every pass's recorded work clocked through the chip's stages, caches and
     /// memory controller.
     Clocked,
-    /// A deterministic sample of each pass's screen tiles clocked exactly and scaled,
+    /// A deterministic sample of each pass's screen bands (rows of tiles) clocked
+    /// exactly and scaled,
     /// with its estimated error.
     Sampled,
 }
@@ -198,7 +200,7 @@ pub fn sample_bands(rows: u32) -> SampleBands {
 }
 
 /// One sampled pass: its timing and the relative standard error of its cycles. The
-/// sampled tiles' timeline (the groups clocked back to back) is stretched over the
+/// sampled bands' timeline (the groups clocked back to back) is stretched over the
 /// pass's scaled cycles, so the frame's timeline reads the same in both modes.
 fn clock_sampled(
     chip: &ChipConfig,
