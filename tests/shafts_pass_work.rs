@@ -273,7 +273,11 @@ fn the_sampled_recorder_records_only_the_sample() {
             assert_eq!((w.fragments(), w.prim_walked.len()), (0, 0), "{kind}");
             continue;
         };
-        assert_eq!(hash(&[cut.clone()]), hash(&[w.clone()]), "{kind}");
+        assert_eq!(
+            hash(std::slice::from_ref(&cut)),
+            hash(std::slice::from_ref(w)),
+            "{kind}"
+        );
         let a = cut.sample.as_ref().unwrap();
         assert_eq!(a.prim_fragments, b.prim_fragments, "{kind}");
         assert_eq!(a.prim_first_xy, b.prim_first_xy, "{kind}");

@@ -1603,7 +1603,8 @@ fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, f64)> {
         } else {
             let z = zero_rank;
             zero_rank += 1;
-            (z % every == 0).then(|| ((z / every) as usize) % SAMPLE_GROUPS)
+            z.is_multiple_of(every)
+                .then(|| ((z / every) as usize) % SAMPLE_GROUPS)
         };
         frag_group.clear();
         frag_group.extend(r.clone().map(|f| group_of(work.frag_xy[f]) as u8));

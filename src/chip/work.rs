@@ -119,18 +119,15 @@ impl SampleBands {
     /// The number of the unit holding pixel (x, y).
     #[inline]
     pub fn unit(&self, x: u32, y: u32) -> u32 {
-        let bx = if self.block_cols == 0 {
-            0
-        } else {
-            x / self.block_cols
-        };
+        // block_cols = 0: one block the full width.
+        let bx = x.checked_div(self.block_cols).unwrap_or(0);
         (y / self.band_rows.max(1)) * 13 + bx
     }
 
     /// Whether pixel (x, y) is in a sampled unit.
     #[inline]
     pub fn keeps(&self, x: u32, y: u32) -> bool {
-        self.unit(x, y) % self.every.max(1) == 0
+        self.unit(x, y).is_multiple_of(self.every.max(1))
     }
 
     /// The rank of a sampled unit among the sampled units (in unit order).

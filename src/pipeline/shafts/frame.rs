@@ -1065,16 +1065,16 @@ fn object_pass(
             let end = prims.get(k + 1).map_or(frags_all.len(), |p| p.0);
             rec.prim(walked);
             let mut visible = 0;
-            for c in first..end {
+            for (c, f) in px.iter().enumerate().take(end).skip(first) {
                 match vis.peek() {
                     Some(&(j, &i)) if i as usize == c => {
-                        if rec.frag(px[c].x, px[c].y) {
+                        if rec.frag(f.x, f.y) {
                             sel.push(j as u32);
                         }
                         visible += 1;
                         vis.next();
                     }
-                    _ if depth_tested => rec.killed_at(px[c].x, px[c].y),
+                    _ if depth_tested => rec.killed_at(f.x, f.y),
                     _ => {}
                 }
             }
