@@ -3,7 +3,7 @@
 //! (fragments, walked pixels, primitives, texel bytes, framebuffer and depth bytes,
 //! copy bytes); the record is the same on one and two threads.
 
-use glare_pipeline::chip::work::PassWork;
+use glare_pipeline::chip::work::{PassWork, SampleBands};
 use glare_pipeline::chip::{kind_name, PassKind};
 use glare_pipeline::pipeline::shafts::frame::{passes, FrameResult, ShaftsFrame};
 use glare_pipeline::pipeline::shafts::host::prepare_scene;
@@ -26,15 +26,27 @@ fn small(name: &str, planes: u32, subplanes: u32) -> Scene {
 
 /// The frame rendered pass by pass, recording its work when `record`.
 fn frame(s: &Scene, record: bool) -> (FrameResult, Vec<PassWork>) {
+    frame_sampled(s, record, None)
+}
+
+/// [`frame`], recording only the fragments of `bands` when given.
+fn frame_sampled(
+    s: &Scene,
+    record: bool,
+    bands: Option<SampleBands>,
+) -> (FrameResult, Vec<PassWork>) {
     let (p, _) = prepare_scene(s, DEFAULT_EXPOSURE).unwrap();
     let works = Rc::new(RefCell::new(Vec::new()));
     let mut f = ShaftsFrame::new(&p, None).unwrap();
     if record {
         let w = Rc::clone(&works);
-        f.record_work(Box::new(move |pw| {
-            w.borrow_mut().push(pw);
-            Ok(())
-        }));
+        f.record_work_sampled(
+            Box::new(move |pw| {
+                w.borrow_mut().push(pw);
+                Ok(())
+            }),
+            bands,
+        );
     }
     for pass in passes(&p) {
         f.run(pass).unwrap();
@@ -232,6 +244,71 @@ fn same_record_on_one_and_two_threads() {
     let (_, a) = pool(1).install(|| frame(&s4, true));
     let (_, b) = pool(2).install(|| frame(&s4, true));
     assert_eq!(hash(&a), hash(&b));
+}
+
+/// The recorder in sampled mode keeps only the fragments of the sampled units (and
+/// computes no footprint for the others) while counting every primitive in full: its
+/// record is exactly the full record cut to the sample ([`PassWork::sampled`]), it
+/// holds about one fragment in `every`, and the pixels do not change.
+#[test]
+fn the_sampled_recorder_records_only_the_sample() {
+    let mut s = small("fig6", 4, 3);
+    (s.image.width, s.image.height) = (256, 128);
+    let bands = SampleBands {
+        band_rows: 8,
+        block_cols: 0,
+        every: 4,
+    };
+    let (full_frame, full) = frame(&s, true);
+    let (sampled_frame, sampled) = frame_sampled(&s, true, Some(bands));
+    assert_eq!(full_frame.fb, sampled_frame.fb, "pixels");
+    assert_eq!(full_frame.counters, sampled_frame.counters, "counters");
+    assert_eq!(full.len(), sampled.len());
+    let (mut kept, mut all, mut bytes_full, mut bytes_sampled) = (0, 0, 0, 0);
+    for (f, w) in full.iter().zip(&sampled) {
+        let cut = f.sampled(bands);
+        let kind = kind_name(f.stats.as_ref().unwrap().kind);
+        let Some(b) = w.sample.as_ref() else {
+            // A copy to texture records no primitive nor fragment: nothing to sample.
+            assert_eq!((w.fragments(), w.prim_walked.len()), (0, 0), "{kind}");
+            continue;
+        };
+        assert_eq!(
+            hash(std::slice::from_ref(&cut)),
+            hash(std::slice::from_ref(w)),
+            "{kind}"
+        );
+        let a = cut.sample.as_ref().unwrap();
+        assert_eq!(a.prim_fragments, b.prim_fragments, "{kind}");
+        assert_eq!(a.prim_first_xy, b.prim_first_xy, "{kind}");
+        // The recorder also places the depth-killed fragments of the sampled rows (a
+        // full record does not know them): as many as the pass killed there at most.
+        assert!(b.killed_xy.len() as u64 <= w.depth_killed(), "{kind}");
+        assert!(b
+            .killed_xy
+            .iter()
+            .all(|p| bands.keeps(p[0] as u32, p[1] as u32)));
+        assert_eq!(w.all_fragments(), f.fragments() as u64, "{kind}");
+        assert!(w
+            .frag_xy
+            .iter()
+            .all(|p| bands.keeps(p[0] as u32, p[1] as u32)));
+        kept += w.fragments();
+        all += f.fragments();
+        bytes_full += f.heap_bytes();
+        bytes_sampled += w.heap_bytes();
+    }
+    // One band in 4 sampled: about a quarter of the fragments (the scene's fragments
+    // are not spread evenly over the bands: between an eighth and a half).
+    assert!(all > 0);
+    assert!(
+        kept * 8 >= all && kept * 2 <= all,
+        "{kept} of {all} fragments kept"
+    );
+    assert!(
+        bytes_sampled * 2 < bytes_full,
+        "record {bytes_sampled} bytes against {bytes_full}"
+    );
 }
 
 /// Per pass kind: the largest record (bytes), the passes, the fragments.

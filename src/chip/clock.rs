@@ -3,7 +3,7 @@
 //! caches and the memory controller. Time only: the pixels are the functional model's.
 
 use super::config::ChipConfig;
-use super::work::PassWork;
+use super::work::{PassWork, SampleBands};
 use rtl_model::ConfigError;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -98,7 +98,7 @@ pub struct FrameTiming {
     pub clock_hz: f64,
     pub passes: Vec<NamedPassTiming>,
     /// In sampled mode: the estimated relative error of the frame's cycles (one
-    /// standard error over the sampled tiles), else `None`.
+    /// standard error over the groups of sampled bands), else `None`.
     pub sampling_error: Option<f64>,
     /// Passes of the frame that recorded no work (not clocked: not in `passes`,
     /// not in `cycles_total`), with their roofline time.
@@ -396,7 +396,7 @@ struct TexInfo {
 }
 
 /// Everything one clocked pass accumulates over its hardware passes (and, in sampled
-/// mode, over its groups of tiles).
+/// mode, over its groups of sampled bands).
 struct Acc {
     counts: Vec<[u64; 3]>,
     timeline: TimelineBuilder,
@@ -409,6 +409,9 @@ struct Acc {
     misses: u64,
     bytes: [u64; 4],
     mem_busy: u64,
+    /// Clocks before the ROP retired its first quad and after its last, summed over
+    /// the hardware passes (the fill and the drain).
+    edges: u64,
 }
 
 struct Engine<'a> {
@@ -450,6 +453,12 @@ struct Engine<'a> {
     /// cache_of[lane · group length + slot]: the cache that serves texture slot `slot`
     /// of lane `lane` in this hardware pass.
     cache_of: Vec<u16>,
+    /// The clocks at which the ROP retired its first and last quad in this hardware
+    /// pass (`u64::MAX`: none yet). Between the two the pipe runs at its steady rate;
+    /// the fill before the first and the drain after the last are paid once per pass,
+    /// not per fragment (the sampled mode does not scale them).
+    first_retire: u64,
+    last_retire: u64,
 }
 
 impl<'a> Engine<'a> {
@@ -741,6 +750,8 @@ impl<'a> Engine<'a> {
                     }
                     self.rop_flight.pop_front();
                     self.rop_retired += 1;
+                    self.first_retire = self.first_retire.min(t);
+                    self.last_retire = t;
                     prog = true;
                 }
             } else {
@@ -913,6 +924,8 @@ impl<'a> Engine<'a> {
         self.setup_hold = None;
         self.setup_until = 0;
         self.r_active = false;
+        self.first_retire = u64::MAX;
+        self.last_retire = 0;
         (self.copy_read_left, self.copy_write_left) = if last {
             (self.work.copy_read_bytes, self.work.copy_write_bytes)
         } else {
@@ -944,6 +957,9 @@ impl<'a> Engine<'a> {
             .zip(std::iter::once(&self.fifo_sr).chain(self.fifos.iter()))
         {
             *h = (*h).max(f.high_water());
+        }
+        if self.first_retire != u64::MAX {
+            acc.edges += self.first_retire + (t - self.last_retire);
         }
         Ok(t)
     }
@@ -1049,6 +1065,62 @@ pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
             "more than 2^32 − 1 fragments or primitives in one pass",
         ));
     }
+    validate_sample(work)
+}
+
+/// The checks of a sampled record: a count per primitive, at least as many fragments
+/// per primitive as it holds, and only fragments of sampled bands.
+fn validate_sample(work: &PassWork) -> Result<(), ConfigError> {
+    let Some(s) = &work.sample else {
+        return Ok(());
+    };
+    let b = s.bands;
+    if b.band_rows == 0 || b.every == 0 {
+        return Err(ConfigError::invalid(
+            "pass_work.sample.bands",
+            "band_rows and every must be at least 1",
+        ));
+    }
+    let nprims = work.prim_first_fragment.len();
+    for (field, len) in [
+        ("prim_fragments", s.prim_fragments.len()),
+        ("prim_first_xy", s.prim_first_xy.len()),
+    ] {
+        if len != nprims {
+            return Err(ConfigError::invalid(
+                &format!("pass_work.sample.{field}"),
+                &format!("{len} entries for {nprims} primitives"),
+            ));
+        }
+    }
+    if let Some(p) =
+        (0..nprims).find(|&p| work.prim_fragments(p).len() > s.prim_fragments[p] as usize)
+    {
+        return Err(ConfigError::invalid(
+            "pass_work.sample.prim_fragments",
+            &format!("primitive {p} holds more sampled fragments than it has"),
+        ));
+    }
+    let k = &s.prim_first_killed;
+    if !k.is_empty()
+        && (k.len() != nprims
+            || k.windows(2).any(|w| w[0] > w[1])
+            || k.last().is_some_and(|&l| l as usize > s.killed_xy.len()))
+    {
+        return Err(ConfigError::invalid(
+            "pass_work.sample.prim_first_killed",
+            "one entry per primitive, in order, within killed_xy",
+        ));
+    }
+    if let Some(f) = (work.frag_xy.iter())
+        .chain(&s.killed_xy)
+        .find(|f| !b.keeps(f[0] as u32, f[1] as u32))
+    {
+        return Err(ConfigError::invalid(
+            "pass_work.frag_xy",
+            &format!("pixel ({}, {}) is outside the sampled bands", f[0], f[1]),
+        ));
+    }
     Ok(())
 }
 
@@ -1116,6 +1188,7 @@ fn new_acc(chip: &ChipConfig, window: Option<std::ops::Range<u64>>) -> Acc {
         misses: 0,
         bytes: [0; 4],
         mem_busy: 0,
+        edges: 0,
     }
 }
 
@@ -1207,6 +1280,8 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         cls: vec![STARVED; n_stages],
         uncached: 0,
         cache_of: Vec::new(),
+        first_retire: u64::MAX,
+        last_retire: 0,
     };
     let groups = hw_groups(chip, work);
     let overhead = chip.pass_overhead_clocks as u64;
@@ -1347,27 +1422,40 @@ fn check_stages(chip: &ChipConfig, work: &PassWork) -> Result<(), ConfigError> {
     Ok(())
 }
 
-/// Screen tiles of the sampled mode: 32 × 32 pixels.
-pub const SAMPLE_TILE: u32 = 32;
-/// Groups the sampled tiles are dealt into (round robin in raster order) for the
-/// error estimate.
-pub const SAMPLE_GROUPS: usize = 8;
+/// Pixel rows of one unit of the sampled mode: one 8-row tile row of the walk.
+pub const SAMPLE_BAND_ROWS: u32 = 8;
+/// Pixel columns of one unit of the sampled mode (0: the full width).
+pub const SAMPLE_BLOCK_COLS: u32 = 0;
+/// Groups the sampled bands are dealt into (band k of the sample to group k mod 4),
+/// each clocked as a stream of its own: the spread between the groups is the error
+/// estimate (batch means).
+pub const SAMPLE_GROUPS: usize = 4;
 
-/// Sampled mode: clock a deterministic subset of the screen's 32 × 32 tiles exactly
-/// and scale to the whole pass. Tile (tx, ty) is sampled when (tx + 3·ty) mod `every`
-/// = 0 (a fixed diagonal pattern, one tile in `every`); the sampled tiles are dealt
-/// round robin, in raster order, into 8 groups and each group is clocked as a pass of
-/// its own (its fragments, the primitives that cover them with their walk scaled by
-/// the fraction of their fragments kept, no pass overhead). With c_g clocks for n_g
-/// fragments per group, the pass's clocks are R·N + hardware passes × overhead, R =
-/// Σc_g / Σn_g (a ratio estimator) and N the pass's fragments; the relative standard
-/// error returned is that of R over the groups, √(Σ(c_g − R·n_g)² / (G(G − 1))) /
-/// (n̄·R) — the spread between screen regions. It does not include the bias of clocking
-/// each group from an empty pipe (a fill and drain per group, a few hundred clocks).
-/// Counters (stage clocks, bytes, cache hits and misses) are scaled the same way; the
-/// timeline shows the sampled groups back to back. `every` ≤ 1, a pass without
-/// fragments, or one whose sample falls in fewer than two groups is clocked in full
-/// (error 0).
+/// Sampled mode: clock the fragments of a deterministic sample of full-width screen
+/// bands exactly and scale to the whole pass.
+///
+/// Band b (rows [8b, 8b + 8)) is sampled when b mod `every` = 0 (a record made in
+/// sampled mode carries its own bands and holds only their fragments; a full record
+/// is cut to them first, [`PassWork::sampled`]). The sampled bands are dealt round
+/// robin, top to bottom, into 4 groups, each clocked as one stream (no pass overhead):
+/// every primitive in draw order with its fragments in the group's bands, its walk and
+/// depth-killed fragments in proportion to the fragments kept. A primitive is set up
+/// in the group whose band holds its first fragment; its pieces in other groups ride
+/// along with the primitive before them (one set-up per primitive, as in the full
+/// pass). A primitive without fragments (it walks a bounding box and covers nothing)
+/// goes, whole, to one in `every` of them by its rank among such primitives.
+///
+/// Scaling: a group's clocks c_g less its fill and drain a_g (the clocks before its
+/// first quad left the rasteriser and after its last, paid once by the full pass) are
+/// set against a per-primitive proxy x_g, Σ (set-up + (walk + fragments) ÷ pipes) over
+/// its pieces; the pass's clocks are R·X + ā + hardware passes × overhead,
+/// R = Σ(c_g − a_g) / Σx_g (a ratio estimator) and X the proxy over every primitive.
+/// The relative standard error returned is that of R from the spread between the
+/// groups, √(Σ(c_g − a_g − R·x_g)² / (G(G − 1))) / (x̄·R). Counters (stage clocks,
+/// bytes, cache hits and misses) are scaled the same way; the timeline shows the
+/// groups back to back. `every` ≤ 1 or a pass without fragments is clocked in full
+/// (error 0); a sample with work in fewer than two groups states an error of 1 (its
+/// spread is unknown).
 pub fn clock_pass_sampled(
     chip: &ChipConfig,
     work: &PassWork,
@@ -1376,114 +1464,205 @@ pub fn clock_pass_sampled(
     chip.validate()?;
     validate_work(work)?;
     check_stages(chip, work)?;
-    let n = work.fragments();
     let full = |chip: &ChipConfig| -> Result<(PassTiming, f64), ConfigError> {
         let mut acc = new_acc(chip, None);
         let hw = run_pass(chip, work, &mut acc)?;
         Ok((finish(chip, acc, hw), 0.0))
     };
-    if every <= 1 || n == 0 {
+    // Nothing to sample (a copy, primitives without fragments: the record is whole).
+    if work.all_fragments() == 0 || (work.sample.is_none() && every <= 1) {
         return full(chip);
     }
-    // The groups are clocked in place (no copy of their work).
-    let mut used: Vec<PassWork> = sample_groups(work, every)
-        .into_iter()
-        .filter(|g| g.fragments() > 0)
-        .collect();
-    if used.len() < 2 {
-        return full(chip);
-    }
+    let cut;
+    let work = match &work.sample {
+        Some(_) => work,
+        None => {
+            cut = work.sampled(SampleBands {
+                band_rows: SAMPLE_BAND_ROWS,
+                block_cols: SAMPLE_BLOCK_COLS,
+                every,
+            });
+            &cut
+        }
+    };
     let mut inner = chip.clone();
     inner.pass_overhead_clocks = 0;
+    let streams = sample_streams(chip, work);
+    let x_total = proxy_total(chip, work);
     let mut acc = new_acc(&inner, None);
-    let mut cn = Vec::with_capacity(used.len());
-    let mut hw = 1;
-    for gw in &mut used {
-        // The copy's bytes shared by the groups in proportion to their fragments.
-        // (scaled back with the rest by N / Σn_g).
-        gw.copy_read_bytes = work.copy_read_bytes * gw.fragments() as u64 / n as u64;
-        gw.copy_write_bytes = work.copy_write_bytes * gw.fragments() as u64 / n as u64;
-        let before = acc.offset;
-        hw = run_pass(&inner, gw, &mut acc)?;
-        cn.push(((acc.offset - before) as f64, gw.fragments() as f64));
+    let mut cx = Vec::with_capacity(streams.len());
+    let mut edges = Vec::with_capacity(streams.len());
+    let mut hw = hw_groups(chip, work).len() as u32;
+    for (mut gw, x) in streams.into_iter().filter(|s| s.1 > 0.0) {
+        // The copy's bytes shared by the groups in proportion to their proxy (scaled
+        // back with the rest by X / Σx_g).
+        gw.copy_read_bytes = (work.copy_read_bytes as f64 * x / x_total) as u64;
+        gw.copy_write_bytes = (work.copy_write_bytes as f64 * x / x_total) as u64;
+        let (before, e0) = (acc.offset, acc.edges);
+        hw = run_pass(&inner, &gw, &mut acc)?;
+        let a = acc.edges - e0;
+        cx.push(((acc.offset - before).saturating_sub(a) as f64, x));
+        edges.push(a as f64);
     }
-    let (r, rse) = ratio_estimate(&cn);
-    let n_sum: f64 = cn.iter().map(|c| c.1).sum();
-    let t = finish(&inner, acc, hw);
-    let work_clocks = (r * n as f64).round() as u64;
     let overhead = hw as u64 * chip.pass_overhead_clocks as u64;
+    if cx.is_empty() {
+        // Nothing of the pass fell in the sample: the proxy alone (a lower bound).
+        let t = finish(&inner, acc, hw);
+        return Ok((scale_sampled(t, x_total.round() as u64, overhead, 0.0), 1.0));
+    }
+    let (r, rse) = ratio_estimate(&cx);
+    let x_sum: f64 = cx.iter().map(|c| c.1).sum();
+    let a_mean = edges.iter().sum::<f64>() / edges.len() as f64;
+    let t = finish(&inner, acc, hw);
+    let work_clocks = (r * x_total + a_mean).round() as u64;
+    let rse = if cx.len() < 2 { 1.0 } else { rse };
     Ok((
-        scale_sampled(t, work_clocks, overhead, n as f64 / n_sum),
+        scale_sampled(t, work_clocks, overhead, x_total / x_sum),
         rse,
     ))
 }
 
-/// The sampled tiles' fragments dealt into [`SAMPLE_GROUPS`] passes of their own: one
-/// 32 × 32 tile in `every` (a fixed diagonal pattern), dealt round robin in raster
-/// order; each primitive keeps its share of its walked pixels and depth-killed
-/// fragments in proportion to the fragments a group holds.
-fn sample_groups(work: &PassWork, every: u32) -> Vec<PassWork> {
-    let tiles_x = work.width.div_ceil(SAMPLE_TILE) as usize;
-    let tiles_y = work.height.div_ceil(SAMPLE_TILE) as usize;
-    let mut tile_group = vec![u8::MAX; tiles_x * tiles_y];
-    let mut rank = 0usize;
-    for ty in 0..tiles_y {
-        for tx in 0..tiles_x {
-            if (tx + 3 * ty) % every as usize == 0 {
-                tile_group[ty * tiles_x + tx] = (rank % SAMPLE_GROUPS) as u8;
-                rank += 1;
-            }
-        }
-    }
-    let group_of = |f: usize| {
-        let [x, y] = work.frag_xy[f];
-        let t = (y as u32 / SAMPLE_TILE) as usize * tiles_x + (x as u32 / SAMPLE_TILE) as usize;
-        tile_group[t]
+/// The proxy of a piece of a primitive: set-up + walk ÷ pipes + fragments ÷ pipes.
+/// A sum, not a maximum, so that a primitive's pieces add up to the primitive (a
+/// maximum would count a set-up-bound primitive's walk again in every piece set up
+/// elsewhere).
+fn proxy(chip: &ChipConfig, setup: bool, walked: u64, killed: u64, frags: u64) -> f64 {
+    let pipes = chip.pipes.max(1) as u64;
+    let walk = match chip.raster_walk {
+        RasterWalk::BoundingBox => walked,
+        RasterWalk::CoveredQuads => frags + killed,
     };
+    let s = if setup {
+        chip.setup_clocks_per_triangle as u64
+    } else {
+        0
+    };
+    s as f64 + (walk + frags) as f64 / pipes as f64
+}
+
+/// The proxy over every primitive of a sampled record (each set up once).
+fn proxy_total(chip: &ChipConfig, work: &PassWork) -> f64 {
+    let Some(s) = &work.sample else {
+        return 0.0;
+    };
+    (0..work.prim_walked.len())
+        .map(|p| {
+            let killed = work.prim_depth_killed.get(p).copied().unwrap_or(0) as u64;
+            let frags = s.prim_fragments[p] as u64;
+            proxy(chip, true, work.prim_walked[p] as u64, killed, frags)
+        })
+        .sum()
+}
+
+/// A primitive's share `kept / total` of `v`, rounded (all of it when it has no
+/// fragments).
+fn share(v: u32, kept: u32, total: u32) -> u32 {
+    if total == 0 {
+        return v;
+    }
+    ((v as u64 * kept as u64 + total as u64 / 2) / total as u64) as u32
+}
+
+/// The sampled record's groups as streams of their own, each with its proxy
+/// ([`clock_pass_sampled`] describes the deal).
+fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, f64)> {
+    let Some(s) = &work.sample else {
+        return Vec::new();
+    };
+    let bands = s.bands;
+    let every = bands.every.max(1);
+    // The group of a sampled pixel's unit.
+    let group_of = |[x, y]: [u16; 2]| (bands.rank(x as u32, y as u32) as usize) % SAMPLE_GROUPS;
     let per = work.texels_per_fragment();
-    let mut groups: Vec<PassWork> = (0..SAMPLE_GROUPS)
-        .map(|_| PassWork {
-            stats: None,
-            width: work.width,
-            height: work.height,
-            textures: work.textures.clone(),
-            rop: work.rop,
-            ..PassWork::default()
+    let mut out: Vec<(PassWork, f64)> = (0..SAMPLE_GROUPS)
+        .map(|_| {
+            let w = PassWork {
+                width: work.width,
+                height: work.height,
+                textures: work.textures.clone(),
+                rop: work.rop,
+                ..PassWork::default()
+            };
+            (w, 0.0)
         })
         .collect();
-    // Each fragment's group (u8::MAX: not sampled), found once.
+    let depth_tested = !work.prim_depth_killed.is_empty();
+    // Whether the killed fragments' places are known (a record made in sampled mode).
+    let known = depth_tested && !s.prim_first_killed.is_empty();
+    let mut zero_rank = 0u32;
     let mut frag_group: Vec<u8> = Vec::new();
     for p in 0..work.prim_first_fragment.len() {
         let r = work.prim_fragments(p);
-        let mut count = [0u64; SAMPLE_GROUPS];
+        let total = s.prim_fragments[p];
+        let killed = work.prim_depth_killed.get(p).copied().unwrap_or(0);
+        // The group that sets the primitive up, if any: where its first visible
+        // fragment is, else (none visible) one in `every` by rank.
+        let home = if total > 0 {
+            let [x, y] = s.prim_first_xy[p];
+            bands.keeps(x as u32, y as u32).then(|| group_of([x, y]))
+        } else {
+            let z = zero_rank;
+            zero_rank += 1;
+            z.is_multiple_of(every)
+                .then(|| ((z / every) as usize) % SAMPLE_GROUPS)
+        };
         frag_group.clear();
-        frag_group.extend(r.clone().map(group_of));
+        frag_group.extend(r.clone().map(|f| group_of(work.frag_xy[f]) as u8));
+        let mut count = [0u32; SAMPLE_GROUPS];
         for &g in &frag_group {
-            if (g as usize) < SAMPLE_GROUPS {
-                count[g as usize] += 1;
+            count[g as usize] += 1;
+        }
+        let mut kcount = [0u32; SAMPLE_GROUPS];
+        if known {
+            let end = s
+                .prim_first_killed
+                .get(p + 1)
+                .map_or(s.killed_xy.len(), |&e| e as usize);
+            for &xy in &s.killed_xy[s.prim_first_killed[p] as usize..end] {
+                kcount[group_of(xy)] += 1;
             }
         }
-        let total = r.len() as u64;
-        for (g, &c) in count.iter().enumerate().filter(|(_, &c)| c > 0) {
-            let gw = &mut groups[g];
-            gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
-            gw.prim_walked
-                .push((work.prim_walked[p] as u64 * c).div_ceil(total) as u32);
-            if let Some(&killed) = work.prim_depth_killed.get(p) {
-                gw.prim_depth_killed
-                    .push((killed as u64 * c).div_ceil(total) as u32);
+        // The candidates (visible and killed) whose places the record knows.
+        let located = total + if known { killed } else { 0 };
+        for (g, (gw, x)) in out.iter_mut().enumerate() {
+            let set_up = home == Some(g);
+            let here = count[g] + kcount[g];
+            if !set_up && here == 0 {
+                continue;
+            }
+            let (walk, kill) = if located == 0 {
+                // Nothing placed: the primitive whole, in its one group.
+                (work.prim_walked[p], killed)
+            } else if known {
+                (share(work.prim_walked[p], here, located), kcount[g])
+            } else {
+                let k = share(killed, count[g], total);
+                (share(work.prim_walked[p], count[g], total), k)
+            };
+            *x += proxy(chip, set_up, walk as u64, kill as u64, count[g] as u64);
+            if set_up || gw.prim_walked.is_empty() {
+                gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
+                gw.prim_walked.push(walk);
+                if depth_tested {
+                    gw.prim_depth_killed.push(kill);
+                }
+            } else {
+                // A piece of a primitive set up in another group: part of the walk of
+                // the primitive before it.
+                *gw.prim_walked.last_mut().unwrap_or(&mut 0) += walk;
+                if let Some(k) = gw.prim_depth_killed.last_mut() {
+                    *k += kill;
+                }
             }
         }
         for (f, &g) in r.zip(&frag_group) {
-            if (g as usize) < SAMPLE_GROUPS {
-                let gw = &mut groups[g as usize];
-                gw.frag_xy.push(work.frag_xy[f]);
-                gw.texels
-                    .extend_from_slice(&work.texels[f * per..(f + 1) * per]);
-            }
+            let gw = &mut out[g as usize].0;
+            gw.frag_xy.push(work.frag_xy[f]);
+            gw.texels
+                .extend_from_slice(&work.texels[f * per..(f + 1) * per]);
         }
     }
-    groups
+    out
 }
 
 /// The ratio estimate of clocks per fragment over the groups' (clocks, fragments), and

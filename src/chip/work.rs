@@ -96,6 +96,63 @@ pub struct PassWork {
     /// Bytes read and written by a copy-to-texture (0 when the pass copies nothing).
     pub copy_read_bytes: u64,
     pub copy_write_bytes: u64,
+    /// Present when the record holds only the fragments of a sample of the screen
+    /// ([`SampleBands`]): `frag_xy` and `texels` hold the sampled fragments, while the
+    /// per-primitive vectors (here and in the sample) count every primitive in full.
+    pub sample: Option<SampleRecord>,
+}
+
+/// The screen sample of the sampled timing mode: units of `band_rows` pixel rows by
+/// `block_cols` columns (0: the full width), unit (bx, by) numbered u = 13·by + bx and
+/// sampled when u mod `every` = 0 (a diagonal spread over the screen, one unit in
+/// `every`). Units of whole 8-row tile rows, several tiles wide, keep the
+/// rasteriser's walk order (8 × 8 tiles in row order) and the texture caches' reuse
+/// along a tile row as the full pass has them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct SampleBands {
+    pub band_rows: u32,
+    pub block_cols: u32,
+    pub every: u32,
+}
+
+impl SampleBands {
+    /// The number of the unit holding pixel (x, y).
+    #[inline]
+    pub fn unit(&self, x: u32, y: u32) -> u32 {
+        // block_cols = 0: one block the full width.
+        let bx = x.checked_div(self.block_cols).unwrap_or(0);
+        (y / self.band_rows.max(1)) * 13 + bx
+    }
+
+    /// Whether pixel (x, y) is in a sampled unit.
+    #[inline]
+    pub fn keeps(&self, x: u32, y: u32) -> bool {
+        self.unit(x, y).is_multiple_of(self.every.max(1))
+    }
+
+    /// The rank of a sampled unit among the sampled units (in unit order).
+    #[inline]
+    pub fn rank(&self, x: u32, y: u32) -> u32 {
+        self.unit(x, y) / self.every.max(1)
+    }
+}
+
+/// What a sampled record counts of every primitive, sampled or not (the scaling and
+/// the per-primitive costs need it).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct SampleRecord {
+    pub bands: SampleBands,
+    /// Per primitive: all its fragments (the sampled ones are in `frag_xy`).
+    pub prim_fragments: Vec<u32>,
+    /// Per primitive: the pixel of its first fragment in walk order (`u16::MAX` twice:
+    /// no fragment). A primitive is set up in the sample when this pixel is sampled.
+    pub prim_first_xy: Vec<[u16; 2]>,
+    /// Per primitive: the index in `killed_xy` of its first depth-killed fragment in
+    /// the sampled units (empty: their places are unknown, a record cut from a full
+    /// one, and the killed fragments are shared in proportion to the visible ones).
+    pub prim_first_killed: Vec<u32>,
+    /// The pixels of the depth-killed fragments in the sampled units.
+    pub killed_xy: Vec<[u16; 2]>,
 }
 
 /// What the ROP does with each fragment of a pass.
@@ -140,6 +197,70 @@ impl PassWork {
             + self.frag_xy.capacity() * size_of::<[u16; 2]>()
             + self.texels.capacity() * size_of::<u32>()
             + self.textures.capacity() * size_of::<TextureWork>()
+            + self.sample.as_ref().map_or(0, |s| {
+                s.prim_fragments.capacity() * size_of::<u32>()
+                    + s.prim_first_xy.capacity() * size_of::<[u16; 2]>()
+                    + s.prim_first_killed.capacity() * size_of::<u32>()
+                    + s.killed_xy.capacity() * size_of::<[u16; 2]>()
+            })
+    }
+
+    /// The record of a sample of this (full) record: the fragments in `bands`' sampled
+    /// rows, every primitive's counts kept (what the recorder in sampled mode makes).
+    /// A record that is already sampled is returned as it is.
+    pub fn sampled(&self, bands: SampleBands) -> PassWork {
+        if self.sample.is_some() {
+            return self.clone();
+        }
+        let per = self.texels_per_fragment();
+        let nprims = self.prim_first_fragment.len();
+        let mut s = SampleRecord {
+            bands,
+            prim_fragments: Vec::with_capacity(nprims),
+            prim_first_xy: Vec::with_capacity(nprims),
+            prim_first_killed: Vec::new(),
+            killed_xy: Vec::new(),
+        };
+        let mut out = PassWork {
+            stats: self.stats.clone(),
+            textures: self.textures.clone(),
+            prim_walked: self.prim_walked.clone(),
+            prim_depth_killed: self.prim_depth_killed.clone(),
+            prim_first_fragment: Vec::with_capacity(nprims),
+            ..PassWork::default()
+        };
+        for p in 0..nprims {
+            let r = self.prim_fragments(p);
+            out.prim_first_fragment.push(out.frag_xy.len() as u32);
+            s.prim_fragments.push(r.len() as u32);
+            s.prim_first_xy
+                .push(r.clone().next().map_or([u16::MAX; 2], |f| self.frag_xy[f]));
+            for f in r.filter(|&f| {
+                let [x, y] = self.frag_xy[f];
+                bands.keeps(x as u32, y as u32)
+            }) {
+                out.frag_xy.push(self.frag_xy[f]);
+                out.texels
+                    .extend_from_slice(&self.texels[f * per..(f + 1) * per]);
+            }
+        }
+        out.sample = Some(s);
+        PassWork {
+            width: self.width,
+            height: self.height,
+            rop: self.rop,
+            copy_read_bytes: self.copy_read_bytes,
+            copy_write_bytes: self.copy_write_bytes,
+            ..out
+        }
+    }
+
+    /// Every fragment of the pass, sampled or not.
+    pub fn all_fragments(&self) -> u64 {
+        match &self.sample {
+            Some(s) => s.prim_fragments.iter().map(|&n| n as u64).sum(),
+            None => self.frag_xy.len() as u64,
+        }
     }
 
     /// The fragments of primitive `p` (a range into `frag_xy`).

@@ -169,7 +169,8 @@ pub fn render_swept(
         (true, Some(c)) => Some(
             Clock::new(req.mode, c, gpu.model())
                 .with_window(req.window)
-                .with_alternates(alternates),
+                .with_alternates(alternates)
+                .with_frame_rows(scene.image.height),
         ),
         (true, None) => {
             return Err(ConfigError::invalid(
@@ -317,7 +318,8 @@ impl<'a> FrameState<'a> {
     fn clock_with(&mut self, c: Clock) {
         let c = Rc::new(RefCell::new(c));
         if let Some(f) = self.shafts.as_mut() {
-            f.record_work(super::timing::sink(&c));
+            let bands = c.borrow().record_bands();
+            f.record_work_sampled(super::timing::sink(&c), bands);
         }
         self.clock = Some(c);
     }

@@ -1,7 +1,8 @@
 //! How a frame's time is found: the roofline formula over each pass's counters (the
 //! default, `crate::chip::roofline`), or the clocked chip over what each pass did
 //! (`--timing clocked`: every recorded pass clocked in full; `--timing sampled`: a
-//! deterministic sample of its screen tiles clocked and scaled, with its error).
+//! deterministic sample of its screen bands (rows of tiles) clocked and scaled, with
+//! its error).
 //!
 //! With clocked or sampled timing the shafts passes record their work
 //! ([`crate::chip::work::PassWork`]) as they run; each pass's record is clocked as soon
@@ -13,7 +14,7 @@ use super::plan::{Plan, Step};
 use super::run::Gpu;
 use crate::chip::clock::{clock_pass, FrameTiming, NamedPassTiming, PassTiming, RooflineOnlyPass};
 use crate::chip::config::ChipConfig;
-use crate::chip::work::PassWork;
+use crate::chip::work::{PassWork, SampleBands};
 use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::shafts::frame::WorkSink;
 use rtl_model::ConfigError;
@@ -29,7 +30,8 @@ pub enum TimingMode {
     /// Every pass's recorded work clocked through the chip's stages, caches and
     /// memory controller.
     Clocked,
-    /// A deterministic sample of each pass's screen tiles clocked exactly and scaled,
+    /// A deterministic sample of each pass's screen bands (rows of tiles) clocked
+    /// exactly and scaled,
     /// with its estimated error.
     Sampled,
 }
@@ -179,14 +181,41 @@ pub fn chip_config(chip: ChipName) -> Result<ChipConfig, String> {
     c.map_err(|e| format!("--chip {}: {e}", chip.name()))
 }
 
-/// Every how many screen tiles sampled timing clocks one.
-const SAMPLE_EVERY: u32 = 8;
+/// Every how many screen bands (full-width 8-row tile rows) sampled timing clocks one.
+pub const SAMPLE_EVERY: u32 = 8;
+
+/// The screen bands the sampled mode records and clocks on a frame of `rows` pixel
+/// rows: one band in [`SAMPLE_EVERY`], or fewer when the frame has too few bands for
+/// every group to get one ([`crate::chip::clock::SAMPLE_GROUPS`]; one in 1: the frame
+/// is clocked in full).
+pub fn sample_bands(rows: u32) -> SampleBands {
+    let band_rows = crate::chip::clock::SAMPLE_BAND_ROWS;
+    let bands = rows.div_ceil(band_rows);
+    let groups = crate::chip::clock::SAMPLE_GROUPS as u32;
+    SampleBands {
+        band_rows,
+        block_cols: crate::chip::clock::SAMPLE_BLOCK_COLS,
+        every: (bands / groups).clamp(1, SAMPLE_EVERY),
+    }
+}
 
 /// One sampled pass: its timing and the relative standard error of its cycles. The
-/// sampled tiles' timeline (the groups clocked back to back) is stretched over the
+/// sampled bands' timeline (the groups clocked back to back) is stretched over the
 /// pass's scaled cycles, so the frame's timeline reads the same in both modes.
-fn clock_sampled(chip: &ChipConfig, work: &PassWork) -> Result<(PassTiming, f64), ConfigError> {
-    let (mut t, e) = crate::chip::clock::clock_pass_sampled(chip, work, SAMPLE_EVERY)?;
+fn clock_sampled(
+    chip: &ChipConfig,
+    work: &PassWork,
+    bands: SampleBands,
+) -> Result<(PassTiming, f64), ConfigError> {
+    // A full record (alternate chips clock every pass in full) is cut to the sample.
+    let cut;
+    let work = if work.sample.is_some() || bands.every <= 1 {
+        work
+    } else {
+        cut = work.sampled(bands);
+        &cut
+    };
+    let (mut t, e) = crate::chip::clock::clock_pass_sampled(chip, work, bands.every)?;
     stretch_timeline(&mut t.timeline, t.cycles);
     Ok((t, e))
 }
@@ -222,6 +251,8 @@ pub struct Clock {
     pub peak_record_bytes: usize,
     /// The frame's clocks traced for the VCD (START..END from the frame's start).
     window: Option<std::ops::Range<u64>>,
+    /// The sampled mode's screen bands ([`sample_bands`] of the frame's rows).
+    bands: SampleBands,
     /// Other chips each pass's record is also clocked on (an architecture sweep: one
     /// functional frame, its records clocked on every swept chip), with their timing.
     alternates: Vec<(ChipConfig, FrameTiming)>,
@@ -245,6 +276,7 @@ impl Clock {
             peak_record_bytes: 0,
             window: None,
             alternates: Vec::new(),
+            bands: sample_bands(0),
         }
     }
 
@@ -280,6 +312,20 @@ impl Clock {
         self
     }
 
+    /// The bands the passes record the fragments of: the sample in sampled mode
+    /// (unless alternate chips clock every pass in full: then every fragment is
+    /// recorded and cut to the sample when clocked), else `None` (every fragment).
+    pub fn record_bands(&self) -> Option<SampleBands> {
+        let sampled = self.mode == TimingMode::Sampled && self.bands.every > 1;
+        (sampled && self.alternates.is_empty()).then_some(self.bands)
+    }
+
+    /// The frame's height in pixels, which sets the sampled mode's bands.
+    pub fn with_frame_rows(mut self, rows: u32) -> Self {
+        self.bands = sample_bands(rows);
+        self
+    }
+
     /// The frame pass whose records follow.
     pub fn begin(&mut self, pass: &str) {
         self.pass = pass.to_string();
@@ -294,7 +340,7 @@ impl Clock {
             .map_or(0.0, |s| pass_seconds(&self.model, s).0);
         let timing = match self.mode {
             TimingMode::Sampled => {
-                let (t, e) = clock_sampled(&self.chip, &work)?;
+                let (t, e) = clock_sampled(&self.chip, &work, self.bands)?;
                 self.errors.push((e, t.cycles));
                 t
             }

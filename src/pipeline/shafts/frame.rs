@@ -16,6 +16,7 @@ use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
 use super::record::{self, Rec};
 use super::tables::{self, GTables};
 use super::view::{vec3, CameraView, LightView};
+use crate::chip::work::SampleBands;
 use crate::pipeline::raster::{draw_triangle, host_attrs, walk, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{HCap, Scene};
@@ -120,12 +121,20 @@ pub(super) struct PassLog {
     pub passes: Vec<PassStats>,
     last: Traffic,
     sink: Option<WorkSink>,
+    /// When recording: the sampled bands whose fragments alone are recorded (`None`:
+    /// every fragment).
+    pub bands: Option<SampleBands>,
 }
 
 impl PassLog {
     /// Whether the passes record their work.
     pub fn recording(&self) -> bool {
         self.sink.is_some()
+    }
+
+    /// A fresh record when recording (of the sampled bands' fragments in sampled mode).
+    pub fn new_rec(&self) -> Option<Rec> {
+        self.recording().then(|| Rec::sampled(self.bands))
     }
 
     /// Push a finished pass, attributing the traffic counted since the previous one;
@@ -396,6 +405,7 @@ impl<'a> ShaftsFrame<'a> {
                 passes: Vec::new(),
                 last: Traffic::default(),
                 sink: None,
+                bands: None,
             },
             zstate,
             light: None,
@@ -420,6 +430,14 @@ impl<'a> ShaftsFrame<'a> {
     /// is recorded.
     pub fn record_work(&mut self, sink: WorkSink) {
         self.log.sink = Some(sink);
+    }
+
+    /// [`Self::record_work`], keeping only the fragments of the screen bands `bands`
+    /// (`None`: every fragment) while counting every primitive in full
+    /// ([`crate::chip::work::SampleRecord`]): the sampled timing mode's record.
+    pub fn record_work_sampled(&mut self, sink: WorkSink, bands: Option<SampleBands>) {
+        self.log.sink = Some(sink);
+        self.log.bands = bands;
     }
 
     /// The framebuffer, for a pass of another pipeline that draws into the same frame.
@@ -466,7 +484,7 @@ impl<'a> ShaftsFrame<'a> {
             .collect();
         let cam = &self.cam;
         let clipper = self.units.clipper.as_ref();
-        let mut rec = self.log.recording().then(Rec::default);
+        let mut rec = self.log.new_rec();
         let clip = draw_triangles(
             &self.units.interp,
             clipper,
@@ -565,7 +583,7 @@ impl<'a> ShaftsFrame<'a> {
             }
             Some(HostTri::Screen(hv))
         };
-        let mut rec = self.log.recording().then(Rec::default);
+        let mut rec = self.log.new_rec();
         draw_triangles(
             &self.units.interp,
             None,
@@ -1038,28 +1056,42 @@ fn object_pass(
     blend_into(&u.blend, fb, &frags, &rgb, ctr);
     let work = recording.then(|| {
         let depth_tested = ctx.units.zbuf.is_some() && ctx.zstate.is_some();
-        let mut rec = Rec::default();
-        // The visible fragments (indices into `frags_all`, in walk order) per triangle.
-        let mut vis = b.visible.iter().peekable();
+        let mut rec = Rec::sampled(log.bands);
+        // The visible fragments (indices into `frags_all`, in walk order) per triangle,
+        // and the positions among them of those the record keeps.
+        let mut vis = b.visible.iter().enumerate().peekable();
+        let mut sel = Vec::new();
         for (k, &(first, walked)) in prims.iter().enumerate() {
             let end = prims.get(k + 1).map_or(frags_all.len(), |p| p.0);
             rec.prim(walked);
-            let before = rec.xy.len();
-            while let Some(&&i) = vis.peek() {
-                if i as usize >= end {
-                    break;
+            let mut visible = 0;
+            for (c, f) in px.iter().enumerate().take(end).skip(first) {
+                match vis.peek() {
+                    Some(&(j, &i)) if i as usize == c => {
+                        if rec.frag(f.x, f.y) {
+                            sel.push(j as u32);
+                        }
+                        visible += 1;
+                        vis.next();
+                    }
+                    _ if depth_tested => rec.killed_at(f.x, f.y),
+                    _ => {}
                 }
-                rec.frag(px[i as usize].x, px[i as usize].y);
-                vis.next();
             }
             if depth_tested {
-                rec.killed((end - first) - (rec.xy.len() - before));
+                rec.killed((end - first) - visible);
             }
         }
+        let kept = if sel.len() == b.visible.len() {
+            record::Kept::All
+        } else {
+            record::Kept::Some(sel)
+        };
         let (mut lm, mut sm) = (Vec::new(), Vec::new());
         ctx.hil_footprint(&b, &mut lm, &mut sm);
         let tex = ctx.hil_textures();
-        record::interleave(&ctx.hil_runs(&lm, &sm), rec.xy.len(), &mut rec.texels);
+        let runs = ctx.hil_runs(&lm, &sm);
+        record::interleave_kept(&runs, b.visible.len(), &kept, &mut rec.texels);
         let rop = record::blend_rop(sc.shafts.fb_bits, depth_tested);
         rec.into_work((w, h), tex, rop, depth_tested)
     });

@@ -15,6 +15,7 @@ use super::frame::{
 use super::record::{self, Rec};
 use super::tables::GTables;
 use super::view::vec3;
+use crate::chip::work::SampleBands;
 use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::PlaneStep;
@@ -111,6 +112,8 @@ struct PlaneCtx<'a> {
     coord_shift: u32,
     /// Record the plane's work ([`Rec`]).
     record: bool,
+    /// Recording in sampled mode: the bands whose fragments are kept.
+    bands: Option<SampleBands>,
 }
 
 /// The n sample planes (and their sub-planes when m > 1).
@@ -127,6 +130,8 @@ pub(super) fn planes_pass(
     let (w, h) = (sc.image.width, sc.image.height);
     let n = cfg.planes as usize;
     let recording = log.recording();
+    // What a sub-plane records: nothing, or every fragment or the sampled bands'.
+    let sub_record = recording.then_some(log.bands);
     let m = cfg.subplanes as usize;
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
@@ -153,7 +158,7 @@ pub(super) fn planes_pass(
     // buffer): interval i + 1's are computed beside plane i's blend into the
     // framebuffer, then merged and blended in order as before.
     let hil_of =
-        |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr, recording);
+        |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr, sub_record);
     let mut pending = None;
     // The planes' fragment list and blend buffers, reused from plane to plane.
     let (mut frags, mut scratch) = (Vec::new(), BlendScratch::default());
@@ -225,7 +230,7 @@ fn subplanes_hil(
     zwords: Option<&[u32]>,
     r: f64,
     dr: f64,
-    recording: bool,
+    recording: Option<Option<SampleBands>>,
 ) -> Vec<Result<SubPlaneHil, ConfigError>> {
     let u = ctx.units;
     let sc = &p.scene;
@@ -267,10 +272,11 @@ fn subplanes_hil(
         let mut wb = WalkBuffers::unread(0b1111);
         let (mut rows_in_order, mut last_y) = (true, 0);
         // One primitive (the parallelogram) walking the whole screen.
-        let mut rec = recording.then(|| {
-            let mut r = Rec::default();
-            // At most one fragment per pixel.
-            let px = (w * h) as usize;
+        let mut rec = recording.map(|bands| {
+            let mut r = Rec::sampled(bands);
+            // At most one fragment per pixel (of the sampled units, about one pixel in
+            // `every`).
+            let px = ((w * h) / bands.map_or(1, |b| b.every.max(1))) as usize;
             r.xy.reserve(px);
             r.texels
                 .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
@@ -283,9 +289,12 @@ fn subplanes_hil(
             ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
             ctx.h_il(px, 4, &mut spans, &mut b);
             if let Some(r) = rec.as_mut() {
-                record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
-                ctx.hil_footprint(&b, &mut lm, &mut sm);
-                record::interleave(&ctx.hil_runs(&lm, &sm), b.visible.len(), &mut r.texels);
+                let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
+                if !kept.is_none() {
+                    ctx.hil_footprint(&b, &mut lm, &mut sm);
+                    let runs = ctx.hil_runs(&lm, &sm);
+                    record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
+                }
             }
             pix.extend(b.visible.iter().map(|&i| {
                 let i = i as usize;
@@ -461,6 +470,7 @@ fn plane<T: Send>(
         color_codes,
         coord_shift: ATTR_FRAC - cfg.coord_frac_bits,
         record: log.recording(),
+        bands: log.bands,
     };
 
     let vertex = |k: u32, l: u32| {
@@ -519,7 +529,7 @@ fn plane<T: Send>(
     // The cells' records joined in cell order (the order their fragments blend in).
     let mut rec = pc.record.then(|| {
         // Sized once for every cell's record (no growing and copying on the way).
-        let mut all = Rec::default();
+        let mut all = Rec::sampled(pc.bands);
         let cells = drawn.iter().filter_map(|d| d.as_ref().ok()?.2.as_ref());
         all.reserve_for(cells);
         all
@@ -601,7 +611,7 @@ fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell,
     let mut wb = WalkBuffers::unread(if pc.jtex.is_some() { 0xf0 } else { 0 });
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
-    let mut rec = pc.record.then(Rec::default);
+    let mut rec = pc.record.then(|| Rec::sampled(pc.bands));
     // A triangle's walked pixels: the interpolator's pixels since the previous one
     // (the first takes the quad's set-up's).
     let mut walked_before = 0;
@@ -735,7 +745,11 @@ fn record_chunk(
     let u = ctx.units;
     let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
     let vis = &b.chunk.visible;
-    record::chunk_fragments(r, px, vis, viewport, depth_tested);
+    let kept = record::chunk_fragments(r, px, vis, viewport, depth_tested);
+    if kept.is_none() {
+        // No fragment of the chunk in the sampled bands: no footprint to compute.
+        return;
+    }
     let [f, hh, j, s] = &mut b.fp;
     f.clear();
     u.f_tex.footprint_lanes(&b.f_s, &[], &[], f);
@@ -756,7 +770,7 @@ fn record_chunk(
             runs.extend(ctx.hil_runs(j, s));
         }
     }
-    record::interleave(&runs, vis.len(), &mut r.texels);
+    record::interleave_kept(&runs, vis.len(), &kept, &mut r.texels);
 }
 
 /// The blend's inputs of `chunk`: each fragment's colour over its framebuffer pixel.

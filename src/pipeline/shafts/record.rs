@@ -6,12 +6,17 @@
 //! ([`super::frame::ShaftsFrame::record_work`]); off, nothing here runs. Recording
 //! reads what the functional pass computed and never changes a pixel or a counter.
 //!
+//! In sampled mode ([`Rec::sampled`]) only the fragments of the sampled screen bands
+//! are kept (their pixels and texels; a chunk with none computes no footprint), while
+//! every primitive's walk, depth-killed and fragment counts are kept in full: the
+//! record is what the sample needs, made at the cost of the sample.
+//!
 //! Parallel parts (mesh cells, sub-planes) record into their own [`Rec`], joined in
 //! the fixed order the functional pass merges them (cell order, sub-plane order), so
 //! the work is the same whatever the thread count.
 
 use super::chunked::{ChunkBuffers, LightCtx};
-use crate::chip::work::{PassWork, RopWork, TextureWork};
+use crate::chip::work::{PassWork, RopWork, SampleBands, SampleRecord, TextureWork};
 use rtl_model::memory::bytes_for_bits;
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::texture_sampler::TextureSampler;
@@ -29,14 +34,47 @@ pub(super) struct Rec {
     pub prim_killed: Vec<u32>,
     pub xy: Vec<[u16; 2]>,
     pub texels: Vec<u32>,
+    /// Sampled mode: the bands whose fragments are kept.
+    pub bands: Option<SampleBands>,
+    /// Sampled mode, per primitive: all its fragments and its first fragment's pixel
+    /// (`u16::MAX` twice: none).
+    pub prim_all: Vec<u32>,
+    pub prim_first_xy: Vec<[u16; 2]>,
+    /// Sampled mode: per primitive, its first entry in `killed_xy`, the pixels of the
+    /// depth-killed fragments in the sampled units.
+    pub prim_first_killed: Vec<u32>,
+    pub killed_xy: Vec<[u16; 2]>,
 }
 
 impl Rec {
+    /// A record of every fragment (`None`) or of the fragments in `bands` only.
+    pub fn sampled(bands: Option<SampleBands>) -> Self {
+        Rec {
+            bands,
+            ..Rec::default()
+        }
+    }
+
     /// Start a primitive that walked `walked` pixels.
     pub fn prim(&mut self, walked: u64) {
         self.prim_first.push(self.xy.len() as u32);
         self.prim_walked.push(walked.min(u32::MAX as u64) as u32);
         self.prim_killed.push(0);
+        if self.bands.is_some() {
+            self.prim_all.push(0);
+            self.prim_first_xy.push([u16::MAX; 2]);
+            self.prim_first_killed.push(self.killed_xy.len() as u32);
+        }
+    }
+
+    /// A fragment of the current primitive the depth test removed, at (x, y): its
+    /// place, in sampled mode, when it falls in a sampled unit (the count is
+    /// [`Self::killed`]'s).
+    #[inline]
+    pub fn killed_at(&mut self, x: i64, y: i64) {
+        if self.bands.is_some_and(|b| b.keeps(x as u32, y as u32)) {
+            self.killed_xy.push([x as u16, y as u16]);
+        }
     }
 
     /// Add `walked` pixels to the current primitive (a walk fed in parts).
@@ -53,9 +91,25 @@ impl Rec {
         }
     }
 
-    /// A fragment of the current primitive.
-    pub fn frag(&mut self, x: i64, y: i64) {
+    /// A fragment of the current primitive; whether it is kept (always, unless
+    /// sampling and outside the sampled bands).
+    #[inline]
+    pub fn frag(&mut self, x: i64, y: i64) -> bool {
+        if let Some(b) = self.bands {
+            if let Some(n) = self.prim_all.last_mut() {
+                if *n == 0 {
+                    if let Some(r) = self.prim_first_xy.last_mut() {
+                        *r = [x as u16, y as u16];
+                    }
+                }
+                *n += 1;
+            }
+            if !b.keeps(x as u32, y as u32) {
+                return false;
+            }
+        }
         self.xy.push([x as u16, y as u16]);
+        true
     }
 
     /// Room for `parts` appended after what this one holds.
@@ -66,6 +120,11 @@ impl Rec {
         self.prim_killed.reserve(sum(|r| r.prim_killed.len()));
         self.xy.reserve(sum(|r| r.xy.len()));
         self.texels.reserve(sum(|r| r.texels.len()));
+        self.prim_all.reserve(sum(|r| r.prim_all.len()));
+        self.prim_first_killed
+            .reserve(sum(|r| r.prim_first_killed.len()));
+        self.killed_xy.reserve(sum(|r| r.killed_xy.len()));
+        self.prim_first_xy.reserve(sum(|r| r.prim_first_xy.len()));
     }
 
     /// `other` after this one (its primitives and fragments follow).
@@ -77,6 +136,12 @@ impl Rec {
         self.prim_killed.extend(other.prim_killed);
         self.xy.extend(other.xy);
         self.texels.extend(other.texels);
+        self.prim_all.extend(other.prim_all);
+        let kbase = self.killed_xy.len() as u32;
+        self.prim_first_killed
+            .extend(other.prim_first_killed.iter().map(|&k| k + kbase));
+        self.killed_xy.extend(other.killed_xy);
+        self.prim_first_xy.extend(other.prim_first_xy);
     }
 
     /// The pass's work (its stats are filled in when it is pushed).
@@ -104,6 +169,17 @@ impl Rec {
             rop,
             copy_read_bytes: 0,
             copy_write_bytes: 0,
+            sample: self.bands.map(|bands| SampleRecord {
+                bands,
+                prim_fragments: self.prim_all,
+                prim_first_xy: self.prim_first_xy,
+                prim_first_killed: if depth_tested {
+                    self.prim_first_killed
+                } else {
+                    Vec::new()
+                },
+                killed_xy: self.killed_xy,
+            }),
         }
     }
 }
@@ -116,6 +192,40 @@ pub(super) fn interleave(runs: &[(&[u32], usize)], n: usize, out: &mut Vec<u32>)
         for &(t, len) in runs {
             out.extend_from_slice(&t[i * len..(i + 1) * len]);
         }
+    }
+}
+
+/// [`interleave`] of the fragments `kept` (positions among the `n`) only: all of them
+/// for [`Kept::All`], none for [`Kept::None`].
+pub(super) fn interleave_kept(runs: &[(&[u32], usize)], n: usize, kept: &Kept, out: &mut Vec<u32>) {
+    match kept {
+        Kept::All => interleave(runs, n, out),
+        Kept::None => {}
+        Kept::Some(sel) => {
+            for &i in sel {
+                let i = i as usize;
+                for &(t, len) in runs {
+                    out.extend_from_slice(&t[i * len..(i + 1) * len]);
+                }
+            }
+        }
+    }
+}
+
+/// Which of a chunk's fragments a record kept: all (recording everything, or the
+/// chunk inside the sampled bands), none (the chunk outside them: no footprint is
+/// computed), or the positions of those kept.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(super) enum Kept {
+    All,
+    None,
+    Some(Vec<u32>),
+}
+
+impl Kept {
+    /// Whether no fragment was kept (the footprints need not be computed).
+    pub fn is_none(&self) -> bool {
+        *self == Kept::None
     }
 }
 
@@ -232,20 +342,45 @@ impl LightCtx<'_> {
 /// The fragments `visible` of a chunk `px` into `rec` (their pixels), with the
 /// fragments the depth test removed: the chunk's candidates (covered, inside the
 /// `viewport`) less the visible ones, when `depth_tested`.
+/// Returns which of them were kept ([`Kept`]).
 pub(super) fn chunk_fragments(
     rec: &mut Rec,
     px: &PolyLanes,
     visible: &[u32],
     viewport: (u32, u32),
     depth_tested: bool,
-) {
-    for &i in visible {
-        rec.frag(px.x[i as usize], px.y[i as usize]);
+) -> Kept {
+    let before = rec.xy.len();
+    let mut sel = Vec::new();
+    for (k, &i) in visible.iter().enumerate() {
+        if rec.frag(px.x[i as usize], px.y[i as usize]) && rec.bands.is_some() {
+            sel.push(k as u32);
+        }
     }
     if depth_tested {
-        let cand = (0..px.len())
-            .filter(|&i| crate::pipeline::raster::is_fragment_lane(px, i, viewport.0, viewport.1))
-            .count();
+        let is_frag =
+            |i: usize| crate::pipeline::raster::is_fragment_lane(px, i, viewport.0, viewport.1);
+        let cand = (0..px.len()).filter(|&i| is_frag(i)).count();
         rec.killed(cand - visible.len());
+        if rec.bands.is_some() && cand > visible.len() {
+            // The killed fragments' places: the candidates not visible (`visible`
+            // holds lane indices in increasing order).
+            let mut v = visible.iter().peekable();
+            for i in (0..px.len()).filter(|&i| is_frag(i)) {
+                if v.peek().is_some_and(|&&j| j as usize == i) {
+                    v.next();
+                } else {
+                    rec.killed_at(px.x[i], px.y[i]);
+                }
+            }
+        }
+    }
+    let kept = rec.xy.len() - before;
+    if kept == visible.len() {
+        Kept::All
+    } else if kept == 0 {
+        Kept::None
+    } else {
+        Kept::Some(sel)
     }
 }
