@@ -60,7 +60,7 @@ fn searchable(p: ChipParam) -> bool {
 }
 
 /// The values a parameter steps through (each checked against the chip by
-/// [`steps`]): powers of two, the texture units one by one, the cache 0 (none) to 256
+/// `steps`): powers of two, the texture units one by one, the cache 0 (none) to 256
 /// KiB.
 pub fn ladder(p: ChipParam) -> Vec<u32> {
     let pow2 = |lo: u32, hi: u32| -> Vec<u32> {
