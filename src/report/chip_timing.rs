@@ -339,8 +339,9 @@ pub fn print_table(ft: &FrameTiming) -> String {
     let hz = ft.clock_hz;
     let mode = match ft.mode.as_str() {
         "sampled" => format!(
-            "sampled: a fixed sample of screen tiles clocked exactly, the rest scaled\n\
-             sampling error: frame cycles ± {} (one standard error)",
+            "sampled: one full-width band of 8 rows in 8 clocked exactly, the rest scaled\n\
+             sampling error: frame cycles ± {} (one standard error of the spread between \
+             the sampled bands; the sample's bias is not in it)",
             or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0))
         ),
         "clocked" => "clocked: every fragment clocked".to_string(),
