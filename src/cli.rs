@@ -1025,7 +1025,7 @@ fn sweep_kinds(
         );
     }
     if let Some(mut s) = crate::pipeline::envmap::scene_render::environment_scene(scene)? {
-        crate::report::image_arg::apply_image(&mut s, image)?;
+        crate::scene::load::apply_image(&mut s, image)?;
         return crate::pipeline::envmap::sweep::envmap_sweep_cli(
             &s, scene, param, values, out, shard, resume,
         );
@@ -1034,7 +1034,7 @@ fn sweep_kinds(
     // glare pass (over its shafts backdrop, if any), the rest as shafts scenes.
     if scene != "test" {
         let mut s = crate::scene::load::load_scene(scene)?;
-        crate::report::image_arg::apply_image(&mut s, image)?;
+        crate::scene::load::apply_image(&mut s, image)?;
         if crate::frame::sweep::is_frame_scene(&s)? {
             return crate::frame::sweep::frame_sweep_cli(
                 &s, scene, param, values, out, shard, resume,

@@ -249,7 +249,7 @@ pub fn chip_sweep_cli(
         }
     }
     let mut scene = crate::scene::load::load_scene(scene_name)?;
-    crate::report::image_arg::apply_image_checked(&mut scene, image)?;
+    crate::scene::load::apply_image_checked(&mut scene, image)?;
     let sweep = check_chip_sweep(scene_name, scene, param, values)?;
     let (budget, from) = super::budget::resolve(max_memory);
     super::budget::check(&sweep.scene, budget, &from)?;

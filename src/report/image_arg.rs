@@ -21,34 +21,6 @@ pub fn parse_image(text: &str) -> Result<(u32, u32), String> {
     Ok((side(a, "width")?, side(b, "height")?))
 }
 
-/// `--image` (if given) set as `scene`'s image size; the scene checks the sides'
-/// range when it is validated.
-pub fn apply_image(
-    scene: &mut crate::scene::format::Scene,
-    image: Option<&str>,
-) -> Result<(), String> {
-    if let Some(img) = image {
-        let (w, h) = parse_image(img)?;
-        scene.image.width = w;
-        scene.image.height = h;
-    }
-    Ok(())
-}
-
-/// [`apply_image`], then the scene validated at once: an error names `--image`.
-pub fn apply_image_checked(
-    scene: &mut crate::scene::format::Scene,
-    image: Option<&str>,
-) -> Result<(), String> {
-    apply_image(scene, image)?;
-    if let Some(img) = image {
-        scene
-            .validate()
-            .map_err(|e| format!("--image {img}: {e}"))?;
-    }
-    Ok(())
-}
-
 /// A square image's side (a shading scene's sphere view): `--image NxN`.
 pub fn square_side(text: &str) -> Result<u32, String> {
     let (w, h) = parse_image(text)?;

@@ -201,6 +201,28 @@ pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
     Err(unknown_scene(name_or_path))
 }
 
+/// `--image` (if given) set as `scene`'s image size; the scene checks the sides'
+/// range when it is validated.
+pub fn apply_image(scene: &mut Scene, image: Option<&str>) -> Result<(), String> {
+    if let Some(img) = image {
+        let (w, h) = crate::report::image_arg::parse_image(img)?;
+        scene.image.width = w;
+        scene.image.height = h;
+    }
+    Ok(())
+}
+
+/// [`apply_image`], then the scene validated at once: an error names `--image`.
+pub fn apply_image_checked(scene: &mut Scene, image: Option<&str>) -> Result<(), String> {
+    apply_image(scene, image)?;
+    if let Some(img) = image {
+        scene
+            .validate()
+            .map_err(|e| format!("--image {img}: {e}"))?;
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

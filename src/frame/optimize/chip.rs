@@ -126,7 +126,7 @@ pub fn parse_time_budget(text: &str) -> Result<f64, String> {
 /// Every argument checked before any work, each error naming its argument.
 pub fn check_chip(a: &OptimizeArgs) -> Result<ChipPlan, String> {
     let mut scene = crate::scene::load::load_scene(&a.scene)?;
-    crate::report::image_arg::apply_image_checked(&mut scene, a.image.as_deref())?;
+    crate::scene::load::apply_image_checked(&mut scene, a.image.as_deref())?;
     let list = a.params.as_deref().unwrap_or_default();
     let mut params = Vec::new();
     for name in list.split(',').map(str::trim) {

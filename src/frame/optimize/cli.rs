@@ -96,7 +96,7 @@ pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
         Some(env) => env,
         None => crate::scene::load::load_scene(name)?,
     };
-    crate::report::image_arg::apply_image_checked(&mut scene, a.image.as_deref())?;
+    crate::scene::load::apply_image_checked(&mut scene, a.image.as_deref())?;
     if a.budget.is_empty() {
         return Err("budget: at least one --budget is needed, e.g. --budget \"max<=1\"".into());
     }

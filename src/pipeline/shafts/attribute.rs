@@ -200,6 +200,6 @@ pub fn attribute_shafts(scene: &Scene, out: &Path) -> Result<Attribution, String
 /// Load a shafts scene by name or file and apply `--image`.
 pub fn load_with_image(name: &str, image: Option<&str>) -> Result<Scene, String> {
     let mut scene = load_scene(name)?;
-    crate::report::image_arg::apply_image(&mut scene, image)?;
+    crate::scene::load::apply_image(&mut scene, image)?;
     Ok(scene)
 }

@@ -654,7 +654,7 @@ pub fn sweep_cli(
     let param = Param::from_name(param)?;
     let values = parse_values(param, values)?;
     let mut scene = load_scene(scene_name)?;
-    crate::report::image_arg::apply_image(&mut scene, image)?;
+    crate::scene::load::apply_image(&mut scene, image)?;
     let id = sweep_id(&scene, scene_name, param, &values, truth_samples)?;
     if let Some(shard) = shard {
         check_sweep(&scene, param, &values, truth_samples)?;
