@@ -340,7 +340,7 @@ pub fn print_table(ft: &FrameTiming) -> String {
     let mode = match ft.mode.as_str() {
         "sampled" => format!(
             "sampled: one full-width band of 8 rows in 8 clocked exactly, the rest scaled\n\
-             sampling error: frame cycles ± {} (one standard error of the spread between \
+             sampling error: frame cycles ± {} (one standard error of the spread between\n\
              the sampled bands; the sample's bias is not in it)",
             or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0))
         ),
