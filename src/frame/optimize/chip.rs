@@ -451,8 +451,9 @@ fn next_step(
         let gain = |p: &ChipPoint| {
             let dt = here.seconds - p.seconds;
             let dc = (p.cost(o) - here.cost(o)).max(0.0);
+            // Only faster steps are ranked (dt > 0): a free one first.
             if dc == 0.0 {
-                f64::INFINITY * dt.signum()
+                f64::INFINITY
             } else {
                 dt / dc
             }
