@@ -717,28 +717,35 @@ fn check_timeline(i: usize, p: &NamedPassTiming) -> Result<(), String> {
     Ok(())
 }
 
-/// Every bucket of every pass on the frame's clocks, pass by pass, stage by stage.
-fn buckets(ft: &FrameTiming) -> Result<Vec<Bucket<'_>>, String> {
-    let starts = pass_starts(ft);
-    let mut out = Vec::new();
+/// Every pass's timeline checked ([`check_timeline`]), and where each pass starts on
+/// the frame's clocks.
+fn checked_starts(ft: &FrameTiming) -> Result<Vec<u64>, String> {
     for (i, p) in ft.passes.iter().enumerate() {
         check_timeline(i, p)?;
+    }
+    Ok(pass_starts(ft))
+}
+
+/// Every bucket of every pass on the frame's clocks, pass by pass, stage by stage
+/// (`starts` from [`checked_starts`]). An iterator: a clocked frame of a few hundred
+/// passes has over a million buckets, which the CSV and the image take one by one.
+fn buckets<'a>(ft: &'a FrameTiming, starts: &'a [u64]) -> impl Iterator<Item = Bucket<'a>> + 'a {
+    ft.passes.iter().enumerate().flat_map(move |(i, p)| {
         let tl = &p.timing.timeline;
         let end = starts[i].saturating_add(p.timing.cycles);
-        for (s, row) in tl.busy.iter().enumerate() {
-            for (b, &v) in row.iter().enumerate() {
+        tl.busy.iter().enumerate().flat_map(move |(s, row)| {
+            row.iter().enumerate().map(move |(b, &v)| {
                 let lo = starts[i].saturating_add(b as u64 * tl.bucket_clocks);
-                out.push(Bucket {
+                Bucket {
                     pass: i,
                     stage: &tl.stages[s],
                     start: lo,
                     end: lo.saturating_add(tl.bucket_clocks).min(end),
                     busy: v,
-                });
-            }
-        }
-    }
-    Ok(out)
+                }
+            })
+        })
+    })
 }
 
 #[derive(serde::Serialize)]
@@ -753,28 +760,38 @@ struct CsvRow<'a> {
 
 /// The timeline as CSV: one row per pass, stage and bucket — `clock_start`,
 /// `clock_end` (frame clocks, end exclusive), `pass_index`, `pass`, `stage`,
-/// `busy_fraction` (0 ..= 1). Returns the number of rows.
+/// `busy_fraction` (0 ..= 1). Returns the number of rows. The rows are written as
+/// they are made (the file is replaced atomically when all are written).
 pub fn write_timeline_csv(ft: &FrameTiming, path: &Path) -> Result<usize, String> {
-    let b = buckets(ft).map_err(|e| format!("{}: {e}", path.display()))?;
-    let rows: Vec<CsvRow> = b
-        .iter()
-        .map(|b| CsvRow {
-            clock_start: b.start,
-            clock_end: b.end,
-            pass_index: b.pass,
-            pass: &ft.passes[b.pass].pass,
-            stage: b.stage,
-            busy_fraction: b.busy,
-        })
-        .collect();
-    if rows.is_empty() {
-        // The header still, so a reader sees the columns of an empty timeline.
-        let header = "clock_start,clock_end,pass_index,pass,stage,busy_fraction\n".as_bytes();
-        crate::report::atomic::write_bytes(path, header)?;
-        return Ok(0);
-    }
-    crate::report::csv_out::write_csv(path, &rows)?;
-    Ok(rows.len())
+    let starts = checked_starts(ft).map_err(|e| format!("{}: {e}", path.display()))?;
+    let mut n = 0usize;
+    crate::report::atomic::write_with(path, |w| {
+        let mut out = csv::Writer::from_writer(w);
+        for b in buckets(ft, &starts) {
+            out.serialize(CsvRow {
+                clock_start: b.start,
+                clock_end: b.end,
+                pass_index: b.pass,
+                pass: &ft.passes[b.pass].pass,
+                stage: b.stage,
+                busy_fraction: b.busy,
+            })?;
+            n += 1;
+        }
+        if n == 0 {
+            // The header still, so a reader sees the columns of an empty timeline.
+            out.write_record([
+                "clock_start",
+                "clock_end",
+                "pass_index",
+                "pass",
+                "stage",
+                "busy_fraction",
+            ])?;
+        }
+        out.flush()
+    })?;
+    Ok(n)
 }
 
 /// The timeline's lanes: every pass's stages merged in pipeline order (a stage first
@@ -966,12 +983,11 @@ impl TimelineLayout {
 pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
     let e = |x: String| format!("{}: {x}", path.display());
     crate::report::plot::ensure_font().map_err(e)?;
-    let all = buckets(ft).map_err(e)?;
+    let starts = checked_starts(ft).map_err(e)?;
     let total = ft.cycles_total();
     if total == 0 {
         return Err(e("timing: the frame has no clocks to draw".into()));
     }
-    let starts = pass_starts(ft);
     let lanes = lane_order(ft);
     let lay = TimelineLayout::new(ft, &lanes, total);
     let mut cv = Canvas {
@@ -980,7 +996,7 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
         buf: vec![255u8; lay.w as usize * lay.h as usize * 3],
     };
     paint_pass_bands(&mut cv, ft, &starts, &lay);
-    paint_lanes(&mut cv, &all, &lanes, &lay);
+    paint_lanes(&mut cv, buckets(ft, &starts), &lanes, &lay);
     paint_frame_and_boundaries(&mut cv, ft, &starts, &lay);
     let step = tick_step(total as f64, 8.0);
     let ticks = paint_ticks(&mut cv, step, &lay);
@@ -1022,7 +1038,12 @@ fn paint_pass_bands(cv: &mut Canvas, ft: &FrameTiming, starts: &[u64], lay: &Tim
 /// Per pixel column and stage, the overlap-weighted busy fraction; a column the stage
 /// covers for under a tenth of its clocks reads as absent rather than as a fraction of
 /// almost nothing.
-fn paint_lanes(cv: &mut Canvas, all: &[Bucket<'_>], lanes: &[&str], lay: &TimelineLayout) {
+fn paint_lanes<'a>(
+    cv: &mut Canvas,
+    all: impl Iterator<Item = Bucket<'a>>,
+    lanes: &[&str],
+    lay: &TimelineLayout,
+) {
     let plot_w = lay.plot_w as usize;
     let mut sum = vec![vec![0f64; plot_w]; lanes.len()];
     let mut cover = vec![vec![0f64; plot_w]; lanes.len()];
