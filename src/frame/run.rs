@@ -252,7 +252,7 @@ fn render_inner(
     let (timing, swept_timings) = match clock {
         Some(c) => {
             let mut c = c.borrow_mut();
-            (Some(c.finish()), c.take_alternates())
+            (Some(c.finish()?), c.take_alternates())
         }
         None => (None, Vec::new()),
     };
@@ -372,7 +372,7 @@ impl<'a> FrameState<'a> {
         let f = self.shafts.as_mut().ok_or_else(no_shafts)?;
         let before = f.pass_stats().len();
         if let Some(c) = &self.clock {
-            c.borrow_mut().begin(name);
+            c.borrow_mut().begin(name)?;
         }
         f.run(sp)?;
         let stats = f.pass_stats()[before..].to_vec();
@@ -394,7 +394,7 @@ impl<'a> FrameState<'a> {
         let s = shaded_objects_pass(self.scene, p, f.framebuffer_mut(), hl, &refl)?;
         self.gpu_time(name, &s.stats, t);
         if let Some(c) = &self.clock {
-            c.borrow_mut().roofline_only(name, &s.stats);
+            c.borrow_mut().roofline_only(name, &s.stats)?;
         }
         self.shaded = Some(s);
         Ok(())
@@ -413,7 +413,7 @@ impl<'a> FrameState<'a> {
             let stats = [shading_stats(light, l.shading.fragments)];
             self.gpu_time(name, &stats, t);
             if let Some(c) = &self.clock {
-                c.borrow_mut().roofline_only(name, &stats);
+                c.borrow_mut().roofline_only(name, &stats)?;
             }
         }
         Ok(())

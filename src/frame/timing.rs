@@ -5,9 +5,10 @@
 //! its error).
 //!
 //! With clocked or sampled timing the shafts passes record their work
-//! ([`crate::chip::work::PassWork`]) as they run; each pass's record is clocked as soon
-//! as the pass finishes and then dropped, so a frame never holds more than one pass's
-//! record. Passes that record nothing (the shading units' object pass, a glare
+//! ([`crate::chip::work::PassWork`]) as they run; each pass's record is handed, as
+//! soon as the pass finishes, to the clock's thread, which clocks it while the frame
+//! draws the next pass and then drops it, so a frame holds at most two passes' records
+//! ([`Clock`]). Passes that record nothing (the shading units' object pass, a glare
 //! scene's shaded highlights) keep their roofline time and are listed as such.
 
 use super::plan::{Plan, Step};
@@ -237,8 +238,9 @@ fn stretch_timeline(tl: &mut crate::chip::clock::Timeline, cycles: u64) {
     tl.bucket_clocks = bucket;
 }
 
-/// The frame's clocked timing as it is built, pass by pass.
-pub struct Clock {
+/// The frame's clocked timing as it is built, pass by pass (on the clock's own thread:
+/// [`Clock`]).
+struct ClockState {
     mode: TimingMode,
     chip: ChipConfig,
     model: GpuModel,
@@ -258,15 +260,15 @@ pub struct Clock {
     alternates: Vec<(ChipConfig, FrameTiming)>,
 }
 
-impl Clock {
-    pub fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
+impl ClockState {
+    fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
         let timing = FrameTiming {
             mode: mode.name().to_string(),
             chip: chip.name.clone(),
             clock_hz: chip.clock_hz,
             ..FrameTiming::default()
         };
-        Clock {
+        ClockState {
             mode,
             chip,
             model,
@@ -280,9 +282,8 @@ impl Clock {
         }
     }
 
-    /// Also clock every pass on each of `chips` (fully, without a window); their
-    /// frame timings come out of [`Clock::take_alternates`].
-    pub fn with_alternates(mut self, chips: Vec<ChipConfig>) -> Self {
+    /// Also clock every pass on each of `chips` (fully, without a window).
+    fn with_alternates(mut self, chips: Vec<ChipConfig>) -> Self {
         self.alternates = chips
             .into_iter()
             .map(|c| {
@@ -299,7 +300,7 @@ impl Clock {
     }
 
     /// The alternate chips' frame timings, in the order they were given.
-    pub fn take_alternates(&mut self) -> Vec<FrameTiming> {
+    fn take_alternates(&mut self) -> Vec<FrameTiming> {
         std::mem::take(&mut self.alternates)
             .into_iter()
             .map(|(_, t)| t)
@@ -307,7 +308,7 @@ impl Clock {
     }
 
     /// Trace the chip-level signals over `window` (clocks from the frame's start).
-    pub fn with_window(mut self, window: Option<(u64, u64)>) -> Self {
+    fn with_window(mut self, window: Option<(u64, u64)>) -> Self {
         self.window = window.map(|(a, b)| a..b);
         self
     }
@@ -315,24 +316,19 @@ impl Clock {
     /// The bands the passes record the fragments of: the sample in sampled mode
     /// (unless alternate chips clock every pass in full: then every fragment is
     /// recorded and cut to the sample when clocked), else `None` (every fragment).
-    pub fn record_bands(&self) -> Option<SampleBands> {
+    fn record_bands(&self) -> Option<SampleBands> {
         let sampled = self.mode == TimingMode::Sampled && self.bands.every > 1;
         (sampled && self.alternates.is_empty()).then_some(self.bands)
     }
 
     /// The frame's height in pixels, which sets the sampled mode's bands.
-    pub fn with_frame_rows(mut self, rows: u32) -> Self {
+    fn with_frame_rows(mut self, rows: u32) -> Self {
         self.bands = sample_bands(rows);
         self
     }
 
-    /// The frame pass whose records follow.
-    pub fn begin(&mut self, pass: &str) {
-        self.pass = pass.to_string();
-    }
-
     /// Clock one pass's record.
-    pub fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
+    fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
         self.peak_record_bytes = self.peak_record_bytes.max(work.heap_bytes());
         let roofline_seconds = work
             .stats
@@ -379,7 +375,7 @@ impl Clock {
     }
 
     /// Passes that recorded nothing: their roofline time, listed as such.
-    pub fn roofline_only(&mut self, pass: &str, stats: &[PassStats]) {
+    fn roofline_only(&mut self, pass: &str, stats: &[PassStats]) {
         for s in stats {
             self.timing.roofline_only.push(RooflineOnlyPass {
                 pass: pass.to_string(),
@@ -393,7 +389,7 @@ impl Clock {
     /// The frame's timing. In sampled mode its relative error combines the passes'
     /// (independent samples: the root of the summed squared errors in cycles, over
     /// the frame's cycles).
-    pub fn finish(&mut self) -> FrameTiming {
+    fn finish(&mut self) -> FrameTiming {
         if self.mode == TimingMode::Sampled {
             let total: u64 = self.errors.iter().map(|e| e.1).sum();
             let var: f64 = self
@@ -404,6 +400,166 @@ impl Clock {
             self.timing.sampling_error = (total > 0).then(|| var.sqrt() / total as f64);
         }
         std::mem::take(&mut self.timing)
+    }
+}
+
+/// What the frame tells its clock, in the frame's order.
+enum ClockMessage {
+    /// The frame pass whose records follow.
+    Begin(String),
+    /// One pass's record.
+    Work(PassWork),
+    /// A pass that recorded nothing, with its counters (roofline time).
+    RooflineOnly(String, Vec<PassStats>),
+}
+
+/// The clock's thread: it takes the frame's messages in order and returns its state
+/// when the frame drops the sender, or the first error.
+type ClockWorker = (
+    std::sync::mpsc::SyncSender<ClockMessage>,
+    std::thread::JoinHandle<Result<ClockState, ConfigError>>,
+);
+
+/// The frame's clocked timing. The passes' records are clocked on a thread of the
+/// clock's own while the frame draws its next pass (the functional frame leaves the
+/// second core mostly idle), strictly in the frame's order, so the timings are those of
+/// clocking each record as it arrives, on any thread count. A frame holds at most two
+/// records at once: the one being clocked and the one being handed over (the channel
+/// holds none).
+pub struct Clock {
+    /// The state before the first message (configured by the `with_` methods) and after
+    /// [`Clock::finish`].
+    state: Option<ClockState>,
+    worker: Option<ClockWorker>,
+    /// The worker's error, once it stopped on one.
+    failed: Option<ConfigError>,
+}
+
+impl Clock {
+    pub fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
+        Clock {
+            state: Some(ClockState::new(mode, chip, model)),
+            worker: None,
+            failed: None,
+        }
+    }
+
+    /// Apply `f` to the state while it is still being configured.
+    fn configure(mut self, f: impl FnOnce(ClockState) -> ClockState) -> Self {
+        self.state = self.state.take().map(f);
+        self
+    }
+
+    /// Also clock every pass on each of `chips` (fully, without a window); their
+    /// frame timings come out of [`Clock::take_alternates`].
+    pub fn with_alternates(self, chips: Vec<ChipConfig>) -> Self {
+        self.configure(|s| s.with_alternates(chips))
+    }
+
+    /// Trace the chip-level signals over `window` (clocks from the frame's start).
+    pub fn with_window(self, window: Option<(u64, u64)>) -> Self {
+        self.configure(|s| s.with_window(window))
+    }
+
+    /// The frame's height in pixels, which sets the sampled mode's bands.
+    pub fn with_frame_rows(self, rows: u32) -> Self {
+        self.configure(|s| s.with_frame_rows(rows))
+    }
+
+    /// The bands the passes record the fragments of: the sample in sampled mode
+    /// (unless alternate chips clock every pass in full: then every fragment is
+    /// recorded and cut to the sample when clocked), else `None` (every fragment).
+    /// Asked before the first pass.
+    pub fn record_bands(&self) -> Option<SampleBands> {
+        self.state.as_ref().and_then(ClockState::record_bands)
+    }
+
+    /// Hand `m` to the clock's thread (started on the first message). A thread that
+    /// stopped on an error returns it here.
+    fn send(&mut self, m: ClockMessage) -> Result<(), ConfigError> {
+        if let Some(e) = &self.failed {
+            return Err(e.clone());
+        }
+        if self.worker.is_none() {
+            let Some(mut state) = self.state.take() else {
+                return Err(ConfigError::invalid(
+                    "timing",
+                    "internal: the clock has finished",
+                ));
+            };
+            let (tx, rx) = std::sync::mpsc::sync_channel::<ClockMessage>(0);
+            let handle = std::thread::spawn(move || {
+                for m in rx {
+                    match m {
+                        ClockMessage::Begin(pass) => state.pass = pass,
+                        ClockMessage::Work(w) => state.clock(w)?,
+                        ClockMessage::RooflineOnly(pass, stats) => {
+                            state.roofline_only(&pass, &stats)
+                        }
+                    }
+                }
+                Ok(state)
+            });
+            self.worker = Some((tx, handle));
+        }
+        let sent = self.worker.as_ref().map(|(tx, _)| tx.send(m));
+        match sent {
+            Some(Ok(())) => Ok(()),
+            // The thread ended: it stopped on an error, which the join returns.
+            _ => self.join().map(|_| ()),
+        }
+    }
+
+    /// Wait for the clock's thread to clock everything sent; its state comes back.
+    fn join(&mut self) -> Result<(), ConfigError> {
+        if let Some((tx, handle)) = self.worker.take() {
+            drop(tx);
+            match handle.join() {
+                Ok(Ok(state)) => self.state = Some(state),
+                Ok(Err(e)) => self.failed = Some(e),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        }
+        match &self.failed {
+            Some(e) => Err(e.clone()),
+            None => Ok(()),
+        }
+    }
+
+    /// The frame pass whose records follow.
+    pub fn begin(&mut self, pass: &str) -> Result<(), ConfigError> {
+        self.send(ClockMessage::Begin(pass.to_string()))
+    }
+
+    /// Clock one pass's record (on the clock's thread; an error surfaces at the next
+    /// message or at [`Clock::finish`]).
+    pub fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
+        self.send(ClockMessage::Work(work))
+    }
+
+    /// Passes that recorded nothing: their roofline time, listed as such.
+    pub fn roofline_only(&mut self, pass: &str, stats: &[PassStats]) -> Result<(), ConfigError> {
+        self.send(ClockMessage::RooflineOnly(pass.to_string(), stats.to_vec()))
+    }
+
+    /// The frame's timing, once every record sent is clocked. In sampled mode its
+    /// relative error combines the passes' (independent samples: the root of the
+    /// summed squared errors in cycles, over the frame's cycles).
+    pub fn finish(&mut self) -> Result<FrameTiming, ConfigError> {
+        self.join()?;
+        self.state
+            .as_mut()
+            .map(ClockState::finish)
+            .ok_or_else(|| ConfigError::invalid("timing", "internal: the clock has no state"))
+    }
+
+    /// The alternate chips' frame timings, in the order they were given (after
+    /// [`Clock::finish`]).
+    pub fn take_alternates(&mut self) -> Vec<FrameTiming> {
+        self.state
+            .as_mut()
+            .map(ClockState::take_alternates)
+            .unwrap_or_default()
     }
 }
 
