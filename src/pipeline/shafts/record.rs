@@ -44,6 +44,9 @@ pub(super) struct Rec {
     /// depth-killed fragments in the sampled units.
     pub prim_first_killed: Vec<u32>,
     pub killed_xy: Vec<[u16; 2]>,
+    /// Sampled mode with full-width bands: the last row asked about and whether it is
+    /// sampled (fragments arrive row by row, so most asks are the row before's).
+    last_row: Option<(u32, bool)>,
 }
 
 impl Rec {
@@ -72,8 +75,27 @@ impl Rec {
     /// [`Self::killed`]'s).
     #[inline]
     pub fn killed_at(&mut self, x: i64, y: i64) {
-        if self.bands.is_some_and(|b| b.keeps(x as u32, y as u32)) {
-            self.killed_xy.push([x as u16, y as u16]);
+        if let Some(b) = self.bands {
+            if self.keeps(b, x as u32, y as u32) {
+                self.killed_xy.push([x as u16, y as u16]);
+            }
+        }
+    }
+
+    /// Whether pixel (x, y) is in a sampled unit of `b` ([`SampleBands::keeps`]),
+    /// remembered per row when the bands span the full width.
+    #[inline]
+    fn keeps(&mut self, b: SampleBands, x: u32, y: u32) -> bool {
+        if b.block_cols != 0 {
+            return b.keeps(x, y);
+        }
+        match self.last_row {
+            Some((row, kept)) if row == y => kept,
+            _ => {
+                let kept = b.keeps(x, y);
+                self.last_row = Some((y, kept));
+                kept
+            }
         }
     }
 
@@ -104,12 +126,26 @@ impl Rec {
                 }
                 *n += 1;
             }
-            if !b.keeps(x as u32, y as u32) {
+            if !self.keeps(b, x as u32, y as u32) {
                 return false;
             }
         }
         self.xy.push([x as u16, y as u16]);
         true
+    }
+
+    /// `n` fragments of the current primitive (sampled mode), the first at `first`:
+    /// what `n` calls of [`Self::frag`] count.
+    #[inline]
+    fn count_fragments(&mut self, n: usize, first: (i64, i64)) {
+        if let Some(all) = self.prim_all.last_mut() {
+            if *all == 0 {
+                if let Some(r) = self.prim_first_xy.last_mut() {
+                    *r = [first.0 as u16, first.1 as u16];
+                }
+            }
+            *all += n as u32;
+        }
     }
 
     /// Room for `parts` appended after what this one holds.
@@ -352,10 +388,25 @@ pub(super) fn chunk_fragments(
 ) -> Kept {
     let before = rec.xy.len();
     let mut sel = Vec::new();
-    for (k, &i) in visible.iter().enumerate() {
-        if rec.frag(px.x[i as usize], px.y[i as usize]) && rec.bands.is_some() {
-            sel.push(k as u32);
+    let xy = |i: u32| (px.x[i as usize], px.y[i as usize]);
+    match rec.bands {
+        // Every fragment counted at once ([`Rec::frag`] one by one), the sampled rows'
+        // kept.
+        Some(b) if !visible.is_empty() => {
+            rec.count_fragments(visible.len(), xy(visible[0]));
+            for (k, &i) in visible.iter().enumerate() {
+                let (x, y) = xy(i);
+                if rec.keeps(b, x as u32, y as u32) {
+                    rec.xy.push([x as u16, y as u16]);
+                    sel.push(k as u32);
+                }
+            }
         }
+        Some(_) => {}
+        None => rec.xy.extend(visible.iter().map(|&i| {
+            let (x, y) = xy(i);
+            [x as u16, y as u16]
+        })),
     }
     if depth_tested {
         let is_frag =
