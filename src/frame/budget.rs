@@ -455,6 +455,7 @@ pub fn reproduction_points(
             "street-light",
             "leaves",
         ],
+        "glare-asic-throughput" => crate::pipeline::glare::clocked::ASIC_SCENES.to_vec(),
         "frame-elaboration" => vec!["night-street"],
         "sim-speed" => vec!["fig6", "night-street"],
         n if n.starts_with("envmap-") => vec![
