@@ -445,6 +445,7 @@ pub fn reproduction_points(
                 .collect();
             return Ok(Some(points));
         }
+        "assumptions" => return assumption_points().map(Some),
         "shafts-vs-raymarch" => vec!["fig6"],
         "shafts-stage" => vec!["stage"],
         "glare-fig4" | "glare-fig5" | "glare-fig7" | "glare-fig8" | "glare-throughput"
@@ -490,6 +491,23 @@ pub fn reproduction_points(
         points.push((label, scene));
     }
     Ok(Some(points))
+}
+
+/// The scenes `reproduce assumptions` renders: every alternative of the ledger on each
+/// of its built-ins, and each built-in as it is.
+fn assumption_points() -> Result<Vec<(String, Scene)>, String> {
+    use super::assumptions::{scene_named, ALTERNATIVES};
+    let mut points = Vec::new();
+    for alt in ALTERNATIVES {
+        for &name in alt.scenes {
+            let base = scene_named(name)?;
+            let mut s = base.clone();
+            (alt.apply)(&mut s);
+            points.push((name.to_string(), base));
+            points.push((format!("{name} with {}", alt.alternative), s));
+        }
+    }
+    Ok(points)
 }
 
 /// `reproduce NAME`'s memory check, before any work: the largest of its
