@@ -18,7 +18,8 @@ use super::view::vec3;
 use crate::chip::work::SampleBands;
 use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
-use crate::scene::format::PlaneStep;
+use crate::scene::format::{PlaneStep, ShaftsConfig};
+use crate::scene::math::Vec3;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::blend::{Blend, BlendIn};
@@ -72,6 +73,28 @@ impl PlaneSpans {
         self.hil.merge(&o.hil);
         for (a, b) in self.modulate.iter_mut().zip(&o.modulate) {
             a.merge(b);
+        }
+    }
+
+    /// End the plane's spans: each unit's counters, timing included, under its name
+    /// (J from the J texture when there is one, else H·I_l's units).
+    fn close(
+        self,
+        ctx: &LightCtx,
+        jtex: Option<&TextureSampler>,
+        ctr: &mut BTreeMap<String, Counters>,
+    ) {
+        let u = ctx.units;
+        counters_add(ctr, "polygon_interpolator", self.interp);
+        ctx.close_visible(self.zbuf, ctr);
+        self.f.close("texture_sampler (F)", u.f_tex.timing(), ctr);
+        self.h.close("texture_sampler (h)", u.h_tex.timing(), ctr);
+        match jtex {
+            Some(t) => self.j.close("texture_sampler (J)", t.timing(), ctr),
+            None => self.hil.close(ctx, ctr),
+        }
+        for s in self.modulate {
+            s.close("modulate", u.modulate.timing(), ctr);
         }
     }
 }
@@ -450,14 +473,10 @@ fn plane<T: Send>(
     let sc = &p.scene;
     let cfg = sc.shafts;
     let (w, h) = (sc.image.width, sc.image.height);
-    let m = cfg.subplanes as usize;
-    let lpos = vec3(ctx.light.position);
     let (color_codes, intensity) = light_color_codes(ctx.light, ctx.tex_max);
-    // Per-plane scale S (fraction of full scale): F_max · h_ref · I · Δr · exposure / 255.
-    let s_plane = tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0;
-    let [cols, rows] = cfg.mesh;
-    let nf = cfg.f_texels as f64;
-    let [hw, hh] = cfg.h_texels.map(|v| v as f64);
+    let mesh = PlaneMesh::new(ctx, p, tables, r, dr, intensity);
+    // The plane is parallel to the screen: one window depth for all its fragments,
+    // that of the screen's centre.
     let plane_z = ctx
         .cam
         .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, r))
@@ -472,15 +491,90 @@ fn plane<T: Send>(
         record: log.recording(),
         bands: log.bands,
     };
+    let drawn = draw_cells(&pc, &mesh, (w, h));
+    let (cell_frags, spans, rec) = join_cells(&pc, drawn)?;
+    let walked = spans.interp.pixels_in;
+    spans.close(ctx, jtex, ctr);
+    // The cells' fragments joined in cell order on the pool, beside `beside`, not
+    // between two parallel sections.
+    let blend = || {
+        frags.clear();
+        for f in &cell_frags {
+            frags.extend_from_slice(f);
+        }
+        blend_plane(&u.blend, fb, frags, ctr, scratch)
+    };
+    let ((), t) = rayon::join(blend, beside);
+    let mut st = PassStats::new(PassKind::Plane, ctx.li, plane_textures(ctx, &cfg));
+    st.triangles = 2 * (cfg.mesh[0] * cfg.mesh[1]) as u64;
+    st.walked = walked;
+    st.fragments = frags.len() as u64;
+    let work = rec.map(|r| plane_work(ctx, &cfg, jtex, r, (w, h)));
+    log.push(ctr, st, work)?;
+    Ok(t)
+}
 
-    let vertex = |k: u32, l: u32| {
+/// Plane i's mesh as the host computes its vertices (f64): the plane's eye distance,
+/// the light's position, the per-plane scale S and the tables' ranges.
+struct PlaneMesh<'a> {
+    ctx: &'a LightCtx<'a>,
+    tables: &'a GTables,
+    /// The framebuffer's width and height (the mesh spans the screen).
+    viewport: (u32, u32),
+    /// Cells across and down (`shafts.mesh`).
+    cells: [u32; 2],
+    /// Eye distance of the plane.
+    r: f64,
+    lpos: Vec3,
+    /// Per-plane scale S (fraction of full scale).
+    s_plane: f64,
+    plane_step: PlaneStep,
+    /// The F table's texels and the h table's texels across and down, as f64.
+    nf: f64,
+    hw: f64,
+    hh: f64,
+}
+
+impl<'a> PlaneMesh<'a> {
+    fn new(
+        ctx: &'a LightCtx<'a>,
+        p: &Prepared,
+        tables: &'a GTables,
+        r: f64,
+        dr: f64,
+        intensity: f64,
+    ) -> Self {
+        let sc = &p.scene;
+        let cfg = sc.shafts;
+        let [hw, hh] = cfg.h_texels.map(|v| v as f64);
+        PlaneMesh {
+            ctx,
+            tables,
+            viewport: (sc.image.width, sc.image.height),
+            cells: cfg.mesh,
+            r,
+            lpos: vec3(ctx.light.position),
+            // S = F_max · h_ref · I · Δr · exposure / 255.
+            s_plane: tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0,
+            plane_step: cfg.plane_step,
+            nf: cfg.f_texels as f64,
+            hw,
+            hh,
+        }
+    }
+
+    /// Mesh vertex (k, l): its screen position and attributes α, s, t (in texels of
+    /// the F and h tables), the vertex colour and the light coordinates.
+    fn vertex(&self, k: u32, l: u32) -> HostVertex {
+        let (ctx, tables, r) = (self.ctx, self.tables, self.r);
+        let ((w, h), [cols, rows]) = (self.viewport, self.cells);
         let (x, y) = (
             k as f64 * w as f64 / cols as f64,
             l as f64 * h as f64 / rows as f64,
         );
         let pt = ctx.cam.point_at(x, y, r);
         let t = (pt - ctx.cam.eye).length();
-        let to_l = lpos - pt;
+        let to_l = self.lpos - pt;
         let s = to_l.length();
         let view = (pt - ctx.cam.eye).normalized();
         let cos_a = if s > 0.0 {
@@ -494,13 +588,13 @@ fn plane<T: Send>(
             x,
             y,
             attrs: host_attrs([
-                alpha / std::f64::consts::PI * nf,
-                s / tables.s_max * hw,
-                t / tables.t_max * hh,
-                match cfg.plane_step {
-                    PlaneStep::AlongRay => s_plane * t / r,
+                alpha / std::f64::consts::PI * self.nf,
+                s / tables.s_max * self.hw,
+                t / tables.t_max * self.hh,
+                match self.plane_step {
+                    PlaneStep::AlongRay => self.s_plane * t / r,
                     // `shafts.plane_step = "plane_spacing"`: Δt = Δr on every ray.
-                    PlaneStep::PlaneSpacing => s_plane,
+                    PlaneStep::PlaneSpacing => self.s_plane,
                 },
                 la[0],
                 la[1],
@@ -508,25 +602,44 @@ fn plane<T: Send>(
                 la[3],
             ]),
         }
-    };
+    }
+}
+
+/// Every mesh cell of the plane drawn and shaded ([`cell`]) in parallel, in cell
+/// order (row by row).
+fn draw_cells(
+    pc: &PlaneCtx,
+    mesh: &PlaneMesh,
+    (w, h): (u32, u32),
+) -> Vec<Result<DrawnCell, ConfigError>> {
+    let [cols, rows] = mesh.cells;
     let cells: Vec<(u32, u32)> = (0..rows)
         .flat_map(|l| (0..cols).map(move |k| (k, l)))
         .collect();
-    let drawn: Vec<Result<DrawnCell, ConfigError>> = cells
+    cells
         .par_iter()
         .map(|&(k, l)| {
             let q = [
-                vertex(k, l),
-                vertex(k + 1, l),
-                vertex(k + 1, l + 1),
-                vertex(k, l + 1),
+                mesh.vertex(k, l),
+                mesh.vertex(k + 1, l),
+                mesh.vertex(k + 1, l + 1),
+                mesh.vertex(k, l + 1),
             ];
-            cell(&pc, &q, w, h)
+            cell(pc, &q, w, h)
         })
-        .collect();
+        .collect()
+}
+
+/// The drawn cells joined in cell order (the order their fragments blend in): each
+/// cell's fragments, the plane's spans, and when recording the cells' records joined
+/// into one. The first cell's error in cell order is returned.
+#[allow(clippy::type_complexity)]
+fn join_cells(
+    pc: &PlaneCtx,
+    drawn: Vec<Result<DrawnCell, ConfigError>>,
+) -> Result<(Vec<Vec<PlaneFrag>>, PlaneSpans, Option<Rec>), ConfigError> {
     let mut spans = PlaneSpans::default();
     let mut cell_frags = Vec::with_capacity(drawn.len());
-    // The cells' records joined in cell order (the order their fragments blend in).
     let mut rec = pc.record.then(|| {
         // Sized once for every cell's record (no growing and copying on the way).
         let mut all = Rec::sampled(pc.bands);
@@ -542,59 +655,45 @@ fn plane<T: Send>(
             all.append(r);
         }
     }
-    let walked = spans.interp.pixels_in;
-    counters_add(ctr, "polygon_interpolator", spans.interp);
-    ctx.close_visible(spans.zbuf, ctr);
-    spans.f.close("texture_sampler (F)", u.f_tex.timing(), ctr);
-    spans.h.close("texture_sampler (h)", u.h_tex.timing(), ctr);
+    Ok((cell_frags, spans, rec))
+}
+
+/// Textures a plane fragment reads: F and h, then J (m > 1) or the light map and the
+/// shadow map it has (m = 1).
+fn plane_textures(ctx: &LightCtx, cfg: &ShaftsConfig) -> u32 {
+    let m = cfg.subplanes as usize;
+    2 + if m > 1 {
+        1
+    } else {
+        u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
+    }
+}
+
+/// A plane's record as the clocked chip's work: its textures (F, h, then J or H·I_l's)
+/// and the framebuffer's ROP.
+fn plane_work(
+    ctx: &LightCtx,
+    cfg: &ShaftsConfig,
+    jtex: Option<&TextureSampler>,
+    r: Rec,
+    (w, h): (u32, u32),
+) -> PassWork {
+    let u = ctx.units;
+    let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+    let mut tex = vec![
+        record::texture("texture_sampler (F)", &u.f_tex),
+        record::texture("texture_sampler (h)", &u.h_tex),
+    ];
     match jtex {
-        Some(t) => spans.j.close("texture_sampler (J)", t.timing(), ctr),
-        None => spans.hil.close(ctx, ctr),
+        Some(t) => tex.push(record::texture("texture_sampler (J)", t)),
+        None => tex.extend(ctx.hil_textures()),
     }
-    for s in spans.modulate {
-        s.close("modulate", u.modulate.timing(), ctr);
-    }
-    // The cells' fragments joined in cell order on the pool, beside `beside`, not
-    // between two parallel sections.
-    let blend = || {
-        frags.clear();
-        for f in &cell_frags {
-            frags.extend_from_slice(f);
-        }
-        blend_plane(&u.blend, fb, frags, ctr, scratch)
-    };
-    let ((), t) = rayon::join(blend, beside);
-    let mut st = PassStats::new(
-        PassKind::Plane,
-        ctx.li,
-        2 + if m > 1 {
-            1
-        } else {
-            u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
-        },
-    );
-    st.triangles = 2 * (cols * rows) as u64;
-    st.walked = walked;
-    st.fragments = frags.len() as u64;
-    let work = rec.map(|r| {
-        let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
-        let mut tex = vec![
-            record::texture("texture_sampler (F)", &u.f_tex),
-            record::texture("texture_sampler (h)", &u.h_tex),
-        ];
-        match jtex {
-            Some(t) => tex.push(record::texture("texture_sampler (J)", t)),
-            None => tex.extend(ctx.hil_textures()),
-        }
-        r.into_work(
-            (w, h),
-            tex,
-            record::blend_rop(cfg.fb_bits, depth_tested),
-            depth_tested,
-        )
-    });
-    log.push(ctr, st, work)?;
-    Ok(t)
+    r.into_work(
+        (w, h),
+        tex,
+        record::blend_rop(cfg.fb_bits, depth_tested),
+        depth_tested,
+    )
 }
 
 /// One mesh cell drawn: its shaded fragments, its units' spans and, when recording,
