@@ -971,32 +971,12 @@ fn object_pass(
         1 + u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
     );
     let mut c_int = Counters::default();
-    let lpos = vec3(ctx.light.position);
-    let medium = sc.medium;
     let mut frags_all: Vec<Fragment> = Vec::new();
     let tris: Vec<(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])> = (p.objects.iter())
         .flat_map(|o| o.triangles.iter().map(move |(tri, nrm)| (o, tri, nrm)))
         .collect();
     let host = |&(o, tri, nrm): &(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])| {
-        let attrs = |k: usize, pt: Vec3| {
-            let to_l = lpos - pt;
-            let s2 = to_l.dot(to_l).max(1e-12);
-            let lambert = nrm[k].dot(to_l.normalized()).max(0.0);
-            let tt = (pt - ctx.cam.eye).length();
-            let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
-            let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
-            let la = ctx.light_attrs(pt);
-            [
-                0.0,
-                (o.color[0] * light_scale * ctx.light.color[0]).min(1.0),
-                (o.color[1] * light_scale * ctx.light.color[1]).min(1.0),
-                (o.color[2] * light_scale * ctx.light.color[2]).min(1.0),
-                la[0],
-                la[1],
-                la[2],
-                la[3],
-            ]
-        };
+        let attrs = |k: usize, pt: Vec3| object_vertex_attrs(ctx, p, o.color, nrm[k], pt);
         project_tri(ctx.cam, tri, clipper.is_some(), attrs)
     };
     // When recording: each drawn triangle's first fragment in `frags_all` and its
@@ -1017,19 +997,8 @@ fn object_pass(
     counters_add(ctr, "polygon_interpolator", c_int);
     // The object pass is light work (a few thousand fragments): one chunk.
     let mut b = ChunkBuffers::default();
+    let (px, lanes) = object_lanes(&u.interp, &frags_all);
     let mut zspan = UnitSpan::default();
-    let px: Vec<PolyOut> = frags_all
-        .iter()
-        .map(|f| PolyOut {
-            x: f.x as i64,
-            y: f.y as i64,
-            inside: true,
-            attrs: f.attrs,
-        })
-        .collect();
-    let mut lanes = PolyLanes::default();
-    lanes.clear(u.interp.attrs() as usize);
-    px.iter().for_each(|f| lanes.push(f));
     ctx.visible(
         &lanes,
         (w, h),
@@ -1043,7 +1012,70 @@ fn object_pass(
     let mut spans = HilSpans::default();
     ctx.h_il(&lanes, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
-    let hil = &b.hil;
+    object_colour(ctx, &frags, &b.hil, fb, ctr);
+    let work = recording.then(|| object_work(ctx, log.bands, &prims, &px, &b, sc, (w, h)));
+    log.push(ctr, stats, work)
+}
+
+/// An object vertex's host attributes for light `ctx`: 0 (the depth's place), the
+/// vertex colour albedo · Lambert · I/s² · exp(−ρκ(s + T)) · exposure as a fraction of
+/// full scale (clamped at 1) per channel, and the light coordinates.
+fn object_vertex_attrs(
+    ctx: &LightCtx,
+    p: &Prepared,
+    color: [f64; 3],
+    normal: Vec3,
+    pt: Vec3,
+) -> [f64; 8] {
+    let medium = p.scene.medium;
+    let to_l = vec3(ctx.light.position) - pt;
+    let s2 = to_l.dot(to_l).max(1e-12);
+    let lambert = normal.dot(to_l.normalized()).max(0.0);
+    let tt = (pt - ctx.cam.eye).length();
+    let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
+    let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
+    let la = ctx.light_attrs(pt);
+    [
+        0.0,
+        (color[0] * light_scale * ctx.light.color[0]).min(1.0),
+        (color[1] * light_scale * ctx.light.color[1]).min(1.0),
+        (color[2] * light_scale * ctx.light.color[2]).min(1.0),
+        la[0],
+        la[1],
+        la[2],
+        la[3],
+    ]
+}
+
+/// The walked fragments as interpolator outputs (every one inside), and the same in
+/// lanes of `interp`'s attributes for the chunked units.
+fn object_lanes(interp: &PolygonInterpolator, frags: &[Fragment]) -> (Vec<PolyOut>, PolyLanes) {
+    let px: Vec<PolyOut> = frags
+        .iter()
+        .map(|f| PolyOut {
+            x: f.x as i64,
+            y: f.y as i64,
+            inside: true,
+            attrs: f.attrs,
+        })
+        .collect();
+    let mut lanes = PolyLanes::default();
+    lanes.clear(interp.attrs() as usize);
+    px.iter().for_each(|f| lanes.push(f));
+    (px, lanes)
+}
+
+/// The visible fragments' colour: each channel of the vertex colour (attributes
+/// 1..=3, unorm texel codes) modulated by H·I_l (`hil`, one per fragment), added into
+/// the framebuffer.
+fn object_colour(
+    ctx: &LightCtx,
+    frags: &[&PolyOut],
+    hil: &[u32],
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+) {
+    let u = ctx.units;
     let mut pairs = Vec::with_capacity(frags.len() * 3);
     for (f, &j) in frags.iter().zip(hil) {
         for c in 0..3 {
@@ -1053,49 +1085,61 @@ fn object_pass(
     }
     let m = modulate_all(&u.modulate, &pairs, ctr);
     let rgb: Vec<[u32; 3]> = m.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-    blend_into(&u.blend, fb, &frags, &rgb, ctr);
-    let work = recording.then(|| {
-        let depth_tested = ctx.units.zbuf.is_some() && ctx.zstate.is_some();
-        let mut rec = Rec::sampled(log.bands);
-        // The visible fragments (indices into `frags_all`, in walk order) per triangle,
-        // and the positions among them of those the record keeps.
-        let mut vis = b.visible.iter().enumerate().peekable();
-        let mut sel = Vec::new();
-        for (k, &(first, walked)) in prims.iter().enumerate() {
-            let end = prims.get(k + 1).map_or(frags_all.len(), |p| p.0);
-            rec.prim(walked);
-            let mut visible = 0;
-            for (c, f) in px.iter().enumerate().take(end).skip(first) {
-                match vis.peek() {
-                    Some(&(j, &i)) if i as usize == c => {
-                        if rec.frag(f.x, f.y) {
-                            sel.push(j as u32);
-                        }
-                        visible += 1;
-                        vis.next();
+    blend_into(&u.blend, fb, frags, &rgb, ctr);
+}
+
+/// The object pass's record: per drawn triangle (`prims`: its first fragment in `px`
+/// and its walked pixels) its visible fragments (`b.visible`, indices into `px` in
+/// walk order) and, depth-tested, those the test killed; the kept fragments' H·I_l
+/// texels.
+fn object_work(
+    ctx: &LightCtx,
+    bands: Option<SampleBands>,
+    prims: &[(usize, u64)],
+    px: &[PolyOut],
+    b: &ChunkBuffers,
+    sc: &Scene,
+    (w, h): (u32, u32),
+) -> PassWork {
+    let depth_tested = ctx.units.zbuf.is_some() && ctx.zstate.is_some();
+    let mut rec = Rec::sampled(bands);
+    // The visible fragments (indices into `px`, in walk order) per triangle, and the
+    // positions among them of those the record keeps.
+    let mut vis = b.visible.iter().enumerate().peekable();
+    let mut sel = Vec::new();
+    for (k, &(first, walked)) in prims.iter().enumerate() {
+        let end = prims.get(k + 1).map_or(px.len(), |p| p.0);
+        rec.prim(walked);
+        let mut visible = 0;
+        for (c, f) in px.iter().enumerate().take(end).skip(first) {
+            match vis.peek() {
+                Some(&(j, &i)) if i as usize == c => {
+                    if rec.frag(f.x, f.y) {
+                        sel.push(j as u32);
                     }
-                    _ if depth_tested => rec.killed_at(f.x, f.y),
-                    _ => {}
+                    visible += 1;
+                    vis.next();
                 }
-            }
-            if depth_tested {
-                rec.killed((end - first) - visible);
+                _ if depth_tested => rec.killed_at(f.x, f.y),
+                _ => {}
             }
         }
-        let kept = if sel.len() == b.visible.len() {
-            record::Kept::All
-        } else {
-            record::Kept::Some(sel)
-        };
-        let (mut lm, mut sm) = (Vec::new(), Vec::new());
-        ctx.hil_footprint(&b, &mut lm, &mut sm);
-        let tex = ctx.hil_textures();
-        let runs = ctx.hil_runs(&lm, &sm);
-        record::interleave_kept(&runs, b.visible.len(), &kept, &mut rec.texels);
-        let rop = record::blend_rop(sc.shafts.fb_bits, depth_tested);
-        rec.into_work((w, h), tex, rop, depth_tested)
-    });
-    log.push(ctr, stats, work)
+        if depth_tested {
+            rec.killed((end - first) - visible);
+        }
+    }
+    let kept = if sel.len() == b.visible.len() {
+        record::Kept::All
+    } else {
+        record::Kept::Some(sel)
+    };
+    let (mut lm, mut sm) = (Vec::new(), Vec::new());
+    ctx.hil_footprint(b, &mut lm, &mut sm);
+    let tex = ctx.hil_textures();
+    let runs = ctx.hil_runs(&lm, &sm);
+    record::interleave_kept(&runs, b.visible.len(), &kept, &mut rec.texels);
+    let rop = record::blend_rop(sc.shafts.fb_bits, depth_tested);
+    rec.into_work((w, h), tex, rop, depth_tested)
 }
 
 /// A window depth in [0, 1] → a depth word.
