@@ -450,26 +450,18 @@ impl LightCtx<'_> {
             spans
                 .proj_depth
                 .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);
-            let res = sh.width();
-            let of = u.proj.out_format().frac_bits;
-            let shift = of - res.trailing_zeros().min(of);
-            let dbits = sh.depth_bits();
-            let dfrac = u.proj_depth.out_format().frac_bits;
+            let at = ShadowAddress::new(u, sh);
             b.shadow_in.clear();
-            b.shadow_in
-                .extend(b.proj_out.iter().zip(&b.pdepth_out).map(|(o, d)| {
-                    let dv = d.u.max(0) as i64;
-                    let word = if dbits >= dfrac {
-                        dv << (dbits - dfrac)
-                    } else {
-                        dv >> (dfrac - dbits)
-                    };
-                    ShadowIn::Test {
-                        x: o.u >> shift,
-                        y: o.v >> shift,
-                        depth: word.min(max_code(dbits) as i64) as u64,
-                    }
-                }));
+            b.shadow_in.extend(
+                b.proj_out
+                    .iter()
+                    .zip(&b.pdepth_out)
+                    .map(|(o, d)| ShadowIn::Test {
+                        x: at.texel(o.u),
+                        y: at.texel(o.v),
+                        depth: at.depth_word(d.u),
+                    }),
+            );
             spans
                 .shadow
                 .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
@@ -530,24 +522,24 @@ impl LightCtx<'_> {
         );
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
+        self.pair_lit(sh, ss, n, spans, b);
+        self.pair_light_map(lm, n, spans, b);
+        true
+    }
+
+    /// [`Self::h_il_pair`]'s shadow compare: whether the shadow map lights each of the
+    /// `n` fragments into `b.lit`, at the light-space texel of the projective lanes
+    /// (`b.proj_lanes`), the depth (`b.pdepth_u`) through the same q.
+    fn pair_lit(
+        &self,
+        sh: &ShadowCompare,
+        ss: &ShadowState,
+        n: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let at = ShadowAddress::new(self.units, sh);
         let pl = &b.proj_lanes;
-        let one = 1i32 << u.proj.out_format().frac_bits;
-        // The shadow map at the light-space texel, the depth through the same q.
-        let res = sh.width();
-        let of = u.proj.out_format().frac_bits;
-        let shift = of - res.trailing_zeros().min(of);
-        let dbits = sh.depth_bits();
-        let dfrac = u.proj_depth.out_format().frac_bits;
-        let dmax = max_code(dbits) as i64;
-        let depth_word = |d: i32| -> u64 {
-            let dv = d.max(0) as i64;
-            let word = if dbits >= dfrac {
-                dv << (dbits - dfrac)
-            } else {
-                dv >> (dfrac - dbits)
-            };
-            word.min(dmax) as u64
-        };
         b.lit.clear();
         // On the shadow map's unpacked words: the lit bits in lanes, no test words.
         let tested = self.swords.and_then(|words| {
@@ -555,7 +547,7 @@ impl LightCtx<'_> {
             sh.test_lit_lanes(
                 words,
                 n,
-                |i| (pl.u[i] >> shift, pl.v[i] >> shift, depth_word(pd[i])),
+                |i| (at.texel(pl.u[i]), at.texel(pl.v[i]), at.depth_word(pd[i])),
                 &mut b.lit,
                 &mut spans.shadow.ctr,
             )
@@ -570,9 +562,9 @@ impl LightCtx<'_> {
                             .zip(&pl.v)
                             .zip(&b.pdepth_u)
                             .map(|((&pu, &pv), &d)| ShadowIn::Test {
-                                x: pu >> shift,
-                                y: pv >> shift,
-                                depth: depth_word(d),
+                                x: at.texel(pu),
+                                y: at.texel(pv),
+                                depth: at.depth_word(d),
                             }),
                     );
                 spans
@@ -581,8 +573,22 @@ impl LightCtx<'_> {
                 b.lit.extend(b.shadow_out.iter().map(|o| o.lit));
             }
         }
-        // The light map: a sample behind the projector, outside the light's square or
-        // in shadow gives H·I_l = 0 whatever its value: not filtered, only counted.
+    }
+
+    /// [`Self::h_il_pair`]'s light map: H·I_l of the `n` fragments into `b.hil`, the
+    /// light map's sample at the projective lanes' texel where kept, else 0.
+    fn pair_light_map(
+        &self,
+        lm: &TextureSampler,
+        n: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let u = self.units;
+        let pl = &b.proj_lanes;
+        let one = 1i32 << u.proj.out_format().frac_bits;
+        // A sample behind the projector, outside the light's square or in shadow
+        // gives H·I_l = 0 whatever its value: not filtered, only counted.
         let log2 = lm.size()[0].trailing_zeros();
         let fr = lm.coord_frac_bits();
         b.tex_s.clear();
@@ -625,7 +631,48 @@ impl LightCtx<'_> {
                 }
             }
         }
-        true
+    }
+}
+
+/// Where a fragment meets the shadow map: the projective unit's u, v (`of` fraction
+/// bits, 1.0 = the map's side) shifted onto the map's texel grid, and the depth
+/// unit's output (`dfrac` fraction bits) as a `dbits` depth word, clamped at its
+/// full scale.
+#[derive(Clone, Copy, Debug)]
+struct ShadowAddress {
+    shift: u32,
+    dbits: u32,
+    dfrac: u32,
+    dmax: i64,
+}
+
+impl ShadowAddress {
+    fn new(u: &Units, sh: &ShadowCompare) -> Self {
+        let res = sh.width();
+        let of = u.proj.out_format().frac_bits;
+        let dbits = sh.depth_bits();
+        ShadowAddress {
+            shift: of - res.trailing_zeros().min(of),
+            dbits,
+            dfrac: u.proj_depth.out_format().frac_bits,
+            dmax: max_code(dbits) as i64,
+        }
+    }
+
+    /// A projective coordinate → the shadow map's texel index.
+    fn texel(&self, c: i32) -> i32 {
+        c >> self.shift
+    }
+
+    /// The depth unit's output (negative: 0) → the shadow map's depth word.
+    fn depth_word(&self, d: i32) -> u64 {
+        let dv = d.max(0) as i64;
+        let word = if self.dbits >= self.dfrac {
+            dv << (self.dbits - self.dfrac)
+        } else {
+            dv >> (self.dfrac - self.dbits)
+        };
+        word.min(self.dmax) as u64
     }
 }
 
