@@ -298,42 +298,61 @@ struct LightState {
     sstate: Option<ShadowState>,
 }
 
-impl<'a> ShaftsFrame<'a> {
-    /// Configure the units for the scene; the framebuffer starts as `fb` (what earlier
-    /// passes of the frame drew, at `shafts.fb_bits`) or black.
-    pub fn new(p: &'a Prepared, fb: Option<Framebuffer>) -> Result<Self, ConfigError> {
+/// The h for which one plane adds full scale at the screen's corner (h_ref is at most
+/// this; `shafts.h_cap`). One plane at full F, h, J and the brightest light adds
+/// F_max·h_ref·I·Δt·exposure levels, Δt = Δr·t/r growing off-axis to Δr/cos of the
+/// corner ray; the vertex colour S·t/r cannot exceed full scale, so h_ref is at most
+/// the h for which the corner's is 255 (beyond it h clamps, counted, instead of the
+/// colour).
+fn h_ceiling(p: &Prepared, cam: &CameraView) -> f64 {
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
+    let corner_cos = cam.ray_dir(0.0, 0.0).dot(cam.forward).clamp(1e-6, 1.0);
+    let i_max = sc
+        .lights
+        .iter()
+        .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    let f_ref = crate::reference::shafts_model::phase_f(p.f_alpha(), sc.medium.k);
+    let denom = f_ref * i_max * dr * p.exposure / corner_cos;
+    match cfg.h_cap {
+        HCap::OnePlane if denom > 0.0 => 255.0 / denom,
+        HCap::OnePlane => 0.0,
+        // `shafts.h_cap = "none"`: h_ref = h(s_near, 0); the colour saturates.
+        HCap::None => f64::INFINITY,
+    }
+}
+
+/// The frame's framebuffer: `fb` when it is `w` × `h` at `bits` (what earlier passes
+/// drew), an error naming `shafts.fb_bits` when it is not, or a black one.
+fn frame_buffer(
+    fb: Option<Framebuffer>,
+    w: u32,
+    h: u32,
+    bits: u32,
+) -> Result<Framebuffer, ConfigError> {
+    match fb {
+        Some(f) if (f.width, f.height, f.bits) == (w, h, bits) => Ok(f),
+        Some(f) => Err(ConfigError::invalid(
+            "shafts.fb_bits",
+            &format!(
+                "the frame's framebuffer is {} × {} at {} bits, the shafts pass needs {w} × {h} at {}",
+                f.width, f.height, f.bits, bits
+            ),
+        )),
+        None => Ok(Framebuffer::new(w, h, bits)),
+    }
+}
+
+impl Units {
+    /// The frame's units configured from the scene (`tables`: the F and h textures'
+    /// contents). The unit configs come from the scene's limits module, which
+    /// validation builds too (one source of limits); errors name the scene's fields.
+    fn new(p: &Prepared, tables: &GTables) -> Result<Self, ConfigError> {
         let sc = &p.scene;
         let cfg = sc.shafts;
-        let (w, h) = (sc.image.width, sc.image.height);
-        let cam = CameraView::new(&sc.camera, sc.image);
         let tex_bits = cfg.texel_bits;
-        // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δt·exposure
-        // levels, Δt = Δr·t/r growing off-axis to Δr/cos of the corner ray; the vertex
-        // colour S·t/r cannot exceed full scale, so h_ref is at most the h for which the
-        // corner's is 255 (beyond it h clamps, counted, instead of the colour).
-        let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
-        let cam0 = CameraView::new(&sc.camera, sc.image);
-        let corner_cos = cam0.ray_dir(0.0, 0.0).dot(cam0.forward).clamp(1e-6, 1.0);
-        let i_max = sc
-            .lights
-            .iter()
-            .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
-            .fold(0.0, f64::max);
-        let f_alpha = p.f_alpha();
-        let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
-        let denom = f_ref * i_max * dr * p.exposure / corner_cos;
-        let h_ceiling = match cfg.h_cap {
-            HCap::OnePlane if denom > 0.0 => 255.0 / denom,
-            HCap::OnePlane => 0.0,
-            // `shafts.h_cap = "none"`: h_ref = h(s_near, 0); the colour saturates.
-            HCap::None => f64::INFINITY,
-        };
-        let tables = tables::build(
-            &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
-        );
-
-        // The unit configs come from the scene's limits module, which validation
-        // builds too (one source of limits).
         let interp = limits::shafts_interpolator(&cfg).build()?;
         let sampler_cfg = |dims: u32, size: [u32; 3]| limits::shafts_sampler(sc, dims, size);
         let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
@@ -348,7 +367,7 @@ impl<'a> ShaftsFrame<'a> {
             .objects
             .iter()
             .any(|o| o.occluder && !o.triangles.is_empty());
-        let units = Units {
+        Ok(Units {
             interp,
             f_tex,
             h_tex,
@@ -377,28 +396,39 @@ impl<'a> ShaftsFrame<'a> {
             } else {
                 None
             },
-        };
+        })
+    }
+}
 
-        let fb = match fb {
-            Some(f) if (f.width, f.height, f.bits) == (w, h, cfg.fb_bits) => f,
-            Some(f) => {
-                return Err(ConfigError::invalid(
-                    "shafts.fb_bits",
-                    &format!(
-                        "the frame's framebuffer is {} × {} at {} bits, the shafts pass needs {w} × {h} at {}",
-                        f.width, f.height, f.bits, cfg.fb_bits
-                    ),
-                ))
-            }
-            None => Framebuffer::new(w, h, cfg.fb_bits),
-        };
+impl<'a> ShaftsFrame<'a> {
+    /// Configure the units for the scene; the framebuffer starts as `fb` (what earlier
+    /// passes of the frame drew, at `shafts.fb_bits`) or black.
+    pub fn new(p: &'a Prepared, fb: Option<Framebuffer>) -> Result<Self, ConfigError> {
+        let sc = &p.scene;
+        let cfg = sc.shafts;
+        let cam = CameraView::new(&sc.camera, sc.image);
+        let tables = tables::build(
+            &sc.medium,
+            &cfg,
+            p.s_max,
+            p.t_max,
+            p.s_near,
+            p.f_alpha(),
+            h_ceiling(p, &cam),
+        );
+        let units = Units::new(p, &tables)?;
+        let fb = frame_buffer(fb, sc.image.width, sc.image.height, cfg.fb_bits)?;
         let zstate = units.zbuf.as_ref().map(|z| z.fresh_state());
         Ok(ShaftsFrame {
             p,
             cam,
             tables,
             units,
-            sampler_cfg: sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]),
+            sampler_cfg: limits::shafts_sampler(
+                sc,
+                2,
+                [cfg.light_map_texels, cfg.light_map_texels, 1],
+            ),
             fb,
             ctr: BTreeMap::new(),
             log: PassLog {
