@@ -139,7 +139,9 @@ struct PlaneCtx<'a> {
     bands: Option<SampleBands>,
 }
 
-/// The n sample planes (and their sub-planes when m > 1).
+/// The n sample planes (and their sub-planes when m > 1): per interval i, its
+/// sub-planes into the J buffer and the J buffer copied to the J texture (m > 1),
+/// then plane i.
 pub(super) fn planes_pass(
     ctx: &LightCtx,
     p: &Prepared,
@@ -148,30 +150,16 @@ pub(super) fn planes_pass(
     ctr: &mut BTreeMap<String, Counters>,
     log: &mut PassLog,
 ) -> Result<(), ConfigError> {
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (sc.image.width, sc.image.height);
+    let cfg = p.scene.shafts;
     let n = cfg.planes as usize;
-    let recording = log.recording();
     // What a sub-plane records: nothing, or every fragment or the sampled bands'.
-    let sub_record = recording.then_some(log.bands);
+    let sub_record = log.recording().then_some(log.bands);
     let m = cfg.subplanes as usize;
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
     let mut jtex: Option<TextureSampler> = None;
-    // The camera depth buffer is read-only here: its words unpacked once for every
-    // plane's and sub-plane's depth tests.
-    let zwords = match (&ctx.units.zbuf, ctx.zstate) {
-        (Some(z), Some(zs)) => z.words(zs),
-        _ => None,
-    };
+    let (zwords, swords) = unpacked_words(ctx);
     let zwords = zwords.as_deref();
-    // The shadow map is read-only here too: its words unpacked once for the H·I_l
-    // tests in lanes.
-    let swords = match (&ctx.units.shadow, ctx.sstate) {
-        (Some(sh), Some(ss)) => sh.words(ss),
-        _ => None,
-    };
     let ctx = &LightCtx {
         swords: swords.as_deref(),
         ..*ctx
@@ -191,35 +179,7 @@ pub(super) fn planes_pass(
         if m > 1 {
             let hils = pending.take().unwrap_or_else(|| hil_of(i));
             let jbuf = subplanes_into_j(ctx, p, hils, ctr, log)?;
-            // Copy to texture: read the J buffer, write the texture (memory traffic).
-            let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
-            let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
-            st.other_bytes = 2 * bytes;
-            let work = recording.then(|| PassWork {
-                width: w,
-                height: h,
-                copy_read_bytes: bytes,
-                copy_write_bytes: bytes,
-                ..PassWork::default()
-            });
-            log.push(ctr, st, work)?;
-            match jtex.as_mut() {
-                Some(t) => t.load(&jbuf)?,
-                None => {
-                    jtex = Some(TextureSampler::new(
-                        TextureSamplerConfig {
-                            dims: 2,
-                            size: [w, h, 1],
-                            texel_bits: cfg.texel_bits,
-                            coord_int_bits: 16,
-                            filter: Filter::Nearest,
-                            address: [AddressMode::Clamp; 3],
-                            ..TextureSamplerConfig::geforce()
-                        },
-                        &jbuf,
-                    )?)
-                }
-            }
+            copy_to_j_texture(ctx, p, &jbuf, &mut jtex, ctr, log)?;
         }
         let next = m > 1 && i + 1 < n;
         pending = plane(
@@ -238,6 +198,66 @@ pub(super) fn planes_pass(
         )?;
         // One step of `render`'s bar per plane (nothing when no bar is installed).
         crate::report::progress::frame_step(1);
+    }
+    Ok(())
+}
+
+/// The camera depth buffer's and the shadow map's words, unpacked once for every
+/// plane's and sub-plane's tests in lanes: both are read-only during the planes pass.
+/// `None` for a buffer the light's passes do not have.
+fn unpacked_words(ctx: &LightCtx) -> (Option<Vec<u32>>, Option<Vec<u32>>) {
+    let zwords = match (&ctx.units.zbuf, ctx.zstate) {
+        (Some(z), Some(zs)) => z.words(zs),
+        _ => None,
+    };
+    let swords = match (&ctx.units.shadow, ctx.sstate) {
+        (Some(sh), Some(ss)) => sh.words(ss),
+        _ => None,
+    };
+    (zwords, swords)
+}
+
+/// The J buffer copied to the J texture: read the J buffer and write the texture (a
+/// copy pass of memory traffic only), the texture made at the first copy and loaded
+/// at each next one.
+fn copy_to_j_texture(
+    ctx: &LightCtx,
+    p: &Prepared,
+    jbuf: &[u32],
+    jtex: &mut Option<TextureSampler>,
+    ctr: &mut BTreeMap<String, Counters>,
+    log: &mut PassLog,
+) -> Result<(), ConfigError> {
+    let cfg = p.scene.shafts;
+    let (w, h) = (p.scene.image.width, p.scene.image.height);
+    let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
+    let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
+    st.other_bytes = 2 * bytes;
+    let work = log.recording().then(|| PassWork {
+        width: w,
+        height: h,
+        copy_read_bytes: bytes,
+        copy_write_bytes: bytes,
+        ..PassWork::default()
+    });
+    log.push(ctr, st, work)?;
+    match jtex.as_mut() {
+        Some(t) => t.load(jbuf)?,
+        None => {
+            // A w × h texture of texel_bits, sampled at pixel centres (nearest).
+            *jtex = Some(TextureSampler::new(
+                TextureSamplerConfig {
+                    dims: 2,
+                    size: [w, h, 1],
+                    texel_bits: cfg.texel_bits,
+                    coord_int_bits: 16,
+                    filter: Filter::Nearest,
+                    address: [AddressMode::Clamp; 3],
+                    ..TextureSamplerConfig::geforce()
+                },
+                jbuf,
+            )?)
+        }
     }
     Ok(())
 }
