@@ -9,7 +9,7 @@
 //! kernel counters summed chunk by chunk and its timing added once when the span
 //! closes ((n − 1)·II + latency + 1 cycles are not a sum over chunks).
 
-use super::frame::{counters_add, Units};
+use super::units::{counters_add, Units};
 use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;

@@ -8,14 +8,14 @@
 //! do not depend on the chunking or the thread count.
 
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
-use super::frame::{
-    attr_unorm, counters_add, light_color_codes, unit_depth_word, PassKind, PassLog, PassStats,
-    PassWork, Prepared, ATTR_FRAC, SUBPLANE_BATCH, ZBUF_BITS,
-};
+use super::pass_log::PassLog;
+use super::prepare::Prepared;
 use super::record::{self, Rec};
-use super::tables::GTables;
+use super::tables::{self, GTables};
+use super::units::{attr_unorm, counters_add, unit_depth_word, ATTR_FRAC, ZBUF_BITS};
 use super::view::vec3;
-use crate::chip::work::SampleBands;
+use crate::chip::work::{PassWork, SampleBands};
+use crate::chip::{PassKind, PassStats};
 use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{PlaneStep, ShaftsConfig};
@@ -30,6 +30,10 @@ use rtl_model::units::texture_sampler::{
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit};
 use std::collections::BTreeMap;
+
+/// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
+/// fragment list each). Fixed, so the work split never depends on the thread count.
+const SUBPLANE_BATCH: usize = 4;
 
 /// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l, whether
 /// their rows never go up, and the counters of the units that made them.
@@ -713,6 +717,20 @@ fn plane_work(
         tex,
         record::blend_rop(cfg.fb_bits, depth_tested),
         depth_tested,
+    )
+}
+
+/// Light colour as texel codes (normalised by its largest component, which goes
+/// into the intensity).
+fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3], f64) {
+    let m = l.color.iter().cloned().fold(0.0, f64::max);
+    if m <= 0.0 {
+        return ([0; 3], 0.0);
+    }
+    (
+        l.color
+            .map(|c| tables::unorm_from_unit(c / m, tex_max.trailing_ones())),
+        l.intensity * m,
     )
 }
 

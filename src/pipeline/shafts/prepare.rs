@@ -1,10 +1,53 @@
 //! Host preparation of a scene for the shafts pipeline: the depth range the sample
 //! planes must cover, and the ranges of the h table.
 
-use super::frame::{ObjectMesh, Prepared};
 use super::view::{vec3, CameraView};
 use crate::scene::format::{LightKind, Scene};
 use crate::scene::math::Vec3;
+
+/// A tessellated object as the host hands it to the pipeline.
+#[derive(Clone, Debug)]
+pub struct ObjectMesh {
+    /// Triangles: positions and per-vertex unit normals.
+    pub triangles: Vec<([Vec3; 3], [Vec3; 3])>,
+    pub color: [f64; 3],
+    pub occluder: bool,
+    /// Coloured by this pipeline's object pass: true for a Lambert object without a
+    /// material; an object with one is shaded by the shading units instead (it still
+    /// enters the depth buffer and, as an occluder, the shadow maps).
+    pub colour_pass: bool,
+}
+
+/// What the host prepares once per scene.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    pub scene: Scene,
+    pub objects: Vec<ObjectMesh>,
+    /// Per light: light-map texels (`shafts.light_map_texels`², unorm texel_bits) or None
+    /// (point lights).
+    pub light_maps: Vec<Option<Vec<u32>>>,
+    /// View depths bounding the lit volume: planes fill [r0, r1].
+    pub plane_range: (f64, f64),
+    /// h table ranges and the nearest light distance (sets h_ref).
+    pub s_max: f64,
+    pub t_max: f64,
+    pub s_near: f64,
+    /// Smallest scattering angle in the lit volume (sets the F table's full scale).
+    pub alpha_min: f64,
+    /// Output scale: radiance 1.0 = `exposure` 8-bit levels.
+    pub exposure: f64,
+}
+
+impl Prepared {
+    /// The α whose F is the F table's full scale: 0 (the table's maximum) or the lit
+    /// volume's smallest scattering angle (`shafts.f_scale`).
+    pub fn f_alpha(&self) -> f64 {
+        match self.scene.shafts.f_scale {
+            crate::scene::format::FScale::Table => 0.0,
+            crate::scene::format::FScale::LitVolume => self.alpha_min,
+        }
+    }
+}
 
 /// Radiance 1.0 maps to this many 8-bit levels by default.
 pub const DEFAULT_EXPOSURE: f64 = 255.0;
