@@ -23,7 +23,7 @@ use crate::scene::math::Vec3;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::blend::{Blend, BlendIn};
-use rtl_model::units::polygon_interpolator::PolyLanes;
+use rtl_model::units::polygon_interpolator::{PolyLanes, PolySetup};
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -279,90 +279,114 @@ fn subplanes_hil(
     dr: f64,
     recording: Option<Option<SampleBands>>,
 ) -> Vec<Result<SubPlaneHil, ConfigError>> {
-    let u = ctx.units;
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (sc.image.width, sc.image.height);
-    let m = cfg.subplanes as usize;
-    let sub = |j: usize| -> Result<SubPlaneHil, ConfigError> {
-        let mut local = BTreeMap::new();
-        let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-        // A full-screen rectangle: its light coordinates are affine (the sub-plane is
-        // parallel to the screen): one walk as a parallelogram.
-        let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
-        let hv = corners.map(|(x, y)| {
-            let pt = ctx.cam.point_at(x, y, uj);
-            let la = ctx.light_attrs(pt);
-            HostVertex {
-                x,
-                y,
-                attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
-            }
-        });
-        let mut c_int = Counters::default();
-        let q = quantise(&u.interp, &hv, &mut c_int)?;
-        let setup = u.interp.setup_parallelogram(&q, &mut c_int)?;
-        let zsub = ctx
-            .cam
-            .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
-            .map_or(1.0, |v| v.2);
-        let zw = unit_depth_word(zsub, ZBUF_BITS);
-        let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
-        let mut b = ChunkBuffers::default();
-        // At most one fragment per pixel: no growing (and copying) on the way.
-        let (mut pix, mut hil) = (
-            Vec::with_capacity((w * h) as usize),
-            Vec::with_capacity((w * h) as usize),
-        );
-        // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
-        // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
-        let mut wb = WalkBuffers::unread(0b1111);
-        let (mut rows_in_order, mut last_y) = (true, 0);
-        // One primitive (the parallelogram) walking the whole screen.
-        let mut rec = recording.map(|bands| {
-            let mut r = Rec::sampled(bands);
-            // At most one fragment per pixel (of the sampled units, about one pixel in
-            // `every`).
-            let px = ((w * h) / bands.map_or(1, |b| b.every.max(1))) as usize;
-            r.xy.reserve(px);
-            r.texels
-                .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
-            r.prim((w * h) as u64);
-            r
-        });
-        let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
-        let (mut lm, mut sm) = (Vec::new(), Vec::new());
-        walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-            ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
-            ctx.h_il(px, 4, &mut spans, &mut b);
-            if let Some(r) = rec.as_mut() {
-                let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
-                if !kept.is_none() {
-                    ctx.hil_footprint(&b, &mut lm, &mut sm);
-                    let runs = ctx.hil_runs(&lm, &sm);
-                    record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
-                }
-            }
-            pix.extend(b.visible.iter().map(|&i| {
-                let i = i as usize;
-                let y = px.y[i] as u32;
-                rows_in_order &= y >= last_y;
-                last_y = y;
-                y * w + px.x[i] as u32
-            }));
-            hil.extend_from_slice(&b.hil);
-        });
-        counters_add(&mut local, "polygon_interpolator", c_int);
-        ctx.close_visible(zspan, &mut local);
-        spans.close(ctx, &mut local);
-        Ok((pix, hil, rows_in_order, local, rec))
-    };
+    let m = p.scene.shafts.subplanes as usize;
     let all: Vec<usize> = (0..m).collect();
     let mut out = Vec::with_capacity(m);
     for batch in all.chunks(SUBPLANE_BATCH) {
-        out.par_extend(batch.par_iter().map(|&j| sub(j)));
+        out.par_extend(batch.par_iter().map(|&j| {
+            // Sub-plane j at the middle of the interval's j-th m-th.
+            let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
+            subplane_hil(ctx, p, zwords, uj, recording)
+        }));
     }
     out
+}
+
+/// The sub-plane at eye distance `uj`: a full-screen parallelogram walked, its pixels
+/// depth-tested at the sub-plane's window depth, and the visible ones' H·I_l, with
+/// the counters of the units that made them (and, when `recording`, its record).
+fn subplane_hil(
+    ctx: &LightCtx,
+    p: &Prepared,
+    zwords: Option<&[u32]>,
+    uj: f64,
+    recording: Option<Option<SampleBands>>,
+) -> Result<SubPlaneHil, ConfigError> {
+    let u = ctx.units;
+    let (w, h) = (p.scene.image.width, p.scene.image.height);
+    let mut local = BTreeMap::new();
+    let mut c_int = Counters::default();
+    let setup = subplane_setup(ctx, (w, h), uj, &mut c_int)?;
+    let zsub = ctx
+        .cam
+        .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
+        .map_or(1.0, |v| v.2);
+    let zw = unit_depth_word(zsub, ZBUF_BITS);
+    let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
+    let mut b = ChunkBuffers::default();
+    // At most one fragment per pixel: no growing (and copying) on the way.
+    let (mut pix, mut hil) = (
+        Vec::with_capacity((w * h) as usize),
+        Vec::with_capacity((w * h) as usize),
+    );
+    // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
+    // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
+    let mut wb = WalkBuffers::unread(0b1111);
+    let (mut rows_in_order, mut last_y) = (true, 0);
+    let mut rec = recording.map(|bands| subplane_rec(ctx, bands, (w, h)));
+    let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+    let (mut lm, mut sm) = (Vec::new(), Vec::new());
+    walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
+        ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
+        ctx.h_il(px, 4, &mut spans, &mut b);
+        if let Some(r) = rec.as_mut() {
+            let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
+            if !kept.is_none() {
+                ctx.hil_footprint(&b, &mut lm, &mut sm);
+                let runs = ctx.hil_runs(&lm, &sm);
+                record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
+            }
+        }
+        pix.extend(b.visible.iter().map(|&i| {
+            let i = i as usize;
+            let y = px.y[i] as u32;
+            rows_in_order &= y >= last_y;
+            last_y = y;
+            y * w + px.x[i] as u32
+        }));
+        hil.extend_from_slice(&b.hil);
+    });
+    counters_add(&mut local, "polygon_interpolator", c_int);
+    ctx.close_visible(zspan, &mut local);
+    spans.close(ctx, &mut local);
+    Ok((pix, hil, rows_in_order, local, rec))
+}
+
+/// The sub-plane at eye distance `uj` set up as one full-screen parallelogram: its
+/// light coordinates are affine (the sub-plane is parallel to the screen), so one walk
+/// covers the `w` × `h` screen. Only attributes 4..=7 (s, t, r, q) carry values.
+fn subplane_setup(
+    ctx: &LightCtx,
+    (w, h): (u32, u32),
+    uj: f64,
+    c_int: &mut Counters,
+) -> Result<PolySetup, ConfigError> {
+    let u = ctx.units;
+    let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
+    let hv = corners.map(|(x, y)| {
+        let pt = ctx.cam.point_at(x, y, uj);
+        let la = ctx.light_attrs(pt);
+        HostVertex {
+            x,
+            y,
+            attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
+        }
+    });
+    let q = quantise(&u.interp, &hv, c_int)?;
+    u.interp.setup_parallelogram(&q, c_int)
+}
+
+/// A sub-plane's record, started: one primitive (the parallelogram) walking the whole
+/// `w` × `h` screen, room reserved for at most one fragment per pixel (of the sampled
+/// units, about one pixel in `every`) and its H·I_l texels.
+fn subplane_rec(ctx: &LightCtx, bands: Option<SampleBands>, (w, h): (u32, u32)) -> Rec {
+    let mut r = Rec::sampled(bands);
+    let px = ((w * h) / bands.map_or(1, |b| b.every.max(1))) as usize;
+    r.xy.reserve(px);
+    r.texels
+        .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
+    r.prim((w * h) as u64);
+    r
 }
 
 /// An interval's sub-planes' H·I_l ([`subplanes_hil`]) merged in sub-plane order and
@@ -768,14 +792,9 @@ fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell,
     Ok((out, spans, rec))
 }
 
-/// The per-fragment product J · S · F · colour · h of one chunk, one 8-bit modulate at
-/// a time, largest factors first: each modulate rounds to a whole code, so an
-/// intermediate that has shrunk to a few codes carries a large relative error (a 1
-/// stays 1 under any factor ≥ 128/255). J (≤ full scale in the light), the plane
-/// scale S·t/r (near full scale by the choice of h_ref) and F (near full scale by the
-/// choice of F_ref) keep the product large; h, which spans the 1/s² range and is a
-/// few codes far from the light, comes last, so only the final rounding acts on the
-/// small value (docs/shafts.md).
+/// One chunk of a plane's walk: its fragments depth-tested, F(α), h(s, t) and J
+/// sampled in lanes, recorded when recording, and their product
+/// ([`modulate_chain`]) into `out`.
 fn shade_chunk(
     pc: &PlaneCtx,
     px: &PolyLanes,
@@ -785,9 +804,7 @@ fn shade_chunk(
     out: &mut Vec<PlaneFrag>,
     rec: Option<&mut Rec>,
 ) {
-    let ctx = pc.ctx;
-    let u = ctx.units;
-    ctx.visible_flat(
+    pc.ctx.visible_flat(
         px,
         viewport,
         pc.zword,
@@ -795,10 +812,22 @@ fn shade_chunk(
         &mut sp.zbuf,
         &mut b.chunk,
     );
+    sample_f_h(pc, px, sp, b);
+    sample_j(pc, px, sp, b);
+    if let Some(r) = rec {
+        record_chunk(pc, px, viewport, b, r);
+    }
+    modulate_chain(pc, px, sp, b, out);
+}
+
+/// F(α) and h(s, t) of the chunk's visible fragments in lanes: coordinate words
+/// (attributes 0, 1 and 2 shifted to `coord_frac_bits`) in `b.f_s`, `b.h_s`,
+/// `b.h_t`, one code per fragment out in `b.f_o`, `b.h_o`.
+fn sample_f_h(pc: &PlaneCtx, px: &PolyLanes, sp: &mut PlaneSpans, b: &mut PlaneBuffers) {
+    let u = pc.ctx.units;
     let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
     let [alpha, hs, ht] = [&px.attrs[0], &px.attrs[1], &px.attrs[2]];
-    // F(α) and h(s, t) in lanes: coordinate words in, one code per fragment out.
     b.f_s.clear();
     b.f_s
         .extend(vis.iter().map(|&i| (alpha[i as usize] >> sh) as i32));
@@ -817,8 +846,12 @@ fn shade_chunk(
         &mut b.h_in,
         &mut b.h_out,
     );
+}
 
-    // J: the sub-plane average (m > 1) or H·I_l on the plane itself (m = 1).
+/// J of the chunk's visible fragments into `b.m_a`: the sub-plane average from the J
+/// texture at the pixel centres (m > 1) or H·I_l on the plane itself (m = 1).
+fn sample_j(pc: &PlaneCtx, px: &PolyLanes, sp: &mut PlaneSpans, b: &mut PlaneBuffers) {
+    let vis = &b.chunk.visible;
     match pc.jtex {
         Some(t) => {
             let fr = t.coord_frac_bits();
@@ -830,16 +863,31 @@ fn shade_chunk(
             sp.j.feed_sampler_lanes(t, &b.j_s, &b.j_t, &mut b.m_a, &mut b.j_in, &mut b.j_out);
         }
         None => {
-            ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
+            pc.ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
             b.m_a.clear();
             b.m_a.extend_from_slice(&b.chunk.hil);
         }
     }
-    if let Some(r) = rec {
-        record_chunk(pc, px, viewport, b, r);
-    }
+}
+
+/// The per-fragment product J · S · F · colour · h of one chunk, one 8-bit modulate at
+/// a time, largest factors first: each modulate rounds to a whole code, so an
+/// intermediate that has shrunk to a few codes carries a large relative error (a 1
+/// stays 1 under any factor ≥ 128/255). J (≤ full scale in the light), the plane
+/// scale S·t/r (near full scale by the choice of h_ref) and F (near full scale by the
+/// choice of F_ref) keep the product large; h, which spans the 1/s² range and is a
+/// few codes far from the light, comes last, so only the final rounding acts on the
+/// small value (docs/shafts.md).
+fn modulate_chain(
+    pc: &PlaneCtx,
+    px: &PolyLanes,
+    sp: &mut PlaneSpans,
+    b: &mut PlaneBuffers,
+    out: &mut Vec<PlaneFrag>,
+) {
+    let ctx = pc.ctx;
     let vis = &b.chunk.visible;
-    let md = &u.modulate;
+    let md = &ctx.units.modulate;
     let n = vis.len();
     let (s_attr, tex_max) = (&px.attrs[3], ctx.tex_max);
     // J · S
