@@ -412,64 +412,11 @@ impl LightCtx<'_> {
                 .feed(&u.proj, &mut (), &b.proj_in, &mut b.proj_out);
         }
         match self.lm_tex {
-            Some(lm) => {
-                let log2 = lm.size()[0].trailing_zeros();
-                let fr = lm.coord_frac_bits();
-                b.tex_in.clear();
-                b.tex_in.extend(b.proj_out.iter().map(|o| TextureSamplerIn {
-                    coord: [
-                        texel_word(o.u, log2, &u.proj, fr),
-                        texel_word(o.v, log2, &u.proj, fr),
-                        0,
-                    ],
-                }));
-                // A sample outside the light's square or behind the projector is
-                // replaced by 0 below: not filtered, only counted.
-                let one = 1i32 << u.proj.out_format().frac_bits;
-                b.tex_keep.clear();
-                b.tex_keep.extend(
-                    b.proj_out
-                        .iter()
-                        .map(|p| !p.behind && (0..=one).contains(&p.u) && (0..=one).contains(&p.v)),
-                );
-                spans
-                    .light_map
-                    .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
-                b.hil.extend(b.tex_out.iter().map(|t| t[0]));
-            }
+            Some(lm) => self.general_light_map(lm, spans, b),
             None => b.hil.resize(n, self.tex_max),
         }
         if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
-            // (r, 0, q): the depth through the same reciprocal (t has no wire here).
-            projective_inputs(
-                px,
-                &b.visible,
-                [base + 2, usize::MAX, base + 3],
-                &mut b.pdepth_in,
-            );
-            spans
-                .proj_depth
-                .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);
-            let at = ShadowAddress::new(u, sh);
-            b.shadow_in.clear();
-            b.shadow_in.extend(
-                b.proj_out
-                    .iter()
-                    .zip(&b.pdepth_out)
-                    .map(|(o, d)| ShadowIn::Test {
-                        x: at.texel(o.u),
-                        y: at.texel(o.v),
-                        depth: at.depth_word(d.u),
-                    }),
-            );
-            spans
-                .shadow
-                .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
-            for (o, l) in b.hil.iter_mut().zip(&b.shadow_out) {
-                if !l.lit {
-                    *o = 0;
-                }
-            }
+            self.general_shadow(px, base, sh, ss, spans, b);
         }
         if need_proj {
             // Behind the projector (q ≤ 0) nothing is lit. Outside the light's square
@@ -484,6 +431,80 @@ impl LightCtx<'_> {
                 if p.behind || (square && !((0..=one).contains(&p.u) && (0..=one).contains(&p.v))) {
                     *o = 0;
                 }
+            }
+        }
+    }
+
+    /// [`Self::h_il`]'s light map on the general path: the light map sampled at the
+    /// projective unit's outputs (`b.proj_out`), channel 0 appended to `b.hil`.
+    fn general_light_map(&self, lm: &TextureSampler, spans: &mut HilSpans, b: &mut ChunkBuffers) {
+        let u = self.units;
+        let log2 = lm.size()[0].trailing_zeros();
+        let fr = lm.coord_frac_bits();
+        b.tex_in.clear();
+        b.tex_in.extend(b.proj_out.iter().map(|o| TextureSamplerIn {
+            coord: [
+                texel_word(o.u, log2, &u.proj, fr),
+                texel_word(o.v, log2, &u.proj, fr),
+                0,
+            ],
+        }));
+        // A sample outside the light's square or behind the projector is
+        // replaced by 0 later: not filtered, only counted.
+        let one = 1i32 << u.proj.out_format().frac_bits;
+        b.tex_keep.clear();
+        b.tex_keep.extend(
+            b.proj_out
+                .iter()
+                .map(|p| !p.behind && (0..=one).contains(&p.u) && (0..=one).contains(&p.v)),
+        );
+        spans
+            .light_map
+            .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
+        b.hil.extend(b.tex_out.iter().map(|t| t[0]));
+    }
+
+    /// [`Self::h_il`]'s shadow compare on the general path: the depth (r, 0, q) through
+    /// its projective unit, tested at the light-map unit's texel (`b.proj_out`); a
+    /// fragment in shadow gets H·I_l = 0.
+    fn general_shadow(
+        &self,
+        px: &PolyLanes,
+        base: usize,
+        sh: &ShadowCompare,
+        ss: &ShadowState,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let u = self.units;
+        // (r, 0, q): the depth through the same reciprocal (t has no wire here).
+        projective_inputs(
+            px,
+            &b.visible,
+            [base + 2, usize::MAX, base + 3],
+            &mut b.pdepth_in,
+        );
+        spans
+            .proj_depth
+            .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);
+        let at = ShadowAddress::new(u, sh);
+        b.shadow_in.clear();
+        b.shadow_in.extend(
+            b.proj_out
+                .iter()
+                .zip(&b.pdepth_out)
+                .map(|(o, d)| ShadowIn::Test {
+                    x: at.texel(o.u),
+                    y: at.texel(o.v),
+                    depth: at.depth_word(d.u),
+                }),
+        );
+        spans
+            .shadow
+            .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
+        for (o, l) in b.hil.iter_mut().zip(&b.shadow_out) {
+            if !l.lit {
+                *o = 0;
             }
         }
     }
