@@ -420,68 +420,87 @@ impl EnvironmentSection {
         self.load().map(|_| ())
     }
 
-    /// Every check that reads no file.
+    /// Every check that reads no file, in this order (the first error is the one
+    /// reported): the map's source, the exposure, the side, the object's λ, the
+    /// prefilter, the reflectors.
     fn validate_fields(&self) -> Result<(), ConfigError> {
         let f = |e: ConfigError| e.within("environment");
-        match (&self.map, &self.hdr) {
-            (Some(_), Some(_)) => {
-                return Err(f(ConfigError::invalid(
-                    "hdr",
-                    "give either `map` (a built-in map) or `hdr` (a file), not both",
-                )))
-            }
-            (None, None) => {
-                return Err(f(ConfigError::invalid(
-                    "map",
-                    &format!(
-                        "give a built-in map ({}) or an `hdr` file",
-                        BUILTIN_NAMES.join(", ")
-                    ),
-                )))
-            }
-            (Some(m), None) if !BUILTIN_NAMES.contains(&m.as_str()) => {
-                return Err(f(ConfigError::invalid(
-                    "map",
-                    &format!(
-                        "unknown built-in map `{m}` (known: {})",
-                        BUILTIN_NAMES.join(", ")
-                    ),
-                )))
-            }
-            (None, Some(h)) if h.written().trim().is_empty() => {
-                return Err(f(ConfigError::invalid("hdr", "the path is empty")))
-            }
-            _ => {}
+        self.validate_source().map_err(f)?;
+        self.validate_exposure().map_err(f)?;
+        self.validate_side().map_err(f)?;
+        if let EnvLambda::Uniform(l) = self.lambda {
+            fields::ENV_LAMBDA.real("lambda", l).map_err(f)?;
         }
+        self.validate_prefilter().map_err(f)?;
+        self.validate_reflectors().map_err(f)
+    }
+
+    /// Exactly one of `map` (a known built-in) and `hdr` (a non-empty path).
+    fn validate_source(&self) -> Result<(), ConfigError> {
+        match (&self.map, &self.hdr) {
+            (Some(_), Some(_)) => Err(ConfigError::invalid(
+                "hdr",
+                "give either `map` (a built-in map) or `hdr` (a file), not both",
+            )),
+            (None, None) => Err(ConfigError::invalid(
+                "map",
+                &format!(
+                    "give a built-in map ({}) or an `hdr` file",
+                    BUILTIN_NAMES.join(", ")
+                ),
+            )),
+            (Some(m), None) if !BUILTIN_NAMES.contains(&m.as_str()) => Err(ConfigError::invalid(
+                "map",
+                &format!(
+                    "unknown built-in map `{m}` (known: {})",
+                    BUILTIN_NAMES.join(", ")
+                ),
+            )),
+            (None, Some(h)) if h.written().trim().is_empty() => {
+                Err(ConfigError::invalid("hdr", "the path is empty"))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// A given `exposure` in its range, and then no `exposure_rule` (the rule picks
+    /// the exposure only when none is given).
+    fn validate_exposure(&self) -> Result<(), ConfigError> {
         if let Some(e) = self.exposure {
-            fields::ENV_EXPOSURE.real("exposure", e).map_err(f)?;
+            fields::ENV_EXPOSURE.real("exposure", e)?;
             if !self.exposure_rule.is_default() {
-                return Err(f(ConfigError::invalid(
+                return Err(ConfigError::invalid(
                     "exposure_rule",
                     "applies only when no `exposure` is given (remove one of the two)",
-                )));
+                ));
             }
         }
+        Ok(())
+    }
+
+    /// The voxel map's side: in the field table's range, a power of two, and within
+    /// the limits of the units it sizes.
+    fn validate_side(&self) -> Result<(), ConfigError> {
         // The range from the field table; the power of two below, with its reason.
         let (lo, hi) = fields::ENV_SIDE.bounds().unwrap_or((0.0, 0.0));
-        check_range("side", self.side.into(), lo as u64, hi as u64).map_err(f)?;
+        check_range("side", self.side.into(), lo as u64, hi as u64)?;
         if !self.side.is_power_of_two() {
-            return Err(f(ConfigError::invalid(
+            return Err(ConfigError::invalid(
                 "side",
                 &format!(
                     "{} is not a power of two (the reflection unit's texel coordinates need one)",
                     self.side
                 ),
-            )));
+            ));
         }
-        super::limits::check_env_side(self.side).map_err(f)?;
-        if let EnvLambda::Uniform(l) = self.lambda {
-            fields::ENV_LAMBDA.real("lambda", l).map_err(f)?;
-        }
+        super::limits::check_env_side(self.side)
+    }
+
+    /// The accelerated prefilter's threshold in range, and `dome_pick` only where the
+    /// side resolves to the accelerated prefilter.
+    fn validate_prefilter(&self) -> Result<(), ConfigError> {
         if let Prefilter::Accelerated { threshold } = self.prefilter {
-            fields::PREFILTER_THRESHOLD
-                .real("prefilter.threshold", threshold)
-                .map_err(f)?;
+            fields::PREFILTER_THRESHOLD.real("prefilter.threshold", threshold)?;
         }
         if !self.dome_pick.is_default()
             && !matches!(
@@ -489,17 +508,22 @@ impl EnvironmentSection {
                 Prefilter::Accelerated { .. }
             )
         {
-            return Err(f(ConfigError::invalid(
+            return Err(ConfigError::invalid(
                 "dome_pick",
                 &format!(
-                    "picks the dome of the accelerated prefilter; side {} uses the exact one \
-                     (set prefilter = {{ type = \"accelerated\" }} or remove dome_pick)",
+                    "picks the dome of the accelerated prefilter; side {} uses the exact one (set prefilter = {{ type = \"accelerated\" }} or remove dome_pick)",
                     self.side
                 ),
-            )));
+            ));
         }
+        Ok(())
+    }
+
+    /// Each reflector's λ and reflectance in range (errors name `reflectors[i]`), and
+    /// reflectors only without the thesis object.
+    fn validate_reflectors(&self) -> Result<(), ConfigError> {
         for (i, r) in self.reflectors.iter().enumerate() {
-            let g = |e: ConfigError| f(e.within(&format!("reflectors[{i}]")));
+            let g = |e: ConfigError| e.within(&format!("reflectors[{i}]"));
             fields::REFLECTOR_LAMBDA
                 .real("lambda", r.lambda)
                 .map_err(g)?;
@@ -508,10 +532,10 @@ impl EnvironmentSection {
                 .map_err(g)?;
         }
         if self.object.is_some() && !self.reflectors.is_empty() {
-            return Err(f(ConfigError::invalid(
+            return Err(ConfigError::invalid(
                 "reflectors",
                 "a scene draws either the thesis object (`object`) or scene objects that reflect (`reflectors`), not both",
-            )));
+            ));
         }
         Ok(())
     }

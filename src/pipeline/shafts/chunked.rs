@@ -9,7 +9,7 @@
 //! kernel counters summed chunk by chunk and its timing added once when the span
 //! closes ((n − 1)·II + latency + 1 cycles are not a sum over chunks).
 
-use super::frame::{counters_add, Units};
+use super::units::{counters_add, Units};
 use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
@@ -412,72 +412,11 @@ impl LightCtx<'_> {
                 .feed(&u.proj, &mut (), &b.proj_in, &mut b.proj_out);
         }
         match self.lm_tex {
-            Some(lm) => {
-                let log2 = lm.size()[0].trailing_zeros();
-                let fr = lm.coord_frac_bits();
-                b.tex_in.clear();
-                b.tex_in.extend(b.proj_out.iter().map(|o| TextureSamplerIn {
-                    coord: [
-                        texel_word(o.u, log2, &u.proj, fr),
-                        texel_word(o.v, log2, &u.proj, fr),
-                        0,
-                    ],
-                }));
-                // A sample outside the light's square or behind the projector is
-                // replaced by 0 below: not filtered, only counted.
-                let one = 1i32 << u.proj.out_format().frac_bits;
-                b.tex_keep.clear();
-                b.tex_keep.extend(
-                    b.proj_out
-                        .iter()
-                        .map(|p| !p.behind && (0..=one).contains(&p.u) && (0..=one).contains(&p.v)),
-                );
-                spans
-                    .light_map
-                    .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
-                b.hil.extend(b.tex_out.iter().map(|t| t[0]));
-            }
+            Some(lm) => self.general_light_map(lm, spans, b),
             None => b.hil.resize(n, self.tex_max),
         }
         if let (Some(sh), Some(ss)) = (&u.shadow, self.sstate) {
-            // (r, 0, q): the depth through the same reciprocal (t has no wire here).
-            projective_inputs(
-                px,
-                &b.visible,
-                [base + 2, usize::MAX, base + 3],
-                &mut b.pdepth_in,
-            );
-            spans
-                .proj_depth
-                .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);
-            let res = sh.width();
-            let of = u.proj.out_format().frac_bits;
-            let shift = of - res.trailing_zeros().min(of);
-            let dbits = sh.depth_bits();
-            let dfrac = u.proj_depth.out_format().frac_bits;
-            b.shadow_in.clear();
-            b.shadow_in
-                .extend(b.proj_out.iter().zip(&b.pdepth_out).map(|(o, d)| {
-                    let dv = d.u.max(0) as i64;
-                    let word = if dbits >= dfrac {
-                        dv << (dbits - dfrac)
-                    } else {
-                        dv >> (dfrac - dbits)
-                    };
-                    ShadowIn::Test {
-                        x: o.u >> shift,
-                        y: o.v >> shift,
-                        depth: word.min(max_code(dbits) as i64) as u64,
-                    }
-                }));
-            spans
-                .shadow
-                .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
-            for (o, l) in b.hil.iter_mut().zip(&b.shadow_out) {
-                if !l.lit {
-                    *o = 0;
-                }
-            }
+            self.general_shadow(px, base, sh, ss, spans, b);
         }
         if need_proj {
             // Behind the projector (q ≤ 0) nothing is lit. Outside the light's square
@@ -492,6 +431,80 @@ impl LightCtx<'_> {
                 if p.behind || (square && !((0..=one).contains(&p.u) && (0..=one).contains(&p.v))) {
                     *o = 0;
                 }
+            }
+        }
+    }
+
+    /// [`Self::h_il`]'s light map on the general path: the light map sampled at the
+    /// projective unit's outputs (`b.proj_out`), channel 0 appended to `b.hil`.
+    fn general_light_map(&self, lm: &TextureSampler, spans: &mut HilSpans, b: &mut ChunkBuffers) {
+        let u = self.units;
+        let log2 = lm.size()[0].trailing_zeros();
+        let fr = lm.coord_frac_bits();
+        b.tex_in.clear();
+        b.tex_in.extend(b.proj_out.iter().map(|o| TextureSamplerIn {
+            coord: [
+                texel_word(o.u, log2, &u.proj, fr),
+                texel_word(o.v, log2, &u.proj, fr),
+                0,
+            ],
+        }));
+        // A sample outside the light's square or behind the projector is
+        // replaced by 0 later: not filtered, only counted.
+        let one = 1i32 << u.proj.out_format().frac_bits;
+        b.tex_keep.clear();
+        b.tex_keep.extend(
+            b.proj_out
+                .iter()
+                .map(|p| !p.behind && (0..=one).contains(&p.u) && (0..=one).contains(&p.v)),
+        );
+        spans
+            .light_map
+            .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);
+        b.hil.extend(b.tex_out.iter().map(|t| t[0]));
+    }
+
+    /// [`Self::h_il`]'s shadow compare on the general path: the depth (r, 0, q) through
+    /// its projective unit, tested at the light-map unit's texel (`b.proj_out`); a
+    /// fragment in shadow gets H·I_l = 0.
+    fn general_shadow(
+        &self,
+        px: &PolyLanes,
+        base: usize,
+        sh: &ShadowCompare,
+        ss: &ShadowState,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let u = self.units;
+        // (r, 0, q): the depth through the same reciprocal (t has no wire here).
+        projective_inputs(
+            px,
+            &b.visible,
+            [base + 2, usize::MAX, base + 3],
+            &mut b.pdepth_in,
+        );
+        spans
+            .proj_depth
+            .feed(&u.proj_depth, &mut (), &b.pdepth_in, &mut b.pdepth_out);
+        let at = ShadowAddress::new(u, sh);
+        b.shadow_in.clear();
+        b.shadow_in.extend(
+            b.proj_out
+                .iter()
+                .zip(&b.pdepth_out)
+                .map(|(o, d)| ShadowIn::Test {
+                    x: at.texel(o.u),
+                    y: at.texel(o.v),
+                    depth: at.depth_word(d.u),
+                }),
+        );
+        spans
+            .shadow
+            .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
+        for (o, l) in b.hil.iter_mut().zip(&b.shadow_out) {
+            if !l.lit {
+                *o = 0;
             }
         }
     }
@@ -530,24 +543,24 @@ impl LightCtx<'_> {
         );
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
+        self.pair_lit(sh, ss, n, spans, b);
+        self.pair_light_map(lm, n, spans, b);
+        true
+    }
+
+    /// [`Self::h_il_pair`]'s shadow compare: whether the shadow map lights each of the
+    /// `n` fragments into `b.lit`, at the light-space texel of the projective lanes
+    /// (`b.proj_lanes`), the depth (`b.pdepth_u`) through the same q.
+    fn pair_lit(
+        &self,
+        sh: &ShadowCompare,
+        ss: &ShadowState,
+        n: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let at = ShadowAddress::new(self.units, sh);
         let pl = &b.proj_lanes;
-        let one = 1i32 << u.proj.out_format().frac_bits;
-        // The shadow map at the light-space texel, the depth through the same q.
-        let res = sh.width();
-        let of = u.proj.out_format().frac_bits;
-        let shift = of - res.trailing_zeros().min(of);
-        let dbits = sh.depth_bits();
-        let dfrac = u.proj_depth.out_format().frac_bits;
-        let dmax = max_code(dbits) as i64;
-        let depth_word = |d: i32| -> u64 {
-            let dv = d.max(0) as i64;
-            let word = if dbits >= dfrac {
-                dv << (dbits - dfrac)
-            } else {
-                dv >> (dfrac - dbits)
-            };
-            word.min(dmax) as u64
-        };
         b.lit.clear();
         // On the shadow map's unpacked words: the lit bits in lanes, no test words.
         let tested = self.swords.and_then(|words| {
@@ -555,7 +568,7 @@ impl LightCtx<'_> {
             sh.test_lit_lanes(
                 words,
                 n,
-                |i| (pl.u[i] >> shift, pl.v[i] >> shift, depth_word(pd[i])),
+                |i| (at.texel(pl.u[i]), at.texel(pl.v[i]), at.depth_word(pd[i])),
                 &mut b.lit,
                 &mut spans.shadow.ctr,
             )
@@ -570,9 +583,9 @@ impl LightCtx<'_> {
                             .zip(&pl.v)
                             .zip(&b.pdepth_u)
                             .map(|((&pu, &pv), &d)| ShadowIn::Test {
-                                x: pu >> shift,
-                                y: pv >> shift,
-                                depth: depth_word(d),
+                                x: at.texel(pu),
+                                y: at.texel(pv),
+                                depth: at.depth_word(d),
                             }),
                     );
                 spans
@@ -581,8 +594,22 @@ impl LightCtx<'_> {
                 b.lit.extend(b.shadow_out.iter().map(|o| o.lit));
             }
         }
-        // The light map: a sample behind the projector, outside the light's square or
-        // in shadow gives H·I_l = 0 whatever its value: not filtered, only counted.
+    }
+
+    /// [`Self::h_il_pair`]'s light map: H·I_l of the `n` fragments into `b.hil`, the
+    /// light map's sample at the projective lanes' texel where kept, else 0.
+    fn pair_light_map(
+        &self,
+        lm: &TextureSampler,
+        n: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let u = self.units;
+        let pl = &b.proj_lanes;
+        let one = 1i32 << u.proj.out_format().frac_bits;
+        // A sample behind the projector, outside the light's square or in shadow
+        // gives H·I_l = 0 whatever its value: not filtered, only counted.
         let log2 = lm.size()[0].trailing_zeros();
         let fr = lm.coord_frac_bits();
         b.tex_s.clear();
@@ -625,7 +652,48 @@ impl LightCtx<'_> {
                 }
             }
         }
-        true
+    }
+}
+
+/// Where a fragment meets the shadow map: the projective unit's u, v (`of` fraction
+/// bits, 1.0 = the map's side) shifted onto the map's texel grid, and the depth
+/// unit's output (`dfrac` fraction bits) as a `dbits` depth word, clamped at its
+/// full scale.
+#[derive(Clone, Copy, Debug)]
+struct ShadowAddress {
+    shift: u32,
+    dbits: u32,
+    dfrac: u32,
+    dmax: i64,
+}
+
+impl ShadowAddress {
+    fn new(u: &Units, sh: &ShadowCompare) -> Self {
+        let res = sh.width();
+        let of = u.proj.out_format().frac_bits;
+        let dbits = sh.depth_bits();
+        ShadowAddress {
+            shift: of - res.trailing_zeros().min(of),
+            dbits,
+            dfrac: u.proj_depth.out_format().frac_bits,
+            dmax: max_code(dbits) as i64,
+        }
+    }
+
+    /// A projective coordinate → the shadow map's texel index.
+    fn texel(&self, c: i32) -> i32 {
+        c >> self.shift
+    }
+
+    /// The depth unit's output (negative: 0) → the shadow map's depth word.
+    fn depth_word(&self, d: i32) -> u64 {
+        let dv = d.max(0) as i64;
+        let word = if self.dbits >= self.dfrac {
+            dv << (self.dbits - self.dfrac)
+        } else {
+            dv >> (self.dfrac - self.dbits)
+        };
+        word.min(self.dmax) as u64
     }
 }
 

@@ -13,8 +13,10 @@
 //! application processor computes it; every per-pixel step is a unit kernel.
 
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
+use super::pass_log::PassLog;
 use super::record::{self, Rec};
 use super::tables::{self, GTables};
+use super::units::{attr_unorm, counters_add, window_depth_word, Units};
 use super::view::{vec3, CameraView, LightView};
 use crate::chip::work::SampleBands;
 use crate::pipeline::raster::{draw_triangle, host_attrs, walk, Fragment, HostVertex};
@@ -31,135 +33,22 @@ use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::units::polygon_interpolator::{
     PolyLanes, PolyOut, PolygonInterpolator, Vertex, MAX_ATTRS,
 };
-use rtl_model::units::projective_texcoord::ProjectiveTexcoord;
-use rtl_model::units::shadow_compare::{ShadowCompare, ShadowCompareConfig, ShadowIn, ShadowState};
+use rtl_model::units::shadow_compare::{ShadowCompareConfig, ShadowIn, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
 
-/// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
-/// fragment list each). Fixed, so the work split never depends on the thread count.
-pub(super) const SUBPLANE_BATCH: usize = 4;
+pub use super::pass_log::WorkSink;
+pub use super::prepare::{ObjectMesh, Prepared};
 /// Camera depth buffer width (defined with the scene's limits: validation builds the
 /// depth buffer from it).
-pub use crate::scene::limits::ZBUF_BITS;
-/// Fraction bits of the interpolator's outputs (s16.16, the projective inputs).
-pub(super) const ATTR_FRAC: u32 = crate::scene::limits::SHAFTS_ATTR_FRAC;
-
-/// A tessellated object as the host hands it to the pipeline.
-#[derive(Clone, Debug)]
-pub struct ObjectMesh {
-    /// Triangles: positions and per-vertex unit normals.
-    pub triangles: Vec<([Vec3; 3], [Vec3; 3])>,
-    pub color: [f64; 3],
-    pub occluder: bool,
-    /// Coloured by this pipeline's object pass: true for a Lambert object without a
-    /// material; an object with one is shaded by the shading units instead (it still
-    /// enters the depth buffer and, as an occluder, the shadow maps).
-    pub colour_pass: bool,
-}
-
-/// What the host prepares once per scene.
-#[derive(Clone, Debug)]
-pub struct Prepared {
-    pub scene: Scene,
-    pub objects: Vec<ObjectMesh>,
-    /// Per light: light-map texels (`shafts.light_map_texels`², unorm texel_bits) or None
-    /// (point lights).
-    pub light_maps: Vec<Option<Vec<u32>>>,
-    /// View depths bounding the lit volume: planes fill [r0, r1].
-    pub plane_range: (f64, f64),
-    /// h table ranges and the nearest light distance (sets h_ref).
-    pub s_max: f64,
-    pub t_max: f64,
-    pub s_near: f64,
-    /// Smallest scattering angle in the lit volume (sets the F table's full scale).
-    pub alpha_min: f64,
-    /// Output scale: radiance 1.0 = `exposure` 8-bit levels.
-    pub exposure: f64,
-}
+pub use super::units::ZBUF_BITS;
 
 pub use crate::report::elaboration::Elaborated;
 
 pub use crate::chip::work::PassWork;
 pub use crate::chip::{PassKind, PassStats};
-
-/// Cumulative traffic over every unit's counters so far (to split it per pass).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(super) struct Traffic {
-    texel_bytes: u64,
-    fb_bytes: u64,
-    depth_tests: u64,
-}
-
-fn traffic(ctr: &BTreeMap<String, Counters>) -> Traffic {
-    let mut t = Traffic::default();
-    for (k, c) in ctr {
-        if k.starts_with("texture_sampler") {
-            t.texel_bytes += c.mem_read_bytes;
-        } else if k.starts_with("additive_blend") {
-            t.fb_bytes += c.mem_read_bytes + c.mem_write_bytes;
-        } else if k == "shadow_compare (depth buffer)" {
-            t.depth_tests += c.pixels_in;
-        } else if k == "shadow_compare (shadow map)" {
-            // Shadow-map lookups are depth-texture fetches: one 32-bit texel each.
-            t.texel_bytes += 4 * c.pixels_in;
-        }
-    }
-    t
-}
-
-/// Where a finished pass's recorded work goes ([`ShaftsFrame::record_work`]): called
-/// once per pass, in pass order, with the pass's [`PassWork`] (its stats filled in).
-/// It owns what it keeps (share it with `Rc<RefCell<…>>` to read it back).
-pub type WorkSink = Box<dyn FnMut(PassWork) -> Result<(), ConfigError>>;
-
-/// The passes of a frame so far: their statistics, the traffic counted up to the last
-/// one, and where their recorded work goes when it is asked for.
-pub(super) struct PassLog {
-    pub passes: Vec<PassStats>,
-    last: Traffic,
-    sink: Option<WorkSink>,
-    /// When recording: the sampled bands whose fragments alone are recorded (`None`:
-    /// every fragment).
-    pub bands: Option<SampleBands>,
-}
-
-impl PassLog {
-    /// Whether the passes record their work.
-    pub fn recording(&self) -> bool {
-        self.sink.is_some()
-    }
-
-    /// A fresh record when recording (of the sampled bands' fragments in sampled mode).
-    pub fn new_rec(&self) -> Option<Rec> {
-        self.recording().then(|| Rec::sampled(self.bands))
-    }
-
-    /// Push a finished pass, attributing the traffic counted since the previous one;
-    /// when recording, its work (`work`, the stats filled in; stats only when `None`)
-    /// goes to the sink.
-    pub fn push(
-        &mut self,
-        ctr: &BTreeMap<String, Counters>,
-        mut st: PassStats,
-        work: Option<PassWork>,
-    ) -> Result<(), ConfigError> {
-        let now = traffic(ctr);
-        st.texel_bytes = now.texel_bytes - self.last.texel_bytes;
-        st.fb_bytes = now.fb_bytes - self.last.fb_bytes;
-        st.depth_tests = now.depth_tests - self.last.depth_tests;
-        self.last = now;
-        if let Some(sink) = self.sink.as_mut() {
-            let mut w = work.unwrap_or_default();
-            w.stats = Some(st.clone());
-            sink(w)?;
-        }
-        self.passes.push(st);
-        Ok(())
-    }
-}
 
 /// The frame: framebuffer (fb_bits, RGB), counters per unit, passes, elaboration.
 #[derive(Clone, Debug)]
@@ -173,43 +62,11 @@ pub struct FrameResult {
     pub clip_stats: Option<ClipStats>,
 }
 
-impl Prepared {
-    /// The α whose F is the F table's full scale: 0 (the table's maximum) or the lit
-    /// volume's smallest scattering angle (`shafts.f_scale`).
-    pub fn f_alpha(&self) -> f64 {
-        match self.scene.shafts.f_scale {
-            crate::scene::format::FScale::Table => 0.0,
-            crate::scene::format::FScale::LitVolume => self.alpha_min,
-        }
-    }
-}
-
 impl FrameResult {
     /// The image in 8-bit levels (f64, for error metrics).
     pub fn levels(&self) -> Vec<[f64; 3]> {
         self.fb.levels()
     }
-}
-
-/// The units of one frame, configured from the scene.
-pub(super) struct Units {
-    pub(super) interp: PolygonInterpolator,
-    pub(super) f_tex: TextureSampler,
-    pub(super) h_tex: TextureSampler,
-    pub(super) modulate: Modulate,
-    pub(super) blend: Blend,
-    pub(super) proj: ProjectiveTexcoord,
-    pub(super) proj_depth: ProjectiveTexcoord,
-    pub(super) zbuf: Option<ShadowCompare>,
-    pub(super) shadow: Option<ShadowCompare>,
-    pub(super) j_blend: Blend,
-    /// The clipper in front of the interpolator for the camera's object passes, when
-    /// the scene's objects can leave its planes ([`crate::scene::clip::clip_needed`]).
-    pub(super) clipper: Option<Clipper>,
-}
-
-pub(super) fn counters_add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
-    *map.entry(name.to_string()).or_default() += c;
 }
 
 /// One pass of a shafts frame, in the order [`passes`] lists them.
@@ -298,115 +155,85 @@ struct LightState {
     sstate: Option<ShadowState>,
 }
 
+/// The h for which one plane adds full scale at the screen's corner (h_ref is at most
+/// this; `shafts.h_cap`). One plane at full F, h, J and the brightest light adds
+/// F_max·h_ref·I·Δt·exposure levels, Δt = Δr·t/r growing off-axis to Δr/cos of the
+/// corner ray; the vertex colour S·t/r cannot exceed full scale, so h_ref is at most
+/// the h for which the corner's is 255 (beyond it h clamps, counted, instead of the
+/// colour).
+fn h_ceiling(p: &Prepared, cam: &CameraView) -> f64 {
+    let sc = &p.scene;
+    let cfg = sc.shafts;
+    let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
+    let corner_cos = cam.ray_dir(0.0, 0.0).dot(cam.forward).clamp(1e-6, 1.0);
+    let i_max = sc
+        .lights
+        .iter()
+        .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
+        .fold(0.0, f64::max);
+    let f_ref = crate::reference::shafts_model::phase_f(p.f_alpha(), sc.medium.k);
+    let denom = f_ref * i_max * dr * p.exposure / corner_cos;
+    match cfg.h_cap {
+        HCap::OnePlane if denom > 0.0 => 255.0 / denom,
+        HCap::OnePlane => 0.0,
+        // `shafts.h_cap = "none"`: h_ref = h(s_near, 0); the colour saturates.
+        HCap::None => f64::INFINITY,
+    }
+}
+
+/// The frame's framebuffer: `fb` when it is `w` × `h` at `bits` (what earlier passes
+/// drew), an error naming `shafts.fb_bits` when it is not, or a black one.
+fn frame_buffer(
+    fb: Option<Framebuffer>,
+    w: u32,
+    h: u32,
+    bits: u32,
+) -> Result<Framebuffer, ConfigError> {
+    match fb {
+        Some(f) if (f.width, f.height, f.bits) == (w, h, bits) => Ok(f),
+        Some(f) => Err(ConfigError::invalid(
+            "shafts.fb_bits",
+            &format!(
+                "the frame's framebuffer is {} × {} at {} bits, the shafts pass needs {w} × {h} at {}",
+                f.width, f.height, f.bits, bits
+            ),
+        )),
+        None => Ok(Framebuffer::new(w, h, bits)),
+    }
+}
+
 impl<'a> ShaftsFrame<'a> {
     /// Configure the units for the scene; the framebuffer starts as `fb` (what earlier
     /// passes of the frame drew, at `shafts.fb_bits`) or black.
     pub fn new(p: &'a Prepared, fb: Option<Framebuffer>) -> Result<Self, ConfigError> {
         let sc = &p.scene;
         let cfg = sc.shafts;
-        let (w, h) = (sc.image.width, sc.image.height);
         let cam = CameraView::new(&sc.camera, sc.image);
-        let tex_bits = cfg.texel_bits;
-        // One plane at full F, h, J and the brightest light adds F_max·h_ref·I·Δt·exposure
-        // levels, Δt = Δr·t/r growing off-axis to Δr/cos of the corner ray; the vertex
-        // colour S·t/r cannot exceed full scale, so h_ref is at most the h for which the
-        // corner's is 255 (beyond it h clamps, counted, instead of the colour).
-        let dr = (p.plane_range.1 - p.plane_range.0) / cfg.planes as f64;
-        let cam0 = CameraView::new(&sc.camera, sc.image);
-        let corner_cos = cam0.ray_dir(0.0, 0.0).dot(cam0.forward).clamp(1e-6, 1.0);
-        let i_max = sc
-            .lights
-            .iter()
-            .map(|l| l.intensity * l.color.iter().cloned().fold(0.0, f64::max))
-            .fold(0.0, f64::max);
-        let f_alpha = p.f_alpha();
-        let f_ref = crate::reference::shafts_model::phase_f(f_alpha, sc.medium.k);
-        let denom = f_ref * i_max * dr * p.exposure / corner_cos;
-        let h_ceiling = match cfg.h_cap {
-            HCap::OnePlane if denom > 0.0 => 255.0 / denom,
-            HCap::OnePlane => 0.0,
-            // `shafts.h_cap = "none"`: h_ref = h(s_near, 0); the colour saturates.
-            HCap::None => f64::INFINITY,
-        };
         let tables = tables::build(
-            &sc.medium, &cfg, p.s_max, p.t_max, p.s_near, f_alpha, h_ceiling,
+            &sc.medium,
+            &cfg,
+            p.s_max,
+            p.t_max,
+            p.s_near,
+            p.f_alpha(),
+            h_ceiling(p, &cam),
         );
-
-        // The unit configs come from the scene's limits module, which validation
-        // builds too (one source of limits).
-        let interp = limits::shafts_interpolator(&cfg).build()?;
-        let sampler_cfg = |dims: u32, size: [u32; 3]| limits::shafts_sampler(sc, dims, size);
-        let f_tex = TextureSampler::new(sampler_cfg(1, [cfg.f_texels, 1, 1]), &tables.f_texels)
-            .map_err(|e| e.within("shafts.f_texels"))?;
-        let h_tex = TextureSampler::new(
-            sampler_cfg(2, [cfg.h_texels[0], cfg.h_texels[1], 1]),
-            &tables.h_texels,
-        )
-        .map_err(|e| e.within("shafts.h_texels"))?;
-        let has_objects = p.objects.iter().any(|o| !o.triangles.is_empty());
-        let has_occluders = p
-            .objects
-            .iter()
-            .any(|o| o.occluder && !o.triangles.is_empty());
-        let units = Units {
-            interp,
-            f_tex,
-            h_tex,
-            modulate: Modulate::new(tex_bits, rtl_model::units::modulate::ModulateMode::Exact)?,
-            blend: Blend::additive(tex_bits, cfg.fb_bits, false, cfg.weight_bits)?,
-            proj: limits::shafts_projective(&cfg).build()?,
-            proj_depth: limits::shafts_projective_depth(&cfg).build()?,
-            zbuf: if has_objects {
-                Some(limits::depth_buffer(sc.image).build()?)
-            } else {
-                None
-            },
-            shadow: if has_occluders {
-                Some(limits::shafts_shadow(&cfg).build().map_err(limits::onto(&[
-                    ("shadow_compare.width", "shafts.shadow_resolution"),
-                    ("shadow_compare.height", "shafts.shadow_resolution"),
-                    ("shadow_compare.depth_bits", "shafts.shadow_depth_bits"),
-                ]))?)
-            } else {
-                None
-            },
-            // The J buffer lives in the RGBA framebuffer, as on the real part (its traffic counts 4 channels).
-            j_blend: Blend::additive(tex_bits, tex_bits, true, cfg.weight_bits)?,
-            clipper: if has_objects && crate::scene::clip::clip_needed(sc).is_some() {
-                Some(limits::shafts_clipper(sc).build()?)
-            } else {
-                None
-            },
-        };
-
-        let fb = match fb {
-            Some(f) if (f.width, f.height, f.bits) == (w, h, cfg.fb_bits) => f,
-            Some(f) => {
-                return Err(ConfigError::invalid(
-                    "shafts.fb_bits",
-                    &format!(
-                        "the frame's framebuffer is {} × {} at {} bits, the shafts pass needs {w} × {h} at {}",
-                        f.width, f.height, f.bits, cfg.fb_bits
-                    ),
-                ))
-            }
-            None => Framebuffer::new(w, h, cfg.fb_bits),
-        };
+        let units = Units::new(p, &tables)?;
+        let fb = frame_buffer(fb, sc.image.width, sc.image.height, cfg.fb_bits)?;
         let zstate = units.zbuf.as_ref().map(|z| z.fresh_state());
         Ok(ShaftsFrame {
             p,
             cam,
             tables,
             units,
-            sampler_cfg: sampler_cfg(2, [cfg.light_map_texels, cfg.light_map_texels, 1]),
+            sampler_cfg: limits::shafts_sampler(
+                sc,
+                2,
+                [cfg.light_map_texels, cfg.light_map_texels, 1],
+            ),
             fb,
             ctr: BTreeMap::new(),
-            log: PassLog {
-                passes: Vec::new(),
-                last: Traffic::default(),
-                sink: None,
-                bands: None,
-            },
+            log: PassLog::new(),
             zstate,
             light: None,
             elaboration: Vec::new(),
@@ -429,14 +256,14 @@ impl<'a> ShaftsFrame<'a> {
     /// the passes compute and changes no pixel and no counter; without a sink nothing
     /// is recorded.
     pub fn record_work(&mut self, sink: WorkSink) {
-        self.log.sink = Some(sink);
+        self.log.record(sink);
     }
 
     /// [`Self::record_work`], keeping only the fragments of the screen bands `bands`
     /// (`None`: every fragment) while counting every primitive in full
     /// ([`crate::chip::work::SampleRecord`]): the sampled timing mode's record.
     pub fn record_work_sampled(&mut self, sink: WorkSink, bands: Option<SampleBands>) {
-        self.log.sink = Some(sink);
+        self.log.record(sink);
         self.log.bands = bands;
     }
 
@@ -664,23 +491,6 @@ fn light_ctx<'b>(
     }
 }
 
-impl PassStats {
-    pub(super) fn new(kind: PassKind, light: usize, textures_per_fragment: u32) -> Self {
-        PassStats {
-            kind,
-            light,
-            walked: 0,
-            fragments: 0,
-            textures_per_fragment,
-            triangles: 0,
-            texel_bytes: 0,
-            fb_bytes: 0,
-            other_bytes: 0,
-            depth_tests: 0,
-        }
-    }
-}
-
 /// The light's far distance for the shadow map: beyond everything the planes reach.
 fn light_far(p: &Prepared, _l: &crate::scene::format::Light) -> f64 {
     (p.s_max * 1.5).max(1.0)
@@ -852,17 +662,6 @@ fn draw_triangles<T: Sync>(
     Ok(clip)
 }
 
-/// A window depth in s16.16 raw → an unsigned depth word of `bits`.
-fn window_depth_word(raw: i64, bits: u32) -> u32 {
-    let max = max_code(bits) as i64;
-    let v = if bits >= ATTR_FRAC {
-        raw << (bits - ATTR_FRAC)
-    } else {
-        raw >> (ATTR_FRAC - bits)
-    };
-    v.clamp(0, max) as u32
-}
-
 /// Project a world triangle with per-vertex attributes. Without the clipper (`clip`
 /// false: the scene's objects stay inside its planes, [`crate::scene::clip`]) onto
 /// the screen, `None` if any vertex is behind the eye (skipped, counted by the
@@ -892,13 +691,6 @@ fn project_tri(
         hv[k] = HostVertex { x, y, attrs: a };
     }
     Some(HostTri::Screen(hv))
-}
-
-/// An s16.16 attribute in [0, 1] → a unorm code of full scale `max` (round half up,
-/// clamped): the interpolated vertex colour entering the combiner.
-pub(super) fn attr_unorm(raw: i64, max: u32) -> u32 {
-    let max = max as i64;
-    ((raw * max + (1 << (ATTR_FRAC - 1))) >> ATTR_FRAC).clamp(0, max) as u32
 }
 
 fn modulate_all(
@@ -937,20 +729,6 @@ fn blend_into(
     }
 }
 
-/// Light colour as texel codes (normalised by its largest component, which goes
-/// into the intensity).
-pub(super) fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3], f64) {
-    let m = l.color.iter().cloned().fold(0.0, f64::max);
-    if m <= 0.0 {
-        return ([0; 3], 0.0);
-    }
-    (
-        l.color
-            .map(|c| tables::unorm_from_unit(c / m, tex_max.trailing_ones())),
-        l.intensity * m,
-    )
-}
-
 /// The objects lit by this light: per-vertex colour (albedo · Lambert · I/s² ·
 /// exp(−ρκ(s + T)) as a fraction of full scale) × light map × shadow, depth-tested.
 fn object_pass(
@@ -971,32 +749,12 @@ fn object_pass(
         1 + u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
     );
     let mut c_int = Counters::default();
-    let lpos = vec3(ctx.light.position);
-    let medium = sc.medium;
     let mut frags_all: Vec<Fragment> = Vec::new();
     let tris: Vec<(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])> = (p.objects.iter())
         .flat_map(|o| o.triangles.iter().map(move |(tri, nrm)| (o, tri, nrm)))
         .collect();
     let host = |&(o, tri, nrm): &(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])| {
-        let attrs = |k: usize, pt: Vec3| {
-            let to_l = lpos - pt;
-            let s2 = to_l.dot(to_l).max(1e-12);
-            let lambert = nrm[k].dot(to_l.normalized()).max(0.0);
-            let tt = (pt - ctx.cam.eye).length();
-            let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
-            let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
-            let la = ctx.light_attrs(pt);
-            [
-                0.0,
-                (o.color[0] * light_scale * ctx.light.color[0]).min(1.0),
-                (o.color[1] * light_scale * ctx.light.color[1]).min(1.0),
-                (o.color[2] * light_scale * ctx.light.color[2]).min(1.0),
-                la[0],
-                la[1],
-                la[2],
-                la[3],
-            ]
-        };
+        let attrs = |k: usize, pt: Vec3| object_vertex_attrs(ctx, p, o.color, nrm[k], pt);
         project_tri(ctx.cam, tri, clipper.is_some(), attrs)
     };
     // When recording: each drawn triangle's first fragment in `frags_all` and its
@@ -1017,19 +775,8 @@ fn object_pass(
     counters_add(ctr, "polygon_interpolator", c_int);
     // The object pass is light work (a few thousand fragments): one chunk.
     let mut b = ChunkBuffers::default();
+    let (px, lanes) = object_lanes(&u.interp, &frags_all);
     let mut zspan = UnitSpan::default();
-    let px: Vec<PolyOut> = frags_all
-        .iter()
-        .map(|f| PolyOut {
-            x: f.x as i64,
-            y: f.y as i64,
-            inside: true,
-            attrs: f.attrs,
-        })
-        .collect();
-    let mut lanes = PolyLanes::default();
-    lanes.clear(u.interp.attrs() as usize);
-    px.iter().for_each(|f| lanes.push(f));
     ctx.visible(
         &lanes,
         (w, h),
@@ -1043,7 +790,70 @@ fn object_pass(
     let mut spans = HilSpans::default();
     ctx.h_il(&lanes, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
-    let hil = &b.hil;
+    object_colour(ctx, &frags, &b.hil, fb, ctr);
+    let work = recording.then(|| object_work(ctx, log.bands, &prims, &px, &b, sc, (w, h)));
+    log.push(ctr, stats, work)
+}
+
+/// An object vertex's host attributes for light `ctx`: 0 (the depth's place), the
+/// vertex colour albedo · Lambert · I/s² · exp(−ρκ(s + T)) · exposure as a fraction of
+/// full scale (clamped at 1) per channel, and the light coordinates.
+fn object_vertex_attrs(
+    ctx: &LightCtx,
+    p: &Prepared,
+    color: [f64; 3],
+    normal: Vec3,
+    pt: Vec3,
+) -> [f64; 8] {
+    let medium = p.scene.medium;
+    let to_l = vec3(ctx.light.position) - pt;
+    let s2 = to_l.dot(to_l).max(1e-12);
+    let lambert = normal.dot(to_l.normalized()).max(0.0);
+    let tt = (pt - ctx.cam.eye).length();
+    let atten = (-medium.rho * medium.kappa * (s2.sqrt() + tt)).exp();
+    let light_scale = ctx.light.intensity * lambert * atten / s2 * p.exposure / 255.0;
+    let la = ctx.light_attrs(pt);
+    [
+        0.0,
+        (color[0] * light_scale * ctx.light.color[0]).min(1.0),
+        (color[1] * light_scale * ctx.light.color[1]).min(1.0),
+        (color[2] * light_scale * ctx.light.color[2]).min(1.0),
+        la[0],
+        la[1],
+        la[2],
+        la[3],
+    ]
+}
+
+/// The walked fragments as interpolator outputs (every one inside), and the same in
+/// lanes of `interp`'s attributes for the chunked units.
+fn object_lanes(interp: &PolygonInterpolator, frags: &[Fragment]) -> (Vec<PolyOut>, PolyLanes) {
+    let px: Vec<PolyOut> = frags
+        .iter()
+        .map(|f| PolyOut {
+            x: f.x as i64,
+            y: f.y as i64,
+            inside: true,
+            attrs: f.attrs,
+        })
+        .collect();
+    let mut lanes = PolyLanes::default();
+    lanes.clear(interp.attrs() as usize);
+    px.iter().for_each(|f| lanes.push(f));
+    (px, lanes)
+}
+
+/// The visible fragments' colour: each channel of the vertex colour (attributes
+/// 1..=3, unorm texel codes) modulated by H·I_l (`hil`, one per fragment), added into
+/// the framebuffer.
+fn object_colour(
+    ctx: &LightCtx,
+    frags: &[&PolyOut],
+    hil: &[u32],
+    fb: &mut Framebuffer,
+    ctr: &mut BTreeMap<String, Counters>,
+) {
+    let u = ctx.units;
     let mut pairs = Vec::with_capacity(frags.len() * 3);
     for (f, &j) in frags.iter().zip(hil) {
         for c in 0..3 {
@@ -1053,54 +863,61 @@ fn object_pass(
     }
     let m = modulate_all(&u.modulate, &pairs, ctr);
     let rgb: Vec<[u32; 3]> = m.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-    blend_into(&u.blend, fb, &frags, &rgb, ctr);
-    let work = recording.then(|| {
-        let depth_tested = ctx.units.zbuf.is_some() && ctx.zstate.is_some();
-        let mut rec = Rec::sampled(log.bands);
-        // The visible fragments (indices into `frags_all`, in walk order) per triangle,
-        // and the positions among them of those the record keeps.
-        let mut vis = b.visible.iter().enumerate().peekable();
-        let mut sel = Vec::new();
-        for (k, &(first, walked)) in prims.iter().enumerate() {
-            let end = prims.get(k + 1).map_or(frags_all.len(), |p| p.0);
-            rec.prim(walked);
-            let mut visible = 0;
-            for (c, f) in px.iter().enumerate().take(end).skip(first) {
-                match vis.peek() {
-                    Some(&(j, &i)) if i as usize == c => {
-                        if rec.frag(f.x, f.y) {
-                            sel.push(j as u32);
-                        }
-                        visible += 1;
-                        vis.next();
-                    }
-                    _ if depth_tested => rec.killed_at(f.x, f.y),
-                    _ => {}
-                }
-            }
-            if depth_tested {
-                rec.killed((end - first) - visible);
-            }
-        }
-        let kept = if sel.len() == b.visible.len() {
-            record::Kept::All
-        } else {
-            record::Kept::Some(sel)
-        };
-        let (mut lm, mut sm) = (Vec::new(), Vec::new());
-        ctx.hil_footprint(&b, &mut lm, &mut sm);
-        let tex = ctx.hil_textures();
-        let runs = ctx.hil_runs(&lm, &sm);
-        record::interleave_kept(&runs, b.visible.len(), &kept, &mut rec.texels);
-        let rop = record::blend_rop(sc.shafts.fb_bits, depth_tested);
-        rec.into_work((w, h), tex, rop, depth_tested)
-    });
-    log.push(ctr, stats, work)
+    blend_into(&u.blend, fb, frags, &rgb, ctr);
 }
 
-/// A window depth in [0, 1] → a depth word.
-pub(super) fn unit_depth_word(z: f64, bits: u32) -> u32 {
-    tables::unorm_from_unit(z, bits)
+/// The object pass's record: per drawn triangle (`prims`: its first fragment in `px`
+/// and its walked pixels) its visible fragments (`b.visible`, indices into `px` in
+/// walk order) and, depth-tested, those the test killed; the kept fragments' H·I_l
+/// texels.
+fn object_work(
+    ctx: &LightCtx,
+    bands: Option<SampleBands>,
+    prims: &[(usize, u64)],
+    px: &[PolyOut],
+    b: &ChunkBuffers,
+    sc: &Scene,
+    (w, h): (u32, u32),
+) -> PassWork {
+    let depth_tested = ctx.units.zbuf.is_some() && ctx.zstate.is_some();
+    let mut rec = Rec::sampled(bands);
+    // The visible fragments (indices into `px`, in walk order) per triangle, and the
+    // positions among them of those the record keeps.
+    let mut vis = b.visible.iter().enumerate().peekable();
+    let mut sel = Vec::new();
+    for (k, &(first, walked)) in prims.iter().enumerate() {
+        let end = prims.get(k + 1).map_or(px.len(), |p| p.0);
+        rec.prim(walked);
+        let mut visible = 0;
+        for (c, f) in px.iter().enumerate().take(end).skip(first) {
+            match vis.peek() {
+                Some(&(j, &i)) if i as usize == c => {
+                    if rec.frag(f.x, f.y) {
+                        sel.push(j as u32);
+                    }
+                    visible += 1;
+                    vis.next();
+                }
+                _ if depth_tested => rec.killed_at(f.x, f.y),
+                _ => {}
+            }
+        }
+        if depth_tested {
+            rec.killed((end - first) - visible);
+        }
+    }
+    let kept = if sel.len() == b.visible.len() {
+        record::Kept::All
+    } else {
+        record::Kept::Some(sel)
+    };
+    let (mut lm, mut sm) = (Vec::new(), Vec::new());
+    ctx.hil_footprint(b, &mut lm, &mut sm);
+    let tex = ctx.hil_textures();
+    let runs = ctx.hil_runs(&lm, &sm);
+    record::interleave_kept(&runs, b.visible.len(), &kept, &mut rec.texels);
+    let rop = record::blend_rop(sc.shafts.fb_bits, depth_tested);
+    rec.into_work((w, h), tex, rop, depth_tested)
 }
 
 impl Elaborated {

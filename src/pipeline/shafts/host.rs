@@ -2,8 +2,7 @@
 //! light-map texels, the ray geometry (for the plane range), and the reference's
 //! geometry (built once, shared with the ray-marcher).
 
-use super::frame::{ObjectMesh, Prepared};
-use super::prepare::prepare;
+use super::prepare::{prepare, ObjectMesh, Prepared};
 use crate::scene::format::{LightKind, Scene, Shape};
 use crate::scene::geometry::{Ray, SceneGeometry, TriangleSoup};
 use crate::scene::lightmap::rasterize_sampler;

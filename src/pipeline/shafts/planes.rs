@@ -8,27 +8,32 @@
 //! do not depend on the chunking or the thread count.
 
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
-use super::frame::{
-    attr_unorm, counters_add, light_color_codes, unit_depth_word, PassKind, PassLog, PassStats,
-    PassWork, Prepared, ATTR_FRAC, SUBPLANE_BATCH, ZBUF_BITS,
-};
+use super::pass_log::PassLog;
+use super::prepare::Prepared;
 use super::record::{self, Rec};
-use super::tables::GTables;
+use super::tables::{self, GTables};
+use super::units::{attr_unorm, counters_add, unit_depth_word, ATTR_FRAC, ZBUF_BITS};
 use super::view::vec3;
-use crate::chip::work::SampleBands;
+use crate::chip::work::{PassWork, SampleBands};
+use crate::chip::{PassKind, PassStats};
 use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
 use crate::report::image_out::Framebuffer;
-use crate::scene::format::PlaneStep;
+use crate::scene::format::{PlaneStep, ShaftsConfig};
+use crate::scene::math::Vec3;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::blend::{Blend, BlendIn};
-use rtl_model::units::polygon_interpolator::PolyLanes;
+use rtl_model::units::polygon_interpolator::{PolyLanes, PolySetup};
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit};
 use std::collections::BTreeMap;
+
+/// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
+/// fragment list each). Fixed, so the work split never depends on the thread count.
+const SUBPLANE_BATCH: usize = 4;
 
 /// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l, whether
 /// their rows never go up, and the counters of the units that made them.
@@ -74,6 +79,28 @@ impl PlaneSpans {
             a.merge(b);
         }
     }
+
+    /// End the plane's spans: each unit's counters, timing included, under its name
+    /// (J from the J texture when there is one, else H·I_l's units).
+    fn close(
+        self,
+        ctx: &LightCtx,
+        jtex: Option<&TextureSampler>,
+        ctr: &mut BTreeMap<String, Counters>,
+    ) {
+        let u = ctx.units;
+        counters_add(ctr, "polygon_interpolator", self.interp);
+        ctx.close_visible(self.zbuf, ctr);
+        self.f.close("texture_sampler (F)", u.f_tex.timing(), ctr);
+        self.h.close("texture_sampler (h)", u.h_tex.timing(), ctr);
+        match jtex {
+            Some(t) => self.j.close("texture_sampler (J)", t.timing(), ctr),
+            None => self.hil.close(ctx, ctr),
+        }
+        for s in self.modulate {
+            s.close("modulate", u.modulate.timing(), ctr);
+        }
+    }
 }
 
 /// Buffers of one mesh cell's chunks besides the H·I_l ones.
@@ -116,7 +143,9 @@ struct PlaneCtx<'a> {
     bands: Option<SampleBands>,
 }
 
-/// The n sample planes (and their sub-planes when m > 1).
+/// The n sample planes (and their sub-planes when m > 1): per interval i, its
+/// sub-planes into the J buffer and the J buffer copied to the J texture (m > 1),
+/// then plane i.
 pub(super) fn planes_pass(
     ctx: &LightCtx,
     p: &Prepared,
@@ -125,30 +154,16 @@ pub(super) fn planes_pass(
     ctr: &mut BTreeMap<String, Counters>,
     log: &mut PassLog,
 ) -> Result<(), ConfigError> {
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (sc.image.width, sc.image.height);
+    let cfg = p.scene.shafts;
     let n = cfg.planes as usize;
-    let recording = log.recording();
     // What a sub-plane records: nothing, or every fragment or the sampled bands'.
-    let sub_record = recording.then_some(log.bands);
+    let sub_record = log.recording().then_some(log.bands);
     let m = cfg.subplanes as usize;
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
     let mut jtex: Option<TextureSampler> = None;
-    // The camera depth buffer is read-only here: its words unpacked once for every
-    // plane's and sub-plane's depth tests.
-    let zwords = match (&ctx.units.zbuf, ctx.zstate) {
-        (Some(z), Some(zs)) => z.words(zs),
-        _ => None,
-    };
+    let (zwords, swords) = unpacked_words(ctx);
     let zwords = zwords.as_deref();
-    // The shadow map is read-only here too: its words unpacked once for the H·I_l
-    // tests in lanes.
-    let swords = match (&ctx.units.shadow, ctx.sstate) {
-        (Some(sh), Some(ss)) => sh.words(ss),
-        _ => None,
-    };
     let ctx = &LightCtx {
         swords: swords.as_deref(),
         ..*ctx
@@ -168,35 +183,7 @@ pub(super) fn planes_pass(
         if m > 1 {
             let hils = pending.take().unwrap_or_else(|| hil_of(i));
             let jbuf = subplanes_into_j(ctx, p, hils, ctr, log)?;
-            // Copy to texture: read the J buffer, write the texture (memory traffic).
-            let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
-            let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
-            st.other_bytes = 2 * bytes;
-            let work = recording.then(|| PassWork {
-                width: w,
-                height: h,
-                copy_read_bytes: bytes,
-                copy_write_bytes: bytes,
-                ..PassWork::default()
-            });
-            log.push(ctr, st, work)?;
-            match jtex.as_mut() {
-                Some(t) => t.load(&jbuf)?,
-                None => {
-                    jtex = Some(TextureSampler::new(
-                        TextureSamplerConfig {
-                            dims: 2,
-                            size: [w, h, 1],
-                            texel_bits: cfg.texel_bits,
-                            coord_int_bits: 16,
-                            filter: Filter::Nearest,
-                            address: [AddressMode::Clamp; 3],
-                            ..TextureSamplerConfig::geforce()
-                        },
-                        &jbuf,
-                    )?)
-                }
-            }
+            copy_to_j_texture(ctx, p, &jbuf, &mut jtex, ctr, log)?;
         }
         let next = m > 1 && i + 1 < n;
         pending = plane(
@@ -219,6 +206,66 @@ pub(super) fn planes_pass(
     Ok(())
 }
 
+/// The camera depth buffer's and the shadow map's words, unpacked once for every
+/// plane's and sub-plane's tests in lanes: both are read-only during the planes pass.
+/// `None` for a buffer the light's passes do not have.
+fn unpacked_words(ctx: &LightCtx) -> (Option<Vec<u32>>, Option<Vec<u32>>) {
+    let zwords = match (&ctx.units.zbuf, ctx.zstate) {
+        (Some(z), Some(zs)) => z.words(zs),
+        _ => None,
+    };
+    let swords = match (&ctx.units.shadow, ctx.sstate) {
+        (Some(sh), Some(ss)) => sh.words(ss),
+        _ => None,
+    };
+    (zwords, swords)
+}
+
+/// The J buffer copied to the J texture: read the J buffer and write the texture (a
+/// copy pass of memory traffic only), the texture made at the first copy and loaded
+/// at each next one.
+fn copy_to_j_texture(
+    ctx: &LightCtx,
+    p: &Prepared,
+    jbuf: &[u32],
+    jtex: &mut Option<TextureSampler>,
+    ctr: &mut BTreeMap<String, Counters>,
+    log: &mut PassLog,
+) -> Result<(), ConfigError> {
+    let cfg = p.scene.shafts;
+    let (w, h) = (p.scene.image.width, p.scene.image.height);
+    let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
+    let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
+    st.other_bytes = 2 * bytes;
+    let work = log.recording().then(|| PassWork {
+        width: w,
+        height: h,
+        copy_read_bytes: bytes,
+        copy_write_bytes: bytes,
+        ..PassWork::default()
+    });
+    log.push(ctr, st, work)?;
+    match jtex.as_mut() {
+        Some(t) => t.load(jbuf)?,
+        None => {
+            // A w × h texture of texel_bits, sampled at pixel centres (nearest).
+            *jtex = Some(TextureSampler::new(
+                TextureSamplerConfig {
+                    dims: 2,
+                    size: [w, h, 1],
+                    texel_bits: cfg.texel_bits,
+                    coord_int_bits: 16,
+                    filter: Filter::Nearest,
+                    address: [AddressMode::Clamp; 3],
+                    ..TextureSamplerConfig::geforce()
+                },
+                jbuf,
+            )?)
+        }
+    }
+    Ok(())
+}
+
 /// Interval [r − Δr/2, r + Δr/2]'s m sub-planes' H·I_l, in sub-plane order: each
 /// independent of the J buffer and the framebuffer, so computed in parallel, each
 /// with its own counters, to be merged and blended in sub-plane order by
@@ -232,90 +279,114 @@ fn subplanes_hil(
     dr: f64,
     recording: Option<Option<SampleBands>>,
 ) -> Vec<Result<SubPlaneHil, ConfigError>> {
-    let u = ctx.units;
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (sc.image.width, sc.image.height);
-    let m = cfg.subplanes as usize;
-    let sub = |j: usize| -> Result<SubPlaneHil, ConfigError> {
-        let mut local = BTreeMap::new();
-        let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-        // A full-screen rectangle: its light coordinates are affine (the sub-plane is
-        // parallel to the screen): one walk as a parallelogram.
-        let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
-        let hv = corners.map(|(x, y)| {
-            let pt = ctx.cam.point_at(x, y, uj);
-            let la = ctx.light_attrs(pt);
-            HostVertex {
-                x,
-                y,
-                attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
-            }
-        });
-        let mut c_int = Counters::default();
-        let q = quantise(&u.interp, &hv, &mut c_int)?;
-        let setup = u.interp.setup_parallelogram(&q, &mut c_int)?;
-        let zsub = ctx
-            .cam
-            .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
-            .map_or(1.0, |v| v.2);
-        let zw = unit_depth_word(zsub, ZBUF_BITS);
-        let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
-        let mut b = ChunkBuffers::default();
-        // At most one fragment per pixel: no growing (and copying) on the way.
-        let (mut pix, mut hil) = (
-            Vec::with_capacity((w * h) as usize),
-            Vec::with_capacity((w * h) as usize),
-        );
-        // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
-        // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
-        let mut wb = WalkBuffers::unread(0b1111);
-        let (mut rows_in_order, mut last_y) = (true, 0);
-        // One primitive (the parallelogram) walking the whole screen.
-        let mut rec = recording.map(|bands| {
-            let mut r = Rec::sampled(bands);
-            // At most one fragment per pixel (of the sampled units, about one pixel in
-            // `every`).
-            let px = ((w * h) / bands.map_or(1, |b| b.every.max(1))) as usize;
-            r.xy.reserve(px);
-            r.texels
-                .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
-            r.prim((w * h) as u64);
-            r
-        });
-        let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
-        let (mut lm, mut sm) = (Vec::new(), Vec::new());
-        walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-            ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
-            ctx.h_il(px, 4, &mut spans, &mut b);
-            if let Some(r) = rec.as_mut() {
-                let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
-                if !kept.is_none() {
-                    ctx.hil_footprint(&b, &mut lm, &mut sm);
-                    let runs = ctx.hil_runs(&lm, &sm);
-                    record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
-                }
-            }
-            pix.extend(b.visible.iter().map(|&i| {
-                let i = i as usize;
-                let y = px.y[i] as u32;
-                rows_in_order &= y >= last_y;
-                last_y = y;
-                y * w + px.x[i] as u32
-            }));
-            hil.extend_from_slice(&b.hil);
-        });
-        counters_add(&mut local, "polygon_interpolator", c_int);
-        ctx.close_visible(zspan, &mut local);
-        spans.close(ctx, &mut local);
-        Ok((pix, hil, rows_in_order, local, rec))
-    };
+    let m = p.scene.shafts.subplanes as usize;
     let all: Vec<usize> = (0..m).collect();
     let mut out = Vec::with_capacity(m);
     for batch in all.chunks(SUBPLANE_BATCH) {
-        out.par_extend(batch.par_iter().map(|&j| sub(j)));
+        out.par_extend(batch.par_iter().map(|&j| {
+            // Sub-plane j at the middle of the interval's j-th m-th.
+            let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
+            subplane_hil(ctx, p, zwords, uj, recording)
+        }));
     }
     out
+}
+
+/// The sub-plane at eye distance `uj`: a full-screen parallelogram walked, its pixels
+/// depth-tested at the sub-plane's window depth, and the visible ones' H·I_l, with
+/// the counters of the units that made them (and, when `recording`, its record).
+fn subplane_hil(
+    ctx: &LightCtx,
+    p: &Prepared,
+    zwords: Option<&[u32]>,
+    uj: f64,
+    recording: Option<Option<SampleBands>>,
+) -> Result<SubPlaneHil, ConfigError> {
+    let u = ctx.units;
+    let (w, h) = (p.scene.image.width, p.scene.image.height);
+    let mut local = BTreeMap::new();
+    let mut c_int = Counters::default();
+    let setup = subplane_setup(ctx, (w, h), uj, &mut c_int)?;
+    let zsub = ctx
+        .cam
+        .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, uj))
+        .map_or(1.0, |v| v.2);
+    let zw = unit_depth_word(zsub, ZBUF_BITS);
+    let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
+    let mut b = ChunkBuffers::default();
+    // At most one fragment per pixel: no growing (and copying) on the way.
+    let (mut pix, mut hil) = (
+        Vec::with_capacity((w * h) as usize),
+        Vec::with_capacity((w * h) as usize),
+    );
+    // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
+    // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
+    let mut wb = WalkBuffers::unread(0b1111);
+    let (mut rows_in_order, mut last_y) = (true, 0);
+    let mut rec = recording.map(|bands| subplane_rec(ctx, bands, (w, h)));
+    let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+    let (mut lm, mut sm) = (Vec::new(), Vec::new());
+    walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
+        ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
+        ctx.h_il(px, 4, &mut spans, &mut b);
+        if let Some(r) = rec.as_mut() {
+            let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
+            if !kept.is_none() {
+                ctx.hil_footprint(&b, &mut lm, &mut sm);
+                let runs = ctx.hil_runs(&lm, &sm);
+                record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
+            }
+        }
+        pix.extend(b.visible.iter().map(|&i| {
+            let i = i as usize;
+            let y = px.y[i] as u32;
+            rows_in_order &= y >= last_y;
+            last_y = y;
+            y * w + px.x[i] as u32
+        }));
+        hil.extend_from_slice(&b.hil);
+    });
+    counters_add(&mut local, "polygon_interpolator", c_int);
+    ctx.close_visible(zspan, &mut local);
+    spans.close(ctx, &mut local);
+    Ok((pix, hil, rows_in_order, local, rec))
+}
+
+/// The sub-plane at eye distance `uj` set up as one full-screen parallelogram: its
+/// light coordinates are affine (the sub-plane is parallel to the screen), so one walk
+/// covers the `w` × `h` screen. Only attributes 4..=7 (s, t, r, q) carry values.
+fn subplane_setup(
+    ctx: &LightCtx,
+    (w, h): (u32, u32),
+    uj: f64,
+    c_int: &mut Counters,
+) -> Result<PolySetup, ConfigError> {
+    let u = ctx.units;
+    let corners = [(0.0, 0.0), (w as f64, 0.0), (w as f64, h as f64)];
+    let hv = corners.map(|(x, y)| {
+        let pt = ctx.cam.point_at(x, y, uj);
+        let la = ctx.light_attrs(pt);
+        HostVertex {
+            x,
+            y,
+            attrs: host_attrs([0.0, 0.0, 0.0, 0.0, la[0], la[1], la[2], la[3]]),
+        }
+    });
+    let q = quantise(&u.interp, &hv, c_int)?;
+    u.interp.setup_parallelogram(&q, c_int)
+}
+
+/// A sub-plane's record, started: one primitive (the parallelogram) walking the whole
+/// `w` × `h` screen, room reserved for at most one fragment per pixel (of the sampled
+/// units, about one pixel in `every`) and its H·I_l texels.
+fn subplane_rec(ctx: &LightCtx, bands: Option<SampleBands>, (w, h): (u32, u32)) -> Rec {
+    let mut r = Rec::sampled(bands);
+    let px = ((w * h) / bands.map_or(1, |b| b.every.max(1))) as usize;
+    r.xy.reserve(px);
+    r.texels
+        .reserve(px * ctx.hil_runs(&[], &[]).iter().map(|r| r.1).sum::<usize>());
+    r.prim((w * h) as u64);
+    r
 }
 
 /// An interval's sub-planes' H·I_l ([`subplanes_hil`]) merged in sub-plane order and
@@ -450,14 +521,10 @@ fn plane<T: Send>(
     let sc = &p.scene;
     let cfg = sc.shafts;
     let (w, h) = (sc.image.width, sc.image.height);
-    let m = cfg.subplanes as usize;
-    let lpos = vec3(ctx.light.position);
     let (color_codes, intensity) = light_color_codes(ctx.light, ctx.tex_max);
-    // Per-plane scale S (fraction of full scale): F_max · h_ref · I · Δr · exposure / 255.
-    let s_plane = tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0;
-    let [cols, rows] = cfg.mesh;
-    let nf = cfg.f_texels as f64;
-    let [hw, hh] = cfg.h_texels.map(|v| v as f64);
+    let mesh = PlaneMesh::new(ctx, p, tables, r, dr, intensity);
+    // The plane is parallel to the screen: one window depth for all its fragments,
+    // that of the screen's centre.
     let plane_z = ctx
         .cam
         .project(ctx.cam.point_at(w as f64 * 0.5, h as f64 * 0.5, r))
@@ -472,15 +539,90 @@ fn plane<T: Send>(
         record: log.recording(),
         bands: log.bands,
     };
+    let drawn = draw_cells(&pc, &mesh, (w, h));
+    let (cell_frags, spans, rec) = join_cells(&pc, drawn)?;
+    let walked = spans.interp.pixels_in;
+    spans.close(ctx, jtex, ctr);
+    // The cells' fragments joined in cell order on the pool, beside `beside`, not
+    // between two parallel sections.
+    let blend = || {
+        frags.clear();
+        for f in &cell_frags {
+            frags.extend_from_slice(f);
+        }
+        blend_plane(&u.blend, fb, frags, ctr, scratch)
+    };
+    let ((), t) = rayon::join(blend, beside);
+    let mut st = PassStats::new(PassKind::Plane, ctx.li, plane_textures(ctx, &cfg));
+    st.triangles = 2 * (cfg.mesh[0] * cfg.mesh[1]) as u64;
+    st.walked = walked;
+    st.fragments = frags.len() as u64;
+    let work = rec.map(|r| plane_work(ctx, &cfg, jtex, r, (w, h)));
+    log.push(ctr, st, work)?;
+    Ok(t)
+}
 
-    let vertex = |k: u32, l: u32| {
+/// Plane i's mesh as the host computes its vertices (f64): the plane's eye distance,
+/// the light's position, the per-plane scale S and the tables' ranges.
+struct PlaneMesh<'a> {
+    ctx: &'a LightCtx<'a>,
+    tables: &'a GTables,
+    /// The framebuffer's width and height (the mesh spans the screen).
+    viewport: (u32, u32),
+    /// Cells across and down (`shafts.mesh`).
+    cells: [u32; 2],
+    /// Eye distance of the plane.
+    r: f64,
+    lpos: Vec3,
+    /// Per-plane scale S (fraction of full scale).
+    s_plane: f64,
+    plane_step: PlaneStep,
+    /// The F table's texels and the h table's texels across and down, as f64.
+    nf: f64,
+    hw: f64,
+    hh: f64,
+}
+
+impl<'a> PlaneMesh<'a> {
+    fn new(
+        ctx: &'a LightCtx<'a>,
+        p: &Prepared,
+        tables: &'a GTables,
+        r: f64,
+        dr: f64,
+        intensity: f64,
+    ) -> Self {
+        let sc = &p.scene;
+        let cfg = sc.shafts;
+        let [hw, hh] = cfg.h_texels.map(|v| v as f64);
+        PlaneMesh {
+            ctx,
+            tables,
+            viewport: (sc.image.width, sc.image.height),
+            cells: cfg.mesh,
+            r,
+            lpos: vec3(ctx.light.position),
+            // S = F_max · h_ref · I · Δr · exposure / 255.
+            s_plane: tables.f_max * tables.h_ref * intensity * dr * p.exposure / 255.0,
+            plane_step: cfg.plane_step,
+            nf: cfg.f_texels as f64,
+            hw,
+            hh,
+        }
+    }
+
+    /// Mesh vertex (k, l): its screen position and attributes α, s, t (in texels of
+    /// the F and h tables), the vertex colour and the light coordinates.
+    fn vertex(&self, k: u32, l: u32) -> HostVertex {
+        let (ctx, tables, r) = (self.ctx, self.tables, self.r);
+        let ((w, h), [cols, rows]) = (self.viewport, self.cells);
         let (x, y) = (
             k as f64 * w as f64 / cols as f64,
             l as f64 * h as f64 / rows as f64,
         );
         let pt = ctx.cam.point_at(x, y, r);
         let t = (pt - ctx.cam.eye).length();
-        let to_l = lpos - pt;
+        let to_l = self.lpos - pt;
         let s = to_l.length();
         let view = (pt - ctx.cam.eye).normalized();
         let cos_a = if s > 0.0 {
@@ -494,13 +636,13 @@ fn plane<T: Send>(
             x,
             y,
             attrs: host_attrs([
-                alpha / std::f64::consts::PI * nf,
-                s / tables.s_max * hw,
-                t / tables.t_max * hh,
-                match cfg.plane_step {
-                    PlaneStep::AlongRay => s_plane * t / r,
+                alpha / std::f64::consts::PI * self.nf,
+                s / tables.s_max * self.hw,
+                t / tables.t_max * self.hh,
+                match self.plane_step {
+                    PlaneStep::AlongRay => self.s_plane * t / r,
                     // `shafts.plane_step = "plane_spacing"`: Δt = Δr on every ray.
-                    PlaneStep::PlaneSpacing => s_plane,
+                    PlaneStep::PlaneSpacing => self.s_plane,
                 },
                 la[0],
                 la[1],
@@ -508,25 +650,44 @@ fn plane<T: Send>(
                 la[3],
             ]),
         }
-    };
+    }
+}
+
+/// Every mesh cell of the plane drawn and shaded ([`cell`]) in parallel, in cell
+/// order (row by row).
+fn draw_cells(
+    pc: &PlaneCtx,
+    mesh: &PlaneMesh,
+    (w, h): (u32, u32),
+) -> Vec<Result<DrawnCell, ConfigError>> {
+    let [cols, rows] = mesh.cells;
     let cells: Vec<(u32, u32)> = (0..rows)
         .flat_map(|l| (0..cols).map(move |k| (k, l)))
         .collect();
-    let drawn: Vec<Result<DrawnCell, ConfigError>> = cells
+    cells
         .par_iter()
         .map(|&(k, l)| {
             let q = [
-                vertex(k, l),
-                vertex(k + 1, l),
-                vertex(k + 1, l + 1),
-                vertex(k, l + 1),
+                mesh.vertex(k, l),
+                mesh.vertex(k + 1, l),
+                mesh.vertex(k + 1, l + 1),
+                mesh.vertex(k, l + 1),
             ];
-            cell(&pc, &q, w, h)
+            cell(pc, &q, w, h)
         })
-        .collect();
+        .collect()
+}
+
+/// The drawn cells joined in cell order (the order their fragments blend in): each
+/// cell's fragments, the plane's spans, and when recording the cells' records joined
+/// into one. The first cell's error in cell order is returned.
+#[allow(clippy::type_complexity)]
+fn join_cells(
+    pc: &PlaneCtx,
+    drawn: Vec<Result<DrawnCell, ConfigError>>,
+) -> Result<(Vec<Vec<PlaneFrag>>, PlaneSpans, Option<Rec>), ConfigError> {
     let mut spans = PlaneSpans::default();
     let mut cell_frags = Vec::with_capacity(drawn.len());
-    // The cells' records joined in cell order (the order their fragments blend in).
     let mut rec = pc.record.then(|| {
         // Sized once for every cell's record (no growing and copying on the way).
         let mut all = Rec::sampled(pc.bands);
@@ -542,59 +703,59 @@ fn plane<T: Send>(
             all.append(r);
         }
     }
-    let walked = spans.interp.pixels_in;
-    counters_add(ctr, "polygon_interpolator", spans.interp);
-    ctx.close_visible(spans.zbuf, ctr);
-    spans.f.close("texture_sampler (F)", u.f_tex.timing(), ctr);
-    spans.h.close("texture_sampler (h)", u.h_tex.timing(), ctr);
+    Ok((cell_frags, spans, rec))
+}
+
+/// Textures a plane fragment reads: F and h, then J (m > 1) or the light map and the
+/// shadow map it has (m = 1).
+fn plane_textures(ctx: &LightCtx, cfg: &ShaftsConfig) -> u32 {
+    let m = cfg.subplanes as usize;
+    2 + if m > 1 {
+        1
+    } else {
+        u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
+    }
+}
+
+/// A plane's record as the clocked chip's work: its textures (F, h, then J or H·I_l's)
+/// and the framebuffer's ROP.
+fn plane_work(
+    ctx: &LightCtx,
+    cfg: &ShaftsConfig,
+    jtex: Option<&TextureSampler>,
+    r: Rec,
+    (w, h): (u32, u32),
+) -> PassWork {
+    let u = ctx.units;
+    let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
+    let mut tex = vec![
+        record::texture("texture_sampler (F)", &u.f_tex),
+        record::texture("texture_sampler (h)", &u.h_tex),
+    ];
     match jtex {
-        Some(t) => spans.j.close("texture_sampler (J)", t.timing(), ctr),
-        None => spans.hil.close(ctx, ctr),
+        Some(t) => tex.push(record::texture("texture_sampler (J)", t)),
+        None => tex.extend(ctx.hil_textures()),
     }
-    for s in spans.modulate {
-        s.close("modulate", u.modulate.timing(), ctr);
+    r.into_work(
+        (w, h),
+        tex,
+        record::blend_rop(cfg.fb_bits, depth_tested),
+        depth_tested,
+    )
+}
+
+/// Light colour as texel codes (normalised by its largest component, which goes
+/// into the intensity).
+fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3], f64) {
+    let m = l.color.iter().cloned().fold(0.0, f64::max);
+    if m <= 0.0 {
+        return ([0; 3], 0.0);
     }
-    // The cells' fragments joined in cell order on the pool, beside `beside`, not
-    // between two parallel sections.
-    let blend = || {
-        frags.clear();
-        for f in &cell_frags {
-            frags.extend_from_slice(f);
-        }
-        blend_plane(&u.blend, fb, frags, ctr, scratch)
-    };
-    let ((), t) = rayon::join(blend, beside);
-    let mut st = PassStats::new(
-        PassKind::Plane,
-        ctx.li,
-        2 + if m > 1 {
-            1
-        } else {
-            u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some())
-        },
-    );
-    st.triangles = 2 * (cols * rows) as u64;
-    st.walked = walked;
-    st.fragments = frags.len() as u64;
-    let work = rec.map(|r| {
-        let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
-        let mut tex = vec![
-            record::texture("texture_sampler (F)", &u.f_tex),
-            record::texture("texture_sampler (h)", &u.h_tex),
-        ];
-        match jtex {
-            Some(t) => tex.push(record::texture("texture_sampler (J)", t)),
-            None => tex.extend(ctx.hil_textures()),
-        }
-        r.into_work(
-            (w, h),
-            tex,
-            record::blend_rop(cfg.fb_bits, depth_tested),
-            depth_tested,
-        )
-    });
-    log.push(ctr, st, work)?;
-    Ok(t)
+    (
+        l.color
+            .map(|c| tables::unorm_from_unit(c / m, tex_max.trailing_ones())),
+        l.intensity * m,
+    )
 }
 
 /// One mesh cell drawn: its shaded fragments, its units' spans and, when recording,
@@ -631,14 +792,9 @@ fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell,
     Ok((out, spans, rec))
 }
 
-/// The per-fragment product J · S · F · colour · h of one chunk, one 8-bit modulate at
-/// a time, largest factors first: each modulate rounds to a whole code, so an
-/// intermediate that has shrunk to a few codes carries a large relative error (a 1
-/// stays 1 under any factor ≥ 128/255). J (≤ full scale in the light), the plane
-/// scale S·t/r (near full scale by the choice of h_ref) and F (near full scale by the
-/// choice of F_ref) keep the product large; h, which spans the 1/s² range and is a
-/// few codes far from the light, comes last, so only the final rounding acts on the
-/// small value (docs/shafts.md).
+/// One chunk of a plane's walk: its fragments depth-tested, F(α), h(s, t) and J
+/// sampled in lanes, recorded when recording, and their product
+/// ([`modulate_chain`]) into `out`.
 fn shade_chunk(
     pc: &PlaneCtx,
     px: &PolyLanes,
@@ -648,9 +804,7 @@ fn shade_chunk(
     out: &mut Vec<PlaneFrag>,
     rec: Option<&mut Rec>,
 ) {
-    let ctx = pc.ctx;
-    let u = ctx.units;
-    ctx.visible_flat(
+    pc.ctx.visible_flat(
         px,
         viewport,
         pc.zword,
@@ -658,10 +812,22 @@ fn shade_chunk(
         &mut sp.zbuf,
         &mut b.chunk,
     );
+    sample_f_h(pc, px, sp, b);
+    sample_j(pc, px, sp, b);
+    if let Some(r) = rec {
+        record_chunk(pc, px, viewport, b, r);
+    }
+    modulate_chain(pc, px, sp, b, out);
+}
+
+/// F(α) and h(s, t) of the chunk's visible fragments in lanes: coordinate words
+/// (attributes 0, 1 and 2 shifted to `coord_frac_bits`) in `b.f_s`, `b.h_s`,
+/// `b.h_t`, one code per fragment out in `b.f_o`, `b.h_o`.
+fn sample_f_h(pc: &PlaneCtx, px: &PolyLanes, sp: &mut PlaneSpans, b: &mut PlaneBuffers) {
+    let u = pc.ctx.units;
     let vis = &b.chunk.visible;
     let sh = pc.coord_shift;
     let [alpha, hs, ht] = [&px.attrs[0], &px.attrs[1], &px.attrs[2]];
-    // F(α) and h(s, t) in lanes: coordinate words in, one code per fragment out.
     b.f_s.clear();
     b.f_s
         .extend(vis.iter().map(|&i| (alpha[i as usize] >> sh) as i32));
@@ -680,8 +846,12 @@ fn shade_chunk(
         &mut b.h_in,
         &mut b.h_out,
     );
+}
 
-    // J: the sub-plane average (m > 1) or H·I_l on the plane itself (m = 1).
+/// J of the chunk's visible fragments into `b.m_a`: the sub-plane average from the J
+/// texture at the pixel centres (m > 1) or H·I_l on the plane itself (m = 1).
+fn sample_j(pc: &PlaneCtx, px: &PolyLanes, sp: &mut PlaneSpans, b: &mut PlaneBuffers) {
+    let vis = &b.chunk.visible;
     match pc.jtex {
         Some(t) => {
             let fr = t.coord_frac_bits();
@@ -693,16 +863,31 @@ fn shade_chunk(
             sp.j.feed_sampler_lanes(t, &b.j_s, &b.j_t, &mut b.m_a, &mut b.j_in, &mut b.j_out);
         }
         None => {
-            ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
+            pc.ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
             b.m_a.clear();
             b.m_a.extend_from_slice(&b.chunk.hil);
         }
     }
-    if let Some(r) = rec {
-        record_chunk(pc, px, viewport, b, r);
-    }
+}
+
+/// The per-fragment product J · S · F · colour · h of one chunk, one 8-bit modulate at
+/// a time, largest factors first: each modulate rounds to a whole code, so an
+/// intermediate that has shrunk to a few codes carries a large relative error (a 1
+/// stays 1 under any factor ≥ 128/255). J (≤ full scale in the light), the plane
+/// scale S·t/r (near full scale by the choice of h_ref) and F (near full scale by the
+/// choice of F_ref) keep the product large; h, which spans the 1/s² range and is a
+/// few codes far from the light, comes last, so only the final rounding acts on the
+/// small value (docs/shafts.md).
+fn modulate_chain(
+    pc: &PlaneCtx,
+    px: &PolyLanes,
+    sp: &mut PlaneSpans,
+    b: &mut PlaneBuffers,
+    out: &mut Vec<PlaneFrag>,
+) {
+    let ctx = pc.ctx;
     let vis = &b.chunk.visible;
-    let md = &u.modulate;
+    let md = &ctx.units.modulate;
     let n = vis.len();
     let (s_attr, tex_max) = (&px.attrs[3], ctx.tex_max);
     // J · S

@@ -1,10 +1,53 @@
 //! Host preparation of a scene for the shafts pipeline: the depth range the sample
 //! planes must cover, and the ranges of the h table.
 
-use super::frame::{ObjectMesh, Prepared};
 use super::view::{vec3, CameraView};
 use crate::scene::format::{LightKind, Scene};
 use crate::scene::math::Vec3;
+
+/// A tessellated object as the host hands it to the pipeline.
+#[derive(Clone, Debug)]
+pub struct ObjectMesh {
+    /// Triangles: positions and per-vertex unit normals.
+    pub triangles: Vec<([Vec3; 3], [Vec3; 3])>,
+    pub color: [f64; 3],
+    pub occluder: bool,
+    /// Coloured by this pipeline's object pass: true for a Lambert object without a
+    /// material; an object with one is shaded by the shading units instead (it still
+    /// enters the depth buffer and, as an occluder, the shadow maps).
+    pub colour_pass: bool,
+}
+
+/// What the host prepares once per scene.
+#[derive(Clone, Debug)]
+pub struct Prepared {
+    pub scene: Scene,
+    pub objects: Vec<ObjectMesh>,
+    /// Per light: light-map texels (`shafts.light_map_texels`², unorm texel_bits) or None
+    /// (point lights).
+    pub light_maps: Vec<Option<Vec<u32>>>,
+    /// View depths bounding the lit volume: planes fill [r0, r1].
+    pub plane_range: (f64, f64),
+    /// h table ranges and the nearest light distance (sets h_ref).
+    pub s_max: f64,
+    pub t_max: f64,
+    pub s_near: f64,
+    /// Smallest scattering angle in the lit volume (sets the F table's full scale).
+    pub alpha_min: f64,
+    /// Output scale: radiance 1.0 = `exposure` 8-bit levels.
+    pub exposure: f64,
+}
+
+impl Prepared {
+    /// The α whose F is the F table's full scale: 0 (the table's maximum) or the lit
+    /// volume's smallest scattering angle (`shafts.f_scale`).
+    pub fn f_alpha(&self) -> f64 {
+        match self.scene.shafts.f_scale {
+            crate::scene::format::FScale::Table => 0.0,
+            crate::scene::format::FScale::LitVolume => self.alpha_min,
+        }
+    }
+}
 
 /// Radiance 1.0 maps to this many 8-bit levels by default.
 pub const DEFAULT_EXPOSURE: f64 = 255.0;
@@ -133,34 +176,7 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
     // light's apex the 1/s² peak is sharp): search the cells around the nearest sample
     // on a 16³ grid; h_ref then covers every fragment the planes can draw.
     let s_near = if NEAR_PERCENTILE == 0.0 {
-        let (cw, ch) = (cam.width as f64 / gx as f64, cam.height as f64 / gy as f64);
-        let cz = (cam.far - cam.near) / gz as f64;
-        let (_, bx, by, br) = best;
-        let k = 16;
-        let mut m = s_near;
-        for a in 0..=k {
-            for b in 0..=k {
-                let px = bx + cw * (2.0 * a as f64 / k as f64 - 1.0);
-                let py = by + ch * (2.0 * b as f64 / k as f64 - 1.0);
-                let dir = cam.ray_dir(px, py);
-                let cos = dir.dot(cam.forward).max(1e-6);
-                let t_hit = first_hit(cam.eye, dir).unwrap_or(f64::INFINITY);
-                for c in 0..=k {
-                    let r = (br + cz * (2.0 * c as f64 / k as f64 - 1.0)).max(cam.near);
-                    let t = r / cos;
-                    if t > t_hit {
-                        break;
-                    }
-                    let p = cam.eye + dir * t;
-                    for l in &scene.lights {
-                        if in_cone(l, p) {
-                            m = m.min((p - vec3(l.position)).length());
-                        }
-                    }
-                }
-            }
-        }
-        m
+        nearest_lit_around(scene, &cam, first_hit, best, (gx, gy, gz), s_near)
     } else {
         s_near
     };
@@ -177,6 +193,47 @@ pub fn lit_ranges(scene: &Scene, first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>) 
         t_max: t_max * 1.05 + step,
         alpha_min: cos_alpha_max.clamp(-1.0, 1.0).acos(),
     }
+}
+
+/// The smallest light distance of a lit point in the grid cells around the nearest
+/// lit sample `best` = (s, px, py, r) of a `gx` × `gy` × `gz` grid: a 16³ grid over
+/// ± one cell in x, y and view depth, starting from `s_near`.
+fn nearest_lit_around(
+    scene: &Scene,
+    cam: &CameraView,
+    first_hit: &dyn Fn(Vec3, Vec3) -> Option<f64>,
+    best: (f64, f64, f64, f64),
+    (gx, gy, gz): (usize, usize, usize),
+    s_near: f64,
+) -> f64 {
+    let (cw, ch) = (cam.width as f64 / gx as f64, cam.height as f64 / gy as f64);
+    let cz = (cam.far - cam.near) / gz as f64;
+    let (_, bx, by, br) = best;
+    let k = 16;
+    let mut m = s_near;
+    for a in 0..=k {
+        for b in 0..=k {
+            let px = bx + cw * (2.0 * a as f64 / k as f64 - 1.0);
+            let py = by + ch * (2.0 * b as f64 / k as f64 - 1.0);
+            let dir = cam.ray_dir(px, py);
+            let cos = dir.dot(cam.forward).max(1e-6);
+            let t_hit = first_hit(cam.eye, dir).unwrap_or(f64::INFINITY);
+            for c in 0..=k {
+                let r = (br + cz * (2.0 * c as f64 / k as f64 - 1.0)).max(cam.near);
+                let t = r / cos;
+                if t > t_hit {
+                    break;
+                }
+                let p = cam.eye + dir * t;
+                for l in &scene.lights {
+                    if in_cone(l, p) {
+                        m = m.min((p - vec3(l.position)).length());
+                    }
+                }
+            }
+        }
+    }
+    m
 }
 
 /// What [`lit_ranges`] finds.
