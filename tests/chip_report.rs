@@ -861,8 +861,42 @@ fn a_frame_of_many_passes_draws_a_bounded_key() {
     if let Ok(d) = std::env::var("CHIP_REPORT_KEEP") {
         std::fs::copy(&path, PathBuf::from(d).join("many.png")).unwrap();
     }
-    let rows = ct::write_timeline_csv(&ft, &tmp("many.timeline.csv")).unwrap();
-    assert_eq!(rows, 300 * 3 * 120);
+    let csv = tmp("many.timeline.csv");
+    let rows = ct::write_timeline_csv(&ft, &csv).unwrap();
+    // 300 × 120 buckets per stage are more than the CSV's 4096: each pass's buckets
+    // merged k at a time, k = ⌈⌈300 · 1200 / 4096⌉ / 10⌉ = ⌈88 / 10⌉ = 9, so 14 rows
+    // per pass and stage (13 of 9 buckets, the last of 3).
+    assert_eq!(ct::TIMELINE_CSV_BUCKETS, 4096);
+    assert_eq!(ct::timeline_csv_merge(&ft), vec![9; 300]);
+    assert_eq!(rows, 300 * 3 * 14);
+    // Each pass's rows per stage tile its clocks, and each holds the clock-weighted
+    // mean of its buckets (here all of 10 clocks: the plain mean).
+    let mut r = csv::Reader::from_path(&csv).unwrap();
+    let starts = pass_starts(&ft);
+    let mut next: std::collections::HashMap<(usize, String), (u64, usize)> = Default::default();
+    for rec in r.records() {
+        let rec = rec.unwrap();
+        let (a, b): (u64, u64) = (rec[0].parse().unwrap(), rec[1].parse().unwrap());
+        let i: usize = rec[2].parse().unwrap();
+        let tl = &ft.passes[i].timing.timeline;
+        let s = tl.stages.iter().position(|s| s == &rec[4]).unwrap();
+        let (at, j) = next
+            .entry((i, rec[4].to_string()))
+            .or_insert((starts[i], 0));
+        assert_eq!(a, *at, "pass {i} stage {s} row {j}");
+        let bs = &tl.busy[s][*j * 9..(*j * 9 + 9).min(120)];
+        assert_eq!(b - a, 10 * bs.len() as u64);
+        let mean = bs.iter().map(|&v| v as f64).sum::<f64>() / bs.len() as f64;
+        let v: f64 = rec[5].parse().unwrap();
+        assert!(
+            (v - mean).abs() < 1e-6,
+            "pass {i} stage {s} row {j}: {v} vs {mean}"
+        );
+        (*at, *j) = (b, *j + 1);
+    }
+    for ((i, _), (at, j)) in next {
+        assert_eq!((at, j), (starts[i] + 1_200, 14), "pass {i}");
+    }
 }
 
 #[test]

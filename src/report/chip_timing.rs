@@ -661,7 +661,6 @@ fn pass_json(p: &NamedPassTiming, start: u64, hz: f64) -> Value {
 
 /// One bucket of a pass's timeline on the frame's clocks.
 struct Bucket<'a> {
-    pass: usize,
     stage: &'a str,
     start: u64,
     end: u64,
@@ -737,7 +736,6 @@ fn buckets<'a>(ft: &'a FrameTiming, starts: &'a [u64]) -> impl Iterator<Item = B
             row.iter().enumerate().map(move |(b, &v)| {
                 let lo = starts[i].saturating_add(b as u64 * tl.bucket_clocks);
                 Bucket {
-                    pass: i,
                     stage: &tl.stages[s],
                     start: lo,
                     end: lo.saturating_add(tl.bucket_clocks).min(end),
@@ -758,28 +756,84 @@ const TIMELINE_COLUMNS: [&str; 6] = [
     "busy_fraction",
 ];
 
+/// The most rows per stage the timeline CSV spends on a frame (about three times the
+/// timeline image's width) before it merges buckets: a frame of many passes has its
+/// passes' buckets merged.
+pub const TIMELINE_CSV_BUCKETS: u64 = 4096;
+
+/// How many of each pass's buckets one CSV row merges: 1 (every bucket its own row)
+/// when the frame has at most [`TIMELINE_CSV_BUCKETS`] buckets per stage, else enough
+/// that a row spans at least the frame's clocks / [`TIMELINE_CSV_BUCKETS`].
+pub fn timeline_csv_merge(ft: &FrameTiming) -> Vec<u64> {
+    let buckets: u64 = ft
+        .passes
+        .iter()
+        .map(|p| p.timing.timeline.busy.first().map_or(0, Vec::len) as u64)
+        .sum();
+    let row_clocks = ft.cycles_total().div_ceil(TIMELINE_CSV_BUCKETS);
+    ft.passes
+        .iter()
+        .map(|p| match buckets <= TIMELINE_CSV_BUCKETS {
+            true => 1,
+            false => row_clocks
+                .div_ceil(p.timing.timeline.bucket_clocks.max(1))
+                .max(1),
+        })
+        .collect()
+}
+
+/// One CSV row of a pass's stage: its buckets `b0 .. b0 + k` (fewer at the pass's end)
+/// merged, the busy fraction their clock-weighted mean (the bucket's own value when it
+/// is one).
+fn merged_row(row: &[f32], b0: usize, k: usize, bucket_clocks: u64, cycles: u64) -> f32 {
+    let end = (b0 + k).min(row.len());
+    if end - b0 == 1 {
+        return row[b0];
+    }
+    let (mut busy, mut clocks) = (0f64, 0f64);
+    for (b, &v) in row.iter().enumerate().take(end).skip(b0) {
+        let len = bucket_clocks.min(cycles - b as u64 * bucket_clocks) as f64;
+        busy += v as f64 * len;
+        clocks += len;
+    }
+    (busy / clocks) as f32
+}
+
 /// The timeline as CSV: one row per pass, stage and bucket — `clock_start`,
 /// `clock_end` (frame clocks, end exclusive), `pass_index`, `pass`, `stage`,
 /// `busy_fraction` (0 ..= 1, the shortest decimal that reads back to the same `f32`).
-/// Returns the number of rows. The rows are written field by field as they are made
-/// (a clocked frame of a few hundred passes has over a million), and the file is
+/// A frame of more than [`TIMELINE_CSV_BUCKETS`] buckets per stage has each pass's
+/// buckets merged ([`timeline_csv_merge`]), so the file holds at most about that many
+/// rows per stage plus one per pass. Returns the number of
+/// rows. The rows are written field by field as they are made, and the file is
 /// replaced atomically when all are written.
 pub fn write_timeline_csv(ft: &FrameTiming, path: &Path) -> Result<usize, String> {
     let starts = checked_starts(ft).map_err(|e| format!("{}: {e}", path.display()))?;
+    let merge = timeline_csv_merge(ft);
     let mut n = 0usize;
     crate::report::atomic::write_with(path, |w| {
         let mut out = csv::Writer::from_writer(w);
         out.write_record(TIMELINE_COLUMNS)?;
         let (mut int, mut float) = (itoa::Buffer::new(), ryu::Buffer::new());
-        for b in buckets(ft, &starts) {
-            out.write_field(int.format(b.start))?;
-            out.write_field(int.format(b.end))?;
-            out.write_field(int.format(b.pass))?;
-            out.write_field(&ft.passes[b.pass].pass)?;
-            out.write_field(b.stage)?;
-            out.write_field(float.format(b.busy))?;
-            out.write_record(None::<&[u8]>)?;
-            n += 1;
+        for (i, p) in ft.passes.iter().enumerate() {
+            let tl = &p.timing.timeline;
+            let k = merge[i];
+            let span = k.saturating_mul(tl.bucket_clocks);
+            let end = starts[i].saturating_add(p.timing.cycles);
+            for (s, row) in tl.busy.iter().enumerate() {
+                for (j, b0) in (0..row.len()).step_by(k as usize).enumerate() {
+                    let lo = starts[i].saturating_add(j as u64 * span);
+                    let busy = merged_row(row, b0, k as usize, tl.bucket_clocks, p.timing.cycles);
+                    out.write_field(int.format(lo))?;
+                    out.write_field(int.format(lo.saturating_add(span).min(end)))?;
+                    out.write_field(int.format(i))?;
+                    out.write_field(&p.pass)?;
+                    out.write_field(&tl.stages[s])?;
+                    out.write_field(float.format(busy))?;
+                    out.write_record(None::<&[u8]>)?;
+                    n += 1;
+                }
+            }
         }
         out.flush()
     })?;
