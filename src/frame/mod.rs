@@ -17,7 +17,6 @@ pub mod chip_sweep;
 pub mod cli;
 pub mod glare_link;
 pub mod objects;
-pub mod optimize;
 pub mod plan;
 pub mod range;
 pub mod reflection;
