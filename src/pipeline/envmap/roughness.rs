@@ -103,8 +103,9 @@ impl LambdaSource {
 
 /// Largest side of the roughness texture (the sampler's largest axis).
 pub const MAX_LAMBDA_TEXTURE_SIDE: u32 = 4096;
-/// The roughness texture side [`roughness_comparison`] uses: 256 × 256 × 8 bits, a
-/// GeForce-era L8 texture (512 kbit).
+/// The roughness texture side
+/// [`roughness_comparison`](super::roughness_comparison::roughness_comparison) uses:
+/// 256 × 256 × 8 bits, a GeForce-era L8 texture (512 kbit).
 pub const DEFAULT_LAMBDA_TEXTURE_SIDE: u32 = 256;
 /// The seam band of [`IntendedErrors::seam`]: object pixels within this many pixels
 /// (Chebyshev) of a pixel whose intended λ differs from a 4-neighbour's by more than
