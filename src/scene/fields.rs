@@ -279,7 +279,7 @@ const BRDF: &str = "the reflection model's own domain (src/reference/brdf)";
 const IMAGE_MAX_U: u64 = V::IMAGE_MAX as u64;
 const TEX_MAX: u64 = rtl_model::units::texture_sampler::MAX_SIZE as u64;
 const ENV_MIN_SIDE: u64 = super::environment::MIN_SIDE as u64;
-const ENV_MAX_SIDE: u64 = super::environment::MAX_SIDE as u64;
+const ENV_MAX_SIDE: u64 = V::ENV_MAX_SIDE as u64;
 const WMAX: f64 = V::WORLD_MAX;
 /// A position or direction component: within ±WORLD_MAX.
 pub const POS: Range = closed_range(-WMAX, WMAX);
