@@ -180,7 +180,7 @@ pub enum Command {
     /// the cheapest chip whose clocked frame time meets it, with DIR/pareto.csv,
     /// DIR/pareto.png and DIR/best_chip.toml (the chip's every field), verified by a
     /// fresh clocked frame.
-    Optimize(crate::frame::optimize::cli::OptimizeArgs),
+    Optimize(crate::optimize::cli::OptimizeArgs),
     /// Error attribution: render the scene as configured, then once per
     /// error source with only that source made ideal (a wide width, a larger table,
     /// more planes, the better scaling), then all ideal; write DIR/attribution.csv,
@@ -499,7 +499,7 @@ pub fn run(cli: Cli) -> Result<(), String> {
             max_memory,
             image,
         } => reproduce(&name, &out, values, resume, max_memory, image.as_deref()),
-        Command::Optimize(a) => crate::frame::optimize::cli::optimize_cli(&a),
+        Command::Optimize(a) => crate::optimize::command::optimize_cli(&a),
         Command::Attribute { scene, out, image } => attribute_cmd(&scene, &out, image.as_deref()),
         Command::Scene { name, reference } => {
             crate::frame::scene_text::scene_cli(name.as_deref(), reference.as_deref())

@@ -103,6 +103,7 @@ pub mod chip;
 pub mod cli;
 pub mod conformance;
 pub mod frame;
+pub mod optimize;
 pub mod pipeline;
 pub mod reference;
 pub mod registry;

@@ -7,9 +7,10 @@
 use std::sync::OnceLock;
 
 use glare_pipeline::pipeline::envmap::render::{
-    quick_map, render_object, render_object_with, table5_rows, Background, Image, LambdaSpec,
-    Object, Reflection, RenderOptions, Table5Row,
+    quick_map, render_object, render_object_with, Background, Image, LambdaSpec, Object,
+    Reflection, RenderOptions,
 };
+use glare_pipeline::pipeline::envmap::table5::{table5_rows, Table5Row};
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::view::CameraView;
 use glare_pipeline::scene::envmap::EnvMap;

@@ -7,9 +7,9 @@ use std::sync::OnceLock;
 
 use glare_pipeline::pipeline::envmap::render::{
     quick_map, render_against, render_image, render_object_with, LambdaSpec, Object, RenderOptions,
-    Table5Row,
 };
 use glare_pipeline::pipeline::envmap::reproduce::{images, table5, RenderRun, TABLE5_ENVS};
+use glare_pipeline::pipeline::envmap::table5::Table5Row;
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::scene::envmap::EnvMap;
 
@@ -159,7 +159,7 @@ fn lambda_sweep_smoke() {
 /// objects; on the sphere the texture's λ is closer to the intended one; the PNG exists.
 #[test]
 fn roughness_smoke() {
-    use glare_pipeline::pipeline::envmap::render::RoughnessRow;
+    use glare_pipeline::pipeline::envmap::roughness_comparison::RoughnessRow;
     use glare_pipeline::pipeline::envmap::studies::roughness;
     let dir = out_dir("roughness");
     let rows = roughness(&dir, RUN).unwrap();

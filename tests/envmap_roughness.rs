@@ -11,11 +11,12 @@ use std::sync::OnceLock;
 
 use glare_pipeline::pipeline::envmap::render::{
     camera, lambda_of_uv, object_geometry, object_texgen, quick_map, render_frame, render_image,
-    render_interpolator, render_object_with, roughness_comparison, roughness_sampler,
-    roughness_texels, texcoord_channels_cost, Image, LambdaSource, LambdaSpec, Lookup, Object,
-    Reflection, RenderOptions, RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE, RENDER_ATTRS,
-    RENDER_ATTRS_TEXTURE, TEXCOORD_CHANNELS,
+    render_interpolator, render_object_with, roughness_sampler, roughness_texels,
+    texcoord_channels_cost, Image, LambdaSource, LambdaSpec, Lookup, Object, Reflection,
+    RenderOptions, DEFAULT_LAMBDA_TEXTURE_SIDE, RENDER_ATTRS, RENDER_ATTRS_TEXTURE,
+    TEXCOORD_CHANNELS,
 };
+use glare_pipeline::pipeline::envmap::roughness_comparison::{roughness_comparison, RoughnessRow};
 use glare_pipeline::pipeline::envmap::voxmap::VoxelMap;
 use glare_pipeline::pipeline::shafts::view::CameraView;
 use glare_pipeline::scene::envmap::EnvMap;

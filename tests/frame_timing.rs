@@ -3,8 +3,9 @@
 //! the roofline times; what the clocked chip cannot time is refused up front, naming
 //! the flag and what is supported.
 
+use glare_pipeline::frame::gpu::Gpu;
 use glare_pipeline::frame::plan::plan;
-use glare_pipeline::frame::run::{render, render_timed, Gpu};
+use glare_pipeline::frame::run::{render, render_timed};
 use glare_pipeline::frame::timing::{check, ChipName, TimingMode, TimingRequest};
 use glare_pipeline::scene::builtin::builtin;
 use glare_pipeline::scene::format::Scene;

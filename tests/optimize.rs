@@ -12,9 +12,9 @@
 //!   --scene` accepts as is.
 //! * Ctrl-C: SIGINT after the first point leaves a whole pareto.csv and exit 130.
 
-use glare_pipeline::frame::optimize::cli::best_toml;
-use glare_pipeline::frame::optimize::eval::{Evaluator, Metrics, Reference, Step, Target};
-use glare_pipeline::frame::optimize::search::{
+use glare_pipeline::optimize::cli::best_toml;
+use glare_pipeline::optimize::eval::{Evaluator, Metrics, Reference, Step, Target};
+use glare_pipeline::optimize::search::{
     dominates, dominates_2d, grid, objective_front, objective_key, search, Budget, End, Limit,
     Limits, Metric, Objective, Outcome, Status,
 };
@@ -106,10 +106,10 @@ fn glare_elliptic_ram_no_more_than_one_parameter_sweeps_and_front_non_dominated(
     let mut sweep_best = u64::MAX;
     for (i, p) in params.iter().enumerate() {
         // From two steps above the default down to the field's floor.
-        let mut values = glare_pipeline::frame::optimize::search::ladder(&ev, &params, i).unwrap();
+        let mut values = glare_pipeline::optimize::search::ladder(&ev, &params, i).unwrap();
         let top = values[0];
         for v in [top + 1, top + 2] {
-            let mut vals = glare_pipeline::frame::optimize::search::defaults(&ev, &params).unwrap();
+            let mut vals = glare_pipeline::optimize::search::defaults(&ev, &params).unwrap();
             vals[i] = v;
             if ev.kind.apply(&base, &params, &vals).is_ok() {
                 values.push(v);
@@ -481,7 +481,7 @@ fn csv_points(csv: &str, metric: &str) -> (Costs, Costs) {
 /// `[shading]` file form, read back and rendered afresh, meets the budget.
 #[test]
 fn shading_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() {
-    use glare_pipeline::frame::optimize::shading::ShadingEvaluator;
+    use glare_pipeline::optimize::shading::ShadingEvaluator;
     use glare_pipeline::pipeline::shading::scene_file::ShadingFile;
     use glare_pipeline::pipeline::shading::sweep::sweep_view;
     let file = ShadingFile::builtin("shading-specular").unwrap();
@@ -494,7 +494,7 @@ fn shading_search_no_more_costly_than_defaults_and_best_toml_meets_the_budget() 
     let b = budget("max<=3");
     // The bound: 4-bit lookup entries are 17 levels apart; the reference's values
     // sit up to half of that from them.
-    let mut v = glare_pipeline::frame::optimize::search::defaults(&ev, &params).unwrap();
+    let mut v = glare_pipeline::optimize::search::defaults(&ev, &params).unwrap();
     v[3] = 4;
     let bound = ev.bound_at(&params, &v).unwrap().expect("a valid point");
     assert!(!b.meets(&bound), "bound at lookup_bits 4: {bound:?}");
@@ -806,7 +806,7 @@ fn repair_line_searches_find_the_storage_vs_filter_trade() {
 /// point labelled for what it is.
 #[test]
 fn pareto_png_cuts_far_points_and_labels_the_start() {
-    use glare_pipeline::frame::optimize::cli::{plot_clip, start_label};
+    use glare_pipeline::optimize::cli::{plot_clip, start_label};
     let b = budget("max<=2");
     // One point wrapped (fig6's narrow accumulators: 251.6 levels).
     assert_eq!(plot_clip(&[1.9, 5.7, 251.6], &b, &[5.7, 1.9]), Some(10.0));

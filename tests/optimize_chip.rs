@@ -6,14 +6,14 @@
 
 use glare_pipeline::chip::config::ChipConfig;
 use glare_pipeline::chip::params::ChipParam;
-use glare_pipeline::frame::optimize::chip::{
+use glare_pipeline::frame::run::render_timed;
+use glare_pipeline::frame::timing::{TimingMode, TimingRequest};
+use glare_pipeline::optimize::chip::{
     check_chip, chip_cost, ladder, parse_time_budget, search_chip, ChipEnd, ChipPlan, PipeGates,
     FIFO_ENTRY_BITS, MEMORY_REQUEST_BITS,
 };
-use glare_pipeline::frame::optimize::cli::{check, OptimizeArgs};
-use glare_pipeline::frame::optimize::search::Objective;
-use glare_pipeline::frame::run::render_timed;
-use glare_pipeline::frame::timing::{TimingMode, TimingRequest};
+use glare_pipeline::optimize::cli::{check, OptimizeArgs};
+use glare_pipeline::optimize::search::Objective;
 use std::time::Instant;
 
 mod common;
@@ -200,7 +200,7 @@ fn the_cli_writes_the_csv_the_plot_and_the_best_chip() {
     a.max_evals = Some(3);
     a.out = std::env::temp_dir().join(format!("optimize-chip-cli-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&a.out);
-    glare_pipeline::frame::optimize::chip::optimize_chip_cli(&a).unwrap();
+    glare_pipeline::optimize::chip::optimize_chip_cli(&a).unwrap();
     let csv = std::fs::read_to_string(a.out.join("pareto.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 3, "{csv}");
     assert!(

@@ -1849,7 +1849,7 @@ fn docs_scenes_md_is_generated_from_the_table() {
             && matches!(f.range, fields::Range::Unit(_))
             && (f.path.starts_with("shafts.") || f.path.starts_with("glare.hw."))
         {
-            let (lo, hi) = fields::probe_int(f.path)
+            let (lo, hi) = glare_pipeline::scene::fields_reference::probe_int(f.path)
                 .unwrap_or_else(|| panic!("{}: no interval found", f.path));
             assert!(lo <= hi && hi < 1 << 20, "{}", f.path);
             assert!(

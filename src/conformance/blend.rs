@@ -40,7 +40,7 @@
 //! add (`BlendRounding::PerTerm`), so the report shows what the second rounding costs
 //! (both from the chip preset, [`Chip::blend_rounding`]).
 
-use super::{Case, Chip, Prediction, Rect, Region, Suite};
+use super::case::{Case, Chip, Prediction, Rect, Region, Suite};
 use rtl_model::units::blend::{Blend, BlendConfig, BlendEquation, BlendFactor, BlendIn};
 use rtl_model::{Counters, Unit};
 

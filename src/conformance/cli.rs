@@ -4,9 +4,10 @@
 //! `<model>`, `<suite>` and the like are literal placeholders a user reads, not HTML.
 #![allow(rustdoc::invalid_html_tags)]
 
+use super::case::{Chip, Suite};
 use super::run::{chip_name, run_suite, SuiteReport};
 use super::store::{extract, table_path};
-use super::{suites, Chip, Suite};
+use super::suites;
 use crate::report::table::text_table;
 use clap::Subcommand;
 use std::path::{Path, PathBuf};

@@ -38,7 +38,7 @@
 //! GeForce2 has no way to express them, and the comparison isolates the two modes
 //! that differ.
 
-use super::{Case, Chip, Prediction, Rect, Region, Suite};
+use super::case::{Case, Chip, Prediction, Rect, Region, Suite};
 use rtl_model::units::blend::{Blend, BlendEquation, BlendFactor};
 use rtl_model::units::final_combiner::{
     FinalCombiner, FinalCombinerConfig, FinalInput, FinalVariable,

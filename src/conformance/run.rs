@@ -2,8 +2,8 @@
 //! per suite and per feature (the mismatch classes), with difference images when the
 //! full captures are at hand.
 
+use super::case::{Case, Chip, Region, Suite};
 use super::store::{self, capture_path, Capture, ExpectedRegion};
-use super::{Case, Chip, Region, Suite};
 use serde::Serialize;
 use std::collections::BTreeMap;
 use std::path::Path;

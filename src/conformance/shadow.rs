@@ -26,7 +26,7 @@
 //! rest zero) gives the pixel. Neither unit differs between the GeForce2 default and
 //! the NV2A here: the test sets the compare function and format explicitly.
 
-use super::{Case, Chip, Prediction, Rect, Region, Suite};
+use super::case::{Case, Chip, Prediction, Rect, Region, Suite};
 use rtl_model::units::final_combiner::{FinalCombinerConfig, FinalVariable};
 use rtl_model::units::register_combiner::{ComponentUsage, Register, RegisterFile};
 use rtl_model::units::shadow_compare::{CompareFunc, DepthTexel, ShadowCompareConfig, ShadowIn};

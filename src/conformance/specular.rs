@@ -43,7 +43,7 @@
 //!
 //! Every region is inset from the quad's edges (3 px) and from checker-cell edges (2 px).
 
-use super::{Case, Chip, Prediction, Rect, Region, Suite};
+use super::case::{Case, Chip, Prediction, Rect, Region, Suite};
 use crate::pipeline::raster::{walk, Fragment};
 use rtl_model::counters::Counters;
 use rtl_model::fixed_point::{Format, Quant};

@@ -10,7 +10,7 @@
 //! A region line is `NAME X Y W H RUN…`; a run is `RRGGBB` (one pixel) or `RRGGBB*N`,
 //! row-major over the region. A flat patch is one run.
 
-use super::{Case, Rect};
+use super::case::{Case, Rect, Suite};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -136,7 +136,7 @@ fn decode_run(tok: &str) -> Result<([u8; 3], usize), String> {
 
 /// The expected values of `cases` read from a checkout of the captures, as the text of
 /// the suite's table (header with provenance, then one block per image).
-pub fn extract(suite: &super::Suite, cases: &[Case], golden: &Path) -> Result<String, String> {
+pub fn extract(suite: &Suite, cases: &[Case], golden: &Path) -> Result<String, String> {
     let mut out = String::new();
     let _ = writeln!(
         out,

@@ -6,7 +6,8 @@
 //! bounds most of the frame's clocks. Every value's chip is checked before the frame
 //! is drawn; a value the chip refuses is named with its field.
 
-use super::run::{render_swept, Gpu};
+use super::gpu::Gpu;
+use super::run::render_swept;
 use super::timing::{check, ChipName, TimingMode, TimingRequest};
 use crate::chip::clock::FrameTiming;
 use crate::chip::config::ChipConfig;

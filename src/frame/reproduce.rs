@@ -27,7 +27,8 @@
 //! report checks (`mean_abs_frame` ≤ `bound`).
 
 use super::chip::{elaborate, Feature};
-use super::run::{render_on, Frame, Gpu};
+use super::gpu::Gpu;
+use super::run::{render_on, Frame};
 use crate::pipeline::glare::cli::reference_levels;
 use crate::pipeline::shafts::cli::reference_image;
 use crate::report::image_out::levels_png;

@@ -3,6 +3,7 @@
 //! glare ASIC at its own clock and pipes, summed).
 
 use super::glare_link::{self, Linked};
+use super::gpu::Gpu;
 use super::objects::{shaded_objects_pass, shading_stats, ShadedObjects};
 use super::plan::{plan, Pass, Plan, Step};
 use super::timing::{Clock, TimingRequest};
@@ -21,43 +22,6 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::rc::Rc;
 use std::time::Instant;
-
-/// Which GPU runs the frame's GPU passes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub enum Gpu {
-    /// GeForce 256 (DDR): only when asked for (`render --chip geforce256`).
-    GeForce256,
-    GeForce2Gts,
-    GeForce3,
-}
-
-impl Gpu {
-    /// GeForce3 when the scene needs its 3D textures (an environment map), else the
-    /// GeForce2 GTS the shafts paper measured on.
-    pub fn for_scene(scene: &Scene) -> Gpu {
-        if scene.environment.is_some() {
-            Gpu::GeForce3
-        } else {
-            Gpu::GeForce2Gts
-        }
-    }
-
-    pub fn model(self) -> GpuModel {
-        match self {
-            Gpu::GeForce256 => GpuModel::geforce256(),
-            Gpu::GeForce2Gts => GpuModel::geforce2_gts(),
-            Gpu::GeForce3 => GpuModel::geforce3(),
-        }
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Gpu::GeForce256 => "GeForce 256",
-            Gpu::GeForce2Gts => "GeForce2 GTS",
-            Gpu::GeForce3 => "GeForce3",
-        }
-    }
-}
 
 /// One pass's predicted time.
 #[derive(Clone, Debug, Serialize)]

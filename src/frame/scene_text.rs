@@ -77,5 +77,7 @@ pub fn scene_cli(name: Option<&str>, reference: Option<&Path>) -> Result<(), Str
 /// docs/scenes.md as the generator writes it.
 pub fn reference_text() -> Result<String, String> {
     let example = crate::scene::builtin::builtin_toml(EXAMPLE).map_err(|e| e.to_string())?;
-    Ok(crate::scene::fields::reference_markdown(EXAMPLE, &example))
+    Ok(crate::scene::fields_reference::reference_markdown(
+        EXAMPLE, &example,
+    ))
 }

@@ -11,8 +11,8 @@
 //! ([`Clock`]). Passes that record nothing (the shading units' object pass, a glare
 //! scene's shaded highlights) keep their roofline time and are listed as such.
 
+use super::gpu::Gpu;
 use super::plan::{Plan, Step};
-use super::run::Gpu;
 use crate::chip::clock::{clock_pass, FrameTiming, NamedPassTiming, PassTiming, RooflineOnlyPass};
 use crate::chip::config::ChipConfig;
 use crate::chip::work::{PassWork, SampleBands};

@@ -1,6 +1,6 @@
 //! `blend`: the GL / NV2A framebuffer blend (15 factors, 7 equations, one rounding).
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::blend::{Blend, BlendEquation, BlendFactor, BlendIn};
 use rtl_model::{Counters, UnitSummary};

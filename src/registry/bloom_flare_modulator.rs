@@ -2,7 +2,7 @@
 //! and falloff RAMs.
 
 use super::luminance_ram::{falloff_params, random_inputs, shape_params};
-use super::{rom, seeded, trace_unit, UnitEntry};
+use super::unit_entry::{rom, seeded, trace_unit, UnitEntry};
 use crate::pipeline::glare::tables::{line_falloff_samples, line_shape_samples};
 use crate::tables::Table;
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};

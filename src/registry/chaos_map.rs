@@ -1,6 +1,6 @@
 //! `chaos_map`: the intermittent map of the 1/f fluctuation, through log2 and exp2 ROMs.
 
-use super::{generated_roms, trace_unit, UnitEntry};
+use super::unit_entry::{generated_roms, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rtl_model::units::chaos_map::ChaosMap;
 use rtl_model::{Counters, UnitSummary};

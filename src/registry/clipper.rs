@@ -1,6 +1,6 @@
 //! `clipper`: near/far and guard-band clipping before the polygon interpolator.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::clipper::{ClipIn, ClipStats, Clipper};
 use rtl_model::{Counters, UnitSummary};

@@ -1,7 +1,7 @@
 //! `cube_map_address`: a direction's cube-map face and texel coordinates, with a
 //! reciprocal ROM for the major-axis divide.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rand::Rng;
 use rtl_model::units::cube_map_address::{CubeMapAddress, CubeMapAddressIn};

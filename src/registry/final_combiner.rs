@@ -1,7 +1,7 @@
 //! `final_combiner`: the final combiner stage of NV_register_combiners.
 
 use super::register_combiner::random_register_files;
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rtl_model::units::final_combiner::FinalCombiner;
 use rtl_model::{Counters, UnitSummary};
 use std::io::Write;

@@ -1,6 +1,6 @@
 //! `gaussian_noise`: Box-Muller Gaussian samples through ln, sqrt and sin ROMs.
 
-use super::{generated_roms, trace_unit, UnitEntry};
+use super::unit_entry::{generated_roms, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise};
 use rtl_model::{Counters, UnitSummary};

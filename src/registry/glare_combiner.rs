@@ -1,6 +1,6 @@
 //! `glare_combiner`: the framebuffer plus the glare luminance, saturating.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::glare_combiner::{CombineIn, GlareCombiner};
 use rtl_model::{Counters, UnitSummary};

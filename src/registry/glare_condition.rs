@@ -1,6 +1,6 @@
 //! `glare_condition`: whether a specular highlight becomes a glare source (Matsuda and Ikedo, Table 2).
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::glare_condition::{ConditionIn, GlareCondition, Material};
 use rtl_model::{Counters, UnitSummary};

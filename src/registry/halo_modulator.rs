@@ -2,7 +2,7 @@
 //! RAMs (one per wavelength).
 
 use super::luminance_ram::{falloff_params, random_inputs};
-use super::{rom, seeded, trace_unit, UnitEntry};
+use super::unit_entry::{rom, seeded, trace_unit, UnitEntry};
 use crate::pipeline::glare::tables::{halo_prim, ring_samples, shape_samples};
 use crate::reference::glare_model::{Shape2D, SourceGlare};
 use crate::scene::glare::{Determinants, GlareModel};

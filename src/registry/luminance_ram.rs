@@ -2,7 +2,7 @@
 //! the registry, as they share `rtl_model::units::luminance_ram`: the parameters of
 //! their shape and falloff tables and the random inputs of their traces.
 
-use super::params;
+use super::unit_entry::params;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rtl_model::units::luminance_ram::{LumIn, LumWidths};

@@ -1,6 +1,6 @@
 //! `modulate`: GL_MODULATE on 8-bit unorm values.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::modulate::{Modulate, ModulateIn};
 use rtl_model::{Counters, UnitSummary};

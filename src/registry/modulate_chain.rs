@@ -1,6 +1,6 @@
 //! `modulate_chain`: primary colour × texture 0 × texture 1 in GL_MODULATE, 8-bit.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::modulate_chain::{ModulateChain, ModulateChainIn, MAX_OPERANDS};
 use rtl_model::{Counters, UnitSummary};

@@ -1,6 +1,6 @@
 //! `polygon_interpolator`: the rasteriser's incremental attribute interpolator.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::{Counters, UnitSummary};

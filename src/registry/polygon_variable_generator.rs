@@ -1,7 +1,7 @@
 //! `polygon_variable_generator`: a glare primitive's quad from its centre, extent and
 //! angle, through a quarter-wave cosine ROM.
 
-use super::{params, rom, seeded, trace_unit, UnitEntry};
+use super::unit_entry::{params, rom, seeded, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rand::Rng;
 use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};

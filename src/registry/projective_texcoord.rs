@@ -1,6 +1,6 @@
 //! `projective_texcoord`: s/q, t/q through a reciprocal ROM and Newton steps.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rand::Rng;
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoord};

@@ -1,7 +1,7 @@
 //! `reflection_vector`: the environment map's reflected-ray texture coordinates, with
 //! an rsqrt ROM for the normalisations.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rand::Rng;
 use rtl_model::units::reflection_vector::{ReflectionVector, ReflectionVectorIn};

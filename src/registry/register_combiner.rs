@@ -1,6 +1,6 @@
 //! `register_combiner`: one general combiner stage of NV_register_combiners.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rtl_model::units::register_combiner::{RegisterCombiner, RegisterFile};

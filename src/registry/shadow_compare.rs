@@ -1,6 +1,6 @@
 //! `shadow_compare`: the shadow map's depth RAM, written and tested.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn};
 use rtl_model::{Counters, UnitSummary};

@@ -1,6 +1,6 @@
 //! `specular_lookup`: a DOT3 code raised to the specular exponent through a table.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rand::Rng;
 use rtl_model::units::specular_lookup::{SpecularLookup, SpecularLookupIn};

@@ -1,6 +1,6 @@
 //! `texture_combiner`: one texture environment stage of ARB_texture_env_combine/dot3.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use rand::Rng;
 use rtl_model::units::texture_combiner::{TextureCombiner, TextureCombinerIn};
 use rtl_model::{Counters, UnitSummary};

@@ -1,7 +1,7 @@
 //! `texture_sampler`: the 1D/2D/3D nearest/linear texture unit. Its tables are the
 //! built-in test scene's textures (the default instance holds a zero texture).
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use crate::pipeline::test_scene;
 use crate::tables::Table;
 use rand::Rng;

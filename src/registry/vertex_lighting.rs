@@ -1,6 +1,6 @@
 //! `vertex_lighting`: GL fixed-function lighting of a vertex in a narrow float format.
 
-use super::{seeded, trace_unit, UnitEntry};
+use super::unit_entry::{seeded, trace_unit, UnitEntry};
 use crate::tables::Table;
 use rand::Rng;
 use rtl_model::units::vertex_lighting::{

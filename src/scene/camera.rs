@@ -1,9 +1,60 @@
-//! The scene's pinhole camera as the host computes it (f64): basis, projection, and
-//! the ray through a pixel. Shared by every pipeline (it lives beside the scene, not
-//! inside one pipeline).
+//! The scene's pinhole camera: its `[camera]` and `[image]` sections ([`Camera`],
+//! [`ImageSize`], re-exported by `format.rs`) and the camera as the host computes it
+//! (f64): basis, projection, and the ray through a pixel. Shared by every pipeline (it
+//! lives beside the scene, not inside one pipeline), and below the scene format and
+//! the sections that name a camera.
 
-use crate::scene::format::{Camera, ImageSize};
 use crate::scene::math::{v3, Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+/// Output size in pixels.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ImageSize {
+    pub width: u32,
+    pub height: u32,
+}
+
+impl Default for ImageSize {
+    /// The paper's 720 × 480.
+    fn default() -> Self {
+        ImageSize {
+            width: 720,
+            height: 480,
+        }
+    }
+}
+
+/// A pinhole camera.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Camera {
+    pub eye: [f64; 3],
+    pub look_at: [f64; 3],
+    #[serde(default = "default_up")]
+    pub up: [f64; 3],
+    /// Vertical field of view, degrees, in (0, 180).
+    #[serde(default = "default_fovy")]
+    pub fovy_deg: f64,
+    /// Near and far clip distances, 0 < near < far.
+    #[serde(default = "default_near")]
+    pub near: f64,
+    #[serde(default = "default_far")]
+    pub far: f64,
+}
+
+fn default_up() -> [f64; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_fovy() -> f64 {
+    45.0
+}
+fn default_near() -> f64 {
+    0.1
+}
+fn default_far() -> f64 {
+    100.0
+}
 
 /// Vec3 from a scene triple.
 pub fn vec3(a: [f64; 3]) -> Vec3 {

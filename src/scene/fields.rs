@@ -3,8 +3,10 @@
 //! range, default, where the range comes from, and what it means.
 //!
 //! This table is the one source of truth for the format's reference:
-//! - docs/scenes.md is generated from it ([`reference_markdown`], `glare-pipeline
-//!   scene --reference docs/scenes.md`); a test fails when the committed file differs;
+//! - docs/scenes.md is generated from it
+//!   ([`reference_markdown`](super::fields_reference::reference_markdown),
+//!   `glare-pipeline scene --reference docs/scenes.md`); a test fails when the
+//!   committed file differs;
 //! - validation (`validate.rs`, `glare.rs`, `environment.rs`, `material.rs`) takes the
 //!   ranges it checks from the entries here ([`Field::real`], [`Field::int`]), so the
 //!   documented range and the checked one cannot drift;
@@ -20,7 +22,8 @@
 
 use rtl_model::error::{check_finite, check_range, ConfigError};
 
-use super::validate::{self as V, interval};
+use super::bounds::{self as V, interval};
+use super::math::{v3, Vec3};
 
 /// A field's TOML type.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -273,13 +276,38 @@ const SAMPLER: &str = "texture_sampler: MAX_SIZE = 4096 texels per axis; 2 (a le
 const NONE: &str = "";
 const BRDF: &str = "the reflection model's own domain (src/reference/brdf)";
 
-const IMAGE_MAX_U: u64 = super::validate::IMAGE_MAX as u64;
+const IMAGE_MAX_U: u64 = V::IMAGE_MAX as u64;
 const TEX_MAX: u64 = rtl_model::units::texture_sampler::MAX_SIZE as u64;
 const ENV_MIN_SIDE: u64 = super::environment::MIN_SIDE as u64;
-const ENV_MAX_SIDE: u64 = super::environment::MAX_SIDE as u64;
+const ENV_MAX_SIDE: u64 = V::ENV_MAX_SIDE as u64;
 const WMAX: f64 = V::WORLD_MAX;
 /// A position or direction component: within ±WORLD_MAX.
 pub const POS: Range = closed_range(-WMAX, WMAX);
+
+/// A position: each component finite and within ±`WORLD_MAX` (errors name
+/// `field[k]`).
+pub(crate) fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
+    for (k, &x) in p.iter().enumerate() {
+        POS.real(&format!("{field}[{k}]"), x)?;
+    }
+    Ok(v3(p[0], p[1], p[2]))
+}
+
+/// A direction: a valid point with length ≥ `MIN_LENGTH` (a zero vector names
+/// `field`).
+pub(crate) fn direction(field: &str, d: &[f64; 3]) -> Result<Vec3, ConfigError> {
+    use super::bounds::MIN_LENGTH;
+    let v = point(field, d)?;
+    if v.length() < MIN_LENGTH {
+        return Err(ConfigError::invalid(
+            field,
+            &format!(
+                "is (almost) the zero vector (length < {MIN_LENGTH:e}); a direction is needed"
+            ),
+        ));
+    }
+    Ok(v)
+}
 
 macro_rules! fields {
     ($( $name:ident = $path:literal, $ty:expr, $unit:literal, $range:expr, $default:literal,
@@ -448,7 +476,7 @@ fields! {
     MATERIAL_KS = "objects[].material.ks", Ty::Real, "", closed_range(0.0, 1.0), "required", BRDF,
         "model = \"phong\", \"blinn_phong\" or \"kajiya_kay\"",
         "Specular coefficient k_s.";
-    MATERIAL_EXPONENT = "objects[].material.exponent", Ty::Real, "", closed_range(0.0, super::material::EXPONENT_MAX), "required",
+    MATERIAL_EXPONENT = "objects[].material.exponent", Ty::Real, "", closed_range(0.0, V::EXPONENT_MAX), "required",
         "EXPONENT_MAX = 10⁵: beyond it cos^n underflows for every angle a texel resolves",
         "model = \"phong\", \"blinn_phong\" or \"kajiya_kay\"",
         "Specular exponent n.";
@@ -595,7 +623,7 @@ fields! {
     SOURCE_VERTICES = "glare.sources[].vertices", Ty::Points, "world units", POS, "[]",
         "2 ..= 64 vertices besides position", "kind = \"polygon\"",
         "P₁ … P_n; with position as P₀ they span the polygon.";
-    SOURCE_INTENSITY = "glare.sources[].intensity", Ty::Real, "codes", closed_range(0.0, super::glare::GLARE_INTENSITY_MAX), "required", CODES, "",
+    SOURCE_INTENSITY = "glare.sources[].intensity", Ty::Real, "codes", closed_range(0.0, V::GLARE_INTENSITY_MAX), "required", CODES, "",
         "I; 2000 is about 8× saturation.";
     SOURCE_AREA_SIZE = "glare.sources[].area_size", Ty::Real, "", closed_range(0.0, 1.0), "1.0", MODEL, "",
         "The effective intensity is area_size × I.";
@@ -627,7 +655,7 @@ fields! {
         "The surface normal.";
     HIGHLIGHT_LIGHT = "glare.highlights[].light", Ty::Reals(3), "world units", POS, "required", WORLD, "",
         "The light's position.";
-    HIGHLIGHT_INTENSITY = "glare.highlights[].intensity", Ty::Real, "codes", closed_range(0.0, super::glare::GLARE_INTENSITY_MAX), "required",
+    HIGHLIGHT_INTENSITY = "glare.highlights[].intensity", Ty::Real, "codes", closed_range(0.0, V::GLARE_INTENSITY_MAX), "required",
         CODES, "", "The light's intensity I.";
     HIGHLIGHT_SPECULAR = "glare.highlights[].specular", Ty::Real, "", closed_range(0.0, 1.0), "1.0", MODEL,
         "material = \"metallic\"", "I_s, the specular coefficient.";
@@ -640,7 +668,7 @@ fields! {
         "Highlights found by the shading units on objects with a specular material; none = only the written highlights.";
     SHADED_LIGHT = "glare.shaded_highlights.light", Ty::Int, "", Range::Unit("an index into lights"), "required",
         "the scene's light count", "", "The scene light whose highlights are sought.";
-    SHADED_INTENSITY = "glare.shaded_highlights.intensity", Ty::Real, "codes", closed_range(0.0, super::glare::GLARE_INTENSITY_MAX), "required",
+    SHADED_INTENSITY = "glare.shaded_highlights.intensity", Ty::Real, "codes", closed_range(0.0, V::GLARE_INTENSITY_MAX), "required",
         CODES, "", "I of Table 2 for that light.";
     SHADED_RADIUS = "glare.shaded_highlights.radius", Ty::Real, "world units", closed_range(0.0, 1e6), "0.02", WORLD,
         "", "Radius of the glare source disc a highlight becomes.";
@@ -890,219 +918,3 @@ pub fn unit_comment(path: &str) -> Option<&'static str> {
     let f = field(&generic_path(path))?;
     (!f.unit.is_empty()).then_some(f.unit)
 }
-
-// ---------------------------------------------------------------------------------
-// The reference (docs/scenes.md).
-
-/// docs/scenes.md: every section and field, then a worked example (`example`: a
-/// built-in's compact TOML).
-pub fn reference_markdown(example_name: &str, example: &str) -> String {
-    let mut s = String::new();
-    s.push_str(
-        "# The scene format\n\n\
-         <!-- Generated by `glare-pipeline scene --reference docs/scenes.md` from \
-         src/scene/fields.rs; do not edit by hand (tests/scene.rs fails when this \
-         file differs from what the generator writes). -->\n\n\
-         A scene file is TOML. It states only what it changes: every field with a \
-         default may be left out, and an unknown key is refused with the nearest valid \
-         one suggested. Conventions: a right-handed world, y up, lengths in world \
-         units; colours linear RGB with 1 as full scale; angles in degrees. Start one \
-         from a built-in: `glare-pipeline scene fig6 > my.toml`, edit, then \
-         `glare-pipeline render --scene my.toml`. Every built-in name \
-         (`glare-pipeline scene --help`) prints this way, including `test` and the \
-         `shading-*` scenes, whose file forms are described at the end.\n\n\
-         Every value is checked before any work starts; an error names the field by \
-         its path with indices (`lights[0].position[2]`). Where a range is decided by \
-         a hardware unit's own constructor (bit widths, table sizes), the range column \
-         names the unit and validation builds that unit, so what is accepted is \
-         exactly what the unit accepts (docs/inputs.md, \"One source of limits\").\n\n\
-         Columns: **path** (`[]` marks an array of tables), **type**, **unit**, \
-         **range** (of each element, for an array), **default** (`required`: must be \
-         given when its section is; `none`: left out means the feature is off), **limit** (where the range \
-         comes from; a range marked (unit) is what the named unit's own check accepts, \
-         found by validating a built-in with the field set and the other fields at \
-         their values), **when** (the variant the field belongs to).\n\n",
-    );
-    // Sections: every table entry starts one; its fields follow.
-    let mut current = "-";
-    for f in FIELDS {
-        let first = f.path.split(['.', '[']).next().unwrap_or(f.path);
-        // Top-level values (name, seed) form one group.
-        let top = if first == f.path && !f.ty.is_section() {
-            ""
-        } else {
-            first
-        };
-        if top != current {
-            if current != "-" {
-                s.push('\n');
-            }
-            current = top;
-            s.push_str(&section_heading(top));
-        }
-        if f.path == top && f.ty.is_section() {
-            continue;
-        }
-        s.push_str(&field_row(f));
-    }
-    s.push_str(OTHER_FORMS);
-    s.push_str(&format!(
-        "\n## A worked example\n\n`glare-pipeline scene {example_name}` writes the \
-         built-in `{example_name}` in this form (vectors on one line, each section \
-         commented, units after the values):\n\n```toml\n{example}```\n\n\
-         Save it as `my.toml`, change what you want (say `[shafts] planes = 60` for \
-         finer shafts, or a second `[[lights]]`), and render it with \
-         `glare-pipeline render --scene my.toml --out my.png`. A misspelt key is \
-         refused before anything renders, naming its path and the nearest valid key: \
-         `fvo = 40` under `[camera]` gives ``camera.fvo: unknown field `fvo`, … did you \
-         mean `fovy_deg`?``.\n"
-    ));
-    s.push_str(REFERENCES);
-    s
-}
-
-/// The heading of section `top` ("" for the top-level values): its title, its doc and
-/// default, and the table's header rows.
-fn section_heading(top: &str) -> String {
-    let mut s = String::new();
-    let head = field(top).filter(|h| h.ty.is_section());
-    match head {
-        Some(h) => {
-            let form = match h.ty {
-                Ty::Tables => format!("`[[{top}]]`"),
-                _ => format!("`[{top}]`"),
-            };
-            s.push_str(&format!("## {form}\n\n{}\n\n", h.doc));
-            if !h.default.is_empty() {
-                s.push_str(&format!("Default: {}.\n\n", h.default));
-            }
-        }
-        None => s.push_str("## Top level\n\n"),
-    }
-    s.push_str("| path | type | unit | range | default | limit | when | description |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|\n");
-    s
-}
-
-/// One field's row of its section's table (`|` escaped in every cell).
-fn field_row(f: &Field) -> String {
-    let cell = |t: &str| t.replace('|', "\\|");
-    let code = |t: &str| {
-        if t.is_empty() {
-            String::new()
-        } else {
-            format!("`{}`", t.replace('|', "\\|"))
-        }
-    };
-    let default = match f.default {
-        "required" | "none" | "" => f.default.to_string(),
-        d => code(d),
-    };
-    format!(
-        "| `{}` | {} | {} | {} | {} | {} | {} | {} |\n",
-        f.path,
-        cell(&f.ty.text()),
-        cell(f.unit),
-        cell(&range_text(f)),
-        default,
-        cell(f.limit),
-        code(f.when),
-        cell(f.doc)
-    )
-}
-
-/// The range column: a unit-decided integer range is found by validating a built-in
-/// with the field set (see [`probe_int`]).
-fn range_text(f: &Field) -> String {
-    match (f.ty, f.range) {
-        (Ty::Int, Range::Unit(_)) => match probe_int(f.path) {
-            Some((lo, hi)) => format!("{lo} ..= {hi} (unit)"),
-            None => f.range.text(),
-        },
-        _ => f.range.text(),
-    }
-}
-
-/// The values a unit-decided integer field accepts, with the other fields at a
-/// built-in's values (fig6 for `shafts`, glare-point for `glare.hw`): every value
-/// 0 ..= 64 is validated, and past 64 the largest accepted one is found by bisection
-/// (the units' limits are upper bounds). None for another field, or when the accepted
-/// values are not one interval.
-pub fn probe_int(path: &str) -> Option<(u64, u64)> {
-    let base = match path.split('.').next()? {
-        "shafts" => "fig6",
-        "glare" if path.starts_with("glare.hw.") => "glare-point",
-        _ => return None,
-    };
-    let scene = super::builtin::builtin(base).ok()?;
-    let value = toml::Value::try_from(&scene).ok()?;
-    let ok = |x: u64| -> bool {
-        let mut v = value.clone();
-        let mut cur = &mut v;
-        let parts: Vec<&str> = path.split('.').collect();
-        for p in &parts[..parts.len() - 1] {
-            match cur.get_mut(*p) {
-                Some(c) => cur = c,
-                None => return false,
-            }
-        }
-        let Some(t) = cur.as_table_mut() else {
-            return false;
-        };
-        t.insert(
-            parts[parts.len() - 1].to_string(),
-            toml::Value::Integer(x as i64),
-        );
-        v.try_into::<super::format::Scene>()
-            .is_ok_and(|s| s.validate().is_ok())
-    };
-    let accepted: Vec<u64> = (0..=64).filter(|&x| ok(x)).collect();
-    let (&lo, &hi) = (accepted.first()?, accepted.last()?);
-    if hi - lo + 1 != accepted.len() as u64 {
-        return None;
-    }
-    if hi < 64 {
-        return Some((lo, hi));
-    }
-    // Bisection for the largest accepted value in 64 ..= 2^20.
-    let (mut good, mut bad) = (64u64, 1u64 << 20);
-    if ok(bad) {
-        return None;
-    }
-    while bad - good > 1 {
-        let mid = (good + bad) / 2;
-        if ok(mid) {
-            good = mid;
-        } else {
-            bad = mid;
-        }
-    }
-    Some((lo, good))
-}
-
-/// The two file forms besides a scene.
-const OTHER_FORMS: &str = "\n## Other file forms\n\n\
-A file with a top-level `[shading]` table is a shading scene: one of the built-in \
-`shading-*` spheres at the widths given (`glare-pipeline scene shading-blinn_phong` \
-prints one; docs/optimize.md).\n\n\
-| path | type | range | default | description |\n\
-|---|---|---|---|---|\n\
-| `shading.scene` | string | a `shading-*` name | required | The built-in shading scene. |\n\
-| `shading.image` | integer | 2 ..= 4096 | `256` | The sphere view's side in pixels (not for `shading-vertex`). |\n\
-| `shading.hw.<width>` | integer | the width's unit range | the GeForce default | A width of the scene's path (`sweep`'s names: cube_face, lookup_log2, factor_size, factor_bits, combiner_bits, cube_bits, lookup_bits, vertex_mantissa, vertex_exponent). |\n\n\
-A file with a top-level `[test_scene]` table is the foundation test scene: a fixed \
-320 × 240 scene (a checkered floor, a spot with a light map, a window-frame occluder) \
-that exercises every foundation unit. It has no parameters; the table is empty \
-(`glare-pipeline scene test` prints it), and `render --scene FILE` renders it as \
-`render --scene test` does.\n";
-
-/// The works the descriptions name.
-const REFERENCES: &str = "\n## References\n\n\
-- Dobashi, Yamamoto, Nishita, \"An accurate, fast method using graphics hardware for \
-rendering shafts of light\" (the light shafts: `[medium]`, `[[lights]]`, `[shafts]`).\n\
-- Matsuda, Ikedo, \"A realtime renderer for glare effect based upon empirical \
-approach\" (`[glare]`: Tables 1 and 2, eqs. 1–11).\n\
-- Okumura, master's thesis, \"Fast rendering of reflections of non-uniform surfaces \
-using a multi-scale environment map\" (`[environment]`).\n\
-- Spencer, Shirley, Zimmerman, Greenberg, \"Physically-based glare effects for digital \
-images\", SIGGRAPH 1995 (`glare.model.halo_radius = \"spencer\"`).\n";

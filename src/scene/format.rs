@@ -43,7 +43,7 @@ pub struct Scene {
     /// Where GL leaves rounding to the implementation, the units' choice (chain,
     /// filter, weight); none = the GeForce-style defaults (docs/shading.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rounding: Option<super::limits::GlRounding>,
+    pub rounding: Option<super::rounding::GlRounding>,
     /// The widths of the shading units the object pass runs; none = the GeForce
     /// defaults (`scene::shading_hw`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -54,54 +54,7 @@ fn default_seed() -> u64 {
     1
 }
 
-/// Output size in pixels.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ImageSize {
-    pub width: u32,
-    pub height: u32,
-}
-
-impl Default for ImageSize {
-    /// The paper's 720 × 480.
-    fn default() -> Self {
-        ImageSize {
-            width: 720,
-            height: 480,
-        }
-    }
-}
-
-/// A pinhole camera.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Camera {
-    pub eye: [f64; 3],
-    pub look_at: [f64; 3],
-    #[serde(default = "default_up")]
-    pub up: [f64; 3],
-    /// Vertical field of view, degrees, in (0, 180).
-    #[serde(default = "default_fovy")]
-    pub fovy_deg: f64,
-    /// Near and far clip distances, 0 < near < far.
-    #[serde(default = "default_near")]
-    pub near: f64,
-    #[serde(default = "default_far")]
-    pub far: f64,
-}
-
-fn default_up() -> [f64; 3] {
-    [0.0, 1.0, 0.0]
-}
-fn default_fovy() -> f64 {
-    45.0
-}
-fn default_near() -> f64 {
-    0.1
-}
-fn default_far() -> f64 {
-    100.0
-}
+pub use super::camera::{Camera, ImageSize};
 
 /// The participating medium, homogeneous: density ρ, extinction κ, phase constant K
 /// (F(α) = K·(1 + 9·cos¹⁶(α/2)), Dobashi et al. eq. (4)).

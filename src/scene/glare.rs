@@ -415,59 +415,16 @@ impl GlareModel {
     }
 }
 
-/// The glare hardware's widths (a sweep changes them).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct GlareHw {
-    /// Shape RAM: 2^k cells per side; entry width.
-    pub shape_log2: u32,
-    pub shape_bits: u32,
-    /// Falloff RAM: 2^m cells; entry width.
-    pub falloff_log2: u32,
-    pub falloff_bits: u32,
-    /// Interpolation weight bits in both RAMs.
-    pub weight_bits: u32,
-    /// Fraction bits of the interpolated (u, v) (the interpolator's output).
-    pub coord_frac_bits: u32,
-    /// Gaussian noise generator: uniform bits used.
-    pub noise_bits: u32,
-    /// Framebuffer bits per channel.
-    pub fb_bits: u32,
-    /// Clock (MHz) and parallel pixel pipes, for the throughput model.
-    pub clock_mhz: f64,
-    pub pipes: u32,
-    /// Radial correction in the luminance modulators' shape RAM (default false):
-    /// signed entries sdf/d_max − κ·|(u, v)|, |(u, v)| computed by the datapath.
-    pub radial: bool,
-}
-
-impl Default for GlareHw {
-    fn default() -> Self {
-        GlareHw {
-            shape_log2: 7,
-            shape_bits: 16,
-            falloff_log2: 8,
-            falloff_bits: 16,
-            weight_bits: 8,
-            coord_frac_bits: 14,
-            noise_bits: 32,
-            fb_bits: 8,
-            clock_mhz: 300.0,
-            pipes: 4,
-            radial: false,
-        }
-    }
-}
+pub use super::glare_hw::GlareHw;
 
 // ---------------------------------------------------------------------------------
 // Validation: every error names its field (`glare.sources[1].a`).
 
 use super::fields;
-use super::validate::{direction, point};
+use super::fields::{direction, point};
 use rtl_model::ConfigError;
 
-/// Largest intensity (codes) accepted: 10⁹ (10⁶ is a documented stiff case).
-pub const GLARE_INTENSITY_MAX: f64 = 1e9;
+pub use super::bounds::GLARE_INTENSITY_MAX;
 
 impl GlareSection {
     /// Check every field; errors name `glare.<field>`.
@@ -523,7 +480,7 @@ impl GlareSection {
         let hw = &self.hw;
         // The widths go into the units' configs: checked by building those
         // (their own ranges, errors mapped onto `hw.<field>`).
-        super::limits::check_glare(hw)?;
+        super::glare_hw::check_glare(hw)?;
         fields::HW_CLOCK_MHZ.real("hw.clock_mhz", hw.clock_mhz)?;
         fields::HW_PIPES.int("hw.pipes", hw.pipes.into())?;
         fields::GLARE_FRAME.int("frame", self.frame.into())

@@ -13,25 +13,21 @@
 //! limits"; `tests/limits.rs` pins it.
 
 use rtl_model::error::ConfigError;
-use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::blend::Blend;
 use rtl_model::units::clipper::ClipperConfig;
-use rtl_model::units::gaussian_noise::GaussianNoiseConfig;
-use rtl_model::units::glare_combiner::GlareCombinerConfig;
-use rtl_model::units::luminance_ram::{LumWidths, Radial};
-use rtl_model::units::modulate::{ChainRounding, ModulateChain, ModulateMode};
+use rtl_model::units::modulate::ModulateMode;
 use rtl_model::units::polygon_interpolator::{PolygonInterpolatorConfig, MAX_ATTRS};
-use rtl_model::units::polygon_variable_generator::PolygonVariableGeneratorConfig;
 use rtl_model::units::projective_texcoord::ProjectiveTexcoordConfig;
 use rtl_model::units::shadow_compare::ShadowCompareConfig;
-use rtl_model::units::texture_sampler::{
-    FilterRounding, TextureSamplerConfig, WeightRounding, MAX_TEXELS,
-};
+use rtl_model::units::texture_sampler::TextureSamplerConfig;
 use rtl_model::Counters;
-use serde::{Deserialize, Serialize};
 
+pub use super::bounds::{check_env_side, max_cube_side, onto, ENV_MAX_SIDE};
 use super::format::{ImageSize, Scene, ShaftsConfig};
-use super::glare::GlareHw;
+pub use super::glare_hw::{
+    check_glare, glare_combiner, glare_generator, glare_interpolator, glare_noise, lum_widths,
+    GlareHw, GLARE_ATTR_FRAC_BITS, GLARE_COORD_INT_BITS, GLARE_SUBPIXEL_BITS,
+};
 
 /// Depth bits of the camera depth buffer (a shadow-compare RAM at the image's size).
 pub const ZBUF_BITS: u32 = 24;
@@ -39,90 +35,14 @@ pub const ZBUF_BITS: u32 = 24;
 pub const SHAFTS_ATTRS: u32 = 8;
 /// Fraction bits of the shafts interpolator's outputs (s16.16, the projective inputs).
 pub const SHAFTS_ATTR_FRAC: u32 = 16;
-/// Largest environment voxel-map side s: the 3D texture sampler holds s³ ≤
-/// [`MAX_TEXELS`] texels, and the reflection unit needs a power of two (256 at 2²⁴).
-pub const ENV_MAX_SIDE: u32 = max_cube_side(MAX_TEXELS);
 
-/// The largest power of two s with s³ ≤ `texels`.
-pub const fn max_cube_side(texels: u64) -> u32 {
-    let mut s: u64 = 1;
-    while (2 * s) * (2 * s) * (2 * s) <= texels {
-        s *= 2;
-    }
-    s as u32
-}
+pub use super::rounding::GlRounding;
 
-/// `[rounding]`: where GL leaves the rounding to the implementation, which choice the
-/// units make (docs/shading.md, "The GL oracle"). The defaults are the GeForce-style
-/// datapath; `chain = "fused"`, `filter = "successive_lerps"`, `weight =
-/// "round_half_even"` together are Mesa's llvmpipe (bit-exact against OSMesa:
-/// tests/modulate_mesa.rs, tests/texture_sampler_mesa.rs).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
-pub struct GlRounding {
-    /// A chain of MODULATE stages (the shading pipeline's factor textures × constant
-    /// colour): `per_stage` (default, an 8-bit register between stages) or `fused`.
-    pub chain: ChainRounding,
-    /// Bilinear filtering (shafts F, h and light-map textures; shading factor
-    /// textures): `product_weights` (default) or `successive_lerps`.
-    pub filter: FilterRounding,
-    /// Sub-texel fraction → filter weight: `round` (default, ties up),
-    /// `round_half_even` or `truncate`.
-    pub weight: WeightRounding,
-}
-
-impl Default for GlRounding {
-    fn default() -> Self {
-        GlRounding {
-            chain: ChainRounding::PerStage,
-            filter: FilterRounding::ProductWeights,
-            weight: WeightRounding::Round,
-        }
-    }
-}
-
+/// The scene's rounding: here, above the scene format, while the type is below it.
 impl GlRounding {
-    /// Mesa's llvmpipe in all three places.
-    pub fn mesa_llvmpipe() -> Self {
-        GlRounding {
-            chain: ChainRounding::Fused,
-            filter: FilterRounding::SuccessiveLerps,
-            weight: WeightRounding::RoundHalfEven,
-        }
-    }
-
     /// The scene's choice (the default when the scene has no `[rounding]`).
     pub fn of(scene: &Scene) -> GlRounding {
         scene.rounding.unwrap_or_default()
-    }
-
-    /// `cfg` with this choice of filter and weight rounding.
-    pub fn sampler(&self, cfg: TextureSamplerConfig) -> TextureSamplerConfig {
-        TextureSamplerConfig {
-            filter_rounding: self.filter,
-            weight_rounding: self.weight,
-            ..cfg
-        }
-    }
-
-    /// The modulate chain of `bits`-bit exact stages with this chain rounding (errors
-    /// name `rounding.chain`, or `modulate.bits`: the width is the pipeline's).
-    pub fn chain(&self, bits: u32) -> Result<ModulateChain, ConfigError> {
-        ModulateChain::new(bits, ModulateMode::Exact, self.chain)
-            .map_err(onto(&[("modulate.chain_rounding", "rounding.chain")]))
-    }
-}
-
-/// A unit's error with its field replaced by the scene field that drove it (the first
-/// pair whose unit field matches). An error on a field not listed keeps the unit's
-/// name (tests/limits.rs fails on one: every refusal must name a scene field).
-pub fn onto<'a>(map: &'a [(&'a str, &'a str)]) -> impl Fn(ConfigError) -> ConfigError + 'a {
-    move |e| {
-        let found = map.iter().find(|(unit, _)| *unit == e.field());
-        match found {
-            Some((_, scene)) => e.renamed(scene),
-            None => e,
-        }
     }
 }
 
@@ -341,125 +261,5 @@ pub fn check_shafts(scene: &Scene) -> Result<(), ConfigError> {
     Ok(())
 }
 
-// ---------------------------------------------------------------------------------
-// The glare pipeline.
-
-/// The luminance modulators' widths from `glare.hw`.
-pub fn lum_widths(hw: &GlareHw) -> LumWidths {
-    LumWidths {
-        coord_frac_bits: hw.coord_frac_bits,
-        shape_log2: hw.shape_log2,
-        shape_bits: hw.shape_bits,
-        falloff_log2: hw.falloff_log2,
-        falloff_bits: hw.falloff_bits,
-        weight_bits: hw.weight_bits,
-        radial: Radial {
-            on: hw.radial,
-            entry_int_bits: Radial::default()
-                .entry_int_bits
-                .min(hw.shape_bits.saturating_sub(1)),
-            ..Radial::default()
-        },
-        ..LumWidths::default()
-    }
-}
-
-/// Sub-pixel bits of glare positions (interpolator and generator agree).
-pub const GLARE_SUBPIXEL_BITS: u32 = 4;
-/// Integer bits of glare positions, with the sign: ±8192 px.
-pub const GLARE_COORD_INT_BITS: u32 = 14;
-/// Fraction bits of the s2.f attributes the generator hands the interpolator.
-pub const GLARE_ATTR_FRAC_BITS: u32 = 14;
-
-/// The glare interpolator: two attributes (u, v), s2.14 in, s2.f out
-/// (f = `glare.hw.coord_frac_bits`).
-pub fn glare_interpolator(coord_frac_bits: u32) -> PolygonInterpolatorConfig {
-    PolygonInterpolatorConfig {
-        attrs: 2,
-        subpixel_bits: GLARE_SUBPIXEL_BITS,
-        coord_int_bits: GLARE_COORD_INT_BITS,
-        attr_fmt: Format {
-            int_bits: 2,
-            frac_bits: GLARE_ATTR_FRAC_BITS,
-            signed: true,
-        },
-        acc_int_bits: 4,
-        acc_frac_bits: 24,
-        acc_overflow: Overflow::Wrap,
-        out_int_bits: 2,
-        out_frac_bits: coord_frac_bits,
-        out_quant: Quant::Rnd,
-        barycentric: None,
-    }
-}
-
-/// The glare primitives' polygon-variable generator (positions and attributes as the
-/// interpolator takes them).
-pub fn glare_generator() -> PolygonVariableGeneratorConfig {
-    PolygonVariableGeneratorConfig {
-        coord_int_bits: GLARE_COORD_INT_BITS,
-        subpixel_bits: GLARE_SUBPIXEL_BITS,
-        attr_frac_bits: GLARE_ATTR_FRAC_BITS,
-        ..PolygonVariableGeneratorConfig::default()
-    }
-}
-
-/// The flare lines' Gaussian noise generator at `glare.hw.noise_bits`.
-pub fn glare_noise(hw: &GlareHw) -> GaussianNoiseConfig {
-    GaussianNoiseConfig {
-        uniform_bits: hw.noise_bits,
-        ..GaussianNoiseConfig::geforce()
-    }
-}
-
-/// The glare combiner at `glare.hw.fb_bits` and the modulators' luminance width.
-pub fn glare_combiner(hw: &GlareHw) -> GlareCombinerConfig {
-    GlareCombinerConfig {
-        fb_bits: hw.fb_bits,
-        lum_bits: lum_widths(hw).out_bits,
-    }
-}
-
-/// Every unit `glare.hw` configures: the luminance RAM widths (bloom, halo and flare
-/// modulators), the noise generator, the combiner. Errors name `hw.<field>` (put
-/// `glare.` before them with [`ConfigError::within`]).
-pub fn check_glare(hw: &GlareHw) -> Result<(), ConfigError> {
-    let lum = [
-        "coord_frac_bits",
-        "shape_log2",
-        "shape_bits",
-        "falloff_log2",
-        "falloff_bits",
-        "weight_bits",
-    ]
-    .map(|f| (format!("luminance_ram.{f}"), format!("hw.{f}")));
-    let lum: Vec<(&str, &str)> = lum.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
-    lum_widths(hw)
-        .validate("luminance_ram")
-        .map_err(onto(&lum))?;
-    glare_noise(hw)
-        .build()
-        .map_err(onto(&[("gaussian_noise.uniform_bits", "hw.noise_bits")]))?;
-    glare_combiner(hw)
-        .build()
-        .map_err(onto(&[("glare_combiner.fb_bits", "hw.fb_bits")]))?;
-    Ok(())
-}
-
-// ---------------------------------------------------------------------------------
-// The environment-map pipeline.
-
-/// The environment's 3D voxel-map texture (s × s × s, RGB, 8-bit texels as the
-/// render uploads it) and the reflection unit's side: errors name `side` (put
-/// `environment.` before it).
-pub fn check_env_side(side: u32) -> Result<(), ConfigError> {
-    TextureSamplerConfig {
-        channels: 3,
-        ..TextureSamplerConfig::geforce_3d(side, side, side)
-    }
-    .validate()
-    .map_err(onto(&[
-        ("texture_sampler.size", "side"),
-        ("texture_sampler.coord_int_bits", "side"),
-    ]))
-}
+// The environment-map pipeline's limits (`ENV_MAX_SIDE`, `check_env_side`) are in
+// `bounds.rs`, below the environment section that checks them; re-exported above.

@@ -74,9 +74,7 @@ pub enum FresnelKind {
     Schlick,
 }
 
-/// Largest specular exponent accepted (the stiff range of DESIGN §4 reaches 10⁴;
-/// beyond 10⁵ cos^n underflows for every angle a texel can resolve).
-pub const EXPONENT_MAX: f64 = 1e5;
+pub use super::bounds::EXPONENT_MAX;
 
 impl Material {
     /// Check the parameters; errors name `material.<field>`.

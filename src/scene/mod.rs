@@ -1,6 +1,7 @@
 //! Scenes: the TOML scene format, its validation, built-in scenes, tessellation,
 //! light maps, environment maps and ray–shape geometry (host side, f64).
 
+pub mod bounds;
 pub mod builtin;
 pub mod builtin_environment;
 pub mod builtin_glare;
@@ -10,15 +11,18 @@ pub mod clip;
 pub mod environment;
 pub mod envmap;
 pub mod fields;
+pub mod fields_reference;
 pub mod format;
 pub mod geometry;
 pub mod glare;
+pub mod glare_hw;
 pub mod lightmap;
 pub mod limits;
 pub mod load;
 pub mod material;
 pub mod math;
 pub mod print;
+pub mod rounding;
 pub mod shading_hw;
 pub mod teapot;
 pub mod test_scene;

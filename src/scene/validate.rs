@@ -27,45 +27,14 @@ use toml::Spanned;
 
 use super::fields;
 use super::format::{Camera, Light, LightKind, LightMap, Object, Scene, ShaftsConfig, Shape};
-use super::math::{v3, Vec3};
+use super::math::Vec3;
 
-/// Largest image side, pixels, read from the units so that validation and the units
-/// cannot drift: the shadow-compare unit's largest map side (the camera depth buffer
-/// is a shadow-compare RAM at the image's size) and the largest whole pixel the
-/// polygon interpolator's default vertex positions reach (a sample plane's corner
-/// vertex lies at (width, height); 13 integer bits reach 4095.94). Validation also
-/// builds both units at the image's size ([`super::limits::check_image`]).
-pub const IMAGE_MAX: u32 = {
-    use rtl_model::units::polygon_interpolator::DEFAULT_COORD_INT_BITS;
-    use rtl_model::units::shadow_compare::MAX_MAP_SIDE;
-    let vertex = (1u32 << (DEFAULT_COORD_INT_BITS - 1)) - 1;
-    if MAX_MAP_SIDE < vertex {
-        MAX_MAP_SIDE
-    } else {
-        vertex
-    }
+pub(crate) use super::bounds::interval;
+pub use super::bounds::{
+    IMAGE_MAX, INTENSITY_MAX, LIGHT_COLOR_MAX, LIGHT_MAP_FILE_MAX_BYTES, MEDIUM_MAX, MIN_LENGTH,
+    PARALLEL_SIN, SCENE_FILE_MAX_BYTES, TEAPOT_SCALE_MAX, WORLD_MAX,
 };
-/// Largest scene file read, bytes (a scene is text: the biggest built-in is a few
-/// kilobytes; this leaves room for thousands of objects).
-pub const SCENE_FILE_MAX_BYTES: u64 = 16 << 20;
-/// Largest light-map image file read, bytes.
-pub const LIGHT_MAP_FILE_MAX_BYTES: u64 = 64 << 20;
-
-/// Largest magnitude of any coordinate or length, world units.
-pub const WORLD_MAX: f64 = 1e6;
-/// Shortest vector accepted where a direction is needed.
-pub const MIN_LENGTH: f64 = 1e-9;
-/// Below this sine of their angle, two directions count as parallel.
-pub const PARALLEL_SIN: f64 = 1e-6;
-/// Largest light intensity.
-pub const INTENSITY_MAX: f64 = 1e9;
-/// Largest light colour component.
-pub const LIGHT_COLOR_MAX: f64 = 1e3;
-/// Largest ρ, κ, K.
-pub const MEDIUM_MAX: f64 = 1e6;
-/// Largest teapot scale (its data spans ~6.4 units, so the result stays within
-/// `WORLD_MAX`).
-pub const TEAPOT_SCALE_MAX: f64 = 1e5;
+pub(crate) use super::fields::{direction, point};
 
 impl Scene {
     /// Check every field; the first error found names its field.
@@ -474,72 +443,6 @@ fn compare_lengths(
         }
         _ => Ok(()),
     }
-}
-
-/// Finite and in `lo ..= hi` (an `OutOfRange` error otherwise).
-pub(crate) fn closed(field: &str, x: f64, lo: f64, hi: f64) -> Result<(), ConfigError> {
-    check_finite(field, x)?;
-    if x < lo || x > hi {
-        return Err(ConfigError::out_of_range(field, x, lo, hi));
-    }
-    Ok(())
-}
-
-/// Finite and in an interval with each end open or closed. Both ends closed gives
-/// an `OutOfRange` error; otherwise `Invalid` with the interval written out.
-pub(crate) fn interval(
-    field: &str,
-    x: f64,
-    lo: f64,
-    lo_closed: bool,
-    hi: f64,
-    hi_closed: bool,
-) -> Result<(), ConfigError> {
-    if lo_closed && hi_closed {
-        return closed(field, x, lo, hi);
-    }
-    check_finite(field, x)?;
-    let lo_ok = if lo_closed { x >= lo } else { x > lo };
-    let hi_ok = if hi_closed { x <= hi } else { x < hi };
-    if lo_ok && hi_ok {
-        return Ok(());
-    }
-    let name = field.rsplit('.').next().unwrap_or(field);
-    Err(ConfigError::invalid(
-        field,
-        &format!(
-            "{} is out of range (allowed {} {} {name} {} {})",
-            short(x),
-            short(lo),
-            if lo_closed { "≤" } else { "<" },
-            if hi_closed { "≤" } else { "<" },
-            short(hi),
-        ),
-    ))
-}
-
-/// A position: each component finite and within ±`WORLD_MAX` (errors name
-/// `field[k]`).
-pub(crate) fn point(field: &str, p: &[f64; 3]) -> Result<Vec3, ConfigError> {
-    for (k, &x) in p.iter().enumerate() {
-        fields::POS.real(&format!("{field}[{k}]"), x)?;
-    }
-    Ok(v3(p[0], p[1], p[2]))
-}
-
-/// A direction: a valid point with length ≥ `MIN_LENGTH` (a zero vector names
-/// `field`).
-pub(crate) fn direction(field: &str, d: &[f64; 3]) -> Result<Vec3, ConfigError> {
-    let v = point(field, d)?;
-    if v.length() < MIN_LENGTH {
-        return Err(ConfigError::invalid(
-            field,
-            &format!(
-                "is (almost) the zero vector (length < {MIN_LENGTH:e}); a direction is needed"
-            ),
-        ));
-    }
-    Ok(v)
 }
 
 /// Both non-zero; true when the sine of their angle is below `PARALLEL_SIN`.

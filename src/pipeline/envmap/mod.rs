@@ -13,6 +13,7 @@ pub mod quick_map;
 pub mod render;
 pub mod reproduce;
 pub mod roughness;
+pub mod roughness_comparison;
 pub mod scene_render;
 pub mod slice;
 pub mod studies;

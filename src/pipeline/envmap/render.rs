@@ -131,16 +131,14 @@ pub use super::objects::{
     camera, object_geometry, LambdaSpec, Object, SPHERE_RINGS, SPHERE_SEGMENTS, TEAPOT_SCALE,
     TEAPOT_SUBDIVISIONS,
 };
-pub(super) use super::objects::{teapot_position, TEAPOT_HEIGHT, TEAPOT_X};
 pub use super::quick_map::{quick_map, quick_map_with, QUICK_MAP_MAX_TEXELS};
 use super::roughness::ROUGHNESS_BITS;
 pub use super::roughness::{
-    lambda_of_uv, object_texgen, roughness_comparison, roughness_sampler, roughness_texels,
-    IntendedErrors, LambdaErrors, LambdaSource, RoughnessRow, TexGen, DEFAULT_LAMBDA_TEXTURE_SIDE,
-    MAX_LAMBDA_TEXTURE_SIDE, SEAM_JUMP, SEAM_RADIUS,
+    lambda_of_uv, object_texgen, roughness_sampler, roughness_texels, IntendedErrors, LambdaErrors,
+    LambdaSource, TexGen, DEFAULT_LAMBDA_TEXTURE_SIDE, MAX_LAMBDA_TEXTURE_SIDE, SEAM_JUMP,
+    SEAM_RADIUS,
 };
 use super::slice;
-pub use super::table5::{table5_rows, Table5Row, TABLE5_LAMBDAS};
 pub use super::truth::Truth;
 use super::truth::{intended_errors, level8, truth_images, Shading};
 use super::voxmap::{SliceTexture, VoxelMap};

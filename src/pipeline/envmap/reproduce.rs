@@ -43,8 +43,9 @@ use super::prefilter::{
 };
 use super::render::{
     render_against, render_frame, render_image, render_object_with, upload_textures, Image,
-    LambdaSpec, Lookup, Object, RenderOptions, Table5Row, TABLE5_LAMBDAS,
+    LambdaSpec, Lookup, Object, RenderOptions,
 };
+use super::table5::{Table5Row, TABLE5_LAMBDAS};
 use super::timing::{predict_frame, TimingRow};
 use super::voxmap::VoxelMap;
 use crate::chip::GpuModel;

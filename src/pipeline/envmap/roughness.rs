@@ -1,6 +1,8 @@
-//! Per-pixel roughness from a texture ([`RenderOptions::lambda_source`]): the thesis'
-//! proposed fix for the per-vertex λ's smear, the intended-λ truth's errors
-//! and the comparison of the two λ sources. The render itself is [`super::render`]'s.
+//! Per-pixel roughness from a texture
+//! ([`RenderOptions::lambda_source`](super::render::RenderOptions::lambda_source)): the
+//! thesis' proposed fix for the per-vertex λ's smear and the intended-λ truth's errors;
+//! the comparison of the two λ sources is [`super::roughness_comparison`]'s. The render
+//! itself is [`super::render`]'s, which uses this file (and this file not it).
 //!
 //! - **Texture coordinates: object-linear texgen** ([`object_texgen`], host f64 per
 //!   vertex like the rest of the vertex stage; GeForce's fixed-function T&L has it).
@@ -33,7 +35,9 @@
 //!   the sampler and the 2 channels are in the elaboration report. With a texture the
 //!   3D map is always used (no 2D slice). The existing truths then use the texture's
 //!   λ (the λ the render used).
-//! - **The intended-λ truth** ([`RenderOptions::intended_truth`], [`Truth::intended`]):
+//! - **The intended-λ truth**
+//!   ([`RenderOptions::intended_truth`](super::render::RenderOptions::intended_truth),
+//!   [`Truth::intended`](super::truth::Truth::intended)):
 //!   the per-vertex path's truths use the interpolated λ, so they cannot see the
 //!   smear. At each pixel, λ_exact = [`lambda_of_uv`] in f64 at the pixel's
 //!   interpolated (u, v) (the same codes in both modes), Λ = g(λ_exact·|r|), eq. (3)
@@ -41,25 +45,21 @@
 //!   stays out). [`IntendedErrors`] gives the errors over the object and over the seam
 //!   band (pixels within [`SEAM_RADIUS`] of a jump of λ_exact by > [`SEAM_JUMP`]), the
 //!   map's own error there (against the truth at the λ used), and |λ used − λ_exact|.
-//!   [`roughness_comparison`] makes the rows; docs/envmap.md has the numbers.
+//!   [`roughness_comparison`](super::roughness_comparison::roughness_comparison)
+//!   makes the rows; docs/envmap.md has the numbers.
 
 use rtl_model::error::{check_range, ConfigError};
 use rtl_model::units::texture_sampler::{AddressMode, TextureSampler, TextureSamplerConfig};
 
-use super::image::{ErrorStats, Image};
+use super::image::ErrorStats;
 #[cfg(doc)]
 use super::interpolator::{
     texcoord_channels_cost, RENDER_ATTRS, RENDER_ATTRS_TEXTURE, TEXCOORD_CHANNELS,
 };
 #[cfg(doc)]
-use super::render::{object_geometry, Truth};
-use super::render::{
-    render_object_with, teapot_position, LambdaSpec, Object, RenderOptions, TEAPOT_HEIGHT,
-    TEAPOT_SCALE, TEAPOT_X,
-};
-use super::voxmap::VoxelMap;
+use super::objects::object_geometry;
+use super::objects::{teapot_position, LambdaSpec, Object, TEAPOT_HEIGHT, TEAPOT_SCALE, TEAPOT_X};
 use crate::scene::camera::CameraView;
-use crate::scene::envmap::EnvMap;
 use crate::scene::math::{v3, Vec3};
 
 /// Where the per-pixel smoothness λ comes from (module notes).
@@ -103,8 +103,9 @@ impl LambdaSource {
 
 /// Largest side of the roughness texture (the sampler's largest axis).
 pub const MAX_LAMBDA_TEXTURE_SIDE: u32 = 4096;
-/// The roughness texture side [`roughness_comparison`] uses: 256 × 256 × 8 bits, a
-/// GeForce-era L8 texture (512 kbit).
+/// The roughness texture side
+/// [`roughness_comparison`](super::roughness_comparison::roughness_comparison) uses:
+/// 256 × 256 × 8 bits, a GeForce-era L8 texture (512 kbit).
 pub const DEFAULT_LAMBDA_TEXTURE_SIDE: u32 = 256;
 /// The seam band of [`IntendedErrors::seam`]: object pixels within this many pixels
 /// (Chebyshev) of a pixel whose intended λ differs from a 4-neighbour's by more than
@@ -112,7 +113,7 @@ pub const DEFAULT_LAMBDA_TEXTURE_SIDE: u32 = 256;
 pub const SEAM_RADIUS: u32 = 2;
 pub const SEAM_JUMP: f64 = 0.5;
 
-/// Errors against the intended-λ truth ([`Truth::intended`]).
+/// Errors against the intended-λ truth ([`Truth::intended`](super::truth::Truth::intended)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct IntendedErrors {
     /// Over all object pixels.
@@ -122,8 +123,9 @@ pub struct IntendedErrors {
     /// o'clock seam of the non-uniform λ; empty, all zero, where λ has no jump).
     pub seam: ErrorStats,
     /// The map's own error over the seam band: against the eq. (3) truth with the λ the
-    /// render USED ([`Truth::simplified`]), the floor the λ source cannot remove (there
-    /// λ → 0 reads the coarse centre of the map; [`super::render`] module notes).
+    /// render USED ([`Truth::simplified`](super::truth::Truth::simplified)), the floor
+    /// the λ source cannot remove (there λ → 0 reads the coarse centre of the map;
+    /// [`super::render`] module notes).
     pub seam_own: ErrorStats,
     /// |λ used − λ intended| over all object pixels and over the seam band.
     pub lambda_all: LambdaErrors,
@@ -271,137 +273,3 @@ pub fn roughness_sampler(
 
 /// Bits of a roughness texel (λ = code / 255).
 pub(super) const ROUGHNESS_BITS: u32 = 8;
-
-/// One row of the roughness comparison: a λ source's errors against the intended-λ
-/// truth ([`Truth::intended`], eq. 3, 8-bit levels).
-#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct RoughnessRow {
-    pub object: String,
-    /// [`LambdaSource::label`].
-    pub lambda_source: String,
-    /// Object pixels.
-    pub pixels: usize,
-    /// Mean and largest |Δ| per channel over the object.
-    pub mean: [f64; 3],
-    pub max: [f64; 3],
-    /// The same over the seam band ([`IntendedErrors::seam`]; 0 pixels for the teapot).
-    pub seam_pixels: usize,
-    pub seam_mean: [f64; 3],
-    pub seam_max: [f64; 3],
-    /// Mean |Δ| over the seam band against the truth with the render's own λ (the
-    /// map's floor there, [`IntendedErrors::seam_own`]).
-    pub seam_own_mean: [f64; 3],
-    /// Mean and largest |λ used − λ intended| over the object and the seam band.
-    pub lambda_mean: f64,
-    pub lambda_max: f64,
-    pub seam_lambda_mean: f64,
-    pub seam_lambda_max: f64,
-}
-
-impl RoughnessRow {
-    pub const CSV_HEADER: &'static str = "object,lambda_source,pixels,mean_r,mean_g,mean_b,max_r,max_g,max_b,seam_pixels,seam_mean_r,seam_mean_g,seam_mean_b,seam_max_r,seam_max_g,seam_max_b,seam_own_mean_r,seam_own_mean_g,seam_own_mean_b,lambda_mean,lambda_max,seam_lambda_mean,seam_lambda_max";
-
-    pub fn to_csv(&self) -> String {
-        let f = |v: [f64; 3]| format!("{:.4},{:.4},{:.4}", v[0], v[1], v[2]);
-        format!(
-            "{},{},{},{},{},{},{},{},{},{:.5},{:.5},{:.5},{:.5}",
-            self.object,
-            self.lambda_source,
-            self.pixels,
-            f(self.mean),
-            f(self.max),
-            self.seam_pixels,
-            f(self.seam_mean),
-            f(self.seam_max),
-            f(self.seam_own_mean),
-            self.lambda_mean,
-            self.lambda_max,
-            self.seam_lambda_mean,
-            self.seam_lambda_max
-        )
-    }
-
-    /// Mean of the three channels' mean |Δ| (over the object, and over the seam band).
-    pub fn mean_rgb(&self) -> f64 {
-        self.mean.iter().sum::<f64>() / 3.0
-    }
-    pub fn seam_mean_rgb(&self) -> f64 {
-        self.seam_mean.iter().sum::<f64>() / 3.0
-    }
-    pub fn seam_own_mean_rgb(&self) -> f64 {
-        self.seam_own_mean.iter().sum::<f64>() / 3.0
-    }
-}
-
-/// The thesis' proposed fix measured: `object` with the non-uniform λ at
-/// `size`, rendered with λ per vertex and with a `side` × `side` roughness texture,
-/// each against the intended-λ truth (the same truth image for both: it depends only
-/// on the geometry and the interpolated n, r, (u, v)). Rows in that order. Errors as
-/// [`render_object_with`] and "envmap_render.lambda_texture".
-pub fn roughness_comparison(
-    env: &EnvMap,
-    map: &VoxelMap,
-    object: Object,
-    size: (u32, u32),
-    side: u32,
-) -> Result<Vec<RoughnessRow>, ConfigError> {
-    Ok(roughness_comparison_images(env, map, object, size, side)?.rows)
-}
-
-/// [`roughness_comparison`] with the images it made, for looking at.
-pub struct RoughnessComparison {
-    pub rows: Vec<RoughnessRow>,
-    /// The renders: λ per vertex, λ from the texture.
-    pub images: [Image; 2],
-    /// The intended-λ truth (black where the object is not).
-    pub truth: Image,
-}
-
-/// [`roughness_comparison`], keeping the two renders and the intended-λ truth.
-pub fn roughness_comparison_images(
-    env: &EnvMap,
-    map: &VoxelMap,
-    object: Object,
-    size: (u32, u32),
-    side: u32,
-) -> Result<RoughnessComparison, ConfigError> {
-    let run = |source: LambdaSource| {
-        let opt = RenderOptions {
-            lambda_source: source,
-            intended_truth: true,
-            ..RenderOptions::default()
-        };
-        // Each source gets its own truths: the intended one is the same image for both,
-        // but `seam_own` needs the truth with the λ this render used.
-        let (img, t, st) =
-            render_object_with(env, map, object, LambdaSpec::NonUniform, size, &opt)?;
-        let i = st.intended.unwrap_or_default();
-        let row = RoughnessRow {
-            object: object.name().to_string(),
-            lambda_source: source.label(),
-            pixels: i.all.pixels,
-            mean: i.all.mean,
-            max: i.all.max,
-            seam_pixels: i.seam.pixels,
-            seam_mean: i.seam.mean,
-            seam_max: i.seam.max,
-            seam_own_mean: i.seam_own.mean,
-            lambda_mean: i.lambda_all.mean,
-            lambda_max: i.lambda_all.max,
-            seam_lambda_mean: i.lambda_seam.mean,
-            seam_lambda_max: i.lambda_seam.max,
-        };
-        Ok::<_, ConfigError>((row, img, t.intended))
-    };
-    let (r0, a, _) = run(LambdaSource::PerVertex)?;
-    let (r1, b, truth) = run(LambdaSource::Texture { side })?;
-    // `intended_truth: true` always makes it.
-    let truth = truth.ok_or_else(|| {
-        ConfigError::invalid("envmap_render.truth", "the render made no intended-λ truth")
-    })?;
-    Ok(RoughnessComparison {
-        rows: vec![r0, r1],
-        images: [a, b],
-        truth,
-    })
-}

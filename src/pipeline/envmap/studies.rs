@@ -14,11 +14,13 @@ use std::time::Instant;
 
 use super::prefilter::{build_exact_bits, env_to_levels};
 use super::render::{
-    render_against, render_object_with, roughness_comparison, LambdaSpec, Object, RenderOptions,
-    RoughnessRow, DEFAULT_LAMBDA_TEXTURE_SIDE,
+    render_against, render_object_with, LambdaSpec, Object, RenderOptions,
+    DEFAULT_LAMBDA_TEXTURE_SIDE,
 };
 use super::reproduce::{grid, RenderRun};
-use super::roughness::roughness_comparison_images;
+use super::roughness_comparison::{
+    roughness_comparison, roughness_comparison_images, RoughnessRow,
+};
 use crate::reference::envmap_prefilter::PrefilterParams;
 
 /// The λ of the sweep: Table 5's four and the steps between, down to 0.125.

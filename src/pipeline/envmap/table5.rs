@@ -3,7 +3,8 @@
 
 use rtl_model::error::ConfigError;
 
-use super::render::{render_object, LambdaSpec, Object};
+use super::objects::{LambdaSpec, Object};
+use super::render::render_object;
 use super::voxmap::VoxelMap;
 use crate::scene::envmap::EnvMap;
 

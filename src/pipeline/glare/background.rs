@@ -2,7 +2,7 @@
 //! canopy, or the picture earlier passes of the frame drew (the scene's lights and
 //! objects through the light-shafts pipeline), handed over as a framebuffer.
 
-use super::frame::glare_of;
+use super::host::glare_of;
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::Background;

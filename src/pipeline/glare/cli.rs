@@ -2,7 +2,8 @@
 //! and its prediction on the glare ASIC, and the f64 reference. `render` goes through
 //! the frame (`crate::frame`).
 
-use super::frame::{generator, glare_of, interpolator, render_glare_with, GlareFrame};
+use super::frame::{generator, interpolator, render_glare_with, GlareFrame};
+use super::host::glare_of;
 use super::throughput::{predict, GlarePrediction};
 use crate::reference::glare_model::reference_image;
 use crate::scene::format::Scene;

@@ -14,7 +14,8 @@
 
 use super::asic_preset::{glare_asic_for, GLARE_TABLE_WORDS_PER_CLOCK};
 use super::cli::setup_and_drain;
-use super::frame::{glare_of, render_glare_with, GlareFrame};
+use super::frame::{render_glare_with, GlareFrame};
+use super::host::glare_of;
 use super::throughput::{predict, GlarePrediction};
 use crate::chip::clock::{clock_pass, FrameTiming, NamedPassTiming, PassTiming, StageClocks};
 use crate::chip::config::ChipConfig;

@@ -29,7 +29,7 @@ pub fn highlight_sources(
     scene: &Scene,
     ctr: &mut BTreeMap<String, Counters>,
 ) -> Result<(Vec<(ScreenSource, f64)>, super::fluctuation::Elab), ConfigError> {
-    let g = super::frame::glare_of(scene)?;
+    let g = super::host::glare_of(scene)?;
     if g.highlights.is_empty() {
         return Ok((
             Vec::new(),

@@ -14,7 +14,7 @@ pub fn chaos_unit(
     i: usize,
     patches: u32,
 ) -> Result<(ChaosMap, ChaosState), ConfigError> {
-    let g = super::frame::glare_of(scene)?;
+    let g = super::host::glare_of(scene)?;
     let u = ChaosMapConfig {
         a: g.model.chaos_a,
         z: g.model.chaos_z,
@@ -37,7 +37,7 @@ pub fn patch_levels(
     screens: &[ScreenSource],
     ctr: &mut BTreeMap<String, Counters>,
 ) -> Result<(Vec<f64>, Elab), ConfigError> {
-    let g = super::frame::glare_of(scene)?;
+    let g = super::host::glare_of(scene)?;
     let mut levels = vec![1.0; screens.len()];
     let mut summary = None;
     for (i, src) in g.sources.iter().enumerate() {

@@ -7,7 +7,7 @@
 //! units the scene needs are elaborated.
 
 use super::background::base_image;
-use super::host::{screen_sources, source_glare, ScreenSource};
+use super::host::{glare_of, screen_sources, source_glare, ScreenSource};
 use super::tables::{
     bloom_prim, halo_prim, line_falloff_samples, line_shape_samples, profile_samples,
     radial_tables, ring_samples, shape_samples, AreaPrim,
@@ -28,13 +28,6 @@ use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
 use rtl_model::{ConfigError, Counters, Unit, UnitSummary};
 use std::collections::BTreeMap;
-
-/// Sub-pixel bits of glare positions (interpolator and generator agree).
-pub const SUBPIXEL_BITS: u32 = crate::scene::limits::GLARE_SUBPIXEL_BITS;
-/// Integer bits of glare positions, with the sign: ±8192 px.
-pub const COORD_INT_BITS: u32 = crate::scene::limits::GLARE_COORD_INT_BITS;
-/// Fraction bits of the s2.f attributes the generator hands the interpolator.
-pub const ATTR_FRAC_BITS: u32 = crate::scene::limits::GLARE_ATTR_FRAC_BITS;
 
 /// One primitive drawn.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -88,16 +81,6 @@ pub use super::primitives::{
     fit_area, generator, interpolator, line_fits, lum_widths, scissor, Frag, COORD_LIMIT_PX,
     LINE_MAX_PX,
 };
-
-/// The glare section, or an error naming `glare`.
-pub fn glare_of(scene: &Scene) -> Result<&GlareSection, ConfigError> {
-    scene.glare.as_ref().ok_or_else(|| {
-        ConfigError::invalid(
-            "glare",
-            "the scene has no [glare] section (no glare sources)",
-        )
-    })
-}
 
 /// Render the glare of a scene over its background.
 pub fn render_glare(scene: &Scene) -> Result<GlareFrame, ConfigError> {

@@ -5,9 +5,19 @@
 use crate::reference::glare_model::{bloom_factor, Bloom, FlareParams, Shape2D, SourceGlare};
 use crate::scene::camera::{vec3, CameraView};
 use crate::scene::format::Scene;
-use crate::scene::glare::{Determinants, GlareModel, GlareSource, SourceKind};
+use crate::scene::glare::{Determinants, GlareModel, GlareSection, GlareSource, SourceKind};
 use crate::scene::math::Vec3;
 use rtl_model::ConfigError;
+
+/// The glare section, or an error naming `glare`.
+pub fn glare_of(scene: &Scene) -> Result<&GlareSection, ConfigError> {
+    scene.glare.as_ref().ok_or_else(|| {
+        ConfigError::invalid(
+            "glare",
+            "the scene has no [glare] section (no glare sources)",
+        )
+    })
+}
 
 /// A source as seen on the screen, before its intensity is known (fluctuating patches
 /// and highlights get theirs from the hardware).

@@ -2,7 +2,6 @@
 //! interpolator's set-up and walk (scissored to the viewport and fitted to the
 //! coordinate range), then a modulator and the combiner into the framebuffer.
 
-use super::frame::{COORD_INT_BITS, SUBPIXEL_BITS};
 use super::tables::AreaPrim;
 use crate::report::image_out::Framebuffer;
 use crate::scene::glare::GlareSection;
@@ -19,6 +18,13 @@ use std::collections::BTreeMap;
 pub(crate) fn add(map: &mut BTreeMap<String, Counters>, name: &str, c: Counters) {
     *map.entry(name.to_string()).or_default() += c;
 }
+
+/// Sub-pixel bits of glare positions (interpolator and generator agree).
+pub const SUBPIXEL_BITS: u32 = crate::scene::limits::GLARE_SUBPIXEL_BITS;
+/// Integer bits of glare positions, with the sign: ±8192 px.
+pub const COORD_INT_BITS: u32 = crate::scene::limits::GLARE_COORD_INT_BITS;
+/// Fraction bits of the s2.f attributes the generator hands the interpolator.
+pub const ATTR_FRAC_BITS: u32 = crate::scene::limits::GLARE_ATTR_FRAC_BITS;
 
 /// The modulators' widths from the scene (built where validation builds them:
 /// `scene::limits`).

@@ -44,7 +44,7 @@
 // `!(x > 0.0)` is deliberate: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::{mirror, Brdf, Lobe};
+use super::model::{mirror, Brdf, Lobe};
 use crate::reference::quadrature::{adaptive, QuadTol};
 use crate::scene::math::{v3, Vec3};
 use std::f64::consts::{FRAC_PI_2, PI};

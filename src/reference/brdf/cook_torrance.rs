@@ -21,7 +21,9 @@
 // `!(x > 0.0)` is deliberate: it is true for NaN, which must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::{above_horizon, check_range, half_vector, Brdf, BrdfParamError, Lobe, COS_FLOOR};
+use super::model::{
+    above_horizon, check_range, half_vector, Brdf, BrdfParamError, Lobe, COS_FLOOR,
+};
 use crate::scene::math::Vec3;
 use std::f64::consts::PI;
 

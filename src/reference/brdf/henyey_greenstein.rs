@@ -14,7 +14,7 @@
 //! is finite (≈ 1.6e29 at 1 − |g| = 1e-15). |g| = 1 itself is a Dirac delta, not a
 //! function: the constructor rejects it (and |g| > 1, which is not a phase function).
 
-use super::{check_range, BrdfParamError};
+use super::model::{check_range, BrdfParamError};
 use std::f64::consts::PI;
 
 #[derive(Clone, Copy, Debug, PartialEq)]

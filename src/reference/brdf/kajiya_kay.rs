@@ -19,7 +19,7 @@
 //! specular part. The model is not energy-normalised (k_s cos^n is the classic Phong-like
 //! lobe).
 
-use super::{above_horizon, check_range, Brdf, BrdfParamError, Lobe, COS_FLOOR};
+use super::model::{above_horizon, check_range, Brdf, BrdfParamError, Lobe, COS_FLOOR};
 use crate::scene::math::Vec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,7 +1,7 @@
 //! Lambert: R = ρ/π, the constant BRDF. Reciprocal trivially; directional albedo ρ at
 //! every incidence (exactly, since ∫ cos θ dω = π), so energy-conserving for ρ ≤ 1.
 
-use super::{above_horizon, check_range, Brdf, BrdfParamError};
+use super::model::{above_horizon, check_range, Brdf, BrdfParamError};
 use crate::scene::math::Vec3;
 
 /// The Lambertian reflector of albedo `rho`.

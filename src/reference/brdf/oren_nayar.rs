@@ -19,7 +19,7 @@
 //! reciprocal exactly. Neither form is constructed to bound the albedo; it is measured.
 //! σ = 0 is Lambert.
 
-use super::{above_horizon, check_range, Brdf, BrdfParamError};
+use super::model::{above_horizon, check_range, Brdf, BrdfParamError};
 use crate::scene::math::Vec3;
 use std::f64::consts::{FRAC_1_PI, FRAC_PI_2, PI};
 

@@ -22,7 +22,7 @@
 //!
 //! cos is clamped at 0 and 0^0 = 1, so n = 0 is the constant lobe.
 
-use super::{
+use super::model::{
     above_horizon, check_range, cos_mirror, half_vector, Brdf, BrdfParamError, Lobe, COS_FLOOR,
 };
 use crate::scene::math::Vec3;

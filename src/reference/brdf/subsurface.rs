@@ -32,7 +32,7 @@
 
 use super::cook_torrance::fresnel_dielectric_transmittance;
 use super::henyey_greenstein::HenyeyGreenstein;
-use super::{above_horizon, check_range, Brdf, BrdfParamError, COS_FLOOR};
+use super::model::{above_horizon, check_range, Brdf, BrdfParamError, COS_FLOOR};
 use crate::scene::math::Vec3;
 use std::f64::consts::{FRAC_1_PI, PI};
 

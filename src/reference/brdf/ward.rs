@@ -14,7 +14,7 @@
 //!
 //! Both are symmetric in the floats (h is a commutative sum), so reciprocity is exact.
 
-use super::{above_horizon, check_range, Brdf, BrdfParamError, Lobe, COS_FLOOR};
+use super::model::{above_horizon, check_range, Brdf, BrdfParamError, Lobe, COS_FLOOR};
 use crate::scene::math::Vec3;
 use std::f64::consts::PI;
 

@@ -7,7 +7,7 @@
 //! additive datapath (the pipelines' blends): unweighted and weighted, widening and
 //! narrowing the source.
 
-use super::{collect, RtlConfig, VectorSet};
+use super::vector_set::{collect, RtlConfig, VectorSet};
 use rtl_model::units::blend::{
     Blend, BlendConfig, BlendDatapath, BlendEquation, BlendFactor, BlendIn, BlendRounding,
 };

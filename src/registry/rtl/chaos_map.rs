@@ -4,7 +4,7 @@
 //! output gain are parameters, as the model quantises them.
 
 use super::stream::request_stream;
-use super::{RomPort, RtlConfig, VectorSet};
+use super::vector_set::{RomPort, RtlConfig, VectorSet};
 use rtl_model::units::chaos_map::{ChaosMapConfig, Escape, GAIN_EXTRA_BITS};
 
 /// The configuration built at `config`: the GeForce default (4 patches, u0.32,

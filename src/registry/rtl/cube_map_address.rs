@@ -4,7 +4,7 @@
 //! Newton step (s4.2 words of a 4³ map, 4 × 4-bit ROM, 4-texel faces, s4.1 out; the
 //! 18-bit input word is exhaustive). The reciprocal ROM is a read port.
 
-use super::{collect, RomPort, RtlConfig, VectorSet};
+use super::vector_set::{collect, RomPort, RtlConfig, VectorSet};
 use rtl_model::units::cube_map_address::{CubeMapAddressConfig, CubeMapAddressIn};
 
 pub(super) fn cube_map_address_vectors(

@@ -5,7 +5,8 @@
 //! model's own tables. The model is opened in SystemVerilog by name and a text spec
 //! (`glare_dpi_open(UNIT, SPEC)`), the config fields as `key=value`.
 
-use super::{luminance_widths, RtlConfig, VectorSet};
+use super::luminance_widths;
+use super::vector_set::{RtlConfig, VectorSet};
 use std::fmt::Write as _;
 
 /// Seed of the model's tables in the DPI-C testbench (both the scoreboard and the

@@ -3,7 +3,7 @@
 //! parameters: one configuration per set of vectors.
 
 use super::register_combiner::register_file_of;
-use super::{collect, RtlConfig, VectorSet, VerilogParams};
+use super::vector_set::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::fixed_point::Quant;
 use rtl_model::units::final_combiner::{FinalCombinerConfig, FinalInput, FinalVariable};
 use rtl_model::units::register_combiner::{ComponentUsage, Mapping, Register, RegisterFile};
@@ -44,7 +44,7 @@ fn params(c: &FinalCombinerConfig) -> VerilogParams {
     let mut p = vec![
         ("N", c.internal_bits as u64),
         ("OUT_BITS", c.out_bits as u64),
-        ("ROUNDING", super::quant_code(c.rounding)),
+        ("ROUNDING", super::vector_set::quant_code(c.rounding)),
         ("COLOR_SUM_CLAMP", u64::from(c.color_sum_clamp)),
         ("INVERT_R0", u64::from(c.specular_add_invert_r0)),
         ("INVERT_V1", u64::from(c.specular_add_invert_v1)),

@@ -4,7 +4,7 @@
 //! the central-limit mode). The ln, √ and sin ROMs are read ports.
 
 use super::stream::request_stream;
-use super::{RomPort, RtlConfig, VectorSet};
+use super::vector_set::{RomPort, RtlConfig, VectorSet};
 use rtl_model::units::gaussian_noise::{GaussMode, GaussState, GaussianNoiseConfig};
 
 /// The configuration built at `config`: the GeForce default (B 32, T 10, E 18,

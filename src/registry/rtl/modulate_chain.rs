@@ -2,7 +2,7 @@
 //! implements the PerStage rounding with the Exact modulate; the Fused (Mesa binary32)
 //! chain and the alternate modulate modes are not built.
 
-use super::{collect, RtlConfig, VectorSet};
+use super::vector_set::{collect, RtlConfig, VectorSet};
 use rtl_model::units::modulate::ModulateMode;
 use rtl_model::units::modulate_chain::{ChainRounding, ModulateChain, ModulateChainIn};
 

@@ -13,8 +13,8 @@
 //! are more read ports (bary_ctl: {en, sel2, bias2, bias0}, bary_den, and per
 //! attribute bary_base, bary_d0, bary_d2); a parallelogram's entry has en = 0.
 
-use super::{Field, RomPort, RtlConfig, VectorSet};
-use crate::registry::seeded;
+use super::vector_set::{Field, RomPort, RtlConfig, VectorSet};
+use crate::registry::unit_entry::seeded;
 use rand::Rng;
 use rtl_model::fixed_point::{Format, Overflow, Quant};
 use rtl_model::units::polygon_interpolator::{
@@ -150,7 +150,7 @@ fn vectors_at(
         .cloned()
         .zip(walked.walks.iter().map(Vec::as_slice))
         .collect();
-    let model_batch_secs = super::time_batch_walks(&u, &timed);
+    let model_batch_secs = super::vector_set::time_batch_walks(&u, &timed);
     Ok(VectorSet {
         unit: u.name(),
         config,
@@ -271,7 +271,7 @@ fn walk_primitives(
             // The Verilog's port for `inside` is `is_inside` (a SystemVerilog keyword).
             sig[2].name = "is_inside";
             if w.out_fields.is_empty() {
-                w.out_fields = super::fields(&sig);
+                w.out_fields = super::vector_set::fields(&sig);
             }
             w.expected.push(super::pack_hex(&sig));
         }

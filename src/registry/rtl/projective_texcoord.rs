@@ -10,7 +10,7 @@
 //! (more than the mantissa's 4: m is widened, not truncated; and F_r < out_frac, so
 //! the output shift is a left shift for small q): 18 input bits, exhaustive.
 
-use super::{collect, RomPort, RtlConfig, VectorSet};
+use super::vector_set::{collect, RomPort, RtlConfig, VectorSet};
 use rtl_model::units::projective_texcoord::{ProjectiveIn, ProjectiveTexcoordConfig};
 
 pub(super) fn projective_texcoord_vectors(
@@ -33,7 +33,7 @@ pub(super) fn projective_texcoord_vectors(
     };
     let u = cfg.build().map_err(|e| e.to_string())?;
     let w = u.in_bits();
-    let exhaustive = 3 * w <= super::EXHAUSTIVE_BITS;
+    let exhaustive = 3 * w <= super::vector_set::EXHAUSTIVE_BITS;
     let sx = move |v: u64| (v << (64 - w)) as i64 >> (64 - w);
     // A word spread over magnitudes: keep 1 + (top five bits mod w) low bits of the
     // random value (below the sign), negated when bit 0 and the top bit are set.

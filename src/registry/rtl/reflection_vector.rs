@@ -5,7 +5,7 @@
 //! exhaustive, with every zero-vector case and λ codes above 1). The rsqrt ROM is read
 //! through two ports (n and e are normalised in parallel).
 
-use super::{collect, RomPort, RtlConfig, VectorSet};
+use super::vector_set::{collect, RomPort, RtlConfig, VectorSet};
 use rtl_model::units::reflection_vector::{ReflectionVectorConfig, ReflectionVectorIn};
 
 pub(super) fn reflection_vector_vectors(

@@ -3,7 +3,7 @@
 //! outputs, scale, bias, dot products, mux; N, G, rounding) as parameters: one
 //! configuration per set of vectors. The input and output words are the register set.
 
-use super::{collect, RtlConfig, VectorSet, VerilogParams};
+use super::vector_set::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::fixed_point::Quant;
 use rtl_model::units::register_combiner::{
     Bias, BiasConstant, ComponentUsage, Mapping, MuxSelect, PortionConfig, Register,
@@ -142,7 +142,7 @@ fn params(c: &RegisterCombinerConfig) -> VerilogParams {
     let mut p = vec![
         ("N", c.internal_bits as u64),
         ("G", c.guard_bits as u64),
-        ("ROUNDING", super::quant_code(c.rounding)),
+        ("ROUNDING", super::vector_set::quant_code(c.rounding)),
     ];
     portion_params("RGB", &c.rgb, &mut p);
     portion_params("ALPHA", &c.alpha, &mut p);

@@ -10,7 +10,7 @@
 //! the raw wire twice), so writes and tests keep meeting the same texels and depth
 //! comparisons land on the bias edge.
 
-use super::{collect, RamPort, RtlConfig, VectorSet};
+use super::vector_set::{collect, RamPort, RtlConfig, VectorSet};
 use rtl_model::units::shadow_compare::{CompareFunc, DepthTexel, ShadowCompareConfig, ShadowIn};
 
 /// A coordinate on an axis of `side` texels from a 16-bit random value.

@@ -12,7 +12,8 @@
 //! negative words clamped to 0; 1 024 words, exhaustive. Nearest filtering, m < k and
 //! other widths run in tests/rtl_specular_lookup.rs (Icarus, [`vectors_of`]).
 
-use super::{collect, seeded, RomPort, RtlConfig, VectorSet};
+use super::super::unit_entry::seeded;
+use super::vector_set::{collect, RomPort, RtlConfig, VectorSet};
 use rand::Rng;
 use rtl_model::units::specular_lookup::{SpecularLookupConfig, SpecularLookupIn};
 use rtl_model::units::texture_sampler::Filter;

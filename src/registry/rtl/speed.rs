@@ -4,7 +4,8 @@
 //! Verilator's clock cycles and transactions per second (the generic vector
 //! testbench, `tb_vectors.v`, one `--binary` build holding every unit).
 
-use super::{cosim_top, RtlConfig, VectorSet, RTL_UNITS};
+use super::vector_set::{RtlConfig, VectorSet};
+use super::{cosim_top, RTL_UNITS};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Instant;

@@ -3,7 +3,7 @@
 //! expected words are the kernel's outputs in order from the unit's reset state (the
 //! state carries from one transaction to the next, as in hardware).
 
-use super::{fields, pack_hex, time_batch_walks, RtlConfig, VectorSet, VerilogParams};
+use super::vector_set::{fields, pack_hex, time_batch_walks, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::{Counters, Unit};
 
 /// `count` requests from reset state `state`.

@@ -4,7 +4,7 @@
 //! rounding (every function, source, operand and scale); MesaFloat32's binary32
 //! ADD_SIGNED path is not built.
 
-use super::{collect, RtlConfig, VectorSet, VerilogParams};
+use super::vector_set::{collect, RtlConfig, VectorSet, VerilogParams};
 use rtl_model::units::texture_combiner::{
     CombineFunction, CombineSource, CombinerRounding, OperandAlpha, OperandRgb,
     TextureCombinerConfig, TextureCombinerIn,

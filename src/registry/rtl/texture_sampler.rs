@@ -11,8 +11,8 @@
 //! (the floored remainder) and clamp along t, in Mesa llvmpipe's mode (successive
 //! lerps, half-to-even weights): 14 input bits, exhaustive.
 
-use super::super::seeded;
-use super::{collect, RomPort, RtlConfig, VectorSet};
+use super::super::unit_entry::seeded;
+use super::vector_set::{collect, RomPort, RtlConfig, VectorSet};
 use rand::Rng;
 use rtl_model::units::texture_sampler::{
     AddressMode, FilterRounding, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
@@ -60,7 +60,7 @@ pub(super) fn texture_sampler_vectors(
     let u = TextureSampler::new(cfg.clone(), &texels).map_err(|e| e.to_string())?;
     let cw = u.coord_bits();
     let f = cfg.coord_frac_bits;
-    let remap = 2 * cw > super::EXHAUSTIVE_BITS;
+    let remap = 2 * cw > super::vector_set::EXHAUSTIVE_BITS;
     // A coordinate from a cw-bit random value: the raw wire (sign-extended), or, for
     // wide words, mostly within a texel of an axis of `size` texels.
     let coord = move |v: u64, size: u32| -> i32 {

@@ -41,7 +41,8 @@
 //! A test checks `light_with` without a fault against the kernel. They replace the
 //! first vertices of the stream, so the count is unchanged.
 
-use super::{collect, seeded, RtlConfig, VectorSet, VerilogParams};
+use super::super::unit_entry::seeded;
+use super::vector_set::{collect, RtlConfig, VectorSet, VerilogParams};
 use crate::conformance::specular::POW16_PARAMS;
 use rand::Rng;
 use rtl_model::units::vertex_lighting::{
@@ -790,7 +791,10 @@ mod tests {
                 .iter()
                 .enumerate()
             {
-                assert_eq!(set.stimulus[k], super::super::pack_hex(&u.in_signals(x)));
+                assert_eq!(
+                    set.stimulus[k],
+                    super::super::vector_set::pack_hex(&u.in_signals(x))
+                );
             }
         }
         // Every fault is found at the default (nearest-even, a local spot light) with

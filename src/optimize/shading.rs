@@ -231,7 +231,7 @@ pub fn check(a: &OptimizeArgs, mut file: ShadingFile) -> Result<ShadingPlan, Str
     })
 }
 
-/// `optimize` on a shading scene: as `optimize_cli` does for a `Scene` (progress
+/// `optimize` on a shading scene: as `command::optimize_cli` does for a `Scene` (progress
 /// bar, `pareto.csv` after every point, `pareto.png`), then `best.toml` in the
 /// shading file form, read back and rendered afresh.
 pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), String> {

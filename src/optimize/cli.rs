@@ -7,12 +7,11 @@
 //! `<model>` is a literal placeholder a user reads, not HTML.
 #![allow(rustdoc::invalid_html_tags)]
 
-use super::eval::{Evaluator, Kind, Reference};
+use super::eval::{Kind, Reference};
 use super::search::{
     area, describe, objective_front, objective_key, search, Budget, End, Limit, Limits, Metric,
     Objective, Outcome, Point, Status,
 };
-use crate::report::atomic::write_bytes;
 use crate::report::csv_out::write_csv;
 use crate::report::plot::{points_plot, Axis, PlotSpec, Series};
 use crate::scene::format::Scene;
@@ -558,75 +557,4 @@ impl SearchRun<'_> {
             self.csv().display()
         )
     }
-}
-
-/// The command.
-pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
-    // A shading scene (`shading-*` or a `[shading]` file) has its own driver.
-    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(&a.scene)? {
-        return super::shading::optimize_shading_cli(a, f);
-    }
-    // Parameters of the clocked chip: an architecture search within a time budget.
-    if a.params
-        .as_deref()
-        .is_some_and(super::chip::names_chip_params)
-    {
-        return super::chip::optimize_chip_cli(a);
-    }
-    let plan = check(a)?;
-    std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
-    let t0 = std::time::Instant::now();
-    let ev = Evaluator::new(&plan.scene, plan.reference)?;
-    eprintln!(
-        "optimize {} ({}x{}, {} scene): reference in {:.1} s; budget {}; objective {}; params {}",
-        plan.scene_arg,
-        plan.scene.image.width,
-        plan.scene.image.height,
-        ev.kind.name(),
-        ev.reference_seconds,
-        plan.budget.describe(),
-        plan.objective.name(),
-        plan.params.join(",")
-    );
-    let title = format!(
-        "optimize {} ({}x{}): {} within {}",
-        plan.scene.short_name(),
-        plan.scene.image.width,
-        plan.scene.image.height,
-        plan.objective.name(),
-        plan.budget.describe()
-    );
-    let run = SearchRun {
-        label: &plan.scene_arg,
-        title: &title,
-        params: &plan.params,
-        budget: &plan.budget,
-        objective: plan.objective,
-        max_evals: plan.max_evals,
-        seconds: plan.seconds,
-        seed: plan.seed,
-        out: &plan.out,
-        started: t0,
-    };
-    let o = run.run(&ev)?;
-    let Some(best) = o.best_scene(&ev) else {
-        return Err(run.no_best(&o));
-    };
-    let best = best?;
-    let bi = o.best.unwrap_or(0);
-    let header = format!(
-        "# optimize --scene {} --objective {} --budget \"{}\" ({}x{}): {}",
-        plan.scene_arg,
-        plan.objective.name(),
-        plan.budget.describe(),
-        plan.scene.image.width,
-        plan.scene.image.height,
-        describe(&o.params, &o.points[bi].values)
-    );
-    let toml_path = plan.out.join("best.toml");
-    write_bytes(&toml_path, best_toml(&best, &header)?.as_bytes())?;
-    // Verification: the written file read back and rendered afresh.
-    let again = Scene::from_file(&toml_path).map_err(|e| format!("best.toml: {e}"))?;
-    let m = ev.evaluate(&again)?;
-    run.verified(&o, bi, &toml_path, &m)
 }
