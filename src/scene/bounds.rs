@@ -109,6 +109,10 @@ pub fn onto<'a>(map: &'a [(&'a str, &'a str)]) -> impl Fn(ConfigError) -> Config
 /// Largest environment voxel-map side s: the 3D texture sampler holds s³ ≤
 /// `MAX_TEXELS` texels, and the reflection unit needs a power of two (256 at 2²⁴).
 pub const ENV_MAX_SIDE: u32 = max_cube_side(MAX_TEXELS);
+/// The environment voxel map's smallest side (`environment.side`).
+pub const ENV_MIN_SIDE: u32 = 2;
+/// Largest `environment.exposure` (the auto exposure's own cap).
+pub const ENV_MAX_EXPOSURE: f64 = 1e300;
 
 /// The largest power of two s with s³ ≤ `texels`.
 pub const fn max_cube_side(texels: u64) -> u32 {

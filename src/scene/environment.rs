@@ -37,7 +37,7 @@ pub const DEFAULT_SIDE: u32 = 128;
 /// ([`super::limits::ENV_MAX_SIDE`]). A 512³ map (2^27 texels, 512 MiB at 4 bytes per
 /// texel) is beyond both that address and the 64–128 MB boards of the GeForce3 class,
 /// so it is refused before any work (docs/envmap.md, "Map side").
-pub const MIN_SIDE: u32 = 2;
+pub const MIN_SIDE: u32 = super::bounds::ENV_MIN_SIDE;
 pub const MAX_SIDE: u32 = super::limits::ENV_MAX_SIDE;
 /// The thesis' accelerated-prefilter threshold th (Table 5, the figures).
 pub const THESIS_THRESHOLD: f64 = 0.001;
@@ -45,7 +45,7 @@ pub const THESIS_THRESHOLD: f64 = 0.001;
 /// must halve three times.
 pub const PYRAMID_DIVISOR: usize = 8;
 /// Largest exposure (the auto exposure's own cap).
-pub const MAX_EXPOSURE: f64 = 1e300;
+pub const MAX_EXPOSURE: f64 = super::bounds::ENV_MAX_EXPOSURE;
 
 /// `[environment]`: an environment map and the thesis object drawn with it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

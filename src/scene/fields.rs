@@ -278,7 +278,7 @@ const BRDF: &str = "the reflection model's own domain (src/reference/brdf)";
 
 const IMAGE_MAX_U: u64 = V::IMAGE_MAX as u64;
 const TEX_MAX: u64 = rtl_model::units::texture_sampler::MAX_SIZE as u64;
-const ENV_MIN_SIDE: u64 = super::environment::MIN_SIDE as u64;
+const ENV_MIN_SIDE: u64 = V::ENV_MIN_SIDE as u64;
 const ENV_MAX_SIDE: u64 = V::ENV_MAX_SIDE as u64;
 const WMAX: f64 = V::WORLD_MAX;
 /// A position or direction component: within ±WORLD_MAX.
@@ -784,7 +784,7 @@ fields! {
     ENV_HDR = "environment.hdr", Ty::Str, "", Range::Unit("a Radiance .hdr file, equirectangular"), "none",
         "envmap MAX_HDR_BYTES", "",
         "A Radiance file, relative to the scene file's directory.";
-    ENV_EXPOSURE = "environment.exposure", Ty::Real, "levels per radiance unit", open_closed(0.0, super::environment::MAX_EXPOSURE), "none",
+    ENV_EXPOSURE = "environment.exposure", Ty::Real, "levels per radiance unit", open_closed(0.0, V::ENV_MAX_EXPOSURE), "none",
         "MAX_EXPOSURE (the auto exposure's own cap)", "",
         "Radiance × exposure → levels (255 = full scale); none = chosen by exposure_rule.";
     ENV_EXPOSURE_RULE = "environment.exposure_rule", Ty::Choice(&["p99_solid_angle", "p99_texels", "max"]), "",
