@@ -384,6 +384,22 @@ struct PipeUnit {
     cap: usize,
 }
 
+/// The texture cache's answer for every quad of a hardware pass, worked out before
+/// the pass is clocked. With one Texture stage the cache sees the quads in their
+/// order and a miss's read is numbered by its rank among the pass's misses (only
+/// misses read for the texture client), so neither depends on the clock: the
+/// stage then only queues each quad's misses. Same hits, misses, reads and
+/// addresses as looking up at acceptance, in one tight loop.
+struct LookupsAhead {
+    /// need[q]: the last texture read quad q waits for (0: none).
+    need: Vec<u64>,
+    /// miss_end[q] .. miss_end[q + 1]: quad q's misses in `miss_addr`.
+    miss_end: Vec<u32>,
+    /// Each miss's line byte address, in order.
+    miss_addr: Vec<u64>,
+    line_bytes: u32,
+}
+
 struct TexInfo {
     surface: SurfaceTable,
     offset: usize,
@@ -479,6 +495,8 @@ struct Engine<'a> {
     /// cache_of[lane · group length + slot]: the cache that serves texture slot `slot`
     /// of lane `lane` in this hardware pass.
     cache_of: Vec<u16>,
+    /// This hardware pass's lookups, when worked out ahead ([`LookupsAhead`]).
+    ahead: Option<LookupsAhead>,
     /// The clocks at which the ROP retired its first and last quad in this hardware
     /// pass (`u64::MAX`: none yet). Between the two the pipe runs at its steady rate;
     /// the fill before the first and the drain after the last are paid once per pass,
@@ -593,6 +611,15 @@ impl<'a> Engine<'a> {
     /// Look up a quad's texels for this hardware pass's textures; returns the last
     /// texture read it needs.
     fn lookup(&mut self, qi: u32) -> u64 {
+        if let Some(pre) = &self.ahead {
+            // Worked out before the clock: queue the quad's misses, in order.
+            let (a, b) = (pre.miss_end[qi as usize], pre.miss_end[qi as usize + 1]);
+            for &addr in &pre.miss_addr[a as usize..b as usize] {
+                self.mem
+                    .enqueue(Client::Texture, pre.line_bytes, addr, true);
+            }
+            return pre.need[qi as usize];
+        }
         let q = self.quads.quads[qi as usize];
         if self.caches.is_empty() {
             return self.lookup_uncached(&q);
@@ -630,6 +657,52 @@ impl<'a> Engine<'a> {
             }
         }
         need
+    }
+
+    /// Every quad's lookup in this hardware pass, before the clock ([`LookupsAhead`]).
+    fn lookups_ahead(&mut self) -> LookupsAhead {
+        let slots = self.group.len();
+        let n = self.quads.quads.len();
+        let line_bytes = self.caches[0].line_bytes();
+        let mut ahead = LookupsAhead {
+            need: Vec::with_capacity(n),
+            miss_end: Vec::with_capacity(n + 1),
+            miss_addr: Vec::new(),
+            line_bytes,
+        };
+        ahead.miss_end.push(0);
+        // Reads are numbered from 1 in each hardware pass, and only misses read.
+        let mut next = 1u64;
+        let (work, tex, stride) = (self.work, &self.tex[self.group.clone()], self.stride);
+        for q in &self.quads.quads {
+            let mut need = 0;
+            for lane in 0..4 {
+                let f = q.frag[lane];
+                if f == NONE {
+                    continue;
+                }
+                let frag_base = f as usize * stride;
+                for (slot, tex) in tex.iter().enumerate() {
+                    let start = frag_base + tex.offset;
+                    let texels = &work.texels[start..start + tex.per_lookup];
+                    let cache = &mut self.caches[self.cache_of[lane * slots + slot] as usize];
+                    for &i in texels {
+                        let line = cache.line_of(tex.surface.address(i));
+                        match cache.access(line, next) {
+                            Access::Hit { fill } => need = need.max(fill),
+                            Access::Miss => {
+                                ahead.miss_addr.push(line * line_bytes as u64);
+                                need = next;
+                                next += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            ahead.need.push(need);
+            ahead.miss_end.push(ahead.miss_addr.len() as u32);
+        }
+        ahead
     }
 
     /// `lookup` without a cache: every texel fetch is a memory read.
@@ -944,6 +1017,11 @@ impl<'a> Engine<'a> {
         self.mem.restart();
         for c in &mut self.caches {
             c.flush();
+        }
+        let texture_stages = self.pipes.iter().filter(|p| p.texture).count();
+        self.ahead = None;
+        if texture_stages == 1 && !self.caches.is_empty() {
+            self.ahead = Some(self.lookups_ahead());
         }
         self.fifo_sr.clear();
         for f in &mut self.fifos {
@@ -1320,6 +1398,7 @@ fn new_engine<'a>(chip: &'a ChipConfig, work: &'a PassWork, quads: &'a Quads) ->
         cls: vec![STARVED; n_stages],
         uncached: 0,
         cache_of: Vec::new(),
+        ahead: None,
         first_retire: u64::MAX,
         last_retire: 0,
     }
