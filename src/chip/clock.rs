@@ -550,17 +550,15 @@ impl<'a> Engine<'a> {
         loop {
             if self.r_active {
                 let pos = t - self.r_base;
-                if self.r_quad < self.r_end {
-                    if self.r_due <= pos {
-                        if self.fifos[0].push(self.r_quad as u32) {
-                            self.r_quad += 1;
-                            self.r_due = self.raster_due();
-                            prog = true;
-                        } else {
-                            self.r_base += 1;
-                            self.cls[1] = STALLED;
-                            return prog;
-                        }
+                if self.r_quad < self.r_end && self.r_due <= pos {
+                    if self.fifos[0].push(self.r_quad as u32) {
+                        self.r_quad += 1;
+                        self.r_due = self.raster_due();
+                        prog = true;
+                    } else {
+                        self.r_base += 1;
+                        self.cls[1] = STALLED;
+                        return prog;
                     }
                 }
                 if pos + 1 >= self.r_total && self.r_quad == self.r_end {
