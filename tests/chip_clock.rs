@@ -7,7 +7,7 @@ use glare_pipeline::chip::config::{
     StageKind,
 };
 use glare_pipeline::chip::fifo::producer_consumer;
-use glare_pipeline::chip::texture_cache::{Access, Cache};
+use glare_pipeline::chip::texture_cache::{Access, Cache, Surface, SurfaceTable};
 use glare_pipeline::chip::work::{PassWork, RopWork, TextureWork};
 use rtl_model::Timing;
 
@@ -242,6 +242,51 @@ fn cache_hits_on_a_known_stream() {
     let h = run_stream(&mut fifo, &stream);
     assert!(!*h.last().unwrap());
     assert_eq!((fifo.hits, fifo.misses), (5, 6));
+}
+
+/// The engine's per-axis address tables give exactly `Surface::address` on every
+/// layout, for power-of-two sides (shifts) and others (division by multiplication),
+/// inside the surface, past its last slice, and at the top of the 32-bit index range.
+#[test]
+fn surface_tables_give_the_surface_addresses() {
+    let layouts = [
+        Layout::Linear,
+        Layout::Tiled { w: 8, h: 4 },
+        Layout::Tiled { w: 4, h: 4 },
+        Layout::Swizzled,
+    ];
+    let sizes = [
+        [720, 480, 1],
+        [512, 512, 1],
+        [256, 1, 1],
+        [100, 60, 2],
+        [1, 1, 1],
+        [3, 5, 7],
+        [1024, 16, 1],
+        [16, 1024, 1],
+        [1, 9, 1],
+    ];
+    let mut checked = 0u64;
+    for layout in layouts {
+        for size in sizes {
+            for elem in [1, 4, 8] {
+                let s = Surface::new(3 << 20, size, elem, layout);
+                let t = SurfaceTable::new(s);
+                let n = size[0] * size[1] * size[2];
+                let step = (2 * n / 50_000).max(1);
+                let top = u32::MAX - 5000..=u32::MAX;
+                for i in (0..2 * n).step_by(step as usize).chain(top) {
+                    assert_eq!(
+                        t.address(i),
+                        s.address(i),
+                        "{layout:?} {size:?} × {elem} bytes, index {i}"
+                    );
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 1_000_000);
 }
 
 /// A w × h full-screen plane (one primitive, scanline order) with the given textures;

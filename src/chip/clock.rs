@@ -184,7 +184,7 @@ use super::config::{RasterWalk, StageKind};
 use super::fifo::Fifo;
 use super::fifo::Ring;
 use super::memory::{Client, Memory, CLIENT_NAMES};
-use super::texture_cache::{Access, Cache, Surface};
+use super::texture_cache::{Access, Cache, Surface, SurfaceTable};
 
 /// Bytes of one copy-to-texture request (assumed: one 64-byte burst).
 pub const COPY_BURST_BYTES: u64 = 64;
@@ -260,10 +260,18 @@ fn build_quads(work: &PassWork) -> Quads {
 }
 
 /// Busy fractions per bucket, built while clocking: buckets of 2^shift clocks, two
-/// merged into one whenever the pass outgrows `TIMELINE_BUCKETS`.
+/// merged into one whenever the pass outgrows `TIMELINE_BUCKETS`. A bucket's busy
+/// clocks are the difference of each stage's running busy count ([`Acc::counts`])
+/// between the bucket's ends, so a clock costs nothing here until a bucket closes.
 struct TimelineBuilder {
     shift: u32,
+    /// Closed buckets, per stage: the busy clocks in each.
     busy: Vec<Vec<u64>>,
+    /// Each stage's busy count when the open bucket began.
+    snap: Vec<u64>,
+    /// The open bucket's index and its end (the first clock after it).
+    open: usize,
+    end: u64,
 }
 
 impl TimelineBuilder {
@@ -271,49 +279,31 @@ impl TimelineBuilder {
         TimelineBuilder {
             shift: 0,
             busy: vec![Vec::with_capacity(TIMELINE_BUCKETS); stages],
+            snap: vec![0; stages],
+            open: 0,
+            end: 1,
         }
     }
 
-    fn fit(&mut self, clock: u64) {
-        while (clock >> self.shift) as usize >= TIMELINE_BUCKETS {
+    /// Close the open bucket at the stages' busy counts `counts`.
+    fn close(&mut self, counts: &[[u64; 3]]) {
+        for ((b, sn), c) in self.busy.iter_mut().zip(&mut self.snap).zip(counts) {
+            b.push(c[BUSY as usize] - *sn);
+            *sn = c[BUSY as usize];
+        }
+        self.open += 1;
+        if self.open == TIMELINE_BUCKETS {
             for b in &mut self.busy {
                 let merged: Vec<u64> = b.chunks(2).map(|c| c.iter().sum()).collect();
                 *b = merged;
             }
             self.shift += 1;
+            self.open /= 2;
         }
+        self.end = (self.open as u64 + 1) << self.shift;
     }
 
-    #[inline]
-    fn add(&mut self, stage: usize, t: u64, k: u64) {
-        // The common case: one clock inside the buckets already there.
-        let b = (t >> self.shift) as usize;
-        if k == 1 && b < TIMELINE_BUCKETS {
-            if let Some(x) = self.busy[stage].get_mut(b) {
-                *x += 1;
-                return;
-            }
-        }
-        self.add_span(stage, t, k);
-    }
-
-    fn add_span(&mut self, stage: usize, mut t: u64, mut k: u64) {
-        while k > 0 {
-            self.fit(t + k - 1);
-            let b = (t >> self.shift) as usize;
-            let end = ((b as u64) + 1) << self.shift;
-            let span = k.min(end - t);
-            let v = &mut self.busy[stage];
-            if v.len() <= b {
-                v.resize(b + 1, 0);
-            }
-            v[b] += span;
-            t += span;
-            k -= span;
-        }
-    }
-
-    fn finish(mut self, names: Vec<String>, cycles: u64) -> Timeline {
+    fn finish(mut self, counts: &[[u64; 3]], names: Vec<String>, cycles: u64) -> Timeline {
         if cycles == 0 {
             return Timeline {
                 bucket_clocks: 1,
@@ -321,7 +311,12 @@ impl TimelineBuilder {
                 busy: vec![Vec::new(); self.busy.len()],
             };
         }
-        self.fit(cycles - 1);
+        if ((self.open as u64) << self.shift) < cycles {
+            // The open bucket holds the pass's last clocks.
+            for ((b, sn), c) in self.busy.iter_mut().zip(&self.snap).zip(counts) {
+                b.push(c[BUSY as usize] - sn);
+            }
+        }
         let bc = 1u64 << self.shift;
         let n = cycles.div_ceil(bc) as usize;
         let busy = self
@@ -389,8 +384,24 @@ struct PipeUnit {
     cap: usize,
 }
 
+/// The texture cache's answer for every quad of a hardware pass, worked out before
+/// the pass is clocked. With one Texture stage the cache sees the quads in their
+/// order and a miss's read is numbered by its rank among the pass's misses (only
+/// misses read for the texture client), so neither depends on the clock: the
+/// stage then only queues each quad's misses. Same hits, misses, reads and
+/// addresses as looking up at acceptance, in one tight loop.
+struct LookupsAhead {
+    /// need[q]: the last texture read quad q waits for (0: none).
+    need: Vec<u64>,
+    /// miss_end[q] .. miss_end[q + 1]: quad q's misses in `miss_addr`.
+    miss_end: Vec<u32>,
+    /// Each miss's line byte address, in order.
+    miss_addr: Vec<u64>,
+    line_bytes: u32,
+}
+
 struct TexInfo {
-    surface: Surface,
+    surface: SurfaceTable,
     offset: usize,
     per_lookup: usize,
 }
@@ -412,6 +423,29 @@ struct Acc {
     /// Clocks before the ROP retired its first quad and after its last, summed over
     /// the hardware passes (the fill and the drain).
     edges: u64,
+}
+
+impl Acc {
+    /// Credit clocks g .. g + k (global) to each stage's class `cls[s]`, closing the
+    /// timeline's buckets the clocks pass the end of.
+    #[inline]
+    fn credit(&mut self, cls: &[u8], mut g: u64, mut k: u64) {
+        while g + k > self.timeline.end {
+            let end = self.timeline.end;
+            if g < end {
+                let part = end - g;
+                for (c, &s) in self.counts.iter_mut().zip(cls) {
+                    c[s as usize] += part;
+                }
+                g += part;
+                k -= part;
+            }
+            self.timeline.close(&self.counts);
+        }
+        for (c, &s) in self.counts.iter_mut().zip(cls) {
+            c[s as usize] += k;
+        }
+    }
 }
 
 struct Engine<'a> {
@@ -441,6 +475,14 @@ struct Engine<'a> {
     r_end: usize,
     r_total: u64,
     r_base: u64,
+    /// The walk clock at which quad `r_quad` is due, ⌊i·T/Q⌋ (kept, not divided out
+    /// every clock).
+    r_due: u64,
+    /// Clocks a quad of n fragments occupies a stage per II, ⌈n / pipes⌉ (at least 1),
+    /// by n.
+    lanes_of: [u64; 5],
+    /// Texture issue rounds per fragment in this hardware pass, ⌈t / tmus_per_pipe⌉.
+    tex_rounds: u64,
     // copy
     copy_read_left: u64,
     copy_write_left: u64,
@@ -453,6 +495,8 @@ struct Engine<'a> {
     /// cache_of[lane · group length + slot]: the cache that serves texture slot `slot`
     /// of lane `lane` in this hardware pass.
     cache_of: Vec<u16>,
+    /// This hardware pass's lookups, when worked out ahead ([`LookupsAhead`]).
+    ahead: Option<LookupsAhead>,
     /// The clocks at which the ROP retired its first and last quad in this hardware
     /// pass (`u64::MAX`: none yet). Between the two the pipe runs at its steady rate;
     /// the fill before the first and the drain after the last are paid once per pass,
@@ -506,18 +550,15 @@ impl<'a> Engine<'a> {
         loop {
             if self.r_active {
                 let pos = t - self.r_base;
-                if self.r_quad < self.r_end {
-                    let i = (self.r_quad - self.r_start) as u64;
-                    let nq = (self.r_end - self.r_start) as u64;
-                    if i * self.r_total / nq <= pos {
-                        if self.fifos[0].push(self.r_quad as u32) {
-                            self.r_quad += 1;
-                            prog = true;
-                        } else {
-                            self.r_base += 1;
-                            self.cls[1] = STALLED;
-                            return prog;
-                        }
+                if self.r_quad < self.r_end && self.r_due <= pos {
+                    if self.fifos[0].push(self.r_quad as u32) {
+                        self.r_quad += 1;
+                        self.r_due = self.raster_due();
+                        prog = true;
+                    } else {
+                        self.r_base += 1;
+                        self.cls[1] = STALLED;
+                        return prog;
                     }
                 }
                 if pos + 1 >= self.r_total && self.r_quad == self.r_end {
@@ -536,6 +577,7 @@ impl<'a> Engine<'a> {
             self.r_start = self.quads.prim_start[p] as usize;
             self.r_end = self.quads.prim_start[p + 1] as usize;
             self.r_quad = self.r_start;
+            self.r_due = 0;
             let nq = (self.r_end - self.r_start) as u64;
             self.r_total = match self.chip.raster_walk {
                 RasterWalk::BoundingBox => {
@@ -553,11 +595,32 @@ impl<'a> Engine<'a> {
         }
     }
 
+    /// The walk clock at which quad `r_quad` of the primitive is due (quad i of Q at
+    /// ⌊i·T/Q⌋); any value once every quad is out.
+    fn raster_due(&self) -> u64 {
+        if self.r_quad >= self.r_end {
+            return 0;
+        }
+        let i = (self.r_quad - self.r_start) as u64;
+        let nq = (self.r_end - self.r_start) as u64;
+        i * self.r_total / nq
+    }
+
     /// Look up a quad's texels for this hardware pass's textures; returns the last
     /// texture read it needs.
-    fn lookup(&mut self, q: &Quad) -> u64 {
+    fn lookup(&mut self, qi: u32) -> u64 {
+        if let Some(pre) = &self.ahead {
+            // Worked out before the clock: queue the quad's misses, in order.
+            let (a, b) = (pre.miss_end[qi as usize], pre.miss_end[qi as usize + 1]);
+            for &addr in &pre.miss_addr[a as usize..b as usize] {
+                self.mem
+                    .enqueue(Client::Texture, pre.line_bytes, addr, true);
+            }
+            return pre.need[qi as usize];
+        }
+        let q = self.quads.quads[qi as usize];
         if self.caches.is_empty() {
-            return self.lookup_uncached(q);
+            return self.lookup_uncached(&q);
         }
         let mut need = 0;
         // The number the next texture read gets; it grows by one per miss queued.
@@ -594,6 +657,52 @@ impl<'a> Engine<'a> {
         need
     }
 
+    /// Every quad's lookup in this hardware pass, before the clock ([`LookupsAhead`]).
+    fn lookups_ahead(&mut self) -> LookupsAhead {
+        let slots = self.group.len();
+        let n = self.quads.quads.len();
+        let line_bytes = self.caches[0].line_bytes();
+        let mut ahead = LookupsAhead {
+            need: Vec::with_capacity(n),
+            miss_end: Vec::with_capacity(n + 1),
+            miss_addr: Vec::new(),
+            line_bytes,
+        };
+        ahead.miss_end.push(0);
+        // Reads are numbered from 1 in each hardware pass, and only misses read.
+        let mut next = 1u64;
+        let (work, tex, stride) = (self.work, &self.tex[self.group.clone()], self.stride);
+        for q in &self.quads.quads {
+            let mut need = 0;
+            for lane in 0..4 {
+                let f = q.frag[lane];
+                if f == NONE {
+                    continue;
+                }
+                let frag_base = f as usize * stride;
+                for (slot, tex) in tex.iter().enumerate() {
+                    let start = frag_base + tex.offset;
+                    let texels = &work.texels[start..start + tex.per_lookup];
+                    let cache = &mut self.caches[self.cache_of[lane * slots + slot] as usize];
+                    for &i in texels {
+                        let line = cache.line_of(tex.surface.address(i));
+                        match cache.access(line, next) {
+                            Access::Hit { fill } => need = need.max(fill),
+                            Access::Miss => {
+                                ahead.miss_addr.push(line * line_bytes as u64);
+                                need = next;
+                                next += 1;
+                            }
+                        }
+                    }
+                }
+            }
+            ahead.need.push(need);
+            ahead.miss_end.push(ahead.miss_addr.len() as u32);
+        }
+        ahead
+    }
+
     /// `lookup` without a cache: every texel fetch is a memory read.
     fn lookup_uncached(&mut self, q: &Quad) -> u64 {
         let mut need = 0;
@@ -610,9 +719,12 @@ impl<'a> Engine<'a> {
                 self.uncached += texels.len() as u64;
                 for &i in texels {
                     let a = tex.surface.address(i);
-                    need = self
-                        .mem
-                        .enqueue(Client::Texture, tex.surface.elem_bytes, a, true);
+                    need = self.mem.enqueue(
+                        Client::Texture,
+                        tex.surface.surface().elem_bytes,
+                        a,
+                        true,
+                    );
                 }
             }
         }
@@ -621,7 +733,6 @@ impl<'a> Engine<'a> {
 
     fn step_pipe(&mut self, i: usize, t: u64) -> bool {
         let mut prog = false;
-        let pipes = self.chip.pipes as u64;
         let (mut blocked, mut waiting) = (false, false);
         {
             let st = &mut self.pipes[i];
@@ -649,12 +760,10 @@ impl<'a> Engine<'a> {
             if can {
                 let q = self.fifos[i].pop().unwrap_or(0);
                 let quad = self.quads.quads[q as usize];
-                let lanes = (quad.n as u64).div_ceil(pipes).max(1);
+                let lanes = self.lanes_of[quad.n as usize];
                 let (texture, ii, latency) = (st.texture, st.ii, st.latency);
                 let (occ, need) = if texture {
-                    let t_n = self.group.len() as u64;
-                    let per = t_n.div_ceil(self.chip.tmus_per_pipe as u64).max(1);
-                    (lanes * per * ii, self.lookup(&quad))
+                    (lanes * self.tex_rounds * ii, self.lookup(q))
                 } else {
                     (lanes * ii, 0)
                 };
@@ -691,7 +800,6 @@ impl<'a> Engine<'a> {
         let mut prog = false;
         let k = self.pipes.len();
         let rop = self.work.rop;
-        let pipes = self.chip.pipes as u64;
         let cap = self.chip.fifo_depth as usize;
         let mut refused = false;
         if t >= self.rop_next_accept && self.fifos[k].valid() {
@@ -720,7 +828,7 @@ impl<'a> Engine<'a> {
                     need,
                     need2,
                 });
-                self.rop_next_accept = t + (n as u64).div_ceil(pipes).max(1);
+                self.rop_next_accept = t + self.lanes_of[n as usize];
                 prog = true;
             } else {
                 refused = true;
@@ -844,9 +952,7 @@ impl<'a> Engine<'a> {
         }
         if self.r_active && self.cls[1] == BUSY {
             if self.r_quad < self.r_end {
-                let i = (self.r_quad - self.r_start) as u64;
-                let nq = (self.r_end - self.r_start) as u64;
-                at(self.r_base + i * self.r_total / nq);
+                at(self.r_base + self.r_due);
             }
             at(self.r_base + self.r_total - 1);
         }
@@ -872,12 +978,7 @@ impl<'a> Engine<'a> {
 
     fn record(&self, acc: &mut Acc, t: u64, k: u64) {
         let g = acc.offset + t;
-        for (s, &c) in self.cls.iter().enumerate() {
-            acc.counts[s][c as usize] += k;
-            if c == BUSY {
-                acc.timeline.add(s, g, k);
-            }
-        }
+        acc.credit(&self.cls, g, k);
         if let Some(w) = acc.window.as_mut() {
             w.sample(g, k, self.signal_values());
         }
@@ -893,6 +994,12 @@ impl<'a> Engine<'a> {
     ) -> Result<u64, ConfigError> {
         self.group = group;
         let (pipes, tmus) = (self.chip.pipes as usize, self.chip.tmus_per_pipe as usize);
+        // A chip without TMUs has no Texture stage (validated): no rounds to count.
+        self.tex_rounds = if tmus == 0 {
+            1
+        } else {
+            (self.group.len() as u64).div_ceil(tmus as u64).max(1)
+        };
         let shared = self.chip.texture_cache.shared;
         let slots = self.group.len();
         self.cache_of = (0..4 * slots)
@@ -908,6 +1015,11 @@ impl<'a> Engine<'a> {
         self.mem.restart();
         for c in &mut self.caches {
             c.flush();
+        }
+        let texture_stages = self.pipes.iter().filter(|p| p.texture).count();
+        self.ahead = None;
+        if texture_stages == 1 && !self.caches.is_empty() {
+            self.ahead = Some(self.lookups_ahead());
         }
         self.fifo_sr.clear();
         for f in &mut self.fifos {
@@ -1192,9 +1304,10 @@ fn new_acc(chip: &ChipConfig, window: Option<std::ops::Range<u64>>) -> Acc {
     }
 }
 
-/// Clock `work` on `chip` into `acc` (its clocks appended after `acc.offset`).
-fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, ConfigError> {
-    let quads = build_quads(work);
+/// The engine for `work` on `chip`, before its first hardware pass: the surfaces laid
+/// out in memory (colour, depth, then each texture, on 1 MiB boundaries), the caches,
+/// the memory controller, the FIFOs and the pipe stages.
+fn new_engine<'a>(chip: &'a ChipConfig, work: &'a PassWork, quads: &'a Quads) -> Engine<'a> {
     let colour = Surface::new(0, [work.width, work.height, 1], 4, chip.framebuffer_layout);
     let align = |v: u64| (v + (1 << 20) - 1) & !((1 << 20) - 1);
     let depth = Surface::new(
@@ -1210,7 +1323,7 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         let surface = Surface::new(base, t.size, t.texel_bytes, chip.texture_layout);
         base = align(base + surface.bytes());
         tex.push(TexInfo {
-            surface,
+            surface: SurfaceTable::new(surface),
             offset,
             per_lookup: t.texels_per_lookup as usize,
         });
@@ -1246,10 +1359,10 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         })
         .collect::<Vec<_>>();
     let n_stages = pipes.len() + 5;
-    let mut e = Engine {
+    Engine {
         chip,
         work,
-        quads: &quads,
+        quads,
         tex,
         stride: offset,
         colour,
@@ -1273,6 +1386,9 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         r_end: 0,
         r_total: 0,
         r_base: 0,
+        r_due: 0,
+        lanes_of: [0, 1, 2, 3, 4].map(|n: u64| n.div_ceil(chip.pipes as u64).max(1)),
+        tex_rounds: 1,
         copy_read_left: 0,
         copy_write_left: 0,
         copy_toggle: false,
@@ -1280,9 +1396,17 @@ fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, Co
         cls: vec![STARVED; n_stages],
         uncached: 0,
         cache_of: Vec::new(),
+        ahead: None,
         first_retire: u64::MAX,
         last_retire: 0,
-    };
+    }
+}
+
+/// Clock `work` on `chip` into `acc` (its clocks appended after `acc.offset`).
+fn run_pass(chip: &ChipConfig, work: &PassWork, acc: &mut Acc) -> Result<u32, ConfigError> {
+    let quads = build_quads(work);
+    let mut e = new_engine(chip, work, &quads);
+    let n_stages = e.n_stages();
     let groups = hw_groups(chip, work);
     let overhead = chip.pass_overhead_clocks as u64;
     let last = groups.len() - 1;
@@ -1359,7 +1483,7 @@ fn finish(chip: &ChipConfig, acc: Acc, hardware_passes: u32) -> PassTiming {
         cache_misses: acc.misses,
         bytes_by_client,
         bottleneck,
-        timeline: acc.timeline.finish(names, cycles),
+        timeline: acc.timeline.finish(&acc.counts, names, cycles),
         window,
     }
 }

@@ -156,7 +156,18 @@ impl Memory {
 
     /// Clock `now`: start every request the channel can begin in this clock, then count
     /// the reads whose data has arrived by this clock. Returns whether anything changed.
+    #[inline]
     pub fn tick(&mut self, now: u64) -> bool {
+        // Nothing queued and no read due: the common clock of a pass the memory does
+        // not bound, answered without a call.
+        if self.queued == 0 && self.earliest_arrival > now {
+            return false;
+        }
+        self.tick_work(now)
+    }
+
+    /// [`Memory::tick`] when a request waits or a read arrives.
+    fn tick_work(&mut self, now: u64) -> bool {
         let mut changed = false;
         let t = now as f64;
         while self.queued > 0 && self.free_at < t + 1.0 {
