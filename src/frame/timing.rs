@@ -407,8 +407,9 @@ impl ClockState {
 enum ClockMessage {
     /// The frame pass whose records follow.
     Begin(String),
-    /// One pass's record.
-    Work(PassWork),
+    /// One pass's record (boxed: the message moves a pointer, not the record's
+    /// vectors' headers).
+    Work(Box<PassWork>),
     /// A pass that recorded nothing, with its counters (roofline time).
     RooflineOnly(String, Vec<PassStats>),
 }
@@ -499,7 +500,7 @@ impl Clock {
                 for m in rx {
                     match m {
                         ClockMessage::Begin(pass) => state.pass = pass,
-                        ClockMessage::Work(w) => state.clock(w)?,
+                        ClockMessage::Work(w) => state.clock(*w)?,
                         ClockMessage::RooflineOnly(pass, stats) => {
                             state.roofline_only(&pass, &stats)
                         }
@@ -541,7 +542,7 @@ impl Clock {
     /// Clock one pass's record (on the clock's thread; an error surfaces at the next
     /// message or at [`Clock::finish`]).
     pub fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
-        self.send(ClockMessage::Work(work))
+        self.send(ClockMessage::Work(Box::new(work)))
     }
 
     /// Passes that recorded nothing: their roofline time, listed as such.
