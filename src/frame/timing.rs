@@ -432,7 +432,7 @@ type ClockWorker = (
 /// clock's own while the frame draws its next pass (the functional frame leaves the
 /// second core partly idle), strictly in the frame's order, so the timings are those of
 /// clocking each record as it arrives, on any thread count. A frame holds at most
-/// [`CLOCK_QUEUE`] + 2 records at once: the one being clocked, those waiting, and the
+/// 6 records at once: the one being clocked, up to 4 waiting, and the
 /// one being drawn.
 pub struct Clock {
     /// The state before the first message (configured by the `with_` methods) and after
