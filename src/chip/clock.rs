@@ -384,6 +384,36 @@ struct PipeUnit {
     cap: usize,
 }
 
+/// Every texel a quad fetches in a hardware pass, in the order the texture units
+/// fetch them (lane, then texture `tex`, then texel): `visit(cache, byte address)`,
+/// the cache serving (lane, texture) taken from `cache_of` (precomputed per hardware
+/// pass: no division per lookup).
+#[inline]
+fn quad_texels(
+    q: &Quad,
+    work: &PassWork,
+    tex: &[TexInfo],
+    stride: usize,
+    cache_of: &[u16],
+    mut visit: impl FnMut(usize, u64),
+) {
+    let slots = tex.len();
+    for lane in 0..4 {
+        let f = q.frag[lane];
+        if f == NONE {
+            continue;
+        }
+        let frag_base = f as usize * stride;
+        for (slot, t) in tex.iter().enumerate() {
+            let start = frag_base + t.offset;
+            let cache = cache_of[lane * slots + slot] as usize;
+            for &i in &work.texels[start..start + t.per_lookup] {
+                visit(cache, t.surface.address(i));
+            }
+        }
+    }
+}
+
 /// The texture cache's answer for every quad of a hardware pass, worked out before
 /// the pass is clocked. With one Texture stage the cache sees the quads in their
 /// order and a miss's read is numbered by its rank among the pass's misses (only
@@ -625,41 +655,32 @@ impl<'a> Engine<'a> {
         let mut need = 0;
         // The number the next texture read gets; it grows by one per miss queued.
         let mut next = self.mem.next_read(Client::Texture);
-        let slots = self.group.len();
-        for lane in 0..4 {
-            let f = q.frag[lane];
-            if f == NONE {
-                continue;
-            }
-            let frag_base = f as usize * self.stride;
-            for slot in 0..slots {
-                let tex = &self.tex[self.group.start + slot];
-                let start = frag_base + tex.offset;
-                let texels = &self.work.texels[start..start + tex.per_lookup];
-                // Which cache serves (lane, slot): precomputed per hardware pass (no
-                // division per lookup).
-                let cache = &mut self.caches[self.cache_of[lane * slots + slot] as usize];
-                for &i in texels {
-                    let line = cache.line_of(tex.surface.address(i));
-                    match cache.access(line, next) {
-                        Access::Hit { fill } => need = need.max(fill),
-                        Access::Miss => {
-                            let lb = cache.line_bytes();
-                            need = self
-                                .mem
-                                .enqueue(Client::Texture, lb, line * lb as u64, true);
-                            next = need + 1;
-                        }
+        let (caches, mem) = (&mut self.caches, &mut self.mem);
+        let tex = &self.tex[self.group.clone()];
+        quad_texels(
+            &q,
+            self.work,
+            tex,
+            self.stride,
+            &self.cache_of,
+            |c, address| {
+                let cache = &mut caches[c];
+                let line = cache.line_of(address);
+                match cache.access(line, next) {
+                    Access::Hit { fill } => need = need.max(fill),
+                    Access::Miss => {
+                        let lb = cache.line_bytes();
+                        need = mem.enqueue(Client::Texture, lb, line * lb as u64, true);
+                        next = need + 1;
                     }
                 }
-            }
-        }
+            },
+        );
         need
     }
 
     /// Every quad's lookup in this hardware pass, before the clock ([`LookupsAhead`]).
     fn lookups_ahead(&mut self) -> LookupsAhead {
-        let slots = self.group.len();
         let n = self.quads.quads.len();
         let line_bytes = self.caches[0].line_bytes();
         let mut ahead = LookupsAhead {
@@ -672,31 +693,21 @@ impl<'a> Engine<'a> {
         // Reads are numbered from 1 in each hardware pass, and only misses read.
         let mut next = 1u64;
         let (work, tex, stride) = (self.work, &self.tex[self.group.clone()], self.stride);
+        let caches = &mut self.caches;
         for q in &self.quads.quads {
             let mut need = 0;
-            for lane in 0..4 {
-                let f = q.frag[lane];
-                if f == NONE {
-                    continue;
-                }
-                let frag_base = f as usize * stride;
-                for (slot, tex) in tex.iter().enumerate() {
-                    let start = frag_base + tex.offset;
-                    let texels = &work.texels[start..start + tex.per_lookup];
-                    let cache = &mut self.caches[self.cache_of[lane * slots + slot] as usize];
-                    for &i in texels {
-                        let line = cache.line_of(tex.surface.address(i));
-                        match cache.access(line, next) {
-                            Access::Hit { fill } => need = need.max(fill),
-                            Access::Miss => {
-                                ahead.miss_addr.push(line * line_bytes as u64);
-                                need = next;
-                                next += 1;
-                            }
-                        }
+            quad_texels(q, work, tex, stride, &self.cache_of, |c, address| {
+                let cache = &mut caches[c];
+                let line = cache.line_of(address);
+                match cache.access(line, next) {
+                    Access::Hit { fill } => need = need.max(fill),
+                    Access::Miss => {
+                        ahead.miss_addr.push(line * line_bytes as u64);
+                        need = next;
+                        next += 1;
                     }
                 }
-            }
+            });
             ahead.need.push(need);
             ahead.miss_end.push(ahead.miss_addr.len() as u32);
         }
