@@ -176,8 +176,10 @@ fn strip_comments(text: &str) -> String {
             let mut k = i + 1;
             while k < c.len() && c[k] != '"' {
                 if c[k] == '\\' {
+                    // An escaped character; a `\` before a line break keeps the line.
                     k += 1;
-                } else if c[k] == '\n' {
+                }
+                if at(k) == '\n' {
                     out.push('\n');
                 }
                 k += 1;
@@ -906,4 +908,116 @@ fn the_drawing_layers_a_chain() {
         "{d}"
     );
     assert!(d.lines().any(|l| l.starts_with("        m1")), "{d}");
+}
+
+// ---------------------------------------------------------------------------------
+// Long functions: a function that orchestrates reads like its pass list; past 100
+// lines it is split by pass or stage.
+
+/// The most lines a function in `src/` may take, from its `fn` line to its closing
+/// brace.
+const MAX_FUNCTION_LINES: usize = 100;
+
+/// The name of the function a line (comments and strings stripped) starts, if it does:
+/// `fn name` after any of `pub`, `pub(…)`, `const`, `async`, `unsafe`, `extern ""`.
+fn fn_name(line: &str) -> Option<&str> {
+    let mut rest = line.trim_start();
+    loop {
+        if rest.starts_with("pub(") {
+            rest = rest[rest.find(')')? + 1..].trim_start();
+            continue;
+        }
+        let before = rest;
+        for word in ["pub ", "const ", "async ", "unsafe ", "extern \"\" "] {
+            if let Some(r) = rest.strip_prefix(word) {
+                rest = r.trim_start();
+            }
+        }
+        if rest == before {
+            break;
+        }
+    }
+    let name = rest.strip_prefix("fn ")?;
+    let end = name
+        .find(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .unwrap_or(name.len());
+    (end > 0).then(|| &name[..end])
+}
+
+/// The functions under `dir` longer than `limit` lines, as "path:line name (n lines)".
+/// A declaration without a body (a trait's `fn f();`) is none.
+fn long_functions(dir: &Path, limit: usize) -> Vec<String> {
+    let mut files = Vec::new();
+    rust_files(dir, &mut files);
+    files.sort();
+    let mut out = Vec::new();
+    for f in files {
+        let code = strip_comments(&std::fs::read_to_string(&f).unwrap());
+        let lines: Vec<&str> = code.lines().collect();
+        for (i, l) in lines.iter().enumerate() {
+            let Some(name) = fn_name(l) else { continue };
+            let (mut depth, mut opened, mut end) = (0i64, false, None);
+            'scan: for (j, m) in lines.iter().enumerate().skip(i) {
+                for ch in m.chars() {
+                    match ch {
+                        '{' => {
+                            depth += 1;
+                            opened = true;
+                        }
+                        '}' => {
+                            depth -= 1;
+                            if opened && depth == 0 {
+                                end = Some(j);
+                                break 'scan;
+                            }
+                        }
+                        _ => {}
+                    }
+                }
+                if !opened && m.trim_end().ends_with(';') {
+                    break;
+                }
+            }
+            if let Some(j) = end.filter(|&j| j - i + 1 > limit) {
+                out.push(format!(
+                    "{}:{} {name} ({} lines)",
+                    f.display(),
+                    i + 1,
+                    j - i + 1
+                ));
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_in_src_over_100_lines() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let long = long_functions(&src, MAX_FUNCTION_LINES);
+    assert!(
+        long.is_empty(),
+        "functions over {MAX_FUNCTION_LINES} lines (split them by pass or stage):\n{}",
+        long.join("\n")
+    );
+}
+
+#[test]
+fn the_length_check_sees_a_long_function() {
+    // A planted file: a 101-line function, a 100-line one, a trait declaration and
+    // braces inside a string and a comment, which do not count.
+    let dir = std::env::temp_dir().join(format!("house-long-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let body = |n: usize| "    let x = 1;\n".repeat(n - 2);
+    let text = format!(
+        "pub(crate) fn long() {{\n{}}}\n\nconst fn fits() -> u32 {{\n{}}}\n\n\
+         trait T {{\n    fn declared(&self);\n}}\n\nfn strings() {{\n    let s = \"{{{{\"; // }}\n}}\n",
+        body(101),
+        body(100)
+    );
+    std::fs::write(dir.join("planted.rs"), text).unwrap();
+    let long = long_functions(&dir, MAX_FUNCTION_LINES);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(long.len(), 1, "{long:?}");
+    assert!(long[0].ends_with(":1 long (101 lines)"), "{long:?}");
 }
