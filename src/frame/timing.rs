@@ -249,8 +249,6 @@ struct ClockState {
     timing: FrameTiming,
     /// Per clocked pass: the relative standard error and cycles (sampled mode).
     errors: Vec<(f64, u64)>,
-    /// The largest record one pass held (bytes), for the record's memory cost.
-    pub peak_record_bytes: usize,
     /// The frame's clocks traced for the VCD (START..END from the frame's start).
     window: Option<std::ops::Range<u64>>,
     /// The sampled mode's screen bands ([`sample_bands`] of the frame's rows).
@@ -275,7 +273,6 @@ impl ClockState {
             pass: String::new(),
             timing,
             errors: Vec::new(),
-            peak_record_bytes: 0,
             window: None,
             alternates: Vec::new(),
             bands: sample_bands(0),
@@ -329,7 +326,6 @@ impl ClockState {
 
     /// Clock one pass's record.
     fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
-        self.peak_record_bytes = self.peak_record_bytes.max(work.heap_bytes());
         let roofline_seconds = work
             .stats
             .as_ref()
@@ -514,7 +510,7 @@ impl Clock {
         match sent {
             Some(Ok(())) => Ok(()),
             // The thread ended: it stopped on an error, which the join returns.
-            _ => self.join().map(|_| ()),
+            _ => self.join(),
         }
     }
 

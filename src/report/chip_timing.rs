@@ -659,8 +659,10 @@ fn pass_json(p: &NamedPassTiming, start: u64, hz: f64) -> Value {
 // ---------------------------------------------------------------------------------
 // The timeline: checks, CSV and PNG.
 
-/// One bucket of a pass's timeline on the frame's clocks.
+/// One bucket of a pass's timeline on the frame's clocks (or several merged:
+/// [`timeline_csv_merge`]).
 struct Bucket<'a> {
+    pass: usize,
     stage: &'a str,
     start: u64,
     end: u64,
@@ -726,22 +728,33 @@ fn checked_starts(ft: &FrameTiming) -> Result<Vec<u64>, String> {
 }
 
 /// Every bucket of every pass on the frame's clocks, pass by pass, stage by stage
-/// (`starts` from [`checked_starts`]). An iterator: a clocked frame of a few hundred
-/// passes has over a million buckets, which the CSV and the image take one by one.
-fn buckets<'a>(ft: &'a FrameTiming, starts: &'a [u64]) -> impl Iterator<Item = Bucket<'a>> + 'a {
+/// (`starts` from [`checked_starts`]), each pass's buckets merged `merge[pass]` at a
+/// time (1: as they are). An iterator: a clocked frame of a few hundred passes has
+/// over a million buckets, which the CSV and the image take one by one.
+fn buckets<'a>(
+    ft: &'a FrameTiming,
+    starts: &'a [u64],
+    merge: &'a [u64],
+) -> impl Iterator<Item = Bucket<'a>> + 'a {
     ft.passes.iter().enumerate().flat_map(move |(i, p)| {
         let tl = &p.timing.timeline;
         let end = starts[i].saturating_add(p.timing.cycles);
+        let k = merge[i].max(1);
+        let span = k.saturating_mul(tl.bucket_clocks);
         tl.busy.iter().enumerate().flat_map(move |(s, row)| {
-            row.iter().enumerate().map(move |(b, &v)| {
-                let lo = starts[i].saturating_add(b as u64 * tl.bucket_clocks);
-                Bucket {
-                    stage: &tl.stages[s],
-                    start: lo,
-                    end: lo.saturating_add(tl.bucket_clocks).min(end),
-                    busy: v,
-                }
-            })
+            (0..row.len())
+                .step_by(k as usize)
+                .enumerate()
+                .map(move |(j, b0)| {
+                    let lo = starts[i].saturating_add(j as u64 * span);
+                    Bucket {
+                        pass: i,
+                        stage: &tl.stages[s],
+                        start: lo,
+                        end: lo.saturating_add(span).min(end),
+                        busy: merged_row(row, b0, k as usize, tl.bucket_clocks, p.timing.cycles),
+                    }
+                })
         })
     })
 }
@@ -757,8 +770,7 @@ const TIMELINE_COLUMNS: [&str; 6] = [
 ];
 
 /// The most rows per stage the timeline CSV spends on a frame (about three times the
-/// timeline image's width) before it merges buckets: a frame of many passes has its
-/// passes' buckets merged.
+/// timeline image's width) before it merges buckets.
 pub const TIMELINE_CSV_BUCKETS: u64 = 4096;
 
 /// How many of each pass's buckets one CSV row merges: 1 (every bucket its own row)
@@ -773,11 +785,14 @@ pub fn timeline_csv_merge(ft: &FrameTiming) -> Vec<u64> {
     let row_clocks = ft.cycles_total().div_ceil(TIMELINE_CSV_BUCKETS);
     ft.passes
         .iter()
-        .map(|p| match buckets <= TIMELINE_CSV_BUCKETS {
-            true => 1,
-            false => row_clocks
-                .div_ceil(p.timing.timeline.bucket_clocks.max(1))
-                .max(1),
+        .map(|p| {
+            if buckets <= TIMELINE_CSV_BUCKETS {
+                1
+            } else {
+                row_clocks
+                    .div_ceil(p.timing.timeline.bucket_clocks.max(1))
+                    .max(1)
+            }
         })
         .collect()
 }
@@ -804,9 +819,9 @@ fn merged_row(row: &[f32], b0: usize, k: usize, bucket_clocks: u64, cycles: u64)
 /// `busy_fraction` (0 ..= 1, the shortest decimal that reads back to the same `f32`).
 /// A frame of more than [`TIMELINE_CSV_BUCKETS`] buckets per stage has each pass's
 /// buckets merged ([`timeline_csv_merge`]), so the file holds at most about that many
-/// rows per stage plus one per pass. Returns the number of
-/// rows. The rows are written field by field as they are made, and the file is
-/// replaced atomically when all are written.
+/// rows per stage plus one per pass. Returns the number of rows. The rows are written
+/// field by field as they are made, and the file is replaced atomically when all are
+/// written.
 pub fn write_timeline_csv(ft: &FrameTiming, path: &Path) -> Result<usize, String> {
     let starts = checked_starts(ft).map_err(|e| format!("{}: {e}", path.display()))?;
     let merge = timeline_csv_merge(ft);
@@ -815,25 +830,15 @@ pub fn write_timeline_csv(ft: &FrameTiming, path: &Path) -> Result<usize, String
         let mut out = csv::Writer::from_writer(w);
         out.write_record(TIMELINE_COLUMNS)?;
         let (mut int, mut float) = (itoa::Buffer::new(), ryu::Buffer::new());
-        for (i, p) in ft.passes.iter().enumerate() {
-            let tl = &p.timing.timeline;
-            let k = merge[i];
-            let span = k.saturating_mul(tl.bucket_clocks);
-            let end = starts[i].saturating_add(p.timing.cycles);
-            for (s, row) in tl.busy.iter().enumerate() {
-                for (j, b0) in (0..row.len()).step_by(k as usize).enumerate() {
-                    let lo = starts[i].saturating_add(j as u64 * span);
-                    let busy = merged_row(row, b0, k as usize, tl.bucket_clocks, p.timing.cycles);
-                    out.write_field(int.format(lo))?;
-                    out.write_field(int.format(lo.saturating_add(span).min(end)))?;
-                    out.write_field(int.format(i))?;
-                    out.write_field(&p.pass)?;
-                    out.write_field(&tl.stages[s])?;
-                    out.write_field(float.format(busy))?;
-                    out.write_record(None::<&[u8]>)?;
-                    n += 1;
-                }
-            }
+        for b in buckets(ft, &starts, &merge) {
+            out.write_field(int.format(b.start))?;
+            out.write_field(int.format(b.end))?;
+            out.write_field(int.format(b.pass))?;
+            out.write_field(&ft.passes[b.pass].pass)?;
+            out.write_field(b.stage)?;
+            out.write_field(float.format(b.busy))?;
+            out.write_record(None::<&[u8]>)?;
+            n += 1;
         }
         out.flush()
     })?;
@@ -1042,7 +1047,9 @@ pub fn write_timeline_png(ft: &FrameTiming, path: &Path) -> Result<(), String> {
         buf: vec![255u8; lay.w as usize * lay.h as usize * 3],
     };
     paint_pass_bands(&mut cv, ft, &starts, &lay);
-    paint_lanes(&mut cv, buckets(ft, &starts), &lanes, &lay);
+    // The image from every bucket as it is (merged by none).
+    let whole = vec![1; ft.passes.len()];
+    paint_lanes(&mut cv, buckets(ft, &starts, &whole), &lanes, &lay);
     paint_frame_and_boundaries(&mut cv, ft, &starts, &lay);
     let step = tick_step(total as f64, 8.0);
     let ticks = paint_ticks(&mut cv, step, &lay);
