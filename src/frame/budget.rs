@@ -503,7 +503,10 @@ fn assumption_points() -> Result<Vec<(String, Scene)>, String> {
             let base = scene_named(name)?;
             let mut s = base.clone();
             (alt.apply)(&mut s);
-            points.push((name.to_string(), base));
+            // Each built-in once, however many alternatives it carries.
+            if !points.iter().any(|(label, _)| label == name) {
+                points.push((name.to_string(), base));
+            }
             points.push((format!("{name} with {}", alt.alternative), s));
         }
     }

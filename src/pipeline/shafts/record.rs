@@ -118,14 +118,7 @@ impl Rec {
     #[inline]
     pub fn frag(&mut self, x: i64, y: i64) -> bool {
         if let Some(b) = self.bands {
-            if let Some(n) = self.prim_all.last_mut() {
-                if *n == 0 {
-                    if let Some(r) = self.prim_first_xy.last_mut() {
-                        *r = [x as u16, y as u16];
-                    }
-                }
-                *n += 1;
-            }
+            self.count_fragments(1, (x, y));
             if !self.keeps(b, x as u32, y as u32) {
                 return false;
             }
@@ -135,7 +128,7 @@ impl Rec {
     }
 
     /// `n` fragments of the current primitive (sampled mode), the first at `first`:
-    /// what `n` calls of [`Self::frag`] count.
+    /// its count of every fragment, and its first fragment's place if it had none.
     #[inline]
     fn count_fragments(&mut self, n: usize, first: (i64, i64)) {
         if let Some(all) = self.prim_all.last_mut() {
