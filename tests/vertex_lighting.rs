@@ -1388,3 +1388,108 @@ fn light_control_cost_is_its_own_part_with_the_secondary_converters() {
         }
     }
 }
+
+// ------------------------------------------------- the host's load, register by register
+
+/// The registers the host loads read back as its values rounded into the format: one
+/// register set per enabled light (a directional light's vector normalised, a local
+/// light's position divided by w), the material's e_m + a_m·a_s, shininess and alpha.
+#[test]
+fn loaded_registers_are_the_host_values_rounded() {
+    let cfg = VertexLightingConfig::geforce();
+    let fmt = cfg.format;
+    let w = |x: f64| fmt.from_f64("test", x, &mut Counters::default()).unwrap();
+    let mut setup = LightingSetup::default();
+    setup.lights = vec![
+        Light {
+            position: [0.0, 0.0, 2.0, 0.0],
+            ..Light::default()
+        },
+        Light {
+            position: [1.0, 2.0, 3.0, 2.0],
+            ..Light::default()
+        },
+        Light {
+            position: [0.0, 3.0, 4.0, 0.0],
+            ..Light::default()
+        },
+    ];
+    setup.material.emission = [0.1, 0.2, 0.3];
+    setup.material.ambient = [0.5, 0.25, 1.0];
+    setup.material.diffuse[3] = 0.5;
+    setup.material.shininess = 12.0;
+    setup.scene_ambient = [0.4, 0.4, 0.4];
+    let vl = VertexLighting::new(cfg, &setup).unwrap();
+    assert_eq!(vl.light_count(), 3);
+    let regs = vl.light_registers();
+    assert_eq!(regs.len(), 3);
+    assert!(!regs[0].local && regs[1].local && !regs[2].local);
+    assert_eq!(regs[0].vector, [w(0.0), w(0.0), w(1.0)]);
+    assert_eq!(regs[1].vector, [w(0.5), w(1.0), w(1.5)]);
+    assert_eq!(regs[2].vector, [w(0.0), w(0.6), w(0.8)]);
+    let (base, shininess, alpha) = vl.material_registers();
+    let m = &setup.material;
+    assert_eq!(
+        base,
+        [0, 1, 2].map(|c| w(m.emission[c] + m.ambient[c] * setup.scene_ambient[c]))
+    );
+    assert_eq!(shininess, w(12.0));
+    assert_eq!(
+        alpha,
+        fmt.to_unorm(w(0.5), cfg.color_bits, &mut Counters::default())
+    );
+    // No light: none loaded.
+    setup.lights.clear();
+    assert_eq!(VertexLighting::new(cfg, &setup).unwrap().light_count(), 0);
+}
+
+/// A light's direction that is no direction (zero, or too long for f64) is refused
+/// naming the field, not loaded as NaN or zero.
+#[test]
+fn a_zero_or_overflowing_light_vector_is_refused() {
+    for (position, spot) in [
+        ([0.0, 0.0, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ([1e200, 1e200, 0.0, 0.0], [0.0, 0.0, -1.0]),
+        ([0.0, 0.0, 1.0, 1.0], [0.0, 0.0, 0.0]),
+        ([0.0, 0.0, 1.0, 1.0], [1e200, 0.0, 1e200]),
+    ] {
+        for normalize_directional in [true, false] {
+            let cfg = VertexLightingConfig {
+                normalize_directional,
+                ..VertexLightingConfig::geforce()
+            };
+            let setup = LightingSetup {
+                lights: vec![Light {
+                    position,
+                    spot_direction: spot,
+                    spot_cutoff: 30.0,
+                    ..Light::default()
+                }],
+                ..LightingSetup::default()
+            };
+            let e = VertexLighting::new(cfg, &setup)
+                .expect_err(&format!("{position:?} {spot:?} loaded"))
+                .to_string();
+            let field = if spot == [0.0, 0.0, -1.0] {
+                "lights[0].position"
+            } else {
+                "lights[0].spot_direction"
+            };
+            assert!(e.contains(field) && e.contains("non-zero finite"), "{e}");
+        }
+    }
+}
+
+/// A config written before `normalize_directional` existed (the key absent) reads back
+/// with it on, GL's behaviour.
+#[test]
+fn a_config_without_normalize_directional_normalises() {
+    let mut v = serde_json::to_value(VertexLightingConfig {
+        normalize_directional: false,
+        ..VertexLightingConfig::geforce()
+    })
+    .unwrap();
+    v.as_object_mut().unwrap().remove("normalize_directional");
+    let cfg: VertexLightingConfig = serde_json::from_value(v).unwrap();
+    assert!(cfg.normalize_directional);
+}
