@@ -461,19 +461,15 @@ impl LumWidths {
             ));
         }
         let max = mask32(bits) as f64;
-        vals.iter()
-            .enumerate()
-            .map(|(i, &x)| {
-                // NaN and ∞ fail the range test too: the entry's name is formatted
-                // only for an error (a table load writes up to 2^20 entries).
-                if !(0.0..=1.0).contains(&x) {
-                    let f = format!("{field}[{i}]");
-                    let x = check_finite(&f, x)?;
-                    return Err(ConfigError::out_of_range(&f, x, 0.0, 1.0));
-                }
-                Ok((x * max).round() as u32)
-            })
-            .collect()
+        // NaN and ∞ fail the range test too: the first entry out of range is named
+        // (formatted only for an error: a table load writes up to 2^20 entries), then
+        // every entry is rounded in a plain loop.
+        if let Some(i) = vals.iter().position(|x| !(0.0..=1.0).contains(x)) {
+            let f = format!("{field}[{i}]");
+            let x = check_finite(&f, vals[i])?;
+            return Err(ConfigError::out_of_range(&f, x, 0.0, 1.0));
+        }
+        Ok(vals.iter().map(|&x| (x * max).round() as u32).collect())
     }
 
     /// Quantise the shape table for this config: unorm codes in [0, 1] (plain), or in
@@ -497,17 +493,15 @@ impl LumWidths {
         let (lo, hi) = self.entry_range();
         let sc = (self.entry_frac_bits() as f64).exp2();
         let m = mask32(self.shape_bits);
-        vals.iter()
-            .enumerate()
-            .map(|(i, &x)| {
-                if !(lo..=hi).contains(&x) {
-                    let f = format!("{field}[{i}]");
-                    let x = check_finite(&f, x)?;
-                    return Err(ConfigError::out_of_range(&f, x, lo, hi));
-                }
-                Ok(((x * sc).round() as i64 as u32) & m)
-            })
-            .collect()
+        if let Some(i) = vals.iter().position(|x| !(lo..=hi).contains(x)) {
+            let f = format!("{field}[{i}]");
+            let x = check_finite(&f, vals[i])?;
+            return Err(ConfigError::out_of_range(&f, x, lo, hi));
+        }
+        Ok(vals
+            .iter()
+            .map(|&x| ((x * sc).round() as i64 as u32) & m)
+            .collect())
     }
 
     /// Cost of the shared datapath with `rings` falloff RAMs (1: bloom/flare, 3: halo).

@@ -13,16 +13,17 @@ use super::tables::{
     radial_tables, ring_samples, shape_samples, AreaPrim,
 };
 use crate::chip::work::{PassKind, PassStats, PassWork, RopWork};
-use crate::reference::glare_model::{bloom_at, FlareLine, Shape2D, SourceGlare};
+use crate::reference::glare_model::{bloom_at, Bloom, FlareLine, Shape2D, SourceGlare};
 use crate::report::elaboration::Elaborated;
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use crate::scene::glare::GlareSection;
+use rayon::prelude::*;
 use rtl_model::driver::{run_span, SpanTally};
 use rtl_model::units::bloom_flare_modulator::{BloomFlareModulator, BloomFlareModulatorConfig};
 use rtl_model::units::gaussian_noise::{GaussState, GaussianNoise, GaussianNoiseConfig};
 use rtl_model::units::glare_combiner::GlareCombiner;
-use rtl_model::units::halo_modulator::HaloModulatorConfig;
+use rtl_model::units::halo_modulator::{HaloModulator, HaloModulatorConfig};
 use rtl_model::units::luminance_ram::{LumIn, LumOut, LumWidths};
 use rtl_model::units::polygon_interpolator::PolygonInterpolator;
 use rtl_model::units::polygon_variable_generator::{PolygonVariableGenerator, PrimKind, PvgIn};
@@ -303,7 +304,6 @@ fn draw_area_prims(
     counters: &mut BTreeMap<String, Counters>,
     record: bool,
 ) -> Result<DrawnAreas, ConfigError> {
-    let (g, lw) = (u.g, u.lw);
     let diag = ((u.width as f64).powi(2) + (u.height as f64).powi(2)).sqrt();
     let mut out = DrawnAreas {
         prims: Vec::new(),
@@ -344,46 +344,209 @@ fn draw_area_prims(
         });
         Ok(())
     };
-    for (i, s) in sources.iter().enumerate() {
-        if let Some(b) = &s.bloom {
-            let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
-            let a = fit_area(&a);
-            let l0 = bloom_at(b, 0.0, &g.model);
-            let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
-            let gain_l = l0.min(gmax);
-            let fall = profile_samples(
-                |t| bloom_at(b, t, &g.model),
-                theta_max,
-                gain_l,
-                lw.falloff_log2,
-            );
-            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&fall]);
-            let m = BloomFlareModulatorConfig::from_widths(lw)
-                .build(&shape, &fall)?
-                .with_kappa(kappa)?;
-            let gain = gains(&lw, gain_l, s.color, "bloom_flare_modulator.gain")?;
-            draw(&mut out, "bloom", i, &a, &m, m.table_words(), gain)?;
-            out.bloom_cost.get_or_insert_with(|| UnitSummary::of(&m));
+    // A source's tables are most of its host work. They depend on its outline and
+    // brightness, not on where it is drawn: sources alike share one build
+    // ([`TableCache`]), and the builds a chunk of sources needs run in parallel. The
+    // primitives are then drawn one by one in source order, as one thread would.
+    let mut blooms = TableCache::default();
+    let mut halos = TableCache::default();
+    for (c, chunk) in sources.chunks(TABLE_CHUNK).enumerate() {
+        let plans: Vec<SourcePlan> = chunk
+            .par_iter()
+            .map(|s| SourcePlan::of(u, s, diag))
+            .collect();
+        blooms.load(plans.iter().filter_map(|p| p.bloom.as_ref()), |p| {
+            bloom_modulator(u, p)
+        });
+        halos.load(plans.iter().filter_map(|p| p.halo.as_ref()), |p| {
+            halo_modulator(u, p)
+        });
+        // Errors surface in the order one thread meets them.
+        for (k, (p, s)) in plans.iter().zip(chunk).enumerate() {
+            let i = c * TABLE_CHUNK + k;
+            if let Some(b) = &p.bloom {
+                let m = blooms.get(&b.key)?;
+                let gain = gains(&u.lw, b.gain_l, s.color, "bloom_flare_modulator.gain")?;
+                draw(&mut out, "bloom", i, &b.a, &*m, m.table_words(), gain)?;
+                out.bloom_cost.get_or_insert_with(|| UnitSummary::of(&*m));
+            }
+            if let Some(h) = &p.halo {
+                let m = halos.get(&h.key)?;
+                let gain = gains(&u.lw, h.gain_l, s.color, "halo_modulator.gain")?;
+                draw(&mut out, "halo", i, &h.a, &*m, m.table_words(), gain)?;
+                out.halo_cost.get_or_insert_with(|| UnitSummary::of(&*m));
+            }
         }
-        if let Some(cc) = s.halo {
-            let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
-            let a = fit_area(&a);
-            let rings: Vec<Vec<f64>> = g
-                .determinants
-                .wavelengths_nm
-                .iter()
-                .map(|&l| ring_samples(l, theta_max, &g.model, lw.falloff_log2))
-                .collect();
-            let (shape, kappa) = area_shape(&s.shape, &a, &lw, &[&rings[0], &rings[1], &rings[2]]);
-            let m = HaloModulatorConfig::from_widths(lw)
-                .build(&shape, [&rings[0], &rings[1], &rings[2]])?
-                .with_kappa(kappa)?;
-            let gain = gains(&lw, cc, s.color, "halo_modulator.gain")?;
-            draw(&mut out, "halo", i, &a, &m, m.table_words(), gain)?;
-            out.halo_cost.get_or_insert_with(|| UnitSummary::of(&m));
-        }
+        blooms.end_chunk();
+        halos.end_chunk();
     }
     Ok(out)
+}
+
+/// Sources planned, and their missing tables built (in parallel), at once before they
+/// are drawn: a few per thread.
+const TABLE_CHUNK: usize = 64;
+
+/// Distinct modulators kept across chunks (about 70 KB each at the default widths); a
+/// frame of more distinct sources builds the rest chunk by chunk.
+const TABLE_CACHE_ENTRIES: usize = 256;
+
+/// One area primitive of a source, before its tables are built: its quad, what its
+/// tables are computed from, its gain and the key of equal tables.
+struct AreaPlan<P> {
+    a: AreaPrim,
+    /// The profile's input: the bloom model, or the halo's cut-off angle.
+    profile: P,
+    theta_max: f64,
+    gain_l: f64,
+    shape: Shape2D,
+    /// Everything the tables depend on, spelt exactly (f64 in round-trip form).
+    key: String,
+}
+
+/// A source's bloom and halo primitives, planned.
+struct SourcePlan {
+    bloom: Option<AreaPlan<Bloom>>,
+    halo: Option<AreaPlan<()>>,
+}
+
+impl SourcePlan {
+    fn of(u: &GlareUnits<'_>, s: &SourceGlare, diag: f64) -> SourcePlan {
+        let (g, lw) = (u.g, u.lw);
+        let bloom = s.bloom.as_ref().map(|b| {
+            let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
+            let a = fit_area(&a);
+            let gmax = lw.gain_max() as f64 / (1u64 << lw.gain_frac_bits) as f64;
+            let gain_l = bloom_at(b, 0.0, &g.model).min(gmax);
+            AreaPlan {
+                key: table_key(&s.shape, &a, &[theta_max, gain_l], b),
+                a,
+                profile: *b,
+                theta_max,
+                gain_l,
+                shape: s.shape.clone(),
+            }
+        });
+        let halo = s.halo.map(|cc| {
+            let (a, theta_max) = halo_prim(s, &g.determinants, &g.model);
+            let a = fit_area(&a);
+            AreaPlan {
+                key: table_key(&s.shape, &a, &[theta_max], &()),
+                a,
+                profile: (),
+                theta_max,
+                gain_l: cc,
+                shape: s.shape.clone(),
+            }
+        });
+        SourcePlan { bloom, halo }
+    }
+}
+
+/// The key of an area primitive's tables: its outline, its frame's size, angle and
+/// reach (not its centre), and what its profile is computed from.
+fn table_key(shape: &Shape2D, a: &AreaPrim, x: &[f64], profile: &dyn std::fmt::Debug) -> String {
+    format!(
+        "{shape:?}|{:?}|{:?}|{:?}|{x:?}|{profile:?}",
+        a.half_px, a.phi, a.d_max_px
+    )
+}
+
+/// A bloom's modulator: its shape and falloff tables loaded.
+fn bloom_modulator(
+    u: &GlareUnits<'_>,
+    p: &AreaPlan<Bloom>,
+) -> Result<BloomFlareModulator, ConfigError> {
+    let (g, lw) = (u.g, u.lw);
+    let b = &p.profile;
+    let fall = profile_samples(
+        |t| bloom_at(b, t, &g.model),
+        p.theta_max,
+        p.gain_l,
+        lw.falloff_log2,
+    );
+    let (shape, kappa) = area_shape(&p.shape, &p.a, &lw, &[&fall]);
+    BloomFlareModulatorConfig::from_widths(lw)
+        .build(&shape, &fall)?
+        .with_kappa(kappa)
+}
+
+/// A halo's modulator: its shape and three ring tables loaded.
+fn halo_modulator(u: &GlareUnits<'_>, p: &AreaPlan<()>) -> Result<HaloModulator, ConfigError> {
+    let (g, lw) = (u.g, u.lw);
+    let rings: Vec<Vec<f64>> = g
+        .determinants
+        .wavelengths_nm
+        .iter()
+        .map(|&l| ring_samples(l, p.theta_max, &g.model, lw.falloff_log2))
+        .collect();
+    let (shape, kappa) = area_shape(&p.shape, &p.a, &lw, &[&rings[0], &rings[1], &rings[2]]);
+    HaloModulatorConfig::from_widths(lw)
+        .build(&shape, [&rings[0], &rings[1], &rings[2]])?
+        .with_kappa(kappa)
+}
+
+/// Modulators built once per distinct key: up to [`TABLE_CACHE_ENTRIES`] kept for the
+/// frame, the rest for their chunk only.
+struct TableCache<M> {
+    kept: std::collections::HashMap<String, std::sync::Arc<M>>,
+    /// This chunk's builds that are not kept (the cache is full), and failed builds.
+    chunk: std::collections::HashMap<String, Result<std::sync::Arc<M>, ConfigError>>,
+}
+
+impl<M> Default for TableCache<M> {
+    fn default() -> Self {
+        TableCache {
+            kept: Default::default(),
+            chunk: Default::default(),
+        }
+    }
+}
+
+impl<M: Send + Sync> TableCache<M> {
+    /// Build, in parallel, the modulators of `plans` that are not there yet.
+    fn load<'p, P: Sync + 'p>(
+        &mut self,
+        plans: impl Iterator<Item = &'p AreaPlan<P>>,
+        build: impl Fn(&AreaPlan<P>) -> Result<M, ConfigError> + Sync,
+    ) {
+        let mut seen = std::collections::HashSet::new();
+        let missing: Vec<&AreaPlan<P>> = plans
+            .filter(|p| !self.kept.contains_key(&p.key) && seen.insert(p.key.as_str()))
+            .collect();
+        let built: Vec<_> = missing
+            .par_iter()
+            .map(|p| build(p).map(std::sync::Arc::new))
+            .collect();
+        for (p, m) in missing.into_iter().zip(built) {
+            match m {
+                Ok(m) if self.kept.len() < TABLE_CACHE_ENTRIES => {
+                    self.kept.insert(p.key.clone(), m);
+                }
+                m => {
+                    self.chunk.insert(p.key.clone(), m);
+                }
+            }
+        }
+    }
+
+    /// The modulator of `key` (loaded by [`TableCache::load`] for this chunk).
+    fn get(&self, key: &str) -> Result<std::sync::Arc<M>, ConfigError> {
+        match self.kept.get(key) {
+            Some(m) => Ok(m.clone()),
+            None => match self.chunk.get(key) {
+                Some(m) => m.clone(),
+                None => Err(ConfigError::invalid(
+                    "glare",
+                    "internal: an area primitive's tables were not built",
+                )),
+            },
+        }
+    }
+
+    fn end_chunk(&mut self) {
+        self.chunk.clear();
+    }
 }
 
 /// Every source's flare lines walked and modulated (not yet combined), their

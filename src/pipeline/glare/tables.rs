@@ -27,8 +27,7 @@ pub fn shape_samples(shape: &Shape2D, a: &AreaPrim, k: u32) -> Vec<f64> {
     let n = (1usize << k) + 1;
     let step = 2.0 / (n - 1) as f64;
     let (c, s) = (a.phi.cos(), a.phi.sin());
-    let sample = |idx: usize| {
-        let (i, j) = (idx % n, idx / n);
+    let sample = |i: usize, j: usize| {
         let (u, v) = (-1.0 + i as f64 * step, -1.0 + j as f64 * step);
         let (dx, dy) = (a.half_px * (u * c - v * s), a.half_px * (u * s + v * c));
         (shape.distance(dx, dy) / a.d_max_px).clamp(0.0, 1.0)
@@ -45,7 +44,16 @@ pub fn shape_samples(shape: &Shape2D, a: &AreaPrim, k: u32) -> Vec<f64> {
     );
     let len = n * n;
     let first = if symmetric { len.div_ceil(2) } else { len };
-    let mut out: Vec<f64> = (0..first).map(sample).collect();
+    let mut out: Vec<f64> = Vec::with_capacity(len);
+    // Row by row (idx = j·n + i) without a division per sample.
+    'rows: for j in 0..n {
+        for i in 0..n {
+            if out.len() == first {
+                break 'rows;
+            }
+            out.push(sample(i, j));
+        }
+    }
     for idx in first..len {
         out.push(out[len - 1 - idx]);
     }
