@@ -273,3 +273,61 @@ fn every_ordinary_builtin_warns_of_nothing() {
     assert!(checked >= 17, "only {checked} built-ins");
     assert!(loud.is_empty(), "ordinary built-ins warned: {loud:#?}");
 }
+
+/// Many sources that saturate the bloom modulator together, none alone: the check names every
+/// source's intensity scaled by one factor, with a factor that fits, and renders a
+/// bounded number of reduced frames however many sources there are (one per source
+/// before, the whole check quadratic in the sources).
+#[test]
+fn many_glare_sources_together_are_named_as_one_scale_in_bounded_renders() {
+    // 60 copies of glare-point's source on a grid around the centre, each a sixtieth
+    // as bright, so that only their sum saturates.
+    let mut s = small("glare-point");
+    let g = s.glare.as_mut().unwrap();
+    let one = g.sources[0].clone();
+    g.sources = (0..60)
+        .map(|i| {
+            let mut c = one.clone();
+            c.position[0] += 0.1 * (i % 10) as f64 - 0.45;
+            c.position[1] += 0.1 * (i / 10) as f64 - 0.25;
+            c.intensity = one.intensity / 60.0;
+            c
+        })
+        .collect();
+    let f = render(&s).unwrap();
+    let (warnings, renders) = glare_pipeline::frame::range::check_counted(&s, &f);
+    let w = warnings
+        .iter()
+        .find(|w| w.unit == "bloom_flare_modulator")
+        .unwrap_or_else(|| panic!("no bloom modulator warning: {warnings:?}"));
+    assert_eq!(w.field, "glare.sources[*].intensity", "{w}");
+    let nearest = w.nearest.as_deref().unwrap_or_else(|| panic!("{w}"));
+    assert!(
+        nearest.starts_with('×') && nearest.contains("all 60 sources"),
+        "{w}"
+    );
+    // Four single sources, the scale at its ordinary value, ten bisection steps and a
+    // few snapping steps for this rule; at most five renders for each other rule.
+    assert!(
+        renders <= 4 + 1 + 10 + 10 + 5 * (warnings.len() - 1),
+        "{renders} renders: {warnings:?}"
+    );
+    // The factor found fits: the reduced scene scaled by it is silent on the modulator.
+    let x: f64 = nearest[nearest.char_indices().nth(1).unwrap().0..]
+        .split_whitespace()
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let mut fitted = s.clone();
+    for src in &mut fitted.glare.as_mut().unwrap().sources {
+        src.intensity *= x;
+    }
+    let reduced = glare_pipeline::frame::range::reduced(&fitted);
+    let g = render(&reduced).unwrap();
+    let c = &g.counters()["glare"]["bloom_flare_modulator"];
+    assert!(
+        (c.saturations as f64) <= 0.01 * c.pixels_in as f64,
+        "×{x}: {c:?}"
+    );
+}

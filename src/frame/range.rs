@@ -264,6 +264,12 @@ struct Candidate {
 
 /// Every warning for a rendered frame of `scene`.
 pub fn check(scene: &Scene, frame: &Frame) -> Vec<RangeWarning> {
+    check_counted(scene, frame).0
+}
+
+/// [`check`], with the number of reduced frames the sensitivity check rendered (at
+/// most a fixed number per warning, whatever the scene's number of sources).
+pub fn check_counted(scene: &Scene, frame: &Frame) -> (Vec<RangeWarning>, usize) {
     let mut out = host_rules(scene, frame);
     out.extend(check_environment(scene));
     let counters = frame.counters();
@@ -294,7 +300,7 @@ pub fn check(scene: &Scene, frame: &Frame) -> Vec<RangeWarning> {
             });
         }
     }
-    out
+    (out, probe.renders.get())
 }
 
 /// Print the warnings to stderr, one a line.
@@ -318,12 +324,15 @@ pub fn reduced(scene: &Scene) -> Scene {
 /// Renders of the reduced scene with one field moved, for the sensitivity check.
 struct Probe {
     base: Scene,
+    /// Reduced frames rendered so far.
+    renders: std::cell::Cell<usize>,
 }
 
 impl Probe {
     fn new(scene: &Scene) -> Self {
         Probe {
             base: reduced(scene),
+            renders: std::cell::Cell::new(0),
         }
     }
 
@@ -333,6 +342,7 @@ impl Probe {
         let mut s = self.base.clone();
         (c.set)(&mut s, x);
         s.validate().ok()?;
+        self.renders.set(self.renders.get() + 1);
         let f = render(&s).ok()?;
         let counters = f.counters();
         let share = counters
@@ -448,28 +458,66 @@ fn candidates(scene: &Scene, drivers: Drivers, up: bool) -> Vec<Candidate> {
             table_candidates(scene, &mut out);
             light_candidates(scene, &mut out);
         }
-        Drivers::GlareSources => {
-            if let Some(g) = &scene.glare {
-                for (i, s) in g.sources.iter().enumerate() {
-                    if s.intensity > 0.0 {
-                        out.push(Candidate {
-                            field: format!("glare.sources[{i}].intensity"),
-                            value: s.intensity,
-                            ordinary: s.intensity * if up { 1e4 } else { 1e-4 },
-                            log: true,
-                            set: Box::new(move |sc, x| {
-                                if let Some(g) = sc.glare.as_mut() {
-                                    g.sources[i].intensity = x;
-                                }
-                            }),
-                            show: Box::new(show_num),
-                        });
-                    }
-                }
-            }
-        }
+        Drivers::GlareSources => glare_candidates(scene, up, &mut out),
     }
     out
+}
+
+/// Glare sources tried one by one: every source of a frame of at most this many, else
+/// this many of the brightest. Each costs a reduced frame, so a frame of thousands of
+/// sources is not probed once per source.
+const GLARE_SINGLE_CANDIDATES: usize = 4;
+
+/// The glare units' candidates: single sources' intensities (in index order; the
+/// brightest first when there are more than [`GLARE_SINGLE_CANDIDATES`]), then, with
+/// several sources, every source's intensity scaled by one factor (what silences a
+/// combiner saturated by many sources together, which no single one drives).
+fn glare_candidates(scene: &Scene, up: bool, out: &mut Vec<Candidate>) {
+    let Some(g) = &scene.glare else {
+        return;
+    };
+    let ordinary = if up { 1e4 } else { 1e-4 };
+    let mut lit: Vec<usize> = (0..g.sources.len())
+        .filter(|&i| g.sources[i].intensity > 0.0)
+        .collect();
+    let several = lit.len() > 1;
+    if lit.len() > GLARE_SINGLE_CANDIDATES {
+        // Brightest first (a stable sort: equal ones in index order).
+        lit.sort_by(|&a, &b| g.sources[b].intensity.total_cmp(&g.sources[a].intensity));
+        lit.truncate(GLARE_SINGLE_CANDIDATES);
+    }
+    for i in lit {
+        let v = g.sources[i].intensity;
+        out.push(Candidate {
+            field: format!("glare.sources[{i}].intensity"),
+            value: v,
+            ordinary: v * ordinary,
+            log: true,
+            set: Box::new(move |sc, x| {
+                if let Some(g) = sc.glare.as_mut() {
+                    g.sources[i].intensity = x;
+                }
+            }),
+            show: Box::new(show_num),
+        });
+    }
+    if several {
+        let n = g.sources.len();
+        out.push(Candidate {
+            field: "glare.sources[*].intensity".to_string(),
+            value: 1.0,
+            ordinary,
+            log: true,
+            set: Box::new(|sc, x| {
+                if let Some(g) = sc.glare.as_mut() {
+                    for s in &mut g.sources {
+                        s.intensity *= x;
+                    }
+                }
+            }),
+            show: Box::new(move |x| format!("×{} (all {n} sources scaled together)", show_num(x))),
+        });
+    }
 }
 
 /// A spot's cutoff is a candidate above this; it is moved to [`ORDINARY_CUTOFF_DEG`]
