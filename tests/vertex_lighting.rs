@@ -1399,21 +1399,23 @@ fn loaded_registers_are_the_host_values_rounded() {
     let cfg = VertexLightingConfig::geforce();
     let fmt = cfg.format;
     let w = |x: f64| fmt.from_f64("test", x, &mut Counters::default()).unwrap();
-    let mut setup = LightingSetup::default();
-    setup.lights = vec![
-        Light {
-            position: [0.0, 0.0, 2.0, 0.0],
-            ..Light::default()
-        },
-        Light {
-            position: [1.0, 2.0, 3.0, 2.0],
-            ..Light::default()
-        },
-        Light {
-            position: [0.0, 3.0, 4.0, 0.0],
-            ..Light::default()
-        },
-    ];
+    let mut setup = LightingSetup {
+        lights: vec![
+            Light {
+                position: [0.0, 0.0, 2.0, 0.0],
+                ..Light::default()
+            },
+            Light {
+                position: [1.0, 2.0, 3.0, 2.0],
+                ..Light::default()
+            },
+            Light {
+                position: [0.0, 3.0, 4.0, 0.0],
+                ..Light::default()
+            },
+        ],
+        ..LightingSetup::default()
+    };
     setup.material.emission = [0.1, 0.2, 0.3];
     setup.material.ambient = [0.5, 0.25, 1.0];
     setup.material.diffuse[3] = 0.5;
