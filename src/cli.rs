@@ -107,6 +107,8 @@ pub enum Command {
     /// shafts-stage, glare-fig4, glare-fig5, glare-fig7, glare-fig8, glare-throughput,
     /// glare-asic-throughput (the glare ASIC clocked on glare-flare, street-light and
     /// leaves: sustained pixels/s against the paper's 1.2 Gpixel/s, the bottleneck),
+    /// glare-scaling (a city at night, 96 × 64, with 250 … 10 000 light sources: the
+    /// render's time per source),
     /// glare-gauss-seeds (seeds 1 ..= 1000, or $GLARE_GAUSS_SEEDS),
     /// envmap-table3 (side 128, or $ENVMAP_TABLE3_S), envmap-table5 and envmap-images
     /// (side 128 or $ENVMAP_TABLE3_S, images 256 × 256 or $ENVMAP_IMAGE_SIZE),
@@ -636,6 +638,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "glare-fig8",
     "glare-throughput",
     "glare-asic-throughput",
+    "glare-scaling",
     "glare-gauss-seeds",
     "envmap-table3",
     "envmap-table5",
@@ -809,6 +812,11 @@ fn run_frame_reproduction(
         "glare-throughput" => g::throughput(out)?,
         "glare-asic-throughput" => {
             crate::pipeline::glare::clocked::asic_throughput(out)?;
+        }
+        "glare-scaling" => {
+            use crate::frame::glare_scaling as gs;
+            let rows = gs::glare_scaling(out, &gs::SOURCE_COUNTS)?;
+            print!("{}", gs::table(&rows));
         }
         "glare-gauss-seeds" => {
             crate::pipeline::glare::gauss_seeds::gauss_seeds_resumable(

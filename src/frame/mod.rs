@@ -16,6 +16,7 @@ pub mod chip;
 pub mod chip_sweep;
 pub mod cli;
 pub mod glare_link;
+pub mod glare_scaling;
 pub mod gpu;
 pub mod objects;
 pub mod plan;

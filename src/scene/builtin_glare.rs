@@ -323,3 +323,51 @@ pub fn glare_builtin(name: &str) -> Option<Scene> {
         _ => return None,
     })
 }
+
+/// The city at night of the glare scaling run (`reproduce glare-scaling`): `n` point
+/// sources with bloom, seen from a hill over a 96 × 64 frame, of four kinds (street
+/// lamps, windows, car lights, signs) at a few brightnesses each, placed with `seed`.
+/// Sources of one kind and brightness share their tables; the frame's cost is then
+/// the primitives drawn, linear in `n`.
+pub fn city_lights(n: usize, seed: u64) -> Scene {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    // (intensity codes, colour, height above the ground in world units)
+    let kinds: [([f64; 3], [f64; 3], f64); 4] = [
+        ([1.6, 2.0, 2.4], [1.0, 0.72, 0.38], 6.0),
+        ([0.6, 0.8, 1.0], [1.0, 0.9, 0.7], 12.0),
+        ([1.0, 1.2, 1.4], [0.9, 0.95, 1.0], 0.6),
+        ([0.8, 1.0, 1.2], [1.0, 0.35, 0.55], 4.0),
+    ];
+    let sources = (0..n)
+        .map(|_| {
+            let (levels, color, height) = kinds[rng.random_range(0..kinds.len())];
+            let depth = 40.0 + 360.0 * rng.random::<f64>();
+            let x = (2.0 * rng.random::<f64>() - 1.0) * 0.5 * depth;
+            let y = height * rng.random::<f64>();
+            let mut s = source(
+                SourceKind::Point,
+                [x, y, -depth],
+                levels[rng.random_range(0..levels.len())],
+            );
+            s.color = color;
+            s.halo = false;
+            s.flare = false;
+            s
+        })
+        .collect();
+    let mut s = glare_scene(
+        &format!("city-lights: {n} lights of a city at night"),
+        seed,
+        Camera {
+            far: 1000.0,
+            ..camera([0.0, 25.0, 0.0], [0.0, 0.0, -220.0])
+        },
+        section(night(), sources),
+    );
+    s.image = ImageSize {
+        width: 96,
+        height: 64,
+    };
+    s
+}
