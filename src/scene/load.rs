@@ -1,13 +1,14 @@
 //! Loading a scene by name, in one place for every command: a built-in (every list:
-//! the shafts figures, the glare built-ins, the environment scenes, the showcase) or
-//! a TOML file. A misspelt name gets the nearest names ("did you mean glare-point?"),
+//! the shafts figures, the glare built-ins, the environment scenes, the showcase, the
+//! foundation test scene, the shading spheres) or a TOML file (a scene, or the
+//! `[shading]` alias of a shading sphere). A misspelt name gets the nearest names ("did you mean glare-point?"),
 //! a path that looks like a file and does not exist gets "file not found".
 
 use super::builtin::{builtin, BUILTIN_NAMES};
 use super::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use super::builtin_glare::GLARE_BUILTIN_NAMES;
 use super::builtin_showcase::SHOWCASE_NAMES;
-use super::format::Scene;
+use super::format::{Scene, SceneKind};
 use std::path::Path;
 
 /// The foundation test scene's name (`render --scene test`).
@@ -158,47 +159,69 @@ pub fn other_form(text: &str) -> Option<&'static str> {
         .find(|k| t.contains_key(*k))
 }
 
-/// A built-in scene by name, or a TOML scene file by path. Every command that takes
-/// a scene of lights and objects resolves its name here; a misspelt name, a missing
-/// file or a name of another kind (`test`, `shading-*`) gets an error saying so.
+/// Any `--scene` string as a [`Scene`], in one place for every command: a built-in
+/// name (the lights-and-objects scenes, `test`, every `shading-*`), a TOML scene file,
+/// a file with a top-level `[shading]` table (the alias of a `[shading_sphere]`
+/// section: its errors name `shading.*`) or a `[test_scene]` file. The scene comes
+/// back validated; what it is ([`Scene::kind`]) picks the command's path, not the
+/// name. A misspelt name or a missing file gets an error saying so.
 pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
     if builtin_names().contains(&name_or_path) {
         return builtin(name_or_path).map_err(|e| e.to_string());
     }
+    if name_or_path == TEST_NAME {
+        return Ok(Scene::test_scene());
+    }
     let p = Path::new(name_or_path);
     if p.is_file() {
-        if let Some(form) = std::fs::read_to_string(p)
-            .ok()
-            .as_deref()
-            .and_then(other_form)
-        {
-            return Err(format!(
-                "scene: {name_or_path} is a [{form}] file ({}), not a scene of lights and \
-                 objects; `render --scene` takes it",
-                if form == "shading" {
-                    "a shading scene"
-                } else {
-                    "the foundation test scene"
-                }
-            ));
+        let text = std::fs::read_to_string(p).ok();
+        match text.as_deref().and_then(other_form) {
+            Some(super::shading_sphere::ALIAS_TABLE) => {
+                let text = text.unwrap_or_default();
+                let in_file = |e: String| format!("{e} (in {name_or_path})");
+                let section =
+                    super::shading_sphere::ShadingSphereSection::from_alias(&text).map_err(in_file)?;
+                let scene = Scene::shading_sphere(section);
+                scene.validate().map_err(|e| in_file(e.to_string()))?;
+                return Ok(scene);
+            }
+            Some(_) => {
+                let text = text.unwrap_or_default();
+                super::test_scene::parse_file(&text)
+                    .map_err(|e| format!("{e} (in {name_or_path})"))?;
+                return Ok(Scene::test_scene());
+            }
+            None => {}
         }
     }
     if p.exists() {
         return Scene::from_file(p).map_err(|e| e.to_string());
     }
-    if name_or_path == TEST_NAME {
-        return Err(format!(
-            "scene: '{TEST_NAME}' is the foundation test scene, a fixed scene without scene \
-             fields; `render --scene {TEST_NAME}` renders it"
-        ));
-    }
     if SHADING_NAMES.contains(&name_or_path) {
-        return Err(format!(
-            "scene: '{name_or_path}' is a shading scene, not a scene of lights and objects; \
-             `render`, `sweep`, `optimize` and `attribute` take it"
+        return Ok(Scene::shading_sphere(
+            super::shading_sphere::ShadingSphereSection::builtin(name_or_path),
         ));
     }
     Err(unknown_scene(name_or_path))
+}
+
+/// [`load_scene`] for a tool that takes only a scene of lights and objects (the
+/// frame's passes): the test scene and the shading spheres are refused, saying what
+/// they are and which commands take them.
+pub fn load_frame_scene(name_or_path: &str) -> Result<Scene, String> {
+    let scene = load_scene(name_or_path)?;
+    match scene.kind() {
+        SceneKind::Frame => Ok(scene),
+        SceneKind::Test => Err(format!(
+            "scene: '{name_or_path}' is the foundation test scene, a fixed scene without \
+             lights and objects; `render --scene {name_or_path}` renders it"
+        )),
+        SceneKind::ShadingSphere(s) => Err(format!(
+            "scene: '{name_or_path}' is a shading scene ({}), not a scene of lights and \
+             objects; `render`, `sweep`, `optimize` and `attribute` take it",
+            s.scene
+        )),
+    }
 }
 
 /// `--image` (if given) set as `scene`'s image size; the scene checks the sides'

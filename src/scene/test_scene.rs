@@ -110,6 +110,12 @@ pub fn occluder_quads() -> Vec<[Vec3; 4]> {
     .collect()
 }
 
+/// `[test_scene]`: the foundation test scene's section. It has no fields (the scene
+/// is fixed); its presence makes a scene the test scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TestSceneSection {}
+
 /// The top-level table of the test scene's file form.
 pub const FILE_TABLE: &str = "test_scene";
 

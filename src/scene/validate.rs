@@ -39,6 +39,16 @@ pub(crate) use super::fields::{direction, point};
 impl Scene {
     /// Check every field; the first error found names its field.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.shading_sphere.is_some() || self.test_scene.is_some() {
+            return self.validate_fixed();
+        }
+        if self.camera.is_unset() {
+            return Err(ConfigError::invalid(
+                "camera",
+                "missing field `camera`: a scene of lights and objects needs a [camera] \
+                 table (eye, look_at); only a [shading_sphere] or [test_scene] scene has none",
+            ));
+        }
         fields::IMAGE_WIDTH.int("image.width", self.image.width.into())?;
         fields::IMAGE_HEIGHT.int("image.height", self.image.height.into())?;
         super::limits::check_image(self.image)?;
@@ -95,6 +105,56 @@ impl Scene {
                 ),
             )),
             _ => Ok(()),
+        }
+    }
+
+    /// A shading sphere or the test scene: its section checked, and nothing else in
+    /// the scene but its name and seed (the first field that is set names the mix).
+    fn validate_fixed(&self) -> Result<(), ConfigError> {
+        let (section, what) = match (&self.test_scene, &self.shading_sphere) {
+            (Some(_), Some(s)) => {
+                return Err(ConfigError::invalid(
+                    s.table,
+                    "a scene is the foundation test scene ([test_scene]) or a shading \
+                     sphere, not both",
+                ))
+            }
+            (Some(_), None) => ("test_scene", "the foundation test scene, a fixed scene"),
+            (None, Some(s)) => (s.table, "the shading units' sphere"),
+            (None, None) => return Ok(()),
+        };
+        let blank = Scene::blank();
+        let mixed = [
+            ("camera", !self.camera.is_unset()),
+            ("chip", self.chip != blank.chip),
+            ("image", self.image != blank.image),
+            ("medium", self.medium != blank.medium),
+            ("lights", !self.lights.is_empty()),
+            ("objects", !self.objects.is_empty()),
+            ("shafts", self.shafts != blank.shafts),
+            ("glare", self.glare.is_some()),
+            ("environment", self.environment.is_some()),
+            ("rounding", self.rounding.is_some()),
+            ("shading_hw", self.shading_hw.is_some()),
+        ];
+        if let Some((field, _)) = mixed.iter().find(|(_, set)| *set) {
+            let hint = match *field {
+                "chip" | "image" if section != "test_scene" => {
+                    format!(" (the sphere's is {section}.{field})")
+                }
+                _ => String::new(),
+            };
+            return Err(ConfigError::invalid(
+                field,
+                &format!(
+                    "a scene with a [{section}] section is {what} and holds no {field}{hint}; \
+                     drop one of them"
+                ),
+            ));
+        }
+        match &self.shading_sphere {
+            Some(s) => s.validate(),
+            None => Ok(()),
         }
     }
 
