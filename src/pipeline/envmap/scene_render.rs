@@ -88,22 +88,6 @@ pub struct SceneFrame {
     pub render_seconds: f64,
 }
 
-/// The scene named by `name_or_path` when it is an environment scene for this
-/// renderer (an `env-…` built-in, or a file with `[environment]` and no `[glare]`),
-/// else None (another pipeline's scene, or not a scene: the caller reports it). A
-/// file that fails to parse or validate is an error.
-pub fn environment_scene(name_or_path: &str) -> Result<Option<Scene>, String> {
-    if ENVIRONMENT_BUILTIN_NAMES.contains(&name_or_path) {
-        return builtin(name_or_path).map(Some).map_err(|e| e.to_string());
-    }
-    let path = Path::new(name_or_path);
-    if !path.is_file() {
-        return Ok(None);
-    }
-    let scene = Scene::from_file(path).map_err(|e| e.to_string())?;
-    Ok((scene.environment.is_some() && scene.glare.is_none()).then_some(scene))
-}
-
 /// The renderer's object.
 pub fn object_of(o: EnvObject) -> Object {
     match o {
