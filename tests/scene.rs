@@ -2004,11 +2004,14 @@ fn misspelt_names_and_missing_files_are_told_apart() {
         let e = load_scene(missing).unwrap_err();
         assert_eq!(e, format!("scene: file not found: {missing}"));
     }
-    // `test` and the shading scenes are names of other kinds: said so.
-    assert!(load_scene("test")
+    // `test` and the shading scenes are scenes of other kinds: the one resolver takes
+    // them, a tool of lights and objects says what they are.
+    assert!(load_scene("test").unwrap().test_scene.is_some());
+    assert!(load_scene("shading-phong").unwrap().shading_sphere.is_some());
+    assert!(load::load_frame_scene("test")
         .unwrap_err()
         .contains("foundation test scene"));
-    assert!(load_scene("shading-phong")
+    assert!(load::load_frame_scene("shading-phong")
         .unwrap_err()
         .contains("shading scene"));
 }

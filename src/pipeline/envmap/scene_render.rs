@@ -27,8 +27,6 @@ use super::timing::{predict_frame, FramePrediction};
 use super::voxmap::VoxelMap;
 use crate::chip::GpuModel;
 use crate::reference::envmap_prefilter::{PrefilterParams, Weighting, THESIS_PYRAMID_LEVELS};
-use crate::scene::builtin::builtin;
-use crate::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use crate::scene::camera::CameraView;
 use crate::scene::environment::{
     EnvBackground, EnvDomePick, EnvLambda, EnvLookup, EnvObject, EnvWeighting, EnvironmentSection,
