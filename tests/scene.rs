@@ -1635,6 +1635,19 @@ fn format_scenes() -> Vec<Scene> {
         .map(|n| builtin(n).unwrap())
         .collect();
     v.extend(maximal_scenes());
+    // The shading sphere with every field of its section (each width set: the serde
+    // format holds any of them; which a scene takes is validation's), and the test
+    // scene.
+    let mut sphere = load_scene("shading-specular").unwrap();
+    let sec = sphere.shading_sphere.as_mut().unwrap();
+    sec.image = Some(64);
+    sec.chip = rtl_model::chip_preset::ChipPreset::parse("chip", "nv2a").unwrap();
+    sec.hw = glare_pipeline::pipeline::shading::sweep::SHADING_PARAMS
+        .iter()
+        .map(|p| (p.to_string(), 8))
+        .collect();
+    v.push(sphere);
+    v.push(Scene::test_scene());
     v
 }
 

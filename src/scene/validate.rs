@@ -43,11 +43,7 @@ impl Scene {
             return self.validate_fixed();
         }
         if self.camera.is_unset() {
-            return Err(ConfigError::invalid(
-                "camera",
-                "missing field `camera`: a scene of lights and objects needs a [camera] \
-                 table (eye, look_at); only a [shading_sphere] or [test_scene] scene has none",
-            ));
+            return Err(ConfigError::invalid("camera", MISSING_CAMERA));
         }
         fields::IMAGE_WIDTH.int("image.width", self.image.width.into())?;
         fields::IMAGE_HEIGHT.int("image.height", self.image.height.into())?;
@@ -516,6 +512,24 @@ fn parallel(a: Vec3, b: Vec3) -> bool {
 /// Parse without validating; errors are mapped to field paths. `what` prefixes the
 /// reason (e.g. the file name).
 fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
+    let scene = parse_serde(s, what)?;
+    // A scene of lights and objects needs its camera (serde reads a missing one as
+    // unset, for the shading sphere and the test scene): said as toml says a
+    // missing field, at the document's start.
+    if scene.camera.is_unset() && scene.shading_sphere.is_none() && scene.test_scene.is_none() {
+        return Err(ConfigError::invalid(
+            "camera",
+            &format!("{what}{MISSING_CAMERA} (TOML line 1, column 1)"),
+        ));
+    }
+    Ok(scene)
+}
+
+/// The error of a scene of lights and objects without a camera.
+const MISSING_CAMERA: &str = "missing field `camera`: a scene of lights and objects needs a \
+     [camera] table (eye, look_at); only a [shading_sphere] or [test_scene] scene has none";
+
+fn parse_serde(s: &str, what: &str) -> Result<Scene, ConfigError> {
     toml::from_str::<Scene>(s).map_err(|e| {
         let msg = e
             .message()
