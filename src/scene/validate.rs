@@ -120,18 +120,19 @@ impl Scene {
             (None, None) => return Ok(()),
         };
         let blank = Scene::blank();
+        // The sections of a frame first, then the settings a frame scene writes.
         let mixed = [
+            ("objects", !self.objects.is_empty()),
+            ("glare", self.glare.is_some()),
+            ("environment", self.environment.is_some()),
+            ("lights", !self.lights.is_empty()),
+            ("shading_hw", self.shading_hw.is_some()),
+            ("rounding", self.rounding.is_some()),
             ("camera", !self.camera.is_unset()),
             ("chip", self.chip != blank.chip),
             ("image", self.image != blank.image),
             ("medium", self.medium != blank.medium),
-            ("lights", !self.lights.is_empty()),
-            ("objects", !self.objects.is_empty()),
             ("shafts", self.shafts != blank.shafts),
-            ("glare", self.glare.is_some()),
-            ("environment", self.environment.is_some()),
-            ("rounding", self.rounding.is_some()),
-            ("shading_hw", self.shading_hw.is_some()),
         ];
         if let Some((field, _)) = mixed.iter().find(|(_, set)| *set) {
             let hint = match *field {
