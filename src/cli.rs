@@ -75,7 +75,9 @@ pub enum Command {
         /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot), a shading
         /// scene (shading-<model>, shading-specular, shading-vertex: the sphere of
         /// `sweep`'s shading path at the GeForce widths) or a TOML scene file (one
-        /// with a `[shading]` table is a shading scene at its widths, docs/optimize.md).
+        /// with a `[shading_sphere]` section, or its alias a top-level `[shading]`
+        /// table, is a shading scene at its widths; one with `[test_scene]` the test
+        /// scene: docs/scenes.md). Every command takes the same scenes.
         #[arg(long, default_value = "fig6")]
         scene: String,
         /// Output PNG.
@@ -158,7 +160,8 @@ pub enum Command {
     /// from: `glare-pipeline scene fig6 > my.toml`, edit, then `render --scene
     /// my.toml`. Any name `render --scene` takes: the built-in scenes (compact,
     /// each section commented, units after the values), `test` (its `[test_scene]`
-    /// form) and the shading-* scenes (their `[shading]` form); a scene file prints
+    /// form) and the shading-* scenes (the `[shading]` alias of their
+    /// `[shading_sphere]` section); a scene file prints
     /// the same way. Every field of the format: docs/scenes.md.
     Scene {
         /// A built-in scene name (a misspelt one gets the nearest names) or a TOML file.
@@ -175,7 +178,7 @@ pub enum Command {
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
     /// (every configuration evaluated), DIR/pareto.png (the objective against the first
     /// budget's error, that plane's front, the default) and DIR/best.toml (the scene with the widths found, for
-    /// `render --scene`; for a shading scene its `[shading]` file form), verified by a
+    /// `render --scene`; for a shading scene the `[shading]` alias of its `[shading_sphere]` section), verified by a
     /// fresh render. With `--params` naming the clocked chip's parameters (pipes,
     /// tmus, fifo_depth, cache_kb, …) and a time budget (`--budget "seconds<=0.17"`):
     /// the cheapest chip whose clocked frame time meets it, with DIR/pareto.csv,
@@ -192,7 +195,9 @@ pub enum Command {
     /// (night-street, shaded-metal, street-light, …: every pipeline's sources on the
     /// whole frame's error).
     Attribute {
-        /// A built-in scene or a TOML scene file.
+        /// A built-in scene or a TOML scene file (the scenes `render --scene` takes; a
+        /// shading sphere file with its own widths or chip is refused: attribute
+        /// starts from the GeForce defaults).
         #[arg(long)]
         scene: String,
         /// Output directory.
@@ -325,7 +330,9 @@ pub const MAX_TRACE_PIXELS: usize = 100_000;
 pub struct SweepArgs {
     /// A built-in scene (fig4, fig6, stage, the glare, env-MAP-OBJECT and frame
     /// scenes), a TOML scene file, or a shading scene (shading-<model> of the
-    /// shading-brdfs catalogue, shading-specular, shading-vertex).
+    /// shading-brdfs catalogue, shading-specular, shading-vertex, or a file with a
+    /// `[shading_sphere]` section or its `[shading]` alias, at the GeForce widths;
+    /// its image side is the sweep's default). The scenes `render --scene` takes.
     #[arg(long, required = true)]
     pub scene: Option<String>,
     /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,

@@ -24,7 +24,8 @@ pub struct OptimizeArgs {
     /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
     /// glare-elliptic, …), an environment-map scene (env-pattern-sphere, …), a shading
     /// scene (shading-<model>, shading-specular, shading-vertex) or a TOML file of
-    /// these.
+    /// these (a shading scene file: a `[shading_sphere]` section or its `[shading]`
+    /// alias). The scenes `render --scene` takes.
     #[arg(long)]
     pub scene: String,
     /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
