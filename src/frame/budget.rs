@@ -218,8 +218,8 @@ pub fn check_estimate(e: Estimate, budget: u64, budget_from: &str) -> Result<Est
 pub const BYTES_PER_VERTEX: u64 = 128;
 
 /// The large allocations of `render --scene` on a shading scene (`shading-*`, or a
-/// file with a `[shading]` table): the sphere view's image buffers (`image` × `image`
-/// pixels; the file's `shading.image` shrinks them), or for `shading-vertex`
+/// file with a `[shading_sphere]` section or its `[shading]` alias): the sphere view's
+/// image buffers (`image` × `image` pixels; the section's `image` shrinks them), or for `shading-vertex`
 /// (`image` None: no image) its fixed sphere of lit vertices.
 pub fn shading_estimate(image: Option<u32>) -> Estimate {
     use crate::pipeline::shading::sweep::{VERTEX_RINGS, VERTEX_SEGMENTS};
@@ -229,7 +229,8 @@ pub fn shading_estimate(image: Option<u32>) -> Estimate {
             Item {
                 what: format!("image buffers ({side} × {side} pixels)"),
                 bytes: (s * s).saturating_mul(BYTES_PER_PIXEL),
-                shrink: "shading.image (in a [shading] scene file; default 256)".into(),
+                shrink: "shading_sphere.image (shading.image in the [shading] alias form; default 256)"
+                    .into(),
             }
         }
         None => {
