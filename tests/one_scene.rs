@@ -52,7 +52,10 @@ fn every_builtin_name_resolves_to_a_scene_of_its_kind() {
             }
             SceneKind::Frame => {
                 assert!(builtin_names().contains(&name), "{name}");
-                assert!(!scene.camera.is_unset(), "{name}: a frame scene has a camera");
+                assert!(
+                    !scene.camera.is_unset(),
+                    "{name}: a frame scene has a camera"
+                );
             }
         }
     }
@@ -146,7 +149,10 @@ fn the_shading_alias_and_the_section_load_to_equal_scenes() {
     ];
     for (i, body) in cases.iter().enumerate() {
         let alias = format!("[shading]\n{}", body.replace("{T}", "shading"));
-        let section = format!("[shading_sphere]\n{}", body.replace("{T}", "shading_sphere"));
+        let section = format!(
+            "[shading_sphere]\n{}",
+            body.replace("{T}", "shading_sphere")
+        );
         let a = load_file(&format!("alias{i}.toml"), &alias).unwrap();
         let b = load_file(&format!("section{i}.toml"), &section).unwrap();
         assert_eq!(a, b, "{body}");
@@ -219,7 +225,8 @@ fn refused(text: &str, field: &str) -> String {
 #[test]
 fn a_mixed_or_bad_section_is_refused_naming_the_field() {
     let sphere = "[shading_sphere]\nscene = \"shading-phong\"\n";
-    let object = "[[objects]]\nshape = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }\n";
+    let object =
+        "[[objects]]\nshape = { type = \"sphere\", center = [0.0, 0.0, 0.0], radius = 1.0 }\n";
     refused(&format!("{sphere}{object}"), "objects");
     refused(
         &format!("{sphere}[camera]\neye = [0.0, 0.0, 5.0]\nlook_at = [0.0, 0.0, 0.0]\n"),

@@ -2020,7 +2020,10 @@ fn misspelt_names_and_missing_files_are_told_apart() {
     // `test` and the shading scenes are scenes of other kinds: the one resolver takes
     // them, a tool of lights and objects says what they are.
     assert!(load_scene("test").unwrap().test_scene.is_some());
-    assert!(load_scene("shading-phong").unwrap().shading_sphere.is_some());
+    assert!(load_scene("shading-phong")
+        .unwrap()
+        .shading_sphere
+        .is_some());
     assert!(load::load_frame_scene("test")
         .unwrap_err()
         .contains("foundation test scene"));

@@ -229,8 +229,9 @@ pub fn shading_estimate(image: Option<u32>) -> Estimate {
             Item {
                 what: format!("image buffers ({side} × {side} pixels)"),
                 bytes: (s * s).saturating_mul(BYTES_PER_PIXEL),
-                shrink: "shading_sphere.image (shading.image in the [shading] alias form; default 256)"
-                    .into(),
+                shrink:
+                    "shading_sphere.image (shading.image in the [shading] alias form; default 256)"
+                        .into(),
             }
         }
         None => {

@@ -8,10 +8,10 @@ use super::run::render_timed;
 use super::timing::{ChipName, TimingMode, TimingRequest};
 use crate::pipeline::shading::scene_file::ShadingFile;
 use crate::pipeline::shafts::cli::reference_image;
-use crate::scene::format::{Scene, SceneKind};
-use crate::scene::load::load_scene;
 use crate::report::render_json::{value, Family, PassEntry, RenderJson, Timing};
 use crate::report::table::{chip_elaboration_table, counters_table, text_table};
+use crate::scene::format::{Scene, SceneKind};
+use crate::scene::load::load_scene;
 use std::path::Path;
 
 /// `render`'s timing flags.

@@ -7,8 +7,8 @@ use super::cli::{best_toml, check_on, OptimizeArgs, SearchRun};
 use super::eval::Evaluator;
 use super::search::describe;
 use super::shading;
-use crate::report::atomic::write_bytes;
 use crate::pipeline::shading::scene_file::ShadingFile;
+use crate::report::atomic::write_bytes;
 use crate::scene::format::{Scene, SceneKind};
 
 /// The path `optimize` takes, by what the scene holds and which parameters are named.

@@ -25,6 +25,7 @@ pub mod print;
 pub mod rounding;
 pub mod shading_hw;
 pub mod shading_sphere;
+pub mod suggest;
 pub mod teapot;
 pub mod test_scene;
 pub mod validate;

@@ -35,11 +35,28 @@ pub const DEFAULT_IMAGE: u32 = 256;
 /// The shading scene that lights sphere vertices and has no image.
 pub const VERTEX: &str = "shading-vertex";
 
+/// Every built-in shading scene (`shading-<model>`, `shading-specular`,
+/// `shading-vertex`): the names `render --scene` takes for the shading units' spheres.
+/// The shading pipeline defines them; tests/scene.rs checks this list against it.
+pub const SHADING_NAMES: &[&str] = &[
+    "shading-lambert",
+    "shading-oren_nayar",
+    "shading-phong",
+    "shading-blinn_phong",
+    "shading-cook_torrance_metal",
+    "shading-cook_torrance_dielectric",
+    "shading-cook_torrance_backlit",
+    "shading-ward",
+    "shading-kajiya_kay",
+    "shading-specular",
+    "shading-vertex",
+];
+
 /// `[shading_sphere]`: which shading sphere, at which size, chip and widths.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShadingSphereSection {
-    /// A built-in shading scene's name (`scene::load::SHADING_NAMES`).
+    /// A built-in shading scene's name ([`SHADING_NAMES`]).
     pub scene: String,
     /// The sphere view's side in pixels, 2 ..= 4096; none = 256 (`shading-vertex`
     /// has no image and takes none).
@@ -147,9 +164,9 @@ impl ShadingSphereSection {
     /// The checks that need no unit: the scene is a built-in shading scene, the image
     /// side is in 2 ..= 4096 and `shading-vertex` has none. Errors name the field.
     pub fn validate(&self) -> Result<(), ConfigError> {
-        let names = super::load::SHADING_NAMES;
+        let names = SHADING_NAMES;
         if !names.contains(&self.scene.as_str()) {
-            let hint = super::load::did_you_mean(&self.scene, names, "");
+            let hint = super::suggest::did_you_mean(&self.scene, names, "");
             let hint = if hint.is_empty() {
                 String::new()
             } else {

@@ -25,10 +25,10 @@
 //! reference's true sphere by up to a pixel: it is what "all ideal" keeps (the bound).
 
 use super::cli::{reference_image, render_scene};
-use crate::scene::load::load_frame_scene;
 use super::sweep::DEFAULT_TRUTH_SAMPLES;
 use crate::report::attribution::{attribute, Attribution, Bound, Source};
 use crate::scene::format::{FScale, Scene};
+use crate::scene::load::load_frame_scene;
 use std::path::Path;
 
 /// The sources of a shafts scene (module notes).
