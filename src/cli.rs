@@ -4,6 +4,7 @@
 //! `<model>`, `<suite>` and the like are literal placeholders a user reads, not HTML.
 #![allow(rustdoc::invalid_html_tags)]
 
+use crate::frame::sweep::SweepPath;
 use crate::registry;
 use crate::report::alternates::modulate_alternates;
 use crate::report::shard::Shard;
@@ -74,7 +75,9 @@ pub enum Command {
         /// env-st_fagans_interior-sphere, env-st_fagans_interior-teapot), a shading
         /// scene (shading-<model>, shading-specular, shading-vertex: the sphere of
         /// `sweep`'s shading path at the GeForce widths) or a TOML scene file (one
-        /// with a `[shading]` table is a shading scene at its widths, docs/optimize.md).
+        /// with a `[shading_sphere]` section, or its alias a top-level `[shading]`
+        /// table, is a shading scene at its widths; one with `[test_scene]` the test
+        /// scene: docs/scenes.md). Every command takes the same scenes.
         #[arg(long, default_value = "fig6")]
         scene: String,
         /// Output PNG.
@@ -159,7 +162,8 @@ pub enum Command {
     /// from: `glare-pipeline scene fig6 > my.toml`, edit, then `render --scene
     /// my.toml`. Any name `render --scene` takes: the built-in scenes (compact,
     /// each section commented, units after the values), `test` (its `[test_scene]`
-    /// form) and the shading-* scenes (their `[shading]` form); a scene file prints
+    /// form) and the shading-* scenes (the `[shading]` alias of their
+    /// `[shading_sphere]` section); a scene file prints
     /// the same way. Every field of the format: docs/scenes.md.
     Scene {
         /// A built-in scene name (a misspelt one gets the nearest names) or a TOML file.
@@ -176,7 +180,7 @@ pub enum Command {
     /// descent, pruned by a sound bound before simulating); writes DIR/pareto.csv
     /// (every configuration evaluated), DIR/pareto.png (the objective against the first
     /// budget's error, that plane's front, the default) and DIR/best.toml (the scene with the widths found, for
-    /// `render --scene`; for a shading scene its `[shading]` file form), verified by a
+    /// `render --scene`; for a shading scene the `[shading]` alias of its `[shading_sphere]` section), verified by a
     /// fresh render. With `--params` naming the clocked chip's parameters (pipes,
     /// tmus, fifo_depth, cache_kb, …) and a time budget (`--budget "seconds<=0.17"`):
     /// the cheapest chip whose clocked frame time meets it, with DIR/pareto.csv,
@@ -193,7 +197,9 @@ pub enum Command {
     /// (night-street, shaded-metal, street-light, …: every pipeline's sources on the
     /// whole frame's error).
     Attribute {
-        /// A built-in scene or a TOML scene file.
+        /// A built-in scene or a TOML scene file (the scenes `render --scene` takes; a
+        /// shading sphere file with its own widths or chip is refused: attribute
+        /// starts from the GeForce defaults).
         #[arg(long)]
         scene: String,
         /// Output directory.
@@ -326,7 +332,9 @@ pub const MAX_TRACE_PIXELS: usize = 100_000;
 pub struct SweepArgs {
     /// A built-in scene (fig4, fig6, stage, the glare, env-MAP-OBJECT and frame
     /// scenes), a TOML scene file, or a shading scene (shading-<model> of the
-    /// shading-brdfs catalogue, shading-specular, shading-vertex).
+    /// shading-brdfs catalogue, shading-specular, shading-vertex, or a file with a
+    /// `[shading_sphere]` section or its `[shading]` alias, at the GeForce widths;
+    /// its image side is the sweep's default). The scenes `render --scene` takes.
     #[arg(long, required = true)]
     pub scene: Option<String>,
     /// Shafts scenes: planes, subplanes, texel_bits, fb_bits, weight_bits,
@@ -550,7 +558,7 @@ fn tables_cmd(dir: &std::path::Path) -> Result<(), String> {
 
 /// `envmap-dump`: a scene's environment-map volume as slices with its sidecar.
 fn envmap_dump_cmd(scene: &str, out: &std::path::Path, side: Option<u32>) -> Result<(), String> {
-    let sc = crate::scene::load::load_scene(scene)?;
+    let sc = crate::scene::load::load_frame_scene(scene)?;
     check_dir_out("out", out)?;
     let (_, car) = crate::pipeline::envmap::dump::dump_scene(&sc, side, out)?;
     println!(
@@ -946,9 +954,9 @@ fn run_shading_reproduction(name: &str, out: &std::path::Path, resume: bool) -> 
     Ok(())
 }
 
-/// The scene if it has a `[glare]` section (built-in name or file), else None.
-/// `sweep`'s three kinds: a shading scene, a scene with a `[glare]` section, a
-/// shafts scene.
+/// `sweep`: the scene loaded once, then its path ([`SweepPath`]) by what it holds: a
+/// shading sphere, the clocked chip's parameter, an environment scene, a scene of
+/// several pipelines, a glare scene, a shafts scene.
 fn sweep(args: SweepArgs) -> Result<(), String> {
     // clap requires the three without `merge`; an error, not a panic, if not.
     let need = |v: Option<String>, what: &str| {
@@ -966,30 +974,58 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         args.shard,
         args.resume,
     );
-    // An architecture parameter of the clocked chip: the frame drawn once, clocked on
-    // every value.
-    if let Some(p) = crate::chip::params::ChipParam::from_name(param) {
-        return crate::frame::chip_sweep::chip_sweep_cli(
-            scene,
-            p,
-            values,
-            out,
-            image,
-            args.max_memory,
-            (shard.is_some(), resume, args.attribute),
-        );
+    // One resolver for every kind of scene; what it holds picks the path.
+    let loaded = crate::scene::load::load_scene(scene)?;
+    let path = crate::frame::sweep::sweep_path(&loaded, param, args.attribute)?;
+    match path {
+        SweepPath::TestScene => {
+            return Err(
+                "scene: the foundation test scene (`render --scene test`) has no sample \
+                 planes to sweep; use fig4, fig6, stage or a TOML scene file"
+                    .to_string(),
+            )
+        }
+        SweepPath::Shading => {
+            return shading_sweep(
+                &loaded,
+                param,
+                values,
+                out,
+                image,
+                (shard, resume),
+                (args.attribute, args.max_memory),
+            )
+        }
+        // An architecture parameter of the clocked chip: the frame drawn once, clocked
+        // on every value.
+        SweepPath::Chip => {
+            let p = crate::chip::params::ChipParam::from_name(param)
+                .ok_or_else(|| format!("param: unknown parameter '{param}'"))?;
+            return crate::frame::chip_sweep::chip_sweep_cli(
+                scene,
+                loaded,
+                p,
+                values,
+                out,
+                image,
+                args.max_memory,
+                (shard.is_some(), resume, args.attribute),
+            );
+        }
+        _ => {}
     }
-    crate::frame::budget::check_sweep(scene, param, values, image, args.max_memory)?;
+    crate::frame::budget::check_sweep(&loaded, param, values, image, args.max_memory)?;
     check_dir_out("out", out)?;
-    if args.attribute {
-        let image = image
-            .map(crate::pipeline::shafts::sweep::parse_image)
-            .transpose()?;
-        return crate::pipeline::shading::attributed_sweep::attributed_sweep_cli(
-            scene, param, values, out, image, shard, resume,
-        );
+    if path == SweepPath::AttributeRefused {
+        return Err(format!(
+            "--attribute: sweep attributes shading-* scenes only, not '{scene}'"
+        ));
     }
+    // The range warnings of the points it runs (its shard's share), once each.
+    let points = crate::frame::budget::sweep_points(&loaded, param, values, image)?;
     sweep_kinds(
+        loaded,
+        path,
         scene,
         param,
         values,
@@ -999,8 +1035,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         shard,
         resume,
     )?;
-    // The range warnings of the points it ran (its shard's share), once each.
-    if let Some(mut points) = crate::frame::budget::sweep_points(scene, param, values, image)? {
+    if let Some(mut points) = points {
         if let Some(sh) = shard {
             let keep = sh.indices(points.len());
             points = keep.into_iter().map(|i| points[i].clone()).collect();
@@ -1010,11 +1045,49 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
     Ok(())
 }
 
-/// [`sweep`] by kind: a shading scene, a scene with a `[glare]` section, a shafts
-/// scene.
+/// `sweep` of a shading sphere: a width of the section's built-in shading scene from
+/// its GeForce defaults, on the section's image side unless `--image` gives one
+/// (with `--attribute`, each point attributed).
+// The command line's options, one argument each.
+#[allow(clippy::too_many_arguments)]
+fn shading_sweep(
+    loaded: &crate::scene::format::Scene,
+    param: &str,
+    values: &str,
+    out: &std::path::Path,
+    image: Option<&str>,
+    (shard, resume): (Option<Shard>, bool),
+    (attribute, max_memory): (bool, Option<u64>),
+) -> Result<(), String> {
+    let Some(s) = &loaded.shading_sphere else {
+        return Err("scene: not a shading sphere".into());
+    };
+    defaults_only(s, "sweep")?;
+    let image = match image {
+        Some(img) => Some(crate::pipeline::shafts::sweep::parse_image(img)?),
+        None => s.image.map(|side| (side, side)),
+    };
+    // Square views only (the sweep refuses others); 256 by default.
+    let side = image.map_or(crate::scene::shading_sphere::DEFAULT_IMAGE, |(w, _)| w);
+    crate::frame::budget::check_shading_sweep(side, max_memory)?;
+    check_dir_out("out", out)?;
+    if attribute {
+        return crate::pipeline::shading::attributed_sweep::attributed_sweep_cli(
+            &s.scene, param, values, out, image, shard, resume,
+        );
+    }
+    crate::pipeline::shading::sweep::shading_sweep_cli(
+        &s.scene, param, values, out, image, shard, resume,
+    )
+}
+
+/// [`sweep`] of a scene of lights and objects by its [`SweepPath`]: an environment
+/// scene, a scene of several pipelines, a glare scene, a shafts scene.
 // The command line's options, one argument each.
 #[allow(clippy::too_many_arguments)]
 fn sweep_kinds(
+    mut s: crate::scene::format::Scene,
+    path: SweepPath,
     scene: &str,
     param: &str,
     values: &str,
@@ -1024,37 +1097,34 @@ fn sweep_kinds(
     shard: Option<Shard>,
     resume: bool,
 ) -> Result<(), String> {
-    if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
-        let image = image
-            .map(crate::pipeline::shafts::sweep::parse_image)
-            .transpose()?;
-        return crate::pipeline::shading::sweep::shading_sweep_cli(
-            scene, param, values, out, image, shard, resume,
+    if path == SweepPath::Shafts {
+        return crate::pipeline::shafts::sweep::sweep_cli(
+            s,
+            scene,
+            param,
+            values,
+            out,
+            truth_samples,
+            image,
+            shard,
+            resume,
         );
     }
-    if let Some(mut s) = crate::pipeline::envmap::scene_render::environment_scene(scene)? {
-        crate::scene::load::apply_image(&mut s, image)?;
-        return crate::pipeline::envmap::sweep::envmap_sweep_cli(
+    crate::scene::load::apply_image(&mut s, image)?;
+    match path {
+        SweepPath::Environment => crate::pipeline::envmap::sweep::envmap_sweep_cli(
             &s, scene, param, values, out, shard, resume,
-        );
-    }
-    // A scene of several pipelines sweeps through the frame, a glare scene through the
-    // glare pass (over its shafts backdrop, if any), the rest as shafts scenes.
-    if scene != "test" {
-        let mut s = crate::scene::load::load_scene(scene)?;
-        crate::scene::load::apply_image(&mut s, image)?;
-        if crate::frame::sweep::is_frame_scene(&s)? {
-            return crate::frame::sweep::frame_sweep_cli(
-                &s, scene, param, values, out, shard, resume,
-            );
+        ),
+        SweepPath::Frame => {
+            crate::frame::sweep::frame_sweep_cli(&s, scene, param, values, out, shard, resume)
         }
-        if s.glare.is_some() {
+        _ => {
             let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
                 Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
             } else {
                 None
             };
-            return crate::pipeline::glare::sweep::glare_sweep_cli(
+            crate::pipeline::glare::sweep::glare_sweep_cli(
                 &s,
                 scene,
                 param,
@@ -1063,26 +1133,20 @@ fn sweep_kinds(
                 backdrop.as_ref(),
                 shard,
                 resume,
-            );
+            )
         }
     }
-    crate::pipeline::shafts::sweep::sweep_cli(
-        scene,
-        param,
-        values,
-        out,
-        truth_samples,
-        image,
-        shard,
-        resume,
-    )
 }
 
 /// `attribute`: every argument checked (scene, image size, output directory) before
 /// anything renders; the pipeline picked by the scene's sections (glare, then an
 /// environment object, then shafts).
 fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Result<(), String> {
-    if scene == "test" {
+    use crate::frame::attribute::AttributePath as P;
+    // One resolver for every kind of scene; what it holds picks the path.
+    let mut s = crate::scene::load::load_scene(scene)?;
+    let path = crate::frame::attribute::attribute_path(&s)?;
+    if path == P::TestScene {
         return Err(format!(
             "scene: '{scene}' has no error sources attribute knows (it covers shafts \
              scenes: fig4, fig6, stage; glare scenes; env-MAP-OBJECT scenes; shading-* \
@@ -1092,18 +1156,16 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
     let size = image
         .map(crate::pipeline::shafts::sweep::parse_image)
         .transpose()?;
-    if scene.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
-        let c = crate::pipeline::shading::attribute::config_for_cli(scene, size)?;
+    if let (P::Shading, Some(sec)) = (path, &s.shading_sphere) {
+        defaults_only(sec, "attribute")?;
+        let size = size.or(sec.image.map(|side| (side, side)));
+        let c = crate::pipeline::shading::attribute::config_for_cli(&sec.scene, size)?;
         check_attribute_out(out)?;
         let t0 = std::time::Instant::now();
         let a = crate::pipeline::shading::attribute::attribute_shading(&c, out)?;
         let n = c.view.size;
         return print_attribution(scene, "shading", (n, n), &a, t0);
     }
-    let mut s = match crate::pipeline::envmap::scene_render::environment_scene(scene)? {
-        Some(s) => s,
-        None => crate::pipeline::shafts::cli::load_scene(scene)?,
-    };
     if let Some((w, h)) = size {
         s.image.width = w;
         s.image.height = h;
@@ -1111,36 +1173,62 @@ fn attribute_cmd(scene: &str, out: &std::path::Path, image: Option<&str>) -> Res
     s.validate().map_err(|e| e.to_string())?;
     check_attribute_out(out)?;
     let t0 = std::time::Instant::now();
-    let (a, kind) = if crate::frame::sweep::is_frame_scene(&s)? {
-        let pipelines = crate::frame::plan::frame_pipelines(&s).map_err(|e| e.to_string())?;
-        (
-            crate::frame::attribute::attribute_frame(&s, out)?,
-            format!("frame: {}", pipelines.join(" + ")),
-        )
-    } else if s.glare.is_some() {
-        let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
-            Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
-        } else {
-            None
-        };
-        let a = crate::pipeline::glare::attribute::attribute_glare(&s, backdrop.as_ref(), out)?;
-        (a, "glare".to_string())
-    } else if s.environment.as_ref().is_some_and(|e| e.object.is_some()) {
-        (
+    let (a, kind) = match path {
+        P::Frame => {
+            let pipelines = crate::frame::plan::frame_pipelines(&s).map_err(|e| e.to_string())?;
+            (
+                crate::frame::attribute::attribute_frame(&s, out)?,
+                format!("frame: {}", pipelines.join(" + ")),
+            )
+        }
+        P::Glare => {
+            let backdrop = if crate::frame::plan::shafts_backdrop(&s) {
+                Some(crate::frame::run::shafts_backdrop(&s).map_err(|e| e.to_string())?)
+            } else {
+                None
+            };
+            let a = crate::pipeline::glare::attribute::attribute_glare(&s, backdrop.as_ref(), out)?;
+            (a, "glare".to_string())
+        }
+        P::Environment => (
             crate::pipeline::envmap::attribute::attribute_envmap(&s, out)?,
             "environment map".to_string(),
-        )
-    } else if s.lights.is_empty() {
-        return Err(format!(
-            "scene: '{scene}' has no lights, glare or environment object: nothing to attribute"
-        ));
-    } else {
-        (
+        ),
+        P::Shafts => (
             crate::pipeline::shafts::attribute::attribute_shafts(&s, out)?,
             "shafts".to_string(),
-        )
+        ),
+        P::Nothing | P::TestScene | P::Shading => {
+            return Err(format!(
+                "scene: '{scene}' has no lights, glare or environment object: nothing to attribute"
+            ))
+        }
     };
     print_attribution(scene, &kind, (s.image.width, s.image.height), &a, t0)
+}
+
+/// A shading sphere's `sweep` and `attribute` start from the scene's GeForce
+/// defaults: a section that sets widths or a chip is refused, naming the field,
+/// rather than its settings dropped (`render` and `optimize` take them).
+fn defaults_only(
+    s: &crate::scene::shading_sphere::ShadingSphereSection,
+    command: &str,
+) -> Result<(), String> {
+    if let Some(k) = s.hw.keys().next() {
+        return Err(format!(
+            "{}.hw.{k}: {command} starts from the scene's GeForce widths; give the \
+             built-in `{}` (render and optimize take a file's widths)",
+            s.table, s.scene
+        ));
+    }
+    if !s.chip.is_default() {
+        return Err(format!(
+            "{}.chip: {command} runs the GeForce2's modes; give the built-in `{}` \
+             (render and optimize take a file's chip)",
+            s.table, s.scene
+        ));
+    }
+    Ok(())
 }
 
 /// `out` is a directory attribute can write (`report::outputs`).

@@ -1635,6 +1635,19 @@ fn format_scenes() -> Vec<Scene> {
         .map(|n| builtin(n).unwrap())
         .collect();
     v.extend(maximal_scenes());
+    // The shading sphere with every field of its section (each width set: the serde
+    // format holds any of them; which a scene takes is validation's), and the test
+    // scene.
+    let mut sphere = load_scene("shading-specular").unwrap();
+    let sec = sphere.shading_sphere.as_mut().unwrap();
+    sec.image = Some(64);
+    sec.chip = rtl_model::chip_preset::ChipPreset::parse("chip", "nv2a").unwrap();
+    sec.hw = glare_pipeline::pipeline::shading::sweep::SHADING_PARAMS
+        .iter()
+        .map(|p| (p.to_string(), 8))
+        .collect();
+    v.push(sphere);
+    v.push(Scene::test_scene());
     v
 }
 
@@ -2004,11 +2017,17 @@ fn misspelt_names_and_missing_files_are_told_apart() {
         let e = load_scene(missing).unwrap_err();
         assert_eq!(e, format!("scene: file not found: {missing}"));
     }
-    // `test` and the shading scenes are names of other kinds: said so.
-    assert!(load_scene("test")
+    // `test` and the shading scenes are scenes of other kinds: the one resolver takes
+    // them, a tool of lights and objects says what they are.
+    assert!(load_scene("test").unwrap().test_scene.is_some());
+    assert!(load_scene("shading-phong")
+        .unwrap()
+        .shading_sphere
+        .is_some());
+    assert!(load::load_frame_scene("test")
         .unwrap_err()
         .contains("foundation test scene"));
-    assert!(load_scene("shading-phong")
+    assert!(load::load_frame_scene("shading-phong")
         .unwrap_err()
         .contains("shading scene"));
 }

@@ -88,6 +88,8 @@ fn scene(
         glare: None,
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: None,
     }
 }

@@ -21,6 +21,41 @@ use crate::report::attribution::{attribute, Attribution, Bound, Source};
 use crate::scene::format::Scene;
 use std::path::Path;
 
+/// The path `attribute` takes, by what the scene holds (never by its name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AttributePath {
+    /// The foundation test scene: no error sources (refused).
+    TestScene,
+    /// A shading sphere's widths (`pipeline::shading::attribute`).
+    Shading,
+    /// A scene of several pipelines, through the frame.
+    Frame,
+    /// A glare scene (over its shafts backdrop, if any).
+    Glare,
+    /// An environment-map scene's thesis object.
+    Environment,
+    /// No lights, glare or environment object: nothing to attribute (refused).
+    Nothing,
+    /// A shafts scene.
+    Shafts,
+}
+
+/// [`AttributePath`] of a loaded scene.
+pub fn attribute_path(s: &Scene) -> Result<AttributePath, String> {
+    use crate::scene::format::SceneKind;
+    Ok(match s.kind() {
+        SceneKind::Test => AttributePath::TestScene,
+        SceneKind::ShadingSphere(_) => AttributePath::Shading,
+        SceneKind::Frame if super::sweep::is_frame_scene(s)? => AttributePath::Frame,
+        SceneKind::Frame if s.glare.is_some() => AttributePath::Glare,
+        SceneKind::Frame if s.environment.as_ref().is_some_and(|e| e.object.is_some()) => {
+            AttributePath::Environment
+        }
+        SceneKind::Frame if s.lights.is_empty() => AttributePath::Nothing,
+        SceneKind::Frame => AttributePath::Shafts,
+    })
+}
+
 /// Every source of the frame's pipelines, each named with its pipeline.
 pub fn sources(base: &Scene) -> Result<Vec<Source<Scene>>, String> {
     let mut v = Vec::new();

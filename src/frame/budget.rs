@@ -218,8 +218,8 @@ pub fn check_estimate(e: Estimate, budget: u64, budget_from: &str) -> Result<Est
 pub const BYTES_PER_VERTEX: u64 = 128;
 
 /// The large allocations of `render --scene` on a shading scene (`shading-*`, or a
-/// file with a `[shading]` table): the sphere view's image buffers (`image` × `image`
-/// pixels; the file's `shading.image` shrinks them), or for `shading-vertex`
+/// file with a `[shading_sphere]` section or its `[shading]` alias): the sphere view's
+/// image buffers (`image` × `image` pixels; the section's `image` shrinks them), or for `shading-vertex`
 /// (`image` None: no image) its fixed sphere of lit vertices.
 pub fn shading_estimate(image: Option<u32>) -> Estimate {
     use crate::pipeline::shading::sweep::{VERTEX_RINGS, VERTEX_SEGMENTS};
@@ -229,7 +229,9 @@ pub fn shading_estimate(image: Option<u32>) -> Estimate {
             Item {
                 what: format!("image buffers ({side} × {side} pixels)"),
                 bytes: (s * s).saturating_mul(BYTES_PER_PIXEL),
-                shrink: "shading.image (in a [shading] scene file; default 256)".into(),
+                shrink:
+                    "shading_sphere.image (shading.image in the [shading] alias form; default 256)"
+                        .into(),
             }
         }
         None => {
@@ -309,43 +311,37 @@ pub fn check_items(
     ))
 }
 
-/// The frames of a sweep of `param` over `values` on `scene_name` (with `--image`
+/// The frames of a sweep of `param` over `values` on `scene` (with `--image`
 /// applied), each with its label (`planes = 20`): what the memory check and the range
-/// warnings look at. None for a shading scene (`shading-*`: sphere views, no scene)
-/// and for `test` (the sweep refuses it). Errors in the scene, param or values are the
-/// sweep's own (the same checks it makes next).
+/// warnings look at. None for a shading sphere (sphere views, no frame) and for the
+/// test scene (the sweep refuses it). Errors in the param or values are the sweep's
+/// own (the same checks it makes next).
 pub fn sweep_points(
-    scene_name: &str,
+    scene: &Scene,
     param: &str,
     values: &str,
     image: Option<&str>,
 ) -> Result<Option<Vec<(String, Scene)>>, String> {
     use crate::pipeline::shafts::sweep as sh;
-    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) || scene_name == "test"
-    {
+    if scene.kind() != crate::scene::format::SceneKind::Frame {
         return Ok(None);
     }
+    let mut base = scene.clone();
+    if let Some(img) = image {
+        let (w, h) = sh::parse_image(img)?;
+        base.image.width = w;
+        base.image.height = h;
+    }
     // An environment scene sweeps its own parameters (`side`), as `sweep` dispatches it.
-    if let Some(mut env) = crate::pipeline::envmap::scene_render::environment_scene(scene_name)? {
-        if let Some(img) = image {
-            let (w, h) = sh::parse_image(img)?;
-            env.image.width = w;
-            env.image.height = h;
-        }
+    if super::sweep::environment_sweep(&base) {
         let vs = crate::report::sweep_out::parse_int_values(values)?;
-        let scenes = crate::pipeline::envmap::sweep::envmap_scenes(&env, param, &vs)?;
+        let scenes = crate::pipeline::envmap::sweep::envmap_scenes(&base, param, &vs)?;
         return Ok(Some(
             vs.iter()
                 .map(|v| format!("{param} = {v}"))
                 .zip(scenes)
                 .collect(),
         ));
-    }
-    let mut base = crate::scene::load::load_scene(scene_name)?;
-    if let Some(img) = image {
-        let (w, h) = sh::parse_image(img)?;
-        base.image.width = w;
-        base.image.height = h;
     }
     if super::sweep::is_frame_scene(&base)? {
         let p = super::sweep::resolve_param(&base, param)?;
@@ -376,31 +372,30 @@ pub fn sweep_points(
     }))
 }
 
+/// `sweep`'s memory check of a shading sphere's sweep, before the first point runs:
+/// its sphere view's buffers (`side` × `side`).
+pub fn check_shading_sweep(side: u32, max_memory: Option<u64>) -> Result<(), String> {
+    let (budget, from) = resolve(max_memory);
+    let side = u64::from(side);
+    let item = Item {
+        what: format!("image buffers ({side} × {side} pixels)"),
+        bytes: (side * side).saturating_mul(BYTES_PER_PIXEL),
+        shrink: "--image".into(),
+    };
+    check_items(vec![item], &format!("--image {side}x{side}"), budget, &from)
+}
+
 /// `sweep`'s memory check, before the first point runs: the largest of its
-/// [`sweep_points`] against the budget. A shading scene (`shading-*`) counts its
-/// sphere view's buffers.
+/// [`sweep_points`] against the budget.
 pub fn check_sweep(
-    scene_name: &str,
+    scene: &Scene,
     param: &str,
     values: &str,
     image: Option<&str>,
     max_memory: Option<u64>,
 ) -> Result<(), String> {
     let (budget, from) = resolve(max_memory);
-    if scene_name.starts_with(crate::pipeline::shading::sweep::SCENE_PREFIX) {
-        // Square views only (the sweep refuses others); 256 by default.
-        let side = match image {
-            Some(img) => u64::from(crate::pipeline::shafts::sweep::parse_image(img)?.0),
-            None => 256,
-        };
-        let item = Item {
-            what: format!("image buffers ({side} × {side} pixels)"),
-            bytes: (side * side).saturating_mul(BYTES_PER_PIXEL),
-            shrink: "--image".into(),
-        };
-        return check_items(vec![item], &format!("--image {side}x{side}"), budget, &from);
-    }
-    match sweep_points(scene_name, param, values, image)? {
+    match sweep_points(scene, param, values, image)? {
         Some(points) => check_largest(&points, budget, &from),
         None => Ok(()),
     }

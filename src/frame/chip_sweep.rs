@@ -220,14 +220,15 @@ pub fn table(rows: &[ChipSweepRow]) -> String {
     out
 }
 
-/// `sweep --param <architecture parameter>`: every argument checked before the frame
-/// is drawn (the scene, the image size, the memory budget, every value's chip, the
+/// `sweep --param <architecture parameter>` on `scene` (loaded from `scene_name`):
+/// every argument checked before the frame is drawn (the image size, the memory budget, every value's chip, the
 /// output directory); `--shard`, `--resume` and `--attribute` are refused (the frame
 /// is drawn once for all values, so there is nothing to split or resume).
 // The command line's options, one argument each.
 #[allow(clippy::too_many_arguments)]
 pub fn chip_sweep_cli(
     scene_name: &str,
+    mut scene: Scene,
     param: ChipParam,
     values: &str,
     out: &Path,
@@ -249,7 +250,6 @@ pub fn chip_sweep_cli(
             ));
         }
     }
-    let mut scene = crate::scene::load::load_scene(scene_name)?;
     crate::scene::load::apply_image_checked(&mut scene, image)?;
     let sweep = check_chip_sweep(scene_name, scene, param, values)?;
     let (budget, from) = super::budget::resolve(max_memory);

@@ -6,9 +6,12 @@ use super::chip::{chip_table, elaborate};
 use super::plan::{plan, plan_table, test_scene_plan};
 use super::run::render_timed;
 use super::timing::{ChipName, TimingMode, TimingRequest};
-use crate::pipeline::shafts::cli::{load_scene, reference_image};
+use crate::pipeline::shading::scene_file::ShadingFile;
+use crate::pipeline::shafts::cli::reference_image;
 use crate::report::render_json::{value, Family, PassEntry, RenderJson, Timing};
 use crate::report::table::{chip_elaboration_table, counters_table, text_table};
+use crate::scene::format::{Scene, SceneKind};
+use crate::scene::load::load_scene;
 use std::path::Path;
 
 /// `render`'s timing flags.
@@ -126,18 +129,21 @@ pub fn render_cli(
         plan_only,
         chip_files,
     };
-    // The foundation test scene: `test`, or its `[test_scene]` file form.
-    if crate::scene::test_scene::resolve(name)? {
-        timing.refuse_outside_frame("the foundation test scene")?;
-        return render_test_scene(size, &out);
-    }
-    // A shading scene (`shading-*`, or a file with a `[shading]` table: what
-    // `optimize` writes as best.toml for one) renders through the shading sweep's path.
-    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
-        timing.refuse_outside_frame("a shading scene")?;
-        return render_shading_scene(name, f, image, max_memory, &out);
-    }
+    // One resolver for every kind of scene; what the scene holds picks the path.
     let mut scene = load_scene(name)?;
+    match render_path(&scene) {
+        RenderPath::TestScene => {
+            timing.refuse_outside_frame("the foundation test scene")?;
+            return render_test_scene(size, &out);
+        }
+        RenderPath::ShadingSphere => {
+            // The shading sweep's path, at the section's widths.
+            let f = ShadingFile::from_scene(&scene)?;
+            timing.refuse_outside_frame("a shading scene")?;
+            return render_shading_scene(name, f, image, max_memory, &out);
+        }
+        RenderPath::Environment | RenderPath::Frame => {}
+    }
     if let Some((w, h)) = size {
         scene.image.width = w;
         scene.image.height = h;
@@ -181,6 +187,29 @@ pub fn render_cli(
         return print_plan(&scene, &chip, json);
     }
     render_frame(&scene, &out, &req, chip_config)
+}
+
+/// The path `render` takes, by what the scene holds (never by its name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RenderPath {
+    /// The foundation test scene's renderer (`pipeline::test_scene`).
+    TestScene,
+    /// The shading units' sphere through the shading sweep's path.
+    ShadingSphere,
+    /// An environment-map scene of the thesis: its own report (map build, truth).
+    Environment,
+    /// The frame's passes.
+    Frame,
+}
+
+/// [`RenderPath`] of a loaded scene.
+pub fn render_path(scene: &Scene) -> RenderPath {
+    match scene.kind() {
+        SceneKind::Test => RenderPath::TestScene,
+        SceneKind::ShadingSphere(_) => RenderPath::ShadingSphere,
+        SceneKind::Frame if super::plan::environment_scene(scene) => RenderPath::Environment,
+        SceneKind::Frame => RenderPath::Frame,
+    }
 }
 
 /// Where and how `render` reports: the PNG, JSON or text, the reference PNG, and
@@ -231,7 +260,7 @@ fn render_test_scene(size: Option<(u32, u32)>, o: &RenderOut) -> Result<(), Stri
 /// `render` of a shading scene at `image` (a square side) or its own size.
 fn render_shading_scene(
     name: &str,
-    mut f: crate::pipeline::shading::scene_file::ShadingFile,
+    mut f: ShadingFile,
     image: Option<&str>,
     max_memory: Option<u64>,
     o: &RenderOut,
@@ -538,14 +567,16 @@ fn work(scene: &crate::scene::format::Scene) -> f64 {
 
 /// `units --scene NAME`: the chip the scene elaborates.
 pub fn units_scene_cli(name: &str, json: bool) -> Result<(), String> {
-    if name == "test" {
+    let scene = load_scene(name)?;
+    if scene.kind() == SceneKind::Test {
         return Err(
             "scene: the foundation test scene has fixed units (`render --scene test --plan`)"
                 .into(),
         );
     }
     // A shading scene's chip is its path's units at its widths.
-    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(name)? {
+    if render_path(&scene) == RenderPath::ShadingSphere {
+        let f = ShadingFile::from_scene(&scene)?;
         let (gates, ram_bits) = crate::pipeline::shading::sweep::point_cost(&f.point)?;
         let widths: std::collections::BTreeMap<_, _> = f.point.widths().into_iter().collect();
         if json {
@@ -575,7 +606,6 @@ chip: the shading path's units at these widths, {gates:.0} NAND2 gates, {ram_bit
         }
         return Ok(());
     }
-    let scene = load_scene(name)?;
     let chip = elaborate(&scene);
     if json {
         println!(

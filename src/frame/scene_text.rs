@@ -1,11 +1,12 @@
 //! `glare-pipeline scene NAME`: any name `render --scene` takes, as the file that
 //! renders the same: a built-in scene as compact, commented TOML, a `shading-*` scene
-//! as its `[shading]` file form, `test` as its `[test_scene]` form; a scene file
+//! as its `[shading]` file form (the alias of a `[shading_sphere]` section), `test` as its `[test_scene]` form; a scene file
 //! printed the same way. And `scene --reference FILE`: the scene format's reference
 //! (docs/scenes.md) from the field table.
 
 use crate::pipeline::shading::scene_file::ShadingFile;
-use crate::scene::load::{builtin_names, load_scene, SHADING_NAMES, TEST_NAME};
+use crate::scene::format::SceneKind;
+use crate::scene::load::{builtin_names, load_scene, SHADING_NAMES};
 use std::path::Path;
 
 /// The scene the reference's worked example shows.
@@ -13,32 +14,32 @@ pub const EXAMPLE: &str = "fig6";
 
 /// The text `scene NAME` prints.
 pub fn scene_text(name: &str) -> Result<String, String> {
-    if name == TEST_NAME {
-        return Ok(crate::scene::test_scene::file_toml());
-    }
-    if SHADING_NAMES.contains(&name) {
-        let f = ShadingFile::builtin(name)?;
-        return shading_text(&f, &format!("built-in shading scene `{name}`"));
-    }
     if builtin_names().contains(&name) {
         return crate::scene::builtin::builtin_toml(name).map_err(|e| e.to_string());
     }
-    // A file: printed in the same form (a shading or test-scene file in its own).
-    if crate::scene::test_scene::resolve(name)? {
-        return Ok(crate::scene::test_scene::file_toml());
-    }
-    if let Some(f) = ShadingFile::resolve(name)? {
-        return shading_text(&f, &format!("shading scene file {name}"));
-    }
     let scene = load_scene(name)?;
-    crate::scene::print::scene_toml(
-        &scene,
-        &format!(
-            "# Scene file {name} ({}).\n# Every field is in docs/scenes.md.\n\n",
-            scene.name
-        ),
-    )
-    .map_err(|e| e.to_string())
+    match scene.kind() {
+        // The test scene in its `[test_scene]` form.
+        SceneKind::Test => Ok(crate::scene::test_scene::file_toml()),
+        // A shading sphere in its `[shading]` form, every width written out.
+        SceneKind::ShadingSphere(s) => {
+            let f = ShadingFile::from_section(s)?;
+            let what = if SHADING_NAMES.contains(&name) {
+                format!("built-in shading scene `{name}`")
+            } else {
+                format!("shading scene file {name}")
+            };
+            shading_text(&f, &what)
+        }
+        SceneKind::Frame => crate::scene::print::scene_toml(
+            &scene,
+            &format!(
+                "# Scene file {name} ({}).\n# Every field is in docs/scenes.md.\n\n",
+                scene.name
+            ),
+        )
+        .map_err(|e| e.to_string()),
+    }
 }
 
 /// A shading scene's `[shading]` form, commented.

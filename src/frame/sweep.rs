@@ -37,6 +37,52 @@ pub fn is_frame_scene(scene: &Scene) -> Result<bool, String> {
     Ok(frame_pipelines(scene).map_err(|e| e.to_string())?.len() > 1)
 }
 
+/// Whether `sweep` takes the scene through the environment-map sweep: it has an
+/// environment and no glare.
+pub fn environment_sweep(scene: &Scene) -> bool {
+    scene.environment.is_some() && scene.glare.is_none()
+}
+
+/// The path `sweep` takes, by what the scene holds and the parameter (never by the
+/// scene's name).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SweepPath {
+    /// The foundation test scene: nothing to sweep (refused).
+    TestScene,
+    /// A shading sphere's width (`pipeline::shading::sweep`; with `--attribute`,
+    /// `pipeline::shading::attributed_sweep`).
+    Shading,
+    /// An architecture parameter of the clocked chip (`frame::chip_sweep`).
+    Chip,
+    /// `--attribute` on a scene of lights and objects (refused).
+    AttributeRefused,
+    /// An environment-map scene's own parameters (`pipeline::envmap::sweep`).
+    Environment,
+    /// A scene of several pipelines, through the frame.
+    Frame,
+    /// A glare scene through the glare pass (over its shafts backdrop, if any).
+    Glare,
+    /// A shafts scene.
+    Shafts,
+}
+
+/// [`SweepPath`] of a loaded scene, `--param` and `--attribute`.
+pub fn sweep_path(scene: &Scene, param: &str, attribute: bool) -> Result<SweepPath, String> {
+    use crate::scene::format::SceneKind;
+    Ok(match scene.kind() {
+        SceneKind::Test => SweepPath::TestScene,
+        SceneKind::ShadingSphere(_) => SweepPath::Shading,
+        SceneKind::Frame if crate::chip::params::ChipParam::from_name(param).is_some() => {
+            SweepPath::Chip
+        }
+        SceneKind::Frame if attribute => SweepPath::AttributeRefused,
+        SceneKind::Frame if environment_sweep(scene) => SweepPath::Environment,
+        SceneKind::Frame if is_frame_scene(scene)? => SweepPath::Frame,
+        SceneKind::Frame if scene.glare.is_some() => SweepPath::Glare,
+        SceneKind::Frame => SweepPath::Shafts,
+    })
+}
+
 /// One sweepable field of a frame scene: its pipeline and qualified name.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct FrameParam {

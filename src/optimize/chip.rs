@@ -124,9 +124,14 @@ pub fn parse_time_budget(text: &str) -> Result<f64, String> {
     Ok(s)
 }
 
-/// Every argument checked before any work, each error naming its argument.
+/// Every argument checked before any work, each error naming its argument (the
+/// scene loaded from `a.scene`: a scene of lights and objects).
 pub fn check_chip(a: &OptimizeArgs) -> Result<ChipPlan, String> {
-    let mut scene = crate::scene::load::load_scene(&a.scene)?;
+    check_chip_on(a, crate::scene::load::load_frame_scene(&a.scene)?)
+}
+
+/// [`check_chip`] of the scene `a.scene` loaded to.
+pub fn check_chip_on(a: &OptimizeArgs, mut scene: Scene) -> Result<ChipPlan, String> {
     crate::scene::load::apply_image_checked(&mut scene, a.image.as_deref())?;
     let list = a.params.as_deref().unwrap_or_default();
     let mut params = Vec::new();
@@ -586,7 +591,12 @@ fn plot(plan: &ChipPlan, o: &ChipOutcome, path: &Path) -> Result<(), String> {
 /// checked first; the search; `pareto.csv`, `pareto.png` and `best_chip.toml` (the best
 /// chip's every field); the best chip verified by a fresh clocked render.
 pub fn optimize_chip_cli(a: &OptimizeArgs) -> Result<(), String> {
-    let plan = check_chip(a)?;
+    optimize_chip_on(a, crate::scene::load::load_frame_scene(&a.scene)?)
+}
+
+/// [`optimize_chip_cli`] of the scene `a.scene` loaded to.
+pub fn optimize_chip_on(a: &OptimizeArgs, scene: Scene) -> Result<(), String> {
+    let plan = check_chip_on(a, scene)?;
     std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
     eprintln!(
         "optimize {} ({}x{}, the {} chip's architecture): budget seconds<={}; objective {}; params {}",

@@ -24,7 +24,8 @@ pub struct OptimizeArgs {
     /// A shafts scene (fig4, fig6, stage), a glare scene (glare-point,
     /// glare-elliptic, …), an environment-map scene (env-pattern-sphere, …), a shading
     /// scene (shading-<model>, shading-specular, shading-vertex) or a TOML file of
-    /// these.
+    /// these (a shading scene file: a `[shading_sphere]` section or its `[shading]`
+    /// alias). The scenes `render --scene` takes.
     #[arg(long)]
     pub scene: String,
     /// METRIC<=LEVELS with METRIC max, rms or mean (8-bit levels), e.g. "max<=1";
@@ -82,19 +83,11 @@ pub struct Plan {
 /// Every argument checked, in the order given, each error naming its argument; no
 /// rendering, no file written.
 pub fn check(a: &OptimizeArgs) -> Result<Plan, String> {
-    let name = a.scene.as_str();
-    if name == "test" {
-        return Err(format!(
-            "scene: '{name}' is not a scene optimize can search (it covers shafts scenes: \
-             fig4, fig6, stage; glare scenes: glare-point, glare-elliptic, …; \
-             environment-map scenes: env-pattern-sphere, …; shading scenes: \
-             shading-<model>, shading-specular, shading-vertex; TOML files of these)"
-        ));
-    }
-    let mut scene = match crate::pipeline::envmap::scene_render::environment_scene(name)? {
-        Some(env) => env,
-        None => crate::scene::load::load_scene(name)?,
-    };
+    check_on(a, crate::scene::load::load_frame_scene(&a.scene)?)
+}
+
+/// [`check`] of the scene `a.scene` loaded to (a scene of lights and objects).
+pub fn check_on(a: &OptimizeArgs, mut scene: Scene) -> Result<Plan, String> {
     crate::scene::load::apply_image_checked(&mut scene, a.image.as_deref())?;
     if a.budget.is_empty() {
         return Err("budget: at least one --budget is needed, e.g. --budget \"max<=1\"".into());

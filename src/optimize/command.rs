@@ -3,24 +3,58 @@
 //! `cli.rs` (arguments, the search run, its outputs) and import nothing of this file.
 
 use super::chip;
-use super::cli::{best_toml, check, OptimizeArgs, SearchRun};
+use super::cli::{best_toml, check_on, OptimizeArgs, SearchRun};
 use super::eval::Evaluator;
 use super::search::describe;
 use super::shading;
+use crate::pipeline::shading::scene_file::ShadingFile;
 use crate::report::atomic::write_bytes;
-use crate::scene::format::Scene;
+use crate::scene::format::{Scene, SceneKind};
+
+/// The path `optimize` takes, by what the scene holds and which parameters are named.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OptimizePath {
+    /// The foundation test scene: nothing to search (refused).
+    Refused,
+    /// A shading sphere's widths (`shading.rs`).
+    ShadingWidths,
+    /// The clocked chip's parameters within a time budget (`chip.rs`).
+    Chip,
+    /// A scene's unit widths (`search.rs` over `eval.rs`).
+    SceneWidths,
+}
+
+/// [`OptimizePath`] of a loaded scene and `--params`.
+pub fn optimize_path(scene: &Scene, params: Option<&str>) -> OptimizePath {
+    match scene.kind() {
+        SceneKind::Test => OptimizePath::Refused,
+        SceneKind::ShadingSphere(_) => OptimizePath::ShadingWidths,
+        SceneKind::Frame if params.is_some_and(chip::names_chip_params) => OptimizePath::Chip,
+        SceneKind::Frame => OptimizePath::SceneWidths,
+    }
+}
 
 /// The command: a shading scene, the clocked chip's parameters, or a scene's widths.
 pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
-    // A shading scene (`shading-*` or a `[shading]` file) has its own driver.
-    if let Some(f) = crate::pipeline::shading::scene_file::ShadingFile::resolve(&a.scene)? {
-        return shading::optimize_shading_cli(a, f);
-    }
-    // Parameters of the clocked chip: an architecture search within a time budget.
-    if a.params.as_deref().is_some_and(chip::names_chip_params) {
-        return chip::optimize_chip_cli(a);
-    }
-    let plan = check(a)?;
+    let scene = crate::scene::load::load_scene(&a.scene)?;
+    let plan = match optimize_path(&scene, a.params.as_deref()) {
+        OptimizePath::Refused => {
+            return Err(format!(
+                "scene: '{}' is not a scene optimize can search (it covers shafts scenes: \
+                 fig4, fig6, stage; glare scenes: glare-point, glare-elliptic, …; \
+                 environment-map scenes: env-pattern-sphere, …; shading scenes: \
+                 shading-<model>, shading-specular, shading-vertex; TOML files of these)",
+                a.scene
+            ))
+        }
+        // A shading scene (`shading-*` or a `[shading_sphere]` or `[shading]` file).
+        OptimizePath::ShadingWidths => {
+            return shading::optimize_shading_cli(a, ShadingFile::from_scene(&scene)?)
+        }
+        // Parameters of the clocked chip: an architecture search within a time budget.
+        OptimizePath::Chip => return chip::optimize_chip_on(a, scene),
+        OptimizePath::SceneWidths => check_on(a, scene)?,
+    };
     std::fs::create_dir_all(&plan.out).map_err(|e| format!("out: {}: {e}", plan.out.display()))?;
     let t0 = std::time::Instant::now();
     let ev = Evaluator::new(&plan.scene, plan.reference)?;

@@ -293,8 +293,9 @@ pub fn optimize_shading_cli(a: &OptimizeArgs, file: ShadingFile) -> Result<(), S
     let toml_path = plan.out.join("best.toml");
     write_bytes(&toml_path, best.to_toml(&header)?.as_bytes())?;
     // Verification: the written file read back and rendered afresh.
-    let again = ShadingFile::resolve(&toml_path.display().to_string())?
-        .ok_or_else(|| format!("best.toml: {} is not a shading scene", toml_path.display()))?;
+    let again = crate::scene::load::load_scene(&toml_path.display().to_string())
+        .and_then(|s| ShadingFile::from_scene(&s))
+        .map_err(|e| format!("best.toml: {e}"))?;
     let m = ev.measure(&again.point)?;
     run.verified(&o, bi, &toml_path, &m)
 }

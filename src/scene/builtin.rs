@@ -164,6 +164,8 @@ pub fn fig4() -> Scene {
         glare: None,
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: None,
     }
 }
@@ -206,6 +208,8 @@ pub fn fig6() -> Scene {
         glare: None,
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: None,
     }
 }
@@ -308,6 +312,8 @@ pub fn stage() -> Scene {
         glare: None,
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: None,
     }
 }

@@ -67,6 +67,8 @@ fn environment_scene(map: &str, object: EnvObject, lambda: EnvLambda) -> Scene {
         glare: None,
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: Some(EnvironmentSection {
             map: Some(map.to_string()),
             object: Some(object),

@@ -76,6 +76,8 @@ fn glare_scene(name: &str, seed: u64, camera: Camera, glare: GlareSection) -> Sc
         glare: Some(glare),
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: None,
     }
 }
@@ -201,6 +203,8 @@ pub fn street_light() -> Scene {
         glare: Some(g),
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: None,
     }
 }

@@ -113,6 +113,8 @@ pub fn night_street() -> Scene {
         // (a Poly Haven CC0 map shipped in src/scene/data/envmaps/), dimmed to night.
         rounding: None,
         shading_hw: None,
+        shading_sphere: None,
+        test_scene: None,
         environment: Some(EnvironmentSection {
             map: Some("venice_sunset".into()),
             exposure: Some(NIGHT_EXPOSURE),

@@ -43,6 +43,28 @@ pub struct Camera {
     pub far: f64,
 }
 
+impl Camera {
+    /// The camera of a scene that has none (a shading sphere, the test scene): eye
+    /// and look-at at the origin, which no valid camera has (`camera.look_at` must
+    /// differ from `camera.eye`). A scene of lights and objects without a camera is
+    /// refused by validation, naming `camera`.
+    pub fn unset() -> Camera {
+        Camera {
+            eye: [0.0; 3],
+            look_at: [0.0; 3],
+            up: default_up(),
+            fovy_deg: default_fovy(),
+            near: default_near(),
+            far: default_far(),
+        }
+    }
+
+    /// Whether this is [`Camera::unset`].
+    pub fn is_unset(&self) -> bool {
+        *self == Camera::unset()
+    }
+}
+
 fn default_up() -> [f64; 3] {
     [0.0, 1.0, 0.0]
 }

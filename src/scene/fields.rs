@@ -352,7 +352,7 @@ fields! {
     SEED = "seed", Ty::Int, "", Range::None, "1", NONE, "",
         "Seed of every random choice made for the scene (noise, leaves, patches).";
     CHIP = "chip", Ty::Choice(&rtl_model::chip_preset::ChipPreset::NAMES), "", Range::None, "\"geforce2\"", NONE, "",
-        "Which chip's behaviour the units follow where the GeForce2 (NV15, the project's defaults) and the original Xbox's NV2A (GeForce3-class, the chip of the hardware captures, docs/conformance.md) differ. No unit a frame scene elaborates differs between the two (shadow_compare's compare function and texel format are the scene's state on both), so a frame renders the same under either. The `shading-*` scenes take it as `[shading] chip`, where the squaring path's register combiners and the vertex lighting follow it (docs/shading.md).";
+        "Which chip's behaviour the units follow where the GeForce2 (NV15, the project's defaults) and the original Xbox's NV2A (GeForce3-class, the chip of the hardware captures, docs/conformance.md) differ. No unit a frame scene elaborates differs between the two (shadow_compare's compare function and texel format are the scene's state on both), so a frame renders the same under either. The shading spheres take it as `shading_sphere.chip`, where the squaring path's register combiners and the vertex lighting follow it (docs/shading.md).";
 
     // ---- [image]
     IMAGE = "image", Ty::Table, "", Range::None, "{ width = 720, height = 480 }", NONE, "",
@@ -366,7 +366,7 @@ fields! {
 
     // ---- [camera]
     CAMERA = "camera", Ty::Table, "", Range::None, "required", NONE, "",
-        "A pinhole camera (right-handed world, y up).";
+        "A pinhole camera (right-handed world, y up). Required in a scene of lights and objects; a `[shading_sphere]` or `[test_scene]` scene has none.";
     CAMERA_EYE = "camera.eye", Ty::Reals(3), "world units", POS, "required", WORLD, "",
         "Where the camera is.";
     CAMERA_LOOK_AT = "camera.look_at", Ty::Reals(3), "world units", POS, "required", WORLD, "",
@@ -844,6 +844,41 @@ fields! {
         "\"product_weights\"", NONE, "", "Bilinear filtering: weights multiplied out, or three lerps.";
     ROUNDING_WEIGHT = "rounding.weight", Ty::Choice(&["round", "round_half_even", "truncate"]), "", Range::None,
         "\"round\"", NONE, "", "Sub-texel fraction → filter weight.";
+
+    // ---- [shading_sphere]
+    SHADING_SPHERE = "shading_sphere", Ty::Table, "", Range::None, "none", NONE, "",
+        "The shading units' sphere: a built-in shading scene (`shading-<model>`, `shading-specular`, `shading-vertex`) at a chosen size, chip and widths, rendered through the shading path against its f64 reference (docs/shading.md). A scene that holds it is that sphere and nothing else: no camera, image, medium, lights, objects, shafts, glare, environment, rounding or shading_hw (validation refuses the mix, naming the field). A file whose top-level table is `[shading]` with the same keys reads as this section (errors then name `shading.*`); `scene shading-NAME` prints that form and `optimize` writes it as best.toml.";
+    SHADING_SPHERE_SCENE = "shading_sphere.scene", Ty::Str, "", Range::None, "required", NONE, "",
+        "The built-in shading scene: `shading-lambert`, `shading-oren_nayar`, `shading-phong`, `shading-blinn_phong`, `shading-cook_torrance_metal`, `shading-cook_torrance_dielectric`, `shading-cook_torrance_backlit`, `shading-ward`, `shading-kajiya_kay`, `shading-specular` or `shading-vertex`.";
+    SHADING_SPHERE_IMAGE = "shading_sphere.image", Ty::Int, "pixels", ints(2, 4096), "256",
+        "texture_sampler MAX_SIZE (4096); 2 (a sphere needs a rim)", "not shading-vertex",
+        "The sphere view's side (the view is square); `shading-vertex` lights sphere vertices and has no image.";
+    SHADING_SPHERE_CHIP = "shading_sphere.chip", Ty::Choice(&rtl_model::chip_preset::ChipPreset::NAMES), "", Range::None, "\"geforce2\"", NONE, "",
+        "The chip preset whose modes the path's units follow: the squaring path's register combiners (`shading-specular`) and the vertex lighting (`shading-vertex`) differ between the GeForce2 and the NV2A (docs/conformance.md).";
+    SHADING_SPHERE_HW = "shading_sphere.hw", Ty::Table, "", Range::None, "none", NONE, "",
+        "The widths of the scene's path by `sweep`'s names; a width not given keeps its GeForce default, a width the scene's path does not have is refused naming it.";
+    SHADING_SPHERE_HW_COMBINER_BITS = "shading_sphere.hw.combiner_bits", Ty::Int, "bits", Range::Unit("register_combiner internal width"), "9",
+        "register_combiner", "shading-specular (its squaring path, alone)", "The register combiners' internal width of the squaring path.";
+    SHADING_SPHERE_HW_CUBE_FACE = "shading_sphere.hw.cube_face", Ty::Int, "texels", Range::Unit("normalisation cube face side"), "64",
+        "texture_sampler (6F rows of the cube)", "not shading-vertex", "The normalisation cube map's face side (256 on `shading-specular`'s lookup path).";
+    SHADING_SPHERE_HW_CUBE_BITS = "shading_sphere.hw.cube_bits", Ty::Int, "bits", Range::Unit("texture_sampler texel bits"), "16",
+        "texture_sampler", "shading-specular", "The cube's texel bits on `shading-specular`'s lookup path (the DOT3's and the lookup index's width).";
+    SHADING_SPHERE_HW_LOOKUP_LOG2 = "shading_sphere.hw.lookup_log2", Ty::Int, "log2 entries", Range::Unit("specular_lookup entries"), "8",
+        "specular_lookup", "Phong, Blinn–Phong, shading-specular", "log2 of the specular lookup's entries.";
+    SHADING_SPHERE_HW_LOOKUP_BITS = "shading_sphere.hw.lookup_bits", Ty::Int, "bits", Range::Unit("specular_lookup entry bits"), "8",
+        "specular_lookup", "shading-specular", "The specular lookup's entry bits.";
+    SHADING_SPHERE_HW_FACTOR_SIZE = "shading_sphere.hw.factor_size", Ty::Int, "texels", Range::Unit("factor texture side"), "64",
+        "texture_sampler", "the factored models", "The BRDF factor textures' side.";
+    SHADING_SPHERE_HW_FACTOR_BITS = "shading_sphere.hw.factor_bits", Ty::Int, "bits", Range::Unit("factor texel bits"), "8",
+        "texture_sampler", "the factored models", "The factor textures' texel bits.";
+    SHADING_SPHERE_HW_VERTEX_MANTISSA = "shading_sphere.hw.vertex_mantissa", Ty::Int, "bits", Range::Unit("vertex_lighting float format"), "23",
+        "vertex_lighting", "shading-vertex", "The vertex lighting's float mantissa bits.";
+    SHADING_SPHERE_HW_VERTEX_EXPONENT = "shading_sphere.hw.vertex_exponent", Ty::Int, "bits", Range::Unit("vertex_lighting float format"), "8",
+        "vertex_lighting", "shading-vertex", "The vertex lighting's float exponent bits.";
+
+    // ---- [test_scene]
+    TEST_SCENE = "test_scene", Ty::Table, "", Range::None, "none", NONE, "",
+        "The foundation test scene (`render --scene test`): a fixed 320 × 240 scene of a checkered floor, a spot with a light map and a shadow map, and a window-frame occluder. The table is empty (the scene has no fields); a scene that holds it is that scene and nothing else.";
 }
 
 /// The entry of a TOML path (`lights[].position`), if any.

@@ -24,6 +24,9 @@ pub struct Scene {
     pub chip: ChipPreset,
     #[serde(default)]
     pub image: ImageSize,
+    /// Required in a scene of lights and objects; a shading sphere or the test scene
+    /// has none (left out, it reads as [`Camera::unset`]).
+    #[serde(default = "Camera::unset", skip_serializing_if = "Camera::is_unset")]
     pub camera: Camera,
     #[serde(default)]
     pub medium: Medium,
@@ -48,6 +51,14 @@ pub struct Scene {
     /// defaults (`scene::shading_hw`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shading_hw: Option<super::shading_hw::ShadingHw>,
+    /// The shading units' sphere (`shading-*`): a scene that holds it is that sphere
+    /// and nothing else (`scene::shading_sphere`); none = a scene of lights and objects.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shading_sphere: Option<super::shading_sphere::ShadingSphereSection>,
+    /// The foundation test scene (`test`), a fixed scene: the section is empty, its
+    /// presence makes the scene that one (`scene::test_scene`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub test_scene: Option<super::test_scene::TestSceneSection>,
 }
 
 fn default_seed() -> u64 {
@@ -390,7 +401,63 @@ impl Default for ShaftsConfig {
     }
 }
 
+/// What a scene is, which decides the command's path: the foundation test scene, a
+/// shading units' sphere, or a scene of lights and objects (the frame's passes).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneKind<'a> {
+    Test,
+    ShadingSphere(&'a super::shading_sphere::ShadingSphereSection),
+    Frame,
+}
+
 impl Scene {
+    /// A scene of nothing: every field at the value a file that leaves it out gets.
+    /// The test scene and the shading spheres are this with their section set.
+    pub fn blank() -> Scene {
+        Scene {
+            name: String::new(),
+            seed: default_seed(),
+            chip: ChipPreset::default(),
+            image: ImageSize::default(),
+            camera: Camera::unset(),
+            medium: Medium::default(),
+            lights: Vec::new(),
+            objects: Vec::new(),
+            shafts: ShaftsConfig::default(),
+            glare: None,
+            environment: None,
+            rounding: None,
+            shading_hw: None,
+            shading_sphere: None,
+            test_scene: None,
+        }
+    }
+
+    /// The foundation test scene (`render --scene test`).
+    pub fn test_scene() -> Scene {
+        Scene {
+            test_scene: Some(super::test_scene::TestSceneSection {}),
+            ..Scene::blank()
+        }
+    }
+
+    /// The shading units' sphere of `section`.
+    pub fn shading_sphere(section: super::shading_sphere::ShadingSphereSection) -> Scene {
+        Scene {
+            shading_sphere: Some(section),
+            ..Scene::blank()
+        }
+    }
+
+    /// Which kind of scene this is (its sections say, not its name).
+    pub fn kind(&self) -> SceneKind<'_> {
+        match (&self.test_scene, &self.shading_sphere) {
+            (Some(_), _) => SceneKind::Test,
+            (None, Some(s)) => SceneKind::ShadingSphere(s),
+            (None, None) => SceneKind::Frame,
+        }
+    }
+
     /// The name up to its first ':' (the built-ins' names are "fig6: a description"):
     /// what plot titles show.
     pub fn short_name(&self) -> &str {

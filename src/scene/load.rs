@@ -1,34 +1,20 @@
 //! Loading a scene by name, in one place for every command: a built-in (every list:
-//! the shafts figures, the glare built-ins, the environment scenes, the showcase) or
-//! a TOML file. A misspelt name gets the nearest names ("did you mean glare-point?"),
+//! the shafts figures, the glare built-ins, the environment scenes, the showcase, the
+//! foundation test scene, the shading spheres) or a TOML file (a scene, or the
+//! `[shading]` alias of a shading sphere). A misspelt name gets the nearest names ("did you mean glare-point?"),
 //! a path that looks like a file and does not exist gets "file not found".
 
 use super::builtin::{builtin, BUILTIN_NAMES};
 use super::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use super::builtin_glare::GLARE_BUILTIN_NAMES;
 use super::builtin_showcase::SHOWCASE_NAMES;
-use super::format::Scene;
+use super::format::{Scene, SceneKind};
 use std::path::Path;
 
 /// The foundation test scene's name (`render --scene test`).
 pub const TEST_NAME: &str = "test";
 
-/// Every built-in shading scene (`shading-<model>`, `shading-specular`,
-/// `shading-vertex`): the names `render --scene` takes for the shading units' spheres.
-/// The shading pipeline defines them; tests/scene.rs checks this list against it.
-pub const SHADING_NAMES: &[&str] = &[
-    "shading-lambert",
-    "shading-oren_nayar",
-    "shading-phong",
-    "shading-blinn_phong",
-    "shading-cook_torrance_metal",
-    "shading-cook_torrance_dielectric",
-    "shading-cook_torrance_backlit",
-    "shading-ward",
-    "shading-kajiya_kay",
-    "shading-specular",
-    "shading-vertex",
-];
+pub use super::shading_sphere::SHADING_NAMES;
 
 /// Every built-in scene name, in the order help texts list them.
 pub fn builtin_names() -> Vec<&'static str> {
@@ -55,82 +41,7 @@ pub fn looks_like_file(name: &str) -> bool {
     name.contains('/') || name.contains('\\') || name.ends_with(".toml")
 }
 
-/// Optimal string alignment distance (Levenshtein with adjacent transpositions), in
-/// characters.
-pub fn edit_distance(a: &str, b: &str) -> usize {
-    let a: Vec<char> = a.chars().collect();
-    let b: Vec<char> = b.chars().collect();
-    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
-    for (i, row) in d.iter_mut().enumerate() {
-        row[0] = i;
-    }
-    for (j, x) in d[0].iter_mut().enumerate() {
-        *x = j;
-    }
-    for i in 1..=a.len() {
-        for j in 1..=b.len() {
-            let cost = usize::from(a[i - 1] != b[j - 1]);
-            let mut v = (d[i - 1][j] + 1)
-                .min(d[i][j - 1] + 1)
-                .min(d[i - 1][j - 1] + cost);
-            if i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] {
-                v = v.min(d[i - 2][j - 2] + 1);
-            }
-            d[i][j] = v;
-        }
-    }
-    d[a.len()][b.len()]
-}
-
-/// The candidates nearest to `word` (all of those at the smallest distance, at most
-/// three), if that distance is small: at most a third of the word's length (at least
-/// 1, at most 3). A candidate that starts like the word (its prefix of the word's
-/// length is that close) counts too, so `fvo` finds `fovy_deg` and `env-pattern`
-/// finds both env-pattern scenes.
-pub fn suggest<'a>(word: &str, candidates: &[&'a str]) -> Vec<&'a str> {
-    let n = word.chars().count();
-    let limit = (n / 3).clamp(1, 3);
-    let dist = |c: &str| {
-        let prefix: String = c.chars().take(n).collect();
-        let p = if n >= 3 && c.chars().count() > n {
-            edit_distance(word, &prefix)
-        } else {
-            usize::MAX
-        };
-        edit_distance(word, c).min(p)
-    };
-    let scored: Vec<(usize, &'a str)> = candidates
-        .iter()
-        .filter(|c| **c != word)
-        .map(|c| (dist(c), *c))
-        .filter(|(d, _)| *d <= limit)
-        .collect();
-    let Some(best) = scored.iter().map(|(d, _)| *d).min() else {
-        return Vec::new();
-    };
-    scored
-        .into_iter()
-        .filter(|(d, _)| *d == best)
-        .map(|(_, c)| c)
-        .take(3)
-        .collect()
-}
-
-/// "did you mean a?" / "did you mean a or b?" (empty when nothing is near), with
-/// each name wrapped in `quote`.
-pub fn did_you_mean(word: &str, candidates: &[&str], quote: &str) -> String {
-    let s = suggest(word, candidates);
-    let q: Vec<String> = s.iter().map(|c| format!("{quote}{c}{quote}")).collect();
-    match q.len() {
-        0 => String::new(),
-        1 => format!("did you mean {}?", q[0]),
-        _ => format!(
-            "did you mean {} or {}?",
-            q[..q.len() - 1].join(", "),
-            q[q.len() - 1]
-        ),
-    }
-}
+pub use super::suggest::{did_you_mean, edit_distance, suggest};
 
 /// The error for a scene name that is neither a built-in nor a file.
 pub fn unknown_scene(name: &str) -> String {
@@ -158,47 +69,69 @@ pub fn other_form(text: &str) -> Option<&'static str> {
         .find(|k| t.contains_key(*k))
 }
 
-/// A built-in scene by name, or a TOML scene file by path. Every command that takes
-/// a scene of lights and objects resolves its name here; a misspelt name, a missing
-/// file or a name of another kind (`test`, `shading-*`) gets an error saying so.
+/// Any `--scene` string as a [`Scene`], in one place for every command: a built-in
+/// name (the lights-and-objects scenes, `test`, every `shading-*`), a TOML scene file,
+/// a file with a top-level `[shading]` table (the alias of a `[shading_sphere]`
+/// section: its errors name `shading.*`) or a `[test_scene]` file. The scene comes
+/// back validated; what it is ([`Scene::kind`]) picks the command's path, not the
+/// name. A misspelt name or a missing file gets an error saying so.
 pub fn load_scene(name_or_path: &str) -> Result<Scene, String> {
     if builtin_names().contains(&name_or_path) {
         return builtin(name_or_path).map_err(|e| e.to_string());
     }
+    if name_or_path == TEST_NAME {
+        return Ok(Scene::test_scene());
+    }
     let p = Path::new(name_or_path);
     if p.is_file() {
-        if let Some(form) = std::fs::read_to_string(p)
-            .ok()
-            .as_deref()
-            .and_then(other_form)
-        {
-            return Err(format!(
-                "scene: {name_or_path} is a [{form}] file ({}), not a scene of lights and \
-                 objects; `render --scene` takes it",
-                if form == "shading" {
-                    "a shading scene"
-                } else {
-                    "the foundation test scene"
-                }
-            ));
+        let text = std::fs::read_to_string(p).ok();
+        match text.as_deref().and_then(other_form) {
+            Some(super::shading_sphere::ALIAS_TABLE) => {
+                let text = text.unwrap_or_default();
+                let in_file = |e: String| format!("{e} (in {name_or_path})");
+                let section = super::shading_sphere::ShadingSphereSection::from_alias(&text)
+                    .map_err(in_file)?;
+                let scene = Scene::shading_sphere(section);
+                scene.validate().map_err(|e| in_file(e.to_string()))?;
+                return Ok(scene);
+            }
+            Some(_) => {
+                let text = text.unwrap_or_default();
+                super::test_scene::parse_file(&text)
+                    .map_err(|e| format!("{e} (in {name_or_path})"))?;
+                return Ok(Scene::test_scene());
+            }
+            None => {}
         }
     }
     if p.exists() {
         return Scene::from_file(p).map_err(|e| e.to_string());
     }
-    if name_or_path == TEST_NAME {
-        return Err(format!(
-            "scene: '{TEST_NAME}' is the foundation test scene, a fixed scene without scene \
-             fields; `render --scene {TEST_NAME}` renders it"
-        ));
-    }
     if SHADING_NAMES.contains(&name_or_path) {
-        return Err(format!(
-            "scene: '{name_or_path}' is a shading scene, not a scene of lights and objects; \
-             `render`, `sweep`, `optimize` and `attribute` take it"
+        return Ok(Scene::shading_sphere(
+            super::shading_sphere::ShadingSphereSection::builtin(name_or_path),
         ));
     }
     Err(unknown_scene(name_or_path))
+}
+
+/// [`load_scene`] for a tool that takes only a scene of lights and objects (the
+/// frame's passes): the test scene and the shading spheres are refused, saying what
+/// they are and which commands take them.
+pub fn load_frame_scene(name_or_path: &str) -> Result<Scene, String> {
+    let scene = load_scene(name_or_path)?;
+    match scene.kind() {
+        SceneKind::Frame => Ok(scene),
+        SceneKind::Test => Err(format!(
+            "scene: '{name_or_path}' is the foundation test scene, a fixed scene without \
+             lights and objects; `render --scene {name_or_path}` renders it"
+        )),
+        SceneKind::ShadingSphere(s) => Err(format!(
+            "scene: '{name_or_path}' is a shading scene ({}), not a scene of lights and \
+             objects; `render`, `sweep`, `optimize` and `attribute` take it",
+            s.scene
+        )),
+    }
 }
 
 /// `--image` (if given) set as `scene`'s image size; the scene checks the sides'

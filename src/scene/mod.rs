@@ -24,6 +24,8 @@ pub mod math;
 pub mod print;
 pub mod rounding;
 pub mod shading_hw;
+pub mod shading_sphere;
+pub mod suggest;
 pub mod teapot;
 pub mod test_scene;
 pub mod validate;

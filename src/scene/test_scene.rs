@@ -110,11 +110,18 @@ pub fn occluder_quads() -> Vec<[Vec3; 4]> {
     .collect()
 }
 
+/// `[test_scene]`: the foundation test scene's section. It has no fields (the scene
+/// is fixed); its presence makes a scene the test scene.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TestSceneSection {}
+
 /// The top-level table of the test scene's file form.
 pub const FILE_TABLE: &str = "test_scene";
 
 /// The test scene's file form (what `scene test` prints): it has no parameters, so
-/// the `[test_scene]` table is empty; `render --scene FILE` renders it as
+/// the `[test_scene]` table is empty; `scene::load::load_scene` reads it as
+/// [`crate::scene::format::Scene::test_scene`], so `render --scene FILE` renders it as
 /// `render --scene test` does.
 pub fn file_toml() -> String {
     format!(
@@ -127,23 +134,6 @@ pub fn file_toml() -> String {
          # A scene of your own starts from a built-in instead: `glare-pipeline scene fig6`.\n\
          \n[{FILE_TABLE}]\n"
     )
-}
-
-/// Whether `name` is the test scene: the name `test`, or a file with a top-level
-/// `[test_scene]` table (which must be empty and alone: anything else in it is an
-/// error naming the key).
-pub fn resolve(name: &str) -> Result<bool, String> {
-    if name == super::load::TEST_NAME {
-        return Ok(true);
-    }
-    let path = std::path::Path::new(name);
-    if !path.is_file() {
-        return Ok(false);
-    }
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return Ok(false);
-    };
-    parse_file(&text).map_err(|e| format!("{e} (in {name})"))
 }
 
 /// Whether `text` is the test scene's file form (`Ok(false)`: another file form).

@@ -39,6 +39,12 @@ pub(crate) use super::fields::{direction, point};
 impl Scene {
     /// Check every field; the first error found names its field.
     pub fn validate(&self) -> Result<(), ConfigError> {
+        if self.shading_sphere.is_some() || self.test_scene.is_some() {
+            return self.validate_fixed();
+        }
+        if self.camera.is_unset() {
+            return Err(ConfigError::invalid("camera", MISSING_CAMERA));
+        }
         fields::IMAGE_WIDTH.int("image.width", self.image.width.into())?;
         fields::IMAGE_HEIGHT.int("image.height", self.image.height.into())?;
         super::limits::check_image(self.image)?;
@@ -95,6 +101,57 @@ impl Scene {
                 ),
             )),
             _ => Ok(()),
+        }
+    }
+
+    /// A shading sphere or the test scene: its section checked, and nothing else in
+    /// the scene but its name and seed (the first field that is set names the mix).
+    fn validate_fixed(&self) -> Result<(), ConfigError> {
+        let (section, what) = match (&self.test_scene, &self.shading_sphere) {
+            (Some(_), Some(s)) => {
+                return Err(ConfigError::invalid(
+                    s.table,
+                    "a scene is the foundation test scene ([test_scene]) or a shading \
+                     sphere, not both",
+                ))
+            }
+            (Some(_), None) => ("test_scene", "the foundation test scene, a fixed scene"),
+            (None, Some(s)) => (s.table, "the shading units' sphere"),
+            (None, None) => return Ok(()),
+        };
+        let blank = Scene::blank();
+        // The sections of a frame first, then the settings a frame scene writes.
+        let mixed = [
+            ("objects", !self.objects.is_empty()),
+            ("glare", self.glare.is_some()),
+            ("environment", self.environment.is_some()),
+            ("lights", !self.lights.is_empty()),
+            ("shading_hw", self.shading_hw.is_some()),
+            ("rounding", self.rounding.is_some()),
+            ("camera", !self.camera.is_unset()),
+            ("chip", self.chip != blank.chip),
+            ("image", self.image != blank.image),
+            ("medium", self.medium != blank.medium),
+            ("shafts", self.shafts != blank.shafts),
+        ];
+        if let Some((field, _)) = mixed.iter().find(|(_, set)| *set) {
+            let hint = match *field {
+                "chip" | "image" if section != "test_scene" => {
+                    format!(" (the sphere's is {section}.{field})")
+                }
+                _ => String::new(),
+            };
+            return Err(ConfigError::invalid(
+                field,
+                &format!(
+                    "a scene with a [{section}] section is {what} and holds no {field}{hint}; \
+                     drop one of them"
+                ),
+            ));
+        }
+        match &self.shading_sphere {
+            Some(s) => s.validate(),
+            None => Ok(()),
         }
     }
 
@@ -456,6 +513,24 @@ fn parallel(a: Vec3, b: Vec3) -> bool {
 /// Parse without validating; errors are mapped to field paths. `what` prefixes the
 /// reason (e.g. the file name).
 fn parse_toml(s: &str, what: &str) -> Result<Scene, ConfigError> {
+    let scene = parse_serde(s, what)?;
+    // A scene of lights and objects needs its camera (serde reads a missing one as
+    // unset, for the shading sphere and the test scene): said as toml says a
+    // missing field, at the document's start.
+    if scene.camera.is_unset() && scene.shading_sphere.is_none() && scene.test_scene.is_none() {
+        return Err(ConfigError::invalid(
+            "camera",
+            &format!("{what}{MISSING_CAMERA} (TOML line 1, column 1)"),
+        ));
+    }
+    Ok(scene)
+}
+
+/// The error of a scene of lights and objects without a camera.
+const MISSING_CAMERA: &str = "missing field `camera`: a scene of lights and objects needs a \
+     [camera] table (eye, look_at); only a [shading_sphere] or [test_scene] scene has none";
+
+fn parse_serde(s: &str, what: &str) -> Result<Scene, ConfigError> {
     toml::from_str::<Scene>(s).map_err(|e| {
         let msg = e
             .message()

@@ -27,8 +27,6 @@ use super::timing::{predict_frame, FramePrediction};
 use super::voxmap::VoxelMap;
 use crate::chip::GpuModel;
 use crate::reference::envmap_prefilter::{PrefilterParams, Weighting, THESIS_PYRAMID_LEVELS};
-use crate::scene::builtin::builtin;
-use crate::scene::builtin_environment::ENVIRONMENT_BUILTIN_NAMES;
 use crate::scene::camera::CameraView;
 use crate::scene::environment::{
     EnvBackground, EnvDomePick, EnvLambda, EnvLookup, EnvObject, EnvWeighting, EnvironmentSection,
@@ -86,22 +84,6 @@ pub struct SceneFrame {
     pub truth: Option<SceneTruth>,
     /// Wall time of the render (geometry to image; truth included when made).
     pub render_seconds: f64,
-}
-
-/// The scene named by `name_or_path` when it is an environment scene for this
-/// renderer (an `env-…` built-in, or a file with `[environment]` and no `[glare]`),
-/// else None (another pipeline's scene, or not a scene: the caller reports it). A
-/// file that fails to parse or validate is an error.
-pub fn environment_scene(name_or_path: &str) -> Result<Option<Scene>, String> {
-    if ENVIRONMENT_BUILTIN_NAMES.contains(&name_or_path) {
-        return builtin(name_or_path).map(Some).map_err(|e| e.to_string());
-    }
-    let path = Path::new(name_or_path);
-    if !path.is_file() {
-        return Ok(None);
-    }
-    let scene = Scene::from_file(path).map_err(|e| e.to_string())?;
-    Ok((scene.environment.is_some() && scene.glare.is_none()).then_some(scene))
 }
 
 /// The renderer's object.

@@ -6,7 +6,7 @@
 use super::attribute::{attribute_shading, ShadingConfig};
 use super::sweep::{
     check_param, shading_jobs, shading_sweep_resumable, sweep_id, Job, ShadingScene,
-    ShadingSweepOptions, SCENE_PREFIX,
+    ShadingSweepOptions,
 };
 use crate::report::shard::Shard;
 use crate::report::sweep_out::parse_int_values;
@@ -105,11 +105,6 @@ pub fn attributed_sweep_cli(
     shard: Option<Shard>,
     resume: bool,
 ) -> Result<(), String> {
-    if !scene.starts_with(SCENE_PREFIX) {
-        return Err(format!(
-            "--attribute: sweep attributes shading-* scenes only, not '{scene}'"
-        ));
-    }
     if shard.is_some() || resume {
         return Err(
             "--attribute: not with --shard or --resume (the attributions are not journalled)"

@@ -1,6 +1,7 @@
-//! A shading scene as a file: the smallest form `render --scene` and
-//! `optimize --scene` take for the built-in `shading-*` scenes at other widths, and
-//! what `optimize` writes as `best.toml` for them.
+//! A shading sphere scene built: a scene's `[shading_sphere]` section
+//! (`scene::shading_sphere`) turned into the shading path's point at its widths, and
+//! the `[shading]` file form, the section's alias, which `scene NAME` prints for a
+//! `shading-*` scene and `optimize` writes as `best.toml` for one:
 //!
 //! ```toml
 //! [shading]
@@ -14,21 +15,20 @@
 //! ```
 //!
 //! Every field is checked before anything renders, each error naming it
-//! (`shading.scene`, `shading.image`, `shading.chip`, `shading.hw.<width>`); an unknown key is
-//! refused. A file without a top-level `[shading]` table is not one of these (it is
-//! read as a `Scene`).
+//! (`shading.scene`, `shading.image`, `shading.chip`, `shading.hw.<width>`, or the same
+//! under `shading_sphere.` in the section form); an unknown key is refused.
 
 use super::sweep::{
     measure_point, params_of, shading_reference, sweep_view, ShadingMeasure, ShadingPoint,
-    ShadingScene, SCENE_PREFIX,
+    ShadingScene,
 };
-use rtl_model::chip_preset::ChipPreset;
+use crate::scene::shading_sphere::ShadingSphereSection;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The sphere view's side when the file gives none (the `shading-brdfs` view).
-pub const DEFAULT_IMAGE: u32 = 256;
+pub const DEFAULT_IMAGE: u32 = crate::scene::shading_sphere::DEFAULT_IMAGE;
 
 /// A shading scene at given widths: what a file (or a `shading-*` name, at the
 /// defaults) describes.
@@ -69,63 +69,21 @@ impl ShadingFile {
         })
     }
 
-    /// `name` as a shading scene: a `shading-*` name, or a TOML file with a
-    /// top-level `[shading]` table (checked, errors naming the field). None for
-    /// anything else (a `Scene` name or file: the caller reads it as before).
-    pub fn resolve(name: &str) -> Result<Option<ShadingFile>, String> {
-        let path = Path::new(name);
-        if name.starts_with(SCENE_PREFIX)
-            && !path.is_file()
-            && !crate::scene::load::looks_like_file(name)
-        {
-            return ShadingFile::builtin(name).map(Some);
-        }
-        if !path.is_file() {
-            return Ok(None);
-        }
-        let Ok(text) = std::fs::read_to_string(path) else {
-            return Ok(None);
-        };
-        match text.parse::<toml::Table>() {
-            Ok(t) if t.contains_key("shading") => {}
-            _ => return Ok(None),
-        }
-        ShadingFile::parse(&text)
-            .map(Some)
-            .map_err(|e| format!("{e} (in {name})"))
-    }
-
-    /// The file form's text, checked.
-    pub fn parse(text: &str) -> Result<ShadingFile, String> {
-        let f: FileForm = toml::from_str(text).map_err(|e| {
-            format!(
-                "shading: {}",
-                e.message().lines().next().unwrap_or("not a shading scene")
-            )
-        })?;
-        let s = f.shading;
-        let sc =
-            ShadingScene::parse(&s.scene).map_err(|e| e.replacen("scene:", "shading.scene:", 1))?;
-        let image = match (sc, s.image) {
-            (ShadingScene::Vertex, Some(_)) => {
-                return Err(
-                    "shading.image: shading-vertex lights sphere vertices, it has no image".into(),
-                )
-            }
-            (ShadingScene::Vertex, None) => None,
-            (_, Some(n)) => {
-                rtl_model::error::check_range("shading.image", n.into(), 2, 4096)
-                    .map_err(|e| e.to_string())?;
-                Some(n)
-            }
-            (_, None) => Some(DEFAULT_IMAGE),
-        };
+    /// A scene's `[shading_sphere]` section (or its `[shading]` alias) built: the
+    /// scene's name, image and chip as validation checked them, each width set on
+    /// the scene's units. An error names the field under the section's table
+    /// (`shading_sphere.hw.cube_face`, or `shading.hw.cube_face` in the alias form).
+    pub fn from_section(s: &ShadingSphereSection) -> Result<ShadingFile, String> {
+        s.validate().map_err(|e| e.to_string())?;
+        let table = s.table;
+        let sc = ShadingScene::parse(&s.scene)
+            .map_err(|e| e.replacen("scene:", &format!("{table}.scene:"), 1))?;
         let valid = params_of(&sc).join(", ");
         let mut widths: Vec<(&str, u32)> = Vec::new();
         for (k, v) in &s.hw {
             if !params_of(&sc).contains(&k.as_str()) {
                 return Err(format!(
-                    "shading.hw.{k}: not a width of {} (valid: {valid})",
+                    "{table}.hw.{k}: not a width of {} (valid: {valid})",
                     sc.name()
                 ));
             }
@@ -135,25 +93,46 @@ impl ShadingFile {
         let mut so_far: Vec<(&str, u32)> = Vec::new();
         for (k, v) in &widths {
             so_far.push((k, *v));
-            ShadingPoint::new(&sc, &so_far).map_err(|e| format!("shading.hw.{k}: {e}"))?;
+            ShadingPoint::new(&sc, &so_far).map_err(|e| format!("{table}.hw.{k}: {e}"))?;
         }
-        let point = ShadingPoint::new(&sc, &widths).map_err(|e| format!("shading.hw: {e}"))?;
-        let chip = match &s.chip {
-            None => ChipPreset::GeForce2,
-            Some(toml::Value::String(c)) => {
-                ChipPreset::parse("shading.chip", c).map_err(|e| e.to_string())?
-            }
-            Some(v) => {
-                return Err(format!(
-                    "shading.chip: {v} is not a chip preset's name (known: {})",
-                    ChipPreset::NAMES.join(", ")
-                ))
-            }
-        };
+        let point = ShadingPoint::new(&sc, &widths).map_err(|e| format!("{table}.hw: {e}"))?;
         Ok(ShadingFile {
-            point: point.on_chip(chip),
-            image,
+            point: point.on_chip(s.chip),
+            image: s.side(),
         })
+    }
+
+    /// A shading sphere scene's section built ([`ShadingFile::from_section`]); an
+    /// error for a scene of another kind.
+    pub fn from_scene(scene: &crate::scene::format::Scene) -> Result<ShadingFile, String> {
+        match &scene.shading_sphere {
+            Some(s) => ShadingFile::from_section(s),
+            None => Err(format!(
+                "scene: '{}' is not a shading sphere scene (it has no [shading_sphere] section)",
+                scene.name
+            )),
+        }
+    }
+
+    /// The section that builds this (every width of the point's path written out).
+    pub fn to_section(&self) -> ShadingSphereSection {
+        ShadingSphereSection {
+            image: self.image,
+            chip: self.point.chip(),
+            hw: self
+                .point
+                .widths()
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v))
+                .collect(),
+            ..ShadingSphereSection::builtin(&self.point.scene().name())
+        }
+    }
+
+    /// The `[shading]` file form's text, checked (errors name `shading.*`).
+    pub fn parse(text: &str) -> Result<ShadingFile, String> {
+        let s = ShadingSphereSection::from_alias(text)?;
+        ShadingFile::from_section(&s)
     }
 
     /// The file form (`header`, comment lines, first), every width of the point's

@@ -24,10 +24,11 @@
 //! sphere, `scene::teapot::SPHERE_SEGMENTS`), whose silhouette differs from the
 //! reference's true sphere by up to a pixel: it is what "all ideal" keeps (the bound).
 
-use super::cli::{load_scene, reference_image, render_scene};
+use super::cli::{reference_image, render_scene};
 use super::sweep::DEFAULT_TRUTH_SAMPLES;
 use crate::report::attribution::{attribute, Attribution, Bound, Source};
 use crate::scene::format::{FScale, Scene};
+use crate::scene::load::load_frame_scene;
 use std::path::Path;
 
 /// The sources of a shafts scene (module notes).
@@ -199,7 +200,7 @@ pub fn attribute_shafts(scene: &Scene, out: &Path) -> Result<Attribution, String
 
 /// Load a shafts scene by name or file and apply `--image`.
 pub fn load_with_image(name: &str, image: Option<&str>) -> Result<Scene, String> {
-    let mut scene = load_scene(name)?;
+    let mut scene = load_frame_scene(name)?;
     crate::scene::load::apply_image(&mut scene, image)?;
     Ok(scene)
 }

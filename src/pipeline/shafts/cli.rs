@@ -11,8 +11,6 @@ pub use crate::report::image_out::levels_png;
 use crate::scene::format::Scene;
 use std::time::Instant;
 
-pub use crate::scene::load::load_scene;
-
 /// Render a frame and time the simulation.
 pub fn render_scene(scene: &Scene) -> Result<(FrameResult, Prediction, f64), String> {
     let t0 = Instant::now();

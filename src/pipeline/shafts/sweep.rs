@@ -16,7 +16,7 @@
 //! of which sweep it is: a run that fails or is stopped keeps its rows, and `--resume`
 //! continues from them (`report::resume`).
 
-use super::cli::{load_scene, reference_image, render_scene};
+use super::cli::{reference_image, render_scene};
 use super::frame::FrameResult;
 use crate::report::csv_out::write_csv;
 use crate::report::metrics::{error_stats, error_stats_at, representative_pixels};
@@ -628,13 +628,14 @@ fn plot(
     )
 }
 
-/// The `sweep` command: load the scene (built-in name or TOML file), apply `--image`,
+/// The `sweep` command on a shafts scene (`scene`, loaded from `scene_name`): apply `--image`,
 /// parse and validate every value, sweep (with `shard`, only its share, written to
 /// the shard file: docs/sweep.md), print a table. With `resume`, continue from the
 /// rows an interrupted run of the same sweep left (`report::resume`).
 // The command line's options, one argument each.
 #[allow(clippy::too_many_arguments)]
 pub fn sweep_cli(
+    mut scene: Scene,
     scene_name: &str,
     param: &str,
     values: &str,
@@ -644,16 +645,8 @@ pub fn sweep_cli(
     shard: Option<Shard>,
     resume: bool,
 ) -> Result<(), String> {
-    if scene_name == "test" {
-        return Err(
-            "scene: the foundation test scene (`render --scene test`) has no sample \
-                    planes to sweep; use fig4, fig6, stage or a TOML scene file"
-                .to_string(),
-        );
-    }
     let param = Param::from_name(param)?;
     let values = parse_values(param, values)?;
-    let mut scene = load_scene(scene_name)?;
     crate::scene::load::apply_image(&mut scene, image)?;
     let id = sweep_id(&scene, scene_name, param, &values, truth_samples)?;
     if let Some(shard) = shard {
