@@ -1495,3 +1495,87 @@ fn a_config_without_normalize_directional_normalises() {
     let cfg: VertexLightingConfig = serde_json::from_value(v).unwrap();
     assert!(cfg.normalize_directional);
 }
+
+/// The NV2A curve's k0, k1, k2 are loaded one rounding each (the pow curve loads none),
+/// and a host value the format cannot hold is counted at the load.
+#[test]
+fn curve_registers_and_load_counters_are_what_the_host_loaded() {
+    let curve = SpecularCurve::nv2a([-0.972162, 0.5, 0.75, 0.0, 0.0, 0.0]);
+    let cfg = VertexLightingConfig {
+        specular_curve: curve,
+        ..VertexLightingConfig::geforce()
+    };
+    let w = |x: f64| {
+        cfg.format
+            .from_f64("test", x, &mut Counters::default())
+            .unwrap()
+    };
+    let vl = VertexLighting::new(cfg, &LightingSetup::default()).unwrap();
+    let k = curve.coefficients().unwrap();
+    assert_eq!(vl.curve_registers(), Some(k.map(w)));
+    assert_eq!(
+        vl.load_counters(),
+        Counters::default(),
+        "nothing rounded out of range"
+    );
+    let pow = VertexLighting::new(VertexLightingConfig::geforce(), &LightingSetup::default());
+    assert_eq!(pow.unwrap().curve_registers(), None);
+    // e5m4 holds at most 2^16·(2 − 2^−4): an emission of 10⁹ saturates at the load.
+    let narrow = VertexLightingConfig::geforce().with_format(5, 4);
+    let mut setup = LightingSetup::default();
+    setup.material.emission = [1e9, 0.0, 0.0];
+    let vl = VertexLighting::new(narrow, &setup).unwrap();
+    assert!(
+        vl.load_counters().saturations >= 1,
+        "{:?}",
+        vl.load_counters()
+    );
+}
+
+/// Issues per vertex follow the documented schedule (docs/units.md, vertex_lighting):
+/// per light 36 multiplies, 28 adds, 7 special-function ops; GL_NORMALIZE and a local
+/// viewer 6, 2, 1 each; two colours 3 more multiplies per light and 3 adds; the NV2A
+/// curve 1 more multiply and 2 more adds per light and one fewer special op. II is
+/// the busiest resource's share (6 multipliers, 4 adders, 1 special unit).
+#[test]
+fn issues_and_ii_follow_the_documented_schedule() {
+    for n in [0usize, 1, 3] {
+        for (normalize, local_viewer) in [(false, false), (true, false), (true, true)] {
+            for two_colours in [false, true] {
+                for nv2a in [false, true] {
+                    let cfg = VertexLightingConfig {
+                        normalize,
+                        local_viewer,
+                        light_control: two_colours.then(LightControl::default),
+                        specular_curve: if nv2a {
+                            SpecularCurve::nv2a([-0.5, 0.5, 0.75, 0.0, 0.0, 0.0])
+                        } else {
+                            SpecularCurve::Power
+                        },
+                        ..VertexLightingConfig::geforce()
+                    };
+                    let setup = LightingSetup {
+                        lights: vec![Light::default(); n],
+                        ..LightingSetup::default()
+                    };
+                    let vl = VertexLighting::new(cfg, &setup).unwrap();
+                    let (n, k) = (n as u32, normalize as u32 + local_viewer as u32);
+                    let (lc, c) = (two_colours as u32, nv2a as u32);
+                    let i = vl.issues();
+                    let what = format!("{n} lights, k {k}, two colours {lc}, nv2a {c}");
+                    assert_eq!(i.muls, 36 * n + 6 * k + 3 * n * lc + n * c, "{what}");
+                    assert_eq!(i.adds, 28 * n + 2 * k + 3 * lc + 2 * n * c, "{what}");
+                    assert_eq!(i.specials, 7 * n + k - n * c, "{what}");
+                    let ii = i
+                        .muls
+                        .div_ceil(6)
+                        .max(i.adds.div_ceil(4))
+                        .max(i.specials)
+                        .max(1);
+                    assert_eq!(vl.timing().ii, ii, "{what}");
+                    assert_eq!(vl.timing().latency, ii + 6, "{what}");
+                }
+            }
+        }
+    }
+}
