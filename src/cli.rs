@@ -1023,9 +1023,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
     }
     // The range warnings of the points it runs (its shard's share), once each.
     let points = crate::frame::budget::sweep_points(&loaded, param, values, image)?;
-    sweep_kinds(
-        loaded,
-        path,
+    let request = SweepRequest {
         scene,
         param,
         values,
@@ -1034,7 +1032,8 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
         image,
         shard,
         resume,
-    )?;
+    };
+    sweep_kinds(loaded, path, &request)?;
     if let Some(mut points) = points {
         if let Some(sh) = shard {
             let keep = sh.indices(points.len());
@@ -1081,22 +1080,27 @@ fn shading_sweep(
     )
 }
 
+/// A sweep's command-line options, as the frame and pipeline sweeps take them.
+struct SweepRequest<'a> {
+    scene: &'a str,
+    param: &'a str,
+    values: &'a str,
+    out: &'a std::path::Path,
+    truth_samples: u32,
+    image: Option<&'a str>,
+    shard: Option<Shard>,
+    resume: bool,
+}
+
 /// [`sweep`] of a scene of lights and objects by its [`SweepPath`]: an environment
 /// scene, a scene of several pipelines, a glare scene, a shafts scene.
-// The command line's options, one argument each.
-#[allow(clippy::too_many_arguments)]
 fn sweep_kinds(
     mut s: crate::scene::format::Scene,
     path: SweepPath,
-    scene: &str,
-    param: &str,
-    values: &str,
-    out: &std::path::Path,
-    truth_samples: u32,
-    image: Option<&str>,
-    shard: Option<Shard>,
-    resume: bool,
+    r: &SweepRequest<'_>,
 ) -> Result<(), String> {
+    let (scene, param, values, out) = (r.scene, r.param, r.values, r.out);
+    let (shard, resume) = (r.shard, r.resume);
     if path == SweepPath::Shafts {
         return crate::pipeline::shafts::sweep::sweep_cli(
             s,
@@ -1104,13 +1108,13 @@ fn sweep_kinds(
             param,
             values,
             out,
-            truth_samples,
-            image,
+            r.truth_samples,
+            r.image,
             shard,
             resume,
         );
     }
-    crate::scene::load::apply_image(&mut s, image)?;
+    crate::scene::load::apply_image(&mut s, r.image)?;
     match path {
         SweepPath::Environment => crate::pipeline::envmap::sweep::envmap_sweep_cli(
             &s, scene, param, values, out, shard, resume,

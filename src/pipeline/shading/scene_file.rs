@@ -114,17 +114,21 @@ impl ShadingFile {
         }
     }
 
+    /// Every width of the point's path, by name.
+    fn widths(&self) -> BTreeMap<String, u32> {
+        self.point
+            .widths()
+            .into_iter()
+            .map(|(k, v)| (k.to_string(), v))
+            .collect()
+    }
+
     /// The section that builds this (every width of the point's path written out).
     pub fn to_section(&self) -> ShadingSphereSection {
         ShadingSphereSection {
             image: self.image,
             chip: self.point.chip(),
-            hw: self
-                .point
-                .widths()
-                .into_iter()
-                .map(|(k, v)| (k.to_string(), v))
-                .collect(),
+            hw: self.widths(),
             ..ShadingSphereSection::builtin(&self.point.scene().name())
         }
     }
@@ -144,12 +148,7 @@ impl ShadingFile {
                 image: self.image,
                 chip: (!self.point.chip().is_default())
                     .then(|| toml::Value::String(self.point.chip().to_string())),
-                hw: self
-                    .point
-                    .widths()
-                    .into_iter()
-                    .map(|(k, v)| (k.to_string(), v))
-                    .collect(),
+                hw: self.widths(),
             },
         };
         let body =
