@@ -40,7 +40,8 @@ pub struct ScalingRow {
 }
 
 /// Render and time the city at each of `counts` sources, shared then distinct; rows
-/// into DIR/glare_scaling.csv, scenes and pictures as DIR/city_N[_distinct].{toml,png}.
+/// into `DIR/glare_scaling.csv`, scenes and pictures as `DIR/city_N.toml`, `city_N.png`
+/// and `city_N_distinct.{toml,png}`.
 pub fn glare_scaling(out: &Path, counts: &[usize]) -> Result<Vec<ScalingRow>, String> {
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let mut rows: Vec<ScalingRow> = Vec::new();
