@@ -393,25 +393,25 @@ const TABLE_CACHE_ENTRIES: usize = 256;
 
 /// One area primitive of a source, before its tables are built: its quad, what its
 /// tables are computed from, its gain and the key of equal tables.
-struct AreaPlan<P> {
+struct AreaPlan<'s, P> {
     a: AreaPrim,
     /// The profile's input: the bloom model, or the halo's cut-off angle.
     profile: P,
     theta_max: f64,
     gain_l: f64,
-    shape: Shape2D,
+    shape: &'s Shape2D,
     /// Everything the tables depend on, spelt exactly (f64 in round-trip form).
     key: String,
 }
 
 /// A source's bloom and halo primitives, planned.
-struct SourcePlan {
-    bloom: Option<AreaPlan<Bloom>>,
-    halo: Option<AreaPlan<()>>,
+struct SourcePlan<'s> {
+    bloom: Option<AreaPlan<'s, Bloom>>,
+    halo: Option<AreaPlan<'s, ()>>,
 }
 
-impl SourcePlan {
-    fn of(u: &GlareUnits<'_>, s: &SourceGlare, diag: f64) -> SourcePlan {
+impl<'s> SourcePlan<'s> {
+    fn of(u: &GlareUnits<'_>, s: &'s SourceGlare, diag: f64) -> SourcePlan<'s> {
         let (g, lw) = (u.g, u.lw);
         let bloom = s.bloom.as_ref().map(|b| {
             let (a, theta_max) = bloom_prim(s, b, &g.model, 1.5 * diag);
@@ -424,7 +424,7 @@ impl SourcePlan {
                 profile: *b,
                 theta_max,
                 gain_l,
-                shape: s.shape.clone(),
+                shape: &s.shape,
             }
         });
         let halo = s.halo.map(|cc| {
@@ -436,7 +436,7 @@ impl SourcePlan {
                 profile: (),
                 theta_max,
                 gain_l: cc,
-                shape: s.shape.clone(),
+                shape: &s.shape,
             }
         });
         SourcePlan { bloom, halo }
@@ -444,7 +444,8 @@ impl SourcePlan {
 }
 
 /// The key of an area primitive's tables: its outline, its frame's size, angle and
-/// reach (not its centre), and what its profile is computed from.
+/// reach (not its centre), and what its profile is computed from (`x`: the cut-off
+/// angle, and the bloom's gain: the cut-off also depends on the source's colour).
 fn table_key(shape: &Shape2D, a: &AreaPrim, x: &[f64], profile: &dyn std::fmt::Debug) -> String {
     format!(
         "{shape:?}|{:?}|{:?}|{:?}|{x:?}|{profile:?}",
@@ -465,14 +466,14 @@ fn bloom_modulator(
         p.gain_l,
         lw.falloff_log2,
     );
-    let (shape, kappa) = area_shape(&p.shape, &p.a, &lw, &[&fall]);
+    let (shape, kappa) = area_shape(p.shape, &p.a, &lw, &[&fall]);
     BloomFlareModulatorConfig::from_widths(lw)
         .build(&shape, &fall)?
         .with_kappa(kappa)
 }
 
 /// A halo's modulator: its shape and three ring tables loaded.
-fn halo_modulator(u: &GlareUnits<'_>, p: &AreaPlan<()>) -> Result<HaloModulator, ConfigError> {
+fn halo_modulator(u: &GlareUnits<'_>, p: &AreaPlan<'_, ()>) -> Result<HaloModulator, ConfigError> {
     let (g, lw) = (u.g, u.lw);
     let rings: Vec<Vec<f64>> = g
         .determinants
@@ -480,7 +481,7 @@ fn halo_modulator(u: &GlareUnits<'_>, p: &AreaPlan<()>) -> Result<HaloModulator,
         .iter()
         .map(|&l| ring_samples(l, p.theta_max, &g.model, lw.falloff_log2))
         .collect();
-    let (shape, kappa) = area_shape(&p.shape, &p.a, &lw, &[&rings[0], &rings[1], &rings[2]]);
+    let (shape, kappa) = area_shape(p.shape, &p.a, &lw, &[&rings[0], &rings[1], &rings[2]]);
     HaloModulatorConfig::from_widths(lw)
         .build(&shape, [&rings[0], &rings[1], &rings[2]])?
         .with_kappa(kappa)
@@ -507,11 +508,11 @@ impl<M: Send + Sync> TableCache<M> {
     /// Build, in parallel, the modulators of `plans` that are not there yet.
     fn load<'p, P: Sync + 'p>(
         &mut self,
-        plans: impl Iterator<Item = &'p AreaPlan<P>>,
-        build: impl Fn(&AreaPlan<P>) -> Result<M, ConfigError> + Sync,
+        plans: impl Iterator<Item = &'p AreaPlan<'p, P>>,
+        build: impl Fn(&AreaPlan<'_, P>) -> Result<M, ConfigError> + Sync,
     ) {
         let mut seen = std::collections::HashSet::new();
-        let missing: Vec<&AreaPlan<P>> = plans
+        let missing: Vec<&AreaPlan<'_, P>> = plans
             .filter(|p| !self.kept.contains_key(&p.key) && seen.insert(p.key.as_str()))
             .collect();
         let built: Vec<_> = missing
