@@ -89,14 +89,14 @@ impl Chip {
     }
     /// Gates of what is present.
     pub fn gates(&self) -> f64 {
-        self.present().map(|u| u.gates_nand2).sum()
+        crate::report::table::gate_total(self.present().map(|u| u.gates_nand2))
     }
     pub fn ram_bits(&self) -> u64 {
         self.present().map(|u| u.ram_bits).sum()
     }
     /// Gates saved by what was left out.
     pub fn gates_saved(&self) -> f64 {
-        self.left_out().map(|u| u.gates_nand2).sum()
+        crate::report::table::gate_total(self.left_out().map(|u| u.gates_nand2))
     }
 }
 
@@ -411,8 +411,10 @@ pub fn elaborated_json(
         "widths": "scene",
         "preset": preset,
         "units": units,
-        "gates_nand2": present.clone().map(|s| s.gates_nand2).sum::<f64>(),
+        "gates_nand2": crate::report::table::gate_total(present.clone().map(|s| s.gates_nand2)),
         "ram_bits": present.map(|s| s.ram_bits).sum::<u64>(),
-        "gates_saved": units.iter().filter(|u| u.left_out.is_some()).map(|u| u.gates_saved).sum::<f64>(),
+        "gates_saved": crate::report::table::gate_total(
+            units.iter().filter(|u| u.left_out.is_some()).map(|u| u.gates_saved),
+        ),
     })
 }

@@ -96,9 +96,28 @@ pub fn chip_elaboration_table(units: &[crate::report::elaboration::Elaborated]) 
         "{}chip: {} units elaborated at the scene's widths, {:.0} NAND2 gates, {} RAM/ROM bits; left out {} ({:.0} gates saved)\n",
         elaboration_table(units),
         present.len(),
-        present.iter().map(|s| s.gates_nand2).sum::<f64>(),
+        gate_total(present.iter().map(|s| s.gates_nand2)),
         present.iter().map(|s| s.ram_bits).sum::<u64>(),
         left_out.len(),
-        left_out.iter().map(|e| e.gates_saved).sum::<f64>()
+        gate_total(left_out.iter().map(|e| e.gates_saved))
     )
+}
+
+/// A sum of gate counts that is +0 when there is nothing to add. (`Iterator::sum` of
+/// f64 starts from −0.0, which `{:.0}` prints as "-0": "left out 0 (-0 gates saved)".)
+pub fn gate_total(gates: impl Iterator<Item = f64>) -> f64 {
+    gates.fold(0.0, |total, g| total + g)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gate_total;
+
+    #[test]
+    fn an_empty_gate_total_prints_as_zero_not_minus_zero() {
+        let none = gate_total(std::iter::empty());
+        assert!(none.is_sign_positive(), "{none}");
+        assert_eq!(format!("{none:.0}"), "0");
+        assert_eq!(gate_total([1.5, 2.0].into_iter()), 3.5);
+    }
 }
