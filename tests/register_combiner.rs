@@ -675,6 +675,27 @@ fn config_errors_name_the_field() {
     }
 }
 
+/// The final combiner takes only the two unsigned mappings (NV_register_combiners,
+/// FinalCombinerInputNV: UNSIGNED_IDENTITY_NV or UNSIGNED_INVERT_NV); `is_unsigned` is
+/// the test it applies, and it maps every code into 0 ..= 2S half-LSBs.
+#[test]
+fn only_the_two_unsigned_mappings_are_unsigned() {
+    let unsigned: Vec<Mapping> = Mapping::ALL
+        .into_iter()
+        .filter(|m| m.is_unsigned())
+        .collect();
+    assert_eq!(
+        unsigned,
+        [Mapping::UnsignedIdentity, Mapping::UnsignedInvert]
+    );
+    let s = one(9) as i64;
+    for m in Mapping::ALL {
+        let range: Vec<i64> = (-s..=s).map(|r| m.apply_half_lsb(r, s)).collect();
+        let within = range.iter().all(|&v| (0..=2 * s).contains(&v));
+        assert_eq!(within, m.is_unsigned(), "{m:?}");
+    }
+}
+
 /// The NV2A's −½ is 2^(N−2) codes: BIAS of x is x − 2^(N−2) and SHIFT_LEFT_1_BIAS is
 /// 2(x − 2^(N−2)), clamped, EXACTLY (no rounding at G = 0) for every code x, at every
 /// width 3 ..= 12 (at N = 9: 1.0 → 127 and 254, the CombinerOps capture). ExactHalf

@@ -483,11 +483,6 @@ impl BiasConstant {
             BiasConstant::HalfCode => s + 1,
         }
     }
-
-    /// The bias as a real at S = `s` (0.5 or (S + 1)/(2S)).
-    pub fn value(self, s: i64) -> f64 {
-        self.half_codes(s) as f64 / (2 * s) as f64
-    }
 }
 
 /// The SPARE0-alpha test of the mux (gcc6 / gcc4a).
