@@ -86,7 +86,10 @@ fn emit_build_run(scene: &str) {
     for f in ["scene.c", "build.sh", "model.png"] {
         assert!(dir.join(f).is_file(), "{scene}: no {f}");
     }
-    let build = Command::new("sh").arg(dir.join("build.sh")).output().unwrap();
+    let build = Command::new("sh")
+        .arg(dir.join("build.sh"))
+        .output()
+        .unwrap();
     assert!(
         build.status.success(),
         "{scene}: build.sh failed:\n{}",

@@ -105,10 +105,14 @@ pub fn emit_gl_cli(
     let mut scene = crate::scene::load::load_scene(name)?;
     match crate::frame::cli::render_path(&scene) {
         crate::frame::cli::RenderPath::TestScene => {
-            return Err("--emit-gl: the foundation test scene's passes are not exported".into())
+            return Err(format!(
+                "render --emit-gl: scene `{name}`: the foundation test scene's passes are not exported"
+            ))
         }
         crate::frame::cli::RenderPath::ShadingSphere => {
-            return Err("--emit-gl: a shading scene runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form".into())
+            return Err(format!(
+                "render --emit-gl: scene `{name}` runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form"
+            ))
         }
         _ => {}
     }
@@ -140,7 +144,7 @@ pub fn emit_gl_cli(
             })
             .collect();
         return Err(format!(
-            "--emit-gl: no pass of this scene has an OpenGL 1.3 form:\n{}",
+            "render --emit-gl: no pass of scene `{name}` has an OpenGL 1.3 form:\n{}",
             list.join("\n")
         ));
     }
@@ -368,7 +372,10 @@ fn shadow_vertices(p: &Prepared, li: usize) -> Vec<f32> {
                 }
                 hv[k] = [q[0] / q[3] * res, q[1] / q[3] * res, q[2] / q[3]];
             }
-            if hv.iter().any(|a| a[0].abs() > 4000.0 || a[1].abs() > 4000.0) {
+            if hv
+                .iter()
+                .any(|a| a[0].abs() > 4000.0 || a[1].abs() > 4000.0)
+            {
                 continue;
             }
             for a in hv {
@@ -402,8 +409,7 @@ fn object_vertices(p: &Prepared, cam: &CameraView, li: usize) -> Vec<f32> {
                 let (x, y, z) = s[k];
                 let col = |c: usize| (o.color[c] * scale * light.color[c]).min(1.0);
                 v.extend(
-                    [x, y, z, col(0), col(1), col(2), la[0], la[1], la[2], la[3]]
-                        .map(|a| a as f32),
+                    [x, y, z, col(0), col(1), col(2), la[0], la[1], la[2], la[3]].map(|a| a as f32),
                 );
             }
         }

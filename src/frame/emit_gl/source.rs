@@ -2,9 +2,7 @@
 //! files and their layouts), the fixed helpers ([`PRELUDE`]), one function per pass
 //! and the pass list in `main`.
 
-use super::{
-    subplane_weight, Export, LightData, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS,
-};
+use super::{subplane_weight, Export, LightData, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};
 use crate::pipeline::shafts::frame::{Prepared, ShaftsPass};
 use crate::pipeline::shafts::tables::GTables;
 use std::fmt::Write as _;
@@ -73,7 +71,10 @@ pub fn scene_c(c: &Ctx) -> String {
         s,
         " *\n * Written by `glare-pipeline render --emit-gl`. It draws the scene's pass plan as the\n * model draws it: the same vertices (projected by the model's host, f64, written as\n * float32 files), the same texture contents (the model's F and h tables and light\n * maps) and filters, the same modulates in the same order (one texture-combine\n * stage each), the same additive blend, in the same pass order. Offscreen on OSMesa;\n * it writes framebuffer.png ({w} x {h}, 8-bit RGB, the model's rows top to bottom).\n * The model's own picture of the scene is model.png beside it.\n *\n * Build: sh build.sh   Run: GALLIUM_DRIVER=llvmpipe ./scene [out.png]\n *"
     );
-    let _ = writeln!(s, " * Passes exported (the plan's order; one function each):");
+    let _ = writeln!(
+        s,
+        " * Passes exported (the plan's order; one function each):"
+    );
     for e in c.exported {
         let _ = writeln!(s, " *   {}()", pass_name(e));
     }
@@ -159,7 +160,11 @@ pub fn scene_c(c: &Ctx) -> String {
         "/* Shadow bias: one step of the model's {}-bit shadow map (lit where r - bias <= stored). */\n#define SHADOW_BIAS {bias:.9}f",
         cfg.shadow_depth_bits
     );
-    let _ = writeln!(s, "#define HAS_DEPTH {}", u8::from(has_depth && c.has_objects));
+    let _ = writeln!(
+        s,
+        "#define HAS_DEPTH {}",
+        u8::from(has_depth && c.has_objects)
+    );
     let _ = writeln!(s, "#define HAS_SHADOW {}", u8::from(has_shadow));
     let nl = c.lights.len().max(1);
     let _ = writeln!(s, "#define LIGHTS {nl}");
@@ -171,7 +176,12 @@ pub fn scene_c(c: &Ctx) -> String {
     let _ = writeln!(
         s,
         "static const int light_has_map[LIGHTS] = {{{}}};",
-        join(c.lights.iter().map(|l| u8::from(l.has_map).to_string()).collect())
+        join(
+            c.lights
+                .iter()
+                .map(|l| u8::from(l.has_map).to_string())
+                .collect()
+        )
     );
     let _ = writeln!(
         s,
