@@ -151,7 +151,7 @@ pub fn scene_c(c: &Ctx) -> String {
     );
     let _ = writeln!(
         s,
-        "#define PLANES {n} /* n (shafts.planes) */\n#define SUBPLANES {m} /* m (shafts.subplanes) */\n#define COLS {cols}\n#define ROWS {rows} /* plane mesh cells (shafts.mesh) */"
+        "#define PLANES {n} /* n (shafts.planes) */\n#define SUBPLANES {m} /* m (shafts.subplanes) */\n#define COLS {cols}\n#define ROWS {rows} /* plane mesh cells (shafts.mesh) */\n/* Floats per vertex of objects_L.f32, planes_L.f32 and subplanes_L.f32, and per plane\n * and per sub-plane (its window depth first). */\n#define OBJ_FLOATS {OBJ_FLOATS}\n#define PLANE_FLOATS {PLANE_FLOATS}\n#define SUB_FLOATS {SUB_FLOATS}\n#define PLANE_STRIDE (1 + (COLS + 1) * (ROWS + 1) * PLANE_FLOATS)\n#define SUB_STRIDE (1 + 4 * SUB_FLOATS)"
     );
     let bias = crate::scene::limits::shadow_bias(cfg.shadow_depth_bits) as f64
         / rtl_model::unorm::max_code(cfg.shadow_depth_bits) as f64;
@@ -456,20 +456,17 @@ fn objects_pass(s: &mut String, c: &Ctx, light: usize) {
         .map_or(0, |x| x.1);
     let _ = writeln!(
         s,
-        "/* Pass: the objects lit by light {light}. Per-vertex colour (albedo x Lambert x I/s^2 x\n * exp(-rho kappa (s + T)), Gouraud) x light map (projective) x shadow compare, added\n * into the framebuffer where the depth test passes. */\nstatic void pass_objects_{light}(void)\n{{\n    const float *v = load_floats(\"objects_{light}.f32\", (size_t){n} * {OBJ_FLOATS});\n    struct hil_units u;\n    size_t i;\n    units_off();\n    region(0, 0, W, H);\n    depth_tested();\n    additive(1);\n    u = hil_units({light}, 0);\n    glBegin(GL_TRIANGLES);\n    for (i = 0; i < {n}; i++) {{\n        const float *a = v + i * {OBJ_FLOATS};\n        glColor3f(a[3], a[4], a[5]);\n        light_coords(u, a + 6);\n        glVertex3f(a[0], a[1], a[2]);\n    }}\n    glEnd();\n    free((void *)v);\n}}\n"
+        "/* Pass: the objects lit by light {light}. Per-vertex colour (albedo x Lambert x I/s^2 x\n * exp(-rho kappa (s + T)), Gouraud) x light map (projective) x shadow compare, added\n * into the framebuffer where the depth test passes. */\nstatic void pass_objects_{light}(void)\n{{\n    const float *v = load_floats(\"objects_{light}.f32\", (size_t){n} * OBJ_FLOATS);\n    struct hil_units u;\n    size_t i;\n    units_off();\n    region(0, 0, W, H);\n    depth_tested();\n    additive(1);\n    u = hil_units({light}, 0);\n    glBegin(GL_TRIANGLES);\n    for (i = 0; i < {n}; i++) {{\n        const float *a = v + i * OBJ_FLOATS;\n        glColor3f(a[3], a[4], a[5]);\n        light_coords(u, a + 6);\n        glVertex3f(a[0], a[1], a[2]);\n    }}\n    glEnd();\n    free((void *)v);\n}}\n"
     );
 }
 
 fn planes_pass(s: &mut String, c: &Ctx, light: usize) {
     let cfg = c.p.scene.shafts;
     let m = cfg.subplanes;
-    let verts = (cfg.mesh[0] + 1) * (cfg.mesh[1] + 1);
-    let plane_floats = 1 + verts as usize * PLANE_FLOATS;
-    let sub_floats = 1 + 4 * SUB_FLOATS;
     if m > 1 {
         let _ = writeln!(
             s,
-            "/* Interval i's m sub-planes of light {light} into the J buffer: each a full-screen\n * quad whose fragments take H*I_l x its weight, added (depth-tested) into the cleared\n * J region; then the region copied into the J texture (glCopyTexSubImage2D). */\nstatic void j_buffer_{light}(const float *sub, int i)\n{{\n    struct hil_units u;\n    int j, k;\n    units_off();\n    region(0, J_Y, W, H);\n    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);\n    glClear(GL_COLOR_BUFFER_BIT);\n    depth_tested();\n    additive(1);\n    u = hil_units({light}, 0);\n    for (j = 0; j < SUBPLANES; j++) {{\n        const float *p = sub + ((size_t)i * SUBPLANES + j) * {sub_floats};\n        glColor3ub(subplane_weight[j], subplane_weight[j], subplane_weight[j]);\n        glBegin(GL_QUADS);\n        for (k = 0; k < 4; k++) {{\n            const float *a = p + 1 + k * {SUB_FLOATS};\n            light_coords(u, a + 2);\n            glVertex3f(a[0], a[1], p[0]);\n        }}\n        glEnd();\n    }}\n    units_off();\n    glBindTexture(GL_TEXTURE_2D, tex_j);\n    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, J_Y, W, H);\n}}\n"
+            "/* Interval i's m sub-planes of light {light} into the J buffer: each a full-screen\n * quad whose fragments take H*I_l x its weight, added (depth-tested) into the cleared\n * J region; then the region copied into the J texture (glCopyTexSubImage2D). */\nstatic void j_buffer_{light}(const float *sub, int i)\n{{\n    struct hil_units u;\n    int j, k;\n    units_off();\n    region(0, J_Y, W, H);\n    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);\n    glClear(GL_COLOR_BUFFER_BIT);\n    depth_tested();\n    additive(1);\n    u = hil_units({light}, 0);\n    for (j = 0; j < SUBPLANES; j++) {{\n        const float *p = sub + ((size_t)i * SUBPLANES + j) * SUB_STRIDE;\n        glColor3ub(subplane_weight[j], subplane_weight[j], subplane_weight[j]);\n        glBegin(GL_QUADS);\n        for (k = 0; k < 4; k++) {{\n            const float *a = p + 1 + k * SUB_FLOATS;\n            light_coords(u, a + 2);\n            glVertex3f(a[0], a[1], p[0]);\n        }}\n        glEnd();\n    }}\n    units_off();\n    glBindTexture(GL_TEXTURE_2D, tex_j);\n    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, J_Y, W, H);\n}}\n"
         );
     }
     let j_doc = if m > 1 {
@@ -479,17 +476,17 @@ fn planes_pass(s: &mut String, c: &Ctx, light: usize) {
     };
     let _ = writeln!(
         s,
-        "/* Pass: the sample planes of light {light}: n planes parallel to the screen, back to\n * front in the model's order, each a COLS x ROWS mesh whose vertices carry alpha, (s, t),\n * the plane scale S t/r and the light coordinates. Per fragment, one modulate at a\n * time, largest factors first (docs/shafts.md): {j_doc}, x F(alpha), x the light\n * colour, x h(s, t); added into the framebuffer (glBlendFunc(GL_ONE, GL_ONE)). */\nstatic void pass_planes_{light}(void)\n{{\n    const float *planes = load_floats(\"planes_{light}.f32\", (size_t)PLANES * {plane_floats});"
+        "/* Pass: the sample planes of light {light}: n planes parallel to the screen, back to\n * front in the model's order, each a COLS x ROWS mesh whose vertices carry alpha, (s, t),\n * the plane scale S t/r and the light coordinates. Per fragment, one modulate at a\n * time, largest factors first (docs/shafts.md): {j_doc}, x F(alpha), x the light\n * colour, x h(s, t); added into the framebuffer (glBlendFunc(GL_ONE, GL_ONE)). */\nstatic void pass_planes_{light}(void)\n{{\n    const float *planes = load_floats(\"planes_{light}.f32\", (size_t)PLANES * PLANE_STRIDE);"
     );
     if m > 1 {
         let _ = writeln!(
             s,
-            "    const float *sub = load_floats(\"subplanes_{light}.f32\", (size_t)PLANES * SUBPLANES * {sub_floats});"
+            "    const float *sub = load_floats(\"subplanes_{light}.f32\", (size_t)PLANES * SUBPLANES * SUB_STRIDE);"
         );
     }
     let _ = writeln!(
         s,
-        "    int i, k, l, c;\n    for (i = 0; i < PLANES; i++) {{\n        const float *p = planes + (size_t)i * {plane_floats};\n        struct hil_units u = {{-1, -1, -1, 0}};\n        int unit_j = -1, unit_f, unit_h;"
+        "    int i, k, l, c;\n    for (i = 0; i < PLANES; i++) {{\n        const float *p = planes + (size_t)i * PLANE_STRIDE;\n        struct hil_units u = {{-1, -1, -1, 0}};\n        int unit_j = -1, unit_f, unit_h;"
     );
     if m > 1 {
         let _ = writeln!(
@@ -504,7 +501,7 @@ fn planes_pass(s: &mut String, c: &Ctx, light: usize) {
     }
     let _ = writeln!(
         s,
-        "        unit_f = u.next++;\n        unit_modulate(unit_f, GL_TEXTURE_1D, tex_f, GL_TEXTURE, GL_PREVIOUS, NULL); /* x F */\n        if (!light_colour_white[{light}]) /* x colour (a white light's 255 codes change nothing) */\n            unit_modulate(u.next++, GL_TEXTURE_2D, tex_h, GL_CONSTANT, GL_PREVIOUS, light_colour[{light}]);\n        unit_h = u.next++;\n        unit_modulate(unit_h, GL_TEXTURE_2D, tex_h, GL_TEXTURE, GL_PREVIOUS, NULL); /* x h */\n        region(0, 0, W, H);\n        depth_tested();\n        additive(1);\n        glBegin(GL_QUADS);\n        for (l = 0; l < ROWS; l++)\n            for (k = 0; k < COLS; k++)\n                for (c = 0; c < 4; c++) {{\n                    /* The cell's corners (k, l), (k+1, l), (k+1, l+1), (k, l+1). */\n                    int kk = k + (c == 1 || c == 2), ll = l + (c >= 2);\n                    const float *a = p + 1 + ((size_t)ll * (COLS + 1) + kk) * {PLANE_FLOATS};\n                    GLfloat scale = a[5] > 1.0f ? 1.0f : a[5];\n                    glColor3f(scale, scale, scale);\n                    if (unit_j >= 0)\n                        glMultiTexCoord2f(GL_TEXTURE0 + unit_j, a[0] / J_TEX_W, a[1] / J_TEX_H);\n                    else\n                        light_coords(u, a + 6);\n                    glMultiTexCoord1f(GL_TEXTURE0 + unit_f, a[2] / NF);\n                    glMultiTexCoord2f(GL_TEXTURE0 + unit_h, a[3] / HW, a[4] / HH);\n                    glVertex3f(a[0], a[1], p[0]);\n                }}\n        glEnd();\n    }}\n    units_off();\n    free((void *)planes);"
+        "        unit_f = u.next++;\n        unit_modulate(unit_f, GL_TEXTURE_1D, tex_f, GL_TEXTURE, GL_PREVIOUS, NULL); /* x F */\n        if (!light_colour_white[{light}]) /* x colour (a white light's 255 codes change nothing) */\n            unit_modulate(u.next++, GL_TEXTURE_2D, tex_h, GL_CONSTANT, GL_PREVIOUS, light_colour[{light}]);\n        unit_h = u.next++;\n        unit_modulate(unit_h, GL_TEXTURE_2D, tex_h, GL_TEXTURE, GL_PREVIOUS, NULL); /* x h */\n        region(0, 0, W, H);\n        depth_tested();\n        additive(1);\n        glBegin(GL_QUADS);\n        for (l = 0; l < ROWS; l++)\n            for (k = 0; k < COLS; k++)\n                for (c = 0; c < 4; c++) {{\n                    /* The cell's corners (k, l), (k+1, l), (k+1, l+1), (k, l+1). */\n                    int kk = k + (c == 1 || c == 2), ll = l + (c >= 2);\n                    const float *a = p + 1 + ((size_t)ll * (COLS + 1) + kk) * PLANE_FLOATS;\n                    GLfloat scale = a[5] > 1.0f ? 1.0f : a[5];\n                    glColor3f(scale, scale, scale);\n                    if (unit_j >= 0)\n                        glMultiTexCoord2f(GL_TEXTURE0 + unit_j, a[0] / J_TEX_W, a[1] / J_TEX_H);\n                    else\n                        light_coords(u, a + 6);\n                    glMultiTexCoord1f(GL_TEXTURE0 + unit_f, a[2] / NF);\n                    glMultiTexCoord2f(GL_TEXTURE0 + unit_h, a[3] / HW, a[4] / HH);\n                    glVertex3f(a[0], a[1], p[0]);\n                }}\n        glEnd();\n    }}\n    units_off();\n    free((void *)planes);"
     );
     if m > 1 {
         let _ = writeln!(s, "    free((void *)sub);");
