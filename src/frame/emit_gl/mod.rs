@@ -47,7 +47,11 @@ pub fn not_exportable(pass: &Pass) -> Option<String> {
                 .into(),
         ),
         Step::EnvironmentScene => Some(
-            "the environment-map pass (cube map, prefiltered volume) is not exported yet".into(),
+            "the environment-map pass forms each pixel's reflection vector from the \
+             interpolated normal and eye vector (the reflection_vector unit, GeForce3's \
+             texture-shader stage, NV_texture_shader); OpenGL 1.3's reflection texgen is \
+             per vertex: not exported yet"
+                .into(),
         ),
         Step::TestScene => Some("the foundation test scene's passes are not exported".into()),
     }
@@ -105,14 +109,10 @@ pub fn emit_gl_cli(
     let mut scene = crate::scene::load::load_scene(name)?;
     match crate::frame::cli::render_path(&scene) {
         crate::frame::cli::RenderPath::TestScene => {
-            return Err(format!(
-                "render --emit-gl: scene `{name}`: the foundation test scene's passes are not exported"
-            ))
+            return Err("--emit-gl: the foundation test scene's passes are not exported".into())
         }
         crate::frame::cli::RenderPath::ShadingSphere => {
-            return Err(format!(
-                "render --emit-gl: scene `{name}` runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form"
-            ))
+            return Err("--emit-gl: a shading scene runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form".into())
         }
         _ => {}
     }
@@ -144,7 +144,7 @@ pub fn emit_gl_cli(
             })
             .collect();
         return Err(format!(
-            "render --emit-gl: no pass of scene `{name}` has an OpenGL 1.3 form:\n{}",
+            "--emit-gl: no pass of this scene has an OpenGL 1.3 form:\n{}",
             list.join("\n")
         ));
     }
