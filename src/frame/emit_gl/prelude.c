@@ -141,14 +141,16 @@ static GLuint shadow_texture(int res)
     return t;
 }
 
-/* The J texture: the J buffer copied by glCopyTexSubImage2D, read at pixel centres
- * (nearest). Power-of-two sides (GL 1.3); the image sits in its lower-left corner. */
-static GLuint j_texture(int w, int h)
+/* A screen texture (the J texture, the stage register): a region of the buffer copied
+ * by glCopyTexSubImage2D, read at pixel centres (nearest). Power-of-two sides (GL 1.3);
+ * the image sits in its lower-left corner. */
+static GLuint screen_texture(int w, int h, GLenum format)
 {
     GLuint t;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_2D, t);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_LUMINANCE8, w, h, 0, GL_LUMINANCE, GL_UNSIGNED_BYTE, NULL);
+    glTexImage2D(GL_TEXTURE_2D, 0, format == GL_RGB ? GL_RGB8 : GL_LUMINANCE8, w, h, 0, format,
+                 GL_UNSIGNED_BYTE, NULL);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -200,6 +202,20 @@ static void unit_modulate(int unit, GLenum target, GLuint tex, GLenum arg0, GLen
     glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
     if (constant)
         glTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, constant);
+}
+
+/* Texture unit `unit`: texture `tex` on `target` enabled, its colour passed on as is. */
+static void unit_replace(int unit, GLenum target, GLuint tex)
+{
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glEnable(target);
+    glBindTexture(target, tex);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE_ARB);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB_ARB, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB_ARB, GL_TEXTURE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB_ARB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA_ARB, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
 }
 
 /* Every texture unit off, texture matrices reset. */

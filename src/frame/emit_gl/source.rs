@@ -63,7 +63,10 @@ pub fn scene_c(c: &Ctx) -> String {
     let has_depth = c.exported.contains(&ShaftsPass::Depth);
     let j_buffer = has_planes && m > 1;
     let buf_w = w + if has_shadow { res } else { 0 };
-    let buf_h = (if j_buffer { 2 * h } else { h }).max(if has_shadow { res } else { 0 });
+    // Regions stacked up the buffer: the image, the J buffer (m > 1), the stage register
+    // (planes); the shadow map beside them.
+    let stacked = 1 + u32::from(j_buffer) + u32::from(has_planes);
+    let buf_h = (stacked * h).max(if has_shadow { res } else { 0 });
     let mut s = String::new();
     // ---- header comment ----
     let _ = writeln!(s, "/* scene.c — `{}` as an OpenGL 1.3 program.", sc.name);
@@ -106,7 +109,7 @@ pub fn scene_c(c: &Ctx) -> String {
     }
     let _ = writeln!(
         s,
-        " *\n * Where the GL program and the model may differ by a level: the combine stages'\n * and the blend's rounding (the model's modulate rounds a·b/255 to nearest), the\n * interpolation of colours and texture coordinates (the model's interpolator is\n * s16.16 fixed point), the 24-bit shadow-map depth (the model stores 8 bits and\n * adds a bias of one 8-bit step; here the bias is the same step), and which\n * triangle of a quad owns the pixels on the shared edge.\n */\n"
+        " *\n * Where the GL program and the model may differ by a level: the bilinear filters'\n * rounding, the interpolation of colours and coordinates (the model's interpolator is\n * s16.16 fixed point), the shadow map's depth (24 bits here, 8 in the model, whose bias\n * is one 8-bit step, as here) and which triangle of a quad owns the pixels on the\n * shared edge.\n */\n"
     );
     s.push_str(PRELUDE);
     // ---- scene constants ----
@@ -118,9 +121,14 @@ pub fn scene_c(c: &Ctx) -> String {
     let _ = writeln!(s, "#define H {h} /* image height, pixels */");
     let _ = writeln!(
         s,
-        "/* The GL buffer: the image at (0, 0){}{}. */",
+        "/* The GL buffer: the image at (0, 0){}{}{}. */",
         if j_buffer {
             "; the J buffer at (0, H) (it needs its own copy of the depth buffer)"
+        } else {
+            ""
+        },
+        if has_planes {
+            "; the stage register (the 8-bit value between two modulates) at (0, STAGE_Y)"
         } else {
             ""
         },
@@ -132,7 +140,11 @@ pub fn scene_c(c: &Ctx) -> String {
     );
     let _ = writeln!(s, "#define BUF_W {buf_w}\n#define BUF_H {buf_h}");
     let _ = writeln!(s, "#define SHADOW_RES {res} /* shafts.shadow_resolution */");
-    let _ = writeln!(s, "#define SHADOW_X W\n#define J_Y H");
+    let _ = writeln!(
+        s,
+        "#define SHADOW_X W\n#define J_Y H\n#define STAGE_Y {}",
+        if j_buffer { "(2 * H)" } else { "H" }
+    );
     let _ = writeln!(
         s,
         "#define J_TEX_W {}\n#define J_TEX_H {}",
@@ -218,7 +230,7 @@ pub fn scene_c(c: &Ctx) -> String {
     }
     let _ = writeln!(
         s,
-        "\nstatic GLuint tex_f, tex_h, tex_light_map[LIGHTS], tex_shadow, tex_step, tex_j;\n"
+        "\nstatic GLuint tex_f, tex_h, tex_light_map[LIGHTS], tex_shadow, tex_step, tex_j, tex_stage;\n"
     );
     s.push_str(COMMON_PASS_HELPERS);
     // ---- textures ----
@@ -245,7 +257,16 @@ pub fn scene_c(c: &Ctx) -> String {
         let _ = writeln!(s, "    tex_shadow = shadow_texture(SHADOW_RES);");
     }
     if j_buffer {
-        let _ = writeln!(s, "    tex_j = j_texture(J_TEX_W, J_TEX_H);");
+        let _ = writeln!(
+            s,
+            "    tex_j = screen_texture(J_TEX_W, J_TEX_H, GL_LUMINANCE);"
+        );
+    }
+    if has_planes {
+        let _ = writeln!(
+            s,
+            "    tex_stage = screen_texture(J_TEX_W, J_TEX_H, GL_RGB);"
+        );
     }
     let _ = writeln!(s, "}}\n");
     // ---- passes ----
@@ -258,13 +279,7 @@ pub fn scene_c(c: &Ctx) -> String {
         }
     }
     // ---- main ----
-    let units = if !has_planes {
-        3
-    } else if m > 1 {
-        4
-    } else {
-        6
-    };
+    let units = 3;
     let _ = writeln!(
         s,
         "int main(int argc, char **argv)\n{{\n    const char *out = argc > 1 ? argv[1] : \"framebuffer.png\";\n    unsigned char *rgb = malloc((size_t)W * H * 3);\n#ifdef SCENE_GLUT\n    glutInit(&argc, argv);\n    glutInitDisplayMode(GLUT_RGB | GLUT_DEPTH | GLUT_SINGLE);\n    glutInitWindowSize(BUF_W, BUF_H);\n    glutCreateWindow(\"scene\");\n#else\n    unsigned char *buffer = malloc((size_t)BUF_W * BUF_H * 4);\n    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);\n    if (!ctx || !buffer || !OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, BUF_W, BUF_H))\n        die(\"no OSMesa context\");\n#endif\n    require_gl({units});\n    /* Exact 8-bit arithmetic: no dithering; Gouraud colours. */\n    glDisable(GL_DITHER);\n    glShadeModel(GL_SMOOTH);\n    glDisable(GL_SCISSOR_TEST);\n    glClearColor(0, 0, 0, 0);\n    glClearDepth(1.0);\n    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);\n    load_textures();\n\n    /* The pass list, in the plan's order. */"
@@ -408,6 +423,73 @@ static void depth_only(void)
     glDepthFunc(GL_LEQUAL);
 }
 
+/* The texture units a plane's draw feeds coordinates to (-1: none): the J texture,
+ * the H*I_l units, the stage texture, F and h. */
+struct plane_units {
+    int j, stage, f, h;
+    struct hil_units hil;
+};
+
+static struct plane_units no_plane_units(void)
+{
+    struct plane_units pu = {-1, -1, -1, -1, {-1, -1, -1, 0}};
+    return pu;
+}
+
+/* The stage texture (the previous modulate's 8-bit result) on unit 0, passed on. */
+static struct plane_units stage_units(void)
+{
+    struct plane_units pu = no_plane_units();
+    units_off();
+    unit_replace(0, GL_TEXTURE_2D, tex_stage);
+    pu.stage = 0;
+    return pu;
+}
+
+/* A plane's COLS x ROWS mesh, each vertex with the plane scale S as its colour and its
+ * coordinates on the units `pu` names. */
+static void draw_plane(const float *p, struct plane_units pu)
+{
+    int k, l, c;
+    glBegin(GL_QUADS);
+    for (l = 0; l < ROWS; l++)
+        for (k = 0; k < COLS; k++)
+            for (c = 0; c < 4; c++) {
+                /* The cell's corners (k, l), (k+1, l), (k+1, l+1), (k, l+1). */
+                int kk = k + (c == 1 || c == 2), ll = l + (c >= 2);
+                const float *a = p + 1 + ((size_t)ll * (COLS + 1) + kk) * PLANE_FLOATS;
+                GLfloat scale = a[5] > 1.0f ? 1.0f : a[5];
+                glColor3f(scale, scale, scale);
+                if (pu.j >= 0)
+                    glMultiTexCoord2f(GL_TEXTURE0 + pu.j, a[0] / J_TEX_W, a[1] / J_TEX_H);
+                if (pu.stage >= 0)
+                    glMultiTexCoord2f(GL_TEXTURE0 + pu.stage, a[0] / J_TEX_W, a[1] / J_TEX_H);
+                light_coords(pu.hil, a + 6);
+                if (pu.f >= 0)
+                    glMultiTexCoord1f(GL_TEXTURE0 + pu.f, a[2] / NF);
+                if (pu.h >= 0)
+                    glMultiTexCoord2f(GL_TEXTURE0 + pu.h, a[3] / HW, a[4] / HH);
+                glVertex3f(a[0], a[1], p[0]);
+            }
+    glEnd();
+}
+
+/* One modulate of a plane into the stage region (every pixel of the mesh: no depth
+ * test, no blend), copied into the stage texture: the 8-bit register between two
+ * modulates. */
+static void stage_draw(const float *p, struct plane_units pu)
+{
+    region(0, STAGE_Y, W, H);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_DEPTH_TEST);
+    additive(0);
+    draw_plane(p, pu);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, tex_stage);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, STAGE_Y, W, H);
+}
+
 static void draw_triangles_xyz(const float *v, size_t vertices)
 {
     size_t i;
@@ -476,7 +558,7 @@ fn planes_pass(s: &mut String, c: &Ctx, light: usize) {
     };
     let _ = writeln!(
         s,
-        "/* Pass: the sample planes of light {light}: n planes parallel to the screen, back to\n * front in the model's order, each a COLS x ROWS mesh whose vertices carry alpha, (s, t),\n * the plane scale S t/r and the light coordinates. Per fragment, one modulate at a\n * time, largest factors first (docs/shafts.md): {j_doc}, x F(alpha), x the light\n * colour, x h(s, t); added into the framebuffer (glBlendFunc(GL_ONE, GL_ONE)). */\nstatic void pass_planes_{light}(void)\n{{\n    const float *planes = load_floats(\"planes_{light}.f32\", (size_t)PLANES * PLANE_STRIDE);"
+        "/* Pass: the sample planes of light {light}: n planes parallel to the screen, back to\n * front in the model's order, each a COLS x ROWS mesh whose vertices carry alpha, (s, t),\n * the plane scale S t/r and the light coordinates. Per fragment, one modulate at a\n * time, largest factors first (docs/shafts.md): {j_doc}, x F(alpha), x the light\n * colour, x h(s, t); added into the framebuffer (glBlendFunc(GL_ONE, GL_ONE)). Each\n * modulate rounds to 8 bits, as the model's: it is drawn on its own into the stage\n * region and copied into the stage texture, which the next one reads (a chain of\n * combine stages in one draw may round once at its end: llvmpipe does). */\nstatic void pass_planes_{light}(void)\n{{\n    const float *planes = load_floats(\"planes_{light}.f32\", (size_t)PLANES * PLANE_STRIDE);"
     );
     if m > 1 {
         let _ = writeln!(
@@ -486,22 +568,22 @@ fn planes_pass(s: &mut String, c: &Ctx, light: usize) {
     }
     let _ = writeln!(
         s,
-        "    int i, k, l, c;\n    for (i = 0; i < PLANES; i++) {{\n        const float *p = planes + (size_t)i * PLANE_STRIDE;\n        struct hil_units u = {{-1, -1, -1, 0}};\n        int unit_j = -1, unit_f, unit_h;"
+        "    int i;\n    for (i = 0; i < PLANES; i++) {{\n        const float *p = planes + (size_t)i * PLANE_STRIDE;\n        struct plane_units pu = no_plane_units();"
     );
     if m > 1 {
         let _ = writeln!(
             s,
-            "        j_buffer_{light}(sub, i);\n        units_off();\n        unit_modulate(0, GL_TEXTURE_2D, tex_j, GL_TEXTURE, GL_PRIMARY_COLOR, NULL); /* J x S */\n        unit_j = 0;\n        u.next = 1;"
+            "        j_buffer_{light}(sub, i);\n        /* J x S */\n        units_off();\n        unit_modulate(0, GL_TEXTURE_2D, tex_j, GL_TEXTURE, GL_PRIMARY_COLOR, NULL);\n        pu.j = 0;"
         );
     } else {
         let _ = writeln!(
             s,
-            "        units_off();\n        u = hil_units({light}, 0); /* J x S */"
+            "        /* J x S */\n        units_off();\n        pu.hil = hil_units({light}, 0);"
         );
     }
     let _ = writeln!(
         s,
-        "        unit_f = u.next++;\n        unit_modulate(unit_f, GL_TEXTURE_1D, tex_f, GL_TEXTURE, GL_PREVIOUS, NULL); /* x F */\n        if (!light_colour_white[{light}]) /* x colour (a white light's 255 codes change nothing) */\n            unit_modulate(u.next++, GL_TEXTURE_2D, tex_h, GL_CONSTANT, GL_PREVIOUS, light_colour[{light}]);\n        unit_h = u.next++;\n        unit_modulate(unit_h, GL_TEXTURE_2D, tex_h, GL_TEXTURE, GL_PREVIOUS, NULL); /* x h */\n        region(0, 0, W, H);\n        depth_tested();\n        additive(1);\n        glBegin(GL_QUADS);\n        for (l = 0; l < ROWS; l++)\n            for (k = 0; k < COLS; k++)\n                for (c = 0; c < 4; c++) {{\n                    /* The cell's corners (k, l), (k+1, l), (k+1, l+1), (k, l+1). */\n                    int kk = k + (c == 1 || c == 2), ll = l + (c >= 2);\n                    const float *a = p + 1 + ((size_t)ll * (COLS + 1) + kk) * PLANE_FLOATS;\n                    GLfloat scale = a[5] > 1.0f ? 1.0f : a[5];\n                    glColor3f(scale, scale, scale);\n                    if (unit_j >= 0)\n                        glMultiTexCoord2f(GL_TEXTURE0 + unit_j, a[0] / J_TEX_W, a[1] / J_TEX_H);\n                    else\n                        light_coords(u, a + 6);\n                    glMultiTexCoord1f(GL_TEXTURE0 + unit_f, a[2] / NF);\n                    glMultiTexCoord2f(GL_TEXTURE0 + unit_h, a[3] / HW, a[4] / HH);\n                    glVertex3f(a[0], a[1], p[0]);\n                }}\n        glEnd();\n    }}\n    units_off();\n    free((void *)planes);"
+        "        stage_draw(p, pu);\n        /* x F */\n        pu = stage_units();\n        pu.f = 1;\n        unit_modulate(1, GL_TEXTURE_1D, tex_f, GL_TEXTURE, GL_PREVIOUS, NULL);\n        stage_draw(p, pu);\n        /* x colour (a white light's 255 codes change nothing) */\n        if (!light_colour_white[{light}]) {{\n            pu = stage_units();\n            unit_modulate(0, GL_TEXTURE_2D, tex_stage, GL_TEXTURE, GL_CONSTANT, light_colour[{light}]);\n            stage_draw(p, pu);\n        }}\n        /* x h, added into the framebuffer where the depth test passes */\n        pu = stage_units();\n        pu.h = 1;\n        unit_modulate(1, GL_TEXTURE_2D, tex_h, GL_TEXTURE, GL_PREVIOUS, NULL);\n        region(0, 0, W, H);\n        depth_tested();\n        additive(1);\n        draw_plane(p, pu);\n    }}\n    units_off();\n    free((void *)planes);"
     );
     if m > 1 {
         let _ = writeln!(s, "    free((void *)sub);");
