@@ -214,3 +214,38 @@ fn a_scene_the_gl_program_cannot_draw_is_refused_naming_the_field() {
     assert!(err.contains("shafts.texel_bits"), "{err}");
     assert!(!d.join("out").join("scene.c").exists());
 }
+
+#[test]
+fn a_mixed_scene_exports_its_gl_passes_and_lists_the_rest() {
+    let dir = scratch("night_street");
+    let out = bin()
+        .args([
+            "render",
+            "--scene",
+            "night-street",
+            "--image",
+            "96x64",
+            "--emit-gl",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let c = std::fs::read_to_string(dir.join("scene.c")).unwrap();
+    let header = &c[..c.find("*/").unwrap()];
+    for pass in ["glare", "objects (shading units"] {
+        assert!(
+            err.lines()
+                .any(|l| l.contains("not exported") && l.contains(pass)),
+            "stderr does not list {pass}: {err}"
+        );
+        assert!(header.contains(pass), "the header does not list {pass}");
+    }
+    // The shafts passes are exported, each a function called from main.
+    for f in ["pass_depth();", "pass_planes_0();", "pass_planes_1();"] {
+        assert!(c.contains(f), "main does not call {f}");
+    }
+    assert!(dir.join("model.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}
