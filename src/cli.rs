@@ -109,7 +109,7 @@ pub enum Command {
         /// -lOSMesa -lm) and model.png (the model's picture at the same size). The
         /// program renders offscreen on OSMesa and writes framebuffer.png. Passes with
         /// no OpenGL 1.3 form (glare, the shading units) are listed, not exported.
-        #[arg(long, value_name = "DIR", conflicts_with_all = ["plan", "reference", "json"])]
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "plan", "reference", "json"])]
         emit_gl: Option<PathBuf>,
         #[command(flatten)]
         timing: crate::frame::cli::TimingArgs,

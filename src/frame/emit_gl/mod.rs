@@ -172,18 +172,16 @@ pub fn emit_gl_cli(
         std::fs::write(dir.join(file), bytes)
             .map_err(|e| format!("emit-gl: {}: {e}", dir.join(file).display()))?;
     }
+    let exported = exports
+        .iter()
+        .filter(|e| matches!(e, Export::Shafts(_)))
+        .count();
     println!(
-        "wrote {} (scene.c, build.sh, {} data files, model.png): {} passes exported, {} not",
+        "wrote {} (scene.c, build.sh, {} data files, model.png): {exported} {} exported, {} not",
         dir.display(),
         program.files.len() - 2,
-        exports
-            .iter()
-            .filter(|e| matches!(e, Export::Shafts(_)))
-            .count(),
-        exports
-            .iter()
-            .filter(|e| matches!(e, Export::NotExported { .. }))
-            .count()
+        if exported == 1 { "pass" } else { "passes" },
+        exports.len() - exported
     );
     println!(
         "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
