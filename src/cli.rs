@@ -103,6 +103,14 @@ pub enum Command {
         /// shading scene's sphere view; the test scene's size is fixed).
         #[arg(long, value_name = "WxH")]
         image: Option<String>,
+        /// Write the scene as a self-contained OpenGL 1.3 C program into DIR instead of
+        /// rendering it here: scene.c (one function per pass, the pass list in main),
+        /// the model's tables, light maps and vertices as raw files, build.sh (cc …
+        /// -lOSMesa -lm) and model.png (the model's picture at the same size). The
+        /// program renders offscreen on OSMesa and writes framebuffer.png. Passes with
+        /// no OpenGL 1.3 form (glare, the shading units) are listed, not exported.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "plan", "reference", "json"])]
+        emit_gl: Option<PathBuf>,
         #[command(flatten)]
         timing: crate::frame::cli::TimingArgs,
     },
@@ -484,12 +492,20 @@ pub fn run(cli: Cli) -> Result<(), String> {
         },
         Command::Render {
             scene,
+            max_memory,
+            image,
+            emit_gl: Some(dir),
+            ..
+        } => crate::frame::emit_gl::emit_gl_cli(&scene, &dir, image.as_deref(), max_memory),
+        Command::Render {
+            scene,
             out,
             json,
             reference,
             plan,
             max_memory,
             image,
+            emit_gl: None,
             timing,
         } => crate::frame::cli::render_cli(
             &scene,

@@ -15,6 +15,7 @@ pub mod check;
 pub mod chip;
 pub mod chip_sweep;
 pub mod cli;
+pub mod emit_gl;
 pub mod glare_link;
 pub mod glare_scaling;
 pub mod gpu;
