@@ -51,8 +51,9 @@ pub enum Command {
         only: Vec<String>,
         /// Instead: the speed table of the units with Verilog — the model's batch
         /// kernel (pixels/s) beside Verilator (cycles/s, transactions/s) on the same
-        /// vectors and configuration, in one run (docs/rtl.md). Needs verilator, g++
-        /// and make.
+        /// vectors and configuration, in one run (docs/rtl.md): in an in-memory C++
+        /// harness (vectors loaded first, one build per unit) and in the vector
+        /// testbench (`$fscanf` per transaction). Needs verilator, g++ and make.
         #[arg(long, conflicts_with_all = ["scene", "datasheet", "alternates", "synth"])]
         rtl_speed: bool,
         /// With --rtl-speed: transactions per unit (exhaustive vector sets keep their
@@ -1326,6 +1327,17 @@ fn units_rtl_speed(json: bool, count: usize, config: &str) -> Result<(), String>
         );
         return Ok(());
     }
+    // A rate not measured is `n/a`, never 0.
+    let sci = |v: Option<f64>| v.map_or("n/a".into(), |v| format!("{v:.3e}"));
+    let ratio = |v: Option<f64>| {
+        v.map_or("n/a".into(), |v| {
+            if v < 10.0 {
+                format!("{v:.2}")
+            } else {
+                format!("{v:.0}")
+            }
+        })
+    };
     let t: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
@@ -1338,12 +1350,12 @@ fn units_rtl_speed(json: bool, count: usize, config: &str) -> Result<(), String>
                     r.transactions.to_string()
                 },
                 format!("{:.3e}", r.model_pixels_per_s),
-                r.verilator_cycles_per_s
-                    .map_or("— (too short)".into(), |v| format!("{v:.3e}")),
-                r.verilator_transactions_per_s
-                    .map_or("— (too short)".into(), |v| format!("{v:.3e}")),
-                r.model_over_verilator
-                    .map_or("—".into(), |v| format!("{v:.0}")),
+                sci(r.verilator_memory_cycles_per_s),
+                sci(r.verilator_memory_transactions_per_s),
+                ratio(r.model_over_verilator_memory),
+                sci(r.verilator_cycles_per_s),
+                sci(r.verilator_transactions_per_s),
+                ratio(r.model_over_verilator),
             ]
         })
         .collect();
@@ -1355,12 +1367,19 @@ fn units_rtl_speed(json: bool, count: usize, config: &str) -> Result<(), String>
                 "config",
                 "transactions",
                 "model pixels/s",
-                "Verilator cycles/s",
-                "Verilator transactions/s",
-                "model ÷ Verilator"
+                "Verilator in-memory cycles/s",
+                "Verilator in-memory transactions/s",
+                "model ÷ Verilator (in memory)",
+                "Verilator $fscanf cycles/s",
+                "Verilator $fscanf transactions/s",
+                "model ÷ Verilator ($fscanf)"
             ],
             &t
         )
+    );
+    let build: f64 = rows.iter().map(|r| r.verilator_memory_build_secs).sum();
+    println!(
+        "In-memory harness: one Verilator build per unit (-O3, C++ at -O3), {build:.0} s in all."
     );
     Ok(())
 }
