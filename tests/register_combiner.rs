@@ -696,6 +696,87 @@ fn only_the_two_unsigned_mappings_are_unsigned() {
     }
 }
 
+/// The trace signals (VCD) of a register file: one N-bit wire per register component,
+/// named `<register>_<component>` in Table 1 order, a negative code as its N-bit two's
+/// complement.
+#[test]
+fn trace_signals_are_the_register_codes_as_n_bit_wires() {
+    let u = RegisterCombiner::geforce();
+    let n = u.config().internal_bits;
+    let mut file = RegisterFile::default();
+    for (i, reg) in file.regs.iter_mut().enumerate() {
+        for (c, v) in reg.iter_mut().enumerate() {
+            *v = (i * 4 + c) as i32 - 20; // −20 ..= 27: negatives included
+        }
+    }
+    for signals in [u.in_signals(&file), u.out_signals(&file)] {
+        assert_eq!(signals.len(), 4 * REGISTER_COUNT);
+        for (k, sig) in signals.iter().enumerate() {
+            let code = k as i64 - 20;
+            assert_eq!(sig.width, n, "{}", sig.name);
+            assert_eq!(sig.value, code.rem_euclid(1 << n) as u64, "{}", sig.name);
+            assert!(sig.value < 1 << n);
+        }
+        assert_eq!(signals[0].name, "zero_r");
+        assert_eq!(signals[19].name, "pri_a");
+        assert_eq!(signals[4 * REGISTER_COUNT - 1].name, "tex3_a");
+    }
+}
+
+/// The underflow counter of a load: a non-zero unorm code loaded as register code 0 (at
+/// N = 3, S = 3: every u < U/6 at 8 bits), and nothing else.
+#[test]
+fn a_load_counts_each_nonzero_code_rounded_to_zero() {
+    let u = RegisterCombinerConfig {
+        internal_bits: 3,
+        ..RegisterCombinerConfig::geforce()
+    }
+    .build()
+    .unwrap();
+    let big_u = (1u32 << u.config().input_bits) - 1;
+    let mut ctr = Counters::default();
+    let mut zeros = 0;
+    for code in 0..=big_u {
+        let c = u.load_unorm(code, &mut ctr);
+        zeros += u64::from(c == 0 && code != 0);
+    }
+    assert!(zeros > 0, "N = 3 must round the smallest codes to 0");
+    assert_eq!(ctr.underflows, zeros);
+    assert_eq!(u.load_unorm(0, &mut ctr), 0);
+    assert_eq!(ctr.underflows, zeros, "0 loaded as 0 is no underflow");
+}
+
+/// The underflow counter of a product: code 1 × code 1 is 1/S² of a unit, below half a
+/// working LSB (1/S at G = 0), so AB rounds to 0 on every lane and counts; code S × S
+/// (1.0 × 1.0) and the zero CD product do not.
+#[test]
+fn a_product_rounded_to_zero_counts_once_per_lane() {
+    let portion = |usage| PortionConfig {
+        a: VariableInput::new(Register::Texture0, Mapping::UnsignedIdentity, usage),
+        b: VariableInput::new(Register::Texture0, Mapping::UnsignedIdentity, usage),
+        ab_output: Some(Register::Spare1),
+        ..PortionConfig::initial(usage)
+    };
+    let u = RegisterCombinerConfig {
+        rgb: portion(ComponentUsage::Rgb),
+        alpha: portion(ComponentUsage::Alpha),
+        ..RegisterCombinerConfig::geforce()
+    }
+    .build()
+    .unwrap();
+    assert_eq!(u.config().guard_bits, 0);
+    let s = u.one() as i32;
+    for (code, underflows) in [(1, 4), (s, 0)] {
+        let mut file = RegisterFile::default();
+        file.set(Register::Texture0, [code; 4]);
+        let mut ctr = Counters::default();
+        let out = u.kernel(&mut (), &file, &mut ctr);
+        let want = if code == 1 { 0 } else { s };
+        assert_eq!(out.get(Register::Spare1), [want; 4], "code {code}");
+        assert_eq!(ctr.underflows, underflows, "code {code}");
+    }
+}
+
 /// The NV2A's −½ is 2^(N−2) codes: BIAS of x is x − 2^(N−2) and SHIFT_LEFT_1_BIAS is
 /// 2(x − 2^(N−2)), clamped, EXACTLY (no rounding at G = 0) for every code x, at every
 /// width 3 ..= 12 (at N = 9: 1.0 → 127 and 254, the CombinerOps capture). ExactHalf

@@ -708,11 +708,6 @@ impl RegisterCombiner {
         one_code(self.cfg.internal_bits)
     }
 
-    /// A register code as a real (c/S).
-    pub fn code_to_f64(&self, c: i32) -> f64 {
-        c as f64 / self.one() as f64
-    }
-
     /// Load one unorm code u (`input_bits`, masked to its wires) into the register
     /// format: round(u·S/U) by `rounding` (u(I) × u(N−1) → u(I+N−1), ÷ U). Exact when
     /// N − 1 = I; never saturates (u ≤ U → result ≤ S).
