@@ -774,6 +774,52 @@ fn a_product_rounded_to_zero_counts_once_per_lane() {
         let want = if code == 1 { 0 } else { s };
         assert_eq!(out.get(Register::Spare1), [want; 4], "code {code}");
         assert_eq!(ctr.underflows, underflows, "code {code}");
+        assert_eq!(
+            ctr.saturations, 0,
+            "code {code}: S is in range, not clamped"
+        );
+    }
+}
+
+/// The output's counters (step 6, truncating): a non-zero value scaled by ½ to below one
+/// code counts an underflow, exactly S is no saturation, 2S (1.0 × 1.0 scaled by 2) is
+/// one per lane, clamped to S.
+#[test]
+fn the_output_counts_underflows_and_saturations_per_lane() {
+    let portion = |usage, scale| PortionConfig {
+        a: VariableInput::new(Register::Texture0, Mapping::UnsignedIdentity, usage),
+        b: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, usage),
+        ab_output: Some(Register::Spare1),
+        sum_output: None,
+        scale,
+        ..PortionConfig::initial(usage)
+    };
+    let s = one(9) as i32;
+    let cases = [
+        // (scale, code, output, underflows, saturations)
+        (Scale::ByOneHalf, 1, 0, 4, 0),
+        (Scale::ByOneHalf, 2, 1, 0, 0),
+        (Scale::None, s, s, 0, 0),
+        (Scale::ByTwo, s, s, 0, 4),
+    ];
+    for (scale, code, want, underflows, saturations) in cases {
+        let u = RegisterCombinerConfig {
+            rgb: portion(ComponentUsage::Rgb, scale),
+            alpha: portion(ComponentUsage::Alpha, scale),
+            rounding: Quant::Trn,
+            ..RegisterCombinerConfig::geforce()
+        }
+        .build()
+        .unwrap();
+        assert_eq!((u.config().internal_bits, u.config().guard_bits), (9, 0));
+        let mut file = RegisterFile::default();
+        file.set(Register::Texture0, [code; 4]);
+        let mut ctr = Counters::default();
+        let out = u.kernel(&mut (), &file, &mut ctr);
+        let case = format!("{scale:?} × code {code}");
+        assert_eq!(out.get(Register::Spare1), [want; 4], "{case}");
+        assert_eq!(ctr.underflows, underflows, "{case}");
+        assert_eq!(ctr.saturations, saturations, "{case}");
     }
 }
 
