@@ -782,12 +782,12 @@ fn a_product_rounded_to_zero_counts_once_per_lane() {
 }
 
 /// The output's counters (step 6, truncating): a non-zero value scaled by ½ to below one
-/// code counts an underflow, exactly S is no saturation, 2S (1.0 × 1.0 scaled by 2) is
-/// one per lane, clamped to S.
+/// code counts an underflow, exactly ±S is no saturation, ±2S (±1.0 × 1.0 scaled by 2)
+/// is one per lane, clamped to ±S.
 #[test]
 fn the_output_counts_underflows_and_saturations_per_lane() {
-    let portion = |usage, scale| PortionConfig {
-        a: VariableInput::new(Register::Texture0, Mapping::UnsignedIdentity, usage),
+    let portion = |usage, mapping, scale| PortionConfig {
+        a: VariableInput::new(Register::Texture0, mapping, usage),
         b: VariableInput::new(Register::Zero, Mapping::UnsignedInvert, usage),
         ab_output: Some(Register::Spare1),
         sum_output: None,
@@ -796,16 +796,18 @@ fn the_output_counts_underflows_and_saturations_per_lane() {
     };
     let s = one(9) as i32;
     let cases = [
-        // (scale, code, output, underflows, saturations)
-        (Scale::ByOneHalf, 1, 0, 4, 0),
-        (Scale::ByOneHalf, 2, 1, 0, 0),
-        (Scale::None, s, s, 0, 0),
-        (Scale::ByTwo, s, s, 0, 4),
+        // (mapping of A, scale, code, output, underflows, saturations)
+        (Mapping::UnsignedIdentity, Scale::ByOneHalf, 1, 0, 4, 0),
+        (Mapping::UnsignedIdentity, Scale::ByOneHalf, 2, 1, 0, 0),
+        (Mapping::UnsignedIdentity, Scale::None, s, s, 0, 0),
+        (Mapping::UnsignedIdentity, Scale::ByTwo, s, s, 0, 4),
+        (Mapping::SignedNegate, Scale::None, s, -s, 0, 0),
+        (Mapping::SignedNegate, Scale::ByTwo, s, -s, 0, 4),
     ];
-    for (scale, code, want, underflows, saturations) in cases {
+    for (mapping, scale, code, want, underflows, saturations) in cases {
         let u = RegisterCombinerConfig {
-            rgb: portion(ComponentUsage::Rgb, scale),
-            alpha: portion(ComponentUsage::Alpha, scale),
+            rgb: portion(ComponentUsage::Rgb, mapping, scale),
+            alpha: portion(ComponentUsage::Alpha, mapping, scale),
             rounding: Quant::Trn,
             ..RegisterCombinerConfig::geforce()
         }
@@ -816,10 +818,46 @@ fn the_output_counts_underflows_and_saturations_per_lane() {
         file.set(Register::Texture0, [code; 4]);
         let mut ctr = Counters::default();
         let out = u.kernel(&mut (), &file, &mut ctr);
-        let case = format!("{scale:?} × code {code}");
+        let case = format!("{mapping:?} {scale:?} × code {code}");
         assert_eq!(out.get(Register::Spare1), [want; 4], "{case}");
         assert_eq!(ctr.underflows, underflows, "{case}");
         assert_eq!(ctr.saturations, saturations, "{case}");
+    }
+}
+
+/// What the NV2A options add to the stage's cost, in cells: per-stage constants are two
+/// RGBA registers (8 × N flip-flops); blue-to-alpha a 2:1 select on each of the 8
+/// writable registers' alphas (8 × N 2:1 muxes). Nothing else changes. At the default
+/// widths the whole cost is pinned by the datasheet (tests/datasheet.rs); these parts
+/// are absent there.
+#[test]
+fn the_nv2a_options_cost_their_registers_and_selects() {
+    for n in [5u32, 9, 12] {
+        let base = RegisterCombinerConfig {
+            internal_bits: n,
+            ..RegisterCombinerConfig::geforce()
+        };
+        let cells = |c: RegisterCombinerConfig| c.build().unwrap().cost().cells;
+        let plain = cells(base);
+        let constants = cells(RegisterCombinerConfig {
+            stage_constants: Some([[0; 4]; 2]),
+            ..base
+        });
+        let mut with_blue = base;
+        with_blue.rgb.ab_output = Some(Register::Spare1);
+        with_blue.ab_blue_to_alpha = true;
+        let mut without_blue = with_blue;
+        without_blue.ab_blue_to_alpha = false;
+        let (blue, no_blue) = (cells(with_blue), cells(without_blue));
+        let n = n as f64;
+        assert_eq!(constants.dff - plain.dff, 8.0 * n, "N = {n}");
+        assert_eq!(blue.mux2 - no_blue.mux2, 8.0 * n, "N = {n}");
+        let rest =
+            |a: rtl_model::cost::Cells| [a.and2, a.nand2, a.or2, a.nor2, a.xor2, a.xnor2, a.not];
+        assert_eq!(rest(constants), rest(plain), "N = {n}");
+        assert_eq!(constants.mux2, plain.mux2, "N = {n}");
+        assert_eq!(rest(blue), rest(no_blue), "N = {n}");
+        assert_eq!(blue.dff, no_blue.dff, "N = {n}");
     }
 }
 
