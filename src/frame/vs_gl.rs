@@ -141,7 +141,7 @@ pub fn missing_tools() -> Option<String> {
     let cc = Command::new("cc").arg("--version").output();
     if !cc.map(|o| o.status.success()).unwrap_or(false) {
         return Some(format!(
-            "reproduce vs-gl: no C compiler (`cc`) found; it builds the scenes' GL programs against libOSMesa ({INSTALL})"
+            "no C compiler (`cc`) found; it builds the scenes' GL programs against libOSMesa ({INSTALL})"
         ));
     }
     let dir = std::env::temp_dir().join(format!("glare_vs_gl_probe_{}", std::process::id()));
@@ -168,7 +168,7 @@ pub fn missing_tools() -> Option<String> {
         None
     } else {
         Some(format!(
-            "reproduce vs-gl: libOSMesa (GL/osmesa.h and -lOSMesa) not found: `cc` cannot build a program against it ({INSTALL})"
+            "libOSMesa (GL/osmesa.h and -lOSMesa) not found: `cc` cannot build a program against it ({INSTALL})"
         ))
     }
 }
@@ -202,10 +202,10 @@ fn build(dir: &Path) -> Result<(), String> {
     let o = Command::new("sh")
         .arg(dir.join("build.sh"))
         .output()
-        .map_err(|e| format!("vs-gl: sh {}: {e}", dir.join("build.sh").display()))?;
+        .map_err(|e| format!("sh {}: {e}", dir.join("build.sh").display()))?;
     if !o.status.success() {
         return Err(format!(
-            "vs-gl: building {} failed:\n{}",
+            "building {} failed:\n{}",
             dir.display(),
             String::from_utf8_lossy(&o.stderr)
         ));
@@ -220,11 +220,11 @@ fn run_program(dir: &Path, driver: &str, png: &Path) -> Result<(f64, Vec<u8>), S
         .current_dir(dir)
         .env("GALLIUM_DRIVER", driver)
         .output()
-        .map_err(|e| format!("vs-gl: {}: {e}", dir.join("scene").display()))?;
+        .map_err(|e| format!("{}: {e}", dir.join("scene").display()))?;
     let out = String::from_utf8_lossy(&o.stdout);
     if !o.status.success() {
         return Err(format!(
-            "vs-gl: {} on {driver} failed:\n{}{}",
+            "{} on {driver} failed:\n{}{}",
             dir.join("scene").display(),
             out,
             String::from_utf8_lossy(&o.stderr)
@@ -239,14 +239,14 @@ fn run_program(dir: &Path, driver: &str, png: &Path) -> Result<(f64, Vec<u8>), S
     let renderer = field("renderer=").unwrap_or_default();
     if !renderer.to_lowercase().contains(driver) {
         return Err(format!(
-            "vs-gl: GALLIUM_DRIVER={driver} gave the renderer '{renderer}': this libOSMesa has no {driver}"
+            "GALLIUM_DRIVER={driver} gave the renderer '{renderer}': this libOSMesa has no {driver}"
         ));
     }
     let secs: f64 = field("draw_seconds=")
         .and_then(|v| v.parse().ok())
-        .ok_or_else(|| format!("vs-gl: the program printed no draw_seconds line:\n{out}"))?;
+        .ok_or_else(|| format!("the program printed no draw_seconds line:\n{out}"))?;
     let img = image::open(png)
-        .map_err(|e| format!("vs-gl: {}: {e}", png.display()))?
+        .map_err(|e| format!("{}: {e}", png.display()))?
         .to_rgb8();
     Ok((secs, img.into_raw()))
 }
@@ -259,9 +259,9 @@ fn diff_png(model: &[u8], gl: &[u8], w: u32, h: u32, path: &Path) -> Result<(), 
         .map(|(a, b)| (u32::from(a.abs_diff(*b)) * DIFF_SCALE).min(255) as u8)
         .collect();
     image::RgbImage::from_raw(w, h, px)
-        .ok_or_else(|| format!("vs-gl: {}: size", path.display()))?
+        .ok_or_else(|| format!("{}: size", path.display()))?
         .save(path)
-        .map_err(|e| format!("vs-gl: {}: {e}", path.display()))
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// The scene at the run's size, checked for export.
@@ -271,7 +271,7 @@ fn load(name: &str, size: Option<(u32, u32)>) -> Result<(Scene, Vec<Export>), St
         s.image.width = w;
         s.image.height = h;
     }
-    let exports = check_exportable(&s).map_err(|e| format!("vs-gl: {name}: {e}"))?;
+    let exports = check_exportable(&s).map_err(|e| format!("{name}: {e}"))?;
     Ok((s, exports))
 }
 
@@ -485,7 +485,7 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
                 Some(files) => {
                     if program_of(&f, exports)?.files != *files {
                         return Err(format!(
-                            "vs-gl: {name}: the GL program's data differ between the modes"
+                            "{name}: the GL program's data differ between the modes"
                         ));
                     }
                 }
@@ -516,7 +516,7 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
             }
         }
         if *name == "fig6" {
-            let gl = gl_llvmpipe.ok_or("vs-gl: no llvmpipe frame")?;
+            let gl = gl_llvmpipe.ok_or("no llvmpipe frame")?;
             for (mode, s, model, _) in &models {
                 let (a, c) = ablate(name, mode, s, model, &gl)?;
                 ablation.extend(a);
@@ -565,7 +565,7 @@ fn ablate(
         }
     }
     rows.push(switched(name, mode, ALL_SWITCHES, &all, &d0, gl)?.0);
-    let shadow = shadow.ok_or("vs-gl: no shadow-map switch")?;
+    let shadow = shadow.ok_or("no shadow-map switch")?;
     let size = (base.image.width, base.image.height);
     Ok((rows, classes(name, mode, size, model, gl, &shadow)))
 }
@@ -578,8 +578,7 @@ fn switched(
     d0: &Diff,
     gl: &[u8],
 ) -> Result<(AblationRow, Vec<u8>), String> {
-    s.validate()
-        .map_err(|e| format!("vs-gl: ablation {label}: {e}"))?;
+    s.validate().map_err(|e| format!("ablation {label}: {e}"))?;
     let (_, rgb, _) = model_frame(s)?;
     let d = Diff::of(&rgb, gl);
     Ok((
