@@ -139,7 +139,12 @@ pub enum Command {
     /// built-ins it affects: assumptions.csv, assumptions_maps.csv — the dome pick's
     /// maps against the exact prefilter — and a PNG strip per assumption),
     /// sim-speed (the Fig. 6(b) frame against its 180-sample ray-march, and the glare
-    /// and envmap frames, wall time in one run).
+    /// and envmap frames, wall time in one run),
+    /// vs-gl (fig6, fig4 and stage, the model in its GeForce and its Mesa-matching
+    /// rounding, against the scenes' OpenGL programs run on Mesa's llvmpipe and
+    /// softpipe through OSMesa: vs_gl.csv, a histogram CSV and a difference PNG per
+    /// row, fig6's ablation in vs_gl_ablation.csv, and the model's frame time over the
+    /// GL draw's; needs cc and libOSMesa; --image WxH sets the size).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,
@@ -163,7 +168,8 @@ pub enum Command {
         max_memory: Option<u64>,
         /// The image size, NxN (8 ..= 1024), of envmap-table5, envmap-images,
         /// envmap-lambda-sweep and envmap-roughness (default 256x256). Wins over
-        /// $ENVMAP_IMAGE_SIZE, which sets the same size when --image is not given.
+        /// $ENVMAP_IMAGE_SIZE, which sets the same size when --image is not given;
+        /// and of vs-gl (WxH; default each scene's own, 720x480).
         #[arg(long, value_name = "WxH")]
         image: Option<String>,
     },
@@ -680,6 +686,7 @@ pub const REPRODUCTIONS: &[&str] = &[
     "frame-elaboration",
     "sim-speed",
     "assumptions",
+    "vs-gl",
 ];
 
 /// The reproductions that ran past 30 s and do not save their rows as they go, each
@@ -697,6 +704,11 @@ pub const LONG_REPRODUCTIONS: &[(&str, &str)] = &[
         "sim-speed",
         "takes about 110 s but is a timing: its rows are best-of-several wall times, \
          which a resumed run would mix from two machine states",
+    ),
+    (
+        "vs-gl",
+        "takes about 230 s but is a timing: each row's model ÷ GL draw ratio is from \
+         one run on one machine state, which a resumed run would mix",
     ),
 ];
 
@@ -732,7 +744,9 @@ fn reproduce(
     check_dir_out("out", out)?;
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
     let t0 = std::time::Instant::now();
-    if name.starts_with("envmap-") {
+    if name == "vs-gl" {
+        crate::frame::vs_gl::vs_gl_cli(out, image)?;
+    } else if name.starts_with("envmap-") {
         run_envmap_reproduction(name, out, resume)?;
     } else if name.starts_with("shading-") {
         run_shading_reproduction(name, out, resume)?;
@@ -765,7 +779,15 @@ fn check_reproduction_args(
             REPRODUCTIONS.join(", ")
         ));
     }
-    if let Some(img) = image {
+    if name == "vs-gl" {
+        // The size, then the tools, before any file is written.
+        if let Some(img) = image {
+            crate::report::image_arg::parse_image(img)?;
+        }
+        if let Some(why) = crate::frame::vs_gl::missing_tools() {
+            return Err(why);
+        }
+    } else if let Some(img) = image {
         use crate::pipeline::envmap::reproduce::{set_image_side, IMAGE_REPRODUCTIONS};
         if !IMAGE_REPRODUCTIONS.contains(&name) {
             return Err(format!(

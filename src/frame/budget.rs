@@ -454,6 +454,7 @@ pub fn reproduction_points(
         "glare-asic-throughput" => crate::pipeline::glare::clocked::ASIC_SCENES.to_vec(),
         "frame-elaboration" => vec!["night-street"],
         "sim-speed" => vec!["fig6", "night-street"],
+        "vs-gl" => crate::frame::vs_gl::SCENES.to_vec(),
         n if n.starts_with("envmap-") => vec![
             "env-pattern-teapot",
             "env-venice_sunset-teapot",

@@ -29,3 +29,4 @@ pub mod scene_text;
 pub mod speed;
 pub mod sweep;
 pub mod timing;
+pub mod vs_gl;

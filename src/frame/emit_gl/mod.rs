@@ -120,10 +120,43 @@ pub fn emit_gl_cli(
         scene.image.width = w;
         scene.image.height = h;
     }
+    let exports = check_exportable(&scene)?;
+    let (budget, from) = crate::frame::budget::resolve(max_memory);
+    crate::frame::budget::check(&scene, budget, &from)?;
+    for e in &exports {
+        if let Export::NotExported { pass, why } = e {
+            eprintln!("--emit-gl: not exported: {pass}: {why}");
+        }
+    }
+    // The model's frame (its PNG, and the tables its planes read).
+    let frame = crate::frame::run::render(&scene).map_err(|e| e.to_string())?;
+    let program = write_program(&frame, &exports, dir)?;
+    let exported = exports
+        .iter()
+        .filter(|e| matches!(e, Export::Shafts(_)))
+        .count();
+    println!(
+        "wrote {} (scene.c, build.sh, {} data files, model.png): {exported} {} exported, {} not",
+        dir.display(),
+        program.files.len() - 2,
+        if exported == 1 { "pass" } else { "passes" },
+        exports.len() - exported
+    );
+    println!(
+        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
+        dir.display()
+    );
+    Ok(())
+}
+
+/// `--emit-gl`'s checks on a loaded scene at its final size (valid, a plan with at
+/// least one exportable pass, GL 1.3's limits), before any work: every planned pass,
+/// exported or not (with why).
+pub fn check_exportable(scene: &Scene) -> Result<Vec<Export>, String> {
     scene
         .validate()
         .map_err(|e| format!("--emit-gl: scene: {e}"))?;
-    let planned = plan(&scene).map_err(|e| e.to_string())?;
+    let planned = plan(scene).map_err(|e| e.to_string())?;
     let exports: Vec<Export> = planned
         .passes
         .iter()
@@ -148,46 +181,37 @@ pub fn emit_gl_cli(
             list.join("\n")
         ));
     }
-    check_shafts(&scene)?;
-    let (budget, from) = crate::frame::budget::resolve(max_memory);
-    crate::frame::budget::check(&scene, budget, &from)?;
-    for e in &exports {
-        if let Export::NotExported { pass, why } = e {
-            eprintln!("--emit-gl: not exported: {pass}: {why}");
-        }
-    }
-    // The model's frame (its PNG, and the tables its planes read).
-    let frame = crate::frame::run::render(&scene).map_err(|e| e.to_string())?;
+    check_shafts(scene)?;
+    Ok(exports)
+}
+
+/// The program (its files' names and bytes) of the scene `frame` rendered.
+pub fn program_of(frame: &crate::frame::run::Frame, exports: &[Export]) -> Result<Program, String> {
     let (Some(prepared), Some(shafts)) = (frame.plan.prepared.as_ref(), frame.shafts.as_ref())
     else {
         return Err("--emit-gl: the frame ran no shafts pass".into());
     };
+    Ok(build_program(prepared, &shafts.tables, exports))
+}
+
+/// Write the program of the scene `frame` rendered (its tables and prepared data)
+/// into `dir` (created), with the frame's picture as model.png.
+pub fn write_program(
+    frame: &crate::frame::run::Frame,
+    exports: &[Export],
+    dir: &Path,
+) -> Result<Program, String> {
+    let program = program_of(frame, exports)?;
     std::fs::create_dir_all(dir).map_err(|e| format!("emit-gl: {}: {e}", dir.display()))?;
     frame
         .fb
         .save_png(&dir.join("model.png"))
         .map_err(|e| format!("emit-gl: model.png: {e}"))?;
-    let program = build_program(prepared, &shafts.tables, &exports);
     for (file, bytes) in &program.files {
         std::fs::write(dir.join(file), bytes)
             .map_err(|e| format!("emit-gl: {}: {e}", dir.join(file).display()))?;
     }
-    let exported = exports
-        .iter()
-        .filter(|e| matches!(e, Export::Shafts(_)))
-        .count();
-    println!(
-        "wrote {} (scene.c, build.sh, {} data files, model.png): {exported} {} exported, {} not",
-        dir.display(),
-        program.files.len() - 2,
-        if exported == 1 { "pass" } else { "passes" },
-        exports.len() - exported
-    );
-    println!(
-        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
-        dir.display()
-    );
-    Ok(())
+    Ok(program)
 }
 
 /// The program's files: name and bytes (scene.c, build.sh and the data files).

@@ -282,14 +282,14 @@ pub fn scene_c(c: &Ctx) -> String {
     let units = 3;
     let _ = writeln!(
         s,
-        "int main(int argc, char **argv)\n{{\n    const char *out = argc > 1 ? argv[1] : \"framebuffer.png\";\n    unsigned char *rgb = malloc((size_t)W * H * 3);\n#ifdef SCENE_GLUT\n    glutInit(&argc, argv);\n    glutInitDisplayMode(GLUT_RGB | GLUT_DEPTH | GLUT_SINGLE);\n    glutInitWindowSize(BUF_W, BUF_H);\n    glutCreateWindow(\"scene\");\n#else\n    unsigned char *buffer = malloc((size_t)BUF_W * BUF_H * 4);\n    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);\n    if (!ctx || !buffer || !OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, BUF_W, BUF_H))\n        die(\"no OSMesa context\");\n#endif\n    require_gl({units});\n    /* Exact 8-bit arithmetic: no dithering; Gouraud colours. */\n    glDisable(GL_DITHER);\n    glShadeModel(GL_SMOOTH);\n    glDisable(GL_SCISSOR_TEST);\n    glClearColor(0, 0, 0, 0);\n    glClearDepth(1.0);\n    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);\n    load_textures();\n\n    /* The pass list, in the plan's order. */"
+        "int main(int argc, char **argv)\n{{\n    const char *out = argc > 1 ? argv[1] : \"framebuffer.png\";\n    unsigned char *rgb = malloc((size_t)W * H * 3);\n    double t0, io0;\n#ifdef SCENE_GLUT\n    glutInit(&argc, argv);\n    glutInitDisplayMode(GLUT_RGB | GLUT_DEPTH | GLUT_SINGLE);\n    glutInitWindowSize(BUF_W, BUF_H);\n    glutCreateWindow(\"scene\");\n#else\n    unsigned char *buffer = malloc((size_t)BUF_W * BUF_H * 4);\n    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);\n    if (!ctx || !buffer || !OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, BUF_W, BUF_H))\n        die(\"no OSMesa context\");\n#endif\n    require_gl({units});\n    printf(\"renderer=%s\\n\", (const char *)glGetString(GL_RENDERER));\n    /* Exact 8-bit arithmetic: no dithering; Gouraud colours. */\n    glDisable(GL_DITHER);\n    glShadeModel(GL_SMOOTH);\n    glDisable(GL_SCISSOR_TEST);\n    glClearColor(0, 0, 0, 0);\n    glClearDepth(1.0);\n    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);\n    load_textures();\n\n    /* The pass list, in the plan's order, timed: from a finished GL (glFinish) to a\n     * finished GL, less the time the passes spend reading their data files. */\n    glFinish();\n    t0 = now_seconds();\n    io0 = io_seconds;"
     );
     for e in c.exported {
         let _ = writeln!(s, "    {}();", pass_name(e));
     }
     let _ = writeln!(
         s,
-        "\n    /* Row y of the buffer is the model's row y (top to bottom). */\n    glFinish();\n    glPixelStorei(GL_PACK_ALIGNMENT, 1);\n    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);\n    write_png(out, W, H, rgb);\n    printf(\"wrote %s (%d x %d)\\n\", out, W, H);\n    return 0;\n}}"
+        "\n    glFinish();\n    /* One parseable line: the draw's wall time in seconds. */\n    printf(\"draw_seconds=%.6f\\n\", now_seconds() - t0 - (io_seconds - io0));\n\n    /* Row y of the buffer is the model's row y (top to bottom). */\n    glPixelStorei(GL_PACK_ALIGNMENT, 1);\n    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);\n    write_png(out, W, H, rgb);\n    printf(\"wrote %s (%d x %d)\\n\", out, W, H);\n    return 0;\n}}"
     );
     s
 }
