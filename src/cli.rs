@@ -503,7 +503,9 @@ pub fn run(cli: Cli) -> Result<(), String> {
             image,
             emit_gl: Some(dir),
             ..
-        } => crate::frame::emit_gl::emit_gl_cli(&scene, &dir, image.as_deref(), max_memory),
+        } => {
+            crate::frame::emit_gl::command::emit_gl_cli(&scene, &dir, image.as_deref(), max_memory)
+        }
         Command::Render {
             scene,
             out,

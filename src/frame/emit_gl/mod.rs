@@ -14,7 +14,12 @@
 //! as not exported with the reason; a scene with none exportable is refused before any
 //! work.
 
+pub mod command;
+mod data;
 mod source;
+
+use data::LightData;
+pub use data::{subplane_weight, Export, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};
 
 use crate::frame::plan::{plan, Pass, Step};
 use crate::pipeline::shafts::frame::{passes as shafts_passes, Prepared, ShaftsPass};
@@ -24,13 +29,6 @@ use crate::scene::format::{PlaneStep, Scene};
 use crate::scene::math::Vec3;
 use std::fmt::Write as _;
 use std::path::Path;
-
-/// One pass of the plan: exported (the shafts pass) or not, with why.
-#[derive(Clone, Debug)]
-pub enum Export {
-    Shafts(ShaftsPass),
-    NotExported { pass: String, why: String },
-}
 
 /// Why a planned pass has no GL 1.3 form (`None`: it has one and is exported).
 pub fn not_exportable(pass: &Pass) -> Option<String> {
@@ -92,60 +90,6 @@ fn check_shafts(scene: &Scene) -> Result<(), String> {
             "--emit-gl: the scene's objects need the clipper ({why}); the GL program draws the host's projected vertices and does not export clipped objects"
         ));
     }
-    Ok(())
-}
-
-/// `render --scene NAME [--image WxH] --emit-gl DIR`.
-pub fn emit_gl_cli(
-    name: &str,
-    dir: &Path,
-    image: Option<&str>,
-    max_memory: Option<u64>,
-) -> Result<(), String> {
-    crate::report::outputs::check_dir_out("emit-gl", dir)?;
-    let size = image
-        .map(crate::report::image_arg::parse_image)
-        .transpose()?;
-    let mut scene = crate::scene::load::load_scene(name)?;
-    match crate::frame::cli::render_path(&scene) {
-        crate::frame::cli::RenderPath::TestScene => {
-            return Err("--emit-gl: the foundation test scene's passes are not exported".into())
-        }
-        crate::frame::cli::RenderPath::ShadingSphere => {
-            return Err("--emit-gl: a shading scene runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form".into())
-        }
-        _ => {}
-    }
-    if let Some((w, h)) = size {
-        scene.image.width = w;
-        scene.image.height = h;
-    }
-    let exports = check_exportable(&scene)?;
-    let (budget, from) = crate::frame::budget::resolve(max_memory);
-    crate::frame::budget::check(&scene, budget, &from)?;
-    for e in &exports {
-        if let Export::NotExported { pass, why } = e {
-            eprintln!("--emit-gl: not exported: {pass}: {why}");
-        }
-    }
-    // The model's frame (its PNG, and the tables its planes read).
-    let frame = crate::frame::run::render(&scene).map_err(|e| e.to_string())?;
-    let program = write_program(&frame, &exports, dir)?;
-    let exported = exports
-        .iter()
-        .filter(|e| matches!(e, Export::Shafts(_)))
-        .count();
-    println!(
-        "wrote {} (scene.c, build.sh, {} data files, model.png): {exported} {} exported, {} not",
-        dir.display(),
-        program.files.len() - 2,
-        if exported == 1 { "pass" } else { "passes" },
-        exports.len() - exported
-    );
-    println!(
-        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
-        dir.display()
-    );
     Ok(())
 }
 
@@ -247,12 +191,6 @@ fn light_color(l: &crate::scene::format::Light) -> ([u32; 3], f64) {
     (l.color.map(|c| unorm_from_unit(c / m, 8)), l.intensity * m)
 }
 
-/// What the generated program's passes read, per light.
-struct LightData {
-    has_map: bool,
-    color: [u32; 3],
-}
-
 fn build_program(p: &Prepared, tables: &GTables, exports: &[Export]) -> Program {
     let sc = &p.scene;
     let cfg = sc.shafts;
@@ -342,14 +280,6 @@ fn build_program(p: &Prepared, tables: &GTables, exports: &[Export]) -> Program 
     files.insert(0, ("scene.c".into(), c.into_bytes()));
     Program { files }
 }
-
-/// Floats per object vertex: x, y, z (window), r, g, b (vertex colour), s, t, r, q.
-pub const OBJ_FLOATS: usize = 10;
-/// Floats per plane mesh vertex: x, y, F coordinate (texels), h s and t (texels),
-/// plane scale S, s, t, r, q.
-pub const PLANE_FLOATS: usize = 10;
-/// Floats per sub-plane corner: x, y, s, t, r, q.
-pub const SUB_FLOATS: usize = 6;
 
 /// A world triangle on the screen as the model's host projects it (x, y pixels y
 /// down, window depth), `None` when the model skips it (a vertex behind the eye or
@@ -544,9 +474,4 @@ fn subplane_vertices(p: &Prepared, cam: &CameraView, li: usize) -> Vec<f32> {
         }
     }
     v
-}
-
-/// Sub-plane j's 8-bit weight of m: ⌊(j+1)·255/m⌋ − ⌊j·255/m⌋ (they sum to 255).
-pub fn subplane_weight(j: u64, m: u64) -> u32 {
-    (((j + 1) * 255 / m) - (j * 255 / m)) as u32
 }

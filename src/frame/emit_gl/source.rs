@@ -2,7 +2,7 @@
 //! files and their layouts), the fixed helpers ([`PRELUDE`]), one function per pass
 //! and the pass list in `main`.
 
-use super::{subplane_weight, Export, LightData, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};
+use super::data::{subplane_weight, Export, LightData, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};
 use crate::pipeline::shafts::frame::{Prepared, ShaftsPass};
 use crate::pipeline::shafts::tables::GTables;
 use std::fmt::Write as _;
@@ -44,31 +44,75 @@ fn pass_name(p: &ShaftsPass) -> String {
     }
 }
 
+/// The image's regions in the one GL buffer, from the passes exported.
+struct Layout {
+    has_shadow: bool,
+    has_planes: bool,
+    has_depth: bool,
+    /// A J buffer region: planes with m > 1 sub-planes.
+    j_buffer: bool,
+    buf_w: u32,
+    buf_h: u32,
+}
+
+impl Layout {
+    fn of(c: &Ctx) -> Layout {
+        let (w, h) = (c.w, c.h);
+        let m = c.p.scene.shafts.subplanes;
+        let res = c.p.scene.shafts.shadow_resolution;
+        let has_shadow = c
+            .exported
+            .iter()
+            .any(|e| matches!(e, ShaftsPass::ShadowMap { .. }));
+        let has_planes = c
+            .exported
+            .iter()
+            .any(|e| matches!(e, ShaftsPass::Planes { .. }));
+        let has_depth = c.exported.contains(&ShaftsPass::Depth);
+        let j_buffer = has_planes && m > 1;
+        let buf_w = w + if has_shadow { res } else { 0 };
+        // Regions stacked up the buffer: the image, the J buffer (m > 1), the stage
+        // register (planes); the shadow map beside them.
+        let stacked = 1 + u32::from(j_buffer) + u32::from(has_planes);
+        let buf_h = (stacked * h).max(if has_shadow { res } else { 0 });
+        Layout {
+            has_shadow,
+            has_planes,
+            has_depth,
+            j_buffer,
+            buf_w,
+            buf_h,
+        }
+    }
+}
+
+/// scene.c: the header comment, the prelude, the scene's constants, the pass helpers,
+/// the textures, one function per pass, and `main` with the pass list.
 pub fn scene_c(c: &Ctx) -> String {
-    let p = c.p;
-    let sc = &p.scene;
-    let cfg = sc.shafts;
-    let (w, h) = (c.w, c.h);
-    let (n, m) = (cfg.planes, cfg.subplanes);
-    let [cols, rows] = cfg.mesh;
-    let res = cfg.shadow_resolution;
-    let has_shadow = c
-        .exported
-        .iter()
-        .any(|e| matches!(e, ShaftsPass::ShadowMap { .. }));
-    let has_planes = c
-        .exported
-        .iter()
-        .any(|e| matches!(e, ShaftsPass::Planes { .. }));
-    let has_depth = c.exported.contains(&ShaftsPass::Depth);
-    let j_buffer = has_planes && m > 1;
-    let buf_w = w + if has_shadow { res } else { 0 };
-    // Regions stacked up the buffer: the image, the J buffer (m > 1), the stage register
-    // (planes); the shadow map beside them.
-    let stacked = 1 + u32::from(j_buffer) + u32::from(has_planes);
-    let buf_h = (stacked * h).max(if has_shadow { res } else { 0 });
+    let layout = Layout::of(c);
     let mut s = String::new();
-    // ---- header comment ----
+    header_comment(&mut s, c);
+    s.push_str(PRELUDE);
+    scene_constants(&mut s, c, &layout);
+    s.push_str(COMMON_PASS_HELPERS);
+    load_textures(&mut s, c, &layout);
+    for e in c.exported {
+        match *e {
+            ShaftsPass::Depth => depth_pass(&mut s, c, layout.j_buffer),
+            ShaftsPass::ShadowMap { light } => shadow_pass(&mut s, c, light),
+            ShaftsPass::Objects { light } => objects_pass(&mut s, c, light),
+            ShaftsPass::Planes { light } => planes_pass(&mut s, c, light),
+        }
+    }
+    main_function(&mut s, c);
+    s
+}
+
+/// The header comment: what is exported and what is not, the data files, where the
+/// program and the model may differ.
+fn header_comment(s: &mut String, c: &Ctx) {
+    let sc = &c.p.scene;
+    let (w, h) = (c.w, c.h);
     let _ = writeln!(s, "/* scene.c — `{}` as an OpenGL 1.3 program.", sc.name);
     let _ = writeln!(
         s,
@@ -111,8 +155,23 @@ pub fn scene_c(c: &Ctx) -> String {
         s,
         " *\n * Where the GL program and the model may differ by a level: the bilinear filters'\n * rounding, the interpolation of colours and coordinates (the model's interpolator is\n * s16.16 fixed point), the shadow map's depth (24 bits here, 8 in the model, whose bias\n * is one 8-bit step, as here) and which triangle of a quad owns the pixels on the\n * shared edge.\n */\n"
     );
-    s.push_str(PRELUDE);
-    // ---- scene constants ----
+}
+
+/// The scene's `#define`s and constant tables.
+fn scene_constants(s: &mut String, c: &Ctx, layout: &Layout) {
+    let cfg = c.p.scene.shafts;
+    let (w, h) = (c.w, c.h);
+    let (n, m) = (cfg.planes, cfg.subplanes);
+    let [cols, rows] = cfg.mesh;
+    let res = cfg.shadow_resolution;
+    let Layout {
+        has_shadow,
+        has_planes,
+        has_depth,
+        j_buffer,
+        buf_w,
+        buf_h,
+    } = *layout;
     let _ = writeln!(
         s,
         "\n/* ---------------------------------------------------------------------------------\n * The scene.\n * ------------------------------------------------------------------------------- */\n"
@@ -178,6 +237,12 @@ pub fn scene_c(c: &Ctx) -> String {
         u8::from(has_depth && c.has_objects)
     );
     let _ = writeln!(s, "#define HAS_SHADOW {}", u8::from(has_shadow));
+    light_constants(s, c);
+}
+
+/// The per-light tables, the sub-plane weights and the texture names.
+fn light_constants(s: &mut String, c: &Ctx) {
+    let m = c.p.scene.shafts.subplanes;
     let nl = c.lights.len().max(1);
     let _ = writeln!(s, "#define LIGHTS {nl}");
     let join = |v: Vec<String>| v.join(", ");
@@ -232,8 +297,16 @@ pub fn scene_c(c: &Ctx) -> String {
         s,
         "\nstatic GLuint tex_f, tex_h, tex_light_map[LIGHTS], tex_shadow, tex_step, tex_j, tex_stage;\n"
     );
-    s.push_str(COMMON_PASS_HELPERS);
-    // ---- textures ----
+}
+
+/// `load_textures()`: every texture the passes read.
+fn load_textures(s: &mut String, c: &Ctx, layout: &Layout) {
+    let Layout {
+        has_shadow,
+        has_planes,
+        j_buffer,
+        ..
+    } = *layout;
     let _ = writeln!(
         s,
         "/* Every texture the passes read: the model's tables and light maps from their files,\n * the shadow map and the J texture (filled by glCopyTexSubImage2D), the step. */\nstatic void load_textures(void)\n{{"
@@ -269,16 +342,10 @@ pub fn scene_c(c: &Ctx) -> String {
         );
     }
     let _ = writeln!(s, "}}\n");
-    // ---- passes ----
-    for e in c.exported {
-        match *e {
-            ShaftsPass::Depth => depth_pass(&mut s, c, j_buffer),
-            ShaftsPass::ShadowMap { light } => shadow_pass(&mut s, c, light),
-            ShaftsPass::Objects { light } => objects_pass(&mut s, c, light),
-            ShaftsPass::Planes { light } => planes_pass(&mut s, c, light),
-        }
-    }
-    // ---- main ----
+}
+
+/// `main`: the context, the pass list timed, the framebuffer read back as PNG.
+fn main_function(s: &mut String, c: &Ctx) {
     let units = 3;
     let _ = writeln!(
         s,
@@ -291,7 +358,6 @@ pub fn scene_c(c: &Ctx) -> String {
         s,
         "\n    glFinish();\n    /* One parseable line: the draw's wall time in seconds. */\n    printf(\"draw_seconds=%.6f\\n\", now_seconds() - t0 - (io_seconds - io0));\n\n    /* Row y of the buffer is the model's row y (top to bottom). */\n    glPixelStorei(GL_PACK_ALIGNMENT, 1);\n    glReadPixels(0, 0, W, H, GL_RGB, GL_UNSIGNED_BYTE, rgb);\n    write_png(out, W, H, rgb);\n    printf(\"wrote %s (%d x %d)\\n\", out, W, H);\n    return 0;\n}}"
     );
-    s
 }
 
 /// What each data file holds, for the header comment.

@@ -1,0 +1,59 @@
+//! `render --scene NAME [--image WxH] --emit-gl DIR`: the checks before any work, the
+//! model's frame, the program written beside its picture.
+
+use super::{check_exportable, write_program, Export};
+use std::path::Path;
+
+/// `render --scene NAME [--image WxH] --emit-gl DIR`.
+pub fn emit_gl_cli(
+    name: &str,
+    dir: &Path,
+    image: Option<&str>,
+    max_memory: Option<u64>,
+) -> Result<(), String> {
+    crate::report::outputs::check_dir_out("emit-gl", dir)?;
+    let size = image
+        .map(crate::report::image_arg::parse_image)
+        .transpose()?;
+    let mut scene = crate::scene::load::load_scene(name)?;
+    match crate::frame::cli::render_path(&scene) {
+        crate::frame::cli::RenderPath::TestScene => {
+            return Err("--emit-gl: the foundation test scene's passes are not exported".into())
+        }
+        crate::frame::cli::RenderPath::ShadingSphere => {
+            return Err("--emit-gl: a shading scene runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form".into())
+        }
+        _ => {}
+    }
+    if let Some((w, h)) = size {
+        scene.image.width = w;
+        scene.image.height = h;
+    }
+    let exports = check_exportable(&scene)?;
+    let (budget, from) = crate::frame::budget::resolve(max_memory);
+    crate::frame::budget::check(&scene, budget, &from)?;
+    for e in &exports {
+        if let Export::NotExported { pass, why } = e {
+            eprintln!("--emit-gl: not exported: {pass}: {why}");
+        }
+    }
+    // The model's frame (its PNG, and the tables its planes read).
+    let frame = crate::frame::run::render(&scene).map_err(|e| e.to_string())?;
+    let program = write_program(&frame, &exports, dir)?;
+    let exported = exports
+        .iter()
+        .filter(|e| matches!(e, Export::Shafts(_)))
+        .count();
+    println!(
+        "wrote {} (scene.c, build.sh, {} data files, model.png): {exported} {} exported, {} not",
+        dir.display(),
+        program.files.len() - 2,
+        if exported == 1 { "pass" } else { "passes" },
+        exports.len() - exported
+    );
+    println!(
+        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
+        dir.display()
+    );
+    Ok(())
+}
