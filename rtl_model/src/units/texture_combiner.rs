@@ -100,15 +100,6 @@ impl CombineFunction {
     pub fn is_dot3(self) -> bool {
         matches!(self, CombineFunction::Dot3Rgb | CombineFunction::Dot3Rgba)
     }
-
-    /// How many of Arg0..Arg2 the function reads.
-    pub fn arg_count(self) -> usize {
-        match self {
-            CombineFunction::Replace => 1,
-            CombineFunction::Interpolate => 3,
-            _ => 2,
-        }
-    }
 }
 
 /// SOURCEi_RGB / SOURCEi_ALPHA: which of the input word's four colours an argument reads.
