@@ -39,26 +39,6 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-/// Whether `cc` builds and links a program against libOSMesa (headers and library).
-fn osmesa_toolchain() -> bool {
-    let d = scratch("probe");
-    std::fs::create_dir_all(&d).unwrap();
-    let src = d.join("probe.c");
-    std::fs::write(
-        &src,
-        "#include <GL/osmesa.h>\nint main(void) { return OSMesaGetCurrentContext() != 0; }\n",
-    )
-    .unwrap();
-    Command::new("cc")
-        .arg(&src)
-        .arg("-o")
-        .arg(d.join("probe"))
-        .args(["-lOSMesa", "-lm"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
 fn rgb(path: &Path) -> (u32, u32, Vec<u8>) {
     let img = image::open(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
@@ -68,7 +48,7 @@ fn rgb(path: &Path) -> (u32, u32, Vec<u8>) {
 
 /// Emit, build and run `scene` at 96 × 64; compare with model.png.
 fn emit_build_run(scene: &str) {
-    if !osmesa_toolchain() {
+    if !tools::osmesa_toolchain(&scratch("probe")) {
         tools::skip(&format!(
             "cc or libOSMesa not found; the {scene} GL program was not built \
              (apt-get install gcc libosmesa6-dev)"

@@ -47,29 +47,9 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-/// Whether `cc` builds and links a program against libOSMesa.
-fn osmesa_toolchain() -> bool {
-    let d = scratch("probe");
-    std::fs::create_dir_all(&d).unwrap();
-    let src = d.join("probe.c");
-    std::fs::write(
-        &src,
-        "#include <GL/osmesa.h>\nint main(void) { return OSMesaGetCurrentContext() != 0; }\n",
-    )
-    .unwrap();
-    Command::new("cc")
-        .arg(&src)
-        .arg("-o")
-        .arg(d.join("probe"))
-        .args(["-lOSMesa", "-lm"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
 #[test]
 fn vs_gl_writes_its_table_pngs_and_histograms_and_the_mesa_mode_agrees() {
-    if !osmesa_toolchain() {
+    if !tools::osmesa_toolchain(&scratch("probe")) {
         tools::skip(
             "cc or libOSMesa not found; reproduce vs-gl was not run \
              (apt-get install gcc libosmesa6-dev)",

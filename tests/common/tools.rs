@@ -16,3 +16,23 @@ pub fn skip(why: &str) {
     }
     let _ = std::io::stderr().write_all(format!("SKIP: {why}\n").as_bytes());
 }
+
+/// Whether `cc` builds and links a program against libOSMesa (its headers and library),
+/// probed in `dir` (created).
+pub fn osmesa_toolchain(dir: &std::path::Path) -> bool {
+    std::fs::create_dir_all(dir).unwrap();
+    let src = dir.join("probe.c");
+    std::fs::write(
+        &src,
+        "#include <GL/osmesa.h>\nint main(void) { return OSMesaGetCurrentContext() != 0; }\n",
+    )
+    .unwrap();
+    std::process::Command::new("cc")
+        .arg(&src)
+        .arg("-o")
+        .arg(dir.join("probe"))
+        .args(["-lOSMesa", "-lm"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}

@@ -22,6 +22,13 @@ pub struct DataSizes {
     pub objects: Vec<(usize, usize)>,
 }
 
+impl DataSizes {
+    /// Light `light`'s vertex count in a per-light list (0 when it has none).
+    fn of_light(list: &[(usize, usize)], light: usize) -> usize {
+        list.iter().find(|x| x.0 == light).map_or(0, |x| x.1)
+    }
+}
+
 pub struct Ctx<'a> {
     pub p: &'a Prepared,
     pub tables: &'a GTables,
@@ -583,12 +590,7 @@ fn depth_pass(s: &mut String, c: &Ctx, j_buffer: bool) {
 }
 
 fn shadow_pass(s: &mut String, c: &Ctx, light: usize) {
-    let n = c
-        .data
-        .shadow
-        .iter()
-        .find(|x| x.0 == light)
-        .map_or(0, |x| x.1);
+    let n = DataSizes::of_light(&c.data.shadow, light);
     let _ = writeln!(
         s,
         "/* Pass: shadow map of light {light}. The occluders seen from the light's square\n * frustum into a depth buffer region, copied into the depth texture (ARB_depth_texture)\n * that the later passes compare against (ARB_shadow). */\nstatic void pass_shadow_map_{light}(void)\n{{\n    const float *v = load_floats(\"shadow_{light}.f32\", {n} * 3);\n    depth_only();\n    region(SHADOW_X, 0, SHADOW_RES, SHADOW_RES);\n    glClear(GL_DEPTH_BUFFER_BIT);\n    draw_triangles_xyz(v, {n});\n    glActiveTexture(GL_TEXTURE0);\n    glBindTexture(GL_TEXTURE_2D, tex_shadow);\n    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SHADOW_X, 0, SHADOW_RES, SHADOW_RES);\n    free((void *)v);\n}}\n"
@@ -596,12 +598,7 @@ fn shadow_pass(s: &mut String, c: &Ctx, light: usize) {
 }
 
 fn objects_pass(s: &mut String, c: &Ctx, light: usize) {
-    let n = c
-        .data
-        .objects
-        .iter()
-        .find(|x| x.0 == light)
-        .map_or(0, |x| x.1);
+    let n = DataSizes::of_light(&c.data.objects, light);
     let _ = writeln!(
         s,
         "/* Pass: the objects lit by light {light}. Per-vertex colour (albedo x Lambert x I/s^2 x\n * exp(-rho kappa (s + T)), Gouraud) x light map (projective) x shadow compare, added\n * into the framebuffer where the depth test passes. */\nstatic void pass_objects_{light}(void)\n{{\n    const float *v = load_floats(\"objects_{light}.f32\", (size_t){n} * OBJ_FLOATS);\n    struct hil_units u;\n    size_t i;\n    units_off();\n    region(0, 0, W, H);\n    depth_tested();\n    additive(1);\n    u = hil_units({light}, 0);\n    glBegin(GL_TRIANGLES);\n    for (i = 0; i < {n}; i++) {{\n        const float *a = v + i * OBJ_FLOATS;\n        glColor3f(a[3], a[4], a[5]);\n        light_coords(u, a + 6);\n        glVertex3f(a[0], a[1], a[2]);\n    }}\n    glEnd();\n    free((void *)v);\n}}\n"
