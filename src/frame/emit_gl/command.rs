@@ -21,7 +21,7 @@ pub fn emit_gl_cli(
             return Err("--emit-gl: the foundation test scene's passes are not exported".into())
         }
         crate::frame::cli::RenderPath::ShadingSphere => {
-            return Err("--emit-gl: a shading scene runs on the shading units (register combiners, NV_register_combiners): no OpenGL 1.3 form".into())
+            return Err("--emit-gl: the shading sphere scenes are not exported (most run on the register combiners, NV_register_combiners, which have no OpenGL 1.3 form; the vertex-lighting sphere's fixed-function form is not written yet)".into())
         }
         _ => {}
     }
