@@ -289,17 +289,20 @@ fn modes_differ_only_in_add_signed_ties() {
         unit(8, f, f, CombinerRounding::MesaFloat32, 1),
     );
     let mut differ = 0;
+    let mut clamped = 0;
     all_pairs(8, [0; 4], |i| {
-        let (a, b) = (
-            g.combine(i, &mut Counters::default()),
-            m.combine(i, &mut Counters::default()),
-        );
+        let (mut cg, mut cm) = (Counters::default(), Counters::default());
+        let (a, b) = (g.combine(i, &mut cg), m.combine(i, &mut cm));
         for ch in 0..4 {
             assert!(a[ch] == b[ch] || a[ch] == b[ch] + 1, "{i:?}");
             differ += (a[ch] != b[ch]) as u32;
         }
+        // Both modes count a clamp on the exact value a + b − ½ outside [0, 1].
+        assert_eq!(cm.saturations, cg.saturations, "{i:?}");
+        clamped += cm.saturations;
     });
     assert!(differ > 0 && differ < 4 * 65536 / 10, "{differ}");
+    assert!(clamped > 0);
     for f in TWO_ARG
         .into_iter()
         .filter(|&f| f != CombineFunction::AddSigned)
