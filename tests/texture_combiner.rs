@@ -495,7 +495,13 @@ proptest! {
 
     #[test]
     fn tick_and_span_drivers_agree((cfg, inputs) in config_and_inputs(40)) {
-        common::assert_drivers_agree(&cfg.build().unwrap(), (), &inputs);
+        let u = cfg.build().unwrap();
+        let outs = common::assert_drivers_agree(&u, (), &inputs);
+        // The drivers all run the unit's kernel: they must run it as `combine`, which
+        // the other tests check against the twin.
+        for (i, o) in inputs.iter().zip(outs) {
+            prop_assert_eq!(o, u.combine(i, &mut Counters::default()));
+        }
     }
 
     #[test]
@@ -558,5 +564,82 @@ fn the_single_rounding_is_exact_for_every_x_up_to_n_squared() {
         assert_eq!(u.clamp_round((n * n + 1, n), &mut ctr) as i64, n);
         assert_eq!(u.clamp_round((2 * n + 1, 2), &mut ctr) as i64, n);
         assert_eq!(ctr.saturations, 3);
+    }
+}
+
+/// The VCD trace's wires: the four sources' sixteen channels in, RGBA out, each an
+/// n-bit wire carrying its code.
+#[test]
+fn trace_signals_are_the_sources_and_the_result_as_n_bit_wires() {
+    use rtl_model::Unit;
+    for bits in [3u32, 8, 16] {
+        let u = unit(
+            bits,
+            CombineFunction::Modulate,
+            CombineFunction::Modulate,
+            CombinerRounding::GeforceInteger,
+            1,
+        );
+        let m = (1u32 << bits) - 1;
+        let code = |k: u32| (k * 37 + 5) & m;
+        let input = TextureCombinerIn {
+            texture: [0, 1, 2, 3].map(code),
+            constant: [4, 5, 6, 7].map(code),
+            primary_color: [8, 9, 10, 11].map(code),
+            previous: [12, 13, 14, 15].map(code),
+        };
+        let ins = u.in_signals(&input);
+        assert_eq!(ins.len(), 16);
+        for (k, sig) in ins.iter().enumerate() {
+            assert_eq!(sig.width, bits, "{}", sig.name);
+            assert_eq!(sig.value, code(k as u32) as u64, "{}", sig.name);
+        }
+        let names: Vec<&str> = ins.iter().map(|s| s.name).collect();
+        assert_eq!(
+            [names[0], names[5], names[10], names[15]],
+            ["texture_r", "constant_g", "primary_b", "previous_a"]
+        );
+        let outs = u.out_signals(&[code(1), code(2), code(3), code(4)]);
+        let named: Vec<(&str, u32, u64)> = outs.iter().map(|s| (s.name, s.width, s.value)).collect();
+        assert_eq!(
+            named,
+            [("r", bits, 1), ("g", bits, 2), ("b", bits, 3), ("a", bits, 4)]
+                .map(|(n, w, k)| (n, w, code(k) as u64))
+        );
+    }
+}
+
+/// The Mesa mode's cost is the GeForce mode's plus one part, the binary32 ADD_SIGNED
+/// path of the four channels, which holds three 32-bit registers per channel (its
+/// third pipeline stage): 384 flip-flops more, and one more cycle of latency.
+#[test]
+fn the_mesa_mode_adds_the_binary32_path_and_its_stage() {
+    use rtl_model::Unit;
+    for bits in [3u32, 8, 16] {
+        let [geforce, mesa] = [CombinerRounding::GeforceInteger, CombinerRounding::MesaFloat32]
+            .map(|r| unit(bits, CombineFunction::AddSigned, CombineFunction::Add, r, 1));
+        let (g, m) = (geforce.cost(), mesa.cost());
+        assert_eq!(m.breakdown[..g.breakdown.len()], g.breakdown[..], "bits {bits}");
+        assert_eq!(m.breakdown.len(), g.breakdown.len() + 1);
+        assert_eq!(m.breakdown.last().unwrap().0, "binary32 ADD_SIGNED path, ×4");
+        assert_eq!(m.cells.dff - g.cells.dff, 4.0 * 3.0 * 32.0, "bits {bits}");
+        assert_eq!((geforce.timing().latency, mesa.timing().latency), (2, 3));
+    }
+}
+
+/// 1/N rounded to binary32 never hangs on its sticky bit: for N = 2ⁿ − 1 the bits
+/// rounded away from 2⁸¹/N are never exactly one half, so `reciprocal_of_max`'s result
+/// is the same with the sticky bit 0 or 1 at every width (why cargo-mutants' four
+/// mutants of that bit are equivalent, docs/testing.md), and equals the machine's
+/// correctly rounded 1.0f32 / N.
+#[test]
+fn the_sticky_bit_of_one_over_n_never_decides_its_rounding() {
+    for bits in 1..=16u32 {
+        let m = ((1u32 << bits) - 1) as u128;
+        let q = (1u128 << 80) / m;
+        let [clear, set] = [0, 1].map(|sticky| binary32::round(false, (q << 1) | sticky, -81));
+        assert_eq!(clear, set, "bits {bits}");
+        assert_eq!(binary32::reciprocal_of_max(bits), clear, "bits {bits}");
+        assert_eq!(clear, (1.0f32 / m as f32).to_bits(), "bits {bits}");
     }
 }
