@@ -1389,6 +1389,38 @@ fn light_control_cost_is_its_own_part_with_the_secondary_converters() {
     }
 }
 
+/// The NV2A curve's cost is its own part: 0 under pow; with the curve the total grows by
+/// exactly that part, its three coefficient registers k0, k1, k2 of one word each
+/// (the adds, multiplies and RCP run on the shared lanes), at every format.
+#[test]
+fn the_nv2a_curve_costs_its_three_coefficient_registers() {
+    const PART: &str = "NV2A specular curve coefficients (k0, k1, k2)";
+    let part = |u: &VertexLighting| {
+        u.cost()
+            .breakdown
+            .iter()
+            .find(|(n, _)| n.as_str() == PART)
+            .map(|&(_, g)| g)
+            .unwrap_or_else(|| panic!("no part {PART}"))
+    };
+    let setup = LightingSetup::default();
+    for (e, m) in [(8, 23), (5, 10), (4, 6)] {
+        let pow_cfg = VertexLightingConfig::geforce().with_format(e, m);
+        let curve_cfg = VertexLightingConfig {
+            specular_curve: SpecularCurve::nv2a([-0.5, 0.5, 0.0, 0.0, 0.0, 0.0]),
+            ..pow_cfg
+        };
+        let pow = VertexLighting::new(pow_cfg, &setup).unwrap();
+        let curve = VertexLighting::new(curve_cfg, &setup).unwrap();
+        assert_eq!(part(&pow), 0.0, "e{e}m{m}");
+        let w = 1 + e + m;
+        let regs = rtl_model::cost::prim::register(3 * w).nand2_eq();
+        assert!((part(&curve) - regs).abs() < 1e-9, "e{e}m{m}: {} against {regs}", part(&curve));
+        let extra = curve.cost().gates_nand2() - pow.cost().gates_nand2();
+        assert!((extra - regs).abs() < 1e-6, "e{e}m{m}");
+    }
+}
+
 // ------------------------------------------------- the host's load, register by register
 
 /// The registers the host loads read back as its values rounded into the format: one
