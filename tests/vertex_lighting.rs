@@ -1421,6 +1421,59 @@ fn the_nv2a_curve_costs_its_three_coefficient_registers() {
     }
 }
 
+/// The VCD trace's wires: P and N as words of the format in; with light control also the
+/// vertex's diffuse and specular colours in and the secondary colour out, as colour
+/// codes; the lit colour out.
+#[test]
+fn trace_signals_are_the_vertex_words_and_the_colour_codes() {
+    use rtl_model::float_format::Fp;
+    use rtl_model::units::vertex_lighting::VertexLightingOut;
+    let setup = LightingSetup::default();
+    let input = VertexLightingIn {
+        position: [Fp(1), Fp(2), Fp(3)],
+        normal: [Fp(4), Fp(5), Fp(6)],
+        diffuse: [7, 8, 9, 10],
+        specular: [11, 12, 13, 14],
+    };
+    let out = VertexLightingOut {
+        rgba: [21, 22, 23, 24],
+        secondary: [25, 26, 27, 28],
+    };
+    let wires = |sigs: Vec<rtl_model::Signal>| -> Vec<(&'static str, u32, u64)> {
+        sigs.iter().map(|s| (s.name, s.width, s.value)).collect()
+    };
+    for (e, m, bits) in [(8, 23, 8), (5, 10, 5)] {
+        let cfg = VertexLightingConfig {
+            color_bits: bits,
+            ..VertexLightingConfig::geforce().with_format(e, m)
+        };
+        let w = 1 + e + m;
+        let vertex: Vec<_> = ["px", "py", "pz", "nx", "ny", "nz"]
+            .into_iter()
+            .zip(1..)
+            .map(|(n, v)| (n, w, v))
+            .collect();
+        let colours = |names: [&'static str; 4], first: u64| {
+            names.into_iter().zip(first..).map(move |(n, v)| (n, bits, v))
+        };
+        let gl = VertexLighting::new(cfg, &setup).unwrap();
+        assert_eq!(wires(gl.in_signals(&input)), vertex);
+        assert_eq!(wires(gl.out_signals(&out)), colours(["r", "g", "b", "a"], 21).collect::<Vec<_>>());
+        let lc = VertexLighting::new(with_control(cfg, LightControl::default()), &setup).unwrap();
+        let lc_in: Vec<_> = vertex
+            .iter()
+            .copied()
+            .chain(colours(["dr", "dg", "db", "da"], 7))
+            .chain(colours(["sr", "sg", "sb", "sa"], 11))
+            .collect();
+        assert_eq!(wires(lc.in_signals(&input)), lc_in);
+        let lc_out: Vec<_> = colours(["r", "g", "b", "a"], 21)
+            .chain(colours(["r2", "g2", "b2", "a2"], 25))
+            .collect();
+        assert_eq!(wires(lc.out_signals(&out)), lc_out);
+    }
+}
+
 // ------------------------------------------------- the host's load, register by register
 
 /// The registers the host loads read back as its values rounded into the format: one
