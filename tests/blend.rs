@@ -291,6 +291,81 @@ proptest! {
     }
 }
 
+/// A constant of its own width only with per-term rounding (one rounding divides the
+/// whole sum by one full scale): the channel's own width builds either way, another is
+/// refused naming `blend.constant_bits` under `once`.
+#[test]
+fn constant_bits_other_than_the_channel_only_with_per_term_rounding() {
+    for bits in [1u32, 5, 8, 16] {
+        let cfg = |k: u32, rounding| BlendConfig {
+            bits,
+            constant_bits: Some(k),
+            rounding,
+            src_factor: BlendFactor::ConstantColor,
+            ..BlendConfig::default()
+        };
+        for rounding in [BlendRounding::Once, BlendRounding::PerTerm] {
+            assert_eq!(cfg(bits, rounding).build().unwrap().constant_bits(), bits);
+        }
+        for k in [1u32, 4, 12, 16].into_iter().filter(|&k| k != bits) {
+            let e = cfg(k, BlendRounding::Once).build().unwrap_err();
+            assert_eq!(e.field(), "blend.constant_bits", "bits {bits}, k {k}");
+            assert_eq!(cfg(k, BlendRounding::PerTerm).build().unwrap().constant_bits(), k);
+        }
+    }
+}
+
+/// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
+/// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
+#[test]
+fn select_codes_are_the_ones_blend_v_lists() {
+    let header: String = include_str!("../rtl_model/verilog/units/blend.v")
+        .lines()
+        .take_while(|l| l.starts_with("//"))
+        .map(|l| l.trim_start_matches("//").trim())
+        .collect::<Vec<_>>()
+        .join(" ");
+    let list = |after: &str| -> Vec<String> {
+        let from = header.find(after).expect(after) + after.len();
+        let rest = &header[from..];
+        rest[..rest.find(';').unwrap()].split(',').map(|w| w.trim().to_string()).collect()
+    };
+    let equations = list("EQUATION 0..6 =");
+    let factors = list("SRC_FACTOR / DST_FACTOR 0..14 =");
+    let name = |v: serde_json::Value| v.as_str().unwrap().to_uppercase();
+    assert_eq!((equations.len(), factors.len()), (7, 15));
+    for e in BlendEquation::ALL {
+        assert_eq!(equations[e.code() as usize], name(serde_json::to_value(e).unwrap()));
+    }
+    for f in BlendFactor::ALL {
+        assert_eq!(factors[f.code() as usize], name(serde_json::to_value(f).unwrap()));
+    }
+}
+
+/// `uses_factors` is what the datapath does: under MIN, MAX and the two signed
+/// equations no factor pair changes any output (every 3-bit pixel pair, every factor
+/// pair); under ADD, SUBTRACT and REVERSE_SUBTRACT some does.
+#[test]
+fn only_the_equations_that_use_factors_depend_on_them() {
+    let bits = 3;
+    let pixels: Vec<[u32; 4]> = (0..8u32).map(|v| [v, 7 - v, v / 2, (v * 5) % 8]).collect();
+    for eq in BlendEquation::ALL {
+        let reference = unit(bits, eq, BlendFactor::One, BlendFactor::Zero, [3; 4], BlendRounding::Once);
+        let mut depends = false;
+        for sf in BlendFactor::ALL {
+            for df in BlendFactor::ALL {
+                let b = unit(bits, eq, sf, df, [3; 4], BlendRounding::Once);
+                for s in &pixels {
+                    for d in &pixels {
+                        depends |= b.blend_pixel(s, d).0 != reference.blend_pixel(s, d).0;
+                    }
+                }
+            }
+        }
+        assert_eq!(depends, eq.uses_factors(), "{eq:?}");
+    }
+}
+
 #[test]
 fn constant_wider_than_the_channel_is_an_error_naming_it() {
     let e = BlendConfig {
