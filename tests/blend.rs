@@ -315,6 +315,34 @@ fn constant_bits_other_than_the_channel_only_with_per_term_rounding() {
     }
 }
 
+/// Per-term rounding with a constant of its own width: a CONSTANT_* factor's term is
+/// divided by the constant's full scale 2ᵏ − 1, every other term by the channel's
+/// 2ⁿ − 1 (n = 8, k = 4: s·K/15 rounded, plus d·255/255).
+#[test]
+fn per_term_divides_each_term_by_its_own_factors_full_scale() {
+    let constant = [0u32, 5, 10, 15];
+    let b = BlendConfig {
+        bits: 8,
+        constant_bits: Some(4),
+        rounding: BlendRounding::PerTerm,
+        src_factor: BlendFactor::ConstantColor,
+        dst_factor: BlendFactor::One,
+        constant,
+        ..BlendConfig::default()
+    }
+    .build()
+    .unwrap();
+    for s in 0..=255u32 {
+        for d in [0u32, 1, 100, 255] {
+            let (out, _) = b.blend_pixel(&[s; 4], &[d; 4]);
+            for c in 0..4 {
+                let term = (2 * s * constant[c] + 15) / 30; // round(s·K/15), 15 odd: no ties
+                assert_eq!(out[c], (term + d).min(255), "s {s} d {d} channel {c}");
+            }
+        }
+    }
+}
+
 /// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
 /// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
 #[test]
@@ -934,6 +962,26 @@ mod additive {
                             "k {k} q {q} x {x}"
                         );
                     }
+                }
+            }
+        }
+    }
+
+    /// Beyond its precondition (x ≥ 2^(q+k)) `round_div_mersenne` is documented to give
+    /// the same shift-add formula, with no panic and saturated to u64: the 64-bit fast
+    /// path must not be taken there (its t and sum would wrap).
+    #[test]
+    fn round_div_mersenne_beyond_its_precondition_is_the_formula() {
+        for k in 1..=16u32 {
+            for q in 1..=16u32 {
+                let terms = q.div_ceil(k) + 1;
+                let formula = |x: u64| {
+                    let t = x as u128 + (1u128 << (k - 1));
+                    let acc: u128 = (0..terms).map(|j| t << (j * k)).sum();
+                    u64::try_from(acc >> (terms * k)).unwrap_or(u64::MAX)
+                };
+                for x in [1u64 << (q + k), (1u64 << (q + k)) + 12_345, u64::MAX >> 1, u64::MAX] {
+                    assert_eq!(round_div_mersenne(x, k, q), formula(x), "k {k} q {q} x {x}");
                 }
             }
         }
