@@ -580,14 +580,8 @@ impl Blend {
         }
     }
 
-    /// Channel `c` before the clamp, s(n+2) (operands aligned and masked to n bits).
-    #[inline]
-    pub fn unclamped(&self, c: usize, s: &[u32; 4], d: &[u32; 4]) -> i64 {
-        self.unclamped_counted(c, s, d).0
-    }
-
-    /// Channel `c` before the clamp and its terms lost to rounding (see the module's
-    /// counters).
+    /// Channel `c` before the clamp, s(n+2) (operands aligned and masked to n bits),
+    /// and its terms lost to rounding (see the module's counters).
     #[inline]
     fn unclamped_counted(&self, c: usize, s: &[u32; 4], d: &[u32; 4]) -> (i64, u32) {
         let n = self.cfg.bits;
