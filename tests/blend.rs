@@ -980,7 +980,8 @@ mod additive {
                     let acc: u128 = (0..terms).map(|j| t << (j * k)).sum();
                     u64::try_from(acc >> (terms * k)).unwrap_or(u64::MAX)
                 };
-                for x in [1u64 << (q + k), (1u64 << (q + k)) + 12_345, u64::MAX >> 1, u64::MAX] {
+                let beyond = [1u64 << (q + k), (1 << (q + k)) + 12_345, 1 << 63, u64::MAX >> 1, u64::MAX];
+                for x in beyond {
                     assert_eq!(round_div_mersenne(x, k, q), formula(x), "k {k} q {q} x {x}");
                 }
             }
