@@ -343,6 +343,41 @@ fn per_term_divides_each_term_by_its_own_factors_full_scale() {
     }
 }
 
+/// The underflow count: under `once`, each channel whose exact sum t ≠ 0 rounds to 0;
+/// under `per_term`, each non-zero product that rounds to 0 (two per channel at most).
+/// With M odd a value p rounds to 0 exactly when 0 < 2|p| < M. Every 3-bit pixel
+/// pair, s·s ± d·d (factors SRC_COLOR, DST_COLOR), ADD and SUBTRACT.
+#[test]
+fn underflows_count_the_nonzero_terms_rounded_to_zero() {
+    let m = 7i64;
+    let to_zero = |p: i64| p != 0 && 2 * p.abs() < m;
+    for eq in [BlendEquation::Add, BlendEquation::Subtract] {
+        let sign = if eq == BlendEquation::Add { 1 } else { -1 };
+        for rounding in [BlendRounding::Once, BlendRounding::PerTerm] {
+            let b = unit(3, eq, BlendFactor::SrcColor, BlendFactor::DstColor, [0; 4], rounding);
+            for s in 0..8u32 {
+                for d in 0..8u32 {
+                    let src = [s, (s + 1) % 8, (s + 3) % 8, s];
+                    let dst = [d, d, (d + 5) % 8, (d + 2) % 8];
+                    let expected: u32 = (0..4)
+                        .map(|c| {
+                            let (ps, pd) = ((src[c] * src[c]) as i64, (dst[c] * dst[c]) as i64);
+                            match rounding {
+                                BlendRounding::Once => u32::from(to_zero(ps + sign * pd)),
+                                BlendRounding::PerTerm => {
+                                    u32::from(to_zero(ps)) + u32::from(to_zero(pd))
+                                }
+                            }
+                        })
+                        .sum();
+                    let (_, _, under) = b.blend_pixel_counted(&src, &dst);
+                    assert_eq!(under, expected, "{eq:?} {rounding:?} s {src:?} d {dst:?}");
+                }
+            }
+        }
+    }
+}
+
 /// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
 /// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
 #[test]
