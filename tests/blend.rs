@@ -378,6 +378,29 @@ fn underflows_count_the_nonzero_terms_rounded_to_zero() {
     }
 }
 
+/// A non-zero source that alignment narrows to 0 is an underflow in any equation: an
+/// 8-bit source into a 4-bit blend rounds s·15/255 = s/17, so the codes 1 ..= 8 are lost
+/// (ONE, ZERO: the sum itself is then 0, which alone would not count).
+#[test]
+fn a_source_narrowed_to_zero_counts_as_an_underflow() {
+    for eq in [BlendEquation::Add, BlendEquation::Max, BlendEquation::AddSigned] {
+        let b = BlendConfig {
+            bits: 4,
+            src_bits: Some(8),
+            equation: eq,
+            ..BlendConfig::default()
+        }
+        .build()
+        .unwrap();
+        for s in 0..=255u32 {
+            let src = [s, (s + 3) % 256, (s * 7) % 256, 255 - s];
+            let (_, _, under) = b.blend_pixel_counted(&src, &[0; 4]);
+            let expected = src.iter().filter(|&&v| (1..=8).contains(&v)).count() as u32;
+            assert_eq!(under, expected, "{eq:?} src {src:?}");
+        }
+    }
+}
+
 /// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
 /// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
 #[test]

@@ -725,9 +725,8 @@ impl Blend {
         if !weight_on {
             under = 0;
         }
-        // Channels 1 ..= 3: source and destination 0 (never an underflow).
-        let q0 = self.contribution(0);
-        sat += u64::from(q0 > max) * n * (CHANNELS as u64 - 1);
+        // Channels 1 ..= 3 carry source and destination 0: the contribution of source 0
+        // is 0 (align and weight map 0 to 0), so their sums are 0 and count nothing.
         let bytes = bytes_for_bits(self.pixel_bits()) * n;
         ctr.mem_read_bytes += bytes;
         ctr.mem_write_bytes += bytes;
