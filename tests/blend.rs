@@ -401,6 +401,25 @@ fn a_source_narrowed_to_zero_counts_as_an_underflow() {
     }
 }
 
+/// The programmable datapath prices a narrowing aligner (round to nearest, per
+/// channel) only when the source is wider than the channel; wider channels take the
+/// source by wiring (bit replication) at no cost.
+#[test]
+fn the_programmable_datapath_prices_the_narrowing_aligner_only_when_narrowing() {
+    const PART: &str = "align: narrow to bits (round to nearest)";
+    for (bits, src_bits) in [(4u32, 8u32), (8, 16), (8, 8), (8, 4), (16, 1)] {
+        let b = BlendConfig {
+            bits,
+            src_bits: Some(src_bits),
+            ..BlendConfig::default()
+        }
+        .build()
+        .unwrap();
+        let has = b.cost().breakdown.iter().any(|(n, _)| n == PART);
+        assert_eq!(has, src_bits > bits, "bits {bits}, src_bits {src_bits}");
+    }
+}
+
 /// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
 /// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
 #[test]
