@@ -420,6 +420,34 @@ fn the_programmable_datapath_prices_the_narrowing_aligner_only_when_narrowing() 
     }
 }
 
+/// Per-term rounding replaces the once datapath's add, magnitude and one ÷M series per
+/// channel by two ÷M series per channel (one per term, each J = ⌈(n+1)/n⌉ = 2 adders
+/// of 2·max(n, k) + 1 bits, the product of the wider factor plus its rounding bit) and
+/// an (n+1)-bit add of the two rounded terms.
+#[test]
+fn per_term_rounding_prices_a_divider_series_per_term() {
+    use rtl_model::cost::prim;
+    let part = |b: &Blend, name: &str| {
+        b.cost().breakdown.iter().find(|(n, _)| n == name).map(|&(_, g)| g)
+    };
+    for (bits, k) in [(4u32, 4u32), (8, 8), (8, 12), (16, 3)] {
+        let b = BlendConfig {
+            bits,
+            constant_bits: Some(k),
+            rounding: BlendRounding::PerTerm,
+            ..BlendConfig::default()
+        }
+        .build()
+        .unwrap();
+        let w = 2 * bits.max(k) + 1;
+        let series = (prim::adder(w) * (2.0 * 2.0 * 4.0)).nand2_eq();
+        let add = (prim::adder(bits + 1) * 4.0).nand2_eq();
+        assert_eq!(part(&b, "÷M shift-add series, per term"), Some(series), "n {bits} k {k}");
+        assert_eq!(part(&b, "add/subtract terms"), Some(add), "n {bits} k {k}");
+        assert_eq!(part(&b, "÷M shift-add series"), None);
+    }
+}
+
 /// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
 /// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
 #[test]
