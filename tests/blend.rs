@@ -448,6 +448,83 @@ fn per_term_rounding_prices_a_divider_series_per_term() {
     }
 }
 
+/// The VCD trace's wires: the source channels at the source's width, the framebuffer's
+/// and the result's at the channel's, each its code masked to its wire.
+#[test]
+fn trace_signals_are_the_channels_as_wires_of_their_widths() {
+    for (bits, src_bits) in [(8u32, 8u32), (4, 8), (8, 5)] {
+        let b = BlendConfig {
+            bits,
+            src_bits: Some(src_bits),
+            ..BlendConfig::default()
+        }
+        .build()
+        .unwrap();
+        let input = BlendIn {
+            src: [1, 2, 0x1ff, 4],
+            dst: [5, 0x10f, 7, 8],
+        };
+        let wires: Vec<(&str, u32, u64)> =
+            b.in_signals(&input).iter().map(|s| (s.name, s.width, s.value)).collect();
+        let (sm, m) = ((1u64 << src_bits) - 1, (1u64 << bits) - 1);
+        assert_eq!(
+            wires,
+            [
+                ("src_r", src_bits, 1 & sm),
+                ("src_g", src_bits, 2 & sm),
+                ("src_b", src_bits, 0x1ff & sm),
+                ("src_a", src_bits, 4 & sm),
+                ("dst_r", bits, 5 & m),
+                ("dst_g", bits, 0x10f & m),
+                ("dst_b", bits, 7 & m),
+                ("dst_a", bits, 8 & m),
+            ]
+        );
+        let out: Vec<(&str, u32, u64)> =
+            b.out_signals(&[3, 0, 9, 0x1f0]).iter().map(|s| (s.name, s.width, s.value)).collect();
+        assert_eq!(
+            out,
+            [("y_r", bits, 3 & m), ("y_g", bits, 0), ("y_b", bits, 9 & m), ("y_a", bits, 0x1f0 & m)]
+        );
+    }
+}
+
+/// The widths a sweep can vary: the programmable datapath lists `bits` and the pixel,
+/// the source's width only where it differs, the constant's only where it differs and
+/// is not the additive weight; the additive datapath its source, framebuffer and pixel
+/// widths and, weighted, the weight's.
+#[test]
+fn widths_list_what_the_datapath_has() {
+    let names = |b: &Blend| -> Vec<(&str, u32)> { b.widths().iter().map(|w| (w.name, w.bits)).collect() };
+    let programmable = |bits, src_bits, constant_bits| {
+        BlendConfig {
+            bits,
+            src_bits,
+            constant_bits,
+            rounding: BlendRounding::PerTerm,
+            ..BlendConfig::default()
+        }
+        .build()
+        .unwrap()
+    };
+    assert_eq!(names(&programmable(8, None, None)), [("bits", 8), ("pixel_bits", 32)]);
+    assert_eq!(
+        names(&programmable(8, Some(5), Some(8))),
+        [("bits", 8), ("pixel_bits", 32), ("src_bits", 5)]
+    );
+    assert_eq!(
+        names(&programmable(8, Some(8), Some(12))),
+        [("bits", 8), ("pixel_bits", 32), ("constant_bits", 12)]
+    );
+    let additive = Blend::additive(6, 10, true, 4).unwrap();
+    assert_eq!(
+        names(&additive),
+        [("src_bits", 6), ("fb_bits", 10), ("pixel_bits", additive.pixel_bits()), ("weight_bits", 4)]
+    );
+    let unweighted = Blend::additive(6, 10, false, 4).unwrap();
+    assert_eq!(names(&unweighted).len(), 3);
+}
+
 /// The select words the Verilog reads (`EQUATION`, `SRC_FACTOR`, `DST_FACTOR` of
 /// rtl_model/verilog/units/blend.v) are the codes its header lists, name by name.
 #[test]
