@@ -1171,6 +1171,21 @@ fn cost_depends_on_the_configured_attrs_only() {
 /// The lane form (`kernel_batch_lanes`, what the shafts walks use) against the span
 /// driver: at every chunk size of `common::BATCH_CHUNKS`, the same words, final state
 /// and counters (the span's timing added once).
+/// The 2-bit move code on the input wire is the one polygon_interpolator.v decodes
+/// (`hold`, `lf`, `dn` by their codes; right is the fourth).
+#[test]
+fn move_codes_are_the_ones_the_verilog_decodes() {
+    let v = include_str!("../rtl_model/verilog/units/polygon_interpolator.v");
+    let code_of = |wire: &str| -> u64 {
+        let pat = format!("wire {wire} = move == 2'd");
+        let at = v.find(&pat).expect("the Verilog decodes the move") + pat.len();
+        v[at..at + 1].parse().unwrap()
+    };
+    let decoded = [code_of("hold"), code_of("lf"), code_of("dn")];
+    assert_eq!([Move::Hold.code(), Move::Left.code(), Move::Down.code()], decoded);
+    assert!(Move::Right.code() < 4 && !decoded.contains(&Move::Right.code()));
+}
+
 fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Move]) {
     let mut s_span = state.clone();
     let mut c_span = Counters::default();
@@ -1183,9 +1198,11 @@ fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Mo
         let mut words = Vec::new();
         for part in moves.chunks(chunk.max(1)) {
             lanes.clear(u.attrs() as usize);
+            assert!(lanes.is_empty(), "cleared lanes hold no word");
             u.kernel_batch_lanes(&mut st, part, &mut lanes, &mut c);
             tally.add(part.len());
             assert_eq!(lanes.len(), part.len(), "one word per move (chunk {chunk})");
+            assert!(!lanes.is_empty(), "a chunk's words are held (chunk {chunk})");
             words.extend((0..lanes.len()).map(|i| lanes.word(i)));
         }
         tally.close(u.timing(), &mut c);
