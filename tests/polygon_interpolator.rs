@@ -1408,6 +1408,40 @@ proptest! {
     }
 }
 
+/// The barycentric output stage counts its events on covered pixels only: an attribute
+/// of 200 everywhere saturates a 4-bit integer output at each covered pixel, one of
+/// 0.25 underflows to 0 there, one of 3 does neither.
+#[test]
+fn barycentric_output_counts_saturations_and_underflows_on_covered_pixels() {
+    let u = PolygonInterpolatorConfig {
+        attrs: 3,
+        out_int_bits: 4,
+        out_frac_bits: 0,
+        out_quant: Quant::Rnd,
+        barycentric: Some(Barycentric {
+            weight_bits: 8,
+            strict: false,
+        }),
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let mut ctr = Counters::default();
+    let pts = [(1.0, 1.0), (17.5, 3.0), (6.0, 14.25)];
+    let vs: Vec<Vertex> = pts
+        .iter()
+        .enumerate()
+        .map(|(i, &(x, y))| u.vertex_from_f64(i, x, y, &[200.0, 0.25, 3.0], &mut ctr).unwrap())
+        .collect();
+    let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
+    let mut st = setup.state.clone();
+    let mut c = Counters::default();
+    let outs = run_span(&u, &mut st, &setup.moves(), &mut c);
+    let covered = outs.iter().filter(|o| o.inside).count() as u64;
+    assert!(covered > 50 && (covered as usize) < outs.len(), "{covered} of {}", outs.len());
+    assert_eq!((c.saturations, c.underflows), (covered, covered));
+}
+
 /// The mode leaves the plane path alone: parallelograms keep their planes (no
 /// barycentric registers), and weight bits outside 1 ..= 16 name the field.
 #[test]
