@@ -310,7 +310,13 @@ fn constant_bits_other_than_the_channel_only_with_per_term_rounding() {
         for k in [1u32, 4, 12, 16].into_iter().filter(|&k| k != bits) {
             let e = cfg(k, BlendRounding::Once).build().unwrap_err();
             assert_eq!(e.field(), "blend.constant_bits", "bits {bits}, k {k}");
-            assert_eq!(cfg(k, BlendRounding::PerTerm).build().unwrap().constant_bits(), k);
+            assert_eq!(
+                cfg(k, BlendRounding::PerTerm)
+                    .build()
+                    .unwrap()
+                    .constant_bits(),
+                k
+            );
         }
     }
 }
@@ -354,7 +360,14 @@ fn underflows_count_the_nonzero_terms_rounded_to_zero() {
     for eq in [BlendEquation::Add, BlendEquation::Subtract] {
         let sign = if eq == BlendEquation::Add { 1 } else { -1 };
         for rounding in [BlendRounding::Once, BlendRounding::PerTerm] {
-            let b = unit(3, eq, BlendFactor::SrcColor, BlendFactor::DstColor, [0; 4], rounding);
+            let b = unit(
+                3,
+                eq,
+                BlendFactor::SrcColor,
+                BlendFactor::DstColor,
+                [0; 4],
+                rounding,
+            );
             for s in 0..8u32 {
                 for d in 0..8u32 {
                     let src = [s, (s + 1) % 8, (s + 3) % 8, s];
@@ -383,7 +396,11 @@ fn underflows_count_the_nonzero_terms_rounded_to_zero() {
 /// (ONE, ZERO: the sum itself is then 0, which alone would not count).
 #[test]
 fn a_source_narrowed_to_zero_counts_as_an_underflow() {
-    for eq in [BlendEquation::Add, BlendEquation::Max, BlendEquation::AddSigned] {
+    for eq in [
+        BlendEquation::Add,
+        BlendEquation::Max,
+        BlendEquation::AddSigned,
+    ] {
         let b = BlendConfig {
             bits: 4,
             src_bits: Some(8),
@@ -428,7 +445,11 @@ fn the_programmable_datapath_prices_the_narrowing_aligner_only_when_narrowing() 
 fn per_term_rounding_prices_a_divider_series_per_term() {
     use rtl_model::cost::prim;
     let part = |b: &Blend, name: &str| {
-        b.cost().breakdown.iter().find(|(n, _)| n == name).map(|&(_, g)| g)
+        b.cost()
+            .breakdown
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|&(_, g)| g)
     };
     for (bits, k) in [(4u32, 4u32), (8, 8), (8, 12), (16, 3)] {
         let b = BlendConfig {
@@ -442,7 +463,11 @@ fn per_term_rounding_prices_a_divider_series_per_term() {
         let w = 2 * bits.max(k) + 1;
         let series = (prim::adder(w) * (2.0 * 2.0 * 4.0)).nand2_eq();
         let add = (prim::adder(bits + 1) * 4.0).nand2_eq();
-        assert_eq!(part(&b, "÷M shift-add series, per term"), Some(series), "n {bits} k {k}");
+        assert_eq!(
+            part(&b, "÷M shift-add series, per term"),
+            Some(series),
+            "n {bits} k {k}"
+        );
         assert_eq!(part(&b, "add/subtract terms"), Some(add), "n {bits} k {k}");
         assert_eq!(part(&b, "÷M shift-add series"), None);
     }
@@ -464,8 +489,11 @@ fn trace_signals_are_the_channels_as_wires_of_their_widths() {
             src: [1, 2, 0x1ff, 4],
             dst: [5, 0x10f, 7, 8],
         };
-        let wires: Vec<(&str, u32, u64)> =
-            b.in_signals(&input).iter().map(|s| (s.name, s.width, s.value)).collect();
+        let wires: Vec<(&str, u32, u64)> = b
+            .in_signals(&input)
+            .iter()
+            .map(|s| (s.name, s.width, s.value))
+            .collect();
         let (sm, m) = ((1u64 << src_bits) - 1, (1u64 << bits) - 1);
         assert_eq!(
             wires,
@@ -480,11 +508,19 @@ fn trace_signals_are_the_channels_as_wires_of_their_widths() {
                 ("dst_a", bits, 8 & m),
             ]
         );
-        let out: Vec<(&str, u32, u64)> =
-            b.out_signals(&[3, 0, 9, 0x1f0]).iter().map(|s| (s.name, s.width, s.value)).collect();
+        let out: Vec<(&str, u32, u64)> = b
+            .out_signals(&[3, 0, 9, 0x1f0])
+            .iter()
+            .map(|s| (s.name, s.width, s.value))
+            .collect();
         assert_eq!(
             out,
-            [("y_r", bits, 3 & m), ("y_g", bits, 0), ("y_b", bits, 9 & m), ("y_a", bits, 0x1f0 & m)]
+            [
+                ("y_r", bits, 3 & m),
+                ("y_g", bits, 0),
+                ("y_b", bits, 9 & m),
+                ("y_a", bits, 0x1f0 & m)
+            ]
         );
     }
 }
@@ -495,7 +531,8 @@ fn trace_signals_are_the_channels_as_wires_of_their_widths() {
 /// widths and, weighted, the weight's.
 #[test]
 fn widths_list_what_the_datapath_has() {
-    let names = |b: &Blend| -> Vec<(&str, u32)> { b.widths().iter().map(|w| (w.name, w.bits)).collect() };
+    let names =
+        |b: &Blend| -> Vec<(&str, u32)> { b.widths().iter().map(|w| (w.name, w.bits)).collect() };
     let programmable = |bits, src_bits, constant_bits| {
         BlendConfig {
             bits,
@@ -507,7 +544,10 @@ fn widths_list_what_the_datapath_has() {
         .build()
         .unwrap()
     };
-    assert_eq!(names(&programmable(8, None, None)), [("bits", 8), ("pixel_bits", 32)]);
+    assert_eq!(
+        names(&programmable(8, None, None)),
+        [("bits", 8), ("pixel_bits", 32)]
+    );
     assert_eq!(
         names(&programmable(8, Some(5), Some(8))),
         [("bits", 8), ("pixel_bits", 32), ("src_bits", 5)]
@@ -519,7 +559,12 @@ fn widths_list_what_the_datapath_has() {
     let additive = Blend::additive(6, 10, true, 4).unwrap();
     assert_eq!(
         names(&additive),
-        [("src_bits", 6), ("fb_bits", 10), ("pixel_bits", additive.pixel_bits()), ("weight_bits", 4)]
+        [
+            ("src_bits", 6),
+            ("fb_bits", 10),
+            ("pixel_bits", additive.pixel_bits()),
+            ("weight_bits", 4)
+        ]
     );
     let unweighted = Blend::additive(6, 10, false, 4).unwrap();
     assert_eq!(names(&unweighted).len(), 3);
@@ -538,17 +583,26 @@ fn select_codes_are_the_ones_blend_v_lists() {
     let list = |after: &str| -> Vec<String> {
         let from = header.find(after).expect(after) + after.len();
         let rest = &header[from..];
-        rest[..rest.find(';').unwrap()].split(',').map(|w| w.trim().to_string()).collect()
+        rest[..rest.find(';').unwrap()]
+            .split(',')
+            .map(|w| w.trim().to_string())
+            .collect()
     };
     let equations = list("EQUATION 0..6 =");
     let factors = list("SRC_FACTOR / DST_FACTOR 0..14 =");
     let name = |v: serde_json::Value| v.as_str().unwrap().to_uppercase();
     assert_eq!((equations.len(), factors.len()), (7, 15));
     for e in BlendEquation::ALL {
-        assert_eq!(equations[e.code() as usize], name(serde_json::to_value(e).unwrap()));
+        assert_eq!(
+            equations[e.code() as usize],
+            name(serde_json::to_value(e).unwrap())
+        );
     }
     for f in BlendFactor::ALL {
-        assert_eq!(factors[f.code() as usize], name(serde_json::to_value(f).unwrap()));
+        assert_eq!(
+            factors[f.code() as usize],
+            name(serde_json::to_value(f).unwrap())
+        );
     }
 }
 
@@ -560,7 +614,14 @@ fn only_the_equations_that_use_factors_depend_on_them() {
     let bits = 3;
     let pixels: Vec<[u32; 4]> = (0..8u32).map(|v| [v, 7 - v, v / 2, (v * 5) % 8]).collect();
     for eq in BlendEquation::ALL {
-        let reference = unit(bits, eq, BlendFactor::One, BlendFactor::Zero, [3; 4], BlendRounding::Once);
+        let reference = unit(
+            bits,
+            eq,
+            BlendFactor::One,
+            BlendFactor::Zero,
+            [3; 4],
+            BlendRounding::Once,
+        );
         let mut depends = false;
         for sf in BlendFactor::ALL {
             for df in BlendFactor::ALL {
@@ -1162,7 +1223,13 @@ mod additive {
                     let acc: u128 = (0..terms).map(|j| t << (j * k)).sum();
                     u64::try_from(acc >> (terms * k)).unwrap_or(u64::MAX)
                 };
-                let beyond = [1u64 << (q + k), (1 << (q + k)) + 12_345, 1 << 63, u64::MAX >> 1, u64::MAX];
+                let beyond = [
+                    1u64 << (q + k),
+                    (1 << (q + k)) + 12_345,
+                    1 << 63,
+                    u64::MAX >> 1,
+                    u64::MAX,
+                ];
                 for x in beyond {
                     assert_eq!(round_div_mersenne(x, k, q), formula(x), "k {k} q {q} x {x}");
                 }

@@ -1182,7 +1182,10 @@ fn move_codes_are_the_ones_the_verilog_decodes() {
         v[at..at + 1].parse().unwrap()
     };
     let decoded = [code_of("hold"), code_of("lf"), code_of("dn")];
-    assert_eq!([Move::Hold.code(), Move::Left.code(), Move::Down.code()], decoded);
+    assert_eq!(
+        [Move::Hold.code(), Move::Left.code(), Move::Down.code()],
+        decoded
+    );
     assert!(Move::Right.code() < 4 && !decoded.contains(&Move::Right.code()));
 }
 
@@ -1202,7 +1205,10 @@ fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Mo
             u.kernel_batch_lanes(&mut st, part, &mut lanes, &mut c);
             tally.add(part.len());
             assert_eq!(lanes.len(), part.len(), "one word per move (chunk {chunk})");
-            assert!(!lanes.is_empty(), "a chunk's words are held (chunk {chunk})");
+            assert!(
+                !lanes.is_empty(),
+                "a chunk's words are held (chunk {chunk})"
+            );
             words.extend((0..lanes.len()).map(|i| lanes.word(i)));
         }
         tally.close(u.timing(), &mut c);
@@ -1431,14 +1437,21 @@ fn barycentric_output_counts_saturations_and_underflows_on_covered_pixels() {
     let vs: Vec<Vertex> = pts
         .iter()
         .enumerate()
-        .map(|(i, &(x, y))| u.vertex_from_f64(i, x, y, &[200.0, 0.25, 3.0], &mut ctr).unwrap())
+        .map(|(i, &(x, y))| {
+            u.vertex_from_f64(i, x, y, &[200.0, 0.25, 3.0], &mut ctr)
+                .unwrap()
+        })
         .collect();
     let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
     let mut st = setup.state.clone();
     let mut c = Counters::default();
     let outs = run_span(&u, &mut st, &setup.moves(), &mut c);
     let covered = outs.iter().filter(|o| o.inside).count() as u64;
-    assert!(covered > 50 && (covered as usize) < outs.len(), "{covered} of {}", outs.len());
+    assert!(
+        covered > 50 && (covered as usize) < outs.len(),
+        "{covered} of {}",
+        outs.len()
+    );
     assert_eq!((c.saturations, c.underflows), (covered, covered));
 }
 

@@ -600,11 +600,17 @@ fn trace_signals_are_the_sources_and_the_result_as_n_bit_wires() {
             ["texture_r", "constant_g", "primary_b", "previous_a"]
         );
         let outs = u.out_signals(&[code(1), code(2), code(3), code(4)]);
-        let named: Vec<(&str, u32, u64)> = outs.iter().map(|s| (s.name, s.width, s.value)).collect();
+        let named: Vec<(&str, u32, u64)> =
+            outs.iter().map(|s| (s.name, s.width, s.value)).collect();
         assert_eq!(
             named,
-            [("r", bits, 1), ("g", bits, 2), ("b", bits, 3), ("a", bits, 4)]
-                .map(|(n, w, k)| (n, w, code(k) as u64))
+            [
+                ("r", bits, 1),
+                ("g", bits, 2),
+                ("b", bits, 3),
+                ("a", bits, 4)
+            ]
+            .map(|(n, w, k)| (n, w, code(k) as u64))
         );
     }
 }
@@ -616,12 +622,22 @@ fn trace_signals_are_the_sources_and_the_result_as_n_bit_wires() {
 fn the_mesa_mode_adds_the_binary32_path_and_its_stage() {
     use rtl_model::Unit;
     for bits in [3u32, 8, 16] {
-        let [geforce, mesa] = [CombinerRounding::GeforceInteger, CombinerRounding::MesaFloat32]
-            .map(|r| unit(bits, CombineFunction::AddSigned, CombineFunction::Add, r, 1));
+        let [geforce, mesa] = [
+            CombinerRounding::GeforceInteger,
+            CombinerRounding::MesaFloat32,
+        ]
+        .map(|r| unit(bits, CombineFunction::AddSigned, CombineFunction::Add, r, 1));
         let (g, m) = (geforce.cost(), mesa.cost());
-        assert_eq!(m.breakdown[..g.breakdown.len()], g.breakdown[..], "bits {bits}");
+        assert_eq!(
+            m.breakdown[..g.breakdown.len()],
+            g.breakdown[..],
+            "bits {bits}"
+        );
         assert_eq!(m.breakdown.len(), g.breakdown.len() + 1);
-        assert_eq!(m.breakdown.last().unwrap().0, "binary32 ADD_SIGNED path, ×4");
+        assert_eq!(
+            m.breakdown.last().unwrap().0,
+            "binary32 ADD_SIGNED path, ×4"
+        );
         assert_eq!(m.cells.dff - g.cells.dff, 4.0 * 3.0 * 32.0, "bits {bits}");
         assert_eq!((geforce.timing().latency, mesa.timing().latency), (2, 3));
     }

@@ -1415,7 +1415,11 @@ fn the_nv2a_curve_costs_its_three_coefficient_registers() {
         assert_eq!(part(&pow), 0.0, "e{e}m{m}");
         let w = 1 + e + m;
         let regs = rtl_model::cost::prim::register(3 * w).nand2_eq();
-        assert!((part(&curve) - regs).abs() < 1e-9, "e{e}m{m}: {} against {regs}", part(&curve));
+        assert!(
+            (part(&curve) - regs).abs() < 1e-9,
+            "e{e}m{m}: {} against {regs}",
+            part(&curve)
+        );
         let extra = curve.cost().gates_nand2() - pow.cost().gates_nand2();
         assert!((extra - regs).abs() < 1e-6, "e{e}m{m}");
     }
@@ -1454,11 +1458,17 @@ fn trace_signals_are_the_vertex_words_and_the_colour_codes() {
             .map(|(n, v)| (n, w, v))
             .collect();
         let colours = |names: [&'static str; 4], first: u64| {
-            names.into_iter().zip(first..).map(move |(n, v)| (n, bits, v))
+            names
+                .into_iter()
+                .zip(first..)
+                .map(move |(n, v)| (n, bits, v))
         };
         let gl = VertexLighting::new(cfg, &setup).unwrap();
         assert_eq!(wires(gl.in_signals(&input)), vertex);
-        assert_eq!(wires(gl.out_signals(&out)), colours(["r", "g", "b", "a"], 21).collect::<Vec<_>>());
+        assert_eq!(
+            wires(gl.out_signals(&out)),
+            colours(["r", "g", "b", "a"], 21).collect::<Vec<_>>()
+        );
         let lc = VertexLighting::new(with_control(cfg, LightControl::default()), &setup).unwrap();
         let lc_in: Vec<_> = vertex
             .iter()
