@@ -1171,6 +1171,45 @@ fn cost_depends_on_the_configured_attrs_only() {
 /// The lane form (`kernel_batch_lanes`, what the shafts walks use) against the span
 /// driver: at every chunk size of `common::BATCH_CHUNKS`, the same words, final state
 /// and counters (the span's timing added once).
+/// A parallelogram's implied fourth vertex v3 = v0 + v2 − v1 may sit on either end of
+/// the coordinate range; one code beyond it is refused naming the coordinate.
+#[test]
+fn the_implied_fourth_vertex_may_reach_the_ends_of_the_coordinate_range() {
+    let u = PolygonInterpolatorConfig {
+        attrs: 1,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let (lo, hi) = (u.pos_fmt().min_raw() as i64, u.pos_fmt().max_raw() as i64);
+    let v = |x: i64, y: i64| Vertex {
+        x,
+        y,
+        attrs: [0; MAX_ATTRS],
+    };
+    // v0 + v2 − v1 = (x3, y3) with every given vertex in range.
+    let implied = |x3: i64, y3: i64| [v(x3 / 2, y3 / 2), v(0, 0), v(x3 - x3 / 2, y3 - y3 / 2)];
+    for (x3, y3) in [(lo, 40), (hi, 40), (40, lo), (40, hi)] {
+        let r = u.setup_parallelogram(&implied(x3, y3), &mut Counters::default());
+        assert!(r.is_ok(), "v3 = ({x3}, {y3})");
+    }
+    for (x3, y3, field) in [
+        (lo - 1, 40, "x"),
+        (hi + 1, 40, "x"),
+        (40, lo - 1, "y"),
+        (40, hi + 1, "y"),
+    ] {
+        let e = u
+            .setup_parallelogram(&implied(x3, y3), &mut Counters::default())
+            .unwrap_err();
+        assert_eq!(
+            e.field(),
+            format!("polygon_interpolator.vertices[3].{field}"),
+            "v3 = ({x3}, {y3})"
+        );
+    }
+}
+
 /// The 2-bit move code on the input wire is the one polygon_interpolator.v decodes
 /// (`hold`, `lf`, `dn` by their codes; right is the fourth).
 #[test]
