@@ -418,6 +418,17 @@ fn a_source_narrowed_to_zero_counts_as_an_underflow() {
     }
 }
 
+/// The default (programmable) blend at `bits` with a source of `src_bits`.
+fn programmable_with_source(bits: u32, src_bits: u32) -> Blend {
+    BlendConfig {
+        bits,
+        src_bits: Some(src_bits),
+        ..BlendConfig::default()
+    }
+    .build()
+    .unwrap()
+}
+
 /// The programmable datapath prices a narrowing aligner (round to nearest, per
 /// channel) only when the source is wider than the channel; wider channels take the
 /// source by wiring (bit replication) at no cost.
@@ -425,13 +436,7 @@ fn a_source_narrowed_to_zero_counts_as_an_underflow() {
 fn the_programmable_datapath_prices_the_narrowing_aligner_only_when_narrowing() {
     const PART: &str = "align: narrow to bits (round to nearest)";
     for (bits, src_bits) in [(4u32, 8u32), (8, 16), (8, 8), (8, 4), (16, 1)] {
-        let b = BlendConfig {
-            bits,
-            src_bits: Some(src_bits),
-            ..BlendConfig::default()
-        }
-        .build()
-        .unwrap();
+        let b = programmable_with_source(bits, src_bits);
         let has = b.cost().breakdown.iter().any(|(n, _)| n == PART);
         assert_eq!(has, src_bits > bits, "bits {bits}, src_bits {src_bits}");
     }
@@ -478,13 +483,7 @@ fn per_term_rounding_prices_a_divider_series_per_term() {
 #[test]
 fn trace_signals_are_the_channels_as_wires_of_their_widths() {
     for (bits, src_bits) in [(8u32, 8u32), (4, 8), (8, 5)] {
-        let b = BlendConfig {
-            bits,
-            src_bits: Some(src_bits),
-            ..BlendConfig::default()
-        }
-        .build()
-        .unwrap();
+        let b = programmable_with_source(bits, src_bits);
         let input = BlendIn {
             src: [1, 2, 0x1ff, 4],
             dst: [5, 0x10f, 7, 8],
