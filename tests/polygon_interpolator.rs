@@ -1207,6 +1207,51 @@ fn the_implied_fourth_vertex_may_reach_the_ends_of_the_coordinate_range() {
             format!("polygon_interpolator.vertices[3].{field}"),
             "v3 = ({x3}, {y3})"
         );
+        // The error gives the coordinate in pixels, as the scene writes it.
+        let lsb = (-(u.subpixel_bits() as f64)).exp2();
+        let given = if field == "x" { x3 } else { y3 } as f64 * lsb;
+        assert!(
+            matches!(e, rtl_model::ConfigError::OutOfRange { value, .. } if value == given),
+            "{e}"
+        );
+    }
+}
+
+/// The barycentric mode at attribute formats with 1 ..= 3 integer bits: a constant
+/// attribute (0.5) comes out exactly at every covered pixel (the widened intermediate
+/// format holds the integer bits plus 3).
+#[test]
+fn barycentric_mode_runs_at_attribute_formats_with_few_integer_bits() {
+    for int_bits in 1..=3u32 {
+        let u = PolygonInterpolatorConfig {
+            attrs: 1,
+            attr_fmt: Format {
+                int_bits,
+                frac_bits: 8,
+                signed: true,
+            },
+            barycentric: Some(Barycentric {
+                weight_bits: 8,
+                strict: false,
+            }),
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let mut ctr = Counters::default();
+        let pts = [(1.0, 1.0), (12.0, 2.5), (4.0, 9.0)];
+        let vs: Vec<Vertex> = pts
+            .iter()
+            .enumerate()
+            .map(|(i, &(x, y))| u.vertex_from_f64(i, x, y, &[0.5], &mut ctr).unwrap())
+            .collect();
+        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
+        let mut st = setup.state.clone();
+        let outs = run_span(&u, &mut st, &setup.moves(), &mut ctr);
+        assert!(outs.iter().any(|o| o.inside), "int_bits {int_bits}");
+        for o in outs.iter().filter(|o| o.inside) {
+            assert_eq!(u.out_to_f64(o.attrs[0]), 0.5, "int_bits {int_bits}");
+        }
     }
 }
 
