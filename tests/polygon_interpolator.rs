@@ -1207,11 +1207,13 @@ fn the_implied_fourth_vertex_may_reach_the_ends_of_the_coordinate_range() {
             format!("polygon_interpolator.vertices[3].{field}"),
             "v3 = ({x3}, {y3})"
         );
-        // The error gives the coordinate in pixels, as the scene writes it.
+        // The error gives the coordinate and the range in pixels, as the scene writes them.
         let lsb = (-(u.subpixel_bits() as f64)).exp2();
         let given = if field == "x" { x3 } else { y3 } as f64 * lsb;
+        let range = (lo as f64 * lsb, hi as f64 * lsb);
         assert!(
-            matches!(e, rtl_model::ConfigError::OutOfRange { value, .. } if value == given),
+            matches!(e, rtl_model::ConfigError::OutOfRange { value, min, max, .. }
+                if value == given && (min, max) == range),
             "{e}"
         );
     }
