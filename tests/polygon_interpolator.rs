@@ -1232,24 +1232,12 @@ fn barycentric_mode_runs_at_attribute_formats_with_few_integer_bits() {
                 frac_bits: 8,
                 signed: true,
             },
-            barycentric: Some(Barycentric {
-                weight_bits: 8,
-                strict: false,
-            }),
+            barycentric: Some(NV2A_WEIGHTS),
             ..PolygonInterpolatorConfig::default()
         }
         .build()
         .unwrap();
-        let mut ctr = Counters::default();
-        let pts = [(1.0, 1.0), (12.0, 2.5), (4.0, 9.0)];
-        let vs: Vec<Vertex> = pts
-            .iter()
-            .enumerate()
-            .map(|(i, &(x, y))| u.vertex_from_f64(i, x, y, &[0.5], &mut ctr).unwrap())
-            .collect();
-        let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
-        let mut st = setup.state.clone();
-        let outs = run_span(&u, &mut st, &setup.moves(), &mut ctr);
+        let (outs, _) = walk_triangle(&u, [(1.0, 1.0), (12.0, 2.5), (4.0, 9.0)], &[0.5]);
         assert!(outs.iter().any(|o| o.inside), "int_bits {int_bits}");
         for o in outs.iter().filter(|o| o.inside) {
             assert_eq!(u.out_to_f64(o.attrs[0]), 0.5, "int_bits {int_bits}");
@@ -1500,6 +1488,33 @@ proptest! {
     }
 }
 
+/// The NV2A's barycentric weights: 8 fraction bits, exact multiples kept.
+const NV2A_WEIGHTS: Barycentric = Barycentric {
+    weight_bits: 8,
+    strict: false,
+};
+
+/// A triangle with the same attributes at its three vertices, set up and walked: the
+/// walk's outputs and the counters of the walk alone (not of the setup).
+fn walk_triangle(
+    u: &PolygonInterpolator,
+    pts: [(f64, f64); 3],
+    attrs: &[f64],
+) -> (Vec<PolyOut>, Counters) {
+    let mut setup_ctr = Counters::default();
+    let vs: Vec<Vertex> = (0..3)
+        .map(|i| {
+            u.vertex_from_f64(i, pts[i].0, pts[i].1, attrs, &mut setup_ctr)
+                .unwrap()
+        })
+        .collect();
+    let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut setup_ctr);
+    let mut st = setup.state.clone();
+    let mut ctr = Counters::default();
+    let outs = run_span(u, &mut st, &setup.moves(), &mut ctr);
+    (outs, ctr)
+}
+
 /// The barycentric output stage counts its events on covered pixels only: an attribute
 /// of 200 everywhere saturates a 4-bit integer output at each covered pixel, one of
 /// 0.25 underflows to 0 there, one of 3 does neither.
@@ -1510,28 +1525,13 @@ fn barycentric_output_counts_saturations_and_underflows_on_covered_pixels() {
         out_int_bits: 4,
         out_frac_bits: 0,
         out_quant: Quant::Rnd,
-        barycentric: Some(Barycentric {
-            weight_bits: 8,
-            strict: false,
-        }),
+        barycentric: Some(NV2A_WEIGHTS),
         ..PolygonInterpolatorConfig::default()
     }
     .build()
     .unwrap();
-    let mut ctr = Counters::default();
     let pts = [(1.0, 1.0), (17.5, 3.0), (6.0, 14.25)];
-    let vs: Vec<Vertex> = pts
-        .iter()
-        .enumerate()
-        .map(|(i, &(x, y))| {
-            u.vertex_from_f64(i, x, y, &[200.0, 0.25, 3.0], &mut ctr)
-                .unwrap()
-        })
-        .collect();
-    let setup = u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr);
-    let mut st = setup.state.clone();
-    let mut c = Counters::default();
-    let outs = run_span(&u, &mut st, &setup.moves(), &mut c);
+    let (outs, c) = walk_triangle(&u, pts, &[200.0, 0.25, 3.0]);
     let covered = outs.iter().filter(|o| o.inside).count() as u64;
     assert!(
         covered > 50 && (covered as usize) < outs.len(),
