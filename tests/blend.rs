@@ -437,7 +437,7 @@ fn the_programmable_datapath_prices_the_narrowing_aligner_only_when_narrowing() 
     const PART: &str = "align: narrow to bits (round to nearest)";
     for (bits, src_bits) in [(4u32, 8u32), (8, 16), (8, 8), (8, 4), (16, 1)] {
         let b = programmable_with_source(bits, src_bits);
-        let has = b.cost().breakdown.iter().any(|(n, _)| n == PART);
+        let has = common::cost_part(&b.cost(), PART).is_some();
         assert_eq!(has, src_bits > bits, "bits {bits}, src_bits {src_bits}");
     }
 }
@@ -449,13 +449,7 @@ fn the_programmable_datapath_prices_the_narrowing_aligner_only_when_narrowing() 
 #[test]
 fn per_term_rounding_prices_a_divider_series_per_term() {
     use rtl_model::cost::prim;
-    let part = |b: &Blend, name: &str| {
-        b.cost()
-            .breakdown
-            .iter()
-            .find(|(n, _)| n == name)
-            .map(|&(_, g)| g)
-    };
+    let part = |b: &Blend, name: &str| common::cost_part(&b.cost(), name);
     for (bits, k) in [(4u32, 4u32), (8, 8), (8, 12), (16, 3)] {
         let b = BlendConfig {
             bits,
@@ -488,11 +482,7 @@ fn trace_signals_are_the_channels_as_wires_of_their_widths() {
             src: [1, 2, 0x1ff, 4],
             dst: [5, 0x10f, 7, 8],
         };
-        let wires: Vec<(&str, u32, u64)> = b
-            .in_signals(&input)
-            .iter()
-            .map(|s| (s.name, s.width, s.value))
-            .collect();
+        let wires = common::wires(&b.in_signals(&input));
         let (sm, m) = ((1u64 << src_bits) - 1, (1u64 << bits) - 1);
         assert_eq!(
             wires,
@@ -507,11 +497,7 @@ fn trace_signals_are_the_channels_as_wires_of_their_widths() {
                 ("dst_a", bits, 8 & m),
             ]
         );
-        let out: Vec<(&str, u32, u64)> = b
-            .out_signals(&[3, 0, 9, 0x1f0])
-            .iter()
-            .map(|s| (s.name, s.width, s.value))
-            .collect();
+        let out = common::wires(&b.out_signals(&[3, 0, 9, 0x1f0]));
         assert_eq!(
             out,
             [

@@ -600,10 +600,8 @@ fn trace_signals_are_the_sources_and_the_result_as_n_bit_wires() {
             ["texture_r", "constant_g", "primary_b", "previous_a"]
         );
         let outs = u.out_signals(&[code(1), code(2), code(3), code(4)]);
-        let named: Vec<(&str, u32, u64)> =
-            outs.iter().map(|s| (s.name, s.width, s.value)).collect();
         assert_eq!(
-            named,
+            common::wires(&outs),
             [
                 ("r", bits, 1),
                 ("g", bits, 2),

@@ -1355,12 +1355,7 @@ fn light_control_cost_is_its_own_part_with_the_secondary_converters() {
     const PART: &str =
         "light control (vertex colours, specular sum, secondary colour and its conversion, routing)";
     let part = |u: &VertexLighting, name: &str| {
-        u.cost()
-            .breakdown
-            .iter()
-            .find(|(n, _)| n.as_str() == name)
-            .map(|&(_, g)| g)
-            .unwrap_or_else(|| panic!("no part {name}"))
+        common::cost_part(&u.cost(), name).unwrap_or_else(|| panic!("no part {name}"))
     };
     let setup = LightingSetup::default();
     for bits in [1, 5, 8, 16] {
@@ -1396,12 +1391,7 @@ fn light_control_cost_is_its_own_part_with_the_secondary_converters() {
 fn the_nv2a_curve_costs_its_three_coefficient_registers() {
     const PART: &str = "NV2A specular curve coefficients (k0, k1, k2)";
     let part = |u: &VertexLighting| {
-        u.cost()
-            .breakdown
-            .iter()
-            .find(|(n, _)| n.as_str() == PART)
-            .map(|&(_, g)| g)
-            .unwrap_or_else(|| panic!("no part {PART}"))
+        common::cost_part(&u.cost(), PART).unwrap_or_else(|| panic!("no part {PART}"))
     };
     let setup = LightingSetup::default();
     for (e, m) in [(8, 23), (5, 10), (4, 6)] {
@@ -1443,9 +1433,6 @@ fn trace_signals_are_the_vertex_words_and_the_colour_codes() {
         rgba: [21, 22, 23, 24],
         secondary: [25, 26, 27, 28],
     };
-    let wires = |sigs: Vec<rtl_model::Signal>| -> Vec<(&'static str, u32, u64)> {
-        sigs.iter().map(|s| (s.name, s.width, s.value)).collect()
-    };
     for (e, m, bits) in [(8, 23, 8), (5, 10, 5)] {
         let cfg = VertexLightingConfig {
             color_bits: bits,
@@ -1464,9 +1451,9 @@ fn trace_signals_are_the_vertex_words_and_the_colour_codes() {
                 .map(move |(n, v)| (n, bits, v))
         };
         let gl = VertexLighting::new(cfg, &setup).unwrap();
-        assert_eq!(wires(gl.in_signals(&input)), vertex);
+        assert_eq!(common::wires(&gl.in_signals(&input)), vertex);
         assert_eq!(
-            wires(gl.out_signals(&out)),
+            common::wires(&gl.out_signals(&out)),
             colours(["r", "g", "b", "a"], 21).collect::<Vec<_>>()
         );
         let lc = VertexLighting::new(with_control(cfg, LightControl::default()), &setup).unwrap();
@@ -1476,11 +1463,11 @@ fn trace_signals_are_the_vertex_words_and_the_colour_codes() {
             .chain(colours(["dr", "dg", "db", "da"], 7))
             .chain(colours(["sr", "sg", "sb", "sa"], 11))
             .collect();
-        assert_eq!(wires(lc.in_signals(&input)), lc_in);
+        assert_eq!(common::wires(&lc.in_signals(&input)), lc_in);
         let lc_out: Vec<_> = colours(["r", "g", "b", "a"], 21)
             .chain(colours(["r2", "g2", "b2", "a2"], 25))
             .collect();
-        assert_eq!(wires(lc.out_signals(&out)), lc_out);
+        assert_eq!(common::wires(&lc.out_signals(&out)), lc_out);
     }
 }
 

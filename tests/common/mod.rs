@@ -7,9 +7,23 @@ pub mod icarus;
 pub mod shafts;
 pub mod tools;
 
+use rtl_model::cost::Cost;
 use rtl_model::driver::{run_batch, run_span, run_tick};
 use rtl_model::trace::VcdTrace;
-use rtl_model::{Counters, Unit};
+use rtl_model::{Counters, Signal, Unit};
+
+/// A cost's named part, in NAND2 equivalents (None when the cost has no such part).
+pub fn cost_part(cost: &Cost, name: &str) -> Option<f64> {
+    cost.breakdown
+        .iter()
+        .find(|(n, _)| n == name)
+        .map(|&(_, g)| g)
+}
+
+/// A trace's wires as (name, width, value), for comparing with a list.
+pub fn wires(signals: &[Signal]) -> Vec<(&'static str, u32, u64)> {
+    signals.iter().map(|s| (s.name, s.width, s.value)).collect()
+}
 
 /// Proptest case count: ≥ 1 000 by default, more with PROPTEST_CASES.
 pub fn cases() -> u32 {
