@@ -1698,7 +1698,7 @@ impl Unit for PolygonInterpolator {
         let facc = self.cfg.acc_frac_bits;
         let divisor_w = area_w + 1 + fa.saturating_sub(facc);
         let qw = aw + 2;
-        let start_w = (attr_w + area_w + 1).max(nw + d + 1) + 2;
+        let start_w = nw + d + 1 + 2; // Nx·Δx (1 b wider than A0·2area) and 2 adds' carries
 
         Cost::default()
             .part(
