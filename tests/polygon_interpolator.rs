@@ -701,6 +701,17 @@ fn vertex_helper_errors() {
         .vertex_from_f64(2, 5000.0, 0.0, &[0.0, 0.0], &mut ctr)
         .unwrap_err();
     assert_eq!(e.field(), "polygon_interpolator.vertices[2].x");
+    // The position and the coordinate range in pixels, as the scene writes them:
+    // s13.4 holds −4 096 ..= 4 096 − 1/16.
+    assert!(
+        matches!(e, rtl_model::ConfigError::OutOfRange { value, min, max, .. }
+            if (value, min, max) == (5000.0, -4096.0, 4096.0 - 0.0625)),
+        "{e}"
+    );
+    let e = u
+        .vertex_from_f64(1, 0.0, -4097.0, &[0.0, 0.0], &mut ctr)
+        .unwrap_err();
+    assert_eq!(e.field(), "polygon_interpolator.vertices[1].y");
     let e = u
         .vertex_from_f64(1, 0.0, 0.0, &[0.0], &mut ctr)
         .unwrap_err();
@@ -1569,4 +1580,314 @@ fn barycentric_mode_scope_and_errors() {
         .unwrap_err();
         assert_eq!(e.field(), "polygon_interpolator.barycentric.weight_bits");
     }
+}
+
+/// Setup counts an underflow for each gradient and start that is non-zero but rounds
+/// to 0 accumulator LSBs. Default widths: 16 attribute and 24 accumulator fraction
+/// bits, so a change of one attribute LSB across 1 024 pixels is 2⁸/1 024 = 1/4
+/// accumulator LSB per pixel (rounds to 0), and at the first pixel centre (½, ½) the
+/// start is 1/8 LSB (rounds to 0). Attribute 0 grows along x only and 1 along y only
+/// (two underflows each: the gradient and the start); attribute 2 is a constant 5
+/// (zero gradients are not underflows) and 3 grows by 16 LSBs along both (gradients 4
+/// LSBs, start 4 LSBs: none).
+#[test]
+fn setup_counts_gradients_and_starts_that_round_to_zero_as_underflows() {
+    let u = cfg_default(4);
+    let s = 1i64 << PolygonInterpolatorConfig::default().subpixel_bits;
+    let v = |x: i64, y: i64, attrs: [i64; 4]| {
+        let mut a = [0i64; MAX_ATTRS];
+        a[..4].copy_from_slice(&attrs);
+        Vertex {
+            x: x * s,
+            y: y * s,
+            attrs: a,
+        }
+    };
+    let tri = [
+        v(0, 0, [0, 0, 5, 0]),
+        v(1024, 0, [1, 0, 5, 16]),
+        v(0, 1024, [0, 1, 5, 16]),
+    ];
+    let mut ctr = Counters::default();
+    let setup = u.setup_triangle(&tri, &mut ctr);
+    assert_eq!(ctr.underflows, 4);
+    assert_eq!(setup.state.grad_x[..4], [0, 0, 0, 4]);
+    assert_eq!(setup.state.grad_y[..4], [0, 0, 0, 4]);
+    assert_eq!(setup.state.acc[..4], [0, 0, 5 << 8, 4]);
+}
+
+/// Each accessor reads back its own field of the config the unit was built from (a
+/// config whose fields all differ from the defaults and from each other).
+#[test]
+fn accessors_read_back_the_config() {
+    let cfg = PolygonInterpolatorConfig {
+        attrs: 3,
+        subpixel_bits: 2,
+        coord_int_bits: 11,
+        attr_fmt: Format {
+            int_bits: 12,
+            frac_bits: 10,
+            signed: false,
+        },
+        acc_int_bits: 17,
+        acc_frac_bits: 21,
+        acc_overflow: Overflow::SatSym,
+        out_int_bits: 9,
+        out_frac_bits: 5,
+        out_quant: Quant::RndZero,
+        barycentric: Some(NV2A_WEIGHTS),
+    };
+    let u = cfg.build().unwrap();
+    assert_eq!(u.config(), cfg);
+    assert_eq!(
+        [
+            u.attrs(),
+            u.subpixel_bits(),
+            u.coord_int_bits(),
+            u.acc_int_bits(),
+            u.acc_frac_bits(),
+            u.out_int_bits(),
+            u.out_frac_bits(),
+        ],
+        [3, 2, 11, 17, 21, 9, 5]
+    );
+    assert_eq!(u.attr_fmt(), cfg.attr_fmt);
+    assert_eq!(u.acc_overflow(), Overflow::SatSym);
+    assert_eq!(u.out_quant(), Quant::RndZero);
+}
+
+/// A run whose accumulator ends exactly on the format's minimum or maximum code, or
+/// one beyond, under every overflow mode: the closed-form runs give what the per-step
+/// kernel gives (SAT_SYM clamps the minimum code itself, so a run ending there must
+/// not be taken as affine), and the span driver sees the clamp.
+#[test]
+fn runs_ending_on_the_accumulator_limits_agree_with_the_kernel() {
+    for mode in Overflow::ALL {
+        let u = PolygonInterpolatorConfig {
+            attrs: 1,
+            acc_int_bits: 4,
+            acc_frac_bits: 8,
+            acc_overflow: mode,
+            out_frac_bits: 4,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let acc = u.acc_fmt();
+        let (lo, hi) = (acc.min_raw() as i64, acc.max_raw() as i64);
+        for (start, grad) in [(lo + 3, -1), (hi - 3, 1)] {
+            let mut st = PolyState::default();
+            st.acc[0] = start;
+            st.grad_x[0] = grad;
+            for n in 1..=5 {
+                let moves: Vec<Move> = std::iter::once(Move::Hold)
+                    .chain(std::iter::repeat_n(Move::Right, n))
+                    .collect();
+                common::assert_drivers_agree(&u, st.clone(), &moves);
+                lanes_agree_with_span(&u, &st, &moves);
+                let mut end = st.clone();
+                let mut c = Counters::default();
+                run_span(&u, &mut end, &moves, &mut c);
+                let clamped = mode == Overflow::SatSym && grad < 0 && n >= 3;
+                assert_eq!(
+                    c.saturations > 0,
+                    clamped || (mode != Overflow::Wrap && n > 3),
+                    "{mode:?} from {start} by {grad}, {n} steps"
+                );
+            }
+        }
+    }
+}
+
+/// A hand-loaded state whose first edge function wraps at its width (2c + 2s + 4 bits)
+/// part-way through a run, in either direction: the closed-form runs give what the
+/// per-step kernel gives (the wrapped edge is negative: the pixels after it are
+/// outside), and the kernel counts the wrap. Setup never loads such a state (every
+/// pixel centre of the coordinate range has edges well inside the width); the
+/// registers' behaviour is defined for any state.
+#[test]
+fn runs_whose_edge_wraps_agree_with_the_kernel() {
+    let u = cfg_default(1);
+    let top = (1i64 << (u.edge_bits() - 1)) - 1;
+    for (edge, step) in [(top - 2, 1), (-top + 1, -1)] {
+        let mut st = PolyState::default();
+        st.edge[0] = edge;
+        st.edge_dx[0] = step;
+        st.grad_x[0] = 5;
+        let moves: Vec<Move> = std::iter::once(Move::Hold)
+            .chain(std::iter::repeat_n(Move::Right, 5))
+            .collect();
+        let outs = common::assert_drivers_agree(&u, st.clone(), &moves);
+        lanes_agree_with_span(&u, &st, &moves);
+        let mut c = Counters::default();
+        run_span(&u, &mut st.clone(), &moves, &mut c);
+        assert_eq!(c.overflows, 1, "one wrap of one edge");
+        let inside: Vec<bool> = outs.iter().map(|o| o.inside).collect();
+        let want = if step > 0 {
+            [true, true, true, false, false, false]
+        } else {
+            [false, false, false, true, true, true]
+        };
+        assert_eq!(inside, want, "edge {edge} stepping {step}");
+    }
+}
+
+/// The pixel counters are `coord_int_bits` wide and wrap (each wrap counted once): x
+/// stepping right past its largest value, y stepping down past its, and x stepping
+/// left past its smallest, each with the other counter in range.
+#[test]
+fn pixel_counters_wrap_at_their_width_each_wrap_counted() {
+    let u = cfg_default(1);
+    let half = 1i64 << (u.coord_int_bits() - 1);
+    for (x, y, mv, end) in [
+        (half - 2, 7, Move::Right, (-half, 7)),
+        (7, half - 2, Move::Down, (7, -half)),
+        (-half + 1, 7, Move::Left, (half - 1, 7)),
+    ] {
+        let st = PolyState {
+            x,
+            y,
+            ..PolyState::default()
+        };
+        let moves = [Move::Hold, mv, mv];
+        let outs = common::assert_drivers_agree(&u, st.clone(), &moves);
+        lanes_agree_with_span(&u, &st, &moves);
+        assert_eq!((outs[2].x, outs[2].y), end, "{mv:?} from ({x}, {y})");
+        let mut c = Counters::default();
+        run_span(&u, &mut st.clone(), &moves, &mut c);
+        assert_eq!(c.overflows, 1, "{mv:?} from ({x}, {y})");
+    }
+}
+
+/// Setup loads the barycentric registers only in the barycentric mode and only for a
+/// triangle that covers a pixel centre: the planes' configs and an empty triangle
+/// leave them unloaded.
+#[test]
+fn barycentric_registers_load_only_in_the_mode_for_a_covering_triangle() {
+    let s = 1i64 << PolygonInterpolatorConfig::default().subpixel_bits;
+    let v = |x: i64, y: i64| Vertex {
+        x,
+        y,
+        attrs: [3; MAX_ATTRS],
+    };
+    let big = [v(0, 0), v(40 * s, 0), v(0, 40 * s)];
+    // Between pixel centres: x and y within (0.5, 1.5) pixels' first sub-pixels.
+    let sliver = [v(s, s), v(s + 2, s), v(s, s + 2)];
+    let planes = cfg_default(2);
+    let bary = cfg_bary(false, 2, 8, true, Quant::Rnd);
+    let mut ctr = Counters::default();
+    assert!(planes.setup_triangle(&big, &mut ctr).state.bary.is_none());
+    assert!(bary.setup_triangle(&big, &mut ctr).state.bary.is_some());
+    let empty = bary.setup_triangle(&sliver, &mut ctr);
+    assert!(empty.bbox.is_none() && empty.state.bary.is_none());
+}
+
+/// Unsigned attribute words are masked to their width: bits above it are dropped, the
+/// bits within kept (a constant 8-bit colour of 200 given with junk above bit 7 starts
+/// every accumulator at 200).
+#[test]
+fn unsigned_attribute_words_are_masked_to_their_width() {
+    let u = PolygonInterpolatorConfig {
+        attrs: 2,
+        attr_fmt: Format {
+            int_bits: 8,
+            frac_bits: 0,
+            signed: false,
+        },
+        out_int_bits: 8,
+        out_frac_bits: 0,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let s = 1i64 << u.subpixel_bits();
+    let v = |x: i64, y: i64| {
+        let mut attrs = [0; MAX_ATTRS];
+        attrs[..2].copy_from_slice(&[200, 200 + (5 << 8)]);
+        Vertex { x, y, attrs }
+    };
+    let setup = u.setup_triangle(
+        &[v(0, 0), v(30 * s, 0), v(0, 30 * s)],
+        &mut Counters::default(),
+    );
+    let start = 200i64 << u.acc_frac_bits();
+    assert_eq!(setup.state.acc[..2], [start, start]);
+    let mut st = setup.state.clone();
+    let outs = run_span(&u, &mut st, &setup.moves(), &mut Counters::default());
+    assert!(outs
+        .iter()
+        .filter(|o| o.inside)
+        .all(|o| o.attrs[..2] == [200, 200]));
+}
+
+/// The barycentric mode's part of the cost: two dividers (edge over area: edge width
+/// + 1 bits, w + 1 quotient bits) and per attribute two (w + 1) × (attr + 1)
+/// multipliers, two adders of attr + w + 3 bits and the base and delta registers
+/// (attr + 2·(attr + 1) bits); the planes' configs have none.
+#[test]
+fn barycentric_mode_prices_its_dividers_and_per_attribute_datapath() {
+    use rtl_model::cost::prim;
+    const PART: &str = "barycentric weights: 2 dividers (edge/area, w + 1 quotient bits), per attribute 2 multipliers (w+1)×(attr+1), 2 adders, base and delta registers";
+    let part = |u: &PolygonInterpolator| {
+        common::cost_part(&u.cost(), PART).unwrap_or_else(|| panic!("no part {PART}"))
+    };
+    assert_eq!(part(&cfg_default(4)), 0.0);
+    for (k, w, attr_int, attr_frac) in [(1u32, 8u32, 8u32, 0u32), (3, 4, 16, 16), (4, 12, 9, 3)] {
+        let u = PolygonInterpolatorConfig {
+            attrs: k,
+            attr_fmt: s_fmt(attr_int, attr_frac),
+            barycentric: Some(Barycentric {
+                weight_bits: w,
+                strict: true,
+            }),
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let a = attr_int + attr_frac;
+        let per_attr = prim::multiplier(w + 1, a + 1) * 2.0
+            + prim::adder(a + w + 3) * 2.0
+            + prim::register(a + 2 * (a + 1));
+        let want = prim::divider(u.edge_bits() + 1, w + 1) * 2.0 + per_attr * k as f64;
+        assert_eq!(part(&u), want.nand2_eq(), "k {k} w {w} attr {a} b");
+    }
+}
+
+/// The VCD trace's wires: the 2-bit move in; out the pixel counters at
+/// `coord_int_bits`, the inside bit and each attribute at the output width, every
+/// code masked to its wire (negative values as two's complement).
+#[test]
+fn trace_signals_are_the_move_and_the_outputs_masked_to_their_widths() {
+    let u = PolygonInterpolatorConfig {
+        attrs: 2,
+        out_int_bits: 10,
+        out_frac_bits: 6,
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    assert_eq!(
+        common::wires(&u.in_signals(&Move::Down)),
+        [("move", 2, Move::Down.code())]
+    );
+    let mut attrs = [0; MAX_ATTRS];
+    attrs[..3].copy_from_slice(&[-1, 0x1_2345, 77]);
+    let o = PolyOut {
+        x: -2,
+        y: 0x3_0005,
+        inside: true,
+        attrs,
+    };
+    let c = u.coord_int_bits();
+    let cm = (1u64 << c) - 1;
+    assert_eq!(
+        common::wires(&u.out_signals(&o)),
+        [
+            ("x", c, cm - 1),
+            ("y", c, 0x3_0005 & cm),
+            ("inside", 1, 1),
+            ("attr0", 16, 0xffff),
+            ("attr1", 16, 0x2345),
+        ]
+    );
 }
