@@ -1586,34 +1586,41 @@ fn barycentric_mode_scope_and_errors() {
 /// to 0 accumulator LSBs. Default widths: 16 attribute and 24 accumulator fraction
 /// bits, so a change of one attribute LSB across 1 024 pixels is 2⁸/1 024 = 1/4
 /// accumulator LSB per pixel (rounds to 0), and at the first pixel centre (½, ½) the
-/// start is 1/8 LSB (rounds to 0). Attribute 0 grows along x only and 1 along y only
-/// (two underflows each: the gradient and the start); attribute 2 is a constant 5
-/// (zero gradients are not underflows) and 3 grows by 16 LSBs along both (gradients 4
+/// start is 1/8 LSB (rounds to 0). Each kind of attribute on its own (the counts of
+/// several could cancel a wrong condition's): one growing along x only and one along
+/// y only (two underflows each: the gradient and the start), a constant 5 (zero
+/// gradients are not underflows) and one growing by 16 LSBs along both (gradients 4
 /// LSBs, start 4 LSBs: none).
 #[test]
 fn setup_counts_gradients_and_starts_that_round_to_zero_as_underflows() {
-    let u = cfg_default(4);
-    let s = 1i64 << PolygonInterpolatorConfig::default().subpixel_bits;
-    let v = |x: i64, y: i64, attrs: [i64; 4]| {
-        let mut a = [0i64; MAX_ATTRS];
-        a[..4].copy_from_slice(&attrs);
+    let u = cfg_default(1);
+    let s = 1i64 << u.subpixel_bits();
+    let v = |x: i64, y: i64, a: i64| {
+        let mut attrs = [0i64; MAX_ATTRS];
+        attrs[0] = a;
         Vertex {
             x: x * s,
             y: y * s,
-            attrs: a,
+            attrs,
         }
     };
-    let tri = [
-        v(0, 0, [0, 0, 5, 0]),
-        v(1024, 0, [1, 0, 5, 16]),
-        v(0, 1024, [0, 1, 5, 16]),
-    ];
-    let mut ctr = Counters::default();
-    let setup = u.setup_triangle(&tri, &mut ctr);
-    assert_eq!(ctr.underflows, 4);
-    assert_eq!(setup.state.grad_x[..4], [0, 0, 0, 4]);
-    assert_eq!(setup.state.grad_y[..4], [0, 0, 0, 4]);
-    assert_eq!(setup.state.acc[..4], [0, 0, 5 << 8, 4]);
+    // (values at (0, 0), (1024, 0), (0, 1024); underflows; dA/dx, dA/dy, start)
+    for (values, underflows, state) in [
+        ([0, 1, 0], 2, (0, 0, 0)),
+        ([0, 0, 1], 2, (0, 0, 0)),
+        ([5, 5, 5], 0, (0, 0, 5 << 8)),
+        ([0, 16, 16], 0, (4, 4, 4)),
+    ] {
+        let tri = [
+            v(0, 0, values[0]),
+            v(1024, 0, values[1]),
+            v(0, 1024, values[2]),
+        ];
+        let mut ctr = Counters::default();
+        let st = u.setup_triangle(&tri, &mut ctr).state;
+        assert_eq!(ctr.underflows, underflows, "{values:?}");
+        assert_eq!((st.grad_x[0], st.grad_y[0], st.acc[0]), state, "{values:?}");
+    }
 }
 
 /// Each accessor reads back its own field of the config the unit was built from (a
