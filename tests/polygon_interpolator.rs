@@ -1827,8 +1827,8 @@ fn unsigned_attribute_words_are_masked_to_their_width() {
         .all(|o| o.attrs[..2] == [200, 200]));
 }
 
-/// The barycentric mode's part of the cost: two dividers (edge over area: edge width
-/// + 1 bits, w + 1 quotient bits) and per attribute two (w + 1) × (attr + 1)
+/// The barycentric mode's part of the cost: two dividers (edge over area: one bit
+/// wider than an edge, w + 1 quotient bits) and per attribute two (w + 1) × (attr + 1)
 /// multipliers, two adders of attr + w + 3 bits and the base and delta registers
 /// (attr + 2·(attr + 1) bits); the planes' configs have none.
 #[test]
