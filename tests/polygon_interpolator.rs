@@ -40,6 +40,14 @@ fn s_fmt(i: u32, f: u32) -> Format {
     }
 }
 
+/// A vertex from raw words: position in sub-pixel codes, the given attribute codes
+/// first and 0 after them.
+fn raw_vertex(x: i64, y: i64, attrs: &[i64]) -> Vertex {
+    let mut a = [0i64; MAX_ATTRS];
+    a[..attrs.len()].copy_from_slice(attrs);
+    Vertex { x, y, attrs: a }
+}
+
 /// Default widths with K attributes.
 fn cfg_default(k: u32) -> PolygonInterpolator {
     PolygonInterpolatorConfig {
@@ -1179,9 +1187,6 @@ fn cost_depends_on_the_configured_attrs_only() {
     }
 }
 
-/// The lane form (`kernel_batch_lanes`, what the shafts walks use) against the span
-/// driver: at every chunk size of `common::BATCH_CHUNKS`, the same words, final state
-/// and counters (the span's timing added once).
 /// A parallelogram's implied fourth vertex v3 = v0 + v2 − v1 may sit on either end of
 /// the coordinate range; one code beyond it is refused naming the coordinate.
 #[test]
@@ -1193,11 +1198,7 @@ fn the_implied_fourth_vertex_may_reach_the_ends_of_the_coordinate_range() {
     .build()
     .unwrap();
     let (lo, hi) = (u.pos_fmt().min_raw() as i64, u.pos_fmt().max_raw() as i64);
-    let v = |x: i64, y: i64| Vertex {
-        x,
-        y,
-        attrs: [0; MAX_ATTRS],
-    };
+    let v = |x: i64, y: i64| raw_vertex(x, y, &[]);
     // v0 + v2 − v1 = (x3, y3) with every given vertex in range.
     let implied = |x3: i64, y3: i64| [v(x3 / 2, y3 / 2), v(0, 0), v(x3 - x3 / 2, y3 - y3 / 2)];
     for (x3, y3) in [(lo, 40), (hi, 40), (40, lo), (40, hi)] {
@@ -1274,6 +1275,9 @@ fn move_codes_are_the_ones_the_verilog_decodes() {
     assert!(Move::Right.code() < 4 && !decoded.contains(&Move::Right.code()));
 }
 
+/// The lane form (`kernel_batch_lanes`, what the shafts walks use) against the span
+/// driver: at every chunk size of `common::BATCH_CHUNKS`, the same words, final state
+/// and counters (the span's timing added once).
 fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Move]) {
     let mut s_span = state.clone();
     let mut c_span = Counters::default();
@@ -1595,15 +1599,7 @@ fn barycentric_mode_scope_and_errors() {
 fn setup_counts_gradients_and_starts_that_round_to_zero_as_underflows() {
     let u = cfg_default(1);
     let s = 1i64 << u.subpixel_bits();
-    let v = |x: i64, y: i64, a: i64| {
-        let mut attrs = [0i64; MAX_ATTRS];
-        attrs[0] = a;
-        Vertex {
-            x: x * s,
-            y: y * s,
-            attrs,
-        }
-    };
+    let v = |x: i64, y: i64, a: i64| raw_vertex(x * s, y * s, &[a]);
     // (values at (0, 0), (1024, 0), (0, 1024); underflows; dA/dx, dA/dy, start)
     for (values, underflows, state) in [
         ([0, 1, 0], 2, (0, 0, 0)),
@@ -1772,11 +1768,7 @@ fn pixel_counters_wrap_at_their_width_each_wrap_counted() {
 #[test]
 fn barycentric_registers_load_only_in_the_mode_for_a_covering_triangle() {
     let s = 1i64 << PolygonInterpolatorConfig::default().subpixel_bits;
-    let v = |x: i64, y: i64| Vertex {
-        x,
-        y,
-        attrs: [3; MAX_ATTRS],
-    };
+    let v = |x: i64, y: i64| raw_vertex(x, y, &[3, 3]);
     let big = [v(0, 0), v(40 * s, 0), v(0, 40 * s)];
     // Between pixel centres: x and y within (0.5, 1.5) pixels' first sub-pixels.
     let sliver = [v(s, s), v(s + 2, s), v(s, s + 2)];
@@ -1808,11 +1800,7 @@ fn unsigned_attribute_words_are_masked_to_their_width() {
     .build()
     .unwrap();
     let s = 1i64 << u.subpixel_bits();
-    let v = |x: i64, y: i64| {
-        let mut attrs = [0; MAX_ATTRS];
-        attrs[..2].copy_from_slice(&[200, 200 + (5 << 8)]);
-        Vertex { x, y, attrs }
-    };
+    let v = |x: i64, y: i64| raw_vertex(x, y, &[200, 200 + (5 << 8)]);
     let setup = u.setup_triangle(
         &[v(0, 0), v(30 * s, 0), v(0, 30 * s)],
         &mut Counters::default(),
