@@ -4,7 +4,7 @@
 //!
 //! The scenes are shrunk so the file stays fast ([`shrink`]: 180 × 120, at most 10
 //! planes and 2 sub-planes; the foundation `test` scene at its fixed
-//! size; the environment maps at s = 16, 32 × 32). A change that only shows at full size
+//! size; the environment maps at s = 16, 32 × 32; the shading spheres at 48 × 48). A change that only shows at full size
 //! is not caught here: render the built-ins with `render --scene NAME --json` before and
 //! after and compare the PNG bytes and counters.
 //!
@@ -27,6 +27,10 @@ use glare_pipeline::pipeline::envmap::prefilter::{build_accelerated, env_to_leve
 use glare_pipeline::pipeline::envmap::render::{render_frame, LambdaSpec, Object, RenderOptions};
 use glare_pipeline::pipeline::envmap::reproduce::TABLE5_TH;
 use glare_pipeline::pipeline::envmap::scene_render::render_scene;
+use glare_pipeline::pipeline::shading::scene_file::{ShadingFile, DEFAULT_IMAGE};
+use glare_pipeline::pipeline::shading::sweep::{
+    measure_point, scene_names, shading_reference, sweep_view,
+};
 use glare_pipeline::pipeline::test_scene;
 use glare_pipeline::reference::envmap_prefilter::PrefilterParams;
 use glare_pipeline::report::image_out::Framebuffer;
@@ -92,6 +96,40 @@ const ENVMAP: &[(&str, u64, u64)] = &[
 ];
 
 /// The scenes added with the frame (generated at their first commit).
+/// The shading spheres, generated when this table was added: the bytes of the
+/// normalisation cube's path were then those of the commit before it (its sampler's
+/// rounding became a `[rounding]` choice whose default is the sampler's own;
+/// `render --scene shading-lambert` wrote the same PNG before and after).
+const SHADING: &[(&str, u64, u64)] = &[
+    ("shading-lambert", 0x77839615577ae943, 0x3753bc9b471dcc74),
+    ("shading-oren_nayar", 0x4ad31e9ddb82661d, 0xbb6522e1a6dcded1),
+    ("shading-phong", 0x49107ac589791659, 0x90a085e456f475a4),
+    (
+        "shading-blinn_phong",
+        0x791506a5e93b9c3d,
+        0xe29e16fb06e81263,
+    ),
+    (
+        "shading-cook_torrance_metal",
+        0xd15adaea6b6e99ef,
+        0x2945fc4f74cd49bc,
+    ),
+    (
+        "shading-cook_torrance_dielectric",
+        0xb255d4b489ac5abd,
+        0xfbb03e55ebf2898e,
+    ),
+    (
+        "shading-cook_torrance_backlit",
+        0xae057a7622c8f025,
+        0xaa19f7d7d04d7ba5,
+    ),
+    ("shading-ward", 0x1602df0af80eadbe, 0x34261c3f671198ad),
+    ("shading-kajiya_kay", 0x5e073a8762b414af, 0xc39f628dec30a05e),
+    ("shading-specular", 0xc4dbb46fb90841e6, 0x3af8c43540ac818a),
+    ("shading-vertex", 0xcbf29ce484222325, 0x035015bbcd9dfb99),
+];
+
 const SCENES: &[(&str, u64, u64)] = &[
     ("night-street", 0xca9425c8530c22ce, 0x30c3580b303f1642),
     ("env-pattern-sphere", 0x7b283435ad3c106c, 0xecf54cd750656eec),
@@ -308,6 +346,37 @@ fn scene_builtins() {
     check("SCENES", &scene_rows(), SCENES);
 }
 
+/// The shading spheres (`render --scene shading-*`, through its path at 48 × 48): the
+/// levels `render` writes, and the report's error, gates, RAM bits and predicted time
+/// (`shading-vertex`: its lit vertices' report, no image).
+fn shading_rows() -> Vec<Row> {
+    scene_names()
+        .iter()
+        .map(|name| {
+            let mut f = ShadingFile::builtin(name).unwrap();
+            f.image = f.image.map(|_| 48);
+            let view = sweep_view(f.image.unwrap_or(DEFAULT_IMAGE));
+            let r = shading_reference(&f.point, &view).unwrap();
+            let m = measure_point(&f.point, &view, &r).unwrap();
+            let words = m.levels.iter().map(|&l| l.round() as u32);
+            let report = (
+                m.mean_abs_levels,
+                m.rms_levels,
+                m.max_levels,
+                m.gates_nand2,
+                m.ram_bits,
+                m.predicted_hw_seconds,
+            );
+            (name.clone(), hash_words(words), hash_json(&report))
+        })
+        .collect()
+}
+
+#[test]
+fn shading_builtins() {
+    check("SHADING", &shading_rows(), SHADING);
+}
+
 #[test]
 fn envmap_builtins() {
     check("ENVMAP", &envmap_rows(), ENVMAP);
@@ -323,4 +392,5 @@ fn print_golden_tables() {
     print_table("GLARE", &glare_rows());
     print_table("SCENES", &scene_rows());
     print_table("ENVMAP", &envmap_rows());
+    print_table("SHADING", &shading_rows());
 }
