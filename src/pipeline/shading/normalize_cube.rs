@@ -68,6 +68,7 @@ use rtl_model::{ConfigError, Counters};
 use serde::Serialize;
 
 use crate::reference::cube_map_address::{face_st, texel_centre_directions};
+use crate::scene::limits::GlRounding;
 
 /// Largest face side: 6F rows must fit the sampler's 4096, F a power of two.
 pub const MAX_FACE_SIDE: u32 = 512;
@@ -220,6 +221,16 @@ pub struct NormalizeBounds {
 
 impl NormalizeCube {
     pub fn new(cfg: NormalizeCubeConfig) -> Result<Self, ConfigError> {
+        Self::with_rounding(cfg, &GlRounding::default())
+    }
+
+    /// The cube with its sampler's filter and weight rounding set by `rounding` (the
+    /// shading path's `[rounding]`: GeForce-style by default, Mesa's llvmpipe with
+    /// [`GlRounding::mesa_llvmpipe`]).
+    pub fn with_rounding(
+        cfg: NormalizeCubeConfig,
+        rounding: &GlRounding,
+    ) -> Result<Self, ConfigError> {
         rtl_model::error::check_range(
             "normalize_cube.face_side",
             cfg.face_side.into(),
@@ -241,14 +252,14 @@ impl NormalizeCube {
         .map_err(|e| e.within("normalize_cube.address"))?;
         let ac = address.config();
         let sampler = TextureSampler::new(
-            TextureSamplerConfig {
+            rounding.sampler(TextureSamplerConfig {
                 channels: 3,
                 texel_bits: cfg.texel_bits,
                 filter: cfg.filter,
                 coord_int_bits: ac.coord_int_bits,
                 coord_frac_bits: ac.coord_frac_bits,
                 ..TextureSamplerConfig::geforce_2d(cfg.face_side, 6 * cfg.face_side)
-            },
+            }),
             &normalization_texels(cfg.face_side, cfg.texel_bits),
         )
         .map_err(|e| e.within("normalize_cube"))?;

@@ -77,8 +77,9 @@ pub struct PathConfig {
     pub factor_method: FactorMethod,
     /// E: the light's irradiance at normal incidence (level = 255·R·cos θ_i·E).
     pub irradiance: f64,
-    /// The factored lobes' chain and filter rounding (the scene's `[rounding]`;
-    /// default the GeForce-style per-stage chain and product-weight filter).
+    /// The factored lobes' chain and filter rounding and the normalisation cube's
+    /// filter rounding (the scene's `[rounding]`; default the GeForce-style per-stage
+    /// chain and product-weight filter).
     pub rounding: GlRounding,
 }
 
@@ -285,12 +286,24 @@ impl ShadingPath {
             None => None,
         };
         Ok(ShadingPath {
-            cube: cfg.cube.build()?,
+            cube: NormalizeCube::with_rounding(cfg.cube, &cfg.rounding)?,
             dot3: stage(CombineFunction::Dot3Rgb, 1)?,
             diffuse,
             specular,
             add: stage(CombineFunction::Add, 1)?,
         })
+    }
+
+    /// The path's stages when it is the Lambert term alone — normalisation cube, DOT3,
+    /// MODULATE by the albedo constant, ADD of no specular — which is OpenGL 1.3's
+    /// texture-combine form (ARB_texture_cube_map, ARB_texture_env_dot3): the cube and
+    /// the albedo constant's u8 codes. None for a path with a specular term (the
+    /// lookup is a dependent texture read; the factored lobes are not exported).
+    pub fn lambert_stages(&self) -> Option<(&NormalizeCube, [u32; 3])> {
+        match (&self.diffuse, &self.specular) {
+            (Some((_, albedo)), SpecularPath::None) => Some((&self.cube, *albedo)),
+            _ => None,
+        }
     }
 
     /// The normalised direction of a world vector (components in [−1, 1]) through the
