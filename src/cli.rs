@@ -140,11 +140,13 @@ pub enum Command {
     /// maps against the exact prefilter — and a PNG strip per assumption),
     /// sim-speed (the Fig. 6(b) frame against its 180-sample ray-march, and the glare
     /// and envmap frames, wall time in one run),
-    /// vs-gl (fig6, fig4 and stage, the model in its GeForce and its Mesa-matching
-    /// rounding, against the scenes' OpenGL programs run on Mesa's llvmpipe and
-    /// softpipe through OSMesa: vs_gl.csv, a histogram CSV and a difference PNG per
-    /// row, fig6's ablation in vs_gl_ablation.csv, and the model's frame time over the
-    /// GL draw's; needs cc and libOSMesa; --image WxH sets the size).
+    /// vs-gl (fig6, fig4, stage and the shading-lambert sphere, the model in its
+    /// GeForce and its Mesa-matching rounding, against the scenes' OpenGL programs run
+    /// on Mesa's llvmpipe and softpipe through OSMesa: vs_gl.csv, a histogram CSV and a
+    /// difference PNG per row, fig6's and the sphere's ablation in vs_gl_ablation.csv
+    /// and their difference classes in vs_gl_classes.csv, and the model's frame time
+    /// over the GL draw's; needs cc and libOSMesa; --image WxH sets the size, the
+    /// sphere's side the smaller of the two).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,

@@ -21,9 +21,19 @@
 //! The ablation (`vs_gl_ablation.csv`) reruns fig6's model in each mode with one unit
 //! switched at a time (its Mesa mode, or a wider setting where it has none) and reports
 //! how much of the |Δ| against llvmpipe each switch removes.
+//!
+//! The Lambert shading sphere (`shading-lambert`, the shading scene whose path is
+//! OpenGL 1.3: `emit_gl::sphere`) is compared the same way, at its own side (or the
+//! smaller of `--image`'s two): both modes (`mesa` sets the normalisation cube's filter
+//! and weight rounding), its ablation (the cube's sampler, the address unit's
+//! coordinate and reciprocal widths) and its difference classes (face ties, face
+//! edges, the rest).
 
+use crate::frame::emit_gl::sphere::{sphere_program, SphereProgram};
 use crate::frame::emit_gl::{check_exportable, program_of, write_program, Export};
 use crate::frame::run::{render, Frame};
+use crate::pipeline::shading::path::PathConfig;
+use crate::pipeline::shading::scene_file::ShadingFile;
 use crate::scene::format::Scene;
 use crate::scene::rounding::GlRounding;
 use rtl_model::units::texture_sampler::{FilterRounding, WeightRounding};
@@ -34,6 +44,8 @@ use std::time::Instant;
 
 /// The scenes compared, in the table's order.
 pub const SCENES: [&str; 3] = ["fig6", "fig4", "stage"];
+/// The shading sphere scenes compared (those with an OpenGL 1.3 program).
+pub const SPHERE_SCENES: [&str; 1] = ["shading-lambert"];
 /// The model's modes.
 pub const MODES: [&str; 2] = ["geforce", "mesa"];
 /// The Gallium drivers the program runs on.
@@ -396,16 +408,29 @@ pub fn classes(
             }
         }
     }
-    let n = (w * h * 3).max(1) as f64;
+    class_rows(name, mode, &CLASSES, &class, model, gl)
+}
+
+/// The rows of `vs_gl_classes.csv` for one picture: pixel i is in class `class[i]` of
+/// `labels`; shares of every channel value, and of the picture's total |Δ|.
+fn class_rows(
+    name: &str,
+    mode: &str,
+    labels: &[&str],
+    class: &[usize],
+    model: &[u8],
+    gl: &[u8],
+) -> Vec<ClassRow> {
+    let n = (class.len() * 3).max(1) as f64;
     let total: u64 = model
         .iter()
         .zip(gl)
         .map(|(a, b)| u64::from(a.abs_diff(*b)))
         .sum();
-    (0..CLASSES.len())
+    (0..labels.len())
         .map(|k| {
             let (mut vals, mut one, mut over, mut sum) = (0u64, 0u64, 0u64, 0u64);
-            for i in (0..w * h).filter(|&i| class[i] == k) {
+            for i in (0..class.len()).filter(|&i| class[i] == k) {
                 for c in 0..3 {
                     let d = model[3 * i + c].abs_diff(gl[3 * i + c]);
                     vals += 1;
@@ -417,7 +442,7 @@ pub fn classes(
             ClassRow {
                 scene: name.into(),
                 modes: mode.into(),
-                class: CLASSES[k].into(),
+                class: labels[k].into(),
                 values_share: vals as f64 / n,
                 abs1_share: one as f64 / n,
                 over1_share: over as f64 / n,
@@ -442,6 +467,39 @@ pub fn classes_csv(rows: &[ClassRow]) -> String {
         );
     }
     s
+}
+
+/// Where a row's comparison sits: the run's directory, the scene, the mode, the
+/// driver and the picture's size.
+struct RowAt<'a> {
+    out: &'a Path,
+    name: &'a str,
+    mode: &'a str,
+    driver: &'a str,
+    size: (u32, u32),
+}
+
+/// One row of `vs_gl.csv`: the model's picture against the driver's, its difference
+/// PNG and histogram written; `seconds` the model's and the GL draw's.
+fn compare_row(at: &RowAt, model: &[u8], gl: &[u8], seconds: (f64, f64)) -> Result<Row, String> {
+    let diff = Diff::of(model, gl);
+    let stem = row_stem(at.out, at.name, at.mode, at.driver);
+    diff_png(
+        model,
+        gl,
+        at.size.0,
+        at.size.1,
+        &stem.with_extension("diff.png"),
+    )?;
+    write(&stem.with_extension("hist.csv"), &diff.histogram_csv())?;
+    Ok(Row {
+        scene: at.name.to_string(),
+        modes: at.mode.to_string(),
+        driver: at.driver.to_string(),
+        diff,
+        model_seconds: seconds.0,
+        gl_seconds: seconds.1,
+    })
 }
 
 /// Where the run writes a row's files.
@@ -498,18 +556,14 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
             let png = out.join(format!("gl_{name}_{driver}.png"));
             let (gl_secs, gl) = run_program(&dir, driver, &png)?;
             for (mode, _, model, model_secs) in &models {
-                let diff = Diff::of(model, &gl);
-                let stem = row_stem(out, name, mode, driver);
-                diff_png(model, &gl, w, h, &stem.with_extension("diff.png"))?;
-                write(&stem.with_extension("hist.csv"), &diff.histogram_csv())?;
-                rows.push(Row {
-                    scene: name.to_string(),
-                    modes: mode.to_string(),
-                    driver: driver.to_string(),
-                    diff,
-                    model_seconds: *model_secs,
-                    gl_seconds: gl_secs,
-                });
+                let at = RowAt {
+                    out,
+                    name,
+                    mode,
+                    driver,
+                    size: (w, h),
+                };
+                rows.push(compare_row(&at, model, &gl, (*model_secs, gl_secs))?);
             }
             if driver == "llvmpipe" {
                 gl_llvmpipe = Some(gl);
@@ -524,10 +578,177 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
             }
         }
     }
+    for name in SPHERE_SCENES {
+        let (r, a, c) = sphere_rows(name, out, size)?;
+        rows.extend(r);
+        ablation.extend(a);
+        class_rows.extend(c);
+    }
     write(&out.join("vs_gl.csv"), &csv(&rows))?;
     write(&out.join("vs_gl_ablation.csv"), &ablation_csv(&ablation))?;
     write(&out.join("vs_gl_classes.csv"), &classes_csv(&class_rows))?;
     Ok((rows, ablation, class_rows))
+}
+
+/// The shading path in a mode: `geforce` (the default rounding) or `mesa`
+/// (llvmpipe's: the normalisation cube's filter and weight rounding).
+fn sphere_in_mode(f: &ShadingFile, mode: &str) -> Result<ShadingFile, String> {
+    let rounding = if mode == "mesa" {
+        GlRounding::mesa_llvmpipe()
+    } else {
+        GlRounding::default()
+    };
+    Ok(ShadingFile {
+        point: f.point.with_path(|c| c.rounding = rounding)?,
+        ..*f
+    })
+}
+
+/// The sphere's unit switches of the ablation: the normalisation cube's sampler in
+/// its Mesa rounding, and the address unit's coordinates and reciprocal wider.
+type PathSwitch = (&'static str, fn(&mut PathConfig));
+const SPHERE_SWITCHES: [PathSwitch; 4] = [
+    (
+        "normalisation cube sampler: filter successive_lerps (Mesa)",
+        |c| c.rounding.filter = FilterRounding::SuccessiveLerps,
+    ),
+    (
+        "normalisation cube sampler: weight round_half_even (Mesa)",
+        |c| c.rounding.weight = WeightRounding::RoundHalfEven,
+    ),
+    ("cube map address: coord_frac_bits 8 → 16", |c| {
+        c.cube.address.coord_frac_bits = 16
+    }),
+    (
+        "cube map address: reciprocal 6 → 12 address bits, 8 → 24 entry bits",
+        |c| {
+            c.cube.address.rcp_addr_bits = 12;
+            c.cube.address.rcp_bits = 24;
+        },
+    ),
+];
+
+/// The model's sphere in 8-bit RGB (grey levels in all three channels).
+fn sphere_rgb(levels: &[f64]) -> Vec<u8> {
+    levels
+        .iter()
+        .flat_map(|&x| [x.round().clamp(0.0, 255.0) as u8; 3])
+        .collect()
+}
+
+/// A shading sphere scene's rows: its program run on each driver against the model's
+/// sphere in each mode (at the scene's own side, or the smaller of `size`'s two), and
+/// its ablation against llvmpipe.
+fn sphere_rows(name: &str, out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
+    let scene = crate::scene::load::load_scene(name)?;
+    let mut base = ShadingFile::from_scene(&scene)?;
+    if let Some((w, h)) = size {
+        base.image = Some(w.min(h));
+    }
+    let dir = out.join(format!("gl_{name}"));
+    let mut models = Vec::new();
+    for mode in MODES {
+        let f = sphere_in_mode(&base, mode)?;
+        let p = sphere_program(&f)?;
+        if models.is_empty() {
+            p.write(&dir)?;
+        }
+        let class = sphere_classes(&p, f.point.model().map(|(_, c)| c.cube.face_side));
+        models.push((
+            mode,
+            f,
+            sphere_rgb(&p.model_levels),
+            p.model_seconds,
+            p.side,
+            class,
+        ));
+    }
+    build(&dir)?;
+    let (mut rows, mut ablation, mut class_rows_out) = (Vec::new(), Vec::new(), Vec::new());
+    for driver in DRIVERS {
+        let png = out.join(format!("gl_{name}_{driver}.png"));
+        let (gl_secs, gl) = run_program(&dir, driver, &png)?;
+        for (mode, f, model, model_secs, side, class) in &models {
+            let at = RowAt {
+                out,
+                name,
+                mode,
+                driver,
+                size: (*side, *side),
+            };
+            let row = compare_row(&at, model, &gl, (*model_secs, gl_secs))?;
+            if driver == "llvmpipe" {
+                ablation.extend(sphere_ablation(name, mode, f, &row.diff, &gl)?);
+                class_rows_out.extend(class_rows(name, mode, &SPHERE_CLASSES, class, model, &gl));
+            }
+            rows.push(row);
+        }
+    }
+    Ok((rows, ablation, class_rows_out))
+}
+
+/// Where a sphere's differences can sit, by the normal's cube-map lookup.
+pub const SPHERE_CLASSES: [&str; 3] = [
+    "face tie (the normal's two largest components equal in magnitude: which face is read is left to the implementation)",
+    "face edge (the normal's lookup within one texel of its face's edge, where the filter clamps)",
+    "rest (the faces' interiors, and the background)",
+];
+
+/// Each pixel's class of [`SPHERE_CLASSES`] (`face`: the cube's face side).
+fn sphere_classes(p: &SphereProgram, face: Option<u32>) -> Vec<usize> {
+    let side = p.side as usize;
+    let mut class = vec![2; side * side];
+    let f = f64::from(face.unwrap_or(1));
+    for ([x, y], d) in &p.normals {
+        let mut m = d.map(f64::abs);
+        m.sort_by(f64::total_cmp);
+        let (_, st) = crate::reference::cube_map_address::face_st(*d, f);
+        let edge = st.iter().any(|&v| v < 1.0 || v > f - 1.0);
+        class[*y as usize * side + *x as usize] = if m[1] == m[2] {
+            0
+        } else if edge {
+            1
+        } else {
+            2
+        };
+    }
+    class
+}
+
+/// The sphere's ablation in one mode against llvmpipe's picture `gl`: each switch
+/// alone, then all of them.
+fn sphere_ablation(
+    name: &str,
+    mode: &str,
+    f: &ShadingFile,
+    d0: &Diff,
+    gl: &[u8],
+) -> Result<Vec<AblationRow>, String> {
+    let row = |label: &str, d: Diff| AblationRow {
+        scene: name.into(),
+        modes: mode.into(),
+        switch: label.into(),
+        mean_removed: d0.mean_abs - d.mean_abs,
+        over1_removed: d0.over1_share() - d.over1_share(),
+        diff: d,
+    };
+    let mut rows = vec![row("none", d0.clone())];
+    let mut all = *f;
+    for (label, apply) in SPHERE_SWITCHES {
+        let one = ShadingFile {
+            point: f.point.with_path(apply)?,
+            ..*f
+        };
+        all.point = all.point.with_path(apply)?;
+        let p = sphere_program(&one)?;
+        rows.push(row(label, Diff::of(&sphere_rgb(&p.model_levels), gl)));
+    }
+    let p = sphere_program(&all)?;
+    rows.push(row(
+        "all of the above",
+        Diff::of(&sphere_rgb(&p.model_levels), gl),
+    ));
+    Ok(rows)
 }
 
 /// fig6's ablation in one mode against llvmpipe's frame `gl`.
@@ -646,12 +867,12 @@ pub fn ablation_csv(rows: &[AblationRow]) -> String {
 /// The printed tables.
 pub fn table(rows: &[Row], ablation: &[AblationRow]) -> String {
     let mut s = String::from(
-        "scene  modes    driver    exact %  within 1 %  mean |Δ|   rms    max  model s   GL draw s  ratio\n",
+        "scene            modes    driver    exact %  within 1 %  mean |Δ|   rms    max  model s   GL draw s  ratio\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{:<6} {:<8} {:<9} {:>7.3} {:>11.3} {:>9.4} {:>6.3} {:>5} {:>8.3} {:>11.4} {:>6.1}",
+            "{:<16} {:<8} {:<9} {:>7.3} {:>11.3} {:>9.4} {:>6.3} {:>5} {:>8.3} {:>11.4} {:>6.2}",
             r.scene,
             r.modes,
             r.driver,
@@ -668,12 +889,12 @@ pub fn table(rows: &[Row], ablation: &[AblationRow]) -> String {
     if !ablation.is_empty() {
         let _ = writeln!(
             s,
-            "\nablation against llvmpipe (one switch at a time on the mode's model):\nscene  modes    switch                                                   exact %  > 1 %   mean |Δ|  removed (mean, > 1 share)"
+            "\nablation against llvmpipe (one switch at a time on the mode's model):\nscene            modes    switch                                                   exact %  > 1 %   mean |Δ|  removed (mean, > 1 share)"
         );
         for r in ablation {
             let _ = writeln!(
                 s,
-                "{:<6} {:<8} {:<56} {:>7.3} {:>6.3} {:>9.4}  {:+.4}, {:+.4} %",
+                "{:<16} {:<8} {:<56} {:>7.3} {:>6.3} {:>9.4}  {:+.4}, {:+.4} %",
                 r.scene,
                 r.modes,
                 r.switch,
@@ -695,10 +916,11 @@ pub fn vs_gl_cli(out: &Path, image: Option<&str>) -> Result<(), String> {
         .transpose()?;
     let (rows, ablation, class_rows) = vs_gl(out, size)?;
     print!("{}", table(&rows, &ablation));
-    println!("\nfig6's differences against llvmpipe by where they sit (shares of every channel value):\nmodes    |Δ| = 1 %  > 1 %   of the total |Δ|  class");
+    println!("\nthe differences against llvmpipe by where they sit (shares of every channel value):\nscene            modes    |Δ| = 1 %  > 1 %   of the total |Δ|  class");
     for c in &class_rows {
         println!(
-            "{:<8} {:>9.3} {:>6.3} {:>15.1} %  {}",
+            "{:<16} {:<8} {:>9.3} {:>6.3} {:>15.1} %  {}",
+            c.scene,
             c.modes,
             100.0 * c.abs1_share,
             100.0 * c.over1_share,

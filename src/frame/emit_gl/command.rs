@@ -12,19 +12,19 @@ pub fn emit_gl_cli(
     max_memory: Option<u64>,
 ) -> Result<(), String> {
     crate::report::outputs::check_dir_out("emit-gl", dir)?;
-    let size = image
-        .map(crate::report::image_arg::parse_image)
-        .transpose()?;
     let mut scene = crate::scene::load::load_scene(name)?;
     match crate::frame::cli::render_path(&scene) {
         crate::frame::cli::RenderPath::TestScene => {
             return Err("--emit-gl: the foundation test scene's passes are not exported".into())
         }
         crate::frame::cli::RenderPath::ShadingSphere => {
-            return Err("--emit-gl: the shading sphere scenes are not exported (most run on the register combiners, NV_register_combiners, which have no OpenGL 1.3 form; the vertex-lighting sphere's fixed-function form is not written yet)".into())
+            return emit_sphere(&scene, dir, image, max_memory)
         }
         _ => {}
     }
+    let size = image
+        .map(crate::report::image_arg::parse_image)
+        .transpose()?;
     if let Some((w, h)) = size {
         scene.image.width = w;
         scene.image.height = h;
@@ -50,6 +50,44 @@ pub fn emit_gl_cli(
         program.files.len() - 2,
         if exported == 1 { "pass" } else { "passes" },
         exports.len() - exported
+    );
+    println!(
+        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
+        dir.display()
+    );
+    Ok(())
+}
+
+/// `--emit-gl` of a shading sphere scene: the Lambert sphere's program, or the reason
+/// the scene has none, before any work.
+fn emit_sphere(
+    scene: &crate::scene::format::Scene,
+    dir: &Path,
+    image: Option<&str>,
+    max_memory: Option<u64>,
+) -> Result<(), String> {
+    let mut f = crate::pipeline::shading::scene_file::ShadingFile::from_scene(scene)?;
+    if let Some(why) = super::sphere::not_exportable(&f) {
+        return Err(format!("--emit-gl: {why}"));
+    }
+    if let Some(img) = image {
+        let side = crate::report::image_arg::square_side(img)?;
+        rtl_model::error::check_range("--image", side.into(), 2, 4096)
+            .map_err(|e| e.to_string())?;
+        f.image = Some(side);
+    }
+    let (budget, from) = crate::frame::budget::resolve(max_memory);
+    crate::frame::budget::check_estimate(
+        crate::frame::budget::shading_estimate(f.image),
+        budget,
+        &from,
+    )?;
+    let p = super::sphere::sphere_program(&f)?;
+    p.write(dir)?;
+    println!(
+        "wrote {} (scene.c, build.sh, {} data files, model.png): the sphere's one pass exported",
+        dir.display(),
+        p.program.files.len() - 2
     );
     println!(
         "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",

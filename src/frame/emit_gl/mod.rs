@@ -12,11 +12,13 @@
 //! as the pipeline's host does (f64), never touching a unit. Passes with no GL 1.3
 //! form (the glare ASIC; the shading units, which are register combiners) are listed
 //! as not exported with the reason; a scene with none exportable is refused before any
-//! work.
+//! work. The Lambert shading sphere, whose path is GL 1.3's texture combine, has its
+//! own program ([`sphere`]).
 
 pub mod command;
 mod data;
 mod source;
+pub mod sphere;
 
 use data::LightData;
 pub use data::{subplane_weight, Export, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};
@@ -27,7 +29,6 @@ use crate::pipeline::shafts::tables::{unorm_from_unit, GTables};
 use crate::pipeline::shafts::view::{vec3, CameraView, LightView};
 use crate::scene::format::{PlaneStep, Scene};
 use crate::scene::math::Vec3;
-use std::fmt::Write as _;
 use std::path::Path;
 
 /// Why a planned pass has no GL 1.3 form (`None`: it has one and is exported).
@@ -47,8 +48,8 @@ pub fn not_exportable(pass: &Pass) -> Option<String> {
         Step::EnvironmentScene => Some(
             "the environment-map pass forms each pixel's reflection vector from the \
              interpolated normal and eye vector (the reflection_vector unit, GeForce3's \
-             texture-shader stage, NV_texture_shader); OpenGL 1.3's reflection texgen is \
-             per vertex: not exported yet"
+             texture-shader stage, NV_texture_shader); OpenGL 1.3 has no per-pixel \
+             reflection (its reflection texgen is per vertex): no OpenGL 1.3 form"
                 .into(),
         ),
         Step::TestScene => Some("the foundation test scene's passes are not exported".into()),
@@ -146,16 +147,26 @@ pub fn write_program(
     dir: &Path,
 ) -> Result<Program, String> {
     let program = program_of(frame, exports)?;
+    write_files(&program, dir, |path| {
+        frame.fb.save_png(path).map_err(|e| e.to_string())
+    })?;
+    Ok(program)
+}
+
+/// Write a program's files into `dir` (created) and the model's picture as
+/// model.png (`model_png` writes it to the path it is given).
+pub fn write_files(
+    program: &Program,
+    dir: &Path,
+    model_png: impl FnOnce(&Path) -> Result<(), String>,
+) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("emit-gl: {}: {e}", dir.display()))?;
-    frame
-        .fb
-        .save_png(&dir.join("model.png"))
-        .map_err(|e| format!("emit-gl: model.png: {e}"))?;
+    model_png(&dir.join("model.png")).map_err(|e| format!("emit-gl: model.png: {e}"))?;
     for (file, bytes) in &program.files {
         std::fs::write(dir.join(file), bytes)
             .map_err(|e| format!("emit-gl: {}: {e}", dir.join(file).display()))?;
     }
-    Ok(program)
+    Ok(())
 }
 
 /// The program's files: name and bytes (scene.c, build.sh and the data files).
@@ -271,14 +282,15 @@ fn build_program(p: &Prepared, tables: &GTables, exports: &[Export]) -> Program 
         data: &data,
         files: &files,
     });
-    let mut build = String::new();
-    let _ = writeln!(
-        build,
-        "#!/bin/sh\n# Build the scene's GL 1.3 program on OSMesa (offscreen; Mesa's llvmpipe in CI:\n# GALLIUM_DRIVER=llvmpipe ./scene). Needs a C compiler and libOSMesa\n# (Debian/Ubuntu: apt-get install libosmesa6-dev). With -DSCENE_GLUT and -lglut -lGL\n# instead of -lOSMesa it opens a GLUT window on any GL context.\nset -e\ncd \"$(dirname \"$0\")\"\ncc -O1 -o scene scene.c -lOSMesa -lm"
-    );
+    let build = build_script();
     files.insert(0, ("build.sh".into(), build.into_bytes()));
     files.insert(0, ("scene.c".into(), c.into_bytes()));
     Program { files }
+}
+
+/// build.sh: the one build line, on OSMesa.
+fn build_script() -> String {
+    "#!/bin/sh\n# Build the scene's GL 1.3 program on OSMesa (offscreen; Mesa's llvmpipe in CI:\n# GALLIUM_DRIVER=llvmpipe ./scene). Needs a C compiler and libOSMesa\n# (Debian/Ubuntu: apt-get install libosmesa6-dev). With -DSCENE_GLUT and -lglut -lGL\n# instead of -lOSMesa it opens a GLUT window on any GL context.\nset -e\ncd \"$(dirname \"$0\")\"\ncc -O1 -o scene scene.c -lOSMesa -lm\n".to_string()
 }
 
 /// A world triangle on the screen as the model's host projects it (x, y pixels y

@@ -75,15 +75,13 @@ static int has_extension(const char *name)
     return 0;
 }
 
-static void require_gl(int units_needed)
+/* The extensions the scene draws with (a NULL-terminated list) and its texture units. */
+static void require_gl(const char *const *ext, int units_needed)
 {
-    static const char *ext[] = {"GL_ARB_depth_texture", "GL_ARB_shadow",
-                                "GL_ARB_texture_env_combine"};
     GLint units = 0;
-    size_t i;
-    for (i = 0; i < sizeof ext / sizeof ext[0]; i++)
-        if (!has_extension(ext[i])) {
-            fprintf(stderr, "scene: the GL context lacks %s\n", ext[i]);
+    for (; *ext; ext++)
+        if (!has_extension(*ext)) {
+            fprintf(stderr, "scene: the GL context lacks %s\n", *ext);
             exit(1);
         }
     glGetIntegerv(GL_MAX_TEXTURE_UNITS, &units);
@@ -233,6 +231,48 @@ static void unit_replace(int unit, GLenum target, GLuint tex)
     glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
 }
 
+/* Texture unit `unit`: texture `tex` on `target` enabled, its colour the clamped dot
+ * product 4 * sum((arg0 - 1/2) * (arg1 - 1/2)) of its texel and the previous stage's
+ * colour, into r, g and b (DOT3_RGB, ARB_texture_env_dot3): the model's DOT3 stage. */
+static void unit_dot3(int unit, GLenum target, GLuint tex)
+{
+    glActiveTexture(GL_TEXTURE0 + unit);
+    glEnable(target);
+    glBindTexture(target, tex);
+    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE_ARB);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB_ARB, GL_DOT3_RGB_ARB);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB_ARB, GL_TEXTURE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB_ARB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB_ARB, GL_PREVIOUS_ARB);
+    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB_ARB, GL_SRC_COLOR);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA_ARB, GL_REPLACE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
+}
+
+/* A cube map of 8-bit RGB faces from a raw file: face f (GL's order +x, -x, +y, -y,
+ * +z, -z) at byte f * side * side * 3, rows of t, texels of s; clamped to each face's
+ * edge (no filtering across faces, as OpenGL 1.3 and the model's address unit);
+ * `filter` GL_LINEAR or GL_NEAREST. */
+static GLuint cube_texture_from_file(const char *file, int side, GLenum filter)
+{
+    GLuint t;
+    int f;
+    size_t face_bytes = (size_t)side * (size_t)side * 3;
+    unsigned char *texels = load_file(file, 6 * face_bytes);
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_CUBE_MAP, t);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (f = 0; f < 6; f++)
+        glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_RGB8, side, side, 0, GL_RGB,
+                     GL_UNSIGNED_BYTE, texels + (size_t)f * face_bytes);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    free(texels);
+    return t;
+}
+
 /* Every texture unit off, texture matrices reset. */
 static void units_off(void)
 {
@@ -241,6 +281,7 @@ static void units_off(void)
         glActiveTexture(GL_TEXTURE0 + u);
         glDisable(GL_TEXTURE_1D);
         glDisable(GL_TEXTURE_2D);
+        glDisable(GL_TEXTURE_CUBE_MAP);
         glMatrixMode(GL_TEXTURE);
         glLoadIdentity();
         glMatrixMode(GL_MODELVIEW);

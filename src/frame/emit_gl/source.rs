@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 
 /// The helpers every program shares (file loading, textures, the region set-up, the
 /// combine stages, the PNG writer).
-const PRELUDE: &str = include_str!("prelude.c");
+pub(super) const PRELUDE: &str = include_str!("prelude.c");
 
 /// Vertex counts of the geometry files, filled while they are written.
 #[derive(Default)]
@@ -351,15 +351,31 @@ fn load_textures(s: &mut String, c: &Ctx, layout: &Layout) {
     let _ = writeln!(s, "}}\n");
 }
 
+/// The extensions a shafts program draws with.
+const SHAFTS_EXTENSIONS: [&str; 3] = [
+    "GL_ARB_depth_texture",
+    "GL_ARB_shadow",
+    "GL_ARB_texture_env_combine",
+];
+
 /// `main`: the context, the pass list timed, the framebuffer read back as PNG.
 fn main_function(s: &mut String, c: &Ctx) {
-    let units = 3;
+    let passes: Vec<String> = c.exported.iter().map(pass_name).collect();
+    main_text(s, &SHAFTS_EXTENSIONS, 3, &passes);
+}
+
+/// A program's `main` (W, H, BUF_W and BUF_H defined before it): the context, the
+/// extensions and texture `units` it needs checked, `load_textures()`, the pass list
+/// timed, the framebuffer's W × H corner read back as PNG.
+pub(super) fn main_text(s: &mut String, extensions: &[&str], units: u32, passes: &[String]) {
+    let ext: Vec<String> = extensions.iter().map(|e| format!("\"{e}\"")).collect();
     let _ = writeln!(
         s,
-        "int main(int argc, char **argv)\n{{\n    const char *out = argc > 1 ? argv[1] : \"framebuffer.png\";\n    unsigned char *rgb = malloc((size_t)W * H * 3);\n    double t0, io0;\n#ifdef SCENE_GLUT\n    glutInit(&argc, argv);\n    glutInitDisplayMode(GLUT_RGB | GLUT_DEPTH | GLUT_SINGLE);\n    glutInitWindowSize(BUF_W, BUF_H);\n    glutCreateWindow(\"scene\");\n#else\n    unsigned char *buffer = malloc((size_t)BUF_W * BUF_H * 4);\n    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);\n    if (!ctx || !buffer || !OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, BUF_W, BUF_H))\n        die(\"no OSMesa context\");\n#endif\n    require_gl({units});\n    printf(\"renderer=%s\\n\", (const char *)glGetString(GL_RENDERER));\n    /* Exact 8-bit arithmetic: no dithering; Gouraud colours. */\n    glDisable(GL_DITHER);\n    glShadeModel(GL_SMOOTH);\n    glDisable(GL_SCISSOR_TEST);\n    glClearColor(0, 0, 0, 0);\n    glClearDepth(1.0);\n    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);\n    load_textures();\n\n    /* The pass list, in the plan's order, timed: from a finished GL (glFinish) to a\n     * finished GL, less the time the passes spend reading their data files. */\n    glFinish();\n    t0 = now_seconds();\n    io0 = io_seconds;"
+        "int main(int argc, char **argv)\n{{\n    static const char *const extensions[] = {{{}, NULL}};\n    const char *out = argc > 1 ? argv[1] : \"framebuffer.png\";\n    unsigned char *rgb = malloc((size_t)W * H * 3);\n    double t0, io0;\n#ifdef SCENE_GLUT\n    glutInit(&argc, argv);\n    glutInitDisplayMode(GLUT_RGB | GLUT_DEPTH | GLUT_SINGLE);\n    glutInitWindowSize(BUF_W, BUF_H);\n    glutCreateWindow(\"scene\");\n#else\n    unsigned char *buffer = malloc((size_t)BUF_W * BUF_H * 4);\n    OSMesaContext ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, NULL);\n    if (!ctx || !buffer || !OSMesaMakeCurrent(ctx, buffer, GL_UNSIGNED_BYTE, BUF_W, BUF_H))\n        die(\"no OSMesa context\");\n#endif\n    require_gl(extensions, {units});\n    printf(\"renderer=%s\\n\", (const char *)glGetString(GL_RENDERER));\n    /* Exact 8-bit arithmetic: no dithering; Gouraud colours. */\n    glDisable(GL_DITHER);\n    glShadeModel(GL_SMOOTH);\n    glDisable(GL_SCISSOR_TEST);\n    glClearColor(0, 0, 0, 0);\n    glClearDepth(1.0);\n    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);\n    load_textures();\n\n    /* The pass list, in the plan's order, timed: from a finished GL (glFinish) to a\n     * finished GL, less the time the passes spend reading their data files. */\n    glFinish();\n    t0 = now_seconds();\n    io0 = io_seconds;",
+        ext.join(", ")
     );
-    for e in c.exported {
-        let _ = writeln!(s, "    {}();", pass_name(e));
+    for p in passes {
+        let _ = writeln!(s, "    {p}();");
     }
     let _ = writeln!(
         s,

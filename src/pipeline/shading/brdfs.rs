@@ -140,7 +140,7 @@ pub fn render_sphere(
 }
 
 /// The entry's view: `view` under the entry's own light, if it has one.
-fn entry_view(e: &CatalogueEntry, view: &SphereView) -> SphereView {
+pub fn entry_view(e: &CatalogueEntry, view: &SphereView) -> SphereView {
     match e.light {
         Some(l) => SphereView {
             light: crate::scene::math::v3(l[0], l[1], l[2]).normalized(),

@@ -822,6 +822,27 @@ impl ShadingPoint {
         ShadingPoint { job, chip, ..self }
     }
 
+    /// A catalogue model's entry and path configuration (None for `shading-specular`
+    /// and `shading-vertex`).
+    pub fn model(&self) -> Option<(CatalogueEntry, PathConfig)> {
+        match self.job {
+            Job::Model(e, c) => Some((e, c)),
+            _ => None,
+        }
+    }
+
+    /// A catalogue model's point with its path configuration changed by `change`
+    /// (the same point for `shading-specular` and `shading-vertex`), every unit built
+    /// again: an error names the field a change made invalid.
+    pub fn with_path(self, change: impl FnOnce(&mut PathConfig)) -> Result<ShadingPoint, String> {
+        let mut p = self;
+        if let Job::Model(_, c) = &mut p.job {
+            change(c);
+        }
+        validate(&p.job).map_err(|e| e.to_string())?;
+        Ok(p)
+    }
+
     /// The chip preset the point's units follow.
     pub fn chip(&self) -> ChipPreset {
         self.chip
