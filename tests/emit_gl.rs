@@ -1,5 +1,6 @@
 //! `render --emit-gl DIR`: the shafts built-ins (fig6, fig4, stage) at 96 × 64, and the
-//! Lambert shading sphere at 64 × 64 (its own bounds: [`SPHERE_LIMITS`]), written
+//! Lambert and a factored shading sphere at 64 × 64 (their own bounds:
+//! [`SPHERE_LIMITS`]), written
 //! as GL 1.3 C programs, compiled with `cc … -lOSMesa -lm` and run on Mesa's llvmpipe
 //! (`GALLIUM_DRIVER=llvmpipe`). Each must exit 0 and write a framebuffer.png of its size
 //! that is not blank and agrees loosely with the model's model.png written beside it:
@@ -163,13 +164,22 @@ fn the_lambert_sphere_runs_on_llvmpipe_and_agrees_with_the_model() {
     emit_build_run_at("shading-lambert", (64, 64), SPHERE_LIMITS);
 }
 
+/// A factored lobe over the Lambert term (the Cook–Torrance dielectric: both terms,
+/// the factor textures, the constant colour, the scale, the saturating add). Measured
+/// at 64 × 64: mean |Δ| 0.040, 99.78 % within one level; the Lambert sphere's bounds
+/// hold it with room.
+#[test]
+fn a_factored_sphere_runs_on_llvmpipe_and_agrees_with_the_model() {
+    emit_build_run_at("shading-cook_torrance_dielectric", (64, 64), SPHERE_LIMITS);
+}
+
 #[test]
 fn shading_scenes_with_no_gl_program_are_refused_with_why() {
     for (scene, why) in [
         ("shading-blinn_phong", "dependent texture read"),
         ("shading-specular", "NV_register_combiners"),
         ("shading-vertex", "no image"),
-        ("shading-ward", "factor textures"),
+        ("shading-phong", "dependent texture read"),
     ] {
         let dir = scratch(scene);
         let out = bin()

@@ -45,7 +45,15 @@ use std::time::Instant;
 /// The scenes compared, in the table's order.
 pub const SCENES: [&str; 3] = ["fig6", "fig4", "stage"];
 /// The shading sphere scenes compared (those with an OpenGL 1.3 program).
-pub const SPHERE_SCENES: [&str; 1] = ["shading-lambert"];
+pub const SPHERE_SCENES: [&str; 7] = [
+    "shading-lambert",
+    "shading-oren_nayar",
+    "shading-cook_torrance_metal",
+    "shading-cook_torrance_dielectric",
+    "shading-cook_torrance_backlit",
+    "shading-ward",
+    "shading-kajiya_kay",
+];
 /// The model's modes.
 pub const MODES: [&str; 2] = ["geforce", "mesa"];
 /// The Gallium drivers the program runs on.
@@ -591,10 +599,15 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
 }
 
 /// The shading path in a mode: `geforce` (the default rounding) or `mesa`
-/// (llvmpipe's: the normalisation cube's filter and weight rounding).
+/// (llvmpipe's filter and weight rounding in the normalisation cube's and the factor
+/// textures' samplers; the factor chain stays rounded per stage, as the program draws
+/// it).
 fn sphere_in_mode(f: &ShadingFile, mode: &str) -> Result<ShadingFile, String> {
     let rounding = if mode == "mesa" {
-        GlRounding::mesa_llvmpipe()
+        GlRounding {
+            chain: GlRounding::default().chain,
+            ..GlRounding::mesa_llvmpipe()
+        }
     } else {
         GlRounding::default()
     };
@@ -604,16 +617,17 @@ fn sphere_in_mode(f: &ShadingFile, mode: &str) -> Result<ShadingFile, String> {
     })
 }
 
-/// The sphere's unit switches of the ablation: the normalisation cube's sampler in
-/// its Mesa rounding, and the address unit's coordinates and reciprocal wider.
+/// The sphere's unit switches of the ablation: the samplers (the normalisation
+/// cube's, the factor textures') in their Mesa rounding, and the cube address unit's
+/// coordinates and reciprocal wider.
 type PathSwitch = (&'static str, fn(&mut PathConfig));
 const SPHERE_SWITCHES: [PathSwitch; 4] = [
     (
-        "normalisation cube sampler: filter successive_lerps (Mesa)",
+        "samplers (cube, factors): filter successive_lerps (Mesa)",
         |c| c.rounding.filter = FilterRounding::SuccessiveLerps,
     ),
     (
-        "normalisation cube sampler: weight round_half_even (Mesa)",
+        "samplers (cube, factors): weight round_half_even (Mesa)",
         |c| c.rounding.weight = WeightRounding::RoundHalfEven,
     ),
     ("cube map address: coord_frac_bits 8 → 16", |c| {
@@ -653,7 +667,7 @@ fn sphere_rows(name: &str, out: &Path, size: Option<(u32, u32)>) -> Result<VsGl,
         if models.is_empty() {
             p.write(&dir)?;
         }
-        let class = sphere_classes(&p, f.point.model().map(|(_, c)| c.cube.face_side));
+        let class = sphere_classes(&p);
         models.push((
             mode,
             f,
@@ -694,11 +708,11 @@ pub const SPHERE_CLASSES: [&str; 3] = [
     "rest (the faces' interiors, and the background)",
 ];
 
-/// Each pixel's class of [`SPHERE_CLASSES`] (`face`: the cube's face side).
-fn sphere_classes(p: &SphereProgram, face: Option<u32>) -> Vec<usize> {
+/// Each pixel's class of [`SPHERE_CLASSES`].
+fn sphere_classes(p: &SphereProgram) -> Vec<usize> {
     let side = p.side as usize;
     let mut class = vec![2; side * side];
-    let f = f64::from(face.unwrap_or(1));
+    let f = f64::from(p.face.max(1));
     for ([x, y], d) in &p.normals {
         let mut m = d.map(f64::abs);
         m.sort_by(f64::total_cmp);

@@ -273,7 +273,7 @@ static GLuint cube_texture_from_file(const char *file, int side, GLenum filter)
     return t;
 }
 
-/* Every texture unit off, texture matrices reset. */
+/* Every texture unit off, texture matrices and RGB scales reset. */
 static void units_off(void)
 {
     int u;
@@ -282,6 +282,7 @@ static void units_off(void)
         glDisable(GL_TEXTURE_1D);
         glDisable(GL_TEXTURE_2D);
         glDisable(GL_TEXTURE_CUBE_MAP);
+        glTexEnvf(GL_TEXTURE_ENV, GL_RGB_SCALE_ARB, 1.0f);
         glMatrixMode(GL_TEXTURE);
         glLoadIdentity();
         glMatrixMode(GL_MODELVIEW);

@@ -294,16 +294,25 @@ impl ShadingPath {
         })
     }
 
-    /// The path's stages when it is the Lambert term alone — normalisation cube, DOT3,
-    /// MODULATE by the albedo constant, ADD of no specular — which is OpenGL 1.3's
-    /// texture-combine form (ARB_texture_cube_map, ARB_texture_env_dot3): the cube and
-    /// the albedo constant's u8 codes. None for a path with a specular term (the
-    /// lookup is a dependent texture read; the factored lobes are not exported).
-    pub fn lambert_stages(&self) -> Option<(&NormalizeCube, [u32; 3])> {
-        match (&self.diffuse, &self.specular) {
-            (Some((_, albedo)), SpecularPath::None) => Some((&self.cube, *albedo)),
+    /// The path's factored specular lobe, if it has one.
+    pub fn factored(&self) -> Option<&FactorRenderer> {
+        match &self.specular {
+            SpecularPath::Factored(f) => Some(f),
             _ => None,
         }
+    }
+
+    /// The diffuse term's stages — normalisation cube, DOT3, MODULATE by the albedo
+    /// constant — when the path has one: the cube and the albedo's u8 codes.
+    pub fn diffuse_stages(&self) -> Option<(&NormalizeCube, [u32; 3])> {
+        self.diffuse
+            .as_ref()
+            .map(|(_, albedo)| (&self.cube, *albedo))
+    }
+
+    /// The normalisation cube every term reads its vectors through.
+    pub fn cube(&self) -> &NormalizeCube {
+        &self.cube
     }
 
     /// The normalised direction of a world vector (components in [−1, 1]) through the

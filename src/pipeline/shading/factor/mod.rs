@@ -505,6 +505,40 @@ impl FactorRenderer {
         v
     }
 
+    /// Each factor texture as its sampler holds it: (side, codes row by row).
+    pub fn texture_codes(&self) -> Vec<(u32, Vec<u32>)> {
+        self.samplers
+            .iter()
+            .map(|(_, s, _)| {
+                let [w, h, _] = s.size();
+                let codes = (0..h)
+                    .flat_map(|y| (0..w).map(move |x| (x, y)))
+                    .map(|(x, y)| s.texel(x, y, 0, 0))
+                    .collect();
+                (w, codes)
+            })
+            .collect()
+    }
+
+    /// What one pixel hands the units: each factor sampler's coordinate (texels, the
+    /// value of its coordinate words) and the constant colour's u(n) code.
+    pub fn pixel_operands(&self, wi: Vec3, wo: Vec3) -> Result<(Vec<[f64; 2]>, u32), ConfigError> {
+        let mut ctr = Counters::default();
+        let mut coords = Vec::with_capacity(self.samplers.len());
+        for (p, s, _) in &self.samplers {
+            let uv = parabolic_coords(p.direction(wi, wo));
+            let input = s
+                .config()
+                .input_from_normalized([uv[0], uv[1], 0.0], &mut ctr)?;
+            let scale = (1u64 << s.coord_frac_bits()) as f64;
+            coords.push([input.coord[0] as f64 / scale, input.coord[1] as f64 / scale]);
+        }
+        Ok((
+            coords,
+            unorm_code(self.constant(wi, wo), self.combiner_bits),
+        ))
+    }
+
     /// Total texture bits.
     pub fn table_bits(&self) -> u64 {
         self.samplers.iter().map(|(_, s, _)| s.ram_bits()).sum()
