@@ -705,14 +705,18 @@ fn sphere_rows(name: &str, out: &Path, size: Option<(u32, u32)>) -> Result<VsGl,
 pub const SPHERE_CLASSES: [&str; 3] = [
     "face tie (the normal's two largest components equal in magnitude: which face is read is left to the implementation)",
     "face edge (the normal's lookup within one texel of its face's edge, where the filter clamps)",
-    "rest (the faces' interiors, and the background)",
+    "rest (the cube faces' interiors, the factored lobe, the background)",
 ];
 
-/// Each pixel's class of [`SPHERE_CLASSES`].
+/// Each pixel's class of [`SPHERE_CLASSES`]; every pixel is in the rest when the
+/// sphere has no Lambert term (no cube lookup: `face` 0).
 fn sphere_classes(p: &SphereProgram) -> Vec<usize> {
     let side = p.side as usize;
     let mut class = vec![2; side * side];
-    let f = f64::from(p.face.max(1));
+    if p.face == 0 {
+        return class;
+    }
+    let f = f64::from(p.face);
     for ([x, y], d) in &p.normals {
         let mut m = d.map(f64::abs);
         m.sort_by(f64::total_cmp);

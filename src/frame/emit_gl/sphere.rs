@@ -69,7 +69,9 @@ pub struct SphereProgram {
     pub program: Program,
     pub side: u32,
     pub model_levels: Vec<f64>,
-    /// The model's sphere through its units, wall seconds (the reference drawn apart).
+    /// The model's sphere through its units, wall seconds: the per-pixel shading, its
+    /// path (the factorisation, the tables) built before the clock starts, as the GL
+    /// program's draw leaves out loading its textures.
     pub model_seconds: f64,
     /// Each covered pixel (x, y) and its normal as the address unit receives it.
     pub normals: Vec<([u32; 2], [f64; 3])>,
@@ -105,9 +107,8 @@ pub fn sphere_program(f: &ShadingFile) -> Result<SphereProgram, String> {
     check_widths(&path)?;
     // The model's picture, as `render` writes it.
     let reference = shading_reference(&f.point, &view)?;
-    let t0 = std::time::Instant::now();
-    let model_levels = measure_point(&f.point, &view, &reference)?.levels;
-    let model_seconds = t0.elapsed().as_secs_f64();
+    let m = measure_point(&f.point, &view, &reference)?;
+    let (model_levels, model_seconds) = (m.levels, m.wall_seconds);
     let lit = entry_view(&entry, &view);
     let data = PixelData::of(&path, &lit)?;
     let mut files = vec![(
