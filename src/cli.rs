@@ -109,7 +109,10 @@ pub enum Command {
         /// the model's tables, light maps and vertices as raw files, build.sh (cc …
         /// -lOSMesa -lm) and model.png (the model's picture at the same size). The
         /// program renders offscreen on OSMesa and writes framebuffer.png. Passes with
-        /// no OpenGL 1.3 form (glare, the shading units) are listed, not exported.
+        /// no OpenGL 1.3 form (glare, the shading units) are listed, not exported. The
+        /// shading spheres with a GL 1.3 path (shading-lambert and the factored ones)
+        /// and the test scene have their own programs; the other spheres are refused
+        /// with the reason.
         #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "plan", "reference", "json"])]
         emit_gl: Option<PathBuf>,
         #[command(flatten)]
@@ -140,13 +143,14 @@ pub enum Command {
     /// maps against the exact prefilter — and a PNG strip per assumption),
     /// sim-speed (the Fig. 6(b) frame against its 180-sample ray-march, and the glare
     /// and envmap frames, wall time in one run),
-    /// vs-gl (fig6, fig4, stage and the shading-lambert sphere, the model in its
-    /// GeForce and its Mesa-matching rounding, against the scenes' OpenGL programs run
-    /// on Mesa's llvmpipe and softpipe through OSMesa: vs_gl.csv, a histogram CSV and a
-    /// difference PNG per row, fig6's and the sphere's ablation in vs_gl_ablation.csv
+    /// vs-gl (fig6, fig4, stage and the shading spheres with an OpenGL 1.3 path —
+    /// shading-lambert and the factored ones —, the model in its GeForce and its
+    /// Mesa-matching rounding, against the scenes' OpenGL programs run on Mesa's
+    /// llvmpipe and softpipe through OSMesa: vs_gl.csv, a histogram CSV and a
+    /// difference PNG per row, fig6's and the spheres' ablation in vs_gl_ablation.csv
     /// and their difference classes in vs_gl_classes.csv, and the model's frame time
     /// over the GL draw's; needs cc and libOSMesa; --image WxH sets the size, the
-    /// sphere's side the smaller of the two).
+    /// spheres' side the smaller of the two).
     /// Writes CSV and PNG into --out.
     Reproduce {
         name: String,

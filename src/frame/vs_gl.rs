@@ -155,6 +155,21 @@ pub struct AblationRow {
     pub over1_removed: f64,
 }
 
+impl AblationRow {
+    /// The row of a switch whose picture differs from GL's by `d`, against its mode's
+    /// base difference `d0`.
+    fn against(name: &str, mode: &str, label: &str, d0: &Diff, d: Diff) -> AblationRow {
+        AblationRow {
+            scene: name.into(),
+            modes: mode.into(),
+            switch: label.into(),
+            mean_removed: d0.mean_abs - d.mean_abs,
+            over1_removed: d0.over1_share() - d.over1_share(),
+            diff: d,
+        }
+    }
+}
+
 /// What is missing to build and run the GL programs (a C compiler, libOSMesa), with the
 /// install line; `None` when a probe program builds.
 pub fn missing_tools() -> Option<String> {
@@ -742,14 +757,7 @@ fn sphere_ablation(
     d0: &Diff,
     gl: &[u8],
 ) -> Result<Vec<AblationRow>, String> {
-    let row = |label: &str, d: Diff| AblationRow {
-        scene: name.into(),
-        modes: mode.into(),
-        switch: label.into(),
-        mean_removed: d0.mean_abs - d.mean_abs,
-        over1_removed: d0.over1_share() - d.over1_share(),
-        diff: d,
-    };
+    let row = |label: &str, d: Diff| AblationRow::against(name, mode, label, d0, d);
     let mut rows = vec![row("none", d0.clone())];
     let mut all = *f;
     for (label, apply) in SPHERE_SWITCHES {
@@ -820,17 +828,7 @@ fn switched(
     s.validate().map_err(|e| format!("ablation {label}: {e}"))?;
     let (_, rgb, _) = model_frame(s)?;
     let d = Diff::of(&rgb, gl);
-    Ok((
-        AblationRow {
-            scene: name.into(),
-            modes: mode.into(),
-            switch: label.into(),
-            mean_removed: d0.mean_abs - d.mean_abs,
-            over1_removed: d0.over1_share() - d.over1_share(),
-            diff: d,
-        },
-        rgb,
-    ))
+    Ok((AblationRow::against(name, mode, label, d0, d), rgb))
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {

@@ -14,9 +14,7 @@ pub fn emit_gl_cli(
     crate::report::outputs::check_dir_out("emit-gl", dir)?;
     let mut scene = crate::scene::load::load_scene(name)?;
     match crate::frame::cli::render_path(&scene) {
-        crate::frame::cli::RenderPath::TestScene => {
-            return Err("--emit-gl: the foundation test scene's passes are not exported".into())
-        }
+        crate::frame::cli::RenderPath::TestScene => return emit_test_scene(dir, image),
         crate::frame::cli::RenderPath::ShadingSphere => {
             return emit_sphere(&scene, dir, image, max_memory)
         }
@@ -88,6 +86,28 @@ fn emit_sphere(
         "wrote {} (scene.c, build.sh, {} data files, model.png): the sphere's one pass exported",
         dir.display(),
         p.program.files.len() - 2
+    );
+    println!(
+        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
+        dir.display()
+    );
+    Ok(())
+}
+
+/// `--emit-gl` of the foundation test scene (its size is fixed: `--image` refused).
+fn emit_test_scene(dir: &Path, image: Option<&str>) -> Result<(), String> {
+    if image.is_some() {
+        return Err("--image: the foundation test scene's size is fixed".into());
+    }
+    let (fb, _) = crate::pipeline::test_scene::render().map_err(|e| e.to_string())?;
+    let program = super::test_scene::test_scene_program();
+    super::write_files(&program, dir, |path| {
+        fb.save_png(path).map_err(|e| e.to_string())
+    })?;
+    println!(
+        "wrote {} (scene.c, build.sh, {} data files, model.png): 2 passes exported, 0 not",
+        dir.display(),
+        program.files.len() - 2
     );
     println!(
         "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",

@@ -12,13 +12,14 @@
 //! as the pipeline's host does (f64), never touching a unit. Passes with no GL 1.3
 //! form (the glare ASIC; the shading units, which are register combiners) are listed
 //! as not exported with the reason; a scene with none exportable is refused before any
-//! work. The Lambert shading sphere, whose path is GL 1.3's texture combine, has its
-//! own program ([`sphere`]).
+//! work. The shading spheres whose path is GL 1.3's texture combine ([`sphere`]) and
+//! the foundation test scene ([`test_scene`]) have their own programs.
 
 pub mod command;
 mod data;
 mod source;
 pub mod sphere;
+pub mod test_scene;
 
 use data::LightData;
 pub use data::{subplane_weight, Export, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};
@@ -31,8 +32,8 @@ use crate::scene::format::{PlaneStep, Scene};
 use crate::scene::math::Vec3;
 use std::path::Path;
 
-/// Why a planned pass has no GL 1.3 form (`None`: it has one and is exported).
-pub fn not_exportable(pass: &Pass) -> Option<String> {
+/// Why a planned pass of `scene` is not exported (`None`: it is).
+pub fn not_exportable(scene: &Scene, pass: &Pass) -> Option<String> {
     match pass.step {
         Step::Shafts(_) => None,
         Step::Glare => Some(
@@ -40,11 +41,7 @@ pub fn not_exportable(pass: &Pass) -> Option<String> {
              bloom, halo and flare generators): no OpenGL form"
                 .into(),
         ),
-        Step::ShadedObjects | Step::ShadedHighlights => Some(
-            "the shading units are register combiners and a specular lookup \
-             (NV_register_combiners): no OpenGL 1.3 form"
-                .into(),
-        ),
+        Step::ShadedObjects | Step::ShadedHighlights => Some(shading_units_reason(scene)),
         Step::EnvironmentScene => Some(
             "the environment-map pass forms each pixel's reflection vector from the \
              interpolated normal and eye vector (the reflection_vector unit, GeForce3's \
@@ -52,7 +49,32 @@ pub fn not_exportable(pass: &Pass) -> Option<String> {
              reflection (its reflection texgen is per vertex): no OpenGL 1.3 form"
                 .into(),
         ),
-        Step::TestScene => Some("the foundation test scene's passes are not exported".into()),
+        Step::TestScene => Some(
+            "the foundation test scene has its own program (`render --scene test --emit-gl`)"
+                .into(),
+        ),
+    }
+}
+
+/// Why a frame's shading-units pass is not exported: a Phong or Blinn–Phong lobe
+/// reads the specular lookup at the DOT3's n·h, a dependent texture read; the other
+/// materials' units have an OpenGL 1.3 form (the shading spheres' programs), not
+/// written for a frame's objects.
+fn shading_units_reason(scene: &Scene) -> String {
+    let lookup = scene
+        .objects
+        .iter()
+        .filter_map(|o| o.material.as_ref())
+        .any(|m| crate::pipeline::shading::materials::lobe_kind(m) == "lookup");
+    if lookup {
+        "a Phong or Blinn–Phong lobe reads the specular lookup at the DOT3's n·h (a dependent \
+         texture read, NV_texture_shader): no OpenGL 1.3 form"
+            .into()
+    } else {
+        "the shading units' OpenGL 1.3 form (normalisation cube map, DOT3, factor textures) \
+         is written for the shading spheres (`shading-*`), not for a frame's objects: not \
+         exported"
+            .into()
     }
 }
 
@@ -105,7 +127,7 @@ pub fn check_exportable(scene: &Scene) -> Result<Vec<Export>, String> {
     let exports: Vec<Export> = planned
         .passes
         .iter()
-        .map(|p| match (p.step, not_exportable(p)) {
+        .map(|p| match (p.step, not_exportable(scene, p)) {
             (Step::Shafts(sp), None) => Export::Shafts(sp),
             (_, why) => Export::NotExported {
                 pass: p.name.clone(),

@@ -92,22 +92,24 @@ static void require_gl(const char *const *ext, int units_needed)
     }
 }
 
-/* An 8-bit luminance texture (a table or a light map) from a raw file: `filter`
- * GL_LINEAR (bilinear, as the model's samplers) or GL_NEAREST; `wrap`
- * GL_CLAMP_TO_EDGE or GL_CLAMP_TO_BORDER (border colour 0). */
-static GLuint texture_from_file(GLenum target, const char *file, int w, int h, GLenum filter,
-                                GLenum wrap)
+/* An 8-bit texture (a table, a light map: GL_LUMINANCE; a colour texture: GL_RGBA) from
+ * a raw file: `filter` GL_LINEAR (bilinear, as the model's samplers) or GL_NEAREST;
+ * `wrap` GL_CLAMP_TO_EDGE, GL_CLAMP_TO_BORDER (border colour 0) or GL_REPEAT. */
+static GLuint texture_from_file(GLenum target, const char *file, int w, int h, GLenum format,
+                                GLenum filter, GLenum wrap)
 {
     static const GLfloat black[4] = {0, 0, 0, 0};
     GLuint t;
-    unsigned char *texels = load_file(file, (size_t)w * (size_t)h);
+    size_t bytes = (size_t)w * (size_t)h * (format == GL_RGBA ? 4 : 1);
+    GLenum internal = format == GL_RGBA ? GL_RGBA8 : GL_LUMINANCE8;
+    unsigned char *texels = load_file(file, bytes);
     glGenTextures(1, &t);
     glBindTexture(target, t);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     if (target == GL_TEXTURE_1D)
-        glTexImage1D(target, 0, GL_LUMINANCE8, w, 0, GL_LUMINANCE, GL_UNSIGNED_BYTE, texels);
+        glTexImage1D(target, 0, internal, w, 0, format, GL_UNSIGNED_BYTE, texels);
     else
-        glTexImage2D(target, 0, GL_LUMINANCE8, w, h, 0, GL_LUMINANCE, GL_UNSIGNED_BYTE, texels);
+        glTexImage2D(target, 0, internal, w, h, 0, format, GL_UNSIGNED_BYTE, texels);
     glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
     glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
     glTexParameteri(target, GL_TEXTURE_WRAP_S, wrap);
@@ -196,23 +198,32 @@ static void region(int x0, int y0, int w, int h)
     glDepthRange(0.0, 1.0);
 }
 
-/* Texture unit `unit`: texture `tex` on `target` enabled, its colour the product
- * arg0 * arg1 (ARB_texture_env_combine MODULATE; GL_TEXTURE, GL_PREVIOUS,
- * GL_PRIMARY_COLOR or GL_CONSTANT) — one 8-bit modulate, as one of the model's. */
-static void unit_modulate(int unit, GLenum target, GLuint tex, GLenum arg0, GLenum arg1,
-                          const GLfloat *constant)
+/* Texture unit `unit`: texture `tex` on `target` enabled, its colour `function`
+ * (ARB_texture_env_combine: GL_REPLACE, GL_MODULATE, GL_DOT3_RGB_ARB) of arg0 and arg1
+ * (GL_TEXTURE, GL_PREVIOUS, GL_PRIMARY_COLOR or GL_CONSTANT; arg1 unused by REPLACE),
+ * the alpha the primary colour's. */
+static void unit_combine(int unit, GLenum target, GLuint tex, GLenum function, GLenum arg0,
+                         GLenum arg1)
 {
     glActiveTexture(GL_TEXTURE0 + unit);
     glEnable(target);
     glBindTexture(target, tex);
     glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE_ARB);
-    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB_ARB, GL_MODULATE);
+    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB_ARB, function);
     glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB_ARB, arg0);
     glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB_ARB, GL_SRC_COLOR);
     glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB_ARB, arg1);
     glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB_ARB, GL_SRC_COLOR);
     glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA_ARB, GL_REPLACE);
     glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
+}
+
+/* Texture unit `unit`: the product arg0 * arg1 — one 8-bit modulate, as one of the
+ * model's; `constant` the GL_CONSTANT colour when not NULL. */
+static void unit_modulate(int unit, GLenum target, GLuint tex, GLenum arg0, GLenum arg1,
+                          const GLfloat *constant)
+{
+    unit_combine(unit, target, tex, GL_MODULATE, arg0, arg1);
     if (constant)
         glTexEnvfv(GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, constant);
 }
@@ -220,33 +231,15 @@ static void unit_modulate(int unit, GLenum target, GLuint tex, GLenum arg0, GLen
 /* Texture unit `unit`: texture `tex` on `target` enabled, its colour passed on as is. */
 static void unit_replace(int unit, GLenum target, GLuint tex)
 {
-    glActiveTexture(GL_TEXTURE0 + unit);
-    glEnable(target);
-    glBindTexture(target, tex);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE_ARB);
-    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB_ARB, GL_REPLACE);
-    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB_ARB, GL_TEXTURE);
-    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB_ARB, GL_SRC_COLOR);
-    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA_ARB, GL_REPLACE);
-    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
+    unit_combine(unit, target, tex, GL_REPLACE, GL_TEXTURE, GL_PREVIOUS_ARB);
 }
 
-/* Texture unit `unit`: texture `tex` on `target` enabled, its colour the clamped dot
- * product 4 * sum((arg0 - 1/2) * (arg1 - 1/2)) of its texel and the previous stage's
- * colour, into r, g and b (DOT3_RGB, ARB_texture_env_dot3): the model's DOT3 stage. */
+/* Texture unit `unit`: the clamped dot product 4 * sum((arg0 - 1/2) * (arg1 - 1/2)) of
+ * its texel and the previous stage's colour, into r, g and b (DOT3_RGB,
+ * ARB_texture_env_dot3): the model's DOT3 stage. */
 static void unit_dot3(int unit, GLenum target, GLuint tex)
 {
-    glActiveTexture(GL_TEXTURE0 + unit);
-    glEnable(target);
-    glBindTexture(target, tex);
-    glTexEnvi(GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE_ARB);
-    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_RGB_ARB, GL_DOT3_RGB_ARB);
-    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_RGB_ARB, GL_TEXTURE);
-    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND0_RGB_ARB, GL_SRC_COLOR);
-    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE1_RGB_ARB, GL_PREVIOUS_ARB);
-    glTexEnvi(GL_TEXTURE_ENV, GL_OPERAND1_RGB_ARB, GL_SRC_COLOR);
-    glTexEnvi(GL_TEXTURE_ENV, GL_COMBINE_ALPHA_ARB, GL_REPLACE);
-    glTexEnvi(GL_TEXTURE_ENV, GL_SOURCE0_ALPHA_ARB, GL_PRIMARY_COLOR);
+    unit_combine(unit, target, tex, GL_DOT3_RGB_ARB, GL_TEXTURE, GL_PREVIOUS_ARB);
 }
 
 /* A cube map of 8-bit RGB faces from a raw file: face f (GL's order +x, -x, +y, -y,
@@ -299,6 +292,23 @@ static void additive(int on)
     } else {
         glDisable(GL_BLEND);
     }
+}
+
+/* Begin a draw into the stage region, rows h .. 2h of the buffer (cleared, no blend). */
+static void stage_region(int w, int h)
+{
+    region(0, h, w, h);
+    additive(0);
+    glClear(GL_COLOR_BUFFER_BIT);
+}
+
+/* Copy the stage region into the stage texture `tex`: the 8-bit register between two of
+ * the model's stages. */
+static void stage_copy(GLuint tex, int w, int h)
+{
+    units_off();
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, h, w, h);
 }
 
 /* --- PNG: stored (uncompressed) deflate blocks, CRC-32 and Adler-32 by hand. --- */

@@ -321,14 +321,14 @@ fn load_textures(s: &mut String, c: &Ctx, layout: &Layout) {
     if has_planes {
         let _ = writeln!(
             s,
-            "    /* F(alpha) over [0, 180] degrees and h(s, t): bilinear, clamped, as the model's samplers. */\n    tex_f = texture_from_file(GL_TEXTURE_1D, \"f_table.raw\", NF, 1, GL_LINEAR, GL_CLAMP_TO_EDGE);\n    tex_h = texture_from_file(GL_TEXTURE_2D, \"h_table.raw\", HW, HH, GL_LINEAR, GL_CLAMP_TO_EDGE);"
+            "    /* F(alpha) over [0, 180] degrees and h(s, t): bilinear, clamped, as the model's samplers. */\n    tex_f = texture_from_file(GL_TEXTURE_1D, \"f_table.raw\", NF, 1, GL_LUMINANCE, GL_LINEAR,\n                              GL_CLAMP_TO_EDGE);\n    tex_h = texture_from_file(GL_TEXTURE_2D, \"h_table.raw\", HW, HH, GL_LUMINANCE, GL_LINEAR,\n                              GL_CLAMP_TO_EDGE);"
         );
     }
     for (li, l) in c.lights.iter().enumerate() {
         if l.has_map {
             let _ = writeln!(
                 s,
-                "    /* Light {li}'s map: bilinear; outside the light's square the border colour 0\n     * (the model: H*I_l = 0 outside [0, 1]^2). */\n    tex_light_map[{li}] = texture_from_file(GL_TEXTURE_2D, \"light_map_{li}.raw\", LIGHT_MAP_TEXELS,\n                                          LIGHT_MAP_TEXELS, GL_LINEAR, GL_CLAMP_TO_BORDER);"
+                "    /* Light {li}'s map: bilinear; outside the light's square the border colour 0\n     * (the model: H*I_l = 0 outside [0, 1]^2). */\n    tex_light_map[{li}] = texture_from_file(GL_TEXTURE_2D, \"light_map_{li}.raw\", LIGHT_MAP_TEXELS,\n                                          LIGHT_MAP_TEXELS, GL_LUMINANCE, GL_LINEAR,\n                                          GL_CLAMP_TO_BORDER);"
             );
         }
     }

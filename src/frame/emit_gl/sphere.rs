@@ -362,7 +362,7 @@ fn constants(s: &mut String, k: &Constants) {
 fn load_textures(s: &mut String, k: &Constants) {
     let _ = writeln!(
         s,
-        "/* The model's textures: the normalisation cube ({}, as the model's sampler), the\n * factor textures (bilinear, clamped), and the stage register's texture. */\nstatic void load_textures(void)\n{{\n    int i;\n    char name[32];\n    if (HAS_DIFFUSE)\n        tex_cube = cube_texture_from_file(\"normalize_cube.raw\", FACE, {});\n    for (i = 0; i < FACTORS; i++) {{\n        sprintf(name, \"factor_%d.raw\", i);\n        tex_factor[i] = texture_from_file(GL_TEXTURE_2D, name, factor_side[i], factor_side[i],\n                                          GL_LINEAR, GL_CLAMP_TO_EDGE);\n    }}\n    tex_stage = screen_texture(TEX_W, TEX_H, GL_RGB);\n}}\n",
+        "/* The model's textures: the normalisation cube ({}, as the model's sampler), the\n * factor textures (bilinear, clamped), and the stage register's texture. */\nstatic void load_textures(void)\n{{\n    int i;\n    char name[32];\n    if (HAS_DIFFUSE)\n        tex_cube = cube_texture_from_file(\"normalize_cube.raw\", FACE, {});\n    for (i = 0; i < FACTORS; i++) {{\n        sprintf(name, \"factor_%d.raw\", i);\n        tex_factor[i] = texture_from_file(GL_TEXTURE_2D, name, factor_side[i], factor_side[i],\n                                          GL_LUMINANCE, GL_LINEAR, GL_CLAMP_TO_EDGE);\n    }}\n    tex_stage = screen_texture(TEX_W, TEX_H, GL_RGB);\n}}\n",
         k.diffuse.as_ref().map_or("unused", |d| d.filter),
         k.diffuse.as_ref().map_or("GL_LINEAR", |d| d.filter),
     );
@@ -406,17 +406,12 @@ static void points(const float *v, int u0, int u1, int colour)
     glEnd();
 }
 
-/* Draw into the stage region (rows H .. 2H) and copy it into the stage texture: the
- * 8-bit register between two of the model's stages. */
+/* The points into the stage register. */
 static void into_stage(const float *v, int u0, int u1, int colour)
 {
-    region(0, H, W, H);
-    additive(0);
-    glClear(GL_COLOR_BUFFER_BIT);
+    stage_region(W, H);
     points(v, u0, u1, colour);
-    units_off();
-    glBindTexture(GL_TEXTURE_2D, tex_stage);
-    glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, H, W, H);
+    stage_copy(tex_stage, W, H);
 }
 
 /* Texture unit `unit`: texture `tex` times 2^log2_scale (RGB_SCALE 2 or 4; exact on
