@@ -110,9 +110,9 @@ pub enum Command {
         /// -lOSMesa -lm) and model.png (the model's picture at the same size). The
         /// program renders offscreen on OSMesa and writes framebuffer.png. Passes with
         /// no OpenGL 1.3 form (glare, the shading units) are listed, not exported. The
-        /// shading spheres with a GL 1.3 path (shading-lambert and the factored ones)
-        /// and the test scene have their own programs; the other spheres are refused
-        /// with the reason.
+        /// shading spheres with a GL 1.3 path (shading-lambert and the factored ones),
+        /// shading-vertex (its vertex colours as a picture) and the test scene have
+        /// their own programs; the other spheres are refused with the reason.
         #[arg(long, value_name = "DIR", conflicts_with_all = ["out", "plan", "reference", "json"])]
         emit_gl: Option<PathBuf>,
         #[command(flatten)]
@@ -143,8 +143,9 @@ pub enum Command {
     /// maps against the exact prefilter — and a PNG strip per assumption),
     /// sim-speed (the Fig. 6(b) frame against its 180-sample ray-march, and the glare
     /// and envmap frames, wall time in one run),
-    /// vs-gl (fig6, fig4, stage and the shading spheres with an OpenGL 1.3 path —
-    /// shading-lambert and the factored ones —, the model in its GeForce and its
+    /// vs-gl (fig6, fig4, stage, the shading spheres with an OpenGL 1.3 path —
+    /// shading-lambert and the factored ones — and shading-vertex's vertex colours,
+    /// the model in its GeForce and its
     /// Mesa-matching rounding, against the scenes' OpenGL programs run on Mesa's
     /// llvmpipe and softpipe through OSMesa: vs_gl.csv, a histogram CSV and a
     /// difference PNG per row, fig6's and the spheres' ablation in vs_gl_ablation.csv

@@ -30,6 +30,7 @@
 //! edges, the rest).
 
 use crate::frame::emit_gl::sphere::{sphere_program, SphereProgram};
+use crate::frame::emit_gl::vertex::vertex_program;
 use crate::frame::emit_gl::{check_exportable, program_of, write_program, Export};
 use crate::frame::run::{render, Frame};
 use crate::pipeline::shading::path::PathConfig;
@@ -250,10 +251,21 @@ fn build(dir: &Path) -> Result<(), String> {
 
 /// Run the program in `dir` on `driver`, writing `png`: its draw seconds and its RGB.
 fn run_program(dir: &Path, driver: &str, png: &Path) -> Result<(f64, Vec<u8>), String> {
+    run_program_with(dir, driver, png, &[])
+}
+
+/// [`run_program`] with more environment variables set.
+fn run_program_with(
+    dir: &Path,
+    driver: &str,
+    png: &Path,
+    env: &[(&str, &str)],
+) -> Result<(f64, Vec<u8>), String> {
     let o = Command::new(dir.join("scene"))
         .arg(png)
         .current_dir(dir)
         .env("GALLIUM_DRIVER", driver)
+        .envs(env.iter().copied())
         .output()
         .map_err(|e| format!("{}: {e}", dir.join("scene").display()))?;
     let out = String::from_utf8_lossy(&o.stdout);
@@ -607,6 +619,7 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
         ablation.extend(a);
         class_rows.extend(c);
     }
+    rows.extend(vertex_rows(out)?);
     write(&out.join("vs_gl.csv"), &csv(&rows))?;
     write(&out.join("vs_gl_ablation.csv"), &ablation_csv(&ablation))?;
     write(&out.join("vs_gl_classes.csv"), &classes_csv(&class_rows))?;
@@ -714,6 +727,41 @@ fn sphere_rows(name: &str, out: &Path, size: Option<(u32, u32)>) -> Result<VsGl,
         }
     }
     Ok((rows, ablation, class_rows_out))
+}
+
+/// `shading-vertex`'s rows: the vertices lit by GL's fixed-function lighting against
+/// the model's vertex_lighting unit (its e8m23 floats; it has no Mesa mode), as a
+/// rings × segments picture of vertex colours. On softpipe the program runs with
+/// `DRAW_USE_LLVM=0`: Mesa 22.3's LLVM vertex path crashes compiling softpipe's
+/// fixed-function lighting in feedback mode (llvmpipe's does not).
+fn vertex_rows(out: &Path) -> Result<Vec<Row>, String> {
+    let name = "shading-vertex";
+    let scene = crate::scene::load::load_scene(name)?;
+    let f = ShadingFile::from_scene(&scene)?;
+    let p = vertex_program(&f)?;
+    let dir = out.join(format!("gl_{name}"));
+    p.write(&dir)?;
+    build(&dir)?;
+    let model = rgb_of_rgba(&p.model.to_rgba8());
+    let mut rows = Vec::new();
+    for driver in DRIVERS {
+        let png = out.join(format!("gl_{name}_{driver}.png"));
+        let env: &[(&str, &str)] = if driver == "softpipe" {
+            &[("DRAW_USE_LLVM", "0")]
+        } else {
+            &[]
+        };
+        let (gl_secs, gl) = run_program_with(&dir, driver, &png, env)?;
+        let at = RowAt {
+            out,
+            name,
+            mode: "geforce",
+            driver,
+            size: (p.model.width, p.model.height),
+        };
+        rows.push(compare_row(&at, &model, &gl, (p.model_seconds, gl_secs))?);
+    }
+    Ok(rows)
 }
 
 /// Where a sphere's differences can sit, by the normal's cube-map lookup.

@@ -80,6 +80,22 @@ fn emit_sphere(
         budget,
         &from,
     )?;
+    if f.point.vertex_config().is_some() {
+        if image.is_some() {
+            return Err(
+                "--image: shading-vertex lights sphere vertices; it has no image to size".into(),
+            );
+        }
+        let p = super::vertex::vertex_program(&f)?;
+        p.write(dir)?;
+        println!(
+            "wrote {} (scene.c, build.sh, 1 data file, model.png): the vertices lit by GL's fixed-function lighting, their colours as a {}x{} picture",
+            dir.display(),
+            crate::pipeline::shading::sweep::VERTEX_SEGMENTS,
+            crate::pipeline::shading::sweep::VERTEX_RINGS
+        );
+        return Ok(());
+    }
     let p = super::sphere::sphere_program(&f)?;
     p.write(dir)?;
     println!(

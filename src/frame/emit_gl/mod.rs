@@ -20,6 +20,7 @@ mod data;
 mod source;
 pub mod sphere;
 pub mod test_scene;
+pub mod vertex;
 
 use data::LightData;
 pub use data::{subplane_weight, Export, OBJ_FLOATS, PLANE_FLOATS, SUB_FLOATS};

@@ -37,14 +37,11 @@ const EXTENSIONS: [&str; 3] = [
     "GL_ARB_texture_env_dot3",
 ];
 
-/// Why a shading sphere scene has no program (None: it has one).
+/// Why a shading sphere scene has no program (None: it has one; `shading-vertex`'s
+/// is [`super::vertex`]).
 pub fn not_exportable(f: &ShadingFile) -> Option<String> {
     match f.point.scene() {
-        ShadingScene::Vertex => Some(
-            "shading-vertex lights sphere vertices and has no image: its fixed-function GL \
-             lighting form (vertex colours read back by feedback) is not written"
-                .into(),
-        ),
+        ShadingScene::Vertex => None,
         ShadingScene::Specular => Some(
             "shading-specular's (n·h)^s runs on the register combiners \
              (NV_register_combiners) or the texture shader's dependent lookup \

@@ -843,6 +843,14 @@ impl ShadingPoint {
         Ok(p)
     }
 
+    /// `shading-vertex`'s vertex-lighting configuration (None for the other scenes).
+    pub fn vertex_config(&self) -> Option<VertexLightingConfig> {
+        match self.job {
+            Job::Vertex(c) => Some(c),
+            _ => None,
+        }
+    }
+
     /// The chip preset the point's units follow.
     pub fn chip(&self) -> ChipPreset {
         self.chip
