@@ -92,6 +92,15 @@ static void require_gl(const char *const *ext, int units_needed)
     }
 }
 
+/* The bound texture's filter (min and mag) and its s and t wrap. */
+static void filter_and_wrap(GLenum target, GLenum filter, GLenum wrap)
+{
+    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(target, GL_TEXTURE_WRAP_S, wrap);
+    glTexParameteri(target, GL_TEXTURE_WRAP_T, wrap);
+}
+
 /* An 8-bit texture (a table, a light map: GL_LUMINANCE; a colour texture: GL_RGBA) from
  * a raw file: `filter` GL_LINEAR (bilinear, as the model's samplers) or GL_NEAREST;
  * `wrap` GL_CLAMP_TO_EDGE, GL_CLAMP_TO_BORDER (border colour 0) or GL_REPEAT. */
@@ -110,10 +119,7 @@ static GLuint texture_from_file(GLenum target, const char *file, int w, int h, G
         glTexImage1D(target, 0, internal, w, 0, format, GL_UNSIGNED_BYTE, texels);
     else
         glTexImage2D(target, 0, internal, w, h, 0, format, GL_UNSIGNED_BYTE, texels);
-    glTexParameteri(target, GL_TEXTURE_MIN_FILTER, filter);
-    glTexParameteri(target, GL_TEXTURE_MAG_FILTER, filter);
-    glTexParameteri(target, GL_TEXTURE_WRAP_S, wrap);
-    glTexParameteri(target, GL_TEXTURE_WRAP_T, wrap);
+    filter_and_wrap(target, filter, wrap);
     glTexParameterfv(target, GL_TEXTURE_BORDER_COLOR, black);
     free(texels);
     return t;
@@ -146,10 +152,7 @@ static GLuint shadow_texture(int res)
     glBindTexture(GL_TEXTURE_2D, t);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT24_ARB, res, res, 0, GL_DEPTH_COMPONENT,
                  GL_UNSIGNED_INT, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    filter_and_wrap(GL_TEXTURE_2D, GL_NEAREST, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE_ARB, GL_COMPARE_R_TO_TEXTURE_ARB);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC_ARB, GL_LEQUAL);
     glTexParameteri(GL_TEXTURE_2D, GL_DEPTH_TEXTURE_MODE_ARB, GL_LUMINANCE);
@@ -166,10 +169,7 @@ static GLuint screen_texture(int w, int h, GLenum format)
     glBindTexture(GL_TEXTURE_2D, t);
     glTexImage2D(GL_TEXTURE_2D, 0, format == GL_RGB ? GL_RGB8 : GL_LUMINANCE8, w, h, 0, format,
                  GL_UNSIGNED_BYTE, NULL);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    filter_and_wrap(GL_TEXTURE_2D, GL_NEAREST, GL_CLAMP_TO_EDGE);
     return t;
 }
 
@@ -258,10 +258,7 @@ static GLuint cube_texture_from_file(const char *file, int side, GLenum filter)
     for (f = 0; f < 6; f++)
         glTexImage2D(GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, 0, GL_RGB8, side, side, 0, GL_RGB,
                      GL_UNSIGNED_BYTE, texels + (size_t)f * face_bytes);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MIN_FILTER, filter);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_MAG_FILTER, filter);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_CUBE_MAP, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    filter_and_wrap(GL_TEXTURE_CUBE_MAP, filter, GL_CLAMP_TO_EDGE);
     free(texels);
     return t;
 }
