@@ -351,6 +351,18 @@ pub fn switches(mode: &str) -> Vec<(String, Box<dyn Fn(&mut Scene)>)> {
         Box::new(|s: &mut Scene| s.shafts.coord_frac_bits = s.shafts.coord_frac_bits.max(16)),
     ));
     v.push((
+        "polygon interpolator: acc_frac_bits 24 → 40".into(),
+        Box::new(|s: &mut Scene| s.shafts.acc_frac_bits = s.shafts.acc_frac_bits.max(40)),
+    ));
+    v.push((
+        "projective texcoord: reciprocal 8 → 12 index bits, 16 → 24 entry bits, Newton 20 → 40 bits".into(),
+        Box::new(|s: &mut Scene| {
+            s.shafts.recip_index_bits = s.shafts.recip_index_bits.max(12);
+            s.shafts.recip_entry_bits = s.shafts.recip_entry_bits.max(24);
+            s.shafts.newton_frac_bits = s.shafts.newton_frac_bits.max(40);
+        }),
+    ));
+    v.push((
         "texture sampler: weight_bits 8 → 16".into(),
         Box::new(|s: &mut Scene| s.shafts.weight_bits = s.shafts.weight_bits.max(16)),
     ));
