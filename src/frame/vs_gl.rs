@@ -29,7 +29,7 @@
 //! coordinate and reciprocal widths) and its difference classes (face ties, face
 //! edges, the rest).
 
-use crate::frame::emit_gl::sphere::{sphere_program, SphereProgram};
+use crate::frame::emit_gl::sphere::{model_sphere, sphere_program, SphereProgram};
 use crate::frame::emit_gl::vertex::vertex_program;
 use crate::frame::emit_gl::{check_exportable, program_of, write_program, Export};
 use crate::frame::run::{render, Frame};
@@ -699,41 +699,36 @@ fn sphere_rows(name: &str, out: &Path, size: Option<(u32, u32)>) -> Result<VsGl,
     if let Some((w, h)) = size {
         base.image = Some(w.min(h));
     }
+    // The program (its data do not depend on the mode's rounding) and the classes
+    // once; the model's sphere in each mode.
     let dir = out.join(format!("gl_{name}"));
+    let program = sphere_program(&base)?;
+    program.write(&dir)?;
+    let class = sphere_classes(&program);
+    let side = program.side;
     let mut models = Vec::new();
     for mode in MODES {
         let f = sphere_in_mode(&base, mode)?;
-        let p = sphere_program(&f)?;
-        if models.is_empty() {
-            p.write(&dir)?;
-        }
-        let class = sphere_classes(&p);
-        models.push((
-            mode,
-            f,
-            sphere_rgb(&p.model_levels),
-            p.model_seconds,
-            p.side,
-            class,
-        ));
+        let (_, r) = model_sphere(&f)?;
+        models.push((mode, f, sphere_rgb(&r.hardware), r.wall_seconds));
     }
     build(&dir)?;
     let (mut rows, mut ablation, mut class_rows_out) = (Vec::new(), Vec::new(), Vec::new());
     for driver in DRIVERS {
         let png = out.join(format!("gl_{name}_{driver}.png"));
         let (gl_secs, gl) = run_program(&dir, driver, &png)?;
-        for (mode, f, model, model_secs, side, class) in &models {
+        for (mode, f, model, model_secs) in &models {
             let at = RowAt {
                 out,
                 name,
                 mode,
                 driver,
-                size: (*side, *side),
+                size: (side, side),
             };
             let row = compare_row(&at, model, &gl, (*model_secs, gl_secs))?;
             if driver == "llvmpipe" {
                 ablation.extend(sphere_ablation(name, mode, f, &row.diff, &gl)?);
-                class_rows_out.extend(class_rows(name, mode, &SPHERE_CLASSES, class, model, &gl));
+                class_rows_out.extend(class_rows(name, mode, &SPHERE_CLASSES, &class, model, &gl));
             }
             rows.push(row);
         }
@@ -784,14 +779,14 @@ pub const SPHERE_CLASSES: [&str; 3] = [
 ];
 
 /// Each pixel's class of [`SPHERE_CLASSES`]; every pixel is in the rest when the
-/// sphere has no Lambert term (no cube lookup: `face` 0).
+/// sphere has no Lambert term (no cube lookup).
 fn sphere_classes(p: &SphereProgram) -> Vec<usize> {
     let side = p.side as usize;
     let mut class = vec![2; side * side];
-    if p.face == 0 {
+    let Some(face) = p.face else {
         return class;
-    }
-    let f = f64::from(p.face);
+    };
+    let f = f64::from(face);
     for ([x, y], d) in &p.normals {
         let mut m = d.map(f64::abs);
         m.sort_by(f64::total_cmp);
@@ -826,13 +821,13 @@ fn sphere_ablation(
             ..*f
         };
         all.point = all.point.with_path(apply)?;
-        let p = sphere_program(&one)?;
-        rows.push(row(label, Diff::of(&sphere_rgb(&p.model_levels), gl)));
+        let (_, r) = model_sphere(&one)?;
+        rows.push(row(label, Diff::of(&sphere_rgb(&r.hardware), gl)));
     }
-    let p = sphere_program(&all)?;
+    let (_, r) = model_sphere(&all)?;
     rows.push(row(
         "all of the above",
-        Diff::of(&sphere_rgb(&p.model_levels), gl),
+        Diff::of(&sphere_rgb(&r.hardware), gl),
     ));
     Ok(rows)
 }
@@ -846,14 +841,7 @@ fn ablate(
     gl: &[u8],
 ) -> Result<(Vec<AblationRow>, Vec<ClassRow>), String> {
     let d0 = Diff::of(model, gl);
-    let mut rows = vec![AblationRow {
-        scene: name.into(),
-        modes: mode.into(),
-        switch: "none".into(),
-        mean_removed: 0.0,
-        over1_removed: 0.0,
-        diff: d0.clone(),
-    }];
+    let mut rows = vec![AblationRow::against(name, mode, "none", &d0, d0.clone())];
     let sw = switches(mode);
     let mut all = base.clone();
     let mut shadow = None;

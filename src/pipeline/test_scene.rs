@@ -43,10 +43,12 @@ use serde::Serialize;
 use std::path::Path;
 
 /// Shadow map: 128 × 128, 16-bit depths.
-const SHADOW_SIZE: u32 = 128;
-const SHADOW_DEPTH_BITS: u32 = 16;
+pub const SHADOW_SIZE: u32 = 128;
+pub const SHADOW_DEPTH_BITS: u32 = 16;
+/// The shadow compare's bias, in steps of the 16-bit map.
+pub const SHADOW_BIAS: u32 = 8;
 /// Floor cells per side (8 × 8 cells, 128 triangles).
-const FLOOR_CELLS: usize = 8;
+pub const FLOOR_CELLS: usize = 8;
 /// Scale of the 1/w-weighted attributes (keeps them well inside s16.16).
 const PERSPECTIVE_SCALE: f64 = 16.0;
 
@@ -108,7 +110,7 @@ impl TestSceneUnits {
             width: SHADOW_SIZE,
             height: SHADOW_SIZE,
             depth_bits: SHADOW_DEPTH_BITS,
-            bias: 8,
+            bias: SHADOW_BIAS,
             frag_frac_bits: 0,
             ..ShadowCompareConfig::geforce()
         }
@@ -127,7 +129,7 @@ impl TestSceneUnits {
 }
 
 /// Screen position (pixels, y down) of clip coordinates.
-fn to_screen(c: [f64; 4], w: u32, h: u32) -> (f64, f64) {
+pub fn to_screen(c: [f64; 4], w: u32, h: u32) -> (f64, f64) {
     let (x, y) = (c[0] / c[3], c[1] / c[3]);
     ((x * 0.5 + 0.5) * w as f64, (0.5 - y * 0.5) * h as f64)
 }
@@ -197,9 +199,7 @@ fn depth_pass(
     for q in occluder_quads() {
         let mut verts = [Vertex::default(); 4];
         for (i, p) in q.iter().enumerate() {
-            let c = v.light.apply(*p);
-            let (x, y) = to_screen(c, SHADOW_SIZE, SHADOW_SIZE);
-            let z = (c[2] / c[3]) * 0.5 + 0.5; // window depth in [0, 1]
+            let (x, y, z) = occluder_window(v, *p);
             verts[i] = depth_interp.vertex_from_f64(i, x, y, &[z], c_interp)?;
         }
         for s in depth_interp.setup_quad(&verts, c_interp) {
@@ -232,6 +232,60 @@ fn depth_pass(
     Ok(depth_pass_cycles)
 }
 
+/// An occluder corner in the shadow map, as the host computes it: x, y (texels, y
+/// down) and the window depth in [0, 1].
+pub fn occluder_window(v: &Views, p: Vec3) -> (f64, f64, f64) {
+    let c = v.light.apply(p);
+    let (x, y) = to_screen(c, SHADOW_SIZE, SHADOW_SIZE);
+    (x, y, (c[2] / c[3]) * 0.5 + 0.5)
+}
+
+/// Floor grid corner (i, j) of the FLOOR_CELLS² cells: its world position and checker
+/// coordinates (tu, tv) in [0, 1].
+pub fn floor_corner(i: usize, j: usize) -> (Vec3, f64, f64) {
+    let n = FLOOR_CELLS;
+    let f = |k: usize| -FLOOR_HALF + 2.0 * FLOOR_HALF * k as f64 / n as f64;
+    (
+        v3(f(i), 0.0, f(j)),
+        i as f64 / n as f64,
+        j as f64 / n as f64,
+    )
+}
+
+/// A floor corner as the host hands it to the interpolator (f64): its screen
+/// position (pixels, y down) and the 8 attributes — the checker's (u, v)/w, 1/w and
+/// the light's projective (s, t, r, q)/w (1/w scaled by PERSPECTIVE_SCALE), and the
+/// per-vertex Lambert term.
+pub fn floor_attributes(v: &Views, p: Vec3, (tu, tv): (f64, f64)) -> (f64, f64, [f64; 8]) {
+    let c = v.cam.apply(p);
+    let (x, y) = to_screen(c, WIDTH, HEIGHT);
+    let inv_w = PERSPECTIVE_SCALE / c[3];
+    let l = v.light.apply(p);
+    // Projective light coordinates: s = (x + w)/2, t = (w − y)/2 (y down),
+    // r = (z + w)/2, q = w, so that s/q, t/q, r/q lie in [0, 1].
+    let (ls, lt, lr, lq) = (
+        (l[0] + l[3]) * 0.5,
+        (l[3] - l[1]) * 0.5,
+        (l[2] + l[3]) * 0.5,
+        l[3],
+    );
+    // Per-vertex Lambert term with inverse-square fall-off (normal +y).
+    let to_light = v.light_pos - p;
+    let d2 = to_light.dot(to_light);
+    let lambert = (to_light.normalized().y * LAMBERT_SCALE / d2).clamp(0.0, 1.0);
+    let attrs = [
+        tu * CHECKER_REPEAT * inv_w,
+        tv * CHECKER_REPEAT * inv_w,
+        inv_w,
+        ls * inv_w,
+        lt * inv_w,
+        lr * inv_w,
+        lq * inv_w,
+        lambert,
+    ];
+    (x, y, attrs)
+}
+
 /// The floor passes: FLOOR_CELLS² cells, each a quad set up, walked and shaded
 /// ([`shade`]) into `fb`. Returns (cycles: per primitive the walk's or the shading's,
 /// whichever is longer; covered pixels).
@@ -244,14 +298,7 @@ fn floor_passes(
     c_pixel: &mut [Counters; 7],
 ) -> Result<(u64, u64), ConfigError> {
     let n = FLOOR_CELLS;
-    let grid = |i: usize, j: usize| {
-        let f = |k: usize| -FLOOR_HALF + 2.0 * FLOOR_HALF * k as f64 / n as f64;
-        (
-            v3(f(i), 0.0, f(j)),
-            i as f64 / n as f64,
-            j as f64 / n as f64,
-        )
-    };
+    let grid = floor_corner;
     let mut floor_pass_cycles = 0u64;
     let mut covered = 0u64;
     for j in 0..n {
@@ -281,42 +328,16 @@ fn floor_passes(
 }
 
 /// Floor corner `k` at `p` with checker coordinates (tu, tv), as the interpolator's
-/// vertex: the checker's (u, v)/w and the light's projective (s, t, r, q)/w (1/w scaled
-/// by PERSPECTIVE_SCALE), 1/w, and the per-vertex Lambert term.
+/// vertex ([`floor_attributes`]).
 fn floor_vertex(
     units: &TestSceneUnits,
     v: &Views,
     k: usize,
     p: Vec3,
-    (tu, tv): (f64, f64),
+    tex: (f64, f64),
     c_interp: &mut Counters,
 ) -> Result<Vertex, ConfigError> {
-    let c = v.cam.apply(p);
-    let (x, y) = to_screen(c, WIDTH, HEIGHT);
-    let inv_w = PERSPECTIVE_SCALE / c[3];
-    let l = v.light.apply(p);
-    // Projective light coordinates: s = (x + w)/2, t = (w − y)/2 (y down),
-    // r = (z + w)/2, q = w, so that s/q, t/q, r/q lie in [0, 1].
-    let (ls, lt, lr, lq) = (
-        (l[0] + l[3]) * 0.5,
-        (l[3] - l[1]) * 0.5,
-        (l[2] + l[3]) * 0.5,
-        l[3],
-    );
-    // Per-vertex Lambert term with inverse-square fall-off (normal +y).
-    let to_light = v.light_pos - p;
-    let d2 = to_light.dot(to_light);
-    let lambert = (to_light.normalized().y * LAMBERT_SCALE / d2).clamp(0.0, 1.0);
-    let attrs = [
-        tu * CHECKER_REPEAT * inv_w,
-        tv * CHECKER_REPEAT * inv_w,
-        inv_w,
-        ls * inv_w,
-        lt * inv_w,
-        lr * inv_w,
-        lq * inv_w,
-        lambert,
-    ];
+    let (x, y, attrs) = floor_attributes(v, p, tex);
     units.interp.vertex_from_f64(k, x, y, &attrs, c_interp)
 }
 

@@ -42,18 +42,27 @@ pub fn emit_gl_cli(
         .iter()
         .filter(|e| matches!(e, Export::Shafts(_)))
         .count();
-    println!(
-        "wrote {} (scene.c, build.sh, {} data files, model.png): {exported} {} exported, {} not",
-        dir.display(),
-        program.files.len() - 2,
+    let what = format!(
+        "{exported} {} exported, {} not",
         if exported == 1 { "pass" } else { "passes" },
         exports.len() - exported
+    );
+    print_written(dir, &program, &what);
+    Ok(())
+}
+
+/// What `--emit-gl` wrote into `dir` (`what`: the passes it holds) and how to run it.
+fn print_written(dir: &Path, program: &super::Program, what: &str) {
+    let data = program.files.len() - 2;
+    println!(
+        "wrote {} (scene.c, build.sh, {data} data {}, model.png): {what}",
+        dir.display(),
+        if data == 1 { "file" } else { "files" }
     );
     println!(
         "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
         dir.display()
     );
-    Ok(())
 }
 
 /// `--emit-gl` of a shading sphere scene: the Lambert sphere's program, or the reason
@@ -68,7 +77,13 @@ fn emit_sphere(
     if let Some(why) = super::sphere::not_exportable(&f) {
         return Err(format!("--emit-gl: {why}"));
     }
+    let vertex = f.point.vertex_config().is_some();
     if let Some(img) = image {
+        if vertex {
+            return Err(
+                "--image: shading-vertex lights sphere vertices; it has no image to size".into(),
+            );
+        }
         let side = crate::report::image_arg::square_side(img)?;
         rtl_model::error::check_range("--image", side.into(), 2, 4096)
             .map_err(|e| e.to_string())?;
@@ -80,33 +95,20 @@ fn emit_sphere(
         budget,
         &from,
     )?;
-    if f.point.vertex_config().is_some() {
-        if image.is_some() {
-            return Err(
-                "--image: shading-vertex lights sphere vertices; it has no image to size".into(),
-            );
-        }
+    if vertex {
         let p = super::vertex::vertex_program(&f)?;
         p.write(dir)?;
-        println!(
-            "wrote {} (scene.c, build.sh, 1 data file, model.png): the vertices lit by GL's fixed-function lighting, their colours as a {}x{} picture",
-            dir.display(),
+        let what = format!(
+            "the vertices lit by GL's fixed-function lighting, their colours as a {}x{} picture",
             crate::pipeline::shading::sweep::VERTEX_SEGMENTS,
             crate::pipeline::shading::sweep::VERTEX_RINGS
         );
-        return Ok(());
+        print_written(dir, &p.program, &what);
+    } else {
+        let p = super::sphere::sphere_program(&f)?;
+        p.write(dir)?;
+        print_written(dir, &p.program, "the sphere's one pass exported");
     }
-    let p = super::sphere::sphere_program(&f)?;
-    p.write(dir)?;
-    println!(
-        "wrote {} (scene.c, build.sh, {} data files, model.png): the sphere's one pass exported",
-        dir.display(),
-        p.program.files.len() - 2
-    );
-    println!(
-        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
-        dir.display()
-    );
     Ok(())
 }
 
@@ -120,14 +122,6 @@ fn emit_test_scene(dir: &Path, image: Option<&str>) -> Result<(), String> {
     super::write_files(&program, dir, |path| {
         fb.save_png(path).map_err(|e| e.to_string())
     })?;
-    println!(
-        "wrote {} (scene.c, build.sh, {} data files, model.png): 2 passes exported, 0 not",
-        dir.display(),
-        program.files.len() - 2
-    );
-    println!(
-        "build and run: cd {} && sh build.sh && ./scene   (writes framebuffer.png)",
-        dir.display()
-    );
+    print_written(dir, &program, "2 passes exported, 0 not");
     Ok(())
 }

@@ -19,13 +19,14 @@
 
 use super::source::{main_text, PRELUDE};
 use super::Program;
-use crate::pipeline::shading::brdfs::entry_view;
+use crate::pipeline::shading::brdfs::{entry_view, render_sphere, CatalogueEntry, SphereRender};
+use crate::pipeline::shading::materials::lobe_kind;
 use crate::pipeline::shading::normalize_cube::{normalization_texels, NormalizeCube};
+use crate::pipeline::shading::path::PathConfig;
 use crate::pipeline::shading::path::ShadingPath;
 use crate::pipeline::shading::scene_file::{ShadingFile, DEFAULT_IMAGE};
 use crate::pipeline::shading::sphere::SphereView;
-use crate::pipeline::shading::sweep::ShadingScene;
-use crate::pipeline::shading::sweep::{measure_point, shading_reference, sweep_view};
+use crate::pipeline::shading::sweep::{sweep_view, ShadingScene};
 use rtl_model::units::texture_sampler::Filter;
 use rtl_model::Counters;
 use std::fmt::Write as _;
@@ -48,15 +49,13 @@ pub fn not_exportable(f: &ShadingFile) -> Option<String> {
              (NV_texture_shader): no OpenGL 1.3 form"
                 .into(),
         ),
-        ShadingScene::Model(e) => {
-            (crate::pipeline::shading::materials::lobe_kind(&e.material) == "lookup").then(|| {
-                format!(
-                    "shading-{}'s specular lobe reads its lookup table at the DOT3's n·h (a \
+        ShadingScene::Model(e) => (lobe_kind(&e.material) == "lookup").then(|| {
+            format!(
+                "shading-{}'s specular lobe reads its lookup table at the DOT3's n·h (a \
                      dependent texture read, NV_texture_shader): no OpenGL 1.3 form",
-                    e.label
-                )
-            })
-        }
+                e.label
+            )
+        }),
     }
 }
 
@@ -72,8 +71,8 @@ pub struct SphereProgram {
     pub model_seconds: f64,
     /// Each covered pixel (x, y) and its normal as the address unit receives it.
     pub normals: Vec<([u32; 2], [f64; 3])>,
-    /// The cube's face side.
-    pub face: u32,
+    /// The cube's face side, when the sphere has a Lambert term (it reads the cube).
+    pub face: Option<u32>,
 }
 
 impl SphereProgram {
@@ -87,66 +86,65 @@ impl SphereProgram {
     }
 }
 
+/// The model's sphere of a catalogue scene, as `render` draws it: its levels, the
+/// path that drew them and the shading's wall seconds ([`render_sphere`]: the path —
+/// the factorisation, the tables — built before its clock starts).
+pub fn model_sphere(f: &ShadingFile) -> Result<(CatalogueEntry, SphereRender), String> {
+    let Some((entry, cfg)) = f.point.model() else {
+        return Err("--emit-gl: not a catalogue model's sphere".into());
+    };
+    let view = sweep_view(f.image.unwrap_or(DEFAULT_IMAGE));
+    let r = render_sphere(&entry, &view, &cfg).map_err(|e| format!("--emit-gl: {e}"))?;
+    Ok((entry, r))
+}
+
 /// The program of a shading sphere (refused, with why, for one with no GL 1.3 form).
 pub fn sphere_program(f: &ShadingFile) -> Result<SphereProgram, String> {
     if let Some(why) = not_exportable(f) {
         return Err(format!("--emit-gl: {why}"));
     }
-    let Some((entry, cfg)) = f.point.model() else {
-        return Err("--emit-gl: not a catalogue model's sphere".into());
-    };
+    if let Some((entry, cfg)) = f.point.model() {
+        check_widths(&entry, &cfg)?;
+    }
     let side = f.image.unwrap_or(DEFAULT_IMAGE);
-    let view = sweep_view(side);
-    let err = |e: rtl_model::ConfigError| format!("--emit-gl: {e}");
-    let path =
-        crate::pipeline::shading::materials::material_path(&entry.material, entry.color, &cfg)
-            .map_err(err)?;
-    check_widths(&path)?;
-    // The model's picture, as `render` writes it.
-    let reference = shading_reference(&f.point, &view)?;
-    let m = measure_point(&f.point, &view, &reference)?;
-    let (model_levels, model_seconds) = (m.levels, m.wall_seconds);
-    let lit = entry_view(&entry, &view);
-    let data = PixelData::of(&path, &lit)?;
+    let (entry, r) = model_sphere(f)?;
+    let lit = entry_view(&entry, &sweep_view(side));
+    let textures = r
+        .path
+        .factored()
+        .map_or(Vec::new(), |fr| fr.texture_codes());
+    let sides: Vec<u32> = textures.iter().map(|t| t.0).collect();
+    let data = PixelData::of(&r.path, &lit, &sides)?;
+    let bytes = |v: &[u32]| v.iter().map(|&t| t as u8).collect::<Vec<u8>>();
     let mut files = vec![(
         "sphere_pixels.f32".to_string(),
         super::f32_bytes(&data.floats),
     )];
-    let mut k = Constants {
-        name: f.point.scene().name(),
-        side,
-        count: data.normals.len(),
-        diffuse: None,
-        factors: Vec::new(),
-        shift: 0,
-    };
-    let face = path
-        .diffuse_stages()
-        .map_or(0, |(c, _)| c.config().face_side);
-    if let Some((cube, albedo)) = path.diffuse_stages() {
+    let diffuse = r.path.diffuse_stages().map(|(cube, albedo)| {
         let c = cube.config();
-        let texels = normalization_texels(c.face_side, c.texel_bits);
         files.push((
             "normalize_cube.raw".into(),
-            texels.iter().map(|&t| t as u8).collect(),
+            bytes(&normalization_texels(c.face_side, c.texel_bits)),
         ));
-        k.diffuse = Some(Diffuse {
+        Diffuse {
             face: c.face_side,
             filter: gl_filter(c.filter),
             light: data.light,
             albedo,
-        });
-    }
-    if let Some(fr) = path.factored() {
-        for (i, (size, codes)) in fr.texture_codes().into_iter().enumerate() {
-            files.push((
-                format!("factor_{i}.raw"),
-                codes.iter().map(|&t| t as u8).collect(),
-            ));
-            k.factors.push(size);
         }
-        k.shift = fr.shift();
+    });
+    for (i, (_, codes)) in textures.iter().enumerate() {
+        files.push((format!("factor_{i}.raw"), bytes(codes)));
     }
+    let k = Constants {
+        name: f.point.scene().name(),
+        side,
+        count: data.normals.len(),
+        face: diffuse.as_ref().map(|d| d.face),
+        diffuse,
+        factors: sides,
+        shift: r.path.factored().map_or(0, |fr| fr.shift()),
+    };
     let mut all = vec![
         ("scene.c".to_string(), scene_c(&k).into_bytes()),
         ("build.sh".to_string(), super::build_script().into_bytes()),
@@ -155,31 +153,29 @@ pub fn sphere_program(f: &ShadingFile) -> Result<SphereProgram, String> {
     Ok(SphereProgram {
         program: Program { files: all },
         side,
-        model_levels,
-        model_seconds,
+        model_levels: r.hardware,
+        model_seconds: r.wall_seconds,
         normals: data.normals,
-        face,
+        face: k.face,
     })
 }
 
 /// The GL program draws 8-bit textures and 8-bit combiner stages: the cube's texels
-/// and the factor textures must be 8 bits.
-fn check_widths(path: &ShadingPath) -> Result<(), String> {
-    if let Some((cube, _)) = path.diffuse_stages() {
-        let b = cube.config().texel_bits;
-        if b != 8 {
-            return Err(format!(
-                "--emit-gl: the normalisation cube's texels are {b} bits; the GL program's cube map is 8-bit"
-            ));
-        }
+/// and a factored lobe's textures must be 8 bits (checked on the configuration,
+/// before any work).
+fn check_widths(entry: &CatalogueEntry, cfg: &PathConfig) -> Result<(), String> {
+    let b = cfg.cube.texel_bits;
+    if b != 8 {
+        return Err(format!(
+            "--emit-gl: the normalisation cube's texels are {b} bits; the GL program's cube map is 8-bit"
+        ));
     }
-    if let Some(fr) = path.factored() {
-        if fr.texel_bits() != 8 {
-            return Err(format!(
-                "--emit-gl: factor_bits = {}: the GL program's factor textures are 8-bit; set factor_bits = 8",
-                fr.texel_bits()
-            ));
-        }
+    let factored = !matches!(lobe_kind(&entry.material), "none" | "lookup");
+    if factored && cfg.factor_bits != 8 {
+        return Err(format!(
+            "--emit-gl: factor_bits = {}: the GL program's factor textures are 8-bit; set factor_bits = 8",
+            cfg.factor_bits
+        ));
     }
     Ok(())
 }
@@ -201,12 +197,10 @@ struct PixelData {
 }
 
 impl PixelData {
-    fn of(path: &ShadingPath, lit: &SphereView) -> Result<PixelData, String> {
+    /// `sides`: each factor texture's side.
+    fn of(path: &ShadingPath, lit: &SphereView, sides: &[u32]) -> Result<PixelData, String> {
         let err = |e: rtl_model::ConfigError| format!("--emit-gl: {e}");
         let cube = path.cube();
-        let sides: Vec<f64> = path.factored().map_or(Vec::new(), |fr| {
-            fr.texture_codes().iter().map(|t| f64::from(t.0)).collect()
-        });
         let light = word_direction(cube, lit.light)?;
         let (mut floats, mut normals) = (Vec::new(), Vec::new());
         for p in lit.pixels().into_iter().flatten() {
@@ -214,7 +208,8 @@ impl PixelData {
             let mut v = vec![p.x as f64 + 0.5, p.y as f64 + 0.5, d[0], d[1], d[2]];
             if let Some(fr) = path.factored() {
                 let (coords, constant) = fr.pixel_operands(p.wi, p.wo).map_err(err)?;
-                for (c, side) in coords.iter().zip(&sides) {
+                for (c, &side) in coords.iter().zip(sides) {
+                    let side = f64::from(side);
                     v.extend([c[0] / side, c[1] / side]);
                 }
                 v.push(f64::from(constant));
@@ -252,6 +247,8 @@ struct Constants {
     name: String,
     side: u32,
     count: usize,
+    /// The cube's face side (with the Lambert term).
+    face: Option<u32>,
     diffuse: Option<Diffuse>,
     /// Each factor texture's side.
     factors: Vec<u32>,

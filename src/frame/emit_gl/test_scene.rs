@@ -17,22 +17,19 @@
 
 use super::source::{main_text, PRELUDE};
 use super::Program;
-use crate::scene::math::v3;
+use crate::pipeline::test_scene::{
+    floor_attributes, floor_corner, occluder_window, FLOOR_CELLS, SHADOW_BIAS, SHADOW_DEPTH_BITS,
+    SHADOW_SIZE,
+};
 use crate::scene::test_scene::{
-    checker_texels, lightmap_texels, occluder_quads, views, AMBIENT, CHECKER_REPEAT, CHECKER_SIZE,
-    FLOOR_HALF, HEIGHT, LAMBERT_SCALE, LIGHTMAP_SIZE, LIGHT_RGB, WIDTH,
+    checker_texels, lightmap_texels, occluder_quads, views, AMBIENT, CHECKER_SIZE, HEIGHT,
+    LIGHTMAP_SIZE, LIGHT_RGB, WIDTH,
 };
 use std::fmt::Write as _;
 
 /// Floats per floor vertex: x, y (window, y down), the Lambert term, the checker's
 /// (u/w, v/w, 1/w), the light's (s/w, t/w, r/w, q/w).
 pub const FLOOR_FLOATS: usize = 10;
-/// The shadow map's side and its depth steps (the model's 128², 16 bits, bias 8).
-const SHADOW_SIZE: u32 = 128;
-const SHADOW_BIAS_STEPS: f64 = 8.0;
-const SHADOW_STEPS: f64 = 65535.0;
-/// Floor cells per side (the model's 8 × 8).
-const CELLS: usize = 8;
 
 /// The extensions the program draws with.
 const EXTENSIONS: [&str; 3] = [
@@ -41,63 +38,39 @@ const EXTENSIONS: [&str; 3] = [
     "GL_ARB_texture_env_combine",
 ];
 
-/// Screen position (pixels, y down) of clip coordinates on a `w` × `h` target.
-fn to_screen(c: [f64; 4], w: u32, h: u32) -> (f64, f64) {
-    let (x, y) = (c[0] / c[3], c[1] / c[3]);
-    ((x * 0.5 + 0.5) * w as f64, (0.5 - y * 0.5) * h as f64)
-}
-
-/// The occluder's quads in the shadow map: x, y (texels, y down) and window depth.
+/// The occluder's quads in the shadow map, as the model's host computes them: x, y
+/// (texels, y down) and window depth.
 fn occluder_vertices() -> Vec<f32> {
     let v = views();
-    let mut out = Vec::new();
-    for q in occluder_quads() {
-        for p in q {
-            let c = v.light.apply(p);
-            let (x, y) = to_screen(c, SHADOW_SIZE, SHADOW_SIZE);
-            out.extend([x, y, (c[2] / c[3]) * 0.5 + 0.5].map(|a| a as f32));
-        }
-    }
-    out
+    occluder_quads()
+        .into_iter()
+        .flatten()
+        .flat_map(|p| {
+            let (x, y, z) = occluder_window(&v, p);
+            [x, y, z].map(|a| a as f32)
+        })
+        .collect()
 }
 
-/// The floor's cells, four corners each ([`FLOOR_FLOATS`] per corner), as the model's
-/// host computes them (1/w unscaled here: GL divides it out).
+/// The floor's cells, four corners each ([`FLOOR_FLOATS`] per corner), with the
+/// attributes the model's host hands its interpolator (the 1/w scale cancels in GL's
+/// per-fragment divide).
 fn floor_vertices() -> Vec<f32> {
     let v = views();
-    let n = CELLS;
-    let corner = |i: usize, j: usize| {
-        let f = |k: usize| -FLOOR_HALF + 2.0 * FLOOR_HALF * k as f64 / n as f64;
-        let p = v3(f(i), 0.0, f(j));
-        let (tu, tv) = (i as f64 / n as f64, j as f64 / n as f64);
-        let c = v.cam.apply(p);
-        let (x, y) = to_screen(c, WIDTH, HEIGHT);
-        let iw = 1.0 / c[3];
-        let l = v.light.apply(p);
-        let to_light = v.light_pos - p;
-        let d2 = to_light.dot(to_light);
-        let lambert = (to_light.normalized().y * LAMBERT_SCALE / d2).clamp(0.0, 1.0);
-        // The model's modulate reads the interpolated term as the code ⌊l·256⌋ of 255:
-        // the primary colour carries l·256/255 (GL clamps it to 1).
-        let lambert = lambert * 256.0 / 255.0;
-        [
-            x,
-            y,
-            lambert,
-            tu * CHECKER_REPEAT * iw,
-            tv * CHECKER_REPEAT * iw,
-            iw,
-            (l[0] + l[3]) * 0.5 * iw,
-            (l[3] - l[1]) * 0.5 * iw,
-            (l[2] + l[3]) * 0.5 * iw,
-            l[3] * iw,
-        ]
-    };
+    let n = FLOOR_CELLS;
     let mut out = Vec::new();
     for j in 0..n {
         for i in 0..n {
             for (a, b) in [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)] {
-                out.extend(corner(a, b).map(|x| x as f32));
+                let (p, tu, tv) = floor_corner(a, b);
+                let (x, y, at) = floor_attributes(&v, p, (tu, tv));
+                // The model's modulate reads the interpolated Lambert term as the code
+                // ⌊l·256⌋ of 255: the primary colour carries l·256/255 (GL clamps it).
+                let lambert = at[7] * 256.0 / 255.0;
+                let row = [
+                    x, y, lambert, at[0], at[1], at[2], at[3], at[4], at[5], at[6],
+                ];
+                out.extend(row.map(|a| a as f32));
             }
         }
     }
@@ -133,8 +106,8 @@ fn scene_c(occluder_vertices: usize, floor_vertices: usize) -> String {
         tw = WIDTH.next_power_of_two(),
         th = HEIGHT.next_power_of_two(),
         sr = SHADOW_SIZE,
-        bias = SHADOW_BIAS_STEPS,
-        bias_f = SHADOW_BIAS_STEPS / SHADOW_STEPS,
+        bias = SHADOW_BIAS,
+        bias_f = f64::from(SHADOW_BIAS) / ((1u64 << SHADOW_DEPTH_BITS) - 1) as f64,
         cs = CHECKER_SIZE,
         ls = LIGHTMAP_SIZE,
         ov = occluder_vertices,

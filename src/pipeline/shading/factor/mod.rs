@@ -37,7 +37,7 @@ use crate::scene::math::{v3, Vec3};
 use rtl_model::counters::Counters;
 use rtl_model::error::ConfigError;
 use rtl_model::units::modulate::ModulateChain;
-use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig};
+use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerConfig, TextureSamplerIn};
 
 /// What the factors approximate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -340,6 +340,25 @@ pub fn combine(operands: &[u32], shift: u32, chain: &ModulateChain, ctr: &mut Co
     }
 }
 
+/// A factor sampler's coordinate words for the pair (ω_i, ω_o): the projected
+/// direction's parabolic coordinates, quantised by the sampler's own input rule.
+fn sampler_input(
+    p: Projection,
+    s: &TextureSampler,
+    wi: Vec3,
+    wo: Vec3,
+    ctr: &mut Counters,
+) -> Result<TextureSamplerIn, ConfigError> {
+    let uv = parabolic_coords(p.direction(wi, wo));
+    s.config().input_from_normalized([uv[0], uv[1], 0.0], ctr)
+}
+
+/// The value of a 2D sampler's coordinate words, in texels.
+fn texel_coords(s: &TextureSampler, input: &TextureSamplerIn) -> [f64; 2] {
+    let scale = (1u64 << s.coord_frac_bits()) as f64;
+    [input.coord[0] as f64 / scale, input.coord[1] as f64 / scale]
+}
+
 /// A factor quantised to a b-bit texture: code = round(texel / max · (2^b − 1)).
 #[derive(Clone, Debug, PartialEq)]
 pub struct QuantisedFactor {
@@ -526,12 +545,7 @@ impl FactorRenderer {
         let mut ctr = Counters::default();
         let mut coords = Vec::with_capacity(self.samplers.len());
         for (p, s, _) in &self.samplers {
-            let uv = parabolic_coords(p.direction(wi, wo));
-            let input = s
-                .config()
-                .input_from_normalized([uv[0], uv[1], 0.0], &mut ctr)?;
-            let scale = (1u64 << s.coord_frac_bits()) as f64;
-            coords.push([input.coord[0] as f64 / scale, input.coord[1] as f64 / scale]);
+            coords.push(texel_coords(s, &sampler_input(*p, s, wi, wo, &mut ctr)?));
         }
         Ok((
             coords,
@@ -562,8 +576,7 @@ impl FactorRenderer {
         let n = self.combiner_bits;
         let mut ops = Vec::with_capacity(self.samplers.len() + 1);
         for (p, s, _) in &self.samplers {
-            let uv = parabolic_coords(p.direction(wi, wo));
-            let input = s.config().input_from_normalized([uv[0], uv[1], 0.0], ctr)?;
+            let input = sampler_input(*p, s, wi, wo, ctr)?;
             let texel = s.sample(&input, ctr)[0]; // u(b)
             ops.push(widen_code(texel, self.texel_bits, n)); // u(b) → u(n)
         }
@@ -579,11 +592,8 @@ impl FactorRenderer {
     pub fn shade_f64(&self, wi: Vec3, wo: Vec3, ctr: &mut Counters) -> Result<f64, ConfigError> {
         let mut prod = self.constant(wi, wo);
         for (p, s, f) in &self.samplers {
-            let uv = parabolic_coords(p.direction(wi, wo));
-            let input = s.config().input_from_normalized([uv[0], uv[1], 0.0], ctr)?;
-            let scale = (1u64 << s.coord_frac_bits()) as f64;
-            prod *= f
-                .bilinear_texel_space(input.coord[0] as f64 / scale, input.coord[1] as f64 / scale);
+            let [u, v] = texel_coords(s, &sampler_input(*p, s, wi, wo, ctr)?);
+            prod *= f.bilinear_texel_space(u, v);
         }
         Ok((prod * 2f64.powi(self.shift as i32) * 255.0).clamp(0.0, 255.0))
     }
