@@ -11,18 +11,16 @@ use super::source::{main_text, PRELUDE};
 use super::Program;
 use crate::pipeline::shading::scene_file::ShadingFile;
 use crate::pipeline::shading::sweep::{VERTEX_RINGS, VERTEX_SEGMENTS};
-use crate::pipeline::shading::vertex_float::{one_light, sphere_vertices};
+use crate::pipeline::shading::vertex_float::{light_codes, one_light, sphere_vertices};
 use crate::report::image_out::Framebuffer;
 use rtl_model::lighting_state::LightingSetup;
-use rtl_model::units::vertex_lighting::VertexLighting;
-use rtl_model::{Counters, Unit};
 use std::fmt::Write as _;
 
 /// The vertex sphere's program and the model's picture of its vertex colours.
 pub struct VertexProgram {
     pub program: Program,
     pub model: Framebuffer,
-    /// The unit lighting every vertex, wall seconds.
+    /// The unit built and lighting every vertex, wall seconds.
     pub model_seconds: f64,
 }
 
@@ -56,17 +54,12 @@ pub fn vertex_program(f: &ShadingFile) -> Result<VertexProgram, String> {
     }
     let setup = one_light();
     let verts = sphere_vertices(VERTEX_RINGS, VERTEX_SEGMENTS);
-    let unit = VertexLighting::new(cfg, &setup).map_err(|e| format!("--emit-gl: {e}"))?;
-    let mut model = Framebuffer::new(VERTEX_SEGMENTS, VERTEX_RINGS, 8);
-    let mut ctr = Counters::default();
     let t0 = std::time::Instant::now();
-    for (i, &(p, n)) in verts.iter().enumerate() {
-        let input = unit
-            .vertex_from_f64(p, n, &mut ctr)
-            .map_err(|e| format!("--emit-gl: {e}"))?;
-        let out = unit.kernel(&mut (), &input, &mut ctr);
+    let (_, codes, _) = light_codes(cfg, &setup, &verts).map_err(|e| format!("--emit-gl: {e}"))?;
+    let mut model = Framebuffer::new(VERTEX_SEGMENTS, VERTEX_RINGS, 8);
+    for (i, c) in codes.iter().enumerate() {
         let (x, y) = (i as u32 % VERTEX_SEGMENTS, i as u32 / VERTEX_SEGMENTS);
-        model.set(x, y, [out.rgba[0], out.rgba[1], out.rgba[2], 255]);
+        model.set(x, y, [c[0], c[1], c[2], 255]);
     }
     let model_seconds = t0.elapsed().as_secs_f64();
     let floats: Vec<f32> = verts

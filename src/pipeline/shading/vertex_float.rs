@@ -198,6 +198,26 @@ pub fn exact_levels(
         .collect()
 }
 
+/// Light every vertex through the unit: the unit, each vertex's RGB codes and the
+/// counters.
+pub fn light_codes(
+    cfg: VertexLightingConfig,
+    setup: &LightingSetup,
+    verts: &[([f64; 3], [f64; 3])],
+) -> Result<(VertexLighting, Vec<[u32; 3]>, Counters), String> {
+    let u = VertexLighting::new(cfg, setup).map_err(|e| e.to_string())?;
+    let mut ctr = Counters::default();
+    let mut codes = Vec::with_capacity(verts.len());
+    for &(p, n) in verts {
+        let input = u
+            .vertex_from_f64(p, n, &mut ctr)
+            .map_err(|e| e.to_string())?;
+        let out = u.kernel(&mut (), &input, &mut ctr);
+        codes.push([out.rgba[0], out.rgba[1], out.rgba[2]]);
+    }
+    Ok((u, codes, ctr))
+}
+
 /// [`measure`] against exact colours drawn before ([`exact_levels`] of the same
 /// colour width, setup and vertices).
 pub fn measure_against(
@@ -213,16 +233,11 @@ pub fn measure_against(
             verts.len()
         ));
     }
-    let u = VertexLighting::new(cfg, setup).map_err(|e| e.to_string())?;
-    let mut ctr = Counters::default();
+    let (u, codes, ctr) = light_codes(cfg, setup, verts)?;
     let (mut got, mut ideal) = (Vec::new(), Vec::new());
     let mut max_exact: f64 = 0.0;
-    for (&(p, n), &exact) in verts.iter().zip(exact_all) {
-        let input = u
-            .vertex_from_f64(p, n, &mut ctr)
-            .map_err(|e| e.to_string())?;
-        let out = u.kernel(&mut (), &input, &mut ctr);
-        let code = [0, 1, 2].map(|k| out.rgba[k] as f64);
+    for (rgb, &exact) in codes.iter().zip(exact_all) {
+        let code = rgb.map(f64::from);
         for k in 0..3 {
             max_exact = max_exact.max((code[k] - exact[k]).abs());
         }
