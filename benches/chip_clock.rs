@@ -80,6 +80,7 @@ fn fig6b_plane() -> PassWork {
         copy_read_bytes: 0,
         copy_write_bytes: 0,
         sample: None,
+        unrecorded: false,
     }
 }
 

@@ -156,3 +156,121 @@ fn clocked_and_sampled_frames_time_every_pass_and_change_no_pixel() {
     assert_eq!(one.timing, two.timing, "same cycles on 1 and 2 threads");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The sampled mode's passes: of each kind, passes 0 and 1 and then one in `every`.
+#[test]
+fn the_sampled_mode_records_the_first_two_passes_of_a_kind_and_one_in_every() {
+    use glare_pipeline::chip::work::PassSample;
+    let picked = |every| {
+        (0..20)
+            .filter(|&n| PassSample { every }.records(n))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(picked(8), vec![0, 1, 8, 16]);
+    assert_eq!(picked(3), vec![0, 1, 3, 6, 9, 12, 15, 18]);
+    assert_eq!(picked(1), (0..20).collect::<Vec<_>>());
+    assert_eq!(picked(0), (0..20).collect::<Vec<_>>());
+}
+
+/// The ratio estimate over a kind's passes, by hand: R = Σc / Σx, the variance
+/// N²(1 − n/N)/n · Σ(c − R·x)²/(n − 1) plus the recorded passes' own, carried by
+/// X / Σx.
+#[test]
+fn a_kind_of_pass_is_estimated_by_its_ratio_to_the_roofline() {
+    use glare_pipeline::frame::strata::kind_estimate;
+    // Proportional passes: exact, no spread.
+    let e = kind_estimate(&[(100.0, 1.0, 0.0), (200.0, 2.0, 0.0)], &[3.0]);
+    assert_eq!(e.clocks_per_proxy, 100.0);
+    assert_eq!(e.variance, 0.0);
+    // R = 600 / 5 = 120; residuals −20, 60, −40: s² = 5600 / 2 = 2800; N = 4, n = 3:
+    // 16 · (1/4) / 3 · 2800 = 3733.3…; own variances 9 each, carried by (5 + 3) / 5.
+    let rec = [(100.0, 1.0, 9.0), (300.0, 2.0, 9.0), (200.0, 2.0, 9.0)];
+    let e = kind_estimate(&rec, &[3.0]);
+    assert_eq!(e.clocks_per_proxy, 120.0);
+    let want = 16.0 * 0.25 / 3.0 * 2800.0 + 8.0 / 5.0 * 27.0;
+    assert!((e.variance - want).abs() < 1e-9, "{} vs {want}", e.variance);
+    // Every pass recorded: only their own variances.
+    let e = kind_estimate(&rec, &[]);
+    assert!((e.variance - 27.0).abs() < 1e-12, "{}", e.variance);
+    // One recorded, one not: the spread is unknown, the unrecorded part ± 100 %.
+    let e = kind_estimate(&[(100.0, 1.0, 0.0)], &[2.0]);
+    assert_eq!(e.variance, 200.0 * 200.0);
+}
+
+/// Sampled timing on a frame large enough to sample (96 × 64: 8 bands, one in 2
+/// clocked; 12 planes of 3 sub-planes: 12 of a kind, passes 0, 1, 8 clocked): the same
+/// pixels; every pass not clocked is scaled from an earlier clocked pass of its kind;
+/// the frame's cycles near the full count; the same timing on 1 and 2 threads.
+#[test]
+fn sampled_timing_clocks_some_passes_of_each_kind_and_scales_the_rest() {
+    use glare_pipeline::chip::config::ChipConfig;
+    let mut s = small("fig6");
+    s.image.width = 96;
+    s.image.height = 64;
+    s.shafts.planes = 12;
+    s.shafts.subplanes = 3;
+    let base = render(&s).unwrap();
+    let timed = |mode| {
+        let req = TimingRequest {
+            mode,
+            chip: None,
+            window: None,
+        };
+        render_timed(&s, &req, Some(ChipConfig::geforce2_gts()), None)
+            .unwrap()
+            .0
+    };
+    let sampled = timed(TimingMode::Sampled);
+    let clocked = timed(TimingMode::Clocked);
+    assert_eq!(sampled.fb, base.fb, "the sample changes no pixel");
+    let st = sampled.timing.as_ref().unwrap();
+    let ct = clocked.timing.as_ref().unwrap();
+    assert_eq!(st.passes.len(), ct.passes.len());
+    assert_eq!(
+        (st.sample_band_every, st.sample_pass_every),
+        (Some(2), Some(8))
+    );
+    assert_eq!((ct.sample_band_every, ct.sample_pass_every), (None, None));
+    // 3 single passes, then per plane 3 sub-planes, a copy and the plane: the kinds
+    // are sub-planes (36), copies (12) and planes (12).
+    let kind = |i: usize| {
+        if i < 3 {
+            i
+        } else {
+            3 + (i - 3) % 5 / 3 + (i - 3) % 5 / 4
+        }
+    };
+    let mut scaled = 0;
+    for (i, p) in st.passes.iter().enumerate() {
+        assert!(p.timing.cycles > 0, "pass {i}");
+        assert!(ct.passes[i].scaled_from.is_none());
+        if let Some(k) = p.scaled_from {
+            scaled += 1;
+            assert!(k < i && st.passes[k].scaled_from.is_none(), "{i} from {k}");
+            assert_eq!(kind(k), kind(i), "{i} from {k}");
+            assert_eq!(p.timing.stages.len(), st.passes[k].timing.stages.len());
+        }
+    }
+    // Clocked: sub-planes 0, 1, 8, 16, 24, 32; copies and planes 0, 1, 8; the rest
+    // scaled.
+    assert_eq!(scaled, (36 - 6) + 2 * (12 - 3));
+    let (a, b) = (st.cycles_total() as f64, ct.cycles_total() as f64);
+    let stated = st.sampling_error.expect("a sampled frame states its error");
+    assert!(stated > 0.0 && stated < 0.1, "{stated}");
+    assert!(
+        (a - b).abs() / b <= 3.0 * stated + 0.03,
+        "sampled {a} against clocked {b} (stated ± {stated})"
+    );
+    let pool = |n| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let one = pool(1).install(|| timed(TimingMode::Sampled));
+    assert_eq!(
+        one.timing.as_ref(),
+        Some(st),
+        "same sampled timing on 1 and 2 threads"
+    );
+}

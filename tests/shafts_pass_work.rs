@@ -3,7 +3,7 @@
 //! (fragments, walked pixels, primitives, texel bytes, framebuffer and depth bytes,
 //! copy bytes); the record is the same on one and two threads.
 
-use glare_pipeline::chip::work::{PassWork, SampleBands};
+use glare_pipeline::chip::work::{PassSample, PassWork, SampleBands};
 use glare_pipeline::chip::{kind_name, PassKind};
 use glare_pipeline::pipeline::shafts::frame::{passes, FrameResult, ShaftsFrame};
 use glare_pipeline::pipeline::shafts::host::prepare_scene;
@@ -46,6 +46,7 @@ fn frame_sampled(
                 Ok(())
             }),
             bands,
+            PassSample::ALL,
         );
     }
     for pass in passes(&p) {

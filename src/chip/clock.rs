@@ -49,6 +49,25 @@ pub struct WindowTrace {
     pub changes: Vec<(u64, u32, u64)>,
 }
 
+impl Timeline {
+    /// Resample the timeline so that its buckets span `cycles` clocks: as many buckets
+    /// as before (or fewer, when the last would be empty), each taking the busy
+    /// fractions of the bucket at the same relative position.
+    pub fn stretch(&mut self, cycles: u64) {
+        let n = self.busy.first().map_or(0, Vec::len) as u64;
+        if n == 0 || cycles == 0 {
+            return;
+        }
+        let bucket = cycles.div_ceil(n).max(1);
+        let m = cycles.div_ceil(bucket);
+        for row in &mut self.busy {
+            let old = std::mem::take(row);
+            *row = (0..m).map(|b| old[(b * n / m) as usize]).collect();
+        }
+        self.bucket_clocks = bucket;
+    }
+}
+
 /// A pass clocked on a chip.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct PassTiming {
@@ -86,6 +105,10 @@ pub struct NamedPassTiming {
     pub timing: PassTiming,
     /// The roofline's seconds for the same pass (the cross-check).
     pub roofline_seconds: f64,
+    /// In sampled mode, a pass that was not recorded: the index of the frame's pass
+    /// its timing is scaled from (the recorded pass of its kind before it,
+    /// [`crate::chip::work::PassSample`]). `None`: the pass was clocked.
+    pub scaled_from: Option<usize>,
 }
 
 /// A frame's clocked timing.
@@ -100,6 +123,12 @@ pub struct FrameTiming {
     /// In sampled mode: the estimated relative error of the frame's cycles (one
     /// standard error over the groups of sampled bands), else `None`.
     pub sampling_error: Option<f64>,
+    /// In sampled mode: one screen band (full-width 8-row tile row) in this many is
+    /// clocked in each clocked pass (1: every band), else `None`.
+    pub sample_band_every: Option<u32>,
+    /// In sampled mode: of each kind of pass, the first two and then one in this many
+    /// are clocked (1: every pass; [`crate::chip::work::PassSample`]), else `None`.
+    pub sample_pass_every: Option<u32>,
     /// Passes of the frame that recorded no work (not clocked: not in `passes`,
     /// not in `cycles_total`), with their roofline time.
     pub roofline_only: Vec<RooflineOnlyPass>,
@@ -1814,6 +1843,12 @@ fn ratio_estimate(cn: &[(f64, f64)]) -> (f64, f64) {
         0.0
     };
     (r, rse)
+}
+
+/// A pass's timing scaled to `cycles` (another pass of its kind, estimated from it):
+/// stage clocks in proportion, counts and bytes by `f`, the bottleneck named again.
+pub fn scale_timing(t: PassTiming, cycles: u64, f: f64) -> PassTiming {
+    scale_sampled(t, cycles, 0, f)
 }
 
 /// The sampled groups' timing scaled to the whole pass: `work_clocks` of estimated work

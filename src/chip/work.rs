@@ -100,6 +100,30 @@ pub struct PassWork {
     /// ([`SampleBands`]): `frag_xy` and `texels` hold the sampled fragments, while the
     /// per-primitive vectors (here and in the sample) count every primitive in full.
     pub sample: Option<SampleRecord>,
+    /// The sampled mode left this pass unrecorded ([`PassSample`]): only `stats` is
+    /// set, and the pass's time is scaled from the recorded passes of its kind.
+    pub unrecorded: bool,
+}
+
+/// The sampled mode's passes. A frame's passes fall into kinds (a stratum: the same
+/// [`PassKind`], light and textures per fragment, such as a light's 180 sub-planes);
+/// of each kind's passes, numbered in draw order from 0, passes 0 and 1 and then one
+/// in `every` are recorded and clocked, and the others' clocks are scaled from them in
+/// proportion to their roofline time (a ratio estimator over the kind's passes).
+/// `every` ≤ 1: every pass is recorded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct PassSample {
+    pub every: u32,
+}
+
+impl PassSample {
+    /// Every pass recorded.
+    pub const ALL: PassSample = PassSample { every: 1 };
+
+    /// Whether pass `n` of its kind (numbered from 0 in draw order) is recorded.
+    pub fn records(&self, n: usize) -> bool {
+        self.every <= 1 || n < 2 || n.is_multiple_of(self.every as usize)
+    }
 }
 
 /// The screen sample of the sampled timing mode: units of `band_rows` pixel rows by

@@ -20,8 +20,9 @@ pub struct TimingArgs {
     /// How the frame's time is found: roofline (max(fill, memory) plus set-up per
     /// pass with an assumed texture-cache hit rate), clocked (each pass's work, as
     /// the frame records it, clocked through the chip's stages, FIFOs, texture caches
-    /// and memory controller) or sampled (one full-width band of 8 rows in 8 clocked
-    /// and the rest scaled, with its estimated error). Clocked and sampled time the shafts scenes
+    /// and memory controller) or sampled (of each kind of pass the first two and one
+    /// in 8 clocked, each on one full-width band of 8 rows in 8, and the rest scaled,
+    /// with its estimated error). Clocked and sampled time the shafts scenes
     /// (fig4, fig6, stage and scene files without glare); the roofline stays printed
     /// beside them.
     #[arg(long, value_enum, value_name = "MODE", default_value_t = TimingMode::Roofline)]

@@ -27,6 +27,7 @@ pub mod reproduce;
 pub mod run;
 pub mod scene_text;
 pub mod speed;
+pub mod strata;
 pub mod sweep;
 pub mod timing;
 pub mod vs_gl;

@@ -282,8 +282,8 @@ impl<'a> FrameState<'a> {
     fn clock_with(&mut self, c: Clock) {
         let c = Rc::new(RefCell::new(c));
         if let Some(f) = self.shafts.as_mut() {
-            let bands = c.borrow().record_bands();
-            f.record_work_sampled(super::timing::sink(&c), bands);
+            let (bands, passes) = (c.borrow().record_bands(), c.borrow().record_passes());
+            f.record_work_sampled(super::timing::sink(&c), bands, passes);
         }
         self.clock = Some(c);
     }

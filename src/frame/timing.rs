@@ -13,9 +13,10 @@
 
 use super::gpu::Gpu;
 use super::plan::{Plan, Step};
+use super::strata::{Strata, Stratum};
 use crate::chip::clock::{clock_pass, FrameTiming, NamedPassTiming, PassTiming, RooflineOnlyPass};
 use crate::chip::config::ChipConfig;
-use crate::chip::work::{PassWork, SampleBands};
+use crate::chip::work::{PassSample, PassWork, SampleBands};
 use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::shafts::frame::WorkSink;
 use rtl_model::ConfigError;
@@ -185,6 +186,10 @@ pub fn chip_config(chip: ChipName) -> Result<ChipConfig, String> {
 /// Every how many screen bands (full-width 8-row tile rows) sampled timing clocks one.
 pub const SAMPLE_EVERY: u32 = 8;
 
+/// Of each kind's passes, sampled timing records and clocks the first two and then one
+/// in this many ([`PassSample`]) when it samples the frame's bands.
+pub const SAMPLE_PASS_EVERY: u32 = 8;
+
 /// The screen bands the sampled mode records and clocks on a frame of `rows` pixel
 /// rows: one band in [`SAMPLE_EVERY`], or fewer when the frame has too few bands for
 /// every group to get one ([`crate::chip::clock::SAMPLE_GROUPS`]; one in 1: the frame
@@ -217,25 +222,8 @@ fn clock_sampled(
         &cut
     };
     let (mut t, e) = crate::chip::clock::clock_pass_sampled(chip, work, bands.every)?;
-    stretch_timeline(&mut t.timeline, t.cycles);
+    t.timeline.stretch(t.cycles);
     Ok((t, e))
-}
-
-/// Resample `tl` so that its buckets span `cycles` clocks: as many buckets as before
-/// (or fewer, when the last would be empty), each taking the busy fractions of the
-/// bucket at the same relative position.
-fn stretch_timeline(tl: &mut crate::chip::clock::Timeline, cycles: u64) {
-    let n = tl.busy.first().map_or(0, Vec::len) as u64;
-    if n == 0 || cycles == 0 {
-        return;
-    }
-    let bucket = cycles.div_ceil(n).max(1);
-    let m = cycles.div_ceil(bucket);
-    for row in &mut tl.busy {
-        let old = std::mem::take(row);
-        *row = (0..m).map(|b| old[(b * n / m) as usize]).collect();
-    }
-    tl.bucket_clocks = bucket;
 }
 
 /// The frame's clocked timing as it is built, pass by pass (on the clock's own thread:
@@ -247,8 +235,8 @@ struct ClockState {
     /// The frame pass whose work arrives next.
     pass: String,
     timing: FrameTiming,
-    /// Per clocked pass: the relative standard error and cycles (sampled mode).
-    errors: Vec<(f64, u64)>,
+    /// Sampled mode: the passes by kind, the clocked ones and those scaled from them.
+    strata: Strata,
     /// The frame's clocks traced for the VCD (START..END from the frame's start).
     window: Option<std::ops::Range<u64>>,
     /// The sampled mode's screen bands ([`sample_bands`] of the frame's rows).
@@ -272,7 +260,7 @@ impl ClockState {
             model,
             pass: String::new(),
             timing,
-            errors: Vec::new(),
+            strata: Strata::default(),
             window: None,
             alternates: Vec::new(),
             bands: sample_bands(0),
@@ -318,22 +306,57 @@ impl ClockState {
         (sampled && self.alternates.is_empty()).then_some(self.bands)
     }
 
+    /// Which passes of each kind record their work: in sampled mode, when it records
+    /// sampled bands ([`ClockState::record_bands`]), the first two and one in
+    /// [`SAMPLE_PASS_EVERY`]; else every pass.
+    fn record_passes(&self) -> PassSample {
+        match self.record_bands() {
+            Some(_) => PassSample {
+                every: SAMPLE_PASS_EVERY,
+            },
+            None => PassSample::ALL,
+        }
+    }
+
     /// The frame's height in pixels, which sets the sampled mode's bands.
     fn with_frame_rows(mut self, rows: u32) -> Self {
         self.bands = sample_bands(rows);
         self
     }
 
-    /// Clock one pass's record.
+    /// Clock one pass's record (in sampled mode, a pass that was not recorded is
+    /// kept to be scaled from its kind's clocked passes at [`ClockState::finish`]).
     fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
         let roofline_seconds = work
             .stats
             .as_ref()
             .map_or(0.0, |s| pass_seconds(&self.model, s).0);
+        let index = self.timing.passes.len();
+        let stratum = work.stats.as_ref().map(Stratum::of);
+        if work.unrecorded {
+            let (Some(kind), true) = (stratum, self.mode == TimingMode::Sampled) else {
+                return Err(ConfigError::invalid(
+                    "timing",
+                    "internal: a pass without its record outside the sampled mode",
+                ));
+            };
+            self.strata
+                .unrecorded(kind, index, roofline_seconds)
+                .map_err(|e| ConfigError::invalid("timing", &e))?;
+            self.timing.passes.push(NamedPassTiming {
+                pass: self.pass.clone(),
+                roofline_seconds,
+                ..NamedPassTiming::default()
+            });
+            return Ok(());
+        }
         let timing = match self.mode {
             TimingMode::Sampled => {
                 let (t, e) = clock_sampled(&self.chip, &work, self.bands)?;
-                self.errors.push((e, t.cycles));
+                // A pass without stats has no kind: its own stratum of one.
+                let kind = stratum.unwrap_or(Stratum::alone(index));
+                self.strata
+                    .recorded(kind, index, t.cycles, roofline_seconds, e);
                 t
             }
             _ => {
@@ -360,12 +383,14 @@ impl ClockState {
                 pass: self.pass.clone(),
                 timing: timing?,
                 roofline_seconds,
+                scaled_from: None,
             });
         }
         self.timing.passes.push(NamedPassTiming {
             pass: self.pass.clone(),
             timing,
             roofline_seconds,
+            scaled_from: None,
         });
         Ok(())
     }
@@ -382,18 +407,17 @@ impl ClockState {
         }
     }
 
-    /// The frame's timing. In sampled mode its relative error combines the passes'
-    /// (independent samples: the root of the summed squared errors in cycles, over
-    /// the frame's cycles).
+    /// The frame's timing. In sampled mode the passes that were not recorded get
+    /// their estimate ([`Strata::finish`]), and the frame's relative error combines
+    /// the kinds' (independent samples: the root of the summed variances in cycles²,
+    /// over the frame's cycles).
     fn finish(&mut self) -> FrameTiming {
         if self.mode == TimingMode::Sampled {
-            let total: u64 = self.errors.iter().map(|e| e.1).sum();
-            let var: f64 = self
-                .errors
-                .iter()
-                .map(|&(e, c)| (e * c as f64).powi(2))
-                .sum();
+            let var = std::mem::take(&mut self.strata).finish(&mut self.timing.passes);
+            let total = self.timing.cycles_total();
             self.timing.sampling_error = (total > 0).then(|| var.sqrt() / total as f64);
+            self.timing.sample_band_every = Some(self.bands.every.max(1));
+            self.timing.sample_pass_every = Some(self.record_passes().every.max(1));
         }
         std::mem::take(&mut self.timing)
     }
@@ -476,6 +500,14 @@ impl Clock {
     /// Asked before the first pass.
     pub fn record_bands(&self) -> Option<SampleBands> {
         self.state.as_ref().and_then(ClockState::record_bands)
+    }
+
+    /// Which passes of each kind record their work ([`PassSample`]; every pass unless
+    /// the sampled mode samples the frame). Asked before the first pass.
+    pub fn record_passes(&self) -> PassSample {
+        self.state
+            .as_ref()
+            .map_or(PassSample::ALL, ClockState::record_passes)
     }
 
     /// Hand `m` to the clock's thread (started on the first message). A thread that

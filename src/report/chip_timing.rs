@@ -339,9 +339,12 @@ pub fn print_table(ft: &FrameTiming) -> String {
     let hz = ft.clock_hz;
     let mode = match ft.mode.as_str() {
         "sampled" => format!(
-            "sampled: one full-width band of 8 rows in 8 clocked exactly, the rest scaled\n\
+            "sampled: of each kind of pass, the first two and one in {} clocked, each on one\n\
+             full-width band of 8 rows in {}; the other passes and bands scaled from them\n\
              sampling error: frame cycles ± {} (one standard error of the spread between\n\
-             the sampled bands; the sample's bias is not in it)",
+             the sampled bands and passes; the sample's bias is not in it)",
+            or_na(ft.sample_pass_every.map(f64::from), |k| k.to_string()),
+            or_na(ft.sample_band_every.map(f64::from), |k| k.to_string()),
             or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0))
         ),
         "clocked" => "clocked: every fragment clocked".to_string(),
@@ -405,7 +408,7 @@ fn time_table(ft: &FrameTiming, roofline_total: f64) -> String {
             or_na(clocked.and_then(|c| ratio(c, roof)), |r| format!("{r:.2}")),
         ]
     };
-    let header = [
+    let mut header = vec![
         "#",
         "pass",
         "cycles",
@@ -413,18 +416,27 @@ fn time_table(ft: &FrameTiming, roofline_total: f64) -> String {
         "roofline_ms",
         "clocked/roofline",
     ];
+    let mut right = vec![true, false, true, true, true, true];
     let mut rows: Vec<Vec<String>> = ft
         .passes
         .iter()
         .enumerate()
         .map(|(i, p)| time_row(i.to_string(), &p.pass, p.timing.cycles, p.roofline_seconds))
         .collect();
-    rows.push(time_row(
-        String::new(),
-        "frame",
-        ft.cycles_total(),
-        roofline_total,
-    ));
+    // Sampled mode: which passes were clocked and which scaled from which.
+    if ft.mode == "sampled" {
+        header.push("timed");
+        right.push(false);
+        for (r, p) in rows.iter_mut().zip(&ft.passes) {
+            r.push(match p.scaled_from {
+                Some(k) => format!("from #{k}"),
+                None => "clocked".to_string(),
+            });
+        }
+    }
+    let mut frame = time_row(String::new(), "frame", ft.cycles_total(), roofline_total);
+    frame.resize(header.len(), String::new());
+    rows.push(frame);
     let others: usize = (0..header.len())
         .filter(|&c| c != 1)
         .map(|c| {
@@ -443,7 +455,7 @@ fn time_table(ft: &FrameTiming, roofline_total: f64) -> String {
     section(
         "time per pass (clocked on the chip, and the roofline's prediction):",
         &header,
-        &[true, false, true, true, true, true],
+        &right,
         &rows,
     )
 }
@@ -603,6 +615,8 @@ pub fn json(ft: &FrameTiming) -> Value {
             "sampling_error".into(),
             json!(ft.sampling_error.and_then(finite)),
         );
+        m.insert("sample_band_every".into(), json!(ft.sample_band_every));
+        m.insert("sample_pass_every".into(), json!(ft.sample_pass_every));
     }
     m.insert("passes".into(), Value::Array(passes));
     Value::Object(m)
@@ -653,6 +667,7 @@ fn pass_json(p: &NamedPassTiming, start: u64, hz: f64) -> Value {
         "stage_utilisation": stages,
         "fifo_high_water": fifos,
         "bottleneck": t.bottleneck,
+        "scaled_from": p.scaled_from,
     })
 }
 

@@ -104,6 +104,7 @@ pub fn frame_timing(
         pass: GLARE_PASS.into(),
         timing: pass,
         roofline_seconds: pred.walk_cycles as f64 / chip.clock_hz,
+        scaled_from: None,
     }];
     let tables = table_cycles(f);
     if tables > 0 {
@@ -111,6 +112,7 @@ pub fn frame_timing(
             pass: TABLES_PASS.into(),
             timing: tables_timing(tables),
             roofline_seconds: pred.table_cycles as f64 / chip.clock_hz,
+            scaled_from: None,
         });
     }
     Ok(FrameTiming {
@@ -119,6 +121,8 @@ pub fn frame_timing(
         clock_hz: chip.clock_hz,
         passes,
         sampling_error: None,
+        sample_band_every: None,
+        sample_pass_every: None,
         roofline_only: Vec::new(),
     })
 }

@@ -932,6 +932,7 @@ fn pass_work(
         copy_read_bytes: 0,
         copy_write_bytes: 0,
         sample: None,
+        unrecorded: false,
     })
 }
 

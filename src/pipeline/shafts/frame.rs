@@ -18,7 +18,7 @@ use super::record::{self, Rec};
 use super::tables::{self, GTables};
 use super::units::{attr_unorm, counters_add, window_depth_word, Units};
 use super::view::{vec3, CameraView, LightView};
-use crate::chip::work::SampleBands;
+use crate::chip::work::{PassSample, SampleBands};
 use crate::pipeline::raster::{draw_triangle, host_attrs, walk, Fragment, HostVertex};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{HCap, Scene};
@@ -261,10 +261,18 @@ impl<'a> ShaftsFrame<'a> {
 
     /// [`Self::record_work`], keeping only the fragments of the screen bands `bands`
     /// (`None`: every fragment) while counting every primitive in full
-    /// ([`crate::chip::work::SampleRecord`]): the sampled timing mode's record.
-    pub fn record_work_sampled(&mut self, sink: WorkSink, bands: Option<SampleBands>) {
+    /// ([`crate::chip::work::SampleRecord`]), and recording only the passes `passes`
+    /// picks of each kind (the others send their stats alone): the sampled timing
+    /// mode's record.
+    pub fn record_work_sampled(
+        &mut self,
+        sink: WorkSink,
+        bands: Option<SampleBands>,
+        passes: PassSample,
+    ) {
         self.log.record(sink);
         self.log.bands = bands;
+        self.log.pass_sample = passes;
     }
 
     /// The framebuffer, for a pass of another pipeline that draws into the same frame.

@@ -3,7 +3,7 @@
 //! the frame records ([`super::frame::ShaftsFrame::record_work`]).
 
 use super::record::Rec;
-use crate::chip::work::{PassWork, SampleBands};
+use crate::chip::work::{PassSample, PassWork, SampleBands};
 use crate::chip::{PassKind, PassStats};
 use rtl_model::error::ConfigError;
 use rtl_model::Counters;
@@ -52,6 +52,9 @@ pub(super) struct PassLog {
     /// When recording: the sampled bands whose fragments alone are recorded (`None`:
     /// every fragment).
     pub bands: Option<SampleBands>,
+    /// When recording: which passes of each kind are recorded (the others send their
+    /// stats alone).
+    pub pass_sample: PassSample,
 }
 
 impl PassLog {
@@ -62,6 +65,7 @@ impl PassLog {
             last: Traffic::default(),
             sink: None,
             bands: None,
+            pass_sample: PassSample::ALL,
         }
     }
 
@@ -75,14 +79,22 @@ impl PassLog {
         self.sink.is_some()
     }
 
-    /// A fresh record when recording (of the sampled bands' fragments in sampled mode).
+    /// Whether pass `n` of its kind (numbered from 0 in draw order) records its work
+    /// ([`PassSample`]).
+    pub fn records(&self, n: usize) -> bool {
+        self.recording() && self.pass_sample.records(n)
+    }
+
+    /// A fresh record when recording (of the sampled bands' fragments in sampled mode)
+    /// for the first pass of its kind.
     pub fn new_rec(&self) -> Option<Rec> {
-        self.recording().then(|| Rec::sampled(self.bands))
+        self.records(0).then(|| Rec::sampled(self.bands))
     }
 
     /// Push a finished pass, attributing the traffic counted since the previous one;
-    /// when recording, its work (`work`, the stats filled in; stats only when `None`)
-    /// goes to the sink.
+    /// when recording, its work (`work`, the stats filled in) goes to the sink, or,
+    /// for a pass the sampled mode does not record (`None`), its stats alone, marked
+    /// unrecorded.
     pub fn push(
         &mut self,
         ctr: &BTreeMap<String, Counters>,
@@ -95,7 +107,10 @@ impl PassLog {
         st.depth_tests = now.depth_tests - self.last.depth_tests;
         self.last = now;
         if let Some(sink) = self.sink.as_mut() {
-            let mut w = work.unwrap_or_default();
+            let mut w = work.unwrap_or(PassWork {
+                unrecorded: true,
+                ..PassWork::default()
+            });
             w.stats = Some(st.clone());
             sink(w)?;
         }

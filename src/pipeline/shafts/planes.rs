@@ -156,8 +156,10 @@ pub(super) fn planes_pass(
 ) -> Result<(), ConfigError> {
     let cfg = p.scene.shafts;
     let n = cfg.planes as usize;
-    // What a sub-plane records: nothing, or every fragment or the sampled bands'.
-    let sub_record = log.recording().then_some(log.bands);
+    // What sub-plane k of the light's sub-planes (k = i·m + j: interval i's j-th)
+    // records: nothing, or every fragment or the sampled bands'.
+    let (bands, passes, recording) = (log.bands, log.pass_sample, log.recording());
+    let sub_record = move |k: usize| (recording && passes.records(k)).then_some(bands);
     let m = cfg.subplanes as usize;
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
@@ -172,8 +174,11 @@ pub(super) fn planes_pass(
     // Interval i's sub-planes' H·I_l (independent of the framebuffer and the J
     // buffer): interval i + 1's are computed beside plane i's blend into the
     // framebuffer, then merged and blended in order as before.
-    let hil_of =
-        |i: usize| subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr, sub_record);
+    let hil_of = |i: usize| {
+        subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr, |j| {
+            sub_record(i * m + j)
+        })
+    };
     let mut pending = None;
     // The planes' fragment list and blend buffers, reused from plane to plane.
     let (mut frags, mut scratch) = (Vec::new(), BlendScratch::default());
@@ -183,7 +188,7 @@ pub(super) fn planes_pass(
         if m > 1 {
             let hils = pending.take().unwrap_or_else(|| hil_of(i));
             let jbuf = subplanes_into_j(ctx, p, hils, ctr, log)?;
-            copy_to_j_texture(ctx, p, &jbuf, &mut jtex, ctr, log)?;
+            copy_to_j_texture(ctx, p, &jbuf, &mut jtex, ctr, log, i)?;
         }
         let next = m > 1 && i + 1 < n;
         pending = plane(
@@ -191,8 +196,7 @@ pub(super) fn planes_pass(
             p,
             zwords,
             tables,
-            r,
-            dr,
+            (i, r, dr),
             jtex.as_ref().filter(|_| m > 1),
             fb,
             (&mut frags, &mut scratch),
@@ -223,7 +227,8 @@ fn unpacked_words(ctx: &LightCtx) -> (Option<Vec<u32>>, Option<Vec<u32>>) {
 
 /// The J buffer copied to the J texture: read the J buffer and write the texture (a
 /// copy pass of memory traffic only), the texture made at the first copy and loaded
-/// at each next one.
+/// at each next one. `i`: the copy's number among the light's copies (whether it
+/// records, [`PassLog::records`]).
 fn copy_to_j_texture(
     ctx: &LightCtx,
     p: &Prepared,
@@ -231,13 +236,14 @@ fn copy_to_j_texture(
     jtex: &mut Option<TextureSampler>,
     ctr: &mut BTreeMap<String, Counters>,
     log: &mut PassLog,
+    i: usize,
 ) -> Result<(), ConfigError> {
     let cfg = p.scene.shafts;
     let (w, h) = (p.scene.image.width, p.scene.image.height);
     let mut st = PassStats::new(PassKind::CopyToTexture, ctx.li, 0);
     let bytes = (w * h) as u64 * rtl_model::memory::bytes_for_bits(cfg.texel_bits);
     st.other_bytes = 2 * bytes;
-    let work = log.recording().then(|| PassWork {
+    let work = log.records(i).then(|| PassWork {
         width: w,
         height: h,
         copy_read_bytes: bytes,
@@ -277,7 +283,7 @@ fn subplanes_hil(
     zwords: Option<&[u32]>,
     r: f64,
     dr: f64,
-    recording: Option<Option<SampleBands>>,
+    recording: impl Fn(usize) -> Option<Option<SampleBands>> + Sync,
 ) -> Vec<Result<SubPlaneHil, ConfigError>> {
     let m = p.scene.shafts.subplanes as usize;
     let all: Vec<usize> = (0..m).collect();
@@ -286,7 +292,7 @@ fn subplanes_hil(
         out.par_extend(batch.par_iter().map(|&j| {
             // Sub-plane j at the middle of the interval's j-th m-th.
             let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-            subplane_hil(ctx, p, zwords, uj, recording)
+            subplane_hil(ctx, p, zwords, uj, recording(j))
         }));
     }
     out
@@ -508,8 +514,7 @@ fn plane<T: Send>(
     p: &Prepared,
     zwords: Option<&[u32]>,
     tables: &GTables,
-    r: f64,
-    dr: f64,
+    (i, r, dr): (usize, f64, f64),
     jtex: Option<&TextureSampler>,
     fb: &mut Framebuffer,
     (frags, scratch): (&mut Vec<PlaneFrag>, &mut BlendScratch),
@@ -536,7 +541,7 @@ fn plane<T: Send>(
         zword: unit_depth_word(plane_z, ZBUF_BITS),
         color_codes,
         coord_shift: ATTR_FRAC - cfg.coord_frac_bits,
-        record: log.recording(),
+        record: log.records(i),
         bands: log.bands,
     };
     let drawn = draw_cells(&pc, &mesh, (w, h));

@@ -209,6 +209,7 @@ impl Rec {
                 },
                 killed_xy: self.killed_xy,
             }),
+            unrecorded: false,
         }
     }
 }
