@@ -16,6 +16,14 @@ fn small(name: &str) -> Scene {
     common::small_shafts_scene(name)
 }
 
+/// A pool of `n` threads (to check that a frame's timing does not depend on them).
+fn pool(n: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .unwrap()
+}
+
 #[test]
 fn the_default_request_is_todays_frame() {
     let s = small("fig6");
@@ -145,12 +153,6 @@ fn clocked_and_sampled_frames_time_every_pass_and_change_no_pixel() {
         "sampled {} against clocked {}",
         cycles[1], cycles[0]
     );
-    let pool = |n| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .unwrap()
-    };
     let one = pool(1).install(|| timed(TimingMode::Clocked));
     let two = pool(2).install(|| timed(TimingMode::Clocked));
     assert_eq!(one.timing, two.timing, "same cycles on 1 and 2 threads");
@@ -261,12 +263,6 @@ fn sampled_timing_clocks_some_passes_of_each_kind_and_scales_the_rest() {
         (a - b).abs() / b <= 3.0 * stated + 0.03,
         "sampled {a} against clocked {b} (stated ± {stated})"
     );
-    let pool = |n| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .unwrap()
-    };
     let one = pool(1).install(|| timed(TimingMode::Sampled));
     assert_eq!(
         one.timing.as_ref(),
