@@ -412,6 +412,12 @@ pub struct SweepArgs {
     /// --shard or --resume.
     #[arg(long)]
     pub attribute: bool,
+    /// An architecture sweep's timing on every value's chip: clocked (every fragment,
+    /// the default) or sampled (the passes and screen bands `render --timing sampled`
+    /// clocks, the rest scaled; each row with its stated error). Architecture
+    /// parameters only.
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub timing: Option<crate::frame::timing::TimingMode>,
 }
 
 /// `sweep`'s subcommands.
@@ -1052,7 +1058,7 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
             return crate::frame::chip_sweep::chip_sweep_cli(
                 scene,
                 loaded,
-                p,
+                (p, args.timing),
                 values,
                 out,
                 image,
@@ -1061,6 +1067,13 @@ fn sweep(args: SweepArgs) -> Result<(), String> {
             );
         }
         _ => {}
+    }
+    if let Some(t) = args.timing {
+        return Err(format!(
+            "--timing {}: only an architecture sweep (--param pipes, tmus, fifo_depth, \
+             cache_kb, …, on a scene the chip clocks) times the chip; '{param}' is not one",
+            t.name()
+        ));
     }
     crate::frame::budget::check_sweep(&loaded, param, values, image, args.max_memory)?;
     check_dir_out("out", out)?;

@@ -15,7 +15,7 @@ fn small() -> Scene {
 
 #[test]
 fn a_cache_sweep_clocks_one_frame_on_every_value() {
-    let sweep = check_chip_sweep("fig6", small(), ChipParam::CacheKb, "1,4,16").unwrap();
+    let sweep = check_chip_sweep("fig6", small(), (ChipParam::CacheKb, None), "1,4,16").unwrap();
     let out = std::env::temp_dir().join(format!("chip-sweep-{}", std::process::id()));
     let (rows, csv, png) = run_chip_sweep(&sweep, &out).unwrap();
     assert_eq!(rows.iter().map(|r| r.value).collect::<Vec<_>>(), [1, 4, 16]);
@@ -45,7 +45,7 @@ fn a_cache_sweep_clocks_one_frame_on_every_value() {
 
 #[test]
 fn a_value_the_chip_refuses_is_named_before_any_work() {
-    let e = check_chip_sweep("fig6", small(), ChipParam::CacheLine, "32,3")
+    let e = check_chip_sweep("fig6", small(), (ChipParam::CacheLine, None), "32,3")
         .err()
         .unwrap();
     assert!(
@@ -53,13 +53,65 @@ fn a_value_the_chip_refuses_is_named_before_any_work() {
         "{e}"
     );
     assert!(e.contains("chip.texture_cache.line_bytes"), "{e}");
-    let e = check_chip_sweep("fig6", small(), ChipParam::FifoDepth, "0")
+    let e = check_chip_sweep("fig6", small(), (ChipParam::FifoDepth, None), "0")
         .err()
         .unwrap();
     assert!(e.contains("chip.fifo_depth"), "{e}");
     let glare = builtin("glare-point").unwrap();
-    let e = check_chip_sweep("glare-point", glare, ChipParam::CacheKb, "4")
+    let e = check_chip_sweep("glare-point", glare, (ChipParam::CacheKb, None), "4")
         .err()
         .unwrap();
     assert!(e.contains("--param cache_kb"), "{e}");
+}
+
+/// A sampled sweep (96 × 64: one band in 2, the first two passes of each kind and one
+/// in 8): a row per value with its stated error, each row the frame `render --timing
+/// sampled` times on that value's chip, and within its error of the clocked sweep.
+#[test]
+fn a_sampled_sweep_times_every_value_as_render_samples_it() {
+    use glare_pipeline::chip::config::ChipConfig;
+    use glare_pipeline::frame::run::render_timed;
+    use glare_pipeline::frame::timing::{TimingMode, TimingRequest};
+    let mut s = small();
+    s.image.width = 96;
+    s.image.height = 64;
+    s.shafts.planes = 12;
+    s.shafts.subplanes = 3;
+    let out = std::env::temp_dir().join(format!("chip-sweep-sampled-{}", std::process::id()));
+    let run = |mode| {
+        let sweep =
+            check_chip_sweep("fig6", s.clone(), (ChipParam::FifoDepth, mode), "4,64").unwrap();
+        run_chip_sweep(&sweep, &out).unwrap().0
+    };
+    let sampled = run(Some(TimingMode::Sampled));
+    let clocked = run(None);
+    for (r, c) in sampled.iter().zip(&clocked) {
+        let e = r.sampling_error.expect("a sampled row states its error");
+        assert!(e > 0.0 && c.sampling_error.is_none(), "{r:?} {c:?}");
+        let off = (r.cycles as f64 - c.cycles as f64).abs() / c.cycles as f64;
+        assert!(off <= 3.0 * e + 0.03, "{r:?} against {c:?}");
+    }
+    // The value the scene's own chip has (64) times as `render --timing sampled` does.
+    let req = TimingRequest {
+        mode: TimingMode::Sampled,
+        chip: None,
+        window: None,
+    };
+    let (f, _) = render_timed(&s, &req, Some(ChipConfig::geforce2_gts()), None).unwrap();
+    assert_eq!(ChipConfig::geforce2_gts().fifo_depth, 64);
+    assert_eq!(sampled[1].cycles, f.timing.unwrap().cycles_total());
+    // A roofline sweep of the chip is refused before any work.
+    let e = check_chip_sweep(
+        "fig6",
+        s.clone(),
+        (ChipParam::FifoDepth, Some(TimingMode::Roofline)),
+        "4",
+    )
+    .err()
+    .unwrap();
+    assert!(
+        e.contains("--timing roofline") && e.contains("sampled"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&out);
 }

@@ -30,6 +30,7 @@ fn args(params: &str, budget: &[&str]) -> OptimizeArgs {
         seconds: None,
         seed: 0,
         reference: "wide".into(),
+        timing: None,
     }
 }
 
@@ -119,6 +120,7 @@ fn plan(limit_seconds: f64) -> ChipPlan {
         base: ChipConfig::geforce2_gts(),
         max_evals: Some(24),
         seconds: None,
+        mode: glare_pipeline::frame::timing::TimingMode::Clocked,
     }
 }
 
@@ -216,4 +218,25 @@ fn the_cli_writes_the_csv_the_plot_and_the_best_chip() {
         "{chip}"
     );
     let _ = std::fs::remove_dir_all(&a.out);
+}
+
+/// `--timing`: sampled or clocked candidates; the roofline, which does not see the
+/// chip's parameters, is refused before any work.
+#[test]
+fn the_search_times_its_candidates_clocked_or_sampled() {
+    use glare_pipeline::frame::timing::TimingMode;
+    let with = |t| OptimizeArgs {
+        timing: t,
+        ..args("cache_kb", &["seconds<=0.01"])
+    };
+    assert_eq!(check_chip(&with(None)).unwrap().mode, TimingMode::Clocked);
+    assert_eq!(
+        check_chip(&with(Some(TimingMode::Sampled))).unwrap().mode,
+        TimingMode::Sampled
+    );
+    let e = check_chip(&with(Some(TimingMode::Roofline))).err().unwrap();
+    assert!(
+        e.contains("--timing roofline") && e.contains("sampled"),
+        "{e}"
+    );
 }

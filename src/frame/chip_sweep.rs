@@ -39,6 +39,9 @@ pub struct ChipSweepRow {
     pub bottleneck: String,
     /// Its share of the frame's clocks.
     pub bottleneck_share: f64,
+    /// With sampled timing: the frame cycles' relative standard error; empty when
+    /// every fragment was clocked.
+    pub sampling_error: Option<f64>,
 }
 
 /// The checked sweep: the scene, the parameter, its values and each value's chip.
@@ -50,20 +53,31 @@ pub struct ChipSweep {
     pub values: Vec<u32>,
     pub base: ChipConfig,
     pub chips: Vec<ChipConfig>,
+    /// Clocked (every fragment) or sampled, on every value's chip.
+    pub mode: TimingMode,
 }
 
-/// Check everything before any work: the scene can be clocked, every value gives a
-/// chip its validation accepts (an error names `--values` and the chip's field).
+/// Check everything before any work: the timing clocks the chip (clocked or sampled,
+/// `None`: clocked), the scene can be clocked, every value gives a chip its validation
+/// accepts (an error names `--values` and the chip's field).
 pub fn check_chip_sweep(
     label: &str,
     scene: Scene,
-    param: ChipParam,
+    (param, timing): (ChipParam, Option<TimingMode>),
     values: &str,
 ) -> Result<ChipSweep, String> {
+    let mode = timing.unwrap_or(TimingMode::Clocked);
+    if !mode.records() {
+        return Err(format!(
+            "--timing {}: an architecture sweep clocks the chip on every value: \
+             clocked or sampled",
+            mode.name()
+        ));
+    }
     let values = parse_int_values(values)?;
     let plan = super::plan::plan(&scene).map_err(|e| e.to_string())?;
     let req = TimingRequest {
-        mode: TimingMode::Clocked,
+        mode,
         chip: None,
         window: None,
     };
@@ -87,6 +101,7 @@ pub fn check_chip_sweep(
         values,
         base,
         chips,
+        mode,
     })
 }
 
@@ -97,7 +112,7 @@ pub fn run_chip_sweep(
     out: &Path,
 ) -> Result<(Vec<ChipSweepRow>, PathBuf, PathBuf), String> {
     let req = TimingRequest {
-        mode: TimingMode::Clocked,
+        mode: s.mode,
         chip: None,
         window: None,
     };
@@ -151,6 +166,7 @@ fn row(param: ChipParam, value: u32, chip: &ChipConfig, ft: &FrameTiming) -> Chi
         } else {
             0.0
         },
+        sampling_error: ft.sampling_error,
     }
 }
 
@@ -193,10 +209,13 @@ fn plot(png: &Path, scene: &str, param: ChipParam, rows: &[ChipSweepRow]) -> Res
 
 /// The rows as a table for the terminal.
 pub fn table(rows: &[ChipSweepRow]) -> String {
+    // Sampled rows carry their stated error (± one standard error, in %).
+    let sampled = rows.iter().any(|r| r.sampling_error.is_some());
     let mut out = format!(
-        "{:>10}  {:>12}  {:>12}  {:>9}  {:>10}  {}\n",
+        "{:>10}  {:>12}  {}{:>12}  {:>9}  {:>10}  {}\n",
         rows.first().map_or("value", |r| r.param.as_str()),
         "clocked_s",
+        if sampled { "  error_%  " } else { "" },
         "roofline_s",
         "hit_%",
         "cache_bits",
@@ -206,8 +225,13 @@ pub fn table(rows: &[ChipSweepRow]) -> String {
         let hit = r
             .cache_hit_rate
             .map_or("n/a".to_string(), |h| format!("{:.2}", 100.0 * h));
+        let error = match (sampled, r.sampling_error) {
+            (false, _) => String::new(),
+            (true, Some(e)) => format!("  {:>7.2}  ", 100.0 * e),
+            (true, None) => format!("  {:>7}  ", "n/a"),
+        };
         out += &format!(
-            "{:>10}  {:>12.6}  {:>12.6}  {:>9}  {:>10}  {} ({:.0} %)\n",
+            "{:>10}  {:>12.6}  {error}{:>12.6}  {:>9}  {:>10}  {} ({:.0} %)\n",
             r.value,
             r.clocked_seconds,
             r.roofline_seconds,
@@ -229,7 +253,7 @@ pub fn table(rows: &[ChipSweepRow]) -> String {
 pub fn chip_sweep_cli(
     scene_name: &str,
     mut scene: Scene,
-    param: ChipParam,
+    (param, timing): (ChipParam, Option<TimingMode>),
     values: &str,
     out: &Path,
     image: Option<&str>,
@@ -251,15 +275,16 @@ pub fn chip_sweep_cli(
         }
     }
     crate::scene::load::apply_image_checked(&mut scene, image)?;
-    let sweep = check_chip_sweep(scene_name, scene, param, values)?;
+    let sweep = check_chip_sweep(scene_name, scene, (param, timing), values)?;
     let (budget, from) = super::budget::resolve(max_memory);
     super::budget::check(&sweep.scene, budget, &from)?;
     crate::report::outputs::check_dir_out("out", out)?;
     let (rows, csv, png) = run_chip_sweep(&sweep, out)?;
     println!(
-        "sweep {} on {scene_name} ({} clocked, {} values): wrote {} and {}",
+        "sweep {} on {scene_name} ({} {}, {} values): wrote {} and {}",
         param.name(),
         sweep.base.name,
+        sweep.mode.name(),
         rows.len(),
         csv.display(),
         png.display()

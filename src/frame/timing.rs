@@ -226,69 +226,142 @@ fn clock_sampled(
     Ok((t, e))
 }
 
-/// The frame's clocked timing as it is built, pass by pass (on the clock's own thread:
-/// [`Clock`]).
-struct ClockState {
-    mode: TimingMode,
+/// One chip's timing of the frame as it is built, pass by pass.
+struct ChipTimer {
     chip: ChipConfig,
-    model: GpuModel,
-    /// The frame pass whose work arrives next.
-    pass: String,
     timing: FrameTiming,
     /// Sampled mode: the passes by kind, the clocked ones and those scaled from them.
     strata: Strata,
-    /// The frame's clocks traced for the VCD (START..END from the frame's start).
-    window: Option<std::ops::Range<u64>>,
-    /// The sampled mode's screen bands ([`sample_bands`] of the frame's rows).
-    bands: SampleBands,
-    /// Other chips each pass's record is also clocked on (an architecture sweep: one
-    /// functional frame, its records clocked on every swept chip), with their timing.
-    alternates: Vec<(ChipConfig, FrameTiming)>,
 }
 
-impl ClockState {
-    fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
+impl ChipTimer {
+    fn new(mode: TimingMode, chip: ChipConfig) -> Self {
         let timing = FrameTiming {
             mode: mode.name().to_string(),
             chip: chip.name.clone(),
             clock_hz: chip.clock_hz,
             ..FrameTiming::default()
         };
-        ClockState {
-            mode,
+        ChipTimer {
             chip,
-            model,
-            pass: String::new(),
             timing,
             strata: Strata::default(),
+        }
+    }
+
+    /// Time one pass on this chip: clocked (in full, its clocks in `window` traced),
+    /// sampled (its bands), or, in sampled mode for a pass that was not recorded, kept
+    /// to be scaled from its kind's clocked passes at [`ChipTimer::finish`].
+    fn take(
+        &mut self,
+        work: &PassWork,
+        pass: NamedPassTiming,
+        (mode, bands): (TimingMode, SampleBands),
+        window: Option<&std::ops::Range<u64>>,
+    ) -> Result<(), ConfigError> {
+        let index = self.timing.passes.len();
+        let stratum = work.stats.as_ref().map(Stratum::of);
+        let timing = match (mode, work.unrecorded) {
+            (TimingMode::Sampled, true) => {
+                let Some(kind) = stratum else {
+                    return Err(ConfigError::invalid(
+                        "timing",
+                        "internal: a pass without its record or its counters",
+                    ));
+                };
+                self.strata
+                    .unrecorded(kind, index, pass.roofline_seconds)
+                    .map_err(|e| ConfigError::invalid("timing", &e))?;
+                PassTiming::default()
+            }
+            (_, true) => {
+                return Err(ConfigError::invalid(
+                    "timing",
+                    "internal: a pass without its record outside the sampled mode",
+                ))
+            }
+            (TimingMode::Sampled, false) => {
+                let (t, e) = clock_sampled(&self.chip, work, bands)?;
+                // A pass without stats has no kind: its own stratum of one.
+                let kind = stratum.unwrap_or(Stratum::alone(index));
+                self.strata
+                    .recorded(kind, index, t.cycles, pass.roofline_seconds, e);
+                t
+            }
+            _ => {
+                // The frame's window in this pass's own clocks (a pass starts where the
+                // one before it ended).
+                let start = self.timing.cycles_total();
+                let window = window.and_then(|w| crate::report::chip_timing::pass_window(w, start));
+                clock_pass(&self.chip, work, window)?
+            }
+        };
+        self.timing.passes.push(NamedPassTiming { timing, ..pass });
+        Ok(())
+    }
+
+    /// The chip's frame timing. In sampled mode the passes that were not recorded get
+    /// their estimate ([`Strata::finish`]), and the frame's relative error combines
+    /// the kinds' (independent samples: the root of the summed variances in cycles²,
+    /// over the frame's cycles); `every` is the sample's (bands, passes).
+    fn finish(&mut self, mode: TimingMode, every: (u32, u32)) -> FrameTiming {
+        if mode == TimingMode::Sampled {
+            let var = std::mem::take(&mut self.strata).finish(&mut self.timing.passes);
+            let total = self.timing.cycles_total();
+            self.timing.sampling_error = (total > 0).then(|| var.sqrt() / total as f64);
+            self.timing.sample_band_every = Some(every.0.max(1));
+            self.timing.sample_pass_every = Some(every.1.max(1));
+        }
+        std::mem::take(&mut self.timing)
+    }
+}
+
+/// The frame's clocked timing as it is built, pass by pass (on the clock's own thread:
+/// [`Clock`]).
+struct ClockState {
+    mode: TimingMode,
+    model: GpuModel,
+    /// The frame pass whose work arrives next.
+    pass: String,
+    /// The frame's chip.
+    main: ChipTimer,
+    /// The frame's clocks traced for the VCD (START..END from the frame's start).
+    window: Option<std::ops::Range<u64>>,
+    /// The sampled mode's screen bands ([`sample_bands`] of the frame's rows).
+    bands: SampleBands,
+    /// Other chips each pass's record is also timed on, in the same mode (an
+    /// architecture sweep: one functional frame, its records timed on every swept
+    /// chip).
+    alternates: Vec<ChipTimer>,
+}
+
+impl ClockState {
+    fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
+        ClockState {
+            mode,
+            model,
+            pass: String::new(),
+            main: ChipTimer::new(mode, chip),
             window: None,
             alternates: Vec::new(),
             bands: sample_bands(0),
         }
     }
 
-    /// Also clock every pass on each of `chips` (fully, without a window).
+    /// Also time every pass on each of `chips` (in the frame's mode, without a
+    /// window).
     fn with_alternates(mut self, chips: Vec<ChipConfig>) -> Self {
-        self.alternates = chips
-            .into_iter()
-            .map(|c| {
-                let t = FrameTiming {
-                    mode: TimingMode::Clocked.name().to_string(),
-                    chip: c.name.clone(),
-                    clock_hz: c.clock_hz,
-                    ..FrameTiming::default()
-                };
-                (c, t)
-            })
-            .collect();
+        let mode = self.mode;
+        self.alternates = chips.into_iter().map(|c| ChipTimer::new(mode, c)).collect();
         self
     }
 
     /// The alternate chips' frame timings, in the order they were given.
     fn take_alternates(&mut self) -> Vec<FrameTiming> {
+        let (mode, every) = (self.mode, self.sample_every());
         std::mem::take(&mut self.alternates)
-            .into_iter()
-            .map(|(_, t)| t)
+            .iter_mut()
+            .map(|a| a.finish(mode, every))
             .collect()
     }
 
@@ -299,11 +372,11 @@ impl ClockState {
     }
 
     /// The bands the passes record the fragments of: the sample in sampled mode
-    /// (unless alternate chips clock every pass in full: then every fragment is
-    /// recorded and cut to the sample when clocked), else `None` (every fragment).
+    /// (every chip, the frame's and the alternates, clocks the same sample), else
+    /// `None` (every fragment).
     fn record_bands(&self) -> Option<SampleBands> {
         let sampled = self.mode == TimingMode::Sampled && self.bands.every > 1;
-        (sampled && self.alternates.is_empty()).then_some(self.bands)
+        sampled.then_some(self.bands)
     }
 
     /// Which passes of each kind record their work: in sampled mode, when it records
@@ -318,87 +391,47 @@ impl ClockState {
         }
     }
 
+    /// The sample's rates (one band in .0, of each kind one pass in .1 after two).
+    fn sample_every(&self) -> (u32, u32) {
+        (self.bands.every, self.record_passes().every)
+    }
+
     /// The frame's height in pixels, which sets the sampled mode's bands.
     fn with_frame_rows(mut self, rows: u32) -> Self {
         self.bands = sample_bands(rows);
         self
     }
 
-    /// Clock one pass's record (in sampled mode, a pass that was not recorded is
-    /// kept to be scaled from its kind's clocked passes at [`ClockState::finish`]).
+    /// Time one pass's record (or, in sampled mode, its counters alone) on the frame's
+    /// chip and, side by side, on each alternate (each on its own chip: the same
+    /// timings on any thread count).
     fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
         let roofline_seconds = work
             .stats
             .as_ref()
             .map_or(0.0, |s| pass_seconds(&self.model, s).0);
-        let index = self.timing.passes.len();
-        let stratum = work.stats.as_ref().map(Stratum::of);
-        if work.unrecorded {
-            let (Some(kind), true) = (stratum, self.mode == TimingMode::Sampled) else {
-                return Err(ConfigError::invalid(
-                    "timing",
-                    "internal: a pass without its record outside the sampled mode",
-                ));
-            };
-            self.strata
-                .unrecorded(kind, index, roofline_seconds)
-                .map_err(|e| ConfigError::invalid("timing", &e))?;
-            self.timing.passes.push(NamedPassTiming {
-                pass: self.pass.clone(),
-                roofline_seconds,
-                ..NamedPassTiming::default()
-            });
-            return Ok(());
-        }
-        let timing = match self.mode {
-            TimingMode::Sampled => {
-                let (t, e) = clock_sampled(&self.chip, &work, self.bands)?;
-                // A pass without stats has no kind: its own stratum of one.
-                let kind = stratum.unwrap_or(Stratum::alone(index));
-                self.strata
-                    .recorded(kind, index, t.cycles, roofline_seconds, e);
-                t
-            }
-            _ => {
-                // The frame's window in this pass's own clocks (a pass starts where the
-                // one before it ended).
-                let start = self.timing.cycles_total();
-                let window = self
-                    .window
-                    .as_ref()
-                    .and_then(|w| crate::report::chip_timing::pass_window(w, start));
-                clock_pass(&self.chip, &work, window)?
-            }
-        };
-        // The alternates clocked side by side (each on its own chip: the same timings
-        // on any thread count), pushed in order.
-        use rayon::prelude::*;
-        let alternates: Vec<Result<PassTiming, ConfigError>> = self
-            .alternates
-            .par_iter()
-            .map(|(chip, _)| clock_pass(chip, &work, None))
-            .collect();
-        for ((_, t), timing) in self.alternates.iter_mut().zip(alternates) {
-            t.passes.push(NamedPassTiming {
-                pass: self.pass.clone(),
-                timing: timing?,
-                roofline_seconds,
-                scaled_from: None,
-            });
-        }
-        self.timing.passes.push(NamedPassTiming {
+        let pass = NamedPassTiming {
             pass: self.pass.clone(),
-            timing,
             roofline_seconds,
-            scaled_from: None,
-        });
-        Ok(())
+            ..NamedPassTiming::default()
+        };
+        let how = (self.mode, self.bands);
+        use rayon::prelude::*;
+        let alternates: Vec<Result<(), ConfigError>> = self
+            .alternates
+            .par_iter_mut()
+            .map(|a| a.take(&work, pass.clone(), how, None))
+            .collect();
+        alternates
+            .into_iter()
+            .collect::<Result<(), ConfigError>>()?;
+        self.main.take(&work, pass, how, self.window.as_ref())
     }
 
     /// Passes that recorded nothing: their roofline time, listed as such.
     fn roofline_only(&mut self, pass: &str, stats: &[PassStats]) {
         for s in stats {
-            self.timing.roofline_only.push(RooflineOnlyPass {
+            self.main.timing.roofline_only.push(RooflineOnlyPass {
                 pass: pass.to_string(),
                 kind: crate::chip::kind_name(s.kind).to_string(),
                 seconds: pass_seconds(&self.model, s).0,
@@ -407,19 +440,10 @@ impl ClockState {
         }
     }
 
-    /// The frame's timing. In sampled mode the passes that were not recorded get
-    /// their estimate ([`Strata::finish`]), and the frame's relative error combines
-    /// the kinds' (independent samples: the root of the summed variances in cycles²,
-    /// over the frame's cycles).
+    /// The frame's timing on its chip ([`ChipTimer::finish`]).
     fn finish(&mut self) -> FrameTiming {
-        if self.mode == TimingMode::Sampled {
-            let var = std::mem::take(&mut self.strata).finish(&mut self.timing.passes);
-            let total = self.timing.cycles_total();
-            self.timing.sampling_error = (total > 0).then(|| var.sqrt() / total as f64);
-            self.timing.sample_band_every = Some(self.bands.every.max(1));
-            self.timing.sample_pass_every = Some(self.record_passes().every.max(1));
-        }
-        std::mem::take(&mut self.timing)
+        let (mode, every) = (self.mode, self.sample_every());
+        self.main.finish(mode, every)
     }
 }
 

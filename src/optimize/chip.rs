@@ -97,6 +97,8 @@ pub struct ChipPlan {
     pub max_evals: Option<usize>,
     /// No round started after this many seconds.
     pub seconds: Option<f64>,
+    /// How each candidate chip times the frame: clocked or sampled.
+    pub mode: TimingMode,
 }
 
 /// `seconds<=S` (spaces allowed): the time budget's limit; errors name `budget`.
@@ -179,8 +181,16 @@ pub fn check_chip_on(a: &OptimizeArgs, mut scene: Scene) -> Result<ChipPlan, Str
             return Err(format!("seconds: {t} is not a positive number of seconds"));
         }
     }
+    let mode = a.timing.unwrap_or(TimingMode::Clocked);
+    if !mode.records() {
+        return Err(format!(
+            "--timing {}: an architecture search clocks every candidate chip: clocked or \
+             sampled",
+            mode.name()
+        ));
+    }
     let plan = crate::frame::plan::plan(&scene).map_err(|e| e.to_string())?;
-    check(&clocked(), &plan).map_err(|e| format!("params: {e}"))?;
+    check(&timed(mode), &plan).map_err(|e| format!("params: {e}"))?;
     let base = ChipConfig::preset(ChipName::of_gpu(Gpu::for_scene(&scene)).name())
         .map_err(|e| e.to_string())?;
     crate::report::outputs::check_dir_out("out", &a.out)?;
@@ -197,6 +207,7 @@ pub fn check_chip_on(a: &OptimizeArgs, mut scene: Scene) -> Result<ChipPlan, Str
         base,
         max_evals: a.max_evals,
         seconds: a.seconds,
+        mode,
     })
 }
 
@@ -209,9 +220,9 @@ fn searchable_names() -> String {
         .join(", ")
 }
 
-fn clocked() -> TimingRequest {
+fn timed(mode: TimingMode) -> TimingRequest {
     TimingRequest {
-        mode: TimingMode::Clocked,
+        mode,
         chip: None,
         window: None,
     }
@@ -262,6 +273,8 @@ pub struct ChipPoint {
     pub ram_bits: u64,
     /// The search round that clocked it (0: the start).
     pub round: usize,
+    /// With sampled timing: the frame cycles' relative standard error.
+    pub sampling_error: Option<f64>,
 }
 
 impl ChipPoint {
@@ -331,18 +344,27 @@ fn steps(plan: &ChipPlan, values: &[u32]) -> Vec<(usize, bool, Vec<u32>, ChipCon
     out
 }
 
-/// Draw the frame once and clock it on every chip of `chips`; their frame timings (in
-/// order) and the pipe's gates.
+/// Draw the frame once and clock it on every chip of `chips` (in the search's mode);
+/// their frame timings (in order) and the pipe's gates.
 fn clock_round(
     plan: &ChipPlan,
     chips: &[ChipConfig],
+) -> Result<(Vec<FrameTiming>, PipeGates), String> {
+    clock_round_in(plan, chips, plan.mode)
+}
+
+/// [`clock_round`] with timing `mode`.
+fn clock_round_in(
+    plan: &ChipPlan,
+    chips: &[ChipConfig],
+    mode: TimingMode,
 ) -> Result<(Vec<FrameTiming>, PipeGates), String> {
     let (first, rest) = chips
         .split_first()
         .expect("a round clocks at least one chip");
     let (mut frame, _) = render_swept(
         &plan.scene,
-        &clocked(),
+        &timed(mode),
         Some(first.clone()),
         rest.to_vec(),
         None,
@@ -397,6 +419,7 @@ pub fn search_chip(plan: &ChipPlan, started: Instant) -> Result<ChipOutcome, Str
                     gates: g,
                     ram_bits: ram,
                     round,
+                    sampling_error: ft.sampling_error,
                 });
             }
             write_csv(&plan.out.join("pareto.csv"), &rows(plan, &points, None))?;
@@ -508,6 +531,9 @@ pub struct ChipParetoRow {
     pub meets_budget: bool,
     pub is_start: bool,
     pub is_best: bool,
+    /// With sampled timing: the frame cycles' relative standard error; empty when
+    /// every fragment was clocked.
+    pub sampling_error: Option<f64>,
 }
 
 fn rows(plan: &ChipPlan, points: &[ChipPoint], best: Option<usize>) -> Vec<ChipParetoRow> {
@@ -527,6 +553,7 @@ fn rows(plan: &ChipPlan, points: &[ChipPoint], best: Option<usize>) -> Vec<ChipP
             meets_budget: p.meets(plan.limit_seconds),
             is_start: i == 0,
             is_best: best == Some(i),
+            sampling_error: p.sampling_error,
         })
         .collect()
 }
@@ -589,7 +616,8 @@ fn plot(plan: &ChipPlan, o: &ChipOutcome, path: &Path) -> Result<(), String> {
 
 /// `optimize --params <the chip's parameters> --budget "seconds<=S"`: every argument
 /// checked first; the search; `pareto.csv`, `pareto.png` and `best_chip.toml` (the best
-/// chip's every field); the best chip verified by a fresh clocked render.
+/// chip's every field); the best chip verified by a fresh render in the search's mode
+/// (and, after a sampled search, clocked in full against the budget).
 pub fn optimize_chip_cli(a: &OptimizeArgs) -> Result<(), String> {
     optimize_chip_on(a, crate::scene::load::load_frame_scene(&a.scene)?)
 }
@@ -616,6 +644,32 @@ pub fn optimize_chip_on(a: &OptimizeArgs, scene: Scene) -> Result<(), String> {
     )?;
     plot(&plan, &o, &plan.out.join("pareto.png"))?;
     report(&plan, &o, t0)
+}
+
+/// A sampled search's best chip clocked in full (every fragment): its frame time
+/// printed beside the sample's, and whether it meets the budget (a sampled time within
+/// its error of the limit may not).
+fn full_clock_check(plan: &ChipPlan, best: &ChipPoint) -> Result<(), String> {
+    let (full, _) = clock_round_in(plan, std::slice::from_ref(&best.chip), TimingMode::Clocked)?;
+    let seconds = full[0].clocked_seconds();
+    let off = (seconds - best.seconds) / best.seconds;
+    println!(
+        "  best clocked in full: {seconds:.6} s ({} cycles, {:+.2} % from the sample's; \
+         stated ± {}): {}",
+        full[0].cycles_total(),
+        100.0 * off,
+        best.sampling_error
+            .map_or("n/a".to_string(), |e| format!("{:.2} %", 100.0 * e)),
+        if seconds <= plan.limit_seconds {
+            "within the budget".to_string()
+        } else {
+            format!(
+                "OVER the budget seconds<={} (search with --timing clocked near the limit)",
+                plan.limit_seconds
+            )
+        }
+    );
+    Ok(())
 }
 
 /// Print the outcome, write `best_chip.toml` and verify it.
@@ -677,8 +731,9 @@ fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
     let (again, _) = clock_round(plan, std::slice::from_ref(&best.chip))?;
     let cycles = again[0].cycles_total();
     println!(
-        "  best:  {} (verified by a fresh clocked frame: {} cycles, {})",
+        "  best:  {} (verified by a fresh {} frame: {} cycles, {})",
         line(best),
+        plan.mode.name(),
         cycles,
         if cycles == best.cycles {
             "the same"
@@ -686,6 +741,9 @@ fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
             "DIFFERENT"
         }
     );
+    if plan.mode == TimingMode::Sampled {
+        full_clock_check(plan, best)?;
+    }
     println!(
         "  wrote {}, pareto.png, {}",
         csv.display(),

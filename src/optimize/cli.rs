@@ -64,6 +64,11 @@ pub struct OptimizeArgs {
     /// width wide, default) or `truth` (the ray-marched f64 reference).
     #[arg(long, default_value = "wide")]
     pub reference: String,
+    /// A search of the chip's architecture: each candidate chip's frame time clocked
+    /// (every fragment, the default) or sampled (the passes and screen bands `render
+    /// --timing sampled` clocks, the rest scaled: faster, within its stated error).
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub timing: Option<crate::frame::timing::TimingMode>,
 }
 
 /// The options checked, with the scene loaded.

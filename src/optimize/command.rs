@@ -37,7 +37,15 @@ pub fn optimize_path(scene: &Scene, params: Option<&str>) -> OptimizePath {
 /// The command: a shading scene, the clocked chip's parameters, or a scene's widths.
 pub fn optimize_cli(a: &OptimizeArgs) -> Result<(), String> {
     let scene = crate::scene::load::load_scene(&a.scene)?;
-    let plan = match optimize_path(&scene, a.params.as_deref()) {
+    let path = optimize_path(&scene, a.params.as_deref());
+    if let (Some(t), false) = (a.timing, path == OptimizePath::Chip) {
+        return Err(format!(
+            "--timing {}: only a search of the chip's architecture (--params pipes, tmus, \
+             fifo_depth, cache_kb, …, on a scene the chip clocks) times the chip",
+            t.name()
+        ));
+    }
+    let plan = match path {
         OptimizePath::Refused => {
             return Err(format!(
                 "scene: '{}' is not a scene optimize can search (it covers shafts scenes: \
