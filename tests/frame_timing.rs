@@ -77,20 +77,27 @@ fn what_cannot_be_clocked_is_refused_up_front() {
         e.contains("--chip glare-asic") && e.contains("geforce2-gts"),
         "{e}"
     );
+    // A glare scene's one pass is clocked on the glare ASIC; a frame of GPU passes and
+    // a glare pass (two chips) is refused, and so is a glare scene on a GPU.
     let glare = plan(&builtin("glare-point").unwrap()).unwrap();
+    let both = plan(&builtin("street-light").unwrap()).unwrap();
     assert!(check(&TimingRequest::default(), &glare).is_ok());
     for mode in [TimingMode::Clocked, TimingMode::Sampled] {
-        let e = check(
-            &TimingRequest {
-                mode,
-                chip: None,
-                window: None,
-            },
-            &glare,
-        )
-        .unwrap_err();
+        let req = |chip| TimingRequest {
+            mode,
+            chip,
+            window: None,
+        };
+        assert!(check(&req(None), &glare).is_ok());
+        assert!(check(&req(Some(ChipName::GlareAsic)), &glare).is_ok());
+        let e = check(&req(Some(ChipName::GeForce3)), &glare).unwrap_err();
+        assert!(
+            e.contains("--chip geforce3") && e.contains("glare-asic"),
+            "{e}"
+        );
+        let e = check(&req(None), &both).unwrap_err();
         assert!(e.contains(&format!("--timing {}", mode.name())), "{e}");
-        assert!(e.contains("fig6") && e.contains("roofline"), "{e}");
+        assert!(e.contains("glare ASIC") && e.contains("roofline"), "{e}");
     }
     // Clocked timing needs the chip's clocked configuration.
     assert!(render_timed(&small("fig6"), &clocked, None, None).is_err());
@@ -269,4 +276,39 @@ fn sampled_timing_clocks_some_passes_of_each_kind_and_scales_the_rest() {
         Some(st),
         "same sampled timing on 1 and 2 threads"
     );
+}
+
+/// A glare scene's clocked frame: its glare pass and the host's table writes on the
+/// glare ASIC at the scene's widths, the same cycles `reproduce glare-asic-throughput`
+/// clocks (`glare_frame_timing`), the same pixels as the roofline frame; sampled, one
+/// band in 8 of the pass, within its stated error of them.
+#[test]
+fn a_glare_scene_is_clocked_on_the_glare_asic() {
+    use glare_pipeline::pipeline::glare::clocked::{glare_chip, glare_frame_timing};
+    let mut s = builtin("glare-flare").unwrap();
+    s.image.width = 180;
+    s.image.height = 120;
+    let chip = glare_chip(&s).unwrap();
+    let want = glare_frame_timing(&s, &chip).unwrap();
+    let base = render(&s).unwrap();
+    for mode in [TimingMode::Clocked, TimingMode::Sampled] {
+        let req = TimingRequest {
+            mode,
+            chip: None,
+            window: None,
+        };
+        let (f, _) = render_timed(&s, &req, Some(chip.clone()), None).unwrap();
+        assert_eq!(f.fb, base.fb, "{}: the clock changes no pixel", mode.name());
+        let ft = f.timing.unwrap();
+        assert_eq!(ft.chip, "glare-asic");
+        let names: Vec<&str> = ft.passes.iter().map(|p| p.pass.as_str()).collect();
+        assert_eq!(names, ["glare", "glare RAM tables (host writes)"]);
+        if mode == TimingMode::Clocked {
+            assert_eq!(ft.passes, want.passes);
+        } else {
+            let (a, b) = (ft.cycles_total() as f64, want.cycles_total() as f64);
+            let e = ft.sampling_error.unwrap();
+            assert!((a - b).abs() / b <= 3.0 * e + 0.03, "{a} against {b} ± {e}");
+        }
+    }
 }

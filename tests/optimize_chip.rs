@@ -60,7 +60,7 @@ fn arguments_are_checked_up_front_naming_the_argument() {
     a.scene = "glare-point".into();
     let e = err(a);
     assert!(
-        e.starts_with("params:") && e.contains("--timing clocked"),
+        e.starts_with("params:") && e.contains("glare ASIC") && e.contains("fig6"),
         "{e}"
     );
     for bad in ["seconds<=0", "seconds<=-1", "seconds<=x", "seconds=1"] {

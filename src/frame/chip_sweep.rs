@@ -82,6 +82,14 @@ pub fn check_chip_sweep(
         window: None,
     };
     check(&req, &plan).map_err(|e| format!("--param {}: {e}", param.name()))?;
+    if super::timing::glare_only(&plan) {
+        return Err(format!(
+            "--param {}: a glare scene's pass runs on the glare ASIC, whose variants \
+             `reproduce glare-asic-throughput` clocks; an architecture sweep takes a scene \
+             whose passes run on the GPU (fig4, fig6, stage, shafts scene files)",
+            param.name()
+        ));
+    }
     let base = ChipConfig::preset(ChipName::of_gpu(Gpu::for_scene(&scene)).name())
         .map_err(|e| e.to_string())?;
     let chips = values

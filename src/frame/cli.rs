@@ -23,8 +23,9 @@ pub struct TimingArgs {
     /// and memory controller) or sampled (of each kind of pass the first two and one
     /// in 8 clocked, each on one full-width band of 8 rows in 8, and the rest scaled,
     /// with its estimated error). Clocked and sampled time the shafts scenes
-    /// (fig4, fig6, stage and scene files without glare); the roofline stays printed
-    /// beside them.
+    /// (fig4, fig6, stage and scene files without glare) on the GPU and the glare
+    /// scenes (glare-point, glare-flare, leaves, …) on the glare ASIC; the roofline
+    /// (for the glare pass, its throughput formula) stays printed beside them.
     #[arg(long, value_enum, value_name = "MODE", default_value_t = TimingMode::Roofline)]
     pub timing: TimingMode,
     /// The chip the frame is timed on: geforce256, geforce2-gts or geforce3 for the
@@ -168,9 +169,7 @@ pub fn render_cli(
         let p = plan(&scene).map_err(|e| e.to_string())?;
         super::timing::check(&req, &p)?;
         match req.mode.records() {
-            true => Some(super::timing::chip_config(
-                req.chip.unwrap_or(ChipName::of_gpu(req.gpu(&scene))),
-            )?),
+            true => Some(super::timing::frame_chip(&req, &scene, &p)?),
             false => None,
         }
     };

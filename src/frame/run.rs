@@ -10,7 +10,8 @@ use super::timing::{Clock, TimingRequest};
 use crate::chip::clock::FrameTiming;
 use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::glare::background::from_framebuffer;
-use crate::pipeline::glare::cli::render_and_predict_over;
+use crate::pipeline::glare::cli::render_and_predict_with;
+use crate::pipeline::glare::clocked;
 use crate::pipeline::glare::frame::GlareFrame;
 use crate::pipeline::glare::throughput::GlarePrediction;
 use crate::pipeline::shafts::frame::{FrameResult, ShaftsFrame, ShaftsPass};
@@ -130,12 +131,13 @@ pub fn render_swept(
     let gpu = req.gpu(scene);
     let clock = match (req.mode.records(), chip) {
         (false, _) => None,
-        (true, Some(c)) => Some(
-            Clock::new(req.mode, c, gpu.model())
+        (true, Some(c)) => Some((
+            Clock::new(req.mode, c.clone(), gpu.model())
                 .with_window(req.window)
                 .with_alternates(alternates)
                 .with_frame_rows(scene.image.height),
-        ),
+            c,
+        )),
         (true, None) => {
             return Err(ConfigError::invalid(
                 "chip",
@@ -178,7 +180,7 @@ fn render_inner(
     scene: &Scene,
     gpu: Gpu,
     bar: Option<bool>,
-    clock: Option<Clock>,
+    clock: Option<(Clock, crate::chip::config::ChipConfig)>,
 ) -> Result<(Frame, (u64, u64)), ConfigError> {
     let t0 = Instant::now();
     let plan = plan(scene)?;
@@ -190,8 +192,8 @@ fn render_inner(
         )
     });
     let mut state = FrameState::new(scene, &plan, gpu)?;
-    if let Some(c) = clock {
-        state.clock_with(c);
+    if let Some((c, chip)) = clock {
+        state.clock_with(c, chip);
     }
     for pass in &plan.passes {
         state.run(pass)?;
@@ -275,11 +277,15 @@ struct FrameState<'a> {
     times: Vec<PassTime>,
     /// The clocked chip's timing as the passes run (clocked or sampled timing).
     clock: Option<Rc<RefCell<Clock>>>,
+    /// The chip the clock times (for the glare pass's own formula).
+    clock_chip: Option<crate::chip::config::ChipConfig>,
 }
 
 impl<'a> FrameState<'a> {
-    /// Clock the passes' recorded work on `c`: the shafts passes record from now on.
-    fn clock_with(&mut self, c: Clock) {
+    /// Clock the passes' recorded work on `c`, a clock of `chip`: the shafts passes
+    /// record from now on, and the glare pass when it runs.
+    fn clock_with(&mut self, c: Clock, chip: crate::chip::config::ChipConfig) {
+        self.clock_chip = Some(chip);
         let c = Rc::new(RefCell::new(c));
         if let Some(f) = self.shafts.as_mut() {
             let (bands, passes) = (c.borrow().record_bands(), c.borrow().record_passes());
@@ -304,6 +310,7 @@ impl<'a> FrameState<'a> {
             glare: None,
             times: Vec::new(),
             clock: None,
+            clock_chip: None,
         })
     }
 
@@ -400,7 +407,18 @@ impl<'a> FrameState<'a> {
             (None, Some(l)) => Some(l.base.clone()),
             (None, None) => None,
         };
-        let (g, pred, _) = render_and_predict_over(&gs, base.as_deref())?;
+        let record = self.clock.is_some();
+        let (mut g, pred, _) = render_and_predict_with(&gs, base.as_deref(), record)?;
+        if let (Some(c), Some(chip), Some(work)) = (&self.clock, &self.clock_chip, g.work.take()) {
+            // The glare ASIC's pass beside its own formula, then the host's table writes.
+            let formula = clocked::formula(&g, &gs, chip)?;
+            let mut c = c.borrow_mut();
+            c.begin(name)?;
+            c.clock_with_formula(work, formula.walk_cycles as f64 / chip.clock_hz)?;
+            if let Some(tables) = clocked::tables_pass(&g, &formula, chip) {
+                c.timed(tables)?;
+            }
+        }
         self.times.push(PassTime {
             pass: name.to_string(),
             on: format!("glare ASIC ({} MHz × {} pipes)", pred.clock_mhz, pred.pipes),

@@ -139,19 +139,32 @@ pub fn check(req: &TimingRequest, plan: &Plan) -> Result<(), String> {
     if !req.mode.records() {
         return Ok(());
     }
+    let glare_only = glare_only(plan);
+    if let (true, Some(c)) = (glare_only, req.chip) {
+        if c != ChipName::GlareAsic {
+            return Err(format!(
+                "--chip {}: a glare scene's pass runs on the glare ASIC; clocked and sampled \
+                 timing clock it there (--chip glare-asic, the default)",
+                c.name()
+            ));
+        }
+    }
     for p in &plan.passes {
         match p.step {
             Step::Shafts(_) | Step::ShadedObjects | Step::ShadedHighlights => {}
-            // The glare ASIC's clocked model plugs in here: once the glare pass records
-            // its work (`FrameState::glare_pass`), accept it.
+            // A glare scene's one pass, on the glare ASIC.
+            Step::Glare if glare_only => {}
             Step::Glare => {
                 return Err(format!(
-                "--timing {}: the glare pass ({}) is not clocked yet; clocked and sampled timing \
-                     support the shafts scenes (fig4, fig6, stage and scene files without glare); \
-                     use --timing roofline",
-                req.mode.name(),
-                p.name
-            ))
+                    "--timing {}: the glare pass ({}) runs on the glare ASIC, a chip of its own \
+                     beside this frame's GPU passes, and one clocked timing times one chip; \
+                     clocked and sampled timing support the shafts scenes (fig4, fig6, stage and \
+                     scene files without glare) and the glare scenes (glare-point, glare-flare, \
+                     leaves, …); use --timing roofline (`reproduce glare-asic-throughput` \
+                     clocks street-light's glare pass alone)",
+                    req.mode.name(),
+                    p.name
+                ))
             }
             Step::TestScene | Step::EnvironmentScene => {
                 return Err(unsupported_family(req.mode, "this scene"))
@@ -161,13 +174,33 @@ pub fn check(req: &TimingRequest, plan: &Plan) -> Result<(), String> {
     Ok(())
 }
 
+/// Whether the frame is a glare scene's one pass (clocked on the glare ASIC).
+pub fn glare_only(plan: &Plan) -> bool {
+    !plan.passes.is_empty() && plan.passes.iter().all(|p| p.step == Step::Glare)
+}
+
+/// The chip a frame's clocked or sampled timing runs on, resolved before any pass: a
+/// glare scene's, the glare ASIC at the scene's `[glare.hw]`; else `--chip`'s preset or
+/// the scene's GPU's.
+pub fn frame_chip(
+    req: &TimingRequest,
+    scene: &crate::scene::format::Scene,
+    plan: &Plan,
+) -> Result<ChipConfig, String> {
+    if glare_only(plan) {
+        return crate::pipeline::glare::clocked::glare_chip(scene)
+            .map_err(|e| format!("--timing {}: {e}", req.mode.name()));
+    }
+    chip_config(req.chip.unwrap_or(ChipName::of_gpu(req.gpu(scene))))
+}
+
 /// The refusal of clocked or sampled timing for a scene family without recorded work
 /// (the foundation test scene, the environment-map scenes, the shading scenes).
 pub fn unsupported_family(mode: TimingMode, family: &str) -> String {
     format!(
         "--timing {}: {family} has no recorded pass work to clock; clocked and sampled timing \
-         support the shafts scenes (fig4, fig6, stage and scene files without glare); use \
-         --timing roofline",
+         support the shafts scenes (fig4, fig6, stage and scene files without glare) and \
+         the glare scenes (glare-point, glare-flare, leaves, …); use --timing roofline",
         mode.name()
     )
 }
@@ -405,11 +438,12 @@ impl ClockState {
     /// Time one pass's record (or, in sampled mode, its counters alone) on the frame's
     /// chip and, side by side, on each alternate (each on its own chip: the same
     /// timings on any thread count).
-    fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
-        let roofline_seconds = work
-            .stats
-            .as_ref()
-            .map_or(0.0, |s| pass_seconds(&self.model, s).0);
+    fn clock(&mut self, work: PassWork, formula: Option<f64>) -> Result<(), ConfigError> {
+        let roofline_seconds = formula.unwrap_or_else(|| {
+            work.stats
+                .as_ref()
+                .map_or(0.0, |s| pass_seconds(&self.model, s).0)
+        });
         let pass = NamedPassTiming {
             pass: self.pass.clone(),
             roofline_seconds,
@@ -426,6 +460,14 @@ impl ClockState {
             .into_iter()
             .collect::<Result<(), ConfigError>>()?;
         self.main.take(&work, pass, how, self.window.as_ref())
+    }
+
+    /// A pass timed without the clock: appended on every chip as it is.
+    fn timed(&mut self, pass: NamedPassTiming) {
+        for a in &mut self.alternates {
+            a.timing.passes.push(pass.clone());
+        }
+        self.main.timing.passes.push(pass);
     }
 
     /// Passes that recorded nothing: their roofline time, listed as such.
@@ -452,8 +494,11 @@ enum ClockMessage {
     /// The frame pass whose records follow.
     Begin(String),
     /// One pass's record (boxed: the message moves a pointer, not the record's
-    /// vectors' headers).
-    Work(Box<PassWork>),
+    /// vectors' headers), with the seconds of its own throughput formula when the GPU
+    /// roofline does not time it (the glare ASIC's pass).
+    Work(Box<PassWork>, Option<f64>),
+    /// A pass timed without the clock (the glare ASIC's host table writes).
+    Timed(Box<NamedPassTiming>),
     /// A pass that recorded nothing, with its counters (roofline time).
     RooflineOnly(String, Vec<PassStats>),
 }
@@ -552,7 +597,8 @@ impl Clock {
                 for m in rx {
                     match m {
                         ClockMessage::Begin(pass) => state.pass = pass,
-                        ClockMessage::Work(w) => state.clock(*w)?,
+                        ClockMessage::Work(w, formula) => state.clock(*w, formula)?,
+                        ClockMessage::Timed(p) => state.timed(*p),
                         ClockMessage::RooflineOnly(pass, stats) => {
                             state.roofline_only(&pass, &stats)
                         }
@@ -594,7 +640,22 @@ impl Clock {
     /// Clock one pass's record (on the clock's thread; an error surfaces at the next
     /// message or at [`Clock::finish`]).
     pub fn clock(&mut self, work: PassWork) -> Result<(), ConfigError> {
-        self.send(ClockMessage::Work(Box::new(work)))
+        self.send(ClockMessage::Work(Box::new(work), None))
+    }
+
+    /// [`Clock::clock`] for a pass the GPU roofline does not time: `formula_seconds`,
+    /// its own throughput formula's, stands beside its clocked time.
+    pub fn clock_with_formula(
+        &mut self,
+        work: PassWork,
+        formula_seconds: f64,
+    ) -> Result<(), ConfigError> {
+        self.send(ClockMessage::Work(Box::new(work), Some(formula_seconds)))
+    }
+
+    /// A pass timed without the clock, appended in the frame's order.
+    pub fn timed(&mut self, pass: NamedPassTiming) -> Result<(), ConfigError> {
+        self.send(ClockMessage::Timed(Box::new(pass)))
     }
 
     /// Passes that recorded nothing: their roofline time, listed as such.

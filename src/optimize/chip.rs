@@ -191,6 +191,14 @@ pub fn check_chip_on(a: &OptimizeArgs, mut scene: Scene) -> Result<ChipPlan, Str
     }
     let plan = crate::frame::plan::plan(&scene).map_err(|e| e.to_string())?;
     check(&timed(mode), &plan).map_err(|e| format!("params: {e}"))?;
+    if crate::frame::timing::glare_only(&plan) {
+        return Err(
+            "params: a glare scene's pass runs on the glare ASIC, whose variants `reproduce \
+             glare-asic-throughput` clocks; an architecture search takes a scene whose passes \
+             run on the GPU (fig4, fig6, stage, shafts scene files)"
+                .into(),
+        );
+    }
     let base = ChipConfig::preset(ChipName::of_gpu(Gpu::for_scene(&scene)).name())
         .map_err(|e| e.to_string())?;
     crate::report::outputs::check_dir_out("out", &a.out)?;

@@ -106,15 +106,7 @@ pub fn frame_timing(
         roofline_seconds: pred.walk_cycles as f64 / chip.clock_hz,
         scaled_from: None,
     }];
-    let tables = table_cycles(f);
-    if tables > 0 {
-        passes.push(NamedPassTiming {
-            pass: TABLES_PASS.into(),
-            timing: tables_timing(tables),
-            roofline_seconds: pred.table_cycles as f64 / chip.clock_hz,
-            scaled_from: None,
-        });
-    }
+    passes.extend(tables_pass(f, &pred, chip));
     Ok(FrameTiming {
         mode: "clocked".into(),
         chip: chip.name.clone(),
@@ -124,6 +116,22 @@ pub fn frame_timing(
         sample_band_every: None,
         sample_pass_every: None,
         roofline_only: Vec::new(),
+    })
+}
+
+/// The host's RAM-table writes as a pass after the glare pass (`None`: no words
+/// written), beside the formula's `pred` for them.
+pub fn tables_pass(
+    f: &GlareFrame,
+    pred: &GlarePrediction,
+    chip: &ChipConfig,
+) -> Option<NamedPassTiming> {
+    let tables = table_cycles(f);
+    (tables > 0).then(|| NamedPassTiming {
+        pass: TABLES_PASS.into(),
+        timing: tables_timing(tables),
+        roofline_seconds: pred.table_cycles as f64 / chip.clock_hz,
+        scaled_from: None,
     })
 }
 
