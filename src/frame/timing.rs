@@ -1,11 +1,12 @@
 //! How a frame's time is found: the roofline formula over each pass's counters (the
 //! default, `crate::chip::roofline`), or the clocked chip over what each pass did
 //! (`--timing clocked`: every recorded pass clocked in full; `--timing sampled`: a
-//! deterministic sample of its screen bands (rows of tiles) clocked and scaled, with
-//! its error).
+//! deterministic sample of the passes of each kind and of their screen bands (rows of
+//! tiles) clocked and scaled, with its error, [`super::strata`]).
 //!
-//! With clocked or sampled timing the shafts passes record their work
-//! ([`crate::chip::work::PassWork`]) as they run; each pass's record is handed, as
+//! With clocked or sampled timing the shafts passes, and a glare scene's glare pass,
+//! record their work ([`crate::chip::work::PassWork`]) as they run; each pass's record
+//! is handed, as
 //! soon as the pass finishes, to the clock's thread, which clocks it while the frame
 //! draws the next passes and then drops it, so a frame holds a few passes' records at
 //! most ([`Clock`]). Passes that record nothing (the shading units' object pass, a glare
@@ -246,7 +247,7 @@ fn clock_sampled(
     work: &PassWork,
     bands: SampleBands,
 ) -> Result<(PassTiming, f64), ConfigError> {
-    // A full record (alternate chips clock every pass in full) is cut to the sample.
+    // A full record (the glare pass records every fragment) is cut to the sample.
     let cut;
     let work = if work.sample.is_some() || bands.every <= 1 {
         work
@@ -547,8 +548,8 @@ impl Clock {
         self
     }
 
-    /// Also clock every pass on each of `chips` (fully, without a window); their
-    /// frame timings come out of [`Clock::take_alternates`].
+    /// Also time every pass on each of `chips` (in the frame's mode, without a
+    /// window); their frame timings come out of [`Clock::take_alternates`].
     pub fn with_alternates(self, chips: Vec<ChipConfig>) -> Self {
         self.configure(|s| s.with_alternates(chips))
     }
@@ -563,10 +564,8 @@ impl Clock {
         self.configure(|s| s.with_frame_rows(rows))
     }
 
-    /// The bands the passes record the fragments of: the sample in sampled mode
-    /// (unless alternate chips clock every pass in full: then every fragment is
-    /// recorded and cut to the sample when clocked), else `None` (every fragment).
-    /// Asked before the first pass.
+    /// The bands the passes record the fragments of: the sample in sampled mode, else
+    /// `None` (every fragment). Asked before the first pass.
     pub fn record_bands(&self) -> Option<SampleBands> {
         self.state.as_ref().and_then(ClockState::record_bands)
     }
