@@ -61,9 +61,11 @@ pub struct KindEstimate {
 /// R = Σc_i / Σx_i over the n recorded passes; the kind's N = n + u passes total
 /// R·X, X the proxy over all of them. Its variance is the ratio estimator's,
 /// N²(1 − n/N)/n · Σ(c_i − R·x_i)²/(n − 1) (systematic sampling read as simple random
-/// sampling), plus the recorded passes' own variances carried through R·X,
-/// (X / Σx_i)² Σv_i. With unrecorded passes and fewer than two recorded ones the
-/// spread is unknown: the unrecorded part is given a relative error of 1.
+/// sampling), plus the recorded passes' own variances scaled up to the kind,
+/// (X / Σx_i) Σv_i (the two-stage estimator's second term: the spread between the
+/// recorded passes already holds their own sampling noise once). With unrecorded
+/// passes and fewer than two recorded ones the spread is unknown: the unrecorded part
+/// is given a relative error of 1.
 pub fn kind_estimate(recorded: &[(f64, f64, f64)], unrecorded: &[f64]) -> KindEstimate {
     let n = recorded.len() as f64;
     let c_sum: f64 = recorded.iter().map(|r| r.0).sum();
