@@ -339,3 +339,40 @@ fn the_plan_has_the_same_shape_with_nothing_rendered() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `render --json --timing clocked|sampled` keeps the one shape: the frame's
+/// `chip_timing` (docs/throughput.md's fields) against the schema, on a shafts scene
+/// large enough to sample (96 × 64) and on a glare scene (its glare ASIC).
+#[test]
+fn timed_frames_render_to_the_schema() {
+    let dir = scratch("timed");
+    for (scene, mode) in [
+        ("fig6", "sampled"),
+        ("fig6", "clocked"),
+        ("glare-point", "clocked"),
+    ] {
+        let v = render(scene, &["--image", "96x64", "--timing", mode], &dir, false);
+        let t = &v["frame"]["chip_timing"];
+        assert_eq!(t["mode"], mode, "{scene}");
+        let passes = t["passes"].as_array().unwrap();
+        assert!(!passes.is_empty(), "{scene} {mode}");
+        // Sampled: some passes scaled, each from an earlier clocked one.
+        let scaled: Vec<(usize, u64)> = passes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, p)| p["scaled_from"].as_u64().map(|k| (i, k)))
+            .collect();
+        assert_eq!(
+            !scaled.is_empty(),
+            mode == "sampled" && scene == "fig6",
+            "{scene} {mode}"
+        );
+        for (i, k) in scaled {
+            assert!((k as usize) < i && passes[k as usize]["scaled_from"].is_null());
+        }
+        if scene == "glare-point" {
+            assert_eq!(t["chip"], "glare-asic");
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
