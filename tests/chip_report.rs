@@ -275,6 +275,24 @@ fn sampled_mode_carries_its_error_and_the_table_says_so() {
     ft.sampling_error = None;
     assert!(ct::json(&ft)["sampling_error"].is_null());
     assert!(ct::print_table(&ft).contains("± n/a"));
+    // The sample's rates: unknown (n/a), a sample, or a frame too small to sample.
+    assert!(ct::print_table(&ft).contains("one in n/a"));
+    ft.sample_band_every = Some(8);
+    ft.sample_pass_every = Some(8);
+    let t = ct::print_table(&ft);
+    assert!(
+        t.contains("one in 8 clocked") && t.contains("band of 8 rows in 8"),
+        "{t}"
+    );
+    assert_eq!(ct::json(&ft)["sample_pass_every"].as_u64(), Some(8));
+    ft.sample_band_every = Some(1);
+    ft.sample_pass_every = Some(1);
+    let t = ct::print_table(&ft);
+    assert!(
+        t.contains("too few screen bands") && t.contains("every"),
+        "{t}"
+    );
+    assert!(t.lines().all(|l| l.chars().count() <= 100), "{t}");
 }
 
 #[test]

@@ -338,6 +338,12 @@ fn megabytes(b: u64) -> String {
 pub fn print_table(ft: &FrameTiming) -> String {
     let hz = ft.clock_hz;
     let mode = match ft.mode.as_str() {
+        "sampled" if ft.sample_band_every == Some(1) => format!(
+            "sampled: the frame has too few screen bands to sample (under 64 rows): every\n\
+             pass and band clocked\n\
+             sampling error: frame cycles ± {}",
+            or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0))
+        ),
         "sampled" => format!(
             "sampled: of each kind of pass, the first two and one in {} clocked, each on one\n\
              full-width band of 8 rows in {}; the other passes and bands scaled from them\n\
