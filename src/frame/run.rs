@@ -131,13 +131,12 @@ pub fn render_swept(
     let gpu = req.gpu(scene);
     let clock = match (req.mode.records(), chip) {
         (false, _) => None,
-        (true, Some(c)) => Some((
-            Clock::new(req.mode, c.clone(), gpu.model())
+        (true, Some(c)) => Some(
+            Clock::new(req.mode, c, gpu.model())
                 .with_window(req.window)
                 .with_alternates(alternates)
                 .with_frame_rows(scene.image.height),
-            c,
-        )),
+        ),
         (true, None) => {
             return Err(ConfigError::invalid(
                 "chip",
@@ -180,7 +179,7 @@ fn render_inner(
     scene: &Scene,
     gpu: Gpu,
     bar: Option<bool>,
-    clock: Option<(Clock, crate::chip::config::ChipConfig)>,
+    clock: Option<Clock>,
 ) -> Result<(Frame, (u64, u64)), ConfigError> {
     let t0 = Instant::now();
     let plan = plan(scene)?;
@@ -192,8 +191,8 @@ fn render_inner(
         )
     });
     let mut state = FrameState::new(scene, &plan, gpu)?;
-    if let Some((c, chip)) = clock {
-        state.clock_with(c, chip);
+    if let Some(c) = clock {
+        state.clock_with(c);
     }
     for pass in &plan.passes {
         state.run(pass)?;
@@ -277,15 +276,12 @@ struct FrameState<'a> {
     times: Vec<PassTime>,
     /// The clocked chip's timing as the passes run (clocked or sampled timing).
     clock: Option<Rc<RefCell<Clock>>>,
-    /// The chip the clock times (for the glare pass's own formula).
-    clock_chip: Option<crate::chip::config::ChipConfig>,
 }
 
 impl<'a> FrameState<'a> {
-    /// Clock the passes' recorded work on `c`, a clock of `chip`: the shafts passes
-    /// record from now on, and the glare pass when it runs.
-    fn clock_with(&mut self, c: Clock, chip: crate::chip::config::ChipConfig) {
-        self.clock_chip = Some(chip);
+    /// Clock the passes' recorded work on `c`: the shafts passes record from now on,
+    /// and the glare pass when it runs.
+    fn clock_with(&mut self, c: Clock) {
         let c = Rc::new(RefCell::new(c));
         if let Some(f) = self.shafts.as_mut() {
             let (bands, passes) = (c.borrow().record_bands(), c.borrow().record_passes());
@@ -310,7 +306,6 @@ impl<'a> FrameState<'a> {
             glare: None,
             times: Vec::new(),
             clock: None,
-            clock_chip: None,
         })
     }
 
@@ -409,13 +404,14 @@ impl<'a> FrameState<'a> {
         };
         let record = self.clock.is_some();
         let (mut g, pred, _) = render_and_predict_with(&gs, base.as_deref(), record)?;
-        if let (Some(c), Some(chip), Some(work)) = (&self.clock, &self.clock_chip, g.work.take()) {
+        if let (Some(c), Some(work)) = (&self.clock, g.work.take()) {
             // The glare ASIC's pass beside its own formula, then the host's table writes.
-            let formula = clocked::formula(&g, &gs, chip)?;
             let mut c = c.borrow_mut();
+            let chip = c.chip().clone();
+            let formula = clocked::formula(&g, &gs, &chip)?;
             c.begin(name)?;
             c.clock_with_formula(work, formula.walk_cycles as f64 / chip.clock_hz)?;
-            if let Some(tables) = clocked::tables_pass(&g, &formula, chip) {
+            if let Some(tables) = clocked::tables_pass(&g, &formula, &chip) {
                 c.timed(tables)?;
             }
         }

@@ -27,11 +27,6 @@ impl Stratum {
             textures: s.textures_per_fragment,
         }
     }
-
-    /// Frame pass `index` in a kind of its own.
-    pub fn alone(index: usize) -> Self {
-        Stratum::Alone(index)
-    }
 }
 
 /// One kind's passes as the clock saw them.

@@ -317,7 +317,7 @@ impl ChipTimer {
             (TimingMode::Sampled, false) => {
                 let (t, e) = clock_sampled(&self.chip, work, bands)?;
                 // A pass without stats has no kind: its own stratum of one.
-                let kind = stratum.unwrap_or(Stratum::alone(index));
+                let kind = stratum.unwrap_or(Stratum::Alone(index));
                 self.strata
                     .recorded(kind, index, t.cycles, pass.roofline_seconds, e);
                 t
@@ -531,15 +531,23 @@ pub struct Clock {
     worker: Option<ClockWorker>,
     /// The worker's error, once it stopped on one.
     failed: Option<ConfigError>,
+    /// The frame's chip (its state's copy moves to the worker with the state).
+    chip: ChipConfig,
 }
 
 impl Clock {
     pub fn new(mode: TimingMode, chip: ChipConfig, model: GpuModel) -> Self {
         Clock {
-            state: Some(ClockState::new(mode, chip, model)),
+            state: Some(ClockState::new(mode, chip.clone(), model)),
             worker: None,
             failed: None,
+            chip,
         }
+    }
+
+    /// The chip the frame is timed on.
+    pub fn chip(&self) -> &ChipConfig {
+        &self.chip
     }
 
     /// Apply `f` to the state while it is still being configured.

@@ -337,12 +337,12 @@ fn megabytes(b: u64) -> String {
 /// the first table; the others refer to passes by their number).
 pub fn print_table(ft: &FrameTiming) -> String {
     let hz = ft.clock_hz;
+    let error = or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0));
     let mode = match ft.mode.as_str() {
         "sampled" if ft.sample_band_every == Some(1) => format!(
             "sampled: the frame has too few screen bands to sample (under 64 rows): every\n\
              pass and band clocked\n\
-             sampling error: frame cycles ± {}",
-            or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0))
+             sampling error: frame cycles ± {error}"
         ),
         "sampled" => format!(
             "sampled: of each kind of pass, the first two and one in {} clocked, each on one\n\
@@ -351,7 +351,7 @@ pub fn print_table(ft: &FrameTiming) -> String {
              the sampled bands and passes; the sample's bias is not in it)",
             or_na(ft.sample_pass_every.map(f64::from), |k| k.to_string()),
             or_na(ft.sample_band_every.map(f64::from), |k| k.to_string()),
-            or_na(ft.sampling_error, |e| format!("{:.2} %", e * 100.0))
+            error
         ),
         "clocked" => "clocked: every fragment clocked".to_string(),
         other => other.to_string(),

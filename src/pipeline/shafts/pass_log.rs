@@ -79,10 +79,18 @@ impl PassLog {
         self.sink.is_some()
     }
 
-    /// Whether pass `n` of its kind (numbered from 0 in draw order) records its work
-    /// ([`PassSample`]).
+    /// What pass `n` of its kind (numbered from 0 in draw order) records
+    /// ([`PassSample`]): `None` nothing, else the bands whose fragments it keeps
+    /// (`None`: every fragment). A copy of the log's choice that does not borrow it,
+    /// for passes computed ahead and in parallel (the sub-planes).
+    pub fn recorder(&self) -> impl Fn(usize) -> Option<Option<SampleBands>> + Sync + Copy {
+        let (recording, sample, bands) = (self.recording(), self.pass_sample, self.bands);
+        move |n| (recording && sample.records(n)).then_some(bands)
+    }
+
+    /// Whether pass `n` of its kind records its work ([`PassLog::recorder`]).
     pub fn records(&self, n: usize) -> bool {
-        self.recording() && self.pass_sample.records(n)
+        self.recorder()(n).is_some()
     }
 
     /// A fresh record when recording (of the sampled bands' fragments in sampled mode)

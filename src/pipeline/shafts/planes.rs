@@ -158,8 +158,7 @@ pub(super) fn planes_pass(
     let n = cfg.planes as usize;
     // What sub-plane k of the light's sub-planes (k = i·m + j: interval i's j-th)
     // records: nothing, or every fragment or the sampled bands'.
-    let (bands, passes, recording) = (log.bands, log.pass_sample, log.recording());
-    let sub_record = move |k: usize| (recording && passes.records(k)).then_some(bands);
+    let sub_record = log.recorder();
     let m = cfg.subplanes as usize;
     let (r0, r1) = p.plane_range;
     let dr = (r1 - r0) / n as f64;
