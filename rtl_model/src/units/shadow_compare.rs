@@ -705,29 +705,30 @@ impl ShadowCompare {
         // `lane_test`'s left side, the same for every lane.
         let k = self.cfg.frag_frac_bits;
         let fmask = (1u64 << self.frag_bits()) - 1;
-        let fb = (depth & fmask) as i64 - ((self.cfg.bias as i64) << k);
-        let border = self.border_lit(depth & fmask);
-        let cmp = self.cfg.compare;
-        let (vw, vh, mw, mh) = (vw as i64, vh as i64, w as i64, h as i64);
+        let test = FlatTest {
+            fb: (depth & fmask) as i64 - ((self.cfg.bias as i64) << k),
+            k,
+            border: self.border_lit(depth & fmask),
+            compare: self.cfg.compare,
+            viewport: (vw as i64, vh as i64),
+            map: (w as i64, h as i64),
+        };
         let base = lit.len();
         lit.resize(base + len, 0);
         let dst = &mut lit[base..];
-        let (mut kept, mut n, mut reads) = (0usize, 0usize, 0usize);
-        for (i, ((&xi, &yi), &ins)) in x.iter().zip(y).zip(inside).enumerate() {
-            // A candidate has 0 ≤ x < vw, 0 ≤ y < vh: `lane_test`'s wires hold it.
-            let cand = ins & (xi >= 0) & (yi >= 0) & (xi < vw) & (yi < vh);
-            let in_map = cand & (xi < mw) & (yi < mh);
-            let a = if in_map {
-                yi as usize * w as usize + xi as usize
-            } else {
-                0
-            };
-            let l = (!in_map & border) | (in_map & cmp.eval(fb, (words[a] as i64) << k));
-            dst[kept] = i as u32;
-            kept += usize::from(cand & l);
-            n += usize::from(cand);
-            reads += usize::from(in_map);
+        // Whole groups of 8 lanes in vector registers where the CPU has them, the rest
+        // one lane at a time: the same kept indices and counts either way.
+        let (done, mut t) = flat_groups(words, (x, y, inside), &test, dst);
+        for i in done..len {
+            let (cand, in_map, l) = test.lane(words, x[i], y[i], inside[i]);
+            dst[t.kept] = i as u32;
+            t.add(
+                usize::from(cand & l),
+                usize::from(cand),
+                usize::from(in_map),
+            );
         }
+        let FlatTally { kept, n, reads } = t;
         lit.truncate(base + kept);
         ctr.table_reads += reads as u64;
         ctr.saturations += (n - reads) as u64;
@@ -815,6 +816,170 @@ impl ShadowCompare {
 
 /// Lanes [`ShadowCompare::test_lit_lanes`] tests into its local buffer at a time.
 const LIT_BLOCK: usize = 256;
+
+/// [`ShadowCompare::test_filter_flat`]'s test of one lane, its constants computed
+/// once: the biased fragment depth `fb` (s(n+k+1)), the frac bits k of the word's
+/// left shift, the border's outcome, the function, the viewport's and the map's size.
+struct FlatTest {
+    fb: i64,
+    k: u32,
+    border: bool,
+    compare: CompareFunc,
+    viewport: (i64, i64),
+    map: (i64, i64),
+}
+
+impl FlatTest {
+    /// Lane (x, y, inside): whether it is a candidate (covered, 0 ≤ x < vw,
+    /// 0 ≤ y < vh: `lane_test`'s wires hold it), whether it reads the map, and the
+    /// test's outcome (the border's off the map).
+    #[inline(always)]
+    fn lane(&self, words: &[u32], x: i64, y: i64, inside: bool) -> (bool, bool, bool) {
+        let ((vw, vh), (mw, mh)) = (self.viewport, self.map);
+        let cand = inside & (x >= 0) & (y >= 0) & (x < vw) & (y < vh);
+        let in_map = cand & (x < mw) & (y < mh);
+        // Off the map word 0 is read and masked off: no branch.
+        let a = if in_map { (y * mw + x) as usize } else { 0 };
+        let on_map = self.compare.eval(self.fb, (words[a] as i64) << self.k);
+        (cand, in_map, (!in_map & self.border) | (in_map & on_map))
+    }
+}
+
+/// Counts of [`ShadowCompare::test_filter_flat`]'s lanes: kept, candidates, map reads.
+#[derive(Default)]
+struct FlatTally {
+    kept: usize,
+    n: usize,
+    reads: usize,
+}
+
+impl FlatTally {
+    #[inline(always)]
+    fn add(&mut self, kept: usize, n: usize, reads: usize) {
+        self.kept += kept;
+        self.n += n;
+        self.reads += reads;
+    }
+}
+
+/// [`ShadowCompare::test_filter_flat`]'s lanes in whole groups of 8, in AVX-512
+/// registers: each group's candidates, map reads and outcomes as 8-bit masks, the
+/// words gathered under the map mask, the kept indices compressed into `dst` at the
+/// running count. Returns the lanes done (a multiple of 8) and their tally.
+#[cfg(all(
+    target_arch = "x86_64",
+    target_feature = "avx512f",
+    target_feature = "avx512bw",
+    target_feature = "avx512vl"
+))]
+fn flat_groups(
+    words: &[u32],
+    lanes: (&[i64], &[i64], &[bool]),
+    t: &FlatTest,
+    dst: &mut [u32],
+) -> (usize, FlatTally) {
+    // SAFETY: compiled only where the build enables these features (the cfg above).
+    unsafe { flat_groups_avx512(words, lanes, t, dst) }
+}
+
+#[cfg(all(
+    target_arch = "x86_64",
+    target_feature = "avx512f",
+    target_feature = "avx512bw",
+    target_feature = "avx512vl"
+))]
+#[target_feature(enable = "avx512f,avx512bw,avx512vl")]
+fn flat_groups_avx512(
+    words: &[u32],
+    (x, y, inside): (&[i64], &[i64], &[bool]),
+    t: &FlatTest,
+    dst: &mut [u32],
+) -> (usize, FlatTally) {
+    use std::arch::x86_64::*;
+    let groups = x.len().min(y.len()).min(inside.len()).min(dst.len()) / 8;
+    let mut tally = FlatTally::default();
+    if words.is_empty() {
+        return (0, tally);
+    }
+    let ((vw, vh), (mw, mh)) = (t.viewport, t.map);
+    let (zero, fb) = (_mm512_setzero_si512(), _mm512_set1_epi64(t.fb));
+    let (vw, vh) = (_mm512_set1_epi64(vw), _mm512_set1_epi64(vh));
+    let (mwv, mhv) = (_mm512_set1_epi64(mw), _mm512_set1_epi64(mh));
+    let shift = _mm512_set1_epi64(t.k as i64);
+    let border: u8 = if t.border { 0xff } else { 0 };
+    // The function's code as three lane masks: bit 0 keeps "less", 1 "equal",
+    // 2 "greater".
+    let code = t.compare.code();
+    let [on_lt, on_eq, on_gt] = [0, 1, 2].map(|b| 0u8.wrapping_sub((code >> b & 1) as u8));
+    let lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for g in 0..groups {
+        let o = g * 8;
+        // SAFETY: lanes o .. o + 8 lie in x, y, inside and dst (o + 8 ≤ 8 · groups,
+        // each at least that long); bool is one byte, 0 or 1.
+        let (xv, yv, ins) = unsafe {
+            (
+                _mm512_loadu_si512(x.as_ptr().add(o).cast()),
+                _mm512_loadu_si512(y.as_ptr().add(o).cast()),
+                _mm_loadl_epi64(inside.as_ptr().add(o).cast()),
+            )
+        };
+        let covered = _mm_cmpneq_epi8_mask(ins, _mm_setzero_si128()) as u8;
+        let cand = covered
+            & _mm512_cmpge_epi64_mask(xv, zero)
+            & _mm512_cmpge_epi64_mask(yv, zero)
+            & _mm512_cmplt_epi64_mask(xv, vw)
+            & _mm512_cmplt_epi64_mask(yv, vh);
+        let in_map = cand & _mm512_cmplt_epi64_mask(xv, mwv) & _mm512_cmplt_epi64_mask(yv, mhv);
+        // y · w + x on the low 32 bits of each lane: exact where the map is read
+        // (0 ≤ x < w, 0 ≤ y < h), the only lanes the gather loads.
+        let addr = _mm512_add_epi64(_mm512_mul_epi32(yv, mwv), xv);
+        // SAFETY: a lane in the map mask has 0 ≤ addr < w · h = words.len(); the others
+        // are not loaded.
+        let gathered = unsafe {
+            _mm512_mask_i64gather_epi32::<4>(
+                _mm256_setzero_si256(),
+                in_map,
+                addr,
+                words.as_ptr().cast(),
+            )
+        };
+        let word = _mm512_sllv_epi64(_mm512_cvtepu32_epi64(gathered), shift);
+        let (gt, eq) = (
+            _mm512_cmpgt_epi64_mask(fb, word),
+            _mm512_cmpeq_epi64_mask(fb, word),
+        );
+        let outcome = (on_lt & !(gt | eq)) | (on_eq & eq) | (on_gt & gt);
+        let keep = cand & ((!in_map & border) | (in_map & outcome));
+        let index = _mm256_add_epi32(lane_index, _mm256_set1_epi32(o as i32));
+        // SAFETY: kept ≤ o, and the store writes popcount(keep) ≤ 8 words from
+        // dst[kept], within dst[.. o + 8].
+        unsafe {
+            _mm256_mask_compressstoreu_epi32(dst.as_mut_ptr().add(tally.kept).cast(), keep, index)
+        };
+        tally.add(
+            keep.count_ones() as usize,
+            cand.count_ones() as usize,
+            in_map.count_ones() as usize,
+        );
+    }
+    (groups * 8, tally)
+}
+
+/// Without AVX-512 every lane goes one at a time.
+#[cfg(not(all(
+    target_arch = "x86_64",
+    target_feature = "avx512f",
+    target_feature = "avx512bw",
+    target_feature = "avx512vl"
+)))]
+fn flat_groups(
+    _: &[u32],
+    _: (&[i64], &[i64], &[bool]),
+    _: &FlatTest,
+    _: &mut [u32],
+) -> (usize, FlatTally) {
+    (0, FlatTally::default())
+}
 
 fn max_code(bits: u32) -> u32 {
     if bits >= 32 {
