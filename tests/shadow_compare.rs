@@ -1028,6 +1028,59 @@ fn flat_test_form_agrees_exhaustively_at_2_bits() {
     }
 }
 
+/// `test_filter_flat` on a walk that goes back and forth along rows (as the polygon
+/// interpolator walks a full-screen parallelogram), rows 21 wide so that groups of 8
+/// lanes start at every offset and straddle rows, the walk reaching one pixel off
+/// the map on every side, some lanes not covered: the runs of 8 lanes along one row
+/// (read as one block of words, forward or reversed) and the rest give the kernel's
+/// kept lanes and counters, for every function and at depths below, inside and
+/// above the map's words.
+#[test]
+fn flat_test_form_agrees_on_a_back_and_forth_walk() {
+    let (w, h) = (19u32, 5u32);
+    let (mut x, mut y, mut inside) = (Vec::new(), Vec::new(), Vec::new());
+    for yy in -1i64..=h as i64 {
+        let row: Vec<i64> = (-1i64..=w as i64).collect();
+        let row: Vec<i64> = if yy.rem_euclid(2) == 0 {
+            row
+        } else {
+            row.into_iter().rev().collect()
+        };
+        for xx in row {
+            x.push(xx);
+            y.push(yy);
+            inside.push((xx * 7 + yy * 3).rem_euclid(23) != 0);
+        }
+    }
+    for func in CompareFunc::ALL {
+        let u = unit_f(w, h, 8, 1, 2, func);
+        let mut st = u.fresh_state();
+        let mut c = Counters::default();
+        let mut v = 12345u32;
+        for yy in 0..h as i32 {
+            for xx in 0..w as i32 {
+                v = v.wrapping_mul(2_654_435_761).wrapping_add(0x9e37);
+                let depth = v % 256;
+                u.kernel(
+                    &mut st,
+                    &ShadowIn::Write {
+                        x: xx,
+                        y: yy,
+                        depth,
+                    },
+                    &mut c,
+                );
+            }
+        }
+        let words = u.words(&st).unwrap();
+        for depth in [0u64, 1, 300, 517, 1023, 1 << 20] {
+            for viewport in [(w, h), (w - 4, h), (w + 3, h + 2)] {
+                flat_agrees(&u, &st, &words, &x, &y, &inside, viewport, depth);
+            }
+        }
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(300))]
     /// Random configs, RAM contents, viewports, depths and lanes (coordinates off the

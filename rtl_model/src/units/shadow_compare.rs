@@ -912,6 +912,9 @@ fn flat_groups_avx512(
     let code = t.compare.code();
     let [on_lt, on_eq, on_gt] = [0, 1, 2].map(|b| 0u8.wrapping_sub((code >> b & 1) as u8));
     let lane_index = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    let lane_offset = _mm512_setr_epi64(0, 1, 2, 3, 4, 5, 6, 7);
+    let lane_back = _mm512_setr_epi64(0, -1, -2, -3, -4, -5, -6, -7);
+    let lane_reverse = _mm256_setr_epi32(7, 6, 5, 4, 3, 2, 1, 0);
     for g in 0..groups {
         let o = g * 8;
         // SAFETY: lanes o .. o + 8 lie in x, y, inside and dst (o + 8 ≤ 8 · groups,
@@ -931,17 +934,36 @@ fn flat_groups_avx512(
             & _mm512_cmplt_epi64_mask(yv, vh);
         let in_map = cand & _mm512_cmplt_epi64_mask(xv, mwv) & _mm512_cmplt_epi64_mask(yv, mhv);
         // y · w + x on the low 32 bits of each lane: exact where the map is read
-        // (0 ≤ x < w, 0 ≤ y < h), the only lanes the gather loads.
+        // (0 ≤ x < w, 0 ≤ y < h), the only lanes loaded. Eight lanes of one row of
+        // the walk (x₀ … x₀ ± 7, one y: the walk goes back and forth), all on the map,
+        // are eight words in a row: one load (reversed for a leftward row). Others are
+        // gathered (slow on some CPUs), under the map mask.
         let addr = _mm512_add_epi64(_mm512_mul_epi32(yv, mwv), xv);
-        // SAFETY: a lane in the map mask has 0 ≤ addr < w · h = words.len(); the others
-        // are not loaded.
-        let gathered = unsafe {
-            _mm512_mask_i64gather_epi32::<4>(
-                _mm256_setzero_si256(),
-                in_map,
-                addr,
-                words.as_ptr().cast(),
-            )
+        let x0 = _mm512_set1_epi64(_mm_cvtsi128_si64(_mm512_castsi512_si128(xv)));
+        let y0 = _mm512_set1_epi64(_mm_cvtsi128_si64(_mm512_castsi512_si128(yv)));
+        let dx = _mm512_sub_epi64(xv, x0);
+        let one_row = in_map == 0xff && _mm512_cmpeq_epi64_mask(yv, y0) == 0xff;
+        let a0 = _mm_cvtsi128_si64(_mm512_castsi512_si128(addr)) as usize;
+        let gathered = if one_row && _mm512_cmpeq_epi64_mask(dx, lane_offset) == 0xff {
+            // SAFETY: every lane is on the map, so a0 + 7 (the last lane's address)
+            // < w · h = words.len().
+            unsafe { _mm256_loadu_si256(words.as_ptr().add(a0).cast()) }
+        } else if one_row && _mm512_cmpeq_epi64_mask(dx, lane_back) == 0xff {
+            // SAFETY: every lane is on the map, so a0 − 7 (the last lane's address)
+            // ≥ 0 and a0 < words.len().
+            let ahead = unsafe { _mm256_loadu_si256(words.as_ptr().add(a0 - 7).cast()) };
+            _mm256_permutexvar_epi32(lane_reverse, ahead)
+        } else {
+            // SAFETY: a lane in the map mask has 0 ≤ addr < w · h = words.len(); the
+            // others are not loaded.
+            unsafe {
+                _mm512_mask_i64gather_epi32::<4>(
+                    _mm256_setzero_si256(),
+                    in_map,
+                    addr,
+                    words.as_ptr().cast(),
+                )
+            }
         };
         let word = _mm512_sllv_epi64(_mm512_cvtepu32_epi64(gathered), shift);
         let (gt, eq) = (
@@ -951,10 +973,15 @@ fn flat_groups_avx512(
         let outcome = (on_lt & !(gt | eq)) | (on_eq & eq) | (on_gt & gt);
         let keep = cand & ((!in_map & border) | (in_map & outcome));
         let index = _mm256_add_epi32(lane_index, _mm256_set1_epi32(o as i32));
-        // SAFETY: kept ≤ o, and the store writes popcount(keep) ≤ 8 words from
-        // dst[kept], within dst[.. o + 8].
+        // The kept indices packed in a register and stored whole (a compressing store
+        // to memory is slow on some CPUs): the words past the kept ones are written
+        // over by the next group or cut off by the caller.
+        // SAFETY: kept ≤ o, so the 8 words from dst[kept] lie within dst[.. o + 8].
         unsafe {
-            _mm256_mask_compressstoreu_epi32(dst.as_mut_ptr().add(tally.kept).cast(), keep, index)
+            _mm256_storeu_si256(
+                dst.as_mut_ptr().add(tally.kept).cast(),
+                _mm256_maskz_compress_epi32(keep, index),
+            )
         };
         tally.add(
             keep.count_ones() as usize,
