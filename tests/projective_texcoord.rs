@@ -507,20 +507,24 @@ proptest! {
     /// The shared front end of two units dividing by the same q
     /// (`kernel_pair_lanes`, the shafts frame's light map and depth): each unit's
     /// outputs are those the three drivers give it on its own inputs, (s, t, q) and
-    /// (r, 0, q) at the chosen indices, and its counters the kernel's on them.
+    /// (r, 0, q) at the chosen indices (some at random, or all), and its counters the
+    /// kernel's on them.
     #[test]
     fn pair_lane_form_agrees_with_each_unit_through_the_drivers(
         raw in prop::collection::vec(
             (any::<i32>(), any::<i32>(), any::<i32>(), -4096i64..(1i64 << 31), any::<bool>()),
             0..300,
         ),
+        every_index in any::<bool>(),
     ) {
         let a = ProjectiveTexcoordConfig::geforce().build().unwrap();
         let b = shafts_depth().build().unwrap();
         prop_assert!(a.pair_lanes_apply(&b));
         let lane = |k: usize| raw.iter().map(|x| [x.0 as i64, x.1 as i64, x.2 as i64, x.3][k]).collect::<Vec<i64>>();
         let (s, t, r, q) = (lane(0), lane(1), lane(2), lane(3));
-        let idx: Vec<u32> = (0..raw.len() as u32).filter(|&i| raw[i as usize].4).collect();
+        // The chosen indices, or every one (blocks of consecutive indices, read as
+        // slices of the lanes).
+        let idx: Vec<u32> = (0..raw.len() as u32).filter(|&i| every_index || raw[i as usize].4).collect();
         let ins_a: Vec<ProjectiveIn> = idx.iter().map(|&i| {
             let i = i as usize;
             ProjectiveIn { s: s[i], t: t[i], q: q[i] }

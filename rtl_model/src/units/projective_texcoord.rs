@@ -731,9 +731,21 @@ impl ProjectiveTexcoord {
                 "kernel_pair_lanes: index {last} past the lanes ({k})"
             );
             let lanes = sl.iter_mut().zip(&mut tl).zip(&mut rl).zip(&mut ql);
-            for ((((sj, tj), rj), qj), &i) in lanes.zip(block) {
-                let i = (i as usize).min(k - 1);
-                (*sj, *tj, *rj, *qj) = (sext(s[i], w), sext(t[i], w), sext(r[i], w), q[i]);
+            let first = block.first().map_or(0, |&i| i as usize);
+            if block.iter().zip(first..).all(|(&i, j)| i as usize == j) {
+                // A run of consecutive indices (a stretch where every walked pixel is
+                // a fragment): slices of the lanes, read without a gather.
+                let run = first..first + len;
+                let from = s[run.clone()].iter().zip(&t[run.clone()]);
+                let from = from.zip(&r[run.clone()]).zip(&q[run]);
+                for ((((sj, tj), rj), qj), (((&si, &ti), &ri), &qi)) in lanes.zip(from) {
+                    (*sj, *tj, *rj, *qj) = (sext(si, w), sext(ti, w), sext(ri, w), qi);
+                }
+            } else {
+                for ((((sj, tj), rj), qj), &i) in lanes.zip(block) {
+                    let i = (i as usize).min(k - 1);
+                    (*sj, *tj, *rj, *qj) = (sext(s[i], w), sext(t[i], w), sext(r[i], w), q[i]);
+                }
             }
             self.front_lanes(&ql, len, &mut f);
             let sat = self.back_lanes(&f, len, &sl, &mut u, Some((&tl, &mut v)));
