@@ -718,7 +718,12 @@ impl ShadowCompare {
         let dst = &mut lit[base..];
         // Whole groups of 8 lanes in vector registers where the CPU has them, the rest
         // one lane at a time: the same kept indices and counts either way.
-        let (done, mut t) = flat_groups(words, (x, y, inside), &test, dst);
+        #[cfg(avx512_lanes)]
+        // SAFETY: compiled only where the build has these features (`avx512_lanes`,
+        // rtl_model/build.rs).
+        let (done, mut t) = unsafe { flat_groups_avx512(words, (x, y, inside), &test, dst) };
+        #[cfg(not(avx512_lanes))]
+        let (done, mut t) = (0, FlatTally::default());
         for i in done..len {
             let (cand, in_map, l) = test.lane(words, x[i], y[i], inside[i]);
             dst[t.kept] = i as u32;
@@ -864,30 +869,11 @@ impl FlatTally {
 
 /// [`ShadowCompare::test_filter_flat`]'s lanes in whole groups of 8, in AVX-512
 /// registers: each group's candidates, map reads and outcomes as 8-bit masks, the
-/// words gathered under the map mask, the kept indices compressed into `dst` at the
-/// running count. Returns the lanes done (a multiple of 8) and their tally.
-#[cfg(all(
-    target_arch = "x86_64",
-    target_feature = "avx512f",
-    target_feature = "avx512bw",
-    target_feature = "avx512vl"
-))]
-fn flat_groups(
-    words: &[u32],
-    lanes: (&[i64], &[i64], &[bool]),
-    t: &FlatTest,
-    dst: &mut [u32],
-) -> (usize, FlatTally) {
-    // SAFETY: compiled only where the build enables these features (the cfg above).
-    unsafe { flat_groups_avx512(words, lanes, t, dst) }
-}
-
-#[cfg(all(
-    target_arch = "x86_64",
-    target_feature = "avx512f",
-    target_feature = "avx512bw",
-    target_feature = "avx512vl"
-))]
+/// words read as a block along a walk row or gathered under the map mask, the kept
+/// indices packed into `dst` at the running count. Returns the lanes done (a multiple
+/// of 8) and their tally. Without `avx512_lanes` it is not built, and every lane goes
+/// one at a time.
+#[cfg(avx512_lanes)]
 #[target_feature(enable = "avx512f,avx512bw,avx512vl")]
 fn flat_groups_avx512(
     words: &[u32],
@@ -990,22 +976,6 @@ fn flat_groups_avx512(
         );
     }
     (groups * 8, tally)
-}
-
-/// Without AVX-512 every lane goes one at a time.
-#[cfg(not(all(
-    target_arch = "x86_64",
-    target_feature = "avx512f",
-    target_feature = "avx512bw",
-    target_feature = "avx512vl"
-)))]
-fn flat_groups(
-    _: &[u32],
-    _: (&[i64], &[i64], &[bool]),
-    _: &FlatTest,
-    _: &mut [u32],
-) -> (usize, FlatTally) {
-    (0, FlatTally::default())
 }
 
 fn max_code(bits: u32) -> u32 {
