@@ -277,22 +277,19 @@ fn sampled_mode_carries_its_error_and_the_table_says_so() {
     assert!(ct::print_table(&ft).contains("± n/a"));
     // The sample's rates: unknown (n/a), a sample, or a frame too small to sample.
     assert!(ct::print_table(&ft).contains("one in n/a"));
-    ft.sample_band_every = Some(8);
-    ft.sample_pass_every = Some(8);
-    let t = ct::print_table(&ft);
-    assert!(
-        t.contains("one in 8 clocked") && t.contains("band of 8 rows in 8"),
-        "{t}"
-    );
-    assert_eq!(ct::json(&ft)["sample_pass_every"].as_u64(), Some(8));
-    ft.sample_band_every = Some(1);
-    ft.sample_pass_every = Some(1);
-    let t = ct::print_table(&ft);
-    assert!(
-        t.contains("too few screen bands") && t.contains("every"),
-        "{t}"
-    );
-    assert!(t.lines().all(|l| l.chars().count() <= 100), "{t}");
+    for (every, says) in [
+        (8, ["one in 8 clocked", "band of 8 rows in 8"]),
+        (1, ["too few screen bands", "every"]),
+    ] {
+        (ft.sample_band_every, ft.sample_pass_every) = (Some(every), Some(every));
+        let t = ct::print_table(&ft);
+        assert!(says.iter().all(|s| t.contains(s)), "{t}");
+        assert!(t.lines().all(|l| l.chars().count() <= 100), "{t}");
+        assert_eq!(
+            ct::json(&ft)["sample_pass_every"].as_u64(),
+            Some(every as u64)
+        );
+    }
 }
 
 #[test]
