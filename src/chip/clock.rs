@@ -556,12 +556,20 @@ struct Engine<'a> {
     cache_of: Vec<u16>,
     /// This hardware pass's lookups, when worked out ahead ([`LookupsAhead`]).
     ahead: Option<LookupsAhead>,
-    /// The clocks at which the ROP retired its first and last quad in this hardware
-    /// pass (`u64::MAX`: none yet). Between the two the pipe runs at its steady rate;
-    /// the fill before the first and the drain after the last are paid once per pass,
-    /// not per fragment (the sampled mode does not scale them).
+    /// The clock at which the ROP retired its first quad in this hardware pass
+    /// (`u64::MAX`: none yet).
     first_retire: u64,
-    last_retire: u64,
+    /// Per stage (the memory channel last), in this hardware pass ([`BusySpan`]).
+    busy: Vec<BusySpan>,
+}
+
+/// One stage's busy clocks in a hardware pass: how many, how many before the ROP
+/// retired its first quad, and the clock after its last busy one.
+#[derive(Clone, Copy, Debug, Default)]
+struct BusySpan {
+    clocks: u64,
+    before_first_retire: u64,
+    end: u64,
 }
 
 impl<'a> Engine<'a> {
@@ -898,8 +906,12 @@ impl<'a> Engine<'a> {
                     }
                     self.rop_flight.pop_front();
                     self.rop_retired += 1;
-                    self.first_retire = self.first_retire.min(t);
-                    self.last_retire = t;
+                    if self.first_retire == u64::MAX {
+                        self.first_retire = t;
+                        for b in &mut self.busy {
+                            b.before_first_retire = b.clocks;
+                        }
+                    }
                     prog = true;
                 }
             } else {
@@ -1009,6 +1021,33 @@ impl<'a> Engine<'a> {
         (next != u64::MAX).then_some(next)
     }
 
+    /// The hardware pass's fill and drain, ending at clock `end`, on its busiest
+    /// resource (a stage or the memory channel): the clocks it sat idle before the
+    /// ROP retired the first quad, and after its own last busy clock. In between it
+    /// works at its steady rate, on work that grows with the fragments; the fill and
+    /// the drain are paid once per pass (the sampled mode does not scale them).
+    ///
+    /// Why not simply the clocks before the first retire and after the last: a
+    /// memory-bound pass moves the first quads' reads before any quad retires, work
+    /// every sampled stream would then leave out (2 % of Fig. 6(b)'s plane); a raster-bound pass's rasteriser sits idle while its last quads
+    /// cross the pipe, a drain the clocks after the last retire would miss. 0 when no
+    /// quad retired (a copy).
+    fn edges(&self, end: u64) -> u64 {
+        if self.first_retire == u64::MAX {
+            return 0;
+        }
+        // The first of equals in stage order (the memory channel last).
+        let b = self
+            .busy
+            .iter()
+            .rev()
+            .max_by_key(|b| b.clocks)
+            .copied()
+            .unwrap_or_default();
+        (self.first_retire - b.before_first_retire.min(self.first_retire))
+            + end.saturating_sub(b.end)
+    }
+
     fn signal_values(&self) -> impl Iterator<Item = u64> + '_ {
         std::iter::once(&self.fifo_sr)
             .chain(self.fifos.iter())
@@ -1016,7 +1055,13 @@ impl<'a> Engine<'a> {
             .chain(std::iter::once(self.mem.queued() as u64))
     }
 
-    fn record(&self, acc: &mut Acc, t: u64, k: u64) {
+    fn record(&mut self, acc: &mut Acc, t: u64, k: u64) {
+        for (b, &c) in self.busy.iter_mut().zip(&self.cls) {
+            if c == BUSY && k > 0 {
+                b.clocks += k;
+                b.end = t + k;
+            }
+        }
         let g = acc.offset + t;
         acc.credit(&self.cls, g, k);
         if let Some(w) = acc.window.as_mut() {
@@ -1077,7 +1122,7 @@ impl<'a> Engine<'a> {
         self.setup_until = 0;
         self.r_active = false;
         self.first_retire = u64::MAX;
-        self.last_retire = 0;
+        self.busy.fill(BusySpan::default());
         (self.copy_read_left, self.copy_write_left) = if last {
             (self.work.copy_read_bytes, self.work.copy_write_bytes)
         } else {
@@ -1110,9 +1155,7 @@ impl<'a> Engine<'a> {
         {
             *h = (*h).max(f.high_water());
         }
-        if self.first_retire != u64::MAX {
-            acc.edges += self.first_retire + (t - self.last_retire);
-        }
+        acc.edges += self.edges(t);
         Ok(t)
     }
 }
@@ -1438,7 +1481,7 @@ fn new_engine<'a>(chip: &'a ChipConfig, work: &'a PassWork, quads: &'a Quads) ->
         cache_of: Vec::new(),
         ahead: None,
         first_retire: u64::MAX,
-        last_retire: 0,
+        busy: vec![BusySpan::default(); n_stages],
     }
 }
 
@@ -1609,11 +1652,12 @@ pub const SAMPLE_GROUPS: usize = 4;
 /// pass). A primitive without fragments (it walks a bounding box and covers nothing)
 /// goes, whole, to one in `every` of them by its rank among such primitives.
 ///
-/// Scaling: a group's clocks c_g less its fill and drain a_g (the clocks before its
-/// first quad left the rasteriser and after its last, paid once by the full pass) are
-/// set against a per-primitive proxy x_g, Σ (set-up + (walk + fragments) ÷ pipes) over
-/// its pieces; the pass's clocks are R·X + ā + hardware passes × overhead,
-/// R = Σ(c_g − a_g) / Σx_g (a ratio estimator) and X the proxy over every primitive.
+/// Scaling: a group's clocks c_g less its fill and drain a_g (the clocks its busiest
+/// resource sat idle before the first quad retired and after its own last busy clock,
+/// paid once by the full pass) are set against a per-primitive proxy x_g, Σ (set-up +
+/// (walk + fragments) ÷ pipes) over its pieces; the pass's clocks are R·X + ā +
+/// hardware passes × overhead, R = Σ(c_g − a_g) / Σx_g (a ratio estimator) and X the
+/// proxy over every primitive.
 /// The relative standard error returned is that of R from the spread between the
 /// groups, √(Σ(c_g − a_g − R·x_g)² / (G(G − 1))) / (x̄·R). Counters (stage clocks,
 /// bytes, cache hits and misses) are scaled the same way; the timeline shows the
