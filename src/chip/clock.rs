@@ -1654,13 +1654,10 @@ pub const SAMPLE_GROUPS: usize = 4;
 ///
 /// Scaling: a group's clocks c_g less its fill and drain a_g (the clocks its busiest
 /// resource sat idle before the first quad retired and after its own last busy clock,
-/// paid once by the full pass) are set against a proxy x_g, its pieces' demand on the
-/// resource the groups kept busiest ([`Weights`]): set-ups (the set-up stage), the
-/// walk (the rasteriser), covered fragments (a pipe stage, the ROP), bytes (the
-/// memory channel: the ROP's per covered fragment, the texture bytes the groups moved
-/// per covered fragment, the copy's). The pass's clocks are R·X + ā + hardware
-/// passes × overhead, R = Σ(c_g − a_g) / Σx_g (a ratio estimator) and X the demand of
-/// every primitive.
+/// paid once by the full pass) are set against a per-primitive proxy x_g, Σ (set-up +
+/// (walk + fragments) ÷ pipes) over its pieces; the pass's clocks are R·X + ā +
+/// hardware passes × overhead, R = Σ(c_g − a_g) / Σx_g (a ratio estimator) and X the
+/// proxy over every primitive.
 /// The relative standard error returned is that of R from the spread between the
 /// groups, √(Σ(c_g − a_g − R·x_g)² / (G(G − 1))) / (x̄·R). Counters (stage clocks,
 /// bytes, cache hits and misses) are scaled the same way; the timeline shows the
@@ -1699,46 +1696,31 @@ pub fn clock_pass_sampled(
     let mut inner = chip.clone();
     inner.pass_overhead_clocks = 0;
     let streams = sample_streams(chip, work);
-    let total = demand_total(chip, work);
-    let x_total = total.sum_proxy(chip);
+    let x_total = proxy_total(chip, work);
     let mut acc = new_acc(&inner, None);
-    // Per clocked group: its clocks less its fill and drain, its demand, its edges.
-    let mut groups: Vec<(f64, Demand, f64)> = Vec::with_capacity(streams.len());
-    let mut busy = vec![0u64; acc.counts.len()];
+    let mut cx = Vec::with_capacity(streams.len());
+    let mut edges = Vec::with_capacity(streams.len());
     let mut hw = hw_groups(chip, work).len() as u32;
-    for (mut gw, mut d) in streams.into_iter().filter(|s| s.1.sum_proxy(chip) > 0.0) {
-        // The copy's bytes shared by the groups in proportion to their sum proxy.
-        let x = d.sum_proxy(chip);
+    for (mut gw, x) in streams.into_iter().filter(|s| s.1 > 0.0) {
+        // The copy's bytes shared by the groups in proportion to their proxy (scaled
+        // back with the rest by X / Σx_g).
         gw.copy_read_bytes = (work.copy_read_bytes as f64 * x / x_total) as u64;
         gw.copy_write_bytes = (work.copy_write_bytes as f64 * x / x_total) as u64;
-        d.copy_bytes = gw.copy_read_bytes + gw.copy_write_bytes;
         let (before, e0) = (acc.offset, acc.edges);
-        let (b0, tex0): (Vec<u64>, u64) = (busy_clocks(&acc), acc.bytes[0]);
         hw = run_pass(&inner, &gw, &mut acc)?;
-        for ((b, now), then) in busy.iter_mut().zip(busy_clocks(&acc)).zip(b0) {
-            *b += now - then;
-        }
-        d.texture_bytes = acc.bytes[0] - tex0;
         let a = acc.edges - e0;
-        groups.push(((acc.offset - before).saturating_sub(a) as f64, d, a as f64));
+        cx.push(((acc.offset - before).saturating_sub(a) as f64, x));
+        edges.push(a as f64);
     }
     let overhead = hw as u64 * chip.pass_overhead_clocks as u64;
-    if groups.is_empty() {
+    if cx.is_empty() {
         // Nothing of the pass fell in the sample: the proxy alone (a lower bound).
         let t = finish(&inner, acc, hw);
         return Ok((scale_sampled(t, x_total.round() as u64, overhead, 0.0), 1.0));
     }
-    // The groups' demand weighed on the resource that bounded them.
-    let weights = Weights::on(chip, work, busiest(&busy), &groups);
-    let total = Demand {
-        copy_bytes: work.copy_read_bytes + work.copy_write_bytes,
-        ..total
-    };
-    let x_total = weights.proxy(&total);
-    let cx: Vec<(f64, f64)> = groups.iter().map(|g| (g.0, weights.proxy(&g.1))).collect();
     let (r, rse) = ratio_estimate(&cx);
     let x_sum: f64 = cx.iter().map(|c| c.1).sum();
-    let a_mean = groups.iter().map(|g| g.2).sum::<f64>() / groups.len() as f64;
+    let a_mean = edges.iter().sum::<f64>() / edges.len() as f64;
     let t = finish(&inner, acc, hw);
     let work_clocks = (r * x_total + a_mean).round() as u64;
     let rse = if cx.len() < 2 { 1.0 } else { rse };
@@ -1748,153 +1730,36 @@ pub fn clock_pass_sampled(
     ))
 }
 
-/// Each stage's busy clocks so far (the memory channel last).
-fn busy_clocks(acc: &Acc) -> Vec<u64> {
-    acc.counts.iter().map(|c| c[BUSY as usize]).collect()
-}
-
-/// The index of the largest of `busy` (the first of equals: the stage order, the
-/// memory channel last), as [`Engine::edges`] picks its resource.
-fn busiest(busy: &[u64]) -> usize {
-    let n = busy.len();
-    busy.iter()
-        .rev()
-        .enumerate()
-        .max_by_key(|(_, &b)| b)
-        .map_or(0, |(i, _)| n - 1 - i)
-}
-
-/// What pieces of primitives ask of the chip, by part: set-ups, the rasteriser's walk
-/// (pixels of the bounding box, or covered and depth-killed fragments, by
-/// `chip.raster_walk`), covered fragments, and, once a group is clocked, the texture
-/// bytes it moved and the copy bytes it was given.
-#[derive(Clone, Copy, Debug, Default)]
-struct Demand {
-    setups: u64,
-    walk: u64,
-    covered: u64,
-    texture_bytes: u64,
-    copy_bytes: u64,
-}
-
-impl Demand {
-    /// A piece of a primitive: set up here or not, its walk, killed and covered
-    /// fragments.
-    fn piece(chip: &ChipConfig, setup: bool, walked: u64, killed: u64, covered: u64) -> Self {
-        Demand {
-            setups: u64::from(setup),
-            walk: match chip.raster_walk {
-                RasterWalk::BoundingBox => walked,
-                RasterWalk::CoveredQuads => covered + killed,
-            },
-            covered,
-            ..Demand::default()
-        }
-    }
-
-    fn add(&mut self, o: &Demand) {
-        self.setups += o.setups;
-        self.walk += o.walk;
-        self.covered += o.covered;
-    }
-
-    /// Set-up clocks + (walk + covered fragments) ÷ pipes, every part counted:
-    /// whether a group has work at all, and its share of the copy's bytes.
-    fn sum_proxy(&self, chip: &ChipConfig) -> f64 {
-        let pipes = chip.pipes.max(1) as f64;
-        (self.setups * chip.setup_clocks_per_triangle as u64) as f64
-            + (self.walk + self.covered) as f64 / pipes
-    }
-}
-
-/// The proxy's weights: the cost (up to a common factor) of each part of a
-/// [`Demand`] on the resource that bounded the sampled groups, so that a group's
-/// proxy grows as its clocks do. A part that resource does not serve weighs nothing:
-/// a memory-bound pass's set-ups overlap its transfers and its depth-killed fragments
-/// move no bytes, so a sample holding more or fewer of them than the pass (a band
-/// that holds no primitive's first fragment sets none up) is not scaled as if they
-/// cost clocks.
-#[derive(Clone, Copy, Debug, Default)]
-struct Weights {
-    setup: f64,
-    walk: f64,
-    covered: f64,
-    copy_byte: f64,
-}
-
-impl Weights {
-    /// On stage `stage` ([`stage_names`]'s order) of `chip`: set-up, raster, a pipe
-    /// stage, the ROP, the copy engine or the memory channel. `groups` carry the
-    /// texture bytes they moved.
-    fn on(chip: &ChipConfig, work: &PassWork, stage: usize, groups: &[(f64, Demand, f64)]) -> Self {
-        let pipes = chip.pipes.max(1) as f64;
-        let n_pipe = chip.pipe_stages.len();
-        let rop = &work.rop;
-        match stage {
-            0 => Weights {
-                setup: chip.setup_clocks_per_triangle as f64,
-                ..Weights::default()
-            },
-            1 => Weights {
-                walk: 1.0 / pipes,
-                ..Weights::default()
-            },
-            s if s < 2 + n_pipe + 1 => Weights {
-                covered: 1.0 / pipes,
-                ..Weights::default()
-            },
-            s if s == 2 + n_pipe + 1 => Weights {
-                copy_byte: 1.0,
-                ..Weights::default()
-            },
-            _ => {
-                // The memory channel: the bytes moved. Per covered fragment the ROP's
-                // depth and colour bytes and the texture bytes the groups' caches
-                // missed per covered fragment (the pass's texture misses are not
-                // known beyond the sample); the copy's bytes; a depth-killed fragment
-                // moves none.
-                let (tex, cov) = groups
-                    .iter()
-                    .fold((0, 0), |(t, c), g| (t + g.1.texture_bytes, c + g.1.covered));
-                let rop_bytes = rop.depth_read_bytes
-                    + rop.depth_write_bytes
-                    + rop.colour_read_bytes
-                    + rop.colour_write_bytes;
-                Weights {
-                    covered: rop_bytes as f64 + tex as f64 / cov.max(1) as f64,
-                    copy_byte: 1.0,
-                    ..Weights::default()
-                }
-            }
-        }
-    }
-
-    fn proxy(&self, d: &Demand) -> f64 {
-        self.setup * d.setups as f64
-            + self.walk * d.walk as f64
-            + self.covered * d.covered as f64
-            + self.copy_byte * d.copy_bytes as f64
-    }
-}
-
-/// The demand of every primitive of a sampled record (each set up once; no bytes).
-fn demand_total(chip: &ChipConfig, work: &PassWork) -> Demand {
-    let mut d = Demand::default();
-    let Some(s) = &work.sample else {
-        return d;
+/// The proxy of a piece of a primitive: set-up + walk ÷ pipes + fragments ÷ pipes.
+/// A sum, not a maximum, so that a primitive's pieces add up to the primitive (a
+/// maximum would count a set-up-bound primitive's walk again in every piece set up
+/// elsewhere).
+fn proxy(chip: &ChipConfig, setup: bool, walked: u64, killed: u64, frags: u64) -> f64 {
+    let pipes = chip.pipes.max(1) as u64;
+    let walk = match chip.raster_walk {
+        RasterWalk::BoundingBox => walked,
+        RasterWalk::CoveredQuads => frags + killed,
     };
-    for p in 0..work.prim_walked.len() {
-        let killed = work.prim_depth_killed.get(p).copied().unwrap_or(0) as u64;
-        let covered = s.prim_fragments[p] as u64;
-        d.add(&Demand::piece(
-            chip,
-            true,
-            work.prim_walked[p] as u64,
-            killed,
-            covered,
-        ));
-    }
-    d
+    let s = if setup {
+        chip.setup_clocks_per_triangle as u64
+    } else {
+        0
+    };
+    s as f64 + (walk + frags) as f64 / pipes as f64
+}
+
+/// The proxy over every primitive of a sampled record (each set up once).
+fn proxy_total(chip: &ChipConfig, work: &PassWork) -> f64 {
+    let Some(s) = &work.sample else {
+        return 0.0;
+    };
+    (0..work.prim_walked.len())
+        .map(|p| {
+            let killed = work.prim_depth_killed.get(p).copied().unwrap_or(0) as u64;
+            let frags = s.prim_fragments[p] as u64;
+            proxy(chip, true, work.prim_walked[p] as u64, killed, frags)
+        })
+        .sum()
 }
 
 /// A primitive's share `kept / total` of `v`, rounded (all of it when it has no
@@ -1906,9 +1771,9 @@ fn share(v: u32, kept: u32, total: u32) -> u32 {
     ((v as u64 * kept as u64 + total as u64 / 2) / total as u64) as u32
 }
 
-/// The sampled record's groups as streams of their own, each with its demand
+/// The sampled record's groups as streams of their own, each with its proxy
 /// ([`clock_pass_sampled`] describes the deal).
-fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, Demand)> {
+fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, f64)> {
     let Some(s) = &work.sample else {
         return Vec::new();
     };
@@ -1917,7 +1782,7 @@ fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, Demand)>
     // The group of a sampled pixel's unit.
     let group_of = |[x, y]: [u16; 2]| (bands.rank(x as u32, y as u32) as usize) % SAMPLE_GROUPS;
     let per = work.texels_per_fragment();
-    let mut out: Vec<(PassWork, Demand)> = (0..SAMPLE_GROUPS)
+    let mut out: Vec<(PassWork, f64)> = (0..SAMPLE_GROUPS)
         .map(|_| {
             let w = PassWork {
                 width: work.width,
@@ -1926,7 +1791,7 @@ fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, Demand)>
                 rop: work.rop,
                 ..PassWork::default()
             };
-            (w, Demand::default())
+            (w, 0.0)
         })
         .collect();
     let depth_tested = !work.prim_depth_killed.is_empty();
@@ -1982,13 +1847,7 @@ fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, Demand)>
                 let k = share(killed, count[g], total);
                 (share(work.prim_walked[p], count[g], total), k)
             };
-            x.add(&Demand::piece(
-                chip,
-                set_up,
-                walk as u64,
-                kill as u64,
-                count[g] as u64,
-            ));
+            *x += proxy(chip, set_up, walk as u64, kill as u64, count[g] as u64);
             if set_up || gw.prim_walked.is_empty() {
                 gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
                 gw.prim_walked.push(walk);
