@@ -3,7 +3,7 @@
 //! caches and the memory controller. Time only: the pixels are the functional model's.
 
 use super::config::ChipConfig;
-use super::work::{PassWork, SampleBands};
+use super::work::{PassWork, RopWork, SampleBands};
 use rtl_model::ConfigError;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -1163,7 +1163,15 @@ impl<'a> Engine<'a> {
 /// Check that a pass's recorded work is consistent (every length and index), so the
 /// engine never indexes out of range. Errors name the field (`pass_work.texels`).
 pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
-    let n = work.fragments();
+    validate_textures(work)?;
+    validate_rop(&work.rop)?;
+    validate_fragments(work)?;
+    validate_sample(work)
+}
+
+/// [`validate_work`]'s textures: lookups of 1 ..= 64 texels, no empty dimension,
+/// texels of 1 ..= 64 bytes.
+fn validate_textures(work: &PassWork) -> Result<(), ConfigError> {
     for (j, t) in work.textures.iter().enumerate() {
         if t.texels_per_lookup == 0 || t.texels_per_lookup > 64 {
             return Err(ConfigError::invalid(
@@ -1184,7 +1192,11 @@ pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
             ));
         }
     }
-    let r = &work.rop;
+    Ok(())
+}
+
+/// [`validate_work`]'s raster operations: at most 1024 bytes of each per fragment.
+fn validate_rop(r: &RopWork) -> Result<(), ConfigError> {
     for (field, v) in [
         ("depth_read_bytes", r.depth_read_bytes),
         ("depth_write_bytes", r.depth_write_bytes),
@@ -1198,6 +1210,13 @@ pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
             ));
         }
     }
+    Ok(())
+}
+
+/// [`validate_work`]'s fragments: their texel indices, the primitives that hold them
+/// in order, their pixels inside the framebuffer, counts that fit 32 bits.
+fn validate_fragments(work: &PassWork) -> Result<(), ConfigError> {
+    let n = work.fragments();
     let per = work.texels_per_fragment();
     if work.texels.len() as u64 != n as u64 * per as u64 {
         return Err(ConfigError::invalid(
@@ -1260,7 +1279,7 @@ pub fn validate_work(work: &PassWork) -> Result<(), ConfigError> {
             "more than 2^32 − 1 fragments or primitives in one pass",
         ));
     }
-    validate_sample(work)
+    Ok(())
 }
 
 /// The checks of a sampled record: a count per primitive, at least as many fragments
@@ -1771,6 +1790,23 @@ fn share(v: u32, kept: u32, total: u32) -> u32 {
     ((v as u64 * kept as u64 + total as u64 / 2) / total as u64) as u32
 }
 
+/// A piece of a primitive into a group's stream: `walk` pixels walked and `killed`
+/// depth-killed fragments (`None`: the pass has no depth test). Set up here, or the
+/// group's first piece, it starts a primitive; else it is part of the walk of the
+/// primitive before it (a primitive set up in another group).
+fn add_piece(gw: &mut PassWork, set_up: bool, walk: u32, killed: Option<u32>) {
+    if set_up || gw.prim_walked.is_empty() {
+        gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
+        gw.prim_walked.push(walk);
+        gw.prim_depth_killed.extend(killed);
+    } else {
+        *gw.prim_walked.last_mut().unwrap_or(&mut 0) += walk;
+        if let (Some(k), Some(more)) = (gw.prim_depth_killed.last_mut(), killed) {
+            *k += more;
+        }
+    }
+}
+
 /// The sampled record's groups as streams of their own, each with its proxy
 /// ([`clock_pass_sampled`] describes the deal).
 fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, f64)> {
@@ -1822,11 +1858,7 @@ fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, f64)> {
         }
         let mut kcount = [0u32; SAMPLE_GROUPS];
         if known {
-            let end = s
-                .prim_first_killed
-                .get(p + 1)
-                .map_or(s.killed_xy.len(), |&e| e as usize);
-            for &xy in &s.killed_xy[s.prim_first_killed[p] as usize..end] {
+            for &xy in s.killed_of(p) {
                 kcount[group_of(xy)] += 1;
             }
         }
@@ -1848,20 +1880,7 @@ fn sample_streams(chip: &ChipConfig, work: &PassWork) -> Vec<(PassWork, f64)> {
                 (share(work.prim_walked[p], count[g], total), k)
             };
             *x += proxy(chip, set_up, walk as u64, kill as u64, count[g] as u64);
-            if set_up || gw.prim_walked.is_empty() {
-                gw.prim_first_fragment.push(gw.frag_xy.len() as u32);
-                gw.prim_walked.push(walk);
-                if depth_tested {
-                    gw.prim_depth_killed.push(kill);
-                }
-            } else {
-                // A piece of a primitive set up in another group: part of the walk of
-                // the primitive before it.
-                *gw.prim_walked.last_mut().unwrap_or(&mut 0) += walk;
-                if let Some(k) = gw.prim_depth_killed.last_mut() {
-                    *k += kill;
-                }
-            }
+            add_piece(gw, set_up, walk, depth_tested.then_some(kill));
         }
         for (f, &g) in r.zip(&frag_group) {
             let gw = &mut out[g as usize].0;

@@ -179,6 +179,17 @@ pub struct SampleRecord {
     pub killed_xy: Vec<[u16; 2]>,
 }
 
+impl SampleRecord {
+    /// The pixels of primitive `p`'s depth-killed fragments in the sampled units.
+    pub fn killed_of(&self, p: usize) -> &[[u16; 2]] {
+        let end = self
+            .prim_first_killed
+            .get(p + 1)
+            .map_or(self.killed_xy.len(), |&e| e as usize);
+        &self.killed_xy[self.prim_first_killed[p] as usize..end]
+    }
+}
+
 /// What the ROP does with each fragment of a pass.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct RopWork {
