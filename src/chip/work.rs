@@ -83,8 +83,10 @@ pub struct PassWork {
     /// Per primitive: the pixels the rasteriser walked (covered or not).
     pub prim_walked: Vec<u32>,
     /// Per primitive: the covered fragments the depth test removed before any texture
-    /// was read (each read its depth, `rop.depth_read_bytes`, and went no further; they
-    /// are not in `frag_xy`). Empty when the pass has no depth test.
+    /// was read (they are not in `frag_xy`). The clocked chip charges them the
+    /// rasteriser's walk only (with `RasterWalk::CoveredQuads`, ⌈killed ÷ pipes⌉
+    /// clocks), not a depth read: a simplification, see docs/throughput.md. Empty when
+    /// the pass has no depth test.
     pub prim_depth_killed: Vec<u32>,
     /// Each fragment's pixel (x, y), y down.
     pub frag_xy: Vec<[u16; 2]>,
