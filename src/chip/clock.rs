@@ -1027,11 +1027,13 @@ impl<'a> Engine<'a> {
     /// works at its steady rate, on work that grows with the fragments; the fill and
     /// the drain are paid once per pass (the sampled mode does not scale them).
     ///
-    /// Why not simply the clocks before the first retire and after the last: a
-    /// memory-bound pass moves the first quads' reads before any quad retires, work
-    /// every sampled stream would then leave out (2 % of Fig. 6(b)'s plane); a raster-bound pass's rasteriser sits idle while its last quads
-    /// cross the pipe, a drain the clocks after the last retire would miss. 0 when no
-    /// quad retired (a copy).
+    /// Why not the clocks before the first retire and after the last: a memory-bound
+    /// pass moves the first quads' reads before any quad retires, work every sampled
+    /// stream would then leave out (about 2 % of tests/chip_clock's Fig. 6(b)-sized
+    /// plane at one band in 8). The two ends are measured on the same resource: the
+    /// pipe's latency that a rasteriser-bound fill no longer holds (the rasteriser is
+    /// busy while the first quads cross the pipe) is in its drain (idle while the last
+    /// ones do). 0 when no quad retired (a copy).
     fn edges(&self, end: u64) -> u64 {
         if self.first_retire == u64::MAX {
             return 0;
