@@ -479,9 +479,10 @@ struct Acc {
     misses: u64,
     bytes: [u64; 4],
     mem_busy: u64,
-    /// Clocks before the ROP retired its first quad and after its last, summed over
-    /// the hardware passes (the fill and the drain).
-    edges: u64,
+    /// The fill and drain of every hardware pass so far ([`Engine::edges`]), summed;
+    /// `None` when not asked for (only the sampled mode scales around them, and
+    /// keeping each stage's busy span costs a loop over the stages every clock).
+    edges: Option<u64>,
 }
 
 impl Acc {
@@ -1058,10 +1059,12 @@ impl<'a> Engine<'a> {
     }
 
     fn record(&mut self, acc: &mut Acc, t: u64, k: u64) {
-        for (b, &c) in self.busy.iter_mut().zip(&self.cls) {
-            if c == BUSY && k > 0 {
-                b.clocks += k;
-                b.end = t + k;
+        if acc.edges.is_some() && k > 0 {
+            for (b, &c) in self.busy.iter_mut().zip(&self.cls) {
+                if c == BUSY {
+                    b.clocks += k;
+                    b.end = t + k;
+                }
             }
         }
         let g = acc.offset + t;
@@ -1157,7 +1160,9 @@ impl<'a> Engine<'a> {
         {
             *h = (*h).max(f.high_water());
         }
-        acc.edges += self.edges(t);
+        if let Some(e) = acc.edges.as_mut() {
+            *e += self.edges(t);
+        }
         Ok(t)
     }
 }
@@ -1404,7 +1409,7 @@ fn new_acc(chip: &ChipConfig, window: Option<std::ops::Range<u64>>) -> Acc {
         misses: 0,
         bytes: [0; 4],
         mem_busy: 0,
-        edges: 0,
+        edges: None,
     }
 }
 
@@ -1719,6 +1724,7 @@ pub fn clock_pass_sampled(
     let streams = sample_streams(chip, work);
     let x_total = proxy_total(chip, work);
     let mut acc = new_acc(&inner, None);
+    acc.edges = Some(0);
     let mut cx = Vec::with_capacity(streams.len());
     let mut edges = Vec::with_capacity(streams.len());
     let mut hw = hw_groups(chip, work).len() as u32;
@@ -1727,9 +1733,9 @@ pub fn clock_pass_sampled(
         // back with the rest by X / Σx_g).
         gw.copy_read_bytes = (work.copy_read_bytes as f64 * x / x_total) as u64;
         gw.copy_write_bytes = (work.copy_write_bytes as f64 * x / x_total) as u64;
-        let (before, e0) = (acc.offset, acc.edges);
+        let (before, e0) = (acc.offset, acc.edges.unwrap_or(0));
         hw = run_pass(&inner, &gw, &mut acc)?;
-        let a = acc.edges - e0;
+        let a = acc.edges.unwrap_or(0) - e0;
         cx.push(((acc.offset - before).saturating_sub(a) as f64, x));
         edges.push(a as f64);
     }
