@@ -449,6 +449,48 @@ proptest! {
         assert_keep_agrees(&u, &inputs, &out, &mut rng);
     }
 
+    /// The lane form over several of its blocks (64 lanes) and up to power-of-two
+    /// sizes of 64, coordinate words 20 ..= 32 bits wide (the 32-bit-lane form takes
+    /// up to 30 and leaves wider ones to the packed form), every weight rounding: the
+    /// kept lanes are the batch kernel's channel 0, the others untouched, the
+    /// counters the batch kernel's.
+    #[test]
+    fn lane_form_agrees_with_the_batch_kernel_over_blocks(
+        dims in 1u32..=2,
+        size in prop::array::uniform3(prop::sample::select(vec![1u32, 2, 3, 5, 8, 16, 33, 64])),
+        widths in prop::sample::select(ALL_WIDTHS.to_vec()),
+        int_bits in prop::sample::select(vec![8u32, 12, 14, 16]),
+        rounding in prop::sample::select(vec![
+            WeightRounding::Round, WeightRounding::Truncate, WeightRounding::RoundHalfEven,
+        ]),
+        filter in prop::sample::select(FILTERS.to_vec()),
+        address in address_strategy(),
+        seed in any::<u64>(),
+        n in 0usize..200,
+    ) {
+        let mut cfg = config(dims, size, 1, widths, rounding, filter, address, 4);
+        cfg.coord_int_bits = int_bits;
+        let mut rng = Rng(seed);
+        let texels = make_texels(&cfg, Content::Random, &mut rng);
+        let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
+        let inputs: Vec<TextureSamplerIn> = (0..n)
+            .map(|_| {
+                let mut coord = [0i32; 3];
+                for (k, c) in coord.iter_mut().enumerate().take(dims as usize) {
+                    *c = if rng.below(8) == 0 {
+                        rng.next() as i32
+                    } else {
+                        coord_word(&mut rng, cfg.size[k], int_bits, widths.frac)
+                    };
+                }
+                TextureSamplerIn { coord }
+            })
+            .collect();
+        let mut out = Vec::new();
+        u.kernel_batch(&mut (), &inputs, &mut out, &mut Counters::default());
+        assert_keep_agrees(&u, &inputs, &out, &mut rng);
+    }
+
     /// Random, mostly invalid configs: never a panic; an error names a
     /// `texture_sampler.` field; a valid config refuses a wrong texel count.
     #[test]

@@ -407,7 +407,16 @@ pub struct TextureSampler {
     ram: BitVec<u64, Lsb0>,
     /// Address bits of each axis: ceil(log2(size)).
     axis_bits: [u32; 3],
+    /// The same texels one word each, for the lane kernels' gathers
+    /// ([`LaneFilter`]): kept for a one-channel 1D or 2D texture of at most
+    /// [`UNPACKED_MAX_TEXELS`] texels, empty otherwise. A copy of `ram` made at each
+    /// load, so the two never differ.
+    unpacked: Vec<u32>,
 }
+
+/// The largest texture (texels) whose codes are also kept one per word for the lane
+/// kernels: 16 MiB of words.
+const UNPACKED_MAX_TEXELS: u64 = 1 << 22;
 
 /// One lerp of [`FilterRounding::SuccessiveLerps`]: v0 + ((w·(v1 − v0) + W/2) >> wb)
 /// with W = 2^wb, w ∈ [0, W], codes u(tb). v1 − v0 is s(tb+1), the product
@@ -465,6 +474,7 @@ impl TextureSampler {
             ram: BitVec::new(),
             cfg,
             axis_bits,
+            unpacked: Vec::new(),
         };
         t.load(texels)?;
         Ok(t)
@@ -510,6 +520,13 @@ impl TextureSampler {
         let mut ram = BitVec::<u64, Lsb0>::from_vec(words);
         ram.truncate(total);
         self.ram = ram;
+        self.unpacked.clear();
+        if self.cfg.channels == 1
+            && self.cfg.dims <= 2
+            && self.cfg.texel_count() <= UNPACKED_MAX_TEXELS
+        {
+            self.unpacked.extend_from_slice(texels);
+        }
         Ok(())
     }
 
@@ -905,6 +922,30 @@ impl TextureSampler {
         if d == 2 {
             overflows += wraps(t);
         }
+        if let Some(lanes) = LaneFilter::of(self) {
+            lanes.run(&self.unpacked, s, t, keep, out);
+        } else {
+            self.sample_lanes_packed(s, t, keep, out);
+        }
+        texel_fetch(
+            ctr,
+            n as u64 * self.cfg.texels_per_sample() as u64,
+            self.cfg.texel_bits,
+        );
+        ctr.overflows += overflows;
+        true
+    }
+
+    /// [`Self::sample_lanes_keep`]'s filter on the packed RAM, a lane at a time: the
+    /// form for the configurations [`LaneFilter`] does not take.
+    fn sample_lanes_packed(
+        &self,
+        s: &[i32],
+        t: &[i32],
+        keep: impl Fn(usize) -> bool,
+        out: &mut [u32],
+    ) {
+        let d = self.cfg.dims as usize;
         let f = self.cfg.coord_frac_bits;
         let w = self.cfg.size[0] as u64;
         let wire = |word: i32| self.coord_wire(word).0;
@@ -945,13 +986,6 @@ impl TextureSampler {
                 }
             }
         }
-        texel_fetch(
-            ctr,
-            n as u64 * self.cfg.texels_per_sample() as u64,
-            self.cfg.texel_bits,
-        );
-        ctr.overflows += overflows;
-        true
     }
 
     /// The datapath on one coordinate: the filtered codes (unused channels 0).
@@ -1075,6 +1109,198 @@ impl TextureSampler {
             &format!("{axis}: address mode ×{nidx}"),
             per_index * nidx as f64,
         )
+    }
+}
+
+/// The lane kernels' form of a one-channel 1D or 2D texture
+/// ([`TextureSampler::sample_lanes_keep`]): the same integers as the kernel, in 32-bit
+/// lanes over the unpacked texels, every lane computed without a branch (the
+/// compiler's vector gathers) and the kept ones stored. Built by [`Self::of`] where
+/// every value fits: coordinate words of at most 30 bits (the ½-shifted p in s(32)),
+/// the accumulator tb + d·wb ≤ 31 bits, each used axis clamped or wrapped on a
+/// power-of-two size, product weights, and a weight rounding that is exact or a
+/// shift (`round` or `truncate` when Fp > wb).
+#[derive(Clone, Copy, Debug)]
+struct LaneFilter {
+    dims: usize,
+    linear: bool,
+    /// 32 − (I + F): a word's low I + F bits sign-extended by a left then an
+    /// arithmetic right shift.
+    wire_shift: u32,
+    /// F, the coordinate's fraction bits (nearest: floor(u) = c >> F).
+    frac: u32,
+    /// Linear: p = (c << up) − half_p, with Fp = `fp` fraction bits; fr = p & fmask.
+    up: u32,
+    fp: u32,
+    half_p: i32,
+    fmask: i32,
+    /// The weight: ((fr << w_up) + w_round) >> w_down, u(wb+1); the other W − fx.
+    w_up: u32,
+    w_round: i32,
+    w_down: u32,
+    big_w: i32,
+    /// Per axis, the address mode: (i & and_mask) clamped to 0 ..= hi (clamp: all
+    /// ones; wrap on a power of two: size − 1, after which the clamp does nothing).
+    and_mask: [i32; 2],
+    hi: [i32; 2],
+    width: i32,
+    /// The accumulator's rounding: (acc + half) >> shift, shift = d·wb (linear).
+    shift: u32,
+    half: u32,
+}
+
+impl LaneFilter {
+    fn of(t: &TextureSampler) -> Option<LaneFilter> {
+        let c = &t.cfg;
+        let d = c.dims as usize;
+        if t.unpacked.is_empty()
+            || d > 2
+            || c.filter_rounding != FilterRounding::ProductWeights
+            || c.coord_int_bits + c.coord_frac_bits > 30
+            || c.texel_bits + c.dims * c.weight_bits > 31
+        {
+            return None;
+        }
+        let (mut and_mask, mut hi) = ([-1i32; 2], [0i32; 2]);
+        for k in 0..d {
+            let size = c.size[k];
+            hi[k] = size as i32 - 1;
+            match c.address[k] {
+                AddressMode::Clamp => {}
+                AddressMode::Wrap if size.is_power_of_two() => and_mask[k] = size as i32 - 1,
+                AddressMode::Wrap => return None,
+            }
+        }
+        let (f, wb) = (c.coord_frac_bits, c.weight_bits);
+        let fp = f.max(1);
+        let (w_up, w_round, w_down) = if fp <= wb {
+            (wb - fp, 0, 0)
+        } else {
+            let s = fp - wb;
+            match c.weight_rounding {
+                WeightRounding::Round => (0, 1i32 << (s - 1), s),
+                WeightRounding::Truncate => (0, 0, s),
+                WeightRounding::RoundHalfEven => return None,
+            }
+        };
+        let shift = c.dims * wb;
+        Some(LaneFilter {
+            dims: d,
+            linear: c.filter == Filter::Linear,
+            wire_shift: 32 - (c.coord_int_bits + c.coord_frac_bits),
+            frac: f,
+            up: fp - f,
+            fp,
+            half_p: 1 << (fp - 1),
+            fmask: (1 << fp) - 1,
+            w_up,
+            w_round,
+            w_down,
+            big_w: 1 << wb,
+            and_mask,
+            hi,
+            width: c.size[0] as i32,
+            shift,
+            half: 1 << (shift - 1),
+        })
+    }
+
+    /// Lane i's code into `out[i]` where `keep(i)`, from the coordinate words `s[i]`
+    /// (and `t[i]` in 2D) and the unpacked texels `tex`.
+    fn run(
+        &self,
+        tex: &[u32],
+        s: &[i32],
+        t: &[i32],
+        keep: impl Fn(usize) -> bool,
+        out: &mut [u32],
+    ) {
+        // A block's codes, every lane's, before the kept ones are stored.
+        const BLOCK: usize = 64;
+        let mut codes = [0u32; BLOCK];
+        let mut i = 0;
+        while i < out.len() {
+            let m = (out.len() - i).min(BLOCK);
+            let (sb, cb) = (&s[i..i + m], &mut codes[..m]);
+            match (self.dims, self.linear) {
+                (1, true) => self.linear_1d(tex, sb, cb),
+                (_, true) => self.linear_2d(tex, sb, &t[i..i + m], cb),
+                (1, false) => self.nearest(tex, sb, sb, cb),
+                (_, false) => self.nearest(tex, sb, &t[i..i + m], cb),
+            }
+            for (j, (o, &v)) in out[i..i + m].iter_mut().zip(cb.iter()).enumerate() {
+                if keep(i + j) {
+                    *o = v;
+                }
+            }
+            i += m;
+        }
+    }
+
+    /// A coordinate word's wires: its low I + F bits, sign-extended (s(I).F).
+    #[inline(always)]
+    fn wire(&self, word: i32) -> i32 {
+        (word << self.wire_shift) >> self.wire_shift
+    }
+
+    /// Axis k's address mode on an integer texel index.
+    #[inline(always)]
+    fn axis(&self, k: usize, i: i32) -> i32 {
+        (i & self.and_mask[k]).clamp(0, self.hi[k])
+    }
+
+    /// Axis k's bilinear set-up: the two texel indices and the upper one's weight.
+    #[inline(always)]
+    fn linear_axis(&self, k: usize, word: i32) -> (i32, i32, i32) {
+        let p = (self.wire(word) << self.up) - self.half_p; // s(I+1).Fp
+        let i0 = p >> self.fp;
+        let fx = (((p & self.fmask) << self.w_up) + self.w_round) >> self.w_down;
+        (self.axis(k, i0), self.axis(k, i0 + 1), fx)
+    }
+
+    /// The texel at address `a`, read without a bounds check (which would keep the
+    /// loops from becoming vector gathers).
+    #[inline(always)]
+    fn at(tex: &[u32], a: i32) -> u32 {
+        debug_assert!((0..tex.len() as i64).contains(&(a as i64)));
+        // SAFETY: every address the kernels form is in range. Each axis index is
+        // clamped to 0 ..= size − 1 by `axis` (size ≥ 1); a 1D lookup reads x ≤ w − 1
+        // (nearest's row is 0), a 2D one y·w + x ≤ (h − 1)·w + w − 1 = w·h − 1; and
+        // `tex` holds every texel, w·h·d ≥ w·h words (`TextureSampler::load`).
+        unsafe { *tex.get_unchecked(a as usize) }
+    }
+
+    fn linear_1d(&self, tex: &[u32], s: &[i32], codes: &mut [u32]) {
+        for (c, &sw) in codes.iter_mut().zip(s) {
+            let (x0, x1, fx) = self.linear_axis(0, sw);
+            let acc = Self::at(tex, x0) * (self.big_w - fx) as u32 + Self::at(tex, x1) * fx as u32;
+            *c = (acc + self.half) >> self.shift;
+        }
+    }
+
+    fn linear_2d(&self, tex: &[u32], s: &[i32], t: &[i32], codes: &mut [u32]) {
+        for ((c, &sw), &tw) in codes.iter_mut().zip(s).zip(t) {
+            let (x0, x1, fx) = self.linear_axis(0, sw);
+            let (y0, y1, fy) = self.linear_axis(1, tw);
+            let (gx, gy) = (self.big_w - fx, self.big_w - fy);
+            let (r0, r1) = (y0 * self.width, y1 * self.width);
+            // u(tb) × u(2wb+1), four terms < 2^(tb+2wb) ≤ 2^31
+            let acc = Self::at(tex, r0 + x0) * (gx * gy) as u32
+                + Self::at(tex, r0 + x1) * (fx * gy) as u32
+                + Self::at(tex, r1 + x0) * (gx * fy) as u32
+                + Self::at(tex, r1 + x1) * (fx * fy) as u32;
+            *c = (acc + self.half) >> self.shift;
+        }
+    }
+
+    /// Nearest: floor(u) per axis (in 1D `t` is `s` and row 0 is read).
+    fn nearest(&self, tex: &[u32], s: &[i32], t: &[i32], codes: &mut [u32]) {
+        let row = i32::from(self.dims == 2) * self.width;
+        for ((c, &sw), &tw) in codes.iter_mut().zip(s).zip(t) {
+            let x = self.axis(0, self.wire(sw) >> self.frac);
+            let y = self.axis(1, self.wire(tw) >> self.frac);
+            *c = Self::at(tex, y * row + x);
+        }
     }
 }
 
