@@ -813,15 +813,21 @@ proptest! {
         prop_assert_eq!(u.test_filter_lanes(&words[1..], tests.len(), all, &mut kept, &mut c_l), None);
 
         // The lit bits in lanes, appended after what the vector holds.
-        let test = |i: usize| tests[i];
+        let tx: Vec<i32> = tests.iter().map(|t| t.0).collect();
+        let ty: Vec<i32> = tests.iter().map(|t| t.1).collect();
+        let td: Vec<u64> = tests.iter().map(|t| t.2).collect();
+        let test = (&tx[..], &ty[..], &td[..]);
         let (mut bits, mut c_b) = (vec![false], Counters::default());
-        prop_assert_eq!(u.test_lit_lanes(&words, tests.len(), test, &mut bits, &mut c_b), Some(tests.len()));
+        prop_assert_eq!(u.test_lit_lanes(&words, test, &mut bits, &mut c_b), Some(tests.len()));
         prop_assert!(!bits[0]);
         let want_bits: Vec<bool> = want.iter().map(|o| o.lit).collect();
         prop_assert_eq!(&bits[1..], &want_bits[..]);
         prop_assert_eq!(c_b, c_k);
         let (mut bits, mut c_b) = (Vec::new(), Counters::default());
-        prop_assert_eq!(u.test_lit_lanes(&words[1..], tests.len(), test, &mut bits, &mut c_b), None);
+        prop_assert_eq!(u.test_lit_lanes(&words[1..], test, &mut bits, &mut c_b), None);
+        if !tests.is_empty() {
+            prop_assert_eq!(u.test_lit_lanes(&words, (&tx[1..], &ty[..], &td[..]), &mut bits, &mut c_b), None);
+        }
         prop_assert!(bits.is_empty());
         prop_assert_eq!(c_b, Counters::default());
 

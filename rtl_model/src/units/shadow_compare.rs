@@ -740,40 +740,51 @@ impl ShadowCompare {
         Some(n)
     }
 
-    /// Depth tests of lanes `0..len` against a read-only RAM's words unpacked by
+    /// Depth tests of lanes against a read-only RAM's words unpacked by
     /// [`Self::words`], lane i the test `ShadowIn::Test` at (x, y, depth) =
-    /// `test(i)`: its output's `lit` bit pushed onto `lit` (in lane order), the
-    /// counters those of [`Self::test_batch`] on those tests, without the input and
-    /// output words and without a branch (a lane off the map reads word 0, masked
-    /// off). None (nothing done) when `words` is not one word per address.
+    /// `(x[i], y[i], depth[i])`: its output's `lit` bit pushed onto `lit` (in lane
+    /// order), the counters those of [`Self::test_batch`] on those tests, without the
+    /// input and output words and without a branch (a lane off the map reads word 0
+    /// and takes the border's outcome), so the compiler runs the lanes as vectors.
+    /// None (nothing done) when `words` is not one word per address or the lanes'
+    /// lengths differ.
     pub fn test_lit_lanes(
         &self,
         words: &[u32],
-        len: usize,
-        test: impl Fn(usize) -> (i32, i32, u64),
+        (x, y, depth): (&[i32], &[i32], &[u64]),
         lit: &mut Vec<bool>,
         ctr: &mut Counters,
     ) -> Option<usize> {
         let (w, h) = (self.cfg.width, self.cfg.height);
-        if words.len() != w as usize * h as usize {
+        let len = x.len();
+        if words.len() != w as usize * h as usize || y.len() != len || depth.len() != len {
             return None;
         }
+        let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        let bias = (self.cfg.bias as i64) << k;
+        let far = (self.far() as i64) << k; // u(n+k)
+        let compare = self.cfg.compare;
+        let base = lit.len();
+        lit.resize(base + len, false);
         let mut reads = 0usize;
-        // A block of bits at a time in a local buffer: a store into `lit` may alias
-        // what `test` reads, a store into the buffer cannot, so `test`'s captures
-        // stay in registers.
-        let mut block = [false; LIT_BLOCK];
-        let mut i = 0;
-        while i < len {
-            let m = (len - i).min(LIT_BLOCK);
-            for (j, b) in block[..m].iter_mut().enumerate() {
-                let (x, y, depth) = test(i + j);
-                let (in_map, l) = self.lane_test(words, x, y, depth);
-                reads += usize::from(in_map);
-                *b = l;
-            }
-            lit.extend_from_slice(&block[..m]);
-            i += m;
+        for (((l, &xi), &yi), &d) in lit[base..].iter_mut().zip(x).zip(y).zip(depth) {
+            // `address`'s test: one unsigned compare per axis.
+            let in_map = ((xi as u32) < w) & ((yi as u32) < h);
+            let a = if in_map {
+                yi as usize * w as usize + xi as usize
+            } else {
+                0
+            };
+            // SAFETY: on the map a = y·w + x ≤ (h − 1)·w + w − 1 < w·h = words.len()
+            // (checked above); off it a = 0 < words.len() (w, h ≥ 1, `new`).
+            let word = unsafe { *words.get_unchecked(a) };
+            let f = (d & fmask) as i64;
+            let on_map = compare.eval(f - bias, (word as i64) << k);
+            // `border_lit`: the cleared texel's far depth.
+            let border = compare.eval(f.min(far) - bias, far);
+            *l = if in_map { on_map } else { border };
+            reads += usize::from(in_map);
         }
         ctr.table_reads += reads as u64;
         ctr.saturations += (len - reads) as u64;
@@ -818,9 +829,6 @@ impl ShadowCompare {
         st.ram[addr * n..(addr + 1) * n].store_le::<u32>(d);
     }
 }
-
-/// Lanes [`ShadowCompare::test_lit_lanes`] tests into its local buffer at a time.
-const LIT_BLOCK: usize = 256;
 
 /// [`ShadowCompare::test_filter_flat`]'s test of one lane, its constants computed
 /// once: the biased fragment depth `fb` (s(n+k+1)), the frac bits k of the word's

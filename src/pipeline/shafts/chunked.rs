@@ -239,6 +239,10 @@ pub(super) struct ChunkBuffers {
     /// ([`LightCtx::h_il`]'s shared front end).
     pub(super) proj_lanes: ProjLanes,
     pdepth_u: Vec<i32>,
+    /// The shadow map's texel x, y and depth word of each fragment, in lanes.
+    shadow_x: Vec<i32>,
+    shadow_y: Vec<i32>,
+    shadow_depth: Vec<u64>,
     pub(super) shadow_in: Vec<ShadowIn>,
     shadow_out: Vec<ShadowOut>,
 }
@@ -543,19 +547,18 @@ impl LightCtx<'_> {
         );
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
-        self.pair_lit(sh, ss, n, spans, b);
+        self.pair_lit(sh, ss, spans, b);
         self.pair_light_map(lm, n, spans, b);
         true
     }
 
-    /// [`Self::h_il_pair`]'s shadow compare: whether the shadow map lights each of the
-    /// `n` fragments into `b.lit`, at the light-space texel of the projective lanes
+    /// [`Self::h_il_pair`]'s shadow compare: whether the shadow map lights each
+    /// fragment into `b.lit`, at the light-space texel of the projective lanes
     /// (`b.proj_lanes`), the depth (`b.pdepth_u`) through the same q.
     fn pair_lit(
         &self,
         sh: &ShadowCompare,
         ss: &ShadowState,
-        n: usize,
         spans: &mut HilSpans,
         b: &mut ChunkBuffers,
     ) {
@@ -564,11 +567,17 @@ impl LightCtx<'_> {
         b.lit.clear();
         // On the shadow map's unpacked words: the lit bits in lanes, no test words.
         let tested = self.swords.and_then(|words| {
-            let pd = &b.pdepth_u;
+            let [x, y] = [&mut b.shadow_x, &mut b.shadow_y];
+            x.clear();
+            x.extend(pl.u.iter().map(|&u| at.texel(u)));
+            y.clear();
+            y.extend(pl.v.iter().map(|&v| at.texel(v)));
+            b.shadow_depth.clear();
+            b.shadow_depth
+                .extend(b.pdepth_u.iter().map(|&d| at.depth_word(d)));
             sh.test_lit_lanes(
                 words,
-                n,
-                |i| (at.texel(pl.u[i]), at.texel(pl.v[i]), at.depth_word(pd[i])),
+                (x, y, &b.shadow_depth),
                 &mut b.lit,
                 &mut spans.shadow.ctr,
             )
