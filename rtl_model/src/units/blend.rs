@@ -371,6 +371,14 @@ pub fn round_div_mersenne(x: u64, k: u32, q: u32) -> u64 {
 /// Widest source whose contributions the additive batch paths tabulate (2^10 entries).
 pub const CONTRIBUTION_LUT_BITS: u32 = 10;
 
+/// A masked source code's index in the contribution table: the code itself (a source
+/// of at most [`CONTRIBUTION_LUT_BITS`] bits, masked to them), masked again so the
+/// compiler sees it in range and the table loops need no bounds check.
+#[inline(always)]
+fn lut_index(masked_src: u32) -> usize {
+    masked_src as usize & ((1 << CONTRIBUTION_LUT_BITS) - 1)
+}
+
 /// Whether `f` reads the constant colour (a u(constant_bits) factor).
 fn is_constant(f: BlendFactor) -> bool {
     matches!(
@@ -706,7 +714,7 @@ impl Blend {
         if let Some(lut) = self.contribution_table() {
             for (d, &s) in dst.iter_mut().zip(src) {
                 let sm = s & src_mask;
-                let q = lut[sm as usize];
+                let q = lut[lut_index(sm)];
                 let sum = (*d & max) + q;
                 sat += u64::from(sum > max);
                 under += u64::from(sm != 0 && q == 0);
@@ -760,7 +768,7 @@ impl Blend {
             let mut r = [0u32; 4];
             for (c, rc) in r.iter_mut().enumerate() {
                 let sm = s[c] & src_mask;
-                let q = lut[sm as usize]; // u(n)
+                let q = lut[lut_index(sm)]; // u(n)
                 let sum = (d[c] & max) + q; // u(n+1)
                 *rc = sum.min(max);
                 sat += u64::from(sum > max);
@@ -917,7 +925,7 @@ impl Unit for Blend {
                 let mut o = [0u32; 4];
                 for (c, oc) in o.iter_mut().enumerate() {
                     let sm = x.src[c] & src_mask;
-                    let q = lut[sm as usize]; // u(n)
+                    let q = lut[lut_index(sm)]; // u(n)
                     let sum = (x.dst[c] & max) + q; // u(n+1)
                     *oc = sum.min(max);
                     sat += u64::from(sum > max);
