@@ -6,7 +6,7 @@ mod common;
 use glare_pipeline::reference::modulate::{modulate_chain_codes, modulate_codes};
 use proptest::prelude::*;
 use rtl_model::units::modulate::{
-    ChainRounding, Modulate, ModulateChain, ModulateIn, ModulateMode,
+    ChainRounding, Modulate, ModulateChain, ModulateIn, ModulateMode, Operand,
 };
 
 /// Width-derived error bound, in output LSBs, of each mode against a·b/(2ⁿ−1)
@@ -126,6 +126,37 @@ fn batch_path_agrees_exhaustively_at_8_and_4_bits() {
             let mut c = rtl_model::Counters::default();
             let span = rtl_model::driver::run_span(&m, &mut (), &inputs, &mut c);
             common::assert_batch_agrees(&m, &(), &inputs, &span, &(), &c);
+        }
+    }
+}
+
+/// The lane form (`apply_lanes`) against `apply` on every operand pair of the 8-bit
+/// and the 4-bit unit, in every mode (exhaustive), with lanes and with a constant
+/// second operand; and unmasked words (any u32) as `apply` masks them.
+#[test]
+fn lane_form_agrees_exhaustively_at_8_and_4_bits() {
+    for bits in [8u32, 4] {
+        let n = 1u32 << bits;
+        // Every pair, plus words past the n wires (masked by both forms).
+        let a: Vec<u32> = (0..n * n)
+            .map(|i| i / n)
+            .chain([u32::MAX, n, 3 * n + 1])
+            .collect();
+        let b: Vec<u32> = (0..n * n)
+            .map(|i| i % n)
+            .chain([7, u32::MAX, n + 2])
+            .collect();
+        for mode in ModulateMode::ALL {
+            let m = Modulate::new(bits, mode).unwrap();
+            let mut out = vec![12345];
+            m.apply_lanes(&a, Operand::Lanes(&b), &mut out);
+            let want: Vec<u32> = a.iter().zip(&b).map(|(&x, &y)| m.apply(x, y)).collect();
+            assert_eq!(out, want, "{bits} bits, {mode:?}, lanes");
+            for c in [0, 1, n / 2, n - 1, n + 5] {
+                m.apply_lanes(&a, Operand::Constant(c), &mut out);
+                let want: Vec<u32> = a.iter().map(|&x| m.apply(x, c)).collect();
+                assert_eq!(out, want, "{bits} bits, {mode:?}, constant {c}");
+            }
         }
     }
 }

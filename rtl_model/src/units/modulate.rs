@@ -55,6 +55,16 @@ pub struct Modulate {
     mode: ModulateMode,
 }
 
+/// The second operand of [`Modulate::apply_lanes`]: a code per lane, or one code for
+/// every lane.
+#[derive(Clone, Copy, Debug)]
+pub enum Operand<'a> {
+    /// Lane i's code: `a`'s lane i takes this slice's lane i.
+    Lanes(&'a [u32]),
+    /// One code for every lane.
+    Constant(u32),
+}
+
 /// Two n-bit unorm operands (texture colour and incoming colour).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub struct ModulateIn {
@@ -87,6 +97,34 @@ impl Modulate {
     /// How the u(2n) product is brought back to n bits.
     pub fn mode(&self) -> ModulateMode {
         self.mode
+    }
+
+    /// [`Self::apply`] on lanes: `out` (cleared first) gets apply(a[i], b(i)) for
+    /// every lane of `a`, where `b` is [`Operand::Lanes`] (lane i of a slice as long
+    /// as `a`) or [`Operand::Constant`] (one code for every lane). The rounding mode
+    /// is chosen once, outside the loop, so the compiler runs the lanes as vectors.
+    /// Panics if the operand lanes' lengths differ (a wiring error of the caller).
+    pub fn apply_lanes(&self, a: &[u32], b: Operand, out: &mut Vec<u32>) {
+        #[inline(always)]
+        fn lanes(a: &[u32], b: Operand, out: &mut Vec<u32>, f: impl Fn(u32, u32) -> u32) {
+            out.clear();
+            match b {
+                Operand::Lanes(b) => {
+                    assert_eq!(a.len(), b.len(), "modulate: operand lanes differ");
+                    out.extend(a.iter().zip(b).map(|(&x, &y)| f(x, y)));
+                }
+                Operand::Constant(c) => out.extend(a.iter().map(|&x| f(x, c))),
+            }
+        }
+        // One loop per mode: `apply` with its mode a constant, so its match folds.
+        let bits = self.bits;
+        let with = |mode| move |x, y| Modulate { bits, mode }.apply(x, y);
+        match self.mode {
+            ModulateMode::Exact => lanes(a, b, out, with(ModulateMode::Exact)),
+            ModulateMode::Shift => lanes(a, b, out, with(ModulateMode::Shift)),
+            ModulateMode::PlusOne => lanes(a, b, out, with(ModulateMode::PlusOne)),
+            ModulateMode::TruncDiv => lanes(a, b, out, with(ModulateMode::TruncDiv)),
+        }
     }
 
     /// The combinational datapath on one pair (operands masked to n wires).

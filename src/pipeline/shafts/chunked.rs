@@ -14,7 +14,7 @@ use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
 use rtl_model::units::blend::Blend;
-use rtl_model::units::modulate::Modulate;
+use rtl_model::units::modulate::{Modulate, Operand};
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::projective_texcoord::{
     ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
@@ -111,24 +111,14 @@ impl UnitSpan {
         out.extend(outs.iter().map(|o| o[0]));
     }
 
-    /// `n` modulates in lanes, pair k = `pair(k)`, the products into `out` (cleared
-    /// first). The modulate's batch kernel is its per-pair datapath
-    /// ([`Modulate::apply`]) and counts nothing (no saturation or wrap is possible),
-    /// so this is the batch kernel without the input words.
+    /// Modulates in lanes ([`Modulate::apply_lanes`]): lane i of `a` by lane i of `b`
+    /// or by its one code, the products into `out` (cleared first). The modulate's
+    /// batch kernel is its per-pair datapath and counts nothing (no saturation or
+    /// wrap is possible), so this is the batch kernel without the input words.
     #[inline]
-    pub fn feed_modulate(
-        &mut self,
-        unit: &Modulate,
-        n: usize,
-        pair: impl Fn(usize) -> (u32, u32),
-        out: &mut Vec<u32>,
-    ) {
-        out.clear();
-        out.extend((0..n).map(|k| {
-            let (a, b) = pair(k);
-            unit.apply(a, b)
-        }));
-        self.tally.add(n);
+    pub fn feed_modulate(&mut self, unit: &Modulate, a: &[u32], b: Operand, out: &mut Vec<u32>) {
+        unit.apply_lanes(a, b, out);
+        self.tally.add(a.len());
     }
 
     /// A single-channel weighted blend in lanes ([`Blend::blend_lanes`]):

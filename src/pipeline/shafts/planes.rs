@@ -23,6 +23,7 @@ use crate::scene::math::Vec3;
 use rayon::prelude::*;
 use rtl_model::error::ConfigError;
 use rtl_model::units::blend::{Blend, BlendIn};
+use rtl_model::units::modulate::Operand;
 use rtl_model::units::polygon_interpolator::{PolyLanes, PolySetup};
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
@@ -115,6 +116,9 @@ struct PlaneBuffers {
     j_out: Vec<[u32; 4]>,
     m_a: Vec<u32>,
     m_b: Vec<u32>,
+    /// The vertex colour's code and the three channels' products, in lanes.
+    m_s: Vec<u32>,
+    m_rgb: [Vec<u32>; 3],
     /// The samplers' coordinate words and outputs in lanes (F: s; h: s, t; J: x, y).
     f_s: Vec<i32>,
     f_o: Vec<u32>,
@@ -892,33 +896,34 @@ fn modulate_chain(
     let ctx = pc.ctx;
     let vis = &b.chunk.visible;
     let md = &ctx.units.modulate;
-    let n = vis.len();
     let (s_attr, tex_max) = (&px.attrs[3], ctx.tex_max);
-    // J · S
-    let m_a = &b.m_a;
-    sp.modulate[0].feed_modulate(
-        md,
-        n,
-        |k| (m_a[k], attr_unorm(s_attr[vis[k] as usize], tex_max)),
-        &mut b.m_b,
+    // The vertex colour S·t/r of each fragment as a code.
+    b.m_s.clear();
+    b.m_s
+        .extend(vis.iter().map(|&i| attr_unorm(s_attr[i as usize], tex_max)));
+    // J · S, then · F
+    sp.modulate[0].feed_modulate(md, &b.m_a, Operand::Lanes(&b.m_s), &mut b.m_b);
+    sp.modulate[1].feed_modulate(md, &b.m_b, Operand::Lanes(&b.f_o), &mut b.m_a);
+    // · colour, then · h: one channel at a time (each modulate is the same datapath
+    // on the same pair, in any order).
+    for (c, &cc) in pc.color_codes.iter().enumerate() {
+        let ch = &mut b.m_rgb[c];
+        sp.modulate[2].feed_modulate(md, &b.m_a, Operand::Constant(cc), &mut b.m_b);
+        sp.modulate[3].feed_modulate(md, &b.m_b, Operand::Lanes(&b.h_o), ch);
+    }
+    let [r, g, bl] = &b.m_rgb;
+    out.extend(
+        vis.iter()
+            .zip(r.iter().zip(g).zip(bl))
+            .map(|(&i, ((&r, &g), &bl))| {
+                let i = i as usize;
+                PlaneFrag {
+                    x: px.x[i] as u32,
+                    y: px.y[i] as u32,
+                    rgb: [r, g, bl],
+                }
+            }),
     );
-    // · F
-    let (m_b, f_o) = (&b.m_b, &b.f_o);
-    sp.modulate[1].feed_modulate(md, n, |k| (m_b[k], f_o[k]), &mut b.m_a);
-    // · colour (three channels)
-    let (m_a, cc) = (&b.m_a, pc.color_codes);
-    sp.modulate[2].feed_modulate(md, 3 * n, |k| (m_a[k / 3], cc[k % 3]), &mut b.m_b);
-    // · h
-    let (m_b, h_o) = (&b.m_b, &b.h_o);
-    sp.modulate[3].feed_modulate(md, 3 * n, |k| (m_b[k], h_o[k / 3]), &mut b.m_a);
-    out.extend(vis.iter().zip(b.m_a.chunks(3)).map(|(&i, c)| {
-        let i = i as usize;
-        PlaneFrag {
-            x: px.x[i] as u32,
-            y: px.y[i] as u32,
-            rgb: [c[0], c[1], c[2]],
-        }
-    }));
 }
 
 /// A plane chunk's fragments recorded with their texel runs: F, h, then J (m > 1) or
