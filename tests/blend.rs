@@ -869,9 +869,9 @@ fn additive_datapath_equals_additive_blend_bit_for_bit_exhaustively() {
                     assert_eq!(lca, lcb, "lanes counters s{s} f{f} k{k} w{w}");
                     // The pixel form (framebuffer, unweighted only).
                     let n = ins.len();
-                    let mut pb = vec![[0u32; 4]; n];
+                    let mut pb: Vec<[u32; 4]> = ins.iter().map(|x| x.dst).collect();
                     let mut pcb = Counters::default();
-                    let done = b.blend_pixels(|i| ins[i].src, |i| ins[i].dst, &mut pb, &mut pcb);
+                    let done = b.blend_pixels_in_place(n, |i| (i, ins[i].src), &mut pb, &mut pcb);
                     assert_eq!(done, !weighted);
                     if done {
                         let mut ca0 = ca;
@@ -1589,21 +1589,42 @@ mod additive {
         }
     }
 
-    /// `blend_pixels` (the framebuffer's unweighted lane form) against the span driver
-    /// on the inputs it stands for: the outputs, and the counters once the span's timing
-    /// is added; a weighted blend or a source wider than the table is refused with
-    /// nothing done.
+    /// `blend_pixels_in_place` (the framebuffer's unweighted form) against the span
+    /// driver on the inputs it stands for, lane i on its own pixel i: the outputs, and
+    /// the counters once the span's timing is added; a weighted blend or a source
+    /// wider than the table is refused with nothing done. Then the lanes again in
+    /// reverse onto one pixel each pair: a read-modify-write per lane, in lane order.
     fn pixels_agree_with_span(b: &Blend, src: &[[u32; 4]], dst: &[[u32; 4]]) {
-        let mut out = vec![[9u32; 4]; src.len()];
+        let mut out = dst.to_vec();
         let mut c = Counters::default();
-        let done = b.blend_pixels(|i| src[i], |i| dst[i], &mut out, &mut c);
+        let done = b.blend_pixels_in_place(src.len(), |i| (i, src[i]), &mut out, &mut c);
         if b.weighted() || b.src_bits() > CONTRIBUTION_LUT_BITS {
-            assert!(!done, "blend_pixels ran on a config it does not serve");
-            assert!(out.iter().all(|o| *o == [9; 4]));
+            assert!(
+                !done,
+                "blend_pixels_in_place ran on a config it does not serve"
+            );
+            assert_eq!(out, dst);
             assert_eq!(c, Counters::default());
             return;
         }
-        assert!(done, "blend_pixels refused an unweighted config");
+        assert!(done, "blend_pixels_in_place refused an unweighted config");
+        // Lanes 2k and 2k + 1 on pixel k: the second reads what the first wrote.
+        let mut shared: Vec<[u32; 4]> = dst.iter().step_by(2).copied().collect();
+        let mut c_shared = Counters::default();
+        assert!(b.blend_pixels_in_place(
+            src.len(),
+            |i| (i / 2, src[i]),
+            &mut shared,
+            &mut c_shared
+        ));
+        for (k, px) in shared.iter().enumerate() {
+            let mut want = dst[2 * k];
+            for s in src.iter().skip(2 * k).take(2) {
+                let one = [BlendIn { src: *s, dst: want }];
+                want = rtl_model::driver::run_span(b, &mut (), &one, &mut Counters::default())[0];
+            }
+            assert_eq!(*px, want, "pixel {k}: the lanes one after the other");
+        }
         let inputs: Vec<BlendIn> = src
             .iter()
             .zip(dst)
@@ -1616,11 +1637,11 @@ mod additive {
         tally.close(b.timing(), &mut c);
         assert_eq!(
             out, want,
-            "blend_pixels outputs differ from the span driver's"
+            "blend_pixels_in_place outputs differ from the span driver's"
         );
         assert_eq!(
             c, c_span,
-            "blend_pixels counters differ from the span driver's"
+            "blend_pixels_in_place counters differ from the span driver's"
         );
     }
 

@@ -742,17 +742,20 @@ impl Blend {
         ctr.underflows += under;
     }
 
-    /// The additive batch kernel on unweighted pixels in lanes (the framebuffer's
-    /// form): lane i is the input `BlendIn { src: src(i), dst: dst(i) }`, its output
-    /// written to `out[i]`, the counters those [`Unit::kernel_batch`] counts on these
-    /// inputs; one contribution table, built once, and no input words are made. False
-    /// (nothing done) unless the datapath is additive and unweighted with a source of at
-    /// most [`CONTRIBUTION_LUT_BITS`] bits.
-    pub fn blend_pixels(
+    /// The additive batch kernel on unweighted pixels, in place (the framebuffer's
+    /// form, one contribution table built once, no input words): lane i (of `n`) is
+    /// fragment `frag(i)` =
+    /// (pixel index p, source RGBA) blended over `pixels[p]` as the earlier lanes left
+    /// it, the result written back there (a read-modify-write per fragment, as a ROP
+    /// does). Where no two lanes share a pixel, this is the batch kernel on the inputs
+    /// `BlendIn { src, dst: pixels[p] }` with `pixels` as they were, and the counters
+    /// are the ones it counts. False (nothing done) unless the datapath is additive
+    /// and unweighted with a source of at most [`CONTRIBUTION_LUT_BITS`] bits. Panics if p is past `pixels` (a wiring error of the caller).
+    pub fn blend_pixels_in_place(
         &self,
-        src: impl Fn(usize) -> [u32; 4],
-        dst: impl Fn(usize) -> [u32; 4],
-        out: &mut [[u32; 4]],
+        n: usize,
+        frag: impl Fn(usize) -> (usize, [u32; 4]),
+        pixels: &mut [[u32; 4]],
         ctr: &mut Counters,
     ) -> bool {
         if self.weighted() {
@@ -762,25 +765,25 @@ impl Blend {
             return false;
         };
         let (max, src_mask) = (self.max(), max_code(self.src_bits()));
-        let (mut sat, mut under) = (0u64, 0u64);
-        for (i, o) in out.iter_mut().enumerate() {
-            let (s, d) = (src(i), dst(i));
-            let mut r = [0u32; 4];
-            for (c, rc) in r.iter_mut().enumerate() {
+        // Per channel: saturations and underflows, summed after the loop.
+        let (mut sat, mut under) = ([0u64; 4], [0u64; 4]);
+        for i in 0..n {
+            let (p, s) = frag(i);
+            let d = &mut pixels[p];
+            for c in 0..4 {
                 let sm = s[c] & src_mask;
                 let q = lut[lut_index(sm)]; // u(n)
                 let sum = (d[c] & max) + q; // u(n+1)
-                *rc = sum.min(max);
-                sat += u64::from(sum > max);
-                under += u64::from(sm != 0 && q == 0);
+                d[c] = sum.min(max);
+                sat[c] += u64::from(sum > max);
+                under[c] += u64::from(sm != 0 && q == 0);
             }
-            *o = r;
         }
-        let bytes = bytes_for_bits(self.pixel_bits()) * out.len() as u64;
+        let bytes = bytes_for_bits(self.pixel_bits()) * n as u64;
         ctr.mem_read_bytes += bytes;
         ctr.mem_write_bytes += bytes;
-        ctr.saturations += sat;
-        ctr.underflows += under;
+        ctr.saturations += sat.iter().sum::<u64>();
+        ctr.underflows += under.iter().sum::<u64>();
         true
     }
 

@@ -129,21 +129,21 @@ impl UnitSpan {
         self.tally.add(src.len());
     }
 
-    /// Unweighted pixel blends in lanes ([`Blend::blend_pixels`]): lane i
-    /// `src(i)` over `dst(i)` into `out[i]`, counted as the batch kernel counts those
-    /// inputs. False with nothing done (the batch kernel on input words then runs).
+    /// Unweighted pixel blends in place ([`Blend::blend_pixels_in_place`]), counted
+    /// as the batch kernel counts those inputs. False with nothing done (the batch
+    /// kernel on input words then runs).
     #[inline]
-    pub fn feed_blend_pixels(
+    pub fn feed_blend_in_place(
         &mut self,
         unit: &Blend,
-        src: impl Fn(usize) -> [u32; 4],
-        dst: impl Fn(usize) -> [u32; 4],
-        out: &mut [[u32; 4]],
+        n: usize,
+        frag: impl Fn(usize) -> (usize, [u32; 4]),
+        pixels: &mut [[u32; 4]],
     ) -> bool {
-        if !unit.blend_pixels(src, dst, out, &mut self.ctr) {
+        if !unit.blend_pixels_in_place(n, frag, pixels, &mut self.ctr) {
             return false;
         }
-        self.tally.add(out.len());
+        self.tally.add(n);
         true
     }
 

@@ -977,11 +977,10 @@ fn blend_inputs(fb: &Framebuffer, chunk: &[PlaneFrag], ins: &mut Vec<BlendIn>) {
 }
 
 /// Buffers of the framebuffer blend, reused from plane to plane: the pixels seen
-/// ([`covers_once`]) and the blend's outputs.
+/// ([`covers_once`]).
 #[derive(Default)]
 struct BlendScratch {
     seen: Vec<u64>,
-    outs: Vec<[u32; 4]>,
 }
 
 /// Whether no two fragments fall on one pixel of the `fb`-sized framebuffer (`seen`
@@ -998,11 +997,12 @@ fn covers_once(fb: &Framebuffer, frags: &[PlaneFrag], seen: &mut Vec<u64>) -> bo
     })
 }
 
-/// The plane's fragments added into the framebuffer, a chunk at a time (one span;
-/// a mesh covers each pixel once, so each chunk reads what the span driver read).
-/// When no pixel has two fragments (checked), the chunks are blended in parallel
-/// from the framebuffer as it was (what each read anyway) and written back after;
-/// the counters are sums, the same in any order.
+/// The plane's fragments added into the framebuffer (one span). When no pixel has two
+/// fragments (checked; a mesh covers each pixel once), each fragment is blended in
+/// place: it reads its pixel as the span driver read it, since no earlier fragment
+/// wrote there. Alpha stays 0: the frame's framebuffer starts black, every pass
+/// writes alpha 0, and a source alpha of 0 adds 0. Otherwise a chunk at a time
+/// through the batch kernel, each written back with alpha 0.
 fn blend_plane(
     u: &Blend,
     fb: &mut Framebuffer,
@@ -1011,47 +1011,19 @@ fn blend_plane(
     scratch: &mut BlendScratch,
 ) {
     if covers_once(fb, frags, &mut scratch.seen) {
-        let outs = &mut scratch.outs;
-        outs.clear();
-        outs.resize(frags.len(), [0u32; 4]);
-        let src: &Framebuffer = fb;
-        let parts: Vec<UnitSpan> = frags
-            .par_chunks(BLEND_CHUNK)
-            .zip(outs.par_chunks_mut(BLEND_CHUNK))
-            .map_init(
-                || {
-                    (
-                        Vec::with_capacity(BLEND_CHUNK),
-                        Vec::with_capacity(BLEND_CHUNK),
-                    )
-                },
-                |(ins, o), (chunk, dst)| {
-                    let mut span = UnitSpan::default();
-                    // Unweighted: the blend straight from the fragments and the
-                    // framebuffer (no input words), else the batch kernel.
-                    let rgb = |i: usize| {
-                        let c = chunk[i].rgb;
-                        [c[0], c[1], c[2], 0]
-                    };
-                    let fbpx = |i: usize| src.pixel(chunk[i].x, chunk[i].y);
-                    if !span.feed_blend_pixels(u, rgb, fbpx, dst) {
-                        blend_inputs(src, chunk, ins);
-                        span.feed(u, &mut (), ins, o);
-                        dst.copy_from_slice(o);
-                    }
-                    span
-                },
-            )
-            .collect();
+        // Each fragment read-modify-writes its own pixel: in place, in one pass.
+        let w = fb.width as usize;
+        let (pixels, _) = fb.data.as_chunks_mut::<4>();
+        let frag = |i: usize| {
+            let f = &frags[i];
+            let [r, g, b] = f.rgb;
+            (f.y as usize * w + f.x as usize, [r, g, b, 0])
+        };
         let mut span = UnitSpan::default();
-        for p in &parts {
-            span.merge(p);
+        if span.feed_blend_in_place(u, frags.len(), frag, pixels) {
+            span.close("additive_blend", u.timing(), ctr);
+            return;
         }
-        for (f, o) in frags.iter().zip(outs.iter()) {
-            fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
-        }
-        span.close("additive_blend", u.timing(), ctr);
-        return;
     }
     let mut span = UnitSpan::default();
     let mut ins = Vec::with_capacity(BLEND_CHUNK);
