@@ -342,6 +342,19 @@ impl PolyLanes {
         self.unread = unread;
     }
 
+    /// Room for `n` more words in every lane that is written.
+    pub fn reserve(&mut self, n: usize) {
+        self.x.reserve(n);
+        self.y.reserve(n);
+        self.inside.reserve(n);
+        let (k, unread) = (self.k, self.unread);
+        for (a, l) in self.attrs.iter_mut().enumerate().take(k) {
+            if (unread >> a) & 1 == 0 {
+                l.reserve(n);
+            }
+        }
+    }
+
     /// Whether attribute `a`'s lane is written.
     #[inline]
     pub fn is_read(&self, a: usize) -> bool {

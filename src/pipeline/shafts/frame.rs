@@ -14,6 +14,7 @@
 
 use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
 use super::pass_log::PassLog;
+use super::planes::covers_once;
 use super::record::{self, Rec};
 use super::tables::{self, GTables};
 use super::units::{attr_unorm, counters_add, window_depth_word, Units};
@@ -29,7 +30,7 @@ use rtl_model::driver::run_span;
 use rtl_model::error::ConfigError;
 use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::clipper::{ClipIn, ClipStats, Clipper};
-use rtl_model::units::modulate::{Modulate, ModulateIn};
+use rtl_model::units::modulate::Operand;
 use rtl_model::units::polygon_interpolator::{
     PolyLanes, PolyOut, PolygonInterpolator, Vertex, MAX_ATTRS,
 };
@@ -701,39 +702,42 @@ fn project_tri(
     Some(HostTri::Screen(hv))
 }
 
-fn modulate_all(
-    u: &Modulate,
-    pairs: &[ModulateIn],
-    ctr: &mut BTreeMap<String, Counters>,
-) -> Vec<u32> {
-    let mut c = Counters::default();
-    let out = run_span(u, &mut (), pairs, &mut c);
-    counters_add(ctr, "modulate", c);
-    out
-}
-
+/// The object fragments' colours (`rgb`, one lane per channel) added into the
+/// framebuffer. Triangles of one object may cover a pixel twice: then every
+/// destination is read before any is written, as the span driver ran it; where no
+/// pixel has two fragments (checked), in place, each fragment reading its pixel as
+/// the span driver read it (alpha stays 0, as in the planes' blend).
 fn blend_into(
     u: &Blend,
     fb: &mut Framebuffer,
-    frags: &[&PolyOut],
-    rgb: &[[u32; 3]],
+    frags: &[&Fragment],
+    rgb: &[Vec<u32>; 3],
     ctr: &mut BTreeMap<String, Counters>,
 ) {
-    // Triangles of one object may cover a pixel twice: every destination is read
-    // before any is written, as the span driver ran it.
+    let w = fb.width as usize;
+    let at = |f: &Fragment| f.y as usize * w + f.x as usize;
+    let colour = |i: usize| [rgb[0][i], rgb[1][i], rgb[2][i], 0];
+    if covers_once(fb, frags.iter().map(|f| at(f)), &mut Vec::new()) {
+        let (pixels, _) = fb.data.as_chunks_mut::<4>();
+        let mut span = UnitSpan::default();
+        if span.feed_blend_in_place(u, frags.len(), |i| (at(frags[i]), colour(i)), pixels) {
+            span.close("additive_blend", u.timing(), ctr);
+            return;
+        }
+    }
     let ins: Vec<BlendIn> = frags
         .iter()
-        .zip(rgb)
-        .map(|(f, c)| BlendIn {
-            src: [c[0], c[1], c[2], 0],
-            dst: fb.pixel(f.x as u32, f.y as u32),
+        .enumerate()
+        .map(|(i, f)| BlendIn {
+            src: colour(i),
+            dst: fb.pixel(f.x, f.y),
         })
         .collect();
     let mut c = Counters::default();
     let out = run_span(u, &mut (), &ins, &mut c);
     counters_add(ctr, "additive_blend", c);
     for (f, o) in frags.iter().zip(out) {
-        fb.set(f.x as u32, f.y as u32, [o[0], o[1], o[2], 0]);
+        fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
     }
 }
 
@@ -783,7 +787,7 @@ fn object_pass(
     counters_add(ctr, "polygon_interpolator", c_int);
     // The object pass is light work (a few thousand fragments): one chunk.
     let mut b = ChunkBuffers::default();
-    let (px, lanes) = object_lanes(&u.interp, &frags_all);
+    let lanes = object_lanes(&u.interp, &frags_all);
     let mut zspan = UnitSpan::default();
     ctx.visible(
         &lanes,
@@ -793,13 +797,13 @@ fn object_pass(
         &mut b,
     );
     ctx.close_visible(zspan, ctr);
-    let frags: Vec<&PolyOut> = b.visible.iter().map(|&i| &px[i as usize]).collect();
+    let frags: Vec<&Fragment> = b.visible.iter().map(|&i| &frags_all[i as usize]).collect();
     stats.fragments = frags.len() as u64;
     let mut spans = HilSpans::default();
     ctx.h_il(&lanes, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
     object_colour(ctx, &frags, &b.hil, fb, ctr);
-    let work = recording.then(|| object_work(ctx, log.bands, &prims, &px, &b, sc, (w, h)));
+    let work = recording.then(|| object_work(ctx, log.bands, &prims, &frags_all, &b, sc, (w, h)));
     log.push(ctr, stats, work)
 }
 
@@ -833,22 +837,21 @@ fn object_vertex_attrs(
     ]
 }
 
-/// The walked fragments as interpolator outputs (every one inside), and the same in
-/// lanes of `interp`'s attributes for the chunked units.
-fn object_lanes(interp: &PolygonInterpolator, frags: &[Fragment]) -> (Vec<PolyOut>, PolyLanes) {
-    let px: Vec<PolyOut> = frags
-        .iter()
-        .map(|f| PolyOut {
+/// The walked fragments in lanes of `interp`'s attributes (every one inside), for
+/// the chunked units.
+fn object_lanes(interp: &PolygonInterpolator, frags: &[Fragment]) -> PolyLanes {
+    let mut lanes = PolyLanes::default();
+    lanes.clear(interp.attrs() as usize);
+    lanes.reserve(frags.len());
+    for f in frags {
+        lanes.push(&PolyOut {
             x: f.x as i64,
             y: f.y as i64,
             inside: true,
             attrs: f.attrs,
-        })
-        .collect();
-    let mut lanes = PolyLanes::default();
-    lanes.clear(interp.attrs() as usize);
-    px.iter().for_each(|f| lanes.push(f));
-    (px, lanes)
+        });
+    }
+    lanes
 }
 
 /// The visible fragments' colour: each channel of the vertex colour (attributes
@@ -856,21 +859,27 @@ fn object_lanes(interp: &PolygonInterpolator, frags: &[Fragment]) -> (Vec<PolyOu
 /// the framebuffer.
 fn object_colour(
     ctx: &LightCtx,
-    frags: &[&PolyOut],
+    frags: &[&Fragment],
     hil: &[u32],
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
 ) {
     let u = ctx.units;
-    let mut pairs = Vec::with_capacity(frags.len() * 3);
-    for (f, &j) in frags.iter().zip(hil) {
-        for c in 0..3 {
-            let col = attr_unorm(f.attrs[1 + c], ctx.tex_max);
-            pairs.push(ModulateIn { a: col, b: j });
-        }
+    // Each channel of the vertex colour by H·I_l, one channel at a time in lanes (one
+    // span of 3 × fragments modulates, as the pairs were).
+    let mut span = UnitSpan::default();
+    let mut rgb: [Vec<u32>; 3] = Default::default();
+    let mut col = Vec::with_capacity(frags.len());
+    for (c, ch) in rgb.iter_mut().enumerate() {
+        col.clear();
+        col.extend(
+            frags
+                .iter()
+                .map(|f| attr_unorm(f.attrs[1 + c], ctx.tex_max)),
+        );
+        span.feed_modulate(&u.modulate, &col, Operand::Lanes(hil), ch);
     }
-    let m = modulate_all(&u.modulate, &pairs, ctr);
-    let rgb: Vec<[u32; 3]> = m.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    span.close("modulate", u.modulate.timing(), ctr);
     blend_into(&u.blend, fb, frags, &rgb, ctr);
 }
 
@@ -882,7 +891,7 @@ fn object_work(
     ctx: &LightCtx,
     bands: Option<SampleBands>,
     prims: &[(usize, u64)],
-    px: &[PolyOut],
+    px: &[Fragment],
     b: &ChunkBuffers,
     sc: &Scene,
     (w, h): (u32, u32),
@@ -900,13 +909,13 @@ fn object_work(
         for (c, f) in px.iter().enumerate().take(end).skip(first) {
             match vis.peek() {
                 Some(&(j, &i)) if i as usize == c => {
-                    if rec.frag(f.x, f.y) {
+                    if rec.frag(f.x as i64, f.y as i64) {
                         sel.push(j as u32);
                     }
                     visible += 1;
                     vis.next();
                 }
-                _ if depth_tested => rec.killed_at(f.x, f.y),
+                _ if depth_tested => rec.killed_at(f.x as i64, f.y as i64),
                 _ => {}
             }
         }

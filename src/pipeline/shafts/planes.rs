@@ -983,13 +983,16 @@ struct BlendScratch {
     seen: Vec<u64>,
 }
 
-/// Whether no two fragments fall on one pixel of the `fb`-sized framebuffer (`seen`
-/// is the bitmap, cleared first).
-fn covers_once(fb: &Framebuffer, frags: &[PlaneFrag], seen: &mut Vec<u64>) -> bool {
+/// Whether no two of the pixel indices `pixels` (y·w + x) of the `fb`-sized
+/// framebuffer are the same (`seen` is the bitmap, cleared first).
+pub(super) fn covers_once(
+    fb: &Framebuffer,
+    mut pixels: impl Iterator<Item = usize>,
+    seen: &mut Vec<u64>,
+) -> bool {
     seen.clear();
     seen.resize(((fb.width * fb.height) as usize).div_ceil(64), 0);
-    frags.iter().all(|f| {
-        let i = (f.y * fb.width + f.x) as usize;
+    pixels.all(|i| {
         let (word, bit) = (&mut seen[i / 64], 1u64 << (i % 64));
         let fresh = *word & bit == 0;
         *word |= bit;
@@ -1010,14 +1013,15 @@ fn blend_plane(
     ctr: &mut BTreeMap<String, Counters>,
     scratch: &mut BlendScratch,
 ) {
-    if covers_once(fb, frags, &mut scratch.seen) {
+    let w = fb.width as usize;
+    let at = |f: &PlaneFrag| f.y as usize * w + f.x as usize;
+    if covers_once(fb, frags.iter().map(at), &mut scratch.seen) {
         // Each fragment read-modify-writes its own pixel: in place, in one pass.
-        let w = fb.width as usize;
         let (pixels, _) = fb.data.as_chunks_mut::<4>();
         let frag = |i: usize| {
             let f = &frags[i];
             let [r, g, b] = f.rgb;
-            (f.y as usize * w + f.x as usize, [r, g, b, 0])
+            (at(f), [r, g, b, 0])
         };
         let mut span = UnitSpan::default();
         if span.feed_blend_in_place(u, frags.len(), frag, pixels) {
