@@ -108,6 +108,11 @@ fn factor8(f: BlendFactor, c: usize, s: &[u32; 4], d: &[u32; 4], k: &[u32; 4]) -
 }
 
 /// round(x / 255) for a signed x (255 is odd: never a tie), by f64 division.
+/// The lane-to-word map 0, 1, …, n − 1 of the lane forms.
+fn identity(n: usize) -> Vec<u32> {
+    (0..n as u32).collect()
+}
+
 fn round255(x: i64) -> i64 {
     (x as f64 / 255.0).round() as i64
 }
@@ -860,7 +865,7 @@ fn additive_datapath_equals_additive_blend_bit_for_bit_exhaustively() {
                     let src: Vec<u32> = ins.iter().map(|x| x.src[0]).collect();
                     let mut db: Vec<u32> = ins.iter().map(|x| x.dst[0]).collect();
                     let mut lcb = Counters::default();
-                    b.blend_lanes(&src, &mut db, &mut lcb);
+                    b.blend_lanes_at(&src, (&identity(src.len()), 0), &mut db, &mut lcb);
                     let la0: Vec<u32> = la.iter().map(|o| o[0]).collect();
                     assert_eq!(la0, db, "lanes s{s} f{f} k{k} w{w}");
                     lca.cycles = 0;
@@ -898,7 +903,7 @@ fn additive_datapath_equals_additive_blend_at_8_bits_for_all_inputs() {
             let (a, b) = both(8, 8, weighted, 8, w);
             let mut db = dst0.clone();
             let mut cb = Counters::default();
-            b.blend_lanes(&src, &mut db, &mut cb);
+            b.blend_lanes_at(&src, (&identity(src.len()), 0), &mut db, &mut cb);
             let mut ca = Counters::default();
             for i in 0..src.len() {
                 let o = a.pixel([src[i], 0, 0, 0], [dst0[i], 0, 0, 0], w, &mut ca);
@@ -1543,7 +1548,7 @@ mod additive {
         }
     }
 
-    /// `blend_lanes` (the J buffer's single-channel lane form) against the span driver
+    /// `blend_lanes_at` (the J buffer's single-channel lane form, lane i on word i) against the span driver
     /// on the inputs it stands for, `[src, 0, 0, 0]` over `[dst, 0, 0, 0]`: channel 0's
     /// outputs, and the counters once the span's timing is added.
     fn lanes_agree_with_span(b: &Blend, src: &[u32], dst: &[u32]) {
@@ -1559,19 +1564,49 @@ mod additive {
         let out = rtl_model::driver::run_span(b, &mut (), &inputs, &mut c_span);
         let mut lanes = dst.to_vec();
         let mut c = Counters::default();
-        b.blend_lanes(src, &mut lanes, &mut c);
+        b.blend_lanes_at(src, (&super::identity(src.len()), 0), &mut lanes, &mut c);
         let mut tally = rtl_model::driver::SpanTally::new();
         tally.add(src.len());
         tally.close(b.timing(), &mut c);
         let ch0: Vec<u32> = out.iter().map(|o| o[0]).collect();
         assert_eq!(
             lanes, ch0,
-            "blend_lanes outputs differ from the span driver's"
+            "blend_lanes_at outputs differ from the span driver's"
         );
         assert_eq!(
             c, c_span,
-            "blend_lanes counters differ from the span driver's"
+            "blend_lanes_at counters differ from the span driver's"
         );
+        // The same lanes on the words in reverse, past an offset of 5: the same
+        // outputs, reversed, and the same counters.
+        let n = src.len();
+        let at: Vec<u32> = (0..n as u32).map(|i| 5 + (n as u32 - 1 - i)).collect();
+        let mut rev: Vec<u32> = dst.iter().rev().copied().collect();
+        let mut c_rev = Counters::default();
+        b.blend_lanes_at(src, (&at, 5), &mut rev, &mut c_rev);
+        rev.reverse();
+        assert_eq!(rev, lanes, "blend_lanes_at through a reversed map");
+        tally.close(b.timing(), &mut c_rev);
+        assert_eq!(
+            c_rev, c_span,
+            "blend_lanes_at counters through a reversed map"
+        );
+        // Lanes 2k and 2k + 1 on word k: the second reads what the first wrote.
+        let at: Vec<u32> = (0..n as u32).map(|i| i / 2).collect();
+        let mut shared: Vec<u32> = dst.iter().step_by(2).copied().collect();
+        b.blend_lanes_at(src, (&at, 0), &mut shared, &mut Counters::default());
+        for (k, &v) in shared.iter().enumerate() {
+            let mut want = dst[2 * k];
+            for &s in src.iter().skip(2 * k).take(2) {
+                let one = [BlendIn {
+                    src: [s, 0, 0, 0],
+                    dst: [want, 0, 0, 0],
+                }];
+                want =
+                    rtl_model::driver::run_span(b, &mut (), &one, &mut Counters::default())[0][0];
+            }
+            assert_eq!(v, want, "word {k}: the lanes one after the other");
+        }
     }
 
     /// Exhaustive at 4-bit words: every source, destination and weight, weighted and

@@ -690,46 +690,59 @@ impl Blend {
         Some(lut)
     }
 
-    /// The additive batch kernel on lanes (structure of arrays), in the J buffer's form:
-    /// lane i is the input `BlendIn { src: [src[i], 0, 0, 0], dst: [dst[i], 0, 0, 0] }`;
-    /// its channel-0 result is written back into `dst[i]` (the other channels', all
-    /// min(contribution(0), max), are dropped) and the counters are those
-    /// [`Unit::kernel_batch`] counts on these inputs. Additive datapath only (panics
-    /// otherwise: a wiring error of the caller).
-    pub fn blend_lanes(&self, src: &[u32], dst: &mut [u32], ctr: &mut Counters) {
+    /// The additive batch kernel on lanes, in place, in the J buffer's form: lane i is
+    /// the input `BlendIn { src: [src[i], 0, 0, 0], dst: [d, 0, 0, 0] }` with d the
+    /// word `dst[at[i] − offset]` as the earlier lanes left it; its channel-0 result is
+    /// written back there (the other channels', all min(contribution(0), max), are
+    /// dropped: a read-modify-write per lane). Where no two lanes share a word this is
+    /// the batch kernel on those inputs with `dst` as it was, and the counters are the
+    /// ones it counts. Additive datapath only; panics otherwise, or if `src` and `at`
+    /// differ in length or a word lies outside `dst` (wiring errors of the caller).
+    pub fn blend_lanes_at(
+        &self,
+        src: &[u32],
+        (at, offset): (&[u32], usize),
+        dst: &mut [u32],
+        ctr: &mut Counters,
+    ) {
         assert_eq!(
             src.len(),
-            dst.len(),
-            "blend_lanes: src and dst lanes differ"
+            at.len(),
+            "blend_lanes_at: src and at lanes differ"
         );
         assert_eq!(
             self.cfg.datapath,
             BlendDatapath::Additive,
-            "blend_lanes: additive datapath only"
+            "blend_lanes_at: additive datapath only"
         );
         let n = src.len() as u64;
         let (max, src_mask) = (self.max(), max_code(self.src_bits()));
         let weight_on = !self.weighted() || self.cfg.constant[ALPHA] != 0;
-        let (mut sat, mut under) = (0u64, 0u64);
-        if let Some(lut) = self.contribution_table() {
-            for (d, &s) in dst.iter_mut().zip(src) {
+        // One loop per contribution form (the table or the datapath), inlined.
+        #[inline(always)]
+        fn lanes(
+            (src, at, offset): (&[u32], &[u32], usize),
+            dst: &mut [u32],
+            (src_mask, max): (u32, u32),
+            contribution: impl Fn(u32) -> u32,
+        ) -> (u64, u64) {
+            let (mut sat, mut under) = (0u64, 0u64);
+            for (&a, &s) in at.iter().zip(src) {
+                let d = &mut dst[a as usize - offset];
                 let sm = s & src_mask;
-                let q = lut[lut_index(sm)];
+                let q = contribution(sm);
                 let sum = (*d & max) + q;
                 sat += u64::from(sum > max);
                 under += u64::from(sm != 0 && q == 0);
                 *d = sum.min(max);
             }
-        } else {
-            for (d, &s) in dst.iter_mut().zip(src) {
-                let sm = s & src_mask;
-                let q = self.contribution(sm);
-                let sum = (*d & max) + q;
-                sat += u64::from(sum > max);
-                under += u64::from(sm != 0 && q == 0);
-                *d = sum.min(max);
-            }
+            (sat, under)
         }
+        let io = (src, at, offset);
+        let (sat, mut under) = match self.contribution_table() {
+            Some(lut) => lanes(io, dst, (src_mask, max), |sm| lut[lut_index(sm)]),
+            None => lanes(io, dst, (src_mask, max), |sm| self.contribution(sm)),
+        };
         if !weight_on {
             under = 0;
         }

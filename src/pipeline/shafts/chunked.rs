@@ -121,11 +121,18 @@ impl UnitSpan {
         self.tally.add(a.len());
     }
 
-    /// A single-channel weighted blend in lanes ([`Blend::blend_lanes`]):
-    /// `dst` blended in place, counted as the batch kernel counts those inputs.
+    /// A single-channel weighted blend in lanes, in place ([`Blend::blend_lanes_at`]):
+    /// lane i blends `src[i]` over `dst[at[i] − offset]`, counted as the batch kernel
+    /// counts those inputs.
     #[inline]
-    pub fn feed_blend_lanes(&mut self, unit: &Blend, src: &[u32], dst: &mut [u32]) {
-        unit.blend_lanes(src, dst, &mut self.ctr);
+    pub fn feed_blend_lanes(
+        &mut self,
+        unit: &Blend,
+        src: &[u32],
+        at: (&[u32], usize),
+        dst: &mut [u32],
+    ) {
+        unit.blend_lanes_at(src, at, dst, &mut self.ctr);
         self.tally.add(src.len());
     }
 

@@ -453,9 +453,9 @@ const J_BAND_ROWS: usize = 16;
 /// One sub-plane's H·I_l (`hil` at pixels `pix`, y·w + x) blended with `weight` into
 /// the J buffer: one span of the J-buffer blend. A parallelogram's walk covers each
 /// pixel once and goes down the rows, so bands of rows are disjoint runs of `pix`,
-/// blended in parallel, each a chunk at a time (each reads what the span driver read;
-/// the counters are sums, the same in any order). `rows_in_order`: the rows of `pix`
-/// never go up (found by the walk, on its thread; else one chunk after the other).
+/// blended in parallel, each in place (each reads what the span driver read; the
+/// counters are sums, the same in any order). `rows_in_order`: the rows of `pix` never
+/// go up (found by the walk, on its thread; else the whole buffer in one part).
 fn blend_j(
     u: &Blend,
     jbuf: &mut [u32],
@@ -468,19 +468,12 @@ fn blend_j(
     let band = J_BAND_ROWS * w as usize;
     // The plane's weight is the blend's constant alpha (CONSTANT_ALPHA, ONE), set per draw.
     let u = &u.with_weight(weight);
-    // In lanes: the J values at the chunk's pixels gathered, blended in place
-    // (`blend_lanes`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]), scattered.
+    // In lanes, each J value read, blended and written back in place
+    // (`blend_lanes_at`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]; the
+    // walk covers each pixel once, so each reads J as the span driver read it).
     let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
         let mut span = UnitSpan::default();
-        let mut lanes = Vec::with_capacity(BLEND_CHUNK.min(pix.len()));
-        for (pc, hc) in pix.chunks(BLEND_CHUNK).zip(hil.chunks(BLEND_CHUNK)) {
-            lanes.clear();
-            lanes.extend(pc.iter().map(|&px| jb[px as usize - base]));
-            span.feed_blend_lanes(u, hc, &mut lanes);
-            for (&px, &o) in pc.iter().zip(&lanes) {
-                jb[px as usize - base] = o;
-            }
-        }
+        span.feed_blend_lanes(u, hil, (pix, base), jb);
         span
     };
     if !rows_in_order {
