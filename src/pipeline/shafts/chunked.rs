@@ -624,10 +624,16 @@ impl LightCtx<'_> {
         b.tex_t.clear();
         b.tex_t
             .extend(pl.v.iter().map(|&pv| texel_word(pv, log2, &u.proj, fr)));
-        let lit = &b.lit;
-        let keep = |i: usize| {
-            !pl.behind[i] && (0..=one).contains(&pl.u[i]) && (0..=one).contains(&pl.v[i]) && lit[i]
-        };
+        // Whether each sample is kept, in one pass over the lanes.
+        b.tex_keep.clear();
+        b.tex_keep
+            .extend((pl.behind.iter().zip(&pl.u).zip(&pl.v).zip(&b.lit)).map(
+                |(((&behind, &u), &v), &lit)| {
+                    !behind & (0..=one).contains(&u) & (0..=one).contains(&v) & lit
+                },
+            ));
+        let kept = &b.tex_keep;
+        let keep = |i: usize| kept[i];
         // H·I_l: the light map's sample where kept, else 0.
         b.hil.clear();
         b.hil.resize(n, 0);
@@ -647,8 +653,6 @@ impl LightCtx<'_> {
                     .zip(&b.tex_t)
                     .map(|(&s, &t)| TextureSamplerIn { coord: [s, t, 0] }),
             );
-            b.tex_keep.clear();
-            b.tex_keep.extend((0..n).map(keep));
             spans
                 .light_map
                 .feed_keep(lm, &b.tex_in, &b.tex_keep, &mut b.tex_out);

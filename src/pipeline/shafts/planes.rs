@@ -331,7 +331,7 @@ fn subplane_hil(
     // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
     // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
     let mut wb = WalkBuffers::unread(0b1111);
-    let (mut rows_in_order, mut last_y) = (true, 0);
+    let (mut rows_in_order, mut last_y) = (true, 0i64);
     let mut rec = recording.map(|bands| subplane_rec(ctx, bands, (w, h)));
     let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
     let (mut lm, mut sm) = (Vec::new(), Vec::new());
@@ -346,12 +346,16 @@ fn subplane_hil(
                 record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
             }
         }
+        // The rows never go up when the walked rows never do (then neither do the
+        // visible fragments' among them).
+        rows_in_order &=
+            px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
+        last_y = px.y.last().copied().unwrap_or(last_y);
+        let last = px.x.len().min(px.y.len()).saturating_sub(1);
         pix.extend(b.visible.iter().map(|&i| {
-            let i = i as usize;
-            let y = px.y[i] as u32;
-            rows_in_order &= y >= last_y;
-            last_y = y;
-            y * w + px.x[i] as u32
+            // Clamped to the lanes (visible lanes always lie in them): no bounds check.
+            let i = (i as usize).min(last);
+            px.y[i] as u32 * w + px.x[i] as u32
         }));
         hil.extend_from_slice(&b.hil);
     });
