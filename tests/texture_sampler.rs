@@ -263,6 +263,31 @@ fn coord_word(rng: &mut Rng, size: u32, int_bits: u32, frac: u32) -> i32 {
     v.clamp(-lim, lim - 1) as i32
 }
 
+/// `n` inputs with coordinate words on the first `axes` axes ([`coord_word`] at the
+/// config's widths), one word in 8 anything at all (wider than the wires: masked,
+/// counted as overflows).
+fn wire_inputs(
+    rng: &mut Rng,
+    cfg: &TextureSamplerConfig,
+    n: usize,
+    axes: usize,
+) -> Vec<TextureSamplerIn> {
+    let (int_bits, frac) = (cfg.coord_int_bits, cfg.coord_frac_bits);
+    (0..n)
+        .map(|_| {
+            let mut coord = [0i32; 3];
+            for (k, c) in coord.iter_mut().enumerate().take(axes) {
+                *c = if rng.below(8) == 0 {
+                    rng.next() as i32
+                } else {
+                    coord_word(rng, cfg.size[k], int_bits, frac)
+                };
+            }
+            TextureSamplerIn { coord }
+        })
+        .collect()
+}
+
 /// `kernel_batch_keep` under random keep masks (none, all, and mixed): the kept
 /// outputs are the drivers' `out`, and the counters are the batch kernel's on every
 /// input, whatever is skipped.
@@ -391,20 +416,7 @@ proptest! {
         let mut rng = Rng(seed);
         let texels = make_texels(&cfg, Content::Random, &mut rng);
         let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
-        let inputs: Vec<TextureSamplerIn> = (0..n)
-            .map(|_| {
-                let mut coord = [0i32; 3];
-                for (k, c) in coord.iter_mut().enumerate() {
-                    // sometimes words wider than the wires (masked, counted as overflows)
-                    *c = if rng.below(8) == 0 {
-                        rng.next() as i32
-                    } else {
-                        coord_word(&mut rng, cfg.size[k], 16, widths.frac)
-                    };
-                }
-                TextureSamplerIn { coord }
-            })
-            .collect();
+        let inputs = wire_inputs(&mut rng, &cfg, n, 3);
         let out = common::assert_drivers_agree(&u, (), &inputs);
         assert_keep_agrees(&u, &inputs, &out, &mut rng);
     }
@@ -473,19 +485,7 @@ proptest! {
         let mut rng = Rng(seed);
         let texels = make_texels(&cfg, Content::Random, &mut rng);
         let u = TextureSampler::new(cfg.clone(), &texels).unwrap();
-        let inputs: Vec<TextureSamplerIn> = (0..n)
-            .map(|_| {
-                let mut coord = [0i32; 3];
-                for (k, c) in coord.iter_mut().enumerate().take(dims as usize) {
-                    *c = if rng.below(8) == 0 {
-                        rng.next() as i32
-                    } else {
-                        coord_word(&mut rng, cfg.size[k], int_bits, widths.frac)
-                    };
-                }
-                TextureSamplerIn { coord }
-            })
-            .collect();
+        let inputs = wire_inputs(&mut rng, &cfg, n, dims as usize);
         let mut out = Vec::new();
         u.kernel_batch(&mut (), &inputs, &mut out, &mut Counters::default());
         assert_keep_agrees(&u, &inputs, &out, &mut rng);

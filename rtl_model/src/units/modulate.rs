@@ -99,7 +99,7 @@ impl Modulate {
         self.mode
     }
 
-    /// [`Self::apply`] on lanes: `out` (cleared first) gets apply(a[i], b(i)) for
+    /// [`Self::apply`] on lanes: `out` (cleared first) gets `apply(a[i], b(i))` for
     /// every lane of `a`, where `b` is [`Operand::Lanes`] (lane i of a slice as long
     /// as `a`) or [`Operand::Constant`] (one code for every lane). The rounding mode
     /// is chosen once, outside the loop, so the compiler runs the lanes as vectors.
