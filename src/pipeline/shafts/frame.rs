@@ -785,7 +785,7 @@ fn object_pass(
     stats.walked = c_int.pixels_in;
     clip.close(clipper, ctr, clip_stats);
     counters_add(ctr, "polygon_interpolator", c_int);
-    // The object pass is light work (a few thousand fragments): one chunk.
+    // The object pass in one chunk (fig6: 125 390 walked fragments).
     let mut b = ChunkBuffers::default();
     let lanes = object_lanes(&u.interp, &frags_all);
     let mut zspan = UnitSpan::default();
