@@ -1886,3 +1886,22 @@ fn trace_signals_are_the_move_and_the_outputs_masked_to_their_widths() {
         ]
     );
 }
+
+/// `PolyLanes::reserve`: room for n more words in x, y, inside and every written
+/// attribute lane, and none taken for the lanes left unread (nor past `k`).
+#[test]
+fn reserve_makes_room_in_the_written_lanes_only() {
+    let mut lanes = PolyLanes::default();
+    // Attributes 0..5 of which 1 and 3 are unread.
+    lanes.clear_unread(5, 0b01010);
+    lanes.reserve(100);
+    assert!(lanes.x.capacity() >= 100 && lanes.y.capacity() >= 100);
+    assert!(lanes.inside.capacity() >= 100);
+    for (a, l) in lanes.attrs.iter().enumerate() {
+        let written = a < 5 && a != 1 && a != 3;
+        assert_eq!(l.capacity() >= 100, written, "attribute {a}'s lane");
+        if !written {
+            assert_eq!(l.capacity(), 0, "attribute {a}'s lane took room");
+        }
+    }
+}
