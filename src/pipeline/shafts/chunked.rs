@@ -562,38 +562,29 @@ impl LightCtx<'_> {
         let at = ShadowAddress::new(self.units, sh);
         let pl = &b.proj_lanes;
         b.lit.clear();
-        // On the shadow map's unpacked words: the lit bits in lanes, no test words.
+        // Each fragment's texel and depth word, in lanes: tested on the shadow map's
+        // unpacked words (the lit bits in lanes, no test words) where the pass has
+        // them, else as test words.
+        let (x, y, depth) = (&mut b.shadow_x, &mut b.shadow_y, &mut b.shadow_depth);
+        x.clear();
+        x.extend(pl.u.iter().map(|&u| at.texel(u)));
+        y.clear();
+        y.extend(pl.v.iter().map(|&v| at.texel(v)));
+        depth.clear();
+        depth.extend(b.pdepth_u.iter().map(|&d| at.depth_word(d)));
         let tested = self.swords.and_then(|words| {
-            let [x, y] = [&mut b.shadow_x, &mut b.shadow_y];
-            x.clear();
-            x.extend(pl.u.iter().map(|&u| at.texel(u)));
-            y.clear();
-            y.extend(pl.v.iter().map(|&v| at.texel(v)));
-            b.shadow_depth.clear();
-            b.shadow_depth
-                .extend(b.pdepth_u.iter().map(|&d| at.depth_word(d)));
-            sh.test_lit_lanes(
-                words,
-                (x, y, &b.shadow_depth),
-                &mut b.lit,
-                &mut spans.shadow.ctr,
-            )
+            sh.test_lit_lanes(words, (x, y, depth), &mut b.lit, &mut spans.shadow.ctr)
         });
         match tested {
             Some(k) => spans.shadow.tally.add(k),
             None => {
                 b.shadow_in.clear();
-                b.shadow_in
-                    .extend(
-                        pl.u.iter()
-                            .zip(&pl.v)
-                            .zip(&b.pdepth_u)
-                            .map(|((&pu, &pv), &d)| ShadowIn::Test {
-                                x: at.texel(pu),
-                                y: at.texel(pv),
-                                depth: at.depth_word(d),
-                            }),
-                    );
+                b.shadow_in.extend(
+                    x.iter()
+                        .zip(y.iter())
+                        .zip(depth.iter())
+                        .map(|((&x, &y), &depth)| ShadowIn::Test { x, y, depth }),
+                );
                 spans
                     .shadow
                     .feed_tests(sh, ss, &b.shadow_in, &mut b.shadow_out);
