@@ -31,6 +31,7 @@ use rtl_model::units::texture_sampler::{
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit};
 use std::collections::BTreeMap;
+use std::sync::Mutex;
 
 /// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
 /// fragment list each). Fixed, so the work split never depends on the thread count.
@@ -46,6 +47,42 @@ type SubPlaneHil = (
     BTreeMap<String, Counters>,
     Option<Rec>,
 );
+
+/// Full-screen word lists (the sub-planes' pixel and H·I_l lists, the J buffer) handed
+/// back once an interval's J buffer is made and reused by the next interval's: fresh
+/// ones each time would have their pages faulted in on first write and unmapped
+/// again on drop, on every sub-plane. What a list held is never read (each is
+/// cleared or zeroed when taken), so the bytes do not depend on which list is reused.
+#[derive(Default)]
+struct WordPool(Mutex<Vec<Vec<u32>>>);
+
+impl WordPool {
+    /// An empty list with room for `len` words.
+    fn take(&self, len: usize) -> Vec<u32> {
+        let mut v = self
+            .0
+            .lock()
+            .ok()
+            .and_then(|mut p| p.pop())
+            .unwrap_or_default();
+        v.clear();
+        v.reserve(len);
+        v
+    }
+
+    /// `len` zero words.
+    fn zeroed(&self, len: usize) -> Vec<u32> {
+        let mut v = self.take(len);
+        v.resize(len, 0);
+        v
+    }
+
+    fn give(&self, v: Vec<u32>) {
+        if let Ok(mut p) = self.0.lock() {
+            p.push(v);
+        }
+    }
+}
 
 /// A plane fragment's framebuffer position and colour (texel_bits unorm).
 #[derive(Clone, Copy, Debug)]
@@ -177,10 +214,16 @@ pub(super) fn planes_pass(
     // Interval i's sub-planes' H·I_l (independent of the framebuffer and the J
     // buffer): interval i + 1's are computed beside plane i's blend into the
     // framebuffer, then merged and blended in order as before.
+    let pool = WordPool::default();
     let hil_of = |i: usize| {
-        subplanes_hil(ctx, p, zwords, r0 + (i as f64 + 0.5) * dr, dr, |j| {
-            sub_record(i * m + j)
-        })
+        subplanes_hil(
+            ctx,
+            p,
+            (zwords, &pool),
+            r0 + (i as f64 + 0.5) * dr,
+            dr,
+            |j| sub_record(i * m + j),
+        )
     };
     let mut pending = None;
     // The planes' fragment list and blend buffers, reused from plane to plane.
@@ -190,8 +233,9 @@ pub(super) fn planes_pass(
         // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
         if m > 1 {
             let hils = pending.take().unwrap_or_else(|| hil_of(i));
-            let jbuf = subplanes_into_j(ctx, p, hils, ctr, log)?;
+            let jbuf = subplanes_into_j(ctx, p, hils, &pool, ctr, log)?;
             copy_to_j_texture(ctx, p, &jbuf, &mut jtex, ctr, log, i)?;
+            pool.give(jbuf);
         }
         let next = m > 1 && i + 1 < n;
         pending = plane(
@@ -283,7 +327,7 @@ fn copy_to_j_texture(
 fn subplanes_hil(
     ctx: &LightCtx,
     p: &Prepared,
-    zwords: Option<&[u32]>,
+    (zwords, pool): (Option<&[u32]>, &WordPool),
     r: f64,
     dr: f64,
     recording: impl Fn(usize) -> Option<Option<SampleBands>> + Sync,
@@ -295,7 +339,7 @@ fn subplanes_hil(
         out.par_extend(batch.par_iter().map(|&j| {
             // Sub-plane j at the middle of the interval's j-th m-th.
             let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-            subplane_hil(ctx, p, zwords, uj, recording(j))
+            subplane_hil(ctx, p, (zwords, pool), uj, recording(j))
         }));
     }
     out
@@ -307,7 +351,7 @@ fn subplanes_hil(
 fn subplane_hil(
     ctx: &LightCtx,
     p: &Prepared,
-    zwords: Option<&[u32]>,
+    (zwords, pool): (Option<&[u32]>, &WordPool),
     uj: f64,
     recording: Option<Option<SampleBands>>,
 ) -> Result<SubPlaneHil, ConfigError> {
@@ -324,10 +368,7 @@ fn subplane_hil(
     let (mut zspan, mut spans) = (UnitSpan::default(), HilSpans::default());
     let mut b = ChunkBuffers::default();
     // At most one fragment per pixel: no growing (and copying) on the way.
-    let (mut pix, mut hil) = (
-        Vec::with_capacity((w * h) as usize),
-        Vec::with_capacity((w * h) as usize),
-    );
+    let (mut pix, mut hil) = (pool.take((w * h) as usize), pool.take((w * h) as usize));
     // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
     // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
     let mut wb = WalkBuffers::unread(0b1111);
@@ -403,12 +444,13 @@ fn subplane_rec(ctx: &LightCtx, bands: Option<SampleBands>, (w, h): (u32, u32)) 
 }
 
 /// An interval's sub-planes' H·I_l ([`subplanes_hil`]) merged in sub-plane order and
-/// blended with their weights into a fresh J buffer (one PassStats per sub-plane).
-/// Returns the J buffer.
+/// blended with their weights into a zeroed J buffer (one PassStats per sub-plane),
+/// their lists handed back to `pool`. Returns the J buffer.
 fn subplanes_into_j(
     ctx: &LightCtx,
     p: &Prepared,
     hils: Vec<Result<SubPlaneHil, ConfigError>>,
+    pool: &WordPool,
     ctr: &mut BTreeMap<String, Counters>,
     log: &mut PassLog,
 ) -> Result<Vec<u32>, ConfigError> {
@@ -417,7 +459,7 @@ fn subplanes_into_j(
     let cfg = sc.shafts;
     let (w, h) = (sc.image.width, sc.image.height);
     let m = cfg.subplanes as usize;
-    let mut jbuf = vec![0u32; (w * h) as usize];
+    let mut jbuf = pool.zeroed((w * h) as usize);
     for (j, res) in hils.into_iter().enumerate() {
         let (pix, hil, rows_in_order, local, rec) = res?;
         for (k, c) in local {
@@ -440,6 +482,8 @@ fn subplanes_into_j(
         st.triangles = 1;
         st.walked = (w * h) as u64;
         st.fragments = pix.len() as u64;
+        pool.give(pix);
+        pool.give(hil);
         let work = rec.map(|r| {
             let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
             // The J buffer: an RGBA target at texel_bits per channel.
