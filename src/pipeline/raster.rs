@@ -88,7 +88,7 @@ impl WalkBuffers {
 }
 
 /// Moves of the walk fed to the interpolator at a time (whole bounding-box rows).
-pub const WALK_CHUNK_MOVES: usize = 256;
+pub const WALK_CHUNK_MOVES: usize = 2048;
 
 /// Walk one set-up primitive through the interpolator's batch kernel in chunks of
 /// whole bounding-box rows (at least [`WALK_CHUNK_MOVES`] moves, or the rest), handing
