@@ -240,3 +240,52 @@ fn the_search_times_its_candidates_clocked_or_sampled() {
         "{e}"
     );
 }
+
+/// After a sampled search the best chip is clocked in full: over the budget there, the
+/// run is an error naming its full time and the budget, with `pareto.csv` and
+/// `best_chip.toml` (whose header carries the full time) kept; within it, no error.
+#[test]
+fn a_sampled_best_over_the_budget_in_full_is_an_error_with_its_files_kept() {
+    let out = std::env::temp_dir().join(format!("optimize-chip-full-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    std::fs::create_dir_all(&out).unwrap();
+    // The start chip, sampled: a one-point search whose best it is.
+    let sampled = |limit_seconds| ChipPlan {
+        max_evals: Some(1),
+        mode: TimingMode::Sampled,
+        out: out.clone(),
+        ..plan(limit_seconds)
+    };
+    let o = search_chip(&sampled(1.0), Instant::now()).unwrap();
+    let best = &o.points[o.best.expect("a second meets the budget")];
+    // Its time clocked in full.
+    let req = TimingRequest {
+        mode: TimingMode::Clocked,
+        chip: None,
+        window: None,
+    };
+    let scene = sampled(1.0).scene;
+    let (f, _) = render_timed(&scene, &req, Some(best.chip.clone()), None).unwrap();
+    let full = f.timing.unwrap().clocked_seconds();
+    // Report the search's outcome against a budget just under, then just over, that time.
+    let csv = out.join("pareto.csv");
+    std::fs::write(&csv, "kept\n").unwrap();
+    let report =
+        |limit: f64| glare_pipeline::optimize::chip::report(&sampled(limit), &o, Instant::now());
+    let e = report(full * 0.999).unwrap_err();
+    assert!(
+        e.starts_with("budget:") && e.contains("clocked in full") && e.contains("best_chip.toml"),
+        "{e}"
+    );
+    let chip = std::fs::read_to_string(out.join("best_chip.toml")).unwrap();
+    let header = chip.lines().nth(1).unwrap();
+    assert!(
+        header.starts_with("# clocked in full:") && header.contains("OVER the budget"),
+        "{chip}"
+    );
+    assert_eq!(std::fs::read_to_string(&csv).unwrap(), "kept\n");
+    report(full * 1.001).unwrap();
+    let chip = std::fs::read_to_string(out.join("best_chip.toml")).unwrap();
+    assert!(chip.contains("within the budget"), "{chip}");
+    let _ = std::fs::remove_dir_all(&out);
+}

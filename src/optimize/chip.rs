@@ -656,32 +656,43 @@ pub fn optimize_chip_on(a: &OptimizeArgs, scene: Scene) -> Result<(), String> {
 
 /// A sampled search's best chip clocked in full (every fragment): its frame time
 /// printed beside the sample's, and whether it meets the budget (a sampled time within
-/// its error of the limit may not).
-fn full_clock_check(plan: &ChipPlan, best: &ChipPoint) -> Result<(), String> {
+/// its error of the limit may not). Returns the line for `best_chip.toml`'s header and
+/// the frame time when it is over the budget.
+fn full_clock_check(plan: &ChipPlan, best: &ChipPoint) -> Result<(String, Option<f64>), String> {
     let (full, _) = clock_round_in(plan, std::slice::from_ref(&best.chip), TimingMode::Clocked)?;
     let seconds = full[0].clocked_seconds();
     let off = (seconds - best.seconds) / best.seconds;
+    let within = seconds <= plan.limit_seconds;
+    let verdict = if within {
+        "within the budget".to_string()
+    } else {
+        format!("OVER the budget seconds<={}", plan.limit_seconds)
+    };
     println!(
         "  best clocked in full: {seconds:.6} s ({} cycles, {:+.2} % from the sample's; \
-         stated ± {}): {}",
+         stated ± {}): {verdict}{}",
         full[0].cycles_total(),
         100.0 * off,
         best.sampling_error
             .map_or("n/a".to_string(), |e| format!("{:.2} %", 100.0 * e)),
-        if seconds <= plan.limit_seconds {
-            "within the budget".to_string()
+        if within {
+            ""
         } else {
-            format!(
-                "OVER the budget seconds<={} (search with --timing clocked near the limit)",
-                plan.limit_seconds
-            )
+            " (search with --timing clocked near the limit)"
         }
     );
-    Ok(())
+    let header = format!(
+        "# clocked in full: {seconds:.6} s ({} cycles): {verdict}\n",
+        full[0].cycles_total()
+    );
+    Ok((header, (!within).then_some(seconds)))
 }
 
-/// Print the outcome, write `best_chip.toml` and verify it.
-fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
+/// Print the outcome, write `best_chip.toml` and verify it: a fresh frame in the
+/// search's mode, and after a sampled search the best chip clocked in full, whose time
+/// goes into the file's header. An error (the files kept) when the fresh frame's cycles
+/// differ or the full clock is over the budget.
+pub fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
     let line = |p: &ChipPoint| {
         format!(
             "{}: {:.6} s ({} cycles), gates {:.0}, RAM bits {}, {} {:.0}",
@@ -723,19 +734,8 @@ fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
     let best = &o.points[b];
     let toml_path = plan.out.join("best_chip.toml");
     let body = toml::to_string(&best.chip).map_err(|e| format!("best_chip.toml: {e}"))?;
-    let header =
-        format!(
-        "# optimize --scene {} --params {} --budget \"seconds<={}\" --objective {} ({}x{}): {}\n",
-        plan.scene_arg,
-        plan.params.iter().map(|p| p.name()).collect::<Vec<_>>().join(","),
-        plan.limit_seconds,
-        plan.objective.name(),
-        plan.scene.image.width,
-        plan.scene.image.height,
-        describe_values(&plan.params, &best.values)
-    );
-    write_bytes(&toml_path, (header + &body).as_bytes())?;
-    // Verification: the best chip clocked on a fresh frame of its own.
+    // Verification: the best chip clocked on a fresh frame of its own (and, after a
+    // sampled search, in full).
     let (again, _) = clock_round(plan, std::slice::from_ref(&best.chip))?;
     let cycles = again[0].cycles_total();
     println!(
@@ -749,9 +749,23 @@ fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
             "DIFFERENT"
         }
     );
-    if plan.mode == TimingMode::Sampled {
-        full_clock_check(plan, best)?;
-    }
+    let (full_line, over) = if plan.mode == TimingMode::Sampled {
+        full_clock_check(plan, best)?
+    } else {
+        (String::new(), None)
+    };
+    let header =
+        format!(
+        "# optimize --scene {} --params {} --budget \"seconds<={}\" --objective {} ({}x{}): {}\n",
+        plan.scene_arg,
+        plan.params.iter().map(|p| p.name()).collect::<Vec<_>>().join(","),
+        plan.limit_seconds,
+        plan.objective.name(),
+        plan.scene.image.width,
+        plan.scene.image.height,
+        describe_values(&plan.params, &best.values)
+    );
+    write_bytes(&toml_path, (header + &full_line + &body).as_bytes())?;
     println!(
         "  wrote {}, pareto.png, {}",
         csv.display(),
@@ -761,6 +775,17 @@ fn report(plan: &ChipPlan, o: &ChipOutcome, t0: Instant) -> Result<(), String> {
         return Err(format!(
             "the best chip's fresh clocked frame took {cycles} cycles, not the search's {}",
             best.cycles
+        ));
+    }
+    if let Some(seconds) = over {
+        return Err(format!(
+            "budget: the sampled search's best chip takes {seconds:.6} s clocked in full, over \
+             seconds<={} (its sampled time {:.6} s); {} and {} are written; search with \
+             --timing clocked near the limit",
+            plan.limit_seconds,
+            best.seconds,
+            csv.display(),
+            toml_path.display()
         ));
     }
     Ok(())
