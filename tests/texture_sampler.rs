@@ -1220,3 +1220,32 @@ fn footprint_checks(
     u.footprint_lanes(&s, tl, rl, &mut lanes);
     assert_eq!(lanes, all, "{cfg:?}: lane form");
 }
+
+proptest! {
+    /// The texel RAM as `load` packs it: every texel at bit i·texel_bits, LSB first, as
+    /// a `store_le` per texel writes it, at every width the unit takes (1 ..= 16 bits):
+    /// those that divide the 64-bit word (whole texels per word) and those that
+    /// straddle words; each texel reads back.
+    #[test]
+    fn load_packs_each_texel_as_a_store_le_writes_it(
+        (tb, codes) in (1u32..=16).prop_flat_map(|tb| {
+            (Just(tb), proptest::collection::vec(0..=(1u32 << tb) - 1, 1..150))
+        })
+    ) {
+        use bitvec::prelude::*;
+        let cfg = TextureSamplerConfig {
+            texel_bits: tb,
+            ..TextureSamplerConfig::geforce_1d(codes.len() as u32)
+        };
+        let u = TextureSampler::new(cfg, &codes).unwrap();
+        let tbu = tb as usize;
+        let mut want = bitvec![u64, Lsb0; 0; codes.len() * tbu];
+        for (i, &v) in codes.iter().enumerate() {
+            want[i * tbu..(i + 1) * tbu].store_le(v);
+        }
+        prop_assert_eq!(u.ram(), want.as_bitslice());
+        for (i, &v) in codes.iter().enumerate() {
+            prop_assert_eq!(u.texel(i as u32, 0, 0, 0), v);
+        }
+    }
+}

@@ -496,7 +496,13 @@ impl TextureSampler {
             ));
         }
         let max = max_code(self.cfg.texel_bits);
-        if let Some((i, &v)) = texels.iter().enumerate().find(|(_, &v)| v > max) {
+        // The largest code first (a loop with no early exit, in vector registers), the
+        // first one too wide looked for only when there is one.
+        let widest = texels.iter().fold(0, |m, &v| m.max(v));
+        if let Some((i, &v)) = (widest > max)
+            .then(|| texels.iter().enumerate().find(|(_, &v)| v > max))
+            .flatten()
+        {
             return Err(ConfigError::invalid(
                 "texture_sampler.texels",
                 &format!(
@@ -509,14 +515,29 @@ impl TextureSampler {
         // `BitVec<u64, Lsb0>`, a word at a time; a texel straddles at most two words).
         let tb = self.cfg.texel_bits as usize;
         let total = texels.len() * tb;
-        let mut words = vec![0u64; total.div_ceil(64)];
-        for (i, &v) in texels.iter().enumerate() {
-            let (w, off) = ((i * tb) / 64, (i * tb) % 64);
-            words[w] |= (v as u64) << off;
-            if off + tb > 64 {
-                words[w + 1] |= (v as u64) >> (64 - off);
+        let words = if 64 % tb == 0 {
+            // Whole texels per word (1, 2, 4, 8 or 16 bits): each word from its own
+            // texels, the last one's missing texels 0.
+            let per = 64 / tb;
+            texels
+                .chunks(per)
+                .map(|c| {
+                    c.iter()
+                        .enumerate()
+                        .fold(0u64, |w, (j, &v)| w | (v as u64) << (j * tb))
+                })
+                .collect()
+        } else {
+            let mut words = vec![0u64; total.div_ceil(64)];
+            for (i, &v) in texels.iter().enumerate() {
+                let (w, off) = ((i * tb) / 64, (i * tb) % 64);
+                words[w] |= (v as u64) << off;
+                if off + tb > 64 {
+                    words[w + 1] |= (v as u64) >> (64 - off);
+                }
             }
-        }
+            words
+        };
         let mut ram = BitVec::<u64, Lsb0>::from_vec(words);
         ram.truncate(total);
         self.ram = ram;
