@@ -702,42 +702,42 @@ fn project_tri(
     Some(HostTri::Screen(hv))
 }
 
-/// The object fragments' colours (`rgb`, one lane per channel) added into the
-/// framebuffer. Triangles of one object may cover a pixel twice: then every
+/// The object fragments' colours (`rgb`, one lane per channel) at their pixels `at`
+/// (x, y) added into the framebuffer. Triangles of one object may cover a pixel twice: then every
 /// destination is read before any is written, as the span driver ran it; where no
 /// pixel has two fragments (checked), in place, each fragment reading its pixel as
 /// the span driver read it (alpha stays 0, as in the planes' blend).
 fn blend_into(
     u: &Blend,
     fb: &mut Framebuffer,
-    frags: &[&Fragment],
+    at: &[(u32, u32)],
     rgb: &[Vec<u32>; 3],
     ctr: &mut BTreeMap<String, Counters>,
 ) {
     let w = fb.width as usize;
-    let at = |f: &Fragment| f.y as usize * w + f.x as usize;
+    let index = |&(x, y): &(u32, u32)| y as usize * w + x as usize;
     let colour = |i: usize| [rgb[0][i], rgb[1][i], rgb[2][i], 0];
-    if covers_once(fb, frags.iter().map(|f| at(f)), &mut Vec::new()) {
+    if covers_once(fb, at.iter().map(index), &mut Vec::new()) {
         let (pixels, _) = fb.data.as_chunks_mut::<4>();
         let mut span = UnitSpan::default();
-        if span.feed_blend_in_place(u, frags.len(), |i| (at(frags[i]), colour(i)), pixels) {
+        if span.feed_blend_in_place(u, at.len(), |i| (index(&at[i]), colour(i)), pixels) {
             span.close("additive_blend", u.timing(), ctr);
             return;
         }
     }
-    let ins: Vec<BlendIn> = frags
+    let ins: Vec<BlendIn> = at
         .iter()
         .enumerate()
-        .map(|(i, f)| BlendIn {
+        .map(|(i, &(x, y))| BlendIn {
             src: colour(i),
-            dst: fb.pixel(f.x, f.y),
+            dst: fb.pixel(x, y),
         })
         .collect();
     let mut c = Counters::default();
     let out = run_span(u, &mut (), &ins, &mut c);
     counters_add(ctr, "additive_blend", c);
-    for (f, o) in frags.iter().zip(out) {
-        fb.set(f.x, f.y, [o[0], o[1], o[2], 0]);
+    for (&(x, y), o) in at.iter().zip(out) {
+        fb.set(x, y, [o[0], o[1], o[2], 0]);
     }
 }
 
@@ -761,7 +761,10 @@ fn object_pass(
         1 + u32::from(ctx.lm_tex.is_some()) + u32::from(ctx.sstate.is_some()),
     );
     let mut c_int = Counters::default();
-    let mut frags_all: Vec<Fragment> = Vec::new();
+    // Every drawn triangle's walked fragments in lanes of the interpolator's
+    // attributes (every one inside), in draw order, for the chunked units.
+    let mut lanes = PolyLanes::default();
+    lanes.clear(u.interp.attrs() as usize);
     let tris: Vec<(&ObjectMesh, &[Vec3; 3], &[Vec3; 3])> = (p.objects.iter())
         .flat_map(|o| o.triangles.iter().map(move |(tri, nrm)| (o, tri, nrm)))
         .collect();
@@ -769,17 +772,24 @@ fn object_pass(
         let attrs = |k: usize, pt: Vec3| object_vertex_attrs(ctx, p, o.color, nrm[k], pt);
         project_tri(ctx.cam, tri, clipper.is_some(), attrs)
     };
-    // When recording: each drawn triangle's first fragment in `frags_all` and its
-    // walked pixels.
+    // When recording: each drawn triangle's first fragment in `lanes` and its walked
+    // pixels.
     let recording = log.recording();
     let mut prims: Vec<(usize, u64)> = Vec::new();
     let clip = draw_triangles(&u.interp, clipper, &tris, (w, h), host, |frags, c| {
         c_int += c;
         stats.triangles += 1;
         if recording {
-            prims.push((frags_all.len(), c.pixels_in));
+            prims.push((lanes.len(), c.pixels_in));
         }
-        frags_all.extend(frags);
+        for f in &frags {
+            lanes.push(&PolyOut {
+                x: f.x as i64,
+                y: f.y as i64,
+                inside: true,
+                attrs: f.attrs,
+            });
+        }
         Ok(())
     })?;
     stats.walked = c_int.pixels_in;
@@ -787,7 +797,6 @@ fn object_pass(
     counters_add(ctr, "polygon_interpolator", c_int);
     // The object pass in one chunk (fig6: 125 390 walked fragments).
     let mut b = ChunkBuffers::default();
-    let lanes = object_lanes(&u.interp, &frags_all);
     let mut zspan = UnitSpan::default();
     ctx.visible(
         &lanes,
@@ -797,13 +806,12 @@ fn object_pass(
         &mut b,
     );
     ctx.close_visible(zspan, ctr);
-    let frags: Vec<&Fragment> = b.visible.iter().map(|&i| &frags_all[i as usize]).collect();
-    stats.fragments = frags.len() as u64;
+    stats.fragments = b.visible.len() as u64;
     let mut spans = HilSpans::default();
     ctx.h_il(&lanes, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
-    object_colour(ctx, &frags, &b.hil, fb, ctr);
-    let work = recording.then(|| object_work(ctx, log.bands, &prims, &frags_all, &b, sc, (w, h)));
+    object_colour(ctx, &lanes, &b.visible, &b.hil, fb, ctr);
+    let work = recording.then(|| object_work(ctx, log.bands, &prims, &lanes, &b, sc, (w, h)));
     log.push(ctr, stats, work)
 }
 
@@ -837,29 +845,13 @@ fn object_vertex_attrs(
     ]
 }
 
-/// The walked fragments in lanes of `interp`'s attributes (every one inside), for
-/// the chunked units.
-fn object_lanes(interp: &PolygonInterpolator, frags: &[Fragment]) -> PolyLanes {
-    let mut lanes = PolyLanes::default();
-    lanes.clear(interp.attrs() as usize);
-    lanes.reserve(frags.len());
-    for f in frags {
-        lanes.push(&PolyOut {
-            x: f.x as i64,
-            y: f.y as i64,
-            inside: true,
-            attrs: f.attrs,
-        });
-    }
-    lanes
-}
-
-/// The visible fragments' colour: each channel of the vertex colour (attributes
-/// 1..=3, unorm texel codes) modulated by H·I_l (`hil`, one per fragment), added into
-/// the framebuffer.
+/// The visible fragments' colour (`visible`: indices into `lanes`): each channel of the
+/// vertex colour (attributes 1..=3, unorm texel codes) modulated by H·I_l (`hil`, one
+/// per visible fragment), added into the framebuffer.
 fn object_colour(
     ctx: &LightCtx,
-    frags: &[&Fragment],
+    lanes: &PolyLanes,
+    visible: &[u32],
     hil: &[u32],
     fb: &mut Framebuffer,
     ctr: &mut BTreeMap<String, Counters>,
@@ -869,18 +861,23 @@ fn object_colour(
     // span of 3 × fragments modulates, as the pairs were).
     let mut span = UnitSpan::default();
     let mut rgb: [Vec<u32>; 3] = Default::default();
-    let mut col = Vec::with_capacity(frags.len());
+    let mut col = Vec::with_capacity(visible.len());
     for (c, ch) in rgb.iter_mut().enumerate() {
+        let attr = &lanes.attrs[1 + c];
         col.clear();
         col.extend(
-            frags
+            visible
                 .iter()
-                .map(|f| attr_unorm(f.attrs[1 + c], ctx.tex_max)),
+                .map(|&i| attr_unorm(attr[i as usize], ctx.tex_max)),
         );
         span.feed_modulate(&u.modulate, &col, Operand::Lanes(hil), ch);
     }
     span.close("modulate", u.modulate.timing(), ctr);
-    blend_into(&u.blend, fb, frags, &rgb, ctr);
+    let at: Vec<(u32, u32)> = visible
+        .iter()
+        .map(|&i| (lanes.x[i as usize] as u32, lanes.y[i as usize] as u32))
+        .collect();
+    blend_into(&u.blend, fb, &at, &rgb, ctr);
 }
 
 /// The object pass's record: per drawn triangle (`prims`: its first fragment in `px`
@@ -891,7 +888,7 @@ fn object_work(
     ctx: &LightCtx,
     bands: Option<SampleBands>,
     prims: &[(usize, u64)],
-    px: &[Fragment],
+    px: &PolyLanes,
     b: &ChunkBuffers,
     sc: &Scene,
     (w, h): (u32, u32),
@@ -906,16 +903,17 @@ fn object_work(
         let end = prims.get(k + 1).map_or(px.len(), |p| p.0);
         rec.prim(walked);
         let mut visible = 0;
-        for (c, f) in px.iter().enumerate().take(end).skip(first) {
+        for c in first..end {
+            let (x, y) = (px.x[c], px.y[c]);
             match vis.peek() {
                 Some(&(j, &i)) if i as usize == c => {
-                    if rec.frag(f.x as i64, f.y as i64) {
+                    if rec.frag(x, y) {
                         sel.push(j as u32);
                     }
                     visible += 1;
                     vis.next();
                 }
-                _ if depth_tested => rec.killed_at(f.x as i64, f.y as i64),
+                _ if depth_tested => rec.killed_at(x, y),
                 _ => {}
             }
         }
