@@ -867,6 +867,13 @@ fn zero_size_and_bad_texels_name_their_fields() {
     assert_eq!(e.field(), "texture_sampler.texels");
     let e = TextureSampler::new(cfg.clone(), &[1, 2, 3, 256]).unwrap_err();
     assert_eq!(e.field(), "texture_sampler.texels");
+    // The first code too wide is named, not a full-scale one before it.
+    let e = TextureSampler::new(cfg.clone(), &[255, 256, 300, 3]).unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("code 256 at index 1 does not fit 8 bits"),
+        "{e}"
+    );
     let mut u = TextureSampler::new(cfg, &[1, 2, 3, 255]).unwrap();
     assert!(u.load(&[9; 5]).is_err());
     assert_eq!(u.texel(3, 0, 0, 0), 255, "a failed load keeps the RAM");

@@ -499,10 +499,10 @@ impl TextureSampler {
         // The largest code first (a loop with no early exit, in vector registers), the
         // first one too wide looked for only when there is one.
         let widest = texels.iter().fold(0, |m, &v| m.max(v));
-        if let Some((i, &v)) = (widest > max)
-            .then(|| texels.iter().enumerate().find(|(_, &v)| v > max))
-            .flatten()
-        {
+        if widest > max {
+            let (i, v) = (texels.iter().copied().enumerate())
+                .find(|&(_, v)| v > max)
+                .unwrap_or((0, widest));
             return Err(ConfigError::invalid(
                 "texture_sampler.texels",
                 &format!(
