@@ -703,10 +703,11 @@ fn project_tri(
 }
 
 /// The object fragments' colours (`rgb`, one lane per channel) at their pixels `at`
-/// (x, y) added into the framebuffer. Triangles of one object may cover a pixel twice: then every
-/// destination is read before any is written, as the span driver ran it; where no
-/// pixel has two fragments (checked), in place, each fragment reading its pixel as
-/// the span driver read it (alpha stays 0, as in the planes' blend).
+/// (x, y) added into the framebuffer. Triangles of one object may cover a pixel
+/// twice: then every destination is read before any is written, as the span driver
+/// ran it; where no pixel has two fragments (checked), in place, each fragment
+/// reading its pixel as the span driver read it (alpha stays 0, as in the planes'
+/// blend).
 fn blend_into(
     u: &Blend,
     fb: &mut Framebuffer,
@@ -782,6 +783,7 @@ fn object_pass(
         if recording {
             prims.push((lanes.len(), c.pixels_in));
         }
+        lanes.reserve(frags.len());
         for f in &frags {
             lanes.push(&PolyOut {
                 x: f.x as i64,
