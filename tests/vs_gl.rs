@@ -81,9 +81,18 @@ fn vs_gl_writes_its_table_pngs_and_histograms_and_the_mesa_mode_agrees() {
         return;
     }
     let out = scratch("run");
+    // `--out` relative to the working directory, as a user types it: each GL program
+    // runs in its own directory, which must not change what the path names.
     let o = bin()
-        .args(["reproduce", "vs-gl", "--image", "96x64", "--out"])
-        .arg(&out)
+        .current_dir(env!("CARGO_TARGET_TMPDIR"))
+        .args([
+            "reproduce",
+            "vs-gl",
+            "--image",
+            "96x64",
+            "--out",
+            "vs_gl_run",
+        ])
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&o.stdout);

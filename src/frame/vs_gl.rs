@@ -569,6 +569,11 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
         loaded.push((name, load(name, size)?));
     }
     std::fs::create_dir_all(out).map_err(|e| format!("out: {}: {e}", out.display()))?;
+    // Absolute: each program runs in its own directory, so a relative `out` would name
+    // the program and its PNG from the wrong place.
+    let out = &out
+        .canonicalize()
+        .map_err(|e| format!("out: {}: {e}", out.display()))?;
     let mut rows = Vec::new();
     let mut ablation = Vec::new();
     let mut class_rows = Vec::new();
