@@ -150,7 +150,8 @@ pub enum Command {
     /// llvmpipe and softpipe through OSMesa: vs_gl.csv, a histogram CSV and a
     /// difference PNG per row, fig6's and the spheres' ablation in vs_gl_ablation.csv
     /// and their difference classes in vs_gl_classes.csv, and the model's frame time
-    /// over the GL draw's; needs cc and libOSMesa; --image WxH sets the size, the
+    /// over the GL draw's (fig6, fig4, stage: each the median of 3 runs, softpipe's
+    /// draw timed once); needs cc and libOSMesa; --image WxH sets the size, the
     /// spheres' side the smaller of the two).
     /// Writes CSV and PNG into --out.
     Reproduce {

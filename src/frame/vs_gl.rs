@@ -220,6 +220,54 @@ pub fn in_mode(scene: &Scene, mode: &str) -> Scene {
     s
 }
 
+/// Times the model's frame and llvmpipe's draw are each measured in the shafts
+/// scenes' rows; the median is reported. One run of either moves by a fifth or more
+/// on a shared machine.
+pub const TIMING_RUNS: usize = 3;
+
+/// The median of `runs` (at least one).
+fn median(mut runs: Vec<f64>) -> f64 {
+    runs.sort_by(f64::total_cmp);
+    runs[runs.len() / 2]
+}
+
+/// [`model_frame`] rendered [`TIMING_RUNS`] times, with the median time; every run's
+/// picture must be the first's.
+fn model_frame_timed(scene: &Scene, name: &str) -> Result<(Frame, Vec<u8>, f64), String> {
+    let (f, rgb, first) = model_frame(scene)?;
+    let mut secs = vec![first];
+    for _ in 1..TIMING_RUNS {
+        let (_, again, t) = model_frame(scene)?;
+        if again != rgb {
+            return Err(format!(
+                "{name}: the model's frame differs between two runs"
+            ));
+        }
+        secs.push(t);
+    }
+    Ok((f, rgb, median(secs)))
+}
+
+/// [`run_program`] run [`TIMING_RUNS`] times on llvmpipe (once on softpipe, whose
+/// draw takes seconds and is not the speed compared), with the median draw time;
+/// every run's framebuffer must be the first's.
+fn run_program_timed(dir: &Path, driver: &str, png: &Path) -> Result<(f64, Vec<u8>), String> {
+    let (first, gl) = run_program(dir, driver, png)?;
+    let runs = if driver == "llvmpipe" { TIMING_RUNS } else { 1 };
+    let mut secs = vec![first];
+    for _ in 1..runs {
+        let (t, again) = run_program(dir, driver, png)?;
+        if again != gl {
+            return Err(format!(
+                "{}: the GL program's framebuffer on {driver} differs between two runs",
+                dir.display()
+            ));
+        }
+        secs.push(t);
+    }
+    Ok((median(secs), gl))
+}
+
 /// The model's frame, timed (the `render` call), and its 8-bit RGB.
 fn model_frame(scene: &Scene) -> Result<(Frame, Vec<u8>, f64), String> {
     let t0 = Instant::now();
@@ -586,7 +634,7 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
         let mut first_program = None;
         for mode in MODES {
             let s = in_mode(scene, mode);
-            let (f, rgb, secs) = model_frame(&s)?;
+            let (f, rgb, secs) = model_frame_timed(&s, name)?;
             match &first_program {
                 None => {
                     let p = write_program(&f, exports, &dir)?;
@@ -606,7 +654,7 @@ pub fn vs_gl(out: &Path, size: Option<(u32, u32)>) -> Result<VsGl, String> {
         let mut gl_llvmpipe = None;
         for driver in DRIVERS {
             let png = out.join(format!("gl_{name}_{driver}.png"));
-            let (gl_secs, gl) = run_program(&dir, driver, &png)?;
+            let (gl_secs, gl) = run_program_timed(&dir, driver, &png)?;
             for (mode, _, model, model_secs) in &models {
                 let at = RowAt {
                     out,
