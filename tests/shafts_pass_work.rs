@@ -10,8 +10,9 @@ use glare_pipeline::pipeline::shafts::host::prepare_scene;
 use glare_pipeline::pipeline::shafts::prepare::DEFAULT_EXPOSURE;
 use glare_pipeline::scene::builtin::builtin;
 use glare_pipeline::scene::format::Scene;
+use std::cell::RefCell;
 use std::collections::BTreeSet;
-use std::sync::{Arc, Mutex};
+use std::rc::Rc;
 
 fn small(name: &str, planes: u32, subplanes: u32) -> Scene {
     let mut s = builtin(name).unwrap();
@@ -35,13 +36,13 @@ fn frame_sampled(
     bands: Option<SampleBands>,
 ) -> (FrameResult, Vec<PassWork>) {
     let (p, _) = prepare_scene(s, DEFAULT_EXPOSURE).unwrap();
-    let works = Arc::new(Mutex::new(Vec::new()));
+    let works = Rc::new(RefCell::new(Vec::new()));
     let mut f = ShaftsFrame::new(&p, None).unwrap();
     if record {
-        let w = Arc::clone(&works);
+        let w = Rc::clone(&works);
         f.record_work_sampled(
             Box::new(move |pw| {
-                w.lock().unwrap().push(pw);
+                w.borrow_mut().push(pw);
                 Ok(())
             }),
             bands,
@@ -53,7 +54,7 @@ fn frame_sampled(
     }
     let r = f.finish();
     drop(p);
-    let works = std::mem::take(&mut *works.lock().unwrap());
+    let works = std::mem::take(&mut *works.borrow_mut());
     (r, works)
 }
 
@@ -327,14 +328,14 @@ fn record_cost_on_fig6() {
     let s = builtin("fig6").unwrap();
     let (p, _) = prepare_scene(&s, DEFAULT_EXPOSURE).unwrap();
     let run = |record: bool| {
-        let peak: Arc<Mutex<PerKind>> = Arc::default();
+        let peak: Rc<RefCell<PerKind>> = Rc::default();
         let t = Instant::now();
         let mut f = ShaftsFrame::new(&p, None).unwrap();
         if record {
-            let pk = Arc::clone(&peak);
+            let pk = Rc::clone(&peak);
             f.record_work(Box::new(move |w| {
                 let st = w.stats.as_ref().unwrap();
-                let mut m = pk.lock().unwrap();
+                let mut m = pk.borrow_mut();
                 let e = m.entry(kind_name(st.kind)).or_default();
                 e.0 = e.0.max(w.heap_bytes());
                 e.1 += 1;
@@ -347,7 +348,7 @@ fn record_cost_on_fig6() {
         }
         let r = f.finish();
         let secs = t.elapsed().as_secs_f64();
-        let peak = peak.lock().unwrap().clone();
+        let peak = peak.borrow().clone();
         (r, secs, peak)
     };
     // Alternate, twice each, so a warm cache favours neither.

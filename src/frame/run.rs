@@ -6,7 +6,7 @@ use super::glare_link::{self, Linked};
 use super::gpu::Gpu;
 use super::objects::{shaded_objects_pass, shading_stats, ShadedObjects};
 use super::plan::{plan, Pass, Plan, Step};
-use super::timing::{locked, Clock, SharedClock, TimingRequest};
+use super::timing::{Clock, TimingRequest};
 use crate::chip::clock::FrameTiming;
 use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::glare::background::from_framebuffer;
@@ -19,7 +19,9 @@ use crate::report::image_out::Framebuffer;
 use crate::scene::format::Scene;
 use rtl_model::{ConfigError, Counters};
 use serde::Serialize;
+use std::cell::RefCell;
 use std::collections::BTreeMap;
+use std::rc::Rc;
 use std::time::Instant;
 
 /// One pass's predicted time.
@@ -214,7 +216,7 @@ fn render_inner(
     } = state;
     let (timing, swept_timings) = match clock {
         Some(c) => {
-            let mut c = locked(&c);
+            let mut c = c.borrow_mut();
             (Some(c.finish()?), c.take_alternates())
         }
         None => (None, Vec::new()),
@@ -273,19 +275,16 @@ struct FrameState<'a> {
     glare: Option<(GlareFrame, GlarePrediction)>,
     times: Vec<PassTime>,
     /// The clocked chip's timing as the passes run (clocked or sampled timing).
-    clock: Option<SharedClock>,
+    clock: Option<Rc<RefCell<Clock>>>,
 }
 
 impl<'a> FrameState<'a> {
     /// Clock the passes' recorded work on `c`: the shafts passes record from now on,
     /// and the glare pass when it runs.
     fn clock_with(&mut self, c: Clock) {
-        let c = SharedClock::new(std::sync::Mutex::new(c));
+        let c = Rc::new(RefCell::new(c));
         if let Some(f) = self.shafts.as_mut() {
-            let (bands, passes) = {
-                let c = locked(&c);
-                (c.record_bands(), c.record_passes())
-            };
+            let (bands, passes) = (c.borrow().record_bands(), c.borrow().record_passes());
             f.record_work_sampled(super::timing::sink(&c), bands, passes);
         }
         self.clock = Some(c);
@@ -339,7 +338,7 @@ impl<'a> FrameState<'a> {
         let f = self.shafts.as_mut().ok_or_else(no_shafts)?;
         let before = f.pass_stats().len();
         if let Some(c) = &self.clock {
-            locked(c).begin(name)?;
+            c.borrow_mut().begin(name)?;
         }
         f.run(sp)?;
         let stats = f.pass_stats()[before..].to_vec();
@@ -361,7 +360,7 @@ impl<'a> FrameState<'a> {
         let s = shaded_objects_pass(self.scene, p, f.framebuffer_mut(), hl, &refl)?;
         self.gpu_time(name, &s.stats, t);
         if let Some(c) = &self.clock {
-            locked(c).roofline_only(name, &s.stats)?;
+            c.borrow_mut().roofline_only(name, &s.stats)?;
         }
         self.shaded = Some(s);
         Ok(())
@@ -380,7 +379,7 @@ impl<'a> FrameState<'a> {
             let stats = [shading_stats(light, l.shading.fragments)];
             self.gpu_time(name, &stats, t);
             if let Some(c) = &self.clock {
-                locked(c).roofline_only(name, &stats)?;
+                c.borrow_mut().roofline_only(name, &stats)?;
             }
         }
         Ok(())
@@ -407,7 +406,7 @@ impl<'a> FrameState<'a> {
         let (mut g, pred, _) = render_and_predict_with(&gs, base.as_deref(), record)?;
         if let (Some(c), Some(work)) = (&self.clock, g.work.take()) {
             // The glare ASIC's pass beside its own formula, then the host's table writes.
-            let mut c = locked(c);
+            let mut c = c.borrow_mut();
             let chip = c.chip().clone();
             let formula = clocked::formula(&g, &gs, &chip)?;
             c.begin(name)?;

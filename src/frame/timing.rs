@@ -21,7 +21,8 @@ use crate::chip::work::{PassSample, PassWork, SampleBands};
 use crate::chip::{pass_seconds, GpuModel, PassStats};
 use crate::pipeline::shafts::frame::WorkSink;
 use rtl_model::ConfigError;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// How the frame's time is found (`render --timing`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
@@ -690,18 +691,8 @@ impl Clock {
     }
 }
 
-/// The clock a frame's passes are timed on, shared by the frame and the shafts
-/// frame's sink (which may run on the pool).
-pub type SharedClock = Arc<Mutex<Clock>>;
-
-/// The shared clock, locked (a clock is only changed whole by one pass at a time, so
-/// a lock poisoned by a panic elsewhere is still sound to read).
-pub fn locked(clock: &SharedClock) -> MutexGuard<'_, Clock> {
-    clock.lock().unwrap_or_else(|e| e.into_inner())
-}
-
 /// A sink for the shafts frame that clocks each pass's record as it arrives.
-pub fn sink(clock: &SharedClock) -> WorkSink {
-    let c = Arc::clone(clock);
-    Box::new(move |w| locked(&c).clock(w))
+pub fn sink(clock: &Rc<RefCell<Clock>>) -> WorkSink {
+    let c = Rc::clone(clock);
+    Box::new(move |w| c.borrow_mut().clock(w))
 }

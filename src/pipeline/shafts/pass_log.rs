@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 /// ([`super::frame::ShaftsFrame::record_work`]): called once per pass, in pass order,
 /// with the pass's [`PassWork`] (its stats filled in). It owns what it keeps (share it
 /// with `Rc<RefCell<…>>` to read it back).
-pub type WorkSink = Box<dyn FnMut(PassWork) -> Result<(), ConfigError> + Send>;
+pub type WorkSink = Box<dyn FnMut(PassWork) -> Result<(), ConfigError>>;
 
 /// Cumulative traffic over every unit's counters so far (to split it per pass).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -31,8 +31,11 @@ use rtl_model::units::texture_sampler::{
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Unit};
 use std::collections::BTreeMap;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
+
+/// Sub-planes whose H·I_l is computed in parallel at a time (memory: one full-screen
+/// fragment list each). Fixed, so the work split never depends on the thread count.
+const SUBPLANE_BATCH: usize = 4;
 
 /// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l, whether
 /// their rows never go up, and the counters of the units that made them.
@@ -193,181 +196,65 @@ pub(super) fn planes_pass(
     log: &mut PassLog,
 ) -> Result<(), ConfigError> {
     let cfg = p.scene.shafts;
-    let (n, m) = (cfg.planes as usize, cfg.subplanes as usize);
+    let n = cfg.planes as usize;
+    // What sub-plane k of the light's sub-planes (k = i·m + j: interval i's j-th)
+    // records: nothing, or every fragment or the sampled bands'.
+    let sub_record = log.recorder();
+    let m = cfg.subplanes as usize;
+    let (r0, r1) = p.plane_range;
+    let dr = (r1 - r0) / n as f64;
+    let mut jtex: Option<TextureSampler> = None;
     let (zwords, swords) = unpacked_words(ctx);
     let zwords = zwords.as_deref();
     let ctx = &LightCtx {
         swords: swords.as_deref(),
         ..*ctx
     };
-    let (r0, r1) = p.plane_range;
-    let dr = (r1 - r0) / n as f64;
-    let interval_r = |i: usize| r0 + (i as f64 + 0.5) * dr;
-    // What sub-plane k records: nothing, or every fragment or the sampled bands'.
-    let sub_record = log.recorder();
+
+    // Interval i's sub-planes' H·I_l (independent of the framebuffer and the J
+    // buffer): interval i + 1's are computed beside plane i's blend into the
+    // framebuffer, then merged and blended in order as before.
     let pool = WordPool::default();
-    let mut intervals = Intervals {
-        ctx,
-        p,
-        tables,
-        zwords,
-        pool: &pool,
-        fb,
-        ctr,
-        log,
-        jtex: None,
-        frags: Vec::new(),
-        scratch: BlendScratch::default(),
+    let hil_of = |i: usize| {
+        subplanes_hil(
+            ctx,
+            p,
+            (zwords, &pool),
+            r0 + (i as f64 + 0.5) * dr,
+            dr,
+            |j| sub_record(i * m + j),
+        )
     };
-    if m <= 1 {
-        return intervals.run((interval_r, dr), |_| Vec::new());
-    }
-    // Sub-plane k = i·m + j at the middle of interval i's j-th m-th.
-    let subplane = |k: usize| {
-        let (i, j) = (k / m, k % m);
-        let uj = interval_r(i) - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
-        subplane_hil(ctx, p, (zwords, &pool), uj, sub_record(k))
-    };
-    let ahead = SubPlanesAhead::new(n * m, m.min(MAX_SUBPLANES_AHEAD));
-    rayon::scope_fifo(|s| {
-        let result = intervals.run((interval_r, dr), |i| {
-            ahead.start_through(s, (i + 1) * m, &subplane);
-            (i * m..(i + 1) * m).map(|k| ahead.take(k)).collect()
-        });
-        // Sub-planes started past an error are not computed.
-        ahead.stop();
-        result
-    })
-}
-
-/// The planes pass's frame side: the framebuffer, the counters, the pass log and the
-/// J texture, with the buffers reused from plane to plane.
-struct Intervals<'a, 'c> {
-    ctx: &'a LightCtx<'c>,
-    p: &'a Prepared,
-    tables: &'a GTables,
-    zwords: Option<&'a [u32]>,
-    pool: &'a WordPool,
-    fb: &'a mut Framebuffer,
-    ctr: &'a mut BTreeMap<String, Counters>,
-    log: &'a mut PassLog,
-    jtex: Option<TextureSampler>,
-    frags: Vec<PlaneFrag>,
-    scratch: BlendScratch,
-}
-
-impl Intervals<'_, '_> {
-    /// Every interval in order (its middle `interval_r(i)`, its width `dr`): its
-    /// sub-planes' H·I_l (`hils_of(i)`, in sub-plane order) into the J buffer, copied
-    /// to the J texture (m > 1), then plane i.
-    fn run(
-        &mut self,
-        (interval_r, dr): (impl Fn(usize) -> f64, f64),
-        mut hils_of: impl FnMut(usize) -> Vec<Result<SubPlaneHil, ConfigError>>,
-    ) -> Result<(), ConfigError> {
-        let (ctx, p) = (self.ctx, self.p);
-        let cfg = p.scene.shafts;
-        let m = cfg.subplanes as usize;
-        for i in 0..cfg.planes as usize {
-            // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
-            if m > 1 {
-                let jbuf = subplanes_into_j(ctx, p, hils_of(i), self.pool, self.ctr, self.log)?;
-                copy_to_j_texture(ctx, p, &jbuf, &mut self.jtex, self.ctr, self.log, i)?;
-                self.pool.give(jbuf);
-            }
-            plane(
-                ctx,
-                p,
-                self.zwords,
-                self.tables,
-                (i, interval_r(i), dr),
-                self.jtex.as_ref().filter(|_| m > 1),
-                self.fb,
-                (&mut self.frags, &mut self.scratch),
-                self.ctr,
-                self.log,
-            )?;
-            // One step of `render`'s bar per plane (nothing when no bar is installed).
-            crate::report::progress::frame_step(1);
+    let mut pending = None;
+    // The planes' fragment list and blend buffers, reused from plane to plane.
+    let (mut frags, mut scratch) = (Vec::new(), BlendScratch::default());
+    for i in 0..n {
+        let r = r0 + (i as f64 + 0.5) * dr;
+        // Sub-sample planes: J_i = (1/m) Σ H·I_l into the J buffer, copied to a texture.
+        if m > 1 {
+            let hils = pending.take().unwrap_or_else(|| hil_of(i));
+            let jbuf = subplanes_into_j(ctx, p, hils, &pool, ctr, log)?;
+            copy_to_j_texture(ctx, p, &jbuf, &mut jtex, ctr, log, i)?;
+            pool.give(jbuf);
         }
-        Ok(())
+        let next = m > 1 && i + 1 < n;
+        pending = plane(
+            ctx,
+            p,
+            zwords,
+            tables,
+            (i, r, dr),
+            jtex.as_ref().filter(|_| m > 1),
+            fb,
+            (&mut frags, &mut scratch),
+            ctr,
+            log,
+            || next.then(|| hil_of(i + 1)),
+        )?;
+        // One step of `render`'s bar per plane (nothing when no bar is installed).
+        crate::report::progress::frame_step(1);
     }
-}
-
-/// A sub-plane's result, or the payload of its panic (raised again where it is read).
-type SubPlaneOutcome = std::thread::Result<Result<SubPlaneHil, ConfigError>>;
-
-/// Sub-planes started past the interval being read, at most (memory: one full-screen
-/// fragment list each). Fixed, so the work never depends on the thread count.
-const MAX_SUBPLANES_AHEAD: usize = 16;
-
-/// The light's sub-planes' H·I_l, each computed as a task of its own on the pool ahead
-/// of the interval that reads it (a sub-plane depends on neither the J buffer nor the
-/// framebuffer). Reading interval i waits for its last sub-plane by running queued
-/// ones (its own, then interval i + 1's): no core waits idle for the last one of an
-/// interval. The results are those of the sub-planes one after the other, read in
-/// sub-plane order, whatever the thread count.
-struct SubPlanesAhead {
-    /// Each sub-plane's result once computed.
-    slots: Vec<Mutex<Option<SubPlaneOutcome>>>,
-    started: AtomicUsize,
-    ahead: usize,
-    stopped: AtomicBool,
-}
-
-impl SubPlanesAhead {
-    fn new(count: usize, ahead: usize) -> Self {
-        SubPlanesAhead {
-            slots: (0..count).map(|_| Mutex::new(None)).collect(),
-            started: AtomicUsize::new(0),
-            ahead,
-            stopped: AtomicBool::new(false),
-        }
-    }
-
-    /// Start every sub-plane before `end` plus `ahead` more (in order: first in,
-    /// first run).
-    fn start_through<'s, F>(&'s self, s: &rayon::ScopeFifo<'s>, end: usize, subplane: &'s F)
-    where
-        F: Fn(usize) -> Result<SubPlaneHil, ConfigError> + Sync,
-    {
-        let to = (end + self.ahead).min(self.slots.len());
-        let from = self.started.swap(
-            to.max(self.started.load(Ordering::Relaxed)),
-            Ordering::Relaxed,
-        );
-        for k in from..to {
-            s.spawn_fifo(move |_| {
-                if self.stopped.load(Ordering::Relaxed) {
-                    return;
-                }
-                // A panic is kept and raised where the sub-plane is read.
-                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| subplane(k)));
-                *lock(&self.slots[k]) = Some(r);
-            });
-        }
-    }
-
-    /// Sub-plane k's result, once computed (running queued work meanwhile).
-    fn take(&self, k: usize) -> Result<SubPlaneHil, ConfigError> {
-        loop {
-            if let Some(r) = lock(&self.slots[k]).take() {
-                return r.unwrap_or_else(|panic| std::panic::resume_unwind(panic));
-            }
-            if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                std::thread::yield_now();
-            }
-        }
-    }
-
-    fn stop(&self) {
-        self.stopped.store(true, Ordering::Relaxed);
-    }
-}
-
-/// A slot's lock (a slot is only ever written whole, so a poisoned one is sound).
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
+    Ok(())
 }
 
 /// The camera depth buffer's and the shadow map's words, unpacked once for every
@@ -430,6 +317,32 @@ fn copy_to_j_texture(
         }
     }
     Ok(())
+}
+
+/// Interval [r − Δr/2, r + Δr/2]'s m sub-planes' H·I_l, in sub-plane order: each
+/// independent of the J buffer and the framebuffer, so computed in parallel, each
+/// with its own counters, to be merged and blended in sub-plane order by
+/// [`subplanes_into_j`] (the same spans, counters and bytes as one after the other,
+/// whatever the thread count).
+fn subplanes_hil(
+    ctx: &LightCtx,
+    p: &Prepared,
+    (zwords, pool): (Option<&[u32]>, &WordPool),
+    r: f64,
+    dr: f64,
+    recording: impl Fn(usize) -> Option<Option<SampleBands>> + Sync,
+) -> Vec<Result<SubPlaneHil, ConfigError>> {
+    let m = p.scene.shafts.subplanes as usize;
+    let all: Vec<usize> = (0..m).collect();
+    let mut out = Vec::with_capacity(m);
+    for batch in all.chunks(SUBPLANE_BATCH) {
+        out.par_extend(batch.par_iter().map(|&j| {
+            // Sub-plane j at the middle of the interval's j-th m-th.
+            let uj = r - dr / 2.0 + (j as f64 + 0.5) * dr / m as f64;
+            subplane_hil(ctx, p, (zwords, pool), uj, recording(j))
+        }));
+    }
+    out
 }
 
 /// The sub-plane at eye distance `uj`: a full-screen parallelogram walked, its pixels
@@ -636,9 +549,11 @@ const BLEND_CHUNK: usize = 4096;
 
 /// Plane i at eye distance r: a cols × rows mesh whose vertices carry α, s, t, light
 /// coordinates and the vertex colour S·Δt/Δr (= S·t/r: Δt grows off-axis); each cell
-/// drawn and shaded in parallel, then blended in cell order.
+/// drawn and shaded in parallel, then blended in cell order. `beside` (work that
+/// neither reads nor writes the framebuffer) runs on the pool beside the blend; its
+/// result is returned.
 #[allow(clippy::too_many_arguments)]
-fn plane(
+fn plane<T: Send>(
     ctx: &LightCtx,
     p: &Prepared,
     zwords: Option<&[u32]>,
@@ -649,7 +564,8 @@ fn plane(
     (frags, scratch): (&mut Vec<PlaneFrag>, &mut BlendScratch),
     ctr: &mut BTreeMap<String, Counters>,
     log: &mut PassLog,
-) -> Result<(), ConfigError> {
+    beside: impl FnOnce() -> T + Send,
+) -> Result<T, ConfigError> {
     let u = ctx.units;
     let sc = &p.scene;
     let cfg = sc.shafts;
@@ -676,18 +592,23 @@ fn plane(
     let (cell_frags, spans, rec) = join_cells(&pc, drawn)?;
     let walked = spans.interp.pixels_in;
     spans.close(ctx, jtex, ctr);
-    // The cells' fragments joined in cell order.
-    frags.clear();
-    for f in &cell_frags {
-        frags.extend_from_slice(f);
-    }
-    blend_plane(&u.blend, fb, frags, ctr, scratch);
+    // The cells' fragments joined in cell order on the pool, beside `beside`, not
+    // between two parallel sections.
+    let blend = || {
+        frags.clear();
+        for f in &cell_frags {
+            frags.extend_from_slice(f);
+        }
+        blend_plane(&u.blend, fb, frags, ctr, scratch)
+    };
+    let ((), t) = rayon::join(blend, beside);
     let mut st = PassStats::new(PassKind::Plane, ctx.li, plane_textures(ctx, &cfg));
     st.triangles = 2 * (cfg.mesh[0] * cfg.mesh[1]) as u64;
     st.walked = walked;
     st.fragments = frags.len() as u64;
     let work = rec.map(|r| plane_work(ctx, &cfg, jtex, r, (w, h)));
-    log.push(ctr, st, work)
+    log.push(ctr, st, work)?;
+    Ok(t)
 }
 
 /// Plane i's mesh as the host computes its vertices (f64): the plane's eye distance,
