@@ -223,49 +223,51 @@ pub fn in_mode(scene: &Scene, mode: &str) -> Scene {
 /// Times the model's frame and llvmpipe's draw are each measured in the shafts
 /// scenes' rows; the median is reported. One run of either moves by a fifth or more
 /// on a shared machine.
-pub const TIMING_RUNS: usize = 3;
+const TIMING_RUNS: usize = 3;
 
-/// The median of `runs` (at least one).
-fn median(mut runs: Vec<f64>) -> f64 {
-    runs.sort_by(f64::total_cmp);
-    runs[runs.len() / 2]
-}
-
-/// [`model_frame`] rendered [`TIMING_RUNS`] times, with the median time; every run's
-/// picture must be the first's.
-fn model_frame_timed(scene: &Scene, name: &str) -> Result<(Frame, Vec<u8>, f64), String> {
-    let (f, rgb, first) = model_frame(scene)?;
+/// `run` (its seconds and picture) done `runs` times (at least once): the first
+/// run's picture and the median seconds; every run's picture must be the first's,
+/// else the error names `what`.
+fn repeat_timed<T: PartialEq>(
+    runs: usize,
+    what: &str,
+    mut run: impl FnMut() -> Result<(f64, T), String>,
+) -> Result<(f64, T), String> {
+    let (first, picture) = run()?;
     let mut secs = vec![first];
-    for _ in 1..TIMING_RUNS {
-        let (_, again, t) = model_frame(scene)?;
-        if again != rgb {
-            return Err(format!(
-                "{name}: the model's frame differs between two runs"
-            ));
+    for _ in 1..runs {
+        let (t, again) = run()?;
+        if again != picture {
+            return Err(format!("{what} differs between two runs"));
         }
         secs.push(t);
     }
-    Ok((f, rgb, median(secs)))
+    secs.sort_by(f64::total_cmp);
+    Ok((secs[secs.len() / 2], picture))
+}
+
+/// [`model_frame`] rendered [`TIMING_RUNS`] times, with the median time (the first
+/// run's frame kept).
+fn model_frame_timed(scene: &Scene, name: &str) -> Result<(Frame, Vec<u8>, f64), String> {
+    let mut first = None;
+    let (secs, rgb) = repeat_timed(TIMING_RUNS, &format!("{name}: the model's frame"), || {
+        let (f, rgb, t) = model_frame(scene)?;
+        first.get_or_insert(f);
+        Ok((t, rgb))
+    })?;
+    let f = first.ok_or_else(|| format!("{name}: no frame rendered"))?;
+    Ok((f, rgb, secs))
 }
 
 /// [`run_program`] run [`TIMING_RUNS`] times on llvmpipe (once on softpipe, whose
-/// draw takes seconds and is not the speed compared), with the median draw time;
-/// every run's framebuffer must be the first's.
+/// draw takes seconds and is not the speed compared), with the median draw time.
 fn run_program_timed(dir: &Path, driver: &str, png: &Path) -> Result<(f64, Vec<u8>), String> {
-    let (first, gl) = run_program(dir, driver, png)?;
     let runs = if driver == "llvmpipe" { TIMING_RUNS } else { 1 };
-    let mut secs = vec![first];
-    for _ in 1..runs {
-        let (t, again) = run_program(dir, driver, png)?;
-        if again != gl {
-            return Err(format!(
-                "{}: the GL program's framebuffer on {driver} differs between two runs",
-                dir.display()
-            ));
-        }
-        secs.push(t);
-    }
-    Ok((median(secs), gl))
+    let what = format!(
+        "{}: the GL program's framebuffer on {driver}",
+        dir.display()
+    );
+    repeat_timed(runs, &what, || run_program(dir, driver, png))
 }
 
 /// The model's frame, timed (the `render` call), and its 8-bit RGB.
