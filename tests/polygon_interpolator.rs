@@ -1381,6 +1381,36 @@ fn runs_agree_with_span(
             );
         }
     }
+    // Covered words alone (`PolyLanes::clear_covered`), with and without unread
+    // lanes: the span's covered words in order (unread attributes 0), the same final
+    // state and counters (every move still stepped and counted).
+    for unread in [0u32, 0b0101_0101] {
+        let mut st = state.clone();
+        let mut c = Counters::default();
+        let mut lanes = PolyLanes::default();
+        lanes.clear_covered(k, unread, true);
+        u.kernel_runs_lanes(&mut st, runs, &mut lanes, &mut c);
+        let mut tally = rtl_model::driver::SpanTally::new();
+        tally.add(runs.iter().map(|r| r.1).sum());
+        tally.close(u.timing(), &mut c);
+        let words: Vec<PolyOut> = (0..lanes.len()).map(|i| lanes.word(i)).collect();
+        let want: Vec<PolyOut> = out
+            .iter()
+            .filter(|o| o.inside)
+            .map(|o| {
+                let mut o = *o;
+                for (a, v) in o.attrs.iter_mut().enumerate().take(k) {
+                    if (unread >> a) & 1 == 1 {
+                        *v = 0;
+                    }
+                }
+                o
+            })
+            .collect();
+        assert_eq!(words, want, "covered only, unread {unread:#b}: words differ ({name})");
+        assert_eq!(&st, end, "covered only: final state differs ({name})");
+        assert_eq!(&c, ctr, "covered only: counters differ ({name})");
+    }
 }
 
 // ------------------------------------------------------------ barycentric mode

@@ -73,6 +73,9 @@ pub struct WalkBuffers {
     /// Attributes whose lanes [`walk_rows_lanes`] leaves unwritten (bit a for
     /// attribute a; [`PolyLanes::clear_unread`]).
     unread: u32,
+    /// Whether [`walk_rows_lanes`] appends covered words alone
+    /// ([`PolyLanes::covered_only`]).
+    covered_only: bool,
 }
 
 impl WalkBuffers {
@@ -140,7 +143,8 @@ pub fn walk_rows_lanes(
         s.row_runs(row, &mut buf.runs);
         moves += width;
         if moves >= WALK_CHUNK_MOVES || row + 1 == rows {
-            buf.lanes.clear_unread(u.attrs() as usize, buf.unread);
+            buf.lanes
+                .clear_covered(u.attrs() as usize, buf.unread, buf.covered_only);
             u.kernel_runs_lanes(&mut st, &buf.runs, &mut buf.lanes, ctr);
             tally.add(moves);
             sink(&buf.lanes);
@@ -176,6 +180,9 @@ pub fn walk_rows(
     mut sink: impl FnMut(&[Fragment]),
 ) {
     let mut frags = std::mem::take(&mut buf.frags);
+    // Only fragments are kept: the uncovered part of each row is stepped and counted
+    // but not written out.
+    let covered_only = std::mem::replace(&mut buf.covered_only, true);
     walk_rows_lanes(u, s, ctr, buf, |l| {
         frags.clear();
         for i in (0..l.len()).filter(|&i| is_fragment_lane(l, i, width, height)) {
@@ -193,6 +200,7 @@ pub fn walk_rows(
             sink(&frags);
         }
     });
+    buf.covered_only = covered_only;
     buf.frags = frags;
 }
 

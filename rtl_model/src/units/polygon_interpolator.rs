@@ -309,6 +309,11 @@ pub struct PolyLanes {
     /// the same final state). Set by [`PolyLanes::clear_unread`]; 0 by
     /// [`PolyLanes::clear`].
     pub unread: u32,
+    /// Only covered words are appended (`inside`): a walk whose sink keeps fragments
+    /// alone skips writing the rest of each bounding-box row. The kernel still steps
+    /// and counts every move (the same events, the same final state). Set by
+    /// [`PolyLanes::clear_covered`]; false after [`PolyLanes::clear_unread`].
+    pub covered_only: bool,
     /// Where an unread attribute's run is computed (its events counted), reused.
     spare: Vec<i64>,
 }
@@ -332,6 +337,13 @@ impl PolyLanes {
     /// Empty, ready for `k` attributes (buffers kept), those in the mask `unread`
     /// (bit a for attribute a) not written: lanes no consumer reads.
     pub fn clear_unread(&mut self, k: usize, unread: u32) {
+        self.clear_covered(k, unread, false);
+    }
+
+    /// [`PolyLanes::clear_unread`], and whether only covered words are appended
+    /// ([`PolyLanes::covered_only`]).
+    pub fn clear_covered(&mut self, k: usize, unread: u32, covered_only: bool) {
+        self.covered_only = covered_only;
         self.x.clear();
         self.y.clear();
         self.inside.clear();
@@ -614,6 +626,46 @@ impl AttrLine {
         let base = lane.len();
         lane.resize(base + run, 0);
         self.fill_slots(lane[base..].iter_mut(), run, round)
+    }
+
+    /// [`AttrLine::extend_lane`], appending only the covered steps' values where
+    /// `covered_only` (the same events and last value: they count on covered steps
+    /// alone, and a wrapping accumulator is stepped over the whole run).
+    #[inline(always)]
+    fn extend_lane_steps(
+        &self,
+        lane: &mut Vec<i64>,
+        run: usize,
+        covered_only: bool,
+        keep: bool,
+        round: impl Fn(i64) -> i64,
+    ) -> (u64, u64, Option<(i64, u64)>) {
+        if !covered_only {
+            return self.extend_lane(lane, run, keep, round);
+        }
+        let (start, n) = (self.inside.start, self.inside.len());
+        if self.wrap.is_some() {
+            // Stepped modularly from the run's start, each wrap counted: the whole run
+            // computed, its covered steps kept.
+            let base = lane.len();
+            lane.resize(base + run, 0);
+            let r = self.fill_slots(lane[base..].iter_mut(), run, round);
+            lane.copy_within(base + start..base + start + n, base);
+            lane.truncate(if keep { base + n } else { base });
+            return r;
+        }
+        // Without wrapping, step j holds a0 + j·g: the covered steps are a line of
+        // their own from step `start`, every one of them covered.
+        let covered = AttrLine {
+            a: self.a,
+            a0: self.a0 + start as i64 * self.g,
+            g: self.g,
+            lo: self.lo,
+            hi: self.hi,
+            inside: 0..n,
+            wrap: None,
+        };
+        covered.extend_lane(lane, n, keep, round)
     }
 
     /// Whether a run of `run` steps that does not wrap has no event to count:
@@ -1381,7 +1433,10 @@ impl PolygonInterpolator {
         for &(mv, run) in runs {
             if run > 0 && !self.run_in_closed_form_lanes(st, mv, run, out, ctr) {
                 for _ in 0..run {
-                    out.push(&self.kernel(st, &mv, ctr));
+                    let o = self.kernel(st, &mv, ctr);
+                    if o.inside || !out.covered_only {
+                        out.push(&o);
+                    }
                 }
             }
         }
@@ -1405,17 +1460,29 @@ impl PolygonInterpolator {
             return false;
         };
         let base = out.len();
+        let covered_only = out.covered_only;
+        // The steps appended (j = 1 ..= run, the run's index j − 1): all, or the
+        // covered ones alone.
+        let steps = if covered_only {
+            plan.inside.clone()
+        } else {
+            0..run
+        };
         let (x0, y0, dx, dy) = (st.x, st.y, step.dx, step.dy);
         for (lane, c0, d) in [(&mut out.x, x0, dx), (&mut out.y, y0, dy)] {
             if d == 0 {
-                lane.resize(base + run, c0);
+                lane.resize(base + steps.len(), c0);
             } else {
-                lane.extend((1..=run as i64).map(|j| c0 + d * j));
+                lane.extend((steps.start as i64 + 1..=steps.end as i64).map(|j| c0 + d * j));
             }
         }
-        out.inside.resize(base + plan.inside.start, false);
-        out.inside.resize(base + plan.inside.end, true);
-        out.inside.resize(base + run, false);
+        if covered_only {
+            out.inside.resize(base + steps.len(), true);
+        } else {
+            out.inside.resize(base + plan.inside.start, false);
+            out.inside.resize(base + plan.inside.end, true);
+            out.inside.resize(base + run, false);
+        }
         let sh = plan.shift;
         for a in 0..k {
             let line = plan.line(st, a, &step);
@@ -1429,23 +1496,27 @@ impl PolygonInterpolator {
                 &mut out.spare
             };
             let (sat, under, wrapped) = match self.cfg.out_quant {
-                Quant::Trn => line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::Trn)),
-                Quant::TrnZero => {
-                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::TrnZero))
-                }
-                Quant::Rnd => line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::Rnd)),
-                Quant::RndZero => {
-                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndZero))
-                }
-                Quant::RndInf => {
-                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndInf))
-                }
-                Quant::RndMinInf => {
-                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndMinInf))
-                }
-                Quant::RndConv => {
-                    line.extend_lane(lane, run, keep, |v| round_acc(v, sh, Quant::RndConv))
-                }
+                Quant::Trn => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::Trn)
+                }),
+                Quant::TrnZero => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::TrnZero)
+                }),
+                Quant::Rnd => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::Rnd)
+                }),
+                Quant::RndZero => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::RndZero)
+                }),
+                Quant::RndInf => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::RndInf)
+                }),
+                Quant::RndMinInf => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::RndMinInf)
+                }),
+                Quant::RndConv => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                    round_acc(v, sh, Quant::RndConv)
+                }),
             };
             plan.count(a, sat, under, wrapped, ctr);
         }
