@@ -88,6 +88,15 @@ impl WalkBuffers {
             ..WalkBuffers::default()
         }
     }
+
+    /// [`WalkBuffers::unread`] for a sink that reads covered words alone:
+    /// [`walk_rows_lanes`] leaves out the rest of each row ([`PolyLanes::covered_only`]).
+    pub fn covered(unread: u32) -> Self {
+        WalkBuffers {
+            covered_only: true,
+            ..WalkBuffers::unread(unread)
+        }
+    }
 }
 
 /// Moves of the walk fed to the interpolator at a time (whole bounding-box rows).

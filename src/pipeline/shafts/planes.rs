@@ -818,7 +818,8 @@ fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell,
     let mut out = Vec::new();
     let mut b = PlaneBuffers::default();
     // With sub-planes J comes from the J texture: no one reads the light attributes.
-    let mut wb = WalkBuffers::unread(if pc.jtex.is_some() { 0xf0 } else { 0 });
+    // The depth test, the shading and the record read covered words alone.
+    let mut wb = WalkBuffers::covered(if pc.jtex.is_some() { 0xf0 } else { 0 });
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
     let mut rec = pc.record.then(|| Rec::sampled(pc.bands));
