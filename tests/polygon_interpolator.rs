@@ -1407,7 +1407,10 @@ fn runs_agree_with_span(
                 o
             })
             .collect();
-        assert_eq!(words, want, "covered only, unread {unread:#b}: words differ ({name})");
+        assert_eq!(
+            words, want,
+            "covered only, unread {unread:#b}: words differ ({name})"
+        );
         assert_eq!(&st, end, "covered only: final state differs ({name})");
         assert_eq!(&c, ctr, "covered only: counters differ ({name})");
     }

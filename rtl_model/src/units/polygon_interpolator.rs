@@ -1418,7 +1418,8 @@ impl PolygonInterpolator {
     /// written out, however a run of one move is split into entries
     /// ([`PolySetup::row_runs`] codes a walk row as two). Each run goes in closed
     /// form where no register can wrap or saturate on the way (every kind of move: a
-    /// step is affine in the run), else one kernel call per move.
+    /// step is affine in the run), else one kernel call per move. Where
+    /// [`PolyLanes::covered_only`], only the covered words are appended.
     pub fn kernel_runs_lanes(
         &self,
         st: &mut PolyState,
@@ -1495,29 +1496,18 @@ impl PolygonInterpolator {
                 out.spare.clear();
                 &mut out.spare
             };
-            let (sat, under, wrapped) = match self.cfg.out_quant {
-                Quant::Trn => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::Trn)
-                }),
-                Quant::TrnZero => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::TrnZero)
-                }),
-                Quant::Rnd => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::Rnd)
-                }),
-                Quant::RndZero => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::RndZero)
-                }),
-                Quant::RndInf => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::RndInf)
-                }),
-                Quant::RndMinInf => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::RndMinInf)
-                }),
-                Quant::RndConv => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
-                    round_acc(v, sh, Quant::RndConv)
-                }),
-            };
+            // One loop per rounding mode, the mode a constant inside it.
+            macro_rules! extend_rounded {
+                ($($q:ident),*) => {
+                    match self.cfg.out_quant {
+                        $(Quant::$q => line.extend_lane_steps(lane, run, covered_only, keep, |v| {
+                            round_acc(v, sh, Quant::$q)
+                        }),)*
+                    }
+                };
+            }
+            let (sat, under, wrapped) =
+                extend_rounded!(Trn, TrnZero, Rnd, RndZero, RndInf, RndMinInf, RndConv);
             plan.count(a, sat, under, wrapped, ctr);
         }
         plan.finish(st, k);
