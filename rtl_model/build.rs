@@ -5,11 +5,16 @@
 
 fn main() {
     println!("cargo::rustc-check-cfg=cfg(avx512_lanes)");
+    println!("cargo::rustc-check-cfg=cfg(avx2_lanes)");
     println!("cargo::rerun-if-changed=build.rs");
     let arch = std::env::var("CARGO_CFG_TARGET_ARCH").unwrap_or_default();
     let features = std::env::var("CARGO_CFG_TARGET_FEATURE").unwrap_or_default();
     let has = |f: &str| features.split(',').any(|x| x == f);
     if arch == "x86_64" && has("avx512f") && has("avx512bw") && has("avx512vl") {
         println!("cargo::rustc-cfg=avx512_lanes");
+    } else if arch == "x86_64" && has("avx2") {
+        // AVX2 without those subsets (AMD before Zen 4, Intel client parts): the
+        // kernels' 256-bit forms.
+        println!("cargo::rustc-cfg=avx2_lanes");
     }
 }

@@ -722,7 +722,10 @@ impl ShadowCompare {
         // SAFETY: compiled only where the build has these features (`avx512_lanes`,
         // rtl_model/build.rs).
         let (done, mut t) = unsafe { flat_groups_avx512(words, (x, y, inside), &test, dst) };
-        #[cfg(not(avx512_lanes))]
+        #[cfg(avx2_lanes)]
+        // SAFETY: compiled only where the build has AVX2 (`avx2_lanes`, rtl_model/build.rs).
+        let (done, mut t) = unsafe { flat_groups_avx2(words, (x, y, inside), &test, dst) };
+        #[cfg(not(any(avx512_lanes, avx2_lanes)))]
         let (done, mut t) = (0, FlatTally::default());
         for i in done..len {
             let (cand, in_map, l) = test.lane(words, x[i], y[i], inside[i]);
@@ -879,8 +882,8 @@ impl FlatTally {
 /// registers: each group's candidates, map reads and outcomes as 8-bit masks, the
 /// words read as a block along a walk row or gathered under the map mask, the kept
 /// indices packed into `dst` at the running count. Returns the lanes done (a multiple
-/// of 8) and their tally. Without `avx512_lanes` it is not built, and every lane goes
-/// one at a time.
+/// of 8) and their tally. Without `avx512_lanes` it is not built (AVX2 builds take
+/// `flat_groups_avx2`; others take every lane one at a time).
 #[cfg(avx512_lanes)]
 #[target_feature(enable = "avx512f,avx512bw,avx512vl")]
 fn flat_groups_avx512(
@@ -977,6 +980,156 @@ fn flat_groups_avx512(
                 _mm256_maskz_compress_epi32(keep, index),
             )
         };
+        tally.add(
+            keep.count_ones() as usize,
+            cand.count_ones() as usize,
+            in_map.count_ones() as usize,
+        );
+    }
+    (groups * 8, tally)
+}
+
+/// Byte mask m's set bits' positions, lowest first, as the nibbles of one word (lane
+/// position p in bits 4p .. 4p + 4; the rest 0): [`flat_groups_avx2`]'s packing of
+/// the kept lanes, without a compress instruction.
+#[cfg(avx2_lanes)]
+const PACKED_LANES: [u32; 256] = {
+    let mut table = [0u32; 256];
+    let mut m = 0;
+    while m < 256 {
+        let (mut word, mut n, mut bit) = (0u32, 0, 0);
+        while bit < 8 {
+            if m >> bit & 1 == 1 {
+                word |= bit << (4 * n);
+                n += 1;
+            }
+            bit += 1;
+        }
+        table[m as usize] = word;
+        m += 1;
+    }
+    table
+};
+
+/// [`ShadowCompare::test_filter_flat`]'s lanes in whole groups of 8 with AVX2 (two
+/// registers of four 64-bit lanes per coordinate): each group's candidates, map reads
+/// and outcomes as 8-bit masks, the words read as one block along a walk row (eight
+/// lanes of one row, all on the map, read eight words in a row) or else one lane at a
+/// time under the map mask, the kept indices packed through [`PACKED_LANES`] into
+/// `dst` at the running count. Returns the lanes done (a multiple of 8) and their
+/// tally: the same as [`FlatTest::lane`] one lane at a time.
+#[cfg(avx2_lanes)]
+#[target_feature(enable = "avx2")]
+fn flat_groups_avx2(
+    words: &[u32],
+    (x, y, inside): (&[i64], &[i64], &[bool]),
+    t: &FlatTest,
+    dst: &mut [u32],
+) -> (usize, FlatTally) {
+    use std::arch::x86_64::*;
+    let groups = x.len().min(y.len()).min(inside.len()).min(dst.len()) / 8;
+    let mut tally = FlatTally::default();
+    if words.is_empty() {
+        return (0, tally);
+    }
+    let ((vw, vh), (mw, mh)) = (t.viewport, t.map);
+    let below = _mm256_set1_epi64x(-1);
+    let (vwv, vhv) = (_mm256_set1_epi64x(vw), _mm256_set1_epi64x(vh));
+    let (mwv, mhv) = (_mm256_set1_epi64x(mw), _mm256_set1_epi64x(mh));
+    let fb = _mm256_set1_epi64x(t.fb);
+    let shift = _mm_cvtsi64_si128(t.k as i64);
+    let border: u32 = if t.border { 0xff } else { 0 };
+    // The function's code as three lane masks: bit 0 keeps "less", 1 "equal",
+    // 2 "greater".
+    let code = t.compare.code();
+    let [on_lt, on_eq, on_gt] = [0, 1, 2].map(|b| 0u32.wrapping_sub(code >> b & 1) & 0xff);
+    let (ahead_lo, ahead_hi) = (
+        _mm256_setr_epi64x(0, 1, 2, 3),
+        _mm256_setr_epi64x(4, 5, 6, 7),
+    );
+    let (back_lo, back_hi) = (
+        _mm256_setr_epi64x(0, -1, -2, -3),
+        _mm256_setr_epi64x(-4, -5, -6, -7),
+    );
+    let lane_reverse = _mm256_setr_epi32(7, 6, 5, 4, 3, 2, 1, 0);
+    let nibble_shift = _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28);
+    let bits = |v: __m256i| _mm256_movemask_pd(_mm256_castsi256_pd(v)) as u32;
+    let all = |v: __m256i| _mm256_movemask_epi8(v) == -1;
+    for g in 0..groups {
+        let o = g * 8;
+        // SAFETY: lanes o .. o + 8 lie in x, y, inside and dst (o + 8 ≤ 8 · groups,
+        // each at least that long); bool is one byte, 0 or 1.
+        let (x_lo, x_hi, y_lo, y_hi, ins) = unsafe {
+            (
+                _mm256_loadu_si256(x.as_ptr().add(o).cast()),
+                _mm256_loadu_si256(x.as_ptr().add(o + 4).cast()),
+                _mm256_loadu_si256(y.as_ptr().add(o).cast()),
+                _mm256_loadu_si256(y.as_ptr().add(o + 4).cast()),
+                _mm_loadl_epi64(inside.as_ptr().add(o).cast()),
+            )
+        };
+        let covered = _mm_movemask_epi8(_mm_cmpgt_epi8(ins, _mm_setzero_si128())) as u32 & 0xff;
+        let half = |xv: __m256i, yv: __m256i| {
+            let on_screen = _mm256_and_si256(
+                _mm256_and_si256(_mm256_cmpgt_epi64(xv, below), _mm256_cmpgt_epi64(yv, below)),
+                _mm256_and_si256(_mm256_cmpgt_epi64(vwv, xv), _mm256_cmpgt_epi64(vhv, yv)),
+            );
+            let on_map = _mm256_and_si256(_mm256_cmpgt_epi64(mwv, xv), _mm256_cmpgt_epi64(mhv, yv));
+            (bits(on_screen), bits(_mm256_and_si256(on_screen, on_map)))
+        };
+        let ((c_lo, m_lo), (c_hi, m_hi)) = (half(x_lo, y_lo), half(x_hi, y_hi));
+        let cand = covered & (c_lo | c_hi << 4);
+        let in_map = cand & (m_lo | m_hi << 4);
+        let (x0, y0) = (_mm256_set1_epi64x(x[o]), _mm256_set1_epi64x(y[o]));
+        let one_row = in_map == 0xff
+            && all(_mm256_cmpeq_epi64(y_lo, y0))
+            && all(_mm256_cmpeq_epi64(y_hi, y0));
+        let (dx_lo, dx_hi) = (_mm256_sub_epi64(x_lo, x0), _mm256_sub_epi64(x_hi, x0));
+        let along = |lo: __m256i, hi: __m256i| {
+            all(_mm256_cmpeq_epi64(dx_lo, lo)) && all(_mm256_cmpeq_epi64(dx_hi, hi))
+        };
+        // On the map 0 ≤ x < w and 0 ≤ y < h: y · w + x < w · h = words.len().
+        let a0 = (y[o] * mw + x[o]) as usize;
+        let read = if one_row && along(ahead_lo, ahead_hi) {
+            // SAFETY: every lane is on the map, so a0 + 7 (the last lane's address)
+            // < words.len().
+            unsafe { _mm256_loadu_si256(words.as_ptr().add(a0).cast()) }
+        } else if one_row && along(back_lo, back_hi) {
+            // SAFETY: every lane is on the map, so a0 − 7 (the last lane's address)
+            // ≥ 0 and a0 < words.len().
+            let ahead = unsafe { _mm256_loadu_si256(words.as_ptr().add(a0 - 7).cast()) };
+            _mm256_permutevar8x32_epi32(ahead, lane_reverse)
+        } else {
+            let mut w8 = [0u32; 8];
+            for (l, w) in w8.iter_mut().enumerate() {
+                if in_map >> l & 1 == 1 {
+                    *w = words[(y[o + l] * mw + x[o + l]) as usize];
+                }
+            }
+            // SAFETY: w8 is 8 words.
+            unsafe { _mm256_loadu_si256(w8.as_ptr().cast()) }
+        };
+        let word_lo = _mm256_sll_epi64(_mm256_cvtepu32_epi64(_mm256_castsi256_si128(read)), shift);
+        let word_hi = _mm256_sll_epi64(
+            _mm256_cvtepu32_epi64(_mm256_extracti128_si256::<1>(read)),
+            shift,
+        );
+        let gt = bits(_mm256_cmpgt_epi64(fb, word_lo)) | bits(_mm256_cmpgt_epi64(fb, word_hi)) << 4;
+        let eq = bits(_mm256_cmpeq_epi64(fb, word_lo)) | bits(_mm256_cmpeq_epi64(fb, word_hi)) << 4;
+        let outcome = (on_lt & !(gt | eq)) | (on_eq & eq) | (on_gt & gt);
+        let keep = cand & ((!in_map & border) | (in_map & outcome));
+        let packed = _mm256_srlv_epi32(
+            _mm256_set1_epi32(PACKED_LANES[keep as usize] as i32),
+            nibble_shift,
+        );
+        let index = _mm256_add_epi32(
+            _mm256_and_si256(packed, _mm256_set1_epi32(0xf)),
+            _mm256_set1_epi32(o as i32),
+        );
+        // The kept indices stored whole: the words past the kept ones are written over
+        // by the next group or cut off by the caller.
+        // SAFETY: kept ≤ o, so the 8 words from dst[kept] lie within dst[.. o + 8].
+        unsafe { _mm256_storeu_si256(dst.as_mut_ptr().add(tally.kept).cast(), index) };
         tally.add(
             keep.count_ones() as usize,
             cand.count_ones() as usize,
