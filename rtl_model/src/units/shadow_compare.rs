@@ -716,15 +716,22 @@ impl ShadowCompare {
         let base = lit.len();
         lit.resize(base + len, 0);
         let dst = &mut lit[base..];
+        #[cfg(any(avx512_lanes, avx2_lanes))]
+        let lanes = FlatLanes {
+            words,
+            x,
+            y,
+            inside,
+        };
         // Whole groups of 8 lanes in vector registers where the CPU has them, the rest
         // one lane at a time: the same kept indices and counts either way.
         #[cfg(avx512_lanes)]
         // SAFETY: compiled only where the build has these features (`avx512_lanes`,
         // rtl_model/build.rs).
-        let (done, mut t) = unsafe { flat_groups_avx512(words, (x, y, inside), &test, dst) };
+        let (done, mut t) = unsafe { flat_groups_avx512(&lanes, &test, dst) };
         #[cfg(avx2_lanes)]
         // SAFETY: compiled only where the build has AVX2 (`avx2_lanes`, rtl_model/build.rs).
-        let (done, mut t) = unsafe { flat_groups_avx2(words, (x, y, inside), &test, dst) };
+        let (done, mut t) = unsafe { flat_groups_avx2(&lanes, &test, dst) };
         #[cfg(not(any(avx512_lanes, avx2_lanes)))]
         let (done, mut t) = (0, FlatTally::default());
         for i in done..len {
@@ -878,6 +885,34 @@ impl FlatTally {
     }
 }
 
+/// [`ShadowCompare::test_filter_flat`]'s inputs as its vector forms take them: the
+/// map's words (one per address) and the lanes' x, y and coverage.
+#[cfg(any(avx512_lanes, avx2_lanes))]
+#[derive(Clone, Copy)]
+struct FlatLanes<'a> {
+    words: &'a [u32],
+    x: &'a [i64],
+    y: &'a [i64],
+    inside: &'a [bool],
+}
+
+#[cfg(any(avx512_lanes, avx2_lanes))]
+impl FlatLanes<'_> {
+    /// Whole groups of 8 lanes that lie in every lane slice and in `dst` (none
+    /// without words to read).
+    fn groups(&self, dst: &[u32]) -> usize {
+        if self.words.is_empty() {
+            return 0;
+        }
+        self.x
+            .len()
+            .min(self.y.len())
+            .min(self.inside.len())
+            .min(dst.len())
+            / 8
+    }
+}
+
 /// [`ShadowCompare::test_filter_flat`]'s lanes in whole groups of 8, in AVX-512
 /// registers: each group's candidates, map reads and outcomes as 8-bit masks, the
 /// words read as a block along a walk row or gathered under the map mask, the kept
@@ -886,18 +921,16 @@ impl FlatTally {
 /// `flat_groups_avx2`; others take every lane one at a time).
 #[cfg(avx512_lanes)]
 #[target_feature(enable = "avx512f,avx512bw,avx512vl")]
-fn flat_groups_avx512(
-    words: &[u32],
-    (x, y, inside): (&[i64], &[i64], &[bool]),
-    t: &FlatTest,
-    dst: &mut [u32],
-) -> (usize, FlatTally) {
+fn flat_groups_avx512(lanes: &FlatLanes, t: &FlatTest, dst: &mut [u32]) -> (usize, FlatTally) {
     use std::arch::x86_64::*;
-    let groups = x.len().min(y.len()).min(inside.len()).min(dst.len()) / 8;
+    let FlatLanes {
+        words,
+        x,
+        y,
+        inside,
+    } = *lanes;
+    let groups = lanes.groups(dst);
     let mut tally = FlatTally::default();
-    if words.is_empty() {
-        return (0, tally);
-    }
     let ((vw, vh), (mw, mh)) = (t.viewport, t.map);
     let (zero, fb) = (_mm512_setzero_si512(), _mm512_set1_epi64(t.fb));
     let (vw, vh) = (_mm512_set1_epi64(vw), _mm512_set1_epi64(vh));
@@ -1020,18 +1053,9 @@ const PACKED_LANES: [u32; 256] = {
 /// tally: the same as [`FlatTest::lane`] one lane at a time.
 #[cfg(avx2_lanes)]
 #[target_feature(enable = "avx2")]
-fn flat_groups_avx2(
-    words: &[u32],
-    (x, y, inside): (&[i64], &[i64], &[bool]),
-    t: &FlatTest,
-    dst: &mut [u32],
-) -> (usize, FlatTally) {
+fn flat_groups_avx2(lanes: &FlatLanes, t: &FlatTest, dst: &mut [u32]) -> (usize, FlatTally) {
     use std::arch::x86_64::*;
-    let groups = x.len().min(y.len()).min(inside.len()).min(dst.len()) / 8;
-    let mut tally = FlatTally::default();
-    if words.is_empty() {
-        return (0, tally);
-    }
+    let (words, x, y) = (lanes.words, lanes.x, lanes.y);
     let ((vw, vh), (mw, mh)) = (t.viewport, t.map);
     let below = _mm256_set1_epi64x(-1);
     let (vwv, vhv) = (_mm256_set1_epi64x(vw), _mm256_set1_epi64x(vh));
@@ -1055,6 +1079,7 @@ fn flat_groups_avx2(
     let nibble_shift = _mm256_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28);
     let bits = |v: __m256i| _mm256_movemask_pd(_mm256_castsi256_pd(v)) as u32;
     let all = |v: __m256i| _mm256_movemask_epi8(v) == -1;
+    let (groups, mut tally) = (lanes.groups(dst), FlatTally::default());
     for g in 0..groups {
         let o = g * 8;
         // SAFETY: lanes o .. o + 8 lie in x, y, inside and dst (o + 8 ≤ 8 · groups,
@@ -1065,7 +1090,7 @@ fn flat_groups_avx2(
                 _mm256_loadu_si256(x.as_ptr().add(o + 4).cast()),
                 _mm256_loadu_si256(y.as_ptr().add(o).cast()),
                 _mm256_loadu_si256(y.as_ptr().add(o + 4).cast()),
-                _mm_loadl_epi64(inside.as_ptr().add(o).cast()),
+                _mm_loadl_epi64(lanes.inside.as_ptr().add(o).cast()),
             )
         };
         let covered = _mm_movemask_epi8(_mm_cmpgt_epi8(ins, _mm_setzero_si128())) as u32 & 0xff;
