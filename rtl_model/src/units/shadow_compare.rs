@@ -1113,8 +1113,13 @@ fn flat_groups_avx2(lanes: &FlatLanes, t: &FlatTest, dst: &mut [u32]) -> (usize,
         let along = |lo: __m256i, hi: __m256i| {
             all(_mm256_cmpeq_epi64(dx_lo, lo)) && all(_mm256_cmpeq_epi64(dx_hi, hi))
         };
-        // On the map 0 ≤ x < w and 0 ≤ y < h: y · w + x < w · h = words.len().
-        let a0 = (y[o] * mw + x[o]) as usize;
+        // Computed for a row on the map alone, where 0 ≤ x < w and 0 ≤ y < h:
+        // y · w + x < w · h = words.len() (elsewhere the lanes may be any s64).
+        let a0 = if one_row {
+            (y[o] * mw + x[o]) as usize
+        } else {
+            0
+        };
         let read = if one_row && along(ahead_lo, ahead_hi) {
             // SAFETY: every lane is on the map, so a0 + 7 (the last lane's address)
             // < words.len().
