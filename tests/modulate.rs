@@ -64,6 +64,36 @@ fn exact_mode_is_exact_exhaustively_up_to_10_bits() {
     }
 }
 
+/// Each mode's definition in 64-bit integers at the widest operands, where the
+/// datapath's 32-bit intermediates come closest to overflowing (t + (t >> n) up to
+/// 2³² − 2¹⁵ at 16 bits): every pair of corner and near-corner codes at 13 ..= 16 bits.
+#[test]
+fn every_mode_matches_its_definition_at_the_widest_codes() {
+    for bits in 13..=16u32 {
+        let max = (1u64 << bits) - 1;
+        let two_n = 1u64 << bits;
+        let codes = [0, 1, 2, max / 2, max / 2 + 1, max - 2, max - 1, max];
+        for mode in ModulateMode::ALL {
+            let m = Modulate::new(bits, mode).unwrap();
+            for &a in &codes {
+                for &b in &codes {
+                    let want = match mode {
+                        ModulateMode::Exact => (2 * a * b + max) / (2 * max),
+                        ModulateMode::Shift => a * b / two_n,
+                        ModulateMode::PlusOne => a * (b + 1) / two_n,
+                        ModulateMode::TruncDiv => a * b / max,
+                    };
+                    assert_eq!(
+                        m.apply(a as u32, b as u32) as u64,
+                        want,
+                        "{mode:?} {bits} bits: {a}·{b}"
+                    );
+                }
+            }
+        }
+    }
+}
+
 #[test]
 fn every_mode_within_bound_exhaustively_at_8_and_3_bits() {
     for bits in [3u32, 8] {

@@ -116,37 +116,70 @@ impl Modulate {
                 Operand::Constant(c) => out.extend(a.iter().map(|&x| f(x, c))),
             }
         }
-        // One loop per mode: `apply` with its mode a constant, so its match folds.
-        let bits = self.bits;
-        let with = |mode| move |x, y| Modulate { bits, mode }.apply(x, y);
+        // One loop per mode, each calling its mode's datapath: no match inside the
+        // loop, so the lanes run as vectors.
+        let n = self.bits;
+        let max = max_code(n);
+        // Generic over the datapath (each fn item its own type), so each loop's call
+        // is known at compile time.
+        #[inline(always)]
+        fn with(f: impl Fn(u32, u32, u32) -> u32, n: u32, max: u32) -> impl Fn(u32, u32) -> u32 {
+            move |x, y| f(n, x & max, y & max)
+        }
         match self.mode {
-            ModulateMode::Exact => lanes(a, b, out, with(ModulateMode::Exact)),
-            ModulateMode::Shift => lanes(a, b, out, with(ModulateMode::Shift)),
-            ModulateMode::PlusOne => lanes(a, b, out, with(ModulateMode::PlusOne)),
-            ModulateMode::TruncDiv => lanes(a, b, out, with(ModulateMode::TruncDiv)),
+            ModulateMode::Exact => lanes(a, b, out, with(exact, n, max)),
+            ModulateMode::Shift => lanes(a, b, out, with(shift, n, max)),
+            ModulateMode::PlusOne => lanes(a, b, out, with(plus_one, n, max)),
+            ModulateMode::TruncDiv => lanes(a, b, out, with(trunc_div, n, max)),
         }
     }
 
     /// The combinational datapath on one pair (operands masked to n wires).
+    ///
+    /// In 32-bit words: n ≤ 16 (the constructor's bound), so every intermediate fits
+    /// (Exact: t ≤ (2ⁿ−1)² + 2ⁿ⁻¹ < 2²ⁿ and t + (t >> n) ≤ 2³² − 2¹⁵ at n = 16;
+    /// PlusOne: a·(b+1) ≤ (2ⁿ−1)·2ⁿ; TruncDiv: x + 1 + (x >> n) < 2²ⁿ), and the
+    /// lanes run twice as wide as in 64-bit words.
     #[inline(always)]
     pub fn apply(&self, a: u32, b: u32) -> u32 {
         let n = self.bits;
-        let max = max_code(n) as u64;
-        let (a, b) = (a as u64 & max, b as u64 & max);
+        debug_assert!((1..=16).contains(&n));
+        let max = max_code(n);
+        let (a, b) = (a & max, b & max);
         match self.mode {
-            ModulateMode::Exact => {
-                let t = a * b + (1 << (n - 1)); // u(n) × u(n) → u(2n), + half → u(2n)
-                ((t + (t >> n)) >> n) as u32 // u(2n) + u(n) → u(2n+1), >> n → u(n)
-            }
-            ModulateMode::Shift => ((a * b) >> n) as u32, // u(2n) >> n → u(n)
-            ModulateMode::PlusOne => ((a * (b + 1)) >> n) as u32, // u(n) × u(n+1) → u(2n+1)
-            ModulateMode::TruncDiv => {
-                // floor(x / (2ⁿ−1)) for x ≤ (2ⁿ−1)²: (x + 1 + (x >> n)) >> n.
-                let x = a * b; // u(2n)
-                ((x + 1 + (x >> n)) >> n) as u32
-            }
+            ModulateMode::Exact => exact(n, a, b),
+            ModulateMode::Shift => shift(n, a, b),
+            ModulateMode::PlusOne => plus_one(n, a, b),
+            ModulateMode::TruncDiv => trunc_div(n, a, b),
         }
     }
+}
+
+/// [`ModulateMode::Exact`] on u(n) codes: round(a·b / (2ⁿ−1)).
+#[inline(always)]
+fn exact(n: u32, a: u32, b: u32) -> u32 {
+    let t = a * b + (1 << (n - 1)); // u(n) × u(n) → u(2n), + half → u(2n)
+    (t + (t >> n)) >> n // u(2n) + u(n) → u(2n+1), < 2³² (above); >> n → u(n)
+}
+
+/// [`ModulateMode::Shift`] on u(n) codes: ⌊a·b / 2ⁿ⌋.
+#[inline(always)]
+fn shift(n: u32, a: u32, b: u32) -> u32 {
+    (a * b) >> n // u(2n) >> n → u(n)
+}
+
+/// [`ModulateMode::PlusOne`] on u(n) codes: ⌊a·(b+1) / 2ⁿ⌋.
+#[inline(always)]
+fn plus_one(n: u32, a: u32, b: u32) -> u32 {
+    (a * (b + 1)) >> n // u(n) × u(n+1) → u(2n)
+}
+
+/// [`ModulateMode::TruncDiv`] on u(n) codes: ⌊a·b / (2ⁿ−1)⌋, as
+/// (x + 1 + (x >> n)) >> n for x = a·b ≤ (2ⁿ−1)².
+#[inline(always)]
+fn trunc_div(n: u32, a: u32, b: u32) -> u32 {
+    let x = a * b; // u(2n)
+    (x + 1 + (x >> n)) >> n // < 2²ⁿ (above)
 }
 
 impl Unit for Modulate {
