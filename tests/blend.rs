@@ -1591,6 +1591,32 @@ mod additive {
             c_rev, c_span,
             "blend_lanes_at counters through a reversed map"
         );
+        // The lanes on a walk's words: rows of 13, rightward and leftward in turn,
+        // every fifth word skipped (runs broken at odd places, and blocks of the
+        // lane form's runs mixed with scattered lanes): each lane's output is its
+        // word's, the counters the same.
+        let walk: Vec<u32> = (0..)
+            .flat_map(|r: u32| {
+                let row = (0..13).map(move |c| r * 13 + if r % 2 == 0 { c } else { 12 - c });
+                row.filter(|&p| p % 5 != 4)
+            })
+            .take(n)
+            .collect();
+        let words = walk.iter().max().map_or(0, |&m| m as usize + 1);
+        let mut walked = vec![0u32; words];
+        for (&p, &d) in walk.iter().zip(dst) {
+            walked[p as usize] = d;
+        }
+        let mut c_walk = Counters::default();
+        b.blend_lanes_at(src, (&walk, 0), &mut walked, &mut c_walk);
+        for (i, &p) in walk.iter().enumerate() {
+            assert_eq!(
+                walked[p as usize], lanes[i],
+                "lane {i} on word {p} of a walk"
+            );
+        }
+        tally.close(b.timing(), &mut c_walk);
+        assert_eq!(c_walk, c_span, "blend_lanes_at counters on a walk's words");
         // Lanes 2k and 2k + 1 on word k: the second reads what the first wrote.
         let at: Vec<u32> = (0..n as u32).map(|i| i / 2).collect();
         let mut shared: Vec<u32> = dst.iter().step_by(2).copied().collect();

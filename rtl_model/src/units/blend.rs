@@ -379,6 +379,9 @@ fn lut_index(masked_src: u32) -> usize {
     masked_src as usize & ((1 << CONTRIBUTION_LUT_BITS) - 1)
 }
 
+/// Lanes [`Blend::blend_lanes_at`] checks at once for a run of neighbouring words.
+const BLEND_LANES: usize = 16;
+
 /// Fragments ahead of the one blended whose framebuffer pixel is asked for.
 const PREFETCH_AHEAD: usize = 96;
 
@@ -743,15 +746,60 @@ impl Blend {
             (src_mask, max): (u32, u32),
             contribution: impl Fn(u32) -> u32,
         ) -> (u64, u64) {
-            let (mut sat, mut under) = (0u64, 0u64);
-            for (&a, &s) in at.iter().zip(src) {
-                let d = &mut dst[a as usize - offset];
+            // One lane: its word read, blended and written back; (saturated, lost).
+            let blend = |d: &mut u32, s: u32| {
                 let sm = s & src_mask;
                 let q = contribution(sm);
-                let sum = (*d & max) + q;
-                sat += u64::from(sum > max);
-                under += u64::from(sm != 0 && q == 0);
+                let sum = (*d & max) + q; // u(n) + u(n) → u(n+1)
                 *d = sum.min(max);
+                (u32::from(sum > max), u32::from(sm != 0 && q == 0))
+            };
+            // A run's words blended in order: (saturated, lost) counts.
+            #[inline(always)]
+            fn blend_run<'a>(
+                words: impl Iterator<Item = &'a mut u32>,
+                src: &[u32],
+                blend: &impl Fn(&mut u32, u32) -> (u32, u32),
+            ) -> (u32, u32) {
+                words.zip(src).fold((0, 0), |(s, u), (d, &x)| {
+                    let (a, b) = blend(d, x);
+                    (s + a, u + b)
+                })
+            }
+            let (mut sat, mut under) = (0u64, 0u64);
+            for (at, src) in at.chunks(BLEND_LANES).zip(src.chunks(BLEND_LANES)) {
+                let first = at.first().map_or(0, |&a| a as usize);
+                // Every index checked (no early exit), so the check runs in vector
+                // registers.
+                let rising = at
+                    .iter()
+                    .zip(first..)
+                    .fold(true, |run, (&a, j)| run & (a as usize == j));
+                // A row walked leftward: first, first − 1, … (wrapping past 0 fails).
+                let falling = at.iter().enumerate().fold(true, |run, (j, &a)| {
+                    run & (a as usize == first.wrapping_sub(j))
+                });
+                let (mut s_block, mut u_block) = (0u32, 0u32);
+                if rising || falling {
+                    // A run of neighbouring words (a stretch of a row where every walked
+                    // pixel is a fragment): one slice, no two lanes on one word, so the
+                    // lanes run as vectors (reversed for a leftward run).
+                    let lo = if rising { first } else { first + 1 - at.len() } - offset;
+                    let words = &mut dst[lo..lo + at.len()];
+                    (s_block, u_block) = if rising {
+                        blend_run(words.iter_mut(), src, &blend)
+                    } else {
+                        blend_run(words.iter_mut().rev(), src, &blend)
+                    };
+                } else {
+                    for (&a, &s) in at.iter().zip(src) {
+                        let (a, b) = blend(&mut dst[a as usize - offset], s);
+                        s_block += a;
+                        u_block += b;
+                    }
+                }
+                sat += u64::from(s_block);
+                under += u64::from(u_block);
             }
             (sat, under)
         }
