@@ -1597,7 +1597,8 @@ mod additive {
         // word's, the counters the same.
         let walk: Vec<u32> = (0..)
             .flat_map(|r: u32| {
-                let row = (0..13).map(move |c| r * 13 + if r % 2 == 0 { c } else { 12 - c });
+                let row =
+                    (0..13).map(move |c| r * 13 + if r.is_multiple_of(2) { c } else { 12 - c });
                 row.filter(|&p| p % 5 != 4)
             })
             .take(n)
