@@ -769,16 +769,9 @@ impl Blend {
             let (mut sat, mut under) = (0u64, 0u64);
             for (at, src) in at.chunks(BLEND_LANES).zip(src.chunks(BLEND_LANES)) {
                 let first = at.first().map_or(0, |&a| a as usize);
-                // Every index checked (no early exit), so the check runs in vector
-                // registers.
-                let rising = at
-                    .iter()
-                    .zip(first..)
-                    .fold(true, |run, (&a, j)| run & (a as usize == j));
-                // A row walked leftward: first, first − 1, … (wrapping past 0 fails).
-                let falling = at.iter().enumerate().fold(true, |run, (j, &a)| {
-                    run & (a as usize == first.wrapping_sub(j))
-                });
+                let rising = super::rising_run(at);
+                // A row walked leftward (checked only when the run does not rise).
+                let falling = !rising && super::falling_run(at);
                 let (mut s_block, mut u_block) = (0u32, 0u32);
                 if rising || falling {
                     // A run of neighbouring words (a stretch of a row where every walked

@@ -27,3 +27,24 @@ pub mod texture_combiner;
 #[allow(missing_docs)]
 pub mod texture_sampler;
 pub mod vertex_lighting;
+
+/// Whether the lane indices `idx` are first, first + 1, … (lanes on neighbouring words
+/// in a rightward run; true when empty): every index checked with no early exit, so
+/// the check runs in vector registers.
+#[inline(always)]
+pub(crate) fn rising_run(idx: &[u32]) -> bool {
+    let first = idx.first().map_or(0, |&i| i as usize);
+    idx.iter()
+        .zip(first..)
+        .fold(true, |run, (&i, j)| run & (i as usize == j))
+}
+
+/// Whether the lane indices `idx` are first, first − 1, … (a leftward run; one that
+/// would pass below 0 is not), checked as [`rising_run`].
+#[inline(always)]
+pub(crate) fn falling_run(idx: &[u32]) -> bool {
+    let first = idx.first().map_or(0, |&i| i as usize);
+    idx.iter().enumerate().fold(true, |run, (j, &i)| {
+        run & (i as usize == first.wrapping_sub(j))
+    })
+}

@@ -732,12 +732,7 @@ impl ProjectiveTexcoord {
             );
             let lanes = sl.iter_mut().zip(&mut tl).zip(&mut rl).zip(&mut ql);
             let first = block.first().map_or(0, |&i| i as usize);
-            // Every index checked (no early exit), so the check runs in vector registers.
-            let consecutive = block
-                .iter()
-                .zip(first..)
-                .fold(true, |run, (&i, j)| run & (i as usize == j));
-            if consecutive {
+            if super::rising_run(block) {
                 // A run of consecutive indices (a stretch where every walked pixel is
                 // a fragment): slices of the lanes, read without a gather.
                 let run = first..first + len;
