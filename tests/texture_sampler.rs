@@ -288,9 +288,10 @@ fn wire_inputs(
         .collect()
 }
 
-/// `kernel_batch_keep` under random keep masks (none, all, and mixed): the kept
-/// outputs are the drivers' `out`, and the counters are the batch kernel's on every
-/// input, whatever is skipped.
+/// `kernel_batch_keep` under keep masks (none, all, random, and two with whole blocks
+/// of 64 lanes, the lane form's blocks, left out: every other block, and all but
+/// each block's last lane): the kept outputs are the drivers' `out`, and the
+/// counters are the batch kernel's on every input, whatever is skipped.
 fn assert_keep_agrees(
     u: &TextureSampler,
     inputs: &[TextureSamplerIn],
@@ -300,12 +301,14 @@ fn assert_keep_agrees(
     let mut want = Counters::default();
     let mut o = Vec::new();
     u.kernel_batch(&mut (), inputs, &mut o, &mut want);
-    for mode in 0..3 {
+    for mode in 0..5 {
         let keep: Vec<bool> = (0..inputs.len())
-            .map(|_| match mode {
+            .map(|i| match mode {
                 0 => false,
                 1 => true,
-                _ => rng.below(2) == 0,
+                2 => rng.below(2) == 0,
+                3 => (i / 64) % 2 == 1,
+                _ => i % 64 == 63,
             })
             .collect();
         let mut got = Vec::new();

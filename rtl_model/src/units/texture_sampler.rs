@@ -1242,6 +1242,12 @@ impl LaneFilter {
         let mut i = 0;
         while i < out.len() {
             let m = (out.len() - i).min(BLOCK);
+            // A block with no lane kept stores nothing: not filtered (the filter has
+            // no state and no counters here; the caller counts every lane).
+            if !(i..i + m).any(&keep) {
+                i += m;
+                continue;
+            }
             let (sb, cb) = (&s[i..i + m], &mut codes[..m]);
             match (self.dims, self.linear) {
                 (1, true) => self.linear_1d(tex, sb, cb),
