@@ -1634,6 +1634,33 @@ mod additive {
             }
             assert_eq!(v, want, "word {k}: the lanes one after the other");
         }
+        // Lanes whose source is 0 (whole blocks the J buffer's caller leaves out and
+        // counts with `count_zero_lanes`): every word at most full scale is written
+        // back as it was, and the counters are what `count_zero_lanes` counts.
+        let zeros = vec![0u32; n];
+        let words: Vec<u32> = dst.iter().map(|&d| d.min(b.max())).collect();
+        let mut blended = words.clone();
+        let (mut c_blend, mut c_count) = (Counters::default(), Counters::default());
+        b.blend_lanes_at(&zeros, (&super::identity(n), 0), &mut blended, &mut c_blend);
+        b.count_zero_lanes(n as u64, &mut c_count);
+        assert_eq!(blended, words, "a source of 0 leaves its word as it was");
+        assert_eq!(
+            c_blend, c_count,
+            "count_zero_lanes counts what the blend counts"
+        );
+        // The prepared form blends as the one-call form does.
+        let mut prepared = dst.to_vec();
+        let mut c_prepared = Counters::default();
+        b.lanes_at().blend(
+            src,
+            (&super::identity(n), 0),
+            &mut prepared,
+            &mut c_prepared,
+        );
+        let mut once = dst.to_vec();
+        let mut c_once = Counters::default();
+        b.blend_lanes_at(src, (&super::identity(n), 0), &mut once, &mut c_once);
+        assert_eq!((prepared, c_prepared), (once, c_once), "lanes_at().blend");
     }
 
     /// Exhaustive at 4-bit words: every source, destination and weight, weighted and

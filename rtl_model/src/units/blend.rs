@@ -721,96 +721,39 @@ impl Blend {
     pub fn blend_lanes_at(
         &self,
         src: &[u32],
-        (at, offset): (&[u32], usize),
+        at: (&[u32], usize),
         dst: &mut [u32],
         ctr: &mut Counters,
     ) {
-        assert_eq!(
-            src.len(),
-            at.len(),
-            "blend_lanes_at: src and at lanes differ"
-        );
+        self.lanes_at().blend(src, at, dst, ctr);
+    }
+
+    /// [`Self::blend_lanes_at`] prepared once (its contribution table built) for a
+    /// caller that blends many lane slices with this unit. Panics unless the datapath
+    /// is additive.
+    pub fn lanes_at(&self) -> LanesAt<'_> {
         assert_eq!(
             self.cfg.datapath,
             BlendDatapath::Additive,
             "blend_lanes_at: additive datapath only"
         );
-        let n = src.len() as u64;
-        let (max, src_mask) = (self.max(), max_code(self.src_bits()));
-        let weight_on = !self.weighted() || self.cfg.constant[ALPHA] != 0;
-        // One loop per contribution form (the table or the datapath), inlined.
-        #[inline(always)]
-        fn lanes(
-            (src, at, offset): (&[u32], &[u32], usize),
-            dst: &mut [u32],
-            (src_mask, max): (u32, u32),
-            contribution: impl Fn(u32) -> u32,
-        ) -> (u64, u64) {
-            // One lane: its word read, blended and written back; (saturated, lost).
-            let blend = |d: &mut u32, s: u32| {
-                let sm = s & src_mask;
-                let q = contribution(sm);
-                let sum = (*d & max) + q; // u(n) + u(n) → u(n+1)
-                *d = sum.min(max);
-                (u32::from(sum > max), u32::from(sm != 0 && q == 0))
-            };
-            // A run's words blended in order: (saturated, lost) counts.
-            #[inline(always)]
-            fn blend_run<'a>(
-                words: impl Iterator<Item = &'a mut u32>,
-                src: &[u32],
-                blend: &impl Fn(&mut u32, u32) -> (u32, u32),
-            ) -> (u32, u32) {
-                words.zip(src).fold((0, 0), |(s, u), (d, &x)| {
-                    let (a, b) = blend(d, x);
-                    (s + a, u + b)
-                })
-            }
-            let (mut sat, mut under) = (0u64, 0u64);
-            for (at, src) in at.chunks(BLEND_LANES).zip(src.chunks(BLEND_LANES)) {
-                let first = at.first().map_or(0, |&a| a as usize);
-                let rising = super::rising_run(at);
-                // A row walked leftward (checked only when the run does not rise).
-                let falling = !rising && super::falling_run(at);
-                let (mut s_block, mut u_block) = (0u32, 0u32);
-                if rising || falling {
-                    // A run of neighbouring words (a stretch of a row where every walked
-                    // pixel is a fragment): one slice, no two lanes on one word, so the
-                    // lanes run as vectors (reversed for a leftward run).
-                    let lo = if rising { first } else { first + 1 - at.len() } - offset;
-                    let words = &mut dst[lo..lo + at.len()];
-                    (s_block, u_block) = if rising {
-                        blend_run(words.iter_mut(), src, &blend)
-                    } else {
-                        blend_run(words.iter_mut().rev(), src, &blend)
-                    };
-                } else {
-                    for (&a, &s) in at.iter().zip(src) {
-                        let (a, b) = blend(&mut dst[a as usize - offset], s);
-                        s_block += a;
-                        u_block += b;
-                    }
-                }
-                sat += u64::from(s_block);
-                under += u64::from(u_block);
-            }
-            (sat, under)
+        LanesAt {
+            unit: self,
+            lut: self.contribution_table(),
         }
-        let io = (src, at, offset);
-        let (sat, mut under) = match self.contribution_table() {
-            Some(lut) => lanes(io, dst, (src_mask, max), |sm| lut[lut_index(sm)]),
-            None => lanes(io, dst, (src_mask, max), |sm| self.contribution(sm)),
-        };
-        if !weight_on {
-            under = 0;
-        }
-        // Channels 1 ..= 3 carry source and destination 0: the contribution of source 0
-        // is 0 (align and weight map 0 to 0), so their sums are 0 and count nothing.
+    }
+
+    /// What [`Self::blend_lanes_at`] counts for `n` lanes whose source is 0, counted
+    /// without blending them: a read-modify-write of a word each, and nothing else.
+    /// The contribution of source 0 is 0 (align and weight map 0 to 0), so a word
+    /// at most the full-scale code (as every blend leaves it) is written back as it
+    /// was, and no sum saturates or loses a non-zero source. A caller may leave such
+    /// lanes out of `blend_lanes_at` and count them here: the same words, the same
+    /// counters.
+    pub fn count_zero_lanes(&self, n: u64, ctr: &mut Counters) {
         let bytes = bytes_for_bits(self.pixel_bits()) * n;
         ctr.mem_read_bytes += bytes;
         ctr.mem_write_bytes += bytes;
-        ctr.saturations += sat;
-        ctr.underflows += under;
     }
 
     /// The additive batch kernel on unweighted pixels, in place (the framebuffer's
@@ -961,6 +904,108 @@ impl Blend {
             }
         }
         c
+    }
+}
+
+/// [`Blend::blend_lanes_at`] with its contribution table built once
+/// ([`Blend::lanes_at`]).
+pub struct LanesAt<'a> {
+    unit: &'a Blend,
+    /// The contribution of every source code, where the datapath has a table.
+    lut: Option<[u32; 1 << CONTRIBUTION_LUT_BITS]>,
+}
+
+impl LanesAt<'_> {
+    /// [`Blend::blend_lanes_at`]: the same words and counters.
+    pub fn blend(
+        &self,
+        src: &[u32],
+        (at, offset): (&[u32], usize),
+        dst: &mut [u32],
+        ctr: &mut Counters,
+    ) {
+        assert_eq!(
+            src.len(),
+            at.len(),
+            "blend_lanes_at: src and at lanes differ"
+        );
+        let unit = self.unit;
+        let n = src.len() as u64;
+        let (max, src_mask) = (unit.max(), max_code(unit.src_bits()));
+        let weight_on = !unit.weighted() || unit.cfg.constant[ALPHA] != 0;
+        // One loop per contribution form (the table or the datapath), inlined.
+        #[inline(always)]
+        fn lanes(
+            (src, at, offset): (&[u32], &[u32], usize),
+            dst: &mut [u32],
+            (src_mask, max): (u32, u32),
+            contribution: impl Fn(u32) -> u32,
+        ) -> (u64, u64) {
+            // One lane: its word read, blended and written back; (saturated, lost).
+            let blend = |d: &mut u32, s: u32| {
+                let sm = s & src_mask;
+                let q = contribution(sm);
+                let sum = (*d & max) + q; // u(n) + u(n) → u(n+1)
+                *d = sum.min(max);
+                (u32::from(sum > max), u32::from(sm != 0 && q == 0))
+            };
+            // A run's words blended in order: (saturated, lost) counts.
+            #[inline(always)]
+            fn blend_run<'a>(
+                words: impl Iterator<Item = &'a mut u32>,
+                src: &[u32],
+                blend: &impl Fn(&mut u32, u32) -> (u32, u32),
+            ) -> (u32, u32) {
+                words.zip(src).fold((0, 0), |(s, u), (d, &x)| {
+                    let (a, b) = blend(d, x);
+                    (s + a, u + b)
+                })
+            }
+            let (mut sat, mut under) = (0u64, 0u64);
+            for (at, src) in at.chunks(BLEND_LANES).zip(src.chunks(BLEND_LANES)) {
+                let first = at.first().map_or(0, |&a| a as usize);
+                let rising = super::rising_run(at);
+                // A row walked leftward (checked only when the run does not rise).
+                let falling = !rising && super::falling_run(at);
+                let (mut s_block, mut u_block) = (0u32, 0u32);
+                if rising || falling {
+                    // A run of neighbouring words (a stretch of a row where every walked
+                    // pixel is a fragment): one slice, no two lanes on one word, so the
+                    // lanes run as vectors (reversed for a leftward run).
+                    let lo = if rising { first } else { first + 1 - at.len() } - offset;
+                    let words = &mut dst[lo..lo + at.len()];
+                    (s_block, u_block) = if rising {
+                        blend_run(words.iter_mut(), src, &blend)
+                    } else {
+                        blend_run(words.iter_mut().rev(), src, &blend)
+                    };
+                } else {
+                    for (&a, &s) in at.iter().zip(src) {
+                        let (a, b) = blend(&mut dst[a as usize - offset], s);
+                        s_block += a;
+                        u_block += b;
+                    }
+                }
+                sat += u64::from(s_block);
+                under += u64::from(u_block);
+            }
+            (sat, under)
+        }
+        let io = (src, at, offset);
+        let (sat, mut under) = match &self.lut {
+            Some(lut) => lanes(io, dst, (src_mask, max), |sm| lut[lut_index(sm)]),
+            None => lanes(io, dst, (src_mask, max), |sm| unit.contribution(sm)),
+        };
+        if !weight_on {
+            under = 0;
+        }
+        // Channels 1 ..= 3 carry source and destination 0: the contribution of source 0
+        // is 0 (align and weight map 0 to 0), so their sums are 0 and count nothing.
+        let bytes = bytes_for_bits(unit.pixel_bits()) * n;
+        ctr.mem_read_bytes += bytes;
+        ctr.mem_write_bytes += bytes;
+        ctr.saturations += sat;
+        ctr.underflows += under;
     }
 }
 

@@ -32,7 +32,7 @@ pub mod vertex_lighting;
 /// in a rightward run; true when empty): every index checked with no early exit, so
 /// the check runs in vector registers.
 #[inline(always)]
-pub(crate) fn rising_run(idx: &[u32]) -> bool {
+pub fn rising_run(idx: &[u32]) -> bool {
     let first = idx.first().map_or(0, |&i| i as usize);
     idx.iter()
         .zip(first..)
@@ -42,7 +42,7 @@ pub(crate) fn rising_run(idx: &[u32]) -> bool {
 /// Whether the lane indices `idx` are first, first − 1, … (a leftward run; one that
 /// would pass below 0 is not), checked as [`rising_run`].
 #[inline(always)]
-pub(crate) fn falling_run(idx: &[u32]) -> bool {
+pub fn falling_run(idx: &[u32]) -> bool {
     let first = idx.first().map_or(0, |&i| i as usize);
     idx.iter().enumerate().fold(true, |run, (j, &i)| {
         run & (i as usize == first.wrapping_sub(j))

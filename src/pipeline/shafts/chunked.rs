@@ -13,7 +13,7 @@ use super::units::{counters_add, Units};
 use super::view::{CameraView, LightView};
 use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
-use rtl_model::units::blend::Blend;
+use rtl_model::units::blend::{Blend, LanesAt};
 use rtl_model::units::modulate::{Modulate, Operand};
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::projective_texcoord::{
@@ -121,19 +121,27 @@ impl UnitSpan {
         self.tally.add(a.len());
     }
 
-    /// A single-channel weighted blend in lanes, in place ([`Blend::blend_lanes_at`]):
-    /// lane i blends `src[i]` over `dst[at[i] − offset]`, counted as the batch kernel
-    /// counts those inputs.
+    /// A single-channel weighted blend in lanes, in place ([`Blend::blend_lanes_at`],
+    /// prepared once by [`Blend::lanes_at`]): lane i blends `src[i]` over
+    /// `dst[at[i] − offset]`, counted as the batch kernel counts those inputs.
     #[inline]
     pub fn feed_blend_lanes(
         &mut self,
-        unit: &Blend,
+        blend: &LanesAt,
         src: &[u32],
         at: (&[u32], usize),
         dst: &mut [u32],
     ) {
-        unit.blend_lanes_at(src, at, dst, &mut self.ctr);
+        blend.blend(src, at, dst, &mut self.ctr);
         self.tally.add(src.len());
+    }
+
+    /// `n` lanes of [`Self::feed_blend_lanes`] whose source is 0, counted without
+    /// blending ([`Blend::count_zero_lanes`]: they leave their words as they are).
+    #[inline]
+    pub fn feed_blend_zero_lanes(&mut self, unit: &Blend, n: usize) {
+        unit.count_zero_lanes(n as u64, &mut self.ctr);
+        self.tally.add(n);
     }
 
     /// Unweighted pixel blends in place ([`Blend::blend_pixels_in_place`]), counted

@@ -25,6 +25,7 @@ use rtl_model::error::ConfigError;
 use rtl_model::units::blend::{Blend, BlendIn};
 use rtl_model::units::modulate::Operand;
 use rtl_model::units::polygon_interpolator::{PolyLanes, PolySetup};
+use rtl_model::units::rising_run;
 use rtl_model::units::texture_sampler::{
     AddressMode, Filter, TextureSampler, TextureSamplerConfig, TextureSamplerIn,
 };
@@ -37,16 +38,22 @@ use std::sync::Mutex;
 /// fragment list each). Fixed, so the work split never depends on the thread count.
 const SUBPLANE_BATCH: usize = 4;
 
-/// One sub-plane's visible pixels (y·w + x, in walk order), their H·I_l, whether
-/// their rows never go up, and the counters of the units that made them.
-/// And, when recording, what the sub-plane did.
-type SubPlaneHil = (
-    Vec<u32>,
-    Vec<u32>,
-    bool,
-    BTreeMap<String, Counters>,
-    Option<Rec>,
-);
+/// One sub-plane's visible fragments as the J buffer's blend takes them, the
+/// counters of the units that made them and, when recording, what the sub-plane did.
+struct SubPlaneHil {
+    /// The blended fragments' pixels (y·w + x), in walk order.
+    pix: Vec<u32>,
+    /// Their H·I_l.
+    hil: Vec<u32>,
+    /// Visible fragments left out of the lists: whole blocks of them whose H·I_l is
+    /// 0 (outside the light's square, behind it or in shadow), which the blend
+    /// counts and leaves as they are ([`Blend::count_zero_lanes`]).
+    zero: usize,
+    /// The rows of `pix` never go up.
+    rows_in_order: bool,
+    counters: BTreeMap<String, Counters>,
+    rec: Option<Rec>,
+}
 
 /// Full-screen word lists (the sub-planes' pixel and H·I_l lists, the J buffer) handed
 /// back once an interval's J buffer is made and reused by the next interval's: fresh
@@ -373,6 +380,7 @@ fn subplane_hil(
     // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
     let mut wb = WalkBuffers::unread(0b1111);
     let (mut rows_in_order, mut last_y) = (true, 0i64);
+    let mut zero = 0;
     let mut rec = recording.map(|bands| subplane_rec(ctx, bands, (w, h)));
     let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
     let (mut lm, mut sm) = (Vec::new(), Vec::new());
@@ -392,18 +400,61 @@ fn subplane_hil(
         rows_in_order &=
             px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
         last_y = px.y.last().copied().unwrap_or(last_y);
-        let last = px.x.len().min(px.y.len()).saturating_sub(1);
-        pix.extend(b.visible.iter().map(|&i| {
-            // Clamped to the lanes (visible lanes always lie in them): no bounds check.
-            let i = (i as usize).min(last);
-            px.y[i] as u32 * w + px.x[i] as u32
-        }));
-        hil.extend_from_slice(&b.hil);
+        zero += push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil));
     });
     counters_add(&mut local, "polygon_interpolator", c_int);
     ctx.close_visible(zspan, &mut local);
     spans.close(ctx, &mut local);
-    Ok((pix, hil, rows_in_order, local, rec))
+    Ok(SubPlaneHil {
+        pix,
+        hil,
+        zero,
+        rows_in_order,
+        counters: local,
+        rec,
+    })
+}
+
+/// The walked lanes `visible` with H·I_l `hil` (one per visible lane) appended to
+/// a sub-plane's lists, in blocks of 16: a block's pixel indices y·w + x to `pix`
+/// and its H·I_l to `hil_out`. A block whose H·I_l is all 0 (most of a sub-plane
+/// lies outside the light's square) is left out: its lanes would blend 0 into J,
+/// which changes no word. Returns how many lanes were left out, for the blend to
+/// count. A block of lanes on neighbouring words (a stretch of a walk row where
+/// every pixel is visible) is read as slices, so it runs as vectors; other blocks
+/// lane by lane.
+fn push_fragments(
+    px: &PolyLanes,
+    (visible, hil): (&[u32], &[u32]),
+    w: u32,
+    (pix, hil_out): (&mut Vec<u32>, &mut Vec<u32>),
+) -> usize {
+    const BLOCK: usize = 16;
+    assert_eq!(visible.len(), hil.len(), "one H·I_l per visible lane");
+    let lanes = px.x.len().min(px.y.len());
+    let (x, y) = (&px.x[..lanes], &px.y[..lanes]);
+    let at = |(&x, &y): (&i64, &i64)| y as u32 * w + x as u32;
+    let mut zero = 0;
+    for (block, h) in visible.chunks(BLOCK).zip(hil.chunks(BLOCK)) {
+        if h.iter().fold(0, |any, &v| any | v) == 0 {
+            zero += block.len();
+            continue;
+        }
+        hil_out.extend_from_slice(h);
+        let first = block[0] as usize;
+        if rising_run(block) && first + block.len() <= lanes {
+            let run = first..first + block.len();
+            pix.extend(x[run.clone()].iter().zip(&y[run]).map(at));
+        } else {
+            // Clamped to the lanes (visible lanes always lie in them): no bounds check.
+            let last = lanes.saturating_sub(1);
+            pix.extend(block.iter().map(|&i| {
+                let i = (i as usize).min(last);
+                at((&x[i], &y[i]))
+            }));
+        }
+    }
+    zero
 }
 
 /// The sub-plane at eye distance `uj` set up as one full-screen parallelogram: its
@@ -461,8 +512,15 @@ fn subplanes_into_j(
     let m = cfg.subplanes as usize;
     let mut jbuf = pool.zeroed((w * h) as usize);
     for (j, res) in hils.into_iter().enumerate() {
-        let (pix, hil, rows_in_order, local, rec) = res?;
-        for (k, c) in local {
+        let SubPlaneHil {
+            pix,
+            hil,
+            zero,
+            rows_in_order,
+            counters,
+            rec,
+        } = res?;
+        for (k, c) in counters {
             counters_add(ctr, &k, c);
         }
         // Sub-plane j's blend weight: the driver splits full scale W into m parts
@@ -472,7 +530,8 @@ fn subplanes_into_j(
         // m = 25).
         let wmax = max_code(cfg.weight_bits) as u64;
         let weight = (((j as u64 + 1) * wmax / m as u64) - (j as u64 * wmax / m as u64)) as u32;
-        let span = blend_j(&u.j_blend, &mut jbuf, w, &pix, &hil, rows_in_order, weight);
+        let fragments = (&pix[..], &hil[..], zero);
+        let span = blend_j(&u.j_blend, &mut jbuf, w, fragments, rows_in_order, weight);
         span.close("additive_blend (J buffer)", u.j_blend.timing(), ctr);
         let mut st = PassStats::new(
             PassKind::SubPlane,
@@ -481,7 +540,7 @@ fn subplanes_into_j(
         );
         st.triangles = 1;
         st.walked = (w * h) as u64;
-        st.fragments = pix.len() as u64;
+        st.fragments = (pix.len() + zero) as u64;
         pool.give(pix);
         pool.give(hil);
         let work = rec.map(|r| {
@@ -498,8 +557,9 @@ fn subplanes_into_j(
 /// Rows of the J buffer one thread blends at a time.
 const J_BAND_ROWS: usize = 16;
 
-/// One sub-plane's H·I_l (`hil` at pixels `pix`, y·w + x) blended with `weight` into
-/// the J buffer: one span of the J-buffer blend. A parallelogram's walk covers each
+/// One sub-plane's H·I_l (`hil` at pixels `pix`, y·w + x, and `zero` lanes of 0 left
+/// out of the lists) blended with `weight` into the J buffer: one span of the
+/// J-buffer blend. A parallelogram's walk covers each
 /// pixel once and goes down the rows, so bands of rows are disjoint runs of `pix`,
 /// blended in parallel, each in place (each reads what the span driver read; the
 /// counters are sums, the same in any order). `rows_in_order`: the rows of `pix` never
@@ -508,8 +568,7 @@ fn blend_j(
     u: &Blend,
     jbuf: &mut [u32],
     w: u32,
-    pix: &[u32],
-    hil: &[u32],
+    (pix, hil, zero): (&[u32], &[u32], usize),
     rows_in_order: bool,
     weight: u32,
 ) -> UnitSpan {
@@ -518,14 +577,18 @@ fn blend_j(
     let u = &u.with_weight(weight);
     // In lanes, each J value read, blended and written back in place
     // (`blend_lanes_at`: the batch kernel on [H·I_l, 0, 0, 0] over [J, 0, 0, 0]; the
-    // walk covers each pixel once, so each reads J as the span driver read it).
+    // walk covers each pixel once, so each reads J as the span driver read it). Its
+    // contribution table built once for every band.
+    let lanes = u.lanes_at();
     let blend = |base: usize, jb: &mut [u32], pix: &[u32], hil: &[u32]| {
         let mut span = UnitSpan::default();
-        span.feed_blend_lanes(u, hil, (pix, base), jb);
+        span.feed_blend_lanes(&lanes, hil, (pix, base), jb);
         span
     };
     if !rows_in_order {
-        return blend(0, jbuf, pix, hil);
+        let mut span = blend(0, jbuf, pix, hil);
+        span.feed_blend_zero_lanes(u, zero);
+        return span;
     }
     let parts: Vec<UnitSpan> = jbuf
         .par_chunks_mut(band)
@@ -541,6 +604,7 @@ fn blend_j(
     for p in &parts {
         span.merge(p);
     }
+    span.feed_blend_zero_lanes(u, zero);
     span
 }
 
