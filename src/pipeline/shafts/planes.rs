@@ -777,16 +777,22 @@ fn draw_cells(
     let cells: Vec<(u32, u32)> = (0..rows)
         .flat_map(|l| (0..cols).map(move |k| (k, l)))
         .collect();
+    // With sub-planes J comes from the J texture: no one reads the light attributes.
+    // The depth test, the shading and the record read covered words alone.
+    let unread = if pc.jtex.is_some() { 0xf0 } else { 0 };
+    // Each worker's scratch buffers reused from cell to cell (every one is cleared
+    // before it is read, as from chunk to chunk within a cell).
+    let scratch = || (PlaneBuffers::default(), WalkBuffers::covered(unread));
     cells
         .par_iter()
-        .map(|&(k, l)| {
+        .map_init(scratch, |(b, wb), &(k, l)| {
             let q = [
                 mesh.vertex(k, l),
                 mesh.vertex(k + 1, l),
                 mesh.vertex(k + 1, l + 1),
                 mesh.vertex(k, l + 1),
             ];
-            cell(pc, &q, w, h)
+            cell(pc, &q, (w, h), (b, wb))
         })
         .collect()
 }
@@ -875,15 +881,17 @@ fn light_color_codes(l: &crate::scene::format::Light, tex_max: u32) -> ([u32; 3]
 /// what it did.
 type DrawnCell = (Vec<PlaneFrag>, PlaneSpans, Option<Rec>);
 
-/// One mesh cell (a GL quad: two triangles) walked, depth-tested and shaded.
-fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell, ConfigError> {
+/// One mesh cell (a GL quad: two triangles) walked, depth-tested and shaded, on the
+/// worker's scratch buffers `b` and `wb`.
+fn cell(
+    pc: &PlaneCtx,
+    q: &[HostVertex; 4],
+    (w, h): (u32, u32),
+    (b, wb): (&mut PlaneBuffers, &mut WalkBuffers),
+) -> Result<DrawnCell, ConfigError> {
     let u = pc.ctx.units;
     let mut spans = PlaneSpans::default();
     let mut out = Vec::new();
-    let mut b = PlaneBuffers::default();
-    // With sub-planes J comes from the J texture: no one reads the light attributes.
-    // The depth test, the shading and the record read covered words alone.
-    let mut wb = WalkBuffers::covered(if pc.jtex.is_some() { 0xf0 } else { 0 });
     let mut c_int = Counters::default();
     let qv = quantise(&u.interp, q, &mut c_int)?;
     let mut rec = pc.record.then(|| Rec::sampled(pc.bands));
@@ -894,8 +902,8 @@ fn cell(pc: &PlaneCtx, q: &[HostVertex; 4], w: u32, h: u32) -> Result<DrawnCell,
         if let Some(r) = rec.as_mut() {
             r.prim(0);
         }
-        walk_rows_lanes(&u.interp, &s, &mut c_int, &mut wb, |px| {
-            shade_chunk(pc, px, (w, h), &mut spans, &mut b, &mut out, rec.as_mut())
+        walk_rows_lanes(&u.interp, &s, &mut c_int, wb, |px| {
+            shade_chunk(pc, px, (w, h), &mut spans, b, &mut out, rec.as_mut())
         });
         if let Some(r) = rec.as_mut() {
             r.walked(c_int.pixels_in - walked_before);
