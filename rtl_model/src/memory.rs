@@ -11,7 +11,12 @@ pub fn bytes_for_bits(bits: u32) -> u64 {
 
 /// Count a framebuffer read-modify-write of one pixel of `pixel_bits` (read + write).
 pub fn framebuffer_rmw(ctr: &mut Counters, pixel_bits: u32) {
-    let b = bytes_for_bits(pixel_bits);
+    framebuffer_rmws(ctr, 1, pixel_bits);
+}
+
+/// Count `n` framebuffer read-modify-writes of pixels of `pixel_bits` each.
+pub fn framebuffer_rmws(ctr: &mut Counters, n: u64, pixel_bits: u32) {
+    let b = bytes_for_bits(pixel_bits) * n;
     ctr.mem_read_bytes += b;
     ctr.mem_write_bytes += b;
 }

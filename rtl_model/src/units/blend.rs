@@ -65,7 +65,7 @@
 use crate::cost::{prim, Cost};
 use crate::counters::Counters;
 use crate::error::ConfigError;
-use crate::memory::{bytes_for_bits, framebuffer_rmw};
+use crate::memory::{framebuffer_rmw, framebuffer_rmws};
 use crate::unit::{Signal, Timing, Unit, Width};
 use crate::unorm::{check_bits, max_code, narrow, widen};
 use serde::{Deserialize, Serialize};
@@ -751,9 +751,7 @@ impl Blend {
     /// lanes out of `blend_lanes_at` and count them here: the same words, the same
     /// counters.
     pub fn count_zero_lanes(&self, n: u64, ctr: &mut Counters) {
-        let bytes = bytes_for_bits(self.pixel_bits()) * n;
-        ctr.mem_read_bytes += bytes;
-        ctr.mem_write_bytes += bytes;
+        framebuffer_rmws(ctr, n, self.pixel_bits());
     }
 
     /// The additive batch kernel on unweighted pixels, in place (the framebuffer's
@@ -799,9 +797,7 @@ impl Blend {
                 under[c] += u64::from(sm != 0 && q == 0);
             }
         }
-        let bytes = bytes_for_bits(self.pixel_bits()) * n as u64;
-        ctr.mem_read_bytes += bytes;
-        ctr.mem_write_bytes += bytes;
+        framebuffer_rmws(ctr, n as u64, self.pixel_bits());
         ctr.saturations += sat.iter().sum::<u64>();
         ctr.underflows += under.iter().sum::<u64>();
         true
@@ -1001,9 +997,7 @@ impl LanesAt<'_> {
         }
         // Channels 1 ..= 3 carry source and destination 0: the contribution of source 0
         // is 0 (align and weight map 0 to 0), so their sums are 0 and count nothing.
-        let bytes = bytes_for_bits(unit.pixel_bits()) * n;
-        ctr.mem_read_bytes += bytes;
-        ctr.mem_write_bytes += bytes;
+        framebuffer_rmws(ctr, n, unit.pixel_bits());
         ctr.saturations += sat;
         ctr.underflows += under;
     }
@@ -1066,9 +1060,7 @@ impl Unit for Blend {
                 o
             }));
         }
-        let bytes = bytes_for_bits(self.pixel_bits()) * inputs.len() as u64;
-        ctr.mem_read_bytes += bytes;
-        ctr.mem_write_bytes += bytes;
+        framebuffer_rmws(ctr, inputs.len() as u64, self.pixel_bits());
         ctr.saturations += sat;
         ctr.underflows += under;
     }

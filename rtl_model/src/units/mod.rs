@@ -42,7 +42,7 @@ pub fn rising_run(idx: &[u32]) -> bool {
 /// Whether the lane indices `idx` are first, first − 1, … (a leftward run; one that
 /// would pass below 0 is not), checked as [`rising_run`].
 #[inline(always)]
-pub fn falling_run(idx: &[u32]) -> bool {
+pub(crate) fn falling_run(idx: &[u32]) -> bool {
     let first = idx.first().map_or(0, |&i| i as usize);
     idx.iter().enumerate().fold(true, |run, (j, &i)| {
         run & (i as usize == first.wrapping_sub(j))

@@ -585,11 +585,24 @@ fn blend_j(
         span.feed_blend_lanes(&lanes, hil, (pix, base), jb);
         span
     };
-    if !rows_in_order {
-        let mut span = blend(0, jbuf, pix, hil);
-        span.feed_blend_zero_lanes(u, zero);
-        return span;
-    }
+    let mut span = if rows_in_order {
+        blend_bands(jbuf, band, (pix, hil), blend)
+    } else {
+        blend(0, jbuf, pix, hil)
+    };
+    span.feed_blend_zero_lanes(u, zero);
+    span
+}
+
+/// [`blend_j`]'s lists blended band by band (`band` words of J each) in parallel:
+/// each band takes the run of `pix` that falls in it (the rows never go up) and
+/// `blend(base, band's words, pix, hil)` returns its span; the spans merged.
+fn blend_bands(
+    jbuf: &mut [u32],
+    band: usize,
+    (pix, hil): (&[u32], &[u32]),
+    blend: impl Fn(usize, &mut [u32], &[u32], &[u32]) -> UnitSpan + Sync,
+) -> UnitSpan {
     let parts: Vec<UnitSpan> = jbuf
         .par_chunks_mut(band)
         .enumerate()
@@ -604,7 +617,6 @@ fn blend_j(
     for p in &parts {
         span.merge(p);
     }
-    span.feed_blend_zero_lanes(u, zero);
     span
 }
 
