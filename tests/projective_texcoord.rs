@@ -631,3 +631,194 @@ proptest! {
         }
     }
 }
+
+/// `a.kernel_pair_lanes_in_square(b, …)` against the exact pair form on the same
+/// lanes (every index): the same counters for both units, the same behind flags, and
+/// wherever a code differs, the lane is in front of the projector and outside the
+/// unit square on the same side in both (some coordinate below 0 in both, or above
+/// 1.0 in both), each coordinate's clamp exactly the kernel's, and no given code
+/// larger in magnitude than the exact one. Returns the lanes that differ.
+fn square_form_agrees(a: &ProjectiveTexcoord, b: &ProjectiveTexcoord, lanes: [&[i64]; 4]) -> usize {
+    let idx: Vec<u32> = (0..lanes[0].len() as u32).collect();
+    let (mut exact, mut cut) = (ProjLanes::default(), ProjLanes::default());
+    let (mut eu, mut cu) = (Vec::new(), Vec::new());
+    let (mut ea, mut eb, mut ca, mut cb) = Default::default();
+    let done = a.kernel_pair_lanes(b, lanes, &idx, &mut exact, &mut eu, &mut ea, &mut eb);
+    let cut_done =
+        a.kernel_pair_lanes_in_square(b, lanes, &idx, &mut cut, &mut cu, &mut ca, &mut cb);
+    assert_eq!(done, cut_done.is_some());
+    if !done {
+        assert!(cut.is_empty() && cu.is_empty());
+        return 0;
+    }
+    assert_eq!((ea, eb), (ca, cb), "counters");
+    assert_eq!(exact.behind, cut.behind);
+    let one = 1i32 << a.config().out_frac_bits;
+    let clamps = |u: &ProjectiveTexcoord| {
+        let f = u.out_format();
+        [f.min_raw() as i32, f.max_raw() as i32]
+    };
+    let (ca_, cb_) = (clamps(a), clamps(b));
+    let mut differ = 0;
+    for j in 0..idx.len() {
+        let (e, c) = ([exact.u[j], exact.v[j]], [cut.u[j], cut.v[j]]);
+        if e == c && eu[j] == cu[j] {
+            continue;
+        }
+        differ += 1;
+        assert!(!exact.behind[j], "lane {j} behind the projector changed");
+        let same_side = (0..2).any(|k| (e[k] < 0 && c[k] < 0) || (e[k] > one && c[k] > one));
+        assert!(
+            same_side,
+            "lane {j}: exact {e:?}, given {c:?}: not outside on one side"
+        );
+        for k in 0..2 {
+            assert_eq!(ca_.contains(&e[k]), ca_.contains(&c[k]), "lane {j} clamp");
+            assert!(!ca_.contains(&e[k]) || e[k] == c[k], "lane {j} clamp code");
+            assert!(
+                c[k].abs() <= e[k].abs(),
+                "lane {j}: |{}| > |{}|",
+                c[k],
+                e[k]
+            );
+        }
+        assert_eq!(
+            cb_.contains(&eu[j]),
+            cb_.contains(&cu[j]),
+            "lane {j} depth clamp"
+        );
+        assert!(
+            !cb_.contains(&eu[j]) || eu[j] == cu[j],
+            "lane {j} depth clamp code"
+        );
+        assert!(cu[j].abs() <= eu[j].abs(), "lane {j} depth magnitude");
+    }
+    differ
+}
+
+/// Blocks of 64 lanes from a plane's view of the light, as the shafts frame's light
+/// map and depth see them: per block a q and s/q, t/q, r/q ratios (as multiples of
+/// 1/16) with a small spread across the block.
+fn plane_blocks(blocks: &[(i64, [i64; 3], i64)]) -> [Vec<i64>; 4] {
+    let mut l: [Vec<i64>; 4] = Default::default();
+    for &(q, ratios, spread) in blocks {
+        for j in 0..64i64 {
+            let qj = q + j * spread;
+            for (lane, x) in l.iter_mut().zip(ratios) {
+                lane.push((x * qj) / 16 + j * spread);
+            }
+            l[3].push(qj);
+        }
+    }
+    l
+}
+
+#[test]
+fn the_square_form_gives_class_codes_to_a_block_far_outside_and_exact_ones_elsewhere() {
+    let (a, b) = (
+        ProjectiveTexcoord::geforce(),
+        shafts_depth().build().unwrap(),
+    );
+    let q = 1i64 << 24;
+    // Block 0: s/q = −1 (u far below 0), t/q = ½, r/q = ½. Block 1: s/q = ½ (inside
+    // the square). Block 2: s/q = 12 (u saturates), t/q = −12 (v saturates), r/q = 3
+    // (the depth saturates). Block 3: behind the projector.
+    let lanes = plane_blocks(&[
+        (q, [-16, 8, 8], 3),
+        (q, [8, 8, 8], 3),
+        (q, [192, -192, 48], 3),
+        (-q, [8, 8, 8], 3),
+    ]);
+    let lanes = [&lanes[0][..], &lanes[1][..], &lanes[2][..], &lanes[3][..]];
+    let differ = square_form_agrees(&a, &b, lanes);
+    let idx: Vec<u32> = (0..256).collect();
+    let (mut cut, mut cu) = (ProjLanes::default(), Vec::new());
+    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+    // Blocks 0, 2 and 3 are skipped; block 1 is not.
+    let skipped =
+        a.kernel_pair_lanes_in_square(&b, lanes, &idx, &mut cut, &mut cu, &mut ca, &mut cb);
+    assert_eq!(skipped, Some(192));
+    // Block 0 takes −1 for u, 0 for v and the depth; the others are exact (block 1 is
+    // inside, block 2 is all clamps, block 3 is behind: their codes are the kernel's).
+    assert!(cut.u[..64].iter().all(|&u| u == -1));
+    assert!(cut.v[..64].iter().chain(&cu[..64]).all(|&c| c == 0));
+    assert_eq!(differ, 64);
+    assert!(cut.u[128..192].iter().all(|&u| u == i16::MAX as i32));
+    assert!(cut.v[128..192].iter().all(|&v| v == i16::MIN as i32));
+    assert_eq!(ca.saturations, 128);
+    assert_eq!(cb.saturations, 64);
+    assert_eq!((ca.underflows, cb.underflows), (64, 64));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// The bound the square form rests on: wherever `recip_error_bound` gives ε, the
+    /// reciprocal of any q is within it (|1 − m·r| ≤ ε, m = q·2⁻ᵖ), at random configs
+    /// and words.
+    #[test]
+    fn the_reciprocal_is_within_its_derived_bound(
+        conf in random_valid_config(),
+        words in prop::collection::vec(any::<u64>(), 1..200),
+    ) {
+        let u = conf.build().unwrap();
+        let Some(eps) = u.recip_error_bound() else { return Ok(()); };
+        prop_assert!(eps <= 1.0 / 16.0);
+        let w = u.in_bits();
+        for x in words {
+            let qmag = (x & ((1u64 << (w - 1)) - 1)) >> (x % 61).min(w as u64 - 2);
+            if qmag == 0 {
+                continue;
+            }
+            let mut c = Counters::default();
+            let (r, p) = u.reciprocal(qmag, &mut c);
+            let m = qmag as f64 / (p as f64).exp2();
+            let r = r as f64 / (u.recip_frac_bits() as f64).exp2();
+            prop_assert!((1.0 - m * r).abs() <= eps, "q {} m {} r {} eps {}", qmag, m, r, eps);
+            prop_assert_eq!(c.saturations, 0);
+        }
+    }
+
+    /// The square form against the exact pair form at random configs sharing the
+    /// front end and on plane-like blocks (far outside, inside, near the edges,
+    /// saturating, behind): see `square_form_agrees`.
+    #[test]
+    fn the_square_form_agrees_with_the_exact_pair_form(
+        a in random_valid_config(),
+        b in random_valid_config(),
+        blocks in prop::collection::vec(
+            (0i64..31, prop::array::uniform3(-400i64..400), 0i64..64, any::<bool>()),
+            1..6,
+        ),
+        frame_pair in any::<bool>(),
+    ) {
+        // Half the cases on the shafts frame's pair, where the cut applies.
+        let (a, b) = if frame_pair {
+            (ProjectiveTexcoordConfig::geforce(), shafts_depth())
+        } else {
+            (a, b)
+        };
+        let a = a.build().unwrap();
+        let b = ProjectiveTexcoordConfig {
+            in_int_bits: a.config().in_int_bits,
+            in_frac_bits: a.config().in_frac_bits,
+            recip_index_bits: a.config().recip_index_bits,
+            recip_entry_bits: a.config().recip_entry_bits,
+            ..b
+        }
+        .build()
+        .unwrap();
+        let w = a.in_bits();
+        let top = (1i64 << (w - 1)) - 1;
+        let blocks: Vec<(i64, [i64; 3], i64)> = blocks
+            .iter()
+            .map(|&(e, x, spread, front)| {
+                let q = (1i64 << e.min(w as i64 - 2)).min(top / 2);
+                (if front { q } else { -q }, x, spread)
+            })
+            .collect();
+        // Words past the input width wrap on the wire as the kernel wraps them.
+        let lanes = plane_blocks(&blocks);
+        square_form_agrees(&a, &b, [&lanes[0], &lanes[1], &lanes[2], &lanes[3]]);
+    }
+}

@@ -199,6 +199,144 @@ impl Front {
     }
 }
 
+/// The reciprocal's relative error, bounded for every input: |1 − m·r| ≤ ε, m the
+/// normalised q and r the reciprocal after the ROM and the Newton steps (as reals).
+/// The ROM entry is 1/c at the midpoint c of its interval, within 1.5 LSB after
+/// rounding and the clamp: ε₀ = 2^−(I+1) + 2^(2−E). A Newton step in u1.N maps ε to
+/// ε² + 2^(3−N) (m truncated to N bits, two roundings to N bits, all below 2^(2−N)
+/// while ε ≤ 1/16). None where some step starts above 1/16: then the bound, and the
+/// argument that no Newton step clamps, do not hold.
+fn error_bound(cfg: &ProjectiveTexcoordConfig) -> Option<f64> {
+    let mut eps =
+        (-(cfg.recip_index_bits as f64 + 1.0)).exp2() + (2.0 - cfg.recip_entry_bits as f64).exp2();
+    for _ in 0..cfg.newton_steps {
+        if eps > 1.0 / 16.0 {
+            return None;
+        }
+        // With |1 − m·r| ≤ 1/16: d = 2 − m·r ∈ [15/16, 17/16 + 2^−N·2] inside u1.N's
+        // range, and r·d < 1.34 < 2: neither clamp can fire.
+        eps = eps * eps + (3.0 - cfg.newton_frac_bits as f64).exp2();
+    }
+    (eps <= 1.0 / 16.0).then_some(eps)
+}
+
+/// Which blocks of [`ProjectiveTexcoord::kernel_pair_lanes_in_square`] skip the
+/// Newton steps and the scaling: those whose every input is behind the projector or
+/// certainly outside the unit square with every coordinate's saturation certain.
+/// With the reciprocal within 1/16 ([`ProjectiveTexcoord::recip_error_bound`]), a
+/// coordinate's code is
+/// X·(1 ± 1/16) ± ½ for X = x·2^of/q (x = s, t or r, of its unit's output fraction
+/// bits, q > 0), so in integers:
+/// - 8x < −q (X < −1/8): the code is below 0;
+/// - 8x > 9q (X > 9/8): it is above 1.0;
+/// - 8|x|·2^of ≤ 7q·2^(O−1) (|X| ≤ 7/8 of the range): it does not saturate;
+/// - 8|x|·2^of ≥ 9q·2^(O−1) (|X| ≥ 9/8 of it): it saturates, to its exact clamp.
+#[derive(Clone, Copy, Debug)]
+pub struct SquareCut {
+    /// Output fraction bits and range exponent O − 1 of the (s, t) unit.
+    st: (u32, u32),
+    /// The same of the depth (r) unit.
+    r: (u32, u32),
+}
+
+impl SquareCut {
+    /// The cut of a pair that takes the pair form, where both reciprocals are within
+    /// 1/16 and the comparisons fit 63 bits (|x| < 2^(W−1), q < 2^(W−1)); the margins
+    /// need 1.0 ≥ 16 LSB (of ≥ 4) and the range ≥ 64 LSB (O ≥ 7), and the (s, t)
+    /// unit's range must reach 2.0 (O ≥ of + 2), so that its clamps are outside the
+    /// square. None elsewhere.
+    pub fn of(st: &ProjectiveTexcoord, r: &ProjectiveTexcoord) -> Option<SquareCut> {
+        let w = st.in_bits();
+        let fits = |u: &ProjectiveTexcoord| {
+            let (of, ob) = (u.cfg.out_frac_bits, u.out_bits());
+            u.recip_error_bound().is_some()
+                && of >= 4
+                && ob >= 7
+                && w + of + 3 <= 62
+                && w + ob + 3 <= 62
+        };
+        // A clamped u or v must lie outside the square too: the range reaches 2.0.
+        let past_one = st.out_bits() > st.cfg.out_frac_bits + 1;
+        let ok = st.pair_lanes_apply(r) && fits(st) && fits(r) && past_one;
+        let shape = |u: &ProjectiveTexcoord| (u.cfg.out_frac_bits, u.out_bits() - 1);
+        ok.then(|| SquareCut {
+            st: shape(st),
+            r: shape(r),
+        })
+    }
+
+    /// One coordinate x at q > 0 of a unit (of, O − 1): (certain, saturates, the code
+    /// given: exact if it saturates, else −1 below 0, 1.0 + 1 LSB above 1.0, 0
+    /// between), and whether it is certainly outside [0, 1].
+    #[inline(always)]
+    fn coord(x: i64, q: i64, (of, big): (u32, u32)) -> (bool, bool, i64, bool) {
+        let a = x.abs() << (of + 3);
+        let quiet = a <= (7 * q) << big;
+        let sat = a >= (9 * q) << big;
+        let (below, above) = (8 * x < -q, 8 * x > 9 * q);
+        let clamp = if x < 0 {
+            -(1i64 << big)
+        } else {
+            (1i64 << big) - 1
+        };
+        let code = if sat {
+            clamp
+        } else if below {
+            -1
+        } else if above {
+            (1i64 << of) + 1
+        } else {
+            0
+        };
+        (quiet | sat, sat, code, below | above)
+    }
+
+    /// One block's lanes [s, t, r, q] (the first `len`, q as its raw word of width
+    /// `w`): where every lane is decided, its live bits (q > 0) into `live`, the
+    /// codes into [u, v, du] (anything behind the projector) and Some((saturations of
+    /// u and v, saturations of du)) in front of it; None where some lane is not.
+    #[inline(always)]
+    fn block(
+        &self,
+        [s, t, r, q]: [&[i64; LANES]; 4],
+        len: usize,
+        w: u32,
+        live: &mut [i64; LANES],
+        [u, v, du]: [&mut [i64; LANES]; 3],
+    ) -> Option<(i64, i64)> {
+        // A block's lanes are neighbours on the screen: one undecided end lane
+        // (the common case in a block that is not cut) is enough to give up early.
+        let decided = |j: usize| {
+            let qj = sext(q[j], w);
+            qj <= 0 || {
+                let (cs, _, _, fs) = Self::coord(s[j], qj, self.st);
+                let (ct, _, _, ft) = Self::coord(t[j], qj, self.st);
+                let (cr, _, _, _) = Self::coord(r[j], qj, self.r);
+                cs & ct & cr & (fs | ft)
+            }
+        };
+        if len == 0 || !decided(0) || !decided(len - 1) {
+            return None;
+        }
+        let (mut all, mut sat, mut dsat) = (true, 0i64, 0i64);
+        for j in 0..len {
+            let qj = sext(q[j], w);
+            let l = qj > 0;
+            let qq = if l { qj } else { 1 };
+            let (cs, ss, us, fs) = Self::coord(s[j], qq, self.st);
+            let (ct, st, ut, ft) = Self::coord(t[j], qq, self.st);
+            let (cr, sr, ur, _) = Self::coord(r[j], qq, self.r);
+            all &= !l | (cs & ct & cr & (fs | ft));
+            let li = i64::from(l);
+            live[j] = li;
+            (u[j], v[j], du[j]) = (us, ut, if sr { ur } else { 0 });
+            sat += (i64::from(ss) + i64::from(st)) & -li;
+            dsat += i64::from(sr) & -li;
+        }
+        all.then_some((sat, dsat))
+    }
+}
+
 /// What the integrator needs to write the ROM as a `$readmemh` table.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct RomParams {
@@ -434,6 +572,14 @@ impl ProjectiveTexcoord {
             fr = n;
         }
         (r, p)
+    }
+
+    /// A bound ε on the reciprocal's relative error, |1 − m·r| ≤ ε for every q > 0
+    /// (m = q·2⁻ᵖ ∈ [1, 2), r the reciprocal as a real), derived from I, E, N and the
+    /// Newton steps alone; None where the derivation needs ε ≤ 1/16 at a step and
+    /// the widths do not give it.
+    pub fn recip_error_bound(&self) -> Option<f64> {
+        error_bound(&self.cfg)
     }
 
     /// Whether the whole datapath fits 64-bit carriers: the Newton products and
@@ -699,16 +845,64 @@ impl ProjectiveTexcoord {
     pub fn kernel_pair_lanes(
         &self,
         other: &ProjectiveTexcoord,
-        [s, t, r, q]: [&[i64]; 4],
+        lanes: [&[i64]; 4],
         idx: &[u32],
         out: &mut ProjLanes,
         other_u: &mut Vec<i32>,
         ctr: &mut Counters,
         other_ctr: &mut Counters,
     ) -> bool {
+        self.pair_lanes(other, lanes, idx, out, other_u, [ctr, other_ctr], None)
+            .is_some()
+    }
+
+    /// [`Self::kernel_pair_lanes`] for a caller that reads nothing of a fragment
+    /// outside the unit square [0, 1]² in (u, v) but its counters: the same counters,
+    /// and the same outputs except in a block of [`LANES`] inputs where every input is
+    /// behind the projector or certainly outside the square ([`SquareCut`], decided
+    /// in integers from s, t, r and q alone). There the Newton steps and the scaling
+    /// are skipped, and an input in front of the projector gets codes of the same
+    /// classes as the exact ones:
+    /// - a coordinate that saturates gets its exact (clamped) code;
+    /// - one certainly below 0 gets −1, one certainly above 1.0 gets 1.0 + 1 LSB;
+    /// - any other gets 0, and `other`'s depth gets 0 where it does not saturate.
+    ///
+    /// Each replacement has a magnitude no larger than the exact code's. Returns how
+    /// many inputs were in skipped blocks (all of them: every input is behind the
+    /// projector or outside the square), or None with nothing done where the pair
+    /// form does not apply.
+    #[allow(clippy::too_many_arguments)]
+    pub fn kernel_pair_lanes_in_square(
+        &self,
+        other: &ProjectiveTexcoord,
+        lanes: [&[i64]; 4],
+        idx: &[u32],
+        out: &mut ProjLanes,
+        other_u: &mut Vec<i32>,
+        ctr: &mut Counters,
+        other_ctr: &mut Counters,
+    ) -> Option<usize> {
+        let cut = SquareCut::of(self, other);
+        self.pair_lanes(other, lanes, idx, out, other_u, [ctr, other_ctr], cut)
+    }
+
+    /// [`Self::kernel_pair_lanes`]'s body; with `cut`, the blocks it decides skipped
+    /// (Some(the inputs in them)).
+    #[allow(clippy::too_many_arguments)]
+    fn pair_lanes(
+        &self,
+        other: &ProjectiveTexcoord,
+        [s, t, r, q]: [&[i64]; 4],
+        idx: &[u32],
+        out: &mut ProjLanes,
+        other_u: &mut Vec<i32>,
+        [ctr, other_ctr]: [&mut Counters; 2],
+        cut: Option<SquareCut>,
+    ) -> Option<usize> {
         if !self.pair_lanes_apply(other) {
-            return false;
+            return None;
         }
+        let mut skipped = 0;
         let w = self.in_bits();
         out.reserve(idx.len());
         other_u.reserve(idx.len());
@@ -747,10 +941,27 @@ impl ProjectiveTexcoord {
                     (*sj, *tj, *rj, *qj) = (sext(s[i], w), sext(t[i], w), sext(r[i], w), q[i]);
                 }
             }
-            self.front_lanes(&ql, len, &mut f);
-            let sat = self.back_lanes(&f, len, &sl, &mut u, Some((&tl, &mut v)));
+            let cut_sats = cut.and_then(|c| {
+                c.block(
+                    [&sl, &tl, &rl, &ql],
+                    len,
+                    w,
+                    &mut f.live,
+                    [&mut u, &mut v, &mut du],
+                )
+            });
+            let (sat, dsat) = match cut_sats {
+                Some(sats) => {
+                    skipped += len;
+                    sats
+                }
+                None => {
+                    self.front_lanes(&ql, len, &mut f);
+                    let sat = self.back_lanes(&f, len, &sl, &mut u, Some((&tl, &mut v)));
+                    (sat, other.back_lanes(&f, len, &rl, &mut du, None))
+                }
+            };
             f.count(len, sat, ctr);
-            let dsat = other.back_lanes(&f, len, &rl, &mut du, None);
             f.count(len, dsat, other_ctr);
             // 0 behind the projector: the value masked by the lane's live bit.
             let live = &f.live[..len];
@@ -760,7 +971,7 @@ impl ProjectiveTexcoord {
             out.behind.extend(live.iter().map(|&l| l == 0));
             other_u.extend(du[..len].iter().zip(live).map(keep));
         }
-        true
+        Some(skipped)
     }
 
     /// [`Self::scale`] in a 64-bit carrier when the product is shifted right (the

@@ -672,8 +672,7 @@ impl ShadowCompare {
             reads += usize::from(is_cand & in_map);
         }
         lit.truncate(base + kept);
-        ctr.table_reads += reads as u64;
-        ctr.saturations += (n - reads) as u64;
+        self.count_tests(reads, n - reads, ctr);
         Some(n)
     }
 
@@ -745,8 +744,7 @@ impl ShadowCompare {
         }
         let FlatTally { kept, n, reads } = t;
         lit.truncate(base + kept);
-        ctr.table_reads += reads as u64;
-        ctr.saturations += (n - reads) as u64;
+        self.count_tests(reads, n - reads, ctr);
         Some(n)
     }
 
@@ -796,9 +794,15 @@ impl ShadowCompare {
             *l = if in_map { on_map } else { border };
             reads += usize::from(in_map);
         }
-        ctr.table_reads += reads as u64;
-        ctr.saturations += (len - reads) as u64;
+        self.count_tests(reads, len - reads, ctr);
         Some(len)
+    }
+
+    /// The counters of `on_map` tests at a texel on the map and `off_map` off it (a
+    /// border lookup), whatever their depths: what the kernel counts on them.
+    pub fn count_tests(&self, on_map: usize, off_map: usize, ctr: &mut Counters) {
+        ctr.table_reads += on_map as u64;
+        ctr.saturations += off_map as u64;
     }
 
     /// One test of the lane forms on unpacked words (one word per address, checked

@@ -873,13 +873,19 @@ impl TextureSampler {
                 }));
             }
         }
-        texel_fetch(
-            ctr,
-            inputs.len() as u64 * self.cfg.texels_per_sample() as u64,
-            self.cfg.texel_bits,
-        );
+        self.count_samples(inputs.len() as u64, ctr);
         ctr.overflows += overflows;
         true
+    }
+
+    /// The counters of `n` samples none of whose coordinate wires wraps, filtered or
+    /// not: what the kernel counts on them (each sample's texel fetches).
+    pub fn count_samples(&self, n: u64, ctr: &mut Counters) {
+        texel_fetch(
+            ctr,
+            n * self.cfg.texels_per_sample() as u64,
+            self.cfg.texel_bits * self.cfg.channels,
+        );
     }
 
     /// [`Unit::kernel_batch`] where the caller discards some outputs: the outputs of
@@ -948,11 +954,7 @@ impl TextureSampler {
         } else {
             self.sample_lanes_packed(s, t, keep, out);
         }
-        texel_fetch(
-            ctr,
-            n as u64 * self.cfg.texels_per_sample() as u64,
-            self.cfg.texel_bits,
-        );
+        self.count_samples(n as u64, ctr);
         ctr.overflows += overflows;
         true
     }

@@ -220,6 +220,12 @@ pub(super) struct ChunkBuffers {
     /// path (its coordinates are then in `tex_s`, `tex_t` and `proj_lanes`, else in
     /// `tex_in` and `shadow_in`).
     pub(super) pair_path: bool,
+    /// Whether [`LightCtx::h_il`] may give a fragment outside the light's square
+    /// codes of the same classes instead of its exact ones
+    /// ([`ProjectiveTexcoord::kernel_pair_lanes_in_square`]): set by a pass that
+    /// records no footprint of these buffers' lookups (the timing's texel traces
+    /// read every lookup's address).
+    pub(super) cut_outside_square: bool,
     /// Indices (into the chunk's walked pixels) of the fragments that passed the
     /// depth test, in walk order.
     pub visible: Vec<u32>,
@@ -541,20 +547,55 @@ impl LightCtx<'_> {
         b.proj_lanes.clear();
         b.pdepth_u.clear();
         let n = b.visible.len();
-        u.proj.kernel_pair_lanes(
-            &u.proj_depth,
-            [&a[base], &a[base + 1], &a[base + 2], &a[base + 3]],
-            &b.visible,
-            &mut b.proj_lanes,
-            &mut b.pdepth_u,
-            &mut spans.proj.ctr,
-            &mut spans.proj_depth.ctr,
-        );
+        let lanes: [&[i64]; 4] = [&a[base], &a[base + 1], &a[base + 2], &a[base + 3]];
+        let (ctr, dctr) = (&mut spans.proj.ctr, &mut spans.proj_depth.ctr);
+        let (pl, du) = (&mut b.proj_lanes, &mut b.pdepth_u);
+        // Of a fragment outside the light's square only counters are read (H·I_l is
+        // 0, the shadow test's outcome is not used): its codes may be replaced by
+        // ones of the same classes, as long as the counters cannot tell them apart
+        // (it is off the shadow map, and the light map's wrapped-coordinate count is
+        // the same).
+        let square_only = light_map_never_wraps(lm, &u.proj)
+            && ShadowAddress::new(u, sh).is_the_square(sh, &u.proj);
+        let skipped = if b.cut_outside_square && square_only {
+            u.proj
+                .kernel_pair_lanes_in_square(&u.proj_depth, lanes, &b.visible, pl, du, ctr, dctr)
+        } else {
+            u.proj
+                .kernel_pair_lanes(&u.proj_depth, lanes, &b.visible, pl, du, ctr, dctr)
+                .then_some(0)
+        };
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
-        self.pair_lit(sh, ss, spans, b);
-        self.pair_light_map(lm, n, spans, b);
+        if n > 0 && skipped == Some(n) {
+            self.none_in_square(sh, lm, n, spans, b);
+        } else {
+            self.pair_lit(sh, ss, spans, b);
+            self.pair_light_map(lm, n, spans, b);
+        }
         true
+    }
+
+    /// [`Self::h_il_pair`] where every one of the `n` fragments is behind the light
+    /// or outside its square: H·I_l is 0, and the shadow test and the light map are
+    /// counted without running. Behind the light (u, v) = (0, 0), the shadow map's
+    /// texel (0, 0); outside the square the texel is off the map (a border lookup);
+    /// no light-map coordinate wraps (the caller checked the whole code range).
+    fn none_in_square(
+        &self,
+        sh: &ShadowCompare,
+        lm: &TextureSampler,
+        n: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let behind = b.proj_lanes.behind.iter().filter(|&&x| x).count();
+        sh.count_tests(behind, n - behind, &mut spans.shadow.ctr);
+        spans.shadow.tally.add(n);
+        lm.count_samples(n as u64, &mut spans.light_map.ctr);
+        spans.light_map.tally.add(n);
+        b.hil.clear();
+        b.hil.resize(n, 0);
     }
 
     /// [`Self::h_il_pair`]'s shadow compare: whether the shadow map lights each
@@ -689,6 +730,15 @@ impl ShadowAddress {
         }
     }
 
+    /// Whether the shadow map's texels are the light's square, no more: a
+    /// coordinate of `proj` is on the map exactly where it is in [0, 1.0).
+    fn is_the_square(&self, sh: &ShadowCompare, proj: &ProjectiveTexcoord) -> bool {
+        let one = 1u64 << proj.out_format().frac_bits;
+        [sh.width(), sh.height()]
+            .iter()
+            .all(|&side| (side as u64) << self.shift == one)
+    }
+
     /// A projective coordinate → the shadow map's texel index.
     fn texel(&self, c: i32) -> i32 {
         c >> self.shift
@@ -736,6 +786,17 @@ fn projective_inputs(
             }
         })),
     }
+}
+
+/// Whether no code of the projective unit's output range wraps the light map's
+/// coordinate wire as [`texel_word`] (the range's ends do not, and the wire's range
+/// is an interval around 0).
+fn light_map_never_wraps(lm: &TextureSampler, proj: &ProjectiveTexcoord) -> bool {
+    let (log2, fr) = (lm.size()[0].trailing_zeros(), lm.coord_frac_bits());
+    let f = proj.out_format();
+    [f.min_raw(), f.max_raw()]
+        .iter()
+        .all(|&c| !lm.coord_wire(texel_word(c as i32, log2, proj, fr)).1)
 }
 
 /// Normalised projective s4.12 → the sampler's texel-space word for a 2^log2 texture.

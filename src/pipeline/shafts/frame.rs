@@ -810,6 +810,7 @@ fn object_pass(
     ctx.close_visible(zspan, ctr);
     stats.fragments = b.visible.len() as u64;
     let mut spans = HilSpans::default();
+    b.cut_outside_square = !recording;
     ctx.h_il(&lanes, 4, &mut spans, &mut b);
     spans.close(ctx, ctr);
     object_colour(ctx, &lanes, &b.visible, &b.hil, fb, ctr);

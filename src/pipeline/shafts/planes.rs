@@ -382,6 +382,7 @@ fn subplane_hil(
     let (mut rows_in_order, mut last_y) = (true, 0i64);
     let mut zero = 0;
     let mut rec = recording.map(|bands| subplane_rec(ctx, bands, (w, h)));
+    b.cut_outside_square = rec.is_none();
     let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
     let (mut lm, mut sm) = (Vec::new(), Vec::new());
     walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
@@ -997,6 +998,7 @@ fn sample_j(pc: &PlaneCtx, px: &PolyLanes, sp: &mut PlaneSpans, b: &mut PlaneBuf
             sp.j.feed_sampler_lanes(t, &b.j_s, &b.j_t, &mut b.m_a, &mut b.j_in, &mut b.j_out);
         }
         None => {
+            b.chunk.cut_outside_square = !pc.record;
             pc.ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
             b.m_a.clear();
             b.m_a.extend_from_slice(&b.chunk.hil);
