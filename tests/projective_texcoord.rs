@@ -358,6 +358,22 @@ fn random_valid_config() -> impl Strategy<Value = ProjectiveTexcoordConfig> {
         .prop_map(|((a, b, c, d), (e, f, g, h))| cfg(a, b, c, d, e, f, g, h))
 }
 
+/// Two units built from `a` and `b`, `b` taking `a`'s front end (input width, ROM
+/// index and entry bits): a pair the pair form may take.
+fn sharing_front_end(
+    a: ProjectiveTexcoordConfig,
+    b: ProjectiveTexcoordConfig,
+) -> (ProjectiveTexcoord, ProjectiveTexcoord) {
+    let b = ProjectiveTexcoordConfig {
+        in_int_bits: a.in_int_bits,
+        in_frac_bits: a.in_frac_bits,
+        recip_index_bits: a.recip_index_bits,
+        recip_entry_bits: a.recip_entry_bits,
+        ..b
+    };
+    (a.build().unwrap(), b.build().unwrap())
+}
+
 /// The shafts frame's depth unit (r/q): s2.16 out, two Newton steps at N = 30.
 fn shafts_depth() -> ProjectiveTexcoordConfig {
     ProjectiveTexcoordConfig {
@@ -577,16 +593,7 @@ proptest! {
         raw in prop::collection::vec((any::<i64>(), any::<i64>(), any::<i64>(), any::<i64>()), 0..150),
         wide_q in any::<bool>(),
     ) {
-        let a = a.build().unwrap();
-        let b = ProjectiveTexcoordConfig {
-            in_int_bits: a.config().in_int_bits,
-            in_frac_bits: a.config().in_frac_bits,
-            recip_index_bits: a.config().recip_index_bits,
-            recip_entry_bits: a.config().recip_entry_bits,
-            ..b
-        }
-        .build()
-        .unwrap();
+        let (a, b) = sharing_front_end(a, b);
         let w = a.in_bits();
         // q mostly in front of the projector unless `wide_q` (any word).
         let q: Vec<i64> = raw.iter().map(|x| if wide_q { x.3 } else { (x.3 & ((1i64 << (w - 1)) - 1)) >> (x.3 as u64 % 64).min(w as u64 - 1) }).collect();
@@ -766,7 +773,7 @@ proptest! {
         prop_assert!(eps <= 1.0 / 16.0);
         let w = u.in_bits();
         for x in words {
-            let qmag = (x & ((1u64 << (w - 1)) - 1)) >> (x % 61).min(w as u64 - 2);
+            let qmag = (x & ((1u64 << (w - 1)) - 1)) >> (x % 61).min(w.saturating_sub(2) as u64);
             if qmag == 0 {
                 continue;
             }
@@ -798,22 +805,13 @@ proptest! {
         } else {
             (a, b)
         };
-        let a = a.build().unwrap();
-        let b = ProjectiveTexcoordConfig {
-            in_int_bits: a.config().in_int_bits,
-            in_frac_bits: a.config().in_frac_bits,
-            recip_index_bits: a.config().recip_index_bits,
-            recip_entry_bits: a.config().recip_entry_bits,
-            ..b
-        }
-        .build()
-        .unwrap();
+        let (a, b) = sharing_front_end(a, b);
         let w = a.in_bits();
         let top = (1i64 << (w - 1)) - 1;
         let blocks: Vec<(i64, [i64; 3], i64)> = blocks
             .iter()
             .map(|&(e, x, spread, front)| {
-                let q = (1i64 << e.min(w as i64 - 2)).min(top / 2);
+                let q = (1i64 << e.min(w as i64 - 2).max(0)).min(top / 2);
                 (if front { q } else { -q }, x, spread)
             })
             .collect();

@@ -858,7 +858,7 @@ impl ProjectiveTexcoord {
 
     /// [`Self::kernel_pair_lanes`] for a caller that reads nothing of a fragment
     /// outside the unit square [0, 1]² in (u, v) but its counters: the same counters,
-    /// and the same outputs except in a block of [`LANES`] inputs where every input is
+    /// and the same outputs except in a block of 64 inputs where every input is
     /// behind the projector or certainly outside the square ([`SquareCut`], decided
     /// in integers from s, t, r and q alone). There the Newton steps and the scaling
     /// are skipped, and an input in front of the projector gets codes of the same
