@@ -644,8 +644,12 @@ proptest! {
 /// wherever a code differs, the lane is in front of the projector and outside the
 /// unit square on the same side in both (some coordinate below 0 in both, or above
 /// 1.0 in both), each coordinate's clamp exactly the kernel's, and no given code
-/// larger in magnitude than the exact one. Returns the lanes that differ.
-fn square_form_agrees(a: &ProjectiveTexcoord, b: &ProjectiveTexcoord, lanes: [&[i64]; 4]) -> usize {
+/// larger in magnitude than the exact one. Returns the square form's run.
+fn square_form_agrees(
+    a: &ProjectiveTexcoord,
+    b: &ProjectiveTexcoord,
+    lanes: [&[i64]; 4],
+) -> SquareRun {
     let idx: Vec<u32> = (0..lanes[0].len() as u32).collect();
     let (mut exact, mut cut) = (ProjLanes::default(), ProjLanes::default());
     let (mut eu, mut cu) = (Vec::new(), Vec::new());
@@ -654,9 +658,17 @@ fn square_form_agrees(a: &ProjectiveTexcoord, b: &ProjectiveTexcoord, lanes: [&[
     let cut_done =
         a.kernel_pair_lanes_in_square(b, lanes, &idx, &mut cut, &mut cu, &mut ca, &mut cb);
     assert_eq!(done, cut_done.is_some());
+    let mut run = SquareRun {
+        skipped: cut_done,
+        differ: 0,
+        ctr: ca,
+        depth_ctr: cb,
+        lanes: ProjLanes::default(),
+        depth: Vec::new(),
+    };
     if !done {
         assert!(cut.is_empty() && cu.is_empty());
-        return 0;
+        return run;
     }
     assert_eq!((ea, eb), (ca, cb), "counters");
     assert_eq!(exact.behind, cut.behind);
@@ -700,7 +712,20 @@ fn square_form_agrees(a: &ProjectiveTexcoord, b: &ProjectiveTexcoord, lanes: [&[
         );
         assert!(cu[j].abs() <= eu[j].abs(), "lane {j} depth magnitude");
     }
-    differ
+    run.differ = differ;
+    (run.lanes, run.depth) = (cut, cu);
+    run
+}
+
+/// [`square_form_agrees`]'s run of the square form: what it returned, the lanes
+/// whose codes differ from the exact form's, its counters and outputs.
+struct SquareRun {
+    skipped: Option<usize>,
+    differ: usize,
+    ctr: Counters,
+    depth_ctr: Counters,
+    lanes: ProjLanes,
+    depth: Vec<i32>,
 }
 
 /// Blocks of 64 lanes from a plane's view of the light, as the shafts frame's light
@@ -737,19 +762,15 @@ fn the_square_form_gives_class_codes_to_a_block_far_outside_and_exact_ones_elsew
         (-q, [8, 8, 8], 3),
     ]);
     let lanes = [&lanes[0][..], &lanes[1][..], &lanes[2][..], &lanes[3][..]];
-    let differ = square_form_agrees(&a, &b, lanes);
-    let idx: Vec<u32> = (0..256).collect();
-    let (mut cut, mut cu) = (ProjLanes::default(), Vec::new());
-    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+    let run = square_form_agrees(&a, &b, lanes);
+    let (cut, cu, ca, cb) = (&run.lanes, &run.depth, run.ctr, run.depth_ctr);
     // Blocks 0, 2 and 3 are skipped; block 1 is not.
-    let skipped =
-        a.kernel_pair_lanes_in_square(&b, lanes, &idx, &mut cut, &mut cu, &mut ca, &mut cb);
-    assert_eq!(skipped, Some(192));
+    assert_eq!(run.skipped, Some(192));
     // Block 0 takes −1 for u, 0 for v and the depth; the others are exact (block 1 is
     // inside, block 2 is all clamps, block 3 is behind: their codes are the kernel's).
     assert!(cut.u[..64].iter().all(|&u| u == -1));
     assert!(cut.v[..64].iter().chain(&cu[..64]).all(|&c| c == 0));
-    assert_eq!(differ, 64);
+    assert_eq!(run.differ, 64);
     assert!(cut.u[128..192].iter().all(|&u| u == i16::MAX as i32));
     assert!(cut.v[128..192].iter().all(|&v| v == i16::MIN as i32));
     assert_eq!(ca.saturations, 128);

@@ -199,27 +199,6 @@ impl Front {
     }
 }
 
-/// The reciprocal's relative error, bounded for every input: |1 − m·r| ≤ ε, m the
-/// normalised q and r the reciprocal after the ROM and the Newton steps (as reals).
-/// The ROM entry is 1/c at the midpoint c of its interval, within 1.5 LSB after
-/// rounding and the clamp: ε₀ = 2^−(I+1) + 2^(2−E). A Newton step in u1.N maps ε to
-/// ε² + 2^(3−N) (m truncated to N bits, two roundings to N bits, all below 2^(2−N)
-/// while ε ≤ 1/16). None where some step starts above 1/16: then the bound, and the
-/// argument that no Newton step clamps, do not hold.
-fn error_bound(cfg: &ProjectiveTexcoordConfig) -> Option<f64> {
-    let mut eps =
-        (-(cfg.recip_index_bits as f64 + 1.0)).exp2() + (2.0 - cfg.recip_entry_bits as f64).exp2();
-    for _ in 0..cfg.newton_steps {
-        if eps > 1.0 / 16.0 {
-            return None;
-        }
-        // With |1 − m·r| ≤ 1/16: d = 2 − m·r ∈ [15/16, 17/16 + 2^−N·2] inside u1.N's
-        // range, and r·d < 1.34 < 2: neither clamp can fire.
-        eps = eps * eps + (3.0 - cfg.newton_frac_bits as f64).exp2();
-    }
-    (eps <= 1.0 / 16.0).then_some(eps)
-}
-
 /// Which blocks of [`ProjectiveTexcoord::kernel_pair_lanes_in_square`] skip the
 /// Newton steps and the scaling: those whose every input is behind the projector or
 /// certainly outside the unit square with every coordinate's saturation certain.
@@ -291,6 +270,25 @@ impl SquareCut {
         (quiet | sat, sat, code, below | above)
     }
 
+    /// One lane (q its raw word of width `w`): whether it is decided (behind the
+    /// projector, or certainly outside the square with every saturation certain),
+    /// whether it is in front (q > 0), its codes [u, v, du] (the depth's 0 where it
+    /// does not saturate) and the saturations of u and v and of du, the last two
+    /// meaningful in front only.
+    #[inline(always)]
+    fn lane(&self, [s, t, r, q]: [i64; 4], w: u32) -> (bool, bool, [i64; 3], i64, i64) {
+        let qj = sext(q, w);
+        let live = qj > 0;
+        let qq = if live { qj } else { 1 };
+        let (cs, sat_s, us, fs) = Self::coord(s, qq, self.st);
+        let (ct, sat_t, ut, ft) = Self::coord(t, qq, self.st);
+        let (cr, sat_r, ur, _) = Self::coord(r, qq, self.r);
+        let decided = !live | (cs & ct & cr & (fs | ft));
+        let codes = [us, ut, if sat_r { ur } else { 0 }];
+        let sats = i64::from(sat_s) + i64::from(sat_t);
+        (decided, live, codes, sats, i64::from(sat_r))
+    }
+
     /// One block's lanes [s, t, r, q] (the first `len`, q as its raw word of width
     /// `w`): where every lane is decided, its live bits (q > 0) into `live`, the
     /// codes into [u, v, du] (anything behind the projector) and Some((saturations of
@@ -304,34 +302,21 @@ impl SquareCut {
         live: &mut [i64; LANES],
         [u, v, du]: [&mut [i64; LANES]; 3],
     ) -> Option<(i64, i64)> {
+        let at = |j: usize| self.lane([s[j], t[j], r[j], q[j]], w);
         // A block's lanes are neighbours on the screen: one undecided end lane
         // (the common case in a block that is not cut) is enough to give up early.
-        let decided = |j: usize| {
-            let qj = sext(q[j], w);
-            qj <= 0 || {
-                let (cs, _, _, fs) = Self::coord(s[j], qj, self.st);
-                let (ct, _, _, ft) = Self::coord(t[j], qj, self.st);
-                let (cr, _, _, _) = Self::coord(r[j], qj, self.r);
-                cs & ct & cr & (fs | ft)
-            }
-        };
-        if len == 0 || !decided(0) || !decided(len - 1) {
+        if len == 0 || !at(0).0 || !at(len - 1).0 {
             return None;
         }
         let (mut all, mut sat, mut dsat) = (true, 0i64, 0i64);
         for j in 0..len {
-            let qj = sext(q[j], w);
-            let l = qj > 0;
-            let qq = if l { qj } else { 1 };
-            let (cs, ss, us, fs) = Self::coord(s[j], qq, self.st);
-            let (ct, st, ut, ft) = Self::coord(t[j], qq, self.st);
-            let (cr, sr, ur, _) = Self::coord(r[j], qq, self.r);
-            all &= !l | (cs & ct & cr & (fs | ft));
+            let (decided, l, codes, sats, dsats) = at(j);
+            all &= decided;
             let li = i64::from(l);
             live[j] = li;
-            (u[j], v[j], du[j]) = (us, ut, if sr { ur } else { 0 });
-            sat += (i64::from(ss) + i64::from(st)) & -li;
-            dsat += i64::from(sr) & -li;
+            [u[j], v[j], du[j]] = codes;
+            sat += sats & -li;
+            dsat += dsats & -li;
         }
         all.then_some((sat, dsat))
     }
@@ -576,10 +561,24 @@ impl ProjectiveTexcoord {
 
     /// A bound ε on the reciprocal's relative error, |1 − m·r| ≤ ε for every q > 0
     /// (m = q·2⁻ᵖ ∈ [1, 2), r the reciprocal as a real), derived from I, E, N and the
-    /// Newton steps alone; None where the derivation needs ε ≤ 1/16 at a step and
-    /// the widths do not give it.
+    /// Newton steps alone. The ROM entry is 1/c at the midpoint c of its interval,
+    /// within 1.5 LSB after rounding and the clamp: ε₀ = 2^−(I+1) + 2^(2−E). A Newton
+    /// step in u1.N maps ε to ε² + 2^(3−N) (m truncated to N bits, two roundings to N
+    /// bits, all below 2^(2−N) while ε ≤ 1/16). None where some step starts above
+    /// 1/16: then the bound, and the argument that no Newton step clamps, do not hold.
     pub fn recip_error_bound(&self) -> Option<f64> {
-        error_bound(&self.cfg)
+        let cfg = &self.cfg;
+        let mut eps = (-(cfg.recip_index_bits as f64 + 1.0)).exp2()
+            + (2.0 - cfg.recip_entry_bits as f64).exp2();
+        for _ in 0..cfg.newton_steps {
+            if eps > 1.0 / 16.0 {
+                return None;
+            }
+            // With |1 − m·r| ≤ 1/16: d = 2 − m·r ∈ [15/16, 17/16 + 2^−N·2] inside u1.N's
+            // range, and r·d < 1.34 < 2: neither clamp can fire.
+            eps = eps * eps + (3.0 - cfg.newton_frac_bits as f64).exp2();
+        }
+        (eps <= 1.0 / 16.0).then_some(eps)
     }
 
     /// Whether the whole datapath fits 64-bit carriers: the Newton products and

@@ -555,9 +555,10 @@ impl LightCtx<'_> {
         // ones of the same classes, as long as the counters cannot tell them apart
         // (it is off the shadow map, and the light map's wrapped-coordinate count is
         // the same).
-        let square_only = light_map_never_wraps(lm, &u.proj)
+        let cut = b.cut_outside_square
+            && light_map_never_wraps(lm, &u.proj)
             && ShadowAddress::new(u, sh).is_the_square(sh, &u.proj);
-        let skipped = if b.cut_outside_square && square_only {
+        let skipped = if cut {
             u.proj
                 .kernel_pair_lanes_in_square(&u.proj_depth, lanes, &b.visible, pl, du, ctr, dctr)
         } else {
