@@ -23,7 +23,7 @@ use glare_pipeline::reference::projective_texcoord::{project, project_codes};
 use proptest::prelude::*;
 use rtl_model::units::projective_texcoord::{
     recip_rom_entry, ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
-    ProjectiveTexcoordConfig,
+    ProjectiveTexcoordConfig, SquareCut, SQUARE_BLOCK,
 };
 use rtl_model::{Counters, Unit, UnitSummary};
 
@@ -673,6 +673,38 @@ fn square_form_agrees(
     assert_eq!((ea, eb), (ca, cb), "counters");
     assert_eq!(exact.behind, cut.behind);
     let one = 1i32 << a.config().out_frac_bits;
+    // One flag per block of SQUARE_BLOCK inputs; the decided blocks hold the skipped
+    // inputs, each behind the projector or outside the square in the exact form.
+    let n = idx.len();
+    assert!(exact.decided.is_empty(), "the exact form decides no block");
+    let blocks = if SquareCut::of(a, b).is_some() {
+        n.div_ceil(SQUARE_BLOCK)
+    } else {
+        0 // no cut: nothing decided, no flag
+    };
+    assert_eq!(
+        cut.decided.len(),
+        blocks,
+        "a flag per block where the cut applies"
+    );
+    let mut in_decided = 0;
+    for (k, _) in cut.decided.iter().enumerate().filter(|(_, &d)| d) {
+        for j in k * SQUARE_BLOCK..((k + 1) * SQUARE_BLOCK).min(n) {
+            let outside = [exact.u[j], exact.v[j]]
+                .iter()
+                .any(|c| !(0..=one).contains(c));
+            assert!(
+                exact.behind[j] || outside,
+                "lane {j} of a decided block in the square"
+            );
+            in_decided += 1;
+        }
+    }
+    assert_eq!(
+        Some(in_decided),
+        cut_done,
+        "the decided blocks' inputs are the skipped ones"
+    );
     let clamps = |u: &ProjectiveTexcoord| {
         let f = u.out_format();
         [f.min_raw() as i32, f.max_raw() as i32]

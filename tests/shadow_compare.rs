@@ -901,7 +901,8 @@ fn address_is_the_clamped_wire_test() {
 /// `test_filter_flat` on lanes (x, y, inside) at one depth, against the kernel's
 /// Test on the candidates (covered lanes inside the viewport) in lane order, run on
 /// a copy of `st` (a test never changes it), and against `test_filter_lanes` on the
-/// same candidates: the same kept indices (appended), counters and count.
+/// same candidates: the same kept indices (appended), counters and count; and so
+/// `test_filter_flat_rows` on the map's uniform rows.
 #[allow(clippy::too_many_arguments)]
 fn flat_agrees(
     u: &ShadowCompare,
@@ -954,6 +955,23 @@ fn flat_agrees(
         "test_filter_flat and test_filter_lanes differ"
     );
     assert_eq!(c_l, c_f);
+    let rows = u.uniform_rows(words);
+    let (mut kept_r, mut c_r) = (vec![7u32], Counters::default());
+    let lanes = (x, y, inside);
+    assert_eq!(
+        u.test_filter_flat_rows(
+            (words, &rows),
+            lanes,
+            viewport,
+            depth,
+            &mut kept_r,
+            &mut c_r
+        ),
+        Some(n),
+        "test_filter_flat_rows: candidate count"
+    );
+    assert_eq!(kept_r, want, "test_filter_flat_rows: kept lanes");
+    assert_eq!(c_r, c_k, "test_filter_flat_rows: counters");
     // Words of another size, or lanes of different lengths: nothing done.
     let (mut none, mut c_n) = (Vec::new(), Counters::default());
     assert_eq!(
@@ -1082,6 +1100,65 @@ fn flat_test_form_agrees_on_a_back_and_forth_walk() {
         for depth in [0u64, 1, 300, 517, 1023, 1 << 20] {
             for viewport in [(w, h), (w - 4, h), (w + 3, h + 2)] {
                 flat_agrees(&u, &st, &words, &x, &y, &inside, viewport, depth);
+            }
+        }
+    }
+}
+
+/// `uniform_rows`: the word of each row that holds one word at every address.
+#[test]
+fn uniform_rows_are_the_rows_of_one_word() {
+    let u = unit(3, 4, 8, 0, 0);
+    let words = [5, 5, 5, 5, 6, 5, 0, 0, 0, 7, 7, 7];
+    assert_eq!(u.uniform_rows(&words), [Some(5), None, Some(0), Some(7)]);
+}
+
+/// `test_filter_flat_rows` where it decides at once: lanes walked along rows that
+/// each hold one word (all or some of them covered, inside the viewport or not), at
+/// depths below, at and above those words, for every function: the kernel's kept
+/// lanes and counters, whether every row gives one outcome (decided at once) or the
+/// rows give two or one row holds several words (lane by lane).
+#[test]
+fn flat_rows_form_agrees_on_rows_of_one_word() {
+    let (w, h) = (13u32, 6u32);
+    // Rows 0 and 1 hold 100, row 2 mixed, rows 3 and 4 hold 40, row 5 holds 100.
+    let word_at = |x: i32, y: i32| match y {
+        0 | 1 | 5 => 100,
+        2 => 30 + 10 * (x as u32 % 3),
+        _ => 40,
+    };
+    for func in CompareFunc::ALL {
+        let u = unit_f(w, h, 8, 0, 0, func);
+        let mut st = u.fresh_state();
+        let mut c = Counters::default();
+        for yy in 0..h as i32 {
+            for xx in 0..w as i32 {
+                let t = ShadowIn::Write {
+                    x: xx,
+                    y: yy,
+                    depth: word_at(xx, yy),
+                };
+                u.kernel(&mut st, &t, &mut c);
+            }
+        }
+        let words = u.words(&st).unwrap();
+        for (y0, y1) in [(0, 1), (3, 4), (0, 0), (4, 5), (1, 3), (0, 5)] {
+            let (mut x, mut y) = (Vec::new(), Vec::new());
+            for yy in y0..=y1 {
+                for xx in 0..w as i64 {
+                    // Back and forth, as the interpolator walks.
+                    x.push(if yy % 2 == 0 { xx } else { w as i64 - 1 - xx });
+                    y.push(yy);
+                }
+            }
+            let all = vec![true; x.len()];
+            let some: Vec<bool> = (0..x.len()).map(|i| i % 5 != 2).collect();
+            for depth in [0u64, 39, 40, 41, 99, 100, 101, 255] {
+                for viewport in [(w, h), (w - 1, h), (w + 2, h + 1)] {
+                    for inside in [&all, &some] {
+                        flat_agrees(&u, &st, &words, &x, &y, inside, viewport, depth);
+                    }
+                }
             }
         }
     }

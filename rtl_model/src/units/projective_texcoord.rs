@@ -33,6 +33,10 @@ use serde::{Deserialize, Serialize};
 /// Inputs per block of the batch kernel's lane form.
 const LANES: usize = 64;
 
+/// Inputs per block of [`ProjectiveTexcoord::kernel_pair_lanes_in_square`]: the
+/// granule of [`ProjLanes::decided`] (the last block may be shorter).
+pub const SQUARE_BLOCK: usize = LANES;
+
 /// Entries of the largest ROM (I ≤ 12): the lane form's flat copy of the ROM is this
 /// long (zero past 2ᴵ), so its index, masked to it, needs no bounds check and the
 /// look-up vectorises as a gather. A real index is always < 2ᴵ: the mask changes
@@ -139,6 +143,11 @@ pub struct ProjLanes {
     pub v: Vec<i32>,
     /// Behind-the-projector flags, one per word.
     pub behind: Vec<bool>,
+    /// One flag per block of [`SQUARE_BLOCK`] words, from
+    /// [`ProjectiveTexcoord::kernel_pair_lanes_in_square`]: whether it decided the
+    /// block (every word behind the projector or outside the square, its codes
+    /// replaced by ones of the same classes). Empty from the other forms.
+    pub decided: Vec<bool>,
 }
 
 impl ProjLanes {
@@ -147,6 +156,7 @@ impl ProjLanes {
         self.u.clear();
         self.v.clear();
         self.behind.clear();
+        self.decided.clear();
     }
 
     fn reserve(&mut self, n: usize) {
@@ -866,8 +876,9 @@ impl ProjectiveTexcoord {
     /// - one certainly below 0 gets −1, one certainly above 1.0 gets 1.0 + 1 LSB;
     /// - any other gets 0, and `other`'s depth gets 0 where it does not saturate.
     ///
-    /// Each replacement has a magnitude no larger than the exact code's. Returns how
-    /// many inputs were in skipped blocks (all of them: every input is behind the
+    /// Each replacement has a magnitude no larger than the exact code's. Which blocks
+    /// were skipped goes to `out.decided`, a flag per block of [`SQUARE_BLOCK`]
+    /// inputs. Returns how many inputs were in skipped blocks (every one behind the
     /// projector or outside the square), or None with nothing done where the pair
     /// form does not apply.
     #[allow(clippy::too_many_arguments)]
@@ -949,6 +960,9 @@ impl ProjectiveTexcoord {
                     [&mut u, &mut v, &mut du],
                 )
             });
+            if cut.is_some() {
+                out.decided.push(cut_sats.is_some());
+            }
             let (sat, dsat) = match cut_sats {
                 Some(sats) => {
                     skipped += len;

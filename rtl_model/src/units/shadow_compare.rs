@@ -676,6 +676,99 @@ impl ShadowCompare {
         Some(n)
     }
 
+    /// `lane_test` at one fragment depth word `depth` for every lane, in a `vw` × `vh`
+    /// viewport: its left side computed once.
+    fn flat_test(&self, depth: u64, (vw, vh): (u32, u32)) -> FlatTest {
+        let k = self.cfg.frag_frac_bits;
+        let fmask = (1u64 << self.frag_bits()) - 1;
+        FlatTest {
+            fb: (depth & fmask) as i64 - ((self.cfg.bias as i64) << k),
+            k,
+            border: self.border_lit(depth & fmask),
+            compare: self.cfg.compare,
+            viewport: (vw as i64, vh as i64),
+            map: (self.cfg.width as i64, self.cfg.height as i64),
+        }
+    }
+
+    /// The word each row of the unpacked `words` ([`Self::words`]) holds at every one
+    /// of its addresses, where it holds one (a row of a depth buffer that no object
+    /// covers): the rows [`Self::test_filter_flat_rows`] decides at once.
+    pub fn uniform_rows(&self, words: &[u32]) -> Vec<Option<u32>> {
+        let row = (self.cfg.width as usize).max(1);
+        (words.chunks(row))
+            .map(|r| r.iter().all(|&w| w == r[0]).then_some(r[0]))
+            .collect()
+    }
+
+    /// [`Self::test_filter_flat`], with the lanes decided at once where every lane is
+    /// covered, inside the viewport and on the map, and every row they lie on holds
+    /// one word (`rows`: [`Self::uniform_rows`] of `words`) whose test at `depth` has
+    /// the same outcome: then each lane is a candidate read on the map, and all are
+    /// kept or none is. The same kept indices, counters and count either way.
+    pub fn test_filter_flat_rows(
+        &self,
+        (words, rows): (&[u32], &[Option<u32>]),
+        lanes: (&[i64], &[i64], &[bool]),
+        viewport: (u32, u32),
+        depth: u64,
+        lit: &mut Vec<u32>,
+        ctr: &mut Counters,
+    ) -> Option<usize> {
+        let h = self.cfg.height as usize;
+        if rows.len() == h && words.len() == self.cfg.width as usize * h {
+            if let Some(all) = self.flat_rows_outcome(rows, lanes, viewport, depth) {
+                let n = lanes.0.len();
+                if all {
+                    lit.extend(0..n as u32);
+                }
+                self.count_tests(n, 0, ctr);
+                return Some(n);
+            }
+        }
+        self.test_filter_flat(words, lanes, viewport, depth, lit, ctr)
+    }
+
+    /// [`Self::test_filter_flat_rows`]'s decision: Some(the outcome every lane gets)
+    /// where the lanes (at least one, of one length) are covered, in the viewport
+    /// and on the map, on rows that each hold one word, all with that outcome.
+    fn flat_rows_outcome(
+        &self,
+        rows: &[Option<u32>],
+        (x, y, inside): (&[i64], &[i64], &[bool]),
+        viewport: (u32, u32),
+        depth: u64,
+    ) -> Option<bool> {
+        let n = x.len();
+        if n == 0 || y.len() != n || inside.len() != n {
+            return None;
+        }
+        // The first and the last lane's rows first: where either holds more than one
+        // word (or is off the map), nothing is scanned.
+        let uniform =
+            |y: i64| usize::try_from(y).is_ok_and(|r| rows.get(r).is_some_and(Option::is_some));
+        // (Every lane covered: a fold without an early exit runs as vectors.)
+        let covered = inside.iter().fold(true, |all, &c| all & c);
+        if !uniform(y[0]) || !uniform(y[n - 1]) || !covered {
+            return None;
+        }
+        let ((x0, x1), (y0, y1)) = (lane_bounds(x), lane_bounds(y));
+        let test = self.flat_test(depth, viewport);
+        let ((vw, vh), (mw, mh)) = (test.viewport, test.map);
+        if x0 < 0 || y0 < 0 || x1 >= vw.min(mw) || y1 >= vh.min(mh) {
+            return None;
+        }
+        let mut outcome = None;
+        for row in &rows[y0 as usize..=y1 as usize] {
+            let lit = test.on_map(*row.as_ref()?);
+            if outcome.is_some_and(|o| o != lit) {
+                return None;
+            }
+            outcome = Some(lit);
+        }
+        outcome
+    }
+
     /// [`Self::test_filter_lanes`] where every lane tests the one depth word `depth`
     /// (a plane parallel to the screen) and lane i is a candidate when `inside[i]` and
     /// `(x[i], y[i])` lies in the `vw` × `vh` viewport, tested at `(x[i], y[i])`: the same
@@ -701,17 +794,7 @@ impl ShadowCompare {
         {
             return None;
         }
-        // `lane_test`'s left side, the same for every lane.
-        let k = self.cfg.frag_frac_bits;
-        let fmask = (1u64 << self.frag_bits()) - 1;
-        let test = FlatTest {
-            fb: (depth & fmask) as i64 - ((self.cfg.bias as i64) << k),
-            k,
-            border: self.border_lit(depth & fmask),
-            compare: self.cfg.compare,
-            viewport: (vw as i64, vh as i64),
-            map: (w as i64, h as i64),
-        };
+        let test = self.flat_test(depth, (vw, vh));
         let base = lit.len();
         lit.resize(base + len, 0);
         let dst = &mut lit[base..];
@@ -867,9 +950,34 @@ impl FlatTest {
         let in_map = cand & (x < mw) & (y < mh);
         // Off the map word 0 is read and masked off: no branch.
         let a = if in_map { (y * mw + x) as usize } else { 0 };
-        let on_map = self.compare.eval(self.fb, (words[a] as i64) << self.k);
+        let on_map = self.on_map(words[a]);
         (cand, in_map, (!in_map & self.border) | (in_map & on_map))
     }
+
+    /// The test's outcome at an address on the map that holds `word`.
+    #[inline(always)]
+    fn on_map(&self, word: u32) -> bool {
+        self.compare.eval(self.fb, (word as i64) << self.k)
+    }
+}
+
+/// The least and the greatest of `v` (at least one lane), in groups of 8 lanes
+/// without a branch, so the loop runs as vectors.
+fn lane_bounds(v: &[i64]) -> (i64, i64) {
+    let (mut lo, mut hi) = ([i64::MAX; 8], [i64::MIN; 8]);
+    let (groups, rest) = v.as_chunks::<8>();
+    for g in groups {
+        for k in 0..8 {
+            lo[k] = lo[k].min(g[k]);
+            hi[k] = hi[k].max(g[k]);
+        }
+    }
+    for &c in rest {
+        lo[0] = lo[0].min(c);
+        hi[0] = hi[0].max(c);
+    }
+    let (lo, hi) = (lo.into_iter().min(), hi.into_iter().max());
+    (lo.unwrap_or(i64::MAX), hi.unwrap_or(i64::MIN))
 }
 
 /// Counts of [`ShadowCompare::test_filter_flat`]'s lanes: kept, candidates, map reads.

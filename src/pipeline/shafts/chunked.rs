@@ -17,7 +17,7 @@ use rtl_model::units::blend::{Blend, LanesAt};
 use rtl_model::units::modulate::{Modulate, Operand};
 use rtl_model::units::polygon_interpolator::PolyLanes;
 use rtl_model::units::projective_texcoord::{
-    ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
+    ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, SQUARE_BLOCK,
 };
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
@@ -250,12 +250,25 @@ pub(super) struct ChunkBuffers {
     /// ([`LightCtx::h_il`]'s shared front end).
     pub(super) proj_lanes: ProjLanes,
     pdepth_u: Vec<i32>,
+    /// The fragments of the blocks the square form did not decide, as ranges of
+    /// the visible list, and their H·I_l ([`LightCtx::pair_in_square`]).
+    undecided: Vec<std::ops::Range<usize>>,
+    hil_undecided: Vec<u32>,
     /// The shadow map's texel x, y and depth word of each fragment, in lanes.
     shadow_x: Vec<i32>,
     shadow_y: Vec<i32>,
     shadow_depth: Vec<u64>,
     pub(super) shadow_in: Vec<ShadowIn>,
     shadow_out: Vec<ShadowOut>,
+}
+
+/// The camera depth buffer's words unpacked ([`ShadowCompare::words`]) for the
+/// planes' depth tests in lanes, and the word of each row that holds one
+/// ([`ShadowCompare::uniform_rows`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct DepthWords<'a> {
+    pub words: &'a [u32],
+    pub rows: &'a [Option<u32>],
 }
 
 /// What a light's passes read: the frame's units and depth buffer, the light's view,
@@ -302,22 +315,23 @@ impl LightCtx<'_> {
 
     /// [`Self::visible_words`] at one depth word `zword` for every pixel (a plane
     /// parallel to the screen): with the unpacked words, the test in lanes straight
-    /// from the chunk's slices ([`ShadowCompare::test_filter_flat`]: the same kept
-    /// fragments and counters), else [`Self::visible_words`].
+    /// from the chunk's slices, a chunk on rows no object covers decided at once
+    /// ([`ShadowCompare::test_filter_flat_rows`]: the same kept fragments and
+    /// counters), else [`Self::visible_words`].
     pub fn visible_flat(
         &self,
         px: &PolyLanes,
         viewport: (u32, u32),
         zword: u32,
-        zwords: Option<&[u32]>,
+        zwords: Option<DepthWords>,
         span: &mut UnitSpan,
         b: &mut ChunkBuffers,
     ) {
-        if let (Some(z), Some(_), Some(words)) = (&self.units.zbuf, self.zstate, zwords) {
+        if let (Some(z), Some(_), Some(dw)) = (&self.units.zbuf, self.zstate, zwords) {
             b.visible.clear();
             let lanes = (&px.x[..], &px.y[..], &px.inside[..]);
-            if let Some(n) = z.test_filter_flat(
-                words,
+            if let Some(n) = z.test_filter_flat_rows(
+                (dw.words, dw.rows),
                 lanes,
                 viewport,
                 zword as u64,
@@ -328,7 +342,8 @@ impl LightCtx<'_> {
                 return;
             }
         }
-        self.visible_words(px, viewport, |_, _| zword, zwords, span, b);
+        let words = zwords.map(|dw| dw.words);
+        self.visible_words(px, viewport, |_, _| zword, words, span, b);
     }
 
     /// [`Self::visible`] reading the depth buffer's words unpacked by
@@ -568,13 +583,71 @@ impl LightCtx<'_> {
         };
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
-        if n > 0 && skipped == Some(n) {
-            self.none_in_square(sh, lm, n, spans, b);
-        } else {
-            self.pair_lit(sh, ss, spans, b);
-            self.pair_light_map(lm, n, spans, b);
+        match skipped {
+            Some(k) if n > 0 && k == n => self.none_in_square(sh, lm, n, spans, b),
+            Some(k) if k > 0 => self.pair_in_square(sh, ss, lm, n, spans, b),
+            _ => {
+                self.pair_lit(sh, ss, spans, b);
+                self.pair_light_map(lm, n, spans, b);
+            }
         }
         true
+    }
+
+    /// [`Self::h_il_pair`] where the square form decided some of the `n` fragments'
+    /// blocks ([`ProjLanes::decided`]) and not others: the undecided blocks' lanes
+    /// moved to the front and run through [`Self::pair_lit`] and
+    /// [`Self::pair_light_map`]; the decided ones counted as [`Self::none_in_square`]
+    /// counts them, their H·I_l 0 (the counters are sums over the fragments, the
+    /// same in any grouping).
+    #[allow(clippy::too_many_arguments)]
+    fn pair_in_square(
+        &self,
+        sh: &ShadowCompare,
+        ss: &ShadowState,
+        lm: &TextureSampler,
+        n: usize,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let (pl, du) = (&mut b.proj_lanes, &mut b.pdepth_u);
+        let (mut kept, mut behind) = (0, 0);
+        b.undecided.clear();
+        for (k, &decided) in pl.decided.iter().enumerate() {
+            let at = k * SQUARE_BLOCK..((k + 1) * SQUARE_BLOCK).min(n);
+            if decided {
+                behind += pl.behind[at].iter().filter(|&&x| x).count();
+                continue;
+            }
+            let len = at.len();
+            pl.u.copy_within(at.clone(), kept);
+            pl.v.copy_within(at.clone(), kept);
+            pl.behind.copy_within(at.clone(), kept);
+            du.copy_within(at.clone(), kept);
+            b.undecided.push(at);
+            kept += len;
+        }
+        pl.u.truncate(kept);
+        pl.v.truncate(kept);
+        pl.behind.truncate(kept);
+        du.truncate(kept);
+        self.pair_lit(sh, ss, spans, b);
+        self.pair_light_map(lm, kept, spans, b);
+        let decided = n - kept;
+        sh.count_tests(behind, decided - behind, &mut spans.shadow.ctr);
+        spans.shadow.tally.add(decided);
+        lm.count_samples(decided as u64, &mut spans.light_map.ctr);
+        spans.light_map.tally.add(decided);
+        // The undecided blocks' H·I_l back at their fragments, 0 at the others.
+        std::mem::swap(&mut b.hil, &mut b.hil_undecided);
+        b.hil.clear();
+        b.hil.resize(n, 0);
+        let mut from = 0;
+        for at in &b.undecided {
+            let len = at.len();
+            b.hil[at.clone()].copy_from_slice(&b.hil_undecided[from..from + len]);
+            from += len;
+        }
     }
 
     /// [`Self::h_il_pair`] where every one of the `n` fragments is behind the light

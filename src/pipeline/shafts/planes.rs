@@ -7,7 +7,7 @@
 //! spans and the merge order are those of the span driver, so the bytes and counters
 //! do not depend on the chunking or the thread count.
 
-use super::chunked::{ChunkBuffers, HilSpans, LightCtx, UnitSpan};
+use super::chunked::{ChunkBuffers, DepthWords, HilSpans, LightCtx, UnitSpan};
 use super::pass_log::PassLog;
 use super::prepare::Prepared;
 use super::record::{self, Rec};
@@ -180,7 +180,7 @@ struct PlaneBuffers {
 struct PlaneCtx<'a> {
     ctx: &'a LightCtx<'a>,
     /// The camera depth buffer's words ([`rtl_model::units::shadow_compare::ShadowCompare::words`]).
-    zwords: Option<&'a [u32]>,
+    zwords: Option<DepthWords<'a>>,
     jtex: Option<&'a TextureSampler>,
     zword: u32,
     color_codes: [u32; 3],
@@ -212,7 +212,13 @@ pub(super) fn planes_pass(
     let dr = (r1 - r0) / n as f64;
     let mut jtex: Option<TextureSampler> = None;
     let (zwords, swords) = unpacked_words(ctx);
-    let zwords = zwords.as_deref();
+    let zrows = (zwords.as_deref())
+        .zip(ctx.units.zbuf.as_ref())
+        .map(|(words, z)| z.uniform_rows(words));
+    let zwords = zwords
+        .as_deref()
+        .zip(zrows.as_deref())
+        .map(|(words, rows)| DepthWords { words, rows });
     let ctx = &LightCtx {
         swords: swords.as_deref(),
         ..*ctx
@@ -334,7 +340,7 @@ fn copy_to_j_texture(
 fn subplanes_hil(
     ctx: &LightCtx,
     p: &Prepared,
-    (zwords, pool): (Option<&[u32]>, &WordPool),
+    (zwords, pool): (Option<DepthWords>, &WordPool),
     r: f64,
     dr: f64,
     recording: impl Fn(usize) -> Option<Option<SampleBands>> + Sync,
@@ -358,7 +364,7 @@ fn subplanes_hil(
 fn subplane_hil(
     ctx: &LightCtx,
     p: &Prepared,
-    (zwords, pool): (Option<&[u32]>, &WordPool),
+    (zwords, pool): (Option<DepthWords>, &WordPool),
     uj: f64,
     recording: Option<Option<SampleBands>>,
 ) -> Result<SubPlaneHil, ConfigError> {
@@ -633,7 +639,7 @@ const BLEND_CHUNK: usize = 4096;
 fn plane<T: Send>(
     ctx: &LightCtx,
     p: &Prepared,
-    zwords: Option<&[u32]>,
+    zwords: Option<DepthWords>,
     tables: &GTables,
     (i, r, dr): (usize, f64, f64),
     jtex: Option<&TextureSampler>,
