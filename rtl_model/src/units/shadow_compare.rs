@@ -961,23 +961,12 @@ impl FlatTest {
     }
 }
 
-/// The least and the greatest of `v` (at least one lane), in groups of 8 lanes
-/// without a branch, so the loop runs as vectors.
+/// The least and the greatest of `v` (i64::MAX and i64::MIN when empty): two
+/// reductions the compiler runs as vectors.
 fn lane_bounds(v: &[i64]) -> (i64, i64) {
-    let (mut lo, mut hi) = ([i64::MAX; 8], [i64::MIN; 8]);
-    let (groups, rest) = v.as_chunks::<8>();
-    for g in groups {
-        for k in 0..8 {
-            lo[k] = lo[k].min(g[k]);
-            hi[k] = hi[k].max(g[k]);
-        }
-    }
-    for &c in rest {
-        lo[0] = lo[0].min(c);
-        hi[0] = hi[0].max(c);
-    }
-    let (lo, hi) = (lo.into_iter().min(), hi.into_iter().max());
-    (lo.unwrap_or(i64::MAX), hi.unwrap_or(i64::MIN))
+    let lo = v.iter().fold(i64::MAX, |m, &c| m.min(c));
+    let hi = v.iter().fold(i64::MIN, |m, &c| m.max(c));
+    (lo, hi)
 }
 
 /// Counts of [`ShadowCompare::test_filter_flat`]'s lanes: kept, candidates, map reads.
