@@ -955,7 +955,7 @@ fn flat_agrees(
         "test_filter_flat and test_filter_lanes differ"
     );
     assert_eq!(c_l, c_f);
-    let rows = u.uniform_rows(words);
+    let rows = u.row_ranges(words);
     let (mut kept_r, mut c_r) = (vec![7u32], Counters::default());
     let lanes = (x, y, inside);
     assert_eq!(
@@ -1105,21 +1105,33 @@ fn flat_test_form_agrees_on_a_back_and_forth_walk() {
     }
 }
 
-/// `uniform_rows`: the word of each row that holds one word at every address.
+/// `row_ranges`: each row's least and greatest word.
 #[test]
-fn uniform_rows_are_the_rows_of_one_word() {
+fn row_ranges_are_each_rows_least_and_greatest_word() {
     let u = unit(3, 4, 8, 0, 0);
-    let words = [5, 5, 5, 5, 6, 5, 0, 0, 0, 7, 7, 7];
-    assert_eq!(u.uniform_rows(&words), [Some(5), None, Some(0), Some(7)]);
+    let words = [5, 5, 5, 5, 6, 4, 0, 0, 0, 7, 9, 7];
+    assert_eq!(u.row_ranges(&words), [(5, 5), (4, 6), (0, 0), (7, 9)]);
+}
+
+/// `is_monotone`: the functions whose lit stored words are a run at one end of
+/// their range, checked on every stored word around a fragment depth.
+#[test]
+fn monotone_functions_change_outcome_at_most_once() {
+    for func in CompareFunc::ALL {
+        let outcomes: Vec<bool> = (0..5).map(|stored| func.eval(2, stored)).collect();
+        let changes = outcomes.windows(2).filter(|w| w[0] != w[1]).count();
+        assert_eq!(func.is_monotone(), changes <= 1, "{func:?}: {outcomes:?}");
+    }
 }
 
 /// `test_filter_flat_rows` where it decides at once: lanes walked along rows that
-/// each hold one word (all or some of them covered, inside the viewport or not), at
-/// depths below, at and above those words, for every function: the kernel's kept
-/// lanes and counters, whether every row gives one outcome (decided at once) or the
-/// rows give two or one row holds several words (lane by lane).
+/// each hold one word or several (all or some of them covered, inside the viewport
+/// or not), at depths below, at, between and above those words, for every function:
+/// the kernel's kept lanes and counters, whether every row gives one outcome (decided
+/// at once) or the rows give two, or a row of several words gives two (lane by
+/// lane).
 #[test]
-fn flat_rows_form_agrees_on_rows_of_one_word() {
+fn flat_rows_form_agrees_on_rows_decided_at_once() {
     let (w, h) = (13u32, 6u32);
     // Rows 0 and 1 hold 100, row 2 mixed, rows 3 and 4 hold 40, row 5 holds 100.
     let word_at = |x: i32, y: i32| match y {
@@ -1142,7 +1154,16 @@ fn flat_rows_form_agrees_on_rows_of_one_word() {
             }
         }
         let words = u.words(&st).unwrap();
-        for (y0, y1) in [(0, 1), (3, 4), (0, 0), (4, 5), (1, 3), (0, 5)] {
+        for (y0, y1) in [
+            (0, 1),
+            (3, 4),
+            (0, 0),
+            (4, 5),
+            (2, 2),
+            (1, 2),
+            (1, 3),
+            (0, 5),
+        ] {
             let (mut x, mut y) = (Vec::new(), Vec::new());
             for yy in y0..=y1 {
                 for xx in 0..w as i64 {
@@ -1153,7 +1174,7 @@ fn flat_rows_form_agrees_on_rows_of_one_word() {
             }
             let all = vec![true; x.len()];
             let some: Vec<bool> = (0..x.len()).map(|i| i % 5 != 2).collect();
-            for depth in [0u64, 39, 40, 41, 99, 100, 101, 255] {
+            for depth in [0u64, 29, 30, 35, 39, 40, 41, 45, 50, 51, 99, 100, 101, 255] {
                 for viewport in [(w, h), (w - 1, h), (w + 2, h + 1)] {
                     for inside in [&all, &some] {
                         flat_agrees(&u, &st, &words, &x, &y, inside, viewport, depth);

@@ -150,6 +150,16 @@ impl CompareFunc {
         (self.code() >> outcome) & 1 == 1
     }
 
+    /// Whether, at one fragment depth, the stored words that light it are a run at
+    /// either end of their range (or all, or none): its outcome then changes at most
+    /// once as the stored word grows (greater, equal, then less), so two stored words
+    /// with one outcome give it to every word between them. All but EQUAL and
+    /// NOTEQUAL.
+    pub const fn is_monotone(self) -> bool {
+        let (lt, eq, gt) = (self.code() & 1, (self.code() >> 1) & 1, self.code() >> 2);
+        !(lt == gt && eq != lt)
+    }
+
     /// True for LEQUAL, the default (left out when a config is written).
     pub fn is_default(&self) -> bool {
         *self == CompareFunc::default()
@@ -691,24 +701,27 @@ impl ShadowCompare {
         }
     }
 
-    /// The word each row of the unpacked `words` ([`Self::words`]) holds at every one
-    /// of its addresses, where it holds one (a row of a depth buffer that no object
-    /// covers): the rows [`Self::test_filter_flat_rows`] decides at once.
-    pub fn uniform_rows(&self, words: &[u32]) -> Vec<Option<u32>> {
+    /// The least and the greatest word of each row of the unpacked `words`
+    /// ([`Self::words`]): the rows [`Self::test_filter_flat_rows`] may decide at once.
+    pub fn row_ranges(&self, words: &[u32]) -> Vec<(u32, u32)> {
         let row = (self.cfg.width as usize).max(1);
-        (words.chunks(row))
-            .map(|r| r.iter().all(|&w| w == r[0]).then_some(r[0]))
-            .collect()
+        let range = |r: &[u32]| {
+            let lo = r.iter().fold(u32::MAX, |m, &w| m.min(w));
+            (lo, r.iter().fold(0, |m, &w| m.max(w)))
+        };
+        words.chunks(row).map(range).collect()
     }
 
     /// [`Self::test_filter_flat`], with the lanes decided at once where every lane is
-    /// covered, inside the viewport and on the map, and every row they lie on holds
-    /// one word (`rows`: [`Self::uniform_rows`] of `words`) whose test at `depth` has
-    /// the same outcome: then each lane is a candidate read on the map, and all are
-    /// kept or none is. The same kept indices, counters and count either way.
+    /// covered, inside the viewport and on the map, and every row they lie on gives
+    /// every word it holds one outcome at `depth`, the same for all the rows (`rows`:
+    /// [`Self::row_ranges`] of `words`; a row holds one word, or the function
+    /// [`CompareFunc::is_monotone`] gives its least and greatest words one outcome):
+    /// then each lane is a candidate read on the map, and all are kept or none is.
+    /// The same kept indices, counters and count either way.
     pub fn test_filter_flat_rows(
         &self,
-        (words, rows): (&[u32], &[Option<u32>]),
+        (words, rows): (&[u32], &[(u32, u32)]),
         lanes: (&[i64], &[i64], &[bool]),
         viewport: (u32, u32),
         depth: u64,
@@ -731,10 +744,10 @@ impl ShadowCompare {
 
     /// [`Self::test_filter_flat_rows`]'s decision: Some(the outcome every lane gets)
     /// where the lanes (at least one, of one length) are covered, in the viewport
-    /// and on the map, on rows that each hold one word, all with that outcome.
+    /// and on the map, on rows whose every word has that outcome.
     fn flat_rows_outcome(
         &self,
-        rows: &[Option<u32>],
+        rows: &[(u32, u32)],
         (x, y, inside): (&[i64], &[i64], &[bool]),
         viewport: (u32, u32),
         depth: u64,
@@ -743,24 +756,31 @@ impl ShadowCompare {
         if n == 0 || y.len() != n || inside.len() != n {
             return None;
         }
-        // The first and the last lane's rows first: where either holds more than one
-        // word (or is off the map), nothing is scanned.
+        let test = self.flat_test(depth, viewport);
+        let monotone = self.cfg.compare.is_monotone();
+        // A row's one outcome: its word's where it holds one word, else its least and
+        // greatest words' where they agree and the function is monotone.
+        let row_outcome = |&(lo, hi): &(u32, u32)| {
+            let (a, b) = (test.on_map(lo), test.on_map(hi));
+            (a == b && (lo == hi || monotone)).then_some(a)
+        };
+        // The first and the last lane's rows first: where either has no one outcome
+        // (or is off the map), nothing is scanned.
         let uniform =
-            |y: i64| usize::try_from(y).is_ok_and(|r| rows.get(r).is_some_and(Option::is_some));
+            |y: i64| usize::try_from(y).is_ok_and(|r| rows.get(r).and_then(row_outcome).is_some());
         // (Every lane covered: a fold without an early exit runs as vectors.)
         let covered = inside.iter().fold(true, |all, &c| all & c);
         if !uniform(y[0]) || !uniform(y[n - 1]) || !covered {
             return None;
         }
         let ((x0, x1), (y0, y1)) = (lane_bounds(x), lane_bounds(y));
-        let test = self.flat_test(depth, viewport);
         let ((vw, vh), (mw, mh)) = (test.viewport, test.map);
         if x0 < 0 || y0 < 0 || x1 >= vw.min(mw) || y1 >= vh.min(mh) {
             return None;
         }
         let mut outcome = None;
         for row in &rows[y0 as usize..=y1 as usize] {
-            let lit = test.on_map(*row.as_ref()?);
+            let lit = row_outcome(row)?;
             if outcome.is_some_and(|o| o != lit) {
                 return None;
             }

@@ -263,12 +263,12 @@ pub(super) struct ChunkBuffers {
 }
 
 /// The camera depth buffer's words unpacked ([`ShadowCompare::words`]) for the
-/// planes' depth tests in lanes, and the word of each row that holds one
-/// ([`ShadowCompare::uniform_rows`]).
+/// planes' depth tests in lanes, and each row's least and greatest word
+/// ([`ShadowCompare::row_ranges`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct DepthWords<'a> {
     pub words: &'a [u32],
-    pub rows: &'a [Option<u32>],
+    pub rows: &'a [(u32, u32)],
 }
 
 /// What a light's passes read: the frame's units and depth buffer, the light's view,

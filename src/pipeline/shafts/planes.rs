@@ -214,7 +214,7 @@ pub(super) fn planes_pass(
     let (zwords, swords) = unpacked_words(ctx);
     let zrows = (zwords.as_deref())
         .zip(ctx.units.zbuf.as_ref())
-        .map(|(words, z)| z.uniform_rows(words));
+        .map(|(words, z)| z.row_ranges(words));
     let zwords = zwords
         .as_deref()
         .zip(zrows.as_deref())
