@@ -315,9 +315,9 @@ impl LightCtx<'_> {
 
     /// [`Self::visible_words`] at one depth word `zword` for every pixel (a plane
     /// parallel to the screen): with the unpacked words, the test in lanes straight
-    /// from the chunk's slices, a chunk on rows no object covers decided at once
-    /// ([`ShadowCompare::test_filter_flat_rows`]: the same kept fragments and
-    /// counters), else [`Self::visible_words`].
+    /// from the chunk's slices, a chunk whose rows give every depth word one outcome
+    /// decided at once ([`ShadowCompare::test_filter_flat_rows`]: the same kept
+    /// fragments and counters), else [`Self::visible_words`].
     pub fn visible_flat(
         &self,
         px: &PolyLanes,
@@ -633,11 +633,7 @@ impl LightCtx<'_> {
         du.truncate(kept);
         self.pair_lit(sh, ss, spans, b);
         self.pair_light_map(lm, kept, spans, b);
-        let decided = n - kept;
-        sh.count_tests(behind, decided - behind, &mut spans.shadow.ctr);
-        spans.shadow.tally.add(decided);
-        lm.count_samples(decided as u64, &mut spans.light_map.ctr);
-        spans.light_map.tally.add(decided);
+        Self::count_decided((sh, lm), n - kept, behind, spans);
         // The undecided blocks' H·I_l back at their fragments, 0 at the others.
         std::mem::swap(&mut b.hil, &mut b.hil_undecided);
         b.hil.clear();
@@ -652,9 +648,7 @@ impl LightCtx<'_> {
 
     /// [`Self::h_il_pair`] where every one of the `n` fragments is behind the light
     /// or outside its square: H·I_l is 0, and the shadow test and the light map are
-    /// counted without running. Behind the light (u, v) = (0, 0), the shadow map's
-    /// texel (0, 0); outside the square the texel is off the map (a border lookup);
-    /// no light-map coordinate wraps (the caller checked the whole code range).
+    /// counted without running ([`Self::count_decided`]).
     fn none_in_square(
         &self,
         sh: &ShadowCompare,
@@ -664,12 +658,26 @@ impl LightCtx<'_> {
         b: &mut ChunkBuffers,
     ) {
         let behind = b.proj_lanes.behind.iter().filter(|&&x| x).count();
+        Self::count_decided((sh, lm), n, behind, spans);
+        b.hil.clear();
+        b.hil.resize(n, 0);
+    }
+
+    /// The shadow test and the light map of `n` fragments the square form decided,
+    /// `behind` of them behind the light, counted without running. Behind the light
+    /// (u, v) = (0, 0), the shadow map's texel (0, 0): a read; outside the square the
+    /// texel is off the map: a border lookup. A light-map sample each, none of whose
+    /// coordinates wraps (the caller checked the whole code range).
+    fn count_decided(
+        (sh, lm): (&ShadowCompare, &TextureSampler),
+        n: usize,
+        behind: usize,
+        spans: &mut HilSpans,
+    ) {
         sh.count_tests(behind, n - behind, &mut spans.shadow.ctr);
         spans.shadow.tally.add(n);
         lm.count_samples(n as u64, &mut spans.light_map.ctr);
         spans.light_map.tally.add(n);
-        b.hil.clear();
-        b.hil.resize(n, 0);
     }
 
     /// [`Self::h_il_pair`]'s shadow compare: whether the shadow map lights each
