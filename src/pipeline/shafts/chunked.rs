@@ -250,9 +250,8 @@ pub(super) struct ChunkBuffers {
     /// ([`LightCtx::h_il`]'s shared front end).
     pub(super) proj_lanes: ProjLanes,
     pdepth_u: Vec<i32>,
-    /// The fragments of the blocks the square form did not decide, as ranges of
-    /// the visible list, and their H·I_l ([`LightCtx::pair_in_square`]).
-    undecided: Vec<std::ops::Range<usize>>,
+    /// The H·I_l of the fragments of the blocks the square form did not decide
+    /// ([`LightCtx::pair_in_square`]).
     hil_undecided: Vec<u32>,
     /// The shadow map's texel x, y and depth word of each fragment, in lanes.
     shadow_x: Vec<i32>,
@@ -584,7 +583,6 @@ impl LightCtx<'_> {
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
         match skipped {
-            Some(k) if n > 0 && k == n => self.none_in_square(sh, lm, n, spans, b),
             Some(k) if k > 0 => self.pair_in_square(sh, ss, lm, n, spans, b),
             _ => {
                 self.pair_lit(sh, ss, spans, b);
@@ -595,11 +593,10 @@ impl LightCtx<'_> {
     }
 
     /// [`Self::h_il_pair`] where the square form decided some of the `n` fragments'
-    /// blocks ([`ProjLanes::decided`]) and not others: the undecided blocks' lanes
-    /// moved to the front and run through [`Self::pair_lit`] and
-    /// [`Self::pair_light_map`]; the decided ones counted as [`Self::none_in_square`]
-    /// counts them, their H·I_l 0 (the counters are sums over the fragments, the
-    /// same in any grouping).
+    /// blocks ([`ProjLanes::decided`]), perhaps all: the undecided blocks' lanes moved
+    /// to the front and run through [`Self::pair_lit`] and [`Self::pair_light_map`];
+    /// the decided ones counted without running ([`Self::count_decided`]), their
+    /// H·I_l 0 (the counters are sums over the fragments, the same in any grouping).
     #[allow(clippy::too_many_arguments)]
     fn pair_in_square(
         &self,
@@ -610,11 +607,12 @@ impl LightCtx<'_> {
         spans: &mut HilSpans,
         b: &mut ChunkBuffers,
     ) {
+        // Block k's fragments in the visible list.
+        let block = |k: usize| k * SQUARE_BLOCK..((k + 1) * SQUARE_BLOCK).min(n);
         let (pl, du) = (&mut b.proj_lanes, &mut b.pdepth_u);
         let (mut kept, mut behind) = (0, 0);
-        b.undecided.clear();
         for (k, &decided) in pl.decided.iter().enumerate() {
-            let at = k * SQUARE_BLOCK..((k + 1) * SQUARE_BLOCK).min(n);
+            let at = block(k);
             if decided {
                 behind += pl.behind[at].iter().filter(|&&x| x).count();
                 continue;
@@ -623,9 +621,14 @@ impl LightCtx<'_> {
             pl.u.copy_within(at.clone(), kept);
             pl.v.copy_within(at.clone(), kept);
             pl.behind.copy_within(at.clone(), kept);
-            du.copy_within(at.clone(), kept);
-            b.undecided.push(at);
+            du.copy_within(at, kept);
             kept += len;
+        }
+        Self::count_decided((sh, lm), n - kept, behind, spans);
+        if kept == 0 {
+            b.hil.clear();
+            b.hil.resize(n, 0);
+            return;
         }
         pl.u.truncate(kept);
         pl.v.truncate(kept);
@@ -633,34 +636,17 @@ impl LightCtx<'_> {
         du.truncate(kept);
         self.pair_lit(sh, ss, spans, b);
         self.pair_light_map(lm, kept, spans, b);
-        Self::count_decided((sh, lm), n - kept, behind, spans);
         // The undecided blocks' H·I_l back at their fragments, 0 at the others.
         std::mem::swap(&mut b.hil, &mut b.hil_undecided);
         b.hil.clear();
         b.hil.resize(n, 0);
+        let undecided = (b.proj_lanes.decided.iter().enumerate()).filter(|&(_, &d)| !d);
         let mut from = 0;
-        for at in &b.undecided {
+        for at in undecided.map(|(k, _)| block(k)) {
             let len = at.len();
-            b.hil[at.clone()].copy_from_slice(&b.hil_undecided[from..from + len]);
+            b.hil[at].copy_from_slice(&b.hil_undecided[from..from + len]);
             from += len;
         }
-    }
-
-    /// [`Self::h_il_pair`] where every one of the `n` fragments is behind the light
-    /// or outside its square: H·I_l is 0, and the shadow test and the light map are
-    /// counted without running ([`Self::count_decided`]).
-    fn none_in_square(
-        &self,
-        sh: &ShadowCompare,
-        lm: &TextureSampler,
-        n: usize,
-        spans: &mut HilSpans,
-        b: &mut ChunkBuffers,
-    ) {
-        let behind = b.proj_lanes.behind.iter().filter(|&&x| x).count();
-        Self::count_decided((sh, lm), n, behind, spans);
-        b.hil.clear();
-        b.hil.resize(n, 0);
     }
 
     /// The shadow test and the light map of `n` fragments the square form decided,

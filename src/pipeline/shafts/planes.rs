@@ -179,7 +179,7 @@ struct PlaneBuffers {
 /// What every fragment of plane i shares.
 struct PlaneCtx<'a> {
     ctx: &'a LightCtx<'a>,
-    /// The camera depth buffer's words ([`rtl_model::units::shadow_compare::ShadowCompare::words`]).
+    /// The camera depth buffer's words and row ranges ([`DepthWords`]).
     zwords: Option<DepthWords<'a>>,
     jtex: Option<&'a TextureSampler>,
     zword: u32,
@@ -212,13 +212,7 @@ pub(super) fn planes_pass(
     let dr = (r1 - r0) / n as f64;
     let mut jtex: Option<TextureSampler> = None;
     let (zwords, swords) = unpacked_words(ctx);
-    let zrows = (zwords.as_deref())
-        .zip(ctx.units.zbuf.as_ref())
-        .map(|(words, z)| z.row_ranges(words));
-    let zwords = zwords
-        .as_deref()
-        .zip(zrows.as_deref())
-        .map(|(words, rows)| DepthWords { words, rows });
+    let zwords = (zwords.as_ref()).map(|(words, rows)| DepthWords { words, rows });
     let ctx = &LightCtx {
         swords: swords.as_deref(),
         ..*ctx
@@ -270,12 +264,17 @@ pub(super) fn planes_pass(
     Ok(())
 }
 
-/// The camera depth buffer's and the shadow map's words, unpacked once for every
-/// plane's and sub-plane's tests in lanes: both are read-only during the planes pass.
-/// `None` for a buffer the light's passes do not have.
-fn unpacked_words(ctx: &LightCtx) -> (Option<Vec<u32>>, Option<Vec<u32>>) {
+/// The camera depth buffer's words with each row's least and greatest word, and the
+/// shadow map's words, unpacked once for every plane's and sub-plane's tests in
+/// lanes: both are read-only during the planes pass. `None` for a buffer the light's
+/// passes do not have.
+#[allow(clippy::type_complexity)]
+fn unpacked_words(ctx: &LightCtx) -> (Option<(Vec<u32>, Vec<(u32, u32)>)>, Option<Vec<u32>>) {
     let zwords = match (&ctx.units.zbuf, ctx.zstate) {
-        (Some(z), Some(zs)) => z.words(zs),
+        (Some(z), Some(zs)) => z.words(zs).map(|words| {
+            let rows = z.row_ranges(&words);
+            (words, rows)
+        }),
         _ => None,
     };
     let swords = match (&ctx.units.shadow, ctx.sstate) {
