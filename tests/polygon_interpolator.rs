@@ -1938,3 +1938,219 @@ fn reserve_makes_room_in_the_written_lanes_only() {
         }
     }
 }
+
+/// Events counted on runs whose accumulator moves by a few LSBs a step: runs that
+/// reach the zero code, step onto an accumulator of exactly 0 (rounds to 0: no
+/// underflow), and enter or leave the output range part-way, rising and falling,
+/// with the covered steps a part of each run (an edge leaves the primitive
+/// part-way). In every rounding mode the lane forms (read, unread, covered only)
+/// give the drivers' words, final state and counters; each kind of event occurs.
+#[test]
+fn events_of_runs_of_small_steps_agree_with_the_drivers() {
+    let (mut under, mut sat) = (0, 0);
+    for q in Quant::ALL {
+        let u = PolygonInterpolatorConfig {
+            attrs: MAX_ATTRS as u32,
+            out_int_bits: 4,
+            out_frac_bits: 2,
+            out_quant: q,
+            ..PolygonInterpolatorConfig::default()
+        }
+        .build()
+        .unwrap();
+        let sh = u.acc_fmt().frac_bits - u.out_fmt().frac_bits;
+        let (half, top) = (1i64 << (sh - 1), (u.out_fmt().max_raw() as i64) << sh);
+        let bottom = u.out_fmt().min_raw() as i64 * (1i64 << sh);
+        // (first accumulator value, step): into the zero code and out of it, through an
+        // accumulator of exactly 0, up out of the range and down out of it.
+        let lines = [
+            (-half - 5, 1),
+            (half + 5, -1),
+            (-3, 1),
+            (6, -2),
+            (top + half - 5, 1),
+            (bottom - half + 5, -1),
+            (-half - 40, 3),
+            (top - 7, 7),
+        ];
+        let mut st = PolyState {
+            x: 0,
+            y: 0,
+            edge: [14, 1 << 20, 1 << 20, 1 << 20],
+            edge_dx: [-1, 0, 0, 0],
+            edge_dy: [0; 4],
+            acc: [0; MAX_ATTRS],
+            grad_x: [0; MAX_ATTRS],
+            grad_y: [0; MAX_ATTRS],
+            bary: None,
+        };
+        for (a, &(a0, g)) in lines.iter().enumerate() {
+            st.acc[a] = a0;
+            st.grad_x[a] = g;
+            st.grad_y[a] = -g;
+        }
+        let mut moves = vec![Move::Hold];
+        for row in 0..4 {
+            let dir = if row % 2 == 0 {
+                Move::Right
+            } else {
+                Move::Left
+            };
+            moves.extend(std::iter::repeat_n(dir, 30));
+            moves.push(Move::Down);
+        }
+        let mut c = Counters::default();
+        run_span(&u, &mut st.clone(), &moves, &mut c);
+        under += c.underflows;
+        sat += c.saturations;
+        common::assert_drivers_agree(&u, st.clone(), &moves);
+        lanes_agree_with_span(&u, &st, &moves);
+    }
+    assert!(under > 0, "some run must reach the zero code");
+    assert!(sat > 0, "some run must leave the output range");
+}
+
+/// `attr_code_range` on parallelograms and triangles: where it answers, the least
+/// and greatest code of the attribute over the rectangle's pixels as the walk
+/// writes them (covered or not); it answers on most of them (the accumulators stay
+/// in range) and never for the barycentric mode.
+#[test]
+fn attr_code_range_is_the_walks_least_and_greatest_code() {
+    let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(7);
+    let mut answered = 0;
+    let cases = 200;
+    for case in 0..cases {
+        use rand::Rng;
+        let u = config_by_index(case % 3, MAX_ATTRS as u32);
+        let pts: Vec<(f64, f64)> = (0..3)
+            .map(|_| (rng.random_range(2.0..40.0), rng.random_range(2.0..40.0)))
+            .collect();
+        let attrs: Vec<Vec<f64>> = (0..3)
+            .map(|_| {
+                (0..MAX_ATTRS)
+                    .map(|_| rng.random_range(-100.0..100.0))
+                    .collect()
+            })
+            .collect();
+        let (vs, _, _) = quantise(&u, &pts, &attrs);
+        let mut ctr = Counters::default();
+        let setup = if case % 2 == 0 {
+            u.setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut ctr)
+                .unwrap()
+        } else {
+            u.setup_triangle(&[vs[0], vs[1], vs[2]], &mut ctr)
+        };
+        let Some(b) = setup.bbox else { continue };
+        let outs = run_span(&u, &mut setup.state.clone(), &setup.moves(), &mut ctr);
+        let (x0, x1) = sorted(rng.random_range(b.x0..=b.x1), rng.random_range(b.x0..=b.x1));
+        let (y0, y1) = sorted(rng.random_range(b.y0..=b.y1), rng.random_range(b.y0..=b.y1));
+        for a in 0..MAX_ATTRS {
+            let codes = outs
+                .iter()
+                .filter(|o| (x0..=x1).contains(&o.x) && (y0..=y1).contains(&o.y))
+                .map(|o| o.attrs[a]);
+            let want = (codes.clone().min().unwrap(), codes.max().unwrap());
+            if let Some(got) = u.attr_code_range(&setup, a, x0..=x1, y0..=y1) {
+                assert_eq!(
+                    got, want,
+                    "case {case} attribute {a}: rectangle {x0}..={x1} × {y0}..={y1}"
+                );
+                answered += 1;
+            }
+        }
+        assert_eq!(u.attr_code_range(&setup, MAX_ATTRS, x0..=x1, y0..=y1), None);
+    }
+    assert!(
+        answered > cases * MAX_ATTRS / 2,
+        "answered {answered} of {}",
+        cases * MAX_ATTRS
+    );
+    // The barycentric mode's codes are not affine in the pixel: no answer.
+    let u = PolygonInterpolatorConfig {
+        barycentric: Some(Barycentric {
+            weight_bits: 8,
+            strict: false,
+        }),
+        ..PolygonInterpolatorConfig::default()
+    }
+    .build()
+    .unwrap();
+    let v = |x: f64, y: f64| {
+        u.vertex_from_f64(0, x, y, &[1.0, 2.0, 3.0, 4.0], &mut Counters::default())
+            .unwrap()
+    };
+    let s = u.setup_triangle(
+        &[v(1.0, 1.0), v(20.0, 2.0), v(3.0, 18.0)],
+        &mut Counters::default(),
+    );
+    assert!(
+        s.state.bary.is_some(),
+        "the barycentric mode's setup loads its registers"
+    );
+    assert_eq!(u.attr_code_range(&s, 0, 2..=5, 2..=5), None);
+}
+
+fn sorted(a: i64, b: i64) -> (i64, i64) {
+    (a.min(b), a.max(b))
+}
+
+/// The host's walk in chunks of rows of one kind (`walk_rows_lanes_by`): the same
+/// words in order as `walk_rows_lanes` (a kind's unread attributes left empty), each
+/// chunk's rows of one kind, and the same counters.
+#[test]
+fn a_walk_by_row_kinds_gives_the_walks_words_and_counters() {
+    use glare_pipeline::pipeline::raster::{walk_rows_lanes, walk_rows_lanes_by, WalkBuffers};
+    let u = cfg_default(MAX_ATTRS as u32);
+    let pts = [(1.5, 2.0), (61.0, 3.5), (58.0, 44.0)];
+    let attrs: Vec<Vec<f64>> = (0..3)
+        .map(|i| {
+            (0..MAX_ATTRS)
+                .map(|a| (i * 7 + a * 3) as f64 - 9.0)
+                .collect()
+        })
+        .collect();
+    let (vs, _, _) = quantise(&u, &pts, &attrs);
+    let s = u
+        .setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut Counters::default())
+        .unwrap();
+    let (mut want, mut c_want) = (Vec::new(), Counters::default());
+    walk_rows_lanes(&u, &s, &mut c_want, &mut WalkBuffers::default(), |l| {
+        want.extend((0..l.len()).map(|i| l.word(i)));
+    });
+    let unread = 0b1111_0000u32;
+    let kind = |row: u64| row % 5 < 2;
+    let b = s.bbox.unwrap();
+    let (mut got, mut c_got, mut chunks) = (Vec::new(), Counters::default(), 0);
+    let by_kind = |row: u64| (if kind(row) { unread } else { 0 }, kind(row));
+    walk_rows_lanes_by(
+        &u,
+        &s,
+        &mut c_got,
+        &mut WalkBuffers::default(),
+        by_kind,
+        |l, k| {
+            chunks += 1;
+            assert!(
+                l.y.iter().all(|&y| kind((y - b.y0) as u64) == k),
+                "a chunk of one kind"
+            );
+            for a in 0..MAX_ATTRS {
+                assert_eq!(l.is_read(a), !k || (unread >> a) & 1 == 0);
+            }
+            got.extend((0..l.len()).map(|i| (l.word(i), k)));
+        },
+    );
+    assert!(
+        chunks >= 16,
+        "the kind changes every few rows: {chunks} chunks"
+    );
+    assert_eq!(got.len(), want.len());
+    for ((g, k), w) in got.iter().zip(&want) {
+        let mut w = *w;
+        if *k {
+            w.attrs[4..8].fill(0);
+        }
+        assert_eq!(*g, w);
+    }
+    assert_eq!(c_got, c_want);
+}

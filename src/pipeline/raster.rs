@@ -143,23 +143,44 @@ pub fn walk_rows_lanes(
     buf: &mut WalkBuffers,
     mut sink: impl FnMut(&PolyLanes),
 ) {
+    walk_rows_lanes_by(u, s, ctr, buf, |_| (0, ()), |l, ()| sink(l));
+}
+
+/// [`walk_rows_lanes`] with the rows sorted into kinds: `kind(row)` (the row's index
+/// in the bounding box) gives the row's kind and the attributes its sink does not
+/// read (a mask, added to the buffers' own: their lanes are left empty, still
+/// computed and counted). A chunk holds rows of one kind (it ends early where the
+/// kind changes), handed to `sink` with its kind. The counters are the same as
+/// [`walk_rows_lanes`]'s (they are sums over the moves, in any chunking).
+pub fn walk_rows_lanes_by<K: Copy + PartialEq>(
+    u: &PolygonInterpolator,
+    s: &PolySetup,
+    ctr: &mut Counters,
+    buf: &mut WalkBuffers,
+    mut kind: impl FnMut(u64) -> (u32, K),
+    mut sink: impl FnMut(&PolyLanes, K),
+) {
     let mut st = s.state.clone();
     let mut tally = SpanTally::new();
     let (rows, width) = s.bbox.map_or((0, 0), |b| (b.height(), b.width() as usize));
     buf.runs.clear();
     let mut moves = 0;
+    let mut this = (rows > 0).then(|| kind(0));
     for row in 0..rows {
+        let Some((unread, k)) = this else { break };
         s.row_runs(row, &mut buf.runs);
         moves += width;
-        if moves >= WALK_CHUNK_MOVES || row + 1 == rows {
+        let next = (row + 1 < rows).then(|| kind(row + 1));
+        if moves >= WALK_CHUNK_MOVES || next.is_none_or(|n| n != (unread, k)) {
             buf.lanes
-                .clear_covered(u.attrs() as usize, buf.unread, buf.covered_only);
+                .clear_covered(u.attrs() as usize, buf.unread | unread, buf.covered_only);
             u.kernel_runs_lanes(&mut st, &buf.runs, &mut buf.lanes, ctr);
             tally.add(moves);
-            sink(&buf.lanes);
+            sink(&buf.lanes, k);
             buf.runs.clear();
             moves = 0;
         }
+        this = next;
     }
     tally.close(u.timing(), ctr);
 }

@@ -620,8 +620,8 @@ impl AttrLine {
             let n = self.inside.len() as u64;
             return (s * n, u * n, None);
         }
-        if !keep && self.quiet(run, &round) {
-            return (0, 0, None); // unread, and nothing to count
+        if !keep && self.wrap.is_none() {
+            return self.count_events(&round); // unread: its events alone
         }
         let base = lane.len();
         lane.resize(base + run, 0);
@@ -686,6 +686,48 @@ impl AttrLine {
         lo >= self.lo && hi <= self.hi && (lo > 0 || hi < 0)
     }
 
+    /// The events [`Self::fill_slots`] counts on a run that does not wrap and
+    /// whose step is not 0, without writing its values: (saturations, underflows,
+    /// None). Rounding (every mode) is monotone and the run affine, so the steps j
+    /// (j = 0 .. run, value A = a0 + (j + 1)·g) where the rounded value lies above
+    /// the output range, below it, or at 0 are each one interval of j, found by
+    /// bisection within the covered steps; an underflow is a 0 whose A is not 0
+    /// (at most one step has A = 0).
+    fn count_events(&self, round: &impl Fn(i64) -> i64) -> (u64, u64, Option<(i64, u64)>) {
+        let (from, to) = (self.inside.start as i64, self.inside.end as i64);
+        let code = |j: i64| round(self.a0 + (j + 1) * self.g);
+        // The steps of [from, to) where `at(code)` holds, for a predicate true on
+        // the codes below some value (false above it).
+        let count_below = |at: &dyn Fn(i64) -> bool| -> i64 {
+            // Rising codes: the true steps are a prefix, else a suffix.
+            let rising = self.g > 0;
+            let (mut lo, mut hi) = (from, to);
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if at(code(mid)) == rising {
+                    lo = mid + 1;
+                } else {
+                    hi = mid;
+                }
+            }
+            if rising {
+                lo - from
+            } else {
+                to - lo
+            }
+        };
+        let n = to - from;
+        let above = n - count_below(&|c| c <= self.hi);
+        let below = count_below(&|c| c < self.lo);
+        let zeros = count_below(&|c| c <= 0) - count_below(&|c| c < 0);
+        // A step with A = 0 exactly: (j + 1)·g = −a0.
+        let exact = (self.a0 % self.g == 0)
+            .then(|| -self.a0 / self.g - 1)
+            .is_some_and(|j| (from..to).contains(&j));
+        let under = zeros - i64::from(exact);
+        ((above + below) as u64, under as u64, None)
+    }
+
     /// One accumulator value rounded and clamped into the output format: (code,
     /// saturated, underflowed).
     #[inline(always)]
@@ -705,8 +747,8 @@ impl AttrLine {
         round: impl Fn(i64) -> i64,
     ) -> (u64, u64, Option<(i64, u64)>) {
         let one = |v: i64| self.one(v, &round);
-        let (mut sat, mut under) = (0u64, 0u64);
         if let Some((min, max)) = self.wrap {
+            let (mut sat, mut under) = (0u64, 0u64);
             // s(acc) + s(acc) → s(acc + 1), back into s(acc) modulo 2^acc (|g| ≤ 2^(acc−1),
             // so one step wraps at most once).
             let span = max - min + 1;
@@ -735,21 +777,18 @@ impl AttrLine {
             let n = self.inside.len() as u64;
             return (s * n, u * n, None);
         }
-        if self.quiet(run, &round) {
-            for (j, o) in slots.enumerate() {
-                *o = round(self.a0 + (j as i64 + 1) * self.g);
-            }
-            return (0, 0, None);
-        }
+        // The codes written as a plain loop (the compiler vectorises it), the events
+        // counted apart: none on a quiet run, else by bisection.
+        let quiet = self.quiet(run, &round);
         for (j, o) in slots.enumerate() {
             // |a0 + j·g| < 2^61 along the run: no i64 overflow.
-            let (c, s, u) = one(self.a0 + (j as i64 + 1) * self.g);
-            *o = c;
-            let counted = u64::from(self.inside.contains(&j));
-            sat += s * counted;
-            under += u * counted;
+            *o = round(self.a0 + (j as i64 + 1) * self.g).clamp(self.lo, self.hi);
         }
-        (sat, under, None)
+        if quiet {
+            (0, 0, None)
+        } else {
+            self.count_events(&round)
+        }
     }
 }
 
@@ -920,6 +959,47 @@ impl PolygonInterpolator {
             frac_bits: self.cfg.out_frac_bits,
             signed: self.cfg.attr_fmt.signed,
         }
+    }
+
+    /// The least and the greatest code of attribute `a` over the pixels `xs` × `ys`
+    /// of primitive `s`, as its walk writes them, where that is certain in closed
+    /// form; None elsewhere. Certain where the accumulator is affine in the pixel
+    /// (no barycentric weights) and stays in its format: at every corner of the
+    /// rectangle A + (x − x₀)·dA/dx + (y − y₀)·dA/dy (exact, in 128 bits) lies
+    /// strictly above the format's minimum and at most its maximum, and so does every
+    /// pixel's (an affine function's extremes on a rectangle lie at its corners), so
+    /// no step wraps or saturates and each pixel's accumulator is that value. The
+    /// output rounding (shift ≥ 1) and clamp are monotone: the codes' extremes are
+    /// the corners' codes. (Whether a pixel is covered plays no part.)
+    pub fn attr_code_range(
+        &self,
+        s: &PolySetup,
+        a: usize,
+        xs: std::ops::RangeInclusive<i64>,
+        ys: std::ops::RangeInclusive<i64>,
+    ) -> Option<(i64, i64)> {
+        let st = &s.state;
+        let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
+        if st.bary.is_some() || shift <= 0 || a >= self.cfg.attrs as usize {
+            return None;
+        }
+        let (acc, of) = (self.acc_fmt(), self.out_fmt());
+        let (lo, hi) = (of.min_raw() as i64, of.max_raw() as i64);
+        let mut range: Option<(i64, i64)> = None;
+        for (x, y) in [*xs.start(), *xs.end()]
+            .into_iter()
+            .flat_map(|x| [(x, *ys.start()), (x, *ys.end())])
+        {
+            let v = st.acc[a] as i128
+                + (x - st.x) as i128 * st.grad_x[a] as i128
+                + (y - st.y) as i128 * st.grad_y[a] as i128;
+            if v <= acc.min_raw() || v > acc.max_raw() {
+                return None;
+            }
+            let code = round_acc(v as i64, shift as u32, self.cfg.out_quant).clamp(lo, hi);
+            range = Some(range.map_or((code, code), |(l, h)| (l.min(code), h.max(code))));
+        }
+        range
     }
 
     /// Width of an edge accumulator: 2c + 2s + 4 (derivation at `setup_poly`).
