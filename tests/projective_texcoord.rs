@@ -23,7 +23,7 @@ use glare_pipeline::reference::projective_texcoord::{project, project_codes};
 use proptest::prelude::*;
 use rtl_model::units::projective_texcoord::{
     recip_rom_entry, ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord,
-    ProjectiveTexcoordConfig, SquareCut, SQUARE_BLOCK,
+    ProjectiveTexcoordConfig, SquareClass, SquareCut, SQUARE_BLOCK,
 };
 use rtl_model::{Counters, Unit, UnitSummary};
 
@@ -871,5 +871,153 @@ proptest! {
         // Words past the input width wrap on the wire as the kernel wraps them.
         let lanes = plane_blocks(&blocks);
         square_form_agrees(&a, &b, [&lanes[0], &lanes[1], &lanes[2], &lanes[3]]);
+    }
+}
+
+/// `cut.range(ranges, w)` against the exact pair form on inputs in the ranges (their
+/// corners and `inner`, each coordinate taken within its range): where it gives a
+/// class, both units' counters are `count_pair_class` of that class, and every input
+/// is behind the projector (all, or none, as the class says) or outside the unit
+/// square. Returns the class.
+fn range_class_holds(
+    a: &ProjectiveTexcoord,
+    b: &ProjectiveTexcoord,
+    ranges: [(i64, i64); 4],
+    inner: &[[u64; 4]],
+) -> Option<SquareClass> {
+    let cut = SquareCut::of(a, b)?;
+    let class = cut.range(ranges, a.in_bits())?;
+    let mut lanes: [Vec<i64>; 4] = Default::default();
+    let pick = |k: usize, x: u64| {
+        let (lo, hi) = ranges[k];
+        lo + (x % (hi - lo + 1) as u64) as i64
+    };
+    for c in 0..16u64 {
+        for (k, lane) in lanes.iter_mut().enumerate() {
+            let (lo, hi) = ranges[k];
+            lane.push(if (c >> k) & 1 == 0 { lo } else { hi });
+        }
+    }
+    for x in inner {
+        for (k, lane) in lanes.iter_mut().enumerate() {
+            lane.push(pick(k, x[k]));
+        }
+    }
+    let n = lanes[0].len();
+    let idx: Vec<u32> = (0..n as u32).collect();
+    let (mut out, mut du) = (ProjLanes::default(), Vec::new());
+    let (mut ca, mut cb) = (Counters::default(), Counters::default());
+    let l = [&lanes[0][..], &lanes[1][..], &lanes[2][..], &lanes[3][..]];
+    assert!(a.kernel_pair_lanes(b, l, &idx, &mut out, &mut du, &mut ca, &mut cb));
+    let (mut wa, mut wb) = (Counters::default(), Counters::default());
+    a.count_pair_class(class, n as u64, &mut wa, &mut wb);
+    assert_eq!((ca, cb), (wa, wb), "counters of class {class:?}");
+    let one = 1i32 << a.config().out_frac_bits;
+    for j in 0..n {
+        assert_eq!(out.behind[j], !class.live, "input {j} of class {class:?}");
+        let outside = [out.u[j], out.v[j]].iter().any(|c| !(0..=one).contains(c));
+        assert!(out.behind[j] || outside, "input {j} in the square");
+    }
+    Some(class)
+}
+
+/// `SquareCut::range` on the shafts frame's pair: ranges far below the square, far
+/// outside it with every coordinate saturating, and behind the projector are each
+/// one class; ranges reaching into the square, straddling the projector's plane,
+/// between certain and uncertain saturation, or leaving the input words are not.
+#[test]
+fn a_range_of_inputs_is_one_class_only_where_every_input_is() {
+    let (a, b) = (
+        ProjectiveTexcoord::geforce(),
+        shafts_depth().build().unwrap(),
+    );
+    let q = 1i64 << 24;
+    let inner: Vec<[u64; 4]> = (0..64u64)
+        .map(|i| [i * 7919, i * 104_729, i * 1_299_709, i * 15_485_863])
+        .collect();
+    let class = |r: [(i64, i64); 4]| range_class_holds(&a, &b, r, &inner);
+    // s/q about −1 (u below 0), t/q and r/q about ½.
+    let below = [
+        (-q - 99, -q + 99),
+        (q / 2, q / 2 + 99),
+        (q / 2, q / 2 + 99),
+        (q, q + 99),
+    ];
+    let live = |sats, depth_sats| SquareClass {
+        live: true,
+        sats,
+        depth_sats,
+    };
+    assert_eq!(class(below), Some(live(0, 0)));
+    // s/q = 12, t/q = −12, r/q = 3: every coordinate saturates.
+    let far = [
+        (12 * q, 12 * q + 99),
+        (-12 * q - 99, -12 * q),
+        (3 * q, 3 * q + 99),
+        (q, q + 99),
+    ];
+    assert_eq!(class(far), Some(live(2, 1)));
+    let behind = [(-q, q), (-q, q), (-q, q), (-q, 0)];
+    assert_eq!(class(behind), Some(SquareClass::BEHIND));
+    // Reaching into the square (s/q from −1 to ½).
+    let into = [(-q, q / 2), (q / 2, q / 2), (q / 2, q / 2), (q, q)];
+    assert_eq!(class(into), None);
+    // q from −1 to +1: some behind, some in front.
+    let straddle = [(-q, -q), (q / 2, q / 2), (q / 2, q / 2), (-q, q)];
+    assert_eq!(class(straddle), None);
+    // u certainly below 0, but its saturation not certain for all (s/q from −1 to −12).
+    let unsure = [(-12 * q, -q), (q / 2, q / 2), (q / 2, q / 2), (q, q)];
+    assert_eq!(class(unsure), None);
+    // s a little below 0 while q runs from 8 to 2^30: s/q reaches −2/2^30, not
+    // certainly below 0 (u's code is then 0).
+    let shallow = [(-2, -2), (4, 4), (4, 4), (8, 1 << 30)];
+    assert_eq!(class(shallow), None);
+    // A range past the input words (read sign-extended, not in order): q past the
+    // largest word is negative on the wire, behind the projector.
+    let top = (1i64 << (a.in_bits() - 1)) - 1;
+    let wrapped = [(-top, -top + 9), (0, 0), (0, 0), (top - 5, top + 5)];
+    assert_eq!(class(wrapped), None);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(common::cases()))]
+
+    /// `SquareCut::range` at random ranges (about q·x/16 for ratios x, spreads up to
+    /// 2^e) on the shafts frame's pair and on random pairs sharing the front end:
+    /// wherever it gives a class, every input in the ranges is of it
+    /// (`range_class_holds`).
+    #[test]
+    fn a_range_class_holds_for_every_input_in_the_ranges(
+        a in random_valid_config(),
+        b in random_valid_config(),
+        e in 0i64..31,
+        ratios in prop::array::uniform3(-400i64..400),
+        spread in prop::array::uniform4(0u32..40),
+        front in any::<bool>(),
+        frame_pair in any::<bool>(),
+        inner in prop::collection::vec(prop::array::uniform4(any::<u64>()), 16),
+    ) {
+        let (a, b) = if frame_pair {
+            (ProjectiveTexcoordConfig::geforce(), shafts_depth())
+        } else {
+            (a, b)
+        };
+        let (a, b) = sharing_front_end(a, b);
+        let w = a.in_bits();
+        let top = (1i64 << (w - 1)) - 1;
+        let q = (1i64 << e.min(w as i64 - 2).max(0)).min(top / 2);
+        let q = if front { q } else { -q };
+        let range = |x: i64, s: u32| {
+            let d = ((1i64 << s.min(w.saturating_sub(2))).min(top / 4) - 1).max(0);
+            (x.clamp(-top, top - d), x.clamp(-top, top - d) + d)
+        };
+        let [xs, xt, xr] = ratios.map(|x| x * q / 16);
+        let ranges = [
+            range(xs, spread[0]),
+            range(xt, spread[1]),
+            range(xr, spread[2]),
+            range(q, spread[3]),
+        ];
+        range_class_holds(&a, &b, ranges, &inner);
     }
 }

@@ -299,6 +299,55 @@ impl SquareCut {
         (decided, live, codes, sats, i64::from(sat_r))
     }
 
+    /// Every input whose codes s, t, r and q (raw words of width `w`) lie in the
+    /// ranges `[s, t, r, q]` (least, greatest) decided alike: Some(its class) where
+    /// every one is behind the projector, or every one is in front of it, certainly
+    /// outside the square by one coordinate for all (s below 0 for all, or above 1.0
+    /// for all; or t), and each coordinate's saturation is certain and the same for
+    /// all. Each bound of [`SquareCut`]'s per-input tests is taken at the worst
+    /// corner of the ranges, so the class holds for each input in them (whatever
+    /// their joint values). None elsewhere, and where a range leaves the `w`-bit
+    /// words (whose codes are then read sign-extended, not in order).
+    pub fn range(&self, [s, t, r, q]: [(i64, i64); 4], w: u32) -> Option<SquareClass> {
+        let fits = |(lo, hi): (i64, i64)| lo <= hi && sext(lo, w) == lo && sext(hi, w) == hi;
+        if ![s, t, r, q].into_iter().all(fits) {
+            return None;
+        }
+        let (ql, qh) = q;
+        if qh <= 0 {
+            return Some(SquareClass::BEHIND);
+        }
+        if ql <= 0 {
+            return None;
+        }
+        // Per coordinate: Some(saturates) where every input's saturation is certain
+        // and the same, and whether all are below 0 or all above 1.0.
+        let class = |(lo, hi): (i64, i64), (of, big): (u32, u32)| {
+            let most = lo.abs().max(hi.abs()) << (of + 3);
+            let least = if lo <= 0 && hi >= 0 {
+                0
+            } else {
+                lo.abs().min(hi.abs()) << (of + 3)
+            };
+            let sat = if most <= (7 * ql) << big {
+                Some(false)
+            } else if least >= (9 * qh) << big {
+                Some(true)
+            } else {
+                None
+            };
+            (sat, 8 * hi < -qh || 8 * lo > 9 * qh)
+        };
+        let ((ss, s_out), (st, t_out), (sr, _)) =
+            (class(s, self.st), class(t, self.st), class(r, self.r));
+        let (ss, st, sr) = (ss?, st?, sr?);
+        (s_out || t_out).then_some(SquareClass {
+            live: true,
+            sats: u64::from(ss) + u64::from(st),
+            depth_sats: u64::from(sr),
+        })
+    }
+
     /// One block's lanes [s, t, r, q] (the first `len`, q as its raw word of width
     /// `w`): where every lane is decided, its live bits (q > 0) into `live`, the
     /// codes into [u, v, du] (anything behind the projector) and Some((saturations of
@@ -330,6 +379,28 @@ impl SquareCut {
         }
         all.then_some((sat, dsat))
     }
+}
+
+/// A class of inputs [`SquareCut::range`] decides alike: in front of the
+/// projector or behind it, and in front the saturations each input adds to the
+/// (s, t) unit (u and v) and to the depth unit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SquareClass {
+    /// In front of the projector (q > 0).
+    pub live: bool,
+    /// Saturations of u and v per input (0 behind the projector).
+    pub sats: u64,
+    /// Saturations of the depth per input (0 behind the projector).
+    pub depth_sats: u64,
+}
+
+impl SquareClass {
+    /// Every input behind the projector.
+    pub const BEHIND: SquareClass = SquareClass {
+        live: false,
+        sats: 0,
+        depth_sats: 0,
+    };
 }
 
 /// What the integrator needs to write the ROM as a `$readmemh` table.
@@ -894,6 +965,26 @@ impl ProjectiveTexcoord {
     ) -> Option<usize> {
         let cut = SquareCut::of(self, other);
         self.pair_lanes(other, lanes, idx, out, other_u, [ctr, other_ctr], cut)
+    }
+
+    /// The counters [`Self::kernel_pair_lanes`] adds for `n` inputs of one class
+    /// (this unit's to `ctr`, `other`'s to `other_ctr`), counted without running: a
+    /// ROM read per input in front of the projector, an underflow per input behind
+    /// it, and in front the class's saturations per input. (Its outputs are not
+    /// needed: every input is behind the projector or outside the square.)
+    pub fn count_pair_class(
+        &self,
+        class: SquareClass,
+        n: u64,
+        ctr: &mut Counters,
+        other_ctr: &mut Counters,
+    ) {
+        let live = if class.live { n } else { 0 };
+        for (c, sats) in [(ctr, class.sats), (other_ctr, class.depth_sats)] {
+            c.table_reads += live;
+            c.underflows += n - live;
+            c.saturations += sats * live;
+        }
     }
 
     /// [`Self::kernel_pair_lanes`]'s body; with `cut`, the blocks it decides skipped

@@ -15,9 +15,10 @@ use crate::pipeline::raster::is_fragment_lane;
 use rtl_model::driver::SpanTally;
 use rtl_model::units::blend::{Blend, LanesAt};
 use rtl_model::units::modulate::{Modulate, Operand};
-use rtl_model::units::polygon_interpolator::PolyLanes;
+use rtl_model::units::polygon_interpolator::{PolyLanes, PolySetup};
 use rtl_model::units::projective_texcoord::{
-    ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, SQUARE_BLOCK,
+    ProjLanes, ProjectiveIn, ProjectiveOut, ProjectiveTexcoord, SquareClass, SquareCut,
+    SQUARE_BLOCK,
 };
 use rtl_model::units::shadow_compare::{ShadowCompare, ShadowIn, ShadowOut, ShadowState};
 use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
@@ -259,6 +260,33 @@ pub(super) struct ChunkBuffers {
     shadow_depth: Vec<u64>,
     pub(super) shadow_in: Vec<ShadowIn>,
     shadow_out: Vec<ShadowOut>,
+}
+
+/// [`LightCtx::chunk_cut`]: the square cut of a light's pair path, the attribute
+/// index of s, and the light map and shadow map it counts.
+pub(super) struct ChunkCut<'a> {
+    cut: SquareCut,
+    base: usize,
+    lm: &'a TextureSampler,
+    sh: &'a ShadowCompare,
+}
+
+impl ChunkCut<'_> {
+    /// The class of every fragment of bounding-box row `row` of primitive `setup`,
+    /// where its s, t, r and q codes ([`attr_code_range`] over
+    /// the row) decide them alike ([`SquareCut::range`]); None elsewhere.
+    ///
+    /// [`attr_code_range`]: rtl_model::units::polygon_interpolator::PolygonInterpolator::attr_code_range
+    pub fn row_class(&self, u: &Units, setup: &PolySetup, row: u64) -> Option<SquareClass> {
+        let b = setup.bbox?;
+        let y = b.y0 + row as i64;
+        let code = |a: usize| {
+            u.interp
+                .attr_code_range(setup, self.base + a, b.x0..=b.x1, y..=y)
+        };
+        let ranges = [code(0)?, code(1)?, code(2)?, code(3)?];
+        self.cut.range(ranges, u.proj.in_bits())
+    }
 }
 
 /// The camera depth buffer's words unpacked ([`ShadowCompare::words`]) for the
@@ -569,9 +597,7 @@ impl LightCtx<'_> {
         // ones of the same classes, as long as the counters cannot tell them apart
         // (it is off the shadow map, and the light map's wrapped-coordinate count is
         // the same).
-        let cut = b.cut_outside_square
-            && light_map_never_wraps(lm, &u.proj)
-            && ShadowAddress::new(u, sh).is_the_square(sh, &u.proj);
+        let cut = b.cut_outside_square && self.square_cuts(lm, sh);
         let skipped = if cut {
             u.proj
                 .kernel_pair_lanes_in_square(&u.proj_depth, lanes, &b.visible, pl, du, ctr, dctr)
@@ -590,6 +616,56 @@ impl LightCtx<'_> {
             }
         }
         true
+    }
+
+    /// Whether the pair path may leave a fragment outside the light's square to its
+    /// counters: no code of the projective unit wraps the light map's coordinate
+    /// wire, and the shadow map's texels are the square (off it, off the map).
+    fn square_cuts(&self, lm: &TextureSampler, sh: &ShadowCompare) -> bool {
+        light_map_never_wraps(lm, &self.units.proj)
+            && ShadowAddress::new(self.units, sh).is_the_square(sh, &self.units.proj)
+    }
+
+    /// The square cut of a pass that sets `cut_outside_square` and reads s, t, r
+    /// and q from attributes `base..base + 4` of its walk: Some where [`Self::h_il`]
+    /// takes the pair path with the square form, so that a chunk whose fragments are
+    /// all of one class ([`SquareCut::range`]) may be counted without its
+    /// coordinates ([`Self::h_il_class`]).
+    pub fn chunk_cut(&self, base: usize) -> Option<ChunkCut<'_>> {
+        let u = self.units;
+        let (Some(lm), Some(sh), Some(_)) = (self.lm_tex, &u.shadow, self.sstate) else {
+            return None;
+        };
+        let attrs = u.interp.attrs() as usize;
+        if base + 3 >= attrs || !u.proj.pair_lanes_apply(&u.proj_depth) || !self.square_cuts(lm, sh)
+        {
+            return None;
+        }
+        let cut = SquareCut::of(&u.proj, &u.proj_depth)?;
+        Some(ChunkCut { cut, base, lm, sh })
+    }
+
+    /// [`Self::h_il`] of a chunk whose fragments `b.visible` are all of `class`
+    /// (each behind the light or outside its square, [`ChunkCut::row_class`]): the
+    /// projective units, the shadow test and the light map counted as the pair path
+    /// counts them, without running; H·I_l 0 each.
+    pub fn h_il_class(
+        &self,
+        cc: &ChunkCut,
+        class: SquareClass,
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) {
+        let n = b.visible.len();
+        let (ctr, dctr) = (&mut spans.proj.ctr, &mut spans.proj_depth.ctr);
+        self.units.proj.count_pair_class(class, n as u64, ctr, dctr);
+        spans.proj.tally.add(n);
+        spans.proj_depth.tally.add(n);
+        let behind = if class.live { 0 } else { n };
+        Self::count_decided((cc.sh, cc.lm), n, behind, spans);
+        b.pair_path = true;
+        b.hil.clear();
+        b.hil.resize(n, 0);
     }
 
     /// [`Self::h_il_pair`] where the square form decided some of the `n` fragments'

@@ -16,7 +16,9 @@ use super::units::{attr_unorm, counters_add, unit_depth_word, ATTR_FRAC, ZBUF_BI
 use super::view::vec3;
 use crate::chip::work::{PassWork, SampleBands};
 use crate::chip::{PassKind, PassStats};
-use crate::pipeline::raster::{host_attrs, quantise, walk_rows_lanes, HostVertex, WalkBuffers};
+use crate::pipeline::raster::{
+    host_attrs, quantise, walk_rows_lanes, walk_rows_lanes_by, HostVertex, WalkBuffers,
+};
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{PlaneStep, ShaftsConfig};
 use crate::scene::math::Vec3;
@@ -390,24 +392,42 @@ fn subplane_hil(
     b.cut_outside_square = rec.is_none();
     let depth_tested = u.zbuf.is_some() && ctx.zstate.is_some();
     let (mut lm, mut sm) = (Vec::new(), Vec::new());
-    walk_rows_lanes(&u.interp, &setup, &mut c_int, &mut wb, |px| {
-        ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
-        ctx.h_il(px, 4, &mut spans, &mut b);
-        if let Some(r) = rec.as_mut() {
-            let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
-            if !kept.is_none() {
-                ctx.hil_footprint(&b, &mut lm, &mut sm);
-                let runs = ctx.hil_runs(&lm, &sm);
-                record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
+    // A row whose fragments are all of one class of the light's square cut (all
+    // behind the light, or all outside its square alike) is walked with s, t, r, q
+    // unread and counted without them (the unit's counters are the same).
+    let cut = b.cut_outside_square.then(|| ctx.chunk_cut(4)).flatten();
+    let row_kind = |row: u64| {
+        let class = cut.as_ref().and_then(|c| c.row_class(u, &setup, row));
+        (if class.is_some() { 0b1111_0000 } else { 0 }, class)
+    };
+    walk_rows_lanes_by(
+        &u.interp,
+        &setup,
+        &mut c_int,
+        &mut wb,
+        row_kind,
+        |px, class| {
+            ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
+            match (class, &cut) {
+                (Some(class), Some(c)) => ctx.h_il_class(c, class, &mut spans, &mut b),
+                _ => ctx.h_il(px, 4, &mut spans, &mut b),
             }
-        }
-        // The rows never go up when the walked rows never do (then neither do the
-        // visible fragments' among them).
-        rows_in_order &=
-            px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
-        last_y = px.y.last().copied().unwrap_or(last_y);
-        zero += push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil));
-    });
+            if let Some(r) = rec.as_mut() {
+                let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
+                if !kept.is_none() {
+                    ctx.hil_footprint(&b, &mut lm, &mut sm);
+                    let runs = ctx.hil_runs(&lm, &sm);
+                    record::interleave_kept(&runs, b.visible.len(), &kept, &mut r.texels);
+                }
+            }
+            // The rows never go up when the walked rows never do (then neither do the
+            // visible fragments' among them).
+            rows_in_order &=
+                px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
+            last_y = px.y.last().copied().unwrap_or(last_y);
+            zero += push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil));
+        },
+    );
     counters_add(&mut local, "polygon_interpolator", c_int);
     ctx.close_visible(zspan, &mut local);
     spans.close(ctx, &mut local);
