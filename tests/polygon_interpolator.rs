@@ -859,6 +859,19 @@ fn runs_of_every_move_wrap_the_counters_as_the_kernel_does() {
     }
 }
 
+/// `cfg` with a narrow output, s4.2, rounded in mode `q`: attributes of a few
+/// units reach its range and its zero code.
+fn narrow_out(cfg: PolygonInterpolatorConfig, q: Quant) -> PolygonInterpolator {
+    PolygonInterpolatorConfig {
+        out_int_bits: 4,
+        out_frac_bits: 2,
+        out_quant: q,
+        ..cfg
+    }
+    .build()
+    .unwrap()
+}
+
 /// The closed-form runs' event-free form (a run whose first and last codes are in
 /// range and of one strict sign is written without counting): on one triangle, an
 /// attribute that stays positive (every run event-free), one that crosses zero
@@ -868,20 +881,18 @@ fn runs_of_every_move_wrap_the_counters_as_the_kernel_does() {
 #[test]
 fn event_free_runs_and_runs_with_events_agree_with_the_drivers() {
     for q in Quant::ALL {
-        let u = PolygonInterpolatorConfig {
-            attrs: 4,
-            attr_fmt: Format {
-                int_bits: 10,
-                frac_bits: 8,
-                signed: true,
+        let u = narrow_out(
+            PolygonInterpolatorConfig {
+                attrs: 4,
+                attr_fmt: Format {
+                    int_bits: 10,
+                    frac_bits: 8,
+                    signed: true,
+                },
+                ..PolygonInterpolatorConfig::default()
             },
-            out_int_bits: 4,
-            out_frac_bits: 2,
-            out_quant: q,
-            ..PolygonInterpolatorConfig::default()
-        }
-        .build()
-        .unwrap();
+            q,
+        );
         let v = |x: f64, y: f64, a: [f64; 4]| {
             u.vertex_from_f64(0, x, y, &a, &mut Counters::default())
                 .unwrap()
@@ -1949,15 +1960,13 @@ fn reserve_makes_room_in_the_written_lanes_only() {
 fn events_of_runs_of_small_steps_agree_with_the_drivers() {
     let (mut under, mut sat) = (0, 0);
     for q in Quant::ALL {
-        let u = PolygonInterpolatorConfig {
-            attrs: MAX_ATTRS as u32,
-            out_int_bits: 4,
-            out_frac_bits: 2,
-            out_quant: q,
-            ..PolygonInterpolatorConfig::default()
-        }
-        .build()
-        .unwrap();
+        let u = narrow_out(
+            PolygonInterpolatorConfig {
+                attrs: MAX_ATTRS as u32,
+                ..PolygonInterpolatorConfig::default()
+            },
+            q,
+        );
         let sh = u.acc_fmt().frac_bits - u.out_fmt().frac_bits;
         let (half, top) = (1i64 << (sh - 1), (u.out_fmt().max_raw() as i64) << sh);
         let bottom = u.out_fmt().min_raw() as i64 * (1i64 << sh);

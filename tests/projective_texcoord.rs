@@ -760,6 +760,32 @@ struct SquareRun {
     depth: Vec<i32>,
 }
 
+/// The pair a square-form property runs on: the shafts frame's (where the cut
+/// applies) when `frame_pair`, else `a` and `b`; `b` taking `a`'s front end.
+fn cut_pair(
+    a: ProjectiveTexcoordConfig,
+    b: ProjectiveTexcoordConfig,
+    frame_pair: bool,
+) -> (ProjectiveTexcoord, ProjectiveTexcoord) {
+    if frame_pair {
+        sharing_front_end(ProjectiveTexcoordConfig::geforce(), shafts_depth())
+    } else {
+        sharing_front_end(a, b)
+    }
+}
+
+/// A plane-like block's q on `w`-bit input words: 2^e, at most half the largest
+/// word, negative behind the projector.
+fn block_q(e: i64, front: bool, w: u32) -> i64 {
+    let top = (1i64 << (w - 1)) - 1;
+    let q = (1i64 << e.min(w as i64 - 2).max(0)).min(top / 2);
+    if front {
+        q
+    } else {
+        -q
+    }
+}
+
 /// Blocks of 64 lanes from a plane's view of the light, as the shafts frame's light
 /// map and depth see them: per block a q and s/q, t/q, r/q ratios (as multiples of
 /// 1/16) with a small spread across the block.
@@ -853,20 +879,11 @@ proptest! {
         frame_pair in any::<bool>(),
     ) {
         // Half the cases on the shafts frame's pair, where the cut applies.
-        let (a, b) = if frame_pair {
-            (ProjectiveTexcoordConfig::geforce(), shafts_depth())
-        } else {
-            (a, b)
-        };
-        let (a, b) = sharing_front_end(a, b);
+        let (a, b) = cut_pair(a, b, frame_pair);
         let w = a.in_bits();
-        let top = (1i64 << (w - 1)) - 1;
         let blocks: Vec<(i64, [i64; 3], i64)> = blocks
             .iter()
-            .map(|&(e, x, spread, front)| {
-                let q = (1i64 << e.min(w as i64 - 2).max(0)).min(top / 2);
-                (if front { q } else { -q }, x, spread)
-            })
+            .map(|&(e, x, spread, front)| (block_q(e, front, w), x, spread))
             .collect();
         // Words past the input width wrap on the wire as the kernel wraps them.
         let lanes = plane_blocks(&blocks);
@@ -997,16 +1014,10 @@ proptest! {
         frame_pair in any::<bool>(),
         inner in prop::collection::vec(prop::array::uniform4(any::<u64>()), 16),
     ) {
-        let (a, b) = if frame_pair {
-            (ProjectiveTexcoordConfig::geforce(), shafts_depth())
-        } else {
-            (a, b)
-        };
-        let (a, b) = sharing_front_end(a, b);
+        let (a, b) = cut_pair(a, b, frame_pair);
         let w = a.in_bits();
         let top = (1i64 << (w - 1)) - 1;
-        let q = (1i64 << e.min(w as i64 - 2).max(0)).min(top / 2);
-        let q = if front { q } else { -q };
+        let q = block_q(e, front, w);
         let range = |x: i64, s: u32| {
             let d = ((1i64 << s.min(w.saturating_sub(2))).min(top / 4) - 1).max(0);
             (x.clamp(-top, top - d), x.clamp(-top, top - d) + d)
