@@ -164,10 +164,9 @@ pub fn walk_rows_lanes_by<K: Copy + PartialEq>(
     let mut tally = SpanTally::new();
     let (rows, width) = s.bbox.map_or((0, 0), |b| (b.height(), b.width() as usize));
     buf.runs.clear();
-    let mut moves = 0;
+    let (mut moves, mut row) = (0, 0);
     let mut this = (rows > 0).then(|| kind(0));
-    for row in 0..rows {
-        let Some((unread, k)) = this else { break };
+    while let Some((unread, k)) = this {
         s.row_runs(row, &mut buf.runs);
         moves += width;
         let next = (row + 1 < rows).then(|| kind(row + 1));
@@ -180,7 +179,7 @@ pub fn walk_rows_lanes_by<K: Copy + PartialEq>(
             buf.runs.clear();
             moves = 0;
         }
-        this = next;
+        (this, row) = (next, row + 1);
     }
     tally.close(u.timing(), ctr);
 }

@@ -961,6 +961,19 @@ impl PolygonInterpolator {
         }
     }
 
+    /// The output rounding's right shift, acc_frac − out_frac, where it is at least 1
+    /// (the closed forms round by a shift); None elsewhere.
+    fn out_shift(&self) -> Option<u32> {
+        let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
+        (shift > 0).then_some(shift as u32)
+    }
+
+    /// The output format's least and greatest raw code.
+    fn out_range(&self) -> (i64, i64) {
+        let of = self.out_fmt();
+        (of.min_raw() as i64, of.max_raw() as i64)
+    }
+
     /// The least and the greatest code of attribute `a` over the pixels `xs` × `ys`
     /// of primitive `s`, as its walk writes them, where that is certain in closed
     /// form; None elsewhere. Certain where the accumulator is affine in the pixel
@@ -979,12 +992,12 @@ impl PolygonInterpolator {
         ys: std::ops::RangeInclusive<i64>,
     ) -> Option<(i64, i64)> {
         let st = &s.state;
-        let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
-        if st.bary.is_some() || shift <= 0 || a >= self.cfg.attrs as usize {
+        let shift = self.out_shift()?;
+        if st.bary.is_some() || a >= self.cfg.attrs as usize {
             return None;
         }
-        let (acc, of) = (self.acc_fmt(), self.out_fmt());
-        let (lo, hi) = (of.min_raw() as i64, of.max_raw() as i64);
+        let acc = self.acc_fmt();
+        let (lo, hi) = self.out_range();
         let mut range: Option<(i64, i64)> = None;
         for (x, y) in [*xs.start(), *xs.end()]
             .into_iter()
@@ -996,7 +1009,7 @@ impl PolygonInterpolator {
             if v <= acc.min_raw() || v > acc.max_raw() {
                 return None;
             }
-            let code = round_acc(v as i64, shift as u32, self.cfg.out_quant).clamp(lo, hi);
+            let code = round_acc(v as i64, shift, self.cfg.out_quant).clamp(lo, hi);
             range = Some(range.map_or((code, code), |(l, h)| (l.min(code), h.max(code))));
         }
         range
@@ -1599,10 +1612,7 @@ impl PolygonInterpolator {
     /// covered interval of the run.
     fn run_plan(&self, st: &PolyState, step: &Step, run: usize) -> Option<RunPlan> {
         let k = self.cfg.attrs as usize;
-        let shift = self.cfg.acc_frac_bits as i32 - self.cfg.out_frac_bits as i32;
-        if shift <= 0 {
-            return None;
-        }
+        let shift = self.out_shift()?;
         let steps = run as i64;
         // Pixel counters (c bits): the last values must fit.
         let cw = self.cfg.coord_int_bits;
@@ -1659,16 +1669,15 @@ impl PolygonInterpolator {
         } else {
             0..0
         };
-        let of = self.out_fmt();
         Some(RunPlan {
-            shift: shift as u32,
+            shift,
             x_end,
             y_end,
             edge_end,
             acc_end,
             wraps,
             acc_range: (acc_min, acc_max),
-            out_range: (of.min_raw() as i64, of.max_raw() as i64),
+            out_range: self.out_range(),
             inside,
         })
     }

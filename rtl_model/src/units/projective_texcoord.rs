@@ -254,15 +254,33 @@ impl SquareCut {
         })
     }
 
+    /// The cut's four tests of a coordinate whose value lies in [lo, hi], its
+    /// magnitude ·2^(of+3) in [least, most], at q in [ql, qh] (0 < ql ≤ qh) on a unit
+    /// of range exponent `big` (O − 1), each taken at its worst corner so that it
+    /// holds for every value and q in the ranges: [does not saturate, saturates,
+    /// below 0, above 1.0] for certain (at most one of the first two).
+    #[inline(always)]
+    fn tests(
+        (least, most): (i64, i64),
+        (lo, hi): (i64, i64),
+        (ql, qh): (i64, i64),
+        big: u32,
+    ) -> [bool; 4] {
+        [
+            most <= (7 * ql) << big,
+            least >= (9 * qh) << big,
+            8 * hi < -qh,
+            8 * lo > 9 * qh,
+        ]
+    }
+
     /// One coordinate x at q > 0 of a unit (of, O − 1): (certain, saturates, the code
     /// given: exact if it saturates, else −1 below 0, 1.0 + 1 LSB above 1.0, 0
     /// between), and whether it is certainly outside [0, 1].
     #[inline(always)]
     fn coord(x: i64, q: i64, (of, big): (u32, u32)) -> (bool, bool, i64, bool) {
         let a = x.abs() << (of + 3);
-        let quiet = a <= (7 * q) << big;
-        let sat = a >= (9 * q) << big;
-        let (below, above) = (8 * x < -q, 8 * x > 9 * q);
+        let [quiet, sat, below, above] = Self::tests((a, a), (x, x), (q, q), big);
         let clamp = if x < 0 {
             -(1i64 << big)
         } else {
@@ -329,14 +347,13 @@ impl SquareCut {
             } else {
                 lo.abs().min(hi.abs()) << (of + 3)
             };
-            let sat = if most <= (7 * ql) << big {
+            let [quiet, sat, below, above] = Self::tests((least, most), (lo, hi), q, big);
+            let sat = if quiet {
                 Some(false)
-            } else if least >= (9 * qh) << big {
-                Some(true)
             } else {
-                None
+                sat.then_some(true)
             };
-            (sat, 8 * hi < -qh || 8 * lo > 9 * qh)
+            (sat, below || above)
         };
         let ((ss, s_out), (st, t_out), (sr, _)) =
             (class(s, self.st), class(t, self.st), class(r, self.r));

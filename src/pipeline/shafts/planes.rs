@@ -333,6 +333,10 @@ fn copy_to_j_texture(
     Ok(())
 }
 
+/// The attribute index of the light's s in a plane's and a sub-plane's walk: s, t,
+/// r and q are attributes 4..=7 (a sub-plane's 0..=3 are the constant 0).
+const LIGHT_ATTRS: usize = 4;
+
 /// Interval [r − Δr/2, r + Δr/2]'s m sub-planes' H·I_l, in sub-plane order: each
 /// independent of the J buffer and the framebuffer, so computed in parallel, each
 /// with its own counters, to be merged and blended in sub-plane order by
@@ -384,8 +388,8 @@ fn subplane_hil(
     // At most one fragment per pixel: no growing (and copying) on the way.
     let (mut pix, mut hil) = (pool.take((w * h) as usize), pool.take((w * h) as usize));
     // Attributes 0..=3 are the constant 0 (no plane attributes here): no one
-    // reads their lanes (the depth is `zw`, H·I_l reads 4..=7).
-    let mut wb = WalkBuffers::unread(0b1111);
+    // reads their lanes (the depth is `zw`, H·I_l reads s, t, r, q).
+    let mut wb = WalkBuffers::unread((1 << LIGHT_ATTRS) - 1);
     let (mut rows_in_order, mut last_y) = (true, 0i64);
     let mut zero = 0;
     let mut rec = recording.map(|bands| subplane_rec(ctx, bands, (w, h)));
@@ -395,10 +399,17 @@ fn subplane_hil(
     // A row whose fragments are all of one class of the light's square cut (all
     // behind the light, or all outside its square alike) is walked with s, t, r, q
     // unread and counted without them (the unit's counters are the same).
-    let cut = b.cut_outside_square.then(|| ctx.chunk_cut(4)).flatten();
+    let cut = (b.cut_outside_square)
+        .then(|| ctx.chunk_cut(LIGHT_ATTRS))
+        .flatten();
     let row_kind = |row: u64| {
         let class = cut.as_ref().and_then(|c| c.row_class(u, &setup, row));
-        (if class.is_some() { 0b1111_0000 } else { 0 }, class)
+        let unread = if class.is_some() {
+            0b1111 << LIGHT_ATTRS
+        } else {
+            0
+        };
+        (unread, class)
     };
     walk_rows_lanes_by(
         &u.interp,
@@ -410,7 +421,7 @@ fn subplane_hil(
             ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
             match (class, &cut) {
                 (Some(class), Some(c)) => ctx.h_il_class(c, class, &mut spans, &mut b),
-                _ => ctx.h_il(px, 4, &mut spans, &mut b),
+                _ => ctx.h_il(px, LIGHT_ATTRS, &mut spans, &mut b),
             }
             if let Some(r) = rec.as_mut() {
                 let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
@@ -425,7 +436,11 @@ fn subplane_hil(
             rows_in_order &=
                 px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
             last_y = px.y.last().copied().unwrap_or(last_y);
-            zero += push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil));
+            // A decided row's H·I_l is all 0: every fragment left out.
+            zero += match class {
+                Some(_) => b.visible.len(),
+                None => push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil)),
+            };
         },
     );
     counters_add(&mut local, "polygon_interpolator", c_int);
@@ -1024,7 +1039,7 @@ fn sample_j(pc: &PlaneCtx, px: &PolyLanes, sp: &mut PlaneSpans, b: &mut PlaneBuf
         }
         None => {
             b.chunk.cut_outside_square = !pc.record;
-            pc.ctx.h_il(px, 4, &mut sp.hil, &mut b.chunk);
+            pc.ctx.h_il(px, LIGHT_ATTRS, &mut sp.hil, &mut b.chunk);
             b.m_a.clear();
             b.m_a.extend_from_slice(&b.chunk.hil);
         }
