@@ -621,7 +621,11 @@ impl AttrLine {
             return (s * n, u * n, None);
         }
         if !keep && self.wrap.is_none() {
-            return self.count_events(&round); // unread: its events alone
+            // Unread: its events alone, none on a quiet run.
+            if self.quiet(run, &round) {
+                return (0, 0, None);
+            }
+            return self.count_events(&round);
         }
         let base = lane.len();
         lane.resize(base + run, 0);
