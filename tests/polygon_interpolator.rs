@@ -252,7 +252,7 @@ fn exhaustive_all_triangles_on_a_3px_half_pixel_grid() {
     .build()
     .unwrap();
     let grid: Vec<(i64, i64)> = (0..49).map(|i| (i % 7, i / 7)).collect();
-    let mut covered_total = 0usize;
+    let (mut covered_total, mut zeroed) = (0usize, 0usize);
     for a in &grid {
         for b in &grid {
             for c in &grid {
@@ -284,10 +284,15 @@ fn exhaustive_all_triangles_on_a_3px_half_pixel_grid() {
                 let mut ctr = Counters::default();
                 run_span(&u, &mut end, &setup.moves(), &mut ctr);
                 runs_agree_with_span(&u, &setup.state, &runs, &outs, &end, &ctr, "walk rows");
+                zeroed += runs_blank_agree(&u, &setup.state, &runs, &outs, &end, &ctr, "rows");
             }
         }
     }
     assert!(covered_total > 100_000);
+    assert!(
+        zeroed > 1000,
+        "blank closed-form runs write 0: {zeroed} words"
+    );
 }
 
 // ------------------------------------------------------------------ error growth
@@ -1425,6 +1430,72 @@ fn runs_agree_with_span(
         assert_eq!(&st, end, "covered only: final state differs ({name})");
         assert_eq!(&c, ctr, "covered only: counters differ ({name})");
     }
+    runs_blank_agree(u, state, runs, out, end, ctr, name);
+}
+
+/// `kernel_runs_lanes_blank` with every other run blank in some attributes: the
+/// span's words, each of a blank run's blank attributes 0 or its value (the value
+/// where the run does not go in closed form), every other attribute the same; the
+/// same final state and counters. A blank run in closed form writes 0 (checked by
+/// the test that walks every triangle of a grid, whose runs are mostly closed form).
+fn runs_blank_agree(
+    u: &PolygonInterpolator,
+    state: &PolyState,
+    runs: &[(Move, usize)],
+    out: &[PolyOut],
+    end: &PolyState,
+    ctr: &Counters,
+    name: &str,
+) -> usize {
+    let k = u.attrs() as usize;
+    let mut zeroed = 0;
+    // The upper half of the attributes blank; then all, the first unread.
+    let upper = ((1u32 << k) - 1) & !((1u32 << (k / 2)) - 1);
+    for (mask, unread) in [(upper, 0u32), (u32::MAX, 0b1)] {
+        let blank: Vec<u32> = (0..runs.len())
+            .map(|i| if i % 2 == 1 { mask } else { 0 })
+            .collect();
+        let mut st = state.clone();
+        let mut c = Counters::default();
+        let mut lanes = PolyLanes::default();
+        lanes.clear_unread(k, unread);
+        u.kernel_runs_lanes_blank(&mut st, runs, &blank, &mut lanes, &mut c);
+        let mut tally = rtl_model::driver::SpanTally::new();
+        tally.add(lanes.len());
+        tally.close(u.timing(), &mut c);
+        assert_eq!(
+            lanes.len(),
+            out.len(),
+            "blank {mask:#b}: one word per move ({name})"
+        );
+        let blank_words = runs
+            .iter()
+            .zip(&blank)
+            .flat_map(|(&(_, n), &m)| std::iter::repeat_n(m, n));
+        for (i, (o, m)) in out.iter().zip(blank_words).enumerate() {
+            let w = lanes.word(i);
+            assert_eq!(
+                (w.x, w.y, w.inside),
+                (o.x, o.y, o.inside),
+                "word {i} ({name})"
+            );
+            for a in 0..k {
+                let read = (unread >> a) & 1 == 0;
+                let want = if read { o.attrs[a] } else { 0 };
+                if read && (m >> a) & 1 == 1 && w.attrs[a] == 0 && want != 0 {
+                    zeroed += 1;
+                } else {
+                    assert_eq!(
+                        w.attrs[a], want,
+                        "blank {mask:#b}: word {i} attribute {a} ({name})"
+                    );
+                }
+            }
+        }
+        assert_eq!(&st, end, "blank {mask:#b}: final state differs ({name})");
+        assert_eq!(&c, ctr, "blank {mask:#b}: counters differ ({name})");
+    }
+    zeroed
 }
 
 // ------------------------------------------------------------ barycentric mode
@@ -2022,11 +2093,12 @@ fn events_of_runs_of_small_steps_agree_with_the_drivers() {
 /// `attr_code_range` on parallelograms and triangles: where it answers, the least
 /// and greatest code of the attribute over the rectangle's pixels as the walk
 /// writes them (covered or not); it answers on most of them (the accumulators stay
-/// in range) and never for the barycentric mode.
+/// in range) and never for the barycentric mode. `attr_row` along the rectangle's
+/// top row: each pixel's code as the walk writes it.
 #[test]
 fn attr_code_range_is_the_walks_least_and_greatest_code() {
     let mut rng = <rand::rngs::StdRng as rand::SeedableRng>::seed_from_u64(7);
-    let mut answered = 0;
+    let (mut answered, mut rows_answered) = (0, 0);
     let cases = 200;
     for case in 0..cases {
         use rand::Rng;
@@ -2066,13 +2138,29 @@ fn attr_code_range_is_the_walks_least_and_greatest_code() {
                 );
                 answered += 1;
             }
+            // Along row y0 alone, each pixel's code.
+            if let Some(line) = u.attr_row(&setup, a, x0..=x1, y0) {
+                let row = outs
+                    .iter()
+                    .filter(|o| o.y == y0 && (x0..=x1).contains(&o.x));
+                for o in row {
+                    let at = format!("case {case} attribute {a}: pixel ({}, {y0})", o.x);
+                    assert_eq!(line.code(o.x), o.attrs[a], "{at}");
+                }
+                rows_answered += 1;
+            }
         }
         assert_eq!(u.attr_code_range(&setup, MAX_ATTRS, x0..=x1, y0..=y1), None);
+        assert_eq!(u.attr_row(&setup, MAX_ATTRS, x0..=x1, y0), None);
     }
     assert!(
         answered > cases * MAX_ATTRS / 2,
         "answered {answered} of {}",
         cases * MAX_ATTRS
+    );
+    assert!(
+        rows_answered >= answered,
+        "a row answers where its rectangle does: {rows_answered} rows, {answered} rectangles"
     );
     // The barycentric mode's codes are not affine in the pixel: no answer.
     let u = PolygonInterpolatorConfig {
@@ -2097,6 +2185,7 @@ fn attr_code_range_is_the_walks_least_and_greatest_code() {
         "the barycentric mode's setup loads its registers"
     );
     assert_eq!(u.attr_code_range(&s, 0, 2..=5, 2..=5), None);
+    assert_eq!(u.attr_row(&s, 0, 2..=5, 2), None);
 }
 
 fn sorted(a: i64, b: i64) -> (i64, i64) {
@@ -2161,5 +2250,108 @@ fn a_walk_by_row_kinds_gives_the_walks_words_and_counters() {
         }
         assert_eq!(*g, w);
     }
+    assert_eq!(c_got, c_want);
+}
+
+/// The host's walk with blank stretches (`walk_rows_lanes_blank`): the same words as
+/// `walk_rows_lanes`, in order, each chunk's rows of one kind; each stretch handed to
+/// the sink is the words of one row's blank columns (with its label), exactly; the
+/// blank attributes of those words 0 or their value, every other one the same; the
+/// same counters.
+#[test]
+fn a_walk_with_blank_stretches_gives_the_walks_words_and_counters() {
+    use glare_pipeline::pipeline::raster::{walk_rows_lanes, walk_rows_lanes_blank, WalkBuffers};
+    let u = cfg_default(MAX_ATTRS as u32);
+    let pts = [(1.5, 2.0), (61.0, 3.5), (58.0, 44.0)];
+    let attrs: Vec<Vec<f64>> = (0..3)
+        .map(|i| {
+            (0..MAX_ATTRS)
+                .map(|a| (i * 5 + a * 4) as f64 - 11.0)
+                .collect()
+        })
+        .collect();
+    let (vs, _, _) = quantise(&u, &pts, &attrs);
+    let s = u
+        .setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut Counters::default())
+        .unwrap();
+    let (mut want, mut c_want) = (Vec::new(), Counters::default());
+    walk_rows_lanes(&u, &s, &mut c_want, &mut WalkBuffers::default(), |l| {
+        want.extend((0..l.len()).map(|i| l.word(i)));
+    });
+    let b = s.bbox.unwrap();
+    let blank = 0b1111_0000u32;
+    // Rows 0, 3, 6, …: a stretch near each end (the right one past the box, clipped);
+    // rows 1, 4, …: one in the middle; others none. The kind changes every 5 rows.
+    let blanks = |row: u64| match row % 3 {
+        0 => [
+            Some((b.x0 + 3..=b.x0 + 10, row * 2)),
+            Some((b.x1 - 7..=b.x1 + 4, row * 2 + 1)),
+        ],
+        1 => [Some((b.x0 + 20..=b.x0 + 25, row * 2)), None],
+        _ => [None, None],
+    };
+    let kind = |row: u64| (0, row % 5 < 2, blanks(row));
+    let (mut got, mut c_got) = (Vec::new(), Counters::default());
+    let mut in_stretch = Vec::new();
+    let mut stretches = 0;
+    walk_rows_lanes_blank(
+        &u,
+        &s,
+        &mut c_got,
+        &mut WalkBuffers::default(),
+        blank,
+        kind,
+        |l, k, st: &[(std::ops::Range<usize>, u64)]| {
+            let base = got.len();
+            assert!(
+                l.y.iter().all(|&y| ((y - b.y0) as u64 % 5 < 2) == k),
+                "one kind"
+            );
+            got.extend((0..l.len()).map(|i| l.word(i)));
+            in_stretch.resize(got.len(), false);
+            for (words, label) in st {
+                stretches += 1;
+                let row = (l.y[words.start] - b.y0) as u64;
+                let side = (label - row * 2) as usize;
+                let (cols, _) = blanks(row)[side].clone().unwrap();
+                let cols = (*cols.start()).max(b.x0)..=(*cols.end()).min(b.x1);
+                assert_eq!(
+                    words.len() as i64,
+                    cols.end() - cols.start() + 1,
+                    "row {row}"
+                );
+                for i in words.clone() {
+                    assert!(cols.contains(&l.x[i]) && l.y[i] == row as i64 + b.y0);
+                    in_stretch[base + i] = true;
+                }
+            }
+        },
+    );
+    let rows = b.height();
+    let expected = (0..rows)
+        .map(|r| blanks(r).iter().flatten().count())
+        .sum::<usize>();
+    assert_eq!(stretches, expected, "every stretch handed over once");
+    assert_eq!(got.len(), want.len());
+    let mut zeroed = 0;
+    for (i, (g, w)) in got.iter().zip(&want).enumerate() {
+        assert_eq!((g.x, g.y, g.inside), (w.x, w.y, w.inside), "word {i}");
+        for a in 0..MAX_ATTRS {
+            let blanked = in_stretch[i] && (blank >> a) & 1 == 1;
+            zeroed += usize::from(blanked && g.attrs[a] == 0 && w.attrs[a] != 0);
+            assert!(
+                g.attrs[a] == w.attrs[a] || (blanked && g.attrs[a] == 0),
+                "word {i} attribute {a}: {} for {}",
+                g.attrs[a],
+                w.attrs[a]
+            );
+        }
+        // A word whose column lies in its row's blank columns is in a stretch.
+        let row = (g.y - b.y0) as u64;
+        let listed = blanks(row).iter().flatten().any(|(c, _)| c.contains(&g.x));
+        assert_eq!(in_stretch[i], listed, "word {i} at ({}, {})", g.x, g.y);
+    }
+    // (The rows go in closed form: their blank words hold 0.)
+    assert!(zeroed > 100, "blank words written 0: {zeroed}");
     assert_eq!(c_got, c_want);
 }

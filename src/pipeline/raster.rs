@@ -4,6 +4,7 @@
 //! inside the viewport come out as fragments.
 
 use std::cell::RefCell;
+use std::ops::{Range, RangeInclusive};
 
 use rtl_model::driver::SpanTally;
 use rtl_model::error::ConfigError;
@@ -67,6 +68,8 @@ pub fn quantise<const N: usize>(
 pub struct WalkBuffers {
     moves: Vec<Move>,
     runs: Vec<(Move, usize)>,
+    /// Each run's blank attributes ([`walk_rows_lanes_blank`]).
+    blanks: Vec<u32>,
     outs: Vec<PolyOut>,
     frags: Vec<Fragment>,
     lanes: PolyLanes,
@@ -160,28 +163,139 @@ pub fn walk_rows_lanes_by<K: Copy + PartialEq>(
     mut kind: impl FnMut(u64) -> (u32, K),
     mut sink: impl FnMut(&PolyLanes, K),
 ) {
+    let kind = |row| {
+        let (unread, k) = kind(row);
+        (unread, k, [None, None])
+    };
+    walk_rows_lanes_blank(u, s, ctr, buf, 0, kind, |l, k, _: &[(Range<usize>, ())]| {
+        sink(l, k)
+    });
+}
+
+/// A stretch of a walk row (pixel columns, inclusive) whose blank attributes its
+/// sink does not read, with what the sink is told of it.
+pub type RowBlank<P> = (RangeInclusive<i64>, P);
+
+/// [`walk_rows_lanes_by`] where `kind(row)` also gives up to two stretches of the
+/// row (disjoint) whose attributes in the mask `blank` the sink does not read: their
+/// words hold 0 in those lanes, computed and counted all the same
+/// ([`PolygonInterpolator::kernel_runs_lanes_blank`]; the lanes stay in step with
+/// the words). The sink gets each chunk's stretches as ranges of its words, in
+/// order. Every word is appended (not [`WalkBuffers::covered`]). The counters are
+/// [`walk_rows_lanes`]'s.
+pub fn walk_rows_lanes_blank<K: Copy + PartialEq, P: Copy>(
+    u: &PolygonInterpolator,
+    s: &PolySetup,
+    ctr: &mut Counters,
+    buf: &mut WalkBuffers,
+    blank: u32,
+    mut kind: impl FnMut(u64) -> (u32, K, [Option<RowBlank<P>>; 2]),
+    mut sink: impl FnMut(&PolyLanes, K, &[(Range<usize>, P)]),
+) {
     let mut st = s.state.clone();
     let mut tally = SpanTally::new();
-    let (rows, width) = s.bbox.map_or((0, 0), |b| (b.height(), b.width() as usize));
+    let Some(b) = s.bbox else {
+        tally.close(u.timing(), ctr);
+        return;
+    };
+    let (rows, width) = (b.height(), b.width() as usize);
     buf.runs.clear();
+    buf.blanks.clear();
+    let mut stretches = Vec::new();
     let (mut moves, mut row) = (0, 0);
     let mut this = (rows > 0).then(|| kind(0));
-    while let Some((unread, k)) = this {
+    while let Some((unread, k, row_blanks)) = this {
         s.row_runs(row, &mut buf.runs);
+        buf.blanks.resize(buf.runs.len(), 0);
+        if row_blanks.iter().any(Option::is_some) {
+            assert!(
+                !buf.covered_only,
+                "blank stretches need every word appended"
+            );
+            // The row's word i lies at column x0 + i walking right (even rows), at
+            // x1 − i walking left.
+            let rightward = row & 1 == 0;
+            let mut words = row_blanks.map(|rb| {
+                rb.map(|(xs, p)| {
+                    let (xa, xb) = ((*xs.start()).max(b.x0), (*xs.end()).min(b.x1));
+                    let (i, j) = if rightward {
+                        (xa - b.x0, xb - b.x0)
+                    } else {
+                        (b.x1 - xb, b.x1 - xa)
+                    };
+                    (i as usize..(j + 1) as usize, p)
+                })
+            });
+            words.sort_by_key(|w| w.as_ref().map(|(r, _)| r.start));
+            let at = buf.runs.len() - 2;
+            split_row_runs(&mut buf.runs, &mut buf.blanks, at, width, &words, blank);
+            stretches.extend(
+                words
+                    .into_iter()
+                    .flatten()
+                    .filter(|(r, _)| !r.is_empty())
+                    .map(|(r, p)| (moves + r.start..moves + r.end, p)),
+            );
+        }
         moves += width;
         let next = (row + 1 < rows).then(|| kind(row + 1));
-        if moves >= WALK_CHUNK_MOVES || next.is_none_or(|n| n != (unread, k)) {
+        if moves >= WALK_CHUNK_MOVES || next.as_ref().is_none_or(|n| (n.0, n.1) != (unread, k)) {
             buf.lanes
                 .clear_covered(u.attrs() as usize, buf.unread | unread, buf.covered_only);
-            u.kernel_runs_lanes(&mut st, &buf.runs, &mut buf.lanes, ctr);
+            u.kernel_runs_lanes_blank(&mut st, &buf.runs, &buf.blanks, &mut buf.lanes, ctr);
             tally.add(moves);
-            sink(&buf.lanes, k);
+            sink(&buf.lanes, k, &stretches);
             buf.runs.clear();
+            buf.blanks.clear();
+            stretches.clear();
             moves = 0;
         }
         (this, row) = (next, row + 1);
     }
     tally.close(u.timing(), ctr);
+}
+
+/// A walk row's two runs (its first move, then `width − 1` along the row) at
+/// `runs[at..]` split at the stretches `words` (ranges of the row's words, disjoint,
+/// in order; empty ones none), those with the blank mask `blank` in `blanks`.
+fn split_row_runs<P>(
+    runs: &mut Vec<(Move, usize)>,
+    blanks: &mut Vec<u32>,
+    at: usize,
+    width: usize,
+    words: &[Option<(Range<usize>, P)>],
+    blank: u32,
+) {
+    let (first, along) = (runs[at].0, runs[at + 1].0);
+    runs.truncate(at);
+    blanks.truncate(at);
+    // Words a..b with mask m: word 0 is the first move, the rest moves along.
+    let mut push = |a: usize, b: usize, m: u32| {
+        if a == 0 {
+            runs.push((first, 1));
+            blanks.push(m);
+        }
+        let along_from = a.max(1);
+        if b > along_from {
+            runs.push((along, b - along_from));
+            blanks.push(m);
+        }
+    };
+    let mut from = 0;
+    for (r, _) in words.iter().flatten().filter(|(r, _)| !r.is_empty()) {
+        assert!(
+            r.start >= from && r.end <= width,
+            "stretches disjoint and in the row"
+        );
+        if r.start > from {
+            push(from, r.start, 0);
+        }
+        push(r.start, r.end, blank);
+        from = r.end;
+    }
+    if from < width {
+        push(from, width, 0);
+    }
 }
 
 /// Whether lane word `i` is a fragment ([`is_fragment`]).

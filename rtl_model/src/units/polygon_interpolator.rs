@@ -405,6 +405,52 @@ impl PolyLanes {
     }
 }
 
+/// One attribute's codes along a stretch of a walk row
+/// ([`PolygonInterpolator::attr_row`]): the accumulator is affine along it and in
+/// its format at both ends, so at every pixel between, and each code is that value
+/// rounded and clamped (both monotone: the codes rise or fall along the row).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct AttrRow {
+    /// The stretch's first and last pixel column.
+    x0: i64,
+    x1: i64,
+    /// The accumulator at column `x0`, and its step per column.
+    v0: i64,
+    g: i64,
+    /// The output rounding's shift (≥ 1) and mode, and the output's least and
+    /// greatest code.
+    shift: u32,
+    quant: Quant,
+    range: (i64, i64),
+}
+
+impl AttrRow {
+    /// The code at pixel column `x` (within the stretch: the accumulator there is
+    /// in its format, so no i64 overflow).
+    #[inline]
+    pub fn code(&self, x: i64) -> i64 {
+        debug_assert!(
+            (self.x0..=self.x1).contains(&x),
+            "column {x} off the stretch"
+        );
+        let v = self.v0 + (x - self.x0) * self.g;
+        round_acc(v, self.shift, self.quant).clamp(self.range.0, self.range.1)
+    }
+
+    /// The least and greatest code over columns `xs` (within the stretch): its
+    /// ends' codes, in order.
+    #[inline]
+    pub fn range_over(&self, xs: std::ops::RangeInclusive<i64>) -> (i64, i64) {
+        let (a, b) = (self.code(*xs.start()), self.code(*xs.end()));
+        (a.min(b), a.max(b))
+    }
+
+    /// The least and greatest code over the whole stretch.
+    pub fn range(&self) -> (i64, i64) {
+        self.range_over(self.x0..=self.x1)
+    }
+}
+
 /// Inclusive pixel bounding box of a primitive (pixels whose centres may be covered).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BBox {
@@ -995,28 +1041,45 @@ impl PolygonInterpolator {
         xs: std::ops::RangeInclusive<i64>,
         ys: std::ops::RangeInclusive<i64>,
     ) -> Option<(i64, i64)> {
+        let top = self.attr_row(s, a, xs.clone(), *ys.start())?.range();
+        let bottom = self.attr_row(s, a, xs, *ys.end())?.range();
+        Some((top.0.min(bottom.0), top.1.max(bottom.1)))
+    }
+
+    /// Attribute `a`'s codes along the pixels `xs` of row `y` of primitive `s`, as
+    /// its walk writes them, where they are certain in closed form
+    /// ([`Self::attr_code_range`]'s conditions, at the row's two ends); None
+    /// elsewhere.
+    pub fn attr_row(
+        &self,
+        s: &PolySetup,
+        a: usize,
+        xs: std::ops::RangeInclusive<i64>,
+        y: i64,
+    ) -> Option<AttrRow> {
         let st = &s.state;
         let shift = self.out_shift()?;
-        if st.bary.is_some() || a >= self.cfg.attrs as usize {
+        if st.bary.is_some() || a >= self.cfg.attrs as usize || xs.is_empty() {
             return None;
         }
         let acc = self.acc_fmt();
-        let (lo, hi) = self.out_range();
-        let mut range: Option<(i64, i64)> = None;
-        for (x, y) in [*xs.start(), *xs.end()]
-            .into_iter()
-            .flat_map(|x| [(x, *ys.start()), (x, *ys.end())])
-        {
+        let at = |x: i64| {
             let v = st.acc[a] as i128
                 + (x - st.x) as i128 * st.grad_x[a] as i128
                 + (y - st.y) as i128 * st.grad_y[a] as i128;
-            if v <= acc.min_raw() || v > acc.max_raw() {
-                return None;
-            }
-            let code = round_acc(v as i64, shift, self.cfg.out_quant).clamp(lo, hi);
-            range = Some(range.map_or((code, code), |(l, h)| (l.min(code), h.max(code))));
-        }
-        range
+            (v > acc.min_raw() && v <= acc.max_raw()).then_some(v as i64)
+        };
+        let (x0, x1) = (*xs.start(), *xs.end());
+        let (v0, _) = (at(x0)?, at(x1)?);
+        Some(AttrRow {
+            x0,
+            x1,
+            v0,
+            g: st.grad_x[a],
+            shift,
+            quant: self.cfg.out_quant,
+            range: self.out_range(),
+        })
     }
 
     /// Width of an edge accumulator: 2c + 2s + 4 (derivation at `setup_poly`).
@@ -1524,12 +1587,30 @@ impl PolygonInterpolator {
         out: &mut PolyLanes,
         ctr: &mut Counters,
     ) {
+        self.kernel_runs_lanes_blank(st, runs, &[], out, ctr);
+    }
+
+    /// [`Self::kernel_runs_lanes`] where run i leaves the attributes in the mask
+    /// `blank[i]` (bit a for attribute a; none past the slice's end) blank: its
+    /// words are appended with 0 in those lanes, which no consumer reads there (the
+    /// lanes stay in step with the words). They are still computed and counted, as
+    /// an unread attribute's are: the same counters and final state. A run that does
+    /// not go in closed form writes its values.
+    pub fn kernel_runs_lanes_blank(
+        &self,
+        st: &mut PolyState,
+        runs: &[(Move, usize)],
+        blank: &[u32],
+        out: &mut PolyLanes,
+        ctr: &mut Counters,
+    ) {
         assert_eq!(
             out.k, self.cfg.attrs as usize,
             "PolyLanes cleared for another attrs"
         );
-        for &(mv, run) in runs {
-            if run > 0 && !self.run_in_closed_form_lanes(st, mv, run, out, ctr) {
+        for (i, &(mv, run)) in runs.iter().enumerate() {
+            let blank = blank.get(i).copied().unwrap_or(0);
+            if run > 0 && !self.run_in_closed_form_lanes(st, mv, run, blank, out, ctr) {
                 for _ in 0..run {
                     let o = self.kernel(st, &mv, ctr);
                     if o.inside || !out.covered_only {
@@ -1546,6 +1627,7 @@ impl PolygonInterpolator {
         st: &mut PolyState,
         mv: Move,
         run: usize,
+        blank: u32,
         out: &mut PolyLanes,
         ctr: &mut Counters,
     ) -> bool {
@@ -1585,8 +1667,14 @@ impl PolygonInterpolator {
         for a in 0..k {
             let line = plan.line(st, a, &step);
             // An unread attribute is computed into the spare lane (a constant one not
-            // at all), its events counted all the same.
-            let keep = out.is_read(a);
+            // at all), its events counted all the same; so is a blank one, whose lane
+            // then takes a 0 per word appended.
+            let read = out.is_read(a);
+            let keep = read && (blank >> a) & 1 == 0;
+            if read && !keep {
+                let at = out.attrs[a].len();
+                out.attrs[a].resize(at + steps.len(), 0);
+            }
             let lane = if keep {
                 &mut out.attrs[a]
             } else {

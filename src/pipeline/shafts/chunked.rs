@@ -11,7 +11,7 @@
 
 use super::units::{counters_add, Units};
 use super::view::{CameraView, LightView};
-use crate::pipeline::raster::is_fragment_lane;
+use crate::pipeline::raster::{is_fragment_lane, RowBlank};
 use rtl_model::driver::SpanTally;
 use rtl_model::units::blend::{Blend, LanesAt};
 use rtl_model::units::modulate::{Modulate, Operand};
@@ -25,6 +25,7 @@ use rtl_model::units::texture_sampler::{TextureSampler, TextureSamplerIn};
 use rtl_model::unorm::max_code;
 use rtl_model::{Counters, Timing, Unit};
 use std::collections::BTreeMap;
+use std::ops::Range;
 
 /// One unit's part of a logical span fed in chunks: the kernel's counters so far and
 /// the inputs counted.
@@ -272,21 +273,124 @@ pub(super) struct ChunkCut<'a> {
 }
 
 impl ChunkCut<'_> {
-    /// The class of every fragment of bounding-box row `row` of primitive `setup`,
-    /// where its s, t, r and q codes ([`attr_code_range`] over
-    /// the row) decide them alike ([`SquareCut::range`]); None elsewhere.
+    /// Bounding-box row `row` of primitive `setup` as the square cut sees it: Some(the
+    /// class of every fragment) where its s, t, r and q codes decide them alike
+    /// ([`SquareCut::range`] of the codes' least and greatest over the row); else
+    /// the row's longest first and last stretches of pixels each decided alike, with
+    /// their classes. Nothing where the row's codes are not certain in closed form
+    /// ([`AttrRow`]). Along a row each code rises or falls, so a stretch's codes lie
+    /// between its ends' and a shorter stretch from the same end is decided where a
+    /// longer one is: each stretch's end is searched from `ends` (the last row's,
+    /// which moves little from row to row; updated), doubling the step until it
+    /// passes the end, then by bisection. The last stretch starts after the first.
     ///
-    /// [`attr_code_range`]: rtl_model::units::polygon_interpolator::PolygonInterpolator::attr_code_range
-    pub fn row_class(&self, u: &Units, setup: &PolySetup, row: u64) -> Option<SquareClass> {
-        let b = setup.bbox?;
-        let y = b.y0 + row as i64;
-        let code = |a: usize| {
-            u.interp
-                .attr_code_range(setup, self.base + a, b.x0..=b.x1, y..=y)
+    /// [`AttrRow`]: rtl_model::units::polygon_interpolator::AttrRow
+    pub fn row(
+        &self,
+        u: &Units,
+        setup: &PolySetup,
+        row: u64,
+        ends: &mut [Option<i64>; 2],
+    ) -> (Option<SquareClass>, [Option<RowBlank<SquareClass>>; 2]) {
+        let none = (None, [None, None]);
+        let Some(b) = setup.bbox else {
+            return none;
         };
-        let ranges = [code(0)?, code(1)?, code(2)?, code(3)?];
-        self.cut.range(ranges, u.proj.in_bits())
+        let y = b.y0 + row as i64;
+        let line = |a: usize| u.interp.attr_row(setup, self.base + a, b.x0..=b.x1, y);
+        let (Some(s), Some(t), Some(r), Some(q)) = (line(0), line(1), line(2), line(3)) else {
+            return none;
+        };
+        let lines = [s, t, r, q];
+        let w = u.proj.in_bits();
+        if let Some(class) = self.cut.range(lines.map(|l| l.range()), w) {
+            return (Some(class), [None, None]);
+        }
+        let stretch_from = |from: i64, to: i64, end: &mut Option<i64>| {
+            let at_from = lines.map(|l| l.code(from));
+            // The class of the stretch from `from` to x.
+            let class = |x: i64| {
+                let mut ranges = [(0, 0); 4];
+                for ((range, l), &c) in ranges.iter_mut().zip(&lines).zip(&at_from) {
+                    let d = l.code(x);
+                    *range = (c.min(d), c.max(d));
+                }
+                self.cut.range(ranges, w)
+            };
+            let found = longest_stretch(from, to, *end, class);
+            *end = found.map(|(x, _)| x);
+            found.map(|(x, c)| (from.min(x)..=from.max(x), c))
+        };
+        let first = stretch_from(b.x0, b.x1, &mut ends[0]);
+        let last = stretch_from(b.x1, b.x0, &mut ends[1]);
+        let after = first.as_ref().map_or(b.x0, |(xs, _)| *xs.end() + 1);
+        let last = last
+            .map(|(xs, c)| ((*xs.start()).max(after)..=b.x1, c))
+            .filter(|(xs, _)| !xs.is_empty());
+        (None, [first, last])
     }
+}
+
+/// The farthest x from `from` towards `to` (`to` itself not taken) where
+/// `class(x)`, the class of the stretch from `from` to x, is Some, and that class;
+/// None where the stretch of `from` alone is not. `class` must be Some on a stretch
+/// wherever it is on a longer one from the same end. Searched from `guess`
+/// (clamped to the stretch): outwards with a doubling step to the first x past the
+/// end, then by bisection.
+fn longest_stretch<C>(
+    from: i64,
+    to: i64,
+    guess: Option<i64>,
+    class: impl Fn(i64) -> Option<C>,
+) -> Option<(i64, C)> {
+    let dir = (to - from).signum();
+    // Steps from `from` towards `to`, and back to x.
+    let steps = |x: i64| (x - from) * dir;
+    let (span, at) = (steps(to), |k: i64| from + k * dir);
+    if span <= 0 {
+        return class(from).map(|c| (from, c));
+    }
+    let g = guess.map_or(0, |g| steps(g).clamp(0, span - 1));
+    // good: a step whose stretch is decided (with its class); bad: one whose is not,
+    // or `span`.
+    let (mut good, mut bad);
+    if let Some(c) = class(at(g)) {
+        (good, bad) = ((g, c), span);
+        let mut step = 1;
+        while good.0 + step < span {
+            match class(at(good.0 + step)) {
+                Some(c) => (good, step) = ((good.0 + step, c), step * 2),
+                None => {
+                    bad = good.0 + step;
+                    break;
+                }
+            }
+        }
+    } else {
+        bad = g;
+        let mut step = 1;
+        loop {
+            if bad == 0 {
+                return None;
+            }
+            let k = (bad - step).max(0);
+            match class(at(k)) {
+                Some(c) => {
+                    good = (k, c);
+                    break;
+                }
+                None => (bad, step) = (k, step * 2),
+            }
+        }
+    }
+    while bad - good.0 > 1 {
+        let mid = good.0 + (bad - good.0) / 2;
+        match class(at(mid)) {
+            Some(c) => good = (mid, c),
+            None => bad = mid,
+        }
+    }
+    Some((at(good.0), good.1))
 }
 
 /// The camera depth buffer's words unpacked ([`ShadowCompare::words`]) for the
@@ -646,7 +750,7 @@ impl LightCtx<'_> {
     }
 
     /// [`Self::h_il`] of a chunk whose fragments `b.visible` are all of `class`
-    /// (each behind the light or outside its square, [`ChunkCut::row_class`]): the
+    /// (each behind the light or outside its square, [`ChunkCut::row`]): the
     /// projective units, the shadow test and the light map counted as the pair path
     /// counts them, without running; H·I_l 0 each.
     pub fn h_il_class(
@@ -657,15 +761,55 @@ impl LightCtx<'_> {
         b: &mut ChunkBuffers,
     ) {
         let n = b.visible.len();
+        self.count_class(cc, class, n, spans);
+        b.pair_path = true;
+        b.hil.clear();
+        b.hil.resize(n, 0);
+    }
+
+    /// [`Self::h_il`] of a chunk whose words in the ranges `blanks` (in order, s, t,
+    /// r and q blank there: [`ChunkCut::row`]) are each of the range's class:
+    /// their visible fragments counted ([`Self::count_class`]) and left out of
+    /// `b.visible`, the rest run. Returns how many were left out (H·I_l 0 each).
+    pub fn h_il_blanks(
+        &self,
+        cc: &ChunkCut,
+        px: &PolyLanes,
+        blanks: &[(Range<usize>, SquareClass)],
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) -> usize {
+        // b.visible is in word order: each range's fragments are one stretch of it,
+        // and the rest move to the front.
+        let vis = &mut b.visible;
+        let (mut kept, mut from, mut left_out) = (0, 0, 0);
+        for (words, class) in blanks {
+            let lo = from + vis[from..].partition_point(|&i| (i as usize) < words.start);
+            let hi = lo + vis[lo..].partition_point(|&i| (i as usize) < words.end);
+            vis.copy_within(from..lo, kept);
+            kept += lo - from;
+            if hi > lo {
+                self.count_class(cc, *class, hi - lo, spans);
+            }
+            left_out += hi - lo;
+            from = hi;
+        }
+        let len = vis.len();
+        vis.copy_within(from..len, kept);
+        vis.truncate(kept + len - from);
+        self.h_il(px, cc.base, spans, b);
+        left_out
+    }
+
+    /// `n` fragments of `class` ([`Self::h_il_class`]) counted: the projective
+    /// units, the shadow test and the light map as the pair path counts them.
+    pub fn count_class(&self, cc: &ChunkCut, class: SquareClass, n: usize, spans: &mut HilSpans) {
         let (ctr, dctr) = (&mut spans.proj.ctr, &mut spans.proj_depth.ctr);
         self.units.proj.count_pair_class(class, n as u64, ctr, dctr);
         spans.proj.tally.add(n);
         spans.proj_depth.tally.add(n);
         let behind = if class.live { 0 } else { n };
         Self::count_decided((cc.sh, cc.lm), n, behind, spans);
-        b.pair_path = true;
-        b.hil.clear();
-        b.hil.resize(n, 0);
     }
 
     /// [`Self::h_il_pair`] where the square form decided some of the `n` fragments'

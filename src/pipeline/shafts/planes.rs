@@ -17,7 +17,7 @@ use super::view::vec3;
 use crate::chip::work::{PassWork, SampleBands};
 use crate::chip::{PassKind, PassStats};
 use crate::pipeline::raster::{
-    host_attrs, quantise, walk_rows_lanes, walk_rows_lanes_by, HostVertex, WalkBuffers,
+    host_attrs, quantise, walk_rows_lanes, walk_rows_lanes_blank, HostVertex, WalkBuffers,
 };
 use crate::report::image_out::Framebuffer;
 use crate::scene::format::{PlaneStep, ShaftsConfig};
@@ -398,31 +398,46 @@ fn subplane_hil(
     let (mut lm, mut sm) = (Vec::new(), Vec::new());
     // A row whose fragments are all of one class of the light's square cut (all
     // behind the light, or all outside its square alike) is walked with s, t, r, q
-    // unread and counted without them (the unit's counters are the same).
+    // unread and counted without them (the unit's counters are the same); in
+    // another row, its first and last stretches of one class each are walked with
+    // them blank and counted alike.
     let cut = (b.cut_outside_square)
         .then(|| ctx.chunk_cut(LIGHT_ATTRS))
         .flatten();
+    let light = 0b1111 << LIGHT_ATTRS;
+    // The last row's stretch ends, where the next row's are looked for.
+    let mut ends = [None, None];
     let row_kind = |row: u64| {
-        let class = cut.as_ref().and_then(|c| c.row_class(u, &setup, row));
-        let unread = if class.is_some() {
-            0b1111 << LIGHT_ATTRS
-        } else {
-            0
+        let Some(c) = cut.as_ref() else {
+            return (0, None, [None, None]);
         };
-        (unread, class)
+        match c.row(u, &setup, row, &mut ends) {
+            (Some(class), _) => (light, Some(class), [None, None]),
+            (None, blanks) => (0, None, blanks),
+        }
     };
-    walk_rows_lanes_by(
+    walk_rows_lanes_blank(
         &u.interp,
         &setup,
         &mut c_int,
         &mut wb,
+        light,
         row_kind,
-        |px, class| {
+        |px, class, blanks| {
             ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
-            match (class, &cut) {
-                (Some(class), Some(c)) => ctx.h_il_class(c, class, &mut spans, &mut b),
-                _ => ctx.h_il(px, LIGHT_ATTRS, &mut spans, &mut b),
-            }
+            let blanked = match (class, &cut) {
+                (Some(class), Some(c)) => {
+                    ctx.h_il_class(c, class, &mut spans, &mut b);
+                    0
+                }
+                (None, Some(c)) if !blanks.is_empty() => {
+                    ctx.h_il_blanks(c, px, blanks, &mut spans, &mut b)
+                }
+                _ => {
+                    ctx.h_il(px, LIGHT_ATTRS, &mut spans, &mut b);
+                    0
+                }
+            };
             if let Some(r) = rec.as_mut() {
                 let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
                 if !kept.is_none() {
@@ -437,10 +452,11 @@ fn subplane_hil(
                 px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
             last_y = px.y.last().copied().unwrap_or(last_y);
             // A decided row's H·I_l is all 0: every fragment left out.
-            zero += match class {
-                Some(_) => b.visible.len(),
-                None => push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil)),
-            };
+            zero += blanked
+                + match class {
+                    Some(_) => b.visible.len(),
+                    None => push_fragments(px, (&b.visible, &b.hil), w, (&mut pix, &mut hil)),
+                };
         },
     );
     counters_add(&mut local, "polygon_interpolator", c_int);
