@@ -451,7 +451,8 @@ fn subplane_hil(
             rows_in_order &=
                 px.y.first().is_none_or(|&y| y >= last_y) && px.y.windows(2).all(|r| r[0] <= r[1]);
             last_y = px.y.last().copied().unwrap_or(last_y);
-            // A decided row's H·I_l is all 0: every fragment left out.
+            // A decided row's H·I_l is all 0, and so is a blank stretch's: their
+            // fragments left out.
             zero += blanked
                 + match class {
                     Some(_) => b.visible.len(),
