@@ -2192,29 +2192,40 @@ fn sorted(a: i64, b: i64) -> (i64, i64) {
     (a.min(b), a.max(b))
 }
 
+/// The host walks' case: a parallelogram over about 60 × 42 pixels whose vertex i's
+/// attribute a is i·ki + a·ka − off, and `walk_rows_lanes`'s words and counters on it.
+fn host_walk_case(
+    u: &PolygonInterpolator,
+    (ki, ka, off): (usize, usize, usize),
+) -> (PolySetup, Vec<PolyOut>, Counters) {
+    use glare_pipeline::pipeline::raster::{walk_rows_lanes, WalkBuffers};
+    let pts = [(1.5, 2.0), (61.0, 3.5), (58.0, 44.0)];
+    let attrs: Vec<Vec<f64>> = (0..3)
+        .map(|i| {
+            (0..MAX_ATTRS)
+                .map(|a| (i * ki + a * ka) as f64 - off as f64)
+                .collect()
+        })
+        .collect();
+    let (vs, _, _) = quantise(u, &pts, &attrs);
+    let s = u
+        .setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut Counters::default())
+        .unwrap();
+    let (mut want, mut c_want) = (Vec::new(), Counters::default());
+    walk_rows_lanes(u, &s, &mut c_want, &mut WalkBuffers::default(), |l| {
+        want.extend((0..l.len()).map(|i| l.word(i)));
+    });
+    (s, want, c_want)
+}
+
 /// The host's walk in chunks of rows of one kind (`walk_rows_lanes_by`): the same
 /// words in order as `walk_rows_lanes` (a kind's unread attributes left empty), each
 /// chunk's rows of one kind, and the same counters.
 #[test]
 fn a_walk_by_row_kinds_gives_the_walks_words_and_counters() {
-    use glare_pipeline::pipeline::raster::{walk_rows_lanes, walk_rows_lanes_by, WalkBuffers};
+    use glare_pipeline::pipeline::raster::{walk_rows_lanes_by, WalkBuffers};
     let u = cfg_default(MAX_ATTRS as u32);
-    let pts = [(1.5, 2.0), (61.0, 3.5), (58.0, 44.0)];
-    let attrs: Vec<Vec<f64>> = (0..3)
-        .map(|i| {
-            (0..MAX_ATTRS)
-                .map(|a| (i * 7 + a * 3) as f64 - 9.0)
-                .collect()
-        })
-        .collect();
-    let (vs, _, _) = quantise(&u, &pts, &attrs);
-    let s = u
-        .setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut Counters::default())
-        .unwrap();
-    let (mut want, mut c_want) = (Vec::new(), Counters::default());
-    walk_rows_lanes(&u, &s, &mut c_want, &mut WalkBuffers::default(), |l| {
-        want.extend((0..l.len()).map(|i| l.word(i)));
-    });
+    let (s, want, c_want) = host_walk_case(&u, (7, 3, 9));
     let unread = 0b1111_0000u32;
     let kind = |row: u64| row % 5 < 2;
     let b = s.bbox.unwrap();
@@ -2260,24 +2271,9 @@ fn a_walk_by_row_kinds_gives_the_walks_words_and_counters() {
 /// same counters.
 #[test]
 fn a_walk_with_blank_stretches_gives_the_walks_words_and_counters() {
-    use glare_pipeline::pipeline::raster::{walk_rows_lanes, walk_rows_lanes_blank, WalkBuffers};
+    use glare_pipeline::pipeline::raster::{walk_rows_lanes_blank, WalkBuffers};
     let u = cfg_default(MAX_ATTRS as u32);
-    let pts = [(1.5, 2.0), (61.0, 3.5), (58.0, 44.0)];
-    let attrs: Vec<Vec<f64>> = (0..3)
-        .map(|i| {
-            (0..MAX_ATTRS)
-                .map(|a| (i * 5 + a * 4) as f64 - 11.0)
-                .collect()
-        })
-        .collect();
-    let (vs, _, _) = quantise(&u, &pts, &attrs);
-    let s = u
-        .setup_parallelogram(&[vs[0], vs[1], vs[2]], &mut Counters::default())
-        .unwrap();
-    let (mut want, mut c_want) = (Vec::new(), Counters::default());
-    walk_rows_lanes(&u, &s, &mut c_want, &mut WalkBuffers::default(), |l| {
-        want.extend((0..l.len()).map(|i| l.word(i)));
-    });
+    let (s, want, c_want) = host_walk_case(&u, (5, 4, 11));
     let b = s.bbox.unwrap();
     let blank = 0b1111_0000u32;
     // Rows 0, 3, 6, …: a stretch near each end (the right one past the box, clipped);
