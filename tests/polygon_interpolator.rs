@@ -283,8 +283,15 @@ fn exhaustive_all_triangles_on_a_3px_half_pixel_grid() {
                 let mut end = setup.state.clone();
                 let mut ctr = Counters::default();
                 run_span(&u, &mut end, &setup.moves(), &mut ctr);
-                runs_agree_with_span(&u, &setup.state, &runs, &outs, &end, &ctr, "walk rows");
-                zeroed += runs_blank_agree(&u, &setup.state, &runs, &outs, &end, &ctr, "rows");
+                let case = RunsCase {
+                    state: &setup.state,
+                    runs: &runs,
+                    out: &outs,
+                    end: &end,
+                    ctr: &ctr,
+                    name: "walk rows",
+                };
+                zeroed += runs_agree_with_span(&u, &case);
             }
         }
     }
@@ -1335,21 +1342,42 @@ fn lanes_agree_with_span(u: &PolygonInterpolator, state: &PolyState, moves: &[Mo
         .flat_map(|&(m, n)| [(m, n / 2), (m, 0), (m, n - n / 2)])
         .collect();
     for (name, coded) in [("whole runs", &runs), ("split runs", &split)] {
-        runs_agree_with_span(u, state, coded, &out_span, &s_span, &c_span, name);
+        let case = RunsCase {
+            state,
+            runs: coded,
+            out: &out_span,
+            end: &s_span,
+            ctr: &c_span,
+            name,
+        };
+        runs_agree_with_span(u, &case);
     }
 }
 
+/// Run-length coded moves `runs` from `state`, and what the span driver gives on
+/// them: words `out`, final state `end` and counters `ctr` (its timing added once).
+#[derive(Clone, Copy)]
+struct RunsCase<'a> {
+    state: &'a PolyState,
+    runs: &'a [(Move, usize)],
+    out: &'a [PolyOut],
+    end: &'a PolyState,
+    ctr: &'a Counters,
+    name: &'a str,
+}
+
 /// `kernel_runs_lanes` on run-length coded moves, in one call, gives the span
-/// driver's words `out`, final state `end` and counters `ctr` (its timing added once).
-fn runs_agree_with_span(
-    u: &PolygonInterpolator,
-    state: &PolyState,
-    runs: &[(Move, usize)],
-    out: &[PolyOut],
-    end: &PolyState,
-    ctr: &Counters,
-    name: &str,
-) {
+/// driver's words, final state and counters.
+/// Returns how many blank words were written 0 ([`runs_blank_agree`]).
+fn runs_agree_with_span(u: &PolygonInterpolator, case: &RunsCase) -> usize {
+    let RunsCase {
+        state,
+        runs,
+        out,
+        end,
+        ctr,
+        name,
+    } = *case;
     let mut st = state.clone();
     let mut c = Counters::default();
     let mut lanes = PolyLanes::default();
@@ -1430,7 +1458,7 @@ fn runs_agree_with_span(
         assert_eq!(&st, end, "covered only: final state differs ({name})");
         assert_eq!(&c, ctr, "covered only: counters differ ({name})");
     }
-    runs_blank_agree(u, state, runs, out, end, ctr, name);
+    runs_blank_agree(u, case)
 }
 
 /// `kernel_runs_lanes_blank` with every other run blank in some attributes: the
@@ -1438,15 +1466,9 @@ fn runs_agree_with_span(
 /// where the run does not go in closed form), every other attribute the same; the
 /// same final state and counters. A blank run in closed form writes 0 (checked by
 /// the test that walks every triangle of a grid, whose runs are mostly closed form).
-fn runs_blank_agree(
-    u: &PolygonInterpolator,
-    state: &PolyState,
-    runs: &[(Move, usize)],
-    out: &[PolyOut],
-    end: &PolyState,
-    ctr: &Counters,
-    name: &str,
-) -> usize {
+fn runs_blank_agree(u: &PolygonInterpolator, case: &RunsCase) -> usize {
+    let RunsCase { state, runs, .. } = *case;
+    let name = case.name;
     let k = u.attrs() as usize;
     let mut zeroed = 0;
     // The upper half of the attributes blank; then all, the first unread.
@@ -1465,14 +1487,14 @@ fn runs_blank_agree(
         tally.close(u.timing(), &mut c);
         assert_eq!(
             lanes.len(),
-            out.len(),
+            case.out.len(),
             "blank {mask:#b}: one word per move ({name})"
         );
         let blank_words = runs
             .iter()
             .zip(&blank)
             .flat_map(|(&(_, n), &m)| std::iter::repeat_n(m, n));
-        for (i, (o, m)) in out.iter().zip(blank_words).enumerate() {
+        for (i, (o, m)) in case.out.iter().zip(blank_words).enumerate() {
             let w = lanes.word(i);
             assert_eq!(
                 (w.x, w.y, w.inside),
@@ -1492,8 +1514,11 @@ fn runs_blank_agree(
                 }
             }
         }
-        assert_eq!(&st, end, "blank {mask:#b}: final state differs ({name})");
-        assert_eq!(&c, ctr, "blank {mask:#b}: counters differ ({name})");
+        assert_eq!(
+            &st, case.end,
+            "blank {mask:#b}: final state differs ({name})"
+        );
+        assert_eq!(&c, case.ctr, "blank {mask:#b}: counters differ ({name})");
     }
     zeroed
 }
