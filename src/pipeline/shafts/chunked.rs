@@ -263,6 +263,9 @@ pub(super) struct ChunkBuffers {
     shadow_out: Vec<ShadowOut>,
 }
 
+/// A chunk's blank stretch ([`ChunkCut::row`]): its words, and their class.
+pub(super) type RowStretch = (Range<usize>, SquareClass);
+
 /// [`LightCtx::chunk_cut`]: the square cut of a light's pair path, the attribute
 /// index of s, and the light map and shadow map it counts.
 pub(super) struct ChunkCut<'a> {
@@ -767,6 +770,32 @@ impl LightCtx<'_> {
         b.hil.resize(n, 0);
     }
 
+    /// [`Self::h_il`] (s at attribute `base`) of a chunk walked by the kinds of
+    /// [`ChunkCut::row`] (`cut`, the chunk's class and its blank stretches): a chunk
+    /// of decided rows counted ([`Self::h_il_class`]), a chunk with blank stretches
+    /// run with those counted and left out ([`Self::h_il_blanks`]), another run.
+    /// Returns how many visible fragments were left out of `b.visible`.
+    pub fn h_il_by_kind(
+        &self,
+        px: &PolyLanes,
+        base: usize,
+        (cut, class, blanks): (Option<&ChunkCut>, Option<SquareClass>, &[RowStretch]),
+        spans: &mut HilSpans,
+        b: &mut ChunkBuffers,
+    ) -> usize {
+        match (class, cut) {
+            (Some(class), Some(c)) => {
+                self.h_il_class(c, class, spans, b);
+                0
+            }
+            (None, Some(c)) if !blanks.is_empty() => self.h_il_blanks(c, px, blanks, spans, b),
+            _ => {
+                self.h_il(px, base, spans, b);
+                0
+            }
+        }
+    }
+
     /// [`Self::h_il`] of a chunk whose words in the ranges `blanks` (in order, s, t,
     /// r and q blank there: [`ChunkCut::row`]) are each of the range's class:
     /// their visible fragments counted ([`Self::count_class`]) and left out of
@@ -775,7 +804,7 @@ impl LightCtx<'_> {
         &self,
         cc: &ChunkCut,
         px: &PolyLanes,
-        blanks: &[(Range<usize>, SquareClass)],
+        blanks: &[RowStretch],
         spans: &mut HilSpans,
         b: &mut ChunkBuffers,
     ) -> usize {

@@ -425,19 +425,8 @@ fn subplane_hil(
         row_kind,
         |px, class, blanks| {
             ctx.visible_flat(px, (w, h), zw, zwords, &mut zspan, &mut b);
-            let blanked = match (class, &cut) {
-                (Some(class), Some(c)) => {
-                    ctx.h_il_class(c, class, &mut spans, &mut b);
-                    0
-                }
-                (None, Some(c)) if !blanks.is_empty() => {
-                    ctx.h_il_blanks(c, px, blanks, &mut spans, &mut b)
-                }
-                _ => {
-                    ctx.h_il(px, LIGHT_ATTRS, &mut spans, &mut b);
-                    0
-                }
-            };
+            let kind = (cut.as_ref(), class, blanks);
+            let blanked = ctx.h_il_by_kind(px, LIGHT_ATTRS, kind, &mut spans, &mut b);
             if let Some(r) = rec.as_mut() {
                 let kept = record::chunk_fragments(r, px, &b.visible, (w, h), depth_tested);
                 if !kept.is_none() {
